@@ -1,0 +1,516 @@
+//! The stick-slip integrator.
+//!
+//! Smooth pieces of the motion (between acceleration breakpoints) are
+//! divided into fixed RK4 steps. Coulomb friction is not smoothed: the two
+//! discontinuities of the law are located inside a step as events.
+//!
+//! * **Stop** (slipping → u = 0): with u₀ the slip velocity at the start of
+//!   a step, the event function is g(s) = u(s)·u₀ where u(s) is the RK4
+//!   solution after a step of size s. Its root is found by safeguarded
+//!   Newton iteration (g'(s) = u̇(s)·u₀), the step is cut there, and the
+//!   part either sticks (|a_free| ≤ μ_s N) or reverses, slipping from rest
+//!   along a_free. For piecewise-constant accelerations (the square wave)
+//!   u is linear in s, RK4 is exact and Newton converges in one iteration,
+//!   so the whole cycle is integrated exactly.
+//! * **Break-away** (stuck → slipping): while stuck nothing in the state
+//!   changes, so the stuck episode is resolved at once: the margin
+//!   φ(t) = μ_s N(t) − |a_free(t)| is sampled at half-step spacing, every
+//!   discrete local minimum is refined by golden-section search (so a short
+//!   dip below zero between samples is not missed), and the first root is
+//!   bracketed and found by the Illinois method.
+//!
+//! In 2-D a slipping velocity that passes near zero without stopping gives a
+//! stop event where u ⟂ u₀ and |u| > 0; the part then keeps slipping with that
+//! residual velocity and later events shrink it, until it is below
+//! 1e-12 μ_k g T and set to zero.
+
+use nalgebra::Vector2;
+
+use super::{ContactLoss, Friction, Model, Numerics};
+use crate::motion::{Kinematics, Motion, V3};
+
+/// 2-vector of f64.
+pub type V2 = Vector2<f64>;
+
+/// State of a point part.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PartState {
+    /// Plate-frame position r (m).
+    pub r: V2,
+    /// Slip velocity u = dr/dt relative to the plate (m/s).
+    pub u: V2,
+    /// True while the part sticks to the plate (then u = 0).
+    pub stuck: bool,
+}
+
+impl PartState {
+    /// A part at `r` with slip velocity `u` (stuck status decided on the first step).
+    pub fn new(r: V2, u: V2) -> PartState {
+        PartState { r, u, stuck: false }
+    }
+}
+
+/// One recorded sample of a trajectory.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TrajectoryPoint {
+    /// Time (s).
+    pub t: f64,
+    /// The part's state after the step ending at `t`.
+    pub state: PartState,
+}
+
+/// What one simulated time span produced.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CycleOutcome {
+    /// Final state.
+    pub state: PartState,
+    /// Total time spent stuck (s).
+    pub stuck_time: f64,
+    /// Number of stop and break-away events.
+    pub events: u32,
+}
+
+/// Simulates point parts under one plate motion.
+#[derive(Debug, Clone)]
+pub struct Simulator<'a> {
+    motion: &'a Motion,
+    friction: Friction,
+    gravity: f64,
+    model: Model,
+    numerics: Numerics,
+    period: f64,
+    breakpoints: Vec<f64>,
+    v_scale: f64,
+}
+
+impl<'a> Simulator<'a> {
+    /// A simulator; parameters are assumed validated by the caller.
+    pub fn new(
+        motion: &'a Motion,
+        friction: Friction,
+        gravity: f64,
+        model: Model,
+        numerics: Numerics,
+    ) -> Simulator<'a> {
+        let period = motion.period();
+        Simulator {
+            motion,
+            friction,
+            gravity,
+            model,
+            numerics,
+            period,
+            breakpoints: motion.breakpoints(),
+            v_scale: (friction.kinetic.max(1e-3) * gravity.max(1e-3) * period).max(1e-300),
+        }
+    }
+
+    /// The plate motion.
+    pub fn motion(&self) -> &Motion {
+        self.motion
+    }
+    /// The model switches.
+    pub fn model(&self) -> Model {
+        self.model
+    }
+    /// The friction coefficients.
+    pub fn friction(&self) -> Friction {
+        self.friction
+    }
+    /// Gravity (m/s²).
+    pub fn gravity(&self) -> f64 {
+        self.gravity
+    }
+    /// Numerical settings.
+    pub fn numerics(&self) -> Numerics {
+        self.numerics
+    }
+    /// The period T (s).
+    pub fn period(&self) -> f64 {
+        self.period
+    }
+    /// Velocity scale μ_k g T used for tolerances (m/s).
+    pub fn velocity_scale(&self) -> f64 {
+        self.v_scale
+    }
+
+    #[inline]
+    fn kin(&self, t: f64, piece: f64) -> Kinematics {
+        self.motion
+            .kinematics_piece(t, piece, self.gravity, self.model.tilt)
+    }
+
+    /// Position at which the kinematics are evaluated.
+    #[inline]
+    fn kin_point(&self, r: &V2, anchor: &V2) -> V3 {
+        let p = if self.model.moving { r } else { anchor };
+        V3::new(p.x, p.y, 0.0)
+    }
+
+    /// Normal force N and frictionless tangential acceleration a_free.
+    #[inline]
+    fn forces(&self, k: &Kinematics, r: &V2, u: &V2, anchor: &V2) -> (f64, V2) {
+        let a = k.acceleration_at(&self.kin_point(r, anchor), self.model.centripetal);
+        let mut n = a.z - k.gravity.z;
+        let mut free = V2::new(k.gravity.x - a.x, k.gravity.y - a.y);
+        if self.model.coriolis {
+            let c = 2.0 * k.omega.cross(&V3::new(u.x, u.y, 0.0));
+            n += c.z;
+            free -= V2::new(c.x, c.y);
+        }
+        (n, free)
+    }
+
+    /// Break-away margin φ = μ_s N − |a_free| of a stuck part (u = 0), and N.
+    #[inline]
+    fn margin(&self, t: f64, piece: f64, r: &V2, anchor: &V2) -> f64 {
+        let k = self.kin(t, piece);
+        let (n, free) = self.forces(&k, r, &V2::zeros(), anchor);
+        self.friction.stat * n - free.norm()
+    }
+
+    /// du/dt of a slipping part. The friction direction is u/|u|, except
+    /// where u is zero or has turned against `dir0`, the slip direction at
+    /// the start of the step: a reversal is an event that ends the step, so
+    /// a stage landing on (or numerically just past) u = 0 must keep the
+    /// friction of the side it came from.
+    #[inline]
+    #[allow(clippy::too_many_arguments)]
+    fn slip_rhs(
+        &self,
+        k: &Kinematics,
+        t: f64,
+        r: &V2,
+        u: &V2,
+        dir0: &V2,
+        anchor: &V2,
+    ) -> Result<V2, ContactLoss> {
+        let (n, free) = self.forces(k, r, u, anchor);
+        if n < 0.0 {
+            return Err(self.contact_loss(t, r, n));
+        }
+        let dir = if u.dot(dir0) > 0.0 { u.normalize() } else { *dir0 };
+        Ok(free - dir * (self.friction.kinetic * n))
+    }
+
+    /// Direction in which a part with slip velocity `u` slips at the start
+    /// of a step: û, or for a part slipping from rest, that of a_free.
+    fn slip_direction(&self, k: &Kinematics, r: &V2, u: &V2, anchor: &V2) -> V2 {
+        let speed = u.norm();
+        if speed > 0.0 {
+            return u / speed;
+        }
+        let (_, free) = self.forces(k, r, u, anchor);
+        let f = free.norm();
+        if f > 0.0 {
+            free / f
+        } else {
+            V2::zeros()
+        }
+    }
+
+    fn contact_loss(&self, t: f64, r: &V2, n: f64) -> ContactLoss {
+        let c = (t / self.period).floor();
+        ContactLoss {
+            position: [r.x, r.y],
+            time: t,
+            cycle: c.max(0.0) as u64,
+            phase: (t / self.period - c).clamp(0.0, 1.0),
+            normal: n,
+        }
+    }
+
+    /// One RK4 step of the slipping dynamics from (t, r, u) over `h`,
+    /// with `k0` the kinematics at t. Returns (r, u, du/dt at the end).
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    fn rk4(
+        &self,
+        t: f64,
+        h: f64,
+        piece: f64,
+        k0: &Kinematics,
+        r: &V2,
+        u: &V2,
+        anchor: &V2,
+    ) -> Result<(V2, V2, Kinematics), ContactLoss> {
+        let d0 = self.slip_direction(k0, r, u, anchor);
+        let km = self.kin(t + 0.5 * h, piece);
+        let k1k = self.kin(t + h, piece);
+        let a1 = self.slip_rhs(k0, t, r, u, &d0, anchor)?;
+        let (r2, u2) = (r + u * (0.5 * h), u + a1 * (0.5 * h));
+        let a2 = self.slip_rhs(&km, t + 0.5 * h, &r2, &u2, &d0, anchor)?;
+        let (r3, u3) = (r + u2 * (0.5 * h), u + a2 * (0.5 * h));
+        let a3 = self.slip_rhs(&km, t + 0.5 * h, &r3, &u3, &d0, anchor)?;
+        let (r4, u4) = (r + u3 * h, u + a3 * h);
+        let a4 = self.slip_rhs(&k1k, t + h, &r4, &u4, &d0, anchor)?;
+        let r1 = r + (u + (u2 + u3) * 2.0 + u4) * (h / 6.0);
+        let u1 = u + (a1 + (a2 + a3) * 2.0 + a4) * (h / 6.0);
+        Ok((r1, u1, k1k))
+    }
+
+    /// Advances `state` from `t0` to `t1`. The kinematics use the current
+    /// position when the model's `moving` switch is on, `anchor` otherwise.
+    /// Every accepted step is appended to `record` when given.
+    pub fn advance(
+        &self,
+        t0: f64,
+        t1: f64,
+        state: &mut PartState,
+        anchor: &V2,
+        mut record: Option<&mut Vec<TrajectoryPoint>>,
+    ) -> Result<CycleOutcome, ContactLoss> {
+        let mut out = CycleOutcome {
+            state: *state,
+            stuck_time: 0.0,
+            events: 0,
+        };
+        let nominal = self.period / self.numerics.steps_per_cycle as f64;
+        let mut edges = vec![t0];
+        if !self.breakpoints.is_empty() {
+            let first = (t0 / self.period).floor() as i64;
+            let last = (t1 / self.period).ceil() as i64;
+            for c in first..=last {
+                for b in &self.breakpoints {
+                    let tb = b + c as f64 * self.period;
+                    if tb > t0 + 1e-12 * self.period && tb < t1 - 1e-12 * self.period {
+                        edges.push(tb);
+                    }
+                }
+            }
+        }
+        edges.push(t1);
+        edges.sort_by(f64::total_cmp);
+        for w in edges.windows(2) {
+            let (a, b) = (w[0], w[1]);
+            let n = ((b - a) / nominal - 1e-9).ceil().max(1.0) as usize;
+            let piece = 0.5 * (a + b);
+            let mut t = a;
+            for i in 1..=n {
+                let target = if i == n { b } else { a + (b - a) * i as f64 / n as f64 };
+                self.advance_piece(&mut t, target, piece, state, anchor, &mut out)?;
+                if let Some(rec) = record.as_deref_mut() {
+                    rec.push(TrajectoryPoint { t, state: *state });
+                }
+            }
+        }
+        out.state = *state;
+        Ok(out)
+    }
+
+    /// Advances from `*t` to `target` within one smooth piece.
+    fn advance_piece(
+        &self,
+        t: &mut f64,
+        target: f64,
+        piece: f64,
+        state: &mut PartState,
+        anchor: &V2,
+        out: &mut CycleOutcome,
+    ) -> Result<(), ContactLoss> {
+        let tiny = self.numerics.event_tol * self.period;
+        let mut guard = 0;
+        while *t < target {
+            guard += 1;
+            if guard > 64 {
+                // Zeno guard: repeated events in one step; the residual
+                // velocity is already negligible.
+                state.u = V2::zeros();
+            }
+            if state.u == V2::zeros() && !state.stuck {
+                state.stuck = self.margin(*t, piece, &state.r, anchor) >= 0.0;
+            }
+            if state.stuck {
+                match self.breakaway(*t, target, piece, &state.r, anchor) {
+                    None => {
+                        out.stuck_time += target - *t;
+                        *t = target;
+                    }
+                    Some(tb) => {
+                        out.stuck_time += tb - *t;
+                        out.events += 1;
+                        *t = tb;
+                        state.stuck = false;
+                        state.u = V2::zeros();
+                        if target - *t <= tiny {
+                            // Slip starts at the step end.
+                            *t = target;
+                        }
+                    }
+                }
+                continue;
+            }
+            let h = target - *t;
+            let k0 = self.kin(*t, piece);
+            let (r1, u1, _) = self.rk4(*t, h, piece, &k0, &state.r, &state.u, anchor)?;
+            let u0 = state.u;
+            if u0 != V2::zeros() && u1.dot(&u0) <= 0.0 {
+                let s = self.locate_stop(*t, h, piece, &k0, state, anchor)?;
+                let (rs, us, _) = self.rk4(*t, s, piece, &k0, &state.r, &u0, anchor)?;
+                *t += s;
+                state.r = rs;
+                out.events += 1;
+                if us.norm() <= 1e-12 * self.v_scale || guard > 64 {
+                    state.u = V2::zeros();
+                    state.stuck = self.margin(*t, piece, &state.r, anchor) >= 0.0;
+                } else {
+                    state.u = us;
+                }
+                if target - *t <= tiny {
+                    *t = target;
+                }
+            } else {
+                state.r = r1;
+                state.u = u1;
+                *t = target;
+            }
+        }
+        Ok(())
+    }
+
+    /// Root s* ∈ (0, h] of g(s) = u(s)·u₀ by safeguarded Newton.
+    fn locate_stop(
+        &self,
+        t: f64,
+        h: f64,
+        piece: f64,
+        k0: &Kinematics,
+        state: &PartState,
+        anchor: &V2,
+    ) -> Result<f64, ContactLoss> {
+        let u0 = state.u;
+        let g0 = u0.dot(&u0);
+        let dir0 = u0 / u0.norm();
+        let (mut lo, mut hi) = (0.0, h);
+        let mut s = h;
+        // Initial Newton step from s = 0 (g'(0) from the RHS at the start).
+        let d0 = self.slip_rhs(k0, t, &state.r, &u0, &dir0, anchor)?.dot(&u0);
+        if d0 < 0.0 {
+            s = (-g0 / d0).clamp(0.0, h);
+        }
+        let tol = self.numerics.event_tol * self.period;
+        for _ in 0..60 {
+            let (rs, us, ks) = self.rk4(t, s, piece, k0, &state.r, &u0, anchor)?;
+            let g = us.dot(&u0);
+            if g > 0.0 {
+                lo = s;
+            } else {
+                hi = s;
+            }
+            let dg = self.slip_rhs(&ks, t + s, &rs, &us, &dir0, anchor)?.dot(&u0);
+            let mut next = if dg < 0.0 { s - g / dg } else { f64::NAN };
+            if !(next > lo && next < hi) {
+                next = 0.5 * (lo + hi);
+            }
+            if (next - s).abs() <= tol || hi - lo <= tol || g == 0.0 {
+                return Ok(if g <= 0.0 { s } else { next.min(hi) });
+            }
+            s = next;
+        }
+        Ok(hi)
+    }
+
+    /// First time in [a, b] at which a stuck part at `r` breaks away, if any.
+    fn breakaway(&self, a: f64, b: f64, piece: f64, r: &V2, anchor: &V2) -> Option<f64> {
+        let phi = |t: f64| self.margin(t, piece, r, anchor);
+        let fa = phi(a);
+        if fa < 0.0 {
+            return Some(a);
+        }
+        let spacing = 0.5 * self.period / self.numerics.steps_per_cycle as f64;
+        let n = ((b - a) / spacing).ceil().max(2.0) as usize;
+        let ts: Vec<f64> = (0..=n)
+            .map(|i| if i == n { b } else { a + (b - a) * i as f64 / n as f64 })
+            .collect();
+        let fs: Vec<f64> = std::iter::once(fa).chain(ts[1..].iter().map(|&t| phi(t))).collect();
+        let probe = 1e-4 * (b - a) / n as f64;
+        for i in 1..=n {
+            if fs[i] < 0.0 {
+                return Some(self.illinois(&phi, ts[i - 1], fs[i - 1], ts[i], fs[i]));
+            }
+            // A local minimum of φ around sample i (or at an end) may dip
+            // below zero between samples: refine it.
+            let interior = i < n && fs[i] <= fs[i - 1] && fs[i] <= fs[i + 1];
+            let at_start = i == 1 && fs[0] < fs[1] && phi(a + probe) < fs[0];
+            let at_end = i == n && fs[n] < fs[n - 1] && phi(b - probe) < fs[n];
+            let bracket = if interior {
+                Some((ts[i - 1], ts[i + 1]))
+            } else if at_start {
+                Some((ts[0], ts[1]))
+            } else if at_end {
+                Some((ts[n - 1], ts[n]))
+            } else {
+                None
+            };
+            if let Some((lo, hi)) = bracket {
+                let (tm, fm) = golden_min(&phi, lo, hi, 1e-3 * self.numerics.event_tol * self.period);
+                if fm < 0.0 {
+                    return Some(self.illinois(&phi, lo, phi(lo), tm, fm));
+                }
+            }
+        }
+        None
+    }
+
+    /// Root of f in [a, b] with f(a) ≥ 0 > f(b) (Illinois false position).
+    fn illinois(&self, f: &impl Fn(f64) -> f64, mut a: f64, mut fa: f64, mut b: f64, mut fb: f64) -> f64 {
+        let tol = self.numerics.event_tol * self.period;
+        let mut side = 0;
+        for _ in 0..200 {
+            if b - a <= tol {
+                break;
+            }
+            let c = (a * fb - b * fa) / (fb - fa);
+            let c = if c > a && c < b { c } else { 0.5 * (a + b) };
+            let fc = f(c);
+            if fc < 0.0 {
+                b = c;
+                fb = fc;
+                if side == -1 {
+                    fa *= 0.5;
+                }
+                side = -1;
+            } else {
+                a = c;
+                fa = fc;
+                if side == 1 {
+                    fb *= 0.5;
+                }
+                side = 1;
+            }
+        }
+        // The first time at which the part is certainly not held.
+        b
+    }
+}
+
+/// Minimum of a unimodal f on [a, b] by golden-section search.
+fn golden_min(f: &impl Fn(f64) -> f64, mut a: f64, mut b: f64, tol: f64) -> (f64, f64) {
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    let mut c = b - g * (b - a);
+    let mut d = a + g * (b - a);
+    let (mut fc, mut fd) = (f(c), f(d));
+    for _ in 0..200 {
+        if b - a <= tol || fc.min(fd) < 0.0 {
+            break;
+        }
+        if fc < fd {
+            b = d;
+            d = c;
+            fd = fc;
+            c = b - g * (b - a);
+            fc = f(c);
+        } else {
+            a = c;
+            c = d;
+            fc = fd;
+            d = a + g * (b - a);
+            fd = f(d);
+        }
+    }
+    if fc < fd {
+        (c, fc)
+    } else {
+        (d, fd)
+    }
+}

@@ -1,0 +1,219 @@
+//! Point-part dynamics on the vibrating plate, with exact Coulomb stick-slip.
+//!
+//! State: plate-frame position r and relative (slip) velocity u = dr/dt, both
+//! in the plate plane. With Ω the plate's angular velocity, a_s(r) its
+//! acceleration at r and g_S gravity in the plate frame (see [`crate::motion`]),
+//! Newton's law for a unit-mass part in the inertial frame S' momentarily
+//! aligned with the plate gives
+//!
+//! ```text
+//! N      = a_s,z(r) + (2 Ω × u)_z − g_S,z          normal force ("effective gravity")
+//! a_free = g_S,t − a_s,t(r) − (2 Ω × u)_t           tangential, without friction
+//! slipping (u ≠ 0):  du/dt = a_free − μ_k N u/|u|
+//! stuck    (u = 0):  stays stuck while |a_free| ≤ μ_s N,
+//!                    else slips with du/dt = a_free − μ_k N a_free/|a_free|
+//! ```
+//!
+//! N < 0 means the part leaves the plate: it is reported as
+//! [`ContactLoss`] (where and when), never integrated through.
+//!
+//! Terms the paper's closed form drops are switches in [`Model`]: the
+//! centripetal part of a_s, the gravity tilt of g_S, the Coriolis term 2Ω×u,
+//! and the part moving during the cycle (kinematics evaluated at the current
+//! position rather than frozen at the start).
+
+mod integrator;
+mod steady;
+
+pub use integrator::{CycleOutcome, PartState, Simulator, TrajectoryPoint};
+pub use steady::{SteadyFailure, SteadyState};
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{non_negative, Error, Result};
+
+/// Which physical terms are modelled.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Model {
+    /// Centripetal acceleration Ω × (Ω × (r − c)).
+    pub centripetal: bool,
+    /// Gravity tilted into the plate frame by the plate's rotation.
+    pub tilt: bool,
+    /// Coriolis acceleration 2 Ω × u (normal and tangential parts).
+    pub coriolis: bool,
+    /// The part moves during the cycle (kinematics at the current
+    /// position); off = position frozen in the plate kinematics.
+    pub moving: bool,
+}
+
+impl Model {
+    /// The paper's analysis: small angle, no centripetal, tilt or Coriolis
+    /// terms, position frozen in the kinematics.
+    pub const PAPER: Model = Model {
+        centripetal: false,
+        tilt: false,
+        coriolis: false,
+        moving: false,
+    };
+    /// Everything on.
+    pub const FULL: Model = Model {
+        centripetal: true,
+        tilt: true,
+        coriolis: true,
+        moving: true,
+    };
+
+    /// A preset by name (`paper` or `full`).
+    pub fn preset(name: &str, field: &str) -> Result<Model> {
+        match name {
+            "paper" => Ok(Model::PAPER),
+            "full" => Ok(Model::FULL),
+            other => Err(Error::invalid(
+                field,
+                format!("unknown model \"{other}\" (expected paper or full)"),
+            )),
+        }
+    }
+
+    /// Short name: `paper`, `full`, or the list of switches that are on.
+    pub fn name(&self) -> String {
+        if *self == Model::PAPER {
+            return "paper".into();
+        }
+        if *self == Model::FULL {
+            return "full".into();
+        }
+        let on: Vec<&str> = [
+            ("centripetal", self.centripetal),
+            ("tilt", self.tilt),
+            ("coriolis", self.coriolis),
+            ("moving", self.moving),
+        ]
+        .iter()
+        .filter(|(_, b)| *b)
+        .map(|(n, _)| *n)
+        .collect();
+        if on.is_empty() {
+            "paper".into()
+        } else {
+            format!("paper+{}", on.join("+"))
+        }
+    }
+}
+
+/// Coulomb friction coefficients.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Friction {
+    /// Static coefficient μ_s (break-away threshold).
+    #[serde(rename = "static")]
+    pub stat: f64,
+    /// Kinetic coefficient μ_k.
+    pub kinetic: f64,
+}
+
+impl Friction {
+    /// Equal static and kinetic coefficients μ.
+    pub fn uniform(mu: f64) -> Friction {
+        Friction {
+            stat: mu,
+            kinetic: mu,
+        }
+    }
+
+    /// Validates: 0 ≤ μ_k ≤ μ_s, both finite.
+    pub fn validate(&self, field: &str) -> Result<()> {
+        non_negative(&format!("{field}.static"), self.stat)?;
+        non_negative(&format!("{field}.kinetic"), self.kinetic)?;
+        if self.kinetic > self.stat {
+            return Err(Error::invalid(
+                format!("{field}.static"),
+                format!(
+                    "must be ≥ the kinetic coefficient {} (got {})",
+                    self.kinetic, self.stat
+                ),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Numerical settings of the integrator.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Numerics {
+    /// RK4 steps per cycle (spread over the smooth pieces between
+    /// acceleration breakpoints).
+    pub steps_per_cycle: usize,
+    /// Relative tolerance (of the period) for locating stick and slip events.
+    pub event_tol: f64,
+    /// Convergence tolerance of the steady-state fixed point, relative to
+    /// the velocity scale μ_k g T.
+    pub steady_tol: f64,
+    /// Maximum Newton/fixed-point iterations for the steady state.
+    pub max_iterations: usize,
+}
+
+impl Default for Numerics {
+    fn default() -> Self {
+        Numerics {
+            steps_per_cycle: 64,
+            event_tol: 1e-14,
+            steady_tol: 1e-13,
+            max_iterations: 200,
+        }
+    }
+}
+
+impl Numerics {
+    /// Validates ranges.
+    pub fn validate(&self, field: &str) -> Result<()> {
+        if !(1..=1_000_000).contains(&self.steps_per_cycle) {
+            return Err(Error::invalid(
+                format!("{field}.steps_per_cycle"),
+                format!("must be in 1..=1000000, got {}", self.steps_per_cycle),
+            ));
+        }
+        for (name, v) in [("event_tol", self.event_tol), ("steady_tol", self.steady_tol)] {
+            if !(v > 0.0 && v < 1.0) {
+                return Err(Error::invalid(
+                    format!("{field}.{name}"),
+                    format!("must be in (0, 1), got {v}"),
+                ));
+            }
+        }
+        if self.max_iterations == 0 {
+            return Err(Error::invalid(
+                format!("{field}.max_iterations"),
+                "must be ≥ 1",
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Where and when a part lost contact with the plate (N < 0).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ContactLoss {
+    /// Plate-frame position (m).
+    pub position: [f64; 2],
+    /// Time (s).
+    pub time: f64,
+    /// Cycle index (time / T, floored).
+    pub cycle: u64,
+    /// Phase within the cycle, in [0, 1).
+    pub phase: f64,
+    /// The (negative) normal force per unit mass found (m/s²).
+    pub normal: f64,
+}
+
+impl std::fmt::Display for ContactLoss {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "part leaves the plate (N = {:.4} m/s² < 0) at ({:.5}, {:.5}) m, t = {:.6} s (cycle {}, phase {:.4})",
+            self.normal, self.position[0], self.position[1], self.time, self.cycle, self.phase
+        )
+    }
+}

@@ -1,0 +1,175 @@
+//! Steady-state velocity of a point part: the mean velocity over one cycle
+//! of the periodic motion.
+//!
+//! The cycle map P sends the slip velocity u at phase 0 (part at r₀) to the
+//! slip velocity one period later, with the part put back at r₀. Its fixed
+//! point u* = P(u*) is the periodic orbit:
+//!
+//! * **frozen** (model switch `moving` off): the plate kinematics are held at
+//!   r₀, as in the paper's analysis; the fixed point is the exact periodic
+//!   orbit of the cycle map.
+//! * **free** (`moving` on): the part moves during the cycle and the
+//!   kinematics follow it; the fixed point is the velocity with which the
+//!   part passes r₀ at phase 0 in its steady motion (exact as the field
+//!   varies slowly over one cycle's travel).
+//!
+//! The steady-state velocity is the mean of u over that cycle, i.e. the
+//! displacement over T (the plate's own velocity has zero mean). The fixed
+//! point is found by a few plain iterations and then Newton's method with a
+//! finite-difference Jacobian (P is piecewise smooth, piecewise linear for
+//! the square wave, so Newton terminates at machine precision).
+
+use nalgebra::Matrix2;
+use serde::Serialize;
+
+use super::integrator::{PartState, Simulator, V2};
+use super::ContactLoss;
+
+/// A converged steady state.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct SteadyState {
+    /// Mean velocity over the cycle (m/s), plate frame.
+    pub velocity: [f64; 2],
+    /// Slip velocity at phase 0 on the periodic orbit (m/s).
+    pub start_slip: [f64; 2],
+    /// Fraction of the cycle spent stuck.
+    pub stick_fraction: f64,
+    /// Largest excursion of the part from r₀ during the cycle (m).
+    pub excursion: f64,
+    /// |P(u) − u| at the returned u (m/s).
+    pub residual: f64,
+    /// Cycle-map evaluations used.
+    pub iterations: usize,
+}
+
+/// Why a steady state could not be found.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub enum SteadyFailure {
+    /// The part leaves the plate.
+    ContactLoss(ContactLoss),
+    /// The fixed-point iteration did not converge.
+    NotConverged {
+        /// Final |P(u) − u| (m/s).
+        residual: f64,
+        /// Evaluations used.
+        iterations: usize,
+    },
+}
+
+impl std::fmt::Display for SteadyFailure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            SteadyFailure::ContactLoss(c) => write!(f, "{c}"),
+            SteadyFailure::NotConverged {
+                residual,
+                iterations,
+            } => write!(
+                f,
+                "steady state not converged after {iterations} cycle evaluations (residual {residual:.3e} m/s)"
+            ),
+        }
+    }
+}
+
+impl From<ContactLoss> for SteadyFailure {
+    fn from(c: ContactLoss) -> Self {
+        SteadyFailure::ContactLoss(c)
+    }
+}
+
+struct CycleResult {
+    u_end: V2,
+    displacement: V2,
+    stuck_time: f64,
+    excursion: f64,
+}
+
+impl Simulator<'_> {
+    fn cycle_from(&self, r0: &V2, u: &V2, track: bool) -> Result<CycleResult, ContactLoss> {
+        let mut state = PartState::new(*r0, *u);
+        let mut rec = Vec::new();
+        let out = self.advance(
+            0.0,
+            self.period(),
+            &mut state,
+            r0,
+            if track { Some(&mut rec) } else { None },
+        )?;
+        let excursion = rec
+            .iter()
+            .map(|p| (p.state.r - r0).norm())
+            .fold(0.0, f64::max);
+        Ok(CycleResult {
+            u_end: out.state.u,
+            displacement: out.state.r - r0,
+            stuck_time: out.stuck_time,
+            excursion,
+        })
+    }
+
+    /// Steady-state velocity at plate position `r0` (frozen or free as set
+    /// by the model's `moving` switch).
+    pub fn steady_state(&self, r0: [f64; 2]) -> Result<SteadyState, SteadyFailure> {
+        let r0 = V2::from(r0);
+        let tol = self.numerics().steady_tol * self.velocity_scale();
+        let max_it = self.numerics().max_iterations;
+        let evals = std::cell::Cell::new(0usize);
+        let map = |u: &V2| -> Result<V2, ContactLoss> {
+            evals.set(evals.get() + 1);
+            Ok(self.cycle_from(&r0, u, false)?.u_end)
+        };
+        let mut u = V2::zeros();
+        let mut pu = map(&u)?;
+        // A few plain iterations bring u near the orbit (exactly onto it
+        // when the part sticks somewhere in the cycle).
+        for _ in 0..2 {
+            u = pu;
+            pu = map(&u)?;
+        }
+        let mut residual = (pu - u).norm();
+        let delta = 1e-6 * self.velocity_scale();
+        while residual > tol {
+            if evals.get() >= max_it {
+                return Err(SteadyFailure::NotConverged {
+                    residual,
+                    iterations: evals.get(),
+                });
+            }
+            let f = pu - u;
+            let jx = (map(&(u + V2::new(delta, 0.0)))? - pu) / delta;
+            let jy = (map(&(u + V2::new(0.0, delta)))? - pu) / delta;
+            let jac = Matrix2::from_columns(&[jx, jy]) - Matrix2::identity();
+            let mut next = pu; // plain iteration as a fallback
+            if let Some(inv) = jac.try_inverse() {
+                let cand = u - inv * f;
+                if cand.iter().all(|x| x.is_finite()) {
+                    next = cand;
+                }
+            }
+            let mut pn = map(&next)?;
+            if (pn - next).norm() >= residual {
+                // Newton did not help (a kink between u and the step): iterate.
+                next = pu;
+                pn = map(&next)?;
+            }
+            u = next;
+            pu = pn;
+            residual = (pu - u).norm();
+        }
+        let cycle = self.cycle_from(&r0, &u, true)?;
+        let period = self.period();
+        Ok(SteadyState {
+            velocity: [cycle.displacement.x / period, cycle.displacement.y / period],
+            start_slip: [u.x, u.y],
+            stick_fraction: (cycle.stuck_time / period).clamp(0.0, 1.0),
+            excursion: cycle.excursion,
+            residual,
+            iterations: evals.get() + 1,
+        })
+    }
+
+    /// True when the model freezes the position (the frozen variant).
+    pub fn is_frozen(&self) -> bool {
+        !self.model().moving
+    }
+}

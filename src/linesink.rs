@@ -1,0 +1,177 @@
+//! The paper's section II: the LineSink, a plate rotating symmetrically
+//! about a horizontal axis a depth h below its surface.
+//!
+//! With angular acceleration α(t) about the axis (k = −y, so that the
+//! paper's eqs. 2–3 hold literally: a_x = −h α, a_z = r α at plate position
+//! x = r), the effective gravity is g_eff = g + r α (eq. 4).
+//!
+//! For the square wave of eq. 1 (±α), frozen position, small angle, no
+//! centripetal term, the part always slipping (h α > μ (g + |r| α)) and in
+//! contact (|r| α ≤ g), the steady-state velocity is eq. 17:
+//!
+//! ```text
+//! v_ss = (μ²(g² − (rα)²) − 3(hα)²) / (8 (hα)²) · α μ r T   ≈ −3 μ T α r / 8   (eq. 21)
+//! ```
+//!
+//! For an axis above the surface (h < 0, a LineSource) the same derivation
+//! with h → |h| and r → −r gives v_ss(h, r) = −v_ss(|h|, r).
+//!
+//! For a sine wave of amplitude A the part is held for the whole cycle
+//! wherever |h A sin| ≤ μ_s (g + r A sin) at every phase, i.e. inside the
+//! deadband |r| ≤ (μ_s g − |h| A)/(μ_s A) when |h| A < μ_s g.
+
+use serde::Serialize;
+
+use crate::dynamics::{ContactLoss, Friction, Model, Numerics, Simulator, SteadyFailure};
+use crate::error::{finite, non_negative, positive, Error, Result};
+use crate::motion::{Motion, Screw, Waveform};
+
+/// Angular-acceleration waveform of the LineSink shaker.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Wave {
+    /// The paper's eq. 1: ±α square wave.
+    Square,
+    /// ψ'' = A sin ωt.
+    Sine,
+}
+
+impl std::str::FromStr for Wave {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Wave> {
+        match s {
+            "square" => Ok(Wave::Square),
+            "sine" => Ok(Wave::Sine),
+            other => Err(Error::invalid(
+                "--wave",
+                format!("unknown wave \"{other}\" (expected square or sine)"),
+            )),
+        }
+    }
+}
+
+/// A one-axis LineSink shaker.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct LineSink {
+    /// Waveform of the angular acceleration.
+    pub wave: Wave,
+    /// α (square) or the sine's amplitude A (rad/s²).
+    pub accel: f64,
+    /// Axis depth h below the surface (m); negative = above (LineSource).
+    pub depth: f64,
+    /// Period T (s).
+    pub period: f64,
+    /// Friction coefficients.
+    pub friction: Friction,
+    /// Gravity g (m/s²).
+    pub gravity: f64,
+}
+
+/// One row of the `linesink` command.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct LineSinkRow {
+    /// Distance from the axis (m).
+    pub r: f64,
+    /// Simulated steady-state velocity (m/s); `None` when it does not exist.
+    pub v_ss: Option<f64>,
+    /// Eq. 17 where its assumptions hold, else `None`.
+    pub eq17: Option<f64>,
+    /// Fraction of the cycle the part is stuck.
+    pub stick_fraction: Option<f64>,
+    /// True when the part leaves the plate.
+    pub contact_lost: bool,
+    /// Where and when contact was lost.
+    pub contact_loss: Option<ContactLoss>,
+    /// Failure message (contact loss, not converged), if any.
+    pub error: Option<String>,
+}
+
+impl LineSink {
+    /// Validates all parameters (field names are the CLI arguments).
+    pub fn validate(&self) -> Result<()> {
+        finite("--accel", self.accel)?;
+        finite("--depth", self.depth)?;
+        positive("--period", self.period)?;
+        non_negative("--mu", self.friction.kinetic)?;
+        self.friction.validate("--mu")
+            .map_err(|_| Error::invalid("--mu-static", format!("must be ≥ --mu ({}), got {}", self.friction.kinetic, self.friction.stat)))?;
+        positive("gravity", self.gravity)?;
+        Ok(())
+    }
+
+    /// The screw motion: rotation about k = −y through (0, 0, −h).
+    pub fn motion(&self) -> Motion {
+        Motion::Screw(Screw {
+            axis: [0.0, -1.0, 0.0],
+            point: [0.0, 0.0, -self.depth],
+            period: self.period,
+            rotation: match self.wave {
+                Wave::Square => Waveform::Square { accel: self.accel },
+                Wave::Sine => Waveform::Sine { accel: self.accel },
+            },
+            translation: Waveform::Zero,
+        })
+    }
+
+    /// Eq. 17 at distance `r`, or `None` outside its assumptions (square
+    /// wave, always slipping, in contact).
+    pub fn eq17(&self, r: f64) -> Option<f64> {
+        let (mu, g, a, t) = (self.friction.kinetic, self.gravity, self.accel.abs(), self.period);
+        let h = self.depth.abs();
+        let always_slips = h * a > self.friction.stat * (g + r.abs() * a);
+        let in_contact = r.abs() * a <= g;
+        if self.wave != Wave::Square || !always_slips || !in_contact || self.depth == 0.0 {
+            return None;
+        }
+        let ha = h * a;
+        let v = (mu * mu * (g * g - (r * a).powi(2)) - 3.0 * ha * ha) / (8.0 * ha * ha) * a * mu * r * t;
+        Some(v * self.depth.signum())
+    }
+
+    /// Eq. 21, the small-r, large-h limit: −3 μ T α r / 8.
+    pub fn eq21(&self, r: f64) -> f64 {
+        -3.0 * self.friction.kinetic * self.period * self.accel.abs() * r / 8.0 * self.depth.signum()
+    }
+
+    /// Edge of the sine wave's stick deadband, (μ_s g − |h| A)/(μ_s A), or
+    /// `None` when there is none (|h| A ≥ μ_s g, or a square wave).
+    pub fn deadband_edge(&self) -> Option<f64> {
+        let (mus, g, a, h) = (self.friction.stat, self.gravity, self.accel.abs(), self.depth.abs());
+        (self.wave == Wave::Sine && h * a < mus * g && mus > 0.0 && a > 0.0)
+            .then(|| (mus * g - h * a) / (mus * a))
+    }
+
+    /// Simulates the steady state at each distance in `rs`.
+    pub fn rows(&self, rs: &[f64], model: Model, numerics: Numerics) -> Vec<LineSinkRow> {
+        let motion = self.motion();
+        let sim = Simulator::new(&motion, self.friction, self.gravity, model, numerics);
+        rs.iter()
+            .map(|&r| {
+                let eq17 = self.eq17(r);
+                match sim.steady_state([r, 0.0]) {
+                    Ok(s) => LineSinkRow {
+                        r,
+                        v_ss: Some(s.velocity[0]),
+                        eq17,
+                        stick_fraction: Some(s.stick_fraction),
+                        contact_lost: false,
+                        contact_loss: None,
+                        error: None,
+                    },
+                    Err(e) => LineSinkRow {
+                        r,
+                        v_ss: None,
+                        eq17,
+                        stick_fraction: None,
+                        contact_lost: matches!(e, SteadyFailure::ContactLoss(_)),
+                        contact_loss: match e {
+                            SteadyFailure::ContactLoss(c) => Some(c),
+                            _ => None,
+                        },
+                        error: Some(e.to_string()),
+                    },
+                }
+            })
+            .collect()
+    }
+}

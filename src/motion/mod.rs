@@ -1,0 +1,156 @@
+//! Plate motions and their kinematics in the plate frame.
+//!
+//! World frame W: z up, origin at the plate centre in its home pose. The plate
+//! frame S moves with the plate, pose (R(t), p(t)) ∈ SE(3), periodic with
+//! period T. For a plate point r = (x, y, 0) in S, the plate's velocity and
+//! acceleration are expressed in the inertial frame S' momentarily aligned
+//! with S (the paper's eqs. 23–24):
+//!
+//! ```text
+//! v_s(r) = v_c + Ω × (r − c)
+//! a_s(r) = a_c + Ω' × (r − c) + Ω × (Ω × (r − c))     (last term: centripetal)
+//! g_S    = Rᵀ (0, 0, −g)                                (gravity tilt)
+//! ```
+//!
+//! where c is a reference point fixed in the plate (the screw axis point h,
+//! or the plate centre for six-signal motions), v_c and a_c its velocity and
+//! acceleration, and Ω, Ω' the angular velocity and acceleration, all in S'.
+
+mod screw;
+mod signals;
+mod waveform;
+
+pub use screw::Screw;
+pub use signals::{Axes, Signals};
+pub use waveform::{FourierTerm, Sample, Waveform};
+
+use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
+
+use crate::error::Result;
+
+/// 3-vector of f64.
+pub type V3 = Vector3<f64>;
+
+/// Plate kinematics at one instant, in the inertial frame S' momentarily
+/// aligned with the plate frame S.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Kinematics {
+    /// Angular velocity Ω.
+    pub omega: V3,
+    /// Angular acceleration Ω'.
+    pub alpha: V3,
+    /// Reference point c (plate coordinates).
+    pub center: V3,
+    /// Velocity of the plate point at c.
+    pub vel_center: V3,
+    /// Acceleration of the plate point at c.
+    pub accel_center: V3,
+    /// Gravity g_S in the plate frame.
+    pub gravity: V3,
+}
+
+impl Kinematics {
+    /// Plate velocity v_s(r) at plate point `r`.
+    #[inline]
+    pub fn velocity_at(&self, r: &V3) -> V3 {
+        self.vel_center + self.omega.cross(&(r - self.center))
+    }
+
+    /// Plate acceleration a_s(r) at plate point `r`; the centripetal term
+    /// Ω × (Ω × (r − c)) is included only when `centripetal` is set.
+    #[inline]
+    pub fn acceleration_at(&self, r: &V3, centripetal: bool) -> V3 {
+        let d = r - self.center;
+        let mut a = self.accel_center + self.alpha.cross(&d);
+        if centripetal {
+            a += self.omega.cross(&self.omega.cross(&d));
+        }
+        a
+    }
+}
+
+/// A periodic rigid-body motion of the plate.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case")]
+pub enum Motion {
+    /// Screw primitive {k, h, ψ(t), d(t)}.
+    Screw(Screw),
+    /// General 6-DOF motion given as six plate-centre acceleration signals.
+    Signals(Signals),
+}
+
+impl Motion {
+    /// Period T (s).
+    pub fn period(&self) -> f64 {
+        match self {
+            Motion::Screw(s) => s.period,
+            Motion::Signals(s) => s.period,
+        }
+    }
+
+    /// Kinematics at time `t`, gravity magnitude `g`. With `tilt` off the
+    /// plate's rotation is neglected where it changes directions (small-angle
+    /// model): gravity stays (0, 0, −g) in the plate frame.
+    #[inline]
+    pub fn kinematics(&self, t: f64, g: f64, tilt: bool) -> Kinematics {
+        self.kinematics_piece(t, t, g, tilt)
+    }
+
+    /// Kinematics at `t` on the smooth piece containing `piece_t` (see
+    /// [`Waveform::eval_piece`]).
+    #[inline]
+    pub fn kinematics_piece(&self, t: f64, piece_t: f64, g: f64, tilt: bool) -> Kinematics {
+        match self {
+            Motion::Screw(s) => s.kinematics(t, piece_t, g, tilt),
+            Motion::Signals(s) => s.kinematics(t, g, tilt),
+        }
+    }
+
+    /// Times in [0, T) where some acceleration jumps.
+    pub fn breakpoints(&self) -> Vec<f64> {
+        let mut b = match self {
+            Motion::Screw(s) => s.breakpoints(),
+            Motion::Signals(_) => Vec::new(),
+        };
+        b.sort_by(f64::total_cmp);
+        b.dedup();
+        b
+    }
+
+    /// True when the motion is purely in the plate plane (no vertical
+    /// translation, rotation only about the vertical): then N = g exactly.
+    pub fn is_in_plane(&self) -> bool {
+        match self {
+            Motion::Screw(s) => s.is_in_plane(),
+            Motion::Signals(s) => s.is_in_plane(),
+        }
+    }
+
+    /// Validates all parameters; errors name the field under `field`.
+    pub fn validate(&self, field: &str) -> Result<()> {
+        match self {
+            Motion::Screw(s) => s.validate(field),
+            Motion::Signals(s) => s.validate(field),
+        }
+    }
+
+    /// The same motion rotated about the world vertical by `angle` (rad)
+    /// and shifted horizontally by `shift` (m).
+    pub fn transformed(&self, angle: f64, shift: [f64; 2]) -> Motion {
+        match self {
+            Motion::Screw(s) => Motion::Screw(s.transformed(angle, shift)),
+            Motion::Signals(s) => Motion::Signals(s.transformed(angle, shift)),
+        }
+    }
+}
+
+/// Rotates `v` by angle `theta` about unit axis `k` (Rodrigues).
+#[inline]
+pub fn rotate(v: &V3, k: &V3, theta: f64) -> V3 {
+    if theta == 0.0 {
+        return *v;
+    }
+    let (s, c) = theta.sin_cos();
+    v * c + k.cross(v) * s + k * (k.dot(v) * (1.0 - c))
+}

@@ -1,0 +1,106 @@
+//! Screw primitive {k, h, ψ(t), d(t)}: rotation ψ about the unit axis k
+//! through the point h (W coordinates; h_z < 0 is below the plate surface)
+//! and translation d along k:
+//!
+//! ```text
+//! R(t) = exp(ψ(t) [k]×),   p(t) = (I − R(t)) h + d(t) k
+//! ```
+//!
+//! Because Rᵀk = k, the plate-frame expressions are exact for any ψ:
+//! Ω = ψ' k, Ω' = ψ'' k, c = h, v_c = d' k, a_c = d'' k, so that
+//! a_s(r) = ψ'' k × (r − h) + ψ'² k × (k × (r − h)) + d'' k.
+
+use serde::{Deserialize, Serialize};
+
+use super::{rotate, Kinematics, Waveform, V3};
+use crate::error::{positive, Error, Result};
+
+/// A screw motion about a fixed axis.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Screw {
+    /// Axis direction k (normalised on use).
+    pub axis: [f64; 3],
+    /// A point h on the axis (m, world frame).
+    pub point: [f64; 3],
+    /// Period T (s).
+    pub period: f64,
+    /// Rotation ψ(t) about the axis (rad).
+    #[serde(default)]
+    pub rotation: Waveform,
+    /// Translation d(t) along the axis (m).
+    #[serde(default)]
+    pub translation: Waveform,
+}
+
+impl Screw {
+    fn k(&self) -> V3 {
+        V3::from(self.axis).normalize()
+    }
+
+    /// Kinematics at time `t` on the waveform piece containing `piece_t`
+    /// (see the module docs).
+    #[inline]
+    pub fn kinematics(&self, t: f64, piece_t: f64, g: f64, tilt: bool) -> Kinematics {
+        let k = self.k();
+        let psi = self.rotation.eval_piece(t, self.period, piece_t);
+        let d = self.translation.eval_piece(t, self.period, piece_t);
+        let down = V3::new(0.0, 0.0, -g);
+        Kinematics {
+            omega: k * psi.dq,
+            alpha: k * psi.ddq,
+            center: V3::from(self.point),
+            vel_center: k * d.dq,
+            accel_center: k * d.ddq,
+            gravity: if tilt { rotate(&down, &k, -psi.q) } else { down },
+        }
+    }
+
+    /// Acceleration breakpoints in [0, T).
+    pub fn breakpoints(&self) -> Vec<f64> {
+        let mut b = self.rotation.breakpoints(self.period);
+        b.extend(self.translation.breakpoints(self.period));
+        b
+    }
+
+    /// True when rotation is about the vertical only and translation is horizontal.
+    pub fn is_in_plane(&self) -> bool {
+        let k = self.k();
+        let vertical = k.x == 0.0 && k.y == 0.0;
+        (self.rotation.is_zero() || vertical) && (self.translation.is_zero() || k.z == 0.0)
+    }
+
+    /// Validates parameters.
+    pub fn validate(&self, field: &str) -> Result<()> {
+        positive(&format!("{field}.period"), self.period)?;
+        for (name, v) in [("axis", self.axis), ("point", self.point)] {
+            if v.iter().any(|x| !x.is_finite()) {
+                return Err(Error::invalid(
+                    format!("{field}.{name}"),
+                    format!("must be three finite numbers, got {v:?}"),
+                ));
+            }
+        }
+        if V3::from(self.axis).norm() == 0.0 {
+            return Err(Error::invalid(
+                format!("{field}.axis"),
+                "must be a non-zero vector",
+            ));
+        }
+        self.rotation.validate(&format!("{field}.rotation"))?;
+        self.translation.validate(&format!("{field}.translation"))
+    }
+
+    /// The same screw rotated about the world vertical by `angle` (rad),
+    /// then shifted horizontally by `shift` (m).
+    pub fn transformed(&self, angle: f64, shift: [f64; 2]) -> Screw {
+        let z = V3::z();
+        let k = rotate(&V3::from(self.axis), &z, angle);
+        let h = rotate(&V3::from(self.point), &z, angle) + V3::new(shift[0], shift[1], 0.0);
+        Screw {
+            axis: [k.x, k.y, k.z],
+            point: [h.x, h.y, h.z],
+            ..self.clone()
+        }
+    }
+}

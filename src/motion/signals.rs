@@ -1,0 +1,167 @@
+//! General periodic 6-DOF motion, the form in which shaker controllers are
+//! commanded: six plate-centre signals, each a sum of sinusoids
+//! `A sin(n·2πt/T + φ)`: translational acceleration p''(t) along the world
+//! x, y, z axes (m/s²) and angular acceleration about them (rad/s²).
+//!
+//! Velocities and poses are the zero-mean antiderivatives. Orientation is
+//! R(t) = exp([θ(t)]×) with θ the zero-mean second antiderivative of the
+//! angular acceleration: exact to first order in the (small) amplitude, which
+//! is the regime of vibratory plates (rotations of milliradians). In the
+//! plate frame: Ω = Rᵀω, Ω' = Rᵀω', c = 0, v_c = Rᵀp', a_c = Rᵀp'',
+//! g_S = Rᵀ(0,0,−g); with the tilt switch off, R = I.
+
+use serde::{Deserialize, Serialize};
+
+use super::{rotate, FourierTerm, Kinematics, Waveform, V3};
+use crate::error::{positive, Result};
+
+/// Three Fourier-series signals about/along the world x, y and z axes.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Axes {
+    /// Terms of the x signal.
+    #[serde(default)]
+    pub x: Vec<FourierTerm>,
+    /// Terms of the y signal.
+    #[serde(default)]
+    pub y: Vec<FourierTerm>,
+    /// Terms of the z signal.
+    #[serde(default)]
+    pub z: Vec<FourierTerm>,
+}
+
+impl Axes {
+    fn waves(&self) -> [Waveform; 3] {
+        [&self.x, &self.y, &self.z].map(|terms| Waveform::Fourier {
+            terms: terms.clone(),
+            offset: 0.0,
+        })
+    }
+
+    /// (value, rate, acceleration) vectors at time t.
+    fn eval(&self, t: f64, period: f64) -> [V3; 3] {
+        let mut out = [V3::zeros(); 3];
+        for (i, terms) in [&self.x, &self.y, &self.z].into_iter().enumerate() {
+            let w = 2.0 * std::f64::consts::PI / period;
+            for term in terms {
+                let wn = w * f64::from(term.harmonic);
+                let (s, c) = (wn * t + term.phase).sin_cos();
+                out[0][i] -= term.amplitude / (wn * wn) * s;
+                out[1][i] -= term.amplitude / wn * c;
+                out[2][i] += term.amplitude * s;
+            }
+        }
+        out
+    }
+
+    fn is_zero(&self) -> bool {
+        [&self.x, &self.y, &self.z]
+            .iter()
+            .all(|ts| ts.iter().all(|t| t.amplitude == 0.0))
+    }
+}
+
+/// Six-signal periodic motion of the plate centre.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Signals {
+    /// Period T (s).
+    pub period: f64,
+    /// Translational acceleration of the plate centre (m/s²), world axes.
+    #[serde(default)]
+    pub linear: Axes,
+    /// Angular acceleration about the world axes (rad/s²), right-handed.
+    #[serde(default)]
+    pub angular: Axes,
+}
+
+impl Signals {
+    /// Kinematics at time `t`.
+    #[inline]
+    pub fn kinematics(&self, t: f64, g: f64, tilt: bool) -> Kinematics {
+        let [_, v, a] = self.linear.eval(t, self.period);
+        let [theta, w, dw] = self.angular.eval(t, self.period);
+        let down = V3::new(0.0, 0.0, -g);
+        let angle = theta.norm();
+        let back = |x: V3| {
+            if tilt && angle > 0.0 {
+                rotate(&x, &(theta / angle), -angle)
+            } else {
+                x
+            }
+        };
+        Kinematics {
+            omega: back(w),
+            alpha: back(dw),
+            center: V3::zeros(),
+            vel_center: back(v),
+            accel_center: back(a),
+            gravity: back(down),
+        }
+    }
+
+    /// True when only x, y translation and z rotation are driven.
+    pub fn is_in_plane(&self) -> bool {
+        let only = |axes: &Axes, keep_z: bool| {
+            let mut a = axes.clone();
+            if keep_z {
+                a.z.clear();
+            } else {
+                a.x.clear();
+                a.y.clear();
+            }
+            a.is_zero()
+        };
+        only(&self.linear, false) && only(&self.angular, true)
+    }
+
+    /// Validates parameters.
+    pub fn validate(&self, field: &str) -> Result<()> {
+        positive(&format!("{field}.period"), self.period)?;
+        for (group, axes) in [("linear", &self.linear), ("angular", &self.angular)] {
+            for (name, w) in ["x", "y", "z"].iter().zip(axes.waves()) {
+                w.validate(&format!("{field}.{group}.{name}"))?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Rotated about the vertical by `angle` (rad), then shifted
+    /// horizontally by `shift` (m). The new plate centre is the old plate
+    /// point −s, whose acceleration is a_c + Ω' × (−s) + Ω × (Ω × (−s)). The
+    /// first two terms are added as Fourier terms; the centripetal part is
+    /// second order in the (small) amplitude and is not a finite Fourier
+    /// series of accelerations, so the shift is exact to first order only.
+    /// Screw motions shift exactly.
+    pub fn transformed(&self, angle: f64, shift: [f64; 2]) -> Signals {
+        let (s, c) = angle.sin_cos();
+        let rot = |axes: &Axes| -> Axes {
+            // Rotate the vector signal: mix x and y terms.
+            let mut x: Vec<FourierTerm> = axes.x.iter().map(|t| scale(t, c)).collect();
+            x.extend(axes.y.iter().map(|t| scale(t, -s)));
+            let mut y: Vec<FourierTerm> = axes.x.iter().map(|t| scale(t, s)).collect();
+            y.extend(axes.y.iter().map(|t| scale(t, c)));
+            Axes { x, y, z: axes.z.clone() }
+        };
+        let angular = rot(&self.angular);
+        let mut linear = rot(&self.linear);
+        let (sx, sy) = (shift[0], shift[1]);
+        // Ω' × (−s) with s = (sx, sy, 0): (Ω'_z sy, −Ω'_z sx, −Ω'_x sy + Ω'_y sx)
+        linear.x.extend(angular.z.iter().map(|t| scale(t, sy)));
+        linear.y.extend(angular.z.iter().map(|t| scale(t, -sx)));
+        linear.z.extend(angular.x.iter().map(|t| scale(t, -sy)));
+        linear.z.extend(angular.y.iter().map(|t| scale(t, sx)));
+        Signals {
+            period: self.period,
+            linear,
+            angular,
+        }
+    }
+}
+
+fn scale(t: &FourierTerm, k: f64) -> FourierTerm {
+    FourierTerm {
+        amplitude: t.amplitude * k,
+        ..*t
+    }
+}
