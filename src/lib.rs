@@ -14,5 +14,8 @@ pub mod dynamics;
 pub mod error;
 pub mod linesink;
 pub mod motion;
+pub mod output;
+pub mod plot;
+pub mod reproduce;
 
 pub use error::{Error, Result};
