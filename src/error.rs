@@ -49,7 +49,10 @@ pub fn finite(field: &str, value: f64) -> Result<f64> {
     if value.is_finite() {
         Ok(value)
     } else {
-        Err(Error::invalid(field, format!("must be a finite number, got {value}")))
+        Err(Error::invalid(
+            field,
+            format!("must be a finite number, got {value}"),
+        ))
     }
 }
 

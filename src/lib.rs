@@ -10,12 +10,15 @@
 //! stick-slip) → [`linesink`] (the paper's section II analysis).
 #![warn(missing_docs)]
 
+pub mod basis;
 pub mod dynamics;
 pub mod error;
+pub mod field;
 pub mod linesink;
 pub mod motion;
 pub mod output;
 pub mod plot;
 pub mod reproduce;
+pub mod target;
 
 pub use error::{Error, Result};

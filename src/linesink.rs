@@ -93,8 +93,15 @@ impl LineSink {
         finite("--depth", self.depth)?;
         positive("--period", self.period)?;
         non_negative("--mu", self.friction.kinetic)?;
-        self.friction.validate("--mu")
-            .map_err(|_| Error::invalid("--mu-static", format!("must be ≥ --mu ({}), got {}", self.friction.kinetic, self.friction.stat)))?;
+        self.friction.validate("--mu").map_err(|_| {
+            Error::invalid(
+                "--mu-static",
+                format!(
+                    "must be ≥ --mu ({}), got {}",
+                    self.friction.kinetic, self.friction.stat
+                ),
+            )
+        })?;
         positive("gravity", self.gravity)?;
         Ok(())
     }
@@ -116,7 +123,12 @@ impl LineSink {
     /// Eq. 17 at distance `r`, or `None` outside its assumptions (square
     /// wave, always slipping, in contact).
     pub fn eq17(&self, r: f64) -> Option<f64> {
-        let (mu, g, a, t) = (self.friction.kinetic, self.gravity, self.accel.abs(), self.period);
+        let (mu, g, a, t) = (
+            self.friction.kinetic,
+            self.gravity,
+            self.accel.abs(),
+            self.period,
+        );
         let h = self.depth.abs();
         let always_slips = h * a > self.friction.stat * (g + r.abs() * a);
         let in_contact = r.abs() * a <= g;
@@ -124,19 +136,29 @@ impl LineSink {
             return None;
         }
         let ha = h * a;
-        let v = (mu * mu * (g * g - (r * a).powi(2)) - 3.0 * ha * ha) / (8.0 * ha * ha) * a * mu * r * t;
+        let v = (mu * mu * (g * g - (r * a).powi(2)) - 3.0 * ha * ha) / (8.0 * ha * ha)
+            * a
+            * mu
+            * r
+            * t;
         Some(v * self.depth.signum())
     }
 
     /// Eq. 21, the small-r, large-h limit: −3 μ T α r / 8.
     pub fn eq21(&self, r: f64) -> f64 {
-        -3.0 * self.friction.kinetic * self.period * self.accel.abs() * r / 8.0 * self.depth.signum()
+        -3.0 * self.friction.kinetic * self.period * self.accel.abs() * r / 8.0
+            * self.depth.signum()
     }
 
     /// Edge of the sine wave's stick deadband, (μ_s g − |h| A)/(μ_s A), or
     /// `None` when there is none (|h| A ≥ μ_s g, or a square wave).
     pub fn deadband_edge(&self) -> Option<f64> {
-        let (mus, g, a, h) = (self.friction.stat, self.gravity, self.accel.abs(), self.depth.abs());
+        let (mus, g, a, h) = (
+            self.friction.stat,
+            self.gravity,
+            self.accel.abs(),
+            self.depth.abs(),
+        );
         (self.wave == Wave::Sine && h * a < mus * g && mus > 0.0 && a > 0.0)
             .then(|| (mus * g - h * a) / (mus * a))
     }

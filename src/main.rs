@@ -10,7 +10,11 @@ use platefield::linesink::LineSink;
 use platefield::{reproduce, Error, Result};
 
 #[derive(Parser)]
-#[command(name = "platefield", version, about = "Vibration-induced friction fields on a 6-DOF plate: simulate and design")]
+#[command(
+    name = "platefield",
+    version,
+    about = "Vibration-induced friction fields on a 6-DOF plate: simulate and design"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -69,7 +73,11 @@ struct LinesinkArgs {
 }
 
 fn parse_list(field: &str, text: &str) -> Result<Vec<f64>> {
-    let items: Vec<&str> = text.split(',').map(str::trim).filter(|s| !s.is_empty()).collect();
+    let items: Vec<&str> = text
+        .split(',')
+        .map(str::trim)
+        .filter(|s| !s.is_empty())
+        .collect();
     if items.is_empty() {
         return Err(Error::invalid(field, "must list at least one number"));
     }
@@ -105,21 +113,36 @@ fn linesink(args: LinesinkArgs) -> Result<()> {
         ..Numerics::default()
     };
     numerics.validate("--steps").map_err(|_| {
-        Error::invalid("--steps", format!("must be in 1..=1000000, got {}", args.steps))
+        Error::invalid(
+            "--steps",
+            format!("must be in 1..=1000000, got {}", args.steps),
+        )
     })?;
     let rows = ls.rows(&rs, model, numerics);
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&rows).map_err(|e| Error::Physical(e.to_string()))?);
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&rows).map_err(|e| Error::Physical(e.to_string()))?
+        );
         return Ok(());
     }
     println!(
         "LineSink: {:?} wave, accel {} rad/s², depth {} m, T {} s, μ_k {}, μ_s {}, model {}",
-        ls.wave, ls.accel, ls.depth, ls.period, ls.friction.kinetic, ls.friction.stat, model.name()
+        ls.wave,
+        ls.accel,
+        ls.depth,
+        ls.period,
+        ls.friction.kinetic,
+        ls.friction.stat,
+        model.name()
     );
     if let Some(edge) = ls.deadband_edge() {
         println!("stick deadband: |r| ≤ {edge:.6} m");
     }
-    println!("{:>10} {:>14} {:>14} {:>8}  note", "r (m)", "v_ss (m/s)", "eq17 (m/s)", "stuck");
+    println!(
+        "{:>10} {:>14} {:>14} {:>8}  note",
+        "r (m)", "v_ss (m/s)", "eq17 (m/s)", "stuck"
+    );
     let opt = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{x:.6e}"));
     for row in rows {
         println!(

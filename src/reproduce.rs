@@ -12,6 +12,7 @@ use crate::dynamics::{Friction, Model, Numerics, PartState, Simulator};
 use crate::error::{Error, Result};
 use crate::linesink::{LineSink, Wave};
 use crate::output::write_atomic;
+use crate::plot::{LegendPosition, LinePlot, Series};
 
 const T: f64 = 0.03;
 const MU: f64 = 0.3;
@@ -48,7 +49,11 @@ pub fn fig3(out: &Path) -> Result<String> {
     let numerics = Numerics::default();
     let cases = fig3_cases();
     let eq_ref = &cases[0].1;
-    let mut header = vec!["r_m".to_string(), "eq21".into(), "eq17_square_a180_h5cm".into()];
+    let mut header = vec![
+        "r_m".to_string(),
+        "eq21".into(),
+        "eq17_square_a180_h5cm".into(),
+    ];
     let mut columns: Vec<Vec<Option<f64>>> = vec![
         rs.iter().map(|&r| Some(eq_ref.eq21(r))).collect(),
         rs.iter().map(|&r| eq_ref.eq17(r)).collect(),
@@ -68,8 +73,26 @@ pub fn fig3(out: &Path) -> Result<String> {
         let _ = writeln!(csv, "{r:.4},{}", cells.join(","));
     }
     write_atomic(&out.join("linesink_fig3.csv"), csv.as_bytes())?;
-    let svg = crate::plot::fig3_svg(&header, &rs, &columns);
-    write_atomic(&out.join("linesink_fig3.svg"), svg.as_bytes())?;
+    let mut plot =
+        LinePlot::new("LineSink steady-state velocity (paper Fig. 3): T = 0.03 s, μ = 0.3")
+            .labels("distance from axis r (cm)", "v_ss (mm/s)")
+            .legend(LegendPosition::BottomLeft);
+    for (name, col) in header.iter().skip(1).zip(&columns) {
+        if name.ends_with("stick_fraction") {
+            continue;
+        }
+        let pts: Vec<[f64; 2]> = rs
+            .iter()
+            .zip(col)
+            .filter_map(|(r, v)| v.map(|v| [r * 100.0, v * 1e3]))
+            .collect();
+        let mut series = Series::new(name.clone(), pts);
+        if name.starts_with("eq") {
+            series = series.dashed();
+        }
+        plot = plot.series(series);
+    }
+    write_atomic(&out.join("linesink_fig3.svg"), plot.to_svg().as_bytes())?;
     Ok(csv)
 }
 
@@ -82,10 +105,34 @@ pub fn terms(out: &Path) -> Result<String> {
     let numerics = Numerics::default();
     let variants: [(&str, Model); 6] = [
         ("paper", Model::PAPER),
-        ("+centripetal", Model { centripetal: true, ..Model::PAPER }),
-        ("+tilt", Model { tilt: true, ..Model::PAPER }),
-        ("+coriolis", Model { coriolis: true, ..Model::PAPER }),
-        ("+moving", Model { moving: true, ..Model::PAPER }),
+        (
+            "+centripetal",
+            Model {
+                centripetal: true,
+                ..Model::PAPER
+            },
+        ),
+        (
+            "+tilt",
+            Model {
+                tilt: true,
+                ..Model::PAPER
+            },
+        ),
+        (
+            "+coriolis",
+            Model {
+                coriolis: true,
+                ..Model::PAPER
+            },
+        ),
+        (
+            "+moving",
+            Model {
+                moving: true,
+                ..Model::PAPER
+            },
+        ),
         ("full", Model::FULL),
     ];
     let mut md = String::from(
@@ -107,7 +154,12 @@ pub fn terms(out: &Path) -> Result<String> {
             let v = ls.rows(&[r], *model, numerics)[0].v_ss;
             match (v, base) {
                 (Some(v), Some(b)) => {
-                    let _ = write!(md, " {:.4} ({:+.2} %) |", v * 1e3, (v - b) / b.abs() * 100.0);
+                    let _ = write!(
+                        md,
+                        " {:.4} ({:+.2} %) |",
+                        v * 1e3,
+                        (v - b) / b.abs() * 100.0
+                    );
                 }
                 _ => md.push_str(" contact lost |"),
             }
@@ -180,12 +232,22 @@ pub fn travel(out: &Path) -> Result<Travel> {
     let sxx: f64 = points.iter().map(|p| (p.1 - mx).powi(2)).sum();
     let slope = sxy / sxx;
     let intercept = my - slope * mx;
-    let ss_res: f64 = points.iter().map(|p| (p.2 - intercept - slope * p.1).powi(2)).sum();
+    let ss_res: f64 = points
+        .iter()
+        .map(|p| (p.2 - intercept - slope * p.1).powi(2))
+        .sum();
     let ss_tot: f64 = points.iter().map(|p| (p.2 - my).powi(2)).sum();
     let r2 = 1.0 - ss_res / ss_tot;
     let mut csv = String::from("r_m,ln_r0_over_r,t_s,t_fit_s\n");
     for p in &points {
-        let _ = writeln!(csv, "{:.4},{:.9},{:.9},{:.9}", p.0, p.1, p.2, intercept + slope * p.1);
+        let _ = writeln!(
+            csv,
+            "{:.4},{:.9},{:.9},{:.9}",
+            p.0,
+            p.1,
+            p.2,
+            intercept + slope * p.1
+        );
     }
     let _ = writeln!(csv, "# fit: t = {intercept:.6} + {slope:.6} ln(r0/r), R^2 = {r2:.6}; k = 1/slope = {:.6} 1/s; eq. 21 k = 3 mu T A / 8 = {:.6} 1/s (square-wave value, for scale)", 1.0 / slope, 3.0 * MU * T * 220.0 / 8.0);
     write_atomic(&out.join("linesink_travel.csv"), csv.as_bytes())?;
@@ -214,9 +276,18 @@ pub fn convergence(out: &Path) -> Result<String> {
         for model in [Model::PAPER, Model::FULL] {
             let r = 0.02;
             let at = |n: usize| {
-                ls.rows(&[r], model, Numerics { steps_per_cycle: n, ..Numerics::default() })[0].v_ss
+                ls.rows(
+                    &[r],
+                    model,
+                    Numerics {
+                        steps_per_cycle: n,
+                        ..Numerics::default()
+                    },
+                )[0]
+                .v_ss
             };
-            let vref = at(reference).ok_or_else(|| Error::Physical(format!("{label}: no steady state at r = {r}")))?;
+            let vref = at(reference)
+                .ok_or_else(|| Error::Physical(format!("{label}: no steady state at r = {r}")))?;
             let mut prev: Option<f64> = None;
             for &n in &steps {
                 let v = at(n).unwrap_or(f64::NAN);
@@ -224,7 +295,12 @@ pub fn convergence(out: &Path) -> Result<String> {
                 let order = prev
                     .filter(|p| *p > 0.0 && e > 0.0)
                     .map_or("".to_string(), |p| format!("{:.2}", (p / e).log2()));
-                let _ = writeln!(md, "| {label} | {} | {:.0} | {n} | {v:.9e} | {e:.2e} | {order} |", model.name(), r * 100.0);
+                let _ = writeln!(
+                    md,
+                    "| {label} | {} | {:.0} | {n} | {v:.9e} | {e:.2e} | {order} |",
+                    model.name(),
+                    r * 100.0
+                );
                 prev = Some(e);
             }
         }

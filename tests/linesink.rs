@@ -67,8 +67,15 @@ fn eq17_only_under_its_assumptions() {
     let ls = shaker(Wave::Square, 180.0, 0.05, 0.03, 0.3);
     assert!(ls.eq17(0.02).is_some());
     assert!(ls.eq17(0.06).is_none(), "r > g/α: contact lost");
-    assert!(shaker(Wave::Square, 180.0, 0.01, 0.03, 0.3).eq17(0.01).is_none(), "sticks");
-    assert!(shaker(Wave::Sine, 180.0, 0.05, 0.03, 0.3).eq17(0.01).is_none());
+    assert!(
+        shaker(Wave::Square, 180.0, 0.01, 0.03, 0.3)
+            .eq17(0.01)
+            .is_none(),
+        "sticks"
+    );
+    assert!(shaker(Wave::Sine, 180.0, 0.05, 0.03, 0.3)
+        .eq17(0.01)
+        .is_none());
     let deep = shaker(Wave::Square, 180.0, 5.0, 0.03, 0.3);
     let r = 1e-3;
     // Relative correction μ²g²/(3h²α²) ≈ 3.6e-6 here, plus (rα/g)² terms.
@@ -146,7 +153,13 @@ fn full_model_differs_by_a_few_percent() {
 /// with a half-period shift, so the frozen v_ss is odd in r.
 #[test]
 fn steady_velocity_is_odd_in_r() {
-    for model in [Model::PAPER, Model { moving: false, ..Model::FULL }] {
+    for model in [
+        Model::PAPER,
+        Model {
+            moving: false,
+            ..Model::FULL
+        },
+    ] {
         let ls = shaker(Wave::Sine, 220.0, 0.03, 0.03, 0.3);
         let rows = ls.rows(&[0.015, -0.015, 0.0], model, steps(64));
         let (a, b) = (rows[0].v_ss.unwrap(), rows[1].v_ss.unwrap());

@@ -19,10 +19,12 @@
 //!   dip below zero between samples is not missed), and the first root is
 //!   bracketed and found by the Illinois method.
 //!
-//! In 2-D a slipping velocity that passes near zero without stopping gives a
-//! stop event where u ⟂ u₀ and |u| > 0; the part then keeps slipping with that
-//! residual velocity and later events shrink it, until it is below
-//! 1e-12 μ_k g T and set to zero.
+//! In 2-D the slip velocity of a part that cannot stick (|a_free| > μ_s N)
+//! passes close to zero and turns rapidly (its direction changes at a rate
+//! ∝ 1/|u|); the root of u(s)·u₀ is then the closest approach, where u is set
+//! to zero and the part slips away from rest along a_free. The error is the
+//! small residual |u(s*)|, which shrinks with the step. A root far from zero
+//! (|u(s*)| > 0.1 |u₀|) is a mere turn of the velocity and not an event.
 
 use nalgebra::Vector2;
 
@@ -31,6 +33,12 @@ use crate::motion::{Kinematics, Motion, V3};
 
 /// 2-vector of f64.
 pub type V2 = Vector2<f64>;
+
+/// A root of u(s)·u₀ where |u(s)| is at most this fraction of |u₀| is a
+/// stop (exactly zero in 1-D; the closest approach in 2-D, where the part
+/// then slips away from rest along a_free); a larger |u(s)| means the slip
+/// velocity merely turned by 90° within the step.
+const STOP_FRACTION: f64 = 0.1;
 
 /// State of a point part.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -169,17 +177,29 @@ impl<'a> Simulator<'a> {
         self.friction.stat * n - free.norm()
     }
 
-    /// du/dt of a slipping part. The friction direction is u/|u|, except
-    /// where u is zero or has turned against `dir0`, the slip direction at
-    /// the start of the step: a reversal is an event that ends the step, so
-    /// a stage landing on (or numerically just past) u = 0 must keep the
-    /// friction of the side it came from.
+    /// du/dt of a slipping part, for a step of size `h`.
+    ///
+    /// The friction direction is u/|u|, with two exceptions:
+    /// * where u is zero or has turned against `dir0`, the slip direction at
+    ///   the start of the step, friction keeps the side it came from: a
+    ///   reversal is an event that ends the step, so a stage landing on (or
+    ///   numerically just past) u = 0 must not flip it;
+    /// * where the slip is too slow to hold its own direction over the step
+    ///   (|u| < h |a_free|), the direction is blended toward a_free, as an
+    ///   implicit step would: u + h w a_free with w = (1 − |u|/(h|a_free|))²
+    ///   times the alignment max(0, û·â_free), continuous in u. Just after a
+    ///   break-away or near a stop, û turns toward â_free at a rate
+    ///   |a_free,⊥|/|u| that no explicit step can follow (the direction
+    ///   equation is stiff), and its solution is û → â_free. In 1-D the blend
+    ///   leaves the direction unchanged, so exactness for piecewise-constant
+    ///   accelerations is kept; where |u| ≥ h|a_free| the law is untouched.
     #[inline]
     #[allow(clippy::too_many_arguments)]
     fn slip_rhs(
         &self,
         k: &Kinematics,
         t: f64,
+        h: f64,
         r: &V2,
         u: &V2,
         dir0: &V2,
@@ -189,7 +209,20 @@ impl<'a> Simulator<'a> {
         if n < 0.0 {
             return Err(self.contact_loss(t, r, n));
         }
-        let dir = if u.dot(dir0) > 0.0 { u.normalize() } else { *dir0 };
+        let (speed, pull) = (u.norm(), free.norm());
+        let dir = if u.dot(dir0) <= 0.0 {
+            *dir0
+        } else if speed < h * pull {
+            // Blend toward â_free, continuously in u: weight (1 − x)² with
+            // x = |u|/(h|a_free|), times the (non-negative) alignment.
+            let x = speed / (h * pull);
+            let align = (u.dot(&free) / (speed * pull)).max(0.0);
+            let w = (1.0 - x) * (1.0 - x) * align;
+            let d = u + free * (h * w);
+            d / d.norm()
+        } else {
+            u / speed
+        };
         Ok(free - dir * (self.friction.kinetic * n))
     }
 
@@ -237,13 +270,13 @@ impl<'a> Simulator<'a> {
         let d0 = self.slip_direction(k0, r, u, anchor);
         let km = self.kin(t + 0.5 * h, piece);
         let k1k = self.kin(t + h, piece);
-        let a1 = self.slip_rhs(k0, t, r, u, &d0, anchor)?;
+        let a1 = self.slip_rhs(k0, t, h, r, u, &d0, anchor)?;
         let (r2, u2) = (r + u * (0.5 * h), u + a1 * (0.5 * h));
-        let a2 = self.slip_rhs(&km, t + 0.5 * h, &r2, &u2, &d0, anchor)?;
+        let a2 = self.slip_rhs(&km, t + 0.5 * h, h, &r2, &u2, &d0, anchor)?;
         let (r3, u3) = (r + u2 * (0.5 * h), u + a2 * (0.5 * h));
-        let a3 = self.slip_rhs(&km, t + 0.5 * h, &r3, &u3, &d0, anchor)?;
+        let a3 = self.slip_rhs(&km, t + 0.5 * h, h, &r3, &u3, &d0, anchor)?;
         let (r4, u4) = (r + u3 * h, u + a3 * h);
-        let a4 = self.slip_rhs(&k1k, t + h, &r4, &u4, &d0, anchor)?;
+        let a4 = self.slip_rhs(&k1k, t + h, h, &r4, &u4, &d0, anchor)?;
         let r1 = r + (u + (u2 + u3) * 2.0 + u4) * (h / 6.0);
         let u1 = u + (a1 + (a2 + a3) * 2.0 + a4) * (h / 6.0);
         Ok((r1, u1, k1k))
@@ -287,7 +320,11 @@ impl<'a> Simulator<'a> {
             let piece = 0.5 * (a + b);
             let mut t = a;
             for i in 1..=n {
-                let target = if i == n { b } else { a + (b - a) * i as f64 / n as f64 };
+                let target = if i == n {
+                    b
+                } else {
+                    a + (b - a) * i as f64 / n as f64
+                };
                 self.advance_piece(&mut t, target, piece, state, anchor, &mut out)?;
                 if let Some(rec) = record.as_deref_mut() {
                     rec.push(TrajectoryPoint { t, state: *state });
@@ -309,14 +346,7 @@ impl<'a> Simulator<'a> {
         out: &mut CycleOutcome,
     ) -> Result<(), ContactLoss> {
         let tiny = self.numerics.event_tol * self.period;
-        let mut guard = 0;
         while *t < target {
-            guard += 1;
-            if guard > 64 {
-                // Zeno guard: repeated events in one step; the residual
-                // velocity is already negligible.
-                state.u = V2::zeros();
-            }
             if state.u == V2::zeros() && !state.stuck {
                 state.stuck = self.margin(*t, piece, &state.r, anchor) >= 0.0;
             }
@@ -329,13 +359,9 @@ impl<'a> Simulator<'a> {
                     Some(tb) => {
                         out.stuck_time += tb - *t;
                         out.events += 1;
-                        *t = tb;
+                        *t = if target - tb <= tiny { target } else { tb };
                         state.stuck = false;
                         state.u = V2::zeros();
-                        if target - *t <= tiny {
-                            // Slip starts at the step end.
-                            *t = target;
-                        }
                     }
                 }
                 continue;
@@ -347,23 +373,26 @@ impl<'a> Simulator<'a> {
             if u0 != V2::zeros() && u1.dot(&u0) <= 0.0 {
                 let s = self.locate_stop(*t, h, piece, &k0, state, anchor)?;
                 let (rs, us, _) = self.rk4(*t, s, piece, &k0, &state.r, &u0, anchor)?;
-                *t += s;
-                state.r = rs;
-                out.events += 1;
-                if us.norm() <= 1e-12 * self.v_scale || guard > 64 {
+                if us.norm() <= STOP_FRACTION * u0.norm() {
+                    // The slip velocity reached zero (exactly, in 1-D) or
+                    // passed close to it: the part stops there, then sticks
+                    // or slips away from rest along a_free.
+                    *t = if target - (*t + s) <= tiny {
+                        target
+                    } else {
+                        *t + s
+                    };
+                    state.r = rs;
                     state.u = V2::zeros();
                     state.stuck = self.margin(*t, piece, &state.r, anchor) >= 0.0;
-                } else {
-                    state.u = us;
+                    out.events += 1;
+                    continue;
                 }
-                if target - *t <= tiny {
-                    *t = target;
-                }
-            } else {
-                state.r = r1;
-                state.u = u1;
-                *t = target;
+                // Otherwise u only turned by 90° (2-D): not a stop.
             }
+            state.r = r1;
+            state.u = u1;
+            *t = target;
         }
         Ok(())
     }
@@ -384,7 +413,9 @@ impl<'a> Simulator<'a> {
         let (mut lo, mut hi) = (0.0, h);
         let mut s = h;
         // Initial Newton step from s = 0 (g'(0) from the RHS at the start).
-        let d0 = self.slip_rhs(k0, t, &state.r, &u0, &dir0, anchor)?.dot(&u0);
+        let d0 = self
+            .slip_rhs(k0, t, h, &state.r, &u0, &dir0, anchor)?
+            .dot(&u0);
         if d0 < 0.0 {
             s = (-g0 / d0).clamp(0.0, h);
         }
@@ -397,7 +428,9 @@ impl<'a> Simulator<'a> {
             } else {
                 hi = s;
             }
-            let dg = self.slip_rhs(&ks, t + s, &rs, &us, &dir0, anchor)?.dot(&u0);
+            let dg = self
+                .slip_rhs(&ks, t + s, s, &rs, &us, &dir0, anchor)?
+                .dot(&u0);
             let mut next = if dg < 0.0 { s - g / dg } else { f64::NAN };
             if !(next > lo && next < hi) {
                 next = 0.5 * (lo + hi);
@@ -420,9 +453,17 @@ impl<'a> Simulator<'a> {
         let spacing = 0.5 * self.period / self.numerics.steps_per_cycle as f64;
         let n = ((b - a) / spacing).ceil().max(2.0) as usize;
         let ts: Vec<f64> = (0..=n)
-            .map(|i| if i == n { b } else { a + (b - a) * i as f64 / n as f64 })
+            .map(|i| {
+                if i == n {
+                    b
+                } else {
+                    a + (b - a) * i as f64 / n as f64
+                }
+            })
             .collect();
-        let fs: Vec<f64> = std::iter::once(fa).chain(ts[1..].iter().map(|&t| phi(t))).collect();
+        let fs: Vec<f64> = std::iter::once(fa)
+            .chain(ts[1..].iter().map(|&t| phi(t)))
+            .collect();
         let probe = 1e-4 * (b - a) / n as f64;
         for i in 1..=n {
             if fs[i] < 0.0 {
@@ -443,7 +484,8 @@ impl<'a> Simulator<'a> {
                 None
             };
             if let Some((lo, hi)) = bracket {
-                let (tm, fm) = golden_min(&phi, lo, hi, 1e-3 * self.numerics.event_tol * self.period);
+                let (tm, fm) =
+                    golden_min(&phi, lo, hi, 1e-3 * self.numerics.event_tol * self.period);
                 if fm < 0.0 {
                     return Some(self.illinois(&phi, lo, phi(lo), tm, fm));
                 }
@@ -453,7 +495,14 @@ impl<'a> Simulator<'a> {
     }
 
     /// Root of f in [a, b] with f(a) ≥ 0 > f(b) (Illinois false position).
-    fn illinois(&self, f: &impl Fn(f64) -> f64, mut a: f64, mut fa: f64, mut b: f64, mut fb: f64) -> f64 {
+    fn illinois(
+        &self,
+        f: &impl Fn(f64) -> f64,
+        mut a: f64,
+        mut fa: f64,
+        mut b: f64,
+        mut fb: f64,
+    ) -> f64 {
         let tol = self.numerics.event_tol * self.period;
         let mut side = 0;
         for _ in 0..200 {

@@ -160,7 +160,7 @@ impl Default for Numerics {
         Numerics {
             steps_per_cycle: 64,
             event_tol: 1e-14,
-            steady_tol: 1e-13,
+            steady_tol: 1e-11,
             max_iterations: 200,
         }
     }
@@ -175,7 +175,10 @@ impl Numerics {
                 format!("must be in 1..=1000000, got {}", self.steps_per_cycle),
             ));
         }
-        for (name, v) in [("event_tol", self.event_tol), ("steady_tol", self.steady_tol)] {
+        for (name, v) in [
+            ("event_tol", self.event_tol),
+            ("steady_tol", self.steady_tol),
+        ] {
             if !(v > 0.0 && v < 1.0) {
                 return Err(Error::invalid(
                     format!("{field}.{name}"),

@@ -155,6 +155,14 @@ impl Simulator<'_> {
             u = next;
             pu = pn;
             residual = (pu - u).norm();
+            if std::env::var("PF_DEBUG").is_ok() {
+                eprintln!(
+                    "u={:?} pu={:?} res={:e}",
+                    u.as_slice(),
+                    pu.as_slice(),
+                    residual
+                );
+            }
         }
         let cycle = self.cycle_from(&r0, &u, true)?;
         let period = self.period();

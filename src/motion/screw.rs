@@ -52,7 +52,11 @@ impl Screw {
             center: V3::from(self.point),
             vel_center: k * d.dq,
             accel_center: k * d.ddq,
-            gravity: if tilt { rotate(&down, &k, -psi.q) } else { down },
+            gravity: if tilt {
+                rotate(&down, &k, -psi.q)
+            } else {
+                down
+            },
         }
     }
 

@@ -141,7 +141,11 @@ impl Signals {
             x.extend(axes.y.iter().map(|t| scale(t, -s)));
             let mut y: Vec<FourierTerm> = axes.x.iter().map(|t| scale(t, s)).collect();
             y.extend(axes.y.iter().map(|t| scale(t, c)));
-            Axes { x, y, z: axes.z.clone() }
+            Axes {
+                x,
+                y,
+                z: axes.z.clone(),
+            }
         };
         let angular = rot(&self.angular);
         let mut linear = rot(&self.linear);

@@ -266,8 +266,16 @@ mod tests {
             Waveform::RestToRest { amplitude: 0.005 },
             Waveform::Fourier {
                 terms: vec![
-                    FourierTerm { amplitude: 3.0, phase: 0.3, harmonic: 1 },
-                    FourierTerm { amplitude: 1.5, phase: -1.0, harmonic: 2 },
+                    FourierTerm {
+                        amplitude: 3.0,
+                        phase: 0.3,
+                        harmonic: 1,
+                    },
+                    FourierTerm {
+                        amplitude: 1.5,
+                        phase: -1.0,
+                        harmonic: 2,
+                    },
                 ],
                 offset: 0.001,
             },

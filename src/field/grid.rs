@@ -1,0 +1,101 @@
+//! Rectangular sampling grids over a region of the plate.
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{finite, Error, Result};
+
+/// A rectangular grid: `n[0]` points over `x`, `n[1]` over `y` (metres),
+/// points ordered row-major (y outer, x inner).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Grid {
+    /// [xmin, xmax] (m).
+    pub x: [f64; 2],
+    /// [ymin, ymax] (m).
+    pub y: [f64; 2],
+    /// [nx, ny].
+    pub n: [usize; 2],
+}
+
+impl Grid {
+    /// The paper's default region: ±4 cm, 21 × 21 points.
+    pub const DEFAULT: Grid = Grid {
+        x: [-0.04, 0.04],
+        y: [-0.04, 0.04],
+        n: [21, 21],
+    };
+
+    /// Validates ranges (nx, ny in 1..=1001, finite, min < max when n > 1).
+    pub fn validate(&self, field: &str) -> Result<()> {
+        for (axis, range, n) in [("x", self.x, self.n[0]), ("y", self.y, self.n[1])] {
+            finite(&format!("{field}.{axis}[0]"), range[0])?;
+            finite(&format!("{field}.{axis}[1]"), range[1])?;
+            if n > 1 && range[0] >= range[1] {
+                return Err(Error::invalid(
+                    format!("{field}.{axis}"),
+                    format!("min must be < max, got [{}, {}]", range[0], range[1]),
+                ));
+            }
+        }
+        for (i, n) in self.n.iter().enumerate() {
+            if !(1..=1001).contains(n) {
+                return Err(Error::invalid(
+                    format!("{field}.n[{i}]"),
+                    format!("must be in 1..=1001, got {n}"),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    fn axis(range: [f64; 2], n: usize) -> Vec<f64> {
+        if n == 1 {
+            return vec![0.5 * (range[0] + range[1])];
+        }
+        (0..n)
+            .map(|i| range[0] + (range[1] - range[0]) * i as f64 / (n - 1) as f64)
+            .collect()
+    }
+
+    /// x coordinates.
+    pub fn xs(&self) -> Vec<f64> {
+        Self::axis(self.x, self.n[0])
+    }
+
+    /// y coordinates.
+    pub fn ys(&self) -> Vec<f64> {
+        Self::axis(self.y, self.n[1])
+    }
+
+    /// Number of points.
+    pub fn len(&self) -> usize {
+        self.n[0] * self.n[1]
+    }
+
+    /// True when the grid has no points.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// All points, row-major (y outer, x inner).
+    pub fn points(&self) -> Vec<[f64; 2]> {
+        let xs = self.xs();
+        self.ys()
+            .into_iter()
+            .flat_map(|y| xs.iter().map(move |&x| [x, y]))
+            .collect()
+    }
+
+    /// Smallest spacing between neighbouring points (m); infinite for a
+    /// single point.
+    pub fn spacing(&self) -> f64 {
+        let d = |r: [f64; 2], n: usize| {
+            if n > 1 {
+                (r[1] - r[0]) / (n - 1) as f64
+            } else {
+                f64::INFINITY
+            }
+        };
+        d(self.x, self.n[0]).min(d(self.y, self.n[1]))
+    }
+}

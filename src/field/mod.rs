@@ -1,0 +1,155 @@
+//! Fields sampled on a grid: what a plate motion does to point parts.
+//!
+//! * **Zero-velocity force field** F(x): a unit-mass point part starts at x
+//!   at rest in the inertial frame (slip velocity u = −v_s(x)) at each of
+//!   n_phase start phases spread evenly over the cycle, moves freely for one
+//!   cycle, and F is the mean over phases of its inertial velocity change
+//!   divided by T (m/s²).
+//! * **Steady-state velocity field** V(x): the mean velocity over one cycle of
+//!   the periodic motion (see [`crate::dynamics::SteadyState`]), frozen or
+//!   free by the model's `moving` switch (m/s).
+//!
+//! Every sample carries its validity: contact lost, not converged, or (for
+//! frozen velocity fields) the frozen-position assumption broken — the part's
+//! excursion within a cycle is not small against the grid spacing.
+//!
+//! Points are computed in parallel with rayon and collected in grid order,
+//! so the result is bitwise identical for any number of threads.
+
+mod force;
+mod grid;
+mod velocity;
+
+pub use grid::Grid;
+
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use crate::dynamics::{Friction, Model, Numerics, Simulator};
+use crate::motion::Motion;
+
+/// Which field to compute.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Hash)]
+#[serde(rename_all = "snake_case")]
+pub enum FieldKind {
+    /// Zero-velocity force field (m/s²).
+    Force,
+    /// Steady-state velocity field (m/s).
+    Velocity,
+}
+
+/// Validity of one sample.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Validity {
+    /// Valid.
+    Ok,
+    /// The part leaves the plate (N < 0) somewhere in the cycle.
+    ContactLost,
+    /// The steady state did not converge.
+    NotConverged,
+    /// Frozen field whose within-cycle excursion is not small against the
+    /// grid spacing: use the free variant.
+    FrozenInvalid,
+}
+
+/// Everything that determines a field besides the motion.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FieldSettings {
+    /// Friction coefficients.
+    pub friction: Friction,
+    /// Gravity (m/s²).
+    pub gravity: f64,
+    /// Model switches.
+    pub model: Model,
+    /// Integrator settings.
+    pub numerics: Numerics,
+    /// Start phases for force fields.
+    pub phases: usize,
+    /// Frozen velocity samples are flagged when the within-cycle excursion
+    /// exceeds this fraction of the grid spacing.
+    pub frozen_excursion: f64,
+}
+
+impl Default for FieldSettings {
+    fn default() -> Self {
+        FieldSettings {
+            friction: Friction::uniform(0.3),
+            gravity: 9.81,
+            model: Model::FULL,
+            numerics: Numerics::default(),
+            phases: 30,
+            frozen_excursion: 0.25,
+        }
+    }
+}
+
+/// One sampled field.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Field {
+    /// Sampling grid.
+    pub grid: Grid,
+    /// Force or velocity.
+    pub kind: FieldKind,
+    /// Vectors, row-major (y outer, x inner).
+    pub vectors: Vec<[f64; 2]>,
+    /// Validity per sample.
+    pub validity: Vec<Validity>,
+}
+
+impl Field {
+    /// Computes `kind` for `motion` on `grid`. `progress` is called once per
+    /// finished point (from worker threads).
+    pub fn compute(
+        motion: &Motion,
+        grid: &Grid,
+        kind: FieldKind,
+        settings: &FieldSettings,
+        progress: &(dyn Fn() + Sync),
+    ) -> Field {
+        let sim = Simulator::new(
+            motion,
+            settings.friction,
+            settings.gravity,
+            settings.model,
+            settings.numerics,
+        );
+        let points = grid.points();
+        let spacing = grid.spacing();
+        let samples: Vec<([f64; 2], Validity)> = points
+            .par_iter()
+            .map(|p| {
+                let s = match kind {
+                    FieldKind::Force => force::sample(&sim, *p, settings.phases),
+                    FieldKind::Velocity => {
+                        velocity::sample(&sim, *p, spacing * settings.frozen_excursion)
+                    }
+                };
+                progress();
+                s
+            })
+            .collect();
+        Field {
+            grid: *grid,
+            kind,
+            vectors: samples.iter().map(|s| s.0).collect(),
+            validity: samples.iter().map(|s| s.1).collect(),
+        }
+    }
+
+    /// Number of valid samples.
+    pub fn valid_count(&self) -> usize {
+        self.validity.iter().filter(|v| **v == Validity::Ok).count()
+    }
+
+    /// Largest vector magnitude over valid samples.
+    pub fn max_magnitude(&self) -> f64 {
+        self.vectors
+            .iter()
+            .zip(&self.validity)
+            .filter(|(_, v)| **v == Validity::Ok)
+            .map(|(f, _)| f[0].hypot(f[1]))
+            .fold(0.0, f64::max)
+    }
+}

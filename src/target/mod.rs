@@ -1,0 +1,852 @@
+//! Target velocity fields ("targets") and their JSON file format.
+//!
+//! A *target* is a requested 2-D velocity field `f(p)` (m/s) on a
+//! rectangular region of the plate (`p` in metres). The inverse design tries
+//! to find a plate-motion schedule whose time-averaged friction field matches
+//! the target at a set of sample points, optionally weighted.
+//!
+//! Typical use:
+//!
+//! ```ignore
+//! use platefield::target::Target;
+//! let target = Target::load(std::path::Path::new("targets/sink.json"))?;
+//! let samples = target.sample()?; // points, requested vectors, weights
+//! ```
+//!
+//! # JSON schema reference
+//!
+//! This section is the reference for target files. All units are SI:
+//! positions and lengths in **metres**, velocities in **m/s**, angles in
+//! **degrees** counter-clockwise from +x. Unknown keys are rejected
+//! everywhere, so typos are errors rather than silently ignored.
+//!
+//! ```json
+//! {
+//!   "name": "sink",
+//!   "grid": {"x": [-0.04, 0.04], "y": [-0.04, 0.04], "n": [21, 21]},
+//!   "field": {"kind": "sink", "center": [0.0, 0.0], "strength": 1.0},
+//!   "weights": null,
+//!   "mask": [{"circle": {"center": [0.0, 0.0], "radius": 0.005}}]
+//! }
+//! ```
+//!
+//! ## Top level
+//!
+//! | key | type | required | meaning |
+//! |-----|------|----------|---------|
+//! | `name` | string | no (default `""`) | label for reports and plots |
+//! | `grid` | object | yes, unless `field.kind` is `"sampled"` | sample grid, see below |
+//! | `field` | object | yes | the requested field, see *Field kinds* |
+//! | `weights` | `null` or array of arrays of numbers ≥ 0 | no | per-point weights, see below |
+//! | `mask` | array of regions | no (default `[]`) | regions that do not matter (weight 0) |
+//!
+//! ## `grid`
+//!
+//! `{"x": [xmin, xmax], "y": [ymin, ymax], "n": [nx, ny]}` with finite
+//! `xmin < xmax`, `ymin < ymax` and `2 ≤ nx, ny ≤ 2048`
+//! ([`MAX_GRID_N`]). Both end points are included:
+//! `x_i = xmin + i (xmax - xmin) / (nx - 1)`. Sample points are ordered
+//! row-major, **y outer, x inner**: point `k = iy * nx + ix` is
+//! `(x_ix, y_iy)` (see [`Grid::points`]).
+//!
+//! ## `weights`
+//!
+//! Optional non-negative, finite per-point weights with the same layout as
+//! the grid: an array of `ny` rows, each an array of `nx` numbers, so
+//! `weights[iy][ix]` belongs to point `(x_ix, y_iy)`. For a `sampled` field
+//! without a grid, give a single row with one weight per sample point:
+//! `[[w_0, w_1, ..., w_{N-1}]]`. Missing or `null` means all weights 1.
+//!
+//! ## `mask`
+//!
+//! Array of regions; a sample point inside any region (boundary included)
+//! gets weight 0 whatever `weights` says:
+//!
+//! * `{"circle": {"center": [x, y], "radius": r}}` — `r > 0`, `center`
+//!   defaults to `[0, 0]`;
+//! * `{"rect": {"x": [xmin, xmax], "y": [ymin, ymax]}}` — `"rectangle"` is
+//!   accepted as an alias of `"rect"`.
+//!
+//! ## Field kinds
+//!
+//! Every field object has a `"kind"`. In the formulas `d = p - center`,
+//! `s = strength`, `t̂ = (cos a, sin a)` is the unit vector of the angle
+//! parameter `a` and `n = (-sin a, cos a)` its left normal. All analytic
+//! kinds accept `center` (default `[0, 0]`) and `strength` (default `1`).
+//!
+//! **Units of `strength`.** For fields that grow linearly with distance
+//! (`sink`, `source`, `line_sink`, `saddle`, `whirlpool`, `scaled_circle`,
+//! `squeeze_trans`) `s` is a rate in **1/s**: the speed at 1 cm from the
+//! centre (or line) is `0.01·s` m/s. For bounded fields (`circle`, `trans`,
+//! `jet`) `s` is a **speed in m/s**.
+//!
+//! | kind | extra keys (default) | field `f(p)` |
+//! |------|----------------------|--------------|
+//! | `sink` | — | `-s d` |
+//! | `source` | — | `+s d` |
+//! | `line_sink` | `angle` (0): direction of the line; `offset` (0): signed distance of the line from `center` along `n` | `-s (n·d - offset) n` |
+//! | `saddle` | `angle` (0): direction of the contracting axis | `s (-(t̂·d) t̂ + (n·d) n)`; for `angle = 0`: `s (-dx, +dy)` |
+//! | `whirlpool` | `rotation` ρ (1) | `s (-d + ρ (-dy, dx))` (counter-clockwise for ρ > 0) |
+//! | `circle` | — | `s (-dy, dx) / \|d\|`, `0` at the centre (\|d\| ≤ 1e-12 m) |
+//! | `scaled_circle` | — | `s (-dy, dx)` |
+//! | `trans` | `direction` (0) | `s t̂` (uniform; `center` is accepted but has no effect) |
+//! | `squeeze_trans` | `angle` (0): direction of the line; `transport` ρₜ (1) | `s (-(n·d) n + ρₜ L t̂)` with `L = 0.01 m` ([`TRANSPORT_LENGTH`]) |
+//! | `jet` | `direction` (0); `width` w (0.01 m, > 0) | `s exp(-(n·d)² / (2 w²)) t̂` |
+//! | `sum` | `terms`: `[{"weight": w (1), "field": {...}}, ...]`, at least one | `Σ wᵢ fᵢ(p)` |
+//! | `sampled` | `points`, `vectors`, `interpolation` (`"idw"`) | interpolated samples |
+//!
+//! **`squeeze_trans` scaling.** The line (through `center`, direction
+//! `angle`) attracts like a `line_sink` with rate `s`, and material moves
+//! along it at speed `ρₜ · s · 0.01 m`. So with `transport = 1` the transport
+//! speed equals the squeeze speed found 1 cm from the line; with the default
+//! `strength = 1` that is 0.01 m/s. A negative `transport` reverses the
+//! direction of transport.
+//!
+//! **`jet` scaling.** `strength` is the speed on the jet's axis (the line
+//! through `center` with direction `direction`); `width` is the Gaussian
+//! standard deviation across it, so the speed has dropped to
+//! `e^{-1/2} ≈ 0.61 s` at distance `width` from the axis. The jet does not
+//! decay along its axis.
+//!
+//! ## `sampled` fields
+//!
+//! ```json
+//! {"kind": "sampled",
+//!  "points":  [[x0, y0], [x1, y1], ...],
+//!  "vectors": [[fx0, fy0], [fx1, fy1], ...],
+//!  "interpolation": "idw"}
+//! ```
+//!
+//! `points` and `vectors` must be non-empty, finite and of equal length.
+//! Without a `grid`, the samples themselves are the sample set (and
+//! `weights`/`mask` apply to them). With a `grid`, the field is interpolated
+//! onto the grid points:
+//!
+//! * `"idw"` (default): inverse-distance-squared (Shepard) weighting of the 8
+//!   nearest samples ([`IDW_NEIGHBORS`]); exact at a sample point (within
+//!   1e-12 m), always within the range of the neighbouring samples;
+//! * `"nearest"`: the value of the nearest sample (ties: first listed).
+//!
+//! There is no extrapolation guard: grid points far outside the sampled
+//! cloud get the values of the nearest samples, so mask them if they do not
+//! matter. A `sampled` field nested inside a `sum` needs a grid.
+//!
+//! ## Errors
+//!
+//! [`Target::from_json_str`] and [`Target::load`] parse *and* validate.
+//! Every error names the JSON path of the offending value and what is
+//! allowed, e.g.
+//!
+//! * `target.grid.n[0]: must be ≥ 2, got 0`
+//! * `target.grid.x: xmin must be < xmax, got [0.04, -0.04]`
+//! * `target.field.kind: unknown kind "sinc" (expected one of sink, source, ...)`
+//! * ``target.field: unknown field `strenght`, expected one of `center`, `strength` ``
+//!   (serde's message, prefixed with the path)
+//! * `target.field.points: 12 points but 11 vectors`
+//! * `target.field.strength: must be finite, got NaN`
+//! * `target.weights[3][4]: must be ≥ 0, got -1`
+//! * `target.grid: missing; required for field kind "sink" ...`
+//!
+//! Errors from [`Target::load`] are additionally prefixed with the file
+//! path. JSON itself cannot hold NaN or infinity (and overflowing literals
+//! such as `1e999` are syntax errors), but [`Target::validate`] also checks
+//! finiteness for targets built in code.
+
+mod error;
+mod examples;
+mod field;
+mod grid;
+mod parse;
+
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+pub use error::TargetError;
+pub use examples::examples;
+pub use field::{
+    FieldSpec, Interpolation, SumTerm, COINCIDENT, DEFAULT_JET_WIDTH, FIELD_KINDS, IDW_NEIGHBORS,
+    TRANSPORT_LENGTH,
+};
+pub use grid::{Grid, MaskRegion, MAX_GRID_N};
+
+use error::show;
+
+/// A requested velocity field on a region of the plate; the in-memory form
+/// of a target JSON file (see the [module documentation](self)).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Target {
+    /// Label for reports and plots.
+    #[serde(default)]
+    pub name: String,
+    /// Sample grid; required unless `field` is [`FieldSpec::Sampled`].
+    #[serde(default)]
+    pub grid: Option<Grid>,
+    /// The requested field.
+    pub field: FieldSpec,
+    /// Optional per-point weights, `weights[iy][ix]` (see the module docs
+    /// for the grid-less `sampled` case).
+    #[serde(default)]
+    pub weights: Option<Vec<Vec<f64>>>,
+    /// Regions whose points get weight 0.
+    #[serde(default)]
+    pub mask: Vec<MaskRegion>,
+}
+
+/// A target evaluated at its sample points: what the inverse design fits.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SampledTarget {
+    /// Sample positions (metres); grid order is row-major, y outer.
+    pub points: Vec<[f64; 2]>,
+    /// Requested field (m/s) at each point.
+    pub vectors: Vec<[f64; 2]>,
+    /// Weight of each point (≥ 0; 0 where masked).
+    pub weights: Vec<f64>,
+}
+
+impl SampledTarget {
+    /// Number of sample points.
+    pub fn len(&self) -> usize {
+        self.points.len()
+    }
+
+    /// `true` if there are no sample points.
+    pub fn is_empty(&self) -> bool {
+        self.points.is_empty()
+    }
+
+    /// Number of points with a positive weight.
+    pub fn active_count(&self) -> usize {
+        self.weights.iter().filter(|&&w| w > 0.0).count()
+    }
+
+    /// Largest `|f|` (m/s) over points with a positive weight.
+    pub fn max_norm(&self) -> f64 {
+        self.vectors
+            .iter()
+            .zip(&self.weights)
+            .filter(|(_, &w)| w > 0.0)
+            .map(|(v, _)| v[0].hypot(v[1]))
+            .fold(0.0, f64::max)
+    }
+}
+
+impl Target {
+    /// Parses and validates a target from JSON text.
+    ///
+    /// Errors name the JSON path of the problem (see the module docs).
+    pub fn from_json_str(s: &str) -> Result<Target, TargetError> {
+        let target = parse::parse_target(s)?;
+        target.validate()?;
+        Ok(target)
+    }
+
+    /// Reads, parses and validates a target file; errors are prefixed with
+    /// the file path.
+    pub fn load(path: &Path) -> Result<Target, TargetError> {
+        let text = std::fs::read_to_string(path).map_err(|error| TargetError::Io {
+            file: path.to_path_buf(),
+            error,
+        })?;
+        Target::from_json_str(&text).map_err(|error| TargetError::InFile {
+            file: path.to_path_buf(),
+            error: Box::new(error),
+        })
+    }
+
+    /// Serializes the target as pretty-printed JSON (all defaults written
+    /// out explicitly).
+    pub fn to_json_pretty(&self) -> String {
+        serde_json::to_string_pretty(self).expect("a Target always serializes")
+    }
+
+    /// Number of sample points: grid points if there is a grid, otherwise
+    /// the samples of a `sampled` field (0 if neither).
+    pub fn sample_count(&self) -> usize {
+        match (&self.grid, &self.field) {
+            (Some(g), _) => g.len(),
+            (None, FieldSpec::Sampled { points, .. }) => points.len(),
+            (None, _) => 0,
+        }
+    }
+
+    /// Checks every value against its allowed range (see the module docs);
+    /// the first problem found is returned.
+    pub fn validate(&self) -> Result<(), TargetError> {
+        match &self.grid {
+            Some(g) => g.validate("target.grid")?,
+            None => {
+                if !matches!(self.field, FieldSpec::Sampled { .. }) {
+                    return Err(TargetError::invalid(
+                        "target.grid",
+                        format!(
+                            "missing; required for field kind \"{}\" (only a \"sampled\" field may omit the grid)",
+                            self.field.kind()
+                        ),
+                    ));
+                }
+            }
+        }
+        self.field.validate("target.field")?;
+        if let Some(w) = &self.weights {
+            self.validate_weights(w)?;
+        }
+        for (i, m) in self.mask.iter().enumerate() {
+            m.validate(&format!("target.mask[{i}]"))?;
+        }
+        Ok(())
+    }
+
+    fn validate_weights(&self, w: &[Vec<f64>]) -> Result<(), TargetError> {
+        let (rows, cols, what_rows, what_cols) = match &self.grid {
+            Some(g) => (g.n[1], g.n[0], "grid.n[1]", "grid.n[0]"),
+            None => (
+                1,
+                self.sample_count(),
+                "a single row",
+                "one per sample point",
+            ),
+        };
+        if w.len() != rows {
+            return Err(TargetError::invalid(
+                "target.weights",
+                format!("expected {rows} rows ({what_rows}), got {}", w.len()),
+            ));
+        }
+        for (iy, row) in w.iter().enumerate() {
+            if row.len() != cols {
+                return Err(TargetError::invalid(
+                    format!("target.weights[{iy}]"),
+                    format!("expected {cols} entries ({what_cols}), got {}", row.len()),
+                ));
+            }
+            for (ix, &v) in row.iter().enumerate() {
+                let p = format!("target.weights[{iy}][{ix}]");
+                error::check_finite(&p, v)?;
+                if v < 0.0 {
+                    return Err(TargetError::invalid(
+                        p,
+                        format!("must be ≥ 0, got {}", show(v)),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Validates the target and evaluates it at its sample points.
+    ///
+    /// With a grid, the points are [`Grid::points`] and the vectors
+    /// [`FieldSpec::eval`] there. Without a grid (only for a `sampled`
+    /// field) the samples are used as given. Each weight is the `weights`
+    /// entry (default 1), or 0 if the point lies in a mask region.
+    ///
+    /// Fails if the target is invalid, if the field evaluates to a
+    /// non-finite value somewhere, or if every weight ends up 0.
+    pub fn sample(&self) -> Result<SampledTarget, TargetError> {
+        self.validate()?;
+        let (points, vectors) = match (&self.grid, &self.field) {
+            (Some(g), field) => {
+                let points = g.points();
+                let vectors: Vec<[f64; 2]> = points.iter().map(|&p| field.eval(p)).collect();
+                (points, vectors)
+            }
+            (
+                None,
+                FieldSpec::Sampled {
+                    points, vectors, ..
+                },
+            ) => (points.clone(), vectors.clone()),
+            (None, _) => unreachable!("validate() requires a grid for analytic fields"),
+        };
+        if let Some((p, v)) = points
+            .iter()
+            .zip(&vectors)
+            .find(|(_, v)| !(v[0].is_finite() && v[1].is_finite()))
+        {
+            return Err(TargetError::invalid(
+                "target.field",
+                format!(
+                    "evaluates to a non-finite vector {} at {}",
+                    error::show2(*v),
+                    error::show2(*p)
+                ),
+            ));
+        }
+        let mut weights: Vec<f64> = match &self.weights {
+            Some(w) => w.iter().flatten().copied().collect(),
+            None => vec![1.0; points.len()],
+        };
+        for (w, p) in weights.iter_mut().zip(&points) {
+            if self.mask.iter().any(|m| m.contains(*p)) {
+                *w = 0.0;
+            }
+        }
+        if !weights.iter().any(|&w| w > 0.0) {
+            return Err(TargetError::invalid(
+                "target",
+                format!(
+                    "all {} sample points have weight 0 (check target.weights and target.mask)",
+                    points.len()
+                ),
+            ));
+        }
+        Ok(SampledTarget {
+            points,
+            vectors,
+            weights,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const GRID: &str = r#""grid": {"x": [-0.04, 0.04], "y": [-0.04, 0.04], "n": [21, 21]}"#;
+
+    fn with_field(field: &str) -> String {
+        format!(r#"{{"name": "t", {GRID}, "field": {field}}}"#)
+    }
+
+    /// Asserts that parsing `json` fails with a message containing every
+    /// string in `needles`.
+    fn assert_err(json: &str, needles: &[&str]) -> TargetError {
+        let err = match Target::from_json_str(json) {
+            Ok(t) => panic!("expected an error for {json}, got {t:?}"),
+            Err(e) => e,
+        };
+        let msg = err.to_string();
+        for n in needles {
+            assert!(msg.contains(n), "message {msg:?} lacks {n:?}");
+        }
+        err
+    }
+
+    #[test]
+    fn every_example_parses_validates_and_samples() {
+        let ex = examples();
+        let names: Vec<&str> = ex.iter().map(|(n, _)| *n).collect();
+        for want in [
+            "sink.json",
+            "saddle.json",
+            "whirlpool.json",
+            "squeeze_trans.json",
+            "jet.json",
+            "line_sink.json",
+            "circle.json",
+            "sampled.json",
+        ] {
+            assert!(names.contains(&want), "missing example {want}");
+        }
+        for (name, json) in ex {
+            let t = Target::from_json_str(&json).unwrap_or_else(|e| panic!("{name}: {e}"));
+            t.validate().unwrap();
+            let s = t.sample().unwrap_or_else(|e| panic!("{name}: {e}"));
+            assert_eq!(s.points.len(), s.vectors.len());
+            assert_eq!(s.points.len(), s.weights.len());
+            assert!(s.active_count() > 0);
+            assert!(s.max_norm() > 0.0, "{name}");
+            if name == "sampled.json" {
+                assert!(t.grid.is_none());
+                assert!((20..=30).contains(&s.len()));
+            } else {
+                assert_eq!(s.len(), 21 * 21, "{name}");
+                let g = t.grid.unwrap();
+                assert_eq!((g.x, g.y), ([-0.04, 0.04], [-0.04, 0.04]));
+            }
+            // Round trip through the serde derive form.
+            let again = Target::from_json_str(&t.to_json_pretty()).unwrap();
+            assert_eq!(again, t, "{name}");
+        }
+    }
+
+    #[test]
+    fn whirlpool_example_has_rotation_one() {
+        let (_, json) = examples()
+            .into_iter()
+            .find(|(n, _)| *n == "whirlpool.json")
+            .unwrap();
+        let t = Target::from_json_str(&json).unwrap();
+        assert!(matches!(t.field, FieldSpec::Whirlpool { rotation, .. } if rotation == 1.0));
+    }
+
+    #[test]
+    fn defaults_are_applied() {
+        let t = Target::from_json_str(&with_field(r#"{"kind": "sink"}"#)).unwrap();
+        assert_eq!(
+            t.field,
+            FieldSpec::Sink {
+                center: [0.0, 0.0],
+                strength: 1.0
+            }
+        );
+        assert_eq!(t.weights, None);
+        assert!(t.mask.is_empty());
+        let t = Target::from_json_str(&with_field(r#"{"kind": "jet"}"#)).unwrap();
+        assert!(matches!(t.field, FieldSpec::Jet { width, .. } if width == DEFAULT_JET_WIDTH));
+    }
+
+    #[test]
+    fn sampling_follows_grid_order_weights_and_mask() {
+        let json = r#"{
+            "grid": {"x": [0, 2], "y": [0, 1], "n": [3, 2]},
+            "field": {"kind": "source"},
+            "weights": [[1, 2, 3], [4, 5, 6]],
+            "mask": [{"rect": {"x": [1.5, 3], "y": [0.5, 2]}}]
+        }"#;
+        let s = Target::from_json_str(json).unwrap().sample().unwrap();
+        assert_eq!(s.points[4], [1.0, 1.0]);
+        assert_eq!(s.vectors[4], [1.0, 1.0]);
+        assert_eq!(s.weights, vec![1.0, 2.0, 3.0, 4.0, 5.0, 0.0]);
+    }
+
+    #[test]
+    fn sampled_field_on_grid_and_gridless_weights() {
+        let json = r#"{
+            "grid": {"x": [0, 1], "y": [0, 1], "n": [2, 2]},
+            "field": {"kind": "sampled", "points": [[0, 0], [1, 1]], "vectors": [[1, 0], [0, 1]],
+                      "interpolation": "nearest"}
+        }"#;
+        let s = Target::from_json_str(json).unwrap().sample().unwrap();
+        assert_eq!(
+            s.vectors,
+            vec![[1.0, 0.0], [1.0, 0.0], [1.0, 0.0], [0.0, 1.0]]
+        );
+
+        let json = r#"{
+            "field": {"kind": "sampled", "points": [[0, 0], [1, 1]], "vectors": [[1, 0], [0, 1]]},
+            "weights": [[0.5, 2]]
+        }"#;
+        let s = Target::from_json_str(json).unwrap().sample().unwrap();
+        assert_eq!(s.points, vec![[0.0, 0.0], [1.0, 1.0]]);
+        assert_eq!(s.weights, vec![0.5, 2.0]);
+
+        let json = r#"{
+            "field": {"kind": "sampled", "points": [[0, 0], [1, 1]], "vectors": [[1, 0], [0, 1]]},
+            "weights": [[0.5], [2]]
+        }"#;
+        assert_err(json, &["target.weights", "expected 1 rows"]);
+    }
+
+    #[test]
+    fn sum_json_samples_to_weighted_sum_of_terms() {
+        let sum = Target::from_json_str(&with_field(
+            r#"{"kind": "sum", "terms": [
+                {"weight": 0.5, "field": {"kind": "sink", "center": [0.01, 0.0]}},
+                {"weight": -2, "field": {"kind": "trans", "strength": 0.01, "direction": 30}},
+                {"field": {"kind": "sum", "terms": [{"weight": 3, "field": {"kind": "saddle", "angle": 45}}]}}
+            ]}"#,
+        ))
+        .unwrap()
+        .sample()
+        .unwrap();
+        let part = |f: &str| {
+            Target::from_json_str(&with_field(f))
+                .unwrap()
+                .sample()
+                .unwrap()
+        };
+        let a = part(r#"{"kind": "sink", "center": [0.01, 0.0]}"#);
+        let b = part(r#"{"kind": "trans", "strength": 0.01, "direction": 30}"#);
+        let c = part(r#"{"kind": "saddle", "angle": 45}"#);
+        for i in 0..sum.len() {
+            for k in 0..2 {
+                let want = 0.5 * a.vectors[i][k] - 2.0 * b.vectors[i][k] + 3.0 * c.vectors[i][k];
+                assert!((sum.vectors[i][k] - want).abs() < 1e-15);
+            }
+        }
+    }
+
+    #[test]
+    fn sampled_example_interpolated_onto_grid() {
+        let (_, json) = examples().pop().unwrap();
+        let mut t = Target::from_json_str(&json).unwrap();
+        t.grid = Some(Grid {
+            x: [-0.04, 0.04],
+            y: [-0.04, 0.04],
+            n: [21, 21],
+        });
+        let s = t.sample().unwrap();
+        assert_eq!(s.len(), 441);
+        for (p, v) in s.points.iter().zip(&s.vectors) {
+            // Exact (up to grid rounding) on the 2 cm sample lattice, and a
+            // bounded blend of neighbours elsewhere.
+            let on_lattice = p
+                .iter()
+                .all(|c| ((c / 0.02).round() * 0.02 - c).abs() < 1e-12);
+            if on_lattice {
+                assert!(
+                    (v[0] + p[0]).abs() < 1e-12 && (v[1] + p[1]).abs() < 1e-12,
+                    "{p:?}"
+                );
+            }
+            assert!(v[0].abs() <= 0.04 + 1e-12 && v[1].abs() <= 0.04 + 1e-12);
+        }
+    }
+
+    #[test]
+    fn bad_grid_n() {
+        let json = r#"{"grid": {"x": [-0.04, 0.04], "y": [-0.04, 0.04], "n": [0, 21]},
+                       "field": {"kind": "sink"}}"#;
+        let e = assert_err(json, &["target.grid.n[0]: must be ≥ 2, got 0"]);
+        assert_eq!(e.field_path(), Some("target.grid.n[0]"));
+        let json = r#"{"grid": {"x": [-0.04, 0.04], "y": [-0.04, 0.04], "n": [21, 100000]},
+                       "field": {"kind": "sink"}}"#;
+        assert_err(json, &["target.grid.n[1]", "≤ 2048"]);
+        let json = r#"{"grid": {"x": [-0.04, 0.04], "y": [-0.04, 0.04], "n": [-3, 21]},
+                       "field": {"kind": "sink"}}"#;
+        assert_err(json, &["target.grid"]);
+    }
+
+    #[test]
+    fn empty_ranges() {
+        let json = r#"{"grid": {"x": [0.04, -0.04], "y": [-0.04, 0.04], "n": [21, 21]},
+                       "field": {"kind": "sink"}}"#;
+        assert_err(json, &["target.grid.x: xmin must be < xmax"]);
+        let json = r#"{"grid": {"x": [-0.04, 0.04], "y": [0.01, 0.01], "n": [21, 21]},
+                       "field": {"kind": "sink"}}"#;
+        assert_err(json, &["target.grid.y: ymin must be < ymax"]);
+    }
+
+    #[test]
+    fn unknown_kind_lists_allowed_kinds() {
+        assert_err(
+            &with_field(r#"{"kind": "sinc"}"#),
+            &[
+                "target.field.kind: unknown kind \"sinc\"",
+                "expected one of sink, source,",
+                "sampled",
+            ],
+        );
+        assert_err(
+            &with_field(
+                r#"{"kind": "sum", "terms": [{"weight": 1, "field": {"kind": "sink"}},
+                                             {"weight": 1, "field": {"kind": "whirl"}}]}"#,
+            ),
+            &["target.field.terms[1].field.kind: unknown kind \"whirl\""],
+        );
+        assert_err(
+            &with_field(r#"{"strength": 1}"#),
+            &["target.field.kind: missing"],
+        );
+    }
+
+    #[test]
+    fn typos_are_rejected_with_path() {
+        assert_err(
+            &with_field(r#"{"kind": "sink", "strenght": 2}"#),
+            &["target.field", "strenght"],
+        );
+        assert_err(
+            &format!(r#"{{{GRID}, "field": {{"kind": "sink"}}, "maks": []}}"#),
+            &["target.maks: unknown field"],
+        );
+        assert_err(
+            r#"{"grid": {"x": [0, 1], "y": [0, 1], "n": [2, 2], "nx": 3}, "field": {"kind": "sink"}}"#,
+            &["target.grid.nx: unknown field"],
+        );
+        assert_err(
+            &format!(
+                r#"{{{GRID}, "field": {{"kind": "sink"}}, "mask": [{{"circle": {{"radius": 0.01, "centre": [0, 0]}}}}]}}"#
+            ),
+            &["target.mask[0]", "centre"],
+        );
+        assert_err(
+            &with_field(r#"{"kind": "sum", "terms": [{"wieght": 1, "field": {"kind": "sink"}}]}"#),
+            &["target.field.terms[0].wieght: unknown field"],
+        );
+        assert_err(
+            &with_field(r#"{"kind": "sum", "terms": [{"field": {"kind": "sink", "angle": 3}}]}"#),
+            &["target.field.terms[0].field", "angle"],
+        );
+        assert_err(
+            &with_field(r#"{"kind": "sink", "strength": "big"}"#),
+            &["target.field.strength: must be a number, got a string"],
+        );
+    }
+
+    #[test]
+    fn point_vector_count_mismatch() {
+        let pts: Vec<String> = (0..12).map(|i| format!("[{i}, 0]")).collect();
+        let vecs: Vec<String> = (0..11).map(|_| "[0, 0]".to_string()).collect();
+        let json = format!(
+            r#"{{"field": {{"kind": "sampled", "points": [{}], "vectors": [{}]}}}}"#,
+            pts.join(","),
+            vecs.join(",")
+        );
+        assert_err(&json, &["target.field.points: 12 points but 11 vectors"]);
+        assert_err(
+            r#"{"field": {"kind": "sampled", "points": [], "vectors": []}}"#,
+            &["target.field.points: must contain at least 1 point"],
+        );
+    }
+
+    #[test]
+    fn non_finite_values_are_rejected() {
+        let mut t = Target::from_json_str(&with_field(r#"{"kind": "sink"}"#)).unwrap();
+        t.field = FieldSpec::Sink {
+            center: [0.0, 0.0],
+            strength: f64::NAN,
+        };
+        let e = t.validate().unwrap_err().to_string();
+        assert!(e.contains("target.field.strength: must be finite"), "{e}");
+
+        t.field = FieldSpec::Whirlpool {
+            center: [f64::INFINITY, 0.0],
+            strength: 1.0,
+            rotation: 1.0,
+        };
+        let e = t.validate().unwrap_err().to_string();
+        assert!(e.contains("target.field.center: must be finite"), "{e}");
+
+        t.field = FieldSpec::Sum {
+            terms: vec![SumTerm {
+                weight: 1.0,
+                field: FieldSpec::Jet {
+                    center: [0.0, 0.0],
+                    strength: 1.0,
+                    direction: f64::NAN,
+                    width: 0.01,
+                },
+            }],
+        };
+        let e = t.validate().unwrap_err().to_string();
+        assert!(
+            e.contains("target.field.terms[0].field.direction: must be finite"),
+            "{e}"
+        );
+
+        t.field = FieldSpec::Sink {
+            center: [0.0, 0.0],
+            strength: 1.0,
+        };
+        t.grid.as_mut().unwrap().x[1] = f64::NAN;
+        let e = t.validate().unwrap_err().to_string();
+        assert!(e.contains("target.grid.x: must be finite"), "{e}");
+
+        // Overflowing literals cannot even be parsed.
+        assert!(matches!(
+            Target::from_json_str(&with_field(r#"{"kind": "sink", "strength": 1e999}"#)),
+            Err(TargetError::Syntax(_))
+        ));
+    }
+
+    #[test]
+    fn bad_weights() {
+        let rows = |n: usize, v: &str| {
+            let row = format!("[{}]", vec!["1"; 21].join(","));
+            let mut r = vec![row; n];
+            if !v.is_empty() {
+                r[3] = format!("[{}]", {
+                    let mut c = vec!["1"; 21];
+                    c[4] = v;
+                    c.join(",")
+                });
+            }
+            format!("[{}]", r.join(","))
+        };
+        let make =
+            |w: String| format!(r#"{{{GRID}, "field": {{"kind": "sink"}}, "weights": {w}}}"#);
+        assert!(Target::from_json_str(&make(rows(21, ""))).is_ok());
+        assert_err(
+            &make(rows(21, "-1")),
+            &["target.weights[3][4]: must be ≥ 0, got -1"],
+        );
+        assert_err(
+            &make(rows(20, "")),
+            &["target.weights: expected 21 rows (grid.n[1]), got 20"],
+        );
+        let short = make(rows(21, "").replacen("[1,", "[", 1));
+        assert_err(
+            &short,
+            &["target.weights[0]: expected 21 entries (grid.n[0]), got 20"],
+        );
+        assert_err(&make("[1, 2]".into()), &["target.weights"]);
+    }
+
+    #[test]
+    fn bad_mask_and_sum() {
+        assert_err(
+            &format!(
+                r#"{{{GRID}, "field": {{"kind": "sink"}}, "mask": [{{"circle": {{"radius": -1}}}}]}}"#
+            ),
+            &["target.mask[0].circle.radius: must be > 0, got -1"],
+        );
+        assert_err(
+            &format!(
+                r#"{{{GRID}, "field": {{"kind": "sink"}}, "mask": [{{"rect": {{"x": [1, 0], "y": [0, 1]}}}}]}}"#
+            ),
+            &["target.mask[0].rect.x: xmin must be < xmax"],
+        );
+        assert_err(
+            &format!(r#"{{{GRID}, "field": {{"kind": "sink"}}, "mask": [{{"polygon": {{}}}}]}}"#),
+            &["target.mask[0]", "polygon"],
+        );
+        assert_err(
+            &with_field(r#"{"kind": "sum", "terms": []}"#),
+            &["target.field.terms: must contain at least 1 term"],
+        );
+        assert_err(
+            &with_field(r#"{"kind": "jet", "width": 0}"#),
+            &["target.field.width: must be > 0"],
+        );
+    }
+
+    #[test]
+    fn everything_masked_is_an_error() {
+        let json = format!(
+            r#"{{{GRID}, "field": {{"kind": "sink"}}, "mask": [{{"rect": {{"x": [-1, 1], "y": [-1, 1]}}}}]}}"#
+        );
+        let t = Target::from_json_str(&json).unwrap();
+        let e = t.sample().unwrap_err().to_string();
+        assert!(e.contains("weight 0"), "{e}");
+    }
+
+    #[test]
+    fn missing_grid_for_analytic_field() {
+        assert_err(
+            r#"{"field": {"kind": "saddle"}}"#,
+            &["target.grid: missing; required for field kind \"saddle\""],
+        );
+        assert_err(
+            r#"{"field": {"kind": "sum", "terms": [{"field": {"kind": "sampled", "points": [[0,0]], "vectors": [[0,0]]}}]}}"#,
+            &["target.grid: missing"],
+        );
+        assert_err(r#"{"name": "x"}"#, &["target.field: missing"]);
+        assert_err(r#"[1, 2]"#, &["target: must be a JSON object"]);
+    }
+
+    #[test]
+    fn load_prefixes_file_path() {
+        let dir = std::env::temp_dir().join(format!("pf-target-test-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("bad.json");
+        std::fs::write(&path, with_field(r#"{"kind": "sinc"}"#)).unwrap();
+        let e = Target::load(&path).unwrap_err();
+        let msg = e.to_string();
+        assert!(msg.starts_with(&path.display().to_string()), "{msg}");
+        assert!(msg.contains("target.field.kind"), "{msg}");
+        assert_eq!(e.field_path(), Some("target.field.kind"));
+
+        let good = dir.join("sink.json");
+        std::fs::write(&good, &examples()[0].1).unwrap();
+        assert!(Target::load(&good).is_ok());
+
+        let missing = dir.join("nope.json");
+        let msg = Target::load(&missing).unwrap_err().to_string();
+        assert!(
+            msg.contains("nope.json") && msg.contains("cannot read"),
+            "{msg}"
+        );
+
+        std::fs::write(&path, "{\"field\": ").unwrap();
+        let msg = Target::load(&path).unwrap_err().to_string();
+        assert!(
+            msg.contains("invalid JSON") && msg.contains("line 1"),
+            "{msg}"
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
