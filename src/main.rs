@@ -38,13 +38,13 @@ struct LinesinkArgs {
     #[arg(long, default_value = "square")]
     wave: String,
     /// α of the square wave, or the sine's amplitude A (rad/s²).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     accel: f64,
     /// Axis depth below the plate surface (m); negative = above (LineSource).
     #[arg(long, allow_negative_numbers = true)]
     depth: f64,
     /// Period T (s).
-    #[arg(long, default_value_t = 0.03)]
+    #[arg(long, default_value_t = 0.03, allow_negative_numbers = true)]
     period: f64,
     /// Kinetic friction coefficient μ.
     #[arg(long, default_value_t = 0.3, allow_negative_numbers = true)]
