@@ -20,13 +20,27 @@ fn shaker(wave: Wave, accel: f64, depth: f64) -> LineSink {
 /// fixed point to 1e-11 μgT): the unit of every velocity field.
 fn steady_state(c: &mut Criterion) {
     for (name, ls, model) in [
-        ("steady_square_paper", shaker(Wave::Square, 180.0, 0.05), Model::PAPER),
-        ("steady_sine_h5_full", shaker(Wave::Sine, 220.0, 0.05), Model::FULL),
-        ("steady_sine_h1_paper_sticking", shaker(Wave::Sine, 220.0, 0.01), Model::PAPER),
+        (
+            "steady_square_paper",
+            shaker(Wave::Square, 180.0, 0.05),
+            Model::PAPER,
+        ),
+        (
+            "steady_sine_h5_full",
+            shaker(Wave::Sine, 220.0, 0.05),
+            Model::FULL,
+        ),
+        (
+            "steady_sine_h1_paper_sticking",
+            shaker(Wave::Sine, 220.0, 0.01),
+            Model::PAPER,
+        ),
     ] {
         let motion = ls.motion();
         let sim = Simulator::new(&motion, ls.friction, 9.81, model, Numerics::default());
-        c.bench_function(name, |b| b.iter(|| sim.steady_state(black_box([0.02, 0.0]))));
+        c.bench_function(name, |b| {
+            b.iter(|| sim.steady_state(black_box([0.02, 0.0])))
+        });
     }
 }
 

@@ -5,7 +5,10 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+use platefield::basis::report::write_primitives;
+use platefield::basis::Library;
 use platefield::dynamics::{Friction, Model, Numerics};
+use platefield::field::{FieldSettings, Grid};
 use platefield::linesink::LineSink;
 use platefield::{reproduce, Error, Result};
 
@@ -24,6 +27,21 @@ struct Cli {
 enum Command {
     /// Steady-state velocity of a point part on the paper's one-axis LineSink shaker (section II).
     Linesink(LinesinkArgs),
+    /// Simulate the primitive library and write results/primitives/ (fields, plots, table1.md).
+    Primitives {
+        /// Output directory.
+        #[arg(long, default_value = "results/primitives")]
+        out: PathBuf,
+        /// Grid points per side over ±4 cm.
+        #[arg(long, default_value_t = 21)]
+        grid: usize,
+        /// RK4 steps per cycle.
+        #[arg(long, default_value_t = FieldSettings::default().numerics.steps_per_cycle)]
+        steps: usize,
+        /// No progress bar.
+        #[arg(long)]
+        quiet: bool,
+    },
     /// Regenerate the section II results in results/: Fig. 3, time-to-travel, convergence.
     Reproduce {
         /// Output directory.
@@ -157,10 +175,41 @@ fn linesink(args: LinesinkArgs) -> Result<()> {
     Ok(())
 }
 
+fn primitives(out: &std::path::Path, n: usize, steps: usize, quiet: bool) -> Result<()> {
+    let grid = Grid {
+        n: [n, n],
+        ..Grid::DEFAULT
+    };
+    grid.validate("--grid")?;
+    let mut settings = FieldSettings::default();
+    settings.numerics.steps_per_cycle = steps;
+    settings.numerics.validate("--steps")?;
+    let start = std::time::Instant::now();
+    let lib = Library::build(&Library::default_primitives(), &grid, &settings, quiet);
+    let elapsed = start.elapsed().as_secs_f64();
+    let table = write_primitives(&lib, out)?;
+    print!("{table}");
+    println!(
+        "
+built {} primitives × 2 fields on {}×{} in {elapsed:.2} s; wrote {}",
+        lib.entries.len(),
+        n,
+        n,
+        out.display()
+    );
+    Ok(())
+}
+
 fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Linesink(args) => linesink(args),
         Command::Reproduce { out } => reproduce::linesink_results(&out),
+        Command::Primitives {
+            out,
+            grid,
+            steps,
+            quiet,
+        } => primitives(&out, grid, steps, quiet),
     }
 }
 

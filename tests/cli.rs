@@ -14,18 +14,31 @@ fn platefield(args: &[&str]) -> (i32, String, String) {
     )
 }
 
-const BASE: [&str; 7] = ["linesink", "--accel", "180", "--depth", "0.05", "--period", "0.03"];
+const BASE: [&str; 7] = [
+    "linesink", "--accel", "180", "--depth", "0.05", "--period", "0.03",
+];
 
 #[test]
 fn linesink_json_reports_eq17_and_contact_loss() {
     let mut args = BASE.to_vec();
-    args.extend(["--wave", "square", "--mu", "0.3", "--r", "0.01,0.06", "--json"]);
+    args.extend([
+        "--wave",
+        "square",
+        "--mu",
+        "0.3",
+        "--r",
+        "0.01,0.06",
+        "--json",
+    ]);
     let (code, out, err) = platefield(&args);
     assert_eq!(code, 0, "{err}");
     let rows: serde_json::Value = serde_json::from_str(&out).expect("JSON");
     let rows = rows.as_array().expect("array");
     assert_eq!(rows.len(), 2);
-    let (v, e) = (rows[0]["v_ss"].as_f64().unwrap(), rows[0]["eq17"].as_f64().unwrap());
+    let (v, e) = (
+        rows[0]["v_ss"].as_f64().unwrap(),
+        rows[0]["eq17"].as_f64().unwrap(),
+    );
     assert!(((v - e) / e).abs() < 1e-9);
     assert_eq!(rows[0]["contact_lost"], false);
     assert_eq!(rows[0]["stick_fraction"].as_f64(), Some(0.0));
@@ -52,7 +65,10 @@ fn bad_linesink_input_names_the_argument() {
         (&["--r", ""], "--r"),
         (&["--r", "0.01,NaN"], "--r"),
         (&["--r", "0.01", "--model", "exact"], "--model"),
-        (&["--r", "0.01", "--mu", "0.3", "--mu-static", "0.1"], "--mu-static"),
+        (
+            &["--r", "0.01", "--mu", "0.3", "--mu-static", "0.1"],
+            "--mu-static",
+        ),
         (&["--r", "0.01", "--steps", "0"], "--steps"),
     ];
     for (extra, name) in cases {
@@ -60,7 +76,10 @@ fn bad_linesink_input_names_the_argument() {
         args.extend_from_slice(extra);
         let (code, out, err) = platefield(&args);
         assert_ne!(code, 0, "{extra:?} should fail");
-        assert!(err.contains(name), "{extra:?}: stderr {err:?} should name {name}");
+        assert!(
+            err.contains(name),
+            "{extra:?}: stderr {err:?} should name {name}"
+        );
         assert!(out.is_empty(), "{extra:?}: nothing on stdout");
     }
     for (accel, depth, period, name) in [

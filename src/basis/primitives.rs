@@ -167,7 +167,10 @@ impl Primitive {
     pub fn default_translation(kind: PrimitiveKind) -> f64 {
         match kind {
             PrimitiveKind::Trans => 0.00007,
-            PrimitiveKind::SkewSink | PrimitiveKind::SkewSource => D0,
+            // Tuned so that the along-axis part matches the squeeze, as in
+            // Table I's a(∓x, ±x); the sign picks the direction of the skew.
+            PrimitiveKind::SkewSink => -0.6 * D0,
+            PrimitiveKind::SkewSource => 0.6 * D0,
             _ => 0.0,
         }
     }
@@ -227,10 +230,16 @@ impl Primitive {
                 Waveform::Zero,
                 asymmetric(d0, self.omega),
             ),
-            PrimitiveKind::ScaledCircle | PrimitiveKind::Circle => screw(
+            PrimitiveKind::ScaledCircle => screw(
                 [0.0, 0.0, 1.0],
                 [0.0, 0.0, 0.0],
                 asymmetric(psi0, self.omega),
+                Waveform::Zero,
+            ),
+            PrimitiveKind::Circle => screw(
+                [0.0, 0.0, 1.0],
+                [0.0, 0.0, 0.0],
+                sawtooth(-psi0, self.omega),
                 Waveform::Zero,
             ),
         }
@@ -264,5 +273,43 @@ pub fn asymmetric(q0: f64, omega: f64) -> Waveform {
         ],
         // Zero-mean pose is −(a/ω²) cos − (aβ/4ω²) cos 2; shift so q(0) = 0.
         offset: (a / (omega * omega)) * (1.0 + ASYM / 4.0),
+    }
+}
+
+/// Rest-to-rest waveform with an asymmetric *velocity*: q' = q0 ω (sin ωt +
+/// (β/2)(cos ωt − cos 2ωt)), β = 1, so the plate moves one way for longer
+/// than the other. Where the plate is much faster than the part (large
+/// amplitude) the part always slips and the net friction follows the sign
+/// of the plate velocity, so what matters is how long each sign lasts.
+/// q(0) = q'(0) = 0.
+pub fn sawtooth(q0: f64, omega: f64) -> Waveform {
+    let a = q0 * omega * omega;
+    let beta = 1.0;
+    // q'' = a (cos − (β/2) sin + β sin 2), as sin(nωt + φ) terms.
+    let terms = vec![
+        FourierTerm {
+            amplitude: a,
+            phase: FRAC_PI_2,
+            harmonic: 1,
+        },
+        FourierTerm {
+            amplitude: -a * beta / 2.0,
+            phase: 0.0,
+            harmonic: 1,
+        },
+        FourierTerm {
+            amplitude: a * beta,
+            phase: 0.0,
+            harmonic: 2,
+        },
+    ];
+    let w = Waveform::Fourier {
+        terms: terms.clone(),
+        offset: 0.0,
+    };
+    let q_at_0 = w.eval(0.0, 2.0 * PI / omega).q;
+    Waveform::Fourier {
+        terms,
+        offset: -q_at_0,
     }
 }

@@ -20,11 +20,11 @@
 //!   bracketed and found by the Illinois method.
 //!
 //! In 2-D the slip velocity of a part that cannot stick (|a_free| > μ_s N)
-//! passes close to zero and turns rapidly (its direction changes at a rate
-//! ∝ 1/|u|); the root of u(s)·u₀ is then the closest approach, where u is set
-//! to zero and the part slips away from rest along a_free. The error is the
-//! small residual |u(s*)|, which shrinks with the step. A root far from zero
-//! (|u(s*)| > 0.1 |u₀|) is a mere turn of the velocity and not an event.
+//! passes close to zero without reaching it and turns rapidly (its direction
+//! changes at a rate ∝ 1/|u|); the root of u(s)·u₀ is then a closest
+//! approach, where the step is cut and integration goes on from the turned
+//! velocity (the stiff turn itself is handled in the slip law, see
+//! `slip_rhs`). Nothing is zeroed there, so the cycle map stays continuous.
 
 use nalgebra::Vector2;
 
@@ -34,11 +34,13 @@ use crate::motion::{Kinematics, Motion, V3};
 /// 2-vector of f64.
 pub type V2 = Vector2<f64>;
 
-/// A root of u(s)·u₀ where |u(s)| is at most this fraction of |u₀| is a
-/// stop (exactly zero in 1-D; the closest approach in 2-D, where the part
-/// then slips away from rest along a_free); a larger |u(s)| means the slip
-/// velocity merely turned by 90° within the step.
+/// A root of u(s)·u₀ where the part can stick and |u(s)| is at most this
+/// fraction of |u₀| is a stop (in 2-D, u reaches zero along a_free).
 const STOP_FRACTION: f64 = 0.1;
+
+/// Most step cuts at roots of u(s)·u₀ within one step (a 2-D slip
+/// velocity swinging past zero is cut a few times while it turns).
+const MAX_CUTS: u32 = 16;
 
 /// State of a point part.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -187,7 +189,7 @@ impl<'a> Simulator<'a> {
     /// * where the slip is too slow to hold its own direction over the step
     ///   (|u| < h |a_free|), the direction is blended toward a_free, as an
     ///   implicit step would: u + h w a_free with w = (1 − |u|/(h|a_free|))²
-    ///   times the alignment max(0, û·â_free), continuous in u. Just after a
+    ///   times the alignment (1 + û·â_free)/2, continuous in u. Just after a
     ///   break-away or near a stop, û turns toward â_free at a rate
     ///   |a_free,⊥|/|u| that no explicit step can follow (the direction
     ///   equation is stiff), and its solution is û → â_free. In 1-D the blend
@@ -216,7 +218,7 @@ impl<'a> Simulator<'a> {
             // Blend toward â_free, continuously in u: weight (1 − x)² with
             // x = |u|/(h|a_free|), times the (non-negative) alignment.
             let x = speed / (h * pull);
-            let align = (u.dot(&free) / (speed * pull)).max(0.0);
+            let align = 0.5 * (1.0 + u.dot(&free) / (speed * pull));
             let w = (1.0 - x) * (1.0 - x) * align;
             let d = u + free * (h * w);
             d / d.norm()
@@ -346,6 +348,7 @@ impl<'a> Simulator<'a> {
         out: &mut CycleOutcome,
     ) -> Result<(), ContactLoss> {
         let tiny = self.numerics.event_tol * self.period;
+        let mut cuts = 0;
         while *t < target {
             if state.u == V2::zeros() && !state.stuck {
                 state.stuck = self.margin(*t, piece, &state.r, anchor) >= 0.0;
@@ -370,25 +373,32 @@ impl<'a> Simulator<'a> {
             let k0 = self.kin(*t, piece);
             let (r1, u1, _) = self.rk4(*t, h, piece, &k0, &state.r, &state.u, anchor)?;
             let u0 = state.u;
-            if u0 != V2::zeros() && u1.dot(&u0) <= 0.0 {
+            if u0 != V2::zeros() && u1.dot(&u0) <= 0.0 && cuts < MAX_CUTS {
+                cuts += 1;
                 let s = self.locate_stop(*t, h, piece, &k0, state, anchor)?;
                 let (rs, us, _) = self.rk4(*t, s, piece, &k0, &state.r, &u0, anchor)?;
-                if us.norm() <= STOP_FRACTION * u0.norm() {
-                    // The slip velocity reached zero (exactly, in 1-D) or
-                    // passed close to it: the part stops there, then sticks
-                    // or slips away from rest along a_free.
-                    *t = if target - (*t + s) <= tiny {
-                        target
-                    } else {
-                        *t + s
-                    };
-                    state.r = rs;
+                let ts = if target - (*t + s) <= tiny {
+                    target
+                } else {
+                    *t + s
+                };
+                let holds = self.margin(ts, piece, &rs, anchor) >= 0.0;
+                *t = ts;
+                state.r = rs;
+                out.events += 1;
+                if (holds && us.norm() <= STOP_FRACTION * u0.norm())
+                    || us.norm() <= 1e-12 * self.v_scale
+                {
+                    // The slip velocity reached zero: the part sticks, or
+                    // (exact 1-D reversal) slips away from rest along a_free.
                     state.u = V2::zeros();
-                    state.stuck = self.margin(*t, piece, &state.r, anchor) >= 0.0;
-                    out.events += 1;
-                    continue;
+                    state.stuck = holds;
+                } else {
+                    // 2-D closest approach of a part that cannot stick: cut
+                    // the step here and go on from the turned velocity.
+                    state.u = us;
                 }
-                // Otherwise u only turned by 90° (2-D): not a stop.
+                continue;
             }
             state.r = r1;
             state.u = u1;

@@ -18,9 +18,11 @@
 
 mod force;
 mod grid;
+mod json;
 mod velocity;
 
 pub use grid::Grid;
+pub use json::FieldStats;
 
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};

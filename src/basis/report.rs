@@ -1,0 +1,85 @@
+//! `platefield primitives`: each primitive's fields as JSON and quiver
+//! plots, and `table1.md`, the fits to the paper's Table I.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use super::library::Library;
+use crate::error::Result;
+use crate::output::write_atomic;
+
+fn json_bytes(v: &serde_json::Value) -> Vec<u8> {
+    let mut s = serde_json::to_string_pretty(v).unwrap_or_default();
+    s.push('\n');
+    s.into_bytes()
+}
+
+/// Writes `<Name>.json`, `<Name>.velocity.json`, `<Name>.svg`,
+/// `<Name>.velocity.svg` and `table1.md` under `out`; returns table1.md.
+pub fn write_primitives(lib: &Library, out: &Path) -> Result<String> {
+    let s = &lib.settings;
+    let mut md = format!(
+        "# Primitive fields against the paper's Table I\n\n\
+         Grid {}×{} over x ∈ [{}, {}] m, y ∈ [{}, {}] m; model `{}`; μ_s = {}, μ_k = {}; \
+         {} start phases; {} RK4 steps per cycle. Regenerate: `platefield primitives`.\n\n\
+         Least-squares fit of each field to its Table I form over the valid samples \
+         (Circle: outside 1 cm of its axis). R² is uncentred (the forms have no constant \
+         term): R² = 1 − Σ|f − f̂|²/Σ|f|². Coefficients in s⁻² m⁻ᵏ (force) and s⁻¹ m⁻ᵏ \
+         (velocity) for a form of degree k in position. *Signs* checks a > 0 \
+         (for DivCircle, a > 0; b is reported).\n\n\
+         | primitive | form | force: coefficients | force R² | velocity: coefficients | velocity R² | valid (force, velocity) | signs |\n\
+         |---|---|---|---|---|---|---|---|\n",
+        lib.grid.n[0], lib.grid.n[1], lib.grid.x[0], lib.grid.x[1], lib.grid.y[0], lib.grid.y[1],
+        s.model.name(), s.friction.stat, s.friction.kinetic, s.phases, s.numerics.steps_per_cycle
+    );
+    for e in &lib.entries {
+        let name = e.primitive.kind.name();
+        write_atomic(
+            &out.join(format!("{name}.json")),
+            &json_bytes(&e.force.to_json(s)),
+        )?;
+        write_atomic(
+            &out.join(format!("{name}.velocity.json")),
+            &json_bytes(&e.velocity.to_json(s)),
+        )?;
+        write_atomic(
+            &out.join(format!("{name}.svg")),
+            e.force
+                .quiver(&format!("{name}: zero-velocity force field"))
+                .to_svg()
+                .as_bytes(),
+        )?;
+        write_atomic(
+            &out.join(format!("{name}.velocity.svg")),
+            e.velocity
+                .quiver(&format!("{name}: steady-state velocity field"))
+                .to_svg()
+                .as_bytes(),
+        )?;
+        let (ff, fv) = e.fits();
+        let coef = |c: &[f64]| {
+            c.iter()
+                .map(|x| format!("{x:.4}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let signs_ok = ff.coefficients.first().is_some_and(|a| *a > 0.0)
+            && fv.coefficients.first().is_some_and(|a| *a > 0.0);
+        let _ = writeln!(
+            md,
+            "| {name} | {} | {} | {:.4} | {} | {:.4} | {}/{}, {}/{} | {} |",
+            ff.form,
+            coef(&ff.coefficients),
+            ff.r2,
+            coef(&fv.coefficients),
+            fv.r2,
+            e.force.valid_count(),
+            e.force.vectors.len(),
+            e.velocity.valid_count(),
+            e.velocity.vectors.len(),
+            if signs_ok { "ok" } else { "WRONG" }
+        );
+    }
+    write_atomic(&out.join("table1.md"), md.as_bytes())?;
+    Ok(md)
+}

@@ -1,0 +1,89 @@
+//! The field JSON format written by `platefield field` and `primitives`:
+//!
+//! ```text
+//! {"x": [nx], "y": [ny], "fx": [[nx] × ny], "fy": [[nx] × ny],
+//!  "valid": [[nx] × ny], "status": [[nx] × ny], "kind": "force" | "velocity",
+//!  "units": "m/s^2" | "m/s", "model": {...}, "stats": {...}}
+//! ```
+//!
+//! Rows are y (outer), columns x (inner). `valid` is true where the sample is
+//! usable; `status` says why not (`contact_lost`, `not_converged`,
+//! `frozen_invalid`). Nothing time-dependent is written, so the same input
+//! gives the same bytes.
+
+use serde::Serialize;
+
+use super::{Field, FieldKind, FieldSettings, Validity};
+
+/// Counts of samples by validity, and the largest magnitude.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct FieldStats {
+    /// Samples.
+    pub samples: usize,
+    /// Valid samples.
+    pub valid: usize,
+    /// Samples where the part leaves the plate.
+    pub contact_lost: usize,
+    /// Samples whose steady state did not converge.
+    pub not_converged: usize,
+    /// Frozen samples whose excursion is too large.
+    pub frozen_invalid: usize,
+    /// Largest valid magnitude.
+    pub max_magnitude: f64,
+}
+
+impl Field {
+    /// Sample counts by validity.
+    pub fn stats(&self) -> FieldStats {
+        let count = |v: Validity| self.validity.iter().filter(|x| **x == v).count();
+        FieldStats {
+            samples: self.vectors.len(),
+            valid: count(Validity::Ok),
+            contact_lost: count(Validity::ContactLost),
+            not_converged: count(Validity::NotConverged),
+            frozen_invalid: count(Validity::FrozenInvalid),
+            max_magnitude: self.max_magnitude(),
+        }
+    }
+
+    /// The field in the documented JSON format.
+    pub fn to_json(&self, settings: &FieldSettings) -> serde_json::Value {
+        let nx = self.grid.n[0];
+        let rows = |f: &dyn Fn(usize) -> serde_json::Value| -> Vec<Vec<serde_json::Value>> {
+            (0..self.grid.n[1])
+                .map(|j| (0..nx).map(|i| f(j * nx + i)).collect())
+                .collect()
+        };
+        serde_json::json!({
+            "x": self.grid.xs(),
+            "y": self.grid.ys(),
+            "fx": rows(&|k| self.vectors[k][0].into()),
+            "fy": rows(&|k| self.vectors[k][1].into()),
+            "valid": rows(&|k| (self.validity[k] == Validity::Ok).into()),
+            "status": rows(&|k| serde_json::to_value(self.validity[k]).unwrap_or_default()),
+            "kind": self.kind,
+            "units": match self.kind { FieldKind::Force => "m/s^2", FieldKind::Velocity => "m/s" },
+            "model": settings.model,
+            "settings": settings,
+            "stats": self.stats(),
+        })
+    }
+
+    /// A quiver plot of the field (axes in cm, invalid samples marked ×).
+    pub fn quiver(&self, title: &str) -> crate::plot::QuiverPlot {
+        let units = match self.kind {
+            FieldKind::Force => "m/s²",
+            FieldKind::Velocity => "m/s",
+        };
+        let invalid: Vec<bool> = self.validity.iter().map(|v| *v != Validity::Ok).collect();
+        let n_bad = invalid.iter().filter(|b| **b).count();
+        crate::plot::QuiverPlot::new(title, self.grid.points(), self.vectors.clone())
+            .invalid(invalid)
+            .caption(format!(
+                "max |f| = {:.4} {units}; {} of {} samples invalid (×)",
+                self.max_magnitude(),
+                n_bad,
+                self.vectors.len()
+            ))
+    }
+}
