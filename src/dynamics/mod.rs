@@ -167,7 +167,7 @@ impl Default for Numerics {
             event_tol: 1e-14,
             steady_tol: 1e-11,
             steady_accept: 1e-5,
-            max_iterations: 60,
+            max_iterations: 200,
         }
     }
 }

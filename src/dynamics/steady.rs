@@ -127,7 +127,7 @@ impl Simulator<'_> {
             pu = map(&u)?;
         }
         let mut residual = (pu - u).norm();
-        let delta = 1e-6 * self.velocity_scale();
+        let delta = 1e-5 * self.velocity_scale();
         let mut best = (u, residual);
         while residual > tol {
             if evals.get() >= max_it {
