@@ -14,6 +14,7 @@ pub mod basis;
 pub mod dynamics;
 pub mod error;
 pub mod field;
+pub mod fit;
 pub mod linesink;
 pub mod motion;
 pub mod output;

@@ -20,11 +20,10 @@
 //!   bracketed and found by the Illinois method.
 //!
 //! In 2-D the slip velocity of a part that cannot stick (|a_free| > μ_s N)
-//! passes close to zero without reaching it and turns rapidly (its direction
-//! changes at a rate ∝ 1/|u|); the root of u(s)·u₀ is then a closest
-//! approach, where the step is cut and integration goes on from the turned
-//! velocity (the stiff turn itself is handled in the slip law, see
-//! `slip_rhs`). Nothing is zeroed there, so the cycle map stays continuous.
+//! passes close to zero without reaching it and turns rapidly: its direction
+//! changes at the rate |a_⊥|/|u|. Steps are shortened to follow that turn
+//! (see `slip_step`), and a root of u(s)·u₀ that is not a zero crossing only
+//! cuts the step. The friction law itself is never smoothed.
 
 use nalgebra::Vector2;
 
@@ -37,6 +36,24 @@ pub type V2 = Vector2<f64>;
 /// A root of u(s)·u₀ where the part can stick and |u(s)| is at most this
 /// fraction of |u₀| is a stop (in 2-D, u reaches zero along a_free).
 const STOP_FRACTION: f64 = 0.1;
+
+/// A root of u(s)·u₀ where |u(s)| is at most this fraction of |u₀| is a
+/// zero crossing (exact in 1-D, up to round-off).
+const ZERO_FRACTION: f64 = 1e-9;
+
+/// Largest turn of the slip direction per step (radians, approximately).
+const TURN: f64 = 0.25;
+
+/// Shortest slip step outside a swing, as a fraction of the nominal step.
+const MIN_SUBSTEP: f64 = 1.0 / 64.0;
+
+/// Where a 2-D swing past zero starts to be followed with short steps: when
+/// the velocity component along the step's initial direction is this many
+/// times the closest approach.
+const BACKOFF: f64 = 8.0;
+
+/// Steps after a swing past zero during which the step may shrink freely.
+const MAX_SWING_STEPS: u32 = 400;
 
 /// Most step cuts at roots of u(s)·u₀ within one step (a 2-D slip
 /// velocity swinging past zero is cut a few times while it turns).
@@ -179,29 +196,16 @@ impl<'a> Simulator<'a> {
         self.friction.stat * n - free.norm()
     }
 
-    /// du/dt of a slipping part, for a step of size `h`.
-    ///
-    /// The friction direction is u/|u|, with two exceptions:
-    /// * where u is zero or has turned against `dir0`, the slip direction at
-    ///   the start of the step, friction keeps the side it came from: a
-    ///   reversal is an event that ends the step, so a stage landing on (or
-    ///   numerically just past) u = 0 must not flip it;
-    /// * where the slip is too slow to hold its own direction over the step
-    ///   (|u| < h |a_free|), the direction is blended toward a_free, as an
-    ///   implicit step would: u + h w a_free with w = (1 − |u|/(h|a_free|))²
-    ///   times the alignment (1 + û·â_free)/2, continuous in u. Just after a
-    ///   break-away or near a stop, û turns toward â_free at a rate
-    ///   |a_free,⊥|/|u| that no explicit step can follow (the direction
-    ///   equation is stiff), and its solution is û → â_free. In 1-D the blend
-    ///   leaves the direction unchanged, so exactness for piecewise-constant
-    ///   accelerations is kept; where |u| ≥ h|a_free| the law is untouched.
+    /// du/dt of a slipping part: a_free − μ_k N û. Where u is zero or has
+    /// turned against `dir0`, the slip direction at the start of the step,
+    /// friction keeps the side it came from: a reversal is an event that
+    /// ends the step, so a stage landing on (or numerically just past)
+    /// u = 0 must not flip it.
     #[inline]
-    #[allow(clippy::too_many_arguments)]
     fn slip_rhs(
         &self,
         k: &Kinematics,
         t: f64,
-        h: f64,
         r: &V2,
         u: &V2,
         dir0: &V2,
@@ -211,20 +215,8 @@ impl<'a> Simulator<'a> {
         if n < 0.0 {
             return Err(self.contact_loss(t, r, n));
         }
-        let (speed, pull) = (u.norm(), free.norm());
-        let dir = if u.dot(dir0) <= 0.0 {
-            *dir0
-        } else if speed < h * pull {
-            // Blend toward â_free, continuously in u: weight (1 − x)² with
-            // x = |u|/(h|a_free|), times the (non-negative) alignment.
-            let x = speed / (h * pull);
-            let align = 0.5 * (1.0 + u.dot(&free) / (speed * pull));
-            let w = (1.0 - x) * (1.0 - x) * align;
-            let d = u + free * (h * w);
-            d / d.norm()
-        } else {
-            u / speed
-        };
+        let along = u.dot(dir0);
+        let dir = if along > 0.0 { u.normalize() } else { *dir0 };
         Ok(free - dir * (self.friction.kinetic * n))
     }
 
@@ -272,13 +264,13 @@ impl<'a> Simulator<'a> {
         let d0 = self.slip_direction(k0, r, u, anchor);
         let km = self.kin(t + 0.5 * h, piece);
         let k1k = self.kin(t + h, piece);
-        let a1 = self.slip_rhs(k0, t, h, r, u, &d0, anchor)?;
+        let a1 = self.slip_rhs(k0, t, r, u, &d0, anchor)?;
         let (r2, u2) = (r + u * (0.5 * h), u + a1 * (0.5 * h));
-        let a2 = self.slip_rhs(&km, t + 0.5 * h, h, &r2, &u2, &d0, anchor)?;
+        let a2 = self.slip_rhs(&km, t + 0.5 * h, &r2, &u2, &d0, anchor)?;
         let (r3, u3) = (r + u2 * (0.5 * h), u + a2 * (0.5 * h));
-        let a3 = self.slip_rhs(&km, t + 0.5 * h, h, &r3, &u3, &d0, anchor)?;
+        let a3 = self.slip_rhs(&km, t + 0.5 * h, &r3, &u3, &d0, anchor)?;
         let (r4, u4) = (r + u3 * h, u + a3 * h);
-        let a4 = self.slip_rhs(&k1k, t + h, h, &r4, &u4, &d0, anchor)?;
+        let a4 = self.slip_rhs(&k1k, t + h, &r4, &u4, &d0, anchor)?;
         let r1 = r + (u + (u2 + u3) * 2.0 + u4) * (h / 6.0);
         let u1 = u + (a1 + (a2 + a3) * 2.0 + a4) * (h / 6.0);
         Ok((r1, u1, k1k))
@@ -349,6 +341,7 @@ impl<'a> Simulator<'a> {
     ) -> Result<(), ContactLoss> {
         let tiny = self.numerics.event_tol * self.period;
         let mut cuts = 0;
+        let mut swing: u32 = 0;
         while *t < target {
             if state.u == V2::zeros() && !state.stuck {
                 state.stuck = self.margin(*t, piece, &state.r, anchor) >= 0.0;
@@ -369,13 +362,14 @@ impl<'a> Simulator<'a> {
                 }
                 continue;
             }
-            let h = target - *t;
             let k0 = self.kin(*t, piece);
-            let (r1, u1, _) = self.rk4(*t, h, piece, &k0, &state.r, &state.u, anchor)?;
             let u0 = state.u;
+            let h = self.slip_step(&k0, target - *t, state, anchor, swing > 0);
+            swing = swing.saturating_sub(1);
+            let (r1, u1, _) = self.rk4(*t, h, piece, &k0, &state.r, &u0, anchor)?;
             if u0 != V2::zeros() && u1.dot(&u0) <= 0.0 && cuts < MAX_CUTS {
                 cuts += 1;
-                let s = self.locate_stop(*t, h, piece, &k0, state, anchor)?;
+                let s = self.locate_stop(*t, h, piece, &k0, state, anchor, 0.0)?;
                 let (rs, us, _) = self.rk4(*t, s, piece, &k0, &state.r, &u0, anchor)?;
                 let ts = if target - (*t + s) <= tiny {
                     target
@@ -383,31 +377,90 @@ impl<'a> Simulator<'a> {
                     *t + s
                 };
                 let holds = self.margin(ts, piece, &rs, anchor) >= 0.0;
-                *t = ts;
-                state.r = rs;
                 out.events += 1;
-                if (holds && us.norm() <= STOP_FRACTION * u0.norm())
-                    || us.norm() <= 1e-12 * self.v_scale
-                {
+                let (left, start) = (us.norm(), u0.norm());
+                if left <= ZERO_FRACTION * start || (holds && left <= STOP_FRACTION * start) {
                     // The slip velocity reached zero: the part sticks, or
-                    // (exact 1-D reversal) slips away from rest along a_free.
+                    // (a reversal) slips away from rest along a_free.
+                    *t = ts;
+                    state.r = rs;
                     state.u = V2::zeros();
                     state.stuck = holds;
                 } else {
-                    // 2-D closest approach of a part that cannot stick: cut
-                    // the step here and go on from the turned velocity.
-                    state.u = us;
+                    // A 2-D slip swinging past zero. The coarse step cannot
+                    // follow the turn, which happens while |u| is of the
+                    // order of its closest approach ε = |u(s*)|: back off to
+                    // where the component along u₀ is still BACKOFF·ε and
+                    // go on from there with steps short enough to follow it.
+                    let sb = self.locate_stop(*t, s, piece, &k0, state, anchor, BACKOFF * left)?;
+                    let (rb, ub, _) = self.rk4(*t, sb, piece, &k0, &state.r, &u0, anchor)?;
+                    *t += sb;
+                    state.r = rb;
+                    state.u = ub;
+                    swing = MAX_SWING_STEPS;
                 }
                 continue;
             }
             state.r = r1;
             state.u = u1;
-            *t = target;
+            *t += h;
+            if target - *t <= tiny {
+                *t = target;
+            }
         }
         Ok(())
     }
 
-    /// Root s* ∈ (0, h] of g(s) = u(s)·u₀ by safeguarded Newton.
+    /// Step size for a slipping part: the rest of the step, shortened where
+    /// the slip direction turns fast. û turns at the rate |a_⊥|/|u|, with a_⊥
+    /// the part of a_free across the slip; near a 2-D closest approach to
+    /// u = 0 that rate is large and an explicit step cannot follow it, so
+    /// the step is limited to a fraction of |u|/|a_⊥|. Right after a swing
+    /// past zero (`swinging`, for at most a fixed number of steps) the step
+    /// may shrink as far as the turn needs — |u| then grows geometrically, so
+    /// the swing takes a few dozen steps; elsewhere it stays above 1/64 of
+    /// the nominal step, which bounds the cost of long slow slips.
+    /// In 1-D a_⊥ = 0 and the step is never shortened.
+    fn slip_step(
+        &self,
+        k0: &Kinematics,
+        rest: f64,
+        state: &PartState,
+        anchor: &V2,
+        swinging: bool,
+    ) -> f64 {
+        let nominal = self.period / self.numerics.steps_per_cycle as f64;
+        let shortest = if swinging {
+            1e-12 * self.period
+        } else {
+            MIN_SUBSTEP * nominal
+        };
+        let speed = state.u.norm();
+        if speed == 0.0 {
+            return rest;
+        }
+        let (n, free) = self.forces(k0, &state.r, &state.u, anchor);
+        let uhat = state.u / speed;
+        let across = (free - uhat * free.dot(&uhat)).norm();
+        // While swinging, |u| may also shrink by at most half per step, so
+        // the approach to the closest point is followed too.
+        let rate = if swinging {
+            (free - uhat * (self.friction.kinetic * n.max(0.0))).norm()
+        } else {
+            0.0
+        };
+        let limit = (TURN * speed / across).min(0.5 * speed / rate);
+        if limit >= rest {
+            rest
+        } else {
+            limit.max(shortest)
+        }
+    }
+
+    /// Root s* ∈ (0, h] of g(s) = u(s)·û₀ − `level` (the slip velocity's
+    /// component along its initial direction falls to `level`) by
+    /// safeguarded Newton.
+    #[allow(clippy::too_many_arguments)]
     fn locate_stop(
         &self,
         t: f64,
@@ -416,31 +469,29 @@ impl<'a> Simulator<'a> {
         k0: &Kinematics,
         state: &PartState,
         anchor: &V2,
+        level: f64,
     ) -> Result<f64, ContactLoss> {
         let u0 = state.u;
-        let g0 = u0.dot(&u0);
+        let shift = level * u0.norm();
+        let g0 = u0.dot(&u0) - shift;
         let dir0 = u0 / u0.norm();
         let (mut lo, mut hi) = (0.0, h);
         let mut s = h;
         // Initial Newton step from s = 0 (g'(0) from the RHS at the start).
-        let d0 = self
-            .slip_rhs(k0, t, h, &state.r, &u0, &dir0, anchor)?
-            .dot(&u0);
+        let d0 = self.slip_rhs(k0, t, &state.r, &u0, &dir0, anchor)?.dot(&u0);
         if d0 < 0.0 {
             s = (-g0 / d0).clamp(0.0, h);
         }
         let tol = self.numerics.event_tol * self.period;
         for _ in 0..60 {
             let (rs, us, ks) = self.rk4(t, s, piece, k0, &state.r, &u0, anchor)?;
-            let g = us.dot(&u0);
+            let g = us.dot(&u0) - shift;
             if g > 0.0 {
                 lo = s;
             } else {
                 hi = s;
             }
-            let dg = self
-                .slip_rhs(&ks, t + s, s, &rs, &us, &dir0, anchor)?
-                .dot(&u0);
+            let dg = self.slip_rhs(&ks, t + s, &rs, &us, &dir0, anchor)?.dot(&u0);
             let mut next = if dg < 0.0 { s - g / dg } else { f64::NAN };
             if !(next > lo && next < hi) {
                 next = 0.5 * (lo + hi);

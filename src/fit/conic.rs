@@ -1,0 +1,441 @@
+//! Conic formulations of the fit modes, solved with Clarabel.
+//!
+//! Clarabel solves
+//!
+//! ```text
+//! min ½xᵀPx + qᵀx   s.t.  Ax + s = b,  s ∈ K,
+//! ```
+//!
+//! with dual `z ∈ K*` and stationarity `Px + q + Aᵀz = 0`.  `K` is a
+//! product of `ZeroConeT` (`s = 0`), `NonnegativeConeT` (`s ≥ 0`) and
+//! `SecondOrderConeT` (`𝒬^p = {(s₀, s̄) : ‖s̄‖₂ ≤ s₀}`).
+//!
+//! The data passed in are already weighted and normalised (`‖t̂‖ = 1`, see
+//! [`crate::fit::prepare`]), and for the least-squares modes compressed:
+//! `‖Âw − s t̂‖² = ‖Rw − s c‖² + s² r₀²`.  The normal-equations matrix
+//! `ÂᵀÂ` is never formed.
+//!
+//! | mode | function | form |
+//! |------|----------|------|
+//! | `Absolute`, `Shape` | [`solve_ls_residual_qp`] (default) | QP, zero + non-negative cones |
+//! | `Absolute`, `Shape` | [`solve_ls_epigraph`] ([`LsFormulation::Epigraph`]) | SOCP |
+//! | `Budget` | [`solve_budget`] | SOCP |
+//! | `L1`, `LInf` | [`solve_l1`], [`solve_linf`] | LP, zero + non-negative cones |
+//!
+//! # Settings
+//!
+//! [`fit_settings`]: `verbose = false`, `max_iter = 200`, gap and
+//! feasibility tolerances per form ([`TOL_TIGHT`] = 1e-10 for the residual
+//! QP and the LPs, [`TOL_BUDGET`] = 1e-9, [`TOL_EPIGRAPH`] = 1e-8; chosen
+//! from 40 random problems per mode so that Clarabel ends `Solved` rather
+//! than `AlmostSolved`), everything else Clarabel's default: QDLDL direct
+//! solver, single-threaded, hence bit-for-bit deterministic.
+//!
+//! Equilibration is left **enabled**.  The measured failure (normal-equations
+//! QP `P = AᵀA` ending `Solved` with weights off by up to 0.25 on line sinks
+//! 0.1° apart) reproduces with equilibration switched off too (0.25 at data
+//! scale 1e-3, 9e-3 at scale 1), so equilibration is not the cause: the
+//! squared condition number and the absolute gap tolerance on an unscaled
+//! objective are.  Both are removed here by the QR compression and the
+//! normalisation `‖t̂‖ = 1`; see the regression test
+//! `normal_equations_pitfall_vs_compressed_qr`.
+//!
+//! Interior-point weights of the least-squares modes are accurate only to
+//! about the square root of the gap tolerance where the objective is flat
+//! (measured 3.5e-6 for the epigraph form at 1e-10); [`crate::fit::solve`]
+//! therefore polishes them on the identified active set before verifying.
+
+use clarabel::algebra::CscMatrix;
+use clarabel::solver::{
+    DefaultSettings, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
+    SupportedConeT::{NonnegativeConeT, SecondOrderConeT, ZeroConeT},
+};
+use nalgebra::{DMatrix, DVector};
+use serde::{Deserialize, Serialize};
+
+use crate::fit::FitError;
+
+/// What an interior-point solve returned.
+#[derive(Debug, Clone)]
+pub struct ConicOutcome {
+    /// Primal solution.
+    pub x: Vec<f64>,
+    /// Dual solution (in the dual cone).
+    pub z: Vec<f64>,
+    /// Termination status.
+    pub status: SolverStatus,
+    /// Iterations.
+    pub iterations: u32,
+    /// Clarabel's solve time in seconds.
+    pub solve_time_s: f64,
+    /// Primal objective as reported by Clarabel (normalised units).
+    pub obj_val: f64,
+    /// Least-squares modes: duals of the rows `wⱼ ≥ 0` (empty otherwise).
+    pub bound_duals: Vec<f64>,
+    /// Least-squares modes with the cap: dual of `1ᵀw ≤ 1`.
+    pub sum_dual: Option<f64>,
+    /// `L1`/`LInf`: the dual certificate `y = z₁ − z₂` (length `M`).
+    pub lp_dual: Vec<f64>,
+}
+
+/// How the compressed least-squares modes (`Absolute`, `Shape`) are posed
+/// to Clarabel.  Both work on the QR-compressed `R` (never on `AᵀA`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LsFormulation {
+    /// Residual variables with a zero cone and a quadratic objective
+    /// (see [`solve_ls_residual_qp`]).  Default: measured weight errors
+    /// ~1e-11 at the tolerances of [`fit_settings`].
+    #[default]
+    ResidualQp,
+    /// Second-order-cone epigraph `min τ, ‖Rw − c‖ ≤ τ` (see
+    /// [`solve_ls_epigraph`]).  Measured weight errors ~√tol ≈ 1e-6–1e-5
+    /// whenever the optimal residual is non-zero, which can fail the 1e-6
+    /// KKT verification; kept for comparison.
+    Epigraph,
+}
+
+/// Gap/feasibility tolerance for the residual-QP least-squares form and
+/// the LPs (all measured `Solved`, one or two iterations more than 1e-8).
+pub const TOL_TIGHT: f64 = 1e-10;
+/// Tolerance for the `Budget` SOCP (at 1e-10, 6 of 40 random budget
+/// problems ended `AlmostSolved`; at 1e-9 none did).
+pub const TOL_BUDGET: f64 = 1e-9;
+/// Tolerance for the epigraph least-squares form (at 1e-10 it often ends
+/// `AlmostSolved`; polishing supplies the accuracy anyway).
+pub const TOL_EPIGRAPH: f64 = 1e-8;
+
+/// Clarabel settings used for every fit, with gap/feasibility tolerance
+/// `tol` (see module docs for the choices).
+pub fn fit_settings(tol: f64) -> DefaultSettings<f64> {
+    DefaultSettings {
+        verbose: false,
+        max_iter: 200,
+        tol_gap_abs: tol,
+        tol_gap_rel: tol,
+        tol_feas: tol,
+        equilibrate_enable: true,
+        ..DefaultSettings::default()
+    }
+}
+
+/// Sparse constraint matrix assembled row by row, with its cones.
+struct ConeBuilder {
+    ncols: usize,
+    nrows: usize,
+    ri: Vec<usize>,
+    ci: Vec<usize>,
+    vals: Vec<f64>,
+    b: Vec<f64>,
+    cones: Vec<SupportedConeT<f64>>,
+}
+
+impl ConeBuilder {
+    fn new(ncols: usize) -> Self {
+        Self {
+            ncols,
+            nrows: 0,
+            ri: Vec::new(),
+            ci: Vec::new(),
+            vals: Vec::new(),
+            b: Vec::new(),
+            cones: Vec::new(),
+        }
+    }
+
+    /// Add one row `Σ vals·x[cols] + s = b`; exact zeros are skipped.
+    fn row(&mut self, entries: impl IntoIterator<Item = (usize, f64)>, b: f64) {
+        for (j, v) in entries {
+            if v != 0.0 {
+                self.ri.push(self.nrows);
+                self.ci.push(j);
+                self.vals.push(v);
+            }
+        }
+        self.b.push(b);
+        self.nrows += 1;
+    }
+
+    fn cone(&mut self, cone: SupportedConeT<f64>) {
+        self.cones.push(cone);
+    }
+
+    fn solve(self, q: Vec<f64>, tol: f64, mode: &'static str) -> Result<ConicOutcome, FitError> {
+        let p = CscMatrix::zeros((self.ncols, self.ncols));
+        let a = CscMatrix::new_from_triplets(self.nrows, self.ncols, self.ri, self.ci, self.vals);
+        run(&p, &q, &a, &self.b, &self.cones, fit_settings(tol), mode)
+    }
+}
+
+fn run(
+    p: &CscMatrix<f64>,
+    q: &[f64],
+    a: &CscMatrix<f64>,
+    b: &[f64],
+    cones: &[SupportedConeT<f64>],
+    settings: DefaultSettings<f64>,
+    mode: &'static str,
+) -> Result<ConicOutcome, FitError> {
+    let mut solver =
+        DefaultSolver::new(p, q, a, b, cones, settings).map_err(|e| FitError::SolverSetup {
+            mode,
+            message: e.to_string(),
+        })?;
+    solver.solve();
+    let sol = &solver.solution;
+    Ok(ConicOutcome {
+        x: sol.x.clone(),
+        z: sol.z.clone(),
+        status: sol.status,
+        iterations: sol.iterations,
+        solve_time_s: sol.solve_time,
+        obj_val: sol.obj_val,
+        bound_duals: Vec::new(),
+        sum_dual: None,
+        lp_dual: Vec::new(),
+    })
+}
+
+/// Compressed least-squares fit with residual variables (the default).
+///
+/// Variables `x = (w, y) ∈ ℝ^{m+k}`, `P = diag(0_m, I_k)`, `q = 0`:
+///
+/// ```text
+/// min ½‖y‖²   s.t.  Rw − y = c  (zero cone),  w ≥ 0,  [1ᵀw ≤ 1 if sum_cap]
+/// ```
+///
+/// so `y* = Rw* − c` and the full squared residual is `‖y*‖² + r₀²`.  The
+/// Hessian is the identity on `y` and `R` enters only the constraints, so
+/// the KKT systems Clarabel factors have the conditioning of `R` (that of
+/// `DA`), not of `RᵀR = AᵀD²A`.  Unlike the epigraph form, the objective is
+/// smooth and strongly convex in `y`, and the interior-point iterates
+/// converge to the weights at the rate of the duality gap rather than its
+/// square root (see [`LsFormulation`]).
+pub fn solve_ls_residual_qp(
+    r: &DMatrix<f64>,
+    c: &DVector<f64>,
+    sum_cap: bool,
+) -> Result<ConicOutcome, FitError> {
+    let (k, m) = r.shape();
+    let mode = if sum_cap { "absolute" } else { "shape" };
+    let mut bld = ConeBuilder::new(m + k);
+    for i in 0..k {
+        bld.row((0..m).map(|j| (j, r[(i, j)])).chain([(m + i, -1.0)]), c[i]);
+    }
+    bld.cone(ZeroConeT(k));
+    for j in 0..m {
+        bld.row([(j, -1.0)], 0.0);
+    }
+    if sum_cap {
+        bld.row((0..m).map(|j| (j, 1.0)), 1.0);
+        bld.cone(NonnegativeConeT(m + 1));
+    } else {
+        bld.cone(NonnegativeConeT(m));
+    }
+    let p = CscMatrix::new_from_triplets(
+        m + k,
+        m + k,
+        (m..m + k).collect(),
+        (m..m + k).collect(),
+        vec![1.0; k],
+    );
+    let a = CscMatrix::new_from_triplets(bld.nrows, bld.ncols, bld.ri, bld.ci, bld.vals);
+    let out = run(
+        &p,
+        &vec![0.0; m + k],
+        &a,
+        &bld.b,
+        &bld.cones,
+        fit_settings(TOL_TIGHT),
+        mode,
+    )?;
+    Ok(with_ls_duals(out, k, m, sum_cap))
+}
+
+/// Attach the duals of `w ≥ 0` (rows `first..first+m`) and of the cap.
+fn with_ls_duals(mut out: ConicOutcome, first: usize, m: usize, sum_cap: bool) -> ConicOutcome {
+    if out.z.len() >= first + m + usize::from(sum_cap) {
+        out.bound_duals = out.z[first..first + m].to_vec();
+        out.sum_dual = sum_cap.then(|| out.z[first + m]);
+    }
+    out
+}
+
+/// Compressed least-squares fit in epigraph form (alternative, see
+/// [`LsFormulation::Epigraph`]).
+///
+/// Variables `x = (w, τ) ∈ ℝ^{m+1}`:
+///
+/// ```text
+/// min τ   s.t.  (τ, c − Rw) ∈ 𝒬^{k+1},   w ≥ 0,   [1ᵀw ≤ 1 if sum_cap]
+/// ```
+///
+/// so `τ* = min ‖Rw − c‖₂` and the full residual is `√(τ*² + r₀²)`.  With
+/// `sum_cap` this is mode `Absolute` (minimising the norm or its square has
+/// the same minimiser), without it mode `Shape`.
+pub fn solve_ls_epigraph(
+    r: &DMatrix<f64>,
+    c: &DVector<f64>,
+    sum_cap: bool,
+) -> Result<ConicOutcome, FitError> {
+    let (k, m) = r.shape();
+    let mode = if sum_cap { "absolute" } else { "shape" };
+    let mut bld = ConeBuilder::new(m + 1);
+    bld.row([(m, -1.0)], 0.0);
+    for i in 0..k {
+        bld.row((0..m).map(|j| (j, r[(i, j)])), c[i]);
+    }
+    bld.cone(SecondOrderConeT(k + 1));
+    for j in 0..m {
+        bld.row([(j, -1.0)], 0.0);
+    }
+    if sum_cap {
+        bld.row((0..m).map(|j| (j, 1.0)), 1.0);
+        bld.cone(NonnegativeConeT(m + 1));
+    } else {
+        bld.cone(NonnegativeConeT(m));
+    }
+    let mut q = vec![0.0; m + 1];
+    q[m] = 1.0;
+    let out = bld.solve(q, TOL_EPIGRAPH, mode)?;
+    Ok(with_ls_duals(out, k + 1, m, sum_cap))
+}
+
+/// Error-budget fit: variables `x = (w, s) ∈ ℝ^{m+1}`,
+///
+/// ```text
+/// max s   s.t.  (ε s, s c − Rw, r₀ s) ∈ 𝒬^{k+2},  w ≥ 0,  s ≥ 0,  1ᵀw ≤ 1,
+/// ```
+///
+/// i.e. `‖Âw − s t̂‖₂ = √(‖Rw − s c‖² + s²r₀²) ≤ ε s` with `‖t̂‖ = 1`.
+pub fn solve_budget(
+    r: &DMatrix<f64>,
+    c: &DVector<f64>,
+    r0: f64,
+    eps: f64,
+) -> Result<ConicOutcome, FitError> {
+    let (k, m) = r.shape();
+    let mut bld = ConeBuilder::new(m + 1);
+    bld.row([(m, -eps)], 0.0);
+    for i in 0..k {
+        bld.row((0..m).map(|j| (j, r[(i, j)])).chain([(m, -c[i])]), 0.0);
+    }
+    bld.row([(m, -r0)], 0.0);
+    bld.cone(SecondOrderConeT(k + 2));
+    for j in 0..=m {
+        bld.row([(j, -1.0)], 0.0);
+    }
+    bld.row((0..m).map(|j| (j, 1.0)), 1.0);
+    bld.cone(NonnegativeConeT(m + 2));
+    let mut q = vec![0.0; m + 1];
+    q[m] = -1.0;
+    bld.solve(q, TOL_BUDGET, "budget")
+}
+
+/// L1 fit as a linear program: variables `x = (w, r, u) ∈ ℝ^{m+2M}`,
+///
+/// ```text
+/// min 1ᵀu   s.t.  Âw − r = t̂ (zero cone),  r − u ≤ 0,  −r − u ≤ 0,
+///                 w ≥ 0,  1ᵀw ≤ 1.
+/// ```
+///
+/// The explicit residual `r` means `Â` appears in `M` rows only (not `2M`),
+/// which measured 3× faster than `−u ≤ Âw − t̂ ≤ u`.  With `z₁, z₂ ≥ 0` the
+/// duals of the two bound blocks, stationarity in `u` gives `z₁ + z₂ = 1`,
+/// so `y = z₁ − z₂ ∈ [−1, 1]^M` (stored in [`ConicOutcome::lp_dual`])
+/// certifies optimality (see [`mod@crate::fit::verify`]).
+pub fn solve_l1(ad: &DMatrix<f64>, td: &DVector<f64>) -> Result<ConicOutcome, FitError> {
+    solve_lp(ad, td, true)
+}
+
+/// L∞ fit as a linear program: variables `x = (w, r, τ) ∈ ℝ^{m+M+1}`,
+///
+/// ```text
+/// min τ   s.t.  Âw − r = t̂ (zero cone),  r − τ1 ≤ 0,  −r − τ1 ≤ 0,
+///               w ≥ 0,  1ᵀw ≤ 1.
+/// ```
+///
+/// At stationarity `1ᵀ(z₁ + z₂) = 1`, so `y = z₁ − z₂` has `‖y‖₁ ≤ 1`.
+pub fn solve_linf(ad: &DMatrix<f64>, td: &DVector<f64>) -> Result<ConicOutcome, FitError> {
+    solve_lp(ad, td, false)
+}
+
+fn solve_lp(ad: &DMatrix<f64>, td: &DVector<f64>, l1: bool) -> Result<ConicOutcome, FitError> {
+    let (mr, m) = ad.shape();
+    // Column of the bound variable for row i.
+    let nb = if l1 { mr } else { 1 };
+    let bound_col = |i: usize| if l1 { m + mr + i } else { m + mr };
+    let mut bld = ConeBuilder::new(m + mr + nb);
+    for i in 0..mr {
+        bld.row(
+            (0..m).map(|j| (j, ad[(i, j)])).chain([(m + i, -1.0)]),
+            td[i],
+        );
+    }
+    bld.cone(ZeroConeT(mr));
+    for i in 0..mr {
+        bld.row([(m + i, 1.0), (bound_col(i), -1.0)], 0.0);
+    }
+    for i in 0..mr {
+        bld.row([(m + i, -1.0), (bound_col(i), -1.0)], 0.0);
+    }
+    for j in 0..m {
+        bld.row([(j, -1.0)], 0.0);
+    }
+    bld.row((0..m).map(|j| (j, 1.0)), 1.0);
+    bld.cone(NonnegativeConeT(2 * mr + m + 1));
+    let mut q = vec![0.0; m + mr + nb];
+    q[m + mr..].iter_mut().for_each(|v| *v = 1.0);
+    let mut out = bld.solve(q, TOL_TIGHT, if l1 { "l1" } else { "l_inf" })?;
+    if out.z.len() >= 3 * mr {
+        out.lp_dual = (0..mr).map(|i| out.z[mr + i] - out.z[2 * mr + i]).collect();
+    }
+    Ok(out)
+}
+
+/// The formulation this module deliberately does **not** use, kept for the
+/// regression test that documents the pitfall: the normal-equations QP
+///
+/// ```text
+/// min ½wᵀ(AᵀA)w − (Aᵀt)ᵀw   s.t.  w ≥ 0  [, 1ᵀw ≤ 1]
+/// ```
+///
+/// on the raw (unnormalised, uncompressed) data with the given settings.
+#[cfg(test)]
+pub(crate) fn solve_normal_equations_qp(
+    a: &DMatrix<f64>,
+    t: &DVector<f64>,
+    sum_cap: bool,
+    settings: DefaultSettings<f64>,
+) -> Result<ConicOutcome, FitError> {
+    let m = a.ncols();
+    let ata = a.tr_mul(a);
+    let (mut pi, mut pj, mut pv) = (Vec::new(), Vec::new(), Vec::new());
+    for j in 0..m {
+        for i in 0..=j {
+            pi.push(i);
+            pj.push(j);
+            pv.push(ata[(i, j)]);
+        }
+    }
+    let p = CscMatrix::new_from_triplets(m, m, pi, pj, pv);
+    let q: Vec<f64> = a.tr_mul(t).iter().map(|v| -v).collect();
+    let mut bld = ConeBuilder::new(m);
+    for j in 0..m {
+        bld.row([(j, -1.0)], 0.0);
+    }
+    if sum_cap {
+        bld.row((0..m).map(|j| (j, 1.0)), 1.0);
+    }
+    bld.cone(NonnegativeConeT(bld.nrows));
+    let ac = CscMatrix::new_from_triplets(bld.nrows, m, bld.ri, bld.ci, bld.vals);
+    run(
+        &p,
+        &q,
+        &ac,
+        &bld.b,
+        &bld.cones,
+        settings,
+        "normal-equations",
+    )
+}
