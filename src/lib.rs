@@ -11,6 +11,7 @@
 #![warn(missing_docs)]
 
 pub mod basis;
+pub mod design;
 pub mod dynamics;
 pub mod error;
 pub mod field;
@@ -20,6 +21,7 @@ pub mod motion;
 pub mod output;
 pub mod plot;
 pub mod reproduce;
+pub mod scene;
 pub mod target;
 
 pub use error::{Error, Result};

@@ -10,6 +10,13 @@ use platefield::basis::Library;
 use platefield::dynamics::{Friction, Model, Numerics};
 use platefield::field::{FieldSettings, Grid};
 use platefield::linesink::LineSink;
+use platefield::basis::PrimitiveKind;
+use platefield::design::export::signals_csv;
+use platefield::design::quality::write_fit_quality;
+use platefield::design::{design, report, DesignOptions, Schedule};
+use platefield::field::FieldKind;
+use platefield::fit::FitMode;
+use platefield::target::Target;
 use platefield::{reproduce, Error, Result};
 
 #[derive(Parser)]
@@ -25,8 +32,44 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Design a schedule of primitive plate motions for a target field (the main job).
+    Design(DesignArgs),
+    /// Export a schedule as the six plate-centre acceleration signals (CSV) at a controller rate.
+    Export {
+        /// A schedule.json written by `design`.
+        schedule: PathBuf,
+        /// Samples per second.
+        #[arg(long, default_value_t = 10000.0)]
+        rate: f64,
+        /// Output CSV (default: stdout).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Design every target in targets/ in every fit mode; write results/fit_quality.md.
+    FitQuality {
+        /// Output directory.
+        #[arg(long, default_value = "results")]
+        out: PathBuf,
+    },
     /// Steady-state velocity of a point part on the paper's one-axis LineSink shaker (section II).
     Linesink(LinesinkArgs),
+    /// Compute a force or velocity field from a scene JSON file (motion, friction, grid, model).
+    Field {
+        /// The scene file (see README, "Scenes").
+        scene: PathBuf,
+        /// Print the field JSON on stdout instead of a summary.
+        #[arg(long)]
+        json: bool,
+        /// Write the field JSON to this file.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Write a quiver plot (SVG) to this file.
+        #[arg(long)]
+        svg: Option<PathBuf>,
+        /// No progress bar.
+        #[arg(long)]
+        quiet: bool,
+    },
     /// Simulate the primitive library and write results/primitives/ (fields, plots, table1.md).
     Primitives {
         /// Output directory.
@@ -44,6 +87,21 @@ enum Command {
     },
     /// Regenerate the section II results in results/: Fig. 3, time-to-travel, convergence.
     Reproduce {
+        /// Output directory.
+        #[arg(long, default_value = "results")]
+        out: PathBuf,
+    },
+    /// Cheapest model rung within tolerance of the full model, per primitive: writes rungs.md.
+    Rungs {
+        /// Largest accepted relative L2 error against the full model.
+        #[arg(long, default_value_t = platefield::basis::rung::DEFAULT_RUNG_TOLERANCE)]
+        tolerance: f64,
+        /// Output directory.
+        #[arg(long, default_value = "results/primitives")]
+        out: PathBuf,
+    },
+    /// Library build time against error over steps per cycle: writes library_speed.md.
+    Speed {
         /// Output directory.
         #[arg(long, default_value = "results")]
         out: PathBuf,
@@ -200,10 +258,239 @@ built {} primitives × 2 fields on {}×{} in {elapsed:.2} s; wrote {}",
     Ok(())
 }
 
+fn rungs(out: &std::path::Path, tolerance: f64) -> Result<()> {
+    use platefield::basis::rung;
+    platefield::error::non_negative("--tolerance", tolerance)?;
+    let reports = rung::default_reports(tolerance);
+    print!("{}", rung::write_reports(out, &reports, tolerance)?);
+    print!("\n{}", rung::times_table(&reports));
+    println!("wrote {}", out.join("rungs.md").display());
+    Ok(())
+}
+
+fn speed(out: &std::path::Path) -> Result<()> {
+    print!("{}", platefield::basis::speed::library_speed(out)?);
+    println!("wrote {}", out.join("library_speed.md").display());
+    Ok(())
+}
+
+/// `platefield field`: load, compute, then write (nothing is written on bad input).
+fn field(
+    scene_path: &std::path::Path,
+    json: bool,
+    out: Option<&std::path::Path>,
+    svg: Option<&std::path::Path>,
+    quiet: bool,
+) -> Result<()> {
+    use platefield::output::write_atomic;
+    let scene = platefield::scene::Scene::load(scene_path)?;
+    let start = std::time::Instant::now();
+    let field = scene.compute(quiet).map_err(|e| match e {
+        Error::Physical(m) => Error::Physical(format!("{}: {m}", scene_path.display())),
+        e => e,
+    })?;
+    let seconds = start.elapsed().as_secs_f64();
+    let mut text = serde_json::to_string_pretty(&field.to_json(&scene.settings()))
+        .map_err(|e| Error::Physical(e.to_string()))?;
+    text.push('\n');
+    let stem = scene_path
+        .file_stem()
+        .map_or(String::new(), |s| s.to_string_lossy().into_owned());
+    if let Some(path) = out {
+        write_atomic(path, text.as_bytes())?;
+    }
+    if let Some(path) = svg {
+        write_atomic(path, field.quiver(&scene.title(&stem)).to_svg().as_bytes())?;
+    }
+    if json {
+        print!("{text}");
+        return Ok(());
+    }
+    print!("{}", scene.summary(&field, seconds));
+    for path in out.iter().chain(svg.iter()) {
+        println!("wrote {}", path.display());
+    }
+    Ok(())
+}
+
+#[derive(clap::Args)]
+struct DesignArgs {
+    /// Target field JSON (see the README's target schema).
+    target: PathBuf,
+    /// Fit mode: shape (strongest field of the target's shape), absolute, budget, l1 or linf.
+    #[arg(long, default_value = "shape")]
+    mode: String,
+    /// Relative error budget for --mode budget, in (0, 1).
+    #[arg(long, default_value_t = 0.05)]
+    budget: f64,
+    /// Use at most this many segments.
+    #[arg(long)]
+    max_primitives: Option<usize>,
+    /// Basis field kind: velocity (steady-state velocity fields, default) or force.
+    #[arg(long, default_value = "velocity")]
+    basis: String,
+    /// Rotation step of the basis copies (degrees).
+    #[arg(long, default_value_t = 15.0)]
+    rotation_step: f64,
+    /// Primitive kinds allowed, comma separated (default: all eight).
+    #[arg(long)]
+    primitives: Option<String>,
+    /// Also use basis copies shifted by this horizontal offset "x,y" (m); repeatable.
+    #[arg(long, allow_negative_numbers = true)]
+    shift: Vec<String>,
+    /// Keep basis fields that are invalid somewhere in the region (their invalid points are listed in the schedule).
+    #[arg(long)]
+    keep_invalid: bool,
+    /// Minimum cycles per segment.
+    #[arg(long, default_value_t = platefield::design::schedule::DEFAULT_MIN_CYCLES)]
+    min_cycles: u32,
+    /// Total schedule length in cycles (default: the shortest within the quantisation tolerance).
+    #[arg(long)]
+    cycles: Option<u32>,
+    /// Output folder; files go to OUT/<target name>/.
+    #[arg(long, default_value = "results")]
+    out: PathBuf,
+    /// Print the schedule JSON to stdout.
+    #[arg(long)]
+    json: bool,
+    /// No progress bar.
+    #[arg(long)]
+    quiet: bool,
+    /// Do not read or write the basis cache (.platefield-cache/).
+    #[arg(long)]
+    no_cache: bool,
+}
+
+fn design_options(args: &DesignArgs) -> Result<DesignOptions> {
+    let mode = match args.mode.as_str() {
+        "shape" => FitMode::Shape,
+        "absolute" => FitMode::Absolute,
+        "budget" => {
+            if !(args.budget > 0.0 && args.budget < 1.0) {
+                return Err(Error::invalid("--budget", format!("must be in (0, 1), got {}", args.budget)));
+            }
+            FitMode::Budget { rel_error: args.budget }
+        }
+        "l1" => FitMode::L1,
+        "linf" | "l_inf" => FitMode::LInf,
+        other => {
+            return Err(Error::invalid(
+                "--mode",
+                format!("unknown mode \"{other}\" (expected shape, absolute, budget, l1 or linf)"),
+            ))
+        }
+    };
+    let kind = match args.basis.as_str() {
+        "velocity" => FieldKind::Velocity,
+        "force" => FieldKind::Force,
+        other => return Err(Error::invalid("--basis", format!("unknown basis \"{other}\" (expected velocity or force)"))),
+    };
+    let kinds = match &args.primitives {
+        None => PrimitiveKind::ALL.to_vec(),
+        Some(list) => list
+            .split(',')
+            .map(|s| PrimitiveKind::from_name(s.trim(), "--primitives"))
+            .collect::<Result<Vec<_>>>()?,
+    };
+    if args.min_cycles == 0 {
+        return Err(Error::invalid("--min-cycles", "must be ≥ 1"));
+    }
+    if args.max_primitives == Some(0) {
+        return Err(Error::invalid("--max-primitives", "must be ≥ 1"));
+    }
+    let mut shifts = vec![[0.0, 0.0]];
+    for text in &args.shift {
+        let v = parse_list("--shift", text)?;
+        if v.len() != 2 {
+            return Err(Error::invalid("--shift", format!("must be two numbers \"x,y\" in metres, got \"{text}\"")));
+        }
+        shifts.push([v[0], v[1]]);
+    }
+    Ok(DesignOptions {
+        mode,
+        kind,
+        shifts,
+        rotation_step_deg: args.rotation_step,
+        keep_invalid: args.keep_invalid,
+        max_primitives: args.max_primitives,
+        min_cycles: args.min_cycles,
+        total_cycles: args.cycles,
+        kinds,
+        cache_dir: (!args.no_cache).then(|| PathBuf::from(".platefield-cache")),
+        quiet: args.quiet,
+        ..DesignOptions::default()
+    })
+}
+
+fn target_name(target: &Target, path: &std::path::Path) -> String {
+    if target.name.trim().is_empty() {
+        path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "target".into())
+    } else {
+        target.name.clone()
+    }
+}
+
+fn design_cmd(args: DesignArgs) -> Result<()> {
+    let opts = design_options(&args)?;
+    let mut target = Target::load(&args.target)?;
+    target.name = target_name(&target, &args.target);
+    if target.name.contains(['/', '\\']) || target.name.starts_with('.') {
+        return Err(Error::invalid("target.name", format!("must be a plain folder name, got \"{}\"", target.name)));
+    }
+    let d = design(&target, &opts)?;
+    report::write(&d, &args.out.join(&target.name))?;
+    if args.json {
+        print!("{}", report::schedule_json(&d));
+    } else {
+        print!("{}", report::summary(&d));
+        println!("wrote {}/{{schedule.json, fit.svg, report.md}}", args.out.join(&target.name).display());
+    }
+    Ok(())
+}
+
+fn export_cmd(schedule: &std::path::Path, rate: f64, out: Option<PathBuf>) -> Result<()> {
+    let text = std::fs::read_to_string(schedule).map_err(|e| Error::Io { path: schedule.display().to_string(), source: e })?;
+    let s: Schedule = serde_json::from_str(&text)
+        .map_err(|e| Error::invalid(schedule.display().to_string(), format!("not a platefield schedule: {e}")))?;
+    let csv = signals_csv(&s, rate)?;
+    match out {
+        Some(path) => {
+            platefield::output::write_atomic(&path, csv.as_bytes())?;
+            println!("wrote {} ({} samples at {rate} Hz over {:.4} s)", path.display(), csv.lines().count() - 1, s.period_s);
+        }
+        None => print!("{csv}"),
+    }
+    Ok(())
+}
+
+fn fit_quality_cmd(out: &std::path::Path) -> Result<()> {
+    let mut targets: Vec<PathBuf> = std::fs::read_dir("targets")
+        .map_err(|e| Error::Io { path: "targets".into(), source: e })?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "json"))
+        .collect();
+    targets.sort();
+    let md = write_fit_quality(&targets, &DesignOptions::default(), out)?;
+    print!("{md}");
+    Ok(())
+}
+
 fn run(cli: Cli) -> Result<()> {
     match cli.command {
+        Command::Design(args) => design_cmd(args),
+        Command::Export { schedule, rate, out } => export_cmd(&schedule, rate, out),
+        Command::FitQuality { out } => fit_quality_cmd(&out),
         Command::Linesink(args) => linesink(args),
+        Command::Field {
+            scene,
+            json,
+            out,
+            svg,
+            quiet,
+        } => field(&scene, json, out.as_deref(), svg.as_deref(), quiet),
         Command::Reproduce { out } => reproduce::linesink_results(&out),
+        Command::Rungs { tolerance, out } => rungs(&out, tolerance),
+        Command::Speed { out } => speed(&out),
         Command::Primitives {
             out,
             grid,

@@ -166,7 +166,7 @@ impl Default for Numerics {
             steps_per_cycle: 64,
             event_tol: 1e-14,
             steady_tol: 1e-11,
-            steady_accept: 1e-5,
+            steady_accept: 1e-4,
             max_iterations: 200,
         }
     }

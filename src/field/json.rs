@@ -8,8 +8,8 @@
 //!
 //! Rows are y (outer), columns x (inner). `valid` is true where the sample is
 //! usable; `status` says why not (`contact_lost`, `not_converged`,
-//! `frozen_invalid`). Nothing time-dependent is written, so the same input
-//! gives the same bytes.
+//! `frozen_invalid`, `outside_source`). Nothing time-dependent is written,
+//! so the same input gives the same bytes.
 
 use serde::Serialize;
 
@@ -28,6 +28,8 @@ pub struct FieldStats {
     pub not_converged: usize,
     /// Frozen samples whose excursion is too large.
     pub frozen_invalid: usize,
+    /// Resampled samples outside the simulated source region.
+    pub outside_source: usize,
     /// Largest valid magnitude.
     pub max_magnitude: f64,
 }
@@ -42,6 +44,7 @@ impl Field {
             contact_lost: count(Validity::ContactLost),
             not_converged: count(Validity::NotConverged),
             frozen_invalid: count(Validity::FrozenInvalid),
+            outside_source: count(Validity::OutsideSource),
             max_magnitude: self.max_magnitude(),
         }
     }

@@ -53,6 +53,9 @@ pub enum Validity {
     /// Frozen field whose within-cycle excursion is not small against the
     /// grid spacing: use the free variant.
     FrozenInvalid,
+    /// Resampled by symmetry ([`crate::basis::symmetry`]) at a point whose
+    /// interpolation stencil falls outside the simulated region.
+    OutsideSource,
 }
 
 /// Everything that determines a field besides the motion.

@@ -1,0 +1,271 @@
+//! A content-addressed cache of built primitive libraries.
+//!
+//! Building the library (8 primitives × 2 fields on a grid) takes seconds to
+//! minutes; the result depends only on its inputs, so it is stored under
+//! the hash of those inputs and reused.
+//!
+//! * **Key**: hex SHA-256 of a canonical serialization (compact JSON, fields
+//!   in declaration order, shortest round-trip floats) of everything that
+//!   determines the library: the primitives with all their parameters, in
+//!   order; the grid; the field settings (friction, gravity, model switches,
+//!   numerics, phases, frozen-excursion limit); the crate version
+//!   (`CARGO_PKG_VERSION`) and the cache [`FORMAT`]. A change in any of them
+//!   is a different key. (A change of the simulator's code without a
+//!   version bump is not seen: bump the version, or [`FORMAT`], or clear the
+//!   folder.)
+//! * **File**: `<dir>/<key>.json`, exactly
+//!   `{"format":1,"key":"<key>","payload_sha256":"<hash>","payload":<Library>}`
+//!   and a newline, written atomically ([`crate::output::write_atomic`]).
+//!   `payload_sha256` is the SHA-256 of the payload's bytes as written.
+//! * **Load** never trusts a file: it is used only if it parses, has this
+//!   format and key, and its payload bytes hash to `payload_sha256`. A
+//!   missing file is a miss; a truncated, corrupt, mismatched or foreign
+//!   file is rebuilt and overwritten ([`CacheStatus::Rebuilt`] says why).
+//!
+//! Floats round-trip exactly through serde_json (shortest representation
+//! that parses back to the same bits), so a loaded library is bitwise the
+//! stored one; [`BasisCache::store`] checks this before writing.
+
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+use sha2::{Digest, Sha256};
+
+use super::library::Library;
+use super::primitives::Primitive;
+use crate::error::{Error, Result};
+use crate::field::{FieldSettings, Grid};
+use crate::output::write_atomic;
+
+/// Version of the cache file layout and key serialization.
+pub const FORMAT: u32 = 1;
+
+/// What [`BasisCache::get_or_build`] did.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+#[serde(tag = "status", rename_all = "snake_case")]
+pub enum CacheStatus {
+    /// Loaded from the cache.
+    Hit,
+    /// Not in the cache: built and stored.
+    Built,
+    /// A cache file existed but was not usable: rebuilt and overwritten.
+    Rebuilt {
+        /// Why the file was not used.
+        reason: String,
+    },
+}
+
+/// A folder of cached libraries.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct BasisCache {
+    dir: PathBuf,
+}
+
+/// The canonical key input (serialized in this field order).
+#[derive(Serialize)]
+struct KeyInput<'a> {
+    what: &'static str,
+    format: u32,
+    version: &'static str,
+    primitives: &'a [Primitive],
+    grid: &'a Grid,
+    settings: &'a FieldSettings,
+}
+
+/// The envelope's header, parsed to check it (the payload is skipped here
+/// and hashed as bytes).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Envelope {
+    format: u32,
+    key: String,
+    payload_sha256: String,
+    #[allow(dead_code)]
+    payload: serde::de::IgnoredAny,
+}
+
+/// Why a cache file was not used.
+enum Miss {
+    /// No file.
+    Absent,
+    /// A file that cannot be trusted.
+    Bad(String),
+}
+
+fn sha256_hex(bytes: &[u8]) -> String {
+    Sha256::digest(bytes)
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
+}
+
+fn is_key(key: &str) -> bool {
+    key.len() == 64
+        && key
+            .bytes()
+            .all(|b| b.is_ascii_digit() || (b'a'..=b'f').contains(&b))
+}
+
+fn header(key: &str, payload_sha256: &str) -> String {
+    format!("{{\"format\":{FORMAT},\"key\":\"{key}\",\"payload_sha256\":\"{payload_sha256}\",\"payload\":")
+}
+
+const TRAILER: &[u8] = b"}\n";
+
+impl BasisCache {
+    /// A cache in `dir` (created when the first library is stored).
+    pub fn new(dir: impl Into<PathBuf>) -> BasisCache {
+        BasisCache { dir: dir.into() }
+    }
+
+    /// The cache folder.
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    /// The file of `key`.
+    pub fn path(&self, key: &str) -> PathBuf {
+        self.dir.join(format!("{key}.json"))
+    }
+
+    /// Hex SHA-256 of everything that determines the library (see the
+    /// module docs).
+    pub fn key(primitives: &[Primitive], grid: &Grid, settings: &FieldSettings) -> String {
+        let input = KeyInput {
+            what: "platefield basis library",
+            format: FORMAT,
+            version: env!("CARGO_PKG_VERSION"),
+            primitives,
+            grid,
+            settings,
+        };
+        // Serializing plain structs of numbers, strings and enums cannot
+        // fail; a failure would hash to a key no file has.
+        let text = serde_json::to_string(&input).unwrap_or_default();
+        sha256_hex(text.as_bytes())
+    }
+
+    /// The library stored under `key`, or `None` when there is none or the
+    /// file is not trustworthy (see the module docs).
+    pub fn load(&self, key: &str) -> Option<Library> {
+        self.check(key).ok()
+    }
+
+    fn check(&self, key: &str) -> std::result::Result<Library, Miss> {
+        if !is_key(key) {
+            return Err(Miss::Bad(format!("\"{key}\" is not a hex SHA-256 key")));
+        }
+        let path = self.path(key);
+        let bytes = match std::fs::read(&path) {
+            Ok(b) => b,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Err(Miss::Absent),
+            Err(e) => return Err(Miss::Bad(format!("unreadable: {e}"))),
+        };
+        let bad = |why: String| Err(Miss::Bad(why));
+        let env: Envelope = match serde_json::from_slice(&bytes) {
+            Ok(e) => e,
+            Err(e) => return bad(format!("truncated or malformed: {e}")),
+        };
+        if env.format != FORMAT {
+            return bad(format!("format {} (expected {FORMAT})", env.format));
+        }
+        if env.key != key {
+            return bad(format!("holds key {} (expected {key})", env.key));
+        }
+        if !is_key(&env.payload_sha256) {
+            return bad("payload_sha256 is not a hex SHA-256".into());
+        }
+        let head = header(key, &env.payload_sha256);
+        if !bytes.starts_with(head.as_bytes()) || !bytes.ends_with(TRAILER) {
+            return bad("not in the layout this version writes".into());
+        }
+        let payload = &bytes[head.len()..bytes.len() - TRAILER.len()];
+        let got = sha256_hex(payload);
+        if got != env.payload_sha256 {
+            return bad(format!(
+                "payload hash mismatch (file says {}, payload hashes to {got})",
+                env.payload_sha256
+            ));
+        }
+        serde_json::from_slice(payload).or_else(|e| bad(format!("payload does not parse: {e}")))
+    }
+
+    /// Stores `lib` under `key`, atomically. Fails (and writes nothing) if
+    /// the library would not load back bitwise equal (non-finite values).
+    pub fn store(&self, key: &str, lib: &Library) -> Result<()> {
+        let path = self.path(key);
+        if !is_key(key) {
+            return Err(Error::invalid(
+                "key",
+                format!("\"{key}\" is not a hex SHA-256 key"),
+            ));
+        }
+        let payload = serde_json::to_vec(lib).map_err(|e| {
+            Error::Physical(format!("{}: cannot serialize library: {e}", path.display()))
+        })?;
+        let back: Option<Library> = serde_json::from_slice(&payload).ok();
+        if back.as_ref() != Some(lib) {
+            return Err(Error::Physical(format!(
+                "{}: library does not round-trip through JSON (non-finite values?); not cached",
+                path.display()
+            )));
+        }
+        let mut bytes = header(key, &sha256_hex(&payload)).into_bytes();
+        bytes.extend_from_slice(&payload);
+        bytes.extend_from_slice(TRAILER);
+        write_atomic(&path, &bytes)
+    }
+
+    /// The library of `primitives` on `grid` with `settings`: loaded from
+    /// the cache when a trustworthy file exists, else built (with a progress
+    /// bar unless `quiet`) and stored. Inputs are validated first, and the
+    /// cache folder is created before the build so an unwritable cache
+    /// fails before the work, not after it.
+    pub fn get_or_build(
+        &self,
+        primitives: &[Primitive],
+        grid: &Grid,
+        settings: &FieldSettings,
+        quiet: bool,
+    ) -> Result<(Library, CacheStatus)> {
+        grid.validate("grid")?;
+        settings.friction.validate("settings.friction")?;
+        settings.numerics.validate("settings.numerics")?;
+        crate::error::positive("settings.gravity", settings.gravity)?;
+        crate::error::positive("settings.frozen_excursion", settings.frozen_excursion)?;
+        if settings.phases == 0 {
+            return Err(Error::invalid("settings.phases", "must be ≥ 1"));
+        }
+        for (i, p) in primitives.iter().enumerate() {
+            p.validate(&format!("primitives[{i}]"))?;
+        }
+        let key = Self::key(primitives, grid, settings);
+        let status = match self.check(&key) {
+            Ok(lib) => {
+                let same = lib.grid == *grid
+                    && lib.settings == *settings
+                    && lib.entries.len() == primitives.len()
+                    && lib
+                        .entries
+                        .iter()
+                        .zip(primitives)
+                        .all(|(e, p)| e.primitive == *p);
+                if same {
+                    return Ok((lib, CacheStatus::Hit));
+                }
+                CacheStatus::Rebuilt {
+                    reason: "contents do not match the request".into(),
+                }
+            }
+            Err(Miss::Absent) => CacheStatus::Built,
+            Err(Miss::Bad(reason)) => CacheStatus::Rebuilt { reason },
+        };
+        std::fs::create_dir_all(&self.dir).map_err(|e| Error::Io {
+            path: self.dir.display().to_string(),
+            source: e,
+        })?;
+        let lib = Library::build(primitives, grid, settings, quiet);
+        self.store(&key, &lib)?;
+        Ok((lib, status))
+    }
+}

@@ -1,0 +1,391 @@
+//! "Model only what the scene needs": the cheapest model rung whose field is
+//! within a tolerance of the full model's.
+//!
+//! Rungs, cheapest first (switches of [`Model`], see [`crate::dynamics`]):
+//!
+//! | rung | switches on | what it neglects |
+//! |---|---|---|
+//! | `paper` | none ([`Model::PAPER`]) | the part's motion within the cycle (kinematics frozen at the start point), centripetal, gravity tilt, Coriolis |
+//! | `paper+moving` | moving | centripetal, tilt, Coriolis |
+//! | `paper+moving+centripetal+tilt` | moving, centripetal, tilt | Coriolis |
+//! | `full` | all ([`Model::FULL`]) | nothing |
+//!
+//! [`choose_rung`] computes the field at every rung, measures each one's
+//! relative L2 error against `full` over the samples valid in both,
+//! ‖F_rung − F_full‖₂ / ‖F_full‖₂, and picks the cheapest rung whose error
+//! is within the tolerance *and* whose validity flags (contact lost, not
+//! converged, frozen assumption broken) agree with `full`'s at every sample:
+//! a cheaper model that misses a contact loss is not acceptable at any
+//! error. `full` is always acceptable.
+//!
+//! The errors are measured, not predicted; the reason string adds the
+//! physics that explains them, for example: an in-plane motion has N = g
+//! exactly, so the terms that enter only the normal force vanish; a pure
+//! translation has Ω = 0, so every plate point has the same acceleration and
+//! all four rungs agree to the last bit.
+//!
+//! Compute times are reported in [`RungResult::seconds`] and printed by
+//! `platefield rungs`, but never written to `rungs.md`, which is
+//! deterministic (fields are bitwise independent of the thread count).
+
+use std::fmt::Write as _;
+use std::path::Path;
+use std::time::Instant;
+
+use serde::Serialize;
+
+use super::library::Library;
+use crate::dynamics::Model;
+use crate::error::{non_negative, Result};
+use crate::field::{Field, FieldKind, FieldSettings, Grid, Validity};
+use crate::motion::Motion;
+use crate::output::write_atomic;
+
+/// Default tolerance: 2 % relative L2 error against the full model. Two
+/// per cent is well below what separates the primitives' Table I forms
+/// (their fits leave residuals of several per cent, see `table1.md`) and
+/// above the integrator's own error at the default 64 steps per cycle
+/// (≤ 1e-3 relative, `results/library_speed.md`), so a rung is accepted
+/// only when the terms it drops change the field by less than the basis
+/// can resolve, and never because of numerical noise.
+pub const DEFAULT_RUNG_TOLERANCE: f64 = 0.02;
+
+/// The rungs, cheapest first: name and model.
+pub const RUNGS: [(&str, Model); 4] = [
+    ("paper", Model::PAPER),
+    (
+        "paper+moving",
+        Model {
+            centripetal: false,
+            tilt: false,
+            coriolis: false,
+            moving: true,
+        },
+    ),
+    (
+        "paper+moving+centripetal+tilt",
+        Model {
+            centripetal: true,
+            tilt: true,
+            coriolis: false,
+            moving: true,
+        },
+    ),
+    ("full", Model::FULL),
+];
+
+/// One rung's measurement.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RungResult {
+    /// Rung name.
+    pub name: &'static str,
+    /// Its model switches.
+    pub model: Model,
+    /// Relative L2 error against `full` over samples valid in both
+    /// (NaN when there are none).
+    pub error: f64,
+    /// Samples valid in both.
+    pub compared: usize,
+    /// Samples whose validity flag differs from `full`'s.
+    pub flags_differ: usize,
+    /// Within the tolerance with identical validity flags.
+    pub acceptable: bool,
+    /// Wall time of the field computation (s); not deterministic.
+    pub seconds: f64,
+}
+
+/// The choice and its evidence.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RungReport {
+    /// The chosen rung's name.
+    pub rung: &'static str,
+    /// Its model.
+    pub model: Model,
+    /// Its measured error against `full`.
+    pub error: f64,
+    /// The tolerance used.
+    pub tolerance: f64,
+    /// The field compared.
+    pub kind: FieldKind,
+    /// Every rung, cheapest first.
+    pub rungs: Vec<RungResult>,
+    /// Why this rung.
+    pub reason: String,
+}
+
+/// Relative L2 difference of `a` against `reference` over the samples
+/// valid in both, with the number of such samples; 0 when both vanish
+/// there, NaN when no sample is valid in both.
+pub fn relative_l2(a: &Field, reference: &Field) -> (f64, usize) {
+    let (mut num, mut den, mut n) = (0.0, 0.0, 0);
+    for k in 0..reference.vectors.len().min(a.vectors.len()) {
+        if a.validity[k] != Validity::Ok || reference.validity[k] != Validity::Ok {
+            continue;
+        }
+        let (f, r) = (a.vectors[k], reference.vectors[k]);
+        num += (f[0] - r[0]).powi(2) + (f[1] - r[1]).powi(2);
+        den += r[0] * r[0] + r[1] * r[1];
+        n += 1;
+    }
+    let e = if n == 0 {
+        f64::NAN
+    } else if den == 0.0 {
+        if num == 0.0 {
+            0.0
+        } else {
+            f64::INFINITY
+        }
+    } else {
+        (num / den).sqrt()
+    };
+    (e, n)
+}
+
+/// True when the motion has no rotation at all (Ω = 0).
+fn is_translation(motion: &Motion) -> bool {
+    match motion {
+        Motion::Screw(s) => s.rotation.is_zero(),
+        Motion::Signals(s) => [&s.angular.x, &s.angular.y, &s.angular.z]
+            .iter()
+            .all(|terms| terms.iter().all(|t| t.amplitude == 0.0)),
+    }
+}
+
+fn percent(e: f64) -> String {
+    if e.is_nan() {
+        "n/a".into()
+    } else if e == 0.0 {
+        "0".into()
+    } else {
+        format!("{:.3} %", 100.0 * e)
+    }
+}
+
+/// Computes `kind` for `motion` on `grid` at every rung (with `settings`
+/// otherwise), measures each against `full` and picks the cheapest rung
+/// within `tolerance` (see the module docs).
+pub fn choose_rung(
+    motion: &Motion,
+    grid: &Grid,
+    kind: FieldKind,
+    settings: &FieldSettings,
+    tolerance: f64,
+) -> RungReport {
+    let fields: Vec<(Field, f64)> = RUNGS
+        .iter()
+        .map(|(_, model)| {
+            let s = FieldSettings {
+                model: *model,
+                ..*settings
+            };
+            let start = Instant::now();
+            let f = Field::compute(motion, grid, kind, &s, &|| {});
+            (f, start.elapsed().as_secs_f64())
+        })
+        .collect();
+    let full = &fields[RUNGS.len() - 1].0;
+    let rungs: Vec<RungResult> = RUNGS
+        .iter()
+        .zip(&fields)
+        .map(|((name, model), (field, seconds))| {
+            let (error, compared) = relative_l2(field, full);
+            let flags_differ = field
+                .validity
+                .iter()
+                .zip(&full.validity)
+                .filter(|(a, b)| a != b)
+                .count();
+            let acceptable =
+                *model == Model::FULL || (error <= tolerance && flags_differ == 0 && compared > 0);
+            RungResult {
+                name,
+                model: *model,
+                error,
+                compared,
+                flags_differ,
+                acceptable,
+                seconds: *seconds,
+            }
+        })
+        .collect();
+    let chosen = rungs
+        .iter()
+        .position(|r| r.acceptable)
+        .unwrap_or(RUNGS.len() - 1);
+    let c = &rungs[chosen];
+    let mut reason = format!(
+        "{} is the cheapest rung within {} of full (its error {}{})",
+        c.name,
+        percent(tolerance),
+        percent(c.error),
+        if c.name == "full" {
+            ", by definition"
+        } else {
+            ", validity flags identical"
+        }
+    );
+    let missed: Vec<String> = rungs[..chosen]
+        .iter()
+        .map(|r| {
+            let mut s = format!("{} {}", r.name, percent(r.error));
+            if r.flags_differ > 0 {
+                let _ = write!(s, " with {} validity flags differing", r.flags_differ);
+            }
+            s
+        })
+        .collect();
+    if !missed.is_empty() {
+        let _ = write!(reason, "; cheaper rungs miss it: {}", missed.join(", "));
+    }
+    if motion.is_in_plane() {
+        reason.push_str(
+            "; in-plane motion: N = g exactly, so the normal-force terms (tilt, centripetal z) vanish",
+        );
+        if is_translation(motion) {
+            reason.push_str(
+                ", and with no rotation (Ω = 0) the centripetal and Coriolis terms vanish too and every \
+                 plate point has the same acceleration, so the frozen position is exact",
+            );
+        } else {
+            reason.push_str(
+                "; the rotation about the vertical keeps in-plane centripetal and Coriolis terms",
+            );
+        }
+    } else {
+        reason.push_str(
+            "; out-of-plane motion: the normal force varies over the cycle and the tilt, centripetal and \
+             Coriolis terms enter it",
+        );
+    }
+    RungReport {
+        rung: c.name,
+        model: c.model,
+        error: c.error,
+        tolerance,
+        kind,
+        rungs,
+        reason,
+    }
+}
+
+/// The grid of `rungs.md`: 9 × 9 over ±4 cm.
+pub const RUNG_GRID: Grid = Grid {
+    x: [-0.04, 0.04],
+    y: [-0.04, 0.04],
+    n: [9, 9],
+};
+
+/// Rung reports for the 8 default primitives on [`RUNG_GRID`], force and
+/// velocity fields, default settings: (primitive name, report).
+pub fn default_reports(tolerance: f64) -> Vec<(&'static str, RungReport)> {
+    let settings = FieldSettings::default();
+    let mut out = Vec::new();
+    for kind in [FieldKind::Force, FieldKind::Velocity] {
+        for p in Library::default_primitives() {
+            let r = choose_rung(&p.motion(), &RUNG_GRID, kind, &settings, tolerance);
+            out.push((p.kind.name(), r));
+        }
+    }
+    out
+}
+
+/// `rungs.md` for `reports` (as from [`default_reports`]): deterministic,
+/// no times.
+pub fn rungs_markdown(reports: &[(&'static str, RungReport)], tolerance: f64) -> String {
+    let s = FieldSettings::default();
+    let g = RUNG_GRID;
+    let mut md = format!(
+        "# Model rungs: the cheapest model within tolerance\n\n\
+         Each primitive's field computed at every model rung on a {}×{} grid over x ∈ [{}, {}] m, \
+         y ∈ [{}, {}] m (μ = {}, {} start phases, {} RK4 steps per cycle), and compared with the \
+         full model: relative L2 error ‖F_rung − F_full‖/‖F_full‖ over the samples valid in both. \
+         The chosen rung is the cheapest with error ≤ {} and validity flags (contact lost, not \
+         converged, frozen assumption broken) identical to full's at every sample. \
+         Regenerate: `platefield rungs --tolerance {tolerance}` (it also prints compute times, \
+         which are not written here).\n\n\
+         Rungs, cheapest first: `paper` (frozen position, no centripetal, tilt or Coriolis), \
+         `paper+moving`, `paper+moving+centripetal+tilt`, `full` (adds Coriolis).\n",
+        g.n[0],
+        g.n[1],
+        g.x[0],
+        g.x[1],
+        g.y[0],
+        g.y[1],
+        s.friction.kinetic,
+        s.phases,
+        s.numerics.steps_per_cycle,
+        percent(tolerance),
+    );
+    for kind in [FieldKind::Force, FieldKind::Velocity] {
+        let _ = write!(
+            md,
+            "\n## {}\n\n| primitive | chosen | {} | why |\n|---|---|{}---|\n",
+            match kind {
+                FieldKind::Force => "Zero-velocity force fields",
+                FieldKind::Velocity => "Steady-state velocity fields",
+            },
+            RUNGS.map(|r| r.0).join(" | "),
+            "---|".repeat(RUNGS.len())
+        );
+        for (name, r) in reports.iter().filter(|(_, r)| r.kind == kind) {
+            let cells: Vec<String> = r
+                .rungs
+                .iter()
+                .map(|x| {
+                    let mut c = percent(x.error);
+                    if x.flags_differ > 0 {
+                        let _ = write!(c, " ({} flags differ)", x.flags_differ);
+                    }
+                    c
+                })
+                .collect();
+            let _ = writeln!(
+                md,
+                "| {name} | **{}** | {} | {} |",
+                r.rung,
+                cells.join(" | "),
+                r.reason
+            );
+        }
+    }
+    md
+}
+
+/// Writes `out/rungs.md` for `reports` and returns it.
+pub fn write_reports(
+    out: &Path,
+    reports: &[(&'static str, RungReport)],
+    tolerance: f64,
+) -> Result<String> {
+    let md = rungs_markdown(reports, tolerance);
+    write_atomic(&out.join("rungs.md"), md.as_bytes())?;
+    Ok(md)
+}
+
+/// Compute times of every rung (s), as a plain-text table for the terminal.
+pub fn times_table(reports: &[(&'static str, RungReport)]) -> String {
+    let mut t = format!("{:<14} {:<9}", "compute time", "field");
+    for (name, _) in RUNGS {
+        let _ = write!(t, " {name:>30}");
+    }
+    t.push('\n');
+    for (name, r) in reports {
+        let kind = match r.kind {
+            FieldKind::Force => "force",
+            FieldKind::Velocity => "velocity",
+        };
+        let _ = write!(t, "{name:<14} {kind:<9}");
+        for x in &r.rungs {
+            let _ = write!(t, " {:>29.3}s", x.seconds);
+        }
+        t.push('\n');
+    }
+    t
+}
+
+/// Computes the default reports ([`default_reports`]), writes
+/// `out/rungs.md` and returns it.
+pub fn write_rungs(out: &Path, tolerance: f64) -> Result<String> {
+    non_negative("--tolerance", tolerance)?;
+    write_reports(out, &default_reports(tolerance), tolerance)
+}

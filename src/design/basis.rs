@@ -1,0 +1,183 @@
+//! The design basis for a target: the primitive library, rotated about the
+//! vertical (every 15° by default) and optionally shifted, resampled by
+//! symmetry from one simulation per primitive ([`crate::basis::symmetry`])
+//! at the target's points.
+//!
+//! A column that is invalid anywhere in the target's region (contact lost —
+//! a LineSink rotated 45° loses contact in the corners of a ±4 cm square —,
+//! not converged, frozen assumption broken, outside the simulated region) is
+//! left out and reported; with `keep_invalid` it is kept, its invalid samples
+//! set to zero and listed, never used silently.
+
+use serde::Serialize;
+
+use crate::basis::symmetry;
+use crate::basis::{Library, Primitive};
+use crate::field::{Field, FieldKind, Grid, Validity};
+
+/// One basis column: a transformed primitive and its field at the target
+/// points.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BasisColumn {
+    /// The primitive with its rotation and shift.
+    pub primitive: Primitive,
+    /// Field vectors at the target points.
+    #[serde(skip)]
+    pub vectors: Vec<[f64; 2]>,
+    /// Indices of target points where the field is invalid (only when kept
+    /// with `keep_invalid`).
+    pub invalid_points: Vec<usize>,
+}
+
+/// A column left out, and why.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Excluded {
+    /// Primitive name with rotation and shift.
+    pub label: String,
+    /// Invalid samples in the region.
+    pub invalid_samples: usize,
+    /// The most common reason.
+    pub reason: Validity,
+}
+
+/// The assembled basis.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct DesignBasis {
+    /// Field kind of the columns.
+    pub kind: FieldKind,
+    /// Usable columns.
+    pub columns: Vec<BasisColumn>,
+    /// Columns left out.
+    pub excluded: Vec<Excluded>,
+}
+
+/// Label of a transformed primitive, e.g. `LineSink@45°`.
+pub fn label(p: &Primitive) -> String {
+    let mut s = format!("{}@{}°", p.kind.name(), p.rotation_deg);
+    if p.shift != [0.0, 0.0] {
+        s.push_str(&format!("+({:.4},{:.4})m", p.shift[0], p.shift[1]));
+    }
+    s
+}
+
+/// Bilinear interpolation of a grid field at `p` (used for point-sampled
+/// targets without a grid; `None` outside or next to an invalid node).
+fn bilinear(field: &Field, p: [f64; 2]) -> Option<[f64; 2]> {
+    let g = &field.grid;
+    let fx = |v: f64, r: [f64; 2], n: usize| (v - r[0]) / (r[1] - r[0]) * (n - 1) as f64;
+    let (u, v) = (fx(p[0], g.x, g.n[0]), fx(p[1], g.y, g.n[1]));
+    if !(u >= 0.0 && v >= 0.0 && u <= (g.n[0] - 1) as f64 && v <= (g.n[1] - 1) as f64) {
+        return None;
+    }
+    let (i, j) = ((u.floor() as usize).min(g.n[0] - 2), (v.floor() as usize).min(g.n[1] - 2));
+    let (a, b) = (u - i as f64, v - j as f64);
+    let mut out = [0.0; 2];
+    for (di, dj, w) in [(0, 0, (1.0 - a) * (1.0 - b)), (1, 0, a * (1.0 - b)), (0, 1, (1.0 - a) * b), (1, 1, a * b)] {
+        let k = (j + dj) * g.n[0] + i + di;
+        if field.validity[k] != Validity::Ok {
+            return None;
+        }
+        out[0] += w * field.vectors[k][0];
+        out[1] += w * field.vectors[k][1];
+    }
+    Some(out)
+}
+
+/// The grid on which rotated copies are resampled: the target's own grid,
+/// or for scattered points a fine grid over their bounding box.
+pub fn sampling_grid(grid: Option<&Grid>, points: &[[f64; 2]]) -> Grid {
+    if let Some(g) = grid {
+        return *g;
+    }
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in points {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    let pad = 1e-3;
+    Grid {
+        x: [lo[0] - pad, hi[0] + pad],
+        y: [lo[1] - pad, hi[1] + pad],
+        n: [41, 41],
+    }
+}
+
+/// Assembles the basis: every library entry at every rotation and shift.
+pub fn assemble(
+    lib: &Library,
+    kind: FieldKind,
+    rotations_deg: &[f64],
+    shifts: &[[f64; 2]],
+    target_grid: Option<&Grid>,
+    points: &[[f64; 2]],
+    weights: &[f64],
+    keep_invalid: bool,
+) -> DesignBasis {
+    let grid = sampling_grid(target_grid, points);
+    let mut columns = Vec::new();
+    let mut excluded = Vec::new();
+    for entry in &lib.entries {
+        let source = match kind {
+            FieldKind::Force => &entry.force,
+            FieldKind::Velocity => &entry.velocity,
+        };
+        for &deg in rotations_deg {
+            for &shift in shifts {
+                let resampled = symmetry::transformed(source, deg.to_radians(), shift, &grid);
+                let (vectors, validity): (Vec<[f64; 2]>, Vec<Validity>) = if target_grid.is_some() {
+                    (resampled.vectors.clone(), resampled.validity.clone())
+                } else {
+                    points
+                        .iter()
+                        .map(|p| match bilinear(&resampled, *p) {
+                            Some(v) => (v, Validity::Ok),
+                            None => ([0.0, 0.0], Validity::OutsideSource),
+                        })
+                        .unzip()
+                };
+                let primitive = Primitive {
+                    rotation_deg: deg,
+                    shift,
+                    ..entry.primitive.clone()
+                };
+                // Only points that matter (weight > 0) can disqualify a column.
+                let bad: Vec<usize> = (0..points.len())
+                    .filter(|&i| validity[i] != Validity::Ok && weights[i] > 0.0)
+                    .collect();
+                if bad.is_empty() || keep_invalid {
+                    let vectors = vectors
+                        .iter()
+                        .zip(&validity)
+                        .map(|(v, ok)| if *ok == Validity::Ok { *v } else { [0.0, 0.0] })
+                        .collect();
+                    columns.push(BasisColumn {
+                        primitive,
+                        vectors,
+                        invalid_points: bad,
+                    });
+                } else {
+                    let mut counts: Vec<(Validity, usize)> = Vec::new();
+                    for &i in &bad {
+                        match counts.iter_mut().find(|(v, _)| *v == validity[i]) {
+                            Some(c) => c.1 += 1,
+                            None => counts.push((validity[i], 1)),
+                        }
+                    }
+                    counts.sort_by(|a, b| b.1.cmp(&a.1));
+                    excluded.push(Excluded {
+                        label: label(&primitive),
+                        invalid_samples: bad.len(),
+                        reason: counts[0].0,
+                    });
+                }
+            }
+        }
+    }
+    DesignBasis {
+        kind,
+        columns,
+        excluded,
+    }
+}

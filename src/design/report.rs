@@ -1,0 +1,129 @@
+//! Writing a design: `schedule.json`, `fit.svg` (target, achieved,
+//! residual) and `report.md` under `results/<target name>/`.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use super::Design;
+use crate::error::Result;
+use crate::output::write_atomic;
+use crate::plot::{Panels, QuiverPlot};
+
+/// The schedule as pretty JSON (deterministic bytes).
+pub fn schedule_json(d: &Design) -> String {
+    let mut s = serde_json::to_string_pretty(&d.schedule).unwrap_or_default();
+    s.push('\n');
+    s
+}
+
+/// A short readable summary for the terminal.
+pub fn summary(d: &Design) -> String {
+    let s = &d.schedule;
+    let mut out = format!(
+        "target \"{}\": {} basis fields ({} left out as invalid in the region), mode {}, solver {} in {} iterations\n",
+        s.target,
+        d.basis.columns.len(),
+        d.basis.excluded.len(),
+        s.solver.mode,
+        s.solver.status,
+        s.solver.iterations
+    );
+    let _ = writeln!(
+        out,
+        "fit: relative L2 error {:.2} %, mean angle error {:.2}°, max error {:.3e}, strength {:.4}",
+        100.0 * s.fit.relative_l2_error,
+        s.fit.mean_angle_error_deg,
+        s.fit.max_error,
+        s.fit.strength
+    );
+    let _ = writeln!(
+        out,
+        "schedule: {} cycles ({:.3} s), min {} per segment, quantised error {:.2} % (field quantisation {:.2} %)",
+        s.total_cycles,
+        s.period_s,
+        s.min_cycles,
+        100.0 * s.fit_quantized.relative_l2_error,
+        100.0 * s.quantization_error
+    );
+    for seg in &s.segments {
+        let _ = writeln!(out, "  {:>5} cycles  {:<28} weight {:.4}", seg.cycles, seg.label, seg.weight);
+    }
+    if s.poor_fit {
+        let _ = writeln!(
+            out,
+            "POOR FIT: no combination of the allowed primitives reaches this target (relative error {:.0} %); the schedule is the best achievable",
+            100.0 * s.fit.relative_l2_error
+        );
+    }
+    let _ = writeln!(
+        out,
+        "time: basis {:.3} s ({}), fit and schedule {:.3} s",
+        d.basis_time_s, d.cache_status, d.fit_time_s
+    );
+    out
+}
+
+/// The report in Markdown.
+pub fn report_md(d: &Design) -> String {
+    let s = &d.schedule;
+    let mut md = format!("# Design for target \"{}\"\n\n", s.target);
+    md.push_str("Regenerate: `platefield design <target file>`.\n\n## Fit\n\n| metric | value |\n|---|---|\n");
+    let _ = writeln!(md, "| mode | {} |", s.solver.mode);
+    let _ = writeln!(md, "| relative L2 error | {:.4} |", s.fit.relative_l2_error);
+    let _ = writeln!(md, "| mean angle error (deg, magnitude-weighted) | {:.3} |", s.fit.mean_angle_error_deg);
+    let _ = writeln!(md, "| worst-point error | {:.4e} |", s.fit.max_error);
+    let _ = writeln!(md, "| achieved strength | {:.5} |", s.fit.strength);
+    let _ = writeln!(md, "| solver status, iterations | {}, {} |", s.solver.status, s.solver.iterations);
+    let _ = writeln!(md, "| KKT residual, gap to independent NNLS | {:.2e}, {:.2e} |", s.solver.kkt_residual, s.solver.independent_gap);
+    let _ = writeln!(md, "| basis | {} fields, {} left out |", d.basis.columns.len(), d.basis.excluded.len());
+    if s.poor_fit {
+        md.push_str("\n**Poor fit**: no combination of the allowed primitives reaches this target; this is the best achievable.\n");
+    }
+    md.push_str("\n## Schedule\n\n| segment | weight | cycles | duration (s) |\n|---|---|---|---|\n");
+    for seg in &s.segments {
+        let _ = writeln!(md, "| {} | {:.4} | {} | {:.4} |", seg.label, seg.weight, seg.cycles, seg.duration_s);
+    }
+    let _ = writeln!(
+        md,
+        "\n{} cycles in all ({:.3} s), at least {} per segment. Whole-cycle schedule: relative error {:.4} (field quantisation error {:.4}).",
+        s.total_cycles, s.period_s, s.min_cycles, s.fit_quantized.relative_l2_error, s.quantization_error
+    );
+    md.push_str("\n## Fewer primitives\n\nBest fit found with at most k of the segments the full fit uses.\n\n| k | relative error | segments |\n|---|---|---|\n");
+    for row in &d.sparsity {
+        let _ = writeln!(md, "| {} | {:.4} | {} |", row.k, row.relative_error, row.labels.join(", "));
+    }
+    if !d.basis.excluded.is_empty() {
+        md.push_str("\n## Basis fields left out\n\n| field | invalid samples | reason |\n|---|---|---|\n");
+        for e in &d.basis.excluded {
+            let _ = writeln!(md, "| {} | {} | {:?} |", e.label, e.invalid_samples, e.reason);
+        }
+    }
+    md
+}
+
+/// The fit figure: target (scaled by the strength), achieved, residual.
+pub fn fit_svg(d: &Design) -> String {
+    let s = d.schedule.fit.strength;
+    let pts = d.target.points.clone();
+    let scaled: Vec<[f64; 2]> = d.target.vectors.iter().map(|v| [s * v[0], s * v[1]]).collect();
+    let resid: Vec<[f64; 2]> = d
+        .achieved_quantized
+        .iter()
+        .zip(&scaled)
+        .map(|(a, t)| [a[0] - t[0], a[1] - t[1]])
+        .collect();
+    let masked: Vec<bool> = d.target.weights.iter().map(|w| *w == 0.0).collect();
+    Panels::new(format!("{}: target × {:.3}, achieved, residual", d.schedule.target, s))
+        .panel(QuiverPlot::new("target (scaled)", pts.clone(), scaled).invalid(masked.clone()).auto_caption())
+        .panel(QuiverPlot::new("achieved (schedule)", pts.clone(), d.achieved_quantized.clone()).auto_caption())
+        .panel(QuiverPlot::new("residual", pts, resid).invalid(masked).auto_caption())
+        .to_svg()
+}
+
+/// Writes schedule.json, fit.svg and report.md under `dir`.
+pub fn write(d: &Design, dir: &Path) -> Result<()> {
+    write_atomic(&dir.join("schedule.json"), schedule_json(d).as_bytes())?;
+    write_atomic(&dir.join("fit.svg"), fit_svg(d).as_bytes())?;
+    write_atomic(&dir.join("report.md"), report_md(d).as_bytes())?;
+    Ok(())
+}

@@ -1,0 +1,132 @@
+//! Inverse design end to end on small grids: fit quality, poor-fit
+//! reporting, whole-cycle schedules, controller export, bad input.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+use platefield::basis::PrimitiveKind;
+use platefield::design::export::{centre_acceleration, signals_csv};
+use platefield::design::{design, DesignOptions};
+use platefield::field::FieldSettings;
+use platefield::target::Target;
+
+fn target(name: &str, field: &str) -> Target {
+    Target::from_json_str(&format!(
+        r#"{{"name": "{name}", "grid": {{"x": [-0.03, 0.03], "y": [-0.03, 0.03], "n": [9, 9]}}, "field": {field}}}"#
+    ))
+    .expect("valid target")
+}
+
+/// Small, fast settings shared by the tests (the cache is shared too).
+fn options() -> DesignOptions {
+    let mut settings = FieldSettings::default();
+    settings.numerics.steps_per_cycle = 32;
+    settings.phases = 6;
+    DesignOptions {
+        rotation_step_deg: 45.0,
+        settings,
+        cache_dir: Some(PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("design-cache")),
+        quiet: true,
+        ..DesignOptions::default()
+    }
+}
+
+#[test]
+fn sink_fits_within_five_percent_with_a_consistent_schedule() {
+    let d = design(&target("sink", r#"{"kind": "sink"}"#), &options()).expect("design");
+    let s = &d.schedule;
+    assert!(s.fit.relative_l2_error <= 0.05, "{}", s.fit.relative_l2_error);
+    assert!(s.fit.strength > 0.0 && !s.poor_fit);
+    assert!(s.solver.status.starts_with("Solved"), "{}", s.solver.status);
+    // Whole cycles, at least the minimum each, durations add up.
+    let total: f64 = s.segments.iter().map(|g| g.duration_s).sum();
+    assert!((total - s.period_s).abs() < 1e-12);
+    assert!(s.segments.iter().all(|g| g.cycles >= s.min_cycles || g.primitive.is_none()));
+    assert!(s.quantization_error <= 0.02 + 1e-12, "{}", s.quantization_error);
+    assert!(s.fit_quantized.relative_l2_error <= s.fit.relative_l2_error + s.quantization_error + 1e-9);
+    // A sink needs squeezing in two directions: LineSinks (or skews) at two angles.
+    let angles: std::collections::BTreeSet<i64> = s
+        .segments
+        .iter()
+        .filter_map(|g| g.primitive.as_ref())
+        .map(|p| (p.rotation_deg.rem_euclid(180.0)).round() as i64)
+        .collect();
+    assert!(angles.len() >= 2, "{angles:?}");
+}
+
+#[test]
+fn unreachable_target_reports_a_poor_fit() {
+    // A pure rotation from sink-like primitives only.
+    let opts = DesignOptions {
+        kinds: vec![PrimitiveKind::LineSink, PrimitiveKind::LineSource],
+        ..options()
+    };
+    let d = design(&target("rotation", r#"{"kind": "scaled_circle"}"#), &opts).expect("best fit, not an error");
+    assert!(d.schedule.poor_fit, "{:?}", d.schedule.fit);
+    assert!(d.schedule.fit.relative_l2_error > 0.5);
+}
+
+#[test]
+fn export_is_rest_to_rest_and_sampled_at_the_rate() {
+    let d = design(&target("sink", r#"{"kind": "sink"}"#), &options()).expect("design");
+    let s = &d.schedule;
+    let rate = 20000.0;
+    let csv = signals_csv(s, rate).expect("export");
+    let rows: Vec<Vec<f64>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), (s.period_s * rate).round() as usize);
+    assert!(rows.iter().all(|r| r.len() == 7 && r.iter().all(|x| x.is_finite())));
+    // Integrating the angular acceleration over each segment returns the
+    // angular velocity to zero (the plate is at rest at every join).
+    let seg = s.segments.iter().find(|g| g.primitive.is_some()).unwrap();
+    let motion = seg.primitive.as_ref().unwrap().motion();
+    let n = 20000;
+    let h = seg.duration_s / n as f64;
+    let mut w = [0.0f64; 3];
+    for i in 0..n {
+        let (_, a) = centre_acceleration(&motion, (i as f64 + 0.5) * h);
+        for k in 0..3 {
+            w[k] += a[k] * h;
+        }
+    }
+    let scale = 0.005 * 209.0; // ψ0 ω
+    assert!(w.iter().all(|x| x.abs() < 1e-6 * scale), "{w:?}");
+}
+
+#[test]
+fn bad_targets_are_named_and_nothing_is_written() {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("bad-targets");
+    std::fs::create_dir_all(&dir).unwrap();
+    let cases = [
+        ("kind", r#"{"name": "a", "grid": {"x": [-0.03, 0.03], "y": [-0.03, 0.03], "n": [5, 5]}, "field": {"kind": "sinc"}}"#, "target.field.kind"),
+        ("grid", r#"{"name": "b", "field": {"kind": "sink"}}"#, "grid"),
+        ("nan", r#"{"name": "c", "grid": {"x": [-0.03, 0.03], "y": [-0.03, NaN], "n": [5, 5]}, "field": {"kind": "sink"}}"#, ""),
+        ("lengths", r#"{"name": "d", "field": {"kind": "sampled", "points": [[0, 0], [0.01, 0]], "vectors": [[1, 0]]}}"#, "target.field.points"),
+    ];
+    for (label, json, path) in cases {
+        let file = dir.join(format!("{label}.json"));
+        std::fs::write(&file, json).unwrap();
+        let out = dir.join(format!("out-{label}"));
+        let run = Command::new(env!("CARGO_BIN_EXE_platefield"))
+            .args(["design", file.to_str().unwrap(), "--quiet", "--no-cache", "--out", out.to_str().unwrap()])
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&run.stderr);
+        assert_ne!(run.status.code(), Some(0), "{label}");
+        assert!(err.contains(path), "{label}: {err}");
+        assert!(!out.exists(), "{label}: nothing may be written");
+    }
+}
+
+#[test]
+fn design_is_deterministic() {
+    let t = target("saddle", r#"{"kind": "saddle"}"#);
+    let mut a = design(&t, &options()).unwrap().schedule;
+    let mut b = design(&t, &options()).unwrap().schedule;
+    a.solver.solve_time_s = 0.0;
+    b.solver.solve_time_s = 0.0;
+    assert_eq!(serde_json::to_string(&a).unwrap(), serde_json::to_string(&b).unwrap());
+}
