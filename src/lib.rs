@@ -23,5 +23,6 @@ pub mod plot;
 pub mod reproduce;
 pub mod scene;
 pub mod target;
+pub mod verify;
 
 pub use error::{Error, Result};

@@ -7,15 +7,15 @@ use clap::{Parser, Subcommand};
 
 use platefield::basis::report::write_primitives;
 use platefield::basis::Library;
-use platefield::dynamics::{Friction, Model, Numerics};
-use platefield::field::{FieldSettings, Grid};
-use platefield::linesink::LineSink;
 use platefield::basis::PrimitiveKind;
 use platefield::design::export::signals_csv;
 use platefield::design::quality::write_fit_quality;
 use platefield::design::{design, report, DesignOptions, Schedule};
+use platefield::dynamics::{Friction, Model, Numerics};
 use platefield::field::FieldKind;
+use platefield::field::{FieldSettings, Grid};
 use platefield::fit::FitMode;
+use platefield::linesink::LineSink;
 use platefield::target::Target;
 use platefield::{reproduce, Error, Result};
 
@@ -94,7 +94,11 @@ enum Command {
     /// Cheapest model rung within tolerance of the full model, per primitive: writes rungs.md.
     Rungs {
         /// Largest accepted relative L2 error against the full model.
-        #[arg(long, default_value_t = platefield::basis::rung::DEFAULT_RUNG_TOLERANCE)]
+        #[arg(
+            long,
+            default_value_t = platefield::basis::rung::DEFAULT_RUNG_TOLERANCE,
+            allow_negative_numbers = true
+        )]
         tolerance: f64,
         /// Output directory.
         #[arg(long, default_value = "results/primitives")]
@@ -104,6 +108,35 @@ enum Command {
     Speed {
         /// Output directory.
         #[arg(long, default_value = "results")]
+        out: PathBuf,
+    },
+    /// Closed-loop verification: play a schedule on a swarm of point parts, realised field against prediction.
+    Verify {
+        /// A schedule.json written by `design`.
+        schedule: PathBuf,
+        /// Start points per side of the N×N grid over ±3 cm.
+        #[arg(long, default_value_t = 5)]
+        points: usize,
+        /// Schedule periods measured (after the warm-up).
+        #[arg(long, default_value_t = 1)]
+        periods: u32,
+        /// Schedule periods played before measuring.
+        #[arg(long, default_value_t = 1)]
+        warmup: u32,
+        /// Model: the schedule's own (default, normally full), full, paper, or frozen (full with positions frozen: an exact comparison when parts drift far).
+        #[arg(long)]
+        model: Option<String>,
+        /// Output folder; writes OUT/<target>/verify/summary.json.
+        #[arg(long, default_value = "results")]
+        out: PathBuf,
+        /// Print the summary JSON on stdout.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Interaction error of two sequenced LineSinks (DESIGN.md section 6): writes results/verify/sink_interaction.md.
+    Interaction {
+        /// Output directory.
+        #[arg(long, default_value = "results/verify")]
         out: PathBuf,
     },
 }
@@ -268,6 +301,61 @@ fn rungs(out: &std::path::Path, tolerance: f64) -> Result<()> {
     Ok(())
 }
 
+fn verify_cmd(
+    schedule: &std::path::Path,
+    points: usize,
+    periods: u32,
+    warmup: u32,
+    model: Option<&str>,
+    out: &std::path::Path,
+    json: bool,
+) -> Result<()> {
+    let model = match model {
+        None => None,
+        Some("frozen") => Some(platefield::verify::interaction::FROZEN),
+        Some(name) => Some(Model::preset(name, "--model").map_err(|_| {
+            Error::invalid(
+                "--model",
+                format!("unknown model \"{name}\" (expected full, paper or frozen)"),
+            )
+        })?),
+    };
+    let (v, text, file) =
+        platefield::verify::verify_schedule_file(schedule, points, warmup, periods, model, out)?;
+    if json {
+        print!("{text}");
+        return Ok(());
+    }
+    println!(
+        "realised vs predicted relative error {:.2} % over {} of {} points ({} model, {} warm-up + {} measured periods of {:.4} s); max |error| {:.3e} m/s, rms |predicted| {:.3e} m/s",
+        100.0 * v.relative_error,
+        v.valid,
+        points * points,
+        v.model,
+        warmup,
+        periods,
+        v.schedule_period_s,
+        v.max_abs_error,
+        v.rms_predicted
+    );
+    for p in v.points.iter().filter(|p| !p.valid) {
+        println!(
+            "invalid ({:.4}, {:.4}): {}",
+            p.start[0],
+            p.start[1],
+            p.note.as_deref().unwrap_or("")
+        );
+    }
+    println!("wrote {}", file.display());
+    Ok(())
+}
+
+fn interaction_cmd(out: &std::path::Path) -> Result<()> {
+    print!("{}", platefield::verify::interaction_table(out)?);
+    println!("wrote {}", out.join("sink_interaction.md").display());
+    Ok(())
+}
+
 fn speed(out: &std::path::Path) -> Result<()> {
     print!("{}", platefield::basis::speed::library_speed(out)?);
     println!("wrote {}", out.join("library_speed.md").display());
@@ -367,9 +455,14 @@ fn design_options(args: &DesignArgs) -> Result<DesignOptions> {
         "absolute" => FitMode::Absolute,
         "budget" => {
             if !(args.budget > 0.0 && args.budget < 1.0) {
-                return Err(Error::invalid("--budget", format!("must be in (0, 1), got {}", args.budget)));
+                return Err(Error::invalid(
+                    "--budget",
+                    format!("must be in (0, 1), got {}", args.budget),
+                ));
             }
-            FitMode::Budget { rel_error: args.budget }
+            FitMode::Budget {
+                rel_error: args.budget,
+            }
         }
         "l1" => FitMode::L1,
         "linf" | "l_inf" => FitMode::LInf,
@@ -383,7 +476,12 @@ fn design_options(args: &DesignArgs) -> Result<DesignOptions> {
     let kind = match args.basis.as_str() {
         "velocity" => FieldKind::Velocity,
         "force" => FieldKind::Force,
-        other => return Err(Error::invalid("--basis", format!("unknown basis \"{other}\" (expected velocity or force)"))),
+        other => {
+            return Err(Error::invalid(
+                "--basis",
+                format!("unknown basis \"{other}\" (expected velocity or force)"),
+            ))
+        }
     };
     let kinds = match &args.primitives {
         None => PrimitiveKind::ALL.to_vec(),
@@ -402,7 +500,10 @@ fn design_options(args: &DesignArgs) -> Result<DesignOptions> {
     for text in &args.shift {
         let v = parse_list("--shift", text)?;
         if v.len() != 2 {
-            return Err(Error::invalid("--shift", format!("must be two numbers \"x,y\" in metres, got \"{text}\"")));
+            return Err(Error::invalid(
+                "--shift",
+                format!("must be two numbers \"x,y\" in metres, got \"{text}\""),
+            ));
         }
         shifts.push([v[0], v[1]]);
     }
@@ -424,7 +525,9 @@ fn design_options(args: &DesignArgs) -> Result<DesignOptions> {
 
 fn target_name(target: &Target, path: &std::path::Path) -> String {
     if target.name.trim().is_empty() {
-        path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "target".into())
+        path.file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "target".into())
     } else {
         target.name.clone()
     }
@@ -435,7 +538,10 @@ fn design_cmd(args: DesignArgs) -> Result<()> {
     let mut target = Target::load(&args.target)?;
     target.name = target_name(&target, &args.target);
     if target.name.contains(['/', '\\']) || target.name.starts_with('.') {
-        return Err(Error::invalid("target.name", format!("must be a plain folder name, got \"{}\"", target.name)));
+        return Err(Error::invalid(
+            "target.name",
+            format!("must be a plain folder name, got \"{}\"", target.name),
+        ));
     }
     let d = design(&target, &opts)?;
     report::write(&d, &args.out.join(&target.name))?;
@@ -443,20 +549,35 @@ fn design_cmd(args: DesignArgs) -> Result<()> {
         print!("{}", report::schedule_json(&d));
     } else {
         print!("{}", report::summary(&d));
-        println!("wrote {}/{{schedule.json, fit.svg, report.md}}", args.out.join(&target.name).display());
+        println!(
+            "wrote {}/{{schedule.json, fit.svg, report.md}}",
+            args.out.join(&target.name).display()
+        );
     }
     Ok(())
 }
 
 fn export_cmd(schedule: &std::path::Path, rate: f64, out: Option<PathBuf>) -> Result<()> {
-    let text = std::fs::read_to_string(schedule).map_err(|e| Error::Io { path: schedule.display().to_string(), source: e })?;
-    let s: Schedule = serde_json::from_str(&text)
-        .map_err(|e| Error::invalid(schedule.display().to_string(), format!("not a platefield schedule: {e}")))?;
+    let text = std::fs::read_to_string(schedule).map_err(|e| Error::Io {
+        path: schedule.display().to_string(),
+        source: e,
+    })?;
+    let s: Schedule = serde_json::from_str(&text).map_err(|e| {
+        Error::invalid(
+            schedule.display().to_string(),
+            format!("not a platefield schedule: {e}"),
+        )
+    })?;
     let csv = signals_csv(&s, rate)?;
     match out {
         Some(path) => {
             platefield::output::write_atomic(&path, csv.as_bytes())?;
-            println!("wrote {} ({} samples at {rate} Hz over {:.4} s)", path.display(), csv.lines().count() - 1, s.period_s);
+            println!(
+                "wrote {} ({} samples at {rate} Hz over {:.4} s)",
+                path.display(),
+                csv.lines().count() - 1,
+                s.period_s
+            );
         }
         None => print!("{csv}"),
     }
@@ -465,7 +586,10 @@ fn export_cmd(schedule: &std::path::Path, rate: f64, out: Option<PathBuf>) -> Re
 
 fn fit_quality_cmd(out: &std::path::Path) -> Result<()> {
     let mut targets: Vec<PathBuf> = std::fs::read_dir("targets")
-        .map_err(|e| Error::Io { path: "targets".into(), source: e })?
+        .map_err(|e| Error::Io {
+            path: "targets".into(),
+            source: e,
+        })?
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.extension().is_some_and(|x| x == "json"))
         .collect();
@@ -478,7 +602,11 @@ fn fit_quality_cmd(out: &std::path::Path) -> Result<()> {
 fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Design(args) => design_cmd(args),
-        Command::Export { schedule, rate, out } => export_cmd(&schedule, rate, out),
+        Command::Export {
+            schedule,
+            rate,
+            out,
+        } => export_cmd(&schedule, rate, out),
         Command::FitQuality { out } => fit_quality_cmd(&out),
         Command::Linesink(args) => linesink(args),
         Command::Field {
@@ -491,6 +619,24 @@ fn run(cli: Cli) -> Result<()> {
         Command::Reproduce { out } => reproduce::linesink_results(&out),
         Command::Rungs { tolerance, out } => rungs(&out, tolerance),
         Command::Speed { out } => speed(&out),
+        Command::Verify {
+            schedule,
+            points,
+            periods,
+            warmup,
+            model,
+            out,
+            json,
+        } => verify_cmd(
+            &schedule,
+            points,
+            periods,
+            warmup,
+            model.as_deref(),
+            &out,
+            json,
+        ),
+        Command::Interaction { out } => interaction_cmd(&out),
         Command::Primitives {
             out,
             grid,

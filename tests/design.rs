@@ -35,15 +35,28 @@ fn options() -> DesignOptions {
 fn sink_fits_within_five_percent_with_a_consistent_schedule() {
     let d = design(&target("sink", r#"{"kind": "sink"}"#), &options()).expect("design");
     let s = &d.schedule;
-    assert!(s.fit.relative_l2_error <= 0.05, "{}", s.fit.relative_l2_error);
+    assert!(
+        s.fit.relative_l2_error <= 0.05,
+        "{}",
+        s.fit.relative_l2_error
+    );
     assert!(s.fit.strength > 0.0 && !s.poor_fit);
     assert!(s.solver.status.starts_with("Solved"), "{}", s.solver.status);
     // Whole cycles, at least the minimum each, durations add up.
     let total: f64 = s.segments.iter().map(|g| g.duration_s).sum();
     assert!((total - s.period_s).abs() < 1e-12);
-    assert!(s.segments.iter().all(|g| g.cycles >= s.min_cycles || g.primitive.is_none()));
-    assert!(s.quantization_error <= 0.02 + 1e-12, "{}", s.quantization_error);
-    assert!(s.fit_quantized.relative_l2_error <= s.fit.relative_l2_error + s.quantization_error + 1e-9);
+    assert!(s
+        .segments
+        .iter()
+        .all(|g| g.cycles >= s.min_cycles || g.primitive.is_none()));
+    assert!(
+        s.quantization_error <= 0.02 + 1e-12,
+        "{}",
+        s.quantization_error
+    );
+    assert!(
+        s.fit_quantized.relative_l2_error <= s.fit.relative_l2_error + s.quantization_error + 1e-9
+    );
     // A sink needs squeezing in two directions: LineSinks (or skews) at two angles.
     let angles: std::collections::BTreeSet<i64> = s
         .segments
@@ -61,7 +74,8 @@ fn unreachable_target_reports_a_poor_fit() {
         kinds: vec![PrimitiveKind::LineSink, PrimitiveKind::LineSource],
         ..options()
     };
-    let d = design(&target("rotation", r#"{"kind": "scaled_circle"}"#), &opts).expect("best fit, not an error");
+    let d = design(&target("rotation", r#"{"kind": "scaled_circle"}"#), &opts)
+        .expect("best fit, not an error");
     assert!(d.schedule.poor_fit, "{:?}", d.schedule.fit);
     assert!(d.schedule.fit.relative_l2_error > 0.5);
 }
@@ -78,7 +92,9 @@ fn export_is_rest_to_rest_and_sampled_at_the_rate() {
         .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
         .collect();
     assert_eq!(rows.len(), (s.period_s * rate).round() as usize);
-    assert!(rows.iter().all(|r| r.len() == 7 && r.iter().all(|x| x.is_finite())));
+    assert!(rows
+        .iter()
+        .all(|r| r.len() == 7 && r.iter().all(|x| x.is_finite())));
     // Integrating the angular acceleration over each segment returns the
     // angular velocity to zero (the plate is at rest at every join).
     let seg = s.segments.iter().find(|g| g.primitive.is_some()).unwrap();
@@ -101,17 +117,40 @@ fn bad_targets_are_named_and_nothing_is_written() {
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("bad-targets");
     std::fs::create_dir_all(&dir).unwrap();
     let cases = [
-        ("kind", r#"{"name": "a", "grid": {"x": [-0.03, 0.03], "y": [-0.03, 0.03], "n": [5, 5]}, "field": {"kind": "sinc"}}"#, "target.field.kind"),
-        ("grid", r#"{"name": "b", "field": {"kind": "sink"}}"#, "grid"),
-        ("nan", r#"{"name": "c", "grid": {"x": [-0.03, 0.03], "y": [-0.03, NaN], "n": [5, 5]}, "field": {"kind": "sink"}}"#, ""),
-        ("lengths", r#"{"name": "d", "field": {"kind": "sampled", "points": [[0, 0], [0.01, 0]], "vectors": [[1, 0]]}}"#, "target.field.points"),
+        (
+            "kind",
+            r#"{"name": "a", "grid": {"x": [-0.03, 0.03], "y": [-0.03, 0.03], "n": [5, 5]}, "field": {"kind": "sinc"}}"#,
+            "target.field.kind",
+        ),
+        (
+            "grid",
+            r#"{"name": "b", "field": {"kind": "sink"}}"#,
+            "grid",
+        ),
+        (
+            "nan",
+            r#"{"name": "c", "grid": {"x": [-0.03, 0.03], "y": [-0.03, NaN], "n": [5, 5]}, "field": {"kind": "sink"}}"#,
+            "",
+        ),
+        (
+            "lengths",
+            r#"{"name": "d", "field": {"kind": "sampled", "points": [[0, 0], [0.01, 0]], "vectors": [[1, 0]]}}"#,
+            "target.field.points",
+        ),
     ];
     for (label, json, path) in cases {
         let file = dir.join(format!("{label}.json"));
         std::fs::write(&file, json).unwrap();
         let out = dir.join(format!("out-{label}"));
         let run = Command::new(env!("CARGO_BIN_EXE_platefield"))
-            .args(["design", file.to_str().unwrap(), "--quiet", "--no-cache", "--out", out.to_str().unwrap()])
+            .args([
+                "design",
+                file.to_str().unwrap(),
+                "--quiet",
+                "--no-cache",
+                "--out",
+                out.to_str().unwrap(),
+            ])
             .output()
             .unwrap();
         let err = String::from_utf8_lossy(&run.stderr);
@@ -128,5 +167,8 @@ fn design_is_deterministic() {
     let mut b = design(&t, &options()).unwrap().schedule;
     a.solver.solve_time_s = 0.0;
     b.solver.solve_time_s = 0.0;
-    assert_eq!(serde_json::to_string(&a).unwrap(), serde_json::to_string(&b).unwrap());
+    assert_eq!(
+        serde_json::to_string(&a).unwrap(),
+        serde_json::to_string(&b).unwrap()
+    );
 }

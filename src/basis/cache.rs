@@ -68,6 +68,9 @@ struct KeyInput<'a> {
     format: u32,
     version: &'static str,
     primitives: &'a [Primitive],
+    /// The resolved motions: defaults and waveforms are part of the key,
+    /// so a change of a primitive's definition invalidates the cache.
+    motions: Vec<crate::motion::Motion>,
     grid: &'a Grid,
     settings: &'a FieldSettings,
 }
@@ -136,6 +139,7 @@ impl BasisCache {
             format: FORMAT,
             version: env!("CARGO_PKG_VERSION"),
             primitives,
+            motions: primitives.iter().map(Primitive::motion).collect(),
             grid,
             settings,
         };
@@ -232,7 +236,7 @@ impl BasisCache {
         settings.friction.validate("settings.friction")?;
         settings.numerics.validate("settings.numerics")?;
         crate::error::positive("settings.gravity", settings.gravity)?;
-        crate::error::positive("settings.frozen_excursion", settings.frozen_excursion)?;
+        crate::error::non_negative("settings.frozen_excursion", settings.frozen_excursion)?;
         if settings.phases == 0 {
             return Err(Error::invalid("settings.phases", "must be ≥ 1"));
         }

@@ -166,7 +166,7 @@ impl Primitive {
     /// Default translation amplitude of this kind (m).
     pub fn default_translation(kind: PrimitiveKind) -> f64 {
         match kind {
-            PrimitiveKind::Trans => 0.00007,
+            PrimitiveKind::Trans => D0,
             // Tuned so that the along-axis part matches the squeeze, as in
             // Table I's a(∓x, ±x); the sign picks the direction of the skew.
             PrimitiveKind::SkewSink => -0.6 * D0,
@@ -228,7 +228,7 @@ impl Primitive {
                 [1.0, 0.0, 0.0],
                 [0.0, 0.0, 0.0],
                 Waveform::Zero,
-                asymmetric(d0, self.omega),
+                sawtooth(-d0, self.omega),
             ),
             PrimitiveKind::ScaledCircle => screw(
                 [0.0, 0.0, 1.0],

@@ -42,12 +42,13 @@ use crate::motion::Motion;
 use crate::output::write_atomic;
 
 /// Default tolerance: 2 % relative L2 error against the full model. Two
-/// per cent is well below what separates the primitives' Table I forms
-/// (their fits leave residuals of several per cent, see `table1.md`) and
-/// above the integrator's own error at the default 64 steps per cycle
-/// (≤ 1e-3 relative, `results/library_speed.md`), so a rung is accepted
-/// only when the terms it drops change the field by less than the basis
-/// can resolve, and never because of numerical noise.
+/// per cent is below what separates a primitive's field from its Table I
+/// form (the fits in `results/primitives/table1.md` leave relative residuals
+/// √(1 − R²) of 3–17 %) and above the integrator's own error at the default
+/// 64 steps per cycle (worst 3e-3 over the library,
+/// `results/library_speed.md`), so a rung is accepted only when the terms
+/// it drops change the field by less than the basis can resolve, and never
+/// rejected because of numerical noise.
 pub const DEFAULT_RUNG_TOLERANCE: f64 = 0.02;
 
 /// The rungs, cheapest first: name and model.
@@ -151,13 +152,24 @@ fn is_translation(motion: &Motion) -> bool {
     }
 }
 
+/// `e` as a percentage with three significant digits ("0" when exact).
 fn percent(e: f64) -> String {
     if e.is_nan() {
-        "n/a".into()
-    } else if e == 0.0 {
-        "0".into()
+        return "n/a".into();
+    }
+    if e == 0.0 {
+        return "0".into();
+    }
+    let p = 100.0 * e;
+    let decimals = (2 - p.abs().log10().floor() as i32).clamp(0, 12) as usize;
+    format!("{p:.decimals$} %")
+}
+
+fn flags(n: usize) -> String {
+    if n == 1 {
+        "1 validity flag differs".into()
     } else {
-        format!("{:.3} %", 100.0 * e)
+        format!("{n} validity flags differ")
     }
 }
 
@@ -229,7 +241,7 @@ pub fn choose_rung(
         .map(|r| {
             let mut s = format!("{} {}", r.name, percent(r.error));
             if r.flags_differ > 0 {
-                let _ = write!(s, " with {} validity flags differing", r.flags_differ);
+                let _ = write!(s, " ({})", flags(r.flags_differ));
             }
             s
         })
@@ -334,7 +346,7 @@ pub fn rungs_markdown(reports: &[(&'static str, RungReport)], tolerance: f64) ->
                 .map(|x| {
                     let mut c = percent(x.error);
                     if x.flags_differ > 0 {
-                        let _ = write!(c, " ({} flags differ)", x.flags_differ);
+                        let _ = write!(c, " ({})", flags(x.flags_differ));
                     }
                     c
                 })

@@ -9,11 +9,16 @@
 //! L2 error against the reference (over samples valid in both) are
 //! reported, with the issue's target: a library in ≤ 0.3 s at ≤ 1e-4.
 //!
-//! What limits the speed: the integrator follows a 2-D slip velocity that
-//! swings past u = 0 by shortening its steps (`src/dynamics/integrator.rs`),
-//! which costs steps and caps the order of accuracy; primitives whose slip
-//! stays on one line (LineSink, LineSource, Trans) have no swings and
-//! converge at RK4's fourth order.
+//! Two more measurements say what limits it: the 64-step build repeated
+//! with every motion shifted by [`PERTURBATION`] (which changes the true
+//! field by about 1e-10 relative) shows how reproducible each primitive's
+//! field is under round-off-sized changes, and a Richardson estimate of the
+//! reference's own error (from the observed order between 32 and 64 steps)
+//! shows how far the comparison can be trusted. Primitives whose slip stays
+//! on one line (LineSink, LineSource, Trans) converge at RK4's fourth order;
+//! the others slip in 2-D, where the integrator follows slip velocities that
+//! swing past u = 0 by shortening its steps (`src/dynamics/integrator.rs`),
+//! and converge slowly.
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -36,6 +41,9 @@ pub const TARGET_ERROR: f64 = 1e-4;
 /// Timed builds per step count (the best is reported).
 pub const REPEATS: usize = 3;
 
+/// Horizontal shift (m) of every motion in the reproducibility build.
+pub const PERTURBATION: f64 = 1e-12;
+
 /// One timed build of the default force library.
 #[derive(Debug, Clone)]
 pub struct Build {
@@ -45,6 +53,9 @@ pub struct Build {
     pub fields: Vec<Field>,
     /// Wall time of each primitive's field (s).
     pub seconds: Vec<f64>,
+    /// CPU time of the whole build over all threads (s), where the
+    /// platform reports it (Linux).
+    pub cpu_seconds: Option<f64>,
 }
 
 impl Build {
@@ -54,14 +65,26 @@ impl Build {
     }
 }
 
-/// Builds the default 8-primitive force library (21 × 21, 30 phases,
-/// default settings) at `steps` RK4 steps per cycle, timing each field.
-pub fn build_force_library(steps: usize) -> Build {
+/// CPU time of this process over all threads (s), from /proc/self/stat
+/// (utime + stime in USER_HZ = 100 ticks per second); `None` elsewhere.
+fn process_cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // Fields after the command name (which is in parentheses).
+    let rest = &stat[stat.rfind(')')? + 2..];
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let ticks = f.get(11)?.parse::<f64>().ok()? + f.get(12)?.parse::<f64>().ok()?;
+    Some(ticks / 100.0)
+}
+
+fn build(steps: usize, shift_x: f64) -> Build {
     let mut settings = FieldSettings::default();
     settings.numerics.steps_per_cycle = steps;
     let mut fields = Vec::new();
     let mut seconds = Vec::new();
+    let cpu0 = process_cpu_seconds();
     for p in Library::default_primitives() {
+        let mut p = p;
+        p.shift[0] += shift_x;
         let motion = p.motion();
         let start = Instant::now();
         fields.push(Field::compute(
@@ -73,11 +96,22 @@ pub fn build_force_library(steps: usize) -> Build {
         ));
         seconds.push(start.elapsed().as_secs_f64());
     }
+    let cpu_seconds = match (cpu0, process_cpu_seconds()) {
+        (Some(a), Some(b)) => Some(b - a),
+        _ => None,
+    };
     Build {
         steps,
         fields,
         seconds,
+        cpu_seconds,
     }
+}
+
+/// Builds the default 8-primitive force library (21 × 21, 30 phases,
+/// default settings) at `steps` RK4 steps per cycle, timing each field.
+pub fn build_force_library(steps: usize) -> Build {
+    build(steps, 0.0)
 }
 
 /// The best (fastest) of `REPEATS` builds at `steps`.
@@ -100,6 +134,10 @@ fn sci(x: f64) -> String {
     }
 }
 
+fn row(cells: impl IntoIterator<Item = String>) -> String {
+    cells.into_iter().collect::<Vec<_>>().join(" | ")
+}
+
 /// Measures and writes `out/library_speed.md`; returns it.
 pub fn library_speed(out: &Path) -> Result<String> {
     let names: Vec<&str> = Library::default_primitives()
@@ -108,6 +146,7 @@ pub fn library_speed(out: &Path) -> Result<String> {
         .collect();
     let reference = build_force_library(REFERENCE_STEPS);
     let builds: Vec<Build> = SPEED_STEPS.iter().map(|&s| best_build(s)).collect();
+    let last = builds.len() - 1;
     let errors: Vec<Vec<f64>> = builds
         .iter()
         .map(|b| {
@@ -118,19 +157,57 @@ pub fn library_speed(out: &Path) -> Result<String> {
                 .collect()
         })
         .collect();
+    let perturbed = build(builds[last].steps, PERTURBATION);
+    let noise: Vec<f64> = perturbed
+        .fields
+        .iter()
+        .zip(&builds[last].fields)
+        .map(|(f, r)| relative_l2(f, r).0)
+        .collect();
+    let orders: Vec<Vec<f64>> = (1..builds.len())
+        .map(|i| {
+            errors[i - 1]
+                .iter()
+                .zip(&errors[i])
+                .map(|(a, b)| (a / b).log2())
+                .collect()
+        })
+        .collect();
+    // Richardson: e(n) = C n^-p gives e_ref = e(n_last) / ((n_ref/n_last)^p − 1).
+    let ratio = REFERENCE_STEPS as f64 / builds[last].steps as f64;
+    let ref_error: Vec<f64> = errors[last]
+        .iter()
+        .zip(&orders[orders.len() - 1])
+        .map(|(e, p)| {
+            if p.is_finite() && *p > 0.0 {
+                e / (ratio.powf(*p) - 1.0)
+            } else {
+                f64::NAN
+            }
+        })
+        .collect();
     let worst = |e: &[f64]| e.iter().copied().fold(0.0, |a: f64, x| a.max(x));
     let threads = rayon::current_num_threads();
     let g = Grid::DEFAULT;
     let s = FieldSettings::default();
+    let dashes = "---|".repeat(names.len());
+    let load = std::fs::read_to_string("/proc/loadavg")
+        .ok()
+        .and_then(|l| l.split_whitespace().next().map(str::to_string))
+        .map_or(String::new(), |l| {
+            format!(" The 1-minute load average when the report was written was {l}.")
+        });
 
     let mut md = format!(
         "# Library speed against error\n\n\
          The default 8-primitive zero-velocity force library: {}×{} grid over ±4 cm, {} start \
-         phases, model `{}`, μ = {} ({} samples × {} one-cycle simulations). Wall time of the \
-         whole build, best of {REPEATS}, rayon with {threads} threads on the machine that ran \
-         `platefield speed` (timings vary with the machine and its load; the errors do not). \
-         Error: relative L2 against a {REFERENCE_STEPS}-step reference (built in {:.2} s), over \
-         samples valid in both.\n\n",
+         phases, model `{}`, μ = {} ({} samples × {} one-cycle simulations = {}). Wall time of \
+         the whole build, best of {REPEATS}, rayon with {threads} threads, and the CPU time of \
+         that build over all threads, on the machine that ran `platefield speed`: timings vary \
+         with the machine and its load (it was shared with other builds), the errors do \
+         not.{load} Error: relative L2 against a {REFERENCE_STEPS}-step reference (built in \
+         {:.2} s), over samples valid in both.\n\n\
+         | steps per cycle | wall time (s) | CPU time (s) | worst error | {} |\n|---|---|---|---|{dashes}\n",
         g.n[0],
         g.n[1],
         s.phases,
@@ -138,67 +215,69 @@ pub fn library_speed(out: &Path) -> Result<String> {
         s.friction.kinetic,
         8 * g.len(),
         s.phases,
-        reference.total()
+        8 * g.len() * s.phases,
+        reference.total(),
+        names.join(" | "),
     );
-    let _ = writeln!(
-        md,
-        "| steps per cycle | wall time (s) | worst error | {} |",
-        names.join(" | ")
-    );
-    let _ = writeln!(md, "|---|---|---|{}", "---|".repeat(names.len()));
     for (b, e) in builds.iter().zip(&errors) {
         let _ = writeln!(
             md,
-            "| {} | {:.3} | {} | {} |",
+            "| {} | {:.3} | {} | {} | {} |",
             b.steps,
             b.total(),
+            b.cpu_seconds.map_or("n/a".into(), |c| format!("{c:.2}")),
             sci(worst(e)),
-            e.iter().map(|x| sci(*x)).collect::<Vec<_>>().join(" | ")
+            row(e.iter().map(|x| sci(*x)))
+        );
+    }
+    let _ = writeln!(
+        md,
+        "| reference's own error (estimate) | | | {} | {} |",
+        sci(worst(&ref_error)),
+        row(ref_error.iter().map(|x| sci(*x)))
+    );
+    let _ = writeln!(
+        md,
+        "| reproducibility: {} steps, motions shifted by {PERTURBATION:e} m | | | {} | {} |",
+        builds[last].steps,
+        sci(worst(&noise)),
+        row(noise.iter().map(|x| sci(*x)))
+    );
+    let _ = write!(
+        md,
+        "\n*Reference's own error*: Richardson estimate e({n}) / (({REFERENCE_STEPS}/{n})^p − 1) \
+         with p the observed order between the two finest builds (below). *Reproducibility*: the \
+         {n}-step build again with every motion shifted by {PERTURBATION:e} m, against the \
+         unshifted one; the true fields change by about 1e-10 relative, so anything larger is \
+         the integrator's sensitivity to round-off-sized changes of its input.\n\n\
+         Observed order of convergence, log₂(e(n)/e(2n)):\n\n| steps n → 2n | {} |\n|---|{dashes}\n",
+        names.join(" | "),
+        n = builds[last].steps,
+    );
+    for (i, o) in orders.iter().enumerate() {
+        let _ = writeln!(
+            md,
+            "| {} → {} | {} |",
+            builds[i].steps,
+            builds[i + 1].steps,
+            row(o.iter().map(|p| if p.is_finite() {
+                format!("{p:.2}")
+            } else {
+                "n/a".into()
+            }))
         );
     }
     let _ = write!(
         md,
-        "\nWall time per primitive (s):\n\n| steps per cycle | {} |\n|---|{}\n",
-        names.join(" | "),
-        "---|".repeat(names.len())
+        "\nWall time per primitive (s):\n\n| steps per cycle | {} |\n|---|{dashes}\n",
+        names.join(" | ")
     );
     for b in builds.iter().chain(std::iter::once(&reference)) {
         let _ = writeln!(
             md,
             "| {} | {} |",
             b.steps,
-            b.seconds
-                .iter()
-                .map(|x| format!("{x:.3}"))
-                .collect::<Vec<_>>()
-                .join(" | ")
-        );
-    }
-    let _ = write!(
-        md,
-        "\nObserved order of convergence, log₂(e(n)/e(2n)):\n\n| steps n → 2n | {} |\n|---|{}\n",
-        names.join(" | "),
-        "---|".repeat(names.len())
-    );
-    for i in 1..builds.len() {
-        let cells: Vec<String> = errors[i - 1]
-            .iter()
-            .zip(&errors[i])
-            .map(|(a, b)| {
-                let p = (a / b).log2();
-                if p.is_finite() {
-                    format!("{p:.2}")
-                } else {
-                    "n/a".into()
-                }
-            })
-            .collect();
-        let _ = writeln!(
-            md,
-            "| {} → {} | {} |",
-            builds[i - 1].steps,
-            builds[i].steps,
-            cells.join(" | ")
+            row(b.seconds.iter().map(|x| format!("{x:.3}")))
         );
     }
 
@@ -231,13 +310,13 @@ pub fn library_speed(out: &Path) -> Result<String> {
             );
         }
         None => {
-            let _ = write!(md, "**Not met** on this machine. ");
+            let _ = write!(md, "**Not met.** ");
             match accurate {
                 Some((b, e)) => {
                     let _ = write!(
                         md,
                         "The error target is first reached at {} steps per cycle (worst {}), \
-                         in {:.3} s, {:.1}× the time target. ",
+                         in {:.3} s, {:.0}× the time target. ",
                         b.steps,
                         sci(worst(e)),
                         b.total(),
@@ -245,13 +324,18 @@ pub fn library_speed(out: &Path) -> Result<String> {
                     );
                 }
                 None => {
+                    let best = errors
+                        .iter()
+                        .map(|e| worst(e))
+                        .fold(f64::INFINITY, f64::min);
                     let _ = write!(
                         md,
-                        "No measured step count reaches the error target (best worst-case error {} \
-                         at {} steps, {:.3} s). ",
-                        sci(errors.iter().map(|e| worst(e)).fold(f64::INFINITY, f64::min)),
-                        builds.last().map_or(0, |b| b.steps),
-                        builds.last().map_or(0.0, |b| b.total())
+                        "No measured step count reaches the error target: the best worst-case \
+                         error is {} ({:.0}× the target), at {} steps in {:.3} s. ",
+                        sci(best),
+                        best / TARGET_ERROR,
+                        builds[last].steps,
+                        builds[last].total()
                     );
                 }
             }
@@ -267,45 +351,109 @@ pub fn library_speed(out: &Path) -> Result<String> {
                     );
                 }
                 None => {
-                    let _ = writeln!(md, "No measured build is within the time target.");
+                    let _ = write!(
+                        md,
+                        "No build is within the time target either: the cheapest, {} steps per \
+                         cycle, takes {:.3} s ({:.0}× the target)",
+                        builds[0].steps,
+                        builds[0].total(),
+                        builds[0].total() / TARGET_SECONDS
+                    );
+                    match builds[0].cpu_seconds {
+                        Some(c) => {
+                            let free = c / threads as f64;
+                            let _ = writeln!(
+                                md,
+                                ", and {free:.2} s ({:.0}× the target) even on {threads} free \
+                                 cores (its CPU time divided by the threads).",
+                                free / TARGET_SECONDS
+                            );
+                        }
+                        None => md.push_str(".\n"),
+                    }
                 }
             }
         }
     }
     let one_d = ["LineSink", "LineSource", "Trans"];
-    let order = |name: &str| -> f64 {
-        let i = names.iter().position(|n| *n == name).unwrap_or(0);
-        let k = errors.len() - 1;
-        (errors[k - 1][i] / errors[k][i]).log2()
-    };
-    let fmt_orders = |pick: &dyn Fn(&str) -> bool| -> String {
+    let pick = |want_1d: bool, v: &[f64], f: &dyn Fn(f64) -> String| -> String {
         names
             .iter()
-            .filter(|n| pick(n))
-            .map(|n| format!("{n} {:.1}", order(n)))
+            .zip(v)
+            .filter(|(n, _)| one_d.contains(n) == want_1d)
+            .map(|(n, x)| format!("{n} {}", f(*x)))
             .collect::<Vec<_>>()
             .join(", ")
     };
+    let fine_order = &orders[orders.len() - 1];
+    let order_fmt = |p: f64| format!("{p:.1}");
+    let col = |name: &str| names.iter().position(|n| *n == name);
+    let one_d_cols: Vec<usize> = one_d.iter().filter_map(|n| col(n)).collect();
+    let one_d_reach = builds
+        .iter()
+        .zip(&errors)
+        .find(|(_, e)| one_d_cols.iter().all(|&i| e[i] <= TARGET_ERROR))
+        .map_or(
+            "none of the measured builds reaches the error target for all of them".into(),
+            |(b, _)| {
+                format!(
+                    "all of them reach the error target from {} steps per cycle",
+                    b.steps
+                )
+            },
+        );
     let _ = writeln!(
         md,
-        "\nWhat limits it: primitives whose slip stays on one line ({}) converge at RK4's fourth \
-         order (observed between the two finest builds: {}), so their error falls 16× per \
-         doubling of the steps. The others slip in 2-D: their slip velocity swings past u = 0 \
-         without stopping, and the integrator follows each swing by shortening its steps \
-         (`src/dynamics/integrator.rs`: the step is cut at the closest approach, backed off, and \
-         the turn followed with steps of a fraction of |u|/|a_⊥|). Those swings cost extra steps \
-         whatever the nominal step count, and the error of locating and following them, not the \
-         RK4 truncation, dominates, so these primitives converge more slowly (observed: {}) and \
-         set the worst-case error. The cost is one one-cycle simulation per sample and phase \
-         ({} per build), spread over {threads} threads.",
+        "\n**What limits the error.** Primitives whose slip stays on one line ({}) converge at \
+         RK4's fourth order (observed between the two finest builds: {}); their fields are \
+         reproducible to round-off (shifted by {PERTURBATION:e} m: {}); {one_d_reach}. The others \
+         slip in 2-D. The integrator follows a 2-D slip velocity that swings past u = 0 by \
+         shortening its steps (`src/dynamics/integrator.rs`), and these primitives converge \
+         slowly (observed orders: {}). Their fields are also not reproducible to round-off: a \
+         {PERTURBATION:e} m shift of the motion changes them by {} at {} steps, against errors \
+         of {} there. Where the two are of the same order the error is dominated by the \
+         integrator's discontinuous response to round-off-sized changes (which side of a \
+         threshold a swing or a stop falls on; a slip direction off the axes by one ulp, \
+         slipping from rest, grows a spurious perpendicular velocity), not by smooth truncation \
+         error that more steps would remove; and the reference's own error for these \
+         primitives (estimates above) makes their errors here indicative only.",
         one_d.join(", "),
-        fmt_orders(&|n| one_d.contains(&n)),
-        fmt_orders(&|n| !one_d.contains(&n)),
-        8 * g.len() * s.phases
+        pick(true, fine_order, &order_fmt),
+        pick(true, &noise, &sci),
+        pick(false, fine_order, &order_fmt),
+        pick(false, &noise, &sci),
+        builds[last].steps,
+        pick(false, &errors[last], &sci),
     );
     let _ = writeln!(
         md,
-        "\nRegenerate: `platefield speed` (about a minute). Bench: `cargo bench --bench library` \
+        "\n**What limits the time.** Wall time against the nominal step count: {}; CPU time \
+         (over all threads, less sensitive to the machine's load): {}. Events weigh heavily in \
+         the cost — locating stops and break-aways by root finding, and the \
+         short steps that follow 2-D swings — and they do not get cheaper with fewer steps; the \
+         slowest primitives are those with 2-D slips and sticking (per-primitive times above). \
+         One build is {} one-cycle simulations on {threads} threads; meeting {TARGET_SECONDS} s \
+         would need about {:.1} µs per simulation per thread.",
+        builds
+            .iter()
+            .map(|b| format!("{} steps {:.2} s", b.steps, b.total()))
+            .collect::<Vec<_>>()
+            .join(", "),
+        builds
+            .iter()
+            .map(|b| format!(
+                "{} steps {}",
+                b.steps,
+                b.cpu_seconds.map_or("n/a".into(), |c| format!("{c:.2} s"))
+            ))
+            .collect::<Vec<_>>()
+            .join(", "),
+        8 * g.len() * s.phases,
+        TARGET_SECONDS * threads as f64 / (8 * g.len() * s.phases) as f64 * 1e6
+    );
+    let _ = writeln!(
+        md,
+        "\nRegenerate: `platefield speed` (a few minutes). Bench: `cargo bench --bench library` \
          (one build at 32 steps per cycle)."
     );
     write_atomic(&out.join("library_speed.md"), md.as_bytes())?;

@@ -333,8 +333,8 @@ mod tests {
             let (dx, dy) = (p[0] - shift[0], p[1] - shift[1]);
             let v = f(c * dx + s * dy, -s * dx + c * dy);
             let want = [c * v[0] - s * v[1], s * v[0] + c * v[1]];
-            for i in 0..2 {
-                assert!((out.vectors[k][i] - want[i]).abs() < 1e-13, "{k}");
+            for (got, want) in out.vectors[k].iter().zip(want) {
+                assert!((got - want).abs() < 1e-13, "{k}");
             }
         }
     }

@@ -69,10 +69,18 @@ fn bilinear(field: &Field, p: [f64; 2]) -> Option<[f64; 2]> {
     if !(u >= 0.0 && v >= 0.0 && u <= (g.n[0] - 1) as f64 && v <= (g.n[1] - 1) as f64) {
         return None;
     }
-    let (i, j) = ((u.floor() as usize).min(g.n[0] - 2), (v.floor() as usize).min(g.n[1] - 2));
+    let (i, j) = (
+        (u.floor() as usize).min(g.n[0] - 2),
+        (v.floor() as usize).min(g.n[1] - 2),
+    );
     let (a, b) = (u - i as f64, v - j as f64);
     let mut out = [0.0; 2];
-    for (di, dj, w) in [(0, 0, (1.0 - a) * (1.0 - b)), (1, 0, a * (1.0 - b)), (0, 1, (1.0 - a) * b), (1, 1, a * b)] {
+    for (di, dj, w) in [
+        (0, 0, (1.0 - a) * (1.0 - b)),
+        (1, 0, a * (1.0 - b)),
+        (0, 1, (1.0 - a) * b),
+        (1, 1, a * b),
+    ] {
         let k = (j + dj) * g.n[0] + i + di;
         if field.validity[k] != Validity::Ok {
             return None;

@@ -40,10 +40,14 @@ pub fn signals_csv(schedule: &Schedule, rate: f64) -> Result<String> {
     if schedule.period_s * rate > 5e7 {
         return Err(Error::invalid(
             "--rate",
-            format!("{rate} Hz over a {:.3} s schedule is more than 5e7 samples", schedule.period_s),
+            format!(
+                "{rate} Hz over a {:.3} s schedule is more than 5e7 samples",
+                schedule.period_s
+            ),
         ));
     }
-    let mut csv = String::from("t_s,ax_m_s2,ay_m_s2,az_m_s2,alpha_x_rad_s2,alpha_y_rad_s2,alpha_z_rad_s2\n");
+    let mut csv =
+        String::from("t_s,ax_m_s2,ay_m_s2,az_m_s2,alpha_x_rad_s2,alpha_y_rad_s2,alpha_z_rad_s2\n");
     let n = (schedule.period_s * rate).round() as u64;
     // Segment start times.
     let mut starts = Vec::new();

@@ -37,7 +37,11 @@ pub fn write_fit_quality(targets: &[PathBuf], base: &DesignOptions, out: &Path) 
     for path in targets {
         let target = Target::load(path)?;
         for mode in modes() {
-            let opts = DesignOptions { mode, quiet: true, ..base.clone() };
+            let opts = DesignOptions {
+                mode,
+                quiet: true,
+                ..base.clone()
+            };
             match design(&target, &opts) {
                 Ok(d) => {
                     let s = &d.schedule;
@@ -56,7 +60,13 @@ pub fn write_fit_quality(targets: &[PathBuf], base: &DesignOptions, out: &Path) 
                     );
                 }
                 Err(e) => {
-                    let _ = writeln!(md, "| {} | {} | – | – | – | – | – | – | {} |", target.name, mode.name(), e.to_string().replace('|', "/"));
+                    let _ = writeln!(
+                        md,
+                        "| {} | {} | – | – | – | – | – | – | {} |",
+                        target.name,
+                        mode.name(),
+                        e.to_string().replace('|', "/")
+                    );
                 }
             }
         }

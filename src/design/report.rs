@@ -46,7 +46,11 @@ pub fn summary(d: &Design) -> String {
         100.0 * s.quantization_error
     );
     for seg in &s.segments {
-        let _ = writeln!(out, "  {:>5} cycles  {:<28} weight {:.4}", seg.cycles, seg.label, seg.weight);
+        let _ = writeln!(
+            out,
+            "  {:>5} cycles  {:<28} weight {:.4}",
+            seg.cycles, seg.label, seg.weight
+        );
     }
     if s.poor_fit {
         let _ = writeln!(
@@ -70,18 +74,41 @@ pub fn report_md(d: &Design) -> String {
     md.push_str("Regenerate: `platefield design <target file>`.\n\n## Fit\n\n| metric | value |\n|---|---|\n");
     let _ = writeln!(md, "| mode | {} |", s.solver.mode);
     let _ = writeln!(md, "| relative L2 error | {:.4} |", s.fit.relative_l2_error);
-    let _ = writeln!(md, "| mean angle error (deg, magnitude-weighted) | {:.3} |", s.fit.mean_angle_error_deg);
+    let _ = writeln!(
+        md,
+        "| mean angle error (deg, magnitude-weighted) | {:.3} |",
+        s.fit.mean_angle_error_deg
+    );
     let _ = writeln!(md, "| worst-point error | {:.4e} |", s.fit.max_error);
     let _ = writeln!(md, "| achieved strength | {:.5} |", s.fit.strength);
-    let _ = writeln!(md, "| solver status, iterations | {}, {} |", s.solver.status, s.solver.iterations);
-    let _ = writeln!(md, "| KKT residual, gap to independent NNLS | {:.2e}, {:.2e} |", s.solver.kkt_residual, s.solver.independent_gap);
-    let _ = writeln!(md, "| basis | {} fields, {} left out |", d.basis.columns.len(), d.basis.excluded.len());
+    let _ = writeln!(
+        md,
+        "| solver status, iterations | {}, {} |",
+        s.solver.status, s.solver.iterations
+    );
+    let _ = writeln!(
+        md,
+        "| KKT residual, gap to independent NNLS | {:.2e}, {:.2e} |",
+        s.solver.kkt_residual, s.solver.independent_gap
+    );
+    let _ = writeln!(
+        md,
+        "| basis | {} fields, {} left out |",
+        d.basis.columns.len(),
+        d.basis.excluded.len()
+    );
     if s.poor_fit {
         md.push_str("\n**Poor fit**: no combination of the allowed primitives reaches this target; this is the best achievable.\n");
     }
-    md.push_str("\n## Schedule\n\n| segment | weight | cycles | duration (s) |\n|---|---|---|---|\n");
+    md.push_str(
+        "\n## Schedule\n\n| segment | weight | cycles | duration (s) |\n|---|---|---|---|\n",
+    );
     for seg in &s.segments {
-        let _ = writeln!(md, "| {} | {:.4} | {} | {:.4} |", seg.label, seg.weight, seg.cycles, seg.duration_s);
+        let _ = writeln!(
+            md,
+            "| {} | {:.4} | {} | {:.4} |",
+            seg.label, seg.weight, seg.cycles, seg.duration_s
+        );
     }
     let _ = writeln!(
         md,
@@ -90,12 +117,24 @@ pub fn report_md(d: &Design) -> String {
     );
     md.push_str("\n## Fewer primitives\n\nBest fit found with at most k of the segments the full fit uses.\n\n| k | relative error | segments |\n|---|---|---|\n");
     for row in &d.sparsity {
-        let _ = writeln!(md, "| {} | {:.4} | {} |", row.k, row.relative_error, row.labels.join(", "));
+        let _ = writeln!(
+            md,
+            "| {} | {:.4} | {} |",
+            row.k,
+            row.relative_error,
+            row.labels.join(", ")
+        );
     }
     if !d.basis.excluded.is_empty() {
-        md.push_str("\n## Basis fields left out\n\n| field | invalid samples | reason |\n|---|---|---|\n");
+        md.push_str(
+            "\n## Basis fields left out\n\n| field | invalid samples | reason |\n|---|---|---|\n",
+        );
         for e in &d.basis.excluded {
-            let _ = writeln!(md, "| {} | {} | {:?} |", e.label, e.invalid_samples, e.reason);
+            let _ = writeln!(
+                md,
+                "| {} | {} | {:?} |",
+                e.label, e.invalid_samples, e.reason
+            );
         }
     }
     md
@@ -105,7 +144,12 @@ pub fn report_md(d: &Design) -> String {
 pub fn fit_svg(d: &Design) -> String {
     let s = d.schedule.fit.strength;
     let pts = d.target.points.clone();
-    let scaled: Vec<[f64; 2]> = d.target.vectors.iter().map(|v| [s * v[0], s * v[1]]).collect();
+    let scaled: Vec<[f64; 2]> = d
+        .target
+        .vectors
+        .iter()
+        .map(|v| [s * v[0], s * v[1]])
+        .collect();
     let resid: Vec<[f64; 2]> = d
         .achieved_quantized
         .iter()
@@ -113,11 +157,29 @@ pub fn fit_svg(d: &Design) -> String {
         .map(|(a, t)| [a[0] - t[0], a[1] - t[1]])
         .collect();
     let masked: Vec<bool> = d.target.weights.iter().map(|w| *w == 0.0).collect();
-    Panels::new(format!("{}: target × {:.3}, achieved, residual", d.schedule.target, s))
-        .panel(QuiverPlot::new("target (scaled)", pts.clone(), scaled).invalid(masked.clone()).auto_caption())
-        .panel(QuiverPlot::new("achieved (schedule)", pts.clone(), d.achieved_quantized.clone()).auto_caption())
-        .panel(QuiverPlot::new("residual", pts, resid).invalid(masked).auto_caption())
-        .to_svg()
+    Panels::new(format!(
+        "{}: target × {:.3}, achieved, residual",
+        d.schedule.target, s
+    ))
+    .panel(
+        QuiverPlot::new("target (scaled)", pts.clone(), scaled)
+            .invalid(masked.clone())
+            .auto_caption(),
+    )
+    .panel(
+        QuiverPlot::new(
+            "achieved (schedule)",
+            pts.clone(),
+            d.achieved_quantized.clone(),
+        )
+        .auto_caption(),
+    )
+    .panel(
+        QuiverPlot::new("residual", pts, resid)
+            .invalid(masked)
+            .auto_caption(),
+    )
+    .to_svg()
 }
 
 /// Writes schedule.json, fit.svg and report.md under `dir`.

@@ -69,18 +69,23 @@ pub fn quantize(
     let rest_fraction = (1.0 - fractions.iter().sum::<f64>()).max(0.0);
     let at = |n: u32| -> Quantized {
         let nf = f64::from(n);
-        let mut cycles: Vec<u32> = fractions
-            .iter()
-            .map(|f| (f * nf).round() as u32)
-            .collect();
+        let mut cycles: Vec<u32> = fractions.iter().map(|f| (f * nf).round() as u32).collect();
         for (c, f) in cycles.iter_mut().zip(fractions) {
             if *c > 0 && *c < min_cycles {
                 // Round up to the minimum or drop, whichever is nearer.
-                *c = if f * nf >= 0.5 * f64::from(min_cycles) { min_cycles } else { 0 };
+                *c = if f * nf >= 0.5 * f64::from(min_cycles) {
+                    min_cycles
+                } else {
+                    0
+                };
             }
         }
         let rest_cycles = (rest_fraction * nf).round() as u32;
-        let time: Vec<f64> = cycles.iter().zip(periods).map(|(c, t)| f64::from(*c) * t).collect();
+        let time: Vec<f64> = cycles
+            .iter()
+            .zip(periods)
+            .map(|(c, t)| f64::from(*c) * t)
+            .collect();
         let total_time = time.iter().sum::<f64>() + f64::from(rest_cycles) * rest_period;
         let q: Vec<f64> = if total_time > 0.0 {
             time.iter().map(|t| t / total_time).collect()

@@ -52,8 +52,15 @@ impl Grid {
         if n == 1 {
             return vec![0.5 * (range[0] + range[1])];
         }
+        // Both end points exact.
         (0..n)
-            .map(|i| range[0] + (range[1] - range[0]) * i as f64 / (n - 1) as f64)
+            .map(|i| {
+                if i == n - 1 {
+                    range[1]
+                } else {
+                    range[0] + (range[1] - range[0]) * i as f64 / (n - 1) as f64
+                }
+            })
             .collect()
     }
 

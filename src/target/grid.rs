@@ -7,109 +7,28 @@ use crate::target::error::{check_finite, check_finite2, check_interval, show, Ta
 /// Largest allowed number of grid points along one axis (`grid.n[i]`).
 pub const MAX_GRID_N: usize = 2048;
 
-/// A regular rectangular grid of sample points (metres).
-///
-/// JSON: `{"x": [xmin, xmax], "y": [ymin, ymax], "n": [nx, ny]}`. Both end
-/// points are included, so the spacing along x is `(xmax - xmin) / (nx - 1)`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Grid {
-    /// `[xmin, xmax]` in metres, `xmin < xmax`.
-    pub x: [f64; 2],
-    /// `[ymin, ymax]` in metres, `ymin < ymax`.
-    pub y: [f64; 2],
-    /// `[nx, ny]`: number of points along x and along y, each in
-    /// `2..=`[`MAX_GRID_N`].
-    pub n: [usize; 2],
-}
+/// The sample grid: the same type as the simulator's grid
+/// ([`crate::field::Grid`]), validated here with the target's own limits.
+pub use crate::field::Grid;
 
-/// `n` evenly spaced values from `r[0]` to `r[1]` inclusive.
-fn linspace(r: [f64; 2], n: usize) -> Vec<f64> {
-    match n {
-        0 => Vec::new(),
-        1 => vec![r[0]],
-        _ => {
-            let step = (r[1] - r[0]) / (n - 1) as f64;
-            (0..n)
-                .map(|i| {
-                    if i == n - 1 {
-                        r[1]
-                    } else {
-                        r[0] + step * i as f64
-                    }
-                })
-                .collect()
+/// Validates a target grid: finite `xmin < xmax`, `ymin < ymax`, and
+/// `2 ≤ nx, ny ≤ `[`MAX_GRID_N`]; errors name `path`.
+pub fn validate_grid(grid: &Grid, path: &str) -> Result<(), TargetError> {
+    check_interval(&format!("{path}.x"), "x", grid.x)?;
+    check_interval(&format!("{path}.y"), "y", grid.y)?;
+    for (i, &n) in grid.n.iter().enumerate() {
+        let p = format!("{path}.n[{i}]");
+        if n < 2 {
+            return Err(TargetError::invalid(p, format!("must be ≥ 2, got {n}")));
+        }
+        if n > MAX_GRID_N {
+            return Err(TargetError::invalid(
+                p,
+                format!("must be ≤ {MAX_GRID_N}, got {n}"),
+            ));
         }
     }
-}
-
-impl Grid {
-    /// The x coordinates of the grid columns (length `nx`, increasing,
-    /// ending exactly at `xmax`).
-    pub fn xs(&self) -> Vec<f64> {
-        linspace(self.x, self.n[0])
-    }
-
-    /// The y coordinates of the grid rows (length `ny`, increasing, ending
-    /// exactly at `ymax`).
-    pub fn ys(&self) -> Vec<f64> {
-        linspace(self.y, self.n[1])
-    }
-
-    /// Total number of grid points, `nx * ny`.
-    pub fn len(&self) -> usize {
-        self.n[0] * self.n[1]
-    }
-
-    /// `true` if the grid has no points (never the case for a valid grid).
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-
-    /// Grid spacing `[dx, dy]` in metres.
-    pub fn spacing(&self) -> [f64; 2] {
-        let d = |r: [f64; 2], n: usize| (r[1] - r[0]) / (n.max(2) - 1) as f64;
-        [d(self.x, self.n[0]), d(self.y, self.n[1])]
-    }
-
-    /// Index of point `(ix, iy)` in [`Grid::points`]: `iy * nx + ix`.
-    pub fn index(&self, ix: usize, iy: usize) -> usize {
-        iy * self.n[0] + ix
-    }
-
-    /// All grid points in row-major order: y outer, x inner, i.e. point
-    /// `iy * nx + ix` is `[xs[ix], ys[iy]]`.
-    pub fn points(&self) -> Vec<[f64; 2]> {
-        let xs = self.xs();
-        let ys = self.ys();
-        let mut out = Vec::with_capacity(xs.len() * ys.len());
-        for &y in &ys {
-            for &x in &xs {
-                out.push([x, y]);
-            }
-        }
-        out
-    }
-
-    /// Checks ranges and sizes; `path` is the JSON path of the grid object
-    /// (e.g. `target.grid`).
-    pub fn validate(&self, path: &str) -> Result<(), TargetError> {
-        check_interval(&format!("{path}.x"), "x", self.x)?;
-        check_interval(&format!("{path}.y"), "y", self.y)?;
-        for (i, &n) in self.n.iter().enumerate() {
-            let p = format!("{path}.n[{i}]");
-            if n < 2 {
-                return Err(TargetError::invalid(p, format!("must be ≥ 2, got {n}")));
-            }
-            if n > MAX_GRID_N {
-                return Err(TargetError::invalid(
-                    p,
-                    format!("must be ≤ {MAX_GRID_N}, got {n}"),
-                ));
-            }
-        }
-        Ok(())
-    }
+    Ok(())
 }
 
 /// A region of the plate whose sample points do not matter (weight 0).
@@ -195,8 +114,8 @@ mod tests {
         let p = g.points();
         assert_eq!(p.len(), 6);
         assert_eq!(p[1], [1.0, 10.0]);
-        assert_eq!(p[g.index(2, 1)], [2.0, 11.0]);
-        assert_eq!(g.spacing(), [1.0, 1.0]);
+        assert_eq!(p[2 + 3 * 1], [2.0, 11.0]);
+        assert_eq!(g.spacing(), 1.0);
     }
 
     #[test]

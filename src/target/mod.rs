@@ -275,7 +275,7 @@ impl Target {
     /// the first problem found is returned.
     pub fn validate(&self) -> Result<(), TargetError> {
         match &self.grid {
-            Some(g) => g.validate("target.grid")?,
+            Some(g) => grid::validate_grid(g, "target.grid")?,
             None => {
                 if !matches!(self.field, FieldSpec::Sampled { .. }) {
                     return Err(TargetError::invalid(
