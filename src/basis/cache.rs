@@ -7,12 +7,13 @@
 //! * **Key**: hex SHA-256 of a canonical serialization (compact JSON, fields
 //!   in declaration order, shortest round-trip floats) of everything that
 //!   determines the library: the primitives with all their parameters, in
-//!   order; the grid; the field settings (friction, gravity, model switches,
-//!   numerics, phases, frozen-excursion limit); the crate version
-//!   (`CARGO_PKG_VERSION`) and the cache [`FORMAT`]. A change in any of them
-//!   is a different key. (A change of the simulator's code without a
-//!   version bump is not seen: bump the version, or [`FORMAT`], or clear the
-//!   folder.)
+//!   order, and the motions they resolve to (so a change of a primitive's
+//!   defaults or waveform is a new key); the grid; the field settings
+//!   (friction, gravity, model switches, numerics, phases, frozen-excursion
+//!   limit); the crate version (`CARGO_PKG_VERSION`) and the cache
+//!   [`FORMAT`]. A change in any of them is a different key. (A change of
+//!   the simulator's code without a version bump is not seen: bump the
+//!   version, or [`FORMAT`], or clear the folder.)
 //! * **File**: `<dir>/<key>.json`, exactly
 //!   `{"format":1,"key":"<key>","payload_sha256":"<hash>","payload":<Library>}`
 //!   and a newline, written atomically ([`crate::output::write_atomic`]).

@@ -156,6 +156,19 @@ impl ConeBuilder {
         self.nrows += 1;
     }
 
+    /// Rows of the feasible set of time fractions, w ≥ 0 and (with
+    /// `sum_cap`) Σw ≤ 1, over the first `m` variables; returns how many
+    /// rows were added (the caller closes them with a non-negative cone).
+    fn feasible_fractions(&mut self, m: usize, sum_cap: bool) -> usize {
+        for j in 0..m {
+            self.row([(j, -1.0)], 0.0);
+        }
+        if sum_cap {
+            self.row((0..m).map(|j| (j, 1.0)), 1.0);
+        }
+        m + usize::from(sum_cap)
+    }
+
     fn cone(&mut self, cone: SupportedConeT<f64>) {
         self.cones.push(cone);
     }
@@ -223,15 +236,8 @@ pub fn solve_ls_residual_qp(
         bld.row((0..m).map(|j| (j, r[(i, j)])).chain([(m + i, -1.0)]), c[i]);
     }
     bld.cone(ZeroConeT(k));
-    for j in 0..m {
-        bld.row([(j, -1.0)], 0.0);
-    }
-    if sum_cap {
-        bld.row((0..m).map(|j| (j, 1.0)), 1.0);
-        bld.cone(NonnegativeConeT(m + 1));
-    } else {
-        bld.cone(NonnegativeConeT(m));
-    }
+    let rows = bld.feasible_fractions(m, sum_cap);
+    bld.cone(NonnegativeConeT(rows));
     let p = CscMatrix::new_from_triplets(
         m + k,
         m + k,
@@ -286,15 +292,8 @@ pub fn solve_ls_epigraph(
         bld.row((0..m).map(|j| (j, r[(i, j)])), c[i]);
     }
     bld.cone(SecondOrderConeT(k + 1));
-    for j in 0..m {
-        bld.row([(j, -1.0)], 0.0);
-    }
-    if sum_cap {
-        bld.row((0..m).map(|j| (j, 1.0)), 1.0);
-        bld.cone(NonnegativeConeT(m + 1));
-    } else {
-        bld.cone(NonnegativeConeT(m));
-    }
+    let rows = bld.feasible_fractions(m, sum_cap);
+    bld.cone(NonnegativeConeT(rows));
     let mut q = vec![0.0; m + 1];
     q[m] = 1.0;
     let out = bld.solve(q, TOL_EPIGRAPH, mode)?;
@@ -421,13 +420,8 @@ pub(crate) fn solve_normal_equations_qp(
     let p = CscMatrix::new_from_triplets(m, m, pi, pj, pv);
     let q: Vec<f64> = a.tr_mul(t).iter().map(|v| -v).collect();
     let mut bld = ConeBuilder::new(m);
-    for j in 0..m {
-        bld.row([(j, -1.0)], 0.0);
-    }
-    if sum_cap {
-        bld.row((0..m).map(|j| (j, 1.0)), 1.0);
-    }
-    bld.cone(NonnegativeConeT(bld.nrows));
+    let rows = bld.feasible_fractions(m, sum_cap);
+    bld.cone(NonnegativeConeT(rows));
     let ac = CscMatrix::new_from_triplets(bld.nrows, m, bld.ri, bld.ci, bld.vals);
     run(
         &p,
