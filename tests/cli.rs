@@ -1,18 +1,8 @@
 //! The command-line shell: outputs and clear errors on bad input.
 
-use std::process::Command;
+mod common;
+use common::platefield;
 
-fn platefield(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_platefield"))
-        .args(args)
-        .output()
-        .expect("runs");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
 
 const BASE: [&str; 7] = [
     "linesink", "--accel", "180", "--depth", "0.05", "--period", "0.03",

@@ -1,9 +1,11 @@
 //! Scenes as JSON: the example scenes, the six-signal reading against the
 //! screw it stands for, and the `platefield field` command.
 
+mod common;
+use common::platefield;
+
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use platefield::dynamics::Friction;
 use platefield::field::{Field, Validity};
@@ -366,18 +368,6 @@ fn six_signals_reproduce_the_screw() {
 
 // ---------------------------------------------------------------------------
 // (c), (d) The `platefield field` command.
-
-fn platefield(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_platefield"))
-        .args(args)
-        .output()
-        .expect("runs");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
 
 fn temp_dir(tag: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("platefield-scene-{tag}-{}", std::process::id()));

@@ -349,6 +349,9 @@ impl<'a> Simulator<'a> {
         let tiny = self.numerics.event_tol * self.period;
         let mut cuts = 0;
         let mut swing: u32 = 0;
+        // Kinematics at the end of the last accepted step: the next step's
+        // start, reused instead of evaluated again.
+        let mut next_k: Option<(f64, Kinematics)> = None;
         while *t < target {
             if state.u == V2::zeros() && !state.stuck {
                 state.stuck = self.margin(*t, piece, &state.r, anchor) >= 0.0;
@@ -369,11 +372,14 @@ impl<'a> Simulator<'a> {
                 }
                 continue;
             }
-            let k0 = self.kin(*t, piece);
+            let k0 = match next_k.take() {
+                Some((tk, k)) if tk == *t => k,
+                _ => self.kin(*t, piece),
+            };
             let u0 = state.u;
             let h = self.slip_step(&k0, target - *t, state, anchor, swing > 0);
             swing = swing.saturating_sub(1);
-            let (r1, u1, _) = self.rk4(*t, h, piece, &k0, &state.r, &u0, anchor)?;
+            let (r1, u1, k1) = self.rk4(*t, h, piece, &k0, &state.r, &u0, anchor)?;
             if u0 != V2::zeros() && u1.dot(&u0) <= 0.0 && cuts < MAX_CUTS {
                 cuts += 1;
                 let s = self.locate_stop(*t, h, piece, &k0, state, anchor, 0.0)?;
@@ -414,6 +420,7 @@ impl<'a> Simulator<'a> {
             if target - *t <= tiny {
                 *t = target;
             }
+            next_k = Some((*t, k1));
         }
         Ok(())
     }
