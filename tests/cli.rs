@@ -3,7 +3,6 @@
 mod common;
 use common::platefield;
 
-
 const BASE: [&str; 7] = [
     "linesink", "--accel", "180", "--depth", "0.05", "--period", "0.03",
 ];
