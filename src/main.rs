@@ -110,35 +110,50 @@ enum Command {
         #[arg(long, default_value = "results")]
         out: PathBuf,
     },
-    /// Closed-loop verification: play a schedule on a swarm of point parts, realised field against prediction.
-    Verify {
-        /// A schedule.json written by `design`.
-        schedule: PathBuf,
-        /// Start points per side of the N×N grid over ±3 cm.
-        #[arg(long, default_value_t = 5)]
-        points: usize,
-        /// Schedule periods measured (after the warm-up).
-        #[arg(long, default_value_t = 1)]
-        periods: u32,
-        /// Schedule periods played before measuring.
-        #[arg(long, default_value_t = 1)]
-        warmup: u32,
-        /// Model: the schedule's own (default, normally full), full, paper, or frozen (full with positions frozen: an exact comparison when parts drift far).
-        #[arg(long)]
-        model: Option<String>,
-        /// Output folder; writes OUT/<target>/verify/summary.json.
-        #[arg(long, default_value = "results")]
-        out: PathBuf,
-        /// Print the summary JSON on stdout.
-        #[arg(long)]
-        json: bool,
-    },
+    /// Closed-loop verification: realised field against prediction, and where a swarm of parts ends up.
+    Verify(VerifyArgs),
     /// Interaction error of two sequenced LineSinks (DESIGN.md section 6): writes results/verify/sink_interaction.md.
     Interaction {
         /// Output directory.
         #[arg(long, default_value = "results/verify")]
         out: PathBuf,
     },
+}
+
+#[derive(clap::Args)]
+struct VerifyArgs {
+    /// A schedule.json written by `design`.
+    schedule: PathBuf,
+    /// Realised-field grid: start points per side of the N×N grid over the target region.
+    #[arg(long, default_value_t = 5)]
+    points: usize,
+    /// Schedule periods measured (after the warm-up).
+    #[arg(long, default_value_t = 1)]
+    periods: u32,
+    /// Schedule periods played before measuring.
+    #[arg(long, default_value_t = 1)]
+    warmup: u32,
+    /// Model: the schedule's own (default, normally full), full, paper, or frozen (full with positions frozen: an exact comparison when parts drift far).
+    #[arg(long)]
+    model: Option<String>,
+    /// Swarm: point parts per side of the N×N grid over the target region.
+    #[arg(long, default_value_t = 9)]
+    swarm: usize,
+    /// Swarm duration in seconds (rounded up to whole schedule periods); default: long enough to converge by the design's strength.
+    #[arg(long, allow_negative_numbers = true)]
+    duration: Option<f64>,
+    /// Swarm duration in schedule periods.
+    #[arg(long)]
+    repetitions: Option<u32>,
+    /// Convergence tolerance on the distance to the target's attractor (m).
+    #[arg(long, default_value_t = 0.003, allow_negative_numbers = true)]
+    tol: f64,
+    /// Output folder; writes OUT/<target>/verify/{summary.json, trajectories.svg}.
+    #[arg(long, default_value = "results")]
+    out: PathBuf,
+    /// Print the summary JSON on stdout.
+    #[arg(long)]
+    json: bool,
 }
 
 #[derive(clap::Args)]
@@ -301,16 +316,9 @@ fn rungs(out: &std::path::Path, tolerance: f64) -> Result<()> {
     Ok(())
 }
 
-fn verify_cmd(
-    schedule: &std::path::Path,
-    points: usize,
-    periods: u32,
-    warmup: u32,
-    model: Option<&str>,
-    out: &std::path::Path,
-    json: bool,
-) -> Result<()> {
-    let model = match model {
+fn verify_cmd(args: &VerifyArgs) -> Result<()> {
+    use platefield::verify::{Duration, VerifyRequest};
+    let model = match args.model.as_deref() {
         None => None,
         Some("frozen") => Some(platefield::verify::interaction::FROZEN),
         Some(name) => Some(Model::preset(name, "--model").map_err(|_| {
@@ -320,20 +328,40 @@ fn verify_cmd(
             )
         })?),
     };
-    let (v, text, file) =
-        platefield::verify::verify_schedule_file(schedule, points, warmup, periods, model, out)?;
-    if json {
-        print!("{text}");
+    let duration = match (args.duration, args.repetitions) {
+        (Some(_), Some(_)) => {
+            return Err(Error::invalid(
+                "--duration",
+                "give either --duration or --repetitions, not both",
+            ))
+        }
+        (Some(s), None) => Duration::Seconds(s),
+        (None, Some(n)) => Duration::Repetitions(n),
+        (None, None) => Duration::Auto,
+    };
+    let req = VerifyRequest {
+        points: args.points,
+        warmup: args.warmup,
+        periods: args.periods,
+        model,
+        swarm: args.swarm,
+        duration,
+        tol: args.tol,
+    };
+    let r = platefield::verify::verify_schedule_file(&args.schedule, &req, &args.out)?;
+    if args.json {
+        print!("{}", r.summary_json);
         return Ok(());
     }
+    let v = &r.verification;
     println!(
         "realised vs predicted relative error {:.2} % over {} of {} points ({} model, {} warm-up + {} measured periods of {:.4} s); max |error| {:.3e} m/s, rms |predicted| {:.3e} m/s",
         100.0 * v.relative_error,
         v.valid,
-        points * points,
+        args.points * args.points,
         v.model,
-        warmup,
-        periods,
+        args.warmup,
+        args.periods,
         v.schedule_period_s,
         v.max_abs_error,
         v.rms_predicted
@@ -346,7 +374,30 @@ fn verify_cmd(
             p.note.as_deref().unwrap_or("")
         );
     }
-    println!("wrote {}", file.display());
+    let s = &r.swarm;
+    let opt = |x: Option<f64>, unit: &str| x.map_or("n/a".to_string(), |x| format!("{x:.3}{unit}"));
+    match s.converged_fraction {
+        Some(f) => println!(
+            "swarm of {} parts for {:.2} s: {:.1} % within {:.1} mm of the attractor ({} left the plate); median time to converge {} against {} predicted from the design strength (ratio {})",
+            s.parts.len(),
+            s.duration_s,
+            100.0 * f,
+            1e3 * s.tol,
+            s.contact_lost,
+            opt(s.median_time_to_converge_s, " s"),
+            opt(s.median_predicted_time_s, " s"),
+            opt(s.time_ratio, ""),
+        ),
+        None => println!(
+            "swarm of {} parts for {:.2} s: the target has no attractor ({} left the plate)",
+            s.parts.len(),
+            s.duration_s,
+            s.contact_lost
+        ),
+    }
+    for f in &r.files {
+        println!("wrote {}", f.display());
+    }
     Ok(())
 }
 
@@ -619,23 +670,7 @@ fn run(cli: Cli) -> Result<()> {
         Command::Reproduce { out } => reproduce::linesink_results(&out),
         Command::Rungs { tolerance, out } => rungs(&out, tolerance),
         Command::Speed { out } => speed(&out),
-        Command::Verify {
-            schedule,
-            points,
-            periods,
-            warmup,
-            model,
-            out,
-            json,
-        } => verify_cmd(
-            &schedule,
-            points,
-            periods,
-            warmup,
-            model.as_deref(),
-            &out,
-            json,
-        ),
+        Command::Verify(args) => verify_cmd(&args),
         Command::Interaction { out } => interaction_cmd(&out),
         Command::Primitives {
             out,

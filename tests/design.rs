@@ -172,3 +172,65 @@ fn design_is_deterministic() {
         serde_json::to_string(&b).unwrap()
     );
 }
+
+/// Issue 5: under the sink schedule at least 95 % of point parts started
+/// over the region end within 3 mm of the centre, and the median time they
+/// take matches the time the design's strength predicts,
+/// ln(d₀/3 mm)/σ, within 20 % (measured: see the assertion message; the
+/// realised field differs from the prediction by the interaction of the
+/// segments, about 10 %, and parts start on different paths).
+#[test]
+fn sink_swarm_converges_in_the_time_the_strength_predicts() {
+    use platefield::target::Attractor;
+    use platefield::verify::run::{region_points, swarm_periods};
+    use platefield::verify::{run_swarm, Duration, ScheduleMotion, SwarmOptions, VerifyOptions};
+    let t = target("sink", r#"{"kind": "sink"}"#);
+    let d = design(&t, &options()).expect("design");
+    let s = &d.schedule;
+    let sm = ScheduleMotion::from_schedule(s).expect("schedule");
+    let settings = options().settings;
+    let attractor = Attractor::of(&t.field);
+    let grid = t.grid.expect("grid");
+    let starts = region_points(&grid, 9);
+    let strength = s.fit_quantized.strength;
+    let periods = swarm_periods(
+        Duration::Auto,
+        sm.period(),
+        attractor.as_ref(),
+        &starts,
+        strength,
+        0.003,
+    );
+    let swarm = run_swarm(
+        &sm,
+        &starts,
+        attractor,
+        &SwarmOptions {
+            verify: VerifyOptions::from_settings(&settings),
+            periods,
+            tol: 0.003,
+            strength,
+        },
+    );
+    let f = swarm.converged_fraction.expect("a sink has an attractor");
+    let ratio = swarm.time_ratio.expect("parts converged");
+    eprintln!(
+        "sink swarm: {:.1} % converged, median {:?} s measured, {:?} s predicted, ratio {ratio:.3}",
+        100.0 * f,
+        swarm.median_time_to_converge_s,
+        swarm.median_predicted_time_s
+    );
+    assert!(f >= 0.95, "converged fraction {f}");
+    assert!(
+        (ratio - 1.0).abs() <= 0.2,
+        "median time {:?} s against {:?} s predicted (ratio {ratio})",
+        swarm.median_time_to_converge_s,
+        swarm.median_predicted_time_s
+    );
+    assert_eq!(swarm.contact_lost, 0);
+    // The measured time is independent of the prediction: recompute one part's
+    // predicted time from the attractor directly.
+    let p = &swarm.parts[0];
+    let d0 = (p.start[0].powi(2) + p.start[1].powi(2)).sqrt();
+    assert!((p.predicted_time_s.unwrap() - (d0 / 0.003).ln() / strength).abs() < 1e-12);
+}

@@ -432,6 +432,7 @@ pub fn design(target: &Target, opts: &DesignOptions) -> Result<Design> {
     let fit_time_s = t_fit.elapsed().as_secs_f64();
     let schedule = Schedule {
         target: target.name.clone(),
+        target_spec: Some(target.clone()),
         total_cycles: segments.iter().map(|s| s.cycles).sum(),
         period_s: segments.iter().map(|s| s.duration_s).sum(),
         segments,

@@ -141,6 +141,11 @@ pub struct SolverInfo {
 pub struct Schedule {
     /// Target name.
     pub target: String,
+    /// The target itself (field, grid, weights, mask), so that
+    /// verification knows the region and the attractor; absent in schedules
+    /// written before it was recorded.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub target_spec: Option<crate::target::Target>,
     /// Segments in playing order (rest segments have no primitive).
     pub segments: Vec<Segment>,
     /// Total cycles (including rest).

@@ -152,6 +152,7 @@
 //! such as `1e999` are syntax errors), but [`Target::validate`] also checks
 //! finiteness for targets built in code.
 
+mod attractor;
 mod error;
 mod examples;
 mod field;
@@ -162,6 +163,7 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
+pub use attractor::Attractor;
 pub use error::TargetError;
 pub use examples::examples;
 pub use field::{

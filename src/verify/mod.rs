@@ -33,11 +33,13 @@
 
 pub mod interaction;
 pub mod realised;
+pub mod run;
+pub mod swarm;
 
 pub use interaction::{interaction_rows, interaction_table, InteractionRow};
-pub use realised::{
-    grid_points, verify_points, verify_schedule_file, PointResult, Verification, VerifyOptions,
-};
+pub use realised::{grid_points, verify_points, PointResult, Verification, VerifyOptions};
+pub use run::{load_schedule, verify_schedule_file, Duration, VerifyReport, VerifyRequest};
+pub use swarm::{run_swarm, Swarm, SwarmOptions, SwarmPart};
 
 use crate::design::Schedule;
 use crate::dynamics::{ContactLoss, Friction, Model, Numerics, PartState, Simulator};

@@ -24,15 +24,11 @@
 //! or whose steady state does not converge is invalid, listed with the
 //! reason, and left out.
 
-use std::path::{Path, PathBuf};
-
 use rayon::prelude::*;
 use serde::Serialize;
 
 use super::{Join, ScheduleMotion, V2};
-use crate::design::Schedule;
 use crate::dynamics::{Friction, Model, Numerics, PartState};
-use crate::error::{Error, Result};
 use crate::field::{FieldSettings, Grid};
 
 /// Settings of a verification run.
@@ -245,98 +241,4 @@ pub fn verify_points(
         model: opts.model.name(),
         points: results,
     }
-}
-
-/// Reads a `schedule.json` written by `platefield design`.
-pub fn load_schedule(path: &Path) -> Result<Schedule> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
-        path: path.display().to_string(),
-        source: e,
-    })?;
-    serde_json::from_str(&text).map_err(|e| {
-        Error::invalid(
-            path.display().to_string(),
-            format!("not a platefield schedule: {e}"),
-        )
-    })
-}
-
-/// `platefield verify`: plays the schedule at `path` on an `n × n` swarm
-/// of point parts over ±3 cm with the physics the schedule's basis was
-/// built with (the model overridden by `model` when given), and writes
-/// `OUT/<target>/verify/summary.json`. Returns the
-/// verification, the summary JSON and the path written.
-pub fn verify_schedule_file(
-    path: &Path,
-    n: usize,
-    warmup_periods: u32,
-    periods: u32,
-    model: Option<Model>,
-    out: &Path,
-) -> Result<(Verification, String, PathBuf)> {
-    if !(1..=101).contains(&n) {
-        return Err(Error::invalid(
-            "--points",
-            format!("must be in 1..=101, got {n}"),
-        ));
-    }
-    if !(1..=1000).contains(&periods) {
-        return Err(Error::invalid(
-            "--periods",
-            format!("must be in 1..=1000, got {periods}"),
-        ));
-    }
-    if warmup_periods > 1000 {
-        return Err(Error::invalid(
-            "--warmup",
-            format!("must be in 0..=1000, got {warmup_periods}"),
-        ));
-    }
-    let schedule = load_schedule(path)?;
-    let settings: FieldSettings =
-        serde_json::from_value(schedule.settings.clone()).map_err(|e| {
-            Error::invalid(
-                format!("{}: settings", path.display()),
-                format!("not platefield field settings: {e}"),
-            )
-        })?;
-    settings.friction.validate("settings.friction")?;
-    settings.numerics.validate("settings.numerics")?;
-    crate::error::positive("settings.gravity", settings.gravity)?;
-    let name = &schedule.target;
-    if name.trim().is_empty() || name.contains(['/', '\\']) || name.starts_with('.') {
-        return Err(Error::invalid(
-            "schedule.target",
-            format!("must be a plain folder name, got \"{name}\""),
-        ));
-    }
-    let sm = ScheduleMotion::from_schedule(&schedule)?;
-    let mut opts = VerifyOptions {
-        warmup_periods,
-        periods,
-        ..VerifyOptions::from_settings(&settings)
-    };
-    if let Some(m) = model {
-        opts.model = m;
-    }
-    let v = verify_points(&sm, &grid_points(n, 0.03), &opts);
-    let summary = serde_json::json!({
-        "realised_vs_predicted_relative_error": v.relative_error,
-        "points": n * n,
-        "periods": periods,
-        "grid": {"x": [-0.03, 0.03], "y": [-0.03, 0.03], "n": [n, n]},
-        "valid_points": v.valid,
-        "warmup_periods": warmup_periods,
-        "schedule_period_s": v.schedule_period_s,
-        "model": v.model,
-        "max_abs_error_m_per_s": v.max_abs_error,
-        "rms_predicted_m_per_s": v.rms_predicted,
-        "per_point": v.points,
-    });
-    let mut text =
-        serde_json::to_string_pretty(&summary).map_err(|e| Error::Physical(e.to_string()))?;
-    text.push('\n');
-    let file = out.join(name).join("verify").join("summary.json");
-    crate::output::write_atomic(&file, text.as_bytes())?;
-    Ok((v, text, file))
 }
