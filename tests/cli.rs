@@ -85,3 +85,77 @@ fn bad_linesink_input_names_the_argument() {
         assert!(err.contains(name), "{args:?}: {err}");
     }
 }
+
+/// `platefield verify --json` prints the issue's keys, and bad arguments
+/// are named with their range, exit 2 and write nothing.
+#[test]
+fn verify_json_reports_the_issue_keys_and_rejects_bad_input() {
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("cli-verify");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let target = dir.join("small_sink.json");
+    std::fs::write(
+        &target,
+        r#"{"name": "small_sink", "grid": {"x": [-0.02, 0.02], "y": [-0.02, 0.02], "n": [7, 7]},
+            "field": {"kind": "sink"}}"#,
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let (code, _, err) = platefield(&[
+        "design",
+        target.to_str().unwrap(),
+        "--primitives",
+        "LineSink",
+        "--rotation-step",
+        "90",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let schedule = out.join("small_sink").join("schedule.json");
+    let s = schedule.to_str().unwrap();
+    let o = out.to_str().unwrap();
+    let (code, stdout, err) = platefield(&[
+        "verify",
+        s,
+        "--points",
+        "3",
+        "--swarm",
+        "3",
+        "--duration",
+        "3",
+        "--json",
+        "--out",
+        o,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&stdout).expect("JSON on stdout");
+    let e = v["realised_vs_predicted_relative_error"].as_f64().unwrap();
+    assert!(e > 0.0 && e < 0.3, "{e}");
+    let f = v["converged_fraction"].as_f64().unwrap();
+    assert!((0.0..=1.0).contains(&f));
+    assert!(v["median_time_to_converge_s"].is_number() || v["median_time_to_converge_s"].is_null());
+    assert!(v["rectangles"].is_array());
+    let written = out.join("small_sink").join("verify");
+    assert!(written.join("summary.json").exists() && written.join("trajectories.svg").exists());
+
+    for (args, name) in [
+        (vec!["--tol", "-1"], "--tol"),
+        (vec!["--points", "0"], "--points"),
+        (vec!["--duration", "2", "--repetitions", "2"], "--duration"),
+        (vec!["--duration", "nan"], "--duration"),
+        (vec!["--model", "quantum"], "--model"),
+    ] {
+        let fresh = dir.join("bad");
+        let mut a = vec!["verify", s, "--out", fresh.to_str().unwrap()];
+        a.extend(args.iter());
+        let (code, _, err) = platefield(&a);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(err.contains(name), "{args:?}: {err}");
+        assert!(!fresh.exists(), "{args:?} wrote output");
+    }
+    let (code, _, err) = platefield(&["verify", dir.join("missing.json").to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert!(err.contains("missing.json"), "{err}");
+}
