@@ -261,6 +261,35 @@ pub fn load_schedule(path: &Path) -> Result<Schedule> {
     })
 }
 
+/// The simulation settings a schedule's basis was built with (its
+/// `settings` object), validated; `path` names the file in errors.
+pub fn schedule_settings(schedule: &Schedule, path: &Path) -> Result<FieldSettings> {
+    let settings: FieldSettings =
+        serde_json::from_value(schedule.settings.clone()).map_err(|e| {
+            Error::invalid(
+                format!("{}: settings", path.display()),
+                format!("not platefield field settings: {e}"),
+            )
+        })?;
+    settings.friction.validate("settings.friction")?;
+    settings.numerics.validate("settings.numerics")?;
+    crate::error::positive("settings.gravity", settings.gravity)?;
+    Ok(settings)
+}
+
+/// The schedule's target name, checked to be a plain folder name (results
+/// go to `OUT/<target>/`).
+pub fn target_folder(schedule: &Schedule) -> Result<&str> {
+    let name = schedule.target.as_str();
+    if name.trim().is_empty() || name.contains(['/', '\\']) || name.starts_with('.') {
+        return Err(Error::invalid(
+            "schedule.target",
+            format!("must be a plain folder name, got \"{name}\""),
+        ));
+    }
+    Ok(name)
+}
+
 /// `platefield verify`: plays the schedule at `path` on an `n × n` swarm
 /// of point parts over ±3 cm with the physics the schedule's basis was
 /// built with (the model overridden by `model` when given), and writes
@@ -293,23 +322,8 @@ pub fn verify_schedule_file(
         ));
     }
     let schedule = load_schedule(path)?;
-    let settings: FieldSettings =
-        serde_json::from_value(schedule.settings.clone()).map_err(|e| {
-            Error::invalid(
-                format!("{}: settings", path.display()),
-                format!("not platefield field settings: {e}"),
-            )
-        })?;
-    settings.friction.validate("settings.friction")?;
-    settings.numerics.validate("settings.numerics")?;
-    crate::error::positive("settings.gravity", settings.gravity)?;
-    let name = &schedule.target;
-    if name.trim().is_empty() || name.contains(['/', '\\']) || name.starts_with('.') {
-        return Err(Error::invalid(
-            "schedule.target",
-            format!("must be a plain folder name, got \"{name}\""),
-        ));
-    }
+    let settings = schedule_settings(&schedule, path)?;
+    let name = target_folder(&schedule)?;
     let sm = ScheduleMotion::from_schedule(&schedule)?;
     let mut opts = VerifyOptions {
         warmup_periods,
