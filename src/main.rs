@@ -118,6 +118,35 @@ enum Command {
         #[arg(long, default_value = "results/verify")]
         out: PathBuf,
     },
+    /// Segment order and rest at the joins: which one best realises a schedule's prediction; writes OUT/<target>/verify/order.md.
+    Order {
+        /// A schedule.json written by `design`.
+        schedule: PathBuf,
+        /// Start points per side of the N×N grid over ±3 cm.
+        #[arg(long, default_value_t = 5)]
+        points: usize,
+        /// Rest cycles tried at every join, comma separated.
+        #[arg(long, value_delimiter = ',', default_values_t = platefield::verify::order::DEFAULT_REST_CYCLES)]
+        rest: Vec<u32>,
+        /// Minimum schedule periods measured per candidate.
+        #[arg(long, default_value_t = 1)]
+        periods: u32,
+        /// Minimum warm-up periods per candidate (at least 40 primitive cycles are always played).
+        #[arg(long, default_value_t = 1)]
+        warmup: u32,
+        /// Model: the schedule's own (default, normally full), full, paper, or frozen.
+        #[arg(long)]
+        model: Option<String>,
+        /// Output folder; writes OUT/<target>/verify/order.md.
+        #[arg(long, default_value = "results")]
+        out: PathBuf,
+    },
+    /// SqueezeTrans's squeeze line against segment order, phasing, cycles and rest (the paper's section V): writes squeeze_trans_order.{md,csv}.
+    SqueezeOrder {
+        /// Output directory.
+        #[arg(long, default_value = "results/verify")]
+        out: PathBuf,
+    },
 }
 
 #[derive(clap::Args)]
@@ -316,9 +345,9 @@ fn rungs(out: &std::path::Path, tolerance: f64) -> Result<()> {
     Ok(())
 }
 
-fn verify_cmd(args: &VerifyArgs) -> Result<()> {
-    use platefield::verify::{Duration, VerifyRequest};
-    let model = match args.model.as_deref() {
+/// `--model`: none (the schedule's own), full, paper or frozen.
+fn model_arg(model: Option<&str>) -> Result<Option<Model>> {
+    Ok(match model {
         None => None,
         Some("frozen") => Some(platefield::verify::interaction::FROZEN),
         Some(name) => Some(Model::preset(name, "--model").map_err(|_| {
@@ -327,7 +356,47 @@ fn verify_cmd(args: &VerifyArgs) -> Result<()> {
                 format!("unknown model \"{name}\" (expected full, paper or frozen)"),
             )
         })?),
-    };
+    })
+}
+
+fn order_cmd(
+    schedule: &std::path::Path,
+    points: usize,
+    rest: &[u32],
+    periods: u32,
+    warmup: u32,
+    model: Option<&str>,
+    out: &std::path::Path,
+) -> Result<()> {
+    let model = model_arg(model)?;
+    let start = std::time::Instant::now();
+    let (_, md, file) = platefield::verify::order_schedule_file(
+        schedule, points, rest, warmup, periods, model, out,
+    )?;
+    print!("{md}");
+    println!(
+        "wrote {} ({:.1} s)",
+        file.display(),
+        start.elapsed().as_secs_f64()
+    );
+    Ok(())
+}
+
+fn squeeze_order_cmd(out: &std::path::Path) -> Result<()> {
+    let start = std::time::Instant::now();
+    print!("{}", platefield::verify::squeeze_order_report(out)?);
+    println!(
+        "wrote {} and {} ({:.1} s)",
+        out.join("squeeze_trans_order.md").display(),
+        out.join("squeeze_trans_order.csv").display(),
+        start.elapsed().as_secs_f64()
+    );
+    Ok(())
+}
+
+fn verify_cmd(args: &VerifyArgs) -> Result<()> {
+    use platefield::verify::{Duration, VerifyRequest};
+    let model = model_arg(args.model.as_deref())?;
     let duration = match (args.duration, args.repetitions) {
         (Some(_), Some(_)) => {
             return Err(Error::invalid(
@@ -498,6 +567,9 @@ struct DesignArgs {
     /// Do not read or write the basis cache (.platefield-cache/).
     #[arg(long)]
     no_cache: bool,
+    /// Search the segment order and rest at the joins in closed-loop simulation; writes order.md.
+    #[arg(long)]
+    order_search: bool,
 }
 
 fn design_options(args: &DesignArgs) -> Result<DesignOptions> {
@@ -570,6 +642,7 @@ fn design_options(args: &DesignArgs) -> Result<DesignOptions> {
         kinds,
         cache_dir: (!args.no_cache).then(|| PathBuf::from(".platefield-cache")),
         quiet: args.quiet,
+        order_search: args.order_search,
         ..DesignOptions::default()
     })
 }
@@ -601,8 +674,13 @@ fn design_cmd(args: DesignArgs) -> Result<()> {
     } else {
         print!("{}", report::summary(&d));
         println!(
-            "wrote {}/{{schedule.json, fit.svg, report.md}}",
-            args.out.join(&target.name).display()
+            "wrote {}/{{schedule.json, fit.svg, report.md{}}}",
+            args.out.join(&target.name).display(),
+            if d.order_search.is_some() {
+                ", order.md"
+            } else {
+                ""
+            }
         );
     }
     Ok(())
@@ -672,6 +750,24 @@ fn run(cli: Cli) -> Result<()> {
         Command::Speed { out } => speed(&out),
         Command::Verify(args) => verify_cmd(&args),
         Command::Interaction { out } => interaction_cmd(&out),
+        Command::Order {
+            schedule,
+            points,
+            rest,
+            periods,
+            warmup,
+            model,
+            out,
+        } => order_cmd(
+            &schedule,
+            points,
+            &rest,
+            periods,
+            warmup,
+            model.as_deref(),
+            &out,
+        ),
+        Command::SqueezeOrder { out } => squeeze_order_cmd(&out),
         Command::Primitives {
             out,
             grid,

@@ -10,6 +10,9 @@
 //!    strongest field of the target's shape) by default.
 //! 3. **Schedule** ([`schedule`]): whole cycles per segment, a minimum per
 //!    segment, an order; exportable as controller signals ([`export`]).
+//! 4. **Order** (optional, [`DesignOptions::order_search`]): the segment
+//!    order and rest insertions that best realise the prediction in
+//!    closed-loop simulation ([`crate::verify::order`]).
 
 pub mod basis;
 pub mod export;
@@ -29,6 +32,8 @@ use crate::error::{Error, Result};
 use crate::field::{FieldKind, FieldSettings, Grid};
 use crate::fit::{self, FitMetrics, FitMode, FitOptions, FitProblem, FitSolution};
 use crate::target::{SampledTarget, Target};
+use crate::verify::order::{self, choose_order, OrderOptions, OrderSearch};
+use crate::verify::VerifyOptions;
 
 pub use basis::DesignBasis;
 pub use schedule::{Schedule, Segment};
@@ -62,6 +67,10 @@ pub struct DesignOptions {
     pub cache_dir: Option<PathBuf>,
     /// No progress bar.
     pub quiet: bool,
+    /// After scheduling, search the segment order and rest insertions that
+    /// best realise the prediction ([`crate::verify::order`]) and play the
+    /// schedule in that order.
+    pub order_search: bool,
 }
 
 impl Default for DesignOptions {
@@ -80,6 +89,7 @@ impl Default for DesignOptions {
             settings: FieldSettings::default(),
             cache_dir: Some(PathBuf::from(".platefield-cache")),
             quiet: false,
+            order_search: false,
         }
     }
 }
@@ -118,6 +128,37 @@ pub struct Design {
     pub basis_time_s: f64,
     /// Seconds spent fitting, verifying and scheduling.
     pub fit_time_s: f64,
+    /// The order search, when [`DesignOptions::order_search`] was set.
+    pub order_search: Option<OrderSearch>,
+    /// Seconds spent in the order search.
+    pub order_time_s: f64,
+}
+
+/// Start points per side of the order search's grid over the target region.
+pub const ORDER_SEARCH_POINTS: usize = 5;
+
+/// Runs the order search on `schedule` with the design's physics on
+/// [`ORDER_SEARCH_POINTS`]² points over the bounding box of the target's
+/// weighted points; a schedule without a moving segment is left as it is.
+fn search_order(
+    schedule: Schedule,
+    target: &SampledTarget,
+    opts: &DesignOptions,
+) -> Result<(Schedule, Option<OrderSearch>)> {
+    if schedule.segments.iter().all(|s| s.primitive.is_none()) {
+        return Ok((schedule, None));
+    }
+    let region: Vec<[f64; 2]> = target
+        .points
+        .iter()
+        .zip(&target.weights)
+        .filter(|(_, w)| **w > 0.0)
+        .map(|(p, _)| *p)
+        .collect();
+    let points = order::region_grid(&region, ORDER_SEARCH_POINTS);
+    let verify = VerifyOptions::from_settings(&opts.settings);
+    let (reordered, search) = choose_order(&schedule, &OrderOptions::new(verify, points))?;
+    Ok((reordered, Some(search)))
 }
 
 impl From<crate::target::TargetError> for Error {
@@ -460,6 +501,13 @@ pub fn design(target: &Target, opts: &DesignOptions) -> Result<Design> {
         }),
         settings: serde_json::to_value(opts.settings).unwrap_or_default(),
     };
+    let t_order = Instant::now();
+    let (schedule, order_search) = if opts.order_search {
+        search_order(schedule, &sampled, opts)?
+    } else {
+        (schedule, None)
+    };
+    let order_time_s = t_order.elapsed().as_secs_f64();
     Ok(Design {
         schedule,
         target: sampled,
@@ -471,5 +519,7 @@ pub fn design(target: &Target, opts: &DesignOptions) -> Result<Design> {
         cache_status,
         basis_time_s,
         fit_time_s,
+        order_search,
+        order_time_s,
     })
 }

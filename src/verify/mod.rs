@@ -29,19 +29,28 @@
 //! [`realised`] compares the realised mean velocity field with the
 //! time-weighted combination of the segments' steady-state fields that the
 //! design predicts; [`interaction`] reproduces DESIGN.md section 6's table of
-//! the interaction error of two sequenced LineSinks.
+//! the interaction error of two sequenced LineSinks; [`order`] searches the
+//! segment order and rest insertions that best realise the prediction;
+//! [`squeeze`] reproduces and quantifies the paper's order-dependent offset
+//! of SqueezeTrans's squeeze line.
 
 pub mod interaction;
+pub mod order;
 pub mod realised;
 pub mod run;
+pub mod squeeze;
 pub mod swarm;
 
 pub use interaction::{interaction_rows, interaction_table, InteractionRow};
+pub use order::{
+    choose_order, order_schedule_file, search_orders, OrderCandidate, OrderOptions, OrderSearch,
+};
 pub use realised::{grid_points, verify_points, PointResult, Verification, VerifyOptions};
 pub use run::{load_schedule, verify_schedule_file, Duration, VerifyReport, VerifyRequest};
+pub use squeeze::squeeze_order_report;
 pub use swarm::{run_swarm, Swarm, SwarmOptions, SwarmPart};
 
-use crate::design::Schedule;
+use crate::design::{Schedule, Segment};
 use crate::dynamics::{ContactLoss, Friction, Model, Numerics, PartState, Simulator};
 use crate::error::{positive, Error, Result};
 use crate::motion::{Motion, V3};
@@ -86,6 +95,32 @@ impl PlayedSegment {
             duration,
         }
     }
+
+    /// The played form of segment `i` of a designed schedule: its
+    /// primitive's motion (rotation and shift applied) for its whole
+    /// cycles, or rest for its `duration_s` when it has no primitive.
+    pub fn from_segment(seg: &Segment, i: usize) -> Result<PlayedSegment> {
+        match &seg.primitive {
+            Some(p) => {
+                p.validate(&format!("schedule.segments[{i}].primitive"))?;
+                Ok(PlayedSegment::moving(
+                    seg.label.clone(),
+                    p.motion(),
+                    seg.cycles,
+                ))
+            }
+            None => {
+                let d = seg.duration_s;
+                if !(d.is_finite() && d >= 0.0) {
+                    return Err(Error::invalid(
+                        format!("schedule.segments[{i}].duration_s"),
+                        format!("must be a finite number ≥ 0, got {d}"),
+                    ));
+                }
+                Ok(PlayedSegment::rest(d))
+            }
+        }
+    }
 }
 
 /// The plate trajectory of a schedule: segments played in order, repeated
@@ -122,29 +157,12 @@ impl ScheduleMotion {
     /// motion (rotation and shift applied) for its whole cycles; segments
     /// without a primitive are rest for their `duration_s`.
     pub fn from_schedule(schedule: &Schedule) -> Result<ScheduleMotion> {
-        let mut out = Vec::with_capacity(schedule.segments.len());
-        for (i, seg) in schedule.segments.iter().enumerate() {
-            match &seg.primitive {
-                Some(p) => {
-                    p.validate(&format!("schedule.segments[{i}].primitive"))?;
-                    out.push(PlayedSegment::moving(
-                        seg.label.clone(),
-                        p.motion(),
-                        seg.cycles,
-                    ));
-                }
-                None => {
-                    let d = seg.duration_s;
-                    if !(d.is_finite() && d >= 0.0) {
-                        return Err(Error::invalid(
-                            format!("schedule.segments[{i}].duration_s"),
-                            format!("must be a finite number ≥ 0, got {d}"),
-                        ));
-                    }
-                    out.push(PlayedSegment::rest(d));
-                }
-            }
-        }
+        let out = schedule
+            .segments
+            .iter()
+            .enumerate()
+            .map(|(i, seg)| PlayedSegment::from_segment(seg, i))
+            .collect::<Result<Vec<_>>>()?;
         ScheduleMotion::new(out)
     }
 

@@ -154,6 +154,19 @@ pub fn schedule_settings(schedule: &Schedule, path: &Path) -> Result<FieldSettin
     Ok(settings)
 }
 
+/// The schedule's target name, checked to be a plain folder name (results
+/// go to `OUT/<target>/`).
+pub fn target_folder(schedule: &Schedule) -> Result<&str> {
+    let name = schedule.target.as_str();
+    if name.trim().is_empty() || name.contains(['/', '\\']) || name.starts_with('.') {
+        return Err(Error::invalid(
+            "schedule.target",
+            format!("must be a plain folder name, got \"{name}\""),
+        ));
+    }
+    Ok(name)
+}
+
 /// The region verified: the target's grid, or ±3 cm when the schedule does
 /// not record one.
 pub fn region(schedule: &Schedule) -> Grid {
@@ -275,13 +288,7 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest, out: &Path) -> Res
     req.validate()?;
     let schedule = load_schedule(path)?;
     let settings = schedule_settings(&schedule, path)?;
-    let name = &schedule.target;
-    if name.trim().is_empty() || name.contains(['/', '\\']) || name.starts_with('.') {
-        return Err(Error::invalid(
-            "schedule.target",
-            format!("must be a plain folder name, got \"{name}\""),
-        ));
-    }
+    let name = target_folder(&schedule)?;
     if let Some(t) = &schedule.target_spec {
         t.validate()?;
     }

@@ -1,0 +1,685 @@
+//! Segment order and rest insertion: which playing order of a schedule's
+//! segments, and how much rest at the joins, best realises the design's
+//! prediction (DESIGN.md section 6, "an order is chosen; rest cycles may be
+//! inserted"; the paper's section V).
+//!
+//! **Why order matters.** Every segment starts off its own periodic orbit:
+//! the part arrives with the slip velocity the previous segment left it
+//! (or none, after rest), and the transient until it settles displaces it
+//! by a fraction of a millimetre, once per segment and always the same way
+//! for the same pair of neighbours ([`super::squeeze`] measures this for
+//! SqueezeTrans). So the realised field depends on which segment follows
+//! which, and on rest at the joins; the time-weighted prediction does not.
+//!
+//! **Candidates.**
+//! * *Orders up to rotation*: a periodic schedule played for whole periods
+//!   after a warm-up is unchanged by a cyclic rotation of its segments, so
+//!   the first moving segment is kept first and the others are permuted:
+//!   (n − 1)! orders for n segments (an existing rest segment of the
+//!   schedule is one of the n and takes part in the ordering), all of them
+//!   for n ≤ [`EXHAUSTIVE_MAX`], in lexicographic order of the permutation.
+//! * *Beyond that, a heuristic*: steepest descent over pairwise swaps of
+//!   the segments after the first, starting from the given order, with no
+//!   rest inserted; every round evaluates all swaps of the current order
+//!   (scanned in lexicographic order of the swapped positions, orders seen
+//!   before skipped) and moves to the best one if it lowers the error;
+//!   it stops at a local minimum or after `max_evaluations` evaluations.
+//!   The rest insertions are then tried on the order it ends on.
+//! * *Rest*: `k` primitive cycles of rest (the plate at rest in the home
+//!   pose) at **every** join between two moving segments, the cyclic join
+//!   from the last segment to the first included, for each k of
+//!   `rest_cycles` (default 0, 1, 2). A join that already touches a rest
+//!   segment gets none. A "primitive cycle" of rest is the period of the
+//!   first moving segment.
+//!
+//! **Evaluation.** Each candidate is played by [`verify_points`] on the
+//! given points: realised mean velocity against the time-weighted
+//! steady-state prediction, in which rest counts as the zero field, so a
+//! candidate with rest is compared with its own (weaker) prediction and the
+//! comparison is fair about the field's shape. What rest costs is strength:
+//! every field is scaled by the moving fraction (moving time / period),
+//! reported with each candidate. Warm-up: at least one schedule period and
+//! at least `warmup_cycles` primitive cycles; measured: `verify.periods`
+//! (at least one) whole periods.
+//!
+//! **Choice.** Among the candidates with the most valid points, the
+//! smallest relative error e*; among those within `tie_tolerance` of e*
+//! (absolute, default half a percentage point: differences below that do
+//! not matter for design and rest costs strength), the one with the least
+//! inserted rest, then the smallest error, then the first in the table.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+
+use super::realised::{grid_points, verify_points, VerifyOptions};
+use super::run::{load_schedule, schedule_settings, target_folder};
+use super::{PlayedSegment, ScheduleMotion};
+use crate::design::{Schedule, Segment};
+use crate::dynamics::Model;
+use crate::error::{Error, Result};
+
+/// Segments up to which every order (up to rotation) is tried.
+pub const EXHAUSTIVE_MAX: usize = 4;
+/// Default rest insertions tried (primitive cycles at every join).
+pub const DEFAULT_REST_CYCLES: [u32; 3] = [0, 1, 2];
+/// Default minimum warm-up in primitive cycles.
+pub const DEFAULT_WARMUP_CYCLES: u32 = 40;
+/// Default tie tolerance on the relative error (absolute).
+pub const DEFAULT_TIE_TOLERANCE: f64 = 0.005;
+/// Default budget of schedule evaluations of the heuristic.
+pub const DEFAULT_MAX_EVALUATIONS: usize = 60;
+
+/// Settings of an order search.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OrderOptions {
+    /// Physics and model; its `warmup_periods` and `periods` are minimums
+    /// (see `warmup_cycles`).
+    pub verify: VerifyOptions,
+    /// Start points of the parts (m).
+    pub points: Vec<[f64; 2]>,
+    /// Rest cycles inserted at every join, one candidate set per value.
+    pub rest_cycles: Vec<u32>,
+    /// Minimum warm-up in primitive cycles (the warm-up is also at least
+    /// one schedule period).
+    pub warmup_cycles: u32,
+    /// Up to this many segments every order is tried.
+    pub exhaustive_max: usize,
+    /// Evaluation budget of the heuristic beyond `exhaustive_max`.
+    pub max_evaluations: usize,
+    /// Errors within this (absolute) of the smallest count as ties, which
+    /// go to the candidate with less rest.
+    pub tie_tolerance: f64,
+}
+
+impl OrderOptions {
+    /// Defaults for `verify` physics on `points`.
+    pub fn new(verify: VerifyOptions, points: Vec<[f64; 2]>) -> OrderOptions {
+        OrderOptions {
+            verify,
+            points,
+            rest_cycles: DEFAULT_REST_CYCLES.to_vec(),
+            warmup_cycles: DEFAULT_WARMUP_CYCLES,
+            exhaustive_max: EXHAUSTIVE_MAX,
+            max_evaluations: DEFAULT_MAX_EVALUATIONS,
+            tie_tolerance: DEFAULT_TIE_TOLERANCE,
+        }
+    }
+}
+
+/// One candidate schedule and how well it realises its prediction.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct OrderCandidate {
+    /// Playing order: indices into the searched segments.
+    pub order: Vec<usize>,
+    /// The order as labels, e.g. `LineSink@90° → Trans@0°`.
+    pub sequence: String,
+    /// Rest cycles inserted at each join between moving segments.
+    pub rest_cycles: u32,
+    /// Joins that received rest.
+    pub rest_joins: usize,
+    /// Inserted rest time per period (s).
+    pub inserted_rest_s: f64,
+    /// Moving time / period: the factor every field is scaled by.
+    pub moving_fraction: f64,
+    /// Relative L2 error realised against predicted (NaN: no valid point).
+    pub relative_error: f64,
+    /// Largest |realised − predicted| (m/s).
+    pub max_abs_error: f64,
+    /// Valid points.
+    pub valid: usize,
+    /// Schedule period (s).
+    pub period_s: f64,
+    /// Warm-up periods played.
+    pub warmup_periods: u32,
+    /// Periods measured.
+    pub periods: u32,
+}
+
+/// The result of an order search.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct OrderSearch {
+    /// Labels of the searched segments (input order).
+    pub segments: Vec<String>,
+    /// How the orders were enumerated.
+    pub method: String,
+    /// All candidates evaluated, in evaluation order.
+    pub candidates: Vec<OrderCandidate>,
+    /// Index of the chosen candidate.
+    pub best: usize,
+    /// Start points.
+    pub points: usize,
+    /// Model name.
+    pub model: String,
+    /// Duration of one rest cycle (s).
+    pub rest_period_s: f64,
+    /// Tie tolerance used.
+    pub tie_tolerance: f64,
+    /// Minimum warm-up in primitive cycles.
+    pub warmup_cycles: u32,
+}
+
+impl OrderSearch {
+    /// The chosen candidate.
+    pub fn chosen(&self) -> &OrderCandidate {
+        &self.candidates[self.best]
+    }
+}
+
+/// (n − 1)! orders of `n` segments up to rotation: `first` leads, the
+/// others in every permutation, lexicographic. Empty for n = 0.
+pub fn orders_up_to_rotation(n: usize, first: usize) -> Vec<Vec<usize>> {
+    if n == 0 || first >= n {
+        return Vec::new();
+    }
+    let mut rest: Vec<usize> = (0..n).filter(|&i| i != first).collect();
+    let mut out = Vec::new();
+    loop {
+        let mut o = vec![first];
+        o.extend_from_slice(&rest);
+        out.push(o);
+        if !next_permutation(&mut rest) {
+            return out;
+        }
+    }
+}
+
+/// Advances `v` to its next lexicographic permutation; false at the last.
+fn next_permutation(v: &mut [usize]) -> bool {
+    let n = v.len();
+    if n < 2 {
+        return false;
+    }
+    let Some(i) = (0..n - 1).rev().find(|&i| v[i] < v[i + 1]) else {
+        return false;
+    };
+    let j = (i + 1..n).rev().find(|&j| v[j] > v[i]).unwrap_or(i + 1);
+    v.swap(i, j);
+    v[i + 1..].reverse();
+    true
+}
+
+/// The played segments of `order` with `rest_cycles` × `rest_period` of
+/// rest after every segment whose (cyclic) successor is also moving.
+pub fn arrange(
+    segments: &[PlayedSegment],
+    order: &[usize],
+    rest_cycles: u32,
+    rest_period: f64,
+) -> Vec<PlayedSegment> {
+    let n = order.len();
+    let mut out = Vec::with_capacity(2 * n);
+    for (k, &i) in order.iter().enumerate() {
+        out.push(segments[i].clone());
+        if rest_cycles > 0 && rest_after(segments, order, k) {
+            out.push(PlayedSegment::rest(f64::from(rest_cycles) * rest_period));
+        }
+    }
+    out
+}
+
+/// True when position `k` of `order` and its cyclic successor both move.
+fn rest_after(segments: &[PlayedSegment], order: &[usize], k: usize) -> bool {
+    let next = order[(k + 1) % order.len()];
+    segments[order[k]].motion.is_some() && segments[next].motion.is_some()
+}
+
+/// The period of one rest cycle: that of the first moving segment.
+fn rest_period(segments: &[PlayedSegment]) -> Result<f64> {
+    segments
+        .iter()
+        .find_map(|s| s.motion.as_ref().map(|m| m.period()))
+        .ok_or_else(|| {
+            Error::invalid(
+                "schedule.segments",
+                "must hold at least one moving segment to order",
+            )
+        })
+}
+
+fn evaluate(
+    segments: &[PlayedSegment],
+    order: &[usize],
+    rest_cycles: u32,
+    t_rest: f64,
+    opts: &OrderOptions,
+) -> Result<OrderCandidate> {
+    let played = arrange(segments, order, rest_cycles, t_rest);
+    let sm = ScheduleMotion::new(played)?;
+    let p = sm.period();
+    let moving: f64 = sm
+        .segments()
+        .iter()
+        .filter(|s| s.motion.is_some())
+        .map(|s| s.duration)
+        .sum();
+    let rest_joins = (0..order.len())
+        .filter(|&k| rest_after(segments, order, k))
+        .count();
+    let verify = VerifyOptions {
+        warmup_periods: opts
+            .verify
+            .warmup_periods
+            .max(periods_for(opts.warmup_cycles, t_rest, p)),
+        periods: opts.verify.periods.max(1),
+        ..opts.verify
+    };
+    let v = verify_points(&sm, &opts.points, &verify);
+    Ok(OrderCandidate {
+        order: order.to_vec(),
+        sequence: order
+            .iter()
+            .map(|&i| segments[i].label.as_str())
+            .collect::<Vec<_>>()
+            .join(" → "),
+        rest_cycles,
+        rest_joins: if rest_cycles > 0 { rest_joins } else { 0 },
+        inserted_rest_s: if rest_cycles > 0 {
+            rest_joins as f64 * f64::from(rest_cycles) * t_rest
+        } else {
+            0.0
+        },
+        moving_fraction: moving / p,
+        relative_error: v.relative_error,
+        max_abs_error: v.max_abs_error,
+        valid: v.valid,
+        period_s: p,
+        warmup_periods: verify.warmup_periods,
+        periods: verify.periods,
+    })
+}
+
+/// Whole periods of length `period` that cover at least `cycles` cycles
+/// of length `cycle` (at least one).
+pub fn periods_for(cycles: u32, cycle: f64, period: f64) -> u32 {
+    let n = (f64::from(cycles) * cycle / period - 1e-9).ceil();
+    if n.is_finite() && n >= 1.0 {
+        n.min(f64::from(u32::MAX)) as u32
+    } else {
+        1
+    }
+}
+
+/// Error as a sort key (no valid point = worst).
+fn key(c: &OrderCandidate) -> f64 {
+    if c.relative_error.is_finite() {
+        c.relative_error
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// The chosen candidate (see the module docs); `None` if no candidate has
+/// a valid point.
+pub fn choose(candidates: &[OrderCandidate], tie_tolerance: f64) -> Option<usize> {
+    let most = candidates.iter().map(|c| c.valid).max()?;
+    let eligible: Vec<usize> = (0..candidates.len())
+        .filter(|&i| candidates[i].valid == most && key(&candidates[i]).is_finite())
+        .collect();
+    let emin = eligible
+        .iter()
+        .map(|&i| key(&candidates[i]))
+        .fold(f64::INFINITY, f64::min);
+    eligible
+        .into_iter()
+        .filter(|&i| key(&candidates[i]) <= emin + tie_tolerance)
+        .min_by(|&i, &j| {
+            let (a, b) = (&candidates[i], &candidates[j]);
+            a.inserted_rest_s
+                .total_cmp(&b.inserted_rest_s)
+                .then(key(a).total_cmp(&key(b)))
+                .then(i.cmp(&j))
+        })
+}
+
+/// Searches orders and rest insertions of `segments` (see the module docs).
+pub fn search_orders(segments: &[PlayedSegment], opts: &OrderOptions) -> Result<OrderSearch> {
+    if opts.points.is_empty() {
+        return Err(Error::invalid("points", "must hold at least one point"));
+    }
+    if !(opts.tie_tolerance.is_finite() && opts.tie_tolerance >= 0.0) {
+        return Err(Error::invalid(
+            "tie_tolerance",
+            format!("must be a finite number ≥ 0, got {}", opts.tie_tolerance),
+        ));
+    }
+    // Validates the segments (durations, motions) once.
+    ScheduleMotion::new(segments.to_vec())?;
+    if segments
+        .iter()
+        .any(|s| s.duration.is_nan() || s.duration <= 0.0)
+    {
+        return Err(Error::invalid(
+            "schedule.segments",
+            "every segment to order must have a positive duration",
+        ));
+    }
+    let t_rest = rest_period(segments)?;
+    let first = segments
+        .iter()
+        .position(|s| s.motion.is_some())
+        .unwrap_or(0);
+    let mut rests = opts.rest_cycles.clone();
+    rests.sort_unstable();
+    rests.dedup();
+    if rests.is_empty() {
+        rests.push(0);
+    }
+    let n = segments.len();
+    let mut candidates = Vec::new();
+    let method;
+    if n <= opts.exhaustive_max {
+        let orders = orders_up_to_rotation(n, first);
+        method = format!(
+            "exhaustive: all {} orders of {n} segments up to rotation ({} first), × rest {:?} cycles at every join",
+            orders.len(),
+            segments[first].label,
+            rests
+        );
+        for o in &orders {
+            for &k in &rests {
+                candidates.push(evaluate(segments, o, k, t_rest, opts)?);
+            }
+        }
+    } else {
+        let k0 = rests[0];
+        let mut current: Vec<usize> = (first..n).chain(0..first).collect();
+        candidates.push(evaluate(segments, &current, k0, t_rest, opts)?);
+        let mut current_err = key(&candidates[0]);
+        let mut seen = vec![current.clone()];
+        'descent: loop {
+            let mut step: Option<(Vec<usize>, f64)> = None;
+            for i in 1..n {
+                for j in i + 1..n {
+                    if candidates.len() >= opts.max_evaluations.max(1) {
+                        break 'descent;
+                    }
+                    let mut o = current.clone();
+                    o.swap(i, j);
+                    if seen.contains(&o) {
+                        continue;
+                    }
+                    seen.push(o.clone());
+                    let c = evaluate(segments, &o, k0, t_rest, opts)?;
+                    let e = key(&c);
+                    candidates.push(c);
+                    if step.as_ref().is_none_or(|s| e < s.1) {
+                        step = Some((o, e));
+                    }
+                }
+            }
+            match step {
+                Some((o, e)) if e < current_err => {
+                    current = o;
+                    current_err = e;
+                }
+                _ => break,
+            }
+        }
+        // Whatever the budget, the rest insertions go on the best order found.
+        let best_order = candidates
+            .iter()
+            .min_by(|a, b| key(a).total_cmp(&key(b)))
+            .map_or(current, |c| c.order.clone());
+        for &k in &rests[1..] {
+            candidates.push(evaluate(segments, &best_order, k, t_rest, opts)?);
+        }
+        method = format!(
+            "heuristic ({n} segments > {}): steepest descent over pairwise swaps from the given order ({} first), rest {k0} cycles, {} orders evaluated (budget {}); then rest {:?} cycles on the best order",
+            opts.exhaustive_max,
+            segments[first].label,
+            seen.len(),
+            opts.max_evaluations,
+            &rests[1..]
+        );
+    }
+    let best = choose(&candidates, opts.tie_tolerance).ok_or_else(|| {
+        Error::Physical(
+            "order search: no candidate has a valid point (parts leave the plate everywhere)"
+                .into(),
+        )
+    })?;
+    Ok(OrderSearch {
+        segments: segments.iter().map(|s| s.label.clone()).collect(),
+        method,
+        candidates,
+        best,
+        points: opts.points.len(),
+        model: opts.verify.model.name(),
+        rest_period_s: t_rest,
+        tie_tolerance: opts.tie_tolerance,
+        warmup_cycles: opts.warmup_cycles,
+    })
+}
+
+/// The search as a markdown table (deterministic: no timings).
+pub fn order_table(search: &OrderSearch) -> String {
+    let mut md = String::new();
+    let _ = writeln!(
+        md,
+        "Segments: {}. {}.\n\nEach candidate is played on {} point parts ({} model): realised mean velocity over whole schedule periods after a warm-up of ≥ 1 period and ≥ {} primitive cycles, against the time-weighted steady-state prediction (rest counts as the zero field). Error: relative L2, ‖realised − predicted‖ / ‖predicted‖. Rest: cycles of {:.4} s at every join between two moving segments. Moving fraction: the strength factor rest costs. Chosen: the smallest error among the candidates with the most valid points; errors within {:.1} percentage points of it count as ties, which go to less rest.\n",
+        search.segments.join(", "),
+        search.method,
+        search.points,
+        search.model,
+        search.warmup_cycles,
+        search.rest_period_s,
+        100.0 * search.tie_tolerance
+    );
+    md.push_str("| # | order | rest at joins (cycles × joins) | moving fraction | relative error | max abs error (mm/s) | valid points | period (s) | warm-up + measured periods | |\n|---|---|---|---|---|---|---|---|---|---|\n");
+    for (i, c) in search.candidates.iter().enumerate() {
+        let _ = writeln!(
+            md,
+            "| {i} | {} | {} | {:.3} | {:.2} % | {:.3} | {} | {:.4} | {} + {} | {} |",
+            c.sequence,
+            if c.rest_joins == 0 {
+                "none".to_string()
+            } else {
+                format!("{} × {}", c.rest_cycles, c.rest_joins)
+            },
+            c.moving_fraction,
+            100.0 * c.relative_error,
+            1e3 * c.max_abs_error,
+            c.valid,
+            c.period_s,
+            c.warmup_periods,
+            c.periods,
+            if i == search.best { "**best**" } else { "" }
+        );
+    }
+    let b = search.chosen();
+    let rest = if b.rest_joins == 0 {
+        "no rest inserted".to_string()
+    } else {
+        format!(
+            "{} rest cycles at each of {} joins",
+            b.rest_cycles, b.rest_joins
+        )
+    };
+    let _ = writeln!(
+        md,
+        "\nBest: {} with {rest}: relative error {:.2} %, moving fraction {:.3}.",
+        b.sequence,
+        100.0 * b.relative_error,
+        b.moving_fraction
+    );
+    md
+}
+
+/// `n × n` points over the bounding box of `points` (the target region).
+pub fn region_grid(points: &[[f64; 2]], n: usize) -> Vec<[f64; 2]> {
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in points {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    if !(lo[0].is_finite() && hi[0].is_finite()) {
+        return Vec::new();
+    }
+    crate::field::Grid {
+        x: [lo[0], hi[0]],
+        y: [lo[1], hi[1]],
+        n: [n, n],
+    }
+    .points()
+}
+
+/// Reorders a designed schedule: searches its segments' orders and rest
+/// insertions ([`search_orders`]) and returns the schedule of the chosen
+/// candidate with the search. The schedule keeps its format: segments in
+/// the chosen order, inserted rest segments (no primitive, weight 0 — the
+/// fit gave them none — `cycles` rest cycles of the first moving segment's
+/// period), `total_cycles` and `period_s` recomputed. `fit` and
+/// `fit_quantized` still describe the design's time fractions without the
+/// inserted rest: inserted rest scales the realised field by the chosen
+/// candidate's moving fraction over the original one. Segments of zero
+/// duration are dropped, as when the schedule is played.
+pub fn choose_order(schedule: &Schedule, opts: &OrderOptions) -> Result<(Schedule, OrderSearch)> {
+    let mut items: Vec<&Segment> = Vec::with_capacity(schedule.segments.len());
+    let mut played = Vec::with_capacity(schedule.segments.len());
+    for (i, seg) in schedule.segments.iter().enumerate() {
+        let p = PlayedSegment::from_segment(seg, i)?;
+        if p.duration > 0.0 {
+            items.push(seg);
+            played.push(p);
+        }
+    }
+    let search = search_orders(&played, opts)?;
+    let best = search.chosen();
+    let mut segments = Vec::with_capacity(2 * items.len());
+    for (k, &i) in best.order.iter().enumerate() {
+        segments.push(items[i].clone());
+        if best.rest_cycles > 0 && rest_after(&played, &best.order, k) {
+            segments.push(Segment {
+                label: "Rest".into(),
+                primitive: None,
+                weight: 0.0,
+                cycles: best.rest_cycles,
+                duration_s: f64::from(best.rest_cycles) * search.rest_period_s,
+            });
+        }
+    }
+    let out = Schedule {
+        total_cycles: segments.iter().map(|s| s.cycles).sum(),
+        period_s: segments.iter().map(|s| s.duration_s).sum(),
+        segments,
+        ..schedule.clone()
+    };
+    Ok((out, search))
+}
+
+/// `platefield order`: searches the orders and rest insertions of the
+/// schedule at `path` on `n × n` points over ±3 cm with the schedule's own
+/// physics (the model overridden by `model` when given; `warmup` and
+/// `periods` are minimums), writes `OUT/<target>/verify/order.md`, and
+/// returns the search, the markdown and the path written.
+pub fn order_schedule_file(
+    path: &Path,
+    n: usize,
+    rest_cycles: &[u32],
+    warmup: u32,
+    periods: u32,
+    model: Option<Model>,
+    out: &Path,
+) -> Result<(OrderSearch, String, PathBuf)> {
+    if !(1..=41).contains(&n) {
+        return Err(Error::invalid(
+            "--points",
+            format!("must be in 1..=41, got {n}"),
+        ));
+    }
+    if let Some(k) = rest_cycles.iter().find(|&&k| k > 100) {
+        return Err(Error::invalid(
+            "--rest",
+            format!("rest cycles must be in 0..=100, got {k}"),
+        ));
+    }
+    if !(1..=100).contains(&periods) {
+        return Err(Error::invalid(
+            "--periods",
+            format!("must be in 1..=100, got {periods}"),
+        ));
+    }
+    if warmup > 100 {
+        return Err(Error::invalid(
+            "--warmup",
+            format!("must be in 0..=100, got {warmup}"),
+        ));
+    }
+    let schedule = load_schedule(path)?;
+    let settings = schedule_settings(&schedule, path)?;
+    let name = target_folder(&schedule)?;
+    let mut verify = VerifyOptions {
+        warmup_periods: warmup,
+        periods,
+        ..VerifyOptions::from_settings(&settings)
+    };
+    if let Some(m) = model {
+        verify.model = m;
+    }
+    let opts = OrderOptions {
+        rest_cycles: rest_cycles.to_vec(),
+        ..OrderOptions::new(verify, grid_points(n, 0.03))
+    };
+    let (_, search) = choose_order(&schedule, &opts)?;
+    let md = format!(
+        "# Segment order and rest: {name}\n\nGenerated by `platefield order {}` ({n} × {n} points over ±3 cm).\n\n{}",
+        path.display(),
+        order_table(&search)
+    );
+    let file = out.join(name).join("verify").join("order.md");
+    crate::output::write_atomic(&file, md.as_bytes())?;
+    Ok((search, md, file))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// (n − 1)! distinct orders, each a permutation with `first` leading,
+    /// and no two of them cyclic rotations of each other.
+    #[test]
+    fn orders_are_permutations_up_to_rotation() {
+        for n in 1..=6 {
+            let orders = orders_up_to_rotation(n, n / 2);
+            let fact: usize = (1..n).product();
+            assert_eq!(orders.len(), fact.max(1), "n = {n}");
+            for o in &orders {
+                assert_eq!(o[0], n / 2);
+                let mut s = o.clone();
+                s.sort_unstable();
+                assert_eq!(s, (0..n).collect::<Vec<_>>());
+            }
+            let canon = |o: &Vec<usize>| {
+                (0..n)
+                    .map(|r| {
+                        let mut v = o.clone();
+                        v.rotate_left(r);
+                        v
+                    })
+                    .min()
+                    .unwrap()
+            };
+            let mut c: Vec<Vec<usize>> = orders.iter().map(canon).collect();
+            c.sort();
+            c.dedup();
+            assert_eq!(c.len(), orders.len(), "n = {n}: two orders are rotations");
+        }
+        assert!(orders_up_to_rotation(0, 0).is_empty());
+    }
+
+    /// Whole periods covering a number of cycles: at least one, and exact
+    /// multiples are not rounded up by rounding error.
+    #[test]
+    fn periods_cover_the_cycles() {
+        let t = 2.0 * std::f64::consts::PI / 209.0;
+        assert_eq!(periods_for(40, t, 32.0 * t), 2);
+        assert_eq!(periods_for(40, t, 20.0 * t), 2);
+        assert_eq!(periods_for(40, t, 41.0 * t), 1);
+        assert_eq!(periods_for(40, t, 13.0 * t), 4);
+        assert_eq!(periods_for(0, t, t), 1);
+    }
+}
