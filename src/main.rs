@@ -10,6 +10,7 @@ use platefield::basis::Library;
 use platefield::basis::PrimitiveKind;
 use platefield::design::export::signals_csv;
 use platefield::design::quality::write_fit_quality;
+use platefield::design::closed_loop::{self, closed_loop, LoopOptions};
 use platefield::design::{design, report, DesignOptions, Schedule};
 use platefield::dynamics::{Friction, Model, Numerics};
 use platefield::field::FieldKind;
@@ -345,14 +346,14 @@ fn rungs(out: &std::path::Path, tolerance: f64) -> Result<()> {
     Ok(())
 }
 
-/// `--model`: none (the schedule's own), full, paper or frozen.
-fn model_arg(model: Option<&str>) -> Result<Option<Model>> {
-    Ok(match model {
+/// A model override for playing schedules: full, paper, or frozen (full with positions frozen).
+fn played_model(name: Option<&str>, flag: &str) -> Result<Option<Model>> {
+    Ok(match name {
         None => None,
         Some("frozen") => Some(platefield::verify::interaction::FROZEN),
-        Some(name) => Some(Model::preset(name, "--model").map_err(|_| {
+        Some(name) => Some(Model::preset(name, flag).map_err(|_| {
             Error::invalid(
-                "--model",
+                flag,
                 format!("unknown model \"{name}\" (expected full, paper or frozen)"),
             )
         })?),
@@ -368,7 +369,7 @@ fn order_cmd(
     model: Option<&str>,
     out: &std::path::Path,
 ) -> Result<()> {
-    let model = model_arg(model)?;
+    let model = played_model(model, "--model")?;
     let start = std::time::Instant::now();
     let (_, md, file) = platefield::verify::order_schedule_file(
         schedule, points, rest, warmup, periods, model, out,
@@ -396,7 +397,7 @@ fn squeeze_order_cmd(out: &std::path::Path) -> Result<()> {
 
 fn verify_cmd(args: &VerifyArgs) -> Result<()> {
     use platefield::verify::{Duration, VerifyRequest};
-    let model = model_arg(args.model.as_deref())?;
+    let model = played_model(args.model.as_deref(), "--model")?;
     let duration = match (args.duration, args.repetitions) {
         (Some(_), Some(_)) => {
             return Err(Error::invalid(
@@ -570,6 +571,18 @@ struct DesignArgs {
     /// Search the segment order and rest at the joins in closed-loop simulation; writes order.md.
     #[arg(long)]
     order_search: bool,
+    /// Closed loop: play the schedule, feed the realised field back (orders, contextual re-fit), keep the best; reports the realised error before and after.
+    #[arg(long)]
+    closed_loop: bool,
+    /// Closed loop: play every N-th target grid point per axis.
+    #[arg(long, default_value_t = 2)]
+    loop_stride: usize,
+    /// Closed loop: most contextual re-fit iterations.
+    #[arg(long, default_value_t = 8)]
+    loop_iterations: u32,
+    /// Closed loop: model the schedules are played with: the design's own (default, normally full), full, paper, or frozen (positions frozen: the local field, for long schedule periods in which parts travel far; not valid with Circle segments).
+    #[arg(long)]
+    loop_model: Option<String>,
 }
 
 fn design_options(args: &DesignArgs) -> Result<DesignOptions> {
@@ -667,8 +680,31 @@ fn design_cmd(args: DesignArgs) -> Result<()> {
             format!("must be a plain folder name, got \"{}\"", target.name),
         ));
     }
+    let loop_opts = LoopOptions {
+        stride: args.loop_stride,
+        max_iterations: args.loop_iterations,
+        model: played_model(args.loop_model.as_deref(), "--loop-model")?,
+        ..LoopOptions::default()
+    };
+    loop_opts.validate()?;
     let d = design(&target, &opts)?;
-    report::write(&d, &args.out.join(&target.name))?;
+    let dir = args.out.join(&target.name);
+    if args.closed_loop {
+        let cl = closed_loop(&target, &d, &loop_opts)?;
+        closed_loop::report::write(&d, &target, &cl, &dir)?;
+        if args.json {
+            print!("{}", closed_loop::report::schedule_json(&d, &target, &cl)?);
+        } else {
+            print!("{}", report::summary(&d));
+            print!("{}", closed_loop::report::summary(&cl));
+            println!(
+                "wrote {}/{{schedule.json, schedule_open_loop.json, closed_loop.md, closed_loop.json, fit.svg, report.md}}",
+                dir.display()
+            );
+        }
+        return Ok(());
+    }
+    report::write(&d, &dir)?;
     if args.json {
         print!("{}", report::schedule_json(&d));
     } else {

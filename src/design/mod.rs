@@ -15,6 +15,7 @@
 //!    closed-loop simulation ([`crate::verify::order`]).
 
 pub mod basis;
+pub mod closed_loop;
 pub mod export;
 pub mod quality;
 pub mod report;
@@ -207,7 +208,7 @@ pub const SHAPE_SLACK: f64 = 0.02;
 /// LineSources), which are weak and which moving parts do not average as
 /// predicted (closed-loop verification showed it).
 /// If that second stage fails its checks, the first-stage answer stands.
-fn strongest(problem: &FitProblem, options: &FitOptions) -> Result<FitSolution> {
+pub(crate) fn strongest(problem: &FitProblem, options: &FitOptions) -> Result<FitSolution> {
     let first = fit::solve(problem, options)?;
     if options.mode != FitMode::Shape || first.unreachable {
         return Ok(first);

@@ -1,0 +1,531 @@
+//! What the closed loop measures: a schedule played on point parts, its
+//! realised mean velocity field, each segment's realised contribution in its
+//! schedule context, and the realised error against the design's promise.
+//!
+//! **Playing.** A point part is placed at a start point (at rest relative to
+//! the plate) and the schedule is played with the exact
+//! [`crate::verify::Player`] (the physics the design's basis was built with:
+//! the full model by default, parts moving), for a warm-up of at least
+//! [`MeasureOptions::warmup_cycles`] primitive cycles and then at least
+//! [`MeasureOptions::measured_cycles`] more, both rounded up to whole
+//! schedule periods P.
+//!
+//! **Windows.** Parts drift while they are measured (a sink pulls them in by
+//! a third of their distance over a 40-cycle schedule period), and each
+//! segment moves them only while it plays: a window that starts at the first
+//! segment sees the x-pushing segments before the y-pushing ones and makes a
+//! symmetric schedule look anisotropic (measured: 4 % of a 10-cycle Sink).
+//! So the part is played for P + 1 measured periods and the mean velocity and
+//! mean position are averaged over the n windows of P periods that start at
+//! each of the n segment joins of the first measured period:
+//!
+//! ```text
+//! R = (1/n) Σ_j (r(τ_j + P T) − r(τ_j)) / (P T)            realised mean velocity
+//! q = (1/n) Σ_j (1/(P T)) ∫_{τ_j}^{τ_j + P T} r dt          mean position (trapezoids over the joins)
+//! c_i = (1/n) Σ_j Δr_i^(j) / (P T_i)                       segment i's realised velocity in context
+//! ```
+//!
+//! with Δr_i^(j) the displacement during the plays of segment i inside window
+//! j and T_i its duration; exactly R = Σ_i f_i c_i with f_i = T_i / T. With
+//! frozen positions (the model's `moving` off) the kinematics are the start
+//! point's, and R belongs to the start point instead of q.
+//!
+//! **Realised error.** The design promises s·t: strength s times the target
+//! field t. At the parts' mean positions q_k, with the target's weights ω_k
+//! of the start points (0 where masked; masked points are not played), which
+//! multiply the residual as in the design's own metrics
+//! ([`crate::fit::metrics`]):
+//!
+//! ```text
+//! error(s)    = ‖R − s t‖ / ‖s t‖,   ‖v‖² = Σ_k ω_k² |v(q_k)|²
+//! ŝ           = ⟨R, t⟩ / ⟨t, t⟩      (least-squares scale)
+//! shape error = error(ŝ)             (scale-free: cannot be gamed by the strength)
+//! ```
+//!
+//! **Decomposition** of the error field e = R − s t by weighted least squares
+//! over the affine fields e(q) ≈ c + α q̃ + β J q̃ + S q̃ (q̃ = q minus the
+//! weighted centroid, J the 90° rotation, S symmetric and traceless): the
+//! offset c, the isotropic part α (for a sink target, a pure change of
+//! strength), the rotational (whirlpool) part β, the anisotropic (shear)
+//! part S and what the affine fit leaves, each as its norm relative to ‖s t‖.
+
+use nalgebra::{DMatrix, DVector};
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::design::Schedule;
+use crate::dynamics::PartState;
+use crate::error::Result;
+use crate::field::FieldSettings;
+use crate::target::Target;
+use crate::verify::{ScheduleMotion, VerifyOptions, V2};
+
+/// How long a schedule is played to measure its realised field.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct MeasureOptions {
+    /// Primitive cycles played before measuring (rounded up to whole
+    /// schedule periods; default 40).
+    pub warmup_cycles: u32,
+    /// Primitive cycles measured (rounded up to whole schedule periods;
+    /// default 20).
+    pub measured_cycles: u32,
+}
+
+impl Default for MeasureOptions {
+    fn default() -> Self {
+        MeasureOptions {
+            warmup_cycles: 40,
+            measured_cycles: 20,
+        }
+    }
+}
+
+/// One start point played through a schedule.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PointPlay {
+    /// Index of the start point in the sampled target.
+    pub index: usize,
+    /// Where the realised velocity belongs: the mean position q over the
+    /// measured windows, or the start point when the model's positions are
+    /// frozen (the kinematics are the start point's) (m).
+    pub position: [f64; 2],
+    /// Realised mean velocity R (m/s).
+    pub realised: [f64; 2],
+    /// Per played segment: its realised velocity in context c_i (m/s).
+    pub contributions: Vec<[f64; 2]>,
+    /// Why the point is invalid (`None`: valid).
+    pub note: Option<String>,
+}
+
+/// Plays `schedule` from each start point `points[i]`, `i` in `starts`, with
+/// the physics of `settings` (in parallel; results in the order of `starts`).
+pub fn play(
+    schedule: &Schedule,
+    points: &[[f64; 2]],
+    starts: &[usize],
+    settings: &FieldSettings,
+    opts: &MeasureOptions,
+) -> Result<Vec<PointPlay>> {
+    let sm = ScheduleMotion::from_schedule(schedule)?;
+    let per_period = schedule.total_cycles.max(1);
+    let warm = opts.warmup_cycles.div_ceil(per_period);
+    let meas = opts.measured_cycles.div_ceil(per_period).max(1);
+    let v = VerifyOptions::from_settings(settings);
+    Ok(starts
+        .par_iter()
+        .map(|&i| {
+            let player = sm.player(v.friction, v.gravity, v.model, v.numerics);
+            let mut out = play_one(&sm, &player, i, points[i], warm, meas);
+            if !v.model.moving {
+                // Frozen kinematics: the field measured is the start point's.
+                out.position = points[i];
+            }
+            out
+        })
+        .collect())
+}
+
+fn play_one(
+    sm: &ScheduleMotion,
+    player: &crate::verify::Player<'_>,
+    index: usize,
+    start: [f64; 2],
+    warm: u32,
+    meas: u32,
+) -> PointPlay {
+    let anchor = V2::from(start);
+    let mut state = PartState::new(anchor, V2::zeros());
+    let n = sm.segments().len();
+    let mut out = PointPlay {
+        index,
+        position: start,
+        realised: [0.0; 2],
+        contributions: vec![[0.0; 2]; n],
+        note: None,
+    };
+    if let Err(e) = player.play_periods(&mut state, &anchor, 0, warm, |_, _, _| {}) {
+        out.note = Some(e.to_string());
+        return out;
+    }
+    // (time, position, segment just played) at the start and every join.
+    let mut joins: Vec<(f64, V2, Option<usize>)> = Vec::new();
+    let played = player.play_periods(&mut state, &anchor, warm, meas + 1, |t, seg, s| {
+        joins.push((t, s.r, seg))
+    });
+    if let Err(e) = played {
+        out.note = Some(e.to_string());
+        return out;
+    }
+    let span = f64::from(meas) * sm.period();
+    let (mut r_sum, mut q_sum) = (V2::zeros(), V2::zeros());
+    let mut disp = vec![V2::zeros(); n];
+    for j in 0..n {
+        let end = j + n * meas as usize;
+        r_sum += joins[end].1 - joins[j].1;
+        for w in joins[j..=end].windows(2) {
+            q_sum += (w[0].1 + w[1].1) * (0.5 * (w[1].0 - w[0].0));
+            if let Some(k) = w[1].2 {
+                disp[k] += w[1].1 - w[0].1;
+            }
+        }
+    }
+    let windows = n as f64;
+    let q = q_sum / (span * windows);
+    let r = r_sum / (span * windows);
+    out.position = [q.x, q.y];
+    out.realised = [r.x, r.y];
+    for (k, d) in disp.iter().enumerate() {
+        let tk = f64::from(meas) * sm.segments()[k].duration * windows;
+        out.contributions[k] = [d.x / tk, d.y / tk];
+    }
+    out
+}
+
+/// The realised error of a played schedule against a promised strength.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct RealisedError {
+    /// Promised strength s.
+    pub strength: f64,
+    /// ‖R − s t‖/‖s t‖.
+    pub error: f64,
+    /// Least-squares scale ŝ = ⟨R, t⟩/⟨t, t⟩: the realised strength.
+    pub realised_strength: f64,
+    /// ‖R − ŝ t‖/‖ŝ t‖.
+    pub shape_error: f64,
+    /// Decomposition of R − s t.
+    pub decomposition: Decomposition,
+    /// Points used (valid, weight > 0).
+    pub valid: usize,
+}
+
+/// Affine decomposition of an error field, each part's norm relative to
+/// ‖s t‖ (see the [module documentation](self)).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Decomposition {
+    /// Isotropic (divergence) part α q̃ (for a sink: a change of strength).
+    pub isotropic: f64,
+    /// Rotational (curl, whirlpool) part β J q̃.
+    pub rotational: f64,
+    /// Anisotropic (shear) part S q̃.
+    pub anisotropic: f64,
+    /// Uniform offset c.
+    pub offset: f64,
+    /// What the affine fit leaves.
+    pub remainder: f64,
+    /// α (1/s); for a sink target of strength k, the realised field is
+    /// −(s k − α) q̃: α > 0 is a weaker sink.
+    pub alpha: f64,
+    /// β (1/s): the realised field turns counter-clockwise for β > 0.
+    pub beta: f64,
+}
+
+/// The points of `plays` that count: valid, with weight > 0.
+fn counted<'a>(weights: &[f64], plays: &'a [PointPlay]) -> Vec<&'a PointPlay> {
+    plays
+        .iter()
+        .filter(|p| p.note.is_none() && weights[p.index] > 0.0)
+        .collect()
+}
+
+/// Realised error of `plays` against `strength`·target (weights indexed by
+/// [`PointPlay::index`]). With `strength` `None`, the promise is the
+/// realised strength ŝ (then `error` equals `shape_error`).
+pub fn realised_error(
+    target: &Target,
+    weights: &[f64],
+    plays: &[PointPlay],
+    strength: Option<f64>,
+) -> RealisedError {
+    let ok = counted(weights, plays);
+    let q: Vec<[f64; 2]> = ok.iter().map(|p| p.position).collect();
+    let t: Vec<[f64; 2]> = q.iter().map(|p| target.field.eval(*p)).collect();
+    // ω² (the target's weight multiplies the residual, as in the design's metrics).
+    let w: Vec<f64> = ok.iter().map(|p| weights[p.index].powi(2)).collect();
+    let r: Vec<[f64; 2]> = ok.iter().map(|p| p.realised).collect();
+    let dot = |a: &[[f64; 2]], b: &[[f64; 2]]| -> f64 {
+        a.iter()
+            .zip(b)
+            .zip(&w)
+            .map(|((x, y), w)| w * (x[0] * y[0] + x[1] * y[1]))
+            .sum()
+    };
+    let tt = dot(&t, &t);
+    let s_hat = if tt > 0.0 { dot(&r, &t) / tt } else { 0.0 };
+    let s = strength.unwrap_or(s_hat);
+    let residual = |s: f64| -> Vec<[f64; 2]> {
+        r.iter()
+            .zip(&t)
+            .map(|(a, b)| [a[0] - s * b[0], a[1] - s * b[1]])
+            .collect()
+    };
+    let rel = |s: f64| -> f64 {
+        let e = residual(s);
+        let den = s * s * tt;
+        if den > 0.0 {
+            (dot(&e, &e) / den).sqrt()
+        } else {
+            f64::INFINITY
+        }
+    };
+    RealisedError {
+        strength: s,
+        error: rel(s),
+        realised_strength: s_hat,
+        shape_error: rel(s_hat),
+        decomposition: decompose(&q, &residual(s), &w, (s * s * tt).sqrt()),
+        valid: ok.len(),
+    }
+}
+
+/// Weighted least-squares affine decomposition of `e` over positions `q`,
+/// norms relative to `scale`.
+fn decompose(q: &[[f64; 2]], e: &[[f64; 2]], w: &[f64], scale: f64) -> Decomposition {
+    let n = q.len();
+    let wsum: f64 = w.iter().sum();
+    let mut c = [0.0; 2];
+    if wsum > 0.0 {
+        for (p, wi) in q.iter().zip(w) {
+            c[0] += wi * p[0] / wsum;
+            c[1] += wi * p[1] / wsum;
+        }
+    }
+    // Unknowns: c_x, c_y, α, β, S = [[s1, s2], [s2, −s1]].
+    let mut a = DMatrix::zeros(2 * n, 6);
+    let mut b = DVector::zeros(2 * n);
+    for i in 0..n {
+        let sw = w[i].sqrt();
+        let (x, y) = (q[i][0] - c[0], q[i][1] - c[1]);
+        let f = [[1.0, 0.0], [0.0, 1.0], [x, y], [-y, x], [x, -y], [y, x]];
+        for (k, fk) in f.iter().enumerate() {
+            a[(2 * i, k)] = sw * fk[0];
+            a[(2 * i + 1, k)] = sw * fk[1];
+        }
+        b[2 * i] = sw * e[i][0];
+        b[2 * i + 1] = sw * e[i][1];
+    }
+    let x = a
+        .clone()
+        .svd(true, true)
+        .solve(&b, 1e-12)
+        .unwrap_or_else(|_| DVector::zeros(6));
+    let scale = if scale > 0.0 { scale } else { f64::INFINITY };
+    let part = |ks: &[usize]| -> f64 {
+        let mut v = DVector::zeros(2 * n);
+        for &k in ks {
+            v += a.column(k) * x[k];
+        }
+        v.norm() / scale
+    };
+    Decomposition {
+        isotropic: part(&[2]),
+        rotational: part(&[3]),
+        anisotropic: part(&[4, 5]),
+        offset: part(&[0, 1]),
+        remainder: (&b - &a * &x).norm() / scale,
+        alpha: x[2],
+        beta: x[3],
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::basis::{Primitive, PrimitiveKind};
+    use crate::design::schedule::SolverInfo;
+    use crate::design::Segment;
+    use crate::dynamics::Simulator;
+    use crate::fit::FitMetrics;
+
+    /// A schedule of LineSinks at the given (rotation, cycles).
+    fn line_sinks(parts: &[(f64, u32)]) -> Schedule {
+        let segments: Vec<Segment> = parts
+            .iter()
+            .map(|&(deg, cycles)| {
+                let p = Primitive {
+                    rotation_deg: deg,
+                    ..Primitive::new(PrimitiveKind::LineSink)
+                };
+                Segment {
+                    label: format!("LineSink@{deg}°"),
+                    duration_s: f64::from(cycles) * p.period(),
+                    primitive: Some(p),
+                    weight: 0.0,
+                    cycles,
+                }
+            })
+            .collect();
+        let none = FitMetrics {
+            relative_l2_error: 0.0,
+            mean_angle_error_deg: 0.0,
+            max_error: 0.0,
+            strength: 1.0,
+        };
+        Schedule {
+            target: "t".into(),
+            total_cycles: segments.iter().map(|g| g.cycles).sum(),
+            period_s: segments.iter().map(|g| g.duration_s).sum(),
+            segments,
+            min_cycles: 1,
+            fit: none,
+            fit_quantized: none,
+            quantization_error: 0.0,
+            poor_fit: false,
+            solver: SolverInfo {
+                mode: "shape".into(),
+                status: String::new(),
+                iterations: 0,
+                solve_time_s: 0.0,
+                kkt_residual: 0.0,
+                independent_gap: 0.0,
+            },
+            basis: serde_json::Value::Null,
+            settings: serde_json::Value::Null,
+        }
+    }
+
+    /// Frozen positions, one motion played in two segments of 1 and 2
+    /// cycles: the realised velocity and both contributions are the
+    /// steady-state velocity of the cycle map's fixed point (computed
+    /// independently by [`Simulator::steady_state`]).
+    #[test]
+    fn one_motion_realises_its_steady_state() {
+        let settings = FieldSettings {
+            model: crate::verify::interaction::FROZEN,
+            ..FieldSettings::default()
+        };
+        let schedule = line_sinks(&[(0.0, 1), (0.0, 2)]);
+        let points = [[0.02, 0.01], [-0.03, 0.025]];
+        let plays = play(
+            &schedule,
+            &points,
+            &[0, 1],
+            &settings,
+            &MeasureOptions::default(),
+        )
+        .expect("play");
+        let motion = schedule.segments[0].primitive.as_ref().unwrap().motion();
+        let sim = Simulator::new(
+            &motion,
+            settings.friction,
+            settings.gravity,
+            settings.model,
+            settings.numerics,
+        );
+        for (p, play) in points.iter().zip(&plays) {
+            assert!(play.note.is_none());
+            let v = sim.steady_state(*p).expect("steady state").velocity;
+            let scale = v[0].hypot(v[1]);
+            assert!(scale > 1e-4, "{v:?}");
+            for r in std::iter::once(&play.realised).chain(&play.contributions) {
+                let e = (r[0] - v[0]).hypot(r[1] - v[1]);
+                assert!(e <= 1e-9 * scale, "{r:?} vs {v:?}");
+            }
+            // Frozen: the field belongs to the anchor.
+            assert_eq!(play.position, *p);
+        }
+    }
+
+    /// R = Σ f_i c_i exactly (full model, moving parts, two motions).
+    #[test]
+    fn realised_velocity_is_the_time_weighted_sum_of_contributions() {
+        let schedule = line_sinks(&[(0.0, 2), (90.0, 1), (180.0, 3)]);
+        let points = [[0.02, 0.01], [-0.01, -0.03]];
+        let plays = play(
+            &schedule,
+            &points,
+            &[0, 1],
+            &FieldSettings::default(),
+            &MeasureOptions::default(),
+        )
+        .expect("play");
+        for play in &plays {
+            let mut sum = [0.0; 2];
+            for (g, c) in schedule.segments.iter().zip(&play.contributions) {
+                let f = g.duration_s / schedule.period_s;
+                sum[0] += f * c[0];
+                sum[1] += f * c[1];
+            }
+            let r = play.realised;
+            assert!((sum[0] - r[0]).hypot(sum[1] - r[1]) <= 1e-12 * r[0].hypot(r[1]));
+        }
+    }
+
+    fn sink_target() -> Target {
+        Target::from_json_str(
+            r#"{"name": "s", "grid": {"x": [-0.04, 0.04], "y": [-0.04, 0.04], "n": [5, 5]},
+                "field": {"kind": "sink", "center": [0.0, 0.0], "strength": 1.0}}"#,
+        )
+        .unwrap()
+    }
+
+    /// Synthetic realised fields with known parts: the metrics and the
+    /// decomposition recover them exactly.
+    #[test]
+    fn error_and_decomposition_of_known_fields() {
+        let target = sink_target();
+        let sampled = target.sample().unwrap();
+        let (s, alpha, beta, off) = (0.3, 0.06, 0.015, [0.0003, -0.0001]);
+        let plays: Vec<PointPlay> = sampled
+            .points
+            .iter()
+            .enumerate()
+            .map(|(i, p)| {
+                // R = −(s − α) q + β J q + c
+                let r = [
+                    -(s - alpha) * p[0] - beta * p[1] + off[0],
+                    -(s - alpha) * p[1] + beta * p[0] + off[1],
+                ];
+                PointPlay {
+                    index: i,
+                    position: *p,
+                    realised: r,
+                    contributions: vec![],
+                    note: None,
+                }
+            })
+            .collect();
+        let e = realised_error(&target, &sampled.weights, &plays, Some(s));
+        let d = e.decomposition;
+        assert!((d.alpha - alpha).abs() < 1e-12, "{d:?}");
+        assert!((d.beta - beta).abs() < 1e-12, "{d:?}");
+        assert!(d.anisotropic < 1e-12 && d.remainder < 1e-12, "{d:?}");
+        // On a grid symmetric about the centre the parts are orthogonal:
+        // error² = isotropic² + rotational² + offset².
+        let sum = d.isotropic.powi(2) + d.rotational.powi(2) + d.offset.powi(2);
+        assert!((e.error.powi(2) - sum).abs() < 1e-12, "{e:?}");
+        // The isotropic part alone: α/s (a weaker sink).
+        assert!((d.isotropic - alpha / s).abs() < 1e-12);
+        // ŝ: the rotation and the offset are orthogonal to t on this grid.
+        assert!((e.realised_strength - (s - alpha)).abs() < 1e-12);
+        // Shape residual β J q + c against ŝ t = −(s − α) q.
+        let q2: f64 = sampled
+            .points
+            .iter()
+            .map(|p| p[0] * p[0] + p[1] * p[1])
+            .sum();
+        let off2 = sampled.len() as f64 * (off[0] * off[0] + off[1] * off[1]);
+        let expect = (beta * beta * q2 + off2).sqrt() / ((s - alpha) * q2.sqrt());
+        assert!(
+            (e.shape_error - expect).abs() < 1e-12,
+            "{} vs {expect}",
+            e.shape_error
+        );
+        // Against the design's metric code, with uneven weights.
+        let uneven: Vec<f64> = (0..sampled.len()).map(|i| 0.5 + (i % 3) as f64).collect();
+        let e2 = realised_error(&target, &uneven, &plays, Some(s));
+        let t: Vec<[f64; 2]> = plays
+            .iter()
+            .map(|p| target.field.eval(p.position))
+            .collect();
+        let r: Vec<[f64; 2]> = plays.iter().map(|p| p.realised).collect();
+        let fm = crate::fit::field_metrics(&t, &r, s, Some(&uneven)).unwrap();
+        assert!(
+            (fm.relative_l2_error - e2.error).abs() < 1e-12,
+            "{fm:?} {e2:?}"
+        );
+        // No promise given: the promise is ŝ.
+        let own = realised_error(&target, &sampled.weights, &plays, None);
+        assert_eq!(own.error, own.shape_error);
+        assert!(own.error <= e.error);
+    }
+}
