@@ -29,14 +29,20 @@
 //! [`realised`] compares the realised mean velocity field with the
 //! time-weighted combination of the segments' steady-state fields that the
 //! design predicts; [`interaction`] reproduces DESIGN.md section 6's table of
-//! the interaction error of two sequenced LineSinks.
+//! the interaction error of two sequenced LineSinks; [`rectangles`] plays
+//! uniform rectangles (planar parts) through a schedule.
 
 pub mod interaction;
 pub mod realised;
+pub mod rectangles;
 
 pub use interaction::{interaction_rows, interaction_table, InteractionRow};
 pub use realised::{
     grid_points, verify_points, verify_schedule_file, PointResult, Verification, VerifyOptions,
+};
+pub use rectangles::{
+    play_rectangle, PoseSample, RectangleFailure, RectangleOptions, RectangleRun,
+    RectangleSummary,
 };
 
 use crate::design::Schedule;
