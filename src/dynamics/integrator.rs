@@ -184,15 +184,7 @@ impl<'a> Simulator<'a> {
     /// Normal force N and frictionless tangential acceleration a_free.
     #[inline]
     fn forces(&self, k: &Kinematics, r: &V2, u: &V2, anchor: &V2) -> (f64, V2) {
-        let a = k.acceleration_at(&self.kin_point(r, anchor), self.model.centripetal);
-        let mut n = a.z - k.gravity.z;
-        let mut free = V2::new(k.gravity.x - a.x, k.gravity.y - a.y);
-        if self.model.coriolis {
-            let c = 2.0 * k.omega.cross(&V3::new(u.x, u.y, 0.0));
-            n += c.z;
-            free -= V2::new(c.x, c.y);
-        }
-        (n, free)
+        self.model.point_forces(k, &self.kin_point(r, anchor), u)
     }
 
     /// Break-away margin φ = μ_s N − |a_free| of a stuck part (u = 0), and N.
@@ -300,21 +292,7 @@ impl<'a> Simulator<'a> {
             events: 0,
         };
         let nominal = self.period / self.numerics.steps_per_cycle as f64;
-        let mut edges = vec![t0];
-        if !self.breakpoints.is_empty() {
-            let first = (t0 / self.period).floor() as i64;
-            let last = (t1 / self.period).ceil() as i64;
-            for c in first..=last {
-                for b in &self.breakpoints {
-                    let tb = b + c as f64 * self.period;
-                    if tb > t0 + 1e-12 * self.period && tb < t1 - 1e-12 * self.period {
-                        edges.push(tb);
-                    }
-                }
-            }
-        }
-        edges.push(t1);
-        edges.sort_by(f64::total_cmp);
+        let edges = super::piece_edges(t0, t1, self.period, &self.breakpoints);
         for w in edges.windows(2) {
             let (a, b) = (w[0], w[1]);
             let n = ((b - a) / nominal - 1e-9).ceil().max(1.0) as usize;

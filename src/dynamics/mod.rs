@@ -21,16 +21,47 @@
 //! centripetal part of a_s, the gravity tilt of g_S, the Coriolis term 2Ω×u,
 //! and the part moving during the cycle (kinematics evaluated at the current
 //! position rather than frozen at the start).
+//!
+//! Planar parts (a uniform rectangle in x, y, θ sampled by support points,
+//! each obeying these equations) are in [`PlanarSimulator`].
 
 mod integrator;
+mod planar;
 mod steady;
 
-pub use integrator::{CycleOutcome, PartState, Simulator, TrajectoryPoint};
+pub use integrator::{CycleOutcome, PartState, Simulator, TrajectoryPoint, V2};
+pub use planar::{
+    PlanarOutcome, PlanarSample, PlanarSimulator, PlanarState, Plate, Rectangle,
+    MAX_POINTS_PER_SIDE, PLANAR_REFINE_DEPTH, PLANAR_STEPS_PER_CYCLE, REFINE_CHANGE,
+};
 pub use steady::{SteadyFailure, SteadyState};
 
 use serde::{Deserialize, Serialize};
 
 use crate::error::{non_negative, Error, Result};
+use crate::motion::{Kinematics, V3};
+
+/// The times t0 < … < t1 that split [t0, t1] at the acceleration
+/// `breakpoints` (times in [0, `period`), repeated every period), so that no
+/// integration step straddles a jump.
+pub(crate) fn piece_edges(t0: f64, t1: f64, period: f64, breakpoints: &[f64]) -> Vec<f64> {
+    let mut edges = vec![t0];
+    if !breakpoints.is_empty() {
+        let first = (t0 / period).floor() as i64;
+        let last = (t1 / period).ceil() as i64;
+        for c in first..=last {
+            for b in breakpoints {
+                let tb = b + c as f64 * period;
+                if tb > t0 + 1e-12 * period && tb < t1 - 1e-12 * period {
+                    edges.push(tb);
+                }
+            }
+        }
+    }
+    edges.push(t1);
+    edges.sort_by(f64::total_cmp);
+    edges
+}
 
 /// Which physical terms are modelled.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -74,6 +105,23 @@ impl Model {
                 format!("unknown model \"{other}\" (expected paper or full)"),
             )),
         }
+    }
+
+    /// Normal force per unit mass N and frictionless tangential acceleration
+    /// a_free (the equations above) of a point at plate point `p` slipping
+    /// with velocity `u`, under these switches (`moving` is the caller's:
+    /// `p` is wherever the kinematics are evaluated).
+    #[inline]
+    pub fn point_forces(&self, k: &Kinematics, p: &V3, u: &V2) -> (f64, V2) {
+        let a = k.acceleration_at(p, self.centripetal);
+        let mut n = a.z - k.gravity.z;
+        let mut free = V2::new(k.gravity.x - a.x, k.gravity.y - a.y);
+        if self.coriolis {
+            let c = 2.0 * k.omega.cross(&V3::new(u.x, u.y, 0.0));
+            n += c.z;
+            free -= V2::new(c.x, c.y);
+        }
+        (n, free)
     }
 
     /// Short name: `paper`, `full`, or the list of switches that are on.

@@ -32,11 +32,14 @@
 //! the interaction error of two sequenced LineSinks; [`order`] searches the
 //! segment order and rest insertions that best realise the prediction;
 //! [`squeeze`] reproduces and quantifies the paper's order-dependent offset
-//! of SqueezeTrans's squeeze line.
+//! of SqueezeTrans's squeeze line; [`rectangles`] plays uniform rectangles
+//! (planar parts) through a schedule; [`swarm`] and [`run`] are the
+//! `platefield verify` command (where parts end up, how long they take).
 
 pub mod interaction;
 pub mod order;
 pub mod realised;
+pub mod rectangles;
 pub mod run;
 pub mod squeeze;
 pub mod swarm;
@@ -46,6 +49,10 @@ pub use order::{
     choose_order, order_schedule_file, search_orders, OrderCandidate, OrderOptions, OrderSearch,
 };
 pub use realised::{grid_points, verify_points, PointResult, Verification, VerifyOptions};
+pub use rectangles::{
+    play_rectangle, PoseSample, RectangleFailure, RectangleOptions, RectangleRun,
+    RectangleSummary,
+};
 pub use run::{load_schedule, verify_schedule_file, Duration, VerifyReport, VerifyRequest};
 pub use squeeze::squeeze_order_report;
 pub use swarm::{run_swarm, Swarm, SwarmOptions, SwarmPart};
