@@ -8,9 +8,9 @@ use clap::{Parser, Subcommand};
 use platefield::basis::report::write_primitives;
 use platefield::basis::Library;
 use platefield::basis::PrimitiveKind;
+use platefield::design::closed_loop::{self, closed_loop, LoopOptions};
 use platefield::design::export::signals_csv;
 use platefield::design::quality::write_fit_quality;
-use platefield::design::closed_loop::{self, closed_loop, LoopOptions};
 use platefield::design::{design, report, DesignOptions, Schedule};
 use platefield::dynamics::{Friction, Model, Numerics};
 use platefield::field::FieldKind;
@@ -178,6 +178,12 @@ struct VerifyArgs {
     /// Convergence tolerance on the distance to the target's attractor (m).
     #[arg(long, default_value_t = 0.003, allow_negative_numbers = true)]
     tol: f64,
+    /// Rectangle size LENGTHxWIDTH in metres.
+    #[arg(long, default_value = "0.02x0.005")]
+    rect: String,
+    /// Rectangle start poses (0: no rectangles).
+    #[arg(long, default_value_t = 4)]
+    rect_poses: usize,
     /// Output folder; writes OUT/<target>/verify/{summary.json, trajectories.svg}.
     #[arg(long, default_value = "results")]
     out: PathBuf,
@@ -395,6 +401,20 @@ fn squeeze_order_cmd(out: &std::path::Path) -> Result<()> {
     Ok(())
 }
 
+/// `--rect LENGTHxWIDTH` (metres).
+fn rect_size(text: &str) -> Result<[f64; 2]> {
+    let bad = || {
+        Error::invalid(
+            "--rect",
+            format!("expected LENGTHxWIDTH in metres, e.g. 0.02x0.005, got \"{text}\""),
+        )
+    };
+    let (l, w) = text.split_once(['x', 'X']).ok_or_else(bad)?;
+    let l: f64 = l.trim().parse().map_err(|_| bad())?;
+    let w: f64 = w.trim().parse().map_err(|_| bad())?;
+    Ok([l, w])
+}
+
 fn verify_cmd(args: &VerifyArgs) -> Result<()> {
     use platefield::verify::{Duration, VerifyRequest};
     let model = played_model(args.model.as_deref(), "--model")?;
@@ -417,6 +437,8 @@ fn verify_cmd(args: &VerifyArgs) -> Result<()> {
         swarm: args.swarm,
         duration,
         tol: args.tol,
+        rectangle: rect_size(&args.rect)?,
+        rectangle_poses: args.rect_poses,
     };
     let r = platefield::verify::verify_schedule_file(&args.schedule, &req, &args.out)?;
     if args.json {
@@ -464,6 +486,31 @@ fn verify_cmd(args: &VerifyArgs) -> Result<()> {
             s.duration_s,
             s.contact_lost
         ),
+    }
+    for (k, rect) in r.rectangles.iter().enumerate() {
+        let [x, y, deg] = rect.start_pose;
+        match &rect.summary {
+            Some(sum) => println!(
+                "rectangle {k} ({:.1} × {:.1} mm) from ({:.1}, {:.1}) mm at {deg:.0}°: ends at ({:.2}, {:.2}) mm, long axis at {:.1}°{}{}",
+                1e3 * sum.rectangle.length,
+                1e3 * sum.rectangle.width,
+                1e3 * x,
+                1e3 * y,
+                1e3 * sum.end[0],
+                1e3 * sum.end[1],
+                sum.end_axis_deg,
+                rect.distance_to_attractor_m
+                    .map_or(String::new(), |d| format!(", {:.2} mm from the attractor", 1e3 * d)),
+                rect.angle_to_line_deg
+                    .map_or(String::new(), |a| format!(", {a:.1}° to its line")),
+            ),
+            None => println!(
+                "rectangle {k} from ({:.1}, {:.1}) mm at {deg:.0}°: {}",
+                1e3 * x,
+                1e3 * y,
+                rect.note.as_deref().unwrap_or("")
+            ),
+        }
     }
     for f in &r.files {
         println!("wrote {}", f.display());

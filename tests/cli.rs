@@ -136,7 +136,20 @@ fn verify_json_reports_the_issue_keys_and_rejects_bad_input() {
     let f = v["converged_fraction"].as_f64().unwrap();
     assert!((0.0..=1.0).contains(&f));
     assert!(v["median_time_to_converge_s"].is_number() || v["median_time_to_converge_s"].is_null());
-    assert!(v["rectangles"].is_array());
+    let rects = v["rectangles"].as_array().expect("rectangles");
+    assert_eq!(rects.len(), 4);
+    for r in rects {
+        assert!(
+            r["end_axis_deg"]
+                .as_f64()
+                .is_some_and(|a| (-90.0..=90.0).contains(&a)),
+            "{r}"
+        );
+        // Started 12 mm from the centre (0.3 × the 4 cm region); 3 s in a sink
+        // of strength ~0.3/s takes it to ~5 mm: well within 9 mm.
+        let d = r["distance_to_attractor_m"].as_f64().unwrap();
+        assert!(d < 0.009, "{r}");
+    }
     let written = out.join("small_sink").join("verify");
     assert!(written.join("summary.json").exists() && written.join("trajectories.svg").exists());
 
@@ -146,6 +159,9 @@ fn verify_json_reports_the_issue_keys_and_rejects_bad_input() {
         (vec!["--duration", "2", "--repetitions", "2"], "--duration"),
         (vec!["--duration", "nan"], "--duration"),
         (vec!["--model", "quantum"], "--model"),
+        (vec!["--rect", "0.02"], "--rect"),
+        (vec!["--rect", "0.02x-1"], "--rect"),
+        (vec!["--rect-poses", "100"], "--rect-poses"),
     ] {
         let fresh = dir.join("bad");
         let mut a = vec!["verify", s, "--out", fresh.to_str().unwrap()];

@@ -50,8 +50,7 @@ pub use order::{
 };
 pub use realised::{grid_points, verify_points, PointResult, Verification, VerifyOptions};
 pub use rectangles::{
-    play_rectangle, PoseSample, RectangleFailure, RectangleOptions, RectangleRun,
-    RectangleSummary,
+    play_rectangle, PoseSample, RectangleFailure, RectangleOptions, RectangleRun, RectangleSummary,
 };
 pub use run::{load_schedule, verify_schedule_file, Duration, VerifyReport, VerifyRequest};
 pub use squeeze::squeeze_order_report;

@@ -7,9 +7,13 @@
 //!    ([`super::swarm`]): where they end up, the fraction converged to the
 //!    target's attractor, and the time it takes against the time the
 //!    design's strength predicts.
-//! 3. Files: `summary.json` (everything, per point and per part),
-//!    `trajectories.svg` (the realised field, the parts' paths, the
-//!    attractor). Everything is computed before anything is written, and
+//! 3. Uniform rectangles ([`super::rectangles`], 2 cm × 0.5 cm by default)
+//!    from several start poses for the swarm's duration: final pose, the
+//!    distance to the attractor and, for a line attractor, the angle of the
+//!    long side to the line.
+//! 4. Files: `summary.json` (everything, per point, per part and per
+//!    rectangle), `trajectories.svg` (the realised field, the parts' and
+//!    rectangles' paths, the attractor). Everything is computed before anything is written, and
 //!    each file is written atomically.
 
 use std::path::{Path, PathBuf};
@@ -17,10 +21,12 @@ use std::path::{Path, PathBuf};
 use serde::Serialize;
 
 use super::realised::{verify_points, Verification, VerifyOptions};
+use super::rectangles::{play_rectangle, PoseSample, RectangleOptions, RectangleSummary};
 use super::swarm::{run_swarm, Swarm, SwarmOptions};
-use super::ScheduleMotion;
+use super::{ScheduleMotion, V2};
 use crate::design::Schedule;
 use crate::dynamics::Model;
+use crate::dynamics::Rectangle;
 use crate::error::{Error, Result};
 use crate::field::{FieldSettings, Grid};
 use crate::plot::{Marker, MarkerShape, Overlay, QuiverPlot};
@@ -32,6 +38,7 @@ pub enum Duration {
     /// 1.5 × the longest predicted time to converge from a start point plus
     /// one schedule period, or 10 schedule periods without an attractor;
     /// at most [`MAX_AUTO_PERIODS`].
+    /// Rectangles play at least [`RECT_MIN_AUTO_S`].
     Auto,
     /// At least this many seconds (rounded up to whole schedule periods).
     Seconds(f64),
@@ -59,6 +66,10 @@ pub struct VerifyRequest {
     pub duration: Duration,
     /// Convergence tolerance (m).
     pub tol: f64,
+    /// Rectangle length and width (m).
+    pub rectangle: [f64; 2],
+    /// Rectangle start poses (0: none).
+    pub rectangle_poses: usize,
 }
 
 impl Default for VerifyRequest {
@@ -71,6 +82,8 @@ impl Default for VerifyRequest {
             swarm: 9,
             duration: Duration::Auto,
             tol: 0.003,
+            rectangle: [0.02, 0.005],
+            rectangle_poses: 4,
         }
     }
 }
@@ -102,6 +115,15 @@ impl VerifyRequest {
             Duration::Repetitions(n) => range("--repetitions", u64::from(n), 1, 10_000)?,
             _ => {}
         }
+        range("--rect-poses", self.rectangle_poses as u64, 0, 64)?;
+        for (v, what) in self.rectangle.iter().zip(["length", "width"]) {
+            if !(v.is_finite() && *v > 0.0 && *v <= 0.2) {
+                return Err(Error::invalid(
+                    "--rect",
+                    format!("{what} must be in (0, 0.2] m, got {v}"),
+                ));
+            }
+        }
         if !(self.tol.is_finite() && self.tol > 0.0 && self.tol <= 0.1) {
             return Err(Error::invalid(
                 "--tol",
@@ -119,6 +141,8 @@ pub struct VerifyReport {
     pub verification: Verification,
     /// The swarm.
     pub swarm: Swarm,
+    /// The rectangles.
+    pub rectangles: Vec<RectangleResult>,
     /// The summary JSON written.
     pub summary_json: String,
     /// Files written.
@@ -219,9 +243,133 @@ pub fn swarm_periods(
     }
 }
 
+/// With an automatic duration rectangles play at least this long (s):
+/// turning a 2 cm strip onto a LineSink's line takes about 10 s
+/// (`tests/planar.rs`), longer than a point part needs to reach it.
+pub const RECT_MIN_AUTO_S: f64 = 20.0;
+
+/// Support points along a rectangle's length (its width gets the same
+/// spacing, at least one row): 16 along 2 cm resolves the friction torque
+/// to about 1 % (`tests/planar.rs`).
+pub const RECT_POINTS_ALONG: usize = 16;
+
+/// A rectangle of `size` = [length, width] sampled by support points at
+/// the spacing of [`RECT_POINTS_ALONG`] points along its length.
+pub fn sampled_rectangle(size: [f64; 2]) -> Rectangle {
+    let ny = ((RECT_POINTS_ALONG as f64 * size[1] / size[0]).round() as usize)
+        .clamp(1, crate::dynamics::MAX_POINTS_PER_SIDE);
+    Rectangle::new(size[0], size[1], RECT_POINTS_ALONG, ny)
+}
+
+/// `n` start poses (centre, angle in rad) spread over the region: on a
+/// circle of 0.6 × the smaller half-extent around the region's centre, at
+/// angles 45° + k·360°/n, each rectangle turned by k·(180°/n) + 30°.
+pub fn rectangle_poses(g: &Grid, n: usize) -> Vec<(V2, f64)> {
+    let c = V2::new(0.5 * (g.x[0] + g.x[1]), 0.5 * (g.y[0] + g.y[1]));
+    let rad = 0.3 * (g.x[1] - g.x[0]).min(g.y[1] - g.y[0]);
+    (0..n)
+        .map(|k| {
+            let phi = std::f64::consts::FRAC_PI_4 + std::f64::consts::TAU * k as f64 / n as f64;
+            let theta = (30.0 + 180.0 * k as f64 / n as f64).to_radians();
+            (c + V2::new(phi.cos(), phi.sin()) * rad, theta)
+        })
+        .collect()
+}
+
+/// One rectangle of a verification.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RectangleResult {
+    /// Start pose and final pose.
+    #[serde(flatten)]
+    pub summary: Option<RectangleSummary>,
+    /// Start centre (m) and angle (degrees), also for a failed run.
+    pub start_pose: [f64; 3],
+    /// Distance of the final centre to the target's attractor (m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub distance_to_attractor_m: Option<f64>,
+    /// For a line attractor: the angle between the long side and the line
+    /// (degrees, in [0, 90]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub angle_to_line_deg: Option<f64>,
+    /// Why the run failed (the rectangle left the plate).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub note: Option<String>,
+    /// Poses at the start and at every segment end.
+    #[serde(skip)]
+    pub trajectory: Vec<PoseSample>,
+}
+
+/// Plays rectangles of `size` from `poses` for `periods` schedule periods
+/// (whole periods, so the final pose is at the end of a cycle), in
+/// parallel, collected in input order.
+pub fn run_rectangles(
+    sm: &ScheduleMotion,
+    size: [f64; 2],
+    poses: &[(V2, f64)],
+    periods: u32,
+    attractor: Option<&Attractor>,
+    opts: &RectangleOptions,
+) -> Vec<RectangleResult> {
+    use rayon::prelude::*;
+    let rect = sampled_rectangle(size);
+    let duration = f64::from(periods) * sm.period();
+    poses
+        .par_iter()
+        .map(|&(r, theta)| {
+            let start_pose = [r.x, r.y, theta.to_degrees()];
+            match play_rectangle(sm, &rect, (r, theta), duration, opts) {
+                Ok(run) => {
+                    let s = run.summary();
+                    let angle_to_line_deg = match attractor {
+                        Some(Attractor::Line { direction, .. }) => {
+                            let line = direction[1].atan2(direction[0]).to_degrees();
+                            let d = (s.end_theta_deg - line).rem_euclid(180.0);
+                            Some(d.min(180.0 - d))
+                        }
+                        _ => None,
+                    };
+                    RectangleResult {
+                        distance_to_attractor_m: attractor.map(|a| a.distance(s.end)),
+                        angle_to_line_deg,
+                        start_pose,
+                        note: None,
+                        trajectory: run.trajectory,
+                        summary: Some(s),
+                    }
+                }
+                Err(e) => RectangleResult {
+                    summary: None,
+                    start_pose,
+                    distance_to_attractor_m: None,
+                    angle_to_line_deg: None,
+                    note: Some(e.to_string()),
+                    trajectory: Vec::new(),
+                },
+            }
+        })
+        .collect()
+}
+
+/// The outline of a rectangle of `size` at centre `r`, angle `deg`.
+fn outline(size: [f64; 2], r: [f64; 2], deg: f64) -> Vec<[f64; 2]> {
+    let (s, c) = deg.to_radians().sin_cos();
+    let (a, b) = (0.5 * size[0], 0.5 * size[1]);
+    [(-a, -b), (a, -b), (a, b), (-a, b), (-a, -b)]
+        .iter()
+        .map(|&(x, y)| [r[0] + c * x - s * y, r[1] + s * x + c * y])
+        .collect()
+}
+
 /// The trajectory figure: realised mean velocity arrows, part paths (start
 /// dots, end squares), the attractor (+) when there is one.
-pub fn trajectory_svg(name: &str, g: &Grid, v: &Verification, swarm: &Swarm) -> String {
+pub fn trajectory_svg(
+    name: &str,
+    g: &Grid,
+    v: &Verification,
+    swarm: &Swarm,
+    rects: &[RectangleResult],
+    size: [f64; 2],
+) -> String {
     let pts: Vec<[f64; 2]> = v.points.iter().map(|p| p.start).collect();
     let vecs: Vec<[f64; 2]> = v.points.iter().map(|p| p.realised).collect();
     let mut plot = QuiverPlot::new(
@@ -254,6 +402,18 @@ pub fn trajectory_svg(name: &str, g: &Grid, v: &Verification, swarm: &Swarm) -> 
                     .shape(MarkerShape::Square)
                     .color(if p.converged { "#000000" } else { "#d62728" }),
             );
+    }
+    for r in rects {
+        if let (Some(first), Some(last)) = (r.trajectory.first(), r.trajectory.last()) {
+            plot = plot
+                .overlay(Overlay::new(r.trajectory.iter().map(|p| p.r).collect()).color("#9467bd"))
+                .overlay(
+                    Overlay::new(outline(size, first.r, first.theta_deg))
+                        .color("#9467bd")
+                        .dashed(),
+                )
+                .overlay(Overlay::new(outline(size, last.r, last.theta_deg)).color("#000000"));
+        }
     }
     match swarm.attractor {
         Some(Attractor::Point { center, .. }) => {
@@ -330,6 +490,28 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest, out: &Path) -> Res
         },
     );
 
+    let rect_opts = RectangleOptions {
+        friction: opts.friction,
+        gravity: opts.gravity,
+        model: crate::dynamics::Model {
+            moving: true,
+            ..opts.model
+        },
+        ..RectangleOptions::default()
+    };
+    let rect_periods = match req.duration {
+        Duration::Auto => periods.max((RECT_MIN_AUTO_S / sm.period()).ceil() as u32),
+        _ => periods,
+    };
+    let rectangles = run_rectangles(
+        &sm,
+        req.rectangle,
+        &rectangle_poses(&g, req.rectangle_poses),
+        rect_periods,
+        attractor.as_ref(),
+        &rect_opts,
+    );
+
     #[derive(Serialize)]
     struct Summary<'a> {
         realised_vs_predicted_relative_error: f64,
@@ -337,7 +519,7 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest, out: &Path) -> Res
         median_time_to_converge_s: Option<f64>,
         median_predicted_time_to_converge_s: Option<f64>,
         time_ratio_measured_over_predicted: Option<f64>,
-        rectangles: Vec<serde_json::Value>,
+        rectangles: &'a [RectangleResult],
         target: &'a str,
         schedule_period_s: f64,
         model: &'a str,
@@ -361,7 +543,7 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest, out: &Path) -> Res
         median_time_to_converge_s: swarm.median_time_to_converge_s,
         median_predicted_time_to_converge_s: swarm.median_predicted_time_s,
         time_ratio_measured_over_predicted: swarm.time_ratio,
-        rectangles: Vec::new(),
+        rectangles: &rectangles,
         target: name,
         schedule_period_s: v.schedule_period_s,
         model: &v.model,
@@ -380,7 +562,7 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest, out: &Path) -> Res
     let mut text =
         serde_json::to_string_pretty(&summary).map_err(|e| Error::Physical(e.to_string()))?;
     text.push('\n');
-    let svg = trajectory_svg(name, &g, &v, &swarm);
+    let svg = trajectory_svg(name, &g, &v, &swarm, &rectangles, req.rectangle);
     let dir = out.join(name).join("verify");
     let files = vec![dir.join("summary.json"), dir.join("trajectories.svg")];
     crate::output::write_atomic(&files[0], text.as_bytes())?;
@@ -388,6 +570,7 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest, out: &Path) -> Res
     Ok(VerifyReport {
         verification: v,
         swarm,
+        rectangles,
         summary_json: text,
         files,
     })
