@@ -362,6 +362,7 @@ mod tests {
         };
         Schedule {
             target: "t".into(),
+            target_spec: None,
             total_cycles: segments.iter().map(|g| g.cycles).sum(),
             period_s: segments.iter().map(|g| g.duration_s).sum(),
             segments,
