@@ -24,7 +24,7 @@ use super::{Join, PlayedSegment, ScheduleMotion};
 use crate::basis::primitives::PSI0;
 use crate::basis::{Primitive, PrimitiveKind};
 use crate::dynamics::Model;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::motion::{Motion, Waveform};
 
 /// Cycles per segment in the table.
@@ -88,19 +88,10 @@ pub fn interaction_error(
         ..VerifyOptions::default()
     };
     let v = verify_points(&sm, &grid_points(n, half), &opts);
-    if v.valid != n * n {
-        let why = v
-            .points
-            .iter()
-            .find_map(|p| p.note.clone())
-            .unwrap_or_default();
-        return Err(Error::Physical(format!(
-            "interaction ({cycles} cycles, {}): {} of {} points invalid: {why}",
-            if sine { "sine" } else { "rest-to-rest" },
-            n * n - v.valid,
-            n * n
-        )));
-    }
+    v.require_all_valid(&format!(
+        "interaction ({cycles} cycles, {})",
+        if sine { "sine" } else { "rest-to-rest" }
+    ))?;
     Ok(v.relative_error)
 }
 

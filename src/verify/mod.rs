@@ -182,6 +182,15 @@ impl ScheduleMotion {
         self.period
     }
 
+    /// Time (s) per period in which the plate moves (rest segments excluded).
+    pub fn moving_time(&self) -> f64 {
+        self.segments
+            .iter()
+            .filter(|s| s.motion.is_some())
+            .map(|s| s.duration)
+            .sum()
+    }
+
     /// Time fraction of each segment.
     pub fn fractions(&self) -> Vec<f64> {
         self.segments

@@ -248,12 +248,7 @@ fn evaluate(
     let played = arrange(segments, order, rest_cycles, t_rest);
     let sm = ScheduleMotion::new(played)?;
     let p = sm.period();
-    let moving: f64 = sm
-        .segments()
-        .iter()
-        .filter(|s| s.motion.is_some())
-        .map(|s| s.duration)
-        .sum();
+    let moving = sm.moving_time();
     let rest_joins = (0..order.len())
         .filter(|&k| rest_after(segments, order, k))
         .count();

@@ -114,6 +114,26 @@ pub struct Verification {
     pub points: Vec<PointResult>,
 }
 
+impl Verification {
+    /// `Ok` when every point is valid, else a [`Error::Physical`] naming
+    /// `context`, how many points are invalid and the first reason.
+    pub fn require_all_valid(&self, context: &str) -> crate::error::Result<()> {
+        let n = self.points.len();
+        if self.valid == n {
+            return Ok(());
+        }
+        let why = self
+            .points
+            .iter()
+            .find_map(|p| p.note.clone())
+            .unwrap_or_default();
+        Err(crate::error::Error::Physical(format!(
+            "{context}: {} of {n} points invalid: {why}",
+            n - self.valid
+        )))
+    }
+}
+
 /// `n × n` points over ±`half` (m), row-major (y outer).
 pub fn grid_points(n: usize, half: f64) -> Vec<[f64; 2]> {
     Grid {

@@ -224,18 +224,7 @@ pub fn squeeze_options(sm: &ScheduleMotion, model: Model) -> VerifyOptions {
 pub fn line_offset(sm: &ScheduleMotion, model: Model) -> Result<LineOffset> {
     let pts = line_points();
     let v = verify_points(sm, &pts, &squeeze_options(sm, model));
-    if v.valid != pts.len() {
-        let why = v
-            .points
-            .iter()
-            .find_map(|p| p.note.clone())
-            .unwrap_or_default();
-        return Err(Error::Physical(format!(
-            "squeeze line: {} of {} points invalid: {why}",
-            pts.len() - v.valid,
-            pts.len()
-        )));
-    }
+    v.require_all_valid("squeeze line")?;
     let pos: Vec<[f64; 2]> = v.points.iter().map(|p| p.position).collect();
     let real: Vec<[f64; 2]> = v.points.iter().map(|p| p.realised).collect();
     let pred: Vec<[f64; 2]> = v.points.iter().map(|p| p.predicted).collect();
@@ -246,12 +235,7 @@ pub fn line_offset(sm: &ScheduleMotion, model: Model) -> Result<LineOffset> {
             ))
         })
     };
-    let moving: f64 = sm
-        .segments()
-        .iter()
-        .filter(|s| s.motion.is_some())
-        .map(|s| s.duration)
-        .sum();
+    let moving = sm.moving_time();
     Ok(LineOffset {
         realised: fit(&real, "realised")?,
         predicted: fit(&pred, "predicted")?,
