@@ -7,7 +7,7 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 
-use platefield::basis::speed::build_force_library;
+use platefield::studies::speed::build_force_library;
 
 fn library(c: &mut Criterion) {
     let mut group = c.benchmark_group("library");

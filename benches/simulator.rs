@@ -3,7 +3,7 @@
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 
 use platefield::dynamics::{Friction, Model, Numerics, Simulator};
-use platefield::linesink::{LineSink, Wave};
+use platefield::studies::linesink::{LineSink, Wave};
 
 fn shaker(wave: Wave, accel: f64, depth: f64) -> LineSink {
     LineSink {

@@ -7,7 +7,7 @@
 //!
 //! The modules follow the data path:
 //! [`motion`] (plate kinematics) → [`dynamics`] (point parts with exact
-//! stick-slip) → [`linesink`] (the paper's section II analysis).
+//! stick-slip) → …; the paper's studies are in [`studies`].
 #![warn(missing_docs)]
 
 pub mod basis;
@@ -16,12 +16,11 @@ pub mod dynamics;
 pub mod error;
 pub mod field;
 pub mod fit;
-pub mod linesink;
 pub mod motion;
 pub mod output;
 pub mod plot;
-pub mod reproduce;
 pub mod scene;
+pub mod studies;
 pub mod target;
 pub mod verify;
 

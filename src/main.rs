@@ -5,20 +5,21 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
-use platefield::basis::report::write_primitives;
 use platefield::basis::Library;
 use platefield::basis::PrimitiveKind;
 use platefield::design::closed_loop::{self, closed_loop, LoopOptions};
 use platefield::design::export::signals_csv;
-use platefield::design::quality::write_fit_quality;
 use platefield::design::{design, report, DesignOptions, Schedule};
 use platefield::dynamics::{Friction, Model, Numerics};
 use platefield::field::FieldKind;
 use platefield::field::{FieldSettings, Grid};
 use platefield::fit::FitMode;
-use platefield::linesink::LineSink;
+use platefield::studies::fit_quality::write_fit_quality;
+use platefield::studies::linesink::LineSink;
+use platefield::studies::primitives::write_primitives;
+use platefield::studies::reproduce;
 use platefield::target::Target;
-use platefield::{reproduce, Error, Result};
+use platefield::{Error, Result};
 
 #[derive(Parser)]
 #[command(
@@ -97,7 +98,7 @@ enum Command {
         /// Largest accepted relative L2 error against the full model.
         #[arg(
             long,
-            default_value_t = platefield::basis::rung::DEFAULT_RUNG_TOLERANCE,
+            default_value_t = platefield::studies::rung::DEFAULT_RUNG_TOLERANCE,
             allow_negative_numbers = true
         )]
         tolerance: f64,
@@ -343,7 +344,7 @@ built {} primitives × 2 fields on {}×{} in {elapsed:.2} s; wrote {}",
 }
 
 fn rungs(out: &std::path::Path, tolerance: f64) -> Result<()> {
-    use platefield::basis::rung;
+    use platefield::studies::rung;
     platefield::error::non_negative("--tolerance", tolerance)?;
     let reports = rung::default_reports(tolerance);
     print!("{}", rung::write_reports(out, &reports, tolerance)?);
@@ -356,7 +357,7 @@ fn rungs(out: &std::path::Path, tolerance: f64) -> Result<()> {
 fn played_model(name: Option<&str>, flag: &str) -> Result<Option<Model>> {
     Ok(match name {
         None => None,
-        Some("frozen") => Some(platefield::verify::interaction::FROZEN),
+        Some("frozen") => Some(Model::FROZEN),
         Some(name) => Some(Model::preset(name, flag).map_err(|_| {
             Error::invalid(
                 flag,
@@ -391,7 +392,10 @@ fn order_cmd(
 
 fn squeeze_order_cmd(out: &std::path::Path) -> Result<()> {
     let start = std::time::Instant::now();
-    print!("{}", platefield::verify::squeeze_order_report(out)?);
+    print!(
+        "{}",
+        platefield::studies::squeeze_order::squeeze_order_report(out)?
+    );
     println!(
         "wrote {} and {} ({:.1} s)",
         out.join("squeeze_trans_order.md").display(),
@@ -519,13 +523,16 @@ fn verify_cmd(args: &VerifyArgs) -> Result<()> {
 }
 
 fn interaction_cmd(out: &std::path::Path) -> Result<()> {
-    print!("{}", platefield::verify::interaction_table(out)?);
+    print!(
+        "{}",
+        platefield::studies::interaction::interaction_table(out)?
+    );
     println!("wrote {}", out.join("sink_interaction.md").display());
     Ok(())
 }
 
 fn speed(out: &std::path::Path) -> Result<()> {
-    print!("{}", platefield::basis::speed::library_speed(out)?);
+    print!("{}", platefield::studies::speed::library_speed(out)?);
     println!("wrote {}", out.join("library_speed.md").display());
     Ok(())
 }

@@ -8,10 +8,10 @@ use std::collections::HashSet;
 use std::path::PathBuf;
 
 use platefield::basis::primitives::PSI0;
-use platefield::basis::rung::{choose_rung, DEFAULT_RUNG_TOLERANCE};
 use platefield::basis::symmetry::{source_grid, transformed};
 use platefield::basis::{BasisCache, CacheStatus, Library, Primitive, PrimitiveKind};
 use platefield::field::{Field, FieldKind, FieldSettings, Grid, Validity};
+use platefield::studies::rung::{choose_rung, DEFAULT_RUNG_TOLERANCE};
 
 /// 9 × 9 over ±4 cm, symmetric about both axes.
 const GRID9: Grid = Grid {
@@ -52,7 +52,7 @@ fn max_rel_diff(a: &Field, b: &Field) -> (f64, usize) {
 
 /// Relative L2 difference over samples valid in both.
 fn rel_l2(a: &Field, b: &Field) -> f64 {
-    platefield::basis::rung::relative_l2(a, b).0
+    platefield::studies::rung::relative_l2(a, b).0
 }
 
 /// A 9 × 9 grid over ±5/128 m (≈ ±3.9 cm) whose coordinates are dyadic

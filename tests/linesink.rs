@@ -2,8 +2,8 @@
 //! contact loss, symmetries and convergence.
 
 use platefield::dynamics::{Friction, Model, Numerics};
-use platefield::linesink::{LineSink, Wave};
 use platefield::motion::V3;
+use platefield::studies::linesink::{LineSink, Wave};
 
 fn shaker(wave: Wave, accel: f64, depth: f64, period: f64, mu: f64) -> LineSink {
     LineSink {

@@ -1,6 +1,6 @@
 //! Segment order and rest (`platefield::verify::order`) and the
 //! order-dependent offset of SqueezeTrans's squeeze line
-//! (`platefield::verify::squeeze`).
+//! (`platefield::studies::squeeze_order`).
 
 mod common;
 
@@ -9,12 +9,12 @@ use std::collections::BTreeSet;
 use common::platefield;
 use platefield::basis::PrimitiveKind;
 use platefield::design::Schedule;
-use platefield::verify::interaction::FROZEN;
-use platefield::verify::order::{choose, region_grid};
-use platefield::verify::run::load_schedule;
-use platefield::verify::squeeze::{
+use platefield::dynamics::Model;
+use platefield::studies::squeeze_order::{
     join_budget, line_offset, segment, three_segment, two_primitive, ThreeOrder,
 };
+use platefield::verify::order::{choose, region_grid};
+use platefield::verify::run::load_schedule;
 use platefield::verify::{
     choose_order, search_orders, OrderOptions, OrderSearch, PlayedSegment, ScheduleMotion,
     VerifyOptions,
@@ -23,7 +23,7 @@ use platefield::verify::{
 const MM: f64 = 1e-3;
 
 fn offset(sm: &ScheduleMotion) -> f64 {
-    line_offset(sm, FROZEN).unwrap().offset()
+    line_offset(sm, Model::FROZEN).unwrap().offset()
 }
 
 /// The paper's two-primitive SqueezeTrans (frozen positions): the realised
@@ -98,7 +98,7 @@ fn three_segment_orders_shift_the_line_oppositely() {
 fn join_budget_accounts_for_the_offset() {
     for (rest, tol) in [(1, 0.05), (0, 0.25)] {
         let sm = two_primitive(90.0, 0.0, 10, rest).unwrap();
-        let line = line_offset(&sm, FROZEN).unwrap();
+        let line = line_offset(&sm, Model::FROZEN).unwrap();
         let budget = join_budget(&sm, [0.0, line.predicted.y0]).unwrap();
         let bias: f64 = budget.iter().map(|b| b.excess).sum::<f64>() / sm.period();
         let estimate = -bias / line.realised.slope;
@@ -124,7 +124,7 @@ fn options(points: Vec<[f64; 2]>, rest: Vec<u32>) -> OrderOptions {
         warmup_cycles: 20,
         ..OrderOptions::new(
             VerifyOptions {
-                model: FROZEN,
+                model: Model::FROZEN,
                 ..VerifyOptions::default()
             },
             points,

@@ -9,8 +9,8 @@ use std::path::{Path, PathBuf};
 
 use platefield::dynamics::Friction;
 use platefield::field::{Field, Validity};
-use platefield::linesink::{LineSink, Wave};
 use platefield::scene::Scene;
+use platefield::studies::linesink::{LineSink, Wave};
 use serde_json::{json, Value};
 
 fn scenes_dir() -> PathBuf {

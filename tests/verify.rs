@@ -3,7 +3,7 @@
 use platefield::basis::{Primitive, PrimitiveKind};
 use platefield::dynamics::{Friction, Model, Numerics, PartState, Simulator};
 use platefield::motion::{Motion, Screw, Waveform};
-use platefield::verify::interaction::{interaction_error, FROZEN};
+use platefield::studies::interaction::interaction_error;
 use platefield::verify::{
     grid_points, rest, verify_points, Join, PlayedSegment, ScheduleMotion, VerifyOptions, V2,
 };
@@ -77,7 +77,7 @@ fn single_primitive_schedule_matches_its_steady_state() {
     let pts = grid_points(3, 0.03);
     let sm = single(PrimitiveKind::LineSink, 10);
     let frozen = VerifyOptions {
-        model: FROZEN,
+        model: Model::FROZEN,
         warmup_periods: 2,
         ..VerifyOptions::default()
     };
@@ -113,7 +113,7 @@ fn single_primitive_schedule_matches_its_steady_state() {
 fn interaction_error_decreases_with_cycles() {
     let e: Vec<f64> = [1, 3, 10]
         .iter()
-        .map(|&c| interaction_error(c, false, 3, 0.04, FROZEN, Join::Inertial).unwrap())
+        .map(|&c| interaction_error(c, false, 3, 0.04, Model::FROZEN, Join::Inertial).unwrap())
         .collect();
     assert!(e[0] > e[1] && e[1] > e[2], "{e:?}");
     assert!(e[2] < 0.1 && e[0] > 0.3, "{e:?}");
@@ -123,10 +123,10 @@ fn interaction_error_decreases_with_cycles() {
 /// rule does not matter; with a sine it does.
 #[test]
 fn join_rule_matters_only_when_the_plate_velocity_jumps() {
-    let r2r_a = interaction_error(1, false, 2, 0.03, FROZEN, Join::Inertial).unwrap();
-    let r2r_b = interaction_error(1, false, 2, 0.03, FROZEN, Join::Slip).unwrap();
+    let r2r_a = interaction_error(1, false, 2, 0.03, Model::FROZEN, Join::Inertial).unwrap();
+    let r2r_b = interaction_error(1, false, 2, 0.03, Model::FROZEN, Join::Slip).unwrap();
     assert_eq!(r2r_a, r2r_b);
-    let s_a = interaction_error(1, true, 2, 0.03, FROZEN, Join::Inertial).unwrap();
-    let s_b = interaction_error(1, true, 2, 0.03, FROZEN, Join::Slip).unwrap();
+    let s_a = interaction_error(1, true, 2, 0.03, Model::FROZEN, Join::Inertial).unwrap();
+    let s_b = interaction_error(1, true, 2, 0.03, Model::FROZEN, Join::Slip).unwrap();
     assert!((s_a - s_b).abs() > 0.05, "{s_a} {s_b}");
 }

@@ -6,7 +6,6 @@ use indicatif::{ProgressBar, ProgressStyle};
 use serde::{Deserialize, Serialize};
 
 use super::primitives::{Primitive, PrimitiveKind};
-use super::table1::{self, FormFit};
 use crate::field::{Field, FieldKind, FieldSettings, Grid};
 
 /// One primitive with its fields.
@@ -18,16 +17,6 @@ pub struct LibraryEntry {
     pub force: Field,
     /// Steady-state velocity field.
     pub velocity: Field,
-}
-
-impl LibraryEntry {
-    /// Table I fits of the force and velocity fields.
-    pub fn fits(&self) -> (FormFit, FormFit) {
-        (
-            table1::fit(self.primitive.kind, &self.force),
-            table1::fit(self.primitive.kind, &self.velocity),
-        )
-    }
 }
 
 /// A built library.

@@ -1,16 +1,12 @@
-//! Basis fields: the primitive library simulated into fields, fitted to the
-//! paper's Table I, reused by symmetry ([`symmetry`]), cached on disk
-//! ([`cache`]), with the cheapest adequate model chosen per scene
-//! ([`rung`]) and its speed against error measured ([`speed`]).
+//! Basis fields: the primitive library simulated into fields, reused by
+//! symmetry ([`symmetry`]) and cached on disk ([`cache`]). The fits to the
+//! paper's Table I, the model rungs and the library's speed against error
+//! are studies ([`crate::studies`]).
 
 pub mod cache;
 pub mod library;
 pub mod primitives;
-pub mod report;
-pub mod rung;
-pub mod speed;
 pub mod symmetry;
-pub mod table1;
 
 pub use cache::{BasisCache, CacheStatus};
 pub use library::{Library, LibraryEntry};

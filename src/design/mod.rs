@@ -17,7 +17,6 @@
 pub mod basis;
 pub mod closed_loop;
 pub mod export;
-pub mod quality;
 pub mod report;
 pub mod schedule;
 

@@ -94,6 +94,13 @@ impl Model {
         coriolis: true,
         moving: true,
     };
+    /// Everything on but `moving`: the kinematics held at the part's start
+    /// point (the local field). Exact for comparing realised and predicted
+    /// fields when parts drift far over a schedule period.
+    pub const FROZEN: Model = Model {
+        moving: false,
+        ..Model::FULL
+    };
 
     /// A preset by name (`paper` or `full`).
     pub fn preset(name: &str, field: &str) -> Result<Model> {

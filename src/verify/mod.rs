@@ -28,23 +28,18 @@
 //!
 //! [`realised`] compares the realised mean velocity field with the
 //! time-weighted combination of the segments' steady-state fields that the
-//! design predicts; [`interaction`] reproduces DESIGN.md section 6's table of
-//! the interaction error of two sequenced LineSinks; [`order`] searches the
+//! design predicts; [`order`] searches the
 //! segment order and rest insertions that best realise the prediction;
-//! [`squeeze`] reproduces and quantifies the paper's order-dependent offset
-//! of SqueezeTrans's squeeze line; [`rectangles`] plays uniform rectangles
+//! [`rectangles`] plays uniform rectangles
 //! (planar parts) through a schedule; [`swarm`] and [`run`] are the
 //! `platefield verify` command (where parts end up, how long they take).
 
-pub mod interaction;
 pub mod order;
 pub mod realised;
 pub mod rectangles;
 pub mod run;
-pub mod squeeze;
 pub mod swarm;
 
-pub use interaction::{interaction_rows, interaction_table, InteractionRow};
 pub use order::{
     choose_order, order_schedule_file, search_orders, OrderCandidate, OrderOptions, OrderSearch,
 };
@@ -53,7 +48,6 @@ pub use rectangles::{
     play_rectangle, PoseSample, RectangleFailure, RectangleOptions, RectangleRun, RectangleSummary,
 };
 pub use run::{load_schedule, verify_schedule_file, Duration, VerifyReport, VerifyRequest};
-pub use squeeze::squeeze_order_report;
 pub use swarm::{run_swarm, Swarm, SwarmOptions, SwarmPart};
 
 use crate::design::{Schedule, Segment};

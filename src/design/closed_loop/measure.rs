@@ -391,7 +391,7 @@ mod tests {
     #[test]
     fn one_motion_realises_its_steady_state() {
         let settings = FieldSettings {
-            model: crate::verify::interaction::FROZEN,
+            model: crate::dynamics::Model::FROZEN,
             ..FieldSettings::default()
         };
         let schedule = line_sinks(&[(0.0, 1), (0.0, 2)]);

@@ -34,7 +34,7 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-use super::library::Library;
+use crate::basis::Library;
 use crate::dynamics::Model;
 use crate::error::{non_negative, Result};
 use crate::field::{Field, FieldKind, FieldSettings, Grid, Validity};

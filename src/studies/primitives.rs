@@ -4,7 +4,8 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use super::library::Library;
+use super::table1;
+use crate::basis::Library;
 use crate::error::Result;
 use crate::output::write_atomic;
 
@@ -56,7 +57,10 @@ pub fn write_primitives(lib: &Library, out: &Path) -> Result<String> {
                 .to_svg()
                 .as_bytes(),
         )?;
-        let (ff, fv) = e.fits();
+        let (ff, fv) = (
+            table1::fit(e.primitive.kind, &e.force),
+            table1::fit(e.primitive.kind, &e.velocity),
+        );
         let coef = |c: &[f64]| {
             c.iter()
                 .map(|x| format!("{x:.4}"))

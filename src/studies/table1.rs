@@ -10,7 +10,7 @@
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
-use super::primitives::PrimitiveKind;
+use crate::basis::PrimitiveKind;
 use crate::field::{Field, Validity};
 
 /// A fitted Table I form.

@@ -8,9 +8,9 @@ use std::path::Path;
 
 use nalgebra::Vector2;
 
+use super::linesink::{LineSink, Wave};
 use crate::dynamics::{Friction, Model, Numerics, PartState, Simulator};
 use crate::error::{Error, Result};
-use crate::linesink::{LineSink, Wave};
 use crate::output::write_atomic;
 use crate::plot::{LegendPosition, LinePlot, Series};
 

@@ -24,8 +24,8 @@ use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
 
-use super::library::Library;
 use super::rung::relative_l2;
+use crate::basis::Library;
 use crate::error::Result;
 use crate::field::{Field, FieldKind, FieldSettings, Grid};
 use crate::output::write_atomic;

@@ -4,7 +4,7 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use super::{design, DesignOptions};
+use crate::design::{design, DesignOptions};
 use crate::error::Result;
 use crate::fit::FitMode;
 use crate::output::write_atomic;

@@ -1,0 +1,25 @@
+//! Paper reproductions and benchmarks-as-commands, kept apart from the
+//! product: each module is one study behind one subcommand and writes its
+//! files under `results/`. Studies import product modules; no product module
+//! imports a study.
+//!
+//! | module | command | writes |
+//! |---|---|---|
+//! | [`linesink`] | `platefield linesink` | — (the section II one-axis shaker against eq. 17) |
+//! | [`reproduce`] | `platefield reproduce` | `linesink_fig3.{csv,svg}`, `linesink_terms.md`, `linesink_travel.csv`, `linesink_convergence.md` |
+//! | [`primitives`], [`table1`] | `platefield primitives` | `primitives/` fields, plots, `table1.md` |
+//! | [`rung`] | `platefield rungs` | `primitives/rungs.md` |
+//! | [`speed`] | `platefield speed` | `library_speed.md` |
+//! | [`fit_quality`] | `platefield fit-quality` | `fit_quality.md` |
+//! | [`interaction`] | `platefield interaction` | `verify/sink_interaction.md` |
+//! | [`squeeze_order`] | `platefield squeeze-order` | `verify/squeeze_trans_order.{md,csv}` |
+
+pub mod fit_quality;
+pub mod interaction;
+pub mod linesink;
+pub mod primitives;
+pub mod reproduce;
+pub mod rung;
+pub mod speed;
+pub mod squeeze_order;
+pub mod table1;
