@@ -1,23 +1,20 @@
-//! `platefield` command-line tool: a thin shell over the library.
+//! `platefield` command-line tool: each subcommand parses its arguments
+//! (clap), makes one library call and prints the summary it returns.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
+use clap::{Args, Parser, Subcommand, ValueEnum};
 
-use platefield::basis::Library;
 use platefield::basis::PrimitiveKind;
 use platefield::design::closed_loop::{self, closed_loop, LoopOptions};
 use platefield::design::export::signals_csv;
 use platefield::design::{design, report, DesignOptions, Schedule};
-use platefield::dynamics::{Friction, Model, Numerics};
+use platefield::dynamics::{Friction, Numerics, Preset};
 use platefield::field::FieldKind;
-use platefield::field::{FieldSettings, Grid};
 use platefield::fit::FitMode;
-use platefield::studies::fit_quality::write_fit_quality;
-use platefield::studies::linesink::LineSink;
-use platefield::studies::primitives::write_primitives;
-use platefield::studies::reproduce;
+use platefield::output::write_atomic;
+use platefield::studies::{self, linesink::LineSink, linesink::Wave};
 use platefield::target::Target;
 use platefield::{Error, Result};
 
@@ -41,85 +38,14 @@ enum Command {
         /// A schedule.json written by `design`.
         schedule: PathBuf,
         /// Samples per second.
-        #[arg(long, default_value_t = 10000.0)]
+        #[arg(long, default_value_t = 10000.0, allow_negative_numbers = true)]
         rate: f64,
         /// Output CSV (default: stdout).
         #[arg(long)]
         out: Option<PathBuf>,
     },
-    /// Design every target in targets/ in every fit mode; write results/fit_quality.md.
-    FitQuality {
-        /// Output directory.
-        #[arg(long, default_value = "results")]
-        out: PathBuf,
-    },
-    /// Steady-state velocity of a point part on the paper's one-axis LineSink shaker (section II).
-    Linesink(LinesinkArgs),
-    /// Compute a force or velocity field from a scene JSON file (motion, friction, grid, model).
-    Field {
-        /// The scene file (see README, "Scenes").
-        scene: PathBuf,
-        /// Print the field JSON on stdout instead of a summary.
-        #[arg(long)]
-        json: bool,
-        /// Write the field JSON to this file.
-        #[arg(long)]
-        out: Option<PathBuf>,
-        /// Write a quiver plot (SVG) to this file.
-        #[arg(long)]
-        svg: Option<PathBuf>,
-        /// No progress bar.
-        #[arg(long)]
-        quiet: bool,
-    },
-    /// Simulate the primitive library and write results/primitives/ (fields, plots, table1.md).
-    Primitives {
-        /// Output directory.
-        #[arg(long, default_value = "results/primitives")]
-        out: PathBuf,
-        /// Grid points per side over ±4 cm.
-        #[arg(long, default_value_t = 21)]
-        grid: usize,
-        /// RK4 steps per cycle.
-        #[arg(long, default_value_t = FieldSettings::default().numerics.steps_per_cycle)]
-        steps: usize,
-        /// No progress bar.
-        #[arg(long)]
-        quiet: bool,
-    },
-    /// Regenerate the section II results in results/: Fig. 3, time-to-travel, convergence.
-    Reproduce {
-        /// Output directory.
-        #[arg(long, default_value = "results")]
-        out: PathBuf,
-    },
-    /// Cheapest model rung within tolerance of the full model, per primitive: writes rungs.md.
-    Rungs {
-        /// Largest accepted relative L2 error against the full model.
-        #[arg(
-            long,
-            default_value_t = platefield::studies::rung::DEFAULT_RUNG_TOLERANCE,
-            allow_negative_numbers = true
-        )]
-        tolerance: f64,
-        /// Output directory.
-        #[arg(long, default_value = "results/primitives")]
-        out: PathBuf,
-    },
-    /// Library build time against error over steps per cycle: writes library_speed.md.
-    Speed {
-        /// Output directory.
-        #[arg(long, default_value = "results")]
-        out: PathBuf,
-    },
     /// Closed-loop verification: realised field against prediction, and where a swarm of parts ends up.
     Verify(VerifyArgs),
-    /// Interaction error of two sequenced LineSinks (DESIGN.md section 6): writes results/verify/sink_interaction.md.
-    Interaction {
-        /// Output directory.
-        #[arg(long, default_value = "results/verify")]
-        out: PathBuf,
-    },
     /// Segment order and rest at the joins: which one best realises a schedule's prediction; writes OUT/<target>/verify/order.md.
     Order {
         /// A schedule.json written by `design`.
@@ -137,18 +63,143 @@ enum Command {
         #[arg(long, default_value_t = 1)]
         warmup: u32,
         /// Model: the schedule's own (default, normally full), full, paper, or frozen.
-        #[arg(long)]
-        model: Option<String>,
+        #[arg(long, value_enum)]
+        model: Option<Preset>,
         /// Output folder; writes OUT/<target>/verify/order.md.
         #[arg(long, default_value = "results")]
         out: PathBuf,
     },
-    /// SqueezeTrans's squeeze line against segment order, phasing, cycles and rest (the paper's section V): writes squeeze_trans_order.{md,csv}.
-    SqueezeOrder {
-        /// Output directory.
-        #[arg(long, default_value = "results/verify")]
-        out: PathBuf,
+    /// Compute a force or velocity field from a scene JSON file (motion, friction, grid, model).
+    Field {
+        /// The scene file (see README, "Scenes").
+        scene: PathBuf,
+        /// Write the field JSON to this file.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Write a quiver plot (SVG) to this file.
+        #[arg(long)]
+        svg: Option<PathBuf>,
+        #[command(flatten)]
+        json: Json,
+        #[command(flatten)]
+        quiet: Quiet,
     },
+    /// Study: steady-state velocity of a point part on the paper's one-axis LineSink shaker (section II).
+    Linesink(LinesinkArgs),
+    /// Study: regenerate the section II results: Fig. 3, time-to-travel, convergence.
+    #[command(mut_arg("out", default_dir(studies::reproduce::DIR)))]
+    Reproduce(StudyOut),
+    /// Study: simulate the primitive library; its fields, plots and table1.md (Table I fits).
+    #[command(mut_arg("out", default_dir(studies::primitives::DIR)))]
+    Primitives {
+        /// Grid points per side over ±4 cm.
+        #[arg(long, default_value_t = 21)]
+        grid: usize,
+        #[command(flatten)]
+        steps: Steps,
+        #[command(flatten)]
+        quiet: Quiet,
+        #[command(flatten)]
+        out: StudyOut,
+    },
+    /// Study: cheapest model rung within tolerance of the full model, per primitive: rungs.md.
+    #[command(mut_arg("out", default_dir(studies::rung::DIR)))]
+    Rungs {
+        /// Largest accepted relative L2 error against the full model.
+        #[arg(long, default_value_t = studies::rung::DEFAULT_RUNG_TOLERANCE, allow_negative_numbers = true)]
+        tolerance: f64,
+        #[command(flatten)]
+        out: StudyOut,
+    },
+    /// Study: library build time against error over steps per cycle: library_speed.md.
+    #[command(mut_arg("out", default_dir(studies::speed::DIR)))]
+    Speed(StudyOut),
+    /// Study: design every target in targets/ in every fit mode: fit_quality.md.
+    #[command(mut_arg("out", default_dir(studies::fit_quality::DIR)))]
+    FitQuality(StudyOut),
+    /// Study: interaction error of two sequenced LineSinks (a Sink): sink_interaction.md.
+    #[command(mut_arg("out", default_dir(studies::interaction::DIR)))]
+    Interaction(StudyOut),
+    /// Study: SqueezeTrans's squeeze line against segment order, phasing, cycles and rest (the paper's section V): squeeze_trans_order.{md,csv}.
+    #[command(mut_arg("out", default_dir(studies::squeeze_order::DIR)))]
+    SqueezeOrder(StudyOut),
+}
+
+/// Output folder of a study; its default is the study's `DIR`.
+#[derive(Args)]
+struct StudyOut {
+    /// Output directory.
+    #[arg(long)]
+    out: PathBuf,
+}
+
+/// Sets a study's default output folder.
+fn default_dir(dir: &'static str) -> impl FnOnce(clap::Arg) -> clap::Arg {
+    move |a| a.default_value(dir).required(false)
+}
+
+/// `--json`.
+#[derive(Args)]
+struct Json {
+    /// Print JSON on stdout instead of a summary.
+    #[arg(long)]
+    json: bool,
+}
+
+/// `--quiet`.
+#[derive(Args)]
+struct Quiet {
+    /// No progress bar.
+    #[arg(long)]
+    quiet: bool,
+}
+
+/// Integrator resolution.
+#[derive(Args)]
+struct Steps {
+    /// RK4 steps per cycle.
+    #[arg(long, default_value_t = Numerics::default().steps_per_cycle as u64,
+          value_parser = clap::value_parser!(u64).range(1..=1_000_000))]
+    steps: u64,
+}
+
+impl Steps {
+    fn numerics(&self) -> Numerics {
+        Numerics {
+            steps_per_cycle: self.steps as usize,
+            ..Numerics::default()
+        }
+    }
+}
+
+/// Fit mode (see [`FitMode`]).
+#[derive(Clone, Copy, ValueEnum)]
+enum Mode {
+    /// The strongest field of the target's shape.
+    Shape,
+    /// The target as given.
+    Absolute,
+    /// The strongest field within the relative error --budget.
+    Budget,
+    /// L1 norm of the residual.
+    L1,
+    /// L∞ norm of the residual.
+    #[value(alias = "l_inf")]
+    Linf,
+}
+
+/// `--shift x,y` (metres).
+fn xy(text: &str) -> std::result::Result<[f64; 2], String> {
+    let v: Vec<f64> = text
+        .split(',')
+        .filter_map(|s| s.trim().parse().ok())
+        .collect();
+    match v[..] {
+        [x, y] if x.is_finite() && y.is_finite() && text.split(',').count() == 2 => Ok([x, y]),
+        _ => Err(format!(
+            "must be two numbers \"x,y\" in metres, got \"{text}\""
+        )),
+    }
 }
 
 #[derive(clap::Args)]
@@ -165,8 +216,8 @@ struct VerifyArgs {
     #[arg(long, default_value_t = 1)]
     warmup: u32,
     /// Model: the schedule's own (default, normally full), full, paper, or frozen (full with positions frozen: an exact comparison when parts drift far).
-    #[arg(long)]
-    model: Option<String>,
+    #[arg(long, value_enum)]
+    model: Option<Preset>,
     /// Swarm: point parts per side of the N×N grid over the target region.
     #[arg(long, default_value_t = 9)]
     swarm: usize,
@@ -193,11 +244,11 @@ struct VerifyArgs {
     json: bool,
 }
 
-#[derive(clap::Args)]
+#[derive(Args)]
 struct LinesinkArgs {
     /// Angular-acceleration waveform: square (eq. 1, ±α) or sine (ψ'' = A sin ωt).
-    #[arg(long, default_value = "square")]
-    wave: String,
+    #[arg(long, value_enum, default_value_t = Wave::Square)]
+    wave: Wave,
     /// α of the square wave, or the sine's amplitude A (rad/s²).
     #[arg(long, allow_negative_numbers = true)]
     accel: f64,
@@ -214,157 +265,43 @@ struct LinesinkArgs {
     #[arg(long, allow_negative_numbers = true)]
     mu_static: Option<f64>,
     /// Plate positions from the axis (m), comma separated.
-    #[arg(long, allow_negative_numbers = true)]
-    r: String,
-    /// Model preset: paper (small angle, frozen position, no centripetal/tilt/Coriolis) or full.
-    #[arg(long, default_value = "paper")]
-    model: String,
+    #[arg(
+        long,
+        required = true,
+        allow_negative_numbers = true,
+        value_delimiter = ','
+    )]
+    r: Vec<f64>,
+    /// Model preset: paper (small angle, frozen position, no centripetal/tilt/Coriolis), full, or frozen (full, position frozen).
+    #[arg(long, value_enum, default_value_t = Preset::Paper)]
+    model: Preset,
     /// The part moves during the cycle (free steady state); implied by --model full.
     #[arg(long)]
     free: bool,
-    /// RK4 steps per cycle.
-    #[arg(long, default_value_t = Numerics::default().steps_per_cycle)]
-    steps: usize,
+    #[command(flatten)]
+    steps: Steps,
     /// Gravity (m/s²).
-    #[arg(long, default_value_t = 9.81)]
+    #[arg(long, default_value_t = 9.81, allow_negative_numbers = true)]
     gravity: f64,
-    /// Print JSON instead of a table.
-    #[arg(long)]
-    json: bool,
+    #[command(flatten)]
+    json: Json,
 }
 
-fn parse_list(field: &str, text: &str) -> Result<Vec<f64>> {
-    let items: Vec<&str> = text
-        .split(',')
-        .map(str::trim)
-        .filter(|s| !s.is_empty())
-        .collect();
-    if items.is_empty() {
-        return Err(Error::invalid(field, "must list at least one number"));
-    }
-    items
-        .iter()
-        .map(|s| {
-            s.parse::<f64>()
-                .ok()
-                .filter(|v| v.is_finite())
-                .ok_or_else(|| Error::invalid(field, format!("\"{s}\" is not a finite number")))
-        })
-        .collect()
-}
-
-fn linesink(args: LinesinkArgs) -> Result<()> {
+fn linesink(a: &LinesinkArgs) -> Result<String> {
     let ls = LineSink {
-        wave: args.wave.parse()?,
-        accel: args.accel,
-        depth: args.depth,
-        period: args.period,
+        wave: a.wave,
+        accel: a.accel,
+        depth: a.depth,
+        period: a.period,
         friction: Friction {
-            stat: args.mu_static.unwrap_or(args.mu),
-            kinetic: args.mu,
+            stat: a.mu_static.unwrap_or(a.mu),
+            kinetic: a.mu,
         },
-        gravity: args.gravity,
+        gravity: a.gravity,
     };
-    ls.validate()?;
-    let rs = parse_list("--r", &args.r)?;
-    let mut model = Model::preset(&args.model, "--model")?;
-    model.moving |= args.free;
-    let numerics = Numerics {
-        steps_per_cycle: args.steps,
-        ..Numerics::default()
-    };
-    numerics.validate("--steps").map_err(|_| {
-        Error::invalid(
-            "--steps",
-            format!("must be in 1..=1000000, got {}", args.steps),
-        )
-    })?;
-    let rows = ls.rows(&rs, model, numerics);
-    if args.json {
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&rows).map_err(|e| Error::Physical(e.to_string()))?
-        );
-        return Ok(());
-    }
-    println!(
-        "LineSink: {:?} wave, accel {} rad/s², depth {} m, T {} s, μ_k {}, μ_s {}, model {}",
-        ls.wave,
-        ls.accel,
-        ls.depth,
-        ls.period,
-        ls.friction.kinetic,
-        ls.friction.stat,
-        model.name()
-    );
-    if let Some(edge) = ls.deadband_edge() {
-        println!("stick deadband: |r| ≤ {edge:.6} m");
-    }
-    println!(
-        "{:>10} {:>14} {:>14} {:>8}  note",
-        "r (m)", "v_ss (m/s)", "eq17 (m/s)", "stuck"
-    );
-    let opt = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{x:.6e}"));
-    for row in rows {
-        println!(
-            "{:>10.5} {:>14} {:>14} {:>8}  {}",
-            row.r,
-            opt(row.v_ss),
-            opt(row.eq17),
-            row.stick_fraction.map_or("-".into(), |s| format!("{s:.3}")),
-            row.error.unwrap_or_default()
-        );
-    }
-    Ok(())
-}
-
-fn primitives(out: &std::path::Path, n: usize, steps: usize, quiet: bool) -> Result<()> {
-    let grid = Grid {
-        n: [n, n],
-        ..Grid::DEFAULT
-    };
-    grid.validate("--grid")?;
-    let mut settings = FieldSettings::default();
-    settings.numerics.steps_per_cycle = steps;
-    settings.numerics.validate("--steps")?;
-    let start = std::time::Instant::now();
-    let lib = Library::build(&Library::default_primitives(), &grid, &settings, quiet);
-    let elapsed = start.elapsed().as_secs_f64();
-    let table = write_primitives(&lib, out)?;
-    print!("{table}");
-    println!(
-        "
-built {} primitives × 2 fields on {}×{} in {elapsed:.2} s; wrote {}",
-        lib.entries.len(),
-        n,
-        n,
-        out.display()
-    );
-    Ok(())
-}
-
-fn rungs(out: &std::path::Path, tolerance: f64) -> Result<()> {
-    use platefield::studies::rung;
-    platefield::error::non_negative("--tolerance", tolerance)?;
-    let reports = rung::default_reports(tolerance);
-    print!("{}", rung::write_reports(out, &reports, tolerance)?);
-    print!("\n{}", rung::times_table(&reports));
-    println!("wrote {}", out.join("rungs.md").display());
-    Ok(())
-}
-
-/// A model override for playing schedules: full, paper, or frozen (full with positions frozen).
-fn played_model(name: Option<&str>, flag: &str) -> Result<Option<Model>> {
-    Ok(match name {
-        None => None,
-        Some("frozen") => Some(Model::FROZEN),
-        Some(name) => Some(Model::preset(name, flag).map_err(|_| {
-            Error::invalid(
-                flag,
-                format!("unknown model \"{name}\" (expected full, paper or frozen)"),
-            )
-        })?),
-    })
+    let mut model = a.model.model();
+    model.moving |= a.free;
+    ls.report(&a.r, model, a.steps.numerics(), a.json.json)
 }
 
 fn order_cmd(
@@ -373,33 +310,23 @@ fn order_cmd(
     rest: &[u32],
     periods: u32,
     warmup: u32,
-    model: Option<&str>,
+    model: Option<Preset>,
     out: &std::path::Path,
 ) -> Result<()> {
-    let model = played_model(model, "--model")?;
     let start = std::time::Instant::now();
     let (_, md, file) = platefield::verify::order_schedule_file(
-        schedule, points, rest, warmup, periods, model, out,
+        schedule,
+        points,
+        rest,
+        warmup,
+        periods,
+        model.map(Preset::model),
+        out,
     )?;
     print!("{md}");
     println!(
         "wrote {} ({:.1} s)",
         file.display(),
-        start.elapsed().as_secs_f64()
-    );
-    Ok(())
-}
-
-fn squeeze_order_cmd(out: &std::path::Path) -> Result<()> {
-    let start = std::time::Instant::now();
-    print!(
-        "{}",
-        platefield::studies::squeeze_order::squeeze_order_report(out)?
-    );
-    println!(
-        "wrote {} and {} ({:.1} s)",
-        out.join("squeeze_trans_order.md").display(),
-        out.join("squeeze_trans_order.csv").display(),
         start.elapsed().as_secs_f64()
     );
     Ok(())
@@ -421,7 +348,7 @@ fn rect_size(text: &str) -> Result<[f64; 2]> {
 
 fn verify_cmd(args: &VerifyArgs) -> Result<()> {
     use platefield::verify::{Duration, VerifyRequest};
-    let model = played_model(args.model.as_deref(), "--model")?;
+    let model = args.model.map(Preset::model);
     let duration = match (args.duration, args.repetitions) {
         (Some(_), Some(_)) => {
             return Err(Error::invalid(
@@ -522,21 +449,6 @@ fn verify_cmd(args: &VerifyArgs) -> Result<()> {
     Ok(())
 }
 
-fn interaction_cmd(out: &std::path::Path) -> Result<()> {
-    print!(
-        "{}",
-        platefield::studies::interaction::interaction_table(out)?
-    );
-    println!("wrote {}", out.join("sink_interaction.md").display());
-    Ok(())
-}
-
-fn speed(out: &std::path::Path) -> Result<()> {
-    print!("{}", platefield::studies::speed::library_speed(out)?);
-    println!("wrote {}", out.join("library_speed.md").display());
-    Ok(())
-}
-
 /// `platefield field`: load, compute, then write (nothing is written on bad input).
 fn field(
     scene_path: &std::path::Path,
@@ -545,7 +457,6 @@ fn field(
     svg: Option<&std::path::Path>,
     quiet: bool,
 ) -> Result<()> {
-    use platefield::output::write_atomic;
     let scene = platefield::scene::Scene::load(scene_path)?;
     let start = std::time::Instant::now();
     let field = scene.compute(quiet).map_err(|e| match e {
@@ -581,26 +492,26 @@ struct DesignArgs {
     /// Target field JSON (see the README's target schema).
     target: PathBuf,
     /// Fit mode: shape (strongest field of the target's shape), absolute, budget, l1 or linf.
-    #[arg(long, default_value = "shape")]
-    mode: String,
+    #[arg(long, value_enum, default_value_t = Mode::Shape)]
+    mode: Mode,
     /// Relative error budget for --mode budget, in (0, 1).
-    #[arg(long, default_value_t = 0.05)]
+    #[arg(long, default_value_t = 0.05, allow_negative_numbers = true)]
     budget: f64,
     /// Use at most this many segments.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     max_primitives: Option<usize>,
     /// Basis field kind: velocity (steady-state velocity fields, default) or force.
-    #[arg(long, default_value = "velocity")]
-    basis: String,
+    #[arg(long, value_enum, default_value_t = FieldKind::Velocity)]
+    basis: FieldKind,
     /// Rotation step of the basis copies (degrees).
-    #[arg(long, default_value_t = 15.0)]
+    #[arg(long, default_value_t = 15.0, allow_negative_numbers = true)]
     rotation_step: f64,
     /// Primitive kinds allowed, comma separated (default: all eight).
-    #[arg(long)]
-    primitives: Option<String>,
+    #[arg(long, value_enum, value_delimiter = ',')]
+    primitives: Option<Vec<PrimitiveKind>>,
     /// Also use basis copies shifted by this horizontal offset "x,y" (m); repeatable.
-    #[arg(long, allow_negative_numbers = true)]
-    shift: Vec<String>,
+    #[arg(long, allow_negative_numbers = true, value_parser = xy)]
+    shift: Vec<[f64; 2]>,
     /// Keep basis fields that are invalid somewhere in the region (their invalid points are listed in the schedule).
     #[arg(long)]
     keep_invalid: bool,
@@ -635,15 +546,15 @@ struct DesignArgs {
     #[arg(long, default_value_t = 8)]
     loop_iterations: u32,
     /// Closed loop: model the schedules are played with: the design's own (default, normally full), full, paper, or frozen (positions frozen: the local field, for long schedule periods in which parts travel far; not valid with Circle segments).
-    #[arg(long)]
-    loop_model: Option<String>,
+    #[arg(long, value_enum)]
+    loop_model: Option<Preset>,
 }
 
 fn design_options(args: &DesignArgs) -> Result<DesignOptions> {
-    let mode = match args.mode.as_str() {
-        "shape" => FitMode::Shape,
-        "absolute" => FitMode::Absolute,
-        "budget" => {
+    let mode = match args.mode {
+        Mode::Shape => FitMode::Shape,
+        Mode::Absolute => FitMode::Absolute,
+        Mode::Budget => {
             if !(args.budget > 0.0 && args.budget < 1.0) {
                 return Err(Error::invalid(
                     "--budget",
@@ -654,32 +565,14 @@ fn design_options(args: &DesignArgs) -> Result<DesignOptions> {
                 rel_error: args.budget,
             }
         }
-        "l1" => FitMode::L1,
-        "linf" | "l_inf" => FitMode::LInf,
-        other => {
-            return Err(Error::invalid(
-                "--mode",
-                format!("unknown mode \"{other}\" (expected shape, absolute, budget, l1 or linf)"),
-            ))
-        }
+        Mode::L1 => FitMode::L1,
+        Mode::Linf => FitMode::LInf,
     };
-    let kind = match args.basis.as_str() {
-        "velocity" => FieldKind::Velocity,
-        "force" => FieldKind::Force,
-        other => {
-            return Err(Error::invalid(
-                "--basis",
-                format!("unknown basis \"{other}\" (expected velocity or force)"),
-            ))
-        }
-    };
-    let kinds = match &args.primitives {
-        None => PrimitiveKind::ALL.to_vec(),
-        Some(list) => list
-            .split(',')
-            .map(|s| PrimitiveKind::from_name(s.trim(), "--primitives"))
-            .collect::<Result<Vec<_>>>()?,
-    };
+    let kind = args.basis;
+    let kinds = args
+        .primitives
+        .clone()
+        .unwrap_or_else(|| PrimitiveKind::ALL.to_vec());
     if args.min_cycles == 0 {
         return Err(Error::invalid("--min-cycles", "must be ≥ 1"));
     }
@@ -687,16 +580,7 @@ fn design_options(args: &DesignArgs) -> Result<DesignOptions> {
         return Err(Error::invalid("--max-primitives", "must be ≥ 1"));
     }
     let mut shifts = vec![[0.0, 0.0]];
-    for text in &args.shift {
-        let v = parse_list("--shift", text)?;
-        if v.len() != 2 {
-            return Err(Error::invalid(
-                "--shift",
-                format!("must be two numbers \"x,y\" in metres, got \"{text}\""),
-            ));
-        }
-        shifts.push([v[0], v[1]]);
-    }
+    shifts.extend(args.shift.iter().copied());
     Ok(DesignOptions {
         mode,
         kind,
@@ -714,30 +598,14 @@ fn design_options(args: &DesignArgs) -> Result<DesignOptions> {
     })
 }
 
-fn target_name(target: &Target, path: &std::path::Path) -> String {
-    if target.name.trim().is_empty() {
-        path.file_stem()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_else(|| "target".into())
-    } else {
-        target.name.clone()
-    }
-}
-
 fn design_cmd(args: DesignArgs) -> Result<()> {
     let opts = design_options(&args)?;
     let mut target = Target::load(&args.target)?;
-    target.name = target_name(&target, &args.target);
-    if target.name.contains(['/', '\\']) || target.name.starts_with('.') {
-        return Err(Error::invalid(
-            "target.name",
-            format!("must be a plain folder name, got \"{}\"", target.name),
-        ));
-    }
+    target.name = target.folder_name(&args.target)?;
     let loop_opts = LoopOptions {
         stride: args.loop_stride,
         max_iterations: args.loop_iterations,
-        model: played_model(args.loop_model.as_deref(), "--loop-model")?,
+        model: args.loop_model.map(Preset::model),
         ..LoopOptions::default()
     };
     loop_opts.validate()?;
@@ -803,43 +671,15 @@ fn export_cmd(schedule: &std::path::Path, rate: f64, out: Option<PathBuf>) -> Re
     Ok(())
 }
 
-fn fit_quality_cmd(out: &std::path::Path) -> Result<()> {
-    let mut targets: Vec<PathBuf> = std::fs::read_dir("targets")
-        .map_err(|e| Error::Io {
-            path: "targets".into(),
-            source: e,
-        })?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|x| x == "json"))
-        .collect();
-    targets.sort();
-    let md = write_fit_quality(&targets, &DesignOptions::default(), out)?;
-    print!("{md}");
-    Ok(())
-}
-
 fn run(cli: Cli) -> Result<()> {
-    match cli.command {
-        Command::Design(args) => design_cmd(args),
+    let summary = match cli.command {
+        Command::Design(args) => return design_cmd(args),
         Command::Export {
             schedule,
             rate,
             out,
-        } => export_cmd(&schedule, rate, out),
-        Command::FitQuality { out } => fit_quality_cmd(&out),
-        Command::Linesink(args) => linesink(args),
-        Command::Field {
-            scene,
-            json,
-            out,
-            svg,
-            quiet,
-        } => field(&scene, json, out.as_deref(), svg.as_deref(), quiet),
-        Command::Reproduce { out } => reproduce::linesink_results(&out),
-        Command::Rungs { tolerance, out } => rungs(&out, tolerance),
-        Command::Speed { out } => speed(&out),
-        Command::Verify(args) => verify_cmd(&args),
-        Command::Interaction { out } => interaction_cmd(&out),
+        } => return export_cmd(&schedule, rate, out),
+        Command::Verify(args) => return verify_cmd(&args),
         Command::Order {
             schedule,
             points,
@@ -848,23 +688,43 @@ fn run(cli: Cli) -> Result<()> {
             warmup,
             model,
             out,
-        } => order_cmd(
-            &schedule,
-            points,
-            &rest,
-            periods,
-            warmup,
-            model.as_deref(),
-            &out,
-        ),
-        Command::SqueezeOrder { out } => squeeze_order_cmd(&out),
-        Command::Primitives {
+        } => return order_cmd(&schedule, points, &rest, periods, warmup, model, &out),
+        Command::Field {
+            scene,
             out,
+            svg,
+            json,
+            quiet,
+        } => {
+            return field(
+                &scene,
+                json.json,
+                out.as_deref(),
+                svg.as_deref(),
+                quiet.quiet,
+            )
+        }
+        Command::Linesink(args) => linesink(&args)?,
+        Command::Reproduce(o) => studies::reproduce::linesink_results(&o.out)?,
+        Command::Primitives {
             grid,
             steps,
             quiet,
-        } => primitives(&out, grid, steps, quiet),
-    }
+            out,
+        } => studies::primitives::run(
+            &out.out,
+            grid,
+            steps.numerics().steps_per_cycle,
+            quiet.quiet,
+        )?,
+        Command::Rungs { tolerance, out } => studies::rung::run(&out.out, tolerance)?,
+        Command::Speed(o) => studies::speed::run(&o.out)?,
+        Command::FitQuality(o) => studies::fit_quality::run(Path::new("targets"), &o.out)?,
+        Command::Interaction(o) => studies::interaction::run(&o.out)?,
+        Command::SqueezeOrder(o) => studies::squeeze_order::run(&o.out)?,
+    };
+    print!("{summary}");
+    Ok(())
 }
 
 fn main() -> ExitCode {

@@ -63,6 +63,28 @@ pub(crate) fn piece_edges(t0: f64, t1: f64, period: f64, breakpoints: &[f64]) ->
     edges
 }
 
+/// A named model, as chosen on the command line (`--model`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Preset {
+    /// [`Model::PAPER`]: the paper's analysis.
+    Paper,
+    /// [`Model::FULL`]: everything on.
+    Full,
+    /// [`Model::FROZEN`]: everything on, positions frozen.
+    Frozen,
+}
+
+impl Preset {
+    /// The model this preset names.
+    pub fn model(self) -> Model {
+        match self {
+            Preset::Paper => Model::PAPER,
+            Preset::Full => Model::FULL,
+            Preset::Frozen => Model::FROZEN,
+        }
+    }
+}
+
 /// Which physical terms are modelled.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]

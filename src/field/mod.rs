@@ -31,7 +31,7 @@ use crate::dynamics::{Friction, Model, Numerics, Simulator};
 use crate::motion::Motion;
 
 /// Which field to compute.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Hash)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Hash, clap::ValueEnum)]
 #[serde(rename_all = "snake_case")]
 pub enum FieldKind {
     /// Zero-velocity force field (m/s²).

@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use crate::design::{design, DesignOptions};
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::fit::FitMode;
 use crate::output::write_atomic;
 use crate::target::Target;
@@ -73,4 +73,24 @@ pub fn write_fit_quality(targets: &[PathBuf], base: &DesignOptions, out: &Path) 
     }
     write_atomic(&out.join("fit_quality.md"), md.as_bytes())?;
     Ok(md)
+}
+
+/// Default output folder of `platefield fit-quality`.
+pub const DIR: &str = "results";
+
+/// `platefield fit-quality`: every `*.json` target in the folder `targets`
+/// (in name order), designed with the default options; returns
+/// `fit_quality.md`.
+pub fn run(targets: &Path, out: &Path) -> Result<String> {
+    let io = |e| Error::Io {
+        path: targets.display().to_string(),
+        source: e,
+    };
+    let mut files: Vec<PathBuf> = std::fs::read_dir(targets)
+        .map_err(io)?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "json"))
+        .collect();
+    files.sort();
+    write_fit_quality(&files, &DesignOptions::default(), out)
 }

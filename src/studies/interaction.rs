@@ -189,3 +189,16 @@ pub fn interaction_table(out: &Path) -> Result<String> {
     crate::output::write_atomic(&out.join("sink_interaction.md"), md.as_bytes())?;
     Ok(md)
 }
+
+/// Default output folder of `platefield interaction`.
+pub const DIR: &str = "results/verify";
+
+/// `platefield interaction`: [`interaction_table`] and the file it wrote.
+pub fn run(out: &Path) -> Result<String> {
+    let mut s = interaction_table(out)?;
+    s.push_str(&format!(
+        "wrote {}\n",
+        out.join("sink_interaction.md").display()
+    ));
+    Ok(s)
+}

@@ -20,6 +20,8 @@
 //! wherever |h A sin| ≤ μ_s (g + r A sin) at every phase, i.e. inside the
 //! deadband |r| ≤ (μ_s g − |h| A)/(μ_s A) when |h| A < μ_s g.
 
+use std::fmt::Write as _;
+
 use serde::Serialize;
 
 use crate::dynamics::{ContactLoss, Friction, Model, Numerics, Simulator, SteadyFailure};
@@ -27,27 +29,13 @@ use crate::error::{finite, non_negative, positive, Error, Result};
 use crate::motion::{Motion, Screw, Waveform};
 
 /// Angular-acceleration waveform of the LineSink shaker.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, clap::ValueEnum)]
 #[serde(rename_all = "snake_case")]
 pub enum Wave {
     /// The paper's eq. 1: ±α square wave.
     Square,
     /// ψ'' = A sin ωt.
     Sine,
-}
-
-impl std::str::FromStr for Wave {
-    type Err = Error;
-    fn from_str(s: &str) -> Result<Wave> {
-        match s {
-            "square" => Ok(Wave::Square),
-            "sine" => Ok(Wave::Sine),
-            other => Err(Error::invalid(
-                "--wave",
-                format!("unknown wave \"{other}\" (expected square or sine)"),
-            )),
-        }
-    }
 }
 
 /// A one-axis LineSink shaker.
@@ -195,5 +183,62 @@ impl LineSink {
                 }
             })
             .collect()
+    }
+
+    /// `platefield linesink`: validates the shaker and the distances `rs`,
+    /// simulates each, and returns the rows as JSON (`json`) or as a table
+    /// beside eq. 17.
+    pub fn report(
+        &self,
+        rs: &[f64],
+        model: Model,
+        numerics: Numerics,
+        json: bool,
+    ) -> Result<String> {
+        self.validate()?;
+        if rs.is_empty() {
+            return Err(Error::invalid("--r", "must list at least one number"));
+        }
+        for &r in rs {
+            finite("--r", r)?;
+        }
+        let rows = self.rows(rs, model, numerics);
+        if json {
+            let mut s =
+                serde_json::to_string_pretty(&rows).map_err(|e| Error::Physical(e.to_string()))?;
+            s.push('\n');
+            return Ok(s);
+        }
+        let mut s = format!(
+            "LineSink: {:?} wave, accel {} rad/s², depth {} m, T {} s, μ_k {}, μ_s {}, model {}\n",
+            self.wave,
+            self.accel,
+            self.depth,
+            self.period,
+            self.friction.kinetic,
+            self.friction.stat,
+            model.name()
+        );
+        if let Some(edge) = self.deadband_edge() {
+            let _ = writeln!(s, "stick deadband: |r| ≤ {edge:.6} m");
+        }
+        let _ = writeln!(
+            s,
+            "{:>10} {:>14} {:>14} {:>8}  note",
+            "r (m)", "v_ss (m/s)", "eq17 (m/s)", "stuck"
+        );
+        let opt = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{x:.6e}"));
+        for row in rows {
+            let _ = writeln!(
+                s,
+                "{:>10.5} {:>14} {:>14} {:>8}  {}",
+                row.r,
+                opt(row.v_ss),
+                opt(row.eq17),
+                row.stick_fraction.map_or("-".into(), |s| format!("{s:.3}")),
+                row.error.unwrap_or_default()
+            );
+        }
+        Ok(s)
     }
 }

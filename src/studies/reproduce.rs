@@ -309,18 +309,24 @@ pub fn convergence(out: &Path) -> Result<String> {
     Ok(md)
 }
 
-/// All section II results.
-pub fn linesink_results(out: &Path) -> Result<()> {
+/// Default output folder of `platefield reproduce`.
+pub const DIR: &str = "results";
+
+/// All section II results, written under `out`; returns the summary
+/// (the files written, the time-to-travel fit).
+pub fn linesink_results(out: &Path) -> Result<String> {
     std::fs::create_dir_all(out).map_err(|e| Error::Io {
         path: out.display().to_string(),
         source: e,
     })?;
+    let mut s = String::new();
     fig3(out)?;
-    println!("wrote {}", out.join("linesink_fig3.csv").display());
+    let _ = writeln!(s, "wrote {}", out.join("linesink_fig3.csv").display());
     terms(out)?;
-    println!("wrote {}", out.join("linesink_terms.md").display());
+    let _ = writeln!(s, "wrote {}", out.join("linesink_terms.md").display());
     let t = travel(out)?;
-    println!(
+    let _ = writeln!(
+        s,
         "wrote {} (t = {:.4} + {:.4} ln(r0/r), R² = {:.5})",
         out.join("linesink_travel.csv").display(),
         t.intercept,
@@ -328,6 +334,6 @@ pub fn linesink_results(out: &Path) -> Result<()> {
         t.r2
     );
     convergence(out)?;
-    println!("wrote {}", out.join("linesink_convergence.md").display());
-    Ok(())
+    let _ = writeln!(s, "wrote {}", out.join("linesink_convergence.md").display());
+    Ok(s)
 }

@@ -401,3 +401,17 @@ pub fn write_rungs(out: &Path, tolerance: f64) -> Result<String> {
     non_negative("--tolerance", tolerance)?;
     write_reports(out, &default_reports(tolerance), tolerance)
 }
+
+/// Default output folder of `platefield rungs`.
+pub const DIR: &str = "results/primitives";
+
+/// `platefield rungs`: every primitive's rungs at `tolerance`, written to
+/// `out/rungs.md`; returns that table, the compute times and the file.
+pub fn run(out: &Path, tolerance: f64) -> Result<String> {
+    non_negative("--tolerance", tolerance)?;
+    let reports = default_reports(tolerance);
+    let mut s = write_reports(out, &reports, tolerance)?;
+    let _ = write!(s, "\n{}", times_table(&reports));
+    let _ = writeln!(s, "wrote {}", out.join("rungs.md").display());
+    Ok(s)
+}

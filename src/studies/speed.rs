@@ -459,3 +459,13 @@ pub fn library_speed(out: &Path) -> Result<String> {
     write_atomic(&out.join("library_speed.md"), md.as_bytes())?;
     Ok(md)
 }
+
+/// Default output folder of `platefield speed`.
+pub const DIR: &str = "results";
+
+/// `platefield speed`: [`library_speed`] and the file it wrote.
+pub fn run(out: &Path) -> Result<String> {
+    let mut s = library_speed(out)?;
+    let _ = writeln!(s, "wrote {}", out.join("library_speed.md").display());
+    Ok(s)
+}

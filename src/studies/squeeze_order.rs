@@ -649,6 +649,23 @@ fn summary(rows: &[OffsetRow]) -> String {
     md
 }
 
+/// Default output folder of `platefield squeeze-order`.
+pub const DIR: &str = "results/verify";
+
+/// `platefield squeeze-order`: [`squeeze_order_report`], the files it
+/// wrote and the compute time (printed, never written).
+pub fn run(out: &Path) -> Result<String> {
+    let start = std::time::Instant::now();
+    let mut s = squeeze_order_report(out)?;
+    s.push_str(&format!(
+        "wrote {} and {} ({:.1} s)\n",
+        out.join("squeeze_trans_order.md").display(),
+        out.join("squeeze_trans_order.csv").display(),
+        start.elapsed().as_secs_f64()
+    ));
+    Ok(s)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -156,6 +156,7 @@ mod attractor;
 mod error;
 mod examples;
 mod field;
+mod folder;
 mod grid;
 mod parse;
 
