@@ -1,13 +1,64 @@
 //! # platefield
 //!
-//! Vibration-induced friction force fields on a rigid plate vibrated with up
-//! to six degrees of freedom (Vose, Umbanhowar & Lynch; see the README):
-//! forward simulation of the fields, and their inversion into schedules of
-//! primitive plate motions.
+//! Which plate motion makes parts on the plate go where they are wanted?
+//! platefield answers this for vibratory part feeders and 6-DOF shaker
+//! tables. Forward, it simulates what a rigid plate vibrating with up to six
+//! degrees of freedom does to parts resting on it: the friction fields of
+//! Vose, Umbanhowar and Lynch, *Vibration-Induced Frictional Force Fields on
+//! a Rigid Plate* (squeeze lines, sinks, whirlpools). Inverse, it turns a
+//! requested field into a schedule of primitive plate motions and verifies
+//! the schedule by simulating it. Units are SI throughout (m, s, rad).
 //!
-//! The modules follow the data path:
-//! [`motion`] (plate kinematics) → [`dynamics`] (point parts with exact
-//! stick-slip) → …; the paper's studies are in [`studies`].
+//! ## Data path
+//!
+//! ```text
+//! scene ─► motion ─► dynamics ─► field ─► basis ─► fit ─► schedule ─► play ─► verify
+//!  target ────────────────────────────────────────┘
+//! ```
+//!
+//! Each physical statement is made once, in the module that implements it:
+//!
+//! | stage | module | what it states |
+//! |---|---|---|
+//! | inputs | [`scene`], [`target`] | a plate motion with its physics and grid; a requested field (kinds, grid, mask, attractor) |
+//! | kinematics | [`motion`] | world and plate frames; the plate's velocity and acceleration at a plate point; gravity in the plate frame. The screw primitive in [`motion::screw`], general six-signal motion in [`motion::signals`], waveforms in [`motion::waveform`] |
+//! | dynamics | [`dynamics`] | a point part's equations: the effective gravity N, Coulomb stick and slip, contact loss, the terms the paper drops as [`dynamics::Model`] switches. Exact stick-slip events in [`dynamics::integrator`], the periodic orbit in [`dynamics::steady`], rectangles in [`dynamics::planar`] |
+//! | fields | [`field`] | the zero-velocity force field, the steady-state velocity field (frozen or free), per-sample validity |
+//! | basis | [`basis`] | the paper's eight primitives and their defaults ([`basis::primitives`]), rotated and shifted copies by symmetry ([`basis::symmetry`]), the on-disk cache |
+//! | fit | [`fit`] | the inverse problem: time fractions w ≥ 0, Σw ≤ 1, the fit modes, how each is solved and verified |
+//! | schedule | [`design::schedule`], [`design::export`] | time fractions as whole cycles; the six controller signals |
+//! | design | [`design`] | the open-loop pipeline and the closed loop ([`design::closed_loop`]) |
+//! | play, verify | [`verify`] | a schedule's exact plate trajectory, the rule at the joins, rest in closed form; realised against predicted; where parts end up |
+//! | studies | [`studies`] | the paper's results reproduced: eq. 17 of section II ([`studies::linesink`]), Table I, the interaction of sequenced primitives, the order study of section V; model rungs and speed against error |
+//!
+//! ## Sequencing: what combines
+//!
+//! A schedule plays primitives one after another, never at once, so the
+//! question the inverse design rests on is what a sequence produces. Parts
+//! on a vibrating plate are overdamped: their mean velocity relaxes to the
+//! local steady state within a few cycles. A schedule therefore produces,
+//! approximately, the *time-weighted combination of its primitives'
+//! steady-state velocity fields*, Σ wᵢ Vᵢ; this is the prediction every fit
+//! makes and every verification checks. Force fields do not combine this
+//! way: a zero-velocity force field measured over a window of several cycles
+//! shrinks as the window grows (the part stops accelerating once it reaches
+//! its steady velocity), so it is not the time-weighted mean of its
+//! segments' one-cycle force fields. Steady-state velocity fields are hence
+//! the default basis; force fields remain available.
+//!
+//! The combination is only approximate, and worst for short segments: each
+//! segment starts off its own periodic orbit and spends a cycle or so
+//! reaching it. For a Sink from two orthogonal LineSinks the realised field
+//! is 50 % off the prediction at 1 cycle per segment, 21 % at 3 and 6.5 % at
+//! 10 ([`studies::interaction`], `results/verify/sink_interaction.md`).
+//! Hence the design's rules: primitives start and end each cycle at rest in
+//! the home pose (rest-to-rest waveforms, [`basis::primitives`]), a schedule
+//! has a minimum number of cycles per segment ([`design::schedule`]), the
+//! order of segments and rest at the joins are chosen by simulation
+//! ([`verify::order`]), and the closed loop measures the real combination
+//! and feeds it back into the fit ([`design::closed_loop`]). At a join the
+//! plate velocity may jump; the part's inertial velocity is continuous
+//! ([`verify`]).
 #![warn(missing_docs)]
 
 pub mod basis;

@@ -1,10 +1,11 @@
-//! The primitive library of the paper's section IV (DESIGN.md section 5):
+//! The primitive library of the paper's section IV:
 //! periodic screw motions {k, h, ψ(t), d(t)} whose fields have the forms of
 //! the paper's Table I.
 //!
 //! Defaults are the paper's: ω = 209 rad/s (T = 0.03 s), ψ0 = 0.005 rad,
 //! d0 = 0.05 cm, μ = 0.3. The paper's figure with the axis points is lost;
-//! the reconstruction below is DESIGN.md's. Every default waveform is
+//! the axis points, amplitudes and waveforms below are this crate's
+//! reconstruction. Every default waveform is
 //! rest-to-rest (q = q0(1 − cos ωt), or an asymmetric series with q(0) =
 //! q'(0) = 0), so that primitives can be sequenced with the plate at rest in
 //! the home pose at every join.

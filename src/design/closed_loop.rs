@@ -1,5 +1,5 @@
-//! Closed-loop design (`platefield design --closed-loop`, DESIGN.md sections
-//! 6 and 7): what verification measures is fed back into the schedule, so
+//! Closed-loop design (`platefield design --closed-loop`; see
+//! [what combines under sequencing](crate#sequencing-what-combines)): what verification measures is fed back into the schedule, so
 //! that short segments (fast switching, finer time-averaging) become usable.
 //!
 //! **The problem, measured.** The open-loop design promises the field s·t
@@ -92,7 +92,8 @@ pub struct LoopOptions {
     /// the frozen model (kinematics held at the start point) the measurement
     /// is the local field at each start point even when parts travel far
     /// during a long schedule period; it is not valid for the large-amplitude
-    /// Circle (DESIGN.md section 3: a spurious radial velocity), whose
+    /// Circle (its frozen field has a spurious radial velocity, see
+    /// [`crate::field`]), whose
     /// schedules must be played with moving parts.
     pub model: Option<Model>,
 }

@@ -1,4 +1,4 @@
-//! Inverse design (DESIGN.md section 6): a target field in, a verified
+//! Inverse design: a target field in, a verified
 //! schedule of primitive plate motions out.
 //!
 //! 1. **Basis** ([`basis`]): the primitive library simulated once on a grid

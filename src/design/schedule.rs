@@ -9,7 +9,7 @@
 //! the remaining time in modes where Σf < 1.
 //!
 //! The default minimum of 10 cycles per segment comes from the interaction
-//! errors measured in DESIGN.md section 6 (a Sink from two orthogonal
+//! errors measured by [`crate::studies::interaction`] (a Sink from two orthogonal
 //! rest-to-rest LineSinks: 50 % error against the time-weighted prediction at
 //! 1 cycle per segment, 21 % at 3, 6.5 % at 10).
 

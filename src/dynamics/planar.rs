@@ -1,5 +1,6 @@
-//! Planar parts: a uniform rectangle moving in (x, y, θ) on the plate
-//! (DESIGN.md section 2, "Planar parts").
+//! Planar parts: a uniform rectangle moving in (x, y, θ) on the plate. The
+//! paper's observation it must reproduce: in a LineSink field a rectangle
+//! moves to the sink line and aligns its long side with it.
 //!
 //! **Model.** The rectangle (length L along its body x axis, width W) is
 //! sampled by K support points at the cell centres of a regular nx × ny grid,

@@ -1,4 +1,5 @@
-//! DESIGN.md section 6's interaction table: how far a sequenced schedule's
+//! The interaction table behind
+//! [what combines under sequencing](crate#sequencing-what-combines): how far a sequenced schedule's
 //! realised field is from the time-weighted combination of its segments'
 //! steady-state fields, for a Sink made of two orthogonal LineSinks.
 //!
@@ -135,14 +136,14 @@ pub fn interaction_table(out: &Path) -> Result<String> {
          25 points, ‖realised − predicted‖ / ‖predicted‖. Sine: ψ'' = ψ0 ω² sin ωt (same peak \
          angular acceleration), so the plate velocity jumps by ψ0 ω × 5 cm ≈ 5 cm/s at every \
          join. *Inertial*: the part's tangential inertial velocity is continuous at a join \
-         (physical, DESIGN.md section 7). *Slip kept*: the slip velocity relative to the plate \
+         (physical, see `platefield::verify`). *Slip kept*: the slip velocity relative to the plate \
          is carried over unchanged, i.e. the part jumps with the plate (unphysical; shown \
          because it is the naive way to chain simulations).\n\n",
     );
     let table = |md: &mut String, rows: &[InteractionRow], with_doc: bool| {
         md.push_str("| cycles per segment | rest-to-rest ψ0(1 − cos ωt) | sine, inertial velocity continuous | sine, slip velocity kept |");
         md.push_str(if with_doc {
-            " DESIGN.md (rest-to-rest / sine) |\n|---|---|---|---|---|\n"
+            " earlier reference script (rest-to-rest / sine) |\n|---|---|---|---|---|\n"
         } else {
             "\n|---|---|---|---|\n"
         });
@@ -167,15 +168,17 @@ pub fn interaction_table(out: &Path) -> Result<String> {
     table(&mut md, &rows, true);
     if let (Some(first), Some(last)) = (rows.first(), rows.last()) {
         md.push_str(&format!(
-            "\nThe rest-to-rest column reproduces DESIGN.md. The sine column does not: with the \
+            "\nThe rest-to-rest column reproduces an earlier, independent reference script; its sine \
+             column is not reproduced: with the \
              part's inertial velocity continuous at the joins (the physical rule) the sine schedule \
              is as accurate as the rest-to-rest one ({:.1} % → {:.1} %), because the two joins of a \
              schedule period kick the slip velocity by equal and opposite amounts (v_0° − v_90° and \
              v_90° − v_0°), whose displacements nearly cancel. Other join rules tried do not give \
-             DESIGN.md's 190 / 69 / 21 % either: keeping the slip velocity (column 4) gives {:.1} % → \
+             the reference script's 190 / 69 / 21 % either: keeping the slip velocity (column 4) gives {:.1} % → \
              {:.1} %; resetting the slip velocity to zero at each join, or applying the kick with the \
              wrong sign, gave about 100–110 % → 14–16 % in a one-off experiment. We could not \
-             identify the setup behind DESIGN.md's sine column; the qualitative conclusion stands \
+             identify the setup behind the reference script's sine column (its join handling \
+             was wrong; an independent inertial-frame computation agrees with this table); the qualitative conclusion stands \
              (a velocity jump at the joins is at best harmless and, with any rule other than the \
              physical one, harmful; short segments need closed-loop correction).\n",
             100.0 * first.sine,

@@ -1,5 +1,7 @@
-//! Speed against error of the primitive library (DESIGN.md section 8):
-//! `platefield speed` writes `results/library_speed.md`.
+//! Speed against error of the primitive library: `platefield speed` writes
+//! `results/library_speed.md`. Every numerical knob (steps per cycle here;
+//! phases, grid spacing and model rung elsewhere) is a point on a
+//! speed-against-error curve, measured against a converged reference.
 //!
 //! The default 8-primitive *force* library (21 × 21 grid over ±4 cm, 30
 //! start phases, [`FieldSettings::default`] otherwise: model full, μ = 0.3)

@@ -1,4 +1,6 @@
-//! Closed-loop verification of schedules (DESIGN.md section 7).
+//! Closed-loop verification of schedules: the prediction of
+//! [what combines under sequencing](crate#sequencing-what-combines) checked
+//! by playing the schedule.
 //!
 //! A [`crate::design::Schedule`] is played exactly, segment after segment:
 //! segment i runs `cycles` whole periods of its primitive's [`Motion`]

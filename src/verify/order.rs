@@ -1,7 +1,6 @@
 //! Segment order and rest insertion: which playing order of a schedule's
 //! segments, and how much rest at the joins, best realises the design's
-//! prediction (DESIGN.md section 6, "an order is chosen; rest cycles may be
-//! inserted"; the paper's section V).
+//! prediction (the paper's section V).
 //!
 //! **Why order matters.** Every segment starts off its own periodic orbit:
 //! the part arrives with the slip velocity the previous segment left it

@@ -1,5 +1,5 @@
-//! Rectangles played through a schedule (DESIGN.md section 7: where parts
-//! end up and how rectangles orient).
+//! Rectangles played through a schedule: where parts end up and how
+//! rectangles orient.
 //!
 //! [`play_rectangle`] drives one uniform rectangle ([`Rectangle`], simulated
 //! by [`PlanarSimulator`]) through a [`ScheduleMotion`] for a given time:
