@@ -50,21 +50,11 @@ enum Command {
     Order {
         /// A schedule.json written by `design`.
         schedule: PathBuf,
-        /// Start points per side of the N×N grid over ±3 cm.
-        #[arg(long, default_value_t = 5)]
-        points: usize,
         /// Rest cycles tried at every join, comma separated.
         #[arg(long, value_delimiter = ',', default_values_t = platefield::verify::order::DEFAULT_REST_CYCLES)]
         rest: Vec<u32>,
-        /// Minimum schedule periods measured per candidate.
-        #[arg(long, default_value_t = 1)]
-        periods: u32,
-        /// Minimum warm-up periods per candidate (at least 40 primitive cycles are always played).
-        #[arg(long, default_value_t = 1)]
-        warmup: u32,
-        /// Model: the schedule's own (default, normally full), full, paper, or frozen.
-        #[arg(long, value_enum)]
-        model: Option<Preset>,
+        #[command(flatten)]
+        play: Play,
         /// Output folder; writes OUT/<target>/verify/order.md.
         #[arg(long, default_value = "results")]
         out: PathBuf,
@@ -123,6 +113,23 @@ enum Command {
     /// Study: SqueezeTrans's squeeze line against segment order, phasing, cycles and rest (the paper's section V): squeeze_trans_order.{md,csv}.
     #[command(mut_arg("out", default_dir(studies::squeeze_order::DIR)))]
     SqueezeOrder(StudyOut),
+}
+
+/// How a schedule is played to measure its realised field (`verify`, `order`).
+#[derive(Args)]
+struct Play {
+    /// Start points per side of the N×N grid over the target region (order: over ±3 cm).
+    #[arg(long, default_value_t = 5)]
+    points: usize,
+    /// Schedule periods measured after the warm-up (order: at least, per candidate).
+    #[arg(long, default_value_t = 1)]
+    periods: u32,
+    /// Schedule periods played before measuring (order: at least, and at least 40 primitive cycles).
+    #[arg(long, default_value_t = 1)]
+    warmup: u32,
+    /// Model: the schedule's own (default, normally full), full, paper, or frozen (full with positions frozen: an exact comparison when parts drift far).
+    #[arg(long, value_enum)]
+    model: Option<Preset>,
 }
 
 /// Output folder of a study; its default is the study's `DIR`.
@@ -206,18 +213,8 @@ fn xy(text: &str) -> std::result::Result<[f64; 2], String> {
 struct VerifyArgs {
     /// A schedule.json written by `design`.
     schedule: PathBuf,
-    /// Realised-field grid: start points per side of the N×N grid over the target region.
-    #[arg(long, default_value_t = 5)]
-    points: usize,
-    /// Schedule periods measured (after the warm-up).
-    #[arg(long, default_value_t = 1)]
-    periods: u32,
-    /// Schedule periods played before measuring.
-    #[arg(long, default_value_t = 1)]
-    warmup: u32,
-    /// Model: the schedule's own (default, normally full), full, paper, or frozen (full with positions frozen: an exact comparison when parts drift far).
-    #[arg(long, value_enum)]
-    model: Option<Preset>,
+    #[command(flatten)]
+    play: Play,
     /// Swarm: point parts per side of the N×N grid over the target region.
     #[arg(long, default_value_t = 9)]
     swarm: usize,
@@ -306,21 +303,18 @@ fn linesink(a: &LinesinkArgs) -> Result<String> {
 
 fn order_cmd(
     schedule: &std::path::Path,
-    points: usize,
     rest: &[u32],
-    periods: u32,
-    warmup: u32,
-    model: Option<Preset>,
+    play: &Play,
     out: &std::path::Path,
 ) -> Result<()> {
     let start = std::time::Instant::now();
     let (_, md, file) = platefield::verify::order_schedule_file(
         schedule,
-        points,
+        play.points,
         rest,
-        warmup,
-        periods,
-        model.map(Preset::model),
+        play.warmup,
+        play.periods,
+        play.model.map(Preset::model),
         out,
     )?;
     print!("{md}");
@@ -348,7 +342,7 @@ fn rect_size(text: &str) -> Result<[f64; 2]> {
 
 fn verify_cmd(args: &VerifyArgs) -> Result<()> {
     use platefield::verify::{Duration, VerifyRequest};
-    let model = args.model.map(Preset::model);
+    let model = args.play.model.map(Preset::model);
     let duration = match (args.duration, args.repetitions) {
         (Some(_), Some(_)) => {
             return Err(Error::invalid(
@@ -361,9 +355,9 @@ fn verify_cmd(args: &VerifyArgs) -> Result<()> {
         (None, None) => Duration::Auto,
     };
     let req = VerifyRequest {
-        points: args.points,
-        warmup: args.warmup,
-        periods: args.periods,
+        points: args.play.points,
+        warmup: args.play.warmup,
+        periods: args.play.periods,
         model,
         swarm: args.swarm,
         duration,
@@ -381,10 +375,10 @@ fn verify_cmd(args: &VerifyArgs) -> Result<()> {
         "realised vs predicted relative error {:.2} % over {} of {} points ({} model, {} warm-up + {} measured periods of {:.4} s); max |error| {:.3e} m/s, rms |predicted| {:.3e} m/s",
         100.0 * v.relative_error,
         v.valid,
-        args.points * args.points,
+        args.play.points * args.play.points,
         v.model,
-        args.warmup,
-        args.periods,
+        args.play.warmup,
+        args.play.periods,
         v.schedule_period_s,
         v.max_abs_error,
         v.rms_predicted
@@ -682,13 +676,10 @@ fn run(cli: Cli) -> Result<()> {
         Command::Verify(args) => return verify_cmd(&args),
         Command::Order {
             schedule,
-            points,
             rest,
-            periods,
-            warmup,
-            model,
+            play,
             out,
-        } => return order_cmd(&schedule, points, &rest, periods, warmup, model, &out),
+        } => return order_cmd(&schedule, &rest, &play, &out),
         Command::Field {
             scene,
             out,
