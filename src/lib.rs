@@ -19,9 +19,11 @@ pub mod fit;
 pub mod linesink;
 pub mod motion;
 pub mod output;
+pub mod play;
 pub mod plot;
 pub mod reproduce;
 pub mod scene;
+pub mod schedule;
 pub mod target;
 pub mod verify;
 

@@ -9,14 +9,15 @@ use platefield::basis::report::write_primitives;
 use platefield::basis::Library;
 use platefield::basis::PrimitiveKind;
 use platefield::design::closed_loop::{self, closed_loop, LoopOptions};
-use platefield::design::export::signals_csv;
 use platefield::design::quality::write_fit_quality;
-use platefield::design::{design, report, DesignOptions, Schedule};
+use platefield::design::{design, report, DesignOptions};
 use platefield::dynamics::{Friction, Model, Numerics};
 use platefield::field::FieldKind;
 use platefield::field::{FieldSettings, Grid};
 use platefield::fit::FitMode;
 use platefield::linesink::LineSink;
+use platefield::schedule::export::signals_csv;
+use platefield::schedule::Schedule;
 use platefield::target::Target;
 use platefield::{reproduce, Error, Result};
 
@@ -127,7 +128,7 @@ enum Command {
         #[arg(long, default_value_t = 5)]
         points: usize,
         /// Rest cycles tried at every join, comma separated.
-        #[arg(long, value_delimiter = ',', default_values_t = platefield::verify::order::DEFAULT_REST_CYCLES)]
+        #[arg(long, value_delimiter = ',', default_values_t = platefield::design::order::DEFAULT_REST_CYCLES)]
         rest: Vec<u32>,
         /// Minimum schedule periods measured per candidate.
         #[arg(long, default_value_t = 1)]
@@ -377,7 +378,7 @@ fn order_cmd(
 ) -> Result<()> {
     let model = played_model(model, "--model")?;
     let start = std::time::Instant::now();
-    let (_, md, file) = platefield::verify::order_schedule_file(
+    let (_, md, file) = platefield::design::order::order_schedule_file(
         schedule, points, rest, warmup, periods, model, out,
     )?;
     print!("{md}");
@@ -445,7 +446,7 @@ fn verify_cmd(args: &VerifyArgs) -> Result<()> {
         print!("{}", r.summary_json);
         return Ok(());
     }
-    let v = &r.verification;
+    let v = &r.realised;
     println!(
         "realised vs predicted relative error {:.2} % over {} of {} points ({} model, {} warm-up + {} measured periods of {:.4} s); max |error| {:.3e} m/s, rms |predicted| {:.3e} m/s",
         100.0 * v.relative_error,
@@ -598,7 +599,7 @@ struct DesignArgs {
     #[arg(long)]
     keep_invalid: bool,
     /// Minimum cycles per segment.
-    #[arg(long, default_value_t = platefield::design::schedule::DEFAULT_MIN_CYCLES)]
+    #[arg(long, default_value_t = platefield::schedule::DEFAULT_MIN_CYCLES)]
     min_cycles: u32,
     /// Total schedule length in cycles (default: the shortest within the quantisation tolerance).
     #[arg(long)]
@@ -770,16 +771,7 @@ fn design_cmd(args: DesignArgs) -> Result<()> {
 }
 
 fn export_cmd(schedule: &std::path::Path, rate: f64, out: Option<PathBuf>) -> Result<()> {
-    let text = std::fs::read_to_string(schedule).map_err(|e| Error::Io {
-        path: schedule.display().to_string(),
-        source: e,
-    })?;
-    let s: Schedule = serde_json::from_str(&text).map_err(|e| {
-        Error::invalid(
-            schedule.display().to_string(),
-            format!("not a platefield schedule: {e}"),
-        )
-    })?;
+    let s = Schedule::load(schedule)?;
     let csv = signals_csv(&s, rate)?;
     match out {
         Some(path) => {

@@ -1,4 +1,4 @@
-//! Segment order and rest (`platefield::verify::order`) and the
+//! Segment order and rest (`platefield::design::order`) and the
 //! order-dependent offset of SqueezeTrans's squeeze line
 //! (`platefield::verify::squeeze`).
 
@@ -8,16 +8,14 @@ use std::collections::BTreeSet;
 
 use common::platefield;
 use platefield::basis::PrimitiveKind;
-use platefield::design::Schedule;
+use platefield::design::order::{
+    choose, choose_order, region_grid, search_orders, OrderOptions, OrderSearch,
+};
+use platefield::play::{PlayOptions as VerifyOptions, PlayedSegment, ScheduleMotion};
+use platefield::schedule::Schedule;
 use platefield::verify::interaction::FROZEN;
-use platefield::verify::order::{choose, region_grid};
-use platefield::verify::run::load_schedule;
 use platefield::verify::squeeze::{
     join_budget, line_offset, segment, three_segment, two_primitive, ThreeOrder,
-};
-use platefield::verify::{
-    choose_order, search_orders, OrderOptions, OrderSearch, PlayedSegment, ScheduleMotion,
-    VerifyOptions,
 };
 
 const MM: f64 = 1e-3;
@@ -224,7 +222,7 @@ fn order_heuristic_is_deterministic_and_bounded() {
 }
 
 fn squeeze_schedule() -> Schedule {
-    load_schedule(std::path::Path::new("results/squeeze_trans/schedule.json")).unwrap()
+    Schedule::load(std::path::Path::new("results/squeeze_trans/schedule.json")).unwrap()
 }
 
 /// `choose_order` returns the schedule of the chosen candidate in the same
@@ -266,7 +264,7 @@ fn choose_order_keeps_the_schedule_consistent() {
     assert!((sm.period() - best.period_s).abs() < 1e-12);
     // The JSON format is kept.
     let text = serde_json::to_string(&out).unwrap();
-    let back: Schedule = serde_json::from_str(&text).unwrap();
+    let back = Schedule::from_json_str(&text, "text").unwrap();
     assert_eq!(back, out);
 }
 

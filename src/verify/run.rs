@@ -20,16 +20,16 @@ use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 
-use super::realised::{verify_points, Verification, VerifyOptions};
 use super::rectangles::{play_rectangle, PoseSample, RectangleOptions, RectangleSummary};
 use super::swarm::{run_swarm, Swarm, SwarmOptions};
-use super::{ScheduleMotion, V2};
-use crate::design::Schedule;
 use crate::dynamics::Model;
 use crate::dynamics::Rectangle;
 use crate::error::{Error, Result};
-use crate::field::{FieldSettings, Grid};
+use crate::field::Grid;
+use crate::play::measure::{verify_points, PlayOptions, PointResult, RealisedField};
+use crate::play::{ScheduleMotion, V2};
 use crate::plot::{Marker, MarkerShape, Overlay, QuiverPlot};
+use crate::schedule::Schedule;
 use crate::target::Attractor;
 
 /// How long the swarm is played.
@@ -138,7 +138,7 @@ impl VerifyRequest {
 #[derive(Debug, Clone)]
 pub struct VerifyReport {
     /// Realised field against the prediction.
-    pub verification: Verification,
+    pub realised: RealisedField,
     /// The swarm.
     pub swarm: Swarm,
     /// The rectangles.
@@ -147,48 +147,6 @@ pub struct VerifyReport {
     pub summary_json: String,
     /// Files written.
     pub files: Vec<PathBuf>,
-}
-
-/// Reads a `schedule.json` written by `platefield design`.
-pub fn load_schedule(path: &Path) -> Result<Schedule> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
-        path: path.display().to_string(),
-        source: e,
-    })?;
-    serde_json::from_str(&text).map_err(|e| {
-        Error::invalid(
-            path.display().to_string(),
-            format!("not a platefield schedule: {e}"),
-        )
-    })
-}
-
-/// The physics a schedule's basis was built with (validated).
-pub fn schedule_settings(schedule: &Schedule, path: &Path) -> Result<FieldSettings> {
-    let settings: FieldSettings =
-        serde_json::from_value(schedule.settings.clone()).map_err(|e| {
-            Error::invalid(
-                format!("{}: settings", path.display()),
-                format!("not platefield field settings: {e}"),
-            )
-        })?;
-    settings.friction.validate("settings.friction")?;
-    settings.numerics.validate("settings.numerics")?;
-    crate::error::positive("settings.gravity", settings.gravity)?;
-    Ok(settings)
-}
-
-/// The schedule's target name, checked to be a plain folder name (results
-/// go to `OUT/<target>/`).
-pub fn target_folder(schedule: &Schedule) -> Result<&str> {
-    let name = schedule.target.as_str();
-    if name.trim().is_empty() || name.contains(['/', '\\']) || name.starts_with('.') {
-        return Err(Error::invalid(
-            "schedule.target",
-            format!("must be a plain folder name, got \"{name}\""),
-        ));
-    }
-    Ok(name)
 }
 
 /// The region verified: the target's grid, or ±3 cm when the schedule does
@@ -365,7 +323,7 @@ fn outline(size: [f64; 2], r: [f64; 2], deg: f64) -> Vec<[f64; 2]> {
 pub fn trajectory_svg(
     name: &str,
     g: &Grid,
-    v: &Verification,
+    v: &RealisedField,
     swarm: &Swarm,
     rects: &[RectangleResult],
     size: [f64; 2],
@@ -442,28 +400,66 @@ pub fn trajectory_svg(
     plot.to_svg()
 }
 
+/// Most plate cycles `verify` plays in total over all its parts (about
+/// 6 minutes of CPU at 0.3 ms per point-part cycle of 300 steps; a
+/// rectangle cycle costs [`RECT_CYCLE_COST`] point-part cycles).
+pub const MAX_VERIFY_PART_CYCLES: f64 = 1.2e6;
+
+/// Cost of one rectangle cycle in point-part cycles (support points and
+/// sub-steps; measured on the 16 × 4 rectangle).
+pub const RECT_CYCLE_COST: f64 = 50.0;
+
+/// Refuses a verification whose work (point-part cycles: realised grid,
+/// swarm and rectangles) exceeds [`MAX_VERIFY_PART_CYCLES`], stating the
+/// estimate and the knobs that make it smaller.
+pub fn check_work(
+    schedule: &Schedule,
+    req: &VerifyRequest,
+    swarm_periods: u32,
+    rect_periods: u32,
+) -> Result<()> {
+    let cycles = f64::from(schedule.total_cycles);
+    let grid = (req.points * req.points) as f64 * f64::from(req.warmup + req.periods);
+    let swarm = (req.swarm * req.swarm) as f64 * f64::from(swarm_periods);
+    let rects = req.rectangle_poses as f64 * f64::from(rect_periods) * RECT_CYCLE_COST;
+    let work = cycles * (grid + swarm + rects);
+    if work > MAX_VERIFY_PART_CYCLES {
+        return Err(Error::invalid(
+            "schedule",
+            format!(
+                "verifying it would play about {work:.2e} part cycles ({cycles} cycles per period; \
+                 realised grid {grid:.0}, swarm {swarm:.0}, rectangles {rects:.0} part-periods), \
+                 more than the limit of {MAX_VERIFY_PART_CYCLES:.1e}: shorten the schedule or lower \
+                 --points, --swarm, --repetitions/--duration or --rect-poses"
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// `platefield verify`: runs `req` on the schedule at `path` with the
 /// physics its basis was built with and writes `OUT/<target>/verify/`.
 pub fn verify_schedule_file(path: &Path, req: &VerifyRequest, out: &Path) -> Result<VerifyReport> {
     req.validate()?;
-    let schedule = load_schedule(path)?;
-    let settings = schedule_settings(&schedule, path)?;
-    let name = target_folder(&schedule)?;
-    if let Some(t) = &schedule.target_spec {
-        t.validate()?;
+    let schedule = Schedule::load(path)?;
+    let settings = schedule.settings;
+    let name = schedule.target_folder()?;
+    if schedule.moving_time() <= 0.0 {
+        return Err(Error::invalid(
+            format!("{}: segments", path.display()),
+            "every segment is rest: the plate never moves, so there is no field to verify",
+        ));
     }
     let sm = ScheduleMotion::from_schedule(&schedule)?;
-    let mut opts = VerifyOptions {
+    let mut opts = PlayOptions {
         warmup_periods: req.warmup,
         periods: req.periods,
-        ..VerifyOptions::from_settings(&settings)
+        ..PlayOptions::from_settings(&settings)
     };
     if let Some(m) = req.model {
         opts.model = m;
     }
     let g = region(&schedule);
-    let v = verify_points(&sm, &region_points(&g, req.points), &opts);
-
     let attractor = schedule
         .target_spec
         .as_ref()
@@ -478,6 +474,24 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest, out: &Path) -> Res
         strength,
         req.tol,
     );
+    let rect_periods = match req.duration {
+        Duration::Auto => periods.max((RECT_MIN_AUTO_S / sm.period()).ceil() as u32),
+        _ => periods,
+    };
+    check_work(&schedule, req, periods, rect_periods)?;
+    let v = verify_points(&sm, &region_points(&g, req.points), &opts);
+    if v.valid == 0 {
+        let why = v
+            .points
+            .iter()
+            .find_map(|p| p.note.clone())
+            .unwrap_or_default();
+        return Err(Error::Physical(format!(
+            "{}: no realised field: all {} parts left the plate or had no steady state (first: {why})",
+            path.display(),
+            v.points.len()
+        )));
+    }
     let swarm = run_swarm(
         &sm,
         &starts,
@@ -499,10 +513,6 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest, out: &Path) -> Res
         },
         ..RectangleOptions::default()
     };
-    let rect_periods = match req.duration {
-        Duration::Auto => periods.max((RECT_MIN_AUTO_S / sm.period()).ceil() as u32),
-        _ => periods,
-    };
     let rectangles = run_rectangles(
         &sm,
         req.rectangle,
@@ -515,6 +525,9 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest, out: &Path) -> Res
     #[derive(Serialize)]
     struct Summary<'a> {
         realised_vs_predicted_relative_error: f64,
+        realised_shape_error: f64,
+        realised_strength: f64,
+        design_strength: f64,
         converged_fraction: Option<f64>,
         median_time_to_converge_s: Option<f64>,
         median_predicted_time_to_converge_s: Option<f64>,
@@ -535,10 +548,13 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest, out: &Path) -> Res
         periods: u32,
         max_abs_error_m_per_s: f64,
         rms_predicted_m_per_s: f64,
-        per_point: &'a [super::PointResult],
+        per_point: &'a [PointResult],
     }
     let summary = Summary {
         realised_vs_predicted_relative_error: v.relative_error,
+        realised_shape_error: v.shape_error,
+        realised_strength: v.realised_scale * strength,
+        design_strength: strength,
         converged_fraction: swarm.converged_fraction,
         median_time_to_converge_s: swarm.median_time_to_converge_s,
         median_predicted_time_to_converge_s: swarm.median_predicted_time_s,
@@ -568,7 +584,7 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest, out: &Path) -> Res
     crate::output::write_atomic(&files[0], text.as_bytes())?;
     crate::output::write_atomic(&files[1], svg.as_bytes())?;
     Ok(VerifyReport {
-        verification: v,
+        realised: v,
         swarm,
         rectangles,
         summary_json: text,

@@ -53,12 +53,11 @@ use std::path::Path;
 use serde::Serialize;
 
 use super::interaction::FROZEN;
-use super::order::periods_for;
-use super::realised::{verify_points, VerifyOptions};
-use super::{PlayedSegment, ScheduleMotion, V2};
 use crate::basis::{Primitive, PrimitiveKind};
 use crate::dynamics::{Model, PartState};
 use crate::error::{Error, Result};
+use crate::play::measure::{verify_points, PlayOptions as VerifyOptions};
+use crate::play::{periods_for, PlayedSegment, ScheduleMotion, V2};
 
 /// Cycles per segment studied.
 pub const CYCLES: [u32; 3] = [1, 3, 10];
