@@ -21,6 +21,7 @@ pub mod motion;
 pub mod output;
 pub mod play;
 pub mod plot;
+pub mod report;
 pub mod reproduce;
 pub mod scene;
 pub mod schedule;

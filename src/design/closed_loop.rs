@@ -58,7 +58,6 @@
 
 pub mod measure;
 pub mod refit;
-pub mod report;
 
 use std::time::Instant;
 
@@ -208,7 +207,8 @@ pub struct ClosedLoop {
     pub design_strength: f64,
     /// Why the re-fit stopped.
     pub stop: String,
-    /// Wall time (s).
+    /// Wall time (s): for the terminal summary, not written to files.
+    #[serde(skip)]
     pub seconds: f64,
 }
 

@@ -19,7 +19,6 @@ pub mod basis;
 pub mod closed_loop;
 pub mod order;
 pub mod quality;
-pub mod report;
 
 use std::path::PathBuf;
 use std::time::Instant;
