@@ -105,6 +105,7 @@ pub fn sampling_grid(grid: Option<&Grid>, points: &[[f64; 2]]) -> Grid {
 }
 
 /// Assembles the basis: every library entry at every rotation and shift.
+#[allow(clippy::too_many_arguments)]
 pub fn assemble(
     lib: &Library,
     kind: FieldKind,
@@ -165,7 +166,7 @@ pub fn assemble(
                             None => counts.push((validity[i], 1)),
                         }
                     }
-                    counts.sort_by(|a, b| b.1.cmp(&a.1));
+                    counts.sort_by_key(|c| std::cmp::Reverse(c.1));
                     excluded.push(Excluded {
                         label: label(&primitive),
                         invalid_samples: bad.len(),

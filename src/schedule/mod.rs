@@ -221,7 +221,7 @@ impl Schedule {
                 None => period += non_negative(&format!("{at}.duration_s"), seg.duration_s)?,
             }
         }
-        if !(period > 0.0) {
+        if period.is_nan() || period <= 0.0 {
             return Err(Error::invalid(
                 "segments",
                 "must hold at least one segment of positive duration",

@@ -179,7 +179,7 @@ pub fn realised_error(
     for _ in 0..50 {
         let p = promised(target, &ok, s_hat);
         let pp = dot(&p, &p);
-        if !(pp > 0.0) {
+        if pp.is_nan() || pp <= 0.0 {
             break;
         }
         let next = s_hat * dot(&r, &p) / pp;
