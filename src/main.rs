@@ -7,16 +7,14 @@ use std::process::ExitCode;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use platefield::basis::PrimitiveKind;
-use platefield::design::closed_loop::{self, closed_loop, LoopOptions};
-use platefield::design::export::signals_csv;
-use platefield::design::{design, report, DesignOptions, Schedule};
+use platefield::design::closed_loop::LoopOptions;
+use platefield::design::DesignOptions;
 use platefield::dynamics::{Friction, Numerics, Preset};
 use platefield::field::FieldKind;
 use platefield::fit::FitMode;
-use platefield::output::write_atomic;
 use platefield::studies::{self, linesink::LineSink, linesink::Wave};
-use platefield::target::Target;
-use platefield::{Error, Result};
+use platefield::output::write_atomic;
+use platefield::{report, Error, Result};
 
 #[derive(Parser)]
 #[command(
@@ -51,7 +49,7 @@ enum Command {
         /// A schedule.json written by `design`.
         schedule: PathBuf,
         /// Rest cycles tried at every join, comma separated.
-        #[arg(long, value_delimiter = ',', default_values_t = platefield::verify::order::DEFAULT_REST_CYCLES)]
+        #[arg(long, value_delimiter = ',', default_values_t = platefield::design::order::DEFAULT_REST_CYCLES)]
         rest: Vec<u32>,
         #[command(flatten)]
         play: Play,
@@ -307,21 +305,17 @@ fn order_cmd(
     play: &Play,
     out: &std::path::Path,
 ) -> Result<()> {
-    let start = std::time::Instant::now();
-    let (_, md, file) = platefield::verify::order_schedule_file(
-        schedule,
-        play.points,
-        rest,
-        play.warmup,
-        play.periods,
-        play.model.map(Preset::model),
-        out,
-    )?;
-    print!("{md}");
-    println!(
-        "wrote {} ({:.1} s)",
-        file.display(),
-        start.elapsed().as_secs_f64()
+    print!(
+        "{}",
+        report::order(
+            schedule,
+            play.points,
+            rest,
+            play.warmup,
+            play.periods,
+            play.model.map(Preset::model),
+            out
+        )?
     );
     Ok(())
 }
@@ -365,81 +359,10 @@ fn verify_cmd(args: &VerifyArgs) -> Result<()> {
         rectangle: rect_size(&args.rect)?,
         rectangle_poses: args.rect_poses,
     };
-    let r = platefield::verify::verify_schedule_file(&args.schedule, &req, &args.out)?;
-    if args.json {
-        print!("{}", r.summary_json);
-        return Ok(());
-    }
-    let v = &r.verification;
-    println!(
-        "realised vs predicted relative error {:.2} % over {} of {} points ({} model, {} warm-up + {} measured periods of {:.4} s); max |error| {:.3e} m/s, rms |predicted| {:.3e} m/s",
-        100.0 * v.relative_error,
-        v.valid,
-        args.play.points * args.play.points,
-        v.model,
-        args.play.warmup,
-        args.play.periods,
-        v.schedule_period_s,
-        v.max_abs_error,
-        v.rms_predicted
+    print!(
+        "{}",
+        report::verify::run(&args.schedule, &req, &args.out, args.json)?
     );
-    for p in v.points.iter().filter(|p| !p.valid) {
-        println!(
-            "invalid ({:.4}, {:.4}): {}",
-            p.start[0],
-            p.start[1],
-            p.note.as_deref().unwrap_or("")
-        );
-    }
-    let s = &r.swarm;
-    let opt = |x: Option<f64>, unit: &str| x.map_or("n/a".to_string(), |x| format!("{x:.3}{unit}"));
-    match s.converged_fraction {
-        Some(f) => println!(
-            "swarm of {} parts for {:.2} s: {:.1} % within {:.1} mm of the attractor ({} left the plate); median time to converge {} against {} predicted from the design strength (ratio {})",
-            s.parts.len(),
-            s.duration_s,
-            100.0 * f,
-            1e3 * s.tol,
-            s.contact_lost,
-            opt(s.median_time_to_converge_s, " s"),
-            opt(s.median_predicted_time_s, " s"),
-            opt(s.time_ratio, ""),
-        ),
-        None => println!(
-            "swarm of {} parts for {:.2} s: the target has no attractor ({} left the plate)",
-            s.parts.len(),
-            s.duration_s,
-            s.contact_lost
-        ),
-    }
-    for (k, rect) in r.rectangles.iter().enumerate() {
-        let [x, y, deg] = rect.start_pose;
-        match &rect.summary {
-            Some(sum) => println!(
-                "rectangle {k} ({:.1} × {:.1} mm) from ({:.1}, {:.1}) mm at {deg:.0}°: ends at ({:.2}, {:.2}) mm, long axis at {:.1}°{}{}",
-                1e3 * sum.rectangle.length,
-                1e3 * sum.rectangle.width,
-                1e3 * x,
-                1e3 * y,
-                1e3 * sum.end[0],
-                1e3 * sum.end[1],
-                sum.end_axis_deg,
-                rect.distance_to_attractor_m
-                    .map_or(String::new(), |d| format!(", {:.2} mm from the attractor", 1e3 * d)),
-                rect.angle_to_line_deg
-                    .map_or(String::new(), |a| format!(", {a:.1}° to its line")),
-            ),
-            None => println!(
-                "rectangle {k} from ({:.1}, {:.1}) mm at {deg:.0}°: {}",
-                1e3 * x,
-                1e3 * y,
-                rect.note.as_deref().unwrap_or("")
-            ),
-        }
-    }
-    for f in &r.files {
-        println!("wrote {}", f.display());
-    }
     Ok(())
 }
 
@@ -510,7 +433,7 @@ struct DesignArgs {
     #[arg(long)]
     keep_invalid: bool,
     /// Minimum cycles per segment.
-    #[arg(long, default_value_t = platefield::design::schedule::DEFAULT_MIN_CYCLES)]
+    #[arg(long, default_value_t = platefield::schedule::DEFAULT_MIN_CYCLES)]
     min_cycles: u32,
     /// Total schedule length in cycles (default: the shortest within the quantisation tolerance).
     #[arg(long)]
@@ -594,8 +517,6 @@ fn design_options(args: &DesignArgs) -> Result<DesignOptions> {
 
 fn design_cmd(args: DesignArgs) -> Result<()> {
     let opts = design_options(&args)?;
-    let mut target = Target::load(&args.target)?;
-    target.name = target.folder_name(&args.target)?;
     let loop_opts = LoopOptions {
         stride: args.loop_stride,
         max_iterations: args.loop_iterations,
@@ -603,65 +524,16 @@ fn design_cmd(args: DesignArgs) -> Result<()> {
         ..LoopOptions::default()
     };
     loop_opts.validate()?;
-    let d = design(&target, &opts)?;
-    let dir = args.out.join(&target.name);
-    if args.closed_loop {
-        let cl = closed_loop(&target, &d, &loop_opts)?;
-        closed_loop::report::write(&d, &target, &cl, &dir)?;
-        if args.json {
-            print!("{}", closed_loop::report::schedule_json(&d, &target, &cl)?);
-        } else {
-            print!("{}", report::summary(&d));
-            print!("{}", closed_loop::report::summary(&cl));
-            println!(
-                "wrote {}/{{schedule.json, schedule_open_loop.json, closed_loop.md, closed_loop.json, fit.svg, report.md}}",
-                dir.display()
-            );
-        }
-        return Ok(());
-    }
-    report::write(&d, &dir)?;
-    if args.json {
-        print!("{}", report::schedule_json(&d));
-    } else {
-        print!("{}", report::summary(&d));
-        println!(
-            "wrote {}/{{schedule.json, fit.svg, report.md{}}}",
-            args.out.join(&target.name).display(),
-            if d.order_search.is_some() {
-                ", order.md"
-            } else {
-                ""
-            }
-        );
-    }
+    let closed = args.closed_loop.then_some(&loop_opts);
+    print!(
+        "{}",
+        report::design::run(&args.target, &opts, closed, &args.out, args.json)?
+    );
     Ok(())
 }
 
 fn export_cmd(schedule: &std::path::Path, rate: f64, out: Option<PathBuf>) -> Result<()> {
-    let text = std::fs::read_to_string(schedule).map_err(|e| Error::Io {
-        path: schedule.display().to_string(),
-        source: e,
-    })?;
-    let s: Schedule = serde_json::from_str(&text).map_err(|e| {
-        Error::invalid(
-            schedule.display().to_string(),
-            format!("not a platefield schedule: {e}"),
-        )
-    })?;
-    let csv = signals_csv(&s, rate)?;
-    match out {
-        Some(path) => {
-            platefield::output::write_atomic(&path, csv.as_bytes())?;
-            println!(
-                "wrote {} ({} samples at {rate} Hz over {:.4} s)",
-                path.display(),
-                csv.lines().count() - 1,
-                s.period_s
-            );
-        }
-        None => print!("{csv}"),
-    }
+    print!("{}", report::export(schedule, rate, out.as_deref())?);
     Ok(())
 }
 

@@ -175,3 +175,163 @@ fn verify_json_reports_the_issue_keys_and_rejects_bad_input() {
     assert_eq!(code, 2);
     assert!(err.contains("missing.json"), "{err}");
 }
+
+/// The shipped sink schedule as a JSON value.
+fn sink_schedule() -> serde_json::Value {
+    let text = std::fs::read_to_string("results/sink/schedule.json").expect("sink schedule");
+    serde_json::from_str(&text).expect("JSON")
+}
+
+/// A fresh temporary folder for one case.
+fn temp_dir(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("platefield-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Runs `export` and `verify` on `schedule` (written to a temporary file);
+/// returns their (exit code, stderr) and whether anything was written.
+fn export_and_verify(name: &str, schedule: &serde_json::Value) -> [(i32, String, bool); 2] {
+    run_both(name, schedule, true)
+}
+
+/// [`export_and_verify`]; `export` false skips the export (code 0).
+fn run_both(name: &str, schedule: &serde_json::Value, export: bool) -> [(i32, String, bool); 2] {
+    let dir = temp_dir(name);
+    let file = dir.join("schedule.json");
+    std::fs::write(&file, serde_json::to_string_pretty(schedule).unwrap()).unwrap();
+    let (csv, out) = (dir.join("signals.csv"), dir.join("out"));
+    let (ce, _, ee) = if export {
+        platefield(&[
+            "export",
+            file.to_str().unwrap(),
+            "--rate",
+            "1000",
+            "--out",
+            csv.to_str().unwrap(),
+        ])
+    } else {
+        (0, String::new(), String::new())
+    };
+    let (cv, _, ev) = platefield(&[
+        "verify",
+        file.to_str().unwrap(),
+        "--points",
+        "2",
+        "--swarm",
+        "2",
+        "--rect-poses",
+        "0",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let written = [csv.exists(), out.exists()];
+    let _ = std::fs::remove_dir_all(&dir);
+    [(ce, ee, written[0]), (cv, ev, written[1])]
+}
+
+/// Issue 13: bad schedule files are refused by `export` and `verify` alike
+/// (one loader): exit 2, the message names the JSON path (and the key or
+/// the allowed range), nothing is written. Covers `segments: []` (export
+/// used to panic), unknown keys (used to be ignored), omega 0, a negative
+/// rest and a billion cycles.
+#[test]
+fn bad_schedule_files_are_refused_naming_the_path() {
+    let mut cases: Vec<(&str, serde_json::Value, &[&str])> = Vec::new();
+    let mut s = sink_schedule();
+    s["segments"] = serde_json::json!([]);
+    cases.push(("empty", s, &["segments", "at least one segment"]));
+    let mut s = sink_schedule();
+    s["colour"] = serde_json::json!("red");
+    cases.push(("unknown-top", s, &["colour", "unknown field"]));
+    let mut s = sink_schedule();
+    s["segments"][1]["primitive"]["omegaa"] = serde_json::json!(209.0);
+    cases.push(("unknown-nested", s, &["segments[1].primitive", "omegaa"]));
+    let mut s = sink_schedule();
+    s["solver"]["solve_time_s"] = serde_json::json!(0.1);
+    cases.push(("timing", s, &["solver", "solve_time_s"]));
+    let mut s = sink_schedule();
+    s["segments"][0]["primitive"]["omega"] = serde_json::json!(0.0);
+    cases.push(("omega", s, &["segments[0].primitive.omega", "> 0"]));
+    let mut s = sink_schedule();
+    s["segments"][3] = serde_json::json!({"label": "Rest", "primitive": null, "weight": 0.0,
+        "cycles": 1, "duration_s": -0.03});
+    cases.push(("rest", s, &["segments[3].duration_s", "≥ 0"]));
+    let mut s = sink_schedule();
+    s["segments"][2]["cycles"] = serde_json::json!(1_000_000_000u64);
+    cases.push(("cycles", s, &["segments[2].cycles", "1..=100000"]));
+    for (name, s, needles) in cases {
+        for (command, (code, err, written)) in
+            ["export", "verify"].iter().zip(export_and_verify(name, &s))
+        {
+            assert_eq!(code, 2, "{command} {name}: {err}");
+            for n in needles {
+                assert!(err.contains(n), "{command} {name}: {err:?} should name {n}");
+            }
+            assert!(!written, "{command} {name}: nothing may be written");
+        }
+    }
+}
+
+/// The period is derived from the segments: a `period_s` of 0 (or any
+/// other value) in the file changes nothing, and `export` samples the
+/// period `verify` plays (4 × 10 cycles of 2π/209 s at 1 kHz: 1203 rows).
+#[test]
+fn export_plays_the_period_derived_from_the_segments() {
+    let dir = temp_dir("period");
+    let mut rows = Vec::new();
+    for period in [None, Some(0.0), Some(99.0)] {
+        let mut s = sink_schedule();
+        if let Some(p) = period {
+            s["period_s"] = serde_json::json!(p);
+        }
+        let file = dir.join("schedule.json");
+        std::fs::write(&file, s.to_string()).unwrap();
+        let (code, out, err) = platefield(&["export", file.to_str().unwrap(), "--rate", "1000"]);
+        assert_eq!(code, 0, "{err}");
+        rows.push(out.lines().count() - 1);
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    let period = 40.0 * std::f64::consts::TAU / 209.0;
+    assert_eq!(rows, vec![(period * 1000.0).round() as usize; 3]);
+}
+
+/// `verify` refuses what it cannot report: a rest-only schedule (used to
+/// print "0.00 %"), a schedule whose parts all leave the plate (used to
+/// print "NaN %"), and one whose work exceeds the limit (refused at once,
+/// with the estimate). Exit 2, nothing written.
+#[test]
+fn verify_refuses_rest_only_lost_contact_and_overlong_schedules() {
+    let mut rest = sink_schedule();
+    rest["segments"] = serde_json::json!([{"label": "Rest", "primitive": null, "weight": 1.0,
+        "cycles": 10, "duration_s": 0.3}]);
+    let mut lost = sink_schedule();
+    for k in 0..4 {
+        lost["segments"][k]["primitive"]["amplitude"] = serde_json::json!(0.5);
+    }
+    let mut long = sink_schedule();
+    for k in 0..4 {
+        long["segments"][k]["cycles"] = serde_json::json!(20_000);
+    }
+    for (name, s, needle) in [
+        ("rest-only", rest, "every segment is rest"),
+        ("lost", lost, "left the plate"),
+        ("long", long, "part cycles"),
+    ] {
+        let start = std::time::Instant::now();
+        let [export, (code, err, written)] = run_both(name, &s, name != "long");
+        assert_eq!(code, 2, "{name}: {err}");
+        assert!(
+            err.contains(needle),
+            "{name}: {err:?} should say {needle:?}"
+        );
+        assert!(!written, "{name}: nothing may be written");
+        if name == "long" {
+            assert!(err.contains("limit"), "{err}");
+            assert!(start.elapsed().as_secs_f64() < 5.0, "refused at once");
+        } else {
+            assert_eq!(export.0, 0, "{name}: export plays it: {}", export.1);
+        }
+    }
+}

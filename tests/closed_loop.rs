@@ -203,9 +203,7 @@ fn cli_closed_loop_writes_the_report() {
     }
     let report = std::fs::read_to_string(dir.join("report.md")).unwrap();
     assert!(report.contains("## Closed loop"));
-    let read = |f: &str| -> platefield::design::Schedule {
-        serde_json::from_str(&std::fs::read_to_string(dir.join(f)).unwrap()).unwrap()
-    };
+    let read = |f: &str| platefield::schedule::Schedule::load(&dir.join(f)).unwrap();
     let (closed, open) = (read("schedule.json"), read("schedule_open_loop.json"));
     assert_eq!(open.segments.len(), 4);
     // The mirrored order: every LineSink twice per period, one cycle each.

@@ -1,4 +1,4 @@
-//! Segment order and rest (`platefield::verify::order`) and the
+//! Segment order and rest (`platefield::design::order`) and the
 //! order-dependent offset of SqueezeTrans's squeeze line
 //! (`platefield::studies::squeeze_order`).
 
@@ -8,16 +8,14 @@ use std::collections::BTreeSet;
 
 use common::platefield;
 use platefield::basis::PrimitiveKind;
-use platefield::design::Schedule;
+use platefield::design::order::{
+    choose, choose_order, region_grid, search_orders, OrderOptions, OrderSearch,
+};
 use platefield::dynamics::Model;
+use platefield::play::{PlayOptions as VerifyOptions, PlayedSegment, ScheduleMotion};
+use platefield::schedule::Schedule;
 use platefield::studies::squeeze_order::{
     join_budget, line_offset, segment, three_segment, two_primitive, ThreeOrder,
-};
-use platefield::verify::order::{choose, region_grid};
-use platefield::verify::run::load_schedule;
-use platefield::verify::{
-    choose_order, search_orders, OrderOptions, OrderSearch, PlayedSegment, ScheduleMotion,
-    VerifyOptions,
 };
 
 const MM: f64 = 1e-3;
@@ -224,7 +222,7 @@ fn order_heuristic_is_deterministic_and_bounded() {
 }
 
 fn squeeze_schedule() -> Schedule {
-    load_schedule(std::path::Path::new("results/squeeze_trans/schedule.json")).unwrap()
+    Schedule::load(std::path::Path::new("results/squeeze_trans/schedule.json")).unwrap()
 }
 
 /// `choose_order` returns the schedule of the chosen candidate in the same
@@ -266,7 +264,7 @@ fn choose_order_keeps_the_schedule_consistent() {
     assert!((sm.period() - best.period_s).abs() < 1e-12);
     // The JSON format is kept.
     let text = serde_json::to_string(&out).unwrap();
-    let back: Schedule = serde_json::from_str(&text).unwrap();
+    let back = Schedule::from_json_str(&text, "text").unwrap();
     assert_eq!(back, out);
 }
 
@@ -317,8 +315,9 @@ fn order_search_needs_a_moving_segment() {
 /// candidate's order (with its rest), and `order.md` is written beside it.
 #[test]
 fn design_order_search_reorders_and_reports() {
-    use platefield::design::{design, report, DesignOptions};
+    use platefield::design::{design, DesignOptions};
     use platefield::field::FieldSettings;
+    use platefield::report::design as report;
     use platefield::target::Target;
     let target = Target::from_json_str(
         r#"{"name": "squeeze", "grid": {"x": [-0.03, 0.03], "y": [-0.03, 0.03], "n": [7, 7]}, "field": {"kind": "squeeze_trans"}}"#,

@@ -7,7 +7,8 @@ use platefield::dynamics::{
     Rectangle, Simulator, V2,
 };
 use platefield::motion::{Motion, Screw, Waveform, V3};
-use platefield::verify::{play_rectangle, PlayedSegment, RectangleOptions, ScheduleMotion};
+use platefield::play::{PlayedSegment, ScheduleMotion};
+use platefield::verify::{play_rectangle, RectangleOptions};
 use platefield::Error;
 
 const G: f64 = 9.81;

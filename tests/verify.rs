@@ -1,11 +1,12 @@
-//! Closed-loop verification of schedules (`platefield::verify`).
+//! Playing schedules and the realised measure (`platefield::play`).
 
 use platefield::basis::{Primitive, PrimitiveKind};
 use platefield::dynamics::{Friction, Model, Numerics, PartState, Simulator};
 use platefield::motion::{Motion, Screw, Waveform};
 use platefield::studies::interaction::interaction_error;
-use platefield::verify::{
-    grid_points, rest, verify_points, Join, PlayedSegment, ScheduleMotion, VerifyOptions, V2,
+use platefield::play::{
+    grid_points, rest, verify_points, Join, PlayOptions as VerifyOptions, PlayedSegment,
+    ScheduleMotion, V2,
 };
 
 const G: f64 = 9.81;
@@ -64,14 +65,19 @@ fn single(kind: PrimitiveKind, cycles: u32) -> ScheduleMotion {
     ScheduleMotion::new(vec![PlayedSegment::moving("one", p.motion(), cycles)]).unwrap()
 }
 
-/// (b) A schedule of a single primitive verifies to its own steady-state
-/// field: frozen, to 1e-6 relative (the steady state and the played orbit
-/// are the same periodic orbit); free (parts drift, the prediction is taken
-/// at the mean position), to 3 %: the free steady state puts the part back
-/// at r₀ every cycle, while a drifting part's slip velocity lags the field
-/// it moves through by about its relaxation time (a cycle or two), a
-/// relative error of order |∇V| T ≈ 0.5/s × 0.03 s; measured 1.8 %, the
-/// same for 1–3 warm-up and measured periods.
+/// (b) A schedule of a single primitive (a LineSink alone, 10 cycles)
+/// verifies to its own steady-state field by the one measure
+/// (`platefield::play::measure`: the realised displacement against the flow
+/// of the predicted field over the same window). Frozen: to 1e-6 relative
+/// (the steady state and the played orbit are the same periodic orbit).
+/// Free (parts drift): the shape to 0.5 % (measured 0.25 %), the whole
+/// field to 2.5 % (measured 1.9 %), almost all of it a 1.9 % stronger field
+/// (realised scale 1.019): the free steady state puts the part back at r₀
+/// every cycle, while a drifting part's slip velocity lags the field it
+/// moves through by about its relaxation time, a relative error of order
+/// |∇V| T ≈ 0.5/s × 0.03 s. It is no averaging artefact (one primitive:
+/// nothing is sequenced) and shrinks with longer warm-up and measurement
+/// (1.7 % at 3 + 3 periods).
 #[test]
 fn single_primitive_schedule_matches_its_steady_state() {
     let pts = grid_points(3, 0.03);
@@ -92,7 +98,13 @@ fn single_primitive_schedule_matches_its_steady_state() {
     };
     let v = verify_points(&sm, &pts, &free);
     assert_eq!(v.valid, 9);
-    assert!(v.relative_error < 0.03, "free {}", v.relative_error);
+    assert!(v.relative_error < 0.025, "free {}", v.relative_error);
+    assert!(v.shape_error < 0.005, "free shape {}", v.shape_error);
+    assert!(
+        (v.realised_scale - 1.0).abs() < 0.025,
+        "scale {}",
+        v.realised_scale
+    );
     // A rest segment only scales the field: 10 cycles on, 10 cycles' time at rest.
     let p = Primitive::new(PrimitiveKind::LineSink);
     let t = p.period();

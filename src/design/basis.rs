@@ -30,15 +30,7 @@ pub struct BasisColumn {
 }
 
 /// A column left out, and why.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Excluded {
-    /// Primitive name with rotation and shift.
-    pub label: String,
-    /// Invalid samples in the region.
-    pub invalid_samples: usize,
-    /// The most common reason.
-    pub reason: Validity,
-}
+pub use crate::schedule::ExcludedColumn as Excluded;
 
 /// The assembled basis.
 #[derive(Debug, Clone, PartialEq, Serialize)]

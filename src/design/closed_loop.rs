@@ -14,7 +14,7 @@
 //! strength — plus, in the design's order 0°→180°→270°→90°, an offset (18 %
 //! at one cycle) and an anisotropy (7 %); the cyclic order
 //! 0°→90°→180°→270° has no offset but a swirl (2 %) from its rotation sense
-//! (see [`orders`]).
+//! (see [`super::order`]).
 //!
 //! **Realised error** ([`measure`]): the relative L2 error ‖R − s t‖/‖s t‖
 //! of the realised mean velocity field R against the promise s·t, at the
@@ -30,7 +30,7 @@
 //! open-loop schedule itself, is kept, so "after" is never worse than
 //! "before".
 //! 1. *Design*: the open-loop schedule with its promise s (the "before").
-//! 2. *Order* ([`orders`]): the same segments and cycles in every cyclic
+//! 2. *Order* ([`super::order::candidates`]): the same segments and cycles in every cyclic
 //!    order and every mirrored order (each segment twice per period, the
 //!    second half reversed, which cancels the swirl of a rotation sense).
 //!    The weights do not change, so the contextual model (3.) of the played
@@ -57,9 +57,7 @@
 //! and fixes the shape; the report gives both errors and both strengths.
 
 pub mod measure;
-pub mod orders;
 pub mod refit;
-pub mod report;
 
 use std::time::Instant;
 
@@ -67,11 +65,13 @@ use serde::Serialize;
 
 pub use measure::{Decomposition, MeasureOptions, PointPlay, RealisedError};
 
-use super::{Design, Schedule, Segment};
+use super::order::{self, arrange};
+use super::Design;
 use crate::dynamics::Model;
 use crate::error::{Error, Result};
 use crate::field::FieldSettings;
 use crate::fit::{self, FitMetrics};
+use crate::schedule::{Schedule, Segment};
 use crate::target::{SampledTarget, Target};
 
 /// Options of [`closed_loop`].
@@ -208,7 +208,8 @@ pub struct ClosedLoop {
     pub design_strength: f64,
     /// Why the re-fit stopped.
     pub stop: String,
-    /// Wall time (s).
+    /// Wall time (s): for the terminal summary, not written to files.
+    #[serde(skip)]
     pub seconds: f64,
 }
 
@@ -247,9 +248,9 @@ impl ClosedLoop {
     }
 }
 
-/// [`FitMetrics`] of the realised field against `strength`·t at the parts'
-/// mean positions, by the design's own metric code (an independent check of
-/// [`measure::realised_error`]).
+/// [`FitMetrics`] of the realised field against the promise at `strength`
+/// ([`measure::promised`]), by the design's own metric code (an independent
+/// check of [`measure::realised_error`]).
 pub fn realised_metrics(
     target: &Target,
     weights: &[f64],
@@ -260,7 +261,13 @@ pub fn realised_metrics(
         .iter()
         .filter(|p| p.note.is_none() && weights[p.index] > 0.0)
         .collect();
-    let t: Vec<[f64; 2]> = ok.iter().map(|p| target.field.eval(p.position)).collect();
+    if strength == 0.0 {
+        return None;
+    }
+    let t: Vec<[f64; 2]> = measure::promised(target, &ok, strength)
+        .iter()
+        .map(|v| [v[0] / strength, v[1] / strength])
+        .collect();
     let r: Vec<[f64; 2]> = ok.iter().map(|p| p.realised).collect();
     let w: Vec<f64> = ok.iter().map(|p| weights[p.index]).collect();
     fit::field_metrics(&t, &r, strength, Some(&w)).ok()
@@ -281,24 +288,20 @@ pub fn loop_points(target: &Target, sampled: &SampledTarget, stride: usize) -> V
 
 /// `base` segments played in `sequence` (indices into `base`; a segment
 /// listed twice is played twice, its weight split between the plays).
-fn arrange(template: &Schedule, base: &[Segment], sequence: &[usize]) -> Schedule {
+fn play_in(template: &Schedule, base: &[Segment], sequence: &[usize]) -> Schedule {
     let mut count = vec![0usize; base.len()];
     for &i in sequence {
         count[i] += 1;
     }
-    let segments: Vec<Segment> = sequence
+    let split: Vec<Segment> = base
         .iter()
-        .map(|&i| Segment {
-            weight: base[i].weight / count[i] as f64,
-            ..base[i].clone()
+        .zip(&count)
+        .map(|(g, &c)| Segment {
+            weight: g.weight / c.max(1) as f64,
+            ..g.clone()
         })
         .collect();
-    Schedule {
-        total_cycles: segments.iter().map(|s| s.cycles).sum(),
-        period_s: segments.iter().map(|s| s.duration_s).sum(),
-        segments,
-        ..template.clone()
-    }
+    template.with_segments(arrange(&split, sequence, |_| None))
 }
 
 fn order_text(s: &Schedule) -> String {
@@ -384,13 +387,7 @@ pub fn closed_loop(target: &Target, design: &Design, opts: &LoopOptions) -> Resu
     opts.validate()?;
     let start = Instant::now();
     let open = &design.schedule;
-    let mut settings: FieldSettings =
-        serde_json::from_value(open.settings.clone()).map_err(|e| {
-            Error::invalid(
-                "schedule.settings",
-                format!("not platefield field settings: {e}"),
-            )
-        })?;
+    let mut settings: FieldSettings = open.settings;
     if let Some(m) = opts.model {
         settings.model = m;
     }
@@ -429,9 +426,9 @@ pub fn closed_loop(target: &Target, design: &Design, opts: &LoopOptions) -> Resu
     let base = open.segments.clone();
     let mut pattern: Vec<usize> = (0..base.len()).collect();
     if opts.search_orders {
-        for order in orders::candidates(base.len()) {
+        for order in order::candidates(base.len()) {
             let same = order.sequence == pattern;
-            let schedule = arrange(open, &base, &order.sequence);
+            let schedule = play_in(open, &base, &order.sequence);
             let plays = if same {
                 cands[0].plays.clone()
             } else {
@@ -454,7 +451,7 @@ pub fn closed_loop(target: &Target, design: &Design, opts: &LoopOptions) -> Resu
         }
         let b = best_of(&cands);
         if cands[b].stage == Stage::Order {
-            pattern = orders::candidates(base.len())[b - 1].sequence.clone();
+            pattern = order::candidates(base.len())[b - 1].sequence.clone();
         }
     }
 
@@ -487,7 +484,7 @@ pub fn closed_loop(target: &Target, design: &Design, opts: &LoopOptions) -> Resu
             break;
         }
         seen.push(cycles);
-        let schedule = arrange(open, &new_base, &new_pattern);
+        let schedule = play_in(open, &new_base, &new_pattern);
         let plays = judge.play(&schedule)?;
         let before_best = cands[best_of(&cands)].error.error;
         cands.push(judge.judge(
@@ -541,16 +538,13 @@ mod tests {
             alpha: 0.0,
             beta: 0.0,
         };
-        let schedule: Schedule = serde_json::from_str(
-            r#"{"target": "t", "segments": [], "total_cycles": 0, "period_s": 0.0, "min_cycles": 1,
-                "fit": {"relative_l2_error": 0, "mean_angle_error_deg": 0, "max_error": 0, "strength": 1},
-                "fit_quantized": {"relative_l2_error": 0, "mean_angle_error_deg": 0, "max_error": 0, "strength": 1},
-                "quantization_error": 0, "poor_fit": false,
-                "solver": {"mode": "shape", "status": "", "iterations": 0, "solve_time_s": 0,
-                           "kkt_residual": 0, "independent_gap": 0},
-                "basis": null, "settings": null}"#,
-        )
-        .unwrap();
+        let none = FitMetrics {
+            relative_l2_error: 0.0,
+            mean_angle_error_deg: 0.0,
+            max_error: 0.0,
+            strength: 1.0,
+        };
+        let schedule = Schedule::of_segments("t", Vec::new(), FieldSettings::default(), none);
         Candidate {
             stage: Stage::Order,
             order: String::new(),

@@ -8,17 +8,16 @@
 //! 2. **Fit** ([`crate::fit`]): time fractions w ≥ 0, Σw ≤ 1 (the plate at
 //!    rest is the zero field) by a verified conic program; `shape` (the
 //!    strongest field of the target's shape) by default.
-//! 3. **Schedule** ([`schedule`]): whole cycles per segment, a minimum per
-//!    segment, an order; exportable as controller signals ([`export`]).
+//! 3. **Schedule** ([`crate::schedule`]): whole cycles per segment, a
+//!    minimum per segment, an order; exportable as controller signals
+//!    ([`crate::schedule::export`]).
 //! 4. **Order** (optional, [`DesignOptions::order_search`]): the segment
 //!    order and rest insertions that best realise the prediction in
-//!    closed-loop simulation ([`crate::verify::order`]).
+//!    closed-loop simulation ([`order`]).
 
 pub mod basis;
 pub mod closed_loop;
-pub mod export;
-pub mod report;
-pub mod schedule;
+pub mod order;
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -31,12 +30,12 @@ use crate::basis::{symmetry, Primitive, PrimitiveKind};
 use crate::error::{Error, Result};
 use crate::field::{FieldKind, FieldSettings, Grid};
 use crate::fit::{self, FitMetrics, FitMode, FitOptions, FitProblem, FitSolution};
+use crate::play::PlayOptions;
+use crate::schedule::{self, BasisInfo, KeptColumn, Schedule, Segment};
 use crate::target::{SampledTarget, Target};
-use crate::verify::order::{self, choose_order, OrderOptions, OrderSearch};
-use crate::verify::VerifyOptions;
+use order::{choose_order, OrderOptions, OrderSearch};
 
 pub use basis::DesignBasis;
-pub use schedule::{Schedule, Segment};
 
 /// Options of [`design`].
 #[derive(Debug, Clone)]
@@ -68,7 +67,7 @@ pub struct DesignOptions {
     /// No progress bar.
     pub quiet: bool,
     /// After scheduling, search the segment order and rest insertions that
-    /// best realise the prediction ([`crate::verify::order`]) and play the
+    /// best realise the prediction ([`order`]) and play the
     /// schedule in that order.
     pub order_search: bool,
 }
@@ -156,7 +155,7 @@ fn search_order(
         .map(|(p, _)| *p)
         .collect();
     let points = order::region_grid(&region, ORDER_SEARCH_POINTS);
-    let verify = VerifyOptions::from_settings(&opts.settings);
+    let verify = PlayOptions::from_settings(&opts.settings);
     let (reordered, search) = choose_order(&schedule, &OrderOptions::new(verify, points))?;
     Ok((reordered, Some(search)))
 }
@@ -471,11 +470,11 @@ pub fn design(target: &Target, opts: &DesignOptions) -> Result<Design> {
         });
     }
     let fit_time_s = t_fit.elapsed().as_secs_f64();
-    let schedule = Schedule {
+    let mut schedule = Schedule {
         target: target.name.clone(),
         target_spec: Some(target.clone()),
-        total_cycles: segments.iter().map(|s| s.cycles).sum(),
-        period_s: segments.iter().map(|s| s.duration_s).sum(),
+        total_cycles: 0,
+        period_s: 0.0,
         segments,
         min_cycles: opts.min_cycles,
         fit: fit_metrics,
@@ -487,20 +486,28 @@ pub fn design(target: &Target, opts: &DesignOptions) -> Result<Design> {
             mode: opts.mode.name().into(),
             status: solution.status.clone(),
             iterations: solution.iterations,
-            solve_time_s: solution.solve_time_s,
             kkt_residual: solution.kkt_residual,
             independent_gap: solution.independent_gap,
         },
-        basis: serde_json::json!({
-            "kind": basis.kind,
-            "rotation_step_deg": opts.rotation_step_deg,
-            "shifts": opts.shifts,
-            "columns": m,
-            "excluded": basis.excluded,
-            "kept_with_invalid_points": basis.columns.iter().filter(|c| !c.invalid_points.is_empty()).map(|c| serde_json::json!({"label": basis::label(&c.primitive), "invalid_points": c.invalid_points})).collect::<Vec<_>>(),
-        }),
-        settings: serde_json::to_value(opts.settings).unwrap_or_default(),
+        basis: BasisInfo {
+            columns: m,
+            excluded: basis.excluded.clone(),
+            kept_with_invalid_points: basis
+                .columns
+                .iter()
+                .filter(|c| !c.invalid_points.is_empty())
+                .map(|c| KeptColumn {
+                    invalid_points: c.invalid_points.clone(),
+                    label: basis::label(&c.primitive),
+                })
+                .collect(),
+            kind: basis.kind,
+            rotation_step_deg: opts.rotation_step_deg,
+            shifts: opts.shifts.clone(),
+        },
+        settings: opts.settings,
     };
+    schedule.derive();
     let t_order = Instant::now();
     let (schedule, order_search) = if opts.order_search {
         search_order(schedule, &sampled, opts)?

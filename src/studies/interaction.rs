@@ -12,7 +12,7 @@
 //!
 //! Error definition: relative L2 error over the 25 points of the realised
 //! mean velocity (displacement over whole schedule periods after a warm-up)
-//! against the time-weighted prediction ([`crate::verify::realised`]). The warm-up is
+//! against the time-weighted prediction ([`crate::play::measure`]). The warm-up is
 //! at least 40 primitive cycles and the measurement covers at least 20
 //! (whole schedule periods in both).
 
@@ -25,8 +25,8 @@ use crate::basis::{Primitive, PrimitiveKind};
 use crate::dynamics::Model;
 use crate::error::Result;
 use crate::motion::{Motion, Waveform};
-use crate::verify::realised::{grid_points, verify_points, VerifyOptions};
-use crate::verify::{Join, PlayedSegment, ScheduleMotion};
+use crate::play::measure::{grid_points, verify_points, PlayOptions as VerifyOptions};
+use crate::play::{Join, PlayedSegment, ScheduleMotion};
 
 /// Cycles per segment in the table.
 pub const CYCLES: [u32; 3] = [1, 3, 10];

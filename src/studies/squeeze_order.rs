@@ -55,9 +55,8 @@ use serde::Serialize;
 use crate::basis::{Primitive, PrimitiveKind};
 use crate::dynamics::{Model, PartState};
 use crate::error::{Error, Result};
-use crate::verify::order::periods_for;
-use crate::verify::realised::{verify_points, VerifyOptions};
-use crate::verify::{PlayedSegment, ScheduleMotion, V2};
+use crate::play::measure::{verify_points, PlayOptions as VerifyOptions};
+use crate::play::{periods_for, PlayedSegment, ScheduleMotion, V2};
 
 /// Cycles per segment studied.
 pub const CYCLES: [u32; 3] = [1, 3, 10];

@@ -12,13 +12,12 @@
 //! Ω_z k × (p − c), Ω_z the vertical spin); the part's inertial planar
 //! velocity is kept continuous: u_B = u_A + v_A,t(r) − v_B,t(r) at the
 //! rectangle's centre r (the anchor for the frozen model) and
-//! ω_B = ω_A + Ω_A,z − Ω_B,z. As for point parts ([`super::Player`]) the
+//! ω_B = ω_A + Ω_A,z − Ω_B,z. As for point parts ([`crate::play::Player`]) the
 //! normal component of a jump is an impact that is not resolved; for the
 //! rest-to-rest primitives there is no jump at all.
 
 use serde::Serialize;
 
-use super::{PlayLoss, PlayedSegment, ScheduleMotion, V2};
 use crate::dynamics::{
     Friction, Model, PlanarSimulator, PlanarState, Plate, Rectangle, PLANAR_REFINE_DEPTH,
     PLANAR_STEPS_PER_CYCLE,
@@ -26,6 +25,7 @@ use crate::dynamics::{
 use crate::error::{finite, positive, Error, Result};
 use crate::field::FieldSettings;
 use crate::motion::V3;
+use crate::play::{PlayLoss, PlayedSegment, ScheduleMotion, V2};
 
 /// Longest time a rectangle may be played (s).
 pub const MAX_DURATION_S: f64 = 3600.0;

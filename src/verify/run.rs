@@ -1,7 +1,8 @@
 //! `platefield verify SCHEDULE.json`: the whole closed-loop check of a
 //! designed schedule, written under `OUT/<target>/verify/`.
 //!
-//! 1. The realised field against the prediction ([`super::realised`]) on an
+//! 1. The realised field against the prediction
+//!    ([`crate::play::measure::verify_points`]) on an
 //!    n × n grid of point parts over the target region.
 //! 2. A swarm of point parts over the region for a duration
 //!    ([`super::swarm`]): where they end up, the fraction converged to the
@@ -11,25 +12,25 @@
 //!    from several start poses for the swarm's duration: final pose, the
 //!    distance to the attractor and, for a line attractor, the angle of the
 //!    long side to the line.
-//! 4. Files: `summary.json` (everything, per point, per part and per
-//!    rectangle), `trajectories.svg` (the realised field, the parts' and
-//!    rectangles' paths, the attractor). Everything is computed before anything is written, and
-//!    each file is written atomically.
+//!
+//! Everything is computed here and nothing is written: the files
+//! (`summary.json`, `trajectories.svg`) are [`crate::report::verify`]'s.
+//! Before anything is played the work is estimated ([`check_work`]) and an
+//! overlong verification refused.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use serde::Serialize;
 
-use super::realised::{verify_points, Verification, VerifyOptions};
 use super::rectangles::{play_rectangle, PoseSample, RectangleOptions, RectangleSummary};
 use super::swarm::{run_swarm, Swarm, SwarmOptions};
-use super::{ScheduleMotion, V2};
-use crate::design::Schedule;
 use crate::dynamics::Model;
 use crate::dynamics::Rectangle;
 use crate::error::{Error, Result};
-use crate::field::{FieldSettings, Grid};
-use crate::plot::{Marker, MarkerShape, Overlay, QuiverPlot};
+use crate::field::Grid;
+use crate::play::measure::{verify_points, PlayOptions, RealisedField};
+use crate::play::{ScheduleMotion, V2};
+use crate::schedule::Schedule;
 use crate::target::Attractor;
 
 /// How long the swarm is played.
@@ -134,61 +135,23 @@ impl VerifyRequest {
     }
 }
 
-/// What a verification produced.
+/// What a verification produced (written by `crate::report::verify`).
 #[derive(Debug, Clone)]
 pub struct VerifyReport {
+    /// The schedule's target name (a plain folder name).
+    pub target: String,
+    /// The region verified.
+    pub region: Grid,
+    /// What was asked.
+    pub request: VerifyRequest,
+    /// The strength the schedule's design claims (s⁻¹ for linear fields).
+    pub design_strength: f64,
     /// Realised field against the prediction.
-    pub verification: Verification,
+    pub realised: RealisedField,
     /// The swarm.
     pub swarm: Swarm,
     /// The rectangles.
     pub rectangles: Vec<RectangleResult>,
-    /// The summary JSON written.
-    pub summary_json: String,
-    /// Files written.
-    pub files: Vec<PathBuf>,
-}
-
-/// Reads a `schedule.json` written by `platefield design`.
-pub fn load_schedule(path: &Path) -> Result<Schedule> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
-        path: path.display().to_string(),
-        source: e,
-    })?;
-    serde_json::from_str(&text).map_err(|e| {
-        Error::invalid(
-            path.display().to_string(),
-            format!("not a platefield schedule: {e}"),
-        )
-    })
-}
-
-/// The physics a schedule's basis was built with (validated).
-pub fn schedule_settings(schedule: &Schedule, path: &Path) -> Result<FieldSettings> {
-    let settings: FieldSettings =
-        serde_json::from_value(schedule.settings.clone()).map_err(|e| {
-            Error::invalid(
-                format!("{}: settings", path.display()),
-                format!("not platefield field settings: {e}"),
-            )
-        })?;
-    settings.friction.validate("settings.friction")?;
-    settings.numerics.validate("settings.numerics")?;
-    crate::error::positive("settings.gravity", settings.gravity)?;
-    Ok(settings)
-}
-
-/// The schedule's target name, checked to be a plain folder name (results
-/// go to `OUT/<target>/`).
-pub fn target_folder(schedule: &Schedule) -> Result<&str> {
-    let name = schedule.target.as_str();
-    if name.trim().is_empty() || name.contains(['/', '\\']) || name.starts_with('.') {
-        return Err(Error::invalid(
-            "schedule.target",
-            format!("must be a plain folder name, got \"{name}\""),
-        ));
-    }
-    Ok(name)
 }
 
 /// The region verified: the target's grid, or ±3 cm when the schedule does
@@ -350,120 +313,66 @@ pub fn run_rectangles(
         .collect()
 }
 
-/// The outline of a rectangle of `size` at centre `r`, angle `deg`.
-fn outline(size: [f64; 2], r: [f64; 2], deg: f64) -> Vec<[f64; 2]> {
-    let (s, c) = deg.to_radians().sin_cos();
-    let (a, b) = (0.5 * size[0], 0.5 * size[1]);
-    [(-a, -b), (a, -b), (a, b), (-a, b), (-a, -b)]
-        .iter()
-        .map(|&(x, y)| [r[0] + c * x - s * y, r[1] + s * x + c * y])
-        .collect()
-}
+/// Most plate cycles `verify` plays in total over all its parts (about
+/// 6 minutes of CPU at 0.3 ms per point-part cycle of 300 steps; a
+/// rectangle cycle costs [`RECT_CYCLE_COST`] point-part cycles).
+pub const MAX_VERIFY_PART_CYCLES: f64 = 1.2e6;
 
-/// The trajectory figure: realised mean velocity arrows, part paths (start
-/// dots, end squares), the attractor (+) when there is one.
-pub fn trajectory_svg(
-    name: &str,
-    g: &Grid,
-    v: &Verification,
-    swarm: &Swarm,
-    rects: &[RectangleResult],
-    size: [f64; 2],
-) -> String {
-    let pts: Vec<[f64; 2]> = v.points.iter().map(|p| p.start).collect();
-    let vecs: Vec<[f64; 2]> = v.points.iter().map(|p| p.realised).collect();
-    let mut plot = QuiverPlot::new(
-        format!("{name}: realised mean velocity and part trajectories"),
-        pts,
-        vecs,
-    )
-    .invalid(v.points.iter().map(|p| !p.valid).collect())
-    .ranges(g.x, g.y)
-    .size(640.0, 680.0)
-    .caption(format!(
-        "{} parts, {:.1} s; converged: {}; realised vs predicted field {:.1} %",
-        swarm.parts.len(),
-        swarm.duration_s,
-        swarm
-            .converged_fraction
-            .map_or("n/a (no attractor)".to_string(), |f| format!(
-                "{:.1} % within {:.1} mm",
-                100.0 * f,
-                1e3 * swarm.tol
-            )),
-        100.0 * v.relative_error
-    ));
-    for p in &swarm.parts {
-        plot = plot
-            .overlay(Overlay::new(p.path.clone()).color("#2ca02c"))
-            .marker(Marker::new(p.start).color("#2ca02c"))
-            .marker(
-                Marker::new(p.end)
-                    .shape(MarkerShape::Square)
-                    .color(if p.converged { "#000000" } else { "#d62728" }),
-            );
+/// Cost of one rectangle cycle in point-part cycles (support points and
+/// sub-steps; measured on the 16 × 4 rectangle).
+pub const RECT_CYCLE_COST: f64 = 50.0;
+
+/// Refuses a verification whose work (point-part cycles: realised grid,
+/// swarm and rectangles) exceeds [`MAX_VERIFY_PART_CYCLES`], stating the
+/// estimate and the knobs that make it smaller.
+pub fn check_work(
+    schedule: &Schedule,
+    req: &VerifyRequest,
+    swarm_periods: u32,
+    rect_periods: u32,
+) -> Result<()> {
+    let cycles = f64::from(schedule.total_cycles);
+    let grid = (req.points * req.points) as f64 * f64::from(req.warmup + req.periods);
+    let swarm = (req.swarm * req.swarm) as f64 * f64::from(swarm_periods);
+    let rects = req.rectangle_poses as f64 * f64::from(rect_periods) * RECT_CYCLE_COST;
+    let work = cycles * (grid + swarm + rects);
+    if work > MAX_VERIFY_PART_CYCLES {
+        return Err(Error::invalid(
+            "schedule",
+            format!(
+                "verifying it would play about {work:.2e} part cycles ({cycles} cycles per period; \
+                 realised grid {grid:.0}, swarm {swarm:.0}, rectangles {rects:.0} part-periods), \
+                 more than the limit of {MAX_VERIFY_PART_CYCLES:.1e}: shorten the schedule or lower \
+                 --points, --swarm, --repetitions/--duration or --rect-poses"
+            ),
+        ));
     }
-    for r in rects {
-        if let (Some(first), Some(last)) = (r.trajectory.first(), r.trajectory.last()) {
-            plot = plot
-                .overlay(Overlay::new(r.trajectory.iter().map(|p| p.r).collect()).color("#9467bd"))
-                .overlay(
-                    Overlay::new(outline(size, first.r, first.theta_deg))
-                        .color("#9467bd")
-                        .dashed(),
-                )
-                .overlay(Overlay::new(outline(size, last.r, last.theta_deg)).color("#000000"));
-        }
-    }
-    match swarm.attractor {
-        Some(Attractor::Point { center, .. }) => {
-            plot = plot.marker(
-                Marker::new(center)
-                    .shape(MarkerShape::Plus)
-                    .color("#d62728")
-                    .label("attractor"),
-            );
-        }
-        Some(Attractor::Line {
-            point, direction, ..
-        }) => {
-            let l = (g.x[1] - g.x[0]).hypot(g.y[1] - g.y[0]);
-            plot = plot.overlay(
-                Overlay::new(vec![
-                    [point[0] - l * direction[0], point[1] - l * direction[1]],
-                    [point[0] + l * direction[0], point[1] + l * direction[1]],
-                ])
-                .color("#d62728")
-                .dashed(),
-            );
-        }
-        None => {}
-    }
-    plot.to_svg()
+    Ok(())
 }
 
 /// `platefield verify`: runs `req` on the schedule at `path` with the
-/// physics its basis was built with and writes `OUT/<target>/verify/`.
-pub fn verify_schedule_file(path: &Path, req: &VerifyRequest, out: &Path) -> Result<VerifyReport> {
+/// physics its basis was built with (nothing is written here).
+pub fn verify_schedule_file(path: &Path, req: &VerifyRequest) -> Result<VerifyReport> {
     req.validate()?;
-    let schedule = load_schedule(path)?;
-    let settings = schedule_settings(&schedule, path)?;
-    let name = target_folder(&schedule)?;
-    if let Some(t) = &schedule.target_spec {
-        t.validate()?;
+    let schedule = Schedule::load(path)?;
+    let settings = schedule.settings;
+    let name = schedule.target_folder()?;
+    if schedule.moving_time() <= 0.0 {
+        return Err(Error::invalid(
+            format!("{}: segments", path.display()),
+            "every segment is rest: the plate never moves, so there is no field to verify",
+        ));
     }
     let sm = ScheduleMotion::from_schedule(&schedule)?;
-    let mut opts = VerifyOptions {
+    let mut opts = PlayOptions {
         warmup_periods: req.warmup,
         periods: req.periods,
-        ..VerifyOptions::from_settings(&settings)
+        ..PlayOptions::from_settings(&settings)
     };
     if let Some(m) = req.model {
         opts.model = m;
     }
     let g = region(&schedule);
-    let v = verify_points(&sm, &region_points(&g, req.points), &opts);
-
     let attractor = schedule
         .target_spec
         .as_ref()
@@ -478,6 +387,24 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest, out: &Path) -> Res
         strength,
         req.tol,
     );
+    let rect_periods = match req.duration {
+        Duration::Auto => periods.max((RECT_MIN_AUTO_S / sm.period()).ceil() as u32),
+        _ => periods,
+    };
+    check_work(&schedule, req, periods, rect_periods)?;
+    let v = verify_points(&sm, &region_points(&g, req.points), &opts);
+    if v.valid == 0 {
+        let why = v
+            .points
+            .iter()
+            .find_map(|p| p.note.clone())
+            .unwrap_or_default();
+        return Err(Error::Physical(format!(
+            "{}: no realised field: all {} parts left the plate or had no steady state (first: {why})",
+            path.display(),
+            v.points.len()
+        )));
+    }
     let swarm = run_swarm(
         &sm,
         &starts,
@@ -499,10 +426,6 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest, out: &Path) -> Res
         },
         ..RectangleOptions::default()
     };
-    let rect_periods = match req.duration {
-        Duration::Auto => periods.max((RECT_MIN_AUTO_S / sm.period()).ceil() as u32),
-        _ => periods,
-    };
     let rectangles = run_rectangles(
         &sm,
         req.rectangle,
@@ -512,66 +435,13 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest, out: &Path) -> Res
         &rect_opts,
     );
 
-    #[derive(Serialize)]
-    struct Summary<'a> {
-        realised_vs_predicted_relative_error: f64,
-        converged_fraction: Option<f64>,
-        median_time_to_converge_s: Option<f64>,
-        median_predicted_time_to_converge_s: Option<f64>,
-        time_ratio_measured_over_predicted: Option<f64>,
-        rectangles: &'a [RectangleResult],
-        target: &'a str,
-        schedule_period_s: f64,
-        model: &'a str,
-        region: &'a Grid,
-        realised_field: RealisedSummary<'a>,
-        swarm: &'a Swarm,
-    }
-    #[derive(Serialize)]
-    struct RealisedSummary<'a> {
-        points: usize,
-        valid_points: usize,
-        warmup_periods: u32,
-        periods: u32,
-        max_abs_error_m_per_s: f64,
-        rms_predicted_m_per_s: f64,
-        per_point: &'a [super::PointResult],
-    }
-    let summary = Summary {
-        realised_vs_predicted_relative_error: v.relative_error,
-        converged_fraction: swarm.converged_fraction,
-        median_time_to_converge_s: swarm.median_time_to_converge_s,
-        median_predicted_time_to_converge_s: swarm.median_predicted_time_s,
-        time_ratio_measured_over_predicted: swarm.time_ratio,
-        rectangles: &rectangles,
-        target: name,
-        schedule_period_s: v.schedule_period_s,
-        model: &v.model,
-        region: &g,
-        realised_field: RealisedSummary {
-            points: req.points * req.points,
-            valid_points: v.valid,
-            warmup_periods: req.warmup,
-            periods: req.periods,
-            max_abs_error_m_per_s: v.max_abs_error,
-            rms_predicted_m_per_s: v.rms_predicted,
-            per_point: &v.points,
-        },
-        swarm: &swarm,
-    };
-    let mut text =
-        serde_json::to_string_pretty(&summary).map_err(|e| Error::Physical(e.to_string()))?;
-    text.push('\n');
-    let svg = trajectory_svg(name, &g, &v, &swarm, &rectangles, req.rectangle);
-    let dir = out.join(name).join("verify");
-    let files = vec![dir.join("summary.json"), dir.join("trajectories.svg")];
-    crate::output::write_atomic(&files[0], text.as_bytes())?;
-    crate::output::write_atomic(&files[1], svg.as_bytes())?;
     Ok(VerifyReport {
-        verification: v,
+        target: name.to_string(),
+        region: g,
+        request: req.clone(),
+        design_strength: strength,
+        realised: v,
         swarm,
         rectangles,
-        summary_json: text,
-        files,
     })
 }

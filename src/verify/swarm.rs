@@ -2,7 +2,7 @@
 //!
 //! A swarm of point parts is started on a grid over the target region, each
 //! placed on the plate at rest relative to it, and the schedule is played
-//! for whole schedule periods ([`super::Player`], inertial velocity
+//! for whole schedule periods ([`crate::play::Player`], inertial velocity
 //! continuous at joins) with the kinematics evaluated where each part is
 //! (the `moving` switch is forced on: a part's destination depends on the
 //! field along its path). Positions are recorded at every segment end.
@@ -27,17 +27,17 @@
 use rayon::prelude::*;
 use serde::Serialize;
 
-use super::{ScheduleMotion, V2};
 use crate::dynamics::PartState;
+use crate::play::{ScheduleMotion, V2};
 use crate::target::Attractor;
 
-use super::realised::VerifyOptions;
+use crate::play::PlayOptions;
 
 /// Settings of a swarm run.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SwarmOptions {
     /// Physics and numerics (the `moving` switch is forced on).
-    pub verify: VerifyOptions,
+    pub verify: PlayOptions,
     /// Whole schedule periods played.
     pub periods: u32,
     /// Convergence tolerance on the distance to the attractor (m).

@@ -2,63 +2,48 @@
 //! realised mean velocity field, each segment's realised contribution in its
 //! schedule context, and the realised error against the design's promise.
 //!
-//! **Playing.** A point part is placed at a start point (at rest relative to
-//! the plate) and the schedule is played with the exact
-//! [`crate::verify::Player`] (the physics the design's basis was built with:
-//! the full model by default, parts moving), for a warm-up of at least
-//! [`MeasureOptions::warmup_cycles`] primitive cycles and then at least
-//! [`MeasureOptions::measured_cycles`] more, both rounded up to whole
-//! schedule periods P.
-//!
-//! **Windows.** Parts drift while they are measured (a sink pulls them in by
-//! a third of their distance over a 40-cycle schedule period), and each
-//! segment moves them only while it plays: a window that starts at the first
-//! segment sees the x-pushing segments before the y-pushing ones and makes a
-//! symmetric schedule look anisotropic (measured: 4 % of a 10-cycle Sink).
-//! So the part is played for P + 1 measured periods and the mean velocity and
-//! mean position are averaged over the n windows of P periods that start at
-//! each of the n segment joins of the first measured period:
-//!
-//! ```text
-//! R = (1/n) Σ_j (r(τ_j + P T) − r(τ_j)) / (P T)            realised mean velocity
-//! q = (1/n) Σ_j (1/(P T)) ∫_{τ_j}^{τ_j + P T} r dt          mean position (trapezoids over the joins)
-//! c_i = (1/n) Σ_j Δr_i^(j) / (P T_i)                       segment i's realised velocity in context
-//! ```
-//!
-//! with Δr_i^(j) the displacement during the plays of segment i inside window
-//! j and T_i its duration; exactly R = Σ_i f_i c_i with f_i = T_i / T. With
-//! frozen positions (the model's `moving` off) the kinematics are the start
-//! point's, and R belongs to the start point instead of q.
+//! **Playing** ([`play`]): the one measure of [`crate::play::measure`], with
+//! a warm-up of at least [`MeasureOptions::warmup_cycles`] primitive cycles
+//! and windows of at least [`MeasureOptions::measured_cycles`], both rounded
+//! up to whole schedule periods, one window starting at each segment join
+//! ([`Windows::EveryJoin`]); per point the realised mean velocity R, the
+//! mean position q and each segment's realised velocity in context c_i.
 //!
 //! **Realised error.** The design promises s·t: strength s times the target
-//! field t. At the parts' mean positions q_k, with the target's weights ω_k
-//! of the start points (0 where masked; masked points are not played), which
-//! multiply the residual as in the design's own metrics
-//! ([`crate::fit::metrics`]):
+//! field t. A schedule that realises that promise exactly moves a part along
+//! the flow of s·t, so the promise at a start point is the mean velocity
+//! P_k(s) of that flow over the same windows ([`PointPlay::expected`];
+//! s·t(p) with frozen positions). With the target's weights ω_k of the start
+//! points (0 where masked; masked points are not played), which multiply the
+//! residual as in the design's own metrics ([`crate::fit::metrics`]):
 //!
 //! ```text
-//! error(s)    = ‖R − s t‖ / ‖s t‖,   ‖v‖² = Σ_k ω_k² |v(q_k)|²
-//! ŝ           = ⟨R, t⟩ / ⟨t, t⟩      (least-squares scale)
+//! error(s)    = ‖R − P(s)‖ / ‖P(s)‖,   ‖v‖² = Σ_k ω_k² |v_k|²
+//! ŝ           : ⟨R − P(ŝ), P(ŝ)⟩ = 0  (the least-squares scale; P is linear in s
+//!                                       with frozen positions, nearly so otherwise)
 //! shape error = error(ŝ)             (scale-free: cannot be gamed by the strength)
 //! ```
 //!
-//! **Decomposition** of the error field e = R − s t by weighted least squares
+//! **Decomposition** of the error field e = R − P(s) by weighted least squares
 //! over the affine fields e(q) ≈ c + α q̃ + β J q̃ + S q̃ (q̃ = q minus the
 //! weighted centroid, J the 90° rotation, S symmetric and traceless): the
 //! offset c, the isotropic part α (for a sink target, a pure change of
 //! strength), the rotational (whirlpool) part β, the anisotropic (shear)
-//! part S and what the affine fit leaves, each as its norm relative to ‖s t‖.
+//! part S and what the affine fit leaves, each as its norm relative to ‖P(s)‖,
+//! over the parts' mean positions q.
 
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::design::Schedule;
-use crate::dynamics::PartState;
 use crate::error::Result;
 use crate::field::FieldSettings;
+use crate::play::measure::{play_point, PlayOptions, Windows};
+use crate::play::ScheduleMotion;
+use crate::schedule::Schedule;
 use crate::target::Target;
-use crate::verify::{ScheduleMotion, VerifyOptions, V2};
+
+pub use crate::play::measure::PointPlay;
 
 /// How long a schedule is played to measure its realised field.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -80,25 +65,9 @@ impl Default for MeasureOptions {
     }
 }
 
-/// One start point played through a schedule.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct PointPlay {
-    /// Index of the start point in the sampled target.
-    pub index: usize,
-    /// Where the realised velocity belongs: the mean position q over the
-    /// measured windows, or the start point when the model's positions are
-    /// frozen (the kinematics are the start point's) (m).
-    pub position: [f64; 2],
-    /// Realised mean velocity R (m/s).
-    pub realised: [f64; 2],
-    /// Per played segment: its realised velocity in context c_i (m/s).
-    pub contributions: Vec<[f64; 2]>,
-    /// Why the point is invalid (`None`: valid).
-    pub note: Option<String>,
-}
-
 /// Plays `schedule` from each start point `points[i]`, `i` in `starts`, with
-/// the physics of `settings` (in parallel; results in the order of `starts`).
+/// the physics of `settings` (in parallel; results in the order of `starts`,
+/// [`PointPlay::index`] = i).
 pub fn play(
     schedule: &Schedule,
     points: &[[f64; 2]],
@@ -110,75 +79,29 @@ pub fn play(
     let per_period = schedule.total_cycles.max(1);
     let warm = opts.warmup_cycles.div_ceil(per_period);
     let meas = opts.measured_cycles.div_ceil(per_period).max(1);
-    let v = VerifyOptions::from_settings(settings);
+    let v = PlayOptions::from_settings(settings);
     Ok(starts
         .par_iter()
         .map(|&i| {
-            let player = sm.player(v.friction, v.gravity, v.model, v.numerics);
-            let mut out = play_one(&sm, &player, i, points[i], warm, meas);
-            if !v.model.moving {
-                // Frozen kinematics: the field measured is the start point's.
-                out.position = points[i];
-            }
-            out
+            let player = v.player(&sm);
+            play_point(&sm, &player, i, points[i], warm, meas, Windows::EveryJoin)
         })
         .collect())
 }
 
-fn play_one(
-    sm: &ScheduleMotion,
-    player: &crate::verify::Player<'_>,
-    index: usize,
-    start: [f64; 2],
-    warm: u32,
-    meas: u32,
-) -> PointPlay {
-    let anchor = V2::from(start);
-    let mut state = PartState::new(anchor, V2::zeros());
-    let n = sm.segments().len();
-    let mut out = PointPlay {
-        index,
-        position: start,
-        realised: [0.0; 2],
-        contributions: vec![[0.0; 2]; n],
-        note: None,
-    };
-    if let Err(e) = player.play_periods(&mut state, &anchor, 0, warm, |_, _, _| {}) {
-        out.note = Some(e.to_string());
-        return out;
-    }
-    // (time, position, segment just played) at the start and every join.
-    let mut joins: Vec<(f64, V2, Option<usize>)> = Vec::new();
-    let played = player.play_periods(&mut state, &anchor, warm, meas + 1, |t, seg, s| {
-        joins.push((t, s.r, seg))
-    });
-    if let Err(e) = played {
-        out.note = Some(e.to_string());
-        return out;
-    }
-    let span = f64::from(meas) * sm.period();
-    let (mut r_sum, mut q_sum) = (V2::zeros(), V2::zeros());
-    let mut disp = vec![V2::zeros(); n];
-    for j in 0..n {
-        let end = j + n * meas as usize;
-        r_sum += joins[end].1 - joins[j].1;
-        for w in joins[j..=end].windows(2) {
-            q_sum += (w[0].1 + w[1].1) * (0.5 * (w[1].0 - w[0].0));
-            if let Some(k) = w[1].2 {
-                disp[k] += w[1].1 - w[0].1;
-            }
-        }
-    }
-    let windows = n as f64;
-    let q = q_sum / (span * windows);
-    let r = r_sum / (span * windows);
-    out.position = [q.x, q.y];
-    out.realised = [r.x, r.y];
-    for (k, d) in disp.iter().enumerate() {
-        let tk = f64::from(meas) * sm.segments()[k].duration * windows;
-        out.contributions[k] = [d.x / tk, d.y / tk];
-    }
-    out
+/// The promise s·t at each of `plays` as a part following it exactly would
+/// realise it over the play's windows ([`PointPlay::expected`]).
+pub fn promised(target: &Target, plays: &[&PointPlay], s: f64) -> Vec<[f64; 2]> {
+    plays
+        .iter()
+        .map(|p| {
+            let Ok(v) = p.expected::<std::convert::Infallible>(&mut |r| {
+                let v = target.field.eval(r);
+                Ok([s * v[0], s * v[1]])
+            });
+            v
+        })
+        .collect()
 }
 
 /// The realised error of a played schedule against a promised strength.
@@ -186,11 +109,11 @@ fn play_one(
 pub struct RealisedError {
     /// Promised strength s.
     pub strength: f64,
-    /// ‖R − s t‖/‖s t‖.
+    /// ‖R − P(s)‖/‖P(s)‖.
     pub error: f64,
-    /// Least-squares scale ŝ = ⟨R, t⟩/⟨t, t⟩: the realised strength.
+    /// The least-squares scale ŝ: the realised strength.
     pub realised_strength: f64,
-    /// ‖R − ŝ t‖/‖ŝ t‖.
+    /// ‖R − P(ŝ)‖/‖P(ŝ)‖.
     pub shape_error: f64,
     /// Decomposition of R − s t.
     pub decomposition: Decomposition,
@@ -227,8 +150,8 @@ fn counted<'a>(weights: &[f64], plays: &'a [PointPlay]) -> Vec<&'a PointPlay> {
         .collect()
 }
 
-/// Realised error of `plays` against `strength`·target (weights indexed by
-/// [`PointPlay::index`]). With `strength` `None`, the promise is the
+/// Realised error of `plays` against the promise `strength`·target (see
+/// the module documentation; weights indexed by [`PointPlay::index`]). With `strength` `None`, the promise is the
 /// realised strength ŝ (then `error` equals `shape_error`).
 pub fn realised_error(
     target: &Target,
@@ -238,7 +161,6 @@ pub fn realised_error(
 ) -> RealisedError {
     let ok = counted(weights, plays);
     let q: Vec<[f64; 2]> = ok.iter().map(|p| p.position).collect();
-    let t: Vec<[f64; 2]> = q.iter().map(|p| target.field.eval(*p)).collect();
     // ω² (the target's weight multiplies the residual, as in the design's metrics).
     let w: Vec<f64> = ok.iter().map(|p| weights[p.index].powi(2)).collect();
     let r: Vec<[f64; 2]> = ok.iter().map(|p| p.realised).collect();
@@ -249,30 +171,49 @@ pub fn realised_error(
             .map(|((x, y), w)| w * (x[0] * y[0] + x[1] * y[1]))
             .sum()
     };
+    // ŝ by fixed-point iteration s ← s⟨R, P(s)⟩/⟨P(s), P(s)⟩ from the
+    // scale of R on t at the mean positions.
+    let t: Vec<[f64; 2]> = q.iter().map(|p| target.field.eval(*p)).collect();
     let tt = dot(&t, &t);
-    let s_hat = if tt > 0.0 { dot(&r, &t) / tt } else { 0.0 };
+    let mut s_hat = if tt > 0.0 { dot(&r, &t) / tt } else { 0.0 };
+    for _ in 0..50 {
+        let p = promised(target, &ok, s_hat);
+        let pp = dot(&p, &p);
+        if pp.is_nan() || pp <= 0.0 {
+            break;
+        }
+        let next = s_hat * dot(&r, &p) / pp;
+        let done = (next - s_hat).abs() <= 1e-13 * next.abs();
+        s_hat = next;
+        if done {
+            break;
+        }
+    }
     let s = strength.unwrap_or(s_hat);
-    let residual = |s: f64| -> Vec<[f64; 2]> {
-        r.iter()
-            .zip(&t)
-            .map(|(a, b)| [a[0] - s * b[0], a[1] - s * b[1]])
-            .collect()
+    let residual = |s: f64| -> (Vec<[f64; 2]>, f64) {
+        let p = promised(target, &ok, s);
+        let e: Vec<[f64; 2]> = r
+            .iter()
+            .zip(&p)
+            .map(|(a, b)| [a[0] - b[0], a[1] - b[1]])
+            .collect();
+        (e, dot(&p, &p))
     };
     let rel = |s: f64| -> f64 {
-        let e = residual(s);
-        let den = s * s * tt;
+        let (e, den) = residual(s);
         if den > 0.0 {
             (dot(&e, &e) / den).sqrt()
         } else {
             f64::INFINITY
         }
     };
+    let (e, den) = residual(s);
     RealisedError {
         strength: s,
         error: rel(s),
         realised_strength: s_hat,
         shape_error: rel(s_hat),
-        decomposition: decompose(&q, &residual(s), &w, (s * s * tt).sqrt()),
+        decomposition: decompose(&q, &e, &w, den.sqrt()),
         valid: ok.len(),
     }
 }
@@ -331,10 +272,9 @@ fn decompose(q: &[[f64; 2]], e: &[[f64; 2]], w: &[f64], scale: f64) -> Decomposi
 mod tests {
     use super::*;
     use crate::basis::{Primitive, PrimitiveKind};
-    use crate::design::schedule::SolverInfo;
-    use crate::design::Segment;
     use crate::dynamics::Simulator;
     use crate::fit::FitMetrics;
+    use crate::schedule::Segment;
 
     /// A schedule of LineSinks at the given (rotation, cycles).
     fn line_sinks(parts: &[(f64, u32)]) -> Schedule {
@@ -360,28 +300,7 @@ mod tests {
             max_error: 0.0,
             strength: 1.0,
         };
-        Schedule {
-            target: "t".into(),
-            target_spec: None,
-            total_cycles: segments.iter().map(|g| g.cycles).sum(),
-            period_s: segments.iter().map(|g| g.duration_s).sum(),
-            segments,
-            min_cycles: 1,
-            fit: none,
-            fit_quantized: none,
-            quantization_error: 0.0,
-            poor_fit: false,
-            solver: SolverInfo {
-                mode: "shape".into(),
-                status: String::new(),
-                iterations: 0,
-                solve_time_s: 0.0,
-                kkt_residual: 0.0,
-                independent_gap: 0.0,
-            },
-            basis: serde_json::Value::Null,
-            settings: serde_json::Value::Null,
-        }
+        Schedule::of_segments("t", segments, FieldSettings::default(), none)
     }
 
     /// Frozen positions, one motion played in two segments of 1 and 2
@@ -478,8 +397,13 @@ mod tests {
                 ];
                 PointPlay {
                     index: i,
+                    start: *p,
                     position: *p,
                     realised: r,
+                    window_starts: vec![*p],
+                    span: 1.0,
+                    periods: 1,
+                    moving: false,
                     contributions: vec![],
                     note: None,
                 }

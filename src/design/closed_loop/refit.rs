@@ -17,10 +17,9 @@ use nalgebra::{DMatrix, DVector};
 
 use super::PointPlay;
 use crate::basis::{Primitive, PrimitiveKind};
-use crate::design::schedule::{quantize, DEFAULT_QUANTIZATION_TOL};
-use crate::design::{Schedule, Segment};
 use crate::error::{Error, Result};
 use crate::fit::{FitMode, FitOptions, FitProblem};
+use crate::schedule::{quantize, Schedule, Segment, DEFAULT_QUANTIZATION_TOL};
 use crate::target::Target;
 
 /// One contextual re-fit: the segments' realised velocities in context as

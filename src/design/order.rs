@@ -6,8 +6,8 @@
 //! the part arrives with the slip velocity the previous segment left it
 //! (or none, after rest), and the transient until it settles displaces it
 //! by a fraction of a millimetre, once per segment and always the same way
-//! for the same pair of neighbours ([`crate::studies::squeeze_order`] measures this for
-//! SqueezeTrans). So the realised field depends on which segment follows
+//! for the same pair of neighbours (`platefield squeeze-order` measures
+//! this for SqueezeTrans). So the realised field depends on which segment follows
 //! which, and on rest at the joins; the time-weighted prediction does not.
 //!
 //! **Candidates.**
@@ -30,6 +30,19 @@
 //!   `rest_cycles` (default 0, 1, 2). A join that already touches a rest
 //!   segment gets none. A "primitive cycle" of rest is the period of the
 //!   first moving segment.
+//! * *Mirrored orders* (the closed loop's candidates, [`candidates`]): a
+//!   cyclic order σ followed by (σ₀, σ_{n−1}, …, σ₁), every segment played
+//!   twice per period with its own cycles, so that every join a→b of the
+//!   first half is matched by b→a in the second. Measured on the Sink from
+//!   four LineSinks at one cycle each (`design --closed-loop`, error parts
+//!   relative to the promised field): the design's order 0°→180°→270°→90°
+//!   plays each axis's two LineSinks (whose mean tilts are opposite) one
+//!   after the other and has an 18 % offset and a 7 % anisotropy; the cyclic
+//!   order 0°→90°→180°→270°, in which every segment follows a perpendicular
+//!   one, has the target's four-fold symmetry and no offset, but its
+//!   rotation sense gives a 2 % swirl; the mirrored order
+//!   0°→90°→180°→270°→0°→270°→180°→90° has both symmetries, and its
+//!   shape-only error is 0.9 % against 3.7 % and 27 %.
 //!
 //! **Evaluation.** Each candidate is played by [`verify_points`] on the
 //! given points: realised mean velocity against the time-weighted
@@ -47,17 +60,15 @@
 //! not matter for design and rest costs strength), the one with the least
 //! inserted rest, then the smallest error, then the first in the table.
 
-use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use serde::Serialize;
 
-use super::realised::{grid_points, verify_points, VerifyOptions};
-use super::run::{load_schedule, schedule_settings, target_folder};
-use super::{PlayedSegment, ScheduleMotion};
-use crate::design::{Schedule, Segment};
 use crate::dynamics::Model;
 use crate::error::{Error, Result};
+use crate::play::measure::{grid_points, verify_points, PlayOptions};
+use crate::play::{periods_for, PlayedSegment, ScheduleMotion};
+use crate::schedule::{Schedule, Segment};
 
 /// Segments up to which every order (up to rotation) is tried.
 pub const EXHAUSTIVE_MAX: usize = 4;
@@ -75,7 +86,7 @@ pub const DEFAULT_MAX_EVALUATIONS: usize = 60;
 pub struct OrderOptions {
     /// Physics and model; its `warmup_periods` and `periods` are minimums
     /// (see `warmup_cycles`).
-    pub verify: VerifyOptions,
+    pub verify: PlayOptions,
     /// Start points of the parts (m).
     pub points: Vec<[f64; 2]>,
     /// Rest cycles inserted at every join, one candidate set per value.
@@ -94,7 +105,7 @@ pub struct OrderOptions {
 
 impl OrderOptions {
     /// Defaults for `verify` physics on `points`.
-    pub fn new(verify: VerifyOptions, points: Vec<[f64; 2]>) -> OrderOptions {
+    pub fn new(verify: PlayOptions, points: Vec<[f64; 2]>) -> OrderOptions {
         OrderOptions {
             verify,
             points,
@@ -199,23 +210,34 @@ fn next_permutation(v: &mut [usize]) -> bool {
     true
 }
 
+/// `items` in the playing order `sequence` (indices into `items`; an item
+/// may appear more than once), with `after(k)` inserted after position k
+/// when it returns one.
+pub fn arrange<T: Clone>(
+    items: &[T],
+    sequence: &[usize],
+    mut after: impl FnMut(usize) -> Option<T>,
+) -> Vec<T> {
+    let mut out = Vec::with_capacity(2 * sequence.len());
+    for (k, &i) in sequence.iter().enumerate() {
+        out.push(items[i].clone());
+        out.extend(after(k));
+    }
+    out
+}
+
 /// The played segments of `order` with `rest_cycles` × `rest_period` of
 /// rest after every segment whose (cyclic) successor is also moving.
-pub fn arrange(
+pub fn arrange_with_rest(
     segments: &[PlayedSegment],
     order: &[usize],
     rest_cycles: u32,
     rest_period: f64,
 ) -> Vec<PlayedSegment> {
-    let n = order.len();
-    let mut out = Vec::with_capacity(2 * n);
-    for (k, &i) in order.iter().enumerate() {
-        out.push(segments[i].clone());
-        if rest_cycles > 0 && rest_after(segments, order, k) {
-            out.push(PlayedSegment::rest(f64::from(rest_cycles) * rest_period));
-        }
-    }
-    out
+    arrange(segments, order, |k| {
+        (rest_cycles > 0 && rest_after(segments, order, k))
+            .then(|| PlayedSegment::rest(f64::from(rest_cycles) * rest_period))
+    })
 }
 
 /// True when position `k` of `order` and its cyclic successor both move.
@@ -244,14 +266,14 @@ fn evaluate(
     t_rest: f64,
     opts: &OrderOptions,
 ) -> Result<OrderCandidate> {
-    let played = arrange(segments, order, rest_cycles, t_rest);
+    let played = arrange_with_rest(segments, order, rest_cycles, t_rest);
     let sm = ScheduleMotion::new(played)?;
     let p = sm.period();
     let moving = sm.moving_time();
     let rest_joins = (0..order.len())
         .filter(|&k| rest_after(segments, order, k))
         .count();
-    let verify = VerifyOptions {
+    let verify = PlayOptions {
         warmup_periods: opts
             .verify
             .warmup_periods
@@ -284,15 +306,65 @@ fn evaluate(
     })
 }
 
-/// Whole periods of length `period` that cover at least `cycles` cycles
-/// of length `cycle` (at least one).
-pub fn periods_for(cycles: u32, cycle: f64, period: f64) -> u32 {
-    let n = (f64::from(cycles) * cycle / period - 1e-9).ceil();
-    if n.is_finite() && n >= 1.0 {
-        n.min(f64::from(u32::MAX)) as u32
-    } else {
-        1
+/// Most segments whose cyclic orders are all tried ((n − 1)! ≤ 24).
+pub const MAX_PERMUTED: usize = 5;
+
+/// One candidate order.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Order {
+    /// Indices into the segments, in playing order (a segment may appear
+    /// twice in a mirrored order).
+    pub sequence: Vec<usize>,
+    /// True for a mirrored order.
+    pub mirrored: bool,
+}
+
+/// The mirrored order of a cyclic order σ: σ, then σ₀ and the rest of σ reversed.
+pub fn mirrored(sigma: &[usize]) -> Vec<usize> {
+    let mut out = sigma.to_vec();
+    if let Some((&first, rest)) = sigma.split_first() {
+        out.push(first);
+        out.extend(rest.iter().rev());
     }
+    out
+}
+
+/// The closed loop's candidate orders of `n` segments: every cyclic order
+/// ([`orders_up_to_rotation`] with segment 0 first) when n ≤
+/// [`MAX_PERMUTED`], else the given order and its reverse; then the
+/// mirrored order of each cyclic order up to reversal (n ≥ 3; for n ≤ 2 it
+/// would repeat σ). The first candidate is the given order.
+pub fn candidates(n: usize) -> Vec<Order> {
+    if n == 0 {
+        return Vec::new();
+    }
+    let identity: Vec<usize> = (0..n).collect();
+    let cyclic: Vec<Vec<usize>> = if n <= MAX_PERMUTED {
+        orders_up_to_rotation(n, 0)
+    } else {
+        let rev = mirrored(&identity)[n..].to_vec();
+        vec![identity.clone(), rev]
+    };
+    let mut out: Vec<Order> = cyclic
+        .iter()
+        .map(|s| Order {
+            sequence: s.clone(),
+            mirrored: false,
+        })
+        .collect();
+    if n >= 3 {
+        for s in &cyclic {
+            // σ and its reverse give the same mirrored order, shifted.
+            if s[1] > s[n - 1] {
+                continue;
+            }
+            out.push(Order {
+                sequence: mirrored(s),
+                mirrored: true,
+            });
+        }
+    }
+    out
 }
 
 /// Error as a sort key (no valid point = worst).
@@ -447,60 +519,6 @@ pub fn search_orders(segments: &[PlayedSegment], opts: &OrderOptions) -> Result<
     })
 }
 
-/// The search as a markdown table (deterministic: no timings).
-pub fn order_table(search: &OrderSearch) -> String {
-    let mut md = String::new();
-    let _ = writeln!(
-        md,
-        "Segments: {}. {}.\n\nEach candidate is played on {} point parts ({} model): realised mean velocity over whole schedule periods after a warm-up of ≥ 1 period and ≥ {} primitive cycles, against the time-weighted steady-state prediction (rest counts as the zero field). Error: relative L2, ‖realised − predicted‖ / ‖predicted‖. Rest: cycles of {:.4} s at every join between two moving segments. Moving fraction: the strength factor rest costs. Chosen: the smallest error among the candidates with the most valid points; errors within {:.1} percentage points of it count as ties, which go to less rest.\n",
-        search.segments.join(", "),
-        search.method,
-        search.points,
-        search.model,
-        search.warmup_cycles,
-        search.rest_period_s,
-        100.0 * search.tie_tolerance
-    );
-    md.push_str("| # | order | rest at joins (cycles × joins) | moving fraction | relative error | max abs error (mm/s) | valid points | period (s) | warm-up + measured periods | |\n|---|---|---|---|---|---|---|---|---|---|\n");
-    for (i, c) in search.candidates.iter().enumerate() {
-        let _ = writeln!(
-            md,
-            "| {i} | {} | {} | {:.3} | {:.2} % | {:.3} | {} | {:.4} | {} + {} | {} |",
-            c.sequence,
-            if c.rest_joins == 0 {
-                "none".to_string()
-            } else {
-                format!("{} × {}", c.rest_cycles, c.rest_joins)
-            },
-            c.moving_fraction,
-            100.0 * c.relative_error,
-            1e3 * c.max_abs_error,
-            c.valid,
-            c.period_s,
-            c.warmup_periods,
-            c.periods,
-            if i == search.best { "**best**" } else { "" }
-        );
-    }
-    let b = search.chosen();
-    let rest = if b.rest_joins == 0 {
-        "no rest inserted".to_string()
-    } else {
-        format!(
-            "{} rest cycles at each of {} joins",
-            b.rest_cycles, b.rest_joins
-        )
-    };
-    let _ = writeln!(
-        md,
-        "\nBest: {} with {rest}: relative error {:.2} %, moving fraction {:.3}.",
-        b.sequence,
-        100.0 * b.relative_error,
-        b.moving_fraction
-    );
-    md
-}
-
 /// `n × n` points over the bounding box of `points` (the target region).
 pub fn region_grid(points: &[[f64; 2]], n: usize) -> Vec<[f64; 2]> {
     let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
@@ -543,33 +561,25 @@ pub fn choose_order(schedule: &Schedule, opts: &OrderOptions) -> Result<(Schedul
     }
     let search = search_orders(&played, opts)?;
     let best = search.chosen();
-    let mut segments = Vec::with_capacity(2 * items.len());
-    for (k, &i) in best.order.iter().enumerate() {
-        segments.push(items[i].clone());
-        if best.rest_cycles > 0 && rest_after(&played, &best.order, k) {
-            segments.push(Segment {
-                label: "Rest".into(),
-                primitive: None,
-                weight: 0.0,
-                cycles: best.rest_cycles,
-                duration_s: f64::from(best.rest_cycles) * search.rest_period_s,
-            });
-        }
-    }
-    let out = Schedule {
-        total_cycles: segments.iter().map(|s| s.cycles).sum(),
-        period_s: segments.iter().map(|s| s.duration_s).sum(),
-        segments,
-        ..schedule.clone()
-    };
+    let items: Vec<Segment> = items.into_iter().cloned().collect();
+    let segments = arrange(&items, &best.order, |k| {
+        (best.rest_cycles > 0 && rest_after(&played, &best.order, k)).then(|| Segment {
+            label: "Rest".into(),
+            primitive: None,
+            weight: 0.0,
+            cycles: best.rest_cycles,
+            duration_s: f64::from(best.rest_cycles) * search.rest_period_s,
+        })
+    });
+    let out = schedule.with_segments(segments);
     Ok((out, search))
 }
 
 /// `platefield order`: searches the orders and rest insertions of the
 /// schedule at `path` on `n × n` points over ±3 cm with the schedule's own
 /// physics (the model overridden by `model` when given; `warmup` and
-/// `periods` are minimums), writes `OUT/<target>/verify/order.md`, and
-/// returns the search, the markdown and the path written.
+/// `periods` are minimums); returns the schedule and the search (written
+/// by `crate::report::order`).
 pub fn order_schedule_file(
     path: &Path,
     n: usize,
@@ -577,8 +587,7 @@ pub fn order_schedule_file(
     warmup: u32,
     periods: u32,
     model: Option<Model>,
-    out: &Path,
-) -> Result<(OrderSearch, String, PathBuf)> {
+) -> Result<(Schedule, OrderSearch)> {
     if !(1..=41).contains(&n) {
         return Err(Error::invalid(
             "--points",
@@ -603,13 +612,13 @@ pub fn order_schedule_file(
             format!("must be in 0..=100, got {warmup}"),
         ));
     }
-    let schedule = load_schedule(path)?;
-    let settings = schedule_settings(&schedule, path)?;
-    let name = target_folder(&schedule)?;
-    let mut verify = VerifyOptions {
+    let schedule = Schedule::load(path)?;
+    let settings = schedule.settings;
+    schedule.target_folder()?;
+    let mut verify = PlayOptions {
         warmup_periods: warmup,
         periods,
-        ..VerifyOptions::from_settings(&settings)
+        ..PlayOptions::from_settings(&settings)
     };
     if let Some(m) = model {
         verify.model = m;
@@ -619,14 +628,7 @@ pub fn order_schedule_file(
         ..OrderOptions::new(verify, grid_points(n, 0.03))
     };
     let (_, search) = choose_order(&schedule, &opts)?;
-    let md = format!(
-        "# Segment order and rest: {name}\n\nGenerated by `platefield order {}` ({n} × {n} points over ±3 cm).\n\n{}",
-        path.display(),
-        order_table(&search)
-    );
-    let file = out.join(name).join("verify").join("order.md");
-    crate::output::write_atomic(&file, md.as_bytes())?;
-    Ok((search, md, file))
+    Ok((schedule, search))
 }
 
 #[cfg(test)]
@@ -665,15 +667,45 @@ mod tests {
         assert!(orders_up_to_rotation(0, 0).is_empty());
     }
 
-    /// Whole periods covering a number of cycles: at least one, and exact
-    /// multiples are not rounded up by rounding error.
     #[test]
-    fn periods_cover_the_cycles() {
-        let t = 2.0 * std::f64::consts::PI / 209.0;
-        assert_eq!(periods_for(40, t, 32.0 * t), 2);
-        assert_eq!(periods_for(40, t, 20.0 * t), 2);
-        assert_eq!(periods_for(40, t, 41.0 * t), 1);
-        assert_eq!(periods_for(40, t, 13.0 * t), 4);
-        assert_eq!(periods_for(0, t, t), 1);
+    fn counts_and_first_candidate() {
+        // n = 4: 3! = 6 cyclic orders, 3 mirrored ones.
+        let c = candidates(4);
+        assert_eq!(c.len(), 9);
+        assert_eq!(c[0].sequence, vec![0, 1, 2, 3]);
+        assert_eq!(c.iter().filter(|o| o.mirrored).count(), 3);
+        assert!(c.contains(&Order {
+            sequence: vec![0, 1, 2, 3, 0, 3, 2, 1],
+            mirrored: true
+        }));
+        // Distinct, and every cyclic order starts with segment 0.
+        for (i, a) in c.iter().enumerate() {
+            assert_eq!(a.sequence[0], 0);
+            for b in &c[i + 1..] {
+                assert_ne!(a, b);
+            }
+        }
+        // n ≤ 2: one cyclic order, and mirroring only repeats it.
+        assert_eq!(candidates(1).len(), 1);
+        assert_eq!(candidates(2).len(), 1);
+        assert_eq!(candidates(3).len(), 2 + 1);
+        assert_eq!(candidates(5).len(), 24 + 12);
+        // Beyond MAX_PERMUTED: the design's order, its reverse, their mirror.
+        let big = candidates(7);
+        assert_eq!(big.len(), 3);
+        assert_eq!(big[1].sequence, vec![0, 6, 5, 4, 3, 2, 1]);
+    }
+
+    #[test]
+    fn mirrored_order_has_both_turn_senses() {
+        // Every segment appears twice, and the joins of the second half are
+        // those of the first, reversed: (a→b) in the first half pairs with
+        // (b→a) in the second.
+        let m = mirrored(&[0, 1, 2, 3]);
+        let n = m.len();
+        let joins: Vec<(usize, usize)> = (0..n).map(|i| (m[i], m[(i + 1) % n])).collect();
+        for &(a, b) in &joins {
+            assert!(joins.contains(&(b, a)), "{joins:?}");
+        }
     }
 }

@@ -1,4 +1,4 @@
-//! Schedules: time fractions become whole cycles per segment.
+//! Whole-cycle quantisation: time fractions become whole cycles per segment.
 //!
 //! A cycle is the quantum: segment i runs n_i whole periods T_i of its
 //! primitive. For a total length N (given, or the shortest whose
@@ -13,33 +13,12 @@
 //! rest-to-rest LineSinks: 50 % error against the time-weighted prediction at
 //! 1 cycle per segment, 21 % at 3, 6.5 % at 10).
 
-use serde::{Deserialize, Serialize};
-
-use crate::basis::Primitive;
-use crate::fit::FitMetrics;
-
 /// Default minimum cycles per segment.
 pub const DEFAULT_MIN_CYCLES: u32 = 10;
 /// Default tolerance on the field's quantisation error.
 pub const DEFAULT_QUANTIZATION_TOL: f64 = 0.02;
 /// Longest schedule searched (cycles).
 pub const MAX_TOTAL_CYCLES: u32 = 5000;
-
-/// One segment of a schedule.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Segment {
-    /// Human-readable label, e.g. `LineSink@90°`.
-    pub label: String,
-    /// The primitive with all its parameters (rotation, shift included);
-    /// `None` for a rest segment (plate at rest in the home pose).
-    pub primitive: Option<Primitive>,
-    /// Time fraction from the fit (continuous).
-    pub weight: f64,
-    /// Whole cycles.
-    pub cycles: u32,
-    /// Duration (s).
-    pub duration_s: f64,
-}
 
 /// Result of quantising fractions.
 #[derive(Debug, Clone, PartialEq)]
@@ -117,55 +96,4 @@ pub fn quantize(
         }
     }
     best.unwrap_or_else(|| at(MAX_TOTAL_CYCLES))
-}
-
-/// Solver facts recorded with a schedule.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct SolverInfo {
-    /// Fit mode.
-    pub mode: String,
-    /// Solver status.
-    pub status: String,
-    /// Interior-point iterations.
-    pub iterations: u32,
-    /// Solve time (s) — the only timing in the file.
-    pub solve_time_s: f64,
-    /// KKT residual of the verified solution.
-    pub kkt_residual: f64,
-    /// Gap to the independent solver.
-    pub independent_gap: f64,
-}
-
-/// A designed schedule, as written to `schedule.json`.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Schedule {
-    /// Target name.
-    pub target: String,
-    /// The target itself (field, grid, weights, mask), so that
-    /// verification knows the region and the attractor; absent in schedules
-    /// written before it was recorded.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub target_spec: Option<crate::target::Target>,
-    /// Segments in playing order (rest segments have no primitive).
-    pub segments: Vec<Segment>,
-    /// Total cycles (including rest).
-    pub total_cycles: u32,
-    /// Schedule period (s): one pass through all segments.
-    pub period_s: f64,
-    /// Minimum cycles per segment used.
-    pub min_cycles: u32,
-    /// Fit metrics of the continuous time fractions.
-    pub fit: FitMetrics,
-    /// Fit metrics of the whole-cycle schedule.
-    pub fit_quantized: FitMetrics,
-    /// Field quantisation error ‖A(q − f)‖/‖A f‖.
-    pub quantization_error: f64,
-    /// True when the best achievable fit is poor (relative error > 0.5).
-    pub poor_fit: bool,
-    /// Solver facts.
-    pub solver: SolverInfo,
-    /// Basis facts: field kind, columns used, columns excluded.
-    pub basis: serde_json::Value,
-    /// Simulation settings the basis was built with.
-    pub settings: serde_json::Value,
 }

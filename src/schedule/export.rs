@@ -8,10 +8,14 @@
 //! p'' = −(α × Rh + ω × (ω × Rh)) + d'' k with ω = ψ'k, α = ψ''k, and the
 //! angular acceleration is ψ''k. Rest segments are zero. Primitives are
 //! rest-to-rest, so the signals are continuous in pose and velocity at joins.
+//!
+//! The schedule is validated and its period derived from the segments
+//! ([`Schedule::derive`]) before anything is sampled, so `export` plays
+//! exactly what `verify` plays.
 
 use std::fmt::Write as _;
 
-use super::schedule::Schedule;
+use super::Schedule;
 use crate::error::{positive, Error, Result};
 use crate::motion::{rotate, Motion, V3};
 
@@ -37,6 +41,8 @@ pub fn centre_acceleration(motion: &Motion, t: f64) -> (V3, V3) {
 /// CSV of the six signals over one schedule period at `rate` samples/s.
 pub fn signals_csv(schedule: &Schedule, rate: f64) -> Result<String> {
     positive("--rate", rate)?;
+    schedule.validate()?;
+    let schedule = &schedule.with_segments(schedule.segments.clone());
     if schedule.period_s * rate > 5e7 {
         return Err(Error::invalid(
             "--rate",

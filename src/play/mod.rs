@@ -1,0 +1,408 @@
+//! Playing a schedule: its exact plate trajectory and point parts under it
+//! (DESIGN.md section 7).
+//!
+//! A [`crate::schedule::Schedule`] is played exactly, segment after segment:
+//! segment i runs `cycles` whole periods of its primitive's [`Motion`]
+//! (from [`crate::basis::Primitive::motion`]) and a rest segment holds the
+//! plate at rest in the home pose. [`ScheduleMotion`] is that trajectory;
+//! [`Player`] drives point parts through it with the exact stick-slip
+//! integrator of [`crate::dynamics`], one cached [`Simulator`] per segment,
+//! each called with segment-local time (every segment starts at phase 0).
+//!
+//! **Joins.** The plate pose is continuous at a join (every waveform used
+//! here starts and ends a cycle in the home pose, q(0) = q(T) = 0). The
+//! plate *velocity* is continuous for rest-to-rest primitives but jumps for
+//! other waveforms (a sine's q'(0) ≠ 0). The part's tangential inertial
+//! velocity is kept continuous across a join: with v_A, v_B the plate
+//! velocities at the part (at the kinematics point: the current position,
+//! or the anchor for the frozen model) at the end of segment A and the start
+//! of segment B, the slip velocity becomes u_B = u_A + v_A,t − v_B,t, and a
+//! part that was stuck slips when the jump is not zero. The normal
+//! component of a jump is an impact that this point model does not resolve
+//! (its friction impulse is neglected); for rest-to-rest primitives there
+//! is no jump at all. Parts are placed on the plate at rest relative to it
+//! (u = 0) at the start of the first segment.
+//!
+//! **Rest segments** (plate at rest in the home pose, N = g exactly) are
+//! integrated in closed form: a slipping part decelerates at μ_k g against
+//! its slip direction until it stops, and then stays stuck.
+//!
+//! [`measure`] is the one realised-velocity measure: what a played
+//! schedule realises at a start point, compared with the field it is meant
+//! to realise (used by `verify`, the order search and the closed loop).
+
+pub mod measure;
+
+pub use measure::{grid_points, verify_points, PlayOptions, PointResult, RealisedField};
+
+use crate::dynamics::{ContactLoss, Friction, Model, Numerics, PartState, Simulator};
+use crate::error::{positive, Error, Result};
+use crate::motion::{Motion, V3};
+use crate::schedule::{Schedule, Segment};
+
+use nalgebra::Vector2;
+use serde::{Deserialize, Serialize};
+
+/// 2-vector of f64.
+pub type V2 = Vector2<f64>;
+
+/// One segment of a played schedule.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlayedSegment {
+    /// Label, e.g. `LineSink@90°` or `Rest`.
+    pub label: String,
+    /// The plate motion; `None` = the plate at rest in the home pose.
+    pub motion: Option<Motion>,
+    /// Whole cycles of `motion` (0 for rest segments).
+    pub cycles: u32,
+    /// Duration (s): `cycles` periods, or the rest time.
+    pub duration: f64,
+}
+
+impl PlayedSegment {
+    /// `cycles` whole periods of `motion`.
+    pub fn moving(label: impl Into<String>, motion: Motion, cycles: u32) -> PlayedSegment {
+        let duration = f64::from(cycles) * motion.period();
+        PlayedSegment {
+            label: label.into(),
+            motion: Some(motion),
+            cycles,
+            duration,
+        }
+    }
+
+    /// The plate at rest for `duration` seconds.
+    pub fn rest(duration: f64) -> PlayedSegment {
+        PlayedSegment {
+            label: "Rest".into(),
+            motion: None,
+            cycles: 0,
+            duration,
+        }
+    }
+
+    /// The played form of segment `i` of a designed schedule: its
+    /// primitive's motion (rotation and shift applied) for its whole
+    /// cycles, or rest for its `duration_s` when it has no primitive.
+    pub fn from_segment(seg: &Segment, i: usize) -> Result<PlayedSegment> {
+        match &seg.primitive {
+            Some(p) => {
+                p.validate(&format!("schedule.segments[{i}].primitive"))?;
+                Ok(PlayedSegment::moving(
+                    seg.label.clone(),
+                    p.motion(),
+                    seg.cycles,
+                ))
+            }
+            None => {
+                let d = seg.duration_s;
+                if !(d.is_finite() && d >= 0.0) {
+                    return Err(Error::invalid(
+                        format!("schedule.segments[{i}].duration_s"),
+                        format!("must be a finite number ≥ 0, got {d}"),
+                    ));
+                }
+                Ok(PlayedSegment::rest(d))
+            }
+        }
+    }
+}
+
+/// The plate trajectory of a schedule: segments played in order, repeated
+/// with period Σ durations.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ScheduleMotion {
+    segments: Vec<PlayedSegment>,
+    period: f64,
+}
+
+impl ScheduleMotion {
+    /// A trajectory from segments (validated: at least one segment of
+    /// positive duration, valid motions, finite durations).
+    pub fn new(segments: Vec<PlayedSegment>) -> Result<ScheduleMotion> {
+        let segments: Vec<PlayedSegment> =
+            segments.into_iter().filter(|s| s.duration > 0.0).collect();
+        if segments.is_empty() {
+            return Err(Error::invalid(
+                "schedule.segments",
+                "must hold at least one segment of positive duration",
+            ));
+        }
+        for (i, s) in segments.iter().enumerate() {
+            positive(&format!("schedule.segments[{i}].duration_s"), s.duration)?;
+            if let Some(m) = &s.motion {
+                m.validate(&format!("schedule.segments[{i}].primitive"))?;
+            }
+        }
+        let period = segments.iter().map(|s| s.duration).sum();
+        Ok(ScheduleMotion { segments, period })
+    }
+
+    /// The trajectory of a designed schedule: each segment's primitive
+    /// motion (rotation and shift applied) for its whole cycles; segments
+    /// without a primitive are rest for their `duration_s`.
+    pub fn from_schedule(schedule: &Schedule) -> Result<ScheduleMotion> {
+        let out = schedule
+            .segments
+            .iter()
+            .enumerate()
+            .map(|(i, seg)| PlayedSegment::from_segment(seg, i))
+            .collect::<Result<Vec<_>>>()?;
+        ScheduleMotion::new(out)
+    }
+
+    /// The segments (those of zero duration are dropped).
+    pub fn segments(&self) -> &[PlayedSegment] {
+        &self.segments
+    }
+
+    /// Schedule period (s): one pass through all segments.
+    pub fn period(&self) -> f64 {
+        self.period
+    }
+
+    /// Time (s) per period in which the plate moves (rest segments excluded).
+    pub fn moving_time(&self) -> f64 {
+        self.segments
+            .iter()
+            .filter(|s| s.motion.is_some())
+            .map(|s| s.duration)
+            .sum()
+    }
+
+    /// Time fraction of each segment.
+    pub fn fractions(&self) -> Vec<f64> {
+        self.segments
+            .iter()
+            .map(|s| s.duration / self.period)
+            .collect()
+    }
+
+    /// A player for point parts under this trajectory.
+    pub fn player(
+        &self,
+        friction: Friction,
+        gravity: f64,
+        model: Model,
+        numerics: Numerics,
+    ) -> Player<'_> {
+        let sims = self
+            .segments
+            .iter()
+            .map(|s| {
+                s.motion
+                    .as_ref()
+                    .map(|m| Simulator::new(m, friction, gravity, model, numerics))
+            })
+            .collect();
+        Player {
+            schedule: self,
+            sims,
+            friction,
+            gravity,
+            model,
+            join: Join::Inertial,
+        }
+    }
+}
+
+/// Where and when a played part lost contact.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlayLoss {
+    /// Segment index.
+    pub segment: usize,
+    /// Schedule period index (0 = the first played period).
+    pub period: u32,
+    /// The loss, in segment-local time.
+    pub loss: ContactLoss,
+}
+
+impl std::fmt::Display for PlayLoss {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "schedule period {}, segment {}: {}",
+            self.period, self.segment, self.loss
+        )
+    }
+}
+
+/// Plays a [`ScheduleMotion`] on point parts (one cached simulator per segment).
+#[derive(Debug, Clone)]
+pub struct Player<'a> {
+    schedule: &'a ScheduleMotion,
+    sims: Vec<Option<Simulator<'a>>>,
+    friction: Friction,
+    gravity: f64,
+    model: Model,
+    join: Join,
+}
+
+/// What is kept continuous where the plate velocity jumps at a join.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Join {
+    /// The part's tangential inertial velocity (physical; the default).
+    Inertial,
+    /// The slip velocity u relative to the plate (unphysical: the part
+    /// jumps with the plate). Kept only to measure what that mistake does.
+    Slip,
+}
+
+impl<'a> Player<'a> {
+    /// The same player with another join rule.
+    pub fn with_join(mut self, join: Join) -> Player<'a> {
+        self.join = join;
+        self
+    }
+
+    /// The trajectory played.
+    pub fn schedule(&self) -> &'a ScheduleMotion {
+        self.schedule
+    }
+
+    /// The simulator of segment `i` (`None` for rest).
+    pub fn simulator(&self, i: usize) -> Option<&Simulator<'a>> {
+        self.sims[i].as_ref()
+    }
+
+    /// The model switches.
+    pub fn model(&self) -> Model {
+        self.model
+    }
+
+    /// Tangential plate velocity at plate point `p` at the start (and, by
+    /// periodicity, the end) of segment `i`.
+    pub fn join_velocity(&self, i: usize, p: &V2) -> V2 {
+        match &self.schedule.segments[i].motion {
+            None => V2::zeros(),
+            Some(m) => {
+                let k = m.kinematics(0.0, self.gravity, self.model.tilt);
+                let v = k.velocity_at(&V3::new(p.x, p.y, 0.0));
+                V2::new(v.x, v.y)
+            }
+        }
+    }
+
+    /// Applies the join from segment `from` to segment `to`: the part's
+    /// tangential inertial velocity is kept continuous.
+    pub fn join(&self, from: usize, to: usize, state: &mut PartState, anchor: &V2) {
+        if self.join == Join::Slip {
+            return;
+        }
+        let p = if self.model.moving { state.r } else { *anchor };
+        let jump = self.join_velocity(from, &p) - self.join_velocity(to, &p);
+        if jump != V2::zeros() {
+            state.u += jump;
+            state.stuck = false;
+        }
+    }
+
+    /// Plays segment `i` from its start to its end; returns the time stuck.
+    pub fn play_segment(
+        &self,
+        i: usize,
+        state: &mut PartState,
+        anchor: &V2,
+    ) -> Result<f64, ContactLoss> {
+        let seg = &self.schedule.segments[i];
+        match &self.sims[i] {
+            Some(sim) => Ok(sim
+                .advance(0.0, seg.duration, state, anchor, None)?
+                .stuck_time),
+            None => Ok(rest(state, seg.duration, self.friction, self.gravity)),
+        }
+    }
+
+    /// Plays `periods` whole schedule periods. `first` is the number of
+    /// the first period played: period 0 starts without a join (the part is
+    /// placed on the plate), later periods start with the join from the
+    /// last segment. `visit(t, segment_end_index, state)` is called at the
+    /// start (index `None`, t = 0) and after every segment (t from the start
+    /// of this call, s).
+    pub fn play_periods(
+        &self,
+        state: &mut PartState,
+        anchor: &V2,
+        first: u32,
+        periods: u32,
+        mut visit: impl FnMut(f64, Option<usize>, &PartState),
+    ) -> Result<(), PlayLoss> {
+        let n = self.schedule.segments.len();
+        let mut t = 0.0;
+        visit(t, None, state);
+        for k in first..first + periods {
+            for i in 0..n {
+                if k > 0 || i > 0 {
+                    self.join(if i == 0 { n - 1 } else { i - 1 }, i, state, anchor);
+                }
+                self.play_segment(i, state, anchor)
+                    .map_err(|loss| PlayLoss {
+                        segment: i,
+                        period: k,
+                        loss,
+                    })?;
+                t += self.schedule.segments[i].duration;
+                visit(t, Some(i), state);
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The plate at rest in the home pose for `duration`: N = g, a slipping
+/// part decelerates at μ_k g against its slip until it stops and then
+/// sticks (exact). Returns the time stuck.
+pub fn rest(state: &mut PartState, duration: f64, friction: Friction, gravity: f64) -> f64 {
+    let speed = state.u.norm();
+    if speed == 0.0 {
+        state.stuck = true;
+        return duration;
+    }
+    let decel = friction.kinetic * gravity;
+    let stop = if decel > 0.0 {
+        speed / decel
+    } else {
+        f64::INFINITY
+    };
+    let dir = state.u / speed;
+    if stop <= duration {
+        state.r += dir * (0.5 * speed * stop);
+        state.u = V2::zeros();
+        state.stuck = true;
+        duration - stop
+    } else {
+        state.r += dir * (speed * duration - 0.5 * decel * duration * duration);
+        state.u = dir * (speed - decel * duration);
+        state.stuck = false;
+        0.0
+    }
+}
+
+/// Whole periods of length `period` that cover at least `cycles` cycles
+/// of length `cycle` (at least one).
+pub fn periods_for(cycles: u32, cycle: f64, period: f64) -> u32 {
+    let n = (f64::from(cycles) * cycle / period - 1e-9).ceil();
+    if n.is_finite() && n >= 1.0 {
+        n.min(f64::from(u32::MAX)) as u32
+    } else {
+        1
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Whole periods covering a number of cycles: at least one, and exact
+    /// multiples are not rounded up by rounding error.
+    #[test]
+    fn periods_cover_the_cycles() {
+        let t = 2.0 * std::f64::consts::PI / 209.0;
+        assert_eq!(periods_for(40, t, 32.0 * t), 2);
+        assert_eq!(periods_for(40, t, 20.0 * t), 2);
+        assert_eq!(periods_for(40, t, 41.0 * t), 1);
+        assert_eq!(periods_for(40, t, 13.0 * t), 4);
+        assert_eq!(periods_for(0, t, t), 1);
+    }
+}

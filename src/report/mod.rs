@@ -1,0 +1,66 @@
+//! Every file the product writes and every terminal summary it prints:
+//! designs ([`design`]: `schedule.json`, `fit.svg`, `report.md`), closed
+//! loops ([`closed_loop`]), order searches ([`order`]), verifications
+//! ([`verify`]: `summary.json`, `trajectories.svg`) and exported signals.
+//! The top layer: it may use every module below it, and nothing uses it
+//! but the command-line shell. Each `run` function is one subcommand:
+//! compute everything, then write (so bad input writes nothing), then
+//! return the text to print.
+
+pub mod closed_loop;
+pub mod design;
+pub mod order;
+pub mod verify;
+
+use std::path::Path;
+
+use crate::dynamics::Model;
+use crate::error::Result;
+use crate::output::write_atomic;
+use crate::schedule::export::signals_csv;
+use crate::schedule::Schedule;
+
+/// `platefield export`: the six signals of the schedule at `path` at
+/// `rate` samples/s as CSV, written to `out` (returns a line saying so) or
+/// returned for stdout.
+pub fn export(path: &Path, rate: f64, out: Option<&Path>) -> Result<String> {
+    let s = Schedule::load(path)?;
+    let csv = signals_csv(&s, rate)?;
+    match out {
+        Some(file) => {
+            write_atomic(file, csv.as_bytes())?;
+            Ok(format!(
+                "wrote {} ({} samples at {rate} Hz over {:.4} s)\n",
+                file.display(),
+                csv.lines().count() - 1,
+                s.period_s
+            ))
+        }
+        None => Ok(csv),
+    }
+}
+
+/// `platefield order`: searches the orders and rest insertions of the
+/// schedule at `path` ([`crate::design::order::order_schedule_file`]),
+/// writes `OUT/<target>/verify/order.md` and returns the table and a line
+/// naming the file.
+pub fn order(
+    path: &Path,
+    n: usize,
+    rest_cycles: &[u32],
+    warmup: u32,
+    periods: u32,
+    model: Option<Model>,
+    out: &Path,
+) -> Result<String> {
+    let start = std::time::Instant::now();
+    let (schedule, search) =
+        crate::design::order::order_schedule_file(path, n, rest_cycles, warmup, periods, model)?;
+    let md = order::order_md(path, n, &schedule, &search);
+    let file = order::write(&md, &schedule, out)?;
+    Ok(format!(
+        "{md}wrote {} ({:.1} s)\n",
+        file.display(),
+        start.elapsed().as_secs_f64()
+    ))
+}

@@ -1,0 +1,296 @@
+//! Writing a verification: `summary.json` and `trajectories.svg` under
+//! `OUT/<target>/verify/`, and the terminal summary.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+
+use crate::error::{Error, Result};
+use crate::field::Grid;
+use crate::play::measure::{PointResult, RealisedField};
+use crate::plot::{Marker, MarkerShape, Overlay, QuiverPlot};
+use crate::target::Attractor;
+use crate::verify::run::{RectangleResult, VerifyReport};
+use crate::verify::Swarm;
+
+/// `summary.json`: everything, per point, per part and per rectangle
+/// (deterministic: no timings).
+pub fn summary_json(r: &VerifyReport) -> Result<String> {
+    let v = &r.realised;
+    #[derive(Serialize)]
+    struct Summary<'a> {
+        realised_vs_predicted_relative_error: f64,
+        realised_shape_error: f64,
+        realised_strength: f64,
+        design_strength: f64,
+        converged_fraction: Option<f64>,
+        median_time_to_converge_s: Option<f64>,
+        median_predicted_time_to_converge_s: Option<f64>,
+        time_ratio_measured_over_predicted: Option<f64>,
+        rectangles: &'a [RectangleResult],
+        target: &'a str,
+        schedule_period_s: f64,
+        model: &'a str,
+        region: &'a Grid,
+        realised_field: RealisedSummary<'a>,
+        swarm: &'a Swarm,
+    }
+    #[derive(Serialize)]
+    struct RealisedSummary<'a> {
+        points: usize,
+        valid_points: usize,
+        warmup_periods: u32,
+        periods: u32,
+        max_abs_error_m_per_s: f64,
+        rms_predicted_m_per_s: f64,
+        per_point: &'a [PointResult],
+    }
+    let summary = Summary {
+        realised_vs_predicted_relative_error: v.relative_error,
+        realised_shape_error: v.shape_error,
+        realised_strength: v.realised_scale * r.design_strength,
+        design_strength: r.design_strength,
+        converged_fraction: r.swarm.converged_fraction,
+        median_time_to_converge_s: r.swarm.median_time_to_converge_s,
+        median_predicted_time_to_converge_s: r.swarm.median_predicted_time_s,
+        time_ratio_measured_over_predicted: r.swarm.time_ratio,
+        rectangles: &r.rectangles,
+        target: &r.target,
+        schedule_period_s: v.schedule_period_s,
+        model: &v.model,
+        region: &r.region,
+        realised_field: RealisedSummary {
+            points: r.request.points * r.request.points,
+            valid_points: v.valid,
+            warmup_periods: r.request.warmup,
+            periods: r.request.periods,
+            max_abs_error_m_per_s: v.max_abs_error,
+            rms_predicted_m_per_s: v.rms_predicted,
+            per_point: &v.points,
+        },
+        swarm: &r.swarm,
+    };
+    let mut text =
+        serde_json::to_string_pretty(&summary).map_err(|e| Error::Physical(e.to_string()))?;
+    text.push('\n');
+    Ok(text)
+}
+
+/// The outline of a rectangle of `size` at centre `r`, angle `deg`.
+fn outline(size: [f64; 2], r: [f64; 2], deg: f64) -> Vec<[f64; 2]> {
+    let (s, c) = deg.to_radians().sin_cos();
+    let (a, b) = (0.5 * size[0], 0.5 * size[1]);
+    [(-a, -b), (a, -b), (a, b), (-a, b), (-a, -b)]
+        .iter()
+        .map(|&(x, y)| [r[0] + c * x - s * y, r[1] + s * x + c * y])
+        .collect()
+}
+
+/// The trajectory figure: realised mean velocity arrows, part paths (start
+/// dots, end squares), the attractor (+) when there is one.
+pub fn trajectory_svg(
+    name: &str,
+    g: &Grid,
+    v: &RealisedField,
+    swarm: &Swarm,
+    rects: &[RectangleResult],
+    size: [f64; 2],
+) -> String {
+    let pts: Vec<[f64; 2]> = v.points.iter().map(|p| p.start).collect();
+    let vecs: Vec<[f64; 2]> = v.points.iter().map(|p| p.realised).collect();
+    let mut plot = QuiverPlot::new(
+        format!("{name}: realised mean velocity and part trajectories"),
+        pts,
+        vecs,
+    )
+    .invalid(v.points.iter().map(|p| !p.valid).collect())
+    .ranges(g.x, g.y)
+    .size(640.0, 680.0)
+    .caption(format!(
+        "{} parts, {:.1} s; converged: {}; realised vs predicted field {:.1} %",
+        swarm.parts.len(),
+        swarm.duration_s,
+        swarm
+            .converged_fraction
+            .map_or("n/a (no attractor)".to_string(), |f| format!(
+                "{:.1} % within {:.1} mm",
+                100.0 * f,
+                1e3 * swarm.tol
+            )),
+        100.0 * v.relative_error
+    ));
+    for p in &swarm.parts {
+        plot = plot
+            .overlay(Overlay::new(p.path.clone()).color("#2ca02c"))
+            .marker(Marker::new(p.start).color("#2ca02c"))
+            .marker(
+                Marker::new(p.end)
+                    .shape(MarkerShape::Square)
+                    .color(if p.converged { "#000000" } else { "#d62728" }),
+            );
+    }
+    for r in rects {
+        if let (Some(first), Some(last)) = (r.trajectory.first(), r.trajectory.last()) {
+            plot = plot
+                .overlay(Overlay::new(r.trajectory.iter().map(|p| p.r).collect()).color("#9467bd"))
+                .overlay(
+                    Overlay::new(outline(size, first.r, first.theta_deg))
+                        .color("#9467bd")
+                        .dashed(),
+                )
+                .overlay(Overlay::new(outline(size, last.r, last.theta_deg)).color("#000000"));
+        }
+    }
+    match swarm.attractor {
+        Some(Attractor::Point { center, .. }) => {
+            plot = plot.marker(
+                Marker::new(center)
+                    .shape(MarkerShape::Plus)
+                    .color("#d62728")
+                    .label("attractor"),
+            );
+        }
+        Some(Attractor::Line {
+            point, direction, ..
+        }) => {
+            let l = (g.x[1] - g.x[0]).hypot(g.y[1] - g.y[0]);
+            plot = plot.overlay(
+                Overlay::new(vec![
+                    [point[0] - l * direction[0], point[1] - l * direction[1]],
+                    [point[0] + l * direction[0], point[1] + l * direction[1]],
+                ])
+                .color("#d62728")
+                .dashed(),
+            );
+        }
+        None => {}
+    }
+    plot.to_svg()
+}
+
+/// Writes `summary.json` and `trajectories.svg` under `OUT/<target>/verify/`
+/// (both computed before either is written, each written atomically);
+/// returns the paths.
+pub fn write(r: &VerifyReport, out: &Path) -> Result<Vec<PathBuf>> {
+    let text = summary_json(r)?;
+    let svg = trajectory_svg(
+        &r.target,
+        &r.region,
+        &r.realised,
+        &r.swarm,
+        &r.rectangles,
+        r.request.rectangle,
+    );
+    let dir = out.join(&r.target).join("verify");
+    let files = vec![dir.join("summary.json"), dir.join("trajectories.svg")];
+    crate::output::write_atomic(&files[0], text.as_bytes())?;
+    crate::output::write_atomic(&files[1], svg.as_bytes())?;
+    Ok(files)
+}
+
+/// The terminal summary: realised against predicted (error, shape error,
+/// strength), invalid points, the swarm and the rectangles.
+pub fn summary(r: &VerifyReport) -> String {
+    let v = &r.realised;
+    let req = &r.request;
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "realised vs predicted relative error {:.2} % (shape {:.2} %, realised strength {:.4} against {:.4} designed) over {} of {} points ({} model, {} warm-up + {} measured periods of {:.4} s); max |error| {:.3e} m/s, rms |predicted| {:.3e} m/s",
+        100.0 * v.relative_error,
+        100.0 * v.shape_error,
+        v.realised_scale * r.design_strength,
+        r.design_strength,
+        v.valid,
+        req.points * req.points,
+        v.model,
+        req.warmup,
+        req.periods,
+        v.schedule_period_s,
+        v.max_abs_error,
+        v.rms_predicted
+    );
+    for p in v.points.iter().filter(|p| !p.valid) {
+        let _ = writeln!(
+            out,
+            "invalid ({:.4}, {:.4}): {}",
+            p.start[0],
+            p.start[1],
+            p.note.as_deref().unwrap_or("")
+        );
+    }
+    let s = &r.swarm;
+    let opt = |x: Option<f64>, unit: &str| x.map_or("n/a".to_string(), |x| format!("{x:.3}{unit}"));
+    let _ = match s.converged_fraction {
+        Some(f) => writeln!(
+            out,
+            "swarm of {} parts for {:.2} s: {:.1} % within {:.1} mm of the attractor ({} left the plate); median time to converge {} against {} predicted from the design strength (ratio {})",
+            s.parts.len(),
+            s.duration_s,
+            100.0 * f,
+            1e3 * s.tol,
+            s.contact_lost,
+            opt(s.median_time_to_converge_s, " s"),
+            opt(s.median_predicted_time_s, " s"),
+            opt(s.time_ratio, ""),
+        ),
+        None => writeln!(
+            out,
+            "swarm of {} parts for {:.2} s: the target has no attractor ({} left the plate)",
+            s.parts.len(),
+            s.duration_s,
+            s.contact_lost
+        ),
+    };
+    for (k, rect) in r.rectangles.iter().enumerate() {
+        let [x, y, deg] = rect.start_pose;
+        let _ = match &rect.summary {
+            Some(sum) => writeln!(
+                out,
+                "rectangle {k} ({:.1} × {:.1} mm) from ({:.1}, {:.1}) mm at {deg:.0}°: ends at ({:.2}, {:.2}) mm, long axis at {:.1}°{}{}",
+                1e3 * sum.rectangle.length,
+                1e3 * sum.rectangle.width,
+                1e3 * x,
+                1e3 * y,
+                1e3 * sum.end[0],
+                1e3 * sum.end[1],
+                sum.end_axis_deg,
+                rect.distance_to_attractor_m
+                    .map_or(String::new(), |d| format!(", {:.2} mm from the attractor", 1e3 * d)),
+                rect.angle_to_line_deg
+                    .map_or(String::new(), |a| format!(", {a:.1}° to its line")),
+            ),
+            None => writeln!(
+                out,
+                "rectangle {k} from ({:.1}, {:.1}) mm at {deg:.0}°: {}",
+                1e3 * x,
+                1e3 * y,
+                rect.note.as_deref().unwrap_or("")
+            ),
+        };
+    }
+    out
+}
+
+/// `platefield verify`: verifies the schedule at `path`
+/// ([`crate::verify::verify_schedule_file`]), writes its files under
+/// `OUT/<target>/verify/` and returns the summary JSON (`json`) or the
+/// terminal summary with the files written.
+pub fn run(
+    path: &Path,
+    req: &crate::verify::VerifyRequest,
+    out: &Path,
+    json: bool,
+) -> Result<String> {
+    let r = crate::verify::verify_schedule_file(path, req)?;
+    let files = write(&r, out)?;
+    if json {
+        return summary_json(&r);
+    }
+    let mut text = summary(&r);
+    for f in files {
+        let _ = writeln!(text, "wrote {}", f.display());
+    }
+    Ok(text)
+}

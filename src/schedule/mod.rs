@@ -1,0 +1,350 @@
+//! Schedules: what `platefield design` writes to `schedule.json`, and what
+//! `export`, `verify` and `order` read back.
+//!
+//! A schedule is a sequence of segments, each a primitive plate motion
+//! played for whole cycles (or the plate at rest), repeated with the
+//! schedule period. The file also records the design's fit, its solver
+//! facts, the basis it was fitted on and the simulation settings the basis
+//! was built with (typed: [`BasisInfo`], [`FieldSettings`]).
+//!
+//! **One loader.** [`Schedule::load`] is the only way a command reads a
+//! schedule: serde with unknown keys rejected (errors carry the JSON path,
+//! e.g. `segments[1].primitive.omega`), then [`Schedule::validate`] (ranges
+//! and physics), then the derived quantities are recomputed from the
+//! segments ([`Schedule::derive`]): a moving segment lasts `cycles` periods
+//! of its primitive, and `period_s` and `total_cycles` are sums over the
+//! segments. The `duration_s`, `period_s` and `total_cycles` written in a
+//! file are for the reader; they are never trusted, so `export` and
+//! `verify` play the same thing from one file. A rest segment has no
+//! primitive and keeps its `duration_s`.
+//!
+//! [`quantize`] turns time fractions into whole cycles; [`export`] writes
+//! the six controller signals of a schedule.
+
+pub mod export;
+pub mod quantize;
+
+use std::path::Path;
+
+use serde::{Deserialize, Serialize, Serializer};
+
+use crate::basis::Primitive;
+use crate::error::{non_negative, positive, Error, Result};
+use crate::field::{FieldKind, FieldSettings, Validity};
+use crate::fit::FitMetrics;
+use crate::target::Target;
+
+pub use quantize::{quantize, Quantized, DEFAULT_MIN_CYCLES, DEFAULT_QUANTIZATION_TOL};
+
+/// Most cycles of one segment (about 50 minutes of plate motion at the
+/// paper's 30 ms cycle).
+pub const MAX_SEGMENT_CYCLES: u32 = 100_000;
+/// Longest schedule period (s).
+pub const MAX_PERIOD_S: f64 = 3600.0;
+
+/// One segment of a schedule.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Segment {
+    /// Human-readable label, e.g. `LineSink@90°`.
+    pub label: String,
+    /// The primitive with all its parameters (rotation, shift included);
+    /// `None` for a rest segment (plate at rest in the home pose).
+    pub primitive: Option<Primitive>,
+    /// Time fraction from the fit (continuous).
+    pub weight: f64,
+    /// Whole cycles.
+    pub cycles: u32,
+    /// Duration (s): `cycles` periods of the primitive (derived on load),
+    /// or the rest time of a rest segment.
+    pub duration_s: f64,
+}
+
+/// Solver facts recorded with a schedule (no timings: the file changes only
+/// when its content does).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SolverInfo {
+    /// Fit mode.
+    pub mode: String,
+    /// Solver status.
+    pub status: String,
+    /// Interior-point iterations.
+    pub iterations: u32,
+    /// KKT residual of the verified solution.
+    pub kkt_residual: f64,
+    /// Gap to the independent solver.
+    pub independent_gap: f64,
+}
+
+/// A basis column left out of the fit.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ExcludedColumn {
+    /// Invalid samples in the region.
+    pub invalid_samples: usize,
+    /// Primitive name with rotation and shift.
+    pub label: String,
+    /// The most common reason.
+    pub reason: Validity,
+}
+
+/// A basis column kept although it is invalid at some target points
+/// (`--keep-invalid`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct KeptColumn {
+    /// Indices of the target points where the column is invalid.
+    pub invalid_points: Vec<usize>,
+    /// Primitive name with rotation and shift.
+    pub label: String,
+}
+
+/// What the schedule was fitted on (fields in alphabetical order, as the
+/// file has always listed them).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BasisInfo {
+    /// Usable columns.
+    pub columns: usize,
+    /// Columns left out.
+    pub excluded: Vec<ExcludedColumn>,
+    /// Columns kept with invalid points.
+    pub kept_with_invalid_points: Vec<KeptColumn>,
+    /// Field kind of the columns.
+    pub kind: FieldKind,
+    /// Rotation step of the basis copies (degrees).
+    pub rotation_step_deg: f64,
+    /// Horizontal shifts of the basis copies (m).
+    pub shifts: Vec<[f64; 2]>,
+}
+
+/// A designed schedule, as written to `schedule.json`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Schedule {
+    /// Target name.
+    pub target: String,
+    /// The target itself (field, grid, weights, mask), so that
+    /// verification knows the region and the attractor; absent in schedules
+    /// written before it was recorded.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub target_spec: Option<Target>,
+    /// Segments in playing order (rest segments have no primitive).
+    pub segments: Vec<Segment>,
+    /// Total cycles (including rest); derived.
+    pub total_cycles: u32,
+    /// Schedule period (s): one pass through all segments; derived.
+    pub period_s: f64,
+    /// Minimum cycles per segment used.
+    pub min_cycles: u32,
+    /// Fit metrics of the continuous time fractions.
+    pub fit: FitMetrics,
+    /// Fit metrics of the whole-cycle schedule.
+    pub fit_quantized: FitMetrics,
+    /// Field quantisation error ‖A(q − f)‖/‖A f‖.
+    pub quantization_error: f64,
+    /// True when the best achievable fit is poor (relative error > 0.5).
+    pub poor_fit: bool,
+    /// Solver facts.
+    pub solver: SolverInfo,
+    /// Basis facts: field kind, columns used, columns excluded.
+    pub basis: BasisInfo,
+    /// Simulation settings the basis was built with.
+    #[serde(serialize_with = "keys_sorted")]
+    pub settings: FieldSettings,
+}
+
+/// Serialises `value` with its object keys in alphabetical order (the
+/// order `schedule.json` has always used for the settings).
+fn keys_sorted<T: Serialize, S: Serializer>(value: &T, s: S) -> Result<S::Ok, S::Error> {
+    serde_json::to_value(value)
+        .map_err(serde::ser::Error::custom)?
+        .serialize(s)
+}
+
+impl Schedule {
+    /// Reads, validates and derives a schedule file (see the module
+    /// documentation). Errors name the file and the JSON path.
+    pub fn load(path: &Path) -> Result<Schedule> {
+        let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
+            path: path.display().to_string(),
+            source: e,
+        })?;
+        Schedule::from_json_str(&text, &path.display().to_string())
+    }
+
+    /// [`Schedule::load`] from text; `origin` (a file name) prefixes error paths.
+    pub fn from_json_str(text: &str, origin: &str) -> Result<Schedule> {
+        let de = &mut serde_json::Deserializer::from_str(text);
+        let mut schedule: Schedule = serde_path_to_error::deserialize(de).map_err(|e| {
+            let at = e.path().to_string();
+            let field = if at == "." {
+                origin.to_string()
+            } else {
+                format!("{origin}: {at}")
+            };
+            Error::invalid(field, format!("not a platefield schedule: {}", e.inner()))
+        })?;
+        schedule.validate().map_err(|e| prefix_origin(e, origin))?;
+        schedule.derive();
+        Ok(schedule)
+    }
+
+    /// Checks ranges and physics (errors name the JSON path): at least one
+    /// segment of positive duration; moving segments with a valid primitive
+    /// and 1..=[`MAX_SEGMENT_CYCLES`] cycles; rest segments with a finite
+    /// duration ≥ 0; a period of at most [`MAX_PERIOD_S`]; weights finite
+    /// and ≥ 0; valid settings and target.
+    pub fn validate(&self) -> Result<()> {
+        if self.segments.is_empty() {
+            return Err(Error::invalid(
+                "segments",
+                "must hold at least one segment, got []",
+            ));
+        }
+        let mut period = 0.0;
+        for (i, seg) in self.segments.iter().enumerate() {
+            let at = format!("segments[{i}]");
+            non_negative(&format!("{at}.weight"), seg.weight)?;
+            match &seg.primitive {
+                Some(p) => {
+                    p.validate(&format!("{at}.primitive"))?;
+                    if !(1..=MAX_SEGMENT_CYCLES).contains(&seg.cycles) {
+                        return Err(Error::invalid(
+                            format!("{at}.cycles"),
+                            format!("must be in 1..={MAX_SEGMENT_CYCLES}, got {}", seg.cycles),
+                        ));
+                    }
+                    period += f64::from(seg.cycles) * p.period();
+                }
+                None => period += non_negative(&format!("{at}.duration_s"), seg.duration_s)?,
+            }
+        }
+        if period.is_nan() || period <= 0.0 {
+            return Err(Error::invalid(
+                "segments",
+                "must hold at least one segment of positive duration",
+            ));
+        }
+        if period > MAX_PERIOD_S {
+            return Err(Error::invalid(
+                "segments",
+                format!("the schedule period is {period:.4e} s, more than {MAX_PERIOD_S} s"),
+            ));
+        }
+        let s = &self.settings;
+        s.friction.validate("settings.friction")?;
+        s.numerics.validate("settings.numerics")?;
+        positive("settings.gravity", s.gravity)?;
+        if let Some(t) = &self.target_spec {
+            t.validate()?;
+        }
+        Ok(())
+    }
+
+    /// Recomputes the derived quantities from the segments: a moving
+    /// segment's duration (`cycles` periods of its primitive), the total
+    /// cycles and the period.
+    pub fn derive(&mut self) {
+        for seg in &mut self.segments {
+            if let Some(p) = &seg.primitive {
+                seg.duration_s = f64::from(seg.cycles) * p.period();
+            }
+        }
+        self.total_cycles = self
+            .segments
+            .iter()
+            .fold(0u32, |n, s| n.saturating_add(s.cycles));
+        self.period_s = self.segments.iter().map(|s| s.duration_s).sum();
+    }
+
+    /// A schedule built by hand from `segments` (not by a fit): `fit` is the
+    /// field it claims (both metrics), no basis, solver mode `"none"`, a
+    /// minimum of 1 cycle per segment; derived quantities computed.
+    pub fn of_segments(
+        target: &str,
+        segments: Vec<Segment>,
+        settings: FieldSettings,
+        fit: FitMetrics,
+    ) -> Schedule {
+        let mut s = Schedule {
+            target: target.into(),
+            target_spec: None,
+            segments,
+            total_cycles: 0,
+            period_s: 0.0,
+            min_cycles: 1,
+            fit,
+            fit_quantized: fit,
+            quantization_error: 0.0,
+            poor_fit: false,
+            solver: SolverInfo {
+                mode: "none".into(),
+                status: "built by hand".into(),
+                iterations: 0,
+                kkt_residual: 0.0,
+                independent_gap: 0.0,
+            },
+            basis: BasisInfo {
+                columns: 0,
+                excluded: Vec::new(),
+                kept_with_invalid_points: Vec::new(),
+                kind: FieldKind::Velocity,
+                rotation_step_deg: 0.0,
+                shifts: Vec::new(),
+            },
+            settings,
+        };
+        s.derive();
+        s
+    }
+
+    /// The same schedule with other segments (derived quantities recomputed).
+    pub fn with_segments(&self, segments: Vec<Segment>) -> Schedule {
+        let mut out = Schedule {
+            segments,
+            ..self.clone()
+        };
+        out.derive();
+        out
+    }
+
+    /// Time (s) per period in which the plate moves.
+    pub fn moving_time(&self) -> f64 {
+        self.segments
+            .iter()
+            .filter(|s| s.primitive.is_some())
+            .map(|s| s.duration_s)
+            .sum()
+    }
+
+    /// The target name, checked to be a plain folder name (results go to
+    /// `OUT/<target>/`).
+    pub fn target_folder(&self) -> Result<&str> {
+        let name = self.target.as_str();
+        if name.trim().is_empty() || name.contains(['/', '\\']) || name.starts_with('.') {
+            return Err(Error::invalid(
+                "target",
+                format!("must be a plain folder name, got \"{name}\""),
+            ));
+        }
+        Ok(name)
+    }
+
+    /// The schedule as pretty JSON with a final newline.
+    pub fn to_json(&self) -> Result<String> {
+        let mut text =
+            serde_json::to_string_pretty(self).map_err(|e| Error::Physical(e.to_string()))?;
+        text.push('\n');
+        Ok(text)
+    }
+}
+
+/// Prefixes the field of an [`Error::Invalid`] with the file it came from.
+fn prefix_origin(e: Error, origin: &str) -> Error {
+    match e {
+        Error::Invalid { field, message } => Error::invalid(format!("{origin}: {field}"), message),
+        e => e,
+    }
+}
