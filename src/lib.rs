@@ -16,6 +16,7 @@ pub mod dynamics;
 pub mod error;
 pub mod field;
 pub mod fit;
+pub mod input;
 pub mod linesink;
 pub mod motion;
 pub mod output;
