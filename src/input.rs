@@ -266,7 +266,7 @@ fn tidy(mut path: String, message: &str) -> InputError {
             .replace("map", "an object")
     };
     let key_of = |rest: &str| rest.split('`').next().unwrap_or("").to_string();
-    let mut push_key = |path: &mut String, key: &str| {
+    let push_key = |path: &mut String, key: &str| {
         if !path.ends_with(&format!(".{key}")) {
             path.push('.');
             path.push_str(key);

@@ -33,7 +33,11 @@ impl Grid {
             if n > 1 && range[0] >= range[1] {
                 return Err(Error::invalid(
                     format!("{field}.{axis}"),
-                    format!("min must be < max, got [{}, {}]", range[0], range[1]),
+                    format!(
+                        "min must be < max, got [{}, {}]",
+                        crate::input::num(range[0]),
+                        crate::input::num(range[1])
+                    ),
                 ));
             }
         }
