@@ -233,13 +233,19 @@ pub fn describe(v: &Value) -> String {
     }
 }
 
-/// A number for an error message: plain when moderate, else in
-/// scientific notation (`1e308`, never 309 digits).
+/// A number for an error message, short: as written when that takes at
+/// most 8 characters, else in scientific notation with at most 5
+/// significant digits (`1e308`, never 309 digits).
 pub fn num(v: f64) -> String {
-    if v == 0.0 || !v.is_finite() || (1e-4..1e6).contains(&v.abs()) {
-        format!("{v}")
+    let plain = format!("{v}");
+    if plain.len() <= 8 {
+        return plain;
+    }
+    let sci = format!("{v:e}");
+    if sci.len() <= 10 {
+        sci
     } else {
-        format!("{v:e}")
+        format!("{v:.4e}")
     }
 }
 
@@ -255,6 +261,7 @@ fn short(s: &str) -> String {
 /// unknown or missing field into the path.
 fn tidy(mut path: String, message: &str) -> InputError {
     let words = |s: &str| {
+        let s = if s.starts_with("struct ") { "an object" } else { s };
         s.replace('`', "\"")
             .replace("f64", "a number")
             .replace("usize", "a non-negative integer")
@@ -426,5 +433,7 @@ mod tests {
         assert_eq!(num(0.005), "0.005");
         assert_eq!(num(f64::NAN), "NaN");
         assert_eq!(num(1234.5), "1234.5");
+        assert_eq!(num(0.0001013211836423378), "1.0132e-4");
+        assert_eq!(num(1e5), "100000");
     }
 }

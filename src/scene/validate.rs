@@ -298,6 +298,9 @@ impl Scene {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::basis::PrimitiveKind;
+    use crate::dynamics::{Friction, Model, Numerics};
+    use crate::field::FieldSettings;
 
     const SCREW: &str = r#"{
         "motion": {"type": "screw", "axis": [0, 1, 0], "point": [0, 0, -0.05],
@@ -363,19 +366,19 @@ mod tests {
         let cases = [
             (
                 with("\"screw\"", "\"spiral\""),
-                "scene.motion.type: unknown motion type \"spiral\" (expected screw, signals, primitive)",
+                "scene.motion.type: unknown type \"spiral\" (expected one of screw, signals, primitive)",
             ),
             (
                 with("[5, 2]", "[-3, 2]"),
-                "scene.grid.n[0]: must be in 1..=1001, got -3",
+                "scene.grid.n[0]: must be a non-negative integer, got -3",
             ),
-            (with("[5, 2]", "[5, 2.5]"), "scene.grid.n[1]: must be an integer in 1..=1001"),
+            (with("[5, 2]", "[5, 2.5]"), "scene.grid.n[1]: must be a non-negative integer, got 2.5"),
             (with("[5, 2]", "[5, 5000]"), "scene.grid.n[1]: must be in 1..=1001, got 5000"),
             (
                 with("\"period\": 0.03,", ""),
-                "scene.motion.period: missing (the motion's period T in seconds, > 0)",
+                "scene.motion.period: missing (required)",
             ),
-            (with("\"period\": 0.03", "\"period\": -1"), "scene.motion.period: must be > 0"),
+            (with("\"period\": 0.03", "\"period\": -1"), "scene.motion.period: must be in [0.0001, 100] s, got -1"),
             (
                 with("0.005}", "NaN}"),
                 "scene.motion.rotation.amplitude: must be a finite number, got NaN",
@@ -390,14 +393,14 @@ mod tests {
             ),
             (
                 with("0.005}", "\"big\"}"),
-                "scene.motion.rotation.amplitude: must be a finite number",
+                "scene.motion.rotation.amplitude: must be a number, got string \"big\"",
             ),
             (with("[0, 1, 0]", "[0, 0, 0]"), "scene.motion.axis: must be a non-zero vector"),
-            (with("[0, 1, 0]", "[0, 1]"), "scene.motion.axis: must have 3 numbers"),
-            (with("[-0.04, 0.04]", "[-0.04, null]"), "scene.grid.x[1]: must be a finite number"),
+            (with("[0, 1, 0]", "[0, 1]"), "scene.motion.axis: must be an array of length 3, got 2"),
+            (with("[-0.04, 0.04]", "[-0.04, null]"), "scene.grid.x[1]: must be a number, got null"),
             (with("[-0.04, 0.04]", "[0.04, -0.04]"), "scene.grid.x: min must be < max"),
-            (with("\"force\"", "\"speed\""), "scene.kind: unknown field kind \"speed\""),
-            (with("\"rest_to_rest\"", "\"triangle\""), "scene.motion.rotation.type: unknown waveform type"),
+            (with("\"force\"", "\"speed\""), "scene.kind: unknown value \"speed\" (expected \"force\" or \"velocity\")"),
+            (with("\"rest_to_rest\"", "\"triangle\""), "scene.motion.rotation.type: unknown type \"triangle\" (expected one of zero, sine,"),
             (with("\"kind\"", "\"knd\""), "scene.knd: unknown field"),
             (
                 with("\"kind\": \"force\",", "\"kind\": \"force\", \"friction\": {\"static\": 0.1, \"kinetic\": 0.3},"),
@@ -405,7 +408,7 @@ mod tests {
             ),
             (
                 with("\"kind\": \"force\",", "\"kind\": \"force\", \"model\": \"exact\","),
-                "scene.model: unknown model \"exact\"",
+                "scene.model: must be \"paper\", \"full\" or an object of the switches",
             ),
             (
                 with("\"kind\": \"force\",", "\"kind\": \"force\", \"model\": {\"tilt\": true},"),
@@ -417,7 +420,7 @@ mod tests {
             ),
             (
                 with("\"kind\": \"force\",", "\"kind\": \"force\", \"numerics\": {\"steps_per_cycle\": -1},"),
-                "scene.numerics.steps_per_cycle: must be in 1..=1000000, got -1",
+                "scene.numerics.steps_per_cycle: must be a non-negative integer, got -1",
             ),
             (
                 with("\"kind\": \"force\",", "\"kind\": \"force\", \"numerics\": {\"event_tol\": 2},"),
@@ -425,18 +428,22 @@ mod tests {
             ),
             (
                 with("\"kind\": \"force\",", "\"kind\": \"force\", \"gravity\": 0,"),
-                "scene.gravity: must be > 0",
+                "scene.gravity: must be in (0, 100] m/s², got 0",
             ),
             (with(
                     r#""grid": {"x": [-0.04, 0.04], "y": [-0.01, 0.01], "n": [5, 2]}"#,
                     r#""grid": 1"#,
-                ), "scene.grid: must be an object"),
-            (with("\"force\",", "\"force\""), "scene.kind: invalid JSON: expected `,` or `}`"),
+                ), "scene.grid: must be an object, got 1"),
+            (with("\"force\",", "\"force\""), "scene: invalid JSON: expected `,` or `}` at line 5"),
         ];
+        let mut bad = Vec::new();
         for (text, expected) in cases {
             let e = err(&text);
-            assert!(e.starts_with(expected), "got {e:?}, expected {expected:?}");
+            if !e.starts_with(expected) {
+                bad.push(format!("got {e:?}\n    expected {expected:?}"));
+            }
         }
+        assert!(bad.is_empty(), "{}", bad.join("\n"));
     }
 
     #[test]
@@ -460,9 +467,61 @@ mod tests {
         assert!(e.starts_with("scene.motion.lin: unknown field"), "{e}");
         let prim = r#"{"motion": {"type": "primitive", "kind": "Spiral"}, "kind": "force",
             "grid": {"x": [0, 0], "y": [0, 0], "n": [1, 1]}}"#;
-        assert!(err(prim).starts_with("scene.motion.kind: unknown primitive \"Spiral\""));
+        let e = err(prim);
+        assert!(
+            e.starts_with("scene.motion.kind: unknown value \"Spiral\" (expected one of \"LineSink\""),
+            "{e}"
+        );
         let e = err(&prim.replace("\"Spiral\"", "\"LineSink\", \"depth\": -1"));
-        assert!(e.starts_with("scene.motion.depth: must be > 0"), "{e}");
+        assert!(
+            e.starts_with("scene.motion.depth: must be in [0.000001, 1] m, got -1"),
+            "{e}"
+        );
+        let e = err(&prim.replace("\"Spiral\"", "\"LineSink\", \"omega\": 20000"));
+        assert!(
+            e.starts_with("scene.motion.amplitude: gives a peak acceleration of 2e6 rad/s² at omega = 20000 rad/s, above the allowed 100000 rad/s²"),
+            "{e}"
+        );
+    }
+
+    /// Issue 13: out-of-range physics is refused before any computation,
+    /// naming the field and the allowed range, with short numbers.
+    #[test]
+    fn physics_out_of_range() {
+        let extra = |kv: &str| with("\"kind\": \"force\",", &format!("\"kind\": \"force\", {kv},"));
+        let cases = [
+            (extra("\"friction\": 1e5"), "scene.friction.static: must be in [0, 10], got 100000"),
+            (extra("\"friction\": {\"kinetic\": -0.1}"), "scene.friction.static: must be in [0, 10], got -0.1"),
+            (extra("\"gravity\": 1e308"), "scene.gravity: must be in (0, 100] m/s², got 1e308"),
+            (
+                with("0.005}", "1e308}"),
+                "scene.motion.rotation.amplitude: must be in [-0.5, 0.5] rad, got 1e308",
+            ),
+            (
+                with("0.03,", "0.0002,"),
+                "scene.motion.rotation.amplitude: must be in [-1.0132e-4, 1.0132e-4] rad, got 0.005 (the peak acceleration q0·ω² must stay within 100000 rad/s² at T = 0.0002 s)",
+            ),
+            (
+                extra("\"numerics\": {\"steps_per_cycle\": 1000000}"),
+                "scene.numerics.steps_per_cycle: must be in 1..=4096, got 1000000",
+            ),
+            (
+                extra("\"numerics\": {\"steady_tol\": -1e300}"),
+                "scene.numerics.steady_tol: must be in (0, 1), got -1e300",
+            ),
+            (extra("\"phases\": 100000"), "scene.phases: must be in 1..=1000, got 100000"),
+            (with("[-0.04, 0.04]", "[-40, 0.04]"), "scene.grid.x[0]: must be in [-1, 1] m, got -40"),
+            (with("-0.05]", "-1e300]"), "scene.motion.point[2]: must be in [-1, 1] m, got -1e300"),
+            (with("\"period\": 0.03", "\"period\": 1e9"), "scene.motion.period: must be in [0.0001, 100] s, got 1e9"),
+        ];
+        let mut bad = Vec::new();
+        for (text, expected) in cases {
+            let e = err(&text);
+            if !e.starts_with(expected) {
+                bad.push(format!("got {e:?}\n    expected {expected:?}"));
+            }
+        }
+        assert!(bad.is_empty(), "{}", bad.join("\n"));
     }
 
     #[test]
@@ -485,7 +544,7 @@ mod tests {
 
     #[test]
     fn contact_loss_everywhere_is_an_error() {
-        let s = Scene::from_json_str(&with("0.005}", "5.0}")).unwrap();
+        let s = Scene::from_json_str(&with("0.005}", "0.4}")).unwrap();
         let e = s.compute(true).unwrap_err().to_string();
         assert!(
             e.contains("leaves the plate (N < 0) at every grid point"),
@@ -496,13 +555,5 @@ mod tests {
         ok.phases = 4;
         let f = ok.compute(true).unwrap();
         assert_eq!(f.valid_count(), 10);
-    }
-
-    #[test]
-    fn path_scanner() {
-        let t = r#"{"a": [1, {"b": 2, "c": [3, 4, X"#;
-        assert_eq!(json_path_at(t, t.len() - 1), "scene.a[1].c[2]");
-        let t = r#"{"a\"q": {"b": 1}, "d": X"#;
-        assert_eq!(json_path_at(t, t.len() - 1), "scene.d");
     }
 }
