@@ -479,7 +479,7 @@ mod tests {
         );
         let e = err(&prim.replace("\"Spiral\"", "\"LineSink\", \"omega\": 20000"));
         assert!(
-            e.starts_with("scene.motion.amplitude: gives a peak acceleration of 2e6 rad/s² at omega = 20000 rad/s, above the allowed 100000 rad/s²"),
+            e.starts_with("scene.motion.amplitude: gives a peak acceleration of 2000000 rad/s² at omega = 20000 rad/s, above the allowed 100000 rad/s²"),
             "{e}"
         );
     }
