@@ -157,7 +157,6 @@ mod error;
 mod examples;
 mod field;
 mod grid;
-mod parse;
 
 use std::path::Path;
 
@@ -167,12 +166,16 @@ pub use attractor::Attractor;
 pub use error::TargetError;
 pub use examples::examples;
 pub use field::{
-    FieldSpec, Interpolation, SumTerm, COINCIDENT, DEFAULT_JET_WIDTH, FIELD_KINDS, IDW_NEIGHBORS,
-    TRANSPORT_LENGTH,
+    FieldSpec, Interpolation, SumTerm, ANGLE, COINCIDENT, DEFAULT_JET_WIDTH, EXTENT, FIELD_KINDS,
+    IDW_NEIGHBORS, MAX_SAMPLED_POINTS, MAX_TERMS, RATIO, SPEED, STRENGTH, TRANSPORT_LENGTH, WEIGHT,
 };
-pub use grid::{Grid, MaskRegion, MAX_GRID_N};
+pub use grid::{scattered_grid, Grid, MaskRegion, MAX_GRID_N, SCATTERED_N, SCATTERED_SPACING};
 
 use error::show;
+
+/// A target whose largest |f| (m/s) over its weighted points is at most
+/// this is refused as zero: no schedule can be designed for it.
+pub const ZERO_FIELD: f64 = 1e-12;
 
 /// A requested velocity field on a region of the plate; the in-memory form
 /// of a target JSON file (see the [module documentation](self)).
@@ -189,11 +192,28 @@ pub struct Target {
     pub field: FieldSpec,
     /// Optional per-point weights, `weights[iy][ix]` (see the module docs
     /// for the grid-less `sampled` case).
-    #[serde(default)]
+    #[serde(default, deserialize_with = "weights")]
     pub weights: Option<Vec<Vec<f64>>>,
     /// Regions whose points get weight 0.
     #[serde(default)]
     pub mask: Vec<MaskRegion>,
+}
+
+/// `null` or rows of weights; a flat list of numbers is an error that says
+/// which shape is expected.
+fn weights<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<Vec<Vec<f64>>>, D::Error> {
+    let value = serde_json::Value::deserialize(d)?;
+    if let Some(items) = value.as_array() {
+        if items.first().is_some_and(|v| v.is_number()) {
+            return Err(serde::de::Error::custom(format!(
+                "must be an array of rows, weights[iy][ix]: ny rows of nx numbers for a grid, \
+                 or one row [[w0, w1, ...]] for a sampled field without a grid; got a flat \
+                 list of {} numbers (wrap it in [ ])",
+                items.len()
+            )));
+        }
+    }
+    crate::input::nested::<D, _>(value)
 }
 
 /// A target evaluated at its sample points: what the inverse design fits.
@@ -239,7 +259,8 @@ impl Target {
     ///
     /// Errors name the JSON path of the problem (see the module docs).
     pub fn from_json_str(s: &str) -> Result<Target, TargetError> {
-        let target = parse::parse_target(s)?;
+        let target: Target = crate::input::from_str(s, "target")
+            .map_err(|e| TargetError::invalid(e.path, e.message))?;
         target.validate()?;
         Ok(target)
     }
@@ -384,6 +405,22 @@ impl Target {
             if self.mask.iter().any(|m| m.contains(*p)) {
                 *w = 0.0;
             }
+        }
+        let largest = vectors
+            .iter()
+            .zip(&weights)
+            .filter(|(_, &w)| w > 0.0)
+            .map(|(v, _)| v[0].hypot(v[1]))
+            .fold(0.0, f64::max);
+        if weights.iter().any(|&w| w > 0.0) && !(largest > ZERO_FIELD) {
+            return Err(TargetError::invalid(
+                "target.field",
+                format!(
+                    "is zero (|f| ≤ {} m/s) at every sample point with a positive weight: \
+                     there is nothing to design (check the strengths and sum weights)",
+                    error::show(ZERO_FIELD)
+                ),
+            ));
         }
         if !weights.iter().any(|&w| w > 0.0) {
             return Err(TargetError::invalid(
