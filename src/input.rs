@@ -45,10 +45,17 @@ pub fn from_str<T: DeserializeOwned>(text: &str, root: &str) -> Result<T, InputE
         };
         tidy(format!("{root}{path}{sub}"), &message)
     };
-    let value: T = serde_path_to_error::deserialize(&mut de)
+    let value: Value = serde_path_to_error::deserialize(&mut de)
         .map_err(|e| located(path_string(e.path()), e.inner()))?;
     de.end().map_err(|e| located(String::new(), &e))?;
-    Ok(value)
+    // serde reads a struct from an array too; a file is an object.
+    if !value.is_object() {
+        return Err(InputError {
+            path: root.to_string(),
+            message: format!("must be a JSON object, got {}", describe(&value)),
+        });
+    }
+    read(value, "").map_err(|(path, message)| tidy(format!("{root}{path}"), &message))
 }
 
 /// `path` written as `.key[3].key` (relative, empty at the root).

@@ -118,7 +118,7 @@ pub fn scattered_grid(points: &[[f64; 2]]) -> Grid {
         .fold(0.0, f64::max);
     let h = SCATTERED_SPACING.max(reach / cover_nodes());
     let n = [x, y].map(|r| {
-        let cells = ((r[1] - r[0]) / h - 1e-9).ceil();
+        let cells = ((r[1] - r[0]) / h + 1e-9).floor();
         if cells.is_finite() && cells >= 1.0 {
             (cells as usize + 1).min(SCATTERED_N)
         } else {
