@@ -110,21 +110,29 @@ pub fn scattered_grid(points: &[[f64; 2]]) -> Grid {
             hi[k] = hi[k].max(p[k]);
         }
     }
-    let x = [lo[0] - SCATTERED_MARGIN, hi[0] + SCATTERED_MARGIN];
-    let y = [lo[1] - SCATTERED_MARGIN, hi[1] + SCATTERED_MARGIN];
-    let reach = x
+    let box_of = |k: usize| [lo[k] - SCATTERED_MARGIN, hi[k] + SCATTERED_MARGIN];
+    let reach = [box_of(0), box_of(1)]
         .iter()
-        .flat_map(|&a| y.iter().map(move |&b| a.hypot(b)))
-        .fold(0.0, f64::max);
+        .flat_map(|r| r.iter())
+        .fold(0.0_f64, |m, &c| m.max(c.abs()))
+        * std::f64::consts::SQRT_2;
     let h = SCATTERED_SPACING.max(reach / cover_nodes());
-    let n = [x, y].map(|r| {
+    // Each side at least one spacing long, and split into whole cells of
+    // at least h.
+    let side = |k: usize| {
+        let [a, b] = box_of(k);
+        let grow = (h - (b - a)).max(0.0) / 2.0;
+        let r = [a - grow, b + grow];
         let cells = ((r[1] - r[0]) / h + 1e-9).floor();
-        if cells.is_finite() && cells >= 1.0 {
+        let n = if cells.is_finite() && cells >= 1.0 {
             (cells as usize + 1).min(SCATTERED_N)
         } else {
             2
-        }
-    });
+        };
+        (r, n)
+    };
+    let ((x, nx), (y, ny)) = (side(0), side(1));
+    let n = [nx, ny];
     Grid { x, y, n }
 }
 
