@@ -268,7 +268,11 @@ fn short(s: &str) -> String {
 /// unknown or missing field into the path.
 fn tidy(mut path: String, message: &str) -> InputError {
     let words = |s: &str| {
-        let s = if s.starts_with("struct ") { "an object" } else { s };
+        let s = if s.starts_with("struct ") {
+            "an object"
+        } else {
+            s
+        };
         s.replace('`', "\"")
             .replace("f64", "a number")
             .replace("usize", "a non-negative integer")
@@ -291,7 +295,10 @@ fn tidy(mut path: String, message: &str) -> InputError {
         match rest.split_once(", expected ") {
             Some((_, allowed)) => {
                 let list = allowed.trim_start_matches("one of ").replace('`', "");
-                format!("unknown field (expected one of {})", list.replace(" or ", ", "))
+                format!(
+                    "unknown field (expected one of {})",
+                    list.replace(" or ", ", ")
+                )
             }
             None => "unknown field (this object takes no fields)".to_string(),
         }
@@ -406,9 +413,14 @@ mod tests {
             "top",
         )
         .unwrap();
-        assert_eq!(ok.a[0].shape, Shape::Many(vec![Shape::Dot, Shape::Disc { radius: 2.0 }]));
+        assert_eq!(
+            ok.a[0].shape,
+            Shape::Many(vec![Shape::Dot, Shape::Disc { radius: 2.0 }])
+        );
         let nest = |inner: &str| {
-            format!(r#"{{"a": [{{"shape": {{"type": "dot"}}}}, {{"shape": {{"type": "many", "of": [{{"type": "dot"}}, {inner}]}}}}]}}"#)
+            format!(
+                r#"{{"a": [{{"shape": {{"type": "dot"}}}}, {{"shape": {{"type": "many", "of": [{{"type": "dot"}}, {inner}]}}}}]}}"#
+            )
         };
         let cases = [
             (nest(r#"{"type": "disc", "radius": "big"}"#), "top.a[1].shape.of[1].radius: must be a number, got string \"big\""),

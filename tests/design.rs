@@ -209,7 +209,14 @@ fn degenerate_targets_are_refused_before_the_library_build() {
         let out = dir.join(format!("out-{label}"));
         let start = std::time::Instant::now();
         let run = Command::new(env!("CARGO_BIN_EXE_platefield"))
-            .args(["design", file.to_str().unwrap(), "--quiet", "--no-cache", "--out", out.to_str().unwrap()])
+            .args([
+                "design",
+                file.to_str().unwrap(),
+                "--quiet",
+                "--no-cache",
+                "--out",
+                out.to_str().unwrap(),
+            ])
             .output()
             .unwrap();
         let seconds = start.elapsed().as_secs_f64();
@@ -220,7 +227,11 @@ fn degenerate_targets_are_refused_before_the_library_build() {
             assert!(err.contains(e), "{label}: {err:?} lacks {e:?}");
         }
         let path = expected[0].split(':').next().unwrap();
-        assert_eq!(err.matches(path).count(), 1, "{label}: path repeated: {err}");
+        assert_eq!(
+            err.matches(path).count(),
+            1,
+            "{label}: path repeated: {err}"
+        );
         // Found when reading the file: the file is named first; a field
         // that samples to zero is found by the design's first step.
         let origin = if label == "cancels" {
@@ -228,7 +239,10 @@ fn degenerate_targets_are_refused_before_the_library_build() {
         } else {
             format!("{}: ", file.display())
         };
-        assert!(err.starts_with(&format!("error: {origin}{path}")), "{label}: {err}");
+        assert!(
+            err.starts_with(&format!("error: {origin}{path}")),
+            "{label}: {err}"
+        );
         assert!(err.len() < 600, "{label}: long message: {err}");
         assert!(!out.exists(), "{label}: nothing may be written");
     }
@@ -256,7 +270,12 @@ fn small_sampled_target_designs_on_a_small_grid() {
     let g = platefield::design::basis::sampling_grid(None, &d.target.points);
     let cover = platefield::basis::symmetry::source_grid(
         &g,
-        &[0.0, 90f64.to_radians(), 180f64.to_radians(), 270f64.to_radians()],
+        &[
+            0.0,
+            90f64.to_radians(),
+            180f64.to_radians(),
+            270f64.to_radians(),
+        ],
         &[[0.0, 0.0]],
     );
     assert!(cover.len() <= 500, "{} library samples", cover.len());

@@ -73,8 +73,12 @@ impl<'de> Deserialize<'de> for Waveform {
     fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
         crate::input::tagged(d, "type", WAVE_TYPES, |kind, b| {
             Some(match kind {
-                "sine" => Waveform::Sine { accel: b.get("accel") },
-                "square" => Waveform::Square { accel: b.get("accel") },
+                "sine" => Waveform::Sine {
+                    accel: b.get("accel"),
+                },
+                "square" => Waveform::Square {
+                    accel: b.get("accel"),
+                },
                 "rest_to_rest" => Waveform::RestToRest {
                     amplitude: b.get("amplitude"),
                 },

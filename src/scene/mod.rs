@@ -201,8 +201,8 @@ impl Scene {
     /// Reads and validates a scene from JSON text; errors name the JSON
     /// path (`scene.motion.period: ...`).
     pub fn from_json_str(text: &str) -> Result<Scene> {
-        let scene: Scene = input::from_str(text, "scene")
-            .map_err(|e| Error::invalid(e.path, e.message))?;
+        let scene: Scene =
+            input::from_str(text, "scene").map_err(|e| Error::invalid(e.path, e.message))?;
         scene.validate()?;
         Ok(scene)
     }

@@ -57,7 +57,12 @@ fn within(path: &str, v: f64, lo: f64, hi: f64, unit: &str) -> Result<()> {
     }
     Err(Error::invalid(
         path,
-        format!("must be in [{}, {}]{unit}, got {}", num(lo), num(hi), num(v)),
+        format!(
+            "must be in [{}, {}]{unit}, got {}",
+            num(lo),
+            num(hi),
+            num(v)
+        ),
     ))
 }
 
@@ -159,7 +164,10 @@ fn wave(w: &Waveform, period: f64, role: Role, at: &dyn Fn(&str) -> String) -> R
                 e => e,
             })
         }
-        Waveform::Fourier { terms: list, offset } => {
+        Waveform::Fourier {
+            terms: list,
+            offset,
+        } => {
             magnitude(&at("offset"), *offset, role.pose, role.pose_unit)?;
             terms(list, role, &|k| at(&format!("terms{k}")))
         }
@@ -469,7 +477,9 @@ mod tests {
             "grid": {"x": [0, 0], "y": [0, 0], "n": [1, 1]}}"#;
         let e = err(prim);
         assert!(
-            e.starts_with("scene.motion.kind: unknown value \"Spiral\" (expected one of \"LineSink\""),
+            e.starts_with(
+                "scene.motion.kind: unknown value \"Spiral\" (expected one of \"LineSink\""
+            ),
             "{e}"
         );
         let e = err(&prim.replace("\"Spiral\"", "\"LineSink\", \"depth\": -1"));
@@ -488,7 +498,12 @@ mod tests {
     /// naming the field and the allowed range, with short numbers.
     #[test]
     fn physics_out_of_range() {
-        let extra = |kv: &str| with("\"kind\": \"force\",", &format!("\"kind\": \"force\", {kv},"));
+        let extra = |kv: &str| {
+            with(
+                "\"kind\": \"force\",",
+                &format!("\"kind\": \"force\", {kv},"),
+            )
+        };
         let cases = [
             (extra("\"friction\": 1e5"), "scene.friction.static: must be in [0, 10], got 100000"),
             (extra("\"friction\": {\"kinetic\": -0.1}"), "scene.friction.static: must be in [0, 10], got -0.1"),

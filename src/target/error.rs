@@ -96,7 +96,12 @@ pub(crate) fn check_range(
     }
     Err(TargetError::invalid(
         path,
-        format!("must be in [{}, {}]{unit}, got {}", show(lo), show(hi), show(v)),
+        format!(
+            "must be in [{}, {}]{unit}, got {}",
+            show(lo),
+            show(hi),
+            show(v)
+        ),
     ))
 }
 

@@ -89,12 +89,7 @@ impl<'de> Deserialize<'de> for FieldSpec {
 
 /// An analytic field of `kind` with its own keys read from `b` (defaults
 /// as documented on each variant).
-fn analytic(
-    kind: &str,
-    center: [f64; 2],
-    strength: f64,
-    b: &mut crate::input::Body,
-) -> FieldSpec {
+fn analytic(kind: &str, center: [f64; 2], strength: f64, b: &mut crate::input::Body) -> FieldSpec {
     match kind {
         "source" => FieldSpec::Source { center, strength },
         "line_sink" => FieldSpec::LineSink {

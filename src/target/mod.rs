@@ -863,8 +863,14 @@ mod tests {
     #[test]
     fn degenerate_targets_are_refused_with_their_range() {
         let range = "must be non-zero, with |value| in [0.000001, 1000000] 1/s, got";
-        assert_err(&with_field(r#"{"kind": "sink", "strength": 0}"#), &["target.field.strength: ", range, "got 0"]);
-        assert_err(&with_field(r#"{"kind": "sink", "strength": 1e-300}"#), &["target.field.strength: ", range, "got 1e-300"]);
+        assert_err(
+            &with_field(r#"{"kind": "sink", "strength": 0}"#),
+            &["target.field.strength: ", range, "got 0"],
+        );
+        assert_err(
+            &with_field(r#"{"kind": "sink", "strength": 1e-300}"#),
+            &["target.field.strength: ", range, "got 1e-300"],
+        );
         assert_err(
             &with_field(r#"{"kind": "sum", "terms": [{"field": {"kind": "sink"}}, {"weight": 0, "field": {"kind": "trans"}}]}"#),
             &["target.field.terms[1].weight: must be non-zero, with |value| in [0.000001, 1000000], got 0"],
@@ -880,19 +886,35 @@ mod tests {
         ))
         .unwrap();
         let e = t.sample().unwrap_err().to_string();
-        assert!(e.starts_with("target.field: is zero (|f| ≤ 1e-12 m/s) at every sample point"), "{e}");
+        assert!(
+            e.starts_with("target.field: is zero (|f| ≤ 1e-12 m/s) at every sample point"),
+            "{e}"
+        );
         let zero = r#"{"field": {"kind": "sampled", "points": [[0, 0], [0.01, 0]], "vectors": [[0, 0], [0, 0]]}}"#;
-        let e = Target::from_json_str(zero).unwrap().sample().unwrap_err().to_string();
+        let e = Target::from_json_str(zero)
+            .unwrap()
+            .sample()
+            .unwrap_err()
+            .to_string();
         assert!(e.starts_with("target.field: is zero"), "{e}");
         // The target's own limit, not the library grid's: at ±4 cm the
         // rotations need 2·0.0566 m / h ≤ ~1000 nodes, so n ≤ 703.
         let big = r#"{"grid": {"x": [-0.04, 0.04], "y": [-0.04, 0.04], "n": [1001, 1001]}, "field": {"kind": "sink"}}"#;
-        assert_err(big, &["target.grid.n: must be at most [703, 703] over this region", "got [1001, 1001]"]);
+        assert_err(
+            big,
+            &[
+                "target.grid.n: must be at most [703, 703] over this region",
+                "got [1001, 1001]",
+            ],
+        );
         let ok = big.replace("1001, 1001", "703, 703");
         assert!(Target::from_json_str(&ok).is_ok());
         assert_err(
             &format!(r#"{{{GRID}, "field": {{"kind": "sink"}}, "weights": [1, 2, 3]}}"#),
-            &["target.weights: must be an array of rows, weights[iy][ix]: ny rows of nx numbers", "flat list of 3 numbers"],
+            &[
+                "target.weights: must be an array of rows, weights[iy][ix]: ny rows of nx numbers",
+                "flat list of 3 numbers",
+            ],
         );
         assert_err(
             &with_field(r#"{"kind": "sink", "center": [1e300, 0]}"#),
@@ -917,8 +939,14 @@ mod tests {
             let g = Grid { x, y, n };
             assert!(grid::validate_grid(&g, "g").is_ok(), "{g:?}");
             let cover = source_grid(&g, &angles, &[[0.0, 0.0]]);
-            assert!(cover.n[0] <= crate::field::Grid::MAX_N, "{g:?} -> {cover:?}");
-            let finer = Grid { n: [n[0] + 1, n[1]], ..g };
+            assert!(
+                cover.n[0] <= crate::field::Grid::MAX_N,
+                "{g:?} -> {cover:?}"
+            );
+            let finer = Grid {
+                n: [n[0] + 1, n[1]],
+                ..g
+            };
             assert!(grid::validate_grid(&finer, "g").is_err() || n[0] == MAX_GRID_N);
         }
     }
@@ -946,7 +974,10 @@ mod tests {
         let s = t.sample().unwrap();
         let g = scattered_grid(&s.points);
         assert_eq!(g.n, [41, 41]);
-        assert!((g.x[0] + 0.041).abs() < 1e-12 && (g.x[1] - 0.041).abs() < 1e-12, "{g:?}");
+        assert!(
+            (g.x[0] + 0.041).abs() < 1e-12 && (g.x[1] - 0.041).abs() < 1e-12,
+            "{g:?}"
+        );
         let far = [[0.99, 0.99], [0.995, 0.99]];
         let (_, n) = cover(&far);
         assert!(n <= crate::field::Grid::MAX_N.pow(2), "{n}");
