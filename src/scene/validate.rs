@@ -230,7 +230,7 @@ fn primitive(p: &Primitive, path: &str) -> Result<()> {
             (&s.translation, TRANSLATION_ROLE, "translation"),
         ] {
             let peak = w.accel_bound(s.period);
-            if !(peak <= role.accel) {
+            if peak.is_nan() || peak > role.accel {
                 return Err(Error::invalid(
                     format!("{path}.{key}"),
                     format!(

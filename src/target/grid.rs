@@ -219,7 +219,7 @@ mod tests {
         let p = g.points();
         assert_eq!(p.len(), 6);
         assert_eq!(p[1], [1.0, 10.0]);
-        assert_eq!(p[2 + 3 * 1], [2.0, 11.0]);
+        assert_eq!(p[2 + 3], [2.0, 11.0]);
         assert_eq!(g.spacing(), 1.0);
     }
 

@@ -412,7 +412,7 @@ impl Target {
             .filter(|(_, &w)| w > 0.0)
             .map(|(v, _)| v[0].hypot(v[1]))
             .fold(0.0, f64::max);
-        if weights.iter().any(|&w| w > 0.0) && !(largest > ZERO_FIELD) {
+        if weights.iter().any(|&w| w > 0.0) && largest <= ZERO_FIELD {
             return Err(TargetError::invalid(
                 "target.field",
                 format!(
