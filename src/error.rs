@@ -62,7 +62,10 @@ pub fn positive(field: &str, value: f64) -> Result<f64> {
     if value > 0.0 {
         Ok(value)
     } else {
-        Err(Error::invalid(field, format!("must be > 0, got {value}")))
+        Err(Error::invalid(
+            field,
+            format!("must be > 0, got {}", crate::input::num(value)),
+        ))
     }
 }
 
@@ -72,6 +75,9 @@ pub fn non_negative(field: &str, value: f64) -> Result<f64> {
     if value >= 0.0 {
         Ok(value)
     } else {
-        Err(Error::invalid(field, format!("must be ≥ 0, got {value}")))
+        Err(Error::invalid(
+            field,
+            format!("must be ≥ 0, got {}", crate::input::num(value)),
+        ))
     }
 }

@@ -67,6 +67,7 @@ pub mod dynamics;
 pub mod error;
 pub mod field;
 pub mod fit;
+pub mod input;
 pub mod motion;
 pub mod output;
 pub mod play;

@@ -160,6 +160,127 @@ fn bad_targets_are_named_and_nothing_is_written() {
     }
 }
 
+/// Issue 13: degenerate targets exit 2 within a second, before any
+/// library is built, naming the JSON path and the allowed range once
+/// (the path is not repeated), with short numbers; nothing is written.
+#[test]
+fn degenerate_targets_are_refused_before_the_library_build() {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("degenerate-targets");
+    std::fs::create_dir_all(&dir).unwrap();
+    let grid = r#""grid": {"x": [-0.03, 0.03], "y": [-0.03, 0.03], "n": [5, 5]}"#;
+    let strength = "must be non-zero, with |value| in [0.000001, 1000000] 1/s, got";
+    let cases: [(&str, String, &[&str]); 8] = [
+        ("zero", format!(r#"{{{grid}, "field": {{"kind": "sink", "strength": 0}}}}"#), &["target.field.strength: ", strength, "got 0"]),
+        ("tiny", format!(r#"{{{grid}, "field": {{"kind": "sink", "strength": 1e-300}}}}"#), &["target.field.strength: ", strength, "got 1e-300"]),
+        (
+            "weight0",
+            format!(r#"{{{grid}, "field": {{"kind": "sum", "terms": [{{"weight": 0, "field": {{"kind": "sink"}}}}]}}}}"#),
+            &["target.field.terms[0].weight: must be non-zero"],
+        ),
+        (
+            "cancels",
+            format!(r#"{{{grid}, "field": {{"kind": "sum", "terms": [{{"field": {{"kind": "sink"}}}}, {{"field": {{"kind": "source"}}}}]}}}}"#),
+            &["target.field: is zero (|f| ≤ 1e-12 m/s) at every sample point"],
+        ),
+        (
+            "fine",
+            r#"{"grid": {"x": [-0.04, 0.04], "y": [-0.04, 0.04], "n": [1001, 1001]}, "field": {"kind": "sink"}}"#.to_string(),
+            &["target.grid.n: must be at most [703, 703] over this region", "got [1001, 1001]"],
+        ),
+        (
+            "flat",
+            format!(r#"{{{grid}, "field": {{"kind": "sink"}}, "weights": [1, 1, 1, 1, 1]}}"#),
+            &["target.weights: must be an array of rows", "ny rows of nx numbers", "flat list of 5 numbers"],
+        ),
+        (
+            "misspelt",
+            format!(r#"{{{grid}, "field": {{"kind": "sink", "strenght": 2}}}}"#),
+            &["target.field.strenght: unknown field for kind \"sink\" (expected one of kind, center, strength)"],
+        ),
+        (
+            "misspelt_top",
+            format!(r#"{{{grid}, "field": {{"kind": "sink"}}, "mask ": []}}"#),
+            &["target.mask : unknown field (expected one of name, grid, field, weights, mask)"],
+        ),
+    ];
+    for (label, json, expected) in cases {
+        let file = dir.join(format!("{label}.json"));
+        std::fs::write(&file, &json).unwrap();
+        let out = dir.join(format!("out-{label}"));
+        let start = std::time::Instant::now();
+        let run = Command::new(env!("CARGO_BIN_EXE_platefield"))
+            .args([
+                "design",
+                file.to_str().unwrap(),
+                "--quiet",
+                "--no-cache",
+                "--out",
+                out.to_str().unwrap(),
+            ])
+            .output()
+            .unwrap();
+        let seconds = start.elapsed().as_secs_f64();
+        let err = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(2), "{label}: {err}");
+        assert!(seconds < 5.0, "{label}: refused after {seconds} s");
+        for e in expected {
+            assert!(err.contains(e), "{label}: {err:?} lacks {e:?}");
+        }
+        let path = expected[0].split(':').next().unwrap();
+        assert_eq!(
+            err.matches(path).count(),
+            1,
+            "{label}: path repeated: {err}"
+        );
+        // Found when reading the file: the file is named first; a field
+        // that samples to zero is found by the design's first step.
+        let origin = if label == "cancels" {
+            String::new()
+        } else {
+            format!("{}: ", file.display())
+        };
+        assert!(
+            err.starts_with(&format!("error: {origin}{path}")),
+            "{label}: {err}"
+        );
+        assert!(err.len() < 600, "{label}: long message: {err}");
+        assert!(!out.exists(), "{label}: nothing may be written");
+    }
+}
+
+/// Issue 13: a sampled target of four points within 1 cm designs on a
+/// library grid sized by its region (a few hundred samples, not 63,504).
+#[test]
+fn small_sampled_target_designs_on_a_small_grid() {
+    let t = Target::from_json_str(
+        r#"{"name": "tiny", "field": {"kind": "sampled",
+            "points": [[0, 0], [0.009, 0], [0, 0.009], [0.009, 0.009]],
+            "vectors": [[0.0045, 0.0045], [-0.0045, 0.0045], [0.0045, -0.0045], [-0.0045, -0.0045]]}}"#,
+    )
+    .expect("valid target");
+    let opts = DesignOptions {
+        kinds: vec![PrimitiveKind::LineSink],
+        rotation_step_deg: 90.0,
+        ..options()
+    };
+    let start = std::time::Instant::now();
+    let d = design(&t, &opts).expect("design");
+    assert!(start.elapsed().as_secs_f64() < 60.0);
+    assert_eq!(d.target.len(), 4);
+    let g = platefield::design::basis::sampling_grid(None, &d.target.points);
+    let cover = platefield::basis::symmetry::source_grid(
+        &g,
+        &[
+            0.0,
+            90f64.to_radians(),
+            180f64.to_radians(),
+            270f64.to_radians(),
+        ],
+        &[[0.0, 0.0]],
+    );
+    assert!(cover.len() <= 500, "{} library samples", cover.len());
+}
+
 #[test]
 fn design_is_deterministic() {
     let t = target("saddle", r#"{"kind": "saddle"}"#);

@@ -388,14 +388,14 @@ const GOOD: &str = r#"{
 #[test]
 fn field_command_rejects_bad_scenes() {
     let dir = temp_dir("bad");
-    let cases: [(&str, &str, &str, &[&str]); 6] = [
+    let cases: [(&str, &str, &str, &[&str]); 13] = [
         (
             "spiral",
             "\"screw\"",
             "\"spiral\"",
             &[
                 "scene.motion.type",
-                "unknown motion type \"spiral\"",
+                "unknown type \"spiral\"",
                 "screw, signals, primitive",
             ],
         ),
@@ -403,13 +403,13 @@ fn field_command_rejects_bad_scenes() {
             "negative_grid",
             "[5, 3]",
             "[-3, 3]",
-            &["scene.grid.n[0]", "must be in 1..=1001, got -3"],
+            &["scene.grid.n[0]", "must be a non-negative integer, got -3"],
         ),
         (
             "no_period",
             "\"period\": 0.03,",
             "",
-            &["scene.motion.period", "missing", "> 0"],
+            &["scene.motion.period", "missing (required)"],
         ),
         (
             "nan",
@@ -421,16 +421,61 @@ fn field_command_rejects_bad_scenes() {
             "zero_period",
             "\"period\": 0.03",
             "\"period\": 0",
-            &["scene.motion.period", "must be > 0"],
+            &["scene.motion.period", "must be in [0.0001, 100] s, got 0"],
         ),
         (
             "flying",
             "\"amplitude\": 0.005",
-            "\"amplitude\": 0.5",
+            "\"amplitude\": 0.4",
             &[
                 "leaves the plate (N < 0) at every grid point",
                 "scene.motion.rotation.amplitude",
             ],
+        ),
+        // Issue 10: a misspelt key is named with its path.
+        (
+            "misspelt",
+            "\"phases\": 4",
+            "\"phase\": 4",
+            &["scene.phase: unknown field (expected one of name, description, motion, kind, grid, friction, gravity, model, phases, numerics)"],
+        ),
+        (
+            "misspelt_wave",
+            "\"amplitude\": 0.005",
+            "\"amplitud\": 0.005",
+            &["scene.motion.rotation.amplitud: unknown field for type \"rest_to_rest\""],
+        ),
+        // Issue 13: physics out of range is a range error naming the field,
+        // not "reduce the amplitude"; numbers stay short.
+        (
+            "friction",
+            "\"phases\": 4",
+            "\"phases\": 4, \"friction\": 1e5",
+            &["scene.friction.static: must be in [0, 10], got 100000"],
+        ),
+        (
+            "gravity",
+            "\"phases\": 4",
+            "\"phases\": 4, \"gravity\": 1e308",
+            &["scene.gravity: must be in (0, 100] m/s², got 1e308"],
+        ),
+        (
+            "huge_rotation",
+            "\"amplitude\": 0.005",
+            "\"amplitude\": 1e308",
+            &["scene.motion.rotation.amplitude: must be in [-0.5, 0.5] rad, got 1e308"],
+        ),
+        (
+            "steps",
+            "\"phases\": 4",
+            "\"phases\": 4, \"numerics\": {\"steps_per_cycle\": 1000000}",
+            &["scene.numerics.steps_per_cycle: must be in 1..=4096, got 1000000"],
+        ),
+        (
+            "not_an_object",
+            "\"kind\": \"force\"",
+            "\"kind\": \"force\", \"model\": [1]",
+            &["scene.model: must be \"paper\", \"full\" or an object of the switches"],
         ),
     ];
     for (tag, from, to, expected) in cases {
@@ -450,7 +495,15 @@ fn field_command_rejects_bad_scenes() {
             svg.to_str().unwrap(),
             "--quiet",
         ]);
-        assert_ne!(code, 0, "{tag} should fail");
+        assert_eq!(code, 2, "{tag} should fail with exit 2: {stderr}");
+        assert!(
+            !stderr.contains("reduce the amplitude") || tag == "flying",
+            "{tag}: {stderr}"
+        );
+        assert!(
+            stderr.lines().all(|l| l.len() < 400),
+            "{tag}: short lines: {stderr}"
+        );
         for e in expected {
             assert!(
                 stderr.contains(e),

@@ -84,24 +84,11 @@ fn bilinear(field: &Field, p: [f64; 2]) -> Option<[f64; 2]> {
 }
 
 /// The grid on which rotated copies are resampled: the target's own grid,
-/// or for scattered points a fine grid over their bounding box.
+/// or for scattered points one sized by their region
+/// ([`crate::target::scattered_grid`]).
 pub fn sampling_grid(grid: Option<&Grid>, points: &[[f64; 2]]) -> Grid {
-    if let Some(g) = grid {
-        return *g;
-    }
-    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-    for p in points {
-        for k in 0..2 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
-    let pad = 1e-3;
-    Grid {
-        x: [lo[0] - pad, hi[0] + pad],
-        y: [lo[1] - pad, hi[1] + pad],
-        n: [41, 41],
-    }
+    grid.copied()
+        .unwrap_or_else(|| crate::target::scattered_grid(points))
 }
 
 /// Assembles the basis: every library entry at every rotation and shift.

@@ -162,10 +162,8 @@ fn search_order(
 
 impl From<crate::target::TargetError> for Error {
     fn from(e: crate::target::TargetError) -> Self {
-        Error::invalid(
-            e.field_path().unwrap_or("target").to_string(),
-            e.to_string(),
-        )
+        let (field, message) = e.located();
+        Error::invalid(field, message)
     }
 }
 

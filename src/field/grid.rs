@@ -25,7 +25,11 @@ impl Grid {
         n: [21, 21],
     };
 
-    /// Validates ranges (nx, ny in 1..=1001, finite, min < max when n > 1).
+    /// Largest number of points per side ([`Grid::validate`]).
+    pub const MAX_N: usize = 1001;
+
+    /// Validates ranges (nx, ny in 1..=[`Grid::MAX_N`], finite, min < max
+    /// when n > 1).
     pub fn validate(&self, field: &str) -> Result<()> {
         for (axis, range, n) in [("x", self.x, self.n[0]), ("y", self.y, self.n[1])] {
             finite(&format!("{field}.{axis}[0]"), range[0])?;
@@ -33,15 +37,19 @@ impl Grid {
             if n > 1 && range[0] >= range[1] {
                 return Err(Error::invalid(
                     format!("{field}.{axis}"),
-                    format!("min must be < max, got [{}, {}]", range[0], range[1]),
+                    format!(
+                        "min must be < max, got [{}, {}]",
+                        crate::input::num(range[0]),
+                        crate::input::num(range[1])
+                    ),
                 ));
             }
         }
         for (i, n) in self.n.iter().enumerate() {
-            if !(1..=1001).contains(n) {
+            if !(1..=Self::MAX_N).contains(n) {
                 return Err(Error::invalid(
                     format!("{field}.n[{i}]"),
-                    format!("must be in 1..=1001, got {n}"),
+                    format!("must be in 1..={}, got {n}", Self::MAX_N),
                 ));
             }
         }

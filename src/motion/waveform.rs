@@ -28,9 +28,11 @@ fn one() -> u32 {
     1
 }
 
-/// A periodic waveform, given by its acceleration.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
-#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+/// A periodic waveform, given by its acceleration. JSON:
+/// `{"type": "sine", "accel": A}` (read by [`Waveform::deserialize`], which
+/// keeps the JSON path of an error inside it).
+#[derive(Debug, Clone, PartialEq, Serialize, Default)]
+#[serde(tag = "type", rename_all = "snake_case")]
 pub enum Waveform {
     /// No motion.
     #[default]
@@ -58,10 +60,36 @@ pub enum Waveform {
     Fourier {
         /// Acceleration terms.
         terms: Vec<FourierTerm>,
-        /// Constant offset added to the pose (velocity stays zero-mean).
-        #[serde(default)]
+        /// Constant offset added to the pose (velocity stays zero-mean;
+        /// default 0).
         offset: f64,
     },
+}
+
+/// The values of a waveform's `"type"`.
+pub const WAVE_TYPES: &[&str] = &["zero", "sine", "square", "rest_to_rest", "fourier"];
+
+impl<'de> Deserialize<'de> for Waveform {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        crate::input::tagged(d, "type", WAVE_TYPES, |kind, b| {
+            Some(match kind {
+                "sine" => Waveform::Sine {
+                    accel: b.get("accel"),
+                },
+                "square" => Waveform::Square {
+                    accel: b.get("accel"),
+                },
+                "rest_to_rest" => Waveform::RestToRest {
+                    amplitude: b.get("amplitude"),
+                },
+                "fourier" => Waveform::Fourier {
+                    terms: b.get("terms"),
+                    offset: b.or("offset", 0.0),
+                },
+                _ => Waveform::Zero,
+            })
+        })
+    }
 }
 
 /// Value, rate and acceleration of a waveform at one instant.

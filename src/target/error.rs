@@ -21,10 +21,6 @@ pub enum TargetError {
         /// Underlying I/O error.
         error: std::io::Error,
     },
-    /// The text is not syntactically valid JSON (message includes line and
-    /// column).
-    #[error("target: invalid JSON: {0}")]
-    Syntax(serde_json::Error),
     /// A value is missing, has the wrong type, or is outside its allowed
     /// range.
     #[error("{path}: {message}")]
@@ -53,6 +49,23 @@ impl TargetError {
         }
     }
 
+    /// The error as (where, what): the JSON path, prefixed with the file
+    /// for [`TargetError::InFile`], and the message without it, so that a
+    /// caller can report it without repeating the path.
+    pub fn located(&self) -> (String, String) {
+        match self {
+            TargetError::Invalid { path, message } => (path.clone(), message.clone()),
+            TargetError::InFile { file, error } => {
+                let (path, message) = error.located();
+                (format!("{}: {path}", file.display()), message)
+            }
+            TargetError::Io { file, error } => (
+                file.display().to_string(),
+                format!("cannot read target file: {error}"),
+            ),
+        }
+    }
+
     /// The JSON path of the offending value, if the error is about one
     /// particular value (looks through [`TargetError::InFile`]).
     pub fn field_path(&self) -> Option<&str> {
@@ -64,10 +77,53 @@ impl TargetError {
     }
 }
 
-/// Formats a number for an error message (`NaN`, `inf` and `-inf` stay
-/// readable).
+/// Formats a number for an error message, short (see
+/// [`crate::input::num`]).
 pub(crate) fn show(v: f64) -> String {
-    format!("{v}")
+    crate::input::num(v)
+}
+
+/// Errors unless `lo ≤ v ≤ hi`; `unit` follows the range in the message.
+pub(crate) fn check_range(
+    path: &str,
+    v: f64,
+    lo: f64,
+    hi: f64,
+    unit: &str,
+) -> Result<(), TargetError> {
+    if (lo..=hi).contains(&v) {
+        return Ok(());
+    }
+    Err(TargetError::invalid(
+        path,
+        format!(
+            "must be in [{}, {}]{unit}, got {}",
+            show(lo),
+            show(hi),
+            show(v)
+        ),
+    ))
+}
+
+/// Errors unless `v` is non-zero with `scale[0] ≤ |v| ≤ scale[1]`.
+pub(crate) fn check_scale(
+    path: &str,
+    v: f64,
+    scale: [f64; 2],
+    unit: &str,
+) -> Result<(), TargetError> {
+    if (scale[0]..=scale[1]).contains(&v.abs()) {
+        return Ok(());
+    }
+    Err(TargetError::invalid(
+        path,
+        format!(
+            "must be non-zero, with |value| in [{}, {}]{unit}, got {}",
+            show(scale[0]),
+            show(scale[1]),
+            show(v)
+        ),
+    ))
 }
 
 /// Formats a pair for an error message, e.g. `[0.04, -0.04]`.

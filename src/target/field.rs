@@ -5,7 +5,9 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::target::error::{check_finite, check_finite2, show, TargetError};
+use crate::target::error::{
+    check_finite, check_finite2, check_range, check_scale, show, TargetError,
+};
 
 /// Reference length `L` (metres) of the `squeeze_trans` transport term:
 /// `transport = 1` means the transport speed equals the squeeze speed found
@@ -21,6 +23,27 @@ pub const IDW_NEIGHBORS: usize = 8;
 /// Distance (metres) below which a query point counts as *at* a sample
 /// point (`sampled` interpolation) or *at* the centre (`circle`).
 pub const COINCIDENT: f64 = 1e-12;
+
+/// Allowed |strength| of a field: non-zero, within `[STRENGTH[0],
+/// STRENGTH[1]]` (1/s for the linear fields, m/s for the bounded ones). A
+/// zero or vanishing strength asks for no field at all.
+pub const STRENGTH: [f64; 2] = [1e-6, 1e6];
+/// Allowed |weight| of a `sum` term: non-zero (a zero term is dropped from
+/// the file instead), within `[WEIGHT[0], WEIGHT[1]]`.
+pub const WEIGHT: [f64; 2] = [1e-6, 1e6];
+/// Largest |coordinate| (m) of centres, offsets, widths, sample points,
+/// grid corners and mask regions: the plate's own scale.
+pub const EXTENT: f64 = 1.0;
+/// Largest |angle| or |direction| (degrees).
+pub const ANGLE: f64 = 3600.0;
+/// Largest |ratio| (`whirlpool` rotation, `squeeze_trans` transport).
+pub const RATIO: f64 = 1e6;
+/// Largest |component| of a `sampled` vector (m/s).
+pub const SPEED: f64 = 1e6;
+/// Most terms in one `sum`.
+pub const MAX_TERMS: usize = 1000;
+/// Most points of a `sampled` field.
+pub const MAX_SAMPLED_POINTS: usize = 100_000;
 
 /// All accepted values of `"kind"`, in documentation order.
 pub const FIELD_KINDS: &[&str] = &[
@@ -42,108 +65,151 @@ fn one() -> f64 {
     1.0
 }
 
-fn default_jet_width() -> f64 {
-    DEFAULT_JET_WIDTH
+impl<'de> Deserialize<'de> for FieldSpec {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        crate::input::tagged(d, "kind", FIELD_KINDS, |kind, b| {
+            Some(match kind {
+                "sum" => FieldSpec::Sum {
+                    terms: b.get("terms"),
+                },
+                "sampled" => FieldSpec::Sampled {
+                    points: b.get("points"),
+                    vectors: b.get("vectors"),
+                    interpolation: b.or("interpolation", Interpolation::Idw),
+                },
+                _ => {
+                    let center = b.or("center", [0.0; 2]);
+                    let strength = b.or("strength", 1.0);
+                    analytic(kind, center, strength, b)
+                }
+            })
+        })
+    }
+}
+
+/// An analytic field of `kind` with its own keys read from `b` (defaults
+/// as documented on each variant).
+fn analytic(kind: &str, center: [f64; 2], strength: f64, b: &mut crate::input::Body) -> FieldSpec {
+    match kind {
+        "source" => FieldSpec::Source { center, strength },
+        "line_sink" => FieldSpec::LineSink {
+            center,
+            strength,
+            angle: b.or("angle", 0.0),
+            offset: b.or("offset", 0.0),
+        },
+        "saddle" => FieldSpec::Saddle {
+            center,
+            strength,
+            angle: b.or("angle", 0.0),
+        },
+        "whirlpool" => FieldSpec::Whirlpool {
+            center,
+            strength,
+            rotation: b.or("rotation", 1.0),
+        },
+        "circle" => FieldSpec::Circle { center, strength },
+        "scaled_circle" => FieldSpec::ScaledCircle { center, strength },
+        "trans" => FieldSpec::Trans {
+            center,
+            strength,
+            direction: b.or("direction", 0.0),
+        },
+        "squeeze_trans" => FieldSpec::SqueezeTrans {
+            center,
+            strength,
+            angle: b.or("angle", 0.0),
+            transport: b.or("transport", 1.0),
+        },
+        "jet" => FieldSpec::Jet {
+            center,
+            strength,
+            direction: b.or("direction", 0.0),
+            width: b.or("width", DEFAULT_JET_WIDTH),
+        },
+        _ => FieldSpec::Sink { center, strength },
+    }
 }
 
 /// A requested velocity field `f(p)` (m/s) on the plate, `p` in metres.
 ///
-/// Serialized internally tagged by `"kind"`; unknown keys are rejected.
+/// Serialized internally tagged by `"kind"`; read by
+/// [`FieldSpec::deserialize`], which applies the defaults, rejects unknown
+/// keys and names the JSON path of every error.
 /// Throughout, `d = p - center`, `s = strength`, angles are in degrees
 /// counter-clockwise from +x, `t̂ = (cos a, sin a)` is the direction given by
 /// the angle and `n = (-sin a, cos a)` its left normal.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
 pub enum FieldSpec {
     /// `f = -s d` (s in 1/s).
     Sink {
         /// Centre `c` in metres (default `[0, 0]`).
-        #[serde(default)]
         center: [f64; 2],
         /// Scale `s` in 1/s (default 1).
-        #[serde(default = "one")]
         strength: f64,
     },
     /// `f = +s d` (s in 1/s).
     Source {
         /// Centre `c` in metres (default `[0, 0]`).
-        #[serde(default)]
         center: [f64; 2],
         /// Scale `s` in 1/s (default 1).
-        #[serde(default = "one")]
         strength: f64,
     },
     /// Sink onto a line: `f = -s (n·d - offset) n` (s in 1/s).
     LineSink {
         /// Centre `c` in metres (default `[0, 0]`).
-        #[serde(default)]
         center: [f64; 2],
         /// Scale `s` in 1/s (default 1).
-        #[serde(default = "one")]
         strength: f64,
         /// Direction of the line in degrees (default 0: line along x).
-        #[serde(default)]
         angle: f64,
         /// Signed distance (metres) of the line from `center` along `n`
         /// (default 0).
-        #[serde(default)]
         offset: f64,
     },
     /// `f = s (-(t̂·d) t̂ + (n·d) n)`: contracts along `angle`, expands along
     /// the normal; `angle = 0` gives `s (-dx, +dy)` (s in 1/s).
     Saddle {
         /// Centre `c` in metres (default `[0, 0]`).
-        #[serde(default)]
         center: [f64; 2],
         /// Scale `s` in 1/s (default 1).
-        #[serde(default = "one")]
         strength: f64,
         /// Direction of the contracting axis in degrees (default 0).
-        #[serde(default)]
         angle: f64,
     },
     /// Sink plus rotation: `f = s (-d + ρ (-dy, dx))` (s in 1/s;
     /// counter-clockwise for ρ > 0).
     Whirlpool {
         /// Centre `c` in metres (default `[0, 0]`).
-        #[serde(default)]
         center: [f64; 2],
         /// Scale `s` in 1/s (default 1).
-        #[serde(default = "one")]
         strength: f64,
         /// Ratio ρ of rotation to sink (default 1).
-        #[serde(default = "one")]
         rotation: f64,
     },
     /// Unit-speed rotation: `f = s (-dy, dx) / |d|`, zero at the centre
     /// (s in m/s).
     Circle {
         /// Centre `c` in metres (default `[0, 0]`).
-        #[serde(default)]
         center: [f64; 2],
         /// Speed `s` in m/s (default 1).
-        #[serde(default = "one")]
         strength: f64,
     },
     /// Rigid rotation: `f = s (-dy, dx)` (s in 1/s = angular rate in rad/s).
     ScaledCircle {
         /// Centre `c` in metres (default `[0, 0]`).
-        #[serde(default)]
         center: [f64; 2],
         /// Scale `s` in 1/s (default 1).
-        #[serde(default = "one")]
         strength: f64,
     },
     /// Uniform transport: `f = s (cos a, sin a)` (s in m/s).
     Trans {
         /// Accepted for uniformity; has no effect on a uniform field.
-        #[serde(default)]
         center: [f64; 2],
         /// Speed `s` in m/s (default 1).
-        #[serde(default = "one")]
         strength: f64,
         /// Direction `a` in degrees (default 0).
-        #[serde(default)]
         direction: f64,
     },
     /// Line sink along the line through `center` with direction `angle`,
@@ -152,18 +218,14 @@ pub enum FieldSpec {
     /// [`TRANSPORT_LENGTH`] = 0.01 m (s in 1/s).
     SqueezeTrans {
         /// Centre `c` in metres (default `[0, 0]`).
-        #[serde(default)]
         center: [f64; 2],
         /// Scale `s` in 1/s (default 1).
-        #[serde(default = "one")]
         strength: f64,
         /// Direction of the line (and of the transport) in degrees
         /// (default 0).
-        #[serde(default)]
         angle: f64,
         /// Ratio `ρ_t` of transport speed to the squeeze speed at 1 cm from
         /// the line (default 1; negative reverses the transport).
-        #[serde(default = "one")]
         transport: f64,
     },
     /// Localised transport along the line through `center` with direction
@@ -172,17 +234,13 @@ pub enum FieldSpec {
     Jet {
         /// Centre `c` (a point on the jet's axis) in metres (default
         /// `[0, 0]`).
-        #[serde(default)]
         center: [f64; 2],
         /// Peak speed `s` in m/s (default 1).
-        #[serde(default = "one")]
         strength: f64,
         /// Direction of the jet in degrees (default 0).
-        #[serde(default)]
         direction: f64,
         /// Gaussian standard deviation across the jet in metres, `> 0`
         /// (default [`DEFAULT_JET_WIDTH`] = 0.01 m).
-        #[serde(default = "default_jet_width")]
         width: f64,
     },
     /// Weighted sum `f = Σ wᵢ fᵢ` of other fields (at least one term).
@@ -198,7 +256,6 @@ pub enum FieldSpec {
         /// Field values (m/s) at `points` (same length).
         vectors: Vec<[f64; 2]>,
         /// How to evaluate between samples (default `"idw"`).
-        #[serde(default)]
         interpolation: Interpolation,
     },
 }
@@ -375,14 +432,27 @@ impl FieldSpec {
         }
     }
 
-    /// Checks every parameter; `path` is the JSON path of this field object
-    /// (e.g. `target.field`), used as the prefix of error messages.
+    /// Checks every parameter against its range (the constants of this
+    /// module); `path` is the JSON path of this field object (e.g.
+    /// `target.field`), used as the prefix of error messages.
     pub fn validate(&self, path: &str) -> Result<(), TargetError> {
-        let center_strength = |center: &[f64; 2], strength: &f64| {
-            check_finite2(&format!("{path}.center"), *center)?;
-            check_finite(&format!("{path}.strength"), *strength)
+        let at = |key: &str| format!("{path}.{key}");
+        let unit = match self {
+            FieldSpec::Circle { .. } | FieldSpec::Trans { .. } | FieldSpec::Jet { .. } => " m/s",
+            _ => " 1/s",
         };
-        let param = |name: &str, v: f64| check_finite(&format!("{path}.{name}"), v);
+        let center_strength = |center: &[f64; 2], strength: &f64| {
+            check_finite2(&at("center"), *center)?;
+            for (i, c) in center.iter().enumerate() {
+                check_range(&format!("{path}.center[{i}]"), *c, -EXTENT, EXTENT, " m")?;
+            }
+            check_finite(&at("strength"), *strength)?;
+            check_scale(&at("strength"), *strength, STRENGTH, unit)
+        };
+        let param = |name: &str, v: f64, max: f64, unit: &str| {
+            check_finite(&at(name), v)?;
+            check_range(&at(name), v, -max, max, unit)
+        };
         match self {
             FieldSpec::Sink { center, strength }
             | FieldSpec::Source { center, strength }
@@ -395,8 +465,8 @@ impl FieldSpec {
                 offset,
             } => {
                 center_strength(center, strength)?;
-                param("angle", *angle)?;
-                param("offset", *offset)
+                param("angle", *angle, ANGLE, "°")?;
+                param("offset", *offset, EXTENT, " m")
             }
             FieldSpec::Saddle {
                 center,
@@ -404,7 +474,7 @@ impl FieldSpec {
                 angle,
             } => {
                 center_strength(center, strength)?;
-                param("angle", *angle)
+                param("angle", *angle, ANGLE, "°")
             }
             FieldSpec::Whirlpool {
                 center,
@@ -412,7 +482,7 @@ impl FieldSpec {
                 rotation,
             } => {
                 center_strength(center, strength)?;
-                param("rotation", *rotation)
+                param("rotation", *rotation, RATIO, "")
             }
             FieldSpec::Trans {
                 center,
@@ -420,7 +490,7 @@ impl FieldSpec {
                 direction,
             } => {
                 center_strength(center, strength)?;
-                param("direction", *direction)
+                param("direction", *direction, ANGLE, "°")
             }
             FieldSpec::SqueezeTrans {
                 center,
@@ -429,8 +499,8 @@ impl FieldSpec {
                 transport,
             } => {
                 center_strength(center, strength)?;
-                param("angle", *angle)?;
-                param("transport", *transport)
+                param("angle", *angle, ANGLE, "°")?;
+                param("transport", *transport, RATIO, "")
             }
             FieldSpec::Jet {
                 center,
@@ -439,25 +509,27 @@ impl FieldSpec {
                 width,
             } => {
                 center_strength(center, strength)?;
-                param("direction", *direction)?;
-                param("width", *width)?;
-                if *width <= 0.0 {
+                param("direction", *direction, ANGLE, "°")?;
+                check_finite(&at("width"), *width)?;
+                if !(*width > 0.0 && *width <= EXTENT) {
                     return Err(TargetError::invalid(
-                        format!("{path}.width"),
-                        format!("must be > 0 (metres), got {}", show(*width)),
+                        at("width"),
+                        format!("must be in (0, {EXTENT}] m, got {}", show(*width)),
                     ));
                 }
                 Ok(())
             }
             FieldSpec::Sum { terms } => {
-                if terms.is_empty() {
+                if terms.is_empty() || terms.len() > MAX_TERMS {
                     return Err(TargetError::invalid(
-                        format!("{path}.terms"),
-                        "must contain at least 1 term, got 0",
+                        at("terms"),
+                        format!("must contain 1..={MAX_TERMS} terms, got {}", terms.len()),
                     ));
                 }
                 for (i, term) in terms.iter().enumerate() {
-                    check_finite(&format!("{path}.terms[{i}].weight"), term.weight)?;
+                    let w = format!("{path}.terms[{i}].weight");
+                    check_finite(&w, term.weight)?;
+                    check_scale(&w, term.weight, WEIGHT, "")?;
                     term.field.validate(&format!("{path}.terms[{i}].field"))?;
                 }
                 Ok(())
@@ -465,23 +537,34 @@ impl FieldSpec {
             FieldSpec::Sampled {
                 points, vectors, ..
             } => {
-                if points.is_empty() {
+                if points.is_empty() || points.len() > MAX_SAMPLED_POINTS {
                     return Err(TargetError::invalid(
-                        format!("{path}.points"),
-                        "must contain at least 1 point, got 0",
+                        at("points"),
+                        format!(
+                            "must contain 1..={MAX_SAMPLED_POINTS} points, got {}",
+                            points.len()
+                        ),
                     ));
                 }
                 if points.len() != vectors.len() {
                     return Err(TargetError::invalid(
-                        format!("{path}.points"),
+                        at("points"),
                         format!("{} points but {} vectors", points.len(), vectors.len()),
                     ));
                 }
                 for (i, p) in points.iter().enumerate() {
-                    check_finite2(&format!("{path}.points[{i}]"), *p)?;
+                    let pp = format!("{path}.points[{i}]");
+                    check_finite2(&pp, *p)?;
+                    for (k, c) in p.iter().enumerate() {
+                        check_range(&format!("{pp}[{k}]"), *c, -EXTENT, EXTENT, " m")?;
+                    }
                 }
                 for (i, v) in vectors.iter().enumerate() {
-                    check_finite2(&format!("{path}.vectors[{i}]"), *v)?;
+                    let vp = format!("{path}.vectors[{i}]");
+                    check_finite2(&vp, *v)?;
+                    for (k, c) in v.iter().enumerate() {
+                        check_range(&format!("{vp}[{k}]"), *c, -SPEED, SPEED, " m/s")?;
+                    }
                 }
                 Ok(())
             }

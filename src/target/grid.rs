@@ -2,33 +2,138 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::target::error::{check_finite, check_finite2, check_interval, show, TargetError};
+use crate::target::error::{
+    check_finite, check_finite2, check_interval, check_range, show, TargetError,
+};
+use crate::target::field::EXTENT;
 
-/// Largest allowed number of grid points along one axis (`grid.n[i]`).
-pub const MAX_GRID_N: usize = 2048;
+/// Largest allowed number of grid points along one axis (`grid.n[i]`);
+/// a region may allow fewer ([`max_points`]).
+pub const MAX_GRID_N: usize = 1001;
+
+/// Nodes per side of the largest library grid ([`crate::field::Grid::MAX_N`]).
+const LIBRARY_N: usize = crate::field::Grid::MAX_N;
+/// Nodes the library grid adds on every side of the region it covers
+/// (`basis::symmetry::MARGIN_NODES`; a test holds the two together).
+const LIBRARY_MARGIN: usize = 2;
+
+/// Largest radius of the library grid in node spacings: its centre is
+/// rounded to a node, so half a spacing is lost to that as well.
+fn cover_nodes() -> f64 {
+    ((LIBRARY_N - 1) / 2 - LIBRARY_MARGIN - 1) as f64
+}
 
 /// The sample grid: the same type as the simulator's grid
 /// ([`crate::field::Grid`]), validated here with the target's own limits.
 pub use crate::field::Grid;
 
-/// Validates a target grid: finite `xmin < xmax`, `ymin < ymax`, and
-/// `2 ≤ nx, ny ≤ `[`MAX_GRID_N`]; errors name `path`.
+/// The most points per side a target grid over `x × y` may have. The
+/// design simulates each primitive once on a library grid that covers the
+/// region under every rotation about the plate centre, at the target's
+/// spacing: a disc of radius R (the farthest corner) at spacing h needs
+/// about 2R/h nodes per side, and the library grid has at most
+/// [`crate::field::Grid::MAX_N`]. So h ≥ R/497 and n ≤ L/h + 1 per axis.
+pub fn max_points(x: [f64; 2], y: [f64; 2]) -> [usize; 2] {
+    let reach = x
+        .iter()
+        .flat_map(|&a| y.iter().map(move |&b| a.hypot(b)))
+        .fold(0.0, f64::max);
+    let h = reach / cover_nodes();
+    [x, y].map(|r| {
+        let n = ((r[1] - r[0]) / h + 1e-9).floor() + 1.0;
+        if n.is_finite() && n < MAX_GRID_N as f64 {
+            n as usize
+        } else {
+            MAX_GRID_N
+        }
+    })
+}
+
+/// Validates a target grid: finite `xmin < xmax`, `ymin < ymax` within
+/// ±[`EXTENT`] m, and `2 ≤ nx, ny ≤ `[`MAX_GRID_N`], and no more points
+/// than the region allows ([`max_points`]); errors name `path`.
 pub fn validate_grid(grid: &Grid, path: &str) -> Result<(), TargetError> {
-    check_interval(&format!("{path}.x"), "x", grid.x)?;
-    check_interval(&format!("{path}.y"), "y", grid.y)?;
+    for (axis, r) in [("x", grid.x), ("y", grid.y)] {
+        let p = format!("{path}.{axis}");
+        check_interval(&p, axis, r)?;
+        for (i, v) in r.iter().enumerate() {
+            check_range(&format!("{p}[{i}]"), *v, -EXTENT, EXTENT, " m")?;
+        }
+    }
     for (i, &n) in grid.n.iter().enumerate() {
         let p = format!("{path}.n[{i}]");
-        if n < 2 {
-            return Err(TargetError::invalid(p, format!("must be ≥ 2, got {n}")));
-        }
-        if n > MAX_GRID_N {
+        if !(2..=MAX_GRID_N).contains(&n) {
             return Err(TargetError::invalid(
                 p,
-                format!("must be ≤ {MAX_GRID_N}, got {n}"),
+                format!("must be in 2..={MAX_GRID_N}, got {n}"),
             ));
         }
     }
+    let most = max_points(grid.x, grid.y);
+    if grid.n[0] > most[0] || grid.n[1] > most[1] {
+        return Err(TargetError::invalid(
+            format!("{path}.n"),
+            format!(
+                "must be at most [{}, {}] over this region (its copies rotated about the \
+                 plate centre are simulated on a library grid of at most {LIBRARY_N} nodes \
+                 per side), got [{}, {}]",
+                most[0], most[1], grid.n[0], grid.n[1]
+            ),
+        ));
+    }
     Ok(())
+}
+
+/// Finest spacing (m) of the grid on which the basis of a grid-less
+/// `sampled` target is resampled ([`scattered_grid`]).
+pub const SCATTERED_SPACING: f64 = 2e-3;
+/// Most points per side of that grid.
+pub const SCATTERED_N: usize = 41;
+/// Margin (m) of that grid around the sample points.
+const SCATTERED_MARGIN: f64 = 1e-3;
+
+/// The grid on which a grid-less `sampled` target's basis is resampled:
+/// the points' bounding box plus 1 mm, with at most [`SCATTERED_N`] points
+/// per side and spacing at least [`SCATTERED_SPACING`] (coarser when the
+/// points lie far from the plate centre, so that the library grid
+/// covering its rotations stays within [`crate::field::Grid::MAX_N`]
+/// nodes per side). Sized by the region, never by the points' spacing: one
+/// point, or four within 1 cm, give a grid of a few nodes.
+pub fn scattered_grid(points: &[[f64; 2]]) -> Grid {
+    if points.is_empty() {
+        return Grid::DEFAULT;
+    }
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in points {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    let box_of = |k: usize| [lo[k] - SCATTERED_MARGIN, hi[k] + SCATTERED_MARGIN];
+    let reach = [box_of(0), box_of(1)]
+        .iter()
+        .flat_map(|r| r.iter())
+        .fold(0.0_f64, |m, &c| m.max(c.abs()))
+        * std::f64::consts::SQRT_2;
+    let h = SCATTERED_SPACING.max(reach / cover_nodes());
+    // Each side at least one spacing long, and split into whole cells of
+    // at least h.
+    let side = |k: usize| {
+        let [a, b] = box_of(k);
+        let grow = (h - (b - a)).max(0.0) / 2.0;
+        let r = [a - grow, b + grow];
+        let cells = ((r[1] - r[0]) / h + 1e-9).floor();
+        let n = if cells.is_finite() && cells >= 1.0 {
+            (cells as usize + 1).min(SCATTERED_N)
+        } else {
+            2
+        };
+        (r, n)
+    };
+    let ((x, nx), (y, ny)) = (side(0), side(1));
+    let n = [nx, ny];
+    Grid { x, y, n }
 }
 
 /// A region of the plate whose sample points do not matter (weight 0).

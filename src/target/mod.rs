@@ -158,7 +158,6 @@ mod examples;
 mod field;
 mod folder;
 mod grid;
-mod parse;
 
 use std::path::Path;
 
@@ -168,12 +167,16 @@ pub use attractor::Attractor;
 pub use error::TargetError;
 pub use examples::examples;
 pub use field::{
-    FieldSpec, Interpolation, SumTerm, COINCIDENT, DEFAULT_JET_WIDTH, FIELD_KINDS, IDW_NEIGHBORS,
-    TRANSPORT_LENGTH,
+    FieldSpec, Interpolation, SumTerm, ANGLE, COINCIDENT, DEFAULT_JET_WIDTH, EXTENT, FIELD_KINDS,
+    IDW_NEIGHBORS, MAX_SAMPLED_POINTS, MAX_TERMS, RATIO, SPEED, STRENGTH, TRANSPORT_LENGTH, WEIGHT,
 };
-pub use grid::{Grid, MaskRegion, MAX_GRID_N};
+pub use grid::{scattered_grid, Grid, MaskRegion, MAX_GRID_N, SCATTERED_N, SCATTERED_SPACING};
 
 use error::show;
+
+/// A target whose largest |f| (m/s) over its weighted points is at most
+/// this is refused as zero: no schedule can be designed for it.
+pub const ZERO_FIELD: f64 = 1e-12;
 
 /// A requested velocity field on a region of the plate; the in-memory form
 /// of a target JSON file (see the [module documentation](self)).
@@ -190,11 +193,28 @@ pub struct Target {
     pub field: FieldSpec,
     /// Optional per-point weights, `weights[iy][ix]` (see the module docs
     /// for the grid-less `sampled` case).
-    #[serde(default)]
+    #[serde(default, deserialize_with = "weights")]
     pub weights: Option<Vec<Vec<f64>>>,
     /// Regions whose points get weight 0.
     #[serde(default)]
     pub mask: Vec<MaskRegion>,
+}
+
+/// `null` or rows of weights; a flat list of numbers is an error that says
+/// which shape is expected.
+fn weights<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<Vec<Vec<f64>>>, D::Error> {
+    let value = serde_json::Value::deserialize(d)?;
+    if let Some(items) = value.as_array() {
+        if items.first().is_some_and(|v| v.is_number()) {
+            return Err(serde::de::Error::custom(format!(
+                "must be an array of rows, weights[iy][ix]: ny rows of nx numbers for a grid, \
+                 or one row [[w0, w1, ...]] for a sampled field without a grid; got a flat \
+                 list of {} numbers (wrap it in [ ])",
+                items.len()
+            )));
+        }
+    }
+    crate::input::nested::<D, _>(value)
 }
 
 /// A target evaluated at its sample points: what the inverse design fits.
@@ -240,7 +260,8 @@ impl Target {
     ///
     /// Errors name the JSON path of the problem (see the module docs).
     pub fn from_json_str(s: &str) -> Result<Target, TargetError> {
-        let target = parse::parse_target(s)?;
+        let target: Target = crate::input::from_str(s, "target")
+            .map_err(|e| TargetError::invalid(e.path, e.message))?;
         target.validate()?;
         Ok(target)
     }
@@ -386,6 +407,22 @@ impl Target {
                 *w = 0.0;
             }
         }
+        let largest = vectors
+            .iter()
+            .zip(&weights)
+            .filter(|(_, &w)| w > 0.0)
+            .map(|(v, _)| v[0].hypot(v[1]))
+            .fold(0.0, f64::max);
+        if weights.iter().any(|&w| w > 0.0) && largest <= ZERO_FIELD {
+            return Err(TargetError::invalid(
+                "target.field",
+                format!(
+                    "is zero (|f| ≤ {} m/s) at every sample point with a positive weight: \
+                     there is nothing to design (check the strengths and sum weights)",
+                    error::show(ZERO_FIELD)
+                ),
+            ));
+        }
         if !weights.iter().any(|&w| w > 0.0) {
             return Err(TargetError::invalid(
                 "target",
@@ -494,14 +531,14 @@ mod tests {
     #[test]
     fn sampling_follows_grid_order_weights_and_mask() {
         let json = r#"{
-            "grid": {"x": [0, 2], "y": [0, 1], "n": [3, 2]},
+            "grid": {"x": [0, 0.2], "y": [0, 0.1], "n": [3, 2]},
             "field": {"kind": "source"},
             "weights": [[1, 2, 3], [4, 5, 6]],
-            "mask": [{"rect": {"x": [1.5, 3], "y": [0.5, 2]}}]
+            "mask": [{"rect": {"x": [0.15, 0.3], "y": [0.05, 0.2]}}]
         }"#;
         let s = Target::from_json_str(json).unwrap().sample().unwrap();
-        assert_eq!(s.points[4], [1.0, 1.0]);
-        assert_eq!(s.vectors[4], [1.0, 1.0]);
+        assert_eq!(s.points[4], [0.1, 0.1]);
+        assert_eq!(s.vectors[4], [0.1, 0.1]);
         assert_eq!(s.weights, vec![1.0, 2.0, 3.0, 4.0, 5.0, 0.0]);
     }
 
@@ -593,11 +630,11 @@ mod tests {
     fn bad_grid_n() {
         let json = r#"{"grid": {"x": [-0.04, 0.04], "y": [-0.04, 0.04], "n": [0, 21]},
                        "field": {"kind": "sink"}}"#;
-        let e = assert_err(json, &["target.grid.n[0]: must be ≥ 2, got 0"]);
+        let e = assert_err(json, &["target.grid.n[0]: must be in 2..=1001, got 0"]);
         assert_eq!(e.field_path(), Some("target.grid.n[0]"));
         let json = r#"{"grid": {"x": [-0.04, 0.04], "y": [-0.04, 0.04], "n": [21, 100000]},
                        "field": {"kind": "sink"}}"#;
-        assert_err(json, &["target.grid.n[1]", "≤ 2048"]);
+        assert_err(json, &["target.grid.n[1]: must be in 2..=1001, got 100000"]);
         let json = r#"{"grid": {"x": [-0.04, 0.04], "y": [-0.04, 0.04], "n": [-3, 21]},
                        "field": {"kind": "sink"}}"#;
         assert_err(json, &["target.grid"]);
@@ -666,7 +703,7 @@ mod tests {
         );
         assert_err(
             &with_field(r#"{"kind": "sink", "strength": "big"}"#),
-            &["target.field.strength: must be a number, got a string"],
+            &["target.field.strength: must be a number, got string \"big\""],
         );
     }
 
@@ -682,7 +719,7 @@ mod tests {
         assert_err(&json, &["target.field.points: 12 points but 11 vectors"]);
         assert_err(
             r#"{"field": {"kind": "sampled", "points": [], "vectors": []}}"#,
-            &["target.field.points: must contain at least 1 point"],
+            &["target.field.points: must contain 1..=100000 points, got 0"],
         );
     }
 
@@ -730,10 +767,10 @@ mod tests {
         assert!(e.contains("target.grid.x: must be finite"), "{e}");
 
         // Overflowing literals cannot even be parsed.
-        assert!(matches!(
-            Target::from_json_str(&with_field(r#"{"kind": "sink", "strength": 1e999}"#)),
-            Err(TargetError::Syntax(_))
-        ));
+        assert_err(
+            &with_field(r#"{"kind": "sink", "strength": 1e999}"#),
+            &["target.field.strength: must be a finite number, got 1e999 (out of range"],
+        );
     }
 
     #[test]
@@ -789,11 +826,11 @@ mod tests {
         );
         assert_err(
             &with_field(r#"{"kind": "sum", "terms": []}"#),
-            &["target.field.terms: must contain at least 1 term"],
+            &["target.field.terms: must contain 1..=1000 terms, got 0"],
         );
         assert_err(
             &with_field(r#"{"kind": "jet", "width": 0}"#),
-            &["target.field.width: must be > 0"],
+            &["target.field.width: must be in (0, 1] m, got 0"],
         );
     }
 
@@ -819,6 +856,132 @@ mod tests {
         );
         assert_err(r#"{"name": "x"}"#, &["target.field: missing"]);
         assert_err(r#"[1, 2]"#, &["target: must be a JSON object"]);
+    }
+
+    /// Issue 13: vanishing strengths and weights, a zero field, a grid
+    /// finer than the region allows and flat weights are refused by the
+    /// loader, naming the path and the range, with short numbers.
+    #[test]
+    fn degenerate_targets_are_refused_with_their_range() {
+        let range = "must be non-zero, with |value| in [0.000001, 1000000] 1/s, got";
+        assert_err(
+            &with_field(r#"{"kind": "sink", "strength": 0}"#),
+            &["target.field.strength: ", range, "got 0"],
+        );
+        assert_err(
+            &with_field(r#"{"kind": "sink", "strength": 1e-300}"#),
+            &["target.field.strength: ", range, "got 1e-300"],
+        );
+        assert_err(
+            &with_field(r#"{"kind": "sum", "terms": [{"field": {"kind": "sink"}}, {"weight": 0, "field": {"kind": "trans"}}]}"#),
+            &["target.field.terms[1].weight: must be non-zero, with |value| in [0.000001, 1000000], got 0"],
+        );
+        assert_err(
+            &with_field(r#"{"kind": "trans", "strength": -1e308}"#),
+            &["target.field.strength: must be non-zero, with |value| in [0.000001, 1000000] m/s, got -1e308"],
+        );
+        // A sum that cancels everywhere: refused when sampled, before any
+        // library is built (design samples the target first).
+        let t = Target::from_json_str(&with_field(
+            r#"{"kind": "sum", "terms": [{"field": {"kind": "sink"}}, {"field": {"kind": "source"}}]}"#,
+        ))
+        .unwrap();
+        let e = t.sample().unwrap_err().to_string();
+        assert!(
+            e.starts_with("target.field: is zero (|f| ≤ 1e-12 m/s) at every sample point"),
+            "{e}"
+        );
+        let zero = r#"{"field": {"kind": "sampled", "points": [[0, 0], [0.01, 0]], "vectors": [[0, 0], [0, 0]]}}"#;
+        let e = Target::from_json_str(zero)
+            .unwrap()
+            .sample()
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("target.field: is zero"), "{e}");
+        // The target's own limit, not the library grid's: at ±4 cm the
+        // rotations need 2·0.0566 m / h ≤ ~1000 nodes, so n ≤ 703.
+        let big = r#"{"grid": {"x": [-0.04, 0.04], "y": [-0.04, 0.04], "n": [1001, 1001]}, "field": {"kind": "sink"}}"#;
+        assert_err(
+            big,
+            &[
+                "target.grid.n: must be at most [703, 703] over this region",
+                "got [1001, 1001]",
+            ],
+        );
+        let ok = big.replace("1001, 1001", "703, 703");
+        assert!(Target::from_json_str(&ok).is_ok());
+        assert_err(
+            &format!(r#"{{{GRID}, "field": {{"kind": "sink"}}, "weights": [1, 2, 3]}}"#),
+            &[
+                "target.weights: must be an array of rows, weights[iy][ix]: ny rows of nx numbers",
+                "flat list of 3 numbers",
+            ],
+        );
+        assert_err(
+            &with_field(r#"{"kind": "sink", "center": [1e300, 0]}"#),
+            &["target.field.center[0]: must be in [-1, 1] m, got 1e300"],
+        );
+    }
+
+    /// The limit [`grid::max_points`] states holds for the library grid
+    /// the design really builds (every 15°, no shift), with its margin.
+    #[test]
+    fn max_points_keeps_the_library_grid_within_its_limit() {
+        use crate::basis::symmetry::{source_grid, MARGIN_NODES};
+        assert_eq!(MARGIN_NODES, 2, "update LIBRARY_MARGIN in target/grid.rs");
+        let angles: Vec<f64> = (0..24).map(|i| (15.0 * i as f64).to_radians()).collect();
+        for (x, y) in [
+            ([-0.04, 0.04], [-0.04, 0.04]),
+            ([0.01, 0.05], [-0.02, 0.0]),
+            ([-1.0, 1.0], [0.5, 1.0]),
+            ([0.3, 0.31], [0.2, 0.3]),
+        ] {
+            let n = grid::max_points(x, y);
+            let g = Grid { x, y, n };
+            assert!(grid::validate_grid(&g, "g").is_ok(), "{g:?}");
+            let cover = source_grid(&g, &angles, &[[0.0, 0.0]]);
+            assert!(
+                cover.n[0] <= crate::field::Grid::MAX_N,
+                "{g:?} -> {cover:?}"
+            );
+            let finer = Grid {
+                n: [n[0] + 1, n[1]],
+                ..g
+            };
+            assert!(grid::validate_grid(&finer, "g").is_err() || n[0] == MAX_GRID_N);
+        }
+    }
+
+    /// Issue 13: scattered points spanning a small area (one point, four
+    /// within 1 cm) give a library grid of a few hundred samples, not the
+    /// 63,504 their spacing asked for; the shipped example keeps its grid.
+    #[test]
+    fn scattered_targets_are_sized_by_their_region() {
+        use crate::basis::symmetry::source_grid;
+        let angles: Vec<f64> = (0..24).map(|i| (15.0 * i as f64).to_radians()).collect();
+        let cover = |pts: &[[f64; 2]]| {
+            let g = scattered_grid(pts);
+            (g, source_grid(&g, &angles, &[[0.0, 0.0]]).len())
+        };
+        let (g, n) = cover(&[[0.01, 0.0]]);
+        assert_eq!(g.n, [2, 2]);
+        assert!(n <= 500, "{n}");
+        let four = [[0.0, 0.0], [0.009, 0.0], [0.0, 0.009], [0.009, 0.009]];
+        let (g, n) = cover(&four);
+        assert!(g.spacing() >= SCATTERED_SPACING - 1e-15, "{g:?}");
+        assert!(n <= 500, "{n}");
+        let (_, json) = examples().pop().unwrap();
+        let t = Target::from_json_str(&json).unwrap();
+        let s = t.sample().unwrap();
+        let g = scattered_grid(&s.points);
+        assert_eq!(g.n, [41, 41]);
+        assert!(
+            (g.x[0] + 0.041).abs() < 1e-12 && (g.x[1] - 0.041).abs() < 1e-12,
+            "{g:?}"
+        );
+        let far = [[0.99, 0.99], [0.995, 0.99]];
+        let (_, n) = cover(&far);
+        assert!(n <= crate::field::Grid::MAX_N.pow(2), "{n}");
     }
 
     #[test]

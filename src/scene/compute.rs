@@ -1,0 +1,177 @@
+//! Computing a scene's field, and its summary.
+
+use std::fmt::Write as _;
+
+use super::{Scene, SceneMotion};
+use crate::basis::library::progress_bar;
+use crate::basis::{Primitive, PrimitiveKind};
+use crate::error::{Error, Result};
+use crate::field::{Field, FieldKind};
+use crate::motion::{Motion, Waveform, V3};
+
+impl SceneMotion {
+    /// JSON paths (under `path`) of the parameters that set the motion's
+    /// amplitude, for error messages.
+    pub fn amplitude_fields(&self, path: &str) -> Vec<String> {
+        let wave = |name: &str, w: &Waveform| -> Option<String> {
+            match w {
+                Waveform::Zero => None,
+                Waveform::Sine { .. } | Waveform::Square { .. } => {
+                    Some(format!("{path}.{name}.accel"))
+                }
+                Waveform::RestToRest { .. } => Some(format!("{path}.{name}.amplitude")),
+                Waveform::Fourier { .. } => Some(format!("{path}.{name}.terms[].amplitude")),
+            }
+        };
+        match self {
+            SceneMotion::Motion(Motion::Screw(s)) => [
+                wave("rotation", &s.rotation),
+                wave("translation", &s.translation),
+            ]
+            .into_iter()
+            .flatten()
+            .collect(),
+            SceneMotion::Motion(Motion::Signals(s)) => {
+                let mut out = Vec::new();
+                for (group, axes) in [("linear", &s.linear), ("angular", &s.angular)] {
+                    for (axis, terms) in [("x", &axes.x), ("y", &axes.y), ("z", &axes.z)] {
+                        if terms.iter().any(|t| t.amplitude != 0.0) {
+                            out.push(format!("{path}.{group}.{axis}[].amplitude"));
+                        }
+                    }
+                }
+                out
+            }
+            SceneMotion::Primitive(p) => {
+                let mut out = vec![format!("{path}.amplitude")];
+                if p.translation.is_some()
+                    || Primitive::default_translation(p.kind) != 0.0
+                    || p.kind == PrimitiveKind::Trans
+                {
+                    out.push(format!("{path}.translation"));
+                }
+                out
+            }
+        }
+    }
+}
+
+impl Scene {
+    /// Computes the field (with a progress bar on a terminal unless
+    /// `quiet`). A scene in which the part leaves the plate at every grid
+    /// point is physically invalid and an error naming the motion's
+    /// amplitude parameters.
+    pub fn compute(&self, quiet: bool) -> Result<Field> {
+        let motion = self.motion.to_motion();
+        let settings = self.settings();
+        let bar = progress_bar(self.grid.len() as u64, quiet);
+        bar.set_message(match self.kind {
+            FieldKind::Force => "force",
+            FieldKind::Velocity => "velocity",
+        });
+        let tick = || bar.inc(1);
+        let field = Field::compute(&motion, &self.grid, self.kind, &settings, &tick);
+        bar.finish_and_clear();
+        let stats = field.stats();
+        if stats.samples > 0 && stats.contact_lost == stats.samples {
+            let fields = self.motion.amplitude_fields("scene.motion");
+            let normal = self.min_normal(&motion);
+            return Err(Error::Physical(format!(
+                "the part leaves the plate (N < 0) at every grid point{}; reduce the amplitude ({})",
+                if normal < 0.0 {
+                    format!(" (lowest N at rest on the plate: {normal:.4} m/s²)")
+                } else {
+                    String::new()
+                },
+                if fields.is_empty() {
+                    "scene.motion".to_string()
+                } else {
+                    fields.join(", ")
+                }
+            )));
+        }
+        Ok(field)
+    }
+
+    /// Lowest normal force per unit mass on a part at rest on the plate
+    /// (u = 0) over the grid points and 256 instants of the cycle.
+    fn min_normal(&self, motion: &Motion) -> f64 {
+        let (g, model) = (self.gravity, self.model);
+        let period = motion.period();
+        let kin: Vec<_> = (0..256)
+            .map(|i| motion.kinematics(period * i as f64 / 256.0, g, model.tilt))
+            .collect();
+        self.grid
+            .points()
+            .iter()
+            .flat_map(|p| {
+                let r = V3::new(p[0], p[1], 0.0);
+                kin.iter()
+                    .map(move |k| k.acceleration_at(&r, model.centripetal).z - k.gravity.z)
+            })
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// Title for plots: the scene's name, else `fallback`, with the kind
+    /// and the model.
+    pub fn title(&self, fallback: &str) -> String {
+        let name = self.name.as_deref().unwrap_or(fallback);
+        let kind = match self.kind {
+            FieldKind::Force => "force field",
+            FieldKind::Velocity => "velocity field",
+        };
+        format!("{name}: {kind}, model {}", self.model.name())
+    }
+
+    /// A short readable summary of the scene and its computed field.
+    pub fn summary(&self, field: &Field, seconds: f64) -> String {
+        let g = &self.grid;
+        let st = field.stats();
+        let (kind, units) = match self.kind {
+            FieldKind::Force => ("force (zero-velocity)", "m/s²"),
+            FieldKind::Velocity => ("velocity (steady state)", "m/s"),
+        };
+        let motion = match &self.motion {
+            SceneMotion::Motion(Motion::Screw(s)) => format!(
+                "screw, axis {:?} through {:?} m, T = {} s",
+                s.axis, s.point, s.period
+            ),
+            SceneMotion::Motion(Motion::Signals(s)) => {
+                format!("six signals, T = {} s", s.period)
+            }
+            SceneMotion::Primitive(p) => {
+                format!("primitive {}, T = {:.6} s", p.kind.name(), p.period())
+            }
+        };
+        let mut s = String::new();
+        if let Some(name) = &self.name {
+            let _ = writeln!(s, "scene:   {name}");
+        }
+        let _ = writeln!(s, "motion:  {motion}");
+        let _ = writeln!(
+            s,
+            "grid:    {}×{} over x ∈ [{}, {}] m, y ∈ [{}, {}] m",
+            g.n[0], g.n[1], g.x[0], g.x[1], g.y[0], g.y[1]
+        );
+        let _ = writeln!(
+            s,
+            "field:   {kind}, model {}, μ_s = {}, μ_k = {}, g = {} m/s²{}",
+            self.model.name(),
+            self.friction.stat,
+            self.friction.kinetic,
+            self.gravity,
+            match self.kind {
+                FieldKind::Force => format!(", {} start phases", self.phases),
+                FieldKind::Velocity => String::new(),
+            }
+        );
+        let _ = writeln!(
+            s,
+            "valid:   {} of {} samples (contact lost {}, not converged {}, frozen invalid {})",
+            st.valid, st.samples, st.contact_lost, st.not_converged, st.frozen_invalid
+        );
+        let _ = writeln!(s, "max |f|: {:.6e} {units}", st.max_magnitude);
+        let _ = writeln!(s, "time:    {seconds:.3} s");
+        s
+    }
+}

@@ -1,0 +1,243 @@
+//! Scenes: a plate motion, the physics around it and a sampling grid, read
+//! from JSON (`platefield field SCENE.json`): serde types here, ranges in
+//! [`validate`](Scene::validate), the field in [`compute`](Scene::compute).
+//!
+//! ```text
+//! {
+//!   "name": "linesink",                         optional, used as the plot title
+//!   "description": "...",                       optional, free text
+//!   "motion": {"type": "screw" | "signals" | "primitive", ...},
+//!   "kind": "force" | "velocity",
+//!   "grid": {"x": [xmin, xmax], "y": [ymin, ymax], "n": [nx, ny]},   metres
+//!   "friction": {"static": 0.3, "kinetic": 0.3},   optional; a number μ means both
+//!   "gravity": 9.81,                            optional (m/s²)
+//!   "model": "full" | "paper" | {"centripetal": b, "tilt": b, "coriolis": b, "moving": b},
+//!   "phases": 30,                               optional, start phases of force fields
+//!   "numerics": {"steps_per_cycle": 64, ...}    optional, every field defaulted
+//! }
+//! ```
+//!
+//! Motions ([`crate::motion::Motion`], plus library primitives):
+//!
+//! * `{"type": "screw", "axis": [kx, ky, kz], "point": [hx, hy, hz], "period": T,
+//!   "rotation": WAVE, "translation": WAVE}` — rotation ψ(t) about the axis
+//!   through h (rad) and translation d(t) along it (m); waveforms default to
+//!   `zero`.
+//! * `{"type": "signals", "period": T, "linear": {"x": TERMS, "y": TERMS, "z": TERMS},
+//!   "angular": {...}}` — plate-centre translational acceleration (m/s²) and
+//!   angular acceleration about the world axes (rad/s²); TERMS is a list of
+//!   `{"amplitude": A, "phase": φ, "harmonic": n}` meaning A sin(n·2πt/T + φ)
+//!   (phase defaults to 0, harmonic to 1).
+//! * `{"type": "primitive", "kind": "LineSink", "omega": .., "amplitude": ..,
+//!   "translation": .., "depth": .., "rotation_deg": .., "shift": [..]}` — a
+//!   library primitive ([`crate::basis::Primitive`]); every field but `kind`
+//!   defaults to the paper's value.
+//!
+//! Waveforms WAVE: `{"type": "zero"}`, `{"type": "sine", "accel": A}`
+//! (q'' = A sin ωt), `{"type": "square", "accel": α}` (the paper's eq. 1),
+//! `{"type": "rest_to_rest", "amplitude": q0}` (q = q0(1 − cos ωt)),
+//! `{"type": "fourier", "terms": TERMS, "offset": 0}`.
+//!
+//! Reading goes through [`crate::input`]: unknown keys are errors, and
+//! every error names its JSON path (`scene.motion.rotation.amplitude: must
+//! be a number, got string "big"`); the allowed ranges are listed in
+//! [`validate`](Scene::validate).
+
+mod compute;
+mod validate;
+
+use std::path::Path;
+
+use serde::de::Error as _;
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
+use serde_json::Value;
+
+use crate::basis::Primitive;
+use crate::dynamics::{Friction, Model, Numerics};
+use crate::error::{Error, Result};
+use crate::field::{FieldKind, FieldSettings, Grid};
+use crate::input;
+use crate::motion::Motion;
+
+pub use validate::{
+    ANGULAR_ACCEL, GRAVITY, GRID_EXTENT, GRID_N, HARMONIC, LINEAR_ACCEL, MAX_ITERATIONS, MU,
+    PERIOD, PHASES, ROTATION, STEPS_PER_CYCLE, TERMS, TRANSLATION,
+};
+
+/// The motion of a scene: a kinematic motion, or a library primitive.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SceneMotion {
+    /// A screw or six-signal motion.
+    Motion(Motion),
+    /// A library primitive with its parameters.
+    Primitive(Primitive),
+}
+
+/// The values of a scene motion's `"type"`.
+pub const MOTION_TYPES: &[&str] = &["screw", "signals", "primitive"];
+
+impl SceneMotion {
+    /// The plate motion.
+    pub fn to_motion(&self) -> Motion {
+        match self {
+            SceneMotion::Motion(m) => m.clone(),
+            SceneMotion::Primitive(p) => p.motion(),
+        }
+    }
+}
+
+impl Serialize for SceneMotion {
+    fn serialize<S: Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        match self {
+            SceneMotion::Motion(m) => m.serialize(s),
+            SceneMotion::Primitive(p) => {
+                let mut v = serde_json::to_value(p).map_err(serde::ser::Error::custom)?;
+                if let Value::Object(o) = &mut v {
+                    o.insert("type".into(), "primitive".into());
+                }
+                v.serialize(s)
+            }
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for SceneMotion {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        input::tagged(d, "type", MOTION_TYPES, |kind, b| match kind {
+            "screw" => b.rest().map(|s| SceneMotion::Motion(Motion::Screw(s))),
+            "signals" => b.rest().map(|s| SceneMotion::Motion(Motion::Signals(s))),
+            _ => b.rest().map(SceneMotion::Primitive),
+        })
+    }
+}
+
+/// A scene: everything `platefield field` needs to compute one field.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// Optional name (the plot title).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    /// Optional free-text description.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub description: Option<String>,
+    /// The plate motion.
+    pub motion: SceneMotion,
+    /// Force or velocity field.
+    pub kind: FieldKind,
+    /// Sampling grid (m).
+    pub grid: Grid,
+    /// Friction coefficients (default μ_s = μ_k = 0.3; one number sets
+    /// both, a missing one equals the other).
+    #[serde(default = "default_friction", deserialize_with = "friction")]
+    pub friction: Friction,
+    /// Gravity (m/s², default 9.81).
+    #[serde(default = "default_gravity")]
+    pub gravity: f64,
+    /// Model switches: `"paper"`, `"full"` (default) or all four switches.
+    #[serde(default = "default_model", deserialize_with = "model")]
+    pub model: Model,
+    /// Start phases of force fields (default 30).
+    #[serde(default = "default_phases")]
+    pub phases: usize,
+    /// Integrator settings (defaults of [`Numerics`]).
+    #[serde(default)]
+    pub numerics: Numerics,
+}
+
+fn default_friction() -> Friction {
+    Friction::uniform(0.3)
+}
+
+fn default_gravity() -> f64 {
+    9.81
+}
+
+fn default_model() -> Model {
+    Model::FULL
+}
+
+fn default_phases() -> usize {
+    30
+}
+
+/// `μ` (both coefficients) or `{"static": μ_s, "kinetic": μ_k}`, a missing
+/// coefficient equal to the other.
+fn friction<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<Friction, D::Error> {
+    match Value::deserialize(d)? {
+        Value::Number(mu) => Ok(Friction::uniform(mu.as_f64().unwrap_or(f64::NAN))),
+        Value::Object(map) => input::fields::<D, _>(map, &[], "", |b| {
+            let stat: Option<f64> = b.or("static", None);
+            let kinetic: Option<f64> = b.or("kinetic", None);
+            let (stat, kinetic) = match (stat, kinetic) {
+                (Some(s), Some(k)) => (s, k),
+                (Some(mu), None) | (None, Some(mu)) => (mu, mu),
+                (None, None) => (0.3, 0.3),
+            };
+            Some(Friction { stat, kinetic })
+        }),
+        other => Err(D::Error::custom(format!(
+            "must be a number μ or {{\"static\": μ_s, \"kinetic\": μ_k}}, got {}",
+            input::describe(&other)
+        ))),
+    }
+}
+
+/// `"paper"`, `"full"`, or an object of all four switches.
+fn model<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<Model, D::Error> {
+    match Value::deserialize(d)? {
+        Value::String(name) if name == "paper" => Ok(Model::PAPER),
+        Value::String(name) if name == "full" => Ok(Model::FULL),
+        v @ Value::Object(_) => input::nested::<D, Model>(v),
+        other => Err(D::Error::custom(format!(
+            "must be \"paper\", \"full\" or an object of the switches \
+             {{\"centripetal\", \"tilt\", \"coriolis\", \"moving\"}}, got {}",
+            input::describe(&other)
+        ))),
+    }
+}
+
+impl Scene {
+    /// Reads and validates a scene from JSON text; errors name the JSON
+    /// path (`scene.motion.period: ...`).
+    pub fn from_json_str(text: &str) -> Result<Scene> {
+        let scene: Scene =
+            input::from_str(text, "scene").map_err(|e| Error::invalid(e.path, e.message))?;
+        scene.validate()?;
+        Ok(scene)
+    }
+
+    /// Reads and validates a scene file; errors are prefixed with the file
+    /// path.
+    pub fn load(path: &Path) -> Result<Scene> {
+        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
+            path: path.display().to_string(),
+            source,
+        })?;
+        Scene::from_json_str(&text).map_err(|e| match e {
+            Error::Invalid { field, message } => Error::Invalid {
+                field: format!("{}: {field}", path.display()),
+                message,
+            },
+            other => other,
+        })
+    }
+
+    /// The scene as JSON (every default written out); reads back to the
+    /// same scene.
+    pub fn to_json(&self) -> Value {
+        serde_json::to_value(self).unwrap_or(Value::Null)
+    }
+
+    /// The field settings of this scene.
+    pub fn settings(&self) -> FieldSettings {
+        FieldSettings {
+            friction: self.friction,
+            gravity: self.gravity,
+            model: self.model,
+            numerics: self.numerics,
+            phases: self.phases,
+            ..FieldSettings::default()
+        }
+    }
+}

@@ -1,0 +1,156 @@
+//! Property test (issues 10 and 13): valid scene and target files, mutated
+//! (deleted keys, misspelt keys, wrong types, NaN, ±1e308, negatives, empty
+//! arrays, huge counts), go through the library's load-and-validate path
+//! without a panic, and every error names a JSON path under `scene` or
+//! `target`, with short numbers.
+
+use std::path::Path;
+
+use proptest::prelude::*;
+use serde_json::Value;
+
+use platefield::scene::Scene;
+use platefield::target::{examples, Target};
+use platefield::Error;
+
+/// The shipped scenes and the target examples, as JSON values.
+fn bases() -> (Vec<Value>, Vec<Value>) {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("targets/scenes");
+    let mut scenes: Vec<Value> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| {
+            serde_json::from_str(&std::fs::read_to_string(e.unwrap().path()).unwrap()).unwrap()
+        })
+        .collect();
+    scenes.push(serde_json::json!({
+        "motion": {"type": "primitive", "kind": "SkewSink", "depth": 0.04, "shift": [0.01, 0]},
+        "kind": "velocity", "friction": {"kinetic": 0.25},
+        "model": {"centripetal": false, "tilt": true, "coriolis": false, "moving": true},
+        "numerics": {"steps_per_cycle": 32, "max_iterations": 50},
+        "grid": {"x": [0, 0], "y": [0, 0], "n": [1, 1]}
+    }));
+    let mut targets: Vec<Value> = examples()
+        .into_iter()
+        .map(|(_, text)| serde_json::from_str(&text).unwrap())
+        .collect();
+    targets.push(serde_json::json!({
+        "name": "sum", "grid": {"x": [-0.02, 0.02], "y": [-0.02, 0.02], "n": [5, 5]},
+        "field": {"kind": "sum", "terms": [{"weight": 0.5, "field": {"kind": "line_sink", "angle": 30}},
+                                           {"field": {"kind": "jet", "width": 0.004}}]},
+        "weights": [[1, 1, 1, 1, 1], [1, 1, 1, 1, 1], [1, 1, 1, 1, 1], [1, 1, 1, 1, 1], [1, 1, 1, 1, 1]],
+        "mask": [{"rect": {"x": [0, 0.01], "y": [0, 0.01]}}]
+    }));
+    (scenes, targets)
+}
+
+/// Every location in `v`: a path of object keys and array indices.
+#[derive(Clone, Debug)]
+enum Step {
+    Key(String),
+    Index(usize),
+}
+
+fn locations(v: &Value, here: &mut Vec<Step>, out: &mut Vec<Vec<Step>>) {
+    out.push(here.clone());
+    match v {
+        Value::Object(map) => {
+            for (k, child) in map {
+                here.push(Step::Key(k.clone()));
+                locations(child, here, out);
+                here.pop();
+            }
+        }
+        Value::Array(items) => {
+            for (i, child) in items.iter().enumerate() {
+                here.push(Step::Index(i));
+                locations(child, here, out);
+                here.pop();
+            }
+        }
+        _ => {}
+    }
+}
+
+fn at<'a>(v: &'a mut Value, path: &[Step]) -> &'a mut Value {
+    path.iter().fold(v, |v, step| match step {
+        Step::Key(k) => &mut v[k.as_str()],
+        Step::Index(i) => &mut v[*i],
+    })
+}
+
+/// Placeholder strings replaced in the text by tokens JSON cannot hold.
+const NAN: &str = "\"@NaN@\"";
+const INF: &str = "\"@-Infinity@\"";
+
+/// Applies mutation `kind` at location `which` of `v`; returns the text.
+fn mutate(mut v: Value, which: usize, kind: u8) -> String {
+    let mut all = Vec::new();
+    locations(&v, &mut Vec::new(), &mut all);
+    let path = all[which % all.len()].clone();
+    let (parent, last) = match path.split_last() {
+        Some((last, parent)) => (parent.to_vec(), Some(last.clone())),
+        None => (Vec::new(), None),
+    };
+    let target = at(&mut v, &path);
+    let number = target.as_f64();
+    match kind % 12 {
+        0 | 1 => {
+            // Delete a key, or misspell it.
+            if let (Some(Step::Key(k)), Value::Object(map)) = (last, at(&mut v, &parent)) {
+                if let Some(child) = map.remove(&k) {
+                    if kind % 12 == 1 {
+                        map.insert(format!("{k}x"), child);
+                    }
+                }
+            }
+        }
+        2 => *target = Value::from("wrong"),
+        3 => *target = Value::from(true),
+        4 => *target = Value::from(NAN.trim_matches('"')),
+        5 => *target = Value::from(INF.trim_matches('"')),
+        6 => *target = serde_json::json!(1e308),
+        7 => *target = serde_json::json!(-1e308),
+        8 => *target = serde_json::json!(-number.unwrap_or(1.0).abs() - 1.0),
+        9 => *target = serde_json::json!([]),
+        10 => *target = serde_json::json!(4_294_967_296_u64),
+        _ => *target = serde_json::json!({}),
+    }
+    v.to_string().replace(NAN, "NaN").replace(INF, "-Infinity")
+}
+
+/// An error message with a number of more than 20 digits.
+fn has_long_number(s: &str) -> bool {
+    s.split(|c: char| !c.is_ascii_digit())
+        .any(|run| run.len() > 20)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 1000, failure_persistence: None, ..ProptestConfig::default() })]
+
+    #[test]
+    fn mutated_scenes_load_or_name_a_path(base in 0usize..16, which in 0usize..10_000, kind in 0u8..12) {
+        let (scenes, _) = bases();
+        let text = mutate(scenes[base % scenes.len()].clone(), which, kind);
+        match Scene::from_json_str(&text) {
+            Ok(scene) => prop_assert!(scene.validate().is_ok()),
+            Err(Error::Invalid { field, message }) => {
+                prop_assert!(field.starts_with("scene"), "{field}: {message}\n{text}");
+                prop_assert!(!has_long_number(&message), "{field}: {message}");
+            }
+            Err(other) => prop_assert!(false, "unlocated error {other}\n{text}"),
+        }
+    }
+
+    #[test]
+    fn mutated_targets_load_or_name_a_path(base in 0usize..16, which in 0usize..10_000, kind in 0u8..12) {
+        let (_, targets) = bases();
+        let text = mutate(targets[base % targets.len()].clone(), which, kind);
+        let checked = Target::from_json_str(&text).and_then(|t| t.sample().map(|_| ()));
+        if let Err(e) = checked {
+            let message = e.to_string();
+            let path = e.field_path();
+            prop_assert!(path.is_some_and(|p| p.starts_with("target")), "{message}\n{text}");
+            prop_assert!(!has_long_number(&message), "{message}");
+        }
+    }
+}
