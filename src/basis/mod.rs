@@ -13,5 +13,5 @@ pub mod symmetry;
 pub mod table1;
 
 pub use cache::{BasisCache, CacheStatus};
-pub use library::{Library, LibraryEntry};
+pub use library::{FieldEntry, FieldLibrary, Library, LibraryEntry};
 pub use primitives::{Primitive, PrimitiveKind};

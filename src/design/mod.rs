@@ -264,12 +264,19 @@ pub fn design(target: &Target, opts: &DesignOptions) -> Result<Design> {
                 &primitives,
                 &source,
                 &opts.settings,
+                opts.kind,
                 opts.quiet,
             )?;
             (lib, format!("{status:?}"))
         }
         None => (
-            crate::basis::Library::build(&primitives, &source, &opts.settings, opts.quiet),
+            crate::basis::FieldLibrary::build(
+                &primitives,
+                &source,
+                &opts.settings,
+                opts.kind,
+                opts.quiet,
+            ),
             "no cache".to_string(),
         ),
     };
@@ -278,7 +285,6 @@ pub fn design(target: &Target, opts: &DesignOptions) -> Result<Design> {
     let t_fit = Instant::now();
     let basis = basis::assemble(
         &lib,
-        opts.kind,
         &angles,
         &opts.shifts,
         target_grid.as_ref(),
