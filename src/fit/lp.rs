@@ -1,6 +1,6 @@
 //! `L1` and `LInf` fits by column generation over small Clarabel LPs.
 //!
-//! The LPs of [`conic::solve_l1`] / [`conic::solve_linf`] carry one
+//! The LPs of [`crate::fit::conic::solve_l1`] / [`crate::fit::conic::solve_linf`] carry one
 //! residual row per weighted sample (`M ≈ 900` on a 21×21 target) and the
 //! dense `M×m` block `Â`; an interior-point iteration factors a KKT system
 //! whose elimination costs `O(M·m²)`, so the full basis (`m ≈ 190`) costs
@@ -14,7 +14,8 @@
 //!   and any feasible `w` (`w ≥ 0`, `1ᵀw ≤ 1`),
 //!   `‖Âw − t̂‖_p ≥ yᵀ(Âw − t̂) ≥ min(0, minⱼ (Âᵀy)ⱼ) − yᵀt̂ =: LB(y)`
 //!   (the weak-duality bound of [`mod@crate::fit::verify`]).
-//! * **Round.**  Solve the LP on `S` (weights outside `S` are 0, so its
+//! * **Round.**  Solve the LP on `S` (by [`mod@crate::fit::lp_rows`], which
+//!   passes only the residual rows that matter; weights outside `S` are 0, so its
 //!   optimum `UB` is attained by a feasible point of the full problem) and
 //!   take the certificate `y = z₁ − z₂` of its duals, projected onto the
 //!   dual-norm ball.  Over `S`, strong duality gives
@@ -35,7 +36,8 @@
 
 use nalgebra::DVector;
 
-use crate::fit::conic::{self, ConicOutcome};
+use crate::fit::conic::ConicOutcome;
+use crate::fit::lp_rows::solve_on_rows;
 use crate::fit::nnls::nnls_capped;
 use crate::fit::prepare::Prepared;
 use crate::fit::FitError;
@@ -94,7 +96,7 @@ pub(crate) fn column_generation(
     tol: f64,
 ) -> Result<(ConicOutcome, usize), FitError> {
     let m = prep.ncols();
-    let mut set = start_set(prep)?;
+    let (mut set, mut w) = start_set(prep)?;
     let obj0 = if l1 {
         prep.td.lp_norm(1)
     } else {
@@ -104,18 +106,15 @@ pub(crate) fn column_generation(
     loop {
         round += 1;
         let ad = prep.ad.select_columns(set.iter());
-        let mut out = if l1 {
-            conic::solve_l1(&ad, &prep.td)?
-        } else {
-            conic::solve_linf(&ad, &prep.td)?
-        };
+        let w0 = DVector::from_iterator(set.len(), set.iter().map(|&j| w[j]));
+        let mut out = solve_on_rows(&ad, &prep.td, l1, &w0)?;
         iterations += out.iterations;
         solve_time_s += out.solve_time_s;
-        let mut w = vec![0.0; m];
+        w = vec![0.0; m];
         for (k, &j) in set.iter().enumerate() {
-            w[j] = out.x[k];
+            w[j] = out.x.get(k).copied().unwrap_or(0.0);
         }
-        out.x = w;
+        out.x = w.clone();
         out.iterations = iterations;
         out.solve_time_s = solve_time_s;
         let usable = matches!(
@@ -149,23 +148,26 @@ pub(crate) fn column_generation(
 }
 
 /// The starting working set (sorted): the support of the capped
-/// least-squares fit, or the column best correlated with `t̂`.
-fn start_set(prep: &Prepared) -> Result<Vec<usize>, FitError> {
+/// least-squares fit, or the column best correlated with `t̂`; and the
+/// starting weights (that fit's, length `m`).
+fn start_set(prep: &Prepared) -> Result<(Vec<usize>, Vec<f64>), FitError> {
     let w = nnls_capped(&prep.r, &prep.c, 1.0)?;
     let set: Vec<usize> = (0..prep.ncols()).filter(|&j| w[j] > 0.0).collect();
+    let w: Vec<f64> = w.iter().copied().collect();
     if !set.is_empty() {
-        return Ok(set);
+        return Ok((set, w));
     }
     let corr = prep.ad.tr_mul(&prep.td);
     let best = (0..prep.ncols())
         .max_by(|&a, &b| corr[a].total_cmp(&corr[b]).then(b.cmp(&a)))
         .unwrap_or(0);
-    Ok(vec![best])
+    Ok((vec![best], w))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::fit::conic;
     use crate::fit::testutil::{plate_like_basis, random_vector, SplitMix64};
     use crate::fit::FitProblem;
     use clarabel::solver::SolverStatus;

@@ -79,6 +79,7 @@
 
 pub mod conic;
 pub mod lp;
+pub mod lp_rows;
 pub mod metrics;
 pub mod nnls;
 pub(crate) mod polish;
