@@ -250,7 +250,7 @@ pub fn assemble(
                             None => counts.push((validity[i], 1)),
                         }
                     }
-                    counts.sort_by(|a, b| b.1.cmp(&a.1));
+                    counts.sort_by_key(|c| std::cmp::Reverse(c.1));
                     excluded.push(Excluded {
                         label: label(&primitive),
                         invalid_samples: bad.len(),
