@@ -167,8 +167,9 @@ fn start_set(prep: &Prepared) -> Result<(Vec<usize>, Vec<f64>), FitError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fit::conic;
-    use crate::fit::testutil::{plate_like_basis, random_vector, SplitMix64};
+    use crate::fit::testutil::{
+        assert_matches_full_lp, plate_like_basis, random_vector, SplitMix64,
+    };
     use crate::fit::FitProblem;
     use clarabel::solver::SolverStatus;
 
@@ -187,35 +188,8 @@ mod tests {
         let prep = Prepared::new(&FitProblem::new(&a, &t)).unwrap();
         for l1 in [true, false] {
             let (cg, rounds) = column_generation(&prep, l1, 1e-6).unwrap();
-            let full = if l1 {
-                conic::solve_l1(&prep.ad, &prep.td).unwrap()
-            } else {
-                conic::solve_linf(&prep.ad, &prep.td).unwrap()
-            };
             assert_eq!(cg.status, SolverStatus::Solved);
-            assert_eq!(full.status, SolverStatus::Solved);
-            let norm = |x: &[f64]| {
-                let r = &prep.ad * DVector::from_column_slice(&x[..60]) - &prep.td;
-                if l1 {
-                    r.lp_norm(1)
-                } else {
-                    r.amax()
-                }
-            };
-            let obj0 = if l1 {
-                prep.td.lp_norm(1)
-            } else {
-                prep.td.amax()
-            };
-            let (o_cg, o_full) = (norm(&cg.x), norm(&full.x));
-            assert!(
-                (o_cg - o_full).abs() <= 1e-9 * obj0,
-                "l1={l1}: {o_cg} vs {o_full}"
-            );
-            let dw = (0..60)
-                .map(|j| (cg.x[j] - full.x[j]).abs())
-                .fold(0.0, f64::max);
-            assert!(dw < 1e-6, "l1={l1}: weights differ by {dw:.2e}");
+            assert_matches_full_lp(&prep.ad, &prep.td, &cg.x, l1);
             let support = (0..60).filter(|&j| cg.x[j] > 1e-9).count();
             assert!(support < 30, "l1={l1}: {support}");
             if l1 {
