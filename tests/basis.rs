@@ -8,8 +8,9 @@ use std::collections::HashSet;
 use std::path::PathBuf;
 
 use platefield::basis::primitives::PSI0;
-use platefield::basis::symmetry::{source_grid, transformed};
-use platefield::basis::{BasisCache, CacheStatus, Library, Primitive, PrimitiveKind};
+use platefield::basis::symmetry::{rotation_asymmetry, source_grid, transformed};
+use platefield::basis::{BasisCache, CacheStatus, FieldLibrary, Library, Primitive, PrimitiveKind};
+use platefield::design::basis::{assemble, ExclusionReason, ISOTROPY_TOL};
 use platefield::field::{Field, FieldKind, FieldSettings, Grid, Validity};
 use platefield::studies::rung::{choose_rung, DEFAULT_RUNG_TOLERANCE};
 
@@ -283,34 +284,58 @@ fn tiny() -> (Vec<Primitive>, Grid, FieldSettings) {
     )
 }
 
-/// A stored library loads back equal (bitwise: `Library: PartialEq` on
-/// f64), and `get_or_build` builds once, then hits.
+/// A stored library loads back equal (bitwise: `FieldLibrary: PartialEq`
+/// on f64), and `get_or_build` builds once, then hits. A velocity library
+/// holds velocity fields only, equal to those of the two-kind
+/// [`Library::build`]; asking for force fields afterwards is a different
+/// key (built, not a hit), and the velocity hit never needed them.
 #[test]
 fn cache_round_trips_and_hits() {
     let (prims, grid, s) = tiny();
+    let v = FieldKind::Velocity;
     let cache = BasisCache::new(cache_dir("roundtrip"));
-    let key = BasisCache::key(&prims, &grid, &s);
+    let key = BasisCache::key(&prims, &grid, &s, v);
     assert!(cache.load(&key).is_none());
-    let (built, status) = cache.get_or_build(&prims, &grid, &s, true).expect("build");
+    let (built, status) = cache
+        .get_or_build(&prims, &grid, &s, v, true)
+        .expect("build");
     assert_eq!(status, CacheStatus::Built);
-    assert_eq!(built, Library::build(&prims, &grid, &s, true));
+    assert_eq!(built, FieldLibrary::build(&prims, &grid, &s, v, true));
+    assert_eq!(built.kind, v);
+    assert!(built.entries.iter().all(|e| e.field.kind == v));
+    let both = Library::build(&prims, &grid, &s, true);
+    for (e, b) in built.entries.iter().zip(&both.entries) {
+        assert_eq!(e.field, b.velocity);
+    }
     assert_eq!(cache.load(&key).as_ref(), Some(&built));
-    let (again, status) = cache.get_or_build(&prims, &grid, &s, true).expect("hit");
+    let (again, status) = cache.get_or_build(&prims, &grid, &s, v, true).expect("hit");
     assert_eq!(status, CacheStatus::Hit);
     assert_eq!(again, built);
+    let f = FieldKind::Force;
+    let (forces, status) = cache
+        .get_or_build(&prims, &grid, &s, f, true)
+        .expect("force");
+    assert_eq!(status, CacheStatus::Built);
+    for (e, b) in forces.entries.iter().zip(&both.entries) {
+        assert_eq!(e.field, b.force);
+    }
+    let (again, status) = cache.get_or_build(&prims, &grid, &s, v, true).expect("hit");
+    assert_eq!((status, again), (CacheStatus::Hit, built.clone()));
     // store/load directly, under another key.
-    let other = BasisCache::key(&prims[..1], &grid, &s);
+    let other = BasisCache::key(&prims[..1], &grid, &s, v);
     cache.store(&other, &built).expect("store");
     assert_eq!(cache.load(&other), Some(built));
 }
 
-/// Every setting, grid parameter and primitive parameter is in the key:
-/// 29 variations of the base give 30 distinct keys, and the key is stable.
+/// Every setting, grid parameter and primitive parameter, and the field
+/// kind, is in the key: 29 variations of the base give 30 distinct
+/// velocity keys, plus the base's force key, and the key is stable.
 #[test]
 fn cache_key_covers_every_setting() {
     let (prims, grid, s) = tiny();
-    let base = BasisCache::key(&prims, &grid, &s);
-    assert_eq!(base, BasisCache::key(&prims, &grid, &s));
+    let v = FieldKind::Velocity;
+    let base = BasisCache::key(&prims, &grid, &s, v);
+    assert_eq!(base, BasisCache::key(&prims, &grid, &s, v));
     assert_eq!(base.len(), 64);
     let mut variants: Vec<(Vec<Primitive>, Grid, FieldSettings)> = Vec::new();
     let mut set = |f: &dyn Fn(&mut FieldSettings)| {
@@ -366,8 +391,13 @@ fn cache_key_covers_every_setting() {
     let mut keys: HashSet<String> = HashSet::new();
     keys.insert(base);
     for (p, g, t) in &variants {
-        assert!(keys.insert(BasisCache::key(p, g, t)), "{p:?} {g:?} {t:?}");
+        assert!(
+            keys.insert(BasisCache::key(p, g, t, v)),
+            "{p:?} {g:?} {t:?}"
+        );
     }
+    assert!(keys.insert(BasisCache::key(&prims, &grid, &s, FieldKind::Force)));
+    assert_eq!(keys.len(), 31);
 }
 
 /// A truncated file and a flipped byte (a digit changed inside the payload,
@@ -378,11 +408,14 @@ fn cache_key_covers_every_setting() {
 fn corrupt_cache_files_are_rebuilt() {
     let (prims, grid, s) = tiny();
     let cache = BasisCache::new(cache_dir("corrupt"));
-    let key = BasisCache::key(&prims, &grid, &s);
-    let (good, _) = cache.get_or_build(&prims, &grid, &s, true).expect("build");
+    let v = FieldKind::Velocity;
+    let key = BasisCache::key(&prims, &grid, &s, v);
+    let (good, _) = cache
+        .get_or_build(&prims, &grid, &s, v, true)
+        .expect("build");
     let path = cache.path(&key);
     let bytes = std::fs::read(&path).expect("cache file");
-    assert!(bytes.starts_with(b"{\"format\":1,\"key\":\""));
+    assert!(bytes.starts_with(b"{\"format\":2,\"key\":\""));
 
     let truncated = bytes[..bytes.len() * 2 / 3].to_vec();
     // A digit in the middle of the payload, changed to another digit.
@@ -401,7 +434,7 @@ fn corrupt_cache_files_are_rebuilt() {
         std::fs::write(&path, &corrupt).expect("write");
         assert!(cache.load(&key).is_none(), "{what}: loaded a corrupt file");
         let (lib, status) = cache
-            .get_or_build(&prims, &grid, &s, true)
+            .get_or_build(&prims, &grid, &s, v, true)
             .expect("rebuild");
         match &status {
             CacheStatus::Rebuilt { reason } => {
@@ -457,4 +490,82 @@ fn out_of_plane_motion_needs_more_than_the_paper_model() {
     assert!(r.rungs[0].error > DEFAULT_RUNG_TOLERANCE, "{r:?}");
     assert!(r.error <= DEFAULT_RUNG_TOLERANCE, "{r:?}");
     assert!(r.reason.contains("out-of-plane"), "{}", r.reason);
+}
+
+/// Isotropy by symmetry of the simulated field (not by name): on a 17×17
+/// grid over ±4 cm (force fields, 4 phases), Circle changes by less than
+/// [`ISOTROPY_TOL`] under rotations by 15°, 30° and 90° (resampling error
+/// only), LineSink and Trans by more than 0.2 (Trans, a uniform field:
+/// 2 sin 7.5° = 0.261 to 1e-6 at 15°). Assembled every 15°, the basis keeps
+/// Circle at 0° only and reports its 23 rotated copies as isotropic copies
+/// of `Circle@0°`, while LineSink and Trans keep all their valid copies.
+#[test]
+fn isotropic_copies_are_left_out() {
+    let grid = Grid {
+        n: [17, 17],
+        ..GRID9
+    };
+    let s = settings(4);
+    let kinds = [
+        PrimitiveKind::Circle,
+        PrimitiveKind::LineSink,
+        PrimitiveKind::Trans,
+    ];
+    let prims: Vec<Primitive> = kinds.iter().map(|k| Primitive::new(*k)).collect();
+    let lib = FieldLibrary::build(&prims, &grid, &s, FieldKind::Force, true);
+    for (e, k) in lib.entries.iter().zip(kinds) {
+        for deg in [15.0f64, 30.0, 90.0] {
+            let change = rotation_asymmetry(&e.field, deg.to_radians()).expect("overlap");
+            if k == PrimitiveKind::Circle {
+                assert!(change < ISOTROPY_TOL, "{k:?} {deg}°: {change}");
+            } else {
+                assert!(change > 0.2, "{k:?} {deg}°: {change}");
+            }
+            if k == PrimitiveKind::Trans && deg == 15.0 {
+                let exact = 2.0 * 7.5f64.to_radians().sin();
+                assert!((change - exact).abs() < 1e-6, "{change} vs {exact}");
+            }
+        }
+    }
+    let rotations: Vec<f64> = (0..24).map(|i| 15.0 * i as f64).collect();
+    let points = grid.points();
+    let weights = vec![1.0; points.len()];
+    let basis = assemble(
+        &lib,
+        &rotations,
+        &[[0.0, 0.0]],
+        Some(&grid),
+        &points,
+        &weights,
+        true,
+    );
+    let count = |name: &str| {
+        basis
+            .columns
+            .iter()
+            .filter(|c| c.primitive.kind.name() == name)
+            .count()
+    };
+    assert_eq!(count("Circle"), 1);
+    assert_eq!(count("LineSink"), 24);
+    assert_eq!(count("Trans"), 24);
+    let iso: Vec<_> = basis
+        .excluded
+        .iter()
+        .filter(|x| matches!(x.reason, ExclusionReason::IsotropicCopy { .. }))
+        .collect();
+    assert_eq!(iso.len(), 23);
+    for x in iso {
+        assert!(x.label.starts_with("Circle@"), "{}", x.label);
+        match &x.reason {
+            ExclusionReason::IsotropicCopy {
+                copy_of,
+                rotation_change,
+            } => {
+                assert_eq!(copy_of, "Circle@0°");
+                assert!(*rotation_change < ISOTROPY_TOL);
+            }
+            other => panic!("{other:?}"),
+        }
+    }
 }

@@ -1,12 +1,15 @@
 //! A content-addressed cache of built primitive libraries.
 //!
-//! Building the library (8 primitives × 2 fields on a grid) takes seconds to
-//! minutes; the result depends only on its inputs, so it is stored under
-//! the hash of those inputs and reused.
+//! Building a library (8 primitives on a grid, one [`FieldKind`] each)
+//! takes seconds to minutes; the result depends only on its inputs, so it
+//! is stored under the hash of those inputs and reused. A cached
+//! [`FieldLibrary`] holds the fields of one kind only (a design of the
+//! default velocity basis neither builds nor needs force fields).
 //!
 //! * **Key**: hex SHA-256 of a canonical serialization (compact JSON, fields
 //!   in declaration order, shortest round-trip floats) of everything that
-//!   determines the library: the primitives with all their parameters, in
+//!   determines the library: the field kind it holds (`"force"` or
+//!   `"velocity"`), the primitives with all their parameters, in
 //!   order, and the motions they resolve to (so a change of a primitive's
 //!   defaults or waveform is a new key); the grid; the field settings
 //!   (friction, gravity, model switches, numerics, phases, frozen-excursion
@@ -15,7 +18,7 @@
 //!   the simulator's code without a version bump is not seen: bump the
 //!   version, or [`FORMAT`], or clear the folder.)
 //! * **File**: `<dir>/<key>.json`, exactly
-//!   `{"format":1,"key":"<key>","payload_sha256":"<hash>","payload":<Library>}`
+//!   `{"format":2,"key":"<key>","payload_sha256":"<hash>","payload":<FieldLibrary>}`
 //!   and a newline, written atomically ([`crate::output::write_atomic`]).
 //!   `payload_sha256` is the SHA-256 of the payload's bytes as written.
 //! * **Load** never trusts a file: it is used only if it parses, has this
@@ -32,14 +35,15 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
-use super::library::Library;
+use super::library::FieldLibrary;
 use super::primitives::Primitive;
 use crate::error::{Error, Result};
-use crate::field::{FieldSettings, Grid};
+use crate::field::{FieldKind, FieldSettings, Grid};
 use crate::output::write_atomic;
 
-/// Version of the cache file layout and key serialization.
-pub const FORMAT: u32 = 1;
+/// Version of the cache file layout and key serialization (2: one field
+/// kind per file, the kind in the key).
+pub const FORMAT: u32 = 2;
 
 /// What [`BasisCache::get_or_build`] did.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize)]
@@ -68,6 +72,7 @@ struct KeyInput<'a> {
     what: &'static str,
     format: u32,
     version: &'static str,
+    kind: FieldKind,
     primitives: &'a [Primitive],
     /// The resolved motions: defaults and waveforms are part of the key,
     /// so a change of a primitive's definition invalidates the cache.
@@ -132,13 +137,19 @@ impl BasisCache {
         self.dir.join(format!("{key}.json"))
     }
 
-    /// Hex SHA-256 of everything that determines the library (see the
-    /// module docs).
-    pub fn key(primitives: &[Primitive], grid: &Grid, settings: &FieldSettings) -> String {
+    /// Hex SHA-256 of everything that determines the library of `kind`
+    /// fields (see the module docs).
+    pub fn key(
+        primitives: &[Primitive],
+        grid: &Grid,
+        settings: &FieldSettings,
+        kind: FieldKind,
+    ) -> String {
         let input = KeyInput {
             what: "platefield basis library",
             format: FORMAT,
             version: env!("CARGO_PKG_VERSION"),
+            kind,
             primitives,
             motions: primitives.iter().map(Primitive::motion).collect(),
             grid,
@@ -152,11 +163,11 @@ impl BasisCache {
 
     /// The library stored under `key`, or `None` when there is none or the
     /// file is not trustworthy (see the module docs).
-    pub fn load(&self, key: &str) -> Option<Library> {
+    pub fn load(&self, key: &str) -> Option<FieldLibrary> {
         self.check(key).ok()
     }
 
-    fn check(&self, key: &str) -> std::result::Result<Library, Miss> {
+    fn check(&self, key: &str) -> std::result::Result<FieldLibrary, Miss> {
         if !is_key(key) {
             return Err(Miss::Bad(format!("\"{key}\" is not a hex SHA-256 key")));
         }
@@ -197,7 +208,7 @@ impl BasisCache {
 
     /// Stores `lib` under `key`, atomically. Fails (and writes nothing) if
     /// the library would not load back bitwise equal (non-finite values).
-    pub fn store(&self, key: &str, lib: &Library) -> Result<()> {
+    pub fn store(&self, key: &str, lib: &FieldLibrary) -> Result<()> {
         let path = self.path(key);
         if !is_key(key) {
             return Err(Error::invalid(
@@ -208,7 +219,7 @@ impl BasisCache {
         let payload = serde_json::to_vec(lib).map_err(|e| {
             Error::Physical(format!("{}: cannot serialize library: {e}", path.display()))
         })?;
-        let back: Option<Library> = serde_json::from_slice(&payload).ok();
+        let back: Option<FieldLibrary> = serde_json::from_slice(&payload).ok();
         if back.as_ref() != Some(lib) {
             return Err(Error::Physical(format!(
                 "{}: library does not round-trip through JSON (non-finite values?); not cached",
@@ -221,7 +232,7 @@ impl BasisCache {
         write_atomic(&path, &bytes)
     }
 
-    /// The library of `primitives` on `grid` with `settings`: loaded from
+    /// The `kind` fields of `primitives` on `grid` with `settings`: loaded from
     /// the cache when a trustworthy file exists, else built (with a progress
     /// bar unless `quiet`) and stored. Inputs are validated first, and the
     /// cache folder is created before the build so an unwritable cache
@@ -231,8 +242,9 @@ impl BasisCache {
         primitives: &[Primitive],
         grid: &Grid,
         settings: &FieldSettings,
+        kind: FieldKind,
         quiet: bool,
-    ) -> Result<(Library, CacheStatus)> {
+    ) -> Result<(FieldLibrary, CacheStatus)> {
         grid.validate("grid")?;
         settings.friction.validate("settings.friction")?;
         settings.numerics.validate("settings.numerics")?;
@@ -244,11 +256,12 @@ impl BasisCache {
         for (i, p) in primitives.iter().enumerate() {
             p.validate(&format!("primitives[{i}]"))?;
         }
-        let key = Self::key(primitives, grid, settings);
+        let key = Self::key(primitives, grid, settings, kind);
         let status = match self.check(&key) {
             Ok(lib) => {
                 let same = lib.grid == *grid
                     && lib.settings == *settings
+                    && lib.kind == kind
                     && lib.entries.len() == primitives.len()
                     && lib
                         .entries
@@ -269,7 +282,7 @@ impl BasisCache {
             path: self.dir.display().to_string(),
             source: e,
         })?;
-        let lib = Library::build(primitives, grid, settings, quiet);
+        let lib = FieldLibrary::build(primitives, grid, settings, kind, quiet);
         self.store(&key, &lib)?;
         Ok((lib, status))
     }

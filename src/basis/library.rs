@@ -1,4 +1,7 @@
-//! The primitive library simulated into force and velocity fields.
+//! The primitive library simulated into fields: [`FieldLibrary`] holds one
+//! field kind (what a design needs: the default velocity basis never uses
+//! force fields, which were a third of a cold design's time), [`Library`]
+//! both kinds (what `platefield primitives` reports).
 
 use std::io::IsTerminal;
 
@@ -17,6 +20,59 @@ pub struct LibraryEntry {
     pub force: Field,
     /// Steady-state velocity field.
     pub velocity: Field,
+}
+
+/// One primitive with its field of a [`FieldLibrary`]'s kind.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FieldEntry {
+    /// The primitive and its parameters.
+    pub primitive: Primitive,
+    /// Its field (zero-velocity force or steady-state velocity).
+    pub field: Field,
+}
+
+/// The primitives simulated into fields of one kind only.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FieldLibrary {
+    /// Sampling grid.
+    pub grid: Grid,
+    /// Field settings (model, friction, numerics, phases).
+    pub settings: FieldSettings,
+    /// The kind of every field held.
+    pub kind: FieldKind,
+    /// The entries, in the order requested.
+    pub entries: Vec<FieldEntry>,
+}
+
+impl FieldLibrary {
+    /// Simulates the `kind` field of each primitive (and nothing else).
+    pub fn build(
+        primitives: &[Primitive],
+        grid: &Grid,
+        settings: &FieldSettings,
+        kind: FieldKind,
+        quiet: bool,
+    ) -> FieldLibrary {
+        let bar = progress_bar((primitives.len() * grid.len()) as u64, quiet);
+        let entries = primitives
+            .iter()
+            .map(|p| {
+                bar.set_message(p.kind.name());
+                let tick = || bar.inc(1);
+                FieldEntry {
+                    primitive: p.clone(),
+                    field: Field::compute(&p.motion(), grid, kind, settings, &tick),
+                }
+            })
+            .collect();
+        bar.finish_and_clear();
+        FieldLibrary {
+            grid: *grid,
+            settings: *settings,
+            kind,
+            entries,
+        }
+    }
 }
 
 /// A built library.
@@ -45,28 +101,26 @@ pub fn progress_bar(total: u64, quiet: bool) -> ProgressBar {
 }
 
 impl Library {
-    /// Simulates the force and velocity fields of each primitive.
+    /// Simulates the force and velocity fields of each primitive (two
+    /// [`FieldLibrary`] builds, force first).
     pub fn build(
         primitives: &[Primitive],
         grid: &Grid,
         settings: &FieldSettings,
         quiet: bool,
     ) -> Library {
-        let bar = progress_bar(2 * (primitives.len() * grid.len()) as u64, quiet);
-        let entries = primitives
-            .iter()
-            .map(|p| {
-                bar.set_message(p.kind.name());
-                let motion = p.motion();
-                let tick = || bar.inc(1);
-                LibraryEntry {
-                    primitive: p.clone(),
-                    force: Field::compute(&motion, grid, FieldKind::Force, settings, &tick),
-                    velocity: Field::compute(&motion, grid, FieldKind::Velocity, settings, &tick),
-                }
+        let force = FieldLibrary::build(primitives, grid, settings, FieldKind::Force, quiet);
+        let velocity = FieldLibrary::build(primitives, grid, settings, FieldKind::Velocity, quiet);
+        let entries = force
+            .entries
+            .into_iter()
+            .zip(velocity.entries)
+            .map(|(f, v)| LibraryEntry {
+                primitive: f.primitive,
+                force: f.field,
+                velocity: v.field,
             })
             .collect();
-        bar.finish_and_clear();
         Library {
             grid: *grid,
             settings: *settings,

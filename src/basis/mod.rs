@@ -9,5 +9,5 @@ pub mod primitives;
 pub mod symmetry;
 
 pub use cache::{BasisCache, CacheStatus};
-pub use library::{Library, LibraryEntry};
+pub use library::{FieldEntry, FieldLibrary, Library, LibraryEntry};
 pub use primitives::{Primitive, PrimitiveKind};

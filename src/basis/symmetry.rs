@@ -227,6 +227,38 @@ pub fn transformed(field: &Field, angle: f64, shift: [f64; 2], grid: &Grid) -> F
     }
 }
 
+/// How much a field changes when it is rotated by `angle` (rad) about the
+/// vertical through the origin: with F' = [`transformed`]`(F, angle, 0)` on
+/// F's own grid and K the nodes where both F and F' are valid,
+///
+/// ```text
+/// asymmetry = ‖F' − F‖₂,K / ‖F‖₂,K      (L2 norms over the nodes K).
+/// ```
+///
+/// A field symmetric under the rotation (isotropic, e.g. that of a circular
+/// translation, whose rotated motion differs only by a phase shift) gives
+/// the resampling error alone (see the module docs); any other gives a
+/// change of order one. `None` when fewer than half of F's valid nodes can
+/// be compared (the rotated grid leaves too little overlap) or F vanishes
+/// there.
+pub fn rotation_asymmetry(field: &Field, angle: f64) -> Option<f64> {
+    let rotated = transformed(field, angle, [0.0, 0.0], &field.grid);
+    let (mut diff, mut norm, mut compared) = (0.0, 0.0, 0usize);
+    for (k, (f, r)) in field.vectors.iter().zip(&rotated.vectors).enumerate() {
+        if field.validity[k] == Validity::Ok && rotated.validity[k] == Validity::Ok {
+            diff += (r[0] - f[0]).powi(2) + (r[1] - f[1]).powi(2);
+            norm += f[0] * f[0] + f[1] * f[1];
+            compared += 1;
+        }
+    }
+    let valid = field
+        .validity
+        .iter()
+        .filter(|v| **v == Validity::Ok)
+        .count();
+    (2 * compared >= valid && compared > 0 && norm > 0.0).then(|| (diff / norm).sqrt())
+}
+
 /// A square grid with the target grid's spacing (its smaller one; 1 mm for
 /// a single-point target) whose nodes lie on the target's lattice, covering
 /// the preimage Rᵀ(p − s) of the target rectangle under every combination

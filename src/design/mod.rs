@@ -260,12 +260,19 @@ pub fn design(target: &Target, opts: &DesignOptions) -> Result<Design> {
                 &primitives,
                 &source,
                 &opts.settings,
+                opts.kind,
                 opts.quiet,
             )?;
             (lib, format!("{status:?}"))
         }
         None => (
-            crate::basis::Library::build(&primitives, &source, &opts.settings, opts.quiet),
+            crate::basis::FieldLibrary::build(
+                &primitives,
+                &source,
+                &opts.settings,
+                opts.kind,
+                opts.quiet,
+            ),
             "no cache".to_string(),
         ),
     };
@@ -274,7 +281,6 @@ pub fn design(target: &Target, opts: &DesignOptions) -> Result<Design> {
     let t_fit = Instant::now();
     let basis = basis::assemble(
         &lib,
-        opts.kind,
         &angles,
         &opts.shifts,
         target_grid.as_ref(),

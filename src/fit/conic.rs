@@ -344,7 +344,20 @@ pub fn solve_budget(
 /// so `y = z₁ − z₂ ∈ [−1, 1]^M` (stored in [`ConicOutcome::lp_dual`])
 /// certifies optimality (see [`mod@crate::fit::verify`]).
 pub fn solve_l1(ad: &DMatrix<f64>, td: &DVector<f64>) -> Result<ConicOutcome, FitError> {
-    solve_lp(ad, td, true)
+    solve_lp(ad, td, true, &[])
+}
+
+/// [`solve_l1`] with an extra linear term `gᵀw` in the objective
+/// (`min gᵀw + 1ᵀu`, same constraints): the L1 fit in which the residual
+/// rows of known sign are aggregated into `g` (see
+/// [`crate::fit::lp`]).  The dual certificate of the rows passed is in
+/// [`ConicOutcome::lp_dual`].
+pub fn solve_l1_linear(
+    ad: &DMatrix<f64>,
+    td: &DVector<f64>,
+    g: &[f64],
+) -> Result<ConicOutcome, FitError> {
+    solve_lp(ad, td, true, g)
 }
 
 /// L∞ fit as a linear program: variables `x = (w, r, τ) ∈ ℝ^{m+M+1}`,
@@ -356,10 +369,17 @@ pub fn solve_l1(ad: &DMatrix<f64>, td: &DVector<f64>) -> Result<ConicOutcome, Fi
 ///
 /// At stationarity `1ᵀ(z₁ + z₂) = 1`, so `y = z₁ − z₂` has `‖y‖₁ ≤ 1`.
 pub fn solve_linf(ad: &DMatrix<f64>, td: &DVector<f64>) -> Result<ConicOutcome, FitError> {
-    solve_lp(ad, td, false)
+    solve_lp(ad, td, false, &[])
 }
 
-fn solve_lp(ad: &DMatrix<f64>, td: &DVector<f64>, l1: bool) -> Result<ConicOutcome, FitError> {
+/// The L1 / L∞ LP; `g` (empty, or one entry per column) is added to the
+/// objective as `gᵀw`.
+fn solve_lp(
+    ad: &DMatrix<f64>,
+    td: &DVector<f64>,
+    l1: bool,
+    g: &[f64],
+) -> Result<ConicOutcome, FitError> {
     let (mr, m) = ad.shape();
     // Column of the bound variable for row i.
     let nb = if l1 { mr } else { 1 };
@@ -385,6 +405,9 @@ fn solve_lp(ad: &DMatrix<f64>, td: &DVector<f64>, l1: bool) -> Result<ConicOutco
     bld.cone(NonnegativeConeT(2 * mr + m + 1));
     let mut q = vec![0.0; m + mr + nb];
     q[m + mr..].iter_mut().for_each(|v| *v = 1.0);
+    for (qj, gj) in q.iter_mut().zip(g) {
+        *qj = *gj;
+    }
     let mut out = bld.solve(q, TOL_TIGHT, if l1 { "l1" } else { "l_inf" })?;
     if out.z.len() >= 3 * mr {
         out.lp_dual = (0..mr).map(|i| out.z[mr + i] - out.z[2 * mr + i]).collect();

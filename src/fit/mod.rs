@@ -51,7 +51,10 @@
 //!   the polished point replaces the interior-point one only if its KKT
 //!   residual is not larger ([`FitSolution::polished`]).
 //! * `L1` and `LInf` are linear programs on the full rows with explicit
-//!   residual variables.
+//!   residual variables, solved by column generation ([`mod@lp`]): LPs on
+//!   a small working set of columns, grown by the columns whose reduced
+//!   cost under the LP's dual certificate is negative, until the
+//!   weak-duality bound over all columns meets the working-set optimum.
 //!
 //! # Verification
 //!
@@ -75,6 +78,8 @@
 //! reported objectives are converted back to the caller's units.
 
 pub mod conic;
+pub mod lp;
+pub mod lp_rows;
 pub mod metrics;
 pub mod nnls;
 pub(crate) mod polish;
@@ -400,8 +405,8 @@ pub(crate) fn solve_prepared(
             }
         }
         FitMode::Budget { rel_error } => conic::solve_budget(&prep.r, &prep.c, prep.r0, rel_error)?,
-        FitMode::L1 => conic::solve_l1(&prep.ad, &prep.td)?,
-        FitMode::LInf => conic::solve_linf(&prep.ad, &prep.td)?,
+        FitMode::L1 => lp::solve_lp_mode(prep, true, tol)?,
+        FitMode::LInf => lp::solve_lp_mode(prep, false, tol)?,
     };
     let status = outcome.status.to_string();
     let solved = outcome.status == clarabel::solver::SolverStatus::Solved;

@@ -132,3 +132,33 @@ pub fn plate_like_basis(rng: &mut SplitMix64, g: usize, m: usize) -> DMatrix<f64
     }
     from_columns(&cols)
 }
+
+/// Solves the L1 (`l1`) or L∞ LP on all rows and columns of `a`, `t`
+/// directly and asserts that `x` (at least `a.ncols()` entries: the
+/// weights first) reaches its objective to 1e-9·‖t‖_p and its weights to
+/// 1e-6, and that the direct LP ends `Solved`.  Returns `x`'s objective.
+pub(crate) fn assert_matches_full_lp(
+    a: &DMatrix<f64>,
+    t: &DVector<f64>,
+    x: &[f64],
+    l1: bool,
+) -> f64 {
+    let m = a.ncols();
+    let full = if l1 {
+        crate::fit::conic::solve_l1(a, t).unwrap()
+    } else {
+        crate::fit::conic::solve_linf(a, t).unwrap()
+    };
+    assert_eq!(full.status, clarabel::solver::SolverStatus::Solved);
+    let norm = |r: &DVector<f64>| if l1 { r.lp_norm(1) } else { r.amax() };
+    let obj0 = norm(t);
+    let obj = |w: &[f64]| norm(&(a * DVector::from_column_slice(&w[..m]) - t));
+    let (o, o_full) = (obj(x), obj(&full.x));
+    assert!(
+        (o - o_full).abs() <= 1e-9 * obj0,
+        "l1={l1}: {o} vs {o_full}"
+    );
+    let dw = (0..m).map(|j| (x[j] - full.x[j]).abs()).fold(0.0, f64::max);
+    assert!(dw < 1e-6, "l1={l1}: weights differ by {dw:.2e}");
+    o
+}

@@ -46,7 +46,8 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use crate::fit::conic::{self, ConicOutcome};
+use crate::fit::conic::ConicOutcome;
+use crate::fit::lp::{dual_bound, project_dual, solve_lp_mode};
 use crate::fit::nnls::{nnls_capped, nnls_detailed};
 use crate::fit::prepare::Prepared;
 use crate::fit::{validate_mode, FitError, FitMode, FitProblem};
@@ -244,11 +245,7 @@ pub(crate) fn verify_prepared(
             let out = match outcome {
                 Some(o) => o,
                 None => {
-                    owned = if matches!(mode, FitMode::L1) {
-                        conic::solve_l1(&prep.ad, &prep.td)?
-                    } else {
-                        conic::solve_linf(&prep.ad, &prep.td)?
-                    };
+                    owned = solve_lp_mode(prep, matches!(mode, FitMode::L1), tol)?;
                     &owned
                 }
             };
@@ -303,26 +300,13 @@ pub(crate) fn ls_kkt_residual(prep: &Prepared, w: &DVector<f64>, sum_cap: bool) 
 /// for L1, the unit ℓ₁ ball for L∞ by scaling).  Both `y` and `−y` are
 /// valid; the larger bound is returned.
 fn lp_lower_bound(ad: &DMatrix<f64>, td: &DVector<f64>, y: &[f64], l1: bool) -> f64 {
-    let mr = ad.nrows();
-    if y.len() != mr {
+    if y.len() != ad.nrows() {
         return f64::NEG_INFINITY;
     }
-    let mut y = DVector::from_column_slice(y);
-    if l1 {
-        y.apply(|v| *v = v.clamp(-1.0, 1.0));
-    } else {
-        let n1 = y.lp_norm(1);
-        if n1 > 1.0 {
-            y /= n1;
-        }
-    }
-    let bound = |y: &DVector<f64>| -> f64 {
-        let aty = ad.tr_mul(y);
-        aty.min().min(0.0) - y.dot(td)
-    };
-    let b1 = bound(&y);
-    let b2 = bound(&(-y));
-    b1.max(b2)
+    let y = project_dual(y, l1);
+    let aty = ad.tr_mul(&y);
+    let yt = y.dot(td);
+    dual_bound(&aty, yt, None).max(dual_bound(&-aty, -yt, None))
 }
 
 /// Verify a candidate answer given in the caller's terms (time fractions

@@ -18,7 +18,7 @@ pub fn schedule_json(d: &Design) -> String {
 pub fn summary(d: &Design) -> String {
     let s = &d.schedule;
     let mut out = format!(
-        "target \"{}\": {} basis fields ({} left out as invalid in the region), mode {}, solver {} in {} iterations\n",
+        "target \"{}\": {} basis fields ({} left out: invalid in the region or rotated copies of isotropic fields), mode {}, solver {} in {} iterations\n",
         s.target,
         d.basis.columns.len(),
         d.basis.excluded.len(),
@@ -143,7 +143,7 @@ pub fn report_md(d: &Design) -> String {
         for e in &d.basis.excluded {
             let _ = writeln!(
                 md,
-                "| {} | {} | {:?} |",
+                "| {} | {} | {} |",
                 e.label, e.invalid_samples, e.reason
             );
         }

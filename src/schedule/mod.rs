@@ -77,6 +77,37 @@ pub struct SolverInfo {
     pub independent_gap: f64,
 }
 
+/// Why a column was left out.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum ExclusionReason {
+    /// Invalid somewhere in the region: the most common flag.
+    Invalid(Validity),
+    /// A rotated copy of an isotropic primitive (see the module docs).
+    IsotropicCopy {
+        /// Label of the copy kept (rotation 0, same shift).
+        copy_of: String,
+        /// Relative L2 change of the source field under this copy's
+        /// rotation ([`crate::basis::symmetry::rotation_asymmetry`]).
+        rotation_change: f64,
+    },
+}
+
+impl std::fmt::Display for ExclusionReason {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ExclusionReason::Invalid(v) => write!(f, "{v:?}"),
+            ExclusionReason::IsotropicCopy {
+                copy_of,
+                rotation_change,
+            } => write!(
+                f,
+                "isotropic: rotated copy of {copy_of} (field changes by {rotation_change:.1e})"
+            ),
+        }
+    }
+}
+
 /// A basis column left out of the fit.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -85,8 +116,8 @@ pub struct ExcludedColumn {
     pub invalid_samples: usize,
     /// Primitive name with rotation and shift.
     pub label: String,
-    /// The most common reason.
-    pub reason: Validity,
+    /// Why: for invalid columns, the most common flag.
+    pub reason: ExclusionReason,
 }
 
 /// A basis column kept although it is invalid at some target points
