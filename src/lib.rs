@@ -22,6 +22,7 @@ pub mod output;
 pub mod plot;
 pub mod reproduce;
 pub mod scene;
+pub mod synth;
 pub mod target;
 pub mod verify;
 
