@@ -10,6 +10,7 @@ use platefield::basis::{Primitive, PrimitiveKind};
 use platefield::field::{Field, FieldKind, FieldSettings, Grid};
 use platefield::motion::sample_hold::{self, CentreState, Segment};
 use platefield::motion::{Motion, Signals};
+use platefield::synth::params::{Coefficients, Layout};
 use platefield::synth::progress::ProgressMode;
 use platefield::synth::seed::seed;
 use platefield::synth::{synthesize, ShakerLimits, SynthOptions};
@@ -57,6 +58,18 @@ fn rel_diff(a: &[[f64; 2]], b: &[[f64; 2]]) -> f64 {
         n += y[0] * y[0] + y[1] * y[1];
     }
     (e / n).sqrt()
+}
+
+/// Best complex scale z = ⟨b, a⟩/⟨b, b⟩ taking b onto a (vectors as
+/// complex numbers): |z| is the strength ratio, arg z the turn (deg).
+fn complex_scale(a: &[[f64; 2]], b: &[[f64; 2]]) -> (f64, f64) {
+    let (mut re, mut im, mut n) = (0.0, 0.0, 0.0);
+    for (x, y) in a.iter().zip(b) {
+        re += x[0] * y[0] + x[1] * y[1];
+        im += x[1] * y[0] - x[0] * y[1];
+        n += y[0] * y[0] + y[1] * y[1];
+    }
+    ((re / n).hypot(im / n), im.atan2(re).to_degrees())
 }
 
 #[test]
@@ -185,12 +198,59 @@ fn bad_shaker_values_name_the_field() {
     .is_err());
 }
 
+/// Peaks of summed signals: exact for one harmonic, the Newton-polished
+/// grid maximum for several (against 10⁶ brute-force samples, ≤ 1e-9
+/// relative); parameter vectors round-trip; clamping lands on the limits.
+#[test]
+fn six_signal_parameters_and_peaks() {
+    let limits = ShakerLimits {
+        harmonics: 3,
+        linear: [10.0, 10.0, 2.0],
+        ..lab()
+    };
+    let layout = Layout::new(&limits);
+    assert_eq!(layout.len(), 5 * 3 * 2);
+    let mut c = Coefficients::zero(0.05, 3);
+    c.set(0, 1, 8.0, 0.3);
+    c.set(0, 2, 3.0, -1.1);
+    c.set(0, 3, 1.5, 2.0);
+    c.set(4, 1, 90.0, 0.7);
+    let brute = (0..1_000_000)
+        .map(|i| {
+            let t = 0.05 * i as f64 / 1e6;
+            let w = 2.0 * std::f64::consts::PI / 0.05;
+            8.0 * (w * t + 0.3).sin()
+                + 3.0 * (2.0 * w * t - 1.1).sin()
+                + 1.5 * (3.0 * w * t + 2.0).sin()
+        })
+        .fold(0.0_f64, |m, v| m.max(v.abs()));
+    let peak = c.peak(0);
+    println!("three-harmonic peak {peak} vs brute force {brute}");
+    assert!((peak - brute).abs() <= 1e-9 * brute);
+    assert_eq!(c.peak(4), 90.0);
+    let v = layout.to_vec(&c);
+    assert_eq!(layout.from_vec(&v), c);
+    let excess = c.clamp(&limits);
+    assert!(
+        (excess - (brute / 10.0 - 1.0 + 90.0 / 70.0 - 1.0)).abs() < 1e-9,
+        "{excess}"
+    );
+    assert!((c.peak(0) - 10.0).abs() < 1e-9 && (c.peak(4) - 70.0).abs() < 1e-9);
+    let back = Coefficients::from_signals(&c.to_signals(), 3);
+    for (a, b) in back.c.iter().flatten().zip(c.c.iter().flatten()) {
+        assert!((a[0] - b[0]).abs() < 1e-12 && (a[1] - b[1]).abs() < 1e-12);
+    }
+}
+
 /// The averaged-friction seed for a sink under lab limits, against the
 /// simulated steady-state velocity field and zero-velocity force field
 /// (full model, 9 × 9 over ±4 cm). Measured: predicted strength 0.543 s⁻¹;
-/// the simulated velocity field differs from the prediction by 16 %
-/// (mostly a 9° turn: the part's own velocity shifts the best phases) and
-/// the force field by ~XX %.
+/// the simulated velocity field is 0.947 of the prediction turned by 8.9°
+/// (16.2 % apart: the part's own velocity shifts the best phases, which
+/// refinement corrects). The zero-velocity force field (a part released at
+/// inertial rest, one cycle) is 0.638 of the slipping-average force
+/// μ⟨N ê⟩ turned by 6.5° (37 % apart): in its first cycle the part has not
+/// reached the circular slip the average assumes.
 #[test]
 fn seed_predicts_the_simulated_sink() {
     let settings = FieldSettings::default();
@@ -227,13 +287,23 @@ fn seed_predicts_the_simulated_sink() {
     assert_eq!(v_sim.valid_count(), grid.len());
     let ev = rel_diff(&v_sim.vectors, &v_pred);
     let ef = rel_diff(&f_sim.vectors, &f_pred);
+    let (kv, tv) = complex_scale(&v_sim.vectors, &v_pred);
+    let (kf, tf) = complex_scale(&f_sim.vectors, &f_pred);
     println!(
-        "seed sink: velocity field vs prediction {:.1} %, force field vs prediction {:.1} %",
+        "seed sink: velocity field vs prediction {:.1} % (ratio {kv:.3}, turned {tv:.1}°), force field vs prediction {:.1} % (ratio {kf:.3}, turned {tf:.1}°)",
         100.0 * ev,
         100.0 * ef
     );
-    assert!(ev < 0.25, "velocity {ev}");
-    assert!(ef < 0.5, "force {ef}");
+    assert!(ev < 0.2, "velocity {ev}");
+    assert!(
+        (0.9..1.0).contains(&kv) && (5.0..13.0).contains(&tv),
+        "{kv} {tv}"
+    );
+    assert!(ef < 0.45, "force {ef}");
+    assert!(
+        (0.55..0.75).contains(&kf) && (2.0..11.0).contains(&tf),
+        "{kf} {tf}"
+    );
 }
 
 /// Issue 11's goal under lab limits: a sink of strength ≥ 0.5 s⁻¹ at shape

@@ -19,11 +19,18 @@
 //! Defaults ([`ShakerLimits::paper_envelope`]): the per-axis envelope of the
 //! eight primitives of the paper's library with their default parameters
 //! (ω = 209 rad/s, so T = 2π/209 ≈ 0.030063 s), 2 harmonics, margin 0.1.
-//! The envelope, computed from the primitives' exact plate-centre
-//! accelerations, is linear ≈ [16.55, 0, 0.06] m/s², angular
-//! ≈ [0, 218.4, 6734] rad/s² (the Circle's sawtooth dominates about z; the
-//! tilts about y are the LineSink's ψ0 ω²); the crate's tests hold these
-//! numbers against the computation.
+//! Computed from the primitives' exact plate-centre accelerations, with x
+//! and y both taking the largest horizontal magnitude (designs turn the
+//! primitives about the vertical):
+//!
+//! | axis | default | from |
+//! |------|---------|------|
+//! | linear x, y | 45.28 m/s² | Trans (sawtooth, d0 ω² · 2.07) |
+//! | linear z | 0.109 m/s² | centripetal term of the Line/Skew rotations |
+//! | angular x, y | 218.4 rad/s² | LineSink, ψ0 ω² |
+//! | angular z | 9055 rad/s² | Circle (sawtooth, 0.1 ω² · 2.07) |
+//!
+//! `tests/synth.rs` holds these numbers against the computation.
 
 use serde::{Deserialize, Serialize};
 

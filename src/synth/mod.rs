@@ -68,10 +68,10 @@
 //! velocity modulation by N (the lead δ is for N = g), Coriolis, gravity
 //! tilt and centripetal terms, and the part's drift across the cycle.
 //! Measured (lab limits, T = 0.05 s, A = 10 m/s², α = 70 rad/s², μ = 0.3):
-//! the seed's sink is realised with strength 0.51 s⁻¹ against 0.54
-//! predicted, turned by about 9° (shape error 16 %); shifting the tilt
-//! phases by those 9° brings it to 2.4 % (the lab's phases sit ≈ 26° from
-//! the naive δ = 0 ones). Non-affine targets (jet, off-centre circle) get
+//! the seed's sink field is 0.947 of the predicted 0.543 s⁻¹ and turned by
+//! 8.9° (shape error 16 %); shifting the tilt phases by those 9° brings it
+//! to 2.4 % (the lab's phases sit ≈ 26° from the naive δ = 0 ones), and
+//! refinement reaches 0.514 s⁻¹ at 2.7 % (`tests/synth.rs`). Non-affine targets (jet, off-centre circle) get
 //! their affine part only: they need higher harmonics, rotation about z or
 //! a sequence of synthesized motions.
 //!
