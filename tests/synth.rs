@@ -13,7 +13,7 @@ use platefield::motion::{Motion, Signals};
 use platefield::synth::params::{Coefficients, Layout};
 use platefield::synth::progress::ProgressMode;
 use platefield::synth::seed::seed;
-use platefield::synth::{synthesize, ShakerLimits, SynthOptions};
+use platefield::synth::{synthesize, ShakerLimits, SynthOptions, Synthesis};
 use platefield::target::FieldSpec;
 
 /// The lab-class limits of issue 11.
@@ -48,6 +48,22 @@ fn quiet(max_evaluations: usize) -> SynthOptions {
         progress: ProgressMode::Quiet,
         ..SynthOptions::default()
     }
+}
+
+/// Synthesis over a ±4 cm region of n × n points, default physics.
+fn run(
+    field: &FieldSpec,
+    n: usize,
+    limits: &ShakerLimits,
+    options: &SynthOptions,
+) -> platefield::Result<Synthesis> {
+    synthesize(
+        field,
+        &region(n),
+        limits,
+        &FieldSettings::default(),
+        options,
+    )
 }
 
 /// ‖a − b‖/‖b‖ over paired vectors.
@@ -157,15 +173,7 @@ fn bad_shaker_values_name_the_field() {
         let e = limits.validate("shaker").unwrap_err().to_string();
         assert!(e.starts_with(field), "{e} should name {field}");
         // synthesize validates before doing anything.
-        let e = synthesize(
-            &sink(),
-            &region(5),
-            &limits,
-            &FieldSettings::default(),
-            &quiet(1),
-        )
-        .unwrap_err()
-        .to_string();
+        let e = run(&sink(), 5, &limits, &quiet(1)).unwrap_err().to_string();
         assert!(e.starts_with(field), "{e}");
     }
     // Translation below μ_s g cannot make parts slip: an error, not a motion.
@@ -173,29 +181,14 @@ fn bad_shaker_values_name_the_field() {
         linear: [2.0, 2.0, 0.0],
         ..lab()
     };
-    let e = synthesize(
-        &sink(),
-        &region(5),
-        &weak,
-        &FieldSettings::default(),
-        &quiet(1),
-    )
-    .unwrap_err()
-    .to_string();
+    let e = run(&sink(), 5, &weak, &quiet(1)).unwrap_err().to_string();
     assert!(e.starts_with("shaker.linear"), "{e}");
     // No allowed tilt or vertical axis: nothing shapes the field.
     let flat = ShakerLimits {
         angular: [0.0; 3],
         ..lab()
     };
-    assert!(synthesize(
-        &sink(),
-        &region(5),
-        &flat,
-        &FieldSettings::default(),
-        &quiet(1)
-    )
-    .is_err());
+    assert!(run(&sink(), 5, &flat, &quiet(1)).is_err());
 }
 
 /// Peaks of summed signals: exact for one harmonic, the Newton-polished
@@ -229,17 +222,20 @@ fn six_signal_parameters_and_peaks() {
     assert!((peak - brute).abs() <= 1e-9 * brute);
     assert_eq!(c.peak(4), 90.0);
     let v = layout.to_vec(&c);
-    assert_eq!(layout.from_vec(&v), c);
+    let same = |a: &Coefficients, b: &Coefficients| {
+        a.c.iter()
+            .flatten()
+            .zip(b.c.iter().flatten())
+            .all(|(x, y)| (x[0] - y[0]).abs() < 1e-12 && (x[1] - y[1]).abs() < 1e-12)
+    };
+    assert!(same(&layout.from_vec(&v), &c));
     let excess = c.clamp(&limits);
     assert!(
         (excess - (brute / 10.0 - 1.0 + 90.0 / 70.0 - 1.0)).abs() < 1e-9,
         "{excess}"
     );
     assert!((c.peak(0) - 10.0).abs() < 1e-9 && (c.peak(4) - 70.0).abs() < 1e-9);
-    let back = Coefficients::from_signals(&c.to_signals(), 3);
-    for (a, b) in back.c.iter().flatten().zip(c.c.iter().flatten()) {
-        assert!((a[0] - b[0]).abs() < 1e-12 && (a[1] - b[1]).abs() < 1e-12);
-    }
+    assert!(same(&Coefficients::from_signals(&c.to_signals(), 3), &c));
 }
 
 /// The averaged-friction seed for a sink under lab limits, against the
@@ -311,25 +307,8 @@ fn seed_predicts_the_simulated_sink() {
 #[test]
 fn lab_limits_sink_reaches_the_goal() {
     let limits = lab();
-    let s = synthesize(
-        &sink(),
-        &region(11),
-        &limits,
-        &FieldSettings::default(),
-        &quiet(300),
-    )
-    .unwrap();
-    println!(
-        "lab sink: seed {:.4} predicted, coarse seed {:.4} at {:.2} %; synthesized {:.4} s⁻¹ at {:.2} % (11×11), {} evaluations, {:.1} s, least N {:.3} m/s²",
-        s.seed_strength,
-        s.seed_realised.strength,
-        100.0 * s.seed_realised.shape_error,
-        s.realised.strength,
-        100.0 * s.realised.shape_error,
-        s.evaluations,
-        s.seconds,
-        s.least_normal
-    );
+    let s = run(&sink(), 11, &limits, &quiet(300)).unwrap();
+    println!("lab sink: {}", s.summary());
     println!("{}", serde_json::to_string(&s.motion).unwrap());
     assert!(!s.poor, "{:?}", s.notes);
     assert!(s.realised.strength >= 0.5, "{}", s.realised.strength);
@@ -347,7 +326,7 @@ fn same_seed_gives_the_same_bytes() {
         let mut o = quiet(30);
         o.coarse = [5, 5];
         o.refine.seed = seed;
-        let s = synthesize(&sink(), &region(5), &lab(), &FieldSettings::default(), &o).unwrap();
+        let s = run(&sink(), 5, &lab(), &o).unwrap();
         (
             serde_json::to_string(&s.motion).unwrap(),
             serde_json::to_string(&s.field).unwrap(),
@@ -538,27 +517,8 @@ fn other_targets_report() {
         ),
     ];
     for (name, field) in targets {
-        let s = synthesize(
-            &field,
-            &region(21),
-            &limits,
-            &FieldSettings::default(),
-            &quiet(300),
-        )
-        .unwrap();
-        println!(
-            "{name}: seed {:.4} predicted, {:.4} at {:.1} % realised (coarse); synthesized {:.4} at {:.2} % (21×21), {} evaluations, {:.1} s, least N {:.2} m/s², poor {} {:?}",
-            s.seed_strength,
-            s.seed_realised.strength,
-            100.0 * s.seed_realised.shape_error,
-            s.realised.strength,
-            100.0 * s.realised.shape_error,
-            s.evaluations,
-            s.seconds,
-            s.least_normal,
-            s.poor,
-            s.notes
-        );
+        let s = run(&field, 21, &limits, &quiet(300)).unwrap();
+        println!("{name}: {}", s.summary());
     }
 }
 
@@ -567,12 +527,14 @@ fn other_targets_report() {
 #[test]
 #[ignore]
 fn print_scene() {
-    let s = synthesize(
+    let s = run(
         &sink(),
-        &region(21),
+        21,
         &lab(),
-        &FieldSettings::default(),
-        &quiet(300),
+        &SynthOptions {
+            progress: ProgressMode::Auto,
+            ..quiet(300)
+        },
     )
     .unwrap();
     let scene = serde_json::json!({

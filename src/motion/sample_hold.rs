@@ -72,6 +72,21 @@ pub struct HoldSamples {
 }
 
 impl HoldSamples {
+    /// The samples taking the plate through velocities `v` at
+    /// t_k = k Δt: sample k is (v_{k+1} − v_k)/Δt.
+    fn from_velocities(v: &[[f64; 6]], dt: f64, per_period: usize, start: CentreState) -> Self {
+        HoldSamples {
+            dt,
+            rate: 1.0 / dt,
+            samples_per_period: per_period,
+            samples: v
+                .windows(2)
+                .map(|w| std::array::from_fn(|i| (w[1][i] - w[0][i]) / dt))
+                .collect(),
+            start,
+        }
+    }
+
     /// Per-axis peak |sample|.
     pub fn peaks(&self) -> [f64; 6] {
         let mut p = [0.0_f64; 6];
@@ -172,13 +187,6 @@ fn grid(period: f64, rate: f64) -> Result<(usize, f64)> {
     Ok((n as usize, period / n))
 }
 
-/// Mean accelerations between consecutive velocities.
-fn differences(v: &[[f64; 6]], dt: f64) -> Vec<[f64; 6]> {
-    v.windows(2)
-        .map(|w| std::array::from_fn(|i| (w[1][i] - w[0][i]) / dt))
-        .collect()
-}
-
 /// One period of `motion`, to be looped: N = round(rate · T) samples. The
 /// plate must start in [`HoldSamples::start`] (rest for the rest-to-rest
 /// primitives; the steady state at t = 0 for a six-signal motion — use
@@ -196,13 +204,7 @@ pub fn periodic(motion: &Motion, rate: f64) -> Result<HoldSamples> {
         .map(|k| centre_state(motion, k as f64 * dt).velocity)
         .chain(std::iter::once(start.velocity))
         .collect();
-    Ok(HoldSamples {
-        dt,
-        rate: 1.0 / dt,
-        samples_per_period: n,
-        samples: differences(&v, dt),
-        start,
-    })
+    Ok(HoldSamples::from_velocities(&v, dt, n, start))
 }
 
 /// The quintic smoothstep window and its first derivative in s.
@@ -252,13 +254,12 @@ pub fn ramped(motion: &Motion, rate: f64, ramp: u32, steady: u32) -> Result<Hold
             std::array::from_fn(|i| dw / ramp_time * s.pose[i] + w * s.velocity[i])
         })
         .collect();
-    Ok(HoldSamples {
+    Ok(HoldSamples::from_velocities(
+        &v,
         dt,
-        rate: 1.0 / dt,
-        samples_per_period: n,
-        samples: differences(&v, dt),
-        start: CentreState::default(),
-    })
+        n,
+        CentreState::default(),
+    ))
 }
 
 /// One segment of a sequence: a motion played for `duration` seconds, or
@@ -325,13 +326,12 @@ pub fn sequence(segments: &[Segment<'_>], rate: f64) -> Result<HoldSamples> {
             ));
         }
     }
-    Ok(HoldSamples {
+    Ok(HoldSamples::from_velocities(
+        &v,
         dt,
-        rate: 1.0 / dt,
-        samples_per_period: n,
-        samples: differences(&v, dt),
-        start: CentreState::default(),
-    })
+        n,
+        CentreState::default(),
+    ))
 }
 
 /// The controller: holds each sample for Δt, looping the file `loops`

@@ -120,6 +120,33 @@ pub struct Synthesis {
     pub notes: Vec<String>,
 }
 
+impl Synthesis {
+    /// One-line summary: seed, realised strength and shape error on the
+    /// full grid, evaluations, time, least N, POOR and notes.
+    pub fn summary(&self) -> String {
+        let n = self.field.grid.n;
+        format!(
+            "seed {:.4} predicted, {:.4} at {:.1} % realised (coarse); synthesized {:.4} at {:.2} % ({}×{}), {} evaluations, {:.1} s, least N {:.2} m/s²{}{}",
+            self.seed_strength,
+            self.seed_realised.strength,
+            100.0 * self.seed_realised.shape_error,
+            self.realised.strength,
+            100.0 * self.realised.shape_error,
+            n[0],
+            n[1],
+            self.evaluations,
+            self.seconds,
+            self.least_normal,
+            if self.poor { ", POOR" } else { "" },
+            if self.notes.is_empty() {
+                String::new()
+            } else {
+                format!(" ({})", self.notes.join("; "))
+            }
+        )
+    }
+}
+
 /// Synthesizes one six-signal motion for `field` over `region` (the full
 /// grid) within `limits`, with the physics of `settings`.
 ///
