@@ -320,6 +320,34 @@ fn lab_limits_sink_reaches_the_goal() {
     assert!(s.evaluations <= 300);
 }
 
+/// A contact margin that binds (N ≥ 0.8 g: the tilts may swing N by only
+/// 0.2 g at the corners) limits the strength, and the synthesized motion
+/// keeps it — checked along the simulated orbits, not assumed.
+#[test]
+fn binding_contact_margin_is_kept() {
+    let limits = ShakerLimits {
+        contact_margin: 0.8,
+        ..lab()
+    };
+    let mut o = quiet(40);
+    o.coarse = [5, 5];
+    let s = run(&sink(), 5, &limits, &o).unwrap();
+    println!("margin 0.8 g: {}", s.summary());
+    assert!(s
+        .notes
+        .iter()
+        .any(|n| n.contains("contact margin 0.8 g limits")));
+    // |N − g| ≤ 0.2 g at the corners r = 0.04·√2 m: α ≤ 0.2 g / r.
+    let alpha = 0.2 * 9.81 / (0.04 * 2f64.sqrt());
+    assert!(
+        (s.seed_strength - 0.5427 * alpha / 70.0).abs() < 1e-3,
+        "{}",
+        s.seed_strength
+    );
+    assert!(!s.poor, "{:?}", s.notes);
+    assert!(s.least_normal >= 0.8 * 9.81, "{}", s.least_normal);
+}
+
 #[test]
 fn same_seed_gives_the_same_bytes() {
     let run = |seed: u64| {

@@ -11,19 +11,21 @@
 //! cost = −ŝ / s_ref                                   (maximise strength)
 //!      + 20 · max(0, e − budget)                      (shape first)
 //!      + 1 · Σ_axes max(0, peak/limit − 1)            (excess clamped away)
-//!      + 10 · max(0, m − N_min/g)                     (contact margin)
+//!      + 100 · max(0, m − N_min/g)                    (contact margin)
 //!      + 10 · (invalid samples / samples)             (contact lost, not converged)
 //! ```
 //!
 //! s_ref is the seed's predicted strength, so the strength term is of order
 //! one; a shape error 5 points over budget costs as much as the whole
-//! strength. e is capped at 10 (ŝ ≤ 0 makes it infinite). N_min is
-//! [`kinematic_least_normal`] over the coarse grid.
+//! strength. e is capped at 10 (ŝ ≤ 0 makes it infinite). N_min is the
+//! smaller of [`kinematic_least_normal`] and [`orbit_least_normal`] over
+//! the coarse grid (the same check the final full-grid result gets); its
+//! weight makes a 1 % of g violation cost as much as the whole strength.
 
 use std::sync::Mutex;
 use std::time::Instant;
 
-use super::contact::kinematic_least_normal;
+use super::contact::{kinematic_least_normal, orbit_least_normal};
 use super::limits::ShakerLimits;
 use super::params::{Coefficients, Layout};
 use super::progress::Progress;
@@ -36,7 +38,7 @@ pub const SHAPE_WEIGHT: f64 = 20.0;
 /// Weight of the relative peak excess.
 pub const LIMIT_WEIGHT: f64 = 1.0;
 /// Weight of the contact-margin violation (fraction of g).
-pub const CONTACT_WEIGHT: f64 = 10.0;
+pub const CONTACT_WEIGHT: f64 = 100.0;
 /// Weight of the fraction of invalid samples.
 pub const INVALID_WEIGHT: f64 = 10.0;
 /// Cap on the shape error inside the cost.
@@ -173,7 +175,8 @@ impl<'a> Objective<'a> {
             &|| {},
         );
         let r = realised(&field, &self.target);
-        let least_normal = kinematic_least_normal(&motion, &self.grid, self.settings);
+        let least_normal = kinematic_least_normal(&motion, &self.grid, self.settings)
+            .min(orbit_least_normal(&motion, &self.grid, self.settings));
         let g = self.settings.gravity;
         let margin = (self.limits.contact_margin - least_normal / g).max(0.0);
         let cost = -r.strength / self.strength_ref
