@@ -76,6 +76,7 @@ pub mod report;
 pub mod scene;
 pub mod schedule;
 pub mod studies;
+pub mod synth;
 pub mod target;
 pub mod verify;
 

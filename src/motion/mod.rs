@@ -16,6 +16,7 @@
 //! or the plate centre for six-signal motions), v_c and a_c its velocity and
 //! acceleration, and Ω, Ω' the angular velocity and acceleration, all in S'.
 
+pub mod sample_hold;
 mod screw;
 mod signals;
 mod waveform;

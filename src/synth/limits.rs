@@ -1,0 +1,153 @@
+//! Shaker limits: what the controller and the plate allow a synthesized
+//! motion to use.
+//!
+//! JSON form (the `shaker` object of a request; every key optional):
+//!
+//! ```json
+//! {"period": 0.05, "linear": [10, 10, 0], "angular": [70, 70, 0],
+//!  "harmonics": 1, "contact_margin": 0.1}
+//! ```
+//!
+//! * `period` T (s): the fundamental period; the controller plays the
+//!   harmonics 1..=`harmonics` of 2π/T.
+//! * `linear` [a_x, a_y, a_z] (m/s²) and `angular` [α_x, α_y, α_z]
+//!   (rad/s²): the largest |value| over the period of each **summed**
+//!   plate-centre acceleration signal (not per harmonic). 0 forbids the axis.
+//! * `contact_margin` m: the normal force per unit mass N must stay
+//!   ≥ m·g everywhere in the region at every instant (0 ≤ m < 1).
+//!
+//! Defaults ([`ShakerLimits::paper_envelope`]): the per-axis envelope of the
+//! eight primitives of the paper's library with their default parameters
+//! (ω = 209 rad/s, so T = 2π/209 ≈ 0.030063 s), 2 harmonics, margin 0.1.
+//! Computed from the primitives' exact plate-centre accelerations, with x
+//! and y both taking the largest horizontal magnitude (designs turn the
+//! primitives about the vertical):
+//!
+//! | axis | default | from |
+//! |------|---------|------|
+//! | linear x, y | 45.28 m/s² | Trans (sawtooth, d0 ω² · 2.07) |
+//! | linear z | 0.109 m/s² | centripetal term of the Line/Skew rotations |
+//! | angular x, y | 218.4 rad/s² | LineSink, ψ0 ω² |
+//! | angular z | 9055 rad/s² | Circle (sawtooth, 0.1 ω² · 2.07) |
+//!
+//! `tests/synth.rs` holds these numbers against the computation.
+
+use serde::{Deserialize, Serialize};
+
+use crate::basis::{Primitive, PrimitiveKind};
+use crate::schedule::export::centre_acceleration;
+use crate::error::{Error, Result};
+
+/// Peak accelerations, harmonics and contact margin a synthesized motion
+/// must respect (see the [module documentation](self)).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ShakerLimits {
+    /// Fundamental period T (s).
+    pub period: f64,
+    /// Peak plate-centre translational acceleration per world axis (m/s²).
+    pub linear: [f64; 3],
+    /// Peak angular acceleration about each world axis (rad/s²).
+    pub angular: [f64; 3],
+    /// Harmonics 1..=H of 2π/T the controller may play.
+    pub harmonics: u32,
+    /// Least normal force to keep, as a fraction of g.
+    pub contact_margin: f64,
+}
+
+/// Samples per primitive period used to find the envelope's peaks.
+const ENVELOPE_SAMPLES: usize = 4096;
+
+impl Default for ShakerLimits {
+    fn default() -> Self {
+        ShakerLimits::paper_envelope()
+    }
+}
+
+impl ShakerLimits {
+    /// Largest allowed number of harmonics.
+    pub const MAX_HARMONICS: u32 = 16;
+
+    /// The envelope of the paper's eight primitives (default parameters):
+    /// per axis, the largest |acceleration| any of them commands over
+    /// [`ENVELOPE_SAMPLES`] samples of its period — on x and y the largest
+    /// horizontal magnitude, since designs use the primitives turned about
+    /// the vertical; 2 harmonics; margin 0.1.
+    pub fn paper_envelope() -> ShakerLimits {
+        let mut linear = [0.0_f64; 3];
+        let mut angular = [0.0_f64; 3];
+        let mut period = 0.0;
+        for kind in PrimitiveKind::ALL {
+            let p = Primitive::new(kind);
+            period = p.period();
+            let motion = p.motion();
+            for i in 0..ENVELOPE_SAMPLES {
+                let t = period * i as f64 / ENVELOPE_SAMPLES as f64;
+                let (lin, ang) = centre_acceleration(&motion, t);
+                // Designs turn primitives about the vertical, so any
+                // horizontal peak can land on x or on y.
+                for (env, v) in [(&mut linear, lin), (&mut angular, ang)] {
+                    let horizontal = v.x.hypot(v.y);
+                    env[0] = env[0].max(horizontal);
+                    env[1] = env[1].max(horizontal);
+                    env[2] = env[2].max(v.z.abs());
+                }
+            }
+        }
+        ShakerLimits {
+            period,
+            linear,
+            angular,
+            harmonics: 2,
+            contact_margin: 0.1,
+        }
+    }
+
+    /// The six per-axis limits in signal order (linear x, y, z, angular x,
+    /// y, z).
+    pub fn axes(&self) -> [f64; 6] {
+        let (l, a) = (self.linear, self.angular);
+        [l[0], l[1], l[2], a[0], a[1], a[2]]
+    }
+
+    /// Validates every value; errors name `{field}.period`,
+    /// `{field}.linear[i]`, … (the target file's `field` is `shaker`) and
+    /// the allowed range.
+    pub fn validate(&self, field: &str) -> Result<()> {
+        let p = self.period;
+        if !(p.is_finite() && p > 0.0 && p <= 10.0) {
+            return Err(Error::invalid(
+                format!("{field}.period"),
+                format!("must be a period in (0, 10] s, got {p}"),
+            ));
+        }
+        for (name, values) in [("linear", self.linear), ("angular", self.angular)] {
+            for (i, v) in values.iter().enumerate() {
+                if !(v.is_finite() && *v >= 0.0) {
+                    return Err(Error::invalid(
+                        format!("{field}.{name}[{i}]"),
+                        format!("must be a finite peak acceleration ≥ 0, got {v}"),
+                    ));
+                }
+            }
+        }
+        if !(1..=Self::MAX_HARMONICS).contains(&self.harmonics) {
+            return Err(Error::invalid(
+                format!("{field}.harmonics"),
+                format!(
+                    "must be in 1..={}, got {}",
+                    Self::MAX_HARMONICS,
+                    self.harmonics
+                ),
+            ));
+        }
+        let m = self.contact_margin;
+        if !(m.is_finite() && (0.0..1.0).contains(&m)) {
+            return Err(Error::invalid(
+                format!("{field}.contact_margin"),
+                format!("must be a fraction of g in [0, 1), got {m}"),
+            ));
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,224 @@
+//! The refinement objective: one re-simulation of a candidate motion.
+//!
+//! A parameter vector ([`super::params::Layout`]) becomes coefficients,
+//! each axis scaled down onto its limit where its summed peak exceeds it
+//! (so every simulated motion is within the limits), and the steady-state
+//! velocity field R of the motion is computed on the coarse grid
+//! ([`Field::compute`]). Against the target t at the same points:
+//!
+//! ```text
+//! realised strength ŝ = ⟨R, t⟩ / ⟨t, t⟩,   shape error e = ‖R − ŝ t‖ / ‖ŝ t‖
+//! cost = −ŝ / s_ref                                   (maximise strength)
+//!      + 20 · max(0, e − budget)                      (shape first)
+//!      + 1 · Σ_axes max(0, peak/limit − 1)            (excess clamped away)
+//!      + 100 · max(0, m − N_min/g)                    (contact margin)
+//!      + 10 · (invalid samples / samples)             (contact lost, not converged)
+//! ```
+//!
+//! s_ref is the seed's predicted strength, so the strength term is of order
+//! one; a shape error 5 points over budget costs as much as the whole
+//! strength. e is capped at 10 (ŝ ≤ 0 makes it infinite). N_min is the
+//! smaller of [`kinematic_least_normal`] and [`orbit_least_normal`] over
+//! the coarse grid (the same check the final full-grid result gets); its
+//! weight makes a 1 % of g violation cost as much as the whole strength.
+
+use std::sync::Mutex;
+use std::time::Instant;
+
+use super::contact::{kinematic_least_normal, orbit_least_normal};
+use super::limits::ShakerLimits;
+use super::params::{Coefficients, Layout};
+use super::progress::Progress;
+use crate::field::{Field, FieldKind, FieldSettings, Grid, Validity};
+use crate::motion::Motion;
+use crate::target::FieldSpec;
+
+/// Weight of the shape error over budget.
+pub const SHAPE_WEIGHT: f64 = 20.0;
+/// Weight of the relative peak excess.
+pub const LIMIT_WEIGHT: f64 = 1.0;
+/// Weight of the contact-margin violation (fraction of g).
+pub const CONTACT_WEIGHT: f64 = 100.0;
+/// Weight of the fraction of invalid samples.
+pub const INVALID_WEIGHT: f64 = 10.0;
+/// Cap on the shape error inside the cost.
+const SHAPE_CAP: f64 = 10.0;
+
+/// Realised strength and shape error of a field against target vectors.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Realised {
+    /// ŝ = ⟨R, t⟩/⟨t, t⟩ over valid samples.
+    pub strength: f64,
+    /// ‖R − ŝ t‖/‖ŝ t‖ (infinite when ŝ ≤ 0).
+    pub shape_error: f64,
+    /// Samples that are not [`Validity::Ok`].
+    pub invalid: usize,
+}
+
+/// Realised strength and shape error of `field` against `target` (one
+/// vector per grid point, grid order).
+pub fn realised(field: &Field, target: &[[f64; 2]]) -> Realised {
+    let (mut rt, mut tt, mut rr) = (0.0, 0.0, 0.0);
+    let mut invalid = 0;
+    for ((r, t), v) in field.vectors.iter().zip(target).zip(&field.validity) {
+        if *v != Validity::Ok {
+            invalid += 1;
+            continue;
+        }
+        rt += r[0] * t[0] + r[1] * t[1];
+        tt += t[0] * t[0] + t[1] * t[1];
+        rr += r[0] * r[0] + r[1] * r[1];
+    }
+    let s = if tt > 0.0 { rt / tt } else { 0.0 };
+    // ‖R − s t‖² = rr − 2 s rt + s² tt = rr − s rt at the least-squares s.
+    let shape_error = if s > 0.0 {
+        ((rr - s * rt).max(0.0) / (s * s * tt)).sqrt()
+    } else {
+        f64::INFINITY
+    };
+    Realised {
+        strength: s,
+        shape_error,
+        invalid,
+    }
+}
+
+/// One evaluated candidate.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Evaluation {
+    /// The parameter vector.
+    pub params: Vec<f64>,
+    /// Cost (see the module docs).
+    pub cost: f64,
+    /// Realised strength and shape error on the coarse grid.
+    pub realised: Realised,
+    /// Least N over the coarse grid (m/s²).
+    pub least_normal: f64,
+}
+
+/// Budget state shared by all evaluations of one synthesis.
+#[derive(Debug)]
+struct Tally {
+    evaluations: usize,
+    best: Option<Evaluation>,
+}
+
+/// The coarse-grid objective (driven by argmin through [`super::refine`]).
+pub struct Objective<'a> {
+    layout: Layout,
+    limits: &'a ShakerLimits,
+    settings: &'a FieldSettings,
+    grid: Grid,
+    target: Vec<[f64; 2]>,
+    shape_budget: f64,
+    strength_ref: f64,
+    max_evaluations: usize,
+    deadline: Option<Instant>,
+    tally: Mutex<Tally>,
+    progress: &'a Progress,
+}
+
+impl<'a> Objective<'a> {
+    /// The objective for `field` on `grid`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        field: &FieldSpec,
+        grid: Grid,
+        limits: &'a ShakerLimits,
+        settings: &'a FieldSettings,
+        shape_budget: f64,
+        strength_ref: f64,
+        max_evaluations: usize,
+        deadline: Option<Instant>,
+        progress: &'a Progress,
+    ) -> Objective<'a> {
+        Objective {
+            layout: Layout::new(limits),
+            limits,
+            settings,
+            target: grid.points().iter().map(|p| field.eval(*p)).collect(),
+            grid,
+            shape_budget,
+            strength_ref: strength_ref.max(1e-12),
+            max_evaluations,
+            deadline,
+            tally: Mutex::new(Tally {
+                evaluations: 0,
+                best: None,
+            }),
+            progress,
+        }
+    }
+
+    /// The parameter layout.
+    pub fn layout(&self) -> &Layout {
+        &self.layout
+    }
+
+    /// The motion a parameter vector stands for (clamped onto the limits)
+    /// and its relative peak excess before clamping.
+    pub fn motion(&self, params: &[f64]) -> (Coefficients, f64) {
+        let mut c = self.layout.from_vec(params);
+        let excess = c.clamp(self.limits);
+        (c, excess)
+    }
+
+    /// Evaluates `params` (counts against the budget).
+    pub fn evaluate(&self, params: &[f64]) -> Evaluation {
+        let (c, excess) = self.motion(params);
+        let motion = Motion::Signals(c.to_signals());
+        let field = Field::compute(
+            &motion,
+            &self.grid,
+            FieldKind::Velocity,
+            self.settings,
+            &|| {},
+        );
+        let r = realised(&field, &self.target);
+        let least_normal = kinematic_least_normal(&motion, &self.grid, self.settings)
+            .min(orbit_least_normal(&motion, &self.grid, self.settings));
+        let g = self.settings.gravity;
+        let margin = (self.limits.contact_margin - least_normal / g).max(0.0);
+        let cost = -r.strength / self.strength_ref
+            + SHAPE_WEIGHT * (r.shape_error.min(SHAPE_CAP) - self.shape_budget).max(0.0)
+            + LIMIT_WEIGHT * excess
+            + CONTACT_WEIGHT * margin
+            + INVALID_WEIGHT * r.invalid as f64 / self.grid.len() as f64;
+        let e = Evaluation {
+            params: params.to_vec(),
+            cost,
+            realised: r,
+            least_normal,
+        };
+        let mut tally = self.tally.lock().unwrap_or_else(|p| p.into_inner());
+        tally.evaluations += 1;
+        if tally.best.as_ref().is_none_or(|b| cost < b.cost) {
+            tally.best = Some(e.clone());
+        }
+        self.progress.update(tally.evaluations, tally.best.as_ref());
+        e
+    }
+
+    /// Evaluations so far.
+    pub fn evaluations(&self) -> usize {
+        self.tally
+            .lock()
+            .unwrap_or_else(|p| p.into_inner())
+            .evaluations
+    }
+
+    /// The best evaluation so far.
+    pub fn best(&self) -> Option<Evaluation> {
+        self.tally
+            .lock()
+            .unwrap_or_else(|p| p.into_inner())
+            .best
+            .clone()
+    }
+
+    /// True when the evaluation budget (or the deadline) is spent.
+    pub fn spent(&self) -> bool {
+        self.evaluations() >= self.max_evaluations
+            || self.deadline.is_some_and(|d| Instant::now() >= d)
+    }
+}

@@ -1,0 +1,185 @@
+//! Multi-start Nelder–Mead refinement (why Nelder–Mead: see the
+//! [module documentation](super)).
+//!
+//! Start 0 is the seed; starts 1.. rotate every (c, s) pair of the seed's
+//! parameter vector by an angle uniform in ±0.5 rad (a phase shift of that
+//! harmonic) and scale it by a factor uniform in [0.85, 1], drawn from a
+//! SplitMix64 generator seeded by the caller. Each start runs Nelder–Mead
+//! (initial simplex: the start plus `step` along each coordinate) for an
+//! equal share of 60 % of the evaluation budget; the best point found then
+//! gets the rest, restarting with a simplex a third the size and halving it
+//! at each restart (Nelder–Mead stops when its simplex's costs agree to
+//! 1e-7). A run starts only if its initial simplex fits in the budget; a
+//! time budget can overrun by one simplex (n + 1 evaluations). Everything is
+//! sequential and the field engine is deterministic, so the same seed gives
+//! the same bytes; a time budget (if given) cuts the run wherever the clock
+//! says and is then the only source of variation.
+
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Arc;
+
+use argmin::core::observers::ObserverMode;
+use argmin::core::{CostFunction, Executor};
+use argmin::solver::neldermead::NelderMead;
+
+use super::objective::{Evaluation, Objective};
+use super::progress::{Observer, Progress};
+use crate::error::{Error, Result};
+
+/// Settings of the refinement.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RefineOptions {
+    /// Number of starts (≥ 1; the first is the seed).
+    pub starts: usize,
+    /// RNG seed of the perturbed starts.
+    pub seed: u64,
+    /// Initial simplex step in normalised parameters (fraction of the axis
+    /// limit).
+    pub step: f64,
+}
+
+impl Default for RefineOptions {
+    fn default() -> Self {
+        RefineOptions {
+            starts: 3,
+            seed: 1,
+            step: 0.1,
+        }
+    }
+}
+
+/// SplitMix64 (Steele, Lea & Flood 2014): a tiny, portable, seeded RNG.
+struct SplitMix64(u64);
+
+impl SplitMix64 {
+    fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in [a, b).
+    fn uniform(&mut self, a: f64, b: f64) -> f64 {
+        a + (b - a) * (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// Why a run stopped early.
+const BUDGET_SPENT: &str = "synthesis budget spent";
+
+/// The argmin problem: the objective, stopping at `cap` evaluations (or
+/// the objective's own budget or deadline) — but never during the
+/// simplex's first n + 1 evaluations, which argmin's Nelder–Mead cannot
+/// interrupt ([`run`] starts only when they fit in the budget).
+struct Capped<'b, 'a> {
+    objective: &'b Objective<'a>,
+    cap: usize,
+    init_left: AtomicUsize,
+}
+
+impl CostFunction for Capped<'_, '_> {
+    type Param = Vec<f64>;
+    type Output = f64;
+
+    fn cost(&self, param: &Vec<f64>) -> std::result::Result<f64, argmin::core::Error> {
+        let init = self
+            .init_left
+            .fetch_update(Ordering::Relaxed, Ordering::Relaxed, |n| n.checked_sub(1))
+            .is_ok();
+        if !init && (self.objective.spent() || self.objective.evaluations() >= self.cap) {
+            return Err(argmin::core::Error::msg(BUDGET_SPENT));
+        }
+        Ok(self.objective.evaluate(param).cost)
+    }
+}
+
+/// One Nelder–Mead run from `x0` until convergence or `cap` evaluations.
+fn run(
+    objective: &Objective<'_>,
+    x0: &[f64],
+    step: f64,
+    cap: usize,
+    progress: &Arc<Progress>,
+) -> Result<()> {
+    let simplex_len = x0.len() + 1;
+    let simplex: Vec<Vec<f64>> = (0..=x0.len())
+        .map(|i| {
+            let mut v = x0.to_vec();
+            if i > 0 {
+                v[i - 1] += step;
+            }
+            v
+        })
+        .collect();
+    if objective.spent() || objective.evaluations() + simplex.len() > cap {
+        return Ok(());
+    }
+    let solver = NelderMead::new(simplex)
+        .with_sd_tolerance(1e-7)
+        .map_err(|e| Error::NotConverged(format!("Nelder–Mead setup: {e}")))?;
+    let problem = Capped {
+        objective,
+        cap,
+        init_left: AtomicUsize::new(simplex_len),
+    };
+    let outcome = Executor::new(problem, solver)
+        .configure(|s| s.max_iters(1_000_000))
+        .add_observer(Observer(progress.clone()), ObserverMode::Always)
+        .run();
+    match outcome {
+        Ok(_) => Ok(()),
+        Err(e) if e.to_string().contains(BUDGET_SPENT) => Ok(()),
+        Err(e) => Err(Error::NotConverged(format!("Nelder–Mead: {e}"))),
+    }
+}
+
+/// Refines from the seed vector `x0`; returns the best evaluation.
+///
+/// # Errors
+/// The optimizer fails for a reason other than the budget.
+pub fn refine(
+    objective: &Objective<'_>,
+    x0: &[f64],
+    budget: usize,
+    options: &RefineOptions,
+    progress: &Arc<Progress>,
+) -> Result<Evaluation> {
+    let mut rng = SplitMix64(options.seed);
+    let starts = options.starts.max(1);
+    let explore = (budget * 3 / 5) / starts;
+    for i in 0..starts {
+        let x: Vec<f64> = if i == 0 {
+            x0.to_vec()
+        } else {
+            x0.chunks(2)
+                .flat_map(|cs| {
+                    let (s, c) = rng.uniform(-0.5, 0.5).sin_cos();
+                    let k = rng.uniform(0.85, 1.0);
+                    let (a, b) = (cs[0], cs.get(1).copied().unwrap_or(0.0));
+                    [k * (c * a - s * b), k * (s * a + c * b)]
+                })
+                .collect()
+        };
+        let cap = (objective.evaluations() + explore).min(budget);
+        run(objective, &x, options.step, cap, progress)?;
+    }
+    // Polish the best point with shrinking simplices until the budget is
+    // spent or the simplex is below 1e-4 of the limits.
+    let mut step = options.step / 3.0;
+    while let Some(best) = objective.best() {
+        let before = objective.evaluations();
+        if objective.spent() || before >= budget || step < 1e-4 {
+            break;
+        }
+        run(objective, &best.params, step, budget, progress)?;
+        if objective.evaluations() == before {
+            break;
+        }
+        step /= 2.0;
+    }
+    objective
+        .best()
+        .ok_or_else(|| Error::NotConverged("synthesis: no evaluation within the budget".into()))
+}

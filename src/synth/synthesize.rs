@@ -1,0 +1,272 @@
+//! `synthesize`: seed, refine on a coarse grid, re-simulate the winner on
+//! the full grid and check it before it is reported.
+
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use super::contact::{kinematic_least_normal, orbit_least_normal};
+use super::limits::ShakerLimits;
+use super::objective::{realised, Objective, Realised};
+use super::params::{Layout, AXIS_NAMES};
+use super::progress::{Progress, ProgressMode};
+use super::refine::{refine, RefineOptions};
+use super::seed::{seed, Seed};
+use crate::error::{positive, Error, Result};
+use crate::field::{Field, FieldKind, FieldSettings, Grid};
+use crate::motion::{Motion, Signals};
+use crate::target::FieldSpec;
+
+/// A realised shape error above this flags a synthesis as POOR.
+pub const POOR_SHAPE_ERROR: f64 = 0.2;
+
+/// Peaks are within limits up to this relative round-off.
+const PEAK_TOL: f64 = 1e-9;
+
+/// Settings of one synthesis.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SynthOptions {
+    /// Coarse grid [nx, ny] of the objective, over the region.
+    pub coarse: [usize; 2],
+    /// Shape-error budget on the coarse grid (the cost's knee).
+    pub shape_budget: f64,
+    /// Evaluations (coarse re-simulations) allowed.
+    pub max_evaluations: usize,
+    /// Optional wall-clock budget (s); makes the result depend on the
+    /// machine's speed.
+    pub max_seconds: Option<f64>,
+    /// Multi-start settings and RNG seed.
+    pub refine: RefineOptions,
+    /// Progress display.
+    pub progress: ProgressMode,
+}
+
+impl Default for SynthOptions {
+    fn default() -> Self {
+        SynthOptions {
+            coarse: [7, 7],
+            shape_budget: 0.04,
+            max_evaluations: 300,
+            max_seconds: None,
+            refine: RefineOptions::default(),
+            progress: ProgressMode::Auto,
+        }
+    }
+}
+
+impl SynthOptions {
+    fn validate(&self) -> Result<()> {
+        for (i, n) in self.coarse.iter().enumerate() {
+            if !(2..=101).contains(n) {
+                return Err(Error::invalid(
+                    format!("coarse[{i}]"),
+                    format!("must be in 2..=101, got {n}"),
+                ));
+            }
+        }
+        positive("shape_budget", self.shape_budget)?;
+        if self.max_evaluations == 0 {
+            return Err(Error::invalid("max_evaluations", "must be ≥ 1"));
+        }
+        if let Some(s) = self.max_seconds {
+            positive("max_seconds", s)?;
+        }
+        if self.refine.starts == 0 {
+            return Err(Error::invalid("starts", "must be ≥ 1"));
+        }
+        positive("step", self.refine.step)?;
+        Ok(())
+    }
+}
+
+/// One axis's peak against its limit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AxisPeak {
+    /// Signal name (`linear.x`, …, `angular.z`).
+    pub axis: &'static str,
+    /// Peak |acceleration| of the summed signal over the period.
+    pub peak: f64,
+    /// Its limit.
+    pub limit: f64,
+}
+
+/// A synthesized motion and its checks.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Synthesis {
+    /// The six-signal motion (scene `signals` format).
+    pub motion: Signals,
+    /// Its steady-state velocity field on the full grid.
+    pub field: Field,
+    /// Realised strength and shape error on the full grid.
+    pub realised: Realised,
+    /// The same on the coarse grid (what the optimizer saw).
+    pub coarse: Realised,
+    /// The seed's realised measure on the coarse grid.
+    pub seed_realised: Realised,
+    /// The seed's predicted strength (averaged-friction analysis).
+    pub seed_strength: f64,
+    /// Per-axis peaks against limits.
+    pub peaks: Vec<AxisPeak>,
+    /// Least normal force per unit mass over the region (m/s²): the
+    /// smaller of the kinematic check and the simulated steady orbits.
+    pub least_normal: f64,
+    /// Coarse re-simulations used (seed included).
+    pub evaluations: usize,
+    /// Wall time (s); not part of any data file.
+    pub seconds: f64,
+    /// POOR: shape error above [`POOR_SHAPE_ERROR`], no positive strength,
+    /// invalid samples, contact margin or a limit broken.
+    pub poor: bool,
+    /// Why it is poor, and what limited the seed.
+    pub notes: Vec<String>,
+}
+
+impl Synthesis {
+    /// One-line summary: seed, realised strength and shape error on the
+    /// full grid, evaluations, time, least N, POOR and notes.
+    pub fn summary(&self) -> String {
+        let n = self.field.grid.n;
+        format!(
+            "seed {:.4} predicted, {:.4} at {:.1} % realised (coarse); synthesized {:.4} at {:.2} % ({}×{}), {} evaluations, {:.1} s, least N {:.2} m/s²{}{}",
+            self.seed_strength,
+            self.seed_realised.strength,
+            100.0 * self.seed_realised.shape_error,
+            self.realised.strength,
+            100.0 * self.realised.shape_error,
+            n[0],
+            n[1],
+            self.evaluations,
+            self.seconds,
+            self.least_normal,
+            if self.poor { ", POOR" } else { "" },
+            if self.notes.is_empty() {
+                String::new()
+            } else {
+                format!(" ({})", self.notes.join("; "))
+            }
+        )
+    }
+}
+
+/// Synthesizes one six-signal motion for `field` over `region` (the full
+/// grid) within `limits`, with the physics of `settings`.
+///
+/// # Errors
+/// Invalid limits (naming `shaker.*`), region or options; limits that
+/// cannot move parts (no slip, or no allowed axis shapes the field).
+pub fn synthesize(
+    field: &FieldSpec,
+    region: &Grid,
+    limits: &ShakerLimits,
+    settings: &FieldSettings,
+    options: &SynthOptions,
+) -> Result<Synthesis> {
+    let start = Instant::now();
+    limits.validate("shaker")?;
+    region.validate("region")?;
+    options.validate()?;
+    let seed: Seed = seed(field, region, limits, settings.friction, settings.gravity)?;
+    let coarse = Grid {
+        n: options.coarse,
+        ..*region
+    };
+    let progress = Arc::new(Progress::new(options.progress, options.max_evaluations));
+    let deadline = options
+        .max_seconds
+        .map(|s| start + Duration::from_secs_f64(s));
+    let objective = Objective::new(
+        field,
+        coarse,
+        limits,
+        settings,
+        options.shape_budget,
+        seed.strength,
+        options.max_evaluations,
+        deadline,
+        &progress,
+    );
+    let x0 = Layout::new(limits).to_vec(&seed.coefficients);
+    let seed_eval = objective.evaluate(&x0);
+    let best = refine(
+        &objective,
+        &x0,
+        options.max_evaluations,
+        &options.refine,
+        &progress,
+    )?;
+    progress.finish();
+    let coefficients = objective.motion(&best.params).0;
+    let motion = coefficients.to_signals();
+    let m = Motion::Signals(motion.clone());
+    let full = Field::compute(&m, region, FieldKind::Velocity, settings, &|| {});
+    let target: Vec<[f64; 2]> = region.points().iter().map(|p| field.eval(*p)).collect();
+    let r = realised(&full, &target);
+    let least_normal =
+        kinematic_least_normal(&m, region, settings).min(orbit_least_normal(&m, region, settings));
+    let peaks: Vec<AxisPeak> = coefficients
+        .peaks()
+        .iter()
+        .zip(limits.axes())
+        .zip(AXIS_NAMES)
+        .map(|((p, l), a)| AxisPeak {
+            axis: a,
+            peak: *p,
+            limit: l,
+        })
+        .collect();
+    let mut notes = seed.notes.clone();
+    if seed.fit.residual > 0.01 {
+        notes.push(format!(
+            "the target is not affine: its best affine fit leaves {:.1} % (the seed's mechanism reaches affine fields only)",
+            100.0 * seed.fit.residual
+        ));
+    }
+    let moves = r.strength > 0.0;
+    if !moves {
+        notes.push("no positive strength: the motion does not move parts the target's way".into());
+    }
+    if r.shape_error > POOR_SHAPE_ERROR {
+        notes.push(format!(
+            "shape error {:.1} % > {:.0} %",
+            100.0 * r.shape_error,
+            100.0 * POOR_SHAPE_ERROR
+        ));
+    }
+    if r.invalid > 0 {
+        notes.push(format!(
+            "{} of {} samples invalid (contact lost or not converged)",
+            r.invalid,
+            full.grid.len()
+        ));
+    }
+    if least_normal < limits.contact_margin * settings.gravity {
+        notes.push(format!(
+            "contact margin broken: least N = {:.3} m/s² < {} g",
+            least_normal, limits.contact_margin
+        ));
+    }
+    let over = peaks
+        .iter()
+        .any(|p| p.peak > p.limit * (1.0 + PEAK_TOL) + f64::MIN_POSITIVE);
+    if over {
+        notes.push("a peak exceeds its limit".into());
+    }
+    let poor = !moves
+        || r.shape_error > POOR_SHAPE_ERROR
+        || r.invalid > 0
+        || least_normal < limits.contact_margin * settings.gravity
+        || over;
+    Ok(Synthesis {
+        motion,
+        field: full,
+        realised: r,
+        coarse: best.realised,
+        seed_realised: seed_eval.realised,
+        seed_strength: seed.strength,
+        peaks,
+        least_normal,
+        evaluations: objective.evaluations(),
+        seconds: start.elapsed().as_secs_f64(),
+        poor,
+        notes,
+    })
+}
