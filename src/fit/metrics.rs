@@ -47,7 +47,7 @@ pub enum RowLayout {
 /// # Errors
 /// Odd length.
 pub fn rows_to_vectors(v: &DVector<f64>, layout: RowLayout) -> Result<Vec<[f64; 2]>, FitError> {
-    if v.len() % 2 != 0 {
+    if !v.len().is_multiple_of(2) {
         return Err(FitError::InvalidInput(format!(
             "field vector has odd length {}",
             v.len()
