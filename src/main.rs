@@ -12,8 +12,8 @@ use platefield::design::DesignOptions;
 use platefield::dynamics::{Friction, Numerics, Preset};
 use platefield::field::FieldKind;
 use platefield::fit::FitMode;
-use platefield::studies::{self, linesink::LineSink, linesink::Wave};
 use platefield::output::write_atomic;
+use platefield::studies::{self, linesink::LineSink, linesink::Wave};
 use platefield::{report, Error, Result};
 
 #[derive(Parser)]

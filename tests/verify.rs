@@ -3,11 +3,11 @@
 use platefield::basis::{Primitive, PrimitiveKind};
 use platefield::dynamics::{Friction, Model, Numerics, PartState, Simulator};
 use platefield::motion::{Motion, Screw, Waveform};
-use platefield::studies::interaction::interaction_error;
 use platefield::play::{
     grid_points, rest, verify_points, Join, PlayOptions as VerifyOptions, PlayedSegment,
     ScheduleMotion, V2,
 };
+use platefield::studies::interaction::interaction_error;
 
 const G: f64 = 9.81;
 

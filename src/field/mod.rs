@@ -80,6 +80,19 @@ pub struct FieldSettings {
     pub frozen_excursion: f64,
 }
 
+impl FieldSettings {
+    /// The point-part simulator of `motion` under these physics.
+    pub fn simulator<'a>(&self, motion: &'a Motion) -> Simulator<'a> {
+        Simulator::new(
+            motion,
+            self.friction,
+            self.gravity,
+            self.model,
+            self.numerics,
+        )
+    }
+}
+
 impl Default for FieldSettings {
     fn default() -> Self {
         FieldSettings {
@@ -116,13 +129,7 @@ impl Field {
         settings: &FieldSettings,
         progress: &(dyn Fn() + Sync),
     ) -> Field {
-        let sim = Simulator::new(
-            motion,
-            settings.friction,
-            settings.gravity,
-            settings.model,
-            settings.numerics,
-        );
+        let sim = settings.simulator(motion);
         let points = grid.points();
         let spacing = grid.spacing();
         let samples: Vec<([f64; 2], Validity)> = points

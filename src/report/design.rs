@@ -141,11 +141,7 @@ pub fn report_md(d: &Design) -> String {
             "\n## Basis fields left out\n\n| field | invalid samples | reason |\n|---|---|---|\n",
         );
         for e in &d.basis.excluded {
-            let _ = writeln!(
-                md,
-                "| {} | {} | {} |",
-                e.label, e.invalid_samples, e.reason
-            );
+            let _ = writeln!(md, "| {} | {} | {} |", e.label, e.invalid_samples, e.reason);
         }
     }
     md

@@ -13,7 +13,7 @@
 
 use rayon::prelude::*;
 
-use crate::dynamics::{PartState, Simulator, V2};
+use crate::dynamics::{PartState, V2};
 use crate::field::{FieldSettings, Grid};
 use crate::motion::{Motion, V3};
 
@@ -42,13 +42,7 @@ pub fn kinematic_least_normal(motion: &Motion, grid: &Grid, settings: &FieldSett
 /// Least N (m/s²) along the steady orbits started at the points of `grid`
 /// (points without a steady state are skipped: the field flags them).
 pub fn orbit_least_normal(motion: &Motion, grid: &Grid, settings: &FieldSettings) -> f64 {
-    let sim = Simulator::new(
-        motion,
-        settings.friction,
-        settings.gravity,
-        settings.model,
-        settings.numerics,
-    );
+    let sim = settings.simulator(motion);
     let period = motion.period();
     grid.points()
         .par_iter()

@@ -35,8 +35,8 @@
 use serde::{Deserialize, Serialize};
 
 use crate::basis::{Primitive, PrimitiveKind};
-use crate::schedule::export::centre_acceleration;
 use crate::error::{Error, Result};
+use crate::schedule::export::centre_acceleration;
 
 /// Peak accelerations, harmonics and contact margin a synthesized motion
 /// must respect (see the [module documentation](self)).
