@@ -20,7 +20,7 @@
 //!
 //! | stage | module | what it states |
 //! |---|---|---|
-//! | inputs | [`scene`], [`target`] | a plate motion with its physics and grid; a requested field (kinds, grid, mask, attractor) |
+//! | inputs | [`scene`], [`request`] (target files) | a plate motion with its physics and grid; a requested field (kinds, grid, mask, attractor) |
 //! | kinematics | [`motion`] | world and plate frames; the plate's velocity and acceleration at a plate point; gravity in the plate frame. The screw primitive in [`motion::screw`], general six-signal motion in [`motion::signals`], waveforms in [`motion::waveform`] |
 //! | dynamics | [`dynamics`] | a point part's equations: the effective gravity N, Coulomb stick and slip, contact loss, the terms the paper drops as [`dynamics::Model`] switches. Exact stick-slip events in [`dynamics::integrator`], the periodic orbit in [`dynamics::steady`], rectangles in [`dynamics::planar`] |
 //! | fields | [`field`] | the zero-velocity force field, the steady-state velocity field (frozen or free), per-sample validity |
@@ -73,11 +73,11 @@ pub mod output;
 pub mod play;
 pub mod plot;
 pub mod report;
+pub mod request;
 pub mod scene;
 pub mod schedule;
 pub mod studies;
 pub mod synth;
-pub mod target;
 pub mod verify;
 
 pub use error::{Error, Result};

@@ -9,7 +9,7 @@ mod common;
 use platefield::basis::PrimitiveKind;
 use platefield::design::closed_loop::{closed_loop, realised_metrics, LoopOptions, Stage};
 use platefield::design::{design, Design, DesignOptions};
-use platefield::target::Target;
+use platefield::request::Target;
 
 fn sink() -> Target {
     Target::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("targets/sink.json"))

@@ -7,8 +7,8 @@ use std::process::Command;
 use platefield::basis::PrimitiveKind;
 use platefield::design::{design, DesignOptions};
 use platefield::field::FieldSettings;
+use platefield::request::Target;
 use platefield::schedule::export::{centre_acceleration, signals_csv};
-use platefield::target::Target;
 
 fn target(name: &str, field: &str) -> Target {
     Target::from_json_str(&format!(
@@ -302,7 +302,7 @@ fn design_is_deterministic() {
 #[test]
 fn sink_swarm_converges_in_the_time_the_strength_predicts() {
     use platefield::play::{PlayOptions, ScheduleMotion};
-    use platefield::target::Attractor;
+    use platefield::request::Attractor;
     use platefield::verify::run::{region_points, swarm_periods};
     use platefield::verify::{run_swarm, Duration, SwarmOptions};
     let t = target("sink", r#"{"kind": "sink"}"#);

@@ -9,8 +9,8 @@ use std::path::Path;
 use proptest::prelude::*;
 use serde_json::Value;
 
+use platefield::request::{examples, Target};
 use platefield::scene::Scene;
-use platefield::target::{examples, Target};
 use platefield::Error;
 
 /// The shipped scenes and the target examples, as JSON values.

@@ -318,7 +318,7 @@ fn design_order_search_reorders_and_reports() {
     use platefield::design::{design, DesignOptions};
     use platefield::field::FieldSettings;
     use platefield::report::design as report;
-    use platefield::target::Target;
+    use platefield::request::Target;
     let target = Target::from_json_str(
         r#"{"name": "squeeze", "grid": {"x": [-0.03, 0.03], "y": [-0.03, 0.03], "n": [7, 7]}, "field": {"kind": "squeeze_trans"}}"#,
     )

@@ -10,11 +10,11 @@ use platefield::basis::{Primitive, PrimitiveKind};
 use platefield::field::{Field, FieldKind, FieldSettings, Grid};
 use platefield::motion::sample_hold::{self, CentreState, Segment};
 use platefield::motion::{Motion, Signals};
+use platefield::request::FieldSpec;
 use platefield::synth::params::{Coefficients, Layout};
 use platefield::synth::progress::ProgressMode;
 use platefield::synth::seed::seed;
 use platefield::synth::{synthesize, ShakerLimits, SynthOptions, Synthesis};
-use platefield::target::FieldSpec;
 
 /// The lab-class limits of issue 11.
 fn lab() -> ShakerLimits {

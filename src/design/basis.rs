@@ -101,10 +101,10 @@ fn bilinear(field: &Field, p: [f64; 2]) -> Option<[f64; 2]> {
 
 /// The grid on which rotated copies are resampled: the target's own grid,
 /// or for scattered points one sized by their region
-/// ([`crate::target::scattered_grid`]).
+/// ([`crate::request::scattered_grid`]).
 pub fn sampling_grid(grid: Option<&Grid>, points: &[[f64; 2]]) -> Grid {
     grid.copied()
-        .unwrap_or_else(|| crate::target::scattered_grid(points))
+        .unwrap_or_else(|| crate::request::scattered_grid(points))
 }
 
 /// The change of `field` under each of `rotations_deg` when every one is

@@ -71,8 +71,8 @@ use crate::dynamics::Model;
 use crate::error::{Error, Result};
 use crate::field::FieldSettings;
 use crate::fit::{self, FitMetrics};
+use crate::request::{SampledTarget, Target};
 use crate::schedule::{Schedule, Segment};
-use crate::target::{SampledTarget, Target};
 
 /// Options of [`closed_loop`].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]

@@ -31,8 +31,8 @@ use crate::error::{Error, Result};
 use crate::field::{FieldKind, FieldSettings, Grid};
 use crate::fit::{self, FitMetrics, FitMode, FitOptions, FitProblem, FitSolution};
 use crate::play::PlayOptions;
+use crate::request::{SampledTarget, Target};
 use crate::schedule::{self, BasisInfo, KeptColumn, Schedule, Segment};
-use crate::target::{SampledTarget, Target};
 use order::{choose_order, OrderOptions, OrderSearch};
 
 pub use basis::DesignBasis;
@@ -160,8 +160,8 @@ fn search_order(
     Ok((reordered, Some(search)))
 }
 
-impl From<crate::target::TargetError> for Error {
-    fn from(e: crate::target::TargetError) -> Self {
+impl From<crate::request::TargetError> for Error {
+    fn from(e: crate::request::TargetError) -> Self {
         let (field, message) = e.located();
         Error::invalid(field, message)
     }

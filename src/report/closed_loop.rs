@@ -11,7 +11,7 @@ use crate::design::closed_loop::{Candidate, ClosedLoop};
 use crate::design::Design;
 use crate::error::{Error, Result};
 use crate::output::write_atomic;
-use crate::target::Target;
+use crate::request::Target;
 
 fn pct(x: f64) -> String {
     format!("{:.1} %", 100.0 * x)

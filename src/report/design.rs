@@ -229,7 +229,7 @@ pub fn run(
     json: bool,
 ) -> crate::error::Result<String> {
     use crate::design::closed_loop as cl;
-    let mut target = crate::target::Target::load(path)?;
+    let mut target = crate::request::Target::load(path)?;
     target.name = target.folder_name(path)?;
     if let Some(l) = closed_loop {
         l.validate()?;

@@ -10,7 +10,7 @@ use crate::error::{Error, Result};
 use crate::field::Grid;
 use crate::play::measure::{PointResult, RealisedField};
 use crate::plot::{Marker, MarkerShape, Overlay, QuiverPlot};
-use crate::target::Attractor;
+use crate::request::Attractor;
 use crate::verify::run::{RectangleResult, VerifyReport};
 use crate::verify::Swarm;
 

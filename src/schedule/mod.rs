@@ -32,7 +32,7 @@ use crate::basis::Primitive;
 use crate::error::{non_negative, positive, Error, Result};
 use crate::field::{FieldKind, FieldSettings, Validity};
 use crate::fit::FitMetrics;
-use crate::target::Target;
+use crate::request::Target;
 
 pub use quantize::{quantize, Quantized, DEFAULT_MIN_CYCLES, DEFAULT_QUANTIZATION_TOL};
 

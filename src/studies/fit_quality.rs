@@ -8,7 +8,7 @@ use crate::design::{design, DesignOptions};
 use crate::error::{Error, Result};
 use crate::fit::FitMode;
 use crate::output::write_atomic;
-use crate::target::Target;
+use crate::request::Target;
 
 /// The fit modes compared.
 pub fn modes() -> Vec<FitMode> {

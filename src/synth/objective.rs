@@ -31,7 +31,7 @@ use super::params::{Coefficients, Layout};
 use super::progress::Progress;
 use crate::field::{Field, FieldKind, FieldSettings, Grid, Validity};
 use crate::motion::Motion;
-use crate::target::FieldSpec;
+use crate::request::FieldSpec;
 
 /// Weight of the shape error over budget.
 pub const SHAPE_WEIGHT: f64 = 20.0;

@@ -13,7 +13,7 @@ use super::params::Coefficients;
 use crate::dynamics::Friction;
 use crate::error::{Error, Result};
 use crate::field::Grid;
-use crate::target::FieldSpec;
+use crate::request::FieldSpec;
 
 /// Signal indices (see [`super::params::AXIS_NAMES`]).
 const LIN_X: usize = 0;

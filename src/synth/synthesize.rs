@@ -14,7 +14,7 @@ use super::seed::{seed, Seed};
 use crate::error::{positive, Error, Result};
 use crate::field::{Field, FieldKind, FieldSettings, Grid};
 use crate::motion::{Motion, Signals};
-use crate::target::FieldSpec;
+use crate::request::FieldSpec;
 
 /// A realised shape error above this flags a synthesis as POOR.
 pub const POOR_SHAPE_ERROR: f64 = 0.2;

@@ -30,8 +30,8 @@ use crate::error::{Error, Result};
 use crate::field::Grid;
 use crate::play::measure::{verify_points, PlayOptions, RealisedField};
 use crate::play::{ScheduleMotion, V2};
+use crate::request::Attractor;
 use crate::schedule::Schedule;
-use crate::target::Attractor;
 
 /// How long the swarm is played.
 #[derive(Debug, Clone, Copy, PartialEq)]

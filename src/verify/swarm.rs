@@ -29,7 +29,7 @@ use serde::Serialize;
 
 use crate::dynamics::PartState;
 use crate::play::{ScheduleMotion, V2};
-use crate::target::Attractor;
+use crate::request::Attractor;
 
 use crate::play::PlayOptions;
 

@@ -40,8 +40,8 @@ use crate::error::Result;
 use crate::field::FieldSettings;
 use crate::play::measure::{play_point, PlayOptions, Windows};
 use crate::play::ScheduleMotion;
+use crate::request::Target;
 use crate::schedule::Schedule;
-use crate::target::Target;
 
 pub use crate::play::measure::PointPlay;
 

@@ -19,8 +19,8 @@ use super::PointPlay;
 use crate::basis::{Primitive, PrimitiveKind};
 use crate::error::{Error, Result};
 use crate::fit::{FitMode, FitOptions, FitProblem};
+use crate::request::Target;
 use crate::schedule::{quantize, Schedule, Segment, DEFAULT_QUANTIZATION_TOL};
-use crate::target::Target;
 
 /// One contextual re-fit: the segments' realised velocities in context as
 /// basis columns, the conic fit, whole cycles. Returns the new segments

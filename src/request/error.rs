@@ -3,12 +3,12 @@
 use std::path::PathBuf;
 
 /// Everything that can go wrong when reading, validating or sampling a
-/// [`Target`](crate::target::Target).
+/// [`Target`](crate::request::Target).
 ///
 /// The `Display` text is meant to be shown to users as-is: validation errors
 /// start with the JSON path of the offending value (e.g.
 /// `target.grid.n[0]: must be ≥ 2, got 0`), and errors produced by
-/// [`Target::load`](crate::target::Target::load) are prefixed with the file
+/// [`Target::load`](crate::request::Target::load) are prefixed with the file
 /// path.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]

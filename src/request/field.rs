@@ -1,11 +1,11 @@
 //! Field specifications (`target.field`) and their evaluation.
 //!
-//! See the [module documentation](crate::target) for the JSON form and the
+//! See the [module documentation](crate::request) for the JSON form and the
 //! formula of every kind.
 
 use serde::{Deserialize, Serialize};
 
-use crate::target::error::{
+use crate::request::error::{
     check_finite, check_finite2, check_range, check_scale, show, TargetError,
 };
 

@@ -8,7 +8,7 @@
 //! Typical use:
 //!
 //! ```ignore
-//! use platefield::target::Target;
+//! use platefield::request::Target;
 //! let target = Target::load(std::path::Path::new("targets/sink.json"))?;
 //! let samples = target.sample()?; // points, requested vectors, weights
 //! ```

@@ -109,7 +109,7 @@ fn sampled() -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::target::{FieldSpec, Target};
+    use crate::request::{FieldSpec, Target};
 
     #[test]
     fn sampled_example_is_a_sink() {

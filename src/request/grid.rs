@@ -2,10 +2,10 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::target::error::{
+use crate::request::error::{
     check_finite, check_finite2, check_interval, check_range, show, TargetError,
 };
-use crate::target::field::EXTENT;
+use crate::request::field::EXTENT;
 
 /// Largest allowed number of grid points along one axis (`grid.n[i]`);
 /// a region may allow fewer ([`max_points`]).
