@@ -62,6 +62,7 @@
 #![warn(missing_docs)]
 
 pub mod basis;
+pub mod cli;
 pub mod design;
 pub mod dynamics;
 pub mod error;

@@ -1,0 +1,167 @@
+//! `platefield design`: arguments, their checks, and the [`DesignOptions`] they build.
+
+use std::path::PathBuf;
+
+use clap::{Args, ValueEnum};
+
+use crate::basis::PrimitiveKind;
+use crate::design::closed_loop::LoopOptions;
+use crate::design::DesignOptions;
+use crate::dynamics::Preset;
+use crate::field::FieldKind;
+use crate::fit::FitMode;
+use crate::{report, Error, Result};
+
+/// Fit mode (see [`FitMode`]).
+#[derive(Clone, Copy, ValueEnum)]
+pub enum Mode {
+    /// The strongest field of the target's shape.
+    Shape,
+    /// The target as given.
+    Absolute,
+    /// The strongest field within the relative error --budget.
+    Budget,
+    /// L1 norm of the residual.
+    L1,
+    /// L∞ norm of the residual.
+    #[value(alias = "l_inf")]
+    Linf,
+}
+
+/// `--shift x,y` (metres).
+fn xy(text: &str) -> std::result::Result<[f64; 2], String> {
+    let v: Vec<f64> = text
+        .split(',')
+        .filter_map(|s| s.trim().parse().ok())
+        .collect();
+    match v[..] {
+        [x, y] if x.is_finite() && y.is_finite() && text.split(',').count() == 2 => Ok([x, y]),
+        _ => Err(format!(
+            "must be two numbers \"x,y\" in metres, got \"{text}\""
+        )),
+    }
+}
+
+/// Arguments of `platefield design`.
+#[derive(Args)]
+pub struct DesignArgs {
+    /// Target field JSON (see the README's target schema).
+    pub target: PathBuf,
+    /// Fit mode: shape (strongest field of the target's shape), absolute, budget, l1 or linf.
+    #[arg(long, value_enum, default_value_t = Mode::Shape)]
+    pub mode: Mode,
+    /// Relative error budget for --mode budget, in (0, 1).
+    #[arg(long, default_value_t = 0.05, allow_negative_numbers = true)]
+    pub budget: f64,
+    /// Use at most this many segments.
+    #[arg(long, allow_negative_numbers = true)]
+    pub max_primitives: Option<usize>,
+    /// Basis field kind: velocity (steady-state velocity fields, default) or force.
+    #[arg(long, value_enum, default_value_t = FieldKind::Velocity)]
+    pub basis: FieldKind,
+    /// Rotation step of the basis copies (degrees).
+    #[arg(long, default_value_t = 15.0, allow_negative_numbers = true)]
+    pub rotation_step: f64,
+    /// Primitive kinds allowed, comma separated (default: all eight).
+    #[arg(long, value_enum, value_delimiter = ',')]
+    pub primitives: Option<Vec<PrimitiveKind>>,
+    /// Also use basis copies shifted by this horizontal offset "x,y" (m); repeatable.
+    #[arg(long, allow_negative_numbers = true, value_parser = xy)]
+    pub shift: Vec<[f64; 2]>,
+    /// Keep basis fields that are invalid somewhere in the region (their invalid points are listed in the schedule).
+    #[arg(long)]
+    pub keep_invalid: bool,
+    /// Minimum cycles per segment.
+    #[arg(long, default_value_t = crate::schedule::DEFAULT_MIN_CYCLES)]
+    pub min_cycles: u32,
+    /// Total schedule length in cycles (default: the shortest within the quantisation tolerance).
+    #[arg(long)]
+    pub cycles: Option<u32>,
+    /// Output folder; files go to OUT/<target name>/.
+    #[arg(long, default_value = "results")]
+    pub out: PathBuf,
+    /// Print the schedule JSON to stdout.
+    #[arg(long)]
+    pub json: bool,
+    /// No progress bar.
+    #[arg(long)]
+    pub quiet: bool,
+    /// Do not read or write the basis cache (.platefield-cache/).
+    #[arg(long)]
+    pub no_cache: bool,
+    /// Search the segment order and rest at the joins in closed-loop simulation; writes order.md.
+    #[arg(long)]
+    pub order_search: bool,
+    /// Closed loop: play the schedule, feed the realised field back (orders, contextual re-fit), keep the best; reports the realised error before and after.
+    #[arg(long)]
+    pub closed_loop: bool,
+    /// Closed loop: play every N-th target grid point per axis.
+    #[arg(long, default_value_t = 2)]
+    pub loop_stride: usize,
+    /// Closed loop: most contextual re-fit iterations.
+    #[arg(long, default_value_t = 8)]
+    pub loop_iterations: u32,
+    /// Closed loop: model the schedules are played with: the design's own (default, normally full), full, paper, or frozen (positions frozen: the local field, for long schedule periods in which parts travel far; not valid with Circle segments).
+    #[arg(long, value_enum)]
+    pub loop_model: Option<Preset>,
+}
+
+impl DesignArgs {
+    /// The design options these arguments ask for; errors name the argument and its range.
+    pub fn options(&self) -> Result<DesignOptions> {
+        let mode = match self.mode {
+            Mode::Shape => FitMode::Shape,
+            Mode::Absolute => FitMode::Absolute,
+            Mode::Budget => {
+                if !(self.budget > 0.0 && self.budget < 1.0) {
+                    return Err(Error::invalid(
+                        "--budget",
+                        format!("must be in (0, 1), got {}", self.budget),
+                    ));
+                }
+                FitMode::Budget {
+                    rel_error: self.budget,
+                }
+            }
+            Mode::L1 => FitMode::L1,
+            Mode::Linf => FitMode::LInf,
+        };
+        if self.min_cycles == 0 {
+            return Err(Error::invalid("--min-cycles", "must be ≥ 1"));
+        }
+        if self.max_primitives == Some(0) {
+            return Err(Error::invalid("--max-primitives", "must be ≥ 1"));
+        }
+        let mut shifts = vec![[0.0, 0.0]];
+        shifts.extend(self.shift.iter().copied());
+        Ok(DesignOptions {
+            mode,
+            kind: self.basis,
+            shifts,
+            rotation_step_deg: self.rotation_step,
+            keep_invalid: self.keep_invalid,
+            max_primitives: self.max_primitives,
+            min_cycles: self.min_cycles,
+            total_cycles: self.cycles,
+            kinds: (self.primitives.clone()).unwrap_or_else(|| PrimitiveKind::ALL.to_vec()),
+            cache_dir: (!self.no_cache).then(|| PathBuf::from(".platefield-cache")),
+            quiet: self.quiet,
+            order_search: self.order_search,
+            ..DesignOptions::default()
+        })
+    }
+
+    /// Checks the arguments, designs the schedule and returns the summary to print.
+    pub fn run(&self) -> Result<String> {
+        let opts = self.options()?;
+        let loop_opts = LoopOptions {
+            stride: self.loop_stride,
+            max_iterations: self.loop_iterations,
+            model: self.loop_model.map(Preset::model),
+            ..LoopOptions::default()
+        };
+        loop_opts.validate()?;
+        let closed = self.closed_loop.then_some(&loop_opts);
+        report::design::run(&self.target, &opts, closed, &self.out, self.json)
+    }
+}

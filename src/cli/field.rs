@@ -1,0 +1,47 @@
+//! `platefield field`: load a scene, compute its field, then write (nothing is
+//! written on bad input).
+
+use std::path::Path;
+
+use crate::output::write_atomic;
+use crate::scene::Scene;
+use crate::{Error, Result};
+
+/// Computes the field of the scene at `scene_path`, writes it as JSON to `out`
+/// and as a quiver plot to `svg` (when given), and returns the text to print:
+/// the field JSON with `json`, else the scene's summary and the files written.
+pub fn run(
+    scene_path: &Path,
+    json: bool,
+    out: Option<&Path>,
+    svg: Option<&Path>,
+    quiet: bool,
+) -> Result<String> {
+    let scene = Scene::load(scene_path)?;
+    let start = std::time::Instant::now();
+    let field = scene.compute(quiet).map_err(|e| match e {
+        Error::Physical(m) => Error::Physical(format!("{}: {m}", scene_path.display())),
+        e => e,
+    })?;
+    let seconds = start.elapsed().as_secs_f64();
+    let mut text = serde_json::to_string_pretty(&field.to_json(&scene.settings()))
+        .map_err(|e| Error::Physical(e.to_string()))?;
+    text.push('\n');
+    let stem = scene_path
+        .file_stem()
+        .map_or(String::new(), |s| s.to_string_lossy().into_owned());
+    if let Some(path) = out {
+        write_atomic(path, text.as_bytes())?;
+    }
+    if let Some(path) = svg {
+        write_atomic(path, field.quiver(&scene.title(&stem)).to_svg().as_bytes())?;
+    }
+    if json {
+        return Ok(text);
+    }
+    let mut summary = scene.summary(&field, seconds);
+    for path in out.iter().chain(svg.iter()) {
+        summary.push_str(&format!("wrote {}\n", path.display()));
+    }
+    Ok(summary)
+}
