@@ -198,8 +198,8 @@ pub(crate) fn strongest(problem: &FitProblem, options: &FitOptions) -> Result<Fi
 pub const COMPACT_SLACK: f64 = 0.005;
 
 /// Runs the inverse design for `target`: the open-loop pipeline
-/// [`stages::basis_stage`] → [`stages::fit_stage`] →
-/// [`stages::schedule_stage`] → [`stages::order_stage`], then the
+/// `basis_stage` → `fit_stage` → `schedule_stage` → `order_stage` (in
+/// `design/stages.rs`), then the
 /// [`Design`] assembled from their products.
 pub fn design(target: &Target, opts: &DesignOptions) -> Result<Design> {
     let basis = stages::basis_stage(target, opts)?;
