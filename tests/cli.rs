@@ -335,3 +335,35 @@ fn verify_refuses_rest_only_lost_contact_and_overlong_schedules() {
         }
     }
 }
+
+/// `design` range-checks its counts and shifts before any library build:
+/// `--cycles 0` used to write a 0-cycle schedule, `--cycles 4294967295`
+/// overflowed to one, and `--shift 1,0` asked for 4.4 M samples per
+/// primitive. Each now exits 2 at once, naming the argument and its range,
+/// and writes nothing.
+#[test]
+fn design_refuses_out_of_range_counts_and_shifts() {
+    let dir = temp_dir("design-ranges");
+    let out = dir.to_str().unwrap();
+    for (extra, name, range) in [
+        (["--cycles", "0"], "--cycles", "1..=100000"),
+        (["--cycles", "4294967295"], "--cycles", "1..=100000"),
+        (["--shift", "1,0"], "--shift", "[-0.1, 0.1] m"),
+    ] {
+        let start = std::time::Instant::now();
+        let mut args = vec!["design", "targets/sink.json", "--out", out];
+        args.extend_from_slice(&extra);
+        let (code, stdout, err) = platefield(&args);
+        assert_eq!(code, 2, "{extra:?}: {err}");
+        assert!(
+            err.contains(name) && err.contains(range),
+            "{extra:?}: {err}"
+        );
+        assert!(stdout.is_empty(), "{extra:?}: {stdout}");
+        assert!(
+            start.elapsed().as_secs_f64() < 5.0,
+            "{extra:?} was not refused at once"
+        );
+        assert!(!dir.join("sink").exists(), "{extra:?} wrote files");
+    }
+}

@@ -235,7 +235,10 @@ fn choose_order_keeps_the_schedule_consistent() {
     let (out, search) = choose_order(&schedule, &opts).unwrap();
     // n segments: (n − 1)! orders up to rotation, each with 1 rest cycle at every join.
     let n = schedule.segments.len();
-    assert!(n >= 2, "the shipped squeeze_trans schedule has {n} segments");
+    assert!(
+        n >= 2,
+        "the shipped squeeze_trans schedule has {n} segments"
+    );
     assert_eq!(distinct_orders(&search).len(), (1..n).product::<usize>());
     let best = search.chosen();
     assert_eq!(best.rest_cycles, 1);

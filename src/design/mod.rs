@@ -14,30 +14,33 @@
 //! 4. **Order** (optional, [`DesignOptions::order_search`]): the segment
 //!    order and rest insertions that best realise the prediction in
 //!    closed-loop simulation ([`order`]).
+//!
+//! Each step is one named stage function in `stages.rs`
+//! (`basis_stage` → `fit_stage` → `schedule_stage` → `order_stage`), and
+//! [`design`] composes them.
 
 pub mod basis;
 pub mod closed_loop;
+mod options;
 pub mod order;
+mod stages;
 
 use std::path::PathBuf;
 use std::time::Instant;
 
-use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
-use crate::basis::cache::BasisCache;
-use crate::basis::{symmetry, Primitive, PrimitiveKind};
+use crate::basis::PrimitiveKind;
 use crate::error::{Error, Result};
-use crate::field::{FieldKind, FieldSettings, Grid};
-use crate::fit::{self, FitMetrics, FitMode, FitOptions, FitProblem, FitSolution};
-use crate::play::PlayOptions;
+use crate::field::{FieldKind, FieldSettings};
+use crate::fit::{self, FitMode, FitOptions, FitProblem, FitSolution};
 use crate::request::{SampledTarget, Target};
-use crate::schedule::{self, BasisInfo, KeptColumn, Schedule, Segment};
-use order::{choose_order, OrderOptions, OrderSearch};
+use crate::schedule::{self, Schedule};
+use order::OrderSearch;
 
 pub use basis::DesignBasis;
 
-/// Options of [`design`].
+/// Options of [`design`] (range-checked by [`DesignOptions::validate`]).
 #[derive(Debug, Clone)]
 pub struct DesignOptions {
     /// Fit mode (default `shape`).
@@ -136,30 +139,6 @@ pub struct Design {
 /// Start points per side of the order search's grid over the target region.
 pub const ORDER_SEARCH_POINTS: usize = 5;
 
-/// Runs the order search on `schedule` with the design's physics on
-/// [`ORDER_SEARCH_POINTS`]² points over the bounding box of the target's
-/// weighted points; a schedule without a moving segment is left as it is.
-fn search_order(
-    schedule: Schedule,
-    target: &SampledTarget,
-    opts: &DesignOptions,
-) -> Result<(Schedule, Option<OrderSearch>)> {
-    if schedule.segments.iter().all(|s| s.primitive.is_none()) {
-        return Ok((schedule, None));
-    }
-    let region: Vec<[f64; 2]> = target
-        .points
-        .iter()
-        .zip(&target.weights)
-        .filter(|(_, w)| **w > 0.0)
-        .map(|(p, _)| *p)
-        .collect();
-    let points = order::region_grid(&region, ORDER_SEARCH_POINTS);
-    let verify = PlayOptions::from_settings(&opts.settings);
-    let (reordered, search) = choose_order(&schedule, &OrderOptions::new(verify, points))?;
-    Ok((reordered, Some(search)))
-}
-
 impl From<crate::request::TargetError> for Error {
     fn from(e: crate::request::TargetError) -> Self {
         let (field, message) = e.located();
@@ -171,17 +150,6 @@ impl From<fit::FitError> for Error {
     fn from(e: fit::FitError) -> Self {
         Error::NotConverged(format!("fit: {e}"))
     }
-}
-
-/// Stacks 2-D vectors as [x₀ … x_{n−1}, y₀ … y_{n−1}].
-fn stack(v: &[[f64; 2]]) -> DVector<f64> {
-    let n = v.len();
-    DVector::from_fn(2 * n, |i, _| if i < n { v[i][0] } else { v[i - n][1] })
-}
-
-fn unstack(v: &DVector<f64>) -> Vec<[f64; 2]> {
-    let n = v.len() / 2;
-    (0..n).map(|i| [v[i], v[i + n]]).collect()
 }
 
 /// The rotations of the basis copies (degrees).
@@ -230,305 +198,31 @@ pub(crate) fn strongest(problem: &FitProblem, options: &FitOptions) -> Result<Fi
 /// its relative error is within this of the full fit's.
 pub const COMPACT_SLACK: f64 = 0.005;
 
-/// Runs the inverse design for `target`.
+/// Runs the inverse design for `target`: the open-loop pipeline
+/// `basis_stage` → `fit_stage` → `schedule_stage` → `order_stage` (in
+/// `design/stages.rs`), then the
+/// [`Design`] assembled from their products.
 pub fn design(target: &Target, opts: &DesignOptions) -> Result<Design> {
-    if !(opts.rotation_step_deg > 0.0 && opts.rotation_step_deg <= 360.0) {
-        return Err(Error::invalid(
-            "--rotation-step",
-            format!(
-                "must be in (0, 360] degrees, got {}",
-                opts.rotation_step_deg
-            ),
-        ));
-    }
-    let sampled = target.sample()?;
-    let target_grid = target.grid.as_ref().map(|g| Grid {
-        x: g.x,
-        y: g.y,
-        n: g.n,
-    });
-    let angles = rotations(opts.rotation_step_deg);
-    let region = basis::sampling_grid(target_grid.as_ref(), &sampled.points);
-    let angles_rad: Vec<f64> = angles.iter().map(|a| a.to_radians()).collect();
-    let source = symmetry::source_grid(&region, &angles_rad, &opts.shifts);
-    let primitives: Vec<Primitive> = opts.kinds.iter().map(|k| Primitive::new(*k)).collect();
-
-    let t_basis = Instant::now();
-    let (lib, cache_status) = match &opts.cache_dir {
-        Some(dir) => {
-            let (lib, status) = BasisCache::new(dir).get_or_build(
-                &primitives,
-                &source,
-                &opts.settings,
-                opts.kind,
-                opts.quiet,
-            )?;
-            (lib, format!("{status:?}"))
-        }
-        None => (
-            crate::basis::FieldLibrary::build(
-                &primitives,
-                &source,
-                &opts.settings,
-                opts.kind,
-                opts.quiet,
-            ),
-            "no cache".to_string(),
-        ),
-    };
-    let basis_time_s = t_basis.elapsed().as_secs_f64();
-
+    opts.validate()?;
+    let basis = stages::basis_stage(target, opts)?;
     let t_fit = Instant::now();
-    let basis = basis::assemble(
-        &lib,
-        &angles,
-        &opts.shifts,
-        target_grid.as_ref(),
-        &sampled.points,
-        &sampled.weights,
-        opts.keep_invalid,
-    );
-    if basis.columns.is_empty() {
-        return Err(Error::Physical(format!(
-            "no basis field is valid over the whole target region ({} left out, e.g. {}); shrink the region or pass --keep-invalid",
-            basis.excluded.len(),
-            basis.excluded.first().map_or(String::new(), |e| format!("{} ({:?})", e.label, e.reason))
-        )));
-    }
-    let m = basis.columns.len();
-    let a = DMatrix::from_fn(2 * sampled.len(), m, |i, j| {
-        let n = sampled.len();
-        let v = basis.columns[j].vectors[i % n];
-        if i < n {
-            v[0]
-        } else {
-            v[1]
-        }
-    });
-    let t = stack(&sampled.vectors);
-    let d = stack(
-        &sampled
-            .weights
-            .iter()
-            .map(|w| [w.sqrt(), w.sqrt()])
-            .collect::<Vec<_>>(),
-    );
-    let problem = FitProblem {
-        a: &a,
-        t: &t,
-        row_weights: Some(&d),
-    };
-    let options = FitOptions {
-        mode: opts.mode,
-        max_primitives: opts.max_primitives,
-        ..FitOptions::default()
-    };
-    let mut solution = strongest(&problem, &options)?;
-
-    // Fewer primitives: the error against the number of segments, over the
-    // columns the full fit uses; and, unless --max-primitives was given, the
-    // smallest subset that is as good as the full fit (within
-    // COMPACT_SLACK), which makes shorter schedules with fewer joins.
-    let support: Vec<usize> = (0..m).filter(|&j| solution.fractions[j] > 1e-9).collect();
-    let mut sparsity = Vec::new();
-    if !support.is_empty() && solution.strength > 0.0 {
-        let sub = a.select_columns(&support);
-        let sub_problem = FitProblem {
-            a: &sub,
-            t: &t,
-            row_weights: Some(&d),
-        };
-        let path = fit::sparsity_path(&sub_problem, &opts.mode, support.len())?;
-        let target_error = solution.relative_error;
-        let compact = path
-            .iter()
-            .find(|row| row.k < support.len() && row.relative_error <= target_error + COMPACT_SLACK)
-            .map(|row| {
-                (
-                    row.columns
-                        .iter()
-                        .map(|&c| support[c])
-                        .collect::<Vec<usize>>(),
-                    row.relative_error,
-                )
-            });
-        for row in &path {
-            sparsity.push(SparsityRow {
-                k: row.k,
-                relative_error: row.relative_error,
-                labels: row
-                    .columns
-                    .iter()
-                    .map(|&c| basis::label(&basis.columns[support[c]].primitive))
-                    .collect(),
-            });
-        }
-        if let (Some((cols, err)), None) = (compact, opts.max_primitives) {
-            // The strongest field on the subset within the full fit's error
-            // (or just above the subset's best, if that is larger).
-            let sub = a.select_columns(&cols);
-            let sub_problem = FitProblem {
-                a: &sub,
-                t: &t,
-                row_weights: Some(&d),
-            };
-            let eps = target_error.max(err + 1e-4).min(0.99);
-            let budget = FitOptions {
-                mode: FitMode::Budget { rel_error: eps },
-                ..options
-            };
-            if let (FitMode::Shape, Ok(mut small)) = (opts.mode, fit::solve(&sub_problem, &budget))
-            {
-                if small.strength > 0.0 {
-                    let mut fractions = vec![0.0; m];
-                    for (k, &j) in cols.iter().enumerate() {
-                        fractions[j] = small.fractions[k];
-                    }
-                    small.status = format!(
-                        "{} (shape: {} of {} segments, strongest within {:.4})",
-                        small.status,
-                        cols.len(),
-                        support.len(),
-                        eps
-                    );
-                    solution = FitSolution { fractions, ..small };
-                }
-            }
-        }
-    }
-    let f = DVector::from_column_slice(&solution.fractions);
-    let achieved_vec = &a * &f;
-    let achieved = unstack(&achieved_vec);
-    let strength = solution.strength;
-    let metrics = |field: &[[f64; 2]]| -> Result<FitMetrics> {
-        Ok(fit::field_metrics(
-            &sampled.vectors,
-            field,
-            strength.max(f64::MIN_POSITIVE),
-            Some(&sampled.weights),
-        )?)
-    };
-    // Metrics are defined whenever the fit produced a field; a `shape` fit
-    // that found nothing pointing the target's way has none.
-    let degenerate = strength <= 0.0;
-    let none = FitMetrics {
-        relative_l2_error: 1.0,
-        mean_angle_error_deg: 90.0,
-        max_error: sampled.max_norm(),
-        strength: 0.0,
-    };
-    let fit_metrics = if degenerate {
-        none
-    } else {
-        metrics(&achieved)?
-    };
-
-    // Whole cycles.
-    let periods: Vec<f64> = basis.columns.iter().map(|c| c.primitive.period()).collect();
-    let rest_period = Primitive::new(PrimitiveKind::LineSink).period();
-    let norm = achieved_vec.norm().max(f64::MIN_POSITIVE);
-    let field_error = |q: &[f64]| -> f64 {
-        let dq = DVector::from_fn(m, |j, _| q[j] - solution.fractions[j]);
-        (&a * dq).norm() / norm
-    };
-    let quant = schedule::quantize(
-        &solution.fractions,
-        &periods,
-        rest_period,
-        opts.min_cycles,
-        opts.total_cycles,
-        opts.quantization_tol,
-        &field_error,
-    );
-    let achieved_quantized = unstack(&(&a * DVector::from_column_slice(&quant.fractions)));
-    let fit_quantized = if degenerate {
-        none
-    } else {
-        metrics(&achieved_quantized)?
-    };
-
-    let mut order: Vec<usize> = (0..m).filter(|&j| quant.cycles[j] > 0).collect();
-    order.sort_by(|&i, &j| {
-        quant.cycles[j].cmp(&quant.cycles[i]).then_with(|| {
-            basis::label(&basis.columns[i].primitive)
-                .cmp(&basis::label(&basis.columns[j].primitive))
-        })
-    });
-    let mut segments: Vec<Segment> = order
-        .iter()
-        .map(|&j| Segment {
-            label: basis::label(&basis.columns[j].primitive),
-            primitive: Some(basis.columns[j].primitive.clone()),
-            weight: solution.fractions[j],
-            cycles: quant.cycles[j],
-            duration_s: f64::from(quant.cycles[j]) * periods[j],
-        })
-        .collect();
-    if quant.rest_cycles > 0 {
-        segments.push(Segment {
-            label: "Rest".into(),
-            primitive: None,
-            weight: (1.0 - solution.fractions.iter().sum::<f64>()).max(0.0),
-            cycles: quant.rest_cycles,
-            duration_s: f64::from(quant.rest_cycles) * rest_period,
-        });
-    }
+    let fit = stages::fit_stage(&basis, opts)?;
+    let (schedule, achieved_quantized) =
+        stages::schedule_stage(target, &basis.sampled, &fit, opts)?;
     let fit_time_s = t_fit.elapsed().as_secs_f64();
-    let mut schedule = Schedule {
-        target: target.name.clone(),
-        target_spec: Some(target.clone()),
-        total_cycles: 0,
-        period_s: 0.0,
-        segments,
-        min_cycles: opts.min_cycles,
-        fit: fit_metrics,
-        fit_quantized,
-        quantization_error: quant.error,
-        poor_fit: solution.unreachable
-            || fit_metrics.relative_l2_error > fit::UNREACHABLE_REL_ERROR,
-        solver: schedule::SolverInfo {
-            mode: opts.mode.name().into(),
-            status: solution.status.clone(),
-            iterations: solution.iterations,
-            kkt_residual: solution.kkt_residual,
-            independent_gap: solution.independent_gap,
-        },
-        basis: BasisInfo {
-            columns: m,
-            excluded: basis.excluded.clone(),
-            kept_with_invalid_points: basis
-                .columns
-                .iter()
-                .filter(|c| !c.invalid_points.is_empty())
-                .map(|c| KeptColumn {
-                    invalid_points: c.invalid_points.clone(),
-                    label: basis::label(&c.primitive),
-                })
-                .collect(),
-            kind: basis.kind,
-            rotation_step_deg: opts.rotation_step_deg,
-            shifts: opts.shifts.clone(),
-        },
-        settings: opts.settings,
-    };
-    schedule.derive();
     let t_order = Instant::now();
-    let (schedule, order_search) = if opts.order_search {
-        search_order(schedule, &sampled, opts)?
-    } else {
-        (schedule, None)
-    };
+    let (schedule, order_search) = stages::order_stage(schedule, &basis.sampled, opts)?;
     let order_time_s = t_order.elapsed().as_secs_f64();
     Ok(Design {
         schedule,
-        target: sampled,
-        achieved,
+        target: basis.sampled,
+        achieved: fit.achieved,
         achieved_quantized,
-        solution,
-        sparsity,
-        basis,
-        cache_status,
-        basis_time_s,
+        solution: fit.solution,
+        sparsity: fit.sparsity,
+        basis: fit.basis,
+        cache_status: basis.cache_status,
+        basis_time_s: basis.basis_time_s,
         fit_time_s,
         order_search,
         order_time_s,

@@ -1,0 +1,418 @@
+//! The open-loop pipeline of [`super::design`] as named stages, each run
+//! once in this order:
+//!
+//! [`basis_stage`] → [`fit_stage`] → [`schedule_stage`] → [`order_stage`],
+//! after which [`super::design`] assembles the [`super::Design`].
+
+use std::time::Instant;
+
+use nalgebra::{DMatrix, DVector};
+
+use super::order::{self, choose_order, OrderOptions, OrderSearch};
+use super::{basis, strongest, DesignBasis, DesignOptions, SparsityRow};
+use super::{COMPACT_SLACK, ORDER_SEARCH_POINTS};
+use crate::basis::cache::BasisCache;
+use crate::basis::{symmetry, FieldLibrary, Primitive, PrimitiveKind};
+use crate::error::{Error, Result};
+use crate::field::Grid;
+use crate::fit::{self, FitMetrics, FitMode, FitOptions, FitProblem, FitSolution};
+use crate::play::PlayOptions;
+use crate::request::{SampledTarget, Target};
+use crate::schedule::{self, BasisInfo, KeptColumn, Schedule, Segment};
+
+/// What [`basis_stage`] produces.
+pub(crate) struct BasisStage {
+    /// The sampled target.
+    pub sampled: SampledTarget,
+    /// The target's own grid, if it has one.
+    pub target_grid: Option<Grid>,
+    /// Rotations of the basis copies (degrees).
+    pub angles: Vec<f64>,
+    /// The simulated (or cached) primitive library on the source grid.
+    pub library: FieldLibrary,
+    /// Basis cache outcome.
+    pub cache_status: String,
+    /// Seconds spent obtaining the library.
+    pub basis_time_s: f64,
+}
+
+/// Basis stage: checks the rotation step, samples `target`, and simulates
+/// the allowed primitives once (or reads them from the cache) on a source
+/// grid that covers the target region under every rotation and shift.
+/// Consumes the target and the options; produces the sampled target and
+/// the unrotated field library.
+pub(crate) fn basis_stage(target: &Target, opts: &DesignOptions) -> Result<BasisStage> {
+    if !(opts.rotation_step_deg > 0.0 && opts.rotation_step_deg <= 360.0) {
+        return Err(Error::invalid(
+            "--rotation-step",
+            format!(
+                "must be in (0, 360] degrees, got {}",
+                opts.rotation_step_deg
+            ),
+        ));
+    }
+    let sampled = target.sample()?;
+    let target_grid = target.grid.as_ref().map(|g| Grid {
+        x: g.x,
+        y: g.y,
+        n: g.n,
+    });
+    let angles = super::rotations(opts.rotation_step_deg);
+    let region = basis::sampling_grid(target_grid.as_ref(), &sampled.points);
+    let angles_rad: Vec<f64> = angles.iter().map(|a| a.to_radians()).collect();
+    let source = symmetry::source_grid(&region, &angles_rad, &opts.shifts);
+    let primitives: Vec<Primitive> = opts.kinds.iter().map(|k| Primitive::new(*k)).collect();
+
+    let t_basis = Instant::now();
+    let (library, cache_status) = match &opts.cache_dir {
+        Some(dir) => {
+            let (lib, status) = BasisCache::new(dir).get_or_build(
+                &primitives,
+                &source,
+                &opts.settings,
+                opts.kind,
+                opts.quiet,
+            )?;
+            (lib, format!("{status:?}"))
+        }
+        None => (
+            FieldLibrary::build(&primitives, &source, &opts.settings, opts.kind, opts.quiet),
+            "no cache".to_string(),
+        ),
+    };
+    Ok(BasisStage {
+        sampled,
+        target_grid,
+        angles,
+        library,
+        cache_status,
+        basis_time_s: t_basis.elapsed().as_secs_f64(),
+    })
+}
+
+/// What [`fit_stage`] produces.
+pub(crate) struct FitStage {
+    /// The basis columns at the target points.
+    pub basis: DesignBasis,
+    /// The basis matrix: column j is basis field j stacked as [x…, y…].
+    pub a: DMatrix<f64>,
+    /// The fit's verified solution (possibly on a compact subset).
+    pub solution: FitSolution,
+    /// Error against the number of segments.
+    pub sparsity: Vec<SparsityRow>,
+    /// Achieved field of the continuous fractions at the target points.
+    pub achieved: Vec<[f64; 2]>,
+    /// `achieved` as a stacked vector (A·w).
+    pub achieved_vec: DVector<f64>,
+    /// Metrics of `achieved` against the target.
+    pub fit_metrics: FitMetrics,
+}
+
+/// Fit stage: rotates and shifts the library into basis columns at the
+/// target points, then fits time fractions w ≥ 0, Σw ≤ 1 to the weighted
+/// target ([`strongest`]), and replaces the fit by its smallest subset as
+/// good within [`COMPACT_SLACK`] ([`compact_stage`]). Consumes the
+/// [`BasisStage`]; produces the basis, the fractions and their field.
+pub(crate) fn fit_stage(stage: &BasisStage, opts: &DesignOptions) -> Result<FitStage> {
+    let sampled = &stage.sampled;
+    let basis = basis::assemble(
+        &stage.library,
+        &stage.angles,
+        &opts.shifts,
+        stage.target_grid.as_ref(),
+        &sampled.points,
+        &sampled.weights,
+        opts.keep_invalid,
+    );
+    if basis.columns.is_empty() {
+        return Err(Error::Physical(format!(
+            "no basis field is valid over the whole target region ({} left out, e.g. {}); shrink the region or pass --keep-invalid",
+            basis.excluded.len(),
+            basis.excluded.first().map_or(String::new(), |e| format!("{} ({:?})", e.label, e.reason))
+        )));
+    }
+    let m = basis.columns.len();
+    let a = DMatrix::from_fn(2 * sampled.len(), m, |i, j| {
+        let n = sampled.len();
+        let v = basis.columns[j].vectors[i % n];
+        if i < n {
+            v[0]
+        } else {
+            v[1]
+        }
+    });
+    let t = stack(&sampled.vectors);
+    let d = stack(
+        &sampled
+            .weights
+            .iter()
+            .map(|w| [w.sqrt(), w.sqrt()])
+            .collect::<Vec<_>>(),
+    );
+    let problem = FitProblem {
+        a: &a,
+        t: &t,
+        row_weights: Some(&d),
+    };
+    let options = FitOptions {
+        mode: opts.mode,
+        max_primitives: opts.max_primitives,
+        ..FitOptions::default()
+    };
+    let full = strongest(&problem, &options)?;
+    let (solution, sparsity) = compact_stage(full, &problem, &options, &basis)?;
+    let achieved_vec = &a * DVector::from_column_slice(&solution.fractions);
+    let achieved = unstack(&achieved_vec);
+    let fit_metrics = metrics(sampled, &achieved, solution.strength)?;
+    Ok(FitStage {
+        basis,
+        a,
+        solution,
+        sparsity,
+        achieved,
+        achieved_vec,
+        fit_metrics,
+    })
+}
+
+/// Fewer primitives (part of the fit stage): the error against the number
+/// of segments over the columns the full fit `solution` uses; and, unless
+/// `--max-primitives` was given, the smallest subset that is as good as the
+/// full fit (within [`COMPACT_SLACK`]), refitted for the strongest field,
+/// which makes shorter schedules with fewer joins. Consumes the full fit;
+/// produces the fit to schedule and the sparsity table.
+fn compact_stage(
+    mut solution: FitSolution,
+    problem: &FitProblem,
+    options: &FitOptions,
+    basis: &DesignBasis,
+) -> Result<(FitSolution, Vec<SparsityRow>)> {
+    let m = basis.columns.len();
+    let support: Vec<usize> = (0..m).filter(|&j| solution.fractions[j] > 1e-9).collect();
+    let mut sparsity = Vec::new();
+    let has_field = !support.is_empty() && solution.strength > 0.0;
+    if !has_field {
+        return Ok((solution, sparsity));
+    }
+    let sub = problem.a.select_columns(&support);
+    let sub_problem = FitProblem {
+        a: &sub,
+        ..*problem
+    };
+    let path = fit::sparsity_path(&sub_problem, &options.mode, support.len())?;
+    let target_error = solution.relative_error;
+    let compact = path
+        .iter()
+        .find(|row| row.k < support.len() && row.relative_error <= target_error + COMPACT_SLACK)
+        .map(|row| {
+            (
+                row.columns
+                    .iter()
+                    .map(|&c| support[c])
+                    .collect::<Vec<usize>>(),
+                row.relative_error,
+            )
+        });
+    for row in &path {
+        sparsity.push(SparsityRow {
+            k: row.k,
+            relative_error: row.relative_error,
+            labels: row
+                .columns
+                .iter()
+                .map(|&c| basis::label(&basis.columns[support[c]].primitive))
+                .collect(),
+        });
+    }
+    if let (Some((cols, err)), None) = (compact, options.max_primitives) {
+        // The strongest field on the subset within the full fit's error
+        // (or just above the subset's best, if that is larger).
+        let sub = problem.a.select_columns(&cols);
+        let sub_problem = FitProblem {
+            a: &sub,
+            ..*problem
+        };
+        let eps = target_error.max(err + 1e-4).min(0.99);
+        let budget = FitOptions {
+            mode: FitMode::Budget { rel_error: eps },
+            ..*options
+        };
+        if let (FitMode::Shape, Ok(mut small)) = (options.mode, fit::solve(&sub_problem, &budget)) {
+            if small.strength > 0.0 {
+                let mut fractions = vec![0.0; m];
+                for (k, &j) in cols.iter().enumerate() {
+                    fractions[j] = small.fractions[k];
+                }
+                small.status = format!(
+                    "{} (shape: {} of {} segments, strongest within {:.4})",
+                    small.status,
+                    cols.len(),
+                    support.len(),
+                    eps
+                );
+                solution = FitSolution { fractions, ..small };
+            }
+        }
+    }
+    Ok((solution, sparsity))
+}
+
+/// Metrics of `field` against the sampled target at fit strength
+/// `strength`. Metrics are defined whenever the fit produced a field; a
+/// `shape` fit that found nothing pointing the target's way (strength ≤ 0)
+/// has none, and gets the no-field values.
+fn metrics(sampled: &SampledTarget, field: &[[f64; 2]], strength: f64) -> Result<FitMetrics> {
+    if strength <= 0.0 {
+        return Ok(FitMetrics {
+            relative_l2_error: 1.0,
+            mean_angle_error_deg: 90.0,
+            max_error: sampled.max_norm(),
+            strength: 0.0,
+        });
+    }
+    Ok(fit::field_metrics(
+        &sampled.vectors,
+        field,
+        strength.max(f64::MIN_POSITIVE),
+        Some(&sampled.weights),
+    )?)
+}
+
+/// Schedule stage: quantises the fractions to whole cycles per segment
+/// (at least `min_cycles` each, the plate at rest filling the remainder),
+/// orders the segments by cycles (then label), and fills in the
+/// [`Schedule`] with its fit, solver and basis records. Consumes the
+/// target and the [`FitStage`]; produces the schedule and the field of
+/// its whole-cycle fractions at the target points.
+pub(crate) fn schedule_stage(
+    target: &Target,
+    sampled: &SampledTarget,
+    fit: &FitStage,
+    opts: &DesignOptions,
+) -> Result<(Schedule, Vec<[f64; 2]>)> {
+    let (basis, a, solution) = (&fit.basis, &fit.a, &fit.solution);
+    let m = basis.columns.len();
+    let periods: Vec<f64> = basis.columns.iter().map(|c| c.primitive.period()).collect();
+    let rest_period = Primitive::new(PrimitiveKind::LineSink).period();
+    let norm = fit.achieved_vec.norm().max(f64::MIN_POSITIVE);
+    let field_error = |q: &[f64]| -> f64 {
+        let dq = DVector::from_fn(m, |j, _| q[j] - solution.fractions[j]);
+        (a * dq).norm() / norm
+    };
+    let quant = schedule::quantize(
+        &solution.fractions,
+        &periods,
+        rest_period,
+        opts.min_cycles,
+        opts.total_cycles,
+        opts.quantization_tol,
+        &field_error,
+    );
+    let achieved_quantized = unstack(&(a * DVector::from_column_slice(&quant.fractions)));
+    let fit_quantized = metrics(sampled, &achieved_quantized, solution.strength)?;
+
+    let mut order: Vec<usize> = (0..m).filter(|&j| quant.cycles[j] > 0).collect();
+    order.sort_by(|&i, &j| {
+        quant.cycles[j].cmp(&quant.cycles[i]).then_with(|| {
+            basis::label(&basis.columns[i].primitive)
+                .cmp(&basis::label(&basis.columns[j].primitive))
+        })
+    });
+    let mut segments: Vec<Segment> = order
+        .iter()
+        .map(|&j| Segment {
+            label: basis::label(&basis.columns[j].primitive),
+            primitive: Some(basis.columns[j].primitive.clone()),
+            weight: solution.fractions[j],
+            cycles: quant.cycles[j],
+            duration_s: f64::from(quant.cycles[j]) * periods[j],
+        })
+        .collect();
+    if quant.rest_cycles > 0 {
+        segments.push(Segment {
+            label: "Rest".into(),
+            primitive: None,
+            weight: (1.0 - solution.fractions.iter().sum::<f64>()).max(0.0),
+            cycles: quant.rest_cycles,
+            duration_s: f64::from(quant.rest_cycles) * rest_period,
+        });
+    }
+    let mut schedule = Schedule {
+        target: target.name.clone(),
+        target_spec: Some(target.clone()),
+        total_cycles: 0,
+        period_s: 0.0,
+        segments,
+        min_cycles: opts.min_cycles,
+        fit: fit.fit_metrics,
+        fit_quantized,
+        quantization_error: quant.error,
+        poor_fit: solution.unreachable
+            || fit.fit_metrics.relative_l2_error > fit::UNREACHABLE_REL_ERROR,
+        solver: schedule::SolverInfo {
+            mode: opts.mode.name().into(),
+            status: solution.status.clone(),
+            iterations: solution.iterations,
+            kkt_residual: solution.kkt_residual,
+            independent_gap: solution.independent_gap,
+        },
+        basis: BasisInfo {
+            columns: m,
+            excluded: basis.excluded.clone(),
+            kept_with_invalid_points: basis
+                .columns
+                .iter()
+                .filter(|c| !c.invalid_points.is_empty())
+                .map(|c| KeptColumn {
+                    invalid_points: c.invalid_points.clone(),
+                    label: basis::label(&c.primitive),
+                })
+                .collect(),
+            kind: basis.kind,
+            rotation_step_deg: opts.rotation_step_deg,
+            shifts: opts.shifts.clone(),
+        },
+        settings: opts.settings,
+    };
+    schedule.derive();
+    Ok((schedule, achieved_quantized))
+}
+
+/// Order stage (only with [`DesignOptions::order_search`]): runs the order
+/// search on `schedule` with the design's physics on
+/// [`ORDER_SEARCH_POINTS`]² points over the bounding box of the target's
+/// weighted points, and returns the schedule in the order found with the
+/// search's record. Without the option, or for a schedule without a moving
+/// segment, the schedule is returned as it is with no record.
+pub(crate) fn order_stage(
+    schedule: Schedule,
+    target: &SampledTarget,
+    opts: &DesignOptions,
+) -> Result<(Schedule, Option<OrderSearch>)> {
+    if !opts.order_search || schedule.segments.iter().all(|s| s.primitive.is_none()) {
+        return Ok((schedule, None));
+    }
+    let region: Vec<[f64; 2]> = target
+        .points
+        .iter()
+        .zip(&target.weights)
+        .filter(|(_, w)| **w > 0.0)
+        .map(|(p, _)| *p)
+        .collect();
+    let points = order::region_grid(&region, ORDER_SEARCH_POINTS);
+    let verify = PlayOptions::from_settings(&opts.settings);
+    let (reordered, search) = choose_order(&schedule, &OrderOptions::new(verify, points))?;
+    Ok((reordered, Some(search)))
+}
+
+/// Stacks 2-D vectors as [x₀ … x_{n−1}, y₀ … y_{n−1}].
+fn stack(v: &[[f64; 2]]) -> DVector<f64> {
+    let n = v.len();
+    DVector::from_fn(2 * n, |i, _| if i < n { v[i][0] } else { v[i - n][1] })
+}
+
+/// The inverse of [`stack`].
+fn unstack(v: &DVector<f64>) -> Vec<[f64; 2]> {
+    let n = v.len() / 2;
+    (0..n).map(|i| [v[i], v[i + n]]).collect()
+}
