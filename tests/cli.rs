@@ -276,7 +276,8 @@ fn bad_schedule_files_are_refused_naming_the_path() {
 
 /// The period is derived from the segments: a `period_s` of 0 (or any
 /// other value) in the file changes nothing, and `export` samples the
-/// period `verify` plays (4 × 10 cycles of 2π/209 s at 1 kHz: 1203 rows).
+/// period `verify` plays: 4 × 10 cycles of 2π/209 s, each cycle a whole
+/// number of held samples at about 1 kHz (round(1000 · 2π/209) = 30), 1200 rows.
 #[test]
 fn export_plays_the_period_derived_from_the_segments() {
     let dir = temp_dir("period");
@@ -293,8 +294,8 @@ fn export_plays_the_period_derived_from_the_segments() {
         rows.push(out.lines().count() - 1);
     }
     let _ = std::fs::remove_dir_all(&dir);
-    let period = 40.0 * std::f64::consts::TAU / 209.0;
-    assert_eq!(rows, vec![(period * 1000.0).round() as usize; 3]);
+    let per_cycle = (1000.0 * std::f64::consts::TAU / 209.0).round() as usize;
+    assert_eq!(rows, vec![40 * per_cycle; 3]);
 }
 
 /// `verify` refuses what it cannot report: a rest-only schedule (used to

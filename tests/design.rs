@@ -91,7 +91,10 @@ fn export_is_rest_to_rest_and_sampled_at_the_rate() {
         .skip(1)
         .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
         .collect();
-    assert_eq!(rows.len(), (s.period_s * rate).round() as usize);
+    // Every cycle is a whole number of held samples: round(rate · T) per cycle.
+    let cycle = s.period_s / f64::from(s.total_cycles);
+    let per_cycle = (rate * cycle).round() as usize;
+    assert_eq!(rows.len(), s.total_cycles as usize * per_cycle);
     assert!(rows
         .iter()
         .all(|r| r.len() == 7 && r.iter().all(|x| x.is_finite())));

@@ -281,13 +281,17 @@ pub struct Segment<'a> {
 /// # Errors
 /// As [`periodic`]; a motion segment whose duration is not a whole number
 /// of samples or that does not start and end at rest (names
-/// `segments[i]`); no motion at all.
+/// `segments[i]`).
 pub fn sequence(segments: &[Segment<'_>], rate: f64) -> Result<HoldSamples> {
-    let first = segments
-        .iter()
-        .find_map(|s| s.motion)
-        .ok_or_else(|| Error::invalid("segments", "no motion to export"))?;
-    let (n, dt) = grid(first.period(), rate)?;
+    // The sample grid of the first motion; a rest-only sequence is held at
+    // `rate` itself (all samples zero).
+    let (n, dt) = match segments.iter().find_map(|s| s.motion) {
+        Some(first) => grid(first.period(), rate)?,
+        None => {
+            positive("--rate", rate)?;
+            (1, 1.0 / rate)
+        }
+    };
     let mut v: Vec<[f64; 6]> = vec![[0.0; 6]];
     for (i, seg) in segments.iter().enumerate() {
         positive(&format!("segments[{i}].duration_s"), seg.duration)?;
@@ -306,8 +310,15 @@ pub fn sequence(segments: &[Segment<'_>], rate: f64) -> Result<HoldSamples> {
                 ),
             ));
         }
-        let scale = m.period() * 1e-12;
-        for t in [0.0, seg.duration] {
+        // Rest at the start and end of one cycle (the motion is periodic, so
+        // at every whole-cycle join), to round-off relative to the cycle's
+        // peak velocity: a large-amplitude Circle's residual is ~1e-13 rad/s.
+        let peak = (0..64)
+            .map(|j| centre_state(m, m.period() * f64::from(j) / 64.0).velocity)
+            .flat_map(|v| v.into_iter().map(f64::abs))
+            .fold(0.0, f64::max);
+        let scale = 1e-9 * peak + m.period() * 1e-12;
+        for t in [0.0, m.period()] {
             let s = centre_state(m, t);
             if s.velocity.iter().any(|x| x.abs() > scale) {
                 return Err(Error::invalid(

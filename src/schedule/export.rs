@@ -13,11 +13,9 @@
 //! ([`Schedule::derive`]) before anything is sampled, so `export` plays
 //! exactly what `verify` plays.
 
-use std::fmt::Write as _;
-
 use super::Schedule;
 use crate::error::{positive, Error, Result};
-use crate::motion::{rotate, Motion, V3};
+use crate::motion::{rotate, sample_hold, Motion, V3};
 
 /// Plate-centre (linear, angular) acceleration of `motion` at time `t`.
 pub fn centre_acceleration(motion: &Motion, t: f64) -> (V3, V3) {
@@ -38,7 +36,13 @@ pub fn centre_acceleration(motion: &Motion, t: f64) -> (V3, V3) {
     }
 }
 
-/// CSV of the six signals over one schedule period at `rate` samples/s.
+/// CSV of the six signals over one schedule period at (about) `rate`
+/// samples/s, as a sample-and-hold controller plays them
+/// ([`crate::motion::sample_hold::sequence`]): each sample is the mean
+/// acceleration over its interval, Δt = T₀/round(rate·T₀) with T₀ the
+/// primitives' period, and every join and the period end fall on sample
+/// boundaries, so the plate integrated from the file returns to rest in the
+/// home pose every period (to round-off), where point samples drift.
 pub fn signals_csv(schedule: &Schedule, rate: f64) -> Result<String> {
     positive("--rate", rate)?;
     schedule.validate()?;
@@ -52,36 +56,19 @@ pub fn signals_csv(schedule: &Schedule, rate: f64) -> Result<String> {
             ),
         ));
     }
-    let mut csv =
-        String::from("t_s,ax_m_s2,ay_m_s2,az_m_s2,alpha_x_rad_s2,alpha_y_rad_s2,alpha_z_rad_s2\n");
-    let n = (schedule.period_s * rate).round() as u64;
-    // Segment start times.
-    let mut starts = Vec::new();
-    let mut t0 = 0.0;
-    for seg in &schedule.segments {
-        starts.push(t0);
-        t0 += seg.duration_s;
-    }
     let motions: Vec<Option<Motion>> = schedule
         .segments
         .iter()
         .map(|s| s.primitive.as_ref().map(|p| p.motion()))
         .collect();
-    let mut seg = 0;
-    for i in 0..n {
-        let t = i as f64 / rate;
-        while seg + 1 < starts.len() && t >= starts[seg + 1] {
-            seg += 1;
-        }
-        let (lin, ang) = match &motions[seg] {
-            Some(m) => centre_acceleration(m, t - starts[seg]),
-            None => (V3::zeros(), V3::zeros()),
-        };
-        let _ = writeln!(
-            csv,
-            "{t:.7},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e}",
-            lin.x, lin.y, lin.z, ang.x, ang.y, ang.z
-        );
-    }
-    Ok(csv)
+    let segments: Vec<sample_hold::Segment<'_>> = schedule
+        .segments
+        .iter()
+        .zip(&motions)
+        .map(|(s, m)| sample_hold::Segment {
+            motion: m.as_ref(),
+            duration: s.duration_s,
+        })
+        .collect();
+    Ok(sample_hold::sequence(&segments, rate)?.to_csv())
 }
