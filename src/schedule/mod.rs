@@ -207,16 +207,8 @@ impl Schedule {
 
     /// [`Schedule::load`] from text; `origin` (a file name) prefixes error paths.
     pub fn from_json_str(text: &str, origin: &str) -> Result<Schedule> {
-        let de = &mut serde_json::Deserializer::from_str(text);
-        let mut schedule: Schedule = serde_path_to_error::deserialize(de).map_err(|e| {
-            let at = e.path().to_string();
-            let field = if at == "." {
-                origin.to_string()
-            } else {
-                format!("{origin}: {at}")
-            };
-            Error::invalid(field, format!("not a platefield schedule: {}", e.inner()))
-        })?;
+        let mut schedule: Schedule = crate::input::from_str(text, "schedule")
+            .map_err(|e| Error::invalid(format!("{origin}: {}", e.path), e.message))?;
         schedule.validate().map_err(|e| prefix_origin(e, origin))?;
         schedule.derive();
         Ok(schedule)
