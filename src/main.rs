@@ -33,6 +33,9 @@ enum Command {
         /// Samples per second.
         #[arg(long, default_value_t = 10000.0, allow_negative_numbers = true)]
         rate: f64,
+        /// Steady cycles of a six-signal (synthesized) motion between its ramp-in from rest and ramp-out to rest (10 cycles each); primitive schedules export one period to loop.
+        #[arg(long, default_value_t = platefield::schedule::export::DEFAULT_STEADY_CYCLES)]
+        steady_cycles: u32,
         /// Output CSV (default: stdout).
         #[arg(long)]
         out: Option<PathBuf>,
@@ -127,8 +130,9 @@ fn run(cli: Cli) -> Result<String> {
         Command::Export {
             schedule,
             rate,
+            steady_cycles,
             out,
-        } => report::export(&schedule, rate, out.as_deref()),
+        } => report::export(&schedule, rate, steady_cycles, out.as_deref()),
         Command::Verify(args) => args.run(),
         Command::Order {
             schedule,

@@ -3,7 +3,8 @@
 //! bring the plate back to rest in the home pose every period (issue 11:
 //! point samples drifted 4.8e-3 rad per period at 20 kHz).
 
-use platefield::schedule::{export::signals_csv, Schedule};
+use platefield::schedule::export::{export, signals_csv, RAMP_CYCLES};
+use platefield::schedule::Schedule;
 
 /// Integrates the six held signals of `csv` over `loops` loops of the file
 /// (x ← x + vΔt + aΔt²/2, v ← v + aΔt; the small rotation vector like a
@@ -51,4 +52,133 @@ fn every_shipped_export_returns_to_rest_each_period() {
             "{name}: after 15 periods pose {pose:.2e} (m, rad), velocity {vel:.2e} (m/s, rad/s)"
         );
     }
+}
+
+/// A lab-like six-signal motion as a schedule segment's `motion` object
+/// (scene `signals` format): circular x/y translation and two tilts.
+fn lab_motion_json() -> serde_json::Value {
+    serde_json::json!({
+        "period": 0.05,
+        "linear": {
+            "x": [{"amplitude": 10.0, "phase": std::f64::consts::FRAC_PI_2}],
+            "y": [{"amplitude": 10.0, "phase": 0.0}]
+        },
+        "angular": {
+            "x": [{"amplitude": 70.0, "phase": 0.4}],
+            "y": [{"amplitude": 70.0, "phase": 2.0}]
+        }
+    })
+}
+
+/// The shipped sink schedule with its segments replaced by `segments`.
+fn with_segments(segments: serde_json::Value) -> String {
+    let text = std::fs::read_to_string("results/sink/schedule.json").unwrap();
+    let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    v["segments"] = segments;
+    v.to_string()
+}
+
+/// A schedule segment holding a six-signal motion loads (duration derived
+/// from its period), is played by `PlayedSegment::from_segment`, and its
+/// export ramps in from rest, plays the steady cycles and ramps out: the
+/// file integrated as a sample-and-hold controller plays it ends at rest at
+/// home to < 1e-6, over 15 loops of the file; the steady part's samples
+/// equal the motion's mean acceleration per interval (peak within 0.1 % of
+/// the amplitude, 1000 samples per cycle).
+#[test]
+fn a_six_signal_segment_exports_with_ramps_back_to_rest() {
+    let text = with_segments(serde_json::json!([{
+        "label": "synthesized", "motion": lab_motion_json(),
+        "weight": 1.0, "cycles": 20, "duration_s": 0.0
+    }]));
+    let s = Schedule::from_json_str(&text, "text").unwrap();
+    assert!((s.segments[0].duration_s - 1.0).abs() < 1e-12);
+    assert!((s.period_s - 1.0).abs() < 1e-12);
+    let played = platefield::play::ScheduleMotion::from_schedule(&s).unwrap();
+    assert!(matches!(
+        played.segments()[0].motion,
+        Some(platefield::motion::Motion::Signals(_))
+    ));
+    let e = export(&s, 20_000.0, 20).unwrap();
+    assert_eq!(e.ramped, Some(20));
+    assert_eq!(
+        e.samples.samples.len(),
+        1000 * (20 + 2 * RAMP_CYCLES as usize)
+    );
+    assert!(
+        e.describe().contains("ramp-in from rest"),
+        "{}",
+        e.describe()
+    );
+    let csv = e.samples.to_csv();
+    assert_eq!(csv, signals_csv(&s, 20_000.0).unwrap());
+    let (pose, vel) = drift(&csv, 15);
+    assert!(
+        pose < 1e-6 && vel < 1e-6,
+        "pose {pose:.2e}, velocity {vel:.2e}"
+    );
+    let steady_peak = e.samples.samples
+        [1000 * RAMP_CYCLES as usize..1000 * (RAMP_CYCLES as usize + 20)]
+        .iter()
+        .map(|a| a[0].abs())
+        .fold(0.0, f64::max);
+    assert!((steady_peak / 10.0 - 1.0).abs() < 1e-3, "{steady_peak}");
+    // Without the ramp the same motion played from rest drifts: the
+    // steady cycle alone does not return to rest at home.
+    let looped =
+        platefield::motion::sample_hold::periodic(&s.segments[0].plate_motion().unwrap(), 20_000.0)
+            .unwrap()
+            .to_csv();
+    let (pose_loop, _) = drift(&looped, 1);
+    assert!(pose_loop > 1e-4, "{pose_loop}");
+}
+
+/// Schedules without a six-signal segment keep their format: the `motion`
+/// key is absent when written, and the shipped file reads back to the same
+/// schedule. Bad signals, or a primitive and a motion in one segment, are
+/// errors naming the JSON path.
+#[test]
+fn motion_segments_keep_the_format_and_name_paths() {
+    let path = std::path::Path::new("results/sink/schedule.json");
+    let s = Schedule::load(path).unwrap();
+    let json = s.to_json().unwrap();
+    assert!(!json.contains("\"motion\""));
+    assert_eq!(Schedule::from_json_str(&json, "text").unwrap(), s);
+
+    let mut bad = lab_motion_json();
+    bad["linear"]["x"][0]["harmonic"] = serde_json::json!(0);
+    let text = with_segments(serde_json::json!([{
+        "label": "m", "motion": bad, "weight": 1.0, "cycles": 1, "duration_s": 0.0
+    }]));
+    let e = Schedule::from_json_str(&text, "f").unwrap_err().to_string();
+    assert!(e.contains("segments[0].motion.linear.x"), "{e}");
+
+    let mut bad = lab_motion_json();
+    bad["linear"]["x"][0]["amplitud"] = serde_json::json!(1.0);
+    let text = with_segments(serde_json::json!([{
+        "label": "m", "motion": bad, "weight": 1.0, "cycles": 1, "duration_s": 0.0
+    }]));
+    let e = Schedule::from_json_str(&text, "f").unwrap_err().to_string();
+    assert!(
+        e.contains("segments[0].motion.linear.x[0]") && e.contains("amplitud"),
+        "{e}"
+    );
+
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    v["segments"][0]["motion"] = lab_motion_json();
+    let e = Schedule::from_json_str(&v.to_string(), "f")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("segments[0].motion") && e.contains("not both"),
+        "{e}"
+    );
+    // A six-signal segment beside primitives is not exportable (ramps).
+    let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    v["segments"][0]["primitive"] = serde_json::Value::Null;
+    v["segments"][0]["motion"] = lab_motion_json();
+    let s = Schedule::from_json_str(&v.to_string(), "f").unwrap();
+    let e = export(&s, 20_000.0, 20).unwrap_err().to_string();
+    assert!(e.contains("segments") && e.contains("ramps"), "{e}");
 }

@@ -566,6 +566,7 @@ pub fn choose_order(schedule: &Schedule, opts: &OrderOptions) -> Result<(Schedul
         (best.rest_cycles > 0 && rest_after(&played, &best.order, k)).then(|| Segment {
             label: "Rest".into(),
             primitive: None,
+            motion: None,
             weight: 0.0,
             cycles: best.rest_cycles,
             duration_s: f64::from(best.rest_cycles) * search.rest_period_s,

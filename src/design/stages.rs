@@ -323,6 +323,7 @@ pub(crate) fn schedule_stage(
         .map(|&j| Segment {
             label: basis::label(&basis.columns[j].primitive),
             primitive: Some(basis.columns[j].primitive.clone()),
+            motion: None,
             weight: solution.fractions[j],
             cycles: quant.cycles[j],
             duration_s: f64::from(quant.cycles[j]) * periods[j],
@@ -332,6 +333,7 @@ pub(crate) fn schedule_stage(
         segments.push(Segment {
             label: "Rest".into(),
             primitive: None,
+            motion: None,
             weight: (1.0 - solution.fractions.iter().sum::<f64>()).max(0.0),
             cycles: quant.rest_cycles,
             duration_s: f64::from(quant.rest_cycles) * rest_period,
@@ -389,7 +391,7 @@ pub(crate) fn order_stage(
     target: &SampledTarget,
     opts: &DesignOptions,
 ) -> Result<(Schedule, Option<OrderSearch>)> {
-    if !opts.order_search || schedule.segments.iter().all(|s| s.primitive.is_none()) {
+    if !opts.order_search || schedule.segments.iter().all(|s| !s.is_moving()) {
         return Ok((schedule, None));
     }
     let region: Vec<[f64; 2]> = target

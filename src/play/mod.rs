@@ -82,18 +82,13 @@ impl PlayedSegment {
     }
 
     /// The played form of segment `i` of a designed schedule: its
-    /// primitive's motion (rotation and shift applied) for its whole
-    /// cycles, or rest for its `duration_s` when it has no primitive.
+    /// primitive's motion (rotation and shift applied) or its six-signal
+    /// motion for its whole cycles, or rest for its `duration_s` when it
+    /// has neither.
     pub fn from_segment(seg: &Segment, i: usize) -> Result<PlayedSegment> {
-        match &seg.primitive {
-            Some(p) => {
-                p.validate(&format!("schedule.segments[{i}].primitive"))?;
-                Ok(PlayedSegment::moving(
-                    seg.label.clone(),
-                    p.motion(),
-                    seg.cycles,
-                ))
-            }
+        seg.validate_motion(&format!("schedule.segments[{i}]"))?;
+        match seg.plate_motion() {
+            Some(m) => Ok(PlayedSegment::moving(seg.label.clone(), m, seg.cycles)),
             None => {
                 let d = seg.duration_s;
                 if !(d.is_finite() && d >= 0.0) {

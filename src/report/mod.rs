@@ -17,23 +17,24 @@ use std::path::Path;
 use crate::dynamics::Model;
 use crate::error::Result;
 use crate::output::write_atomic;
-use crate::schedule::export::signals_csv;
+use crate::schedule::export;
 use crate::schedule::Schedule;
 
 /// `platefield export`: the six signals of the schedule at `path` at
 /// `rate` samples/s as CSV, written to `out` (returns a line saying so) or
 /// returned for stdout.
-pub fn export(path: &Path, rate: f64, out: Option<&Path>) -> Result<String> {
+pub fn export(path: &Path, rate: f64, steady_cycles: u32, out: Option<&Path>) -> Result<String> {
     let s = Schedule::load(path)?;
-    let csv = signals_csv(&s, rate)?;
+    let e = export::export(&s, rate, steady_cycles)?;
+    let csv = e.samples.to_csv();
     match out {
         Some(file) => {
             write_atomic(file, csv.as_bytes())?;
             Ok(format!(
-                "wrote {} ({} samples at {rate} Hz over {:.4} s)\n",
+                "wrote {} ({} samples at {rate} Hz: {})\n",
                 file.display(),
-                csv.lines().count() - 1,
-                s.period_s
+                e.samples.samples.len(),
+                e.describe()
             ))
         }
         None => Ok(csv),

@@ -12,10 +12,101 @@
 //! The schedule is validated and its period derived from the segments
 //! ([`Schedule::derive`]) before anything is sampled, so `export` plays
 //! exactly what `verify` plays.
+//!
+//! **Six-signal segments are ramped.** A six-signal motion (e.g. a
+//! synthesized one) has zero-mean velocity and pose only from its own
+//! steady initial state, not from rest, so a schedule holding one is
+//! exported as [`crate::motion::sample_hold::ramped`] plays it: a ramp-in
+//! from rest at home over [`RAMP_CYCLES`] cycles (the quintic smoothstep
+//! window w = 10s³ − 15s⁴ + 6s⁵ on the pose, C² at both ends), `steady`
+//! cycles of the motion (`--steady-cycles`, default
+//! [`DEFAULT_STEADY_CYCLES`]), and the mirrored ramp-out back to rest at
+//! home. The file ends at rest in the home pose, so looping it repeats the
+//! whole sequence. Such a schedule must hold that one moving segment (rest
+//! segments are allowed and ignored: the ramps begin and end at rest).
+//! Schedules of primitives only are exported exactly as before: one
+//! schedule period, to be looped.
 
 use super::Schedule;
 use crate::error::{positive, Error, Result};
 use crate::motion::{rotate, sample_hold, Motion, V3};
+
+pub use sample_hold::DEFAULT_STEADY_CYCLES;
+
+/// Ramp length (cycles of the motion) of a six-signal export, in and out.
+pub const RAMP_CYCLES: u32 = sample_hold::DEFAULT_RAMP_CYCLES;
+
+/// A schedule's exported samples and how they were laid out.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Export {
+    /// The samples to hold.
+    pub samples: sample_hold::HoldSamples,
+    /// `Some(steady cycles)` when a six-signal motion was ramped in and out
+    /// ([`RAMP_CYCLES`] each way); `None` for a looped schedule period.
+    pub ramped: Option<u32>,
+}
+
+impl Export {
+    /// One line stating the layout: the looped period, or the ramp.
+    pub fn describe(&self) -> String {
+        match self.ramped {
+            None => format!(
+                "one schedule period to loop, {:.4} s at {:.3} Hz effective",
+                self.samples.samples.len() as f64 * self.samples.dt,
+                self.samples.rate
+            ),
+            Some(steady) => {
+                let p = self.samples.peaks();
+                format!(
+                    "ramp-in from rest at home over {RAMP_CYCLES} cycles (quintic smoothstep on the pose), {steady} steady cycles, ramp-out to rest at home over {RAMP_CYCLES} cycles; {:.4} s at {:.3} Hz effective; exported peaks linear [{:.3}, {:.3}, {:.3}] m/s², angular [{:.3}, {:.3}, {:.3}] rad/s²",
+                    self.samples.samples.len() as f64 * self.samples.dt,
+                    self.samples.rate,
+                    p[0], p[1], p[2], p[3], p[4], p[5]
+                )
+            }
+        }
+    }
+}
+
+/// The samples of `schedule` at (about) `rate` samples/s: a schedule
+/// period of primitives ([`signals_csv`]), or, for a schedule holding a
+/// six-signal segment, that motion ramped in, played `steady` cycles and
+/// ramped out (see the module documentation).
+///
+/// # Errors
+/// An invalid schedule or rate; a six-signal segment beside other moving
+/// segments (names `segments`); `steady` over the sample budget (names
+/// `--steady-cycles`).
+pub fn export(schedule: &Schedule, rate: f64, steady: u32) -> Result<Export> {
+    positive("--rate", rate)?;
+    schedule.validate()?;
+    let schedule = &schedule.with_segments(schedule.segments.clone());
+    if schedule.segments.iter().any(|s| s.motion.is_some()) {
+        let moving: Vec<&super::Segment> =
+            schedule.segments.iter().filter(|s| s.is_moving()).collect();
+        let [single] = moving[..] else {
+            return Err(Error::invalid(
+                "segments",
+                format!(
+                    "a schedule holding a six-signal motion is exported with ramps and must hold no other moving segment, got {} moving segments",
+                    moving.len()
+                ),
+            ));
+        };
+        let Some(motion) = single.plate_motion() else {
+            return Err(Error::Physical("moving segment without a motion".into()));
+        };
+        let samples = sample_hold::ramped(&motion, rate, RAMP_CYCLES, steady)?;
+        return Ok(Export {
+            samples,
+            ramped: Some(steady),
+        });
+    }
+    Ok(Export {
+        samples: sequence_samples(schedule, rate)?,
+        ramped: None,
+    })
+}
 
 /// Plate-centre (linear, angular) acceleration of `motion` at time `t`.
 pub fn centre_acceleration(motion: &Motion, t: f64) -> (V3, V3) {
@@ -43,10 +134,16 @@ pub fn centre_acceleration(motion: &Motion, t: f64) -> (V3, V3) {
 /// primitives' period, and every join and the period end fall on sample
 /// boundaries, so the plate integrated from the file returns to rest in the
 /// home pose every period (to round-off), where point samples drift.
+/// A schedule holding a six-signal segment is ramped ([`export`] with
+/// [`DEFAULT_STEADY_CYCLES`]).
 pub fn signals_csv(schedule: &Schedule, rate: f64) -> Result<String> {
-    positive("--rate", rate)?;
-    schedule.validate()?;
-    let schedule = &schedule.with_segments(schedule.segments.clone());
+    Ok(export(schedule, rate, DEFAULT_STEADY_CYCLES)?
+        .samples
+        .to_csv())
+}
+
+/// One period of a primitives-only (validated, derived) schedule.
+fn sequence_samples(schedule: &Schedule, rate: f64) -> Result<sample_hold::HoldSamples> {
     if schedule.period_s * rate > 5e7 {
         return Err(Error::invalid(
             "--rate",
@@ -56,11 +153,7 @@ pub fn signals_csv(schedule: &Schedule, rate: f64) -> Result<String> {
             ),
         ));
     }
-    let motions: Vec<Option<Motion>> = schedule
-        .segments
-        .iter()
-        .map(|s| s.primitive.as_ref().map(|p| p.motion()))
-        .collect();
+    let motions: Vec<Option<Motion>> = schedule.segments.iter().map(|s| s.plate_motion()).collect();
     let segments: Vec<sample_hold::Segment<'_>> = schedule
         .segments
         .iter()
@@ -70,5 +163,5 @@ pub fn signals_csv(schedule: &Schedule, rate: f64) -> Result<String> {
             duration: s.duration_s,
         })
         .collect();
-    Ok(sample_hold::sequence(&segments, rate)?.to_csv())
+    sample_hold::sequence(&segments, rate)
 }

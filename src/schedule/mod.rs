@@ -1,9 +1,10 @@
 //! Schedules: what `platefield design` writes to `schedule.json`, and what
 //! `export`, `verify` and `order` read back.
 //!
-//! A schedule is a sequence of segments, each a primitive plate motion
-//! played for whole cycles (or the plate at rest), repeated with the
-//! schedule period. The file also records the design's fit, its solver
+//! A schedule is a sequence of segments, each a primitive plate motion or a
+//! six-signal motion (the scene `signals` format, e.g. a synthesized one,
+//! [`crate::synth`]) played for whole cycles, or the plate at rest,
+//! repeated with the schedule period. The file also records the design's fit, its solver
 //! facts, the basis it was fitted on and the simulation settings the basis
 //! was built with (typed: [`BasisInfo`], [`FieldSettings`]).
 //!
@@ -12,11 +13,19 @@
 //! e.g. `segments[1].primitive.omega`), then [`Schedule::validate`] (ranges
 //! and physics), then the derived quantities are recomputed from the
 //! segments ([`Schedule::derive`]): a moving segment lasts `cycles` periods
-//! of its primitive, and `period_s` and `total_cycles` are sums over the
+//! of its primitive or motion, and `period_s` and `total_cycles` are sums over the
 //! segments. The `duration_s`, `period_s` and `total_cycles` written in a
 //! file are for the reader; they are never trusted, so `export` and
-//! `verify` play the same thing from one file. A rest segment has no
-//! primitive and keeps its `duration_s`.
+//! `verify` play the same thing from one file. A rest segment has neither a
+//! primitive nor a motion and keeps its `duration_s`.
+//!
+//! **Six-signal segments.** A segment may hold `"motion": {"period": T,
+//! "linear": {...}, "angular": {...}}` ([`crate::motion::Signals`], the
+//! scene file's `signals` object) instead of a `primitive`; never both. Its
+//! signals are validated by the scene validators (errors name
+//! `segments[i].motion.linear.x[0].amplitude` etc.). Files without it load
+//! as before, and a schedule without one is written byte for byte as before
+//! (the key is left out when absent).
 //!
 //! [`quantize`] turns time fractions into whole cycles; [`export`] writes
 //! the six controller signals of a schedule.
@@ -32,6 +41,7 @@ use crate::basis::Primitive;
 use crate::error::{non_negative, positive, Error, Result};
 use crate::field::{FieldKind, FieldSettings, Validity};
 use crate::fit::FitMetrics;
+use crate::motion::{Motion, Signals};
 use crate::request::Target;
 
 pub use quantize::{quantize, Quantized, DEFAULT_MIN_CYCLES, DEFAULT_QUANTIZATION_TOL};
@@ -49,8 +59,13 @@ pub struct Segment {
     /// Human-readable label, e.g. `LineSink@90°`.
     pub label: String,
     /// The primitive with all its parameters (rotation, shift included);
-    /// `None` for a rest segment (plate at rest in the home pose).
+    /// `None` for a rest segment (plate at rest in the home pose) or a
+    /// six-signal segment.
     pub primitive: Option<Primitive>,
+    /// A six-signal motion (scene `signals` format) played instead of a
+    /// primitive; `None` (and absent from the file) otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub motion: Option<Signals>,
     /// Time fraction from the fit (continuous).
     pub weight: f64,
     /// Whole cycles.
@@ -58,6 +73,46 @@ pub struct Segment {
     /// Duration (s): `cycles` periods of the primitive (derived on load),
     /// or the rest time of a rest segment.
     pub duration_s: f64,
+}
+
+impl Segment {
+    /// The plate motion this segment plays: its primitive's motion
+    /// (rotation and shift applied) or its six signals; `None` for rest.
+    pub fn plate_motion(&self) -> Option<Motion> {
+        match (&self.primitive, &self.motion) {
+            (Some(p), _) => Some(p.motion()),
+            (None, Some(s)) => Some(Motion::Signals(s.clone())),
+            (None, None) => None,
+        }
+    }
+
+    /// True when the plate moves during this segment.
+    pub fn is_moving(&self) -> bool {
+        self.primitive.is_some() || self.motion.is_some()
+    }
+
+    /// Period (s) of one cycle of the segment's motion (`None` for rest).
+    pub fn cycle_period(&self) -> Option<f64> {
+        match (&self.primitive, &self.motion) {
+            (Some(p), _) => Some(p.period()),
+            (None, Some(s)) => Some(s.period),
+            (None, None) => None,
+        }
+    }
+
+    /// Validates the segment's primitive or motion (not both), naming
+    /// `{at}.primitive…` or `{at}.motion…`.
+    pub fn validate_motion(&self, at: &str) -> Result<()> {
+        match (&self.primitive, &self.motion) {
+            (Some(_), Some(_)) => Err(Error::invalid(
+                format!("{at}.motion"),
+                "a segment holds a primitive or a six-signal motion, not both",
+            )),
+            (Some(p), None) => p.validate(&format!("{at}.primitive")),
+            (None, Some(s)) => s.validate(&format!("{at}.motion")),
+            (None, None) => Ok(()),
+        }
+    }
 }
 
 /// Solver facts recorded with a schedule (no timings: the file changes only
@@ -230,16 +285,16 @@ impl Schedule {
         for (i, seg) in self.segments.iter().enumerate() {
             let at = format!("segments[{i}]");
             non_negative(&format!("{at}.weight"), seg.weight)?;
-            match &seg.primitive {
-                Some(p) => {
-                    p.validate(&format!("{at}.primitive"))?;
+            seg.validate_motion(&at)?;
+            match seg.cycle_period() {
+                Some(cycle) => {
                     if !(1..=MAX_SEGMENT_CYCLES).contains(&seg.cycles) {
                         return Err(Error::invalid(
                             format!("{at}.cycles"),
                             format!("must be in 1..={MAX_SEGMENT_CYCLES}, got {}", seg.cycles),
                         ));
                     }
-                    period += f64::from(seg.cycles) * p.period();
+                    period += f64::from(seg.cycles) * cycle;
                 }
                 None => period += non_negative(&format!("{at}.duration_s"), seg.duration_s)?,
             }
@@ -267,12 +322,12 @@ impl Schedule {
     }
 
     /// Recomputes the derived quantities from the segments: a moving
-    /// segment's duration (`cycles` periods of its primitive), the total
-    /// cycles and the period.
+    /// segment's duration (`cycles` periods of its primitive or motion),
+    /// the total cycles and the period.
     pub fn derive(&mut self) {
         for seg in &mut self.segments {
-            if let Some(p) = &seg.primitive {
-                seg.duration_s = f64::from(seg.cycles) * p.period();
+            if let Some(cycle) = seg.cycle_period() {
+                seg.duration_s = f64::from(seg.cycles) * cycle;
             }
         }
         self.total_cycles = self
@@ -337,7 +392,7 @@ impl Schedule {
     pub fn moving_time(&self) -> f64 {
         self.segments
             .iter()
-            .filter(|s| s.primitive.is_some())
+            .filter(|s| s.is_moving())
             .map(|s| s.duration_s)
             .sum()
     }

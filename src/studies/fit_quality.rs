@@ -54,7 +54,7 @@ pub fn write_fit_quality(targets: &[PathBuf], base: &DesignOptions, out: &Path) 
                         s.fit_quantized.relative_l2_error,
                         s.fit.mean_angle_error_deg,
                         s.fit.strength,
-                        s.segments.iter().filter(|g| g.primitive.is_some()).count(),
+                        s.segments.iter().filter(|g| g.is_moving()).count(),
                         d.fit_time_s,
                         if s.poor_fit { "poor fit" } else { "" }
                     );

@@ -289,6 +289,7 @@ mod tests {
                     label: format!("LineSink@{deg}°"),
                     duration_s: f64::from(cycles) * p.period(),
                     primitive: Some(p),
+                    motion: None,
                     weight: 0.0,
                     cycles,
                 }

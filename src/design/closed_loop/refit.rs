@@ -42,7 +42,7 @@ pub fn refit(
         .filter(|p| p.note.is_none() && w[p.index] > 0.0)
         .collect();
     let moving: Vec<usize> = (0..base.len())
-        .filter(|&b| base[b].primitive.is_some() && pattern.contains(&b))
+        .filter(|&b| base[b].is_moving() && pattern.contains(&b))
         .collect();
     if ok.is_empty() || moving.is_empty() {
         return Err(Error::Physical("nothing to re-fit".into()));
@@ -99,7 +99,7 @@ pub fn refit(
     };
     let periods: Vec<f64> = moving
         .iter()
-        .map(|&b| base[b].primitive.as_ref().map_or(1.0, Primitive::period))
+        .map(|&b| base[b].cycle_period().unwrap_or(1.0))
         .collect();
     let rest_period = Primitive::new(PrimitiveKind::LineSink).period();
     let q = quantize(
@@ -118,7 +118,7 @@ pub fn refit(
     }
     let mut new_base: Vec<Segment> = base.to_vec();
     for g in new_base.iter_mut() {
-        if g.primitive.is_some() {
+        if g.is_moving() {
             g.cycles = 0;
             g.duration_s = 0.0;
             g.weight = 0.0;
@@ -132,7 +132,7 @@ pub fn refit(
     }
     let rest_weight = (1.0 - f.iter().sum::<f64>()).max(0.0);
     let mut new_pattern: Vec<usize> = pattern.to_vec();
-    match new_base.iter().position(|g| g.primitive.is_none()) {
+    match new_base.iter().position(|g| !g.is_moving()) {
         Some(r) => {
             let g = &mut new_base[r];
             g.cycles = q.rest_cycles;
@@ -143,6 +143,7 @@ pub fn refit(
             new_base.push(Segment {
                 label: "Rest".into(),
                 primitive: None,
+                motion: None,
                 weight: rest_weight,
                 cycles: q.rest_cycles,
                 duration_s: f64::from(q.rest_cycles) * rest_period,
