@@ -368,3 +368,77 @@ fn design_refuses_out_of_range_counts_and_shifts() {
         assert!(!dir.join("sink").exists(), "{extra:?} wrote files");
     }
 }
+
+/// Bad `shaker` values in a target file (negative, zero period, zero or
+/// negative harmonics, a margin ≥ 1, an unknown key) exit 2 at once naming
+/// `target.shaker.…` and write nothing; a valid one is accepted with the
+/// missing keys defaulted.
+#[test]
+fn design_refuses_bad_shaker_limits_naming_the_field() {
+    let dir = temp_dir("design-shaker");
+    let out = dir.to_str().unwrap();
+    let base: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string("targets/sink.json").unwrap()).unwrap();
+    for (shaker, field) in [
+        (serde_json::json!({"period": 0.0}), "target.shaker.period"),
+        (serde_json::json!({"period": -0.05}), "target.shaker.period"),
+        (
+            serde_json::json!({"linear": [10, -1, 0]}),
+            "target.shaker.linear[1]",
+        ),
+        (
+            serde_json::json!({"angular": [70, 70, -5]}),
+            "target.shaker.angular[2]",
+        ),
+        (
+            serde_json::json!({"harmonics": 0}),
+            "target.shaker.harmonics",
+        ),
+        (
+            serde_json::json!({"harmonics": -1}),
+            "target.shaker.harmonics",
+        ),
+        (
+            serde_json::json!({"contact_margin": 1.0}),
+            "target.shaker.contact_margin",
+        ),
+        (serde_json::json!({"periodd": 0.05}), "target.shaker"),
+    ] {
+        let mut t = base.clone();
+        t["shaker"] = shaker.clone();
+        let file = dir.join("t.json");
+        std::fs::write(&file, t.to_string()).unwrap();
+        let start = std::time::Instant::now();
+        let (code, stdout, err) = platefield(&["design", file.to_str().unwrap(), "--out", out]);
+        assert_eq!(code, 2, "{shaker}: {err}");
+        assert!(err.contains(field), "{shaker}: {err} should name {field}");
+        assert!(stdout.is_empty(), "{shaker}: {stdout}");
+        assert!(
+            start.elapsed().as_secs_f64() < 5.0,
+            "{shaker} not refused at once"
+        );
+        assert!(!dir.join("sink").exists(), "{shaker} wrote files");
+    }
+    // NaN cannot be written in JSON; a target built in code is checked too.
+    let mut t =
+        platefield::request::Target::load(std::path::Path::new("targets/sink.json")).unwrap();
+    t.shaker = Some(platefield::request::ShakerSpec {
+        period: Some(f64::NAN),
+        ..Default::default()
+    });
+    let e = t.validate().unwrap_err().to_string();
+    assert!(e.starts_with("target.shaker.period"), "{e}");
+    t.shaker = Some(platefield::request::ShakerSpec {
+        period: Some(0.05),
+        linear: Some([10.0, 10.0, 0.0]),
+        ..Default::default()
+    });
+    t.validate().unwrap();
+    let l = platefield::synth::ShakerLimits::from_spec(t.shaker.as_ref());
+    let env = platefield::synth::ShakerLimits::paper_envelope();
+    assert_eq!((l.period, l.linear), (0.05, [10.0, 10.0, 0.0]));
+    assert_eq!(
+        (l.angular, l.harmonics, l.contact_margin),
+        (env.angular, 2, 0.1)
+    );
+}

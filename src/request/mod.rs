@@ -39,6 +39,21 @@
 //! | `field` | object | yes | the requested field, see *Field kinds* |
 //! | `weights` | `null` or array of arrays of numbers ≥ 0 | no | per-point weights, see below |
 //! | `mask` | array of regions | no (default `[]`) | regions that do not matter (weight 0) |
+//! | `shaker` | object | no | limits of a synthesized motion (`design --method synthesize\|auto`), see below |
+//!
+//! ## `shaker`
+//!
+//! `{"period": T, "linear": [ax, ay, az], "angular": [bx, by, bz],
+//! "harmonics": H, "contact_margin": m}`, every key optional ([`ShakerSpec`]):
+//! the fundamental period (s, in (0, 10]), the peak plate-centre
+//! accelerations allowed per world axis (m/s² and rad/s², finite, ≥ 0, of
+//! the summed signal), the harmonics 1..=H of 2π/T the controller may play
+//! (1..=16) and the least normal force to keep everywhere in the region as a
+//! fraction of g ([0, 1)). Keys left out take the envelope of the paper's
+//! primitives ([`crate::synth::ShakerLimits::paper_envelope`]: T = 2π/209 s,
+//! linear [45.28, 45.28, 0.109] m/s², angular [218.4, 218.4, 9055] rad/s²,
+//! H = 2, m = 0.1). Sequenced designs report the per-axis peaks they use
+//! and keep to the limits given here.
 //!
 //! ## `grid`
 //!
@@ -158,6 +173,7 @@ mod examples;
 mod field;
 mod folder;
 mod grid;
+mod shaker;
 
 use std::path::Path;
 
@@ -171,6 +187,7 @@ pub use field::{
     IDW_NEIGHBORS, MAX_SAMPLED_POINTS, MAX_TERMS, RATIO, SPEED, STRENGTH, TRANSPORT_LENGTH, WEIGHT,
 };
 pub use grid::{scattered_grid, Grid, MaskRegion, MAX_GRID_N, SCATTERED_N, SCATTERED_SPACING};
+pub use shaker::{ShakerSpec, MAX_HARMONICS, MAX_PERIOD_S};
 
 use error::show;
 
@@ -198,6 +215,9 @@ pub struct Target {
     /// Regions whose points get weight 0.
     #[serde(default)]
     pub mask: Vec<MaskRegion>,
+    /// Limits of a synthesized motion (absent: the paper's envelope).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shaker: Option<ShakerSpec>,
 }
 
 /// `null` or rows of weights; a flat list of numbers is an error that says
@@ -318,6 +338,9 @@ impl Target {
         }
         for (i, m) in self.mask.iter().enumerate() {
             m.validate(&format!("target.mask[{i}]"))?;
+        }
+        if let Some(s) = &self.shaker {
+            s.validate("target.shaker")?;
         }
         Ok(())
     }

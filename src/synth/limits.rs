@@ -36,6 +36,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::basis::{Primitive, PrimitiveKind};
 use crate::error::{Error, Result};
+use crate::request::ShakerSpec;
 use crate::schedule::export::centre_acceleration;
 
 /// Peak accelerations, harmonics and contact margin a synthesized motion
@@ -66,7 +67,33 @@ impl Default for ShakerLimits {
 
 impl ShakerLimits {
     /// Largest allowed number of harmonics.
-    pub const MAX_HARMONICS: u32 = 16;
+    pub const MAX_HARMONICS: u32 = crate::request::MAX_HARMONICS;
+
+    /// The limits a target's `shaker` object asks for: each key given
+    /// replaces the [`paper_envelope`](Self::paper_envelope) value (`None`:
+    /// the envelope itself).
+    pub fn from_spec(spec: Option<&ShakerSpec>) -> ShakerLimits {
+        let mut l = ShakerLimits::paper_envelope();
+        if let Some(s) = spec {
+            l.period = s.period.unwrap_or(l.period);
+            l.linear = s.linear.unwrap_or(l.linear);
+            l.angular = s.angular.unwrap_or(l.angular);
+            l.harmonics = s.harmonics.unwrap_or(l.harmonics);
+            l.contact_margin = s.contact_margin.unwrap_or(l.contact_margin);
+        }
+        l
+    }
+
+    /// These limits as a fully given `shaker` object.
+    pub fn to_spec(&self) -> ShakerSpec {
+        ShakerSpec {
+            period: Some(self.period),
+            linear: Some(self.linear),
+            angular: Some(self.angular),
+            harmonics: Some(self.harmonics),
+            contact_margin: Some(self.contact_margin),
+        }
+    }
 
     /// The envelope of the paper's eight primitives (default parameters):
     /// per axis, the largest |acceleration| any of them commands over
@@ -114,40 +141,10 @@ impl ShakerLimits {
     /// `{field}.linear[i]`, … (the target file's `field` is `shaker`) and
     /// the allowed range.
     pub fn validate(&self, field: &str) -> Result<()> {
-        let p = self.period;
-        if !(p.is_finite() && p > 0.0 && p <= 10.0) {
-            return Err(Error::invalid(
-                format!("{field}.period"),
-                format!("must be a period in (0, 10] s, got {p}"),
-            ));
-        }
-        for (name, values) in [("linear", self.linear), ("angular", self.angular)] {
-            for (i, v) in values.iter().enumerate() {
-                if !(v.is_finite() && *v >= 0.0) {
-                    return Err(Error::invalid(
-                        format!("{field}.{name}[{i}]"),
-                        format!("must be a finite peak acceleration ≥ 0, got {v}"),
-                    ));
-                }
-            }
-        }
-        if !(1..=Self::MAX_HARMONICS).contains(&self.harmonics) {
-            return Err(Error::invalid(
-                format!("{field}.harmonics"),
-                format!(
-                    "must be in 1..={}, got {}",
-                    Self::MAX_HARMONICS,
-                    self.harmonics
-                ),
-            ));
-        }
-        let m = self.contact_margin;
-        if !(m.is_finite() && (0.0..1.0).contains(&m)) {
-            return Err(Error::invalid(
-                format!("{field}.contact_margin"),
-                format!("must be a fraction of g in [0, 1), got {m}"),
-            ));
-        }
-        Ok(())
+        // The ranges live with the target file's `shaker` object.
+        self.to_spec().validate(field).map_err(|e| {
+            let (at, message) = e.located();
+            Error::invalid(at, message)
+        })
     }
 }
