@@ -104,6 +104,8 @@ fn verify_json_reports_the_issue_keys_and_rejects_bad_input() {
     let (code, _, err) = platefield(&[
         "design",
         target.to_str().unwrap(),
+        "--method",
+        "sequence",
         "--primitives",
         "LineSink",
         "--rotation-step",

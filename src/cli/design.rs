@@ -6,10 +6,12 @@ use clap::{Args, ValueEnum};
 
 use crate::basis::PrimitiveKind;
 use crate::design::closed_loop::LoopOptions;
-use crate::design::DesignOptions;
+use crate::design::{DesignOptions, Method};
 use crate::dynamics::Preset;
 use crate::field::FieldKind;
 use crate::fit::FitMode;
+use crate::synth::progress::ProgressMode;
+use crate::synth::SynthOptions;
 use crate::{report, Error, Result};
 
 /// Fit mode (see [`FitMode`]).
@@ -26,6 +28,27 @@ pub enum Mode {
     /// L∞ norm of the residual.
     #[value(alias = "l_inf")]
     Linf,
+}
+
+/// `--method` (see [`Method`]).
+#[derive(Clone, Copy, ValueEnum)]
+pub enum DesignMethod {
+    /// A time-shared schedule of primitives.
+    Sequence,
+    /// One simultaneous six-signal motion.
+    Synthesize,
+    /// Both, played; the better realised one is kept.
+    Auto,
+}
+
+impl From<DesignMethod> for Method {
+    fn from(m: DesignMethod) -> Method {
+        match m {
+            DesignMethod::Sequence => Method::Sequence,
+            DesignMethod::Synthesize => Method::Synthesize,
+            DesignMethod::Auto => Method::Auto,
+        }
+    }
 }
 
 /// `--shift x,y` (metres).
@@ -80,6 +103,15 @@ pub struct DesignArgs {
     /// Output folder; files go to OUT/<target name>/.
     #[arg(long, default_value = "results")]
     pub out: PathBuf,
+    /// How to design: sequence (time-shared primitives), synthesize (one six-signal motion within the target's shaker limits) or auto (both, played; the lower realised shape error wins, within 1 percentage point the higher realised strength).
+    #[arg(long, value_enum, default_value_t = DesignMethod::Auto)]
+    pub method: DesignMethod,
+    /// Synthesis: most coarse-grid re-simulations.
+    #[arg(long, default_value_t = 300)]
+    pub synth_evaluations: usize,
+    /// Synthesis: RNG seed of the multi-start (same seed, same bytes).
+    #[arg(long, default_value_t = 1)]
+    pub synth_seed: u64,
     /// Print the schedule JSON to stdout.
     #[arg(long)]
     pub json: bool,
@@ -162,6 +194,27 @@ impl DesignArgs {
         };
         loop_opts.validate()?;
         let closed = self.closed_loop.then_some(&loop_opts);
-        report::design::run(&self.target, &opts, closed, &self.out, self.json)
+        if self.synth_evaluations == 0 {
+            return Err(Error::invalid("--synth-evaluations", "must be ≥ 1"));
+        }
+        let mut synth = SynthOptions {
+            max_evaluations: self.synth_evaluations,
+            progress: if self.quiet || self.json {
+                ProgressMode::Quiet
+            } else {
+                ProgressMode::Auto
+            },
+            ..SynthOptions::default()
+        };
+        synth.refine.seed = self.synth_seed;
+        report::design::run(
+            &self.target,
+            &opts,
+            closed,
+            &self.out,
+            self.json,
+            self.method.into(),
+            &synth,
+        )
     }
 }

@@ -21,6 +21,7 @@
 
 pub mod basis;
 pub mod closed_loop;
+pub mod method;
 mod options;
 pub mod order;
 mod stages;
@@ -39,6 +40,7 @@ use crate::schedule::{self, Schedule};
 use order::OrderSearch;
 
 pub use basis::DesignBasis;
+pub use method::{design_by_method, Method, MethodDesign};
 
 /// Options of [`design`] (range-checked by [`DesignOptions::validate`]).
 #[derive(Debug, Clone)]

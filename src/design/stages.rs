@@ -18,7 +18,11 @@ use crate::field::Grid;
 use crate::fit::{self, FitMetrics, FitMode, FitOptions, FitProblem, FitSolution};
 use crate::play::PlayOptions;
 use crate::request::{SampledTarget, Target};
-use crate::schedule::{self, BasisInfo, KeptColumn, Schedule, Segment};
+use crate::schedule::{
+    self, export, BasisInfo, ExcludedColumn, ExclusionReason, KeptColumn, Schedule, Segment,
+};
+use crate::synth::params::AXIS_NAMES;
+use crate::synth::ShakerLimits;
 
 /// What [`basis_stage`] produces.
 pub(crate) struct BasisStage {
@@ -34,6 +38,9 @@ pub(crate) struct BasisStage {
     pub cache_status: String,
     /// Seconds spent obtaining the library.
     pub basis_time_s: f64,
+    /// The target's `shaker` limits (defaults filled in), when it gives
+    /// them: columns over a limit are left out.
+    pub limits: Option<ShakerLimits>,
 }
 
 /// Basis stage: checks the rotation step, samples `target`, and simulates
@@ -87,6 +94,10 @@ pub(crate) fn basis_stage(target: &Target, opts: &DesignOptions) -> Result<Basis
         library,
         cache_status,
         basis_time_s: t_basis.elapsed().as_secs_f64(),
+        limits: target
+            .shaker
+            .as_ref()
+            .map(|s| ShakerLimits::from_spec(Some(s))),
     })
 }
 
@@ -115,7 +126,7 @@ pub(crate) struct FitStage {
 /// [`BasisStage`]; produces the basis, the fractions and their field.
 pub(crate) fn fit_stage(stage: &BasisStage, opts: &DesignOptions) -> Result<FitStage> {
     let sampled = &stage.sampled;
-    let basis = basis::assemble(
+    let mut basis = basis::assemble(
         &stage.library,
         &stage.angles,
         &opts.shifts,
@@ -124,11 +135,14 @@ pub(crate) fn fit_stage(stage: &BasisStage, opts: &DesignOptions) -> Result<FitS
         &sampled.weights,
         opts.keep_invalid,
     );
+    if let Some(limits) = &stage.limits {
+        leave_out_over_limit(&mut basis, limits);
+    }
     if basis.columns.is_empty() {
         return Err(Error::Physical(format!(
-            "no basis field is valid over the whole target region ({} left out, e.g. {}); shrink the region or pass --keep-invalid",
+            "no basis field is usable: valid over the whole target region and within the target's shaker limits ({} left out, e.g. {}); shrink the region, pass --keep-invalid or raise the limits",
             basis.excluded.len(),
-            basis.excluded.first().map_or(String::new(), |e| format!("{} ({:?})", e.label, e.reason))
+            basis.excluded.first().map_or(String::new(), |e| format!("{}: {}", e.label, e.reason))
         )));
     }
     let m = basis.columns.len();
@@ -173,6 +187,34 @@ pub(crate) fn fit_stage(stage: &BasisStage, opts: &DesignOptions) -> Result<FitS
         achieved_vec,
         fit_metrics,
     })
+}
+
+/// Leaves out (and lists) the basis columns whose primitive commands a
+/// per-axis peak above `limits` ([`export::motion_peaks`], world axes, so a
+/// rotated copy is judged by its own x and y peaks). A primitive cannot be
+/// scaled down without re-simulating its field, so it is left out whole.
+fn leave_out_over_limit(basis: &mut DesignBasis, limits: &ShakerLimits) {
+    let axes = limits.axes();
+    let mut kept = Vec::with_capacity(basis.columns.len());
+    for c in basis.columns.drain(..) {
+        let peaks = export::motion_peaks(&c.primitive.motion());
+        let over = (0..6)
+            .find(|&k| peaks[k] > axes[k] * (1.0 + 1e-9))
+            .map(|k| (k, peaks[k], axes[k]));
+        match over {
+            Some((k, peak, limit)) => basis.excluded.push(ExcludedColumn {
+                label: basis::label(&c.primitive),
+                invalid_samples: 0,
+                reason: ExclusionReason::OverLimit {
+                    axis: AXIS_NAMES[k].into(),
+                    peak,
+                    limit,
+                },
+            }),
+            None => kept.push(c),
+        }
+    }
+    basis.columns = kept;
 }
 
 /// Fewer primitives (part of the fit stage): the error against the number
@@ -375,6 +417,7 @@ pub(crate) fn schedule_stage(
             shifts: opts.shifts.clone(),
         },
         settings: opts.settings,
+        played: None,
     };
     schedule.derive();
     Ok((schedule, achieved_quantized))

@@ -101,9 +101,15 @@ pub use verify::{verify, Verification};
 
 use prepare::Prepared;
 
+/// The one POOR threshold of the product: a relative error above it — a
+/// fit's relative L2 error, a synthesized motion's shape error, a played
+/// design's realised shape error — is reported as POOR. 20 % (the shape
+/// error of a field turned by atan 0.2 = 11.3° from the target's).
+pub const POOR_ERROR: f64 = 0.2;
+
 /// A fit whose relative L2 error exceeds this value is flagged
-/// [`FitSolution::unreachable`].
-pub const UNREACHABLE_REL_ERROR: f64 = 0.5;
+/// [`FitSolution::unreachable`]: [`POOR_ERROR`] (one threshold).
+pub const UNREACHABLE_REL_ERROR: f64 = POOR_ERROR;
 
 /// Which optimisation problem [`solve`] solves (see the module docs for the
 /// maths).  Serialised with snake_case tags: `"absolute"`, `"shape"`,

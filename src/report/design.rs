@@ -217,8 +217,9 @@ pub fn write(d: &Design, dir: &Path) -> Result<()> {
     Ok(())
 }
 
-/// `platefield design`: loads the target at `path`, designs it (and runs
-/// the closed loop when `closed_loop` is given), writes
+/// `platefield design`: loads the target at `path`, designs it by
+/// `method` (the closed loop, when `closed_loop` is given, re-fits the
+/// sequenced design only), plays every candidate, writes
 /// `OUT/<target name>/…` and returns the schedule JSON (`json`) or the
 /// terminal summary with the files written.
 pub fn run(
@@ -227,16 +228,23 @@ pub fn run(
     closed_loop: Option<&crate::design::closed_loop::LoopOptions>,
     out: &Path,
     json: bool,
+    method: crate::design::Method,
+    synth: &crate::synth::SynthOptions,
 ) -> crate::error::Result<String> {
     use crate::design::closed_loop as cl;
+    use crate::design::Method;
     let mut target = crate::request::Target::load(path)?;
     target.name = target.folder_name(path)?;
-    if let Some(l) = closed_loop {
-        l.validate()?;
-    }
-    let d = crate::design::design(&target, opts)?;
     let dir = out.join(&target.name);
     if let Some(l) = closed_loop {
+        l.validate()?;
+        if method == Method::Synthesize {
+            return Err(crate::error::Error::invalid(
+                "--closed-loop",
+                "re-fits a sequenced schedule; use it with --method sequence (or auto, which then designs by sequence)",
+            ));
+        }
+        let d = crate::design::design(&target, opts)?;
         let result = cl::closed_loop(&target, &d, l)?;
         super::closed_loop::write(&d, &target, &result, &dir)?;
         if json {
@@ -249,18 +257,19 @@ pub fn run(
             dir.display()
         ));
     }
-    write(&d, &dir)?;
+    let md = crate::design::design_by_method(&target, opts, synth, method)?;
+    let files = super::method::write(&md, &dir)?;
     if json {
-        return Ok(schedule_json(&d));
+        return md.kept().schedule.to_json();
     }
-    Ok(format!(
-        "{}wrote {}/{{schedule.json, fit.svg, report.md{}}}\n",
-        summary(&d),
-        dir.display(),
-        if d.order_search.is_some() {
-            ", order.md"
-        } else {
-            ""
-        }
-    ))
+    let mut text = String::new();
+    if let Some(d) = &md.sequence {
+        text.push_str(&summary(d));
+    }
+    if let Some(syn) = &md.synthesis {
+        let _ = writeln!(text, "synthesize: {}", syn.summary());
+    }
+    text.push_str(&super::method::summary(&md));
+    let _ = writeln!(text, "wrote {}/{{{}}}", dir.display(), files.join(", "));
+    Ok(text)
 }

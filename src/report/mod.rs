@@ -9,6 +9,7 @@
 
 pub mod closed_loop;
 pub mod design;
+pub mod method;
 pub mod order;
 pub mod verify;
 

@@ -127,6 +127,39 @@ pub fn centre_acceleration(motion: &Motion, t: f64) -> (V3, V3) {
     }
 }
 
+/// Samples per period used to find a motion's peaks.
+pub const PEAK_SAMPLES: usize = 4096;
+
+/// Per-axis peak |plate-centre acceleration| of `motion` over
+/// [`PEAK_SAMPLES`] samples of its period (linear x, y, z in m/s², angular
+/// x, y, z in rad/s², world axes): what a controller must be able to play.
+pub fn motion_peaks(motion: &Motion) -> [f64; 6] {
+    let period = motion.period();
+    let mut p = [0.0_f64; 6];
+    for i in 0..PEAK_SAMPLES {
+        let (lin, ang) = centre_acceleration(motion, period * i as f64 / PEAK_SAMPLES as f64);
+        for (k, v) in [lin.x, lin.y, lin.z, ang.x, ang.y, ang.z]
+            .iter()
+            .enumerate()
+        {
+            p[k] = p[k].max(v.abs());
+        }
+    }
+    p
+}
+
+/// Per-axis peaks over every moving segment of `schedule` (see
+/// [`motion_peaks`]; rest contributes 0).
+pub fn schedule_peaks(schedule: &Schedule) -> [f64; 6] {
+    let mut p = [0.0_f64; 6];
+    for m in schedule.segments.iter().filter_map(|s| s.plate_motion()) {
+        for (k, v) in motion_peaks(&m).iter().enumerate() {
+            p[k] = p[k].max(*v);
+        }
+    }
+    p
+}
+
 /// CSV of the six signals over one schedule period at (about) `rate`
 /// samples/s, as a sample-and-hold controller plays them
 /// ([`crate::motion::sample_hold::sequence`]): each sample is the mean

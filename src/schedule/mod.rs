@@ -31,6 +31,7 @@
 //! the six controller signals of a schedule.
 
 pub mod export;
+pub mod played;
 pub mod quantize;
 
 use std::path::Path;
@@ -44,6 +45,7 @@ use crate::fit::FitMetrics;
 use crate::motion::{Motion, Signals};
 use crate::request::Target;
 
+pub use played::{AxisPeaks, Played};
 pub use quantize::{quantize, Quantized, DEFAULT_MIN_CYCLES, DEFAULT_QUANTIZATION_TOL};
 
 /// Most cycles of one segment (about 50 minutes of plate motion at the
@@ -146,6 +148,16 @@ pub enum ExclusionReason {
         /// rotation ([`crate::basis::symmetry::rotation_asymmetry`]).
         rotation_change: f64,
     },
+    /// Its peak acceleration on an axis exceeds the target's `shaker`
+    /// limit ([`export::motion_peaks`]).
+    OverLimit {
+        /// Axis (`linear.x`, …, `angular.z`).
+        axis: String,
+        /// The primitive's peak on that axis (m/s² or rad/s²).
+        peak: f64,
+        /// The limit.
+        limit: f64,
+    },
 }
 
 impl std::fmt::Display for ExclusionReason {
@@ -158,6 +170,10 @@ impl std::fmt::Display for ExclusionReason {
             } => write!(
                 f,
                 "isotropic: rotated copy of {copy_of} (field changes by {rotation_change:.1e})"
+            ),
+            ExclusionReason::OverLimit { axis, peak, limit } => write!(
+                f,
+                "over the shaker limit: {axis} peak {peak:.4} > {limit:.4}"
             ),
         }
     }
@@ -239,6 +255,10 @@ pub struct Schedule {
     /// Simulation settings the basis was built with.
     #[serde(serialize_with = "keys_sorted")]
     pub settings: FieldSettings,
+    /// How `design` chose this schedule and what it realises when played
+    /// (absent in schedules written before it was recorded).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub played: Option<Played>,
 }
 
 /// Serialises `value` with its object keys in alphabetical order (the
@@ -373,6 +393,7 @@ impl Schedule {
                 shifts: Vec::new(),
             },
             settings,
+            played: None,
         };
         s.derive();
         s

@@ -16,8 +16,9 @@ use crate::field::{Field, FieldKind, FieldSettings, Grid};
 use crate::motion::{Motion, Signals};
 use crate::request::FieldSpec;
 
-/// A realised shape error above this flags a synthesis as POOR.
-pub const POOR_SHAPE_ERROR: f64 = 0.2;
+/// A realised shape error above this flags a synthesis as POOR: the
+/// product's one threshold, [`crate::fit::POOR_ERROR`].
+pub const POOR_SHAPE_ERROR: f64 = crate::fit::POOR_ERROR;
 
 /// Peaks are within limits up to this relative round-off.
 const PEAK_TOL: f64 = 1e-9;

@@ -1,0 +1,504 @@
+//! `platefield design --method sequence|synthesize|auto`: which kind of
+//! plate motion realises a target, decided by playing it.
+//!
+//! * `sequence`: the time-shared schedule of primitives ([`super::design`]).
+//!   When the target gives `shaker` limits, basis columns whose per-axis
+//!   peak exceeds a limit are left out (listed with the reason
+//!   `over the shaker limit`), so the schedule keeps them.
+//! * `synthesize`: one simultaneous six-signal motion within the target's
+//!   limits ([`crate::synth::synthesize`]; `shaker` keys left out take the
+//!   paper's envelope), written as a one-segment schedule holding the
+//!   signals, [`SYNTH_SEGMENT_CYCLES`] cycles per schedule period (one
+//!   motion repeated: the count only sets the measuring windows).
+//! * `auto` (the CLI's default): both, and the better **realised** one is
+//!   kept. The rule: the lower realised shape error wins; when the two are
+//!   within [`TIE_SHAPE_ERROR`] (one percentage point) of each other, the
+//!   higher realised strength wins. A POOR candidate (see below) loses to
+//!   one that is not POOR. If one method fails (e.g. limits too small to
+//!   move parts), the other is kept and the failure is stated.
+//!
+//! **Every design is played before it is reported** ([`play_check`]): the
+//! schedule is played on point parts from a coarse grid over the target
+//! region — every k-th target grid point per axis, k = (n − 1)/
+//! ([`CHECK_POINTS`] − 1) rounded down, about 5 × 5 points — with the one
+//! realised measure ([`CHECK_WARMUP_CYCLES`] warm-up and
+//! [`CHECK_MEASURED_CYCLES`] measured cycles, each rounded up to whole
+//! schedule periods, a window at every join;
+//! [`super::closed_loop::measure`]). Short, so that a strong field (a
+//! synthesized sink of 1.5 s⁻¹ halves a part's distance in 0.5 s) is
+//! measured over the region rather than where parts have already gathered
+//! (with 40 warm-up cycles the parts of such a sink sat inside the masked
+//! centre when the window started). The realised field is compared with the
+//! target: realised strength ŝ (the least-squares scale of the realised
+//! field on the target), realised shape error ‖R − ŝt‖/‖ŝt‖ and the error
+//! against the predicted strength. It is POOR when the realised shape error
+//! exceeds [`crate::fit::POOR_ERROR`], when a part loses contact, when no
+//! point is valid, or when a part ends farther from the target's attractor
+//! ([`crate::request::Attractor`]) than it started by more than
+//! [`ESCAPE_TOL`] (parts escaping the attractor).
+
+use std::time::Instant;
+
+use serde::{Deserialize, Serialize};
+
+use super::closed_loop::{loop_points, measure};
+use super::{design, Design, DesignOptions};
+use crate::error::{Error, Result};
+use crate::field::Grid;
+use crate::fit::{self, FitMetrics};
+use crate::request::{Attractor, SampledTarget, Target};
+use crate::schedule::export::schedule_peaks;
+use crate::schedule::{AxisPeaks, BasisInfo, Played, Schedule, Segment, SolverInfo};
+use crate::synth::{synthesize, ShakerLimits, SynthOptions, Synthesis};
+
+/// Cycles of the synthesized motion per schedule period.
+pub const SYNTH_SEGMENT_CYCLES: u32 = 10;
+/// Warm-up of the realised check, in cycles (rounded up to whole schedule
+/// periods: one period for every sequenced schedule, whose segments last
+/// at least 10 cycles by default).
+pub const CHECK_WARMUP_CYCLES: u32 = 10;
+/// Measured cycles of the realised check (rounded up likewise).
+pub const CHECK_MEASURED_CYCLES: u32 = 10;
+/// Start points per axis of the realised check (about).
+pub const CHECK_POINTS: usize = 5;
+/// Realised shape errors within this of each other are a tie, broken by
+/// the realised strength.
+pub const TIE_SHAPE_ERROR: f64 = 0.01;
+/// A part that ends more than this (m) farther from the attractor than it
+/// started has escaped it.
+pub const ESCAPE_TOL: f64 = 1e-4;
+
+/// How `design` designs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum Method {
+    /// A time-shared schedule of primitives.
+    Sequence,
+    /// One simultaneous six-signal motion.
+    Synthesize,
+    /// Both; the better realised one is kept.
+    #[default]
+    Auto,
+}
+
+impl Method {
+    /// The name used on the command line and in `schedule.json`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Sequence => "sequence",
+            Method::Synthesize => "synthesize",
+            Method::Auto => "auto",
+        }
+    }
+}
+
+/// One designed and played candidate.
+#[derive(Debug, Clone)]
+pub struct Candidate {
+    /// `sequence` or `synthesize`.
+    pub method: Method,
+    /// The schedule (its [`Schedule::played`] filled in).
+    pub schedule: Schedule,
+    /// Seconds to design it (not in any data file).
+    pub design_s: f64,
+    /// Seconds to play it.
+    pub play_s: f64,
+}
+
+impl Candidate {
+    /// The realised check.
+    pub fn played(&self) -> &Played {
+        self.schedule
+            .played
+            .as_ref()
+            .expect("a candidate is always played")
+    }
+}
+
+/// The result of [`design_by_method`].
+#[derive(Debug, Clone)]
+pub struct MethodDesign {
+    /// The method asked for.
+    pub asked: Method,
+    /// The sequenced design (when run and successful).
+    pub sequence: Option<Design>,
+    /// The synthesis (when run and successful).
+    pub synthesis: Option<Synthesis>,
+    /// The candidates played (sequence first).
+    pub candidates: Vec<Candidate>,
+    /// Index of the kept candidate.
+    pub chosen: usize,
+    /// Why it was kept.
+    pub why: String,
+    /// Methods that failed, with the error.
+    pub failures: Vec<(Method, String)>,
+    /// The limits a synthesis keeps.
+    pub limits: ShakerLimits,
+}
+
+impl MethodDesign {
+    /// The kept candidate.
+    pub fn kept(&self) -> &Candidate {
+        &self.candidates[self.chosen]
+    }
+}
+
+/// Designs `target` by `method` (see the [module documentation](self)),
+/// plays every candidate and keeps one.
+///
+/// # Errors
+/// Invalid options; every method asked for failing (the first error).
+pub fn design_by_method(
+    target: &Target,
+    opts: &DesignOptions,
+    synth: &SynthOptions,
+    method: Method,
+) -> Result<MethodDesign> {
+    opts.validate()?;
+    let limits = ShakerLimits::from_spec(target.shaker.as_ref());
+    limits.validate("target.shaker")?;
+    let sampled = target.sample()?;
+    let mut out = MethodDesign {
+        asked: method,
+        sequence: None,
+        synthesis: None,
+        candidates: Vec::new(),
+        chosen: 0,
+        why: String::new(),
+        failures: Vec::new(),
+        limits: limits.clone(),
+    };
+    let mut first_error = None;
+    if method != Method::Synthesize {
+        let t = Instant::now();
+        match design(target, opts) {
+            Ok(d) => {
+                let design_s = t.elapsed().as_secs_f64();
+                let t = Instant::now();
+                let mut schedule = d.schedule.clone();
+                let record = target.shaker.as_ref().map(|_| limits.to_spec());
+                schedule.played = Some(play_check(
+                    target,
+                    &sampled,
+                    &schedule,
+                    d.schedule.fit.strength,
+                    method,
+                    record,
+                )?);
+                out.candidates.push(Candidate {
+                    method: Method::Sequence,
+                    schedule,
+                    design_s,
+                    play_s: t.elapsed().as_secs_f64(),
+                });
+                out.sequence = Some(d);
+            }
+            Err(e) if method == Method::Auto => {
+                out.failures.push((Method::Sequence, e.to_string()));
+                first_error = Some(e);
+            }
+            Err(e) => return Err(e),
+        }
+    }
+    if method != Method::Sequence {
+        let t = Instant::now();
+        match synthesize_schedule(target, &sampled, &limits, opts, synth) {
+            Ok((syn, mut schedule)) => {
+                let design_s = t.elapsed().as_secs_f64();
+                let t = Instant::now();
+                schedule.played = Some(play_check(
+                    target,
+                    &sampled,
+                    &schedule,
+                    syn.realised.strength,
+                    method,
+                    Some(limits.to_spec()),
+                )?);
+                if syn.poor {
+                    if let Some(p) = schedule.played.as_mut() {
+                        p.poor = true;
+                        p.notes
+                            .extend(syn.notes.iter().map(|n| format!("synthesis: {n}")));
+                    }
+                }
+                out.candidates.push(Candidate {
+                    method: Method::Synthesize,
+                    schedule,
+                    design_s,
+                    play_s: t.elapsed().as_secs_f64(),
+                });
+                out.synthesis = Some(syn);
+            }
+            Err(e) if method == Method::Auto && !out.candidates.is_empty() => {
+                out.failures.push((Method::Synthesize, e.to_string()));
+            }
+            Err(e) => return Err(first_error.unwrap_or(e)),
+        }
+    }
+    let (chosen, why) = choose(&out.candidates, &out.failures, method);
+    out.chosen = chosen;
+    out.why = why.clone();
+    for c in &mut out.candidates {
+        if let Some(p) = c.schedule.played.as_mut() {
+            p.choice = why.clone();
+        }
+    }
+    Ok(out)
+}
+
+/// The candidate kept and why (see the [module documentation](self)).
+fn choose(cands: &[Candidate], failures: &[(Method, String)], asked: Method) -> (usize, String) {
+    let describe = |c: &Candidate| {
+        let p = c.played();
+        format!(
+            "{} realised shape error {}, strength {}{}",
+            c.method.name(),
+            percent(p.realised_shape_error),
+            number(p.realised_strength),
+            if p.poor { " (POOR)" } else { "" }
+        )
+    };
+    let failed: String = failures
+        .iter()
+        .map(|(m, e)| format!("; {} failed: {e}", m.name()))
+        .collect();
+    if cands.len() < 2 {
+        let why = match asked {
+            Method::Auto => format!(
+                "auto: only {} was designed{failed}",
+                cands.first().map_or("nothing".into(), describe)
+            ),
+            m => format!("method {} asked for", m.name()),
+        };
+        return (0, why);
+    }
+    let key = |c: &Candidate| {
+        let p = c.played();
+        (
+            p.poor,
+            p.realised_shape_error.unwrap_or(f64::INFINITY),
+            p.realised_strength.unwrap_or(f64::NEG_INFINITY),
+        )
+    };
+    let (a, b) = (key(&cands[0]), key(&cands[1]));
+    let (pick, rule) = if a.0 != b.0 {
+        (usize::from(a.0), "the other is POOR")
+    } else if (a.1 - b.1).abs() <= TIE_SHAPE_ERROR {
+        (
+            usize::from(b.2 > a.2),
+            "shape errors within 1 percentage point: the higher realised strength wins",
+        )
+    } else {
+        (
+            usize::from(b.1 < a.1),
+            "the lower realised shape error wins",
+        )
+    };
+    (
+        pick,
+        format!(
+            "auto kept {}: {rule} ({} against {})",
+            cands[pick].method.name(),
+            describe(&cands[pick]),
+            describe(&cands[1 - pick])
+        ),
+    )
+}
+
+/// `x` as a percentage with two decimals, or `n/a` when not finite.
+pub fn percent(x: Option<f64>) -> String {
+    x.filter(|v| v.is_finite())
+        .map_or("n/a".into(), |v| format!("{:.2} %", 100.0 * v))
+}
+
+/// `x` with four decimals, or `n/a` when not finite.
+pub fn number(x: Option<f64>) -> String {
+    x.filter(|v| v.is_finite())
+        .map_or("n/a".into(), |v| format!("{v:.4}"))
+}
+
+/// The target's region as a grid: its own grid, or the bounding box of
+/// its weighted points at 21 × 21.
+fn region(target: &Target, sampled: &SampledTarget) -> Grid {
+    if let Some(g) = &target.grid {
+        return Grid {
+            x: g.x,
+            y: g.y,
+            n: g.n,
+        };
+    }
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for (p, w) in sampled.points.iter().zip(&sampled.weights) {
+        if *w > 0.0 {
+            for k in 0..2 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+    }
+    Grid {
+        x: [lo[0], hi[0]],
+        y: [lo[1], hi[1]],
+        n: [21, 21],
+    }
+}
+
+/// Synthesizes one six-signal motion for `target` within `limits` and
+/// writes it as a one-segment schedule: fit metrics of its full-grid
+/// steady-state field against the target at its realised strength.
+pub fn synthesize_schedule(
+    target: &Target,
+    sampled: &SampledTarget,
+    limits: &ShakerLimits,
+    opts: &DesignOptions,
+    synth: &SynthOptions,
+) -> Result<(Synthesis, Schedule)> {
+    let grid = region(target, sampled);
+    let syn = synthesize(&target.field, &grid, limits, &opts.settings, synth)?;
+    // The synthesized field at the target's points (the region grid is the
+    // target's grid when it has one).
+    let strength = syn.realised.strength;
+    let fit_metrics = if target.grid.is_some() && strength > 0.0 && strength.is_finite() {
+        fit::field_metrics(
+            &sampled.vectors,
+            &syn.field.vectors,
+            strength,
+            Some(&sampled.weights),
+        )
+        .map_err(|e| Error::Physical(format!("synthesized field metrics: {e}")))?
+    } else {
+        FitMetrics {
+            relative_l2_error: syn.realised.shape_error.min(1.0),
+            mean_angle_error_deg: f64::NAN,
+            max_error: f64::NAN,
+            strength: strength.max(0.0),
+        }
+    };
+    let segment = Segment {
+        label: "Synthesized".into(),
+        primitive: None,
+        motion: Some(syn.motion.clone()),
+        weight: 1.0,
+        cycles: SYNTH_SEGMENT_CYCLES,
+        duration_s: 0.0,
+    };
+    let mut schedule =
+        Schedule::of_segments(&target.name, vec![segment], opts.settings, fit_metrics);
+    schedule.target_spec = Some(target.clone());
+    schedule.poor_fit = syn.poor;
+    schedule.solver = SolverInfo {
+        mode: "synthesize".into(),
+        status: format!(
+            "seed {:.4} predicted, {:.4} at {:.2} % on the coarse grid; Nelder–Mead, {} starts, seed {}",
+            syn.seed_strength,
+            syn.seed_realised.strength,
+            100.0 * syn.seed_realised.shape_error,
+            synth.refine.starts,
+            synth.refine.seed
+        ),
+        iterations: u32::try_from(syn.evaluations).unwrap_or(u32::MAX),
+        kkt_residual: 0.0,
+        independent_gap: 0.0,
+    };
+    schedule.basis = BasisInfo {
+        columns: 0,
+        excluded: Vec::new(),
+        kept_with_invalid_points: Vec::new(),
+        kind: crate::field::FieldKind::Velocity,
+        rotation_step_deg: 0.0,
+        shifts: Vec::new(),
+    };
+    Ok((syn, schedule))
+}
+
+/// Plays `schedule` on about [`CHECK_POINTS`]² start points over the
+/// target region and compares what it realises with the target (see the
+/// [module documentation](self)); `predicted` is the strength the design
+/// predicts.
+pub fn play_check(
+    target: &Target,
+    sampled: &SampledTarget,
+    schedule: &Schedule,
+    predicted: f64,
+    asked: Method,
+    limits: Option<crate::request::ShakerSpec>,
+) -> Result<Played> {
+    let stride = match &target.grid {
+        Some(g) => (g.n[0].min(g.n[1]).saturating_sub(1) / (CHECK_POINTS - 1)).max(1),
+        None => (sampled.len() / (CHECK_POINTS * CHECK_POINTS)).max(1),
+    };
+    let starts = loop_points(target, sampled, stride);
+    let plays = measure::play(
+        schedule,
+        &sampled.points,
+        &starts,
+        &schedule.settings,
+        &measure::MeasureOptions {
+            warmup_cycles: CHECK_WARMUP_CYCLES,
+            measured_cycles: CHECK_MEASURED_CYCLES,
+        },
+    )?;
+    let r = measure::realised_error(target, &sampled.weights, &plays, Some(predicted));
+    let finite = |x: f64| x.is_finite().then_some(x);
+    let lost = plays.iter().filter(|p| p.note.is_some()).count();
+    let escaped = match Attractor::of(&target.field) {
+        Some(a) => plays
+            .iter()
+            .filter(|p| p.note.is_none())
+            .filter(|p| {
+                let (Some(w), span) = (p.window_starts.last(), p.span) else {
+                    return false;
+                };
+                let end = [w[0] + p.realised[0] * span, w[1] + p.realised[1] * span];
+                a.distance(end) > a.distance(p.start) + ESCAPE_TOL
+            })
+            .count(),
+        None => 0,
+    };
+    let mut notes = Vec::new();
+    if r.valid == 0 {
+        notes.push("no valid point".to_string());
+    }
+    if !(r.shape_error <= fit::POOR_ERROR) {
+        notes.push(format!(
+            "realised shape error {} > {:.0} %",
+            percent(finite(r.shape_error)),
+            100.0 * fit::POOR_ERROR
+        ));
+    }
+    if lost > 0 {
+        let why = plays
+            .iter()
+            .find_map(|p| p.note.clone())
+            .unwrap_or_default();
+        notes.push(format!(
+            "{lost} of {} parts lost contact ({why})",
+            plays.len()
+        ));
+    }
+    if escaped > 0 {
+        notes.push(format!(
+            "{escaped} of {} parts escaped the attractor (ended farther from it than they started)",
+            plays.len()
+        ));
+    }
+    Ok(Played {
+        method: match schedule.segments.iter().any(|s| s.motion.is_some()) {
+            true => Method::Synthesize.name().into(),
+            false => Method::Sequence.name().into(),
+        },
+        asked: asked.name().into(),
+        choice: String::new(),
+        points: plays.len(),
+        valid: r.valid,
+        escaped,
+        predicted_strength: predicted,
+        realised_strength: finite(r.realised_strength),
+        realised_shape_error: finite(r.shape_error),
+        realised_error: finite(r.error),
+        poor: !notes.is_empty(),
+        notes,
+        peaks: AxisPeaks::from_six(schedule_peaks(schedule)),
+        limits,
+    })
+}

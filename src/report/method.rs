@@ -1,0 +1,311 @@
+//! Writing a design made by `design --method` ([`MethodDesign`]): the kept
+//! schedule (`schedule.json`, with its realised check), `fit.svg`,
+//! `report.md` (method choice, realised check of every candidate, and the
+//! kept design's own report), and for a synthesized motion `signals.svg`
+//! (the six signals over one period, each over its limit).
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use crate::design::method::{number, percent, Candidate, Method, MethodDesign};
+use crate::error::Result;
+use crate::motion::{Motion, Signals};
+use crate::output::write_atomic;
+use crate::plot::{LinePlot, Panels, QuiverPlot, Series};
+use crate::schedule::export::centre_acceleration;
+use crate::schedule::Played;
+use crate::synth::params::AXIS_NAMES;
+use crate::synth::{ShakerLimits, Synthesis};
+
+/// Samples of the signals plot over one period.
+const PLOT_SAMPLES: usize = 200;
+
+/// One terminal line per candidate and the choice.
+pub fn summary(md: &MethodDesign) -> String {
+    let mut out = String::new();
+    for (i, c) in md.candidates.iter().enumerate() {
+        let p = c.played();
+        let _ = writeln!(
+            out,
+            "{} {}: predicted strength {:.4} (fit error {:.2} %); played on {} points ({} valid): realised shape error {}, realised strength {}, error against the prediction {}; peaks linear [{:.3}, {:.3}, {:.3}] m/s², angular [{:.3}, {:.3}, {:.3}] rad/s²; design {:.1} s, play {:.1} s{}",
+            if i == md.chosen { "kept" } else { "not kept" },
+            c.method.name(),
+            p.predicted_strength,
+            100.0 * c.schedule.fit.relative_l2_error,
+            p.points,
+            p.valid,
+            percent(p.realised_shape_error),
+            number(p.realised_strength),
+            percent(p.realised_error),
+            p.peaks.linear[0],
+            p.peaks.linear[1],
+            p.peaks.linear[2],
+            p.peaks.angular[0],
+            p.peaks.angular[1],
+            p.peaks.angular[2],
+            c.design_s,
+            c.play_s,
+            poor_text(p)
+        );
+    }
+    for (m, e) in &md.failures {
+        let _ = writeln!(out, "{} failed: {e}", m.name());
+    }
+    let _ = writeln!(out, "{}", md.why);
+    out
+}
+
+fn poor_text(p: &Played) -> String {
+    if p.poor {
+        format!("\n  POOR (realised): {}", p.notes.join("; "))
+    } else {
+        String::new()
+    }
+}
+
+/// The realised-check table of `report.md`.
+fn played_md(cands: &[Candidate], chosen: usize) -> String {
+    let mut md = String::from(
+        "| method | kept | predicted strength | realised strength | realised shape error | error against prediction | points (valid) | escaped | POOR |\n|---|---|---|---|---|---|---|---|---|\n",
+    );
+    for (i, c) in cands.iter().enumerate() {
+        let p = c.played();
+        let _ = writeln!(
+            md,
+            "| {} | {} | {:.4} | {} | {} | {} | {} ({}) | {} | {} |",
+            c.method.name(),
+            if i == chosen { "yes" } else { "no" },
+            p.predicted_strength,
+            number(p.realised_strength),
+            percent(p.realised_shape_error),
+            percent(p.realised_error),
+            p.points,
+            p.valid,
+            p.escaped,
+            if p.poor {
+                p.notes.join("; ")
+            } else {
+                "no".into()
+            }
+        );
+    }
+    md
+}
+
+/// The method section of `report.md`.
+pub fn method_md(md: &MethodDesign) -> String {
+    let mut out = format!(
+        "## Method and realised check\n\nMethod: `{}`; {}.\n\nEvery candidate is played before it is reported: point parts from about 5 × 5 start points over the target region (every k-th target grid point), 10 warm-up and 10 measured cycles (each rounded up to whole schedule periods), with the one realised measure (`play::measure`), against the target. POOR: realised shape error above {:.0} %, a part losing contact or escaping the attractor. Rule under `auto`: the lower realised shape error wins; within 1 percentage point, the higher realised strength.\n\n",
+        md.asked.name(),
+        md.why,
+        100.0 * crate::fit::POOR_ERROR
+    );
+    out.push_str(&played_md(&md.candidates, md.chosen));
+    for (m, e) in &md.failures {
+        let _ = writeln!(out, "\n{} failed: {e}", m.name());
+    }
+    let p = md.kept().played();
+    let _ = writeln!(
+        out,
+        "\nPeaks the kept schedule commands: linear [{:.4}, {:.4}, {:.4}] m/s², angular [{:.4}, {:.4}, {:.4}] rad/s².",
+        p.peaks.linear[0],
+        p.peaks.linear[1],
+        p.peaks.linear[2],
+        p.peaks.angular[0],
+        p.peaks.angular[1],
+        p.peaks.angular[2]
+    );
+    out
+}
+
+/// The synthesized motion's section of `report.md`: the signals plot, each
+/// axis's peak against its limit, the least normal force, the fit.
+pub fn synthesis_md(syn: &Synthesis, limits: &ShakerLimits, gravity: f64) -> String {
+    let mut md = format!(
+        "## Synthesized motion\n\n![the six signals over one period](signals.svg)\n\nOne simultaneous six-signal motion, period {:.5} s, harmonics 1..={}: {}\n\n| axis | peak | limit |\n|---|---|---|\n",
+        syn.motion.period,
+        limits.harmonics,
+        syn.summary()
+    );
+    for p in &syn.peaks {
+        let unit = if p.axis.starts_with("linear") {
+            "m/s²"
+        } else {
+            "rad/s²"
+        };
+        let _ = writeln!(
+            md,
+            "| {} | {:.4} {unit} | {:.4} {unit} |",
+            p.axis, p.peak, p.limit
+        );
+    }
+    let _ = writeln!(
+        md,
+        "\nLeast normal force over the region (kinematic check and simulated steady orbits): {:.4} m/s² = {:.3} g (margin asked: {} g).",
+        syn.least_normal,
+        syn.least_normal / gravity,
+        limits.contact_margin
+    );
+    let _ = writeln!(
+        md,
+        "\nPrediction (steady-state field on the full {}×{} grid): strength {:.4}, shape error {:.2} %; on the coarse grid the optimizer saw: {:.4}, {:.2} %. Seed (averaged-friction analysis): {:.4} predicted, {:.4} at {:.2} % simulated.",
+        syn.field.grid.n[0],
+        syn.field.grid.n[1],
+        syn.realised.strength,
+        100.0 * syn.realised.shape_error,
+        syn.coarse.strength,
+        100.0 * syn.coarse.shape_error,
+        syn.seed_strength,
+        syn.seed_realised.strength,
+        100.0 * syn.seed_realised.shape_error
+    );
+    if !syn.notes.is_empty() {
+        let _ = writeln!(md, "\nNotes: {}.", syn.notes.join("; "));
+    }
+    md.push_str("\n`platefield export` writes it with a ramp-in from rest, `--steady-cycles` steady cycles (default 20) and a ramp-out to rest.\n");
+    md
+}
+
+/// The six signals of `motion` over one period, each divided by its axis
+/// limit (axes with a zero limit and no signal are left out).
+pub fn signals_svg(motion: &Signals, limits: &ShakerLimits) -> String {
+    let m = Motion::Signals(motion.clone());
+    let t: Vec<f64> = (0..=PLOT_SAMPLES)
+        .map(|i| motion.period * i as f64 / PLOT_SAMPLES as f64)
+        .collect();
+    let values: Vec<[f64; 6]> = t
+        .iter()
+        .map(|&ti| {
+            let (l, a) = centre_acceleration(&m, ti);
+            [l.x, l.y, l.z, a.x, a.y, a.z]
+        })
+        .collect();
+    let axes = limits.axes();
+    let mut plot = LinePlot::new(format!(
+        "six signals over one period (T = {:.1} ms), each over its limit",
+        1e3 * motion.period
+    ))
+    .labels("t (ms)", "acceleration / axis limit");
+    for k in 0..6 {
+        if axes[k] <= 0.0 {
+            continue;
+        }
+        let unit = if k < 3 { "m/s²" } else { "rad/s²" };
+        let pts: Vec<[f64; 2]> = t
+            .iter()
+            .zip(&values)
+            .map(|(ti, v)| [1e3 * ti, v[k] / axes[k]])
+            .collect();
+        plot = plot.series(Series::new(
+            format!("{} (limit {:.3} {unit})", AXIS_NAMES[k], axes[k]),
+            pts,
+        ));
+    }
+    plot.to_svg()
+}
+
+/// Target (scaled), synthesized field and residual at the target's points.
+pub fn synthesis_fit_svg(md: &MethodDesign, syn: &Synthesis) -> Option<String> {
+    let target = md.kept().schedule.target_spec.as_ref()?;
+    let sampled = target.sample().ok()?;
+    if sampled.len() != syn.field.vectors.len() {
+        return None;
+    }
+    let s = syn.realised.strength;
+    let scaled: Vec<[f64; 2]> = sampled
+        .vectors
+        .iter()
+        .map(|v| [s * v[0], s * v[1]])
+        .collect();
+    let resid: Vec<[f64; 2]> = syn
+        .field
+        .vectors
+        .iter()
+        .zip(&scaled)
+        .map(|(a, t)| [a[0] - t[0], a[1] - t[1]])
+        .collect();
+    let masked: Vec<bool> = sampled.weights.iter().map(|w| *w == 0.0).collect();
+    let pts = sampled.points.clone();
+    Some(
+        Panels::new(format!(
+            "{}: target × {s:.3}, synthesized, residual",
+            md.kept().schedule.target
+        ))
+        .panel(
+            QuiverPlot::new("target (scaled)", pts.clone(), scaled)
+                .invalid(masked.clone())
+                .auto_caption(),
+        )
+        .panel(
+            QuiverPlot::new(
+                "synthesized (steady state)",
+                pts.clone(),
+                syn.field.vectors.clone(),
+            )
+            .auto_caption(),
+        )
+        .panel(
+            QuiverPlot::new("residual", pts, resid)
+                .invalid(masked)
+                .auto_caption(),
+        )
+        .to_svg(),
+    )
+}
+
+/// Writes schedule.json (the kept candidate), fit.svg, report.md, and
+/// signals.svg when a synthesis ran; order.md as [`super::design::write`].
+/// Returns the names written.
+pub fn write(md: &MethodDesign, dir: &Path) -> Result<Vec<&'static str>> {
+    let kept = md.kept();
+    let mut files = vec!["schedule.json", "fit.svg", "report.md"];
+    let mut report = format!(
+        "# Design for target \"{}\"\n\nRegenerate: `platefield design <target file> --method {}`.\n\n",
+        kept.schedule.target,
+        md.asked.name()
+    );
+    report.push_str(&method_md(md));
+    let fit_svg = match (kept.method, &md.sequence, &md.synthesis) {
+        (Method::Sequence, Some(d), _) => super::design::fit_svg(d),
+        (_, _, Some(syn)) => synthesis_fit_svg(md, syn).unwrap_or_default(),
+        _ => String::new(),
+    };
+    if let Some(syn) = &md.synthesis {
+        report.push('\n');
+        report.push_str(&synthesis_md(
+            syn,
+            &md.limits,
+            kept.schedule.settings.gravity,
+        ));
+    }
+    if let Some(d) = &md.sequence {
+        // The sequenced design's own report, one heading level down.
+        let own = super::design::report_md(d);
+        let body = own.split_once('\n').map_or("", |x| x.1);
+        let _ = write!(
+            report,
+            "\n## Sequenced design\n{}",
+            body.replace("\n## ", "\n### ")
+        );
+    }
+    write_atomic(
+        &dir.join("schedule.json"),
+        kept.schedule.to_json()?.as_bytes(),
+    )?;
+    write_atomic(&dir.join("fit.svg"), fit_svg.as_bytes())?;
+    write_atomic(&dir.join("report.md"), report.as_bytes())?;
+    if let Some(syn) = &md.synthesis {
+        write_atomic(
+            &dir.join("signals.svg"),
+            signals_svg(&syn.motion, &md.limits).as_bytes(),
+        )?;
+        files.push("signals.svg");
+    }
+    if kept.method == Method::Sequence {
+        if let Some(text) = md.sequence.as_ref().and_then(super::design::order_md) {
+            write_atomic(&dir.join("order.md"), text.as_bytes())?;
+            files.push("order.md");
+        }
+    }
+    Ok(files)
+}
