@@ -258,17 +258,19 @@ pub fn synthesis_fit_svg(md: &MethodDesign, syn: &Synthesis) -> Option<String> {
 /// Returns the names written.
 pub fn write(md: &MethodDesign, dir: &Path) -> Result<Vec<&'static str>> {
     let kept = md.kept();
-    let mut files = vec!["schedule.json", "fit.svg", "report.md"];
+    let mut files = vec!["schedule.json", "report.md"];
     let mut report = format!(
         "# Design for target \"{}\"\n\nRegenerate: `platefield design <target file> --method {}`.\n\n",
         kept.schedule.target,
         md.asked.name()
     );
     report.push_str(&method_md(md));
+    // No plot rather than an empty one (a synthesis for a grid-less target
+    // has no field at the target's points).
     let fit_svg = match (kept.method, &md.sequence, &md.synthesis) {
-        (Method::Sequence, Some(d), _) => super::design::fit_svg(d),
-        (_, _, Some(syn)) => synthesis_fit_svg(md, syn).unwrap_or_default(),
-        _ => String::new(),
+        (Method::Sequence, Some(d), _) => Some(super::design::fit_svg(d)),
+        (_, _, Some(syn)) => synthesis_fit_svg(md, syn),
+        _ => None,
     };
     if let Some(syn) = &md.synthesis {
         report.push('\n');
@@ -292,7 +294,10 @@ pub fn write(md: &MethodDesign, dir: &Path) -> Result<Vec<&'static str>> {
         &dir.join("schedule.json"),
         kept.schedule.to_json()?.as_bytes(),
     )?;
-    write_atomic(&dir.join("fit.svg"), fit_svg.as_bytes())?;
+    if let Some(svg) = fit_svg {
+        write_atomic(&dir.join("fit.svg"), svg.as_bytes())?;
+        files.insert(1, "fit.svg");
+    }
     write_atomic(&dir.join("report.md"), report.as_bytes())?;
     if let Some(syn) = &md.synthesis {
         write_atomic(
