@@ -459,7 +459,7 @@ pub fn play_check(
     if r.valid == 0 {
         notes.push("no valid point".to_string());
     }
-    if !(r.shape_error <= fit::POOR_ERROR) {
+    if r.shape_error.is_nan() || r.shape_error > fit::POOR_ERROR {
         notes.push(format!(
             "realised shape error {} > {:.0} %",
             percent(finite(r.shape_error)),
