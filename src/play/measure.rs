@@ -147,6 +147,9 @@ pub struct PointPlay {
     pub contributions: Vec<[f64; 2]>,
     /// Why the point is invalid (`None`: valid).
     pub note: Option<String>,
+    /// Where the part lost contact (plate frame, m), when it did.
+    #[serde(skip)]
+    pub lost_at: Option<[f64; 2]>,
 }
 
 impl PointPlay {
@@ -246,9 +249,11 @@ pub fn play_point(
         moving,
         contributions: vec![[0.0; 2]; n],
         note: None,
+        lost_at: None,
     };
     if let Err(e) = player.play_periods(&mut state, &anchor, 0, warm, |_, _, _| {}) {
         out.note = Some(e.to_string());
+        out.lost_at = Some(e.loss.position);
         return out;
     }
     let (starts, extra) = match windows {
@@ -262,6 +267,7 @@ pub fn play_point(
     });
     if let Err(e) = played {
         out.note = Some(e.to_string());
+        out.lost_at = Some(e.loss.position);
         return out;
     }
     let (mut r_sum, mut q_sum) = (V2::zeros(), V2::zeros());
@@ -603,6 +609,7 @@ mod tests {
             moving: true,
             contributions: vec![],
             note: None,
+            lost_at: None,
         };
         let mut sink = |r: [f64; 2]| -> Result<[f64; 2], ()> { Ok([-sigma * r[0], -sigma * r[1]]) };
         let e = play.expected(&mut sink).unwrap();

@@ -45,7 +45,8 @@ pub struct Played {
     /// Points whose part kept contact and counted (weight > 0).
     pub valid: usize,
     /// Points whose part ended farther from the target's attractor than it
-    /// started (0 for targets without an attractor).
+    /// started, or left the region and lost contact beyond it (0 for
+    /// targets without an attractor).
     pub escaped: usize,
     /// The strength the design predicts (fit or synthesis).
     pub predicted_strength: f64,
@@ -58,9 +59,11 @@ pub struct Played {
     /// when not finite.
     pub realised_error: Option<f64>,
     /// Realised shape error above [`crate::fit::POOR_ERROR`], no valid
-    /// point, a part that lost contact, or a part escaping the attractor.
+    /// point, a part that lost contact in the region, or a part escaping
+    /// the attractor.
     pub poor: bool,
-    /// Why it is POOR (empty otherwise).
+    /// Why it is POOR; also parts that left the region of a target without
+    /// an attractor (stated, not POOR).
     pub notes: Vec<String>,
     /// Per-axis peaks the schedule commands.
     pub peaks: AxisPeaks,

@@ -407,6 +407,7 @@ mod tests {
                     moving: false,
                     contributions: vec![],
                     note: None,
+                    lost_at: None,
                 }
             })
             .collect();
