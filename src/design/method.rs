@@ -108,6 +108,32 @@ pub struct Candidate {
 }
 
 impl Candidate {
+    /// `schedule` (designed in `design_s` seconds) played by
+    /// [`play_check`]: `predicted` is its predicted strength, `asked` the
+    /// method asked for with the limits to record.
+    fn play(
+        (target, sampled): (&Target, &SampledTarget),
+        mut schedule: Schedule,
+        predicted: f64,
+        (asked, limits): (Method, Option<crate::request::ShakerSpec>),
+        design_s: f64,
+    ) -> Result<Candidate> {
+        let t = Instant::now();
+        let p = play_check(target, sampled, &schedule, predicted, asked, limits)?;
+        let method = if p.method == Method::Synthesize.name() {
+            Method::Synthesize
+        } else {
+            Method::Sequence
+        };
+        schedule.played = Some(p);
+        Ok(Candidate {
+            method,
+            schedule,
+            design_s,
+            play_s: t.elapsed().as_secs_f64(),
+        })
+    }
+
     /// The realised check.
     pub fn played(&self) -> &Played {
         self.schedule
@@ -175,24 +201,15 @@ pub fn design_by_method(
         let t = Instant::now();
         match design(target, opts) {
             Ok(d) => {
-                let design_s = t.elapsed().as_secs_f64();
-                let t = Instant::now();
-                let mut schedule = d.schedule.clone();
                 let record = target.shaker.as_ref().map(|_| limits.to_spec());
-                schedule.played = Some(play_check(
-                    target,
-                    &sampled,
-                    &schedule,
+                let c = Candidate::play(
+                    (target, &sampled),
+                    d.schedule.clone(),
                     d.schedule.fit.strength,
-                    method,
-                    record,
-                )?);
-                out.candidates.push(Candidate {
-                    method: Method::Sequence,
-                    schedule,
-                    design_s,
-                    play_s: t.elapsed().as_secs_f64(),
-                });
+                    (method, record),
+                    t.elapsed().as_secs_f64(),
+                )?;
+                out.candidates.push(c);
                 out.sequence = Some(d);
             }
             Err(e) if method == Method::Auto => {
@@ -205,30 +222,20 @@ pub fn design_by_method(
     if method != Method::Sequence {
         let t = Instant::now();
         match synthesize_schedule(target, &sampled, &limits, opts, synth) {
-            Ok((syn, mut schedule)) => {
-                let design_s = t.elapsed().as_secs_f64();
-                let t = Instant::now();
-                schedule.played = Some(play_check(
-                    target,
-                    &sampled,
-                    &schedule,
-                    syn.realised.strength,
-                    method,
-                    Some(limits.to_spec()),
-                )?);
-                if syn.poor {
-                    if let Some(p) = schedule.played.as_mut() {
-                        p.poor = true;
-                        p.notes
-                            .extend(syn.notes.iter().map(|n| format!("synthesis: {n}")));
-                    }
-                }
-                out.candidates.push(Candidate {
-                    method: Method::Synthesize,
+            Ok((syn, schedule)) => {
+                let mut c = Candidate::play(
+                    (target, &sampled),
                     schedule,
-                    design_s,
-                    play_s: t.elapsed().as_secs_f64(),
-                });
+                    syn.realised.strength,
+                    (method, Some(limits.to_spec())),
+                    t.elapsed().as_secs_f64(),
+                )?;
+                if let (true, Some(p)) = (syn.poor, c.schedule.played.as_mut()) {
+                    p.poor = true;
+                    p.notes
+                        .extend(syn.notes.iter().map(|n| format!("synthesis: {n}")));
+                }
+                out.candidates.push(c);
                 out.synthesis = Some(syn);
             }
             Err(e) if method == Method::Auto && !out.candidates.is_empty() => {

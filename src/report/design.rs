@@ -149,44 +149,52 @@ pub fn report_md(d: &Design) -> String {
 
 /// The fit figure: target (scaled by the strength), achieved, residual.
 pub fn fit_svg(d: &Design) -> String {
-    let s = d.schedule.fit.strength;
-    let pts = d.target.points.clone();
-    let scaled: Vec<[f64; 2]> = d
-        .target
+    fit_figure(
+        &d.schedule.target,
+        &d.target,
+        d.schedule.fit.strength,
+        "achieved (schedule)",
+        &d.achieved_quantized,
+    )
+}
+
+/// Three panels at the points of `target`: the target scaled by
+/// `strength`, `achieved` (titled `label`) and their difference (masked
+/// points marked).
+pub fn fit_figure(
+    name: &str,
+    target: &crate::request::SampledTarget,
+    strength: f64,
+    label: &str,
+    achieved: &[[f64; 2]],
+) -> String {
+    let s = strength;
+    let pts = target.points.clone();
+    let scaled: Vec<[f64; 2]> = target
         .vectors
         .iter()
         .map(|v| [s * v[0], s * v[1]])
         .collect();
-    let resid: Vec<[f64; 2]> = d
-        .achieved_quantized
+    let resid: Vec<[f64; 2]> = achieved
         .iter()
         .zip(&scaled)
         .map(|(a, t)| [a[0] - t[0], a[1] - t[1]])
         .collect();
-    let masked: Vec<bool> = d.target.weights.iter().map(|w| *w == 0.0).collect();
-    Panels::new(format!(
-        "{}: target × {:.3}, achieved, residual",
-        d.schedule.target, s
-    ))
-    .panel(
-        QuiverPlot::new("target (scaled)", pts.clone(), scaled)
-            .invalid(masked.clone())
-            .auto_caption(),
-    )
-    .panel(
-        QuiverPlot::new(
-            "achieved (schedule)",
-            pts.clone(),
-            d.achieved_quantized.clone(),
+    let masked: Vec<bool> = target.weights.iter().map(|w| *w == 0.0).collect();
+    let short = label.split(' ').next().unwrap_or(label);
+    Panels::new(format!("{name}: target × {s:.3}, {short}, residual"))
+        .panel(
+            QuiverPlot::new("target (scaled)", pts.clone(), scaled)
+                .invalid(masked.clone())
+                .auto_caption(),
         )
-        .auto_caption(),
-    )
-    .panel(
-        QuiverPlot::new("residual", pts, resid)
-            .invalid(masked)
-            .auto_caption(),
-    )
-    .to_svg()
+        .panel(QuiverPlot::new(label, pts.clone(), achieved.to_vec()).auto_caption())
+        .panel(
+            QuiverPlot::new("residual", pts, resid)
+                .invalid(masked)
+                .auto_caption(),
+        )
+        .to_svg()
 }
 
 /// The order search as markdown (`None` when it was not run).

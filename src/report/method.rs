@@ -11,7 +11,7 @@ use crate::design::method::{number, percent, Candidate, Method, MethodDesign};
 use crate::error::Result;
 use crate::motion::{Motion, Signals};
 use crate::output::write_atomic;
-use crate::plot::{LinePlot, Panels, QuiverPlot, Series};
+use crate::plot::{LinePlot, Series};
 use crate::schedule::export::centre_acceleration;
 use crate::schedule::Played;
 use crate::synth::params::AXIS_NAMES;
@@ -208,49 +208,15 @@ pub fn signals_svg(motion: &Signals, limits: &ShakerLimits) -> String {
 pub fn synthesis_fit_svg(md: &MethodDesign, syn: &Synthesis) -> Option<String> {
     let target = md.kept().schedule.target_spec.as_ref()?;
     let sampled = target.sample().ok()?;
-    if sampled.len() != syn.field.vectors.len() {
-        return None;
-    }
-    let s = syn.realised.strength;
-    let scaled: Vec<[f64; 2]> = sampled
-        .vectors
-        .iter()
-        .map(|v| [s * v[0], s * v[1]])
-        .collect();
-    let resid: Vec<[f64; 2]> = syn
-        .field
-        .vectors
-        .iter()
-        .zip(&scaled)
-        .map(|(a, t)| [a[0] - t[0], a[1] - t[1]])
-        .collect();
-    let masked: Vec<bool> = sampled.weights.iter().map(|w| *w == 0.0).collect();
-    let pts = sampled.points.clone();
-    Some(
-        Panels::new(format!(
-            "{}: target × {s:.3}, synthesized, residual",
-            md.kept().schedule.target
-        ))
-        .panel(
-            QuiverPlot::new("target (scaled)", pts.clone(), scaled)
-                .invalid(masked.clone())
-                .auto_caption(),
+    (sampled.len() == syn.field.vectors.len()).then(|| {
+        super::design::fit_figure(
+            &md.kept().schedule.target,
+            &sampled,
+            syn.realised.strength,
+            "synthesized (steady state)",
+            &syn.field.vectors,
         )
-        .panel(
-            QuiverPlot::new(
-                "synthesized (steady state)",
-                pts.clone(),
-                syn.field.vectors.clone(),
-            )
-            .auto_caption(),
-        )
-        .panel(
-            QuiverPlot::new("residual", pts, resid)
-                .invalid(masked)
-                .auto_caption(),
-        )
-        .to_svg(),
-    )
+    })
 }
 
 /// Writes schedule.json (the kept candidate), fit.svg, report.md, and
