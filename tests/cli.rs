@@ -444,3 +444,109 @@ fn design_refuses_bad_shaker_limits_naming_the_field() {
         (env.angular, 2, 0.1)
     );
 }
+
+/// `design --method auto` end to end on a small sink with lab-class
+/// limits: both candidates are played and printed with their realised
+/// shape error and strength, the choice is stated, the files are written
+/// (signals.svg for the synthesis), `schedule.json` carries the realised
+/// check, and `export --steady-cycles` of a synthesized schedule states its
+/// ramp. `--method bogus` and `--synth-evaluations 0` exit 2.
+#[test]
+fn design_method_auto_plays_both_and_states_the_choice() {
+    let dir = temp_dir("design-method");
+    let target = dir.join("small_lab.json");
+    std::fs::write(
+        &target,
+        r#"{"name": "small_lab", "grid": {"x": [-0.02, 0.02], "y": [-0.02, 0.02], "n": [7, 7]},
+            "field": {"kind": "sink"},
+            "shaker": {"period": 0.05, "linear": [12, 12, 0.2], "angular": [220, 220, 0], "harmonics": 1}}"#,
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let base = [
+        "design",
+        target.to_str().unwrap(),
+        "--primitives",
+        "LineSink",
+        "--rotation-step",
+        "90",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    for (extra, name) in [
+        (["--method", "bogus"], "--method"),
+        (["--synth-evaluations", "0"], "--synth-evaluations"),
+    ] {
+        let mut args = base.to_vec();
+        args.extend_from_slice(&extra);
+        let (code, _, err) = platefield(&args);
+        assert_eq!(code, 2, "{extra:?}: {err}");
+        assert!(err.contains(name), "{err}");
+        assert!(!out.exists());
+    }
+    let mut args = base.to_vec();
+    args.extend_from_slice(&["--synth-evaluations", "20"]);
+    let (code, stdout, err) = platefield(&args);
+    assert_eq!(code, 0, "{err}");
+    for needle in [
+        " sequence: predicted strength",
+        " synthesize: predicted strength",
+        "realised shape error",
+        "realised strength",
+        "auto kept ",
+        "signals.svg",
+    ] {
+        assert!(stdout.contains(needle), "{needle:?} not in {stdout}");
+    }
+    let folder = out.join("small_lab");
+    for f in ["schedule.json", "fit.svg", "report.md", "signals.svg"] {
+        assert!(folder.join(f).exists(), "{f}");
+    }
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(folder.join("schedule.json")).unwrap())
+            .unwrap();
+    let played = &json["played"];
+    assert_eq!(played["asked"], "auto");
+    assert!(played["realised_shape_error"].is_number(), "{played}");
+    assert!(played["realised_strength"].is_number(), "{played}");
+    let report = std::fs::read_to_string(folder.join("report.md")).unwrap();
+    assert!(
+        report.contains("## Method and realised check") && report.contains("## Synthesized motion")
+    );
+    // A synthesized schedule exports with its ramp stated.
+    let syn = dir.join("syn");
+    let (code, _, err) = platefield(&[
+        "design",
+        target.to_str().unwrap(),
+        "--method",
+        "synthesize",
+        "--synth-evaluations",
+        "20",
+        "--quiet",
+        "--out",
+        syn.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let csv = dir.join("syn.csv");
+    let (code, stdout, err) = platefield(&[
+        "export",
+        syn.join("small_lab/schedule.json").to_str().unwrap(),
+        "--rate",
+        "20000",
+        "--steady-cycles",
+        "5",
+        "--out",
+        csv.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        stdout.contains("ramp-in from rest") && stdout.contains("5 steady cycles"),
+        "{stdout}"
+    );
+    // 10 + 5 + 10 cycles of 1000 samples.
+    assert_eq!(
+        std::fs::read_to_string(&csv).unwrap().lines().count(),
+        1 + 25_000
+    );
+}
