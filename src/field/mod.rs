@@ -30,7 +30,7 @@ pub use json::FieldStats;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::dynamics::{Friction, Model, Numerics, Simulator};
+use crate::dynamics::{Friction, KinematicsTable, Model, Numerics, Simulator};
 use crate::motion::Motion;
 
 /// Which field to compute.
@@ -129,7 +129,14 @@ impl Field {
         settings: &FieldSettings,
         progress: &(dyn Fn() + Sync),
     ) -> Field {
-        let sim = settings.simulator(motion);
+        let direct = settings.simulator(motion);
+        // The plate kinematics depend on time only: tabulated once on the
+        // integrator's time grid and shared by every point.
+        let table = match kind {
+            FieldKind::Force => KinematicsTable::phases(&direct, settings.phases),
+            FieldKind::Velocity => KinematicsTable::cycle(&direct),
+        };
+        let sim = direct.with_table(&table);
         let points = grid.points();
         let spacing = grid.spacing();
         let samples: Vec<([f64; 2], Validity)> = points
