@@ -376,6 +376,13 @@ impl<'a> Simulator<'a> {
             let h = self.slip_step(&k0, target - *t, state, anchor, swing > 0);
             swing = swing.saturating_sub(1);
             let (r1, u1, k1) = self.rk4(*t, h, piece, &k0, &state.r, &u0, anchor)?;
+            if !(r1.iter().all(|x| x.is_finite()) && u1.norm_squared().is_finite()) {
+                // Arithmetic overflow (|u|² beyond f64): stop with the slip
+                // velocity marked NaN, which callers report (a field sample
+                // is then `non_finite`).
+                (state.r, state.u, *t) = (r1, V2::repeat(f64::NAN), target);
+                return Ok(());
+            }
             if u0 != V2::zeros() && u1.dot(&u0) <= 0.0 && cuts < MAX_CUTS {
                 cuts += 1;
                 let s = self.locate_stop(*t, h, piece, &k0, state, anchor, 0.0)?;

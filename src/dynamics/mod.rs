@@ -254,7 +254,9 @@ pub struct Numerics {
     /// error) is accepted when its best residual is within this, relative
     /// to μ_k g T; the residual is reported with it.
     pub steady_accept: f64,
-    /// Maximum cycle-map evaluations for the steady state.
+    /// Maximum cycle-map evaluations for the steady state (it stops
+    /// earlier when the iteration stalls with an acceptable residual; see
+    /// the steady-state module).
     pub max_iterations: usize,
 }
 

@@ -9,8 +9,9 @@
 //!   the periodic motion (see [`crate::dynamics::SteadyState`]), frozen or
 //!   free by the model's `moving` switch (m/s).
 //!
-//! Every sample carries its validity: contact lost, not converged, or (for
-//! frozen velocity fields) the frozen-position assumption broken — the part's
+//! Every sample carries its validity: contact lost, not converged, not
+//! finite, or (for frozen velocity fields) the frozen-position assumption
+//! broken — the part's
 //! excursion within a cycle is not small against the grid spacing. The
 //! large-amplitude Circle is the case in point: its plate moves at about
 //! 0.4 m/s at 4 cm, and its frozen field shows a spurious radial velocity
@@ -59,6 +60,9 @@ pub enum Validity {
     /// Resampled by symmetry ([`crate::basis::symmetry`]) at a point whose
     /// interpolation stencil falls outside the simulated region.
     OutsideSource,
+    /// The computed sample is not finite (NaN or ±∞ in a component, from
+    /// arithmetic overflow in the integrator); its vector is set to zero.
+    NonFinite,
 }
 
 /// Everything that determines a field besides the motion.
@@ -142,12 +146,15 @@ impl Field {
         let samples: Vec<([f64; 2], Validity)> = points
             .par_iter()
             .map(|p| {
-                let s = match kind {
+                let mut s = match kind {
                     FieldKind::Force => force::sample(&sim, *p, settings.phases),
                     FieldKind::Velocity => {
                         velocity::sample(&sim, *p, spacing * settings.frozen_excursion)
                     }
                 };
+                if !(s.0[0].is_finite() && s.0[1].is_finite()) {
+                    s = ([0.0, 0.0], Validity::NonFinite);
+                }
                 progress();
                 s
             })
