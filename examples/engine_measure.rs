@@ -10,13 +10,8 @@ use platefield::basis::{Primitive, PrimitiveKind};
 use platefield::field::{Field, FieldKind, FieldSettings, Grid};
 use platefield::motion::{Motion, Signals};
 
-/// The six-signal motion of `tests/synth.rs`.
 fn six_signal_motion() -> Motion {
-    let json = r#"{"period": 0.05,
-      "linear": {"x": [{"amplitude": 10, "phase": 1.37}, {"amplitude": 2, "phase": 0.3, "harmonic": 2}],
-                 "y": [{"amplitude": 10, "phase": -0.17}]},
-      "angular": {"x": [{"amplitude": 65, "phase": 1.83}], "y": [{"amplitude": 65, "phase": 0.28}]}}"#;
-    Motion::Signals(serde_json::from_str::<Signals>(json).expect("valid motion"))
+    Motion::Signals(Signals::example())
 }
 
 /// FNV-1a over the bits of every vector and validity.

@@ -69,7 +69,7 @@ impl Build {
 
 /// CPU time of this process over all threads (s), from /proc/self/stat
 /// (utime + stime in USER_HZ = 100 ticks per second); `None` elsewhere.
-fn process_cpu_seconds() -> Option<f64> {
+pub(crate) fn process_cpu_seconds() -> Option<f64> {
     let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
     // Fields after the command name (which is in parentheses).
     let rest = &stat[stat.rfind(')')? + 2..];
