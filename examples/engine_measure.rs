@@ -6,7 +6,7 @@
 
 use std::time::Instant;
 
-use platefield::basis::{Primitive, PrimitiveKind};
+use platefield::basis::{Library, Primitive, PrimitiveKind};
 use platefield::field::{Field, FieldKind, FieldSettings, Grid};
 use platefield::motion::{Motion, Signals};
 
@@ -94,6 +94,41 @@ fn main() {
             64,
         ),
     ];
+    if "library".contains(&only) || only.is_empty() {
+        for steps in [8, 16, 32, 64] {
+            let mut settings = FieldSettings::default();
+            settings.numerics.steps_per_cycle = steps;
+            let primitives = Library::default_primitives();
+            let build = || {
+                primitives
+                    .iter()
+                    .map(|p| {
+                        Field::compute(
+                            &p.motion(),
+                            &Grid::DEFAULT,
+                            FieldKind::Force,
+                            &settings,
+                            &|| {},
+                        )
+                    })
+                    .collect::<Vec<_>>()
+            };
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(2)
+                .build()
+                .expect("thread pool");
+            let mut best = f64::INFINITY;
+            for _ in 0..repeats {
+                let start = Instant::now();
+                let fields = pool.install(build);
+                best = best.min(start.elapsed().as_secs_f64());
+                assert_eq!(fields.len(), 8);
+            }
+            println!(
+                "library: 8 force fields 21x21x30 at {steps} steps, 2 threads: {best:.3} s wall"
+            );
+        }
+    }
     println!("| field | 1 thread (s) | 2 threads (s) | bits 1 thread | bits 2 threads |");
     println!("|---|---|---|---|---|");
     for (name, motion, grid, kind, steps) in cases.iter().map(|(a, b, c, d, e)| (a, b, c, *d, *e)) {

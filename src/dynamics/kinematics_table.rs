@@ -14,7 +14,8 @@
 //! [s, e], the stage times s + h/2 and s + h (h = e − s) and the step end e
 //! — computed with exactly the integrator's arithmetic
 //! ([`super::step_count`], [`super::step_end`]), so a lookup is keyed by the
-//! exact bits of (t, piece). It is a memo of
+//! exact bits of (t, piece): the piece by a hash of its key, the instant by
+//! its step index (t − a) n/(b − a) and an exact comparison, no search. It is a memo of
 //! [`Motion::kinematics_piece`]: a hit returns the very value a direct
 //! evaluation would, so fields are bitwise unchanged by it (and stay
 //! identical on any number of threads). Event-located and shortened steps
@@ -23,15 +24,76 @@
 use super::integrator::Simulator;
 use crate::motion::{Kinematics, Motion};
 
-/// Kinematics at the nodes of one smooth piece, sorted by time.
+/// Kinematics at the nodes of one smooth piece [a, b] of n fixed steps, in
+/// a fixed layout: slot 0 is a, slots 3i − 2, 3i − 1, 3i the stage time
+/// s + h/2, the stage end s + h and the step end of step i (s its start, h
+/// its length), so that the slot of an instant follows from (t − a) n/(b − a)
+/// without a search.
 #[derive(Debug, Clone)]
 struct PieceNodes {
-    /// The piece key the integrator passes (0.5 (a + b) of the piece [a, b]).
+    /// The piece key the integrator passes (0.5 (a + b)).
     piece: f64,
-    /// Node times, ascending, distinct.
+    /// Piece start a.
+    a: f64,
+    /// Steps n.
+    n: usize,
+    /// n/(b − a): steps per unit time.
+    rate: f64,
+    /// Node times in the layout above.
     times: Vec<f64>,
     /// Kinematics at `times`.
     kinematics: Vec<Kinematics>,
+}
+
+impl PieceNodes {
+    fn new(motion: &Motion, gravity: f64, tilt: bool, a: f64, b: f64, n: usize) -> PieceNodes {
+        let piece = 0.5 * (a + b);
+        let mut times = Vec::with_capacity(3 * n + 1);
+        times.push(a);
+        let mut s = a;
+        for i in 1..=n {
+            let e = super::step_end(a, b, n, i);
+            let h = e - s;
+            times.extend([s + 0.5 * h, s + h, e]);
+            s = e;
+        }
+        let kinematics = times
+            .iter()
+            .map(|t| motion.kinematics_piece(*t, piece, gravity, tilt))
+            .collect();
+        PieceNodes {
+            piece,
+            a,
+            n,
+            rate: n as f64 / (b - a),
+            times,
+            kinematics,
+        }
+    }
+
+    #[inline]
+    fn find(&self, t: f64) -> Option<&Kinematics> {
+        if t == self.a {
+            return Some(&self.kinematics[0]);
+        }
+        // Step k contains t in (s, e]; round-off may put t one step off.
+        let x = ((t - self.a) * self.rate).ceil();
+        if !(x >= 0.0 && x <= (self.n + 1) as f64) {
+            return None;
+        }
+        let k = (x as usize).clamp(1, self.n);
+        for j in [k, k - 1, k + 1] {
+            if j == 0 || j > self.n {
+                continue;
+            }
+            for slot in 3 * j - 2..=3 * j {
+                if self.times[slot] == t {
+                    return Some(&self.kinematics[slot]);
+                }
+            }
+        }
+        None
+    }
 }
 
 /// Plate kinematics tabulated on the integrator's fixed-step time grid of
@@ -41,12 +103,21 @@ pub struct KinematicsTable<'a> {
     motion: &'a Motion,
     gravity: f64,
     tilt: bool,
-    /// Pieces sorted by `piece` (distinct).
+    /// One entry per distinct (a, b, n) piece.
     pieces: Vec<PieceNodes>,
+    /// Open-addressing index of `pieces` by the bits of their key (a piece
+    /// key shared by pieces of different (a, b, n) keeps the first).
+    slots: Vec<u32>,
     #[cfg(test)]
     misses: std::sync::atomic::AtomicUsize,
     #[cfg(test)]
     hits: std::sync::atomic::AtomicUsize,
+}
+
+/// Slot of a piece key in an index of 2^`bits` slots (Fibonacci hashing).
+#[inline]
+fn home(piece: f64, bits: u32) -> usize {
+    (piece.to_bits().wrapping_mul(0x9E37_79B9_7F4A_7C15) >> (64 - bits)) as usize
 }
 
 impl<'a> KinematicsTable<'a> {
@@ -58,40 +129,34 @@ impl<'a> KinematicsTable<'a> {
         let period = sim.period();
         let nominal = period / sim.numerics().steps_per_cycle as f64;
         let breakpoints = motion.breakpoints();
-        let mut nodes: Vec<(f64, f64)> = Vec::new();
+        let mut pieces: Vec<PieceNodes> = Vec::new();
+        let mut seen = std::collections::HashSet::new();
         for &(t0, t1) in spans {
             let edges = super::piece_edges(t0, t1, period, &breakpoints);
             for w in edges.windows(2) {
                 let (a, b) = (w[0], w[1]);
-                let piece = 0.5 * (a + b);
                 let n = super::step_count(a, b, nominal);
-                let mut s = a;
-                nodes.push((piece, a));
-                for i in 1..=n {
-                    let e = super::step_end(a, b, n, i);
-                    let h = e - s;
-                    nodes.push((piece, s + 0.5 * h));
-                    nodes.push((piece, s + h));
-                    nodes.push((piece, e));
-                    s = e;
+                if seen.insert((a.to_bits(), b.to_bits(), n)) {
+                    pieces.push(PieceNodes::new(motion, gravity, tilt, a, b, n));
                 }
             }
         }
-        nodes.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.total_cmp(&y.1)));
-        nodes.dedup_by(|x, y| x.0.to_bits() == y.0.to_bits() && x.1.to_bits() == y.1.to_bits());
-        let mut pieces: Vec<PieceNodes> = Vec::new();
-        for (piece, t) in nodes {
-            let k = motion.kinematics_piece(t, piece, gravity, tilt);
-            match pieces.last_mut() {
-                Some(p) if p.piece.to_bits() == piece.to_bits() => {
-                    p.times.push(t);
-                    p.kinematics.push(k);
+        let bits = (2 * pieces.len().max(1))
+            .next_power_of_two()
+            .trailing_zeros()
+            .max(1);
+        let mut slots = vec![u32::MAX; 1 << bits];
+        for (i, p) in pieces.iter().enumerate() {
+            let mut h = home(p.piece, bits);
+            loop {
+                match slots[h] {
+                    u32::MAX => {
+                        slots[h] = i as u32;
+                        break;
+                    }
+                    j if pieces[j as usize].piece.to_bits() == p.piece.to_bits() => break,
+                    _ => h = (h + 1) & (slots.len() - 1),
                 }
-                _ => pieces.push(PieceNodes {
-                    piece,
-                    times: vec![t],
-                    kinematics: vec![k],
-                }),
             }
         }
         KinematicsTable {
@@ -99,6 +164,7 @@ impl<'a> KinematicsTable<'a> {
             gravity,
             tilt,
             pieces,
+            slots,
             #[cfg(test)]
             misses: std::sync::atomic::AtomicUsize::new(0),
             #[cfg(test)]
@@ -124,7 +190,8 @@ impl<'a> KinematicsTable<'a> {
         KinematicsTable::new(sim, &spans)
     }
 
-    /// Number of tabulated instants.
+    /// Number of table slots (an instant may fill two: s + h and the step
+    /// end e often have the same bits).
     pub fn len(&self) -> usize {
         self.pieces.iter().map(|p| p.times.len()).sum()
     }
@@ -159,13 +226,19 @@ impl<'a> KinematicsTable<'a> {
 
     #[inline]
     fn find(&self, t: f64, piece: f64) -> Option<&Kinematics> {
-        let i = self
-            .pieces
-            .binary_search_by(|p| p.piece.total_cmp(&piece))
-            .ok()?;
-        let p = &self.pieces[i];
-        let j = p.times.binary_search_by(|x| x.total_cmp(&t)).ok()?;
-        Some(&p.kinematics[j])
+        let bits = self.slots.len().trailing_zeros();
+        let mut h = home(piece, bits);
+        loop {
+            let i = *self.slots.get(h)?;
+            if i == u32::MAX {
+                return None;
+            }
+            let p = &self.pieces[i as usize];
+            if p.piece.to_bits() == piece.to_bits() {
+                return p.find(t);
+            }
+            h = (h + 1) & (self.slots.len() - 1);
+        }
     }
 
     /// Lookups that (hit, missed) so far (test builds only).
@@ -237,7 +310,7 @@ mod tests {
                 assert_eq!(*k, motion.kinematics_piece(*t, p.piece, 9.81, true));
                 assert_eq!(table.get(*t, p.piece), Some(k));
                 let off = t + 1e-7;
-                if p.times.binary_search_by(|x| x.total_cmp(&off)).is_err() {
+                if !p.times.contains(&off) {
                     assert!(table.get(off, p.piece).is_none());
                 }
                 count += 1;
