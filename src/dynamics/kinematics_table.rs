@@ -265,6 +265,15 @@ mod tests {
         })
     }
 
+    /// Full model, μ = 0.3, `steps` per cycle.
+    fn simulator(motion: &Motion, steps: usize) -> Simulator<'_> {
+        let numerics = Numerics {
+            steps_per_cycle: steps,
+            ..Numerics::default()
+        };
+        Simulator::new(motion, Friction::uniform(0.3), 9.81, Model::FULL, numerics)
+    }
+
     fn fourier() -> Waveform {
         Waveform::Fourier {
             terms: vec![
@@ -288,16 +297,7 @@ mod tests {
     #[test]
     fn table_is_a_memo_of_direct_evaluation() {
         let motion = screw(Waveform::Square { accel: 150.0 }, fourier());
-        let sim = Simulator::new(
-            &motion,
-            Friction::uniform(0.3),
-            9.81,
-            Model::FULL,
-            Numerics {
-                steps_per_cycle: 16,
-                ..Numerics::default()
-            },
-        );
+        let sim = simulator(&motion, 16);
         let table = KinematicsTable::phases(&sim, 7);
         assert!(table.fits(&motion, 9.81, true));
         assert!(!table.fits(&motion, 9.8, true));
@@ -333,16 +333,7 @@ mod tests {
             rotation: Waveform::RestToRest { amplitude: 0.004 },
             translation: Waveform::Zero,
         });
-        let sim = Simulator::new(
-            &motion,
-            Friction::uniform(0.3),
-            9.81,
-            Model::FULL,
-            Numerics {
-                steps_per_cycle: 32,
-                ..Numerics::default()
-            },
-        );
+        let sim = simulator(&motion, 32);
         let phases = 5;
         let table = KinematicsTable::phases(&sim, phases);
         let fast = sim.clone().with_table(&table);

@@ -20,7 +20,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use super::rung::relative_l2;
-use super::speed::process_cpu_seconds;
+use super::speed::{load_average, process_cpu_seconds};
 use crate::basis::{Library, Primitive};
 use crate::error::Result;
 use crate::field::{Field, FieldKind, FieldSettings, Grid};
@@ -268,12 +268,9 @@ pub fn markdown(config: &Config, curves: &[Curve]) -> String {
     let threads = rayon::current_num_threads();
     let head: Vec<String> = config.steps.iter().map(|s| s.to_string()).collect();
     let dashes = "---|".repeat(config.steps.len());
-    let load = std::fs::read_to_string("/proc/loadavg")
-        .ok()
-        .and_then(|l| l.split_whitespace().next().map(str::to_string))
-        .map_or(String::new(), |l| {
-            format!(" 1-minute load average at the end: {l}.")
-        });
+    let load = load_average().map_or(String::new(), |l| {
+        format!(" 1-minute load average at the end: {l}.")
+    });
     let mut md = format!(
         "# Field engine: speed against error, every primitive\n\n\
          Each default primitive's zero-velocity force field ({} start phases) and steady-state \
