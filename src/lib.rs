@@ -22,15 +22,15 @@
 //! |---|---|---|
 //! | inputs | [`scene`], [`request`] (target files) | a plate motion with its physics and grid; a requested field (kinds, grid, mask, attractor) |
 //! | kinematics | [`motion`] | world and plate frames; the plate's velocity and acceleration at a plate point; gravity in the plate frame. The screw primitive in [`motion::screw`], general six-signal motion in [`motion::signals`], waveforms in [`motion::waveform`] |
-//! | dynamics | [`dynamics`] | a point part's equations: the effective gravity N, Coulomb stick and slip, contact loss, the terms the paper drops as [`dynamics::Model`] switches. Exact stick-slip events in [`dynamics::integrator`], the periodic orbit in [`dynamics::steady`], rectangles in [`dynamics::planar`] |
-//! | fields | [`field`] | the zero-velocity force field, the steady-state velocity field (frozen or free), per-sample validity |
+//! | dynamics | [`dynamics`] | a point part's equations: the effective gravity N, Coulomb stick and slip, contact loss, the terms the paper drops as [`dynamics::Model`] switches. Exact stick-slip events in [`dynamics::integrator`], the periodic orbit (and its stall test) in [`dynamics::steady`], time-only kinematics tabulated once per field in [`dynamics::KinematicsTable`], rectangles in [`dynamics::planar`] |
+//! | fields | [`field`] | the zero-velocity force field, the steady-state velocity field (frozen or free), per-sample validity (including non-finite samples) |
 //! | basis | [`basis`] | the paper's eight primitives and their defaults ([`basis::primitives`]), rotated and shifted copies by symmetry ([`basis::symmetry`]), the on-disk cache |
 //! | fit | [`fit`] | the inverse problem: time fractions w ≥ 0, Σw ≤ 1, the fit modes, how each is solved and verified |
 //! | schedule | [`design::schedule`], [`design::export`] | time fractions as whole cycles; the six controller signals |
 //! | design | [`design`] | the open-loop pipeline, the closed loop ([`design::closed_loop`]), and `--method` ([`design::method`]): sequence or synthesize, every candidate played against the target, the POOR rule ([`fit::POOR_ERROR`]) and the choice |
 //! | synthesis | [`synth`] | one simultaneous six-signal motion: shaker limits, the averaged-friction seed, refinement by re-simulation |
 //! | play, verify | [`verify`] | a schedule's exact plate trajectory, the rule at the joins, rest in closed form; realised against predicted; where parts end up |
-//! | studies | [`studies`] | the paper's results reproduced: eq. 17 of section II ([`studies::linesink`]), Table I, the interaction of sequenced primitives, the order study of section V; model rungs and speed against error |
+//! | studies | [`studies`] | the paper's results reproduced: eq. 17 of section II ([`studies::linesink`]), Table I, the interaction of sequenced primitives, the order study of section V; model rungs and speed against error (the library, [`studies::speed`]; every primitive and field kind, [`studies::engine_speed`]) |
 //!
 //! ## Sequencing: what combines
 //!

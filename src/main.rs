@@ -100,6 +100,9 @@ enum Command {
     /// Study: library build time against error over steps per cycle: library_speed.md.
     #[command(mut_arg("out", default_dir(studies::speed::DIR)))]
     Speed(StudyOut),
+    /// Study: every primitive's force and velocity field error against steps per cycle and time: engine_speed.{md,csv,svg}.
+    #[command(mut_arg("out", default_dir(studies::engine_speed::DIR)))]
+    EngineSpeed(StudyOut),
     /// Study: design every target in targets/ in every fit mode: fit_quality.md.
     #[command(mut_arg("out", default_dir(studies::fit_quality::DIR)))]
     FitQuality(StudyOut),
@@ -176,6 +179,7 @@ fn run(cli: Cli) -> Result<String> {
         ),
         Command::Rungs { tolerance, out } => studies::rung::run(&out.out, tolerance),
         Command::Speed(o) => studies::speed::run(&o.out),
+        Command::EngineSpeed(o) => studies::engine_speed::run(&o.out),
         Command::FitQuality(o) => studies::fit_quality::run(Path::new("targets"), &o.out),
         Command::Interaction(o) => studies::interaction::run(&o.out),
         Command::SqueezeOrder(o) => studies::squeeze_order::run(&o.out),

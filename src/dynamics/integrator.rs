@@ -34,7 +34,7 @@
 
 use nalgebra::Vector2;
 
-use super::{ContactLoss, Friction, Model, Numerics};
+use super::{ContactLoss, Friction, KinematicsTable, Model, Numerics};
 use crate::motion::{Kinematics, Motion, V3};
 
 /// 2-vector of f64.
@@ -115,6 +115,8 @@ pub struct Simulator<'a> {
     period: f64,
     breakpoints: Vec<f64>,
     v_scale: f64,
+    /// Kinematics tabulated on the fixed-step time grid, when given.
+    table: Option<&'a KinematicsTable<'a>>,
 }
 
 impl<'a> Simulator<'a> {
@@ -136,11 +138,26 @@ impl<'a> Simulator<'a> {
             period,
             breakpoints: motion.breakpoints(),
             v_scale: (friction.kinetic.max(1e-3) * gravity.max(1e-3) * period).max(1e-300),
+            table: None,
         }
     }
 
+    /// The same simulator reading the plate kinematics from `table` where
+    /// it holds them (a memo: results are bitwise unchanged).
+    ///
+    /// # Panics
+    /// When `table` was built for another motion, gravity or tilt switch.
+    pub fn with_table(mut self, table: &'a KinematicsTable<'a>) -> Simulator<'a> {
+        assert!(
+            table.fits(self.motion, self.gravity, self.model.tilt),
+            "kinematics table built for another motion"
+        );
+        self.table = Some(table);
+        self
+    }
+
     /// The plate motion.
-    pub fn motion(&self) -> &Motion {
+    pub fn motion(&self) -> &'a Motion {
         self.motion
     }
     /// The model switches.
@@ -168,8 +185,13 @@ impl<'a> Simulator<'a> {
         self.v_scale
     }
 
+    /// Kinematics at `t` on the piece keyed `piece`: from the table on the
+    /// fixed-step grid, evaluated otherwise.
     #[inline]
     fn kin(&self, t: f64, piece: f64) -> Kinematics {
+        if let Some(k) = self.table.and_then(|table| table.get(t, piece)) {
+            return *k;
+        }
         self.motion
             .kinematics_piece(t, piece, self.gravity, self.model.tilt)
     }
@@ -295,15 +317,11 @@ impl<'a> Simulator<'a> {
         let edges = super::piece_edges(t0, t1, self.period, &self.breakpoints);
         for w in edges.windows(2) {
             let (a, b) = (w[0], w[1]);
-            let n = ((b - a) / nominal - 1e-9).ceil().max(1.0) as usize;
+            let n = super::step_count(a, b, nominal);
             let piece = 0.5 * (a + b);
             let mut t = a;
             for i in 1..=n {
-                let target = if i == n {
-                    b
-                } else {
-                    a + (b - a) * i as f64 / n as f64
-                };
+                let target = super::step_end(a, b, n, i);
                 self.advance_piece(&mut t, target, piece, state, anchor, &mut out)?;
                 if let Some(rec) = record.as_deref_mut() {
                     rec.push(TrajectoryPoint { t, state: *state });
@@ -358,6 +376,13 @@ impl<'a> Simulator<'a> {
             let h = self.slip_step(&k0, target - *t, state, anchor, swing > 0);
             swing = swing.saturating_sub(1);
             let (r1, u1, k1) = self.rk4(*t, h, piece, &k0, &state.r, &u0, anchor)?;
+            if !(r1.iter().all(|x| x.is_finite()) && u1.norm_squared().is_finite()) {
+                // Arithmetic overflow (|u|² beyond f64): stop with the slip
+                // velocity marked NaN, which callers report (a field sample
+                // is then `non_finite`).
+                (state.r, state.u, *t) = (r1, V2::repeat(f64::NAN), target);
+                return Ok(());
+            }
             if u0 != V2::zeros() && u1.dot(&u0) <= 0.0 && cuts < MAX_CUTS {
                 cuts += 1;
                 let s = self.locate_stop(*t, h, piece, &k0, state, anchor, 0.0)?;

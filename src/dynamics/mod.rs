@@ -26,10 +26,12 @@
 //! each obeying these equations) are in [`PlanarSimulator`].
 
 mod integrator;
+mod kinematics_table;
 mod planar;
 mod steady;
 
 pub use integrator::{CycleOutcome, PartState, Simulator, TrajectoryPoint, V2};
+pub use kinematics_table::KinematicsTable;
 pub use planar::{
     PlanarOutcome, PlanarSample, PlanarSimulator, PlanarState, Plate, Rectangle,
     MAX_POINTS_PER_SIDE, PLANAR_REFINE_DEPTH, PLANAR_STEPS_PER_CYCLE, REFINE_CHANGE,
@@ -61,6 +63,25 @@ pub(crate) fn piece_edges(t0: f64, t1: f64, period: f64, breakpoints: &[f64]) ->
     edges.push(t1);
     edges.sort_by(f64::total_cmp);
     edges
+}
+
+/// Number of fixed steps of nominal size `nominal` (at most) on the smooth
+/// piece [a, b].
+#[inline]
+pub(crate) fn step_count(a: f64, b: f64, nominal: f64) -> usize {
+    ((b - a) / nominal - 1e-9).ceil().max(1.0) as usize
+}
+
+/// End of fixed step `i` (1 ≤ i ≤ n) of the n equal steps over [a, b]
+/// (exactly b for the last). [`KinematicsTable`] tabulates the instants of
+/// these steps with the same arithmetic.
+#[inline]
+pub(crate) fn step_end(a: f64, b: f64, n: usize, i: usize) -> f64 {
+    if i == n {
+        b
+    } else {
+        a + (b - a) * i as f64 / n as f64
+    }
 }
 
 /// A named model, as chosen on the command line (`--model`).
@@ -233,7 +254,9 @@ pub struct Numerics {
     /// error) is accepted when its best residual is within this, relative
     /// to μ_k g T; the residual is reported with it.
     pub steady_accept: f64,
-    /// Maximum cycle-map evaluations for the steady state.
+    /// Maximum cycle-map evaluations for the steady state (it stops
+    /// earlier when the iteration stalls with an acceptable residual; see
+    /// the steady-state module).
     pub max_iterations: usize,
 }
 

@@ -8,7 +8,7 @@
 //!
 //! Rows are y (outer), columns x (inner). `valid` is true where the sample is
 //! usable; `status` says why not (`contact_lost`, `not_converged`,
-//! `frozen_invalid`, `outside_source`). Nothing time-dependent is written,
+//! `frozen_invalid`, `outside_source`, `non_finite`). Nothing time-dependent is written,
 //! so the same input gives the same bytes.
 
 use serde::Serialize;
@@ -30,8 +30,15 @@ pub struct FieldStats {
     pub frozen_invalid: usize,
     /// Resampled samples outside the simulated source region.
     pub outside_source: usize,
+    /// Samples that came out NaN or infinite (written only when some did).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub non_finite: usize,
     /// Largest valid magnitude.
     pub max_magnitude: f64,
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }
 
 impl Field {
@@ -45,6 +52,7 @@ impl Field {
             not_converged: count(Validity::NotConverged),
             frozen_invalid: count(Validity::FrozenInvalid),
             outside_source: count(Validity::OutsideSource),
+            non_finite: count(Validity::NonFinite),
             max_magnitude: self.max_magnitude(),
         }
     }

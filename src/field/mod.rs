@@ -9,8 +9,9 @@
 //!   the periodic motion (see [`crate::dynamics::SteadyState`]), frozen or
 //!   free by the model's `moving` switch (m/s).
 //!
-//! Every sample carries its validity: contact lost, not converged, or (for
-//! frozen velocity fields) the frozen-position assumption broken — the part's
+//! Every sample carries its validity: contact lost, not converged, not
+//! finite, or (for frozen velocity fields) the frozen-position assumption
+//! broken — the part's
 //! excursion within a cycle is not small against the grid spacing. The
 //! large-amplitude Circle is the case in point: its plate moves at about
 //! 0.4 m/s at 4 cm, and its frozen field shows a spurious radial velocity
@@ -30,7 +31,7 @@ pub use json::FieldStats;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::dynamics::{Friction, Model, Numerics, Simulator};
+use crate::dynamics::{Friction, KinematicsTable, Model, Numerics, Simulator};
 use crate::motion::Motion;
 
 /// Which field to compute.
@@ -59,6 +60,9 @@ pub enum Validity {
     /// Resampled by symmetry ([`crate::basis::symmetry`]) at a point whose
     /// interpolation stencil falls outside the simulated region.
     OutsideSource,
+    /// The computed sample is not finite (NaN or ±∞ in a component, from
+    /// arithmetic overflow in the integrator); its vector is set to zero.
+    NonFinite,
 }
 
 /// Everything that determines a field besides the motion.
@@ -129,18 +133,28 @@ impl Field {
         settings: &FieldSettings,
         progress: &(dyn Fn() + Sync),
     ) -> Field {
-        let sim = settings.simulator(motion);
+        let direct = settings.simulator(motion);
+        // The plate kinematics depend on time only: tabulated once on the
+        // integrator's time grid and shared by every point.
+        let table = match kind {
+            FieldKind::Force => KinematicsTable::phases(&direct, settings.phases),
+            FieldKind::Velocity => KinematicsTable::cycle(&direct),
+        };
+        let sim = direct.with_table(&table);
         let points = grid.points();
         let spacing = grid.spacing();
         let samples: Vec<([f64; 2], Validity)> = points
             .par_iter()
             .map(|p| {
-                let s = match kind {
+                let mut s = match kind {
                     FieldKind::Force => force::sample(&sim, *p, settings.phases),
                     FieldKind::Velocity => {
                         velocity::sample(&sim, *p, spacing * settings.frozen_excursion)
                     }
                 };
+                if !(s.0[0].is_finite() && s.0[1].is_finite()) {
+                    s = ([0.0, 0.0], Validity::NonFinite);
+                }
                 progress();
                 s
             })

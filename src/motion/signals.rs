@@ -76,6 +76,31 @@ pub struct Signals {
 }
 
 impl Signals {
+    /// A six-signal motion for timings (benches, `examples/engine_measure`):
+    /// T = 0.05 s, x and y translation (the x one with a second harmonic)
+    /// and tilts about x and y — the kind synthesis evaluates hundreds of
+    /// (the motion of `tests/synth.rs`).
+    pub fn example() -> Signals {
+        let term = |amplitude: f64, phase: f64, harmonic: u32| FourierTerm {
+            amplitude,
+            phase,
+            harmonic,
+        };
+        Signals {
+            period: 0.05,
+            linear: Axes {
+                x: vec![term(10.0, 1.37, 1), term(2.0, 0.3, 2)],
+                y: vec![term(10.0, -0.17, 1)],
+                z: Vec::new(),
+            },
+            angular: Axes {
+                x: vec![term(65.0, 1.83, 1)],
+                y: vec![term(65.0, 0.28, 1)],
+                z: Vec::new(),
+            },
+        }
+    }
+
     /// Kinematics at time `t`.
     #[inline]
     pub fn kinematics(&self, t: f64, g: f64, tilt: bool) -> Kinematics {

@@ -167,8 +167,17 @@ impl Scene {
         );
         let _ = writeln!(
             s,
-            "valid:   {} of {} samples (contact lost {}, not converged {}, frozen invalid {})",
-            st.valid, st.samples, st.contact_lost, st.not_converged, st.frozen_invalid
+            "valid:   {} of {} samples (contact lost {}, not converged {}, frozen invalid {}{})",
+            st.valid,
+            st.samples,
+            st.contact_lost,
+            st.not_converged,
+            st.frozen_invalid,
+            if st.non_finite > 0 {
+                format!(", not finite {}", st.non_finite)
+            } else {
+                String::new()
+            }
         );
         let _ = writeln!(s, "max |f|: {:.6e} {units}", st.max_magnitude);
         let _ = writeln!(s, "time:    {seconds:.3} s");

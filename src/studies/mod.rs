@@ -10,10 +10,12 @@
 //! | [`primitives`], [`table1`] | `platefield primitives` | `primitives/` fields, plots, `table1.md` |
 //! | [`rung`] | `platefield rungs` | `primitives/rungs.md` |
 //! | [`speed`] | `platefield speed` | `library_speed.md` |
+//! | [`engine_speed`] | `platefield engine-speed` | `engine_speed.{md,csv}`, `engine_speed_{force,velocity}.svg` |
 //! | [`fit_quality`] | `platefield fit-quality` | `fit_quality.md` |
 //! | [`interaction`] | `platefield interaction` | `verify/sink_interaction.md` |
 //! | [`squeeze_order`] | `platefield squeeze-order` | `verify/squeeze_trans_order.{md,csv}` |
 
+pub mod engine_speed;
 pub mod fit_quality;
 pub mod interaction;
 pub mod linesink;

@@ -67,9 +67,16 @@ impl Build {
     }
 }
 
+/// The 1-minute load average (Linux), for timing reports.
+pub(crate) fn load_average() -> Option<String> {
+    std::fs::read_to_string("/proc/loadavg")
+        .ok()
+        .and_then(|l| l.split_whitespace().next().map(str::to_string))
+}
+
 /// CPU time of this process over all threads (s), from /proc/self/stat
 /// (utime + stime in USER_HZ = 100 ticks per second); `None` elsewhere.
-fn process_cpu_seconds() -> Option<f64> {
+pub(crate) fn process_cpu_seconds() -> Option<f64> {
     let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
     // Fields after the command name (which is in parentheses).
     let rest = &stat[stat.rfind(')')? + 2..];
@@ -193,12 +200,9 @@ pub fn library_speed(out: &Path) -> Result<String> {
     let g = Grid::DEFAULT;
     let s = FieldSettings::default();
     let dashes = "---|".repeat(names.len());
-    let load = std::fs::read_to_string("/proc/loadavg")
-        .ok()
-        .and_then(|l| l.split_whitespace().next().map(str::to_string))
-        .map_or(String::new(), |l| {
-            format!(" The 1-minute load average when the report was written was {l}.")
-        });
+    let load = load_average().map_or(String::new(), |l| {
+        format!(" The 1-minute load average when the report was written was {l}.")
+    });
 
     let mut md = format!(
         "# Library speed against error\n\n\
