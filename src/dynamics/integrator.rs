@@ -34,7 +34,7 @@
 
 use nalgebra::Vector2;
 
-use super::{ContactLoss, Friction, Model, Numerics};
+use super::{ContactLoss, Friction, Model, Numerics, SlipScheme};
 use crate::motion::{Kinematics, Motion, V3};
 
 /// 2-vector of f64.
@@ -102,6 +102,9 @@ pub struct CycleOutcome {
     pub stuck_time: f64,
     /// Number of stop and break-away events.
     pub events: u32,
+    /// RK4 steps taken, trial steps of event location included (a cost
+    /// measure: each is four right-hand sides and two kinematics evaluations).
+    pub rk4_steps: u32,
 }
 
 /// Simulates point parts under one plate motion.
@@ -172,6 +175,23 @@ impl<'a> Simulator<'a> {
     fn kin(&self, t: f64, piece: f64) -> Kinematics {
         self.motion
             .kinematics_piece(t, piece, self.gravity, self.model.tilt)
+    }
+
+    /// Kinematics at `t` within the smooth piece containing `piece`.
+    #[inline]
+    pub(super) fn kin_at(&self, t: f64, piece: f64) -> Kinematics {
+        self.kin(t, piece)
+    }
+
+    /// Normal force and a_free of a part at `r` slipping with `u`.
+    #[inline]
+    pub(super) fn point_forces_at(&self, k: &Kinematics, r: &V2, u: &V2, anchor: &V2) -> (f64, V2) {
+        self.forces(k, r, u, anchor)
+    }
+
+    /// The contact loss at `t`, `r` with normal force `n`.
+    pub(super) fn contact_loss_at(&self, t: f64, r: &V2, n: f64) -> ContactLoss {
+        self.contact_loss(t, r, n)
     }
 
     /// Position at which the kinematics are evaluated.
@@ -290,6 +310,7 @@ impl<'a> Simulator<'a> {
             state: *state,
             stuck_time: 0.0,
             events: 0,
+            rk4_steps: 0,
         };
         let nominal = self.period / self.numerics.steps_per_cycle as f64;
         let edges = super::piece_edges(t0, t1, self.period, &self.breakpoints);
@@ -355,13 +376,29 @@ impl<'a> Simulator<'a> {
                 _ => self.kin(*t, piece),
             };
             let u0 = state.u;
+            if self.numerics.slip == SlipScheme::Stiff
+                && self.wants_radau(&k0, target - *t, state, anchor)
+            {
+                let h = target - *t;
+                if let Some((r1, u1)) =
+                    self.radau_step(*t, h, piece, state, anchor, &mut out.rk4_steps)?
+                {
+                    state.r = r1;
+                    state.u = u1;
+                    *t = target;
+                    swing = 0;
+                    continue;
+                }
+            }
             let h = self.slip_step(&k0, target - *t, state, anchor, swing > 0);
             swing = swing.saturating_sub(1);
             let (r1, u1, k1) = self.rk4(*t, h, piece, &k0, &state.r, &u0, anchor)?;
+            out.rk4_steps += 1;
             if u0 != V2::zeros() && u1.dot(&u0) <= 0.0 && cuts < MAX_CUTS {
                 cuts += 1;
-                let s = self.locate_stop(*t, h, piece, &k0, state, anchor, 0.0)?;
+                let s = self.locate_stop(*t, h, piece, &k0, state, anchor, 0.0, out)?;
                 let (rs, us, _) = self.rk4(*t, s, piece, &k0, &state.r, &u0, anchor)?;
+                out.rk4_steps += 1;
                 let ts = if target - (*t + s) <= tiny {
                     target
                 } else {
@@ -383,8 +420,10 @@ impl<'a> Simulator<'a> {
                     // order of its closest approach ε = |u(s*)|: back off to
                     // where the component along u₀ is still BACKOFF·ε and
                     // go on from there with steps short enough to follow it.
-                    let sb = self.locate_stop(*t, s, piece, &k0, state, anchor, BACKOFF * left)?;
+                    let sb =
+                        self.locate_stop(*t, s, piece, &k0, state, anchor, BACKOFF * left, out)?;
                     let (rb, ub, _) = self.rk4(*t, sb, piece, &k0, &state.r, &u0, anchor)?;
+                    out.rk4_steps += 1;
                     *t += sb;
                     state.r = rb;
                     state.u = ub;
@@ -462,6 +501,7 @@ impl<'a> Simulator<'a> {
         state: &PartState,
         anchor: &V2,
         level: f64,
+        out: &mut CycleOutcome,
     ) -> Result<f64, ContactLoss> {
         let u0 = state.u;
         let shift = level * u0.norm();
@@ -477,6 +517,7 @@ impl<'a> Simulator<'a> {
         let tol = self.numerics.event_tol * self.period;
         for _ in 0..60 {
             let (rs, us, ks) = self.rk4(t, s, piece, k0, &state.r, &u0, anchor)?;
+            out.rk4_steps += 1;
             let g = us.dot(&u0) - shift;
             if g > 0.0 {
                 lo = s;

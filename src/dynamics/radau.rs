@@ -1,0 +1,208 @@
+//! Implicit steps for a 2-D slip that is stiff in its direction
+//! ([`SlipScheme::Stiff`](super::SlipScheme)).
+//!
+//! Across the slip, Coulomb friction −μ_k N û damps at the rate μ_k N/|u|:
+//! the Jacobian of −μ_k N u/|u| is −μ_k N (I − ûûᵀ)/|u|. Where a step h sees
+//! h μ_k N/|u| ≫ 1 — a part slipping away from rest, or just after its slip
+//! velocity has swung past u = 0 — the slip direction is slaved to the
+//! free acceleration a_free, and an explicit step overshoots across the
+//! slip: RK4 from rest evaluates friction along the old direction while
+//! a_free has turned, and errs at first order in h. At a part starting from
+//! rest, u = 0 is moreover a regular singular point of the direction's
+//! equation (u ≈ (a_free − μ_k N â) τ, stiffness ∝ 1/τ), where no explicit
+//! stage can be placed.
+//!
+//! Such steps are taken with the 3-stage Radau IIA collocation method
+//! (order 5, stiffly accurate, L-stable): all its nodes lie inside (0, h],
+//! so friction is never evaluated at u = 0, and the stiff direction is
+//! resolved exactly by the collocation equations
+//!
+//! ```text
+//! U_i = u₀ + h Σ_j A_ij (a_free(t_j, R_j, U_j) − μ_k N_j U_j/|U_j|)
+//! R_i = r₀ + h Σ_j A_ij U_j
+//! ```
+//!
+//! solved by Newton's method with the friction term's exact Jacobian (the
+//! slowly varying a_free and N are iterated, not differentiated). The
+//! friction law is not smoothed. They are used only while the slip speeds up
+//! (d|u|/dt > 0 at the start of the step); a slip slowing to a stop keeps the
+//! explicit step and its stop event, and a step whose collocation solution
+//! reverses or does not converge is rejected (the caller falls back to RK4).
+
+use nalgebra::{SMatrix, SVector};
+
+use super::integrator::{PartState, Simulator, V2};
+use super::ContactLoss;
+
+type M6 = SMatrix<f64, 6, 6>;
+type V6 = SVector<f64, 6>;
+
+/// A step is stiff across the slip when h μ_k N/|u| exceeds this.
+pub(super) const STIFF: f64 = 1.0;
+
+/// Newton iterations per Radau step at most.
+const NEWTON_MAX: usize = 25;
+
+/// Radau IIA (3 stages) nodes and matrix.
+struct Tableau {
+    c: [f64; 3],
+    a: [[f64; 3]; 3],
+}
+
+fn tableau() -> Tableau {
+    let s6 = 6f64.sqrt();
+    Tableau {
+        c: [(4.0 - s6) / 10.0, (4.0 + s6) / 10.0, 1.0],
+        a: [
+            [
+                (88.0 - 7.0 * s6) / 360.0,
+                (296.0 - 169.0 * s6) / 1800.0,
+                (-2.0 + 3.0 * s6) / 225.0,
+            ],
+            [
+                (296.0 + 169.0 * s6) / 1800.0,
+                (88.0 + 7.0 * s6) / 360.0,
+                (-2.0 - 3.0 * s6) / 225.0,
+            ],
+            [(16.0 - s6) / 36.0, (16.0 + s6) / 36.0, 1.0 / 9.0],
+        ],
+    }
+}
+
+impl Simulator<'_> {
+    /// True when a slip step of size `h` from `state` (slipping, not stuck)
+    /// should be implicit: the part starts from rest, or its slip speeds up
+    /// while h μ_k N/|u| > [`STIFF`].
+    pub(super) fn wants_radau(
+        &self,
+        k0: &crate::motion::Kinematics,
+        h: f64,
+        state: &PartState,
+        anchor: &V2,
+    ) -> bool {
+        let s = state.u.norm();
+        if s == 0.0 {
+            return true;
+        }
+        let (n, free) = self.point_forces_at(k0, &state.r, &state.u, anchor);
+        let c = self.friction().kinetic * n;
+        let speeding_up = free.dot(&state.u) / s > c;
+        speeding_up && h * c > STIFF * s
+    }
+
+    /// One Radau IIA step of size `h` from (`t`, `state`); `None` when the
+    /// collocation equations do not converge or the slip reverses within
+    /// the step (the caller then takes an explicit step).
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn radau_step(
+        &self,
+        t: f64,
+        h: f64,
+        piece: f64,
+        state: &PartState,
+        anchor: &V2,
+        steps: &mut u32,
+    ) -> Result<Option<(V2, V2)>, ContactLoss> {
+        let tab = tableau();
+        let (r0, u0) = (state.r, state.u);
+        let kin: [_; 3] = std::array::from_fn(|j| self.kin_at(t + tab.c[j] * h, piece));
+        let mu = self.friction().kinetic;
+        // Right-hand side at stage j: a_free − μ_k N Û, the friction
+        // Jacobian's stiff factor μ_k N/|U|, and Û.
+        let stage = |j: usize, r: &V2, u: &V2| -> Result<(V2, f64, V2), ContactLoss> {
+            let (n, free) = self.point_forces_at(&kin[j], r, u, anchor);
+            if n < 0.0 {
+                return Err(self.contact_loss_at(t + tab.c[j] * h, r, n));
+            }
+            let s = u.norm();
+            let dir = if s > 0.0 {
+                u / s
+            } else {
+                let f = free.norm();
+                if f > 0.0 {
+                    free / f
+                } else {
+                    V2::zeros()
+                }
+            };
+            Ok((free - dir * (mu * n), mu * n / s, dir))
+        };
+        // Initial guess: friction along a_free at every stage (the slaved
+        // direction of a stiff slip).
+        let mut f = [V2::zeros(); 3];
+        for (j, fj) in f.iter_mut().enumerate() {
+            let (n, free) = self.point_forces_at(&kin[j], &r0, &u0, anchor);
+            let fn_ = free.norm();
+            *fj = if fn_ > 0.0 {
+                free - free * (mu * n.max(0.0) / fn_)
+            } else {
+                free
+            };
+        }
+        let mut u = [V2::zeros(); 3];
+        for i in 0..3 {
+            u[i] = u0 + (f[0] * tab.a[i][0] + f[1] * tab.a[i][1] + f[2] * tab.a[i][2]) * h;
+        }
+        let scale = u.iter().map(|x| x.norm()).fold(u0.norm(), f64::max);
+        if scale == 0.0 {
+            return Ok(None);
+        }
+        let tol = 1e-13 * scale;
+        let position = |u: &[V2; 3], i: usize| {
+            r0 + (u[0] * tab.a[i][0] + u[1] * tab.a[i][1] + u[2] * tab.a[i][2]) * h
+        };
+        for _ in 0..NEWTON_MAX {
+            *steps += 1;
+            let mut g = V6::zeros();
+            let mut jac = M6::identity();
+            let mut fs = [V2::zeros(); 3];
+            let mut blocks = [nalgebra::Matrix2::zeros(); 3];
+            for j in 0..3 {
+                if u[j] == V2::zeros() {
+                    return Ok(None);
+                }
+                let (fj, stiff, dir) = stage(j, &position(&u, j), &u[j])?;
+                fs[j] = fj;
+                // d(−μ_k N Û)/dU = −μ_k N (I − ÛÛᵀ)/|U|.
+                blocks[j] = -(nalgebra::Matrix2::identity() - dir * dir.transpose()) * stiff;
+            }
+            for i in 0..3 {
+                let gi = u[i]
+                    - u0
+                    - (fs[0] * tab.a[i][0] + fs[1] * tab.a[i][1] + fs[2] * tab.a[i][2]) * h;
+                g[2 * i] = gi.x;
+                g[2 * i + 1] = gi.y;
+                for j in 0..3 {
+                    let b = blocks[j] * (-h * tab.a[i][j]);
+                    for (p, q) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+                        jac[(2 * i + p, 2 * j + q)] += b[(p, q)];
+                    }
+                }
+            }
+            let Some(delta) = jac.lu().solve(&g) else {
+                return Ok(None);
+            };
+            let mut change: f64 = 0.0;
+            for i in 0..3 {
+                let d = V2::new(delta[2 * i], delta[2 * i + 1]);
+                // Damped: a stage may not pass through u = 0 in one update.
+                let ui = u[i] - d;
+                u[i] = if ui.dot(&u[i]) <= 0.0 { u[i] * 0.5 } else { ui };
+                change = change.max(d.norm());
+            }
+            if !u.iter().all(|x| x.x.is_finite() && x.y.is_finite()) {
+                return Ok(None);
+            }
+            if change <= tol {
+                let u1 = u[2];
+                // The slip must keep its sense over the step (a stop or
+                // reversal inside is the explicit step's event).
+                if u0 != V2::zeros() && u1.dot(&u0) <= 0.0 {
+                    return Ok(None);
+                }
+                return Ok(Some((position(&u, 2), u1)));
+            }
+        }
+        Ok(None)
+    }
+}
