@@ -138,14 +138,67 @@ fn harness_matches_field_compute() {
     assert_eq!(m.vectors, f.vectors);
 }
 
-/// Observed order log₂(e(n)/e(2n)) of the 2-D primitives' force fields, on a
-/// 4×4 grid with 6 phases, between 16, 32 and 64 steps against 1024.
+/// The stiff scheme at 64 steps per cycle: the 2-D primitives' force
+/// fields (4×4 grid, 6 phases) within 2e-4 of a 1024-step reference, and at
+/// least 10× closer to it than the legacy scheme at 64 steps. (The
+/// references of the two schemes differ by less than that: the legacy
+/// scheme's 1024-step field is checked against the stiff one too.)
 #[test]
-#[ignore] // not yet met: see the branch's report
-fn order_2d() {
+fn stiff_2d_beats_legacy() {
     for kind in [PrimitiveKind::DivCircle, PrimitiveKind::ScaledCircle] {
         let p = Primitive::new(kind);
-        let e = errors(&p, &small_grid(), 6, &[16, 32, 64], 1024, SlipScheme::Stiff);
+        let g = small_grid();
+        let r = reference(&p, &g, 6, &settings(1024, SlipScheme::Stiff)).vectors;
+        let stiff = measure(&p, &g, 6, &settings(64, SlipScheme::Stiff));
+        let legacy = measure(&p, &g, 6, &settings(64, SlipScheme::Legacy));
+        let legacy_ref = reference(&p, &g, 6, &settings(1024, SlipScheme::Legacy)).vectors;
+        let (es, el) = (
+            relative_l2(&stiff.vectors, &r),
+            relative_l2(&legacy.vectors, &r),
+        );
+        let refs = relative_l2(&legacy_ref, &r);
+        eprintln!(
+            "{}: stiff {es:.2e}, legacy {el:.2e}, references differ by {refs:.2e}",
+            kind.name()
+        );
+        assert!(es <= 2e-4, "{}: stiff error {es:.2e}", kind.name());
+        assert!(
+            el >= 10.0 * es,
+            "{}: legacy {el:.2e} vs stiff {es:.2e}",
+            kind.name()
+        );
+        assert!(
+            refs < el,
+            "{}: references differ by {refs:.2e}",
+            kind.name()
+        );
+    }
+}
+
+/// Observed order log₂(e(n)/e(2n)) of the 2-D primitives' force fields, on a
+/// 4×4 grid with 6 phases, between 16, 32 and 64 steps against 1024
+/// (`SLIP2D_ORDER_REF` to change). Ignored: the order ≥ 3 is not
+/// met yet (orders 0.2–1.3 measured with the stiff scheme).
+#[test]
+#[ignore]
+fn order_2d() {
+    for kind in [PrimitiveKind::DivCircle, PrimitiveKind::ScaledCircle] {
+        if std::env::var("SLIP2D_KIND").is_ok_and(|k| k != kind.name()) {
+            continue;
+        }
+        let reference = std::env::var("SLIP2D_ORDER_REF")
+            .ok()
+            .and_then(|s| s.parse().ok())
+            .unwrap_or(1024);
+        let p = Primitive::new(kind);
+        let e = errors(
+            &p,
+            &small_grid(),
+            6,
+            &[16, 32, 64],
+            reference,
+            SlipScheme::Stiff,
+        );
         let orders: Vec<f64> = e.windows(2).map(|w| (w[0].1 / w[1].1).log2()).collect();
         eprintln!(
             "{}: errors {:?}, orders {orders:?}",
@@ -238,12 +291,28 @@ fn worst_cycles() {
             .unwrap();
         (state, out, rec)
     };
+    let side: usize = std::env::var("SLIP2D_GRID")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(4);
+    let phases: usize = std::env::var("SLIP2D_PHASES")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(6);
+    let grid = Grid {
+        n: [side, side],
+        ..small_grid()
+    };
+    let wref: usize = std::env::var("SLIP2D_WREF")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1024);
     let mut rows = Vec::new();
-    for pt in small_grid().points() {
-        for j in 0..6 {
-            let t0 = p.period() * j as f64 / 6.0;
+    for pt in grid.points() {
+        for j in 0..phases {
+            let t0 = p.period() * j as f64 / phases as f64;
             let (a, oa, _) = run(n, pt, t0);
-            let (b, ob, _) = run(1024, pt, t0);
+            let (b, ob, _) = run(wref, pt, t0);
             rows.push((
                 (a.u - b.u).norm(),
                 pt,
@@ -275,10 +344,12 @@ fn trace_cycle() {
             .unwrap(),
     ];
     let j: f64 = env("SLIP2D_J", "0").parse().unwrap();
+    let phases: f64 = env("SLIP2D_PHASES", "6").parse().unwrap();
     let p = Primitive::new(kind);
     let motion = p.motion();
-    let t0 = p.period() * j / 6.0;
+    let t0 = p.period() * j / phases;
     for steps in [env("SLIP2D_N", "64").parse().unwrap(), 1024usize] {
+        eprintln!("== {steps} steps");
         let s = settings(steps, scheme_from_env());
         let sim = s.simulator(&motion);
         let anchor = Vector2::from(pt);
@@ -290,7 +361,7 @@ fn trace_cycle() {
             .advance(t0, t0 + sim.period(), &mut state, &anchor, Some(&mut rec))
             .unwrap();
         println!("steps {steps}: {out:?}");
-        let every = steps / 64;
+        let every = (steps / 64).max(1);
         for (i, q) in rec.iter().enumerate() {
             if (i + 1) % every == 0 || i + 1 == rec.len() {
                 println!(

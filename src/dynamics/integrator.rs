@@ -34,6 +34,7 @@
 
 use nalgebra::Vector2;
 
+use super::radau::Slowing;
 use super::{ContactLoss, Friction, Model, Numerics, SlipScheme};
 use crate::motion::{Kinematics, Motion, V3};
 
@@ -376,24 +377,41 @@ impl<'a> Simulator<'a> {
                 _ => self.kin(*t, piece),
             };
             let u0 = state.u;
-            if self.numerics.slip == SlipScheme::Stiff
-                && self.wants_radau(&k0, target - *t, state, anchor)
-            {
-                let h = target - *t;
-                if let Some((r1, u1)) =
-                    self.radau_step(*t, h, piece, state, anchor, &mut out.rk4_steps)?
+            if self.numerics.slip == SlipScheme::Stiff {
+                if let Some(taken) =
+                    self.implicit_slip(&k0, t, target, piece, state, anchor, out)?
                 {
-                    state.r = r1;
-                    state.u = u1;
-                    *t = target;
-                    swing = 0;
-                    continue;
+                    if taken {
+                        swing = 0;
+                        continue;
+                    }
                 }
             }
             let h = self.slip_step(&k0, target - *t, state, anchor, swing > 0);
             swing = swing.saturating_sub(1);
             let (r1, u1, k1) = self.rk4(*t, h, piece, &k0, &state.r, &u0, anchor)?;
             out.rk4_steps += 1;
+            if self.numerics.slip == SlipScheme::Stiff
+                && u0 != V2::zeros()
+                && u1.dot(&u0) > 0.0
+                && cuts < MAX_CUTS
+                && self.ends_in_turn(&k1, h, &r1, &u1, &u0, anchor)
+            {
+                // The explicit step ended where the slip direction turns
+                // faster than the step can follow (close to a 2-D swing
+                // past u = 0): back off to where the component along u₀ is
+                // BACKOFF·|u₁| and follow the turn with short steps.
+                cuts += 1;
+                let level = 0.5 * u0.norm();
+                let sb = self.locate_stop(*t, h, piece, &k0, state, anchor, level, out)?;
+                let (rb, ub, _) = self.rk4(*t, sb, piece, &k0, &state.r, &u0, anchor)?;
+                out.rk4_steps += 1;
+                *t += sb;
+                state.r = rb;
+                state.u = ub;
+                swing = MAX_SWING_STEPS;
+                continue;
+            }
             if u0 != V2::zeros() && u1.dot(&u0) <= 0.0 && cuts < MAX_CUTS {
                 cuts += 1;
                 let s = self.locate_stop(*t, h, piece, &k0, state, anchor, 0.0, out)?;
@@ -407,7 +425,14 @@ impl<'a> Simulator<'a> {
                 let holds = self.margin(ts, piece, &rs, anchor) >= 0.0;
                 out.events += 1;
                 let (left, start) = (us.norm(), u0.norm());
-                if left <= ZERO_FRACTION * start || (holds && left <= STOP_FRACTION * start) {
+                // The stiff scheme finds 2-D stops by its implicit steps
+                // (the slip slowing along a_free) rather than by a fraction.
+                let stop_fraction = if self.numerics.slip == SlipScheme::Stiff {
+                    ZERO_FRACTION
+                } else {
+                    STOP_FRACTION
+                };
+                if left <= ZERO_FRACTION * start || (holds && left <= stop_fraction * start) {
                     // The slip velocity reached zero: the part sticks, or
                     // (a reversal) slips away from rest along a_free.
                     *t = ts;
@@ -420,8 +445,14 @@ impl<'a> Simulator<'a> {
                     // order of its closest approach ε = |u(s*)|: back off to
                     // where the component along u₀ is still BACKOFF·ε and
                     // go on from there with steps short enough to follow it.
-                    let sb =
-                        self.locate_stop(*t, s, piece, &k0, state, anchor, BACKOFF * left, out)?;
+                    // The stiff scheme backs off to half the speed, where the
+                    // explicit step is still accurate (h μ_k N/|u| small).
+                    let level = if self.numerics.slip == SlipScheme::Stiff {
+                        0.5 * start
+                    } else {
+                        BACKOFF * left
+                    };
+                    let sb = self.locate_stop(*t, s, piece, &k0, state, anchor, level, out)?;
                     let (rb, ub, _) = self.rk4(*t, sb, piece, &k0, &state.r, &u0, anchor)?;
                     out.rk4_steps += 1;
                     *t += sb;
@@ -440,6 +471,101 @@ impl<'a> Simulator<'a> {
             next_k = Some((*t, k1));
         }
         Ok(())
+    }
+
+    /// [`SlipScheme::Stiff`]: an implicit step (`src/dynamics/radau.rs`)
+    /// where the slip direction is stiff; `Some(true)` when one was taken
+    /// (`t`, `state` advanced), `Some(false)`/`None` when the explicit step
+    /// is to be taken.
+    #[allow(clippy::too_many_arguments)]
+    fn implicit_slip(
+        &self,
+        k0: &Kinematics,
+        t: &mut f64,
+        target: f64,
+        piece: f64,
+        state: &mut PartState,
+        anchor: &V2,
+        out: &mut CycleOutcome,
+    ) -> Result<Option<bool>, ContactLoss> {
+        let rest = target - *t;
+        let tiny = self.numerics.event_tol * self.period;
+        match self.wants_radau(k0, rest, state, anchor) {
+            None => Ok(None),
+            Some(true) => {
+                match self.radau_step(*t, rest, piece, state, anchor, &mut out.rk4_steps)? {
+                    Some(e) => {
+                        state.r = e.r;
+                        state.u = e.u;
+                        *t = target;
+                        Ok(Some(true))
+                    }
+                    None => Ok(Some(false)),
+                }
+            }
+            Some(false) => {
+                let dir0 = state.u / state.u.norm();
+                let du0 = self.slip_rhs(k0, *t, &state.r, &state.u, &dir0, anchor)?;
+                let slowing =
+                    self.radau_slowing(*t, rest, piece, state, anchor, &du0, &mut out.rk4_steps)?;
+                match slowing {
+                    None => Ok(Some(false)),
+                    Some(Slowing::Slipped(e)) => {
+                        state.r = e.r;
+                        state.u = e.u;
+                        *t = target;
+                        Ok(Some(true))
+                    }
+                    Some(Slowing::Partial(h, e)) => {
+                        state.r = e.r;
+                        state.u = e.u;
+                        *t = if target - (*t + h) <= tiny {
+                            target
+                        } else {
+                            *t + h
+                        };
+                        Ok(Some(true))
+                    }
+                    Some(Slowing::Stopped { h, r }) => {
+                        out.events += 1;
+                        state.r = r;
+                        state.u = V2::zeros();
+                        *t = if target - (*t + h) <= tiny {
+                            target
+                        } else {
+                            *t + h
+                        };
+                        state.stuck = self.margin(*t, piece, &state.r, anchor) >= 0.0;
+                        Ok(Some(true))
+                    }
+                }
+            }
+        }
+    }
+
+    /// True when an explicit step of size `h` from slip velocity `u0` ended
+    /// at `u1` (position `r1`, kinematics `k1`) with the speed fallen below a
+    /// quarter and the slip direction there turning through more than
+    /// [`TURN`] per h/4 (rate |a_⊥|/|u|, a_⊥ the part of a_free across u₁):
+    /// the step's end lies in the fast turn of a 2-D swing, which it cannot
+    /// have followed.
+    fn ends_in_turn(
+        &self,
+        k1: &Kinematics,
+        h: f64,
+        r1: &V2,
+        u1: &V2,
+        u0: &V2,
+        anchor: &V2,
+    ) -> bool {
+        let s1 = u1.norm();
+        if s1 >= 0.25 * u0.norm() {
+            return false;
+        }
+        let (_, free) = self.forces(k1, r1, u1, anchor);
+        let uhat = u1 / s1;
+        let across = (free - uhat * free.dot(&uhat)).norm();
+        0.25 * h * across > TURN * s1
     }
 
     /// Step size for a slipping part: the rest of the step, shortened where

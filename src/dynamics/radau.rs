@@ -69,30 +69,171 @@ fn tableau() -> Tableau {
     }
 }
 
+/// The end of an implicit step.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct RadauEnd {
+    /// Position.
+    pub r: V2,
+    /// Slip velocity.
+    pub u: V2,
+    /// du/dt there.
+    pub du: V2,
+}
+
+/// What an implicit step from a slowing slip did.
+#[derive(Debug, Clone, Copy)]
+pub(super) enum Slowing {
+    /// Slipped for the whole step.
+    Slipped(RadauEnd),
+    /// Came to rest after `h` (s) at `r`.
+    Stopped {
+        /// Time to the stop.
+        h: f64,
+        /// Position at the stop.
+        r: V2,
+    },
+    /// Slipped for `h` (s) only; the caller goes on explicitly.
+    Partial(f64, RadauEnd),
+}
+
 impl Simulator<'_> {
-    /// True when a slip step of size `h` from `state` (slipping, not stuck)
-    /// should be implicit: the part starts from rest, or its slip speeds up
-    /// while h μ_k N/|u| > [`STIFF`].
+    /// How a slip step of size `h` from `state` (slipping, not stuck) is
+    /// taken: `Some(true)` implicit, the slip speeding up (from rest, or
+    /// h μ_k N/|u| > [`STIFF`]); `Some(false)` implicit, the slip slowing
+    /// along a_free towards a stop (a·û > 0 and |a_free| < μ_k N: it may
+    /// stop within the step);
+    /// `None` explicit.
     pub(super) fn wants_radau(
         &self,
         k0: &crate::motion::Kinematics,
         h: f64,
         state: &PartState,
         anchor: &V2,
-    ) -> bool {
+    ) -> Option<bool> {
         let s = state.u.norm();
         if s == 0.0 {
-            return true;
+            return Some(true);
         }
         let (n, free) = self.point_forces_at(k0, &state.r, &state.u, anchor);
         let c = self.friction().kinetic * n;
-        let speeding_up = free.dot(&state.u) / s > c;
-        speeding_up && h * c > STIFF * s
+        if h * c <= STIFF * s {
+            return None;
+        }
+        let along = free.dot(&state.u) / s;
+        if along > c {
+            Some(true)
+        } else if along > 0.0 && free.norm() < c {
+            // |a_free| < μ_k N: û turns onto a_free as |u| falls to zero.
+            Some(false)
+        } else {
+            None
+        }
+    }
+
+    /// An implicit step of at most `rest` from a slip slowing along a_free,
+    /// cut at the stop if the slip comes to rest within it. The stop is
+    /// the root of the speed |u(h)| of the collocation solution, which falls
+    /// linearly to zero (at the rate μ_k N − a_free·û) while the direction
+    /// may still turn fast; it is found by safeguarded Newton
+    /// (d|u|/dh = û·du/dt) and a last linear extrapolation, since the
+    /// collocation equations lose their solution as the last stage reaches
+    /// u = 0.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn radau_slowing(
+        &self,
+        t: f64,
+        rest: f64,
+        piece: f64,
+        state: &PartState,
+        anchor: &V2,
+        du0: &V2,
+        steps: &mut u32,
+    ) -> Result<Option<Slowing>, ContactLoss> {
+        let s0 = state.u.norm();
+        let slope0 = du0.dot(&state.u) / s0;
+        let tol = self.numerics().event_tol * self.period();
+        // Linear prediction of the stop.
+        let predicted = if slope0 < 0.0 {
+            s0 / -slope0
+        } else {
+            f64::INFINITY
+        };
+        let mut h = if predicted > 1.5 * rest {
+            rest
+        } else {
+            predicted.min(rest)
+        };
+        let mut lo: Option<(f64, RadauEnd)> = None;
+        let mut hi = f64::INFINITY;
+        for _ in 0..40 {
+            let end = self.radau_step(t, h, piece, state, anchor, steps)?;
+            match end {
+                Some(e) => {
+                    if h >= rest {
+                        return Ok(Some(Slowing::Slipped(e)));
+                    }
+                    lo = Some((h, e));
+                    let phi = e.u.norm();
+                    let slope = e.du.dot(&e.u) / phi;
+                    if phi <= 1e-10 * s0 && slope < 0.0 {
+                        let dt = (phi / -slope).min(hi - h);
+                        return Ok(Some(Slowing::Stopped {
+                            h: h + dt,
+                            r: e.r + e.u * (0.5 * dt),
+                        }));
+                    }
+                    let next = if slope < 0.0 {
+                        h + phi / -slope
+                    } else {
+                        f64::NAN
+                    };
+                    h = if next > h && next < hi.min(rest) {
+                        next
+                    } else if hi.is_finite() {
+                        0.5 * (h + hi)
+                    } else {
+                        rest
+                    };
+                }
+                None => {
+                    hi = h;
+                    // The collocation equations lose their solution as the
+                    // last stage reaches u = 0: where the last good step's
+                    // linear extrapolation stops before `hi`, that is the stop.
+                    if let Some((hl, e)) = lo {
+                        let phi = e.u.norm();
+                        let slope = e.du.dot(&e.u) / phi;
+                        if slope < 0.0 && hl + phi / -slope <= hi {
+                            let dt = phi / -slope;
+                            return Ok(Some(Slowing::Stopped {
+                                h: hl + dt,
+                                r: e.r + e.u * (0.5 * dt),
+                            }));
+                        }
+                    }
+                    let l = lo.map_or(0.0, |x| x.0);
+                    if hi - l <= tol {
+                        break;
+                    }
+                    h = 0.5 * (l + hi);
+                }
+            }
+        }
+        // The collocation solution exists up to `lo` and not beyond it (to
+        // within the event tolerance): the slip stops there.
+        Ok(lo.map(|(h, e)| {
+            if hi - h <= tol {
+                Slowing::Stopped { h, r: e.r }
+            } else {
+                Slowing::Partial(h, e)
+            }
+        }))
     }
 
     /// One Radau IIA step of size `h` from (`t`, `state`); `None` when the
-    /// collocation equations do not converge or the slip reverses within
-    /// the step (the caller then takes an explicit step).
+    /// collocation equations do not converge (a stage reaching u = 0, where
+    /// they lose their solution) — the caller then locates a stop or takes
+    /// an explicit step.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn radau_step(
         &self,
@@ -102,7 +243,7 @@ impl Simulator<'_> {
         state: &PartState,
         anchor: &V2,
         steps: &mut u32,
-    ) -> Result<Option<(V2, V2)>, ContactLoss> {
+    ) -> Result<Option<RadauEnd>, ContactLoss> {
         let tab = tableau();
         let (r0, u0) = (state.r, state.u);
         let kin: [_; 3] = std::array::from_fn(|j| self.kin_at(t + tab.c[j] * h, piece));
@@ -148,6 +289,7 @@ impl Simulator<'_> {
             return Ok(None);
         }
         let tol = 1e-13 * scale;
+        let mut previous = f64::INFINITY;
         let position = |u: &[V2; 3], i: usize| {
             r0 + (u[0] * tab.a[i][0] + u[1] * tab.a[i][1] + u[2] * tab.a[i][2]) * h
         };
@@ -193,14 +335,19 @@ impl Simulator<'_> {
             if !u.iter().all(|x| x.x.is_finite() && x.y.is_finite()) {
                 return Ok(None);
             }
-            if change <= tol {
+            // Converged, or stalled at the round-off floor (the last stage
+            // near u = 0 makes the system ill-conditioned).
+            let stalled = change >= 0.5 * previous && change <= 1e4 * tol;
+            previous = change;
+            if change <= tol || stalled {
                 let u1 = u[2];
-                // The slip must keep its sense over the step (a stop or
-                // reversal inside is the explicit step's event).
-                if u0 != V2::zeros() && u1.dot(&u0) <= 0.0 {
-                    return Ok(None);
-                }
-                return Ok(Some((position(&u, 2), u1)));
+                let r1 = position(&u, 2);
+                let (f1, _, _) = stage(2, &r1, &u1)?;
+                return Ok(Some(RadauEnd {
+                    r: r1,
+                    u: u1,
+                    du: f1,
+                }));
             }
         }
         Ok(None)
