@@ -40,6 +40,12 @@ type V6 = SVector<f64, 6>;
 /// A step is stiff across the slip when h μ_k N/|u| exceeds this.
 pub(super) const STIFF: f64 = 1.0;
 
+/// A slip speeding up is taken implicitly only once its direction has
+/// (nearly) turned onto a_free: |a_⊥| ≤ SLAVED |a_free|, a_⊥ the part of
+/// a_free across the slip. Before that — the turn after a swing past u = 0 —
+/// the explicit steps follow the turn.
+const SLAVED: f64 = 0.1;
+
 /// Newton iterations per Radau step at most.
 const NEWTON_MAX: usize = 25;
 
@@ -99,7 +105,7 @@ pub(super) enum Slowing {
 impl Simulator<'_> {
     /// How a slip step of size `h` from `state` (slipping, not stuck) is
     /// taken: `Some(true)` implicit, the slip speeding up (from rest, or
-    /// h μ_k N/|u| > [`STIFF`]); `Some(false)` implicit, the slip slowing
+    /// h μ_k N/|u| > [`STIFF`] with û within [`SLAVED`] of a_free); `Some(false)` implicit, the slip slowing
     /// along a_free towards a stop (a·û > 0 and |a_free| < μ_k N: it may
     /// stop within the step);
     /// `None` explicit.
@@ -120,7 +126,8 @@ impl Simulator<'_> {
             return None;
         }
         let along = free.dot(&state.u) / s;
-        if along > c {
+        let across = (free - state.u * (along / s)).norm();
+        if along > c && across <= SLAVED * free.norm() {
             Some(true)
         } else if along > 0.0 && free.norm() < c {
             // |a_free| < μ_k N: û turns onto a_free as |u| falls to zero.
