@@ -22,7 +22,7 @@
 //! |---|---|---|
 //! | inputs | [`scene`], [`request`] (target files) | a plate motion with its physics and grid; a requested field (kinds, grid, mask, attractor) |
 //! | kinematics | [`motion`] | world and plate frames; the plate's velocity and acceleration at a plate point; gravity in the plate frame. The screw primitive in [`motion::screw`], general six-signal motion in [`motion::signals`], waveforms in [`motion::waveform`] |
-//! | dynamics | [`dynamics`] | a point part's equations: the effective gravity N, Coulomb stick and slip, contact loss, the terms the paper drops as [`dynamics::Model`] switches. Exact stick-slip events in [`dynamics::integrator`], the periodic orbit in [`dynamics::steady`], rectangles in [`dynamics::planar`] |
+//! | dynamics | [`dynamics`] | a point part's equations: the effective gravity N, Coulomb stick and slip, contact loss, the terms the paper drops as [`dynamics::Model`] switches. Exact stick-slip events in [`dynamics::integrator`], implicit steps where a 2-D slip's direction is stiff in `dynamics::radau` ([`dynamics::SlipScheme::Stiff`]), the periodic orbit in [`dynamics::steady`], rectangles in [`dynamics::planar`] |
 //! | fields | [`field`] | the zero-velocity force field, the steady-state velocity field (frozen or free), per-sample validity |
 //! | basis | [`basis`] | the paper's eight primitives and their defaults ([`basis::primitives`]), rotated and shifted copies by symmetry ([`basis::symmetry`]), the on-disk cache |
 //! | fit | [`fit`] | the inverse problem: time fractions w ≥ 0, Σw ≤ 1, the fit modes, how each is solved and verified |

@@ -104,21 +104,35 @@ pub(super) enum Slowing {
 
 impl Simulator<'_> {
     /// How a slip step of size `h` from `state` (slipping, not stuck) is
-    /// taken: `Some(true)` implicit, the slip speeding up (from rest, or
+    /// taken: `Some(true)` implicit, the slip speeding up (from rest unless
+    /// a_free keeps its direction over the step, or
     /// h μ_k N/|u| > [`STIFF`] with û within [`SLAVED`] of a_free); `Some(false)` implicit, the slip slowing
     /// along a_free towards a stop (a·û > 0 and |a_free| < μ_k N: it may
     /// stop within the step);
     /// `None` explicit.
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn wants_radau(
         &self,
         k0: &crate::motion::Kinematics,
+        t: f64,
         h: f64,
+        piece: f64,
         state: &PartState,
         anchor: &V2,
     ) -> Option<bool> {
         let s = state.u.norm();
         if s == 0.0 {
-            return Some(true);
+            // From rest along a fixed line (a 1-D slip: a_free keeps its
+            // direction at the step's RK4 nodes) the explicit step is exact
+            // for piecewise-constant accelerations and needs no stiff solve.
+            let (_, f0) = self.point_forces_at(k0, &state.r, &state.u, anchor);
+            let one_d = [0.5, 1.0].iter().all(|c| {
+                let k = self.kin_at(t + c * h, piece);
+                let (_, f) = self.point_forces_at(&k, &state.r, &state.u, anchor);
+                let cross = f0.x * f.y - f0.y * f.x;
+                cross.abs() <= 1e-12 * f0.norm() * f.norm() && f0.dot(&f) > 0.0
+            });
+            return if one_d { None } else { Some(true) };
         }
         let (n, free) = self.point_forces_at(k0, &state.r, &state.u, anchor);
         let c = self.friction().kinetic * n;
@@ -127,6 +141,10 @@ impl Simulator<'_> {
         }
         let along = free.dot(&state.u) / s;
         let across = (free - state.u * (along / s)).norm();
+        if across <= 1e-12 * free.norm() {
+            // A 1-D slip: nothing turns, the explicit step is exact.
+            return None;
+        }
         if along > c && across <= SLAVED * free.norm() {
             Some(true)
         } else if along > 0.0 && free.norm() < c {
@@ -287,10 +305,9 @@ impl Simulator<'_> {
                 free
             };
         }
-        let mut u = [V2::zeros(); 3];
-        for i in 0..3 {
-            u[i] = u0 + (f[0] * tab.a[i][0] + f[1] * tab.a[i][1] + f[2] * tab.a[i][2]) * h;
-        }
+        let mut u: [V2; 3] = std::array::from_fn(|i| {
+            u0 + (f[0] * tab.a[i][0] + f[1] * tab.a[i][1] + f[2] * tab.a[i][2]) * h
+        });
         let scale = u.iter().map(|x| x.norm()).fold(u0.norm(), f64::max);
         if scale == 0.0 {
             return Ok(None);
