@@ -19,9 +19,9 @@ use std::time::Instant;
 
 use nalgebra::Vector2;
 use platefield::basis::{Library, Primitive, PrimitiveKind};
-use platefield::dynamics::{PartState, SlipScheme};
+use platefield::dynamics::{CycleOutcome, PartState, SlipScheme, TrajectoryPoint};
 use platefield::field::{Field, FieldKind, FieldSettings, Grid};
-use platefield::motion::V3;
+use platefield::motion::{Motion, V3};
 
 /// One serially computed force field and what it cost.
 struct Measured {
@@ -159,6 +159,21 @@ fn harness_matches_field_compute() {
     assert_eq!(m.vectors, f.vectors);
 }
 
+/// Stiff-scheme fields are bitwise identical on 1 and 2 threads.
+#[test]
+fn stiff_fields_thread_independent() {
+    let p = Primitive::new(PrimitiveKind::DivCircle);
+    let s = settings(16, SlipScheme::Stiff);
+    let on = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("pool")
+            .install(|| reference(&p, &small_grid(), 5, &s))
+    };
+    assert_eq!(on(1), on(2));
+}
+
 /// The stiff scheme at 64 steps per cycle: the 2-D primitives' force
 /// fields (4×4 grid, 6 phases) within 2e-4 of a 1024-step reference, and at
 /// least 10× closer to it than the legacy scheme at 64 steps. (The
@@ -282,6 +297,27 @@ fn convergence_table() {
     }
 }
 
+/// One cycle from rest in the inertial frame at `pt` from `t0`, recorded.
+fn one_cycle(
+    motion: &Motion,
+    steps: usize,
+    scheme: SlipScheme,
+    pt: [f64; 2],
+    t0: f64,
+) -> (PartState, CycleOutcome, Vec<TrajectoryPoint>) {
+    let s = settings(steps, scheme);
+    let sim = s.simulator(motion);
+    let anchor = Vector2::from(pt);
+    let k = sim.motion().kinematics(t0, sim.gravity(), sim.model().tilt);
+    let v = k.velocity_at(&V3::new(pt[0], pt[1], 0.0));
+    let mut state = PartState::new(anchor, -Vector2::new(v.x, v.y));
+    let mut rec = Vec::new();
+    let out = sim
+        .advance(t0, t0 + sim.period(), &mut state, &anchor, Some(&mut rec))
+        .expect("no contact loss in the default primitives");
+    (state, out, rec)
+}
+
 /// Diagnostic (ignored): the worst single one-cycle simulations of a
 /// primitive at `SLIP2D_N` steps against 1024.
 #[test]
@@ -299,19 +335,7 @@ fn worst_cycles() {
     let p = Primitive::new(kind);
     let motion = p.motion();
     let scheme = scheme_from_env();
-    let run = |steps: usize, pt: [f64; 2], t0: f64| {
-        let s = settings(steps, scheme);
-        let sim = s.simulator(&motion);
-        let anchor = Vector2::from(pt);
-        let k = sim.motion().kinematics(t0, sim.gravity(), sim.model().tilt);
-        let v = k.velocity_at(&V3::new(pt[0], pt[1], 0.0));
-        let mut state = PartState::new(anchor, -Vector2::new(v.x, v.y));
-        let mut rec = Vec::new();
-        let out = sim
-            .advance(t0, t0 + sim.period(), &mut state, &anchor, Some(&mut rec))
-            .unwrap();
-        (state, out, rec)
-    };
+    let run = |steps: usize, pt: [f64; 2], t0: f64| one_cycle(&motion, steps, scheme, pt, t0);
     let side: usize = std::env::var("SLIP2D_GRID")
         .ok()
         .and_then(|s| s.parse().ok())
@@ -371,16 +395,7 @@ fn trace_cycle() {
     let t0 = p.period() * j / phases;
     for steps in [env("SLIP2D_N", "64").parse().unwrap(), 1024usize] {
         eprintln!("== {steps} steps");
-        let s = settings(steps, scheme_from_env());
-        let sim = s.simulator(&motion);
-        let anchor = Vector2::from(pt);
-        let k = sim.motion().kinematics(t0, sim.gravity(), sim.model().tilt);
-        let v = k.velocity_at(&V3::new(pt[0], pt[1], 0.0));
-        let mut state = PartState::new(anchor, -Vector2::new(v.x, v.y));
-        let mut rec = Vec::new();
-        let out = sim
-            .advance(t0, t0 + sim.period(), &mut state, &anchor, Some(&mut rec))
-            .unwrap();
+        let (_, out, rec) = one_cycle(&motion, steps, scheme_from_env(), pt, t0);
         println!("steps {steps}: {out:?}");
         let every = (steps / 64).max(1);
         for (i, q) in rec.iter().enumerate() {

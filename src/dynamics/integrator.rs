@@ -394,15 +394,11 @@ impl<'a> Simulator<'a> {
                 _ => self.kin(*t, piece),
             };
             let u0 = state.u;
-            if self.numerics.slip == SlipScheme::Stiff {
-                if let Some(taken) =
-                    self.implicit_slip(&k0, t, target, piece, state, anchor, out)?
-                {
-                    if taken {
-                        swing = 0;
-                        continue;
-                    }
-                }
+            if self.numerics.slip == SlipScheme::Stiff
+                && self.implicit_slip(&k0, t, target, piece, state, anchor, out)?
+            {
+                swing = 0;
+                continue;
             }
             let h = self.slip_step(&k0, target - *t, state, anchor, swing > 0);
             swing = swing.saturating_sub(1);
@@ -417,15 +413,10 @@ impl<'a> Simulator<'a> {
                 // The explicit step ended where the slip direction turns
                 // faster than the step can follow (close to a 2-D swing
                 // past u = 0): back off to where the component along u₀ is
-                // BACKOFF·|u₁| and follow the turn with short steps.
+                // half the speed and follow the turn with short steps.
                 cuts += 1;
                 let level = 0.5 * u0.norm();
-                let sb = self.locate_stop(*t, h, piece, &k0, state, anchor, level, out)?;
-                let (rb, ub, _) = self.rk4(*t, sb, piece, &k0, &state.r, &u0, anchor)?;
-                out.rk4_steps += 1;
-                *t += sb;
-                state.r = rb;
-                state.u = ub;
+                self.back_off(t, h, piece, &k0, state, anchor, level, out)?;
                 swing = MAX_SWING_STEPS;
                 continue;
             }
@@ -469,12 +460,7 @@ impl<'a> Simulator<'a> {
                     } else {
                         BACKOFF * left
                     };
-                    let sb = self.locate_stop(*t, s, piece, &k0, state, anchor, level, out)?;
-                    let (rb, ub, _) = self.rk4(*t, sb, piece, &k0, &state.r, &u0, anchor)?;
-                    out.rk4_steps += 1;
-                    *t += sb;
-                    state.r = rb;
-                    state.u = ub;
+                    self.back_off(t, s, piece, &k0, state, anchor, level, out)?;
                     swing = MAX_SWING_STEPS;
                 }
                 continue;
@@ -490,10 +476,33 @@ impl<'a> Simulator<'a> {
         Ok(())
     }
 
+    /// Advances `state` from `*t` by the explicit step, of at most `h`, at
+    /// whose end the slip velocity's component along its initial direction
+    /// has fallen to `level`.
+    #[allow(clippy::too_many_arguments)]
+    fn back_off(
+        &self,
+        t: &mut f64,
+        h: f64,
+        piece: f64,
+        k0: &Kinematics,
+        state: &mut PartState,
+        anchor: &V2,
+        level: f64,
+        out: &mut CycleOutcome,
+    ) -> Result<(), ContactLoss> {
+        let sb = self.locate_stop(*t, h, piece, k0, state, anchor, level, out)?;
+        let (rb, ub, _) = self.rk4(*t, sb, piece, k0, &state.r, &state.u, anchor)?;
+        out.rk4_steps += 1;
+        *t += sb;
+        state.r = rb;
+        state.u = ub;
+        Ok(())
+    }
+
     /// [`SlipScheme::Stiff`]: an implicit step (`src/dynamics/radau.rs`)
-    /// where the slip direction is stiff; `Some(true)` when one was taken
-    /// (`t`, `state` advanced), `Some(false)`/`None` when the explicit step
-    /// is to be taken.
+    /// where the slip direction is stiff; true when one was taken (`t`,
+    /// `state` advanced), false when the explicit step is to be taken.
     #[allow(clippy::too_many_arguments)]
     fn implicit_slip(
         &self,
@@ -504,20 +513,20 @@ impl<'a> Simulator<'a> {
         state: &mut PartState,
         anchor: &V2,
         out: &mut CycleOutcome,
-    ) -> Result<Option<bool>, ContactLoss> {
+    ) -> Result<bool, ContactLoss> {
         let rest = target - *t;
         let tiny = self.numerics.event_tol * self.period;
         match self.wants_radau(k0, *t, rest, piece, state, anchor) {
-            None => Ok(None),
+            None => Ok(false),
             Some(true) => {
                 match self.radau_step(*t, rest, piece, state, anchor, &mut out.rk4_steps)? {
                     Some(e) => {
                         state.r = e.r;
                         state.u = e.u;
                         *t = target;
-                        Ok(Some(true))
+                        Ok(true)
                     }
-                    None => Ok(Some(false)),
+                    None => Ok(false),
                 }
             }
             Some(false) => {
@@ -526,12 +535,12 @@ impl<'a> Simulator<'a> {
                 let slowing =
                     self.radau_slowing(*t, rest, piece, state, anchor, &du0, &mut out.rk4_steps)?;
                 match slowing {
-                    None => Ok(Some(false)),
+                    None => Ok(false),
                     Some(Slowing::Slipped(e)) => {
                         state.r = e.r;
                         state.u = e.u;
                         *t = target;
-                        Ok(Some(true))
+                        Ok(true)
                     }
                     Some(Slowing::Partial(h, e)) => {
                         state.r = e.r;
@@ -541,7 +550,7 @@ impl<'a> Simulator<'a> {
                         } else {
                             *t + h
                         };
-                        Ok(Some(true))
+                        Ok(true)
                     }
                     Some(Slowing::Stopped { h, r }) => {
                         out.events += 1;
@@ -553,7 +562,7 @@ impl<'a> Simulator<'a> {
                             *t + h
                         };
                         state.stuck = self.margin(*t, piece, &state.r, anchor) >= 0.0;
-                        Ok(Some(true))
+                        Ok(true)
                     }
                 }
             }
