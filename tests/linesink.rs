@@ -1,7 +1,7 @@
 //! Section II of the paper: the simulator against eq. 17, the stick deadband,
 //! contact loss, symmetries and convergence.
 
-use platefield::dynamics::{Friction, Model, Numerics};
+use platefield::dynamics::{Friction, Model, Numerics, SlipScheme};
 use platefield::motion::V3;
 use platefield::studies::linesink::{LineSink, Wave};
 
@@ -21,6 +21,12 @@ fn steps(n: usize) -> Numerics {
         steps_per_cycle: n,
         ..Numerics::default()
     }
+}
+
+/// `steps(n)` with the given 2-D slip scheme (the 1-D results must not
+/// depend on it).
+fn steps_with(n: usize, slip: SlipScheme) -> Numerics {
+    Numerics { slip, ..steps(n) }
 }
 
 /// Eq. 17 to ≤ 1e-9 relative error wherever its assumptions hold, over
@@ -44,13 +50,16 @@ fn square_wave_matches_eq17_to_1e9() {
             .iter()
             .map(|f| f * r_max)
             .collect();
-        for n in [2, 7, 64] {
-            for row in ls.rows(&rs, Model::PAPER, steps(n)) {
+        for (n, slip) in [2, 7, 64]
+            .into_iter()
+            .flat_map(|n| [(n, SlipScheme::Legacy), (n, SlipScheme::Stiff)])
+        {
+            for row in ls.rows(&rs, Model::PAPER, steps_with(n, slip)) {
                 let eq17 = row.eq17.expect("assumptions hold by construction");
                 let v = row.v_ss.expect("steady state exists");
                 assert!(
                     ((v - eq17) / eq17).abs() <= 1e-9,
-                    "α={alpha} h={h} T={t} μ={mu} r={} n={n}: v={v} eq17={eq17}",
+                    "α={alpha} h={h} T={t} μ={mu} r={} n={n} {slip:?}: v={v} eq17={eq17}",
                     row.r
                 );
                 assert_eq!(row.stick_fraction, Some(0.0));
@@ -58,7 +67,7 @@ fn square_wave_matches_eq17_to_1e9() {
             }
         }
     }
-    assert_eq!(checked, 5 * 3 * 6);
+    assert_eq!(checked, 5 * 3 * 2 * 6);
 }
 
 /// Eq. 17 is withheld outside its assumptions, and eq. 21 is its limit.
@@ -109,15 +118,21 @@ fn small_depth_deadband() {
         }
     }
     assert!((lo - edge).abs() < 1e-7, "scan {lo} vs formula {edge}");
-    let inside = [0.0, 0.3 * edge, -0.7 * edge, 0.999 * edge];
-    for row in ls.rows(&inside, Model::PAPER, steps(64)) {
-        assert_eq!(row.v_ss, Some(0.0), "r = {}", row.r);
-        assert_eq!(row.stick_fraction, Some(1.0), "r = {}", row.r);
-    }
-    let outside = [1.002 * edge, 1.05 * edge, 1.5 * edge];
-    for row in ls.rows(&outside, Model::PAPER, steps(64)) {
-        let (v, s) = (row.v_ss.unwrap(), row.stick_fraction.unwrap());
-        assert!(v < 0.0 && s < 1.0, "r = {}: v = {v}, stuck {s}", row.r);
+    for slip in [SlipScheme::Legacy, SlipScheme::Stiff] {
+        let inside = [0.0, 0.3 * edge, -0.7 * edge, 0.999 * edge];
+        for row in ls.rows(&inside, Model::PAPER, steps_with(64, slip)) {
+            assert_eq!(row.v_ss, Some(0.0), "r = {} {slip:?}", row.r);
+            assert_eq!(row.stick_fraction, Some(1.0), "r = {} {slip:?}", row.r);
+        }
+        let outside = [1.002 * edge, 1.05 * edge, 1.5 * edge];
+        for row in ls.rows(&outside, Model::PAPER, steps_with(64, slip)) {
+            let (v, s) = (row.v_ss.unwrap(), row.stick_fraction.unwrap());
+            assert!(
+                v < 0.0 && s < 1.0,
+                "r = {} {slip:?}: v = {v}, stuck {s}",
+                row.r
+            );
+        }
     }
 }
 

@@ -28,6 +28,7 @@
 mod integrator;
 mod kinematics_table;
 mod planar;
+mod radau;
 mod steady;
 
 pub use integrator::{CycleOutcome, PartState, Simulator, TrajectoryPoint, V2};
@@ -258,6 +259,23 @@ pub struct Numerics {
     /// earlier when the iteration stalls with an acceptable residual; see
     /// the steady-state module).
     pub max_iterations: usize,
+    /// How a 2-D slip velocity is followed near u = 0.
+    pub slip: SlipScheme,
+}
+
+/// How the integrator follows a 2-D slip velocity near u = 0
+/// (`src/dynamics/integrator.rs`, `src/dynamics/swing.rs`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SlipScheme {
+    /// Shortened RK4 steps through a swing past u = 0 (converges at about
+    /// first order in 2-D).
+    #[default]
+    Legacy,
+    /// Implicit Radau IIA steps where the slip direction is stiff and the
+    /// slip speeds up (from rest, after a swing past u = 0): see
+    /// `src/dynamics/radau.rs`.
+    Stiff,
 }
 
 impl Default for Numerics {
@@ -268,6 +286,7 @@ impl Default for Numerics {
             steady_tol: 1e-11,
             steady_accept: 1e-4,
             max_iterations: 200,
+            slip: SlipScheme::default(),
         }
     }
 }

@@ -1,0 +1,379 @@
+//! Implicit steps for a 2-D slip that is stiff in its direction
+//! ([`SlipScheme::Stiff`](super::SlipScheme)).
+//!
+//! Across the slip, Coulomb friction −μ_k N û damps at the rate μ_k N/|u|:
+//! the Jacobian of −μ_k N u/|u| is −μ_k N (I − ûûᵀ)/|u|. Where a step h sees
+//! h μ_k N/|u| ≫ 1 — a part slipping away from rest, or just after its slip
+//! velocity has swung past u = 0 — the slip direction is slaved to the
+//! free acceleration a_free, and an explicit step overshoots across the
+//! slip: RK4 from rest evaluates friction along the old direction while
+//! a_free has turned, and errs at first order in h. At a part starting from
+//! rest, u = 0 is moreover a regular singular point of the direction's
+//! equation (u ≈ (a_free − μ_k N â) τ, stiffness ∝ 1/τ), where no explicit
+//! stage can be placed.
+//!
+//! Such steps are taken with the 3-stage Radau IIA collocation method
+//! (order 5, stiffly accurate, L-stable): all its nodes lie inside (0, h],
+//! so friction is never evaluated at u = 0, and the stiff direction is
+//! resolved exactly by the collocation equations
+//!
+//! ```text
+//! U_i = u₀ + h Σ_j A_ij (a_free(t_j, R_j, U_j) − μ_k N_j U_j/|U_j|)
+//! R_i = r₀ + h Σ_j A_ij U_j
+//! ```
+//!
+//! solved by Newton's method with the friction term's exact Jacobian (the
+//! slowly varying a_free and N are iterated, not differentiated). The
+//! friction law is not smoothed. They are used only while the slip speeds up
+//! (d|u|/dt > 0 at the start of the step); a slip slowing to a stop keeps the
+//! explicit step and its stop event, and a step whose collocation solution
+//! reverses or does not converge is rejected (the caller falls back to RK4).
+
+use nalgebra::{SMatrix, SVector};
+
+use super::integrator::{PartState, Simulator, V2};
+use super::ContactLoss;
+
+type M6 = SMatrix<f64, 6, 6>;
+type V6 = SVector<f64, 6>;
+
+/// A step is stiff across the slip when h μ_k N/|u| exceeds this.
+pub(super) const STIFF: f64 = 1.0;
+
+/// A slip speeding up is taken implicitly only once its direction has
+/// (nearly) turned onto a_free: |a_⊥| ≤ SLAVED |a_free|, a_⊥ the part of
+/// a_free across the slip. Before that — the turn after a swing past u = 0 —
+/// the explicit steps follow the turn.
+const SLAVED: f64 = 0.1;
+
+/// Newton iterations per Radau step at most.
+const NEWTON_MAX: usize = 25;
+
+/// Radau IIA (3 stages) nodes and matrix.
+struct Tableau {
+    c: [f64; 3],
+    a: [[f64; 3]; 3],
+}
+
+fn tableau() -> Tableau {
+    let s6 = 6f64.sqrt();
+    Tableau {
+        c: [(4.0 - s6) / 10.0, (4.0 + s6) / 10.0, 1.0],
+        a: [
+            [
+                (88.0 - 7.0 * s6) / 360.0,
+                (296.0 - 169.0 * s6) / 1800.0,
+                (-2.0 + 3.0 * s6) / 225.0,
+            ],
+            [
+                (296.0 + 169.0 * s6) / 1800.0,
+                (88.0 + 7.0 * s6) / 360.0,
+                (-2.0 - 3.0 * s6) / 225.0,
+            ],
+            [(16.0 - s6) / 36.0, (16.0 + s6) / 36.0, 1.0 / 9.0],
+        ],
+    }
+}
+
+/// The end of an implicit step.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct RadauEnd {
+    /// Position.
+    pub r: V2,
+    /// Slip velocity.
+    pub u: V2,
+    /// du/dt there.
+    pub du: V2,
+}
+
+/// What an implicit step from a slowing slip did.
+#[derive(Debug, Clone, Copy)]
+pub(super) enum Slowing {
+    /// Slipped for the whole step.
+    Slipped(RadauEnd),
+    /// Came to rest after `h` (s) at `r`.
+    Stopped {
+        /// Time to the stop.
+        h: f64,
+        /// Position at the stop.
+        r: V2,
+    },
+    /// Slipped for `h` (s) only; the caller goes on explicitly.
+    Partial(f64, RadauEnd),
+}
+
+impl Simulator<'_> {
+    /// How a slip step of size `h` from `state` (slipping, not stuck) is
+    /// taken: `Some(true)` implicit, the slip speeding up (from rest unless
+    /// a_free keeps its direction over the step, or
+    /// h μ_k N/|u| > [`STIFF`] with û within [`SLAVED`] of a_free); `Some(false)` implicit, the slip slowing
+    /// along a_free towards a stop (a·û > 0 and |a_free| < μ_k N: it may
+    /// stop within the step);
+    /// `None` explicit.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn wants_radau(
+        &self,
+        k0: &crate::motion::Kinematics,
+        t: f64,
+        h: f64,
+        piece: f64,
+        state: &PartState,
+        anchor: &V2,
+    ) -> Option<bool> {
+        let s = state.u.norm();
+        if s == 0.0 {
+            // From rest along a fixed line (a 1-D slip: a_free keeps its
+            // direction at the step's RK4 nodes) the explicit step is exact
+            // for piecewise-constant accelerations and needs no stiff solve.
+            let (_, f0) = self.point_forces_at(k0, &state.r, &state.u, anchor);
+            let one_d = [0.5, 1.0].iter().all(|c| {
+                let k = self.kin_at(t + c * h, piece);
+                let (_, f) = self.point_forces_at(&k, &state.r, &state.u, anchor);
+                let cross = f0.x * f.y - f0.y * f.x;
+                cross.abs() <= 1e-12 * f0.norm() * f.norm() && f0.dot(&f) > 0.0
+            });
+            return if one_d { None } else { Some(true) };
+        }
+        let (n, free) = self.point_forces_at(k0, &state.r, &state.u, anchor);
+        let c = self.friction().kinetic * n;
+        if h * c <= STIFF * s {
+            return None;
+        }
+        let along = free.dot(&state.u) / s;
+        let across = (free - state.u * (along / s)).norm();
+        if across <= 1e-12 * free.norm() {
+            // A 1-D slip: nothing turns, the explicit step is exact.
+            return None;
+        }
+        if along > c && across <= SLAVED * free.norm() {
+            Some(true)
+        } else if along > 0.0 && free.norm() < c {
+            // |a_free| < μ_k N: û turns onto a_free as |u| falls to zero.
+            Some(false)
+        } else {
+            None
+        }
+    }
+
+    /// An implicit step of at most `rest` from a slip slowing along a_free,
+    /// cut at the stop if the slip comes to rest within it. The stop is
+    /// the root of the speed |u(h)| of the collocation solution, which falls
+    /// linearly to zero (at the rate μ_k N − a_free·û) while the direction
+    /// may still turn fast; it is found by safeguarded Newton
+    /// (d|u|/dh = û·du/dt) and a last linear extrapolation, since the
+    /// collocation equations lose their solution as the last stage reaches
+    /// u = 0.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn radau_slowing(
+        &self,
+        t: f64,
+        rest: f64,
+        piece: f64,
+        state: &PartState,
+        anchor: &V2,
+        du0: &V2,
+        steps: &mut u32,
+    ) -> Result<Option<Slowing>, ContactLoss> {
+        let s0 = state.u.norm();
+        let slope0 = du0.dot(&state.u) / s0;
+        let tol = self.numerics().event_tol * self.period();
+        // Linear prediction of the stop.
+        let predicted = if slope0 < 0.0 {
+            s0 / -slope0
+        } else {
+            f64::INFINITY
+        };
+        let mut h = if predicted > 1.5 * rest {
+            rest
+        } else {
+            predicted.min(rest)
+        };
+        let mut lo: Option<(f64, RadauEnd)> = None;
+        let mut hi = f64::INFINITY;
+        for _ in 0..40 {
+            let end = self.radau_step(t, h, piece, state, anchor, steps)?;
+            match end {
+                Some(e) => {
+                    if h >= rest {
+                        return Ok(Some(Slowing::Slipped(e)));
+                    }
+                    lo = Some((h, e));
+                    let phi = e.u.norm();
+                    let slope = e.du.dot(&e.u) / phi;
+                    if phi <= 1e-10 * s0 && slope < 0.0 {
+                        let dt = (phi / -slope).min(hi - h);
+                        return Ok(Some(Slowing::Stopped {
+                            h: h + dt,
+                            r: e.r + e.u * (0.5 * dt),
+                        }));
+                    }
+                    let next = if slope < 0.0 {
+                        h + phi / -slope
+                    } else {
+                        f64::NAN
+                    };
+                    h = if next > h && next < hi.min(rest) {
+                        next
+                    } else if hi.is_finite() {
+                        0.5 * (h + hi)
+                    } else {
+                        rest
+                    };
+                }
+                None => {
+                    hi = h;
+                    // The collocation equations lose their solution as the
+                    // last stage reaches u = 0: where the last good step's
+                    // linear extrapolation stops before `hi`, that is the stop.
+                    if let Some((hl, e)) = lo {
+                        let phi = e.u.norm();
+                        let slope = e.du.dot(&e.u) / phi;
+                        if slope < 0.0 && hl + phi / -slope <= hi {
+                            let dt = phi / -slope;
+                            return Ok(Some(Slowing::Stopped {
+                                h: hl + dt,
+                                r: e.r + e.u * (0.5 * dt),
+                            }));
+                        }
+                    }
+                    let l = lo.map_or(0.0, |x| x.0);
+                    if hi - l <= tol {
+                        break;
+                    }
+                    h = 0.5 * (l + hi);
+                }
+            }
+        }
+        // The collocation solution exists up to `lo` and not beyond it (to
+        // within the event tolerance): the slip stops there.
+        Ok(lo.map(|(h, e)| {
+            if hi - h <= tol {
+                Slowing::Stopped { h, r: e.r }
+            } else {
+                Slowing::Partial(h, e)
+            }
+        }))
+    }
+
+    /// One Radau IIA step of size `h` from (`t`, `state`); `None` when the
+    /// collocation equations do not converge (a stage reaching u = 0, where
+    /// they lose their solution) — the caller then locates a stop or takes
+    /// an explicit step.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn radau_step(
+        &self,
+        t: f64,
+        h: f64,
+        piece: f64,
+        state: &PartState,
+        anchor: &V2,
+        steps: &mut u32,
+    ) -> Result<Option<RadauEnd>, ContactLoss> {
+        let tab = tableau();
+        let (r0, u0) = (state.r, state.u);
+        let kin: [_; 3] = std::array::from_fn(|j| self.kin_at(t + tab.c[j] * h, piece));
+        let mu = self.friction().kinetic;
+        // Right-hand side at stage j: a_free − μ_k N Û, the friction
+        // Jacobian's stiff factor μ_k N/|U|, and Û.
+        let stage = |j: usize, r: &V2, u: &V2| -> Result<(V2, f64, V2), ContactLoss> {
+            let (n, free) = self.point_forces_at(&kin[j], r, u, anchor);
+            if n < 0.0 {
+                return Err(self.contact_loss_at(t + tab.c[j] * h, r, n));
+            }
+            let s = u.norm();
+            let dir = if s > 0.0 {
+                u / s
+            } else {
+                let f = free.norm();
+                if f > 0.0 {
+                    free / f
+                } else {
+                    V2::zeros()
+                }
+            };
+            Ok((free - dir * (mu * n), mu * n / s, dir))
+        };
+        // Initial guess: friction along a_free at every stage (the slaved
+        // direction of a stiff slip).
+        let mut f = [V2::zeros(); 3];
+        for (j, fj) in f.iter_mut().enumerate() {
+            let (n, free) = self.point_forces_at(&kin[j], &r0, &u0, anchor);
+            let fn_ = free.norm();
+            *fj = if fn_ > 0.0 {
+                free - free * (mu * n.max(0.0) / fn_)
+            } else {
+                free
+            };
+        }
+        let mut u: [V2; 3] = std::array::from_fn(|i| {
+            u0 + (f[0] * tab.a[i][0] + f[1] * tab.a[i][1] + f[2] * tab.a[i][2]) * h
+        });
+        let scale = u.iter().map(|x| x.norm()).fold(u0.norm(), f64::max);
+        if scale == 0.0 {
+            return Ok(None);
+        }
+        let tol = 1e-13 * scale;
+        let mut previous = f64::INFINITY;
+        let position = |u: &[V2; 3], i: usize| {
+            r0 + (u[0] * tab.a[i][0] + u[1] * tab.a[i][1] + u[2] * tab.a[i][2]) * h
+        };
+        for _ in 0..NEWTON_MAX {
+            *steps += 1;
+            let mut g = V6::zeros();
+            let mut jac = M6::identity();
+            let mut fs = [V2::zeros(); 3];
+            let mut blocks = [nalgebra::Matrix2::zeros(); 3];
+            for j in 0..3 {
+                if u[j] == V2::zeros() {
+                    return Ok(None);
+                }
+                let (fj, stiff, dir) = stage(j, &position(&u, j), &u[j])?;
+                fs[j] = fj;
+                // d(−μ_k N Û)/dU = −μ_k N (I − ÛÛᵀ)/|U|.
+                blocks[j] = -(nalgebra::Matrix2::identity() - dir * dir.transpose()) * stiff;
+            }
+            for i in 0..3 {
+                let gi = u[i]
+                    - u0
+                    - (fs[0] * tab.a[i][0] + fs[1] * tab.a[i][1] + fs[2] * tab.a[i][2]) * h;
+                g[2 * i] = gi.x;
+                g[2 * i + 1] = gi.y;
+                for j in 0..3 {
+                    let b = blocks[j] * (-h * tab.a[i][j]);
+                    for (p, q) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+                        jac[(2 * i + p, 2 * j + q)] += b[(p, q)];
+                    }
+                }
+            }
+            let Some(delta) = jac.lu().solve(&g) else {
+                return Ok(None);
+            };
+            let mut change: f64 = 0.0;
+            for i in 0..3 {
+                let d = V2::new(delta[2 * i], delta[2 * i + 1]);
+                // Damped: a stage may not pass through u = 0 in one update.
+                let ui = u[i] - d;
+                u[i] = if ui.dot(&u[i]) <= 0.0 { u[i] * 0.5 } else { ui };
+                change = change.max(d.norm());
+            }
+            if !u.iter().all(|x| x.x.is_finite() && x.y.is_finite()) {
+                return Ok(None);
+            }
+            // Converged, or stalled at the round-off floor (the last stage
+            // near u = 0 makes the system ill-conditioned).
+            let stalled = change >= 0.5 * previous && change <= 1e4 * tol;
+            previous = change;
+            if change <= tol || stalled {
+                let u1 = u[2];
+                let r1 = position(&u, 2);
+                let (f1, _, _) = stage(2, &r1, &u1)?;
+                return Ok(Some(RadauEnd {
+                    r: r1,
+                    u: u1,
+                    du: f1,
+                }));
+            }
+        }
+        Ok(None)
+    }
+}
