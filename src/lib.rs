@@ -29,6 +29,7 @@
 //! | schedule | [`design::schedule`], [`design::export`] | time fractions as whole cycles; the six controller signals |
 //! | design | [`design`] | the open-loop pipeline and the closed loop ([`design::closed_loop`]) |
 //! | play, verify | [`verify`] | a schedule's exact plate trajectory, the rule at the joins, rest in closed form; realised against predicted; where parts end up |
+//! | work | [`work`] | the work estimate (RK4 part steps at a stated rate) every long command makes first, refusing above 10 min unless `--allow-long` |
 //! | studies | [`studies`] | the paper's results reproduced: eq. 17 of section II ([`studies::linesink`]), Table I, the interaction of sequenced primitives, the order study of section V; model rungs and speed against error |
 //!
 //! ## Sequencing: what combines
@@ -80,5 +81,6 @@ pub mod schedule;
 pub mod studies;
 pub mod synth;
 pub mod verify;
+pub mod work;
 
 pub use error::{Error, Result};

@@ -69,6 +69,7 @@ use crate::error::{Error, Result};
 use crate::play::measure::{grid_points, verify_points, PlayOptions};
 use crate::play::{periods_for, PlayedSegment, ScheduleMotion};
 use crate::schedule::{Schedule, Segment};
+use crate::work::{Estimate, Term};
 
 /// Segments up to which every order (up to rotation) is tried.
 pub const EXHAUSTIVE_MAX: usize = 4;
@@ -575,19 +576,78 @@ pub fn choose_order(schedule: &Schedule, opts: &OrderOptions) -> Result<(Schedul
     Ok((out, search))
 }
 
+/// What `platefield order` is asked to do.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OrderRequest {
+    /// Points per side of the grid over ±3 cm.
+    pub n: usize,
+    /// Rest cycles tried at every join.
+    pub rest_cycles: Vec<u32>,
+    /// Warm-up periods (a minimum).
+    pub warmup: u32,
+    /// Measured periods (a minimum).
+    pub periods: u32,
+    /// Model override (default: the schedule's own).
+    pub model: Option<Model>,
+    /// Run even when the work estimate exceeds [`crate::work::LIMIT_S`].
+    pub allow_long: bool,
+    /// No progress output.
+    pub quiet: bool,
+}
+
+/// The work of an order search of `schedule` with `opts`
+/// ([`crate::work`]): candidates × parts × periods (warm-up, at least
+/// `warmup_cycles` primitive cycles, and measured) × cycles per period
+/// (with the most rest inserted at every join) × steps.
+pub fn work_estimate(schedule: &Schedule, opts: &OrderOptions) -> Estimate {
+    let moving = schedule.segments.iter().filter(|s| s.cycles > 0).count();
+    let rests = {
+        let mut r = opts.rest_cycles.clone();
+        r.sort_unstable();
+        r.dedup();
+        r.len().max(1)
+    };
+    let candidates = if moving <= opts.exhaustive_max {
+        (1..moving).product::<usize>() * rests
+    } else {
+        opts.max_evaluations.max(1) + rests - 1
+    };
+    let max_rest = opts.rest_cycles.iter().copied().max().unwrap_or(0);
+    let cycles = f64::from(schedule.total_cycles) + (f64::from(max_rest) * moving as f64);
+    let warmup = f64::from(opts.verify.warmup_periods)
+        .max((f64::from(opts.warmup_cycles) / cycles.max(1.0)).ceil());
+    let periods = warmup + f64::from(opts.verify.periods.max(1));
+    Estimate::new(
+        "schedule",
+        "searching the segment order",
+        "fewer segments, --points, --rest, --warmup or --periods",
+    )
+    .plus(
+        Term::new("order search")
+            .times(candidates as f64, "candidates")
+            .times(opts.points.len() as f64, "parts")
+            .times(periods, "periods")
+            .times(cycles, "cycles")
+            .times(opts.verify.numerics.steps_per_cycle as f64, "steps"),
+    )
+}
+
 /// `platefield order`: searches the orders and rest insertions of the
 /// schedule at `path` on `n × n` points over ±3 cm with the schedule's own
 /// physics (the model overridden by `model` when given; `warmup` and
 /// `periods` are minimums); returns the schedule and the search (written
-/// by `crate::report::order`).
-pub fn order_schedule_file(
-    path: &Path,
-    n: usize,
-    rest_cycles: &[u32],
-    warmup: u32,
-    periods: u32,
-    model: Option<Model>,
-) -> Result<(Schedule, OrderSearch)> {
+/// by `crate::report::order`). The work is estimated first and refused
+/// above [`crate::work::LIMIT_S`] unless `allow_long`.
+pub fn order_schedule_file(path: &Path, req: &OrderRequest) -> Result<(Schedule, OrderSearch)> {
+    let OrderRequest {
+        n,
+        ref rest_cycles,
+        warmup,
+        periods,
+        model,
+        allow_long,
+        quiet: _,
+    } = *req;
     if !(1..=41).contains(&n) {
         return Err(Error::invalid(
             "--points",
@@ -627,6 +687,7 @@ pub fn order_schedule_file(
         rest_cycles: rest_cycles.to_vec(),
         ..OrderOptions::new(verify, grid_points(n, 0.03))
     };
+    work_estimate(&schedule, &opts).check(allow_long)?;
     let (_, search) = choose_order(&schedule, &opts)?;
     Ok((schedule, search))
 }

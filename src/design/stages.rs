@@ -14,11 +14,12 @@ use super::{COMPACT_SLACK, ORDER_SEARCH_POINTS};
 use crate::basis::cache::BasisCache;
 use crate::basis::{symmetry, FieldLibrary, Primitive, PrimitiveKind};
 use crate::error::{Error, Result};
-use crate::field::Grid;
+use crate::field::{FieldKind, Grid};
 use crate::fit::{self, FitMetrics, FitMode, FitOptions, FitProblem, FitSolution};
 use crate::play::PlayOptions;
 use crate::request::{SampledTarget, Target};
 use crate::schedule::{self, BasisInfo, KeptColumn, Schedule, Segment};
+use crate::work::Estimate;
 
 /// What [`basis_stage`] produces.
 pub(crate) struct BasisStage {
@@ -63,22 +64,27 @@ pub(crate) fn basis_stage(target: &Target, opts: &DesignOptions) -> Result<Basis
     let source = symmetry::source_grid(&region, &angles_rad, &opts.shifts);
     let primitives: Vec<Primitive> = opts.kinds.iter().map(|k| Primitive::new(*k)).collect();
 
+    let estimate = library_estimate(primitives.len(), &source, opts);
+    let check = || estimate.check(opts.allow_long);
     let t_basis = Instant::now();
     let (library, cache_status) = match &opts.cache_dir {
         Some(dir) => {
-            let (lib, status) = BasisCache::new(dir).get_or_build(
+            let (lib, status) = BasisCache::new(dir).get_or_build_checked(
                 &primitives,
                 &source,
                 &opts.settings,
                 opts.kind,
                 opts.quiet,
+                check,
             )?;
-            (lib, format!("{status:?}"))
+            (lib, status.to_string())
         }
-        None => (
-            FieldLibrary::build(&primitives, &source, &opts.settings, opts.kind, opts.quiet),
-            "no cache".to_string(),
-        ),
+        None => {
+            check()?;
+            let lib =
+                FieldLibrary::build(&primitives, &source, &opts.settings, opts.kind, opts.quiet);
+            (lib, "no cache".to_string())
+        }
     };
     Ok(BasisStage {
         sampled,
@@ -88,6 +94,28 @@ pub(crate) fn basis_stage(target: &Target, opts: &DesignOptions) -> Result<Basis
         cache_status,
         basis_time_s: t_basis.elapsed().as_secs_f64(),
     })
+}
+
+/// The work of building the design's library of `primitives` on `source`
+/// ([`crate::work`]).
+pub(crate) fn library_estimate(primitives: usize, source: &Grid, opts: &DesignOptions) -> Estimate {
+    let what = match opts.kind {
+        FieldKind::Force => "building the force library",
+        FieldKind::Velocity => "building the velocity library",
+    };
+    Estimate::new(
+        "target",
+        what,
+        "a smaller target region or grid n, a larger --rotation-step, fewer --shift or --primitives",
+    )
+    .plus(crate::work::field_term(
+        "library",
+        primitives as f64,
+        "primitives",
+        source.len() as f64,
+        opts.kind,
+        &opts.settings,
+    ))
 }
 
 /// What [`fit_stage`] produces.

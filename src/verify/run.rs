@@ -15,8 +15,8 @@
 //!
 //! Everything is computed here and nothing is written: the files
 //! (`summary.json`, `trajectories.svg`) are [`crate::report::verify`]'s.
-//! Before anything is played the work is estimated ([`check_work`]) and an
-//! overlong verification refused.
+//! Before anything is played the work is estimated ([`work_estimate`]) and
+//! an overlong verification refused unless `--allow-long`.
 
 use std::path::Path;
 
@@ -32,6 +32,7 @@ use crate::play::measure::{verify_points, PlayOptions, RealisedField};
 use crate::play::{ScheduleMotion, V2};
 use crate::request::Attractor;
 use crate::schedule::Schedule;
+use crate::work::{Estimate, Term, RECT_STEP_COST};
 
 /// How long the swarm is played.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -71,6 +72,10 @@ pub struct VerifyRequest {
     pub rectangle: [f64; 2],
     /// Rectangle start poses (0: none).
     pub rectangle_poses: usize,
+    /// Run even when the work estimate exceeds [`crate::work::LIMIT_S`].
+    pub allow_long: bool,
+    /// No progress output.
+    pub quiet: bool,
 }
 
 impl Default for VerifyRequest {
@@ -85,6 +90,8 @@ impl Default for VerifyRequest {
             tol: 0.003,
             rectangle: [0.02, 0.005],
             rectangle_poses: 4,
+            allow_long: false,
+            quiet: false,
         }
     }
 }
@@ -313,41 +320,37 @@ pub fn run_rectangles(
         .collect()
 }
 
-/// Most plate cycles `verify` plays in total over all its parts (about
-/// 6 minutes of CPU at 0.3 ms per point-part cycle of 300 steps; a
-/// rectangle cycle costs [`RECT_CYCLE_COST`] point-part cycles).
-pub const MAX_VERIFY_PART_CYCLES: f64 = 1.2e6;
-
-/// Cost of one rectangle cycle in point-part cycles (support points and
-/// sub-steps; measured on the 16 × 4 rectangle).
-pub const RECT_CYCLE_COST: f64 = 50.0;
-
-/// Refuses a verification whose work (point-part cycles: realised grid,
-/// swarm and rectangles) exceeds [`MAX_VERIFY_PART_CYCLES`], stating the
-/// estimate and the knobs that make it smaller.
-pub fn check_work(
+/// The work of a verification ([`crate::work`]): RK4 point-part steps of
+/// the realised grid, the swarm and the rectangles (a rectangle step costs
+/// [`crate::work::RECT_STEP_COST`] point-part steps).
+pub fn work_estimate(
     schedule: &Schedule,
     req: &VerifyRequest,
     swarm_periods: u32,
     rect_periods: u32,
-) -> Result<()> {
+) -> Estimate {
     let cycles = f64::from(schedule.total_cycles);
-    let grid = (req.points * req.points) as f64 * f64::from(req.warmup + req.periods);
-    let swarm = (req.swarm * req.swarm) as f64 * f64::from(swarm_periods);
-    let rects = req.rectangle_poses as f64 * f64::from(rect_periods) * RECT_CYCLE_COST;
-    let work = cycles * (grid + swarm + rects);
-    if work > MAX_VERIFY_PART_CYCLES {
-        return Err(Error::invalid(
-            "schedule",
-            format!(
-                "verifying it would play about {work:.2e} part cycles ({cycles} cycles per period; \
-                 realised grid {grid:.0}, swarm {swarm:.0}, rectangles {rects:.0} part-periods), \
-                 more than the limit of {MAX_VERIFY_PART_CYCLES:.1e}: shorten the schedule or lower \
-                 --points, --swarm, --repetitions/--duration or --rect-poses"
-            ),
-        ));
-    }
-    Ok(())
+    let steps = schedule.settings.numerics.steps_per_cycle as f64;
+    let term = |label: &str, parts: f64, periods: u32| {
+        Term::new(label)
+            .times(parts, "parts")
+            .times(f64::from(periods), "periods")
+            .times(cycles, "cycles")
+            .times(steps, "steps")
+    };
+    let points = (req.points * req.points) as f64;
+    let swarm = (req.swarm * req.swarm) as f64;
+    Estimate::new(
+        "schedule",
+        "verifying it",
+        "a shorter schedule (fewer cycles), --points, --swarm, --repetitions/--duration or --rect-poses",
+    )
+    .plus(term("realised grid", points, req.warmup + req.periods))
+    .plus(term("swarm", swarm, swarm_periods))
+    .plus(
+        term("rectangles", req.rectangle_poses as f64, rect_periods)
+            .times(RECT_STEP_COST, "point steps per rectangle step"),
+    )
 }
 
 /// `platefield verify`: runs `req` on the schedule at `path` with the
@@ -391,7 +394,7 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest) -> Result<VerifyRe
         Duration::Auto => periods.max((RECT_MIN_AUTO_S / sm.period()).ceil() as u32),
         _ => periods,
     };
-    check_work(&schedule, req, periods, rect_periods)?;
+    work_estimate(&schedule, req, periods, rect_periods).check(req.allow_long)?;
     let v = verify_points(&sm, &region_points(&g, req.points), &opts);
     if v.valid == 0 {
         let why = v
