@@ -74,6 +74,7 @@ pub mod motion;
 pub mod output;
 pub mod play;
 pub mod plot;
+pub mod progress;
 pub mod report;
 pub mod request;
 pub mod scene;

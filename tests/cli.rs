@@ -463,3 +463,87 @@ fn design_refuses_out_of_range_counts_and_shifts() {
         assert!(!dir.join("sink").exists(), "{extra:?} wrote files");
     }
 }
+
+/// Runs the binary with `PLATEFIELD_PROGRESS_INTERVAL=0` (a progress line
+/// at every update) and stderr piped (not a terminal).
+fn with_progress_lines(args: &[&str]) -> (i32, String) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_platefield"))
+        .args(args)
+        .env(platefield::progress::INTERVAL_ENV, "0")
+        .output()
+        .expect("runs");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// Issue 13, progress without a terminal: with stderr piped, a library
+/// build (`primitives`: force then velocity library of 8 primitives × 9
+/// samples), `verify` and `order` print plain progress lines on stderr
+/// (counts out of the total, elapsed time); with `--quiet` stderr is empty.
+#[test]
+fn progress_lines_without_a_terminal_and_none_when_quiet() {
+    let dir = temp_dir("progress");
+    let out = dir.to_str().unwrap();
+    let runs: [(Vec<&str>, &[&str]); 3] = [
+        (
+            vec!["primitives", "--grid", "3", "--out", out],
+            &[
+                "force library: 1/72 samples",
+                "velocity library: 72/72 samples (100 %)",
+                "elapsed",
+            ],
+        ),
+        (
+            vec![
+                "verify",
+                "results/sink/schedule.json",
+                "--points",
+                "2",
+                "--swarm",
+                "2",
+                "--rect-poses",
+                "1",
+                "--repetitions",
+                "1",
+                "--out",
+                out,
+            ],
+            &[
+                "verify: 1/9 parts",
+                "verify: 9/9 parts (100 %)",
+                "rectangles",
+            ],
+        ),
+        (
+            vec![
+                "order",
+                "results/sink/schedule.json",
+                "--points",
+                "1",
+                "--rest",
+                "0",
+                "--out",
+                out,
+            ],
+            &[
+                "order search: 1/6 candidates",
+                "order search: 6/6 candidates",
+            ],
+        ),
+    ];
+    for (args, needles) in runs {
+        let (code, err) = with_progress_lines(&args);
+        assert_eq!(code, 0, "{args:?}: {err}");
+        for needle in needles {
+            assert!(err.contains(needle), "{args:?}: {needle:?} not in {err}");
+        }
+        let mut quiet = args.clone();
+        quiet.push("--quiet");
+        let (code, err) = with_progress_lines(&quiet);
+        assert_eq!(code, 0, "{quiet:?}: {err}");
+        assert!(err.is_empty(), "{quiet:?} printed {err}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -68,6 +68,7 @@ use crate::dynamics::Model;
 use crate::error::{Error, Result};
 use crate::play::measure::{grid_points, verify_points, PlayOptions};
 use crate::play::{periods_for, PlayedSegment, ScheduleMotion};
+use crate::progress::{Progress, ProgressMode};
 use crate::schedule::{Schedule, Segment};
 use crate::work::{Estimate, Term};
 
@@ -102,6 +103,8 @@ pub struct OrderOptions {
     /// Errors within this (absolute) of the smallest count as ties, which
     /// go to the candidate with less rest.
     pub tie_tolerance: f64,
+    /// Progress display of the search (default: quiet).
+    pub progress: ProgressMode,
 }
 
 impl OrderOptions {
@@ -115,6 +118,7 @@ impl OrderOptions {
             exhaustive_max: EXHAUSTIVE_MAX,
             max_evaluations: DEFAULT_MAX_EVALUATIONS,
             tie_tolerance: DEFAULT_TIE_TOLERANCE,
+            progress: ProgressMode::Quiet,
         }
     }
 }
@@ -436,8 +440,23 @@ pub fn search_orders(segments: &[PlayedSegment], opts: &OrderOptions) -> Result<
     let n = segments.len();
     let mut candidates = Vec::new();
     let method;
+    let orders = if n <= opts.exhaustive_max {
+        orders_up_to_rotation(n, first)
+    } else {
+        Vec::new()
+    };
+    let total = if n <= opts.exhaustive_max {
+        orders.len() * rests.len()
+    } else {
+        opts.max_evaluations.max(1) + rests.len() - 1
+    };
+    let progress = Progress::new("order search", "candidates", total as u64, opts.progress);
+    let evaluate = |o: &[usize], k: u32| {
+        let c = evaluate(segments, o, k, t_rest, opts);
+        progress.inc(1);
+        c
+    };
     if n <= opts.exhaustive_max {
-        let orders = orders_up_to_rotation(n, first);
         method = format!(
             "exhaustive: all {} orders of {n} segments up to rotation ({} first), × rest {:?} cycles at every join",
             orders.len(),
@@ -446,13 +465,13 @@ pub fn search_orders(segments: &[PlayedSegment], opts: &OrderOptions) -> Result<
         );
         for o in &orders {
             for &k in &rests {
-                candidates.push(evaluate(segments, o, k, t_rest, opts)?);
+                candidates.push(evaluate(o, k)?);
             }
         }
     } else {
         let k0 = rests[0];
         let mut current: Vec<usize> = (first..n).chain(0..first).collect();
-        candidates.push(evaluate(segments, &current, k0, t_rest, opts)?);
+        candidates.push(evaluate(&current, k0)?);
         let mut current_err = key(&candidates[0]);
         let mut seen = vec![current.clone()];
         'descent: loop {
@@ -468,7 +487,7 @@ pub fn search_orders(segments: &[PlayedSegment], opts: &OrderOptions) -> Result<
                         continue;
                     }
                     seen.push(o.clone());
-                    let c = evaluate(segments, &o, k0, t_rest, opts)?;
+                    let c = evaluate(&o, k0)?;
                     let e = key(&c);
                     candidates.push(c);
                     if step.as_ref().is_none_or(|s| e < s.1) {
@@ -490,7 +509,7 @@ pub fn search_orders(segments: &[PlayedSegment], opts: &OrderOptions) -> Result<
             .min_by(|a, b| key(a).total_cmp(&key(b)))
             .map_or(current, |c| c.order.clone());
         for &k in &rests[1..] {
-            candidates.push(evaluate(segments, &best_order, k, t_rest, opts)?);
+            candidates.push(evaluate(&best_order, k)?);
         }
         method = format!(
             "heuristic ({n} segments > {}): steepest descent over pairwise swaps from the given order ({} first), rest {k0} cycles, {} orders evaluated (budget {}); then rest {:?} cycles on the best order",
@@ -501,6 +520,7 @@ pub fn search_orders(segments: &[PlayedSegment], opts: &OrderOptions) -> Result<
             &rests[1..]
         );
     }
+    progress.finish();
     let best = choose(&candidates, opts.tie_tolerance).ok_or_else(|| {
         Error::Physical(
             "order search: no candidate has a valid point (parts leave the plate everywhere)"
@@ -685,6 +705,7 @@ pub fn order_schedule_file(path: &Path, req: &OrderRequest) -> Result<(Schedule,
     }
     let opts = OrderOptions {
         rest_cycles: rest_cycles.to_vec(),
+        progress: ProgressMode::quiet_if(req.quiet),
         ..OrderOptions::new(verify, grid_points(n, 0.03))
     };
     work_estimate(&schedule, &opts).check(allow_long)?;

@@ -429,7 +429,11 @@ pub(crate) fn order_stage(
         .collect();
     let points = order::region_grid(&region, ORDER_SEARCH_POINTS);
     let verify = PlayOptions::from_settings(&opts.settings);
-    let (reordered, search) = choose_order(&schedule, &OrderOptions::new(verify, points))?;
+    let order_opts = OrderOptions {
+        progress: crate::progress::ProgressMode::quiet_if(opts.quiet),
+        ..OrderOptions::new(verify, points)
+    };
+    let (reordered, search) = choose_order(&schedule, &order_opts)?;
     Ok((reordered, Some(search)))
 }
 

@@ -23,13 +23,14 @@ use std::path::Path;
 use serde::Serialize;
 
 use super::rectangles::{play_rectangle, PoseSample, RectangleOptions, RectangleSummary};
-use super::swarm::{run_swarm, Swarm, SwarmOptions};
+use super::swarm::{run_swarm_ticked, Swarm, SwarmOptions};
 use crate::dynamics::Model;
 use crate::dynamics::Rectangle;
 use crate::error::{Error, Result};
 use crate::field::Grid;
-use crate::play::measure::{verify_points, PlayOptions, RealisedField};
+use crate::play::measure::{verify_points_ticked, PlayOptions, RealisedField};
 use crate::play::{ScheduleMotion, V2};
+use crate::progress::{Progress, ProgressMode};
 use crate::request::Attractor;
 use crate::schedule::Schedule;
 use crate::work::{Estimate, Term, RECT_STEP_COST};
@@ -279,6 +280,7 @@ pub fn run_rectangles(
     periods: u32,
     attractor: Option<&Attractor>,
     opts: &RectangleOptions,
+    tick: &(dyn Fn() + Sync),
 ) -> Vec<RectangleResult> {
     use rayon::prelude::*;
     let rect = sampled_rectangle(size);
@@ -287,7 +289,9 @@ pub fn run_rectangles(
         .par_iter()
         .map(|&(r, theta)| {
             let start_pose = [r.x, r.y, theta.to_degrees()];
-            match play_rectangle(sm, &rect, (r, theta), duration, opts) {
+            let played = play_rectangle(sm, &rect, (r, theta), duration, opts);
+            tick();
+            match played {
                 Ok(run) => {
                     let s = run.summary();
                     let angle_to_line_deg = match attractor {
@@ -395,7 +399,16 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest) -> Result<VerifyRe
         _ => periods,
     };
     work_estimate(&schedule, req, periods, rect_periods).check(req.allow_long)?;
-    let v = verify_points(&sm, &region_points(&g, req.points), &opts);
+    let poses = rectangle_poses(&g, req.rectangle_poses);
+    let progress = Progress::new(
+        "verify",
+        "parts",
+        (req.points * req.points + starts.len() + poses.len()) as u64,
+        ProgressMode::quiet_if(req.quiet),
+    );
+    let tick = || progress.inc(1);
+    progress.set_message("realised grid");
+    let v = verify_points_ticked(&sm, &region_points(&g, req.points), &opts, &tick);
     if v.valid == 0 {
         let why = v
             .points
@@ -408,7 +421,8 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest) -> Result<VerifyRe
             v.points.len()
         )));
     }
-    let swarm = run_swarm(
+    progress.set_message("swarm");
+    let swarm = run_swarm_ticked(
         &sm,
         &starts,
         attractor,
@@ -418,6 +432,7 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest) -> Result<VerifyRe
             tol: req.tol,
             strength,
         },
+        &tick,
     );
 
     let rect_opts = RectangleOptions {
@@ -429,14 +444,17 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest) -> Result<VerifyRe
         },
         ..RectangleOptions::default()
     };
+    progress.set_message("rectangles");
     let rectangles = run_rectangles(
         &sm,
         req.rectangle,
-        &rectangle_poses(&g, req.rectangle_poses),
+        &poses,
         rect_periods,
         attractor.as_ref(),
         &rect_opts,
+        &tick,
     );
+    progress.finish();
 
     Ok(VerifyReport {
         target: name.to_string(),
