@@ -255,7 +255,14 @@ fn bad_schedule_files_are_refused_naming_the_path() {
     cases.push(("timing", s, &["solver", "solve_time_s"]));
     let mut s = sink_schedule();
     s["segments"][0]["primitive"]["omega"] = serde_json::json!(0.0);
-    cases.push(("omega", s, &["segments[0].primitive.omega", "> 0"]));
+    cases.push((
+        "omega",
+        s,
+        &[
+            "segments[0].primitive.omega",
+            "must be in [6.2832e-2, 6.2832e4] rad/s, got 0",
+        ],
+    ));
     let mut s = sink_schedule();
     s["segments"][3] = serde_json::json!({"label": "Rest", "primitive": null, "weight": 0.0,
         "cycles": 1, "duration_s": -0.03});

@@ -216,6 +216,7 @@ impl Schedule {
 
     /// Checks ranges and physics (errors name the JSON path): at least one
     /// segment of positive duration; moving segments with a valid primitive
+    /// (the scene ranges, [`crate::scene::validate_primitive`])
     /// and 1..=[`MAX_SEGMENT_CYCLES`] cycles; rest segments with a finite
     /// duration ≥ 0; a period of at most [`MAX_PERIOD_S`]; weights finite
     /// and ≥ 0; valid settings and target.
@@ -232,7 +233,7 @@ impl Schedule {
             non_negative(&format!("{at}.weight"), seg.weight)?;
             match &seg.primitive {
                 Some(p) => {
-                    p.validate(&format!("{at}.primitive"))?;
+                    crate::scene::validate_primitive(p, &format!("{at}.primitive"))?;
                     if !(1..=MAX_SEGMENT_CYCLES).contains(&seg.cycles) {
                         return Err(Error::invalid(
                             format!("{at}.cycles"),
@@ -260,6 +261,31 @@ impl Schedule {
         s.friction.validate("settings.friction")?;
         s.numerics.validate("settings.numerics")?;
         positive("settings.gravity", s.gravity)?;
+        // The scene ranges of the physics (a schedule is played like a scene).
+        for (path, v, max) in [
+            (
+                "settings.friction.static",
+                s.friction.stat,
+                crate::scene::MU,
+            ),
+            (
+                "settings.friction.kinetic",
+                s.friction.kinetic,
+                crate::scene::MU,
+            ),
+            ("settings.gravity", s.gravity, crate::scene::GRAVITY),
+        ] {
+            if v > max {
+                return Err(Error::invalid(
+                    path,
+                    format!(
+                        "must be at most {}, got {}",
+                        crate::input::num(max),
+                        crate::input::num(v)
+                    ),
+                ));
+            }
+        }
         if let Some(t) = &self.target_spec {
             t.validate()?;
         }

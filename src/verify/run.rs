@@ -118,7 +118,7 @@ impl VerifyRequest {
             Duration::Seconds(s) if !(s.is_finite() && s > 0.0 && s <= 3600.0) => {
                 return Err(Error::invalid(
                     "--duration",
-                    format!("must be in (0, 3600] seconds, got {s}"),
+                    format!("must be in (0, 3600] seconds, got {}", crate::input::num(s)),
                 ))
             }
             Duration::Repetitions(n) => range("--repetitions", u64::from(n), 1, 10_000)?,
@@ -129,14 +129,17 @@ impl VerifyRequest {
             if !(v.is_finite() && *v > 0.0 && *v <= 0.2) {
                 return Err(Error::invalid(
                     "--rect",
-                    format!("{what} must be in (0, 0.2] m, got {v}"),
+                    format!(
+                        "{what} must be in (0, 0.2] m, got {}",
+                        crate::input::num(*v)
+                    ),
                 ));
             }
         }
         if !(self.tol.is_finite() && self.tol > 0.0 && self.tol <= 0.1) {
             return Err(Error::invalid(
                 "--tol",
-                format!("must be in (0, 0.1] m, got {}", self.tol),
+                format!("must be in (0, 0.1] m, got {}", crate::input::num(self.tol)),
             ));
         }
         Ok(())
