@@ -156,7 +156,7 @@ pub(crate) fn fit_stage(stage: &BasisStage, opts: &DesignOptions) -> Result<FitS
         return Err(Error::Physical(format!(
             "no basis field is valid over the whole target region ({} left out, e.g. {}); shrink the region or pass --keep-invalid",
             basis.excluded.len(),
-            basis.excluded.first().map_or(String::new(), |e| format!("{} ({:?})", e.label, e.reason))
+            basis.excluded.first().map_or(String::new(), |e| format!("{} ({})", e.label, e.reason))
         )));
     }
     let m = basis.columns.len();

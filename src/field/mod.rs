@@ -61,6 +61,20 @@ pub enum Validity {
     OutsideSource,
 }
 
+impl std::fmt::Display for Validity {
+    /// In words, for messages and reports: "valid", "contact lost", "not
+    /// converged", "frozen invalid", "outside source".
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Validity::Ok => "valid",
+            Validity::ContactLost => "contact lost",
+            Validity::NotConverged => "not converged",
+            Validity::FrozenInvalid => "frozen invalid",
+            Validity::OutsideSource => "outside source",
+        })
+    }
+}
+
 /// Everything that determines a field besides the motion.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]

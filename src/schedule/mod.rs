@@ -96,7 +96,7 @@ pub enum ExclusionReason {
 impl std::fmt::Display for ExclusionReason {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            ExclusionReason::Invalid(v) => write!(f, "{v:?}"),
+            ExclusionReason::Invalid(v) => write!(f, "{v}"),
             ExclusionReason::IsotropicCopy {
                 copy_of,
                 rotation_change,
