@@ -554,3 +554,54 @@ fn progress_lines_without_a_terminal_and_none_when_quiet() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Issue 13: `trajectories.svg` is readable: arrows and markers clipped to
+/// the axes, a legend naming the velocity arrows, the part paths, start and
+/// end markers, the rectangle path and its start and end outlines, and the
+/// attractor; the rectangles' outlines are drawn (five-vertex closed paths).
+#[test]
+fn trajectories_svg_has_legend_clipping_and_outlines() {
+    let dir = temp_dir("trajectories");
+    let out = dir.to_str().unwrap();
+    let (code, _, err) = platefield(&[
+        "verify",
+        "results/sink/schedule.json",
+        "--points",
+        "3",
+        "--swarm",
+        "3",
+        "--rect-poses",
+        "1",
+        "--repetitions",
+        "2",
+        "--quiet",
+        "--out",
+        out,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let svg = std::fs::read_to_string(dir.join("sink/verify/trajectories.svg")).unwrap();
+    assert!(svg.contains(r#"<g class="arrows" clip-path="url(#qp-clip)""#));
+    assert!(svg.contains(r#"<g class="markers" clip-path="url(#qp-clip)">"#));
+    assert!(svg.contains(r#"<g class="overlays" clip-path="url(#qp-clip)""#));
+    let legend = &svg[svg.find(r#"<g class="legend""#).expect("a legend")..];
+    for label in [
+        "realised mean velocity",
+        "point part path",
+        "start",
+        "end (converged)",
+        "20 × 5 mm rectangle path",
+        "rectangle start pose",
+        "rectangle end pose",
+        "attractor",
+    ] {
+        assert!(legend.contains(&format!(">{label}</text>")), "{label}");
+    }
+    // Start (dashed) and end outlines of the one rectangle: closed 4-sided paths.
+    let outlines = svg
+        .lines()
+        .filter(|l| l.starts_with("<path d=\"M") && l.matches(" L").count() == 4)
+        .filter(|l| l.contains("#9467bd") || l.contains("#000000"))
+        .count();
+    assert!(outlines >= 2, "{outlines} rectangle outlines");
+    let _ = std::fs::remove_dir_all(&dir);
+}
