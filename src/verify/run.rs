@@ -401,15 +401,30 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest) -> Result<VerifyRe
         Duration::Auto => periods.max((RECT_MIN_AUTO_S / sm.period()).ceil() as u32),
         _ => periods,
     };
-    work_estimate(&schedule, req, periods, rect_periods).check(req.allow_long)?;
+    let work = work_estimate(&schedule, req, periods, rect_periods);
+    work.check(req.allow_long)?;
     let poses = rectangle_poses(&g, req.rectangle_poses);
+    // Progress in thousands of RK4 part steps: each part advances it by
+    // its share of its term of the estimate (realised grid, swarm,
+    // rectangles), so the time left is right when rectangles dominate.
+    let counts = [req.points * req.points, starts.len(), poses.len()];
+    let weights: Vec<u64> = work
+        .terms
+        .iter()
+        .zip(counts)
+        .map(|(t, n)| (t.steps() / n.max(1) as f64 / 1e3).ceil().max(1.0) as u64)
+        .collect();
     let progress = Progress::new(
         "verify",
-        "parts",
-        (req.points * req.points + starts.len() + poses.len()) as u64,
+        "k RK4 steps",
+        weights.iter().zip(counts).map(|(w, n)| w * n as u64).sum(),
         ProgressMode::quiet_if(req.quiet),
     );
-    let tick = || progress.inc(1);
+    let tick_by = |k: usize| {
+        let (p, w) = (&progress, weights[k]);
+        move || p.inc(w)
+    };
+    let tick = tick_by(0);
     progress.set_message("realised grid");
     let v = verify_points_ticked(&sm, &region_points(&g, req.points), &opts, &tick);
     if v.valid == 0 {
@@ -435,7 +450,7 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest) -> Result<VerifyRe
             tol: req.tol,
             strength,
         },
-        &tick,
+        &tick_by(1),
     );
 
     let rect_opts = RectangleOptions {
@@ -455,7 +470,7 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest) -> Result<VerifyRe
         rect_periods,
         attractor.as_ref(),
         &rect_opts,
-        &tick,
+        &tick_by(2),
     );
     progress.finish();
 
