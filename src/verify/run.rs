@@ -347,12 +347,47 @@ pub fn work_estimate(
     };
     let points = (req.points * req.points) as f64;
     let swarm = (req.swarm * req.swarm) as f64;
+    // The prediction at each realised-grid point: the flow of the
+    // time-weighted steady-state field over the measured periods, RK4 with
+    // step doubling (crate::play::measure::flow_mean_velocity), each field
+    // evaluation one steady state per moving segment. Counted at its most
+    // doublings with a typical steady state (crate::work::VELOCITY_CYCLES):
+    // smooth fields (sink: 18 s in all, against 130 s estimated) stop
+    // doubling earlier; a swirling field (the whirlpool's) needs every
+    // doubling and its Circle steady states more cycles, so it takes
+    // longer than estimated.
+    let moving_segments = schedule
+        .segments
+        .iter()
+        .filter(|s| s.primitive.is_some())
+        .count() as f64;
+    let moving_parts = req.model.unwrap_or(schedule.settings.model).moving;
+    let evaluations = if moving_parts {
+        let first = 2 * req.periods.max(1) as usize;
+        let most = first.max(2) / 2 * crate::play::measure::FLOW_MAX_STEPS_PER_PERIOD;
+        let (mut n, mut sum) = (first, first);
+        while n < most {
+            n *= 2;
+            sum += n;
+        }
+        (4 * sum + 1) as f64
+    } else {
+        1.0
+    };
     Estimate::new(
         "schedule",
         "verifying it",
         "a shorter schedule (fewer cycles), --points, --swarm, --repetitions/--duration or --rect-poses",
     )
     .plus(term("realised grid", points, req.warmup + req.periods))
+    .plus(
+        Term::new("prediction (most doublings)")
+            .times(points, "parts")
+            .times(evaluations, "flow evaluations")
+            .times(moving_segments, "segments")
+            .times(crate::work::VELOCITY_CYCLES, "cycles")
+            .times(steps, "steps"),
+    )
     .plus(term("swarm", swarm, swarm_periods))
     .plus(
         term("rectangles", req.rectangle_poses as f64, rect_periods)
@@ -407,13 +442,18 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest) -> Result<VerifyRe
     // Progress in thousands of RK4 part steps: each part advances it by
     // its share of its term of the estimate (realised grid, swarm,
     // rectangles), so the time left is right when rectangles dominate.
-    let counts = [req.points * req.points, starts.len(), poses.len()];
-    let weights: Vec<u64> = work
+    // Terms: realised grid, its prediction (both per grid point), swarm,
+    // rectangles.
+    let grid = req.points * req.points;
+    let counts = [grid, grid, starts.len(), poses.len()];
+    let per_part: Vec<u64> = work
         .terms
         .iter()
         .zip(counts)
         .map(|(t, n)| (t.steps() / n.max(1) as f64 / 1e3).ceil().max(1.0) as u64)
         .collect();
+    let weights = [per_part[0] + per_part[1], per_part[2], per_part[3]];
+    let counts = [grid, starts.len(), poses.len()];
     let progress = Progress::new(
         "verify",
         "k RK4 steps",
