@@ -338,8 +338,8 @@ fn verify_refuses_rest_only_and_lost_contact_schedules() {
 /// Issue 13, work estimates (`platefield::work`): a field of 1001 × 1001
 /// samples at 4096 steps per cycle, a library for a 501 × 501 target grid,
 /// `verify` with its default swarm and rectangles on a sink schedule of
-/// 4 × 20 000 cycles, and an order search on it: each is refused within a
-/// second (exit 2, nothing written), and the message names the subject,
+/// 4 × 20 000 cycles, and an order search on it (on 2 threads): each is
+/// refused within a second (exit 2, nothing written), and the message names the subject,
 /// states the expected time and RK4 steps with its factors, the 10 min
 /// limit, the knobs that make the work smaller, and `--allow-long`.
 #[test]
@@ -397,8 +397,19 @@ fn long_runs_are_refused_at_once_stating_the_estimate() {
         ),
     ] {
         let start = std::time::Instant::now();
-        let (code, stdout, err) = platefield(&args);
+        // Two worker threads, so that the estimates (which divide by the
+        // threads) are the same on any machine.
+        let run = std::process::Command::new(env!("CARGO_BIN_EXE_platefield"))
+            .args(&args)
+            .env("RAYON_NUM_THREADS", "2")
+            .output()
+            .expect("runs");
         let seconds = start.elapsed().as_secs_f64();
+        let (code, stdout, err) = (
+            run.status.code().unwrap_or(-1),
+            String::from_utf8_lossy(&run.stdout).into_owned(),
+            String::from_utf8_lossy(&run.stderr).into_owned(),
+        );
         assert_eq!(code, 2, "{args:?}: {err}");
         assert!(stdout.is_empty(), "{args:?}: {stdout}");
         for needle in [
