@@ -30,6 +30,7 @@
 //! | design | [`design`] | the open-loop pipeline, the closed loop ([`design::closed_loop`]), and `--method` ([`design::method`]): sequence or synthesize, every candidate played against the target, the POOR rule ([`fit::POOR_ERROR`]) and the choice |
 //! | synthesis | [`synth`] | one simultaneous six-signal motion: shaker limits, the averaged-friction seed, refinement by re-simulation |
 //! | play, verify | [`verify`] | a schedule's exact plate trajectory, the rule at the joins, rest in closed form; realised against predicted; where parts end up |
+//! | work | [`work`] | the work estimate (RK4 part steps at a stated rate) every long command makes first, refusing above 10 min unless `--allow-long` |
 //! | studies | [`studies`] | the paper's results reproduced: eq. 17 of section II ([`studies::linesink`]), Table I, the interaction of sequenced primitives, the order study of section V; model rungs and speed against error (the library, [`studies::speed`]; every primitive and field kind, [`studies::engine_speed`]) |
 //!
 //! ## Sequencing: what combines
@@ -74,6 +75,7 @@ pub mod motion;
 pub mod output;
 pub mod play;
 pub mod plot;
+pub mod progress;
 pub mod report;
 pub mod request;
 pub mod scene;
@@ -81,5 +83,6 @@ pub mod schedule;
 pub mod studies;
 pub mod synth;
 pub mod verify;
+pub mod work;
 
 pub use error::{Error, Result};

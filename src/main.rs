@@ -6,7 +6,8 @@ use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
 
-use platefield::cli::{self, Json, Play, Quiet, Steps};
+use platefield::cli::{self, AllowLong, Json, Play, Quiet, Steps};
+use platefield::design::order::OrderRequest;
 use platefield::dynamics::Preset;
 use platefield::studies;
 use platefield::{report, Result};
@@ -54,6 +55,10 @@ enum Command {
         /// Output folder; writes OUT/<target>/verify/order.md.
         #[arg(long, default_value = "results")]
         out: PathBuf,
+        #[command(flatten)]
+        long: AllowLong,
+        #[command(flatten)]
+        quiet: Quiet,
     },
     /// Compute a force or velocity field from a scene JSON file (motion, friction, grid, model).
     Field {
@@ -69,6 +74,8 @@ enum Command {
         json: Json,
         #[command(flatten)]
         quiet: Quiet,
+        #[command(flatten)]
+        long: AllowLong,
     },
     /// Study: steady-state velocity of a point part on the paper's one-axis LineSink shaker (section II).
     Linesink(cli::linesink::LinesinkArgs),
@@ -142,13 +149,19 @@ fn run(cli: Cli) -> Result<String> {
             rest,
             play,
             out,
+            long,
+            quiet,
         } => report::order(
             &schedule,
-            play.points,
-            &rest,
-            play.warmup,
-            play.periods,
-            play.model.map(Preset::model),
+            &OrderRequest {
+                n: play.points,
+                rest_cycles: rest,
+                warmup: play.warmup,
+                periods: play.periods,
+                model: play.model.map(Preset::model),
+                allow_long: long.allow_long,
+                quiet: quiet.quiet,
+            },
             &out,
         ),
         Command::Field {
@@ -157,12 +170,14 @@ fn run(cli: Cli) -> Result<String> {
             svg,
             json,
             quiet,
+            long,
         } => cli::field::run(
             &scene,
             json.json,
             out.as_deref(),
             svg.as_deref(),
             quiet.quiet,
+            long.allow_long,
         ),
         Command::Linesink(args) => args.run(),
         Command::Reproduce(o) => studies::reproduce::linesink_results(&o.out),

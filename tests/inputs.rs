@@ -1,4 +1,4 @@
-//! Property test (issues 10 and 13): valid scene and target files, mutated
+//! Property test (issues 10 and 13): valid scene, target and schedule files, mutated
 //! (deleted keys, misspelt keys, wrong types, NaN, ±1e308, negatives, empty
 //! arrays, huge counts), go through the library's load-and-validate path
 //! without a panic, and every error names a JSON path under `scene` or
@@ -9,8 +9,10 @@ use std::path::Path;
 use proptest::prelude::*;
 use serde_json::Value;
 
+use platefield::play::ScheduleMotion;
 use platefield::request::{examples, Target};
 use platefield::scene::Scene;
+use platefield::schedule::Schedule;
 use platefield::Error;
 
 /// The shipped scenes and the target examples, as JSON values.
@@ -83,9 +85,18 @@ const NAN: &str = "\"@NaN@\"";
 const INF: &str = "\"@-Infinity@\"";
 
 /// Applies mutation `kind` at location `which` of `v`; returns the text.
-fn mutate(mut v: Value, which: usize, kind: u8) -> String {
+fn mutate(v: Value, which: usize, kind: u8) -> String {
+    mutate_under(v, which, kind, &[])
+}
+
+/// [`mutate`] at a location under one of the top-level keys `under` (any
+/// location when `under` is empty).
+fn mutate_under(mut v: Value, which: usize, kind: u8, under: &[&str]) -> String {
     let mut all = Vec::new();
     locations(&v, &mut Vec::new(), &mut all);
+    if !under.is_empty() {
+        all.retain(|p| matches!(p.first(), Some(Step::Key(k)) if under.contains(&k.as_str())));
+    }
     let path = all[which % all.len()].clone();
     let (parent, last) = match path.split_last() {
         Some((last, parent)) => (parent.to_vec(), Some(last.clone())),
@@ -118,6 +129,32 @@ fn mutate(mut v: Value, which: usize, kind: u8) -> String {
     v.to_string().replace(NAN, "NaN").replace(INF, "-Infinity")
 }
 
+/// The shipped schedules (`results/*/schedule.json`), as JSON values.
+fn schedules() -> Vec<Value> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("results");
+    let mut out: Vec<Value> = std::fs::read_dir(dir)
+        .unwrap()
+        .filter_map(|e| {
+            let file = e.unwrap().path().join("schedule.json");
+            let text = std::fs::read_to_string(file).ok()?;
+            Some(serde_json::from_str(&text).unwrap())
+        })
+        .collect();
+    assert!(out.len() >= 5, "the shipped schedules");
+    // A rest segment, so that rest durations are mutated too.
+    let mut with_rest = out[0].clone();
+    with_rest["segments"].as_array_mut().unwrap().push(
+        serde_json::json!({"label": "Rest", "primitive": null, "weight": 0.0,
+            "cycles": 0, "duration_s": 0.05}),
+    );
+    out.push(with_rest);
+    out
+}
+
+/// The top-level keys of a schedule whose values are played or checked
+/// (half of the mutations go there; the rest anywhere, mostly the basis).
+const SCHEDULE_KEYS: [&str; 4] = ["segments", "settings", "target_spec", "total_cycles"];
+
 /// An error message with a number of more than 20 digits.
 fn has_long_number(s: &str) -> bool {
     s.split(|c: char| !c.is_ascii_digit())
@@ -135,6 +172,39 @@ proptest! {
             Ok(scene) => prop_assert!(scene.validate().is_ok()),
             Err(Error::Invalid { field, message }) => {
                 prop_assert!(field.starts_with("scene"), "{field}: {message}\n{text}");
+                prop_assert!(!has_long_number(&message), "{field}: {message}");
+            }
+            Err(other) => prop_assert!(false, "unlocated error {other}\n{text}"),
+        }
+    }
+
+    /// Issue 13: mutated schedule files through the one loader
+    /// ([`Schedule::from_json_str`]: serde with unknown keys rejected,
+    /// validate, derive) and then the player every command builds
+    /// ([`ScheduleMotion::from_schedule`]): never a panic; every error is
+    /// located: the origin (file name) and then a JSON path, short numbers.
+    #[test]
+    fn mutated_schedules_load_or_name_a_path(base in 0usize..16, which in 0usize..10_000, kind in 0u8..12, focus in 0u8..2) {
+        let all = schedules();
+        let under: &[&str] = if focus == 1 { &SCHEDULE_KEYS } else { &[] };
+        let text = mutate_under(all[base % all.len()].clone(), which, kind, under);
+        let checked = Schedule::from_json_str(&text, "s.json")
+            .and_then(|s| ScheduleMotion::from_schedule(&s).map(|_| s));
+        match checked {
+            Ok(s) => {
+                prop_assert!(s.validate().is_ok());
+                prop_assert!(s.period_s.is_finite() && s.period_s > 0.0, "period {}", s.period_s);
+            }
+            Err(Error::Invalid { field, message }) => {
+                // The loader prefixes the origin; the player names "schedule.…".
+                let path = field
+                    .strip_prefix("s.json: ")
+                    .or_else(|| field.strip_prefix("schedule."))
+                    .unwrap_or("");
+                let located = ["segments", "settings", "target", "fit", "basis", "solver",
+                    "schedule", "total_cycles", "period_s", "min_cycles", "quantization_error",
+                    "poor_fit"].iter().any(|k| path.starts_with(k));
+                prop_assert!(located, "unlocated: {field}: {message}\n{text}");
                 prop_assert!(!has_long_number(&message), "{field}: {message}");
             }
             Err(other) => prop_assert!(false, "unlocated error {other}\n{text}"),

@@ -60,6 +60,18 @@ pub enum CacheStatus {
     },
 }
 
+impl std::fmt::Display for CacheStatus {
+    /// In words, for the printed summary: "cache hit", "built and cached",
+    /// "rebuilt (REASON)".
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            CacheStatus::Hit => write!(f, "cache hit"),
+            CacheStatus::Built => write!(f, "built and cached"),
+            CacheStatus::Rebuilt { reason } => write!(f, "rebuilt ({reason})"),
+        }
+    }
+}
+
 /// A folder of cached libraries.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct BasisCache {
@@ -245,6 +257,21 @@ impl BasisCache {
         kind: FieldKind,
         quiet: bool,
     ) -> Result<(FieldLibrary, CacheStatus)> {
+        self.get_or_build_checked(primitives, grid, settings, kind, quiet, || Ok(()))
+    }
+
+    /// [`BasisCache::get_or_build`], calling `before_build` (e.g. a work
+    /// estimate's check) only when the library must be built, and
+    /// returning its error without building.
+    pub fn get_or_build_checked(
+        &self,
+        primitives: &[Primitive],
+        grid: &Grid,
+        settings: &FieldSettings,
+        kind: FieldKind,
+        quiet: bool,
+        before_build: impl FnOnce() -> Result<()>,
+    ) -> Result<(FieldLibrary, CacheStatus)> {
         grid.validate("grid")?;
         settings.friction.validate("settings.friction")?;
         settings.numerics.validate("settings.numerics")?;
@@ -278,6 +305,7 @@ impl BasisCache {
             Err(Miss::Absent) => CacheStatus::Built,
             Err(Miss::Bad(reason)) => CacheStatus::Rebuilt { reason },
         };
+        before_build()?;
         std::fs::create_dir_all(&self.dir).map_err(|e| Error::Io {
             path: self.dir.display().to_string(),
             source: e,

@@ -3,13 +3,11 @@
 //! force fields, which were a third of a cold design's time), [`Library`]
 //! both kinds (what `platefield primitives` reports).
 
-use std::io::IsTerminal;
-
-use indicatif::{ProgressBar, ProgressStyle};
 use serde::{Deserialize, Serialize};
 
 use super::primitives::{Primitive, PrimitiveKind};
 use crate::field::{Field, FieldKind, FieldSettings, Grid};
+use crate::progress::{Progress, ProgressMode};
 
 /// One primitive with its fields.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -53,19 +51,28 @@ impl FieldLibrary {
         kind: FieldKind,
         quiet: bool,
     ) -> FieldLibrary {
-        let bar = progress_bar((primitives.len() * grid.len()) as u64, quiet);
+        let label = match kind {
+            FieldKind::Force => "force library",
+            FieldKind::Velocity => "velocity library",
+        };
+        let progress = Progress::new(
+            label,
+            "samples",
+            (primitives.len() * grid.len()) as u64,
+            ProgressMode::quiet_if(quiet),
+        );
         let entries = primitives
             .iter()
             .map(|p| {
-                bar.set_message(p.kind.name());
-                let tick = || bar.inc(1);
+                progress.set_message(p.kind.name());
+                let tick = || progress.inc(1);
                 FieldEntry {
                     primitive: p.clone(),
                     field: Field::compute(&p.motion(), grid, kind, settings, &tick),
                 }
             })
             .collect();
-        bar.finish_and_clear();
+        progress.finish();
         FieldLibrary {
             grid: *grid,
             settings: *settings,
@@ -84,20 +91,6 @@ pub struct Library {
     pub settings: FieldSettings,
     /// The entries, in the order requested.
     pub entries: Vec<LibraryEntry>,
-}
-
-/// A progress bar over `total` field samples, drawn only on a terminal.
-pub fn progress_bar(total: u64, quiet: bool) -> ProgressBar {
-    if quiet || !std::io::stderr().is_terminal() {
-        return ProgressBar::hidden();
-    }
-    let bar = ProgressBar::new(total);
-    if let Ok(style) =
-        ProgressStyle::with_template("{msg:>14} [{bar:40}] {pos}/{len} samples ({eta})")
-    {
-        bar.set_style(style.progress_chars("=> "));
-    }
-    bar
 }
 
 impl Library {

@@ -115,9 +115,12 @@ pub struct DesignArgs {
     /// Print the schedule JSON to stdout.
     #[arg(long)]
     pub json: bool,
-    /// No progress bar.
+    /// No progress output.
     #[arg(long)]
     pub quiet: bool,
+    /// Build the library even when the work estimate exceeds the limit (10 min at the stated rate; see `platefield::work`).
+    #[arg(long)]
+    pub allow_long: bool,
     /// Do not read or write the basis cache (.platefield-cache/).
     #[arg(long)]
     pub no_cache: bool,
@@ -178,6 +181,7 @@ impl DesignArgs {
             kinds: (self.primitives.clone()).unwrap_or_else(|| PrimitiveKind::ALL.to_vec()),
             cache_dir: (!self.no_cache).then(|| PathBuf::from(".platefield-cache")),
             quiet: self.quiet,
+            allow_long: self.allow_long,
             order_search: self.order_search,
             ..DesignOptions::default()
         })

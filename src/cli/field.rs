@@ -5,6 +5,7 @@ use std::path::Path;
 
 use crate::output::write_atomic;
 use crate::scene::Scene;
+use crate::work::Estimate;
 use crate::{Error, Result};
 
 /// Computes the field of the scene at `scene_path`, writes it as JSON to `out`
@@ -16,8 +17,23 @@ pub fn run(
     out: Option<&Path>,
     svg: Option<&Path>,
     quiet: bool,
+    allow_long: bool,
 ) -> Result<String> {
     let scene = Scene::load(scene_path)?;
+    Estimate::new(
+        "scene",
+        "computing the field",
+        "a smaller scene.grid.n, scene.numerics.steps_per_cycle or (force fields) scene.phases",
+    )
+    .plus(crate::work::field_term(
+        "field",
+        1.0,
+        "field",
+        scene.grid.len() as f64,
+        scene.kind,
+        &scene.settings(),
+    ))
+    .check(allow_long)?;
     let start = std::time::Instant::now();
     let field = scene.compute(quiet).map_err(|e| match e {
         Error::Physical(m) => Error::Physical(format!("{}: {m}", scene_path.display())),

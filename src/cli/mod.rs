@@ -44,6 +44,14 @@ pub struct Quiet {
     pub quiet: bool,
 }
 
+/// `--allow-long`.
+#[derive(Args)]
+pub struct AllowLong {
+    /// Run even when the work estimate exceeds the limit (10 min at the stated rate; see `platefield::work`).
+    #[arg(long)]
+    pub allow_long: bool,
+}
+
 /// Integrator resolution.
 #[derive(Args)]
 pub struct Steps {

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::Play;
+use super::{AllowLong, Play, Quiet};
 use crate::dynamics::Preset;
 use crate::verify::{Duration, VerifyRequest};
 use crate::{report, Error, Result};
@@ -41,6 +41,12 @@ pub struct VerifyArgs {
     /// Print the summary JSON on stdout.
     #[arg(long)]
     pub json: bool,
+    #[command(flatten)]
+    #[allow(missing_docs)]
+    pub long: AllowLong,
+    #[command(flatten)]
+    #[allow(missing_docs)]
+    pub quiet: Quiet,
 }
 
 /// `--rect LENGTHxWIDTH` (metres).
@@ -81,6 +87,8 @@ impl VerifyArgs {
             tol: self.tol,
             rectangle: rect_size(&self.rect)?,
             rectangle_poses: self.rect_poses,
+            allow_long: self.long.allow_long,
+            quiet: self.quiet.quiet,
         })
     }
 

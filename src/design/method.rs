@@ -212,7 +212,10 @@ pub fn design_by_method(
                 out.candidates.push(c);
                 out.sequence = Some(d);
             }
-            Err(e) if method == Method::Auto => {
+            // Bad input or a refused long run (exit 2) ends `auto` too: only
+            // a design that is physically impossible or did not converge
+            // hands over to the synthesis.
+            Err(e) if method == Method::Auto && !matches!(e, Error::Invalid { .. }) => {
                 out.failures.push((Method::Sequence, e.to_string()));
                 first_error = Some(e);
             }

@@ -69,8 +69,11 @@ pub struct DesignOptions {
     pub settings: FieldSettings,
     /// Basis cache folder (`None`: no cache).
     pub cache_dir: Option<PathBuf>,
-    /// No progress bar.
+    /// No progress output.
     pub quiet: bool,
+    /// Build the library even when its work estimate exceeds
+    /// [`crate::work::LIMIT_S`].
+    pub allow_long: bool,
     /// After scheduling, search the segment order and rest insertions that
     /// best realise the prediction ([`order`]) and play the
     /// schedule in that order.
@@ -93,6 +96,7 @@ impl Default for DesignOptions {
             settings: FieldSettings::default(),
             cache_dir: Some(PathBuf::from(".platefield-cache")),
             quiet: false,
+            allow_long: false,
             order_search: false,
         }
     }

@@ -68,7 +68,9 @@ use crate::dynamics::Model;
 use crate::error::{Error, Result};
 use crate::play::measure::{grid_points, verify_points, PlayOptions};
 use crate::play::{periods_for, PlayedSegment, ScheduleMotion};
+use crate::progress::{Progress, ProgressMode};
 use crate::schedule::{Schedule, Segment};
+use crate::work::{Estimate, Term};
 
 /// Segments up to which every order (up to rotation) is tried.
 pub const EXHAUSTIVE_MAX: usize = 4;
@@ -101,6 +103,8 @@ pub struct OrderOptions {
     /// Errors within this (absolute) of the smallest count as ties, which
     /// go to the candidate with less rest.
     pub tie_tolerance: f64,
+    /// Progress display of the search (default: quiet).
+    pub progress: ProgressMode,
 }
 
 impl OrderOptions {
@@ -114,6 +118,7 @@ impl OrderOptions {
             exhaustive_max: EXHAUSTIVE_MAX,
             max_evaluations: DEFAULT_MAX_EVALUATIONS,
             tie_tolerance: DEFAULT_TIE_TOLERANCE,
+            progress: ProgressMode::Quiet,
         }
     }
 }
@@ -435,8 +440,23 @@ pub fn search_orders(segments: &[PlayedSegment], opts: &OrderOptions) -> Result<
     let n = segments.len();
     let mut candidates = Vec::new();
     let method;
+    let orders = if n <= opts.exhaustive_max {
+        orders_up_to_rotation(n, first)
+    } else {
+        Vec::new()
+    };
+    let total = if n <= opts.exhaustive_max {
+        orders.len() * rests.len()
+    } else {
+        opts.max_evaluations.max(1) + rests.len() - 1
+    };
+    let progress = Progress::new("order search", "candidates", total as u64, opts.progress);
+    let evaluate = |o: &[usize], k: u32| {
+        let c = evaluate(segments, o, k, t_rest, opts);
+        progress.inc(1);
+        c
+    };
     if n <= opts.exhaustive_max {
-        let orders = orders_up_to_rotation(n, first);
         method = format!(
             "exhaustive: all {} orders of {n} segments up to rotation ({} first), × rest {:?} cycles at every join",
             orders.len(),
@@ -445,13 +465,13 @@ pub fn search_orders(segments: &[PlayedSegment], opts: &OrderOptions) -> Result<
         );
         for o in &orders {
             for &k in &rests {
-                candidates.push(evaluate(segments, o, k, t_rest, opts)?);
+                candidates.push(evaluate(o, k)?);
             }
         }
     } else {
         let k0 = rests[0];
         let mut current: Vec<usize> = (first..n).chain(0..first).collect();
-        candidates.push(evaluate(segments, &current, k0, t_rest, opts)?);
+        candidates.push(evaluate(&current, k0)?);
         let mut current_err = key(&candidates[0]);
         let mut seen = vec![current.clone()];
         'descent: loop {
@@ -467,7 +487,7 @@ pub fn search_orders(segments: &[PlayedSegment], opts: &OrderOptions) -> Result<
                         continue;
                     }
                     seen.push(o.clone());
-                    let c = evaluate(segments, &o, k0, t_rest, opts)?;
+                    let c = evaluate(&o, k0)?;
                     let e = key(&c);
                     candidates.push(c);
                     if step.as_ref().is_none_or(|s| e < s.1) {
@@ -489,7 +509,7 @@ pub fn search_orders(segments: &[PlayedSegment], opts: &OrderOptions) -> Result<
             .min_by(|a, b| key(a).total_cmp(&key(b)))
             .map_or(current, |c| c.order.clone());
         for &k in &rests[1..] {
-            candidates.push(evaluate(segments, &best_order, k, t_rest, opts)?);
+            candidates.push(evaluate(&best_order, k)?);
         }
         method = format!(
             "heuristic ({n} segments > {}): steepest descent over pairwise swaps from the given order ({} first), rest {k0} cycles, {} orders evaluated (budget {}); then rest {:?} cycles on the best order",
@@ -500,6 +520,7 @@ pub fn search_orders(segments: &[PlayedSegment], opts: &OrderOptions) -> Result<
             &rests[1..]
         );
     }
+    progress.finish();
     let best = choose(&candidates, opts.tie_tolerance).ok_or_else(|| {
         Error::Physical(
             "order search: no candidate has a valid point (parts leave the plate everywhere)"
@@ -576,19 +597,78 @@ pub fn choose_order(schedule: &Schedule, opts: &OrderOptions) -> Result<(Schedul
     Ok((out, search))
 }
 
+/// What `platefield order` is asked to do.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OrderRequest {
+    /// Points per side of the grid over ±3 cm.
+    pub n: usize,
+    /// Rest cycles tried at every join.
+    pub rest_cycles: Vec<u32>,
+    /// Warm-up periods (a minimum).
+    pub warmup: u32,
+    /// Measured periods (a minimum).
+    pub periods: u32,
+    /// Model override (default: the schedule's own).
+    pub model: Option<Model>,
+    /// Run even when the work estimate exceeds [`crate::work::LIMIT_S`].
+    pub allow_long: bool,
+    /// No progress output.
+    pub quiet: bool,
+}
+
+/// The work of an order search of `schedule` with `opts`
+/// ([`crate::work`]): candidates × parts × periods (warm-up, at least
+/// `warmup_cycles` primitive cycles, and measured) × cycles per period
+/// (with the most rest inserted at every join) × steps.
+pub fn work_estimate(schedule: &Schedule, opts: &OrderOptions) -> Estimate {
+    let moving = schedule.segments.iter().filter(|s| s.cycles > 0).count();
+    let rests = {
+        let mut r = opts.rest_cycles.clone();
+        r.sort_unstable();
+        r.dedup();
+        r.len().max(1)
+    };
+    let candidates = if moving <= opts.exhaustive_max {
+        (1..moving).product::<usize>() * rests
+    } else {
+        opts.max_evaluations.max(1) + rests - 1
+    };
+    let max_rest = opts.rest_cycles.iter().copied().max().unwrap_or(0);
+    let cycles = f64::from(schedule.total_cycles) + (f64::from(max_rest) * moving as f64);
+    let warmup = f64::from(opts.verify.warmup_periods)
+        .max((f64::from(opts.warmup_cycles) / cycles.max(1.0)).ceil());
+    let periods = warmup + f64::from(opts.verify.periods.max(1));
+    Estimate::new(
+        "schedule",
+        "searching the segment order",
+        "fewer segments, --points, --rest, --warmup or --periods",
+    )
+    .plus(
+        Term::new("order search")
+            .times(candidates as f64, "candidates")
+            .times(opts.points.len() as f64, "parts")
+            .times(periods, "periods")
+            .times(cycles, "cycles")
+            .times(opts.verify.numerics.steps_per_cycle as f64, "steps"),
+    )
+}
+
 /// `platefield order`: searches the orders and rest insertions of the
 /// schedule at `path` on `n × n` points over ±3 cm with the schedule's own
 /// physics (the model overridden by `model` when given; `warmup` and
 /// `periods` are minimums); returns the schedule and the search (written
-/// by `crate::report::order`).
-pub fn order_schedule_file(
-    path: &Path,
-    n: usize,
-    rest_cycles: &[u32],
-    warmup: u32,
-    periods: u32,
-    model: Option<Model>,
-) -> Result<(Schedule, OrderSearch)> {
+/// by `crate::report::order`). The work is estimated first and refused
+/// above [`crate::work::LIMIT_S`] unless `allow_long`.
+pub fn order_schedule_file(path: &Path, req: &OrderRequest) -> Result<(Schedule, OrderSearch)> {
+    let OrderRequest {
+        n,
+        ref rest_cycles,
+        warmup,
+        periods,
+        model,
+        allow_long,
+        quiet: _,
+    } = *req;
     if !(1..=41).contains(&n) {
         return Err(Error::invalid(
             "--points",
@@ -626,8 +706,10 @@ pub fn order_schedule_file(
     }
     let opts = OrderOptions {
         rest_cycles: rest_cycles.to_vec(),
+        progress: ProgressMode::quiet_if(req.quiet),
         ..OrderOptions::new(verify, grid_points(n, 0.03))
     };
+    work_estimate(&schedule, &opts).check(allow_long)?;
     let (_, search) = choose_order(&schedule, &opts)?;
     Ok((schedule, search))
 }

@@ -14,7 +14,7 @@ use super::{COMPACT_SLACK, ORDER_SEARCH_POINTS};
 use crate::basis::cache::BasisCache;
 use crate::basis::{symmetry, FieldLibrary, Primitive, PrimitiveKind};
 use crate::error::{Error, Result};
-use crate::field::Grid;
+use crate::field::{FieldKind, Grid};
 use crate::fit::{self, FitMetrics, FitMode, FitOptions, FitProblem, FitSolution};
 use crate::play::PlayOptions;
 use crate::request::{SampledTarget, Target};
@@ -23,6 +23,7 @@ use crate::schedule::{
 };
 use crate::synth::params::AXIS_NAMES;
 use crate::synth::ShakerLimits;
+use crate::work::Estimate;
 
 /// What [`basis_stage`] produces.
 pub(crate) struct BasisStage {
@@ -70,22 +71,27 @@ pub(crate) fn basis_stage(target: &Target, opts: &DesignOptions) -> Result<Basis
     let source = symmetry::source_grid(&region, &angles_rad, &opts.shifts);
     let primitives: Vec<Primitive> = opts.kinds.iter().map(|k| Primitive::new(*k)).collect();
 
+    let estimate = library_estimate(primitives.len(), &source, opts);
+    let check = || estimate.check(opts.allow_long);
     let t_basis = Instant::now();
     let (library, cache_status) = match &opts.cache_dir {
         Some(dir) => {
-            let (lib, status) = BasisCache::new(dir).get_or_build(
+            let (lib, status) = BasisCache::new(dir).get_or_build_checked(
                 &primitives,
                 &source,
                 &opts.settings,
                 opts.kind,
                 opts.quiet,
+                check,
             )?;
-            (lib, format!("{status:?}"))
+            (lib, status.to_string())
         }
-        None => (
-            FieldLibrary::build(&primitives, &source, &opts.settings, opts.kind, opts.quiet),
-            "no cache".to_string(),
-        ),
+        None => {
+            check()?;
+            let lib =
+                FieldLibrary::build(&primitives, &source, &opts.settings, opts.kind, opts.quiet);
+            (lib, "no cache".to_string())
+        }
     };
     Ok(BasisStage {
         sampled,
@@ -99,6 +105,28 @@ pub(crate) fn basis_stage(target: &Target, opts: &DesignOptions) -> Result<Basis
             .as_ref()
             .map(|s| ShakerLimits::from_spec(Some(s))),
     })
+}
+
+/// The work of building the design's library of `primitives` on `source`
+/// ([`crate::work`]).
+pub(crate) fn library_estimate(primitives: usize, source: &Grid, opts: &DesignOptions) -> Estimate {
+    let what = match opts.kind {
+        FieldKind::Force => "building the force library",
+        FieldKind::Velocity => "building the velocity library",
+    };
+    Estimate::new(
+        "target",
+        what,
+        "a smaller target region or grid n, a larger --rotation-step, fewer --shift or --primitives",
+    )
+    .plus(crate::work::field_term(
+        "library",
+        primitives as f64,
+        "primitives",
+        source.len() as f64,
+        opts.kind,
+        &opts.settings,
+    ))
 }
 
 /// What [`fit_stage`] produces.
@@ -446,7 +474,11 @@ pub(crate) fn order_stage(
         .collect();
     let points = order::region_grid(&region, ORDER_SEARCH_POINTS);
     let verify = PlayOptions::from_settings(&opts.settings);
-    let (reordered, search) = choose_order(&schedule, &OrderOptions::new(verify, points))?;
+    let order_opts = OrderOptions {
+        progress: crate::progress::ProgressMode::quiet_if(opts.quiet),
+        ..OrderOptions::new(verify, points)
+    };
+    let (reordered, search) = choose_order(&schedule, &order_opts)?;
     Ok((reordered, Some(search)))
 }
 

@@ -230,7 +230,8 @@ impl Friction {
                 format!("{field}.static"),
                 format!(
                     "must be ≥ the kinetic coefficient {} (got {})",
-                    self.kinetic, self.stat
+                    crate::input::num(self.kinetic),
+                    crate::input::num(self.stat)
                 ),
             ));
         }
@@ -303,11 +304,12 @@ impl Numerics {
         for (name, v) in [
             ("event_tol", self.event_tol),
             ("steady_tol", self.steady_tol),
+            ("steady_accept", self.steady_accept),
         ] {
             if !(v > 0.0 && v < 1.0) {
                 return Err(Error::invalid(
                     format!("{field}.{name}"),
-                    format!("must be in (0, 1), got {v}"),
+                    format!("must be in (0, 1), got {}", crate::input::num(v)),
                 ));
             }
         }

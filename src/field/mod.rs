@@ -65,6 +65,21 @@ pub enum Validity {
     NonFinite,
 }
 
+impl std::fmt::Display for Validity {
+    /// In words, for messages and reports: "valid", "contact lost", "not
+    /// converged", "frozen invalid", "outside source", "non-finite".
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Validity::Ok => "valid",
+            Validity::ContactLost => "contact lost",
+            Validity::NotConverged => "not converged",
+            Validity::FrozenInvalid => "frozen invalid",
+            Validity::OutsideSource => "outside source",
+            Validity::NonFinite => "non-finite",
+        })
+    }
+}
+
 /// Everything that determines a field besides the motion.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]

@@ -305,12 +305,23 @@ pub fn play_points(
     opts: &PlayOptions,
     windows: Windows,
 ) -> Vec<PointPlay> {
+    play_points_ticked(sm, points, opts, windows, &|| ())
+}
+
+/// [`play_points`], calling `tick` after each point is played (progress).
+pub fn play_points_ticked(
+    sm: &ScheduleMotion,
+    points: &[[f64; 2]],
+    opts: &PlayOptions,
+    windows: Windows,
+    tick: &(dyn Fn() + Sync),
+) -> Vec<PointPlay> {
     points
         .par_iter()
         .enumerate()
         .map(|(i, p)| {
             let player = opts.player(sm);
-            play_point(
+            let played = play_point(
                 sm,
                 &player,
                 i,
@@ -318,7 +329,9 @@ pub fn play_points(
                 opts.warmup_periods,
                 opts.periods.max(1),
                 windows,
-            )
+            );
+            tick();
+            played
         })
         .collect()
 }
@@ -477,7 +490,17 @@ pub fn verify_points(
     points: &[[f64; 2]],
     opts: &PlayOptions,
 ) -> RealisedField {
-    let results: Vec<PointResult> = play_points(sm, points, opts, Windows::First)
+    verify_points_ticked(sm, points, opts, &|| ())
+}
+
+/// [`verify_points`], calling `tick` after each point is played (progress).
+pub fn verify_points_ticked(
+    sm: &ScheduleMotion,
+    points: &[[f64; 2]],
+    opts: &PlayOptions,
+    tick: &(dyn Fn() + Sync),
+) -> RealisedField {
+    let results: Vec<PointResult> = play_points_ticked(sm, points, opts, Windows::First, tick)
         .into_par_iter()
         .map(|play| compare(sm, &opts.player(sm), play))
         .collect();

@@ -36,8 +36,8 @@ mod ticks;
 pub use line::{LegendPosition, LinePlot, LineStyle, Series};
 pub use panels::{Panel, Panels};
 pub use quiver::{
-    estimate_spacing, Marker, MarkerShape, Overlay, Pivot, QuiverLayout, QuiverPlot, ARROW_COLOR,
-    AUTO_ARROW_FRACTION,
+    estimate_spacing, LegendEntry, LegendSymbol, Marker, MarkerShape, Overlay, Pivot, QuiverLayout,
+    QuiverPlot, ARROW_COLOR, AUTO_ARROW_FRACTION, LEGEND_WIDTH,
 };
 pub use svg::{escape, fmt_sig, num, write_atomic, COORD_DECIMALS, INVALID_COLOR, PALETTE};
 pub use ticks::{log_ticks, nice_range, nice_ticks, NiceStep, Ticks};

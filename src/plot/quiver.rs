@@ -161,7 +161,56 @@ pub struct QuiverPlot {
     pub width: f64,
     /// Image height in px (default 460).
     pub height: f64,
+    /// Clip the arrows and markers to the axes frame, as overlays always
+    /// are (default: no, so existing plots render byte for byte as before).
+    pub clip: bool,
+    /// Legend entries, drawn in a column right of the axes (empty: none).
+    pub legend: Vec<LegendEntry>,
 }
+
+/// The symbol of a [`LegendEntry`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LegendSymbol {
+    /// An arrow (the plot's vectors).
+    Arrow,
+    /// A solid line (an [`Overlay`]).
+    Line,
+    /// A dashed line (a dashed [`Overlay`]).
+    Dashed,
+    /// A small rectangle outline.
+    Outline,
+    /// A dashed rectangle outline.
+    DashedOutline,
+    /// A [`Marker`] of this shape.
+    Marker(MarkerShape),
+    /// A × (an invalid sample).
+    Cross,
+}
+
+/// One legend entry: a symbol in a colour and its label.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LegendEntry {
+    /// Text.
+    pub label: String,
+    /// CSS colour of the symbol.
+    pub color: String,
+    /// Symbol.
+    pub symbol: LegendSymbol,
+}
+
+impl LegendEntry {
+    /// An entry `label` drawn as `symbol` in `color`.
+    pub fn new(label: impl Into<String>, color: impl Into<String>, symbol: LegendSymbol) -> Self {
+        LegendEntry {
+            label: label.into(),
+            color: color.into(),
+            symbol,
+        }
+    }
+}
+
+/// Width (px) reserved right of the axes for a legend.
+pub const LEGEND_WIDTH: f64 = 220.0;
 
 /// Pixel layout of a quiver plot.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -266,7 +315,22 @@ impl QuiverPlot {
             y_range: None,
             width: 420.0,
             height: 460.0,
+            clip: false,
+            legend: Vec::new(),
         }
+    }
+
+    /// Clips the arrows and markers to the axes frame.
+    pub fn clip(mut self) -> Self {
+        self.clip = true;
+        self
+    }
+
+    /// Adds a legend entry (the legend takes [`LEGEND_WIDTH`] px right of
+    /// the axes).
+    pub fn legend(mut self, entry: LegendEntry) -> Self {
+        self.legend.push(entry);
+        self
     }
 
     /// Sets the per-point invalid flags.
@@ -395,7 +459,14 @@ impl QuiverPlot {
         let bottom_margin = if self.caption.is_some() { 62.0 } else { 44.0 };
         let (left, right) = (
             MARGIN_LEFT,
-            (self.width - MARGIN_RIGHT).max(MARGIN_LEFT + 10.0),
+            (self.width
+                - MARGIN_RIGHT
+                - if self.legend.is_empty() {
+                    0.0
+                } else {
+                    LEGEND_WIDTH
+                })
+            .max(MARGIN_LEFT + 10.0),
         );
         let bottom = (self.height - bottom_margin).max(top + 10.0);
         let (aw, ah) = (right - left, bottom - top);
@@ -457,9 +528,14 @@ impl QuiverPlot {
         let scale = scale.unwrap_or_else(|| self.arrow_scale());
         let n = self.points.len();
         let color = svg::escape(&self.color);
+        let clip_attr = if self.clip {
+            format!(r#" clip-path="url(#{clip})""#)
+        } else {
+            String::new()
+        };
         let _ = writeln!(
             out,
-            r#"<g class="arrows" stroke="{color}" fill="none" stroke-width="1.2" stroke-linecap="round" stroke-linejoin="round">"#
+            r#"<g class="arrows"{clip_attr} stroke="{color}" fill="none" stroke-width="1.2" stroke-linecap="round" stroke-linejoin="round">"#
         );
         let mut crosses = Vec::new();
         for i in 0..n {
@@ -570,7 +646,7 @@ impl QuiverPlot {
         }
 
         if !self.markers.is_empty() {
-            let _ = writeln!(out, r#"<g class="markers">"#);
+            let _ = writeln!(out, r#"<g class="markers"{clip_attr}>"#);
             for m in self.markers.iter().filter(|m| finite2(m.pos)) {
                 render_marker(out, m, lay.map(m.pos));
             }
@@ -579,6 +655,83 @@ impl QuiverPlot {
 
         if let Some(c) = &self.caption {
             svg::text(out, (fl + fr) / 2.0, self.height - 12.0, "middle", "", c);
+        }
+        self.render_legend(out, fr + 18.0, ft + 6.0);
+        let _ = writeln!(out, "</g>");
+    }
+
+    /// The legend column: one row of symbol and label per entry, from
+    /// (`x`, `y`) down.
+    fn render_legend(&self, out: &mut String, x: f64, y: f64) {
+        if self.legend.is_empty() {
+            return;
+        }
+        let _ = writeln!(out, r#"<g class="legend" font-size="12">"#);
+        for (i, e) in self.legend.iter().enumerate() {
+            let cy = y + 10.0 + 20.0 * i as f64;
+            let color = svg::escape(&e.color);
+            let (x0, x1) = (x, x + 24.0);
+            let line = |out: &mut String, dash: &str| {
+                let _ = writeln!(
+                    out,
+                    r#"<path d="M{} {} L{} {}" stroke="{color}" stroke-width="1.5" fill="none"{dash}/>"#,
+                    num(x0),
+                    num(cy),
+                    num(x1),
+                    num(cy)
+                );
+            };
+            let outline = |out: &mut String, dash: &str| {
+                let _ = writeln!(
+                    out,
+                    r#"<rect x="{}" y="{}" width="20" height="7" stroke="{color}" stroke-width="1.5" fill="none"{dash}/>"#,
+                    num(x0 + 2.0),
+                    num(cy - 3.5)
+                );
+            };
+            const DASH: &str = r#" stroke-dasharray="5 3""#;
+            match e.symbol {
+                LegendSymbol::Line => line(out, ""),
+                LegendSymbol::Dashed => line(out, DASH),
+                LegendSymbol::Outline => outline(out, ""),
+                LegendSymbol::DashedOutline => outline(out, DASH),
+                LegendSymbol::Arrow => {
+                    let _ = writeln!(
+                        out,
+                        r#"<path d="M{} {} L{} {} M{} {} L{} {} L{} {}" stroke="{color}" stroke-width="1.2" fill="none" stroke-linecap="round"/>"#,
+                        num(x0),
+                        num(cy),
+                        num(x1),
+                        num(cy),
+                        num(x1 - 6.0),
+                        num(cy - 3.0),
+                        num(x1),
+                        num(cy),
+                        num(x1 - 6.0),
+                        num(cy + 3.0)
+                    );
+                }
+                LegendSymbol::Cross => {
+                    let (cx, r) = (x0 + 12.0, 3.5);
+                    let _ = writeln!(
+                        out,
+                        r#"<path d="M{} {} L{} {} M{} {} L{} {}" stroke="{color}" stroke-width="1.5"/>"#,
+                        num(cx - r),
+                        num(cy - r),
+                        num(cx + r),
+                        num(cy + r),
+                        num(cx - r),
+                        num(cy + r),
+                        num(cx + r),
+                        num(cy - r)
+                    );
+                }
+                LegendSymbol::Marker(shape) => {
+                    let m = Marker::new([0.0, 0.0]).shape(shape).color(e.color.clone());
+                    render_marker(out, &m, [x0 + 12.0, cy]);
+                }
+            }
+            svg::text(out, x1 + 8.0, cy + 4.0, "start", "", &e.label);
         }
         let _ = writeln!(out, "</g>");
     }
@@ -718,6 +871,52 @@ mod tests {
         }
         let vecs = pts.iter().map(|p| [-0.3 * p[0], -0.3 * p[1]]).collect();
         QuiverPlot::new("sink", pts, vecs)
+    }
+
+    /// A legend takes [`LEGEND_WIDTH`] px right of the axes (the frame
+    /// ends before it, the legend rows start after it), one row per entry
+    /// with its label; `clip` puts the arrows and markers under the axes'
+    /// clip path, and without it (the default) nothing else changes.
+    #[test]
+    fn legend_column_and_clipping() {
+        let plain = sink().size(600.0, 460.0);
+        let with = plain
+            .clone()
+            .clip()
+            .legend(LegendEntry::new(
+                "velocity",
+                ARROW_COLOR,
+                LegendSymbol::Arrow,
+            ))
+            .legend(LegendEntry::new("path", "#2ca02c", LegendSymbol::Line))
+            .legend(LegendEntry::new(
+                "end",
+                "#000000",
+                LegendSymbol::Marker(MarkerShape::Square),
+            ))
+            .legend(LegendEntry::new(
+                "invalid",
+                INVALID_COLOR,
+                LegendSymbol::Cross,
+            ))
+            .marker(Marker::new([0.0, 0.0]));
+        let (a, b) = (plain.layout().frame, with.layout().frame);
+        assert!(b[2] <= 600.0 - MARGIN_RIGHT - LEGEND_WIDTH + 1e-9, "{b:?}");
+        assert!(a[2] > b[2], "the legend narrows the axes: {a:?} {b:?}");
+        let svg = with.to_svg();
+        assert_well_formed(&svg);
+        let legend = &svg[svg.find(r#"<g class="legend""#).expect("legend")..];
+        for label in ["velocity", "path", "end", "invalid"] {
+            assert!(legend.contains(&format!(">{label}</text>")), "{label}");
+        }
+        assert!(
+            svg.contains(r#"<g class="arrows" clip-path="url(#qp-clip)""#),
+            "{svg}"
+        );
+        assert!(svg.contains(r#"<g class="markers" clip-path="url(#qp-clip)">"#));
+        let plain_svg = plain.to_svg();
+        assert!(!plain_svg.contains(r#"class="legend""#));
+        assert!(!plain_svg.contains(r#"<g class="arrows" clip-path"#));
     }
 
     #[test]

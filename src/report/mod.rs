@@ -15,7 +15,7 @@ pub mod verify;
 
 use std::path::Path;
 
-use crate::dynamics::Model;
+use crate::design::order::OrderRequest;
 use crate::error::Result;
 use crate::output::write_atomic;
 use crate::schedule::export;
@@ -46,19 +46,10 @@ pub fn export(path: &Path, rate: f64, steady_cycles: u32, out: Option<&Path>) ->
 /// schedule at `path` ([`crate::design::order::order_schedule_file`]),
 /// writes `OUT/<target>/verify/order.md` and returns the table and a line
 /// naming the file.
-pub fn order(
-    path: &Path,
-    n: usize,
-    rest_cycles: &[u32],
-    warmup: u32,
-    periods: u32,
-    model: Option<Model>,
-    out: &Path,
-) -> Result<String> {
+pub fn order(path: &Path, req: &OrderRequest, out: &Path) -> Result<String> {
     let start = std::time::Instant::now();
-    let (schedule, search) =
-        crate::design::order::order_schedule_file(path, n, rest_cycles, warmup, periods, model)?;
-    let md = order::order_md(path, n, &schedule, &search);
+    let (schedule, search) = crate::design::order::order_schedule_file(path, req)?;
+    let md = order::order_md(path, req.n, &schedule, &search);
     let file = order::write(&md, &schedule, out)?;
     Ok(format!(
         "{md}wrote {} ({:.1} s)\n",

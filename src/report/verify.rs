@@ -9,7 +9,7 @@ use serde::Serialize;
 use crate::error::{Error, Result};
 use crate::field::Grid;
 use crate::play::measure::{PointResult, RealisedField};
-use crate::plot::{Marker, MarkerShape, Overlay, QuiverPlot};
+use crate::plot::{LegendEntry, LegendSymbol, Marker, MarkerShape, Overlay, QuiverPlot};
 use crate::request::Attractor;
 use crate::verify::run::{RectangleResult, VerifyReport};
 use crate::verify::Swarm;
@@ -87,8 +87,18 @@ fn outline(size: [f64; 2], r: [f64; 2], deg: f64) -> Vec<[f64; 2]> {
         .collect()
 }
 
-/// The trajectory figure: realised mean velocity arrows, part paths (start
-/// dots, end squares), the attractor (+) when there is one.
+/// Colours of the trajectory figure.
+const SWARM_COLOR: &str = "#2ca02c";
+const RECT_COLOR: &str = "#9467bd";
+const END_COLOR: &str = "#000000";
+const LOST_COLOR: &str = "#d62728";
+
+/// The trajectory figure: realised mean velocity arrows (scaled to 0.6 of
+/// the grid spacing and clipped to the axes), swarm paths (thin, start
+/// dots, end squares: black converged, red not), rectangle paths with their
+/// start (dashed) and end outlines, the attractor (+ or dashed line), and
+/// a legend naming each. The axes show the target region plus 8 %; what
+/// leaves them is clipped.
 pub fn trajectory_svg(
     name: &str,
     g: &Grid,
@@ -99,14 +109,19 @@ pub fn trajectory_svg(
 ) -> String {
     let pts: Vec<[f64; 2]> = v.points.iter().map(|p| p.start).collect();
     let vecs: Vec<[f64; 2]> = v.points.iter().map(|p| p.realised).collect();
+    let pad = |r: [f64; 2]| {
+        let m = 0.08 * (r[1] - r[0]).max(1e-3);
+        [r[0] - m, r[1] + m]
+    };
     let mut plot = QuiverPlot::new(
         format!("{name}: realised mean velocity and part trajectories"),
         pts,
         vecs,
     )
     .invalid(v.points.iter().map(|p| !p.valid).collect())
-    .ranges(g.x, g.y)
-    .size(640.0, 680.0)
+    .ranges(pad(g.x), pad(g.y))
+    .size(640.0 + crate::plot::LEGEND_WIDTH, 680.0)
+    .clip()
     .caption(format!(
         "{} parts, {:.1} s; converged: {}; realised vs predicted field {:.1} %",
         swarm.parts.len(),
@@ -120,51 +135,135 @@ pub fn trajectory_svg(
             )),
         100.0 * v.relative_error
     ));
+    let scale = 0.6 / crate::plot::AUTO_ARROW_FRACTION * plot.auto_scale();
+    if scale.is_finite() && scale > 0.0 {
+        plot = plot.scale(scale);
+    }
+    plot = plot.legend(LegendEntry::new(
+        "realised mean velocity",
+        crate::plot::ARROW_COLOR,
+        LegendSymbol::Arrow,
+    ));
     for p in &swarm.parts {
         plot = plot
-            .overlay(Overlay::new(p.path.clone()).color("#2ca02c"))
-            .marker(Marker::new(p.start).color("#2ca02c"))
-            .marker(
-                Marker::new(p.end)
+            .overlay(Overlay {
+                width: 0.8,
+                ..Overlay::new(p.path.clone()).color(SWARM_COLOR)
+            })
+            .marker(Marker {
+                size: 2.5,
+                ..Marker::new(p.start).color(SWARM_COLOR)
+            })
+            .marker(Marker {
+                size: 3.0,
+                ..Marker::new(p.end)
                     .shape(MarkerShape::Square)
-                    .color(if p.converged { "#000000" } else { "#d62728" }),
-            );
+                    .color(if p.converged { END_COLOR } else { LOST_COLOR })
+            });
     }
+    if !swarm.parts.is_empty() {
+        plot = plot
+            .legend(LegendEntry::new(
+                "point part path",
+                SWARM_COLOR,
+                LegendSymbol::Line,
+            ))
+            .legend(LegendEntry::new(
+                "start",
+                SWARM_COLOR,
+                LegendSymbol::Marker(MarkerShape::Circle),
+            ))
+            .legend(LegendEntry::new(
+                "end (converged)",
+                END_COLOR,
+                LegendSymbol::Marker(MarkerShape::Square),
+            ));
+        if swarm.parts.iter().any(|p| !p.converged) {
+            plot = plot.legend(LegendEntry::new(
+                "end (not converged)",
+                LOST_COLOR,
+                LegendSymbol::Marker(MarkerShape::Square),
+            ));
+        }
+    }
+    let mut any_rect = false;
     for r in rects {
         if let (Some(first), Some(last)) = (r.trajectory.first(), r.trajectory.last()) {
+            any_rect = true;
             plot = plot
-                .overlay(Overlay::new(r.trajectory.iter().map(|p| p.r).collect()).color("#9467bd"))
+                .overlay(Overlay::new(r.trajectory.iter().map(|p| p.r).collect()).color(RECT_COLOR))
                 .overlay(
                     Overlay::new(outline(size, first.r, first.theta_deg))
-                        .color("#9467bd")
+                        .color(RECT_COLOR)
                         .dashed(),
                 )
-                .overlay(Overlay::new(outline(size, last.r, last.theta_deg)).color("#000000"));
+                .overlay(Overlay::new(outline(size, last.r, last.theta_deg)).color(END_COLOR));
         }
+    }
+    if any_rect {
+        let dims = format!(
+            "{} × {} mm",
+            crate::input::num(1e3 * size[0]),
+            crate::input::num(1e3 * size[1])
+        );
+        plot = plot
+            .legend(LegendEntry::new(
+                format!("{dims} rectangle path"),
+                RECT_COLOR,
+                LegendSymbol::Line,
+            ))
+            .legend(LegendEntry::new(
+                "rectangle start pose",
+                RECT_COLOR,
+                LegendSymbol::DashedOutline,
+            ))
+            .legend(LegendEntry::new(
+                "rectangle end pose",
+                END_COLOR,
+                LegendSymbol::Outline,
+            ));
     }
     match swarm.attractor {
         Some(Attractor::Point { center, .. }) => {
-            plot = plot.marker(
-                Marker::new(center)
-                    .shape(MarkerShape::Plus)
-                    .color("#d62728")
-                    .label("attractor"),
-            );
+            plot = plot
+                .marker(
+                    Marker::new(center)
+                        .shape(MarkerShape::Plus)
+                        .color(LOST_COLOR),
+                )
+                .legend(LegendEntry::new(
+                    "attractor",
+                    LOST_COLOR,
+                    LegendSymbol::Marker(MarkerShape::Plus),
+                ));
         }
         Some(Attractor::Line {
             point, direction, ..
         }) => {
             let l = (g.x[1] - g.x[0]).hypot(g.y[1] - g.y[0]);
-            plot = plot.overlay(
-                Overlay::new(vec![
-                    [point[0] - l * direction[0], point[1] - l * direction[1]],
-                    [point[0] + l * direction[0], point[1] + l * direction[1]],
-                ])
-                .color("#d62728")
-                .dashed(),
-            );
+            plot = plot
+                .overlay(
+                    Overlay::new(vec![
+                        [point[0] - l * direction[0], point[1] - l * direction[1]],
+                        [point[0] + l * direction[0], point[1] + l * direction[1]],
+                    ])
+                    .color(LOST_COLOR)
+                    .dashed(),
+                )
+                .legend(LegendEntry::new(
+                    "attractor line",
+                    LOST_COLOR,
+                    LegendSymbol::Dashed,
+                ));
         }
         None => {}
+    }
+    if v.points.iter().any(|p| !p.valid) {
+        plot = plot.legend(LegendEntry::new(
+            "no realised velocity",
+            crate::plot::INVALID_COLOR,
+            LegendSymbol::Cross,
+        ));
     }
     plot.to_svg()
 }

@@ -3,11 +3,11 @@
 use std::fmt::Write as _;
 
 use super::{Scene, SceneMotion};
-use crate::basis::library::progress_bar;
 use crate::basis::{Primitive, PrimitiveKind};
 use crate::error::{Error, Result};
 use crate::field::{Field, FieldKind};
 use crate::motion::{Motion, Waveform, V3};
+use crate::progress::{Progress, ProgressMode};
 
 impl SceneMotion {
     /// JSON paths (under `path`) of the parameters that set the motion's
@@ -64,14 +64,19 @@ impl Scene {
     pub fn compute(&self, quiet: bool) -> Result<Field> {
         let motion = self.motion.to_motion();
         let settings = self.settings();
-        let bar = progress_bar(self.grid.len() as u64, quiet);
-        bar.set_message(match self.kind {
-            FieldKind::Force => "force",
-            FieldKind::Velocity => "velocity",
-        });
-        let tick = || bar.inc(1);
+        let label = match self.kind {
+            FieldKind::Force => "force field",
+            FieldKind::Velocity => "velocity field",
+        };
+        let progress = Progress::new(
+            label,
+            "samples",
+            self.grid.len() as u64,
+            ProgressMode::quiet_if(quiet),
+        );
+        let tick = || progress.inc(1);
         let field = Field::compute(&motion, &self.grid, self.kind, &settings, &tick);
-        bar.finish_and_clear();
+        progress.finish();
         let stats = field.stats();
         if stats.samples > 0 && stats.contact_lost == stats.samples {
             let fields = self.motion.amplitude_fields("scene.motion");

@@ -59,6 +59,7 @@ use crate::field::{FieldKind, FieldSettings, Grid};
 use crate::input;
 use crate::motion::Motion;
 
+pub use validate::primitive as validate_primitive;
 pub use validate::{
     ANGULAR_ACCEL, GRAVITY, GRID_EXTENT, GRID_N, HARMONIC, LINEAR_ACCEL, MAX_ITERATIONS, MU,
     PERIOD, PHASES, ROTATION, STEPS_PER_CYCLE, TERMS, TRANSLATION,

@@ -206,7 +206,12 @@ fn signals(s: &Signals, path: &str) -> Result<()> {
     s.validate(path)
 }
 
-fn primitive(p: &Primitive, path: &str) -> Result<()> {
+/// Checks a library primitive's parameters against the scene ranges
+/// (omega from [`PERIOD`], amplitude within [`ROTATION`], translation within
+/// [`TRANSLATION`], depth and shift within [`GRID_EXTENT`]) and its resolved
+/// motion's peak accelerations; errors name `path.<parameter>`. Used for
+/// scene primitives and for schedule segments alike.
+pub fn primitive(p: &Primitive, path: &str) -> Result<()> {
     let two_pi = 2.0 * std::f64::consts::PI;
     let (lo, hi) = (two_pi / PERIOD.end(), two_pi / PERIOD.start());
     within(&format!("{path}.omega"), p.omega, lo, hi, " rad/s")?;

@@ -110,7 +110,7 @@ impl Segment {
                 format!("{at}.motion"),
                 "a segment holds a primitive or a six-signal motion, not both",
             )),
-            (Some(p), None) => p.validate(&format!("{at}.primitive")),
+            (Some(p), None) => crate::scene::validate_primitive(p, &format!("{at}.primitive")),
             (None, Some(s)) => s.validate(&format!("{at}.motion")),
             (None, None) => Ok(()),
         }
@@ -163,7 +163,7 @@ pub enum ExclusionReason {
 impl std::fmt::Display for ExclusionReason {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            ExclusionReason::Invalid(v) => write!(f, "{v:?}"),
+            ExclusionReason::Invalid(v) => write!(f, "{v}"),
             ExclusionReason::IsotropicCopy {
                 copy_of,
                 rotation_change,
@@ -291,6 +291,7 @@ impl Schedule {
 
     /// Checks ranges and physics (errors name the JSON path): at least one
     /// segment of positive duration; moving segments with a valid primitive
+    /// (the scene ranges, [`crate::scene::validate_primitive`])
     /// and 1..=[`MAX_SEGMENT_CYCLES`] cycles; rest segments with a finite
     /// duration ≥ 0; a period of at most [`MAX_PERIOD_S`]; weights finite
     /// and ≥ 0; valid settings and target.
@@ -335,6 +336,31 @@ impl Schedule {
         s.friction.validate("settings.friction")?;
         s.numerics.validate("settings.numerics")?;
         positive("settings.gravity", s.gravity)?;
+        // The scene ranges of the physics (a schedule is played like a scene).
+        for (path, v, max) in [
+            (
+                "settings.friction.static",
+                s.friction.stat,
+                crate::scene::MU,
+            ),
+            (
+                "settings.friction.kinetic",
+                s.friction.kinetic,
+                crate::scene::MU,
+            ),
+            ("settings.gravity", s.gravity, crate::scene::GRAVITY),
+        ] {
+            if v > max {
+                return Err(Error::invalid(
+                    path,
+                    format!(
+                        "must be at most {}, got {}",
+                        crate::input::num(max),
+                        crate::input::num(v)
+                    ),
+                ));
+            }
+        }
         if let Some(t) = &self.target_spec {
             t.validate()?;
         }

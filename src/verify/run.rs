@@ -15,23 +15,25 @@
 //!
 //! Everything is computed here and nothing is written: the files
 //! (`summary.json`, `trajectories.svg`) are [`crate::report::verify`]'s.
-//! Before anything is played the work is estimated ([`check_work`]) and an
-//! overlong verification refused.
+//! Before anything is played the work is estimated ([`work_estimate`]) and
+//! an overlong verification refused unless `--allow-long`.
 
 use std::path::Path;
 
 use serde::Serialize;
 
 use super::rectangles::{play_rectangle, PoseSample, RectangleOptions, RectangleSummary};
-use super::swarm::{run_swarm, Swarm, SwarmOptions};
+use super::swarm::{run_swarm_ticked, Swarm, SwarmOptions};
 use crate::dynamics::Model;
 use crate::dynamics::Rectangle;
 use crate::error::{Error, Result};
 use crate::field::Grid;
-use crate::play::measure::{verify_points, PlayOptions, RealisedField};
+use crate::play::measure::{verify_points_ticked, PlayOptions, RealisedField};
 use crate::play::{ScheduleMotion, V2};
+use crate::progress::{Progress, ProgressMode};
 use crate::request::Attractor;
 use crate::schedule::Schedule;
+use crate::work::{Estimate, Term, RECT_STEP_COST};
 
 /// How long the swarm is played.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -71,6 +73,10 @@ pub struct VerifyRequest {
     pub rectangle: [f64; 2],
     /// Rectangle start poses (0: none).
     pub rectangle_poses: usize,
+    /// Run even when the work estimate exceeds [`crate::work::LIMIT_S`].
+    pub allow_long: bool,
+    /// No progress output.
+    pub quiet: bool,
 }
 
 impl Default for VerifyRequest {
@@ -85,6 +91,8 @@ impl Default for VerifyRequest {
             tol: 0.003,
             rectangle: [0.02, 0.005],
             rectangle_poses: 4,
+            allow_long: false,
+            quiet: false,
         }
     }
 }
@@ -110,7 +118,7 @@ impl VerifyRequest {
             Duration::Seconds(s) if !(s.is_finite() && s > 0.0 && s <= 3600.0) => {
                 return Err(Error::invalid(
                     "--duration",
-                    format!("must be in (0, 3600] seconds, got {s}"),
+                    format!("must be in (0, 3600] seconds, got {}", crate::input::num(s)),
                 ))
             }
             Duration::Repetitions(n) => range("--repetitions", u64::from(n), 1, 10_000)?,
@@ -121,14 +129,17 @@ impl VerifyRequest {
             if !(v.is_finite() && *v > 0.0 && *v <= 0.2) {
                 return Err(Error::invalid(
                     "--rect",
-                    format!("{what} must be in (0, 0.2] m, got {v}"),
+                    format!(
+                        "{what} must be in (0, 0.2] m, got {}",
+                        crate::input::num(*v)
+                    ),
                 ));
             }
         }
         if !(self.tol.is_finite() && self.tol > 0.0 && self.tol <= 0.1) {
             return Err(Error::invalid(
                 "--tol",
-                format!("must be in (0, 0.1] m, got {}", self.tol),
+                format!("must be in (0, 0.1] m, got {}", crate::input::num(self.tol)),
             ));
         }
         Ok(())
@@ -272,6 +283,7 @@ pub fn run_rectangles(
     periods: u32,
     attractor: Option<&Attractor>,
     opts: &RectangleOptions,
+    tick: &(dyn Fn() + Sync),
 ) -> Vec<RectangleResult> {
     use rayon::prelude::*;
     let rect = sampled_rectangle(size);
@@ -280,7 +292,9 @@ pub fn run_rectangles(
         .par_iter()
         .map(|&(r, theta)| {
             let start_pose = [r.x, r.y, theta.to_degrees()];
-            match play_rectangle(sm, &rect, (r, theta), duration, opts) {
+            let played = play_rectangle(sm, &rect, (r, theta), duration, opts);
+            tick();
+            match played {
                 Ok(run) => {
                     let s = run.summary();
                     let angle_to_line_deg = match attractor {
@@ -313,41 +327,72 @@ pub fn run_rectangles(
         .collect()
 }
 
-/// Most plate cycles `verify` plays in total over all its parts (about
-/// 6 minutes of CPU at 0.3 ms per point-part cycle of 300 steps; a
-/// rectangle cycle costs [`RECT_CYCLE_COST`] point-part cycles).
-pub const MAX_VERIFY_PART_CYCLES: f64 = 1.2e6;
-
-/// Cost of one rectangle cycle in point-part cycles (support points and
-/// sub-steps; measured on the 16 × 4 rectangle).
-pub const RECT_CYCLE_COST: f64 = 50.0;
-
-/// Refuses a verification whose work (point-part cycles: realised grid,
-/// swarm and rectangles) exceeds [`MAX_VERIFY_PART_CYCLES`], stating the
-/// estimate and the knobs that make it smaller.
-pub fn check_work(
+/// The work of a verification ([`crate::work`]): RK4 point-part steps of
+/// the realised grid, the swarm and the rectangles (a rectangle step costs
+/// [`crate::work::RECT_STEP_COST`] point-part steps).
+pub fn work_estimate(
     schedule: &Schedule,
     req: &VerifyRequest,
     swarm_periods: u32,
     rect_periods: u32,
-) -> Result<()> {
+) -> Estimate {
     let cycles = f64::from(schedule.total_cycles);
-    let grid = (req.points * req.points) as f64 * f64::from(req.warmup + req.periods);
-    let swarm = (req.swarm * req.swarm) as f64 * f64::from(swarm_periods);
-    let rects = req.rectangle_poses as f64 * f64::from(rect_periods) * RECT_CYCLE_COST;
-    let work = cycles * (grid + swarm + rects);
-    if work > MAX_VERIFY_PART_CYCLES {
-        return Err(Error::invalid(
-            "schedule",
-            format!(
-                "verifying it would play about {work:.2e} part cycles ({cycles} cycles per period; \
-                 realised grid {grid:.0}, swarm {swarm:.0}, rectangles {rects:.0} part-periods), \
-                 more than the limit of {MAX_VERIFY_PART_CYCLES:.1e}: shorten the schedule or lower \
-                 --points, --swarm, --repetitions/--duration or --rect-poses"
-            ),
-        ));
-    }
-    Ok(())
+    let steps = schedule.settings.numerics.steps_per_cycle as f64;
+    let term = |label: &str, parts: f64, periods: u32| {
+        Term::new(label)
+            .times(parts, "parts")
+            .times(f64::from(periods), "periods")
+            .times(cycles, "cycles")
+            .times(steps, "steps")
+    };
+    let points = (req.points * req.points) as f64;
+    let swarm = (req.swarm * req.swarm) as f64;
+    // The prediction at each realised-grid point: the flow of the
+    // time-weighted steady-state field over the measured periods, RK4 with
+    // step doubling (crate::play::measure::flow_mean_velocity), each field
+    // evaluation one steady state per moving segment. Counted at its most
+    // doublings with a typical steady state (crate::work::VELOCITY_CYCLES):
+    // smooth fields (sink: 18 s in all, against 130 s estimated) stop
+    // doubling earlier; a swirling field (the whirlpool's) needs every
+    // doubling and its Circle steady states more cycles, so it takes
+    // longer than estimated.
+    let moving_segments = schedule
+        .segments
+        .iter()
+        .filter(|s| s.primitive.is_some())
+        .count() as f64;
+    let moving_parts = req.model.unwrap_or(schedule.settings.model).moving;
+    let evaluations = if moving_parts {
+        let first = 2 * req.periods.max(1) as usize;
+        let most = first.max(2) / 2 * crate::play::measure::FLOW_MAX_STEPS_PER_PERIOD;
+        let (mut n, mut sum) = (first, first);
+        while n < most {
+            n *= 2;
+            sum += n;
+        }
+        (4 * sum + 1) as f64
+    } else {
+        1.0
+    };
+    Estimate::new(
+        "schedule",
+        "verifying it",
+        "a shorter schedule (fewer cycles), --points, --swarm, --repetitions/--duration or --rect-poses",
+    )
+    .plus(term("realised grid", points, req.warmup + req.periods))
+    .plus(
+        Term::new("prediction (most doublings)")
+            .times(points, "parts")
+            .times(evaluations, "flow evaluations")
+            .times(moving_segments, "segments")
+            .times(crate::work::VELOCITY_CYCLES, "cycles")
+            .times(steps, "steps"),
+    )
+    .plus(term("swarm", swarm, swarm_periods))
+    .plus(
+        term("rectangles", req.rectangle_poses as f64, rect_periods)
+            .times(RECT_STEP_COST, "point steps per rectangle step"),
+    )
 }
 
 /// `platefield verify`: runs `req` on the schedule at `path` with the
@@ -391,8 +436,37 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest) -> Result<VerifyRe
         Duration::Auto => periods.max((RECT_MIN_AUTO_S / sm.period()).ceil() as u32),
         _ => periods,
     };
-    check_work(&schedule, req, periods, rect_periods)?;
-    let v = verify_points(&sm, &region_points(&g, req.points), &opts);
+    let work = work_estimate(&schedule, req, periods, rect_periods);
+    work.check(req.allow_long)?;
+    let poses = rectangle_poses(&g, req.rectangle_poses);
+    // Progress in thousands of RK4 part steps: each part advances it by
+    // its share of its term of the estimate (realised grid, swarm,
+    // rectangles), so the time left is right when rectangles dominate.
+    // Terms: realised grid, its prediction (both per grid point), swarm,
+    // rectangles.
+    let grid = req.points * req.points;
+    let counts = [grid, grid, starts.len(), poses.len()];
+    let per_part: Vec<u64> = work
+        .terms
+        .iter()
+        .zip(counts)
+        .map(|(t, n)| (t.steps() / n.max(1) as f64 / 1e3).ceil().max(1.0) as u64)
+        .collect();
+    let weights = [per_part[0] + per_part[1], per_part[2], per_part[3]];
+    let counts = [grid, starts.len(), poses.len()];
+    let progress = Progress::new(
+        "verify",
+        "k RK4 steps",
+        weights.iter().zip(counts).map(|(w, n)| w * n as u64).sum(),
+        ProgressMode::quiet_if(req.quiet),
+    );
+    let tick_by = |k: usize| {
+        let (p, w) = (&progress, weights[k]);
+        move || p.inc(w)
+    };
+    let tick = tick_by(0);
+    progress.set_message("realised grid");
+    let v = verify_points_ticked(&sm, &region_points(&g, req.points), &opts, &tick);
     if v.valid == 0 {
         let why = v
             .points
@@ -405,7 +479,8 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest) -> Result<VerifyRe
             v.points.len()
         )));
     }
-    let swarm = run_swarm(
+    progress.set_message("swarm");
+    let swarm = run_swarm_ticked(
         &sm,
         &starts,
         attractor,
@@ -415,6 +490,7 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest) -> Result<VerifyRe
             tol: req.tol,
             strength,
         },
+        &tick_by(1),
     );
 
     let rect_opts = RectangleOptions {
@@ -426,14 +502,17 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest) -> Result<VerifyRe
         },
         ..RectangleOptions::default()
     };
+    progress.set_message("rectangles");
     let rectangles = run_rectangles(
         &sm,
         req.rectangle,
-        &rectangle_poses(&g, req.rectangle_poses),
+        &poses,
         rect_periods,
         attractor.as_ref(),
         &rect_opts,
+        &tick_by(2),
     );
+    progress.finish();
 
     Ok(VerifyReport {
         target: name.to_string(),

@@ -189,9 +189,24 @@ pub fn run_swarm(
     attractor: Option<Attractor>,
     opts: &SwarmOptions,
 ) -> Swarm {
+    run_swarm_ticked(sm, starts, attractor, opts, &|| ())
+}
+
+/// [`run_swarm`], calling `tick` after each part is played (progress).
+pub fn run_swarm_ticked(
+    sm: &ScheduleMotion,
+    starts: &[[f64; 2]],
+    attractor: Option<Attractor>,
+    opts: &SwarmOptions,
+    tick: &(dyn Fn() + Sync),
+) -> Swarm {
     let parts: Vec<SwarmPart> = starts
         .par_iter()
-        .map(|p| one_part(sm, *p, attractor.as_ref(), opts))
+        .map(|p| {
+            let part = one_part(sm, *p, attractor.as_ref(), opts);
+            tick();
+            part
+        })
         .collect();
     let timed: Vec<&SwarmPart> = parts
         .iter()

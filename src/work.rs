@@ -1,0 +1,294 @@
+//! Work estimates before long computations (issue 13): every command that
+//! may run for long (`field`, a `design`'s library build, `verify`,
+//! `order`) first counts the RK4 steps of point parts it is about to take,
+//! converts them to seconds at a stated rate, and refuses above
+//! [`LIMIT_S`] unless `--allow-long` is given, naming the knobs that make
+//! the work smaller. One estimator, here; the callers only supply counts.
+//!
+//! The unit of work is one RK4 step of one point part ([`SECONDS_PER_STEP`]
+//! on one core); a rectangle step costs [`RECT_STEP_COST`] point-part steps;
+//! a steady-state velocity sample costs [`VELOCITY_CYCLES`] cycles. The
+//! counts are plain `f64` products, so no count from user input can
+//! overflow (a `cycles: 1e9` schedule is an estimate of 1e9 × …, not a wrap
+//! to a small number).
+
+use std::fmt::Write as _;
+
+use crate::error::{Error, Result};
+use crate::field::{FieldKind, FieldSettings};
+
+/// Seconds per RK4 step of one point part on one core: a stated, slightly
+/// pessimistic rate. Measured on the 2-core development machine with other
+/// builds running: 0.3 µs (LineSink screw, force field, 64 steps per
+/// cycle) to 0.9 µs (six-signal motion) per step, and `verify`'s 0.3 ms per
+/// point-part cycle of 300 steps.
+pub const SECONDS_PER_STEP: f64 = 1.0e-6;
+
+/// Cost of one rectangle step in point-part steps (support points and
+/// sub-steps; measured on `verify`'s 16 × 4 rectangle).
+pub const RECT_STEP_COST: f64 = 50.0;
+
+/// Expected cycle evaluations of one steady-state velocity sample (a few
+/// plain iterations, then Newton steps of three cycle maps each; measured:
+/// about 13 on the LineSink scene).
+pub const VELOCITY_CYCLES: f64 = 20.0;
+
+/// Longest expected run accepted without `--allow-long` (seconds).
+pub const LIMIT_S: f64 = 600.0;
+
+/// One term of an estimate: a product of named counts, e.g. `8 primitives
+/// × 2500 samples × 20 cycles × 64 steps`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Term {
+    /// What the term is (e.g. "swarm").
+    pub label: String,
+    /// Named factors; their product is the term's RK4 steps.
+    pub factors: Vec<(String, f64)>,
+}
+
+impl Term {
+    /// A term named `label` with no factors yet (product 1).
+    pub fn new(label: impl Into<String>) -> Term {
+        Term {
+            label: label.into(),
+            factors: Vec::new(),
+        }
+    }
+
+    /// Multiplies by `count` named `name`.
+    pub fn times(mut self, count: f64, name: &str) -> Term {
+        self.factors.push((name.to_string(), count));
+        self
+    }
+
+    /// RK4 point-part steps of this term.
+    pub fn steps(&self) -> f64 {
+        self.factors.iter().map(|(_, c)| c).product()
+    }
+}
+
+/// The expected work of one command: a sum of [`Term`]s.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Estimate {
+    /// What is refused if the work is too long (the JSON path or argument
+    /// the error names, e.g. "schedule").
+    pub subject: String,
+    /// What would be done (e.g. "building the velocity library").
+    pub what: String,
+    /// The terms summed.
+    pub terms: Vec<Term>,
+    /// The knobs that make the work smaller, as the user spells them.
+    pub knobs: String,
+}
+
+/// Worker threads the work is spread over (rayon's pool).
+pub fn threads() -> usize {
+    rayon::current_num_threads().max(1)
+}
+
+impl Estimate {
+    /// An estimate of `what` for `subject`, reduced by `knobs`.
+    pub fn new(subject: &str, what: &str, knobs: &str) -> Estimate {
+        Estimate {
+            subject: subject.to_string(),
+            what: what.to_string(),
+            terms: Vec::new(),
+            knobs: knobs.to_string(),
+        }
+    }
+
+    /// Adds `term`.
+    pub fn plus(mut self, term: Term) -> Estimate {
+        self.terms.push(term);
+        self
+    }
+
+    /// Total RK4 point-part steps.
+    pub fn steps(&self) -> f64 {
+        self.terms.iter().map(Term::steps).sum()
+    }
+
+    /// Expected seconds on `threads` threads at [`SECONDS_PER_STEP`].
+    pub fn seconds(&self, threads: usize) -> f64 {
+        self.steps() * SECONDS_PER_STEP / threads.max(1) as f64
+    }
+
+    /// Whether the work exceeds [`LIMIT_S`] on `threads` threads.
+    pub fn is_long(&self, threads: usize) -> bool {
+        // NaN work (it cannot be NaN from finite counts) counts as long.
+        self.seconds(threads).is_nan() || self.seconds(threads) > LIMIT_S
+    }
+
+    /// The estimate in words: total, terms with their factors, rate.
+    pub fn describe(&self, threads: usize) -> String {
+        let mut s = format!(
+            "{} would take about {} ({:.2e} RK4 part steps: ",
+            self.what,
+            duration(self.seconds(threads)),
+            self.steps()
+        );
+        for (i, t) in self.terms.iter().enumerate() {
+            if i > 0 {
+                s.push_str(" + ");
+            }
+            let _ = write!(s, "{} ", t.label);
+            for (j, (name, c)) in t.factors.iter().enumerate() {
+                if j > 0 {
+                    s.push_str(" × ");
+                }
+                let _ = write!(s, "{} {name}", count(*c));
+            }
+        }
+        let _ = write!(
+            s,
+            "; at {:.1} µs per step on {threads} thread{})",
+            SECONDS_PER_STEP * 1e6,
+            if threads == 1 { "" } else { "s" }
+        );
+        s
+    }
+
+    /// `Ok` when the work is within [`LIMIT_S`] or `allow_long`; else an
+    /// [`Error::Invalid`] naming [`Estimate::subject`], stating the
+    /// estimate, the limit, the knobs and `--allow-long`.
+    pub fn check(&self, allow_long: bool) -> Result<()> {
+        self.check_on(threads(), allow_long)
+    }
+
+    /// [`Estimate::check`] on `threads` threads.
+    pub fn check_on(&self, threads: usize, allow_long: bool) -> Result<()> {
+        if allow_long || !self.is_long(threads) {
+            return Ok(());
+        }
+        Err(Error::invalid(
+            self.subject.clone(),
+            format!(
+                "{}, more than the limit of {}: make it smaller with {}, or pass --allow-long to run it anyway",
+                self.describe(threads),
+                duration(LIMIT_S),
+                self.knobs
+            ),
+        ))
+    }
+}
+
+/// The term of computing `kind` fields on `samples` grid points per field,
+/// `fields` fields: force fields take `settings.phases` cycles per sample,
+/// steady-state velocity fields [`VELOCITY_CYCLES`] (at most the
+/// settings' `max_iterations`).
+pub fn field_term(
+    label: &str,
+    fields: f64,
+    field_name: &str,
+    samples: f64,
+    kind: FieldKind,
+    settings: &FieldSettings,
+) -> Term {
+    let (cycles, name) = match kind {
+        FieldKind::Force => (settings.phases as f64, "phases"),
+        FieldKind::Velocity => (
+            VELOCITY_CYCLES.min(settings.numerics.max_iterations as f64),
+            "cycles",
+        ),
+    };
+    Term::new(label)
+        .times(fields, field_name)
+        .times(samples, "samples")
+        .times(cycles, name)
+        .times(settings.numerics.steps_per_cycle as f64, "steps")
+}
+
+/// A count for messages: an integer below 1e7, else in e-notation.
+fn count(c: f64) -> String {
+    if c.is_finite() && c.abs() < 1e7 && c.fract() == 0.0 {
+        format!("{c:.0}")
+    } else {
+        format!("{c:.2e}")
+    }
+}
+
+/// Seconds in words: "40 s", "12 min", "3.5 h", "2.1e5 days".
+pub fn duration(s: f64) -> String {
+    if !s.is_finite() {
+        "an unbounded time".to_string()
+    } else if s < 120.0 {
+        format!("{s:.0} s")
+    } else if s < 7200.0 {
+        format!("{:.0} min", s / 60.0)
+    } else if s < 48.0 * 3600.0 {
+        format!("{:.1} h", s / 3600.0)
+    } else {
+        format!("{:.2e} days", s / 86400.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn library(samples: f64) -> Estimate {
+        Estimate::new(
+            "target",
+            "building the velocity library",
+            "the target's grid n or --rotation-step",
+        )
+        .plus(
+            Term::new("library")
+                .times(8.0, "primitives")
+                .times(samples, "samples")
+                .times(VELOCITY_CYCLES, "cycles")
+                .times(64.0, "steps"),
+        )
+    }
+
+    /// The issue's sampled target: 63,504 samples per primitive, 8
+    /// primitives: 8 × 63504 × 20 × 64 = 6.50e8 steps, 650 s at 1 µs on
+    /// one thread (325 s on two). Refused on one thread, accepted on two,
+    /// and accepted on one with --allow-long.
+    #[test]
+    fn estimate_is_the_product_and_the_threshold_applies() {
+        let e = library(63_504.0);
+        assert_eq!(e.steps(), 8.0 * 63_504.0 * 20.0 * 64.0);
+        assert!((e.seconds(1) - 650.28).abs() < 0.01, "{}", e.seconds(1));
+        assert!((e.seconds(2) - 325.14).abs() < 0.01);
+        assert!(e.is_long(1) && !e.is_long(2));
+        assert!(e.check_on(2, false).is_ok());
+        assert!(e.check_on(1, true).is_ok(), "--allow-long accepts");
+        let err = e.check_on(1, false).unwrap_err();
+        let text = err.to_string();
+        for needle in [
+            "target: building the velocity library would take about 11 min",
+            "6.50e8 RK4 part steps",
+            "library 8 primitives × 63504 samples × 20 cycles × 64 steps",
+            "1.0 µs per step on 1 thread)",
+            "limit of 10 min",
+            "--rotation-step",
+            "--allow-long",
+        ] {
+            assert!(text.contains(needle), "{needle:?} not in {text}");
+        }
+    }
+
+    /// Sums of terms; huge counts stay finite and long (no wrap-around);
+    /// the duration words.
+    #[test]
+    fn sums_huge_counts_and_words() {
+        let e = Estimate::new("schedule", "verifying", "--points")
+            .plus(Term::new("grid").times(25.0, "parts").times(2.0, "periods"))
+            .plus(Term::new("swarm").times(81.0, "parts"));
+        assert_eq!(e.steps(), 50.0 + 81.0);
+        assert!(!e.is_long(1));
+        let huge = Estimate::new("schedule", "verifying", "--points").plus(
+            Term::new("swarm")
+                .times(4.0 * 1e9, "cycles per period")
+                .times(f64::from(u32::MAX), "periods"),
+        );
+        assert!(huge.is_long(2));
+        assert!(huge.describe(2).contains("4.00e9 cycles per period"));
+        assert_eq!(duration(30.0), "30 s");
+        assert_eq!(duration(600.0), "10 min");
+        assert_eq!(duration(5400.0), "90 min");
+        assert_eq!(duration(3.0 * 3600.0), "3.0 h");
+        assert_eq!(duration(f64::INFINITY), "an unbounded time");
+    }
+}
