@@ -103,6 +103,15 @@ enum Command {
     /// Study: interaction error of two sequenced LineSinks (a Sink): sink_interaction.md.
     #[command(mut_arg("out", default_dir(studies::interaction::DIR)))]
     Interaction(StudyOut),
+    /// Study: one synthesized six-signal motion per target against its sequenced schedule, both played: synthesis.{md,csv}.
+    #[command(mut_arg("out", default_dir(studies::synthesis::DIR)))]
+    Synthesis {
+        /// Only these rows (comma-separated: sink, saddle, whirlpool, squeeze_trans, line_sink_30, lab, refine:whirlpool, refine:squeeze_trans).
+        #[arg(long, value_delimiter = ',')]
+        rows: Vec<String>,
+        #[command(flatten)]
+        out: StudyOut,
+    },
     /// Study: SqueezeTrans's squeeze line against segment order, phasing, cycles and rest (the paper's section V): squeeze_trans_order.{md,csv}.
     #[command(mut_arg("out", default_dir(studies::squeeze_order::DIR)))]
     SqueezeOrder(StudyOut),
@@ -175,6 +184,7 @@ fn run(cli: Cli) -> Result<String> {
         Command::FitQuality(o) => studies::fit_quality::run(Path::new("targets"), &o.out),
         Command::Interaction(o) => studies::interaction::run(&o.out),
         Command::SqueezeOrder(o) => studies::squeeze_order::run(&o.out),
+        Command::Synthesis { rows, out } => studies::synthesis::run(&out.out, &rows),
     }
 }
 

@@ -23,6 +23,7 @@ pub mod basis;
 pub mod closed_loop;
 mod options;
 pub mod order;
+pub mod refine;
 mod stages;
 
 use std::path::PathBuf;

@@ -471,7 +471,18 @@ pub fn verify_points(
     points: &[[f64; 2]],
     opts: &PlayOptions,
 ) -> RealisedField {
-    let results: Vec<PointResult> = play_points(sm, points, opts, Windows::First)
+    against_prediction(sm, play_points(sm, points, opts, Windows::First), opts)
+}
+
+/// Compares plays of `sm` (from [`play_points`] or [`play_point`], any
+/// windows) with the time-weighted steady-state prediction of `sm`'s
+/// segments (see the module documentation), with `opts`' physics.
+pub fn against_prediction(
+    sm: &ScheduleMotion,
+    plays: Vec<PointPlay>,
+    opts: &PlayOptions,
+) -> RealisedField {
+    let results: Vec<PointResult> = plays
         .into_par_iter()
         .map(|play| compare(sm, &opts.player(sm), play))
         .collect();

@@ -1,0 +1,574 @@
+//! `platefield synthesis`: one simultaneous six-signal motion per target
+//! ([`crate::synth::synthesize`]) against today's sequenced schedule for the
+//! same target, both *played* and judged by the same realised measure
+//! (issue 11, "What it must show"): `results/synthesis.md` and
+//! `results/synthesis.csv`.
+//!
+//! **Rows.** `sink`, `saddle`, `whirlpool` (rotation 1.0), `squeeze_trans`
+//! and `line_sink_30` (a line sink at 30° through (5 mm, 0),
+//! `targets/line_sink_30.json`), each against its designed schedule
+//! `results/<name>/schedule.json`; and the lab-class sink (T = 0.05 s,
+//! linear ≤ 10 m/s² on x and y, angular ≤ 70 rad/s² about x and y,
+//! harmonic 1), which has no sequenced counterpart (goal: ≥ 0.5 s⁻¹).
+//!
+//! **Limits** of a row: the per-axis peaks of the sequenced schedule
+//! ([`schedule_peaks`]): the largest |plate-centre acceleration| of each of
+//! the six signals over every moving segment (a sequenced schedule plays one
+//! primitive at a time, so the summed signal is the segment's own), found on
+//! [`PEAK_SAMPLES`] samples per primitive cycle; the period is the
+//! primitives' (all share ω); 2 harmonics, contact margin 0.1 g.
+//!
+//! **The realised measure** (the same for both motions): point parts placed
+//! at rest on the plate at every `STRIDE`-th point of the target grid (the
+//! unmasked ones), played ([`crate::design::closed_loop::measure::play_motion`]:
+//! ≥ 40 primitive cycles of warm-up, windows of ≥ 20 cycles starting at every
+//! join); realised strength ŝ and shape error against the target
+//! ([`crate::design::closed_loop::measure::realised_error`], ŝ in s⁻¹ since
+//! the targets have strength 1); realised vs predicted is
+//! ‖R − E‖/‖E‖ with E the flow of the motion's own time-weighted steady-state
+//! field ([`crate::play::measure::against_prediction`], `verify`'s number).
+//!
+//! Timings go to the markdown only; the csv is deterministic.
+
+use std::fmt::Write as _;
+use std::path::Path;
+use std::time::Instant;
+
+use crate::design::closed_loop::measure::{play_motion, realised_error, MeasureOptions};
+use crate::design::refine::{refine_schedule, RefineOptions, Refined};
+use crate::error::{Error, Result};
+use crate::field::{FieldSettings, Grid};
+use crate::motion::Motion;
+use crate::output::write_atomic;
+use crate::play::measure::{against_prediction, PlayOptions};
+use crate::play::{PlayedSegment, ScheduleMotion};
+use crate::request::{SampledTarget, Target};
+use crate::schedule::export::centre_acceleration;
+use crate::schedule::Schedule;
+use crate::synth::progress::ProgressMode;
+use crate::synth::{synthesize, ShakerLimits, SynthOptions, Synthesis};
+
+/// Default output folder.
+pub const DIR: &str = "results";
+
+/// Samples per primitive cycle used to find a schedule's peaks.
+pub const PEAK_SAMPLES: usize = 4096;
+
+/// Every `STRIDE`-th target grid point (each axis) carries a played part.
+pub const STRIDE: usize = 5;
+
+/// Goals of issue 11.
+pub const GOAL_SHAPE: f64 = 0.05;
+/// Realised strength against the sequenced schedule's.
+pub const GOAL_RATIO: f64 = 2.0;
+/// Realised against predicted (the synthesized motion's own steady state).
+pub const GOAL_VS_PREDICTED: f64 = 0.02;
+/// Lab-class goal strength (s⁻¹).
+pub const GOAL_LAB_STRENGTH: f64 = 0.5;
+
+/// The rows compared with a sequenced schedule (`targets/<name>.json`,
+/// `results/<name>/schedule.json`).
+pub const ROWS: [&str; 5] = [
+    "sink",
+    "saddle",
+    "whirlpool",
+    "squeeze_trans",
+    "line_sink_30",
+];
+
+/// The sequenced designs refined by re-simulation ([`refine_schedule`]).
+pub const REFINED: [&str; 2] = ["whirlpool", "squeeze_trans"];
+
+/// Per-axis peaks (linear x, y, z in m/s², angular x, y, z in rad/s²) of
+/// one cycle of `motion`, on `samples` equally spaced instants.
+pub fn motion_peaks(motion: &Motion, samples: usize) -> [f64; 6] {
+    let period = motion.period();
+    let mut peaks = [0.0_f64; 6];
+    for i in 0..samples {
+        let (lin, ang) = centre_acceleration(motion, period * i as f64 / samples as f64);
+        for (k, v) in [lin.x, lin.y, lin.z, ang.x, ang.y, ang.z]
+            .iter()
+            .enumerate()
+        {
+            peaks[k] = peaks[k].max(v.abs());
+        }
+    }
+    peaks
+}
+
+/// Per-axis peaks of a sequenced schedule (the largest over its moving
+/// segments; see the module documentation) and the primitives' common
+/// period.
+///
+/// # Errors
+/// No moving segment, or moving segments of different periods.
+pub fn schedule_peaks(schedule: &Schedule) -> Result<([f64; 6], f64)> {
+    let mut peaks = [0.0_f64; 6];
+    let mut period: Option<f64> = None;
+    for (i, seg) in schedule.segments.iter().enumerate() {
+        let Some(p) = &seg.primitive else { continue };
+        let m = p.motion();
+        let t = m.period();
+        match period {
+            None => period = Some(t),
+            Some(t0) if (t - t0).abs() > 1e-12 * t0 => {
+                return Err(Error::invalid(
+                    format!("schedule.segments[{i}].primitive.omega"),
+                    format!("all primitives must share one period for one set of shaker limits; {t} s against {t0} s"),
+                ))
+            }
+            _ => {}
+        }
+        for (a, v) in peaks.iter_mut().zip(motion_peaks(&m, PEAK_SAMPLES)) {
+            *a = a.max(v);
+        }
+    }
+    let period = period.ok_or_else(|| {
+        Error::invalid(
+            "schedule.segments",
+            "has no moving segment: no peaks to take as limits",
+        )
+    })?;
+    Ok((peaks, period))
+}
+
+/// Shaker limits equal to a schedule's peaks, `harmonics` harmonics,
+/// margin 0.1 g.
+pub fn limits_of(schedule: &Schedule, harmonics: u32) -> Result<ShakerLimits> {
+    let (p, period) = schedule_peaks(schedule)?;
+    Ok(ShakerLimits {
+        period,
+        linear: [p[0], p[1], p[2]],
+        angular: [p[3], p[4], p[5]],
+        harmonics,
+        contact_margin: 0.1,
+    })
+}
+
+/// The lab-class limits of issue 11.
+pub fn lab_limits() -> ShakerLimits {
+    ShakerLimits {
+        period: 0.05,
+        linear: [10.0, 10.0, 0.0],
+        angular: [70.0, 70.0, 0.0],
+        harmonics: 1,
+        contact_margin: 0.1,
+    }
+}
+
+/// A motion played and judged by the realised measure.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Measured {
+    /// Realised strength ŝ against the target (s⁻¹).
+    pub strength: f64,
+    /// Realised shape error against the target.
+    pub shape_error: f64,
+    /// Realised against the motion's own steady-state prediction.
+    pub vs_predicted: f64,
+    /// Valid played points.
+    pub valid: usize,
+    /// Played points.
+    pub played: usize,
+}
+
+/// The played points of a target: every [`STRIDE`]-th grid point with a
+/// positive weight.
+pub fn starts(target: &Target, sampled: &SampledTarget) -> Vec<usize> {
+    let nx = target.grid.as_ref().map_or(1, |g| g.n[0]);
+    (0..sampled.len())
+        .filter(|&k| sampled.weights[k] > 0.0)
+        .filter(|&k| (k % nx) % STRIDE == 0 && (k / nx) % STRIDE == 0)
+        .collect()
+}
+
+/// Plays `sm` (`per_period` primitive cycles per period) and measures it
+/// (see the module documentation).
+pub fn measure(
+    target: &Target,
+    sm: &ScheduleMotion,
+    per_period: u32,
+    settings: &FieldSettings,
+) -> Result<Measured> {
+    let sampled = target.sample()?;
+    let starts = starts(target, &sampled);
+    let plays = play_motion(
+        sm,
+        per_period,
+        &sampled.points,
+        &starts,
+        settings,
+        &MeasureOptions::default(),
+    );
+    let e = realised_error(target, &sampled.weights, &plays, None);
+    let vs = against_prediction(sm, plays, &PlayOptions::from_settings(settings));
+    Ok(Measured {
+        strength: e.realised_strength,
+        shape_error: e.shape_error,
+        vs_predicted: vs.relative_error,
+        valid: e.valid,
+        played: starts.len(),
+    })
+}
+
+/// A synthesized motion as a one-segment trajectory (one cycle per period).
+pub fn synthesized_motion(s: &Synthesis) -> Result<ScheduleMotion> {
+    ScheduleMotion::new(vec![PlayedSegment::moving(
+        "synthesized",
+        Motion::Signals(s.motion.clone()),
+        1,
+    )])
+}
+
+/// Synthesis settings of the study (coarse 7 × 7, 300 evaluations, 3
+/// starts, seed 1; no time budget, so the result is deterministic).
+pub fn options() -> SynthOptions {
+    SynthOptions {
+        progress: ProgressMode::Quiet,
+        ..SynthOptions::default()
+    }
+}
+
+/// One row of the table.
+#[derive(Debug, Clone)]
+pub struct Row {
+    /// Target name.
+    pub name: String,
+    /// The limits used.
+    pub limits: ShakerLimits,
+    /// The sequenced schedule, measured (absent for the lab row).
+    pub sequenced: Option<Measured>,
+    /// The synthesized motion, or why there is none.
+    pub synthesis: std::result::Result<(Synthesis, Measured), String>,
+}
+
+impl Row {
+    /// Goal checks: (shape ≤ 5 %, strength goal, realised vs predicted ≤ 2 %).
+    pub fn goals(&self) -> Option<[bool; 3]> {
+        let (_, m) = self.synthesis.as_ref().ok()?;
+        let strength = match &self.sequenced {
+            Some(q) => m.strength >= GOAL_RATIO * q.strength,
+            None => m.strength >= GOAL_LAB_STRENGTH,
+        };
+        Some([
+            m.shape_error <= GOAL_SHAPE,
+            strength,
+            m.vs_predicted <= GOAL_VS_PREDICTED,
+        ])
+    }
+}
+
+/// Synthesizes for `target` under `limits` and measures the result.
+fn synthesize_row(
+    target: &Target,
+    limits: &ShakerLimits,
+    settings: &FieldSettings,
+) -> Result<(Synthesis, Measured)> {
+    let g = target
+        .grid
+        .as_ref()
+        .ok_or_else(|| Error::invalid("grid", "the study's targets need a grid"))?;
+    let region = Grid {
+        x: g.x,
+        y: g.y,
+        n: g.n,
+    };
+    let s = synthesize(&target.field, &region, limits, settings, &options())?;
+    let m = measure(target, &synthesized_motion(&s)?, 1, settings)?;
+    Ok((s, m))
+}
+
+/// The row for `name`: `targets/<name>.json` against
+/// `<results>/<name>/schedule.json`.
+pub fn row(name: &str, targets: &Path, results: &Path) -> Result<Row> {
+    let target = Target::load(&targets.join(format!("{name}.json")))?;
+    let schedule = Schedule::load(&results.join(name).join("schedule.json"))?;
+    let settings = schedule.settings;
+    let limits = limits_of(&schedule, 2)?;
+    let sm = ScheduleMotion::from_schedule(&schedule)?;
+    let sequenced = measure(&target, &sm, schedule.total_cycles, &settings)?;
+    Ok(Row {
+        name: name.into(),
+        synthesis: synthesize_row(&target, &limits, &settings).map_err(|e| e.to_string()),
+        limits,
+        sequenced: Some(sequenced),
+    })
+}
+
+/// The lab-class row: the sink target under [`lab_limits`], default physics.
+pub fn lab_row(targets: &Path) -> Result<Row> {
+    let target = Target::load(&targets.join("sink.json"))?;
+    let limits = lab_limits();
+    Ok(Row {
+        name: "sink (lab-class limits)".into(),
+        synthesis: synthesize_row(&target, &limits, &FieldSettings::default())
+            .map_err(|e| e.to_string()),
+        limits,
+        sequenced: None,
+    })
+}
+
+/// A refined sequenced design.
+#[derive(Debug, Clone)]
+pub struct RefineRow {
+    /// Target name.
+    pub name: String,
+    /// Before and after.
+    pub refined: Refined,
+}
+
+/// Refines `results/<name>/schedule.json` for `targets/<name>.json` with
+/// the default [`RefineOptions`].
+pub fn refine_row(name: &str, targets: &Path, results: &Path) -> Result<RefineRow> {
+    let target = Target::load(&targets.join(format!("{name}.json")))?;
+    let schedule = Schedule::load(&results.join(name).join("schedule.json"))?;
+    Ok(RefineRow {
+        name: name.into(),
+        refined: refine_schedule(&schedule, &target, &RefineOptions::default())?,
+    })
+}
+
+fn order_text(s: &Schedule) -> String {
+    s.segments
+        .iter()
+        .map(|g| {
+            let amp = g
+                .primitive
+                .as_ref()
+                .and_then(|p| p.amplitude.map(|a| format!(" a={a:.4}")))
+                .unwrap_or_default();
+            let rot = g
+                .primitive
+                .as_ref()
+                .map(|p| format!("@{:.1}°", p.rotation_deg))
+                .unwrap_or_default();
+            let kind = g.primitive.as_ref().map_or("Rest", |p| p.kind.name());
+            format!("{kind}{rot}×{}{amp}", g.cycles)
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+fn pct(x: f64) -> String {
+    if x.is_finite() {
+        format!("{:.1} %", 100.0 * x)
+    } else {
+        "—".into()
+    }
+}
+
+fn num(x: f64) -> String {
+    if x.is_finite() {
+        format!("{x:.3}")
+    } else {
+        "—".into()
+    }
+}
+
+fn met(ok: bool) -> &'static str {
+    if ok {
+        "met"
+    } else {
+        "NOT met"
+    }
+}
+
+/// The markdown (timings included) and the csv (none).
+pub fn render(rows: &[Row], refined: &[RefineRow], seconds: f64) -> (String, String) {
+    let mut md = String::new();
+    let mut csv = String::from(
+        "target,sequenced_strength,sequenced_shape_error,sequenced_vs_predicted,synth_strength,synth_shape_error,synth_vs_predicted,synth_predicted_strength,synth_predicted_shape_error,evaluations,strength_ratio,valid,played\n",
+    );
+    md.push_str("# Synthesized six-signal motions against sequenced schedules\n\n");
+    md.push_str(
+        "Generated by `platefield synthesis` (`platefield::studies::synthesis`; method in its module \
+         documentation). Both motions are *played* on point parts (at rest on the plate at every 5th \
+         point of the target's 21 × 21 grid, masked points left out; ≥ 40 primitive cycles of warm-up, \
+         windows of ≥ 20 cycles at every join) and judged by the same realised measure: realised \
+         strength ŝ (s⁻¹) and shape error against the target; *vs pred.* is the realised field \
+         against the motion's own steady-state prediction (`verify`'s number). Limits of each row: \
+         the per-axis peaks of the sequenced schedule `results/<target>/schedule.json`, same period, \
+         2 harmonics, contact margin 0.1 g. Synthesis: coarse 7 × 7 objective, 300 evaluations, \
+         3 starts, seed 1, full-grid check. Goals (issue 11): shape ≤ 5 %, strength ≥ 2× the \
+         sequenced schedule's (lab row: ≥ 0.5 s⁻¹), realised vs predicted ≤ 2 %.\n\n",
+    );
+    md.push_str("| target | sequenced ŝ | sequenced shape | synthesized ŝ | ratio | synthesized shape | vs pred. | predicted ŝ (full grid) | evaluations | time | shape ≤ 5 % | strength | vs pred. ≤ 2 % |\n");
+    md.push_str("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    for r in rows {
+        let (qs, qe) = r.sequenced.map_or(("—".into(), "—".into()), |q| {
+            (num(q.strength), pct(q.shape_error))
+        });
+        match &r.synthesis {
+            Ok((s, m)) => {
+                let ratio = r.sequenced.map_or(f64::NAN, |q| m.strength / q.strength);
+                let g = r.goals().unwrap_or([false; 3]);
+                let _ =
+                    writeln!(
+                    md,
+                    "| {} | {qs} | {qe} | {} | {} | {} | {} | {} | {} | {:.1} s | {} | {} | {} |",
+                    r.name,
+                    num(m.strength),
+                    if ratio.is_finite() { format!("{ratio:.2}×") } else { "—".into() },
+                    pct(m.shape_error),
+                    pct(m.vs_predicted),
+                    num(s.realised.strength),
+                    s.evaluations,
+                    s.seconds,
+                    met(g[0]),
+                    met(g[1]),
+                    met(g[2]),
+                );
+                let q = r.sequenced.unwrap_or(Measured {
+                    strength: f64::NAN,
+                    shape_error: f64::NAN,
+                    vs_predicted: f64::NAN,
+                    valid: 0,
+                    played: 0,
+                });
+                let _ = writeln!(
+                    csv,
+                    "{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{},{:e},{},{}",
+                    r.name,
+                    q.strength,
+                    q.shape_error,
+                    q.vs_predicted,
+                    m.strength,
+                    m.shape_error,
+                    m.vs_predicted,
+                    s.realised.strength,
+                    s.realised.shape_error,
+                    s.evaluations,
+                    ratio,
+                    m.valid,
+                    m.played
+                );
+            }
+            Err(e) => {
+                let _ = writeln!(
+                    md,
+                    "| {} | {qs} | {qe} | no motion: {e} | | | | | | | NOT met | NOT met | NOT met |",
+                    r.name
+                );
+                let _ = writeln!(csv, "{},,,,,,,,,,,,", r.name);
+            }
+        }
+    }
+    md.push_str("\n## Limits and synthesis notes\n\n");
+    for r in rows {
+        let l = &r.limits;
+        let _ = writeln!(
+            md,
+            "- **{}**: T = {:.5} s, linear [{:.3}, {:.3}, {:.3}] m/s², angular [{:.1}, {:.1}, {:.1}] rad/s², {} harmonic(s).",
+            r.name, l.period, l.linear[0], l.linear[1], l.linear[2], l.angular[0], l.angular[1], l.angular[2], l.harmonics
+        );
+        if let Ok((s, _)) = &r.synthesis {
+            let _ = writeln!(md, "  Synthesis: {}.", s.summary());
+        }
+    }
+    if !refined.is_empty() {
+        let o = RefineOptions::default();
+        let _ = write!(
+            md,
+            "\n## Refinement of sequenced designs by re-simulation\n\n\
+             `platefield::design::refine` (Nelder–Mead over each moving segment's cycles, \
+             rotation and amplitude scale ≤ 1; the played realised error in the objective on every \
+             {}th grid point, {} plays; before and after on every {}th point; method and why \
+             Nelder–Mead in its module documentation). Cost = shape error + max(0, 1 − ŝ/ŝ₀) \
+             (+ points lost).\n\n\
+             | target | before: shape | before: ŝ | after: shape | after: ŝ | kept | plays | time |\n\
+             |---|---|---|---|---|---|---|---|\n",
+            o.coarse_stride, o.max_evaluations, o.stride
+        );
+        for r in refined {
+            let f = &r.refined;
+            let _ = writeln!(
+                md,
+                "| {} | {} | {} | {} | {} | {} | {} | {:.0} s |",
+                r.name,
+                pct(f.before.error.shape_error),
+                num(f.before.error.realised_strength),
+                pct(f.after.error.shape_error),
+                num(f.after.error.realised_strength),
+                if f.improved {
+                    "refined"
+                } else {
+                    "design (refinement did not help)"
+                },
+                f.evaluations,
+                f.seconds
+            );
+            let _ = writeln!(
+                csv,
+                "refine:{},{:e},{:e},,{:e},{:e},,,,{},,{},{}",
+                r.name,
+                f.before.error.realised_strength,
+                f.before.error.shape_error,
+                f.after.error.realised_strength,
+                f.after.error.shape_error,
+                f.evaluations,
+                f.after.error.valid,
+                f.after.played
+            );
+        }
+        md.push('\n');
+        for r in refined {
+            let _ = writeln!(
+                md,
+                "- **{}** refined schedule: {}.",
+                r.name,
+                order_text(&r.refined.schedule)
+            );
+        }
+    }
+    let _ = writeln!(md, "\nTotal time {seconds:.0} s.");
+    (md, csv)
+}
+
+/// `platefield synthesis`: every row, written to `out/synthesis.md` and
+/// `out/synthesis.csv`; returns the markdown and the files written.
+///
+/// `only` (empty: all) restricts the rows by name (`lab` for the lab row).
+///
+/// # Errors
+/// An unknown row name; a target or schedule that does not load.
+pub fn run(out: &Path, only: &[String]) -> Result<String> {
+    let start = Instant::now();
+    let targets = Path::new("targets");
+    let results = Path::new("results");
+    for o in only {
+        let refine = o
+            .strip_prefix("refine:")
+            .is_some_and(|n| REFINED.contains(&n));
+        if !(ROWS.contains(&o.as_str()) || o == "lab" || refine) {
+            return Err(Error::invalid(
+                "--rows",
+                format!(
+                    "unknown row {o:?}; rows are {}, lab, refine:{}",
+                    ROWS.join(", "),
+                    REFINED.join(", refine:")
+                ),
+            ));
+        }
+    }
+    let wanted = |n: &str| only.is_empty() || only.iter().any(|o| o == n);
+    let mut rows = Vec::new();
+    for name in ROWS.iter().filter(|n| wanted(n)) {
+        rows.push(row(name, targets, results)?);
+    }
+    if wanted("lab") {
+        rows.push(lab_row(targets)?);
+    }
+    let mut refined = Vec::new();
+    for name in REFINED {
+        if wanted(&format!("refine:{name}")) {
+            refined.push(refine_row(name, targets, results)?);
+        }
+    }
+    let (md, csv) = render(&rows, &refined, start.elapsed().as_secs_f64());
+    write_atomic(&out.join("synthesis.md"), md.as_bytes())?;
+    write_atomic(&out.join("synthesis.csv"), csv.as_bytes())?;
+    Ok(format!(
+        "{md}wrote {}, {}\n",
+        out.join("synthesis.md").display(),
+        out.join("synthesis.csv").display()
+    ))
+}
