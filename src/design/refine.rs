@@ -54,6 +54,7 @@ use std::time::Instant;
 use argmin::core::{CostFunction, Executor};
 use argmin::solver::neldermead::NelderMead;
 
+use super::closed_loop::loop_points;
 use super::closed_loop::measure::{play, realised_error, MeasureOptions, RealisedError};
 use crate::error::{Error, Result};
 use crate::request::{SampledTarget, Target};
@@ -80,7 +81,7 @@ impl Default for RefineOptions {
         RefineOptions {
             coarse_stride: 10,
             stride: 5,
-            max_evaluations: 60,
+            max_evaluations: 150,
             step: 0.3,
             measure: MeasureOptions::default(),
         }
@@ -163,16 +164,6 @@ pub fn dimension(schedule: &Schedule) -> usize {
         .iter()
         .filter(|s| s.primitive.is_some())
         .count()
-}
-
-/// Played start points: every `stride`-th grid point with a weight > 0.
-fn starts(target: &Target, sampled: &SampledTarget, stride: usize) -> Vec<usize> {
-    let nx = target.grid.as_ref().map_or(1, |g| g.n[0]);
-    let s = stride.max(1);
-    (0..sampled.len())
-        .filter(|&k| sampled.weights[k] > 0.0)
-        .filter(|&k| (k % nx) % s == 0 && (k / nx) % s == 0)
-        .collect()
 }
 
 /// Plays and judges `schedule` from `starts`; `reference` is ŝ₀ (None:
@@ -273,8 +264,8 @@ pub fn refine_schedule(
 ) -> Result<Refined> {
     let start = Instant::now();
     let sampled = target.sample()?;
-    let coarse = starts(target, &sampled, options.coarse_stride);
-    let fine = starts(target, &sampled, options.stride);
+    let coarse = loop_points(target, &sampled, options.coarse_stride);
+    let fine = loop_points(target, &sampled, options.stride);
     if coarse.is_empty() || fine.is_empty() {
         return Err(Error::invalid(
             "target.grid",
