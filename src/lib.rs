@@ -27,7 +27,7 @@
 //! | basis | [`basis`] | the paper's eight primitives and their defaults ([`basis::primitives`]), rotated and shifted copies by symmetry ([`basis::symmetry`]), the on-disk cache |
 //! | fit | [`fit`] | the inverse problem: time fractions w ≥ 0, Σw ≤ 1, the fit modes, how each is solved and verified |
 //! | schedule | [`design::schedule`], [`design::export`] | time fractions as whole cycles; the six controller signals |
-//! | design | [`design`] | the open-loop pipeline and the closed loop ([`design::closed_loop`]) |
+//! | design | [`design`] | the open-loop pipeline, the closed loop ([`design::closed_loop`]) and refinement of a design's primitives by re-simulation ([`design::refine`]) |
 //! | play, verify | [`verify`] | a schedule's exact plate trajectory, the rule at the joins, rest in closed form; realised against predicted; where parts end up |
 //! | studies | [`studies`] | the paper's results reproduced: eq. 17 of section II ([`studies::linesink`]), Table I, the interaction of sequenced primitives, the order study of section V; model rungs and speed against error |
 //!
