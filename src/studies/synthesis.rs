@@ -735,10 +735,11 @@ pub fn render(
          the centripetal ≈ 0.1 m/s²), so that part caps the strength. The sequenced squeeze_trans \
          transports with Trans, an asymmetric (sawtooth) in-plane translation — a mechanism the \
          closed-form seed does not model and the local refinement does not find from the seed.\n\
-         - *valid / played* below played: parts left the plate somewhere along their path (a \
-         saddle or source drives them out of the region, where the tilts swing the normal force \
-         further than the contact check over the region allows); the measure leaves those points \
-         out.\n\
+         - *valid / played* below played: at those start points a part lost contact (or a \
+         steady state failed) somewhere along its path and the measure leaves the point out. For \
+         the saddle the likely cause, not verified here, is its expanding axis: parts are driven \
+         out of the ±4 cm region that the contact check covers, and the tilts swing the normal \
+         force further out there.\n\
          - *Realised vs predicted*: if the long play (5× warm-up and measurement) gives the same \
          gap, it is not a start-up transient but the difference between a moving part and the \
          steady state computed at a fixed point.\n",
