@@ -27,7 +27,7 @@
 //! | basis | [`basis`] | the paper's eight primitives and their defaults ([`basis::primitives`]), rotated and shifted copies by symmetry ([`basis::symmetry`]), the on-disk cache |
 //! | fit | [`fit`] | the inverse problem: time fractions w ≥ 0, Σw ≤ 1, the fit modes, how each is solved and verified |
 //! | schedule | [`design::schedule`], [`design::export`] | time fractions as whole cycles; the six controller signals |
-//! | design | [`design`] | the open-loop pipeline, the closed loop ([`design::closed_loop`]), and `--method` ([`design::method`]): sequence or synthesize, every candidate played against the target, the POOR rule ([`fit::POOR_ERROR`]) and the choice |
+//! | design | [`design`] | the open-loop pipeline, the closed loop ([`design::closed_loop`]), refinement of a design's primitives by re-simulation ([`design::refine`]), and `--method` ([`design::method`]): sequence or synthesize, every candidate played against the target, the POOR rule ([`fit::POOR_ERROR`]) and the choice |
 //! | synthesis | [`synth`] | one simultaneous six-signal motion: shaker limits, the averaged-friction seed, refinement by re-simulation |
 //! | play, verify | [`verify`] | a schedule's exact plate trajectory, the rule at the joins, rest in closed form; realised against predicted; where parts end up |
 //! | work | [`work`] | the work estimate (RK4 part steps at a stated rate) every long command makes first, refusing above 10 min unless `--allow-long` |

@@ -116,6 +116,24 @@ enum Command {
     /// Study: interaction error of two sequenced LineSinks (a Sink): sink_interaction.md.
     #[command(mut_arg("out", default_dir(studies::interaction::DIR)))]
     Interaction(StudyOut),
+    /// Study: one synthesized six-signal motion per target against its sequenced schedule, both played: synthesis.{md,csv}.
+    #[command(mut_arg("out", default_dir(studies::synthesis::DIR)))]
+    Synthesis {
+        /// Only these rows (comma-separated: sink, saddle, whirlpool, squeeze_trans, line_sink_30, lab, refine:whirlpool, refine:squeeze_trans).
+        #[arg(long, value_delimiter = ',')]
+        rows: Vec<String>,
+        /// Harmonics of 2π/T the sequenced rows' syntheses may use.
+        #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u32).range(1..=16))]
+        harmonics: u32,
+        /// Coarse evaluations per synthesis.
+        #[arg(long, default_value_t = 300, value_parser = clap::value_parser!(u64).range(1..=100_000))]
+        evaluations: u64,
+        /// Multi-start starts per synthesis.
+        #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u64).range(1..=100))]
+        starts: u64,
+        #[command(flatten)]
+        out: StudyOut,
+    },
     /// Study: SqueezeTrans's squeeze line against segment order, phasing, cycles and rest (the paper's section V): squeeze_trans_order.{md,csv}.
     #[command(mut_arg("out", default_dir(studies::squeeze_order::DIR)))]
     SqueezeOrder(StudyOut),
@@ -198,6 +216,21 @@ fn run(cli: Cli) -> Result<String> {
         Command::FitQuality(o) => studies::fit_quality::run(Path::new("targets"), &o.out),
         Command::Interaction(o) => studies::interaction::run(&o.out),
         Command::SqueezeOrder(o) => studies::squeeze_order::run(&o.out),
+        Command::Synthesis {
+            rows,
+            harmonics,
+            evaluations,
+            starts,
+            out,
+        } => studies::synthesis::run(
+            &out.out,
+            &rows,
+            &studies::synthesis::StudySettings {
+                harmonics,
+                evaluations: evaluations as usize,
+                starts: starts as usize,
+            },
+        ),
     }
 }
 

@@ -18,13 +18,12 @@ use platefield::synth::{synthesize, ShakerLimits, SynthOptions, Synthesis};
 
 /// The lab-class limits of issue 11.
 fn lab() -> ShakerLimits {
-    ShakerLimits {
-        period: 0.05,
-        linear: [10.0, 10.0, 0.0],
-        angular: [70.0, 70.0, 0.0],
-        harmonics: 1,
-        contact_margin: 0.1,
-    }
+    let l = ShakerLimits::lab_class();
+    assert_eq!(
+        (l.period, l.linear, l.angular, l.harmonics),
+        (0.05, [10.0, 10.0, 0.0], [70.0, 70.0, 0.0], 1)
+    );
+    l
 }
 
 fn region(n: usize) -> Grid {

@@ -14,6 +14,9 @@
 //! 4. **Order** (optional, [`DesignOptions::order_search`]): the segment
 //!    order and rest insertions that best realise the prediction in
 //!    closed-loop simulation ([`order`]).
+//! 5. **Refine** ([`refine`], a library step `design` does not call yet;
+//!    `platefield synthesis` uses it): the primitives' cycles, rotations
+//!    and amplitudes tuned by Nelder–Mead on the played realised error.
 //!
 //! Each step is one named stage function in `stages.rs`
 //! (`basis_stage` → `fit_stage` → `schedule_stage` → `order_stage`), and
@@ -24,6 +27,7 @@ pub mod closed_loop;
 pub mod method;
 mod options;
 pub mod order;
+pub mod refine;
 mod stages;
 
 use std::path::PathBuf;

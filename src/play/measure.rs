@@ -500,7 +500,22 @@ pub fn verify_points_ticked(
     opts: &PlayOptions,
     tick: &(dyn Fn() + Sync),
 ) -> RealisedField {
-    let results: Vec<PointResult> = play_points_ticked(sm, points, opts, Windows::First, tick)
+    against_prediction(
+        sm,
+        play_points_ticked(sm, points, opts, Windows::First, tick),
+        opts,
+    )
+}
+
+/// Compares plays of `sm` (from [`play_points`] or [`play_point`], any
+/// windows) with the time-weighted steady-state prediction of `sm`'s
+/// segments (see the module documentation), with `opts`' physics.
+pub fn against_prediction(
+    sm: &ScheduleMotion,
+    plays: Vec<PointPlay>,
+    opts: &PlayOptions,
+) -> RealisedField {
+    let results: Vec<PointResult> = plays
         .into_par_iter()
         .map(|play| compare(sm, &opts.player(sm), play))
         .collect();

@@ -14,6 +14,7 @@
 //! | [`fit_quality`] | `platefield fit-quality` | `fit_quality.md` |
 //! | [`interaction`] | `platefield interaction` | `verify/sink_interaction.md` |
 //! | [`squeeze_order`] | `platefield squeeze-order` | `verify/squeeze_trans_order.{md,csv}` |
+//! | [`synthesis`] | `platefield synthesis` | `synthesis.{md,csv}` |
 
 pub mod engine_speed;
 pub mod fit_quality;
@@ -24,4 +25,5 @@ pub mod reproduce;
 pub mod rung;
 pub mod speed;
 pub mod squeeze_order;
+pub mod synthesis;
 pub mod table1;

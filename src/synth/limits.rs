@@ -130,6 +130,19 @@ impl ShakerLimits {
         }
     }
 
+    /// The lab-class limits of issue 11: T = 0.05 s, linear ≤ 10 m/s² on x
+    /// and y and 0 on z, angular ≤ 70 rad/s² about x and y and 0 about z,
+    /// harmonic 1 only, margin 0.1.
+    pub fn lab_class() -> ShakerLimits {
+        ShakerLimits {
+            period: 0.05,
+            linear: [10.0, 10.0, 0.0],
+            angular: [70.0, 70.0, 0.0],
+            harmonics: 1,
+            contact_margin: 0.1,
+        }
+    }
+
     /// The six per-axis limits in signal order (linear x, y, z, angular x,
     /// y, z).
     pub fn axes(&self) -> [f64; 6] {

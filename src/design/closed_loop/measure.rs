@@ -76,17 +76,37 @@ pub fn play(
     opts: &MeasureOptions,
 ) -> Result<Vec<PointPlay>> {
     let sm = ScheduleMotion::from_schedule(schedule)?;
-    let per_period = schedule.total_cycles.max(1);
+    Ok(play_motion(
+        &sm,
+        schedule.total_cycles,
+        points,
+        starts,
+        settings,
+        opts,
+    ))
+}
+
+/// [`play`] for a trajectory `sm` of `per_period` primitive cycles per
+/// schedule period (e.g. one segment of a synthesized motion).
+pub fn play_motion(
+    sm: &ScheduleMotion,
+    per_period: u32,
+    points: &[[f64; 2]],
+    starts: &[usize],
+    settings: &FieldSettings,
+    opts: &MeasureOptions,
+) -> Vec<PointPlay> {
+    let per_period = per_period.max(1);
     let warm = opts.warmup_cycles.div_ceil(per_period);
     let meas = opts.measured_cycles.div_ceil(per_period).max(1);
     let v = PlayOptions::from_settings(settings);
-    Ok(starts
+    starts
         .par_iter()
         .map(|&i| {
-            let player = v.player(&sm);
-            play_point(&sm, &player, i, points[i], warm, meas, Windows::EveryJoin)
+            let player = v.player(sm);
+            play_point(sm, &player, i, points[i], warm, meas, Windows::EveryJoin)
         })
-        .collect())
+        .collect()
 }
 
 /// The promise s·t at each of `plays` as a part following it exactly would

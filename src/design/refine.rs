@@ -1,0 +1,337 @@
+//! Refinement of a sequenced design by re-simulation (issue 11's argmin
+//! loop on primitives): the continuous parameters of a schedule's
+//! primitives are tuned so that the *played* schedule realises the target
+//! better.
+//!
+//! **Solver: Nelder–Mead** (argmin's). Update rule first, as argmin states
+//! it: each iteration replaces the worst vertex x_w of a simplex of n + 1
+//! points by its reflection x_r = c + α(c − x_w) through the centroid c of
+//! the others (α = 1), expanded to c + γ(x_r − c) (γ = 2) when x_r beats the
+//! best vertex, contracted to c + ρ(x_w − c) (ρ = ½) when it does not beat
+//! the second worst, and the whole simplex is shrunk towards the best
+//! vertex (σ = ½) when the contraction fails too. Why: the objective is a
+//! played simulation whose cycle counts are whole numbers (piecewise
+//! constant in the cycle parameters) and whose stick–slip events make it
+//! kinked elsewhere, so gradients (analytic or by finite differences, 2n
+//! plays per step) are meaningless; the dimension is small (3 per moving
+//! segment) and the budget is ≈ 10² plays, far below what a particle swarm
+//! needs; Nelder–Mead needs only cost comparisons, one or two plays per
+//! iteration, and is the solver [`crate::synth`] already uses.
+//!
+//! **Parameters**, per moving segment i (x ∈ ℝ^{3n}, all of order one):
+//!
+//! ```text
+//! cycles_i   = max(min_cycles, round(c_i · e^{x_{3i}}))   time weight (whole cycles)
+//! rotation_i = r_i + 10° · x_{3i+1}                        turn about the vertical
+//! amplitude  = a_i · min(1, e^{x_{3i+2}})                  rotation and translation amplitudes scaled
+//! ```
+//!
+//! (c_i, r_i, a_i the design's). The amplitude may only shrink, so every
+//! refined schedule stays within the per-axis peaks of the design it
+//! started from. Axis depth and shift are left as designed: a deeper axis or
+//! a shifted one raises the peak linear acceleration (and the shift of a
+//! centred target only breaks its symmetry).
+//!
+//! **Objective** (one play of the candidate schedule on a coarse set of
+//! start points, every [`RefineOptions::coarse_stride`]-th target grid
+//! point, by the closed loop's realised measure
+//! [`super::closed_loop::measure`]): with e the realised shape error and ŝ
+//! the realised strength against the target,
+//!
+//! ```text
+//! cost = e + max(0, 1 − ŝ / ŝ₀) + (points lost) / (points)
+//! ```
+//!
+//! ŝ₀ the design's own realised strength: shape first, never bought by a
+//! weaker field, and a schedule whose parts lose contact at more points is
+//! penalised. The best candidate is then played on the finer set
+//! ([`RefineOptions::stride`]) beside the design; if it is not better there
+//! (lower cost) the design is kept and the result says so.
+
+use std::sync::Mutex;
+use std::time::Instant;
+
+use argmin::core::{CostFunction, Executor};
+use argmin::solver::neldermead::NelderMead;
+
+use super::closed_loop::loop_points;
+use super::closed_loop::measure::{play, realised_error, MeasureOptions, RealisedError};
+use crate::error::{Error, Result};
+use crate::request::{SampledTarget, Target};
+use crate::schedule::Schedule;
+
+/// Settings of [`refine_schedule`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RefineOptions {
+    /// Every `coarse_stride`-th grid point (each axis) is played inside the
+    /// objective.
+    pub coarse_stride: usize,
+    /// Every `stride`-th grid point is played for the before/after check.
+    pub stride: usize,
+    /// Plays allowed inside the objective.
+    pub max_evaluations: usize,
+    /// Initial simplex step (parameter units, see the module docs).
+    pub step: f64,
+    /// Warm-up and measured cycles of every play.
+    pub measure: MeasureOptions,
+}
+
+impl Default for RefineOptions {
+    fn default() -> Self {
+        RefineOptions {
+            coarse_stride: 10,
+            stride: 5,
+            max_evaluations: 150,
+            step: 0.3,
+            measure: MeasureOptions::default(),
+        }
+    }
+}
+
+/// A schedule's realised measure: error, strength, points.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Judged {
+    /// Realised shape error and strength against the target.
+    pub error: RealisedError,
+    /// Points played.
+    pub played: usize,
+    /// The objective's cost (see the module docs).
+    pub cost: f64,
+}
+
+/// Before and after a refinement.
+#[derive(Debug, Clone)]
+pub struct Refined {
+    /// The design as given, on the fine points.
+    pub before: Judged,
+    /// The refined schedule, on the fine points.
+    pub after: Judged,
+    /// The refined schedule (the design itself when refining did not help).
+    pub schedule: Schedule,
+    /// True when the refined schedule was kept.
+    pub improved: bool,
+    /// Plays inside the objective (coarse points).
+    pub evaluations: usize,
+    /// Wall time (s); not part of any data file.
+    pub seconds: f64,
+}
+
+/// The schedule for parameter vector `x` (see the module docs).
+pub fn apply(schedule: &Schedule, x: &[f64]) -> Schedule {
+    let min = schedule.min_cycles.max(1);
+    let mut k = 0;
+    let segments = schedule
+        .segments
+        .iter()
+        .map(|seg| {
+            let mut seg = seg.clone();
+            if let Some(p) = &mut seg.primitive {
+                let (lc, rot, la) = (
+                    x.get(k).copied().unwrap_or(0.0),
+                    x.get(k + 1).copied().unwrap_or(0.0),
+                    x.get(k + 2).copied().unwrap_or(0.0),
+                );
+                k += 3;
+                let c = (f64::from(seg.cycles) * lc.exp()).round();
+                seg.cycles = if c.is_finite() {
+                    c.clamp(f64::from(min), 100_000.0) as u32
+                } else {
+                    min
+                };
+                p.rotation_deg += 10.0 * rot;
+                let scale = la.exp().min(1.0);
+                let a = p
+                    .amplitude
+                    .unwrap_or_else(|| crate::basis::Primitive::default_amplitude(p.kind));
+                p.amplitude = Some(a * scale);
+                let t = p
+                    .translation
+                    .unwrap_or_else(|| crate::basis::Primitive::default_translation(p.kind));
+                if t != 0.0 {
+                    p.translation = Some(t * scale);
+                }
+            }
+            seg
+        })
+        .collect();
+    schedule.with_segments(segments)
+}
+
+/// Number of parameters of `schedule` (3 per moving segment).
+pub fn dimension(schedule: &Schedule) -> usize {
+    3 * schedule
+        .segments
+        .iter()
+        .filter(|s| s.primitive.is_some())
+        .count()
+}
+
+/// Plays and judges `schedule` from `starts`; `reference` is ŝ₀ (None:
+/// this play's own strength).
+fn judge(
+    schedule: &Schedule,
+    target: &Target,
+    sampled: &SampledTarget,
+    starts: &[usize],
+    options: &MeasureOptions,
+    reference: Option<(f64, usize)>,
+) -> Result<Judged> {
+    let plays = play(
+        schedule,
+        &sampled.points,
+        starts,
+        &schedule.settings,
+        options,
+    )?;
+    let error = realised_error(target, &sampled.weights, &plays, None);
+    let (s0, valid0) = reference.unwrap_or((error.realised_strength, error.valid));
+    let shape = if error.shape_error.is_finite() {
+        error.shape_error
+    } else {
+        10.0
+    };
+    let lost = valid0.saturating_sub(error.valid) as f64 / starts.len().max(1) as f64;
+    let weaker = if s0 > 0.0 {
+        (1.0 - error.realised_strength / s0).max(0.0)
+    } else {
+        0.0
+    };
+    Ok(Judged {
+        error,
+        played: starts.len(),
+        cost: shape + weaker.min(10.0) + lost,
+    })
+}
+
+/// Why a run stopped early.
+const BUDGET_SPENT: &str = "refinement budget spent";
+
+struct Problem<'a> {
+    schedule: &'a Schedule,
+    target: &'a Target,
+    sampled: &'a SampledTarget,
+    starts: Vec<usize>,
+    options: RefineOptions,
+    reference: (f64, usize),
+    tally: &'a Tally,
+}
+
+/// Plays so far and the best (cost, parameters).
+type Tally = Mutex<(usize, Option<(f64, Vec<f64>)>)>;
+
+impl CostFunction for Problem<'_> {
+    type Param = Vec<f64>;
+    type Output = f64;
+
+    fn cost(&self, x: &Vec<f64>) -> std::result::Result<f64, argmin::core::Error> {
+        let n = self.tally.lock().map_or(usize::MAX, |t| t.0);
+        // argmin's Nelder–Mead evaluates its first simplex unconditionally
+        // (n + 1 plays, counted against the budget).
+        if n >= self.options.max_evaluations.max(x.len() + 1) {
+            return Err(argmin::core::Error::msg(BUDGET_SPENT));
+        }
+        let s = apply(self.schedule, x);
+        let j = judge(
+            &s,
+            self.target,
+            self.sampled,
+            &self.starts,
+            &self.options.measure,
+            Some(self.reference),
+        )
+        .map_err(|e| argmin::core::Error::msg(e.to_string()))?;
+        let mut t = self
+            .tally
+            .lock()
+            .map_err(|_| argmin::core::Error::msg("poisoned"))?;
+        t.0 += 1;
+        if t.1.as_ref().is_none_or(|(c, _)| j.cost < *c) {
+            t.1 = Some((j.cost, x.clone()));
+        }
+        Ok(j.cost)
+    }
+}
+
+/// Refines `schedule` for `target` (see the module documentation).
+///
+/// # Errors
+/// A target without samples, a schedule that cannot be played, or the
+/// optimizer failing for a reason other than the budget.
+pub fn refine_schedule(
+    schedule: &Schedule,
+    target: &Target,
+    options: &RefineOptions,
+) -> Result<Refined> {
+    let start = Instant::now();
+    let sampled = target.sample()?;
+    let coarse = loop_points(target, &sampled, options.coarse_stride);
+    let fine = loop_points(target, &sampled, options.stride);
+    if coarse.is_empty() || fine.is_empty() {
+        return Err(Error::invalid(
+            "target.grid",
+            "no unmasked start point at the refinement strides",
+        ));
+    }
+    let base = judge(schedule, target, &sampled, &coarse, &options.measure, None)?;
+    let n = dimension(schedule);
+    let tally: Tally = Mutex::new((0, Some((base.cost, vec![0.0; n]))));
+    let problem = Problem {
+        schedule,
+        target,
+        sampled: &sampled,
+        starts: coarse,
+        options: *options,
+        reference: (base.error.realised_strength, base.error.valid),
+        tally: &tally,
+    };
+    let simplex: Vec<Vec<f64>> = (0..=n)
+        .map(|i| {
+            let mut v = vec![0.0; n];
+            if i > 0 {
+                v[i - 1] = options.step;
+            }
+            v
+        })
+        .collect();
+    if n > 0 {
+        let solver = NelderMead::new(simplex)
+            .with_sd_tolerance(1e-6)
+            .map_err(|e| Error::NotConverged(format!("Nelder–Mead setup: {e}")))?;
+        let outcome = Executor::new(problem, solver)
+            .configure(|s| s.max_iters(1_000_000))
+            .run();
+        if let Err(e) = outcome {
+            if !e.to_string().contains(BUDGET_SPENT) {
+                return Err(Error::NotConverged(format!("Nelder–Mead: {e}")));
+            }
+        }
+    }
+    let (evaluations, best) = tally
+        .into_inner()
+        .map_err(|_| Error::NotConverged("refinement: poisoned tally".into()))?;
+    let x = best.map(|b| b.1).unwrap_or_else(|| vec![0.0; n]);
+    let before = judge(schedule, target, &sampled, &fine, &options.measure, None)?;
+    let candidate = apply(schedule, &x);
+    let reference = Some((before.error.realised_strength, before.error.valid));
+    let after = judge(
+        &candidate,
+        target,
+        &sampled,
+        &fine,
+        &options.measure,
+        reference,
+    )?;
+    let improved = after.cost < before.cost;
+    Ok(Refined {
+        before,
+        after: if improved { after } else { before },
+        schedule: if improved {
+            candidate
+        } else {
+            schedule.clone()
+        },
+        improved,
+        evaluations,
+        seconds: start.elapsed().as_secs_f64(),
+    })
+}

@@ -1,0 +1,61 @@
+//! The synthesis study's pieces (`platefield synthesis`): a sequenced
+//! schedule's per-axis peaks against closed forms, and the limits taken
+//! from them.
+
+use std::path::Path;
+
+use platefield::basis::primitives::PSI0;
+use platefield::basis::{Primitive, PrimitiveKind};
+use platefield::schedule::Schedule;
+use platefield::studies::synthesis::{limits_of, schedule_peaks};
+
+fn sink_schedule() -> Schedule {
+    Schedule::load(Path::new("results/sink/schedule.json")).unwrap()
+}
+
+/// The LineSink turns ψ(t) = ψ0(1 − cos ωt) about a horizontal axis at
+/// depth d below the plate centre: peak angular acceleration ψ0 ω² (at
+/// t = 0), peak horizontal centre acceleration d ψ0 ω² (the tangential
+/// term at t = 0, where ψ = ψ' = 0), and a vertical one of at most
+/// d (|ψ''| sin ψ + ψ'²) (closed-form bound, reached near t = T/2:
+/// d ψ0 ω² sin 2ψ0). The sink schedule (LineSinks at 0°, 180°, 270°, 90°)
+/// has these peaks on both horizontal axes; one LineSink has them on one
+/// axis only.
+#[test]
+fn sink_schedule_peaks_are_the_linesink_closed_form() {
+    let s = sink_schedule();
+    let p = Primitive::new(PrimitiveKind::LineSink);
+    let (w, d) = (p.omega, p.depth);
+    let angular = PSI0 * w * w;
+    let linear = d * angular;
+    let vertical = d * angular * (2.0 * PSI0).sin();
+    let (peaks, period) = schedule_peaks(&s).unwrap();
+    println!("sink schedule peaks {peaks:?}, period {period}");
+    assert!((period - 2.0 * std::f64::consts::PI / w).abs() < 1e-15);
+    let rel = |a: f64, b: f64| (a - b).abs() / b;
+    // 4096 samples per cycle, peak at a sample (t = 0): exact to round-off.
+    assert!(rel(peaks[0], linear) < 1e-9 && rel(peaks[1], linear) < 1e-9);
+    assert!(rel(peaks[3], angular) < 1e-9 && rel(peaks[4], angular) < 1e-9);
+    assert!(peaks[5] < 1e-9 * angular, "{}", peaks[5]);
+    // The vertical peak near T/2: within the sampling and the ψ'² term.
+    assert!(rel(peaks[2], vertical) < 2e-3, "{} vs {vertical}", peaks[2]);
+    // One LineSink: its peaks on one horizontal axis, the other zero.
+    let one = s.with_segments(vec![s.segments[0].clone()]);
+    let (p1, _) = schedule_peaks(&one).unwrap();
+    let (big, small) = (p1[3].max(p1[4]), p1[3].min(p1[4]));
+    assert!(rel(big, angular) < 1e-9 && small < 1e-9 * angular, "{p1:?}");
+    let (big, small) = (p1[0].max(p1[1]), p1[0].min(p1[1]));
+    assert!(rel(big, linear) < 1e-9 && small < 1e-9 * linear, "{p1:?}");
+    // The limits are these peaks; a schedule of rest alone has none.
+    let l = limits_of(&s, 2).unwrap();
+    assert_eq!(l.linear, [peaks[0], peaks[1], peaks[2]]);
+    assert_eq!(l.angular, [peaks[3], peaks[4], peaks[5]]);
+    assert_eq!((l.harmonics, l.contact_margin, l.period), (2, 0.1, period));
+    let mut rest = s.segments[0].clone();
+    rest.primitive = None;
+    rest.duration_s = 0.1;
+    let e = schedule_peaks(&s.with_segments(vec![rest]))
+        .unwrap_err()
+        .to_string();
+    assert!(e.starts_with("schedule.segments"), "{e}");
+}
