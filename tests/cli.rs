@@ -182,7 +182,8 @@ fn verify_json_reports_the_issue_keys_and_rejects_bad_input() {
 
 /// The shipped sink schedule as a JSON value.
 fn sink_schedule() -> serde_json::Value {
-    let text = std::fs::read_to_string("results/sink/schedule.json").expect("sink schedule");
+    let text =
+        std::fs::read_to_string("results/sequenced/sink/schedule.json").expect("sink schedule");
     serde_json::from_str(&text).expect("JSON")
 }
 
@@ -699,7 +700,7 @@ fn progress_lines_without_a_terminal_and_none_when_quiet() {
         (
             vec![
                 "verify",
-                "results/sink/schedule.json",
+                "results/sequenced/sink/schedule.json",
                 "--points",
                 "2",
                 "--swarm",
@@ -722,7 +723,7 @@ fn progress_lines_without_a_terminal_and_none_when_quiet() {
         (
             vec![
                 "order",
-                "results/sink/schedule.json",
+                "results/sequenced/sink/schedule.json",
                 "--points",
                 "1",
                 "--rest",
@@ -761,7 +762,7 @@ fn trajectories_svg_has_legend_clipping_and_outlines() {
     let out = dir.to_str().unwrap();
     let (code, _, err) = platefield(&[
         "verify",
-        "results/sink/schedule.json",
+        "results/sequenced/sink/schedule.json",
         "--points",
         "3",
         "--swarm",

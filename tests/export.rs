@@ -42,6 +42,11 @@ fn every_shipped_export_returns_to_rest_each_period() {
         "whirlpool",
         "line_sink",
         "jet",
+        "line_sink_30",
+        "sequenced/sink",
+        "sequenced/saddle",
+        "sequenced/whirlpool",
+        "sequenced/line_sink_30",
     ] {
         let path = format!("results/{name}/schedule.json");
         let schedule = Schedule::load(std::path::Path::new(&path)).unwrap();
@@ -70,9 +75,9 @@ fn lab_motion_json() -> serde_json::Value {
     })
 }
 
-/// The shipped sink schedule with its segments replaced by `segments`.
+/// The sequenced sink schedule (`results/sequenced/sink`) with its segments replaced by `segments`.
 fn with_segments(segments: serde_json::Value) -> String {
-    let text = std::fs::read_to_string("results/sink/schedule.json").unwrap();
+    let text = std::fs::read_to_string("results/sequenced/sink/schedule.json").unwrap();
     let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
     v["segments"] = segments;
     v.to_string()
@@ -139,7 +144,7 @@ fn a_six_signal_segment_exports_with_ramps_back_to_rest() {
 /// errors naming the JSON path.
 #[test]
 fn motion_segments_keep_the_format_and_name_paths() {
-    let path = std::path::Path::new("results/sink/schedule.json");
+    let path = std::path::Path::new("results/sequenced/sink/schedule.json");
     let s = Schedule::load(path).unwrap();
     let json = s.to_json().unwrap();
     assert!(!json.contains("\"motion\""));

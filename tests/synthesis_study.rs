@@ -6,11 +6,25 @@ use std::path::Path;
 
 use platefield::basis::primitives::PSI0;
 use platefield::basis::{Primitive, PrimitiveKind};
+use platefield::design::{design, DesignOptions};
+use platefield::request::Target;
+use platefield::schedule::export::schedule_peaks;
 use platefield::schedule::Schedule;
-use platefield::studies::synthesis::{limits_of, schedule_peaks};
+use platefield::studies::synthesis::limits_of;
 
+/// The sink's sequenced schedule (`design --method sequence`; the shipped
+/// `results/sink/schedule.json` holds whichever method `auto` kept).
 fn sink_schedule() -> Schedule {
-    Schedule::load(Path::new("results/sink/schedule.json")).unwrap()
+    let target = Target::load(Path::new("targets/sink.json")).unwrap();
+    design(
+        &target,
+        &DesignOptions {
+            quiet: true,
+            ..DesignOptions::default()
+        },
+    )
+    .unwrap()
+    .schedule
 }
 
 /// The LineSink turns ψ(t) = ψ0(1 − cos ωt) about a horizontal axis at
@@ -29,7 +43,8 @@ fn sink_schedule_peaks_are_the_linesink_closed_form() {
     let angular = PSI0 * w * w;
     let linear = d * angular;
     let vertical = d * angular * (2.0 * PSI0).sin();
-    let (peaks, period) = schedule_peaks(&s).unwrap();
+    let peaks = schedule_peaks(&s);
+    let period = limits_of(&s, 2).unwrap().period;
     println!("sink schedule peaks {peaks:?}, period {period}");
     assert!((period - 2.0 * std::f64::consts::PI / w).abs() < 1e-15);
     let rel = |a: f64, b: f64| (a - b).abs() / b;
@@ -41,7 +56,7 @@ fn sink_schedule_peaks_are_the_linesink_closed_form() {
     assert!(rel(peaks[2], vertical) < 2e-3, "{} vs {vertical}", peaks[2]);
     // One LineSink: its peaks on one horizontal axis, the other zero.
     let one = s.with_segments(vec![s.segments[0].clone()]);
-    let (p1, _) = schedule_peaks(&one).unwrap();
+    let p1 = schedule_peaks(&one);
     let (big, small) = (p1[3].max(p1[4]), p1[3].min(p1[4]));
     assert!(rel(big, angular) < 1e-9 && small < 1e-9 * angular, "{p1:?}");
     let (big, small) = (p1[0].max(p1[1]), p1[0].min(p1[1]));
@@ -54,7 +69,7 @@ fn sink_schedule_peaks_are_the_linesink_closed_form() {
     let mut rest = s.segments[0].clone();
     rest.primitive = None;
     rest.duration_s = 0.1;
-    let e = schedule_peaks(&s.with_segments(vec![rest]))
+    let e = limits_of(&s.with_segments(vec![rest]), 2)
         .unwrap_err()
         .to_string();
     assert!(e.starts_with("schedule.segments"), "{e}");

@@ -12,10 +12,10 @@
 //! harmonic 1), which has no sequenced counterpart (goal: ≥ 0.5 s⁻¹).
 //!
 //! **Limits** of a row: the per-axis peaks of the sequenced schedule
-//! ([`schedule_peaks`]): the largest |plate-centre acceleration| of each of
+//! ([`sequenced_limits`]): the largest |plate-centre acceleration| of each of
 //! the six signals over every moving segment (a sequenced schedule plays one
 //! primitive at a time, so the summed signal is the segment's own), found on
-//! [`PEAK_SAMPLES`] samples per primitive cycle; the period is the
+//! [`crate::schedule::export::PEAK_SAMPLES`] samples per primitive cycle; the period is the
 //! primitives' (all share ω); up to 2 harmonics, contact margin 0.1 g.
 //! Each row is synthesized with 1 and with 2 harmonics (fewer harmonics is
 //! within the same limits) and the better *played* result is kept (shape
@@ -40,6 +40,7 @@ use std::time::Instant;
 
 use crate::design::closed_loop::loop_points;
 use crate::design::closed_loop::measure::{play_motion, realised_error, MeasureOptions};
+use crate::design::method::sequenced_limits;
 use crate::design::refine::{refine_schedule, RefineOptions, Refined};
 use crate::design::{design, DesignOptions};
 use crate::error::{Error, Result};
@@ -49,7 +50,6 @@ use crate::output::write_atomic;
 use crate::play::measure::{against_prediction, PlayOptions};
 use crate::play::{PlayedSegment, ScheduleMotion};
 use crate::request::{SampledTarget, Target};
-use crate::schedule::export::centre_acceleration;
 use crate::schedule::Schedule;
 use crate::synth::params::AXIS_NAMES;
 use crate::synth::progress::ProgressMode;
@@ -58,9 +58,6 @@ use crate::synth::{synthesize, ShakerLimits, SynthOptions, Synthesis};
 
 /// Default output folder.
 pub const DIR: &str = "results";
-
-/// Samples per primitive cycle used to find a schedule's peaks.
-pub const PEAK_SAMPLES: usize = 4096;
 
 /// Every `STRIDE`-th target grid point (each axis) carries a played part.
 pub const STRIDE: usize = 5;
@@ -87,70 +84,15 @@ pub const ROWS: [&str; 5] = [
 /// The sequenced designs refined by re-simulation ([`refine_schedule`]).
 pub const REFINED: [&str; 2] = ["whirlpool", "squeeze_trans"];
 
-/// Per-axis peaks (linear x, y, z in m/s², angular x, y, z in rad/s²) of
-/// one cycle of `motion`, on `samples` equally spaced instants.
-pub fn motion_peaks(motion: &Motion, samples: usize) -> [f64; 6] {
-    let period = motion.period();
-    let mut peaks = [0.0_f64; 6];
-    for i in 0..samples {
-        let (lin, ang) = centre_acceleration(motion, period * i as f64 / samples as f64);
-        for (k, v) in [lin.x, lin.y, lin.z, ang.x, ang.y, ang.z]
-            .iter()
-            .enumerate()
-        {
-            peaks[k] = peaks[k].max(v.abs());
-        }
-    }
-    peaks
-}
-
-/// Per-axis peaks of a sequenced schedule (the largest over its moving
-/// segments; see the module documentation) and the primitives' common
-/// period.
-///
-/// # Errors
-/// No moving segment, or moving segments of different periods.
-pub fn schedule_peaks(schedule: &Schedule) -> Result<([f64; 6], f64)> {
-    let mut peaks = [0.0_f64; 6];
-    let mut period: Option<f64> = None;
-    for (i, seg) in schedule.segments.iter().enumerate() {
-        let Some(p) = &seg.primitive else { continue };
-        let m = p.motion();
-        let t = m.period();
-        match period {
-            None => period = Some(t),
-            Some(t0) if (t - t0).abs() > 1e-12 * t0 => {
-                return Err(Error::invalid(
-                    format!("schedule.segments[{i}].primitive.omega"),
-                    format!("all primitives must share one period for one set of shaker limits; {t} s against {t0} s"),
-                ))
-            }
-            _ => {}
-        }
-        for (a, v) in peaks.iter_mut().zip(motion_peaks(&m, PEAK_SAMPLES)) {
-            *a = a.max(v);
-        }
-    }
-    let period = period.ok_or_else(|| {
-        Error::invalid(
-            "schedule.segments",
-            "has no moving segment: no peaks to take as limits",
-        )
-    })?;
-    Ok((peaks, period))
-}
-
 /// Shaker limits equal to a schedule's peaks, `harmonics` harmonics,
 /// margin 0.1 g.
 pub fn limits_of(schedule: &Schedule, harmonics: u32) -> Result<ShakerLimits> {
-    let (p, period) = schedule_peaks(schedule)?;
-    Ok(ShakerLimits {
-        period,
-        linear: [p[0], p[1], p[2]],
-        angular: [p[3], p[4], p[5]],
+    let base = ShakerLimits {
         harmonics,
         contact_margin: 0.1,
-    })
+        ..ShakerLimits::paper_envelope()
+    };
+    sequenced_limits(schedule, &base)
 }
 
 /// A motion played and judged by the realised measure.
