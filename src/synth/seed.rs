@@ -188,7 +188,7 @@ pub fn seed(
         return Err(Error::invalid(
             "shaker.linear",
             format!(
-                "the in-plane limits [{}, {}] m/s² cannot make parts slip: circular translation needs more than μ_s g = {:.3} m/s² on x and y",
+                "the in-plane limits [{:.3}, {:.3}] m/s² cannot make parts slip: circular translation needs more than μ_s g = {:.3} m/s² on x and y",
                 limits.linear[0],
                 limits.linear[1],
                 friction.stat * gravity
