@@ -47,6 +47,7 @@ fn every_shipped_export_returns_to_rest_each_period() {
         "sequenced/saddle",
         "sequenced/whirlpool",
         "sequenced/line_sink_30",
+        "sequenced/squeeze_trans",
     ] {
         let path = format!("results/{name}/schedule.json");
         let schedule = Schedule::load(std::path::Path::new(&path)).unwrap();

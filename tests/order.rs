@@ -222,7 +222,10 @@ fn order_heuristic_is_deterministic_and_bounded() {
 }
 
 fn squeeze_schedule() -> Schedule {
-    Schedule::load(std::path::Path::new("results/squeeze_trans/schedule.json")).unwrap()
+    Schedule::load(std::path::Path::new(
+        "results/sequenced/squeeze_trans/schedule.json",
+    ))
+    .unwrap()
 }
 
 /// `choose_order` returns the schedule of the chosen candidate in the same
@@ -281,7 +284,7 @@ fn choose_order_keeps_the_schedule_consistent() {
 fn order_cli_checks_arguments_and_writes_the_table() {
     let dir = std::env::temp_dir().join(format!("platefield-order-{}", std::process::id()));
     let out = dir.to_str().unwrap();
-    let schedule = "results/squeeze_trans/schedule.json";
+    let schedule = "results/sequenced/squeeze_trans/schedule.json";
     for (extra, name, range) in [
         (&["--points", "0"][..], "--points", "1..=41"),
         (&["--rest", "0,101"][..], "--rest", "0..=100"),
