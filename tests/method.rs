@@ -226,3 +226,44 @@ fn sequenced_designs_keep_the_shaker_limits() {
         .any(|c| c.primitive.kind == PrimitiveKind::Trans));
     assert!(md.kept().played().limits.is_none());
 }
+
+/// `auto` without a `shaker` object synthesizes on the shaker that plays
+/// the sequenced schedule: its limits are that schedule's per-axis peaks
+/// and period (`sequenced_limits`, checked against the peaks computed
+/// here from the sequenced schedule), and the synthesized motion stays
+/// within them.
+#[test]
+fn auto_without_limits_synthesizes_within_the_sequenced_peaks() {
+    let mut target = sink_lab("{}");
+    target.shaker = None;
+    let md = design_by_method(
+        &target,
+        &options(vec![PrimitiveKind::LineSink]),
+        &synth(),
+        Method::Auto,
+    )
+    .expect("design");
+    let seq = &md.sequence.as_ref().expect("sequenced").schedule;
+    let peaks = export::schedule_peaks(seq);
+    let omega = seq.segments[0].primitive.as_ref().unwrap().omega;
+    assert_eq!(md.limits.linear, [peaks[0], peaks[1], peaks[2]]);
+    assert_eq!(md.limits.angular, [peaks[3], peaks[4], peaks[5]]);
+    assert!((md.limits.period - std::f64::consts::TAU / omega).abs() < 1e-15);
+    // LineSinks at 0° and 90°: both horizontal axes move, so a synthesis runs.
+    assert!(peaks[0] > 0.0 && peaks[1] > 0.0, "{peaks:?}");
+    let syn = md.synthesis.as_ref().expect("synthesized");
+    for p in &syn.peaks {
+        assert!(p.peak <= p.limit * (1.0 + 1e-9), "{p:?}");
+    }
+    let limits = [
+        md.limits.linear[0],
+        md.limits.linear[1],
+        md.limits.linear[2],
+        md.limits.angular[0],
+        md.limits.angular[1],
+        md.limits.angular[2],
+    ];
+    for (p, l) in syn.peaks.iter().zip(limits) {
+        assert_eq!(p.limit, l, "{}", p.axis);
+    }
+}

@@ -211,6 +211,7 @@ pub fn design_by_method(
         limits: limits.clone(),
     };
     let mut first_error = None;
+    let mut from_sequence = false;
     if method != Method::Synthesize {
         let t = Instant::now();
         match design(target, opts) {
@@ -223,9 +224,15 @@ pub fn design_by_method(
                     (method, record),
                     t.elapsed().as_secs_f64(),
                 )?;
+                // Without the target's own limits, the synthesis gets the
+                // shaker that plays the sequenced schedule (the envelope if
+                // that schedule has no moving primitive to take peaks from).
                 if method == Method::Auto && target.shaker.is_none() {
-                    limits = sequenced_limits(&d.schedule, &limits)?;
-                    out.limits = limits.clone();
+                    if let Ok(l) = sequenced_limits(&d.schedule, &limits) {
+                        limits = l;
+                        out.limits = limits.clone();
+                        from_sequence = true;
+                    }
                 }
                 out.candidates.push(c);
                 out.sequence = Some(d);
@@ -260,7 +267,13 @@ pub fn design_by_method(
                 out.synthesis = Some(syn);
             }
             Err(e) if method == Method::Auto && !out.candidates.is_empty() => {
-                out.failures.push((Method::Synthesize, e.to_string()));
+                let within = if from_sequence {
+                    "within the sequenced schedule's per-axis peaks: "
+                } else {
+                    ""
+                };
+                out.failures
+                    .push((Method::Synthesize, format!("{within}{e}")));
             }
             Err(e) => return Err(first_error.unwrap_or(e)),
         }

@@ -209,29 +209,12 @@ impl<'a> Simulator<'a> {
     /// Kinematics at `t` on the piece keyed `piece`: from the table on the
     /// fixed-step grid, evaluated otherwise.
     #[inline]
-    fn kin(&self, t: f64, piece: f64) -> Kinematics {
+    pub(super) fn kin(&self, t: f64, piece: f64) -> Kinematics {
         if let Some(k) = self.table.and_then(|table| table.get(t, piece)) {
             return *k;
         }
         self.motion
             .kinematics_piece(t, piece, self.gravity, self.model.tilt)
-    }
-
-    /// Kinematics at `t` within the smooth piece containing `piece`.
-    #[inline]
-    pub(super) fn kin_at(&self, t: f64, piece: f64) -> Kinematics {
-        self.kin(t, piece)
-    }
-
-    /// Normal force and a_free of a part at `r` slipping with `u`.
-    #[inline]
-    pub(super) fn point_forces_at(&self, k: &Kinematics, r: &V2, u: &V2, anchor: &V2) -> (f64, V2) {
-        self.forces(k, r, u, anchor)
-    }
-
-    /// The contact loss at `t`, `r` with normal force `n`.
-    pub(super) fn contact_loss_at(&self, t: f64, r: &V2, n: f64) -> ContactLoss {
-        self.contact_loss(t, r, n)
     }
 
     /// Position at which the kinematics are evaluated.
@@ -243,7 +226,7 @@ impl<'a> Simulator<'a> {
 
     /// Normal force N and frictionless tangential acceleration a_free.
     #[inline]
-    fn forces(&self, k: &Kinematics, r: &V2, u: &V2, anchor: &V2) -> (f64, V2) {
+    pub(super) fn forces(&self, k: &Kinematics, r: &V2, u: &V2, anchor: &V2) -> (f64, V2) {
         self.model.point_forces(k, &self.kin_point(r, anchor), u)
     }
 
@@ -295,7 +278,8 @@ impl<'a> Simulator<'a> {
         }
     }
 
-    fn contact_loss(&self, t: f64, r: &V2, n: f64) -> ContactLoss {
+    /// The contact loss at `t`, `r` with normal force `n`.
+    pub(super) fn contact_loss(&self, t: f64, r: &V2, n: f64) -> ContactLoss {
         let c = (t / self.period).floor();
         ContactLoss {
             position: [r.x, r.y],

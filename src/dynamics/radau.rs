@@ -125,16 +125,16 @@ impl Simulator<'_> {
             // From rest along a fixed line (a 1-D slip: a_free keeps its
             // direction at the step's RK4 nodes) the explicit step is exact
             // for piecewise-constant accelerations and needs no stiff solve.
-            let (_, f0) = self.point_forces_at(k0, &state.r, &state.u, anchor);
+            let (_, f0) = self.forces(k0, &state.r, &state.u, anchor);
             let one_d = [0.5, 1.0].iter().all(|c| {
-                let k = self.kin_at(t + c * h, piece);
-                let (_, f) = self.point_forces_at(&k, &state.r, &state.u, anchor);
+                let k = self.kin(t + c * h, piece);
+                let (_, f) = self.forces(&k, &state.r, &state.u, anchor);
                 let cross = f0.x * f.y - f0.y * f.x;
                 cross.abs() <= 1e-12 * f0.norm() * f.norm() && f0.dot(&f) > 0.0
             });
             return if one_d { None } else { Some(true) };
         }
-        let (n, free) = self.point_forces_at(k0, &state.r, &state.u, anchor);
+        let (n, free) = self.forces(k0, &state.r, &state.u, anchor);
         let c = self.friction().kinetic * n;
         if h * c <= STIFF * s {
             return None;
@@ -271,14 +271,14 @@ impl Simulator<'_> {
     ) -> Result<Option<RadauEnd>, ContactLoss> {
         let tab = tableau();
         let (r0, u0) = (state.r, state.u);
-        let kin: [_; 3] = std::array::from_fn(|j| self.kin_at(t + tab.c[j] * h, piece));
+        let kin: [_; 3] = std::array::from_fn(|j| self.kin(t + tab.c[j] * h, piece));
         let mu = self.friction().kinetic;
         // Right-hand side at stage j: a_free − μ_k N Û, the friction
         // Jacobian's stiff factor μ_k N/|U|, and Û.
         let stage = |j: usize, r: &V2, u: &V2| -> Result<(V2, f64, V2), ContactLoss> {
-            let (n, free) = self.point_forces_at(&kin[j], r, u, anchor);
+            let (n, free) = self.forces(&kin[j], r, u, anchor);
             if n < 0.0 {
-                return Err(self.contact_loss_at(t + tab.c[j] * h, r, n));
+                return Err(self.contact_loss(t + tab.c[j] * h, r, n));
             }
             let s = u.norm();
             let dir = if s > 0.0 {
@@ -297,7 +297,7 @@ impl Simulator<'_> {
         // direction of a stiff slip).
         let mut f = [V2::zeros(); 3];
         for (j, fj) in f.iter_mut().enumerate() {
-            let (n, free) = self.point_forces_at(&kin[j], &r0, &u0, anchor);
+            let (n, free) = self.forces(&kin[j], &r0, &u0, anchor);
             let fn_ = free.norm();
             *fj = if fn_ > 0.0 {
                 free - free * (mu * n.max(0.0) / fn_)
