@@ -543,7 +543,7 @@ fn isotropic_copies_are_left_out() {
         basis
             .columns
             .iter()
-            .filter(|c| c.primitive.kind.name() == name)
+            .filter(|c| c.source.label().split('@').next() == Some(name))
             .count()
     };
     assert_eq!(count("Circle"), 1);

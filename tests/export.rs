@@ -180,11 +180,75 @@ fn motion_segments_keep_the_format_and_name_paths() {
         e.contains("segments[0].motion") && e.contains("not both"),
         "{e}"
     );
-    // A six-signal segment beside primitives is not exportable (ramps).
+    // A six-signal segment beside primitives must ramp (`ramp_cycles`).
     let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
     v["segments"][0]["primitive"] = serde_json::Value::Null;
     v["segments"][0]["motion"] = lab_motion_json();
-    let s = Schedule::from_json_str(&v.to_string(), "f").unwrap();
-    let e = export(&s, 20_000.0, 20).unwrap_err().to_string();
-    assert!(e.contains("segments") && e.contains("ramps"), "{e}");
+    let e = Schedule::from_json_str(&v.to_string(), "f")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("segments[0].ramp_cycles") && e.contains("ramp in"),
+        "{e}"
+    );
+}
+
+/// A mixed schedule — a primitive and a six-signal motion that ramps in
+/// from rest and out to rest inside its own cycles (`ramp_cycles`) — loads,
+/// is played with the windowed motion, and exports as one looped period
+/// whose sample-and-hold integration returns to rest at home every period
+/// (< 1e-6 over 15 loops), with the ramp's acceleration overshoot within
+/// its bound 1.875/(πR) + 0.146/R² of the steady peak. Without
+/// `ramp_cycles` the six-signal segment would make the plate jump at its
+/// joins: an error naming the path.
+#[test]
+fn a_mixed_schedule_ramps_its_six_signal_segment_and_returns_to_rest() {
+    let text = std::fs::read_to_string("results/sequenced/sink/schedule.json").unwrap();
+    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let primitive = v["segments"][0].clone();
+    let period = Schedule::from_json_str(&text, "t").unwrap().segments[0]
+        .cycle_period()
+        .unwrap();
+    let mut motion = lab_motion_json();
+    motion["period"] = serde_json::json!(period);
+    let (ramp, cycles) = (4_u32, 12_u32);
+    let mixed = |ramp: Option<u32>| {
+        let mut seg = serde_json::json!({
+            "label": "Synthesized", "motion": motion.clone(),
+            "weight": 0.5, "cycles": cycles, "duration_s": 0.0
+        });
+        if let Some(r) = ramp {
+            seg["ramp_cycles"] = serde_json::json!(r);
+        }
+        with_segments(serde_json::json!([primitive.clone(), seg]))
+    };
+    let e = Schedule::from_json_str(&mixed(None), "text").unwrap_err();
+    assert!(e.to_string().contains("segments[1].ramp_cycles"), "{e}");
+    let e = Schedule::from_json_str(&mixed(Some(7)), "text").unwrap_err();
+    assert!(e.to_string().contains("segments[1].ramp_cycles"), "{e}");
+
+    let s = Schedule::from_json_str(&mixed(Some(ramp)), "text").unwrap();
+    let played = platefield::play::ScheduleMotion::from_schedule(&s).unwrap();
+    assert!(matches!(
+        played.segments()[1].motion,
+        Some(platefield::motion::Motion::Ramped(_))
+    ));
+    let e = export(&s, 20_000.0, 20).unwrap();
+    assert_eq!(e.ramped, None, "a mixed schedule is one looped period");
+    let csv = e.samples.to_csv();
+    let (pose, vel) = drift(&csv, 15);
+    assert!(
+        pose < 1e-6 && vel < 1e-6,
+        "pose {pose:.2e}, velocity {vel:.2e}"
+    );
+    let n = e.samples.samples.len();
+    let first = (s.segments[0].duration_s / e.samples.dt).round() as usize;
+    let six = &e.samples.samples[first..n];
+    let peak = six.iter().map(|a| a[0].abs()).fold(0.0, f64::max);
+    let r = f64::from(ramp);
+    let bound = 10.0 * (1.0 + 1.875 / (std::f64::consts::PI * r) + 0.146 / (r * r));
+    assert!(peak > 9.9 && peak <= bound, "{peak} vs {bound}");
+    // The segment begins and ends at rest: its first and last samples are
+    // the ramp's, a few percent of the steady amplitude.
+    assert!(six[0][0].abs() < 0.05 && six[six.len() - 1][0].abs() < 0.05);
 }

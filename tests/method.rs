@@ -210,7 +210,7 @@ fn sequenced_designs_keep_the_shaker_limits() {
         .basis
         .columns
         .iter()
-        .all(|c| c.primitive.kind != PrimitiveKind::Trans));
+        .all(|c| !c.source.label().starts_with("Trans@")));
     let p = md.kept().played();
     assert!(p.peaks.linear[0] <= 30.0 && p.peaks.linear[1] <= 30.0 && p.peaks.linear[2] <= 1.0);
     assert!(p.limits.is_some());
@@ -223,7 +223,7 @@ fn sequenced_designs_keep_the_shaker_limits() {
         .basis
         .columns
         .iter()
-        .any(|c| c.primitive.kind == PrimitiveKind::Trans));
+        .any(|c| c.source.label().starts_with("Trans@")));
     assert!(md.kept().played().limits.is_none());
 }
 
@@ -266,4 +266,52 @@ fn auto_without_limits_synthesizes_within_the_sequenced_peaks() {
     for (p, l) in syn.peaks.iter().zip(limits) {
         assert_eq!(p.limit, l, "{}", p.axis);
     }
+}
+
+/// `--method mix`: a target no single motion reaches within the lab limits
+/// (a sink plus uniform transport: with no vertical acceleration and one
+/// harmonic the synthesized motion makes the sink only) and the primitives alone miss
+/// (Trans only: no sink). The fit mixes the synthesized column with Trans:
+/// both in the schedule, the six-signal segment ramped in and out, a fit
+/// error far below the primitives-only fit's, and the schedule played
+/// (`played.method` = mix) with valid points.
+#[test]
+fn mix_combines_a_synthesized_motion_with_primitives() {
+    // Room for Trans (45 m/s² on x), none for vertical acceleration.
+    let shaker =
+        r#"{"period": 0.03, "linear": [50, 50, 0], "angular": [170, 170, 0], "harmonics": 1}"#;
+    let target = Target::from_json_str(&format!(
+        r#"{{"name": "sink_trans", "grid": {{"x": [-0.03, 0.03], "y": [-0.03, 0.03], "n": [9, 9]}},
+            "field": {{"kind": "sum", "terms": [
+                {{"field": {{"kind": "sink", "strength": 1.0}}}},
+                {{"field": {{"kind": "trans", "strength": 0.01}}}}]}},
+            "mask": [{{"circle": {{"radius": 0.005}}}}], "shaker": {shaker}}}"#
+    ))
+    .expect("valid target");
+    let kinds = vec![PrimitiveKind::Trans];
+    let alone =
+        design_by_method(&target, &options(kinds.clone()), &synth(), Method::Sequence).unwrap();
+    let alone_error = alone.kept().schedule.fit.relative_l2_error;
+    let md = design_by_method(&target, &options(kinds), &synth(), Method::Mix).unwrap();
+    let d = md.mixed.as_ref().expect("mixed design");
+    assert!(d
+        .basis
+        .columns
+        .iter()
+        .any(|c| c.source.label() == "Synthesized"));
+    let s = &md.kept().schedule;
+    let moving: Vec<_> = s.segments.iter().filter(|g| g.is_moving()).collect();
+    assert!(moving.len() >= 2, "{:?}", s.segments);
+    let six: Vec<_> = moving.iter().filter(|g| g.motion.is_some()).collect();
+    assert_eq!(six.len(), 1);
+    let ramp = six[0].ramp_cycles.expect("ramped");
+    assert!(ramp >= 1 && 2 * ramp <= six[0].cycles);
+    assert!(
+        s.fit.relative_l2_error < 0.5 * alone_error,
+        "{} vs {alone_error}",
+        s.fit.relative_l2_error
+    );
+    let p = md.kept().played();
+    assert_eq!(p.method, "mix");
+    assert!(p.valid > 0, "{p:?}");
 }

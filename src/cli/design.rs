@@ -39,6 +39,8 @@ pub enum DesignMethod {
     Synthesize,
     /// Both, played; the better realised one is kept.
     Auto,
+    /// Primitives and a synthesized motion mixed in one fit.
+    Mix,
 }
 
 impl From<DesignMethod> for Method {
@@ -47,6 +49,7 @@ impl From<DesignMethod> for Method {
             DesignMethod::Sequence => Method::Sequence,
             DesignMethod::Synthesize => Method::Synthesize,
             DesignMethod::Auto => Method::Auto,
+            DesignMethod::Mix => Method::Mix,
         }
     }
 }

@@ -22,13 +22,91 @@ use serde::Serialize;
 use crate::basis::symmetry;
 use crate::basis::{FieldLibrary, Primitive};
 use crate::field::{Field, FieldKind, Grid, Validity};
+use crate::motion::{Motion, Signals};
+use crate::schedule::Segment;
 
-/// One basis column: a transformed primitive and its field at the target
-/// points.
+/// What a basis column plays.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ColumnSource {
+    /// A library primitive with its rotation and shift.
+    Primitive(Primitive),
+    /// A six-signal motion (e.g. one synthesized for the target,
+    /// [`crate::synth`]) with its label. In a schedule beside other moving
+    /// segments it ramps in from rest and out to rest inside its cycles
+    /// ([`MIXED_RAMP_CYCLES`], [`crate::motion::Ramped`]); its column is the
+    /// steady motion's field.
+    Motion {
+        /// Label, e.g. `Synthesized`.
+        label: String,
+        /// The motion.
+        signals: Signals,
+    },
+}
+
+/// Ramp-in and ramp-out cycles of a six-signal segment in a mixed
+/// schedule: 4 cycles each way fit the default 10-cycle minimum segment
+/// (with 2 steady cycles); the ramp raises the acceleration by up to about
+/// 1.875/(πR) + 0.146/R² ≈ 16 % of the steady peak (one harmonic).
+pub const MIXED_RAMP_CYCLES: u32 = 4;
+
+impl ColumnSource {
+    /// Label, e.g. `LineSink@45°` or `Synthesized`.
+    pub fn label(&self) -> String {
+        match self {
+            ColumnSource::Primitive(p) => label(p),
+            ColumnSource::Motion { label, .. } => label.clone(),
+        }
+    }
+
+    /// The steady motion.
+    pub fn motion(&self) -> Motion {
+        match self {
+            ColumnSource::Primitive(p) => p.motion(),
+            ColumnSource::Motion { signals, .. } => Motion::Signals(signals.clone()),
+        }
+    }
+
+    /// Period of one cycle (s).
+    pub fn period(&self) -> f64 {
+        self.motion().period()
+    }
+
+    /// A schedule segment playing this column for `cycles` cycles. A
+    /// six-signal motion beside other moving segments (`mixed`) ramps in and
+    /// out over R = [`MIXED_RAMP_CYCLES`] cycles (at most `cycles`) and is
+    /// given R more cycles: the two ramps play about R cycles' worth of the
+    /// steady field (the window averages ½ over each), so the segment still
+    /// plays `cycles` of it, and the fit's proportions between segments
+    /// hold; the schedule period grows by R cycles.
+    pub fn segment(&self, weight: f64, cycles: u32, mixed: bool) -> Segment {
+        let (primitive, motion, ramp_cycles) = match self {
+            ColumnSource::Primitive(p) => (Some(p.clone()), None, None),
+            ColumnSource::Motion { signals, .. } => (
+                None,
+                Some(signals.clone()),
+                mixed.then_some(MIXED_RAMP_CYCLES.min(cycles.max(1))),
+            ),
+        };
+        let cycles = cycles + ramp_cycles.unwrap_or(0);
+        Segment {
+            label: self.label(),
+            primitive,
+            motion,
+            ramp_cycles,
+            weight,
+            cycles,
+            duration_s: f64::from(cycles) * self.period(),
+        }
+    }
+}
+
+/// One basis column: a transformed primitive (or a six-signal motion) and
+/// its field at the target points.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct BasisColumn {
-    /// The primitive with its rotation and shift.
-    pub primitive: Primitive,
+    /// What the column plays.
+    pub source: ColumnSource,
     /// Field vectors at the target points.
     #[serde(skip)]
     pub vectors: Vec<[f64; 2]>,
@@ -162,49 +240,22 @@ pub fn assemble(
                     continue;
                 }
                 let resampled = symmetry::transformed(source, deg.to_radians(), shift, &grid);
-                let (vectors, validity): (Vec<[f64; 2]>, Vec<Validity>) = if target_grid.is_some() {
-                    (resampled.vectors.clone(), resampled.validity.clone())
-                } else {
-                    points
-                        .iter()
-                        .map(|p| match bilinear(&resampled, *p) {
-                            Some(v) => (v, Validity::Ok),
-                            None => ([0.0, 0.0], Validity::OutsideSource),
-                        })
-                        .unzip()
-                };
-                // Only points that matter (weight > 0) can disqualify a column.
-                let bad: Vec<usize> = (0..points.len())
-                    .filter(|&i| validity[i] != Validity::Ok && weights[i] > 0.0)
-                    .collect();
-                if bad.is_empty() || keep_invalid {
-                    if r == 0 {
-                        kept_first[s] = Some(label(&primitive));
-                    }
-                    let vectors = vectors
-                        .iter()
-                        .zip(&validity)
-                        .map(|(v, ok)| if *ok == Validity::Ok { *v } else { [0.0, 0.0] })
-                        .collect();
-                    columns.push(BasisColumn {
-                        primitive,
-                        vectors,
-                        invalid_points: bad,
-                    });
-                } else {
-                    let mut counts: Vec<(Validity, usize)> = Vec::new();
-                    for &i in &bad {
-                        match counts.iter_mut().find(|(v, _)| *v == validity[i]) {
-                            Some(c) => c.1 += 1,
-                            None => counts.push((validity[i], 1)),
+                let name = label(&primitive);
+                match column(
+                    ColumnSource::Primitive(primitive),
+                    &resampled,
+                    target_grid.is_some(),
+                    points,
+                    weights,
+                    keep_invalid,
+                ) {
+                    Ok(c) => {
+                        if r == 0 {
+                            kept_first[s] = Some(name);
                         }
+                        columns.push(c);
                     }
-                    counts.sort_by_key(|c| std::cmp::Reverse(c.1));
-                    excluded.push(Excluded {
-                        label: label(&primitive),
-                        invalid_samples: bad.len(),
-                        reason: ExclusionReason::Invalid(counts[0].0),
-                    });
+                    Err(e) => excluded.push(e),
                 }
             }
         }
@@ -214,4 +265,59 @@ pub fn assemble(
         columns,
         excluded,
     }
+}
+
+/// The column of `source` whose field on the sampling grid is `field`: its
+/// vectors at the target points (the grid itself when `on_grid`, else
+/// bilinear at `points`), or why it is left out — invalid at a point of
+/// positive weight, unless `keep_invalid` (its invalid samples then zero
+/// and listed).
+pub fn column(
+    source: ColumnSource,
+    field: &Field,
+    on_grid: bool,
+    points: &[[f64; 2]],
+    weights: &[f64],
+    keep_invalid: bool,
+) -> Result<BasisColumn, Excluded> {
+    let (vectors, validity): (Vec<[f64; 2]>, Vec<Validity>) = if on_grid {
+        (field.vectors.clone(), field.validity.clone())
+    } else {
+        points
+            .iter()
+            .map(|p| match bilinear(field, *p) {
+                Some(v) => (v, Validity::Ok),
+                None => ([0.0, 0.0], Validity::OutsideSource),
+            })
+            .unzip()
+    };
+    // Only points that matter (weight > 0) can disqualify a column.
+    let bad: Vec<usize> = (0..points.len())
+        .filter(|&i| validity[i] != Validity::Ok && weights[i] > 0.0)
+        .collect();
+    if bad.is_empty() || keep_invalid {
+        let vectors = vectors
+            .iter()
+            .zip(&validity)
+            .map(|(v, ok)| if *ok == Validity::Ok { *v } else { [0.0, 0.0] })
+            .collect();
+        return Ok(BasisColumn {
+            source,
+            vectors,
+            invalid_points: bad,
+        });
+    }
+    let mut counts: Vec<(Validity, usize)> = Vec::new();
+    for &i in &bad {
+        match counts.iter_mut().find(|(v, _)| *v == validity[i]) {
+            Some(c) => c.1 += 1,
+            None => counts.push((validity[i], 1)),
+        }
+    }
+    counts.sort_by_key(|c| std::cmp::Reverse(c.1));
+    Err(Excluded {
+        label: source.label(),
+        invalid_samples: bad.len(),
+        reason: ExclusionReason::Invalid(counts[0].0),
+    })
 }

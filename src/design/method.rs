@@ -95,6 +95,11 @@ pub enum Method {
     /// Both; the better realised one is kept.
     #[default]
     Auto,
+    /// A schedule whose fit mixes a synthesized six-signal motion (one
+    /// basis column, ramped in and out inside its segment) with the
+    /// primitives: for targets no single motion reaches (see
+    /// [`mix_design`]).
+    Mix,
 }
 
 impl Method {
@@ -104,6 +109,7 @@ impl Method {
             Method::Sequence => "sequence",
             Method::Synthesize => "synthesize",
             Method::Auto => "auto",
+            Method::Mix => "mix",
         }
     }
 }
@@ -134,11 +140,10 @@ impl Candidate {
     ) -> Result<Candidate> {
         let t = Instant::now();
         let p = play_check(target, sampled, &schedule, predicted, asked, limits)?;
-        let method = if p.method == Method::Synthesize.name() {
-            Method::Synthesize
-        } else {
-            Method::Sequence
-        };
+        let method = [Method::Synthesize, Method::Mix]
+            .into_iter()
+            .find(|m| p.method == m.name())
+            .unwrap_or(Method::Sequence);
         schedule.played = Some(p);
         Ok(Candidate {
             method,
@@ -166,6 +171,9 @@ pub struct MethodDesign {
     pub sequence: Option<Design>,
     /// The synthesis (when run and successful).
     pub synthesis: Option<Synthesis>,
+    /// The mixed design (when run and successful): primitives and a
+    /// synthesized motion in one fit.
+    pub mixed: Option<Design>,
     /// The candidates played (sequence first).
     pub candidates: Vec<Candidate>,
     /// Index of the kept candidate.
@@ -204,6 +212,7 @@ pub fn design_by_method(
         asked: method,
         sequence: None,
         synthesis: None,
+        mixed: None,
         candidates: Vec::new(),
         chosen: 0,
         why: String::new(),
@@ -212,7 +221,7 @@ pub fn design_by_method(
     };
     let mut first_error = None;
     let mut from_sequence = false;
-    if method != Method::Synthesize {
+    if matches!(method, Method::Sequence | Method::Auto) {
         let t = Instant::now();
         match design(target, opts) {
             Ok(d) => {
@@ -247,7 +256,7 @@ pub fn design_by_method(
             Err(e) => return Err(e),
         }
     }
-    if method != Method::Sequence {
+    if matches!(method, Method::Synthesize | Method::Auto) {
         let t = Instant::now();
         match synthesize_schedule(target, &sampled, &limits, opts, synth) {
             Ok((syn, schedule)) => {
@@ -274,6 +283,33 @@ pub fn design_by_method(
                 };
                 out.failures
                     .push((Method::Synthesize, format!("{within}{e}")));
+            }
+            Err(e) => return Err(first_error.unwrap_or(e)),
+        }
+    }
+    // The mix: asked for, or under `auto` when no candidate realises the
+    // target (every one POOR): one motion alone cannot reach it.
+    let all_poor = out.candidates.iter().all(|c| c.played().poor);
+    if method == Method::Mix || (method == Method::Auto && all_poor) {
+        match mix_design(target, &sampled, &out, opts, synth) {
+            Ok((d, syn)) => {
+                let t = Instant::now();
+                let mut c = Candidate::play(
+                    (target, &sampled),
+                    d.schedule.clone(),
+                    d.schedule.fit.strength,
+                    (method, target.shaker.as_ref().map(|_| limits.to_spec())),
+                    0.0,
+                )?;
+                c.design_s = t.elapsed().as_secs_f64();
+                out.candidates.push(c);
+                out.mixed = Some(d);
+                if out.synthesis.is_none() {
+                    out.synthesis = syn;
+                }
+            }
+            Err(e) if method == Method::Auto && !out.candidates.is_empty() => {
+                out.failures.push((Method::Mix, e.to_string()));
             }
             Err(e) => return Err(first_error.unwrap_or(e)),
         }
@@ -323,27 +359,51 @@ fn choose(cands: &[Candidate], failures: &[(Method, String)], asked: Method) -> 
             p.realised_strength.unwrap_or(f64::NEG_INFINITY),
         )
     };
-    let (a, b) = (key(&cands[0]), key(&cands[1]));
-    let (pick, rule) = if a.0 != b.0 {
-        (usize::from(a.0), "the other is POOR")
-    } else if (a.1 - b.1).abs() <= TIE_SHAPE_ERROR {
-        (
-            usize::from(b.2 > a.2),
-            "shape errors within 1 percentage point: the higher realised strength wins",
-        )
-    } else {
-        (
-            usize::from(b.1 < a.1),
-            "the lower realised shape error wins",
-        )
+    // The rule between two candidates: (b is better, why).
+    let better = |a: &Candidate, b: &Candidate| {
+        let (a, b) = (key(a), key(b));
+        if a.0 != b.0 {
+            (a.0, "the other is POOR")
+        } else if (a.1 - b.1).abs() <= TIE_SHAPE_ERROR {
+            (
+                b.2 > a.2,
+                "shape errors within 1 percentage point: the higher realised strength wins",
+            )
+        } else {
+            (b.1 < a.1, "the lower realised shape error wins")
+        }
     };
+    let mut pick = 0;
+    let mut rule = "";
+    for k in 1..cands.len() {
+        let (b_wins, why) = better(&cands[pick], &cands[k]);
+        if b_wins {
+            pick = k;
+        }
+        rule = why;
+    }
+    if cands.len() > 2 {
+        // Name the rule that decided against the runner-up.
+        let runner = (0..cands.len())
+            .filter(|&k| k != pick)
+            .fold(None, |best: Option<usize>, k| match best {
+                Some(b) if !better(&cands[b], &cands[k]).0 => Some(b),
+                _ => Some(k),
+            })
+            .unwrap_or(0);
+        rule = better(&cands[runner], &cands[pick]).1;
+    }
+    let others: Vec<String> = (0..cands.len())
+        .filter(|&k| k != pick)
+        .map(|k| describe(&cands[k]))
+        .collect();
     (
         pick,
         format!(
             "auto kept {}: {rule} ({} against {})",
             cands[pick].method.name(),
             describe(&cands[pick]),
-            describe(&cands[1 - pick])
+            others.join("; ")
         ),
     )
 }
@@ -384,6 +444,37 @@ fn region(target: &Target, sampled: &SampledTarget) -> Grid {
         y: [lo[1], hi[1]],
         n: [21, 21],
     }
+}
+
+/// The mixed design ([`Method::Mix`]): the sequenced design's basis with
+/// one more column, a six-signal motion synthesized for the target — the
+/// one `out` already holds, or else one synthesized within the target's
+/// `shaker` limits (the paper's envelope where it gives none: the
+/// sequenced schedule's own peaks may not let a single motion move parts,
+/// e.g. a jet's in-plane x-only peaks) — and the conic fit free to mix it
+/// with the primitives. Returns the design and the synthesis run here, if
+/// any.
+///
+/// # Errors
+/// The synthesis or the design failing.
+pub fn mix_design(
+    target: &Target,
+    sampled: &SampledTarget,
+    out: &MethodDesign,
+    opts: &DesignOptions,
+    synth: &SynthOptions,
+) -> Result<(Design, Option<Synthesis>)> {
+    let (motion, fresh) = match &out.synthesis {
+        Some(s) => (s.motion.clone(), None),
+        None => {
+            let limits = ShakerLimits::from_spec(target.shaker.as_ref());
+            let (syn, _) = synthesize_schedule(target, sampled, &limits, opts, synth)?;
+            (syn.motion.clone(), Some(syn))
+        }
+    };
+    let mut with_motion = opts.clone();
+    with_motion.motions.push(("Synthesized".into(), motion));
+    Ok((design(target, &with_motion)?, fresh))
 }
 
 /// Shaker limits equal to a sequenced schedule's per-axis peaks
@@ -460,6 +551,7 @@ pub fn synthesize_schedule(
         label: "Synthesized".into(),
         primitive: None,
         motion: Some(syn.motion.clone()),
+        ramp_cycles: None,
         weight: 1.0,
         cycles: SYNTH_SEGMENT_CYCLES,
         duration_s: 0.0,
@@ -595,9 +687,13 @@ pub fn play_check(
         )
     });
     Ok(Played {
-        method: match schedule.segments.iter().any(|s| s.motion.is_some()) {
-            true => Method::Synthesize.name().into(),
-            false => Method::Sequence.name().into(),
+        method: match (
+            schedule.segments.iter().any(|s| s.motion.is_some()),
+            schedule.segments.iter().filter(|s| s.is_moving()).count() > 1,
+        ) {
+            (true, true) => Method::Mix.name().into(),
+            (true, false) => Method::Synthesize.name().into(),
+            (false, _) => Method::Sequence.name().into(),
         },
         asked: asked.name().into(),
         choice: String::new(),
@@ -625,6 +721,7 @@ mod tests {
             label: "Rest".into(),
             primitive: None,
             motion: None,
+            ramp_cycles: None,
             weight: 0.0,
             cycles: 0,
             duration_s: 1.0,

@@ -82,6 +82,11 @@ pub struct DesignOptions {
     /// best realise the prediction ([`order`]) and play the
     /// schedule in that order.
     pub order_search: bool,
+    /// Six-signal motions added to the basis as columns, with their labels
+    /// (e.g. a motion synthesized for the target, so the fit can mix it
+    /// with primitives): each column is the motion's own field of the
+    /// basis kind, simulated on the target's sampling grid.
+    pub motions: Vec<(String, crate::motion::Signals)>,
 }
 
 impl Default for DesignOptions {
@@ -102,6 +107,7 @@ impl Default for DesignOptions {
             quiet: false,
             allow_long: false,
             order_search: false,
+            motions: Vec::new(),
         }
     }
 }

@@ -588,6 +588,7 @@ pub fn choose_order(schedule: &Schedule, opts: &OrderOptions) -> Result<(Schedul
             label: "Rest".into(),
             primitive: None,
             motion: None,
+            ramp_cycles: None,
             weight: 0.0,
             cycles: best.rest_cycles,
             duration_s: f64::from(best.rest_cycles) * search.rest_period_s,

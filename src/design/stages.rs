@@ -8,13 +8,14 @@ use std::time::Instant;
 
 use nalgebra::{DMatrix, DVector};
 
+use super::basis::ColumnSource;
 use super::order::{self, choose_order, OrderOptions, OrderSearch};
 use super::{basis, strongest, DesignBasis, DesignOptions, SparsityRow};
 use super::{COMPACT_SLACK, ORDER_SEARCH_POINTS};
 use crate::basis::cache::BasisCache;
 use crate::basis::{symmetry, FieldLibrary, Primitive, PrimitiveKind};
 use crate::error::{Error, Result};
-use crate::field::{FieldKind, Grid};
+use crate::field::{Field, FieldKind, Grid};
 use crate::fit::{self, FitMetrics, FitMode, FitOptions, FitProblem, FitSolution};
 use crate::play::PlayOptions;
 use crate::request::{SampledTarget, Target};
@@ -163,6 +164,7 @@ pub(crate) fn fit_stage(stage: &BasisStage, opts: &DesignOptions) -> Result<FitS
         &sampled.weights,
         opts.keep_invalid,
     );
+    add_motion_columns(&mut basis, stage, opts);
     if let Some(limits) = &stage.limits {
         leave_out_over_limit(&mut basis, limits);
     }
@@ -217,6 +219,32 @@ pub(crate) fn fit_stage(stage: &BasisStage, opts: &DesignOptions) -> Result<FitS
     })
 }
 
+/// Appends a column for each of [`DesignOptions::motions`]: the motion's
+/// field of the basis kind, simulated on the target's sampling grid with
+/// the design's settings (left out, and listed, where it is invalid).
+fn add_motion_columns(basis: &mut DesignBasis, stage: &BasisStage, opts: &DesignOptions) {
+    let sampled = &stage.sampled;
+    let grid = basis::sampling_grid(stage.target_grid.as_ref(), &sampled.points);
+    for (label, signals) in &opts.motions {
+        let source = ColumnSource::Motion {
+            label: label.clone(),
+            signals: signals.clone(),
+        };
+        let field = Field::compute(&source.motion(), &grid, basis.kind, &opts.settings, &|| {});
+        match basis::column(
+            source,
+            &field,
+            stage.target_grid.is_some(),
+            &sampled.points,
+            &sampled.weights,
+            opts.keep_invalid,
+        ) {
+            Ok(c) => basis.columns.push(c),
+            Err(e) => basis.excluded.push(e),
+        }
+    }
+}
+
 /// Leaves out (and lists) the basis columns whose primitive commands a
 /// per-axis peak above `limits` ([`export::motion_peaks`], world axes, so a
 /// rotated copy is judged by its own x and y peaks). A primitive cannot be
@@ -225,13 +253,13 @@ fn leave_out_over_limit(basis: &mut DesignBasis, limits: &ShakerLimits) {
     let axes = limits.axes();
     let mut kept = Vec::with_capacity(basis.columns.len());
     for c in basis.columns.drain(..) {
-        let peaks = export::motion_peaks(&c.primitive.motion());
+        let peaks = export::motion_peaks(&c.source.motion());
         let over = (0..6)
             .find(|&k| peaks[k] > axes[k] * (1.0 + 1e-9))
             .map(|k| (k, peaks[k], axes[k]));
         match over {
             Some((k, peak, limit)) => basis.excluded.push(ExcludedColumn {
-                label: basis::label(&c.primitive),
+                label: c.source.label(),
                 invalid_samples: 0,
                 reason: ExclusionReason::OverLimit {
                     axis: AXIS_NAMES[k].into(),
@@ -290,7 +318,7 @@ fn compact_stage(
             labels: row
                 .columns
                 .iter()
-                .map(|&c| basis::label(&basis.columns[support[c]].primitive))
+                .map(|&c| basis.columns[support[c]].source.label())
                 .collect(),
         });
     }
@@ -362,7 +390,7 @@ pub(crate) fn schedule_stage(
 ) -> Result<(Schedule, Vec<[f64; 2]>)> {
     let (basis, a, solution) = (&fit.basis, &fit.a, &fit.solution);
     let m = basis.columns.len();
-    let periods: Vec<f64> = basis.columns.iter().map(|c| c.primitive.period()).collect();
+    let periods: Vec<f64> = basis.columns.iter().map(|c| c.source.period()).collect();
     let rest_period = Primitive::new(PrimitiveKind::LineSink).period();
     let norm = fit.achieved_vec.norm().max(f64::MIN_POSITIVE);
     let field_error = |q: &[f64]| -> f64 {
@@ -382,21 +410,22 @@ pub(crate) fn schedule_stage(
     let fit_quantized = metrics(sampled, &achieved_quantized, solution.strength)?;
 
     let mut order: Vec<usize> = (0..m).filter(|&j| quant.cycles[j] > 0).collect();
+    // Six-signal segments ramp in and out when they share the schedule.
+    let mixed = order.len() > 1;
     order.sort_by(|&i, &j| {
         quant.cycles[j].cmp(&quant.cycles[i]).then_with(|| {
-            basis::label(&basis.columns[i].primitive)
-                .cmp(&basis::label(&basis.columns[j].primitive))
+            basis.columns[i]
+                .source
+                .label()
+                .cmp(&basis.columns[j].source.label())
         })
     });
     let mut segments: Vec<Segment> = order
         .iter()
-        .map(|&j| Segment {
-            label: basis::label(&basis.columns[j].primitive),
-            primitive: Some(basis.columns[j].primitive.clone()),
-            motion: None,
-            weight: solution.fractions[j],
-            cycles: quant.cycles[j],
-            duration_s: f64::from(quant.cycles[j]) * periods[j],
+        .map(|&j| {
+            basis.columns[j]
+                .source
+                .segment(solution.fractions[j], quant.cycles[j], mixed)
         })
         .collect();
     if quant.rest_cycles > 0 {
@@ -404,6 +433,7 @@ pub(crate) fn schedule_stage(
             label: "Rest".into(),
             primitive: None,
             motion: None,
+            ramp_cycles: None,
             weight: (1.0 - solution.fractions.iter().sum::<f64>()).max(0.0),
             cycles: quant.rest_cycles,
             duration_s: f64::from(quant.rest_cycles) * rest_period,
@@ -437,7 +467,7 @@ pub(crate) fn schedule_stage(
                 .filter(|c| !c.invalid_points.is_empty())
                 .map(|c| KeptColumn {
                     invalid_points: c.invalid_points.clone(),
-                    label: basis::label(&c.primitive),
+                    label: c.source.label(),
                 })
                 .collect(),
             kind: basis.kind,

@@ -16,11 +16,13 @@
 //! or the plate centre for six-signal motions), v_c and a_c its velocity and
 //! acceleration, and Ω, Ω' the angular velocity and acceleration, all in S'.
 
+mod ramped;
 pub mod sample_hold;
 mod screw;
 mod signals;
 mod waveform;
 
+pub use ramped::{smoothstep, Ramped};
 pub use screw::Screw;
 pub use signals::{Axes, Signals};
 pub use waveform::{FourierTerm, Sample, Waveform};
@@ -79,6 +81,10 @@ pub enum Motion {
     Screw(Screw),
     /// General 6-DOF motion given as six plate-centre acceleration signals.
     Signals(Signals),
+    /// A six-signal motion ramped in and out over a segment of whole
+    /// cycles ([`Ramped`]); built by schedules, never read from a file.
+    #[serde(skip)]
+    Ramped(Ramped),
 }
 
 impl Motion {
@@ -87,6 +93,16 @@ impl Motion {
         match self {
             Motion::Screw(s) => s.period,
             Motion::Signals(s) => s.period,
+            Motion::Ramped(r) => r.signals.period,
+        }
+    }
+
+    /// Time over which the motion is defined: one period for the periodic
+    /// motions, the whole segment for a [`Ramped`] one.
+    pub fn span(&self) -> f64 {
+        match self {
+            Motion::Ramped(r) => r.span(),
+            m => m.period(),
         }
     }
 
@@ -105,6 +121,7 @@ impl Motion {
         match self {
             Motion::Screw(s) => s.kinematics(t, piece_t, g, tilt),
             Motion::Signals(s) => s.kinematics(t, g, tilt),
+            Motion::Ramped(r) => r.kinematics(t, g, tilt),
         }
     }
 
@@ -112,7 +129,7 @@ impl Motion {
     pub fn breakpoints(&self) -> Vec<f64> {
         let mut b = match self {
             Motion::Screw(s) => s.breakpoints(),
-            Motion::Signals(_) => Vec::new(),
+            Motion::Signals(_) | Motion::Ramped(_) => Vec::new(),
         };
         b.sort_by(f64::total_cmp);
         b.dedup();
@@ -125,6 +142,7 @@ impl Motion {
         match self {
             Motion::Screw(s) => s.is_in_plane(),
             Motion::Signals(s) => s.is_in_plane(),
+            Motion::Ramped(r) => r.signals.is_in_plane(),
         }
     }
 
@@ -133,6 +151,7 @@ impl Motion {
         match self {
             Motion::Screw(s) => s.validate(field),
             Motion::Signals(s) => s.validate(field),
+            Motion::Ramped(r) => r.signals.validate(field),
         }
     }
 
@@ -142,6 +161,10 @@ impl Motion {
         match self {
             Motion::Screw(s) => Motion::Screw(s.transformed(angle, shift)),
             Motion::Signals(s) => Motion::Signals(s.transformed(angle, shift)),
+            Motion::Ramped(r) => Motion::Ramped(Ramped {
+                signals: r.signals.transformed(angle, shift),
+                ..r.clone()
+            }),
         }
     }
 }

@@ -35,7 +35,7 @@
 use std::f64::consts::PI;
 use std::fmt::Write as _;
 
-use super::{rotate, Motion, Signals, V3};
+use super::{rotate, smoothstep, Motion, Signals, V3};
 use crate::error::{positive, Error, Result};
 
 /// Default ramp length (cycles).
@@ -141,6 +141,10 @@ pub fn centre_state(motion: &Motion, t: f64) -> CentreState {
             }
         }
         Motion::Signals(sig) => signals_state(sig, t),
+        Motion::Ramped(r) => {
+            let (pose, velocity) = r.centre_state(t);
+            CentreState { velocity, pose }
+        }
     }
 }
 
@@ -207,15 +211,6 @@ pub fn periodic(motion: &Motion, rate: f64) -> Result<HoldSamples> {
     Ok(HoldSamples::from_velocities(&v, dt, n, start))
 }
 
-/// The quintic smoothstep window and its first derivative in s.
-fn smoothstep(s: f64) -> (f64, f64) {
-    let s = s.clamp(0.0, 1.0);
-    (
-        s * s * s * (10.0 + s * (-15.0 + 6.0 * s)),
-        30.0 * s * s * (1.0 - s) * (1.0 - s),
-    )
-}
-
 /// A six-signal (or any periodic) motion from rest at home: `ramp` cycles
 /// of ramp-in, `steady` cycles, `ramp` cycles of ramp-out, back to rest at
 /// home (see the module docs). Looping the file repeats the whole sequence.
@@ -242,9 +237,10 @@ pub fn ramped(motion: &Motion, rate: f64, ramp: u32, steady: u32) -> Result<Hold
         .map(|k| {
             // Window by sample index, so the ends are exact.
             let (w, dw) = if k < ramp_len {
-                smoothstep(k as f64 / ramp_len as f64)
+                let [w, dw, _] = smoothstep(k as f64 / ramp_len as f64);
+                (w, dw)
             } else if k + ramp_len > total {
-                let (w, dw) = smoothstep((total - k) as f64 / ramp_len as f64);
+                let [w, dw, _] = smoothstep((total - k) as f64 / ramp_len as f64);
                 (w, -dw)
             } else {
                 (1.0, 0.0)
@@ -318,7 +314,7 @@ pub fn sequence(segments: &[Segment<'_>], rate: f64) -> Result<HoldSamples> {
             .flat_map(|v| v.into_iter().map(f64::abs))
             .fold(0.0, f64::max);
         let scale = 1e-9 * peak + m.period() * 1e-12;
-        for t in [0.0, m.period()] {
+        for t in [0.0, m.span()] {
             let s = centre_state(m, t);
             if s.velocity.iter().any(|x| x.abs() > scale) {
                 return Err(Error::invalid(

@@ -104,8 +104,26 @@ impl Signals {
     /// Kinematics at time `t`.
     #[inline]
     pub fn kinematics(&self, t: f64, g: f64, tilt: bool) -> Kinematics {
-        let [_, v, a] = self.linear.eval(t, self.period);
-        let [theta, w, dw] = self.angular.eval(t, self.period);
+        let (lin, ang) = self.centre_triples(t);
+        Signals::frame(&lin, &ang, g, tilt)
+    }
+
+    /// World-frame (value, rate, acceleration) of the plate centre at `t`:
+    /// linear (pose p, p', p'') and angular (rotation vector θ, ω, ω').
+    #[inline]
+    pub fn centre_triples(&self, t: f64) -> ([V3; 3], [V3; 3]) {
+        (
+            self.linear.eval(t, self.period),
+            self.angular.eval(t, self.period),
+        )
+    }
+
+    /// Plate-frame kinematics from the world-frame centre triples (module
+    /// docs: R = exp([θ]×), quantities rotated back by Rᵀ when `tilt`).
+    #[inline]
+    pub fn frame(lin: &[V3; 3], ang: &[V3; 3], g: f64, tilt: bool) -> Kinematics {
+        let [_, v, a] = lin;
+        let [theta, w, dw] = ang;
         let down = V3::new(0.0, 0.0, -g);
         let angle = theta.norm();
         let back = |x: V3| {
@@ -116,11 +134,11 @@ impl Signals {
             }
         };
         Kinematics {
-            omega: back(w),
-            alpha: back(dw),
+            omega: back(*w),
+            alpha: back(*dw),
             center: V3::zeros(),
-            vel_center: back(v),
-            accel_center: back(a),
+            vel_center: back(*v),
+            accel_center: back(*a),
             gravity: back(down),
         }
     }

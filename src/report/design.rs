@@ -246,7 +246,7 @@ pub fn run(
     let dir = out.join(&target.name);
     if let Some(l) = closed_loop {
         l.validate()?;
-        if method == Method::Synthesize {
+        if matches!(method, Method::Synthesize | Method::Mix) {
             return Err(crate::error::Error::invalid(
                 "--closed-loop",
                 "re-fits a sequenced schedule; use it with --method sequence (or auto, which then designs by sequence)",

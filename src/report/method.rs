@@ -95,7 +95,7 @@ fn played_md(cands: &[Candidate], chosen: usize) -> String {
 /// The method section of `report.md`.
 pub fn method_md(md: &MethodDesign) -> String {
     let mut out = format!(
-        "## Method and realised check\n\nMethod: `{}`; {}.\n\nEvery candidate is played before it is reported: point parts from about 5 × 5 start points over the target region (every k-th target grid point), 10 warm-up and 10 measured cycles (each rounded up to whole schedule periods), with the one realised measure (`play::measure`), against the target. POOR: realised shape error above {:.0} %, a part losing contact or escaping the attractor. Rule under `auto`: the lower realised shape error wins; within 1 percentage point, the higher realised strength.\n\n",
+        "## Method and realised check\n\nMethod: `{}`; {}.\n\nEvery candidate is played before it is reported: point parts from about 5 × 5 start points over the target region (every k-th target grid point), 10 warm-up and 10 measured cycles (each rounded up to whole schedule periods), with the one realised measure (`play::measure`), against the target. POOR: realised shape error above {:.0} %, a part losing contact or escaping the attractor. Rule under `auto`: the lower realised shape error wins; within 1 percentage point, the higher realised strength. When every candidate is POOR, `auto` also designs the mix (primitives and a synthesized motion in one fit) and plays it.\n\n",
         md.asked.name(),
         md.why,
         100.0 * crate::fit::POOR_ERROR
@@ -235,6 +235,7 @@ pub fn write(md: &MethodDesign, dir: &Path) -> Result<Vec<&'static str>> {
     // has no field at the target's points).
     let fit_svg = match (kept.method, &md.sequence, &md.synthesis) {
         (Method::Sequence, Some(d), _) => Some(super::design::fit_svg(d)),
+        (Method::Mix, _, _) if md.mixed.is_some() => md.mixed.as_ref().map(super::design::fit_svg),
         (_, _, Some(syn)) => synthesis_fit_svg(md, syn),
         _ => None,
     };
@@ -246,13 +247,17 @@ pub fn write(md: &MethodDesign, dir: &Path) -> Result<Vec<&'static str>> {
             kept.schedule.settings.gravity,
         ));
     }
-    if let Some(d) = &md.sequence {
-        // The sequenced design's own report, one heading level down.
+    for (heading, d) in [
+        ("Sequenced design", &md.sequence),
+        ("Mixed design", &md.mixed),
+    ] {
+        // A design's own report, one heading level down.
+        let Some(d) = d else { continue };
         let own = super::design::report_md(d);
         let body = own.split_once('\n').map_or("", |x| x.1);
         let _ = write!(
             report,
-            "\n## Sequenced design\n{}",
+            "\n## {heading}\n{}",
             body.replace("\n## ", "\n### ")
         );
     }

@@ -31,7 +31,9 @@ impl SceneMotion {
             .into_iter()
             .flatten()
             .collect(),
-            SceneMotion::Motion(Motion::Signals(s)) => {
+            SceneMotion::Motion(
+                Motion::Signals(s) | Motion::Ramped(crate::motion::Ramped { signals: s, .. }),
+            ) => {
                 let mut out = Vec::new();
                 for (group, axes) in [("linear", &s.linear), ("angular", &s.angular)] {
                     for (axis, terms) in [("x", &axes.x), ("y", &axes.y), ("z", &axes.z)] {
@@ -141,7 +143,9 @@ impl Scene {
                 "screw, axis {:?} through {:?} m, T = {} s",
                 s.axis, s.point, s.period
             ),
-            SceneMotion::Motion(Motion::Signals(s)) => {
+            SceneMotion::Motion(
+                Motion::Signals(s) | Motion::Ramped(crate::motion::Ramped { signals: s, .. }),
+            ) => {
                 format!("six signals, T = {} s", s.period)
             }
             SceneMotion::Primitive(p) => {

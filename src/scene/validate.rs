@@ -261,7 +261,9 @@ impl Scene {
         let path = "scene.motion";
         match &self.motion {
             SceneMotion::Motion(Motion::Screw(s)) => screw(s, path)?,
-            SceneMotion::Motion(Motion::Signals(s)) => signals(s, path)?,
+            SceneMotion::Motion(
+                Motion::Signals(s) | Motion::Ramped(crate::motion::Ramped { signals: s, .. }),
+            ) => signals(s, path)?,
             SceneMotion::Primitive(p) => primitive(p, path)?,
         }
         let g = &self.grid;

@@ -25,7 +25,10 @@
 //! whole sequence. Such a schedule must hold that one moving segment (rest
 //! segments are allowed and ignored: the ramps begin and end at rest).
 //! Schedules of primitives only are exported exactly as before: one
-//! schedule period, to be looped.
+//! schedule period, to be looped. So are mixed schedules, whose six-signal
+//! segments ramp in and out inside their own cycles (`ramp_cycles`,
+//! [`crate::motion::Ramped`]): every segment then starts and ends at rest
+//! at home, like a primitive.
 
 use super::Schedule;
 use crate::error::{positive, Error, Result};
@@ -81,7 +84,11 @@ pub fn export(schedule: &Schedule, rate: f64, steady: u32) -> Result<Export> {
     positive("--rate", rate)?;
     schedule.validate()?;
     let schedule = &schedule.with_segments(schedule.segments.clone());
-    if schedule.segments.iter().any(|s| s.motion.is_some()) {
+    if schedule
+        .segments
+        .iter()
+        .any(|s| s.motion.is_some() && s.ramp_cycles.is_none())
+    {
         let moving: Vec<&super::Segment> =
             schedule.segments.iter().filter(|s| s.is_moving()).collect();
         let [single] = moving[..] else {
@@ -120,8 +127,8 @@ pub fn centre_acceleration(motion: &Motion, t: f64) -> (V3, V3) {
             let lin = -(a.cross(&rh) + w.cross(&w.cross(&rh))) + k * d.ddq;
             (lin, a)
         }
-        Motion::Signals(sig) => {
-            let kin = sig.kinematics(t, 0.0, false);
+        Motion::Signals(_) | Motion::Ramped(_) => {
+            let kin = motion.kinematics(t, 0.0, false);
             (kin.accel_center, kin.alpha)
         }
     }
@@ -131,13 +138,14 @@ pub fn centre_acceleration(motion: &Motion, t: f64) -> (V3, V3) {
 pub const PEAK_SAMPLES: usize = 4096;
 
 /// Per-axis peak |plate-centre acceleration| of `motion` over
-/// [`PEAK_SAMPLES`] samples of its period (linear x, y, z in m/s², angular
+/// [`PEAK_SAMPLES`] samples per period (over the whole segment of a ramped motion) (linear x, y, z in m/s², angular
 /// x, y, z in rad/s², world axes): what a controller must be able to play.
 pub fn motion_peaks(motion: &Motion) -> [f64; 6] {
-    let period = motion.period();
+    // A ramped motion over its whole segment, at the same density.
+    let n = PEAK_SAMPLES * (motion.span() / motion.period()).round().max(1.0) as usize;
     let mut p = [0.0_f64; 6];
-    for i in 0..PEAK_SAMPLES {
-        let (lin, ang) = centre_acceleration(motion, period * i as f64 / PEAK_SAMPLES as f64);
+    for i in 0..n {
+        let (lin, ang) = centre_acceleration(motion, motion.span() * i as f64 / n as f64);
         for (k, v) in [lin.x, lin.y, lin.z, ang.x, ang.y, ang.z]
             .iter()
             .enumerate()

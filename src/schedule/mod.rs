@@ -42,7 +42,7 @@ use crate::basis::Primitive;
 use crate::error::{non_negative, positive, Error, Result};
 use crate::field::{FieldKind, FieldSettings, Validity};
 use crate::fit::FitMetrics;
-use crate::motion::{Motion, Signals};
+use crate::motion::{Motion, Ramped, Signals};
 use crate::request::Target;
 
 pub use played::{AxisPeaks, Played};
@@ -68,6 +68,13 @@ pub struct Segment {
     /// primitive; `None` (and absent from the file) otherwise.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub motion: Option<Signals>,
+    /// For a six-signal segment among other moving segments: cycles of the
+    /// smooth ramp-in from rest and of the ramp-out back to rest, inside
+    /// the segment's `cycles` ([`crate::motion::Ramped`]). `None` (absent
+    /// from the file) plays the motion steadily: the one moving segment of
+    /// a schedule, repeated.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ramp_cycles: Option<u32>,
     /// Time fraction from the fit (continuous).
     pub weight: f64,
     /// Whole cycles.
@@ -83,7 +90,14 @@ impl Segment {
     pub fn plate_motion(&self) -> Option<Motion> {
         match (&self.primitive, &self.motion) {
             (Some(p), _) => Some(p.motion()),
-            (None, Some(s)) => Some(Motion::Signals(s.clone())),
+            (None, Some(s)) => Some(match self.ramp_cycles {
+                None => Motion::Signals(s.clone()),
+                Some(ramp) => Motion::Ramped(Ramped {
+                    signals: s.clone(),
+                    ramp,
+                    cycles: self.cycles,
+                }),
+            }),
             (None, None) => None,
         }
     }
@@ -103,8 +117,18 @@ impl Segment {
     }
 
     /// Validates the segment's primitive or motion (not both), naming
-    /// `{at}.primitive…` or `{at}.motion…`.
+    /// `{at}.primitive…` or `{at}.motion…`, and its ramp (only on a
+    /// six-signal motion, 1 ≤ ramp ≤ cycles/2, `{at}.ramp_cycles`).
     pub fn validate_motion(&self, at: &str) -> Result<()> {
+        if let Some(ramp) = self.ramp_cycles {
+            if self.motion.is_none() {
+                return Err(Error::invalid(
+                    format!("{at}.ramp_cycles"),
+                    "only a six-signal segment (with a `motion`) is ramped",
+                ));
+            }
+            Ramped::check(ramp, self.cycles, at)?;
+        }
         match (&self.primitive, &self.motion) {
             (Some(_), Some(_)) => Err(Error::invalid(
                 format!("{at}.motion"),
@@ -318,6 +342,19 @@ impl Schedule {
                     period += f64::from(seg.cycles) * cycle;
                 }
                 None => period += non_negative(&format!("{at}.duration_s"), seg.duration_s)?,
+            }
+        }
+        let moving = self.segments.iter().filter(|s| s.is_moving()).count();
+        if moving > 1 {
+            if let Some(i) = self
+                .segments
+                .iter()
+                .position(|s| s.motion.is_some() && s.ramp_cycles.is_none())
+            {
+                return Err(Error::invalid(
+                    format!("segments[{i}].ramp_cycles"),
+                    format!("a six-signal segment among {moving} moving segments must ramp in from rest and out to rest (ramp_cycles ≥ 1); the plate would jump at its joins"),
+                ));
             }
         }
         if period.is_nan() || period <= 0.0 {

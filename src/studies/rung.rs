@@ -146,9 +146,11 @@ pub fn relative_l2(a: &Field, reference: &Field) -> (f64, usize) {
 fn is_translation(motion: &Motion) -> bool {
     match motion {
         Motion::Screw(s) => s.rotation.is_zero(),
-        Motion::Signals(s) => [&s.angular.x, &s.angular.y, &s.angular.z]
-            .iter()
-            .all(|terms| terms.iter().all(|t| t.amplitude == 0.0)),
+        Motion::Signals(s) | Motion::Ramped(crate::motion::Ramped { signals: s, .. }) => {
+            [&s.angular.x, &s.angular.y, &s.angular.z]
+                .iter()
+                .all(|terms| terms.iter().all(|t| t.amplitude == 0.0))
+        }
     }
 }
 

@@ -239,9 +239,21 @@ pub fn realised_error(
 }
 
 /// Weighted least-squares affine decomposition of `e` over positions `q`,
-/// norms relative to `scale`.
+/// norms relative to `scale`; every part NaN (not measured) without a
+/// point.
 fn decompose(q: &[[f64; 2]], e: &[[f64; 2]], w: &[f64], scale: f64) -> Decomposition {
     let n = q.len();
+    if n == 0 {
+        return Decomposition {
+            isotropic: f64::NAN,
+            rotational: f64::NAN,
+            anisotropic: f64::NAN,
+            offset: f64::NAN,
+            remainder: f64::NAN,
+            alpha: f64::NAN,
+            beta: f64::NAN,
+        };
+    }
     let wsum: f64 = w.iter().sum();
     let mut c = [0.0; 2];
     if wsum > 0.0 {
@@ -310,6 +322,7 @@ mod tests {
                     duration_s: f64::from(cycles) * p.period(),
                     primitive: Some(p),
                     motion: None,
+                    ramp_cycles: None,
                     weight: 0.0,
                     cycles,
                 }
@@ -397,6 +410,36 @@ mod tests {
                 "field": {"kind": "sink", "center": [0.0, 0.0], "strength": 1.0}}"#,
         )
         .unwrap()
+    }
+
+    /// No valid point (every part lost contact): nothing is measured —
+    /// zero valid points and NaN metrics, not a panic (the SVD of an empty
+    /// system panicked before).
+    #[test]
+    fn no_valid_point_measures_nothing() {
+        let target = sink_target();
+        let sampled = target.sample().unwrap();
+        let plays: Vec<PointPlay> = sampled
+            .points
+            .iter()
+            .enumerate()
+            .map(|(i, p)| PointPlay {
+                index: i,
+                start: *p,
+                position: *p,
+                realised: [0.0, 0.0],
+                window_starts: vec![],
+                span: 0.0,
+                periods: 0,
+                moving: false,
+                contributions: vec![],
+                note: Some("contact lost".into()),
+                lost_at: Some(*p),
+            })
+            .collect();
+        let e = realised_error(&target, &sampled.weights, &plays, Some(1.0));
+        assert_eq!(e.valid, 0);
+        assert!(e.decomposition.alpha.is_nan() && !e.shape_error.is_finite());
     }
 
     /// Synthetic realised fields with known parts: the metrics and the

@@ -144,6 +144,7 @@ pub fn refit(
                 label: "Rest".into(),
                 primitive: None,
                 motion: None,
+                ramp_cycles: None,
                 weight: rest_weight,
                 cycles: q.rest_cycles,
                 duration_s: f64::from(q.rest_cycles) * rest_period,
