@@ -250,7 +250,7 @@ impl<'a> Simulator<'a> {
     /// friction keeps the side it came from: a reversal is an event that
     /// ends the step, so a stage landing on (or numerically just past)
     /// u = 0 must not flip it.
-    #[inline]
+    #[inline(always)]
     fn slip_rhs(
         &self,
         k: &Kinematics,
@@ -343,7 +343,15 @@ impl<'a> Simulator<'a> {
             rk4_steps: 0,
         };
         let nominal = self.period / self.numerics.steps_per_cycle as f64;
-        let edges = super::piece_edges(t0, t1, self.period, &self.breakpoints);
+        // One smooth piece without breakpoints (no allocation per call).
+        let whole = [t0, t1];
+        let split;
+        let edges: &[f64] = if self.breakpoints.is_empty() && t0 <= t1 {
+            &whole
+        } else {
+            split = super::piece_edges(t0, t1, self.period, &self.breakpoints);
+            &split
+        };
         for w in edges.windows(2) {
             let (a, b) = (w[0], w[1]);
             let n = super::step_count(a, b, nominal);
