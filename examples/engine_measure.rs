@@ -93,6 +93,20 @@ fn main() {
             64,
         ),
         (
+            "LineSource force 21x21x30, 8 steps".into(),
+            Primitive::new(PrimitiveKind::LineSource).motion(),
+            Grid::DEFAULT,
+            FieldKind::Force,
+            8,
+        ),
+        (
+            "Trans force 21x21x30, 32 steps".into(),
+            Primitive::new(PrimitiveKind::Trans).motion(),
+            Grid::DEFAULT,
+            FieldKind::Force,
+            32,
+        ),
+        (
             "ScaledCircle force 21x21x30, 64 steps".into(),
             Primitive::new(PrimitiveKind::ScaledCircle).motion(),
             Grid::DEFAULT,

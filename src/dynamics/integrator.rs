@@ -17,9 +17,10 @@
 //! * **Break-away** (stuck → slipping): while stuck nothing in the state
 //!   changes, so the stuck episode is resolved at once: the margin
 //!   φ(t) = μ_s N(t) − |a_free(t)| is sampled at half-step spacing, every
-//!   discrete local minimum is refined by golden-section search (so a short
-//!   dip below zero between samples is not missed), and the first root is
-//!   bracketed and found by the Illinois method.
+//!   discrete local minimum is refined by Brent's minimization (parabolic
+//!   steps, golden section where they fail; so a short dip below zero
+//!   between samples is not missed), and the first root is bracketed and
+//!   found by the Illinois method.
 //!
 //! In 2-D the slip velocity of a part that cannot stick (|a_free| > μ_s N)
 //! passes close to zero without reaching it (closest approach ε = |u(s*)|
@@ -872,8 +873,10 @@ impl<'a> Simulator<'a> {
                 None
             };
             if let Some((lo, hi)) = bracket {
-                let (tm, fm) =
-                    golden_min(&phi, lo, hi, 1e-3 * self.numerics.event_tol * self.period);
+                // The minimum's position to 1e-9 of the bracket fixes its
+                // value to O(1e-18) relative: whether it dips below zero.
+                let tol = (1e-9 * (hi - lo)).max(1e-3 * self.numerics.event_tol * self.period);
+                let (tm, fm) = brent_min(&phi, lo, hi, tol);
                 if fm < 0.0 {
                     return Some(self.illinois(&phi, lo, phi(lo), tm, fm));
                 }
@@ -921,35 +924,81 @@ impl<'a> Simulator<'a> {
     }
 }
 
-/// Minimum of a unimodal f on [a, b] by golden-section search.
-fn golden_min(f: &impl Fn(f64) -> f64, mut a: f64, mut b: f64, tol: f64) -> (f64, f64) {
-    let g = 0.5 * (5f64.sqrt() - 1.0);
-    let mut c = b - g * (b - a);
-    let mut d = a + g * (b - a);
-    let (mut fc, mut fd) = (f(c), f(d));
+/// Minimum of a unimodal f on [a, b], to within `tol` in its position, by
+/// Brent's method: parabolic interpolation through the three best points,
+/// golden-section steps where the parabola is not trusted. Returns (t, f(t))
+/// for the best point, early as soon as a value below zero is seen (all the
+/// caller needs to know is whether the minimum dips below zero). On a smooth
+/// minimum it converges superlinearly: about ten evaluations where golden
+/// section alone needs forty or more.
+fn brent_min(f: &impl Fn(f64) -> f64, mut a: f64, mut b: f64, tol: f64) -> (f64, f64) {
+    // (3 − √5)/2, the golden-section fraction.
+    const GOLD: f64 = 0.381_966_011_250_105_1;
+    let mut x = a + GOLD * (b - a);
+    let mut fx = f(x);
+    let (mut w, mut fw, mut v, mut fv) = (x, fx, x, fx);
+    // The last step d and the one before it, e.
+    let (mut d, mut e): (f64, f64) = (0.0, 0.0);
     for _ in 0..200 {
-        if b - a <= tol || fc.min(fd) < 0.0 {
+        let m = 0.5 * (a + b);
+        if fx < 0.0 || (x - m).abs() <= 2.0 * tol - 0.5 * (b - a) {
             break;
         }
-        if fc < fd {
-            b = d;
-            d = c;
-            fd = fc;
-            c = b - g * (b - a);
-            fc = f(c);
+        let mut parabolic = false;
+        if e.abs() > tol {
+            // Vertex of the parabola through (v, fv), (w, fw), (x, fx),
+            // accepted if it falls inside [a, b] and the step is less than
+            // half the one before last.
+            let r = (x - w) * (fx - fv);
+            let q = (x - v) * (fx - fw);
+            let mut p = (x - v) * q - (x - w) * r;
+            let mut q = 2.0 * (q - r);
+            if q > 0.0 {
+                p = -p;
+            } else {
+                q = -q;
+            }
+            if p.abs() < (0.5 * q * e).abs() && p > q * (a - x) && p < q * (b - x) {
+                e = d;
+                d = p / q;
+                let u = x + d;
+                if u - a < 2.0 * tol || b - u < 2.0 * tol {
+                    d = tol.copysign(m - x);
+                }
+                parabolic = true;
+            }
+        }
+        if !parabolic {
+            e = if x >= m { a - x } else { b - x };
+            d = GOLD * e;
+        }
+        let u = if d.abs() >= tol {
+            x + d
         } else {
-            a = c;
-            c = d;
-            fc = fd;
-            d = a + g * (b - a);
-            fd = f(d);
+            x + tol.copysign(d)
+        };
+        let fu = f(u);
+        if fu <= fx {
+            if u >= x {
+                a = x;
+            } else {
+                b = x;
+            }
+            (v, fv, w, fw, x, fx) = (w, fw, x, fx, u, fu);
+        } else {
+            if u < x {
+                a = u;
+            } else {
+                b = u;
+            }
+            if fu <= fw || w == x {
+                (v, fv, w, fw) = (w, fw, u, fu);
+            } else if fu <= fv || v == x || v == w {
+                (v, fv) = (u, fu);
+            }
         }
     }
-    if fc < fd {
-        (c, fc)
-    } else {
-        (d, fd)
-    }
+    (x, fx)
 }
 
 /// u/|u| for u ≠ 0. A slip along a coordinate axis (1-D slips: the
@@ -1000,3 +1049,7 @@ fn hermite_root(p0: f64, d0: f64, p1: f64, d1: f64) -> f64 {
     }
     x
 }
+
+#[cfg(test)]
+#[path = "stop_tests.rs"]
+mod stop_tests;
