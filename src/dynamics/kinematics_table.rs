@@ -83,7 +83,7 @@ impl PieceNodes {
             return None;
         }
         let m = (2.0 * x + 0.5) as usize;
-        let j = (m + 1) / 2;
+        let j = m.div_ceil(2);
         if j >= 1 && j <= self.n {
             let slot = if m % 2 == 1 { 3 * j - 2 } else { 3 * j };
             if self.times[slot] == t {
