@@ -3,6 +3,9 @@
 //! builds of the engine can be compared for bitwise equality.
 //!
 //! `cargo run --release --example engine_measure [-- REPEATS [NAME-PART]]`
+//!
+//! The CPU column (mean over the repeats, from /proc/self/stat in 10 ms
+//! ticks: use 10 or more repeats) is the one to compare on a loaded machine.
 
 use std::time::Instant;
 
@@ -31,20 +34,37 @@ fn hash(f: &Field) -> u64 {
     h
 }
 
-fn time(threads: usize, repeats: usize, f: &(dyn Fn() -> Field + Sync)) -> (f64, Field) {
+/// CPU time of this process (user + system, s; 10 ms ticks), from
+/// /proc/self/stat (Linux), or None.
+fn cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    let rest = &stat[stat.rfind(')')? + 2..];
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let ticks = f.get(11)?.parse::<f64>().ok()? + f.get(12)?.parse::<f64>().ok()?;
+    Some(ticks / 100.0)
+}
+
+/// Best wall time of `repeats` runs on `threads` threads, the mean CPU time
+/// per run (all threads; NaN where not measurable) and the last field.
+fn time(threads: usize, repeats: usize, f: &(dyn Fn() -> Field + Sync)) -> (f64, f64, Field) {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
         .expect("thread pool");
     let mut best = f64::INFINITY;
     let mut out = None;
+    let cpu0 = cpu_seconds();
     for _ in 0..repeats {
         let start = Instant::now();
         let field = pool.install(f);
         best = best.min(start.elapsed().as_secs_f64());
         out = Some(field);
     }
-    (best, out.expect("at least one repeat"))
+    let cpu = match (cpu0, cpu_seconds()) {
+        (Some(a), Some(b)) => (b - a) / repeats as f64,
+        _ => f64::NAN,
+    };
+    (best, cpu, out.expect("at least one repeat"))
 }
 
 fn main() {
@@ -71,6 +91,20 @@ fn main() {
             Grid::DEFAULT,
             FieldKind::Force,
             64,
+        ),
+        (
+            "LineSource force 21x21x30, 8 steps".into(),
+            Primitive::new(PrimitiveKind::LineSource).motion(),
+            Grid::DEFAULT,
+            FieldKind::Force,
+            8,
+        ),
+        (
+            "Trans force 21x21x30, 32 steps".into(),
+            Primitive::new(PrimitiveKind::Trans).motion(),
+            Grid::DEFAULT,
+            FieldKind::Force,
+            32,
         ),
         (
             "ScaledCircle force 21x21x30, 64 steps".into(),
@@ -129,8 +163,10 @@ fn main() {
             );
         }
     }
-    println!("| field | 1 thread (s) | 2 threads (s) | bits 1 thread | bits 2 threads |");
-    println!("|---|---|---|---|---|");
+    println!(
+        "| field | 1 thread wall (s) | 1 thread CPU (s) | 2 threads wall (s) | bits 1 thread | bits 2 threads |"
+    );
+    println!("|---|---|---|---|---|---|");
     for (name, motion, grid, kind, steps) in cases.iter().map(|(a, b, c, d, e)| (a, b, c, *d, *e)) {
         if !name.contains(&only) {
             continue;
@@ -138,11 +174,11 @@ fn main() {
         let mut settings = FieldSettings::default();
         settings.numerics.steps_per_cycle = steps;
         let run = || Field::compute(motion, grid, kind, &settings, &|| {});
-        let (t1, f1) = time(1, repeats, &run);
-        let (t2, f2) = time(2, repeats, &run);
+        let (t1, c1, f1) = time(1, repeats, &run);
+        let (t2, _, f2) = time(2, repeats, &run);
         let bad = f1.validity.len() - f1.valid_count();
         println!(
-            "| {name} | {t1:.4} | {t2:.4} | {:016x} | {:016x} | invalid {bad}",
+            "| {name} | {t1:.4} | {c1:.4} | {t2:.4} | {:016x} | {:016x} | invalid {bad}",
             hash(&f1),
             hash(&f2)
         );

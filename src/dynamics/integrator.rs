@@ -7,17 +7,20 @@
 //! * **Stop** (slipping → u = 0): with u₀ the slip velocity at the start of
 //!   a step, the event function is g(s) = u(s)·u₀ where u(s) is the RK4
 //!   solution after a step of size s. Its root is found by safeguarded
-//!   Newton iteration (g'(s) = u̇(s)·u₀), the step is cut there, and the
-//!   part either sticks (|a_free| ≤ μ_s N) or reverses, slipping from rest
-//!   along a_free. For piecewise-constant accelerations (the square wave)
-//!   u is linear in s, RK4 is exact and Newton converges in one iteration,
-//!   so the whole cycle is integrated exactly.
+//!   Newton iteration (g'(s) ≈ u̇(s)·u₀) from the root of the cubic Hermite
+//!   interpolant of g over the whole step, each iteration a trial RK4 step
+//!   (see `stop_in_step`: two or three per stop), the step is cut there,
+//!   and the part either sticks (|a_free| ≤ μ_s N) or reverses, slipping
+//!   from rest along a_free. For piecewise-constant accelerations (the
+//!   square wave) u is linear in s, RK4 is exact and Newton converges in
+//!   one iteration, so the whole cycle is integrated exactly.
 //! * **Break-away** (stuck → slipping): while stuck nothing in the state
 //!   changes, so the stuck episode is resolved at once: the margin
 //!   φ(t) = μ_s N(t) − |a_free(t)| is sampled at half-step spacing, every
-//!   discrete local minimum is refined by golden-section search (so a short
-//!   dip below zero between samples is not missed), and the first root is
-//!   bracketed and found by the Illinois method.
+//!   discrete local minimum is refined by Brent's minimization (parabolic
+//!   steps, golden section where they fail; so a short dip below zero
+//!   between samples is not missed), and the first root is bracketed and
+//!   found by the Illinois method.
 //!
 //! In 2-D the slip velocity of a part that cannot stick (|a_free| > μ_s N)
 //! passes close to zero without reaching it (closest approach ε = |u(s*)|
@@ -233,8 +236,13 @@ impl<'a> Simulator<'a> {
     /// Break-away margin φ = μ_s N − |a_free| of a stuck part (u = 0), and N.
     #[inline]
     fn margin(&self, t: f64, piece: f64, r: &V2, anchor: &V2) -> f64 {
-        let k = self.kin(t, piece);
-        let (n, free) = self.forces(&k, r, &V2::zeros(), anchor);
+        self.margin_of(&self.kin(t, piece), r, anchor)
+    }
+
+    /// The break-away margin φ with the kinematics `k` at hand.
+    #[inline]
+    fn margin_of(&self, k: &Kinematics, r: &V2, anchor: &V2) -> f64 {
+        let (n, free) = self.forces(k, r, &V2::zeros(), anchor);
         self.friction.stat * n - free.norm()
     }
 
@@ -243,7 +251,7 @@ impl<'a> Simulator<'a> {
     /// friction keeps the side it came from: a reversal is an event that
     /// ends the step, so a stage landing on (or numerically just past)
     /// u = 0 must not flip it.
-    #[inline]
+    #[inline(always)]
     fn slip_rhs(
         &self,
         k: &Kinematics,
@@ -258,16 +266,15 @@ impl<'a> Simulator<'a> {
             return Err(self.contact_loss(t, r, n));
         }
         let along = u.dot(dir0);
-        let dir = if along > 0.0 { u.normalize() } else { *dir0 };
+        let dir = if along > 0.0 { unit(u) } else { *dir0 };
         Ok(free - dir * (self.friction.kinetic * n))
     }
 
     /// Direction in which a part with slip velocity `u` slips at the start
     /// of a step: û, or for a part slipping from rest, that of a_free.
     fn slip_direction(&self, k: &Kinematics, r: &V2, u: &V2, anchor: &V2) -> V2 {
-        let speed = u.norm();
-        if speed > 0.0 {
-            return u / speed;
+        if *u != V2::zeros() {
+            return unit(u);
         }
         let (_, free) = self.forces(k, r, u, anchor);
         let f = free.norm();
@@ -337,7 +344,15 @@ impl<'a> Simulator<'a> {
             rk4_steps: 0,
         };
         let nominal = self.period / self.numerics.steps_per_cycle as f64;
-        let edges = super::piece_edges(t0, t1, self.period, &self.breakpoints);
+        // One smooth piece without breakpoints (no allocation per call).
+        let whole = [t0, t1];
+        let split;
+        let edges: &[f64] = if self.breakpoints.is_empty() && t0 <= t1 {
+            &whole
+        } else {
+            split = super::piece_edges(t0, t1, self.period, &self.breakpoints);
+            &split
+        };
         for w in edges.windows(2) {
             let (a, b) = (w[0], w[1]);
             let n = super::step_count(a, b, nominal);
@@ -373,7 +388,10 @@ impl<'a> Simulator<'a> {
         let mut next_k: Option<(f64, Kinematics)> = None;
         while *t < target {
             if state.u == V2::zeros() && !state.stuck {
-                state.stuck = self.margin(*t, piece, &state.r, anchor) >= 0.0;
+                state.stuck = match &next_k {
+                    Some((tk, k)) if *tk == *t => self.margin_of(k, &state.r, anchor),
+                    _ => self.margin(*t, piece, &state.r, anchor),
+                } >= 0.0;
             }
             if state.stuck {
                 match self.breakaway(*t, target, piece, &state.r, anchor) {
@@ -431,15 +449,15 @@ impl<'a> Simulator<'a> {
             }
             if u0 != V2::zeros() && u1.dot(&u0) <= 0.0 && cuts < MAX_CUTS {
                 cuts += 1;
-                let s = self.locate_stop(*t, h, piece, &k0, state, anchor, 0.0, out)?;
-                let (rs, us, _) = self.rk4(*t, s, piece, &k0, &state.r, &u0, anchor)?;
-                out.rk4_steps += 1;
+                let end = (&r1, &u1, &k1);
+                let (s, rs, us) = self.stop_in_step(*t, h, piece, &k0, state, anchor, end, out)?;
                 let ts = if target - (*t + s) <= tiny {
                     target
                 } else {
                     *t + s
                 };
-                let holds = self.margin(ts, piece, &rs, anchor) >= 0.0;
+                let ks = self.kin(ts, piece);
+                let holds = self.margin_of(&ks, &rs, anchor) >= 0.0;
                 out.events += 1;
                 let (left, start) = (us.norm(), u0.norm());
                 // The stiff scheme finds 2-D stops by its implicit steps
@@ -456,6 +474,7 @@ impl<'a> Simulator<'a> {
                     state.r = rs;
                     state.u = V2::zeros();
                     state.stuck = holds;
+                    next_k = Some((ts, ks));
                 } else {
                     // A 2-D slip swinging past zero. The coarse step cannot
                     // follow the turn, which happens while |u| is of the
@@ -698,6 +717,121 @@ impl<'a> Simulator<'a> {
         Ok(hi)
     }
 
+    /// The stop inside a slip step whose end has turned against its start:
+    /// the root s* ∈ (0, h] of g(s) = u(s)·u₀ (u(s) the RK4 solution after a
+    /// step of size s, u₀ the slip velocity at the start) given the full
+    /// step's end `end` = (r₁, u₁, k₁) with g(h) ≤ 0 < g(0). Returns s*, to
+    /// the event tolerance, and the state (r, u) there.
+    ///
+    /// This is for a 1-D slip: u₀ and u₁ on one coordinate axis, their other
+    /// component exactly zero, so that no stage of the step had a free
+    /// acceleration across the axis (the LineSink and LineSource move every
+    /// point along x, as does an in-plane translation along x). A 2-D slip
+    /// goes to [`Simulator::locate_stop`] (Newton from s = 0), as before.
+    ///
+    /// Each evaluation of g is a trial RK4 step with two kinematics
+    /// evaluations off the tabulated grid, so they are kept few: the first
+    /// trial is at the root of the cubic Hermite interpolant of g from g and
+    /// g' at both ends of the step (error O(h⁴) relative to h, about 3e-4 at
+    /// 8 steps per cycle), then Newton with g' = u̇·u₀ from the right-hand
+    /// side, safeguarded by the bracket. That g' differs from the slope of
+    /// the RK4 solution by O(h⁴), so Newton converges linearly at that rate
+    /// ρ; it stops once the correction δ, or the remaining error ρ|δ|/(1 − ρ)
+    /// with ρ measured from the last two corrections, is within the event
+    /// tolerance, and carries the last trial's state to s + δ by its Taylor
+    /// polynomial instead of another trial step (|δ| ≤ 1e-6 h there, so that
+    /// its error is O(1e-12) relative). Typically two or three trials per stop, the
+    /// same root as Newton run to |δ| ≤ tolerance from s = 0 (five to seven).
+    #[allow(clippy::too_many_arguments)]
+    fn stop_in_step(
+        &self,
+        t: f64,
+        h: f64,
+        piece: f64,
+        k0: &Kinematics,
+        state: &PartState,
+        anchor: &V2,
+        end: (&V2, &V2, &Kinematics),
+        out: &mut CycleOutcome,
+    ) -> Result<(f64, V2, V2), ContactLoss> {
+        let (r1, u1, k1) = end;
+        let u0 = state.u;
+        let on_x = u0.y == 0.0 && u1.y == 0.0;
+        if !(on_x || (u0.x == 0.0 && u1.x == 0.0)) {
+            // A 2-D slip (swinging past u = 0 or stopping): Newton from s = 0.
+            let s = self.locate_stop(t, h, piece, k0, state, anchor, 0.0, out)?;
+            let (rs, us, _) = self.rk4(t, s, piece, k0, &state.r, &u0, anchor)?;
+            out.rk4_steps += 1;
+            return Ok((s, rs, us));
+        }
+        let dir0 = u0 / u0.norm();
+        let g0 = u0.dot(&u0);
+        let gh = u1.dot(&u0);
+        if gh == 0.0 {
+            return Ok((h, *r1, *u1));
+        }
+        let d0 = self.slip_rhs(k0, t, &state.r, &u0, &dir0, anchor)?.dot(&u0);
+        // (A contact loss at the step's end, past the stop, is no error.)
+        let dh = match self.slip_rhs(k1, t + h, r1, u1, &dir0, anchor) {
+            Ok(a) => a.dot(&u0),
+            Err(_) => (gh - g0) / h,
+        };
+        let tol = self.numerics.event_tol * self.period;
+        let (mut lo, mut hi) = (0.0, h);
+        let mut s = h * hermite_root(g0, h * d0, gh, h * dh);
+        let mut last_delta = f64::NAN;
+        for _ in 0..60 {
+            let (rs, us, ks) = self.rk4(t, s, piece, k0, &state.r, &u0, anchor)?;
+            out.rk4_steps += 1;
+            let g = us.dot(&u0);
+            if g == 0.0 {
+                return Ok((s, rs, us));
+            }
+            if g > 0.0 {
+                lo = s;
+            } else {
+                hi = s;
+            }
+            let a = self.slip_rhs(&ks, t + s, &rs, &us, &dir0, anchor)?;
+            let dg = a.dot(&u0);
+            let delta = if dg < 0.0 { -g / dg } else { f64::NAN };
+            // Newton with g' from the right-hand side converges linearly at
+            // the rate ρ of the RK4 solution's mismatch with it (O(h⁴)),
+            // estimated from the last two corrections: s + δ is then within
+            // ρ|δ|/(1 − ρ) of the root.
+            let rate = (delta / last_delta).abs();
+            let error = if rate < 0.5 {
+                rate * delta.abs() / (1.0 - rate)
+            } else {
+                f64::INFINITY
+            };
+            let next = s + delta;
+            let converged = delta.abs() <= tol || (2.0 * error <= tol && delta.abs() <= 1e-6 * h);
+            if converged && next >= lo - tol && next <= hi + tol {
+                // The root is within the tolerance of s + δ, which the
+                // trial's state reaches by its Taylor polynomial (error
+                // O(δ²) ≤ 1e-12 relative).
+                let next = next.clamp(lo, hi);
+                let delta = next - s;
+                let r = rs + (us + a * (0.5 * delta)) * delta;
+                return Ok((next, r, us + a * delta));
+            }
+            last_delta = delta;
+            s = if next > lo && next < hi {
+                next
+            } else {
+                last_delta = f64::NAN;
+                0.5 * (lo + hi)
+            };
+            if hi - lo <= tol {
+                break;
+            }
+        }
+        let (rs, us, _) = self.rk4(t, hi, piece, k0, &state.r, &u0, anchor)?;
+        out.rk4_steps += 1;
+        Ok((hi, rs, us))
+    }
+
     /// First time in [a, b] at which a stuck part at `r` breaks away, if any.
     fn breakaway(&self, a: f64, b: f64, piece: f64, r: &V2, anchor: &V2) -> Option<f64> {
         let phi = |t: f64| self.margin(t, piece, r, anchor);
@@ -739,8 +873,10 @@ impl<'a> Simulator<'a> {
                 None
             };
             if let Some((lo, hi)) = bracket {
-                let (tm, fm) =
-                    golden_min(&phi, lo, hi, 1e-3 * self.numerics.event_tol * self.period);
+                // The minimum's position to 1e-9 of the bracket fixes its
+                // value to O(1e-18) relative: whether it dips below zero.
+                let tol = (1e-9 * (hi - lo)).max(1e-3 * self.numerics.event_tol * self.period);
+                let (tm, fm) = brent_min(&phi, lo, hi, tol);
                 if fm < 0.0 {
                     return Some(self.illinois(&phi, lo, phi(lo), tm, fm));
                 }
@@ -788,33 +924,132 @@ impl<'a> Simulator<'a> {
     }
 }
 
-/// Minimum of a unimodal f on [a, b] by golden-section search.
-fn golden_min(f: &impl Fn(f64) -> f64, mut a: f64, mut b: f64, tol: f64) -> (f64, f64) {
-    let g = 0.5 * (5f64.sqrt() - 1.0);
-    let mut c = b - g * (b - a);
-    let mut d = a + g * (b - a);
-    let (mut fc, mut fd) = (f(c), f(d));
+/// Minimum of a unimodal f on [a, b], to within `tol` in its position, by
+/// Brent's method: parabolic interpolation through the three best points,
+/// golden-section steps where the parabola is not trusted. Returns (t, f(t))
+/// for the best point, early as soon as a value below zero is seen (all the
+/// caller needs to know is whether the minimum dips below zero). On a smooth
+/// minimum it converges superlinearly: about ten evaluations where golden
+/// section alone needs forty or more.
+fn brent_min(f: &impl Fn(f64) -> f64, mut a: f64, mut b: f64, tol: f64) -> (f64, f64) {
+    // (3 − √5)/2, the golden-section fraction.
+    const GOLD: f64 = 0.381_966_011_250_105_1;
+    let mut x = a + GOLD * (b - a);
+    let mut fx = f(x);
+    let (mut w, mut fw, mut v, mut fv) = (x, fx, x, fx);
+    // The last step d and the one before it, e.
+    let (mut d, mut e): (f64, f64) = (0.0, 0.0);
     for _ in 0..200 {
-        if b - a <= tol || fc.min(fd) < 0.0 {
+        let m = 0.5 * (a + b);
+        if fx < 0.0 || (x - m).abs() <= 2.0 * tol - 0.5 * (b - a) {
             break;
         }
-        if fc < fd {
-            b = d;
-            d = c;
-            fd = fc;
-            c = b - g * (b - a);
-            fc = f(c);
+        let mut parabolic = false;
+        if e.abs() > tol {
+            // Vertex of the parabola through (v, fv), (w, fw), (x, fx),
+            // accepted if it falls inside [a, b] and the step is less than
+            // half the one before last.
+            let r = (x - w) * (fx - fv);
+            let q = (x - v) * (fx - fw);
+            let mut p = (x - v) * q - (x - w) * r;
+            let mut q = 2.0 * (q - r);
+            if q > 0.0 {
+                p = -p;
+            } else {
+                q = -q;
+            }
+            if p.abs() < (0.5 * q * e).abs() && p > q * (a - x) && p < q * (b - x) {
+                e = d;
+                d = p / q;
+                let u = x + d;
+                if u - a < 2.0 * tol || b - u < 2.0 * tol {
+                    d = tol.copysign(m - x);
+                }
+                parabolic = true;
+            }
+        }
+        if !parabolic {
+            e = if x >= m { a - x } else { b - x };
+            d = GOLD * e;
+        }
+        let u = if d.abs() >= tol {
+            x + d
         } else {
-            a = c;
-            c = d;
-            fc = fd;
-            d = a + g * (b - a);
-            fd = f(d);
+            x + tol.copysign(d)
+        };
+        let fu = f(u);
+        if fu <= fx {
+            if u >= x {
+                a = x;
+            } else {
+                b = x;
+            }
+            (v, fv, w, fw, x, fx) = (w, fw, x, fx, u, fu);
+        } else {
+            if u < x {
+                a = u;
+            } else {
+                b = u;
+            }
+            if fu <= fw || w == x {
+                (v, fv, w, fw) = (w, fw, u, fu);
+            } else if fu <= fv || v == x || v == w {
+                (v, fv) = (u, fu);
+            }
         }
     }
-    if fc < fd {
-        (c, fc)
+    (x, fx)
+}
+
+/// u/|u| for u ≠ 0. A slip along a coordinate axis (1-D slips: the
+/// LineSink moves every point along x) takes the sign, which is what the
+/// division gives there (√(x²) = |x| exactly), without the square root and
+/// division that dominate a 1-D right-hand side.
+#[inline]
+fn unit(u: &V2) -> V2 {
+    if u.y == 0.0 {
+        V2::new(u.x.signum(), u.y)
+    } else if u.x == 0.0 {
+        V2::new(u.x, u.y.signum())
     } else {
-        (d, fd)
+        u / u.norm()
     }
 }
+
+/// Root θ ∈ [0, 1] of the cubic Hermite interpolant p with p(0) = `p0` > 0,
+/// p'(0) = `d0`, p(1) = `p1` ≤ 0, p'(1) = `d1` (derivatives per unit θ), by
+/// Newton's method safeguarded by bisection.
+fn hermite_root(p0: f64, d0: f64, p1: f64, d1: f64) -> f64 {
+    // p(θ) = p0 + d0 θ + c2 θ² + c3 θ³.
+    let c2 = 3.0 * (p1 - p0) - 2.0 * d0 - d1;
+    let c3 = 2.0 * (p0 - p1) + d0 + d1;
+    let (mut lo, mut hi) = (0.0, 1.0);
+    let mut x = p0 / (p0 - p1);
+    for _ in 0..60 {
+        let p = p0 + x * (d0 + x * (c2 + x * c3));
+        if p > 0.0 {
+            lo = x;
+        } else {
+            hi = x;
+        }
+        let step = p / (d0 + x * (2.0 * c2 + x * 3.0 * c3));
+        // A first guess: the interpolant itself is accurate to O(h⁴) only.
+        if step.abs() <= 1e-12 {
+            return (x - step).clamp(lo, hi);
+        }
+        let next = x - step;
+        x = if next > lo && next < hi {
+            next
+        } else {
+            0.5 * (lo + hi)
+        };
+        if hi - lo <= 1e-12 {
+            break;
+        }
+    }
+    x
+}
+
+#[cfg(test)]
+#[path = "stop_tests.rs"]
+mod stop_tests;

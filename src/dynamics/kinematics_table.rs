@@ -76,12 +76,22 @@ impl PieceNodes {
         if t == self.a {
             return Some(&self.kinematics[0]);
         }
-        // Step k contains t in (s, e]; round-off may put t one step off.
-        let x = ((t - self.a) * self.rate).ceil();
+        // x = (t − a) n/(b − a) is close to j − ½ at the stage time of step
+        // j and to j at its end: try that slot first.
+        let x = (t - self.a) * self.rate;
         if !(x >= 0.0 && x <= (self.n + 1) as f64) {
             return None;
         }
-        let k = (x as usize).clamp(1, self.n);
+        let m = (2.0 * x + 0.5) as usize;
+        let j = m.div_ceil(2);
+        if j >= 1 && j <= self.n {
+            let slot = if m % 2 == 1 { 3 * j - 2 } else { 3 * j };
+            if self.times[slot] == t {
+                return Some(&self.kinematics[slot]);
+            }
+        }
+        // Step k contains t in (s, e]; round-off may put t one step off.
+        let k = ((x as usize) + 1).clamp(1, self.n);
         for j in [k, k - 1, k + 1] {
             if j == 0 || j > self.n {
                 continue;

@@ -156,13 +156,17 @@ impl Field {
             FieldKind::Velocity => KinematicsTable::cycle(&direct),
         };
         let sim = direct.with_table(&table);
+        let frames = match kind {
+            FieldKind::Force => force::phase_frames(&sim, settings.phases),
+            FieldKind::Velocity => Vec::new(),
+        };
         let points = grid.points();
         let spacing = grid.spacing();
         let samples: Vec<([f64; 2], Validity)> = points
             .par_iter()
             .map(|p| {
                 let mut s = match kind {
-                    FieldKind::Force => force::sample(&sim, *p, settings.phases),
+                    FieldKind::Force => force::sample(&sim, *p, &frames),
                     FieldKind::Velocity => {
                         velocity::sample(&sim, *p, spacing * settings.frozen_excursion)
                     }
