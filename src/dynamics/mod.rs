@@ -30,6 +30,7 @@ mod kinematics_table;
 mod planar;
 mod radau;
 mod steady;
+mod swing;
 
 pub use integrator::{CycleOutcome, PartState, Simulator, TrajectoryPoint, V2};
 pub use kinematics_table::KinematicsTable;
@@ -277,6 +278,9 @@ pub enum SlipScheme {
     /// slip speeds up (from rest, after a swing past u = 0): see
     /// `src/dynamics/radau.rs`.
     Stiff,
+    /// As [`SlipScheme::Stiff`], with a 2-D swing past u = 0 followed in
+    /// regularised time dτ = dt/|u| (`src/dynamics/swing.rs`).
+    Regularised,
 }
 
 impl Default for Numerics {
