@@ -483,3 +483,51 @@ fn quick_table() {
         }
     }
 }
+
+/// Diagnostic (ignored): the 2-D primitives' steady-state velocity fields
+/// (6×6 grid) at 16, 32, 64 steps per cycle for `SLIP2D_SCHEME` against the
+/// regularised scheme at 1024: error, samples not converged, wall time.
+#[test]
+#[ignore]
+fn quick_velocity() {
+    let grid = Grid {
+        n: [6, 6],
+        ..small_grid()
+    };
+    let scheme = scheme_from_env();
+    let velocity = |kind: PrimitiveKind, steps: usize, scheme: SlipScheme| {
+        let p = Primitive::new(kind);
+        let start = Instant::now();
+        let f = Field::compute(
+            &p.motion(),
+            &grid,
+            FieldKind::Velocity,
+            &settings(steps, scheme),
+            &|| {},
+        );
+        (f, start.elapsed().as_secs_f64())
+    };
+    for kind in [
+        PrimitiveKind::ScaledCircle,
+        PrimitiveKind::Circle,
+        PrimitiveKind::DivCircle,
+        PrimitiveKind::SkewSink,
+        PrimitiveKind::SkewSource,
+    ] {
+        let (r, _) = velocity(kind, 1024, SlipScheme::Regularised);
+        for n in [16, 32, 64] {
+            let (f, secs) = velocity(kind, n, scheme);
+            let bad = f
+                .validity
+                .iter()
+                .zip(&r.validity)
+                .filter(|(a, b)| format!("{a:?}") != format!("{b:?}"))
+                .count();
+            println!(
+                "{} {scheme:?} {n}: {:.2e} validity differs at {bad}, {secs:.3} s",
+                kind.name(),
+                relative_l2(&f.vectors, &r.vectors),
+            );
+        }
+    }
+}
