@@ -31,7 +31,7 @@
 //! from rest, after a swing past zero and just before a stop, a step h sees
 //! h μ_k N/|u| ≫ 1 and the explicit step overshoots across the slip.
 //!
-//! * [`SlipScheme::Legacy`] (the default) takes those steps explicitly and
+//! * [`SlipScheme::Legacy`] takes those steps explicitly and
 //!   ends a 2-D stop where |u| has fallen below `STOP_FRACTION` of its
 //!   value at the step's start; 2-D fields converge at about first order
 //!   (`tests/slip2d.rs`, `results/library_speed.md`).
@@ -44,7 +44,7 @@
 //!   an explicit step whose end falls inside a swing's fast turn is backed
 //!   off the same way. 2-D force fields at 64 steps per cycle are 10–100×
 //!   more accurate than the legacy scheme's (`tests/slip2d.rs`).
-//! * [`SlipScheme::Regularised`] is the stiff scheme with a 2-D swing past
+//! * [`SlipScheme::Regularised`] (the default) is the stiff scheme with a 2-D swing past
 //!   u = 0 (and a slow-down towards a 2-D stop) followed in regularised time
 //!   dτ = dt/|u| instead of short explicit steps (`src/dynamics/swing.rs`):
 //!   2-D force fields within 1e-4 at 64 steps per cycle, order about 3–4
@@ -405,6 +405,7 @@ impl<'a> Simulator<'a> {
                 let (n, free) = self.forces(&k0, &state.r, &u0, anchor);
                 if self.wants_tau(n, &free, &u0) {
                     self.swing(t, target, piece, state, anchor, out)?;
+                    swing = 0;
                     continue;
                 }
             }
@@ -438,7 +439,7 @@ impl<'a> Simulator<'a> {
                 cuts += 1;
                 let level = 0.5 * u0.norm();
                 self.back_off(t, h, piece, &k0, state, anchor, level, out)?;
-                swing = self.swing_steps();
+                swing = MAX_SWING_STEPS;
                 continue;
             }
             if u0 != V2::zeros() && u1.dot(&u0) <= 0.0 && cuts < MAX_CUTS {
@@ -482,7 +483,7 @@ impl<'a> Simulator<'a> {
                         BACKOFF * left
                     };
                     self.back_off(t, s, piece, &k0, state, anchor, level, out)?;
-                    swing = self.swing_steps();
+                    swing = MAX_SWING_STEPS;
                 }
                 continue;
             }
@@ -495,17 +496,6 @@ impl<'a> Simulator<'a> {
             next_k = Some((*t, k1));
         }
         Ok(())
-    }
-
-    /// Steps after a swing past zero during which the explicit step may
-    /// shrink freely ([`SlipScheme::Regularised`] follows swings in
-    /// regularised time instead: none).
-    fn swing_steps(&self) -> u32 {
-        if self.numerics.slip == SlipScheme::Regularised {
-            0
-        } else {
-            MAX_SWING_STEPS
-        }
     }
 
     /// Advances `state` from `*t` by the explicit step, of at most `h`, at

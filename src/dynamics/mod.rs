@@ -272,14 +272,14 @@ pub struct Numerics {
 pub enum SlipScheme {
     /// Shortened RK4 steps through a swing past u = 0 (converges at about
     /// first order in 2-D).
-    #[default]
     Legacy,
     /// Implicit Radau IIA steps where the slip direction is stiff and the
     /// slip speeds up (from rest, after a swing past u = 0): see
     /// `src/dynamics/radau.rs`.
     Stiff,
     /// As [`SlipScheme::Stiff`], with a 2-D swing past u = 0 followed in
-    /// regularised time dτ = dt/|u| (`src/dynamics/swing.rs`).
+    /// regularised time dτ = dt/|u| (`src/dynamics/swing.rs`); the default.
+    #[default]
     Regularised,
 }
 
