@@ -46,6 +46,14 @@ fn settings(steps: usize, scheme: SlipScheme) -> FieldSettings {
     s
 }
 
+/// The environment variable `key` parsed, or `default`.
+fn env_or<T: std::str::FromStr>(key: &str, default: T) -> T {
+    std::env::var(key)
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(default)
+}
+
 fn scheme_from_env() -> SlipScheme {
     match std::env::var("SLIP2D_SCHEME").as_deref() {
         Ok("legacy") => SlipScheme::Legacy,
@@ -155,6 +163,15 @@ fn errors(
         .collect()
 }
 
+/// The primitives whose slip is 2-D.
+const TWO_D: [PrimitiveKind; 5] = [
+    PrimitiveKind::ScaledCircle,
+    PrimitiveKind::Circle,
+    PrimitiveKind::DivCircle,
+    PrimitiveKind::SkewSink,
+    PrimitiveKind::SkewSource,
+];
+
 fn small_grid() -> Grid {
     Grid {
         x: [-0.04, 0.04],
@@ -233,14 +250,12 @@ fn stiff_2d_beats_legacy() {
 /// and an observed order log₂(e(16)/e(64))/2 of at least 3 for ScaledCircle
 /// and Circle and 2.5 for the rest-to-rest ones (DivCircle, SkewSink,
 /// SkewSource), whose errors at 64 steps and beyond sit on a floor of about
-/// 5e-6 from outside the swings (measured 3.9, 4.3, 2.7, 2.7, 2.7). The
+/// 5e-6 that smaller τ-steps do not lower (measured 3.9, 4.3, 2.7, 2.7,
+/// 2.7). The
 /// legacy scheme fails both (errors 1e-3–4e-3 at 64 steps).
 #[test]
 fn order_2d() {
-    let reference_steps = std::env::var("SLIP2D_ORDER_REF")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(4096);
+    let reference_steps = env_or("SLIP2D_ORDER_REF", 4096);
     for (kind, least) in [
         (PrimitiveKind::ScaledCircle, 3.0),
         (PrimitiveKind::Circle, 3.0),
@@ -276,10 +291,7 @@ fn order_2d() {
 #[test]
 #[ignore]
 fn convergence_table() {
-    let reference_steps: usize = std::env::var("SLIP2D_REF")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(4096);
+    let reference_steps: usize = env_or("SLIP2D_REF", 4096);
     let scheme = scheme_from_env();
     let grid = Grid {
         x: [-0.04, 0.04],
@@ -353,30 +365,18 @@ fn worst_cycles() {
         "kind",
     )
     .unwrap();
-    let n: usize = std::env::var("SLIP2D_N")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(64);
+    let n: usize = env_or("SLIP2D_N", 64);
     let p = Primitive::new(kind);
     let motion = p.motion();
     let scheme = scheme_from_env();
     let run = |steps: usize, pt: [f64; 2], t0: f64| one_cycle(&motion, steps, scheme, pt, t0);
-    let side: usize = std::env::var("SLIP2D_GRID")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(4);
-    let phases: usize = std::env::var("SLIP2D_PHASES")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(6);
+    let side: usize = env_or("SLIP2D_GRID", 4);
+    let phases: usize = env_or("SLIP2D_PHASES", 6);
     let grid = Grid {
         n: [side, side],
         ..small_grid()
     };
-    let wref: usize = std::env::var("SLIP2D_WREF")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(1024);
+    let wref: usize = env_or("SLIP2D_WREF", 1024);
     let mut rows = Vec::new();
     for pt in grid.points() {
         for j in 0..phases {
@@ -444,26 +444,14 @@ fn trace_cycle() {
 #[test]
 #[ignore]
 fn quick_table() {
-    let reference_steps: usize = std::env::var("SLIP2D_ORDER_REF")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(4096);
-    let side: usize = std::env::var("SLIP2D_SIDE")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(4);
+    let reference_steps: usize = env_or("SLIP2D_ORDER_REF", 4096);
+    let side: usize = env_or("SLIP2D_SIDE", 4);
     let grid = Grid {
         n: [side, side],
         ..small_grid()
     };
     let scheme = scheme_from_env();
-    for kind in [
-        PrimitiveKind::ScaledCircle,
-        PrimitiveKind::Circle,
-        PrimitiveKind::DivCircle,
-        PrimitiveKind::SkewSink,
-        PrimitiveKind::SkewSource,
-    ] {
+    for kind in TWO_D {
         let p = Primitive::new(kind);
         let r_vectors = reference(
             &p,
@@ -511,13 +499,7 @@ fn quick_velocity() {
         );
         (f, start.elapsed().as_secs_f64())
     };
-    for kind in [
-        PrimitiveKind::ScaledCircle,
-        PrimitiveKind::Circle,
-        PrimitiveKind::DivCircle,
-        PrimitiveKind::SkewSink,
-        PrimitiveKind::SkewSource,
-    ] {
+    for kind in TWO_D {
         let (r, _) = velocity(kind, 1024, SlipScheme::Regularised);
         for n in [16, 32, 64] {
             let (f, secs) = velocity(kind, n, scheme);
