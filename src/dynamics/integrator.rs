@@ -47,8 +47,8 @@
 //! * [`SlipScheme::Regularised`] (the default) is the stiff scheme with a 2-D swing past
 //!   u = 0 (and a slow-down towards a 2-D stop) followed in regularised time
 //!   dτ = dt/|u| instead of short explicit steps (`src/dynamics/swing.rs`):
-//!   2-D force fields within 1e-4 at 64 steps per cycle, order about 3–4
-//!   (`tests/slip2d.rs`).
+//!   2-D force fields within 1e-4 at 64 steps per cycle, observed order
+//!   2.7–4.3 from 16 to 64 steps (`tests/slip2d.rs`, `results/engine_speed.md`).
 //!
 //! 1-D slips are unaffected by the choice except at starts from rest (both
 //! exact for piecewise-constant accelerations).
