@@ -34,7 +34,7 @@
 //! from rest, after a swing past zero and just before a stop, a step h sees
 //! h μ_k N/|u| ≫ 1 and the explicit step overshoots across the slip.
 //!
-//! * [`SlipScheme::Legacy`] (the default) takes those steps explicitly and
+//! * [`SlipScheme::Legacy`] takes those steps explicitly and
 //!   ends a 2-D stop where |u| has fallen below `STOP_FRACTION` of its
 //!   value at the step's start; 2-D fields converge at about first order
 //!   (`tests/slip2d.rs`, `results/library_speed.md`).
@@ -47,6 +47,11 @@
 //!   an explicit step whose end falls inside a swing's fast turn is backed
 //!   off the same way. 2-D force fields at 64 steps per cycle are 10–100×
 //!   more accurate than the legacy scheme's (`tests/slip2d.rs`).
+//! * [`SlipScheme::Regularised`] (the default) is the stiff scheme with a 2-D swing past
+//!   u = 0 (and a slow-down towards a 2-D stop) followed in regularised time
+//!   dτ = dt/|u| instead of short explicit steps (`src/dynamics/swing.rs`):
+//!   2-D force fields within 1e-4 at 64 steps per cycle, observed order
+//!   2.7–4.3 from 16 to 64 steps (`tests/slip2d.rs`, `results/engine_speed.md`).
 //!
 //! 1-D slips are unaffected by the choice except at starts from rest (both
 //! exact for piecewise-constant accelerations).
@@ -235,7 +240,7 @@ impl<'a> Simulator<'a> {
 
     /// Break-away margin φ = μ_s N − |a_free| of a stuck part (u = 0), and N.
     #[inline]
-    fn margin(&self, t: f64, piece: f64, r: &V2, anchor: &V2) -> f64 {
+    pub(super) fn margin(&self, t: f64, piece: f64, r: &V2, anchor: &V2) -> f64 {
         self.margin_of(&self.kin(t, piece), r, anchor)
     }
 
@@ -414,7 +419,15 @@ impl<'a> Simulator<'a> {
                 _ => self.kin(*t, piece),
             };
             let u0 = state.u;
-            if self.numerics.slip == SlipScheme::Stiff
+            if self.numerics.slip == SlipScheme::Regularised && u0 != V2::zeros() {
+                let (n, free) = self.forces(&k0, &state.r, &u0, anchor);
+                if self.wants_tau(n, &free, &u0) {
+                    self.swing(t, target, piece, state, anchor, out)?;
+                    swing = 0;
+                    continue;
+                }
+            }
+            if self.numerics.slip != SlipScheme::Legacy
                 && self.implicit_slip(&k0, t, target, piece, state, anchor, out)?
             {
                 swing = 0;
@@ -431,7 +444,7 @@ impl<'a> Simulator<'a> {
                 (state.r, state.u, *t) = (r1, V2::repeat(f64::NAN), target);
                 return Ok(());
             }
-            if self.numerics.slip == SlipScheme::Stiff
+            if self.numerics.slip != SlipScheme::Legacy
                 && u0 != V2::zeros()
                 && u1.dot(&u0) > 0.0
                 && cuts < MAX_CUTS
@@ -462,7 +475,7 @@ impl<'a> Simulator<'a> {
                 let (left, start) = (us.norm(), u0.norm());
                 // The stiff scheme finds 2-D stops by its implicit steps
                 // (the slip slowing along a_free) rather than by a fraction.
-                let stop_fraction = if self.numerics.slip == SlipScheme::Stiff {
+                let stop_fraction = if self.numerics.slip != SlipScheme::Legacy {
                     ZERO_FRACTION
                 } else {
                     STOP_FRACTION
@@ -483,7 +496,7 @@ impl<'a> Simulator<'a> {
                     // go on from there with steps short enough to follow it.
                     // The stiff scheme backs off to half the speed, where the
                     // explicit step is still accurate (h μ_k N/|u| small).
-                    let level = if self.numerics.slip == SlipScheme::Stiff {
+                    let level = if self.numerics.slip != SlipScheme::Legacy {
                         0.5 * start
                     } else {
                         BACKOFF * left
@@ -660,7 +673,12 @@ impl<'a> Simulator<'a> {
         } else {
             0.0
         };
-        let limit = (TURN * speed / across).min(0.5 * speed / rate);
+        let turn = if self.numerics.slip == SlipScheme::Regularised {
+            self.tau_c()
+        } else {
+            TURN
+        };
+        let limit = (turn * speed / across).min(0.5 * speed / rate);
         if limit >= rest {
             rest
         } else {

@@ -30,6 +30,7 @@ mod kinematics_table;
 mod planar;
 mod radau;
 mod steady;
+mod swing;
 
 pub use integrator::{CycleOutcome, PartState, Simulator, TrajectoryPoint, V2};
 pub use kinematics_table::KinematicsTable;
@@ -271,12 +272,15 @@ pub struct Numerics {
 pub enum SlipScheme {
     /// Shortened RK4 steps through a swing past u = 0 (converges at about
     /// first order in 2-D).
-    #[default]
     Legacy,
     /// Implicit Radau IIA steps where the slip direction is stiff and the
     /// slip speeds up (from rest, after a swing past u = 0): see
     /// `src/dynamics/radau.rs`.
     Stiff,
+    /// As [`SlipScheme::Stiff`], with a 2-D swing past u = 0 followed in
+    /// regularised time dτ = dt/|u| (`src/dynamics/swing.rs`); the default.
+    #[default]
+    Regularised,
 }
 
 impl Default for Numerics {

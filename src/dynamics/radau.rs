@@ -44,7 +44,7 @@ pub(super) const STIFF: f64 = 1.0;
 /// (nearly) turned onto a_free: |a_⊥| ≤ SLAVED |a_free|, a_⊥ the part of
 /// a_free across the slip. Before that — the turn after a swing past u = 0 —
 /// the explicit steps follow the turn.
-const SLAVED: f64 = 0.1;
+pub(super) const SLAVED: f64 = 0.1;
 
 /// Newton iterations per Radau step at most.
 const NEWTON_MAX: usize = 25;
