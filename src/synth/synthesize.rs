@@ -4,6 +4,7 @@
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
+use super::calibrate::calibrate;
 use super::contact::{kinematic_least_normal, orbit_least_normal};
 use super::limits::ShakerLimits;
 use super::objective::{realised, Objective, Realised};
@@ -174,6 +175,7 @@ pub fn synthesize(
     let deadline = options
         .max_seconds
         .map(|s| start + Duration::from_secs_f64(s));
+    let layout = Layout::new(limits);
     let objective = Objective::new(
         field,
         coarse,
@@ -185,11 +187,21 @@ pub fn synthesize(
         deadline,
         &progress,
     );
-    let x0 = Layout::new(limits).to_vec(&seed.coefficients);
+    let x0 = layout.to_vec(&seed.coefficients);
     let seed_eval = objective.evaluate(&x0);
+    // Refinement starts from the phase-calibrated seed; the seed itself is
+    // an extra start (Nelder–Mead is local, and the shape the full grid and
+    // the played parts see is not always the coarse cost's best).
+    let first = calibrate(&objective, &seed.coefficients, &seed_eval);
+    let extra: Vec<Vec<f64>> = if first.params == x0 {
+        Vec::new()
+    } else {
+        vec![x0.clone()]
+    };
     let best = refine(
         &objective,
-        &x0,
+        &first.params,
+        &extra,
         options.max_evaluations,
         &options.refine,
         &progress,
