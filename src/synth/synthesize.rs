@@ -36,6 +36,9 @@ pub struct SynthOptions {
     /// Optional wall-clock budget (s); makes the result depend on the
     /// machine's speed.
     pub max_seconds: Option<f64>,
+    /// Start from the phase-calibrated seed ([`super::calibrate`]), the seed
+    /// an extra start; `false` starts from the seed alone.
+    pub calibrate: bool,
     /// Multi-start settings and RNG seed.
     pub refine: RefineOptions,
     /// Progress display.
@@ -49,6 +52,7 @@ impl Default for SynthOptions {
             shape_budget: 0.04,
             max_evaluations: 300,
             max_seconds: None,
+            calibrate: true,
             refine: RefineOptions::default(),
             progress: ProgressMode::Auto,
         }
@@ -192,7 +196,11 @@ pub fn synthesize(
     // Refinement starts from the phase-calibrated seed; the seed itself is
     // an extra start (Nelder–Mead is local, and the shape the full grid and
     // the played parts see is not always the coarse cost's best).
-    let first = calibrate(&objective, &seed.coefficients, &seed_eval);
+    let first = if options.calibrate {
+        calibrate(&objective, &seed.coefficients, &seed_eval)
+    } else {
+        seed_eval.clone()
+    };
     let extra: Vec<Vec<f64>> = if first.params == x0 {
         Vec::new()
     } else {
