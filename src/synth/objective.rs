@@ -53,12 +53,16 @@ pub struct Realised {
     pub shape_error: f64,
     /// Samples that are not [`Validity::Ok`].
     pub invalid: usize,
+    /// Angle (rad, counter-clockwise) of the rotation that best takes the
+    /// target onto R: atan2(Σ t × r, Σ t · r) over valid samples (0 when
+    /// undefined).
+    pub turn: f64,
 }
 
 /// Realised strength and shape error of `field` against `target` (one
 /// vector per grid point, grid order).
 pub fn realised(field: &Field, target: &[[f64; 2]]) -> Realised {
-    let (mut rt, mut tt, mut rr) = (0.0, 0.0, 0.0);
+    let (mut rt, mut tt, mut rr, mut cross) = (0.0, 0.0, 0.0, 0.0);
     let mut invalid = 0;
     for ((r, t), v) in field.vectors.iter().zip(target).zip(&field.validity) {
         if *v != Validity::Ok {
@@ -68,6 +72,7 @@ pub fn realised(field: &Field, target: &[[f64; 2]]) -> Realised {
         rt += r[0] * t[0] + r[1] * t[1];
         tt += t[0] * t[0] + t[1] * t[1];
         rr += r[0] * r[0] + r[1] * r[1];
+        cross += t[0] * r[1] - t[1] * r[0];
     }
     let s = if tt > 0.0 { rt / tt } else { 0.0 };
     // ‖R − s t‖² = rr − 2 s rt + s² tt = rr − s rt at the least-squares s.
@@ -80,6 +85,11 @@ pub fn realised(field: &Field, target: &[[f64; 2]]) -> Realised {
         strength: s,
         shape_error,
         invalid,
+        turn: if rt == 0.0 && cross == 0.0 {
+            0.0
+        } else {
+            cross.atan2(rt)
+        },
     }
 }
 

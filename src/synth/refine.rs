@@ -1,7 +1,8 @@
 //! Multi-start Nelder–Mead refinement (why Nelder–Mead: see the
 //! [module documentation](super)).
 //!
-//! Start 0 is the seed; starts 1.. rotate every (c, s) pair of the seed's
+//! Start 0 is the (phase-calibrated) seed; then come the caller's explicit
+//! starts (the uncalibrated seed); the remaining starts rotate every (c, s) pair of the seed's
 //! parameter vector by an angle uniform in ±0.5 rad (a phase shift of that
 //! harmonic) and scale it by a factor uniform in [0.85, 1], drawn from a
 //! SplitMix64 generator seeded by the caller. Each start runs Nelder–Mead
@@ -135,23 +136,28 @@ fn run(
     }
 }
 
-/// Refines from the seed vector `x0`; returns the best evaluation.
+/// Refines from the seed vector `x0` and the explicit starts `extra`
+/// (runs 1..=extra.len(); the random perturbations of `x0` fill the
+/// remaining runs up to `options.starts`); returns the best evaluation.
 ///
 /// # Errors
 /// The optimizer fails for a reason other than the budget.
 pub fn refine(
     objective: &Objective<'_>,
     x0: &[f64],
+    extra: &[Vec<f64>],
     budget: usize,
     options: &RefineOptions,
     progress: &Arc<Progress>,
 ) -> Result<Evaluation> {
     let mut rng = SplitMix64(options.seed);
-    let starts = options.starts.max(1);
+    let starts = options.starts.max(1 + extra.len());
     let explore = (budget * 3 / 5) / starts;
     for i in 0..starts {
         let x: Vec<f64> = if i == 0 {
             x0.to_vec()
+        } else if i <= extra.len() {
+            extra[i - 1].clone()
         } else {
             x0.chunks(2)
                 .flat_map(|cs| {

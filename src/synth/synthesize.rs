@@ -4,6 +4,7 @@
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
+use super::calibrate::calibrate;
 use super::contact::{kinematic_least_normal, orbit_least_normal};
 use super::limits::ShakerLimits;
 use super::objective::{realised, Objective, Realised};
@@ -35,6 +36,9 @@ pub struct SynthOptions {
     /// Optional wall-clock budget (s); makes the result depend on the
     /// machine's speed.
     pub max_seconds: Option<f64>,
+    /// Start from the phase-calibrated seed ([`super::calibrate`]), the seed
+    /// an extra start; `false` starts from the seed alone.
+    pub calibrate: bool,
     /// Multi-start settings and RNG seed.
     pub refine: RefineOptions,
     /// Progress display.
@@ -48,6 +52,7 @@ impl Default for SynthOptions {
             shape_budget: 0.04,
             max_evaluations: 300,
             max_seconds: None,
+            calibrate: true,
             refine: RefineOptions::default(),
             progress: ProgressMode::Auto,
         }
@@ -174,6 +179,7 @@ pub fn synthesize(
     let deadline = options
         .max_seconds
         .map(|s| start + Duration::from_secs_f64(s));
+    let layout = Layout::new(limits);
     let objective = Objective::new(
         field,
         coarse,
@@ -185,11 +191,25 @@ pub fn synthesize(
         deadline,
         &progress,
     );
-    let x0 = Layout::new(limits).to_vec(&seed.coefficients);
+    let x0 = layout.to_vec(&seed.coefficients);
     let seed_eval = objective.evaluate(&x0);
+    // Refinement starts from the phase-calibrated seed; the seed itself is
+    // an extra start (Nelder–Mead is local, and the shape the full grid and
+    // the played parts see is not always the coarse cost's best).
+    let first = if options.calibrate {
+        calibrate(&objective, &seed.coefficients, &seed_eval)
+    } else {
+        seed_eval.clone()
+    };
+    let extra: Vec<Vec<f64>> = if first.params == x0 {
+        Vec::new()
+    } else {
+        vec![x0.clone()]
+    };
     let best = refine(
         &objective,
-        &x0,
+        &first.params,
+        &extra,
         options.max_evaluations,
         &options.refine,
         &progress,
