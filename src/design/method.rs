@@ -292,6 +292,17 @@ pub fn design_by_method(
     let all_poor = out.candidates.iter().all(|c| c.played().poor);
     if method == Method::Mix || (method == Method::Auto && all_poor) {
         match mix_design(target, &sampled, &out, opts, synth) {
+            Ok((d, syn)) if d.schedule.segments.iter().all(|s| s.motion.is_none()) => {
+                // Nothing mixed: the schedule is the sequenced one again.
+                out.failures.push((
+                    Method::Mix,
+                    "the fit left the synthesized column out (the mixed design is the sequenced one)"
+                        .into(),
+                ));
+                if out.synthesis.is_none() {
+                    out.synthesis = syn;
+                }
+            }
             Ok((d, syn)) => {
                 let t = Instant::now();
                 let mut c = Candidate::play(

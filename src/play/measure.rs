@@ -43,7 +43,11 @@
 //! [`verify_points`] is the realised-vs-predicted check: F = Σ_i f_i V_i,
 //! the time-weighted combination of the segments' steady-state velocity
 //! fields ([`crate::dynamics::Simulator::steady_state`], same model, rest
-//! contributing 0). The relative L2 error ‖R − E‖/‖E‖ over the valid
+//! contributing 0; a six-signal segment ramped in and out inside its cycles
+//! — a mixed schedule's — contributes its steady motion's field over its
+//! cycles less one ramp, since the window averages ½ over each ramp: an
+//! approximation where the field is not linear in the motion's amplitude).
+//! The relative L2 error ‖R − E‖/‖E‖ over the valid
 //! points is reported with the least-squares scale κ = ⟨R, E⟩/⟨E, E⟩ (the
 //! realised strength relative to the predicted one) and the shape error
 //! ‖R − κE‖/‖κE‖, which no change of strength can lower. A point whose
@@ -54,8 +58,9 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use super::{Join, Player, ScheduleMotion, V2};
-use crate::dynamics::{Friction, Model, Numerics, PartState};
+use crate::dynamics::{Friction, Model, Numerics, PartState, Simulator};
 use crate::field::{FieldSettings, Grid};
+use crate::motion::Motion;
 
 /// Agreement (relative) of two step counts of the flow integration.
 pub const FLOW_TOL: f64 = 1e-5;
@@ -452,11 +457,45 @@ fn compare(sm: &ScheduleMotion, player: &Player<'_>, play: PointPlay) -> PointRe
             ..invalid(&play, note.clone())
         };
     }
+    // A ramped six-signal segment (a mixed schedule's) predicts with its
+    // steady motion, over the cycles between its ramps plus half of each
+    // ramp (the quintic window averages exactly ½ over a ramp).
+    let steady: Vec<Option<(Motion, f64)>> = sm
+        .segments()
+        .iter()
+        .map(|s| match &s.motion {
+            Some(Motion::Ramped(r)) => Some((
+                Motion::Signals(r.signals.clone()),
+                f64::from(r.cycles - r.ramp) / f64::from(r.cycles),
+            )),
+            _ => None,
+        })
+        .collect();
+    let steady_sims: Vec<Option<(Simulator<'_>, f64)>> = steady
+        .iter()
+        .enumerate()
+        .map(|(i, s)| {
+            let (m, share) = s.as_ref()?;
+            let base = player.simulator(i)?;
+            let sim = Simulator::new(
+                m,
+                base.friction(),
+                base.gravity(),
+                base.model(),
+                base.numerics(),
+            );
+            Some((sim, *share))
+        })
+        .collect();
     let fractions = sm.fractions();
     let mut field = |q: [f64; 2]| -> Result<[f64; 2], String> {
         let mut v = [0.0; 2];
         for (i, f) in fractions.iter().enumerate() {
-            if let Some(sim) = player.simulator(i) {
+            let (sim, f) = match &steady_sims[i] {
+                Some((sim, share)) => (Some(sim), f * share),
+                None => (player.simulator(i), *f),
+            };
+            if let Some(sim) = sim {
                 let s = sim.steady_state(q).map_err(|e| {
                     format!(
                         "steady state of segment {i} at ({:.4}, {:.4}): {e}",
