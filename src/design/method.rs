@@ -1,4 +1,4 @@
-//! `platefield design --method sequence|synthesize|auto`: which kind of
+//! `platefield design --method sequence|synthesize|auto|mix`: which kind of
 //! plate motion realises a target, decided by playing it.
 //!
 //! * `sequence`: the time-shared schedule of primitives ([`super::design`]).
@@ -10,8 +10,14 @@
 //!   paper's envelope), written as a one-segment schedule holding the
 //!   signals, [`SYNTH_SEGMENT_CYCLES`] cycles per schedule period (one
 //!   motion repeated: the count only sets the measuring windows).
+//! * `mix` ([`mix_design`]): the sequenced design's basis plus one column,
+//!   a synthesized motion, so the conic fit can mix it with primitives where
+//!   neither reaches the target alone; its segment ramps in and out of rest
+//!   inside its cycles ([`crate::design::basis::ColumnSource::segment`]).
+//!   When the fit leaves the column out, the mix is the sequenced design
+//!   again and is reported as such, not played twice.
 //! * `auto` (the CLI's default): both, and the better **realised** one is
-//!   kept. Both play on the same shaker: when the target gives no `shaker`,
+//!   kept; when both are POOR, the mix too, and the best of the three. Both play on the same shaker: when the target gives no `shaker`,
 //!   the synthesis keeps the per-axis peaks and the period of the sequenced
 //!   schedule ([`sequenced_limits`]; harmonics and contact margin from the
 //!   envelope), not the envelope itself — the envelope is the per-axis
