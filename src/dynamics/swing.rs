@@ -48,6 +48,40 @@ const C_MAX: f64 = 0.5;
 /// The regularised region: |u| < REGION h max(|a_free|, μ_k N), h the
 /// nominal step (an explicit step there would have h μ_k N/|u| or its turn
 /// h |a_⊥|/|u| above 1/REGION).
+///
+/// # The error floor near 5e-6 (issue 12; measured, not fixed)
+///
+/// This bound scaling with h causes the floor of DivCircle, SkewSink and
+/// SkewSource. Just outside the region, the explicit RK4 steps in t have
+/// h μ_k N/|u| and h |a_⊥|/|u| up to 1/REGION *whatever h is*, so their
+/// local error is a fixed fraction of |u| ≈ REGION h max(|a_free|, μ_k N):
+/// each approach to u = 0 adds an error of order h (small constant), not
+/// h⁴. Measured (`tests/slip2d.rs`, 4×4 grid, 6 phases, relative L2 of the
+/// force field):
+/// * as it stands, against 4096 steps, 64 → 128 steps: DivCircle 3.89e-6 →
+///   7.56e-6, SkewSink 8.09e-6 → 7.45e-6, SkewSource 8.57e-6 → 6.93e-6
+///   (against 16384: 5.1e-6 → 8.3e-6, 7.0e-6 → 5.0e-6, 7.0e-6 → 4.6e-6);
+///   the worst single DivCircle cycle is 7.2e-7 (absolute, u) off at 64
+///   steps and still 3.5e-7 at 256 (`worst_cycles`). Traced (`trace_cycle`,
+///   (0.04, 0.04), phase 5): 256 and 1024 steps agree to 1e-8 until the
+///   slip's second near pass of u = 0 at t/T ≈ 0.566; at that nominal step's
+///   end (|u| ≈ 3.6e-4, at the region's edge) the 256-step u is 2.2e-6 off,
+///   and 3.4e-7 stays to the cycle's end.
+/// * [`STOP`] 1e-7 → 1e-11: every error unchanged to three digits (not it).
+/// * REGION 2 → 8 at every h: 128 steps DivCircle 4.9e-7, SkewSink 1.6e-6,
+///   SkewSource 2.8e-6 (floor gone), but 64 steps worse (6.8e-6, 1.6e-5,
+///   1.5e-5).
+/// * The bound held at its 64-step width for finer steps (h replaced by
+///   max(h, T/64) here and in `swing`; 64 steps and fewer bitwise
+///   unchanged): against 4096 steps, 128 steps DivCircle 4.8e-7 (order
+///   64 → 128: 3.14), SkewSink 1.6e-6, SkewSource 2.8e-6, ScaledCircle
+///   3.9e-7, Circle 9.6e-6 (3.10, 3.19); single SkewSource cycles 1.2e-7 at
+///   128, 1.2e-8 at 256. Not adopted: `order_2d`'s 16 → 64 order is set by
+///   the unchanged 64-step errors (DivCircle 2.67, SkewSink 2.91,
+///   SkewSource 2.87 against the new reference), the Skew fields converge
+///   at order 1.3–2.7 from 64 to 512 against 16384 steps, and against 16384
+///   steps DivCircle stays at 2.85e-6 from 128 to 512 steps: the 4096- and
+///   16384-step runs differ by that, for a reason not yet found.
 const REGION: f64 = 2.0;
 
 /// A slowing slip whose speed is below this fraction of the regularised
