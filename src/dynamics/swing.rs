@@ -89,6 +89,15 @@ const C_MAX: f64 = 0.5;
 ///   With this change too, DivCircle's 16384-step run is 2.85e-6 off the
 ///   4096- and 8192-step ones (which agree to 6e-9), for a reason not yet
 ///   found (a guard such as `MAX_SWING_STEPS` reached at that h, perhaps).
+/// * What sets the 64-step errors (with the bound held as above): τ-steps
+///   4× shorter ([`C64`] 0.25 → 0.0625) take 16 / 64 / 256 steps to
+///   DivCircle 4.8e-5 / 3.2e-6 / 8.5e-8, SkewSink 4.3e-5 / 3.0e-6 /
+///   1.2e-7, SkewSource 3.8e-5 / 2.6e-6 / 8.0e-8 (from 1.7e-4 / 4.2e-6,
+///   3.5e-4 / 6.1e-6, 3.8e-4 / 7.0e-6) at 2.4–3.2× the RK4 steps per
+///   cycle: the τ-steps carry most of the Skew error at 64 steps and of
+///   every error at 16, not DivCircle's at 64. Held at its 32-step width
+///   instead (REGION 4 at 64 steps): DivCircle 2.6e-6 at 64 steps, the
+///   Skew ones 9.3e-6 / 7.5e-6, Circle 2.7e-4 (over 1e-4).
 const REGION: f64 = 2.0;
 
 /// A slowing slip whose speed is below this fraction of the regularised
