@@ -86,9 +86,16 @@ const C_MAX: f64 = 0.5;
 ///   SkewSource 2.87 against the new reference), and from 64 to 256 steps
 ///   the order per doubling is DivCircle 2.75, SkewSink 1.86, SkewSource
 ///   1.97 (pre-asymptotic: the Skew ones reach 2.9–3.7 only past 256).
-///   With this change too, DivCircle's 16384-step run is 2.85e-6 off the
-///   4096- and 8192-step ones (which agree to 6e-9), for a reason not yet
-///   found (a guard such as `MAX_SWING_STEPS` reached at that h, perhaps).
+///   With this change too, DivCircle's 16384-step field is 2.85e-6 off the
+///   4096- and 8192-step ones (which agree to 6e-9). It is one cycle
+///   ((−0.0133, −0.0133), phase 4 of 6; `worst_cycles` with
+///   `SLIP2D_N=16384 SLIP2D_WREF=8192`): 6.6e-7 off, every other cycle
+///   within 4e-10. `trace_cycle` puts it at the break-away from rest
+///   after a stick from t/T ≈ 0.15 to 0.74 (16384 and 1024 steps agree to
+///   1e-15 until then, 6.6e-7 apart from t/T 0.75 on; 1024, 4096 and 8192
+///   steps agree): the start from rest (`radau.rs` / the break-away
+///   location) goes wrong at that h only, in both versions; not
+///   investigated further.
 /// * What sets the 64-step errors (with the bound held as above): τ-steps
 ///   4× shorter ([`C64`] 0.25 → 0.0625) take 16 / 64 / 256 steps to
 ///   DivCircle 4.8e-5 / 3.2e-6 / 8.5e-8, SkewSink 4.3e-5 / 3.0e-6 /
