@@ -12,7 +12,8 @@
 //!   stays exact to 1e-6 in every scheme.
 //! * `quick_velocity` (ignored, seconds): steady-state velocity fields per
 //!   scheme against the regularised scheme at 1024 steps.
-//! * `quick_table` (ignored, seconds): the same at 16…128 steps for any
+//! * `quick_table` (ignored, seconds): the same at 16…128 steps
+//!   (`SLIP2D_STEPS=64,128,256` for others) for any
 //!   scheme, with RK4 steps and CPU per cycle:
 //!   `SLIP2D_SCHEME=legacy cargo test --release --test slip2d -- --ignored --nocapture quick_table`.
 //! * `convergence_table` (ignored; minutes): the full table, every primitive,
@@ -399,7 +400,9 @@ fn worst_cycles() {
     }
 }
 
-/// Diagnostic (ignored): one trajectory at `SLIP2D_N` steps and at 1024.
+/// Diagnostic (ignored): one trajectory at `SLIP2D_N` steps and at 1024,
+/// every `SLIP2D_EVERY`-th nominal step end with t/T in
+/// [`SLIP2D_FROM`, `SLIP2D_TO`].
 #[test]
 #[ignore]
 fn trace_cycle() {
@@ -422,15 +425,14 @@ fn trace_cycle() {
         eprintln!("== {steps} steps");
         let (_, out, rec) = one_cycle(&motion, steps, scheme_from_env(), pt, t0);
         println!("steps {steps}: {out:?}");
-        let every = (steps / 64).max(1);
+        let every = env_or("SLIP2D_EVERY", (steps / 64).max(1));
+        let window: [f64; 2] = [env_or("SLIP2D_FROM", 0.0), env_or("SLIP2D_TO", 1.0)];
         for (i, q) in rec.iter().enumerate() {
-            if (i + 1) % every == 0 || i + 1 == rec.len() {
+            let f = (q.t - t0) / p.period();
+            if ((i + 1) % every == 0 || i + 1 == rec.len()) && f >= window[0] && f <= window[1] {
                 println!(
-                    "  t/T {:.5} u ({:+.6e}, {:+.6e}) stuck {}",
-                    (q.t - t0) / p.period(),
-                    q.state.u.x,
-                    q.state.u.y,
-                    q.state.stuck
+                    "  t/T {:.9} u ({:+.12e}, {:+.12e}) stuck {}",
+                    f, q.state.u.x, q.state.u.y, q.state.stuck
                 );
             }
         }
@@ -451,6 +453,8 @@ fn quick_table() {
         ..small_grid()
     };
     let scheme = scheme_from_env();
+    let steps = std::env::var("SLIP2D_STEPS").unwrap_or("16,32,64,128".into());
+    let steps: Vec<&str> = steps.split(',').collect();
     for kind in TWO_D {
         let p = Primitive::new(kind);
         let r_vectors = reference(
@@ -461,7 +465,7 @@ fn quick_table() {
         )
         .vectors;
         let mut last = f64::NAN;
-        for n in [16, 32, 64, 128] {
+        for n in steps.iter().filter_map(|s| s.parse().ok()) {
             let m = measure(&p, &grid, 6, &settings(n, scheme));
             let e = relative_l2(&m.vectors, &r_vectors);
             println!(
