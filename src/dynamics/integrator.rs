@@ -545,6 +545,7 @@ impl<'a> Simulator<'a> {
     /// where the slip direction is stiff; true when one was taken (`t`,
     /// `state` advanced), false when the explicit step is to be taken.
     #[allow(clippy::too_many_arguments)]
+    #[inline(never)]
     fn implicit_slip(
         &self,
         k0: &Kinematics,

@@ -196,6 +196,7 @@ impl Simulator<'_> {
     /// Follows a slipping part (`state.u` ≠ 0) in regularised time from
     /// `*t` until it leaves the region (see the module docs), stops, or
     /// reaches `target`. Advances `t` and `state`.
+    #[inline(never)]
     pub(super) fn swing(
         &self,
         t: &mut f64,
