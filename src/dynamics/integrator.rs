@@ -419,8 +419,10 @@ impl<'a> Simulator<'a> {
                 _ => self.kin(*t, piece),
             };
             let u0 = state.u;
-            if self.numerics.slip == SlipScheme::Regularised && u0 != V2::zeros() {
-                let (n, free) = self.forces(&k0, &state.r, &u0, anchor);
+            // N and a_free at the step's start, for the schemes' checks.
+            let start = (self.numerics.slip != SlipScheme::Legacy && u0 != V2::zeros())
+                .then(|| self.forces(&k0, &state.r, &u0, anchor));
+            if let (SlipScheme::Regularised, Some((n, free))) = (self.numerics.slip, start) {
                 if self.wants_tau(n, &free, &u0) {
                     self.swing(t, target, piece, state, anchor, out)?;
                     swing = 0;
@@ -428,7 +430,7 @@ impl<'a> Simulator<'a> {
                 }
             }
             if self.numerics.slip != SlipScheme::Legacy
-                && self.implicit_slip(&k0, t, target, piece, state, anchor, out)?
+                && self.implicit_slip(&k0, t, target, piece, state, anchor, out, start)?
             {
                 swing = 0;
                 continue;
@@ -555,10 +557,11 @@ impl<'a> Simulator<'a> {
         state: &mut PartState,
         anchor: &V2,
         out: &mut CycleOutcome,
+        start: Option<(f64, V2)>,
     ) -> Result<bool, ContactLoss> {
         let rest = target - *t;
         let tiny = self.numerics.event_tol * self.period;
-        match self.wants_radau(k0, *t, rest, piece, state, anchor) {
+        match self.wants_radau(k0, *t, rest, piece, state, anchor, start) {
             None => Ok(false),
             Some(true) => {
                 match self.radau_step(*t, rest, piece, state, anchor, &mut out.rk4_steps)? {

@@ -119,6 +119,7 @@ impl Simulator<'_> {
         piece: f64,
         state: &PartState,
         anchor: &V2,
+        start: Option<(f64, V2)>,
     ) -> Option<bool> {
         let s = state.u.norm();
         if s == 0.0 {
@@ -134,7 +135,7 @@ impl Simulator<'_> {
             });
             return if one_d { None } else { Some(true) };
         }
-        let (n, free) = self.forces(k0, &state.r, &state.u, anchor);
+        let (n, free) = start.unwrap_or_else(|| self.forces(k0, &state.r, &state.u, anchor));
         let c = self.friction().kinetic * n;
         if h * c <= STIFF * s {
             return None;
