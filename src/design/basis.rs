@@ -69,7 +69,10 @@ impl ColumnSource {
 
     /// Period of one cycle (s).
     pub fn period(&self) -> f64 {
-        self.motion().period()
+        match self {
+            ColumnSource::Primitive(p) => p.period(),
+            ColumnSource::Motion { signals, .. } => signals.period,
+        }
     }
 
     /// A schedule segment playing this column for `cycles` cycles. A

@@ -297,6 +297,7 @@ pub fn design_by_method(
     // target (every one POOR): one motion alone cannot reach it.
     let all_poor = out.candidates.iter().all(|c| c.played().poor);
     if method == Method::Mix || (method == Method::Auto && all_poor) {
+        let t = Instant::now();
         match mix_design(target, &sampled, &out, opts, synth) {
             Ok((d, syn)) if d.schedule.segments.iter().all(|s| s.motion.is_none()) => {
                 // Nothing mixed: the schedule is the sequenced one again.
@@ -310,15 +311,14 @@ pub fn design_by_method(
                 }
             }
             Ok((d, syn)) => {
-                let t = Instant::now();
-                let mut c = Candidate::play(
+                // The whole-cycle strength: the ramps' extra cycles dilute it.
+                let c = Candidate::play(
                     (target, &sampled),
                     d.schedule.clone(),
-                    d.schedule.fit.strength,
+                    d.schedule.fit_quantized.strength,
                     (method, target.shaker.as_ref().map(|_| limits.to_spec())),
-                    0.0,
+                    t.elapsed().as_secs_f64(),
                 )?;
-                c.design_s = t.elapsed().as_secs_f64();
                 out.candidates.push(c);
                 out.mixed = Some(d);
                 if out.synthesis.is_none() {
@@ -390,26 +390,15 @@ fn choose(cands: &[Candidate], failures: &[(Method, String)], asked: Method) -> 
             (b.1 < a.1, "the lower realised shape error wins")
         }
     };
-    let mut pick = 0;
-    let mut rule = "";
-    for k in 1..cands.len() {
-        let (b_wins, why) = better(&cands[pick], &cands[k]);
-        if b_wins {
-            pick = k;
-        }
-        rule = why;
-    }
-    if cands.len() > 2 {
-        // Name the rule that decided against the runner-up.
-        let runner = (0..cands.len())
-            .filter(|&k| k != pick)
-            .fold(None, |best: Option<usize>, k| match best {
-                Some(b) if !better(&cands[b], &cands[k]).0 => Some(b),
-                _ => Some(k),
-            })
-            .unwrap_or(0);
-        rule = better(&cands[runner], &cands[pick]).1;
-    }
+    // The best of `ks` by the rule, and the rule that decided against the
+    // runner-up.
+    let best_of = |ks: &mut dyn Iterator<Item = usize>| {
+        ks.reduce(|a, b| if better(&cands[a], &cands[b]).0 { b } else { a })
+            .unwrap_or(0)
+    };
+    let pick = best_of(&mut (0..cands.len()));
+    let runner = best_of(&mut (0..cands.len()).filter(|&k| k != pick));
+    let rule = better(&cands[runner], &cands[pick]).1;
     let others: Vec<String> = (0..cands.len())
         .filter(|&k| k != pick)
         .map(|k| describe(&cands[k]))

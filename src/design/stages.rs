@@ -406,9 +406,6 @@ pub(crate) fn schedule_stage(
         opts.quantization_tol,
         &field_error,
     );
-    let achieved_quantized = unstack(&(a * DVector::from_column_slice(&quant.fractions)));
-    let fit_quantized = metrics(sampled, &achieved_quantized, solution.strength)?;
-
     let mut order: Vec<usize> = (0..m).filter(|&j| quant.cycles[j] > 0).collect();
     // Six-signal segments ramp in and out when they share the schedule.
     let mixed = order.len() > 1;
@@ -439,6 +436,23 @@ pub(crate) fn schedule_stage(
             duration_s: f64::from(quant.rest_cycles) * rest_period,
         });
     }
+    // The ramp cycles a mixed schedule's six-signal segment is given on top
+    // of its quantised cycles lengthen the period and dilute every segment's
+    // share: the whole-cycle field and its strength are scaled by it (1 for
+    // schedules of primitives).
+    let period: f64 = segments.iter().map(|s| s.duration_s).sum();
+    let ramps: f64 = segments
+        .iter()
+        .map(|s| f64::from(s.ramp_cycles.unwrap_or(0)) * s.cycle_period().unwrap_or(0.0))
+        .sum();
+    let dilution = if ramps > 0.0 {
+        (period - ramps) / period
+    } else {
+        1.0
+    };
+    let achieved_quantized =
+        unstack(&(a * DVector::from_column_slice(&quant.fractions) * dilution));
+    let fit_quantized = metrics(sampled, &achieved_quantized, solution.strength * dilution)?;
     let mut schedule = Schedule {
         target: target.name.clone(),
         target_spec: Some(target.clone()),

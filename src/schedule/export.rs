@@ -71,38 +71,27 @@ impl Export {
     }
 }
 
-/// The samples of `schedule` at (about) `rate` samples/s: a schedule
-/// period of primitives ([`signals_csv`]), or, for a schedule holding a
-/// six-signal segment, that motion ramped in, played `steady` cycles and
-/// ramped out (see the module documentation).
+/// The samples of `schedule` at (about) `rate` samples/s: one schedule
+/// period of primitives and ramped six-signal segments ([`signals_csv`]),
+/// or, for a schedule holding a steady six-signal segment, that motion
+/// ramped in, played `steady` cycles and ramped out (see the module
+/// documentation).
 ///
 /// # Errors
-/// An invalid schedule or rate; a six-signal segment beside other moving
-/// segments (names `segments`); `steady` over the sample budget (names
-/// `--steady-cycles`).
+/// An invalid schedule or rate (a steady six-signal segment beside other
+/// moving segments names `segments[i].ramp_cycles`); `steady` over the
+/// sample budget (names `--steady-cycles`).
 pub fn export(schedule: &Schedule, rate: f64, steady: u32) -> Result<Export> {
     positive("--rate", rate)?;
     schedule.validate()?;
     let schedule = &schedule.with_segments(schedule.segments.clone());
-    if schedule
+    // A steady six-signal segment is, by `validate`, the one moving segment.
+    if let Some(motion) = schedule
         .segments
         .iter()
-        .any(|s| s.motion.is_some() && s.ramp_cycles.is_none())
+        .find(|s| s.motion.is_some() && s.ramp_cycles.is_none())
+        .and_then(|s| s.plate_motion())
     {
-        let moving: Vec<&super::Segment> =
-            schedule.segments.iter().filter(|s| s.is_moving()).collect();
-        let [single] = moving[..] else {
-            return Err(Error::invalid(
-                "segments",
-                format!(
-                    "a schedule holding a six-signal motion is exported with ramps and must hold no other moving segment, got {} moving segments",
-                    moving.len()
-                ),
-            ));
-        };
-        let Some(motion) = single.plate_motion() else {
-            return Err(Error::Physical("moving segment without a motion".into()));
-        };
         let samples = sample_hold::ramped(&motion, rate, RAMP_CYCLES, steady)?;
         return Ok(Export {
             samples,
