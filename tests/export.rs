@@ -43,6 +43,7 @@ fn every_shipped_export_returns_to_rest_each_period() {
         "line_sink",
         "jet",
         "line_sink_30",
+        "sink_trans",
         "sequenced/sink",
         "sequenced/saddle",
         "sequenced/whirlpool",

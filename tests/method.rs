@@ -314,4 +314,15 @@ fn mix_combines_a_synthesized_motion_with_primitives() {
     let p = md.kept().played();
     assert_eq!(p.method, "mix");
     assert!(p.valid > 0, "{p:?}");
+    // The ramps' overshoot is scaled away: every peak within its limit.
+    let lim = [50.0, 50.0, 0.0, 170.0, 170.0, 0.0];
+    let peaks = [p.peaks.linear, p.peaks.angular].concat();
+    for (k, (peak, limit)) in peaks.iter().zip(lim).enumerate() {
+        assert!(
+            *peak <= limit * (1.0 + 1e-9) + 1e-12,
+            "axis {k}: {peak} > {limit}"
+        );
+    }
+    // One period for every moving segment: the schedule exports.
+    assert!(export::export(s, 20_000.0, 20).is_ok());
 }

@@ -461,6 +461,14 @@ fn region(target: &Target, sampled: &SampledTarget) -> Grid {
 /// with the primitives. Returns the design and the synthesis run here, if
 /// any.
 ///
+/// The motion is played at the primitives' period (its signals' amplitudes
+/// and phases unchanged; e.g. 0.03 s → 0.03006 s, a 0.2 % change of
+/// frequency, and its column is simulated at that period), so that the
+/// mixed schedule's joins fall on one sample grid and `export` can write it
+/// (two periods share no practical sample interval), and scaled down where
+/// its ramps (the acceleration overshoots the steady peak by up to
+/// 1.875/(πR) + 0.146/R²) would take a peak over the target's limits.
+///
 /// # Errors
 /// The synthesis or the design failing.
 pub fn mix_design(
@@ -478,6 +486,26 @@ pub fn mix_design(
             (syn.motion.clone(), Some(syn))
         }
     };
+    let mut motion = motion;
+    if let Some(kind) = opts.kinds.first() {
+        motion.period = crate::basis::Primitive::new(*kind).period();
+    }
+    let ramp = crate::design::basis::MIXED_RAMP_CYCLES;
+    let ramped = crate::motion::Motion::Ramped(crate::motion::Ramped::new(
+        motion.clone(),
+        ramp,
+        2 * ramp + 1,
+        "mix",
+    )?);
+    let peaks = crate::schedule::export::motion_peaks(&ramped);
+    let axes = ShakerLimits::from_spec(target.shaker.as_ref()).axes();
+    let fit = (0..6)
+        .filter(|&k| peaks[k] > 0.0)
+        .map(|k| axes[k] / peaks[k])
+        .fold(1.0_f64, f64::min);
+    if fit < 1.0 {
+        motion = motion.scaled(fit);
+    }
     let mut with_motion = opts.clone();
     with_motion.motions.push(("Synthesized".into(), motion));
     Ok((design(target, &with_motion)?, fresh))

@@ -204,6 +204,20 @@ impl Signals {
             angular,
         }
     }
+
+    /// Every amplitude multiplied by `k` (the same waveforms, scaled).
+    pub fn scaled(&self, k: f64) -> Signals {
+        let axes = |a: &Axes| Axes {
+            x: a.x.iter().map(|t| scale(t, k)).collect(),
+            y: a.y.iter().map(|t| scale(t, k)).collect(),
+            z: a.z.iter().map(|t| scale(t, k)).collect(),
+        };
+        Signals {
+            period: self.period,
+            linear: axes(&self.linear),
+            angular: axes(&self.angular),
+        }
+    }
 }
 
 fn scale(t: &FourierTerm, k: f64) -> FourierTerm {
