@@ -247,13 +247,12 @@ fn stiff_2d_beats_legacy() {
 
 /// The regularised scheme (`src/dynamics/swing.rs`) on the five 2-D
 /// primitives' force fields (4×4 grid, 6 phases) against its own 4096-step
-/// field (`SLIP2D_ORDER_REF` to change): within 1e-4 at 64 steps per cycle,
-/// and an observed order log₂(e(16)/e(64))/2 of at least 3 for ScaledCircle
-/// and Circle and 2.5 for the rest-to-rest ones (DivCircle, SkewSink,
-/// SkewSource), whose errors at 64 steps and beyond sit on a floor of about
-/// 5e-6 that smaller τ-steps do not lower (measured 3.9, 4.3, 2.7, 2.7,
-/// 2.7). The
-/// legacy scheme fails both (errors 1e-3–4e-3 at 64 steps).
+/// field (`SLIP2D_ORDER_REF` to change; that field is within 8e-9 of a
+/// 16384-step one): within 1e-4 at 64 steps per cycle, and an observed
+/// order log₂(e(16)/e(64))/2 of at least 3 for every one (measured 3.99,
+/// 4.31, 3.89, 3.16, 3.24 for ScaledCircle, Circle, DivCircle, SkewSink,
+/// SkewSource). The legacy scheme fails both (errors 1e-3–4e-3 at 64
+/// steps).
 #[test]
 fn order_2d() {
     let reference_steps = env_or("SLIP2D_ORDER_REF", 4096);

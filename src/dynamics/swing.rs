@@ -21,7 +21,8 @@
 //! direction by c as well (`Simulator::slip_step`).
 //!
 //! The regularised steps are used only where an explicit step in t is
-//! stiff or cannot follow the turn: |u| < [`REGION`] h max(|a_free|, μ_k N), with
+//! stiff or cannot follow the turn: |u| < [`REGION`] h_r max(|a_free|, μ_k N)
+//! (h_r the nominal step, held at its [`REGION_STEPS`]-step width), with
 //! a_free not (nearly) along û, or against it off an exact straight line
 //! (an exact 1-D slip keeps its exact explicit steps). They end
 //! * at the nominal step's end (the last τ-step's length is the root of
@@ -45,67 +46,41 @@ pub(super) const C64: f64 = 0.25;
 /// Largest c (at fewer than 32 steps per cycle).
 const C_MAX: f64 = 0.5;
 
-/// The regularised region: |u| < REGION h max(|a_free|, μ_k N), h the
-/// nominal step (an explicit step there would have h μ_k N/|u| or its turn
-/// h |a_⊥|/|u| above 1/REGION).
+/// The regularised region: |u| < REGION h_r max(|a_free|, μ_k N), with
+/// h_r = max(h, T/[`REGION_STEPS`]) (an explicit step there would have
+/// h μ_k N/|u| or its turn h |a_⊥|/|u| above 1/REGION).
 ///
-/// # The error floor near 5e-6 (issue 12; measured, not fixed)
+/// # Why the width is held below 64 steps' (issue 12)
 ///
-/// This bound scaling with h causes the floor of DivCircle, SkewSink and
-/// SkewSource. Just outside the region, the explicit RK4 steps in t have
-/// h μ_k N/|u| and h |a_⊥|/|u| up to 1/REGION *whatever h is*, so their
-/// local error is a fixed fraction of |u| ≈ REGION h max(|a_free|, μ_k N):
-/// each approach to u = 0 adds an error of order h (small constant), not
-/// h⁴. Measured (`tests/slip2d.rs`, 4×4 grid, 6 phases, relative L2 of the
-/// force field):
-/// * as it stands, against 4096 steps, 64 → 128 steps: DivCircle 3.89e-6 →
-///   7.56e-6, SkewSink 8.09e-6 → 7.45e-6, SkewSource 8.57e-6 → 6.93e-6
-///   (against 16384: 5.1e-6 → 8.3e-6, 7.0e-6 → 5.0e-6, 7.0e-6 → 4.6e-6);
-///   the worst single DivCircle cycle is 7.2e-7 (absolute, u) off at 64
-///   steps and still 3.5e-7 at 256 (`worst_cycles`). Traced (`trace_cycle`,
-///   (0.04, 0.04), phase 5): 256 and 1024 steps agree to 1e-8 until the
-///   slip's second near pass of u = 0 at t/T ≈ 0.566; at that nominal step's
-///   end (|u| ≈ 3.6e-4, at the region's edge) the 256-step u is 2.2e-6 off,
-///   and 3.4e-7 stays to the cycle's end.
-/// * [`STOP`] 1e-7 → 1e-11: every error unchanged to three digits (not it).
-/// * REGION 2 → 8 at every h: 128 steps DivCircle 4.9e-7, SkewSink 1.6e-6,
-///   SkewSource 2.8e-6 (floor gone), but 64 steps worse (6.8e-6, 1.6e-5,
-///   1.5e-5).
-/// * The bound held at its 64-step width for finer steps (h replaced by
-///   max(h, T/64) here and in `swing`; 64 steps and fewer bitwise
-///   unchanged): against 4096 steps, 128 steps DivCircle 4.8e-7 (order
-///   64 → 128: 3.14), SkewSink 1.6e-6, SkewSource 2.8e-6, ScaledCircle
-///   3.9e-7, Circle 9.6e-6 (3.10, 3.19); single SkewSource cycles 1.2e-7 at
-///   128, 1.2e-8 at 256. Fine steps converge again: against 8192 steps,
-///   256 → 1024 → 4096 steps give SkewSink 4.6e-7 → 8.1e-9 → 4.6e-11,
-///   SkewSource 4.6e-7 → 7.5e-9 → 6.4e-11, DivCircle 9.4e-8 → 2.1e-8 →
-///   6.0e-9 (as it stands, erratic at the floor: SkewSink 4.8e-6, 2.2e-6,
-///   5.3e-6; DivCircle 2.4e-6, 1.9e-7, 9.5e-7). Not adopted, as the
-///   issue's order ≥ 3 is still not met: `order_2d`'s 16 → 64 order is set
-///   by the unchanged 64-step errors (DivCircle 2.67, SkewSink 2.91,
-///   SkewSource 2.87 against the new reference), and from 64 to 256 steps
-///   the order per doubling is DivCircle 2.75, SkewSink 1.86, SkewSource
-///   1.97 (pre-asymptotic: the Skew ones reach 2.9–3.7 only past 256).
-///   With this change too, DivCircle's 16384-step field is 2.85e-6 off the
-///   4096- and 8192-step ones (which agree to 6e-9). It is one cycle
-///   ((−0.0133, −0.0133), phase 4 of 6; `worst_cycles` with
-///   `SLIP2D_N=16384 SLIP2D_WREF=8192`): 6.6e-7 off, every other cycle
-///   within 4e-10. `trace_cycle` puts it at the break-away from rest
-///   after a stick from t/T ≈ 0.15 to 0.74 (16384 and 1024 steps agree to
-///   1e-15 until then, 6.6e-7 apart from t/T 0.75 on; 1024, 4096 and 8192
-///   steps agree): the start from rest (`radau.rs` / the break-away
-///   location) goes wrong at that h only, in both versions; not
-///   investigated further.
-/// * What sets the 64-step errors (with the bound held as above): τ-steps
-///   4× shorter ([`C64`] 0.25 → 0.0625) take 16 / 64 / 256 steps to
-///   DivCircle 4.8e-5 / 3.2e-6 / 8.5e-8, SkewSink 4.3e-5 / 3.0e-6 /
-///   1.2e-7, SkewSource 3.8e-5 / 2.6e-6 / 8.0e-8 (from 1.7e-4 / 4.2e-6,
-///   3.5e-4 / 6.1e-6, 3.8e-4 / 7.0e-6) at 2.4–3.2× the RK4 steps per
-///   cycle: the τ-steps carry most of the Skew error at 64 steps and of
-///   every error at 16, not DivCircle's at 64. Held at its 32-step width
-///   instead (REGION 4 at 64 steps): DivCircle 2.6e-6 at 64 steps, the
-///   Skew ones 9.3e-6 / 7.5e-6, Circle 2.7e-4 (over 1e-4).
+/// A bound that scales with h at every h leaves an error floor: just
+/// outside the region the explicit steps then see h μ_k N/|u| and
+/// h |a_⊥|/|u| near 1/REGION *whatever h is*, so each near pass of u = 0
+/// errs by a fixed fraction of |u| ≈ REGION h max(|a_free|, μ_k N), an
+/// error of order h. Measured (`tests/slip2d.rs` `quick_table`, 4×4 grid, 6
+/// phases, relative L2 of the force field against 4096 steps), with the
+/// bound scaling with h at every h: SkewSink 8.1e-6, 7.5e-6, 7.9e-6 at 64,
+/// 128, 256 steps; DivCircle 3.9e-6, 7.6e-6, 1.9e-6. Held at its 64-step
+/// width, together with the explicit steps limited by friction's damping
+/// across the slip (`Simulator::slip_step`): SkewSink 4.3e-6, 7.5e-7,
+/// 1.3e-7; DivCircle 7.8e-7, 3.1e-7, 9.1e-8 (nothing changes at 64 steps
+/// and fewer). Widening it at 64 steps instead (REGION 4) makes the
+/// τ-steps carry more of the swing: Circle 2.7e-4 at 64 steps.
+///
+/// A second, rare error was found on the way (not fixed): DivCircle's
+/// 16384-step field is 2.9e-6 off the 4096- and 8192-step ones (which agree
+/// to 6e-9), all from one cycle ((−0.0133, −0.0133), phase 4 of 6): the
+/// break-away from rest after a stick from t/T ≈ 0.15 to 0.74 goes wrong at
+/// that h only (`worst_cycles`, `trace_cycle` with `SLIP2D_N=16384`).
 const REGION: f64 = 2.0;
+
+/// The region's width stops shrinking with h beyond this many steps per
+/// cycle (see [`REGION`]).
+const REGION_STEPS: f64 = 64.0;
+
+/// A part a_⊥ of a_free across the slip below this fraction of |a_free| is
+/// round-off of a 1-D slip along a rotated line (cos 90° ≈ 6e-17), not a
+/// 2-D slip: its exact explicit steps are kept.
+pub(super) const ACROSS_ROUND_OFF: f64 = 1e-12;
 
 /// A slowing slip whose speed is below this fraction of the regularised
 /// region's bound is finished analytically (a stop).
@@ -123,6 +98,12 @@ struct Tau {
 }
 
 impl Simulator<'_> {
+    /// h_r of the region's bound: the nominal step, at least T/[`REGION_STEPS`].
+    fn region_step(&self) -> f64 {
+        let steps = self.numerics().steps_per_cycle as f64;
+        self.period() / steps.min(REGION_STEPS)
+    }
+
     /// The c of the τ-steps: [`C64`] scaled with the nominal step.
     pub(super) fn tau_c(&self) -> f64 {
         (C64 * 64.0 / self.numerics().steps_per_cycle as f64).min(C_MAX)
@@ -135,9 +116,9 @@ impl Simulator<'_> {
         if s == 0.0 {
             return false;
         }
-        let nominal = self.period() / self.numerics().steps_per_cycle as f64;
+        let h_r = self.region_step();
         let scale = free.norm().max(self.friction().kinetic * n);
-        if s >= REGION * nominal * scale {
+        if s >= REGION * h_r * scale {
             return false;
         }
         let uhat = u / s;
@@ -145,7 +126,7 @@ impl Simulator<'_> {
         let across = (free - uhat * along).norm();
         // Turning, or heading towards u = 0 off a straight line (an exact
         // 1-D slip, a_⊥ = 0, keeps its exact explicit steps).
-        across > SLAVED * free.norm() || (along < 0.0 && across > 1e-12 * free.norm())
+        across > SLAVED * free.norm() || (along < 0.0 && across > ACROSS_ROUND_OFF * free.norm())
     }
 
     /// d(t, r, u)/dτ at `y`, with N and a_free there.
@@ -208,7 +189,7 @@ impl Simulator<'_> {
     ) -> Result<(), ContactLoss> {
         let c = self.tau_c();
         let mu = self.friction().kinetic;
-        let nominal = self.period() / self.numerics().steps_per_cycle as f64;
+        let h_r = self.region_step();
         let tol = self.numerics().event_tol * self.period();
         let mut y = Tau {
             t: *t,
@@ -219,7 +200,7 @@ impl Simulator<'_> {
             let (f0, n, free) = self.tau_rhs(&y, piece, anchor)?;
             let s = y.u.norm();
             let scale = free.norm().max(mu * n);
-            let bound = REGION * nominal * scale;
+            let bound = REGION * h_r * scale;
             let uhat = y.u / s;
             let along = free.dot(&uhat);
             if s >= bound && along > mu * n {
