@@ -21,12 +21,12 @@
 //! | stage | module | what it states |
 //! |---|---|---|
 //! | inputs | [`scene`], [`request`] (target files) | a plate motion with its physics and grid; a requested field (kinds, grid, mask, attractor) |
-//! | kinematics | [`motion`] | world and plate frames; the plate's velocity and acceleration at a plate point; gravity in the plate frame. The screw primitive in [`motion::screw`], general six-signal motion in [`motion::signals`] (ramped in and out of a mixed schedule's segment in [`motion::Ramped`]), waveforms in [`motion::waveform`] |
-//! | dynamics | [`dynamics`] | a point part's equations: the effective gravity N, Coulomb stick and slip, contact loss, the terms the paper drops as [`dynamics::Model`] switches. Exact stick-slip events in [`dynamics::integrator`], implicit steps where a 2-D slip's direction is stiff in `dynamics::radau` ([`dynamics::SlipScheme::Stiff`], opt-in), 2-D swings past u = 0 in regularised time in `dynamics::swing` ([`dynamics::SlipScheme::Regularised`], the default), the periodic orbit (and its stall test) in [`dynamics::steady`], time-only kinematics tabulated once per field in [`dynamics::KinematicsTable`], rectangles in [`dynamics::planar`] |
+//! | kinematics | [`motion`] | world and plate frames; the plate's velocity and acceleration at a plate point; gravity in the plate frame. The screw primitive in `motion::screw`, general six-signal motion in `motion::signals` (ramped in and out of a mixed schedule's segment in [`motion::Ramped`]), waveforms in `motion::waveform` |
+//! | dynamics | [`dynamics`] | a point part's equations: the effective gravity N, Coulomb stick and slip, contact loss, the terms the paper drops as [`dynamics::Model`] switches. Exact stick-slip events in `dynamics::integrator`, implicit steps where a 2-D slip's direction is stiff in `dynamics::radau` ([`dynamics::SlipScheme::Stiff`], opt-in), 2-D swings past u = 0 in regularised time in `dynamics::swing` ([`dynamics::SlipScheme::Regularised`], the default), the periodic orbit (and its stall test) in `dynamics::steady`, time-only kinematics tabulated once per field in [`dynamics::KinematicsTable`], rectangles in `dynamics::planar` |
 //! | fields | [`field`] | the zero-velocity force field, the steady-state velocity field (frozen or free), per-sample validity (including non-finite samples) |
 //! | basis | [`basis`] | the paper's eight primitives and their defaults ([`basis::primitives`]), rotated and shifted copies by symmetry ([`basis::symmetry`]), the on-disk cache |
 //! | fit | [`fit`] | the inverse problem: time fractions w ≥ 0, Σw ≤ 1, the fit modes, how each is solved and verified |
-//! | schedule | [`design::schedule`], [`design::export`] | time fractions as whole cycles; the six controller signals |
+//! | schedule | `design::schedule`, `design::export` | time fractions as whole cycles; the six controller signals |
 //! | design | [`design`] | the open-loop pipeline, the closed loop ([`design::closed_loop`]), refinement of a design's primitives by re-simulation ([`design::refine`]), and `--method` ([`design::method`]): sequence, synthesize or mix (a synthesized motion as one more basis column, [`design::basis::ColumnSource`]), every candidate played against the target, the POOR rule ([`fit::POOR_ERROR`]) and the choice |
 //! | synthesis | [`synth`] | one simultaneous six-signal motion: shaker limits, the averaged-friction seed, refinement by re-simulation |
 //! | play, verify | [`verify`] | a schedule's exact plate trajectory, the rule at the joins, rest in closed form; realised against predicted; where parts end up |
@@ -55,9 +55,9 @@
 //! 10 ([`studies::interaction`], `results/verify/sink_interaction.md`).
 //! Hence the design's rules: primitives start and end each cycle at rest in
 //! the home pose (rest-to-rest waveforms, [`basis::primitives`]), a schedule
-//! has a minimum number of cycles per segment ([`design::schedule`]), the
+//! has a minimum number of cycles per segment (`design::schedule`), the
 //! order of segments and rest at the joins are chosen by simulation
-//! ([`verify::order`]), and the closed loop measures the real combination
+//! (`verify::order`), and the closed loop measures the real combination
 //! and feeds it back into the fit ([`design::closed_loop`]). At a join the
 //! plate velocity may jump; the part's inertial velocity is continuous
 //! ([`verify`]).

@@ -103,7 +103,7 @@ pub struct DesignArgs {
     /// Total schedule length in cycles (default: the shortest within the quantisation tolerance).
     #[arg(long)]
     pub cycles: Option<u32>,
-    /// Output folder; files go to OUT/<target name>/.
+    /// Output folder; files go to `OUT/<target name>/`.
     #[arg(long, default_value = "results")]
     pub out: PathBuf,
     /// How to design: sequence (time-shared primitives), synthesize (one six-signal motion within the target's shaker limits) or auto (both, played; the lower realised shape error wins, within 1 percentage point the higher realised strength).

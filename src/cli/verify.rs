@@ -35,7 +35,7 @@ pub struct VerifyArgs {
     /// Rectangle start poses (0: no rectangles).
     #[arg(long, default_value_t = 4)]
     pub rect_poses: usize,
-    /// Output folder; writes OUT/<target>/verify/{summary.json, trajectories.svg}.
+    /// Output folder; writes `OUT/<target>/verify/{summary.json, trajectories.svg}`.
     #[arg(long, default_value = "results")]
     pub out: PathBuf,
     /// Print the summary JSON on stdout.

@@ -31,7 +31,7 @@
 //! The working set only grows, so the loop ends after at most `m` rounds
 //! (all columns); in practice 2–4 rounds of LPs with ~10–30 columns.  The
 //! returned certificate is checked again, independently, by
-//! [`crate::fit::verify`] over all columns; column generation changes how
+//! [`crate::fit::verify()`] over all columns; column generation changes how
 //! fast the optimum is found, not how it is certified.
 
 use nalgebra::DVector;

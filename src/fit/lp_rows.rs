@@ -28,7 +28,7 @@
 //! `w₀`), for L∞ the largest, [`START_ROWS_PER_COLUMN`]`·(k + 1)` rows but
 //! at least [`MIN_START_ROWS`].  `U` only grows, so the loop ends (at worst
 //! with all rows).  The certificate is checked again, independently, over
-//! all rows and columns by [`crate::fit::verify`].
+//! all rows and columns by [`crate::fit::verify()`].
 
 use nalgebra::{DMatrix, DVector};
 

@@ -119,7 +119,7 @@ impl Signals {
     }
 
     /// Plate-frame kinematics from the world-frame centre triples (module
-    /// docs: R = exp([θ]×), quantities rotated back by Rᵀ when `tilt`).
+    /// docs: R = exp(\[θ\]×), quantities rotated back by Rᵀ when `tilt`).
     #[inline]
     pub fn frame(lin: &[V3; 3], ang: &[V3; 3], g: f64, tilt: bool) -> Kinematics {
         let [_, v, a] = lin;

@@ -1,6 +1,6 @@
 //! Every file the product writes and every terminal summary it prints:
 //! designs ([`design`]: `schedule.json`, `fit.svg`, `report.md`), closed
-//! loops ([`closed_loop`]), order searches ([`order`]), verifications
+//! loops ([`closed_loop`]), order searches ([`mod@order`]), verifications
 //! ([`verify`]: `summary.json`, `trajectories.svg`) and exported signals.
 //! The top layer: it may use every module below it, and nothing uses it
 //! but the command-line shell. Each `run` function is one subcommand:

@@ -8,7 +8,7 @@ use crate::request::error::{
 use crate::request::field::EXTENT;
 
 /// Largest allowed number of grid points along one axis (`grid.n[i]`);
-/// a region may allow fewer ([`max_points`]).
+/// a region may allow fewer (`max_points`).
 pub const MAX_GRID_N: usize = 1001;
 
 /// Nodes per side of the largest library grid ([`crate::field::Grid::MAX_N`]).
@@ -51,7 +51,7 @@ pub fn max_points(x: [f64; 2], y: [f64; 2]) -> [usize; 2] {
 
 /// Validates a target grid: finite `xmin < xmax`, `ymin < ymax` within
 /// ±[`EXTENT`] m, and `2 ≤ nx, ny ≤ `[`MAX_GRID_N`], and no more points
-/// than the region allows ([`max_points`]); errors name `path`.
+/// than the region allows (`max_points`); errors name `path`.
 pub fn validate_grid(grid: &Grid, path: &str) -> Result<(), TargetError> {
     for (axis, r) in [("x", grid.x), ("y", grid.y)] {
         let p = format!("{path}.{axis}");

@@ -3,7 +3,7 @@
 //! centre along the world x, y, z axes (m/s²) and angular acceleration about
 //! them (rad/s²), sampled at a given rate over one schedule period.
 //!
-//! For a screw primitive {k, h, ψ, d} with R = exp(ψ[k]×) and
+//! For a screw primitive {k, h, ψ, d} with R = exp(ψ\[k\]×) and
 //! p = (I − R)h + d k (exact, not small-angle):
 //! p'' = −(α × Rh + ω × (ω × Rh)) + d'' k with ω = ψ'k, α = ψ''k, and the
 //! angular acceleration is ψ''k. Rest segments are zero. Primitives are

@@ -27,7 +27,7 @@
 //! as before, and a schedule without one is written byte for byte as before
 //! (the key is left out when absent).
 //!
-//! [`quantize`] turns time fractions into whole cycles; [`export`] writes
+//! [`mod@quantize`] turns time fractions into whole cycles; [`export`] writes
 //! the six controller signals of a schedule.
 
 pub mod export;

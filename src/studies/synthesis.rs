@@ -343,7 +343,7 @@ fn sequenced(target: &Target, cache: &Path) -> Result<Schedule> {
 }
 
 /// The row for `name`: `targets/<name>.json` against its sequenced schedule
-/// ([`sequenced`], basis cache in `cache`).
+/// (`sequenced`, basis cache in `cache`).
 pub fn row(name: &str, targets: &Path, cache: &Path, study: &StudySettings) -> Result<Row> {
     let target = Target::load(&targets.join(format!("{name}.json")))?;
     let schedule = sequenced(&target, cache)?;
@@ -452,7 +452,7 @@ pub struct RefineRow {
     pub refined: Refined,
 }
 
-/// Refines the sequenced schedule ([`sequenced`]) for `targets/<name>.json`
+/// Refines the sequenced schedule (`sequenced`) for `targets/<name>.json`
 /// with the default [`RefineOptions`].
 pub fn refine_row(name: &str, targets: &Path, cache: &Path) -> Result<RefineRow> {
     let target = Target::load(&targets.join(format!("{name}.json")))?;

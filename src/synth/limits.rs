@@ -97,7 +97,7 @@ impl ShakerLimits {
 
     /// The envelope of the paper's eight primitives (default parameters):
     /// per axis, the largest |acceleration| any of them commands over
-    /// [`ENVELOPE_SAMPLES`] samples of its period — on x and y the largest
+    /// `ENVELOPE_SAMPLES` samples of its period — on x and y the largest
     /// horizontal magnitude, since designs use the primitives turned about
     /// the vertical; 2 harmonics; margin 0.1.
     pub fn paper_envelope() -> ShakerLimits {

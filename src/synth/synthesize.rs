@@ -120,7 +120,7 @@ pub struct Synthesis {
     pub evaluations: usize,
     /// Wall time (s); not part of any data file.
     pub seconds: f64,
-    /// POOR: shape error above [`POOR_SHAPE_ERROR`], no positive strength,
+    /// POOR: shape error above `POOR_SHAPE_ERROR`, no positive strength,
     /// invalid samples, contact margin or a limit broken.
     pub poor: bool,
     /// Why it is poor, and what limited the seed.

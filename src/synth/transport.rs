@@ -16,8 +16,8 @@
 //! primitive, Table I, keeps only its two lowest harmonics here). Stick-slip
 //! has no closed form for the drift, so [`calibrate`] finds φ and A by
 //! re-simulation on the objective's coarse grid: [`PHASES`] phases at
-//! amplitude A₀ = [`FIRST_AMPLITUDE`] of the in-plane limit along b̂, then
-//! the amplitudes A₀·[`AMPLITUDE_FACTORS`] at the best phase. It returns the
+//! amplitude A₀ = `FIRST_AMPLITUDE` of the in-plane limit along b̂, then
+//! the amplitudes A₀·`AMPLITUDE_FACTORS` at the best phase. It returns the
 //! best evaluation by the objective's cost, the start's own included, so it
 //! never makes the start worse; peaks beyond the limits are clamped (and
 //! penalised) by the objective as for any motion.
