@@ -83,11 +83,7 @@
 //! the measured turn removes it without changing any amplitude (so the
 //! peaks and the contact margin are the seed's); measured on the lab sink
 //! (`tests/synth.rs`), 16.0 % → 2.4 % shape error at 0.506 → 0.512 s⁻¹ in
-//! one step. Where the target's uniform part b needs more vertical
-//! acceleration than the limits allow (and a second harmonic is allowed),
-//! the seed leaves b out and an in-plane transport harmonic along b̂ —
-//! waveform asymmetry, as the paper's Trans primitive — is calibrated on
-//! top ([`transport`]). Then [`refine`] runs argmin's Nelder–Mead on the six signals' Fourier
+//! one step. Then [`refine`] runs argmin's Nelder–Mead on the six signals' Fourier
 //! coefficients ([`params`]), from the calibrated seed and from the seed
 //! itself: the objective re-simulates the steady-state
 //! velocity field on a coarse grid ([`objective`]). Nelder–Mead because the
@@ -107,7 +103,6 @@ pub mod progress;
 pub mod refine;
 pub mod seed;
 mod synthesize;
-pub mod transport;
 
 pub use limits::ShakerLimits;
 pub use synthesize::{synthesize, AxisPeak, SynthOptions, Synthesis};

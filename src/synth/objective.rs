@@ -165,11 +165,6 @@ impl<'a> Objective<'a> {
         &self.layout
     }
 
-    /// The shaker limits the motions are clamped onto.
-    pub fn limits(&self) -> &ShakerLimits {
-        self.limits
-    }
-
     /// The motion a parameter vector stands for (clamped onto the limits)
     /// and its relative peak excess before clamping.
     pub fn motion(&self, params: &[f64]) -> (Coefficients, f64) {

@@ -167,11 +167,6 @@ pub struct Seed {
     pub strength: f64,
     /// What limited the strength or could not be realised.
     pub notes: Vec<String>,
-    /// Direction (unit vector) of the target's uniform part b when the
-    /// vertical limit cannot carry it and a second harmonic is allowed: the
-    /// seed then leaves b to an in-plane transport harmonic calibrated by
-    /// re-simulation ([`super::transport`]).
-    pub transport: Option<[f64; 2]>,
 }
 
 /// The closed-form seed for `field` over `region` under `limits`.
@@ -221,31 +216,9 @@ pub fn seed(
             .iter()
             .map(|w| w.1[0].hypot(w.1[1]))
             .fold(0.0, f64::max);
-    // The vertical carries b only through a_z; where its limit would bind
-    // the whole seed while the tilts could go further, and a second
-    // harmonic is allowed, b is left to the in-plane transport harmonic.
-    let tilt_strength = wanted[..2]
-        .iter()
-        .map(|(axis, [p, q])| lim[*axis] / p.hypot(*q))
-        .filter(|k| k.is_finite() && *k > 0.0)
-        .fold(f64::INFINITY, f64::min);
-    let [bp, bq] = wanted[2].1;
-    let b_norm = fit.b[0].hypot(fit.b[1]);
-    let transport = (limits.harmonics >= 2
-        && tilt_strength.is_finite()
-        && bp.hypot(bq) > floor
-        && lim[LIN_Z] / bp.hypot(bq) < tilt_strength)
-        .then(|| [fit.b[0] / b_norm, fit.b[1] / b_norm]);
-    if transport.is_some() {
-        notes.push(format!(
-            "the vertical limit {:.4} m/s² carries only {:.0} % of the uniform part b at the tilts' strength {tilt_strength:.4}: b is left to an in-plane transport harmonic",
-            lim[LIN_Z],
-            100.0 * lim[LIN_Z] / (bp.hypot(bq) * tilt_strength)
-        ));
-    }
     for (axis, [p, q]) in wanted {
         let r = p.hypot(q);
-        if r <= floor || (axis == LIN_Z && transport.is_some()) {
+        if r <= floor {
             continue;
         }
         if lim[axis] <= 0.0 {
@@ -303,6 +276,5 @@ pub fn seed(
         fit,
         strength,
         notes,
-        transport,
     })
 }

@@ -12,7 +12,6 @@ use super::params::{Layout, AXIS_NAMES};
 use super::progress::{Progress, ProgressMode};
 use super::refine::{refine, RefineOptions};
 use super::seed::{seed, Seed};
-use super::transport;
 use crate::error::{positive, Error, Result};
 use crate::field::{Field, FieldKind, FieldSettings, Grid};
 use crate::motion::{Motion, Signals};
@@ -201,12 +200,6 @@ pub fn synthesize(
         calibrate(&objective, &seed.coefficients, &seed_eval)
     } else {
         seed_eval.clone()
-    };
-    // A uniform part the vertical limit cannot carry: an in-plane
-    // transport harmonic, calibrated on top.
-    let first = match seed.transport {
-        Some(dir) => transport::calibrate(&objective, &first, dir),
-        None => first,
     };
     let extra: Vec<Vec<f64>> = if first.params == x0 {
         Vec::new()
