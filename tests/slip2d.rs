@@ -550,3 +550,23 @@ fn rotated_linesink() {
         assert!(e <= 1e-6, "{scheme:?}: {e:.2e}");
     }
 }
+
+/// Two DivCircle cycles that went wrong at 1024 steps per cycle only (the
+/// 11×11×30 engine-speed grid): a break-away just before a step's end left
+/// |u| ≪ h μ_k N along a_free for an explicit step (2.0e-5 m/s off), and a
+/// slip slowing to a stop with a_free nearly along û took explicit steps
+/// that grew stiff (2.2e-7 m/s off). Each cycle's end velocity at 512,
+/// 1024 and 2048 steps now agrees within 1e-8 m/s (measured ≤ 1.5e-8 over
+/// all 3630 cycles of that grid, `worst_cycles`).
+#[test]
+fn fine_steps_agree_at_former_outliers() {
+    let motion = Primitive::new(PrimitiveKind::DivCircle).motion();
+    let period = motion.period();
+    for (pt, j) in [([-0.024, -0.016], 2.0), ([0.008, -0.024], 21.0)] {
+        let t0 = period * j / 30.0;
+        let end = |n: usize| one_cycle(&motion, n, SlipScheme::Regularised, pt, t0).0.u;
+        let (a, b, c) = (end(512), end(1024), end(2048));
+        let (ab, bc) = ((a - b).norm(), (b - c).norm());
+        assert!(ab <= 1e-8 && bc <= 1e-8, "{pt:?} phase {j}: {ab:.2e} {bc:.2e}");
+    }
+}
