@@ -54,7 +54,9 @@
 //!   2.7–4.3 from 16 to 64 steps (`tests/slip2d.rs`, `results/engine_speed.md`).
 //!
 //! 1-D slips are unaffected by the choice except at starts from rest (both
-//! exact for piecewise-constant accelerations).
+//! exact for piecewise-constant accelerations). A slip on the motion's line
+//! ([`Motion::slip_axis`]: the LineSink, LineSource and Trans) skips the 2-D
+//! checks, which cannot fire there, bitwise the same (`line_tests.rs`).
 
 use nalgebra::Vector2;
 
@@ -146,6 +148,9 @@ pub struct Simulator<'a> {
     v_scale: f64,
     /// Kinematics tabulated on the fixed-step time grid, when given.
     table: Option<&'a KinematicsTable<'a>>,
+    /// The motion's slip axis ([`Motion::slip_axis`]): a part whose slip
+    /// velocity has no component across it slips on a line.
+    line: Option<usize>,
 }
 
 impl<'a> Simulator<'a> {
@@ -168,6 +173,7 @@ impl<'a> Simulator<'a> {
             breakpoints: motion.breakpoints(),
             v_scale: (friction.kinetic.max(1e-3) * gravity.max(1e-3) * period).max(1e-300),
             table: None,
+            line: motion.slip_axis(),
         }
     }
 
@@ -316,19 +322,33 @@ impl<'a> Simulator<'a> {
         u: &V2,
         anchor: &V2,
     ) -> Result<(V2, V2, Kinematics), ContactLoss> {
-        let d0 = self.slip_direction(k0, r, u, anchor);
         let km = self.kin(t + 0.5 * h, piece);
         let k1k = self.kin(t + h, piece);
+        self.rk4_with(t, h, [k0, &km, &k1k], r, u, anchor)
+    }
+
+    /// [`Simulator::rk4`] with the kinematics at t, t + h/2 and t + h at hand.
+    #[inline]
+    fn rk4_with(
+        &self,
+        t: f64,
+        h: f64,
+        [k0, km, k1k]: [&Kinematics; 3],
+        r: &V2,
+        u: &V2,
+        anchor: &V2,
+    ) -> Result<(V2, V2, Kinematics), ContactLoss> {
+        let d0 = self.slip_direction(k0, r, u, anchor);
         let a1 = self.slip_rhs(k0, t, r, u, &d0, anchor)?;
         let (r2, u2) = (r + u * (0.5 * h), u + a1 * (0.5 * h));
-        let a2 = self.slip_rhs(&km, t + 0.5 * h, &r2, &u2, &d0, anchor)?;
+        let a2 = self.slip_rhs(km, t + 0.5 * h, &r2, &u2, &d0, anchor)?;
         let (r3, u3) = (r + u2 * (0.5 * h), u + a2 * (0.5 * h));
-        let a3 = self.slip_rhs(&km, t + 0.5 * h, &r3, &u3, &d0, anchor)?;
+        let a3 = self.slip_rhs(km, t + 0.5 * h, &r3, &u3, &d0, anchor)?;
         let (r4, u4) = (r + u3 * h, u + a3 * h);
-        let a4 = self.slip_rhs(&k1k, t + h, &r4, &u4, &d0, anchor)?;
+        let a4 = self.slip_rhs(k1k, t + h, &r4, &u4, &d0, anchor)?;
         let r1 = r + (u + (u2 + u3) * 2.0 + u4) * (h / 6.0);
         let u1 = u + (a1 + (a2 + a3) * 2.0 + a4) * (h / 6.0);
-        Ok((r1, u1, k1k))
+        Ok((r1, u1, *k1k))
     }
 
     /// Advances `state` from `t0` to `t1`. The kinematics use the current
@@ -419,25 +439,59 @@ impl<'a> Simulator<'a> {
                 _ => self.kin(*t, piece),
             };
             let u0 = state.u;
-            // N and a_free at the step's start, for the schemes' checks.
-            let start = (self.numerics.slip != SlipScheme::Legacy && u0 != V2::zeros())
-                .then(|| self.forces(&k0, &state.r, &u0, anchor));
-            if let (SlipScheme::Regularised, Some((n, free))) = (self.numerics.slip, start) {
-                if self.wants_tau(n, &free, &u0) {
-                    self.swing(t, target, piece, state, anchor, out)?;
+            let line = self.line.is_some_and(|i| u0[1 - i] == 0.0);
+            // Kinematics at the stages of a start from rest on a line.
+            let mut stages = None;
+            if line {
+                // A slip on the motion's line ([`Motion::slip_axis`]): a_free
+                // lies along it, a_⊥ = 0, so the 2-D checks cannot fire
+                // (`wants_tau`, `wants_radau` while slipping and
+                // `ends_in_turn` are false, `slip_step` the rest of the step
+                // outside a swing) and are skipped. A start from rest asks
+                // only whether a_free keeps its sign over the step, with the
+                // kinematics the explicit step then reuses.
+                if u0 == V2::zeros() && self.numerics.slip != SlipScheme::Legacy {
+                    let h = target - *t;
+                    let km = self.kin(*t + 0.5 * h, piece);
+                    let k1 = self.kin(*t + h, piece);
+                    if !self.keeps_direction(&k0, [&km, &k1], &state.r, &u0, anchor)
+                        && self.radau_to(t, target, piece, state, anchor, out)?
+                    {
+                        #[cfg(test)]
+                        line_tests::LINE_RADAU.with(|c| c.set(c.get() + 1));
+                        swing = 0;
+                        continue;
+                    }
+                    stages = Some((km, k1));
+                }
+            } else {
+                // N and a_free at the step's start, for the schemes' checks.
+                let start = (self.numerics.slip != SlipScheme::Legacy && u0 != V2::zeros())
+                    .then(|| self.forces(&k0, &state.r, &u0, anchor));
+                if let (SlipScheme::Regularised, Some((n, free))) = (self.numerics.slip, start) {
+                    if self.wants_tau(n, &free, &u0) {
+                        self.swing(t, target, piece, state, anchor, out)?;
+                        swing = 0;
+                        continue;
+                    }
+                }
+                if self.numerics.slip != SlipScheme::Legacy
+                    && self.implicit_slip(&k0, t, target, piece, state, anchor, out, start)?
+                {
                     swing = 0;
                     continue;
                 }
             }
-            if self.numerics.slip != SlipScheme::Legacy
-                && self.implicit_slip(&k0, t, target, piece, state, anchor, out, start)?
-            {
-                swing = 0;
-                continue;
-            }
-            let h = self.slip_step(&k0, target - *t, state, anchor, swing > 0);
+            let h = if line && swing == 0 {
+                target - *t
+            } else {
+                self.slip_step(&k0, target - *t, state, anchor, swing > 0)
+            };
             swing = swing.saturating_sub(1);
-            let (r1, u1, k1) = self.rk4(*t, h, piece, &k0, &state.r, &u0, anchor)?;
+            let (r1, u1, k1) = match &stages {
+                Some((km, k1)) => self.rk4_with(*t, h, [&k0, km, k1], &state.r, &u0, anchor)?,
+                None => self.rk4(*t, h, piece, &k0, &state.r, &u0, anchor)?,
+            };
             out.rk4_steps += 1;
             if !(r1.iter().all(|x| x.is_finite()) && u1.norm_squared().is_finite()) {
                 // Arithmetic overflow (|u|² beyond f64): stop with the slip
@@ -447,6 +501,7 @@ impl<'a> Simulator<'a> {
                 return Ok(());
             }
             if self.numerics.slip != SlipScheme::Legacy
+                && !line
                 && u0 != V2::zeros()
                 && u1.dot(&u0) > 0.0
                 && cuts < MAX_CUTS
@@ -563,17 +618,7 @@ impl<'a> Simulator<'a> {
         let tiny = self.numerics.event_tol * self.period;
         match self.wants_radau(k0, *t, rest, piece, state, anchor, start) {
             None => Ok(false),
-            Some(true) => {
-                match self.radau_step(*t, rest, piece, state, anchor, &mut out.rk4_steps)? {
-                    Some(e) => {
-                        state.r = e.r;
-                        state.u = e.u;
-                        *t = target;
-                        Ok(true)
-                    }
-                    None => Ok(false),
-                }
-            }
+            Some(true) => self.radau_to(t, target, piece, state, anchor, out),
             Some(false) => {
                 let dir0 = state.u / state.u.norm();
                 let du0 = self.slip_rhs(k0, *t, &state.r, &state.u, &dir0, anchor)?;
@@ -611,6 +656,30 @@ impl<'a> Simulator<'a> {
                     }
                 }
             }
+        }
+    }
+
+    /// An implicit step from `*t` to `target` (a slip speeding up); true
+    /// when it was taken (`t`, `state` advanced), false when its
+    /// collocation equations did not converge.
+    fn radau_to(
+        &self,
+        t: &mut f64,
+        target: f64,
+        piece: f64,
+        state: &mut PartState,
+        anchor: &V2,
+        out: &mut CycleOutcome,
+    ) -> Result<bool, ContactLoss> {
+        let rest = target - *t;
+        match self.radau_step(*t, rest, piece, state, anchor, &mut out.rk4_steps)? {
+            Some(e) => {
+                state.r = e.r;
+                state.u = e.u;
+                *t = target;
+                Ok(true)
+            }
+            None => Ok(false),
         }
     }
 
@@ -1075,3 +1144,7 @@ fn hermite_root(p0: f64, d0: f64, p1: f64, d1: f64) -> f64 {
 #[cfg(test)]
 #[path = "stop_tests.rs"]
 mod stop_tests;
+
+#[cfg(test)]
+#[path = "line_tests.rs"]
+mod line_tests;

@@ -123,17 +123,13 @@ impl Simulator<'_> {
     ) -> Option<bool> {
         let s = state.u.norm();
         if s == 0.0 {
-            // From rest along a fixed line (a 1-D slip: a_free keeps its
-            // direction at the step's RK4 nodes) the explicit step is exact
-            // for piecewise-constant accelerations and needs no stiff solve.
-            let (_, f0) = self.forces(k0, &state.r, &state.u, anchor);
-            let one_d = [0.5, 1.0].iter().all(|c| {
-                let k = self.kin(t + c * h, piece);
-                let (_, f) = self.forces(&k, &state.r, &state.u, anchor);
-                let cross = f0.x * f.y - f0.y * f.x;
-                cross.abs() <= 1e-12 * f0.norm() * f.norm() && f0.dot(&f) > 0.0
-            });
-            return if one_d { None } else { Some(true) };
+            let km = self.kin(t + 0.5 * h, piece);
+            let k1 = self.kin(t + h, piece);
+            return if self.keeps_direction(k0, [&km, &k1], &state.r, &state.u, anchor) {
+                None
+            } else {
+                Some(true)
+            };
         }
         let (n, free) = start.unwrap_or_else(|| self.forces(k0, &state.r, &state.u, anchor));
         let c = self.friction().kinetic * n;
@@ -154,6 +150,27 @@ impl Simulator<'_> {
         } else {
             None
         }
+    }
+
+    /// True when a_free at (`r`, `u`) keeps the direction it has with the
+    /// kinematics `k0` (at a step's start) with each of `ks` (at the step's
+    /// RK4 nodes t + h/2 and t + h). From rest along such a fixed line (a
+    /// 1-D slip) the explicit step is exact for piecewise-constant
+    /// accelerations and needs no stiff solve.
+    pub(super) fn keeps_direction(
+        &self,
+        k0: &crate::motion::Kinematics,
+        ks: [&crate::motion::Kinematics; 2],
+        r: &V2,
+        u: &V2,
+        anchor: &V2,
+    ) -> bool {
+        let (_, f0) = self.forces(k0, r, u, anchor);
+        ks.iter().all(|k| {
+            let (_, f) = self.forces(k, r, u, anchor);
+            let cross = f0.x * f.y - f0.y * f.x;
+            cross.abs() <= 1e-12 * f0.norm() * f.norm() && f0.dot(&f) > 0.0
+        })
     }
 
     /// An implicit step of at most `rest` from a slip slowing along a_free,

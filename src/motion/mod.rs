@@ -146,6 +146,28 @@ impl Motion {
         }
     }
 
+    /// The plate axis i (0 = x, 1 = y) along which every point's free
+    /// acceleration lies, exactly, for a part slipping along it, at every
+    /// instant and under every model switch (centripetal, tilt, Coriolis,
+    /// moving); `None` when there is none or it is not known.
+    ///
+    /// With e the unit vector of axis i and ê the other in-plane one, that
+    /// holds when Ω and Ω' are along ê and a_c along e (a screw rotating
+    /// about ê and translating along e): at a plate point d = r − c (r in
+    /// the plane) the ê components of a_c, Ω' × d, Ω × (Ω × d) and the
+    /// Coriolis term 2 Ω × u (u along e) are sums of products each with an
+    /// exact zero factor, and a tilted gravity,
+    /// rotated about ê, keeps a zero ê component. So a slip starting at
+    /// rest or along e stays on the line (its ê component exactly zero) and
+    /// the integrator skips its 2-D checks for it (`src/dynamics/integrator.rs`).
+    /// Six-signal motions return `None`.
+    pub fn slip_axis(&self) -> Option<usize> {
+        match self {
+            Motion::Screw(s) => s.slip_axis(),
+            Motion::Signals(_) | Motion::Ramped(_) => None,
+        }
+    }
+
     /// Validates all parameters; errors name the field under `field`.
     pub fn validate(&self, field: &str) -> Result<()> {
         match self {
