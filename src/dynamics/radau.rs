@@ -289,7 +289,7 @@ impl Simulator<'_> {
     ) -> Result<Option<RadauEnd>, ContactLoss> {
         let tab = tableau();
         let (r0, u0) = (state.r, state.u);
-        let kin: [_; 3] = std::array::from_fn(|j| self.kin(t + tab.c[j] * h, piece));
+        let kin: [_; 3] = std::array::from_fn(|j| self.kin_off_grid(t + tab.c[j] * h, piece));
         let mu = self.friction().kinetic;
         // Right-hand side at stage j: a_free − μ_k N Û, the friction
         // Jacobian's stiff factor μ_k N/|U|, and Û.
