@@ -62,7 +62,7 @@ use nalgebra::Vector2;
 
 use super::radau::Slowing;
 use super::{ContactLoss, Friction, KinematicsTable, Model, Numerics, SlipScheme};
-use crate::motion::{Kinematics, Motion, V3};
+use crate::motion::{Kinematics, Motion, PreparedMotion, V3};
 
 /// 2-vector of f64.
 pub type V2 = Vector2<f64>;
@@ -148,6 +148,9 @@ pub struct Simulator<'a> {
     v_scale: f64,
     /// Kinematics tabulated on the fixed-step time grid, when given.
     table: Option<&'a KinematicsTable<'a>>,
+    /// The motion with its constants worked out, for evaluating the
+    /// kinematics off the table (bitwise [`Motion::kinematics_piece`]).
+    prepared: PreparedMotion<'a>,
     /// The motion's slip axis ([`Motion::slip_axis`]): a part whose slip
     /// velocity has no component across it slips on a line.
     line: Option<usize>,
@@ -174,6 +177,7 @@ impl<'a> Simulator<'a> {
             v_scale: (friction.kinetic.max(1e-3) * gravity.max(1e-3) * period).max(1e-300),
             table: None,
             line: motion.slip_axis(),
+            prepared: PreparedMotion::new(motion),
         }
     }
 
@@ -227,7 +231,7 @@ impl<'a> Simulator<'a> {
         if let Some(k) = self.table.and_then(|table| table.get(t, piece)) {
             return *k;
         }
-        self.motion
+        self.prepared
             .kinematics_piece(t, piece, self.gravity, self.model.tilt)
     }
 
@@ -238,7 +242,7 @@ impl<'a> Simulator<'a> {
     /// [`Simulator::kin`] (the table is a memo of this evaluation).
     #[inline]
     pub(super) fn kin_off_grid(&self, t: f64, piece: f64) -> Kinematics {
-        self.motion
+        self.prepared
             .kinematics_piece(t, piece, self.gravity, self.model.tilt)
     }
 

@@ -16,12 +16,14 @@
 //! or the plate centre for six-signal motions), v_c and a_c its velocity and
 //! acceleration, and Ω, Ω' the angular velocity and acceleration, all in S'.
 
+mod prepared;
 mod ramped;
 pub mod sample_hold;
 mod screw;
 mod signals;
 mod waveform;
 
+pub use prepared::PreparedMotion;
 pub use ramped::{smoothstep, Ramped};
 pub use screw::Screw;
 pub use signals::{Axes, Signals};
