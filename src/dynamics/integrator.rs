@@ -60,6 +60,7 @@
 
 use nalgebra::Vector2;
 
+use super::kinematics_table::StepNodes;
 use super::radau::Slowing;
 use super::{ContactLoss, Friction, KinematicsTable, Model, Numerics, SlipScheme};
 use crate::motion::{Kinematics, Motion, PreparedMotion, V3};
@@ -416,10 +417,12 @@ impl<'a> Simulator<'a> {
             let (a, b) = (w[0], w[1]);
             let n = super::step_count(a, b, nominal);
             let piece = 0.5 * (a + b);
+            let nodes = self.table.and_then(|table| table.piece(a, b, n, piece));
             let mut t = a;
             for i in 1..=n {
                 let target = super::step_end(a, b, n, i);
-                self.advance_piece(&mut t, target, piece, state, anchor, &mut out)?;
+                let grid = nodes.map(|p| p.step(i));
+                self.advance_piece(&mut t, target, piece, grid, state, anchor, &mut out)?;
                 if let Some(rec) = record.as_deref_mut() {
                     rec.push(TrajectoryPoint { t, state: *state });
                 }
@@ -429,12 +432,15 @@ impl<'a> Simulator<'a> {
         Ok(out)
     }
 
-    /// Advances from `*t` to `target` within one smooth piece.
+    /// Advances from `*t` to `target` within one smooth piece; `grid` holds
+    /// the tabulated kinematics of the fixed step ending at `target`.
+    #[allow(clippy::too_many_arguments)]
     fn advance_piece(
         &self,
         t: &mut f64,
         target: f64,
         piece: f64,
+        grid: Option<StepNodes<'_>>,
         state: &mut PartState,
         anchor: &V2,
         out: &mut CycleOutcome,
@@ -447,8 +453,9 @@ impl<'a> Simulator<'a> {
         let mut next_k: Option<(f64, Kinematics)> = None;
         while *t < target {
             if state.u == V2::zeros() && !state.stuck {
-                state.stuck = match &next_k {
-                    Some((tk, k)) if *tk == *t => self.margin_of(k, &state.r, anchor),
+                state.stuck = match (&next_k, grid.and_then(|g| g.at_start(*t))) {
+                    (Some((tk, k)), _) if *tk == *t => self.margin_of(k, &state.r, anchor),
+                    (_, Some(k)) => self.margin_of(k, &state.r, anchor),
                     _ => self.margin(*t, piece, &state.r, anchor),
                 } >= 0.0;
             }
@@ -470,7 +477,10 @@ impl<'a> Simulator<'a> {
             }
             let k0 = match next_k.take() {
                 Some((tk, k)) if tk == *t => k,
-                _ => self.kin(*t, piece),
+                _ => match grid.and_then(|g| g.at_start(*t)) {
+                    Some(k) => *k,
+                    None => self.kin(*t, piece),
+                },
             };
             let u0 = state.u;
             let line = self.line.is_some_and(|i| u0[1 - i] == 0.0);
@@ -486,8 +496,10 @@ impl<'a> Simulator<'a> {
                 // kinematics the explicit step then reuses.
                 if u0 == V2::zeros() && self.numerics.slip != SlipScheme::Legacy {
                     let h = target - *t;
-                    let km = self.kin(*t + 0.5 * h, piece);
-                    let k1 = self.kin(*t + h, piece);
+                    let (km, k1) = match grid.and_then(|g| g.stages(*t, h, target)) {
+                        Some([km, k1]) => (*km, *k1),
+                        None => (self.kin(*t + 0.5 * h, piece), self.kin(*t + h, piece)),
+                    };
                     if !self.keeps_direction(&k0, [&km, &k1], &state.r, &u0, anchor)
                         && self.radau_to(t, target, piece, state, anchor, out)?
                     {
@@ -522,9 +534,14 @@ impl<'a> Simulator<'a> {
                 self.slip_step(&k0, target - *t, state, anchor, swing > 0)
             };
             swing = swing.saturating_sub(1);
-            let (r1, u1, k1) = match &stages {
-                Some((km, k1)) => self.rk4_with(*t, h, [&k0, km, k1], &state.r, &u0, anchor)?,
-                None => self.rk4(*t, h, piece, &k0, &state.r, &u0, anchor)?,
+            let (r1, u1, k1) = match (&stages, grid.and_then(|g| g.stages(*t, h, target))) {
+                (Some((km, k1)), _) => {
+                    self.rk4_with(*t, h, [&k0, km, k1], &state.r, &u0, anchor)?
+                }
+                (None, Some([km, k1])) => {
+                    self.rk4_with(*t, h, [&k0, km, k1], &state.r, &u0, anchor)?
+                }
+                (None, None) => self.rk4(*t, h, piece, &k0, &state.r, &u0, anchor)?,
             };
             out.rk4_steps += 1;
             if !(r1.iter().all(|x| x.is_finite()) && u1.norm_squared().is_finite()) {
