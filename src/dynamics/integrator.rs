@@ -326,6 +326,10 @@ impl<'a> Simulator<'a> {
 
     /// One RK4 step of the slipping dynamics from (t, r, u) over `h`,
     /// with `k0` the kinematics at t. Returns (r, u, du/dt at the end).
+    /// The stage kinematics are evaluated directly when `off_grid` (the
+    /// trial steps of an event location: a stop, a back-off, whose stage
+    /// instants are off the table's grid; the same values), looked up in the
+    /// table first otherwise.
     #[allow(clippy::too_many_arguments)]
     #[inline]
     fn rk4(
@@ -337,28 +341,16 @@ impl<'a> Simulator<'a> {
         r: &V2,
         u: &V2,
         anchor: &V2,
+        off_grid: bool,
     ) -> Result<(V2, V2, Kinematics), ContactLoss> {
-        let km = self.kin(t + 0.5 * h, piece);
-        let k1k = self.kin(t + h, piece);
-        self.rk4_with(t, h, [k0, &km, &k1k], r, u, anchor)
-    }
-
-    /// [`Simulator::rk4`] for a trial step of an event location (a stop, a
-    /// back-off), whose stage instants are off the table's grid
-    /// ([`Simulator::kin_off_grid`]; the same values).
-    #[allow(clippy::too_many_arguments)]
-    fn rk4_trial(
-        &self,
-        t: f64,
-        h: f64,
-        piece: f64,
-        k0: &Kinematics,
-        r: &V2,
-        u: &V2,
-        anchor: &V2,
-    ) -> Result<(V2, V2, Kinematics), ContactLoss> {
-        let km = self.kin_off_grid(t + 0.5 * h, piece);
-        let k1k = self.kin_off_grid(t + h, piece);
+        let kin = |t: f64| {
+            if off_grid {
+                self.kin_off_grid(t, piece)
+            } else {
+                self.kin(t, piece)
+            }
+        };
+        let (km, k1k) = (kin(t + 0.5 * h), kin(t + h));
         self.rk4_with(t, h, [k0, &km, &k1k], r, u, anchor)
     }
 
@@ -541,7 +533,7 @@ impl<'a> Simulator<'a> {
                 (None, Some([km, k1])) => {
                     self.rk4_with(*t, h, [&k0, km, k1], &state.r, &u0, anchor)?
                 }
-                (None, None) => self.rk4(*t, h, piece, &k0, &state.r, &u0, anchor)?,
+                (None, None) => self.rk4(*t, h, piece, &k0, &state.r, &u0, anchor, false)?,
             };
             out.rk4_steps += 1;
             if !(r1.iter().all(|x| x.is_finite()) && u1.norm_squared().is_finite()) {
@@ -641,7 +633,7 @@ impl<'a> Simulator<'a> {
         out: &mut CycleOutcome,
     ) -> Result<(), ContactLoss> {
         let sb = self.locate_stop(*t, h, piece, k0, state, anchor, level, out)?;
-        let (rb, ub, _) = self.rk4_trial(*t, sb, piece, k0, &state.r, &state.u, anchor)?;
+        let (rb, ub, _) = self.rk4(*t, sb, piece, k0, &state.r, &state.u, anchor, true)?;
         out.rk4_steps += 1;
         *t += sb;
         state.r = rb;
@@ -838,7 +830,7 @@ impl<'a> Simulator<'a> {
         }
         let tol = self.numerics.event_tol * self.period;
         for _ in 0..60 {
-            let (rs, us, ks) = self.rk4_trial(t, s, piece, k0, &state.r, &u0, anchor)?;
+            let (rs, us, ks) = self.rk4(t, s, piece, k0, &state.r, &u0, anchor, true)?;
             out.rk4_steps += 1;
             let g = us.dot(&u0) - shift;
             if g > 0.0 {
@@ -902,7 +894,7 @@ impl<'a> Simulator<'a> {
         if !(on_x || (u0.x == 0.0 && u1.x == 0.0)) {
             // A 2-D slip (swinging past u = 0 or stopping): Newton from s = 0.
             let s = self.locate_stop(t, h, piece, k0, state, anchor, 0.0, out)?;
-            let (rs, us, _) = self.rk4_trial(t, s, piece, k0, &state.r, &u0, anchor)?;
+            let (rs, us, _) = self.rk4(t, s, piece, k0, &state.r, &u0, anchor, true)?;
             out.rk4_steps += 1;
             return Ok((s, rs, us));
         }
@@ -923,7 +915,7 @@ impl<'a> Simulator<'a> {
         let mut s = h * hermite_root(g0, h * d0, gh, h * dh);
         let mut last_delta = f64::NAN;
         for _ in 0..60 {
-            let (rs, us, ks) = self.rk4_trial(t, s, piece, k0, &state.r, &u0, anchor)?;
+            let (rs, us, ks) = self.rk4(t, s, piece, k0, &state.r, &u0, anchor, true)?;
             out.rk4_steps += 1;
             let g = us.dot(&u0);
             if g == 0.0 {
@@ -969,7 +961,7 @@ impl<'a> Simulator<'a> {
                 break;
             }
         }
-        let (rs, us, _) = self.rk4_trial(t, hi, piece, k0, &state.r, &u0, anchor)?;
+        let (rs, us, _) = self.rk4(t, hi, piece, k0, &state.r, &u0, anchor, true)?;
         out.rk4_steps += 1;
         Ok((hi, rs, us))
     }

@@ -282,6 +282,12 @@ impl<'a> KinematicsTable<'a> {
 
     #[inline]
     fn find(&self, t: f64, piece: f64) -> Option<&Kinematics> {
+        self.keyed(piece)?.find(t)
+    }
+
+    /// The piece keyed `piece` (its bits), if any.
+    #[inline]
+    fn keyed(&self, piece: f64) -> Option<&PieceNodes> {
         let bits = self.slots.len().trailing_zeros();
         let mut h = home(piece, bits);
         loop {
@@ -291,7 +297,7 @@ impl<'a> KinematicsTable<'a> {
             }
             let p = &self.pieces[i as usize];
             if p.piece.to_bits() == piece.to_bits() {
-                return p.find(t);
+                return Some(p);
             }
             h = (h + 1) & (self.slots.len() - 1);
         }
@@ -301,20 +307,8 @@ impl<'a> KinematicsTable<'a> {
     /// tabulated (one lookup per piece instead of one per instant).
     #[inline]
     pub(super) fn piece(&self, a: f64, b: f64, n: usize, piece: f64) -> Option<&PieceNodes> {
-        let bits = self.slots.len().trailing_zeros();
-        let mut h = home(piece, bits);
-        loop {
-            let i = *self.slots.get(h)?;
-            if i == u32::MAX {
-                return None;
-            }
-            let p = &self.pieces[i as usize];
-            if p.piece.to_bits() == piece.to_bits() {
-                let same = p.a.to_bits() == a.to_bits() && p.b.to_bits() == b.to_bits() && p.n == n;
-                return same.then_some(p);
-            }
-            h = (h + 1) & (self.slots.len() - 1);
-        }
+        self.keyed(piece)
+            .filter(|p| p.a.to_bits() == a.to_bits() && p.b.to_bits() == b.to_bits() && p.n == n)
     }
 
     /// Lookups that (hit, missed) so far (test builds only).
