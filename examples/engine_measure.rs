@@ -114,6 +114,48 @@ fn main() {
             64,
         ),
         (
+            "DivCircle force 21x21x30, 64 steps".into(),
+            Primitive::new(PrimitiveKind::DivCircle).motion(),
+            Grid::DEFAULT,
+            FieldKind::Force,
+            64,
+        ),
+        (
+            "Circle force 21x21x30, 64 steps".into(),
+            Primitive::new(PrimitiveKind::Circle).motion(),
+            Grid::DEFAULT,
+            FieldKind::Force,
+            64,
+        ),
+        (
+            "SkewSink force 21x21x30, 64 steps".into(),
+            Primitive::new(PrimitiveKind::SkewSink).motion(),
+            Grid::DEFAULT,
+            FieldKind::Force,
+            64,
+        ),
+        (
+            "SkewSource force 21x21x30, 64 steps".into(),
+            Primitive::new(PrimitiveKind::SkewSource).motion(),
+            Grid::DEFAULT,
+            FieldKind::Force,
+            64,
+        ),
+        (
+            "ScaledCircle force 21x21x30, 16 steps".into(),
+            Primitive::new(PrimitiveKind::ScaledCircle).motion(),
+            Grid::DEFAULT,
+            FieldKind::Force,
+            16,
+        ),
+        (
+            "DivCircle force 21x21x30, 16 steps".into(),
+            Primitive::new(PrimitiveKind::DivCircle).motion(),
+            Grid::DEFAULT,
+            FieldKind::Force,
+            16,
+        ),
+        (
             "ScaledCircle velocity 21x21, 64 steps".into(),
             Primitive::new(PrimitiveKind::ScaledCircle).motion(),
             Grid::DEFAULT,
@@ -152,14 +194,20 @@ fn main() {
                 .build()
                 .expect("thread pool");
             let mut best = f64::INFINITY;
+            let cpu0 = cpu_seconds();
             for _ in 0..repeats {
                 let start = Instant::now();
                 let fields = pool.install(build);
                 best = best.min(start.elapsed().as_secs_f64());
                 assert_eq!(fields.len(), 8);
             }
+            let cpu = match (cpu0, cpu_seconds()) {
+                (Some(a), Some(b)) => (b - a) / repeats as f64,
+                _ => f64::NAN,
+            };
             println!(
-                "library: 8 force fields 21x21x30 at {steps} steps, 2 threads: {best:.3} s wall"
+                "library: 8 force fields 21x21x30 at {steps} steps, 2 threads: {best:.3} s wall, \
+                 {cpu:.2} s CPU"
             );
         }
     }

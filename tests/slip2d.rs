@@ -567,6 +567,9 @@ fn fine_steps_agree_at_former_outliers() {
         let end = |n: usize| one_cycle(&motion, n, SlipScheme::Regularised, pt, t0).0.u;
         let (a, b, c) = (end(512), end(1024), end(2048));
         let (ab, bc) = ((a - b).norm(), (b - c).norm());
-        assert!(ab <= 1e-8 && bc <= 1e-8, "{pt:?} phase {j}: {ab:.2e} {bc:.2e}");
+        assert!(
+            ab <= 1e-8 && bc <= 1e-8,
+            "{pt:?} phase {j}: {ab:.2e} {bc:.2e}"
+        );
     }
 }

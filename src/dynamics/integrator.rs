@@ -54,14 +54,17 @@
 //!   2.7–4.3 from 16 to 64 steps (`tests/slip2d.rs`, `results/engine_speed.md`).
 //!
 //! 1-D slips are unaffected by the choice except at starts from rest (both
-//! exact for piecewise-constant accelerations).
+//! exact for piecewise-constant accelerations). A slip on the motion's line
+//! ([`Motion::slip_axis`]: the LineSink, LineSource and Trans) skips the 2-D
+//! checks, which cannot fire there, bitwise the same (`line_tests.rs`).
 
 use nalgebra::Vector2;
 
+use super::kinematics_table::StepNodes;
 use super::radau::Slowing;
 use super::swing::ACROSS_ROUND_OFF;
 use super::{ContactLoss, Friction, KinematicsTable, Model, Numerics, SlipScheme};
-use crate::motion::{Kinematics, Motion, V3};
+use crate::motion::{Kinematics, Motion, PreparedMotion, V3};
 
 /// 2-vector of f64.
 pub type V2 = Vector2<f64>;
@@ -147,6 +150,12 @@ pub struct Simulator<'a> {
     v_scale: f64,
     /// Kinematics tabulated on the fixed-step time grid, when given.
     table: Option<&'a KinematicsTable<'a>>,
+    /// The motion with its constants worked out, for evaluating the
+    /// kinematics off the table (bitwise [`Motion::kinematics_piece`]).
+    prepared: PreparedMotion<'a>,
+    /// The motion's slip axis ([`Motion::slip_axis`]): a part whose slip
+    /// velocity has no component across it slips on a line.
+    line: Option<usize>,
 }
 
 impl<'a> Simulator<'a> {
@@ -169,6 +178,8 @@ impl<'a> Simulator<'a> {
             breakpoints: motion.breakpoints(),
             v_scale: (friction.kinetic.max(1e-3) * gravity.max(1e-3) * period).max(1e-300),
             table: None,
+            line: motion.slip_axis(),
+            prepared: PreparedMotion::new(motion),
         }
     }
 
@@ -222,7 +233,18 @@ impl<'a> Simulator<'a> {
         if let Some(k) = self.table.and_then(|table| table.get(t, piece)) {
             return *k;
         }
-        self.motion
+        self.prepared
+            .kinematics_piece(t, piece, self.gravity, self.model.tilt)
+    }
+
+    /// Kinematics at `t` on the piece keyed `piece`, evaluated without
+    /// asking the table: for instants that are (almost) never on its grid
+    /// (the stages of τ-steps and implicit steps), where the lookup is a
+    /// miss that costs a tenth of a 2-D field's time. The same value as
+    /// [`Simulator::kin`] (the table is a memo of this evaluation).
+    #[inline]
+    pub(super) fn kin_off_grid(&self, t: f64, piece: f64) -> Kinematics {
+        self.prepared
             .kinematics_piece(t, piece, self.gravity, self.model.tilt)
     }
 
@@ -305,6 +327,10 @@ impl<'a> Simulator<'a> {
 
     /// One RK4 step of the slipping dynamics from (t, r, u) over `h`,
     /// with `k0` the kinematics at t. Returns (r, u, du/dt at the end).
+    /// The stage kinematics are evaluated directly when `off_grid` (the
+    /// trial steps of an event location: a stop, a back-off, whose stage
+    /// instants are off the table's grid; the same values), looked up in the
+    /// table first otherwise.
     #[allow(clippy::too_many_arguments)]
     #[inline]
     fn rk4(
@@ -316,20 +342,41 @@ impl<'a> Simulator<'a> {
         r: &V2,
         u: &V2,
         anchor: &V2,
+        off_grid: bool,
+    ) -> Result<(V2, V2, Kinematics), ContactLoss> {
+        let kin = |t: f64| {
+            if off_grid {
+                self.kin_off_grid(t, piece)
+            } else {
+                self.kin(t, piece)
+            }
+        };
+        let (km, k1k) = (kin(t + 0.5 * h), kin(t + h));
+        self.rk4_with(t, h, [k0, &km, &k1k], r, u, anchor)
+    }
+
+    /// [`Simulator::rk4`] with the kinematics at t, t + h/2 and t + h at hand.
+    #[inline]
+    fn rk4_with(
+        &self,
+        t: f64,
+        h: f64,
+        [k0, km, k1k]: [&Kinematics; 3],
+        r: &V2,
+        u: &V2,
+        anchor: &V2,
     ) -> Result<(V2, V2, Kinematics), ContactLoss> {
         let d0 = self.slip_direction(k0, r, u, anchor);
-        let km = self.kin(t + 0.5 * h, piece);
-        let k1k = self.kin(t + h, piece);
         let a1 = self.slip_rhs(k0, t, r, u, &d0, anchor)?;
         let (r2, u2) = (r + u * (0.5 * h), u + a1 * (0.5 * h));
-        let a2 = self.slip_rhs(&km, t + 0.5 * h, &r2, &u2, &d0, anchor)?;
+        let a2 = self.slip_rhs(km, t + 0.5 * h, &r2, &u2, &d0, anchor)?;
         let (r3, u3) = (r + u2 * (0.5 * h), u + a2 * (0.5 * h));
-        let a3 = self.slip_rhs(&km, t + 0.5 * h, &r3, &u3, &d0, anchor)?;
+        let a3 = self.slip_rhs(km, t + 0.5 * h, &r3, &u3, &d0, anchor)?;
         let (r4, u4) = (r + u3 * h, u + a3 * h);
-        let a4 = self.slip_rhs(&k1k, t + h, &r4, &u4, &d0, anchor)?;
+        let a4 = self.slip_rhs(k1k, t + h, &r4, &u4, &d0, anchor)?;
         let r1 = r + (u + (u2 + u3) * 2.0 + u4) * (h / 6.0);
         let u1 = u + (a1 + (a2 + a3) * 2.0 + a4) * (h / 6.0);
-        Ok((r1, u1, k1k))
+        Ok((r1, u1, *k1k))
     }
 
     /// Advances `state` from `t0` to `t1`. The kinematics use the current
@@ -363,10 +410,12 @@ impl<'a> Simulator<'a> {
             let (a, b) = (w[0], w[1]);
             let n = super::step_count(a, b, nominal);
             let piece = 0.5 * (a + b);
+            let nodes = self.table.and_then(|table| table.piece(a, b, n, piece));
             let mut t = a;
             for i in 1..=n {
                 let target = super::step_end(a, b, n, i);
-                self.advance_piece(&mut t, target, piece, state, anchor, &mut out)?;
+                let grid = nodes.map(|p| p.step(i));
+                self.advance_piece(&mut t, target, piece, grid, state, anchor, &mut out)?;
                 if let Some(rec) = record.as_deref_mut() {
                     rec.push(TrajectoryPoint { t, state: *state });
                 }
@@ -376,12 +425,15 @@ impl<'a> Simulator<'a> {
         Ok(out)
     }
 
-    /// Advances from `*t` to `target` within one smooth piece.
+    /// Advances from `*t` to `target` within one smooth piece; `grid` holds
+    /// the tabulated kinematics of the fixed step ending at `target`.
+    #[allow(clippy::too_many_arguments)]
     fn advance_piece(
         &self,
         t: &mut f64,
         target: f64,
         piece: f64,
+        grid: Option<StepNodes<'_>>,
         state: &mut PartState,
         anchor: &V2,
         out: &mut CycleOutcome,
@@ -394,8 +446,9 @@ impl<'a> Simulator<'a> {
         let mut next_k: Option<(f64, Kinematics)> = None;
         while *t < target {
             if state.u == V2::zeros() && !state.stuck {
-                state.stuck = match &next_k {
-                    Some((tk, k)) if *tk == *t => self.margin_of(k, &state.r, anchor),
+                state.stuck = match (&next_k, grid.and_then(|g| g.at_start(*t))) {
+                    (Some((tk, k)), _) if *tk == *t => self.margin_of(k, &state.r, anchor),
+                    (_, Some(k)) => self.margin_of(k, &state.r, anchor),
                     _ => self.margin(*t, piece, &state.r, anchor),
                 } >= 0.0;
             }
@@ -417,28 +470,72 @@ impl<'a> Simulator<'a> {
             }
             let k0 = match next_k.take() {
                 Some((tk, k)) if tk == *t => k,
-                _ => self.kin(*t, piece),
+                _ => match grid.and_then(|g| g.at_start(*t)) {
+                    Some(k) => *k,
+                    None => self.kin(*t, piece),
+                },
             };
             let u0 = state.u;
-            // N and a_free at the step's start, for the schemes' checks.
-            let start = (self.numerics.slip != SlipScheme::Legacy && u0 != V2::zeros())
-                .then(|| self.forces(&k0, &state.r, &u0, anchor));
-            if let (SlipScheme::Regularised, Some((n, free))) = (self.numerics.slip, start) {
-                if self.wants_tau(n, &free, &u0) {
-                    self.swing(t, target, piece, state, anchor, out)?;
+            let line = self.line.is_some_and(|i| u0[1 - i] == 0.0);
+            // Kinematics at the stages of a start from rest on a line.
+            let mut stages = None;
+            if line {
+                // A slip on the motion's line ([`Motion::slip_axis`]): a_free
+                // lies along it, a_⊥ = 0, so the 2-D checks cannot fire
+                // (`wants_tau`, `wants_radau` while slipping and
+                // `ends_in_turn` are false, `slip_step` the rest of the step
+                // outside a swing) and are skipped. A start from rest asks
+                // only whether a_free keeps its sign over the step, with the
+                // kinematics the explicit step then reuses.
+                if u0 == V2::zeros() && self.numerics.slip != SlipScheme::Legacy {
+                    let h = target - *t;
+                    let (km, k1) = match grid.and_then(|g| g.stages(*t, h, target)) {
+                        Some([km, k1]) => (*km, *k1),
+                        None => (self.kin(*t + 0.5 * h, piece), self.kin(*t + h, piece)),
+                    };
+                    if !self.keeps_direction(&k0, [&km, &k1], &state.r, &u0, anchor)
+                        && self.radau_to(t, target, piece, state, anchor, out)?
+                    {
+                        #[cfg(test)]
+                        line_tests::LINE_RADAU.with(|c| c.set(c.get() + 1));
+                        swing = 0;
+                        continue;
+                    }
+                    stages = Some((km, k1));
+                }
+            } else {
+                // N and a_free at the step's start, for the schemes' checks.
+                let start = (self.numerics.slip != SlipScheme::Legacy && u0 != V2::zeros())
+                    .then(|| self.forces(&k0, &state.r, &u0, anchor));
+                if let (SlipScheme::Regularised, Some((n, free))) = (self.numerics.slip, start) {
+                    if self.wants_tau(n, &free, &u0) {
+                        self.swing(t, target, piece, state, anchor, out)?;
+                        swing = 0;
+                        continue;
+                    }
+                }
+                if self.numerics.slip != SlipScheme::Legacy
+                    && self.implicit_slip(&k0, t, target, piece, state, anchor, out, start)?
+                {
                     swing = 0;
                     continue;
                 }
             }
-            if self.numerics.slip != SlipScheme::Legacy
-                && self.implicit_slip(&k0, t, target, piece, state, anchor, out, start)?
-            {
-                swing = 0;
-                continue;
-            }
-            let h = self.slip_step(&k0, target - *t, state, anchor, swing > 0);
+            let h = if line && swing == 0 {
+                target - *t
+            } else {
+                self.slip_step(&k0, target - *t, state, anchor, swing > 0)
+            };
             swing = swing.saturating_sub(1);
-            let (r1, u1, k1) = self.rk4(*t, h, piece, &k0, &state.r, &u0, anchor)?;
+            let (r1, u1, k1) = match (&stages, grid.and_then(|g| g.stages(*t, h, target))) {
+                (Some((km, k1)), _) => {
+                    self.rk4_with(*t, h, [&k0, km, k1], &state.r, &u0, anchor)?
+                }
+                (None, Some([km, k1])) => {
+                    self.rk4_with(*t, h, [&k0, km, k1], &state.r, &u0, anchor)?
+                }
+                (None, None) => self.rk4(*t, h, piece, &k0, &state.r, &u0, anchor, false)?,
+            };
             out.rk4_steps += 1;
             if !(r1.iter().all(|x| x.is_finite()) && u1.norm_squared().is_finite()) {
                 // Arithmetic overflow (|u|² beyond f64): stop with the slip
@@ -448,6 +545,7 @@ impl<'a> Simulator<'a> {
                 return Ok(());
             }
             if self.numerics.slip != SlipScheme::Legacy
+                && !line
                 && u0 != V2::zeros()
                 && u1.dot(&u0) > 0.0
                 && cuts < MAX_CUTS
@@ -536,7 +634,7 @@ impl<'a> Simulator<'a> {
         out: &mut CycleOutcome,
     ) -> Result<(), ContactLoss> {
         let sb = self.locate_stop(*t, h, piece, k0, state, anchor, level, out)?;
-        let (rb, ub, _) = self.rk4(*t, sb, piece, k0, &state.r, &state.u, anchor)?;
+        let (rb, ub, _) = self.rk4(*t, sb, piece, k0, &state.r, &state.u, anchor, true)?;
         out.rk4_steps += 1;
         *t += sb;
         state.r = rb;
@@ -564,17 +662,7 @@ impl<'a> Simulator<'a> {
         let tiny = self.numerics.event_tol * self.period;
         match self.wants_radau(k0, *t, rest, piece, state, anchor, start) {
             None => Ok(false),
-            Some(true) => {
-                match self.radau_step(*t, rest, piece, state, anchor, &mut out.rk4_steps)? {
-                    Some(e) => {
-                        state.r = e.r;
-                        state.u = e.u;
-                        *t = target;
-                        Ok(true)
-                    }
-                    None => Ok(false),
-                }
-            }
+            Some(true) => self.radau_to(t, target, piece, state, anchor, out),
             Some(false) => {
                 let dir0 = state.u / state.u.norm();
                 let du0 = self.slip_rhs(k0, *t, &state.r, &state.u, &dir0, anchor)?;
@@ -612,6 +700,30 @@ impl<'a> Simulator<'a> {
                     }
                 }
             }
+        }
+    }
+
+    /// An implicit step from `*t` to `target` (a slip speeding up); true
+    /// when it was taken (`t`, `state` advanced), false when its
+    /// collocation equations did not converge.
+    fn radau_to(
+        &self,
+        t: &mut f64,
+        target: f64,
+        piece: f64,
+        state: &mut PartState,
+        anchor: &V2,
+        out: &mut CycleOutcome,
+    ) -> Result<bool, ContactLoss> {
+        let rest = target - *t;
+        match self.radau_step(*t, rest, piece, state, anchor, &mut out.rk4_steps)? {
+            Some(e) => {
+                state.r = e.r;
+                state.u = e.u;
+                *t = target;
+                Ok(true)
+            }
+            None => Ok(false),
         }
     }
 
@@ -736,7 +848,7 @@ impl<'a> Simulator<'a> {
         }
         let tol = self.numerics.event_tol * self.period;
         for _ in 0..60 {
-            let (rs, us, ks) = self.rk4(t, s, piece, k0, &state.r, &u0, anchor)?;
+            let (rs, us, ks) = self.rk4(t, s, piece, k0, &state.r, &u0, anchor, true)?;
             out.rk4_steps += 1;
             let g = us.dot(&u0) - shift;
             if g > 0.0 {
@@ -800,7 +912,7 @@ impl<'a> Simulator<'a> {
         if !(on_x || (u0.x == 0.0 && u1.x == 0.0)) {
             // A 2-D slip (swinging past u = 0 or stopping): Newton from s = 0.
             let s = self.locate_stop(t, h, piece, k0, state, anchor, 0.0, out)?;
-            let (rs, us, _) = self.rk4(t, s, piece, k0, &state.r, &u0, anchor)?;
+            let (rs, us, _) = self.rk4(t, s, piece, k0, &state.r, &u0, anchor, true)?;
             out.rk4_steps += 1;
             return Ok((s, rs, us));
         }
@@ -821,7 +933,7 @@ impl<'a> Simulator<'a> {
         let mut s = h * hermite_root(g0, h * d0, gh, h * dh);
         let mut last_delta = f64::NAN;
         for _ in 0..60 {
-            let (rs, us, ks) = self.rk4(t, s, piece, k0, &state.r, &u0, anchor)?;
+            let (rs, us, ks) = self.rk4(t, s, piece, k0, &state.r, &u0, anchor, true)?;
             out.rk4_steps += 1;
             let g = us.dot(&u0);
             if g == 0.0 {
@@ -867,14 +979,17 @@ impl<'a> Simulator<'a> {
                 break;
             }
         }
-        let (rs, us, _) = self.rk4(t, hi, piece, k0, &state.r, &u0, anchor)?;
+        let (rs, us, _) = self.rk4(t, hi, piece, k0, &state.r, &u0, anchor, true)?;
         out.rk4_steps += 1;
         Ok((hi, rs, us))
     }
 
     /// First time in [a, b] at which a stuck part at `r` breaks away, if any.
     fn breakaway(&self, a: f64, b: f64, piece: f64, r: &V2, anchor: &V2) -> Option<f64> {
+        // Samples at half-step spacing fall on the table's grid where the
+        // stuck episode spans a whole step; refinements never do.
         let phi = |t: f64| self.margin(t, piece, r, anchor);
+        let phi_off = |t: f64| self.margin_of(&self.kin_off_grid(t, piece), r, anchor);
         let fa = phi(a);
         if fa < 0.0 {
             return Some(a);
@@ -896,13 +1011,13 @@ impl<'a> Simulator<'a> {
         let probe = 1e-4 * (b - a) / n as f64;
         for i in 1..=n {
             if fs[i] < 0.0 {
-                return Some(self.illinois(&phi, ts[i - 1], fs[i - 1], ts[i], fs[i]));
+                return Some(self.illinois(&phi_off, ts[i - 1], fs[i - 1], ts[i], fs[i]));
             }
             // A local minimum of φ around sample i (or at an end) may dip
             // below zero between samples: refine it.
             let interior = i < n && fs[i] <= fs[i - 1] && fs[i] <= fs[i + 1];
-            let at_start = i == 1 && fs[0] < fs[1] && phi(a + probe) < fs[0];
-            let at_end = i == n && fs[n] < fs[n - 1] && phi(b - probe) < fs[n];
+            let at_start = i == 1 && fs[0] < fs[1] && phi_off(a + probe) < fs[0];
+            let at_end = i == n && fs[n] < fs[n - 1] && phi_off(b - probe) < fs[n];
             let bracket = if interior {
                 Some((ts[i - 1], ts[i + 1]))
             } else if at_start {
@@ -916,9 +1031,9 @@ impl<'a> Simulator<'a> {
                 // The minimum's position to 1e-9 of the bracket fixes its
                 // value to O(1e-18) relative: whether it dips below zero.
                 let tol = (1e-9 * (hi - lo)).max(1e-3 * self.numerics.event_tol * self.period);
-                let (tm, fm) = brent_min(&phi, lo, hi, tol);
+                let (tm, fm) = brent_min(&phi_off, lo, hi, tol);
                 if fm < 0.0 {
-                    return Some(self.illinois(&phi, lo, phi(lo), tm, fm));
+                    return Some(self.illinois(&phi_off, lo, phi(lo), tm, fm));
                 }
             }
         }
@@ -1093,3 +1208,7 @@ fn hermite_root(p0: f64, d0: f64, p1: f64, d1: f64) -> f64 {
 #[cfg(test)]
 #[path = "stop_tests.rs"]
 mod stop_tests;
+
+#[cfg(test)]
+#[path = "line_tests.rs"]
+mod line_tests;

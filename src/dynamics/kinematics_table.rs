@@ -18,8 +18,11 @@
 //! its step index (t − a) n/(b − a) and an exact comparison, no search. It is a memo of
 //! [`Motion::kinematics_piece`]: a hit returns the very value a direct
 //! evaluation would, so fields are bitwise unchanged by it (and stay
-//! identical on any number of threads). Event-located and shortened steps
-//! ask for other instants; they miss and are evaluated directly.
+//! identical on any number of threads). The integrator's whole fixed steps
+//! skip even that lookup: it finds each piece once and hands every step its
+//! [`StepNodes`]. Event-located and shortened steps ask for other instants;
+//! they miss and are evaluated directly (those known to be off the grid
+//! without asking).
 
 use super::integrator::Simulator;
 use crate::motion::{Kinematics, Motion};
@@ -30,11 +33,13 @@ use crate::motion::{Kinematics, Motion};
 /// its length), so that the slot of an instant follows from (t − a) n/(b − a)
 /// without a search.
 #[derive(Debug, Clone)]
-struct PieceNodes {
+pub(super) struct PieceNodes {
     /// The piece key the integrator passes (0.5 (a + b)).
     piece: f64,
     /// Piece start a.
     a: f64,
+    /// Piece end b.
+    b: f64,
     /// Steps n.
     n: usize,
     /// n/(b − a): steps per unit time.
@@ -64,10 +69,25 @@ impl PieceNodes {
         PieceNodes {
             piece,
             a,
+            b,
             n,
             rate: n as f64 / (b - a),
             times,
             kinematics,
+        }
+    }
+
+    /// The nodes of step `i` (1 ≤ i ≤ n).
+    #[inline]
+    pub(super) fn step(&self, i: usize) -> StepNodes<'_> {
+        let start = if i == 1 { 0 } else { 3 * (i - 1) };
+        StepNodes {
+            start: self.times[start],
+            k: [
+                &self.kinematics[start],
+                &self.kinematics[3 * i - 2],
+                &self.kinematics[3 * i - 1],
+            ],
         }
     }
 
@@ -103,6 +123,32 @@ impl PieceNodes {
             }
         }
         None
+    }
+}
+
+/// The tabulated kinematics of one fixed step [s, e] (h = e − s): at s,
+/// s + h/2 and s + h, for the integrator to use without a lookup.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct StepNodes<'t> {
+    /// The step's start s.
+    pub start: f64,
+    /// Kinematics at s, s + h/2, s + h.
+    pub k: [&'t Kinematics; 3],
+}
+
+impl<'t> StepNodes<'t> {
+    /// The kinematics at t + h/2 and t + h of an RK4 step of size `h` from
+    /// `t` to the step's end `target`, when it is the whole step (t = s,
+    /// h = target − s: the instants tabulated with the same arithmetic).
+    #[inline]
+    pub fn stages(&self, t: f64, h: f64, target: f64) -> Option<[&'t Kinematics; 2]> {
+        (t == self.start && h == target - t).then_some([self.k[1], self.k[2]])
+    }
+
+    /// The kinematics at `t` when it is the step's start.
+    #[inline]
+    pub fn at_start(&self, t: f64) -> Option<&'t Kinematics> {
+        (t == self.start).then_some(self.k[0])
     }
 }
 
@@ -236,6 +282,12 @@ impl<'a> KinematicsTable<'a> {
 
     #[inline]
     fn find(&self, t: f64, piece: f64) -> Option<&Kinematics> {
+        self.keyed(piece)?.find(t)
+    }
+
+    /// The piece keyed `piece` (its bits), if any.
+    #[inline]
+    fn keyed(&self, piece: f64) -> Option<&PieceNodes> {
         let bits = self.slots.len().trailing_zeros();
         let mut h = home(piece, bits);
         loop {
@@ -245,10 +297,18 @@ impl<'a> KinematicsTable<'a> {
             }
             let p = &self.pieces[i as usize];
             if p.piece.to_bits() == piece.to_bits() {
-                return p.find(t);
+                return Some(p);
             }
             h = (h + 1) & (self.slots.len() - 1);
         }
+    }
+
+    /// The nodes of the piece [`a`, `b`] of `n` steps keyed `piece`, when
+    /// tabulated (one lookup per piece instead of one per instant).
+    #[inline]
+    pub(super) fn piece(&self, a: f64, b: f64, n: usize, piece: f64) -> Option<&PieceNodes> {
+        self.keyed(piece)
+            .filter(|p| p.a.to_bits() == a.to_bits() && p.b.to_bits() == b.to_bits() && p.n == n)
     }
 
     /// Lookups that (hit, missed) so far (test builds only).
@@ -330,10 +390,52 @@ mod tests {
         assert!(table.get(0.0, 12.345).is_none());
     }
 
+    /// The step nodes of every piece the integrator walks (square-wave
+    /// breakpoints splitting the spans) are the kinematics at the instants
+    /// its whole steps use — s, s + h/2, s + h with h = e − s — bit for bit,
+    /// and answer only for that step's start and size.
+    #[test]
+    fn step_nodes_are_the_whole_steps_instants() {
+        let motion = screw(Waveform::Square { accel: 150.0 }, fourier());
+        let sim = simulator(&motion, 16);
+        let phases = 7;
+        let table = KinematicsTable::phases(&sim, phases);
+        let nominal = 0.03 / 16.0;
+        let mut steps = 0;
+        for j in 0..phases {
+            let t0 = 0.03 * j as f64 / phases as f64;
+            let edges = crate::dynamics::piece_edges(t0, t0 + 0.03, 0.03, &motion.breakpoints());
+            for w in edges.windows(2) {
+                let (a, b) = (w[0], w[1]);
+                let n = crate::dynamics::step_count(a, b, nominal);
+                let piece = 0.5 * (a + b);
+                let nodes = table.piece(a, b, n, piece).expect("a tabulated piece");
+                assert!(table.piece(a, b, n + 1, piece).is_none());
+                let mut s = a;
+                for i in 1..=n {
+                    let e = crate::dynamics::step_end(a, b, n, i);
+                    let h = e - s;
+                    let g = nodes.step(i);
+                    let direct = |t: f64| motion.kinematics_piece(t, piece, 9.81, true);
+                    assert_eq!(*g.at_start(s).expect("the step's start"), direct(s));
+                    let [km, k1] = g.stages(s, h, e).expect("the whole step");
+                    assert_eq!(*km, direct(s + 0.5 * h));
+                    assert_eq!(*k1, direct(s + h));
+                    assert!(g.stages(s, 0.5 * h, e).is_none());
+                    assert!(g.stages(s + 1e-9, e - s - 1e-9, e).is_none());
+                    assert!(g.at_start(s + 0.5 * h).is_none());
+                    s = e;
+                    steps += 1;
+                }
+            }
+        }
+        assert!(steps > 16 * phases, "{steps} steps");
+    }
+
     /// On a 1-D slip (the LineSink: rotation about a horizontal axis moves
     /// every point along x) the fixed steps find their instants in the
-    /// table — only locating the few events misses — and the table leaves
-    /// the trajectory bitwise unchanged.
+    /// table's step nodes — without lookups — and the table leaves the
+    /// trajectory bitwise unchanged.
     #[test]
     fn fixed_step_path_hits_and_is_bitwise_unchanged() {
         let motion = Motion::Screw(Screw {
@@ -364,10 +466,16 @@ mod tests {
         let (hits, misses) = table.lookups();
         println!("{events} events, {hits} hits, {misses} misses");
         assert!(events > 0, "the part sticks and slips");
-        // Measured: 10 events, 491 hits, 132 misses (about 13 direct
-        // evaluations to locate each event). A grid that drifted from the
-        // integrator's arithmetic would leave only the piece starts.
-        assert!(hits >= 3 * misses, "{hits} hits, {misses} misses");
-        assert!(misses <= 20 * events as usize, "{misses} misses");
+        // Measured: 10 events, 10 hits, 20 misses over 160 fixed steps. The
+        // fixed steps take their kinematics from the step nodes
+        // (`StepNodes`) without a lookup, event location evaluates directly
+        // (`Simulator::kin_off_grid`): lookups are left for stuck parts'
+        // margins and the instants just after events. Step nodes that
+        // drifted from the integrator's arithmetic would send every fixed
+        // step to a lookup (two or three each), a table that drifted too
+        // would make them miss.
+        let steps = 32 * phases;
+        assert!(hits + misses < steps / 4, "{hits} hits, {misses} misses");
+        assert!(misses <= 4 * events as usize, "{misses} misses");
     }
 }

@@ -123,11 +123,13 @@ impl Simulator<'_> {
     ) -> Option<bool> {
         let s = state.u.norm();
         if s == 0.0 {
-            // From rest along a fixed line (a 1-D slip: a_free keeps its
-            // direction at the step's RK4 nodes) the explicit step is exact
-            // for piecewise-constant accelerations and needs no stiff solve.
-            let one_d = self.keeps_direction(k0, t, h, piece, state, anchor);
-            return if one_d { None } else { Some(true) };
+            let km = self.kin(t + 0.5 * h, piece);
+            let k1 = self.kin(t + h, piece);
+            return if self.keeps_direction(k0, [&km, &k1], &state.r, &state.u, anchor) {
+                None
+            } else {
+                Some(true)
+            };
         }
         let (n, free) = start.unwrap_or_else(|| self.forces(k0, &state.r, &state.u, anchor));
         let c = self.friction().kinetic * n;
@@ -144,7 +146,9 @@ impl Simulator<'_> {
             // a_free: the step is a stiff start, as from rest. (An explicit
             // step there erred by 2e-5 m/s on one DivCircle cycle at 1024
             // steps per cycle, first order in h; 512 steps were exact.)
-            return if self.keeps_direction(k0, t, h, piece, state, anchor) {
+            let km = self.kin(t + 0.5 * h, piece);
+            let k1 = self.kin(t + h, piece);
+            return if self.keeps_direction(k0, [&km, &k1], &state.r, &state.u, anchor) {
                 None
             } else {
                 Some(true)
@@ -160,21 +164,22 @@ impl Simulator<'_> {
         }
     }
 
-    /// True when a_free at the part (held at `state`) keeps its direction at
-    /// the RK4 nodes t + h/2 and t + h of a step from `t` (a 1-D slip).
-    fn keeps_direction(
+    /// True when a_free at (`r`, `u`) keeps the direction it has with the
+    /// kinematics `k0` (at a step's start) with each of `ks` (at the step's
+    /// RK4 nodes t + h/2 and t + h). From rest along such a fixed line (a
+    /// 1-D slip) the explicit step is exact for piecewise-constant
+    /// accelerations and needs no stiff solve.
+    pub(super) fn keeps_direction(
         &self,
         k0: &crate::motion::Kinematics,
-        t: f64,
-        h: f64,
-        piece: f64,
-        state: &PartState,
+        ks: [&crate::motion::Kinematics; 2],
+        r: &V2,
+        u: &V2,
         anchor: &V2,
     ) -> bool {
-        let (_, f0) = self.forces(k0, &state.r, &state.u, anchor);
-        [0.5, 1.0].iter().all(|c| {
-            let k = self.kin(t + c * h, piece);
-            let (_, f) = self.forces(&k, &state.r, &state.u, anchor);
+        let (_, f0) = self.forces(k0, r, u, anchor);
+        ks.iter().all(|k| {
+            let (_, f) = self.forces(k, r, u, anchor);
             let cross = f0.x * f.y - f0.y * f.x;
             cross.abs() <= 1e-12 * f0.norm() * f.norm() && f0.dot(&f) > 0.0
         })
@@ -296,7 +301,7 @@ impl Simulator<'_> {
     ) -> Result<Option<RadauEnd>, ContactLoss> {
         let tab = tableau();
         let (r0, u0) = (state.r, state.u);
-        let kin: [_; 3] = std::array::from_fn(|j| self.kin(t + tab.c[j] * h, piece));
+        let kin: [_; 3] = std::array::from_fn(|j| self.kin_off_grid(t + tab.c[j] * h, piece));
         let mu = self.friction().kinetic;
         // Right-hand side at stage j: a_free − μ_k N Û, the friction
         // Jacobian's stiff factor μ_k N/|U|, and Û.

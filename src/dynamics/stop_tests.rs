@@ -48,7 +48,7 @@ fn stop_in_step_finds_newtons_root_in_fewer_trials() {
                 }
                 let piece = t + 0.5 * h;
                 let (r1, u1, k1) = sim
-                    .rk4(t, h, piece, &k0, &state.r, &state.u, &anchor)
+                    .rk4(t, h, piece, &k0, &state.r, &state.u, &anchor, false)
                     .unwrap();
                 assert_eq!(u1.y, 0.0, "the LineSink slip stays on x");
                 if u1.dot(&state.u) <= 0.0 {
@@ -67,7 +67,7 @@ fn stop_in_step_finds_newtons_root_in_fewer_trials() {
                         .locate_stop(t, h, piece, &k0, &state, &anchor, 0.0, &mut old)
                         .unwrap();
                     let (rs_old, _, _) = sim
-                        .rk4(t, s_old, piece, &k0, &state.r, &state.u, &anchor)
+                        .rk4(t, s_old, piece, &k0, &state.r, &state.u, &anchor, false)
                         .unwrap();
                     assert!((s - s_old).abs() <= 2.0 * tol, "{s} vs {s_old}");
                     assert!(us.norm() <= 1e-9 * state.u.norm(), "{us:?}");

@@ -136,7 +136,7 @@ impl Simulator<'_> {
 
     /// d(t, r, u)/dτ at `y`, with N and a_free there.
     fn tau_rhs(&self, y: &Tau, piece: f64, anchor: &V2) -> Result<(Tau, f64, V2), ContactLoss> {
-        let k = self.kin(y.t, piece);
+        let k = self.kin_off_grid(y.t, piece);
         let (n, free) = self.forces(&k, &y.r, &y.u, anchor);
         if n < 0.0 {
             return Err(self.contact_loss(y.t, &y.r, n));

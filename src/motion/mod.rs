@@ -16,12 +16,14 @@
 //! or the plate centre for six-signal motions), v_c and a_c its velocity and
 //! acceleration, and Ω, Ω' the angular velocity and acceleration, all in S'.
 
+mod prepared;
 mod ramped;
 pub mod sample_hold;
 mod screw;
 mod signals;
 mod waveform;
 
+pub use prepared::PreparedMotion;
 pub use ramped::{smoothstep, Ramped};
 pub use screw::Screw;
 pub use signals::{Axes, Signals};
@@ -143,6 +145,28 @@ impl Motion {
             Motion::Screw(s) => s.is_in_plane(),
             Motion::Signals(s) => s.is_in_plane(),
             Motion::Ramped(r) => r.signals.is_in_plane(),
+        }
+    }
+
+    /// The plate axis i (0 = x, 1 = y) along which every point's free
+    /// acceleration lies, exactly, for a part slipping along it, at every
+    /// instant and under every model switch (centripetal, tilt, Coriolis,
+    /// moving); `None` when there is none or it is not known.
+    ///
+    /// With e the unit vector of axis i and ê the other in-plane one, that
+    /// holds when Ω and Ω' are along ê and a_c along e (a screw rotating
+    /// about ê and translating along e): at a plate point d = r − c (r in
+    /// the plane) the ê components of a_c, Ω' × d, Ω × (Ω × d) and the
+    /// Coriolis term 2 Ω × u (u along e) are sums of products each with an
+    /// exact zero factor, and a tilted gravity,
+    /// rotated about ê, keeps a zero ê component. So a slip starting at
+    /// rest or along e stays on the line (its ê component exactly zero) and
+    /// the integrator skips its 2-D checks for it (`src/dynamics/integrator.rs`).
+    /// Six-signal motions return `None`.
+    pub fn slip_axis(&self) -> Option<usize> {
+        match self {
+            Motion::Screw(s) => s.slip_axis(),
+            Motion::Signals(_) | Motion::Ramped(_) => None,
         }
     }
 

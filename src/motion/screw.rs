@@ -74,6 +74,20 @@ impl Screw {
         (self.rotation.is_zero() || vertical) && (self.translation.is_zero() || k.z == 0.0)
     }
 
+    /// The plate axis (0 = x, 1 = y) of a screw that rotates about the
+    /// other in-plane axis and translates along this one only (either may
+    /// be zero): the LineSink, LineSource and Trans. See
+    /// [`Motion::slip_axis`](super::Motion::slip_axis).
+    pub fn slip_axis(&self) -> Option<usize> {
+        let k = self.k();
+        let turns = !self.rotation.is_zero();
+        let moves = !self.translation.is_zero();
+        (0..2).find(|&i| {
+            let j = 1 - i;
+            (!turns || (k[i] == 0.0 && k.z == 0.0)) && (!moves || (k[j] == 0.0 && k.z == 0.0))
+        })
+    }
+
     /// Validates parameters.
     pub fn validate(&self, field: &str) -> Result<()> {
         positive(&format!("{field}.period"), self.period)?;

@@ -18,9 +18,10 @@
 //! reference's own error (from the observed order between 32 and 64 steps)
 //! shows how far the comparison can be trusted. Primitives whose slip stays
 //! on one line (LineSink, LineSource, Trans) converge at RK4's fourth order;
-//! the others slip in 2-D, where the integrator follows slip velocities that
-//! swing past u = 0 by shortening its steps (`src/dynamics/integrator.rs`),
-//! and converge slowly.
+//! the others slip in 2-D, where the integrator follows a slip velocity
+//! through its swings past u = 0 and its slow-downs to a stop in
+//! regularised time (`src/dynamics/swing.rs`) and takes starts from rest
+//! implicitly (`src/dynamics/radau.rs`).
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -413,16 +414,16 @@ pub fn library_speed(out: &Path) -> Result<String> {
         "\n**What limits the error.** Primitives whose slip stays on one line ({}) converge at \
          RK4's fourth order (observed between the two finest builds: {}); their fields are \
          reproducible to round-off (shifted by {PERTURBATION:e} m: {}); {one_d_reach}. The others \
-         slip in 2-D. The integrator follows a 2-D slip velocity that swings past u = 0 by \
-         shortening its steps (`src/dynamics/integrator.rs`), and these primitives converge \
-         slowly (observed orders: {}). Their fields are also not reproducible to round-off: a \
-         {PERTURBATION:e} m shift of the motion changes them by {} at {} steps, against errors \
-         of {} there. Where the two are of the same order the error is dominated by the \
-         integrator's discontinuous response to round-off-sized changes (which side of a \
-         threshold a swing or a stop falls on; a slip direction off the axes by one ulp, \
-         slipping from rest, grows a spurious perpendicular velocity), not by smooth truncation \
-         error that more steps would remove; and the reference's own error for these \
-         primitives (estimates above) makes their errors here indicative only.",
+         slip in 2-D. The integrator follows a 2-D slip velocity through its swings past u = 0 \
+         and its slow-downs to a stop with RK4 steps in regularised time dτ = dt/|u| \
+         (`src/dynamics/swing.rs`) and takes starts from rest and stiff slips with implicit \
+         Radau IIA steps (`src/dynamics/radau.rs`); observed orders between the two finest \
+         builds: {}. A {PERTURBATION:e} m shift of the motion changes their fields by {} at {} \
+         steps, against errors of {} there. Where the two are of the same order the error is \
+         set by the integrator's discontinuous response to round-off-sized changes (which side \
+         of a threshold a swing or a stop falls on), not by truncation error that more steps \
+         would remove; the reference's own error for these primitives (estimates above) says \
+         how far their errors here can be trusted.",
         one_d.join(", "),
         pick(true, fine_order, &order_fmt),
         pick(true, &noise, &sci),
@@ -434,10 +435,11 @@ pub fn library_speed(out: &Path) -> Result<String> {
     let _ = writeln!(
         md,
         "\n**What limits the time.** Wall time against the nominal step count: {}; CPU time \
-         (over all threads, less sensitive to the machine's load): {}. Events weigh heavily in \
-         the cost — locating stops and break-aways by root finding, and the \
-         short steps that follow 2-D swings — and they do not get cheaper with fewer steps; the \
-         slowest primitives are those with 2-D slips and sticking (per-primitive times above). \
+         (over all threads, less sensitive to the machine's load): {}. The 2-D primitives are \
+         the slowest (per-primitive times above): their cost is the regularised τ-steps through \
+         each swing and slow-down, each with four evaluations of the plate kinematics off the \
+         tabulated time grid, whose number falls less than in proportion with fewer nominal \
+         steps; locating stops and break-aways by root finding adds to it. \
          One build is {} one-cycle simulations on {threads} threads; meeting {TARGET_SECONDS} s \
          would need about {:.1} µs per simulation per thread.",
         builds
