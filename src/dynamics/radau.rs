@@ -140,19 +140,21 @@ impl Simulator<'_> {
         let across = (free - state.u * (along / s)).norm();
         if across <= 1e-12 * free.norm() {
             // Along a_free: a 1-D slip, where the explicit step is exact,
-            // if a_free keeps its direction over the step. Otherwise the
-            // slip only just started (a break-away close to the end of the
-            // last step leaves |u| ≪ h μ_k N along a_free) and turns with
-            // a_free: the step is a stiff start, as from rest. (An explicit
-            // step there erred by 2e-5 m/s on one DivCircle cycle at 1024
-            // steps per cycle, first order in h; 512 steps were exact.)
+            // unless a_free turns off that line within the step while the
+            // slip speeds up: then the slip only just started (a break-away
+            // close to the end of the last step leaves |u| ≪ h μ_k N along
+            // a_free) and turns with a_free, a stiff start as from rest. (An
+            // explicit step there erred by 2e-5 m/s on one DivCircle cycle
+            // at 1024 steps per cycle, first order in h; 512 steps were
+            // exact.) a_free reversing along its line is a 1-D stop, which
+            // the explicit step locates.
+            if along <= c {
+                return None;
+            }
             let km = self.kin(t + 0.5 * h, piece);
             let k1 = self.kin(t + h, piece);
-            return if self.keeps_direction(k0, [&km, &k1], &state.r, &state.u, anchor) {
-                None
-            } else {
-                Some(true)
-            };
+            let [a, b] = self.turns(k0, [&km, &k1], &state.r, &state.u, anchor);
+            return if a.0 || b.0 { Some(true) } else { None };
         }
         if along > c && across <= SLAVED * free.norm() {
             Some(true)
@@ -177,11 +179,29 @@ impl Simulator<'_> {
         u: &V2,
         anchor: &V2,
     ) -> bool {
+        self.turns(k0, ks, r, u, anchor)
+            .iter()
+            .all(|(off, reversed)| !off && !reversed)
+    }
+
+    /// For each of `ks`: whether a_free at (`r`, `u`) has turned off the
+    /// line it has with `k0` (beyond round-off), and whether it has reversed.
+    fn turns(
+        &self,
+        k0: &crate::motion::Kinematics,
+        ks: [&crate::motion::Kinematics; 2],
+        r: &V2,
+        u: &V2,
+        anchor: &V2,
+    ) -> [(bool, bool); 2] {
         let (_, f0) = self.forces(k0, r, u, anchor);
-        ks.iter().all(|k| {
+        ks.map(|k| {
             let (_, f) = self.forces(k, r, u, anchor);
             let cross = f0.x * f.y - f0.y * f.x;
-            cross.abs() <= 1e-12 * f0.norm() * f.norm() && f0.dot(&f) > 0.0
+            (
+                cross.abs() > 1e-12 * f0.norm() * f.norm(),
+                f0.dot(&f) <= 0.0,
+            )
         })
     }
 
