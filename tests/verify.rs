@@ -216,13 +216,7 @@ fn one_motion_realises_its_lagged_per_cycle_prediction() {
     let v = against_prediction(&sm, plays.clone(), &opts);
     assert_eq!(v.valid, pts.len());
 
-    let sim = Simulator::new(
-        &motion,
-        settings.friction,
-        settings.gravity,
-        settings.model,
-        settings.numerics,
-    );
+    let sim = settings.simulator(&motion);
     let t = sim.period();
     let mut plain = |r: [f64; 2]| sim.steady_state(r).map(|s| s.velocity);
     let mut lagged = |r: [f64; 2]| {

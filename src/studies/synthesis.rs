@@ -707,7 +707,21 @@ pub fn render(
          schedule of LineSinks, Circles and Trans has almost no vertical acceleration (its peak is \
          the centripetal ≈ 0.1 m/s²), so that part caps the strength. The sequenced squeeze_trans \
          transports with Trans, an asymmetric (sawtooth) in-plane translation — a mechanism the \
-         closed-form seed does not model and the local refinement does not find from the seed.\n\
+         closed-form seed does not model. With two harmonics the synthesis now also starts from an \
+         in-plane second-harmonic ratchet on x (`platefield::synth::transport`; 10 m/s² drifts parts \
+         ≈ 1.06 cm/s, 17× what a_z ≤ 0.109 m/s² gives): squeeze_trans went from 0.150 (1 harmonic, \
+         a_z) to the 2-harmonic rows above. 2× the sequenced 0.374 (0.748) was not reached: with 700 \
+         evaluations instead of 300 the same start plays 0.712 at 5.2 % shape (46 s); the ratchet's \
+         drift depends on N, which the tilts modulate across the line, so stronger transport comes \
+         with a shear the local refinement trades against strength.\n\
+         - *Saddle*: its strength is set by the contact margin (seed capped at 0.8005 of the 1.1202 \
+         the peaks allow; simulated 0.82 of that). Tried in a scratch run (not shipped; \
+         2 harmonics, calibrated seed): 900 evaluations play 0.546 at 3.4 % (Nelder–Mead in 20 dimensions finds \
+         a lower-strength optimum of the coarse cost); scaling the normal-force signals onto the \
+         margin (+3.1 %, least N 0.99 m/s²) plays 0.620 but at 5.2 % shape with 10 of 25 points \
+         valid; a vertical (or tilt) second harmonic cannot raise N at all four corners at once — \
+         with harmonic-1 tilts the corners' minima fall at 2ωt = ∓90° alternately, so any \
+         second harmonic b + d·q raises one pair and lowers the other. 2× (0.624) is not reached.\n\
          - *valid / played* below played: at those start points a part lost contact (or a \
          steady state failed) somewhere along its path and the measure leaves the point out. For \
          the saddle the likely cause, not verified here, is its expanding axis: parts are driven \

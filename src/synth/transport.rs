@@ -29,7 +29,6 @@ use super::limits::ShakerLimits;
 use super::objective::{Evaluation, Objective};
 use super::params::Coefficients;
 use super::seed::Seed;
-use crate::dynamics::Simulator;
 use crate::field::{FieldSettings, Grid};
 use crate::motion::Motion;
 
@@ -86,13 +85,7 @@ pub fn transport_start(
                 let mut c = translation.clone();
                 c.set(axis, 2, frac * room, phase);
                 let m = Motion::Signals(c.to_signals());
-                let sim = Simulator::new(
-                    &m,
-                    settings.friction,
-                    settings.gravity,
-                    settings.model,
-                    settings.numerics,
-                );
+                let sim = settings.simulator(&m);
                 let Ok(s) = sim.steady_state([0.0, 0.0]) else {
                     continue;
                 };
@@ -163,13 +156,7 @@ pub fn transport_start(
     let mut ks = k;
     for _ in 0..3 {
         let motion = Motion::Signals(build(k, amplitude).to_signals());
-        let sim = Simulator::new(
-            &motion,
-            settings.friction,
-            settings.gravity,
-            settings.model,
-            settings.numerics,
-        );
+        let sim = settings.simulator(&motion);
         let c = [
             0.5 * (region.x[0] + region.x[1]),
             0.5 * (region.y[0] + region.y[1]),
