@@ -51,10 +51,13 @@
 //! vs_predicted_window`): against the flow of F the gap was 3.2 % (the
 //! number issue 11 reported; 4.2 % over 1 cycle, 0.8 % over 100), F per
 //! cycle 2.2 %, the flow of the lagged F 1.2 %, the lagged F per cycle
-//! 0.14 % (0.18 % over 1 cycle, 0.04 % over 100; the same at 200 and 400
-//! warm-up cycles). Both are real differences from the fixed-point steady
-//! state, of order T_c·|∇F|/2 (1.4 % per cycle at 0.55 s⁻¹, T = 0.05 s)
-//! and the lag (2.8 % at one cycle); neither is a start-up transient. The
+//! 0.14 % (0.18 % over 1 cycle, 0.04 % over 100; 0.15 % at 200 and 400
+//! warm-up cycles). The first part, of order T_c·|∇F|/2 (1.4 % per cycle
+//! at 0.55 s⁻¹, T = 0.05 s), was a bias of the comparison (a per-cycle
+//! displacement integrated as if it were a continuous velocity); the
+//! second, the lag (2.8 % at one cycle), is physics the fixed-point steady
+//! state leaves out, now in the prediction; neither is a start-up
+//! transient. The
 //! gap *looked* smaller over longer windows only because for a sink both
 //! displacements saturate at the centre (a rate error δ shows as
 //! δ·sS e^(−sS)/(1 − e^(−sS)) over a span S: 0.75 δ at sS = 0.55, 0.19 δ at
