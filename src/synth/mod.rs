@@ -98,7 +98,8 @@
 //! allow a second harmonic, [`transport::transport_start`] adds a start that
 //! carries it by an in-plane second-harmonic ratchet instead of vertical
 //! translation (which a sequenced schedule's limits cap near 0.1 m/s²),
-//! balanced against the tilts' simulated gradient, phase-calibrated and
+//! balanced against the tilts' simulated gradient, phase-calibrated (with
+//! or without `calibrate`, which is about the seed) and
 //! line-searched in strength ([`transport::scale_search`]); the better of
 //! it and the calibrated seed runs first. squeeze_trans under its
 //! sequenced limits: played 0.150 → 0.636 s⁻¹ at 4.9 % shape

@@ -217,12 +217,9 @@ pub fn synthesize(
     let mut first = first;
     if let Some((c, _)) = &transport {
         let e = objective.evaluate(&layout.to_vec(c));
-        let t = if options.calibrate {
-            calibrate(&objective, c, &e)
-        } else {
-            e
-        };
-        let t = scale_search(&objective, &t);
+        // Calibrated whatever `options.calibrate` says (which is about the
+        // seed): its tilts' field comes out turned like the seed's.
+        let t = scale_search(&objective, &calibrate(&objective, c, &e));
         // The better start runs first.
         if t.cost < first.cost {
             extra.push(std::mem::replace(&mut first, t).params);
