@@ -28,8 +28,8 @@
 //! | fit | [`fit`] | the inverse problem: time fractions w ≥ 0, Σw ≤ 1, the fit modes, how each is solved and verified |
 //! | schedule | `design::schedule`, `design::export` | time fractions as whole cycles; the six controller signals |
 //! | design | [`design`] | the open-loop pipeline, the closed loop ([`design::closed_loop`]), refinement of a design's primitives by re-simulation ([`design::refine`]), and `--method` ([`design::method`]): sequence, synthesize or mix (a synthesized motion as one more basis column, [`design::basis::ColumnSource`]), every candidate played against the target, the POOR rule ([`fit::POOR_ERROR`]) and the choice |
-//! | synthesis | [`synth`] | one simultaneous six-signal motion: shaker limits, the averaged-friction seed, refinement by re-simulation |
-//! | play, verify | [`verify`] | a schedule's exact plate trajectory, the rule at the joins, rest in closed form; realised against predicted; where parts end up |
+//! | synthesis | [`synth`] | one simultaneous six-signal motion: shaker limits, the averaged-friction seed, the in-plane ratchet start for transport ([`synth::transport`]), refinement by re-simulation |
+//! | play, verify | [`verify`] | a schedule's exact plate trajectory, the rule at the joins, rest in closed form; realised against predicted (one motion alone: its drift-lag-corrected steady state per cycle, [`play::lag`]); where parts end up |
 //! | work | [`work`] | the work estimate (RK4 part steps at a stated rate) every long command makes first, refusing above 10 min unless `--allow-long` |
 //! | studies | [`studies`] | the paper's results reproduced: eq. 17 of section II ([`studies::linesink`]), Table I, the interaction of sequenced primitives, the order study of section V; model rungs and speed against error (the library, [`studies::speed`]; every primitive and field kind, [`studies::engine_speed`]) |
 //!

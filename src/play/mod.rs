@@ -31,6 +31,7 @@
 //! schedule realises at a start point, compared with the field it is meant
 //! to realise (used by `verify`, the order search and the closed loop).
 
+pub mod lag;
 pub mod measure;
 
 pub use measure::{grid_points, verify_points, PlayOptions, PointResult, RealisedField};

@@ -32,8 +32,10 @@
 //! join); realised strength ŝ and shape error against the target
 //! ([`crate::design::closed_loop::measure::realised_error`], ŝ in s⁻¹ since
 //! the targets have strength 1); realised vs predicted is
-//! ‖R − E‖/‖E‖ with E the flow of the motion's own time-weighted steady-state
-//! field ([`crate::play::measure::against_prediction`], `verify`'s number).
+//! ‖R − E‖/‖E‖ with E what a part following the motion's own steady state
+//! would do over the same windows — for one motion, the drift-lag-corrected
+//! steady state iterated once per cycle
+//! ([`crate::play::measure::against_prediction`], `verify`'s number).
 //!
 //! Timings go to the markdown only; the csv is deterministic.
 
@@ -225,8 +227,8 @@ pub struct Row {
     /// and the contact-margin note, if any.
     pub binding: Vec<String>,
     /// Realised vs predicted of the kept motion played with a 5× longer
-    /// warm-up and measurement (200 and 100 cycles): whether the gap is a
-    /// transient.
+    /// warm-up and measurement (200 and 100 cycles): the measure should
+    /// not depend on the play's length.
     pub vs_predicted_long: f64,
 }
 
@@ -705,19 +707,33 @@ pub fn render(
          schedule of LineSinks, Circles and Trans has almost no vertical acceleration (its peak is \
          the centripetal ≈ 0.1 m/s²), so that part caps the strength. The sequenced squeeze_trans \
          transports with Trans, an asymmetric (sawtooth) in-plane translation — a mechanism the \
-         closed-form seed does not model and the local refinement does not find from the seed.\n\
+         closed-form seed does not model. With two harmonics the synthesis now also starts from an \
+         in-plane second-harmonic ratchet on x (`platefield::synth::transport`; 10 m/s² drifts parts \
+         ≈ 1.06 cm/s, 17× what a_z ≤ 0.109 m/s² gives): squeeze_trans went from 0.150 (1 harmonic, \
+         a_z) to the 2-harmonic rows above. 2× the sequenced 0.374 (0.748) was not reached: with 700 \
+         evaluations instead of 300 the same start plays 0.712 at 5.2 % shape (46 s); the ratchet's \
+         drift depends on N, which the tilts modulate across the line, so stronger transport comes \
+         with a shear the local refinement trades against strength.\n\
+         - *Saddle*: its strength is set by the contact margin (seed capped at 0.8005 of the 1.1202 \
+         the peaks allow; simulated 0.82 of that). Tried in a scratch run (not shipped; \
+         2 harmonics, calibrated seed): 900 evaluations play 0.546 at 3.4 % (Nelder–Mead in 20 dimensions finds \
+         a lower-strength optimum of the coarse cost); scaling the normal-force signals onto the \
+         margin (+3.1 %, least N 0.99 m/s²) plays 0.620 but at 5.2 % shape with 10 of 25 points \
+         valid; a vertical (or tilt) second harmonic cannot raise N at all four corners at once — \
+         with harmonic-1 tilts the corners' minima fall at 2ωt = ∓90° alternately, so any \
+         second harmonic b + d·q raises one pair and lowers the other. 2× (0.624) is not reached.\n\
          - *valid / played* below played: at those start points a part lost contact (or a \
          steady state failed) somewhere along its path and the measure leaves the point out. For \
          the saddle the likely cause, not verified here, is its expanding axis: parts are driven \
          out of the ±4 cm region that the contact check covers, and the tilts swing the normal \
          force further out there.\n\
-         - *Realised vs predicted* is not a start-up transient: on the lab sink \
-         (`cargo run --release --example vs_predicted_window`) a warm-up of 40, 200 or 400 cycles \
-         gives the same gap over a 20-cycle window (3.2–3.3 %), a 100-cycle window 0.8 % whatever \
-         the warm-up. It falls with the measured span, as an end-point effect does (the realised \
-         displacement is taken between two instants of the part's orbit, the prediction's flow starts \
-         at the first); the measure is left as it is, the same 20-cycle windows for both motions, \
-         and the 200 + 100-cycle line under each row shows the longer window.\n",
+         - *Realised vs predicted* compares each synthesized motion with its own steady state, \
+         drift-lag-corrected and iterated once per cycle (`platefield::play::lag`, \
+         `platefield::play::measure`): a steady state is a per-cycle displacement, and a part that \
+         drifts lags the orbit through its position. Against the flow of the plain steady state (the \
+         measure before) the lab sink was 3.2 % off at 20 measured cycles, 0.8 % at 100, at any \
+         warm-up; now 0.14 % and 0.04 % (`cargo run --release --example vs_predicted_window`). The \
+         200 + 100-cycle line under each row is the same measure over a longer play.\n",
     );
     let _ = writeln!(md, "\nTotal time {seconds:.0} s.");
     (md, csv)

@@ -12,6 +12,7 @@ use super::params::{Layout, AXIS_NAMES};
 use super::progress::{Progress, ProgressMode};
 use super::refine::{refine, RefineOptions};
 use super::seed::{seed, Seed};
+use super::transport::{scale_search, transport_start};
 use crate::error::{positive, Error, Result};
 use crate::field::{Field, FieldKind, FieldSettings, Grid};
 use crate::motion::{Motion, Signals};
@@ -180,13 +181,20 @@ pub fn synthesize(
         .max_seconds
         .map(|s| start + Duration::from_secs_f64(s));
     let layout = Layout::new(limits);
+    // A target with uniform transport gets a second start carrying it by an
+    // in-plane second harmonic ([`super::transport`]); the cost's strength
+    // scale is the stronger start's.
+    let transport = transport_start(&seed, limits, region, settings);
+    let strength_ref = transport
+        .as_ref()
+        .map_or(seed.strength, |t| t.1.max(seed.strength));
     let objective = Objective::new(
         field,
         coarse,
         limits,
         settings,
         options.shape_budget,
-        seed.strength,
+        strength_ref,
         options.max_evaluations,
         deadline,
         &progress,
@@ -201,11 +209,24 @@ pub fn synthesize(
     } else {
         seed_eval.clone()
     };
-    let extra: Vec<Vec<f64>> = if first.params == x0 {
+    let mut extra: Vec<Vec<f64>> = if first.params == x0 {
         Vec::new()
     } else {
         vec![x0.clone()]
     };
+    let mut first = first;
+    if let Some((c, _)) = &transport {
+        let e = objective.evaluate(&layout.to_vec(c));
+        // Calibrated whatever `options.calibrate` says (which is about the
+        // seed): its tilts' field comes out turned like the seed's.
+        let t = scale_search(&objective, &calibrate(&objective, c, &e));
+        // The better start runs first.
+        if t.cost < first.cost {
+            extra.push(std::mem::replace(&mut first, t).params);
+        } else {
+            extra.push(t.params);
+        }
+    }
     let best = refine(
         &objective,
         &first.params,
