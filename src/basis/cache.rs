@@ -13,10 +13,11 @@
 //!   order, and the motions they resolve to (so a change of a primitive's
 //!   defaults or waveform is a new key); the grid; the field settings
 //!   (friction, gravity, model switches, numerics, phases, frozen-excursion
-//!   limit); the crate version (`CARGO_PKG_VERSION`) and the cache
+//!   limit); the crate version (`CARGO_PKG_VERSION`), the simulator's
+//!   [`ENGINE_REVISION`](crate::dynamics::ENGINE_REVISION) and the cache
 //!   [`FORMAT`]. A change in any of them is a different key. (A change of
-//!   the simulator's code without a version bump is not seen: bump the
-//!   version, or [`FORMAT`], or clear the folder.)
+//!   the simulator's results without a bump of its revision is not seen:
+//!   bump it, or clear the folder.)
 //! * **File**: `<dir>/<key>.json`, exactly
 //!   `{"format":2,"key":"<key>","payload_sha256":"<hash>","payload":<FieldLibrary>}`
 //!   and a newline, written atomically ([`crate::output::write_atomic`]).
@@ -84,6 +85,8 @@ struct KeyInput<'a> {
     what: &'static str,
     format: u32,
     version: &'static str,
+    /// The simulator's revision (see the module docs).
+    engine: u32,
     kind: FieldKind,
     primitives: &'a [Primitive],
     /// The resolved motions: defaults and waveforms are part of the key,
@@ -161,6 +164,7 @@ impl BasisCache {
             what: "platefield basis library",
             format: FORMAT,
             version: env!("CARGO_PKG_VERSION"),
+            engine: crate::dynamics::ENGINE_REVISION,
             kind,
             primitives,
             motions: primitives.iter().map(Primitive::motion).collect(),

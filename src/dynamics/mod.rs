@@ -33,6 +33,16 @@ mod steady;
 mod swing;
 
 pub use integrator::{CycleOutcome, PartState, Simulator, TrajectoryPoint, V2};
+
+/// Revision of the simulator's numerics: bumped whenever a change to the
+/// integrator changes any field it computes (not for changes that keep
+/// every field bitwise). Cached libraries are keyed by it
+/// ([`crate::basis::cache`]), so a library built by an earlier engine is
+/// rebuilt, not reused. 2: the 2-D order fixes of issue 12 (the
+/// regularised region held at its 64-step width, explicit 2-D steps
+/// limited by friction's damping across the slip, slowing slips
+/// regularised, tiny slips along a turning a_free started implicitly).
+pub const ENGINE_REVISION: u32 = 2;
 pub use kinematics_table::KinematicsTable;
 pub use planar::{
     PlanarOutcome, PlanarSample, PlanarSimulator, PlanarState, Plate, Rectangle,
