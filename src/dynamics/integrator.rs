@@ -51,7 +51,7 @@
 //!   u = 0 (and a slow-down towards a 2-D stop) followed in regularised time
 //!   dτ = dt/|u| instead of short explicit steps (`src/dynamics/swing.rs`):
 //!   2-D force fields within 1e-4 at 64 steps per cycle, observed order
-//!   2.7–4.3 from 16 to 64 steps (`tests/slip2d.rs`, `results/engine_speed.md`).
+//!   3.2–4.3 from 16 to 64 steps (`tests/slip2d.rs`, `results/engine_speed.md`).
 //!
 //! 1-D slips are unaffected by the choice except at starts from rest (both
 //! exact for piecewise-constant accelerations). A slip on the motion's line
@@ -527,14 +527,13 @@ impl<'a> Simulator<'a> {
                 self.slip_step(&k0, target - *t, state, anchor, swing > 0)
             };
             swing = swing.saturating_sub(1);
-            let (r1, u1, k1) = match (&stages, grid.and_then(|g| g.stages(*t, h, target))) {
-                (Some((km, k1)), _) => {
-                    self.rk4_with(*t, h, [&k0, km, k1], &state.r, &u0, anchor)?
-                }
-                (None, Some([km, k1])) => {
-                    self.rk4_with(*t, h, [&k0, km, k1], &state.r, &u0, anchor)?
-                }
-                (None, None) => self.rk4(*t, h, piece, &k0, &state.r, &u0, anchor, false)?,
+            let nodes = match &stages {
+                Some((km, k1)) => Some([km, k1]),
+                None => grid.and_then(|g| g.stages(*t, h, target)),
+            };
+            let (r1, u1, k1) = match nodes {
+                Some([km, k1]) => self.rk4_with(*t, h, [&k0, km, k1], &state.r, &u0, anchor)?,
+                None => self.rk4(*t, h, piece, &k0, &state.r, &u0, anchor, false)?,
             };
             out.rk4_steps += 1;
             if !(r1.iter().all(|x| x.is_finite()) && u1.norm_squared().is_finite()) {

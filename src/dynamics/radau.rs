@@ -32,6 +32,7 @@
 use nalgebra::{SMatrix, SVector};
 
 use super::integrator::{PartState, Simulator, V2};
+use super::swing::ACROSS_ROUND_OFF;
 use super::ContactLoss;
 
 type M6 = SMatrix<f64, 6, 6>;
@@ -138,7 +139,7 @@ impl Simulator<'_> {
         }
         let along = free.dot(&state.u) / s;
         let across = (free - state.u * (along / s)).norm();
-        if across <= 1e-12 * free.norm() {
+        if across <= ACROSS_ROUND_OFF * free.norm() {
             // Along a_free: a 1-D slip, where the explicit step is exact,
             // unless a_free turns off that line within the step while the
             // slip speeds up: then the slip only just started (a break-away
@@ -199,7 +200,7 @@ impl Simulator<'_> {
             let (_, f) = self.forces(k, r, u, anchor);
             let cross = f0.x * f.y - f0.y * f.x;
             (
-                cross.abs() > 1e-12 * f0.norm() * f.norm(),
+                cross.abs() > ACROSS_ROUND_OFF * f0.norm() * f.norm(),
                 f0.dot(&f) <= 0.0,
             )
         })

@@ -66,11 +66,13 @@ const C_MAX: f64 = 0.5;
 /// and fewer). Widening it at 64 steps instead (REGION 4) makes the
 /// τ-steps carry more of the swing: Circle 2.7e-4 at 64 steps.
 ///
-/// A second, rare error was found on the way (not fixed): DivCircle's
-/// 16384-step field is 2.9e-6 off the 4096- and 8192-step ones (which agree
-/// to 6e-9), all from one cycle ((−0.0133, −0.0133), phase 4 of 6): the
-/// break-away from rest after a stick from t/T ≈ 0.15 to 0.74 goes wrong at
-/// that h only (`worst_cycles`, `trace_cycle` with `SLIP2D_N=16384`).
+/// Two rarer errors that appeared at single fine step counts only (a
+/// break-away just before a step's end, a slip slowing to a stop with
+/// a_free nearly along û) are fixed in `radau.rs::wants_radau` and
+/// [`Simulator::wants_tau`]: DivCircle's 16384-step field, once 2.9e-6 off
+/// the 4096-step one from one cycle ((−0.0133, −0.0133), phase 4 of 6), now
+/// agrees with it cycle by cycle within 1.7e-9 (`worst_cycles` with
+/// `SLIP2D_N=16384 SLIP2D_WREF=4096`).
 const REGION: f64 = 2.0;
 
 /// The region's width stops shrinking with h beyond this many steps per
