@@ -39,7 +39,9 @@
 //! realised measure ([`CHECK_WARMUP_CYCLES`] warm-up and
 //! [`CHECK_MEASURED_CYCLES`] measured cycles, each rounded up to whole
 //! schedule periods, a window at every join;
-//! [`super::closed_loop::measure`]). Short, so that a strong field (a
+//! [`super::closed_loop::measure`]; the warm-up is lengthened at a start
+//! point whose start-up transient outlasts it, [`crate::play::settle`]:
+//! the jet's in-plane ratchet needs about 50 cycles). Short, so that a strong field (a
 //! synthesized sink of 1.5 s⁻¹ halves a part's distance in 0.5 s) is
 //! measured over the region rather than where parts have already gathered
 //! (with 40 warm-up cycles the parts of such a sink sat inside the masked

@@ -3,7 +3,9 @@
 //!
 //! **Playing** ([`play_point`]). A point part is placed at a start point p
 //! (at rest relative to the plate), the schedule is played for a warm-up of
-//! whole schedule periods, and then for `periods` more whole periods P. A
+//! whole schedule periods — at least those asked for, and as many more as
+//! the part's start-up transient needs to die out ([`super::settle`]) —
+//! and then for `periods` more whole periods P. A
 //! measured **window** is P schedule periods long (span P·T): the first one
 //! starts at the end of the warm-up ([`Windows::First`]), or there is one
 //! starting at each of the n segment joins of the first measured period
@@ -186,6 +188,14 @@ pub struct PointPlay {
     /// Where the part lost contact (plate frame, m), when it did.
     #[serde(skip)]
     pub lost_at: Option<[f64; 2]>,
+    /// Warm-up periods played: those asked for, lengthened until the
+    /// start-up transient died out ([`super::settle`]).
+    #[serde(skip)]
+    pub warmup_periods: u32,
+    /// False when the start-up transient had not died out within
+    /// [`super::settle::SETTLE_MAX_CYCLES`] cycles of warm-up.
+    #[serde(skip)]
+    pub settled: bool,
 }
 
 impl PointPlay {
@@ -286,8 +296,10 @@ pub fn flow_mean_velocity<E>(
     }
 }
 
-/// Plays `sm` from `start` (index `index`): `warm` warm-up periods, then
-/// windows of `periods` periods (see the module documentation).
+/// Plays `sm` from `start` (index `index`): at least `warm` warm-up
+/// periods, as many more as the start-up transient needs
+/// ([`super::settle::warmup`]), then windows of `periods` periods (see the
+/// module documentation).
 pub fn play_point(
     sm: &ScheduleMotion,
     player: &Player<'_>,
@@ -314,7 +326,13 @@ pub fn play_point(
         contributions: vec![[0.0; 2]; n],
         note: None,
         lost_at: None,
+        warmup_periods: warm,
+        settled: true,
     };
+    let settle = super::settle::warmup(player, start, warm);
+    let warm = settle.periods;
+    out.warmup_periods = warm;
+    out.settled = settle.settled;
     if let Err(e) = player.play_periods(&mut state, &anchor, 0, warm, |_, _, _| {}) {
         out.note = Some(e.to_string());
         out.lost_at = Some(e.loss.position);
@@ -418,6 +436,11 @@ pub struct PointResult {
     /// Why the point is invalid.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub note: Option<String>,
+    /// Warm-up periods played before measuring ([`super::settle`]).
+    pub warmup_periods: u32,
+    /// False when the start-up transient had not died out within the
+    /// longest warm-up allowed.
+    pub settled: bool,
 }
 
 /// The realised field of a played schedule against its prediction.
@@ -438,8 +461,14 @@ pub struct RealisedField {
     pub valid: usize,
     /// Schedule period (s).
     pub schedule_period_s: f64,
-    /// Warm-up periods.
+    /// Warm-up periods asked for.
     pub warmup_periods: u32,
+    /// Most warm-up periods any point played (the start-up transient
+    /// lengthens the warm-up asked for where it needs to; [`super::settle`]).
+    pub warmup_most: u32,
+    /// Points whose start-up transient had not died out within the longest
+    /// warm-up allowed.
+    pub unsettled: usize,
     /// Measured periods.
     pub periods: u32,
     /// Model name.
@@ -509,6 +538,8 @@ fn compare(sm: &ScheduleMotion, player: &Player<'_>, play: PointPlay) -> PointRe
         predicted: [0.0; 2],
         valid: false,
         note: Some(note),
+        warmup_periods: play.warmup_periods,
+        settled: play.settled,
     };
     if let Some(note) = &play.note {
         return PointResult {
@@ -588,6 +619,8 @@ fn compare(sm: &ScheduleMotion, player: &Player<'_>, play: PointPlay) -> PointRe
             predicted,
             valid: true,
             note: None,
+            warmup_periods: play.warmup_periods,
+            settled: play.settled,
         },
         Err(e) => invalid(&play, e),
     }
@@ -666,6 +699,12 @@ pub fn against_prediction(
         valid: ok.len(),
         schedule_period_s: sm.period(),
         warmup_periods: opts.warmup_periods,
+        warmup_most: results
+            .iter()
+            .map(|r| r.warmup_periods)
+            .max()
+            .unwrap_or(opts.warmup_periods),
+        unsettled: results.iter().filter(|r| !r.settled).count(),
         periods: opts.periods,
         model: opts.model.name(),
         points: results,
@@ -748,6 +787,8 @@ mod tests {
             contributions: vec![],
             note: None,
             lost_at: None,
+            warmup_periods: 0,
+            settled: true,
         };
         let mut sink = |r: [f64; 2]| -> Result<[f64; 2], ()> { Ok([-sigma * r[0], -sigma * r[1]]) };
         let e = play.expected_cycles(&mut sink, tc).unwrap();
@@ -791,6 +832,8 @@ mod tests {
             contributions: vec![],
             note: None,
             lost_at: None,
+            warmup_periods: 0,
+            settled: true,
         };
         let mut sink = |r: [f64; 2]| -> Result<[f64; 2], ()> { Ok([-sigma * r[0], -sigma * r[1]]) };
         let e = play.expected(&mut sink).unwrap();

@@ -33,6 +33,7 @@
 
 pub mod lag;
 pub mod measure;
+pub mod settle;
 
 pub use measure::{grid_points, verify_points, PlayOptions, PointResult, RealisedField};
 
@@ -197,6 +198,7 @@ impl ScheduleMotion {
             friction,
             gravity,
             model,
+            numerics,
             join: Join::Inertial,
         }
     }
@@ -231,6 +233,7 @@ pub struct Player<'a> {
     friction: Friction,
     gravity: f64,
     model: Model,
+    numerics: Numerics,
     join: Join,
 }
 
@@ -265,6 +268,18 @@ impl<'a> Player<'a> {
     /// The model switches.
     pub fn model(&self) -> Model {
         self.model
+    }
+
+    /// The same player with the part's position frozen in the plate
+    /// kinematics (the model's `moving` off; see [`Model::FROZEN`]).
+    pub fn frozen(&self) -> Player<'a> {
+        let model = Model {
+            moving: false,
+            ..self.model
+        };
+        self.schedule
+            .player(self.friction, self.gravity, model, self.numerics)
+            .with_join(self.join)
     }
 
     /// Tangential plate velocity at plate point `p` at the start (and, by

@@ -41,6 +41,8 @@ pub fn summary_json(r: &VerifyReport) -> Result<String> {
         points: usize,
         valid_points: usize,
         warmup_periods: u32,
+        warmup_periods_played_most: u32,
+        unsettled_points: usize,
         periods: u32,
         max_abs_error_m_per_s: f64,
         rms_predicted_m_per_s: f64,
@@ -64,6 +66,8 @@ pub fn summary_json(r: &VerifyReport) -> Result<String> {
             points: r.request.points * r.request.points,
             valid_points: v.valid,
             warmup_periods: r.request.warmup,
+            warmup_periods_played_most: v.warmup_most,
+            unsettled_points: v.unsettled,
             periods: r.request.periods,
             max_abs_error_m_per_s: v.max_abs_error,
             rms_predicted_m_per_s: v.rms_predicted,
@@ -310,6 +314,25 @@ pub fn summary(r: &VerifyReport) -> String {
         v.max_abs_error,
         v.rms_predicted
     );
+    if v.warmup_most > req.warmup {
+        let longer = v
+            .points
+            .iter()
+            .filter(|p| p.warmup_periods > req.warmup)
+            .count();
+        let _ = writeln!(
+            out,
+            "warm-up lengthened to up to {} periods at {} of {} points: the start-up transient of a part placed at rest (platefield::play::settle){}",
+            v.warmup_most,
+            longer,
+            v.points.len(),
+            if v.unsettled > 0 {
+                format!("; NOT settled at {} points within the longest warm-up allowed: their realised velocity still holds part of it", v.unsettled)
+            } else {
+                String::new()
+            }
+        );
+    }
     for p in v.points.iter().filter(|p| !p.valid) {
         let _ = writeln!(
             out,

@@ -435,6 +435,8 @@ mod tests {
                 contributions: vec![],
                 note: Some("contact lost".into()),
                 lost_at: Some(*p),
+                warmup_periods: 0,
+                settled: true,
             })
             .collect();
         let e = realised_error(&target, &sampled.weights, &plays, Some(1.0));
@@ -471,6 +473,8 @@ mod tests {
                     contributions: vec![],
                     note: None,
                     lost_at: None,
+                    warmup_periods: 0,
+                    settled: true,
                 }
             })
             .collect();
