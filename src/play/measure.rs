@@ -715,6 +715,31 @@ pub fn against_prediction(
 mod tests {
     use super::*;
 
+    /// A moving part's play with one window from `r0`.
+    fn window_play(
+        r0: [f64; 2],
+        position: [f64; 2],
+        realised: [f64; 2],
+        span: f64,
+        periods: u32,
+    ) -> PointPlay {
+        PointPlay {
+            index: 0,
+            start: r0,
+            position,
+            realised,
+            window_starts: vec![r0],
+            span,
+            periods,
+            moving: true,
+            contributions: vec![],
+            note: None,
+            lost_at: None,
+            warmup_periods: 0,
+            settled: true,
+        }
+    }
+
     /// exp(M) by its Taylor series (independent of the integrator).
     fn expm(m: [[f64; 2]; 2]) -> [[f64; 2]; 2] {
         let mul = |a: [[f64; 2]; 2], b: [[f64; 2]; 2]| {
@@ -775,21 +800,7 @@ mod tests {
         let (sigma, tc, cycles) = (0.55_f64, 0.05_f64, 20u32);
         let r0 = [0.02, -0.01];
         let span = f64::from(cycles) * tc;
-        let play = PointPlay {
-            index: 0,
-            start: r0,
-            position: r0,
-            realised: [0.0; 2],
-            window_starts: vec![r0],
-            span,
-            periods: cycles,
-            moving: true,
-            contributions: vec![],
-            note: None,
-            lost_at: None,
-            warmup_periods: 0,
-            settled: true,
-        };
+        let play = window_play(r0, r0, [0.0; 2], span, cycles);
         let mut sink = |r: [f64; 2]| -> Result<[f64; 2], ()> { Ok([-sigma * r[0], -sigma * r[1]]) };
         let e = play.expected_cycles(&mut sink, tc).unwrap();
         let k = (1.0 - sigma * tc).powi(cycles as i32) - 1.0;
@@ -820,21 +831,7 @@ mod tests {
             0.5 * r0[0] * mean_decay + 0.5 * r1[0],
             0.5 * r0[1] + 0.5 * r0[1] * mean_decay,
         ];
-        let play = PointPlay {
-            index: 0,
-            start: r0,
-            position: q,
-            realised,
-            window_starts: vec![r0],
-            span: t,
-            periods: 1,
-            moving: true,
-            contributions: vec![],
-            note: None,
-            lost_at: None,
-            warmup_periods: 0,
-            settled: true,
-        };
+        let play = window_play(r0, q, realised, t, 1);
         let mut sink = |r: [f64; 2]| -> Result<[f64; 2], ()> { Ok([-sigma * r[0], -sigma * r[1]]) };
         let e = play.expected(&mut sink).unwrap();
         let rel = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).hypot(a[1] - b[1]) / b[0].hypot(b[1]);
