@@ -46,6 +46,7 @@ use std::time::Instant;
 use crate::design::closed_loop::loop_points;
 use crate::design::closed_loop::measure::{play_motion, realised_error, MeasureOptions};
 use crate::design::method::sequenced_limits;
+use crate::design::polish::{polish, PolishOptions};
 use crate::design::refine::{refine_schedule, RefineOptions, Refined};
 use crate::design::{design, DesignOptions};
 use crate::error::{Error, Result};
@@ -158,6 +159,21 @@ pub fn measure(
     })
 }
 
+/// Start points disjoint from [`starts`] for an overfitting check: the
+/// grid points half a stride off (indices ≡ `STRIDE / 2` mod `STRIDE` on
+/// both axes; 4 × 4 of the 21 × 21 grid), unmasked; every `STRIDE`-th
+/// sample when the target has no grid.
+pub fn holdout_starts(target: &Target, sampled: &SampledTarget) -> Vec<usize> {
+    let off = STRIDE / 2;
+    (0..sampled.len())
+        .filter(|&k| sampled.weights[k] > 0.0)
+        .filter(|&k| match &target.grid {
+            Some(g) => (k % g.n[0]) % STRIDE == off && (k / g.n[0]) % STRIDE == off,
+            None => k % STRIDE == off,
+        })
+        .collect()
+}
+
 /// A synthesized motion as a one-segment trajectory (one cycle per period).
 pub fn synthesized_motion(s: &Synthesis) -> Result<ScheduleMotion> {
     ScheduleMotion::new(vec![PlayedSegment::moving(
@@ -177,6 +193,9 @@ pub struct StudySettings {
     pub evaluations: usize,
     /// Multi-start starts.
     pub starts: usize,
+    /// Plays of the played polish of the kept motion
+    /// ([`crate::design::polish`]; 0: no polish).
+    pub polish_plays: usize,
 }
 
 impl Default for StudySettings {
@@ -185,6 +204,7 @@ impl Default for StudySettings {
             harmonics: 2,
             evaluations: 300,
             starts: 3,
+            polish_plays: 300,
         }
     }
 }
@@ -230,6 +250,10 @@ pub struct Row {
     /// warm-up and measurement (200 and 100 cycles): the measure should
     /// not depend on the play's length.
     pub vs_predicted_long: f64,
+    /// The kept motion played from the [`holdout_starts`] (an overfitting
+    /// check of the played polish): realised strength, shape error, valid
+    /// and played points.
+    pub holdout: Option<(f64, f64, usize, usize)>,
 }
 
 impl Row {
@@ -253,6 +277,7 @@ impl Row {
             tried,
             binding: Vec::new(),
             vs_predicted_long: f64::NAN,
+            holdout: None,
         }
     }
 
@@ -275,6 +300,12 @@ impl Row {
 
 /// A synthesis and its played measure.
 type Candidate = (Synthesis, Measured);
+
+/// The study's order of played results: shape ≤ 5 % first, then strength,
+/// then the lower shape error.
+fn key(m: &Measured) -> (bool, f64, f64) {
+    (m.shape_error <= GOAL_SHAPE, m.strength, -m.shape_error)
+}
 
 /// Synthesizes for `target` under `limits` with 1, …, `limits.harmonics`
 /// harmonics (each within the limits: fewer harmonics is a subset), each
@@ -319,7 +350,6 @@ fn synthesize_row(
             pct(m.vs_predicted),
             s.summary()
         ));
-        let key = |m: &Measured| (m.shape_error <= GOAL_SHAPE, m.strength, -m.shape_error);
         let better = best.as_ref().is_none_or(|((_, b), _)| {
             key(&m).partial_cmp(&key(b)) == Some(std::cmp::Ordering::Greater)
         });
@@ -327,8 +357,63 @@ fn synthesize_row(
             best = Some(((s, m), (h, calibrate)));
         }
     }
-    let (c, h) = best.ok_or_else(|| Error::invalid("harmonics", "must be ≥ 1"))?;
-    Ok((c, h, tried))
+    let ((s, m), h) = best.ok_or_else(|| Error::invalid("harmonics", "must be ≥ 1"))?;
+    if study.polish_plays == 0 {
+        return Ok(((s, m), h, tried));
+    }
+    // The played polish of the kept motion, on the measure's own start
+    // points; kept only if the measure says it is better.
+    let sampled = target.sample()?;
+    let l = ShakerLimits {
+        harmonics: h.0,
+        ..limits.clone()
+    };
+    let opts = PolishOptions {
+        max_plays: study.polish_plays,
+        ..PolishOptions::default()
+    };
+    let p = polish(
+        target,
+        &sampled,
+        &starts(target, &sampled),
+        &region,
+        &l,
+        settings,
+        &s,
+        &opts,
+    )?;
+    let polished = if p.improved {
+        Some(measure(
+            target,
+            &synthesized_motion(&p.synthesis)?,
+            1,
+            settings,
+            true,
+        )?)
+    } else {
+        None
+    };
+    let kept = polished.filter(|q| {
+        key(q).partial_cmp(&key(&m)) == Some(std::cmp::Ordering::Greater)
+            && q.vs_predicted <= GOAL_VS_PREDICTED
+    });
+    tried.push(format!(
+        "played polish of the kept motion ({} plays, played shape budget {:.1} %, region shape budget {:.0} % or the start's, {:.1} s): played ŝ {} at shape {} → {} at {}, {}; {}",
+        p.plays,
+        100.0 * opts.shape_budget,
+        100.0 * opts.grid_budget,
+        p.seconds,
+        num(p.before.realised_strength),
+        pct(p.before.shape_error),
+        num(p.after.realised_strength),
+        pct(p.after.shape_error),
+        if kept.is_some() { "kept" } else { "not kept (no better by the played measure)" },
+        p.synthesis.summary()
+    ));
+    Ok(match kept {
+        Some(q) => ((p.synthesis, q), h, tried),
+        None => ((s, m), h, tried),
+    })
 }
 
 /// Today's sequenced schedule for `target`: `design --method sequence`
@@ -441,6 +526,17 @@ fn diagnose(mut row: Row, target: &Target, settings: &FieldSettings) -> Result<R
         );
         row.vs_predicted_long =
             against_prediction(&sm, plays, &PlayOptions::from_settings(settings)).relative_error;
+        let ho = holdout_starts(target, &sampled);
+        let plays = play_motion(
+            &sm,
+            1,
+            &sampled.points,
+            &ho,
+            settings,
+            &MeasureOptions::default(),
+        );
+        let e = realised_error(target, &sampled.weights, &plays, None);
+        row.holdout = Some((e.realised_strength, e.shape_error, e.valid, ho.len()));
     }
     Ok(row)
 }
@@ -543,9 +639,11 @@ pub fn render(
          1 to {} harmonics, each from the seed and from the phase-calibrated seed (every \
          candidate played, the best kept), contact margin 0.1 g. \
          Synthesis: coarse 7 × 7 objective, {} evaluations, \
-         {} starts, seed 1, full-grid check. Goals (issue 11): shape ≤ 5 %, strength ≥ 2× the \
+         {} starts, seed 1, full-grid check; then the kept motion is polished on the played \
+         measure itself ({} plays, `platefield::design::polish`; kept only if the played measure \
+         is better) and re-checked on the full grid. Goals (issue 11): shape ≤ 5 %, strength ≥ 2× the \
          sequenced schedule's (lab row: ≥ 0.5 s⁻¹), realised vs predicted ≤ 2 %.\n\n",
-        study.harmonics, study.evaluations, study.starts
+        study.harmonics, study.evaluations, study.starts, study.polish_plays
     );
     md.push_str("| target | sequenced ŝ | sequenced shape | synthesized ŝ | ratio | synthesized shape | vs pred. | valid / played | predicted ŝ (full grid) | evaluations | time | shape ≤ 5 % | strength | vs pred. ≤ 2 % |\n");
     md.push_str("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
@@ -632,6 +730,14 @@ pub fn render(
                 if r.calibrated { "calibrated seed" } else { "seed" },
                 pct(r.vs_predicted_long)
             );
+            if let Some((hs, he, hv, hn)) = r.holdout {
+                let _ = writeln!(
+                    md,
+                    "  - kept motion played from the {hn} points half a stride off (not seen by the polish): ŝ {} at shape {} ({hv} / {hn} valid).",
+                    num(hs),
+                    pct(he)
+                );
+            }
         }
         if !r.binding.is_empty() {
             let _ = writeln!(

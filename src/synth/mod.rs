@@ -117,4 +117,4 @@ mod synthesize;
 pub mod transport;
 
 pub use limits::ShakerLimits;
-pub use synthesize::{synthesize, AxisPeak, SynthOptions, Synthesis};
+pub use synthesize::{synthesize, AxisPeak, Checked, SynthOptions, Synthesis};
