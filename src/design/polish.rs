@@ -55,9 +55,6 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::Instant;
 
-use argmin::core::{CostFunction, Executor};
-use argmin::solver::neldermead::NelderMead;
-
 use super::closed_loop::measure::{self, MeasureOptions, RealisedError};
 use crate::error::{positive, Error, Result};
 use crate::field::{FieldSettings, Grid};
@@ -67,6 +64,7 @@ use crate::request::{SampledTarget, Target};
 use crate::synth::objective::{Objective, CONTACT_WEIGHT, INVALID_WEIGHT, LIMIT_WEIGHT};
 use crate::synth::params::{Coefficients, Layout};
 use crate::synth::progress::{Progress, ProgressMode};
+use crate::synth::refine::nelder_mead;
 use crate::synth::{Checked, ShakerLimits, Synthesis};
 
 /// Weight of the played shape error over budget (the synthesis objective's).
@@ -248,66 +246,21 @@ impl Played<'_> {
     }
 }
 
-/// Why a run stopped early.
-const BUDGET_SPENT: &str = "polish budget spent";
-
-/// The argmin problem: the played objective, refusing evaluations once the
-/// budget is spent (except the simplex's first n + 1, which [`run`] starts
-/// only when they fit).
-struct Capped<'b, 'a> {
-    played: &'b Played<'a>,
-    init_left: AtomicUsize,
-}
-
-impl CostFunction for Capped<'_, '_> {
-    type Param = Vec<f64>;
-    type Output = f64;
-
-    fn cost(&self, param: &Vec<f64>) -> std::result::Result<f64, argmin::core::Error> {
-        let init = self
-            .init_left
-            .fetch_update(Ordering::Relaxed, Ordering::Relaxed, |n| n.checked_sub(1))
-            .is_ok();
-        if !init && self.played.spent() {
-            return Err(argmin::core::Error::msg(BUDGET_SPENT));
-        }
-        self.played
-            .evaluate(param)
-            .map(|e| e.cost)
-            .map_err(|e| argmin::core::Error::msg(e.to_string()))
-    }
-}
-
 /// One Nelder–Mead run from `x0` (simplex step `step`) until convergence or
-/// the budget.
+/// the budget ([`nelder_mead`]).
 fn run(played: &Played<'_>, x0: &[f64], step: f64) -> Result<()> {
-    let simplex: Vec<Vec<f64>> = (0..=x0.len())
-        .map(|i| {
-            let mut v = x0.to_vec();
-            if i > 0 {
-                v[i - 1] += step;
-            }
-            v
-        })
-        .collect();
-    if played.plays.load(Ordering::Relaxed) + simplex.len() > played.options.max_plays {
-        return Ok(());
-    }
-    let problem = Capped {
-        played,
-        init_left: AtomicUsize::new(simplex.len()),
-    };
-    let solver = NelderMead::new(simplex)
-        .with_sd_tolerance(1e-7)
-        .map_err(|e| Error::NotConverged(format!("Nelder–Mead setup: {e}")))?;
-    match Executor::new(problem, solver)
-        .configure(|s| s.max_iters(1_000_000))
-        .run()
-    {
-        Ok(_) => Ok(()),
-        Err(e) if e.to_string().contains(BUDGET_SPENT) => Ok(()),
-        Err(e) => Err(Error::NotConverged(format!("played polish: {e}"))),
-    }
+    nelder_mead(
+        x0,
+        step,
+        played
+            .options
+            .max_plays
+            .saturating_sub(played.plays.load(Ordering::Relaxed)),
+        |x| played.evaluate(x).map(|e| e.cost),
+        || played.spent(),
+        "played polish",
+        None,
+    )
 }
 
 /// Polishes `synthesis` (made for `target` over `region` within `limits`)

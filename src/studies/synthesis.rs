@@ -24,6 +24,12 @@
 //! evaluations Nelder–Mead does better in the 10 dimensions of one
 //! harmonic than in the 20 of two, and which start ends better differs by
 //! target (the coarse cost's best is not always the played best).
+//! The kept motion is then polished on the played measure itself
+//! ([`crate::design::polish`], [`StudySettings::polish_plays`] plays, the
+//! measure's own start points), kept only if the played measure is better
+//! and its realised vs predicted stays ≤ 2 %, and played once more from the
+//! 16 start points half a stride off ([`holdout_starts`]), which the polish
+//! never saw.
 //!
 //! **The realised measure** (the same for both motions): point parts placed
 //! at rest on the plate at every `STRIDE`-th point of the target grid (the
@@ -641,7 +647,10 @@ pub fn render(
          Synthesis: coarse 7 × 7 objective, {} evaluations, \
          {} starts, seed 1, full-grid check; then the kept motion is polished on the played \
          measure itself ({} plays, `platefield::design::polish`; kept only if the played measure \
-         is better) and re-checked on the full grid. Goals (issue 11): shape ≤ 5 %, strength ≥ 2× the \
+         is better) and re-checked on the full grid; *evaluations* counts the coarse \
+         re-simulations of both (each play comes with one, for the contact check), *time* both. \
+         The line under each row's notes plays the kept motion from 16 start points the polish did \
+         not see. Goals (issue 11): shape ≤ 5 %, strength ≥ 2× the \
          sequenced schedule's (lab row: ≥ 0.5 s⁻¹), realised vs predicted ≤ 2 %.\n\n",
         study.harmonics, study.evaluations, study.starts, study.polish_plays
     );
@@ -816,10 +825,15 @@ pub fn render(
          closed-form seed does not model. With two harmonics the synthesis now also starts from an \
          in-plane second-harmonic ratchet on x (`platefield::synth::transport`; 10 m/s² drifts parts \
          ≈ 1.06 cm/s, 17× what a_z ≤ 0.109 m/s² gives): squeeze_trans went from 0.150 (1 harmonic, \
-         a_z) to the 2-harmonic rows above. 2× the sequenced 0.374 (0.748) was not reached: with 700 \
-         evaluations instead of 300 the same start plays 0.712 at 5.2 % shape (46 s); the ratchet's \
-         drift depends on N, which the tilts modulate across the line, so stronger transport comes \
-         with a shear the local refinement trades against strength.\n\
+         a_z) to 0.636 at 4.9 % (300 evaluations; 700 play 0.712 at 5.2 %): the ratchet's drift \
+         depends on N, which the tilts modulate across the line, and the coarse-grid objective \
+         weights every point alike while the played parts crowd near the line, where the \
+         transport is ≈ 11 % low. The played polish (`platefield::design::polish`) optimises the \
+         measure where the parts are: 0.636 → 0.807 at 3.9 % (2.16×; from the 16 start points it \
+         did not see, 0.802 at 3.9 %). It holds the region's coarse-grid shape to 6 %: without \
+         that bound it played 1.06 s⁻¹ at 4.0 % with 12.8 % shape over the region — the warm-up \
+         squeezes parts onto the line before they are measured, so the field away from the line \
+         was given up for the field on it.\n\
          - *Saddle*: its strength is set by the contact margin (seed capped at 0.8005 of the 1.1202 \
          the peaks allow; simulated 0.82 of that). Tried in a scratch run (not shipped; \
          2 harmonics, calibrated seed): 900 evaluations play 0.546 at 3.4 % (Nelder–Mead in 20 dimensions finds \
@@ -827,12 +841,19 @@ pub fn render(
          margin (+3.1 %, least N 0.99 m/s²) plays 0.620 but at 5.2 % shape with 10 of 25 points \
          valid; a vertical (or tilt) second harmonic cannot raise N at all four corners at once — \
          with harmonic-1 tilts the corners' minima fall at 2ωt = ∓90° alternately, so any \
-         second harmonic b + d·q raises one pair and lowers the other. 2× (0.624) is not reached.\n\
+         second harmonic b + d·q raises one pair and lowers the other. The played polish's \
+         local search gains little: 0.599 → 0.601 (300 plays, least N 1.27 m/s²); 400 plays with \
+         a simplex of 0.08 in a scratch run reach 0.604 with least N 0.98 m/s², on the margin. \
+         2× (0.624) is not reached.\n\
          - *valid / played* below played: at those start points a part lost contact (or a \
          steady state failed) somewhere along its path and the measure leaves the point out. For \
-         the saddle the likely cause, not verified here, is its expanding axis: parts are driven \
-         out of the ±4 cm region that the contact check covers, and the tilts swing the normal \
-         force further out there.\n\
+         the saddle (checked point by point, `cargo run --release --example played_polish saddle`) \
+         the 10 points left out are the starts at y = ±4 cm, on the expanding axis: their parts \
+         leave the plate at |y| = 6.1–6.8 cm in warm-up periods 25–32 (N < 0 where the tilts swing \
+         it by more than g), outside the ±4 cm region the contact margin covers — a physical loss, \
+         not a defect of the measure. The parts started at y = ±2 cm are measured at |y| ≈ 5.5 cm, \
+         where the field falls below the region's affine one: hence the saddle's played ŝ below \
+         its full-grid prediction, which the sink (whose parts move inwards) does not show.\n\
          - *Realised vs predicted* compares each synthesized motion with its own steady state, \
          drift-lag-corrected and iterated once per cycle (`platefield::play::lag`, \
          `platefield::play::measure`): a steady state is a per-cycle displacement, and a part that \
