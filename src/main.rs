@@ -131,6 +131,9 @@ enum Command {
         /// Multi-start starts per synthesis.
         #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u64).range(1..=100))]
         starts: u64,
+        /// Plays of the played polish of each row's kept motion (0: none).
+        #[arg(long, default_value_t = 300, value_parser = clap::value_parser!(u64).range(0..=100_000))]
+        polish_plays: u64,
         #[command(flatten)]
         out: StudyOut,
     },
@@ -221,6 +224,7 @@ fn run(cli: Cli) -> Result<String> {
             harmonics,
             evaluations,
             starts,
+            polish_plays,
             out,
         } => studies::synthesis::run(
             &out.out,
@@ -229,6 +233,7 @@ fn run(cli: Cli) -> Result<String> {
                 harmonics,
                 evaluations: evaluations as usize,
                 starts: starts as usize,
+                polish_plays: polish_plays as usize,
             },
         ),
     }

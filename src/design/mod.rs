@@ -27,6 +27,7 @@ pub mod closed_loop;
 pub mod method;
 mod options;
 pub mod order;
+pub mod polish;
 pub mod refine;
 mod stages;
 

@@ -102,7 +102,8 @@
 //! or without `calibrate`, which is about the seed) and
 //! line-searched in strength ([`transport::scale_search`]); the better of
 //! it and the calibrated seed runs first. squeeze_trans under its
-//! sequenced limits: played 0.150 → 0.636 s⁻¹ at 4.9 % shape
+//! sequenced limits: played 0.150 → 0.636 s⁻¹ at 4.9 % shape, and the
+//! played polish of `platefield::design::polish` then 0.807 at 3.9 %
 //! (`results/synthesis.md`).
 
 pub mod calibrate;
@@ -117,4 +118,4 @@ mod synthesize;
 pub mod transport;
 
 pub use limits::ShakerLimits;
-pub use synthesize::{synthesize, AxisPeak, SynthOptions, Synthesis};
+pub use synthesize::{synthesize, AxisPeak, Checked, SynthOptions, Synthesis};

@@ -70,17 +70,21 @@ impl SplitMix64 {
 /// Why a run stopped early.
 const BUDGET_SPENT: &str = "synthesis budget spent";
 
-/// The argmin problem: the objective, stopping at `cap` evaluations (or
-/// the objective's own budget or deadline) — but never during the
-/// simplex's first n + 1 evaluations, which argmin's Nelder–Mead cannot
-/// interrupt ([`run`] starts only when they fit in the budget).
-struct Capped<'b, 'a> {
-    objective: &'b Objective<'a>,
-    cap: usize,
+/// The argmin problem: `cost`, refusing evaluations once `spent()` says
+/// the budget is gone — but never during the simplex's first n + 1
+/// evaluations, which argmin's Nelder–Mead cannot interrupt
+/// ([`nelder_mead`] starts only when they fit in the budget).
+struct Budgeted<F, S> {
+    cost: F,
+    spent: S,
     init_left: AtomicUsize,
 }
 
-impl CostFunction for Capped<'_, '_> {
+impl<F, S> CostFunction for Budgeted<F, S>
+where
+    F: Fn(&[f64]) -> Result<f64>,
+    S: Fn() -> bool,
+{
     type Param = Vec<f64>;
     type Output = f64;
 
@@ -89,10 +93,62 @@ impl CostFunction for Capped<'_, '_> {
             .init_left
             .fetch_update(Ordering::Relaxed, Ordering::Relaxed, |n| n.checked_sub(1))
             .is_ok();
-        if !init && (self.objective.spent() || self.objective.evaluations() >= self.cap) {
+        if !init && (self.spent)() {
             return Err(argmin::core::Error::msg(BUDGET_SPENT));
         }
-        Ok(self.objective.evaluate(param).cost)
+        (self.cost)(param).map_err(|e| argmin::core::Error::msg(e.to_string()))
+    }
+}
+
+/// One argmin Nelder–Mead run of `cost` from `x0` (initial simplex: `x0`
+/// plus `step` along each coordinate) until its simplex's costs agree to
+/// 1e-7 or `spent()`; it starts only if `room` evaluations hold the
+/// simplex (n + 1). `label` names the run in errors; `progress`, if given,
+/// observes every iteration.
+///
+/// # Errors
+/// The optimizer (or `cost`) fails for a reason other than the budget.
+pub fn nelder_mead<F, S>(
+    x0: &[f64],
+    step: f64,
+    room: usize,
+    cost: F,
+    spent: S,
+    label: &str,
+    progress: Option<&Arc<Progress>>,
+) -> Result<()>
+where
+    F: Fn(&[f64]) -> Result<f64>,
+    S: Fn() -> bool,
+{
+    let simplex: Vec<Vec<f64>> = (0..=x0.len())
+        .map(|i| {
+            let mut v = x0.to_vec();
+            if i > 0 {
+                v[i - 1] += step;
+            }
+            v
+        })
+        .collect();
+    if spent() || simplex.len() > room {
+        return Ok(());
+    }
+    let problem = Budgeted {
+        cost,
+        spent,
+        init_left: AtomicUsize::new(simplex.len()),
+    };
+    let solver = NelderMead::new(simplex)
+        .with_sd_tolerance(1e-7)
+        .map_err(|e| Error::NotConverged(format!("{label} setup: {e}")))?;
+    let mut executor = Executor::new(problem, solver).configure(|s| s.max_iters(1_000_000));
+    if let Some(p) = progress {
+        executor = executor.add_observer(Observer(p.clone()), ObserverMode::Always);
+    }
+    match executor.run() {
+        Ok(_) => Ok(()),
+        Err(e) if e.to_string().contains(BUDGET_SPENT) => Ok(()),
+        Err(e) => Err(Error::NotConverged(format!("{label}: {e}"))),
     }
 }
 
@@ -104,36 +160,15 @@ fn run(
     cap: usize,
     progress: &Arc<Progress>,
 ) -> Result<()> {
-    let simplex_len = x0.len() + 1;
-    let simplex: Vec<Vec<f64>> = (0..=x0.len())
-        .map(|i| {
-            let mut v = x0.to_vec();
-            if i > 0 {
-                v[i - 1] += step;
-            }
-            v
-        })
-        .collect();
-    if objective.spent() || objective.evaluations() + simplex.len() > cap {
-        return Ok(());
-    }
-    let solver = NelderMead::new(simplex)
-        .with_sd_tolerance(1e-7)
-        .map_err(|e| Error::NotConverged(format!("Nelder–Mead setup: {e}")))?;
-    let problem = Capped {
-        objective,
-        cap,
-        init_left: AtomicUsize::new(simplex_len),
-    };
-    let outcome = Executor::new(problem, solver)
-        .configure(|s| s.max_iters(1_000_000))
-        .add_observer(Observer(progress.clone()), ObserverMode::Always)
-        .run();
-    match outcome {
-        Ok(_) => Ok(()),
-        Err(e) if e.to_string().contains(BUDGET_SPENT) => Ok(()),
-        Err(e) => Err(Error::NotConverged(format!("Nelder–Mead: {e}"))),
-    }
+    nelder_mead(
+        x0,
+        step,
+        cap.saturating_sub(objective.evaluations()),
+        |x| Ok(objective.evaluate(x).cost),
+        || objective.spent() || objective.evaluations() >= cap,
+        "Nelder–Mead",
+        Some(progress),
+    )
 }
 
 /// Refines from the seed vector `x0` and the explicit starts `extra`

@@ -8,7 +8,7 @@ use super::calibrate::calibrate;
 use super::contact::{kinematic_least_normal, orbit_least_normal};
 use super::limits::ShakerLimits;
 use super::objective::{realised, Objective, Realised};
-use super::params::{Layout, AXIS_NAMES};
+use super::params::{Coefficients, Layout, AXIS_NAMES};
 use super::progress::{Progress, ProgressMode};
 use super::refine::{refine, RefineOptions};
 use super::seed::{seed, Seed};
@@ -125,9 +125,32 @@ pub struct Synthesis {
     pub poor: bool,
     /// Why it is poor, and what limited the seed.
     pub notes: Vec<String>,
+    /// What limited the seed (the notes that do not depend on the motion
+    /// kept).
+    pub seed_notes: Vec<String>,
 }
 
 impl Synthesis {
+    /// This synthesis with its motion replaced by `checked` (a later
+    /// polish of the same request): motion, full-grid field and measure,
+    /// peaks, least N, POOR and notes are `checked`'s; the seed, coarse and
+    /// evaluation records stay, `evaluations` and `seconds` grow by the
+    /// polish's.
+    pub fn with_checked(&self, checked: Checked, evaluations: usize, seconds: f64) -> Synthesis {
+        Synthesis {
+            motion: checked.motion,
+            field: checked.field,
+            realised: checked.realised,
+            peaks: checked.peaks,
+            least_normal: checked.least_normal,
+            poor: checked.poor,
+            notes: checked.notes,
+            evaluations: self.evaluations + evaluations,
+            seconds: self.seconds + seconds,
+            ..self.clone()
+        }
+    }
+
     /// One-line summary: seed, realised strength and shape error on the
     /// full grid, evaluations, time, least N, POOR and notes.
     pub fn summary(&self) -> String {
@@ -237,78 +260,128 @@ pub fn synthesize(
     )?;
     progress.finish();
     let coefficients = objective.motion(&best.params).0;
-    let motion = coefficients.to_signals();
-    let m = Motion::Signals(motion.clone());
-    let full = Field::compute(&m, region, FieldKind::Velocity, settings, &|| {});
-    let target: Vec<[f64; 2]> = region.points().iter().map(|p| field.eval(*p)).collect();
-    let r = realised(&full, &target);
-    let least_normal =
-        kinematic_least_normal(&m, region, settings).min(orbit_least_normal(&m, region, settings));
-    let peaks: Vec<AxisPeak> = coefficients
-        .peaks()
-        .iter()
-        .zip(limits.axes())
-        .zip(AXIS_NAMES)
-        .map(|((p, l), a)| AxisPeak {
-            axis: a,
-            peak: *p,
-            limit: l,
-        })
-        .collect();
-    let mut notes = seed.notes.clone();
+    let mut seed_notes = seed.notes.clone();
     if seed.fit.residual > 0.01 {
-        notes.push(format!(
+        seed_notes.push(format!(
             "the target is not affine: its best affine fit leaves {:.1} % (the seed's mechanism reaches affine fields only)",
             100.0 * seed.fit.residual
         ));
     }
-    let moves = r.strength > 0.0;
-    if !moves {
-        notes.push("no positive strength: the motion does not move parts the target's way".into());
-    }
-    if r.shape_error > POOR_SHAPE_ERROR {
-        notes.push(format!(
-            "shape error {:.1} % > {:.0} %",
-            100.0 * r.shape_error,
-            100.0 * POOR_SHAPE_ERROR
-        ));
-    }
-    if r.invalid > 0 {
-        notes.push(format!(
-            "{} of {} samples invalid (contact lost or not converged)",
-            r.invalid,
-            full.grid.len()
-        ));
-    }
-    if least_normal < limits.contact_margin * settings.gravity {
-        notes.push(format!(
-            "contact margin broken: least N = {:.3} m/s² < {} g",
-            least_normal, limits.contact_margin
-        ));
-    }
-    let over = peaks
-        .iter()
-        .any(|p| p.peak > p.limit * (1.0 + PEAK_TOL) + f64::MIN_POSITIVE);
-    if over {
-        notes.push("a peak exceeds its limit".into());
-    }
-    let poor = !moves
-        || r.shape_error > POOR_SHAPE_ERROR
-        || r.invalid > 0
-        || least_normal < limits.contact_margin * settings.gravity
-        || over;
+    let checked = Checked::of(field, region, limits, settings, &coefficients, &seed_notes);
     Ok(Synthesis {
-        motion,
-        field: full,
-        realised: r,
+        motion: checked.motion,
+        field: checked.field,
+        realised: checked.realised,
         coarse: best.realised,
         seed_realised: seed_eval.realised,
         seed_strength: seed.strength,
-        peaks,
-        least_normal,
+        peaks: checked.peaks,
+        least_normal: checked.least_normal,
         evaluations: objective.evaluations(),
         seconds: start.elapsed().as_secs_f64(),
-        poor,
-        notes,
+        poor: checked.poor,
+        notes: checked.notes,
+        seed_notes,
     })
+}
+
+/// The full-grid checks of one motion ([`Checked::of`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Checked {
+    /// The motion (scene `signals` format).
+    pub motion: Signals,
+    /// Its steady-state velocity field on the full grid.
+    pub field: Field,
+    /// Realised strength and shape error on the full grid.
+    pub realised: Realised,
+    /// Per-axis peaks against limits.
+    pub peaks: Vec<AxisPeak>,
+    /// Least normal force per unit mass over the region (m/s²).
+    pub least_normal: f64,
+    /// POOR (see [`Synthesis::poor`]).
+    pub poor: bool,
+    /// `seed_notes`, then why it is poor.
+    pub notes: Vec<String>,
+}
+
+impl Checked {
+    /// Checks `coefficients` before they are reported: the field
+    /// re-simulated on the full grid `region`, the realised measure against
+    /// `field`, the least N over the region (kinematic and along the
+    /// simulated steady orbits), the peaks against `limits`; POOR when a
+    /// check fails. `seed_notes` lead the notes.
+    pub fn of(
+        field: &FieldSpec,
+        region: &Grid,
+        limits: &ShakerLimits,
+        settings: &FieldSettings,
+        coefficients: &Coefficients,
+        seed_notes: &[String],
+    ) -> Checked {
+        let motion = coefficients.to_signals();
+        let m = Motion::Signals(motion.clone());
+        let full = Field::compute(&m, region, FieldKind::Velocity, settings, &|| {});
+        let target: Vec<[f64; 2]> = region.points().iter().map(|p| field.eval(*p)).collect();
+        let r = realised(&full, &target);
+        let least_normal = kinematic_least_normal(&m, region, settings)
+            .min(orbit_least_normal(&m, region, settings));
+        let peaks: Vec<AxisPeak> = coefficients
+            .peaks()
+            .iter()
+            .zip(limits.axes())
+            .zip(AXIS_NAMES)
+            .map(|((p, l), a)| AxisPeak {
+                axis: a,
+                peak: *p,
+                limit: l,
+            })
+            .collect();
+        let mut notes = seed_notes.to_vec();
+        let moves = r.strength > 0.0;
+        if !moves {
+            notes.push(
+                "no positive strength: the motion does not move parts the target's way".into(),
+            );
+        }
+        if r.shape_error > POOR_SHAPE_ERROR {
+            notes.push(format!(
+                "shape error {:.1} % > {:.0} %",
+                100.0 * r.shape_error,
+                100.0 * POOR_SHAPE_ERROR
+            ));
+        }
+        if r.invalid > 0 {
+            notes.push(format!(
+                "{} of {} samples invalid (contact lost or not converged)",
+                r.invalid,
+                full.grid.len()
+            ));
+        }
+        if least_normal < limits.contact_margin * settings.gravity {
+            notes.push(format!(
+                "contact margin broken: least N = {:.3} m/s² < {} g",
+                least_normal, limits.contact_margin
+            ));
+        }
+        let over = peaks
+            .iter()
+            .any(|p| p.peak > p.limit * (1.0 + PEAK_TOL) + f64::MIN_POSITIVE);
+        if over {
+            notes.push("a peak exceeds its limit".into());
+        }
+        let poor = !moves
+            || r.shape_error > POOR_SHAPE_ERROR
+            || r.invalid > 0
+            || least_normal < limits.contact_margin * settings.gravity
+            || over;
+        Checked {
+            motion,
+            field: full,
+            realised: r,
+            peaks,
+            least_normal,
+            poor,
+            notes,
+        }
+    }
 }

@@ -1,0 +1,375 @@
+//! Played polish of a synthesized motion: Nelder–Mead on the *played*
+//! realised measure itself.
+//!
+//! **Why.** [`crate::synth::synthesize`] optimises the steady-state field on
+//! a coarse grid of the region, every grid point weighted alike. The played
+//! measure ([`measure::realised_error`]) weights the field where the parts
+//! go: a part started at rest is measured over windows after a warm-up, at
+//! its mean position. For an expanding target the parts spend the measured
+//! windows outside the region (the saddle with its sequenced limits: parts
+//! started at y = ±2 cm are measured at y ≈ ±5.5 cm, and parts started at
+//! y = ±4 cm leave the plate at |y| ≈ 6.1–6.8 cm in warm-up period 25–32,
+//! where the tilts swing N below zero — outside the ±4 cm region the
+//! contact margin covers, so the measure leaves them out), and parts of a
+//! squeeze crowd near its line; so the played strength can fall below the
+//! predicted one at the same motion (saddle: 0.599 played, 0.657 on the
+//! full grid). The played measure is cheap (5 × 5 start points, 60 cycles:
+//! ≈ 30 ms), so it can be the objective of a last local refinement.
+//!
+//! **Cost** of a parameter vector ([`crate::synth::params::Layout`]), with
+//! ŝ and e the played realised strength and shape error at the given start
+//! points, s₀ the starting motion's played strength:
+//!
+//! ```text
+//! cost = −ŝ / s₀ + 20 · max(0, e − budget)          (shape first)
+//!      + 20 · max(0, e_grid − grid budget)           (the region's shape kept)
+//!      + Σ_axes max(0, peak/limit − 1)               (excess clamped away)
+//!      + 100 · max(0, m − N_min/g)                   (contact margin over the region)
+//!      + 10 · (invalid coarse samples / samples)
+//!      + 10 · max(0, lost − lost₀) / played          (no more lost parts than at the start)
+//! ```
+//!
+//! e_grid is the shape error of the steady-state field on the coarse grid
+//! over the whole region, its budget the larger of `grid_budget` and the
+//! start's: without it the polish trades the field where parts do not go
+//! for the field where they do (squeeze_trans: played 0.64 → 1.06 s⁻¹ at
+//! 4.0 %, but 12.8 % shape over the region — parts are squeezed onto the
+//! line during the warm-up and measured only there). N_min and the coarse
+//! samples are those of the synthesis objective
+//! ([`Objective`]: kinematic and steady-orbit least N on the coarse grid),
+//! so the polish keeps every constraint the synthesis kept; parts lost
+//! *outside* the region (as the saddle's above) may not become more. The
+//! polish runs argmin's Nelder–Mead from the synthesized motion with an
+//! initial simplex of `step` (fraction of each axis limit), then restarts
+//! from the best point with a third of that step, halving at each restart,
+//! until `max_plays` plays are spent (sequential and deterministic: same
+//! input, same bytes). The best point is re-checked on the full grid
+//! ([`Checked::of`]) and kept only if its cost is lower than the start's
+//! and the check is not POOR (unless the start was POOR too).
+//!
+//! **Overfitting check.** The polish sees only the start points it is given;
+//! the study reports the kept motion on a second, disjoint set of start
+//! points as well (`platefield::studies::synthesis`).
+
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+use std::time::Instant;
+
+use super::closed_loop::measure::{self, MeasureOptions, RealisedError};
+use crate::error::{positive, Error, Result};
+use crate::field::{FieldSettings, Grid};
+use crate::motion::Motion;
+use crate::play::{PlayedSegment, ScheduleMotion};
+use crate::request::{SampledTarget, Target};
+use crate::synth::objective::{Objective, CONTACT_WEIGHT, INVALID_WEIGHT, LIMIT_WEIGHT};
+use crate::synth::params::{Coefficients, Layout};
+use crate::synth::progress::{Progress, ProgressMode};
+use crate::synth::refine::nelder_mead;
+use crate::synth::{Checked, ShakerLimits, Synthesis};
+
+/// Weight of the played shape error over budget (the synthesis objective's).
+pub const SHAPE_WEIGHT: f64 = crate::synth::objective::SHAPE_WEIGHT;
+/// Cap on the played shape error inside the cost.
+const SHAPE_CAP: f64 = 10.0;
+
+/// Settings of the played polish.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PolishOptions {
+    /// Plays allowed (each also one coarse re-simulation for the contact
+    /// check).
+    pub max_plays: usize,
+    /// Played shape-error budget (the cost's knee).
+    pub shape_budget: f64,
+    /// Shape-error budget of the steady-state field on the coarse grid
+    /// over the whole region (the start's, if larger): the motion must keep
+    /// the target's shape where the parts do not go as well.
+    pub grid_budget: f64,
+    /// Initial simplex step (fraction of each axis limit).
+    pub step: f64,
+    /// Coarse grid [nx, ny] of the contact check.
+    pub coarse: [usize; 2],
+    /// How long each start point is played.
+    pub measure: MeasureOptions,
+}
+
+impl Default for PolishOptions {
+    fn default() -> Self {
+        PolishOptions {
+            max_plays: 200,
+            shape_budget: 0.045,
+            grid_budget: 0.06,
+            step: 0.03,
+            coarse: [7, 7],
+            measure: MeasureOptions::default(),
+        }
+    }
+}
+
+impl PolishOptions {
+    fn validate(&self) -> Result<()> {
+        if self.max_plays == 0 {
+            return Err(Error::invalid("polish.max_plays", "must be ≥ 1"));
+        }
+        positive("polish.shape_budget", self.shape_budget)?;
+        positive("polish.grid_budget", self.grid_budget)?;
+        positive("polish.step", self.step)?;
+        for (i, n) in self.coarse.iter().enumerate() {
+            if !(2..=101).contains(n) {
+                return Err(Error::invalid(
+                    format!("polish.coarse[{i}]"),
+                    format!("must be in 2..=101, got {n}"),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A polished synthesis, with the played measure before and after.
+#[derive(Debug, Clone)]
+pub struct Polished {
+    /// The polished synthesis, or the given one when the polish did not
+    /// help (`improved` false).
+    pub synthesis: Synthesis,
+    /// Played measure of the given motion.
+    pub before: RealisedError,
+    /// Played measure of the motion returned.
+    pub after: RealisedError,
+    /// Played cost of the given motion (see the module documentation).
+    pub cost_before: f64,
+    /// Played cost of the motion returned.
+    pub cost_after: f64,
+    /// Whether the polished motion was kept.
+    pub improved: bool,
+    /// Plays used.
+    pub plays: usize,
+    /// Wall time (s); not part of any data file.
+    pub seconds: f64,
+}
+
+/// One played evaluation.
+#[derive(Debug, Clone)]
+struct Eval {
+    params: Vec<f64>,
+    cost: f64,
+    played: RealisedError,
+}
+
+/// The played objective (see the module documentation).
+struct Played<'a> {
+    target: &'a Target,
+    sampled: &'a SampledTarget,
+    starts: &'a [usize],
+    settings: &'a FieldSettings,
+    objective: Objective<'a>,
+    limits: &'a ShakerLimits,
+    options: &'a PolishOptions,
+    strength_ref: f64,
+    lost_ref: usize,
+    grid_budget: f64,
+    plays: AtomicUsize,
+    best: Mutex<Option<Eval>>,
+}
+
+impl Played<'_> {
+    fn play(&self, c: &Coefficients) -> Result<RealisedError> {
+        let sm = ScheduleMotion::new(vec![PlayedSegment::moving(
+            "synthesized",
+            Motion::Signals(c.to_signals()),
+            1,
+        )])?;
+        let plays = measure::play_motion(
+            &sm,
+            1,
+            &self.sampled.points,
+            self.starts,
+            self.settings,
+            &self.options.measure,
+        );
+        Ok(measure::realised_error(
+            self.target,
+            &self.sampled.weights,
+            &plays,
+            None,
+        ))
+    }
+
+    fn evaluate(&self, params: &[f64]) -> Result<Eval> {
+        let (c, excess) = self.objective.motion(params);
+        let coarse = self.objective.evaluate(params);
+        let played = self.play(&c)?;
+        let g = self.settings.gravity;
+        let margin = (self.limits.contact_margin - coarse.least_normal / g).max(0.0);
+        let lost = self.starts.len().saturating_sub(played.valid);
+        let shape = if played.shape_error.is_finite() && played.realised_strength > 0.0 {
+            played.shape_error.min(SHAPE_CAP)
+        } else {
+            SHAPE_CAP
+        };
+        let strength = if played.realised_strength.is_finite() {
+            played.realised_strength
+        } else {
+            0.0
+        };
+        let cost = -strength / self.strength_ref
+            + SHAPE_WEIGHT * (shape - self.options.shape_budget).max(0.0)
+            + SHAPE_WEIGHT
+                * (coarse.realised.shape_error.min(SHAPE_CAP) - self.grid_budget).max(0.0)
+            + LIMIT_WEIGHT * excess
+            + CONTACT_WEIGHT * margin
+            + INVALID_WEIGHT * coarse.realised.invalid as f64 / self.objective_len() as f64
+            + INVALID_WEIGHT * lost.saturating_sub(self.lost_ref) as f64
+                / self.starts.len().max(1) as f64;
+        self.plays.fetch_add(1, Ordering::Relaxed);
+        let e = Eval {
+            params: params.to_vec(),
+            cost,
+            played,
+        };
+        let mut best = self.best.lock().unwrap_or_else(|p| p.into_inner());
+        if best.as_ref().is_none_or(|b| cost < b.cost) {
+            *best = Some(e.clone());
+        }
+        Ok(e)
+    }
+
+    fn objective_len(&self) -> usize {
+        self.options.coarse[0] * self.options.coarse[1]
+    }
+
+    fn spent(&self) -> bool {
+        self.plays.load(Ordering::Relaxed) >= self.options.max_plays
+    }
+
+    fn best(&self) -> Option<Eval> {
+        self.best.lock().unwrap_or_else(|p| p.into_inner()).clone()
+    }
+}
+
+/// One Nelder–Mead run from `x0` (simplex step `step`) until convergence or
+/// the budget ([`nelder_mead`]).
+fn run(played: &Played<'_>, x0: &[f64], step: f64) -> Result<()> {
+    nelder_mead(
+        x0,
+        step,
+        played
+            .options
+            .max_plays
+            .saturating_sub(played.plays.load(Ordering::Relaxed)),
+        |x| played.evaluate(x).map(|e| e.cost),
+        || played.spent(),
+        "played polish",
+        None,
+    )
+}
+
+/// Polishes `synthesis` (made for `target` over `region` within `limits`)
+/// on the played measure at start points `starts` (indices into
+/// `sampled.points`); see the module documentation.
+///
+/// # Errors
+/// Invalid options (naming `polish.*`); the optimizer failing for a reason
+/// other than the budget; a motion that cannot be played.
+#[allow(clippy::too_many_arguments)]
+pub fn polish(
+    target: &Target,
+    sampled: &SampledTarget,
+    starts: &[usize],
+    region: &Grid,
+    limits: &ShakerLimits,
+    settings: &FieldSettings,
+    synthesis: &Synthesis,
+    options: &PolishOptions,
+) -> Result<Polished> {
+    let clock = Instant::now();
+    options.validate()?;
+    let layout = Layout::new(limits);
+    let coefficients = Coefficients::from_signals(&synthesis.motion, limits.harmonics);
+    let x0 = layout.to_vec(&coefficients);
+    let progress = Progress::new(ProgressMode::Quiet, options.max_plays);
+    let coarse = Grid {
+        n: options.coarse,
+        ..*region
+    };
+    let objective = Objective::new(
+        &target.field,
+        coarse,
+        limits,
+        settings,
+        options.shape_budget,
+        1.0,
+        usize::MAX,
+        None,
+        &progress,
+    );
+    let mut played = Played {
+        target,
+        sampled,
+        starts,
+        settings,
+        objective,
+        limits,
+        options,
+        strength_ref: 1.0,
+        lost_ref: 0,
+        grid_budget: f64::INFINITY,
+        plays: AtomicUsize::new(0),
+        best: Mutex::new(None),
+    };
+    let before = played.play(&coefficients)?;
+    played.strength_ref = if before.realised_strength.is_finite() && before.realised_strength > 0.0
+    {
+        before.realised_strength
+    } else {
+        1.0
+    };
+    played.lost_ref = starts.len().saturating_sub(before.valid);
+    let start_grid = played.objective.evaluate(&x0).realised.shape_error;
+    played.grid_budget = options.grid_budget.max(start_grid.min(SHAPE_CAP));
+    let start = played.evaluate(&x0)?;
+    run(&played, &x0, options.step)?;
+    let mut step = options.step / 3.0;
+    while let Some(best) = played.best() {
+        let n = played.plays.load(Ordering::Relaxed);
+        if played.spent() || step < 1e-4 {
+            break;
+        }
+        run(&played, &best.params, step)?;
+        if played.plays.load(Ordering::Relaxed) == n {
+            break;
+        }
+        step /= 2.0;
+    }
+    let plays = played.plays.load(Ordering::Relaxed);
+    let best = played.best().unwrap_or_else(|| start.clone());
+    let keep = |checked: &Checked| !checked.poor || synthesis.poor;
+    let (synthesis, after, cost_after, improved) = if best.cost < start.cost {
+        let c = played.objective.motion(&best.params).0;
+        let checked = Checked::of(
+            &target.field,
+            region,
+            limits,
+            settings,
+            &c,
+            &synthesis.seed_notes,
+        );
+        if keep(&checked) {
+            let s = synthesis.with_checked(checked, plays, clock.elapsed().as_secs_f64());
+            (s, best.played, best.cost, true)
+        } else {
+            (synthesis.clone(), before, start.cost, false)
+        }
+    } else {
+        (synthesis.clone(), before, start.cost, false)
+    };
+    Ok(Polished {
+        synthesis,
+        before,
+        after,
+        cost_before: start.cost,
+        cost_after,
+        improved,
+        plays,
+        seconds: clock.elapsed().as_secs_f64(),
+    })
+}

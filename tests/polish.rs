@@ -1,0 +1,186 @@
+//! The played polish of a synthesized motion (`platefield::design::polish`):
+//! bad options name their field; the polish plays within its budget, is
+//! deterministic, never returns a motion worse by its own cost, reports
+//! the played measure of the motion it returns (re-played here), and keeps
+//! the peaks, the contact margin and the lost-part count.
+//!
+//! Lab-class sink (T = 0.05 s, harmonic 1), coarse 5 × 5, 30 evaluations
+//! of synthesis and 25 plays of polish: a few seconds.
+
+use std::path::Path;
+
+use platefield::design::closed_loop::measure::{play_motion, realised_error, MeasureOptions};
+use platefield::design::polish::{polish, PolishOptions, Polished};
+use platefield::field::{FieldSettings, Grid};
+use platefield::request::Target;
+use platefield::studies::synthesis::{holdout_starts, starts, synthesized_motion};
+use platefield::synth::progress::ProgressMode;
+use platefield::synth::{synthesize, ShakerLimits, SynthOptions, Synthesis};
+
+fn target() -> Target {
+    Target::load(Path::new("targets/sink.json")).unwrap()
+}
+
+fn region(t: &Target) -> Grid {
+    let g = t.grid.as_ref().unwrap();
+    Grid {
+        x: g.x,
+        y: g.y,
+        n: g.n,
+    }
+}
+
+fn synthesized(t: &Target) -> Synthesis {
+    let o = SynthOptions {
+        max_evaluations: 30,
+        coarse: [5, 5],
+        progress: ProgressMode::Quiet,
+        ..SynthOptions::default()
+    };
+    synthesize(
+        &t.field,
+        &region(t),
+        &ShakerLimits::lab_class(),
+        &FieldSettings::default(),
+        &o,
+    )
+    .unwrap()
+}
+
+fn options() -> PolishOptions {
+    PolishOptions {
+        max_plays: 25,
+        coarse: [5, 5],
+        ..PolishOptions::default()
+    }
+}
+
+fn run(t: &Target, s: &Synthesis, o: &PolishOptions) -> platefield::Result<Polished> {
+    let sampled = t.sample().unwrap();
+    polish(
+        t,
+        &sampled,
+        &starts(t, &sampled),
+        &region(t),
+        &ShakerLimits::lab_class(),
+        &FieldSettings::default(),
+        s,
+        o,
+    )
+}
+
+#[test]
+fn bad_polish_options_name_the_field() {
+    let t = target();
+    let s = synthesized(&t);
+    for (o, field) in [
+        (
+            PolishOptions {
+                max_plays: 0,
+                ..options()
+            },
+            "polish.max_plays",
+        ),
+        (
+            PolishOptions {
+                step: f64::NAN,
+                ..options()
+            },
+            "polish.step",
+        ),
+        (
+            PolishOptions {
+                shape_budget: -0.1,
+                ..options()
+            },
+            "polish.shape_budget",
+        ),
+        (
+            PolishOptions {
+                grid_budget: 0.0,
+                ..options()
+            },
+            "polish.grid_budget",
+        ),
+        (
+            PolishOptions {
+                coarse: [1, 5],
+                ..options()
+            },
+            "polish.coarse[0]",
+        ),
+    ] {
+        let e = run(&t, &s, &o).unwrap_err().to_string();
+        assert!(e.contains(field), "{field}: {e}");
+    }
+}
+
+#[test]
+fn polish_is_honest_about_what_it_returns() {
+    let t = target();
+    let s = synthesized(&t);
+    let o = options();
+    let p = run(&t, &s, &o).unwrap();
+    println!(
+        "plays {} improved {}: ŝ {:.4} at {:.2} % (cost {:.4}) → {:.4} at {:.2} % (cost {:.4}); {}",
+        p.plays,
+        p.improved,
+        p.before.realised_strength,
+        100.0 * p.before.shape_error,
+        p.cost_before,
+        p.after.realised_strength,
+        100.0 * p.after.shape_error,
+        p.cost_after,
+        p.synthesis.summary()
+    );
+    // Budget: the start and whole simplices only.
+    assert!(p.plays >= 1 && p.plays <= o.max_plays, "{}", p.plays);
+    // Never worse by its own cost; unchanged when not kept.
+    assert!(p.cost_after <= p.cost_before);
+    if !p.improved {
+        assert_eq!(p.synthesis.motion, s.motion);
+        assert_eq!(p.cost_after, p.cost_before);
+    } else {
+        assert!(p.cost_after < p.cost_before);
+        assert!(p.synthesis.evaluations > s.evaluations);
+    }
+    // The played measure reported is the returned motion's, re-played here
+    // (deterministic: bitwise).
+    let sampled = t.sample().unwrap();
+    let st = starts(&t, &sampled);
+    let sm = synthesized_motion(&p.synthesis).unwrap();
+    let settings = FieldSettings::default();
+    let plays = play_motion(
+        &sm,
+        1,
+        &sampled.points,
+        &st,
+        &settings,
+        &MeasureOptions::default(),
+    );
+    let e = realised_error(&t, &sampled.weights, &plays, None);
+    assert_eq!(e.realised_strength, p.after.realised_strength);
+    assert_eq!(e.shape_error, p.after.shape_error);
+    assert!(
+        e.valid >= p.before.valid,
+        "{} < {}",
+        e.valid,
+        p.before.valid
+    );
+    // Constraints kept, checked on the full grid (not the polish's coarse one).
+    for a in &p.synthesis.peaks {
+        assert!(a.peak <= a.limit * (1.0 + 1e-9), "{a:?}");
+    }
+    assert!(p.synthesis.least_normal >= 0.1 * settings.gravity);
+    assert!(!p.synthesis.poor, "{:?}", p.synthesis.notes);
+    // Same input, same bytes.
+    let q = run(&t, &s, &o).unwrap();
+    assert_eq!(
+        serde_json::to_string(&q.synthesis.motion).unwrap(),
+        serde_json::to_string(&p.synthesis.motion).unwrap()
+    );
+    // The overfitting check's points are disjoint from the polished ones.
+    let ho = holdout_starts(&t, &sampled);
+    assert_eq!(ho.len(), 16);
+    assert!(ho.iter().all(|k| !st.contains(k)));
+}
