@@ -76,6 +76,7 @@ fn main() -> platefield::Result<()> {
             &MeasureOptions {
                 warmup_cycles,
                 measured_cycles,
+                settle: true,
             },
         );
         let ok: Vec<_> = plays.iter().filter(|p| p.note.is_none()).collect();

@@ -115,6 +115,9 @@ pub struct DesignArgs {
     /// Synthesis: RNG seed of the multi-start (same seed, same bytes).
     #[arg(long, default_value_t = 1)]
     pub synth_seed: u64,
+    /// Synthesis: plays of the played polish of the synthesized motion (0: none).
+    #[arg(long, default_value_t = 300)]
+    pub polish_plays: usize,
     /// Print the schedule JSON to stdout.
     #[arg(long)]
     pub json: bool,
@@ -206,6 +209,7 @@ impl DesignArgs {
         }
         let mut synth = SynthOptions {
             max_evaluations: self.synth_evaluations,
+            polish_plays: self.polish_plays,
             progress: if self.quiet || self.json {
                 ProgressMode::Quiet
             } else {

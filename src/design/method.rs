@@ -59,6 +59,7 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 
 use super::closed_loop::{loop_points, measure};
+use super::polish::{polish, PolishOptions};
 use super::{design, Design, DesignOptions};
 use crate::error::{Error, Result};
 use crate::field::Grid;
@@ -564,6 +565,7 @@ pub fn synthesize_schedule(
 ) -> Result<(Synthesis, Schedule)> {
     let grid = region(target, sampled);
     let syn = synthesize(&target.field, &grid, limits, &opts.settings, synth)?;
+    let (syn, polished) = polish_played(target, sampled, &grid, limits, opts, synth, syn)?;
     // The synthesized field at the target's points (the region grid is the
     // target's grid when it has one).
     let strength = syn.realised.strength;
@@ -605,7 +607,7 @@ pub fn synthesize_schedule(
             100.0 * syn.seed_realised.shape_error,
             synth.refine.starts,
             synth.refine.seed
-        ),
+        ) + &polished.map(|n| format!("; {n}")).unwrap_or_default(),
         iterations: u32::try_from(syn.evaluations).unwrap_or(u32::MAX),
         kkt_residual: 0.0,
         independent_gap: 0.0,
@@ -621,6 +623,59 @@ pub fn synthesize_schedule(
     Ok((syn, schedule))
 }
 
+/// The played polish of a synthesized motion ([`super::polish`]:
+/// `synth.polish_plays` plays on the realised check's start points, the
+/// polish's own measure): the polished synthesis when the polish found a
+/// better motion, else `syn`; and a line saying what it did. A POOR
+/// synthesis, or `polish_plays` 0, is returned as it is.
+fn polish_played(
+    target: &Target,
+    sampled: &SampledTarget,
+    grid: &Grid,
+    limits: &ShakerLimits,
+    opts: &DesignOptions,
+    synth: &SynthOptions,
+    syn: Synthesis,
+) -> Result<(Synthesis, Option<String>)> {
+    if synth.polish_plays == 0 || syn.poor {
+        return Ok((syn, None));
+    }
+    let options = PolishOptions {
+        max_plays: synth.polish_plays,
+        ..PolishOptions::default()
+    };
+    let p = polish(
+        target,
+        sampled,
+        &check_starts(target, sampled),
+        grid,
+        limits,
+        &opts.settings,
+        &syn,
+        &options,
+    )?;
+    let line = format!(
+        "played polish ({} plays): played strength {:.4} at shape {:.2} % → {:.4} at {:.2} %, {}",
+        p.plays,
+        p.before.realised_strength,
+        100.0 * p.before.shape_error,
+        p.after.realised_strength,
+        100.0 * p.after.shape_error,
+        if p.improved { "kept" } else { "not kept" }
+    );
+    Ok((if p.improved { p.synthesis } else { syn }, Some(line)))
+}
+
+/// The realised check's start points: about [`CHECK_POINTS`]² target grid
+/// points over the region.
+fn check_starts(target: &Target, sampled: &SampledTarget) -> Vec<usize> {
+    let stride = match &target.grid {
+        Some(g) => (g.n[0].min(g.n[1]).saturating_sub(1) / (CHECK_POINTS - 1)).max(1),
+        None => (sampled.len() / (CHECK_POINTS * CHECK_POINTS)).max(1),
+    };
+    loop_points(target, sampled, stride)
+}
+
 /// Plays `schedule` on about [`CHECK_POINTS`]² start points over the
 /// target region and compares what it realises with the target (see the
 /// [module documentation](self)); `predicted` is the strength the design
@@ -633,11 +688,7 @@ pub fn play_check(
     asked: Method,
     limits: Option<crate::request::ShakerSpec>,
 ) -> Result<Played> {
-    let stride = match &target.grid {
-        Some(g) => (g.n[0].min(g.n[1]).saturating_sub(1) / (CHECK_POINTS - 1)).max(1),
-        None => (sampled.len() / (CHECK_POINTS * CHECK_POINTS)).max(1),
-    };
-    let starts = loop_points(target, sampled, stride);
+    let starts = check_starts(target, sampled);
     let plays = measure::play(
         schedule,
         &sampled.points,
@@ -646,6 +697,7 @@ pub fn play_check(
         &measure::MeasureOptions {
             warmup_cycles: CHECK_WARMUP_CYCLES,
             measured_cycles: CHECK_MEASURED_CYCLES,
+            settle: true,
         },
     )?;
     let r = measure::realised_error(target, &sampled.weights, &plays, Some(predicted));

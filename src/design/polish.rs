@@ -88,7 +88,10 @@ pub struct PolishOptions {
     pub step: f64,
     /// Coarse grid [nx, ny] of the contact check.
     pub coarse: [usize; 2],
-    /// How long each start point is played.
+    /// How long each start point is played (default 40 warm-up and 20
+    /// measured cycles, without the start-up transient's estimate
+    /// ([`crate::play::settle`]) that would double each play: the kept
+    /// motion is measured again, settled, by whoever reports it).
     pub measure: MeasureOptions,
 }
 
@@ -100,7 +103,10 @@ impl Default for PolishOptions {
             grid_budget: 0.06,
             step: 0.03,
             coarse: [7, 7],
-            measure: MeasureOptions::default(),
+            measure: MeasureOptions {
+                settle: false,
+                ..MeasureOptions::default()
+            },
         }
     }
 }

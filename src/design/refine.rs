@@ -72,7 +72,10 @@ pub struct RefineOptions {
     pub max_evaluations: usize,
     /// Initial simplex step (parameter units, see the module docs).
     pub step: f64,
-    /// Warm-up and measured cycles of every play.
+    /// Warm-up and measured cycles of every play (default 40 and 20,
+    /// without the start-up transient's estimate, [`crate::play::settle`]:
+    /// a sequenced schedule's 40-cycle warm-up is one whole period, and the
+    /// estimate would more than double each of the objective's plays).
     pub measure: MeasureOptions,
 }
 
@@ -83,7 +86,10 @@ impl Default for RefineOptions {
             stride: 5,
             max_evaluations: 150,
             step: 0.3,
-            measure: MeasureOptions::default(),
+            measure: MeasureOptions {
+                settle: false,
+                ..MeasureOptions::default()
+            },
         }
     }
 }

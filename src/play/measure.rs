@@ -117,6 +117,9 @@ pub struct PlayOptions {
     pub periods: u32,
     /// Join rule where the plate velocity jumps (default inertial).
     pub join: Join,
+    /// Lengthen the warm-up where a part's start-up transient outlasts it
+    /// ([`super::settle`]; default true).
+    pub settle: bool,
 }
 
 impl Default for PlayOptions {
@@ -137,6 +140,7 @@ impl PlayOptions {
             warmup_periods: 1,
             periods: 1,
             join: Join::Inertial,
+            settle: true,
         }
     }
 
@@ -296,19 +300,20 @@ pub fn flow_mean_velocity<E>(
     }
 }
 
-/// Plays `sm` from `start` (index `index`): at least `warm` warm-up
-/// periods, as many more as the start-up transient needs
-/// ([`super::settle::warmup`]), then windows of `periods` periods (see the
-/// module documentation).
+/// Plays `sm` from `start` (index `index`): `warm.0` warm-up periods —
+/// at least, and as many more as the start-up transient needs
+/// ([`super::settle::warmup`]) when `warm.1` — then windows of `periods`
+/// periods (see the module documentation).
 pub fn play_point(
     sm: &ScheduleMotion,
     player: &Player<'_>,
     index: usize,
     start: [f64; 2],
-    warm: u32,
+    warm: (u32, bool),
     periods: u32,
     windows: Windows,
 ) -> PointPlay {
+    let (warm, settle) = warm;
     let anchor = V2::from(start);
     let mut state = PartState::new(anchor, V2::zeros());
     let n = sm.segments().len();
@@ -329,7 +334,14 @@ pub fn play_point(
         warmup_periods: warm,
         settled: true,
     };
-    let settle = super::settle::warmup(player, start, warm);
+    let settle = if settle {
+        super::settle::warmup(player, start, warm)
+    } else {
+        super::settle::Settle {
+            periods: warm,
+            settled: true,
+        }
+    };
     let warm = settle.periods;
     out.warmup_periods = warm;
     out.settled = settle.settled;
@@ -408,7 +420,7 @@ pub fn play_points_ticked(
                 &player,
                 i,
                 *p,
-                opts.warmup_periods,
+                (opts.warmup_periods, opts.settle),
                 opts.periods.max(1),
                 windows,
             );

@@ -528,6 +528,7 @@ fn diagnose(mut row: Row, target: &Target, settings: &FieldSettings) -> Result<R
             &MeasureOptions {
                 warmup_cycles: 200,
                 measured_cycles: 100,
+                settle: true,
             },
         );
         row.vs_predicted_long =

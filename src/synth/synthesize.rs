@@ -44,6 +44,10 @@ pub struct SynthOptions {
     pub refine: RefineOptions,
     /// Progress display.
     pub progress: ProgressMode,
+    /// Plays of the played polish that `design` runs after the synthesis
+    /// (`platefield::design::polish`; 0: none). Not used by
+    /// [`synthesize`] itself.
+    pub polish_plays: usize,
 }
 
 impl Default for SynthOptions {
@@ -56,6 +60,7 @@ impl Default for SynthOptions {
             calibrate: true,
             refine: RefineOptions::default(),
             progress: ProgressMode::Auto,
+            polish_plays: 300,
         }
     }
 }

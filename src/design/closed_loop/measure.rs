@@ -54,6 +54,11 @@ pub struct MeasureOptions {
     /// Primitive cycles measured (rounded up to whole schedule periods;
     /// default 20).
     pub measured_cycles: u32,
+    /// Lengthen the warm-up where a part's start-up transient outlasts it
+    /// ([`crate::play::settle`]; default true). Optimisation loops that
+    /// play hundreds of candidates turn it off for speed; every measure
+    /// that is reported keeps it.
+    pub settle: bool,
 }
 
 impl Default for MeasureOptions {
@@ -61,6 +66,7 @@ impl Default for MeasureOptions {
         MeasureOptions {
             warmup_cycles: 40,
             measured_cycles: 20,
+            settle: true,
         }
     }
 }
@@ -104,7 +110,15 @@ pub fn play_motion(
         .par_iter()
         .map(|&i| {
             let player = v.player(sm);
-            play_point(sm, &player, i, points[i], warm, meas, Windows::EveryJoin)
+            play_point(
+                sm,
+                &player,
+                i,
+                points[i],
+                (warm, opts.settle),
+                meas,
+                Windows::EveryJoin,
+            )
         })
         .collect()
 }
