@@ -29,6 +29,27 @@
 //! any ψ₀ ∈ [0, π] (ψ₀ = 0 is a straight slow-down with deceleration
 //! μ_k N − |a|, ψ₀ = π one with μ_k N + |a|). Checked against a fine RK4
 //! integration of the frozen equation in the tests below.
+//!
+//! # The composition that follows a changing a_free and N ([`Cf4`])
+//!
+//! u' = a(t) − μ_k N(t) û is a combination, with coefficients depending on
+//! t only, of fixed vector fields (the constant fields along x and y, and
+//! −û), and a combination of frozen fields is a frozen field: the
+//! commutator-free composition of Blanes and Moan, the frozen flow of
+//! W₁ F₁ + W₂ F₂ over the first half of a span h and that of W₂ F₁ + W₁ F₂
+//! over the second (F₁, F₂ the frozen (a, μ_k N) at the Gauss nodes
+//! h (½ ∓ √3/6), W = ½ ± √3/3), is made of two closed forms. For smooth
+//! fields it is of fourth order; here it is not: near a stop −û is stiff
+//! (its Lipschitz constant μ_k N/s grows as s ∝ the span shrinks), and the
+//! stop time's relative error falls only in proportion to the span, for
+//! the composition as for the frozen flow at the start. Measured (test
+//! `composition_follows_turning_field`: a turning at 40 rad/s, μ_k N growing
+//! by 300 % per second): relative stop-time error 7.3e-3, 2.4e-3, 6.4e-4 at
+//! ω t_stop = 0.4, 0.1, 0.025, against 3.6e-2, 1.0e-2, 2.6e-3 for the flow
+//! frozen at the start and 7.9e-2, 2.3e-2, 5.8e-3 for the flow of the
+//! plain average of F₁ and F₂: the composition's constant is 4–5× smaller.
+//! For a stop the span is the stop time itself, found by iterating the
+//! composition from the frozen flow at the start.
 
 use super::integrator::V2;
 
@@ -171,6 +192,110 @@ impl Frozen {
     }
 }
 
+/// Gauss–Legendre nodes on [0, 1] (two points).
+const GAUSS: [f64; 2] = [0.211_324_865_405_187_1, 0.788_675_134_594_812_9];
+
+/// Weights W = ½ ± √3/3 of the commutator-free composition (module docs).
+const CF4_W: [f64; 2] = [1.077_350_269_189_625_7, -0.077_350_269_189_625_7];
+
+/// Iterations of the span of a stop (the stop time of the last
+/// composition, with the fields at its Gauss nodes).
+const CF4_ITERATIONS: usize = 3;
+
+/// The frozen flows of the commutator-free composition over a span: the
+/// first for half of it (or to its stop), the second from there.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Cf4 {
+    first: Frozen,
+    /// The second flow and the first's displacement at `half`.
+    second: Option<(Frozen, V2)>,
+    half: f64,
+}
+
+impl Cf4 {
+    /// The composition over `span` from slip velocity `u` with the frozen
+    /// (a, μ_k N) `f` at the two Gauss nodes; None where a half does not
+    /// end in a stop.
+    fn new(f: &[(V2, f64); 2], span: f64, u: &V2) -> Option<Cf4> {
+        let [w1, w2] = CF4_W;
+        let mix = |p: f64, q: f64| (f[0].0 * p + f[1].0 * q, f[0].1 * p + f[1].1 * q);
+        let (a, mu_n) = mix(w1, w2);
+        let first = Frozen::new(&a, mu_n, u)?;
+        let half = 0.5 * span;
+        if first.stop_time() <= half {
+            return Some(Cf4 {
+                first,
+                second: None,
+                half,
+            });
+        }
+        let (dr, uh) = first.at(half);
+        let (a, mu_n) = mix(w2, w1);
+        let second = Frozen::new(&a, mu_n, &uh)?;
+        Some(Cf4 {
+            first,
+            second: Some((second, dr)),
+            half,
+        })
+    }
+
+    /// The path from slip velocity `u` to its stop or to `rest`, whichever
+    /// comes first, starting from the frozen flow `start` at u: the span
+    /// (stop time, at most `rest`) and the composition over it are iterated
+    /// [`CF4_ITERATIONS`] times, `field(dt, dr, u)` giving (a, μ_k N) at time
+    /// dt, displacement dr and slip velocity u along the last path. None
+    /// where μ_k N ≤ |a| at a node (the slip may swing past u = 0 rather
+    /// than stop) or a half does not stop.
+    pub(super) fn to_stop<E>(
+        start: Frozen,
+        u: &V2,
+        rest: f64,
+        mut field: impl FnMut(f64, &V2, &V2) -> Result<(V2, f64), E>,
+    ) -> Result<Option<Cf4>, E> {
+        let mut path = Cf4 {
+            first: start,
+            second: None,
+            half: f64::INFINITY,
+        };
+        for _ in 0..CF4_ITERATIONS {
+            let span = path.stop_time().min(rest);
+            let mut f = [(V2::zeros(), 0.0); 2];
+            for (fi, c) in f.iter_mut().zip(GAUSS) {
+                let dt = c * span;
+                let (dr, ui) = path.at(dt);
+                *fi = field(dt, &dr, &ui)?;
+            }
+            if f.iter().any(|(a, mu_n)| *mu_n <= a.norm()) {
+                return Ok(None);
+            }
+            match Cf4::new(&f, span, u) {
+                Some(p) => path = p,
+                None => return Ok(None),
+            }
+        }
+        Ok(Some(path))
+    }
+
+    /// Time to the stop.
+    pub(super) fn stop_time(&self) -> f64 {
+        match &self.second {
+            Some((b, _)) => self.half + b.stop_time(),
+            None => self.first.stop_time(),
+        }
+    }
+
+    /// Displacement and slip velocity after `dt`.
+    pub(super) fn at(&self, dt: f64) -> (V2, V2) {
+        match &self.second {
+            Some((b, dr)) if dt > self.half => {
+                let (d2, u) = b.at(dt - self.half);
+                (dr + d2, u)
+            }
+            _ => self.first.at(dt),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -288,5 +413,86 @@ mod tests {
         let a = V2::new(1.0, 1.0);
         assert!(Frozen::new(&a, 1.0, &V2::new(0.1, 0.0)).is_none());
         assert!(Frozen::new(&a, 2.0, &V2::zeros()).is_none());
+    }
+
+    /// A stop under a turning a(t) = |a| (cos ωt, sin ωt) and a growing
+    /// μN(t) = μN₀ (1 + βt), against 10⁵ fine RK4 steps of the
+    /// time-dependent equation (stop where the speed would no longer fall,
+    /// the last bit s/(μN − a·û)), for stops of shrinking length (ω t_stop
+    /// from 0.4 to 0.025): the composition's stop time and stop position
+    /// are within 1e-2 relative (measured ≤ 7.3e-3), its stop-time error at
+    /// most a quarter of the flow frozen at the start (measured 4–5× smaller),
+    /// and from ω t_stop = 0.2 on it falls at least 1.7-fold per halving of
+    /// the span (first order relative, see the module docs; measured 1.64,
+    /// 1.83, 1.92, 1.96).
+    #[test]
+    fn composition_follows_turning_field() {
+        let (am, k0, beta) = (2.0, 1.3, 3.0);
+        let fine = |omega: f64, u0: V2, total: f64| {
+            let f = |t: f64, u: V2| {
+                let a = V2::new((omega * t).cos(), (omega * t).sin()) * am;
+                a - u / u.norm() * (k0 * am * (1.0 + beta * t))
+            };
+            let h = total / 1e5;
+            let (mut t, mut r, mut u) = (0.0, V2::zeros(), u0);
+            loop {
+                let k1 = f(t, u);
+                let u2 = u + k1 * (0.5 * h);
+                let k2 = f(t + 0.5 * h, u2);
+                let u3 = u + k2 * (0.5 * h);
+                let k3 = f(t + 0.5 * h, u3);
+                let u4 = u + k3 * h;
+                let k4 = f(t + h, u4);
+                let next = u + (k1 + (k2 + k3) * 2.0 + k4) * (h / 6.0);
+                if next.dot(&u) <= 0.0 || next.norm() >= u.norm() {
+                    let a = V2::new((omega * t).cos(), (omega * t).sin()) * am;
+                    let decel = k0 * am * (1.0 + beta * t) - a.dot(&u) / u.norm();
+                    let left = u.norm() / decel;
+                    return (t + left, r + u * (0.5 * left));
+                }
+                r += (u + (u2 + u3) * 2.0 + u4) * (h / 6.0);
+                (t, u) = (t + h, next);
+            }
+        };
+        let mut last = f64::NAN;
+        let mut last_frozen = f64::NAN;
+        let omega = 40.0;
+        for omega_t in [0.4, 0.2, 0.1, 0.05, 0.025] {
+            let start =
+                Frozen::new(&V2::new(am, 0.0), k0 * am, &V2::new(-0.3, 1.0)).expect("k > 1");
+            // s₀ such that ω t_stop = omega_t.
+            let u0 = V2::new(-0.3, 1.0) * (omega_t / omega / start.stop_time());
+            let start = Frozen::new(&V2::new(am, 0.0), k0 * am, &u0).expect("k > 1");
+            let field = |dt: f64, _: &V2, _: &V2| -> Result<(V2, f64), ()> {
+                let a = V2::new((omega * dt).cos(), (omega * dt).sin()) * am;
+                Ok((a, k0 * am * (1.0 + beta * dt)))
+            };
+            let path = Cf4::to_stop(start, &u0, f64::INFINITY, field)
+                .expect("no error")
+                .expect("a stop");
+            let (t_ref, r_ref) = fine(omega, u0, start.stop_time() * 1.5);
+            let t_err = (path.stop_time() / t_ref - 1.0).abs();
+            let r_err = (path.at(path.stop_time()).0 - r_ref).norm() / r_ref.norm();
+            let frozen_err = (start.stop_time() / t_ref - 1.0).abs();
+            eprintln!(
+                "ω t_stop {omega_t}: stop time {t_err:.2e}, position {r_err:.2e} (frozen at the start {frozen_err:.2e})"
+            );
+            assert!(
+                t_err <= 1e-2 && r_err <= 1e-2,
+                "ω t {omega_t}: {t_err:.2e} {r_err:.2e}"
+            );
+            assert!(
+                4.0 * t_err <= frozen_err,
+                "ω t {omega_t}: {t_err:.2e} vs {frozen_err:.2e}"
+            );
+            if omega_t <= 0.1 {
+                assert!(
+                    last / t_err >= 1.7,
+                    "ω t {omega_t}: {last:.2e} → {t_err:.2e}"
+                );
+            }
+            assert!(frozen_err < last_frozen || last_frozen.is_nan());
+            (last, last_frozen) = (t_err, frozen_err);
+        }
     }
 }

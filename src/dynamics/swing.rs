@@ -32,16 +32,18 @@
 //! * at a stop, finished in closed form ([`Simulator::finish`]): where the
 //!   exact flow with a_free and N frozen (`frozen.rs`; μ_k N > |a_free|)
 //!   comes to rest within [`FINISH`] of the nominal step, the rest of the
-//!   way (or the way to the nominal step's end, if that comes first) is
-//!   that flow, with a_free and N averaged over the two Gauss nodes of the
-//!   remaining time. Before it, a slowing slip was followed by τ-steps
-//!   down to |u| = 1e-7 of the bound: 64 or more τ-steps per stop, several
-//!   hundred where μ_k N is close to |a_free| (ψ turns onto a_free at the
-//!   rate |a_free| in τ, but s falls only at μ_k N − |a_free|), in all
-//!   about half the τ-steps of ScaledCircle's and DivCircle's force fields
-//!   (3.0 of 6.4 and 3.0 of 5.7 million at 64 steps per cycle, 21×21×30);
-//!   with it 0.4 and 0.3 million, and the fields' CPU time falls from 2.4 s
-//!   to 1.4 s and 1.75 s to 1.0 s (`examples/engine_measure`).
+//!   way (or the way to the nominal step's end, if that comes first) is the
+//!   commutator-free composition of two such flows (`frozen.rs` [`Cf4`]),
+//!   with a_free and N from the two Gauss nodes of the remaining time. Before
+//!   it, a slowing slip was followed by τ-steps down to |u| = 1e-7 of the
+//!   bound: 64 or more τ-steps per stop, several hundred where μ_k N is
+//!   close to |a_free| (ψ turns onto a_free at the rate |a_free| in τ, but
+//!   s falls only at μ_k N − |a_free|), in all about half the τ-steps of
+//!   ScaledCircle's and DivCircle's force fields (3.0 of 6.4 and 3.0 of 5.7
+//!   million at 64 steps per cycle, 21×21×30). With it the CPU time of
+//!   those fields falls from 2.43 s to 1.42 s and from 1.75 s to 1.14 s
+//!   (`examples/engine_measure`, one thread), with the same errors (see
+//!   [`FINISH`]).
 //! * where |u| has fallen below [`STOP`] of the bound while slowing with
 //!   μ_k N ≤ |a_free| (no frozen stop; rare), the rest of the way to u = 0
 //!   is taken with a_free and N frozen and û fixed: it lasts s/(μ_k N −
@@ -49,12 +51,12 @@
 //!   error of order s²).
 //!
 //! The part then sticks or slips away from rest as at any stop. What the
-//! τ-steps still cost is slow slips that neither stop nor leave the region
+//! τ-steps still cost is mostly slow slips that neither stop nor leave the region
 //! within a nominal step (|u| about 1/20 of the bound, about 50 τ-steps
 //! per nominal step): a step in t that follows them must resolve friction's
 //! damping across the slip, μ_k N/|u|, explicitly or in τ alike.
 
-use super::frozen::Frozen;
+use super::frozen::{Cf4, Frozen};
 use super::integrator::{CycleOutcome, PartState, Simulator, V2};
 use super::radau::SLAVED;
 use super::ContactLoss;
@@ -111,18 +113,18 @@ const STOP: f64 = 1e-7;
 /// A slip that the frozen flow brings to a stop within this fraction of
 /// the nominal step is finished with it ([`Simulator::finish`]).
 ///
-/// Its error is that of the averaged frozen a_free and N over the time it
-/// covers, which grows quickly with it: 2-D force fields of `order_2d`
-/// (4×4×6, against 4096 steps) at 64 steps per cycle are unchanged to
-/// three digits at 0.05 (DivCircle 7.76e-7), but DivCircle's is 1.45e-6 at
-/// 0.1, 9.1e-7 at 0.25 and 2.0e-6 at 1 (the rotation of a_free during the
-/// stop is not captured by its average). 0.05 keeps most of the gain:
-/// ScaledCircle's stop approaches take 0.39 million τ-steps at 0.05 and
-/// 0.17 million at 0.25, of 6.4 million in all before.
-const FINISH: f64 = 0.05;
-
-/// Gauss–Legendre nodes on [0, 1] (two points).
-const GAUSS: [f64; 2] = [0.211_324_865_405_187_1, 0.788_675_134_594_812_9];
+/// Measured (`tests/slip2d.rs` `quick_table` on 11×11 points, 6 phases,
+/// against 1024 steps, and `worst_cycles` on 11×11×30): at 0.1 every 2-D
+/// force field's error at 16, 32, 64 and 128 steps per cycle is the one
+/// without the finish to three digits (DivCircle 8.39e-7 → 8.38e-7 at 64),
+/// and no one-cycle end velocity among the worst three moves, while the RK4
+/// and τ-steps per cycle fall from 837 to 310 (ScaledCircle) and 379 to 243
+/// (DivCircle) at 64 steps. At 0.25 single cycles find a stop that the
+/// 1024-step run swings past (1.5e-6 m/s off at 64 steps). A plain
+/// average of the two nodes' fields instead of the composition (second
+/// order) did so at 0.05 already: DivCircle's 11×11×30 force field at 32
+/// steps per cycle 1.7e-4 off, against 3.0e-5 without the finish.
+const FINISH: f64 = 0.1;
 
 /// Most τ-steps in one call (a guard; a swing takes a few dozen).
 const MAX_TAU_STEPS: u32 = 100_000;
@@ -223,12 +225,13 @@ impl Simulator<'_> {
     /// false when the flow with a_free and N (`free`, `n`, at `y`) frozen
     /// does not stop within [`FINISH`] of the nominal step.
     ///
-    /// The frozen flow errs by the change of a_free and N over the time H
-    /// it covers: it is taken with their averages at the two Gauss nodes of
-    /// [0, H] (kinematics there, position and slip velocity from the frozen
-    /// flow itself), H the stop time or the time to `target`, twice (the
-    /// second time with H and the states from the first average), so that
-    /// the part of a_free, N linear in time is averaged out.
+    /// The frozen flow errs by the change of a_free and N over the time it
+    /// covers: the rest of the way is taken with the commutator-free
+    /// fourth-order composition of two frozen flows ([`Cf4::to_stop`]),
+    /// whose fields are a_free and N at the two Gauss nodes of the span
+    /// (kinematics there; position and slip velocity from the composition
+    /// itself), and which falls back to τ-steps where μ_k N ≤ |a_free| at
+    /// either node (the slip may swing past u = 0 instead of stopping).
     #[allow(clippy::too_many_arguments)]
     fn finish(
         &self,
@@ -242,47 +245,37 @@ impl Simulator<'_> {
         out: &mut CycleOutcome,
     ) -> Result<bool, ContactLoss> {
         let mu = self.friction().kinetic;
-        let Some(mut flow) = Frozen::new(free, mu * n, &y.u) else {
+        let Some(flow) = Frozen::new(free, mu * n, &y.u) else {
             return Ok(false);
         };
         let nominal = self.period() / self.numerics().steps_per_cycle as f64;
-        let mut stop = flow.stop_time();
+        let stop = flow.stop_time();
         if stop.is_nan() || stop > FINISH * nominal {
             return Ok(false);
         }
         let rest = target - y.t;
-        for _ in 0..2 {
-            let span = stop.min(rest);
-            let (mut a, mut nn) = (V2::zeros(), 0.0);
-            for c in GAUSS {
-                let dt = c * span;
-                let (dr, u) = flow.at(dt);
-                let r = y.r + dr;
-                let k = self.kin_off_grid(y.t + dt, piece);
-                let (ni, ai) = self.forces(&k, &r, &u, anchor);
-                if ni < 0.0 {
-                    return Err(self.contact_loss(y.t + dt, &r, ni));
-                }
-                a += ai * 0.5;
-                nn += 0.5 * ni;
+        let field = |dt: f64, dr: &V2, u: &V2| {
+            let r = y.r + dr;
+            let k = self.kin_off_grid(y.t + dt, piece);
+            let (ni, ai) = self.forces(&k, &r, u, anchor);
+            if ni < 0.0 {
+                return Err(self.contact_loss(y.t + dt, &r, ni));
             }
-            match Frozen::new(&a, mu * nn, &y.u) {
-                Some(f) => {
-                    flow = f;
-                    stop = f.stop_time();
-                }
-                None => return Ok(false),
-            }
-        }
+            Ok((ai, mu * ni))
+        };
+        let Some(path) = Cf4::to_stop(flow, &y.u, rest, field)? else {
+            return Ok(false);
+        };
+        let stop = path.stop_time();
         let tol = self.numerics().event_tol * self.period();
         if y.t + stop < target - tol {
             out.events += 1;
             y.t += stop;
-            y.r += flow.stop_displacement();
+            y.r += path.at(stop).0;
             y.u = V2::zeros();
             state.stuck = self.margin(y.t, piece, &y.r, anchor) >= 0.0;
         } else {
-            let (dr, u) = flow.at(rest);
+            let (dr, u) = path.at(rest);
             y.r += dr;
             y.u = u;
             y.t = target;
