@@ -41,9 +41,9 @@
 //!   s falls only at μ_k N − |a_free|), in all about half the τ-steps of
 //!   ScaledCircle's and DivCircle's force fields (3.0 of 6.4 and 3.0 of 5.7
 //!   million at 64 steps per cycle, 21×21×30). With it the CPU time of
-//!   those fields falls from 2.43 s to 1.42 s and from 1.75 s to 1.14 s
-//!   (`examples/engine_measure`, one thread), with the same errors (see
-//!   [`FINISH`]).
+//!   those fields falls from 2.43 s to 1.62 s and from 1.75 s to 1.12 s
+//!   (`examples/engine_measure`, one thread), with the same errors at 32
+//!   steps per cycle and more (see [`FINISH`]).
 //! * where |u| has fallen below [`STOP`] of the bound while slowing with
 //!   μ_k N ≤ |a_free| (no frozen stop; rare), the rest of the way to u = 0
 //!   is taken with a_free and N frozen and û fixed: it lasts s/(μ_k N −
@@ -128,7 +128,13 @@ const STOP: f64 = 1e-7;
 /// (1.5e-6 m/s off at 64 steps). A plain average of the two nodes' fields
 /// instead of the composition did so at 0.05 already: DivCircle's 11×11×30
 /// force field at 32 steps per cycle 1.7e-4 off, against 3.0e-5 without
-/// the finish.
+/// the finish. With 0.05 and the composition, `platefield engine-speed`
+/// (11×11 force and velocity fields against 1024 steps) gives the same
+/// errors as without the finish to three digits at 32 to 256 steps per
+/// cycle; at 8 and 16 steps, where other errors of 1e-4 to 1e-3 dominate,
+/// some move either way (DivCircle's force field at 16 steps 1.09e-4 →
+/// 1.45e-4, ScaledCircle's at 8 steps 2.01e-3 → 1.77e-3), also with the
+/// window held at its 64-step width.
 const FINISH: f64 = 0.05;
 
 /// Most τ-steps in one call (a guard; a swing takes a few dozen).
