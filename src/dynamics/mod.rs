@@ -25,6 +25,7 @@
 //! Planar parts (a uniform rectangle in x, y, θ sampled by support points,
 //! each obeying these equations) are in [`PlanarSimulator`].
 
+mod frozen;
 mod integrator;
 mod kinematics_table;
 mod planar;
@@ -42,7 +43,8 @@ pub use integrator::{CycleOutcome, PartState, Simulator, TrajectoryPoint, V2};
 /// regularised region held at its 64-step width, explicit 2-D steps
 /// limited by friction's damping across the slip, slowing slips
 /// regularised, tiny slips along a turning a_free started implicitly).
-pub const ENGINE_REVISION: u32 = 2;
+/// 3: 2-D stops finished with the exact frozen flow (`frozen.rs`).
+pub const ENGINE_REVISION: u32 = 3;
 pub use kinematics_table::KinematicsTable;
 pub use planar::{
     PlanarOutcome, PlanarSample, PlanarSimulator, PlanarState, Plate, Rectangle,

@@ -29,12 +29,34 @@
 //!   t(Δτ) = t_end, found by the Illinois method);
 //! * where |u| is back above that bound and growing (the explicit steps in
 //!   t, or the implicit ones of `radau.rs`, go on);
-//! * at a stop: where |u| has fallen below [`STOP`] of the bound while
-//!   slowing, the rest of the way to u = 0 is taken with a_free and N
-//!   frozen: it lasts s/(μ_k N − a_free·û) and moves the part
-//!   s²/(2(μ_k N − a_free·û)) along û (an error of order s²). The part
-//!   then sticks or slips away from rest as at any stop.
+//! * at a stop, finished in closed form ([`Simulator::finish`]): where the
+//!   exact flow with a_free and N frozen (`frozen.rs`; μ_k N > |a_free|)
+//!   comes to rest within [`FINISH`] of the nominal step, the rest of the
+//!   way (or the way to the nominal step's end, if that comes first) is the
+//!   commutator-free composition of two such flows (`frozen.rs` [`Cf4`]),
+//!   with a_free and N from the two Gauss nodes of the remaining time. Before
+//!   it, a slowing slip was followed by τ-steps down to |u| = 1e-7 of the
+//!   bound: 64 or more τ-steps per stop, several hundred where μ_k N is
+//!   close to |a_free| (ψ turns onto a_free at the rate |a_free| in τ, but
+//!   s falls only at μ_k N − |a_free|), in all about half the τ-steps of
+//!   ScaledCircle's and DivCircle's force fields (3.0 of 6.4 and 3.0 of 5.7
+//!   million at 64 steps per cycle, 21×21×30). With it the CPU time of
+//!   those fields falls from 2.43 s to 1.62 s and from 1.75 s to 1.12 s
+//!   (`examples/engine_measure`, one thread), with the same errors at 32
+//!   steps per cycle and more (see [`FINISH`]).
+//! * where |u| has fallen below [`STOP`] of the bound while slowing with
+//!   μ_k N ≤ |a_free| (no frozen stop; rare), the rest of the way to u = 0
+//!   is taken with a_free and N frozen and û fixed: it lasts s/(μ_k N −
+//!   a_free·û) and moves the part s²/(2(μ_k N − a_free·û)) along û (an
+//!   error of order s²).
+//!
+//! The part then sticks or slips away from rest as at any stop. What the
+//! τ-steps still cost is mostly slow slips that neither stop nor leave the region
+//! within a nominal step (|u| about 1/20 of the bound, about 50 τ-steps
+//! per nominal step): a step in t that follows them must resolve friction's
+//! damping across the slip, μ_k N/|u|, explicitly or in τ alike.
 
+use super::frozen::{Cf4, Frozen};
 use super::integrator::{CycleOutcome, PartState, Simulator, V2};
 use super::radau::SLAVED;
 use super::ContactLoss;
@@ -87,6 +109,33 @@ pub(super) const ACROSS_ROUND_OFF: f64 = 1e-12;
 /// A slowing slip whose speed is below this fraction of the regularised
 /// region's bound is finished analytically (a stop).
 const STOP: f64 = 1e-7;
+
+/// A slip that the frozen flow brings to a stop within this fraction of
+/// the nominal step is finished with it ([`Simulator::finish`]).
+///
+/// Measured (`tests/slip2d.rs` `quick_table` on 11×11 points, 6 phases,
+/// against 1024 steps, and `worst_cycles` on 11×11×30): at 0.1 every 2-D
+/// force field's error at 16, 32, 64 and 128 steps per cycle is the one
+/// without the finish to three digits (DivCircle 8.39e-7 → 8.38e-7 at 64),
+/// and no one-cycle end velocity among the worst three moves, while the RK4
+/// and τ-steps per cycle fall from 837 to 310 (ScaledCircle) and 379 to 243
+/// (DivCircle) at 64 steps. But on the default library's 21×21×30 grid
+/// (`platefield speed`, against 512 steps) DivCircle's error at 64 steps
+/// rose from 9.74e-7 to 1.06e-6 at 0.1; at 0.05 every error there at 32
+/// and 64 steps is the one without the finish to three digits, for 4.9 s
+/// of CPU for the library at 64 steps instead of 6.1 s (4.6 s at 0.1). At
+/// 0.25 single cycles find a stop that the 1024-step run swings past
+/// (1.5e-6 m/s off at 64 steps). A plain average of the two nodes' fields
+/// instead of the composition did so at 0.05 already: DivCircle's 11×11×30
+/// force field at 32 steps per cycle 1.7e-4 off, against 3.0e-5 without
+/// the finish. With 0.05 and the composition, `platefield engine-speed`
+/// (11×11 force and velocity fields against 1024 steps) gives the same
+/// errors as without the finish to three digits at 32 to 256 steps per
+/// cycle; at 8 and 16 steps, where other errors of 1e-4 to 1e-3 dominate,
+/// some move either way (DivCircle's force field at 16 steps 1.09e-4 →
+/// 1.45e-4, ScaledCircle's at 8 steps 2.01e-3 → 1.77e-3), also with the
+/// window held at its 64-step width.
+const FINISH: f64 = 0.05;
 
 /// Most τ-steps in one call (a guard; a swing takes a few dozen).
 const MAX_TAU_STEPS: u32 = 100_000;
@@ -181,6 +230,70 @@ impl Simulator<'_> {
         })
     }
 
+    /// Finishes a slip slowing to a stop with the exact frozen flow
+    /// (`frozen.rs`) when the stop is near: true when it did (`y` advanced
+    /// to the stop, `state.stuck` set, or to `target` if that comes first),
+    /// false when the flow with a_free and N (`free`, `n`, at `y`) frozen
+    /// does not stop within [`FINISH`] of the nominal step.
+    ///
+    /// The frozen flow errs by the change of a_free and N over the time it
+    /// covers: the rest of the way is taken with the commutator-free
+    /// fourth-order composition of two frozen flows ([`Cf4::to_stop`]),
+    /// whose fields are a_free and N at the two Gauss nodes of the span
+    /// (kinematics there; position and slip velocity from the composition
+    /// itself), and which falls back to τ-steps where μ_k N ≤ |a_free| at
+    /// either node (the slip may swing past u = 0 instead of stopping).
+    #[allow(clippy::too_many_arguments)]
+    fn finish(
+        &self,
+        y: &mut Tau,
+        target: f64,
+        piece: f64,
+        anchor: &V2,
+        n: f64,
+        free: &V2,
+        state: &mut PartState,
+        out: &mut CycleOutcome,
+    ) -> Result<bool, ContactLoss> {
+        let mu = self.friction().kinetic;
+        let Some(flow) = Frozen::new(free, mu * n, &y.u) else {
+            return Ok(false);
+        };
+        let nominal = self.period() / self.numerics().steps_per_cycle as f64;
+        let stop = flow.stop_time();
+        if stop.is_nan() || stop > FINISH * nominal {
+            return Ok(false);
+        }
+        let rest = target - y.t;
+        let field = |dt: f64, dr: &V2, u: &V2| {
+            let r = y.r + dr;
+            let k = self.kin_off_grid(y.t + dt, piece);
+            let (ni, ai) = self.forces(&k, &r, u, anchor);
+            if ni < 0.0 {
+                return Err(self.contact_loss(y.t + dt, &r, ni));
+            }
+            Ok((ai, mu * ni))
+        };
+        let Some(path) = Cf4::to_stop(flow, &y.u, rest, field)? else {
+            return Ok(false);
+        };
+        let stop = path.stop_time();
+        let tol = self.numerics().event_tol * self.period();
+        if y.t + stop < target - tol {
+            out.events += 1;
+            y.t += stop;
+            y.r += path.at(stop).0;
+            y.u = V2::zeros();
+            state.stuck = self.margin(y.t, piece, &y.r, anchor) >= 0.0;
+        } else {
+            let (dr, u) = path.at(rest);
+            y.r += dr;
+            y.u = u;
+            y.t = target;
+        }
+        Ok(true)
+    }
+
     /// Follows a slipping part (`state.u` ≠ 0) in regularised time from
     /// `*t` until it leaves the region (see the module docs), stops, or
     /// reaches `target`. Advances `t` and `state`.
@@ -211,6 +324,9 @@ impl Simulator<'_> {
             let uhat = y.u / s;
             let along = free.dot(&uhat);
             if s >= bound && along > mu * n {
+                break;
+            }
+            if self.finish(&mut y, target, piece, anchor, n, &free, state, out)? {
                 break;
             }
             if s < STOP * bound && along < mu * n {
