@@ -64,6 +64,23 @@
 //! amplitude over the rectangular region is at a corner and
 //! |N − g| ≤ (1 − m) g there keeps N ≥ m g ([`seed::seed`]).
 //!
+//! **Why a second harmonic does not lift the margin's cap** (the saddle of
+//! `results/synthesis.md` is margin-bound at 1.93× its sequenced schedule).
+//! With n(t) = (−α_y, α_x)(t) the gradient of N over the plate, the corners
+//! (±d, ±d) keep the margin when |n_x(t)| + |n_y(t)| ≤ (1 − m) g / d at
+//! every t. Only n's first harmonic enters the mean force, and for a sink
+//! or a saddle it is A (cos φ, ± sin φ), φ = ωt + ε. At φ = π/4 and
+//! φ = 5π/4 the first harmonic changes sign while a constant and every
+//! even harmonic do not, so by the triangle inequality the L1 norms of n at
+//! the two instants sum to at least 2√2 A: one of them is ≥ √2 A, exactly
+//! the cap of harmonic 1 alone. A third harmonic could lower it — n_x =
+//! A (cos φ + cos 3φ / 6), n_y = A (sin φ − sin 3φ / 6) has
+//! max |n_x| + |n_y| = √(3/2) A ≈ 1.225 A (the best such c found by a scan
+//! of c cos 3φ), 15 % more strength for the same margin — but the default
+//! shaker's controller plays harmonics 1 and 2 only
+//! (`seed::tests::two_harmonics_keep_the_corner_cap`
+//! checks both statements numerically).
+//!
 //! **What the seed leaves out**, corrected by refinement: the part's own
 //! velocity modulation by N (the lead δ is for N = g), Coriolis, gravity
 //! tilt and centripetal terms, and the part's drift across the cycle.

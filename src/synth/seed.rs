@@ -278,3 +278,48 @@ pub fn seed(
         notes,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use std::f64::consts::PI;
+
+    /// max over φ of |n_x| + |n_y| for n = (cos φ, sin φ) + extra(φ), on a
+    /// fine grid of φ.
+    fn worst_l1(extra: impl Fn(f64) -> [f64; 2]) -> f64 {
+        (0..20_000)
+            .map(|i| {
+                let phi = 2.0 * PI * f64::from(i) / 20_000.0;
+                let e = extra(phi);
+                (phi.cos() + e[0]).abs() + (phi.sin() + e[1]).abs()
+            })
+            .fold(0.0, f64::max)
+    }
+
+    /// The corner cap of the module docs (`synth`): no constant or second
+    /// harmonic added to a harmonic-1 normal-force gradient of unit
+    /// amplitude brings max |n_x| + |n_y| below √2 (4096 pseudo-random
+    /// ones, up to twice the first harmonic's amplitude), while a third
+    /// harmonic of a sixth brings it to √(3/2).
+    #[test]
+    fn two_harmonics_keep_the_corner_cap() {
+        assert!((worst_l1(|_| [0.0, 0.0]) - 2f64.sqrt()).abs() < 1e-6);
+        let mut state: u64 = 0x2545_f491_4f6c_dd1d;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        for _ in 0..4096 {
+            let k: [f64; 6] = std::array::from_fn(|_| next());
+            let w = worst_l1(|phi| {
+                let (s2, c2) = (2.0 * phi).sin_cos();
+                [k[0] + k[1] * c2 + k[2] * s2, k[3] + k[4] * c2 + k[5] * s2]
+            });
+            assert!(w >= 2f64.sqrt() - 1e-6, "{k:?}: {w}");
+        }
+        let c = 1.0 / 6.0;
+        let w = worst_l1(|phi| [c * (3.0 * phi).cos(), -c * (3.0 * phi).sin()]);
+        assert!((w - 1.5f64.sqrt()).abs() < 1e-6, "{w} against √1.5");
+    }
+}
