@@ -600,7 +600,7 @@ fn design_method_auto_plays_both_and_states_the_choice() {
         assert!(!out.exists());
     }
     let mut args = base.to_vec();
-    args.extend_from_slice(&["--synth-evaluations", "20"]);
+    args.extend_from_slice(&["--synth-evaluations", "20", "--polish-plays", "10"]);
     let (code, stdout, err) = platefield(&args);
     assert_eq!(code, 0, "{err}");
     for needle in [
@@ -637,6 +637,8 @@ fn design_method_auto_plays_both_and_states_the_choice() {
         "synthesize",
         "--synth-evaluations",
         "20",
+        "--polish-plays",
+        "0",
         "--quiet",
         "--out",
         syn.to_str().unwrap(),

@@ -36,7 +36,7 @@ const COARSE: LoopOptions = LoopOptions {
     measure: platefield::design::closed_loop::MeasureOptions {
         warmup_cycles: 40,
         measured_cycles: 20,
-        settle: true,
+        settle: false,
     },
     max_iterations: 8,
     search_orders: true,

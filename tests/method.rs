@@ -46,6 +46,7 @@ fn synth() -> SynthOptions {
         coarse: [5, 5],
         max_evaluations: 40,
         progress: ProgressMode::Quiet,
+        polish_plays: 20,
         ..SynthOptions::default()
     }
 }

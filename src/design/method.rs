@@ -39,9 +39,8 @@
 //! realised measure ([`CHECK_WARMUP_CYCLES`] warm-up and
 //! [`CHECK_MEASURED_CYCLES`] measured cycles, each rounded up to whole
 //! schedule periods, a window at every join;
-//! [`super::closed_loop::measure`]; the warm-up is lengthened at a start
-//! point whose start-up transient outlasts it, [`crate::play::settle`]:
-//! the jet's in-plane ratchet needs about 50 cycles). Short, so that a strong field (a
+//! [`super::closed_loop::measure`]; not lengthened for a slow start-up
+//! transient, see [`crate::play::settle`]). Short, so that a strong field (a
 //! synthesized sink of 1.5 s⁻¹ halves a part's distance in 0.5 s) is
 //! measured over the region rather than where parts have already gathered
 //! (with 40 warm-up cycles the parts of such a sink sat inside the masked
@@ -697,7 +696,7 @@ pub fn play_check(
         &measure::MeasureOptions {
             warmup_cycles: CHECK_WARMUP_CYCLES,
             measured_cycles: CHECK_MEASURED_CYCLES,
-            settle: true,
+            settle: false,
         },
     )?;
     let r = measure::realised_error(target, &sampled.weights, &plays, Some(predicted));

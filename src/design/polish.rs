@@ -89,9 +89,7 @@ pub struct PolishOptions {
     /// Coarse grid [nx, ny] of the contact check.
     pub coarse: [usize; 2],
     /// How long each start point is played (default 40 warm-up and 20
-    /// measured cycles, without the start-up transient's estimate
-    /// ([`crate::play::settle`]) that would double each play: the kept
-    /// motion is measured again, settled, by whoever reports it).
+    /// measured cycles).
     pub measure: MeasureOptions,
 }
 
@@ -103,10 +101,7 @@ impl Default for PolishOptions {
             grid_budget: 0.06,
             step: 0.03,
             coarse: [7, 7],
-            measure: MeasureOptions {
-                settle: false,
-                ..MeasureOptions::default()
-            },
+            measure: MeasureOptions::default(),
         }
     }
 }

@@ -72,10 +72,7 @@ pub struct RefineOptions {
     pub max_evaluations: usize,
     /// Initial simplex step (parameter units, see the module docs).
     pub step: f64,
-    /// Warm-up and measured cycles of every play (default 40 and 20,
-    /// without the start-up transient's estimate, [`crate::play::settle`]:
-    /// a sequenced schedule's 40-cycle warm-up is one whole period, and the
-    /// estimate would more than double each of the objective's plays).
+    /// Warm-up and measured cycles of every play.
     pub measure: MeasureOptions,
 }
 
@@ -86,10 +83,7 @@ impl Default for RefineOptions {
             stride: 5,
             max_evaluations: 150,
             step: 0.3,
-            measure: MeasureOptions {
-                settle: false,
-                ..MeasureOptions::default()
-            },
+            measure: MeasureOptions::default(),
         }
     }
 }

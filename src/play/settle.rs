@@ -30,6 +30,17 @@
 //! asked for); a part that has not settled by then is reported as such.
 //! A part that loses contact in the frozen play keeps the warm-up asked for
 //! (the play itself reports the loss).
+//!
+//! **Where it is used.** `verify` (realised against the steady-state
+//! prediction, [`super::measure::PlayOptions::settle`]) settles. The
+//! design's realised check and the studies' measures against the *target*
+//! keep their fixed warm-ups (`design::closed_loop::MeasureOptions::settle`
+//! off): a strong field gathers the parts before a slow transient dies out
+//! — the synthesized motion of `targets/sink_trans.json` (a 3 s⁻¹ sink
+//! slipping at up to 50 m/s²) needs 8 periods, by which time every part
+//! sits at the centre and the settled windows measure round-off. Where parts
+//! travel far during the transient, `verify --model frozen` compares at the
+//! start point exactly (0.00 % for that motion).
 
 use super::{PartState, Player, V2};
 

@@ -55,9 +55,13 @@ pub struct MeasureOptions {
     /// default 20).
     pub measured_cycles: u32,
     /// Lengthen the warm-up where a part's start-up transient outlasts it
-    /// ([`crate::play::settle`]; default true). Optimisation loops that
-    /// play hundreds of candidates turn it off for speed; every measure
-    /// that is reported keeps it.
+    /// ([`crate::play::settle`]; default false). Off by default: this
+    /// measure judges a design against its *target* where the parts are
+    /// after a fixed warm-up, and a strong field gathers the parts before a
+    /// slow transient dies out (the synthesized motion of `sink_trans`, a
+    /// 3 s⁻¹ sink whose transient takes 8 periods, had every part at the
+    /// centre when its settled windows began); `verify`, which compares
+    /// with the steady-state *prediction*, settles.
     pub settle: bool,
 }
 
@@ -66,7 +70,7 @@ impl Default for MeasureOptions {
         MeasureOptions {
             warmup_cycles: 40,
             measured_cycles: 20,
-            settle: true,
+            settle: false,
         }
     }
 }
