@@ -641,6 +641,7 @@ fn polish_played(
     }
     let options = PolishOptions {
         max_plays: synth.polish_plays,
+        progress: synth.progress,
         ..PolishOptions::default()
     };
     let p = polish(

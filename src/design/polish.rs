@@ -91,6 +91,9 @@ pub struct PolishOptions {
     /// How long each start point is played (default 40 warm-up and 20
     /// measured cycles).
     pub measure: MeasureOptions,
+    /// Progress display (default quiet): a bar on a terminal, a plain line
+    /// otherwise ([`crate::progress::Progress`]); never part of the result.
+    pub progress: ProgressMode,
 }
 
 impl Default for PolishOptions {
@@ -102,6 +105,7 @@ impl Default for PolishOptions {
             step: 0.03,
             coarse: [7, 7],
             measure: MeasureOptions::default(),
+            progress: ProgressMode::Quiet,
         }
     }
 }
@@ -170,6 +174,7 @@ struct Played<'a> {
     grid_budget: f64,
     plays: AtomicUsize,
     best: Mutex<Option<Eval>>,
+    bar: crate::progress::Progress,
 }
 
 impl Played<'_> {
@@ -221,7 +226,8 @@ impl Played<'_> {
             + INVALID_WEIGHT * coarse.realised.invalid as f64 / self.objective_len() as f64
             + INVALID_WEIGHT * lost.saturating_sub(self.lost_ref) as f64
                 / self.starts.len().max(1) as f64;
-        self.plays.fetch_add(1, Ordering::Relaxed);
+        let n = self.plays.fetch_add(1, Ordering::Relaxed) + 1;
+        self.bar.set_position(n as u64);
         let e = Eval {
             params: params.to_vec(),
             cost,
@@ -229,6 +235,11 @@ impl Played<'_> {
         };
         let mut best = self.best.lock().unwrap_or_else(|p| p.into_inner());
         if best.as_ref().is_none_or(|b| cost < b.cost) {
+            self.bar.set_message(format!(
+                "best played: strength {:.4}, shape error {:.2} %",
+                e.played.realised_strength,
+                100.0 * e.played.shape_error
+            ));
             *best = Some(e.clone());
         }
         Ok(e)
@@ -316,6 +327,12 @@ pub fn polish(
         grid_budget: f64::INFINITY,
         plays: AtomicUsize::new(0),
         best: Mutex::new(None),
+        bar: crate::progress::Progress::new(
+            "played polish",
+            "plays",
+            options.max_plays as u64,
+            options.progress,
+        ),
     };
     let before = played.play(&coefficients)?;
     played.strength_ref = if before.realised_strength.is_finite() && before.realised_strength > 0.0
@@ -342,6 +359,7 @@ pub fn polish(
         step /= 2.0;
     }
     let plays = played.plays.load(Ordering::Relaxed);
+    played.bar.finish();
     let best = played.best().unwrap_or_else(|| start.clone());
     let keep = |checked: &Checked| !checked.poor || synthesis.poor;
     let (synthesis, after, cost_after, improved) = if best.cost < start.cost {
