@@ -564,7 +564,8 @@ fn design_refuses_bad_shaker_limits_naming_the_field() {
 /// shape error and strength, the choice is stated, the files are written
 /// (signals.svg for the synthesis), `schedule.json` carries the realised
 /// check, and `export --steady-cycles` of a synthesized schedule states its
-/// ramp. `--method bogus` and `--synth-evaluations 0` exit 2.
+/// ramp. `--method bogus`, `--synth-evaluations 0` and a synthesis whose
+/// work estimate exceeds the limit exit 2.
 #[test]
 fn design_method_auto_plays_both_and_states_the_choice() {
     let dir = temp_dir("design-method");
@@ -591,6 +592,10 @@ fn design_method_auto_plays_both_and_states_the_choice() {
     for (extra, name) in [
         (["--method", "bogus"], "--method"),
         (["--synth-evaluations", "0"], "--synth-evaluations"),
+        // Refused by the work estimate before any simulation: it names the
+        // knobs and --allow-long.
+        (["--synth-evaluations", "100000000"], "--allow-long"),
+        (["--polish-plays", "100000000"], "--polish-plays"),
     ] {
         let mut args = base.to_vec();
         args.extend_from_slice(&extra);

@@ -61,12 +61,14 @@ use super::closed_loop::{loop_points, measure};
 use super::polish::{polish, PolishOptions};
 use super::{design, Design, DesignOptions};
 use crate::error::{Error, Result};
+use crate::field::FieldKind;
 use crate::field::Grid;
 use crate::fit::{self, FitMetrics};
 use crate::request::{Attractor, SampledTarget, Target};
 use crate::schedule::export::schedule_peaks;
 use crate::schedule::{AxisPeaks, BasisInfo, Played, Schedule, Segment, SolverInfo};
 use crate::synth::{synthesize, ShakerLimits, SynthOptions, Synthesis};
+use crate::work::{Estimate, Term};
 
 /// Cycles of the synthesized motion per schedule period.
 pub const SYNTH_SEGMENT_CYCLES: u32 = 10;
@@ -216,6 +218,9 @@ pub fn design_by_method(
     let mut limits = ShakerLimits::from_spec(target.shaker.as_ref());
     limits.validate("target.shaker")?;
     let sampled = target.sample()?;
+    if method != Method::Sequence {
+        synthesis_estimate(&sampled, synth, opts).check(opts.allow_long)?;
+    }
     let mut out = MethodDesign {
         asked: method,
         sequence: None,
@@ -620,6 +625,60 @@ pub fn synthesize_schedule(
         shifts: Vec::new(),
     };
     Ok((syn, schedule))
+}
+
+/// The work of one synthesis and its played polish ([`crate::work`]):
+/// every evaluation a steady-state field on the coarse grid, the check one
+/// on the full grid, and every play of the polish its start points over the
+/// polish's warm-up and measured cycles plus one coarse field.
+fn synthesis_estimate(
+    sampled: &SampledTarget,
+    synth: &SynthOptions,
+    opts: &DesignOptions,
+) -> Estimate {
+    let coarse = (synth.coarse[0] * synth.coarse[1]) as f64;
+    let velocity = |label: &str, fields: f64, name: &str, samples: f64| {
+        crate::work::field_term(
+            label,
+            fields,
+            name,
+            samples,
+            FieldKind::Velocity,
+            &opts.settings,
+        )
+    };
+    let polish = PolishOptions::default();
+    let play_cycles = f64::from(polish.measure.warmup_cycles + polish.measure.measured_cycles);
+    Estimate::new(
+        "target",
+        "synthesizing a six-signal motion",
+        "fewer --synth-evaluations or --polish-plays, or a smaller target grid n",
+    )
+    .plus(velocity(
+        "synthesis",
+        synth.max_evaluations as f64,
+        "evaluations",
+        coarse,
+    ))
+    .plus(velocity(
+        "full-grid check",
+        1.0,
+        "field",
+        sampled.len() as f64,
+    ))
+    .plus(
+        Term::new("played polish")
+            .times(synth.polish_plays as f64, "plays")
+            .times((CHECK_POINTS * CHECK_POINTS) as f64, "parts")
+            .times(play_cycles, "cycles")
+            .times(opts.settings.numerics.steps_per_cycle as f64, "steps"),
+    )
+    .plus(velocity(
+        "polish contact check",
+        synth.polish_plays as f64,
+        "plays",
+        coarse,
+    ))
 }
 
 /// The played polish of a synthesized motion ([`super::polish`]:
