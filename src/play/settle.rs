@@ -26,8 +26,9 @@
 //! [`SETTLE_TOL`]·max(|v_w|, [`SETTLE_FLOOR`]/[`SETTLE_TOL`]), i.e. 1e-4 of
 //! the part's drift, or 1e-7 m/s for a part that hardly drifts. The
 //! warm-up asked for is a minimum; it is lengthened one period at a time,
-//! up to [`SETTLE_MAX_CYCLES`] primitive cycles (and never below the warm-up
-//! asked for); a part that has not settled by then is reported as such.
+//! up to [`SETTLE_MAX_CYCLES`] primitive cycles; a part that has not
+//! settled by then is reported as such, and a warm-up asked for that is
+//! already that long is taken as it is.
 //! A part that loses contact in the frozen play keeps the warm-up asked for
 //! (the play itself reports the loss).
 //!
@@ -70,7 +71,15 @@ pub struct Settle {
 pub fn warmup(player: &Player<'_>, start: [f64; 2], asked: u32) -> Settle {
     let sm = player.schedule();
     let cycles: u32 = sm.segments().iter().map(|s| s.cycles).sum();
-    let cap = asked.max(SETTLE_MAX_CYCLES.div_ceil(cycles.max(1)));
+    let cap = SETTLE_MAX_CYCLES.div_ceil(cycles.max(1));
+    if asked >= cap {
+        // Already as long as the longest warm-up this would ask for: taken
+        // as it is (judging it would double the work).
+        return Settle {
+            periods: asked,
+            settled: true,
+        };
+    }
     let frozen = player.frozen();
     let anchor = V2::from(start);
     let mut state = PartState::new(anchor, V2::zeros());

@@ -328,7 +328,8 @@ pub fn run_rectangles(
 }
 
 /// The work of a verification ([`crate::work`]): RK4 point-part steps of
-/// the realised grid, the swarm and the rectangles (a rectangle step costs
+/// the realised grid (with the settled warm-up at its longest), the
+/// prediction, the swarm and the rectangles (a rectangle step costs
 /// [`crate::work::RECT_STEP_COST`] point-part steps).
 pub fn work_estimate(
     schedule: &Schedule,
@@ -380,6 +381,18 @@ pub fn work_estimate(
         "a shorter schedule (fewer cycles), --points, --swarm, --repetitions/--duration or --rect-poses",
     )
     .plus(term("realised grid", points, req.warmup + req.periods))
+    .plus(
+        // The start-up transient's frozen play (crate::play::settle), at
+        // its longest: the cap, two periods more, and as long again in the
+        // lengthened warm-up.
+        Term::new("settled warm-up (at most)")
+            .times(points, "parts")
+            .times(
+                2.0 * (f64::from(crate::play::settle::SETTLE_MAX_CYCLES) + 2.0 * cycles),
+                "cycles",
+            )
+            .times(steps, "steps"),
+    )
     .plus(
         Term::new("prediction (most doublings)")
             .times(points, "parts")
