@@ -830,8 +830,8 @@ pub fn render(
          depends on N, which the tilts modulate across the line, and the coarse-grid objective \
          weights every point alike while the played parts crowd near the line, where the \
          transport is ≈ 11 % low. The played polish (`platefield::design::polish`) optimises the \
-         measure where the parts are: 0.636 → 0.807 at 3.9 % (2.16×; from the 16 start points it \
-         did not see, 0.802 at 3.9 %). It holds the region's coarse-grid shape to 6 %: without \
+         measure where the parts are (its before and after, and the kept motion played from 16 \
+         start points it did not see, are in the row's notes above). It holds the region's coarse-grid shape to 6 %: without \
          that bound it played 1.06 s⁻¹ at 4.0 % with 12.8 % shape over the region — the warm-up \
          squeezes parts onto the line before they are measured, so the field away from the line \
          was given up for the field on it.\n\
@@ -842,10 +842,11 @@ pub fn render(
          margin (+3.1 %, least N 0.99 m/s²) plays 0.620 but at 5.2 % shape with 10 of 25 points \
          valid; a vertical (or tilt) second harmonic cannot raise N at all four corners at once — \
          with harmonic-1 tilts the corners' minima fall at 2ωt = ∓90° alternately, so any \
-         second harmonic b + d·q raises one pair and lowers the other. The played polish's \
-         local search gains little: 0.599 → 0.601 (300 plays, least N 1.27 m/s²); 400 plays with \
-         a simplex of 0.08 in a scratch run reach 0.604 with least N 0.98 m/s², on the margin. \
-         2× (0.624) is not reached.\n\
+         second harmonic b + d·q raises one pair and lowers the other (the `platefield::synth` \
+         docs show that no constant or even harmonic lowers the corners' cap, and that a third \
+         harmonic would, by 15 %). The played polish's local search gains little (the row's \
+         notes above); 400 plays with a simplex of 0.08 in a scratch run reached 0.604 with \
+         least N 0.98 m/s², on the margin.\n\
          - *valid / played* below played: at those start points a part lost contact (or a \
          steady state failed) somewhere along its path and the measure leaves the point out. For \
          the saddle (checked point by point, `cargo run --release --example played_polish saddle`) \
