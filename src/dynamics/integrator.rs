@@ -151,7 +151,10 @@ pub struct Simulator<'a> {
     /// Kinematics tabulated on the fixed-step time grid, when given.
     table: Option<&'a KinematicsTable<'a>>,
     /// The motion with its constants worked out, for evaluating the
-    /// kinematics off the table (bitwise [`Motion::kinematics_piece`]).
+    /// kinematics off the table ([`Motion::kinematics_piece`] to
+    /// round-off; bitwise for a motion with a slip axis, whose few
+    /// off-grid instants are those of event location, so that its 1-D
+    /// fields stay bitwise those of libm's sin and cos).
     prepared: PreparedMotion<'a>,
     /// The motion's slip axis ([`Motion::slip_axis`]): a part whose slip
     /// velocity has no component across it slips on a line.
@@ -168,6 +171,7 @@ impl<'a> Simulator<'a> {
         numerics: Numerics,
     ) -> Simulator<'a> {
         let period = motion.period();
+        let line = motion.slip_axis();
         Simulator {
             motion,
             friction,
@@ -178,8 +182,12 @@ impl<'a> Simulator<'a> {
             breakpoints: motion.breakpoints(),
             v_scale: (friction.kinetic.max(1e-3) * gravity.max(1e-3) * period).max(1e-300),
             table: None,
-            line: motion.slip_axis(),
-            prepared: PreparedMotion::new(motion),
+            line,
+            prepared: if line.is_some() {
+                PreparedMotion::direct(motion)
+            } else {
+                PreparedMotion::new(motion)
+            },
         }
     }
 
@@ -224,6 +232,12 @@ impl<'a> Simulator<'a> {
     /// Velocity scale μ_k g T used for tolerances (m/s).
     pub fn velocity_scale(&self) -> f64 {
         self.v_scale
+    }
+
+    /// The motion prepared for evaluation off the table (the table is a
+    /// memo of it).
+    pub(super) fn prepared(&self) -> &PreparedMotion<'a> {
+        &self.prepared
     }
 
     /// Kinematics at `t` on the piece keyed `piece`: from the table on the

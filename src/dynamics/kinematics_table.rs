@@ -16,16 +16,17 @@
 //! ([`super::step_count`], [`super::step_end`]), so a lookup is keyed by the
 //! exact bits of (t, piece): the piece by a hash of its key, the instant by
 //! its step index (t − a) n/(b − a) and an exact comparison, no search. It is a memo of
-//! [`Motion::kinematics_piece`]: a hit returns the very value a direct
-//! evaluation would, so fields are bitwise unchanged by it (and stay
-//! identical on any number of threads). The integrator's whole fixed steps
+//! the simulator's own evaluation ([`crate::motion::PreparedMotion`], which
+//! is [`Motion::kinematics_piece`] to round-off): a hit returns the very
+//! value an evaluation off the table would, so fields are bitwise unchanged
+//! by it (and stay identical on any number of threads). The integrator's whole fixed steps
 //! skip even that lookup: it finds each piece once and hands every step its
 //! [`StepNodes`]. Event-located and shortened steps ask for other instants;
 //! they miss and are evaluated directly (those known to be off the grid
 //! without asking).
 
 use super::integrator::Simulator;
-use crate::motion::{Kinematics, Motion};
+use crate::motion::{Kinematics, Motion, PreparedMotion};
 
 /// Kinematics at the nodes of one smooth piece [a, b] of n fixed steps, in
 /// a fixed layout: slot 0 is a, slots 3i − 2, 3i − 1, 3i the stage time
@@ -51,7 +52,14 @@ pub(super) struct PieceNodes {
 }
 
 impl PieceNodes {
-    fn new(motion: &Motion, gravity: f64, tilt: bool, a: f64, b: f64, n: usize) -> PieceNodes {
+    fn new(
+        motion: &PreparedMotion<'_>,
+        gravity: f64,
+        tilt: bool,
+        a: f64,
+        b: f64,
+        n: usize,
+    ) -> PieceNodes {
         let piece = 0.5 * (a + b);
         let mut times = Vec::with_capacity(3 * n + 1);
         times.push(a);
@@ -181,6 +189,7 @@ impl<'a> KinematicsTable<'a> {
     /// `[t0, t1]` in `spans` on its fixed-step path.
     pub fn new(sim: &Simulator<'a>, spans: &[(f64, f64)]) -> KinematicsTable<'a> {
         let motion = sim.motion();
+        let prepared = sim.prepared();
         let (gravity, tilt) = (sim.gravity(), sim.model().tilt);
         let period = sim.period();
         let nominal = period / sim.numerics().steps_per_cycle as f64;
@@ -193,7 +202,7 @@ impl<'a> KinematicsTable<'a> {
                 let (a, b) = (w[0], w[1]);
                 let n = super::step_count(a, b, nominal);
                 if seen.insert((a.to_bits(), b.to_bits(), n)) {
-                    pieces.push(PieceNodes::new(motion, gravity, tilt, a, b, n));
+                    pieces.push(PieceNodes::new(prepared, gravity, tilt, a, b, n));
                 }
             }
         }
@@ -362,8 +371,8 @@ mod tests {
         }
     }
 
-    /// Every tabulated value is the direct evaluation, bit for bit, and
-    /// instants off the grid miss.
+    /// Every tabulated value is the simulator's evaluation off the table,
+    /// bit for bit, and instants off the grid miss.
     #[test]
     fn table_is_a_memo_of_direct_evaluation() {
         let motion = screw(Waveform::Square { accel: 150.0 }, fourier());
@@ -377,7 +386,7 @@ mod tests {
         let mut count = 0;
         for p in &table.pieces {
             for (t, k) in p.times.iter().zip(&p.kinematics) {
-                assert_eq!(*k, motion.kinematics_piece(*t, p.piece, 9.81, true));
+                assert_eq!(*k, sim.kin_off_grid(*t, p.piece));
                 assert_eq!(table.get(*t, p.piece), Some(k));
                 let off = t + 1e-7;
                 if !p.times.contains(&off) {
@@ -416,7 +425,7 @@ mod tests {
                     let e = crate::dynamics::step_end(a, b, n, i);
                     let h = e - s;
                     let g = nodes.step(i);
-                    let direct = |t: f64| motion.kinematics_piece(t, piece, 9.81, true);
+                    let direct = |t: f64| sim.kin_off_grid(t, piece);
                     assert_eq!(*g.at_start(s).expect("the step's start"), direct(s));
                     let [km, k1] = g.stages(s, h, e).expect("the whole step");
                     assert_eq!(*km, direct(s + 0.5 * h));
@@ -448,6 +457,16 @@ mod tests {
         let sim = simulator(&motion, 32);
         let phases = 5;
         let table = KinematicsTable::phases(&sim, phases);
+        // A motion with a slip axis is tabulated and evaluated with libm's
+        // sin and cos: its 1-D fields keep their bits.
+        for p in &table.pieces {
+            for (t, k) in p.times.iter().zip(&p.kinematics) {
+                assert_eq!(*k, motion.kinematics_piece(*t, p.piece, 9.81, true));
+                assert_eq!(sim.kin_off_grid(t + 1e-7, p.piece), {
+                    motion.kinematics_piece(t + 1e-7, p.piece, 9.81, true)
+                });
+            }
+        }
         let fast = sim.clone().with_table(&table);
         let mut events = 0;
         for j in 0..phases {

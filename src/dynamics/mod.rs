@@ -44,7 +44,9 @@ pub use integrator::{CycleOutcome, PartState, Simulator, TrajectoryPoint, V2};
 /// limited by friction's damping across the slip, slowing slips
 /// regularised, tiny slips along a turning a_free started implicitly).
 /// 3: 2-D stops finished with the exact frozen flow (`frozen.rs`).
-pub const ENGINE_REVISION: u32 = 3;
+/// 4: off-grid kinematics with table-based sin and cos
+/// ([`crate::motion::trig`]; fields change at round-off).
+pub const ENGINE_REVISION: u32 = 4;
 pub use kinematics_table::KinematicsTable;
 pub use planar::{
     PlanarOutcome, PlanarSample, PlanarSimulator, PlanarState, Plate, Rectangle,

@@ -21,6 +21,7 @@ mod ramped;
 pub mod sample_hold;
 mod screw;
 mod signals;
+pub mod trig;
 mod waveform;
 
 pub use prepared::PreparedMotion;
@@ -199,6 +200,11 @@ pub fn rotate(v: &V3, k: &V3, theta: f64) -> V3 {
     if theta == 0.0 {
         return *v;
     }
-    let (s, c) = theta.sin_cos();
+    rotate_sc(v, k, theta.sin_cos())
+}
+
+/// [`rotate`] with (sin θ, cos θ) at hand.
+#[inline]
+pub(crate) fn rotate_sc(v: &V3, k: &V3, (s, c): (f64, f64)) -> V3 {
     v * c + k.cross(v) * s + k * (k.dot(v) * (1.0 - c))
 }

@@ -12,7 +12,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::{rotate, FourierTerm, Kinematics, Waveform, V3};
+use super::{rotate_sc, FourierTerm, Kinematics, Waveform, V3};
 use crate::error::{positive, Result};
 
 /// Three Fourier-series signals about/along the world x, y and z axes.
@@ -122,16 +122,27 @@ impl Signals {
     /// docs: R = exp(\[θ\]×), quantities rotated back by Rᵀ when `tilt`).
     #[inline]
     pub fn frame(lin: &[V3; 3], ang: &[V3; 3], g: f64, tilt: bool) -> Kinematics {
+        Signals::frame_with(lin, ang, g, tilt, f64::sin_cos)
+    }
+
+    /// [`Signals::frame`] with `sin_cos` for the tilt angle's sine and
+    /// cosine (worked out once for the five rotated vectors).
+    #[inline]
+    pub(crate) fn frame_with(
+        lin: &[V3; 3],
+        ang: &[V3; 3],
+        g: f64,
+        tilt: bool,
+        sin_cos: impl Fn(f64) -> (f64, f64),
+    ) -> Kinematics {
         let [_, v, a] = lin;
         let [theta, w, dw] = ang;
         let down = V3::new(0.0, 0.0, -g);
         let angle = theta.norm();
-        let back = |x: V3| {
-            if tilt && angle > 0.0 {
-                rotate(&x, &(theta / angle), -angle)
-            } else {
-                x
-            }
+        let turn = (tilt && angle > 0.0).then(|| (theta / angle, sin_cos(-angle)));
+        let back = |x: V3| match &turn {
+            Some((axis, sc)) => rotate_sc(&x, axis, *sc),
+            None => x,
         };
         Kinematics {
             omega: back(*w),
