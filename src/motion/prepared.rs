@@ -21,7 +21,41 @@
 
 use std::f64::consts::PI;
 
-use super::{rotate_sc, trig, Kinematics, Motion, Screw, Signals, Waveform, V3};
+use super::{rotate_sc, trig, FourierTerm, Kinematics, Motion, Screw, Signals, Waveform, V3};
+
+/// Fourier terms' constants: per term nω, φ, a/(nω)², a/(nω) and a.
+type Terms = Vec<[f64; 5]>;
+
+/// The constants of the acceleration terms `terms` at base frequency `om`.
+fn prepare(terms: &[FourierTerm], om: f64) -> Terms {
+    terms
+        .iter()
+        .map(|term| {
+            let wn = om * f64::from(term.harmonic);
+            [
+                wn,
+                term.phase,
+                term.amplitude / (wn * wn),
+                term.amplitude / wn,
+                term.amplitude,
+            ]
+        })
+        .collect()
+}
+
+/// (q, q', q'') of a Fourier series at `t`, q starting from `q0`, summed
+/// term by term as [`Waveform::eval_piece`] does.
+#[inline(always)]
+fn series(trig: &trig::Nodes, terms: &Terms, q0: f64, t: f64) -> (f64, f64, f64) {
+    let (mut q, mut dq, mut ddq) = (q0, 0.0, 0.0);
+    for [wn, phase, qa, dqa, a] in terms {
+        let (s, c) = trig.sin_cos(wn * t + phase);
+        q -= qa * s;
+        dq -= dqa * c;
+        ddq += a * s;
+    }
+    (q, dq, ddq)
+}
 
 /// A waveform's constants: each coefficient is the quotient or product
 /// [`Waveform::eval_piece`] forms before multiplying by sin or cos.
@@ -47,22 +81,7 @@ impl Wave {
             Waveform::RestToRest { amplitude } => {
                 Wave::RestToRest([*amplitude, amplitude * om, amplitude * om * om, om])
             }
-            Waveform::Fourier { terms, offset } => Wave::Fourier(
-                terms
-                    .iter()
-                    .map(|term| {
-                        let wn = om * f64::from(term.harmonic);
-                        [
-                            wn,
-                            term.phase,
-                            term.amplitude / (wn * wn),
-                            term.amplitude / wn,
-                            term.amplitude,
-                        ]
-                    })
-                    .collect(),
-                *offset,
-            ),
+            Waveform::Fourier { terms, offset } => Wave::Fourier(prepare(terms, om), *offset),
             Waveform::Square { .. } => Wave::Other(w.clone()),
         }
     }
@@ -80,16 +99,7 @@ impl Wave {
                 let (s, c) = trig.sin_cos(om * t);
                 (a * (1.0 - c), aw * s, aww * c)
             }
-            Wave::Fourier(terms, offset) => {
-                let (mut q, mut dq, mut ddq) = (*offset, 0.0, 0.0);
-                for [wn, phase, qa, dqa, a] in terms {
-                    let (s, c) = trig.sin_cos(wn * t + phase);
-                    q -= qa * s;
-                    dq -= dqa * c;
-                    ddq += a * s;
-                }
-                (q, dq, ddq)
-            }
+            Wave::Fourier(terms, offset) => series(trig, terms, *offset, t),
             Wave::Other(w) => {
                 let x = w.eval_piece(t, period, piece_t);
                 (x.q, x.dq, x.ddq)
@@ -143,9 +153,6 @@ impl PreparedScrew {
     }
 }
 
-/// Fourier terms' constants: per term nω, φ, a/(nω)², a/(nω) and a.
-type Terms = Vec<[f64; 5]>;
-
 /// A six-signal motion's constants: the terms of the x, y, z signals,
 /// linear and angular.
 #[derive(Debug, Clone)]
@@ -158,23 +165,7 @@ struct PreparedSignals {
 impl PreparedSignals {
     fn new(s: &Signals) -> PreparedSignals {
         let om = 2.0 * PI / s.period;
-        let axes = |a: &super::Axes| {
-            [&a.x, &a.y, &a.z].map(|terms| {
-                terms
-                    .iter()
-                    .map(|term| {
-                        let wn = om * f64::from(term.harmonic);
-                        [
-                            wn,
-                            term.phase,
-                            term.amplitude / (wn * wn),
-                            term.amplitude / wn,
-                            term.amplitude,
-                        ]
-                    })
-                    .collect()
-            })
-        };
+        let axes = |a: &super::Axes| [&a.x, &a.y, &a.z].map(|terms| prepare(terms, om));
         PreparedSignals {
             trig: trig::table(),
             linear: axes(&s.linear),
@@ -187,12 +178,7 @@ impl PreparedSignals {
     fn eval(&self, group: &[Terms; 3], t: f64) -> [V3; 3] {
         let mut out = [V3::zeros(); 3];
         for (i, terms) in group.iter().enumerate() {
-            for [wn, phase, qa, dqa, a] in terms {
-                let (s, c) = self.trig.sin_cos(wn * t + phase);
-                out[0][i] -= qa * s;
-                out[1][i] -= dqa * c;
-                out[2][i] += a * s;
-            }
+            (out[0][i], out[1][i], out[2][i]) = series(self.trig, terms, 0.0, t);
         }
         out
     }
@@ -258,7 +244,7 @@ impl<'a> PreparedMotion<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::motion::{Axes, FourierTerm};
+    use crate::motion::Axes;
 
     /// Scales of (q, q', q'') of a waveform: the sum of its terms'
     /// amplitudes in each (for the square wave, its bounds).
@@ -389,22 +375,26 @@ mod tests {
     /// each quantity's scale.
     #[test]
     fn prepared_signals_are_direct_to_round_off() {
-        let term = |amplitude: f64, phase: f64, harmonic: u32| FourierTerm {
-            amplitude,
-            phase,
-            harmonic,
+        // (amplitude, phase, harmonic) of each signal's terms.
+        let series = |terms: &[(f64, f64, u32)]| -> Vec<FourierTerm> {
+            let term = |&(amplitude, phase, harmonic)| FourierTerm {
+                amplitude,
+                phase,
+                harmonic,
+            };
+            terms.iter().map(term).collect()
         };
         let full = Signals {
             period: 0.04,
             linear: Axes {
-                x: vec![term(10.0, 1.37, 1), term(2.0, 0.3, 2)],
-                y: vec![term(-8.0, -0.17, 1), term(1.0, 2.0, 5)],
-                z: vec![term(6.0, 0.9, 2)],
+                x: series(&[(10.0, 1.37, 1), (2.0, 0.3, 2)]),
+                y: series(&[(-8.0, -0.17, 1), (1.0, 2.0, 5)]),
+                z: series(&[(6.0, 0.9, 2)]),
             },
             angular: Axes {
-                x: vec![term(65.0, 1.83, 1)],
-                y: vec![term(-40.0, 0.28, 1), term(30.0, -2.5, 3)],
-                z: vec![term(800.0, 0.5, 1)],
+                x: series(&[(65.0, 1.83, 1)]),
+                y: series(&[(-40.0, 0.28, 1), (30.0, -2.5, 3)]),
+                z: series(&[(800.0, 0.5, 1)]),
             },
         };
         let mut overall = 0.0f64;
