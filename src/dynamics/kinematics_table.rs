@@ -19,11 +19,11 @@
 //! the simulator's own evaluation ([`crate::motion::PreparedMotion`], which
 //! is [`Motion::kinematics_piece`] to round-off): a hit returns the very
 //! value an evaluation off the table would, so fields are bitwise unchanged
-//! by it (and stay identical on any number of threads). The integrator's whole fixed steps
-//! skip even that lookup: it finds each piece once and hands every step its
-//! [`StepNodes`]. Event-located and shortened steps ask for other instants;
-//! they miss and are evaluated directly (those known to be off the grid
-//! without asking).
+//! by it (and stay identical on any number of threads). The integrator's
+//! whole fixed steps skip even that lookup: it finds each piece once and
+//! hands every step its [`StepNodes`]. Event-located and shortened steps ask
+//! for other instants; they miss and are evaluated (those known to be off
+//! the grid without asking).
 
 use super::integrator::Simulator;
 use crate::motion::{Kinematics, Motion, PreparedMotion};
@@ -374,7 +374,7 @@ mod tests {
     /// Every tabulated value is the simulator's evaluation off the table,
     /// bit for bit, and instants off the grid miss.
     #[test]
-    fn table_is_a_memo_of_direct_evaluation() {
+    fn table_is_a_memo_of_the_simulators_evaluation() {
         let motion = screw(Waveform::Square { accel: 150.0 }, fourier());
         let sim = simulator(&motion, 16);
         let table = KinematicsTable::phases(&sim, 7);
