@@ -46,7 +46,10 @@ pub use integrator::{CycleOutcome, PartState, Simulator, TrajectoryPoint, V2};
 /// 3: 2-D stops finished with the exact frozen flow (`frozen.rs`).
 /// 4: off-grid kinematics with table-based sin and cos
 /// ([`crate::motion::trig`]; fields change at round-off).
-pub const ENGINE_REVISION: u32 = 4;
+/// 5: fields simulate one point per family of points the motion moves
+/// alike ([`crate::motion::Invariance`]; circles about a vertical axis
+/// change at round-off).
+pub const ENGINE_REVISION: u32 = 5;
 pub use kinematics_table::KinematicsTable;
 pub use planar::{
     PlanarOutcome, PlanarSample, PlanarSimulator, PlanarState, Plate, Rectangle,

@@ -17,22 +17,32 @@
 //! 0.4 m/s at 4 cm, and its frozen field shows a spurious radial velocity
 //! of about 0.3 m/s, so that primitive needs the free variant.
 //!
+//! A motion that moves whole families of points alike
+//! ([`crate::motion::Invariance`]: lines along a horizontal screw axis,
+//! circles about a vertical one, every point of a translation) is simulated
+//! at one point per family ([`Orbits`]) and the sample mapped to the rest:
+//! the default library's 21 × 21 force fields simulate 21 points for a
+//! LineSink or SkewSink, 61 for a ScaledCircle or Circle and 1 for Trans
+//! (`tests/invariance.rs` holds them against simulating every point).
+//!
 //! Points are computed in parallel with rayon and collected in grid order,
 //! so the result is bitwise identical for any number of threads.
 
 mod force;
 mod grid;
 mod json;
+mod orbits;
 mod velocity;
 
 pub use grid::Grid;
 pub use json::FieldStats;
+pub use orbits::Orbits;
 
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::dynamics::{Friction, KinematicsTable, Model, Numerics, Simulator};
-use crate::motion::Motion;
+use crate::motion::{Invariance, Motion};
 
 /// Which field to compute.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Hash, clap::ValueEnum)]
@@ -139,13 +149,38 @@ pub struct Field {
 }
 
 impl Field {
-    /// Computes `kind` for `motion` on `grid`. `progress` is called once per
-    /// finished point (from worker threads).
+    /// Computes `kind` for `motion` on `grid`, simulating one point per
+    /// family of points the motion moves alike ([`Motion::invariance`],
+    /// [`Orbits`]) and mapping its sample to the others. `progress` is
+    /// called once per grid point (from worker threads).
     pub fn compute(
         motion: &Motion,
         grid: &Grid,
         kind: FieldKind,
         settings: &FieldSettings,
+        progress: &(dyn Fn() + Sync),
+    ) -> Field {
+        Self::compute_by(motion, grid, kind, settings, motion.invariance(), progress)
+    }
+
+    /// [`Field::compute`] simulating every grid point: the reference the
+    /// reduction by invariance is tested against.
+    pub fn compute_every_point(
+        motion: &Motion,
+        grid: &Grid,
+        kind: FieldKind,
+        settings: &FieldSettings,
+        progress: &(dyn Fn() + Sync),
+    ) -> Field {
+        Self::compute_by(motion, grid, kind, settings, Invariance::None, progress)
+    }
+
+    fn compute_by(
+        motion: &Motion,
+        grid: &Grid,
+        kind: FieldKind,
+        settings: &FieldSettings,
+        invariance: Invariance,
         progress: &(dyn Fn() + Sync),
     ) -> Field {
         let direct = settings.simulator(motion);
@@ -161,28 +196,37 @@ impl Field {
             FieldKind::Velocity => Vec::new(),
         };
         let points = grid.points();
+        let orbits = Orbits::of(&points, invariance);
+        let sizes = orbits.sizes();
         let spacing = grid.spacing();
-        let samples: Vec<([f64; 2], Validity)> = points
+        let samples: Vec<([f64; 2], Validity)> = orbits
+            .representatives
             .par_iter()
-            .map(|p| {
+            .zip(&sizes)
+            .map(|(&i, &members)| {
+                let p = points[i];
                 let mut s = match kind {
-                    FieldKind::Force => force::sample(&sim, *p, &frames),
+                    FieldKind::Force => force::sample(&sim, p, &frames),
                     FieldKind::Velocity => {
-                        velocity::sample(&sim, *p, spacing * settings.frozen_excursion)
+                        velocity::sample(&sim, p, spacing * settings.frozen_excursion)
                     }
                 };
                 if !(s.0[0].is_finite() && s.0[1].is_finite()) {
                     s = ([0.0, 0.0], Validity::NonFinite);
                 }
-                progress();
+                for _ in 0..members {
+                    progress();
+                }
                 s
             })
             .collect();
         Field {
             grid: *grid,
             kind,
-            vectors: samples.iter().map(|s| s.0).collect(),
-            validity: samples.iter().map(|s| s.1).collect(),
+            vectors: (0..points.len())
+                .map(|i| orbits.map(i, samples[orbits.members[i].0].0))
+                .collect(),
+            validity: orbits.members.iter().map(|m| samples[m.0].1).collect(),
         }
     }
 

@@ -16,6 +16,7 @@
 //! or the plate centre for six-signal motions), v_c and a_c its velocity and
 //! acceleration, and Ω, Ω' the angular velocity and acceleration, all in S'.
 
+mod invariance;
 mod prepared;
 mod ramped;
 pub mod sample_hold;
@@ -24,6 +25,7 @@ mod signals;
 pub mod trig;
 mod waveform;
 
+pub use invariance::Invariance;
 pub use prepared::PreparedMotion;
 pub use ramped::{smoothstep, Ramped};
 pub use screw::Screw;
@@ -168,6 +170,18 @@ impl Motion {
         match self {
             Motion::Screw(s) => s.slip_axis(),
             Motion::Signals(_) | Motion::Ramped(_) => None,
+        }
+    }
+
+    /// The families of plate points this motion moves alike
+    /// ([`Invariance`]): a screw about a horizontal or vertical axis, or a
+    /// motion without rotation. A ramped segment returns
+    /// [`Invariance::None`] (its fields are not sampled).
+    pub fn invariance(&self) -> Invariance {
+        match self {
+            Motion::Screw(s) => s.invariance(),
+            Motion::Signals(s) if s.angular_is_zero() => Invariance::Uniform,
+            Motion::Signals(_) | Motion::Ramped(_) => Invariance::None,
         }
     }
 

@@ -12,7 +12,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::{rotate, Kinematics, Waveform, V3};
+use super::{rotate, Invariance, Kinematics, Waveform, V3};
 use crate::error::{positive, Error, Result};
 
 /// A screw motion about a fixed axis.
@@ -86,6 +86,23 @@ impl Screw {
             let j = 1 - i;
             (!turns || (k[i] == 0.0 && k.z == 0.0)) && (!moves || (k[j] == 0.0 && k.z == 0.0))
         })
+    }
+
+    /// The points this screw moves alike ([`Invariance`]): all of them
+    /// without rotation, lines along a horizontal axis, circles about a
+    /// vertical one (exact zero components: a rotated copy of an axis in or
+    /// normal to the plane keeps them zero).
+    pub fn invariance(&self) -> Invariance {
+        let k = self.k();
+        if self.rotation.is_zero() {
+            Invariance::Uniform
+        } else if k.z == 0.0 {
+            Invariance::Along([k.x, k.y])
+        } else if k.x == 0.0 && k.y == 0.0 {
+            Invariance::About([self.point[0], self.point[1]])
+        } else {
+            Invariance::None
+        }
     }
 
     /// Validates parameters.

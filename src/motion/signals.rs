@@ -154,6 +154,11 @@ impl Signals {
         }
     }
 
+    /// True when no angular signal is driven (a pure translation).
+    pub fn angular_is_zero(&self) -> bool {
+        self.angular.is_zero()
+    }
+
     /// True when only x, y translation and z rotation are driven.
     pub fn is_in_plane(&self) -> bool {
         let only = |axes: &Axes, keep_z: bool| {

@@ -1,0 +1,162 @@
+//! A grid's points grouped by the motion's [`Invariance`]: one simulated
+//! point per group (its *representative*), the others mapped from it.
+
+use crate::motion::Invariance;
+
+/// The grid points grouped into families that see the same motion.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Orbits {
+    /// The grid index of each family's representative (its lowest index),
+    /// in increasing order.
+    pub representatives: Vec<usize>,
+    /// For each grid point: its family (an index into `representatives`)
+    /// and the rotation (cos θ, sin θ) that takes the representative's
+    /// vector to the point's (identity but for [`Invariance::About`]).
+    pub members: Vec<(usize, [f64; 2])>,
+}
+
+impl Orbits {
+    /// Groups `points` by `invariance`. Two points belong together when
+    /// their invariant coordinate (the offset across the lines for
+    /// [`Invariance::Along`], the radius for [`Invariance::About`]) agrees
+    /// within 1e-12 of the points' scale: the same point of the physics up
+    /// to the round-off of the grid's coordinates.
+    pub fn of(points: &[[f64; 2]], invariance: Invariance) -> Orbits {
+        let key = |p: &[f64; 2]| match invariance {
+            Invariance::None => None,
+            Invariance::Uniform => Some(0.0),
+            Invariance::Along(e) => Some(p[1] * e[0] - p[0] * e[1]),
+            Invariance::About(c) => Some((p[0] - c[0]).hypot(p[1] - c[1])),
+        };
+        let scale = points
+            .iter()
+            .map(|p| p[0].abs().max(p[1].abs()))
+            .fold(0.0, f64::max)
+            + match invariance {
+                Invariance::About(c) => c[0].abs().max(c[1].abs()),
+                _ => 0.0,
+            };
+        let tolerance = 1e-12 * scale;
+        let mut keyed: Vec<(f64, usize)> = Vec::with_capacity(points.len());
+        for (i, p) in points.iter().enumerate() {
+            match key(p) {
+                Some(k) => keyed.push((k, i)),
+                None => return Orbits::identity(points.len()),
+            }
+        }
+        keyed.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        // Families: runs of keys within the tolerance of the run's first.
+        let mut family_of = vec![0usize; points.len()];
+        let mut firsts: Vec<usize> = Vec::new();
+        let mut start = 0;
+        while start < keyed.len() {
+            let mut end = start + 1;
+            while end < keyed.len() && keyed[end].0 - keyed[start].0 <= tolerance {
+                end += 1;
+            }
+            let first = keyed[start..end].iter().map(|k| k.1).min().unwrap_or(0);
+            for k in &keyed[start..end] {
+                family_of[k.1] = firsts.len();
+            }
+            firsts.push(first);
+            start = end;
+        }
+        // Number the families by their representatives' grid order.
+        let mut order: Vec<usize> = (0..firsts.len()).collect();
+        order.sort_by_key(|&f| firsts[f]);
+        let mut renumber = vec![0usize; firsts.len()];
+        for (new, &old) in order.iter().enumerate() {
+            renumber[old] = new;
+        }
+        let representatives: Vec<usize> = order.iter().map(|&f| firsts[f]).collect();
+        let members = points
+            .iter()
+            .enumerate()
+            .map(|(i, p)| {
+                let family = renumber[family_of[i]];
+                let rotation = match invariance {
+                    Invariance::About(c) => turn(c, &points[representatives[family]], p),
+                    _ => [1.0, 0.0],
+                };
+                (family, rotation)
+            })
+            .collect();
+        Orbits {
+            representatives,
+            members,
+        }
+    }
+
+    /// Every point its own family.
+    fn identity(n: usize) -> Orbits {
+        Orbits {
+            representatives: (0..n).collect(),
+            members: (0..n).map(|i| (i, [1.0, 0.0])).collect(),
+        }
+    }
+
+    /// The vector at grid point `i` from its representative's `v`.
+    #[inline]
+    pub fn map(&self, i: usize, v: [f64; 2]) -> [f64; 2] {
+        let [c, s] = self.members[i].1;
+        if s == 0.0 && c == 1.0 {
+            v
+        } else {
+            [c * v[0] - s * v[1], s * v[0] + c * v[1]]
+        }
+    }
+
+    /// Number of grid points in each family, by family.
+    pub fn sizes(&self) -> Vec<usize> {
+        let mut n = vec![0; self.representatives.len()];
+        for (f, _) in &self.members {
+            n[*f] += 1;
+        }
+        n
+    }
+}
+
+/// (cos θ, sin θ) of the turn about `c` from `from` to `to`; the identity
+/// when either is at the centre.
+fn turn(c: [f64; 2], from: &[f64; 2], to: &[f64; 2]) -> [f64; 2] {
+    let a = [from[0] - c[0], from[1] - c[1]];
+    let b = [to[0] - c[0], to[1] - c[1]];
+    let (ra, rb) = (a[0].hypot(a[1]), b[0].hypot(b[1]));
+    if ra == 0.0 || rb == 0.0 || a == b {
+        return [1.0, 0.0];
+    }
+    let (ua, ub) = ([a[0] / ra, a[1] / ra], [b[0] / rb, b[1] / rb]);
+    [ua[0] * ub[0] + ua[1] * ub[1], ua[0] * ub[1] - ua[1] * ub[0]]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::field::Grid;
+
+    #[test]
+    fn families_of_the_default_grid() {
+        let points = Grid::DEFAULT.points();
+        let count = |inv| Orbits::of(&points, inv).representatives.len();
+        assert_eq!(count(Invariance::None), 441);
+        assert_eq!(count(Invariance::Uniform), 1);
+        // 21 columns x = const.
+        assert_eq!(count(Invariance::Along([0.0, 1.0])), 21);
+        // The distinct values of i² + j² for |i|, |j| ≤ 10.
+        assert_eq!(count(Invariance::About([0.0, 0.0])), 61);
+    }
+
+    #[test]
+    fn turns_take_representatives_onto_members() {
+        let points = Grid::DEFAULT.points();
+        let o = Orbits::of(&points, Invariance::About([0.0, 0.0]));
+        assert_eq!(o.sizes().iter().sum::<usize>(), 441);
+        for (i, p) in points.iter().enumerate() {
+            let (f, _) = o.members[i];
+            let r = points[o.representatives[f]];
+            // The representative's position vector turns onto the point's.
+            let q = o.map(i, r);
+            assert!((q[0] - p[0]).abs() < 1e-15 && (q[1] - p[1]).abs() < 1e-15);
+        }
+    }
+}
