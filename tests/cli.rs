@@ -339,7 +339,7 @@ fn verify_refuses_rest_only_and_lost_contact_schedules() {
 }
 
 /// Issue 13, work estimates (`platefield::work`): a field of 1001 × 1001
-/// samples at 4096 steps per cycle, a library for a 501 × 501 target grid,
+/// samples at 4096 steps per cycle, a force library for a 703 × 703 target grid,
 /// `verify` with its default swarm and rectangles on a sink schedule of
 /// 4 × 20 000 cycles, and an order search on it (on 2 threads): each is
 /// refused within a second (exit 2, nothing written), and the message names the subject,
@@ -354,12 +354,17 @@ fn long_runs_are_refused_at_once_stating_the_estimate() {
         serde_json::from_str(&std::fs::read_to_string("targets/scenes/linesink.json").unwrap())
             .unwrap();
     scene["grid"]["n"] = serde_json::json!([1001, 1001]);
+    // A tilted axis: no two points move alike, so every sample is simulated
+    // (a LineSink's would simulate one point per line, 1001).
+    scene["motion"]["axis"] = serde_json::json!([0, 1, 1]);
     scene["numerics"] = serde_json::json!({"steps_per_cycle": 4096});
     let scene_file = dir.join("scene.json");
     std::fs::write(&scene_file, scene.to_string()).unwrap();
     let mut target: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string("targets/sink.json").unwrap()).unwrap();
-    target["grid"]["n"] = serde_json::json!([501, 501]);
+    // The most points a ±4 cm region allows, and force fields: DivCircle
+    // alone (no two points move alike) is then over the limit.
+    target["grid"]["n"] = serde_json::json!([703, 703]);
     let target_file = dir.join("target.json");
     std::fs::write(&target_file, target.to_string()).unwrap();
     let mut long = sink_schedule();
@@ -381,9 +386,17 @@ fn long_runs_are_refused_at_once_stating_the_estimate() {
             "scene.grid.n",
         ),
         (
-            vec!["design", target, "--no-cache", "--out", out],
-            "target: building the velocity library would take about",
-            "8 primitives × ",
+            vec![
+                "design",
+                target,
+                "--basis",
+                "force",
+                "--no-cache",
+                "--out",
+                out,
+            ],
+            "target: building the force library would take about",
+            "DivCircle 1 field × ",
             "--rotation-step",
         ),
         (

@@ -29,7 +29,7 @@ pub fn run(
         "field",
         1.0,
         "field",
-        scene.grid.len() as f64,
+        crate::field::simulated_points(&scene.motion.to_motion(), &scene.grid) as f64,
         scene.kind,
         &scene.settings(),
     ))

@@ -72,7 +72,7 @@ pub(crate) fn basis_stage(target: &Target, opts: &DesignOptions) -> Result<Basis
     let source = symmetry::source_grid(&region, &angles_rad, &opts.shifts);
     let primitives: Vec<Primitive> = opts.kinds.iter().map(|k| Primitive::new(*k)).collect();
 
-    let estimate = library_estimate(primitives.len(), &source, opts);
+    let estimate = library_estimate(&primitives, &source, opts);
     let check = || estimate.check(opts.allow_long);
     let t_basis = Instant::now();
     let (library, cache_status) = match &opts.cache_dir {
@@ -110,24 +110,34 @@ pub(crate) fn basis_stage(target: &Target, opts: &DesignOptions) -> Result<Basis
 
 /// The work of building the design's library of `primitives` on `source`
 /// ([`crate::work`]).
-pub(crate) fn library_estimate(primitives: usize, source: &Grid, opts: &DesignOptions) -> Estimate {
+pub(crate) fn library_estimate(
+    primitives: &[Primitive],
+    source: &Grid,
+    opts: &DesignOptions,
+) -> Estimate {
     let what = match opts.kind {
         FieldKind::Force => "building the force library",
         FieldKind::Velocity => "building the velocity library",
     };
-    Estimate::new(
-        "target",
-        what,
-        "a smaller target region or grid n, a larger --rotation-step, fewer --shift or --primitives",
+    // One term per primitive: the points it simulates (one per family of
+    // points its motion moves alike, `crate::field::simulated_points`).
+    primitives.iter().fold(
+        Estimate::new(
+            "target",
+            what,
+            "a smaller target region or grid n, a larger --rotation-step, fewer --shift or --primitives",
+        ),
+        |estimate, p| {
+            estimate.plus(crate::work::field_term(
+                p.kind.name(),
+                1.0,
+                "field",
+                crate::field::simulated_points(&p.motion(), source) as f64,
+                opts.kind,
+                &opts.settings,
+            ))
+        },
     )
-    .plus(crate::work::field_term(
-        "library",
-        primitives as f64,
-        "primitives",
-        source.len() as f64,
-        opts.kind,
-        &opts.settings,
-    ))
 }
 
 /// What [`fit_stage`] produces.

@@ -135,6 +135,13 @@ impl Default for FieldSettings {
     }
 }
 
+/// The grid points [`Field::compute`] simulates for `motion` on `grid`: one
+/// per family of points the motion moves alike (what a work estimate
+/// counts).
+pub fn simulated_points(motion: &Motion, grid: &Grid) -> usize {
+    Orbits::count(&grid.points(), motion.invariance())
+}
+
 /// One sampled field.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Field {

@@ -22,28 +22,10 @@ impl Orbits {
     /// within 1e-12 of the points' scale: the same point of the physics up
     /// to the round-off of the grid's coordinates.
     pub fn of(points: &[[f64; 2]], invariance: Invariance) -> Orbits {
-        let key = |p: &[f64; 2]| match invariance {
-            Invariance::None => None,
-            Invariance::Uniform => Some(0.0),
-            Invariance::Along(e) => Some(p[1] * e[0] - p[0] * e[1]),
-            Invariance::About(c) => Some((p[0] - c[0]).hypot(p[1] - c[1])),
+        let Some((keys, tolerance)) = keys(points, invariance) else {
+            return Orbits::identity(points.len());
         };
-        let scale = points
-            .iter()
-            .map(|p| p[0].abs().max(p[1].abs()))
-            .fold(0.0, f64::max)
-            + match invariance {
-                Invariance::About(c) => c[0].abs().max(c[1].abs()),
-                _ => 0.0,
-            };
-        let tolerance = 1e-12 * scale;
-        let mut keyed: Vec<(f64, usize)> = Vec::with_capacity(points.len());
-        for (i, p) in points.iter().enumerate() {
-            match key(p) {
-                Some(k) => keyed.push((k, i)),
-                None => return Orbits::identity(points.len()),
-            }
-        }
+        let mut keyed: Vec<(f64, usize)> = keys.into_iter().zip(0..).collect();
         keyed.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         // Families: runs of keys within the tolerance of the run's first.
         let mut family_of = vec![0usize; points.len()];
@@ -87,6 +69,24 @@ impl Orbits {
         }
     }
 
+    /// The number of families [`Orbits::of`] finds, without the mapping
+    /// (what a work estimate needs, on grids of up to a million points).
+    pub fn count(points: &[[f64; 2]], invariance: Invariance) -> usize {
+        let Some((mut keys, tolerance)) = keys(points, invariance) else {
+            return points.len();
+        };
+        keys.sort_unstable_by(f64::total_cmp);
+        let mut families = 0;
+        let mut first = f64::NEG_INFINITY;
+        for k in keys {
+            if families == 0 || k - first > tolerance {
+                families += 1;
+                first = k;
+            }
+        }
+        families
+    }
+
     /// Every point its own family.
     fn identity(n: usize) -> Orbits {
         Orbits {
@@ -116,6 +116,29 @@ impl Orbits {
     }
 }
 
+/// Each point's invariant coordinate under `invariance` (module docs of
+/// [`Orbits::of`]) and the tolerance within which two are one; `None`
+/// when no two points are known to move alike.
+fn keys(points: &[[f64; 2]], invariance: Invariance) -> Option<(Vec<f64>, f64)> {
+    let key = |p: &[f64; 2]| match invariance {
+        Invariance::Uniform => 0.0,
+        Invariance::Along(e) => p[1] * e[0] - p[0] * e[1],
+        Invariance::About(c) => (p[0] - c[0]).hypot(p[1] - c[1]),
+        Invariance::None => f64::NAN,
+    };
+    let centre = match invariance {
+        Invariance::None => return None,
+        Invariance::About(c) => c[0].abs().max(c[1].abs()),
+        Invariance::Uniform | Invariance::Along(_) => 0.0,
+    };
+    let scale = points
+        .iter()
+        .map(|p| p[0].abs().max(p[1].abs()))
+        .fold(0.0, f64::max)
+        + centre;
+    Some((points.iter().map(key).collect(), 1e-12 * scale))
+}
+
 /// (cos θ, sin θ) of the turn about `c` from `from` to `to`; the identity
 /// when either is at the centre.
 fn turn(c: [f64; 2], from: &[f64; 2], to: &[f64; 2]) -> [f64; 2] {
@@ -137,7 +160,11 @@ mod tests {
     #[test]
     fn families_of_the_default_grid() {
         let points = Grid::DEFAULT.points();
-        let count = |inv| Orbits::of(&points, inv).representatives.len();
+        let count = |inv| {
+            let n = Orbits::of(&points, inv).representatives.len();
+            assert_eq!(Orbits::count(&points, inv), n);
+            n
+        };
         assert_eq!(count(Invariance::None), 441);
         assert_eq!(count(Invariance::Uniform), 1);
         // 21 columns x = const.

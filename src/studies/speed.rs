@@ -30,7 +30,7 @@ use std::time::Instant;
 use super::rung::relative_l2;
 use crate::basis::Library;
 use crate::error::Result;
-use crate::field::{Field, FieldKind, FieldSettings, Grid};
+use crate::field::{Field, FieldKind, FieldSettings, Grid, Orbits};
 use crate::output::write_atomic;
 
 /// Step counts measured.
@@ -200,6 +200,17 @@ pub fn library_speed(out: &Path) -> Result<String> {
     let threads = rayon::current_num_threads();
     let g = Grid::DEFAULT;
     let s = FieldSettings::default();
+    // Points each field simulates: one per family of points its motion
+    // moves alike (`crate::motion::Invariance`).
+    let simulated: Vec<usize> = Library::default_primitives()
+        .iter()
+        .map(|p| {
+            Orbits::of(&g.points(), p.motion().invariance())
+                .representatives
+                .len()
+        })
+        .collect();
+    let simulations: usize = simulated.iter().sum::<usize>() * s.phases;
     let dashes = "---|".repeat(names.len());
     let load = load_average().map_or(String::new(), |l| {
         format!(" The 1-minute load average when the report was written was {l}.")
@@ -208,7 +219,9 @@ pub fn library_speed(out: &Path) -> Result<String> {
     let mut md = format!(
         "# Library speed against error\n\n\
          The default 8-primitive zero-velocity force library: {}×{} grid over ±4 cm, {} start \
-         phases, model `{}`, μ = {} ({} samples × {} one-cycle simulations = {}). Wall time of \
+         phases, model `{}`, μ = {} ({} samples × {} phases = {} one-cycle simulations point by \
+         point; {simulations} with one point simulated per family of points a motion moves \
+         alike, `src/motion/invariance.rs`: points simulated per primitive below). Wall time of \
          the whole build, best of {REPEATS}, rayon with {threads} threads, and the CPU time of \
          that build over all threads, on the machine that ran `platefield speed`: timings vary \
          with the machine and its load (it was shared with other builds), the errors do \
@@ -287,6 +300,12 @@ pub fn library_speed(out: &Path) -> Result<String> {
             row(b.seconds.iter().map(|x| format!("{x:.3}")))
         );
     }
+    let _ = writeln!(
+        md,
+        "| points simulated (of {}) | {} |",
+        g.len(),
+        row(simulated.iter().map(|n| n.to_string()))
+    );
 
     // The verdict, from the numbers.
     let met = builds
@@ -323,7 +342,7 @@ pub fn library_speed(out: &Path) -> Result<String> {
                     let _ = write!(
                         md,
                         "The error target is first reached at {} steps per cycle (worst {}), \
-                         in {:.3} s, {:.0}× the time target. ",
+                         in {:.3} s, {:.1}× the time target. ",
                         b.steps,
                         sci(worst(e)),
                         b.total(),
@@ -361,7 +380,7 @@ pub fn library_speed(out: &Path) -> Result<String> {
                     let _ = write!(
                         md,
                         "No build is within the time target either: the cheapest, {} steps per \
-                         cycle, takes {:.3} s ({:.0}× the target)",
+                         cycle, takes {:.3} s ({:.1}× the target)",
                         builds[0].steps,
                         builds[0].total(),
                         builds[0].total() / TARGET_SECONDS
@@ -371,7 +390,7 @@ pub fn library_speed(out: &Path) -> Result<String> {
                             let free = c / threads as f64;
                             let _ = writeln!(
                                 md,
-                                ", and {free:.2} s ({:.0}× the target) even on {threads} free \
+                                ", and {free:.2} s ({:.1}× the target) even on {threads} free \
                                  cores (its CPU time divided by the threads).",
                                 free / TARGET_SECONDS
                             );
@@ -439,9 +458,11 @@ pub fn library_speed(out: &Path) -> Result<String> {
          the slowest (per-primitive times above): their cost is the regularised τ-steps through \
          each swing and slow-down, each with four evaluations of the plate kinematics off the \
          tabulated time grid, whose number falls less than in proportion with fewer nominal \
-         steps; locating stops and break-aways by root finding adds to it. \
-         One build is {} one-cycle simulations on {threads} threads; meeting {TARGET_SECONDS} s \
-         would need about {:.1} µs per simulation per thread.",
+         steps; locating stops and break-aways by root finding adds to it. A primitive whose \
+         motion moves lines or circles of points alike simulates one point per line or circle \
+         (points simulated, above); {} moves no two points alike and simulates all {}. One build is {simulations} one-cycle simulations on \
+         {threads} threads; meeting {TARGET_SECONDS} s would need about {:.1} µs per simulation \
+         per thread.",
         builds
             .iter()
             .map(|b| format!("{} steps {:.2} s", b.steps, b.total()))
@@ -456,8 +477,15 @@ pub fn library_speed(out: &Path) -> Result<String> {
             ))
             .collect::<Vec<_>>()
             .join(", "),
-        8 * g.len() * s.phases,
-        TARGET_SECONDS * threads as f64 / (8 * g.len() * s.phases) as f64 * 1e6
+        names
+            .iter()
+            .zip(&simulated)
+            .filter(|(_, n)| **n == g.len())
+            .map(|(name, _)| *name)
+            .collect::<Vec<_>>()
+            .join(", "),
+        g.len(),
+        TARGET_SECONDS * threads as f64 / simulations as f64 * 1e6
     );
     let _ = writeln!(
         md,
