@@ -126,6 +126,7 @@
 pub mod calibrate;
 pub mod contact;
 pub mod limits;
+pub mod margin_cap;
 pub mod objective;
 pub mod params;
 pub mod progress;
