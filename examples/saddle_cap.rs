@@ -100,7 +100,8 @@ fn main() -> platefield::Result<()> {
             c.peaks()
         );
     };
-    let mut rows: Vec<(String, Coefficients)> = vec![("circle".into(), translation(lim, 0.0, [(0.0, 0.0); 2]))];
+    let mut rows: Vec<(String, Coefficients)> =
+        vec![("circle".into(), translation(lim, 0.0, [(0.0, 0.0); 2]))];
     for beta in [-30.0f64, -15.0, 15.0, 30.0] {
         rows.push((
             format!("ellipse, y phase {beta:+.0}°"),
@@ -113,7 +114,11 @@ fn main() -> platefield::Result<()> {
             for i in 0..8 {
                 for j in 0..(if on_x && on_y { 8 } else { 1 }) {
                     let px = f64::from(i) * PI / 4.0;
-                    let py = if on_x && on_y { f64::from(j) * PI / 4.0 } else { px };
+                    let py = if on_x && on_y {
+                        f64::from(j) * PI / 4.0
+                    } else {
+                        px
+                    };
                     let h2 = [
                         (if on_x { a2 } else { 0.0 }, px),
                         (if on_y { a2 } else { 0.0 }, py),
@@ -149,7 +154,11 @@ fn main() -> platefield::Result<()> {
     results.sort_by(|a, b| b.0.strength.total_cmp(&a.0.strength));
     println!("\nbest caps against the circle's {k0:.4}:");
     for (cap, label, tr) in results.iter().take(4) {
-        println!("{label}: {:.4} = {:.3} × the circle's", cap.strength, cap.strength / k0);
+        println!(
+            "{label}: {:.4} = {:.3} × the circle's",
+            cap.strength,
+            cap.strength / k0
+        );
         simulate(tr, cap);
     }
     Ok(())
