@@ -119,10 +119,10 @@
 //! (every 45° of phase, harmonic 1 cut to 1 − f, each axis rescaled onto
 //! its limit) the best cap is 0.997 of the circle's at f = 0.05, 0.986 at
 //! 0.10, 0.939 at 0.20 and 0.800 at 0.35, the tilts' harmonic 2 adding at
-//! most 0.2 %; tilted ellipses (y's phase off by ±15°, ±30°) reach 0.859
-//! and 0.701. Re-simulated at the margin on 7 × 7, the circle with the
-//! programme's tilts gives 0.671 s⁻¹ at 9.8 % and the best harmonic-2
-//! translation 0.669 at 10.0 %. The saddle's margin cap stays
+//! most 0.4 % (0.0018 s⁻¹); tilted ellipses (y's phase off by ±15°,
+//! ±30°) reach 0.859 and 0.701. Re-simulated at the margin on 7 × 7, the
+//! circle with the programme's tilts gives 0.671 s⁻¹ at 9.8 % and the best
+//! harmonic-2 translation 0.669 at 10.0 %. The saddle's margin cap stays
 //! harmonic 1's for a shaker of harmonics 1 and 2
 //! (`margin_cap::tests::second_harmonic_translation_does_not_lift_the_saddle_cap`).
 //!
