@@ -81,6 +81,51 @@
 //! (`seed::tests::two_harmonics_keep_the_corner_cap`
 //! checks both statements numerically).
 //!
+//! *That proof assumes a uniformly turning ê* (circular translation), which
+//! is what makes n's first harmonic circular. **A non-uniform ê does not
+//! lift the cap either**, for three reasons:
+//!
+//! 1. The corner condition is on n alone: ê does not enter it. The mean
+//!    force μ⟨(n·q) ê⟩ pairs n with ê harmonic by harmonic, so a tilt of
+//!    harmonics 1 and 2 sees only ê's harmonics 1 and 2. An ê that dwells
+//!    near the x and y axes (ê = (cos θ, sin θ), θ = φ + β sin 4φ) puts
+//!    its extra content into harmonics 3, 5, … (e^{iθ} = Σ J_k(β)
+//!    e^{i(1+4k)φ}), which such a tilt cannot use. The "C/2 instead of
+//!    C/(2√2)" of a slip direction dwelling on the axes needs n itself to
+//!    switch between the axes in step with it: bang-bang tilts, harmonics
+//!    3, 5, … (the √(3/2) above is the first step of that).
+//! 2. Through harmonic 1, no slip-direction pattern beats the uniform one.
+//!    Let ê_x and ê_y have first harmonics of amplitudes r_x and r_y (any
+//!    phases). A force gradient diag(k, −k) per μ (a saddle) needs
+//!    ⟨n_x ê_x⟩ = k and ⟨n_y ê_y⟩ = −k, so n's first harmonic has
+//!    amplitudes a ≥ 2k/r_x on x and b ≥ 2k/r_y on y; its largest L1 norm,
+//!    √(a² + b² + 2ab |cos(phase difference)|), is at least
+//!    2k √(1/r_x² + 1/r_y²). Parseval on |ê| ≤ 1 gives r_x² + r_y² ≤ 2,
+//!    so 1/r_x² + 1/r_y² ≥ 4/(r_x² + r_y²) ≥ 2 and k ≤ C/(2√2),
+//!    C = (1 − m) g / d: the uniform ê's cap. Non-uniformity only moves
+//!    ê's content out of harmonic 1.
+//! 3. What is left is the pairing of a tilt harmonic 2 with ê's harmonic
+//!    2, which a translation with a harmonic 2 creates — together with a
+//!    ratchet drift ⟨ê⟩ ≠ 0 ([`transport`]) a centred saddle must not have,
+//!    and with less harmonic 1 under the same per-axis peak, so a smaller
+//!    slip speed W and less drift per unit force (v ∝ W above).
+//!
+//! Measured by [`margin_cap`] (the simulator's linear response to each tilt
+//! coefficient and a linear programme for the largest strength under the
+//! peaks and the corner margin, all tilt harmonics free) on the saddle row's
+//! limits (`cargo run --release --example saddle_cap`): the circle's cap is
+//! 0.806 s⁻¹ (closed form 0.8005) and the tilts' harmonic 2 adds nothing
+//! (< 0.1 %); with a harmonic 2 of f of the limit on x, on y or on both
+//! (every 45° of phase, harmonic 1 cut to 1 − f, each axis rescaled onto
+//! its limit) the best cap is 0.997 of the circle's at f = 0.05, 0.986 at
+//! 0.10, 0.939 at 0.20 and 0.800 at 0.35, the tilts' harmonic 2 adding at
+//! most 0.4 % (0.0018 s⁻¹); tilted ellipses (y's phase off by ±15°,
+//! ±30°) reach 0.859 and 0.701. Re-simulated at the margin on 7 × 7, the
+//! circle with the programme's tilts gives 0.671 s⁻¹ at 9.8 % and the best
+//! harmonic-2 translation 0.669 at 10.0 %. The saddle's margin cap stays
+//! harmonic 1's for a shaker of harmonics 1 and 2
+//! (`margin_cap::tests::second_harmonic_translation_does_not_lift_the_saddle_cap`).
+//!
 //! **What the seed leaves out**, corrected by refinement: the part's own
 //! velocity modulation by N (the lead δ is for N = g), Coriolis, gravity
 //! tilt and centripetal terms, and the part's drift across the cycle.
@@ -126,6 +171,7 @@
 pub mod calibrate;
 pub mod contact;
 pub mod limits;
+pub mod margin_cap;
 pub mod objective;
 pub mod params;
 pub mod progress;
