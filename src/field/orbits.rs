@@ -27,21 +27,17 @@ impl Orbits {
         };
         let mut keyed: Vec<(f64, usize)> = keys.into_iter().zip(0..).collect();
         keyed.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        // Families: runs of keys within the tolerance of the run's first.
         let mut family_of = vec![0usize; points.len()];
         let mut firsts: Vec<usize> = Vec::new();
         let mut start = 0;
-        while start < keyed.len() {
-            let mut end = start + 1;
-            while end < keyed.len() && keyed[end].0 - keyed[start].0 <= tolerance {
-                end += 1;
-            }
-            let first = keyed[start..end].iter().map(|k| k.1).min().unwrap_or(0);
-            for k in &keyed[start..end] {
+        for length in run_lengths(keyed.iter().map(|k| k.0), tolerance) {
+            let run = &keyed[start..start + length];
+            let first = run.iter().map(|k| k.1).min().unwrap_or(0);
+            for k in run {
                 family_of[k.1] = firsts.len();
             }
             firsts.push(first);
-            start = end;
+            start += length;
         }
         // Number the families by their representatives' grid order.
         let mut order: Vec<usize> = (0..firsts.len()).collect();
@@ -76,15 +72,7 @@ impl Orbits {
             return points.len();
         };
         keys.sort_unstable_by(f64::total_cmp);
-        let mut families = 0;
-        let mut first = f64::NEG_INFINITY;
-        for k in keys {
-            if families == 0 || k - first > tolerance {
-                families += 1;
-                first = k;
-            }
-        }
-        families
+        run_lengths(keys.into_iter(), tolerance).len()
     }
 
     /// Every point its own family.
@@ -114,6 +102,23 @@ impl Orbits {
         }
         n
     }
+}
+
+/// The families in `sorted` keys: runs of keys within `tolerance` of the
+/// run's first, as run lengths.
+fn run_lengths(sorted: impl Iterator<Item = f64>, tolerance: f64) -> Vec<usize> {
+    let mut lengths: Vec<usize> = Vec::new();
+    let mut first = f64::NEG_INFINITY;
+    for k in sorted {
+        match lengths.last_mut() {
+            Some(n) if k - first <= tolerance => *n += 1,
+            _ => {
+                lengths.push(1);
+                first = k;
+            }
+        }
+    }
+    lengths
 }
 
 /// Each point's invariant coordinate under `invariance` (module docs of
