@@ -9,16 +9,15 @@
 //! (defaults: saddle, 300, 0.03). Used to find where the saddle's parts
 //! are lost (results/synthesis.md, "valid / played").
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Instant;
 
 use platefield::design::closed_loop::measure::{play_motion, realised_error, MeasureOptions};
 use platefield::design::polish::{polish, PolishOptions};
-use platefield::design::{design, DesignOptions};
 use platefield::field::Grid;
 use platefield::request::Target;
 use platefield::studies::synthesis::{
-    holdout_starts, limits_of, measure, starts, synthesized_motion, StudySettings,
+    holdout_starts, limits_of, measure, sequenced, starts, synthesized_motion, StudySettings,
 };
 use platefield::synth::{synthesize, SynthOptions};
 
@@ -34,12 +33,7 @@ fn main() -> platefield::Result<()> {
     let plays: usize = arg(2, 300);
     let step: f64 = arg(3, 0.03);
     let target = Target::load(Path::new(&format!("targets/{name}.json")))?;
-    let opts = DesignOptions {
-        cache_dir: Some(PathBuf::from(".platefield-cache")),
-        quiet: true,
-        ..DesignOptions::default()
-    };
-    let schedule = design(&target, &opts)?.schedule;
+    let schedule = sequenced(&target, Path::new(".platefield-cache"))?;
     let settings = schedule.settings;
     let limits = limits_of(&schedule, 2)?;
     let Some(g) = target.grid.as_ref() else {

@@ -8,35 +8,29 @@
 //!
 //! `cargo run --release --example transport_probe`
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-use platefield::design::{design, DesignOptions};
 use platefield::field::{Field, FieldKind, Grid};
 use platefield::motion::Motion;
 use platefield::request::Target;
-use platefield::studies::synthesis::limits_of;
+use platefield::studies::synthesis::{limits_of, sequenced};
 use platefield::synth::calibrate::shifted;
 use platefield::synth::objective::{realised, Realised};
 use platefield::synth::params::Coefficients;
 use platefield::synth::seed::seed;
 use platefield::synth::transport::transport_start;
 
+/// The default ±4 cm region with n × n points.
 fn square(n: usize) -> Grid {
     Grid {
-        x: [-0.04, 0.04],
-        y: [-0.04, 0.04],
         n: [n, n],
+        ..Grid::DEFAULT
     }
 }
 
 fn main() -> platefield::Result<()> {
     let target = Target::load(Path::new("targets/squeeze_trans.json"))?;
-    let opts = DesignOptions {
-        cache_dir: Some(PathBuf::from(".platefield-cache")),
-        quiet: true,
-        ..DesignOptions::default()
-    };
-    let schedule = design(&target, &opts)?.schedule;
+    let schedule = sequenced(&target, Path::new(".platefield-cache"))?;
     let settings = schedule.settings;
     let limits = limits_of(&schedule, 2)?;
     println!("limits {limits:?}");

@@ -426,7 +426,7 @@ fn synthesize_row(
 /// with the default options (the basis from the cache in `cache`). Not read
 /// from `results/<name>/schedule.json`, which holds whichever method
 /// `design --method auto` kept.
-fn sequenced(target: &Target, cache: &Path) -> Result<Schedule> {
+pub fn sequenced(target: &Target, cache: &Path) -> Result<Schedule> {
     let opts = DesignOptions {
         cache_dir: Some(cache.to_path_buf()),
         quiet: true,
