@@ -86,6 +86,13 @@ fn main() {
             8,
         ),
         (
+            "LineSink force 21x21x30, 8 steps, every point".into(),
+            Primitive::new(PrimitiveKind::LineSink).motion(),
+            Grid::DEFAULT,
+            FieldKind::Force,
+            8,
+        ),
+        (
             "LineSink force 21x21x30, 64 steps".into(),
             Primitive::new(PrimitiveKind::LineSink).motion(),
             Grid::DEFAULT,
@@ -221,7 +228,15 @@ fn main() {
         }
         let mut settings = FieldSettings::default();
         settings.numerics.steps_per_cycle = steps;
-        let run = || Field::compute(motion, grid, kind, &settings, &|| {});
+        // "every point": no reduction by the motion's invariance (what a
+        // per-point engine costs, `Field::compute_every_point`).
+        let run = || {
+            if name.contains("every point") {
+                Field::compute_every_point(motion, grid, kind, &settings, &|| {})
+            } else {
+                Field::compute(motion, grid, kind, &settings, &|| {})
+            }
+        };
         let (t1, c1, f1) = time(1, repeats, &run);
         let (t2, _, f2) = time(2, repeats, &run);
         let bad = f1.validity.len() - f1.valid_count();
