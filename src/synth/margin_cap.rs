@@ -51,6 +51,11 @@ pub const PROBE_OFFSET: f64 = 0.5;
 /// Instants per period of the programme's margin and peak rows.
 pub const TIMES: usize = 256;
 
+/// Largest constraint violation accepted in a programme's solution,
+/// relative to its right-hand sides' scale (Clarabel's default tolerances
+/// are 1e-8).
+pub const FEASIBILITY: f64 = 1e-6;
+
 /// Signal indices of the tilts α_x, α_y ([`super::params::AXIS_NAMES`]).
 const TILTS: [usize; 2] = [3, 4];
 
@@ -218,7 +223,13 @@ pub fn margin_cap(
     }
     let n = nb + 1;
     let nrows = rows.b.len();
-    let a = CscMatrix::new_from_triplets(nrows, n, rows.ri, rows.ci, rows.vals);
+    let a = CscMatrix::new_from_triplets(
+        nrows,
+        n,
+        rows.ri.clone(),
+        rows.ci.clone(),
+        rows.vals.clone(),
+    );
     let p = CscMatrix::zeros((n, n));
     let mut q = vec![0.0; n];
     q[kcol] = -1.0;
@@ -237,6 +248,11 @@ pub fn margin_cap(
         sol.status,
         SolverStatus::Solved | SolverStatus::AlmostSolved
     ) {
+        return None;
+    }
+    // Clarabel's answer checked on the rows themselves: equalities and
+    // inequalities within FEASIBILITY of the right-hand sides' scale.
+    if rows.violation(&sol.x, zero_rows) > FEASIBILITY * (1.0 + room.max(lim[3]).max(lim[4])) {
         return None;
     }
     let mut tilts = Coefficients::zero(limits.period, limits.harmonics);
@@ -261,6 +277,26 @@ struct Rows {
 }
 
 impl Rows {
+    /// The largest violation at `x` of the first `zero_rows` rows as
+    /// equalities (|a·x − b|) and of the rest as a·x ≤ b.
+    fn violation(&self, x: &[f64], zero_rows: usize) -> f64 {
+        let mut ax = vec![0.0; self.b.len()];
+        for ((&r, &c), &v) in self.ri.iter().zip(&self.ci).zip(&self.vals) {
+            ax[r] += v * x[c];
+        }
+        ax.iter()
+            .zip(&self.b)
+            .enumerate()
+            .map(|(r, (a, b))| {
+                if r < zero_rows {
+                    (a - b).abs()
+                } else {
+                    (a - b).max(0.0)
+                }
+            })
+            .fold(0.0, f64::max)
+    }
+
     fn push(&mut self, entries: &[(usize, f64)], b: f64) {
         let row = self.b.len();
         for &(j, v) in entries {
