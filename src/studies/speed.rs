@@ -489,7 +489,7 @@ pub fn library_speed(out: &Path) -> Result<String> {
     );
     let _ = writeln!(
         md,
-        "\nRegenerate: `platefield speed` (a few minutes). Bench: `cargo bench --bench library` \
+        "\nRegenerate: `platefield speed` (about 20 s on the 2-core machine). Bench: `cargo bench --bench library` \
          (one build at 32 steps per cycle)."
     );
     write_atomic(&out.join("library_speed.md"), md.as_bytes())?;
