@@ -401,6 +401,34 @@ pub fn library_speed(out: &Path) -> Result<String> {
             }
         }
     }
+    // Each primitive at its own fewest steps within the error target: the
+    // per-primitive times already measured, summed (no new build).
+    let own: Vec<Option<usize>> = (0..names.len())
+        .map(|i| errors.iter().position(|e| e[i] <= TARGET_ERROR))
+        .collect();
+    if own.iter().all(Option::is_some) {
+        let picks: Vec<usize> = own.iter().flatten().copied().collect();
+        let total: f64 = picks
+            .iter()
+            .enumerate()
+            .map(|(i, &b)| builds[b].seconds[i])
+            .sum();
+        let _ = writeln!(
+            md,
+            "
+**Each primitive at its own fewest steps** within {} ({}): {total:.3} s, the sum of \
+             those per-primitive wall times above ({:.1}× the time target); the steps per cycle are \
+             one knob for the whole library today.",
+            sci(TARGET_ERROR),
+            names
+                .iter()
+                .zip(&picks)
+                .map(|(n, &b)| format!("{n} {}", builds[b].steps))
+                .collect::<Vec<_>>()
+                .join(", "),
+            total / TARGET_SECONDS
+        );
+    }
     let one_d = ["LineSink", "LineSource", "Trans"];
     let pick = |want_1d: bool, v: &[f64], f: &dyn Fn(f64) -> String| -> String {
         names
