@@ -146,6 +146,58 @@ fn a_translation_moves_every_point_alike() {
 }
 
 #[test]
+fn six_signal_motions_turning_about_one_axis() {
+    let term = |amplitude, phase, harmonic| FourierTerm {
+        amplitude,
+        phase,
+        harmonic,
+    };
+    let signals = |linear: Axes, angular: Axes| {
+        Motion::Signals(Signals {
+            period: 0.03,
+            linear,
+            angular,
+        })
+    };
+    // Tilting about x (any linear signals): lines along x; the rows.
+    let about_x = signals(
+        Axes {
+            x: vec![term(3.0, 0.4, 2)],
+            y: vec![term(10.9, 1.57, 1)],
+            z: vec![term(0.5, 0.0, 1)],
+        },
+        Axes {
+            x: vec![term(218.4, 1.57, 1)],
+            ..Axes::default()
+        },
+    );
+    // Turning about z with vertical translation only: circles.
+    let about_z = signals(
+        Axes {
+            z: vec![term(1.0, 0.3, 1)],
+            ..Axes::default()
+        },
+        Axes {
+            z: vec![term(900.0, 0.0, 1), term(450.0, 0.7, 2)],
+            ..Axes::default()
+        },
+    );
+    let rows = exact_families(|_, j| j);
+    let centred = exact_families(|i, j| (i - 3).pow(2) + (j - 3).pow(2));
+    for (m, invariance, expect) in [
+        (about_x, Invariance::Along([1.0, 0.0]), rows),
+        (about_z, Invariance::About([0.0, 0.0]), centred),
+    ] {
+        assert_eq!(m.invariance(), invariance);
+        assert_eq!(families(&m), expect);
+        for field in [FieldKind::Force, FieldKind::Velocity] {
+            let d = worst_difference(&m, field);
+            assert!(d <= 1e-9, "{invariance:?} {field:?}: {d:e}");
+        }
+    }
+}
+
+#[test]
 fn tilted_axes_and_six_signal_tilts_are_simulated_everywhere() {
     let div = primitive(PrimitiveKind::DivCircle, 0.0, [0.0, 0.0]);
     let six = Motion::Signals(Signals::example());

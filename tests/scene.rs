@@ -570,7 +570,17 @@ fn field_command_outputs() {
 
     let (code, stdout, stderr) = platefield(&["field", scene, "--quiet"]);
     assert_eq!(code, 0, "{stderr}");
-    for s in ["5×3", "force", "model full", "15 of 15", "max |f|", "time"] {
+    // A LineSink moves the points of each line along its axis (y) alike:
+    // one point per column is simulated.
+    for s in [
+        "5×3",
+        "simulated 5 of 15",
+        "force",
+        "model full",
+        "15 of 15",
+        "max |f|",
+        "time",
+    ] {
         assert!(
             stdout.contains(s),
             "summary {stdout:?} should contain {s:?}"

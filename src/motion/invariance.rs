@@ -23,6 +23,12 @@
 //!   c + Q(r − c) and a trajectory to a trajectory. A field at
 //!   c + Q(r − c) is Q times the field at r.
 //!
+//! Six-signal motions ([`super::Signals`]) fall in the same classes when
+//! one angular signal alone is driven: about x or y (Ω, Ω' and the rotation
+//! stay about that plate axis, whatever the linear signals: lines along
+//! it), or about z with no horizontal translation (circles about the
+//! centre).
+//!
 //! [`crate::field`] simulates one point per family and maps its sample to
 //! the others; the mapped samples agree with direct simulation to the
 //! integrator's round-off sensitivity (tested in `tests/invariance.rs`).
@@ -40,4 +46,24 @@ pub enum Invariance {
     /// Points on each circle about this plate point move alike, their
     /// motion turned with them (a screw about a vertical axis).
     About([f64; 2]),
+}
+
+impl std::fmt::Display for Invariance {
+    /// In words, for summaries: which points move alike.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Invariance::None => f.write_str("no two points known to move alike"),
+            Invariance::Uniform => f.write_str("a translation: every point moves alike"),
+            Invariance::Along(e) => write!(
+                f,
+                "a horizontal axis: the points of each line along ({:.4}, {:.4}) move alike",
+                e[0], e[1]
+            ),
+            Invariance::About(c) => write!(
+                f,
+                "a vertical axis: the points of each circle about ({}, {}) m move alike",
+                c[0], c[1]
+            ),
+        }
+    }
 }

@@ -174,14 +174,15 @@ impl Motion {
     }
 
     /// The families of plate points this motion moves alike
-    /// ([`Invariance`]): a screw about a horizontal or vertical axis, or a
-    /// motion without rotation. A ramped segment returns
-    /// [`Invariance::None`] (its fields are not sampled).
+    /// ([`Invariance`]): a screw about a horizontal or vertical axis, a
+    /// six-signal motion turning about one plate axis only, or a motion
+    /// without rotation. A ramped segment returns [`Invariance::None`] (its
+    /// fields are not sampled).
     pub fn invariance(&self) -> Invariance {
         match self {
             Motion::Screw(s) => s.invariance(),
-            Motion::Signals(s) if s.angular_is_zero() => Invariance::Uniform,
-            Motion::Signals(_) | Motion::Ramped(_) => Invariance::None,
+            Motion::Signals(s) => s.invariance(),
+            Motion::Ramped(_) => Invariance::None,
         }
     }
 

@@ -12,7 +12,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::{rotate_sc, FourierTerm, Kinematics, Waveform, V3};
+use super::{rotate_sc, FourierTerm, Invariance, Kinematics, Waveform, V3};
 use crate::error::{positive, Result};
 
 /// Three Fourier-series signals about/along the world x, y and z axes.
@@ -154,9 +154,22 @@ impl Signals {
         }
     }
 
-    /// True when no angular signal is driven (a pure translation).
-    pub fn angular_is_zero(&self) -> bool {
-        self.angular.is_zero()
+    /// The points this motion moves alike ([`Invariance`]): every point
+    /// without angular signals; the lines along x (or y) when only the
+    /// angular signal about x (or y) is driven, for then Ω, Ω' and the
+    /// rotation R stay about that axis whatever the linear signals; the
+    /// circles about the centre when only the angular signal about z and
+    /// the linear one along z are driven.
+    pub fn invariance(&self) -> Invariance {
+        let zero = |terms: &[FourierTerm]| terms.iter().all(|t| t.amplitude == 0.0);
+        let (a, l) = (&self.angular, &self.linear);
+        match (zero(&a.x), zero(&a.y), zero(&a.z)) {
+            (true, true, true) => Invariance::Uniform,
+            (false, true, true) => Invariance::Along([1.0, 0.0]),
+            (true, false, true) => Invariance::Along([0.0, 1.0]),
+            (true, true, false) if zero(&l.x) && zero(&l.y) => Invariance::About([0.0, 0.0]),
+            _ => Invariance::None,
+        }
     }
 
     /// True when only x, y translation and z rotation are driven.

@@ -162,6 +162,14 @@ impl Scene {
             "grid:    {}×{} over x ∈ [{}, {}] m, y ∈ [{}, {}] m",
             g.n[0], g.n[1], g.x[0], g.x[1], g.y[0], g.y[1]
         );
+        let m = self.motion.to_motion();
+        let _ = writeln!(
+            s,
+            "points:  simulated {} of {} ({})",
+            crate::field::simulated_points(&m, g),
+            g.len(),
+            m.invariance()
+        );
         let _ = writeln!(
             s,
             "field:   {kind}, model {}, μ_s = {}, μ_k = {}, g = {} m/s²{}",
