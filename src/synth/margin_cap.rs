@@ -252,7 +252,8 @@ pub fn margin_cap(
     }
     // Clarabel's answer checked on the rows themselves: equalities and
     // inequalities within FEASIBILITY of the right-hand sides' scale.
-    if rows.violation(&sol.x, zero_rows) > FEASIBILITY * (1.0 + room.max(lim[3]).max(lim[4])) {
+    let scale = TILTS.iter().fold(room, |s, &a| s.max(lim[a]));
+    if rows.violation(&sol.x, zero_rows) > FEASIBILITY * (1.0 + scale) {
         return None;
     }
     let mut tilts = Coefficients::zero(limits.period, limits.harmonics);
