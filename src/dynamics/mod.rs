@@ -49,7 +49,9 @@ pub use integrator::{CycleOutcome, PartState, Simulator, TrajectoryPoint, V2};
 /// 5: fields simulate one point per family of points the motion moves
 /// alike ([`crate::motion::Invariance`]; circles about a vertical axis
 /// change at round-off).
-pub const ENGINE_REVISION: u32 = 5;
+/// 6: τ-steps of a slip slaved to a_free sized by its log-speed
+/// (`swing.rs` `tau_step`; 2-D fields change within their errors).
+pub const ENGINE_REVISION: u32 = 6;
 pub use kinematics_table::KinematicsTable;
 pub use planar::{
     PlanarOutcome, PlanarSample, PlanarSimulator, PlanarState, Plate, Rectangle,
