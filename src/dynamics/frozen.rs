@@ -160,14 +160,13 @@ impl Frozen {
             return (V2::zeros(), self.velocity(0.0));
         }
         // Root of t(ρ) = dt in λ = ln ρ ∈ (−∞, 0]: t is increasing in −λ,
-        // dt/dλ = −(s₀/|a|) (q ρ^(k−1) + p ρ^(k+1)). Newton, safeguarded
-        // by a bracket grown downwards from 0.
-        let (mut hi, mut lo) = (0.0f64, -1.0f64);
-        while self.time(lo) < dt && lo > -700.0 {
-            hi = lo;
-            lo *= 2.0;
-        }
-        let mut x = 0.5 * (lo + hi);
+        // dt/dλ = −(s₀/|a|) (q ρ^(k−1) + p ρ^(k+1)). Newton from the
+        // first-order guess λ = −dt |a|/s₀ (t ≈ −(s₀/|a|) λ near λ = 0),
+        // safeguarded by a bracket [lo, hi] ∋ root: hi = 0 to start, lo
+        // found where a step leaves the known side (bisection once both
+        // ends are known, doubling outwards before).
+        let (mut lo, mut hi) = (f64::NEG_INFINITY, 0.0f64);
+        let mut x = (-dt * self.a / self.s0).max(-700.0);
         for _ in 0..200 {
             let g = self.time(x) - dt;
             if g < 0.0 {
@@ -175,16 +174,21 @@ impl Frozen {
             } else {
                 lo = x;
             }
-            let rho = x.exp();
             let slope = -self.s0 / self.a
                 * (self.q * ((self.k - 1.0) * x).exp() + self.p * ((self.k + 1.0) * x).exp());
             let mut next = x - g / slope;
             if !(next > lo && next < hi) {
-                next = 0.5 * (lo + hi);
+                next = if lo.is_finite() {
+                    0.5 * (lo + hi)
+                } else {
+                    2.0 * hi.min(-1.0)
+                };
             }
-            let done = (next - x).abs() <= 1e-15 * (1.0 + x.abs()) || hi - lo <= 1e-15;
-            x = next;
-            if done || rho == 0.0 {
+            let done = (next - x).abs() <= 1e-15 * (1.0 + x.abs())
+                || (lo.is_finite() && hi - lo <= 1e-15)
+                || next < -700.0;
+            x = next.max(-700.0);
+            if done {
                 break;
             }
         }
