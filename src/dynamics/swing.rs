@@ -70,7 +70,8 @@ use super::ContactLoss;
 pub(super) const C64: f64 = 0.25;
 
 /// The largest Δτ max(|a_free|, μ_k N) of a τ-step whose slip is slaved to
-/// a_free ([`Simulator::tau_step`]): inside RK4's real stability interval
+/// a_free ([`Simulator::tau_step`]) at 64 steps per cycle and fewer
+/// (proportional to c beyond): inside RK4's real stability interval
 /// (−2.78, 0), for the turn onto a_free, at a damping factor of 1/3 per step.
 const C_SLAVED: f64 = 2.0;
 
@@ -196,9 +197,11 @@ impl Simulator<'_> {
         if (free - uhat * along).norm() > SLAVED * fm {
             return general;
         }
-        (C_SLAVED / scale)
-            .min(c / (along - mu_n).abs())
-            .max(general)
+        // Held at C_SLAVED down to 64 steps per cycle, shrinking with c
+        // beyond: the turn's damping R(−C_SLAVED) ≠ e^(−C_SLAVED) is an
+        // error that more steps must remove too.
+        let slaved = (C_SLAVED * c / C64).min(C_SLAVED);
+        (slaved / scale).min(c / (along - mu_n).abs()).max(general)
     }
 
     /// True when a part slipping with `state.u` ≠ 0 (forces `n`, `free`)
