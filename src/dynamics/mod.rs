@@ -51,7 +51,9 @@ pub use integrator::{CycleOutcome, PartState, Simulator, TrajectoryPoint, V2};
 /// change at round-off).
 /// 6: τ-steps of a slip slaved to a_free sized by its log-speed
 /// (`swing.rs` `tau_step`; 2-D fields change within their errors).
-pub const ENGINE_REVISION: u32 = 6;
+/// 7: a τ-step's length to the nominal step's end found by Newton from a
+/// cubic Hermite guess (2-D fields change at round-off).
+pub const ENGINE_REVISION: u32 = 7;
 pub use kinematics_table::KinematicsTable;
 pub use planar::{
     PlanarOutcome, PlanarSample, PlanarSimulator, PlanarState, Plate, Rectangle,

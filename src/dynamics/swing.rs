@@ -398,33 +398,37 @@ impl Simulator<'_> {
                 y = y1;
                 continue;
             }
-            // The step ends at or past the target: find its length.
-            let (mut lo, mut glo) = (0.0, y.t - target);
-            let (mut hi, mut ghi) = (d, y1.t - target);
+            // The step ends at or past the target: find its length, the root
+            // of t(m) = target. Newton with dt/dτ = |u| at each trial's end
+            // (safeguarded by the bracket [lo, hi]), from the root of the
+            // cubic Hermite interpolant of t over the step (t and dt/dτ = s
+            // known at both ends): two or three trials instead of the
+            // Illinois method's five or six.
+            let (mut lo, mut hi) = (0.0, d);
+            let mut m = hermite_root(y.t - target, y1.t - target, s, y1.u.norm(), d);
             let mut best = y1;
-            let mut side = 0;
             for _ in 0..100 {
-                if ghi.abs() <= tol || hi - lo <= 1e-15 * d {
+                if hi - lo <= 1e-15 * d {
                     break;
                 }
-                let m = (lo * ghi - hi * glo) / (ghi - glo);
-                let m = if m > lo && m < hi { m } else { 0.5 * (lo + hi) };
                 let ym = self.tau_rk4(&y, &f0, m, piece, anchor)?;
                 out.rk4_steps += 1;
                 let g = ym.t - target;
-                if g >= 0.0 {
-                    (hi, ghi, best) = (m, g, ym);
-                    if side == -1 {
-                        glo *= 0.5;
-                    }
-                    side = -1;
-                } else {
-                    (lo, glo) = (m, g);
-                    if side == 1 {
-                        ghi *= 0.5;
-                    }
-                    side = 1;
+                if g.abs() <= tol {
+                    best = ym;
+                    break;
                 }
+                if g > 0.0 {
+                    (hi, best) = (m, ym);
+                } else {
+                    lo = m;
+                }
+                let next = m - g / ym.u.norm();
+                m = if next > lo && next < hi {
+                    next
+                } else {
+                    0.5 * (lo + hi)
+                };
             }
             y = best;
             y.t = target;
@@ -435,4 +439,33 @@ impl Simulator<'_> {
         state.u = y.u;
         Ok(())
     }
+}
+
+/// The root in (0, `d`) of the cubic Hermite interpolant p of a function g
+/// with g(0) = `g0` < 0 ≤ g(d) = `g1` and slopes `s0`, `s1` ≥ 0 there
+/// (Newton on p from the secant's root, kept inside the interval).
+fn hermite_root(g0: f64, g1: f64, s0: f64, s1: f64, d: f64) -> f64 {
+    let mut x = d * g0 / (g0 - g1);
+    for _ in 0..4 {
+        let u = x / d;
+        let (h00, h10, h01, h11) = (
+            (1.0 + 2.0 * u) * (1.0 - u) * (1.0 - u),
+            u * (1.0 - u) * (1.0 - u),
+            u * u * (3.0 - 2.0 * u),
+            u * u * (u - 1.0),
+        );
+        let p = h00 * g0 + h10 * d * s0 + h01 * g1 + h11 * d * s1;
+        let dp = (6.0 * u * u - 6.0 * u) * (g0 - g1) / d
+            + (3.0 * u * u - 4.0 * u + 1.0) * s0
+            + (3.0 * u * u - 2.0 * u) * s1;
+        if !(dp > 0.0) {
+            break;
+        }
+        let next = x - p / dp;
+        if !(next > 0.0 && next < d) {
+            break;
+        }
+        x = next;
+    }
+    x
 }
