@@ -5,8 +5,10 @@
 //! measure, then the played polish (`platefield::design::polish`) and the
 //! kept motion played from the 16 held-out start points as well.
 //!
-//! `cargo run --release --example played_polish [TARGET [PLAYS [STEP]]]`
-//! (defaults: saddle, 300, 0.03). Used to find where the saddle's parts
+//! `cargo run --release --example played_polish [TARGET [PLAYS [STEP [HARMONICS]]]]`
+//! (defaults: saddle, 300, 0.03, 2: the study's shaker; 3 lets the
+//! controller play a third harmonic, which can lower the corners' peak
+//! normal acceleration for the same first harmonic, `synth` docs). Used to find where the saddle's parts
 //! are lost (results/synthesis.md, "valid / played").
 
 use std::path::Path;
@@ -32,10 +34,11 @@ fn main() -> platefield::Result<()> {
     let name: String = arg(1, "saddle".to_string());
     let plays: usize = arg(2, 300);
     let step: f64 = arg(3, 0.03);
+    let harmonics: u32 = arg(4, 2);
     let target = Target::load(Path::new(&format!("targets/{name}.json")))?;
     let schedule = sequenced(&target, Path::new(".platefield-cache"))?;
     let settings = schedule.settings;
-    let limits = limits_of(&schedule, 2)?;
+    let limits = limits_of(&schedule, harmonics)?;
     let Some(g) = target.grid.as_ref() else {
         println!("{name}: the target has no grid");
         return Ok(());
