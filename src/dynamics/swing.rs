@@ -458,7 +458,7 @@ fn hermite_root(g0: f64, g1: f64, s0: f64, s1: f64, d: f64) -> f64 {
         let dp = (6.0 * u * u - 6.0 * u) * (g0 - g1) / d
             + (3.0 * u * u - 4.0 * u + 1.0) * s0
             + (3.0 * u * u - 2.0 * u) * s1;
-        if !(dp > 0.0) {
+        if dp.is_nan() || dp <= 0.0 {
             break;
         }
         let next = x - p / dp;
