@@ -477,7 +477,14 @@ pub(crate) fn schedule_stage(
             || fit.fit_metrics.relative_l2_error > fit::UNREACHABLE_REL_ERROR,
         solver: schedule::SolverInfo {
             mode: opts.mode.name().into(),
-            status: solution.status.clone(),
+            status: if solution.independent_kept {
+                format!(
+                    "{}, its weights replaced by the independent NNLS optimum",
+                    solution.status
+                )
+            } else {
+                solution.status.clone()
+            },
             iterations: solution.iterations,
             kkt_residual: solution.kkt_residual,
             independent_gap: solution.independent_gap,

@@ -53,7 +53,9 @@ pub use integrator::{CycleOutcome, PartState, Simulator, TrajectoryPoint, V2};
 /// (`swing.rs` `tau_step`; 2-D fields change within their errors).
 /// 7: a τ-step's length to the nominal step's end found by Newton from a
 /// cubic Hermite guess (2-D fields change at round-off).
-pub const ENGINE_REVISION: u32 = 7;
+/// 8: a slaved τ-step spans at most a tenth of the nominal step in t
+/// (`swing.rs` `SLAVED_SPAN`; 2-D fields change within their errors).
+pub const ENGINE_REVISION: u32 = 8;
 pub use kinematics_table::KinematicsTable;
 pub use planar::{
     PlanarOutcome, PlanarSample, PlanarSimulator, PlanarState, Plate, Rectangle,

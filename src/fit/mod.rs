@@ -50,6 +50,12 @@
 //!   squares, with primal-dual active-set corrections if the guess was off;
 //!   the polished point replaces the interior-point one only if its KKT
 //!   residual is not larger ([`FitSolution::polished`]).
+//! * Where that point is still worse than the independent optimum (below)
+//!   by more than the tolerance — a nearly collinear basis lets a KKT
+//!   residual under the tolerance coexist with an objective 1e-6 off — the
+//!   independent active-set solution is kept instead, provided it passes
+//!   every check itself ([`FitSolution::independent_kept`]); otherwise the
+//!   fit fails as below.
 //! * `L1` and `LInf` are linear programs on the full rows with explicit
 //!   residual variables, solved by column generation ([`mod@lp`]): LPs on
 //!   a small working set of columns, grown by the columns whose reduced
@@ -247,6 +253,11 @@ pub struct FitSolution {
     /// The interior-point weights were refined by active-set polishing
     /// (least-squares modes only; see the module docs).
     pub polished: bool,
+    /// The interior-point (and polished) weights were worse than the
+    /// independent Lawson–Hanson optimum by more than the tolerance and were
+    /// replaced by it, which passed every check (least-squares modes only;
+    /// see the module docs).
+    pub independent_kept: bool,
 }
 
 /// Errors of the fitting module.
@@ -465,9 +476,30 @@ pub(crate) fn solve_prepared(
         _ => 1.0,
     };
 
-    let check =
-        verify::verify_prepared(prep, mode, &w, s_budget, tol, Some(&outcome), &independent)
-            .map_err(|e| match e {
+    let mut check =
+        verify::verify_prepared(prep, mode, &w, s_budget, tol, Some(&outcome), &independent);
+    // The interior-point answer worse than the independent optimum by more
+    // than the tolerance (an ill-conditioned basis: its KKT residual can pass
+    // while its objective is 1e-6 off) is replaced by the independent
+    // active-set solution when that passes every check itself.
+    let mut independent_kept = false;
+    if let (
+        Err(FitError::Verification {
+            check: "independent",
+            ..
+        }),
+        Some(wi),
+    ) = (&check, &independent.weights)
+    {
+        if let Ok(c) =
+            verify::verify_prepared(prep, mode, wi, s_budget, tol, Some(&outcome), &independent)
+        {
+            w = wi.clone();
+            check = Ok(c);
+            independent_kept = true;
+        }
+    }
+    let check = check.map_err(|e| match e {
                 FitError::Verification {
                     mode,
                     check,
@@ -541,6 +573,7 @@ pub(crate) fn solve_prepared(
         independent_gap: check.independent_gap,
         unreachable: zero_solution || relative_error > UNREACHABLE_REL_ERROR,
         polished,
+        independent_kept,
     })
 }
 

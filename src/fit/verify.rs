@@ -87,6 +87,10 @@ pub(crate) struct Independent {
     /// `‖Âw_ref‖ ≤` [`ZERO_FIELD_TOL`]` ·‖t̂‖` (no column correlates
     /// positively with the target beyond rounding).
     pub zero_optimal: bool,
+    /// Its weights (`Absolute`, `Shape`; `Shape` un-normalised like the
+    /// solver's), which the fit keeps when the interior-point answer is
+    /// worse by more than the tolerance and these pass every check.
+    pub weights: Option<DVector<f64>>,
 }
 
 impl Independent {
@@ -102,6 +106,7 @@ impl Independent {
                 Ok(Self {
                     rel_error,
                     zero_optimal: false,
+                    weights: Some(w),
                 })
             }
             FitMode::Shape | FitMode::Budget { .. } => {
@@ -116,14 +121,17 @@ impl Independent {
                         });
                     }
                 }
+                let weights = matches!(mode, FitMode::Shape).then_some(out.x);
                 Ok(Self {
                     rel_error,
                     zero_optimal,
+                    weights,
                 })
             }
             FitMode::L1 | FitMode::LInf => Ok(Self {
                 rel_error: f64::NAN,
                 zero_optimal: false,
+                weights: None,
             }),
         }
     }
