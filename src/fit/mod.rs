@@ -500,21 +500,21 @@ pub(crate) fn solve_prepared(
         }
     }
     let check = check.map_err(|e| match e {
-                FitError::Verification {
-                    mode,
-                    check,
-                    residual,
-                    tolerance,
-                    ..
-                } => FitError::Verification {
-                    mode,
-                    check,
-                    residual,
-                    tolerance,
-                    status: status.clone(),
-                },
-                other => other,
-            })?;
+        FitError::Verification {
+            mode,
+            check,
+            residual,
+            tolerance,
+            ..
+        } => FitError::Verification {
+            mode,
+            check,
+            residual,
+            tolerance,
+            status: status.clone(),
+        },
+        other => other,
+    })?;
 
     // Convert to the reported quantities.
     let (fractions, strength, objective, relative_error, zero_solution) = match *mode {
