@@ -1187,7 +1187,7 @@ fn unit(u: &V2) -> V2 {
 /// Root θ ∈ [0, 1] of the cubic Hermite interpolant p with p(0) = `p0` > 0,
 /// p'(0) = `d0`, p(1) = `p1` ≤ 0, p'(1) = `d1` (derivatives per unit θ), by
 /// Newton's method safeguarded by bisection.
-fn hermite_root(p0: f64, d0: f64, p1: f64, d1: f64) -> f64 {
+pub(super) fn hermite_root(p0: f64, d0: f64, p1: f64, d1: f64) -> f64 {
     // p(θ) = p0 + d0 θ + c2 θ² + c3 θ³.
     let c2 = 3.0 * (p1 - p0) - 2.0 * d0 - d1;
     let c3 = 2.0 * (p0 - p1) + d0 + d1;

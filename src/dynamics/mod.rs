@@ -55,7 +55,9 @@ pub use integrator::{CycleOutcome, PartState, Simulator, TrajectoryPoint, V2};
 /// cubic Hermite guess (2-D fields change at round-off).
 /// 8: a slaved τ-step spans at most a tenth of the nominal step in t
 /// (`swing.rs` `SLAVED_SPAN`; 2-D fields change within their errors).
-pub const ENGINE_REVISION: u32 = 8;
+/// 9: that τ-step's first guess from the integrator's own `hermite_root`
+/// instead of a second copy of it (2-D fields change at round-off).
+pub const ENGINE_REVISION: u32 = 9;
 pub use kinematics_table::KinematicsTable;
 pub use planar::{
     PlanarOutcome, PlanarSample, PlanarSimulator, PlanarState, Plate, Rectangle,

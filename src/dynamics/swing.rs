@@ -61,7 +61,7 @@
 //! τ alike.
 
 use super::frozen::{Cf4, Frozen};
-use super::integrator::{CycleOutcome, PartState, Simulator, V2};
+use super::integrator::{hermite_root, CycleOutcome, PartState, Simulator, V2};
 use super::radau::SLAVED;
 use super::ContactLoss;
 
@@ -422,10 +422,12 @@ impl Simulator<'_> {
             // known at both ends): two or three trials instead of the
             // Illinois method's five or six.
             let (mut lo, mut hi) = (0.0, d);
-            let mut m = hermite_root(y.t - target, y1.t - target, s, y1.u.norm(), d);
+            // (`hermite_root` wants a falling function over θ = m/d ∈ [0, 1].)
+            let theta = hermite_root(target - y.t, -d * s, target - y1.t, -d * y1.u.norm());
+            let mut m = d * theta.clamp(0.0, 1.0);
             let mut best = y1;
             for _ in 0..100 {
-                if hi - lo <= 1e-15 * d {
+                if (best.t - target).abs() <= tol || hi - lo <= 1e-15 * d {
                     break;
                 }
                 let ym = self.tau_rk4(&y, &f0, m, piece, anchor)?;
@@ -456,33 +458,4 @@ impl Simulator<'_> {
         state.u = y.u;
         Ok(())
     }
-}
-
-/// The root in (0, `d`) of the cubic Hermite interpolant p of a function g
-/// with g(0) = `g0` < 0 ≤ g(d) = `g1` and slopes `s0`, `s1` ≥ 0 there
-/// (Newton on p from the secant's root, kept inside the interval).
-fn hermite_root(g0: f64, g1: f64, s0: f64, s1: f64, d: f64) -> f64 {
-    let mut x = d * g0 / (g0 - g1);
-    for _ in 0..4 {
-        let u = x / d;
-        let (h00, h10, h01, h11) = (
-            (1.0 + 2.0 * u) * (1.0 - u) * (1.0 - u),
-            u * (1.0 - u) * (1.0 - u),
-            u * u * (3.0 - 2.0 * u),
-            u * u * (u - 1.0),
-        );
-        let p = h00 * g0 + h10 * d * s0 + h01 * g1 + h11 * d * s1;
-        let dp = (6.0 * u * u - 6.0 * u) * (g0 - g1) / d
-            + (3.0 * u * u - 4.0 * u + 1.0) * s0
-            + (3.0 * u * u - 2.0 * u) * s1;
-        if dp.is_nan() || dp <= 0.0 {
-            break;
-        }
-        let next = x - p / dp;
-        if !(next > 0.0 && next < d) {
-            break;
-        }
-        x = next;
-    }
-    x
 }
