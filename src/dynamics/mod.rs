@@ -57,7 +57,10 @@ pub use integrator::{CycleOutcome, PartState, Simulator, TrajectoryPoint, V2};
 /// (`swing.rs` `SLAVED_SPAN`; 2-D fields change within their errors).
 /// 9: that τ-step's first guess from the integrator's own `hermite_root`
 /// instead of a second copy of it (2-D fields change at round-off).
-pub const ENGINE_REVISION: u32 = 9;
+/// 10: the frozen flow's progress found by one-sided Newton iterations
+/// (`frozen.rs` `Frozen::at`), Radau's Newton iteration stopped by its
+/// contraction estimate (`radau.rs`; 2-D fields change at round-off).
+pub const ENGINE_REVISION: u32 = 10;
 pub use kinematics_table::KinematicsTable;
 pub use planar::{
     PlanarOutcome, PlanarSample, PlanarSimulator, PlanarState, Plate, Rectangle,
