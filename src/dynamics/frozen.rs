@@ -240,7 +240,9 @@ impl Frozen {
                 (self.time(&w) - dt) / self.time_slope(&w)
             };
             let next = x - step;
-            let done = !(step.abs() > 1e-15 * (1.0 + x.abs())) || next == x;
+            // (A NaN step ends the iteration too.)
+            let moving = step.abs() > 1e-15 * (1.0 + x.abs());
+            let done = !moving || next == x;
             if next.is_finite() {
                 x = next;
             }
