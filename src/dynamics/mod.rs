@@ -60,7 +60,9 @@ pub use integrator::{CycleOutcome, PartState, Simulator, TrajectoryPoint, V2};
 /// 10: the frozen flow's progress found by one-sided Newton iterations
 /// (`frozen.rs` `Frozen::at`), Radau's Newton iteration stopped by its
 /// contraction estimate (`radau.rs`; 2-D fields change at round-off).
-pub const ENGINE_REVISION: u32 = 10;
+/// 11: Radau's Newton update by a rank-3 (Woodbury) solve instead of the
+/// dense 6×6 one (`radau.rs` `newton_update`; round-off).
+pub const ENGINE_REVISION: u32 = 11;
 pub use kinematics_table::KinematicsTable;
 pub use planar::{
     PlanarOutcome, PlanarSample, PlanarSimulator, PlanarState, Plate, Rectangle,

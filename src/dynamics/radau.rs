@@ -29,14 +29,11 @@
 //! explicit step and its stop event, and a step whose collocation solution
 //! reverses or does not converge is rejected (the caller falls back to RK4).
 
-use nalgebra::{SMatrix, SVector};
+use nalgebra::{Matrix3, Vector3};
 
 use super::integrator::{PartState, Simulator, V2};
 use super::swing::ACROSS_ROUND_OFF;
 use super::ContactLoss;
-
-type M6 = SMatrix<f64, 6, 6>;
-type V6 = SVector<f64, 6>;
 
 /// A step is stiff across the slip when h μ_k N/|u| exceeds this.
 pub(super) const STIFF: f64 = 1.0;
@@ -74,6 +71,39 @@ fn tableau() -> Tableau {
             [(16.0 - s6) / 36.0, (16.0 + s6) / 36.0, 1.0 / 9.0],
         ],
     }
+}
+
+/// The Newton update δ = J⁻¹ g of the collocation equations
+/// G_i(U) = U_i − u₀ − h Σ_j A_ij F_j(U_j) = g_i.
+///
+/// F_j's Jacobian is friction's, −μ_k N_j (I − Û_j Û_jᵀ)/|U_j| = −σ_j p_j p_jᵀ
+/// with p_j the unit vector across Û_j (`across[j]` = (p_j, σ_j)): rank one
+/// per stage (a_free and N are iterated, not differentiated). So the 6×6
+/// Jacobian J = I + h (A ⊗ I₂) diag(σ_j p_j p_jᵀ) is the identity plus a
+/// rank-3 term W Pᵀ, W's column k holding h A_ik σ_k p_k in block i and P's
+/// holding p_k in block k, and by the Sherman–Morrison–Woodbury identity
+///
+/// ```text
+/// δ = g − W (I₃ + Pᵀ W)⁻¹ Pᵀ g,   (I₃ + Pᵀ W)_jk = δ_jk + h A_jk σ_k p_j·p_k,
+/// ```
+///
+/// a 3×3 solve instead of a 6×6 one (the same δ up to round-off; J is
+/// singular exactly when the 3×3 matrix is: then None).
+fn newton_update(tab: &Tableau, h: f64, across: &[(V2, f64); 3], g: &[V2; 3]) -> Option<[V2; 3]> {
+    let m = Matrix3::from_fn(|j, k| {
+        let (pj, _) = across[j];
+        let (pk, sk) = across[k];
+        f64::from(u8::from(j == k)) + h * tab.a[j][k] * sk * pj.dot(&pk)
+    });
+    let rhs = Vector3::from_fn(|j, _| across[j].0.dot(&g[j]));
+    let z = m.lu().solve(&rhs)?;
+    Some(std::array::from_fn(|i| {
+        let mut d = g[i];
+        for (k, (pk, sk)) in across.iter().enumerate() {
+            d -= pk * (h * tab.a[i][k] * sk * z[k]);
+        }
+        d
+    }))
 }
 
 /// The end of an implicit step.
@@ -370,38 +400,28 @@ impl Simulator<'_> {
         };
         for _ in 0..NEWTON_MAX {
             *steps += 1;
-            let mut g = V6::zeros();
-            let mut jac = M6::identity();
+            let mut g = [V2::zeros(); 3];
             let mut fs = [V2::zeros(); 3];
-            let mut blocks = [nalgebra::Matrix2::zeros(); 3];
+            // Per stage j: the unit vector p_j across Û_j and σ_j = μ_k N_j/|U_j|.
+            let mut across = [(V2::zeros(), 0.0); 3];
             for j in 0..3 {
                 if u[j] == V2::zeros() {
                     return Ok(None);
                 }
                 let (fj, stiff, dir) = stage(j, &position(&u, j), &u[j])?;
                 fs[j] = fj;
-                // d(−μ_k N Û)/dU = −μ_k N (I − ÛÛᵀ)/|U|.
-                blocks[j] = -(nalgebra::Matrix2::identity() - dir * dir.transpose()) * stiff;
+                across[j] = (V2::new(-dir.y, dir.x), stiff);
             }
             for i in 0..3 {
-                let gi = u[i]
+                g[i] = u[i]
                     - u0
                     - (fs[0] * tab.a[i][0] + fs[1] * tab.a[i][1] + fs[2] * tab.a[i][2]) * h;
-                g[2 * i] = gi.x;
-                g[2 * i + 1] = gi.y;
-                for j in 0..3 {
-                    let b = blocks[j] * (-h * tab.a[i][j]);
-                    for (p, q) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
-                        jac[(2 * i + p, 2 * j + q)] += b[(p, q)];
-                    }
-                }
             }
-            let Some(delta) = jac.lu().solve(&g) else {
+            let Some(delta) = newton_update(&tab, h, &across, &g) else {
                 return Ok(None);
             };
             let mut change: f64 = 0.0;
-            for i in 0..3 {
-                let d = V2::new(delta[2 * i], delta[2 * i + 1]);
+            for (i, d) in delta.iter().enumerate() {
                 // Damped: a stage may not pass through u = 0 in one update.
                 let ui = u[i] - d;
                 u[i] = if ui.dot(&u[i]) <= 0.0 { u[i] * 0.5 } else { ui };
@@ -436,5 +456,75 @@ impl Simulator<'_> {
             }
         }
         Ok(None)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::{SMatrix, SVector};
+
+    /// The rank-3 update solves the dense 6×6 Newton system J δ = g, J =
+    /// I − h (A ⊗ I₂) blockdiag(−σ_j (I − Û_j Û_jᵀ)), for stiff and mild
+    /// stages (h σ from 1e-4 to 1e5), aligned and crossing directions: its
+    /// backward error is below 1e-14, and it agrees with nalgebra's LU solve
+    /// of the dense J within 1e-14 times J's condition (≈ 1 + h σ).
+    #[test]
+    fn rank_three_update_solves_the_dense_system() {
+        let tab = tableau();
+        let mut seed = 7u64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((seed >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+        };
+        for case in 0..200 {
+            let h = 1e-3;
+            let stiff_scale = [1e-1, 1e2, 1e5, 1e8][case % 4];
+            let mut across = [(V2::zeros(), 0.0); 3];
+            let mut g = [V2::zeros(); 3];
+            for j in 0..3 {
+                let angle = if case % 3 == 0 {
+                    0.3 + 1e-9 * next()
+                } else {
+                    3.2 * next()
+                };
+                let dir = V2::new(angle.cos(), angle.sin());
+                across[j] = (V2::new(-dir.y, dir.x), stiff_scale * (1.0 + next().abs()));
+                g[j] = V2::new(next(), next());
+            }
+            let mut jac = SMatrix::<f64, 6, 6>::identity();
+            let mut rhs = SVector::<f64, 6>::zeros();
+            for i in 0..3 {
+                rhs[2 * i] = g[i].x;
+                rhs[2 * i + 1] = g[i].y;
+                for (j, (p, sigma)) in across.iter().enumerate() {
+                    let dir = V2::new(p.y, -p.x);
+                    let block = -(nalgebra::Matrix2::identity() - dir * dir.transpose()) * *sigma;
+                    let b = block * (-h * tab.a[i][j]);
+                    for (r, c) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+                        jac[(2 * i + r, 2 * j + c)] += b[(r, c)];
+                    }
+                }
+            }
+            let fast = newton_update(&tab, h, &across, &g).expect("invertible");
+            let delta = SVector::<f64, 6>::from_fn(|r, _| fast[r / 2][r % 2]);
+            let dense = jac.lu().solve(&rhs).expect("invertible");
+            // Backward error: the residual against ‖J‖ ‖δ‖ + ‖g‖, for both.
+            let size = |d: &SVector<f64, 6>| jac.norm() * d.norm() + rhs.norm();
+            let residual = (jac * delta - rhs).norm() / size(&delta);
+            let dense_residual = (jac * dense - rhs).norm() / size(&dense);
+            assert!(
+                residual <= 1e-14,
+                "case {case}: residual {residual:.2e} (dense LU {dense_residual:.2e})"
+            );
+            // Forward: as close to the dense solve as J's condition allows.
+            let cond = 1.0 + h * stiff_scale;
+            assert!(
+                (delta - dense).norm() <= 1e-14 * cond * dense.norm(),
+                "case {case}: {delta:?} vs {dense:?}"
+            );
+        }
     }
 }
