@@ -23,7 +23,8 @@
 //! ```
 //!
 //! solved by Newton's method with the friction term's exact Jacobian (the
-//! slowly varying a_free and N are iterated, not differentiated). The
+//! slowly varying a_free and N are iterated, not differentiated): rank one
+//! per stage, so that each update is a 3×3 solve ([`newton_update`]). The
 //! friction law is not smoothed. They are used only while the slip speeds up
 //! (d|u|/dt > 0 at the start of the step); a slip slowing to a stop keeps the
 //! explicit step and its stop event, and a step whose collocation solution
