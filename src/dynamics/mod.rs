@@ -62,7 +62,10 @@ pub use integrator::{CycleOutcome, PartState, Simulator, TrajectoryPoint, V2};
 /// contraction estimate (`radau.rs`; 2-D fields change at round-off).
 /// 11: Radau's Newton update by a rank-3 (Woodbury) solve instead of the
 /// dense 6×6 one (`radau.rs` `newton_update`; round-off).
-pub const ENGINE_REVISION: u32 = 11;
+/// 12: Radau's contraction stop not measured across a damped update, a
+/// damped update never accepted; the frozen flow's root finder ends where
+/// its steps turn back at round-off (the library's fields bitwise as in 11).
+pub const ENGINE_REVISION: u32 = 12;
 pub use kinematics_table::KinematicsTable;
 pub use planar::{
     PlanarOutcome, PlanarSample, PlanarSimulator, PlanarState, Plate, Rectangle,

@@ -422,9 +422,11 @@ impl Simulator<'_> {
                 return Ok(None);
             };
             let mut change: f64 = 0.0;
+            let mut damped = false;
             for (i, d) in delta.iter().enumerate() {
                 // Damped: a stage may not pass through u = 0 in one update.
                 let ui = u[i] - d;
+                damped |= ui.dot(&u[i]) <= 0.0;
                 u[i] = if ui.dot(&u[i]) <= 0.0 { u[i] * 0.5 } else { ui };
                 change = change.max(d.norm());
             }
@@ -444,8 +446,10 @@ impl Simulator<'_> {
             let theta = change / previous;
             let contracted =
                 previous.is_finite() && theta < 0.5 && theta / (1.0 - theta) * change <= tol;
-            previous = change;
-            if change <= tol || stalled || contracted {
+            // A damped update was not the Newton step taken: the next
+            // update's contraction is not measured against it.
+            previous = if damped { f64::INFINITY } else { change };
+            if !damped && (change <= tol || stalled || contracted) {
                 let u1 = u[2];
                 let r1 = position(&u, 2);
                 let (f1, _, _) = stage(2, &r1, &u1)?;
