@@ -426,8 +426,9 @@ impl Simulator<'_> {
             for (i, d) in delta.iter().enumerate() {
                 // Damped: a stage may not pass through u = 0 in one update.
                 let ui = u[i] - d;
-                damped |= ui.dot(&u[i]) <= 0.0;
-                u[i] = if ui.dot(&u[i]) <= 0.0 { u[i] * 0.5 } else { ui };
+                let through = ui.dot(&u[i]) <= 0.0;
+                damped |= through;
+                u[i] = if through { u[i] * 0.5 } else { ui };
                 change = change.max(d.norm());
             }
             if !u.iter().all(|x| x.x.is_finite() && x.y.is_finite()) {
