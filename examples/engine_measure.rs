@@ -156,6 +156,13 @@ fn main() {
             16,
         ),
         (
+            "DivCircle force 21x21x30, 32 steps".into(),
+            Primitive::new(PrimitiveKind::DivCircle).motion(),
+            Grid::DEFAULT,
+            FieldKind::Force,
+            32,
+        ),
+        (
             "DivCircle force 21x21x30, 16 steps".into(),
             Primitive::new(PrimitiveKind::DivCircle).motion(),
             Grid::DEFAULT,

@@ -1009,34 +1009,35 @@ impl<'a> Simulator<'a> {
         }
         let spacing = 0.5 * self.period / self.numerics.steps_per_cycle as f64;
         let n = ((b - a) / spacing).ceil().max(2.0) as usize;
-        let ts: Vec<f64> = (0..=n)
-            .map(|i| {
-                if i == n {
-                    b
-                } else {
-                    a + (b - a) * i as f64 / n as f64
-                }
-            })
-            .collect();
-        let fs: Vec<f64> = std::iter::once(fa)
-            .chain(ts[1..].iter().map(|&t| phi(t)))
-            .collect();
-        let probe = 1e-4 * (b - a) / n as f64;
-        for i in 1..=n {
-            if fs[i] < 0.0 {
-                return Some(self.illinois(&phi_off, ts[i - 1], fs[i - 1], ts[i], fs[i]));
+        // Sample i's time, and φ there (each sample evaluated once, as the
+        // scan reaches it; the scan needs samples i − 1, i and i + 1).
+        let time = |i: usize| {
+            if i == n {
+                b
+            } else {
+                a + (b - a) * i as f64 / n as f64
             }
+        };
+        let probe = 1e-4 * (b - a) / n as f64;
+        let (mut prev, mut cur) = (fa, phi(time(1)));
+        for i in 1..=n {
+            if cur < 0.0 {
+                return Some(self.illinois(&phi_off, time(i - 1), prev, time(i), cur));
+            }
+            let next = if i < n { phi(time(i + 1)) } else { f64::NAN };
+            let fs = [prev, cur, next];
+            (prev, cur) = (cur, next);
             // A local minimum of φ around sample i (or at an end) may dip
             // below zero between samples: refine it.
-            let interior = i < n && fs[i] <= fs[i - 1] && fs[i] <= fs[i + 1];
+            let interior = i < n && fs[1] <= fs[0] && fs[1] <= fs[2];
             let at_start = i == 1 && fs[0] < fs[1] && phi_off(a + probe) < fs[0];
-            let at_end = i == n && fs[n] < fs[n - 1] && phi_off(b - probe) < fs[n];
+            let at_end = i == n && fs[1] < fs[0] && phi_off(b - probe) < fs[1];
             let bracket = if interior {
-                Some((ts[i - 1], ts[i + 1]))
+                Some((time(i - 1), time(i + 1)))
             } else if at_start {
-                Some((ts[0], ts[1]))
+                Some((a, time(1)))
             } else if at_end {
-                Some((ts[n - 1], ts[n]))
+                Some((time(n - 1), b))
             } else {
                 None
             };

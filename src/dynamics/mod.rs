@@ -65,7 +65,10 @@ pub use integrator::{CycleOutcome, PartState, Simulator, TrajectoryPoint, V2};
 /// 12: Radau's contraction stop not measured across a damped update, a
 /// damped update never accepted; the frozen flow's root finder ends where
 /// its steps turn back at round-off (the library's fields bitwise as in 11).
-pub const ENGINE_REVISION: u32 = 12;
+/// 13: a slip speeding up slaved to a_free inside the regularised region
+/// leaves the τ-steps for one implicit step to the nominal step's end
+/// (`swing.rs`; 2-D fields change within their errors).
+pub const ENGINE_REVISION: u32 = 13;
 pub use kinematics_table::KinematicsTable;
 pub use planar::{
     PlanarOutcome, PlanarSample, PlanarSimulator, PlanarState, Plate, Rectangle,
