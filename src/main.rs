@@ -6,6 +6,7 @@ use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
 
+use platefield::basis::StepsPlan;
 use platefield::cli::{self, AllowLong, Json, Play, Quiet, Steps};
 use platefield::design::order::OrderRequest;
 use platefield::dynamics::Preset;
@@ -90,6 +91,10 @@ enum Command {
         grid: usize,
         #[command(flatten)]
         steps: Steps,
+        /// Force fields at each primitive's calibrated steps per cycle (the
+        /// fewest within 1e-4; default grid only), velocity fields at --steps.
+        #[arg(long)]
+        calibrated: bool,
         #[command(flatten)]
         quiet: Quiet,
         #[command(flatten)]
@@ -205,12 +210,18 @@ fn run(cli: Cli) -> Result<String> {
         Command::Primitives {
             grid,
             steps,
+            calibrated,
             quiet,
             out,
         } => studies::primitives::run(
             &out.out,
             grid,
             steps.numerics().steps_per_cycle,
+            if calibrated {
+                StepsPlan::Calibrated
+            } else {
+                StepsPlan::Uniform
+            },
             quiet.quiet,
         ),
         Command::Rungs { tolerance, out } => studies::rung::run(&out.out, tolerance),

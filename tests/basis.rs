@@ -9,7 +9,9 @@ use std::path::PathBuf;
 
 use platefield::basis::primitives::PSI0;
 use platefield::basis::symmetry::{rotation_asymmetry, source_grid, transformed};
-use platefield::basis::{BasisCache, CacheStatus, FieldLibrary, Library, Primitive, PrimitiveKind};
+use platefield::basis::{
+    BasisCache, CacheStatus, FieldLibrary, Library, Primitive, PrimitiveKind, StepsPlan,
+};
 use platefield::design::basis::{assemble, ExclusionReason, ISOTROPY_TOL};
 use platefield::field::{Field, FieldKind, FieldSettings, Grid, Validity};
 use platefield::studies::rung::{choose_rung, DEFAULT_RUNG_TOLERANCE};
@@ -303,7 +305,7 @@ fn cache_round_trips_and_hits() {
     assert_eq!(built, FieldLibrary::build(&prims, &grid, &s, v, true));
     assert_eq!(built.kind, v);
     assert!(built.entries.iter().all(|e| e.field.kind == v));
-    let both = Library::build(&prims, &grid, &s, true);
+    let both = Library::build(&prims, &grid, &s, StepsPlan::Uniform, true);
     for (e, b) in built.entries.iter().zip(&both.entries) {
         assert_eq!(e.field, b.velocity);
     }

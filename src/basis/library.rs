@@ -6,6 +6,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::primitives::{Primitive, PrimitiveKind};
+use super::steps::StepsPlan;
 use crate::field::{Field, FieldKind, FieldSettings, Grid};
 use crate::progress::{Progress, ProgressMode};
 
@@ -16,6 +17,8 @@ pub struct LibraryEntry {
     pub primitive: Primitive,
     /// Zero-velocity force field.
     pub force: Field,
+    /// Steps per cycle the force field was simulated with.
+    pub force_steps: usize,
     /// Steady-state velocity field.
     pub velocity: Field,
 }
@@ -27,6 +30,8 @@ pub struct FieldEntry {
     pub primitive: Primitive,
     /// Its field (zero-velocity force or steady-state velocity).
     pub field: Field,
+    /// Steps per cycle it was simulated with ([`StepsPlan`]).
+    pub steps_per_cycle: usize,
 }
 
 /// The primitives simulated into fields of one kind only.
@@ -43,12 +48,26 @@ pub struct FieldLibrary {
 }
 
 impl FieldLibrary {
-    /// Simulates the `kind` field of each primitive (and nothing else).
+    /// Simulates the `kind` field of each primitive (and nothing else), all
+    /// at the settings' steps per cycle.
     pub fn build(
         primitives: &[Primitive],
         grid: &Grid,
         settings: &FieldSettings,
         kind: FieldKind,
+        quiet: bool,
+    ) -> FieldLibrary {
+        Self::build_with(primitives, grid, settings, kind, StepsPlan::Uniform, quiet)
+    }
+
+    /// As [`FieldLibrary::build`], each field at the steps per cycle of
+    /// `plan`.
+    pub fn build_with(
+        primitives: &[Primitive],
+        grid: &Grid,
+        settings: &FieldSettings,
+        kind: FieldKind,
+        plan: StepsPlan,
         quiet: bool,
     ) -> FieldLibrary {
         let label = match kind {
@@ -66,9 +85,11 @@ impl FieldLibrary {
             .map(|p| {
                 progress.set_message(p.kind.name());
                 let tick = || progress.inc(1);
+                let at = plan.settings(p, kind, grid, settings);
                 FieldEntry {
                     primitive: p.clone(),
-                    field: Field::compute(&p.motion(), grid, kind, settings, &tick),
+                    field: Field::compute(&p.motion(), grid, kind, &at, &tick),
+                    steps_per_cycle: at.numerics.steps_per_cycle,
                 }
             })
             .collect();
@@ -95,14 +116,17 @@ pub struct Library {
 
 impl Library {
     /// Simulates the force and velocity fields of each primitive (two
-    /// [`FieldLibrary`] builds, force first).
+    /// [`FieldLibrary`] builds, force first), the force fields at the steps
+    /// per cycle of `plan`.
     pub fn build(
         primitives: &[Primitive],
         grid: &Grid,
         settings: &FieldSettings,
+        plan: StepsPlan,
         quiet: bool,
     ) -> Library {
-        let force = FieldLibrary::build(primitives, grid, settings, FieldKind::Force, quiet);
+        let force =
+            FieldLibrary::build_with(primitives, grid, settings, FieldKind::Force, plan, quiet);
         let velocity = FieldLibrary::build(primitives, grid, settings, FieldKind::Velocity, quiet);
         let entries = force
             .entries
@@ -111,6 +135,7 @@ impl Library {
             .map(|(f, v)| LibraryEntry {
                 primitive: f.primitive,
                 force: f.field,
+                force_steps: f.steps_per_cycle,
                 velocity: v.field,
             })
             .collect();

@@ -6,8 +6,10 @@
 pub mod cache;
 pub mod library;
 pub mod primitives;
+pub mod steps;
 pub mod symmetry;
 
 pub use cache::{BasisCache, CacheStatus};
 pub use library::{FieldEntry, FieldLibrary, Library, LibraryEntry};
 pub use primitives::{Primitive, PrimitiveKind};
+pub use steps::StepsPlan;

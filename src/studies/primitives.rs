@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use super::table1;
-use crate::basis::Library;
+use crate::basis::{Library, StepsPlan};
 use crate::error::Result;
 use crate::field::{FieldSettings, Grid};
 use crate::output::write_atomic;
@@ -93,9 +93,10 @@ pub fn write_primitives(lib: &Library, out: &Path) -> Result<String> {
 pub const DIR: &str = "results/primitives";
 
 /// `platefield primitives`: simulates the default library on an `n × n`
-/// grid over ±4 cm at `steps` RK4 steps per cycle and writes it under
-/// `out`; returns table1.md and a line with the build time.
-pub fn run(out: &Path, n: usize, steps: usize, quiet: bool) -> Result<String> {
+/// grid over ±4 cm at `steps` RK4 steps per cycle (force fields as `plan`
+/// says) and writes it under `out`; returns table1.md and a line with the
+/// build time.
+pub fn run(out: &Path, n: usize, steps: usize, plan: StepsPlan, quiet: bool) -> Result<String> {
     let grid = Grid {
         n: [n, n],
         ..Grid::DEFAULT
@@ -105,13 +106,24 @@ pub fn run(out: &Path, n: usize, steps: usize, quiet: bool) -> Result<String> {
     settings.numerics.steps_per_cycle = steps;
     settings.numerics.validate("--steps")?;
     let start = std::time::Instant::now();
-    let lib = Library::build(&Library::default_primitives(), &grid, &settings, quiet);
+    let lib = Library::build(
+        &Library::default_primitives(),
+        &grid,
+        &settings,
+        plan,
+        quiet,
+    );
     let elapsed = start.elapsed().as_secs_f64();
     let mut table = write_primitives(&lib, out)?;
     let _ = writeln!(
         table,
-        "\nbuilt {} primitives × 2 fields on {n}×{n} in {elapsed:.2} s; wrote {}",
+        "\nbuilt {} primitives × 2 fields on {n}×{n} in {elapsed:.2} s (force fields at {} steps per cycle); wrote {}",
         lib.entries.len(),
+        lib.entries
+            .iter()
+            .map(|e| format!("{} {}", e.primitive.kind.name(), e.force_steps))
+            .collect::<Vec<_>>()
+            .join(", "),
         out.display()
     );
     Ok(table)
