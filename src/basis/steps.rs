@@ -5,7 +5,7 @@
 //! that needs the most: the Circle, whose zero-velocity force field is
 //! within 1e-4 (relative L2, against 512 steps per cycle) only from 64
 //! steps per cycle (its error is the plate frame's fictitious forces,
-//! README "Speed"), while DivCircle — three fifths of the library's time
+//! README, "The forward model"), while DivCircle — three fifths of the library's time
 //! — is within 1e-4 from 24. [`StepsPlan::Calibrated`] simulates each
 //! primitive's force field with the fewest steps per cycle at which the
 //! default primitive's force field on the default grid was measured within
@@ -84,7 +84,7 @@ impl PrimitiveKind {
     ///
     /// | kind | steps | error | one rung fewer |
     /// |---|---|---|---|
-    /// | Trans | 32 | 2.96e-5 | 1.14e-4 (24) |
+    /// | Trans | 32 | 2.96e-5 | 1.13e-4 (24) |
     /// | ScaledCircle | 40 | 4.90e-5 | 1.93e-4 (32) |
     /// | Circle | 64 | 7.46e-5 | 2.48e-4 (48) |
     /// | DivCircle | 24 | 8.27e-5 | 1.11e-3 (16) |
