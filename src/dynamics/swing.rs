@@ -46,7 +46,7 @@
 //!   512 steps per cycle): DivCircle at 32 steps per cycle 0.41 s → 0.34 s,
 //!   error 5.491e-5 → 5.496e-5; at 64 steps 0.65 s → 0.58 s, 9.38e-7 →
 //!   1.10e-6; ScaledCircle at 64 steps 0.12 s → 0.10 s, 2.53e-6 → 2.79e-6;
-//!   Circle and SkewSink unchanged to 0.2 %;
+//!   the Circle's and SkewSink's errors unchanged to 0.2 %;
 //! * at a stop, finished in closed form ([`Simulator::finish`]): where the
 //!   exact flow with a_free and N frozen (`frozen.rs`; μ_k N > |a_free|)
 //!   comes to rest within [`FINISH`] of the nominal step, the rest of the
