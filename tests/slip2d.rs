@@ -257,7 +257,7 @@ fn stiff_2d_beats_legacy() {
 /// field (`SLIP2D_ORDER_REF` to change; that field is within 8e-9 of a
 /// 16384-step one): within 1e-4 at 64 steps per cycle, and an observed
 /// order log₂(e(16)/e(64))/2 of at least 3 for every one, as issue 12
-/// asks (measured 4.03, 4.31, 3.91, 3.16, 3.24 for ScaledCircle, Circle,
+/// asks (measured 4.01, 4.31, 3.41, 3.16, 3.23 for ScaledCircle, Circle,
 /// DivCircle, SkewSink, SkewSource). The legacy scheme fails both (errors 1e-3–4e-3 at 64
 /// steps).
 #[test]
