@@ -217,11 +217,22 @@ pub fn library_speed(out: &Path) -> Result<String> {
                 .collect()
         })
         .collect();
+    // The observed order between the finest build and the one with half its
+    // steps (neighbouring counts differ by too little for a steady estimate).
+    let half = builds
+        .iter()
+        .position(|b| 2 * b.steps == builds[last].steps)
+        .unwrap_or(last - 1);
+    let fine_order: Vec<f64> = errors[half]
+        .iter()
+        .zip(&errors[last])
+        .map(|(a, b)| (a / b).ln() / (builds[last].steps as f64 / builds[half].steps as f64).ln())
+        .collect();
     // Richardson: e(n) = C n^-p gives e_ref = e(n_last) / ((n_ref/n_last)^p − 1).
     let ratio = REFERENCE_STEPS as f64 / builds[last].steps as f64;
     let ref_error: Vec<f64> = errors[last]
         .iter()
-        .zip(&orders[orders.len() - 1])
+        .zip(&fine_order)
         .map(|(e, p)| {
             if p.is_finite() && *p > 0.0 {
                 e / (ratio.powf(*p) - 1.0)
@@ -310,12 +321,13 @@ pub fn library_speed(out: &Path) -> Result<String> {
     let _ = write!(
         md,
         "\n*Reference's own error*: Richardson estimate e({n}) / (({REFERENCE_STEPS}/{n})^p − 1) \
-         with p the observed order between the two finest builds (below). *Reproducibility*: the \
+         with p the observed order between {} and {n} steps. *Reproducibility*: the \
          {n}-step build again with every motion shifted by {PERTURBATION:e} m, against the \
          unshifted one; the true fields change by about 1e-10 relative, so anything larger is \
          the integrator's sensitivity to round-off-sized changes of its input.\n\n\
          Observed order of convergence between neighbouring step counts n < n′, \
          ln(e(n)/e(n′))/ln(n′/n):\n\n| steps n → n′ | {} |\n|---|{dashes}\n",
+        builds[half].steps,
         names.join(" | "),
         n = builds[last].steps,
     );
@@ -522,7 +534,7 @@ pub fn library_speed(out: &Path) -> Result<String> {
             .collect::<Vec<_>>()
             .join(", ")
     };
-    let fine_order = &orders[orders.len() - 1];
+    let fine_order = &fine_order;
     let order_fmt = |p: f64| format!("{p:.1}");
     let col = |name: &str| names.iter().position(|n| *n == name);
     let one_d_cols: Vec<usize> = one_d.iter().filter_map(|n| col(n)).collect();
@@ -542,12 +554,12 @@ pub fn library_speed(out: &Path) -> Result<String> {
     let _ = writeln!(
         md,
         "\n**What limits the error.** Primitives whose slip stays on one line ({}) converge at \
-         RK4's fourth order (observed between the two finest builds: {}); their fields are \
+         RK4's fourth order (observed between {} and {} steps: {}); their fields are \
          reproducible to round-off (shifted by {PERTURBATION:e} m: {}); {one_d_reach}. The others \
          slip in 2-D. The integrator follows a 2-D slip velocity through its swings past u = 0 \
          and its slow-downs to a stop with RK4 steps in regularised time dτ = dt/|u| \
          (`src/dynamics/swing.rs`) and takes starts from rest and stiff slips with implicit \
-         Radau IIA steps (`src/dynamics/radau.rs`); observed orders between the two finest \
+         Radau IIA steps (`src/dynamics/radau.rs`); observed orders between those two \
          builds: {}. A {PERTURBATION:e} m shift of the motion changes their fields by {} at {} \
          steps, against errors of {} there. Where the two are of the same order the error is \
          set by the integrator's discontinuous response to round-off-sized changes (which side \
@@ -555,6 +567,8 @@ pub fn library_speed(out: &Path) -> Result<String> {
          would remove; the reference's own error for these primitives (estimates above) says \
          how far their errors here can be trusted.",
         one_d.join(", "),
+        builds[half].steps,
+        builds[last].steps,
         pick(true, fine_order, &order_fmt),
         pick(true, &noise, &sci),
         pick(false, fine_order, &order_fmt),
