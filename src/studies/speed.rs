@@ -534,7 +534,6 @@ pub fn library_speed(out: &Path) -> Result<String> {
             .collect::<Vec<_>>()
             .join(", ")
     };
-    let fine_order = &fine_order;
     let order_fmt = |p: f64| format!("{p:.1}");
     let col = |name: &str| names.iter().position(|n| *n == name);
     let one_d_cols: Vec<usize> = one_d.iter().filter_map(|n| col(n)).collect();
@@ -569,9 +568,9 @@ pub fn library_speed(out: &Path) -> Result<String> {
         one_d.join(", "),
         builds[half].steps,
         builds[last].steps,
-        pick(true, fine_order, &order_fmt),
+        pick(true, &fine_order, &order_fmt),
         pick(true, &noise, &sci),
-        pick(false, fine_order, &order_fmt),
+        pick(false, &fine_order, &order_fmt),
         pick(false, &noise, &sci),
         builds[last].steps,
         pick(false, &errors[last], &sci),
