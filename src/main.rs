@@ -92,7 +92,8 @@ enum Command {
         #[command(flatten)]
         steps: Steps,
         /// Force fields at each primitive's calibrated steps per cycle (the
-        /// fewest within 1e-4; default grid only), velocity fields at --steps.
+        /// fewest within 1e-4 of 512 steps; on the default grid, where they
+        /// were measured, whatever --steps says); velocity fields at --steps.
         #[arg(long)]
         calibrated: bool,
         #[command(flatten)]

@@ -417,7 +417,7 @@ fn corrupt_cache_files_are_rebuilt() {
         .expect("build");
     let path = cache.path(&key);
     let bytes = std::fs::read(&path).expect("cache file");
-    assert!(bytes.starts_with(b"{\"format\":2,\"key\":\""));
+    assert!(bytes.starts_with(b"{\"format\":3,\"key\":\""));
 
     let truncated = bytes[..bytes.len() * 2 / 3].to_vec();
     // A digit in the middle of the payload, changed to another digit.

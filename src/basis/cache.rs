@@ -19,7 +19,7 @@
 //!   the simulator's results without a bump of its revision is not seen:
 //!   bump it, or clear the folder.)
 //! * **File**: `<dir>/<key>.json`, exactly
-//!   `{"format":2,"key":"<key>","payload_sha256":"<hash>","payload":<FieldLibrary>}`
+//!   `{"format":3,"key":"<key>","payload_sha256":"<hash>","payload":<FieldLibrary>}`
 //!   and a newline, written atomically ([`crate::output::write_atomic`]).
 //!   `payload_sha256` is the SHA-256 of the payload's bytes as written.
 //! * **Load** never trusts a file: it is used only if it parses, has this
@@ -43,8 +43,9 @@ use crate::field::{FieldKind, FieldSettings, Grid};
 use crate::output::write_atomic;
 
 /// Version of the cache file layout and key serialization (2: one field
-/// kind per file, the kind in the key).
-pub const FORMAT: u32 = 2;
+/// kind per file, the kind in the key; 3: each entry records the steps per
+/// cycle it was simulated with).
+pub const FORMAT: u32 = 3;
 
 /// What [`BasisCache::get_or_build`] did.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize)]
@@ -252,7 +253,9 @@ impl BasisCache {
     /// the cache when a trustworthy file exists, else built (with a progress
     /// bar unless `quiet`) and stored. Inputs are validated first, and the
     /// cache folder is created before the build so an unwritable cache
-    /// fails before the work, not after it.
+    /// fails before the work, not after it. Every field is built at the
+    /// settings' steps per cycle ([`StepsPlan::Uniform`](super::StepsPlan):
+    /// the key holds no other plan).
     pub fn get_or_build(
         &self,
         primitives: &[Primitive],

@@ -39,7 +39,8 @@ pub struct FieldEntry {
 pub struct FieldLibrary {
     /// Sampling grid.
     pub grid: Grid,
-    /// Field settings (model, friction, numerics, phases).
+    /// Field settings (model, friction, numerics, phases) as requested; an
+    /// entry's own steps per cycle are its `steps_per_cycle`.
     pub settings: FieldSettings,
     /// The kind of every field held.
     pub kind: FieldKind,
@@ -108,7 +109,8 @@ impl FieldLibrary {
 pub struct Library {
     /// Sampling grid.
     pub grid: Grid,
-    /// Field settings (model, friction, numerics, phases).
+    /// Field settings (model, friction, numerics, phases) as requested; an
+    /// entry's force field was simulated at its `force_steps`.
     pub settings: FieldSettings,
     /// The entries, in the order requested.
     pub entries: Vec<LibraryEntry>,

@@ -68,7 +68,10 @@ pub use integrator::{CycleOutcome, PartState, Simulator, TrajectoryPoint, V2};
 /// 13: a slip speeding up slaved to a_free inside the regularised region
 /// leaves the τ-steps for one implicit step to the nominal step's end
 /// (`swing.rs`; 2-D fields change within their errors).
-pub const ENGINE_REVISION: u32 = 13;
+/// 14: a converged Radau step with a stage reversed against a nonzero u₀
+/// rejected (`radau.rs`; of the default library's fields at 8–64 steps per
+/// cycle only ScaledCircle's force field at 8 steps changes).
+pub const ENGINE_REVISION: u32 = 14;
 pub use kinematics_table::KinematicsTable;
 pub use planar::{
     PlanarOutcome, PlanarSample, PlanarSimulator, PlanarState, Plate, Rectangle,

@@ -27,8 +27,15 @@
 //! per stage, so that each update is a 3×3 solve ([`newton_update`]). The
 //! friction law is not smoothed. They are used only while the slip speeds up
 //! (d|u|/dt > 0 at the start of the step); a slip slowing to a stop keeps the
-//! explicit step and its stop event, and a step whose collocation solution
-//! reverses or does not converge is rejected (the caller falls back to RK4).
+//! explicit step and its stop event, and a step whose collocation equations
+//! do not converge (a Newton update that would carry a stage through u = 0
+//! is halved instead), or whose solution has a stage reversed against a
+//! nonzero u₀ (the slip passed through u = 0 inside the step, where friction
+//! is not smooth), is rejected (the caller falls back to RK4, or to τ-steps
+//! inside the regularised region). From rest (u₀ = 0) every stage is a new
+//! direction and none is rejected for it. The reversal test changed, of the
+//! default library's force and velocity fields at 8–64 steps per cycle,
+//! only ScaledCircle's force field at 8 steps.
 
 use nalgebra::{Matrix3, Vector3};
 
@@ -451,6 +458,11 @@ impl Simulator<'_> {
             // update's contraction is not measured against it.
             previous = if damped { f64::INFINITY } else { change };
             if !damped && (change <= tol || stalled || contracted) {
+                // A stage reversed against a nonzero u₀: the slip passed
+                // through u = 0 inside the step (module docs).
+                if u0 != V2::zeros() && u.iter().any(|x| x.dot(&u0) <= 0.0) {
+                    return Ok(None);
+                }
                 let u1 = u[2];
                 let r1 = position(&u, 2);
                 let (f1, _, _) = stage(2, &r1, &u1)?;

@@ -32,21 +32,24 @@
 //! * where |u| is back above that bound and growing (the explicit steps in
 //!   t, or the implicit ones of `radau.rs`, go on);
 //! * where the slip speeds up with its direction slaved to a_free (û within
-//!   `radau.rs`'s SLAVED of it), slowly (the τ-steps would need more than
-//!   [`IMPLICIT_AFTER`] steps to leave the region) and with friction's
-//!   damping across it stiff for the rest of the nominal step (μ_k N Δt >
-//!   STIFF |u|): there one implicit Radau IIA step (`radau.rs`) takes it to
-//!   the nominal step's end, as it would outside the region, unless its
-//!   collocation equations fail or its end is no longer a slaved speed-up
-//!   (then the τ-steps go on). Before, such a slip was followed by τ-steps
+//!   `radau.rs`'s SLAVED of it), slowly (by the bound of [`IMPLICIT_AFTER`]
+//!   the τ-steps would need more than that many steps to leave the region)
+//!   and with friction's damping across it stiff for the rest of the nominal
+//!   step (μ_k N Δt > STIFF |u|): there one implicit Radau IIA step
+//!   (`radau.rs`) takes it to the nominal step's end, as it would outside
+//!   the region, unless its collocation equations fail or its end is
+//!   reversed or no longer a slaved speed-up ([`still_slaved`]; then the
+//!   τ-steps go on). Before, such a slip was followed by τ-steps
 //!   until |u| passed the bound: each grows ln |u| by only about
 //!   C_SLAVED (a_free·û − μ_k N)/|a_free|, dozens of steps where μ_k N is
 //!   close to |a_free|. Measured on the default library's 21×21×30 force
 //!   fields (`examples/engine_measure`, one thread, CPU time; error against
-//!   512 steps per cycle): DivCircle at 32 steps per cycle 0.41 s → 0.34 s,
-//!   error 5.491e-5 → 5.496e-5; at 64 steps 0.65 s → 0.58 s, 9.38e-7 →
-//!   1.10e-6; ScaledCircle at 64 steps 0.12 s → 0.10 s, 2.53e-6 → 2.79e-6;
-//!   the Circle's and SkewSink's errors unchanged to 0.2 %;
+//!   512 steps per cycle, `results/library_speed.md` before and after):
+//!   DivCircle at 32 steps per cycle 0.41 s → 0.34 s, error 5.49e-5 →
+//!   5.50e-5; at 64 steps 0.65 s → 0.58 s, 9.38e-7 → 1.02e-6; ScaledCircle
+//!   at 64 steps 0.12 s → 0.10 s, 2.53e-6 → 2.78e-6; the Circle's error at
+//!   64 steps unchanged (7.46e-5), at 32 steps 2.97e-3 → 2.91e-3;
+//!   SkewSink's unchanged to 0.1 %;
 //! * at a stop, finished in closed form ([`Simulator::finish`]): where the
 //!   exact flow with a_free and N frozen (`frozen.rs`; μ_k N > |a_free|)
 //!   comes to rest within [`FINISH`] of the nominal step, the rest of the
@@ -103,8 +106,11 @@ const SLAVED_SPAN: f64 = 0.1;
 
 /// A slip speeding up slaved to a_free inside the region is taken by one
 /// implicit step to the nominal step's end when the τ-steps would need more
-/// than this many steps to leave the region (each grows ln |u| by at most
-/// [`C_SLAVED`] (a_free·û − μ_k N)/max(|a_free|, μ_k N)). A faster speed-up
+/// than this many steps to leave the region by the bound ln(bound/|u|)
+/// max(|a_free|, μ_k N)/([`C_SLAVED`] (a_free·û − μ_k N)) (each grows ln |u|
+/// by at most C_SLAVED (a_free·û − μ_k N)/max(|a_free|, μ_k N); their other
+/// limits in `tau_step`, and c below C64 beyond 64 steps per cycle, make
+/// them more, so the bound is a lower one). A faster speed-up
 /// keeps its few τ-steps: taken implicitly too, it cost the force fields'
 /// order (`tests/slip2d.rs` `order_2d`, 4×4×6 against 4096 steps, observed
 /// order from 16 to 64 steps): SkewSink 3.16 → 2.38, ScaledCircle 4.03 →
@@ -189,7 +195,12 @@ const MAX_TAU_STEPS: u32 = 100_000;
 
 /// True when a slip `u` with du/dt = `du` speeds up with its direction
 /// slaved: du·û > 0 and the part of du across û (a_free's) within
-/// [`SLAVED`] of |du|.
+/// [`SLAVED`] of |du|. Stricter than the test before the step (a_⊥ within
+/// SLAVED of |a_free|), since |du| ≈ a_free·û − μ_k N there: an implicit
+/// step is kept only where its end is clearly a slaved speed-up (on
+/// DivCircle's force fields at 16, 32 and 64 steps per cycle it turned down
+/// 6, 9 and 22 steps that the looser test would have kept, against about
+/// 9 600 kept in all).
 fn still_slaved(u: &V2, du: &V2) -> bool {
     let s = u.norm();
     if s == 0.0 {
@@ -443,7 +454,7 @@ impl Simulator<'_> {
                 let here = PartState::new(y.r, y.u);
                 let rest = target - y.t;
                 match self.radau_step(y.t, rest, piece, &here, anchor, &mut out.rk4_steps)? {
-                    Some(e) if still_slaved(&e.u, &e.du) => {
+                    Some(e) if e.u.dot(&y.u) > 0.0 && still_slaved(&e.u, &e.du) => {
                         (y.t, y.r, y.u) = (target, e.r, e.u);
                         break;
                     }

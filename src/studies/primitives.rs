@@ -23,7 +23,7 @@ pub fn write_primitives(lib: &Library, out: &Path) -> Result<String> {
     let mut md = format!(
         "# Primitive fields against the paper's Table I\n\n\
          Grid {}×{} over x ∈ [{}, {}] m, y ∈ [{}, {}] m; model `{}`; μ_s = {}, μ_k = {}; \
-         {} start phases; {} RK4 steps per cycle. Regenerate: `platefield primitives`.\n\n\
+         {} start phases; {} RK4 steps per cycle{}. Regenerate: `platefield primitives`.\n\n\
          Least-squares fit of each field to its Table I form over the valid samples \
          (Circle: outside 1 cm of its axis). R² is uncentred (the forms have no constant \
          term): R² = 1 − Σ|f − f̂|²/Σ|f|². Coefficients in s⁻² m⁻ᵏ (force) and s⁻¹ m⁻ᵏ \
@@ -32,13 +32,29 @@ pub fn write_primitives(lib: &Library, out: &Path) -> Result<String> {
          | primitive | form | force: coefficients | force R² | velocity: coefficients | velocity R² | valid (force, velocity) | signs |\n\
          |---|---|---|---|---|---|---|---|\n",
         lib.grid.n[0], lib.grid.n[1], lib.grid.x[0], lib.grid.x[1], lib.grid.y[0], lib.grid.y[1],
-        s.model.name(), s.friction.stat, s.friction.kinetic, s.phases, s.numerics.steps_per_cycle
+        s.model.name(), s.friction.stat, s.friction.kinetic, s.phases, s.numerics.steps_per_cycle,
+        if lib.entries.iter().all(|e| e.force_steps == s.numerics.steps_per_cycle) {
+            String::new()
+        } else {
+            format!(
+                " (force fields at their calibrated counts: {})",
+                lib.entries
+                    .iter()
+                    .map(|e| format!("{} {}", e.primitive.kind.name(), e.force_steps))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
+        }
     );
     for e in &lib.entries {
         let name = e.primitive.kind.name();
+        // The force field's own settings (its steps per cycle may be its
+        // calibrated count, not the library's).
+        let mut force_settings = *s;
+        force_settings.numerics.steps_per_cycle = e.force_steps;
         write_atomic(
             &out.join(format!("{name}.json")),
-            &json_bytes(&e.force.to_json(s)),
+            &json_bytes(&e.force.to_json(&force_settings)),
         )?;
         write_atomic(
             &out.join(format!("{name}.velocity.json")),
