@@ -148,6 +148,16 @@ impl Library {
         }
     }
 
+    /// "Kind steps" per entry, comma-separated: the steps per cycle of each
+    /// force field.
+    pub fn force_steps_list(&self) -> String {
+        self.entries
+            .iter()
+            .map(|e| format!("{} {}", e.primitive.kind.name(), e.force_steps))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+
     /// The paper's eight primitives with default parameters.
     pub fn default_primitives() -> Vec<Primitive> {
         PrimitiveKind::ALL

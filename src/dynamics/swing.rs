@@ -443,11 +443,9 @@ impl Simulator<'_> {
             // enough that the τ-steps would take more than IMPLICIT_AFTER
             // steps to leave the region: one implicit step to the nominal
             // step's end (module docs).
-            let slaved = (free - uhat * along).norm() <= SLAVED * free.norm();
-            let speeding = along > mu * n;
             if !implicit_failed
-                && speeding
-                && slaved
+                && along > mu * n
+                && (free - uhat * along).norm() <= SLAVED * free.norm()
                 && (target - y.t) * mu * n > STIFF * s
                 && (bound / s).ln() * scale > IMPLICIT_AFTER * C_SLAVED * (along - mu * n)
             {

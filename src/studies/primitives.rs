@@ -38,11 +38,7 @@ pub fn write_primitives(lib: &Library, out: &Path) -> Result<String> {
         } else {
             format!(
                 " (force fields at their calibrated counts: {})",
-                lib.entries
-                    .iter()
-                    .map(|e| format!("{} {}", e.primitive.kind.name(), e.force_steps))
-                    .collect::<Vec<_>>()
-                    .join(", ")
+                lib.force_steps_list()
             )
         }
     );
@@ -135,11 +131,7 @@ pub fn run(out: &Path, n: usize, steps: usize, plan: StepsPlan, quiet: bool) -> 
         table,
         "\nbuilt {} primitives × 2 fields on {n}×{n} in {elapsed:.2} s (force fields at {} steps per cycle); wrote {}",
         lib.entries.len(),
-        lib.entries
-            .iter()
-            .map(|e| format!("{} {}", e.primitive.kind.name(), e.force_steps))
-            .collect::<Vec<_>>()
-            .join(", "),
+        lib.force_steps_list(),
         out.display()
     );
     Ok(table)
