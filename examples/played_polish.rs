@@ -5,8 +5,10 @@
 //! measure, then the played polish (`platefield::design::polish`) and the
 //! kept motion played from the 16 held-out start points as well.
 //!
-//! `cargo run --release --example played_polish [TARGET [PLAYS [STEP [HARMONICS]]]]`
-//! (defaults: saddle, 300, 0.03, 2: the study's shaker; 3 lets the
+//! `cargo run --release --example played_polish [TARGET [PLAYS [STEP [HARMONICS [EVALUATIONS [REGION_BUDGET]]]]]]`
+//! (defaults: saddle, 300, 0.03, 2, 300, 0.06: the study's shaker and budgets;
+//! EVALUATIONS are the synthesis's coarse evaluations, REGION_BUDGET the
+//! polish's shape budget over the region, `PolishOptions::grid_budget`; 3 harmonics lets the
 //! controller play a third harmonic, which can lower the corners' peak
 //! normal acceleration for the same first harmonic, `synth` docs). Used to find where the saddle's parts
 //! are lost (results/synthesis.md, "valid / played").
@@ -35,6 +37,8 @@ fn main() -> platefield::Result<()> {
     let plays: usize = arg(2, 300);
     let step: f64 = arg(3, 0.03);
     let harmonics: u32 = arg(4, 2);
+    let evaluations: usize = arg(5, 300);
+    let region_budget: f64 = arg(6, 0.06);
     let target = Target::load(Path::new(&format!("targets/{name}.json")))?;
     let schedule = sequenced(&target, Path::new(".platefield-cache"))?;
     let settings = schedule.settings;
@@ -50,6 +54,7 @@ fn main() -> platefield::Result<()> {
     };
     let so = SynthOptions {
         calibrate: true,
+        max_evaluations: evaluations,
         ..StudySettings::default().options()
     };
     let s = synthesize(&target.field, &region, &limits, &settings, &so)?;
@@ -98,6 +103,7 @@ fn main() -> platefield::Result<()> {
         &PolishOptions {
             max_plays: plays,
             step,
+            grid_budget: region_budget,
             ..PolishOptions::default()
         },
     )?;

@@ -74,3 +74,58 @@ fn sink_schedule_peaks_are_the_linesink_closed_form() {
         .to_string();
     assert!(e.starts_with("schedule.segments"), "{e}");
 }
+
+/// `common` judges both motions over the start points where both keep
+/// their part. With frozen positions a play's promise is s·t(p), so plays
+/// that realise exactly 1·t and 2·t have ŝ 1 and 2 at zero shape error over
+/// any common set; points either motion lost are left out, and equal valid
+/// sets give no comparison.
+#[test]
+fn common_set_compares_both_motions_on_the_same_points() {
+    use platefield::play::measure::PointPlay;
+    use platefield::studies::synthesis::{common, starts};
+    let target = Target::load(Path::new("targets/saddle.json")).unwrap();
+    let sampled = target.sample().unwrap();
+    let st = starts(&target, &sampled);
+    let plays = |k: f64, lost: &dyn Fn(usize) -> bool| -> Vec<PointPlay> {
+        st.iter()
+            .enumerate()
+            .map(|(i, &s)| {
+                let p = sampled.points[s];
+                let t = target.field.eval(p);
+                PointPlay {
+                    index: s,
+                    start: p,
+                    position: p,
+                    // A lost part's velocity is garbage: it must not count.
+                    realised: if lost(i) {
+                        [9.0, -9.0]
+                    } else {
+                        [k * t[0], k * t[1]]
+                    },
+                    window_starts: vec![p],
+                    span: 1.0,
+                    periods: 1,
+                    moving: false,
+                    contributions: Vec::new(),
+                    note: lost(i).then(|| "part leaves the plate".to_string()),
+                    lost_at: None,
+                    warmup_periods: 1,
+                    settled: true,
+                }
+            })
+            .collect()
+    };
+    // The sequenced motion loses every start off the middle row (y ≠ 0),
+    // the synthesized one only the outer rows (|y| = 4 cm).
+    let y = |i: usize| sampled.points[st[i]][1];
+    let seq = plays(1.0, &|i| y(i).abs() > 1e-9);
+    let syn = plays(2.0, &|i| y(i).abs() > 0.03);
+    let c = common(&target, &sampled.weights, &seq, &syn).expect("valid sets differ");
+    assert_eq!(c.valid, 5);
+    assert!((c.sequenced.0 - 1.0).abs() < 1e-12, "{:?}", c.sequenced);
+    assert!((c.synthesized.0 - 2.0).abs() < 1e-12, "{:?}", c.synthesized);
+    assert!(c.sequenced.1 < 1e-12 && c.synthesized.1 < 1e-12, "{c:?}");
+    // Same valid sets: nothing to add to each motion's own measure.
+    assert!(common(&target, &sampled.weights, &seq, &seq).is_none());
+}

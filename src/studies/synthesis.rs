@@ -42,6 +42,10 @@
 //! would do over the same windows — for one motion, the drift-lag-corrected
 //! steady state iterated once per cycle
 //! ([`crate::play::measure::against_prediction`], `verify`'s number).
+//! Each motion's ŝ is fitted over the points where its own parts stay on
+//! the plate; where the two motions keep different points (a saddle sends
+//! parts off along its expanding axis), a row's notes also judge both over
+//! the points both keep ([`common`]).
 //!
 //! Timings go to the markdown only; the csv is deterministic.
 
@@ -50,7 +54,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use crate::design::closed_loop::loop_points;
-use crate::design::closed_loop::measure::{play_motion, realised_error, MeasureOptions};
+use crate::design::closed_loop::measure::{play_motion, realised_error, MeasureOptions, PointPlay};
 use crate::design::method::sequenced_limits;
 use crate::design::polish::{polish, PolishOptions};
 use crate::design::refine::{refine_schedule, RefineOptions, Refined};
@@ -140,6 +144,17 @@ pub fn measure(
     settings: &FieldSettings,
     with_prediction: bool,
 ) -> Result<Measured> {
+    Ok(measure_plays(target, sm, per_period, settings, with_prediction)?.0)
+}
+
+/// [`measure`], with the plays it judged (in the order of [`starts`]).
+pub fn measure_plays(
+    target: &Target,
+    sm: &ScheduleMotion,
+    per_period: u32,
+    settings: &FieldSettings,
+    with_prediction: bool,
+) -> Result<(Measured, Vec<PointPlay>)> {
     let sampled = target.sample()?;
     let starts = starts(target, &sampled);
     let plays = play_motion(
@@ -152,16 +167,72 @@ pub fn measure(
     );
     let e = realised_error(target, &sampled.weights, &plays, None);
     let vs_predicted = if with_prediction {
-        against_prediction(sm, plays, &PlayOptions::from_settings(settings)).relative_error
+        against_prediction(sm, plays.clone(), &PlayOptions::from_settings(settings)).relative_error
     } else {
         f64::NAN
     };
-    Ok(Measured {
+    let m = Measured {
         strength: e.realised_strength,
         shape_error: e.shape_error,
         vs_predicted,
         valid: e.valid,
         played: starts.len(),
+    };
+    Ok((m, plays))
+}
+
+/// Two motions judged on the start points where *both* keep their part
+/// (see [`common`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Common {
+    /// Start points where both parts stay on the plate.
+    pub valid: usize,
+    /// The sequenced schedule there: realised strength, shape error.
+    pub sequenced: (f64, f64),
+    /// The synthesized motion there: realised strength, shape error.
+    pub synthesized: (f64, f64),
+}
+
+/// The realised measure of both motions over the start points where both
+/// keep their part: where their valid sets differ (a saddle sends parts off
+/// the plate along its expanding axis, and a stronger motion sends more),
+/// each motion's own ŝ is fitted over different places, and this compares
+/// them over the same ones. `None` if the sets are the same, or nothing is
+/// common. `a` and `b` are plays from the same [`starts`].
+pub fn common(
+    target: &Target,
+    weights: &[f64],
+    sequenced: &[PointPlay],
+    synthesized: &[PointPlay],
+) -> Option<Common> {
+    let keeps = |p: &PointPlay| p.note.is_none() && weights[p.index] > 0.0;
+    let both: Vec<bool> = sequenced
+        .iter()
+        .zip(synthesized)
+        .map(|(a, b)| keeps(a) && keeps(b))
+        .collect();
+    let same = sequenced
+        .iter()
+        .zip(synthesized)
+        .all(|(a, b)| keeps(a) == keeps(b));
+    let valid = both.iter().filter(|&&k| k).count();
+    if same || valid == 0 {
+        return None;
+    }
+    let pick = |plays: &[PointPlay]| -> (f64, f64) {
+        let kept: Vec<PointPlay> = plays
+            .iter()
+            .zip(&both)
+            .filter(|(_, &k)| k)
+            .map(|(p, _)| p.clone())
+            .collect();
+        let e = realised_error(target, weights, &kept, None);
+        (e.realised_strength, e.shape_error)
+    };
+    Some(Common {
+        valid,
+        sequenced: pick(sequenced),
+        synthesized: pick(synthesized),
     })
 }
 
@@ -260,6 +331,9 @@ pub struct Row {
     /// check of the played polish): realised strength, shape error, valid
     /// and played points.
     pub holdout: Option<(f64, f64, usize, usize)>,
+    /// Both motions over the start points where both keep their part
+    /// ([`common`]), where their valid sets differ.
+    pub common: Option<Common>,
 }
 
 impl Row {
@@ -284,6 +358,7 @@ impl Row {
             binding: Vec::new(),
             vs_predicted_long: f64::NAN,
             holdout: None,
+            common: None,
         }
     }
 
@@ -443,14 +518,14 @@ pub fn row(name: &str, targets: &Path, cache: &Path, study: &StudySettings) -> R
     let settings = schedule.settings;
     let limits = limits_of(&schedule, study.harmonics)?;
     let sm = ScheduleMotion::from_schedule(&schedule)?;
-    let sequenced = measure(&target, &sm, schedule.total_cycles, &settings, false)?;
+    let (sequenced, plays) = measure_plays(&target, &sm, schedule.total_cycles, &settings, false)?;
     let r = Row::new(
         name,
         limits.clone(),
         Some(sequenced),
         synthesize_row(&target, &limits, &settings, study),
     );
-    diagnose(r, &target, &settings)
+    diagnose(r, &target, &settings, Some(&plays))
 }
 
 /// The lab-class row: the sink target under [`ShakerLimits::lab_class`],
@@ -464,6 +539,7 @@ pub fn lab_row(targets: &Path, study: &StudySettings) -> Result<Row> {
         Row::new("sink (lab-class limits)", limits, None, s),
         &target,
         &settings,
+        None,
     )
 }
 
@@ -512,13 +588,30 @@ pub fn seed_binding(
     }
 }
 
-/// Fills [`Row::binding`] and [`Row::vs_predicted_long`].
-fn diagnose(mut row: Row, target: &Target, settings: &FieldSettings) -> Result<Row> {
+/// Fills [`Row::binding`], [`Row::vs_predicted_long`], [`Row::holdout`]
+/// and, given the sequenced schedule's plays, [`Row::common`].
+fn diagnose(
+    mut row: Row,
+    target: &Target,
+    settings: &FieldSettings,
+    sequenced: Option<&[PointPlay]>,
+) -> Result<Row> {
     row.binding = seed_binding(target, &row.limits, settings);
     if let Ok((s, _)) = &row.synthesis {
         let sampled = target.sample()?;
         let starts = starts(target, &sampled);
         let sm = synthesized_motion(s)?;
+        if let Some(q) = sequenced {
+            let plays = play_motion(
+                &sm,
+                1,
+                &sampled.points,
+                &starts,
+                settings,
+                &MeasureOptions::default(),
+            );
+            row.common = common(target, &sampled.weights, q, &plays);
+        }
         let plays = play_motion(
             &sm,
             1,
@@ -749,6 +842,24 @@ pub fn render(
                 );
             }
         }
+        if let Some(c) = r.common {
+            let _ = writeln!(
+                md,
+                "  - on the {} start points where both motions keep their part (the sequenced schedule keeps {}, the synthesized motion {}): synthesized ŝ {} at shape {} against sequenced ŝ {} at shape {} ({}).",
+                c.valid,
+                r.sequenced.map_or(0, |q| q.valid),
+                r.synthesis.as_ref().map_or(0, |(_, m)| m.valid),
+                num(c.synthesized.0),
+                pct(c.synthesized.1),
+                num(c.sequenced.0),
+                pct(c.sequenced.1),
+                if c.sequenced.0 > 0.0 {
+                    format!("{:.2}×", c.synthesized.0 / c.sequenced.0)
+                } else {
+                    "—".into()
+                }
+            );
+        }
         if !r.binding.is_empty() {
             let _ = writeln!(
                 md,
@@ -855,7 +966,11 @@ pub fn render(
          it by more than g), outside the ±4 cm region the contact margin covers — a physical loss, \
          not a defect of the measure. The parts started at y = ±2 cm are measured at |y| ≈ 5.5 cm, \
          where the field falls below the region's affine one: hence the saddle's played ŝ below \
-         its full-grid prediction, which the sink (whose parts move inwards) does not show.\n\
+         its full-grid prediction, which the sink (whose parts move inwards) does not show. \
+         Each motion's own ŝ is fitted where *its* parts stay; where the two motions keep \
+         different start points, the row's notes also judge both over the start points where \
+         both keep their part (`common`): for the saddle that is the middle row, which shows only \
+         the contracting axis, so the table's ratio stays the one the goal is judged by.\n\
          - *Realised vs predicted* compares each synthesized motion with its own steady state, \
          drift-lag-corrected and iterated once per cycle (`platefield::play::lag`, \
          `platefield::play::measure`): a steady state is a per-cycle displacement, and a part that \
