@@ -532,6 +532,20 @@ fn design_refuses_bad_shaker_limits_naming_the_field() {
             "target.shaker.contact_margin",
         ),
         (serde_json::json!({"periodd": 0.05}), "target.shaker"),
+        // Audit: a period of 1e-300 s ran the synthesis without end; peaks
+        // of 1e300 ended in an unlocated error full of long numbers.
+        (
+            serde_json::json!({"period": 1e-300}),
+            "target.shaker.period: must be a period in [0.0001, 10] s, got 1e-300",
+        ),
+        (
+            serde_json::json!({"linear": [1e300, 10, 0]}),
+            "target.shaker.linear[0]: must be a peak acceleration in [0, 10000] m/s², got 1e300",
+        ),
+        (
+            serde_json::json!({"angular": [70, 70, 1e6]}),
+            "target.shaker.angular[2]: must be a peak acceleration in [0, 100000] rad/s²",
+        ),
     ] {
         let mut t = base.clone();
         t["shaker"] = shaker.clone();
@@ -820,5 +834,101 @@ fn trajectories_svg_has_legend_clipping_and_outlines() {
         .filter(|l| l.contains("#9467bd") || l.contains("#000000"))
         .count();
     assert!(outlines >= 2, "{outlines} rectangle outlines");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A target file in a fresh temporary folder (named after the case).
+fn target_file(dir: &Path, target: &serde_json::Value) -> String {
+    let file = dir.join("target.json");
+    std::fs::write(&file, target.to_string()).unwrap();
+    file.to_str().unwrap().to_string()
+}
+
+/// Audit: `design` inputs that crashed, wrote nothing useful or were named
+/// wrongly now exit 2 at once, naming the argument or JSON path and the
+/// range, and write nothing: `--rotation-step 1e-9` (aborted, exit 134,
+/// allocating 2.9 TB), `--cycles` too short for `--min-cycles` (named the
+/// empty `schedule.segments`), a target name of 300 bytes or with a NUL
+/// (failed only when writing, after the whole design, leaving the output
+/// folder behind) and a jet narrower than its Gaussian can hold (an
+/// unlocated "non-finite vector" error).
+#[test]
+fn design_refuses_degenerate_inputs_naming_them() {
+    let dir = temp_dir("design-degenerate");
+    let out = dir.join("out");
+    let o = out.to_str().unwrap();
+    let small = serde_json::json!({"name": "small",
+        "grid": {"x": [-0.02, 0.02], "y": [-0.02, 0.02], "n": [7, 7]},
+        "field": {"kind": "sink"}});
+    let t = target_file(&dir, &small);
+    let quick = [
+        "--method",
+        "sequence",
+        "--primitives",
+        "LineSink",
+        "--quiet",
+    ];
+    let with = |extra: &[&str]| {
+        let mut a = vec!["design", t.as_str(), "--out", o];
+        a.extend_from_slice(&quick);
+        if !extra.contains(&"--rotation-step") {
+            a.extend_from_slice(&["--rotation-step", "90"]);
+        }
+        a.extend_from_slice(extra);
+        platefield(&a)
+    };
+    let cases: [(&[&str], &[&str]); 2] = [
+        (
+            &["--rotation-step", "1e-9"],
+            &["--rotation-step: must be in [1, 360] degrees", "got 1e-9"],
+        ),
+        (
+            // Four LineSinks at a quarter of the time each: 5 cycles of 20
+            // give each fewer than half of the 10 it needs.
+            &["--cycles", "5"],
+            &[
+                "--cycles: 5 cycles leave no segment of at least --min-cycles 10",
+                "--cycles ≥ 21",
+            ],
+        ),
+    ];
+    for (extra, needles) in cases {
+        let (code, stdout, err) = with(extra);
+        assert_eq!(code, 2, "{extra:?}: {err}");
+        for n in needles {
+            assert!(err.contains(n), "{extra:?}: {err:?} should contain {n:?}");
+        }
+        assert!(stdout.is_empty() && !out.exists(), "{extra:?} wrote output");
+    }
+    let (code, _, err) = with(&["--cycles", "21"]);
+    assert_eq!(code, 0, "{err}");
+    std::fs::remove_dir_all(&out).unwrap();
+    for (edit, needle) in [
+        (
+            serde_json::json!({"name": "n".repeat(300)}),
+            "target.name: must be a plain folder name of at most 255 bytes, got 300 bytes",
+        ),
+        (
+            serde_json::json!({"name": "a\u{0}b"}),
+            "target.name: must be a plain folder name (no /, \\ or NUL",
+        ),
+        (
+            serde_json::json!({"field": {"kind": "jet", "width": 1e-300}}),
+            "target.field.width: must be in [0.000001, 1] m, got 1e-300",
+        ),
+    ] {
+        let mut target = small.clone();
+        for (k, v) in edit.as_object().unwrap() {
+            target[k] = v.clone();
+        }
+        target_file(&dir, &target);
+        let (code, stdout, err) = with(&[]);
+        assert_eq!(code, 2, "{edit}: {err}");
+        assert!(
+            err.contains(needle),
+            "{edit}: {err:?} should contain {needle:?}"
+        );
+        assert!(stdout.is_empty() && !out.exists(), "{edit} wrote output");
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }
