@@ -257,7 +257,7 @@ pub fn num(v: f64) -> String {
 }
 
 /// At most 40 characters of `s`.
-fn short(s: &str) -> String {
+pub(crate) fn short(s: &str) -> String {
     match s.char_indices().nth(40) {
         Some((i, _)) => format!("{}…", &s[..i]),
         None => s.to_string(),

@@ -323,9 +323,17 @@ fn verify_refuses_rest_only_and_lost_contact_schedules() {
     for k in 0..4 {
         lost["segments"][k]["primitive"]["amplitude"] = serde_json::json!(0.5);
     }
+    // Audit: so gentle that every part sticks (0.02 m/s² at the plate
+    // centre): the prediction is zero and verify printed "shape NaN %",
+    // exit 0.
+    let mut stuck = sink_schedule();
+    for k in 0..4 {
+        stuck["segments"][k]["primitive"]["amplitude"] = serde_json::json!(1e-5);
+    }
     for (name, s, needle) in [
         ("rest-only", rest, "every segment is rest"),
         ("lost", lost, "left the plate"),
+        ("stuck", stuck, "no predicted field"),
     ] {
         let [export, (code, err, written)] = run_both(name, &s, true);
         assert_eq!(code, 2, "{name}: {err}");
@@ -532,6 +540,20 @@ fn design_refuses_bad_shaker_limits_naming_the_field() {
             "target.shaker.contact_margin",
         ),
         (serde_json::json!({"periodd": 0.05}), "target.shaker"),
+        // Audit: a period of 1e-300 s ran the synthesis without end; peaks
+        // of 1e300 ended in an unlocated error full of long numbers.
+        (
+            serde_json::json!({"period": 1e-300}),
+            "target.shaker.period: must be a period in [0.0001, 10] s, got 1e-300",
+        ),
+        (
+            serde_json::json!({"linear": [1e300, 10, 0]}),
+            "target.shaker.linear[0]: must be a peak acceleration in [0, 10000] m/s², got 1e300",
+        ),
+        (
+            serde_json::json!({"angular": [70, 70, 1e6]}),
+            "target.shaker.angular[2]: must be a peak acceleration in [0, 100000] rad/s²",
+        ),
     ] {
         let mut t = base.clone();
         t["shaker"] = shaker.clone();
@@ -820,5 +842,208 @@ fn trajectories_svg_has_legend_clipping_and_outlines() {
         .filter(|l| l.contains("#9467bd") || l.contains("#000000"))
         .count();
     assert!(outlines >= 2, "{outlines} rectangle outlines");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A target file in a fresh temporary folder (named after the case).
+fn target_file(dir: &Path, target: &serde_json::Value) -> String {
+    let file = dir.join("target.json");
+    std::fs::write(&file, target.to_string()).unwrap();
+    file.to_str().unwrap().to_string()
+}
+
+/// Audit: `design` inputs that crashed, wrote nothing useful or were named
+/// wrongly now exit 2 at once, naming the argument or JSON path and the
+/// range, and write nothing: `--rotation-step 1e-9` (aborted, exit 134,
+/// allocating 2.9 TB), `--cycles` too short for `--min-cycles` (named the
+/// empty `schedule.segments`), a target name of 300 bytes or with a NUL
+/// (failed only when writing, after the whole design, leaving the output
+/// folder behind) and a jet narrower than its Gaussian can hold (an
+/// unlocated "non-finite vector" error).
+#[test]
+fn design_refuses_degenerate_inputs_naming_them() {
+    let dir = temp_dir("design-degenerate");
+    let out = dir.join("out");
+    let o = out.to_str().unwrap();
+    let small = serde_json::json!({"name": "small",
+        "grid": {"x": [-0.02, 0.02], "y": [-0.02, 0.02], "n": [7, 7]},
+        "field": {"kind": "sink"}});
+    let t = target_file(&dir, &small);
+    let quick = [
+        "--method",
+        "sequence",
+        "--primitives",
+        "LineSink",
+        "--quiet",
+    ];
+    let with = |extra: &[&str]| {
+        let mut a = vec!["design", t.as_str(), "--out", o];
+        a.extend_from_slice(&quick);
+        if !extra.contains(&"--rotation-step") {
+            a.extend_from_slice(&["--rotation-step", "90"]);
+        }
+        a.extend_from_slice(extra);
+        platefield(&a)
+    };
+    let cases: [(&[&str], &[&str]); 2] = [
+        (
+            &["--rotation-step", "1e-9"],
+            &["--rotation-step: must be in [1, 360] degrees", "got 1e-9"],
+        ),
+        (
+            // Four LineSinks at a quarter of the time each: 5 cycles of 20
+            // give each fewer than half of the 10 it needs.
+            &["--cycles", "5"],
+            &[
+                "--cycles: 5 cycles leave no segment of at least --min-cycles 10",
+                "--cycles ≥ 21",
+            ],
+        ),
+    ];
+    for (extra, needles) in cases {
+        let (code, stdout, err) = with(extra);
+        assert_eq!(code, 2, "{extra:?}: {err}");
+        for n in needles {
+            assert!(err.contains(n), "{extra:?}: {err:?} should contain {n:?}");
+        }
+        assert!(stdout.is_empty() && !out.exists(), "{extra:?} wrote output");
+    }
+    let (code, _, err) = with(&["--cycles", "21"]);
+    assert_eq!(code, 0, "{err}");
+    std::fs::remove_dir_all(&out).unwrap();
+    for (edit, needle) in [
+        (
+            serde_json::json!({"name": "n".repeat(300)}),
+            "target.name: must be a plain folder name of at most 255 bytes, got 300 bytes",
+        ),
+        (
+            serde_json::json!({"name": "a\u{0}b"}),
+            "target.name: must be a plain folder name (no /, \\ or NUL",
+        ),
+        (
+            serde_json::json!({"field": {"kind": "jet", "width": 1e-300}}),
+            "target.field.width: must be in [0.000001, 1] m, got 1e-300",
+        ),
+    ] {
+        let mut target = small.clone();
+        for (k, v) in edit.as_object().unwrap() {
+            target[k] = v.clone();
+        }
+        target_file(&dir, &target);
+        let (code, stdout, err) = with(&[]);
+        assert_eq!(code, 2, "{edit}: {err}");
+        assert!(
+            err.contains(needle),
+            "{edit}: {err:?} should contain {needle:?}"
+        );
+        assert!(stdout.is_empty() && !out.exists(), "{edit} wrote output");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The shipped synthesized sink schedule (one six-signal segment).
+fn synthesized_schedule() -> serde_json::Value {
+    let text = std::fs::read_to_string("results/sink/schedule.json").expect("sink schedule");
+    serde_json::from_str(&text).expect("JSON")
+}
+
+/// Audit: a schedule's six-signal segment is held to the scene ranges, as
+/// the schedule module documents (it was only checked to be finite:
+/// `export` wrote peaks of 1e300 m/s², `verify` played a period of 1 µs,
+/// both exit 0), and so are its settings' steady-state iterations (1e9 on a
+/// motion whose steady state does not converge ran `verify` for hours).
+/// `export` and `verify` exit 2 naming the JSON path and the range, and
+/// write nothing.
+#[test]
+fn six_signal_segments_and_iterations_are_held_to_the_scene_ranges() {
+    let mut cases: Vec<(&str, serde_json::Value, &[&str])> = Vec::new();
+    let mut s = synthesized_schedule();
+    s["segments"][0]["motion"]["linear"]["x"][0]["amplitude"] = serde_json::json!(1e300);
+    cases.push((
+        "amplitude",
+        s,
+        &["segments[0].motion.linear.x[0].amplitude: must be in [-10000, 10000] m/s², got 1e300"],
+    ));
+    let mut s = synthesized_schedule();
+    s["segments"][0]["motion"]["period"] = serde_json::json!(1e-6);
+    cases.push((
+        "period",
+        s,
+        &["segments[0].motion.period: must be in [0.0001, 100] s, got 0.000001"],
+    ));
+    let mut s = synthesized_schedule();
+    s["segments"][0]["motion"]["angular"]["y"][0]["phase"] = serde_json::json!(1e300);
+    cases.push((
+        "phase",
+        s,
+        &["segments[0].motion.angular.y[0].phase: must be in [-1000, 1000] rad"],
+    ));
+    let mut s = sink_schedule();
+    s["settings"]["numerics"]["max_iterations"] = serde_json::json!(1_000_000_000u64);
+    cases.push((
+        "iterations",
+        s,
+        &["settings.numerics.max_iterations: must be in 1..=10000, got 1000000000"],
+    ));
+    for (name, s, needles) in cases {
+        for (command, (code, err, written)) in
+            ["export", "verify"].iter().zip(export_and_verify(name, &s))
+        {
+            assert_eq!(code, 2, "{command} {name}: {err}");
+            for n in needles {
+                assert!(err.contains(n), "{command} {name}: {err:?} should name {n}");
+            }
+            assert!(!written, "{command} {name}: nothing may be written");
+        }
+    }
+}
+
+/// Audit: what `design` writes, `export` and `verify` read. A synthesized
+/// motion for a grid-less `sampled` target (`targets/sampled.json`) is
+/// written with its angle and worst-point errors `null` (not simulated at
+/// the sample points); both commands refused that file
+/// (`fit.max_error: must be a number, got null`). A rest segment of 0 s,
+/// which the loader accepts and `verify` plays, made `export` fail. And a
+/// `--rate` far out of range is stated short (it printed 300 digits).
+#[test]
+fn schedules_design_writes_are_read_back() {
+    let mut unset = synthesized_schedule();
+    for metrics in ["fit", "fit_quantized"] {
+        unset[metrics]["mean_angle_error_deg"] = serde_json::Value::Null;
+        unset[metrics]["max_error"] = serde_json::Value::Null;
+    }
+    let mut zero_rest = sink_schedule();
+    zero_rest["segments"].as_array_mut().unwrap().push(
+        serde_json::json!({"label": "Rest", "primitive": null, "weight": 0.0,
+            "cycles": 0, "duration_s": 0.0}),
+    );
+    for (name, s) in [("unset-metrics", unset), ("zero-rest", zero_rest)] {
+        for (command, (code, err, written)) in
+            ["export", "verify"].iter().zip(export_and_verify(name, &s))
+        {
+            assert_eq!(code, 0, "{command} {name}: {err}");
+            assert!(written, "{command} {name}: wrote nothing");
+        }
+    }
+    let dir = temp_dir("rate-short");
+    let file = dir.join("schedule.json");
+    std::fs::write(&file, sink_schedule().to_string()).unwrap();
+    for (rate, needle) in [
+        (
+            "1e300",
+            "--rate: 1e300 Hz over a 1.203 s schedule is more than 5e7 samples",
+        ),
+        (
+            "1e-300",
+            "--rate: 1e-300 Hz gives fewer than 2 samples per 3.0063e-2 s period",
+        ),
+    ] {
+        let (code, _, err) = platefield(&["export", file.to_str().unwrap(), "--rate", rate]);
+        assert_eq!(code, 2, "{rate}: {err}");
+        assert!(
+            err.contains(needle),
+            "{rate}: {err:?} should contain {needle:?}"
+        );
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -157,7 +157,7 @@ impl DesignArgs {
                 if !(self.budget > 0.0 && self.budget < 1.0) {
                     return Err(Error::invalid(
                         "--budget",
-                        format!("must be in (0, 1), got {}", self.budget),
+                        format!("must be in (0, 1), got {}", crate::input::num(self.budget)),
                     ));
                 }
                 FitMode::Budget {

@@ -20,16 +20,29 @@ use serde::{Deserialize, Serialize};
 use crate::fit::{FitError, FitProblem, FitSolution};
 
 /// Field-quality summary of a fit (see module docs for definitions).
+///
+/// The angle and worst-point errors are NaN where they are not defined (a
+/// synthesized motion of a grid-less `sampled` target, whose field is not
+/// simulated at the sample points, or of no positive strength); JSON
+/// writes NaN as `null`, and `null` reads back as NaN, so such a
+/// `schedule.json` loads.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct FitMetrics {
     /// `‖ω(a − s t)‖₂ / ‖ω s t‖₂`.
     pub relative_l2_error: f64,
     /// `|t|`-weighted mean angle between achieved and target vectors, deg.
+    #[serde(deserialize_with = "number_or_null")]
     pub mean_angle_error_deg: f64,
     /// `maxₚ ‖aₚ − s tₚ‖`.
+    #[serde(deserialize_with = "number_or_null")]
     pub max_error: f64,
     /// Strength `s` the target was scaled by (1 for absolute fits).
     pub strength: f64,
+}
+
+/// A number, or `null` (a metric not defined, written from NaN) as NaN.
+fn number_or_null<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
 }
 
 /// How the `2n` rows of `A` and `t` map to the `n` points.

@@ -37,6 +37,7 @@ use std::fmt::Write as _;
 
 use super::{rotate, smoothstep, Motion, Signals, V3};
 use crate::error::{positive, Error, Result};
+use crate::input::num;
 
 /// Default ramp length (cycles).
 pub const DEFAULT_RAMP_CYCLES: u32 = 10;
@@ -179,13 +180,20 @@ fn grid(period: f64, rate: f64) -> Result<(usize, f64)> {
     if n < 2.0 {
         return Err(Error::invalid(
             "--rate",
-            format!("{rate} Hz gives fewer than 2 samples per {period} s period"),
+            format!(
+                "{} Hz gives fewer than 2 samples per {} s period",
+                num(rate),
+                num(period)
+            ),
         ));
     }
     if n > MAX_SAMPLES as f64 {
         return Err(Error::invalid(
             "--rate",
-            format!("{rate} Hz gives more than {MAX_SAMPLES} samples per period"),
+            format!(
+                "{} Hz gives more than {MAX_SAMPLES} samples per period",
+                num(rate)
+            ),
         ));
     }
     Ok((n as usize, period / n))
@@ -272,7 +280,8 @@ pub struct Segment<'a> {
 /// with every join on a sample boundary: Δt = T₀/round(rate · T₀), T₀ the
 /// first motion's period. A motion segment must last a whole number of
 /// samples (within 1e-9 of Δt) and start and end at rest; rest segments are
-/// rounded to the nearest whole number of samples (at least one).
+/// rounded to the nearest whole number of samples (at least one; a rest of
+/// 0 s is left out).
 ///
 /// # Errors
 /// As [`periodic`]; a motion segment whose duration is not a whole number
@@ -290,6 +299,10 @@ pub fn sequence(segments: &[Segment<'_>], rate: f64) -> Result<HoldSamples> {
     };
     let mut v: Vec<[f64; 6]> = vec![[0.0; 6]];
     for (i, seg) in segments.iter().enumerate() {
+        // A rest of 0 s (which a schedule may hold) is no rest.
+        if seg.motion.is_none() && seg.duration == 0.0 {
+            continue;
+        }
         positive(&format!("segments[{i}].duration_s"), seg.duration)?;
         let k = (seg.duration / dt).round().max(1.0) as usize;
         let Some(m) = seg.motion else {

@@ -16,6 +16,9 @@ pub const TRANSPORT_LENGTH: f64 = 0.01;
 
 /// Default `width` (metres) of a `jet`.
 pub const DEFAULT_JET_WIDTH: f64 = 0.01;
+/// Narrowest jet (m): below about 1e-162 m the Gaussian's `2 w²`
+/// underflows to 0 and the field on the axis is 0/0 (NaN).
+pub const MIN_JET_WIDTH: f64 = 1e-6;
 
 /// Number of nearest samples used by inverse-distance interpolation.
 pub const IDW_NEIGHBORS: usize = 8;
@@ -511,10 +514,14 @@ impl FieldSpec {
                 center_strength(center, strength)?;
                 param("direction", *direction, ANGLE, "°")?;
                 check_finite(&at("width"), *width)?;
-                if !(*width > 0.0 && *width <= EXTENT) {
+                if !(MIN_JET_WIDTH..=EXTENT).contains(width) {
                     return Err(TargetError::invalid(
                         at("width"),
-                        format!("must be in (0, {EXTENT}] m, got {}", show(*width)),
+                        format!(
+                            "must be in [{}, {EXTENT}] m, got {}",
+                            show(MIN_JET_WIDTH),
+                            show(*width)
+                        ),
                     ));
                 }
                 Ok(())

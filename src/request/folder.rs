@@ -5,10 +5,14 @@ use std::path::Path;
 use super::Target;
 use crate::error::{Error, Result};
 
+/// Longest folder name (bytes) most file systems take (`NAME_MAX`).
+pub const MAX_NAME_BYTES: usize = 255;
+
 impl Target {
     /// The name of the folder for this target's results: its `name`, or the
     /// stem of the file it was loaded from (`path`) when the name is blank.
-    /// It must be a plain folder name (no `/`, `\`, no leading `.`).
+    /// It must be a plain folder name (no `/`, `\`, NUL, no leading `.`,
+    /// at most [`MAX_NAME_BYTES`] bytes), checked before any work.
     pub fn folder_name(&self, path: &Path) -> Result<String> {
         let name = if self.name.trim().is_empty() {
             path.file_stem()
@@ -17,10 +21,22 @@ impl Target {
         } else {
             self.name.clone()
         };
-        if name.contains(['/', '\\']) || name.starts_with('.') {
+        if name.len() > MAX_NAME_BYTES {
             return Err(Error::invalid(
                 "target.name",
-                format!("must be a plain folder name, got \"{name}\""),
+                format!(
+                    "must be a plain folder name of at most {MAX_NAME_BYTES} bytes, got {} bytes",
+                    name.len()
+                ),
+            ));
+        }
+        if name.contains(['/', '\\', '\0']) || name.starts_with('.') {
+            return Err(Error::invalid(
+                "target.name",
+                format!(
+                    "must be a plain folder name (no /, \\ or NUL, not starting with .), got \"{}\"",
+                    name.escape_debug()
+                ),
             ));
         }
         Ok(name)

@@ -45,11 +45,11 @@
 //!
 //! `{"period": T, "linear": [ax, ay, az], "angular": [bx, by, bz],
 //! "harmonics": H, "contact_margin": m}`, every key optional ([`ShakerSpec`]):
-//! the fundamental period (s, in (0, 10]), the peak plate-centre
-//! accelerations allowed per world axis (m/s² and rad/s², finite, ≥ 0, of
-//! the summed signal), the harmonics 1..=H of 2π/T the controller may play
-//! (1..=16) and the least normal force to keep everywhere in the region as a
-//! fraction of g ([0, 1)). Keys left out take the envelope of the paper's
+//! the fundamental period (s, in [1e-4, 10]), the peak plate-centre
+//! accelerations allowed per world axis (of the summed signal: linear in
+//! [0, 1e4] m/s², angular in [0, 1e5] rad/s²), the harmonics 1..=H of
+//! 2π/T the controller may play (1..=16) and the least normal force to keep
+//! everywhere in the region as a fraction of g ([0, 1)). Keys left out take the envelope of the paper's
 //! primitives ([`crate::synth::ShakerLimits::paper_envelope`]: T = 2π/209 s,
 //! linear [45.28, 45.28, 0.109] m/s², angular [218.4, 218.4, 9055] rad/s²,
 //! H = 2, m = 0.1). Sequenced designs report the per-axis peaks they use
@@ -106,7 +106,7 @@
 //! | `scaled_circle` | — | `s (-dy, dx)` |
 //! | `trans` | `direction` (0) | `s t̂` (uniform; `center` is accepted but has no effect) |
 //! | `squeeze_trans` | `angle` (0): direction of the line; `transport` ρₜ (1) | `s (-(n·d) n + ρₜ L t̂)` with `L = 0.01 m` ([`TRANSPORT_LENGTH`]) |
-//! | `jet` | `direction` (0); `width` w (0.01 m, > 0) | `s exp(-(n·d)² / (2 w²)) t̂` |
+//! | `jet` | `direction` (0); `width` w (0.01 m, in [1e-6, 1] m) | `s exp(-(n·d)² / (2 w²)) t̂` |
 //! | `sum` | `terms`: `[{"weight": w (1), "field": {...}}, ...]`, at least one | `Σ wᵢ fᵢ(p)` |
 //! | `sampled` | `points`, `vectors`, `interpolation` (`"idw"`) | interpolated samples |
 //!
@@ -184,10 +184,12 @@ pub use error::TargetError;
 pub use examples::examples;
 pub use field::{
     FieldSpec, Interpolation, SumTerm, ANGLE, COINCIDENT, DEFAULT_JET_WIDTH, EXTENT, FIELD_KINDS,
-    IDW_NEIGHBORS, MAX_SAMPLED_POINTS, MAX_TERMS, RATIO, SPEED, STRENGTH, TRANSPORT_LENGTH, WEIGHT,
+    IDW_NEIGHBORS, MAX_SAMPLED_POINTS, MAX_TERMS, MIN_JET_WIDTH, RATIO, SPEED, STRENGTH,
+    TRANSPORT_LENGTH, WEIGHT,
 };
+pub use folder::MAX_NAME_BYTES;
 pub use grid::{scattered_grid, Grid, MaskRegion, MAX_GRID_N, SCATTERED_N, SCATTERED_SPACING};
-pub use shaker::{ShakerSpec, MAX_HARMONICS, MAX_PERIOD_S};
+pub use shaker::{ShakerSpec, MAX_HARMONICS, MAX_PERIOD_S, MIN_PERIOD_S};
 
 use error::show;
 
@@ -853,7 +855,7 @@ mod tests {
         );
         assert_err(
             &with_field(r#"{"kind": "jet", "width": 0}"#),
-            &["target.field.width: must be in (0, 1] m, got 0"],
+            &["target.field.width: must be in [0.000001, 1] m, got 0"],
         );
     }
 

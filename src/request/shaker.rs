@@ -10,10 +10,14 @@
 //! ```
 //!
 //! Ranges (checked here, and by `ShakerLimits::validate` through
-//! [`ShakerSpec::validate`], so they are stated once): `period` in (0, 10] s;
-//! each `linear` (m/s²) and `angular` (rad/s²) peak finite and ≥ 0 (0
-//! forbids the axis); `harmonics` in 1..=[`MAX_HARMONICS`]; `contact_margin`
-//! a fraction of g in [0, 1).
+//! [`ShakerSpec::validate`], so they are stated once): `period` in
+//! [1e-4, 10] s (the shortest a scene or schedule motion may have,
+//! [`crate::scene::PERIOD`]); each `linear` peak in [0, 1e4] m/s² and
+//! `angular` peak in [0, 1e5] rad/s² (0 forbids the axis; the largest a
+//! scene or schedule signal may have, [`crate::scene::LINEAR_ACCEL`] and
+//! [`crate::scene::ANGULAR_ACCEL`], so a synthesized motion can be read
+//! back); `harmonics` in 1..=[`MAX_HARMONICS`]; `contact_margin` a
+//! fraction of g in [0, 1).
 
 use serde::{Deserialize, Serialize};
 
@@ -24,6 +28,10 @@ use super::TargetError;
 pub const MAX_HARMONICS: u32 = 16;
 /// Longest fundamental period (s).
 pub const MAX_PERIOD_S: f64 = 10.0;
+/// Shortest fundamental period (s): the scene and schedule minimum
+/// ([`crate::scene::PERIOD`]). A period of 1e-300 s made the synthesis
+/// run without end, and one below it wrote motions no command could read.
+pub const MIN_PERIOD_S: f64 = *crate::scene::PERIOD.start();
 
 /// The `shaker` object of a target, as written (missing keys `None`).
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
@@ -52,19 +60,35 @@ impl ShakerSpec {
     /// errors name `{field}.period`, `{field}.linear[i]`, ….
     pub fn validate(&self, field: &str) -> Result<(), TargetError> {
         if let Some(p) = self.period {
-            if !(p.is_finite() && p > 0.0 && p <= MAX_PERIOD_S) {
+            if !(p.is_finite() && (MIN_PERIOD_S..=MAX_PERIOD_S).contains(&p)) {
                 return Err(TargetError::invalid(
                     format!("{field}.period"),
-                    format!("must be a period in (0, {MAX_PERIOD_S}] s, got {}", show(p)),
+                    format!(
+                        "must be a period in [{}, {MAX_PERIOD_S}] s, got {}",
+                        show(MIN_PERIOD_S),
+                        show(p)
+                    ),
                 ));
             }
         }
-        for (name, values) in [("linear", self.linear), ("angular", self.angular)] {
+        for (name, values, max, unit) in [
+            ("linear", self.linear, crate::scene::LINEAR_ACCEL, "m/s²"),
+            (
+                "angular",
+                self.angular,
+                crate::scene::ANGULAR_ACCEL,
+                "rad/s²",
+            ),
+        ] {
             for (i, v) in values.iter().flatten().enumerate() {
-                if !(v.is_finite() && *v >= 0.0) {
+                if !(v.is_finite() && (0.0..=max).contains(v)) {
                     return Err(TargetError::invalid(
                         format!("{field}.{name}[{i}]"),
-                        format!("must be a finite peak acceleration ≥ 0, got {}", show(*v)),
+                        format!(
+                            "must be a peak acceleration in [0, {}] {unit}, got {}",
+                            show(max),
+                            show(*v)
+                        ),
                     ));
                 }
             }

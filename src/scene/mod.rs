@@ -60,6 +60,7 @@ use crate::input;
 use crate::motion::Motion;
 
 pub use validate::primitive as validate_primitive;
+pub use validate::signals as validate_signals;
 pub use validate::{
     ANGULAR_ACCEL, GRAVITY, GRID_EXTENT, GRID_N, HARMONIC, LINEAR_ACCEL, MAX_ITERATIONS, MU,
     PERIOD, PHASES, ROTATION, STEPS_PER_CYCLE, TERMS, TRANSLATION,

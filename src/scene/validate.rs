@@ -192,7 +192,12 @@ fn screw(s: &Screw, path: &str) -> Result<()> {
     })
 }
 
-fn signals(s: &Signals, path: &str) -> Result<()> {
+/// Checks a six-signal motion against the scene ranges (period in
+/// [`PERIOD`], at most [`TERMS`] terms per signal, each amplitude within
+/// [`LINEAR_ACCEL`] or [`ANGULAR_ACCEL`], phase within ±1000 rad,
+/// harmonic in [`HARMONIC`]); errors name `path.linear.x[0].amplitude` etc.
+/// Used for scene signals and for schedule segments alike.
+pub fn signals(s: &Signals, path: &str) -> Result<()> {
     period(&format!("{path}.period"), s.period)?;
     let groups: [(&str, &Axes, Role); 2] = [
         ("linear", &s.linear, TRANSLATION_ROLE),

@@ -178,7 +178,8 @@ fn sequence_samples(schedule: &Schedule, rate: f64) -> Result<sample_hold::HoldS
         return Err(Error::invalid(
             "--rate",
             format!(
-                "{rate} Hz over a {:.3} s schedule is more than 5e7 samples",
+                "{} Hz over a {:.3} s schedule is more than 5e7 samples",
+                crate::input::num(rate),
                 schedule.period_s
             ),
         ));

@@ -135,7 +135,7 @@ impl Segment {
                 "a segment holds a primitive or a six-signal motion, not both",
             )),
             (Some(p), None) => crate::scene::validate_primitive(p, &format!("{at}.primitive")),
-            (None, Some(s)) => s.validate(&format!("{at}.motion")),
+            (None, Some(s)) => crate::scene::validate_signals(s, &format!("{at}.motion")),
             (None, None) => Ok(()),
         }
     }
@@ -372,6 +372,20 @@ impl Schedule {
         let s = &self.settings;
         s.friction.validate("settings.friction")?;
         s.numerics.validate("settings.numerics")?;
+        // The scene's bound: every cycle-map evaluation of a steady state
+        // that does not converge is played (1e9 ran for hours).
+        let iterations = &crate::scene::MAX_ITERATIONS;
+        if !iterations.contains(&s.numerics.max_iterations) {
+            return Err(Error::invalid(
+                "settings.numerics.max_iterations",
+                format!(
+                    "must be in {}..={}, got {}",
+                    iterations.start(),
+                    iterations.end(),
+                    s.numerics.max_iterations
+                ),
+            ));
+        }
         positive("settings.gravity", s.gravity)?;
         // The scene ranges of the physics (a schedule is played like a scene).
         for (path, v, max) in [
@@ -485,10 +499,18 @@ impl Schedule {
     /// `OUT/<target>/`).
     pub fn target_folder(&self) -> Result<&str> {
         let name = self.target.as_str();
-        if name.trim().is_empty() || name.contains(['/', '\\']) || name.starts_with('.') {
+        if name.trim().is_empty()
+            || name.contains(['/', '\\', '\0'])
+            || name.starts_with('.')
+            || name.len() > crate::request::MAX_NAME_BYTES
+        {
             return Err(Error::invalid(
                 "target",
-                format!("must be a plain folder name, got \"{name}\""),
+                format!(
+                    "must be a plain folder name (at most {} bytes, no /, \\ or NUL, not starting with .), got \"{}\"",
+                    crate::request::MAX_NAME_BYTES,
+                    crate::input::short(name).escape_debug()
+                ),
             ));
         }
         Ok(name)

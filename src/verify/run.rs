@@ -492,6 +492,15 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest) -> Result<VerifyRe
             v.points.len()
         )));
     }
+    if v.rms_predicted == 0.0 {
+        // Nothing moves in the prediction (every segment too gentle for
+        // the parts to slip): the relative and shape errors are 0/0.
+        return Err(Error::Physical(format!(
+            "{}: no predicted field: the time-weighted steady-state field is zero at all {} valid points (the parts stick to the plate in every segment), so there is nothing to verify",
+            path.display(),
+            v.valid
+        )));
+    }
     progress.set_message("swarm");
     let swarm = run_swarm_ticked(
         &sm,
