@@ -20,3 +20,49 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     }
     crate::plot::write_atomic(path, bytes).map_err(io)
 }
+
+/// Checks, before a long computation, that `dir` can be created and written
+/// to (`arg` names the option it came from): its nearest existing ancestor
+/// must be a folder in which a file can be made. Probes with a file it
+/// removes at once, so nothing is left behind whether it succeeds or not.
+pub fn check_writable(dir: &Path, arg: &str) -> Result<()> {
+    let refuse = |why: String| Error::invalid(arg, format!("{}: {why}", dir.display()));
+    let mut probe_dir = dir;
+    while !probe_dir.as_os_str().is_empty() && !probe_dir.exists() {
+        match probe_dir.parent() {
+            Some(p) => probe_dir = p,
+            None => break,
+        }
+    }
+    let probe_dir = if probe_dir.as_os_str().is_empty() {
+        Path::new(".")
+    } else {
+        probe_dir
+    };
+    if !probe_dir.is_dir() {
+        return Err(refuse(format!(
+            "{} is not a folder, so the results cannot be written under it",
+            probe_dir.display()
+        )));
+    }
+    let probe = probe_dir.join(format!(".platefield-probe-{}", std::process::id()));
+    std::fs::write(&probe, b"")
+        .and_then(|()| std::fs::remove_file(&probe))
+        .map_err(|e| refuse(format!("cannot write in {}: {e}", probe_dir.display())))
+}
+
+/// Removes from `dir` the files among `products` that this run did not
+/// write (`written`): a folder of results holds one run's files, not a mix
+/// with an earlier run's (other files and folders are left alone).
+pub fn remove_stale(dir: &Path, products: &[&str], written: &[&str]) -> Result<()> {
+    for name in products.iter().filter(|n| !written.contains(n)) {
+        let path = dir.join(name);
+        if path.is_file() {
+            std::fs::remove_file(&path).map_err(|e| Error::Io {
+                path: path.display().to_string(),
+                source: e,
+            })?;
+        }
+    }
+    Ok(())
+}

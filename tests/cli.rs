@@ -1047,3 +1047,91 @@ fn schedules_design_writes_are_read_back() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A shaker whose synthesized motion keeps no part on the plate anywhere
+/// (a 10 s period: the envelope's 218 rad/s² is a tilt of hundreds of
+/// radians) is no design: `--method synthesize` exits 2 saying so, with
+/// nothing written; `auto` keeps the sequenced schedule and says why.
+#[test]
+fn synthesis_that_keeps_no_part_on_the_plate_is_refused() {
+    let dir = temp_dir("design-no-contact");
+    let out = dir.to_str().unwrap();
+    let mut t: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string("targets/sink.json").unwrap()).unwrap();
+    t["shaker"] = serde_json::json!({"period": 10.0});
+    t["grid"]["n"] = serde_json::json!([7, 7]);
+    let file = dir.join("t.json");
+    std::fs::write(&file, t.to_string()).unwrap();
+    let f = file.to_str().unwrap();
+    let (code, _, err) = platefield(&["design", f, "--method", "synthesize", "--out", out]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("keeps no part on the plate anywhere in the region")
+            && err.contains("period 10 s"),
+        "{err}"
+    );
+    assert!(!dir.join("sink").exists(), "wrote files: {err}");
+    let (code, stdout, err) = platefield(&["design", f, "--out", out, "--quiet"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        stdout.contains("synthesize failed: the synthesized motion keeps no part"),
+        "{stdout}"
+    );
+    assert!(!stdout.contains("inf %"), "{stdout}");
+}
+
+/// A design folder holds one design: a sequenced run into the folder of a
+/// synthesized one removes its `signals.svg` (and leaves files that are not
+/// the design's alone); an `--out` under a file is refused before the
+/// design, naming `--out`, with nothing written.
+#[test]
+fn design_folder_holds_one_design_and_out_is_checked_first() {
+    let dir = temp_dir("design-stale");
+    let out = dir.to_str().unwrap();
+    let mut t: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string("targets/sink.json").unwrap()).unwrap();
+    t["grid"]["n"] = serde_json::json!([7, 7]);
+    let file = dir.join("t.json");
+    std::fs::write(&file, t.to_string()).unwrap();
+    let f = file.to_str().unwrap();
+    let args = [
+        "--synth-evaluations",
+        "20",
+        "--polish-plays",
+        "0",
+        "--quiet",
+    ];
+    let (code, _, err) = platefield(
+        &[
+            &["design", f, "--method", "synthesize", "--out", out][..],
+            &args[..],
+        ]
+        .concat(),
+    );
+    assert_eq!(code, 0, "{err}");
+    let folder = dir.join("sink");
+    assert!(folder.join("signals.svg").is_file());
+    std::fs::write(folder.join("notes.txt"), "mine").unwrap();
+    let (code, stdout, err) =
+        platefield(&["design", f, "--method", "sequence", "--out", out, "--quiet"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(!stdout.contains("signals.svg"), "{stdout}");
+    assert!(
+        !folder.join("signals.svg").exists(),
+        "stale signals.svg left"
+    );
+    for kept in ["schedule.json", "fit.svg", "report.md", "notes.txt"] {
+        assert!(folder.join(kept).is_file(), "{kept} missing");
+    }
+    let blocker = dir.join("a_file");
+    std::fs::write(&blocker, "").unwrap();
+    let under = blocker.join("x");
+    let start = std::time::Instant::now();
+    let (code, _, err) = platefield(&["design", f, "--out", under.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("--out") && err.contains("is not a folder"),
+        "{err}"
+    );
+    assert!(start.elapsed().as_secs_f64() < 5.0, "not refused at once");
+}

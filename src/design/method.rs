@@ -569,6 +569,26 @@ pub fn synthesize_schedule(
 ) -> Result<(Synthesis, Schedule)> {
     let grid = region(target, sampled);
     let syn = synthesize(&target.field, &grid, limits, &opts.settings, synth)?;
+    // A motion that keeps no part on the plate anywhere is no design: said
+    // as such (an error; `auto` keeps the other method and says why).
+    if syn.realised.invalid >= syn.field.grid.len() {
+        return Err(Error::Physical(format!(
+            "the synthesized motion keeps no part on the plate anywhere in the region: all {} samples lose contact or do not converge (least N {:.3} m/s², the margin asks ≥ {:.3}); the shaker limits (period {} s, linear peaks [{:.3}, {:.3}, {:.3}] m/s², angular peaks [{:.1}, {:.1}, {:.1}] rad/s², a tilt of up to {:.3} rad at harmonic 1) give no motion that keeps contact",
+            syn.field.grid.len(),
+            syn.least_normal,
+            limits.contact_margin * opts.settings.gravity,
+            crate::input::num(limits.period),
+            limits.linear[0],
+            limits.linear[1],
+            limits.linear[2],
+            limits.angular[0],
+            limits.angular[1],
+            limits.angular[2],
+            // Harmonic 1: angle = angular acceleration / ω².
+            limits.angular[0].max(limits.angular[1])
+                * (limits.period / std::f64::consts::TAU).powi(2),
+        )));
+    }
     let (syn, polished) = polish_played(target, sampled, &grid, limits, opts, synth, syn)?;
     // The synthesized field at the target's points (the region grid is the
     // target's grid when it has one).

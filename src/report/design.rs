@@ -225,6 +225,31 @@ pub fn write(d: &Design, dir: &Path) -> Result<()> {
     Ok(())
 }
 
+/// Every file `design` may write in `OUT/<target name>/`: a run removes
+/// those of them it did not write, so that the folder holds one design
+/// (a sequenced run after a synthesized one leaves no `signals.svg`).
+pub const DESIGN_FILES: [&str; 8] = [
+    "schedule.json",
+    "schedule_open_loop.json",
+    "closed_loop.md",
+    "closed_loop.json",
+    "fit.svg",
+    "report.md",
+    "signals.svg",
+    "order.md",
+];
+
+/// The files of a closed-loop design (and `order.md` when the order search
+/// ran).
+const CLOSED_LOOP_FILES: [&str; 6] = [
+    "schedule.json",
+    "schedule_open_loop.json",
+    "closed_loop.md",
+    "closed_loop.json",
+    "fit.svg",
+    "report.md",
+];
+
 /// `platefield design`: loads the target at `path`, designs it by
 /// `method` (the closed loop, when `closed_loop` is given, re-fits the
 /// sequenced design only), plays every candidate, writes
@@ -244,6 +269,7 @@ pub fn run(
     let mut target = crate::request::Target::load(path)?;
     target.name = target.folder_name(path)?;
     let dir = out.join(&target.name);
+    crate::output::check_writable(&dir, "--out")?;
     if let Some(l) = closed_loop {
         l.validate()?;
         if matches!(method, Method::Synthesize | Method::Mix) {
@@ -255,6 +281,11 @@ pub fn run(
         let d = crate::design::design(&target, opts)?;
         let result = cl::closed_loop(&target, &d, l)?;
         super::closed_loop::write(&d, &target, &result, &dir)?;
+        let mut written = CLOSED_LOOP_FILES.to_vec();
+        if d.order_search.is_some() {
+            written.push("order.md");
+        }
+        crate::output::remove_stale(&dir, &DESIGN_FILES, &written)?;
         if json {
             return super::closed_loop::schedule_json(&d, &target, &result);
         }
@@ -267,6 +298,7 @@ pub fn run(
     }
     let md = crate::design::design_by_method(&target, opts, synth, method)?;
     let files = super::method::write(&md, &dir)?;
+    crate::output::remove_stale(&dir, &DESIGN_FILES, &files)?;
     if json {
         return md.kept().schedule.to_json();
     }

@@ -405,6 +405,7 @@ pub fn run(
     out: &Path,
     json: bool,
 ) -> Result<String> {
+    crate::output::check_writable(out, "--out")?;
     let r = crate::verify::verify_schedule_file(path, req)?;
     let files = write(&r, out)?;
     if json {

@@ -160,13 +160,21 @@ impl Synthesis {
     /// full grid, evaluations, time, least N, POOR and notes.
     pub fn summary(&self) -> String {
         let n = self.field.grid.n;
+        // A shape error is infinite where the strength is not positive.
+        let pct = |x: f64, digits: usize| {
+            if x.is_finite() {
+                format!("{:.digits$} %", 100.0 * x)
+            } else {
+                "n/a".into()
+            }
+        };
         format!(
-            "seed {:.4} predicted, {:.4} at {:.1} % realised (coarse); synthesized {:.4} at {:.2} % ({}×{}), {} evaluations, {:.1} s, least N {:.2} m/s²{}{}",
+            "seed {:.4} predicted, {:.4} at {} realised (coarse); synthesized {:.4} at {} ({}×{}), {} evaluations, {:.1} s, least N {:.2} m/s²{}{}",
             self.seed_strength,
             self.seed_realised.strength,
-            100.0 * self.seed_realised.shape_error,
+            pct(self.seed_realised.shape_error, 1),
             self.realised.strength,
-            100.0 * self.realised.shape_error,
+            pct(self.realised.shape_error, 2),
             n[0],
             n[1],
             self.evaluations,
@@ -348,7 +356,8 @@ impl Checked {
                 "no positive strength: the motion does not move parts the target's way".into(),
             );
         }
-        if r.shape_error > POOR_SHAPE_ERROR {
+        // (Not finite where the strength is not positive: said above.)
+        if r.shape_error > POOR_SHAPE_ERROR && r.shape_error.is_finite() {
             notes.push(format!(
                 "shape error {:.1} % > {:.0} %",
                 100.0 * r.shape_error,
