@@ -10,12 +10,15 @@
 //! custom error, so the path survives any nesting (a `sum` target inside a
 //! `sum`). Messages are then worded as the rest of the crate words them
 //! (`must be a number, got string "big"`, `unknown field (expected one of …)`),
-//! with numbers short ([`num`]). Ranges are not checked here: each input
+//! with numbers short ([`num`]). A key given twice in one object is an
+//! error at that key (serde_json's `Value` would keep the last silently).
+//! Ranges are not checked here: each input
 //! has its own `validate` pass after this one.
 
-use serde::de::{DeserializeOwned, Deserializer, Error as _};
+use serde::de::{DeserializeOwned, Deserializer, Error as _, MapAccess, SeqAccess, Visitor};
 use serde::Deserialize;
-use serde_json::{Map, Value};
+use serde_json::map::Entry;
+use serde_json::{Map, Number, Value};
 use serde_path_to_error::Segment;
 
 /// A located input error: the JSON path (starting with the root name, e.g.
@@ -45,7 +48,7 @@ pub fn from_str<T: DeserializeOwned>(text: &str, root: &str) -> Result<T, InputE
         };
         tidy(format!("{root}{path}{sub}"), &message)
     };
-    let value: Value = serde_path_to_error::deserialize(&mut de)
+    let Unique(value) = serde_path_to_error::deserialize(&mut de)
         .map_err(|e| located(path_string(e.path()), e.inner()))?;
     de.end().map_err(|e| located(String::new(), &e))?;
     // serde reads a struct from an array too; a file is an object.
@@ -56,6 +59,95 @@ pub fn from_str<T: DeserializeOwned>(text: &str, root: &str) -> Result<T, InputE
         });
     }
     read(value, "").map_err(|(path, message)| tidy(format!("{root}{path}"), &message))
+}
+
+/// A JSON value read with every object's keys checked for repeats: the
+/// text is read once, straight into a [`Value`] (no second pass), and a key
+/// given twice in one object is an error located at that key
+/// (`target.grid.n: duplicate key "n" ...`). `serde_json::Value` itself
+/// keeps the last of a repeated key without a word, so a file with
+/// `"name": "a", "name": "b"` was read as `"b"`.
+struct Unique(Value);
+
+impl<'de> Deserialize<'de> for Unique {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        d.deserialize_any(UniqueVisitor).map(Unique)
+    }
+}
+
+/// Builds the [`Value`] of [`Unique`]; the same values `Value` builds.
+struct UniqueVisitor;
+
+impl<'de> Visitor<'de> for UniqueVisitor {
+    type Value = Value;
+
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str("any JSON value")
+    }
+
+    fn visit_bool<E>(self, v: bool) -> Result<Value, E> {
+        Ok(Value::Bool(v))
+    }
+
+    fn visit_i64<E>(self, v: i64) -> Result<Value, E> {
+        Ok(Value::Number(v.into()))
+    }
+
+    fn visit_u64<E>(self, v: u64) -> Result<Value, E> {
+        Ok(Value::Number(v.into()))
+    }
+
+    fn visit_f64<E>(self, v: f64) -> Result<Value, E> {
+        Ok(Number::from_f64(v).map_or(Value::Null, Value::Number))
+    }
+
+    fn visit_str<E>(self, v: &str) -> Result<Value, E> {
+        Ok(Value::String(v.to_owned()))
+    }
+
+    fn visit_string<E>(self, v: String) -> Result<Value, E> {
+        Ok(Value::String(v))
+    }
+
+    fn visit_unit<E>(self) -> Result<Value, E> {
+        Ok(Value::Null)
+    }
+
+    fn visit_none<E>(self) -> Result<Value, E> {
+        Ok(Value::Null)
+    }
+
+    fn visit_some<D: Deserializer<'de>>(self, d: D) -> Result<Value, D::Error> {
+        Unique::deserialize(d).map(|u| u.0)
+    }
+
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Value, A::Error> {
+        let mut items = Vec::with_capacity(seq.size_hint().unwrap_or(0).min(4096));
+        while let Some(Unique(v)) = seq.next_element()? {
+            items.push(v);
+        }
+        Ok(Value::Array(items))
+    }
+
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Value, A::Error> {
+        let mut out = Map::new();
+        while let Some(key) = map.next_key::<String>()? {
+            match out.entry(key) {
+                Entry::Occupied(e) => {
+                    let message = format!(
+                        "duplicate key \"{}\" (a key may appear only once in an object)",
+                        short(e.key())
+                    );
+                    return Err(marked(&format!(".{}", e.key()), &message));
+                }
+                Entry::Vacant(e) => {
+                    let Unique(v) = map.next_value()?;
+                    e.insert(v);
+                }
+            }
+        }
+        Ok(Value::Object(out))
+    }
 }
 
 /// `path` written as `.key[3].key` (relative, empty at the root).
@@ -438,6 +530,9 @@ mod tests {
             (r#"{"a": {}}"#.into(), "top.a: must be an array, got an object"),
             (r#"{"a": []} x"#.into(), "top: invalid JSON: trailing characters"),
             (r#"{"a": [}"#.into(), "top.a[0]: invalid JSON: expected value"),
+            (r#"{"a": [], "n": 1, "n": 2}"#.into(), "top.n: duplicate key \"n\" (a key may appear only once"),
+            (nest(r#"{"type": "disc", "radius": 1, "radius": 2}"#), "top.a[1].shape.of[1].radius: duplicate key \"radius\""),
+            (nest(r#"{"type": "disc", "type": "dot"}"#), "top.a[1].shape.of[1].type: duplicate key \"type\""),
         ];
         for (text, want) in cases {
             let got = err(&text);

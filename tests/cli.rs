@@ -1135,3 +1135,105 @@ fn design_folder_holds_one_design_and_out_is_checked_first() {
     );
     assert!(start.elapsed().as_secs_f64() < 5.0, "not refused at once");
 }
+
+/// Writes `text` to `dir/name` and returns the path.
+fn text_file(dir: &Path, name: &str, text: &str) -> String {
+    let file = dir.join(name);
+    std::fs::write(&file, text).unwrap();
+    file.to_str().unwrap().to_string()
+}
+
+/// Audit: a key given twice in one JSON object was read silently as its
+/// last value (`{"name": "a", "name": "b"}` designed "b"), in targets,
+/// scenes and schedules alike. Every command refuses it (exit 2), naming
+/// the key's JSON path, and writes nothing.
+#[test]
+fn duplicate_keys_are_refused_naming_the_path() {
+    let dir = temp_dir("duplicate-keys");
+    let out = dir.join("out");
+    let o = out.to_str().unwrap();
+    let csv = dir.join("signals.csv");
+    let c = csv.to_str().unwrap();
+    // A target: the top-level name.
+    let target = text_file(
+        &dir,
+        "target.json",
+        r#"{"name": "a", "name": "dupname",
+            "grid": {"x": [-0.02, 0.02], "y": [-0.02, 0.02], "n": [7, 7]},
+            "field": {"kind": "sink"}}"#,
+    );
+    // A scene: a nested key.
+    let scene = std::fs::read_to_string("targets/scenes/linesink.json").unwrap();
+    let scene = scene.replace("\"n\": [11, 11]}", "\"n\": [11, 11], \"n\": [3, 3]}");
+    assert!(scene.contains("\"n\": [3, 3]"));
+    let scene = text_file(&dir, "scene.json", &scene);
+    // A schedule: deep inside a six-signal segment.
+    let mut s = synthesized_schedule();
+    s["segments"][0]["motion"]["linear"]["x"][0]["amplitude"] = serde_json::json!(1234.5);
+    let text = s.to_string().replace(
+        "\"amplitude\":1234.5",
+        "\"amplitude\":1234.5,\"amplitude\":1.0",
+    );
+    assert!(text.contains("\"amplitude\":1.0"));
+    let schedule = text_file(&dir, "schedule.json", &text);
+    let deep = "schedule.segments[0].motion.linear.x[0].amplitude: duplicate key \"amplitude\"";
+    let field_out = dir.join("field.json");
+    let f = field_out.to_str().unwrap();
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (
+            vec![
+                "design",
+                &target,
+                "--method",
+                "sequence",
+                "--primitives",
+                "LineSink",
+                "--rotation-step",
+                "90",
+                "--quiet",
+                "--out",
+                o,
+            ],
+            "target.name: duplicate key \"name\" (a key may appear only once in an object)",
+        ),
+        (
+            vec!["field", &scene, "--quiet", "--out", f],
+            "scene.grid.n: duplicate key \"n\"",
+        ),
+        (
+            vec!["export", &schedule, "--rate", "1000", "--out", c],
+            deep,
+        ),
+        (
+            vec![
+                "verify",
+                &schedule,
+                "--points",
+                "2",
+                "--swarm",
+                "2",
+                "--rect-poses",
+                "0",
+                "--quiet",
+                "--out",
+                o,
+            ],
+            deep,
+        ),
+        (vec!["order", &schedule, "--quiet", "--out", o], deep),
+    ];
+    for (args, needle) in cases {
+        let (code, stdout, err) = platefield(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(
+            err.contains(needle),
+            "{args:?}: {err:?} should contain {needle:?}"
+        );
+        assert!(stdout.is_empty(), "{args:?}: {stdout}");
+        assert!(
+            !out.exists() && !csv.exists() && !field_out.exists(),
+            "{args:?} wrote output"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
