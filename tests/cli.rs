@@ -1031,7 +1031,7 @@ fn schedules_design_writes_are_read_back() {
     for (rate, needle) in [
         (
             "1e300",
-            "--rate: 1e300 Hz over a 1.203 s schedule is more than 5e7 samples",
+            "--rate: 1e300 Hz over one 1.2025 s schedule period is about 1.203e300 rows, 1.4e293 GB of CSV",
         ),
         (
             "1e-300",
@@ -1234,6 +1234,62 @@ fn duplicate_keys_are_refused_naming_the_path() {
             !out.exists() && !csv.exists() && !field_out.exists(),
             "{args:?} wrote output"
         );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Audit: `export results/sink/schedule.json --rate 4e7` wrote a 5.7 GB
+/// CSV (4.8e7 rows, built in memory: 7.8 GB, 92 s), exit 0, under the
+/// sampler's 5e7-sample bound. The rows are estimated before anything is
+/// sampled and an export over 1e7 rows (≈ 1.2 GB) is refused at once,
+/// exit 2, naming `--rate` (or `--steady-cycles` when they are what is too
+/// many), the estimate, its size and the largest rate that fits; no file
+/// is written.
+#[test]
+fn export_refuses_an_oversized_file_at_once() {
+    let dir = temp_dir("export-size");
+    let csv = dir.join("signals.csv");
+    let c = csv.to_str().unwrap();
+    let cases: [(&[&str], &[&str]); 3] = [
+        (
+            &["results/sink/schedule.json", "--rate", "4e7"],
+            &[
+                "--rate: 4e7 Hz over 10 + 20 (--steady-cycles) + 10 cycles",
+                "about 4.810e7 rows, 5.7 GB of CSV, over the limit of 1e7 rows",
+                "the largest --rate that fits is 8.31e6 Hz",
+            ],
+        ),
+        (
+            &["results/sink/schedule.json", "--steady-cycles", "4000000"],
+            &[
+                "--steady-cycles: 10000 Hz over 10 + 4000000 (--steady-cycles)",
+                "GB of CSV",
+                "at most 33202 --steady-cycles at this rate",
+            ],
+        ),
+        (
+            &["results/line_sink/schedule.json", "--rate", "4e7"],
+            &[
+                "--rate: 4e7 Hz over one 0.6013 s schedule period is about 2.405e7 rows, 2.8 GB",
+                "the largest --rate that fits is 1.66e7 Hz",
+            ],
+        ),
+    ];
+    for (args, needles) in cases {
+        let mut a = vec!["export"];
+        a.extend_from_slice(args);
+        a.extend_from_slice(&["--out", c]);
+        let start = std::time::Instant::now();
+        let (code, _, err) = platefield(&a);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(
+            start.elapsed().as_secs_f64() < 10.0,
+            "{args:?}: not refused at once"
+        );
+        for n in needles {
+            assert!(err.contains(n), "{args:?}: {err:?} should contain {n:?}");
+        }
+        assert!(!csv.exists(), "{args:?}: nothing may be written");
     }
     let _ = std::fs::remove_dir_all(&dir);
 }

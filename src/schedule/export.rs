@@ -32,12 +32,29 @@
 
 use super::Schedule;
 use crate::error::{positive, Error, Result};
+use crate::input::num;
 use crate::motion::{rotate, sample_hold, Motion, V3};
 
 pub use sample_hold::DEFAULT_STEADY_CYCLES;
 
 /// Ramp length (cycles of the motion) of a six-signal export, in and out.
 pub const RAMP_CYCLES: u32 = sample_hold::DEFAULT_RAMP_CYCLES;
+
+/// Most rows (samples) an export may hold. A real export is measured at
+/// 118–119 bytes per row (`results/sink` and `results/line_sink` at
+/// 100 kHz: 14.2 MB for 120 240 rows, 7.17 MB for 60 120), at most about
+/// 128; the file is built in memory, with the samples, about 160 bytes per
+/// row at the peak (a 4.8e7-row export took 7.8 GB). 1e7 rows is then
+/// ≈ 1.2 GB of CSV and ≈ 1.6 GB of memory: 100 kHz (well above a shaker
+/// controller's usual 5–20 kHz) for 100 s, or the default 10 kHz for
+/// 1000 s, far more than the ≈ 1 s period of a designed schedule. The
+/// sampler's own bound ([`sample_hold::MAX_SAMPLES`], 5e7) let a 5.7 GB
+/// file through without a word.
+pub const MAX_EXPORT_ROWS: f64 = 1e7;
+
+/// Bytes per CSV row used to state an export's size (measured; see
+/// [`MAX_EXPORT_ROWS`]).
+pub const BYTES_PER_ROW: f64 = 118.0;
 
 /// A schedule's exported samples and how they were laid out.
 #[derive(Debug, Clone, PartialEq)]
@@ -86,12 +103,13 @@ pub fn export(schedule: &Schedule, rate: f64, steady: u32) -> Result<Export> {
     schedule.validate()?;
     let schedule = &schedule.with_segments(schedule.segments.clone());
     // A steady six-signal segment is, by `validate`, the one moving segment.
-    if let Some(motion) = schedule
+    let steady_motion = schedule
         .segments
         .iter()
         .find(|s| s.motion.is_some() && s.ramp_cycles.is_none())
-        .and_then(|s| s.plate_motion())
-    {
+        .and_then(|s| s.plate_motion());
+    check_size(schedule, steady_motion.as_ref(), rate, steady)?;
+    if let Some(motion) = steady_motion {
         let samples = sample_hold::ramped(&motion, rate, RAMP_CYCLES, steady)?;
         return Ok(Export {
             samples,
@@ -102,6 +120,129 @@ pub fn export(schedule: &Schedule, rate: f64, steady: u32) -> Result<Export> {
         samples: sequence_samples(schedule, rate)?,
         ramped: None,
     })
+}
+
+/// Rows an export of `schedule` at `rate` would hold (before anything is
+/// sampled), as the samplers lay them out: Δt = T/round(rate·T) with T the
+/// period of the (first) motion; `ramped` is the steady six-signal motion
+/// played 2·[`RAMP_CYCLES`] + `steady` cycles, else every segment is a whole
+/// number of samples (a rest at least one, a rest of 0 s none). `None`
+/// when the rate gives fewer than 2 samples per period (the sampler says so).
+fn estimated_rows(
+    schedule: &Schedule,
+    ramped: Option<&Motion>,
+    rate: f64,
+    steady: u32,
+) -> Option<f64> {
+    let first = ramped.map(Motion::period).or_else(|| {
+        schedule
+            .segments
+            .iter()
+            .find_map(|s| s.plate_motion())
+            .map(|m| m.period())
+    });
+    let dt = match first {
+        Some(t) => {
+            let n = (rate * t).round();
+            if n < 2.0 {
+                return None;
+            }
+            if ramped.is_some() {
+                return Some(n * (2.0 * f64::from(RAMP_CYCLES) + f64::from(steady)));
+            }
+            t / n
+        }
+        None => 1.0 / rate,
+    };
+    Some(
+        schedule
+            .segments
+            .iter()
+            .filter(|s| s.plate_motion().is_some() || s.duration_s != 0.0)
+            .map(|s| (s.duration_s / dt).round().max(1.0))
+            .sum(),
+    )
+}
+
+/// Refuses an export of more than [`MAX_EXPORT_ROWS`] rows before it is
+/// sampled, stating the estimated rows and size and the largest `--rate`
+/// (and, for a ramped export, the most `--steady-cycles`) that fit.
+fn check_size(schedule: &Schedule, ramped: Option<&Motion>, rate: f64, steady: u32) -> Result<()> {
+    let rows = |rate: f64, steady: u32| estimated_rows(schedule, ramped, rate, steady);
+    let Some(n) = rows(rate, steady) else {
+        return Ok(());
+    };
+    if n <= MAX_EXPORT_ROWS {
+        return Ok(());
+    }
+    // The largest rate that fits, to 3 significant digits, rounded down
+    // and checked (rounding to whole samples per period can add a few).
+    let mut fit = rate * MAX_EXPORT_ROWS / n;
+    let scale = 10f64.powf(fit.log10().floor() - 2.0);
+    fit = (fit / scale).floor() * scale;
+    while fit > 0.0 && rows(fit, steady).is_some_and(|m| m > MAX_EXPORT_ROWS) {
+        fit -= scale;
+    }
+    // Rates and row counts in words a reader can compare: 4e7, 8.31e6.
+    let hz = |r: f64| {
+        if r >= 1e5 {
+            format!("{r:e} Hz")
+        } else {
+            format!("{} Hz", num(r))
+        }
+    };
+    let rate_hint = if fit > 0.0 && rows(fit, steady).is_some() {
+        format!("the largest --rate that fits is {}", hz(fit))
+    } else {
+        "no --rate fits".to_string()
+    };
+    let gb = |rows: f64| {
+        let gb = rows * BYTES_PER_ROW / 1e9;
+        if gb < 1e4 {
+            format!("{gb:.1} GB")
+        } else {
+            format!("{gb:.1e} GB")
+        }
+    };
+    let mut field = "--rate";
+    let (layout, steady_hint) = match ramped {
+        None => (
+            format!("one {:.4} s schedule period", schedule.period_s),
+            String::new(),
+        ),
+        Some(m) => {
+            // Rows per cycle at this rate, and the steady cycles that fit.
+            let per_cycle = (rate * m.period()).round();
+            let most = (MAX_EXPORT_ROWS / per_cycle).floor() - 2.0 * f64::from(RAMP_CYCLES);
+            let hint = if most >= 0.0 {
+                // The ramps fit at this rate: the steady cycles are too many.
+                if steady > DEFAULT_STEADY_CYCLES {
+                    field = "--steady-cycles";
+                }
+                format!(", or at most {most} --steady-cycles at this rate")
+            } else {
+                String::new()
+            };
+            (
+                format!(
+                    "{RAMP_CYCLES} + {steady} (--steady-cycles) + {RAMP_CYCLES} cycles of {:.6} s",
+                    m.period()
+                ),
+                hint,
+            )
+        }
+    };
+    Err(Error::invalid(
+        field,
+        format!(
+            "{} over {layout} is about {:.3e} rows, {} of CSV, over the limit of {:e} rows (≈ {}); {rate_hint}{steady_hint}",
+            hz(rate),
+            n,
+            gb(n),
+            MAX_EXPORT_ROWS,
+            gb(MAX_EXPORT_ROWS),
+        ),
+    ))
 }
 
 /// Plate-centre (linear, angular) acceleration of `motion` at time `t`.
