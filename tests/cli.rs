@@ -1293,3 +1293,50 @@ fn export_refuses_an_oversized_file_at_once() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Audit: `design --rotation-step 7` was rounded to 51 copies at
+/// 7.0588° without a word (the sink's LineSinks fell out of the basis,
+/// 23 % fit error, labels `@211.76470588235293°`). A step that does not
+/// divide 360 exits 2 naming `--rotation-step` and the nearest steps that
+/// do, and writes nothing; a step that divides 360 with decimals (7.2) is
+/// accepted.
+#[test]
+fn rotation_step_must_divide_360() {
+    let dir = temp_dir("rotation-step");
+    let out = dir.join("out");
+    let o = out.to_str().unwrap();
+    let small = serde_json::json!({"name": "small",
+        "grid": {"x": [-0.02, 0.02], "y": [-0.02, 0.02], "n": [7, 7]},
+        "field": {"kind": "sink"}});
+    let t = target_file(&dir, &small);
+    let design = |step: &str| {
+        platefield(&[
+            "design",
+            &t,
+            "--method",
+            "sequence",
+            "--primitives",
+            "LineSink",
+            "--rotation-step",
+            step,
+            "--quiet",
+            "--out",
+            o,
+        ])
+    };
+    for (step, nearest) in [("7", "6, 7.2"), ("100", "90, 120"), ("1.1", "1, 1.125")] {
+        let (code, stdout, err) = design(step);
+        assert_eq!(code, 2, "{step}: {err}");
+        let needle = format!("--rotation-step: {step} does not divide 360");
+        assert!(err.contains(&needle), "{step}: {err:?}");
+        let needle = format!("nearest steps that divide 360: {nearest}");
+        assert!(
+            err.contains(&needle),
+            "{step}: {err:?} should contain {needle:?}"
+        );
+        assert!(stdout.is_empty() && !out.exists(), "{step} wrote output");
+    }
+    let (code, _, err) = design("7.2");
+    assert_eq!(code, 0, "7.2 divides 360: {err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
