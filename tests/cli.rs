@@ -1340,3 +1340,33 @@ fn rotation_step_must_divide_360() {
     assert_eq!(code, 0, "7.2 divides 360: {err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Audit: `verify --points 1` measured the region's centre alone (the
+/// sink's attractor, where the field is zero) and reported a 317 % error
+/// and a negative strength as a realised field, exit 0. At least 2 points
+/// per side are needed for the least-squares strength and shape error;
+/// exit 2 naming `--points`, nothing written.
+#[test]
+fn verify_needs_at_least_two_points_per_side() {
+    let dir = temp_dir("verify-points");
+    let out = dir.join("out");
+    let (code, stdout, err) = platefield(&[
+        "verify",
+        "results/sequenced/sink/schedule.json",
+        "--points",
+        "1",
+        "--swarm",
+        "2",
+        "--rect-poses",
+        "0",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    for needle in ["--points: must be in 2..=101, got 1", "least-squares"] {
+        assert!(err.contains(needle), "{err:?} should contain {needle:?}");
+    }
+    assert!(stdout.is_empty() && !out.exists(), "wrote output");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -110,7 +110,22 @@ impl VerifyRequest {
                 ))
             }
         };
-        range("--points", self.points as u64, 1, 101)?;
+        // One point per side is the region's centre alone (for most
+        // targets the attractor, where the field vanishes): the
+        // least-squares strength κ = ⟨R, E⟩/⟨E, E⟩ and the shape error
+        // ‖R − κE‖/‖κE‖ of one vector measure its direction and noise, not
+        // a field's shape (the sink's read 317 %). 2 per side: the four
+        // corners, 8 components for the one fitted scale.
+        if self.points < 2 {
+            return Err(Error::invalid(
+                "--points",
+                format!(
+                    "must be in 2..=101, got {}: the realised strength and shape error are least-squares fits over the N×N grid of points, and N = 1 is the region's centre alone (usually the attractor, where the field is zero)",
+                    self.points
+                ),
+            ));
+        }
+        range("--points", self.points as u64, 2, 101)?;
         range("--periods", u64::from(self.periods), 1, 1000)?;
         range("--warmup", u64::from(self.warmup), 0, 1000)?;
         range("--swarm", self.swarm as u64, 1, 101)?;
