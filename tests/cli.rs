@@ -1370,3 +1370,49 @@ fn verify_needs_at_least_two_points_per_side() {
     assert!(stdout.is_empty() && !out.exists(), "wrote output");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Audit: a scene with friction μ = 0 gave a velocity field whose every
+/// sample failed to converge; `field` wrote it and exited 0. No valid
+/// sample at all, for whatever reason, is now an error stating the counts
+/// by reason (exit 2, nothing written); a field with some valid samples
+/// is still written, exit 0, its per-point status reported.
+#[test]
+fn field_with_no_valid_sample_is_an_error() {
+    let dir = temp_dir("field-no-valid");
+    let out = dir.join("field.json");
+    let o = out.to_str().unwrap();
+    let base = std::fs::read_to_string("targets/scenes/sine_square_linesink.json").unwrap();
+    let frictionless = base
+        .replace(
+            "\"friction\": {\"static\": 0.3, \"kinetic\": 0.3}",
+            "\"friction\": {\"static\": 0, \"kinetic\": 0}",
+        )
+        .replace("\"n\": [11, 11]", "\"n\": [3, 3]")
+        .replace("\"model\": \"paper\"", "\"model\": \"full\"");
+    assert!(frictionless.contains("\"kinetic\": 0}") && frictionless.contains("\"full\""));
+    let scene = text_file(&dir, "mu0.json", &frictionless);
+    let (code, stdout, err) = platefield(&["field", &scene, "--quiet", "--out", o]);
+    assert_eq!(code, 2, "{err}");
+    for needle in [
+        "no valid sample in the field: of 9 samples, the steady state did not converge at 9",
+        "μ_k = 0 (scene.friction)",
+    ] {
+        assert!(err.contains(needle), "{err:?} should contain {needle:?}");
+    }
+    assert!(stdout.is_empty() && !out.exists(), "wrote output");
+    // Contact lost at the two outer points of five: written, exit 0.
+    let partial = std::fs::read_to_string("targets/scenes/linesink.json")
+        .unwrap()
+        .replace("\"amplitude\": 0.005", "\"amplitude\": 0.0062")
+        .replace("\"n\": [11, 11]", "\"n\": [5, 1]")
+        .replace("\"y\": [-0.04, 0.04]", "\"y\": [0, 0]");
+    let scene = text_file(&dir, "partial.json", &partial);
+    let (code, stdout, err) = platefield(&["field", &scene, "--quiet", "--out", o]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        stdout.contains("valid:   3 of 5 samples (contact lost 2"),
+        "{stdout}"
+    );
+    assert!(out.exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -62,7 +62,9 @@ impl Scene {
     /// Computes the field (with a progress bar on a terminal unless
     /// `quiet`). A scene in which the part leaves the plate at every grid
     /// point is physically invalid and an error naming the motion's
-    /// amplitude parameters.
+    /// amplitude parameters; so is one with no valid sample at all for
+    /// any other reason (no steady state converged, e.g. with μ_k = 0),
+    /// an error stating the counts by reason.
     pub fn compute(&self, quiet: bool) -> Result<Field> {
         let motion = self.motion.to_motion();
         let settings = self.settings();
@@ -97,7 +99,73 @@ impl Scene {
                 }
             )));
         }
+        if stats.samples > 0 && stats.valid == 0 {
+            return Err(Error::Physical(self.no_valid_sample(&stats)));
+        }
         Ok(field)
+    }
+
+    /// Why a field with no valid sample at all (but not every contact
+    /// lost, reported above) is refused: the counts by reason and what each
+    /// asks for.
+    fn no_valid_sample(&self, st: &crate::field::FieldStats) -> String {
+        let mut reasons = Vec::new();
+        let mut hints = Vec::new();
+        if st.not_converged > 0 {
+            reasons.push(format!(
+                "the steady state did not converge at {}",
+                st.not_converged
+            ));
+            if self.friction.kinetic == 0.0 {
+                hints.push(
+                    "with kinetic friction μ_k = 0 (scene.friction) nothing drives the part to a steady velocity, so there is no friction field"
+                        .to_string(),
+                );
+            } else {
+                hints.push(format!(
+                    "raise scene.numerics.max_iterations (now {}) or scene.numerics.steady_accept",
+                    self.numerics.max_iterations
+                ));
+            }
+        }
+        if st.contact_lost > 0 {
+            reasons.push(format!("the part left the plate at {}", st.contact_lost));
+            let fields = self.motion.amplitude_fields("scene.motion");
+            hints.push(format!(
+                "reduce the amplitude ({})",
+                if fields.is_empty() {
+                    "scene.motion".to_string()
+                } else {
+                    fields.join(", ")
+                }
+            ));
+        }
+        if st.frozen_invalid > 0 {
+            reasons.push(format!(
+                "the frozen-position field is invalid (the part moves too far within a cycle) at {}",
+                st.frozen_invalid
+            ));
+            hints.push("use a model with moving positions (scene.model)".to_string());
+        }
+        if st.non_finite > 0 {
+            reasons.push(format!("the result was not finite at {}", st.non_finite));
+        }
+        if st.outside_source > 0 {
+            reasons.push(format!(
+                "outside the simulated region at {}",
+                st.outside_source
+            ));
+        }
+        format!(
+            "no valid sample in the field: of {} samples, {}{}",
+            st.samples,
+            reasons.join(", "),
+            if hints.is_empty() {
+                String::new()
+            } else {
+                format!("; {}", hints.join("; "))
+            }
+        )
     }
 
     /// Lowest normal force per unit mass on a part at rest on the plate
