@@ -1416,3 +1416,39 @@ fn field_with_no_valid_sample_is_an_error() {
     assert!(out.exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Audit: gravity 1e-300 in a scene was accepted as "> 0" and every point
+/// then "left the plate", with advice to reduce the amplitude; a schedule's
+/// `settings.gravity` likewise. Both are held to [0.1, 100] m/s² (exit 2,
+/// naming the JSON path, nothing written).
+#[test]
+fn gravity_is_held_to_a_physical_range() {
+    let dir = temp_dir("gravity");
+    let out = dir.join("field.json");
+    let scene = std::fs::read_to_string("targets/scenes/linesink.json")
+        .unwrap()
+        .replace("\"gravity\": 9.81", "\"gravity\": 1e-300");
+    assert!(scene.contains("1e-300"));
+    let scene = text_file(&dir, "scene.json", &scene);
+    let (code, _, err) = platefield(&["field", &scene, "--quiet", "--out", out.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("scene.gravity: must be in [0.1, 100] m/s², got 1e-300"),
+        "{err}"
+    );
+    assert!(!err.contains("amplitude") && !out.exists(), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+    let mut s = sink_schedule();
+    s["settings"]["gravity"] = serde_json::json!(1e-300);
+    for (command, (code, err, written)) in ["export", "verify"]
+        .iter()
+        .zip(export_and_verify("gravity", &s))
+    {
+        assert_eq!(code, 2, "{command}: {err}");
+        assert!(
+            err.contains("settings.gravity: must be in [0.1, 100] m/s², got 1e-300"),
+            "{command}: {err}"
+        );
+        assert!(!written, "{command}: nothing may be written");
+    }
+}

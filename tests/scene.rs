@@ -457,7 +457,7 @@ fn field_command_rejects_bad_scenes() {
             "gravity",
             "\"phases\": 4",
             "\"phases\": 4, \"gravity\": 1e308",
-            &["scene.gravity: must be in (0, 100] m/s², got 1e308"],
+            &["scene.gravity: must be in [0.1, 100] m/s², got 1e308"],
         ),
         (
             "huge_rotation",

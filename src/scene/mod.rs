@@ -62,8 +62,8 @@ use crate::motion::Motion;
 pub use validate::primitive as validate_primitive;
 pub use validate::signals as validate_signals;
 pub use validate::{
-    ANGULAR_ACCEL, GRAVITY, GRID_EXTENT, GRID_N, HARMONIC, LINEAR_ACCEL, MAX_ITERATIONS, MU,
-    PERIOD, PHASES, ROTATION, STEPS_PER_CYCLE, TERMS, TRANSLATION,
+    ANGULAR_ACCEL, GRAVITY, GRAVITY_MIN, GRID_EXTENT, GRID_N, HARMONIC, LINEAR_ACCEL,
+    MAX_ITERATIONS, MU, PERIOD, PHASES, ROTATION, STEPS_PER_CYCLE, TERMS, TRANSLATION,
 };
 
 /// The motion of a scene: a kinematic motion, or a library primitive.

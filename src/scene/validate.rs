@@ -41,8 +41,14 @@ pub const ANGULAR_ACCEL: f64 = 1e5;
 pub const LINEAR_ACCEL: f64 = 1e4;
 /// Largest friction coefficient (both μ_s and μ_k are in [0, MU]).
 pub const MU: f64 = 10.0;
-/// Largest gravity (m/s²; gravity is in (0, GRAVITY]).
+/// Largest gravity (m/s²; gravity is in [GRAVITY_MIN, GRAVITY]).
 pub const GRAVITY: f64 = 100.0;
+/// Smallest gravity (m/s²): 1 % of the paper's 9.81, below the Moon's
+/// 1.62. Everything scales with g (the normal force N = g + a_z that
+/// decides contact, the friction μN, the steady-state tolerances relative
+/// to μ_k g T), so a g near 0 is no plate on a shaker: 1e-300 made every
+/// point "leave the plate" and the message asked to reduce the amplitude.
+pub const GRAVITY_MIN: f64 = 0.1;
 /// Allowed range of `numerics.steps_per_cycle`: 64 is the default and
 /// 512 the reference of the speed study; a field at 4096 steps per cycle
 /// already takes 64 times the default's time.
@@ -285,16 +291,7 @@ impl Scene {
         within("scene.friction.static", f.stat, 0.0, MU, "")?;
         within("scene.friction.kinetic", f.kinetic, 0.0, MU, "")?;
         f.validate("scene.friction")?;
-        if !(self.gravity > 0.0 && self.gravity <= GRAVITY) {
-            return Err(Error::invalid(
-                "scene.gravity",
-                format!(
-                    "must be in (0, {}] m/s², got {}",
-                    num(GRAVITY),
-                    num(self.gravity)
-                ),
-            ));
-        }
+        within("scene.gravity", self.gravity, GRAVITY_MIN, GRAVITY, " m/s²")?;
         let n = &self.numerics;
         let at = |k: &str| format!("scene.numerics.{k}");
         count(&at("steps_per_cycle"), n.steps_per_cycle, &STEPS_PER_CYCLE)?;
@@ -448,7 +445,7 @@ mod tests {
             ),
             (
                 with("\"kind\": \"force\",", "\"kind\": \"force\", \"gravity\": 0,"),
-                "scene.gravity: must be in (0, 100] m/s², got 0",
+                "scene.gravity: must be in [0.1, 100] m/s², got 0",
             ),
             (with(
                     r#""grid": {"x": [-0.04, 0.04], "y": [-0.01, 0.01], "n": [5, 2]}"#,
@@ -519,7 +516,7 @@ mod tests {
         let cases = [
             (extra("\"friction\": 1e5"), "scene.friction.static: must be in [0, 10], got 100000"),
             (extra("\"friction\": {\"kinetic\": -0.1}"), "scene.friction.static: must be in [0, 10], got -0.1"),
-            (extra("\"gravity\": 1e308"), "scene.gravity: must be in (0, 100] m/s², got 1e308"),
+            (extra("\"gravity\": 1e308"), "scene.gravity: must be in [0.1, 100] m/s², got 1e308"),
             (
                 with("0.005}", "1e308}"),
                 "scene.motion.rotation.amplitude: must be in [-0.5, 0.5] rad, got 1e308",

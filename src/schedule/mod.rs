@@ -39,7 +39,7 @@ use std::path::Path;
 use serde::{Deserialize, Serialize, Serializer};
 
 use crate::basis::Primitive;
-use crate::error::{non_negative, positive, Error, Result};
+use crate::error::{non_negative, Error, Result};
 use crate::field::{FieldKind, FieldSettings, Validity};
 use crate::fit::FitMetrics;
 use crate::motion::{Motion, Ramped, Signals};
@@ -386,7 +386,19 @@ impl Schedule {
                 ),
             ));
         }
-        positive("settings.gravity", s.gravity)?;
+        // The scene's range of gravity (1e-300 passed as "positive").
+        let (g_min, g_max) = (crate::scene::GRAVITY_MIN, crate::scene::GRAVITY);
+        if !(g_min..=g_max).contains(&s.gravity) {
+            return Err(Error::invalid(
+                "settings.gravity",
+                format!(
+                    "must be in [{}, {}] m/s², got {}",
+                    crate::input::num(g_min),
+                    crate::input::num(g_max),
+                    crate::input::num(s.gravity)
+                ),
+            ));
+        }
         // The scene ranges of the physics (a schedule is played like a scene).
         for (path, v, max) in [
             (
@@ -399,7 +411,6 @@ impl Schedule {
                 s.friction.kinetic,
                 crate::scene::MU,
             ),
-            ("settings.gravity", s.gravity, crate::scene::GRAVITY),
         ] {
             if v > max {
                 return Err(Error::invalid(
