@@ -1368,6 +1368,22 @@ fn verify_needs_at_least_two_points_per_side() {
         assert!(err.contains(needle), "{err:?} should contain {needle:?}");
     }
     assert!(stdout.is_empty() && !out.exists(), "wrote output");
+    // `order` judges each order over the same kind of grid.
+    let (code, stdout, err) = platefield(&[
+        "order",
+        "results/sequenced/sink/schedule.json",
+        "--points",
+        "1",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("--points: must be in 2..=41, got 1"),
+        "{err:?}"
+    );
+    assert!(stdout.is_empty() && !out.exists(), "wrote output");
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -670,10 +670,10 @@ pub fn order_schedule_file(path: &Path, req: &OrderRequest) -> Result<(Schedule,
         allow_long,
         quiet: _,
     } = *req;
-    if !(1..=41).contains(&n) {
+    if !(2..=41).contains(&n) {
         return Err(Error::invalid(
             "--points",
-            format!("must be in 1..=41, got {n}"),
+            format!("must be in 2..=41, got {n}: each order is judged by its realised-vs-predicted error over the N×N grid of points, and N = 1 is the region's centre alone (usually the attractor, where the field is zero)"),
         ));
     }
     if let Some(k) = rest_cycles.iter().find(|&&k| k > 100) {
