@@ -767,7 +767,7 @@ fn progress_lines_without_a_terminal_and_none_when_quiet() {
                 "order",
                 "results/sequenced/sink/schedule.json",
                 "--points",
-                "1",
+                "2",
                 "--rest",
                 "0",
                 "--out",
