@@ -286,7 +286,8 @@ fn order_cli_checks_arguments_and_writes_the_table() {
     let out = dir.to_str().unwrap();
     let schedule = "results/sequenced/squeeze_trans/schedule.json";
     for (extra, name, range) in [
-        (&["--points", "0"][..], "--points", "1..=41"),
+        (&["--points", "0"][..], "--points", "2..=41"),
+        (&["--points", "1"][..], "--points", "2..=41"),
         (&["--rest", "0,101"][..], "--rest", "0..=100"),
         (&["--periods", "0"][..], "--periods", "1..=100"),
         (&["--model", "exact"][..], "--model", "paper, full, frozen"),
