@@ -27,8 +27,11 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
 /// removes at once, so nothing is left behind whether it succeeds or not.
 pub fn check_writable(dir: &Path, arg: &str) -> Result<()> {
     let refuse = |why: String| Error::invalid(arg, format!("{}: {why}", dir.display()));
+    // `symlink_metadata`: a dangling link is there (and no folder), not
+    // missing.
+    let missing = |p: &Path| p.symlink_metadata().is_err();
     let mut probe_dir = dir;
-    while !probe_dir.as_os_str().is_empty() && !probe_dir.exists() {
+    while !probe_dir.as_os_str().is_empty() && missing(probe_dir) {
         match probe_dir.parent() {
             Some(p) => probe_dir = p,
             None => break,
@@ -46,9 +49,28 @@ pub fn check_writable(dir: &Path, arg: &str) -> Result<()> {
         )));
     }
     let probe = probe_dir.join(format!(".platefield-probe-{}", std::process::id()));
-    std::fs::write(&probe, b"")
-        .and_then(|()| std::fs::remove_file(&probe))
-        .map_err(|e| refuse(format!("cannot write in {}: {e}", probe_dir.display())))
+    // `create_new`: never opens (or truncates) a file that is already there.
+    std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&probe)
+        .map_err(|e| refuse(format!("cannot write in {}: {e}", probe_dir.display())))?;
+    std::fs::remove_file(&probe).map_err(|e| {
+        refuse(format!(
+            "could not remove the probe file {} after writing it: {e}",
+            probe.display()
+        ))
+    })
+}
+
+/// `x` as a percentage with `digits` decimals, or `n/a` where it is not
+/// finite (a shape error where the strength is not positive).
+pub fn percent(x: f64, digits: usize) -> String {
+    if x.is_finite() {
+        format!("{:.digits$} %", 100.0 * x)
+    } else {
+        "n/a".into()
+    }
 }
 
 /// Removes from `dir` the files among `products` that this run did not

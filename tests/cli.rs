@@ -914,11 +914,15 @@ fn design_refuses_degenerate_inputs_naming_them() {
     for (edit, needle) in [
         (
             serde_json::json!({"name": "n".repeat(300)}),
-            "target.name: must be a plain folder name of at most 255 bytes, got 300 bytes",
+            "target.name: must be a plain folder name (at most 255 bytes, no /, \\ or NUL, not starting with .), got \"nnnn",
+        ),
+        (
+            serde_json::json!({"name": "n".repeat(300)}),
+            "…\" (300 bytes)",
         ),
         (
             serde_json::json!({"name": "a\u{0}b"}),
-            "target.name: must be a plain folder name (no /, \\ or NUL",
+            "target.name: must be a plain folder name (at most 255 bytes, no /, \\ or NUL",
         ),
         (
             serde_json::json!({"field": {"kind": "jet", "width": 1e-300}}),
@@ -1078,6 +1082,7 @@ fn synthesis_that_keeps_no_part_on_the_plate_is_refused() {
         "{stdout}"
     );
     assert!(!stdout.contains("inf %"), "{stdout}");
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// A design folder holds one design: a sequenced run into the folder of a
@@ -1134,6 +1139,7 @@ fn design_folder_holds_one_design_and_out_is_checked_first() {
         "{err}"
     );
     assert!(start.elapsed().as_secs_f64() < 5.0, "not refused at once");
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// Writes `text` to `dir/name` and returns the path.

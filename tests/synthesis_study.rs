@@ -82,17 +82,21 @@ fn sink_schedule_peaks_are_the_linesink_closed_form() {
 /// sets give no comparison.
 #[test]
 fn common_set_compares_both_motions_on_the_same_points() {
+    use platefield::design::closed_loop::measure::realised_error;
     use platefield::play::measure::PointPlay;
     use platefield::studies::synthesis::{common, starts};
     let target = Target::load(Path::new("targets/saddle.json")).unwrap();
     let sampled = target.sample().unwrap();
     let st = starts(&target, &sampled);
-    let plays = |k: f64, lost: &dyn Fn(usize) -> bool| -> Vec<PointPlay> {
+    // The realised field is k(i)·t: a play kept by one motion only may
+    // have another k, so a fit over the wrong points gives another ŝ.
+    let plays = |k: &dyn Fn(usize) -> f64, lost: &dyn Fn(usize) -> bool| -> Vec<PointPlay> {
         st.iter()
             .enumerate()
             .map(|(i, &s)| {
                 let p = sampled.points[s];
                 let t = target.field.eval(p);
+                let k = k(i);
                 PointPlay {
                     index: s,
                     start: p,
@@ -117,10 +121,21 @@ fn common_set_compares_both_motions_on_the_same_points() {
             .collect()
     };
     // The sequenced motion loses every start off the middle row (y ≠ 0),
-    // the synthesized one only the outer rows (|y| = 4 cm).
+    // the synthesized one only the outer rows (|y| = 4 cm); the synthesized
+    // one realises 2·t on the middle row and 3·t on the rows at ±2 cm.
     let y = |i: usize| sampled.points[st[i]][1];
-    let seq = plays(1.0, &|i| y(i).abs() > 1e-9);
-    let syn = plays(2.0, &|i| y(i).abs() > 0.03);
+    let seq = plays(&|_| 1.0, &|i| y(i).abs() > 1e-9);
+    let syn = plays(&|i| if y(i).abs() < 1e-9 { 2.0 } else { 3.0 }, &|i| {
+        y(i).abs() > 0.03
+    });
+    // Over its own 15 points the synthesized ŝ is between 2 and 3, at a
+    // shape error; over the 5 both keep it is 2 at none.
+    let own = realised_error(&target, &sampled.weights, &syn, None);
+    assert_eq!(own.valid, 15);
+    assert!(
+        own.realised_strength > 2.5 && own.shape_error > 0.05,
+        "{own:?}"
+    );
     let c = common(&target, &sampled.weights, &seq, &syn).expect("valid sets differ");
     assert_eq!(c.valid, 5);
     assert!((c.sequenced.0 - 1.0).abs() < 1e-12, "{:?}", c.sequenced);

@@ -68,56 +68,6 @@ fn xy(text: &str) -> std::result::Result<[f64; 2], String> {
     }
 }
 
-/// `--rotation-step` must divide 360: the basis holds 360/step rotated
-/// copies of each primitive, and a step that does not divide 360 was
-/// rounded to the nearest whole number of copies without a word (7 became
-/// 7.0588°, 51 copies; the sink's LineSinks fell out of the basis and the
-/// fit reached 23 % error). A step is accepted when 360/step is within
-/// 1e-9 of a whole number; otherwise the error names the nearest steps
-/// below and above that divide 360 and are written with at most three
-/// decimals (7: 6 and 7.2). Steps outside [1, 360] are left to the range
-/// check of the design's basis stage (`MIN_ROTATION_STEP_DEG`).
-pub fn rotation_step_divides(step: f64) -> Result<()> {
-    // The design's range, [1, 360] (checked there).
-    if !(step.is_finite() && (1.0..=360.0).contains(&step)) {
-        return Ok(());
-    }
-    let copies = 360.0 / step;
-    if (copies - copies.round()).abs() <= 1e-9 {
-        return Ok(());
-    }
-    // Steps 360/n in [1, 360] written with at most three decimals.
-    let nice: Vec<f64> = (1..=360)
-        .map(|n| 360.0 / f64::from(n))
-        .filter(|s| ((s * 1000.0).round() - s * 1000.0).abs() < 1e-6)
-        .collect();
-    let below = nice
-        .iter()
-        .copied()
-        .filter(|s| *s < step)
-        .max_by(f64::total_cmp);
-    let above = nice
-        .iter()
-        .copied()
-        .filter(|s| *s > step)
-        .min_by(f64::total_cmp);
-    let nearest: Vec<String> = [below, above]
-        .into_iter()
-        .flatten()
-        .map(|s| crate::input::num((s * 1000.0).round() / 1000.0))
-        .collect();
-    Err(Error::invalid(
-        "--rotation-step",
-        format!(
-            "{} does not divide 360 (360/{} = {:.4} rotated copies; a whole number is needed); nearest steps that divide 360: {}",
-            crate::input::num(step),
-            crate::input::num(step),
-            copies,
-            nearest.join(", ")
-        ),
-    ))
-}
-
 /// Arguments of `platefield design`.
 #[derive(Args)]
 pub struct DesignArgs {
@@ -220,7 +170,6 @@ impl DesignArgs {
         if self.min_cycles == 0 {
             return Err(Error::invalid("--min-cycles", "must be ≥ 1"));
         }
-        rotation_step_divides(self.rotation_step)?;
         if self.max_primitives == Some(0) {
             return Err(Error::invalid("--max-primitives", "must be ≥ 1"));
         }

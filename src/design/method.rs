@@ -625,10 +625,10 @@ pub fn synthesize_schedule(
     schedule.solver = SolverInfo {
         mode: "synthesize".into(),
         status: format!(
-            "seed {:.4} predicted, {:.4} at {:.2} % on the coarse grid; Nelder–Mead, {} starts, seed {}",
+            "seed {:.4} predicted, {:.4} at {} on the coarse grid; Nelder–Mead, {} starts, seed {}",
             syn.seed_strength,
             syn.seed_realised.strength,
-            100.0 * syn.seed_realised.shape_error,
+            crate::output::percent(syn.seed_realised.shape_error, 2),
             synth.refine.starts,
             synth.refine.seed
         ) + &polished.map(|n| format!("; {n}")).unwrap_or_default(),
@@ -734,12 +734,12 @@ fn polish_played(
         &options,
     )?;
     let line = format!(
-        "played polish ({} plays): played strength {:.4} at shape {:.2} % → {:.4} at {:.2} %, {}",
+        "played polish ({} plays): played strength {:.4} at shape {} → {:.4} at {}, {}",
         p.plays,
         p.before.realised_strength,
-        100.0 * p.before.shape_error,
+        crate::output::percent(p.before.shape_error, 2),
         p.after.realised_strength,
-        100.0 * p.after.shape_error,
+        crate::output::percent(p.after.shape_error, 2),
         if p.improved { "kept" } else { "not kept" }
     );
     Ok((if p.improved { p.synthesis } else { syn }, Some(line)))

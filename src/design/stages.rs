@@ -45,27 +45,15 @@ pub(crate) struct BasisStage {
     pub limits: Option<ShakerLimits>,
 }
 
-/// Smallest basis rotation step (degrees). The rotated copies are not
-/// simulated but held and fitted: their memory and the fit's time grow as
-/// 1/step² (the sink: 4 s at 1°, 19 s at 0.5°, 68 s at 0.25°), and a step
-/// of 1e-9° asked for 2.9 TB and aborted.
-pub const MIN_ROTATION_STEP_DEG: f64 = 1.0;
-
 /// Basis stage: checks the rotation step, samples `target`, and simulates
 /// the allowed primitives once (or reads them from the cache) on a source
 /// grid that covers the target region under every rotation and shift.
 /// Consumes the target and the options; produces the sampled target and
 /// the unrotated field library.
 pub(crate) fn basis_stage(target: &Target, opts: &DesignOptions) -> Result<BasisStage> {
-    if !(opts.rotation_step_deg >= MIN_ROTATION_STEP_DEG && opts.rotation_step_deg <= 360.0) {
-        return Err(Error::invalid(
-            "--rotation-step",
-            format!(
-                "must be in [{MIN_ROTATION_STEP_DEG}, 360] degrees (at most 360 rotated copies of each primitive), got {}",
-                crate::input::num(opts.rotation_step_deg)
-            ),
-        ));
-    }
+    // The options' own checks (the rotation step among them) run here too:
+    // a library caller may come straight to the basis.
+    opts.validate()?;
     let sampled = target.sample()?;
     let target_grid = target.grid.as_ref().map(|g| Grid {
         x: g.x,

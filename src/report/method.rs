@@ -148,16 +148,16 @@ pub fn synthesis_md(syn: &Synthesis, limits: &ShakerLimits, gravity: f64) -> Str
     );
     let _ = writeln!(
         md,
-        "\nPrediction (steady-state field on the full {}×{} grid): strength {:.4}, shape error {:.2} %; on the coarse grid the optimizer saw: {:.4}, {:.2} %. Seed (averaged-friction analysis): {:.4} predicted, {:.4} at {:.2} % simulated.",
+        "\nPrediction (steady-state field on the full {}×{} grid): strength {:.4}, shape error {}; on the coarse grid the optimizer saw: {:.4}, {}. Seed (averaged-friction analysis): {:.4} predicted, {:.4} at {} simulated.",
         syn.field.grid.n[0],
         syn.field.grid.n[1],
         syn.realised.strength,
-        100.0 * syn.realised.shape_error,
+        crate::output::percent(syn.realised.shape_error, 2),
         syn.coarse.strength,
-        100.0 * syn.coarse.shape_error,
+        crate::output::percent(syn.coarse.shape_error, 2),
         syn.seed_strength,
         syn.seed_realised.strength,
-        100.0 * syn.seed_realised.shape_error
+        crate::output::percent(syn.seed_realised.shape_error, 2)
     );
     if !syn.notes.is_empty() {
         let _ = writeln!(md, "\nNotes: {}.", syn.notes.join("; "));

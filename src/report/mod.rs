@@ -48,7 +48,10 @@ pub fn export(path: &Path, rate: f64, steady_cycles: u32, out: Option<&Path>) ->
 /// naming the file.
 pub fn order(path: &Path, req: &OrderRequest, out: &Path) -> Result<String> {
     let start = std::time::Instant::now();
-    crate::output::check_writable(out, "--out")?;
+    // The folder order.md goes to, checked before the search (reading the
+    // schedule is cheap; its errors are the ones the search would give).
+    let schedule = crate::schedule::Schedule::load(path)?;
+    crate::output::check_writable(&out.join(schedule.target_folder()?).join("verify"), "--out")?;
     let (schedule, search) = crate::design::order::order_schedule_file(path, req)?;
     let md = order::order_md(path, req.n, &schedule, &search);
     let file = order::write(&md, &schedule, out)?;

@@ -405,7 +405,10 @@ pub fn run(
     out: &Path,
     json: bool,
 ) -> Result<String> {
-    crate::output::check_writable(out, "--out")?;
+    // The folder the results go to, checked before the work (reading the
+    // schedule is cheap; its errors are the ones verify would give).
+    let schedule = crate::schedule::Schedule::load(path)?;
+    crate::output::check_writable(&out.join(schedule.target_folder()?).join("verify"), "--out")?;
     let r = crate::verify::verify_schedule_file(path, req)?;
     let files = write(&r, out)?;
     if json {

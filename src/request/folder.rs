@@ -21,24 +21,28 @@ impl Target {
         } else {
             self.name.clone()
         };
-        if name.len() > MAX_NAME_BYTES {
-            return Err(Error::invalid(
-                "target.name",
-                format!(
-                    "must be a plain folder name of at most {MAX_NAME_BYTES} bytes, got {} bytes",
-                    name.len()
-                ),
-            ));
-        }
-        if name.contains(['/', '\\', '\0']) || name.starts_with('.') {
-            return Err(Error::invalid(
-                "target.name",
-                format!(
-                    "must be a plain folder name (no /, \\ or NUL, not starting with .), got \"{}\"",
-                    name.escape_debug()
-                ),
-            ));
-        }
+        plain_folder_name(&name, "target.name")?;
         Ok(name)
     }
+}
+
+/// Checks that `name` (from `field`) is a plain folder name: not blank, no
+/// `/`, `\` or NUL, no leading `.`, at most [`MAX_NAME_BYTES`] bytes. Used
+/// for a target's name and for a schedule's `target` alike.
+pub fn plain_folder_name(name: &str, field: &str) -> Result<()> {
+    if name.trim().is_empty()
+        || name.contains(['/', '\\', '\0'])
+        || name.starts_with('.')
+        || name.len() > MAX_NAME_BYTES
+    {
+        return Err(Error::invalid(
+            field,
+            format!(
+                "must be a plain folder name (at most {MAX_NAME_BYTES} bytes, no /, \\ or NUL, not starting with .), got \"{}\" ({} bytes)",
+                crate::input::short(name).escape_debug(),
+                name.len()
+            ),
+        ));
+    }
+    Ok(())
 }

@@ -187,7 +187,7 @@ pub use field::{
     IDW_NEIGHBORS, MAX_SAMPLED_POINTS, MAX_TERMS, MIN_JET_WIDTH, RATIO, SPEED, STRENGTH,
     TRANSPORT_LENGTH, WEIGHT,
 };
-pub use folder::MAX_NAME_BYTES;
+pub use folder::{plain_folder_name, MAX_NAME_BYTES};
 pub use grid::{scattered_grid, Grid, MaskRegion, MAX_GRID_N, SCATTERED_N, SCATTERED_SPACING};
 pub use shaker::{ShakerSpec, MAX_HARMONICS, MAX_PERIOD_S, MIN_PERIOD_S};
 

@@ -13,11 +13,15 @@
 //! [`ShakerSpec::validate`], so they are stated once): `period` in
 //! [1e-4, 10] s (the shortest a scene or schedule motion may have,
 //! [`crate::scene::PERIOD`]); each `linear` peak in [0, 1e4] m/s² and
-//! `angular` peak in [0, 1e5] rad/s² (0 forbids the axis; the largest a
-//! scene or schedule signal may have, [`crate::scene::LINEAR_ACCEL`] and
-//! [`crate::scene::ANGULAR_ACCEL`], so a synthesized motion can be read
-//! back); `harmonics` in 1..=[`MAX_HARMONICS`]; `contact_margin` a
-//! fraction of g in [0, 1).
+//! `angular` peak in [0, 1e5] rad/s² (0 forbids the axis; the largest
+//! amplitude a scene or schedule signal term may have,
+//! [`crate::scene::LINEAR_ACCEL`] and [`crate::scene::ANGULAR_ACCEL`]: with
+//! one harmonic a synthesized motion within these peaks can always be read
+//! back; with more, one term's amplitude may exceed the summed signal's
+//! peak (a square-like wave's first harmonic by up to 4/π), so a motion
+//! synthesized at peaks above π/4 of these ranges — about 800 g — may be
+//! refused when read back, naming the term); `harmonics` in
+//! 1..=[`MAX_HARMONICS`]; `contact_margin` a fraction of g in [0, 1).
 
 use serde::{Deserialize, Serialize};
 

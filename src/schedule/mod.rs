@@ -510,20 +510,7 @@ impl Schedule {
     /// `OUT/<target>/`).
     pub fn target_folder(&self) -> Result<&str> {
         let name = self.target.as_str();
-        if name.trim().is_empty()
-            || name.contains(['/', '\\', '\0'])
-            || name.starts_with('.')
-            || name.len() > crate::request::MAX_NAME_BYTES
-        {
-            return Err(Error::invalid(
-                "target",
-                format!(
-                    "must be a plain folder name (at most {} bytes, no /, \\ or NUL, not starting with .), got \"{}\"",
-                    crate::request::MAX_NAME_BYTES,
-                    crate::input::short(name).escape_debug()
-                ),
-            ));
-        }
+        crate::request::plain_folder_name(name, "target")?;
         Ok(name)
     }
 

@@ -54,7 +54,9 @@ use std::path::Path;
 use std::time::Instant;
 
 use crate::design::closed_loop::loop_points;
-use crate::design::closed_loop::measure::{play_motion, realised_error, MeasureOptions, PointPlay};
+use crate::design::closed_loop::measure::{
+    counts, play_motion, realised_error, MeasureOptions, PointPlay,
+};
 use crate::design::method::sequenced_limits;
 use crate::design::polish::{polish, PolishOptions};
 use crate::design::refine::{refine_schedule, RefineOptions, Refined};
@@ -198,14 +200,23 @@ pub struct Common {
 /// the plate along its expanding axis, and a stronger motion sends more),
 /// each motion's own ŝ is fitted over different places, and this compares
 /// them over the same ones. `None` if the sets are the same, or nothing is
-/// common. `a` and `b` are plays from the same [`starts`].
+/// common. `sequenced` and `synthesized` are plays from the same start
+/// points, in the same order.
 pub fn common(
     target: &Target,
     weights: &[f64],
     sequenced: &[PointPlay],
     synthesized: &[PointPlay],
 ) -> Option<Common> {
-    let keeps = |p: &PointPlay| p.note.is_none() && weights[p.index] > 0.0;
+    debug_assert!(
+        sequenced.len() == synthesized.len()
+            && sequenced
+                .iter()
+                .zip(synthesized)
+                .all(|(a, b)| a.index == b.index),
+        "plays from different start points"
+    );
+    let keeps = |p: &PointPlay| counts(weights, p);
     let both: Vec<bool> = sequenced
         .iter()
         .zip(synthesized)

@@ -31,9 +31,9 @@ impl Progress {
     pub fn update(&self, evaluations: usize, best: Option<&Evaluation>) {
         if let Some(b) = best {
             self.0.set_message(format!(
-                "best: strength {:.4}, shape error {:.2} %",
+                "best: strength {:.4}, shape error {}",
                 b.realised.strength,
-                100.0 * b.realised.shape_error
+                crate::output::percent(b.realised.shape_error, 2)
             ));
         }
         self.0.set_position(evaluations as u64);

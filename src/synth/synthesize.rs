@@ -160,14 +160,7 @@ impl Synthesis {
     /// full grid, evaluations, time, least N, POOR and notes.
     pub fn summary(&self) -> String {
         let n = self.field.grid.n;
-        // A shape error is infinite where the strength is not positive.
-        let pct = |x: f64, digits: usize| {
-            if x.is_finite() {
-                format!("{:.digits$} %", 100.0 * x)
-            } else {
-                "n/a".into()
-            }
-        };
+        let pct = crate::output::percent;
         format!(
             "seed {:.4} predicted, {:.4} at {} realised (coarse); synthesized {:.4} at {} ({}×{}), {} evaluations, {:.1} s, least N {:.2} m/s²{}{}",
             self.seed_strength,

@@ -180,12 +180,14 @@ pub struct Decomposition {
     pub beta: f64,
 }
 
-/// The points of `plays` that count: valid, with weight > 0.
+/// Whether `play` counts in the realised measure: valid, with weight > 0.
+pub fn counts(weights: &[f64], play: &PointPlay) -> bool {
+    play.note.is_none() && weights[play.index] > 0.0
+}
+
+/// The points of `plays` that count ([`counts`]).
 fn counted<'a>(weights: &[f64], plays: &'a [PointPlay]) -> Vec<&'a PointPlay> {
-    plays
-        .iter()
-        .filter(|p| p.note.is_none() && weights[p.index] > 0.0)
-        .collect()
+    plays.iter().filter(|p| counts(weights, p)).collect()
 }
 
 /// Realised error of `plays` against the promise `strength`·target (see
