@@ -197,6 +197,22 @@ fn temp_dir(name: &str) -> std::path::PathBuf {
 
 /// Runs `export` and `verify` on `schedule` (written to a temporary file);
 /// returns their (exit code, stderr) and whether anything was written.
+/// Each `(name, schedule, needles)` of `cases` is refused by both `export`
+/// and `verify`: exit 2, every needle in the message, nothing written.
+fn refused_by_export_and_verify(cases: Vec<(&str, serde_json::Value, &[&str])>) {
+    for (name, s, needles) in cases {
+        for (command, (code, err, written)) in
+            ["export", "verify"].iter().zip(export_and_verify(name, &s))
+        {
+            assert_eq!(code, 2, "{command} {name}: {err}");
+            for n in needles {
+                assert!(err.contains(n), "{command} {name}: {err:?} should name {n}");
+            }
+            assert!(!written, "{command} {name}: nothing may be written");
+        }
+    }
+}
+
 fn export_and_verify(name: &str, schedule: &serde_json::Value) -> [(i32, String, bool); 2] {
     run_both(name, schedule, true)
 }
@@ -273,17 +289,7 @@ fn bad_schedule_files_are_refused_naming_the_path() {
     let mut s = sink_schedule();
     s["segments"][2]["cycles"] = serde_json::json!(1_000_000_000u64);
     cases.push(("cycles", s, &["segments[2].cycles", "1..=100000"]));
-    for (name, s, needles) in cases {
-        for (command, (code, err, written)) in
-            ["export", "verify"].iter().zip(export_and_verify(name, &s))
-        {
-            assert_eq!(code, 2, "{command} {name}: {err}");
-            for n in needles {
-                assert!(err.contains(n), "{command} {name}: {err:?} should name {n}");
-            }
-            assert!(!written, "{command} {name}: nothing may be written");
-        }
-    }
+    refused_by_export_and_verify(cases);
 }
 
 /// The period is derived from the segments: a `period_s` of 0 (or any
@@ -847,9 +853,7 @@ fn trajectories_svg_has_legend_clipping_and_outlines() {
 
 /// A target file in a fresh temporary folder (named after the case).
 fn target_file(dir: &Path, target: &serde_json::Value) -> String {
-    let file = dir.join("target.json");
-    std::fs::write(&file, target.to_string()).unwrap();
-    file.to_str().unwrap().to_string()
+    text_file(dir, "target.json", &target.to_string())
 }
 
 /// Audit: `design` inputs that crashed, wrote nothing useful or were named
@@ -989,17 +993,7 @@ fn six_signal_segments_and_iterations_are_held_to_the_scene_ranges() {
         s,
         &["settings.numerics.max_iterations: must be in 1..=10000, got 1000000000"],
     ));
-    for (name, s, needles) in cases {
-        for (command, (code, err, written)) in
-            ["export", "verify"].iter().zip(export_and_verify(name, &s))
-        {
-            assert_eq!(code, 2, "{command} {name}: {err}");
-            for n in needles {
-                assert!(err.contains(n), "{command} {name}: {err:?} should name {n}");
-            }
-            assert!(!written, "{command} {name}: nothing may be written");
-        }
-    }
+    refused_by_export_and_verify(cases);
 }
 
 /// Audit: what `design` writes, `export` and `verify` read. A synthesized

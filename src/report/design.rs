@@ -239,17 +239,6 @@ pub const DESIGN_FILES: [&str; 8] = [
     "order.md",
 ];
 
-/// The files of a closed-loop design (and `order.md` when the order search
-/// ran).
-const CLOSED_LOOP_FILES: [&str; 6] = [
-    "schedule.json",
-    "schedule_open_loop.json",
-    "closed_loop.md",
-    "closed_loop.json",
-    "fit.svg",
-    "report.md",
-];
-
 /// `platefield design`: loads the target at `path`, designs it by
 /// `method` (the closed loop, when `closed_loop` is given, re-fits the
 /// sequenced design only), plays every candidate, writes
@@ -281,10 +270,12 @@ pub fn run(
         let d = crate::design::design(&target, opts)?;
         let result = cl::closed_loop(&target, &d, l)?;
         super::closed_loop::write(&d, &target, &result, &dir)?;
-        let mut written = CLOSED_LOOP_FILES.to_vec();
-        if d.order_search.is_some() {
-            written.push("order.md");
-        }
+        // Every design file but the synthesis's plot, and order.md only
+        // when the order search ran.
+        let written: Vec<&str> = DESIGN_FILES
+            .into_iter()
+            .filter(|f| *f != "signals.svg" && (*f != "order.md" || d.order_search.is_some()))
+            .collect();
         crate::output::remove_stale(&dir, &DESIGN_FILES, &written)?;
         if json {
             return super::closed_loop::schedule_json(&d, &target, &result);
