@@ -134,3 +134,50 @@ fn non_finite_samples_are_invalid() {
         assert!(json.contains("\"non_finite\""), "{json}");
     }
 }
+
+/// DESIGN §3: with frozen positions a velocity sample holds only while the
+/// part stays near its start within a cycle, and the frozen Circle field is
+/// the one the paper's model gets wrong. On the default 21 × 21 grid over
+/// ±4 cm (spacing 4 mm, threshold `frozen_excursion` × spacing = 1 mm) its
+/// frozen field must carry `FrozenInvalid` flags (measured: 16 of 441
+/// samples) — and none when that fraction is raised above every excursion,
+/// nor under the full model (the flag is the excursion test, not a failure
+/// of the simulation).
+#[test]
+fn frozen_velocity_samples_that_travel_far_are_flagged() {
+    let m = Primitive::new(PrimitiveKind::Circle).motion();
+    let grid = Grid {
+        x: [-0.04, 0.04],
+        y: [-0.04, 0.04],
+        n: [21, 21],
+    };
+    let flagged = |s: &FieldSettings| {
+        let f = Field::compute(&m, &grid, FieldKind::Velocity, s, &|| {});
+        f.validity
+            .iter()
+            .filter(|v| **v == Validity::FrozenInvalid)
+            .count()
+    };
+    let frozen = FieldSettings {
+        model: Model::FROZEN,
+        phases: 2,
+        ..FieldSettings::default()
+    };
+    let n = flagged(&frozen);
+    println!("frozen Circle: {n} of 441 samples flagged");
+    assert!(n > 0, "no frozen sample flagged");
+    assert_eq!(
+        flagged(&FieldSettings {
+            frozen_excursion: 1e6,
+            ..frozen.clone()
+        }),
+        0
+    );
+    assert_eq!(
+        flagged(&FieldSettings {
+            model: Model::FULL,
+            ..frozen
+        }),
+        0
+    );
+}
