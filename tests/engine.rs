@@ -169,7 +169,7 @@ fn frozen_velocity_samples_that_travel_far_are_flagged() {
     assert_eq!(
         flagged(&FieldSettings {
             frozen_excursion: 1e6,
-            ..frozen.clone()
+            ..frozen
         }),
         0
     );
