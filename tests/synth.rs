@@ -695,3 +695,63 @@ fn transport_start_carries_the_uniform_part() {
     let sink_seed = seed(&sink(), &full, &limits, settings.friction, settings.gravity).unwrap();
     assert!(transport_start(&sink_seed, &limits, &full, &settings).is_none());
 }
+
+/// The averaged-friction force is what its definition says, evaluated
+/// independently: μ⟨(N − g) ê⟩ over one period, with N − g = a_z + α_x y −
+/// α_y x taken from the seed motion's own time signals (64 phases; exact
+/// for these harmonic-1 products) and ê(t) = (cos(ωt + ε), sin(ωt + ε)) the
+/// model's slip direction (⟨g ê⟩ = 0). Checked at every point of a 9 × 9
+/// grid for the lab sink (tilts only) and for a line sink at 30° through an
+/// offset under the paper's envelope (vertical translation too), to 1e-12
+/// of the largest force. A wrong sign, phase or factor in
+/// `Averaged::force` fails it (a 10 % factor passed every other test).
+#[test]
+fn averaged_force_is_the_mean_of_the_normal_force_along_the_slip() {
+    let settings = FieldSettings::default();
+    let grid = region(9);
+    let line = FieldSpec::LineSink {
+        center: [0.0, 0.0],
+        strength: 1.0,
+        angle: 30.0,
+        offset: 0.005,
+    };
+    for (field, limits) in [(sink(), lab()), (line, ShakerLimits::paper_envelope())] {
+        let s = seed(&field, &grid, &limits, settings.friction, settings.gravity).unwrap();
+        let sig = s.coefficients.to_signals();
+        let omega = 2.0 * std::f64::consts::PI / sig.period;
+        let motion = Motion::Signals(sig.clone());
+        let n = 64;
+        let kin: Vec<_> = (0..n)
+            .map(|k| {
+                let t = k as f64 * sig.period / n as f64;
+                (t, motion.kinematics(t, 0.0, false))
+            })
+            .collect();
+        let uses_z = kin.iter().any(|(_, k)| k.accel_center.z.abs() > 1e-9);
+        let forces: Vec<([f64; 2], [f64; 2])> = grid
+            .points()
+            .iter()
+            .map(|q| {
+                let mut m = [0.0; 2];
+                for (t, k) in &kin {
+                    let dn = k.accel_center.z + k.alpha.x * q[1] - k.alpha.y * q[0];
+                    let ph = omega * t + s.model.epsilon;
+                    m[0] += dn * ph.cos() / n as f64;
+                    m[1] += dn * ph.sin() / n as f64;
+                }
+                let mu = s.model.mu;
+                ([mu * m[0], mu * m[1]], s.model.force(&s.coefficients, *q))
+            })
+            .collect();
+        let scale = forces
+            .iter()
+            .map(|(a, _)| a[0].hypot(a[1]))
+            .fold(0.0, f64::max);
+        assert!(scale > 0.1, "{field:?}: no force ({scale})");
+        for (a, b) in &forces {
+            let d = (a[0] - b[0]).hypot(a[1] - b[1]);
+            assert!(d <= 1e-12 * scale, "{field:?}: {a:?} against {b:?}");
+        }
+        println!("{field:?}: largest force {scale:.4} m/s², vertical translation used: {uses_z}");
+    }
+}
