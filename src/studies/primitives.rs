@@ -80,8 +80,7 @@ pub fn write_primitives(lib: &Library, out: &Path) -> Result<String> {
                 .collect::<Vec<_>>()
                 .join(", ")
         };
-        let signs_ok = ff.coefficients.first().is_some_and(|a| *a > 0.0)
-            && fv.coefficients.first().is_some_and(|a| *a > 0.0);
+        let signs_ok = ff.signs_ok && fv.signs_ok;
         let _ = writeln!(
             md,
             "| {name} | {} | {} | {:.4} | {} | {:.4} | {}/{}, {}/{} | {} |",

@@ -24,7 +24,9 @@ pub struct FormFit {
     pub r2: f64,
     /// Samples used.
     pub samples: usize,
-    /// True when the coefficients have Table I's signs (all positive).
+    /// True when the form's leading coefficient a has Table I's sign
+    /// (positive; DivCircle's second coefficient b is reported, not
+    /// checked).
     pub signs_ok: bool,
 }
 
@@ -89,7 +91,7 @@ pub fn fit(kind: PrimitiveKind, field: &Field) -> FormFit {
     let ss_tot = b.norm_squared();
     FormFit {
         form: text,
-        signs_ok: coefficients.iter().all(|c| *c > 0.0),
+        signs_ok: coefficients.first().is_some_and(|a| *a > 0.0),
         coefficients,
         r2: if ss_tot > 0.0 {
             1.0 - ss_res / ss_tot
@@ -97,5 +99,78 @@ pub fn fit(kind: PrimitiveKind, field: &Field) -> FormFit {
             0.0
         },
         samples: rows.len(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::field::{FieldKind, Grid};
+
+    const KINDS: [PrimitiveKind; 8] = [
+        PrimitiveKind::Trans,
+        PrimitiveKind::ScaledCircle,
+        PrimitiveKind::Circle,
+        PrimitiveKind::DivCircle,
+        PrimitiveKind::LineSink,
+        PrimitiveKind::LineSource,
+        PrimitiveKind::SkewSink,
+        PrimitiveKind::SkewSource,
+    ];
+
+    /// A field that is exactly Σ c_i φ_i of `kind`'s form, plus `extra`(p).
+    fn synthetic(kind: PrimitiveKind, c: &[f64], extra: fn(f64, f64) -> [f64; 2]) -> Field {
+        let grid = Grid {
+            x: [-0.04, 0.04],
+            y: [-0.04, 0.04],
+            n: [9, 9],
+        };
+        let (_, basis) = form(kind);
+        let vectors = grid
+            .points()
+            .iter()
+            .map(|p| {
+                let mut v = extra(p[0], p[1]);
+                for (ci, phi) in c.iter().zip(&basis) {
+                    let f = phi(p[0], p[1]);
+                    v[0] += ci * f[0];
+                    v[1] += ci * f[1];
+                }
+                v
+            })
+            .collect();
+        Field {
+            validity: vec![Validity::Ok; grid.len()],
+            grid,
+            kind: FieldKind::Force,
+            vectors,
+        }
+    }
+
+    /// A field that is exactly the form gives back its coefficients (to
+    /// 1e-12) at R² = 1, and the sign check reads the leading one; a
+    /// component no form holds (a uniform (0, 0.05)) lowers R².
+    #[test]
+    fn exact_forms_are_recovered() {
+        for kind in KINDS {
+            let n = form(kind).1.len();
+            for c in [vec![0.7, -1.3], vec![-0.7, 1.3]] {
+                let c = &c[..n];
+                let f = fit(kind, &synthetic(kind, c, |_, _| [0.0, 0.0]));
+                for (got, want) in f.coefficients.iter().zip(c) {
+                    assert!(
+                        (got - want).abs() <= 1e-12 * want.abs(),
+                        "{kind:?}: {got} vs {want}"
+                    );
+                }
+                assert!((f.r2 - 1.0).abs() < 1e-12, "{kind:?}: R² {}", f.r2);
+                assert_eq!(f.signs_ok, c[0] > 0.0, "{kind:?}");
+            }
+            let off = fit(
+                kind,
+                &synthetic(kind, &[0.7, -1.3][..n], |_, _| [0.0, 0.05]),
+            );
+            assert!(off.r2 < 1.0 - 1e-6, "{kind:?}: R² {}", off.r2);
+        }
     }
 }
