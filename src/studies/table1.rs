@@ -107,17 +107,6 @@ mod tests {
     use super::*;
     use crate::field::{FieldKind, Grid};
 
-    const KINDS: [PrimitiveKind; 8] = [
-        PrimitiveKind::Trans,
-        PrimitiveKind::ScaledCircle,
-        PrimitiveKind::Circle,
-        PrimitiveKind::DivCircle,
-        PrimitiveKind::LineSink,
-        PrimitiveKind::LineSource,
-        PrimitiveKind::SkewSink,
-        PrimitiveKind::SkewSource,
-    ];
-
     /// A field that is exactly Σ c_i φ_i of `kind`'s form, plus `extra`(p).
     fn synthetic(kind: PrimitiveKind, c: &[f64], extra: fn(f64, f64) -> [f64; 2]) -> Field {
         let grid = Grid {
@@ -152,7 +141,7 @@ mod tests {
     /// component no form holds (a uniform (0, 0.05)) lowers R².
     #[test]
     fn exact_forms_are_recovered() {
-        for kind in KINDS {
+        for kind in PrimitiveKind::ALL {
             let n = form(kind).1.len();
             for c in [vec![0.7, -1.3], vec![-0.7, 1.3]] {
                 let c = &c[..n];
