@@ -107,18 +107,27 @@ fn single_primitive_schedule_matches_its_steady_state() {
         "scale {}",
         v.realised_scale
     );
-    // A rest segment only scales the field: 10 cycles on, 10 cycles' time at rest.
+    // A rest segment would only scale the field but for the joins, where
+    // the part's slip does not stop and start with the plate: a fixed cost
+    // per join, so the error against the time-weighted prediction falls as
+    // 1/(cycles per segment). n cycles on, n cycles' time at rest: measured
+    // 9.7 % at n = 10, 2.4 % at 40 (ratio 4.0).
     let p = Primitive::new(PrimitiveKind::LineSink);
     let t = p.period();
-    let sm2 = ScheduleMotion::new(vec![
-        PlayedSegment::moving("LineSink", p.motion(), 10),
-        PlayedSegment::rest(10.0 * t),
-    ])
-    .unwrap();
-    let v2 = verify_points(&sm2, &pts, &frozen);
-    assert_eq!(v2.valid, 9);
-    // The stop at the join costs a little: the error is the rest join's interaction.
-    assert!(v2.relative_error < 0.1, "with rest {}", v2.relative_error);
+    let with_rest = |n: u32| {
+        let sm2 = ScheduleMotion::new(vec![
+            PlayedSegment::moving("LineSink", p.motion(), n),
+            PlayedSegment::rest(f64::from(n) * t),
+        ])
+        .unwrap();
+        let v2 = verify_points(&sm2, &pts, &frozen);
+        assert_eq!(v2.valid, 9);
+        v2.relative_error
+    };
+    let (e10, e40) = (with_rest(10), with_rest(40));
+    println!("with rest: {e10:.4} at 10 cycles, {e40:.4} at 40");
+    assert!(e10 < 0.1, "with rest {e10}");
+    assert!((3.0..5.0).contains(&(e10 / e40)), "{e10} → {e40}");
 }
 
 /// (c) The interaction error of the rest-to-rest two-LineSink Sink falls
