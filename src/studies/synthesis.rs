@@ -345,6 +345,9 @@ pub struct Row {
     /// Both motions over the start points where both keep their part
     /// ([`common`]), where their valid sets differ.
     pub common: Option<Common>,
+    /// The kept motion's plays from [`starts`] (the measure's own; empty
+    /// without a motion).
+    pub plays: Vec<PointPlay>,
 }
 
 impl Row {
@@ -352,11 +355,11 @@ impl Row {
         name: &str,
         limits: ShakerLimits,
         sequenced: Option<Measured>,
-        synthesis: Result<(Candidate, (u32, bool), Vec<String>)>,
+        synthesis: Result<(Played, (u32, bool), Vec<String>)>,
     ) -> Row {
-        let (synthesis, (harmonics, calibrated), tried) = match synthesis {
-            Ok((c, h, t)) => (Ok(c), h, t),
-            Err(e) => (Err(e.to_string()), (0, false), Vec::new()),
+        let (synthesis, plays, (harmonics, calibrated), tried) = match synthesis {
+            Ok(((s, m, plays), h, t)) => (Ok((s, m)), plays, h, t),
+            Err(e) => (Err(e.to_string()), Vec::new(), (0, false), Vec::new()),
         };
         Row {
             name: name.into(),
@@ -370,6 +373,7 @@ impl Row {
             vs_predicted_long: f64::NAN,
             holdout: None,
             common: None,
+            plays,
         }
     }
 
@@ -390,8 +394,8 @@ impl Row {
     }
 }
 
-/// A synthesis and its played measure.
-type Candidate = (Synthesis, Measured);
+/// A synthesis, its played measure and the plays it was judged on.
+type Played = (Synthesis, Measured, Vec<PointPlay>);
 
 /// The study's order of played results: shape ≤ 5 % first, then strength,
 /// then the lower shape error.
@@ -410,7 +414,7 @@ fn synthesize_row(
     limits: &ShakerLimits,
     settings: &FieldSettings,
     study: &StudySettings,
-) -> Result<(Candidate, (u32, bool), Vec<String>)> {
+) -> Result<(Played, (u32, bool), Vec<String>)> {
     let g = target
         .grid
         .as_ref()
@@ -420,7 +424,7 @@ fn synthesize_row(
         y: g.y,
         n: g.n,
     };
-    let mut best: Option<(Candidate, (u32, bool))> = None;
+    let mut best: Option<(Played, (u32, bool))> = None;
     let mut tried = Vec::new();
     let runs = (1..=limits.harmonics.max(1)).flat_map(|h| [(h, false), (h, true)]);
     for (h, calibrate) in runs {
@@ -433,7 +437,7 @@ fn synthesize_row(
             ..study.options()
         };
         let s = synthesize(&target.field, &region, &l, settings, &opts)?;
-        let m = measure(target, &synthesized_motion(&s)?, 1, settings, true)?;
+        let (m, plays) = measure_plays(target, &synthesized_motion(&s)?, 1, settings, true)?;
         tried.push(format!(
             "{h} harmonic(s), {}: played ŝ {} at shape {} (vs pred. {}); {}",
             if calibrate { "calibrated seed" } else { "seed" },
@@ -442,16 +446,16 @@ fn synthesize_row(
             pct(m.vs_predicted),
             s.summary()
         ));
-        let better = best.as_ref().is_none_or(|((_, b), _)| {
+        let better = best.as_ref().is_none_or(|((_, b, _), _)| {
             key(&m).partial_cmp(&key(b)) == Some(std::cmp::Ordering::Greater)
         });
         if better {
-            best = Some(((s, m), (h, calibrate)));
+            best = Some(((s, m, plays), (h, calibrate)));
         }
     }
-    let ((s, m), h) = best.ok_or_else(|| Error::invalid("harmonics", "must be ≥ 1"))?;
+    let ((s, m, plays), h) = best.ok_or_else(|| Error::invalid("harmonics", "must be ≥ 1"))?;
     if study.polish_plays == 0 {
-        return Ok(((s, m), h, tried));
+        return Ok(((s, m, plays), h, tried));
     }
     // The played polish of the kept motion, on the measure's own start
     // points; kept only if the measure says it is better.
@@ -475,7 +479,7 @@ fn synthesize_row(
         &opts,
     )?;
     let polished = if p.improved {
-        Some(measure(
+        Some(measure_plays(
             target,
             &synthesized_motion(&p.synthesis)?,
             1,
@@ -485,7 +489,7 @@ fn synthesize_row(
     } else {
         None
     };
-    let kept = polished.filter(|q| {
+    let kept = polished.filter(|(q, _)| {
         key(q).partial_cmp(&key(&m)) == Some(std::cmp::Ordering::Greater)
             && q.vs_predicted <= GOAL_VS_PREDICTED
     });
@@ -503,8 +507,8 @@ fn synthesize_row(
         p.synthesis.summary()
     ));
     Ok(match kept {
-        Some(q) => ((p.synthesis, q), h, tried),
-        None => ((s, m), h, tried),
+        Some((q, qp)) => ((p.synthesis, q, qp), h, tried),
+        None => ((s, m, plays), h, tried),
     })
 }
 
@@ -613,15 +617,7 @@ fn diagnose(
         let starts = starts(target, &sampled);
         let sm = synthesized_motion(s)?;
         if let Some(q) = sequenced {
-            let plays = play_motion(
-                &sm,
-                1,
-                &sampled.points,
-                &starts,
-                settings,
-                &MeasureOptions::default(),
-            );
-            row.common = common(target, &sampled.weights, q, &plays);
+            row.common = common(target, &sampled.weights, q, &row.plays);
         }
         let plays = play_motion(
             &sm,
