@@ -214,6 +214,7 @@ pub fn design_by_method(
     synth: &SynthOptions,
     method: Method,
 ) -> Result<MethodDesign> {
+    let opts = &opts.for_target(target);
     opts.validate()?;
     let mut limits = ShakerLimits::from_spec(target.shaker.as_ref());
     limits.validate("target.shaker")?;

@@ -90,6 +90,20 @@ pub struct DesignOptions {
     pub motions: Vec<(String, crate::motion::Signals)>,
 }
 
+impl DesignOptions {
+    /// These options with the physics `target` states in `settings`: its
+    /// nominal friction and its gravity ([`Target::physics`]). Every
+    /// design entry point applies it first, so the basis (whose cache key
+    /// holds the settings), the synthesis, the plays and `schedule.json`
+    /// all use the target's parts.
+    pub fn for_target(&self, target: &Target) -> DesignOptions {
+        DesignOptions {
+            settings: target.physics(&self.settings),
+            ..self.clone()
+        }
+    }
+}
+
 impl Default for DesignOptions {
     fn default() -> Self {
         DesignOptions {
@@ -220,6 +234,7 @@ pub const COMPACT_SLACK: f64 = 0.005;
 /// `design/stages.rs`), then the
 /// [`Design`] assembled from their products.
 pub fn design(target: &Target, opts: &DesignOptions) -> Result<Design> {
+    let opts = &opts.for_target(target);
     opts.validate()?;
     let basis = stages::basis_stage(target, opts)?;
     let t_fit = Instant::now();

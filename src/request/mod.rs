@@ -40,6 +40,8 @@
 //! | `weights` | `null` or array of arrays of numbers ≥ 0 | no | per-point weights, see below |
 //! | `mask` | array of regions | no (default `[]`) | regions that do not matter (weight 0) |
 //! | `shaker` | object | no | limits of a synthesized motion (`design --method synthesize\|auto`), see below |
+//! | `friction` | number, `[low, high]` or `{"static": .., "kinetic": ..}` | no (default 0.3) | the parts' friction, exact or known within a range ([`FrictionSpec`]; each coefficient in [0, 2], static ≥ kinetic); a design is made for the range's middle |
+//! | `gravity` | number | no (default 9.81) | gravity (m/s², in [0.1, 100]) |
 //!
 //! ## `shaker`
 //!
@@ -179,6 +181,8 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
+use crate::field::FieldSettings;
+pub use crate::scene::FrictionSpec;
 pub use attractor::Attractor;
 pub use error::TargetError;
 pub use examples::examples;
@@ -220,6 +224,15 @@ pub struct Target {
     /// Limits of a synthesized motion (absent: the paper's envelope).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shaker: Option<ShakerSpec>,
+    /// The parts' friction, exact or a range ([`FrictionSpec`]; absent:
+    /// the design options' friction, μ = 0.3 by default). A design is made
+    /// for its nominal value (a range's middle).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction: Option<FrictionSpec>,
+    /// Gravity (m/s², in the scenes' range; absent: the design options',
+    /// 9.81 by default).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gravity: Option<f64>,
 }
 
 /// `null` or rows of weights; a flat list of numbers is an error that says
@@ -344,7 +357,43 @@ impl Target {
         if let Some(s) = &self.shaker {
             s.validate("target.shaker")?;
         }
+        self.validate_physics()
+    }
+
+    /// The parts' friction and gravity, with the scenes' one validation.
+    fn validate_physics(&self) -> Result<(), TargetError> {
+        let invalid = |e: crate::error::Error| match e {
+            crate::error::Error::Invalid { field, message } => TargetError::invalid(field, message),
+            other => TargetError::invalid("target", other.to_string()),
+        };
+        if let Some(f) = &self.friction {
+            f.validate("target.friction").map_err(invalid)?;
+        }
+        if let Some(g) = self.gravity {
+            let (lo, hi) = (crate::scene::GRAVITY_MIN, crate::scene::GRAVITY);
+            if !(g.is_finite() && (lo..=hi).contains(&g)) {
+                return Err(TargetError::invalid(
+                    "target.gravity",
+                    format!(
+                        "must be in [{}, {}] m/s², got {}",
+                        show(lo),
+                        show(hi),
+                        show(g)
+                    ),
+                ));
+            }
+        }
         Ok(())
+    }
+
+    /// `base` with the friction (its nominal value) and gravity this
+    /// target states; the rest of `base` as it is.
+    pub fn physics(&self, base: &FieldSettings) -> FieldSettings {
+        FieldSettings {
+            friction: self.friction.map_or(base.friction, |f| f.nominal()),
+            gravity: self.gravity.unwrap_or(base.gravity),
+            ..*base
+        }
     }
 
     fn validate_weights(&self, w: &[Vec<f64>]) -> Result<(), TargetError> {

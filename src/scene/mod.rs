@@ -44,6 +44,7 @@
 //! [`validate`](Scene::validate).
 
 mod compute;
+mod friction;
 mod validate;
 
 use std::path::Path;
@@ -59,11 +60,12 @@ use crate::field::{FieldKind, FieldSettings, Grid};
 use crate::input;
 use crate::motion::Motion;
 
+pub use friction::{FrictionSpec, Interval, MU};
 pub use validate::primitive as validate_primitive;
 pub use validate::signals as validate_signals;
 pub use validate::{
     ANGULAR_ACCEL, GRAVITY, GRAVITY_MIN, GRID_EXTENT, GRID_N, HARMONIC, LINEAR_ACCEL,
-    MAX_ITERATIONS, MU, PERIOD, PHASES, ROTATION, STEPS_PER_CYCLE, TERMS, TRANSLATION,
+    MAX_ITERATIONS, PERIOD, PHASES, ROTATION, STEPS_PER_CYCLE, TERMS, TRANSLATION,
 };
 
 /// The motion of a scene: a kinematic motion, or a library primitive.
@@ -163,26 +165,16 @@ fn default_phases() -> usize {
     30
 }
 
-/// `μ` (both coefficients) or `{"static": μ_s, "kinetic": μ_k}`, a missing
-/// coefficient equal to the other.
+/// One exact friction in any form of [`FrictionSpec`] (`μ` or
+/// `{"static": μ_s, "kinetic": μ_k}`); a range is for targets.
 fn friction<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<Friction, D::Error> {
-    match Value::deserialize(d)? {
-        Value::Number(mu) => Ok(Friction::uniform(mu.as_f64().unwrap_or(f64::NAN))),
-        Value::Object(map) => input::fields::<D, _>(map, &[], "", |b| {
-            let stat: Option<f64> = b.or("static", None);
-            let kinetic: Option<f64> = b.or("kinetic", None);
-            let (stat, kinetic) = match (stat, kinetic) {
-                (Some(s), Some(k)) => (s, k),
-                (Some(mu), None) | (None, Some(mu)) => (mu, mu),
-                (None, None) => (0.3, 0.3),
-            };
-            Some(Friction { stat, kinetic })
-        }),
-        other => Err(D::Error::custom(format!(
-            "must be a number μ or {{\"static\": μ_s, \"kinetic\": μ_k}}, got {}",
-            input::describe(&other)
-        ))),
+    let spec = FrictionSpec::deserialize(d)?;
+    if !spec.is_exact() {
+        return Err(D::Error::custom(
+            "a scene simulates one friction: give a number μ or {\"static\": μ_s, \"kinetic\": μ_k} (a range [low, high] is for targets, whose designs hold over it)",
+        ));
     }
+    Ok(spec.nominal())
 }
 
 /// `"paper"`, `"full"`, or an object of all four switches.

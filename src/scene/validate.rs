@@ -39,8 +39,6 @@ pub const TRANSLATION: f64 = 0.1;
 pub const ANGULAR_ACCEL: f64 = 1e5;
 /// Largest peak linear acceleration (m/s², about 1000 g) of a translation.
 pub const LINEAR_ACCEL: f64 = 1e4;
-/// Largest friction coefficient (both μ_s and μ_k are in [0, MU]).
-pub const MU: f64 = 10.0;
 /// Largest gravity (m/s²; gravity is in [GRAVITY_MIN, GRAVITY]).
 pub const GRAVITY: f64 = 100.0;
 /// Smallest gravity (m/s²): 1 % of the paper's 9.81, below the Moon's
@@ -287,10 +285,7 @@ impl Scene {
             }
         }
         g.validate("scene.grid")?;
-        let f = &self.friction;
-        within("scene.friction.static", f.stat, 0.0, MU, "")?;
-        within("scene.friction.kinetic", f.kinetic, 0.0, MU, "")?;
-        f.validate("scene.friction")?;
+        super::FrictionSpec::exact(self.friction).validate("scene.friction")?;
         within("scene.gravity", self.gravity, GRAVITY_MIN, GRAVITY, " m/s²")?;
         let n = &self.numerics;
         let at = |k: &str| format!("scene.numerics.{k}");
@@ -514,8 +509,10 @@ mod tests {
             )
         };
         let cases = [
-            (extra("\"friction\": 1e5"), "scene.friction.static: must be in [0, 10], got 100000"),
-            (extra("\"friction\": {\"kinetic\": -0.1}"), "scene.friction.static: must be in [0, 10], got -0.1"),
+            (extra("\"friction\": 1e5"), "scene.friction: must be in [0, 2], got 100000"),
+            (extra("\"friction\": {\"kinetic\": -0.1}"), "scene.friction: must be in [0, 2], got -0.1"),
+            (extra("\"friction\": {\"static\": 0.3, \"kinetic\": 2.5}"), "scene.friction.kinetic: must be in [0, 2], got 2.5"),
+            (extra("\"friction\": [0.2, 0.4]"), "scene.friction: a scene simulates one friction"),
             (extra("\"gravity\": 1e308"), "scene.gravity: must be in [0.1, 100] m/s², got 1e308"),
             (
                 with("0.005}", "1e308}"),

@@ -370,7 +370,8 @@ impl Schedule {
             ));
         }
         let s = &self.settings;
-        s.friction.validate("settings.friction")?;
+        // The scene's one friction validation (a schedule is played like a scene).
+        crate::scene::FrictionSpec::exact(s.friction).validate("settings.friction")?;
         s.numerics.validate("settings.numerics")?;
         // The scene's bound: every cycle-map evaluation of a steady state
         // that does not converge is played (1e9 ran for hours).
@@ -398,30 +399,6 @@ impl Schedule {
                     crate::input::num(s.gravity)
                 ),
             ));
-        }
-        // The scene ranges of the physics (a schedule is played like a scene).
-        for (path, v, max) in [
-            (
-                "settings.friction.static",
-                s.friction.stat,
-                crate::scene::MU,
-            ),
-            (
-                "settings.friction.kinetic",
-                s.friction.kinetic,
-                crate::scene::MU,
-            ),
-        ] {
-            if v > max {
-                return Err(Error::invalid(
-                    path,
-                    format!(
-                        "must be at most {}, got {}",
-                        crate::input::num(max),
-                        crate::input::num(v)
-                    ),
-                ));
-            }
         }
         if let Some(t) = &self.target_spec {
             t.validate()?;
