@@ -59,6 +59,7 @@ use serde::{Deserialize, Serialize};
 
 use super::closed_loop::{loop_points, measure};
 use super::polish::{polish, PolishOptions};
+use super::sensitivity::{self, Sensitivity};
 use super::{design, Design, DesignOptions};
 use crate::error::{Error, Result};
 use crate::field::FieldKind;
@@ -194,6 +195,9 @@ pub struct MethodDesign {
     pub failures: Vec<(Method, String)>,
     /// The limits a synthesis keeps.
     pub limits: ShakerLimits,
+    /// The kept design played across the friction the target states
+    /// ([`super::sensitivity::of_target`]; `None` when it states none).
+    pub sensitivity: Option<Sensitivity>,
 }
 
 impl MethodDesign {
@@ -232,6 +236,7 @@ pub fn design_by_method(
         why: String::new(),
         failures: Vec::new(),
         limits: limits.clone(),
+        sensitivity: None,
     };
     let mut first_error = None;
     let mut from_sequence = false;
@@ -347,6 +352,11 @@ pub fn design_by_method(
             p.choice = why.clone();
         }
     }
+    let kept = &out.candidates[chosen].schedule;
+    out.sensitivity = sensitivity::of_target(target, &kept.settings, &|settings| {
+        let (plays, r) = realised_check(target, &sampled, kept, settings, None)?;
+        Ok((plays.len(), r))
+    })?;
     Ok(out)
 }
 
@@ -756,6 +766,33 @@ fn check_starts(target: &Target, sampled: &SampledTarget) -> Vec<usize> {
     loop_points(target, sampled, stride)
 }
 
+/// The realised check's measure of `schedule` played under `settings`
+/// (its own or other physics): the plays from the check's start points and
+/// what they realise against `target` ([`measure::realised_error`], with
+/// `predicted` the strength the error against the prediction uses).
+pub fn realised_check(
+    target: &Target,
+    sampled: &SampledTarget,
+    schedule: &Schedule,
+    settings: &crate::field::FieldSettings,
+    predicted: Option<f64>,
+) -> Result<(Vec<measure::PointPlay>, measure::RealisedError)> {
+    let starts = check_starts(target, sampled);
+    let plays = measure::play(
+        schedule,
+        &sampled.points,
+        &starts,
+        settings,
+        &measure::MeasureOptions {
+            warmup_cycles: CHECK_WARMUP_CYCLES,
+            measured_cycles: CHECK_MEASURED_CYCLES,
+            settle: false,
+        },
+    )?;
+    let r = measure::realised_error(target, &sampled.weights, &plays, predicted);
+    Ok((plays, r))
+}
+
 /// Plays `schedule` on about [`CHECK_POINTS`]² start points over the
 /// target region and compares what it realises with the target (see the
 /// [module documentation](self)); `predicted` is the strength the design
@@ -768,19 +805,13 @@ pub fn play_check(
     asked: Method,
     limits: Option<crate::request::ShakerSpec>,
 ) -> Result<Played> {
-    let starts = check_starts(target, sampled);
-    let plays = measure::play(
+    let (plays, r) = realised_check(
+        target,
+        sampled,
         schedule,
-        &sampled.points,
-        &starts,
         &schedule.settings,
-        &measure::MeasureOptions {
-            warmup_cycles: CHECK_WARMUP_CYCLES,
-            measured_cycles: CHECK_MEASURED_CYCLES,
-            settle: false,
-        },
+        Some(predicted),
     )?;
-    let r = measure::realised_error(target, &sampled.weights, &plays, Some(predicted));
     let finite = |x: f64| x.is_finite().then_some(x);
     // Contact lost inside the region is a failure of the design; a part
     // that first left the region (a saddle or a transport sends parts out,

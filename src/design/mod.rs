@@ -29,6 +29,7 @@ mod options;
 pub mod order;
 pub mod polish;
 pub mod refine;
+pub mod sensitivity;
 mod stages;
 
 use std::path::PathBuf;

@@ -52,6 +52,15 @@ pub fn summary(md: &MethodDesign) -> String {
         let _ = writeln!(out, "{} failed: {e}", m.name());
     }
     let _ = writeln!(out, "{}", md.why);
+    if let Some(s) = &md.sensitivity {
+        let _ = writeln!(
+            out,
+            "friction: the kept design {}: worst realised shape error {}, weakest realised strength {} (table in report.md)",
+            s.span.describe(),
+            crate::output::percent(s.worst_shape_error().unwrap_or(f64::NAN), 1),
+            number(s.weakest_strength())
+        );
+    }
     out
 }
 
@@ -115,6 +124,9 @@ pub fn method_md(md: &MethodDesign) -> String {
         p.peaks.angular[1],
         p.peaks.angular[2]
     );
+    if let Some(s) = &md.sensitivity {
+        let _ = write!(out, "\n## Friction sensitivity\n\n{}", s.table_md());
+    }
     out
 }
 
