@@ -6,6 +6,7 @@ use clap::Args;
 
 use super::{AllowLong, Play, Quiet};
 use crate::dynamics::Preset;
+use crate::verify::friction::FrictionArg;
 use crate::verify::{Duration, VerifyRequest};
 use crate::{report, Error, Result};
 
@@ -38,6 +39,9 @@ pub struct VerifyArgs {
     /// Output folder; writes `OUT/<target>/verify/{summary.json, trajectories.svg}`.
     #[arg(long, default_value = "results")]
     pub out: PathBuf,
+    /// Parts' friction: MU plays everything at μ_s = μ_k = MU; LO:HI:N also sweeps the design's realised check over N values (table and plot in verify/). Default: the schedule's own.
+    #[arg(long)]
+    pub friction: Option<String>,
     /// Print the summary JSON on stdout.
     #[arg(long)]
     pub json: bool,
@@ -89,6 +93,11 @@ impl VerifyArgs {
             rectangle_poses: self.rect_poses,
             allow_long: self.long.allow_long,
             quiet: self.quiet.quiet,
+            friction: self
+                .friction
+                .as_deref()
+                .map(FrictionArg::parse)
+                .transpose()?,
         })
     }
 

@@ -11,6 +11,7 @@
 //! `platefield verify` command. Nothing here depends on how the schedule
 //! was designed.
 
+pub mod friction;
 pub mod rectangles;
 pub mod run;
 pub mod swarm;

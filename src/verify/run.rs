@@ -22,8 +22,10 @@ use std::path::Path;
 
 use serde::Serialize;
 
+use super::friction::FrictionArg;
 use super::rectangles::{play_rectangle, PoseSample, RectangleOptions, RectangleSummary};
 use super::swarm::{run_swarm_ticked, Swarm, SwarmOptions};
+use crate::design::sensitivity::Sensitivity;
 use crate::dynamics::Model;
 use crate::dynamics::Rectangle;
 use crate::error::{Error, Result};
@@ -77,6 +79,9 @@ pub struct VerifyRequest {
     pub allow_long: bool,
     /// No progress output.
     pub quiet: bool,
+    /// Another friction to play at, or a sweep ([`super::friction`];
+    /// default: the schedule's own).
+    pub friction: Option<FrictionArg>,
 }
 
 impl Default for VerifyRequest {
@@ -93,6 +98,7 @@ impl Default for VerifyRequest {
             rectangle_poses: 4,
             allow_long: false,
             quiet: false,
+            friction: None,
         }
     }
 }
@@ -178,6 +184,8 @@ pub struct VerifyReport {
     pub swarm: Swarm,
     /// The rectangles.
     pub rectangles: Vec<RectangleResult>,
+    /// The friction sweep (`--friction LO:HI:N`).
+    pub friction_sweep: Option<Sensitivity>,
 }
 
 /// The region verified: the target's grid, or ±3 cm when the schedule does
@@ -421,12 +429,32 @@ pub fn work_estimate(
         term("rectangles", req.rectangle_poses as f64, rect_periods)
             .times(RECT_STEP_COST, "point steps per rectangle step"),
     )
+    .plus(friction_sweep_term(schedule, req))
+}
+
+/// The friction sweep's plays: the design's realised check (about
+/// [`crate::design::method::CHECK_POINTS`]² parts, its warm-up and measured
+/// cycles each rounded up to whole periods) at each friction.
+fn friction_sweep_term(schedule: &Schedule, req: &VerifyRequest) -> Term {
+    use crate::design::method::{CHECK_MEASURED_CYCLES, CHECK_POINTS, CHECK_WARMUP_CYCLES};
+    let values = req.friction.map_or(0, |f| f.sweep_values().len());
+    let per_period = schedule.total_cycles.max(1);
+    let periods =
+        CHECK_WARMUP_CYCLES.div_ceil(per_period) + CHECK_MEASURED_CYCLES.div_ceil(per_period);
+    Term::new("friction sweep")
+        .times(values as f64, "frictions")
+        .times((CHECK_POINTS * CHECK_POINTS) as f64, "parts")
+        .times(f64::from(periods * per_period), "cycles")
+        .times(schedule.settings.numerics.steps_per_cycle as f64, "steps")
 }
 
 /// `platefield verify`: runs `req` on the schedule at `path` with the
 /// physics its basis was built with (nothing is written here).
 pub fn verify_schedule_file(path: &Path, req: &VerifyRequest) -> Result<VerifyReport> {
     req.validate()?;
+    if let Some(f) = &req.friction {
+        f.validate()?;
+    }
     let schedule = Schedule::load(path)?;
     let settings = schedule.settings;
     let name = schedule.target_folder()?;
@@ -444,6 +472,9 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest) -> Result<VerifyRe
     };
     if let Some(m) = req.model {
         opts.model = m;
+    }
+    if let Some(f) = req.friction.and_then(|f| f.played()) {
+        opts.friction = f;
     }
     let g = region(&schedule);
     let attractor = schedule
@@ -549,6 +580,13 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest) -> Result<VerifyRe
         &rect_opts,
         &tick_by(2),
     );
+    let sweep_values = req.friction.map(|f| f.sweep_values()).unwrap_or_default();
+    let friction_sweep = if sweep_values.is_empty() {
+        None
+    } else {
+        progress.set_message("friction sweep");
+        Some(super::friction::sweep(&schedule, &sweep_values)?)
+    };
     progress.finish();
 
     Ok(VerifyReport {
@@ -559,5 +597,6 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest) -> Result<VerifyRe
         realised: v,
         swarm,
         rectangles,
+        friction_sweep,
     })
 }
