@@ -40,7 +40,7 @@ pub struct VerifyArgs {
     #[arg(long, default_value = "results")]
     pub out: PathBuf,
     /// Parts' friction: MU plays everything at μ_s = μ_k = MU; LO:HI:N also sweeps the design's realised check over N values (table and plot in verify/). Default: the schedule's own.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub friction: Option<String>,
     /// Print the summary JSON on stdout.
     #[arg(long)]
