@@ -41,6 +41,8 @@ pub enum DesignMethod {
     Auto,
     /// Primitives and a synthesized motion mixed in one fit.
     Mix,
+    /// A synthesized motion time-shared with its mirror image (y → −y): holds its shape over the parts' friction, for targets symmetric in y.
+    Mirror,
 }
 
 impl From<DesignMethod> for Method {
@@ -50,6 +52,7 @@ impl From<DesignMethod> for Method {
             DesignMethod::Synthesize => Method::Synthesize,
             DesignMethod::Auto => Method::Auto,
             DesignMethod::Mix => Method::Mix,
+            DesignMethod::Mirror => Method::Mirror,
         }
     }
 }

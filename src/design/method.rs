@@ -111,6 +111,11 @@ pub enum Method {
     /// primitives: for targets no single motion reaches (see
     /// [`mix_design`]).
     Mix,
+    /// A synthesized motion time-shared with its mirror image
+    /// ([`super::mirror`]): a field that keeps its shape over the parts'
+    /// friction, for targets symmetric under y → −y. `auto` designs it too
+    /// when the target states a friction range and is symmetric.
+    Mirror,
 }
 
 impl Method {
@@ -121,6 +126,7 @@ impl Method {
             Method::Synthesize => "synthesize",
             Method::Auto => "auto",
             Method::Mix => "mix",
+            Method::Mirror => "mirror",
         }
     }
 }
@@ -136,6 +142,9 @@ pub struct Candidate {
     pub design_s: f64,
     /// Seconds to play it.
     pub play_s: f64,
+    /// Its realised check over the friction range the target states
+    /// (`None` for an exact friction): what `auto` judges it by.
+    pub sensitivity: Option<Sensitivity>,
 }
 
 impl Candidate {
@@ -151,7 +160,7 @@ impl Candidate {
     ) -> Result<Candidate> {
         let t = Instant::now();
         let p = play_check(target, sampled, &schedule, predicted, asked, limits)?;
-        let method = [Method::Synthesize, Method::Mix]
+        let method = [Method::Synthesize, Method::Mix, Method::Mirror]
             .into_iter()
             .find(|m| p.method == m.name())
             .unwrap_or(Method::Sequence);
@@ -161,6 +170,7 @@ impl Candidate {
             schedule,
             design_s,
             play_s: t.elapsed().as_secs_f64(),
+            sensitivity: None,
         })
     }
 
@@ -275,7 +285,18 @@ pub fn design_by_method(
             Err(e) => return Err(e),
         }
     }
-    if matches!(method, Method::Synthesize | Method::Auto) {
+    // The mirror-image time-share: asked for, or under `auto` when the
+    // target states a friction range and is symmetric under y → −y.
+    let symmetric = super::mirror::mirror_symmetric(target, &sampled);
+    if method == Method::Mirror && !symmetric {
+        return Err(Error::invalid(
+            "method",
+            "mirror time-shares a motion with its mirror image in y → −y, which keeps only the part of a field symmetric under that reflection; this target is not symmetric (a whirlpool, or a field whose axis is not x)",
+        ));
+    }
+    let ranged = target.friction.is_some_and(|f| !f.is_exact());
+    let try_mirror = method == Method::Mirror || (method == Method::Auto && ranged && symmetric);
+    if matches!(method, Method::Synthesize | Method::Auto | Method::Mirror) {
         let t = Instant::now();
         match synthesize_schedule(target, &sampled, &limits, opts, synth) {
             Ok((syn, schedule)) => {
@@ -291,7 +312,20 @@ pub fn design_by_method(
                     p.notes
                         .extend(syn.notes.iter().map(|n| format!("synthesis: {n}")));
                 }
-                out.candidates.push(c);
+                if try_mirror {
+                    let t = Instant::now();
+                    let share = super::mirror::mirror_share(&c.schedule, &limits)?;
+                    out.candidates.push(Candidate::play(
+                        (target, &sampled),
+                        share,
+                        syn.realised.strength,
+                        (method, Some(limits.to_spec())),
+                        c.design_s + t.elapsed().as_secs_f64(),
+                    )?);
+                }
+                if method != Method::Mirror {
+                    out.candidates.push(c);
+                }
                 out.synthesis = Some(syn);
             }
             Err(e) if method == Method::Auto && !out.candidates.is_empty() => {
@@ -344,6 +378,13 @@ pub fn design_by_method(
             Err(e) => return Err(first_error.unwrap_or(e)),
         }
     }
+    // Over a friction range every candidate is judged by its worst case.
+    if ranged {
+        for k in 0..out.candidates.len() {
+            let s = candidate_sensitivity(target, &sampled, &out.candidates[k].schedule)?;
+            out.candidates[k].sensitivity = s;
+        }
+    }
     let (chosen, why) = choose(&out.candidates, &out.failures, method);
     out.chosen = chosen;
     out.why = why.clone();
@@ -352,23 +393,43 @@ pub fn design_by_method(
             p.choice = why.clone();
         }
     }
-    let kept = &out.candidates[chosen].schedule;
-    out.sensitivity = sensitivity::of_target(target, &kept.settings, &|settings| {
-        let (plays, r) = realised_check(target, &sampled, kept, settings, None)?;
-        Ok((plays.len(), r))
-    })?;
+    out.sensitivity = match &out.candidates[chosen].sensitivity {
+        Some(s) => Some(s.clone()),
+        None => candidate_sensitivity(target, &sampled, &out.candidates[chosen].schedule)?,
+    };
     Ok(out)
+}
+
+/// `schedule`'s realised check across the friction the target states
+/// ([`sensitivity::of_target`]).
+fn candidate_sensitivity(
+    target: &Target,
+    sampled: &SampledTarget,
+    schedule: &Schedule,
+) -> Result<Option<Sensitivity>> {
+    sensitivity::of_target(target, &schedule.settings, &|settings| {
+        let (plays, r) = realised_check(target, sampled, schedule, settings, None)?;
+        Ok((plays.len(), r))
+    })
 }
 
 /// The candidate kept and why (see the [module documentation](self)).
 fn choose(cands: &[Candidate], failures: &[(Method, String)], asked: Method) -> (usize, String) {
     let describe = |c: &Candidate| {
         let p = c.played();
+        let (worst, shape, strength) = match &c.sensitivity {
+            Some(s) => (
+                " worst over the friction range:",
+                s.worst_shape_error(),
+                s.weakest_strength(),
+            ),
+            None => ("", p.realised_shape_error, p.realised_strength),
+        };
         format!(
-            "{} realised shape error {}, strength {}{}",
+            "{}{worst} realised shape error {}, strength {}{}",
             c.method.name(),
-            percent(p.realised_shape_error),
-            number(p.realised_strength),
+            percent(shape),
+            number(strength),
             if p.poor { " (POOR)" } else { "" }
         )
     };
@@ -388,10 +449,14 @@ fn choose(cands: &[Candidate], failures: &[(Method, String)], asked: Method) -> 
     }
     let key = |c: &Candidate| {
         let p = c.played();
+        let (shape, strength) = match &c.sensitivity {
+            Some(s) => (s.worst_shape_error(), s.weakest_strength()),
+            None => (p.realised_shape_error, p.realised_strength),
+        };
         (
             p.poor,
-            p.realised_shape_error.unwrap_or(f64::INFINITY),
-            p.realised_strength.unwrap_or(f64::NEG_INFINITY),
+            shape.unwrap_or(f64::INFINITY),
+            strength.unwrap_or(f64::NEG_INFINITY),
         )
     };
     // The rule between two candidates: (b is better, why).
@@ -890,6 +955,9 @@ pub fn play_check(
             schedule.segments.iter().any(|s| s.motion.is_some()),
             schedule.segments.iter().filter(|s| s.is_moving()).count() > 1,
         ) {
+            (true, true) if schedule.segments.iter().all(|s| s.primitive.is_none()) => {
+                Method::Mirror.name().into()
+            }
             (true, true) => Method::Mix.name().into(),
             (true, false) => Method::Synthesize.name().into(),
             (false, _) => Method::Sequence.name().into(),
@@ -953,6 +1021,7 @@ mod tests {
             schedule,
             design_s: 0.0,
             play_s: 0.0,
+            sensitivity: None,
         }
     }
 

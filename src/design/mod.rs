@@ -25,6 +25,7 @@
 pub mod basis;
 pub mod closed_loop;
 pub mod method;
+pub mod mirror;
 mod options;
 pub mod order;
 pub mod polish;

@@ -234,6 +234,32 @@ impl Signals {
         }
     }
 
+    /// The mirror image of this motion in the vertical plane y = 0 (the
+    /// reflection M = diag(1, −1, 1)): the centre's translation p → Mp, so
+    /// the linear y signal changes sign; the rotation R → MRM, whose
+    /// rotation vector θ → (−θx, θy, −θz) (M[θ]×M = [det(M)·Mθ]×), so the
+    /// angular x and z signals change sign. Gravity is unchanged, so a part
+    /// at (x, −y) moves as the mirror image of a part at (x, y) under the
+    /// original motion, at every friction: the field becomes
+    /// F'(x, y) = (Fx(x, −y), −Fy(x, −y)). Exact (no small-amplitude step).
+    pub fn mirrored_y(&self) -> Signals {
+        let neg = |terms: &[FourierTerm]| -> Vec<FourierTerm> {
+            terms.iter().map(|t| scale(t, -1.0)).collect()
+        };
+        Signals {
+            period: self.period,
+            linear: Axes {
+                y: neg(&self.linear.y),
+                ..self.linear.clone()
+            },
+            angular: Axes {
+                x: neg(&self.angular.x),
+                y: self.angular.y.clone(),
+                z: neg(&self.angular.z),
+            },
+        }
+    }
+
     /// Every amplitude multiplied by `k` (the same waveforms, scaled).
     pub fn scaled(&self, k: f64) -> Signals {
         let axes = |a: &Axes| Axes {

@@ -261,7 +261,7 @@ pub fn run(
     crate::output::check_writable(&dir, "--out")?;
     if let Some(l) = closed_loop {
         l.validate()?;
-        if matches!(method, Method::Synthesize | Method::Mix) {
+        if matches!(method, Method::Synthesize | Method::Mix | Method::Mirror) {
             return Err(crate::error::Error::invalid(
                 "--closed-loop",
                 "re-fits a sequenced schedule; use it with --method sequence (or auto, which then designs by sequence)",

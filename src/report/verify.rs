@@ -343,7 +343,7 @@ pub fn friction_svg(target: &str, s: &Sensitivity) -> String {
             .series(Series::new("played", points).markers())
     };
     Panels::new(format!("{target}: the design played across friction"))
-        .panel(panel("realised strength", "ŝ", strength))
+        .panel(panel("realised strength", "ŝ (× the target)", strength))
         .panel(panel("realised shape error", "%", shape))
         .to_svg()
 }
