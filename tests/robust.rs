@@ -2,7 +2,7 @@
 //! time-share (`design::mirror`) and its symmetry argument.
 
 use platefield::design::method::realised_check;
-use platefield::design::mirror::{mirror_share, mirror_symmetric};
+use platefield::design::mirror::{mirror_axis, mirror_share};
 use platefield::design::sensitivity::{friction_sweep, FrictionRow};
 use platefield::dynamics::Friction;
 use platefield::field::{Field, FieldKind, FieldSettings, Grid};
@@ -15,7 +15,9 @@ mod common;
 use common::platefield;
 
 /// The mirror motion's field is the mirror image of the field, at μ 0.2
-/// and 0.45: V′(x, y) = (Vx(x, −y), −Vy(x, −y)) on a grid symmetric in y,
+/// and 0.45: V′(x, y) = (Vx(x, −y), −Vy(x, −y)) on a grid symmetric in y
+/// (and mirrored about the 90° plane, x → −x, through the turns of
+/// `mirrored_about`: V′(x, y) = (−Vx(−x, y), Vy(−x, y))),
 /// to 1e-9 of the field's largest vector (the reflection is exact; only
 /// rounding differs). A sign slip in any of the three mirrored signals
 /// breaks it at the 1e-1 level.
@@ -64,17 +66,19 @@ fn the_mirror_motions_field_is_the_mirror_image_at_every_friction() {
 /// Which shipped targets the reflection y → −y maps to themselves.
 #[test]
 fn symmetric_targets_are_recognised() {
-    for (name, symmetric) in [
-        ("sink", true),
-        ("saddle", true),
-        ("line_sink", true),
-        ("whirlpool", false),
-        ("squeeze_trans", true),
-        ("line_sink_30", false),
+    for (name, axis) in [
+        ("sink", Some(0.0)),
+        ("saddle", Some(0.0)),
+        ("line_sink", Some(0.0)),
+        ("whirlpool", None),
+        ("squeeze_trans", Some(0.0)),
+        // A LineSink along 30° through (5 mm, 0): mirrored in any line
+        // across it; the one through the centre is at 120°.
+        ("line_sink_30", Some(120.0)),
     ] {
         let t = Target::load(std::path::Path::new(&format!("targets/{name}.json"))).unwrap();
         let s = t.sample().unwrap();
-        assert_eq!(mirror_symmetric(&t, &s), symmetric, "{name}");
+        assert_eq!(mirror_axis(&t, &s), axis, "{name}");
     }
     // Asked for a target it cannot serve: exit 2 naming the option.
     let (code, _, err) = platefield(&[
@@ -121,7 +125,7 @@ fn worst(rows: &[FrictionRow]) -> (f64, f64) {
 fn the_mirror_share_of_the_synthesized_sink_holds_over_friction() {
     let synthesized = Schedule::load(std::path::Path::new("results/sink/schedule.json")).unwrap();
     let limits = ShakerLimits::from_spec(synthesized.played.as_ref().unwrap().limits.as_ref());
-    let share = mirror_share(&synthesized, &limits).unwrap();
+    let share = mirror_share(&synthesized, &limits, 0.0).unwrap();
     assert_eq!(share.segments.len(), 2);
     let mu = [0.2, 0.25, 0.3, 0.35, 0.4];
     let (alone, _) = worst(&sweep(&synthesized, &mu));

@@ -287,15 +287,16 @@ pub fn design_by_method(
     }
     // The mirror-image time-share: asked for, or under `auto` when the
     // target states a friction range and is symmetric under y → −y.
-    let symmetric = super::mirror::mirror_symmetric(target, &sampled);
-    if method == Method::Mirror && !symmetric {
+    let axis = super::mirror::mirror_axis(target, &sampled);
+    if method == Method::Mirror && axis.is_none() {
         return Err(Error::invalid(
             "method",
-            "mirror time-shares a motion with its mirror image in y → −y, which keeps only the part of a field symmetric under that reflection; this target is not symmetric (a whirlpool, or a field whose axis is not x)",
+            "mirror time-shares a motion with its mirror image in y → −y, which keeps only the part of a field symmetric under that reflection; this target is not symmetric in any vertical plane through the plate centre at a multiple of 15° (a whirlpool is in none)",
         ));
     }
     let ranged = target.friction.is_some_and(|f| !f.is_exact());
-    let try_mirror = method == Method::Mirror || (method == Method::Auto && ranged && symmetric);
+    let try_mirror =
+        axis.filter(|_| method == Method::Mirror || (method == Method::Auto && ranged));
     if matches!(method, Method::Synthesize | Method::Auto | Method::Mirror) {
         let t = Instant::now();
         match synthesize_schedule(target, &sampled, &limits, opts, synth) {
@@ -312,9 +313,9 @@ pub fn design_by_method(
                     p.notes
                         .extend(syn.notes.iter().map(|n| format!("synthesis: {n}")));
                 }
-                if try_mirror {
+                if let Some(axis) = try_mirror {
                     let t = Instant::now();
-                    let share = super::mirror::mirror_share(&c.schedule, &limits)?;
+                    let share = super::mirror::mirror_share(&c.schedule, &limits, axis)?;
                     out.candidates.push(Candidate::play(
                         (target, &sampled),
                         share,

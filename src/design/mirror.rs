@@ -19,11 +19,17 @@
 //! the reflection whatever μ is. Every field splits into a symmetric and an
 //! antisymmetric part; a swirl J q is antisymmetric (the reflection
 //! reverses rotation). So for a target that is itself symmetric
-//! ([`mirror_symmetric`]: a sink, a saddle or a squeeze line along x, not a
-//! whirlpool) the time-share keeps the part of F that the target can use
+//! ([`mirror_axis`]: a sink, a saddle, a squeeze line, not a whirlpool)
+//! the time-share keeps the part of F that the target can use
 //! and removes, at every friction, the swirl a friction error adds — to the
 //! extent that sequencing combines fields (the joins' interaction, see the
 //! crate docs).
+//!
+//! The same holds for the reflection in any vertical plane through the
+//! plate centre at an angle φ ([`crate::motion::Signals::mirrored_about`]):
+//! a LineSink along 30° is symmetric under φ = 120° (any line across it),
+//! a sink under every φ; the first of 0°, 15°, …, 165° that maps the
+//! target to itself is used.
 //!
 //! **Its schedule.** Two six-signal segments of [`MIRROR_SEGMENT_CYCLES`]
 //! cycles each, the motion and its mirror, each ramped in from rest and out
@@ -51,31 +57,47 @@ pub const MIRROR_SEGMENT_CYCLES: u32 = 28;
 /// Relative tolerance of the symmetry test of a target.
 const SYMMETRY_TOL: f64 = 1e-9;
 
-/// `true` when the target is symmetric under the reflection y → −y at
-/// every sample point of positive weight: t(x, −y) = (tx(x, y), −ty(x, y))
-/// within 1e-9 of its largest vector.
-pub fn mirror_symmetric(target: &Target, sampled: &SampledTarget) -> bool {
+/// Axes tried by [`mirror_axis`] (degrees from x).
+pub const MIRROR_AXES_DEG: [f64; 12] = [
+    0.0, 15.0, 30.0, 45.0, 60.0, 75.0, 90.0, 105.0, 120.0, 135.0, 150.0, 165.0,
+];
+
+/// The first axis of [`MIRROR_AXES_DEG`] (degrees) in whose vertical plane
+/// the target is symmetric at every sample point of positive weight:
+/// t(Mp) = M t(p) within 1e-9 of its largest vector, M the reflection;
+/// `None` when there is none (a whirlpool).
+pub fn mirror_axis(target: &Target, sampled: &SampledTarget) -> Option<f64> {
     let scale = sampled.max_norm().max(f64::MIN_POSITIVE);
-    sampled
-        .points
-        .iter()
-        .zip(&sampled.vectors)
-        .zip(&sampled.weights)
-        .filter(|(_, &w)| w > 0.0)
-        .all(|((p, t), _)| {
-            let m = target.field.eval([p[0], -p[1]]);
-            (m[0] - t[0]).hypot(m[1] + t[1]) <= SYMMETRY_TOL * scale
-        })
+    MIRROR_AXES_DEG.into_iter().find(|deg| {
+        let (s, c) = (2.0 * deg.to_radians()).sin_cos();
+        let reflect = |v: [f64; 2]| [c * v[0] + s * v[1], s * v[0] - c * v[1]];
+        sampled
+            .points
+            .iter()
+            .zip(&sampled.vectors)
+            .zip(&sampled.weights)
+            .filter(|(_, &w)| w > 0.0)
+            .all(|((p, t), _)| {
+                let m = target.field.eval(reflect(*p));
+                let r = reflect(*t);
+                (m[0] - r[0]).hypot(m[1] - r[1]) <= SYMMETRY_TOL * scale
+            })
+    })
 }
 
 /// The mirror-image time-share of a one-motion schedule (a synthesized
-/// design): the motion and its mirror image, [`MIRROR_SEGMENT_CYCLES`]
+/// design) in the plane at `axis_deg` ([`mirror_axis`]): the motion and
+/// its mirror image, [`MIRROR_SEGMENT_CYCLES`]
 /// cycles each, ramped, scaled down where the ramps would pass `limits`.
 /// The rest of the schedule (target, settings, fit metrics) is kept.
 ///
 /// # Errors
 /// The schedule does not hold exactly one six-signal motion.
-pub fn mirror_share(synthesized: &Schedule, limits: &ShakerLimits) -> Result<Schedule> {
+pub fn mirror_share(
+    synthesized: &Schedule,
+    limits: &ShakerLimits,
+    axis_deg: f64,
+) -> Result<Schedule> {
     let [one] = synthesized.segments.as_slice() else {
         return Err(Error::invalid(
             "segments",
@@ -98,11 +120,14 @@ pub fn mirror_share(synthesized: &Schedule, limits: &ShakerLimits) -> Result<Sch
             cycles: MIRROR_SEGMENT_CYCLES,
             duration_s: 0.0,
         };
-        let mirrored = signals.mirrored_y();
+        let mirrored = signals.mirrored_about(axis_deg.to_radians());
         let mut s = synthesized.clone();
         s.segments = vec![
             segment("Synthesized", signals),
-            segment("Synthesized, mirrored (y → −y)", mirrored),
+            segment(
+                &format!("Synthesized, mirrored in the {axis_deg}° axis"),
+                mirrored,
+            ),
         ];
         s.played = None;
         s.solver.mode = "mirror".into();

@@ -260,6 +260,16 @@ impl Signals {
         }
     }
 
+    /// The mirror image in the vertical plane through the centre at `angle`
+    /// (rad) from x: turned by −angle, mirrored in y = 0
+    /// ([`Signals::mirrored_y`]), turned back. Exact: a turn about the
+    /// vertical through the centre has no shift.
+    pub fn mirrored_about(&self, angle: f64) -> Signals {
+        self.transformed(-angle, [0.0, 0.0])
+            .mirrored_y()
+            .transformed(angle, [0.0, 0.0])
+    }
+
     /// Every amplitude multiplied by `k` (the same waveforms, scaled).
     pub fn scaled(&self, k: f64) -> Signals {
         let axes = |a: &Axes| Axes {
