@@ -122,6 +122,14 @@ enum Command {
     /// Study: interaction error of two sequenced LineSinks (a Sink): sink_interaction.md.
     #[command(mut_arg("out", default_dir(studies::interaction::DIR)))]
     Interaction(StudyOut),
+    /// Study: designs for μ 0.3 against designs robust over μ ∈ [0.2, 0.4], each played at μ 0.2–0.4; single-μ designs at 0.15 and 0.6: robust.md.
+    #[command(mut_arg("out", default_dir(studies::robust::DIR)))]
+    Robust {
+        #[command(flatten)]
+        quiet: Quiet,
+        #[command(flatten)]
+        out: StudyOut,
+    },
     /// Study: one synthesized six-signal motion per target against its sequenced schedule, both played: synthesis.{md,csv}.
     #[command(mut_arg("out", default_dir(studies::synthesis::DIR)))]
     Synthesis {
@@ -230,6 +238,7 @@ fn run(cli: Cli) -> Result<String> {
         Command::EngineSpeed(o) => studies::engine_speed::run(&o.out),
         Command::FitQuality(o) => studies::fit_quality::run(Path::new("targets"), &o.out),
         Command::Interaction(o) => studies::interaction::run(&o.out),
+        Command::Robust { quiet, out } => studies::robust::run(&out.out, quiet.quiet),
         Command::SqueezeOrder(o) => studies::squeeze_order::run(&o.out),
         Command::Synthesis {
             rows,

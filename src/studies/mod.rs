@@ -22,6 +22,7 @@ pub mod interaction;
 pub mod linesink;
 pub mod primitives;
 pub mod reproduce;
+pub mod robust;
 pub mod rung;
 pub mod speed;
 pub mod squeeze_order;

@@ -1,0 +1,222 @@
+//! Study: designs for the paper's μ = 0.3 against designs robust over
+//! μ ∈ [0.2, 0.4], played across that range: `results/robust.md`.
+//!
+//! For each of sink, saddle, whirlpool, squeeze_trans and line_sink_30 the
+//! shipped target is designed twice with `design`'s defaults (`auto`):
+//! as shipped (μ = 0.3), and with `"friction": [0.2, 0.4]`, which judges
+//! every candidate by its worst case over the range and adds the
+//! mirror-image time-share where the target is symmetric
+//! ([`crate::design::mirror`]). Each kept design is then played at
+//! μ = 0.2, 0.25, 0.3, 0.35 and 0.4 by the design's own realised check
+//! (moving parts from about 5 × 5 start points, 10 warm-up and 10
+//! measured cycles rounded up to whole periods): realised strength ŝ and
+//! shape error ‖R − ŝt‖/‖ŝt‖ against the target. A second table designs
+//! the sink and the whirlpool for a single μ of 0.15 and 0.6 and gives the
+//! realised shape at that μ.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use crate::design::method::{design_by_method, realised_check, Method};
+use crate::design::sensitivity::{friction_sweep, FrictionRow};
+use crate::design::DesignOptions;
+use crate::dynamics::Friction;
+use crate::error::Result;
+use crate::request::{FrictionSpec, Target};
+use crate::synth::SynthOptions;
+
+/// Default output folder.
+pub const DIR: &str = "results";
+
+/// The targets compared.
+pub const TARGETS: [&str; 5] = [
+    "sink",
+    "saddle",
+    "whirlpool",
+    "squeeze_trans",
+    "line_sink_30",
+];
+
+/// The frictions every design is played at.
+pub const FRICTIONS: [f64; 5] = [0.2, 0.25, 0.3, 0.35, 0.4];
+
+/// The range the robust designs hold over.
+pub const RANGE: [f64; 2] = [0.2, 0.4];
+
+/// The goals over the range: (worst shape error, least worst
+/// strength) per target.
+pub fn goal(target: &str) -> (f64, Option<f64>) {
+    match target {
+        "sink" => (0.06, Some(0.4)),
+        "whirlpool" => (0.08, Some(0.3)),
+        _ => (0.08, None),
+    }
+}
+
+/// One kept design played across [`FRICTIONS`].
+#[derive(Debug, Clone)]
+pub struct Row {
+    /// Target name.
+    pub target: String,
+    /// `μ 0.3` or `robust [0.2, 0.4]`.
+    pub design: String,
+    /// The kept method.
+    pub method: String,
+    /// One row per friction.
+    pub rows: Vec<FrictionRow>,
+}
+
+impl Row {
+    /// Worst shape error and weakest strength over the rows.
+    pub fn worst(&self) -> (f64, f64) {
+        self.rows
+            .iter()
+            .fold((0.0_f64, f64::INFINITY), |(e, s), r| {
+                (
+                    e.max(r.realised_shape_error.unwrap_or(f64::INFINITY)),
+                    s.min(r.realised_strength.unwrap_or(f64::NEG_INFINITY)),
+                )
+            })
+    }
+}
+
+fn options(quiet: bool) -> (DesignOptions, SynthOptions) {
+    let synth = SynthOptions {
+        progress: crate::progress::ProgressMode::quiet_if(quiet),
+        ..SynthOptions::default()
+    };
+    (
+        DesignOptions {
+            quiet,
+            ..DesignOptions::default()
+        },
+        synth,
+    )
+}
+
+/// Designs `target` with `auto` and plays the kept design at `frictions`.
+pub fn design_row(target: &Target, label: &str, frictions: &[f64], quiet: bool) -> Result<Row> {
+    let (opts, synth) = options(quiet);
+    let md = design_by_method(target, &opts, &synth, Method::Auto)?;
+    let kept = &md.kept().schedule;
+    let sampled = target.sample()?;
+    let values: Vec<Friction> = frictions.iter().map(|&m| Friction::uniform(m)).collect();
+    let rows = friction_sweep(&kept.settings, &values, &|settings| {
+        let (plays, r) = realised_check(target, &sampled, kept, settings, None)?;
+        Ok((plays.len(), r))
+    })?;
+    Ok(Row {
+        target: target.name.clone(),
+        design: label.into(),
+        method: md.kept().method.name().into(),
+        rows,
+    })
+}
+
+fn load(name: &str) -> Result<Target> {
+    let mut t = Target::load(&Path::new("targets").join(format!("{name}.json")))?;
+    t.name = name.into();
+    Ok(t)
+}
+
+/// The comparison rows of one target: as shipped, and robust over [`RANGE`].
+pub fn target_rows(name: &str, quiet: bool) -> Result<[Row; 2]> {
+    let nominal = load(name)?;
+    let mut robust = nominal.clone();
+    robust.friction = Some(FrictionSpec::range(RANGE[0], RANGE[1]));
+    Ok([
+        design_row(&nominal, "μ 0.3", &FRICTIONS, quiet)?,
+        design_row(&robust, "robust [0.2, 0.4]", &FRICTIONS, quiet)?,
+    ])
+}
+
+/// The designs for a single μ of 0.15 and 0.6, each played at its μ.
+pub fn single_rows(quiet: bool) -> Result<Vec<Row>> {
+    let mut rows = Vec::new();
+    for name in ["sink", "whirlpool"] {
+        for mu in [0.15, 0.6] {
+            let mut t = load(name)?;
+            t.friction = Some(FrictionSpec::uniform(mu));
+            rows.push(design_row(&t, &format!("μ {mu}"), &[mu], quiet)?);
+        }
+    }
+    Ok(rows)
+}
+
+fn cell(r: &FrictionRow) -> String {
+    format!(
+        "{} / {}",
+        r.realised_strength
+            .map_or_else(|| "n/a".into(), |s| format!("{s:.3}")),
+        crate::output::percent(r.realised_shape_error.unwrap_or(f64::NAN), 1)
+    )
+}
+
+/// `robust.md` from the comparison and the single-μ rows.
+pub fn render(rows: &[Row], single: &[Row]) -> String {
+    let mut md = String::from(
+        "# Designs over the parts' friction\n\nGenerated by `platefield robust` (see `platefield::studies::robust`). Each design is `design`'s default (`auto`) for the shipped target, as shipped (μ 0.3) and with `\"friction\": [0.2, 0.4]` (every candidate judged by its worst case over the range; the mirror-image time-share added where the target is symmetric, `design::mirror`). Every kept design is played at each μ by the design's own realised check: moving point parts from about 5 × 5 start points, 10 warm-up and 10 measured cycles (rounded up to whole schedule periods), realised strength ŝ (× the target's strength, s⁻¹ for these linear fields) and realised shape error ‖R − ŝt‖/‖ŝt‖. Cells: strength / shape error.\n\n",
+    );
+    md.push_str("| target | design | kept | μ 0.2 | μ 0.25 | μ 0.3 | μ 0.35 | μ 0.4 | worst shape | weakest strength | goal | met |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    for r in rows {
+        let (shape, strength) = r.worst();
+        let (g_shape, g_strength) = goal(&r.target);
+        let goal_text = match g_strength {
+            Some(s) => format!("≤ {:.0} % at ≥ {s}", 100.0 * g_shape),
+            None => format!("≤ {:.0} %", 100.0 * g_shape),
+        };
+        let met = shape <= g_shape && g_strength.is_none_or(|g| strength >= g);
+        let cells: Vec<String> = r.rows.iter().map(cell).collect();
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {:.1} % | {:.3} | {goal_text} | {} |",
+            r.target,
+            r.design,
+            r.method,
+            cells.join(" | "),
+            100.0 * shape,
+            strength,
+            if r.design.starts_with("robust") {
+                if met {
+                    "yes"
+                } else {
+                    "no"
+                }
+            } else {
+                "—"
+            }
+        );
+    }
+    md.push_str("\n## A single friction far from 0.3\n\nThe target with `\"friction\": μ`, designed by `auto` and played at that μ (goal: shape error ≤ 6 %).\n\n| target | μ | kept | realised strength / shape | met |\n|---|---|---|---|---|\n");
+    for r in single {
+        let e = r.rows[0].realised_shape_error.unwrap_or(f64::INFINITY);
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {} |",
+            r.target,
+            r.design,
+            r.method,
+            cell(&r.rows[0]),
+            if e <= 0.06 { "yes" } else { "no" }
+        );
+    }
+    md
+}
+
+/// `platefield robust`: designs, plays and writes `OUT/robust.md`;
+/// returns the file's text and where it was written.
+pub fn run(out: &Path, quiet: bool) -> Result<String> {
+    crate::output::check_writable(out, "--out")?;
+    let mut rows = Vec::new();
+    for name in TARGETS {
+        if !quiet {
+            eprintln!("robust: {name}");
+        }
+        rows.extend(target_rows(name, quiet)?);
+    }
+    let single = single_rows(quiet)?;
+    let md = render(&rows, &single);
+    let path = out.join("robust.md");
+    crate::output::write_atomic(&path, md.as_bytes())?;
+    Ok(format!("{md}\nwrote {}\n", path.display()))
+}
