@@ -100,20 +100,27 @@ fn bad_friction_is_refused_naming_the_path() {
     );
 }
 
-fn design_sequence(target: &str, out: &Path) -> serde_json::Value {
-    let (code, stdout, err) = platefield(&[
+/// `design TARGET --method sequence --quiet --no-cache --out OUT` plus
+/// `extra`; its stdout.
+fn design_sequence_with(target: &str, out: &Path, extra: &[&str]) -> String {
+    let mut args = vec![
         "design",
         target,
         "--method",
         "sequence",
-        "--json",
         "--quiet",
         "--no-cache",
         "--out",
         out.to_str().unwrap(),
-    ]);
+    ];
+    args.extend_from_slice(extra);
+    let (code, stdout, err) = platefield(&args);
     assert_eq!(code, 0, "{err}");
-    serde_json::from_str(&stdout).expect("schedule JSON")
+    stdout
+}
+
+fn design_sequence(target: &str, out: &Path) -> serde_json::Value {
+    serde_json::from_str(&design_sequence_with(target, out, &["--json"])).expect("schedule JSON")
 }
 
 /// A design for μ = 0.2 is made, played and recorded at μ = 0.2. The
@@ -172,17 +179,7 @@ fn a_design_is_made_for_the_targets_friction() {
 #[test]
 fn no_friction_key_changes_nothing() {
     let dir = temp_dir("same");
-    let (code, _, err) = platefield(&[
-        "design",
-        "targets/sink.json",
-        "--method",
-        "sequence",
-        "--quiet",
-        "--no-cache",
-        "--out",
-        dir.to_str().unwrap(),
-    ]);
-    assert_eq!(code, 0, "{err}");
+    design_sequence_with("targets/sink.json", &dir, &[]);
     let new = std::fs::read(dir.join("sink/schedule.json")).unwrap();
     let old = std::fs::read("results/sequenced/sink/schedule.json").unwrap();
     assert!(
@@ -200,17 +197,7 @@ fn no_friction_key_changes_nothing() {
 fn the_sensitivity_table_is_the_designs_play_across_friction() {
     let dir = temp_dir("table");
     let target = sink_with(&dir, "mu02", &[("friction", 0.2.into())]);
-    let (code, stdout, err) = platefield(&[
-        "design",
-        &target,
-        "--method",
-        "sequence",
-        "--quiet",
-        "--no-cache",
-        "--out",
-        dir.to_str().unwrap(),
-    ]);
-    assert_eq!(code, 0, "{err}");
+    let stdout = design_sequence_with(&target, &dir, &[]);
     assert!(
         stdout.contains("friction: the kept design over ±20 %"),
         "{stdout}"
