@@ -60,6 +60,7 @@ use crate::input;
 use crate::motion::Motion;
 
 pub use validate::primitive as validate_primitive;
+pub use validate::resolved as validate_resolved;
 pub use validate::signals as validate_signals;
 pub use validate::{
     ANGULAR_ACCEL, GRAVITY, GRAVITY_MIN, GRID_EXTENT, GRID_N, HARMONIC, LINEAR_ACCEL,
