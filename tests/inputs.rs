@@ -289,33 +289,31 @@ proptest! {
 }
 
 /// The bounds themselves: harmonic 100 at 64 steps (the case) is
-/// refused with the 800 steps it needs; steps 1, 2 and 7 are refused, 8
-/// accepted for a harmonic-1 motion.
+/// refused with the 800 steps it needs; steps 1, 2 and 7 are refused; at
+/// 8 steps the Trans x term's harmonic 2 is refused (it needs 16), at 16
+/// accepted.
 #[test]
 fn harmonic_and_step_bounds() {
-    let e = Scene::from_json_str(&harmonic_scene(100, 64))
-        .unwrap_err()
-        .to_string();
-    assert!(
-        e.contains("harmonic 100 needs at least 800 steps per cycle"),
-        "{e}"
-    );
-    for steps in [1, 2, 7] {
-        let e = Scene::from_json_str(&harmonic_scene(1, steps))
+    let steps_range = "scene.numerics.steps_per_cycle: must be in 8..=4096";
+    for (harmonic, steps, expected) in [
+        (
+            100,
+            64,
+            "scene.motion.linear.y[0].harmonic: harmonic 100 needs at least 800 steps per cycle",
+        ),
+        (1, 1, steps_range),
+        (1, 2, steps_range),
+        (1, 7, steps_range),
+        (
+            1,
+            8,
+            "scene.motion.linear.x[1].harmonic: harmonic 2 needs at least 16",
+        ),
+    ] {
+        let e = Scene::from_json_str(&harmonic_scene(harmonic, steps))
             .unwrap_err()
             .to_string();
-        assert!(
-            e.starts_with("scene.numerics.steps_per_cycle: must be in 8..=4096"),
-            "{e}"
-        );
+        assert!(e.starts_with(expected), "{harmonic} at {steps}: {e}");
     }
-    // Harmonic 1 on y, but the Trans x term's harmonic 2 needs 16.
-    let e = Scene::from_json_str(&harmonic_scene(1, 8))
-        .unwrap_err()
-        .to_string();
-    assert!(
-        e.starts_with("scene.motion.linear.x[1].harmonic: harmonic 2 needs at least 16"),
-        "{e}"
-    );
     assert!(Scene::from_json_str(&harmonic_scene(2, 16)).is_ok());
 }
