@@ -634,9 +634,23 @@ pub fn sequenced_limits(schedule: &Schedule, base: &ShakerLimits) -> Result<Shak
     })
 }
 
+/// `opts` with its steps per cycle raised, if needed, to resolve
+/// `harmonics` at [`STEPS_PER_HARMONIC`](crate::dynamics::STEPS_PER_HARMONIC)
+/// steps per period of the highest (a schedule whose steps do not is
+/// refused when read back).
+fn resolving(opts: &DesignOptions, harmonics: u32) -> DesignOptions {
+    let mut o = opts.clone();
+    let needed = harmonics as usize * crate::dynamics::STEPS_PER_HARMONIC;
+    let steps = &mut o.settings.numerics.steps_per_cycle;
+    *steps = (*steps).max(needed);
+    o
+}
+
 /// Synthesizes one six-signal motion for `target` within `limits` and
 /// writes it as a one-segment schedule: fit metrics of its full-grid
-/// steady-state field against the target at its realised strength.
+/// steady-state field against the target at its realised strength. The
+/// steps per cycle are raised to resolve the limits' harmonics
+/// ([`resolving`]).
 pub fn synthesize_schedule(
     target: &Target,
     sampled: &SampledTarget,
@@ -644,6 +658,7 @@ pub fn synthesize_schedule(
     opts: &DesignOptions,
     synth: &SynthOptions,
 ) -> Result<(Synthesis, Schedule)> {
+    let opts = &resolving(opts, limits.harmonics);
     let grid = region(target, sampled);
     let syn = synthesize(&target.field, &grid, limits, &opts.settings, synth)?;
     // A motion that keeps no part on the plate anywhere is no design: said

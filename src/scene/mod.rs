@@ -62,6 +62,7 @@ use crate::motion::Motion;
 
 pub use friction::{FrictionSpec, Interval, MU};
 pub use validate::primitive as validate_primitive;
+pub use validate::resolved as validate_resolved;
 pub use validate::signals as validate_signals;
 pub use validate::{
     ANGULAR_ACCEL, GRAVITY, GRAVITY_MIN, GRID_EXTENT, GRID_N, HARMONIC, LINEAR_ACCEL,

@@ -24,8 +24,12 @@ pub const GRID_N: RangeInclusive<u64> = 1..=1001;
 /// Largest |coordinate| (m) of the grid's corners and of a screw's point,
 /// and the largest primitive depth and shift.
 pub const GRID_EXTENT: f64 = 1.0;
-/// Allowed range of a Fourier term's harmonic number.
-pub const HARMONIC: RangeInclusive<u64> = 1..=100_000;
+/// Allowed range of a Fourier term's harmonic number: the highest the
+/// largest [`STEPS_PER_CYCLE`] resolves at
+/// [`STEPS_PER_HARMONIC`](crate::dynamics::STEPS_PER_HARMONIC) steps per
+/// harmonic period (100000 was accepted and integrated as if resolved).
+pub const HARMONIC: RangeInclusive<u64> =
+    1..=(*STEPS_PER_CYCLE.end() / crate::dynamics::STEPS_PER_HARMONIC) as u64;
 /// Largest number of Fourier terms in one signal or waveform.
 pub const TERMS: usize = 1000;
 /// Allowed range of a motion's period T (s).
@@ -49,8 +53,10 @@ pub const GRAVITY: f64 = 100.0;
 pub const GRAVITY_MIN: f64 = 0.1;
 /// Allowed range of `numerics.steps_per_cycle`: 64 is the default and
 /// 512 the reference of the speed study; a field at 4096 steps per cycle
-/// already takes 64 times the default's time.
-pub const STEPS_PER_CYCLE: RangeInclusive<usize> = 1..=4096;
+/// already takes 64 times the default's time. The lower bound is
+/// [`MIN_STEPS_PER_CYCLE`](crate::dynamics::MIN_STEPS_PER_CYCLE) (its
+/// doc gives the measured errors below it).
+pub const STEPS_PER_CYCLE: RangeInclusive<usize> = crate::dynamics::MIN_STEPS_PER_CYCLE..=4096;
 /// Allowed range of `numerics.max_iterations` (cycle-map evaluations).
 pub const MAX_ITERATIONS: RangeInclusive<usize> = 1..=10_000;
 
@@ -215,6 +221,62 @@ pub fn signals(s: &Signals, path: &str) -> Result<()> {
     s.validate(path)
 }
 
+/// The highest harmonic of the nonzero Fourier terms in `list` (named
+/// `at("[i].harmonic")`), if any.
+fn top_term(list: &[FourierTerm], at: &dyn Fn(&str) -> String) -> Option<(u32, String)> {
+    list.iter()
+        .enumerate()
+        .filter(|(_, t)| t.amplitude != 0.0)
+        .max_by_key(|(_, t)| t.harmonic)
+        .map(|(i, t)| (t.harmonic, at(&format!("[{i}].harmonic"))))
+}
+
+/// The highest harmonic of a motion's Fourier terms and its JSON path
+/// (`path.linear.y[0].harmonic`, `path.rotation.terms[1].harmonic`), if
+/// it has any nonzero term.
+fn top_harmonic(m: &Motion, path: &str) -> Option<(u32, String)> {
+    let mut found = Vec::new();
+    match m {
+        Motion::Signals(s) | Motion::Ramped(crate::motion::Ramped { signals: s, .. }) => {
+            for (group, axes) in [("linear", &s.linear), ("angular", &s.angular)] {
+                for (axis, list) in [("x", &axes.x), ("y", &axes.y), ("z", &axes.z)] {
+                    found.extend(top_term(list, &|k| format!("{path}.{group}.{axis}{k}")));
+                }
+            }
+        }
+        Motion::Screw(s) => {
+            for (key, w) in [("rotation", &s.rotation), ("translation", &s.translation)] {
+                if let Waveform::Fourier { terms: list, .. } = w {
+                    found.extend(top_term(list, &|k| format!("{path}.{key}.terms{k}")));
+                }
+            }
+        }
+    }
+    found.into_iter().max_by_key(|(h, _)| *h)
+}
+
+/// Checks that `steps` RK4 steps per cycle (named `steps_path`) resolve
+/// the highest harmonic of `m`: at least
+/// [`STEPS_PER_HARMONIC`](crate::dynamics::STEPS_PER_HARMONIC) steps per
+/// period of that harmonic (its doc gives the measured errors). A harmonic
+/// above is refused, naming its path and the steps it needs, rather than
+/// integrated as if resolved (harmonic 100 at 64 steps was 28 % off).
+pub fn resolved(m: &Motion, path: &str, steps: usize, steps_path: &str) -> Result<()> {
+    let per = crate::dynamics::STEPS_PER_HARMONIC;
+    match top_harmonic(m, path) {
+        Some((h, at)) if (h as usize).saturating_mul(per) > steps => Err(Error::invalid(
+            at,
+            format!(
+                "harmonic {h} needs at least {} steps per cycle ({per} per period of the harmonic) to be integrated, but {steps_path} is {steps}: raise {steps_path} to {} or more (at most {}), or lower the harmonic",
+                h as usize * per,
+                h as usize * per,
+                STEPS_PER_CYCLE.end()
+            ),
+        )),
+        _ => Ok(()),
+    }
+}
+
 /// Checks a library primitive's parameters against the scene ranges
 /// (omega from [`PERIOD`], amplitude within [`ROTATION`], translation within
 /// [`TRANSLATION`], depth and shift within [`GRID_EXTENT`]) and its resolved
@@ -290,6 +352,9 @@ impl Scene {
         let n = &self.numerics;
         let at = |k: &str| format!("scene.numerics.{k}");
         count(&at("steps_per_cycle"), n.steps_per_cycle, &STEPS_PER_CYCLE)?;
+        if let SceneMotion::Motion(m) = &self.motion {
+            resolved(m, path, n.steps_per_cycle, &at("steps_per_cycle"))?;
+        }
         count(&at("max_iterations"), n.max_iterations, &MAX_ITERATIONS)?;
         for (key, v) in [
             ("event_tol", n.event_tol),
@@ -466,10 +531,37 @@ mod tests {
         let e = err(sig);
         assert!(
             e.starts_with(
-                "scene.motion.linear.x[0].harmonic: must be in 1..=100000, got 0 (a constant"
+                "scene.motion.linear.x[0].harmonic: must be in 1..=512, got 0 (a constant"
             ),
             "{e}"
         );
+        // Harmonics the steps do not resolve (8 steps per harmonic period),
+        // and above the largest steps' reach.
+        for (harmonic, steps, expected) in [
+            (9, 64, "harmonic 9 needs at least 72 steps per cycle (8 per period of the harmonic) to be integrated, but scene.numerics.steps_per_cycle is 64: raise scene.numerics.steps_per_cycle to 72 or more (at most 4096)"),
+            (100, 512, "harmonic 100 needs at least 800 steps per cycle"),
+            (100000, 4096, "must be in 1..=512, got 100000"),
+        ] {
+            let text = sig
+                .replace("\"harmonic\": 0", &format!("\"harmonic\": {harmonic}"))
+                .replace("\"kind\"", &format!("\"numerics\": {{\"steps_per_cycle\": {steps}}}, \"kind\""));
+            let e = err(&text);
+            assert!(
+                e.starts_with(&format!("scene.motion.linear.x[0].harmonic: {expected}")),
+                "{e}"
+            );
+        }
+        // Resolved: 8 at 64 steps, 100 at 800; a zero term counts for nothing.
+        for (harmonic, steps, amplitude) in [(8, 64, 1), (100, 800, 1), (500, 64, 0)] {
+            let text = sig
+                .replace("\"harmonic\": 0", &format!("\"harmonic\": {harmonic}"))
+                .replace("\"amplitude\": 1", &format!("\"amplitude\": {amplitude}"))
+                .replace(
+                    "\"kind\"",
+                    &format!("\"numerics\": {{\"steps_per_cycle\": {steps}}}, \"kind\""),
+                );
+            assert!(Scene::from_json_str(&text).is_ok(), "{harmonic} at {steps}");
+        }
         let e = err(&sig.replace("\"harmonic\": 0", "\"phase\": Infinity"));
         assert!(
             e.starts_with("scene.motion.linear.x[0].phase: must be a finite number, got Infinity"),
@@ -524,7 +616,11 @@ mod tests {
             ),
             (
                 extra("\"numerics\": {\"steps_per_cycle\": 1000000}"),
-                "scene.numerics.steps_per_cycle: must be in 1..=4096, got 1000000",
+                "scene.numerics.steps_per_cycle: must be in 8..=4096, got 1000000",
+            ),
+            (
+                extra("\"numerics\": {\"steps_per_cycle\": 2}"),
+                "scene.numerics.steps_per_cycle: must be in 8..=4096, got 2",
             ),
             (
                 extra("\"numerics\": {\"steady_tol\": -1e300}"),

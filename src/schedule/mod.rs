@@ -373,6 +373,16 @@ impl Schedule {
         // The scene's one friction validation (a schedule is played like a scene).
         crate::scene::FrictionSpec::exact(s.friction).validate("settings.friction")?;
         s.numerics.validate("settings.numerics")?;
+        for (i, seg) in self.segments.iter().enumerate() {
+            if let Some(m) = &seg.motion {
+                crate::scene::validate_resolved(
+                    &crate::motion::Motion::Signals(m.clone()),
+                    &format!("segments[{i}].motion"),
+                    s.numerics.steps_per_cycle,
+                    "settings.numerics.steps_per_cycle",
+                )?;
+            }
+        }
         // The scene's bound: every cycle-map evaluation of a steady state
         // that does not converge is played (1e9 ran for hours).
         let iterations = &crate::scene::MAX_ITERATIONS;
