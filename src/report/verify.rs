@@ -273,7 +273,8 @@ pub fn trajectory_svg(
 }
 
 /// Writes `summary.json` and `trajectories.svg` under `OUT/<target>/verify/`
-/// (both computed before either is written, each written atomically);
+/// (both computed before either is written, the folder written whole by
+/// [`crate::output::Staged`]; `order.md` and other files there are kept);
 /// returns the paths.
 pub fn write(r: &VerifyReport, out: &Path) -> Result<Vec<PathBuf>> {
     let text = summary_json(r)?;
@@ -286,10 +287,12 @@ pub fn write(r: &VerifyReport, out: &Path) -> Result<Vec<PathBuf>> {
         r.request.rectangle,
     );
     let dir = out.join(&r.target).join("verify");
-    let files = vec![dir.join("summary.json"), dir.join("trajectories.svg")];
-    crate::output::write_atomic(&files[0], text.as_bytes())?;
-    crate::output::write_atomic(&files[1], svg.as_bytes())?;
-    Ok(files)
+    let names = ["summary.json", "trajectories.svg"];
+    let stage = crate::output::Staged::new(&dir)?;
+    crate::output::write_atomic(&stage.path().join(names[0]), text.as_bytes())?;
+    crate::output::write_atomic(&stage.path().join(names[1]), svg.as_bytes())?;
+    stage.commit(&names)?;
+    Ok(names.iter().map(|n| dir.join(n)).collect())
 }
 
 /// The terminal summary: realised against predicted (error, shape error,
