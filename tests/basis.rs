@@ -607,7 +607,7 @@ fn cache_entries_that_are_not_regular_files_are_rebuilt() {
         let _ = std::fs::remove_file(&path);
         make(&path);
         let (tx, rx) = std::sync::mpsc::channel();
-        let (p, g, st, d) = (prims.clone(), grid.clone(), s.clone(), dir.clone());
+        let (p, g, st, d) = (prims.clone(), grid, s, dir.clone());
         std::thread::spawn(move || {
             let _ = tx.send(BasisCache::new(d).get_or_build(&p, &g, &st, v, true));
         });
