@@ -40,20 +40,12 @@ fn sink_target(dir: &Path, file: &str, strength: f64) -> String {
 
 /// The arguments of a fast design (0.1 s) of `target` into `out`.
 fn design_args<'a>(target: &'a str, out: &'a str) -> Vec<&'a str> {
-    vec![
-        "design",
-        target,
-        "--method",
-        "sequence",
-        "--primitives",
-        "LineSink",
-        "--rotation-step",
-        "90",
-        "--no-cache",
-        "--quiet",
-        "--out",
-        out,
-    ]
+    let fast = "--method sequence --primitives LineSink --rotation-step 90 --no-cache --quiet";
+    ["design", target]
+        .into_iter()
+        .chain(fast.split(' '))
+        .chain(["--out", out])
+        .collect()
 }
 
 /// The design products in `folder` (name → bytes); hidden files, the
@@ -233,16 +225,18 @@ fn field_writes_out_and_svg_all_or_none() {
     let blocker = dir.join("a_file");
     std::fs::write(&blocker, "").unwrap();
     let bad_svg = blocker.join("plot.svg");
-    let scene = "targets/scenes/linesink.json";
-    let (code, _, err) = platefield(&[
-        "field",
-        scene,
-        "--quiet",
-        "--out",
-        ok.to_str().unwrap(),
-        "--svg",
-        bad_svg.to_str().unwrap(),
-    ]);
+    let field = |svg: &Path| {
+        platefield(&[
+            "field",
+            "targets/scenes/linesink.json",
+            "--quiet",
+            "--out",
+            ok.to_str().unwrap(),
+            "--svg",
+            svg.to_str().unwrap(),
+        ])
+    };
+    let (code, _, err) = field(&bad_svg);
     assert_eq!(code, 2, "{err}");
     assert!(
         err.contains("--svg") && err.contains("not a folder"),
@@ -250,15 +244,7 @@ fn field_writes_out_and_svg_all_or_none() {
     );
     assert!(!ok.exists(), "ok.json was written beside the refused plot");
     let svg = dir.join("plot.svg");
-    let (code, _, err) = platefield(&[
-        "field",
-        scene,
-        "--quiet",
-        "--out",
-        ok.to_str().unwrap(),
-        "--svg",
-        svg.to_str().unwrap(),
-    ]);
+    let (code, _, err) = field(&svg);
     assert_eq!(code, 0, "{err}");
     assert!(ok.is_file() && svg.is_file());
     let _ = std::fs::remove_dir_all(&dir);
@@ -460,14 +446,9 @@ fn one_period_check_names_the_edited_segment() {
     let out = dir.join("out");
     let write = |s: &serde_json::Value| std::fs::write(&file, s.to_string()).unwrap();
     write(&mixed);
-    let (code, _, err) = platefield(&[
-        "export",
-        f,
-        "--rate",
-        "1000",
-        "--out",
-        csv.to_str().unwrap(),
-    ]);
+    let csv_out = csv.to_str().unwrap();
+    let export = vec!["export", f, "--rate", "1000", "--out", csv_out];
+    let (code, _, err) = platefield(&export);
     assert_eq!(code, 0, "the unedited mixed schedule exports: {err}");
     let mut omega = mixed.clone();
     let w = omega["segments"][0]["primitive"]["omega"].as_f64().unwrap();
@@ -483,27 +464,12 @@ fn one_period_check_names_the_edited_segment() {
     ] {
         write(edited);
         for args in [
-            vec![
-                "export",
-                f,
-                "--rate",
-                "1000",
-                "--out",
-                csv.to_str().unwrap(),
-            ],
-            vec![
-                "verify",
-                f,
-                "--points",
-                "2",
-                "--swarm",
-                "2",
-                "--rect-poses",
-                "0",
-                "--quiet",
-                "--out",
-                out.to_str().unwrap(),
-            ],
+            export.clone(),
+            ["verify", f]
+                .into_iter()
+                .chain("--points 2 --swarm 2 --rect-poses 0 --quiet --out".split(' '))
+                .chain([out.to_str().unwrap()])
+                .collect(),
         ] {
             let (code, _, err) = platefield(&args);
             assert_eq!(code, 2, "{key}: {} {err}", args[0]);
