@@ -391,7 +391,6 @@ impl Schedule {
                 None => period += non_negative(&format!("{at}.duration_s"), seg.duration_s)?,
             }
         }
-        self.check_one_cycle_period()?;
         let moving = self.segments.iter().filter(|s| s.is_moving()).count();
         if moving > 1 {
             if let Some(i) = self
@@ -405,6 +404,7 @@ impl Schedule {
                 ));
             }
         }
+        self.check_one_cycle_period()?;
         if period.is_nan() || period <= 0.0 {
             return Err(Error::invalid(
                 "segments",
