@@ -15,11 +15,55 @@
 //! Ranges are not checked here: each input
 //! has its own `validate` pass after this one.
 
+use std::path::Path;
+
 use serde::de::{DeserializeOwned, Deserializer, Error as _, MapAccess, SeqAccess, Visitor};
 use serde::Deserialize;
 use serde_json::map::Entry;
 use serde_json::{Map, Number, Value};
 use serde_path_to_error::Segment;
+
+/// Largest input file read (target, scene, schedule): 64 MiB. A sampled
+/// target of 5000 points takes well under 1 MiB, so the cap only stops an
+/// endless or mistaken input (`/dev/zero`, a disk image) before it fills
+/// memory.
+pub const MAX_INPUT_BYTES: u64 = 64 << 20;
+
+/// Reads the file at `path` whole, refusing (with an `InvalidInput` error
+/// that states the rule) anything that is not a regular file — a FIFO would
+/// block forever, a device may never end — and any file of more than `cap`
+/// bytes. The read itself is bounded by `cap`, so a file that grows while
+/// it is read is refused too, never read without end.
+pub fn read_capped(path: &Path, cap: u64) -> std::io::Result<Vec<u8>> {
+    use std::io::Read;
+    let refuse = |why: String| std::io::Error::new(std::io::ErrorKind::InvalidInput, why);
+    let not_regular = || {
+        refuse("not a regular file (a FIFO, device or folder); inputs must be regular files".into())
+    };
+    // Checked before opening: opening a FIFO blocks until a writer comes.
+    if !std::fs::metadata(path)?.is_file() {
+        return Err(not_regular());
+    }
+    let file = std::fs::File::open(path)?;
+    if !file.metadata()?.is_file() {
+        return Err(not_regular());
+    }
+    let mut bytes = Vec::new();
+    file.take(cap + 1).read_to_end(&mut bytes)?;
+    if bytes.len() as u64 > cap {
+        return Err(refuse(format!(
+            "larger than the cap of {} MiB on this input",
+            cap >> 20
+        )));
+    }
+    Ok(bytes)
+}
+
+/// [`read_capped`] at [`MAX_INPUT_BYTES`], as UTF-8 text.
+pub fn read_input(path: &Path) -> std::io::Result<String> {
+    String::from_utf8(read_capped(path, MAX_INPUT_BYTES)?)
+        .map_err(|_| std::io::Error::new(std::io::ErrorKind::InvalidData, "not UTF-8 text"))
+}
 
 /// A located input error: the JSON path (starting with the root name, e.g.
 /// `target.field.strength`) and what is wrong there.

@@ -262,12 +262,25 @@ fn run(cli: Cli) -> Result<String> {
 
 fn main() -> ExitCode {
     match run(Cli::parse()) {
-        Ok(summary) => {
-            print!("{summary}");
-            ExitCode::SUCCESS
-        }
+        Ok(summary) => print_summary(&summary),
         Err(e) => {
             eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+/// Prints `summary` on stdout. A reader that closed the pipe early
+/// (`platefield export S | head -2`) has all it wanted: the program ends
+/// quietly with success. Any other write error is reported (exit 2).
+fn print_summary(summary: &str) -> ExitCode {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    match out.write_all(summary.as_bytes()).and_then(|()| out.flush()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: stdout: {e}");
             ExitCode::from(2)
         }
     }

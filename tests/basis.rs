@@ -579,3 +579,49 @@ fn isotropic_copies_are_left_out() {
         }
     }
 }
+
+/// A cache entry that is not a regular file — a FIFO (which blocks whoever
+/// opens it) or a link to `/dev/zero` (which never ends) — is neither
+/// waited on nor read: it is rebuilt, and the rebuilt entry is a regular
+/// file that loads. Run on a thread with a 60 s limit, so that a hang fails
+/// the test instead of stalling the suite.
+#[test]
+fn cache_entries_that_are_not_regular_files_are_rebuilt() {
+    let (prims, grid, s) = tiny();
+    let v = FieldKind::Velocity;
+    let dir = cache_dir("special");
+    std::fs::create_dir_all(&dir).expect("cache dir");
+    let key = BasisCache::key(&prims, &grid, &s, v);
+    let path = BasisCache::new(&dir).path(&key);
+    let make_fifo = |p: &std::path::Path| {
+        let ok = std::process::Command::new("mkfifo").arg(p).status();
+        assert!(ok.is_ok_and(|s| s.success()), "mkfifo");
+    };
+    let make_zero_link = |p: &std::path::Path| {
+        std::os::unix::fs::symlink("/dev/zero", p).expect("symlink");
+    };
+    for (what, make) in [
+        ("fifo", &make_fifo as &dyn Fn(&std::path::Path)),
+        ("link to /dev/zero", &make_zero_link),
+    ] {
+        let _ = std::fs::remove_file(&path);
+        make(&path);
+        let (tx, rx) = std::sync::mpsc::channel();
+        let (p, g, st, d) = (prims.clone(), grid, s, dir.clone());
+        std::thread::spawn(move || {
+            let _ = tx.send(BasisCache::new(d).get_or_build(&p, &g, &st, v, true));
+        });
+        let got = rx
+            .recv_timeout(std::time::Duration::from_secs(60))
+            .unwrap_or_else(|_| panic!("{what}: the cache read did not end in 60 s"));
+        match got.expect("rebuild").1 {
+            CacheStatus::Rebuilt { reason } => {
+                assert!(reason.contains("not a regular file"), "{what}: {reason}")
+            }
+            other => panic!("{what}: {other:?}"),
+        }
+        let meta = std::fs::symlink_metadata(&path).expect("entry");
+        assert!(meta.file_type().is_file(), "{what}: not replaced");
+        assert!(BasisCache::new(&dir).load(&key).is_some(), "{what}");
+    }
+}

@@ -47,6 +47,12 @@ use crate::output::write_atomic;
 /// cycle it was simulated with).
 pub const FORMAT: u32 = 3;
 
+/// Largest cache entry read: 256 MiB (a library on the default grids takes
+/// under 1 MiB). An entry that is larger, or is not a regular file (a FIFO,
+/// a link to a device), is not read but rebuilt and overwritten, so it can
+/// neither hang a design nor fill memory.
+pub const MAX_ENTRY_BYTES: u64 = 256 << 20;
+
 /// What [`BasisCache::get_or_build`] did.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize)]
 #[serde(tag = "status", rename_all = "snake_case")]
@@ -189,7 +195,7 @@ impl BasisCache {
             return Err(Miss::Bad(format!("\"{key}\" is not a hex SHA-256 key")));
         }
         let path = self.path(key);
-        let bytes = match std::fs::read(&path) {
+        let bytes = match crate::input::read_capped(&path, MAX_ENTRY_BYTES) {
             Ok(b) => b,
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Err(Miss::Absent),
             Err(e) => return Err(Miss::Bad(format!("unreadable: {e}"))),
@@ -221,6 +227,30 @@ impl BasisCache {
             ));
         }
         serde_json::from_slice(payload).or_else(|e| bad(format!("payload does not parse: {e}")))
+    }
+
+    /// Checks, before a library is built, that the cache folder can be
+    /// created and written (a read-only folder used to fail only when the
+    /// built library was stored, after the whole build); the error names the
+    /// folder and `--no-cache`, which designs without the cache.
+    fn check_writable(&self) -> Result<()> {
+        let refuse = |why: String| {
+            Error::invalid(
+                "basis cache",
+                format!(
+                    "{}: {why}; the library is not built. Make the folder writable, or run with --no-cache to design without the cache",
+                    self.dir.display()
+                ),
+            )
+        };
+        std::fs::create_dir_all(&self.dir).map_err(|e| refuse(format!("cannot create it: {e}")))?;
+        crate::output::check_writable(&self.dir, "basis cache").map_err(|e| match e {
+            Error::Invalid { message, .. } => {
+                let dir = format!("{}: ", self.dir.display());
+                refuse(message.strip_prefix(&dir).unwrap_or(&message).to_string())
+            }
+            other => other,
+        })
     }
 
     /// Stores `lib` under `key`, atomically. Fails (and writes nothing) if
@@ -313,10 +343,7 @@ impl BasisCache {
             Err(Miss::Bad(reason)) => CacheStatus::Rebuilt { reason },
         };
         before_build()?;
-        std::fs::create_dir_all(&self.dir).map_err(|e| Error::Io {
-            path: self.dir.display().to_string(),
-            source: e,
-        })?;
+        self.check_writable()?;
         let lib = FieldLibrary::build(primitives, grid, settings, kind, quiet);
         self.store(&key, &lib)?;
         Ok((lib, status))

@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use crate::output::write_atomic;
+use crate::output::write_all_atomic;
 use crate::scene::Scene;
 use crate::work::Estimate;
 use crate::{Error, Result};
@@ -20,6 +20,13 @@ pub fn run(
     allow_long: bool,
 ) -> Result<String> {
     let scene = Scene::load(scene_path)?;
+    // Both destinations are checked before the work, and written all or
+    // none after it.
+    for (path, arg) in [(out, "--out"), (svg, "--svg")] {
+        if let Some(folder) = path.and_then(Path::parent) {
+            crate::output::check_writable(folder, arg)?;
+        }
+    }
     Estimate::new(
         "scene",
         "computing the field",
@@ -46,12 +53,13 @@ pub fn run(
     let stem = scene_path
         .file_stem()
         .map_or(String::new(), |s| s.to_string_lossy().into_owned());
-    if let Some(path) = out {
-        write_atomic(path, text.as_bytes())?;
-    }
-    if let Some(path) = svg {
-        write_atomic(path, field.quiver(&scene.title(&stem)).to_svg().as_bytes())?;
-    }
+    let plot = svg.map(|_| field.quiver(&scene.title(&stem)).to_svg());
+    let files: Vec<(&Path, &[u8])> = out
+        .map(|p| (p, text.as_bytes()))
+        .into_iter()
+        .chain(svg.zip(plot.as_deref()).map(|(p, t)| (p, t.as_bytes())))
+        .collect();
+    write_all_atomic(&files)?;
     if json {
         return Ok(text);
     }

@@ -225,9 +225,12 @@ pub fn write(d: &Design, dir: &Path) -> Result<()> {
     Ok(())
 }
 
-/// Every file `design` may write in `OUT/<target name>/`: a run removes
-/// those of them it did not write, so that the folder holds one design
-/// (a sequenced run after a synthesized one leaves no `signals.svg`).
+/// Every file `design` may write in `OUT/<target name>/`. The folder is
+/// written whole ([`crate::output::Staged`]): a run's files replace the
+/// previous run's in one atomic swap, and those of them it did not write
+/// are not carried over, so that the folder holds one design (a sequenced
+/// run after a synthesized one leaves no `signals.svg`); `verify/` and
+/// files of the user's are kept.
 pub const DESIGN_FILES: [&str; 8] = [
     "schedule.json",
     "schedule_open_loop.json",
@@ -269,14 +272,9 @@ pub fn run(
         }
         let d = crate::design::design(&target, opts)?;
         let result = cl::closed_loop(&target, &d, l)?;
-        super::closed_loop::write(&d, &target, &result, &dir)?;
-        // Every design file but the synthesis's plot, and order.md only
-        // when the order search ran.
-        let written: Vec<&str> = DESIGN_FILES
-            .into_iter()
-            .filter(|f| *f != "signals.svg" && (*f != "order.md" || d.order_search.is_some()))
-            .collect();
-        crate::output::remove_stale(&dir, &DESIGN_FILES, &written)?;
+        let stage = crate::output::Staged::new(&dir)?;
+        super::closed_loop::write(&d, &target, &result, stage.path())?;
+        stage.commit(&DESIGN_FILES)?;
         if json {
             return super::closed_loop::schedule_json(&d, &target, &result);
         }
@@ -288,8 +286,9 @@ pub fn run(
         ));
     }
     let md = crate::design::design_by_method(&target, opts, synth, method)?;
-    let files = super::method::write(&md, &dir)?;
-    crate::output::remove_stale(&dir, &DESIGN_FILES, &files)?;
+    let stage = crate::output::Staged::new(&dir)?;
+    let files = super::method::write(&md, stage.path())?;
+    stage.commit(&DESIGN_FILES)?;
     if json {
         return md.kept().schedule.to_json();
     }

@@ -281,7 +281,8 @@ pub fn trajectory_svg(
 }
 
 /// Writes `summary.json` and `trajectories.svg` under `OUT/<target>/verify/`
-/// (both computed before either is written, each written atomically);
+/// (both computed before either is written, the folder written whole by
+/// [`crate::output::Staged`]; `order.md` and other files there are kept);
 /// returns the paths.
 pub fn write(r: &VerifyReport, out: &Path) -> Result<Vec<PathBuf>> {
     let text = summary_json(r)?;
@@ -294,18 +295,25 @@ pub fn write(r: &VerifyReport, out: &Path) -> Result<Vec<PathBuf>> {
         r.request.rectangle,
     );
     let dir = out.join(&r.target).join("verify");
-    let mut files = vec![
-        (dir.join("summary.json"), text),
-        (dir.join("trajectories.svg"), svg),
+    // A verify folder's products: a run without a sweep drops an earlier
+    // run's friction files.
+    let products = [
+        "summary.json",
+        "trajectories.svg",
+        "friction.md",
+        "friction.svg",
     ];
+    let mut files = vec![(products[0], text), (products[1], svg)];
     if let Some(s) = &r.friction_sweep {
-        files.push((dir.join("friction.md"), friction_md(&r.target, s)));
-        files.push((dir.join("friction.svg"), friction_svg(&r.target, s)));
+        files.push((products[2], friction_md(&r.target, s)));
+        files.push((products[3], friction_svg(&r.target, s)));
     }
-    for (path, text) in &files {
-        crate::output::write_atomic(path, text.as_bytes())?;
+    let stage = crate::output::Staged::new(&dir)?;
+    for (name, text) in &files {
+        crate::output::write_atomic(&stage.path().join(name), text.as_bytes())?;
     }
-    Ok(files.into_iter().map(|f| f.0).collect())
+    stage.commit(&products)?;
+    Ok(files.iter().map(|(n, _)| dir.join(n)).collect())
 }
 
 /// `friction.md`: the friction sweep's table.

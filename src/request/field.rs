@@ -573,10 +573,48 @@ impl FieldSpec {
                         check_range(&format!("{vp}[{k}]"), *c, -SPEED, SPEED, " m/s")?;
                     }
                 }
-                Ok(())
+                check_distinct_points(path, points, vectors)
             }
         }
     }
+}
+
+/// Every sample point of a sampled field appears once. A repeat with a
+/// different vector is two answers for one place; a repeat with the same
+/// vector is refused as well, since it would count twice among the
+/// neighbours that [`Interpolation::Idw`] averages and so bend the field
+/// around it. The error names the repeat (`{path}.points[j]`) and the
+/// sample it repeats.
+fn check_distinct_points(
+    path: &str,
+    points: &[[f64; 2]],
+    vectors: &[[f64; 2]],
+) -> Result<(), TargetError> {
+    // Keyed by the coordinates' bits, with −0 read as +0.
+    let key = |p: &[f64; 2]| p.map(|c| (c + 0.0).to_bits());
+    let mut seen = std::collections::HashMap::with_capacity(points.len());
+    for (j, p) in points.iter().enumerate() {
+        let Some(&i) = seen.get(&key(p)) else {
+            seen.insert(key(p), j);
+            continue;
+        };
+        let num = crate::input::num;
+        let [(a, b), (c, d)] = [vectors[i], vectors[j]].map(|v| (num(v[0]), num(v[1])));
+        let why = if vectors[i] == vectors[j] {
+            "with the same vector (remove the repeat)".to_string()
+        } else {
+            format!("with a different vector: [{a}, {b}] there, [{c}, {d}] here")
+        };
+        return Err(TargetError::invalid(
+            format!("{path}.points[{j}]"),
+            format!(
+                "repeats points[{i}] [{}, {}] {why}; each sample point must appear once",
+                num(p[0]),
+                num(p[1])
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// Interpolates a sampled field at `p` (see [`Interpolation`]).

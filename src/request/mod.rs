@@ -304,7 +304,7 @@ impl Target {
     /// Reads, parses and validates a target file; errors are prefixed with
     /// the file path.
     pub fn load(path: &Path) -> Result<Target, TargetError> {
-        let text = std::fs::read_to_string(path).map_err(|error| TargetError::Io {
+        let text = crate::input::read_input(path).map_err(|error| TargetError::Io {
             file: path.to_path_buf(),
             error,
         })?;

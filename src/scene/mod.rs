@@ -205,7 +205,7 @@ impl Scene {
     /// Reads and validates a scene file; errors are prefixed with the file
     /// path.
     pub fn load(path: &Path) -> Result<Scene> {
-        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
+        let text = crate::input::read_input(path).map_err(|source| Error::Io {
             path: path.display().to_string(),
             source,
         })?;

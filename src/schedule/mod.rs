@@ -294,10 +294,57 @@ fn keys_sorted<T: Serialize, S: Serializer>(value: &T, s: S) -> Result<S::Ok, S:
 }
 
 impl Schedule {
+    /// Every moving segment plays one cycle period T (to 1e-9 of it): the
+    /// design fits primitives (and a six-signal motion) of one period,
+    /// `export` lays every segment on one sample grid Δt = T/round(rate·T),
+    /// and `verify` plays whole periods. The period the most moving segments
+    /// share is the schedule's (on a tie, the primitives' default period
+    /// 2π/ω₀, then the first segment's), and the first segment off it is
+    /// named at the key that sets its period (`segments[i].primitive.omega`
+    /// or `segments[i].motion.period`), so an edited segment is named
+    /// whichever its place.
+    fn check_one_cycle_period(&self) -> Result<()> {
+        let periods: Vec<(usize, f64)> = self
+            .segments
+            .iter()
+            .enumerate()
+            .filter_map(|(i, s)| s.cycle_period().map(|t| (i, t)))
+            .collect();
+        let same = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs().max(b.abs());
+        let default = Primitive::new(crate::basis::PrimitiveKind::Trans).period();
+        let rank = |t: f64| {
+            let shared = periods.iter().filter(|(_, u)| same(t, *u)).count();
+            (shared, same(t, default))
+        };
+        // `max_by_key` keeps the last of equal keys: look from the end so
+        // that the first segment wins a full tie.
+        let Some(&(_, period)) = periods.iter().rev().max_by_key(|(_, t)| rank(*t)) else {
+            return Ok(());
+        };
+        match periods.iter().find(|(_, t)| !same(*t, period)) {
+            None => Ok(()),
+            Some(&(i, t)) => {
+                let key = if self.segments[i].primitive.is_some() {
+                    "primitive.omega"
+                } else {
+                    "motion.period"
+                };
+                Err(Error::invalid(
+                    format!("segments[{i}].{key}"),
+                    format!(
+                        "the segment plays cycles of {} s, the schedule's other moving segments {} s: every moving segment must play one cycle period (export lays all on one sample grid)",
+                        crate::input::num(t),
+                        crate::input::num(period)
+                    ),
+                ))
+            }
+        }
+    }
+
     /// Reads, validates and derives a schedule file (see the module
     /// documentation). Errors name the file and the JSON path.
     pub fn load(path: &Path) -> Result<Schedule> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
+        let text = crate::input::read_input(path).map_err(|e| Error::Io {
             path: path.display().to_string(),
             source: e,
         })?;
@@ -357,6 +404,7 @@ impl Schedule {
                 ));
             }
         }
+        self.check_one_cycle_period()?;
         if period.is_nan() || period <= 0.0 {
             return Err(Error::invalid(
                 "segments",
