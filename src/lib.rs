@@ -9,6 +9,50 @@
 //! requested field into a schedule of primitive plate motions and verifies
 //! the schedule by simulating it. Units are SI throughout (m, s, rad).
 //!
+//! ## Designing a sink from Rust
+//!
+//! A target field, read like a target file (`targets/*.json`, see
+//! [`request`]), is designed into a schedule of primitive plate motions by
+//! [`design::design`] (the sequence method); here on a small grid with few
+//! steps per cycle, so that it runs in seconds:
+//!
+//! ```
+//! use platefield::design::{design, DesignOptions};
+//! use platefield::request::Target;
+//!
+//! // Parts drawn to the plate's centre, sampled on a 7 × 7 grid (m).
+//! let target = Target::from_json_str(
+//!     r#"{"name": "sink", "field": {"kind": "sink"},
+//!         "grid": {"x": [-0.03, 0.03], "y": [-0.03, 0.03], "n": [7, 7]}}"#,
+//! )?;
+//! let mut options = DesignOptions {
+//!     rotation_step_deg: 45.0, // primitives turned in steps of 45°
+//!     cache_dir: None,         // build the primitive library, do not cache it
+//!     quiet: true,
+//!     ..DesignOptions::default()
+//! };
+//! options.settings.numerics.steps_per_cycle = 16;
+//! options.settings.phases = 4;
+//! let sink = design(&target, &options)?;
+//!
+//! // The schedule's predicted field has the target's shape within 5 %
+//! // (relative L2 error of the fitted time fractions, and after rounding
+//! // them to whole cycles), and a sink needs squeezing along two lines at
+//! // least: primitives at two angles.
+//! let schedule = &sink.schedule;
+//! assert!(!schedule.poor_fit);
+//! assert!(schedule.fit.relative_l2_error < 0.05, "{}", schedule.fit.relative_l2_error);
+//! assert!(schedule.fit_quantized.relative_l2_error < 0.05);
+//! let angles: std::collections::BTreeSet<i64> = schedule
+//!     .segments
+//!     .iter()
+//!     .filter_map(|segment| segment.primitive.as_ref())
+//!     .map(|p| p.rotation_deg.rem_euclid(180.0).round() as i64)
+//!     .collect();
+//! assert!(angles.len() >= 2, "{angles:?}");
+//! # Ok::<(), platefield::Error>(())
+//! ```
+//!
 //! ## Data path
 //!
 //! ```text
