@@ -213,6 +213,20 @@ fn used_modules(code: &str, depth: usize) -> BTreeSet<String> {
         }
         add(&code[k + "crate::".len()..]);
     }
+    for (ups, rest) in super_paths(code) {
+        if ups >= depth {
+            add(rest);
+        }
+    }
+    out.remove("self");
+    out.remove("super");
+    out
+}
+
+/// Every `super::super::…` path in `code`: how many levels it goes up,
+/// and the code after the last `super::`.
+fn super_paths(code: &str) -> Vec<(usize, &str)> {
+    let mut out = Vec::new();
     for (k, _) in code.match_indices("super::") {
         let before = code[..k].chars().next_back();
         if before.is_some_and(|ch| ch.is_alphanumeric() || ch == '_' || ch == ':') {
@@ -224,12 +238,8 @@ fn used_modules(code: &str, depth: usize) -> BTreeSet<String> {
             ups += 1;
             rest = r.trim_start();
         }
-        if ups >= depth {
-            add(rest);
-        }
+        out.push((ups, rest));
     }
-    out.remove("self");
-    out.remove("super");
     out
 }
 
@@ -525,17 +535,7 @@ fn used_files(code: &str, path: &[String]) -> BTreeSet<String> {
             add(&[], &code[k + "crate::".len()..]);
         }
     }
-    for (k, _) in code.match_indices("super::") {
-        let before = code[..k].chars().next_back();
-        if before.is_some_and(|ch| ch.is_alphanumeric() || ch == '_' || ch == ':') {
-            continue;
-        }
-        let mut rest = &code[k..];
-        let mut ups = 0;
-        while let Some(r) = rest.strip_prefix("super::") {
-            ups += 1;
-            rest = r.trim_start();
-        }
+    for (ups, rest) in super_paths(code) {
         // `super` reaches the module's root (or the crate's) from here.
         if let Some(keep) = path.len().checked_sub(ups).filter(|k| *k <= 1) {
             add(&path[..keep], rest);
