@@ -51,7 +51,7 @@
 //! For a stop the span is the stop time itself, found by iterating the
 //! composition from the frozen flow at the start.
 
-use super::integrator::V2;
+use super::state::V2;
 
 /// The frozen flow from one slip state (k > 1: it ends in a stop).
 #[derive(Debug, Clone, Copy)]

@@ -58,36 +58,15 @@
 //! ([`Motion::slip_axis`]: the LineSink, LineSource and Trans) skips the 2-D
 //! checks, which cannot fire there, bitwise the same (`line_tests.rs`).
 
-use nalgebra::Vector2;
-
 use super::kinematics_table::StepNodes;
-use super::radau::Slowing;
-use super::swing::ACROSS_ROUND_OFF;
-use super::{ContactLoss, Friction, KinematicsTable, Model, Numerics, SlipScheme};
-use crate::motion::{Kinematics, Motion, PreparedMotion, V3};
-
-/// 2-vector of f64.
-pub type V2 = Vector2<f64>;
-
-/// A root of u(s)·u₀ where the part can stick and |u(s)| is at most this
-/// fraction of |u₀| is a stop (in 2-D, u reaches zero along a_free);
-/// legacy scheme only.
-const STOP_FRACTION: f64 = 0.1;
-
-/// A root of u(s)·u₀ where |u(s)| is at most this fraction of |u₀| is a
-/// zero crossing (exact in 1-D, up to round-off).
-const ZERO_FRACTION: f64 = 1e-9;
-
-/// Largest turn of the slip direction per step (radians, approximately).
-const TURN: f64 = 0.25;
+use super::scheme::{Legacy, LineStart, Regularised, Scheme, Stiff, ZERO_FRACTION};
+use super::simulator::{hermite_root, Simulator};
+use super::state::{CycleOutcome, PartState, Step, TrajectoryPoint, V2};
+use super::{ContactLoss, SlipScheme};
+use crate::motion::Kinematics;
 
 /// Shortest slip step outside a swing, as a fraction of the nominal step.
 const MIN_SUBSTEP: f64 = 1.0 / 64.0;
-
-/// Where a 2-D swing past zero starts to be followed with short steps: when
-/// the velocity component along the step's initial direction is this many
-/// times the closest approach.
-const BACKOFF: f64 = 8.0;
 
 /// Steps after a swing past zero during which the step may shrink freely.
 const MAX_SWING_STEPS: u32 = 400;
@@ -96,303 +75,7 @@ const MAX_SWING_STEPS: u32 = 400;
 /// velocity swinging past zero is cut a few times while it turns).
 const MAX_CUTS: u32 = 16;
 
-/// State of a point part.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PartState {
-    /// Plate-frame position r (m).
-    pub r: V2,
-    /// Slip velocity u = dr/dt relative to the plate (m/s).
-    pub u: V2,
-    /// True while the part sticks to the plate (then u = 0).
-    pub stuck: bool,
-}
-
-impl PartState {
-    /// A part at `r` with slip velocity `u` (stuck status decided on the first step).
-    pub fn new(r: V2, u: V2) -> PartState {
-        PartState { r, u, stuck: false }
-    }
-}
-
-/// One recorded sample of a trajectory.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct TrajectoryPoint {
-    /// Time (s).
-    pub t: f64,
-    /// The part's state after the step ending at `t`.
-    pub state: PartState,
-}
-
-/// What one simulated time span produced.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct CycleOutcome {
-    /// Final state.
-    pub state: PartState,
-    /// Total time spent stuck (s).
-    pub stuck_time: f64,
-    /// Number of stop and break-away events.
-    pub events: u32,
-    /// RK4 steps taken, trial steps of event location included (a cost
-    /// measure: each is four right-hand sides and two kinematics evaluations).
-    pub rk4_steps: u32,
-}
-
-/// Simulates point parts under one plate motion.
-#[derive(Debug, Clone)]
-pub struct Simulator<'a> {
-    motion: &'a Motion,
-    friction: Friction,
-    gravity: f64,
-    model: Model,
-    numerics: Numerics,
-    period: f64,
-    breakpoints: Vec<f64>,
-    v_scale: f64,
-    /// Kinematics tabulated on the fixed-step time grid, when given.
-    table: Option<&'a KinematicsTable<'a>>,
-    /// The motion with its constants worked out, for evaluating the
-    /// kinematics off the table ([`Motion::kinematics_piece`] to
-    /// round-off; bitwise for a motion with a slip axis, whose few
-    /// off-grid instants are those of event location, so that its 1-D
-    /// fields stay bitwise those of libm's sin and cos).
-    prepared: PreparedMotion<'a>,
-    /// The motion's slip axis ([`Motion::slip_axis`]): a part whose slip
-    /// velocity has no component across it slips on a line.
-    line: Option<usize>,
-}
-
-impl<'a> Simulator<'a> {
-    /// A simulator; parameters are assumed validated by the caller.
-    pub fn new(
-        motion: &'a Motion,
-        friction: Friction,
-        gravity: f64,
-        model: Model,
-        numerics: Numerics,
-    ) -> Simulator<'a> {
-        let period = motion.period();
-        let line = motion.slip_axis();
-        Simulator {
-            motion,
-            friction,
-            gravity,
-            model,
-            numerics,
-            period,
-            breakpoints: motion.breakpoints(),
-            v_scale: (friction.kinetic.max(1e-3) * gravity.max(1e-3) * period).max(1e-300),
-            table: None,
-            line,
-            prepared: if line.is_some() {
-                PreparedMotion::direct(motion)
-            } else {
-                PreparedMotion::new(motion)
-            },
-        }
-    }
-
-    /// The same simulator reading the plate kinematics from `table` where
-    /// it holds them (a memo: results are bitwise unchanged).
-    ///
-    /// # Panics
-    /// When `table` was built for another motion, gravity or tilt switch.
-    pub fn with_table(mut self, table: &'a KinematicsTable<'a>) -> Simulator<'a> {
-        assert!(
-            table.fits(self.motion, self.gravity, self.model.tilt),
-            "kinematics table built for another motion"
-        );
-        self.table = Some(table);
-        self
-    }
-
-    /// The plate motion.
-    pub fn motion(&self) -> &'a Motion {
-        self.motion
-    }
-    /// The model switches.
-    pub fn model(&self) -> Model {
-        self.model
-    }
-    /// The friction coefficients.
-    pub fn friction(&self) -> Friction {
-        self.friction
-    }
-    /// Gravity (m/s²).
-    pub fn gravity(&self) -> f64 {
-        self.gravity
-    }
-    /// Numerical settings.
-    pub fn numerics(&self) -> Numerics {
-        self.numerics
-    }
-    /// The period T (s).
-    pub fn period(&self) -> f64 {
-        self.period
-    }
-    /// Velocity scale μ_k g T used for tolerances (m/s).
-    pub fn velocity_scale(&self) -> f64 {
-        self.v_scale
-    }
-
-    /// The motion prepared for evaluation off the table (the table is a
-    /// memo of it).
-    pub(super) fn prepared(&self) -> &PreparedMotion<'a> {
-        &self.prepared
-    }
-
-    /// Kinematics at `t` on the piece keyed `piece`: from the table on the
-    /// fixed-step grid, evaluated otherwise.
-    #[inline]
-    pub(super) fn kin(&self, t: f64, piece: f64) -> Kinematics {
-        if let Some(k) = self.table.and_then(|table| table.get(t, piece)) {
-            return *k;
-        }
-        self.prepared
-            .kinematics_piece(t, piece, self.gravity, self.model.tilt)
-    }
-
-    /// Kinematics at `t` on the piece keyed `piece`, evaluated without
-    /// asking the table: for instants that are (almost) never on its grid
-    /// (the stages of τ-steps and implicit steps), where the lookup is a
-    /// miss that costs a tenth of a 2-D field's time. The same value as
-    /// [`Simulator::kin`] (the table is a memo of this evaluation).
-    #[inline]
-    pub(super) fn kin_off_grid(&self, t: f64, piece: f64) -> Kinematics {
-        self.prepared
-            .kinematics_piece(t, piece, self.gravity, self.model.tilt)
-    }
-
-    /// Position at which the kinematics are evaluated.
-    #[inline]
-    fn kin_point(&self, r: &V2, anchor: &V2) -> V3 {
-        let p = if self.model.moving { r } else { anchor };
-        V3::new(p.x, p.y, 0.0)
-    }
-
-    /// Normal force N and frictionless tangential acceleration a_free.
-    #[inline]
-    pub(super) fn forces(&self, k: &Kinematics, r: &V2, u: &V2, anchor: &V2) -> (f64, V2) {
-        self.model.point_forces(k, &self.kin_point(r, anchor), u)
-    }
-
-    /// Break-away margin φ = μ_s N − |a_free| of a stuck part (u = 0), and N.
-    #[inline]
-    pub(super) fn margin(&self, t: f64, piece: f64, r: &V2, anchor: &V2) -> f64 {
-        self.margin_of(&self.kin(t, piece), r, anchor)
-    }
-
-    /// The break-away margin φ with the kinematics `k` at hand.
-    #[inline]
-    fn margin_of(&self, k: &Kinematics, r: &V2, anchor: &V2) -> f64 {
-        let (n, free) = self.forces(k, r, &V2::zeros(), anchor);
-        self.friction.stat * n - free.norm()
-    }
-
-    /// du/dt of a slipping part: a_free − μ_k N û. Where u is zero or has
-    /// turned against `dir0`, the slip direction at the start of the step,
-    /// friction keeps the side it came from: a reversal is an event that
-    /// ends the step, so a stage landing on (or numerically just past)
-    /// u = 0 must not flip it.
-    #[inline(always)]
-    fn slip_rhs(
-        &self,
-        k: &Kinematics,
-        t: f64,
-        r: &V2,
-        u: &V2,
-        dir0: &V2,
-        anchor: &V2,
-    ) -> Result<V2, ContactLoss> {
-        let (n, free) = self.forces(k, r, u, anchor);
-        if n < 0.0 {
-            return Err(self.contact_loss(t, r, n));
-        }
-        let along = u.dot(dir0);
-        let dir = if along > 0.0 { unit(u) } else { *dir0 };
-        Ok(free - dir * (self.friction.kinetic * n))
-    }
-
-    /// Direction in which a part with slip velocity `u` slips at the start
-    /// of a step: û, or for a part slipping from rest, that of a_free.
-    fn slip_direction(&self, k: &Kinematics, r: &V2, u: &V2, anchor: &V2) -> V2 {
-        if *u != V2::zeros() {
-            return unit(u);
-        }
-        let (_, free) = self.forces(k, r, u, anchor);
-        let f = free.norm();
-        if f > 0.0 {
-            free / f
-        } else {
-            V2::zeros()
-        }
-    }
-
-    /// The contact loss at `t`, `r` with normal force `n`.
-    pub(super) fn contact_loss(&self, t: f64, r: &V2, n: f64) -> ContactLoss {
-        let c = (t / self.period).floor();
-        ContactLoss {
-            position: [r.x, r.y],
-            time: t,
-            cycle: c.max(0.0) as u64,
-            phase: (t / self.period - c).clamp(0.0, 1.0),
-            normal: n,
-        }
-    }
-
-    /// One RK4 step of the slipping dynamics from (t, r, u) over `h`,
-    /// with `k0` the kinematics at t. Returns (r, u, du/dt at the end).
-    /// The stage kinematics are evaluated directly when `off_grid` (the
-    /// trial steps of an event location: a stop, a back-off, whose stage
-    /// instants are off the table's grid; the same values), looked up in the
-    /// table first otherwise.
-    #[allow(clippy::too_many_arguments)]
-    #[inline]
-    fn rk4(
-        &self,
-        t: f64,
-        h: f64,
-        piece: f64,
-        k0: &Kinematics,
-        r: &V2,
-        u: &V2,
-        anchor: &V2,
-        off_grid: bool,
-    ) -> Result<(V2, V2, Kinematics), ContactLoss> {
-        let kin = |t: f64| {
-            if off_grid {
-                self.kin_off_grid(t, piece)
-            } else {
-                self.kin(t, piece)
-            }
-        };
-        let (km, k1k) = (kin(t + 0.5 * h), kin(t + h));
-        self.rk4_with(t, h, [k0, &km, &k1k], r, u, anchor)
-    }
-
-    /// [`Simulator::rk4`] with the kinematics at t, t + h/2 and t + h at hand.
-    #[inline]
-    fn rk4_with(
-        &self,
-        t: f64,
-        h: f64,
-        [k0, km, k1k]: [&Kinematics; 3],
-        r: &V2,
-        u: &V2,
-        anchor: &V2,
-    ) -> Result<(V2, V2, Kinematics), ContactLoss> {
-        let d0 = self.slip_direction(k0, r, u, anchor);
-        let a1 = self.slip_rhs(k0, t, r, u, &d0, anchor)?;
-        let (r2, u2) = (r + u * (0.5 * h), u + a1 * (0.5 * h));
-        let a2 = self.slip_rhs(km, t + 0.5 * h, &r2, &u2, &d0, anchor)?;
-        let (r3, u3) = (r + u2 * (0.5 * h), u + a2 * (0.5 * h));
-        let a3 = self.slip_rhs(km, t + 0.5 * h, &r3, &u3, &d0, anchor)?;
-        let (r4, u4) = (r + u3 * h, u + a3 * h);
-        let a4 = self.slip_rhs(k1k, t + h, &r4, &u4, &d0, anchor)?;
-        let r1 = r + (u + (u2 + u3) * 2.0 + u4) * (h / 6.0);
-        let u1 = u + (a1 + (a2 + a3) * 2.0 + a4) * (h / 6.0);
-        Ok((r1, u1, *k1k))
-    }
-
+impl Simulator<'_> {
     /// Advances `state` from `t0` to `t1`. The kinematics use the current
     /// position when the model's `moving` switch is on, `anchor` otherwise.
     /// Every accepted step is appended to `record` when given.
@@ -400,6 +83,22 @@ impl<'a> Simulator<'a> {
         &self,
         t0: f64,
         t1: f64,
+        state: &mut PartState,
+        anchor: &V2,
+        record: Option<&mut Vec<TrajectoryPoint>>,
+    ) -> Result<CycleOutcome, ContactLoss> {
+        let span = (t0, t1);
+        match self.numerics.slip {
+            SlipScheme::Legacy => self.advance_by::<Legacy>(span, state, anchor, record),
+            SlipScheme::Stiff => self.advance_by::<Stiff>(span, state, anchor, record),
+            SlipScheme::Regularised => self.advance_by::<Regularised>(span, state, anchor, record),
+        }
+    }
+
+    /// [`Simulator::advance`] over `(t0, t1)` with the slip scheme `S`.
+    fn advance_by<S: Scheme>(
+        &self,
+        (t0, t1): (f64, f64),
         state: &mut PartState,
         anchor: &V2,
         mut record: Option<&mut Vec<TrajectoryPoint>>,
@@ -425,13 +124,23 @@ impl<'a> Simulator<'a> {
             let n = super::step_count(a, b, nominal);
             let piece = 0.5 * (a + b);
             let nodes = self.table.and_then(|table| table.piece(a, b, n, piece));
-            let mut t = a;
+            let mut at = Step {
+                t: a,
+                target: a,
+                piece,
+                anchor,
+                state: &mut *state,
+                out: &mut out,
+            };
             for i in 1..=n {
-                let target = super::step_end(a, b, n, i);
+                at.target = super::step_end(a, b, n, i);
                 let grid = nodes.map(|p| p.step(i));
-                self.advance_piece(&mut t, target, piece, grid, state, anchor, &mut out)?;
+                self.advance_piece::<S>(&mut at, grid)?;
                 if let Some(rec) = record.as_deref_mut() {
-                    rec.push(TrajectoryPoint { t, state: *state });
+                    rec.push(TrajectoryPoint {
+                        t: at.t,
+                        state: *at.state,
+                    });
                 }
             }
         }
@@ -439,18 +148,12 @@ impl<'a> Simulator<'a> {
         Ok(out)
     }
 
-    /// Advances from `*t` to `target` within one smooth piece; `grid` holds
-    /// the tabulated kinematics of the fixed step ending at `target`.
-    #[allow(clippy::too_many_arguments)]
-    fn advance_piece(
+    /// Advances `at` to `at.target` within one smooth piece; `grid` holds
+    /// the tabulated kinematics of the fixed step ending there.
+    fn advance_piece<S: Scheme>(
         &self,
-        t: &mut f64,
-        target: f64,
-        piece: f64,
+        at: &mut Step<'_>,
         grid: Option<StepNodes<'_>>,
-        state: &mut PartState,
-        anchor: &V2,
-        out: &mut CycleOutcome,
     ) -> Result<(), ContactLoss> {
         let tiny = self.numerics.event_tol * self.period;
         let mut cuts = 0;
@@ -458,111 +161,80 @@ impl<'a> Simulator<'a> {
         // Kinematics at the end of the last accepted step: the next step's
         // start, reused instead of evaluated again.
         let mut next_k: Option<(f64, Kinematics)> = None;
-        while *t < target {
-            if state.u == V2::zeros() && !state.stuck {
-                state.stuck = match (&next_k, grid.and_then(|g| g.at_start(*t))) {
-                    (Some((tk, k)), _) if *tk == *t => self.margin_of(k, &state.r, anchor),
-                    (_, Some(k)) => self.margin_of(k, &state.r, anchor),
-                    _ => self.margin(*t, piece, &state.r, anchor),
+        while at.t < at.target {
+            if at.state.u == V2::zeros() && !at.state.stuck {
+                let (r, anchor) = (&at.state.r, at.anchor);
+                at.state.stuck = match (&next_k, grid.and_then(|g| g.at_start(at.t))) {
+                    (Some((tk, k)), _) if *tk == at.t => self.margin_of(k, r, anchor),
+                    (_, Some(k)) => self.margin_of(k, r, anchor),
+                    _ => self.margin(at.t, at.piece, r, anchor),
                 } >= 0.0;
             }
-            if state.stuck {
-                match self.breakaway(*t, target, piece, &state.r, anchor) {
-                    None => {
-                        out.stuck_time += target - *t;
-                        *t = target;
-                    }
-                    Some(tb) => {
-                        out.stuck_time += tb - *t;
-                        out.events += 1;
-                        *t = if target - tb <= tiny { target } else { tb };
-                        state.stuck = false;
-                        state.u = V2::zeros();
-                    }
-                }
+            if at.state.stuck {
+                self.hold(at, tiny);
                 continue;
             }
             let k0 = match next_k.take() {
-                Some((tk, k)) if tk == *t => k,
-                _ => match grid.and_then(|g| g.at_start(*t)) {
+                Some((tk, k)) if tk == at.t => k,
+                _ => match grid.and_then(|g| g.at_start(at.t)) {
                     Some(k) => *k,
-                    None => self.kin(*t, piece),
+                    None => self.kin(at.t, at.piece),
                 },
             };
-            let u0 = state.u;
+            let u0 = at.state.u;
             let line = self.line.is_some_and(|i| u0[1 - i] == 0.0);
             // Kinematics at the stages of a start from rest on a line.
             let mut stages = None;
             if line {
                 // A slip on the motion's line ([`Motion::slip_axis`]): a_free
                 // lies along it, a_⊥ = 0, so the 2-D checks cannot fire
-                // (`wants_tau`, `wants_radau` while slipping and
-                // `ends_in_turn` are false, `slip_step` the rest of the step
-                // outside a swing) and are skipped. A start from rest asks
-                // only whether a_free keeps its sign over the step, with the
-                // kinematics the explicit step then reuses.
-                if u0 == V2::zeros() && self.numerics.slip != SlipScheme::Legacy {
-                    let h = target - *t;
-                    let (km, k1) = match grid.and_then(|g| g.stages(*t, h, target)) {
-                        Some([km, k1]) => (*km, *k1),
-                        None => (self.kin(*t + 0.5 * h, piece), self.kin(*t + h, piece)),
-                    };
-                    if !self.keeps_direction(&k0, [&km, &k1], &state.r, &u0, anchor)
-                        && self.radau_to(t, target, piece, state, anchor, out)?
-                    {
-                        #[cfg(test)]
-                        line_tests::LINE_RADAU.with(|c| c.set(c.get() + 1));
-                        swing = 0;
-                        continue;
-                    }
-                    stages = Some((km, k1));
-                }
-            } else {
-                // N and a_free at the step's start, for the schemes' checks.
-                let start = (self.numerics.slip != SlipScheme::Legacy && u0 != V2::zeros())
-                    .then(|| self.forces(&k0, &state.r, &u0, anchor));
-                if let (SlipScheme::Regularised, Some((n, free))) = (self.numerics.slip, start) {
-                    if self.wants_tau(n, &free, &u0) {
-                        self.swing(t, target, piece, state, anchor, out)?;
-                        swing = 0;
-                        continue;
+                // (the schemes' own steps and `ends_in_turn` are skipped,
+                // `slip_step` is the rest of the step outside a swing). A
+                // start from rest asks only whether a_free keeps its sign
+                // over the step, with the kinematics the explicit step then
+                // reuses.
+                if u0 == V2::zeros() {
+                    match S::from_rest_on_line(self, at, &k0, grid)? {
+                        LineStart::Implicit => {
+                            #[cfg(test)]
+                            line_tests::LINE_RADAU.with(|c| c.set(c.get() + 1));
+                            swing = 0;
+                            continue;
+                        }
+                        LineStart::Explicit(s) => stages = s,
                     }
                 }
-                if self.numerics.slip != SlipScheme::Legacy
-                    && self.implicit_slip(&k0, t, target, piece, state, anchor, out, start)?
-                {
-                    swing = 0;
-                    continue;
-                }
+            } else if S::own_step(self, at, &k0)? {
+                swing = 0;
+                continue;
             }
             let h = if line && swing == 0 {
-                target - *t
+                at.target - at.t
             } else {
-                self.slip_step(&k0, target - *t, state, anchor, swing > 0)
+                self.slip_step::<S>(at, &k0, swing > 0)
             };
             swing = swing.saturating_sub(1);
             let nodes = match &stages {
                 Some((km, k1)) => Some([km, k1]),
-                None => grid.and_then(|g| g.stages(*t, h, target)),
+                None => grid.and_then(|g| g.stages(at.t, h, at.target)),
             };
             let (r1, u1, k1) = match nodes {
-                Some([km, k1]) => self.rk4_with(*t, h, [&k0, km, k1], &state.r, &u0, anchor)?,
-                None => self.rk4(*t, h, piece, &k0, &state.r, &u0, anchor, false)?,
+                Some([km, k1]) => self.rk4_with(at, h, [&k0, km, k1])?,
+                None => self.rk4(at, h, &k0, false)?,
             };
-            out.rk4_steps += 1;
+            at.out.rk4_steps += 1;
             if !(r1.iter().all(|x| x.is_finite()) && u1.norm_squared().is_finite()) {
                 // Arithmetic overflow (|u|² beyond f64): stop with the slip
                 // velocity marked NaN, which callers report (a field sample
                 // is then `non_finite`).
-                (state.r, state.u, *t) = (r1, V2::repeat(f64::NAN), target);
+                (at.state.r, at.state.u, at.t) = (r1, V2::repeat(f64::NAN), at.target);
                 return Ok(());
             }
-            if self.numerics.slip != SlipScheme::Legacy
-                && !line
+            if !line
                 && u0 != V2::zeros()
                 && u1.dot(&u0) > 0.0
                 && cuts < MAX_CUTS
-                && self.ends_in_turn(&k1, h, &r1, &u1, &u0, anchor)
+                && S::ends_in_turn(self, at, h, (&r1, &u1, &k1))
             {
                 // The explicit step ended where the slip direction turns
                 // faster than the step can follow (close to a 2-D swing
@@ -570,199 +242,101 @@ impl<'a> Simulator<'a> {
                 // half the speed and follow the turn with short steps.
                 cuts += 1;
                 let level = 0.5 * u0.norm();
-                self.back_off(t, h, piece, &k0, state, anchor, level, out)?;
+                self.back_off(at, h, &k0, level)?;
                 swing = MAX_SWING_STEPS;
                 continue;
             }
             if u0 != V2::zeros() && u1.dot(&u0) <= 0.0 && cuts < MAX_CUTS {
                 cuts += 1;
-                let end = (&r1, &u1, &k1);
-                let (s, rs, us) = self.stop_in_step(*t, h, piece, &k0, state, anchor, end, out)?;
-                let ts = if target - (*t + s) <= tiny {
-                    target
+                if let Some(k) = self.cut_at_stop::<S>(at, h, &k0, (&r1, &u1, &k1), tiny)? {
+                    next_k = Some(k);
                 } else {
-                    *t + s
-                };
-                let ks = self.kin(ts, piece);
-                let holds = self.margin_of(&ks, &rs, anchor) >= 0.0;
-                out.events += 1;
-                let (left, start) = (us.norm(), u0.norm());
-                // The stiff scheme finds 2-D stops by its implicit steps
-                // (the slip slowing along a_free) rather than by a fraction.
-                let stop_fraction = if self.numerics.slip != SlipScheme::Legacy {
-                    ZERO_FRACTION
-                } else {
-                    STOP_FRACTION
-                };
-                if left <= ZERO_FRACTION * start || (holds && left <= stop_fraction * start) {
-                    // The slip velocity reached zero: the part sticks, or
-                    // (a reversal) slips away from rest along a_free.
-                    *t = ts;
-                    state.r = rs;
-                    state.u = V2::zeros();
-                    state.stuck = holds;
-                    next_k = Some((ts, ks));
-                } else {
-                    // A 2-D slip swinging past zero. The coarse step cannot
-                    // follow the turn, which happens while |u| is of the
-                    // order of its closest approach ε = |u(s*)|: back off to
-                    // where the component along u₀ is still BACKOFF·ε and
-                    // go on from there with steps short enough to follow it.
-                    // The stiff scheme backs off to half the speed, where the
-                    // explicit step is still accurate (h μ_k N/|u| small).
-                    let level = if self.numerics.slip != SlipScheme::Legacy {
-                        0.5 * start
-                    } else {
-                        BACKOFF * left
-                    };
-                    self.back_off(t, s, piece, &k0, state, anchor, level, out)?;
                     swing = MAX_SWING_STEPS;
                 }
                 continue;
             }
-            state.r = r1;
-            state.u = u1;
-            *t += h;
-            if target - *t <= tiny {
-                *t = target;
-            }
-            next_k = Some((*t, k1));
+            at.state.r = r1;
+            at.state.u = u1;
+            at.t = at.snapped(at.t + h, tiny);
+            next_k = Some((at.t, k1));
         }
         Ok(())
     }
 
-    /// Advances `state` from `*t` by the explicit step, of at most `h`, at
-    /// whose end the slip velocity's component along its initial direction
-    /// has fallen to `level`.
-    #[allow(clippy::too_many_arguments)]
+    /// A stuck part at `at`: held until it breaks away or the fixed step
+    /// ends (stuck time and the break-away event tallied).
+    fn hold(&self, at: &mut Step<'_>, tiny: f64) {
+        match self.breakaway(at) {
+            None => {
+                at.out.stuck_time += at.target - at.t;
+                at.t = at.target;
+            }
+            Some(tb) => {
+                at.out.stuck_time += tb - at.t;
+                at.out.events += 1;
+                at.t = at.snapped(tb, tiny);
+                at.state.stuck = false;
+                at.state.u = V2::zeros();
+            }
+        }
+    }
+
+    /// The explicit step of size `h` from `at` (kinematics `k0`) ended at
+    /// `end` = (r₁, u₁, k₁) with its slip velocity turned against u₀: cut
+    /// it at the root of u(s)·u₀. Where the slip velocity reached zero
+    /// there, the part sticks or (a reversal) slips away from rest along
+    /// a_free: returns the kinematics at that time, for the next step.
+    /// Otherwise (a 2-D slip swinging past zero) the step is backed off to
+    /// the scheme's level before the swing and `None` returned.
+    fn cut_at_stop<S: Scheme>(
+        &self,
+        at: &mut Step<'_>,
+        h: f64,
+        k0: &Kinematics,
+        end: (&V2, &V2, &Kinematics),
+        tiny: f64,
+    ) -> Result<Option<(f64, Kinematics)>, ContactLoss> {
+        let (s, rs, us) = self.stop_in_step(at, h, k0, end)?;
+        let ts = at.snapped(at.t + s, tiny);
+        let ks = self.kin(ts, at.piece);
+        let holds = self.margin_of(&ks, &rs, at.anchor) >= 0.0;
+        at.out.events += 1;
+        let (left, start) = (us.norm(), at.state.u.norm());
+        if left <= ZERO_FRACTION * start || (holds && left <= S::stop_fraction() * start) {
+            at.t = ts;
+            at.state.r = rs;
+            at.state.u = V2::zeros();
+            at.state.stuck = holds;
+            return Ok(Some((ts, ks)));
+        }
+        // A 2-D slip swinging past zero. The coarse step cannot follow the
+        // turn, which happens while |u| is of the order of its closest
+        // approach ε = |u(s*)|: back off to where the component along u₀ is
+        // still at the scheme's level (BACKOFF·ε in the legacy scheme; half
+        // the speed in the stiff ones, where the explicit step is still
+        // accurate, h μ_k N/|u| small) and go on from there with steps
+        // short enough to follow it.
+        self.back_off(at, s, k0, S::swing_level(start, left))?;
+        Ok(None)
+    }
+
+    /// Advances `at` by the explicit step, of at most `h`, at whose end the
+    /// slip velocity's component along its initial direction has fallen to
+    /// `level`.
     fn back_off(
         &self,
-        t: &mut f64,
+        at: &mut Step<'_>,
         h: f64,
-        piece: f64,
         k0: &Kinematics,
-        state: &mut PartState,
-        anchor: &V2,
         level: f64,
-        out: &mut CycleOutcome,
     ) -> Result<(), ContactLoss> {
-        let sb = self.locate_stop(*t, h, piece, k0, state, anchor, level, out)?;
-        let (rb, ub, _) = self.rk4(*t, sb, piece, k0, &state.r, &state.u, anchor, true)?;
-        out.rk4_steps += 1;
-        *t += sb;
-        state.r = rb;
-        state.u = ub;
+        let sb = self.locate_stop(at, h, k0, level)?;
+        let (rb, ub, _) = self.rk4(at, sb, k0, true)?;
+        at.out.rk4_steps += 1;
+        at.t += sb;
+        at.state.r = rb;
+        at.state.u = ub;
         Ok(())
-    }
-
-    /// [`SlipScheme::Stiff`]: an implicit step (`src/dynamics/radau.rs`)
-    /// where the slip direction is stiff; true when one was taken (`t`,
-    /// `state` advanced), false when the explicit step is to be taken.
-    #[allow(clippy::too_many_arguments)]
-    #[inline(never)]
-    fn implicit_slip(
-        &self,
-        k0: &Kinematics,
-        t: &mut f64,
-        target: f64,
-        piece: f64,
-        state: &mut PartState,
-        anchor: &V2,
-        out: &mut CycleOutcome,
-        start: Option<(f64, V2)>,
-    ) -> Result<bool, ContactLoss> {
-        let rest = target - *t;
-        let tiny = self.numerics.event_tol * self.period;
-        match self.wants_radau(k0, *t, rest, piece, state, anchor, start) {
-            None => Ok(false),
-            Some(true) => self.radau_to(t, target, piece, state, anchor, out),
-            Some(false) => {
-                let dir0 = state.u / state.u.norm();
-                let du0 = self.slip_rhs(k0, *t, &state.r, &state.u, &dir0, anchor)?;
-                let slowing =
-                    self.radau_slowing(*t, rest, piece, state, anchor, &du0, &mut out.rk4_steps)?;
-                match slowing {
-                    None => Ok(false),
-                    Some(Slowing::Slipped(e)) => {
-                        state.r = e.r;
-                        state.u = e.u;
-                        *t = target;
-                        Ok(true)
-                    }
-                    Some(Slowing::Partial(h, e)) => {
-                        state.r = e.r;
-                        state.u = e.u;
-                        *t = if target - (*t + h) <= tiny {
-                            target
-                        } else {
-                            *t + h
-                        };
-                        Ok(true)
-                    }
-                    Some(Slowing::Stopped { h, r }) => {
-                        out.events += 1;
-                        state.r = r;
-                        state.u = V2::zeros();
-                        *t = if target - (*t + h) <= tiny {
-                            target
-                        } else {
-                            *t + h
-                        };
-                        state.stuck = self.margin(*t, piece, &state.r, anchor) >= 0.0;
-                        Ok(true)
-                    }
-                }
-            }
-        }
-    }
-
-    /// An implicit step from `*t` to `target` (a slip speeding up); true
-    /// when it was taken (`t`, `state` advanced), false when its
-    /// collocation equations did not converge.
-    fn radau_to(
-        &self,
-        t: &mut f64,
-        target: f64,
-        piece: f64,
-        state: &mut PartState,
-        anchor: &V2,
-        out: &mut CycleOutcome,
-    ) -> Result<bool, ContactLoss> {
-        let rest = target - *t;
-        match self.radau_step(*t, rest, piece, state, anchor, &mut out.rk4_steps)? {
-            Some(e) => {
-                state.r = e.r;
-                state.u = e.u;
-                *t = target;
-                Ok(true)
-            }
-            None => Ok(false),
-        }
-    }
-
-    /// True when an explicit step of size `h` from slip velocity `u0` ended
-    /// at `u1` (position `r1`, kinematics `k1`) with the speed fallen below a
-    /// quarter and the slip direction there turning through more than
-    /// [`TURN`] per h/4 (rate |a_⊥|/|u|, a_⊥ the part of a_free across u₁):
-    /// the step's end lies in the fast turn of a 2-D swing, which it cannot
-    /// have followed.
-    fn ends_in_turn(
-        &self,
-        k1: &Kinematics,
-        h: f64,
-        r1: &V2,
-        u1: &V2,
-        u0: &V2,
-        anchor: &V2,
-    ) -> bool {
-        let s1 = u1.norm();
-        if s1 >= 0.25 * u0.norm() {
-            return false;
-        }
-        let (_, free) = self.forces(k1, r1, u1, anchor);
-        let uhat = u1 / s1;
-        let across = (free - uhat * free.dot(&uhat)).norm();
-        0.25 * h * across > TURN * s1
     }
 
     /// Step size for a slipping part: the rest of the step, shortened where
@@ -785,14 +359,8 @@ impl<'a> Simulator<'a> {
     /// (`order_2d`, 4×4×6 force fields against 4096 steps): DivCircle at 64
     /// steps 3.9e-6 → 7.8e-7, SkewSink 8.1e-6 → 4.3e-6, for 1–6 % more RK4
     /// steps.
-    fn slip_step(
-        &self,
-        k0: &Kinematics,
-        rest: f64,
-        state: &PartState,
-        anchor: &V2,
-        swinging: bool,
-    ) -> f64 {
+    fn slip_step<S: Scheme>(&self, at: &Step<'_>, k0: &Kinematics, swinging: bool) -> f64 {
+        let (rest, state, anchor) = (at.target - at.t, &*at.state, at.anchor);
         let nominal = self.period / self.numerics.steps_per_cycle as f64;
         let shortest = if swinging {
             1e-12 * self.period
@@ -813,18 +381,8 @@ impl<'a> Simulator<'a> {
         } else {
             0.0
         };
-        let turn = if self.numerics.slip == SlipScheme::Regularised {
-            self.tau_c()
-        } else {
-            TURN
-        };
-        let rate_across = if self.numerics.slip == SlipScheme::Regularised
-            && across > ACROSS_ROUND_OFF * free.norm()
-        {
-            across.max(self.friction.kinetic * n.max(0.0))
-        } else {
-            across
-        };
+        let turn = S::turn(self);
+        let rate_across = S::rate_across(self, across, &free, n);
         let limit = (turn * speed / rate_across).min(0.5 * speed / rate);
         if limit >= rest {
             rest
@@ -836,18 +394,14 @@ impl<'a> Simulator<'a> {
     /// Root s* ∈ (0, h] of g(s) = u(s)·û₀ − `level` (the slip velocity's
     /// component along its initial direction falls to `level`) by
     /// safeguarded Newton.
-    #[allow(clippy::too_many_arguments)]
     fn locate_stop(
         &self,
-        t: f64,
+        at: &mut Step<'_>,
         h: f64,
-        piece: f64,
         k0: &Kinematics,
-        state: &PartState,
-        anchor: &V2,
         level: f64,
-        out: &mut CycleOutcome,
     ) -> Result<f64, ContactLoss> {
+        let (t, state, anchor) = (at.t, *at.state, at.anchor);
         let u0 = state.u;
         let shift = level * u0.norm();
         let g0 = u0.dot(&u0) - shift;
@@ -861,8 +415,8 @@ impl<'a> Simulator<'a> {
         }
         let tol = self.numerics.event_tol * self.period;
         for _ in 0..60 {
-            let (rs, us, ks) = self.rk4(t, s, piece, k0, &state.r, &u0, anchor, true)?;
-            out.rk4_steps += 1;
+            let (rs, us, ks) = self.rk4(at, s, k0, true)?;
+            at.out.rk4_steps += 1;
             let g = us.dot(&u0) - shift;
             if g > 0.0 {
                 lo = s;
@@ -907,26 +461,22 @@ impl<'a> Simulator<'a> {
     /// polynomial instead of another trial step (|δ| ≤ 1e-6 h there, so that
     /// its error is O(1e-12) relative). Typically two or three trials per stop, the
     /// same root as Newton run to |δ| ≤ tolerance from s = 0 (five to seven).
-    #[allow(clippy::too_many_arguments)]
     fn stop_in_step(
         &self,
-        t: f64,
+        at: &mut Step<'_>,
         h: f64,
-        piece: f64,
         k0: &Kinematics,
-        state: &PartState,
-        anchor: &V2,
         end: (&V2, &V2, &Kinematics),
-        out: &mut CycleOutcome,
     ) -> Result<(f64, V2, V2), ContactLoss> {
         let (r1, u1, k1) = end;
+        let (t, state, anchor) = (at.t, *at.state, at.anchor);
         let u0 = state.u;
         let on_x = u0.y == 0.0 && u1.y == 0.0;
         if !(on_x || (u0.x == 0.0 && u1.x == 0.0)) {
             // A 2-D slip (swinging past u = 0 or stopping): Newton from s = 0.
-            let s = self.locate_stop(t, h, piece, k0, state, anchor, 0.0, out)?;
-            let (rs, us, _) = self.rk4(t, s, piece, k0, &state.r, &u0, anchor, true)?;
-            out.rk4_steps += 1;
+            let s = self.locate_stop(at, h, k0, 0.0)?;
+            let (rs, us, _) = self.rk4(at, s, k0, true)?;
+            at.out.rk4_steps += 1;
             return Ok((s, rs, us));
         }
         let dir0 = u0 / u0.norm();
@@ -946,8 +496,8 @@ impl<'a> Simulator<'a> {
         let mut s = h * hermite_root(g0, h * d0, gh, h * dh);
         let mut last_delta = f64::NAN;
         for _ in 0..60 {
-            let (rs, us, ks) = self.rk4(t, s, piece, k0, &state.r, &u0, anchor, true)?;
-            out.rk4_steps += 1;
+            let (rs, us, ks) = self.rk4(at, s, k0, true)?;
+            at.out.rk4_steps += 1;
             let g = us.dot(&u0);
             if g == 0.0 {
                 return Ok((s, rs, us));
@@ -992,13 +542,15 @@ impl<'a> Simulator<'a> {
                 break;
             }
         }
-        let (rs, us, _) = self.rk4(t, hi, piece, k0, &state.r, &u0, anchor, true)?;
-        out.rk4_steps += 1;
+        let (rs, us, _) = self.rk4(at, hi, k0, true)?;
+        at.out.rk4_steps += 1;
         Ok((hi, rs, us))
     }
 
-    /// First time in [a, b] at which a stuck part at `r` breaks away, if any.
-    fn breakaway(&self, a: f64, b: f64, piece: f64, r: &V2, anchor: &V2) -> Option<f64> {
+    /// First time in [a, b] = [`at.t`, `at.target`] at which the stuck part
+    /// of `at` breaks away, if any.
+    fn breakaway(&self, at: &Step<'_>) -> Option<f64> {
+        let (a, b, piece, r, anchor) = (at.t, at.target, at.piece, &at.state.r, at.anchor);
         // Samples at half-step spacing fall on the table's grid where the
         // stuck episode spans a whole step; refinements never do.
         let phi = |t: f64| self.margin(t, piece, r, anchor);
@@ -1168,55 +720,6 @@ fn brent_min(f: &impl Fn(f64) -> f64, mut a: f64, mut b: f64, tol: f64) -> (f64,
         }
     }
     (x, fx)
-}
-
-/// u/|u| for u ≠ 0. A slip along a coordinate axis (1-D slips: the
-/// LineSink moves every point along x) takes the sign, which is what the
-/// division gives there (√(x²) = |x| exactly), without the square root and
-/// division that dominate a 1-D right-hand side.
-#[inline]
-fn unit(u: &V2) -> V2 {
-    if u.y == 0.0 {
-        V2::new(u.x.signum(), u.y)
-    } else if u.x == 0.0 {
-        V2::new(u.x, u.y.signum())
-    } else {
-        u / u.norm()
-    }
-}
-
-/// Root θ ∈ [0, 1] of the cubic Hermite interpolant p with p(0) = `p0` > 0,
-/// p'(0) = `d0`, p(1) = `p1` ≤ 0, p'(1) = `d1` (derivatives per unit θ), by
-/// Newton's method safeguarded by bisection.
-pub(super) fn hermite_root(p0: f64, d0: f64, p1: f64, d1: f64) -> f64 {
-    // p(θ) = p0 + d0 θ + c2 θ² + c3 θ³.
-    let c2 = 3.0 * (p1 - p0) - 2.0 * d0 - d1;
-    let c3 = 2.0 * (p0 - p1) + d0 + d1;
-    let (mut lo, mut hi) = (0.0, 1.0);
-    let mut x = p0 / (p0 - p1);
-    for _ in 0..60 {
-        let p = p0 + x * (d0 + x * (c2 + x * c3));
-        if p > 0.0 {
-            lo = x;
-        } else {
-            hi = x;
-        }
-        let step = p / (d0 + x * (2.0 * c2 + x * 3.0 * c3));
-        // A first guess: the interpolant itself is accurate to O(h⁴) only.
-        if step.abs() <= 1e-12 {
-            return (x - step).clamp(lo, hi);
-        }
-        let next = x - step;
-        x = if next > lo && next < hi {
-            next
-        } else {
-            0.5 * (lo + hi)
-        };
-        if hi - lo <= 1e-12 {
-            break;
-        }
-    }
-    x
 }
 
 #[cfg(test)]

@@ -25,7 +25,6 @@
 //! for other instants; they miss and are evaluated (those known to be off
 //! the grid without asking).
 
-use super::integrator::Simulator;
 use crate::motion::{Kinematics, Motion, PreparedMotion};
 
 /// Kinematics at the nodes of one smooth piece [a, b] of n fixed steps, in
@@ -185,14 +184,16 @@ fn home(piece: f64, bits: u32) -> usize {
 }
 
 impl<'a> KinematicsTable<'a> {
-    /// The kinematics `sim` asks for when it advances over each span
-    /// `[t0, t1]` in `spans` on its fixed-step path.
-    pub fn new(sim: &Simulator<'a>, spans: &[(f64, f64)]) -> KinematicsTable<'a> {
-        let motion = sim.motion();
-        let prepared = sim.prepared();
-        let (gravity, tilt) = (sim.gravity(), sim.model().tilt);
-        let period = sim.period();
-        let nominal = period / sim.numerics().steps_per_cycle as f64;
+    /// The kinematics of `prepared` (the evaluation of `motion` under
+    /// `gravity` and the tilt switch `tilt`) on the fixed-step path of
+    /// nominal step `nominal` over each span `[t0, t1]` in `spans`.
+    pub(super) fn tabulate(
+        (motion, prepared): (&'a Motion, &PreparedMotion<'a>),
+        (gravity, tilt): (f64, bool),
+        nominal: f64,
+        spans: &[(f64, f64)],
+    ) -> KinematicsTable<'a> {
+        let period = motion.period();
         let breakpoints = motion.breakpoints();
         let mut pieces: Vec<PieceNodes> = Vec::new();
         let mut seen = std::collections::HashSet::new();
@@ -235,24 +236,6 @@ impl<'a> KinematicsTable<'a> {
             #[cfg(test)]
             hits: std::sync::atomic::AtomicUsize::new(0),
         }
-    }
-
-    /// The table for one cycle [0, T] (steady-state velocity fields).
-    pub fn cycle(sim: &Simulator<'a>) -> KinematicsTable<'a> {
-        KinematicsTable::new(sim, &[(0.0, sim.period())])
-    }
-
-    /// The table for `phases` cycles starting at T j / `phases`, j = 0 …
-    /// `phases` − 1 (zero-velocity force fields).
-    pub fn phases(sim: &Simulator<'a>, phases: usize) -> KinematicsTable<'a> {
-        let period = sim.period();
-        let spans: Vec<(f64, f64)> = (0..phases)
-            .map(|j| {
-                let t0 = period * j as f64 / phases as f64;
-                (t0, t0 + period)
-            })
-            .collect();
-        KinematicsTable::new(sim, &spans)
     }
 
     /// Number of table slots (an instant may fill two: s + h and the step
@@ -331,7 +314,7 @@ impl<'a> KinematicsTable<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dynamics::{Friction, Model, Numerics, PartState, V2};
+    use crate::dynamics::{Friction, Model, Numerics, PartState, Simulator, V2};
     use crate::motion::{FourierTerm, Screw, Waveform};
 
     fn screw(rotation: Waveform, translation: Waveform) -> Motion {

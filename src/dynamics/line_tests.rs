@@ -3,7 +3,7 @@
 
 use super::*;
 use crate::dynamics::{Friction, Model, Numerics};
-use crate::motion::{Screw, Waveform};
+use crate::motion::{Motion, Screw, Waveform, V3};
 
 const PERIOD: f64 = 0.03;
 

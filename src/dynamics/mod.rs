@@ -30,10 +30,14 @@ mod integrator;
 mod kinematics_table;
 mod planar;
 mod radau;
+mod scheme;
+mod simulator;
+mod state;
 mod steady;
 mod swing;
 
-pub use integrator::{CycleOutcome, PartState, Simulator, TrajectoryPoint, V2};
+pub use simulator::Simulator;
+pub use state::{CycleOutcome, PartState, TrajectoryPoint, V2};
 
 /// Revision of the simulator's numerics: bumped whenever a change to the
 /// integrator changes any field it computes (not for changes that keep

@@ -39,8 +39,8 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use super::integrator::{PartState, Simulator, V2};
-use super::swing::ACROSS_ROUND_OFF;
+use super::simulator::{Simulator, ACROSS_ROUND_OFF};
+use super::state::{Step, V2};
 use super::ContactLoss;
 
 /// A step is stiff across the slip when h μ_k N/|u| exceeds this.
@@ -149,17 +149,14 @@ impl Simulator<'_> {
     /// along a_free towards a stop (a·û > 0 and |a_free| < μ_k N: it may
     /// stop within the step);
     /// `None` explicit.
-    #[allow(clippy::too_many_arguments)]
     pub(super) fn wants_radau(
         &self,
+        at: &Step<'_>,
         k0: &crate::motion::Kinematics,
-        t: f64,
-        h: f64,
-        piece: f64,
-        state: &PartState,
-        anchor: &V2,
         start: Option<(f64, V2)>,
     ) -> Option<bool> {
+        let (t, h, piece, state, anchor) =
+            (at.t, at.target - at.t, at.piece, &*at.state, at.anchor);
         let s = state.u.norm();
         if s == 0.0 {
             let km = self.kin(t + 0.5 * h, piece);
@@ -252,17 +249,12 @@ impl Simulator<'_> {
     /// (d|u|/dh = û·du/dt) and a last linear extrapolation, since the
     /// collocation equations lose their solution as the last stage reaches
     /// u = 0.
-    #[allow(clippy::too_many_arguments)]
     pub(super) fn radau_slowing(
         &self,
-        t: f64,
-        rest: f64,
-        piece: f64,
-        state: &PartState,
-        anchor: &V2,
+        at: &mut Step<'_>,
         du0: &V2,
-        steps: &mut u32,
     ) -> Result<Option<Slowing>, ContactLoss> {
+        let (rest, state) = (at.target - at.t, *at.state);
         let s0 = state.u.norm();
         let slope0 = du0.dot(&state.u) / s0;
         let tol = self.numerics().event_tol * self.period();
@@ -280,7 +272,7 @@ impl Simulator<'_> {
         let mut lo: Option<(f64, RadauEnd)> = None;
         let mut hi = f64::INFINITY;
         for _ in 0..40 {
-            let end = self.radau_step(t, h, piece, state, anchor, steps)?;
+            let end = self.radau_step(at, h)?;
             match end {
                 Some(e) => {
                     if h >= rest {
@@ -348,16 +340,12 @@ impl Simulator<'_> {
     /// collocation equations do not converge (a stage reaching u = 0, where
     /// they lose their solution) — the caller then locates a stop or takes
     /// an explicit step.
-    #[allow(clippy::too_many_arguments)]
     pub(super) fn radau_step(
         &self,
-        t: f64,
+        at: &mut Step<'_>,
         h: f64,
-        piece: f64,
-        state: &PartState,
-        anchor: &V2,
-        steps: &mut u32,
     ) -> Result<Option<RadauEnd>, ContactLoss> {
+        let (t, piece, state, anchor) = (at.t, at.piece, *at.state, at.anchor);
         let tab = tableau();
         let (r0, u0) = (state.r, state.u);
         let kin: [_; 3] = std::array::from_fn(|j| self.kin_off_grid(t + tab.c[j] * h, piece));
@@ -407,7 +395,7 @@ impl Simulator<'_> {
             r0 + (u[0] * tab.a[i][0] + u[1] * tab.a[i][1] + u[2] * tab.a[i][2]) * h
         };
         for _ in 0..NEWTON_MAX {
-            *steps += 1;
+            at.out.rk4_steps += 1;
             let mut g = [V2::zeros(); 3];
             let mut fs = [V2::zeros(); 3];
             // Per stage j: the unit vector p_j across Û_j and σ_j = μ_k N_j/|U_j|.

@@ -36,7 +36,8 @@
 use nalgebra::Matrix2;
 use serde::Serialize;
 
-use super::integrator::{PartState, Simulator, V2};
+use super::simulator::Simulator;
+use super::state::{PartState, V2};
 use super::ContactLoss;
 
 /// A converged steady state.

@@ -3,7 +3,24 @@
 
 use super::*;
 use crate::dynamics::{Friction, Model, Numerics};
-use crate::motion::{Screw, Waveform};
+use crate::motion::{Motion, Screw, Waveform};
+
+/// The step from `t` to `target` on the piece keyed `piece`.
+fn at<'s>(
+    (t, target, piece): (f64, f64, f64),
+    anchor: &'s V2,
+    state: &'s mut PartState,
+    out: &'s mut CycleOutcome,
+) -> Step<'s> {
+    Step {
+        t,
+        target,
+        piece,
+        anchor,
+        state,
+        out,
+    }
+}
 
 /// The LineSink: rotation about a horizontal axis below the plate moves
 /// every point along x (a 1-D slip).
@@ -47,8 +64,16 @@ fn stop_in_step_finds_newtons_root_in_fewer_trials() {
                     state.u = free * 1e-6;
                 }
                 let piece = t + 0.5 * h;
+                let mut tally = CycleOutcome {
+                    state,
+                    stuck_time: 0.0,
+                    events: 0,
+                    rk4_steps: 0,
+                };
+                let mut here = state;
+                let span = (t, t + h, piece);
                 let (r1, u1, k1) = sim
-                    .rk4(t, h, piece, &k0, &state.r, &state.u, &anchor, false)
+                    .rk4(&at(span, &anchor, &mut here, &mut tally), h, &k0, false)
                     .unwrap();
                 assert_eq!(u1.y, 0.0, "the LineSink slip stays on x");
                 if u1.dot(&state.u) <= 0.0 {
@@ -61,13 +86,13 @@ fn stop_in_step_finds_newtons_root_in_fewer_trials() {
                     let mut old = new;
                     let end = (&r1, &u1, &k1);
                     let (s, rs, us) = sim
-                        .stop_in_step(t, h, piece, &k0, &state, &anchor, end, &mut new)
+                        .stop_in_step(&mut at(span, &anchor, &mut here, &mut new), h, &k0, end)
                         .unwrap();
                     let s_old = sim
-                        .locate_stop(t, h, piece, &k0, &state, &anchor, 0.0, &mut old)
+                        .locate_stop(&mut at(span, &anchor, &mut here, &mut old), h, &k0, 0.0)
                         .unwrap();
                     let (rs_old, _, _) = sim
-                        .rk4(t, s_old, piece, &k0, &state.r, &state.u, &anchor, false)
+                        .rk4(&at(span, &anchor, &mut here, &mut tally), s_old, &k0, false)
                         .unwrap();
                     assert!((s - s_old).abs() <= 2.0 * tol, "{s} vs {s_old}");
                     assert!(us.norm() <= 1e-9 * state.u.norm(), "{us:?}");

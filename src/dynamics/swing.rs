@@ -80,8 +80,9 @@
 //! τ alike.
 
 use super::frozen::{Cf4, Frozen};
-use super::integrator::{hermite_root, CycleOutcome, PartState, Simulator, V2};
 use super::radau::{SLAVED, STIFF};
+use super::simulator::{hermite_root, Simulator, ACROSS_ROUND_OFF};
+use super::state::{PartState, Step, V2};
 use super::ContactLoss;
 
 /// The τ-step's c = Δτ max(|a_free|, μ_k N) at 64 steps per cycle; it
@@ -153,11 +154,6 @@ const REGION: f64 = 2.0;
 /// The region's width stops shrinking with h beyond this many steps per
 /// cycle (see [`REGION`]).
 const REGION_STEPS: f64 = 64.0;
-
-/// A part a_⊥ of a_free across the slip below this fraction of |a_free| is
-/// round-off of a 1-D slip along a rotated line (cos 90° ≈ 6e-17), not a
-/// 2-D slip: its exact explicit steps are kept.
-pub(super) const ACROSS_ROUND_OFF: f64 = 1e-12;
 
 /// A slowing slip whose speed is below this fraction of the regularised
 /// region's bound is finished analytically (a stop).
@@ -355,18 +351,14 @@ impl Simulator<'_> {
     /// (kinematics there; position and slip velocity from the composition
     /// itself), and which falls back to τ-steps where μ_k N ≤ |a_free| at
     /// either node (the slip may swing past u = 0 instead of stopping).
-    #[allow(clippy::too_many_arguments)]
     fn finish(
         &self,
+        at: &mut Step<'_>,
         y: &mut Tau,
-        target: f64,
-        piece: f64,
-        anchor: &V2,
         n: f64,
         free: &V2,
-        state: &mut PartState,
-        out: &mut CycleOutcome,
     ) -> Result<bool, ContactLoss> {
+        let (target, piece, anchor) = (at.target, at.piece, at.anchor);
         let mu = self.friction().kinetic;
         let Some(flow) = Frozen::new(free, mu * n, &y.u) else {
             return Ok(false);
@@ -392,11 +384,11 @@ impl Simulator<'_> {
         let stop = path.stop_time();
         let tol = self.numerics().event_tol * self.period();
         if y.t + stop < target - tol {
-            out.events += 1;
+            at.out.events += 1;
             y.t += stop;
             y.r += path.at(stop).0;
             y.u = V2::zeros();
-            state.stuck = self.margin(y.t, piece, &y.r, anchor) >= 0.0;
+            at.state.stuck = self.margin(y.t, piece, &y.r, anchor) >= 0.0;
         } else {
             let (dr, u) = path.at(rest);
             y.r += dr;
@@ -410,23 +402,16 @@ impl Simulator<'_> {
     /// `*t` until it leaves the region (see the module docs), stops, or
     /// reaches `target`. Advances `t` and `state`.
     #[inline(never)]
-    pub(super) fn swing(
-        &self,
-        t: &mut f64,
-        target: f64,
-        piece: f64,
-        state: &mut PartState,
-        anchor: &V2,
-        out: &mut CycleOutcome,
-    ) -> Result<(), ContactLoss> {
+    pub(super) fn swing(&self, at: &mut Step<'_>) -> Result<(), ContactLoss> {
+        let (target, piece, anchor) = (at.target, at.piece, at.anchor);
         let c = self.tau_c();
         let mu = self.friction().kinetic;
         let h_r = self.region_step();
         let tol = self.numerics().event_tol * self.period();
         let mut y = Tau {
-            t: *t,
-            r: state.r,
-            u: state.u,
+            t: at.t,
+            r: at.state.r,
+            u: at.state.u,
         };
         let mut implicit_failed = false;
         for _ in 0..MAX_TAU_STEPS {
@@ -449,9 +434,17 @@ impl Simulator<'_> {
                 && (target - y.t) * mu * n > STIFF * s
                 && (bound / s).ln() * scale > IMPLICIT_AFTER * C_SLAVED * (along - mu * n)
             {
-                let here = PartState::new(y.r, y.u);
+                let mut here = PartState::new(y.r, y.u);
                 let rest = target - y.t;
-                match self.radau_step(y.t, rest, piece, &here, anchor, &mut out.rk4_steps)? {
+                let mut from = Step {
+                    t: y.t,
+                    target,
+                    piece,
+                    anchor,
+                    state: &mut here,
+                    out: &mut *at.out,
+                };
+                match self.radau_step(&mut from, rest)? {
                     Some(e) if e.u.dot(&y.u) > 0.0 && still_slaved(&e.u, &e.du) => {
                         (y.t, y.r, y.u) = (target, e.r, e.u);
                         break;
@@ -459,7 +452,7 @@ impl Simulator<'_> {
                     _ => implicit_failed = true,
                 }
             }
-            if self.finish(&mut y, target, piece, anchor, n, &free, state, out)? {
+            if self.finish(at, &mut y, n, &free)? {
                 break;
             }
             if s < STOP * bound && along < mu * n {
@@ -472,17 +465,17 @@ impl Simulator<'_> {
                     y.u = uhat * (s - decel * d).max(0.0);
                     y.t = target;
                 } else {
-                    out.events += 1;
+                    at.out.events += 1;
                     y.t += dt;
                     y.r += uhat * (0.5 * s * dt);
                     y.u = V2::zeros();
-                    state.stuck = self.margin(y.t, piece, &y.r, anchor) >= 0.0;
+                    at.state.stuck = self.margin(y.t, piece, &y.r, anchor) >= 0.0;
                 }
                 break;
             }
             let d = self.tau_step(c, &free, mu * n, along, &uhat, s);
             let y1 = self.tau_rk4(&y, &f0, d, piece, anchor)?;
-            out.rk4_steps += 1;
+            at.out.rk4_steps += 1;
             if y1.t < target - tol {
                 y = y1;
                 continue;
@@ -503,7 +496,7 @@ impl Simulator<'_> {
                     break;
                 }
                 let ym = self.tau_rk4(&y, &f0, m, piece, anchor)?;
-                out.rk4_steps += 1;
+                at.out.rk4_steps += 1;
                 let g = ym.t - target;
                 if g.abs() <= tol {
                     best = ym;
@@ -525,9 +518,9 @@ impl Simulator<'_> {
             y.t = target;
             break;
         }
-        *t = y.t;
-        state.r = y.r;
-        state.u = y.u;
+        at.t = y.t;
+        at.state.r = y.r;
+        at.state.u = y.u;
         Ok(())
     }
 }

@@ -1,5 +1,4 @@
-//! Playing a schedule: its exact plate trajectory and point parts under it
-//! (DESIGN.md section 7).
+//! Playing a schedule: its exact plate trajectory and point parts under it.
 //!
 //! A [`crate::schedule::Schedule`] is played exactly, segment after segment:
 //! segment i runs `cycles` whole periods of its primitive's [`Motion`]

@@ -205,7 +205,9 @@ impl<'a> Objective<'a> {
         if tally.best.as_ref().is_none_or(|b| cost < b.cost) {
             tally.best = Some(e.clone());
         }
-        self.progress.update(tally.evaluations, tally.best.as_ref());
+        let best = tally.best.as_ref();
+        let best = best.map(|b| (b.realised.strength, b.realised.shape_error));
+        self.progress.update(tally.evaluations, best);
         e
     }
 

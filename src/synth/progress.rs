@@ -8,7 +8,6 @@ use std::sync::Arc;
 use argmin::core::observers::Observe;
 use argmin::core::{Error, KV};
 
-use super::objective::Evaluation;
 pub use crate::progress::ProgressMode;
 
 /// Shared progress of one synthesis.
@@ -26,14 +25,13 @@ impl Progress {
         ))
     }
 
-    /// Records the evaluation count and the best evaluation so far (called
-    /// by the objective).
-    pub fn update(&self, evaluations: usize, best: Option<&Evaluation>) {
-        if let Some(b) = best {
+    /// Records the evaluation count and the best evaluation so far, as its
+    /// realised (strength, shape error) (called by the objective).
+    pub fn update(&self, evaluations: usize, best: Option<(f64, f64)>) {
+        if let Some((strength, shape_error)) = best {
             self.0.set_message(format!(
-                "best: strength {:.4}, shape error {}",
-                b.realised.strength,
-                crate::output::percent(b.realised.shape_error, 2)
+                "best: strength {strength:.4}, shape error {}",
+                crate::output::percent(shape_error, 2)
             ));
         }
         self.0.set_position(evaluations as u64);
