@@ -122,6 +122,15 @@ enum Command {
     /// Study: interaction error of two sequenced LineSinks (a Sink): sink_interaction.md.
     #[command(mut_arg("out", default_dir(studies::interaction::DIR)))]
     Interaction(StudyOut),
+    /// Study: every shipped target designed (auto) under several synthesis and polish budgets: design_speed.md (times printed only).
+    #[command(mut_arg("out", default_dir(studies::design_speed::DIR)))]
+    DesignSpeed {
+        /// Only these targets (comma-separated names under targets/).
+        #[arg(long, value_delimiter = ',')]
+        targets: Vec<String>,
+        #[command(flatten)]
+        out: StudyOut,
+    },
     /// Study: one synthesized six-signal motion per target against its sequenced schedule, both played: synthesis.{md,csv}.
     #[command(mut_arg("out", default_dir(studies::synthesis::DIR)))]
     Synthesis {
@@ -231,6 +240,7 @@ fn run(cli: Cli) -> Result<String> {
         Command::FitQuality(o) => studies::fit_quality::run(Path::new("targets"), &o.out),
         Command::Interaction(o) => studies::interaction::run(&o.out),
         Command::SqueezeOrder(o) => studies::squeeze_order::run(&o.out),
+        Command::DesignSpeed { targets, out } => studies::design_speed::run(&out.out, &targets),
         Command::Synthesis {
             rows,
             harmonics,

@@ -67,21 +67,13 @@ use crate::synth::objective::{Objective, CONTACT_WEIGHT, INVALID_WEIGHT, LIMIT_W
 use crate::synth::params::{Coefficients, Layout};
 use crate::synth::progress::{Progress, ProgressMode};
 use crate::synth::refine::nelder_mead;
-use crate::synth::stall::{StallRule, StallTracker};
+use crate::synth::stall::{StallRule, StallTracker, POLISH_STALL};
 use crate::synth::{Checked, ShakerLimits, Synthesis};
 
 /// Weight of the played shape error over budget (the synthesis objective's).
 pub const SHAPE_WEIGHT: f64 = crate::synth::objective::SHAPE_WEIGHT;
 /// Cap on the played shape error inside the cost.
 const SHAPE_CAP: f64 = 10.0;
-
-/// The default stall rule of the played polish: 40 plays without lowering
-/// the played cost by 0.005 (half a percent of the start's played strength,
-/// or a quarter point of shape error over budget) end it.
-pub const POLISH_STALL: StallRule = StallRule {
-    window: 40,
-    tol: 0.005,
-};
 
 /// Settings of the played polish.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -313,6 +313,7 @@ impl StudySettings {
             // The study spends its whole budget (its committed numbers
             // predate the stall rule).
             stall: None,
+            polish_stall: None,
             ..d
         }
     }

@@ -8,6 +8,23 @@
 //! evaluations old. Everything is counted in evaluations, never in time, so
 //! the stop is deterministic (same input, same bytes).
 
+/// The default stall rule of the synthesis: 60 coarse re-simulations
+/// without lowering the cost by 0.005 (half a percent of the seed's
+/// strength, or a quarter point of shape error over budget) end it.
+pub const SYNTH_STALL: StallRule = StallRule {
+    window: 60,
+    tol: 0.005,
+};
+
+/// The default stall rule of the played polish
+/// (`platefield::design::polish`): 40 plays without lowering the played
+/// cost by 0.005 (half a percent of the start's played strength, or a
+/// quarter point of shape error over budget) end it.
+pub const POLISH_STALL: StallRule = StallRule {
+    window: 40,
+    tol: 0.005,
+};
+
 /// Stall rule: stop once `window` evaluations have not improved the best
 /// cost by more than `tol`.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -12,7 +12,7 @@ use super::params::{Coefficients, Layout, AXIS_NAMES};
 use super::progress::{Progress, ProgressMode};
 use super::refine::{refine, RefineOptions};
 use super::seed::{seed, Seed};
-use super::stall::StallRule;
+use super::stall::{StallRule, POLISH_STALL, SYNTH_STALL};
 use super::transport::{scale_search, transport_start};
 use crate::error::{positive, Error, Result};
 use crate::field::{Field, FieldKind, FieldSettings, Grid};
@@ -25,14 +25,6 @@ pub const POOR_SHAPE_ERROR: f64 = crate::fit::POOR_ERROR;
 
 /// Peaks are within limits up to this relative round-off.
 const PEAK_TOL: f64 = 1e-9;
-
-/// The default stall rule of the synthesis: 60 coarse re-simulations
-/// without lowering the cost by 0.005 (half a percent of the seed's
-/// strength, or a quarter point of shape error over budget) end it.
-pub const SYNTH_STALL: StallRule = StallRule {
-    window: 60,
-    tol: 0.005,
-};
 
 /// Settings of one synthesis.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -56,6 +48,9 @@ pub struct SynthOptions {
     /// Stop the refinement once its best coarse cost has stopped improving
     /// ([`super::stall`]); `None` spends `max_evaluations`.
     pub stall: Option<StallRule>,
+    /// Stall rule of the played polish that `design` runs (not used by
+    /// [`synthesize`] itself).
+    pub polish_stall: Option<StallRule>,
     /// Plays of the played polish that `design` runs after the synthesis
     /// (`platefield::design::polish`; 0: none). Not used by
     /// [`synthesize`] itself.
@@ -73,6 +68,7 @@ impl Default for SynthOptions {
             refine: RefineOptions::default(),
             progress: ProgressMode::Auto,
             stall: Some(SYNTH_STALL),
+            polish_stall: Some(POLISH_STALL),
             polish_plays: 300,
         }
     }
