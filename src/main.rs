@@ -130,6 +130,15 @@ enum Command {
         #[command(flatten)]
         out: StudyOut,
     },
+    /// Study: every shipped target designed (auto) under several synthesis and polish budgets: design_speed.md (times printed only).
+    #[command(mut_arg("out", default_dir(studies::design_speed::DIR)))]
+    DesignSpeed {
+        /// Only these targets (comma-separated names under targets/).
+        #[arg(long, value_delimiter = ',')]
+        targets: Vec<String>,
+        #[command(flatten)]
+        out: StudyOut,
+    },
     /// Study: one synthesized six-signal motion per target against its sequenced schedule, both played: synthesis.{md,csv}.
     #[command(mut_arg("out", default_dir(studies::synthesis::DIR)))]
     Synthesis {
@@ -240,6 +249,7 @@ fn run(cli: Cli) -> Result<String> {
         Command::Interaction(o) => studies::interaction::run(&o.out),
         Command::Robust { quiet, out } => studies::robust::run(&out.out, quiet.quiet),
         Command::SqueezeOrder(o) => studies::squeeze_order::run(&o.out),
+        Command::DesignSpeed { targets, out } => studies::design_speed::run(&out.out, &targets),
         Command::Synthesis {
             rows,
             harmonics,

@@ -184,3 +184,44 @@ fn polish_is_honest_about_what_it_returns() {
     assert_eq!(ho.len(), 16);
     assert!(ho.iter().all(|k| !st.contains(k)));
 }
+
+/// The stall rule (`synth::stall`) ends the polish once its played cost
+/// stops improving: with a tolerance no play can beat, the polish stops
+/// after the start and its first simplex (1 + (n + 1) plays), well inside a
+/// budget it spends otherwise; what it returns is still never worse by its
+/// own cost.
+#[test]
+fn stall_rule_ends_the_polish() {
+    use platefield::synth::stall::StallRule;
+    let t = target();
+    let s = synthesized(&t);
+    let n = platefield::synth::params::Layout::new(&ShakerLimits::lab_class()).len();
+    let spent = run(
+        &t,
+        &s,
+        &PolishOptions {
+            stall: None,
+            ..options()
+        },
+    )
+    .unwrap();
+    let stalled = run(
+        &t,
+        &s,
+        &PolishOptions {
+            stall: Some(StallRule {
+                window: 3,
+                tol: 1e9,
+            }),
+            ..options()
+        },
+    )
+    .unwrap();
+    println!(
+        "n {n}: plays {} without the rule, {} with",
+        spent.plays, stalled.plays
+    );
+    assert!(spent.plays > n + 2, "{}", spent.plays);
+    assert_eq!(stalled.plays, n + 2);
+    assert!(stalled.cost_after <= stalled.cost_before);
+}

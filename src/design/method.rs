@@ -812,6 +812,7 @@ fn polish_played(
     }
     let options = PolishOptions {
         max_plays: synth.polish_plays,
+        stall: synth.polish_stall,
         progress: synth.progress,
         ..PolishOptions::default()
     };

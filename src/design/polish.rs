@@ -42,7 +42,9 @@
 //! polish runs argmin's Nelder–Mead from the synthesized motion with an
 //! initial simplex of `step` (fraction of each axis limit), then restarts
 //! from the best point with a third of that step, halving at each restart,
-//! until `max_plays` plays are spent (sequential and deterministic: same
+//! until `max_plays` plays are spent or the stall rule
+//! ([`PolishOptions::stall`], counted in plays) says the played cost has
+//! stopped improving (sequential and deterministic: same
 //! input, same bytes). The best point is re-checked on the full grid
 //! ([`Checked::of`]) and kept only if its cost is lower than the start's
 //! and the check is not POOR (unless the start was POOR too).
@@ -65,6 +67,7 @@ use crate::synth::objective::{Objective, CONTACT_WEIGHT, INVALID_WEIGHT, LIMIT_W
 use crate::synth::params::{Coefficients, Layout};
 use crate::synth::progress::{Progress, ProgressMode};
 use crate::synth::refine::nelder_mead;
+use crate::synth::stall::{StallRule, StallTracker};
 use crate::synth::{Checked, ShakerLimits, Synthesis};
 
 /// Weight of the played shape error over budget (the synthesis objective's).
@@ -91,6 +94,9 @@ pub struct PolishOptions {
     /// How long each start point is played (default 40 warm-up and 20
     /// measured cycles).
     pub measure: MeasureOptions,
+    /// Stop once the played cost has stopped improving
+    /// ([`crate::synth::stall`]); `None` spends `max_plays`.
+    pub stall: Option<StallRule>,
     /// Progress display (default quiet): a bar on a terminal, a plain line
     /// otherwise ([`crate::progress::Progress`]); never part of the result.
     pub progress: ProgressMode,
@@ -105,6 +111,7 @@ impl Default for PolishOptions {
             step: 0.03,
             coarse: [7, 7],
             measure: MeasureOptions::default(),
+            stall: None,
             progress: ProgressMode::Quiet,
         }
     }
@@ -118,6 +125,14 @@ impl PolishOptions {
         positive("polish.shape_budget", self.shape_budget)?;
         positive("polish.grid_budget", self.grid_budget)?;
         positive("polish.step", self.step)?;
+        if let Some(r) = &self.stall {
+            if r.window == 0 {
+                return Err(Error::invalid("polish.stall.window", "must be ≥ 1"));
+            }
+            if !(r.tol >= 0.0 && r.tol.is_finite()) {
+                return Err(Error::invalid("polish.stall.tol", "must be finite and ≥ 0"));
+            }
+        }
         for (i, n) in self.coarse.iter().enumerate() {
             if !(2..=101).contains(n) {
                 return Err(Error::invalid(
@@ -174,6 +189,7 @@ struct Played<'a> {
     grid_budget: f64,
     plays: AtomicUsize,
     best: Mutex<Option<Eval>>,
+    stall: Mutex<StallTracker>,
     bar: crate::progress::Progress,
 }
 
@@ -233,6 +249,10 @@ impl Played<'_> {
             cost,
             played,
         };
+        self.stall
+            .lock()
+            .unwrap_or_else(|p| p.into_inner())
+            .record(cost, self.options.stall.as_ref());
         let mut best = self.best.lock().unwrap_or_else(|p| p.into_inner());
         if best.as_ref().is_none_or(|b| cost < b.cost) {
             self.bar.set_message(format!(
@@ -251,6 +271,11 @@ impl Played<'_> {
 
     fn spent(&self) -> bool {
         self.plays.load(Ordering::Relaxed) >= self.options.max_plays
+            || self
+                .stall
+                .lock()
+                .unwrap_or_else(|p| p.into_inner())
+                .stalled(self.options.stall.as_ref())
     }
 
     fn best(&self) -> Option<Eval> {
@@ -327,6 +352,7 @@ pub fn polish(
         grid_budget: f64::INFINITY,
         plays: AtomicUsize::new(0),
         best: Mutex::new(None),
+        stall: Mutex::new(StallTracker::default()),
         bar: crate::progress::Progress::new(
             "played polish",
             "plays",

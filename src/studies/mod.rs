@@ -15,7 +15,9 @@
 //! | [`interaction`] | `platefield interaction` | `verify/sink_interaction.md` |
 //! | [`squeeze_order`] | `platefield squeeze-order` | `verify/squeeze_trans_order.{md,csv}` |
 //! | [`synthesis`] | `platefield synthesis` | `synthesis.{md,csv}` |
+//! | [`design_speed`] | `platefield design-speed` | `design_speed.md` |
 
+pub mod design_speed;
 pub mod engine_speed;
 pub mod fit_quality;
 pub mod interaction;

@@ -299,7 +299,8 @@ impl Default for StudySettings {
 
 impl StudySettings {
     /// Synthesis options: coarse 7 × 7, these evaluations and starts, seed
-    /// 1, no time budget (so the result is deterministic), quiet.
+    /// 1, no time budget (so the result is deterministic), no stall rule
+    /// (the whole budget spent), quiet.
     pub fn options(&self) -> SynthOptions {
         let d = SynthOptions::default();
         SynthOptions {
@@ -309,6 +310,10 @@ impl StudySettings {
                 ..d.refine
             },
             progress: ProgressMode::Quiet,
+            // The study spends its whole budget (its committed numbers
+            // predate the stall rule).
+            stall: None,
+            polish_stall: None,
             ..d
         }
     }
@@ -466,6 +471,7 @@ fn synthesize_row(
     };
     let opts = PolishOptions {
         max_plays: study.polish_plays,
+        stall: None,
         ..PolishOptions::default()
     };
     let p = polish(

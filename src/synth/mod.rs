@@ -177,6 +177,7 @@ pub mod params;
 pub mod progress;
 pub mod refine;
 pub mod seed;
+pub mod stall;
 mod synthesize;
 pub mod transport;
 

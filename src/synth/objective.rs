@@ -29,6 +29,7 @@ use super::contact::{kinematic_least_normal, orbit_least_normal};
 use super::limits::ShakerLimits;
 use super::params::{Coefficients, Layout};
 use super::progress::Progress;
+use super::stall::{StallRule, StallTracker};
 use crate::field::{Field, FieldKind, FieldSettings, Grid, Validity};
 use crate::motion::Motion;
 use crate::request::FieldSpec;
@@ -111,6 +112,7 @@ pub struct Evaluation {
 struct Tally {
     evaluations: usize,
     best: Option<Evaluation>,
+    stall: StallTracker,
 }
 
 /// The coarse-grid objective (driven by argmin through [`super::refine`]).
@@ -124,6 +126,7 @@ pub struct Objective<'a> {
     strength_ref: f64,
     max_evaluations: usize,
     deadline: Option<Instant>,
+    stall: Option<StallRule>,
     tally: Mutex<Tally>,
     progress: &'a Progress,
 }
@@ -152,12 +155,31 @@ impl<'a> Objective<'a> {
             strength_ref: strength_ref.max(1e-12),
             max_evaluations,
             deadline,
+            stall: None,
             tally: Mutex::new(Tally {
                 evaluations: 0,
                 best: None,
+                stall: StallTracker::default(),
             }),
             progress,
         }
+    }
+
+    /// This objective, also spent once `rule` says its best cost has
+    /// stopped improving ([`super::stall`]).
+    pub fn with_stall(mut self, rule: Option<StallRule>) -> Self {
+        self.stall = rule;
+        self
+    }
+
+    /// Counts the stall window from now (a search's start: what came
+    /// before, such as the calibration, does not use it up).
+    pub fn restart_stall(&self) {
+        self.tally
+            .lock()
+            .unwrap_or_else(|p| p.into_inner())
+            .stall
+            .restart();
     }
 
     /// The parameter layout.
@@ -202,6 +224,7 @@ impl<'a> Objective<'a> {
         };
         let mut tally = self.tally.lock().unwrap_or_else(|p| p.into_inner());
         tally.evaluations += 1;
+        tally.stall.record(cost, self.stall.as_ref());
         if tally.best.as_ref().is_none_or(|b| cost < b.cost) {
             tally.best = Some(e.clone());
         }
@@ -228,9 +251,14 @@ impl<'a> Objective<'a> {
             .clone()
     }
 
-    /// True when the evaluation budget (or the deadline) is spent.
+    /// True when the evaluation budget (or the deadline) is spent, or the
+    /// stall rule (if any) says the best cost has stopped improving.
     pub fn spent(&self) -> bool {
-        self.evaluations() >= self.max_evaluations
+        let tally = self.tally.lock().unwrap_or_else(|p| p.into_inner());
+        let (evaluations, stalled) = (tally.evaluations, tally.stall.stalled(self.stall.as_ref()));
+        drop(tally);
+        evaluations >= self.max_evaluations
+            || stalled
             || self.deadline.is_some_and(|d| Instant::now() >= d)
     }
 }

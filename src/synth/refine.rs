@@ -10,7 +10,9 @@
 //! equal share of 60 % of the evaluation budget; the best point found then
 //! gets the rest, restarting with a simplex a third the size and halving it
 //! at each restart (Nelder–Mead stops when its simplex's costs agree to
-//! 1e-7). A run starts only if its initial simplex fits in the budget; a
+//! 1e-7). Every run also ends once the objective is spent: its evaluation
+//! budget, its deadline, or its stall rule ([`super::stall`]: the best cost
+//! has stopped improving). A run starts only if its initial simplex fits in the budget; a
 //! time budget can overrun by one simplex (n + 1 evaluations). Everything is
 //! sequential and the field engine is deterministic, so the same seed gives
 //! the same bytes; a time budget (if given) cuts the run wherever the clock

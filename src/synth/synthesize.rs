@@ -12,6 +12,7 @@ use super::params::{Coefficients, Layout, AXIS_NAMES};
 use super::progress::{Progress, ProgressMode};
 use super::refine::{refine, RefineOptions};
 use super::seed::{seed, Seed};
+use super::stall::StallRule;
 use super::transport::{scale_search, transport_start};
 use crate::error::{positive, Error, Result};
 use crate::field::{Field, FieldKind, FieldSettings, Grid};
@@ -44,6 +45,12 @@ pub struct SynthOptions {
     pub refine: RefineOptions,
     /// Progress display.
     pub progress: ProgressMode,
+    /// Stop the refinement once its best coarse cost has stopped improving
+    /// ([`super::stall`]); `None` spends `max_evaluations`.
+    pub stall: Option<StallRule>,
+    /// Stall rule of the played polish that `design` runs (not used by
+    /// [`synthesize`] itself).
+    pub polish_stall: Option<StallRule>,
     /// Plays of the played polish that `design` runs after the synthesis
     /// (`platefield::design::polish`; 0: none). Not used by
     /// [`synthesize`] itself.
@@ -60,6 +67,10 @@ impl Default for SynthOptions {
             calibrate: true,
             refine: RefineOptions::default(),
             progress: ProgressMode::Auto,
+            // Off until the shipped designs are regenerated with it
+            // (`platefield design-speed` measures it against `full`).
+            stall: None,
+            polish_stall: None,
             polish_plays: 300,
         }
     }
@@ -78,6 +89,14 @@ impl SynthOptions {
         positive("shape_budget", self.shape_budget)?;
         if self.max_evaluations == 0 {
             return Err(Error::invalid("max_evaluations", "must be ≥ 1"));
+        }
+        if let Some(r) = &self.stall {
+            if r.window == 0 {
+                return Err(Error::invalid("stall.window", "must be ≥ 1"));
+            }
+            if !(r.tol >= 0.0 && r.tol.is_finite()) {
+                return Err(Error::invalid("stall.tol", "must be finite and ≥ 0"));
+            }
         }
         if let Some(s) = self.max_seconds {
             positive("max_seconds", s)?;
@@ -227,7 +246,8 @@ pub fn synthesize(
         options.max_evaluations,
         deadline,
         &progress,
-    );
+    )
+    .with_stall(options.stall);
     let x0 = layout.to_vec(&seed.coefficients);
     let seed_eval = objective.evaluate(&x0);
     // Refinement starts from the phase-calibrated seed; the seed itself is
@@ -256,6 +276,7 @@ pub fn synthesize(
             extra.push(t.params);
         }
     }
+    objective.restart_stall();
     let best = refine(
         &objective,
         &first.params,

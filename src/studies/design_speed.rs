@@ -1,0 +1,248 @@
+//! `platefield design-speed`: what the design costs against what it
+//! realises (issue 27): `results/design_speed.md`.
+//!
+//! Every shipped target ([`TARGETS`]) is designed as `design --method auto`
+//! does ([`design_by_method`], default options, the basis from the cache)
+//! under each of the [`BUDGETS`]: the synthesis's evaluation budget and
+//! stall rule, the played polish's plays and stall rule. For each it writes
+//! the synthesized candidate's realised shape error and strength (the
+//! played check every design reports, [`crate::design::method::play_check`])
+//! and what `auto` kept. The file holds no timings, so it is deterministic;
+//! wall and CPU seconds of each design go to the printed summary only (the
+//! machine is shared: CPU seconds are the steadier number).
+//!
+//! `full` is today's default ([`SynthOptions::default`]: every evaluation
+//! and play spent); `stall 60/40` stops the synthesis and the polish by
+//! [`SYNTH_STALL`] and [`POLISH_STALL`] (measured on the sink under load:
+//! 10.9 CPU s against 52.9, played 4.88 % at 0.704 against 4.74 % at
+//! 0.701), the candidate default once the shipped designs are regenerated
+//! with it.
+
+use std::fmt::Write as _;
+use std::path::Path;
+use std::time::Instant;
+
+use super::speed::process_cpu_seconds;
+use crate::design::method::{design_by_method, Method};
+use crate::design::DesignOptions;
+use crate::error::Result;
+use crate::output::write_atomic;
+use crate::request::Target;
+use crate::synth::progress::ProgressMode;
+use crate::synth::stall::{StallRule, POLISH_STALL, SYNTH_STALL};
+use crate::synth::SynthOptions;
+
+/// Default output folder.
+pub const DIR: &str = "results";
+
+/// The shipped targets (`results/<target>/`).
+pub const TARGETS: [&str; 8] = [
+    "sink",
+    "saddle",
+    "squeeze_trans",
+    "whirlpool",
+    "jet",
+    "line_sink",
+    "line_sink_30",
+    "sink_trans",
+];
+
+/// One budget of the synthesis and its played polish.
+#[derive(Debug, Clone, Copy)]
+pub struct Budget {
+    /// Row label.
+    pub label: &'static str,
+    /// Coarse re-simulations allowed.
+    pub evaluations: usize,
+    /// Synthesis stall rule.
+    pub synth_stall: Option<StallRule>,
+    /// Plays of the played polish (0: none).
+    pub plays: usize,
+    /// Polish stall rule.
+    pub polish_stall: Option<StallRule>,
+}
+
+/// Half the default stall windows.
+const fn halved(r: StallRule) -> StallRule {
+    StallRule {
+        window: r.window / 2,
+        tol: r.tol,
+    }
+}
+
+/// The budgets compared, cheapest last.
+pub const BUDGETS: [Budget; 4] = [
+    Budget {
+        label: "full (default)",
+        evaluations: 300,
+        synth_stall: None,
+        plays: 300,
+        polish_stall: None,
+    },
+    Budget {
+        label: "stall 60/40",
+        evaluations: 300,
+        synth_stall: Some(SYNTH_STALL),
+        plays: 300,
+        polish_stall: Some(POLISH_STALL),
+    },
+    Budget {
+        label: "stall 30/20",
+        evaluations: 300,
+        synth_stall: Some(halved(SYNTH_STALL)),
+        plays: 300,
+        polish_stall: Some(halved(POLISH_STALL)),
+    },
+    Budget {
+        label: "stall 60, no polish",
+        evaluations: 300,
+        synth_stall: Some(SYNTH_STALL),
+        plays: 0,
+        polish_stall: None,
+    },
+];
+
+/// One target under one budget.
+#[derive(Debug, Clone)]
+pub struct Row {
+    /// Target name.
+    pub target: String,
+    /// Budget label.
+    pub budget: &'static str,
+    /// Synthesized candidate: realised shape error and strength (None when
+    /// the synthesis failed or was not played).
+    pub synthesized: Option<(Option<f64>, Option<f64>)>,
+    /// Kept method, realised shape error and strength.
+    pub kept: (String, Option<f64>, Option<f64>),
+    /// Wall seconds of the design (printed only).
+    pub seconds: f64,
+    /// CPU seconds of the design over all threads (printed only).
+    pub cpu_seconds: Option<f64>,
+}
+
+/// Designs `target` (auto) under `budget`, the basis cached in `cache`.
+///
+/// # Errors
+/// The design fails.
+pub fn row(target: &Target, budget: &Budget, cache: &Path) -> Result<Row> {
+    let opts = DesignOptions {
+        cache_dir: Some(cache.to_path_buf()),
+        quiet: true,
+        ..DesignOptions::default()
+    };
+    let d = SynthOptions::default();
+    let synth = SynthOptions {
+        max_evaluations: budget.evaluations,
+        stall: budget.synth_stall,
+        polish_plays: budget.plays,
+        polish_stall: budget.polish_stall,
+        progress: ProgressMode::Quiet,
+        ..d
+    };
+    let cpu0 = process_cpu_seconds();
+    let clock = Instant::now();
+    let m = design_by_method(target, &opts, &synth, Method::Auto)?;
+    let seconds = clock.elapsed().as_secs_f64();
+    let cpu_seconds = cpu0.zip(process_cpu_seconds()).map(|(a, b)| b - a);
+    let synthesized = m
+        .candidates
+        .iter()
+        .find(|c| c.method == Method::Synthesize)
+        .map(|c| {
+            let p = c.played();
+            (p.realised_shape_error, p.realised_strength)
+        });
+    let k = m.kept().played();
+    Ok(Row {
+        target: target.name.clone(),
+        budget: budget.label,
+        synthesized,
+        kept: (
+            m.kept().method.name().to_string(),
+            k.realised_shape_error,
+            k.realised_strength,
+        ),
+        seconds,
+        cpu_seconds,
+    })
+}
+
+fn pct(x: Option<f64>) -> String {
+    crate::design::method::percent(x)
+}
+
+fn strength(x: Option<f64>) -> String {
+    crate::design::method::number(x)
+}
+
+/// The markdown table (no timings).
+pub fn markdown(rows: &[Row]) -> String {
+    let mut s = String::from(
+        "# Design cost against realised quality (issue 27)\n\n\
+         Written by `platefield design-speed` (`src/studies/design_speed.rs` says how). \
+         Every shipped target designed by `design --method auto` under each budget; \
+         realised shape error and strength (s⁻¹) of the played check. Timings are printed \
+         by the command, never written here.\n\n\
+         | target | budget | synthesized shape | synthesized strength | kept | kept shape | kept strength |\n\
+         |---|---|---|---|---|---|---|\n",
+    );
+    for r in rows {
+        let (ss, st) = r
+            .synthesized
+            .map_or(("—".to_string(), "—".to_string()), |(e, s)| {
+                (pct(e), strength(s))
+            });
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {} | {} | {} |",
+            r.target,
+            r.budget,
+            ss,
+            st,
+            r.kept.0,
+            pct(r.kept.1),
+            strength(r.kept.2)
+        );
+    }
+    s
+}
+
+/// Runs the study on `targets` (all of [`TARGETS`] when empty) and writes
+/// `design_speed.md` under `out`; returns the summary with the times.
+///
+/// # Errors
+/// A target fails to load or design; the file cannot be written.
+pub fn run(out: &Path, targets: &[String]) -> Result<String> {
+    let names: Vec<String> = if targets.is_empty() {
+        TARGETS.iter().map(|s| s.to_string()).collect()
+    } else {
+        targets.to_vec()
+    };
+    let cache = Path::new(".platefield-cache");
+    let mut rows = Vec::new();
+    let mut summary = String::from("design-speed (wall and CPU seconds; shared machine):\n");
+    for name in &names {
+        let target = Target::load(&Path::new("targets").join(format!("{name}.json")))?;
+        for b in &BUDGETS {
+            let r = row(&target, b, cache)?;
+            let _ = writeln!(
+                summary,
+                "  {:<14} {:<24} {:>6.1} s wall {:>6} s CPU  synthesized {} at {}, kept {} {} at {}",
+                r.target,
+                r.budget,
+                r.seconds,
+                r.cpu_seconds.map_or("—".into(), |c| format!("{c:.1}")),
+                r.synthesized.map_or("—".into(), |(e, _)| pct(e)),
+                r.synthesized.map_or("—".into(), |(_, s)| strength(s)),
+                r.kept.0,
+                pct(r.kept.1),
+                strength(r.kept.2)
+            );
+            rows.push(r);
+        }
+    }
+    let path = out.join("design_speed.md");
+    write_atomic(&path, markdown(&rows).as_bytes())?;
+    let _ = writeln!(summary, "wrote {}", path.display());
+    Ok(summary)
+}
