@@ -720,7 +720,10 @@ fn local_gradient(points: &[[f64; 2]], vectors: &[[f64; 2]], i: usize) -> [[f64;
     if !(trace > 0.0 && det > 1e-6 * trace * trace) {
         return [[0.0; 2]; 2];
     }
-    let inv = [[m[1][1] / det, -m[0][1] / det], [-m[1][0] / det, m[0][0] / det]];
+    let inv = [
+        [m[1][1] / det, -m[0][1] / det],
+        [-m[1][0] / det, m[0][0] / det],
+    ];
     let row = |r: usize| {
         [
             b[r][0] * inv[0][0] + b[r][1] * inv[1][0],
@@ -966,7 +969,10 @@ mod tests {
         assert_eq!(m.eval(40, [0.0, 0.0]), None);
         let one = LocalAffine::new(&[[0.01, 0.0]], &[[1.0, 2.0]]);
         assert_eq!(one.eval(0, [0.5, 0.5]), Some([1.0, 2.0]));
-        let line = LocalAffine::new(&[[0.0, 0.0], [0.01, 0.0], [0.02, 0.0]], &[[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]]);
+        let line = LocalAffine::new(
+            &[[0.0, 0.0], [0.01, 0.0], [0.02, 0.0]],
+            &[[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]],
+        );
         assert_eq!(line.eval(1, [0.5, 0.5]), Some([1.0, 0.0]));
     }
 
