@@ -727,6 +727,48 @@ fn with_progress_lines(args: &[&str]) -> (i32, String) {
     )
 }
 
+/// Issue 30: `design --json` prints its synthesis and played-polish
+/// progress on stderr (stdout carries the JSON); before, --json silenced it.
+#[test]
+fn design_json_still_prints_progress_on_stderr() {
+    let dir = temp_dir("design-json-progress");
+    let target = dir.join("small_lab.json");
+    std::fs::write(
+        &target,
+        r#"{"name": "small_lab", "grid": {"x": [-0.02, 0.02], "y": [-0.02, 0.02], "n": [5, 5]},
+            "field": {"kind": "sink"},
+            "shaker": {"period": 0.05, "linear": [12, 12, 0.2], "angular": [220, 220, 0], "harmonics": 1}}"#,
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let (code, err) = with_progress_lines(&[
+        "design",
+        target.to_str().unwrap(),
+        "--primitives",
+        "LineSink",
+        "--rotation-step",
+        "90",
+        "--method",
+        "synthesize",
+        "--synth-evaluations",
+        "4",
+        "--polish-plays",
+        "2",
+        "--json",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    for needle in [
+        "synthesis: ",
+        "/4 evaluations",
+        "played polish: ",
+        "elapsed",
+    ] {
+        assert!(err.contains(needle), "{needle:?} not in {err}");
+    }
+}
+
 /// Issue 13, progress without a terminal: with stderr piped, a library
 /// build (`primitives`: force then velocity library of 8 primitives × 9
 /// samples), `verify` (in thousands of RK4 part steps, each stage named)

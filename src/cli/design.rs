@@ -213,11 +213,9 @@ impl DesignArgs {
         let mut synth = SynthOptions {
             max_evaluations: self.synth_evaluations,
             polish_plays: self.polish_plays,
-            progress: if self.quiet || self.json {
-                ProgressMode::Quiet
-            } else {
-                ProgressMode::Auto
-            },
+            // Progress is on stderr, so it is shown whatever stdout
+            // carries (--json too); only --quiet silences it.
+            progress: ProgressMode::quiet_if(self.quiet),
             ..SynthOptions::default()
         };
         synth.refine.seed = self.synth_seed;

@@ -234,7 +234,7 @@ pub fn design_by_method(
     limits.validate("target.shaker")?;
     let sampled = target.sample()?;
     if method != Method::Sequence {
-        synthesis_estimate(&sampled, synth, opts).check(opts.allow_long)?;
+        synthesis_estimate(target, &sampled, synth, opts).check(opts.allow_long)?;
     }
     let mut out = MethodDesign {
         asked: method,
@@ -741,9 +741,12 @@ pub fn synthesize_schedule(
 
 /// The work of one synthesis and its played polish ([`crate::work`]):
 /// every evaluation a steady-state field on the coarse grid, the check one
-/// on the full grid, and every play of the polish its start points over the
-/// polish's warm-up and measured cycles plus one coarse field.
+/// on the full grid, and every play of the polish its start points (those of
+/// the realised check, [`check_starts`]: 40 for a 40-point grid-less
+/// target) over the polish's warm-up and measured cycles plus one coarse
+/// field.
 fn synthesis_estimate(
+    target: &Target,
     sampled: &SampledTarget,
     synth: &SynthOptions,
     opts: &DesignOptions,
@@ -781,7 +784,7 @@ fn synthesis_estimate(
     .plus(
         Term::new("played polish")
             .times(synth.polish_plays as f64, "plays")
-            .times((CHECK_POINTS * CHECK_POINTS) as f64, "parts")
+            .times(check_starts(target, sampled).len() as f64, "parts")
             .times(play_cycles, "cycles")
             .times(opts.settings.numerics.steps_per_cycle as f64, "steps"),
     )
@@ -1070,5 +1073,43 @@ mod tests {
         );
         assert_eq!(i, 0, "{why}");
         assert!(why.contains("the other is POOR"));
+    }
+
+    /// The polish term counts the parts the polish plays: every sample of a
+    /// 40-point grid-less target (stride 1), 25 of a 5 × 5-sampled
+    /// 2000-point one; before, always 25.
+    #[test]
+    fn polish_estimate_counts_the_played_parts() {
+        let parts_of = |n: usize| {
+            let points: Vec<[f64; 2]> = (0..n)
+                .map(|k| {
+                    let t = k as f64;
+                    [0.04 * (1.7 * t).sin(), 0.04 * (2.3 * t).cos()]
+                })
+                .collect();
+            let target = Target {
+                name: "scattered".into(),
+                grid: None,
+                field: crate::request::FieldSpec::Sampled {
+                    vectors: points.iter().map(|p| [-p[1], p[0]]).collect(),
+                    points,
+                    interpolation: crate::request::Interpolation::Idw,
+                },
+                weights: None,
+                mask: Vec::new(),
+                shaker: None,
+            };
+            let sampled = target.sample().unwrap();
+            let e = synthesis_estimate(
+                &target,
+                &sampled,
+                &SynthOptions::default(),
+                &DesignOptions::default(),
+            );
+            let polish = e.terms.iter().find(|t| t.label == "played polish").unwrap();
+            polish.factors.iter().find(|f| f.0 == "parts").unwrap().1
+        };
+        assert_eq!(parts_of(40), 40.0);
+        assert_eq!(parts_of(2000), 25.0);
     }
 }

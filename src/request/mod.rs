@@ -187,9 +187,9 @@ pub use attractor::Attractor;
 pub use error::TargetError;
 pub use examples::examples;
 pub use field::{
-    FieldSpec, Interpolation, SumTerm, ANGLE, COINCIDENT, DEFAULT_JET_WIDTH, EXTENT, FIELD_KINDS,
-    IDW_NEIGHBORS, MAX_SAMPLED_POINTS, MAX_TERMS, MIN_JET_WIDTH, RATIO, SPEED, STRENGTH,
-    TRANSPORT_LENGTH, WEIGHT,
+    FieldSpec, Interpolation, LocalAffine, SumTerm, ANGLE, COINCIDENT, DEFAULT_JET_WIDTH, EXTENT,
+    FIELD_KINDS, IDW_NEIGHBORS, MAX_SAMPLED_POINTS, MAX_TERMS, MIN_JET_WIDTH, RATIO, SPEED,
+    STRENGTH, TRANSPORT_LENGTH, WEIGHT,
 };
 pub use folder::{plain_folder_name, MAX_NAME_BYTES};
 pub use grid::{scattered_grid, Grid, MaskRegion, MAX_GRID_N, SCATTERED_N, SCATTERED_SPACING};

@@ -31,6 +31,14 @@
 //! strength), the rotational (whirlpool) part β, the anisotropic (shear)
 //! part S and what the affine fit leaves, each as its norm relative to ‖P(s)‖,
 //! over the parts' mean positions q.
+//!
+//! **Grid-less sampled targets.** Their parts start at the samples (the
+//! points the fit uses), and the target along the path of a part started
+//! at sample i is that sample's local affine model t_i
+//! ([`crate::request::LocalAffine`], weights computed once per point set):
+//! exact at the sample and smooth, so the flow costs a few evaluations,
+//! where the inverse-distance interpolation jumps and is searched at every
+//! step. Gridded targets evaluate their field ([`Promise::Field`]).
 
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
@@ -40,7 +48,7 @@ use crate::error::Result;
 use crate::field::FieldSettings;
 use crate::play::measure::{play_point, PlayOptions, Windows};
 use crate::play::ScheduleMotion;
-use crate::request::Target;
+use crate::request::{FieldSpec, LocalAffine, Target};
 use crate::schedule::Schedule;
 
 pub use crate::play::measure::PointPlay;
@@ -130,16 +138,50 @@ pub fn play_motion(
 /// The promise s·t at each of `plays` as a part following it exactly would
 /// realise it over the play's windows ([`PointPlay::expected`]).
 pub fn promised(target: &Target, plays: &[&PointPlay], s: f64) -> Vec<[f64; 2]> {
-    plays
-        .iter()
-        .map(|p| {
-            let Ok(v) = p.expected::<std::convert::Infallible>(&mut |r| {
-                let v = target.field.eval(r);
-                Ok([s * v[0], s * v[1]])
-            });
-            v
-        })
-        .collect()
+    Promise::of(target).along(plays, s)
+}
+
+/// The target t a part follows, built once per target (see the module
+/// documentation).
+#[derive(Debug, Clone)]
+pub enum Promise<'a> {
+    /// The target's field, evaluated where the part is.
+    Field(&'a FieldSpec),
+    /// A grid-less sampled target: the start sample's local affine model.
+    Local(LocalAffine),
+}
+
+impl<'a> Promise<'a> {
+    /// The promise of `target`: [`Promise::Local`] for a grid-less
+    /// `sampled` target, else [`Promise::Field`].
+    pub fn of(target: &'a Target) -> Promise<'a> {
+        match (&target.grid, target.field.local_affine()) {
+            (None, Some(local)) => Promise::Local(local),
+            _ => Promise::Field(&target.field),
+        }
+    }
+
+    /// t at `p` for a part started at sample `index`.
+    pub fn at(&self, index: usize, p: [f64; 2]) -> [f64; 2] {
+        match self {
+            Promise::Field(f) => f.eval(p),
+            Promise::Local(local) => local.eval(index, p).unwrap_or([0.0, 0.0]),
+        }
+    }
+
+    /// The promise s·t at each of `plays` ([`promised`]).
+    pub fn along(&self, plays: &[&PointPlay], s: f64) -> Vec<[f64; 2]> {
+        plays
+            .iter()
+            .map(|p| {
+                let Ok(v) = p.expected::<std::convert::Infallible>(&mut |r| {
+                    let v = self.at(p.index, r);
+                    Ok([s * v[0], s * v[1]])
+                });
+                v
+            })
+            .collect()
+    }
 }
 
 /// The realised error of a played schedule against a promised strength.
@@ -213,11 +255,12 @@ pub fn realised_error(
     };
     // ŝ by fixed-point iteration s ← s⟨R, P(s)⟩/⟨P(s), P(s)⟩ from the
     // scale of R on t at the mean positions.
-    let t: Vec<[f64; 2]> = q.iter().map(|p| target.field.eval(*p)).collect();
+    let promise = Promise::of(target);
+    let t: Vec<[f64; 2]> = ok.iter().map(|p| promise.at(p.index, p.position)).collect();
     let tt = dot(&t, &t);
     let mut s_hat = if tt > 0.0 { dot(&r, &t) / tt } else { 0.0 };
     for _ in 0..50 {
-        let p = promised(target, &ok, s_hat);
+        let p = promise.along(&ok, s_hat);
         let pp = dot(&p, &p);
         if pp.is_nan() || pp <= 0.0 {
             break;
@@ -231,7 +274,7 @@ pub fn realised_error(
     }
     let s = strength.unwrap_or(s_hat);
     let residual = |s: f64| -> (Vec<[f64; 2]>, f64) {
-        let p = promised(target, &ok, s);
+        let p = promise.along(&ok, s);
         let e: Vec<[f64; 2]> = r
             .iter()
             .zip(&p)
