@@ -1098,6 +1098,8 @@ mod tests {
                 weights: None,
                 mask: Vec::new(),
                 shaker: None,
+                friction: None,
+                gravity: None,
             };
             let sampled = target.sample().unwrap();
             let e = synthesis_estimate(
