@@ -1,12 +1,12 @@
 //! Designs that hold over the parts' friction: the mirror-image
 //! time-share (`design::mirror`) and its symmetry argument.
 
-use platefield::design::method::realised_check;
+use platefield::design::method::judge_check;
 use platefield::design::mirror::{mirror_axis, mirror_share};
-use platefield::design::sensitivity::{friction_sweep, FrictionRow};
 use platefield::dynamics::Friction;
 use platefield::field::{Field, FieldKind, FieldSettings, Grid};
 use platefield::motion::{Motion, Signals};
+use platefield::play::sensitivity::{friction_sweep, FrictionRow};
 use platefield::request::Target;
 use platefield::schedule::Schedule;
 use platefield::synth::ShakerLimits;
@@ -101,8 +101,7 @@ fn sweep(schedule: &Schedule, values: &[f64]) -> Vec<FrictionRow> {
     let sampled = target.sample().unwrap();
     let frictions: Vec<Friction> = values.iter().map(|&m| Friction::uniform(m)).collect();
     friction_sweep(&schedule.settings, &frictions, &|settings| {
-        let (plays, r) = realised_check(&target, &sampled, schedule, settings, None)?;
-        Ok((plays.len(), r))
+        judge_check(&target, &sampled, schedule, settings)
     })
     .unwrap()
 }

@@ -451,7 +451,7 @@ fn field_command_rejects_bad_scenes() {
             "friction",
             "\"phases\": 4",
             "\"phases\": 4, \"friction\": 1e5",
-            &["scene.friction.static: must be in [0, 10], got 100000"],
+            &["scene.friction: must be in [0, 2], got 100000"],
         ),
         (
             "gravity",
@@ -469,7 +469,7 @@ fn field_command_rejects_bad_scenes() {
             "steps",
             "\"phases\": 4",
             "\"phases\": 4, \"numerics\": {\"steps_per_cycle\": 1000000}",
-            &["scene.numerics.steps_per_cycle: must be in 1..=4096, got 1000000"],
+            &["scene.numerics.steps_per_cycle: must be in 8..=4096, got 1000000"],
         ),
         (
             "not_an_object",

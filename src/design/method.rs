@@ -59,12 +59,13 @@ use serde::{Deserialize, Serialize};
 
 use super::closed_loop::{loop_points, measure};
 use super::polish::{polish, PolishOptions};
-use super::sensitivity::{self, Sensitivity};
 use super::{design, Design, DesignOptions};
+use crate::dynamics::Friction;
 use crate::error::{Error, Result};
 use crate::field::FieldKind;
 use crate::field::Grid;
 use crate::fit::{self, FitMetrics};
+use crate::play::sensitivity::{self, FrictionRow, Judged, Sensitivity, Span};
 use crate::request::{Attractor, SampledTarget, Target};
 use crate::schedule::export::schedule_peaks;
 use crate::schedule::{AxisPeaks, BasisInfo, Played, Schedule, Segment, SolverInfo};
@@ -206,7 +207,7 @@ pub struct MethodDesign {
     /// The limits a synthesis keeps.
     pub limits: ShakerLimits,
     /// The kept design played across the friction the target states
-    /// ([`super::sensitivity::of_target`]; `None` when it states none).
+    /// ([`sensitivity::of_target`]; `None` when it states none).
     pub sensitivity: Option<Sensitivity>,
 }
 
@@ -409,9 +410,70 @@ fn candidate_sensitivity(
     schedule: &Schedule,
 ) -> Result<Option<Sensitivity>> {
     sensitivity::of_target(target, &schedule.settings, &|settings| {
-        let (plays, r) = realised_check(target, sampled, schedule, settings, None)?;
-        Ok((plays.len(), r))
+        judge_check(target, sampled, schedule, settings)
     })
+}
+
+/// [`realised_check`] as a sensitivity judge.
+pub fn judge_check(
+    target: &Target,
+    sampled: &SampledTarget,
+    schedule: &Schedule,
+    settings: &crate::field::FieldSettings,
+) -> Result<Judged> {
+    let (plays, r) = realised_check(target, sampled, schedule, settings, None)?;
+    Ok(Judged {
+        points: plays.len(),
+        valid: r.valid,
+        realised_strength: r.realised_strength,
+        shape_error: r.shape_error,
+    })
+}
+
+/// The realised check of `schedule` at each of `values`, against the
+/// target it records (`verify --friction LO:HI:N`).
+///
+/// # Errors
+/// The schedule records no target (nothing to judge against), or cannot be
+/// played.
+pub fn sweep_schedule(schedule: &Schedule, values: &[Friction]) -> Result<Sensitivity> {
+    let target = schedule.target_spec.as_ref().ok_or_else(|| {
+        Error::invalid(
+            "--friction",
+            "a sweep judges the schedule against its target, and this schedule records none (\"target_spec\")",
+        )
+    })?;
+    let sampled = target.sample()?;
+    let rows: Vec<FrictionRow> =
+        sensitivity::friction_sweep(&schedule.settings, values, &|settings| {
+            judge_check(target, &sampled, schedule, settings)
+        })?;
+    Ok(Sensitivity {
+        span: Span::Asked,
+        nominal: schedule.settings.friction,
+        rows,
+    })
+}
+
+/// The work of [`sweep_schedule`] over `values` frictions: about
+/// [`CHECK_POINTS`]² parts, the check's warm-up and measured cycles each
+/// rounded up to whole periods, at each friction.
+pub fn sweep_estimate(schedule: &Schedule, values: usize) -> Estimate {
+    let per_period = schedule.total_cycles.max(1);
+    let periods =
+        CHECK_WARMUP_CYCLES.div_ceil(per_period) + CHECK_MEASURED_CYCLES.div_ceil(per_period);
+    Estimate::new(
+        "schedule",
+        "sweeping its friction",
+        "fewer frictions (N of --friction LO:HI:N)",
+    )
+    .plus(
+        Term::new("friction sweep")
+            .times(values as f64, "frictions")
+            .times((CHECK_POINTS * CHECK_POINTS) as f64, "parts")
+            .times(f64::from(periods * per_period), "cycles")
+            .times(schedule.settings.numerics.steps_per_cycle as f64, "steps"),
+    )
 }
 
 /// The candidate kept and why (see the [module documentation](self)).

@@ -30,7 +30,6 @@ mod options;
 pub mod order;
 pub mod polish;
 pub mod refine;
-pub mod sensitivity;
 mod stages;
 
 use std::path::PathBuf;

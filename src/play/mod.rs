@@ -32,6 +32,7 @@
 
 pub mod lag;
 pub mod measure;
+pub mod sensitivity;
 pub mod settle;
 
 pub use measure::{grid_points, verify_points, PlayOptions, PointResult, RealisedField};

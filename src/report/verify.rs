@@ -6,10 +6,10 @@ use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 
-use crate::design::sensitivity::{FrictionRow, Sensitivity};
 use crate::error::{Error, Result};
 use crate::field::Grid;
 use crate::play::measure::{PointResult, RealisedField};
+use crate::play::sensitivity::{FrictionRow, Sensitivity};
 use crate::plot::{LegendEntry, LegendSymbol, Marker, MarkerShape, Overlay, QuiverPlot};
 use crate::plot::{LinePlot, Panels, Series};
 use crate::request::Attractor;
@@ -481,7 +481,16 @@ pub fn run(
     // schedule is cheap; its errors are the ones verify would give).
     let schedule = crate::schedule::Schedule::load(path)?;
     crate::output::check_writable(&out.join(schedule.target_folder()?).join("verify"), "--out")?;
-    let r = crate::verify::verify_schedule_file(path, req)?;
+    // The friction sweep is judged against the target by the design's own
+    // check, a `design` step: estimated before anything is played.
+    let sweep = req.friction.map(|f| f.sweep_values()).unwrap_or_default();
+    if !sweep.is_empty() {
+        crate::design::method::sweep_estimate(&schedule, sweep.len()).check(req.allow_long)?;
+    }
+    let mut r = crate::verify::verify_schedule_file(path, req)?;
+    if !sweep.is_empty() {
+        r.friction_sweep = Some(crate::design::method::sweep_schedule(&schedule, &sweep)?);
+    }
     let files = write(&r, out)?;
     if json {
         return summary_json(&r);

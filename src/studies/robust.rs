@@ -17,11 +17,11 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use crate::design::method::{design_by_method, realised_check, Method};
-use crate::design::sensitivity::{friction_sweep, FrictionRow};
+use crate::design::method::{design_by_method, judge_check, Method};
 use crate::design::DesignOptions;
 use crate::dynamics::Friction;
 use crate::error::Result;
+use crate::play::sensitivity::{friction_sweep, FrictionRow};
 use crate::request::{FrictionSpec, Target};
 use crate::synth::SynthOptions;
 
@@ -102,8 +102,7 @@ pub fn design_row(target: &Target, label: &str, frictions: &[f64], quiet: bool) 
     let sampled = target.sample()?;
     let values: Vec<Friction> = frictions.iter().map(|&m| Friction::uniform(m)).collect();
     let rows = friction_sweep(&kept.settings, &values, &|settings| {
-        let (plays, r) = realised_check(target, &sampled, kept, settings, None)?;
-        Ok((plays.len(), r))
+        judge_check(target, &sampled, kept, settings)
     })?;
     Ok(Row {
         target: target.name.clone(),

@@ -5,15 +5,13 @@
 //!   prediction, swarm, rectangles) with μ_s = μ_k = 0.25.
 //! * `--friction 0.2:0.4:5` plays the schedule's own friction as usual and,
 //!   besides, the design's realised check at 5 frictions from 0.2 to 0.4
-//!   ([`crate::design::sensitivity`]): realised strength and shape error
+//!   ([`crate::play::sensitivity`], judged by `design::method::sweep_schedule`
+//!   in the report layer, above both): realised strength and shape error
 //!   against the schedule's target at each, the table a design reports.
 
-use crate::design::method::realised_check;
-use crate::design::sensitivity::{friction_sweep, Sensitivity, Span};
 use crate::dynamics::Friction;
 use crate::error::{Error, Result};
 use crate::request::FrictionSpec;
-use crate::schedule::Schedule;
 
 /// Most frictions in one sweep.
 pub const MAX_SWEEP_VALUES: usize = 41;
@@ -95,29 +93,4 @@ impl FrictionArg {
             FrictionArg::Sweep { lo, hi, n } => FrictionSpec::range(lo, hi).values(n),
         }
     }
-}
-
-/// The design's realised check of `schedule` at each of `values`, against
-/// the target the schedule records.
-///
-/// # Errors
-/// The schedule records no target (nothing to judge against), or cannot be
-/// played.
-pub fn sweep(schedule: &Schedule, values: &[Friction]) -> Result<Sensitivity> {
-    let target = schedule.target_spec.as_ref().ok_or_else(|| {
-        Error::invalid(
-            "--friction",
-            "a sweep judges the schedule against its target, and this schedule records none (\"target_spec\")",
-        )
-    })?;
-    let sampled = target.sample()?;
-    let rows = friction_sweep(&schedule.settings, values, &|settings| {
-        let (plays, r) = realised_check(target, &sampled, schedule, settings, None)?;
-        Ok((plays.len(), r))
-    })?;
-    Ok(Sensitivity {
-        span: Span::Asked,
-        nominal: schedule.settings.friction,
-        rows,
-    })
 }

@@ -8,16 +8,16 @@
 //! strength follows eq. 19's b ∝ μ(μ²g² − 3h²α²)). Real friction is rarely
 //! known to better than ±20–30 %, so every design with a stated friction
 //! is played again across it: each row is a [`Judge`] at one friction —
-//! for a design, its realised check ([`super::method::realised_check`]:
+//! for a design, its realised check (`design::method::realised_check`:
 //! the same start points, warm-up and window as the design's own play,
 //! moving parts) judged against the target: realised strength ŝ (s⁻¹ for
-//! a sink) and realised shape error ‖R − ŝt‖/‖ŝt‖.
+//! a sink) and realised shape error ‖R − ŝt‖/‖ŝt‖. The types and the
+//! sweep live here, below `design` and `verify`, which both report them.
 
 use std::fmt::Write as _;
 
 use serde::Serialize;
 
-use super::closed_loop::measure::RealisedError;
 use crate::dynamics::Friction;
 use crate::error::Result;
 use crate::field::FieldSettings;
@@ -134,9 +134,21 @@ impl Sensitivity {
     }
 }
 
-/// How a design is judged under given physics: the number of parts
-/// played and what they realise against the target.
-pub type Judge<'a> = dyn Fn(&FieldSettings) -> Result<(usize, RealisedError)> + 'a;
+/// What a judge measured under one physics.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Judged {
+    /// Parts played.
+    pub points: usize,
+    /// Parts counted (stayed on the plate, weight > 0).
+    pub valid: usize,
+    /// Realised strength ŝ.
+    pub realised_strength: f64,
+    /// Realised shape error ‖R − ŝt‖/‖ŝt‖.
+    pub shape_error: f64,
+}
+
+/// How a design is judged under given physics.
+pub type Judge<'a> = dyn Fn(&FieldSettings) -> Result<Judged> + 'a;
 
 /// `judge` at each of `frictions`, in order, with the rest of the physics
 /// `base`'s.
@@ -151,7 +163,7 @@ pub fn friction_sweep(
     frictions
         .iter()
         .map(|&friction| {
-            let (points, r) = judge(&FieldSettings { friction, ..*base })?;
+            let r = judge(&FieldSettings { friction, ..*base })?;
             let finite = |x: f64| x.is_finite().then_some(x);
             Ok(FrictionRow {
                 friction,
@@ -160,7 +172,7 @@ pub fn friction_sweep(
                     .and_then(finite),
                 realised_shape_error: finite(r.shape_error),
                 valid: r.valid,
-                points,
+                points: r.points,
             })
         })
         .collect()
