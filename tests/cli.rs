@@ -600,6 +600,19 @@ fn design_refuses_bad_shaker_limits_naming_the_field() {
     );
 }
 
+/// A small sink under lab-class shaker limits on an n × n grid, written in
+/// `dir`.
+fn small_lab(dir: &Path, n: usize) -> std::path::PathBuf {
+    let target = dir.join("small_lab.json");
+    let text = format!(
+        r#"{{"name": "small_lab", "grid": {{"x": [-0.02, 0.02], "y": [-0.02, 0.02], "n": [{n}, {n}]}},
+            "field": {{"kind": "sink"}},
+            "shaker": {{"period": 0.05, "linear": [12, 12, 0.2], "angular": [220, 220, 0], "harmonics": 1}}}}"#
+    );
+    std::fs::write(&target, text).unwrap();
+    target
+}
+
 /// `design --method auto` end to end on a small sink with lab-class
 /// limits: both candidates are played and printed with their realised
 /// shape error and strength, the choice is stated, the files are written
@@ -610,14 +623,7 @@ fn design_refuses_bad_shaker_limits_naming_the_field() {
 #[test]
 fn design_method_auto_plays_both_and_states_the_choice() {
     let dir = temp_dir("design-method");
-    let target = dir.join("small_lab.json");
-    std::fs::write(
-        &target,
-        r#"{"name": "small_lab", "grid": {"x": [-0.02, 0.02], "y": [-0.02, 0.02], "n": [7, 7]},
-            "field": {"kind": "sink"},
-            "shaker": {"period": 0.05, "linear": [12, 12, 0.2], "angular": [220, 220, 0], "harmonics": 1}}"#,
-    )
-    .unwrap();
+    let target = small_lab(&dir, 7);
     let out = dir.join("out");
     let base = [
         "design",
@@ -732,14 +738,7 @@ fn with_progress_lines(args: &[&str]) -> (i32, String) {
 #[test]
 fn design_json_still_prints_progress_on_stderr() {
     let dir = temp_dir("design-json-progress");
-    let target = dir.join("small_lab.json");
-    std::fs::write(
-        &target,
-        r#"{"name": "small_lab", "grid": {"x": [-0.02, 0.02], "y": [-0.02, 0.02], "n": [5, 5]},
-            "field": {"kind": "sink"},
-            "shaker": {"period": 0.05, "linear": [12, 12, 0.2], "angular": [220, 220, 0], "harmonics": 1}}"#,
-    )
-    .unwrap();
+    let target = small_lab(&dir, 5);
     let out = dir.join("out");
     let (code, err) = with_progress_lines(&[
         "design",

@@ -712,7 +712,7 @@ fn resolving(opts: &DesignOptions, harmonics: u32) -> DesignOptions {
 /// writes it as a one-segment schedule: fit metrics of its full-grid
 /// steady-state field against the target at its realised strength. The
 /// steps per cycle are raised to resolve the limits' harmonics
-/// ([`resolving`]).
+/// (`resolving`).
 pub fn synthesize_schedule(
     target: &Target,
     sampled: &SampledTarget,

@@ -237,7 +237,7 @@ impl Signals {
     /// The mirror image of this motion in the vertical plane y = 0 (the
     /// reflection M = diag(1, −1, 1)): the centre's translation p → Mp, so
     /// the linear y signal changes sign; the rotation R → MRM, whose
-    /// rotation vector θ → (−θx, θy, −θz) (M[θ]×M = [det(M)·Mθ]×), so the
+    /// rotation vector θ → (−θx, θy, −θz) (M·\[θ\]×·M = \[det(M)·Mθ\]×), so the
     /// angular x and z signals change sign. Gravity is unchanged, so a part
     /// at (x, −y) moves as the mirror image of a part at (x, y) under the
     /// original motion, at every friction: the field becomes

@@ -105,7 +105,7 @@ impl Interval {
 }
 
 /// The parts' friction: static and kinetic coefficients, each exact or a
-/// range (see the [module documentation](self)).
+/// range: `0.3`, `[0.2, 0.4]` or `{"static": .., "kinetic": ..}`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FrictionSpec {
     /// Static coefficient μ_s.
