@@ -219,7 +219,7 @@ impl DesignArgs {
             ..SynthOptions::default()
         };
         synth.refine.seed = self.synth_seed;
-        report::design::run(
+        report::run_design::run(
             &self.target,
             &opts,
             closed,
