@@ -50,6 +50,9 @@ pub fn write_all_atomic(files: &[(&Path, &[u8])]) -> Result<()> {
     placed
 }
 
+/// Makes the writability probe names unique between threads.
+static PROBE_COUNTER: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+
 /// Checks, before a long computation, that `dir` can be created and written
 /// to (`arg` names the option it came from): its nearest existing ancestor
 /// must be a folder in which a file can be made. Probes with a file it
@@ -77,7 +80,10 @@ pub fn check_writable(dir: &Path, arg: &str) -> Result<()> {
             probe_dir.display()
         )));
     }
-    let probe = probe_dir.join(format!(".platefield-probe-{}", std::process::id()));
+    // Unique per process and per call: threads of one process (the tests,
+    // a library user's parallel designs) probe the same folder at once.
+    let n = PROBE_COUNTER.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let probe = probe_dir.join(format!(".platefield-probe-{}-{n}", std::process::id()));
     // `create_new`: never opens (or truncates) a file that is already there.
     std::fs::OpenOptions::new()
         .write(true)

@@ -483,3 +483,28 @@ fn one_period_check_names_the_edited_segment() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The writability probe is unique per thread as well as per process: many
+/// threads of one process checking one folder at once all succeed and leave
+/// nothing behind (the CI failure this guards against: two tests' designs in
+/// one process probing one cache folder, `File exists`).
+#[test]
+fn concurrent_writability_checks_in_one_process_all_pass() {
+    let dir = temp_dir("probe");
+    std::thread::scope(|s| {
+        let handles: Vec<_> = (0..16)
+            .map(|_| {
+                s.spawn(|| {
+                    (0..200)
+                        .filter(|_| ::platefield::output::check_writable(&dir, "--cache").is_err())
+                        .count()
+                })
+            })
+            .collect();
+        let failures: usize = handles.into_iter().map(|h| h.join().unwrap()).sum();
+        assert_eq!(failures, 0, "writability checks failed under concurrency");
+    });
+    let left = std::fs::read_dir(&dir).unwrap().count();
+    assert_eq!(left, 0, "probe files left behind");
+    let _ = std::fs::remove_dir_all(&dir);
+}
