@@ -1,8 +1,8 @@
 //! Designs that hold over the parts' friction: the mirror-image
-//! time-share (`design::mirror`) and its symmetry argument.
+//! time-shares (`design::mirror`) and their symmetry argument.
 
 use platefield::design::method::judge_check;
-use platefield::design::mirror::{mirror_axis, mirror_share};
+use platefield::design::mirror::{mirror_axis, mirror_share, turned_mirror_share};
 use platefield::dynamics::Friction;
 use platefield::field::{Field, FieldKind, FieldSettings, Grid};
 use platefield::motion::{Motion, Signals};
@@ -10,9 +10,6 @@ use platefield::play::sensitivity::{friction_sweep, FrictionRow};
 use platefield::request::Target;
 use platefield::schedule::Schedule;
 use platefield::synth::ShakerLimits;
-
-mod common;
-use common::platefield;
 
 /// The mirror motion's field is the mirror image of the field, at μ 0.2
 /// and 0.45: V′(x, y) = (Vx(x, −y), −Vy(x, −y)) on a grid symmetric in y
@@ -80,20 +77,6 @@ fn symmetric_targets_are_recognised() {
         let s = t.sample().unwrap();
         assert_eq!(mirror_axis(&t, &s), axis, "{name}");
     }
-    // Asked for a target it cannot serve: exit 2 naming the option.
-    let (code, _, err) = platefield(&[
-        "design",
-        "targets/whirlpool.json",
-        "--method",
-        "mirror",
-        "--out",
-        "/tmp/platefield-mirror-refused",
-    ]);
-    assert_eq!(code, 2, "{err}");
-    assert!(
-        err.contains("method") && err.contains("not symmetric"),
-        "{err}"
-    );
 }
 
 fn sweep(schedule: &Schedule, values: &[f64]) -> Vec<FrictionRow> {
@@ -133,6 +116,48 @@ fn the_mirror_share_of_the_synthesized_sink_holds_over_friction() {
     assert!(
         shape <= 0.06 && strength >= 0.4,
         "mirror share: {shape} at {strength}"
+    );
+    let peaks = platefield::schedule::export::schedule_peaks(&share);
+    let allowed = [limits.linear, limits.angular].concat();
+    for (p, a) in peaks.iter().zip(&allowed) {
+        assert!(*p <= a * (1.0 + 1e-9), "peak {p} over the limit {a}");
+    }
+}
+
+/// The whirlpool goal, from the committed synthesized whirlpool
+/// (designed for μ 0.3), which no reflection maps to itself: alone it
+/// reaches 18.0 % shape error at μ 0.2; shared with its mirror image
+/// turned back onto the target by its normal-force phase, worst shape
+/// ≤ 8 % at worst strength ≥ 0.3 s⁻¹ over μ ∈ [0.2, 0.4] (measured 3.7 %
+/// at 0.42 when `design` makes it), within the motion's shaker peaks. The
+/// turned mirror alone realises the target (not its mirror image, a
+/// clockwise whirlpool): the share's strength at μ 0.3 is at least 80 %
+/// of the motion's own.
+#[test]
+fn the_turned_mirror_share_of_the_synthesized_whirlpool_holds_over_friction() {
+    let path = std::path::Path::new("results/whirlpool/schedule.json");
+    let synthesized = Schedule::load(path).unwrap();
+    let target = synthesized.target_spec.clone().unwrap();
+    let limits = ShakerLimits::from_spec(synthesized.played.as_ref().unwrap().limits.as_ref());
+    let g = target.grid.as_ref().unwrap();
+    let region = Grid {
+        x: g.x,
+        y: g.y,
+        n: g.n,
+    };
+    let share = turned_mirror_share(&synthesized, &target, &region, &limits).unwrap();
+    assert_eq!(share.segments.len(), 2);
+    let mu = [0.2, 0.25, 0.3, 0.35, 0.4];
+    let (alone, alone_strength) = worst(&sweep(&synthesized, &mu));
+    let (shape, strength) = worst(&sweep(&share, &mu));
+    assert!(alone > 0.12, "the synthesized whirlpool alone: {alone}");
+    assert!(
+        shape <= 0.08 && strength >= 0.3,
+        "turned mirror share: {shape} at {strength}"
+    );
+    assert!(
+        strength >= 0.8 * alone_strength,
+        "{strength} against {alone_strength}"
     );
     let peaks = platefield::schedule::export::schedule_peaks(&share);
     let allowed = [limits.linear, limits.angular].concat();

@@ -136,6 +136,9 @@ pub struct DesignArgs {
     /// Search the segment order and rest at the joins in closed-loop simulation; writes order.md.
     #[arg(long)]
     pub order_search: bool,
+    /// Over the target's friction range, synthesize for the worst case at its ends and middle (three times the simulations; see `synth::robust`).
+    #[arg(long)]
+    pub robust_synthesis: bool,
     /// Closed loop: play the schedule, feed the realised field back (orders, contextual re-fit), keep the best; reports the realised error before and after.
     #[arg(long)]
     pub closed_loop: bool,
@@ -213,6 +216,7 @@ impl DesignArgs {
         let mut synth = SynthOptions {
             max_evaluations: self.synth_evaluations,
             polish_plays: self.polish_plays,
+            robust_synthesis: self.robust_synthesis,
             // Progress is on stderr, so it is shown whatever stdout
             // carries (--json too); only --quiet silences it.
             progress: ProgressMode::quiet_if(self.quiet),

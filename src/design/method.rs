@@ -288,16 +288,11 @@ pub fn design_by_method(
     }
     // The mirror-image time-share: asked for, or under `auto` when the
     // target states a friction range and is symmetric under y → −y.
-    let axis = super::mirror::mirror_axis(target, &sampled);
-    if method == Method::Mirror && axis.is_none() {
-        return Err(Error::invalid(
-            "method",
-            "mirror time-shares a motion with its mirror image in y → −y, which keeps only the part of a field symmetric under that reflection; this target is not symmetric in any vertical plane through the plate centre at a multiple of 15° (a whirlpool is in none)",
-        ));
-    }
+    // For a target no reflection maps to itself, the mirror image turned
+    // back onto it by its phase (`turned_mirror_share`).
     let ranged = target.friction.is_some_and(|f| !f.is_exact());
-    let try_mirror =
-        axis.filter(|_| method == Method::Mirror || (method == Method::Auto && ranged));
+    let try_mirror = (method == Method::Mirror || (method == Method::Auto && ranged))
+        .then(|| super::mirror::mirror_axis(target, &sampled));
     if matches!(method, Method::Synthesize | Method::Auto | Method::Mirror) {
         let t = Instant::now();
         match synthesize_schedule(target, &sampled, &limits, opts, synth) {
@@ -316,7 +311,15 @@ pub fn design_by_method(
                 }
                 if let Some(axis) = try_mirror {
                     let t = Instant::now();
-                    let share = super::mirror::mirror_share(&c.schedule, &limits, axis)?;
+                    let share = match axis {
+                        Some(axis) => super::mirror::mirror_share(&c.schedule, &limits, axis)?,
+                        None => super::mirror::turned_mirror_share(
+                            &c.schedule,
+                            target,
+                            &region(target, &sampled),
+                            &limits,
+                        )?,
+                    };
                     out.candidates.push(Candidate::play(
                         (target, &sampled),
                         share,
@@ -722,6 +725,16 @@ pub fn synthesize_schedule(
 ) -> Result<(Synthesis, Schedule)> {
     let opts = &resolving(opts, limits.harmonics);
     let grid = region(target, sampled);
+    // Asked for, over a friction range the synthesis and its polish
+    // optimise the worst case (`crate::synth::robust`).
+    let synth = &SynthOptions {
+        robust: if synth.robust_synthesis {
+            target.friction.filter(|f| !f.is_exact())
+        } else {
+            synth.robust
+        },
+        ..*synth
+    };
     let syn = synthesize(&target.field, &grid, limits, &opts.settings, synth)?;
     // A motion that keeps no part on the plate anywhere is no design: said
     // as such (an error; `auto` keeps the other method and says why).
@@ -879,6 +892,7 @@ fn polish_played(
         max_plays: synth.polish_plays,
         stall: synth.polish_stall,
         progress: synth.progress,
+        robust: synth.robust,
         ..PolishOptions::default()
     };
     let p = polish(

@@ -46,9 +46,15 @@
 
 use super::basis::MIXED_RAMP_CYCLES;
 use crate::error::{Error, Result};
+use crate::field::Grid;
+use crate::motion::Signals;
 use crate::request::{SampledTarget, Target};
 use crate::schedule::export::schedule_peaks;
 use crate::schedule::{Schedule, Segment};
+use crate::synth::calibrate::shifted;
+use crate::synth::objective::{Evaluation, Objective};
+use crate::synth::params::Coefficients;
+use crate::synth::progress::{Progress, ProgressMode};
 use crate::synth::ShakerLimits;
 
 /// Cycles of each of the two segments, ramps included.
@@ -98,20 +104,139 @@ pub fn mirror_share(
     limits: &ShakerLimits,
     axis_deg: f64,
 ) -> Result<Schedule> {
+    let motion = only_motion(synthesized)?;
+    let mirrored = motion.mirrored_about(axis_deg.to_radians());
+    let label = format!("Synthesized, mirrored in the {axis_deg}° axis");
+    Ok(time_share(
+        synthesized,
+        motion,
+        (&label, &mirrored),
+        "mirror",
+        limits,
+    ))
+}
+
+/// Phases (degrees) the turned mirror image is tried at before its
+/// calibration: every 15°.
+const TURN_SCAN_DEG: f64 = 15.0;
+
+/// The turned mirror-image time-share, for a target that no reflection
+/// maps to itself (a whirlpool): the synthesized motion of `synthesized`,
+/// and its mirror image in y = 0 turned back onto the target by the phase
+/// of its normal-force signals.
+///
+/// **Why.** The mirror image M′ of a motion M circulates the other way, so
+/// a friction error turns its field the other way ([module
+/// documentation](self)); but its field is the target's mirror image (for
+/// a counter-clockwise whirlpool, a clockwise one). Shifting the phase of
+/// harmonic 1 of M′'s normal-force signals (a_z, α_x, α_y) by φ turns its
+/// field by φ without changing any amplitude
+/// ([`crate::synth::calibrate`]); the phase that best realises the target
+/// at the nominal friction (a scan of every [`TURN_SCAN_DEG`], then one
+/// secant step on the measured turn) gives a motion M″ with the target's field and
+/// the opposite turn with friction. The time-share ½(M + M″) then turns
+/// as cos Δ: a friction error Δ in the turn costs strength to second order
+/// and shape not at all, to the extent that sequencing combines fields.
+///
+/// # Errors
+/// The schedule does not hold exactly one six-signal motion.
+pub fn turned_mirror_share(
+    synthesized: &Schedule,
+    target: &Target,
+    region: &Grid,
+    limits: &ShakerLimits,
+) -> Result<Schedule> {
+    let motion = only_motion(synthesized)?;
+    let settings = &synthesized.settings;
+    let progress = Progress::new(ProgressMode::Quiet, usize::MAX);
+    let coarse = Grid {
+        n: [7, 7],
+        ..*region
+    };
+    let objective = Objective::new(
+        &target.field,
+        coarse,
+        limits,
+        settings,
+        0.04,
+        1.0,
+        usize::MAX,
+        None,
+        &progress,
+    );
+    let mirror = Coefficients::from_signals(&motion.mirrored_y(), limits.harmonics);
+    let steps = (360.0 / TURN_SCAN_DEG).round() as usize;
+    let at = |phi: f64| objective.evaluate(&objective.layout().to_vec(&shifted(&mirror, phi)));
+    let scan: Vec<Evaluation> = (0..steps)
+        .map(|k| at((k as f64 * TURN_SCAN_DEG).to_radians()))
+        .collect();
+    let Some(k) = (0..steps).min_by(|&a, &b| scan[a].cost.total_cmp(&scan[b].cost)) else {
+        return Err(Error::Physical(
+            "no phase of the mirror image was tried".into(),
+        ));
+    };
+    // The turn is close to linear in the phase: one secant step from the
+    // scan's best, through its neighbours' turns, removes what is left.
+    let (prev, next) = (&scan[(k + steps - 1) % steps], &scan[(k + 1) % steps]);
+    let slope = wrap(next.realised.turn - prev.realised.turn) / (2.0 * TURN_SCAN_DEG.to_radians());
+    let phi = (k as f64 * TURN_SCAN_DEG).to_radians();
+    let mut best = scan[k].clone();
+    if slope.abs() > 0.5 && scan[k].realised.turn.is_finite() {
+        let refined = at(phi - scan[k].realised.turn / slope);
+        if refined.cost < best.cost {
+            best = refined;
+        }
+    }
+    let turned = objective.motion(&best.params).0.to_signals();
+    let label = "Synthesized, mirrored in the 0° axis and turned by its phase";
+    Ok(time_share(
+        synthesized,
+        motion,
+        (label, &turned),
+        "turned mirror",
+        limits,
+    ))
+}
+
+/// `a` (rad) wrapped into (−π, π].
+fn wrap(a: f64) -> f64 {
+    let t = a.rem_euclid(std::f64::consts::TAU);
+    if t > std::f64::consts::PI {
+        t - std::f64::consts::TAU
+    } else {
+        t
+    }
+}
+
+/// The one six-signal motion of a synthesized schedule.
+fn only_motion(synthesized: &Schedule) -> Result<&Signals> {
     let [one] = synthesized.segments.as_slice() else {
         return Err(Error::invalid(
             "segments",
             "a mirror-image time-share is made from a one-motion (synthesized) schedule",
         ));
     };
-    let Some(motion) = &one.motion else {
-        return Err(Error::invalid(
+    one.motion.as_ref().ok_or_else(|| {
+        Error::invalid(
             "segments[0].motion",
             "a mirror-image time-share is made from a six-signal motion",
-        ));
-    };
-    let build = |signals: crate::motion::Signals| {
-        let segment = |label: &str, signals: crate::motion::Signals| Segment {
+        )
+    })
+}
+
+/// `synthesized` with its segments replaced by `first` and `second`,
+/// [`MIRROR_SEGMENT_CYCLES`] cycles each, ramped, both scaled down alike
+/// where the ramps would pass `limits`; solver mode `mode`. The rest of
+/// the schedule (target, settings, fit metrics) is kept.
+fn time_share(
+    synthesized: &Schedule,
+    first: &Signals,
+    second: (&str, &Signals),
+    mode: &str,
+    limits: &ShakerLimits,
+) -> Schedule {
+    let build = |k: f64| {
+        let segment = |label: &str, signals: Signals| Segment {
             label: label.into(),
             primitive: None,
             motion: Some(signals),
@@ -120,21 +245,18 @@ pub fn mirror_share(
             cycles: MIRROR_SEGMENT_CYCLES,
             duration_s: 0.0,
         };
-        let mirrored = signals.mirrored_about(axis_deg.to_radians());
+        let scaled = |m: &Signals| if k < 1.0 { m.scaled(k) } else { m.clone() };
         let mut s = synthesized.clone();
         s.segments = vec![
-            segment("Synthesized", signals),
-            segment(
-                &format!("Synthesized, mirrored in the {axis_deg}° axis"),
-                mirrored,
-            ),
+            segment("Synthesized", scaled(first)),
+            segment(second.0, scaled(second.1)),
         ];
         s.played = None;
-        s.solver.mode = "mirror".into();
+        s.solver.mode = mode.into();
         s.derive();
         s
     };
-    let schedule = build(motion.clone());
+    let schedule = build(1.0);
     let peaks = schedule_peaks(&schedule);
     let allowed = [limits.linear, limits.angular].concat();
     let scale = peaks
@@ -143,9 +265,9 @@ pub fn mirror_share(
         .filter(|(p, _)| **p > 0.0)
         .map(|(p, a)| a / p)
         .fold(1.0_f64, f64::min);
-    Ok(if scale < 1.0 {
-        build(motion.scaled(scale))
+    if scale < 1.0 {
+        build(scale)
     } else {
         schedule
-    })
+    }
 }

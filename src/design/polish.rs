@@ -63,6 +63,7 @@ use crate::field::{FieldSettings, Grid};
 use crate::motion::Motion;
 use crate::play::{PlayedSegment, ScheduleMotion};
 use crate::request::{SampledTarget, Target};
+use crate::scene::FrictionSpec;
 use crate::synth::objective::{Objective, CONTACT_WEIGHT, INVALID_WEIGHT, LIMIT_WEIGHT};
 use crate::synth::params::{Coefficients, Layout};
 use crate::synth::progress::{Progress, ProgressMode};
@@ -100,6 +101,10 @@ pub struct PolishOptions {
     /// Progress display (default quiet): a bar on a terminal, a plain line
     /// otherwise ([`crate::progress::Progress`]); never part of the result.
     pub progress: ProgressMode,
+    /// Play every candidate at the ends and middle of this friction range
+    /// and score its worst case ([`crate::synth::robust`]); `None` (or an
+    /// exact friction): the settings' friction only.
+    pub robust: Option<FrictionSpec>,
 }
 
 impl Default for PolishOptions {
@@ -113,6 +118,7 @@ impl Default for PolishOptions {
             measure: MeasureOptions::default(),
             stall: None,
             progress: ProgressMode::Quiet,
+            robust: None,
         }
     }
 }
@@ -194,26 +200,32 @@ struct Played<'a> {
 }
 
 impl Played<'_> {
+    /// The played measure of `c`: its worst case over the objective's
+    /// physics ([`RealisedError::worst_of`]).
     fn play(&self, c: &Coefficients) -> Result<RealisedError> {
         let sm = ScheduleMotion::new(vec![PlayedSegment::moving(
             "synthesized",
             Motion::Signals(c.to_signals()),
             1,
         )])?;
-        let plays = measure::play_motion(
-            &sm,
-            1,
-            &self.sampled.points,
-            self.starts,
-            self.settings,
-            &self.options.measure,
-        );
-        Ok(measure::realised_error(
-            self.target,
-            &self.sampled.weights,
-            &plays,
-            None,
-        ))
+        let each: Vec<RealisedError> = self
+            .objective
+            .physics()
+            .iter()
+            .map(|settings| {
+                let plays = measure::play_motion(
+                    &sm,
+                    1,
+                    &self.sampled.points,
+                    self.starts,
+                    settings,
+                    &self.options.measure,
+                );
+                measure::realised_error(self.target, &self.sampled.weights, &plays, None)
+            })
+            .collect();
+        RealisedError::worst_of(&each)
+            .ok_or_else(|| Error::Physical("no physics to play the polish under".into()))
     }
 
     fn evaluate(&self, params: &[f64]) -> Result<Eval> {
@@ -338,7 +350,8 @@ pub fn polish(
         usize::MAX,
         None,
         &progress,
-    );
+    )
+    .with_robust(options.robust);
     let mut played = Played {
         target,
         sampled,

@@ -176,6 +176,7 @@ pub mod objective;
 pub mod params;
 pub mod progress;
 pub mod refine;
+pub mod robust;
 pub mod seed;
 pub mod stall;
 mod synthesize;

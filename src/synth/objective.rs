@@ -29,10 +29,12 @@ use super::contact::{kinematic_least_normal, orbit_least_normal};
 use super::limits::ShakerLimits;
 use super::params::{Coefficients, Layout};
 use super::progress::Progress;
+use super::robust::judged_under;
 use super::stall::{StallRule, StallTracker};
 use crate::field::{Field, FieldKind, FieldSettings, Grid, Validity};
 use crate::motion::Motion;
 use crate::request::FieldSpec;
+use crate::scene::FrictionSpec;
 
 /// Weight of the shape error over budget.
 pub const SHAPE_WEIGHT: f64 = 20.0;
@@ -58,6 +60,29 @@ pub struct Realised {
     /// target onto R: atan2(Σ t × r, Σ t · r) over valid samples (0 when
     /// undefined).
     pub turn: f64,
+}
+
+impl Realised {
+    /// The worst case of one motion's measures under several physics
+    /// ([`super::robust`]): the weakest strength, the largest shape error
+    /// and invalid count, and the mean turn (what a phase calibration
+    /// removes: centred, the turns at the range's ends are balanced).
+    /// `None` for no measures.
+    pub fn worst_of(all: &[Realised]) -> Option<Realised> {
+        let first = all.first()?;
+        Some(Realised {
+            strength: all
+                .iter()
+                .map(|r| r.strength)
+                .fold(first.strength, f64::min),
+            shape_error: all
+                .iter()
+                .map(|r| r.shape_error)
+                .fold(first.shape_error, f64::max),
+            invalid: all.iter().map(|r| r.invalid).max().unwrap_or(first.invalid),
+            turn: all.iter().map(|r| r.turn).sum::<f64>() / all.len() as f64,
+        })
+    }
 }
 
 /// Realised strength and shape error of `field` against `target` (one
@@ -127,6 +152,9 @@ pub struct Objective<'a> {
     max_evaluations: usize,
     deadline: Option<Instant>,
     stall: Option<StallRule>,
+    /// The physics each candidate is judged under (worst case over them):
+    /// `settings` alone unless [`Objective::with_robust`] gave a range.
+    physics: Vec<FieldSettings>,
     tally: Mutex<Tally>,
     progress: &'a Progress,
 }
@@ -156,6 +184,7 @@ impl<'a> Objective<'a> {
             max_evaluations,
             deadline,
             stall: None,
+            physics: vec![*settings],
             tally: Mutex::new(Tally {
                 evaluations: 0,
                 best: None,
@@ -170,6 +199,19 @@ impl<'a> Objective<'a> {
     pub fn with_stall(mut self, rule: Option<StallRule>) -> Self {
         self.stall = rule;
         self
+    }
+
+    /// This objective judging every candidate by its worst case over the
+    /// friction range `spec` ([`super::robust`]); `None` or an exact
+    /// friction keeps the settings' own.
+    pub fn with_robust(mut self, spec: Option<FrictionSpec>) -> Self {
+        self.physics = judged_under(self.settings, spec);
+        self
+    }
+
+    /// The physics each candidate is judged under.
+    pub fn physics(&self) -> &[FieldSettings] {
+        &self.physics
     }
 
     /// Counts the stall window from now (a search's start: what came
@@ -199,16 +241,17 @@ impl<'a> Objective<'a> {
     pub fn evaluate(&self, params: &[f64]) -> Evaluation {
         let (c, excess) = self.motion(params);
         let motion = Motion::Signals(c.to_signals());
-        let field = Field::compute(
-            &motion,
-            &self.grid,
-            FieldKind::Velocity,
-            self.settings,
-            &|| {},
-        );
-        let r = realised(&field, &self.target);
-        let least_normal = kinematic_least_normal(&motion, &self.grid, self.settings)
-            .min(orbit_least_normal(&motion, &self.grid, self.settings));
+        let mut each = Vec::with_capacity(self.physics.len());
+        let mut least_normal = f64::INFINITY;
+        for settings in &self.physics {
+            let field = Field::compute(&motion, &self.grid, FieldKind::Velocity, settings, &|| {});
+            each.push(realised(&field, &self.target));
+            least_normal = least_normal.min(
+                kinematic_least_normal(&motion, &self.grid, settings)
+                    .min(orbit_least_normal(&motion, &self.grid, settings)),
+            );
+        }
+        let r = Realised::worst_of(&each).expect("judged_under never returns an empty set");
         let g = self.settings.gravity;
         let margin = (self.limits.contact_margin - least_normal / g).max(0.0);
         let cost = -r.strength / self.strength_ref

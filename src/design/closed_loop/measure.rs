@@ -201,6 +201,32 @@ pub struct RealisedError {
     pub valid: usize,
 }
 
+impl RealisedError {
+    /// The worst case of one motion's played measures under several
+    /// physics (`crate::synth::robust`): the measure with the largest
+    /// shape error (a non-finite one counts as largest), with the weakest
+    /// realised strength and the fewest valid points of all. `None` for no
+    /// measures.
+    pub fn worst_of(all: &[RealisedError]) -> Option<RealisedError> {
+        let key = |r: &RealisedError| {
+            if r.shape_error.is_finite() {
+                r.shape_error
+            } else {
+                f64::INFINITY
+            }
+        };
+        let worst = all.iter().max_by(|a, b| key(a).total_cmp(&key(b)))?;
+        Some(RealisedError {
+            realised_strength: all
+                .iter()
+                .map(|r| r.realised_strength)
+                .fold(worst.realised_strength, f64::min),
+            valid: all.iter().map(|r| r.valid).min().unwrap_or(worst.valid),
+            ..*worst
+        })
+    }
+}
+
 /// Affine decomposition of an error field, each part's norm relative to
 /// ‖s t‖ (see the [module documentation](self)).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
