@@ -327,3 +327,44 @@ fn mix_combines_a_synthesized_motion_with_primitives() {
     // One period for every moving segment: the schedule exports.
     assert!(export::export(s, 20_000.0, 20).is_ok());
 }
+
+/// A target whose weights leave two points plays two parts: its realised
+/// measure is "not measured" and POOR, naming the count, not a strength
+/// and shape reported as a result (issue 30). Three points are measured.
+#[test]
+fn a_measure_over_too_few_points_is_not_measured() {
+    let target = |keep: usize| {
+        let rows: Vec<String> = (0..5)
+            .map(|iy| {
+                let w: Vec<&str> = (0..5)
+                    .map(|ix| if iy == 2 && ix < keep { "1" } else { "0" })
+                    .collect();
+                format!("[{}]", w.join(", "))
+            })
+            .collect();
+        Target::from_json_str(&format!(
+            r#"{{"name": "few", "grid": {{"x": [-0.03, 0.03], "y": [-0.03, 0.03], "n": [5, 5]}},
+                "field": {{"kind": "sink"}}, "weights": [{}]}}"#,
+            rows.join(", ")
+        ))
+        .expect("valid target")
+    };
+    let opts = options(vec![PrimitiveKind::LineSink]);
+    let played = |keep| {
+        let d = design_by_method(&target(keep), &opts, &synth(), Method::Sequence).unwrap();
+        d.candidates[d.chosen].played().clone()
+    };
+    let two = played(2);
+    assert!(two.poor, "{:?}", two.notes);
+    assert!(
+        two.notes.iter().any(|n| n.contains("not measured: 2 of")),
+        "{:?}",
+        two.notes
+    );
+    let three = played(3);
+    assert!(
+        !three.notes.iter().any(|n| n.contains("not measured")),
+        "{:?}",
+        three.notes
+    );
+}

@@ -72,6 +72,13 @@ use crate::schedule::{AxisPeaks, BasisInfo, Played, Schedule, Segment, SolverInf
 use crate::synth::{synthesize, ShakerLimits, SynthOptions, Synthesis};
 use crate::work::{Estimate, Term};
 
+/// Fewest counted parts a realised measure is reported over. A shape is a
+/// property of the field over the region: one or two parts sample it at
+/// one or two places (a 2-D affine field has six coefficients; three
+/// points in general position fix them), so fewer are reported as not
+/// measured, POOR, with the reason, rather than as a strength and shape.
+pub const MIN_MEASURED_POINTS: usize = 3;
+
 /// Cycles of the synthesized motion per schedule period.
 pub const SYNTH_SEGMENT_CYCLES: u32 = 10;
 /// Warm-up of the realised check, in cycles (rounded up to whole schedule
@@ -1017,6 +1024,12 @@ pub fn play_check(
     let mut notes = Vec::new();
     if r.valid == 0 {
         notes.push("no valid point".to_string());
+    } else if r.valid < MIN_MEASURED_POINTS {
+        notes.push(format!(
+            "not measured: {} of {} parts counted, and a realised strength and shape need at least {MIN_MEASURED_POINTS} (mask, weights or lost contact leave too few)",
+            r.valid,
+            plays.len()
+        ));
     }
     if r.shape_error.is_nan() || r.shape_error > fit::POOR_ERROR {
         notes.push(format!(

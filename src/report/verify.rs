@@ -362,7 +362,17 @@ pub fn summary(r: &VerifyReport) -> String {
     let v = &r.realised;
     let req = &r.request;
     let mut out = String::new();
-    let _ = writeln!(
+    let few = crate::design::method::MIN_MEASURED_POINTS;
+    if v.valid < few {
+        let _ = writeln!(
+            out,
+            "realised field not measured: {} of {} points kept contact and converged, and a realised strength and shape need at least {few} ({} model; the points below say why)",
+            v.valid,
+            req.points * req.points,
+            v.model,
+        );
+    } else {
+        let _ = writeln!(
         out,
         "realised vs predicted relative error {:.2} % (shape {:.2} %, realised strength {:.4} against {:.4} designed) over {} of {} points ({} model, {} warm-up + {} measured periods of {:.4} s); max |error| {:.3e} m/s, rms |predicted| {:.3e} m/s",
         100.0 * v.relative_error,
@@ -378,6 +388,7 @@ pub fn summary(r: &VerifyReport) -> String {
         v.max_abs_error,
         v.rms_predicted
     );
+    }
     if v.warmup_most > req.warmup {
         let longer = v
             .points
