@@ -452,7 +452,10 @@ fn long_runs_are_refused_at_once_stating_the_estimate() {
         ] {
             assert!(err.contains(needle), "{args:?}: {needle:?} not in {err}");
         }
-        assert!(seconds < 1.0, "{args:?} took {seconds:.2} s to refuse");
+        // Refused before the work (which would take hours), not after it:
+        // a bound far from both, so a loaded machine (2.5 s seen at load
+        // 7–12) does not fail it.
+        assert!(seconds < 30.0, "{args:?} took {seconds:.2} s to refuse");
         assert!(!Path::new(out).exists(), "{args:?} wrote files");
     }
     let _ = std::fs::remove_dir_all(&dir);
