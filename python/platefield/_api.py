@@ -16,7 +16,8 @@ def _text(value):
 def flags(options):
     """The command-line flags of keyword ``options``.
 
-    ``name=value`` is ``--name value`` (``_`` written ``-``); ``True`` is the
+    ``name=value`` is ``--name=value`` (``_`` written ``-``; one token, so
+    that a negative value is not read as a flag); ``True`` is the
     bare flag and ``False`` or ``None`` leaves it out; a list of numbers or
     names is one comma-separated value (``primitives=["sink", "squeeze"]``),
     a list of lists repeats the flag (``shift=[(0.01, 0), (0, 0.01)]``).
@@ -30,12 +31,11 @@ def flags(options):
             argv.append(flag)
         elif isinstance(value, (list, tuple)):
             if value and all(isinstance(v, (list, tuple)) for v in value):
-                for v in value:
-                    argv += [flag, ",".join(_text(x) for x in v)]
+                argv += [f"{flag}={','.join(_text(x) for x in v)}" for v in value]
             else:
-                argv += [flag, ",".join(_text(x) for x in value)]
+                argv.append(f"{flag}={','.join(_text(x) for x in value)}")
         else:
-            argv += [flag, _text(value)]
+            argv.append(f"{flag}={_text(value)}")
     return argv
 
 

@@ -109,3 +109,20 @@ def test_verify_equals_cli(root, cli, scratch):
                "--rect-poses", 0, "--repetitions", 1, "--quiet", "--json", "--out", scratch / "v")
     assert py == json.loads(text)
     assert py["realised_field"]["points"] == 9
+
+
+def test_options_become_the_cli_flags():
+    from platefield._api import flags
+
+    assert flags(dict(polish_plays=50, quiet=True, json=False, cycles=None, budget=0.1,
+                      primitives=["LineSink", "Circle"], shift=[(-0.01, 0), (0, -0.02)])) == [
+        "--polish-plays=50", "--quiet", "--budget=0.1", "--primitives=LineSink,Circle",
+        "--shift=-0.01,0", "--shift=0,-0.02",
+    ]
+
+
+def test_primitives_option_restricts_the_design(root):
+    s = platefield.design(root / "targets" / "sink.json", "sequence", quiet=True,
+                          primitives=["LineSink", "Trans"])
+    kinds = {seg["primitive"]["kind"] for seg in s["segments"]}
+    assert kinds and kinds <= {"LineSink", "Trans"}
