@@ -5,6 +5,7 @@ and, for the plot, matplotlib:
 
     python docs/python/sweep_example.py            # on a 2-worker Dask LocalCluster
     python docs/python/sweep_example.py --serial   # the same designs, one after another
+    python docs/python/sweep_example.py --plot     # only redraw the plot from sweep.json
 
 Writes docs/python/sweep.json (the realised measures of every design) and
 docs/python/sweep.svg (realised strength and shape error against friction, one
@@ -50,23 +51,31 @@ def plot(table, path):
     matplotlib.rcParams["svg.hashsalt"] = "platefield"  # the same bytes every run
     import matplotlib.pyplot as plt
 
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(9, 3.6))
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(9, 3.9))
     for limit in LINEAR_XY:
         sel = [r for r in table if r["linear_xy_limit_m_s2"] == limit]
         mu = [r["friction"] for r in sel]
         label = f"|a_x|, |a_y| ≤ {limit:g} m/s²"
-        ax1.plot(mu, [r["realised_strength_per_s"] for r in sel], "o-", label=label)
-        ax2.plot(mu, [100 * r["realised_shape_error"] for r in sel], "o-", label=label)
+        for ax, key, scale in ((ax1, "realised_strength_per_s", 1), (ax2, "realised_shape_error", 100)):
+            (line,) = ax.plot(mu, [scale * r[key] for r in sel], "o-", label=label if ax is ax1 else None)
+            poor = [r for r in sel if r["poor"]]
+            ax.plot([r["friction"] for r in poor], [scale * r[key] for r in poor], "o",
+                    ms=11, mfc="none", mec=line.get_color(),
+                    label="POOR (shape error > 20 %)" if ax is ax1 and limit == LINEAR_XY[-1] else None)
     ax1.set(xlabel="friction μ", ylabel="realised strength (1/s)", title="sink: realised strength")
     ax2.set(xlabel="friction μ", ylabel="realised shape error (%)", title="realised shape error")
     ax2.axhline(20, color="grey", lw=0.8, ls="--")
     ax2.text(FRICTION[0], 20.5, "POOR above 20 %", color="grey", fontsize=8)
-    ax1.legend(fontsize=8)
-    fig.tight_layout()
+    fig.legend(loc="lower center", ncol=4, fontsize=8, frameon=False)
+    fig.tight_layout(rect=(0, 0.08, 1, 1))
     fig.savefig(path, metadata={"Date": None, "Creator": None})
 
 
 def main():
+    if "--plot" in sys.argv:
+        with open("docs/python/sweep.json", encoding="utf-8") as f:
+            plot(json.load(f), "docs/python/sweep.svg")
+        return
     targets = ["targets/sink.json"]
     if "--serial" in sys.argv:
         records = platefield.sweep(targets, friction=FRICTION, shaker=SHAKER)

@@ -126,3 +126,12 @@ def test_primitives_option_restricts_the_design(root):
                           primitives=["LineSink", "Trans"])
     kinds = {seg["primitive"]["kind"] for seg in s["segments"]}
     assert kinds and kinds <= {"LineSink", "Trans"}
+
+
+def test_default_design_of_sink_equals_the_shipped_result(root):
+    # `platefield design targets/sink.json` (all defaults) wrote
+    # results/sink/schedule.json; the package's default design is the same.
+    shipped = json.loads((root / "results" / "sink" / "schedule.json").read_text())
+    s = platefield.design(root / "targets" / "sink.json", quiet=True)
+    assert s == shipped
+    assert s["played"]["realised_strength"] > 0 and not s["played"]["poor"]

@@ -57,6 +57,16 @@ pub fn run(
 /// name), after the work estimate allows it (`allow_long` lifts the limit);
 /// `quiet` hides the progress bar. What `field` and the Python package's
 /// `platefield.field` compute.
+///
+/// ```no_run
+/// use std::path::Path;
+/// use platefield::scene::Scene;
+///
+/// let path = Path::new("targets/scenes/linesink.json");
+/// let field = platefield::cli::field::compute(&Scene::load(path)?, path, true, false)?;
+/// println!("{} of {} samples valid", field.valid_count(), field.vectors.len());
+/// # Ok::<(), platefield::Error>(())
+/// ```
 pub fn compute(
     scene: &Scene,
     scene_path: &Path,
