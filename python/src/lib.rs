@@ -105,18 +105,24 @@ fn verify(py: Python<'_>, argv: Vec<String>) -> PyResult<String> {
     py.detach(|| cmd.args.run()).map_err(library_error)
 }
 
-/// The scene from the file `path`, or from JSON `text` (named `origin` in
-/// errors).
-fn scene(path: Option<&str>, text: Option<&str>) -> Result<Scene, Error> {
+/// A document (`what`: scene or schedule) from the file `path` by `load`,
+/// or from JSON `text` by `parse`: the library's own readers and checks.
+fn document<T>(
+    path: Option<&str>,
+    text: Option<&str>,
+    what: &str,
+    load: impl Fn(&Path) -> Result<T, Error>,
+    parse: impl Fn(&str) -> Result<T, Error>,
+) -> Result<T, Error> {
     match (path, text) {
-        (Some(p), _) => Scene::load(Path::new(p)),
-        (None, Some(t)) => Scene::from_json_str(t),
-        (None, None) => Err(Error::invalid("scene", "give a path or a dict")),
+        (Some(p), _) => load(Path::new(p)),
+        (None, Some(t)) => parse(t),
+        (None, None) => Err(Error::invalid(what, "give a path or a dict")),
     }
 }
 
 /// The field `platefield field` computes for a scene: a dict of numpy
-/// arrays `fx`, `fy` (ny × nx, m/s or N/kg), `valid` (ny × nx booleans),
+/// arrays `fx`, `fy` (ny × nx; m/s, or m/s² for force fields), `valid` (ny × nx booleans),
 /// `x` (nx), `y` (ny) in metres, and `kind`.
 #[pyfunction]
 #[pyo3(signature = (path, text, quiet, allow_long))]
@@ -128,7 +134,13 @@ fn field<'py>(
     allow_long: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let computed = py.detach(|| {
-        let s = scene(path.as_deref(), text.as_deref())?;
+        let s = document(
+            path.as_deref(),
+            text.as_deref(),
+            "scene",
+            Scene::load,
+            Scene::from_json_str,
+        )?;
         let origin = path.as_deref().unwrap_or("scene");
         platefield::cli::field::compute(&s, Path::new(origin), quiet, allow_long)
     });
@@ -152,15 +164,6 @@ fn field<'py>(
     Ok(d)
 }
 
-/// The schedule from the file `path`, or from JSON `text`.
-fn schedule(path: Option<&str>, text: Option<&str>) -> Result<Schedule, Error> {
-    match (path, text) {
-        (Some(p), _) => Schedule::load(Path::new(p)),
-        (None, Some(t)) => Schedule::from_json_str(t, "schedule"),
-        (None, None) => Err(Error::invalid("schedule", "give a path or a dict")),
-    }
-}
-
 /// `platefield export` as an (n, 7) array: t (s), then a_x, a_y, a_z
 /// (m/s²) and α_x, α_y, α_z (rad/s²) of the plate centre, one row per
 /// sample, the rows of the CSV before formatting.
@@ -174,7 +177,13 @@ fn export<'py>(
     steady_cycles: u32,
 ) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
     let exported = py.detach(|| {
-        let s = schedule(path.as_deref(), text.as_deref())?;
+        let s = document(
+            path.as_deref(),
+            text.as_deref(),
+            "schedule",
+            Schedule::load,
+            |t| Schedule::from_json_str(t, "schedule"),
+        )?;
         schedule_export::export(&s, rate, steady_cycles)
     });
     let e = exported.map_err(library_error)?;
