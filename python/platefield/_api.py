@@ -44,15 +44,16 @@ def _is_path(x):
 
 
 def _as_file(document, folder, name):
-    """The path of ``document``: itself if a path, else the dict written to ``folder/name``."""
+    """(the path of ``document``, the temporary file it was written to or None):
+    itself if a path, else the dict written to ``folder/name``."""
     if _is_path(document):
-        return os.fspath(document), ()
+        return os.fspath(document), None
     if not isinstance(document, dict):
         raise TypeError(f"expected a path or a dict, got {type(document).__name__}")
     path = os.path.join(folder, name)
     with open(path, "w", encoding="utf-8") as f:
         json.dump(document, f)
-    return path, (path,)
+    return path, path
 
 
 def _run_json(function, native, document, file_name, out, options):
@@ -61,13 +62,13 @@ def _run_json(function, native, document, file_name, out, options):
     Files go to ``out`` when given, else to a temporary folder removed after.
     """
     with tempfile.TemporaryDirectory(prefix="platefield-") as tmp:
-        path, temp_files = _as_file(document, tmp, file_name)
+        path, temp_file = _as_file(document, tmp, file_name)
         folder = os.fspath(out) if out is not None else os.path.join(tmp, "out")
         argv = [function, path, "--out", folder] + flags(options)
         try:
             text = native(argv)
         except NativeError as e:
-            raise raised(e, function, temp_files) from None
+            raise raised(e, function, path, temp_file) from None
     return json.loads(text)
 
 
@@ -121,7 +122,7 @@ def field(scene, *, quiet=False, allow_long=False):
     try:
         return _platefield.field(path, text, quiet, allow_long)
     except NativeError as e:
-        raise raised(e, "field") from None
+        raise raised(e, "field", path) from None
 
 
 def export(schedule, rate=10000.0, *, steady_cycles=None):
@@ -138,4 +139,4 @@ def export(schedule, rate=10000.0, *, steady_cycles=None):
     try:
         return _platefield.export(path, text, float(rate), int(steady_cycles))
     except NativeError as e:
-        raise raised(e, "export") from None
+        raise raised(e, "export", path) from None

@@ -10,13 +10,16 @@ class Error(Exception):
 
     ``path`` is the JSON path (``target.field.strength``) or the keyword
     option (``budget``) the error is about, ``""`` when it is about no one
-    value; ``message`` says what is wrong and what is allowed.
+    value; ``message`` says what is wrong and what is allowed; ``file`` is
+    the input file the JSON path is in (``None`` for a dict or an option).
     """
 
-    def __init__(self, path, message):
+    def __init__(self, path, message, file=None):
         self.path = path
         self.message = message
-        super().__init__(f"{path}: {message}" if path else message)
+        self.file = file
+        where = f"{file}: {path}" if file and path else path
+        super().__init__(f"{where}: {message}" if where else message)
 
 
 class InvalidInput(Error, ValueError):
@@ -37,32 +40,31 @@ def option_name(arg):
     return m.group(1).replace("-", "_") if m else arg
 
 
-def _strip(path, prefixes):
-    for p in prefixes:
-        if p and path.startswith(p + ": "):
-            return path[len(p) + 2:]
-    return path
+def _split(path, files):
+    """(the file of ``files`` that ``path`` starts with, the rest: the JSON path)."""
+    for f in files:
+        if f and path.startswith(f + ": "):
+            return f, path[len(f) + 2:]
+    return None, path
 
 
-def raised(err, function, temp_files=()):
+def raised(err, function, input_file=None, temp_file=None):
     """The :class:`Error` (or ``TypeError``) for a native error of ``function``.
 
-    ``temp_files`` are the files a dict input was written to: their names are
-    taken off the paths, which then start at the JSON root (``target.``).
+    The library names the input file before the JSON path; the file is taken
+    off ``path`` (it starts at the JSON root, ``target.``) and kept as
+    ``file``, unless it is ``temp_file``, where a dict input was written.
     """
     kind, path, message, suggestion = err.args
     if kind == "unknown":
         name = option_name(path)
         hint = f" (did you mean {option_name(suggestion)!r}?)" if suggestion else ""
         return TypeError(f"{function}() got an unexpected keyword argument {name!r}{hint}")
-    path = option_name(_strip(path, [str(t) for t in temp_files]))
-    if kind == "invalid":
-        return InvalidInput(path, message)
-    if kind == "physical":
-        return PhysicalError(path, message)
-    if kind == "not_converged":
-        return NotConverged(path, message)
-    return Error(path, message)
+    file, path = _split(path, [temp_file, input_file])
+    if file is not None and file == temp_file:
+        file = None
+    cls = {"invalid": InvalidInput, "physical": PhysicalError, "not_converged": NotConverged}
+    return cls.get(kind, Error)(option_name(path), message, file)
 
 
 NativeError = _platefield.NativeError

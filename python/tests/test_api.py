@@ -50,8 +50,19 @@ def test_misspelt_target_key_names_its_path(root):
     t["field"]["strenght"] = 1.0
     with pytest.raises(platefield.InvalidInput) as e:
         platefield.design(t, "sequence", quiet=True)
-    assert e.value.path == "target.field.strenght"
+    assert e.value.path == "target.field.strenght" and e.value.file is None
     assert "unknown field" in e.value.message
+
+
+def test_misspelt_key_in_a_file_names_file_and_path(root, scratch):
+    t = json.loads((root / "targets" / "sink.json").read_text())
+    t["grid"]["nn"] = [9, 9]
+    (scratch / "bad.json").write_text(json.dumps(t))
+    with pytest.raises(platefield.InvalidInput) as e:
+        platefield.design(scratch / "bad.json", "sequence", quiet=True)
+    assert e.value.path == "target.grid.nn" and "unknown field" in e.value.message
+    assert e.value.file == str(scratch / "bad.json")
+    assert str(e.value).startswith(f"{scratch / 'bad.json'}: target.grid.nn: ")
 
 
 def test_option_out_of_range_names_it(root):
