@@ -139,4 +139,5 @@ def export(schedule, rate=10000.0, *, steady_cycles=None):
     try:
         return _platefield.export(path, text, float(rate), int(steady_cycles))
     except NativeError as e:
-        raise raised(e, "export", path) from None
+        # A dict's errors name it "schedule" (the library's origin prefix).
+        raise raised(e, "export", path, None if path else "schedule") from None

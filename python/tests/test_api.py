@@ -74,8 +74,9 @@ def test_option_out_of_range_names_it(root):
 
 def test_bad_schedule_names_its_path():
     with pytest.raises(platefield.InvalidInput) as e:
-        platefield.export({"segments": []}, 1000.0)
-    assert e.value.path.startswith("schedule")
+        platefield.export({"segments": [], "wieght": 1}, 1000.0)
+    assert e.value.path == "schedule.wieght" and e.value.file is None
+    assert "unknown field" in e.value.message
 
 
 def test_export_equals_cli_csv(root, cli, scratch):
