@@ -27,25 +27,8 @@ pub fn run(
             crate::output::check_writable(folder, arg)?;
         }
     }
-    Estimate::new(
-        "scene",
-        "computing the field",
-        "a smaller scene.grid.n, scene.numerics.steps_per_cycle or (force fields) scene.phases",
-    )
-    .plus(crate::work::field_term(
-        "field",
-        1.0,
-        "field",
-        crate::field::simulated_points(&scene.motion.to_motion(), &scene.grid) as f64,
-        scene.kind,
-        &scene.settings(),
-    ))
-    .check(allow_long)?;
     let start = std::time::Instant::now();
-    let field = scene.compute(quiet).map_err(|e| match e {
-        Error::Physical(m) => Error::Physical(format!("{}: {m}", scene_path.display())),
-        e => e,
-    })?;
+    let field = compute(&scene, scene_path, quiet, allow_long)?;
     let seconds = start.elapsed().as_secs_f64();
     let mut text = serde_json::to_string_pretty(&field.to_json(&scene.settings()))
         .map_err(|e| Error::Physical(e.to_string()))?;
@@ -68,4 +51,44 @@ pub fn run(
         summary.push_str(&format!("wrote {}\n", path.display()));
     }
     Ok(summary)
+}
+
+/// The field of `scene` (loaded from `scene_path`, which physical errors
+/// name), after the work estimate allows it (`allow_long` lifts the limit);
+/// `quiet` hides the progress bar. What `field` and the Python package's
+/// `platefield.field` compute.
+///
+/// ```no_run
+/// use std::path::Path;
+/// use platefield::scene::Scene;
+///
+/// let path = Path::new("targets/scenes/linesink.json");
+/// let field = platefield::cli::field::compute(&Scene::load(path)?, path, true, false)?;
+/// println!("{} of {} samples valid", field.valid_count(), field.vectors.len());
+/// # Ok::<(), platefield::Error>(())
+/// ```
+pub fn compute(
+    scene: &Scene,
+    scene_path: &Path,
+    quiet: bool,
+    allow_long: bool,
+) -> Result<crate::field::Field> {
+    Estimate::new(
+        "scene",
+        "computing the field",
+        "a smaller scene.grid.n, scene.numerics.steps_per_cycle or (force fields) scene.phases",
+    )
+    .plus(crate::work::field_term(
+        "field",
+        1.0,
+        "field",
+        crate::field::simulated_points(&scene.motion.to_motion(), &scene.grid) as f64,
+        scene.kind,
+        &scene.settings(),
+    ))
+    .check(allow_long)?;
+    scene.compute(quiet).map_err(|e| match e {
+        Error::Physical(m) => Error::Physical(format!("{}: {m}", scene_path.display())),
+        e => e,
+    })
 }

@@ -1,0 +1,143 @@
+"""design, verify, field and export: the CLI's library calls, from Python."""
+
+import json
+import os
+import tempfile
+
+from . import _platefield
+from ._errors import NativeError, raised
+
+
+def _text(value):
+    """A keyword value as its command-line text (floats round-trip exactly)."""
+    return repr(value) if isinstance(value, float) else str(value)
+
+
+def flags(options):
+    """The command-line flags of keyword ``options``.
+
+    ``name=value`` is ``--name=value`` (``_`` written ``-``; one token, so
+    that a negative value is not read as a flag); ``True`` is the
+    bare flag and ``False`` or ``None`` leaves it out; a list of numbers or
+    names is one comma-separated value (``primitives=["sink", "squeeze"]``),
+    a list of lists repeats the flag (``shift=[(0.01, 0), (0, 0.01)]``).
+    """
+    argv = []
+    for key, value in options.items():
+        flag = "--" + key.replace("_", "-")
+        if value is None or value is False:
+            continue
+        if value is True:
+            argv.append(flag)
+        elif isinstance(value, (list, tuple)):
+            if value and all(isinstance(v, (list, tuple)) for v in value):
+                argv += [f"{flag}={','.join(_text(x) for x in v)}" for v in value]
+            else:
+                argv.append(f"{flag}={','.join(_text(x) for x in value)}")
+        else:
+            argv.append(f"{flag}={_text(value)}")
+    return argv
+
+
+def _is_path(x):
+    return isinstance(x, (str, os.PathLike))
+
+
+def _as_file(document, folder, name):
+    """(the path of ``document``, the temporary file it was written to or None):
+    itself if a path, else the dict written to ``folder/name``."""
+    if _is_path(document):
+        return os.fspath(document), None
+    if not isinstance(document, dict):
+        raise TypeError(f"expected a path or a dict, got {type(document).__name__}")
+    path = os.path.join(folder, name)
+    with open(path, "w", encoding="utf-8") as f:
+        json.dump(document, f)
+    return path, path
+
+
+def _run_json(function, native, document, file_name, out, options):
+    """Runs the command ``native`` on ``document`` with ``options`` and ``--json``.
+
+    Files go to ``out`` when given, else to a temporary folder removed after.
+    """
+    with tempfile.TemporaryDirectory(prefix="platefield-") as tmp:
+        path, temp_file = _as_file(document, tmp, file_name)
+        folder = os.fspath(out) if out is not None else os.path.join(tmp, "out")
+        argv = [function, path, "--out", folder] + flags(options)
+        try:
+            text = native(argv)
+        except NativeError as e:
+            raise raised(e, function, path, temp_file) from None
+    return json.loads(text)
+
+
+def design(target, method="auto", *, out=None, **options):
+    """Designs a plate motion for ``target``: ``platefield design TARGET --json``.
+
+    ``target`` is a target file's path or the target as a dict (the schema of
+    ``targets/*.json``). ``method`` is ``"auto"``, ``"sequence"``,
+    ``"synthesize"``, ``"mix"`` or ``"mirror"``. ``options`` are ``design``'s
+    flags (``polish_plays=50``, ``mode="budget"``, ``budget=0.1``,
+    ``quiet=True``, ...). The files ``design`` writes go to ``out/<name>/``
+    when ``out`` is given, else nowhere. The basis cache is
+    ``./.platefield-cache`` as for the CLI (``no_cache=True``: none).
+
+    Returns the schedule as a dict, equal to what ``design --json`` prints.
+
+    >>> import platefield
+    >>> s = platefield.design("targets/sink.json", method="sequence", quiet=True)
+    >>> s["played"]["shape_error"] < 0.2  # doctest: +SKIP
+    True
+    """
+    return _run_json(
+        "design", _platefield.design, target, "target.json", out,
+        dict(method=method, **options),
+    )
+
+
+def verify(schedule, *, out=None, **options):
+    """Closed-loop verification of ``schedule``: ``platefield verify SCHEDULE --json``.
+
+    ``schedule`` is a ``schedule.json`` path or a schedule dict (what
+    :func:`design` returns). ``options`` are ``verify``'s flags
+    (``points=5``, ``swarm=9``, ``friction="0.2:0.4:5"``, ``quiet=True``,
+    ...). Files go to ``out/<target>/verify/`` when ``out`` is given, else
+    nowhere. Returns the summary dict ``verify --json`` prints.
+    """
+    return _run_json(
+        "verify", _platefield.verify, schedule, "schedule.json", out, options,
+    )
+
+
+def field(scene, *, quiet=False, allow_long=False):
+    """The field of ``scene`` (a scene file's path or a dict): ``platefield field``.
+
+    Returns a dict of numpy arrays: ``fx``, ``fy`` (shape (ny, nx): m/s for
+    velocity fields, N/kg for force fields), ``valid`` (ny, nx booleans),
+    ``x`` (nx) and ``y`` (ny) in metres, so that ``fx[i, j]`` is the field at
+    ``(x[j], y[i])``; and ``kind`` (``"velocity"`` or ``"force"``).
+    """
+    path, text = (os.fspath(scene), None) if _is_path(scene) else (None, json.dumps(scene))
+    try:
+        return _platefield.field(path, text, quiet, allow_long)
+    except NativeError as e:
+        raise raised(e, "field", path) from None
+
+
+def export(schedule, rate=10000.0, *, steady_cycles=None):
+    """The schedule's six plate-centre signals at ``rate`` samples/s: ``platefield export``.
+
+    ``schedule`` is a ``schedule.json`` path or a schedule dict. Returns an
+    (n, 7) numpy array, the CSV's rows: t (s), a_x, a_y, a_z (m/s²),
+    alpha_x, alpha_y, alpha_z (rad/s²). ``steady_cycles``: as ``export
+    --steady-cycles`` (default the CLI's).
+    """
+    if steady_cycles is None:
+        steady_cycles = _platefield.default_steady_cycles()
+    path, text = (os.fspath(schedule), None) if _is_path(schedule) else (None, json.dumps(schedule))
+    try:
+        return _platefield.export(path, text, float(rate), int(steady_cycles))
+    except NativeError as e:
+        # A dict's errors name it "schedule" (the library's origin prefix).
+        raise raised(e, "export", path, None if path else "schedule") from None

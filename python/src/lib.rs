@@ -1,0 +1,214 @@
+//! The native module of the `platefield` Python package
+//! (`platefield._platefield`). Each function is the library call the
+//! command-line tool makes for the same job, so Python and the CLI give the
+//! same numbers: `design` and `verify` parse the CLI's own argument structs
+//! ([`platefield::cli::design::DesignArgs`],
+//! [`platefield::cli::verify::VerifyArgs`]) from the argument list the
+//! Python layer builds from keyword arguments and run them with `--json`;
+//! `field` and `export` return numpy arrays of what `field` and `export`
+//! print. The GIL is released while Rust works.
+
+use std::path::Path;
+
+use clap::error::{ContextKind, ContextValue, ErrorKind};
+use clap::Parser;
+use numpy::ndarray::Array2;
+use numpy::{IntoPyArray, PyArray1};
+use pyo3::create_exception;
+use pyo3::exceptions::PyException;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use platefield::cli::design::DesignArgs;
+use platefield::cli::verify::VerifyArgs;
+use platefield::field::Validity;
+use platefield::scene::Scene;
+use platefield::schedule::{export as schedule_export, Schedule};
+use platefield::Error;
+
+create_exception!(
+    _platefield,
+    NativeError,
+    PyException,
+    "An error of the Rust library: args (kind, path, message, suggestion); the Python layer raises it as platefield.Error's subclasses."
+);
+
+/// `platefield design ARGS --json`.
+#[derive(Parser)]
+#[command(name = "design")]
+struct DesignCommand {
+    #[command(flatten)]
+    args: DesignArgs,
+}
+
+/// `platefield verify ARGS --json`.
+#[derive(Parser)]
+#[command(name = "verify")]
+struct VerifyCommand {
+    #[command(flatten)]
+    args: VerifyArgs,
+}
+
+/// A library error as a [`NativeError`] (kind, JSON path or argument, message, "").
+fn library_error(e: Error) -> PyErr {
+    let (kind, path, message) = match e {
+        Error::Invalid { field, message } => ("invalid", field, message),
+        Error::Physical(m) => ("physical", String::new(), m),
+        Error::NotConverged(m) => ("not_converged", String::new(), m),
+        Error::Io { path, source } => ("io", path, source.to_string()),
+    };
+    NativeError::new_err((kind, path, message, String::new()))
+}
+
+/// A clap error as a [`NativeError`]: ("unknown", the argument, message,
+/// the similar argument clap suggests) for an argument no option has, else
+/// ("invalid", the argument, message, "").
+fn argument_error(e: &clap::Error) -> PyErr {
+    let text = |k| match e.get(k) {
+        Some(ContextValue::String(s)) => s.clone(),
+        Some(ContextValue::Strings(v)) => v.first().cloned().unwrap_or_default(),
+        _ => String::new(),
+    };
+    let kind = if e.kind() == ErrorKind::UnknownArgument {
+        "unknown"
+    } else {
+        "invalid"
+    };
+    let rendered = e.render().to_string();
+    let message = rendered
+        .lines()
+        .next()
+        .unwrap_or_default()
+        .trim_start_matches("error: ")
+        .to_string();
+    NativeError::new_err((
+        kind,
+        text(ContextKind::InvalidArg),
+        message,
+        text(ContextKind::SuggestedArg),
+    ))
+}
+
+/// `platefield design ARGV --json`: the schedule JSON it prints.
+#[pyfunction]
+fn design(py: Python<'_>, argv: Vec<String>) -> PyResult<String> {
+    let mut cmd = DesignCommand::try_parse_from(argv).map_err(|e| argument_error(&e))?;
+    cmd.args.json = true;
+    py.detach(|| cmd.args.run()).map_err(library_error)
+}
+
+/// `platefield verify ARGV --json`: the summary JSON it prints.
+#[pyfunction]
+fn verify(py: Python<'_>, argv: Vec<String>) -> PyResult<String> {
+    let mut cmd = VerifyCommand::try_parse_from(argv).map_err(|e| argument_error(&e))?;
+    cmd.args.json = true;
+    py.detach(|| cmd.args.run()).map_err(library_error)
+}
+
+/// A document (`what`: scene or schedule) from the file `path` by `load`,
+/// or from JSON `text` by `parse`: the library's own readers and checks.
+fn document<T>(
+    path: Option<&str>,
+    text: Option<&str>,
+    what: &str,
+    load: impl Fn(&Path) -> Result<T, Error>,
+    parse: impl Fn(&str) -> Result<T, Error>,
+) -> Result<T, Error> {
+    match (path, text) {
+        (Some(p), _) => load(Path::new(p)),
+        (None, Some(t)) => parse(t),
+        (None, None) => Err(Error::invalid(what, "give a path or a dict")),
+    }
+}
+
+/// The field `platefield field` computes for a scene: a dict of numpy
+/// arrays `fx`, `fy` (ny × nx; m/s, or m/s² for force fields), `valid` (ny × nx booleans),
+/// `x` (nx), `y` (ny) in metres, and `kind`.
+#[pyfunction]
+#[pyo3(signature = (path, text, quiet, allow_long))]
+fn field<'py>(
+    py: Python<'py>,
+    path: Option<String>,
+    text: Option<String>,
+    quiet: bool,
+    allow_long: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    let computed = py.detach(|| {
+        let s = document(
+            path.as_deref(),
+            text.as_deref(),
+            "scene",
+            Scene::load,
+            Scene::from_json_str,
+        )?;
+        let origin = path.as_deref().unwrap_or("scene");
+        platefield::cli::field::compute(&s, Path::new(origin), quiet, allow_long)
+    });
+    let f = computed.map_err(library_error)?;
+    let [nx, ny] = f.grid.n;
+    let grid = |values: Vec<f64>| Array2::from_shape_vec((ny, nx), values);
+    let fx = grid(f.vectors.iter().map(|v| v[0]).collect());
+    let fy = grid(f.vectors.iter().map(|v| v[1]).collect());
+    let valid = Array2::from_shape_vec(
+        (ny, nx),
+        f.validity.iter().map(|v| *v == Validity::Ok).collect(),
+    );
+    let shape = |e: numpy::ndarray::ShapeError| PyException::new_err(e.to_string());
+    let d = PyDict::new(py);
+    d.set_item("fx", fx.map_err(shape)?.into_pyarray(py))?;
+    d.set_item("fy", fy.map_err(shape)?.into_pyarray(py))?;
+    d.set_item("valid", valid.map_err(shape)?.into_pyarray(py))?;
+    d.set_item("x", PyArray1::from_vec(py, f.grid.xs()))?;
+    d.set_item("y", PyArray1::from_vec(py, f.grid.ys()))?;
+    d.set_item("kind", format!("{:?}", f.kind).to_lowercase())?;
+    Ok(d)
+}
+
+/// `platefield export` as an (n, 7) array: t (s), then a_x, a_y, a_z
+/// (m/s²) and α_x, α_y, α_z (rad/s²) of the plate centre, one row per
+/// sample, the rows of the CSV before formatting.
+#[pyfunction]
+#[pyo3(signature = (path, text, rate, steady_cycles))]
+fn export<'py>(
+    py: Python<'py>,
+    path: Option<String>,
+    text: Option<String>,
+    rate: f64,
+    steady_cycles: u32,
+) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
+    let exported = py.detach(|| {
+        let s = document(
+            path.as_deref(),
+            text.as_deref(),
+            "schedule",
+            Schedule::load,
+            |t| Schedule::from_json_str(t, "schedule"),
+        )?;
+        schedule_export::export(&s, rate, steady_cycles)
+    });
+    let e = exported.map_err(library_error)?;
+    let dt = e.samples.dt;
+    let flat: Vec<f64> = (e.samples.samples.iter().enumerate())
+        .flat_map(|(k, a)| std::iter::once(k as f64 * dt).chain(a.iter().copied()))
+        .collect();
+    let rows = Array2::from_shape_vec((e.samples.samples.len(), 7), flat)
+        .map_err(|e| PyException::new_err(e.to_string()))?;
+    Ok(rows.into_pyarray(py))
+}
+
+/// The default steady cycles of `export` for a six-signal motion.
+#[pyfunction]
+fn default_steady_cycles() -> u32 {
+    schedule_export::DEFAULT_STEADY_CYCLES
+}
+
+#[pymodule]
+fn _platefield(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(design, m)?)?;
+    m.add_function(wrap_pyfunction!(verify, m)?)?;
+    m.add_function(wrap_pyfunction!(field, m)?)?;
+    m.add_function(wrap_pyfunction!(export, m)?)?;
+    m.add_function(wrap_pyfunction!(default_steady_cycles, m)?)?;
+    m.add("NativeError", m.py().get_type::<NativeError>())?;
+    Ok(())
+}
