@@ -153,17 +153,7 @@ pub fn turned_mirror_share(
         n: [7, 7],
         ..*region
     };
-    let objective = Objective::new(
-        &target.field,
-        coarse,
-        limits,
-        settings,
-        0.04,
-        1.0,
-        usize::MAX,
-        None,
-        &progress,
-    );
+    let objective = Objective::unbounded(&target.field, coarse, limits, settings, 0.04, &progress);
     let mirror = Coefficients::from_signals(&motion.mirrored_y(), limits.harmonics);
     let steps = (360.0 / TURN_SCAN_DEG).round() as usize;
     let at = |phi: f64| objective.evaluate(&objective.layout().to_vec(&shifted(&mirror, phi)));

@@ -340,15 +340,12 @@ pub fn polish(
         n: options.coarse,
         ..*region
     };
-    let objective = Objective::new(
+    let objective = Objective::unbounded(
         &target.field,
         coarse,
         limits,
         settings,
         options.shape_budget,
-        1.0,
-        usize::MAX,
-        None,
         &progress,
     )
     .with_robust(options.robust);

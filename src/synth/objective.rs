@@ -194,6 +194,30 @@ impl<'a> Objective<'a> {
         }
     }
 
+    /// The objective for `field` on `grid` without a budget or deadline and
+    /// with strength scale 1: a yardstick that evaluates motions for a
+    /// caller's own search (the played polish, the turned mirror).
+    pub fn unbounded(
+        field: &FieldSpec,
+        grid: Grid,
+        limits: &'a ShakerLimits,
+        settings: &'a FieldSettings,
+        shape_budget: f64,
+        progress: &'a Progress,
+    ) -> Objective<'a> {
+        Objective::new(
+            field,
+            grid,
+            limits,
+            settings,
+            shape_budget,
+            1.0,
+            usize::MAX,
+            None,
+            progress,
+        )
+    }
+
     /// This objective, also spent once `rule` says its best cost has
     /// stopped improving ([`super::stall`]).
     pub fn with_stall(mut self, rule: Option<StallRule>) -> Self {
