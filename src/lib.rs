@@ -117,6 +117,7 @@ pub mod fit;
 pub mod input;
 pub mod motion;
 pub mod output;
+pub mod part;
 pub mod play;
 pub mod plot;
 pub mod progress;
