@@ -120,6 +120,7 @@ pub mod output;
 pub mod part;
 pub mod play;
 pub mod plot;
+pub mod pose;
 pub mod progress;
 pub mod report;
 pub mod request;
