@@ -3,8 +3,10 @@
 //! poses and their stability ([`equilibria`]), and the basins of the stable
 //! ones ([`settle`]).
 
+mod check;
 mod equilibria;
 mod lifted;
 
+pub use check::{check_twist, Measure, TwistCheck};
 pub use equilibria::{equilibria, settle, wrap, Equilibrium, Region};
 pub use lifted::{GridField, LiftedField, PointField, Pose, Twist};
