@@ -6,7 +6,9 @@
 mod check;
 mod equilibria;
 mod lifted;
+mod run;
 
 pub use check::{check_twist, Measure, TwistCheck};
 pub use equilibria::{equilibria, settle, wrap, Equilibrium, Region};
 pub use lifted::{GridField, LiftedField, PointField, Pose, Twist};
+pub use run::{analyse, PoseAnalysis, MAX_DROPS};
