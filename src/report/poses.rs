@@ -86,6 +86,7 @@ pub fn picture(part: &Part, a: &PoseAnalysis) -> String {
         num((x1 - x0) * scale),
         num((y1 - y0) * scale)
     );
+    let mut labels = 0;
     for (e, b) in a.equilibria.iter().zip(&a.basins) {
         let pts: Vec<String> = part
             .placed(e.pose.r, e.pose.theta)
@@ -99,12 +100,27 @@ pub fn picture(part: &Part, a: &PoseAnalysis) -> String {
         };
         let _ = writeln!(s, "<polygon points=\"{}\" {style}/>", pts.join(" "));
         if e.stable {
-            let (lx, ly) = (px(e.pose.r.x), py(e.pose.r.y));
+            // The body x axis as a line to a dot, so θ and θ + 180° differ.
+            let tip = e.pose.r
+                + crate::dynamics::V2::new(e.pose.theta.cos(), e.pose.theta.sin()) * part.radius();
             let _ = writeln!(
                 s,
-                "<text x=\"{}\" y=\"{}\" fill=\"#1f77b4\">θ {:.1}°: {:.0} %</text>",
-                num(lx + 6.0),
-                num(ly - 6.0 - 14.0 * (e.pose.theta.to_degrees().abs() / 180.0).round()),
+                "<line x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"#1f77b4\"/><circle cx=\"{}\" cy=\"{}\" r=\"3\" fill=\"#1f77b4\"/>",
+                num(px(e.pose.r.x)),
+                num(py(e.pose.r.y)),
+                num(px(tip.x)),
+                num(py(tip.y)),
+                num(px(tip.x)),
+                num(py(tip.y))
+            );
+            labels += 1;
+            let _ = writeln!(
+                s,
+                "<text x=\"{}\" y=\"{}\" fill=\"#1f77b4\">stable at ({:.1}, {:.1}) mm, θ {:.1}° (dot: body x axis): basin {:.0} %</text>",
+                num(pad + 6.0),
+                num(pad + 16.0 * labels as f64),
+                1e3 * e.pose.r.x,
+                1e3 * e.pose.r.y,
                 e.pose.theta.to_degrees(),
                 100.0 * b
             );
