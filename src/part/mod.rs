@@ -254,7 +254,7 @@ fn check_polygon(raw: &[[f64; 2]]) -> Result<Vec<V2>> {
         ));
     }
     let area = signed_area(&v).abs();
-    if !(area > ZERO_AREA * diameter(&v).powi(2)) {
+    if area <= ZERO_AREA * diameter(&v).powi(2) {
         return Err(Error::invalid(
             "part.polygon",
             format!(
