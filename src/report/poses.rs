@@ -9,8 +9,8 @@ use crate::part::Part;
 use crate::plot::{escape, num};
 use crate::pose::PoseAnalysis;
 
-/// `{"part", "equilibria": [{"x", "y", "theta_deg", "stable", "basin"}],
-/// "drops", "unsettled", "basins_by"}` (positions in m).
+/// `{"part", "support", "equilibria": [{"x", "y", "theta_deg", "stable",
+/// "basin", "rates"}], "drops", "unsettled", "basins_by"}` (positions in m).
 pub fn to_json(part: &Part, a: &PoseAnalysis) -> Value {
     let eq: Vec<Value> = a
         .equilibria
@@ -27,8 +27,16 @@ pub fn to_json(part: &Part, a: &PoseAnalysis) -> Value {
             })
         })
         .collect();
+    let support = match part.support {
+        crate::part::Support::Unknown { .. } => {
+            "unknown: these are the uniform support's equilibria; the bounds over admissible distributions are not computed"
+        }
+        crate::part::Support::Points { .. } => "listed points",
+        crate::part::Support::Uniform { .. } => "uniform",
+    };
     json!({
         "part": part.name,
+        "support": support,
         "equilibria": eq,
         "drops": a.drops,
         "unsettled": a.unsettled,
