@@ -78,6 +78,21 @@ enum Command {
         #[command(flatten)]
         long: AllowLong,
     },
+    /// Equilibrium poses of a part with planar extent in a target's or scene's field, their stability and basins.
+    Poses {
+        /// The part file (targets/parts/*.json).
+        part: PathBuf,
+        /// A target (its requested field) or a scene (its velocity field).
+        source: PathBuf,
+        /// Random drops for the basin fractions.
+        #[arg(long, default_value_t = 200)]
+        drops: usize,
+        /// Write poses.json and poses.svg into this folder.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        #[command(flatten)]
+        json: Json,
+    },
     /// Study: steady-state velocity of a point part on the paper's one-axis LineSink shaker (section II).
     Linesink(cli::linesink::LinesinkArgs),
     /// Study: regenerate the section II results: Fig. 3, time-to-travel, convergence.
@@ -223,6 +238,13 @@ fn run(cli: Cli) -> Result<String> {
             quiet.quiet,
             long.allow_long,
         ),
+        Command::Poses {
+            part,
+            source,
+            drops,
+            out,
+            json,
+        } => cli::poses::run(&part, &source, drops, json.json, out.as_deref()),
         Command::Linesink(args) => args.run(),
         Command::Reproduce(o) => studies::reproduce::linesink_results(&o.out),
         Command::Primitives {

@@ -5,6 +5,7 @@
 pub mod design;
 pub mod field;
 pub mod linesink;
+pub mod poses;
 pub mod verify;
 
 use clap::Args;

@@ -78,7 +78,7 @@ pub use state::{CycleOutcome, PartState, TrajectoryPoint, V2};
 pub const ENGINE_REVISION: u32 = 14;
 pub use kinematics_table::KinematicsTable;
 pub use planar::{
-    PlanarOutcome, PlanarSample, PlanarSimulator, PlanarState, Plate, Rectangle,
+    PlanarBody, PlanarOutcome, PlanarSample, PlanarSimulator, PlanarState, Plate, Rectangle,
     MAX_POINTS_PER_SIDE, PLANAR_REFINE_DEPTH, PLANAR_STEPS_PER_CYCLE, REFINE_CHANGE,
 };
 pub use steady::{SteadyFailure, SteadyState};

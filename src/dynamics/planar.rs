@@ -1,8 +1,12 @@
-//! Planar parts: a uniform rectangle moving in (x, y, θ) on the plate. The
+//! Planar parts: a rigid body of weighted support points ([`PlanarBody`]:
+//! a uniform rectangle, or any part file's, `crate::part`) moving in
+//! (x, y, θ) on the plate. The
 //! paper's observation it must reproduce: in a LineSink field a rectangle
 //! moves to the sink line and aligns its long side with it.
 //!
-//! **Model.** The rectangle (length L along its body x axis, width W) is
+//! **Model.** Written for the uniform rectangle; a general body replaces
+//! the mass m/K of point j by c_j m/K (relative weights c_j of mean 1,
+//! their centroid the body origin). The rectangle (length L along its body x axis, width W) is
 //! sampled by K support points at the cell centres of a regular nx × ny grid,
 //! body offsets ρ_j, each carrying the mass m/K (uniform density; each also
 //! carries the normal load its own mass needs, below). The pose is the
@@ -189,6 +193,98 @@ impl Rectangle {
     }
 }
 
+/// A rigid planar body as the simulator sees it: support points ρ_j (body
+/// frame, m) with relative weights c_j ≥ 0 of mean 1 (point j carries the
+/// mass fraction c_j/K and the normal load of that mass). The weighted
+/// centroid Σ c_j ρ_j is the body origin (the centre of mass), so that the
+/// mass matrix is diag(m, m, I) with I/m = Σ c_j |ρ_j|²/K.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlanarBody {
+    points: Vec<V2>,
+    weights: Vec<f64>,
+}
+
+impl PlanarBody {
+    /// A body from support points and non-negative weights (not all zero;
+    /// any scale), moved so that its weighted centroid is the origin.
+    /// Returns the body and the centroid it was moved by (in the input
+    /// frame). Inputs are assumed validated (see `crate::part`).
+    ///
+    /// ```
+    /// use platefield::dynamics::{PlanarBody, V2};
+    /// let (body, c) = PlanarBody::centred(&[V2::new(0.0, 0.0), V2::new(0.02, 0.0)], &[1.0, 3.0]);
+    /// assert!((c.x - 0.015).abs() < 1e-15);
+    /// assert!((body.points()[0].x + 0.015).abs() < 1e-15);
+    /// assert_eq!(body.weights(), &[0.5, 1.5]);
+    /// ```
+    pub fn centred(points: &[V2], weights: &[f64]) -> (PlanarBody, V2) {
+        let total: f64 = weights.iter().sum();
+        let k = points.len() as f64;
+        let c = points
+            .iter()
+            .zip(weights)
+            .fold(V2::zeros(), |acc, (p, w)| acc + p * *w)
+            / total;
+        let body = PlanarBody {
+            points: points.iter().map(|p| p - c).collect(),
+            weights: weights.iter().map(|w| w * k / total).collect(),
+        };
+        (body, c)
+    }
+
+    /// A point part: one support point at the origin.
+    pub fn point() -> PlanarBody {
+        PlanarBody {
+            points: vec![V2::zeros()],
+            weights: vec![1.0],
+        }
+    }
+
+    /// Support points ρ_j (body frame, weighted centroid at the origin).
+    pub fn points(&self) -> &[V2] {
+        &self.points
+    }
+
+    /// Relative weights c_j (mean 1).
+    pub fn weights(&self) -> &[f64] {
+        &self.weights
+    }
+
+    /// True for a single support point (no lever arms, no inertia).
+    pub fn is_point(&self) -> bool {
+        self.points.len() == 1
+    }
+
+    /// Sampled moment of inertia per unit mass I/m = Σ c_j |ρ_j|²/K (0 for
+    /// a point).
+    pub fn inertia_per_mass(&self) -> f64 {
+        if self.is_point() {
+            return 0.0;
+        }
+        self.points
+            .iter()
+            .zip(&self.weights)
+            .map(|(r, c)| r.norm_squared() * c)
+            .sum::<f64>()
+            / self.points.len() as f64
+    }
+}
+
+impl From<&Rectangle> for PlanarBody {
+    /// The rectangle's grid of equal weights (its centroid is the origin
+    /// by symmetry, so nothing is moved).
+    fn from(rect: &Rectangle) -> PlanarBody {
+        if rect.is_point() {
+            return PlanarBody::point();
+        }
+        let points = rect.support_points();
+        PlanarBody {
+            weights: vec![1.0; points.len()],
+            points,
+        }
+    }
+}
+
 /// State of a planar part.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PlanarState {
@@ -286,7 +382,7 @@ pub struct PlanarSimulator<'a> {
     step: f64,
     period: f64,
     breakpoints: Vec<f64>,
-    points: Vec<V2>,
+    body: PlanarBody,
     inertia: f64,
     refine_depth: u32,
 }
@@ -302,14 +398,34 @@ impl<'a> PlanarSimulator<'a> {
         model: Model,
         step: f64,
     ) -> PlanarSimulator<'a> {
+        PlanarSimulator::for_body(rect.into(), plate, friction, gravity, model, step)
+    }
+
+    /// A simulator of any rigid body of support points ([`PlanarBody`],
+    /// e.g. a part file's, `crate::part`).
+    ///
+    /// ```
+    /// use platefield::dynamics::{Friction, Model, PlanarBody, PlanarSimulator, PlanarState, Plate, V2};
+    /// let (body, _) = PlanarBody::centred(
+    ///     &[V2::new(-0.01, 0.0), V2::new(0.01, 0.0), V2::new(0.0, 0.01)],
+    ///     &[1.0, 1.0, 2.0],
+    /// );
+    /// let sim = PlanarSimulator::for_body(body, Plate::Rest, Friction::uniform(0.3), 9.81, Model::FULL, 1e-4);
+    /// let mut s = PlanarState::slipping(V2::zeros(), 0.0, V2::new(0.01, 0.0), 0.0);
+    /// sim.advance(0.0, 0.01, &mut s, (V2::zeros(), 0.0), None).unwrap();
+    /// assert!(s.stuck); // sliding to rest on a plate at rest
+    /// ```
+    pub fn for_body(
+        body: PlanarBody,
+        plate: Plate<'a>,
+        friction: Friction,
+        gravity: f64,
+        model: Model,
+        step: f64,
+    ) -> PlanarSimulator<'a> {
         let (period, breakpoints) = match plate {
             Plate::Moving(m) => (m.period(), m.breakpoints()),
             Plate::Rest => (f64::INFINITY, Vec::new()),
-        };
-        let points = if rect.is_point() {
-            vec![V2::zeros()]
-        } else {
-            rect.support_points()
         };
         PlanarSimulator {
             plate,
@@ -319,12 +435,8 @@ impl<'a> PlanarSimulator<'a> {
             step,
             period,
             breakpoints,
-            inertia: if rect.is_point() {
-                0.0
-            } else {
-                rect.inertia_per_mass()
-            },
-            points,
+            inertia: body.inertia_per_mass(),
+            body,
             refine_depth: PLANAR_REFINE_DEPTH,
         }
     }
@@ -397,7 +509,7 @@ impl<'a> PlanarSimulator<'a> {
             return Ok(out);
         }
         let edges = super::piece_edges(t0, t1, self.period, &self.breakpoints);
-        let mut contacts = Vec::with_capacity(self.points.len());
+        let mut contacts = Vec::with_capacity(self.body.points.len());
         for w in edges.windows(2) {
             let (a, b) = (w[0], w[1]);
             let n = ((b - a) / self.step - 1e-9).ceil().max(1.0) as usize;
@@ -486,13 +598,13 @@ impl<'a> PlanarSimulator<'a> {
         let tm = t + half;
         let k = self.kin(tm, piece);
         let (sin, cos) = theta_geo.sin_cos();
-        let weight = 1.0 / self.points.len() as f64;
+        let weight = 1.0 / self.body.points.len() as f64;
         let sqrt_i = self.inertia.sqrt();
         let mut force = V2::zeros();
         let mut torque = 0.0;
         let mut lowest = (f64::INFINITY, V2::zeros());
         contacts.clear();
-        for rho in &self.points {
+        for (rho, c) in self.body.points.iter().zip(&self.body.weights) {
             let arm = V2::new(cos * rho.x - sin * rho.y, sin * rho.x + cos * rho.y);
             let perp = V2::new(-arm.y, arm.x);
             let p = r_geo + arm;
@@ -501,11 +613,12 @@ impl<'a> PlanarSimulator<'a> {
             if n < lowest.0 {
                 lowest = (n, p);
             }
-            force += free;
-            torque += arm.perp(&free);
+            // c = 1 (a uniform body) multiplies exactly.
+            force += free * *c;
+            torque += arm.perp(&free) * *c;
             contacts.push(Contact {
                 lever: if sqrt_i > 0.0 { perp / sqrt_i } else { perp },
-                weight: h * n * weight,
+                weight: h * n * weight * *c,
             });
         }
         if lowest.0 < 0.0 {
@@ -590,6 +703,46 @@ mod tests {
             (0.02f64.powi(2) * (1.0 - 1.0 / 256.0) + 0.005f64.powi(2) * (1.0 - 1.0 / 16.0)) / 12.0;
         assert!((r.inertia_per_mass() - closed).abs() <= 1e-12 * closed);
         assert!(Rectangle::point().is_point() && Rectangle::point().validate("p").is_ok());
+    }
+
+    /// Weights are multiplicities: a point of weight 2 acts as two equal
+    /// points at the same place (a slipping, spinning body sliding to rest
+    /// on a plate at rest, compared step for step to round-off).
+    #[test]
+    fn weight_is_multiplicity() {
+        let (a, b, c) = (
+            V2::new(0.01, 0.0),
+            V2::new(-0.01, 0.002),
+            V2::new(0.0, -0.006),
+        );
+        let (weighted, o1) = PlanarBody::centred(&[a, b, c], &[2.0, 1.0, 1.0]);
+        let (copies, o2) = PlanarBody::centred(&[a, a, b, c], &[1.0; 4]);
+        assert!((o1 - o2).norm() < 1e-18);
+        assert!((weighted.inertia_per_mass() - copies.inertia_per_mass()).abs() < 1e-18);
+        let run = |body: PlanarBody| {
+            let sim = PlanarSimulator::for_body(
+                body,
+                Plate::Rest,
+                Friction::uniform(0.3),
+                9.81,
+                Model::FULL,
+                1e-4,
+            );
+            let mut s = PlanarState::slipping(V2::zeros(), 0.2, V2::new(0.02, -0.01), 3.0);
+            sim.advance(0.0, 0.005, &mut s, (V2::zeros(), 0.2), None)
+                .unwrap();
+            s
+        };
+        let (p, q) = (run(weighted), run(copies));
+        assert!(!p.stuck && p.omega.abs() > 0.1, "{p:?}");
+        assert!(
+            (p.r - q.r).norm() < 1e-15 && (p.theta - q.theta).abs() < 1e-12,
+            "{p:?} {q:?}"
+        );
+        assert!(
+            (p.u - q.u).norm() < 1e-12 && (p.omega - q.omega).abs() < 1e-9,
+            "{p:?} {q:?}"
+        );
     }
 
     /// A point part keeps θ and ω = 0 whatever it is given.

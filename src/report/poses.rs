@@ -1,0 +1,147 @@
+//! The `poses` command's outputs: the JSON of a [`PoseAnalysis`], a
+//! picture of the part at each equilibrium with its basin, and a summary.
+
+use std::fmt::Write as _;
+
+use serde_json::{json, Value};
+
+use crate::part::Part;
+use crate::plot::{escape, num};
+use crate::pose::PoseAnalysis;
+
+/// `{"part", "support", "equilibria": [{"x", "y", "theta_deg", "stable",
+/// "basin", "rates"}], "drops", "unsettled", "basins_by"}` (positions in m).
+pub fn to_json(part: &Part, a: &PoseAnalysis) -> Value {
+    let eq: Vec<Value> = a
+        .equilibria
+        .iter()
+        .zip(&a.basins)
+        .map(|(e, b)| {
+            json!({
+                "x": e.pose.r.x,
+                "y": e.pose.r.y,
+                "theta_deg": e.pose.theta.to_degrees(),
+                "stable": e.stable,
+                "basin": b,
+                "rates": e.rates,
+            })
+        })
+        .collect();
+    let support = match part.support {
+        crate::part::Support::Unknown { .. } => {
+            "unknown: these are the uniform support's equilibria; the bounds over admissible distributions are not computed"
+        }
+        crate::part::Support::Points { .. } => "listed points",
+        crate::part::Support::Uniform { .. } => "uniform",
+    };
+    json!({
+        "part": part.name,
+        "support": support,
+        "equilibria": eq,
+        "drops": a.drops,
+        "unsettled": a.unsettled,
+        "basins_by": "drops integrated along the lifted field (pose::settle)",
+    })
+}
+
+/// One line per equilibrium.
+pub fn summary(part: &Part, a: &PoseAnalysis) -> String {
+    let mut s = format!(
+        "{}: {} equilibria ({} stable), {} drops, {:.1} % unsettled\n",
+        part.name,
+        a.equilibria.len(),
+        a.equilibria.iter().filter(|e| e.stable).count(),
+        a.drops,
+        100.0 * a.unsettled
+    );
+    for (e, b) in a.equilibria.iter().zip(&a.basins) {
+        let _ = writeln!(
+            s,
+            "  x {:+.2} mm  y {:+.2} mm  θ {:+7.2}°  {}  basin {:.1} %",
+            1e3 * e.pose.r.x,
+            1e3 * e.pose.r.y,
+            e.pose.theta.to_degrees(),
+            if e.stable { "stable  " } else { "unstable" },
+            100.0 * b
+        );
+    }
+    s
+}
+
+/// The region with the part drawn at every equilibrium (stable: filled,
+/// labelled with θ and its basin; unstable: dashed outline).
+pub fn picture(part: &Part, a: &PoseAnalysis) -> String {
+    let (w, h, pad) = (520.0, 520.0, 40.0);
+    let (x0, x1, y0, y1) = (a.region.x[0], a.region.x[1], a.region.y[0], a.region.y[1]);
+    let scale = ((w - 2.0 * pad) / (x1 - x0)).min((h - 2.0 * pad) / (y1 - y0));
+    let px = |x: f64| pad + (x - x0) * scale;
+    let py = |y: f64| h - pad - (y - y0) * scale;
+    let mut s = format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\" font-family=\"sans-serif\" font-size=\"12\">\n"
+    );
+    let _ = writeln!(
+        s,
+        "<text x=\"{}\" y=\"20\" text-anchor=\"middle\">{}: equilibrium poses, basin fraction of {} drops</text>",
+        num(w / 2.0),
+        escape(&part.name),
+        a.drops
+    );
+    let _ = writeln!(
+        s,
+        "<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"none\" stroke=\"#888\"/>",
+        num(px(x0)),
+        num(py(y1)),
+        num((x1 - x0) * scale),
+        num((y1 - y0) * scale)
+    );
+    let mut labels = 0;
+    for (e, b) in a.equilibria.iter().zip(&a.basins) {
+        let pts: Vec<String> = part
+            .placed(e.pose.r, e.pose.theta)
+            .iter()
+            .map(|p| format!("{},{}", num(px(p.x)), num(py(p.y))))
+            .collect();
+        let style = if e.stable {
+            "fill=\"#1f77b4\" fill-opacity=\"0.35\" stroke=\"#1f77b4\""
+        } else {
+            "fill=\"none\" stroke=\"#d62728\" stroke-dasharray=\"4 3\""
+        };
+        let _ = writeln!(s, "<polygon points=\"{}\" {style}/>", pts.join(" "));
+        if e.stable {
+            // The body x axis as a line to a dot, so θ and θ + 180° differ.
+            let tip = e.pose.r
+                + crate::dynamics::V2::new(e.pose.theta.cos(), e.pose.theta.sin()) * part.radius();
+            let _ = writeln!(
+                s,
+                "<line x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"#1f77b4\"/><circle cx=\"{}\" cy=\"{}\" r=\"3\" fill=\"#1f77b4\"/>",
+                num(px(e.pose.r.x)),
+                num(py(e.pose.r.y)),
+                num(px(tip.x)),
+                num(py(tip.y)),
+                num(px(tip.x)),
+                num(py(tip.y))
+            );
+            labels += 1;
+            let _ = writeln!(
+                s,
+                "<text x=\"{}\" y=\"{}\" fill=\"#1f77b4\">stable at ({:.1}, {:.1}) mm, θ {:.1}° (dot: body x axis): basin {:.0} %</text>",
+                num(pad + 6.0),
+                num(pad + 16.0 * labels as f64),
+                1e3 * e.pose.r.x,
+                1e3 * e.pose.r.y,
+                e.pose.theta.to_degrees(),
+                100.0 * b
+            );
+        }
+    }
+    let _ = writeln!(
+        s,
+        "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\" fill=\"#555\">filled: stable (θ, basin); dashed: unstable; box: region {} × {} mm</text>",
+        num(w / 2.0),
+        num(h - 12.0),
+        num(1e3 * (x1 - x0)),
+        num(1e3 * (y1 - y0))
+    );
+    s.push_str("</svg>\n");
+    s
+}

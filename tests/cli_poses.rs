@@ -1,0 +1,100 @@
+//! `platefield poses`: bad part files exit 2 naming the JSON path; the JSON
+//! output of a rectangle in a target's elliptic sink.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_platefield"))
+}
+
+fn write(dir: &std::path::Path, name: &str, text: &str) -> PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+fn ellipse(dir: &std::path::Path, half: f64) -> PathBuf {
+    write(
+        dir,
+        "ellipse.json",
+        &format!(
+            r#"{{"name": "ellipse", "grid": {{"x": [-{half}, {half}], "y": [-{half}, {half}], "n": [21, 21]}},
+                "field": {{"kind": "sum", "terms": [
+                  {{"field": {{"kind": "line_sink", "angle": -40, "strength": 1}}}},
+                  {{"field": {{"kind": "line_sink", "angle": 50, "strength": 0.3}}}}]}}}}"#
+        ),
+    )
+}
+
+#[test]
+fn bad_parts_exit_2_naming_the_path() {
+    let dir = std::env::temp_dir().join(format!("pf_poses_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let target = ellipse(&dir, 0.04);
+    let small = dir.join("small");
+    std::fs::create_dir_all(&small).unwrap();
+    let small_target = ellipse(&small, 0.005);
+    let cases = [
+        (r#"{"name": "x", "polygon": [[0, 0], [0.01, 0.01], [0.01, 0], [0, 0.01]]}"#, &target, "part.polygon: is not a simple polygon"),
+        (r#"{"name": "x", "polygon": [[0, 0], [0.01, 0], [0.02, 1e-12]]}"#, &target, "part.polygon: has zero area"),
+        (r#"{"name": "x", "polygon": [[0, 0], [0.01, 0]]}"#, &target, "part.polygon: needs at least 3 vertices"),
+        (r#"{"name": "x", "polygon": [[0, 0], [0.01, 0], [0, 0.01]], "support": {"points": {"points": [[0.02, 0.02]]}}}"#, &target, "part.support.points.points[0]"),
+        (r#"{"name": "x", "polygon": [[0, 0], [0.01, 0], [0, 0.01]], "support": {"points": {"points": [[0.001, 0.001]], "weights": [-1]}}}"#, &target, "part.support.points.weights[0]"),
+        (r#"{"name": "x", "polygon": [[0, 0], [0.01, 0], [0, 0.01]], "support": {"points": {"points": [[0.001, 0.001]], "weights": [0]}}}"#, &target, "part.support.points.weights: are all zero"),
+        (r#"{"name": "x", "polygon": [[-0.01, -0.0025], [0.01, -0.0025], [0.01, 0.0025], [-0.01, 0.0025]]}"#, &small_target, "part.polygon: the part (2.0616e-2 m across) is larger than the target region target.grid"),
+    ];
+    for (json, source, want) in cases {
+        let part = write(&dir, "part.json", json);
+        let out = bin().arg("poses").arg(&part).arg(source).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{json}: {err}");
+        assert!(err.contains(want), "{json}\n got: {err}\nwant: {want}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The rectangle in an elliptic sink turned to −40°: stable at −40° and
+/// 140°, unstable at 50° and −130°, within 1°; the two basins hold all 200
+/// drops, each 50 ± 10 %.
+#[test]
+fn json_lists_the_equilibria() {
+    let dir = std::env::temp_dir().join(format!("pf_poses_json_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let target = ellipse(&dir, 0.04);
+    let out = bin()
+        .args(["poses", "targets/parts/rectangle.json"])
+        .arg(&target)
+        .args(["--json", "--drops", "200"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let eq = v["equilibria"].as_array().unwrap();
+    let got: Vec<(i64, bool)> = eq
+        .iter()
+        .map(|e| {
+            (
+                e["theta_deg"].as_f64().unwrap().round() as i64,
+                e["stable"].as_bool().unwrap(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        got,
+        vec![(-130, false), (-40, true), (50, false), (140, true)]
+    );
+    for e in eq {
+        let t = e["theta_deg"].as_f64().unwrap();
+        assert!((t - t.round()).abs() < 1.0 && e["x"].as_f64().unwrap().abs() < 1e-9);
+        let b = e["basin"].as_f64().unwrap();
+        if e["stable"].as_bool().unwrap() {
+            assert!((0.4..=0.6).contains(&b), "{b}");
+        }
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
