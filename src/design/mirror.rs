@@ -118,7 +118,7 @@ pub fn mirror_share(
 
 /// Phases (degrees) the turned mirror image is tried at before its
 /// calibration: every 15°.
-const TURN_SCAN_DEG: f64 = 15.0;
+pub const TURN_SCAN_DEG: f64 = 15.0;
 
 /// The turned mirror-image time-share, for a target that no reflection
 /// maps to itself (a whirlpool): the synthesized motion of `synthesized`,
