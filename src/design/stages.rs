@@ -158,6 +158,13 @@ pub(crate) struct FitStage {
 /// good within [`COMPACT_SLACK`] ([`compact_stage`]). Consumes the
 /// [`BasisStage`]; produces the basis, the fractions and their field.
 pub(crate) fn fit_stage(stage: &BasisStage, opts: &DesignOptions) -> Result<FitStage> {
+    fit_basis(assemble_stage(stage, opts)?, &stage.sampled, opts)
+}
+
+/// The basis columns of [`fit_stage`] at the target points: the library
+/// rotated and shifted, the options' motions appended, columns over the
+/// shaker limits left out; an error when none is usable.
+pub(crate) fn assemble_stage(stage: &BasisStage, opts: &DesignOptions) -> Result<DesignBasis> {
     let sampled = &stage.sampled;
     let mut basis = basis::assemble(
         &stage.library,
@@ -179,16 +186,24 @@ pub(crate) fn fit_stage(stage: &BasisStage, opts: &DesignOptions) -> Result<FitS
             basis.excluded.first().map_or(String::new(), |e| format!("{}: {}", e.label, e.reason))
         )));
     }
-    let m = basis.columns.len();
-    let a = DMatrix::from_fn(2 * sampled.len(), m, |i, j| {
-        let n = sampled.len();
+    Ok(basis)
+}
+
+/// The basis matrix of `basis` at the `n` points of `sampled`: column j is
+/// basis field j stacked as [x…, y…].
+pub(crate) fn basis_matrix(basis: &DesignBasis, n: usize) -> DMatrix<f64> {
+    DMatrix::from_fn(2 * n, basis.columns.len(), |i, j| {
         let v = basis.columns[j].vectors[i % n];
         if i < n {
             v[0]
         } else {
             v[1]
         }
-    });
+    })
+}
+
+/// The weighted target of `sampled` and its row weights, stacked.
+pub(crate) fn stacked_target(sampled: &SampledTarget) -> (DVector<f64>, DVector<f64>) {
     let t = stack(&sampled.vectors);
     let d = stack(
         &sampled
@@ -197,6 +212,20 @@ pub(crate) fn fit_stage(stage: &BasisStage, opts: &DesignOptions) -> Result<FitS
             .map(|w| [w.sqrt(), w.sqrt()])
             .collect::<Vec<_>>(),
     );
+    (t, d)
+}
+
+/// The fit of [`fit_stage`] on an assembled `basis` whose columns hold
+/// their fields at the points of `sampled`: time fractions w ≥ 0 by
+/// [`strongest`], replaced by their smallest subset as good within
+/// [`COMPACT_SLACK`] ([`compact_stage`]).
+pub(crate) fn fit_basis(
+    basis: DesignBasis,
+    sampled: &SampledTarget,
+    opts: &DesignOptions,
+) -> Result<FitStage> {
+    let a = basis_matrix(&basis, sampled.len());
+    let (t, d) = stacked_target(sampled);
     let problem = FitProblem {
         a: &a,
         t: &t,
@@ -363,7 +392,7 @@ fn compact_stage(
 /// `strength`. Metrics are defined whenever the fit produced a field; a
 /// `shape` fit that found nothing pointing the target's way (strength ≤ 0)
 /// has none, and gets the no-field values.
-fn metrics(sampled: &SampledTarget, field: &[[f64; 2]], strength: f64) -> Result<FitMetrics> {
+pub(crate) fn metrics(sampled: &SampledTarget, field: &[[f64; 2]], strength: f64) -> Result<FitMetrics> {
     if strength <= 0.0 {
         return Ok(FitMetrics {
             relative_l2_error: 1.0,
@@ -557,7 +586,7 @@ fn stack(v: &[[f64; 2]]) -> DVector<f64> {
 }
 
 /// The inverse of [`stack`].
-fn unstack(v: &DVector<f64>) -> Vec<[f64; 2]> {
+pub(crate) fn unstack(v: &DVector<f64>) -> Vec<[f64; 2]> {
     let n = v.len() / 2;
     (0..n).map(|i| [v[i], v[i + n]]).collect()
 }
