@@ -8,14 +8,15 @@
 //! fields. The strongest difference is the threshold itself: under an
 //! *in-plane* motion (N = g exactly) whose plate acceleration stays below
 //! μ_s g everywhere, a part placed at rest never slips: its field is
-//! exactly zero, while a part of lower friction slips and is carried.
+//! zero (simulated: below 0.01 mm/s), while a part of lower friction
+//! slips and is carried.
 //! So besides the paper's primitives the basis holds **gentle copies** of
 //! the in-plane translation (Trans) at [`GENTLE_FRACTIONS`] of the
 //! stickier class's threshold: peak plate acceleration 1.5 d₀ω² (the
 //! asymmetric waveform's peak) = f · μ_s,low g of the stickier class, where
 //! μ_s,low is the low end of its static range. They move only the parts of
-//! lower friction (measured: 1.9–2.7 mm/s for μ 0.2 against exactly 0 for
-//! μ 0.45 at ω = 209 rad/s), and the fit uses them to push those parts
+//! lower friction (measured: 1.9–2.7 mm/s for μ 0.2 against below
+//! 0.01 mm/s for μ 0.45 at ω = 209 rad/s), and the fit uses them to push those parts
 //! away from where the strong primitives gather the others.
 //!
 //! **Fit.** Every class's basis is simulated at the class's nominal
@@ -136,11 +137,7 @@ pub fn design_sort(target: &Target, opts: &DesignOptions) -> Result<SortDesign> 
 /// (module docs), as translation amplitudes d₀ = a / (1.5 ω²).
 pub fn gentle_primitives(target: &Target, opts: &DesignOptions) -> Vec<Primitive> {
     let g = target.physics(&opts.settings).gravity;
-    let lows: Vec<f64> = target
-        .classes
-        .iter()
-        .map(|c| c.friction.stat.lo)
-        .collect();
+    let lows: Vec<f64> = target.classes.iter().map(|c| c.friction.stat.lo).collect();
     let least = lows.iter().copied().fold(f64::INFINITY, f64::min);
     let mut out = Vec::new();
     for &mu in lows.iter().filter(|&&mu| mu > least) {

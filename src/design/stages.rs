@@ -392,7 +392,11 @@ fn compact_stage(
 /// `strength`. Metrics are defined whenever the fit produced a field; a
 /// `shape` fit that found nothing pointing the target's way (strength ≤ 0)
 /// has none, and gets the no-field values.
-pub(crate) fn metrics(sampled: &SampledTarget, field: &[[f64; 2]], strength: f64) -> Result<FitMetrics> {
+pub(crate) fn metrics(
+    sampled: &SampledTarget,
+    field: &[[f64; 2]],
+    strength: f64,
+) -> Result<FitMetrics> {
     if strength <= 0.0 {
         return Ok(FitMetrics {
             relative_l2_error: 1.0,

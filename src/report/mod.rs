@@ -12,6 +12,7 @@ pub mod design;
 pub mod method;
 pub mod order;
 pub mod run_design;
+pub mod sort;
 pub mod verify;
 
 use std::path::Path;

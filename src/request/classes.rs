@@ -85,9 +85,8 @@ pub(super) fn prepare(text: &str) -> Result<Option<String>, TargetError> {
             ),
         ));
     }
-    let first = serde_json::to_value(&classes[0].field).map_err(|e| {
-        TargetError::invalid("target.classes[0].field", e.to_string())
-    })?;
+    let first = serde_json::to_value(&classes[0].field)
+        .map_err(|e| TargetError::invalid("target.classes[0].field", e.to_string()))?;
     map.insert("field".into(), first);
     Ok(Some(Value::Object(map).to_string()))
 }

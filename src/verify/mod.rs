@@ -14,6 +14,7 @@
 pub mod friction;
 pub mod rectangles;
 pub mod run;
+pub mod sort;
 pub mod swarm;
 
 pub use rectangles::{
