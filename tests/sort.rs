@@ -205,7 +205,7 @@ fn designed_sort_plays_as_measured() {
         ..DesignOptions::default()
     };
     let d = design_sort(&t, &opts).unwrap();
-    let plays = platefield::verify::sort::play_classes(&t, &d, None).unwrap();
+    let plays = platefield::report::sort_play::play_classes(&t, &d, None).unwrap();
     let measured = [(MEASURED_AT_OWN[0], 0.0), (MEASURED_AT_OWN[1], 0.0)];
     for (p, (own, mixed)) in plays.iter().zip(measured) {
         assert!((p.at_own.unwrap() - own).abs() <= 0.05, "{p:?}");

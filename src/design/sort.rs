@@ -33,7 +33,7 @@
 //! scale and relative error.
 //!
 //! **Judged by playing**: every class's swarm is played
-//! ([`crate::verify::sort`]); where its parts end is the measure.
+//! (`report::sort_play`, above `verify`); where its parts end is the measure.
 
 use nalgebra::DVector;
 use serde::Serialize;

@@ -11,7 +11,7 @@ use serde::Serialize;
 use crate::design::sort::{ClassFit, SortDesign};
 use crate::error::{Error, Result};
 use crate::output::percent;
-use crate::verify::sort::{ClassPlay, SORT_TOL};
+use crate::report::sort_play::{ClassPlay, SORT_TOL};
 
 /// Goal: fraction of each class's swarm at its own attractor.
 pub const GOAL_AT_OWN: f64 = 0.95;
@@ -182,7 +182,7 @@ pub fn run(
     files: &[&str],
 ) -> Result<String> {
     let d = crate::design::sort::design_sort(target, opts)?;
-    let played = crate::verify::sort::play_classes(target, &d, None)?;
+    let played = crate::report::sort_play::play_classes(target, &d, None)?;
     let stage = crate::output::Staged::new(dir)?;
     write(&target.name, &d, &played, stage.path())?;
     stage.commit(files)?;

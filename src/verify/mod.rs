@@ -14,7 +14,6 @@
 pub mod friction;
 pub mod rectangles;
 pub mod run;
-pub mod sort;
 pub mod swarm;
 
 pub use rectangles::{

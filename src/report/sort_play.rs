@@ -1,4 +1,6 @@
-//! Every class of a sort played ([`crate::design::sort`]): the realised
+//! Every class of a sort played ([`crate::design::sort`]; here in the
+//! report layer, the one above both the design's realised check and
+//! `verify`'s swarm): the realised
 //! field of each class at its own friction, and where a swarm of its parts
 //! ends up.
 //!
@@ -61,7 +63,7 @@ pub struct ClassPlay {
 /// ```no_run
 /// use platefield::design::{sort::design_sort, DesignOptions};
 /// use platefield::request::Target;
-/// use platefield::verify::sort::play_classes;
+/// use platefield::report::sort_play::play_classes;
 /// let target = Target::load(std::path::Path::new("targets/sort_friction.json"))?;
 /// let d = design_sort(&target, &DesignOptions::default())?;
 /// for c in play_classes(&target, &d, None)? {
