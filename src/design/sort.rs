@@ -172,15 +172,7 @@ fn append_gentle(
     let rad: Vec<f64> = stage.angles.iter().map(|a| a.to_radians()).collect();
     let source = symmetry::source_grid(&region, &rad, &opts.shifts);
     let lib = FieldLibrary::build(gentle, &source, &opts.settings, opts.kind, true);
-    let extra = dbasis::assemble(
-        &lib,
-        &stage.angles,
-        &opts.shifts,
-        stage.target_grid.as_ref(),
-        &sampled.points,
-        &sampled.weights,
-        opts.keep_invalid,
-    );
+    let extra = stages::assemble_library(&lib, stage, opts);
     basis.columns.extend(extra.columns);
     basis.excluded.extend(extra.excluded);
 }

@@ -165,16 +165,7 @@ pub(crate) fn fit_stage(stage: &BasisStage, opts: &DesignOptions) -> Result<FitS
 /// rotated and shifted, the options' motions appended, columns over the
 /// shaker limits left out; an error when none is usable.
 pub(crate) fn assemble_stage(stage: &BasisStage, opts: &DesignOptions) -> Result<DesignBasis> {
-    let sampled = &stage.sampled;
-    let mut basis = basis::assemble(
-        &stage.library,
-        &stage.angles,
-        &opts.shifts,
-        stage.target_grid.as_ref(),
-        &sampled.points,
-        &sampled.weights,
-        opts.keep_invalid,
-    );
+    let mut basis = assemble_library(&stage.library, stage, opts);
     add_motion_columns(&mut basis, stage, opts);
     if let Some(limits) = &stage.limits {
         leave_out_over_limit(&mut basis, limits);
@@ -187,6 +178,25 @@ pub(crate) fn assemble_stage(stage: &BasisStage, opts: &DesignOptions) -> Result
         )));
     }
     Ok(basis)
+}
+
+/// `library`'s columns at `stage`'s target points: every entry at every
+/// rotation and shift of the stage and the options ([`basis::assemble`]).
+pub(crate) fn assemble_library(
+    library: &FieldLibrary,
+    stage: &BasisStage,
+    opts: &DesignOptions,
+) -> DesignBasis {
+    let sampled = &stage.sampled;
+    basis::assemble(
+        library,
+        &stage.angles,
+        &opts.shifts,
+        stage.target_grid.as_ref(),
+        &sampled.points,
+        &sampled.weights,
+        opts.keep_invalid,
+    )
 }
 
 /// The basis matrix of `basis` at the `n` points of `sampled`: column j is
