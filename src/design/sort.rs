@@ -8,15 +8,16 @@
 //! fields. The strongest difference is the threshold itself: under an
 //! *in-plane* motion (N = g exactly) whose plate acceleration stays below
 //! μ_s g everywhere, a part placed at rest never slips: its field is
-//! zero (simulated: below 0.01 mm/s), while a part of lower friction
-//! slips and is carried.
+//! zero, while a part of lower friction slips and is carried (simulated
+//! from rest, the held part creeps near the threshold: below 0.01 mm/s at
+//! 0.75 of it, 0.3 mm/s at 0.9).
 //! So besides the paper's primitives the basis holds **gentle copies** of
 //! the in-plane translation (Trans) at [`GENTLE_FRACTIONS`] of the
 //! stickier class's threshold: peak plate acceleration 1.5 d₀ω² (the
 //! asymmetric waveform's peak) = f · μ_s,low g of the stickier class, where
 //! μ_s,low is the low end of its static range. They move only the parts of
 //! lower friction (measured: 1.9–2.7 mm/s for μ 0.2 against below
-//! 0.01 mm/s for μ 0.45 at ω = 209 rad/s), and the fit uses them to push those parts
+//! 0.01 and 0.3 mm/s for μ 0.45 at ω = 209 rad/s), and the fit uses them to push those parts
 //! away from where the strong primitives gather the others.
 //!
 //! **Fit.** Every class's basis is simulated at the class's nominal
