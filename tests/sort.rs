@@ -165,11 +165,8 @@ fn gentle_translation_moves_the_slippery_class_only() {
     }
 }
 
-/// The stacked fit of `targets/sort_friction.json`: every class's whole-
-/// cycle field within 5 % of its sink's shape at a positive strength, with
-/// a gentle segment that only the slippery class feels.
-#[test]
-fn stacked_fit_matches_each_class_at_its_own_friction() {
+/// `targets/sort_friction.json` designed as shipped (`--min-cycles 1`).
+fn shipped_sort() -> (Target, platefield::design::sort::SortDesign) {
     let t = Target::load(Path::new("targets/sort_friction.json")).unwrap();
     let opts = DesignOptions {
         quiet: true,
@@ -177,6 +174,15 @@ fn stacked_fit_matches_each_class_at_its_own_friction() {
         ..DesignOptions::default()
     };
     let d = design_sort(&t, &opts).unwrap();
+    (t, d)
+}
+
+/// The stacked fit of `targets/sort_friction.json`: every class's whole-
+/// cycle field within 5 % of its sink's shape at a positive strength, with
+/// a gentle segment that only the slippery class feels.
+#[test]
+fn stacked_fit_matches_each_class_at_its_own_friction() {
+    let (_, d) = shipped_sort();
     assert_eq!(d.classes.len(), 2);
     for c in &d.classes {
         assert!(c.strength > 0.0, "{c:?}");
@@ -194,13 +200,7 @@ fn stacked_fit_matches_each_class_at_its_own_friction() {
 #[test]
 #[ignore]
 fn designed_sort_plays_as_measured() {
-    let t = Target::load(Path::new("targets/sort_friction.json")).unwrap();
-    let opts = DesignOptions {
-        quiet: true,
-        min_cycles: 1,
-        ..DesignOptions::default()
-    };
-    let d = design_sort(&t, &opts).unwrap();
+    let (t, d) = shipped_sort();
     let plays = platefield::report::sort_play::play_classes(&t, &d, None).unwrap();
     let measured = [(MEASURED_AT_OWN[0], 0.0), (MEASURED_AT_OWN[1], 0.0)];
     for (p, (own, mixed)) in plays.iter().zip(measured) {
