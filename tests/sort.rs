@@ -194,7 +194,7 @@ fn stacked_fit_matches_each_class_at_its_own_friction() {
     );
 }
 
-/// The shipped sort played (long: about 10 min on 2 cores). Asserts the
+/// The shipped sort played (long: 104 s to 6 min on 2 shared cores). Asserts the
 /// fractions measured for `results/sort_friction/` within 5 points:
 /// `cargo test --release --test sort -- --ignored`.
 #[test]
