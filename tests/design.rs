@@ -203,7 +203,7 @@ fn degenerate_targets_are_refused_before_the_library_build() {
         (
             "misspelt_top",
             format!(r#"{{{grid}, "field": {{"kind": "sink"}}, "mask ": []}}"#),
-            &["target.mask : unknown field (expected one of name, grid, field, weights, mask, shaker, friction, gravity)"],
+            &["target.mask : unknown field (expected one of name, grid, field, weights, mask, shaker, friction, gravity, classes)"],
         ),
     ];
     for (label, json, expected) in cases {

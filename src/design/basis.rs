@@ -143,6 +143,13 @@ pub struct DesignBasis {
 /// Label of a transformed primitive, e.g. `LineSink@45°`.
 pub fn label(p: &Primitive) -> String {
     let mut s = format!("{}@{}°", p.kind.name(), p.rotation_deg);
+    // Amplitudes other than the paper's (the gentle copies of a sort).
+    if let Some(d) = p.translation {
+        s.push_str(&format!("[d0 {:.1} µm]", d * 1e6));
+    }
+    if let Some(a) = p.amplitude {
+        s.push_str(&format!("[ψ0 {:.3} mrad]", a * 1e3));
+    }
     if p.shift != [0.0, 0.0] {
         s.push_str(&format!("+({:.4},{:.4})m", p.shift[0], p.shift[1]));
     }

@@ -1189,6 +1189,7 @@ mod tests {
                 shaker: None,
                 friction: None,
                 gravity: None,
+                classes: Vec::new(),
             };
             let sampled = target.sample().unwrap();
             let e = synthesis_estimate(

@@ -30,6 +30,7 @@ mod options;
 pub mod order;
 pub mod polish;
 pub mod refine;
+pub mod sort;
 mod stages;
 
 use std::path::PathBuf;

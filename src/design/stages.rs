@@ -158,16 +158,14 @@ pub(crate) struct FitStage {
 /// good within [`COMPACT_SLACK`] ([`compact_stage`]). Consumes the
 /// [`BasisStage`]; produces the basis, the fractions and their field.
 pub(crate) fn fit_stage(stage: &BasisStage, opts: &DesignOptions) -> Result<FitStage> {
-    let sampled = &stage.sampled;
-    let mut basis = basis::assemble(
-        &stage.library,
-        &stage.angles,
-        &opts.shifts,
-        stage.target_grid.as_ref(),
-        &sampled.points,
-        &sampled.weights,
-        opts.keep_invalid,
-    );
+    fit_basis(assemble_stage(stage, opts)?, &stage.sampled, opts)
+}
+
+/// The basis columns of [`fit_stage`] at the target points: the library
+/// rotated and shifted, the options' motions appended, columns over the
+/// shaker limits left out; an error when none is usable.
+pub(crate) fn assemble_stage(stage: &BasisStage, opts: &DesignOptions) -> Result<DesignBasis> {
+    let mut basis = assemble_library(&stage.library, stage, opts);
     add_motion_columns(&mut basis, stage, opts);
     if let Some(limits) = &stage.limits {
         leave_out_over_limit(&mut basis, limits);
@@ -179,16 +177,43 @@ pub(crate) fn fit_stage(stage: &BasisStage, opts: &DesignOptions) -> Result<FitS
             basis.excluded.first().map_or(String::new(), |e| format!("{}: {}", e.label, e.reason))
         )));
     }
-    let m = basis.columns.len();
-    let a = DMatrix::from_fn(2 * sampled.len(), m, |i, j| {
-        let n = sampled.len();
+    Ok(basis)
+}
+
+/// `library`'s columns at `stage`'s target points: every entry at every
+/// rotation and shift of the stage and the options ([`basis::assemble`]).
+pub(crate) fn assemble_library(
+    library: &FieldLibrary,
+    stage: &BasisStage,
+    opts: &DesignOptions,
+) -> DesignBasis {
+    let sampled = &stage.sampled;
+    basis::assemble(
+        library,
+        &stage.angles,
+        &opts.shifts,
+        stage.target_grid.as_ref(),
+        &sampled.points,
+        &sampled.weights,
+        opts.keep_invalid,
+    )
+}
+
+/// The basis matrix of `basis` at the `n` points of `sampled`: column j is
+/// basis field j stacked as [x…, y…].
+pub(crate) fn basis_matrix(basis: &DesignBasis, n: usize) -> DMatrix<f64> {
+    DMatrix::from_fn(2 * n, basis.columns.len(), |i, j| {
         let v = basis.columns[j].vectors[i % n];
         if i < n {
             v[0]
         } else {
             v[1]
         }
-    });
+    })
+}
+
+/// The weighted target of `sampled` and its row weights, stacked.
+pub(crate) fn stacked_target(sampled: &SampledTarget) -> (DVector<f64>, DVector<f64>) {
     let t = stack(&sampled.vectors);
     let d = stack(
         &sampled
@@ -197,6 +222,20 @@ pub(crate) fn fit_stage(stage: &BasisStage, opts: &DesignOptions) -> Result<FitS
             .map(|w| [w.sqrt(), w.sqrt()])
             .collect::<Vec<_>>(),
     );
+    (t, d)
+}
+
+/// The fit of [`fit_stage`] on an assembled `basis` whose columns hold
+/// their fields at the points of `sampled`: time fractions w ≥ 0 by
+/// [`strongest`], replaced by their smallest subset as good within
+/// [`COMPACT_SLACK`] ([`compact_stage`]).
+pub(crate) fn fit_basis(
+    basis: DesignBasis,
+    sampled: &SampledTarget,
+    opts: &DesignOptions,
+) -> Result<FitStage> {
+    let a = basis_matrix(&basis, sampled.len());
+    let (t, d) = stacked_target(sampled);
     let problem = FitProblem {
         a: &a,
         t: &t,
@@ -363,7 +402,11 @@ fn compact_stage(
 /// `strength`. Metrics are defined whenever the fit produced a field; a
 /// `shape` fit that found nothing pointing the target's way (strength ≤ 0)
 /// has none, and gets the no-field values.
-fn metrics(sampled: &SampledTarget, field: &[[f64; 2]], strength: f64) -> Result<FitMetrics> {
+pub(crate) fn metrics(
+    sampled: &SampledTarget,
+    field: &[[f64; 2]],
+    strength: f64,
+) -> Result<FitMetrics> {
     if strength <= 0.0 {
         return Ok(FitMetrics {
             relative_l2_error: 1.0,
@@ -557,7 +600,7 @@ fn stack(v: &[[f64; 2]]) -> DVector<f64> {
 }
 
 /// The inverse of [`stack`].
-fn unstack(v: &DVector<f64>) -> Vec<[f64; 2]> {
+pub(crate) fn unstack(v: &DVector<f64>) -> Vec<[f64; 2]> {
     let n = v.len() / 2;
     (0..n).map(|i| [v[i], v[i + n]]).collect()
 }

@@ -13,6 +13,8 @@ pub mod method;
 pub mod order;
 pub mod poses;
 pub mod run_design;
+pub mod sort;
+pub mod sort_play;
 pub mod verify;
 
 use std::path::Path;

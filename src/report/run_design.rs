@@ -12,7 +12,7 @@ use std::path::Path;
 /// are not carried over, so that the folder holds one design (a sequenced
 /// run after a synthesized one leaves no `signals.svg`); `verify/` and
 /// files of the user's are kept.
-pub const DESIGN_FILES: [&str; 8] = [
+pub const DESIGN_FILES: [&str; 9] = [
     "schedule.json",
     "schedule_open_loop.json",
     "closed_loop.md",
@@ -21,6 +21,7 @@ pub const DESIGN_FILES: [&str; 8] = [
     "report.md",
     "signals.svg",
     "order.md",
+    "sort.json",
 ];
 
 /// `platefield design`: loads the target at `path`, designs it by
@@ -43,6 +44,17 @@ pub fn run(
     target.name = target.folder_name(path)?;
     let dir = out.join(&target.name);
     crate::output::check_writable(&dir, "--out")?;
+    if !target.classes.is_empty() {
+        if closed_loop.is_some()
+            || matches!(method, Method::Synthesize | Method::Mix | Method::Mirror)
+        {
+            return Err(crate::error::Error::invalid(
+                "--method",
+                "a target with classes is designed by one stacked fit of primitives (sort by friction): use --method auto or sequence, without --closed-loop",
+            ));
+        }
+        return super::sort::run(&target, opts, &dir, json, &DESIGN_FILES);
+    }
     if let Some(l) = closed_loop {
         l.validate()?;
         if matches!(method, Method::Synthesize | Method::Mix | Method::Mirror) {

@@ -170,6 +170,7 @@
 //! finiteness for targets built in code.
 
 mod attractor;
+mod classes;
 mod error;
 mod examples;
 mod field;
@@ -184,6 +185,7 @@ use serde::{Deserialize, Serialize};
 use crate::field::FieldSettings;
 pub use crate::scene::FrictionSpec;
 pub use attractor::Attractor;
+pub use classes::PartClass;
 pub use error::TargetError;
 pub use examples::examples;
 pub use field::{
@@ -233,6 +235,11 @@ pub struct Target {
     /// 9.81 by default).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub gravity: Option<f64>,
+    /// Part classes sorted by friction ([`PartClass`], at least two),
+    /// instead of one `field` and `friction`; empty for a plain target.
+    /// With classes, `field` holds the first class's field.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub classes: Vec<PartClass>,
 }
 
 /// `null` or rows of weights; a flat list of numbers is an error that says
@@ -295,7 +302,8 @@ impl Target {
     ///
     /// Errors name the JSON path of the problem (see the module docs).
     pub fn from_json_str(s: &str) -> Result<Target, TargetError> {
-        let target: Target = crate::input::from_str(s, "target")
+        let prepared = classes::prepare(s)?;
+        let target: Target = crate::input::from_str(prepared.as_deref().unwrap_or(s), "target")
             .map_err(|e| TargetError::invalid(e.path, e.message))?;
         target.validate()?;
         Ok(target)
@@ -317,7 +325,14 @@ impl Target {
     /// Serializes the target as pretty-printed JSON (all defaults written
     /// out explicitly).
     pub fn to_json_pretty(&self) -> String {
-        serde_json::to_string_pretty(self).expect("a Target always serializes")
+        let mut value = serde_json::to_value(self).expect("a Target always serializes");
+        if !self.classes.is_empty() {
+            // The classes give the fields; `field` only mirrors the first.
+            if let Some(map) = value.as_object_mut() {
+                map.remove("field");
+            }
+        }
+        serde_json::to_string_pretty(&value).expect("a Target always serializes")
     }
 
     /// Number of sample points: grid points if there is a grid, otherwise
@@ -333,6 +348,13 @@ impl Target {
     /// Checks every value against its allowed range (see the module docs);
     /// the first problem found is returned.
     pub fn validate(&self) -> Result<(), TargetError> {
+        if !self.classes.is_empty() && self.grid.is_none() {
+            return Err(TargetError::invalid(
+                "target.grid",
+                "missing; required with target.classes",
+            ));
+        }
+        classes::validate(&self.classes)?;
         match &self.grid {
             Some(g) => grid::validate_grid(g, "target.grid")?,
             None => {

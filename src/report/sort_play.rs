@@ -1,0 +1,196 @@
+//! Every class of a sort played ([`crate::design::sort`]; here in the
+//! report layer, the one above both the design's realised check and
+//! `verify`'s swarm): the realised
+//! field of each class at its own friction, and where a swarm of its parts
+//! ends up.
+//!
+//! **Measures.** Per class, at the class's nominal friction:
+//! * the realised strength and shape error: the design's one realised
+//!   check ([`crate::design::method::realised_check`]) against the class's
+//!   own field;
+//! * a swarm of point parts started on a grid over the target region
+//!   ([`SORT_STARTS`] per axis, [`crate::verify::swarm`]) played for
+//!   whole schedule periods, the same for every class (as on one plate):
+//!   enough for the slowest class's predicted field to bring its farthest
+//!   part within [`SORT_TOL`] twice over, at most [`MAX_SORT_PERIODS`]: the fraction of its parts that end within
+//!   [`SORT_TOL`] of its own attractor, and the fraction that end within
+//!   [`SORT_TOL`] of another class's attractor (the mix-up).
+
+use serde::Serialize;
+
+use crate::design::method::realised_check;
+use crate::design::sort::SortDesign;
+use crate::error::Result;
+use crate::play::{PlayOptions, ScheduleMotion};
+use crate::request::{Attractor, Target};
+use crate::verify::swarm::{run_swarm, SwarmOptions};
+
+/// Distance (m) to an attractor within which a part counts as there: 5 mm.
+pub const SORT_TOL: f64 = 5e-3;
+/// Swarm start points per axis (over the target grid's box).
+pub const SORT_STARTS: [usize; 2] = [9, 5];
+/// Most schedule periods a swarm is played.
+pub const MAX_SORT_PERIODS: u32 = 40;
+
+/// One class played.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ClassPlay {
+    /// The class's name.
+    pub name: String,
+    /// Nominal static friction played.
+    pub friction: f64,
+    /// Realised strength ŝ against the class's field.
+    pub realised_strength: f64,
+    /// Realised shape error at ŝ.
+    pub realised_shape_error: f64,
+    /// Swarm parts.
+    pub parts: usize,
+    /// Time played (s).
+    pub duration_s: f64,
+    /// Fraction ending within [`SORT_TOL`] of the class's own attractor.
+    pub at_own: Option<f64>,
+    /// Fraction ending within [`SORT_TOL`] of another class's attractor.
+    pub mixed_up: f64,
+    /// Parts that lost contact.
+    pub contact_lost: usize,
+    /// Median distance (m) of the parts' ends from the own attractor.
+    pub median_distance_m: Option<f64>,
+}
+
+/// Plays every class of `design` (see the module docs). `periods`: the
+/// swarms' schedule periods (`None`: from the predicted strengths).
+///
+/// ```no_run
+/// use platefield::design::{sort::design_sort, DesignOptions};
+/// use platefield::request::Target;
+/// use platefield::report::sort_play::play_classes;
+/// let target = Target::load(std::path::Path::new("targets/sort_friction.json"))?;
+/// let d = design_sort(&target, &DesignOptions::default())?;
+/// for c in play_classes(&target, &d, None)? {
+///     println!("{}: {:?} at its own sink, {} mixed up", c.name, c.at_own, c.mixed_up);
+/// }
+/// # Ok::<(), platefield::Error>(())
+/// ```
+pub fn play_classes(
+    target: &Target,
+    design: &SortDesign,
+    periods: Option<u32>,
+) -> Result<Vec<ClassPlay>> {
+    let attractors: Vec<Option<Attractor>> = target
+        .classes
+        .iter()
+        .map(|c| Attractor::of(&c.field))
+        .collect();
+    let sm = ScheduleMotion::from_schedule(&design.schedule)?;
+    let starts = swarm_starts(target);
+    // Every class for the same time, as on one plate: the slowest class's.
+    let periods = periods.unwrap_or_else(|| {
+        design
+            .classes
+            .iter()
+            .zip(&attractors)
+            .map(|(fit, own)| swarm_periods(*own, &starts, fit.strength, &sm))
+            .max()
+            .unwrap_or(1)
+    });
+    let mut out = Vec::new();
+    for (i, fit) in design.classes.iter().enumerate() {
+        let ct = target.class_target(i);
+        let settings = ct.physics(&design.schedule.settings);
+        let sampled = ct.sample()?;
+        let (_, r) = realised_check(
+            &ct,
+            &sampled,
+            &design.schedule,
+            &settings,
+            Some(fit.strength),
+        )?;
+        let own = attractors[i];
+        let swarm = run_swarm(
+            &sm,
+            &starts,
+            own,
+            &SwarmOptions {
+                verify: PlayOptions::from_settings(&settings),
+                periods,
+                tol: SORT_TOL,
+                strength: fit.strength,
+            },
+        );
+        let n = swarm.parts.len().max(1) as f64;
+        let near = |a: &Attractor, p: [f64; 2]| a.distance(p) <= SORT_TOL;
+        let at_own = own.map(|a| {
+            swarm
+                .parts
+                .iter()
+                .filter(|p| p.note.is_none() && near(&a, p.end))
+                .count() as f64
+                / n
+        });
+        let others: Vec<Attractor> = attractors
+            .iter()
+            .enumerate()
+            .filter(|(j, _)| *j != i)
+            .filter_map(|(_, a)| *a)
+            .collect();
+        let mixed_up = swarm
+            .parts
+            .iter()
+            .filter(|p| p.note.is_none() && others.iter().any(|a| near(a, p.end)))
+            .count() as f64
+            / n;
+        let distances: Vec<f64> = swarm.parts.iter().map(|p| p.distance[1]).collect();
+        out.push(ClassPlay {
+            name: fit.name.clone(),
+            friction: settings.friction.stat,
+            realised_strength: r.realised_strength,
+            realised_shape_error: r.shape_error,
+            parts: swarm.parts.len(),
+            duration_s: swarm.duration_s,
+            at_own,
+            mixed_up,
+            contact_lost: swarm.contact_lost,
+            median_distance_m: own.and_then(|_| crate::verify::swarm::median(&distances)),
+        });
+    }
+    Ok(out)
+}
+
+/// [`SORT_STARTS`] points over the box of the target's grid.
+fn swarm_starts(target: &Target) -> Vec<[f64; 2]> {
+    let g = target
+        .grid
+        .as_ref()
+        .expect("a classes target has a grid (validated)");
+    let axis = |r: [f64; 2], n: usize| -> Vec<f64> {
+        (0..n)
+            .map(|i| r[0] + (r[1] - r[0]) * i as f64 / (n - 1) as f64)
+            .collect()
+    };
+    let (xs, ys) = (axis(g.x, SORT_STARTS[0]), axis(g.y, SORT_STARTS[1]));
+    ys.iter()
+        .flat_map(|&y| xs.iter().map(move |&x| [x, y]))
+        .collect()
+}
+
+/// Whole periods for the predicted field to bring the farthest start
+/// within [`SORT_TOL`] twice over, in 1..=[`MAX_SORT_PERIODS`].
+fn swarm_periods(
+    own: Option<Attractor>,
+    starts: &[[f64; 2]],
+    strength: f64,
+    sm: &ScheduleMotion,
+) -> u32 {
+    let slowest = own.map_or(0.0, |a| {
+        starts
+            .iter()
+            .map(|p| a.predicted_time(*p, strength, SORT_TOL))
+            .fold(0.0, f64::max)
+    });
+    let periods = (2.0 * slowest / sm.period()).ceil();
+    if periods.is_finite() {
+        (periods as u32).clamp(1, MAX_SORT_PERIODS)
+    } else {
+        MAX_SORT_PERIODS
+    }
+}
