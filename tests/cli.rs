@@ -1542,3 +1542,35 @@ fn verify_over_too_few_points_says_not_measured() {
     assert!(!stdout.contains("realised vs predicted"), "{stdout}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `design`'s summary opens with the kept design and its one realised
+/// measure (issue 29), the same numbers `schedule.json` records, before any
+/// candidate's details.
+#[test]
+fn design_summary_opens_with_the_kept_design() {
+    let dir = std::env::temp_dir().join(format!("platefield-headline-{}", std::process::id()));
+    let out = dir.join("out");
+    let (code, stdout, err) = platefield(&[
+        "design",
+        "targets/sink.json",
+        "--method",
+        "sequence",
+        "--no-cache",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let first = stdout.lines().next().unwrap_or_default();
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("sink/schedule.json")).unwrap())
+            .unwrap();
+    let played = &s["played"];
+    let expect = format!(
+        "kept sequence: realised strength {:.4} (× the target's strength) at realised shape error {:.2} %",
+        played["realised_strength"].as_f64().unwrap(),
+        100.0 * played["realised_shape_error"].as_f64().unwrap()
+    );
+    assert!(first.starts_with(&expect), "{first}\nexpected {expect}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

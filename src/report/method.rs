@@ -20,6 +20,22 @@ use crate::synth::{ShakerLimits, Synthesis};
 /// Samples of the signals plot over one period.
 const PLOT_SAMPLES: usize = 200;
 
+/// The summary's first line: the kept design and its one realised
+/// measure, named and explained in a line (the candidates follow).
+pub fn headline(md: &MethodDesign) -> String {
+    let c = md.kept();
+    let p = c.played();
+    format!(
+        "kept {}: realised strength {} (× the target's strength) at realised shape error {}{} — point parts played from {} start points over the region ({} valid); ŝ is the scale of the target their mean velocities best match, the shape error what ŝ × target leaves unmatched. Every candidate below.\n",
+        c.method.name(),
+        number(p.realised_strength),
+        percent(p.realised_shape_error),
+        if p.poor { ", POOR" } else { "" },
+        p.points,
+        p.valid,
+    )
+}
+
 /// One terminal line per candidate and the choice.
 pub fn summary(md: &MethodDesign) -> String {
     let mut out = String::new();

@@ -85,7 +85,7 @@ pub fn run(
     if json {
         return md.kept().schedule.to_json();
     }
-    let mut text = String::new();
+    let mut text = super::method::headline(&md);
     if let Some(d) = &md.sequence {
         text.push_str(&super::design::summary(d));
     }
