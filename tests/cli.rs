@@ -1520,8 +1520,7 @@ fn gravity_is_held_to_a_physical_range() {
 /// of 25 points").
 #[test]
 fn verify_over_too_few_points_says_not_measured() {
-    let dir = std::env::temp_dir().join(format!("platefield-few-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = temp_dir("few");
     let text = std::fs::read_to_string("results/sequenced/sink/schedule.json").unwrap();
     let mut s: serde_json::Value = serde_json::from_str(&text).unwrap();
     s["settings"]["gravity"] = serde_json::json!(1.0);
@@ -1548,7 +1547,7 @@ fn verify_over_too_few_points_says_not_measured() {
 /// candidate's details.
 #[test]
 fn design_summary_opens_with_the_kept_design() {
-    let dir = std::env::temp_dir().join(format!("platefield-headline-{}", std::process::id()));
+    let dir = temp_dir("headline");
     let out = dir.join("out");
     let (code, stdout, err) = platefield(&[
         "design",
