@@ -1573,3 +1573,186 @@ fn design_summary_opens_with_the_kept_design() {
     assert!(first.starts_with(&expect), "{first}\nexpected {expect}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Runs a short `verify` (3 × 3 points, one part, no rectangles, one
+/// period) of `schedule` written to `dir`, returns its `summary.json`.
+fn quick_verify(dir: &Path, schedule: &serde_json::Value) -> serde_json::Value {
+    let file = dir.join("schedule.json");
+    std::fs::write(&file, schedule.to_string()).unwrap();
+    let out = dir.join("out");
+    let (code, _, err) = platefield(&[
+        "verify",
+        file.to_str().unwrap(),
+        "--points",
+        "3",
+        "--swarm",
+        "1",
+        "--rect-poses",
+        "0",
+        "--repetitions",
+        "1",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let name = schedule["target"].as_str().unwrap();
+    let summary = out.join(name).join("verify/summary.json");
+    serde_json::from_str(&std::fs::read_to_string(summary).unwrap()).unwrap()
+}
+
+/// Issue 30: `verify`'s realised strength is measured against the target
+/// (⟨R, t⟩/⟨t, t⟩), not the measured ratio to the prediction times the
+/// schedule's stored `fit.strength`: doubling the stored strength leaves
+/// it unchanged (it printed 1.3315 against 0.6658 before) and only the
+/// designed strength it is compared with doubles. The shipped sink's
+/// realised strength agrees with the design's own played one
+/// (`played.realised_strength`, measured on other points) within the
+/// fit's shape error.
+#[test]
+fn verify_measures_the_realised_strength_of_an_edited_schedule() {
+    let dir = temp_dir("verify-strength");
+    let shipped: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string("results/sink/schedule.json").unwrap())
+            .unwrap();
+    let own = quick_verify(&dir, &shipped);
+    let mut edited = shipped.clone();
+    for key in ["fit", "fit_quantized"] {
+        let s = edited[key]["strength"].as_f64().unwrap();
+        edited[key]["strength"] = (2.0 * s).into();
+    }
+    let twice = quick_verify(&dir, &edited);
+    let (a, b) = (
+        own["realised_strength"].as_f64().unwrap(),
+        twice["realised_strength"].as_f64().unwrap(),
+    );
+    assert_eq!(a, b, "the stored strength changed the measured one");
+    let designed = |v: &serde_json::Value| v["design_strength"].as_f64().unwrap();
+    assert_eq!(designed(&twice), 2.0 * designed(&own));
+    // Measured on other points (a 3 × 3 grid reaching the corners, against
+    // the design's masked 21 × 21), both against the same target: they
+    // agree within the fit's own shape error (5.9 %; measured 3.1 %).
+    let played = shipped["played"]["realised_strength"].as_f64().unwrap();
+    let fit = shipped["fit_quantized"]["relative_l2_error"].as_f64().unwrap();
+    assert!(
+        (a / played - 1.0).abs() < fit,
+        "verify's {a} against the design's played {played} (fit error {fit})"
+    );
+}
+
+/// Issue 30: a grid-less sampled target is verified over its samples'
+/// region (their bounding box plus 1 mm), not over ±3 cm.
+#[test]
+fn verify_region_of_a_gridless_sampled_target_is_its_samples() {
+    let dir = temp_dir("verify-sampled-region");
+    let mut s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string("results/sink/schedule.json").unwrap())
+            .unwrap();
+    let points: Vec<[f64; 2]> = [-0.06, 0.0, 0.06]
+        .iter()
+        .flat_map(|&x| [-0.05, 0.0, 0.05].map(|y| [x, y]))
+        .collect();
+    let vectors: Vec<[f64; 2]> = points.iter().map(|p| [-p[0], -p[1]]).collect();
+    let t = &mut s["target_spec"];
+    t.as_object_mut().unwrap().remove("grid");
+    t["mask"] = serde_json::json!([]);
+    t["field"] = serde_json::json!({"kind": "sampled", "points": points, "vectors": vectors});
+    let summary = quick_verify(&dir, &s);
+    let region = &summary["region"];
+    for (axis, half) in [("x", 0.061), ("y", 0.051)] {
+        let r = region[axis].as_array().unwrap();
+        let (lo, hi) = (r[0].as_f64().unwrap(), r[1].as_f64().unwrap());
+        assert!(
+            (lo + half).abs() < 1e-9 && (hi - half).abs() < 1e-9,
+            "{axis}: {region}"
+        );
+    }
+    // An exact sink sampled: measured against the interpolated samples,
+    // the realised strength is the sink's (the design's played 0.666 ± 10 %,
+    // the idw interpolation between 5–6 cm apart samples is not exact).
+    let s_hat = summary["realised_strength"].as_f64().unwrap();
+    assert!((0.55..0.75).contains(&s_hat), "{s_hat}");
+}
+
+/// Issue 30: `linesink --mu 0` is refused as `field` refuses it (nothing
+/// drives the part to a steady velocity), and the sine's stick deadband
+/// — the paper model's — is not printed as such under `--model full`.
+#[test]
+fn linesink_refuses_no_friction_and_keeps_the_deadband_to_the_paper_model() {
+    let mut args = BASE.to_vec();
+    args.extend(["--r", "0.01", "--mu", "0"]);
+    let (code, out, err) = platefield(&args);
+    assert_eq!(code, 2, "{out}");
+    assert!(err.contains("--mu") && err.contains("steady velocity"), "{err}");
+    assert!(out.is_empty());
+    // h A = 0.01 × 180 = 1.8 < μ_s g = 2.94: the paper model's deadband
+    // |r| ≤ (2.94 − 1.8)/(0.3 × 180) = 0.0212 m.
+    let sine = [
+        "linesink", "--wave", "sine", "--accel", "180", "--depth", "0.01", "--r", "0.01",
+    ];
+    let (code, paper, _) = platefield(&sine);
+    assert_eq!(code, 0);
+    assert!(paper.contains("stick deadband: |r| ≤ 0.02117"), "{paper}");
+    let mut full = sine.to_vec();
+    full.extend(["--model", "full"]);
+    let (code, full, _) = platefield(&full);
+    assert_eq!(code, 0);
+    assert!(!full.contains("stick deadband: |r|"), "{full}");
+    assert!(full.contains("does not hold for the full model"), "{full}");
+}
+
+/// Issue 30: `verify --model frozen` of a schedule with a Circle segment
+/// (the sequenced whirlpool) places each lost contact where the frozen
+/// part is — a realised-grid point, within the ±4 cm region — not where its
+/// slip would have carried it (before: "at (-0.65864, -0.57710) m" for the
+/// part frozen at (0.04, 0.04)).
+#[test]
+fn frozen_verify_places_a_lost_contact_at_the_frozen_part() {
+    let dir = temp_dir("verify-frozen-circle");
+    let out = dir.join("out");
+    let (code, _, err) = platefield(&[
+        "verify",
+        "results/sequenced/whirlpool/schedule.json",
+        "--model",
+        "frozen",
+        "--points",
+        "3",
+        "--swarm",
+        "1",
+        "--rect-poses",
+        "0",
+        "--repetitions",
+        "1",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let summary: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(out.join("whirlpool/verify/summary.json")).unwrap(),
+    )
+    .unwrap();
+    let mut lost = 0;
+    for p in summary["realised_field"]["per_point"].as_array().unwrap() {
+        let Some(note) = p["note"].as_str() else {
+            continue;
+        };
+        let Some((_, tail)) = note.split_once("leaves the plate") else {
+            continue;
+        };
+        let at = tail.split_once(" at (").unwrap().1.split_once(") m").unwrap().0;
+        let q: Vec<f64> = at.split(", ").map(|c| c.parse().unwrap()).collect();
+        let start: Vec<f64> = p["start"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|c| c.as_f64().unwrap())
+            .collect();
+        assert!(
+            (q[0] - start[0]).abs() < 1e-4 && (q[1] - start[1]).abs() < 1e-4,
+            "frozen at {start:?}, lost contact reported at {q:?}: {note}"
+        );
+        lost += 1;
+    }
+    assert!(lost > 0, "no lost contact to check: {summary}");
+}

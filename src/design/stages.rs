@@ -171,14 +171,55 @@ pub(crate) fn assemble_stage(stage: &BasisStage, opts: &DesignOptions) -> Result
         leave_out_over_limit(&mut basis, limits);
     }
     if basis.columns.is_empty() {
-        return Err(Error::Physical(format!(
-            "no basis field is usable: valid over the whole target region and within the target's shaker limits ({} left out, e.g. {}); shrink the region, pass --keep-invalid or raise the limits",
-            basis.excluded.len(),
-            basis.excluded.first().map_or(String::new(), |e| format!("{}: {}", e.label, e.reason))
-        )));
+        return Err(Error::Physical(no_usable_basis(&basis.excluded)));
     }
     Ok(basis)
 }
+
+/// Why no basis column is left, from the columns left out: the count and
+/// first example of each cause, and only the remedies that address one.
+/// Rotated copies of an isotropic primitive are left out because their
+/// original is in the basis; they are never why none is usable, so they
+/// are neither an example nor a reason to pass `--keep-invalid`.
+pub(crate) fn no_usable_basis(excluded: &[ExcludedColumn]) -> String {
+    let of = |pick: fn(&ExclusionReason) -> bool| -> (usize, String) {
+        let mut hits = excluded.iter().filter(|e| pick(&e.reason));
+        let first = hits
+            .next()
+            .map_or(String::new(), |e| format!("{}: {}", e.label, e.reason));
+        (usize::from(!first.is_empty()) + hits.count(), first)
+    };
+    let invalid = of(|r| matches!(r, ExclusionReason::Invalid(_)));
+    let over = of(|r| matches!(r, ExclusionReason::OverLimit { .. }));
+    let mut causes = Vec::new();
+    let mut remedies = Vec::new();
+    if invalid.0 > 0 {
+        causes.push(format!(
+            "{} invalid somewhere in the target region (e.g. {})",
+            invalid.0, invalid.1
+        ));
+        remedies.push("shrink the region or pass --keep-invalid");
+    }
+    if over.0 > 0 {
+        causes.push(format!(
+            "{} over the target's shaker limits (e.g. {})",
+            over.0, over.1
+        ));
+        remedies.push("raise target.shaker's limits");
+    }
+    let copies = excluded.len() - invalid.0 - over.0;
+    let copies = if copies > 0 {
+        format!("; {copies} more are rotated copies of those (isotropic primitives)")
+    } else {
+        String::new()
+    };
+    format!(
+        "no basis field is usable: every one is left out, {}{copies}; {}",
+        causes.join(", "),
+        remedies.join(", or ")
+    )
+}
+
 
 /// `library`'s columns at `stage`'s target points: every entry at every
 /// rotation and shift of the stage and the options ([`basis::assemble`]).
@@ -603,4 +644,50 @@ fn stack(v: &[[f64; 2]]) -> DVector<f64> {
 pub(crate) fn unstack(v: &DVector<f64>) -> Vec<[f64; 2]> {
     let n = v.len() / 2;
     (0..n).map(|i| [v[i], v[i + n]]).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::field::Validity;
+
+    fn left_out(label: &str, reason: ExclusionReason) -> ExcludedColumn {
+        ExcludedColumn {
+            invalid_samples: 0,
+            label: label.into(),
+            reason,
+        }
+    }
+
+    /// Issue 30: with every column over the shaker limit and the isotropic
+    /// copies listed first, the message names an over-limit column, counts
+    /// the copies, and does not suggest --keep-invalid (which does not
+    /// help); with invalid columns it does.
+    #[test]
+    fn no_usable_basis_names_the_cause_not_a_copy() {
+        let copy = left_out(
+            "ScaledCircle@15°",
+            ExclusionReason::IsotropicCopy {
+                copy_of: "ScaledCircle@0°".into(),
+                rotation_change: 1e-12,
+            },
+        );
+        let over = left_out(
+            "LineSink@0°",
+            ExclusionReason::OverLimit {
+                axis: "angular.y".into(),
+                peak: 120.0,
+                limit: 100.0,
+            },
+        );
+        let m = no_usable_basis(&[copy.clone(), over.clone(), over.clone()]);
+        assert!(m.contains("2 over the target's shaker limits (e.g. LineSink@0°"), "{m}");
+        assert!(m.contains("1 more are rotated copies"), "{m}");
+        assert!(!m.contains("ScaledCircle@15°"), "{m}");
+        assert!(!m.contains("--keep-invalid"), "{m}");
+        let invalid = left_out("Trans@0°", ExclusionReason::Invalid(Validity::ContactLost));
+        let m = no_usable_basis(&[copy, invalid]);
+        assert!(m.contains("1 invalid somewhere in the target region (e.g. Trans@0°"), "{m}");
+        assert!(m.contains("--keep-invalid") && !m.contains("shaker"), "{m}");
+    }
 }

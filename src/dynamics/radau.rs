@@ -355,7 +355,7 @@ impl Simulator<'_> {
         let stage = |j: usize, r: &V2, u: &V2| -> Result<(V2, f64, V2), ContactLoss> {
             let (n, free) = self.forces(&kin[j], r, u, anchor);
             if n < 0.0 {
-                return Err(self.contact_loss(t + tab.c[j] * h, r, n));
+                return Err(self.contact_loss(t + tab.c[j] * h, r, anchor, n));
             }
             let s = u.norm();
             let dir = if s > 0.0 {

@@ -183,7 +183,7 @@ impl<'a> Simulator<'a> {
     ) -> Result<V2, ContactLoss> {
         let (n, free) = self.forces(k, r, u, anchor);
         if n < 0.0 {
-            return Err(self.contact_loss(t, r, n));
+            return Err(self.contact_loss(t, r, anchor, n));
         }
         let along = u.dot(dir0);
         let dir = if along > 0.0 { unit(u) } else { *dir0 };
@@ -205,11 +205,15 @@ impl<'a> Simulator<'a> {
         }
     }
 
-    /// The contact loss at `t`, `r` with normal force `n`.
-    pub(super) fn contact_loss(&self, t: f64, r: &V2, n: f64) -> ContactLoss {
+    /// The contact loss at `t` with normal force `n`, placed where the
+    /// kinematics were evaluated: `r`, or `anchor` for a frozen part (whose
+    /// `r` drifts with its slip while the plate's motion is taken at the
+    /// anchor; the drift is not where the part lost contact).
+    pub(super) fn contact_loss(&self, t: f64, r: &V2, anchor: &V2, n: f64) -> ContactLoss {
         let c = (t / self.period).floor();
+        let at = self.kin_point(r, anchor);
         ContactLoss {
-            position: [r.x, r.y],
+            position: [at.x, at.y],
             time: t,
             cycle: c.max(0.0) as u64,
             phase: (t / self.period - c).clamp(0.0, 1.0),

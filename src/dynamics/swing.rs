@@ -298,7 +298,7 @@ impl Simulator<'_> {
         let k = self.kin_off_grid(y.t, piece);
         let (n, free) = self.forces(&k, &y.r, &y.u, anchor);
         if n < 0.0 {
-            return Err(self.contact_loss(y.t, &y.r, n));
+            return Err(self.contact_loss(y.t, &y.r, anchor, n));
         }
         let s = y.u.norm();
         let mu = self.friction().kinetic;
@@ -374,7 +374,7 @@ impl Simulator<'_> {
             let k = self.kin_off_grid(y.t + dt, piece);
             let (ni, ai) = self.forces(&k, &r, u, anchor);
             if ni < 0.0 {
-                return Err(self.contact_loss(y.t + dt, &r, ni));
+                return Err(self.contact_loss(y.t + dt, &r, anchor, ni));
             }
             Ok((ai, mu * ni))
         };

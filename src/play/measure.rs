@@ -456,7 +456,7 @@ pub struct PointResult {
 }
 
 /// The realised field of a played schedule against its prediction.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
 pub struct RealisedField {
     /// Relative L2 error ‖R − E‖/‖E‖ over valid points (NaN without one).
     pub relative_error: f64,

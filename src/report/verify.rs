@@ -24,7 +24,7 @@ pub fn summary_json(r: &VerifyReport) -> Result<String> {
     struct Summary<'a> {
         realised_vs_predicted_relative_error: f64,
         realised_shape_error: f64,
-        realised_strength: f64,
+        realised_strength: Option<f64>,
         design_strength: f64,
         converged_fraction: Option<f64>,
         median_time_to_converge_s: Option<f64>,
@@ -57,7 +57,7 @@ pub fn summary_json(r: &VerifyReport) -> Result<String> {
     let summary = Summary {
         realised_vs_predicted_relative_error: v.relative_error,
         realised_shape_error: v.shape_error,
-        realised_strength: v.realised_scale * r.design_strength,
+        realised_strength: r.realised_strength,
         design_strength: r.design_strength,
         converged_fraction: r.swarm.converged_fraction,
         median_time_to_converge_s: r.swarm.median_time_to_converge_s,
@@ -374,10 +374,13 @@ pub fn summary(r: &VerifyReport) -> String {
     } else {
         let _ = writeln!(
         out,
-        "realised vs predicted relative error {:.2} % (shape {:.2} %, realised strength {:.4} against {:.4} designed) over {} of {} points ({} model, {} warm-up + {} measured periods of {:.4} s); max |error| {:.3e} m/s, rms |predicted| {:.3e} m/s",
+        "realised vs predicted relative error {:.2} % (shape {:.2} %, realised strength {} against {:.4} designed) over {} of {} points ({} model, {} warm-up + {} measured periods of {:.4} s); max |error| {:.3e} m/s, rms |predicted| {:.3e} m/s",
         100.0 * v.relative_error,
         100.0 * v.shape_error,
-        v.realised_scale * r.design_strength,
+        r.realised_strength.map_or_else(
+            || "not measured (no target field to measure against)".to_string(),
+            |s| format!("{s:.4}")
+        ),
         r.design_strength,
         v.valid,
         req.points * req.points,

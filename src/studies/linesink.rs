@@ -81,6 +81,15 @@ impl LineSink {
         finite("--depth", self.depth)?;
         positive("--period", self.period)?;
         non_negative("--mu", self.friction.kinetic)?;
+        // μ_k = 0: no friction force, so nothing drives the part to a
+        // steady velocity (its mean velocity is whatever it started with);
+        // `field` refuses the same (crate::scene).
+        if self.friction.kinetic == 0.0 {
+            return Err(Error::invalid(
+                "--mu",
+                "must be > 0, got 0: with kinetic friction μ_k = 0 nothing drives the part to a steady velocity, so there is no friction field (`field` refuses it too)",
+            ));
+        }
         self.friction.validate("--mu").map_err(|_| {
             Error::invalid(
                 "--mu-static",
@@ -139,7 +148,10 @@ impl LineSink {
     }
 
     /// Edge of the sine wave's stick deadband, (μ_s g − |h| A)/(μ_s A), or
-    /// `None` when there is none (|h| A ≥ μ_s g, or a square wave).
+    /// `None` when there is none (|h| A ≥ μ_s g, or a square wave). The
+    /// paper model's (small angle, frozen position, no centripetal term):
+    /// the full model's tilt and centripetal terms move the edge, so it is
+    /// printed for `--model paper` only.
     pub fn deadband_edge(&self) -> Option<f64> {
         let (mus, g, a, h) = (
             self.friction.stat,
@@ -219,8 +231,18 @@ impl LineSink {
             self.friction.stat,
             model.name()
         );
-        if let Some(edge) = self.deadband_edge() {
-            let _ = writeln!(s, "stick deadband: |r| ≤ {edge:.6} m");
+        match self.deadband_edge() {
+            Some(edge) if model == crate::dynamics::Preset::Paper.model() => {
+                let _ = writeln!(s, "stick deadband: |r| ≤ {edge:.6} m");
+            }
+            Some(edge) => {
+                let _ = writeln!(
+                    s,
+                    "the paper model's stick deadband |r| ≤ {edge:.6} m does not hold for the {} model: its rows' stuck column says where the part is held",
+                    model.name()
+                );
+            }
+            None => {}
         }
         let _ = writeln!(
             s,

@@ -7,13 +7,15 @@
 //! the realised field is compared with the prediction by the one measure of
 //! [`crate::play::measure`]; [`swarm`] plays many point parts over the
 //! target region (where they end up, how long they take); [`rectangles`]
-//! plays uniform rectangles (planar parts); [`run`] is the
+//! plays uniform rectangles (planar parts); [`strength`] measures the
+//! realised strength against the target; [`run`] is the
 //! `platefield verify` command. Nothing here depends on how the schedule
 //! was designed.
 
 pub mod friction;
 pub mod rectangles;
 pub mod run;
+pub mod strength;
 pub mod swarm;
 
 pub use rectangles::{

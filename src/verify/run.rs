@@ -33,7 +33,7 @@ use crate::play::measure::{verify_points_ticked, PlayOptions, RealisedField};
 use crate::play::sensitivity::Sensitivity;
 use crate::play::{ScheduleMotion, V2};
 use crate::progress::{Progress, ProgressMode};
-use crate::request::Attractor;
+use crate::request::{Attractor, FieldSpec};
 use crate::schedule::Schedule;
 use crate::work::{Estimate, Term, RECT_STEP_COST};
 
@@ -176,8 +176,13 @@ pub struct VerifyReport {
     pub region: Grid,
     /// What was asked.
     pub request: VerifyRequest,
-    /// The strength the schedule's design claims (s⁻¹ for linear fields).
+    /// The strength the schedule's design claims (s⁻¹ for linear fields):
+    /// its stored `fit.strength`.
     pub design_strength: f64,
+    /// The strength the schedule realises, measured against the target's
+    /// field ([`super::strength`]); `None` when the schedule records no
+    /// target or no counted point has a nonzero target vector.
+    pub realised_strength: Option<f64>,
     /// Realised field against the prediction.
     pub realised: RealisedField,
     /// The swarm.
@@ -188,20 +193,20 @@ pub struct VerifyReport {
     pub friction_sweep: Option<Sensitivity>,
 }
 
-/// The region verified: the target's grid, or ±3 cm when the schedule does
-/// not record one.
+/// The region verified: the target's grid; for a grid-less `sampled`
+/// target, the region its basis was resampled on
+/// ([`crate::request::scattered_grid`]: the samples' bounding box plus
+/// 1 mm); ±3 cm when the schedule records no target.
 pub fn region(schedule: &Schedule) -> Grid {
-    match schedule.target_spec.as_ref().and_then(|t| t.grid.as_ref()) {
-        Some(g) => Grid {
-            x: g.x,
-            y: g.y,
-            n: g.n,
-        },
-        None => Grid {
-            x: [-0.03, 0.03],
-            y: [-0.03, 0.03],
-            n: [5, 5],
-        },
+    const UNRECORDED: Grid = Grid {
+        x: [-0.03, 0.03],
+        y: [-0.03, 0.03],
+        n: [5, 5],
+    };
+    match schedule.target_spec.as_ref().map(|t| (&t.grid, &t.field)) {
+        Some((Some(g), _)) => *g,
+        Some((None, FieldSpec::Sampled { points, .. })) => crate::request::scattered_grid(points),
+        _ => UNRECORDED,
     }
 }
 
@@ -570,6 +575,10 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest) -> Result<VerifyRe
         region: g,
         request: req.clone(),
         design_strength: strength,
+        realised_strength: schedule
+            .target_spec
+            .as_ref()
+            .and_then(|t| super::strength::realised_strength(t, &v)),
         realised: v,
         swarm,
         rectangles,
