@@ -261,3 +261,50 @@ fn one_motion_realises_its_lagged_per_cycle_prediction() {
     assert!(v.relative_error < 0.005, "{}", v.relative_error);
     assert!(a > 0.008 && b > 0.008 && c > 0.008, "{a} {b} {c}");
 }
+
+/// Issue 30: `verify`'s progress counts every term of its estimate, the
+/// rectangles' too. With `--rect-poses 64 --swarm 1 --points 2
+/// --duration 14` (the issue's case) the rectangles are nearly all of the
+/// work; before, the progress weights were zipped against the terms one
+/// place off (the settled warm-up term was added after them), the
+/// rectangles' term was never counted, and the bar read 100 % from 3 s on
+/// of a run of more than 120 s. Checked: Σ weight × parts equals the
+/// estimate (in thousands of steps, rounded up per part), and the
+/// rectangles' share of the bar equals their share of the estimate.
+#[test]
+fn verify_progress_counts_every_term_of_the_estimate() {
+    use platefield::schedule::Schedule;
+    use platefield::verify::run::{progress_weights, work_estimate, Duration, VerifyRequest};
+    let schedule = Schedule::load(std::path::Path::new("results/sink/schedule.json")).unwrap();
+    let req = VerifyRequest {
+        points: 2,
+        swarm: 1,
+        rectangle_poses: 64,
+        duration: Duration::Seconds(14.0),
+        ..VerifyRequest::default()
+    };
+    let periods = (14.0 / schedule.period_s).ceil() as u32;
+    let work = work_estimate(&schedule, &req, periods, periods);
+    let counts = [4, 1, 64];
+    let w = progress_weights(&work, counts);
+    let total: u64 = w.iter().zip(counts).map(|(w, n)| w * n as u64).sum();
+    let estimate = work.steps() / 1e3;
+    assert!(
+        total as f64 >= estimate && total as f64 <= estimate + 69.0,
+        "bar {total} against estimate {estimate}"
+    );
+    let rect = work
+        .terms
+        .iter()
+        .find(|t| t.label == "rectangles")
+        .unwrap()
+        .steps()
+        / 1e3;
+    let share = (w[2] * 64) as f64 / total as f64;
+    assert!(share > 0.9, "rectangles' share of the bar {share}");
+    assert!(
+        (share - rect / estimate).abs() < 1e-3,
+        "bar share {share} against the estimate's {}",
+        rect / estimate
+    );
+}

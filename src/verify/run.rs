@@ -429,11 +429,35 @@ pub fn work_estimate(
             .times(crate::work::VELOCITY_CYCLES, "cycles")
             .times(steps, "steps"),
     )
-    .plus(term("swarm", swarm, swarm_periods))
+    .plus(term(SWARM_TERM, swarm, swarm_periods))
     .plus(
-        term("rectangles", req.rectangle_poses as f64, rect_periods)
+        term(RECTANGLES_TERM, req.rectangle_poses as f64, rect_periods)
             .times(RECT_STEP_COST, "point steps per rectangle step"),
     )
+}
+
+/// Terms of [`work_estimate`] played per swarm part and per rectangle;
+/// every other term is played per realised-grid point.
+const SWARM_TERM: &str = "swarm";
+const RECTANGLES_TERM: &str = "rectangles";
+
+/// Progress weights in thousands of RK4 part steps of one realised-grid
+/// point, one swarm part and one rectangle: each group's terms of `work`
+/// over its part count (`counts`: grid points, swarm parts, rectangles),
+/// so that `Σ weight × count` is the estimate and the time left is right
+/// whichever group dominates (before, the rectangles' term was never
+/// counted and the bar stood at 100 % while they played).
+pub fn progress_weights(work: &Estimate, counts: [usize; 3]) -> [u64; 3] {
+    let mut steps = [0.0; 3];
+    for t in &work.terms {
+        let group = match t.label.as_str() {
+            SWARM_TERM => 1,
+            RECTANGLES_TERM => 2,
+            _ => 0,
+        };
+        steps[group] += t.steps();
+    }
+    std::array::from_fn(|k| (steps[k] / counts[k].max(1) as f64 / 1e3).ceil().max(1.0) as u64)
 }
 
 /// `platefield verify`: runs `req` on the schedule at `path` with the
@@ -486,21 +510,8 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest) -> Result<VerifyRe
     let work = work_estimate(&schedule, req, periods, rect_periods);
     work.check(req.allow_long)?;
     let poses = rectangle_poses(&g, req.rectangle_poses);
-    // Progress in thousands of RK4 part steps: each part advances it by
-    // its share of its term of the estimate (realised grid, swarm,
-    // rectangles), so the time left is right when rectangles dominate.
-    // Terms: realised grid, its prediction (both per grid point), swarm,
-    // rectangles.
-    let grid = req.points * req.points;
-    let counts = [grid, grid, starts.len(), poses.len()];
-    let per_part: Vec<u64> = work
-        .terms
-        .iter()
-        .zip(counts)
-        .map(|(t, n)| (t.steps() / n.max(1) as f64 / 1e3).ceil().max(1.0) as u64)
-        .collect();
-    let weights = [per_part[0] + per_part[1], per_part[2], per_part[3]];
-    let counts = [grid, starts.len(), poses.len()];
+    let counts = [req.points * req.points, starts.len(), poses.len()];
+    let weights = progress_weights(&work, counts);
     let progress = Progress::new(
         "verify",
         "k RK4 steps",
