@@ -157,13 +157,16 @@ pub fn label(p: &Primitive) -> String {
 }
 
 /// Bilinear interpolation of a grid field at `p` (used for point-sampled
-/// targets without a grid; `None` outside or next to an invalid node).
-fn bilinear(field: &Field, p: [f64; 2]) -> Option<[f64; 2]> {
+/// targets without a grid); outside the grid `OutsideSource`, next to an
+/// invalid node that node's own flag (a LineSink rotated so that a corner
+/// of the region lies where it lifts the part off reads "contact lost",
+/// not "outside source").
+fn bilinear(field: &Field, p: [f64; 2]) -> Result<[f64; 2], Validity> {
     let g = &field.grid;
     let fx = |v: f64, r: [f64; 2], n: usize| (v - r[0]) / (r[1] - r[0]) * (n - 1) as f64;
     let (u, v) = (fx(p[0], g.x, g.n[0]), fx(p[1], g.y, g.n[1]));
     if !(u >= 0.0 && v >= 0.0 && u <= (g.n[0] - 1) as f64 && v <= (g.n[1] - 1) as f64) {
-        return None;
+        return Err(Validity::OutsideSource);
     }
     let (i, j) = (
         (u.floor() as usize).min(g.n[0] - 2),
@@ -179,12 +182,12 @@ fn bilinear(field: &Field, p: [f64; 2]) -> Option<[f64; 2]> {
     ] {
         let k = (j + dj) * g.n[0] + i + di;
         if field.validity[k] != Validity::Ok {
-            return None;
+            return Err(field.validity[k]);
         }
         out[0] += w * field.vectors[k][0];
         out[1] += w * field.vectors[k][1];
     }
-    Some(out)
+    Ok(out)
 }
 
 /// The grid on which rotated copies are resampled: the target's own grid,
@@ -296,8 +299,8 @@ pub fn column(
         points
             .iter()
             .map(|p| match bilinear(field, *p) {
-                Some(v) => (v, Validity::Ok),
-                None => ([0.0, 0.0], Validity::OutsideSource),
+                Ok(v) => (v, Validity::Ok),
+                Err(flag) => ([0.0, 0.0], flag),
             })
             .unzip()
     };
@@ -330,4 +333,45 @@ pub fn column(
         invalid_samples: bad.len(),
         reason: ExclusionReason::Invalid(counts[0].0),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::basis::PrimitiveKind;
+
+    /// Issue 30: a scattered point next to a node where the part lost
+    /// contact leaves its column out as "contact lost" (before: "outside
+    /// source", which read as a grid too small); a point off the grid is
+    /// "outside source".
+    #[test]
+    fn scattered_points_pass_on_the_flag_of_an_invalid_node() {
+        let mut validity = vec![Validity::Ok; 9];
+        validity[8] = Validity::ContactLost;
+        let field = Field {
+            grid: Grid {
+                x: [0.0, 0.02],
+                y: [0.0, 0.02],
+                n: [3, 3],
+            },
+            kind: FieldKind::Velocity,
+            vectors: vec![[1.0, 0.0]; 9],
+            validity,
+        };
+        let source = || ColumnSource::Primitive(Primitive::new(PrimitiveKind::LineSink));
+        let reason = |p: [f64; 2]| {
+            column(source(), &field, false, &[p], &[1.0], false)
+                .err()
+                .map(|e| e.reason)
+        };
+        assert_eq!(reason([0.005, 0.005]), None);
+        assert_eq!(
+            reason([0.015, 0.015]),
+            Some(ExclusionReason::Invalid(Validity::ContactLost))
+        );
+        assert_eq!(
+            reason([0.025, 0.005]),
+            Some(ExclusionReason::Invalid(Validity::OutsideSource))
+        );
+    }
 }
