@@ -1633,7 +1633,9 @@ fn verify_measures_the_realised_strength_of_an_edited_schedule() {
     // the design's masked 21 × 21), both against the same target: they
     // agree within the fit's own shape error (5.9 %; measured 3.1 %).
     let played = shipped["played"]["realised_strength"].as_f64().unwrap();
-    let fit = shipped["fit_quantized"]["relative_l2_error"].as_f64().unwrap();
+    let fit = shipped["fit_quantized"]["relative_l2_error"]
+        .as_f64()
+        .unwrap();
     assert!(
         (a / played - 1.0).abs() < fit,
         "verify's {a} against the design's played {played} (fit error {fit})"
@@ -1683,7 +1685,10 @@ fn linesink_refuses_no_friction_and_keeps_the_deadband_to_the_paper_model() {
     args.extend(["--r", "0.01", "--mu", "0"]);
     let (code, out, err) = platefield(&args);
     assert_eq!(code, 2, "{out}");
-    assert!(err.contains("--mu") && err.contains("steady velocity"), "{err}");
+    assert!(
+        err.contains("--mu") && err.contains("steady velocity"),
+        "{err}"
+    );
     assert!(out.is_empty());
     // h A = 0.01 × 180 = 1.8 < μ_s g = 2.94: the paper model's deadband
     // |r| ≤ (2.94 − 1.8)/(0.3 × 180) = 0.021167 m; the full model slips
@@ -1741,7 +1746,13 @@ fn frozen_verify_places_a_lost_contact_at_the_frozen_part() {
         let Some((_, tail)) = note.split_once("leaves the plate") else {
             continue;
         };
-        let at = tail.split_once(" at (").unwrap().1.split_once(") m").unwrap().0;
+        let at = tail
+            .split_once(" at (")
+            .unwrap()
+            .1
+            .split_once(") m")
+            .unwrap()
+            .0;
         let q: Vec<f64> = at.split(", ").map(|c| c.parse().unwrap()).collect();
         let start: Vec<f64> = p["start"]
             .as_array()

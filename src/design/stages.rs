@@ -220,7 +220,6 @@ pub(crate) fn no_usable_basis(excluded: &[ExcludedColumn]) -> String {
     )
 }
 
-
 /// `library`'s columns at `stage`'s target points: every entry at every
 /// rotation and shift of the stage and the options ([`basis::assemble`]).
 pub(crate) fn assemble_library(
@@ -681,13 +680,19 @@ mod tests {
             },
         );
         let m = no_usable_basis(&[copy.clone(), over.clone(), over.clone()]);
-        assert!(m.contains("2 over the target's shaker limits (e.g. LineSink@0°"), "{m}");
+        assert!(
+            m.contains("2 over the target's shaker limits (e.g. LineSink@0°"),
+            "{m}"
+        );
         assert!(m.contains("1 more are rotated copies"), "{m}");
         assert!(!m.contains("ScaledCircle@15°"), "{m}");
         assert!(!m.contains("--keep-invalid"), "{m}");
         let invalid = left_out("Trans@0°", ExclusionReason::Invalid(Validity::ContactLost));
         let m = no_usable_basis(&[copy, invalid]);
-        assert!(m.contains("1 invalid somewhere in the target region (e.g. Trans@0°"), "{m}");
+        assert!(
+            m.contains("1 invalid somewhere in the target region (e.g. Trans@0°"),
+            "{m}"
+        );
         assert!(m.contains("--keep-invalid") && !m.contains("shaker"), "{m}");
     }
 }
