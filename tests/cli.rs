@@ -1575,12 +1575,13 @@ fn design_summary_opens_with_the_kept_design() {
 }
 
 /// Runs a short `verify` (3 × 3 points, one part, no rectangles, one
-/// period) of `schedule` written to `dir`, returns its `summary.json`.
-fn quick_verify(dir: &Path, schedule: &serde_json::Value) -> serde_json::Value {
+/// period, and `extra` arguments) of `schedule` written to `dir`, returns
+/// its `summary.json`.
+fn quick_verify(dir: &Path, schedule: &serde_json::Value, extra: &[&str]) -> serde_json::Value {
     let file = dir.join("schedule.json");
     std::fs::write(&file, schedule.to_string()).unwrap();
     let out = dir.join("out");
-    let (code, _, err) = platefield(&[
+    let mut args = vec![
         "verify",
         file.to_str().unwrap(),
         "--points",
@@ -1594,7 +1595,9 @@ fn quick_verify(dir: &Path, schedule: &serde_json::Value) -> serde_json::Value {
         "--quiet",
         "--out",
         out.to_str().unwrap(),
-    ]);
+    ];
+    args.extend_from_slice(extra);
+    let (code, _, err) = platefield(&args);
     assert_eq!(code, 0, "{err}");
     let name = schedule["target"].as_str().unwrap();
     let summary = out.join(name).join("verify/summary.json");
@@ -1615,13 +1618,13 @@ fn verify_measures_the_realised_strength_of_an_edited_schedule() {
     let shipped: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string("results/sink/schedule.json").unwrap())
             .unwrap();
-    let own = quick_verify(&dir, &shipped);
+    let own = quick_verify(&dir, &shipped, &[]);
     let mut edited = shipped.clone();
     for key in ["fit", "fit_quantized"] {
         let s = edited[key]["strength"].as_f64().unwrap();
         edited[key]["strength"] = (2.0 * s).into();
     }
-    let twice = quick_verify(&dir, &edited);
+    let twice = quick_verify(&dir, &edited, &[]);
     let (a, b) = (
         own["realised_strength"].as_f64().unwrap(),
         twice["realised_strength"].as_f64().unwrap(),
@@ -1659,7 +1662,7 @@ fn verify_region_of_a_gridless_sampled_target_is_its_samples() {
     t.as_object_mut().unwrap().remove("grid");
     t["mask"] = serde_json::json!([]);
     t["field"] = serde_json::json!({"kind": "sampled", "points": points, "vectors": vectors});
-    let summary = quick_verify(&dir, &s);
+    let summary = quick_verify(&dir, &s, &[]);
     let region = &summary["region"];
     for (axis, half) in [("x", 0.061), ("y", 0.051)] {
         let r = region[axis].as_array().unwrap();
@@ -1715,29 +1718,11 @@ fn linesink_refuses_no_friction_and_keeps_the_deadband_to_the_paper_model() {
 #[test]
 fn frozen_verify_places_a_lost_contact_at_the_frozen_part() {
     let dir = temp_dir("verify-frozen-circle");
-    let out = dir.join("out");
-    let (code, _, err) = platefield(&[
-        "verify",
-        "results/sequenced/whirlpool/schedule.json",
-        "--model",
-        "frozen",
-        "--points",
-        "3",
-        "--swarm",
-        "1",
-        "--rect-poses",
-        "0",
-        "--repetitions",
-        "1",
-        "--quiet",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    assert_eq!(code, 0, "{err}");
-    let summary: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(out.join("whirlpool/verify/summary.json")).unwrap(),
+    let schedule: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string("results/sequenced/whirlpool/schedule.json").unwrap(),
     )
     .unwrap();
+    let summary = quick_verify(&dir, &schedule, &["--model", "frozen"]);
     let mut lost = 0;
     for p in summary["realised_field"]["per_point"].as_array().unwrap() {
         let Some(note) = p["note"].as_str() else {

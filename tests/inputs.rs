@@ -317,3 +317,61 @@ fn harmonic_and_step_bounds() {
     }
     assert!(Scene::from_json_str(&harmonic_scene(2, 16)).is_ok());
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 24, failure_persistence: None, ..ProptestConfig::default() })]
+
+    /// Sampled targets of 1–5000 points (issue 30's numerical edges):
+    /// pseudo-random points within ±`half` (up to 0.9 m) with vectors −p
+    /// (an exact sink), at 5 decimals so that repeats happen at the
+    /// largest counts. Each target is refused naming a
+    /// `target.field.points[i]` path, or it loads with every sample kept,
+    /// its field reproduces each sample's vector at the sample (the
+    /// interpolation's own reference, exact to 1e-15), and the grid its
+    /// basis is resampled on — which `verify` also plays over — covers
+    /// every point within at most `SCATTERED_N` nodes per side.
+    #[test]
+    fn sampled_targets_of_any_count_load_or_name_a_point(
+        count in 1usize..=5000,
+        seed in 0u64..1000,
+        half in prop::sample::select(vec![0.001, 0.04, 0.9]),
+    ) {
+        let mut state = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        let mut uniform = || {
+            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let points: Vec<[f64; 2]> = (0..count)
+            .map(|_| {
+                let c = |u: f64| ((2.0 * u - 1.0) * half * 1e5).round() / 1e5;
+                [c(uniform()), c(uniform())]
+            })
+            .collect();
+        let vectors: Vec<[f64; 2]> = points.iter().map(|p| [-p[0], -p[1]]).collect();
+        let json = serde_json::json!({
+            "name": "many",
+            "field": {"kind": "sampled", "points": points, "vectors": vectors},
+        })
+        .to_string();
+        match Target::from_json_str(&json) {
+            Err(e) => {
+                let e = e.to_string();
+                prop_assert!(e.starts_with("target.field.points["), "{}", e);
+                prop_assert!(e.contains("repeats"), "{}", e);
+            }
+            Ok(t) => {
+                let s = t.sample().unwrap();
+                prop_assert_eq!(s.points.len(), count);
+                for (p, v) in points.iter().zip(&vectors).step_by(7) {
+                    let f = t.field.eval(*p);
+                    prop_assert!((f[0] - v[0]).abs() <= 1e-15 && (f[1] - v[1]).abs() <= 1e-15);
+                }
+                let g = platefield::request::scattered_grid(&s.points);
+                prop_assert!(g.n[0] <= platefield::request::SCATTERED_N && g.n[1] <= platefield::request::SCATTERED_N);
+                for p in &s.points {
+                    prop_assert!(g.x[0] < p[0] && p[0] < g.x[1] && g.y[0] < p[1] && p[1] < g.y[1], "{:?} outside {:?}", p, g);
+                }
+            }
+        }
+    }
+}
