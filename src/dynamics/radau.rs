@@ -42,6 +42,7 @@ use nalgebra::{Matrix3, Vector3};
 use super::simulator::{Simulator, ACROSS_ROUND_OFF};
 use super::state::{Step, V2};
 use super::ContactLoss;
+use crate::motion::Kinematics;
 
 /// A step is stiff across the slip when h μ_k N/|u| exceeds this.
 pub(super) const STIFF: f64 = 1.0;
@@ -370,21 +371,7 @@ impl Simulator<'_> {
             };
             Ok((free - dir * (mu * n), mu * n / s, dir))
         };
-        // Initial guess: friction along a_free at every stage (the slaved
-        // direction of a stiff slip).
-        let mut f = [V2::zeros(); 3];
-        for (j, fj) in f.iter_mut().enumerate() {
-            let (n, free) = self.forces(&kin[j], &r0, &u0, anchor);
-            let fn_ = free.norm();
-            *fj = if fn_ > 0.0 {
-                free - free * (mu * n.max(0.0) / fn_)
-            } else {
-                free
-            };
-        }
-        let mut u: [V2; 3] = std::array::from_fn(|i| {
-            u0 + (f[0] * tab.a[i][0] + f[1] * tab.a[i][1] + f[2] * tab.a[i][2]) * h
-        });
+        let mut u = self.radau_guess(&kin, (&r0, &u0), anchor, &tab, h);
         let scale = u.iter().map(|x| x.norm()).fold(u0.norm(), f64::max);
         if scale == 0.0 {
             return Ok(None);
@@ -416,36 +403,12 @@ impl Simulator<'_> {
             let Some(delta) = newton_update(&tab, h, &across, &g) else {
                 return Ok(None);
             };
-            let mut change: f64 = 0.0;
-            let mut damped = false;
-            for (i, d) in delta.iter().enumerate() {
-                // Damped: a stage may not pass through u = 0 in one update.
-                let ui = u[i] - d;
-                let through = ui.dot(&u[i]) <= 0.0;
-                damped |= through;
-                u[i] = if through { u[i] * 0.5 } else { ui };
-                change = change.max(d.norm());
-            }
+            let (change, damped) = damped_update(&mut u, &delta);
             if !u.iter().all(|x| x.x.is_finite() && x.y.is_finite()) {
                 return Ok(None);
             }
-            // Converged: the update is below the tolerance, or the
-            // iteration contracts (θ = this update / the last < ½) fast
-            // enough that the error left after it, at most θ/(1 − θ) times
-            // the update (Hairer and Wanner's estimate), is below it — one
-            // iteration fewer than waiting for an update below the
-            // tolerance: Newton iterations per step 4.06 → 3.09 on
-            // DivCircle's force field, its error the same to four digits.
-            // Or stalled at the round-off floor (the last stage near u = 0
-            // makes the system ill-conditioned).
-            let stalled = change >= 0.5 * previous && change <= 1e4 * tol;
-            let theta = change / previous;
-            let contracted =
-                previous.is_finite() && theta < 0.5 && theta / (1.0 - theta) * change <= tol;
-            // A damped update was not the Newton step taken: the next
-            // update's contraction is not measured against it.
-            previous = if damped { f64::INFINITY } else { change };
-            if !damped && (change <= tol || stalled || contracted) {
+            let converged = newton_converged(change, &mut previous, tol, damped);
+            if converged {
                 // A stage reversed against a nonzero u₀: the slip passed
                 // through u = 0 inside the step (module docs).
                 if u0 != V2::zeros() && u.iter().any(|x| x.dot(&u0) <= 0.0) {
@@ -463,6 +426,70 @@ impl Simulator<'_> {
         }
         Ok(None)
     }
+
+    /// The Newton iteration's initial stages: friction along a_free at
+    /// every stage (the slaved direction of a stiff slip), integrated by
+    /// the tableau from `u0`.
+    fn radau_guess(
+        &self,
+        kin: &[Kinematics; 3],
+        (r0, u0): (&V2, &V2),
+        anchor: &V2,
+        tab: &Tableau,
+        h: f64,
+    ) -> [V2; 3] {
+        let mu = self.friction().kinetic;
+        let mut f = [V2::zeros(); 3];
+        for (j, fj) in f.iter_mut().enumerate() {
+            let (n, free) = self.forces(&kin[j], r0, u0, anchor);
+            let fn_ = free.norm();
+            *fj = if fn_ > 0.0 {
+                free - free * (mu * n.max(0.0) / fn_)
+            } else {
+                free
+            };
+        }
+        std::array::from_fn(|i| {
+            *u0 + (f[0] * tab.a[i][0] + f[1] * tab.a[i][1] + f[2] * tab.a[i][2]) * h
+        })
+    }
+}
+
+/// Applies the Newton update `delta` to the stages, damped: a stage may
+/// not pass through u = 0 in one update (it is halved instead). Returns
+/// the largest update and whether any stage was damped.
+fn damped_update(u: &mut [V2; 3], delta: &[V2; 3]) -> (f64, bool) {
+    let mut change: f64 = 0.0;
+    let mut damped = false;
+    for (i, d) in delta.iter().enumerate() {
+        let ui = u[i] - d;
+        let through = ui.dot(&u[i]) <= 0.0;
+        damped |= through;
+        u[i] = if through { u[i] * 0.5 } else { ui };
+        change = change.max(d.norm());
+    }
+    (change, damped)
+}
+
+/// Whether the Newton iteration has converged after an update of size
+/// `change` (the last one's in `previous`, updated here).
+///
+/// Converged: the update is below the tolerance, or the iteration
+/// contracts (θ = this update / the last < ½) fast enough that the error
+/// left after it, at most θ/(1 − θ) times the update (Hairer and Wanner's
+/// estimate), is below it — one iteration fewer than waiting for an update
+/// below the tolerance: Newton iterations per step 4.06 → 3.09 on
+/// DivCircle's force field, its error the same to four digits. Or stalled
+/// at the round-off floor (the last stage near u = 0 makes the system
+/// ill-conditioned). A damped update was not the Newton step taken: it
+/// never converges, and the next update's contraction is not measured
+/// against it.
+fn newton_converged(change: f64, previous: &mut f64, tol: f64, damped: bool) -> bool {
+    let stalled = change >= 0.5 * *previous && change <= 1e4 * tol;
+    let theta = change / *previous;
+    let contracted = previous.is_finite() && theta < 0.5 && theta / (1.0 - theta) * change <= tol;
+    *previous = if damped { f64::INFINITY } else { change };
+    !damped && (change <= tol || stalled || contracted)
 }
 
 #[cfg(test)]
