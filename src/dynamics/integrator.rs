@@ -610,18 +610,8 @@ impl Simulator<'_> {
             let a = self.slip_rhs(&ks, t + s, &rs, &us, &dir0, anchor)?;
             let dg = a.dot(&u0);
             let delta = if dg < 0.0 { -g / dg } else { f64::NAN };
-            // Newton with g' from the right-hand side converges linearly at
-            // the rate ρ of the RK4 solution's mismatch with it (O(h⁴)),
-            // estimated from the last two corrections: s + δ is then within
-            // ρ|δ|/(1 − ρ) of the root.
-            let rate = (delta / last_delta).abs();
-            let error = if rate < 0.5 {
-                rate * delta.abs() / (1.0 - rate)
-            } else {
-                f64::INFINITY
-            };
             let next = s + delta;
-            let converged = delta.abs() <= tol || (2.0 * error <= tol && delta.abs() <= 1e-6 * h);
+            let converged = stop_converged(delta, last_delta, tol, h);
             if converged && next >= lo - tol && next <= hi + tol {
                 // The root is within the tolerance of s + δ, which the
                 // trial's state reaches by its Taylor polynomial (error
@@ -820,6 +810,22 @@ fn brent_min(f: &impl Fn(f64) -> f64, mut a: f64, mut b: f64, tol: f64) -> (f64,
         }
     }
     (x, fx)
+}
+
+/// Whether the stop search of `stop_in_step` has converged after the
+/// correction `delta` (the last one `last_delta`) in a step of length `h`.
+///
+/// Newton with g' from the right-hand side converges linearly at the rate
+/// ρ of the RK4 solution's mismatch with it (O(h⁴)), estimated from the
+/// last two corrections: s + δ is then within ρ|δ|/(1 − ρ) of the root.
+fn stop_converged(delta: f64, last_delta: f64, tol: f64, h: f64) -> bool {
+    let rate = (delta / last_delta).abs();
+    let error = if rate < 0.5 {
+        rate * delta.abs() / (1.0 - rate)
+    } else {
+        f64::INFINITY
+    };
+    delta.abs() <= tol || (2.0 * error <= tol && delta.abs() <= 1e-6 * h)
 }
 
 #[cfg(test)]

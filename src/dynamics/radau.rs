@@ -280,20 +280,11 @@ impl Simulator<'_> {
                         return Ok(Some(Slowing::Slipped(e)));
                     }
                     lo = Some((h, e));
-                    let phi = e.u.norm();
-                    let slope = e.du.dot(&e.u) / phi;
-                    if phi <= 1e-10 * s0 && slope < 0.0 {
-                        let dt = (phi / -slope).min(hi - h);
-                        return Ok(Some(Slowing::Stopped {
-                            h: h + dt,
-                            r: e.r + e.u * (0.5 * dt),
-                        }));
+                    let to_stop = time_to_stop(&e);
+                    if let (true, Some(dt)) = (e.u.norm() <= 1e-10 * s0, to_stop) {
+                        return Ok(Some(stopped(h, dt.min(hi - h), &e)));
                     }
-                    let next = if slope < 0.0 {
-                        h + phi / -slope
-                    } else {
-                        f64::NAN
-                    };
+                    let next = to_stop.map_or(f64::NAN, |dt| h + dt);
                     h = if next > h && next < hi.min(rest) {
                         next
                     } else if hi.is_finite() {
@@ -308,14 +299,8 @@ impl Simulator<'_> {
                     // last stage reaches u = 0: where the last good step's
                     // linear extrapolation stops before `hi`, that is the stop.
                     if let Some((hl, e)) = lo {
-                        let phi = e.u.norm();
-                        let slope = e.du.dot(&e.u) / phi;
-                        if slope < 0.0 && hl + phi / -slope <= hi {
-                            let dt = phi / -slope;
-                            return Ok(Some(Slowing::Stopped {
-                                h: hl + dt,
-                                r: e.r + e.u * (0.5 * dt),
-                            }));
+                        if let Some(dt) = time_to_stop(&e).filter(|dt| hl + dt <= hi) {
+                            return Ok(Some(stopped(hl, dt, &e)));
                         }
                     }
                     let l = lo.map_or(0.0, |x| x.0);
@@ -383,7 +368,6 @@ impl Simulator<'_> {
         };
         for _ in 0..NEWTON_MAX {
             at.out.rk4_steps += 1;
-            let mut g = [V2::zeros(); 3];
             let mut fs = [V2::zeros(); 3];
             // Per stage j: the unit vector p_j across Û_j and σ_j = μ_k N_j/|U_j|.
             let mut across = [(V2::zeros(), 0.0); 3];
@@ -395,11 +379,7 @@ impl Simulator<'_> {
                 fs[j] = fj;
                 across[j] = (V2::new(-dir.y, dir.x), stiff);
             }
-            for i in 0..3 {
-                g[i] = u[i]
-                    - u0
-                    - (fs[0] * tab.a[i][0] + fs[1] * tab.a[i][1] + fs[2] * tab.a[i][2]) * h;
-            }
+            let g = collocation_residual(&tab, h, &u0, &u, &fs);
             let Some(delta) = newton_update(&tab, h, &across, &g) else {
                 return Ok(None);
             };
@@ -453,6 +433,31 @@ impl Simulator<'_> {
             *u0 + (f[0] * tab.a[i][0] + f[1] * tab.a[i][1] + f[2] * tab.a[i][2]) * h
         })
     }
+}
+
+/// The time a step's end `e` takes to reach u = 0 at its slip speed's
+/// rate of change (linear extrapolation), if that speed falls.
+fn time_to_stop(e: &RadauEnd) -> Option<f64> {
+    let phi = e.u.norm();
+    let slope = e.du.dot(&e.u) / phi;
+    (slope < 0.0).then(|| phi / -slope)
+}
+
+/// The slip stopped `dt` after a step of length `h` ending at `e`, the
+/// speed falling linearly over `dt`.
+fn stopped(h: f64, dt: f64, e: &RadauEnd) -> Slowing {
+    Slowing::Stopped {
+        h: h + dt,
+        r: e.r + e.u * (0.5 * dt),
+    }
+}
+
+/// The collocation equations' residual at the stages `u` with right-hand
+/// sides `fs`: g_i = U_i − u₀ − h Σ_j a_ij f_j.
+fn collocation_residual(tab: &Tableau, h: f64, u0: &V2, u: &[V2; 3], fs: &[V2; 3]) -> [V2; 3] {
+    std::array::from_fn(|i| {
+        u[i] - u0 - (fs[0] * tab.a[i][0] + fs[1] * tab.a[i][1] + fs[2] * tab.a[i][2]) * h
+    })
 }
 
 /// Applies the Newton update `delta` to the stages, damped: a stage may
