@@ -331,9 +331,9 @@ impl Simulator<'_> {
         at: &mut Step<'_>,
         h: f64,
     ) -> Result<Option<RadauEnd>, ContactLoss> {
-        let (t, piece, state, anchor) = (at.t, at.piece, *at.state, at.anchor);
+        let (t, piece, anchor) = (at.t, at.piece, at.anchor);
         let tab = tableau();
-        let (r0, u0) = (state.r, state.u);
+        let (r0, u0) = (at.state.r, at.state.u);
         let kin: [_; 3] = std::array::from_fn(|j| self.kin_off_grid(t + tab.c[j] * h, piece));
         let mu = self.friction().kinetic;
         // Right-hand side at stage j: a_free − μ_k N Û, the friction
@@ -344,16 +344,7 @@ impl Simulator<'_> {
                 return Err(self.contact_loss(t + tab.c[j] * h, r, n));
             }
             let s = u.norm();
-            let dir = if s > 0.0 {
-                u / s
-            } else {
-                let f = free.norm();
-                if f > 0.0 {
-                    free / f
-                } else {
-                    V2::zeros()
-                }
-            };
+            let dir = slip_direction(u, s, &free);
             Ok((free - dir * (mu * n), mu * n / s, dir))
         };
         let mut u = self.radau_guess(&kin, (&r0, &u0), anchor, &tab, h);
@@ -432,6 +423,21 @@ impl Simulator<'_> {
         std::array::from_fn(|i| {
             *u0 + (f[0] * tab.a[i][0] + f[1] * tab.a[i][1] + f[2] * tab.a[i][2]) * h
         })
+    }
+}
+
+/// The slip direction Û = U/|U| (`s` = |U|); at U = 0 that of a_free
+/// `free`, or zero.
+fn slip_direction(u: &V2, s: f64, free: &V2) -> V2 {
+    if s > 0.0 {
+        u / s
+    } else {
+        let f = free.norm();
+        if f > 0.0 {
+            free / f
+        } else {
+            V2::zeros()
+        }
     }
 }
 

@@ -202,6 +202,43 @@ fn worst(e: &[f64]) -> f64 {
     e.iter().copied().fold(0.0, |a: f64, x| a.max(x))
 }
 
+/// A row of the error table with errors only: the worst, then each
+/// primitive's.
+fn error_only_row(md: &mut String, label: &str, e: &[f64]) {
+    let _ = writeln!(
+        md,
+        "| {label} | | | {} | {} |",
+        sci(worst(e)),
+        row(e.iter().map(|x| sci(*x)))
+    );
+}
+
+/// Each field's relative L2 error of `b` against `reference`.
+fn errors_against(b: &Build, reference: &Build) -> Vec<f64> {
+    b.fields
+        .iter()
+        .zip(&reference.fields)
+        .map(|(f, r)| relative_l2(f, r).0)
+        .collect()
+}
+
+/// The reference's own error, estimated by Richardson: e(n) = C n^-p gives
+/// e_ref = e(n) / ((n_ref/n)^p − 1) from the errors `e` at `n` steps, with
+/// p the observed `order`, at most [`RICHARDSON_ORDER`] (module docs).
+fn richardson(e: &[f64], order: &[f64], n: usize) -> Vec<f64> {
+    let ratio = REFERENCE_STEPS as f64 / n as f64;
+    e.iter()
+        .zip(order)
+        .map(|(e, p)| {
+            if p.is_finite() && *p > 0.0 {
+                e / (ratio.powf(p.min(RICHARDSON_ORDER)) - 1.0)
+            } else {
+                f64::NAN
+            }
+        })
+        .collect()
+}
+
 /// Builds the libraries and measures them.
 fn measure() -> Measured {
     let names: Vec<&'static str> = Library::default_primitives()
@@ -214,30 +251,14 @@ fn measure() -> Measured {
         .map(|&s| best_of(|| build_force_library(s)))
         .collect();
     let calibrated = best_of(build_calibrated_force_library);
-    let calibrated_errors: Vec<f64> = calibrated
-        .fields
-        .iter()
-        .zip(&reference.fields)
-        .map(|(f, r)| relative_l2(f, r).0)
-        .collect();
+    let calibrated_errors = errors_against(&calibrated, &reference);
     let last = builds.len() - 1;
     let errors: Vec<Vec<f64>> = builds
         .iter()
-        .map(|b| {
-            b.fields
-                .iter()
-                .zip(&reference.fields)
-                .map(|(f, r)| relative_l2(f, r).0)
-                .collect()
-        })
+        .map(|b| errors_against(b, &reference))
         .collect();
     let perturbed = build(StepsPlan::Uniform, builds[last].steps, PERTURBATION);
-    let noise: Vec<f64> = perturbed
-        .fields
-        .iter()
-        .zip(&builds[last].fields)
-        .map(|(f, r)| relative_l2(f, r).0)
-        .collect();
+    let noise = errors_against(&perturbed, &builds[last]);
     let orders: Vec<Vec<f64>> = (1..builds.len())
         .map(|i| {
             errors[i - 1]
@@ -260,20 +281,7 @@ fn measure() -> Measured {
         .zip(&errors[last])
         .map(|(a, b)| (a / b).ln() / (builds[last].steps as f64 / builds[half].steps as f64).ln())
         .collect();
-    // Richardson: e(n) = C n^-p gives e_ref = e(n_last) / ((n_ref/n_last)^p − 1),
-    // with p at most RICHARDSON_ORDER (module docs).
-    let ratio = REFERENCE_STEPS as f64 / builds[last].steps as f64;
-    let ref_error: Vec<f64> = errors[last]
-        .iter()
-        .zip(&fine_order)
-        .map(|(e, p)| {
-            if p.is_finite() && *p > 0.0 {
-                e / (ratio.powf(p.min(RICHARDSON_ORDER)) - 1.0)
-            } else {
-                f64::NAN
-            }
-        })
-        .collect();
+    let ref_error = richardson(&errors[last], &fine_order, builds[last].steps);
     let g = Grid::DEFAULT;
     let s = FieldSettings::default();
     // Points each field simulates: one per family of points its motion
@@ -386,19 +394,12 @@ fn error_table(m: &Measured) -> String {
         sci(worst(&calibrated_errors)),
         row(calibrated_errors.iter().map(|x| sci(*x)))
     );
-    let _ = writeln!(
-        md,
-        "| reference's own error (estimate) | | | {} | {} |",
-        sci(worst(&ref_error)),
-        row(ref_error.iter().map(|x| sci(*x)))
+    error_only_row(&mut md, "reference's own error (estimate)", ref_error);
+    let shifted = format!(
+        "reproducibility: {} steps, motions shifted by {PERTURBATION:e} m",
+        builds[last].steps
     );
-    let _ = writeln!(
-        md,
-        "| reproducibility: {} steps, motions shifted by {PERTURBATION:e} m | | | {} | {} |",
-        builds[last].steps,
-        sci(worst(&noise)),
-        row(noise.iter().map(|x| sci(*x)))
-    );
+    error_only_row(&mut md, &shifted, noise);
     md
 }
 
