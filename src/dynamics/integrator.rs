@@ -75,6 +75,36 @@ const MAX_SWING_STEPS: u32 = 400;
 /// velocity swinging past zero is cut a few times while it turns).
 const MAX_CUTS: u32 = 16;
 
+/// The loop state of one smooth piece in `advance_piece`.
+#[derive(Default)]
+struct Walk {
+    /// Cuts and back-offs so far (at most [`MAX_CUTS`]).
+    cuts: u32,
+    /// Short steps left in a swing past u = 0.
+    swing: u32,
+    /// Kinematics at the end of the last accepted step: the next step's
+    /// start, reused instead of evaluated again.
+    next_k: Option<(f64, Kinematics)>,
+}
+
+/// The kinematics at an explicit step's stages t + h/2 and t + h, when
+/// already looked up.
+type Stages = Option<(Kinematics, Kinematics)>;
+
+/// One explicit step tried in `advance_piece`.
+struct Trial<'k> {
+    /// Its length (s).
+    h: f64,
+    /// The kinematics at its start.
+    k0: &'k Kinematics,
+    /// The slip velocity at its start.
+    u0: V2,
+    /// A slip on the motion's line.
+    line: bool,
+    /// Event tolerance (s).
+    tiny: f64,
+}
+
 impl Simulator<'_> {
     /// Advances `state` from `t0` to `t1`. The kinematics use the current
     /// position when the model's `moving` switch is on, `anchor` otherwise.
@@ -150,70 +180,41 @@ impl Simulator<'_> {
 
     /// Advances `at` to `at.target` within one smooth piece; `grid` holds
     /// the tabulated kinematics of the fixed step ending there.
+    ///
+    /// Each pass of the loop: a part at rest is checked for sticking
+    /// ([`Self::update_stuck`]) and held while stuck; otherwise the scheme
+    /// may take the step itself ([`Self::scheme_start`]), or an explicit
+    /// RK4 step of [`Self::slip_step`]'s length is tried and accepted or
+    /// cut where the slip stops or turns ([`Self::settle_step`]).
     fn advance_piece<S: Scheme>(
         &self,
         at: &mut Step<'_>,
         grid: Option<StepNodes<'_>>,
     ) -> Result<(), ContactLoss> {
         let tiny = self.numerics.event_tol * self.period;
-        let mut cuts = 0;
-        let mut swing: u32 = 0;
-        // Kinematics at the end of the last accepted step: the next step's
-        // start, reused instead of evaluated again.
-        let mut next_k: Option<(f64, Kinematics)> = None;
+        let mut walk = Walk::default();
         while at.t < at.target {
-            if at.state.u == V2::zeros() && !at.state.stuck {
-                let (r, anchor) = (&at.state.r, at.anchor);
-                at.state.stuck = match (&next_k, grid.and_then(|g| g.at_start(at.t))) {
-                    (Some((tk, k)), _) if *tk == at.t => self.margin_of(k, r, anchor),
-                    (_, Some(k)) => self.margin_of(k, r, anchor),
-                    _ => self.margin(at.t, at.piece, r, anchor),
-                } >= 0.0;
-            }
+            self.update_stuck(at, &walk.next_k, grid);
             if at.state.stuck {
                 self.hold(at, tiny);
                 continue;
             }
-            let k0 = match next_k.take() {
-                Some((tk, k)) if tk == at.t => k,
-                _ => match grid.and_then(|g| g.at_start(at.t)) {
-                    Some(k) => *k,
-                    None => self.kin(at.t, at.piece),
-                },
-            };
+            let k0 = self.start_kinematics(at, walk.next_k.take(), grid);
             let u0 = at.state.u;
             let line = self.line.is_some_and(|i| u0[1 - i] == 0.0);
-            // Kinematics at the stages of a start from rest on a line.
-            let mut stages = None;
-            if line {
-                // A slip on the motion's line ([`Motion::slip_axis`]): a_free
-                // lies along it, a_⊥ = 0, so the 2-D checks cannot fire
-                // (the schemes' own steps and `ends_in_turn` are skipped,
-                // `slip_step` is the rest of the step outside a swing). A
-                // start from rest asks only whether a_free keeps its sign
-                // over the step, with the kinematics the explicit step then
-                // reuses.
-                if u0 == V2::zeros() {
-                    match S::from_rest_on_line(self, at, &k0, grid)? {
-                        LineStart::Implicit => {
-                            #[cfg(test)]
-                            line_tests::LINE_RADAU.with(|c| c.set(c.get() + 1));
-                            swing = 0;
-                            continue;
-                        }
-                        LineStart::Explicit(s) => stages = s,
-                    }
+            let stages = match self.scheme_start::<S>(at, &k0, grid, line)? {
+                Some(stages) => stages,
+                None => {
+                    walk.swing = 0;
+                    continue;
                 }
-            } else if S::own_step(self, at, &k0)? {
-                swing = 0;
-                continue;
-            }
-            let h = if line && swing == 0 {
+            };
+            let h = if line && walk.swing == 0 {
                 at.target - at.t
             } else {
-                self.slip_step::<S>(at, &k0, swing > 0)
+                self.slip_step::<S>(at, &k0, walk.swing > 0)
             };
-            swing = swing.saturating_sub(1);
+            walk.swing = walk.swing.saturating_sub(1);
             let nodes = match &stages {
                 Some((km, k1)) => Some([km, k1]),
                 None => grid.and_then(|g| g.stages(at.t, h, at.target)),
@@ -230,36 +231,135 @@ impl Simulator<'_> {
                 (at.state.r, at.state.u, at.t) = (r1, V2::repeat(f64::NAN), at.target);
                 return Ok(());
             }
-            if !line
-                && u0 != V2::zeros()
-                && u1.dot(&u0) > 0.0
-                && cuts < MAX_CUTS
-                && S::ends_in_turn(self, at, h, (&r1, &u1, &k1))
-            {
-                // The explicit step ended where the slip direction turns
-                // faster than the step can follow (close to a 2-D swing
-                // past u = 0): back off to where the component along u₀ is
-                // half the speed and follow the turn with short steps.
-                cuts += 1;
-                let level = 0.5 * u0.norm();
-                self.back_off(at, h, &k0, level)?;
-                swing = MAX_SWING_STEPS;
-                continue;
-            }
-            if u0 != V2::zeros() && u1.dot(&u0) <= 0.0 && cuts < MAX_CUTS {
-                cuts += 1;
-                if let Some(k) = self.cut_at_stop::<S>(at, h, &k0, (&r1, &u1, &k1), tiny)? {
-                    next_k = Some(k);
-                } else {
-                    swing = MAX_SWING_STEPS;
-                }
-                continue;
-            }
-            at.state.r = r1;
-            at.state.u = u1;
-            at.t = at.snapped(at.t + h, tiny);
-            next_k = Some((at.t, k1));
+            let trial = Trial {
+                h,
+                k0: &k0,
+                u0,
+                line,
+                tiny,
+            };
+            self.settle_step::<S>(at, &mut walk, &trial, (r1, u1, k1))?;
         }
+        Ok(())
+    }
+
+    /// A part at rest relative to the plate and not yet stuck: stuck when
+    /// its friction margin is non-negative (the kinematics at `at.t` from
+    /// the last accepted step, else the grid, else evaluated).
+    fn update_stuck(
+        &self,
+        at: &mut Step<'_>,
+        next_k: &Option<(f64, Kinematics)>,
+        grid: Option<StepNodes<'_>>,
+    ) {
+        if at.state.u == V2::zeros() && !at.state.stuck {
+            let (r, anchor) = (&at.state.r, at.anchor);
+            at.state.stuck = match (next_k, grid.and_then(|g| g.at_start(at.t))) {
+                (Some((tk, k)), _) if *tk == at.t => self.margin_of(k, r, anchor),
+                (_, Some(k)) => self.margin_of(k, r, anchor),
+                _ => self.margin(at.t, at.piece, r, anchor),
+            } >= 0.0;
+        }
+    }
+
+    /// The kinematics at the step's start: those at the end of the last
+    /// accepted step when it ended at `at.t` (reused instead of evaluated
+    /// again), else the grid's, else evaluated.
+    fn start_kinematics(
+        &self,
+        at: &Step<'_>,
+        next_k: Option<(f64, Kinematics)>,
+        grid: Option<StepNodes<'_>>,
+    ) -> Kinematics {
+        match next_k {
+            Some((tk, k)) if tk == at.t => k,
+            _ => match grid.and_then(|g| g.at_start(at.t)) {
+                Some(k) => *k,
+                None => self.kin(at.t, at.piece),
+            },
+        }
+    }
+
+    /// What the scheme does before the explicit step: `None` when it took
+    /// the step itself (the step advanced), else the kinematics at the
+    /// explicit step's stages when already looked up.
+    ///
+    /// A slip on the motion's line ([`Motion::slip_axis`]): a_free lies
+    /// along it, a_⊥ = 0, so the 2-D checks cannot fire (the schemes' own
+    /// steps and `ends_in_turn` are skipped, `slip_step` is the rest of the
+    /// step outside a swing). A start from rest asks only whether a_free
+    /// keeps its sign over the step, with the kinematics the explicit step
+    /// then reuses.
+    ///
+    /// [`Motion::slip_axis`]: crate::motion::Motion::slip_axis
+    fn scheme_start<S: Scheme>(
+        &self,
+        at: &mut Step<'_>,
+        k0: &Kinematics,
+        grid: Option<StepNodes<'_>>,
+        line: bool,
+    ) -> Result<Option<Stages>, ContactLoss> {
+        if !line {
+            return Ok(if S::own_step(self, at, k0)? {
+                None
+            } else {
+                Some(None)
+            });
+        }
+        if at.state.u != V2::zeros() {
+            return Ok(Some(None));
+        }
+        match S::from_rest_on_line(self, at, k0, grid)? {
+            LineStart::Implicit => {
+                #[cfg(test)]
+                line_tests::LINE_RADAU.with(|c| c.set(c.get() + 1));
+                Ok(None)
+            }
+            LineStart::Explicit(s) => Ok(Some(s)),
+        }
+    }
+
+    /// The explicit step `trial` ended at `end` = (r₁, u₁, k₁): backed off
+    /// where the slip turns faster than the step can follow, cut where the
+    /// slip stops (u₁·u₀ ≤ 0), each at most [`MAX_CUTS`] times per piece;
+    /// else accepted.
+    fn settle_step<S: Scheme>(
+        &self,
+        at: &mut Step<'_>,
+        walk: &mut Walk,
+        trial: &Trial<'_>,
+        (r1, u1, k1): (V2, V2, Kinematics),
+    ) -> Result<(), ContactLoss> {
+        let (h, k0, u0) = (trial.h, trial.k0, trial.u0);
+        if !trial.line
+            && u0 != V2::zeros()
+            && u1.dot(&u0) > 0.0
+            && walk.cuts < MAX_CUTS
+            && S::ends_in_turn(self, at, h, (&r1, &u1, &k1))
+        {
+            // The explicit step ended where the slip direction turns
+            // faster than the step can follow (close to a 2-D swing
+            // past u = 0): back off to where the component along u₀ is
+            // half the speed and follow the turn with short steps.
+            walk.cuts += 1;
+            let level = 0.5 * u0.norm();
+            self.back_off(at, h, k0, level)?;
+            walk.swing = MAX_SWING_STEPS;
+            return Ok(());
+        }
+        if u0 != V2::zeros() && u1.dot(&u0) <= 0.0 && walk.cuts < MAX_CUTS {
+            walk.cuts += 1;
+            if let Some(k) = self.cut_at_stop::<S>(at, h, k0, (&r1, &u1, &k1), trial.tiny)? {
+                walk.next_k = Some(k);
+            } else {
+                walk.swing = MAX_SWING_STEPS;
+            }
+            return Ok(());
+        }
+        at.state.r = r1;
+        at.state.u = u1;
+        at.t = at.snapped(at.t + h, trial.tiny);
+        walk.next_k = Some((at.t, k1));
         Ok(())
     }
 
@@ -510,18 +610,8 @@ impl Simulator<'_> {
             let a = self.slip_rhs(&ks, t + s, &rs, &us, &dir0, anchor)?;
             let dg = a.dot(&u0);
             let delta = if dg < 0.0 { -g / dg } else { f64::NAN };
-            // Newton with g' from the right-hand side converges linearly at
-            // the rate ρ of the RK4 solution's mismatch with it (O(h⁴)),
-            // estimated from the last two corrections: s + δ is then within
-            // ρ|δ|/(1 − ρ) of the root.
-            let rate = (delta / last_delta).abs();
-            let error = if rate < 0.5 {
-                rate * delta.abs() / (1.0 - rate)
-            } else {
-                f64::INFINITY
-            };
             let next = s + delta;
-            let converged = delta.abs() <= tol || (2.0 * error <= tol && delta.abs() <= 1e-6 * h);
+            let converged = stop_converged(delta, last_delta, tol, h);
             if converged && next >= lo - tol && next <= hi + tol {
                 // The root is within the tolerance of s + δ, which the
                 // trial's state reaches by its Taylor polynomial (error
@@ -720,6 +810,22 @@ fn brent_min(f: &impl Fn(f64) -> f64, mut a: f64, mut b: f64, tol: f64) -> (f64,
         }
     }
     (x, fx)
+}
+
+/// Whether the stop search of `stop_in_step` has converged after the
+/// correction `delta` (the last one `last_delta`) in a step of length `h`.
+///
+/// Newton with g' from the right-hand side converges linearly at the rate
+/// ρ of the RK4 solution's mismatch with it (O(h⁴)), estimated from the
+/// last two corrections: s + δ is then within ρ|δ|/(1 − ρ) of the root.
+fn stop_converged(delta: f64, last_delta: f64, tol: f64, h: f64) -> bool {
+    let rate = (delta / last_delta).abs();
+    let error = if rate < 0.5 {
+        rate * delta.abs() / (1.0 - rate)
+    } else {
+        f64::INFINITY
+    };
+    delta.abs() <= tol || (2.0 * error <= tol && delta.abs() <= 1e-6 * h)
 }
 
 #[cfg(test)]

@@ -42,6 +42,7 @@ use nalgebra::{Matrix3, Vector3};
 use super::simulator::{Simulator, ACROSS_ROUND_OFF};
 use super::state::{Step, V2};
 use super::ContactLoss;
+use crate::motion::Kinematics;
 
 /// A step is stiff across the slip when h μ_k N/|u| exceeds this.
 pub(super) const STIFF: f64 = 1.0;
@@ -279,20 +280,11 @@ impl Simulator<'_> {
                         return Ok(Some(Slowing::Slipped(e)));
                     }
                     lo = Some((h, e));
-                    let phi = e.u.norm();
-                    let slope = e.du.dot(&e.u) / phi;
-                    if phi <= 1e-10 * s0 && slope < 0.0 {
-                        let dt = (phi / -slope).min(hi - h);
-                        return Ok(Some(Slowing::Stopped {
-                            h: h + dt,
-                            r: e.r + e.u * (0.5 * dt),
-                        }));
+                    let to_stop = time_to_stop(&e);
+                    if let (true, Some(dt)) = (e.u.norm() <= 1e-10 * s0, to_stop) {
+                        return Ok(Some(stopped(h, dt.min(hi - h), &e)));
                     }
-                    let next = if slope < 0.0 {
-                        h + phi / -slope
-                    } else {
-                        f64::NAN
-                    };
+                    let next = to_stop.map_or(f64::NAN, |dt| h + dt);
                     h = if next > h && next < hi.min(rest) {
                         next
                     } else if hi.is_finite() {
@@ -307,14 +299,8 @@ impl Simulator<'_> {
                     // last stage reaches u = 0: where the last good step's
                     // linear extrapolation stops before `hi`, that is the stop.
                     if let Some((hl, e)) = lo {
-                        let phi = e.u.norm();
-                        let slope = e.du.dot(&e.u) / phi;
-                        if slope < 0.0 && hl + phi / -slope <= hi {
-                            let dt = phi / -slope;
-                            return Ok(Some(Slowing::Stopped {
-                                h: hl + dt,
-                                r: e.r + e.u * (0.5 * dt),
-                            }));
+                        if let Some(dt) = time_to_stop(&e).filter(|dt| hl + dt <= hi) {
+                            return Ok(Some(stopped(hl, dt, &e)));
                         }
                     }
                     let l = lo.map_or(0.0, |x| x.0);
@@ -345,9 +331,9 @@ impl Simulator<'_> {
         at: &mut Step<'_>,
         h: f64,
     ) -> Result<Option<RadauEnd>, ContactLoss> {
-        let (t, piece, state, anchor) = (at.t, at.piece, *at.state, at.anchor);
+        let (t, piece, anchor) = (at.t, at.piece, at.anchor);
         let tab = tableau();
-        let (r0, u0) = (state.r, state.u);
+        let (r0, u0) = (at.state.r, at.state.u);
         let kin: [_; 3] = std::array::from_fn(|j| self.kin_off_grid(t + tab.c[j] * h, piece));
         let mu = self.friction().kinetic;
         // Right-hand side at stage j: a_free − μ_k N Û, the friction
@@ -358,33 +344,10 @@ impl Simulator<'_> {
                 return Err(self.contact_loss(t + tab.c[j] * h, r, anchor, n));
             }
             let s = u.norm();
-            let dir = if s > 0.0 {
-                u / s
-            } else {
-                let f = free.norm();
-                if f > 0.0 {
-                    free / f
-                } else {
-                    V2::zeros()
-                }
-            };
+            let dir = slip_direction(u, s, &free);
             Ok((free - dir * (mu * n), mu * n / s, dir))
         };
-        // Initial guess: friction along a_free at every stage (the slaved
-        // direction of a stiff slip).
-        let mut f = [V2::zeros(); 3];
-        for (j, fj) in f.iter_mut().enumerate() {
-            let (n, free) = self.forces(&kin[j], &r0, &u0, anchor);
-            let fn_ = free.norm();
-            *fj = if fn_ > 0.0 {
-                free - free * (mu * n.max(0.0) / fn_)
-            } else {
-                free
-            };
-        }
-        let mut u: [V2; 3] = std::array::from_fn(|i| {
-            u0 + (f[0] * tab.a[i][0] + f[1] * tab.a[i][1] + f[2] * tab.a[i][2]) * h
-        });
+        let mut u = self.radau_guess(&kin, (&r0, &u0), anchor, &tab, h);
         let scale = u.iter().map(|x| x.norm()).fold(u0.norm(), f64::max);
         if scale == 0.0 {
             return Ok(None);
@@ -396,7 +359,6 @@ impl Simulator<'_> {
         };
         for _ in 0..NEWTON_MAX {
             at.out.rk4_steps += 1;
-            let mut g = [V2::zeros(); 3];
             let mut fs = [V2::zeros(); 3];
             // Per stage j: the unit vector p_j across Û_j and σ_j = μ_k N_j/|U_j|.
             let mut across = [(V2::zeros(), 0.0); 3];
@@ -408,44 +370,16 @@ impl Simulator<'_> {
                 fs[j] = fj;
                 across[j] = (V2::new(-dir.y, dir.x), stiff);
             }
-            for i in 0..3 {
-                g[i] = u[i]
-                    - u0
-                    - (fs[0] * tab.a[i][0] + fs[1] * tab.a[i][1] + fs[2] * tab.a[i][2]) * h;
-            }
+            let g = collocation_residual(&tab, h, &u0, &u, &fs);
             let Some(delta) = newton_update(&tab, h, &across, &g) else {
                 return Ok(None);
             };
-            let mut change: f64 = 0.0;
-            let mut damped = false;
-            for (i, d) in delta.iter().enumerate() {
-                // Damped: a stage may not pass through u = 0 in one update.
-                let ui = u[i] - d;
-                let through = ui.dot(&u[i]) <= 0.0;
-                damped |= through;
-                u[i] = if through { u[i] * 0.5 } else { ui };
-                change = change.max(d.norm());
-            }
+            let (change, damped) = damped_update(&mut u, &delta);
             if !u.iter().all(|x| x.x.is_finite() && x.y.is_finite()) {
                 return Ok(None);
             }
-            // Converged: the update is below the tolerance, or the
-            // iteration contracts (θ = this update / the last < ½) fast
-            // enough that the error left after it, at most θ/(1 − θ) times
-            // the update (Hairer and Wanner's estimate), is below it — one
-            // iteration fewer than waiting for an update below the
-            // tolerance: Newton iterations per step 4.06 → 3.09 on
-            // DivCircle's force field, its error the same to four digits.
-            // Or stalled at the round-off floor (the last stage near u = 0
-            // makes the system ill-conditioned).
-            let stalled = change >= 0.5 * previous && change <= 1e4 * tol;
-            let theta = change / previous;
-            let contracted =
-                previous.is_finite() && theta < 0.5 && theta / (1.0 - theta) * change <= tol;
-            // A damped update was not the Newton step taken: the next
-            // update's contraction is not measured against it.
-            previous = if damped { f64::INFINITY } else { change };
-            if !damped && (change <= tol || stalled || contracted) {
+            let converged = newton_converged(change, &mut previous, tol, damped);
+            if converged {
                 // A stage reversed against a nonzero u₀: the slip passed
                 // through u = 0 inside the step (module docs).
                 if u0 != V2::zeros() && u.iter().any(|x| x.dot(&u0) <= 0.0) {
@@ -463,6 +397,110 @@ impl Simulator<'_> {
         }
         Ok(None)
     }
+
+    /// The Newton iteration's initial stages: friction along a_free at
+    /// every stage (the slaved direction of a stiff slip), integrated by
+    /// the tableau from `u0`.
+    fn radau_guess(
+        &self,
+        kin: &[Kinematics; 3],
+        (r0, u0): (&V2, &V2),
+        anchor: &V2,
+        tab: &Tableau,
+        h: f64,
+    ) -> [V2; 3] {
+        let mu = self.friction().kinetic;
+        let mut f = [V2::zeros(); 3];
+        for (j, fj) in f.iter_mut().enumerate() {
+            let (n, free) = self.forces(&kin[j], r0, u0, anchor);
+            let fn_ = free.norm();
+            *fj = if fn_ > 0.0 {
+                free - free * (mu * n.max(0.0) / fn_)
+            } else {
+                free
+            };
+        }
+        std::array::from_fn(|i| {
+            *u0 + (f[0] * tab.a[i][0] + f[1] * tab.a[i][1] + f[2] * tab.a[i][2]) * h
+        })
+    }
+}
+
+/// The slip direction Û = U/|U| (`s` = |U|); at U = 0 that of a_free
+/// `free`, or zero.
+fn slip_direction(u: &V2, s: f64, free: &V2) -> V2 {
+    if s > 0.0 {
+        u / s
+    } else {
+        let f = free.norm();
+        if f > 0.0 {
+            free / f
+        } else {
+            V2::zeros()
+        }
+    }
+}
+
+/// The time a step's end `e` takes to reach u = 0 at its slip speed's
+/// rate of change (linear extrapolation), if that speed falls.
+fn time_to_stop(e: &RadauEnd) -> Option<f64> {
+    let phi = e.u.norm();
+    let slope = e.du.dot(&e.u) / phi;
+    (slope < 0.0).then(|| phi / -slope)
+}
+
+/// The slip stopped `dt` after a step of length `h` ending at `e`, the
+/// speed falling linearly over `dt`.
+fn stopped(h: f64, dt: f64, e: &RadauEnd) -> Slowing {
+    Slowing::Stopped {
+        h: h + dt,
+        r: e.r + e.u * (0.5 * dt),
+    }
+}
+
+/// The collocation equations' residual at the stages `u` with right-hand
+/// sides `fs`: g_i = U_i − u₀ − h Σ_j a_ij f_j.
+fn collocation_residual(tab: &Tableau, h: f64, u0: &V2, u: &[V2; 3], fs: &[V2; 3]) -> [V2; 3] {
+    std::array::from_fn(|i| {
+        u[i] - u0 - (fs[0] * tab.a[i][0] + fs[1] * tab.a[i][1] + fs[2] * tab.a[i][2]) * h
+    })
+}
+
+/// Applies the Newton update `delta` to the stages, damped: a stage may
+/// not pass through u = 0 in one update (it is halved instead). Returns
+/// the largest update and whether any stage was damped.
+fn damped_update(u: &mut [V2; 3], delta: &[V2; 3]) -> (f64, bool) {
+    let mut change: f64 = 0.0;
+    let mut damped = false;
+    for (i, d) in delta.iter().enumerate() {
+        let ui = u[i] - d;
+        let through = ui.dot(&u[i]) <= 0.0;
+        damped |= through;
+        u[i] = if through { u[i] * 0.5 } else { ui };
+        change = change.max(d.norm());
+    }
+    (change, damped)
+}
+
+/// Whether the Newton iteration has converged after an update of size
+/// `change` (the last one's in `previous`, updated here).
+///
+/// Converged: the update is below the tolerance, or the iteration
+/// contracts (θ = this update / the last < ½) fast enough that the error
+/// left after it, at most θ/(1 − θ) times the update (Hairer and Wanner's
+/// estimate), is below it — one iteration fewer than waiting for an update
+/// below the tolerance: Newton iterations per step 4.06 → 3.09 on
+/// DivCircle's force field, its error the same to four digits. Or stalled
+/// at the round-off floor (the last stage near u = 0 makes the system
+/// ill-conditioned). A damped update was not the Newton step taken: it
+/// never converges, and the next update's contraction is not measured
+/// against it.
+fn newton_converged(change: f64, previous: &mut f64, tol: f64, damped: bool) -> bool {
+    let stalled = change >= 0.5 * *previous && change <= 1e4 * tol;
+    let theta = change / *previous;
+    let contracted = previous.is_finite() && theta < 0.5 && theta / (1.0 - theta) * change <= tol;
+    *previous = if damped { f64::INFINITY } else { change };
+    !damped && (change <= tol || stalled || contracted)
 }
 
 #[cfg(test)]

@@ -398,6 +398,101 @@ impl Simulator<'_> {
         Ok(true)
     }
 
+    /// One implicit step from `y` to the nominal step's end, for a slip
+    /// speeding up with its direction slaved to a_free (module docs); true
+    /// when taken (`y` then at the target), false when it did not converge
+    /// or left the slaved slip.
+    fn implicit_to_target(&self, at: &mut Step<'_>, y: &mut Tau) -> Result<bool, ContactLoss> {
+        let (target, piece, anchor) = (at.target, at.piece, at.anchor);
+        let mut here = PartState::new(y.r, y.u);
+        let rest = target - y.t;
+        let mut from = Step {
+            t: y.t,
+            target,
+            piece,
+            anchor,
+            state: &mut here,
+            out: &mut *at.out,
+        };
+        Ok(match self.radau_step(&mut from, rest)? {
+            Some(e) if e.u.dot(&y.u) > 0.0 && still_slaved(&e.u, &e.du) => {
+                (y.t, y.r, y.u) = (target, e.r, e.u);
+                true
+            }
+            _ => false,
+        })
+    }
+
+    /// The rest of the way to u = 0 with a_free and N frozen: a uniform
+    /// deceleration `decel` along `uhat` from `y` at speed `s`, to the target or to rest
+    /// (an event; the part then sticks if its friction margin allows).
+    fn coast_to_rest(&self, at: &mut Step<'_>, y: &mut Tau, (uhat, s): (V2, f64), decel: f64) {
+        let (target, piece, anchor) = (at.target, at.piece, at.anchor);
+        let tol = self.numerics().event_tol * self.period();
+        let dt = s / decel;
+        if y.t + dt >= target - tol {
+            let d = target - y.t;
+            y.r += uhat * (s * d - 0.5 * decel * d * d);
+            y.u = uhat * (s - decel * d).max(0.0);
+            y.t = target;
+        } else {
+            at.out.events += 1;
+            y.t += dt;
+            y.r += uhat * (0.5 * s * dt);
+            y.u = V2::zeros();
+            at.state.stuck = self.margin(y.t, piece, &y.r, anchor) >= 0.0;
+        }
+    }
+
+    /// The τ-step of length `d` from `y` (speed `s`; ending at `y1`) ends at or past
+    /// the target: its length found as the root of t(m) = target. Newton
+    /// with dt/dτ = |u| at each trial's end (safeguarded by the bracket
+    /// [lo, hi]), from the root of the cubic Hermite interpolant of t over
+    /// the step (t and dt/dτ = s known at both ends): two or three trials
+    /// instead of the Illinois method's five or six. Returns the state at
+    /// the target.
+    fn land_on_target(
+        &self,
+        at: &mut Step<'_>,
+        (y, s): (&Tau, f64),
+        f0: &Tau,
+        d: f64,
+        y1: Tau,
+    ) -> Result<Tau, ContactLoss> {
+        let (target, piece, anchor) = (at.target, at.piece, at.anchor);
+        let tol = self.numerics().event_tol * self.period();
+        let (mut lo, mut hi) = (0.0, d);
+        // (`hermite_root` wants a falling function over θ = m/d ∈ [0, 1].)
+        let theta = hermite_root(target - y.t, -d * s, target - y1.t, -d * y1.u.norm());
+        let mut m = d * theta.clamp(0.0, 1.0);
+        let mut best = y1;
+        for _ in 0..100 {
+            if (best.t - target).abs() <= tol || hi - lo <= 1e-15 * d {
+                break;
+            }
+            let ym = self.tau_rk4(y, f0, m, piece, anchor)?;
+            at.out.rk4_steps += 1;
+            let g = ym.t - target;
+            if g.abs() <= tol {
+                best = ym;
+                break;
+            }
+            if g > 0.0 {
+                (hi, best) = (m, ym);
+            } else {
+                lo = m;
+            }
+            let next = m - g / ym.u.norm();
+            m = if next > lo && next < hi {
+                next
+            } else {
+                0.5 * (lo + hi)
+            };
+        }
+        best.t = target;
+        Ok(best)
+    }
+
     /// Follows a slipping part (`state.u` ≠ 0) in regularised time from
     /// `*t` until it leaves the region (see the module docs), stops, or
     /// reaches `target`. Advances `t` and `state`.
@@ -434,43 +529,16 @@ impl Simulator<'_> {
                 && (target - y.t) * mu * n > STIFF * s
                 && (bound / s).ln() * scale > IMPLICIT_AFTER * C_SLAVED * (along - mu * n)
             {
-                let mut here = PartState::new(y.r, y.u);
-                let rest = target - y.t;
-                let mut from = Step {
-                    t: y.t,
-                    target,
-                    piece,
-                    anchor,
-                    state: &mut here,
-                    out: &mut *at.out,
-                };
-                match self.radau_step(&mut from, rest)? {
-                    Some(e) if e.u.dot(&y.u) > 0.0 && still_slaved(&e.u, &e.du) => {
-                        (y.t, y.r, y.u) = (target, e.r, e.u);
-                        break;
-                    }
-                    _ => implicit_failed = true,
+                if self.implicit_to_target(at, &mut y)? {
+                    break;
                 }
+                implicit_failed = true;
             }
             if self.finish(at, &mut y, n, &free)? {
                 break;
             }
             if s < STOP * bound && along < mu * n {
-                // The rest of the way to u = 0 with a_free and N frozen.
-                let decel = mu * n - along;
-                let dt = s / decel;
-                if y.t + dt >= target - tol {
-                    let d = target - y.t;
-                    y.r += uhat * (s * d - 0.5 * decel * d * d);
-                    y.u = uhat * (s - decel * d).max(0.0);
-                    y.t = target;
-                } else {
-                    at.out.events += 1;
-                    y.t += dt;
-                    y.r += uhat * (0.5 * s * dt);
-                    y.u = V2::zeros();
-                    at.state.stuck = self.margin(y.t, piece, &y.r, anchor) >= 0.0;
-                }
+                self.coast_to_rest(at, &mut y, (uhat, s), mu * n - along);
                 break;
             }
             let d = self.tau_step(c, &free, mu * n, along, &uhat, s);
@@ -480,42 +548,7 @@ impl Simulator<'_> {
                 y = y1;
                 continue;
             }
-            // The step ends at or past the target: find its length, the root
-            // of t(m) = target. Newton with dt/dτ = |u| at each trial's end
-            // (safeguarded by the bracket [lo, hi]), from the root of the
-            // cubic Hermite interpolant of t over the step (t and dt/dτ = s
-            // known at both ends): two or three trials instead of the
-            // Illinois method's five or six.
-            let (mut lo, mut hi) = (0.0, d);
-            // (`hermite_root` wants a falling function over θ = m/d ∈ [0, 1].)
-            let theta = hermite_root(target - y.t, -d * s, target - y1.t, -d * y1.u.norm());
-            let mut m = d * theta.clamp(0.0, 1.0);
-            let mut best = y1;
-            for _ in 0..100 {
-                if (best.t - target).abs() <= tol || hi - lo <= 1e-15 * d {
-                    break;
-                }
-                let ym = self.tau_rk4(&y, &f0, m, piece, anchor)?;
-                at.out.rk4_steps += 1;
-                let g = ym.t - target;
-                if g.abs() <= tol {
-                    best = ym;
-                    break;
-                }
-                if g > 0.0 {
-                    (hi, best) = (m, ym);
-                } else {
-                    lo = m;
-                }
-                let next = m - g / ym.u.norm();
-                m = if next > lo && next < hi {
-                    next
-                } else {
-                    0.5 * (lo + hi)
-                };
-            }
-            y = best;
-            y.t = target;
+            y = self.land_on_target(at, (&y, s), &f0, d, y1)?;
             break;
         }
         at.t = y.t;

@@ -63,17 +63,8 @@ pub fn solve_on_rows(
     let (mr, k) = ad.shape();
     let r0 = ad * w0 - td;
     let slack = ROW_SLACK * td.amax();
-    let mut order: Vec<usize> = (0..mr).collect();
-    // L1: smallest residuals first; L∞: largest first. Ties by index.
-    order.sort_by(|&a, &b| {
-        let (x, y) = (r0[a].abs(), r0[b].abs());
-        (if l1 { x.total_cmp(&y) } else { y.total_cmp(&x) }).then(a.cmp(&b))
-    });
     let start = (START_ROWS_PER_COLUMN * (k + 1)).max(MIN_START_ROWS);
-    let mut in_set = vec![false; mr];
-    for &i in order.iter().take(start) {
-        in_set[i] = true;
-    }
+    let mut in_set = start_rows(&r0, l1, start);
     let sign: Vec<f64> = r0
         .iter()
         .map(|v| if *v < 0.0 { -1.0 } else { 1.0 })
@@ -135,6 +126,21 @@ pub fn solve_on_rows(
             in_set[i] = true;
         }
     }
+}
+
+/// The starting working set: the `start` rows of the smallest residuals
+/// `r0` (L1) or the largest (L∞), ties by index.
+fn start_rows(r0: &DVector<f64>, l1: bool, start: usize) -> Vec<bool> {
+    let mut order: Vec<usize> = (0..r0.len()).collect();
+    order.sort_by(|&a, &b| {
+        let (x, y) = (r0[a].abs(), r0[b].abs());
+        (if l1 { x.total_cmp(&y) } else { y.total_cmp(&x) }).then(a.cmp(&b))
+    });
+    let mut in_set = vec![false; r0.len()];
+    for &i in order.iter().take(start) {
+        in_set[i] = true;
+    }
+    in_set
 }
 
 #[cfg(test)]

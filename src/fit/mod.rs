@@ -399,6 +399,12 @@ pub(crate) fn validate_mode(mode: &FitMode) -> Result<(), FitError> {
 
 /// Solve on prepared (weighted, normalised, compressed) data using all its
 /// columns, and verify.  Fractions have length `prep.ncols()`.
+///
+/// The steps: the independent reference ([`verify::Independent`]), the
+/// conic solve ([`solve_conic`]), the raw weights cleaned onto the
+/// constraints ([`cleaned_weights`]), the least-squares modes' active-set
+/// polish ([`polished_weights`]), verification ([`verified`]), and the
+/// reported quantities ([`reported`]).
 pub(crate) fn solve_prepared(
     prep: &Prepared,
     mode: &FitMode,
@@ -406,13 +412,45 @@ pub(crate) fn solve_prepared(
     formulation: LsFormulation,
 ) -> Result<FitSolution, FitError> {
     let start = std::time::Instant::now();
-    let m = prep.ncols();
-    let name = mode.name();
-
     // Independent reference (also decides reachability / budget feasibility
     // exactly, before any interior-point answer is looked at).
     let independent = verify::Independent::compute(prep, mode, tol)?;
+    let outcome = solve_conic(prep, mode, tol, formulation)?;
+    let status = outcome.status.to_string();
+    let w = cleaned_weights(prep, mode, tol, &outcome, &status)?;
+    let (w, polished) = polished_weights(prep, mode, w, &outcome);
+    let s_budget = match mode {
+        FitMode::Budget { .. } => outcome.x[prep.ncols()].max(0.0),
+        _ => 1.0,
+    };
+    let (w, check, independent_kept) =
+        verified(prep, mode, w, s_budget, tol, &outcome, &independent)?;
+    let r = reported(prep, mode, &w, s_budget, &check, independent.zero_optimal);
+    Ok(FitSolution {
+        fractions: r.fractions,
+        strength: r.strength,
+        objective: r.objective,
+        relative_error: r.relative_error,
+        status,
+        iterations: outcome.iterations,
+        solve_time_s: outcome.solve_time_s,
+        total_time_s: start.elapsed().as_secs_f64(),
+        kkt_residual: check.kkt_residual,
+        independent_gap: check.independent_gap,
+        unreachable: r.zero_solution || r.relative_error > UNREACHABLE_REL_ERROR,
+        polished,
+        independent_kept,
+    })
+}
 
+/// The conic program of `mode` solved by Clarabel; an error unless it is
+/// solved or almost solved.
+fn solve_conic(
+    prep: &Prepared,
+    mode: &FitMode,
+    tol: f64,
+    formulation: LsFormulation,
+) -> Result<conic::ConicOutcome, FitError> {
     let outcome = match *mode {
         FitMode::Absolute | FitMode::Shape => {
             let cap = matches!(mode, FitMode::Absolute);
@@ -425,24 +463,38 @@ pub(crate) fn solve_prepared(
         FitMode::L1 => lp::solve_lp_mode(prep, true, tol)?,
         FitMode::LInf => lp::solve_lp_mode(prep, false, tol)?,
     };
-    let status = outcome.status.to_string();
     let solved = outcome.status == clarabel::solver::SolverStatus::Solved;
     let almost = outcome.status == clarabel::solver::SolverStatus::AlmostSolved;
     if !(solved || almost) {
-        return Err(FitError::SolverStatus { mode: name, status });
+        return Err(FitError::SolverStatus {
+            mode: mode.name(),
+            status: outcome.status.to_string(),
+        });
     }
+    Ok(outcome)
+}
 
-    // Raw solver variables, cleaned: clip negatives, rescale onto Σw ≤ 1.
+/// The raw solver variables cleaned: an error if they violate w ≥ 0 or
+/// Σw ≤ 1 by more than `tol`; else negatives clipped and the weights
+/// rescaled onto Σw ≤ 1.
+fn cleaned_weights(
+    prep: &Prepared,
+    mode: &FitMode,
+    tol: f64,
+    outcome: &conic::ConicOutcome,
+    status: &str,
+) -> Result<DVector<f64>, FitError> {
+    let m = prep.ncols();
     let mut w = DVector::from_iterator(m, outcome.x[..m].iter().copied());
     let raw_min = w.min();
     let raw_sum = w.sum();
     if raw_min < -tol || (mode.has_sum_constraint() && raw_sum > 1.0 + tol) {
         return Err(FitError::Verification {
-            mode: name,
+            mode: mode.name(),
             check: "feasibility",
             residual: (-raw_min).max(raw_sum - 1.0),
             tolerance: tol,
-            status,
+            status: status.to_string(),
         });
     }
     w.apply(|v| *v = v.max(0.0));
@@ -452,36 +504,57 @@ pub(crate) fn solve_prepared(
             w /= s;
         }
     }
-    // Active-set polishing of the least-squares modes (see `polish`): kept
-    // only when feasible and not worse in the KKT residual.
-    let mut polished = false;
-    if matches!(mode, FitMode::Absolute | FitMode::Shape) {
-        if let Some(wp) = polish::polish_ls(
-            &prep.r,
-            &prep.c,
-            &prep.col_norms,
-            &w,
-            &outcome.bound_duals,
-            outcome.sum_dual,
-        ) {
-            let cap = mode.has_sum_constraint();
-            if verify::ls_kkt_residual(prep, &wp, cap) <= verify::ls_kkt_residual(prep, &w, cap) {
-                w = wp;
-                polished = true;
-            }
-        }
-    }
-    let s_budget = match mode {
-        FitMode::Budget { .. } => outcome.x[m].max(0.0),
-        _ => 1.0,
-    };
+    Ok(w)
+}
 
+/// Active-set polishing of the least-squares modes (see `polish`): kept
+/// only when feasible and not worse in the KKT residual. Returns the
+/// weights and whether the polished ones were kept.
+fn polished_weights(
+    prep: &Prepared,
+    mode: &FitMode,
+    w: DVector<f64>,
+    outcome: &conic::ConicOutcome,
+) -> (DVector<f64>, bool) {
+    if !matches!(mode, FitMode::Absolute | FitMode::Shape) {
+        return (w, false);
+    }
+    let Some(wp) = polish::polish_ls(
+        &prep.r,
+        &prep.c,
+        &prep.col_norms,
+        &w,
+        &outcome.bound_duals,
+        outcome.sum_dual,
+    ) else {
+        return (w, false);
+    };
+    let cap = mode.has_sum_constraint();
+    if verify::ls_kkt_residual(prep, &wp, cap) <= verify::ls_kkt_residual(prep, &w, cap) {
+        (wp, true)
+    } else {
+        (w, false)
+    }
+}
+
+/// The weights verified ([`verify::verify_prepared`]). The interior-point
+/// answer worse than the independent optimum by more than the tolerance
+/// (an ill-conditioned basis: its KKT residual can pass while its
+/// objective is 1e-6 off) is replaced by the independent active-set
+/// solution when that passes every check itself. Returns the weights, the
+/// verification and whether the independent solution was kept; a failed
+/// verification carries the solver's status.
+fn verified(
+    prep: &Prepared,
+    mode: &FitMode,
+    mut w: DVector<f64>,
+    s_budget: f64,
+    tol: f64,
+    outcome: &conic::ConicOutcome,
+    independent: &verify::Independent,
+) -> Result<(DVector<f64>, Verification, bool), FitError> {
     let mut check =
-        verify::verify_prepared(prep, mode, &w, s_budget, tol, Some(&outcome), &independent);
-    // The interior-point answer worse than the independent optimum by more
-    // than the tolerance (an ill-conditioned basis: its KKT residual can pass
-    // while its objective is 1e-6 off) is replaced by the independent
-    // active-set solution when that passes every check itself.
+        verify::verify_prepared(prep, mode, &w, s_budget, tol, Some(outcome), independent);
     let mut independent_kept = false;
     if let (
         Err(FitError::Verification {
@@ -492,13 +565,14 @@ pub(crate) fn solve_prepared(
     ) = (&check, &independent.weights)
     {
         if let Ok(c) =
-            verify::verify_prepared(prep, mode, wi, s_budget, tol, Some(&outcome), &independent)
+            verify::verify_prepared(prep, mode, wi, s_budget, tol, Some(outcome), independent)
         {
             w = wi.clone();
             check = Ok(c);
             independent_kept = true;
         }
     }
+    let status = outcome.status.to_string();
     let check = check.map_err(|e| match e {
         FitError::Verification {
             mode,
@@ -511,70 +585,66 @@ pub(crate) fn solve_prepared(
             check,
             residual,
             tolerance,
-            status: status.clone(),
+            status,
         },
         other => other,
     })?;
+    Ok((w, check, independent_kept))
+}
 
-    // Convert to the reported quantities.
-    let (fractions, strength, objective, relative_error, zero_solution) = match *mode {
-        FitMode::Shape => {
-            let sum = w.sum();
-            let achieved = (&prep.ad * &w).norm();
-            if sum.is_nan()
-                || sum <= 0.0
-                || achieved <= verify::ZERO_FIELD_TOL
-                || independent.zero_optimal
-            {
-                (vec![0.0; m], 0.0, prep.tnorm * prep.tnorm, 1.0, true)
-            } else {
-                let f: Vec<f64> = w.iter().map(|v| v / sum).collect();
-                (
-                    f,
-                    1.0 / sum,
-                    check.objective * prep.tnorm * prep.tnorm,
-                    check.relative_error,
-                    false,
-                )
-            }
-        }
-        FitMode::Absolute => (
-            w.iter().copied().collect(),
-            1.0,
-            check.objective * prep.tnorm * prep.tnorm,
-            check.relative_error,
-            false,
-        ),
-        FitMode::Budget { .. } => (
-            w.iter().copied().collect(),
-            s_budget,
-            s_budget,
-            check.relative_error,
-            false,
-        ),
-        FitMode::L1 | FitMode::LInf => (
-            w.iter().copied().collect(),
-            1.0,
-            check.objective * prep.tnorm,
-            check.relative_error,
-            false,
-        ),
-    };
-    Ok(FitSolution {
-        fractions,
+/// What a fit reports, in the target's units.
+struct Reported {
+    fractions: Vec<f64>,
+    strength: f64,
+    objective: f64,
+    relative_error: f64,
+    zero_solution: bool,
+}
+
+/// The verified weights converted to the reported quantities: `Shape`'s
+/// weights normalised to fractions with strength 1/Σw (the zero solution
+/// when no field is achieved), the objective in the target's units.
+fn reported(
+    prep: &Prepared,
+    mode: &FitMode,
+    w: &DVector<f64>,
+    s_budget: f64,
+    check: &Verification,
+    zero_optimal: bool,
+) -> Reported {
+    let direct = |strength: f64, objective: f64| Reported {
+        fractions: w.iter().copied().collect(),
         strength,
         objective,
-        relative_error,
-        status,
-        iterations: outcome.iterations,
-        solve_time_s: outcome.solve_time_s,
-        total_time_s: start.elapsed().as_secs_f64(),
-        kkt_residual: check.kkt_residual,
-        independent_gap: check.independent_gap,
-        unreachable: zero_solution || relative_error > UNREACHABLE_REL_ERROR,
-        polished,
-        independent_kept,
-    })
+        relative_error: check.relative_error,
+        zero_solution: false,
+    };
+    match *mode {
+        FitMode::Shape => {
+            let sum = w.sum();
+            let achieved = (&prep.ad * w).norm();
+            if sum.is_nan() || sum <= 0.0 || achieved <= verify::ZERO_FIELD_TOL || zero_optimal {
+                Reported {
+                    fractions: vec![0.0; prep.ncols()],
+                    strength: 0.0,
+                    objective: prep.tnorm * prep.tnorm,
+                    relative_error: 1.0,
+                    zero_solution: true,
+                }
+            } else {
+                Reported {
+                    fractions: w.iter().map(|v| v / sum).collect(),
+                    strength: 1.0 / sum,
+                    objective: check.objective * prep.tnorm * prep.tnorm,
+                    relative_error: check.relative_error,
+                    zero_solution: false,
+                }
+            }
+        }
+        FitMode::Absolute => direct(1.0, check.objective * prep.tnorm * prep.tnorm),
+        FitMode::Budget { .. } => direct(s_budget, s_budget),
+        FitMode::L1 | FitMode::LInf => direct(1.0, check.objective * prep.tnorm),
+    }
 }
 
 #[cfg(test)]

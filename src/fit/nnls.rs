@@ -284,17 +284,9 @@ fn lawson_hanson(a: &DMatrix<f64>, b: &DVector<f64>) -> Result<NnlsOutput, FitEr
     'outer: loop {
         let resid = b - a * &x;
         let grad = a.tr_mul(&resid); // negative gradient of ½‖Ax − b‖²
-        let mut best: Option<(usize, f64)> = None;
-        for j in 0..n {
-            if passive[j] || rejected[j] || col_norms[j] == 0.0 {
-                continue;
-            }
-            let gj = grad[j];
-            if gj > GRADIENT_TOL * col_norms[j] * bnorm && best.is_none_or(|(_, g)| gj > g) {
-                best = Some((j, gj));
-            }
-        }
-        let Some((j, _)) = best else { break };
+        let Some(j) = entering_column(&grad, (&passive, &rejected), &col_norms, bnorm) else {
+            break;
+        };
         if !qr.push(a, b, j) {
             rejected[j] = true;
             continue;
@@ -325,34 +317,8 @@ fn lawson_hanson(a: &DMatrix<f64>, b: &DVector<f64>) -> Result<NnlsOutput, FitEr
                 rejected.iter_mut().for_each(|r| *r = false);
                 break;
             }
-            // Interpolate towards z until the first variable hits zero.
-            let mut alpha = f64::INFINITY;
-            let mut hit = usize::MAX;
-            for (pos, &c) in qr.cols.iter().enumerate() {
-                if z[pos] <= 0.0 {
-                    let ratio = x[c] / (x[c] - z[pos]);
-                    if ratio < alpha {
-                        alpha = ratio;
-                        hit = c;
-                    }
-                }
-            }
-            for (pos, &c) in qr.cols.iter().enumerate() {
-                x[c] += alpha * (z[pos] - x[c]);
-            }
-            x[hit] = 0.0;
-            // Move every passive variable at (or below) zero to the bound.
-            let mut pos = 0;
-            while pos < qr.len() {
-                let c = qr.cols[pos];
-                if x[c] <= 0.0 {
-                    x[c] = 0.0;
-                    passive[c] = false;
-                    qr.remove(pos);
-                } else {
-                    pos += 1;
-                }
-            }
+            step_to_first_bound(&mut x, &z, &qr.cols);
+            release_bound(&mut x, &mut passive, &mut qr);
             if qr.len() == 0 {
                 continue 'outer;
             }
@@ -364,6 +330,64 @@ fn lawson_hanson(a: &DMatrix<f64>, b: &DVector<f64>) -> Result<NnlsOutput, FitEr
         residual_norm,
         iterations,
     })
+}
+
+/// The column entering the passive set: the largest negative gradient
+/// `grad` (of ½‖Ax − b‖²) among the columns neither passive nor rejected,
+/// if it exceeds the tolerance relative to the column's and b's norms.
+fn entering_column(
+    grad: &DVector<f64>,
+    (passive, rejected): (&[bool], &[bool]),
+    col_norms: &[f64],
+    bnorm: f64,
+) -> Option<usize> {
+    let mut best: Option<(usize, f64)> = None;
+    for j in 0..grad.len() {
+        if passive[j] || rejected[j] || col_norms[j] == 0.0 {
+            continue;
+        }
+        let gj = grad[j];
+        if gj > GRADIENT_TOL * col_norms[j] * bnorm && best.is_none_or(|(_, g)| gj > g) {
+            best = Some((j, gj));
+        }
+    }
+    best.map(|(j, _)| j)
+}
+
+/// Interpolates the passive variables `x[cols]` towards the unconstrained
+/// solution `z` until the first one hits zero (set exactly to zero).
+fn step_to_first_bound(x: &mut DVector<f64>, z: &[f64], cols: &[usize]) {
+    let mut alpha = f64::INFINITY;
+    let mut hit = usize::MAX;
+    for (pos, &c) in cols.iter().enumerate() {
+        if z[pos] <= 0.0 {
+            let ratio = x[c] / (x[c] - z[pos]);
+            if ratio < alpha {
+                alpha = ratio;
+                hit = c;
+            }
+        }
+    }
+    for (pos, &c) in cols.iter().enumerate() {
+        x[c] += alpha * (z[pos] - x[c]);
+    }
+    x[hit] = 0.0;
+}
+
+/// Moves every passive variable at (or below) zero to the bound: out of
+/// the passive set and the factorisation.
+fn release_bound(x: &mut DVector<f64>, passive: &mut [bool], qr: &mut IncrementalQr) {
+    let mut pos = 0;
+    while pos < qr.len() {
+        let c = qr.cols[pos];
+        if x[c] <= 0.0 {
+            x[c] = 0.0;
+            passive[c] = false;
+            qr.remove(pos);
+        } else {
+            pos += 1;
+        }
+    }
 }
 
 #[cfg(test)]

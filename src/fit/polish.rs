@@ -77,15 +77,7 @@ pub(crate) fn polish_ls(
             sum_active = true;
             continue;
         }
-        let scale = v.amax().max(1.0);
-        let negative: Vec<usize> = support
-            .iter()
-            .zip(v.iter())
-            .filter(|(_, &x)| x < -POLISH_FEAS * scale)
-            .map(|(&j, _)| j)
-            .collect();
-        if !negative.is_empty() {
-            negative.iter().for_each(|&j| in_s[j] = false);
+        if drop_negative(&support, &v, &mut in_s) {
             continue;
         }
         let mut full = DVector::zeros(m);
@@ -103,17 +95,7 @@ pub(crate) fn polish_ls(
             sum_active = false;
             continue;
         }
-        let mut worst: Option<(usize, f64)> = None;
-        for j in 0..m {
-            if in_s[j] || col_norms[j] == 0.0 {
-                continue;
-            }
-            let lam = (g[j] + mu.max(0.0)) / col_norms[j];
-            if lam < -POLISH_FEAS && worst.is_none_or(|(_, l)| lam < l) {
-                worst = Some((j, lam));
-            }
-        }
-        if let Some((j, _)) = worst {
+        if let Some(j) = most_violated_bound(&g, mu, &in_s, col_norms) {
             in_s[j] = true;
             continue;
         }
@@ -126,6 +108,42 @@ pub(crate) fn polish_ls(
         return Some(full);
     }
     None
+}
+
+/// Drops from the support `in_s` the columns whose weight in `v` (on
+/// `support`) is negative beyond the tolerance; whether any was.
+fn drop_negative(support: &[usize], v: &DVector<f64>, in_s: &mut [bool]) -> bool {
+    let scale = v.amax().max(1.0);
+    let negative: Vec<usize> = support
+        .iter()
+        .zip(v.iter())
+        .filter(|(_, &x)| x < -POLISH_FEAS * scale)
+        .map(|(&j, _)| j)
+        .collect();
+    negative.iter().for_each(|&j| in_s[j] = false);
+    !negative.is_empty()
+}
+
+/// The bound column with the most negative scaled multiplier
+/// λⱼ = (gⱼ + max(μ, 0))/‖aⱼ‖ below −tolerance, if any: the KKT condition
+/// it violates says it should enter the support.
+fn most_violated_bound(
+    g: &DVector<f64>,
+    mu: f64,
+    in_s: &[bool],
+    col_norms: &[f64],
+) -> Option<usize> {
+    let mut worst: Option<(usize, f64)> = None;
+    for j in 0..in_s.len() {
+        if in_s[j] || col_norms[j] == 0.0 {
+            continue;
+        }
+        let lam = (g[j] + mu.max(0.0)) / col_norms[j];
+        if lam < -POLISH_FEAS && worst.is_none_or(|(_, l)| lam < l) {
+            worst = Some((j, lam));
+        }
+    }
+    worst.map(|(j, _)| j)
 }
 
 /// `min ‖R_S v − c‖` (optionally with `1ᵀv = 1`) on the support `S`.

@@ -221,33 +221,49 @@ fn choose_subset(
 ) -> Result<(Vec<usize>, bool), FitError> {
     let m = prep.ncols();
     if binomial_capped(m, k, EXHAUSTIVE_LIMIT).is_some() {
-        // Lexicographic enumeration of all k-subsets.
-        let mut idx: Vec<usize> = (0..k).collect();
-        let mut best = f64::INFINITY;
-        let mut best_set = idx.clone();
-        loop {
-            let sc = score(prep, mode, &idx)?;
-            if improves(sc, best) {
-                best = sc;
-                best_set = idx.clone();
-            }
-            // advance
-            let mut i = k;
-            while i > 0 && idx[i - 1] == m - k + i - 1 {
-                i -= 1;
-            }
-            if i == 0 {
-                break;
-            }
-            idx[i - 1] += 1;
-            for j in i..k {
-                idx[j] = idx[j - 1] + 1;
-            }
-        }
-        return Ok((best_set, true));
+        return Ok((exhaustive_subset(prep, mode, k)?, true));
     }
+    let (set, best) = greedy_forward(prep, mode, previous)?;
+    Ok((swap_pass(prep, mode, set, best)?, false))
+}
 
-    // Greedy forward step.
+/// The best of all k-subsets, enumerated lexicographically.
+fn exhaustive_subset(prep: &Prepared, mode: &FitMode, k: usize) -> Result<Vec<usize>, FitError> {
+    let m = prep.ncols();
+    let mut idx: Vec<usize> = (0..k).collect();
+    let mut best = f64::INFINITY;
+    let mut best_set = idx.clone();
+    loop {
+        let sc = score(prep, mode, &idx)?;
+        if improves(sc, best) {
+            best = sc;
+            best_set = idx.clone();
+        }
+        // advance
+        let mut i = k;
+        while i > 0 && idx[i - 1] == m - k + i - 1 {
+            i -= 1;
+        }
+        if i == 0 {
+            break;
+        }
+        idx[i - 1] += 1;
+        for j in i..k {
+            idx[j] = idx[j - 1] + 1;
+        }
+    }
+    Ok(best_set)
+}
+
+/// Greedy forward step: `previous` plus the column that lowers the score
+/// most (or, when none does, the first one left, so the budget is still
+/// used; its weight may be 0). Returns the set and its score.
+fn greedy_forward(
+    prep: &Prepared,
+    mode: &FitMode,
+    previous: &[usize],
+) -> Result<(Vec<usize>, f64), FitError> {
+    let m = prep.ncols();
     let mut set: Vec<usize> = previous.to_vec();
     let mut best = score(prep, mode, &set)?;
     let mut best_add: Option<usize> = None;
@@ -268,13 +284,22 @@ fn choose_subset(
         set.push(j);
         set.sort_unstable();
     } else if let Some(j) = (0..m).find(|j| !set.contains(j)) {
-        // Nothing improves: still use the budget (harmless, weight may be 0).
         set.push(j);
         set.sort_unstable();
         best = score(prep, mode, &set)?;
     }
+    Ok((set, best))
+}
 
-    // One swap-improvement pass.
+/// One swap-improvement pass over `set` (score `best`): each position's
+/// column swapped for the first outside column that lowers the score.
+fn swap_pass(
+    prep: &Prepared,
+    mode: &FitMode,
+    mut set: Vec<usize>,
+    mut best: f64,
+) -> Result<Vec<usize>, FitError> {
+    let m = prep.ncols();
     let mut pos = 0;
     while pos < set.len() {
         let mut swapped = false;
@@ -300,7 +325,7 @@ fn choose_subset(
         // same position (the pass is bounded because every swap strictly
         // lowers the score and positions only advance otherwise).
     }
-    Ok((set, false))
+    Ok(set)
 }
 
 /// Verified fit on the subset `cols`.

@@ -173,8 +173,30 @@ pub(crate) fn verify_prepared(
             "candidate solution is not finite".into(),
         ));
     }
+    let p = primal(prep, mode, w, s);
+    if p.feas > tol {
+        return Err(fail(mode, "feasibility", p.feas, tol));
+    }
+    match *mode {
+        FitMode::Absolute | FitMode::Shape => verify_ls(prep, mode, w, tol, independent, &p),
+        FitMode::Budget { rel_error } => verify_budget(prep, mode, (s, rel_error), tol, &p),
+        FitMode::L1 | FitMode::LInf => verify_lp(prep, mode, tol, outcome, &p),
+    }
+}
 
-    // 1. Primal feasibility.
+/// A candidate's primal quantities: its residual, feasibility violation
+/// (w ≥ 0, Σw ≤ 1 where capped, and `Budget`'s s ≥ 0 and error budget)
+/// and relative error.
+struct Primal {
+    resid: DVector<f64>,
+    res2: f64,
+    feas: f64,
+    budget_violation: f64,
+    relative_error: f64,
+}
+
+/// 1. Primal feasibility of the candidate (`w`, `s`).
+fn primal(prep: &Prepared, mode: &FitMode, w: &DVector<f64>, s: f64) -> Primal {
     let mut feas = (-w.min()).max(0.0);
     if mode.has_sum_constraint() {
         feas = feas.max(w.sum() - 1.0);
@@ -191,92 +213,122 @@ pub(crate) fn verify_prepared(
         };
         feas = feas.max(budget_violation);
     }
-    if feas > tol {
-        return Err(fail(mode, "feasibility", feas, tol));
-    }
     let relative_error = if s > 0.0 { res2 / s } else { 1.0 };
+    Primal {
+        resid,
+        res2,
+        feas,
+        budget_violation,
+        relative_error,
+    }
+}
 
-    match *mode {
-        FitMode::Absolute | FitMode::Shape => {
-            let kkt = ls_kkt_residual(prep, w, mode.has_sum_constraint());
-            if kkt > tol {
-                return Err(fail(mode, "kkt", kkt, tol));
-            }
-            let reference = independent.rel_error;
-            let gap = res2 - reference;
-            if gap > tol {
-                return Err(fail(mode, "independent", gap, tol));
-            }
-            Ok(Verification {
-                feasibility_violation: feas,
-                kkt_residual: kkt,
-                independent_gap: gap,
-                objective: res2 * res2,
-                relative_error,
-            })
-        }
-        FitMode::Budget { rel_error: eps } => {
-            let phi = |sv: f64| -> Result<f64, FitError> {
-                let rhs = &prep.c * sv;
-                let wr = nnls_capped(&prep.r, &rhs, 1.0)?;
-                let inner = (&prep.r * &wr - &rhs).norm();
-                Ok(inner.hypot(sv * prep.r0) - eps * sv)
-            };
-            let mut lo = s * (1.0 - tol);
-            let mut hi = s * (1.0 + tol);
-            if phi(hi)? <= 0.0 {
-                // A strictly larger strength is feasible: not optimal.
-                return Err(fail(mode, "independent", tol, tol));
-            }
-            if phi(lo)? > 0.0 {
-                return Err(fail(mode, "independent", tol, tol));
-            }
-            for _ in 0..BUDGET_BISECTION_STEPS {
-                let mid = 0.5 * (lo + hi);
-                if phi(mid)? <= 0.0 {
-                    lo = mid;
-                } else {
-                    hi = mid;
-                }
-            }
-            let s_ref = 0.5 * (lo + hi);
-            Ok(Verification {
-                feasibility_violation: feas,
-                kkt_residual: budget_violation,
-                independent_gap: (s_ref - s) / s_ref,
-                objective: s,
-                relative_error,
-            })
-        }
-        FitMode::L1 | FitMode::LInf => {
-            let owned;
-            let out = match outcome {
-                Some(o) => o,
-                None => {
-                    owned = solve_lp_mode(prep, matches!(mode, FitMode::L1), tol)?;
-                    &owned
-                }
-            };
-            let l1 = matches!(mode, FitMode::L1);
-            let (obj, obj0) = if l1 {
-                (resid.lp_norm(1), prep.td.lp_norm(1))
-            } else {
-                (resid.amax(), prep.td.amax())
-            };
-            let lb = lp_lower_bound(&prep.ad, &prep.td, &out.lp_dual, l1);
-            let gap = (obj - lb) / obj0;
-            if gap > tol {
-                return Err(fail(mode, "independent", gap, tol));
-            }
-            Ok(Verification {
-                feasibility_violation: feas,
-                kkt_residual: gap,
-                independent_gap: gap,
-                objective: obj,
-                relative_error,
-            })
+/// The least-squares modes: the KKT residual, and the objective against
+/// the independent optimum.
+fn verify_ls(
+    prep: &Prepared,
+    mode: &FitMode,
+    w: &DVector<f64>,
+    tol: f64,
+    independent: &Independent,
+    p: &Primal,
+) -> Result<Verification, FitError> {
+    let kkt = ls_kkt_residual(prep, w, mode.has_sum_constraint());
+    if kkt > tol {
+        return Err(fail(mode, "kkt", kkt, tol));
+    }
+    let reference = independent.rel_error;
+    let gap = p.res2 - reference;
+    if gap > tol {
+        return Err(fail(mode, "independent", gap, tol));
+    }
+    Ok(Verification {
+        feasibility_violation: p.feas,
+        kkt_residual: kkt,
+        independent_gap: gap,
+        objective: p.res2 * p.res2,
+        relative_error: p.relative_error,
+    })
+}
+
+/// `Budget`: the strength `s` bracketed by an independent bisection on
+/// φ(s) = ‖(R w*(s) − c s, s r₀)‖ − ε s (w*(s) by capped NNLS): a strictly
+/// larger strength must be infeasible and `s` itself feasible.
+fn verify_budget(
+    prep: &Prepared,
+    mode: &FitMode,
+    (s, eps): (f64, f64),
+    tol: f64,
+    p: &Primal,
+) -> Result<Verification, FitError> {
+    let phi = |sv: f64| -> Result<f64, FitError> {
+        let rhs = &prep.c * sv;
+        let wr = nnls_capped(&prep.r, &rhs, 1.0)?;
+        let inner = (&prep.r * &wr - &rhs).norm();
+        Ok(inner.hypot(sv * prep.r0) - eps * sv)
+    };
+    let mut lo = s * (1.0 - tol);
+    let mut hi = s * (1.0 + tol);
+    if phi(hi)? <= 0.0 {
+        // A strictly larger strength is feasible: not optimal.
+        return Err(fail(mode, "independent", tol, tol));
+    }
+    if phi(lo)? > 0.0 {
+        return Err(fail(mode, "independent", tol, tol));
+    }
+    for _ in 0..BUDGET_BISECTION_STEPS {
+        let mid = 0.5 * (lo + hi);
+        if phi(mid)? <= 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
         }
     }
+    let s_ref = 0.5 * (lo + hi);
+    Ok(Verification {
+        feasibility_violation: p.feas,
+        kkt_residual: p.budget_violation,
+        independent_gap: (s_ref - s) / s_ref,
+        objective: s,
+        relative_error: p.relative_error,
+    })
+}
+
+/// `L1`/`LInf`: the duality gap against the lower bound of the dual
+/// certificate (the solver's, or a reference LP's when absent).
+fn verify_lp(
+    prep: &Prepared,
+    mode: &FitMode,
+    tol: f64,
+    outcome: Option<&ConicOutcome>,
+    p: &Primal,
+) -> Result<Verification, FitError> {
+    let owned;
+    let out = match outcome {
+        Some(o) => o,
+        None => {
+            owned = solve_lp_mode(prep, matches!(mode, FitMode::L1), tol)?;
+            &owned
+        }
+    };
+    let l1 = matches!(mode, FitMode::L1);
+    let (obj, obj0) = if l1 {
+        (p.resid.lp_norm(1), prep.td.lp_norm(1))
+    } else {
+        (p.resid.amax(), prep.td.amax())
+    };
+    let lb = lp_lower_bound(&prep.ad, &prep.td, &out.lp_dual, l1);
+    let gap = (obj - lb) / obj0;
+    if gap > tol {
+        return Err(fail(mode, "independent", gap, tol));
+    }
+    Ok(Verification {
+        feasibility_violation: p.feas,
+        kkt_residual: gap,
+        independent_gap: gap,
+        objective: obj,
+        relative_error: p.relative_error,
+    })
 }
 
 /// KKT residual of the least-squares modes (see module docs), from the

@@ -160,6 +160,122 @@ impl Axis {
     }
 }
 
+/// A line plot's area: its axes' mappings and ticks.
+struct Frame {
+    ax: Axis,
+    ay: Axis,
+    xticks: TickList,
+    yticks: TickList,
+}
+
+impl Frame {
+    /// The plot area's pixel bounds `[left, top, right, bottom]`.
+    fn bounds(&self) -> [f64; 4] {
+        [self.ax.px0, self.ay.px1, self.ax.px1, self.ay.px0]
+    }
+
+    /// Grid lines at the major ticks.
+    fn render_grid(&self, out: &mut String) {
+        let [left, top, right, bottom] = self.bounds();
+        let _ = writeln!(
+            out,
+            r#"<g class="grid" stroke="{GRID_COLOR}" stroke-width="1">"#
+        );
+        for (v, _, _) in self.xticks.iter().filter(|t| t.2) {
+            if let Some(x) = self.ax.map(*v) {
+                let _ = writeln!(
+                    out,
+                    r#"<line x1="{x}" y1="{}" x2="{x}" y2="{}"/>"#,
+                    num(top),
+                    num(bottom),
+                    x = num(x)
+                );
+            }
+        }
+        for (v, _, _) in self.yticks.iter().filter(|t| t.2) {
+            if let Some(y) = self.ay.map(*v) {
+                let _ = writeln!(
+                    out,
+                    r#"<line x1="{}" y1="{y}" x2="{}" y2="{y}"/>"#,
+                    num(left),
+                    num(right),
+                    y = num(y)
+                );
+            }
+        }
+        let _ = writeln!(out, "</g>");
+    }
+
+    /// The frame and its tick marks (major 5 px, minor 3 px).
+    fn render_axes(&self, out: &mut String) {
+        let [left, top, right, bottom] = self.bounds();
+        let _ = writeln!(
+            out,
+            r#"<g class="axes" stroke="{AXIS_COLOR}" stroke-width="1" fill="none">"#
+        );
+        let _ = writeln!(
+            out,
+            r#"<rect x="{}" y="{}" width="{}" height="{}"/>"#,
+            num(left),
+            num(top),
+            num(right - left),
+            num(bottom - top)
+        );
+        for (v, _, major) in &self.xticks {
+            if let Some(x) = self.ax.map(*v) {
+                let len = if *major { 5.0 } else { 3.0 };
+                let _ = writeln!(
+                    out,
+                    r#"<line x1="{x}" y1="{}" x2="{x}" y2="{}"/>"#,
+                    num(bottom),
+                    num(bottom + len),
+                    x = num(x)
+                );
+            }
+        }
+        for (v, _, major) in &self.yticks {
+            if let Some(y) = self.ay.map(*v) {
+                let len = if *major { 5.0 } else { 3.0 };
+                let _ = writeln!(
+                    out,
+                    r#"<line x1="{}" y1="{y}" x2="{}" y2="{y}"/>"#,
+                    num(left - len),
+                    num(left),
+                    y = num(y)
+                );
+            }
+        }
+        let _ = writeln!(out, "</g>");
+    }
+
+    /// The major ticks' labels.
+    fn render_tick_labels(&self, out: &mut String) {
+        let [left, _, _, bottom] = self.bounds();
+        let _ = writeln!(out, r#"<g class="tick-labels" fill="{AXIS_COLOR}">"#);
+        for (v, label, major) in &self.xticks {
+            if let (true, Some(x)) = (*major, self.ax.map(*v)) {
+                let _ = writeln!(
+                    out,
+                    r#"<text x="{}" y="{}" text-anchor="middle">{label}</text>"#,
+                    num(x),
+                    num(bottom + 18.0)
+                );
+            }
+        }
+        for (v, label, major) in &self.yticks {
+            if let (true, Some(y)) = (*major, self.ay.map(*v)) {
+                let _ = writeln!(
+                    out,
+                    r#"<text x="{}" y="{}" text-anchor="end">{label}</text>"#,
+                    num(left - 8.0),
+                    num(y + 4.0)
+                );
+            }
+        }
+        let _ = writeln!(out, "</g>");
+    }
+}
+
 const MARGIN_LEFT: f64 = 72.0;
 const MARGIN_RIGHT: f64 = 20.0;
 const MARGIN_TOP: f64 = 36.0;
@@ -306,6 +422,29 @@ impl LinePlot {
     /// Renders the plot's elements (no `<svg>` wrapper) at the origin;
     /// `id` prefixes element ids so several plots can share a document.
     pub(crate) fn render(&self, out: &mut String, id: &str) {
+        let f = self.frame();
+        let _ = writeln!(out, r#"<g class="line-plot">"#);
+        if !self.title.is_empty() {
+            svg::text(
+                out,
+                self.width / 2.0,
+                22.0,
+                "middle",
+                r#"font-size="14" font-weight="bold""#,
+                &self.title,
+            );
+        }
+        f.render_grid(out);
+        f.render_axes(out);
+        f.render_tick_labels(out);
+        self.render_axis_labels(out, &f);
+        self.render_series(out, &f, id);
+        self.render_legend(out, f.bounds());
+        let _ = writeln!(out, "</g>");
+    }
+
+    /// The plot area, its axes' mappings and ticks.
+    fn frame(&self) -> Frame {
         let (w, h) = (self.width, self.height);
         let title_space = if self.title.is_empty() {
             12.0
@@ -331,122 +470,29 @@ impl LinePlot {
         let target_y = ((bottom - top) / 60.0).round().clamp(3.0, 10.0) as usize;
         let (xr, xticks) = axis_ticks(xr, self.x_range.is_some(), self.log_x, target_x);
         let (yr, yticks) = axis_ticks(yr, self.y_range.is_some(), self.log_y, target_y);
-        let ax = Axis {
-            lo: xr[0],
-            hi: xr[1],
-            log: self.log_x,
-            px0: left,
-            px1: right,
-        };
-        let ay = Axis {
-            lo: yr[0],
-            hi: yr[1],
-            log: self.log_y,
-            px0: bottom,
-            px1: top,
-        };
+        Frame {
+            ax: Axis {
+                lo: xr[0],
+                hi: xr[1],
+                log: self.log_x,
+                px0: left,
+                px1: right,
+            },
+            ay: Axis {
+                lo: yr[0],
+                hi: yr[1],
+                log: self.log_y,
+                px0: bottom,
+                px1: top,
+            },
+            xticks,
+            yticks,
+        }
+    }
 
-        let _ = writeln!(out, r#"<g class="line-plot">"#);
-        if !self.title.is_empty() {
-            svg::text(
-                out,
-                w / 2.0,
-                22.0,
-                "middle",
-                r#"font-size="14" font-weight="bold""#,
-                &self.title,
-            );
-        }
-
-        // Grid lines and ticks.
-        let _ = writeln!(
-            out,
-            r#"<g class="grid" stroke="{GRID_COLOR}" stroke-width="1">"#
-        );
-        for (v, _, _) in xticks.iter().filter(|t| t.2) {
-            if let Some(x) = ax.map(*v) {
-                let _ = writeln!(
-                    out,
-                    r#"<line x1="{x}" y1="{}" x2="{x}" y2="{}"/>"#,
-                    num(top),
-                    num(bottom),
-                    x = num(x)
-                );
-            }
-        }
-        for (v, _, _) in yticks.iter().filter(|t| t.2) {
-            if let Some(y) = ay.map(*v) {
-                let _ = writeln!(
-                    out,
-                    r#"<line x1="{}" y1="{y}" x2="{}" y2="{y}"/>"#,
-                    num(left),
-                    num(right),
-                    y = num(y)
-                );
-            }
-        }
-        let _ = writeln!(out, "</g>");
-
-        let _ = writeln!(
-            out,
-            r#"<g class="axes" stroke="{AXIS_COLOR}" stroke-width="1" fill="none">"#
-        );
-        let _ = writeln!(
-            out,
-            r#"<rect x="{}" y="{}" width="{}" height="{}"/>"#,
-            num(left),
-            num(top),
-            num(right - left),
-            num(bottom - top)
-        );
-        for (v, _, major) in &xticks {
-            if let Some(x) = ax.map(*v) {
-                let len = if *major { 5.0 } else { 3.0 };
-                let _ = writeln!(
-                    out,
-                    r#"<line x1="{x}" y1="{}" x2="{x}" y2="{}"/>"#,
-                    num(bottom),
-                    num(bottom + len),
-                    x = num(x)
-                );
-            }
-        }
-        for (v, _, major) in &yticks {
-            if let Some(y) = ay.map(*v) {
-                let len = if *major { 5.0 } else { 3.0 };
-                let _ = writeln!(
-                    out,
-                    r#"<line x1="{}" y1="{y}" x2="{}" y2="{y}"/>"#,
-                    num(left - len),
-                    num(left),
-                    y = num(y)
-                );
-            }
-        }
-        let _ = writeln!(out, "</g>");
-
-        let _ = writeln!(out, r#"<g class="tick-labels" fill="{AXIS_COLOR}">"#);
-        for (v, label, major) in &xticks {
-            if let (true, Some(x)) = (*major, ax.map(*v)) {
-                let _ = writeln!(
-                    out,
-                    r#"<text x="{}" y="{}" text-anchor="middle">{label}</text>"#,
-                    num(x),
-                    num(bottom + 18.0)
-                );
-            }
-        }
-        for (v, label, major) in &yticks {
-            if let (true, Some(y)) = (*major, ay.map(*v)) {
-                let _ = writeln!(
-                    out,
-                    r#"<text x="{}" y="{}" text-anchor="end">{label}</text>"#,
-                    num(left - 8.0),
-                    num(y + 4.0)
-                );
-            }
-        }
-        let _ = writeln!(out, "</g>");
+    /// The x and y axis labels.
+    fn render_axis_labels(&self, out: &mut String, f: &Frame) {
+        let [left, top, right, bottom] = f.bounds();
         if !self.x_label.is_empty() {
             svg::text(
                 out,
@@ -467,8 +513,12 @@ impl LinePlot {
                 y = num(y)
             );
         }
+    }
 
-        // Data, clipped to the plot area.
+    /// The data, clipped to the plot area: a path per series (unless
+    /// [`LineStyle::None`]) and its markers.
+    fn render_series(&self, out: &mut String, f: &Frame, id: &str) {
+        let [left, top, right, bottom] = f.bounds();
         let clip = format!("{id}-clip");
         let _ = writeln!(
             out,
@@ -488,7 +538,7 @@ impl LinePlot {
             let mapped: Vec<Option<[f64; 2]>> = s
                 .points
                 .iter()
-                .map(|p| Some([ax.map(p[0])?, ay.map(p[1])?]))
+                .map(|p| Some([f.ax.map(p[0])?, f.ay.map(p[1])?]))
                 .collect();
             if s.line != LineStyle::None {
                 let d = svg::path_data(mapped.iter().copied());
@@ -512,8 +562,6 @@ impl LinePlot {
                 let _ = writeln!(out, "</g>");
             }
         }
-        let _ = writeln!(out, "</g>");
-        self.render_legend(out, [left, top, right, bottom]);
         let _ = writeln!(out, "</g>");
     }
 

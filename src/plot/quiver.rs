@@ -523,23 +523,47 @@ impl QuiverPlot {
             num(fr - fl),
             num(fb - ft)
         );
-
-        // Arrows.
-        let scale = scale.unwrap_or_else(|| self.arrow_scale());
-        let n = self.points.len();
-        let color = svg::escape(&self.color);
         let clip_attr = if self.clip {
             format!(r#" clip-path="url(#{clip})""#)
         } else {
             String::new()
         };
+        let scale = scale.unwrap_or_else(|| self.arrow_scale());
+        let crosses = self.render_arrows(out, &lay, scale, &clip_attr);
+        render_crosses(out, &crosses);
+        self.render_overlays(out, &lay, &clip);
+        if !self.markers.is_empty() {
+            let _ = writeln!(out, r#"<g class="markers"{clip_attr}>"#);
+            for m in self.markers.iter().filter(|m| finite2(m.pos)) {
+                render_marker(out, m, lay.map(m.pos));
+            }
+            let _ = writeln!(out, "</g>");
+        }
+
+        if let Some(c) = &self.caption {
+            svg::text(out, (fl + fr) / 2.0, self.height - 12.0, "middle", "", c);
+        }
+        self.render_legend(out, fr + 18.0, ft + 6.0);
+        let _ = writeln!(out, "</g>");
+    }
+
+    /// The arrows of the valid points (a dot where an arrow would be
+    /// shorter than half a pixel); returns the pixel positions of the
+    /// invalid points, drawn as crosses by [`render_crosses`].
+    fn render_arrows(
+        &self,
+        out: &mut String,
+        lay: &QuiverLayout,
+        scale: f64,
+        clip_attr: &str,
+    ) -> Vec<[f64; 2]> {
+        let color = svg::escape(&self.color);
         let _ = writeln!(
             out,
             r#"<g class="arrows"{clip_attr} stroke="{color}" fill="none" stroke-width="1.2" stroke-linecap="round" stroke-linejoin="round">"#
         );
         let mut crosses = Vec::new();
-        for i in 0..n {
-            let p = self.points[i];
+        for (i, &p) in self.points.iter().enumerate() {
             if !finite2(p) {
                 continue;
             }
@@ -566,97 +590,47 @@ impl QuiverPlot {
                 Pivot::Tail => 0.0,
             };
             let tail = [c[0] - back * u[0], c[1] - back * u[1]];
-            let tip = [tail[0] + len * u[0], tail[1] + len * u[1]];
-            let h = (0.3 * len).min(6.0);
-            let hw = 0.5 * h;
-            let base = [tip[0] - h * u[0], tip[1] - h * u[1]];
-            let nrm = [-u[1], u[0]];
-            let _ = writeln!(
-                out,
-                r#"<path d="M{} {} L{} {} M{} {} L{} {} L{} {}"/>"#,
-                num(tail[0]),
-                num(tail[1]),
-                num(tip[0]),
-                num(tip[1]),
-                num(base[0] + hw * nrm[0]),
-                num(base[1] + hw * nrm[1]),
-                num(tip[0]),
-                num(tip[1]),
-                num(base[0] - hw * nrm[0]),
-                num(base[1] - hw * nrm[1]),
-            );
+            render_arrow(out, tail, u, len);
         }
         let _ = writeln!(out, "</g>");
+        crosses
+    }
 
-        if !crosses.is_empty() {
+    /// The overlay polylines, clipped to the frame.
+    fn render_overlays(&self, out: &mut String, lay: &QuiverLayout, clip: &str) {
+        if self.overlays.is_empty() {
+            return;
+        }
+        let _ = writeln!(
+            out,
+            r#"<g class="overlays" clip-path="url(#{clip})" fill="none">"#
+        );
+        for (i, o) in self.overlays.iter().enumerate() {
+            let d = svg::path_data(o.points.iter().map(|p| finite2(*p).then(|| lay.map(*p))));
+            if d.is_empty() {
+                continue;
+            }
+            let color = o
+                .color
+                .clone()
+                .unwrap_or_else(|| PALETTE[(i + 2) % PALETTE.len()].into());
+            let dash = if o.dashed {
+                r#" stroke-dasharray="5 3""#
+            } else {
+                ""
+            };
+            let width = if o.width.is_finite() && o.width > 0.0 {
+                o.width
+            } else {
+                1.5
+            };
             let _ = writeln!(
                 out,
-                r#"<g class="invalid" stroke="{INVALID_COLOR}" stroke-width="1.5" stroke-linecap="round">"#
+                r#"<path d="{d}" stroke="{}" stroke-width="{}" stroke-linejoin="round"{dash}/>"#,
+                svg::escape(&color),
+                num(width)
             );
-            let s = 3.5;
-            for [x, y] in crosses {
-                let _ = writeln!(
-                    out,
-                    r#"<path d="M{} {} L{} {} M{} {} L{} {}"/>"#,
-                    num(x - s),
-                    num(y - s),
-                    num(x + s),
-                    num(y + s),
-                    num(x - s),
-                    num(y + s),
-                    num(x + s),
-                    num(y - s)
-                );
-            }
-            let _ = writeln!(out, "</g>");
         }
-
-        if !self.overlays.is_empty() {
-            let _ = writeln!(
-                out,
-                r#"<g class="overlays" clip-path="url(#{clip})" fill="none">"#
-            );
-            for (i, o) in self.overlays.iter().enumerate() {
-                let d = svg::path_data(o.points.iter().map(|p| finite2(*p).then(|| lay.map(*p))));
-                if d.is_empty() {
-                    continue;
-                }
-                let color = o
-                    .color
-                    .clone()
-                    .unwrap_or_else(|| PALETTE[(i + 2) % PALETTE.len()].into());
-                let dash = if o.dashed {
-                    r#" stroke-dasharray="5 3""#
-                } else {
-                    ""
-                };
-                let width = if o.width.is_finite() && o.width > 0.0 {
-                    o.width
-                } else {
-                    1.5
-                };
-                let _ = writeln!(
-                    out,
-                    r#"<path d="{d}" stroke="{}" stroke-width="{}" stroke-linejoin="round"{dash}/>"#,
-                    svg::escape(&color),
-                    num(width)
-                );
-            }
-            let _ = writeln!(out, "</g>");
-        }
-
-        if !self.markers.is_empty() {
-            let _ = writeln!(out, r#"<g class="markers"{clip_attr}>"#);
-            for m in self.markers.iter().filter(|m| finite2(m.pos)) {
-                render_marker(out, m, lay.map(m.pos));
-            }
-            let _ = writeln!(out, "</g>");
-        }
-
-        if let Some(c) = &self.caption {
-            svg::text(out, (fl + fr) / 2.0, self.height - 12.0, "middle", "", c);
-        }
-        self.render_legend(out, fr + 18.0, ft + 6.0);
         let _ = writeln!(out, "</g>");
     }
 
@@ -801,6 +775,57 @@ impl QuiverPlot {
             y = num(y)
         );
     }
+}
+
+/// One arrow from `tail` along the unit direction `u` (pixels, y down),
+/// `len` pixels long, with a head of 0.3 `len` (at most 6 px).
+fn render_arrow(out: &mut String, tail: [f64; 2], u: [f64; 2], len: f64) {
+    let tip = [tail[0] + len * u[0], tail[1] + len * u[1]];
+    let h = (0.3 * len).min(6.0);
+    let hw = 0.5 * h;
+    let base = [tip[0] - h * u[0], tip[1] - h * u[1]];
+    let nrm = [-u[1], u[0]];
+    let _ = writeln!(
+        out,
+        r#"<path d="M{} {} L{} {} M{} {} L{} {} L{} {}"/>"#,
+        num(tail[0]),
+        num(tail[1]),
+        num(tip[0]),
+        num(tip[1]),
+        num(base[0] + hw * nrm[0]),
+        num(base[1] + hw * nrm[1]),
+        num(tip[0]),
+        num(tip[1]),
+        num(base[0] - hw * nrm[0]),
+        num(base[1] - hw * nrm[1]),
+    );
+}
+
+/// A cross at each invalid point.
+fn render_crosses(out: &mut String, crosses: &[[f64; 2]]) {
+    if crosses.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        out,
+        r#"<g class="invalid" stroke="{INVALID_COLOR}" stroke-width="1.5" stroke-linecap="round">"#
+    );
+    let s = 3.5;
+    for &[x, y] in crosses {
+        let _ = writeln!(
+            out,
+            r#"<path d="M{} {} L{} {} M{} {} L{} {}"/>"#,
+            num(x - s),
+            num(y - s),
+            num(x + s),
+            num(y + s),
+            num(x - s),
+            num(y + s),
+            num(x + s),
+            num(y - s)
+        );
+    }
+    let _ = writeln!(out, "</g>");
 }
 
 fn render_marker(out: &mut String, m: &Marker, [x, y]: [f64; 2]) {

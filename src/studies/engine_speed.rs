@@ -266,8 +266,6 @@ pub fn plot(curves: &[Curve], kind: FieldKind, reference: usize) -> LinePlot {
 pub fn markdown(config: &Config, curves: &[Curve]) -> String {
     let g = config.grid;
     let threads = rayon::current_num_threads();
-    let head: Vec<String> = config.steps.iter().map(|s| s.to_string()).collect();
-    let dashes = "---|".repeat(config.steps.len());
     let load = load_average().map_or(String::new(), |l| {
         format!(" 1-minute load average at the end: {l}.")
     });
@@ -283,95 +281,8 @@ pub fn markdown(config: &Config, curves: &[Curve]) -> String {
     );
     for kind in &config.kinds {
         let of_kind: Vec<&Curve> = curves.iter().filter(|c| c.kind == *kind).collect();
-        let _ = write!(
-            md,
-            "\n## {} fields\n\nRelative L2 error against steps per cycle:\n\n| primitive | {} | reference's own error (est.) | fewest steps ≤ 1e-4 |\n|---|{dashes}---|---|\n",
-            kind_name(*kind),
-            head.join(" | ")
-        );
-        for c in &of_kind {
-            let _ = writeln!(
-                md,
-                "| {} | {} | {} | {} |",
-                c.name,
-                c.errors
-                    .iter()
-                    .map(|e| sci(*e))
-                    .collect::<Vec<_>>()
-                    .join(" | "),
-                sci(c.reference_error(config.reference)),
-                c.steps_for(TARGET_ERROR)
-                    .map_or("none measured".into(), |s| s.to_string())
-            );
-        }
-        let pairs: Vec<String> = config
-            .steps
-            .windows(2)
-            .map(|w| format!("{}→{}", w[0], w[1]))
-            .collect();
-        let _ = write!(
-            md,
-            "\nObserved order log₂(e(n)/e(2n)):\n\n| primitive | {} |\n|---|{}\n",
-            pairs.join(" | "),
-            "---|".repeat(pairs.len())
-        );
-        for c in &of_kind {
-            let _ = writeln!(
-                md,
-                "| {} | {} |",
-                c.name,
-                c.orders()
-                    .iter()
-                    .map(|p| if p.is_finite() {
-                        format!("{p:.2}")
-                    } else {
-                        "n/a".into()
-                    })
-                    .collect::<Vec<_>>()
-                    .join(" | ")
-            );
-        }
-        let _ = write!(
-            md,
-            "\nWall time / CPU time of one field (s):\n\n| primitive | {} | reference |\n|---|{dashes}---|\n",
-            head.join(" | ")
-        );
-        for c in &of_kind {
-            let _ = writeln!(
-                md,
-                "| {} | {} | {:.3} |",
-                c.name,
-                c.seconds
-                    .iter()
-                    .zip(&c.cpu)
-                    .map(|(w, cpu)| format!(
-                        "{w:.3} / {}",
-                        cpu.map_or("n/a".into(), |x| format!("{x:.2}"))
-                    ))
-                    .collect::<Vec<_>>()
-                    .join(" | "),
-                c.reference_seconds
-            );
-        }
-        let at64: Vec<String> = of_kind
-            .iter()
-            .filter_map(|c| {
-                let i = c.steps.iter().position(|s| *s == 64)?;
-                Some(format!("{} {}", c.name, sci(c.errors[i])))
-            })
-            .collect();
-        let met = of_kind
-            .iter()
-            .filter(|c| c.steps_for(TARGET_ERROR).is_some_and(|s| s <= 64))
-            .count();
-        let _ = writeln!(
-            md,
-            "\nThe issue's target — ≤ 1e-4 at ≤ 64 steps per cycle — is met by {met} of {} \
-             primitives' {} fields. At 64 steps: {}.",
-            of_kind.len(),
-            kind_name(*kind),
-            at64.join(", ")
-        );
+        error_tables(config, *kind, &of_kind, &mut md);
+        time_table(config, *kind, &of_kind, &mut md);
     }
     let _ = writeln!(
         md,
@@ -381,6 +292,107 @@ pub fn markdown(config: &Config, curves: &[Curve]) -> String {
          minutes)."
     );
     md
+}
+
+/// One field kind's error table and observed orders.
+fn error_tables(config: &Config, kind: FieldKind, of_kind: &[&Curve], md: &mut String) {
+    let head: Vec<String> = config.steps.iter().map(|s| s.to_string()).collect();
+    let dashes = "---|".repeat(config.steps.len());
+    let _ = write!(
+        md,
+        "\n## {} fields\n\nRelative L2 error against steps per cycle:\n\n| primitive | {} | reference's own error (est.) | fewest steps ≤ 1e-4 |\n|---|{dashes}---|---|\n",
+        kind_name(kind),
+        head.join(" | ")
+    );
+    for c in of_kind {
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} |",
+            c.name,
+            c.errors
+                .iter()
+                .map(|e| sci(*e))
+                .collect::<Vec<_>>()
+                .join(" | "),
+            sci(c.reference_error(config.reference)),
+            c.steps_for(TARGET_ERROR)
+                .map_or("none measured".into(), |s| s.to_string())
+        );
+    }
+    let pairs: Vec<String> = config
+        .steps
+        .windows(2)
+        .map(|w| format!("{}→{}", w[0], w[1]))
+        .collect();
+    let _ = write!(
+        md,
+        "\nObserved order log₂(e(n)/e(2n)):\n\n| primitive | {} |\n|---|{}\n",
+        pairs.join(" | "),
+        "---|".repeat(pairs.len())
+    );
+    for c in of_kind {
+        let _ = writeln!(
+            md,
+            "| {} | {} |",
+            c.name,
+            c.orders()
+                .iter()
+                .map(|p| if p.is_finite() {
+                    format!("{p:.2}")
+                } else {
+                    "n/a".into()
+                })
+                .collect::<Vec<_>>()
+                .join(" | ")
+        );
+    }
+}
+
+/// One field kind's times, and the issue's target against them.
+fn time_table(config: &Config, kind: FieldKind, of_kind: &[&Curve], md: &mut String) {
+    let head: Vec<String> = config.steps.iter().map(|s| s.to_string()).collect();
+    let dashes = "---|".repeat(config.steps.len());
+    let _ = write!(
+        md,
+        "\nWall time / CPU time of one field (s):\n\n| primitive | {} | reference |\n|---|{dashes}---|\n",
+        head.join(" | ")
+    );
+    for c in of_kind {
+        let _ = writeln!(
+            md,
+            "| {} | {} | {:.3} |",
+            c.name,
+            c.seconds
+                .iter()
+                .zip(&c.cpu)
+                .map(|(w, cpu)| format!(
+                    "{w:.3} / {}",
+                    cpu.map_or("n/a".into(), |x| format!("{x:.2}"))
+                ))
+                .collect::<Vec<_>>()
+                .join(" | "),
+            c.reference_seconds
+        );
+    }
+    let at64: Vec<String> = of_kind
+        .iter()
+        .filter_map(|c| {
+            let i = c.steps.iter().position(|s| *s == 64)?;
+            Some(format!("{} {}", c.name, sci(c.errors[i])))
+        })
+        .collect();
+    let met = of_kind
+        .iter()
+        .filter(|c| c.steps_for(TARGET_ERROR).is_some_and(|s| s <= 64))
+        .count();
+    let _ = writeln!(
+        md,
+        "\nThe issue's target — ≤ 1e-4 at ≤ 64 steps per cycle — is met by {met} of {} \
+         primitives' {} fields. At 64 steps: {}.",
+        of_kind.len(),
+        kind_name(kind),
+        at64.join(", ")
+    );
 }
 
 /// `platefield engine-speed`: measures [`Config::default`] and writes the

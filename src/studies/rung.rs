@@ -227,6 +227,23 @@ pub fn choose_rung(
         .position(|r| r.acceptable)
         .unwrap_or(RUNGS.len() - 1);
     let c = &rungs[chosen];
+    let mut reason = rung_reason(&rungs, chosen, tolerance);
+    reason.push_str(physics_reason(motion));
+    RungReport {
+        rung: c.name,
+        model: c.model,
+        error: c.error,
+        tolerance,
+        kind,
+        rungs,
+        reason,
+    }
+}
+
+/// Why the rung at `chosen` is kept: the cheapest within `tolerance` of
+/// full, and what the cheaper ones missed by.
+fn rung_reason(rungs: &[RungResult], chosen: usize, tolerance: f64) -> String {
+    let c = &rungs[chosen];
     let mut reason = format!(
         "{} is the cheapest rung within {} of full (its error {}{})",
         c.name,
@@ -251,34 +268,21 @@ pub fn choose_rung(
     if !missed.is_empty() {
         let _ = write!(reason, "; cheaper rungs miss it: {}", missed.join(", "));
     }
+    reason
+}
+
+/// Which of the model's terms the motion's kind makes vanish.
+fn physics_reason(motion: &Motion) -> &'static str {
     if motion.is_in_plane() {
-        reason.push_str(
-            "; in-plane motion: N = g exactly, so the normal-force terms (tilt, centripetal z) vanish",
-        );
         if is_translation(motion) {
-            reason.push_str(
-                ", and with no rotation (Ω = 0) the centripetal and Coriolis terms vanish too and every \
-                 plate point has the same acceleration, so the frozen position is exact",
-            );
+            "; in-plane motion: N = g exactly, so the normal-force terms (tilt, centripetal z) vanish, and with no rotation (Ω = 0) the centripetal and Coriolis terms vanish too and every \
+             plate point has the same acceleration, so the frozen position is exact"
         } else {
-            reason.push_str(
-                "; the rotation about the vertical keeps in-plane centripetal and Coriolis terms",
-            );
+            "; in-plane motion: N = g exactly, so the normal-force terms (tilt, centripetal z) vanish; the rotation about the vertical keeps in-plane centripetal and Coriolis terms"
         }
     } else {
-        reason.push_str(
-            "; out-of-plane motion: the normal force varies over the cycle and the tilt, centripetal and \
-             Coriolis terms enter it",
-        );
-    }
-    RungReport {
-        rung: c.name,
-        model: c.model,
-        error: c.error,
-        tolerance,
-        kind,
-        rungs,
-        reason,
+        "; out-of-plane motion: the normal force varies over the cycle and the tilt, centripetal and \
+         Coriolis terms enter it"
     }
 }
 

@@ -176,9 +176,72 @@ fn row(cells: impl IntoIterator<Item = String>) -> String {
     cells.into_iter().collect::<Vec<_>>().join(" | ")
 }
 
-/// Measures and writes `out/library_speed.md`; returns it.
-pub fn library_speed(out: &Path) -> Result<String> {
-    let names: Vec<&str> = Library::default_primitives()
+/// Every build `platefield speed` measures, and the errors, orders and
+/// counts it reports.
+struct Measured {
+    names: Vec<&'static str>,
+    reference: Build,
+    builds: Vec<Build>,
+    calibrated: Build,
+    calibrated_errors: Vec<f64>,
+    errors: Vec<Vec<f64>>,
+    noise: Vec<f64>,
+    orders: Vec<Vec<f64>>,
+    /// The build with half the finest build's steps.
+    half: usize,
+    fine_order: Vec<f64>,
+    ref_error: Vec<f64>,
+    /// Points each field simulates.
+    simulated: Vec<usize>,
+    /// One-cycle simulations of one build.
+    simulations: usize,
+}
+
+/// The largest of `e` (0 for none).
+fn worst(e: &[f64]) -> f64 {
+    e.iter().copied().fold(0.0, |a: f64, x| a.max(x))
+}
+
+/// A row of the error table with errors only: the worst, then each
+/// primitive's.
+fn error_only_row(md: &mut String, label: &str, e: &[f64]) {
+    let _ = writeln!(
+        md,
+        "| {label} | | | {} | {} |",
+        sci(worst(e)),
+        row(e.iter().map(|x| sci(*x)))
+    );
+}
+
+/// Each field's relative L2 error of `b` against `reference`.
+fn errors_against(b: &Build, reference: &Build) -> Vec<f64> {
+    b.fields
+        .iter()
+        .zip(&reference.fields)
+        .map(|(f, r)| relative_l2(f, r).0)
+        .collect()
+}
+
+/// The reference's own error, estimated by Richardson: e(n) = C n^-p gives
+/// e_ref = e(n) / ((n_ref/n)^p − 1) from the errors `e` at `n` steps, with
+/// p the observed `order`, at most [`RICHARDSON_ORDER`] (module docs).
+fn richardson(e: &[f64], order: &[f64], n: usize) -> Vec<f64> {
+    let ratio = REFERENCE_STEPS as f64 / n as f64;
+    e.iter()
+        .zip(order)
+        .map(|(e, p)| {
+            if p.is_finite() && *p > 0.0 {
+                e / (ratio.powf(p.min(RICHARDSON_ORDER)) - 1.0)
+            } else {
+                f64::NAN
+            }
+        })
+        .collect()
+}
+
+/// Builds the libraries and measures them.
+fn measure() -> Measured {
+    let names: Vec<&'static str> = Library::default_primitives()
         .iter()
         .map(|p| p.kind.name())
         .collect();
@@ -188,30 +251,14 @@ pub fn library_speed(out: &Path) -> Result<String> {
         .map(|&s| best_of(|| build_force_library(s)))
         .collect();
     let calibrated = best_of(build_calibrated_force_library);
-    let calibrated_errors: Vec<f64> = calibrated
-        .fields
-        .iter()
-        .zip(&reference.fields)
-        .map(|(f, r)| relative_l2(f, r).0)
-        .collect();
+    let calibrated_errors = errors_against(&calibrated, &reference);
     let last = builds.len() - 1;
     let errors: Vec<Vec<f64>> = builds
         .iter()
-        .map(|b| {
-            b.fields
-                .iter()
-                .zip(&reference.fields)
-                .map(|(f, r)| relative_l2(f, r).0)
-                .collect()
-        })
+        .map(|b| errors_against(b, &reference))
         .collect();
     let perturbed = build(StepsPlan::Uniform, builds[last].steps, PERTURBATION);
-    let noise: Vec<f64> = perturbed
-        .fields
-        .iter()
-        .zip(&builds[last].fields)
-        .map(|(f, r)| relative_l2(f, r).0)
-        .collect();
+    let noise = errors_against(&perturbed, &builds[last]);
     let orders: Vec<Vec<f64>> = (1..builds.len())
         .map(|i| {
             errors[i - 1]
@@ -234,22 +281,7 @@ pub fn library_speed(out: &Path) -> Result<String> {
         .zip(&errors[last])
         .map(|(a, b)| (a / b).ln() / (builds[last].steps as f64 / builds[half].steps as f64).ln())
         .collect();
-    // Richardson: e(n) = C n^-p gives e_ref = e(n_last) / ((n_ref/n_last)^p − 1),
-    // with p at most RICHARDSON_ORDER (module docs).
-    let ratio = REFERENCE_STEPS as f64 / builds[last].steps as f64;
-    let ref_error: Vec<f64> = errors[last]
-        .iter()
-        .zip(&fine_order)
-        .map(|(e, p)| {
-            if p.is_finite() && *p > 0.0 {
-                e / (ratio.powf(p.min(RICHARDSON_ORDER)) - 1.0)
-            } else {
-                f64::NAN
-            }
-        })
-        .collect();
-    let worst = |e: &[f64]| e.iter().copied().fold(0.0, |a: f64, x| a.max(x));
-    let threads = rayon::current_num_threads();
+    let ref_error = richardson(&errors[last], &fine_order, builds[last].steps);
     let g = Grid::DEFAULT;
     let s = FieldSettings::default();
     // Points each field simulates: one per family of points its motion
@@ -263,11 +295,61 @@ pub fn library_speed(out: &Path) -> Result<String> {
         })
         .collect();
     let simulations: usize = simulated.iter().sum::<usize>() * s.phases;
+    Measured {
+        names,
+        reference,
+        builds,
+        calibrated,
+        calibrated_errors,
+        errors,
+        noise,
+        orders,
+        half,
+        fine_order,
+        ref_error,
+        simulated,
+        simulations,
+    }
+}
+
+/// Measures and writes `out/library_speed.md`; returns it.
+pub fn library_speed(out: &Path) -> Result<String> {
+    let m = measure();
+    let mut md = error_table(&m);
+    order_table(&m, &mut md);
+    time_table(&m, &mut md);
+    verdict(&m, &mut md);
+    own_steps(&m, &mut md);
+    error_limits(&m, &mut md);
+    time_limits(&m, &mut md);
+    write_atomic(&out.join("library_speed.md"), md.as_bytes())?;
+    Ok(md)
+}
+
+/// The opening paragraph and the error table: every build's times and
+/// errors, the calibrated build, the reference's own error and the
+/// reproducibility row.
+fn error_table(m: &Measured) -> String {
+    let Measured {
+        names,
+        reference,
+        builds,
+        calibrated,
+        calibrated_errors,
+        errors,
+        noise,
+        ref_error,
+        simulations,
+        ..
+    } = m;
+    let last = builds.len() - 1;
+    let threads = rayon::current_num_threads();
+    let g = Grid::DEFAULT;
+    let s = FieldSettings::default();
     let dashes = "---|".repeat(names.len());
     let load = load_average().map_or(String::new(), |l| {
         format!(" The 1-minute load average when the report was written was {l}.")
     });
-
     let mut md = format!(
         "# Library speed against error\n\n\
          The default 8-primitive zero-velocity force library: {}×{} grid over ±4 cm, {} start \
@@ -291,7 +373,7 @@ pub fn library_speed(out: &Path) -> Result<String> {
         reference.total(),
         names.join(" | "),
     );
-    for (b, e) in builds.iter().zip(&errors) {
+    for (b, e) in builds.iter().zip(errors) {
         let _ = writeln!(
             md,
             "| {} | {:.3} | {} | {} | {} |",
@@ -312,19 +394,27 @@ pub fn library_speed(out: &Path) -> Result<String> {
         sci(worst(&calibrated_errors)),
         row(calibrated_errors.iter().map(|x| sci(*x)))
     );
-    let _ = writeln!(
-        md,
-        "| reference's own error (estimate) | | | {} | {} |",
-        sci(worst(&ref_error)),
-        row(ref_error.iter().map(|x| sci(*x)))
+    error_only_row(&mut md, "reference's own error (estimate)", ref_error);
+    let shifted = format!(
+        "reproducibility: {} steps, motions shifted by {PERTURBATION:e} m",
+        builds[last].steps
     );
-    let _ = writeln!(
-        md,
-        "| reproducibility: {} steps, motions shifted by {PERTURBATION:e} m | | | {} | {} |",
-        builds[last].steps,
-        sci(worst(&noise)),
-        row(noise.iter().map(|x| sci(*x)))
-    );
+    error_only_row(&mut md, &shifted, noise);
+    md
+}
+
+/// The notes on the last rows, and the observed orders between
+/// neighbouring step counts.
+fn order_table(m: &Measured, md: &mut String) {
+    let Measured {
+        names,
+        builds,
+        orders,
+        half,
+        ..
+    } = m;
+    let last = builds.len() - 1;
+    let dashes = "---|".repeat(names.len());
     let _ = write!(
         md,
         "\n*Reference's own error*: Richardson estimate e({n}) / (({REFERENCE_STEPS}/{n})^p − 1) \
@@ -336,7 +426,7 @@ pub fn library_speed(out: &Path) -> Result<String> {
          the integrator's sensitivity to round-off-sized changes of its input.\n\n\
          Observed order of convergence between neighbouring step counts n < n′, \
          ln(e(n)/e(n′))/ln(n′/n):\n\n| steps n → n′ | {} |\n|---|{dashes}\n",
-        builds[half].steps,
+        builds[*half].steps,
         names.join(" | "),
         n = builds[last].steps,
     );
@@ -353,12 +443,26 @@ pub fn library_speed(out: &Path) -> Result<String> {
             }))
         );
     }
+}
+
+/// Wall time per primitive, calibrated steps and points simulated.
+fn time_table(m: &Measured, md: &mut String) {
+    let Measured {
+        names,
+        reference,
+        builds,
+        calibrated,
+        simulated,
+        ..
+    } = m;
+    let g = Grid::DEFAULT;
+    let dashes = "---|".repeat(names.len());
     let _ = write!(
         md,
         "\nWall time per primitive (s):\n\n| steps per cycle | {} |\n|---|{dashes}\n",
         names.join(" | ")
     );
-    for b in builds.iter().chain(std::iter::once(&reference)) {
+    for b in builds.iter().chain(std::iter::once(reference)) {
         let _ = writeln!(
             md,
             "| {} | {} |",
@@ -382,27 +486,29 @@ pub fn library_speed(out: &Path) -> Result<String> {
         g.len(),
         row(simulated.iter().map(|n| n.to_string()))
     );
+}
 
-    // The verdict, from the numbers.
+/// The verdict against the time and error target, from the numbers.
+fn verdict(m: &Measured, md: &mut String) {
+    let Measured {
+        names,
+        builds,
+        calibrated,
+        calibrated_errors,
+        errors,
+        ..
+    } = m;
+    let threads = rayon::current_num_threads();
     let met = builds
         .iter()
-        .zip(&errors)
+        .zip(errors)
         .find(|(b, e)| b.total() <= TARGET_SECONDS && worst(e) <= TARGET_ERROR);
-    let accurate = builds
-        .iter()
-        .zip(&errors)
-        .find(|(_, e)| worst(e) <= TARGET_ERROR);
-    let fast = builds
-        .iter()
-        .zip(&errors)
-        .rfind(|(b, _)| b.total() <= TARGET_SECONDS);
     let _ = write!(
         md,
         "\n## Target: the library in ≤ {TARGET_SECONDS} s at ≤ {} relative error\n\n",
         sci(TARGET_ERROR)
     );
-    let plan_met =
-        calibrated.total() <= TARGET_SECONDS && worst(&calibrated_errors) <= TARGET_ERROR;
+    let plan_met = calibrated.total() <= TARGET_SECONDS && worst(calibrated_errors) <= TARGET_ERROR;
     let _ = write!(
         md,
         "**{}** with each primitive at its calibrated steps per cycle ({}; \
@@ -423,7 +529,7 @@ pub fn library_speed(out: &Path) -> Result<String> {
              machine's load",
             c / threads as f64
         )),
-        sci(worst(&calibrated_errors))
+        sci(worst(calibrated_errors))
     );
     match met {
         Some((b, e)) => {
@@ -437,72 +543,105 @@ pub fn library_speed(out: &Path) -> Result<String> {
         }
         None => {
             let _ = write!(md, "**Not met.** ");
-            match accurate {
-                Some((b, e)) => {
-                    let _ = write!(
-                        md,
-                        "The error target is first reached at {} steps per cycle (worst {}), \
-                         in {:.3} s, {:.1}× the time target. ",
-                        b.steps,
-                        sci(worst(e)),
-                        b.total(),
-                        b.total() / TARGET_SECONDS
-                    );
-                }
-                None => {
-                    let (at, best) = errors.iter().map(|e| worst(e)).enumerate().fold(
-                        (last, f64::INFINITY),
-                        |b, (i, e)| if e < b.1 { (i, e) } else { b },
-                    );
-                    let _ = write!(
-                        md,
-                        "No measured step count reaches the error target: the best worst-case \
-                         error is {} ({:.0}× the target), at {} steps in {:.3} s. ",
-                        sci(best),
-                        best / TARGET_ERROR,
-                        builds[at].steps,
-                        builds[at].total()
-                    );
-                }
-            }
-            match fast {
-                Some((b, e)) => {
+            nearest_accurate(m, md);
+            nearest_fast(m, md);
+        }
+    }
+}
+
+/// Not met: where the error target is first reached, or the best error.
+fn nearest_accurate(m: &Measured, md: &mut String) {
+    let Measured { builds, errors, .. } = m;
+    let last = builds.len() - 1;
+    let accurate = builds
+        .iter()
+        .zip(errors)
+        .find(|(_, e)| worst(e) <= TARGET_ERROR);
+    match accurate {
+        Some((b, e)) => {
+            let _ = write!(
+                md,
+                "The error target is first reached at {} steps per cycle (worst {}), \
+                 in {:.3} s, {:.1}× the time target. ",
+                b.steps,
+                sci(worst(e)),
+                b.total(),
+                b.total() / TARGET_SECONDS
+            );
+        }
+        None => {
+            let (at, best) = errors.iter().map(|e| worst(e)).enumerate().fold(
+                (last, f64::INFINITY),
+                |b, (i, e)| if e < b.1 { (i, e) } else { b },
+            );
+            let _ = write!(
+                md,
+                "No measured step count reaches the error target: the best worst-case \
+                 error is {} ({:.0}× the target), at {} steps in {:.3} s. ",
+                sci(best),
+                best / TARGET_ERROR,
+                builds[at].steps,
+                builds[at].total()
+            );
+        }
+    }
+}
+
+/// Not met: the most accurate build within the time target, or the
+/// cheapest build's time (and its CPU time per thread).
+fn nearest_fast(m: &Measured, md: &mut String) {
+    let Measured { builds, errors, .. } = m;
+    let threads = rayon::current_num_threads();
+    let fast = builds
+        .iter()
+        .zip(errors)
+        .rfind(|(b, _)| b.total() <= TARGET_SECONDS);
+    match fast {
+        Some((b, e)) => {
+            let _ = writeln!(
+                md,
+                "Within the time target the most accurate build is {} steps per cycle \
+                 ({:.3} s), worst error {}.",
+                b.steps,
+                b.total(),
+                sci(worst(e))
+            );
+        }
+        None => {
+            let _ = write!(
+                md,
+                "No build is within the time target either: the cheapest, {} steps per \
+                 cycle, takes {:.3} s ({:.1}× the target)",
+                builds[0].steps,
+                builds[0].total(),
+                builds[0].total() / TARGET_SECONDS
+            );
+            match builds[0].cpu_seconds {
+                Some(c) => {
+                    let free = c / threads as f64;
                     let _ = writeln!(
                         md,
-                        "Within the time target the most accurate build is {} steps per cycle \
-                         ({:.3} s), worst error {}.",
-                        b.steps,
-                        b.total(),
-                        sci(worst(e))
+                        ", and {free:.2} s ({:.1}× the target) even on {threads} free \
+                         cores (its CPU time divided by the threads).",
+                        free / TARGET_SECONDS
                     );
                 }
-                None => {
-                    let _ = write!(
-                        md,
-                        "No build is within the time target either: the cheapest, {} steps per \
-                         cycle, takes {:.3} s ({:.1}× the target)",
-                        builds[0].steps,
-                        builds[0].total(),
-                        builds[0].total() / TARGET_SECONDS
-                    );
-                    match builds[0].cpu_seconds {
-                        Some(c) => {
-                            let free = c / threads as f64;
-                            let _ = writeln!(
-                                md,
-                                ", and {free:.2} s ({:.1}× the target) even on {threads} free \
-                                 cores (its CPU time divided by the threads).",
-                                free / TARGET_SECONDS
-                            );
-                        }
-                        None => md.push_str(".\n"),
-                    }
-                }
+                None => md.push_str(".\n"),
             }
         }
     }
-    // Each primitive at its own fewest steps within the error target: the
-    // per-primitive times already measured, summed (no new build).
+}
+
+/// Each primitive at its own fewest steps within the error target: the
+/// per-primitive times already measured, summed (no new build).
+fn own_steps(m: &Measured, md: &mut String) {
+    let Measured {
+        names,
+        builds,
+        calibrated,
+        errors,
+        ..
+    } = m;
     let own: Vec<Option<usize>> = (0..names.len())
         .map(|i| errors.iter().position(|e| e[i] <= TARGET_ERROR))
         .collect();
@@ -554,6 +693,20 @@ pub fn library_speed(out: &Path) -> Result<String> {
             }
         );
     }
+}
+
+/// What limits the error: 1-D against 2-D slips.
+fn error_limits(m: &Measured, md: &mut String) {
+    let Measured {
+        names,
+        builds,
+        errors,
+        noise,
+        half,
+        fine_order,
+        ..
+    } = m;
+    let last = builds.len() - 1;
     let one_d = ["LineSink", "LineSource", "Trans"];
     let pick = |want_1d: bool, v: &[f64], f: &dyn Fn(f64) -> String| -> String {
         names
@@ -569,7 +722,7 @@ pub fn library_speed(out: &Path) -> Result<String> {
     let one_d_cols: Vec<usize> = one_d.iter().filter_map(|n| col(n)).collect();
     let one_d_reach = builds
         .iter()
-        .zip(&errors)
+        .zip(errors)
         .find(|(_, e)| one_d_cols.iter().all(|&i| e[i] <= TARGET_ERROR))
         .map_or(
             "none of the measured builds reaches the error target for all of them".into(),
@@ -596,7 +749,7 @@ pub fn library_speed(out: &Path) -> Result<String> {
          would remove; the reference's own error for these primitives (estimates above) says \
          how far their errors here can be trusted.",
         one_d.join(", "),
-        builds[half].steps,
+        builds[*half].steps,
         builds[last].steps,
         pick(true, &fine_order, &order_fmt),
         pick(true, &noise, &sci),
@@ -605,6 +758,19 @@ pub fn library_speed(out: &Path) -> Result<String> {
         builds[last].steps,
         pick(false, &errors[last], &sci),
     );
+}
+
+/// What limits the time, and how to regenerate.
+fn time_limits(m: &Measured, md: &mut String) {
+    let Measured {
+        names,
+        builds,
+        simulated,
+        simulations,
+        ..
+    } = m;
+    let threads = rayon::current_num_threads();
+    let g = Grid::DEFAULT;
     let _ = writeln!(
         md,
         "\n**What limits the time.** Wall time against the nominal step count: {}; CPU time \
@@ -633,21 +799,19 @@ pub fn library_speed(out: &Path) -> Result<String> {
             .join(", "),
         names
             .iter()
-            .zip(&simulated)
+            .zip(simulated)
             .filter(|(_, n)| **n == g.len())
             .map(|(name, _)| *name)
             .collect::<Vec<_>>()
             .join(", "),
         g.len(),
-        TARGET_SECONDS * threads as f64 / simulations as f64 * 1e6
+        TARGET_SECONDS * threads as f64 / *simulations as f64 * 1e6
     );
     let _ = writeln!(
         md,
         "\nRegenerate: `platefield speed` (about 12 s on the 2-core machine). Bench: `cargo bench --bench library` \
          (one build at 32 steps per cycle and one calibrated)."
     );
-    write_atomic(&out.join("library_speed.md"), md.as_bytes())?;
-    Ok(md)
 }
 
 /// Default output folder of `platefield speed`.
