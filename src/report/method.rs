@@ -153,7 +153,9 @@ pub fn synthesis_md(syn: &Synthesis, limits: &ShakerLimits, gravity: f64) -> Str
         "## Synthesized motion\n\n![the six signals over one period](signals.svg)\n\nOne simultaneous six-signal motion, period {:.5} s, harmonics 1..={}: {}\n\n| axis | peak | limit |\n|---|---|---|\n",
         syn.motion.period,
         limits.harmonics,
-        syn.summary()
+        // Without the run time: committed reports change only when their
+        // content does (the time is in the printed summary).
+        syn.summary().replace(&format!(", {:.1} s,", syn.seconds), ",")
     );
     for p in &syn.peaks {
         let unit = if p.axis.starts_with("linear") {
@@ -254,9 +256,12 @@ pub fn write(md: &MethodDesign, dir: &Path) -> Result<Vec<&'static str>> {
     let kept = md.kept();
     let mut files = vec!["schedule.json", "report.md"];
     let mut report = format!(
-        "# Design for target \"{}\"\n\nRegenerate: `platefield design <target file> --method {}`.\n\n",
+        "# Design for target \"{}\"\n\nRegenerate: `{}`.\n\n",
         kept.schedule.target,
-        md.asked.name()
+        super::invocation(&format!(
+            "design <target file> --method {}",
+            md.asked.name()
+        ))
     );
     report.push_str(&method_md(md));
     // No plot rather than an empty one (a synthesis for a grid-less target
@@ -281,11 +286,12 @@ pub fn write(md: &MethodDesign, dir: &Path) -> Result<Vec<&'static str>> {
     ] {
         // A design's own report, one heading level down.
         let Some(d) = d else { continue };
+        // Without its title and "Regenerate:" line (the design's own, above).
         let own = super::design::report_md(d);
-        let body = own.split_once('\n').map_or("", |x| x.1);
+        let body = own.split_once("\n\n## ").map_or("", |x| x.1);
         let _ = write!(
             report,
-            "\n## {heading}\n{}",
+            "\n## {heading}\n\n### {}",
             body.replace("\n## ", "\n### ")
         );
     }
