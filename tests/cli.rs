@@ -1671,7 +1671,8 @@ fn design_summary_opens_with_the_kept_design() {
             .unwrap();
     let played = &s["played"];
     let expect = format!(
-        "kept sequence: realised strength {:.4} (× the target's strength) at realised shape error {:.2} %",
+        "kept sequence: realised strength {:.4} s⁻¹ ({:.4} × the target's 1 s⁻¹) at realised shape error {:.2} %",
+        played["realised_strength"].as_f64().unwrap(),
         played["realised_strength"].as_f64().unwrap(),
         100.0 * played["realised_shape_error"].as_f64().unwrap()
     );

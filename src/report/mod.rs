@@ -21,11 +21,16 @@ use std::path::Path;
 
 /// The command that was run, for a report's "Regenerate:" line: the
 /// process's arguments after the program, as `platefield ARGS` (an
-/// argument with a space or quote in single quotes), when they are a
+/// argument with a space or quote in single quotes; `--quiet` and `--json`
+/// left out), when they are a
 /// `platefield` subcommand (the CLI, or Python's argument list passed to
 /// it); else `platefield {fallback}`.
 pub fn invocation(fallback: &str) -> String {
-    let args: Vec<String> = std::env::args().skip(1).collect();
+    // Flags that change only what is printed, not the files, are left out.
+    let args: Vec<String> = std::env::args()
+        .skip(1)
+        .filter(|a| a != "--quiet" && a != "--json")
+        .collect();
     let subcommand = fallback.split(' ').next().unwrap_or("");
     if args.first().map(String::as_str) != Some(subcommand) {
         return format!("platefield {fallback}");
