@@ -120,32 +120,20 @@ fn strings(s: &[&str]) -> Vec<String> {
     s.iter().map(|x| x.to_string()).collect()
 }
 
+/// What a README `design` runs with (see the module documentation).
+const DESIGN_BUDGET: &str = "--method synthesize --synth-evaluations 30 --polish-plays 0 --quiet";
+
+/// What a README `verify` runs with (see the module documentation).
+const VERIFY_PLAY: &str = "--points 2 --swarm 2 --rect-poses 0 --repetitions 1 --quiet";
+
 /// Runs one `platefield SUBCOMMAND …` line of the README in `dir` by the
 /// rules of the module documentation.
 fn run_subcommand(dir: &Path, args: &[String]) {
     let mut args = args.to_vec();
     let sub = args[0].clone();
     match sub.as_str() {
-        "design" => args.extend(strings(&[
-            "--method",
-            "synthesize",
-            "--synth-evaluations",
-            "30",
-            "--polish-plays",
-            "0",
-            "--quiet",
-        ])),
-        "verify" => args.extend(strings(&[
-            "--points",
-            "2",
-            "--swarm",
-            "2",
-            "--rect-poses",
-            "0",
-            "--repetitions",
-            "1",
-            "--quiet",
-        ])),
+        "design" => args.extend(words(DESIGN_BUDGET)),
+        "verify" => args.extend(words(VERIFY_PLAY)),
         "export" | "field" => {}
         _ => args = vec![sub.clone(), "--help".to_string()],
     }
