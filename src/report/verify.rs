@@ -308,7 +308,7 @@ pub fn write(r: &VerifyReport, dir: &Path) -> Result<Vec<PathBuf>> {
         files.push((products[2], friction_md(&r.target, s)));
         files.push((products[3], friction_svg(&r.target, s)));
     }
-    let stage = crate::output::Staged::new(&dir)?;
+    let stage = crate::output::Staged::new(dir)?;
     for (name, text) in &files {
         crate::output::write_atomic(&stage.path().join(name), text.as_bytes())?;
     }

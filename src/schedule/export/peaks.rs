@@ -88,8 +88,8 @@ impl KinematicPeaks {
             let s = centre_state(motion, t);
             let (lin, ang) = super::centre_acceleration(motion, t);
             let a = [lin.x, lin.y, lin.z, ang.x, ang.y, ang.z];
-            for i in 0..6 {
-                p.acceleration[i] = p.acceleration[i].max(a[i].abs());
+            for (i, ai) in a.iter().enumerate() {
+                p.acceleration[i] = p.acceleration[i].max(ai.abs());
                 p.velocity[i] = p.velocity[i].max(s.velocity[i].abs());
                 p.stroke[i] = p.stroke[i].max(s.pose[i].abs());
             }
