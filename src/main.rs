@@ -28,20 +28,8 @@ struct Cli {
 enum Command {
     /// Design a schedule of primitive plate motions for a target field (the main job).
     Design(cli::design::DesignArgs),
-    /// Export a schedule as the six plate-centre acceleration signals (CSV) at a controller rate.
-    Export {
-        /// A schedule.json written by `design`.
-        schedule: PathBuf,
-        /// Samples per second.
-        #[arg(long, default_value_t = 10000.0, allow_negative_numbers = true)]
-        rate: f64,
-        /// Steady cycles of a six-signal (synthesized) motion between its ramp-in from rest and ramp-out to rest (10 cycles each); primitive schedules export one period to loop.
-        #[arg(long, default_value_t = platefield::schedule::export::DEFAULT_STEADY_CYCLES)]
-        steady_cycles: u32,
-        /// Output CSV (default: stdout).
-        #[arg(long)]
-        out: Option<PathBuf>,
-    },
+    /// Export a schedule for a shaker controller: the six plate-centre acceleration signals as CSV samples, or each channel's harmonics.
+    Export(cli::export::ExportArgs),
     /// Closed-loop verification: realised field against prediction, and where a swarm of parts ends up.
     Verify(cli::verify::VerifyArgs),
     /// Segment order and rest at the joins: which one best realises a schedule's prediction; writes OUT/<target>/verify/order.md.
@@ -196,12 +184,7 @@ fn default_dir(dir: &'static str) -> impl FnOnce(clap::Arg) -> clap::Arg {
 fn run(cli: Cli) -> Result<String> {
     match cli.command {
         Command::Design(args) => args.run(),
-        Command::Export {
-            schedule,
-            rate,
-            steady_cycles,
-            out,
-        } => report::export(&schedule, rate, steady_cycles, out.as_deref()),
+        Command::Export(args) => args.run(),
         Command::Verify(args) => args.run(),
         Command::Order {
             schedule,

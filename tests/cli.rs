@@ -309,7 +309,8 @@ fn export_plays_the_period_derived_from_the_segments() {
         std::fs::write(&file, s.to_string()).unwrap();
         let (code, out, err) = platefield(&["export", file.to_str().unwrap(), "--rate", "1000"]);
         assert_eq!(code, 0, "{err}");
-        rows.push(out.lines().count() - 1);
+        // The comment lines (`# `) state the layout, frame and peaks.
+        rows.push(out.lines().filter(|l| !l.starts_with('#')).count() - 1);
     }
     let _ = std::fs::remove_dir_all(&dir);
     let per_cycle = (1000.0 * std::f64::consts::TAU / 209.0).round() as usize;
@@ -715,11 +716,115 @@ fn design_method_auto_plays_both_and_states_the_choice() {
         stdout.contains("ramp-in from rest") && stdout.contains("5 steady cycles"),
         "{stdout}"
     );
-    // 10 + 5 + 10 cycles of 1000 samples.
+    // 10 + 5 + 10 cycles of 1000 samples, after the comment lines that
+    // state the frame, the reference point and the peaks.
+    let text = std::fs::read_to_string(&csv).unwrap();
     assert_eq!(
-        std::fs::read_to_string(&csv).unwrap().lines().count(),
+        text.lines().filter(|l| !l.starts_with('#')).count(),
         1 + 25_000
     );
+    for needle in [
+        "reference point: the plate centre",
+        "world axes",
+        "stroke",
+        "velocity",
+    ] {
+        assert!(text.contains(needle), "{needle}: {text:.600}");
+    }
+    harmonics_are_the_motions_terms(&syn.join("small_lab/schedule.json"), &dir);
+}
+
+/// `export --format harmonics` of the lab-class sink's synthesized motion
+/// (`schedule`, synthesized above) writes each of its terms exactly: per
+/// channel one row (harmonic, amplitude, phase) equal, as f64, to the
+/// schedule's own term (the lab class plays one harmonic, so every
+/// channel holds one term; a negative amplitude is written as |A| with
+/// φ + π).
+fn harmonics_are_the_motions_terms(schedule: &Path, dir: &Path) {
+    let out = dir.join("harmonics.csv");
+    let (code, stdout, err) = platefield(&[
+        "export",
+        schedule.to_str().unwrap(),
+        "--format",
+        "harmonics",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(stdout.contains("terms over 6 channels"), "{stdout}");
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(text.contains("reference point: the plate centre") && text.contains("stroke"));
+    let rows: Vec<Vec<String>> = text
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .skip(1)
+        .map(|l| l.split(',').map(str::to_string).collect())
+        .collect();
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(schedule).unwrap()).unwrap();
+    let motion = json["segments"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find_map(|s| s.get("motion").filter(|m| !m.is_null()))
+        .expect("a synthesized motion");
+    let mut expected = Vec::new();
+    for (group, names) in [
+        ("linear", ["ax_m_s2", "ay_m_s2", "az_m_s2"]),
+        (
+            "angular",
+            ["alpha_x_rad_s2", "alpha_y_rad_s2", "alpha_z_rad_s2"],
+        ),
+    ] {
+        for (axis, name) in ["x", "y", "z"].iter().zip(names) {
+            for t in motion[group][axis].as_array().into_iter().flatten() {
+                let a = t["amplitude"].as_f64().unwrap();
+                let phase = t.get("phase").and_then(|p| p.as_f64()).unwrap_or(0.0);
+                let n = t.get("harmonic").and_then(|n| n.as_u64()).unwrap_or(1);
+                expected.push((name.to_string(), n, a, phase));
+            }
+        }
+    }
+    assert!(expected.len() >= 4, "{expected:?}");
+    let got: Vec<(String, u64, f64, f64)> = rows
+        .iter()
+        .map(|r| {
+            (
+                r[0].clone(),
+                r[1].parse().unwrap(),
+                r[2].parse().unwrap(),
+                r[3].parse().unwrap(),
+            )
+        })
+        .collect();
+    assert_eq!(got.len(), expected.len(), "{got:?} against {expected:?}");
+    for (g, e) in got.iter().zip(&expected) {
+        assert_eq!((&g.0, g.1), (&e.0, e.1));
+        if e.2 >= 0.0 {
+            // Written unchanged: the same f64s.
+            assert_eq!((g.2, g.3), (e.2, e.3), "{g:?} against {e:?}");
+        } else {
+            // −A sin(θ + φ) = A sin(θ + φ + π): the amplitude exact, the
+            // phase to one rounding of the added π.
+            let d = (g.3 - e.3 - std::f64::consts::PI).rem_euclid(std::f64::consts::TAU);
+            assert!(
+                g.2 == -e.2 && d.min(std::f64::consts::TAU - d) < 1e-14,
+                "{g:?} against {e:?}"
+            );
+        }
+    }
+    // A sequenced schedule is not a sum of harmonics: refused, naming --format.
+    let (code, _, err) = platefield(&[
+        "export",
+        concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/results/sequenced/sink/schedule.json"
+        ),
+        "--format",
+        "harmonics",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--format"), "{err}");
 }
 
 /// Runs the binary with `PLATEFIELD_PROGRESS_INTERVAL=0` (a progress line
@@ -1566,7 +1671,8 @@ fn design_summary_opens_with_the_kept_design() {
             .unwrap();
     let played = &s["played"];
     let expect = format!(
-        "kept sequence: realised strength {:.4} (× the target's strength) at realised shape error {:.2} %",
+        "kept sequence: realised strength {:.4} s⁻¹ ({:.4} × the target's 1 s⁻¹) at realised shape error {:.2} %",
+        played["realised_strength"].as_f64().unwrap(),
         played["realised_strength"].as_f64().unwrap(),
         100.0 * played["realised_shape_error"].as_f64().unwrap()
     );

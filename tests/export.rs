@@ -349,3 +349,93 @@ fn every_sample_is_the_mean_acceleration_over_its_interval() {
         "six-signal steady part",
     );
 }
+
+/// Every export's peaks, closed form for one harmonic: a channel
+/// A sin(nωt + φ) has peak velocity A/(nω) and stroke A/(nω)² (its
+/// zero-mean integrals), to the sampling's 1 − cos(π/4096) ≈ 3e-7.
+#[test]
+fn steady_peaks_of_one_harmonic_are_the_closed_form() {
+    use platefield::motion::{Axes, FourierTerm, Signals};
+    use platefield::schedule::export::harmonics::of_signals;
+    let term = |amplitude, harmonic, phase| FourierTerm {
+        amplitude,
+        phase,
+        harmonic,
+    };
+    let period = 0.05;
+    let s = Signals {
+        period,
+        linear: Axes {
+            x: vec![term(10.0, 1, 0.3)],
+            ..Axes::default()
+        },
+        angular: Axes {
+            z: vec![term(-70.0, 2, -1.1)],
+            ..Axes::default()
+        },
+    };
+    let h = of_signals(&s);
+    let w = std::f64::consts::TAU / period;
+    for (axis, a, n) in [(0, 10.0, 1.0), (5, 70.0, 2.0)] {
+        let p = &h.peaks;
+        let rel = |got: f64, want: f64| (got / want - 1.0).abs();
+        assert!(rel(p.acceleration[axis], a) < 1e-6, "{p:?}");
+        assert!(rel(p.velocity[axis], a / (n * w)) < 1e-6, "{p:?}");
+        assert!(rel(p.stroke[axis], a / (n * w * n * w)) < 1e-6, "{p:?}");
+    }
+    assert_eq!(h.peaks.stroke[1], 0.0);
+    // The negative amplitude is written as |A| at φ + π: the same signal.
+    for k in 0..50 {
+        let t = period * k as f64 / 50.0;
+        let want = -70.0 * (2.0 * w * t - 1.1).sin();
+        assert!((h.value(5, t) - want).abs() < 1e-12);
+    }
+}
+
+/// The peaks an export states for a schedule (the held samples integrated
+/// as played) against the exact kinematics of its screws (`centre_state`
+/// sampled densely over each segment's period) and, for the rest-to-rest
+/// LineSinks of the sequenced sink (ψ = ψ₀(1 − cos ωt), ψ₀ = 0.005 rad),
+/// the closed form: angular stroke 2ψ₀, angular velocity ψ₀ω, on x and y.
+#[test]
+fn played_peaks_match_the_exact_kinematics() {
+    use platefield::motion::sample_hold::centre_state;
+    let s = Schedule::load(std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/results/sequenced/sink/schedule.json"
+    )))
+    .unwrap();
+    let p = export(&s, 20_000.0, 0).unwrap().peaks();
+    let (mut v, mut x) = ([0.0_f64; 6], [0.0_f64; 6]);
+    for m in s.segments.iter().filter_map(|g| g.plate_motion()) {
+        for k in 0..4096 {
+            let st = centre_state(&m, m.period() * k as f64 / 4096.0);
+            for i in 0..6 {
+                v[i] = v[i].max(st.velocity[i].abs());
+                x[i] = x[i].max(st.pose[i].abs());
+            }
+        }
+    }
+    for i in 0..6 {
+        // Held samples: velocities exact at the hold ends (96 per cycle),
+        // so a peak is under-sampled by at most 1 − cos(π/96) ≈ 5e-4.
+        let close = |a: f64, b: f64| (a - b).abs() <= 2e-3 * b.max(1e-12) + 1e-12;
+        assert!(
+            close(p.velocity[i], v[i]),
+            "axis {i}: velocity {} against {}",
+            p.velocity[i],
+            v[i]
+        );
+        assert!(
+            close(p.stroke[i], x[i]),
+            "axis {i}: stroke {} against {}",
+            p.stroke[i],
+            x[i]
+        );
+    }
+    let (psi0, omega) = (0.005, 209.0);
+    for i in [3, 4] {
+        assert!((p.stroke[i] / (2.0 * psi0) - 1.0).abs() < 2e-3, "{p:?}");
+        assert!((p.velocity[i] / (psi0 * omega) - 1.0).abs() < 2e-3, "{p:?}");
+    }
+}

@@ -65,15 +65,18 @@ fn products(folder: &Path) -> BTreeMap<String, Vec<u8>> {
     files
 }
 
-/// The two runs A (strength 1) and B (strength 0.5), each designed alone:
-/// their target files and their folders' products (which differ).
+/// The two runs A (strength 1) and B (strength 0.5), each designed alone
+/// into `dir/out` (the folder the tests then design into, since report.md
+/// states the command run) and removed: their target files and their
+/// folders' products (which differ).
 fn two_runs(dir: &Path) -> [(String, BTreeMap<String, Vec<u8>>); 2] {
     [("a.json", 1.0), ("b.json", 0.5)].map(|(file, strength)| {
         let target = sink_target(dir, file, strength);
-        let out = dir.join(format!("alone-{file}"));
+        let out = dir.join("out");
         let (code, _, err) = platefield(&design_args(&target, out.to_str().unwrap()));
         assert_eq!(code, 0, "{err}");
         let p = products(&out.join("sink"));
+        std::fs::remove_dir_all(&out).unwrap();
         assert!(p.contains_key("schedule.json") && p.contains_key("report.md"));
         (target, p)
     })
@@ -329,7 +332,7 @@ fn a_closed_stdout_ends_quietly() {
     let mut stdout = child.stdout.take().unwrap();
     let mut head = [0u8; 200];
     std::io::Read::read_exact(&mut stdout, &mut head).unwrap();
-    assert!(head.starts_with(b"t_s,"));
+    assert!(head.starts_with(b"# platefield export"));
     drop(stdout);
     let done = child.wait_with_output().unwrap();
     let err = String::from_utf8_lossy(&done.stderr);

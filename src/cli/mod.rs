@@ -3,6 +3,7 @@
 //! to print, so `main.rs` stays a thin clap shell.
 
 pub mod design;
+pub mod export;
 pub mod field;
 pub mod linesink;
 pub mod poses;

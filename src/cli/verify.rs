@@ -36,9 +36,9 @@ pub struct VerifyArgs {
     /// Rectangle start poses (0: no rectangles).
     #[arg(long, default_value_t = 4)]
     pub rect_poses: usize,
-    /// Output folder; writes `OUT/<target>/verify/{summary.json, trajectories.svg}`.
-    #[arg(long, default_value = "results")]
-    pub out: PathBuf,
+    /// Output folder; writes `OUT/<target>/verify/{summary.json, trajectories.svg}`. Default: beside the schedule, in `verify/` next to it.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
     /// Parts' friction: MU plays everything at μ_s = μ_k = MU; LO:HI:N also sweeps the design's realised check over N values (table and plot in verify/). Default: the schedule's own.
     #[arg(long, allow_negative_numbers = true)]
     pub friction: Option<String>,
@@ -103,6 +103,11 @@ impl VerifyArgs {
 
     /// Verifies the schedule, writes the report files and returns the summary to print.
     pub fn run(&self) -> Result<String> {
-        report::verify::run(&self.schedule, &self.request()?, &self.out, self.json)
+        report::verify::run(
+            &self.schedule,
+            &self.request()?,
+            self.out.as_deref(),
+            self.json,
+        )
     }
 }

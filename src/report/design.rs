@@ -82,7 +82,11 @@ pub fn summary(d: &Design) -> String {
 pub fn report_md(d: &Design) -> String {
     let s = &d.schedule;
     let mut md = format!("# Design for target \"{}\"\n\n", s.target);
-    md.push_str("Regenerate: `platefield design <target file>`.\n\n## Fit\n\n| metric | value |\n|---|---|\n");
+    let _ = write!(
+        md,
+        "Regenerate: `{}`.\n\n## Fit\n\n| metric | value |\n|---|---|\n",
+        super::invocation("design <target file>")
+    );
     let _ = writeln!(md, "| mode | {} |", s.solver.mode);
     let _ = writeln!(md, "| relative L2 error | {:.4} |", s.fit.relative_l2_error);
     let _ = writeln!(
@@ -136,13 +140,37 @@ pub fn report_md(d: &Design) -> String {
             row.labels.join(", ")
         );
     }
-    if !d.basis.excluded.is_empty() {
-        md.push_str(
-            "\n## Basis fields left out\n\n| field | invalid samples | reason |\n|---|---|---|\n",
-        );
-        for e in &d.basis.excluded {
-            let _ = writeln!(md, "| {} | {} | {} |", e.label, e.invalid_samples, e.reason);
+    md.push_str(&excluded_md(&d.basis.excluded));
+    md
+}
+
+/// The basis fields left out, as counts by reason (each field, its invalid
+/// samples and the reason in full are in `schedule.json`'s
+/// `basis.excluded`); empty when none was.
+pub fn excluded_md(excluded: &[crate::schedule::ExcludedColumn]) -> String {
+    use crate::schedule::ExclusionReason as R;
+    if excluded.is_empty() {
+        return String::new();
+    }
+    // (reason, count, first field) in order of first appearance.
+    let mut rows: Vec<(String, usize, &str)> = Vec::new();
+    for e in excluded {
+        let reason = match &e.reason {
+            R::Invalid(v) => format!("invalid in the region: {v}"),
+            R::IsotropicCopy { .. } => "rotated copy of an isotropic field".to_string(),
+            R::OverLimit { axis, .. } => format!("over the shaker limit on {axis}"),
+        };
+        match rows.iter_mut().find(|r| r.0 == reason) {
+            Some(r) => r.1 += 1,
+            None => rows.push((reason, 1, &e.label)),
         }
+    }
+    let mut md = format!(
+        "\n## Basis fields left out\n\n{} fields, by reason (every field with its invalid samples: `basis.excluded` in the sequenced design's schedule.json).\n\n| reason | fields | first |\n|---|---|---|\n",
+        excluded.len()
+    );
+    for (reason, n, first) in rows {
+        let _ = writeln!(md, "| {reason} | {n} | {first} |");
     }
     md
 }

@@ -25,14 +25,46 @@ const PLOT_SAMPLES: usize = 200;
 pub fn headline(md: &MethodDesign) -> String {
     let c = md.kept();
     let p = c.played();
+    let field = c.schedule.target_spec.as_ref().map(|t| &t.field);
     format!(
-        "kept {}: realised strength {} (× the target's strength) at realised shape error {}{} — point parts played from {} start points over the region ({} valid); ŝ is the scale of the target their mean velocities best match, the shape error what ŝ × target leaves unmatched. Every candidate below.\n",
+        "kept {}: realised strength {} at realised shape error {}{} — point parts played from {} start points over the region ({} valid); ŝ is the scale of the target their mean velocities best match, the shape error what ŝ × target leaves unmatched. Every candidate below.\n",
         c.method.name(),
-        number(p.realised_strength),
+        strength_with_unit(p.realised_strength, field),
         percent(p.realised_shape_error),
         if p.poor { ", POOR" } else { "" },
         p.points,
         p.valid,
+    )
+}
+
+/// A realised strength ŝ (a multiple of the target's strength s) with its
+/// unit: "ŝ·s s⁻¹ (ŝ × the target's s s⁻¹)" for the linear fields (s in
+/// 1/s), m/s for the bounded ones (`trans`, `jet`); "ŝ (× the target's
+/// strength)" for `sum` and `sampled` fields, whose strength is their
+/// vectors' own scale.
+pub fn strength_with_unit(s_hat: Option<f64>, field: Option<&crate::request::FieldSpec>) -> String {
+    use crate::request::FieldSpec as F;
+    let (Some(v), Some(field)) = (s_hat, field) else {
+        return format!("{} (× the target's strength)", number(s_hat));
+    };
+    let (strength, unit) = match field {
+        F::Sum { .. } | F::Sampled { .. } => {
+            return format!("{} (× the target's strength)", number(s_hat))
+        }
+        F::Trans { strength, .. } | F::Jet { strength, .. } => (*strength, "m/s"),
+        F::Sink { strength, .. }
+        | F::Source { strength, .. }
+        | F::LineSink { strength, .. }
+        | F::Saddle { strength, .. }
+        | F::Whirlpool { strength, .. }
+        | F::Circle { strength, .. }
+        | F::ScaledCircle { strength, .. }
+        | F::SqueezeTrans { strength, .. } => (*strength, "s⁻¹"),
+    };
+    format!(
+        "{} {unit} ({v:.4} × the target's {} {unit})",
+        number(Some(v * strength)),
+        crate::input::num(strength)
     )
 }
 
@@ -153,7 +185,9 @@ pub fn synthesis_md(syn: &Synthesis, limits: &ShakerLimits, gravity: f64) -> Str
         "## Synthesized motion\n\n![the six signals over one period](signals.svg)\n\nOne simultaneous six-signal motion, period {:.5} s, harmonics 1..={}: {}\n\n| axis | peak | limit |\n|---|---|---|\n",
         syn.motion.period,
         limits.harmonics,
-        syn.summary()
+        // Without the run time: committed reports change only when their
+        // content does (the time is in the printed summary).
+        syn.summary().replace(&format!(", {:.1} s,", syn.seconds), ",")
     );
     for p in &syn.peaks {
         let unit = if p.axis.starts_with("linear") {
@@ -254,10 +288,16 @@ pub fn write(md: &MethodDesign, dir: &Path) -> Result<Vec<&'static str>> {
     let kept = md.kept();
     let mut files = vec!["schedule.json", "report.md"];
     let mut report = format!(
-        "# Design for target \"{}\"\n\nRegenerate: `platefield design <target file> --method {}`.\n\n",
+        "# Design for target \"{}\"\n\nRegenerate: `{}`.\n\n",
         kept.schedule.target,
-        md.asked.name()
+        super::invocation(&format!(
+            "design <target file> --method {}",
+            md.asked.name()
+        ))
     );
+    // The kept design first, its realised measure named in a line.
+    report.push_str(&headline(md));
+    report.push('\n');
     report.push_str(&method_md(md));
     // No plot rather than an empty one (a synthesis for a grid-less target
     // has no field at the target's points).
@@ -281,11 +321,12 @@ pub fn write(md: &MethodDesign, dir: &Path) -> Result<Vec<&'static str>> {
     ] {
         // A design's own report, one heading level down.
         let Some(d) = d else { continue };
+        // Without its title and "Regenerate:" line (the design's own, above).
         let own = super::design::report_md(d);
-        let body = own.split_once('\n').map_or("", |x| x.1);
+        let body = own.split_once("\n\n## ").map_or("", |x| x.1);
         let _ = write!(
             report,
-            "\n## {heading}\n{}",
+            "\n## {heading}\n\n### {}",
             body.replace("\n## ", "\n### ")
         );
     }

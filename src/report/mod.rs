@@ -19,32 +19,37 @@ pub mod verify;
 
 use std::path::Path;
 
+/// The command that was run, for a report's "Regenerate:" line: the
+/// process's arguments after the program, as `platefield ARGS` (an
+/// argument with a space or quote in single quotes; `--quiet` and `--json`
+/// left out), when they are a
+/// `platefield` subcommand (the CLI, or Python's argument list passed to
+/// it); else `platefield {fallback}`.
+pub fn invocation(fallback: &str) -> String {
+    // Flags that change only what is printed, not the files, are left out.
+    let args: Vec<String> = std::env::args()
+        .skip(1)
+        .filter(|a| a != "--quiet" && a != "--json")
+        .collect();
+    let subcommand = fallback.split(' ').next().unwrap_or("");
+    if args.first().map(String::as_str) != Some(subcommand) {
+        return format!("platefield {fallback}");
+    }
+    let quoted: Vec<String> = args
+        .iter()
+        .map(|a| {
+            if a.is_empty() || a.contains([' ', '\'', '"', '`']) {
+                format!("'{}'", a.replace('\'', "'\\''"))
+            } else {
+                a.clone()
+            }
+        })
+        .collect();
+    format!("platefield {}", quoted.join(" "))
+}
+
 use crate::design::order::OrderRequest;
 use crate::error::Result;
-use crate::output::write_atomic;
-use crate::schedule::export;
-use crate::schedule::Schedule;
-
-/// `platefield export`: the six signals of the schedule at `path` at
-/// `rate` samples/s as CSV, written to `out` (returns a line saying so) or
-/// returned for stdout.
-pub fn export(path: &Path, rate: f64, steady_cycles: u32, out: Option<&Path>) -> Result<String> {
-    let s = Schedule::load(path)?;
-    let e = export::export(&s, rate, steady_cycles)?;
-    let csv = e.samples.to_csv();
-    match out {
-        Some(file) => {
-            write_atomic(file, csv.as_bytes())?;
-            Ok(format!(
-                "wrote {} ({} samples at {rate} Hz: {})\n",
-                file.display(),
-                e.samples.samples.len(),
-                e.describe()
-            ))
-        }
-        None => Ok(csv),
-    }
-}
 
 /// `platefield order`: searches the orders and rest insertions of the
 /// schedule at `path` ([`crate::design::order::order_schedule_file`]),

@@ -85,11 +85,14 @@ pub fn run(
     if json {
         return md.kept().schedule.to_json();
     }
+    // The kept design first, with its details; the others only by their
+    // one line each in the candidates' list (report.md has their details).
     let mut text = super::method::headline(&md);
-    if let Some(d) = &md.sequence {
+    let kept = md.kept().method;
+    if let Some(d) = md.sequence.as_ref().filter(|_| kept == Method::Sequence) {
         text.push_str(&super::design::summary(d));
     }
-    if let Some(syn) = &md.synthesis {
+    if let Some(syn) = md.synthesis.as_ref().filter(|_| kept != Method::Sequence) {
         let _ = writeln!(text, "synthesize: {}", syn.summary());
     }
     text.push_str(&super::method::summary(&md));

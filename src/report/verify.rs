@@ -13,6 +13,7 @@ use crate::play::sensitivity::{FrictionRow, Sensitivity};
 use crate::plot::{LegendEntry, LegendSymbol, Marker, MarkerShape, Overlay, QuiverPlot};
 use crate::plot::{LinePlot, Panels, Series};
 use crate::request::Attractor;
+use crate::schedule::Schedule;
 use crate::verify::run::{RectangleResult, VerifyReport};
 use crate::verify::Swarm;
 
@@ -280,11 +281,11 @@ pub fn trajectory_svg(
     plot.to_svg()
 }
 
-/// Writes `summary.json` and `trajectories.svg` under `OUT/<target>/verify/`
-/// (both computed before either is written, the folder written whole by
-/// [`crate::output::Staged`]; `order.md` and other files there are kept);
-/// returns the paths.
-pub fn write(r: &VerifyReport, out: &Path) -> Result<Vec<PathBuf>> {
+/// Writes `summary.json` and `trajectories.svg` into the folder `dir`
+/// ([`verify_dir`]; both computed before either is written, the folder
+/// written whole by [`crate::output::Staged`]; `order.md` and other files
+/// there are kept); returns the paths.
+pub fn write(r: &VerifyReport, dir: &Path) -> Result<Vec<PathBuf>> {
     let text = summary_json(r)?;
     let svg = trajectory_svg(
         &r.target,
@@ -294,7 +295,6 @@ pub fn write(r: &VerifyReport, out: &Path) -> Result<Vec<PathBuf>> {
         &r.rectangles,
         r.request.rectangle,
     );
-    let dir = out.join(&r.target).join("verify");
     // A verify folder's products: a run without a sweep drops an earlier
     // run's friction files.
     let products = [
@@ -308,7 +308,7 @@ pub fn write(r: &VerifyReport, out: &Path) -> Result<Vec<PathBuf>> {
         files.push((products[2], friction_md(&r.target, s)));
         files.push((products[3], friction_svg(&r.target, s)));
     }
-    let stage = crate::output::Staged::new(&dir)?;
+    let stage = crate::output::Staged::new(dir)?;
     for (name, text) in &files {
         crate::output::write_atomic(&stage.path().join(name), text.as_bytes())?;
     }
@@ -481,20 +481,31 @@ fn friction_text(f: crate::dynamics::Friction) -> String {
     }
 }
 
+/// The folder `verify` writes into: `OUT/<target>/verify/` for `--out
+/// OUT`, else `verify/` beside the schedule file at `path` (so verifying a
+/// design made into another folder does not write into `./results/`).
+pub fn verify_dir(path: &Path, schedule: &Schedule, out: Option<&Path>) -> Result<PathBuf> {
+    Ok(match out {
+        Some(out) => out.join(schedule.target_folder()?).join("verify"),
+        None => path.parent().unwrap_or(Path::new("")).join("verify"),
+    })
+}
+
 /// `platefield verify`: verifies the schedule at `path`
-/// ([`crate::verify::verify_schedule_file`]), writes its files under
-/// `OUT/<target>/verify/` and returns the summary JSON (`json`) or the
-/// terminal summary with the files written.
+/// ([`crate::verify::verify_schedule_file`]), writes its files into
+/// [`verify_dir`] and returns the summary JSON (`json`) or the terminal
+/// summary with the files written.
 pub fn run(
     path: &Path,
     req: &crate::verify::VerifyRequest,
-    out: &Path,
+    out: Option<&Path>,
     json: bool,
 ) -> Result<String> {
     // The folder the results go to, checked before the work (reading the
     // schedule is cheap; its errors are the ones verify would give).
-    let schedule = crate::schedule::Schedule::load(path)?;
-    crate::output::check_writable(&out.join(schedule.target_folder()?).join("verify"), "--out")?;
+    let schedule = Schedule::load(path)?;
+    let dir = verify_dir(path, &schedule, out)?;
+    crate::output::check_writable(&dir, "--out")?;
     // The friction sweep is judged against the target by the design's own
     // check, a `design` step: estimated before anything is played.
     let sweep = req.friction.map(|f| f.sweep_values()).unwrap_or_default();
@@ -505,7 +516,7 @@ pub fn run(
     if !sweep.is_empty() {
         r.friction_sweep = Some(crate::design::method::sweep_schedule(&schedule, &sweep)?);
     }
-    let files = write(&r, out)?;
+    let files = write(&r, &dir)?;
     if json {
         return summary_json(&r);
     }

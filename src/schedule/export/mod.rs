@@ -30,12 +30,30 @@
 //! [`crate::motion::Ramped`]): every segment then starts and ends at rest
 //! at home, like a primitive.
 
+pub mod harmonics;
+pub mod peaks;
+
 use super::Schedule;
 use crate::error::{positive, Error, Result};
 use crate::input::num;
 use crate::motion::{rotate, sample_hold, Motion, V3};
 
 pub use sample_hold::DEFAULT_STEADY_CYCLES;
+
+/// The exported channels, as the CSV columns name them (after `t_s`):
+/// plate-centre acceleration along and about the world axes.
+pub const CHANNELS: [&str; 6] = [
+    "ax_m_s2",
+    "ay_m_s2",
+    "az_m_s2",
+    "alpha_x_rad_s2",
+    "alpha_y_rad_s2",
+    "alpha_z_rad_s2",
+];
+
+/// The frame and reference point of every exported signal, as the export
+/// headers state them.
+pub const FRAME: &str = "frame: world axes, x and y horizontal in the plate's rest plane, z up (right-handed), angular channels about the same axes; reference point: the plate centre (the plate frame's origin, where the target grid's (0, 0) is); linear in m/s², angular in rad/s²";
 
 /// Ramp length (cycles of the motion) of a six-signal export, in and out.
 pub const RAMP_CYCLES: u32 = sample_hold::DEFAULT_RAMP_CYCLES;
@@ -67,6 +85,25 @@ pub struct Export {
 }
 
 impl Export {
+    /// The CSV `platefield export` writes: comment lines (`# `) stating the
+    /// layout, the frame and reference point ([`FRAME`]) and each axis's
+    /// peak acceleration, velocity and stroke as played
+    /// ([`peaks::KinematicPeaks::of_held`]), then the samples
+    /// ([`sample_hold::HoldSamples::to_csv`]).
+    pub fn to_csv(&self) -> String {
+        format!(
+            "# platefield export: the six plate-centre acceleration signals, each sample held for its interval: {}\n# {FRAME}\n{}{}",
+            self.describe(),
+            self.peaks().header("the file as played, from rest at home"),
+            self.samples.to_csv()
+        )
+    }
+
+    /// Per-axis peak acceleration, velocity and stroke of the file as played.
+    pub fn peaks(&self) -> peaks::KinematicPeaks {
+        peaks::KinematicPeaks::of_held(&self.samples)
+    }
+
     /// One line stating the layout: the looped period, or the ramp.
     pub fn describe(&self) -> String {
         match self.ramped {

@@ -1,0 +1,123 @@
+//! Per-axis peaks of an export: acceleration, velocity and stroke (peak
+//! displacement from home) of the plate centre, linear along the world x,
+//! y, z axes (m/s², m/s, m) and angular about them (rad/s², rad/s, rad) —
+//! what a shaker must be able to play.
+//!
+//! **As played** ([`KinematicPeaks::of_held`]): the held samples integrated
+//! exactly from the state the file starts in (for every export, rest at
+//! home), as the controller plays them: over a hold of Δt with constant a,
+//! v(τ) = v₀ + aτ and x(τ) = x₀ + v₀τ + aτ²/2, so |v| peaks at a hold's
+//! ends and |x| at its ends or at the turning point τ* = −v₀/a inside it.
+//! The rotation vector is integrated like the translation (the small-angle
+//! model of [`crate::motion::Signals`]; exact for a rotation about one
+//! fixed axis, as a screw primitive's).
+//!
+//! **Steady six-signal motion** ([`KinematicPeaks::of_motion`]): each term
+//! A sin(nωt + φ) of a channel integrates to the zero-mean velocity
+//! −A/(nω) cos(nωt + φ) and pose −A/(nω)² sin(nωt + φ)
+//! ([`crate::motion::sample_hold::centre_state`]); a channel's peaks are
+//! those of the sums, sampled at [`super::PEAK_SAMPLES`] points per period
+//! of its highest harmonic (relative error ≤ 1 − cos(π/4096) ≈ 3e-7).
+
+use std::fmt::Write as _;
+
+use crate::motion::sample_hold::{centre_state, HoldSamples};
+use crate::motion::Motion;
+
+/// Per-axis peak |acceleration|, |velocity| and |stroke|, each
+/// [x, y, z linear, x, y, z angular].
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct KinematicPeaks {
+    /// m/s² (linear), rad/s² (angular).
+    pub acceleration: [f64; 6],
+    /// m/s, rad/s.
+    pub velocity: [f64; 6],
+    /// Peak displacement from home: m, rad.
+    pub stroke: [f64; 6],
+}
+
+impl KinematicPeaks {
+    /// The peaks of `samples` played from their start state (see the
+    /// module documentation).
+    ///
+    /// ```
+    /// use platefield::motion::sample_hold::{CentreState, HoldSamples};
+    /// use platefield::schedule::export::peaks::KinematicPeaks;
+    /// // 1 m/s² on x for 1 s, then −1 m/s² for 1 s: v peaks at 1 m/s, x reaches 1 m.
+    /// let s = HoldSamples { dt: 1.0, rate: 1.0, samples_per_period: 2,
+    ///     samples: vec![[1.0, 0.0, 0.0, 0.0, 0.0, 0.0], [-1.0, 0.0, 0.0, 0.0, 0.0, 0.0]],
+    ///     start: CentreState::default() };
+    /// let p = KinematicPeaks::of_held(&s);
+    /// assert_eq!((p.acceleration[0], p.velocity[0], p.stroke[0]), (1.0, 1.0, 1.0));
+    /// ```
+    pub fn of_held(samples: &HoldSamples) -> KinematicPeaks {
+        let dt = samples.dt;
+        let mut p = KinematicPeaks::default();
+        let (mut x, mut v) = (samples.start.pose, samples.start.velocity);
+        for i in 0..6 {
+            p.velocity[i] = v[i].abs();
+            p.stroke[i] = x[i].abs();
+        }
+        for a in &samples.samples {
+            for i in 0..6 {
+                p.acceleration[i] = p.acceleration[i].max(a[i].abs());
+                if a[i] != 0.0 {
+                    let turn = -v[i] / a[i];
+                    if turn > 0.0 && turn < dt {
+                        let xt = x[i] + v[i] * turn + 0.5 * a[i] * turn * turn;
+                        p.stroke[i] = p.stroke[i].max(xt.abs());
+                    }
+                }
+                x[i] += v[i] * dt + 0.5 * a[i] * dt * dt;
+                v[i] += a[i] * dt;
+                p.velocity[i] = p.velocity[i].max(v[i].abs());
+                p.stroke[i] = p.stroke[i].max(x[i].abs());
+            }
+        }
+        p
+    }
+
+    /// The peaks of a steady motion over one period (see the module
+    /// documentation), sampled at [`super::PEAK_SAMPLES`] × `highest`
+    /// points with `highest` its highest harmonic.
+    pub fn of_motion(motion: &Motion, highest: u32) -> KinematicPeaks {
+        let n = super::PEAK_SAMPLES * highest.max(1) as usize;
+        let mut p = KinematicPeaks::default();
+        for k in 0..n {
+            let t = motion.period() * k as f64 / n as f64;
+            let s = centre_state(motion, t);
+            let (lin, ang) = super::centre_acceleration(motion, t);
+            let a = [lin.x, lin.y, lin.z, ang.x, ang.y, ang.z];
+            for (i, ai) in a.iter().enumerate() {
+                p.acceleration[i] = p.acceleration[i].max(ai.abs());
+                p.velocity[i] = p.velocity[i].max(s.velocity[i].abs());
+                p.stroke[i] = p.stroke[i].max(s.pose[i].abs());
+            }
+        }
+        p
+    }
+
+    /// Comment lines (`# `) stating the peaks with units, for an export's
+    /// header; `what` says which motion they are of.
+    pub fn header(&self, what: &str) -> String {
+        let mut out = format!("# peaks per axis ({what}): x, y, z linear; x, y, z angular\n");
+        let rows = [
+            ("acceleration", &self.acceleration, "m/s²", "rad/s²"),
+            ("velocity", &self.velocity, "m/s", "rad/s"),
+            (
+                "stroke (peak displacement from home)",
+                &self.stroke,
+                "m",
+                "rad",
+            ),
+        ];
+        for (name, v, lin, ang) in rows {
+            let _ = writeln!(
+                out,
+                "#   {name}: [{:.6e}, {:.6e}, {:.6e}] {lin}, [{:.6e}, {:.6e}, {:.6e}] {ang}",
+                v[0], v[1], v[2], v[3], v[4], v[5]
+            );
+        }
+        out
+    }
+}
