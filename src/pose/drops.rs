@@ -195,7 +195,7 @@ pub fn played_basins(
     let eq = &analysis.equilibria;
     let index: Vec<usize> = (0..eq.len()).filter(|&i| eq[i].stable).collect();
     let stable: Vec<Equilibrium> = index.iter().map(|&i| eq[i]).collect();
-    let starts = super::drop_starts(&analysis.region, analysis.drops);
+    let starts = super::drop_starts(&analysis.starts, analysis.drops);
     let runs = play_drops(sm, &part.body, &starts, play);
     let radius = part.radius();
     let mut worst: f64 = 0.0;

@@ -2,9 +2,11 @@
 //! part's configuration space (x, y, θ) ([`LiftedField`]), its equilibrium
 //! poses and their stability ([`equilibria`]), the basins of the stable
 //! ones predicted ([`settle`]) and played by the planar simulator
-//! ([`played_basins`]), and a designed schedule's point field
-//! ([`schedule_field`]).
+//! ([`played_basins`]), a designed schedule's point field
+//! ([`schedule_field`]), and the poses that may rest for some support when
+//! the support is unknown ([`Bounds`]).
 
+mod bounds;
 mod check;
 mod drops;
 mod equilibria;
@@ -12,6 +14,7 @@ mod lifted;
 mod run;
 mod source;
 
+pub use bounds::Bounds;
 pub use check::{check_twist, Measure, TwistCheck};
 pub use drops::{nearest, play_drop, play_drops, played_basins, DropEnd, DropPlay, PlayedBasins};
 pub use equilibria::{equilibria, settle, wrap, Equilibrium, Region};

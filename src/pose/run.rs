@@ -25,6 +25,10 @@ pub struct PoseAnalysis {
     pub drops: usize,
     /// The region (m).
     pub region: Region,
+    /// Where the drops' centres start: the region inset by the part's
+    /// radius (the whole part on the region), or its centre line where the
+    /// region is narrower than the part.
+    pub starts: Region,
 }
 
 /// A deterministic uniform stream in [0, 1) (64-bit LCG, fixed seed).
@@ -57,8 +61,9 @@ pub fn drop_starts(region: &Region, drops: usize) -> Vec<Pose> {
 }
 
 /// Equilibria of `part` in `field` over `region` and the basin of each
-/// stable one from `drops` random drops ([`drop_starts`], integrated along
-/// the lifted field, [`settle`]).
+/// stable one from `drops` random drops ([`drop_starts`] over the region
+/// inset by the part's radius, so that the dropped part lies on it;
+/// integrated along the lifted field, [`settle`]).
 ///
 /// ```
 /// use platefield::dynamics::V2;
@@ -77,7 +82,8 @@ pub fn analyse(part: &Part, field: &dyn PointField, region: Region, drops: usize
     let eq = equilibria(&lifted, &region);
     let index: Vec<usize> = (0..eq.len()).filter(|&i| eq[i].stable).collect();
     let stable: Vec<Equilibrium> = index.iter().map(|&i| eq[i]).collect();
-    let ends: Vec<Option<usize>> = drop_starts(&region, drops)
+    let starts = region.inset(part.radius());
+    let ends: Vec<Option<usize>> = drop_starts(&starts, drops)
         .into_iter()
         .map(|start| settle(&lifted, start, &stable, &region).map(|k| index[k]))
         .collect();
@@ -93,5 +99,6 @@ pub fn analyse(part: &Part, field: &dyn PointField, region: Region, drops: usize
         ends,
         drops,
         region,
+        starts,
     }
 }
