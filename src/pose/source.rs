@@ -56,7 +56,7 @@ pub fn schedule_field(schedule: &Schedule, grid: &Grid) -> Result<GridField> {
             acc[1] += seg.duration_s * v[1];
         }
     }
-    if !(total > 0.0) {
+    if total.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
         return Err(Error::invalid(
             "schedule.segments",
             "must last a positive time",
