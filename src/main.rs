@@ -66,15 +66,18 @@ enum Command {
         #[command(flatten)]
         long: AllowLong,
     },
-    /// Equilibrium poses of a part with planar extent in a target's or scene's field, their stability and basins.
+    /// Equilibrium poses of a part with planar extent in a target's, scene's or schedule's field, their stability and basins.
     Poses {
         /// The part file (targets/parts/*.json).
         part: PathBuf,
-        /// A target (its requested field) or a scene (its velocity field).
+        /// A target (its requested field), a scene (its velocity field) or a designed schedule (the time-weighted field of its segments).
         source: PathBuf,
         /// Random drops for the basin fractions.
         #[arg(long, default_value_t = 200)]
         drops: usize,
+        /// Also play every drop with the planar simulator for this many seconds through the schedule (schedule sources only) and report the played basins.
+        #[arg(long)]
+        play: Option<f64>,
         /// Write poses.json and poses.svg into this folder.
         #[arg(long)]
         out: Option<PathBuf>,
@@ -101,6 +104,15 @@ enum Command {
         calibrated: bool,
         #[command(flatten)]
         quiet: Quiet,
+        #[command(flatten)]
+        out: StudyOut,
+    },
+    /// Study: the shipped parts' equilibrium poses and basins on the designed elliptic sinks: poses.md.
+    #[command(name = "poses-study", mut_arg("out", default_dir(studies::poses::DIR)))]
+    PosesStudy {
+        /// Also play this many drops per part and ellipse with the planar simulator (slow: minutes per part).
+        #[arg(long, default_value_t = 0)]
+        play_drops: usize,
         #[command(flatten)]
         out: StudyOut,
     },
@@ -225,9 +237,10 @@ fn run(cli: Cli) -> Result<String> {
             part,
             source,
             drops,
+            play,
             out,
             json,
-        } => cli::poses::run(&part, &source, drops, json.json, out.as_deref()),
+        } => cli::poses::run(&part, &source, drops, play, json.json, out.as_deref()),
         Command::Linesink(args) => args.run(),
         Command::Reproduce(o) => studies::reproduce::linesink_results(&o.out),
         Command::Primitives {
@@ -247,6 +260,7 @@ fn run(cli: Cli) -> Result<String> {
             },
             quiet.quiet,
         ),
+        Command::PosesStudy { play_drops, out } => studies::poses::run(&out.out, play_drops),
         Command::Rungs { tolerance, out } => studies::rung::run(&out.out, tolerance),
         Command::Speed(o) => studies::speed::run(&o.out),
         Command::EngineSpeed(o) => studies::engine_speed::run(&o.out),

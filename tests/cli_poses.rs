@@ -98,3 +98,62 @@ fn json_lists_the_equilibria() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A designed schedule as SOURCE (the time-weighted field of its segments):
+/// the rectangle on the designed ellipse (−0.3x, −y) rests at 0° and 180°,
+/// unstable at ±90°, within 1°; `--play` needs a schedule and a time in
+/// range, else exit 2 naming `--play`.
+#[test]
+fn schedule_source_and_play_flag() {
+    let out = bin()
+        .args([
+            "poses",
+            "targets/parts/rectangle.json",
+            "results/ellipse/schedule.json",
+            "--drops",
+            "50",
+            "--json",
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let eq = v["equilibria"].as_array().unwrap();
+    assert_eq!(eq.len(), 4, "{v}");
+    for e in eq {
+        let t = e["theta_deg"].as_f64().unwrap();
+        let axis = t.abs().min((t.abs() - 180.0).abs());
+        let normal = (t.abs() - 90.0).abs();
+        if e["stable"].as_bool().unwrap() {
+            assert!(axis < 1.0, "{e}");
+        } else {
+            assert!(normal < 1.0, "{e}");
+        }
+    }
+    for (source, play, want) in [
+        ("targets/ellipse.json", "5", "--play: needs a schedule"),
+        (
+            "results/ellipse/schedule.json",
+            "0",
+            "--play: must be in (0, 3600] s",
+        ),
+    ] {
+        let out = bin()
+            .args([
+                "poses",
+                "targets/parts/rectangle.json",
+                source,
+                "--play",
+                play,
+            ])
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{err}");
+        assert!(err.contains(want), "{err}");
+    }
+}

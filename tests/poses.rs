@@ -245,3 +245,292 @@ fn lifted_field_against_simulation() {
     println!("isotropic spin RMS relative error {iso_error:.3}");
     assert!(iso_error > 1.0 && iso_error < 1.6, "{iso_error}");
 }
+
+/// The designed schedule of `target` (results/<target>/schedule.json, by
+/// `design targets/<target>.json --method sequence`), its point field
+/// (time-weighted segment fields) and region.
+fn designed(
+    target: &str,
+) -> (
+    platefield::schedule::Schedule,
+    platefield::pose::GridField,
+    Region,
+) {
+    let s =
+        platefield::schedule::Schedule::load(Path::new(&format!("results/{target}/schedule.json")))
+            .unwrap();
+    let grid = s.target_spec.as_ref().and_then(|t| t.grid).unwrap();
+    let field = platefield::pose::schedule_field(&s, &grid).unwrap();
+    let region = Region {
+        x: grid.x,
+        y: grid.y,
+    };
+    (s, field, region)
+}
+
+/// The drops of `analysis` played by the planar simulator for 20 s
+/// through `schedule` (`part`, 64 steps per cycle, default refinement).
+fn played(
+    analysis: &platefield::pose::PoseAnalysis,
+    part: &Part,
+    schedule: &platefield::schedule::Schedule,
+    seconds: f64,
+) -> platefield::pose::PlayedBasins {
+    let sm = platefield::play::ScheduleMotion::from_schedule(schedule).unwrap();
+    let play = platefield::pose::DropPlay::new(&schedule.settings, seconds);
+    platefield::pose::played_basins(analysis, part, &sm, &play)
+}
+
+/// Cost of played drops (run with `--ignored --nocapture`; DROPS drops,
+/// default 4, of the 64-point rectangle for 20 s on the designed ellipse).
+#[test]
+#[ignore]
+fn drop_cost_report() {
+    let n: usize = std::env::var("DROPS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(4);
+    let (schedule, field, region) = designed("ellipse");
+    for samples in [64, 256] {
+        let part = Part::from_json_str(&format!(
+            r#"{{"name": "r", "polygon": [[-0.01, -0.0025], [0.01, -0.0025], [0.01, 0.0025], [-0.01, 0.0025]],
+                "support": {{"uniform": {{"samples": {samples}}}}}}}"#
+        ))
+        .unwrap();
+        let a = platefield::pose::analyse(&part, &field, region, n);
+        let t = std::time::Instant::now();
+        let p = played(&a, &part, &schedule, 20.0);
+        let secs = t.elapsed().as_secs_f64();
+        println!(
+            "{samples} points: {n} drops × {:.2} s simulated in {secs:.2} s ({} threads), {:.0} steps per drop, {:.0} steps per cycle; agreement {:.3}, lost {}",
+            p.time,
+            rayon::current_num_threads(),
+            p.steps as f64 / n as f64,
+            p.steps as f64 / n as f64 / (p.time / 0.030),
+            p.agreement,
+            p.lost
+        );
+    }
+}
+
+/// Stable and unstable poses of the rectangle on the DESIGNED ellipses
+/// (−0.3x, −y) and the same turned by 30° (schedules of line sinks and
+/// skew sinks; point field: the time-weighted segment fields): stable
+/// with the long side along the weaker contraction (φ, φ + 180°),
+/// unstable across it (φ ± 90°), within 1°, near the centre.
+#[test]
+fn rectangle_on_the_designed_ellipses() {
+    let part = rectangle();
+    for (target, phi_deg) in [("ellipse", 0.0f64), ("ellipse_30", 30.0)] {
+        let (_, field, region) = designed(target);
+        let a = platefield::pose::analyse(&part, &field, region, 200);
+        let phi = phi_deg.to_radians();
+        let half = std::f64::consts::FRAC_PI_2;
+        for e in &a.equilibria {
+            println!(
+                "{target}: x {:+.3} mm y {:+.3} mm θ {:+8.3}° stable {}",
+                1e3 * e.pose.r.x,
+                1e3 * e.pose.r.y,
+                e.pose.theta.to_degrees(),
+                e.stable
+            );
+        }
+        let near = |want: f64| {
+            a.equilibria
+                .iter()
+                .filter(|e| e.pose.r.norm() < 0.003)
+                .map(|e| (e.stable, off_deg(e.pose.theta, want)))
+                .min_by(|x, y| x.1.total_cmp(&y.1))
+                .unwrap()
+        };
+        for (want, stable) in [
+            (phi, true),
+            (phi + 2.0 * half, true),
+            (phi + half, false),
+            (phi - half, false),
+        ] {
+            let (s, off) = near(want);
+            assert!(
+                s == stable && off < 1.0,
+                "{target}: {} {off}° {s}",
+                want.to_degrees()
+            );
+        }
+        assert_eq!(a.equilibria.iter().filter(|e| e.stable).count(), 2);
+        assert!(a.unsettled == 0.0, "{}", a.unsettled);
+    }
+}
+
+/// A few drops played by the planar simulator (64-point rectangle, 10 s on
+/// the designed ellipse) end at the stable pose the lifted field predicts
+/// for each; the 200-drop comparison is `played_basins_match_prediction`.
+#[test]
+fn played_drops_end_where_predicted() {
+    let part = Part::from_json_str(
+        r#"{"name": "r", "polygon": [[-0.01, -0.0025], [0.01, -0.0025], [0.01, 0.0025], [-0.01, 0.0025]],
+            "support": {"uniform": {"samples": 64}}}"#,
+    )
+    .unwrap();
+    let (schedule, field, region) = designed("ellipse");
+    let a = platefield::pose::analyse(&part, &field, region, 4);
+    let p = played(&a, &part, &schedule, 10.0);
+    assert_eq!(p.lost, 0);
+    assert_eq!(p.ends, a.ends, "played {:?} predicted {:?}", p.ends, a.ends);
+}
+
+/// Issue 28: basins of ≥ 200 drops played by the planar simulator (64-point
+/// rectangle, 20 s each, 64 steps per cycle, default refinement) on the
+/// designed ellipse and on it turned by 30°, against the lifted field's
+/// prediction from the same starts: every basin within 5 percentage
+/// points. Measured (ellipse_30): predicted 52.0/48.0 %, played 53.0/47.0 %,
+/// per-drop agreement 92 %, none lost; (ellipse, before the starts were
+/// inset by the part's radius) 35 of 200 lost contact at the region's
+/// edge, every other drop ended where predicted. Long (about 25 min per
+/// ellipse on a loaded 2-core machine):
+/// `cargo test --release --test poses played_basins_match_prediction -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn played_basins_match_prediction() {
+    let part = Part::from_json_str(
+        r#"{"name": "r", "polygon": [[-0.01, -0.0025], [0.01, -0.0025], [0.01, 0.0025], [-0.01, 0.0025]],
+            "support": {"uniform": {"samples": 64}}}"#,
+    )
+    .unwrap();
+    for target in ["ellipse_30", "ellipse"] {
+        let (schedule, field, region) = designed(target);
+        let a = platefield::pose::analyse(&part, &field, region, 200);
+        let p = played(&a, &part, &schedule, 20.0);
+        println!(
+            "{target}: predicted {:?} played {:?}; per-drop agreement {:.3}, worst end distance {:.3}, lost {}, unsettled (predicted) {:.3}",
+            a.basins, p.basins, p.agreement, p.worst, p.lost, a.unsettled
+        );
+        assert_eq!(p.lost, 0);
+        for (x, y) in a.basins.iter().zip(&p.basins) {
+            assert!(
+                (x - y).abs() <= 0.05,
+                "{target}: {:?} vs {:?}",
+                a.basins,
+                p.basins
+            );
+        }
+    }
+}
+
+/// Convergence order of the planar scheme on a drop (run with `--ignored
+/// --nocapture`): the 64-point rectangle from (1 cm, −0.5 cm, 40°) for 3 s
+/// on the designed ellipse at 32…512 steps per cycle, without and with the
+/// event refinement; Richardson: p = log2(|q_h − q_h/2| / |q_h/2 − q_h/4|)
+/// on the end pose (x, y, R θ). Measured: no stable order; with
+/// refinement successive differences 8.1, 7.4, 3.3, 3.0 µm (order 0.1–1.1,
+/// the erratic event-timing error of the planar scheme), without it 1.3 mm,
+/// 89, 102, 272 µm.
+#[test]
+#[ignore]
+fn drop_order_report() {
+    let part = Part::from_json_str(
+        r#"{"name": "r", "polygon": [[-0.01, -0.0025], [0.01, -0.0025], [0.01, 0.0025], [-0.01, 0.0025]],
+            "support": {"uniform": {"samples": 64}}}"#,
+    )
+    .unwrap();
+    let (schedule, _, _) = designed("ellipse");
+    let sm = platefield::play::ScheduleMotion::from_schedule(&schedule).unwrap();
+    let start = Pose::new(0.01, -0.005, 40f64.to_radians());
+    let r = part.radius();
+    for depth in [0u32, 10] {
+        let ends: Vec<(usize, platefield::pose::DropEnd)> = [32usize, 64, 128, 256, 512]
+            .iter()
+            .map(|&spc| {
+                let mut play = platefield::pose::DropPlay::new(&schedule.settings, 3.0);
+                play.steps_per_cycle = spc;
+                play.refine_depth = depth;
+                (
+                    spc,
+                    platefield::pose::play_drop(&sm, &part.body, start, &play).unwrap(),
+                )
+            })
+            .collect();
+        let diff = |a: &platefield::pose::DropEnd, b: &platefield::pose::DropEnd| {
+            ((a.pose.r - b.pose.r).norm_squared() + (r * (a.pose.theta - b.pose.theta)).powi(2))
+                .sqrt()
+        };
+        for w in ends.windows(3) {
+            let (d1, d2) = (diff(&w[0].1, &w[1].1), diff(&w[1].1, &w[2].1));
+            println!(
+                "depth {depth}: steps/cycle {}→{}→{}: |Δq| {d1:.3e} m, {d2:.3e} m, order {:.2} (steps per drop {})",
+                w[0].0,
+                w[1].0,
+                w[2].0,
+                (d1 / d2).log2(),
+                w[0].1.steps
+            );
+        }
+    }
+}
+
+/// Issue 28, unknown support: the bound (poses that may rest for some
+/// support, `pose::Bounds`) of the bracket with 3 unknown contacts on the
+/// designed ellipse contains every equilibrium of 20 random admissible
+/// supports (3 points uniform in the part, weights uniform in [0.1, 1]),
+/// found by the lifted field of each; and it is a bound, not everything:
+/// of a 12 × 12 × 12 scan of the region it keeps a minority, none with the
+/// part off the field's zero.
+#[test]
+fn unknown_support_bounds_contain_random_supports() {
+    use platefield::dynamics::PlanarBody;
+    use platefield::pose::Bounds;
+    let part = Part::from_json_str(
+        r#"{"name": "bracket", "polygon": [[0, 0], [0.03, 0], [0.03, 0.005], [0.005, 0.005], [0.005, 0.02], [0, 0.02]],
+            "support": {"unknown": {"contacts": 3}}}"#,
+    )
+    .unwrap();
+    let (_, field, region) = designed("ellipse");
+    let bounds = Bounds::new(&part, &field);
+    let mut seed = 2028u64;
+    let mut next = || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let lo = part
+        .polygon
+        .iter()
+        .fold(V2::repeat(f64::INFINITY), |m, p| m.inf(p));
+    let hi = part
+        .polygon
+        .iter()
+        .fold(V2::repeat(f64::NEG_INFINITY), |m, p| m.sup(p));
+    let mut found = 0;
+    for _ in 0..20 {
+        let mut pts = Vec::new();
+        while pts.len() < 3 {
+            let p = V2::new(lo.x + (hi.x - lo.x) * next(), lo.y + (hi.y - lo.y) * next());
+            if platefield::part::contains(&part.polygon, &p) {
+                pts.push(p);
+            }
+        }
+        let weights: Vec<f64> = (0..3).map(|_| 0.1 + 0.9 * next()).collect();
+        let (body, c) = PlanarBody::centred(&pts, &weights);
+        let lifted = LiftedField::new(&field, &body);
+        for e in equilibria(&lifted, &region) {
+            let (s, co) = e.pose.theta.sin_cos();
+            let pose = Pose {
+                r: e.pose.r - V2::new(co * c.x - s * c.y, s * c.x + co * c.y),
+                theta: e.pose.theta,
+            };
+            assert!(bounds.may_rest(pose), "{pts:?} {weights:?}: {e:?}");
+            found += 1;
+        }
+    }
+    assert!(found >= 20, "{found} equilibria");
+    let kept = bounds.scan(&region, [12, 12, 12]);
+    let far = kept
+        .iter()
+        .filter(|p| p.r.norm() > part.radius() + 0.004)
+        .count();
+    println!(
+        "{found} equilibria of 20 supports, all inside; bound keeps {} of 1728 scanned poses, {far} with the centre beyond R + 4 mm",
+        kept.len()
+    );
+    assert!(kept.len() < 1728 / 2 && !kept.is_empty() && far == 0);
+}

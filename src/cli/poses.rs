@@ -1,10 +1,14 @@
 //! `platefield poses PART.json SOURCE.json`: where a part comes to rest in
 //! a field, in which orientation, and from how many drops each.
 //!
-//! SOURCE is a target (its requested field is the point field) or a scene
+//! SOURCE is a target (its requested field is the point field), a scene
 //! (its point-part steady-state velocity field on its grid, computed here
-//! whatever its `kind`). A schedule is refused (its predicted field needs
-//! the primitive library; not done). The region is the source's grid.
+//! whatever its `kind`) or a designed schedule (the time-weighted field of
+//! its segments on its target's grid, [`crate::pose::schedule_field`]).
+//! The region is the source's grid. With `--play SECONDS` (schedules only)
+//! every drop is also played by the planar simulator through the schedule
+//! ([`crate::pose::played_basins`]). For a part with an unknown support the
+//! equilibrium bounds ([`crate::pose::Bounds`]) are scanned over the region.
 
 use std::path::Path;
 
@@ -13,13 +17,21 @@ use serde_json::Value;
 use crate::field::{Field, FieldKind, Grid};
 use crate::output::write_all_atomic;
 use crate::part::Part;
-use crate::pose::{analyse, GridField, PointField, Region, MAX_DROPS};
+use crate::pose::{analyse, schedule_field, GridField, PointField, Region, MAX_DROPS};
 use crate::request::Target;
 use crate::scene::Scene;
+use crate::schedule::Schedule;
 use crate::{Error, Result};
 
+/// A point field, its grid, the grid's JSON path and the schedule it came
+/// from (if any).
+type Source = (Box<dyn PointField>, Grid, &'static str, Option<Schedule>);
+
+/// Longest `--play` (s).
+const MAX_PLAY_S: f64 = 3600.0;
+
 /// The point field and its region from `source` (module docs).
-fn point_field(source: &Path) -> Result<(Box<dyn PointField>, Grid, &'static str)> {
+fn point_field(source: &Path) -> Result<Source> {
     let text = crate::input::read_input(source).map_err(|e| Error::Io {
         path: source.display().to_string(),
         source: e,
@@ -36,7 +48,28 @@ fn point_field(source: &Path) -> Result<(Box<dyn PointField>, Grid, &'static str
             &settings,
             &|| {},
         );
-        return Ok((Box::new(GridField::new(&field)), scene.grid, "scene.grid"));
+        return Ok((
+            Box::new(GridField::new(&field)),
+            scene.grid,
+            "scene.grid",
+            None,
+        ));
+    }
+    if value.get("segments").is_some() {
+        let schedule = Schedule::load(source)?;
+        let Some(grid) = schedule.target_spec.as_ref().and_then(|t| t.grid) else {
+            return Err(Error::invalid(
+                "schedule.target_spec.grid",
+                "a pose analysis needs the schedule's target grid as its region",
+            ));
+        };
+        let field = schedule_field(&schedule, &grid)?;
+        return Ok((
+            Box::new(field),
+            grid,
+            "schedule.target_spec.grid",
+            Some(schedule),
+        ));
     }
     if value.get("field").is_some() {
         let target = Target::load(source)
@@ -47,12 +80,12 @@ fn point_field(source: &Path) -> Result<(Box<dyn PointField>, Grid, &'static str
                 "a pose analysis needs the target's grid as its region",
             ));
         };
-        return Ok((Box::new(target.field.clone()), grid, "target.grid"));
+        return Ok((Box::new(target.field.clone()), grid, "target.grid", None));
     }
     Err(Error::invalid(
         "SOURCE",
         format!(
-            "{}: must be a target (with \"field\") or a scene (with \"motion\"); schedules are not supported yet",
+            "{}: must be a target (with \"field\"), a scene (with \"motion\") or a schedule (with \"segments\")",
             source.display()
         ),
     ))
@@ -64,6 +97,7 @@ pub fn run(
     part: &Path,
     source: &Path,
     drops: usize,
+    play: Option<f64>,
     json: bool,
     out: Option<&Path>,
 ) -> Result<String> {
@@ -73,21 +107,51 @@ pub fn run(
             format!("must be in 1..={MAX_DROPS}, got {drops}"),
         ));
     }
+    if let Some(t) = play {
+        if !(t > 0.0 && t <= MAX_PLAY_S) {
+            return Err(Error::invalid(
+                "--play",
+                format!("must be in (0, {MAX_PLAY_S}] s, got {t}"),
+            ));
+        }
+    }
     let part = Part::load(part)?;
     if let Some(dir) = out {
         crate::output::check_writable(dir, "--out")?;
     }
-    let (field, grid, path) = point_field(source)?;
+    let (field, grid, path, schedule) = point_field(source)?;
     part.check_fits(grid.x[1] - grid.x[0], grid.y[1] - grid.y[0], path)?;
     let region = Region {
         x: grid.x,
         y: grid.y,
     };
     let analysis = analyse(&part, field.as_ref(), region, drops);
-    let mut text = serde_json::to_string_pretty(&crate::report::poses::to_json(&part, &analysis))
-        .map_err(|e| Error::Physical(e.to_string()))?;
+    let played = match (play, &schedule) {
+        (None, _) => None,
+        (Some(_), None) => {
+            return Err(Error::invalid(
+                "--play",
+                "needs a schedule as SOURCE (the drops are played through it)",
+            ))
+        }
+        (Some(t), Some(s)) => {
+            let sm = crate::play::ScheduleMotion::from_schedule(s)?;
+            let p = crate::pose::DropPlay::new(&s.settings, t);
+            Some(crate::pose::played_basins(&analysis, &part, &sm, &p))
+        }
+    };
+    let bounds = matches!(part.support, crate::part::Support::Unknown { .. }).then(|| {
+        crate::pose::Bounds::new(&part, field.as_ref()).scan(&region, crate::report::poses::SCAN)
+    });
+    let extras = crate::report::poses::Extras {
+        played: played.as_ref(),
+        bounds: bounds.as_deref(),
+    };
+    let mut text =
+        serde_json::to_string_pretty(&crate::report::poses::to_json(&part, &analysis, &extras))
+            .map_err(|e| Error::Physical(e.to_string()))?;
     text.push('\n');
-    let mut summary = crate::report::poses::summary(&part, &analysis);
+    let mut summary = crate::report::poses::summary(&part, &analysis, &extras);
     if let Some(dir) = out {
         std::fs::create_dir_all(dir).map_err(|e| Error::Io {
             path: dir.display().to_string(),

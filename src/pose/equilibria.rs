@@ -38,6 +38,19 @@ impl Region {
         (self.x[0]..=self.x[1]).contains(&r.x) && (self.y[0]..=self.y[1]).contains(&r.y)
     }
 
+    /// The region shrunk by `margin` on every side (to its centre line
+    /// along an axis narrower than 2 `margin`).
+    pub fn inset(&self, margin: f64) -> Region {
+        let shrink = |a: [f64; 2]| {
+            let m = margin.min(0.5 * (a[1] - a[0]));
+            [a[0] + m, a[1] - m]
+        };
+        Region {
+            x: shrink(self.x),
+            y: shrink(self.y),
+        }
+    }
+
     /// A point of the region from two numbers in [0, 1].
     pub fn at(&self, u: f64, v: f64) -> V2 {
         V2::new(

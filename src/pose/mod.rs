@@ -1,14 +1,23 @@
 //! Parts with planar extent in a vibration field: the lifted field on the
 //! part's configuration space (x, y, θ) ([`LiftedField`]), its equilibrium
-//! poses and their stability ([`equilibria`]), and the basins of the stable
-//! ones ([`settle`]).
+//! poses and their stability ([`equilibria`]), the basins of the stable
+//! ones predicted ([`settle`]) and played by the planar simulator
+//! ([`played_basins`]), a designed schedule's point field
+//! ([`schedule_field`]), and the poses that may rest for some support when
+//! the support is unknown ([`Bounds`]).
 
+mod bounds;
 mod check;
+mod drops;
 mod equilibria;
 mod lifted;
 mod run;
+mod source;
 
+pub use bounds::Bounds;
 pub use check::{check_twist, Measure, TwistCheck};
+pub use drops::{nearest, play_drop, play_drops, played_basins, DropEnd, DropPlay, PlayedBasins};
 pub use equilibria::{equilibria, settle, wrap, Equilibrium, Region};
 pub use lifted::{GridField, LiftedField, PointField, Pose, Twist};
-pub use run::{analyse, PoseAnalysis, MAX_DROPS};
+pub use run::{analyse, drop_starts, PoseAnalysis, MAX_DROPS};
+pub use source::schedule_field;

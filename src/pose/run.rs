@@ -18,10 +18,17 @@ pub struct PoseAnalysis {
     pub basins: Vec<f64>,
     /// Fraction of the drops that left the region or did not settle.
     pub unsettled: f64,
+    /// Per drop ([`drop_starts`] order): the index in `equilibria` of the
+    /// stable pose it settled at, `None` when it did not.
+    pub ends: Vec<Option<usize>>,
     /// Drops played.
     pub drops: usize,
     /// The region (m).
     pub region: Region,
+    /// Where the drops' centres start: the region inset by the part's
+    /// radius (the whole part on the region), or its centre line where the
+    /// region is narrower than the part.
+    pub starts: Region,
 }
 
 /// A deterministic uniform stream in [0, 1) (64-bit LCG, fixed seed).
@@ -41,9 +48,22 @@ impl Uniform {
     }
 }
 
+/// `drops` random start poses: centre uniform over `region`, θ uniform
+/// (a fixed seed: the same starts for the same region and count).
+pub fn drop_starts(region: &Region, drops: usize) -> Vec<Pose> {
+    let mut rng = Uniform::new(28);
+    (0..drops)
+        .map(|_| Pose {
+            r: region.at(rng.next(), rng.next()),
+            theta: wrap(std::f64::consts::TAU * rng.next()),
+        })
+        .collect()
+}
+
 /// Equilibria of `part` in `field` over `region` and the basin of each
-/// stable one from `drops` random drops (centre uniform over the region,
-/// θ uniform; integrated along the lifted field, [`settle`]).
+/// stable one from `drops` random drops ([`drop_starts`] over the region
+/// inset by the part's radius, so that the dropped part lies on it;
+/// integrated along the lifted field, [`settle`]).
 ///
 /// ```
 /// use platefield::dynamics::V2;
@@ -60,38 +80,25 @@ impl Uniform {
 pub fn analyse(part: &Part, field: &dyn PointField, region: Region, drops: usize) -> PoseAnalysis {
     let lifted = LiftedField::new(field, &part.body);
     let eq = equilibria(&lifted, &region);
-    let stable: Vec<Equilibrium> = eq.iter().copied().filter(|e| e.stable).collect();
-    let mut counts = vec![0usize; stable.len()];
-    let mut lost = 0usize;
-    let mut rng = Uniform::new(28);
-    for _ in 0..drops {
-        let start = Pose {
-            r: region.at(rng.next(), rng.next()),
-            theta: wrap(std::f64::consts::TAU * rng.next()),
-        };
-        match settle(&lifted, start, &stable, &region) {
-            Some(k) => counts[k] += 1,
-            None => lost += 1,
-        }
-    }
-    let n = drops.max(1) as f64;
-    let mut k = 0;
-    let basins = eq
-        .iter()
-        .map(|e| {
-            if e.stable {
-                k += 1;
-                counts[k - 1] as f64 / n
-            } else {
-                0.0
-            }
-        })
+    let index: Vec<usize> = (0..eq.len()).filter(|&i| eq[i].stable).collect();
+    let stable: Vec<Equilibrium> = index.iter().map(|&i| eq[i]).collect();
+    let starts = region.inset(part.radius());
+    let ends: Vec<Option<usize>> = drop_starts(&starts, drops)
+        .into_iter()
+        .map(|start| settle(&lifted, start, &stable, &region).map(|k| index[k]))
         .collect();
+    let n = drops.max(1) as f64;
+    let basins = (0..eq.len())
+        .map(|i| ends.iter().filter(|e| **e == Some(i)).count() as f64 / n)
+        .collect();
+    let lost = ends.iter().filter(|e| e.is_none()).count();
     PoseAnalysis {
         equilibria: eq,
         basins,
         unsettled: lost as f64 / n,
+        ends,
         drops,
         region,
+        starts,
     }
 }

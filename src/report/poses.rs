@@ -7,11 +7,66 @@ use serde_json::{json, Value};
 
 use crate::part::Part;
 use crate::plot::{escape, num};
-use crate::pose::PoseAnalysis;
+use crate::pose::{PlayedBasins, Pose, PoseAnalysis};
+
+/// The grid of poses (x, y, θ) scanned for an unknown support's bounds.
+pub const SCAN: [usize; 3] = [24, 24, 36];
+
+/// What a run adds to the lifted field's analysis.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Extras<'a> {
+    /// The drops played by the planar simulator.
+    pub played: Option<&'a PlayedBasins>,
+    /// The poses of the [`SCAN`] that may rest for some admissible
+    /// support (an unknown support's bounds).
+    pub bounds: Option<&'a [Pose]>,
+}
+
+/// The bounds as JSON: how many scanned poses are kept, their extent and
+/// the θ bins (of 360°/`SCAN[2]`) holding any.
+fn bounds_json(kept: &[Pose]) -> Value {
+    let range = |f: &dyn Fn(&Pose) -> f64| {
+        let lo = kept.iter().map(f).fold(f64::INFINITY, f64::min);
+        let hi = kept.iter().map(f).fold(f64::NEG_INFINITY, f64::max);
+        if kept.is_empty() {
+            Value::Null
+        } else {
+            json!([lo, hi])
+        }
+    };
+    let mut bins: Vec<i64> = kept
+        .iter()
+        .map(|p| (p.theta.to_degrees() * SCAN[2] as f64 / 360.0).round() as i64)
+        .collect();
+    bins.sort_unstable();
+    bins.dedup();
+    json!({
+        "scanned": SCAN,
+        "kept": kept.len(),
+        "of": SCAN.iter().product::<usize>(),
+        "x": range(&|p| p.r.x),
+        "y": range(&|p| p.r.y),
+        "theta_bins_kept": bins.len(),
+        "meaning": "poses (grid cell centres) that may be equilibria for some admissible support: an outer bound (pose::Bounds)",
+    })
+}
+
+/// The played basins as JSON.
+fn played_json(p: &PlayedBasins) -> Value {
+    json!({
+        "basins": p.basins,
+        "agreement": p.agreement,
+        "worst_end_distance": p.worst,
+        "lost": p.lost,
+        "seconds": p.time,
+        "by": "each drop played by the planar simulator through the schedule, its end classified by the nearest stable pose (pose::played_basins)",
+    })
+}
 
 /// `{"part", "support", "equilibria": [{"x", "y", "theta_deg", "stable",
-/// "basin", "rates"}], "drops", "unsettled", "basins_by"}` (positions in m).
-pub fn to_json(part: &Part, a: &PoseAnalysis) -> Value {
+/// "basin", "rates"}], "drops", "unsettled", "basins_by"}` (positions in m),
+/// with `"played"` and `"bounds"` when `extras` holds them.
+pub fn to_json(part: &Part, a: &PoseAnalysis, extras: &Extras<'_>) -> Value {
     let eq: Vec<Value> = a
         .equilibria
         .iter()
@@ -29,23 +84,31 @@ pub fn to_json(part: &Part, a: &PoseAnalysis) -> Value {
         .collect();
     let support = match part.support {
         crate::part::Support::Unknown { .. } => {
-            "unknown: these are the uniform support's equilibria; the bounds over admissible distributions are not computed"
+            "unknown: these are the uniform support's equilibria; \"bounds\" holds the poses that may rest for some admissible support"
         }
         crate::part::Support::Points { .. } => "listed points",
         crate::part::Support::Uniform { .. } => "uniform",
     };
-    json!({
+    let mut out = json!({
         "part": part.name,
         "support": support,
         "equilibria": eq,
         "drops": a.drops,
         "unsettled": a.unsettled,
         "basins_by": "drops integrated along the lifted field (pose::settle)",
-    })
+    });
+    if let Some(p) = extras.played {
+        out["played"] = played_json(p);
+    }
+    if let Some(b) = extras.bounds {
+        out["bounds"] = bounds_json(b);
+    }
+    out
 }
 
-/// One line per equilibrium.
-pub fn summary(part: &Part, a: &PoseAnalysis) -> String {
+/// One line per equilibrium (with its played basin when played), then the
+/// bounds' size.
+pub fn summary(part: &Part, a: &PoseAnalysis, extras: &Extras<'_>) -> String {
     let mut s = format!(
         "{}: {} equilibria ({} stable), {} drops, {:.1} % unsettled\n",
         part.name,
@@ -54,15 +117,36 @@ pub fn summary(part: &Part, a: &PoseAnalysis) -> String {
         a.drops,
         100.0 * a.unsettled
     );
-    for (e, b) in a.equilibria.iter().zip(&a.basins) {
+    for (i, (e, b)) in a.equilibria.iter().zip(&a.basins).enumerate() {
+        let played = extras
+            .played
+            .map(|p| format!(", played {:.1} %", 100.0 * p.basins[i]))
+            .unwrap_or_default();
         let _ = writeln!(
             s,
-            "  x {:+.2} mm  y {:+.2} mm  θ {:+7.2}°  {}  basin {:.1} %",
+            "  x {:+.2} mm  y {:+.2} mm  θ {:+7.2}°  {}  basin {:.1} %{played}",
             1e3 * e.pose.r.x,
             1e3 * e.pose.r.y,
             e.pose.theta.to_degrees(),
             if e.stable { "stable  " } else { "unstable" },
             100.0 * b
+        );
+    }
+    if let Some(p) = extras.played {
+        let _ = writeln!(
+            s,
+            "played by the planar simulator for {:.1} s: {:.1} % of the drops end where the lifted field predicts, {} lost contact",
+            p.time,
+            100.0 * p.agreement,
+            p.lost
+        );
+    }
+    if let Some(b) = extras.bounds {
+        let _ = writeln!(
+            s,
+            "unknown support: {} of {} scanned poses may rest for some admissible support",
+            b.len(),
+            SCAN.iter().product::<usize>()
         );
     }
     s

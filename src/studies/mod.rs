@@ -16,12 +16,14 @@
 //! | [`squeeze_order`] | `platefield squeeze-order` | `verify/squeeze_trans_order.{md,csv}` |
 //! | [`synthesis`] | `platefield synthesis` | `synthesis.{md,csv}` |
 //! | [`design_speed`] | `platefield design-speed` | `design_speed.md` |
+//! | [`poses`] | `platefield poses-study` | `poses.md` |
 
 pub mod design_speed;
 pub mod engine_speed;
 pub mod fit_quality;
 pub mod interaction;
 pub mod linesink;
+pub mod poses;
 pub mod primitives;
 pub mod reproduce;
 pub mod robust;

@@ -19,7 +19,8 @@ pub mod strength;
 pub mod swarm;
 
 pub use rectangles::{
-    play_rectangle, PoseSample, RectangleFailure, RectangleOptions, RectangleRun, RectangleSummary,
+    plate_twist, play_rectangle, PoseSample, RectangleFailure, RectangleOptions, RectangleRun,
+    RectangleSummary,
 };
 pub use run::{verify_schedule_file, Duration, VerifyReport, VerifyRequest};
 pub use swarm::{run_swarm, Swarm, SwarmOptions, SwarmPart};

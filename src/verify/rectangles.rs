@@ -180,7 +180,7 @@ impl From<RectangleFailure> for Error {
 
 /// The plate's in-plane velocity at plate point `p` and its vertical spin
 /// at the start (and, by periodicity, the end) of segment `seg`.
-fn plate_twist(seg: &PlayedSegment, gravity: f64, tilt: bool, p: &V2) -> (V2, f64) {
+pub fn plate_twist(seg: &PlayedSegment, gravity: f64, tilt: bool, p: &V2) -> (V2, f64) {
     match &seg.motion {
         None => (V2::zeros(), 0.0),
         Some(m) => {

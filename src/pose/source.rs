@@ -1,0 +1,67 @@
+//! A designed schedule's point field: the time-weighted mean of its
+//! segments' steady-state velocity fields.
+//!
+//! **Model.** A part that moves little during one segment drifts, over a
+//! schedule period T = Σ d_i, by Σ d_i V_i(p): its mean velocity is
+//! V(p) = Σ_i d_i V_i(p) / T, a rest segment contributing V = 0 for its
+//! duration (a part at rest on a plate at rest stays). This is the field
+//! the design fitted (its predicted field); the played drops
+//! ([`super::play_drops`]) measure what it leaves out (start-up transients
+//! at the joins, motion within a segment).
+
+use super::lifted::GridField;
+use crate::field::{Field, FieldKind, Grid};
+use crate::schedule::Schedule;
+use crate::{Error, Result};
+
+/// The time-weighted velocity field of `schedule`'s segments on `grid`,
+/// computed with the schedule's settings (module docs). A sample where
+/// some segment's point part loses contact is refused as physically
+/// invalid.
+///
+/// ```no_run
+/// use platefield::pose::schedule_field;
+/// use platefield::schedule::Schedule;
+/// let s = Schedule::load(std::path::Path::new("results/ellipse/schedule.json"))?;
+/// let grid = s.target_spec.as_ref().and_then(|t| t.grid).expect("a grid");
+/// let field = schedule_field(&s, &grid)?;
+/// # Ok::<(), platefield::Error>(())
+/// ```
+pub fn schedule_field(schedule: &Schedule, grid: &Grid) -> Result<GridField> {
+    let mut sum = vec![[0.0f64; 2]; grid.len()];
+    let mut total = 0.0;
+    for (i, seg) in schedule.segments.iter().enumerate() {
+        seg.validate_motion(&format!("schedule.segments[{i}]"))?;
+        total += seg.duration_s;
+        let Some(motion) = seg.plate_motion() else {
+            continue;
+        };
+        let field = Field::compute(
+            &motion,
+            grid,
+            FieldKind::Velocity,
+            &schedule.settings,
+            &|| {},
+        );
+        if field.valid_count() != grid.len() {
+            return Err(Error::Physical(format!(
+                "schedule.segments[{i}] ({}): the point part loses contact at {} of {} grid points; its field is not defined there",
+                seg.label,
+                grid.len() - field.valid_count(),
+                grid.len()
+            )));
+        }
+        for (acc, v) in sum.iter_mut().zip(&field.vectors) {
+            acc[0] += seg.duration_s * v[0];
+            acc[1] += seg.duration_s * v[1];
+        }
+    }
+    if total.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+        return Err(Error::invalid(
+            "schedule.segments",
+            "must last a positive time",
+        ));
+    }
+    let mean = sum.iter().map(|v| [v[0] / total, v[1] / total]).collect();
+    Ok(GridField::from_samples(*grid, mean))
+}

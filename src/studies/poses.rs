@@ -1,0 +1,202 @@
+//! Issue 28 study: the shipped parts' equilibrium poses on the designed
+//! elliptic sinks, `results/poses.md`.
+//!
+//! For each part in `targets/parts/` (rectangle, bracket, triangle) and each
+//! designed ellipse (`results/ellipse/schedule.json`, the sink (−0.3x, −y),
+//! and `results/ellipse_30/`, the same turned by 30°; both by `design
+//! targets/<name>.json --method sequence`): the lifted field of the
+//! schedule's point field (the time-weighted segment fields,
+//! [`crate::pose::schedule_field`]), its equilibria with their stability,
+//! and the basins of 200 drops integrated along it. With `--play-drops N`
+//! the first N of those drops are also played by the planar simulator for
+//! 20 s each (minutes per part: off by default). The bracket with 3
+//! unknown contacts gives the unknown-support bounds.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use crate::output::write_all_atomic;
+use crate::part::Part;
+use crate::play::ScheduleMotion;
+use crate::pose::{
+    analyse, played_basins, schedule_field, Bounds, DropPlay, PlayedBasins, PoseAnalysis, Region,
+};
+use crate::schedule::Schedule;
+use crate::{Error, Result};
+
+/// Default output folder.
+pub const DIR: &str = "results";
+
+/// The shipped parts.
+const PARTS: [&str; 3] = ["rectangle", "bracket", "triangle"];
+
+/// The designed ellipses and the angle of their weaker contraction (°).
+const ELLIPSES: [(&str, f64); 2] = [("ellipse", 0.0), ("ellipse_30", 30.0)];
+
+/// Drops integrated along the lifted field per part and ellipse.
+const DROPS: usize = 200;
+
+/// Seconds each played drop is simulated.
+const PLAY_S: f64 = 20.0;
+
+/// The scan of the unknown-support bounds.
+const SCAN: [usize; 3] = [24, 24, 36];
+
+fn load_schedule(name: &str) -> Result<(Schedule, Region)> {
+    let s = Schedule::load(Path::new(&format!("results/{name}/schedule.json")))?;
+    let grid = s.target_spec.as_ref().and_then(|t| t.grid).ok_or_else(|| {
+        Error::invalid(
+            format!("results/{name}/schedule.json: target_spec.grid"),
+            "missing; the study needs the designed target's grid",
+        )
+    })?;
+    Ok((
+        s,
+        Region {
+            x: grid.x,
+            y: grid.y,
+        },
+    ))
+}
+
+/// One part's table of equilibria on one ellipse.
+fn table(md: &mut String, a: &PoseAnalysis, played: Option<&PlayedBasins>) {
+    md.push_str("| x (mm) | y (mm) | θ (°) | stable | basin (lifted) | basin (played) | Jacobian real parts (1/s) |\n|---|---|---|---|---|---|---|\n");
+    for (i, (e, b)) in a.equilibria.iter().zip(&a.basins).enumerate() {
+        let p = played
+            .map(|p| format!("{:.1} %", 100.0 * p.basins[i]))
+            .unwrap_or_else(|| "not played".into());
+        let _ = writeln!(
+            md,
+            "| {:+.2} | {:+.2} | {:+.2} | {} | {:.1} % | {p} | {:.3}, {:.3}, {:.3} |",
+            1e3 * e.pose.r.x,
+            1e3 * e.pose.r.y,
+            e.pose.theta.to_degrees(),
+            if e.stable { "yes" } else { "no" },
+            100.0 * b,
+            e.rates[0],
+            e.rates[1],
+            e.rates[2]
+        );
+    }
+    if let Some(p) = played {
+        let _ = writeln!(
+            md,
+            "\nPlayed: {} drops for {:.1} s each; {:.1} % end at the stable pose the lifted field predicts; {} lost contact; largest end distance from its pose {:.3} (|Δr|/R + |Δθ| rad).",
+            p.ends.len(),
+            p.time,
+            100.0 * p.agreement,
+            p.lost,
+            p.worst
+        );
+    }
+    let _ = writeln!(
+        md,
+        "\nUnsettled (lifted): {:.1} % of {} drops.\n",
+        100.0 * a.unsettled,
+        a.drops
+    );
+}
+
+/// The bracket with 3 unknown contacts on `field`: the bounds' size.
+fn bounds_section(md: &mut String, field: &crate::pose::GridField, region: &Region) -> Result<()> {
+    let part = Part::from_json_str(
+        r#"{"name": "bracket", "polygon": [[0, 0], [0.03, 0], [0.03, 0.005], [0.005, 0.005], [0.005, 0.02], [0, 0.02]],
+            "support": {"unknown": {"contacts": 3}}}"#,
+    )?;
+    let kept = Bounds::new(&part, field).scan(region, SCAN);
+    let reach = kept.iter().map(|p| p.r.norm()).fold(0.0, f64::max);
+    let _ = writeln!(
+        md,
+        "## Unknown support: the bracket on 3 unknown contacts (designed ellipse)\n\n\
+         Of a {} × {} × {} scan of (x, y, θ) over the region, {} poses may rest for some \
+         admissible support (`pose::Bounds`, an outer bound: 0 in the convex hull of the contact \
+         wrenches, sampling margin included); the farthest centre is {:.1} mm from the plate \
+         centre (part radius {:.1} mm). With an unknown support the elliptic sink bounds the \
+         position (the part must cover the field's zero) but hardly the orientation: a part \
+         resting on a contact at the zero is in equilibrium at every angle. \
+         `tests/poses.rs` `unknown_support_bounds_contain_random_supports` checks that the bound \
+         holds every equilibrium of 20 random 3-contact supports.\n",
+        SCAN[0],
+        SCAN[1],
+        SCAN[2],
+        kept.len(),
+        1e3 * reach,
+        1e3 * part.radius()
+    );
+    Ok(())
+}
+
+/// Runs the study and writes `poses.md` into `out`; `play_drops` drops of
+/// each part are played by the planar simulator (0: none).
+pub fn run(out: &Path, play_drops: usize) -> Result<String> {
+    crate::output::check_writable(out, "--out")?;
+    if play_drops > DROPS {
+        return Err(Error::invalid(
+            "--play-drops",
+            format!("must be in 0..={DROPS}, got {play_drops}"),
+        ));
+    }
+    let mut md = format!(
+        "# Parts with planar extent on the designed elliptic sinks (issue 28)\n\n\
+         Regenerate: `platefield poses-study{}` (deterministic). Fields: the designed schedules \
+         `results/ellipse/schedule.json` (target (−0.3x, −y): weaker contraction along x) and \
+         `results/ellipse_30/schedule.json` (the same turned by 30°), each the time-weighted \
+         mean of its segments' point-part velocity fields on its target grid. Per part: the \
+         lifted field's equilibria (centre of mass, angle of the part file's x axis), stability \
+         from the eigenvalues of its Jacobian, and the basin of each stable pose from {DROPS} \
+         random drops (centres uniform over the region inset by the part's radius, angles \
+         uniform) integrated along the lifted field; with `--play-drops N` the first N drops are \
+         also played by the planar simulator for {PLAY_S} s (full stick-slip of every support \
+         point) and each end classified by its nearest stable pose.\n\n\
+         Not done: pose targets in `design` (`\"field\": {{\"kind\": \"pose\"}}`); the \
+         designs here are elliptic sinks, which give every part two stable poses 180° apart \
+         (each with about half the drops), not one.\n\n",
+        if play_drops > 0 {
+            format!(" --play-drops {play_drops}")
+        } else {
+            String::new()
+        }
+    );
+    let mut summary = String::new();
+    for (name, phi) in ELLIPSES {
+        let (schedule, region) = load_schedule(name)?;
+        let grid = schedule
+            .target_spec
+            .as_ref()
+            .and_then(|t| t.grid)
+            .expect("checked by load_schedule");
+        let field = schedule_field(&schedule, &grid)?;
+        let sm = ScheduleMotion::from_schedule(&schedule)?;
+        let _ = writeln!(md, "## {name}: weaker contraction along {phi}°\n");
+        for part_name in PARTS {
+            let part = Part::load(Path::new(&format!("targets/parts/{part_name}.json")))?;
+            let a = analyse(&part, &field, region, DROPS);
+            let played = (play_drops > 0).then(|| {
+                let mut few = a.clone();
+                few.drops = play_drops;
+                few.ends.truncate(play_drops);
+                played_basins(&few, &part, &sm, &DropPlay::new(&schedule.settings, PLAY_S))
+            });
+            let _ = writeln!(md, "### {part_name}\n");
+            table(&mut md, &a, played.as_ref());
+            let _ = writeln!(
+                summary,
+                "{name} {part_name}: {} equilibria, {} stable",
+                a.equilibria.len(),
+                a.equilibria.iter().filter(|e| e.stable).count()
+            );
+        }
+        if name == "ellipse" {
+            bounds_section(&mut md, &field, &region)?;
+        }
+    }
+    std::fs::create_dir_all(out).map_err(|e| Error::Io {
+        path: out.display().to_string(),
+        source: e,
+    })?;
+    let path = out.join("poses.md");
+    write_all_atomic(&[(&path, md.as_bytes())])?;
+    let _ = writeln!(summary, "wrote {}", path.display());
+    Ok(summary)
+}
