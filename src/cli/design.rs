@@ -121,6 +121,9 @@ pub struct DesignArgs {
     /// Synthesis: plays of the played polish of the synthesized motion (0: none).
     #[arg(long, default_value_t = 300)]
     pub polish_plays: usize,
+    /// Synthesis and polish optimizer: least-squares (Levenberg–Marquardt, a few steps: the default, about 5× less work) or nelder-mead (the path before issue 27: up to --synth-evaluations and --polish-plays; stronger on some targets, see results/design_speed.md).
+    #[arg(long, value_enum, default_value_t = Optimizer::LeastSquares)]
+    pub optimizer: Optimizer,
     /// Print the schedule JSON to stdout.
     #[arg(long)]
     pub json: bool,
@@ -151,6 +154,15 @@ pub struct DesignArgs {
     /// Closed loop: model the schedules are played with: the design's own (default, normally full), full, paper, or frozen (positions frozen: the local field, for long schedule periods in which parts travel far; not valid with Circle segments).
     #[arg(long, value_enum)]
     pub loop_model: Option<Preset>,
+}
+
+/// The synthesis and polish optimizer (`--optimizer`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Optimizer {
+    /// Levenberg–Marquardt on the residuals ([`crate::synth::levenberg`]).
+    LeastSquares,
+    /// Multi-start Nelder–Mead ([`crate::synth::refine`]).
+    NelderMead,
 }
 
 impl DesignArgs {
@@ -223,6 +235,10 @@ impl DesignArgs {
             ..SynthOptions::default()
         };
         synth.refine.seed = self.synth_seed;
+        if self.optimizer == Optimizer::NelderMead {
+            synth.lm = None;
+            synth.polish_lm = None;
+        }
         report::run_design::run(
             &self.target,
             &opts,

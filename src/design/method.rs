@@ -844,8 +844,7 @@ fn synthesis_estimate(
             &opts.settings,
         )
     };
-    let polish = PolishOptions::default();
-    let play_cycles = f64::from(polish.measure.warmup_cycles + polish.measure.measured_cycles);
+    let play_cycles = f64::from(CHECK_WARMUP_CYCLES + CHECK_MEASURED_CYCLES);
     Estimate::new(
         "target",
         "synthesizing a six-signal motion",
@@ -900,6 +899,12 @@ fn polish_played(
         stall: synth.polish_stall,
         progress: synth.progress,
         robust: synth.robust,
+        lm: synth.polish_lm,
+        measure: measure::MeasureOptions {
+            warmup_cycles: CHECK_WARMUP_CYCLES,
+            measured_cycles: CHECK_MEASURED_CYCLES,
+            settle: false,
+        },
         ..PolishOptions::default()
     };
     let p = polish(

@@ -24,7 +24,7 @@
 //! cost = −ŝ / s₀ + 20 · max(0, e − budget)          (shape first)
 //!      + 20 · max(0, e_grid − grid budget)           (the region's shape kept)
 //!      + Σ_axes max(0, peak/limit − 1)               (excess clamped away)
-//!      + 100 · max(0, m − N_min/g)                   (contact margin over the region)
+//!      + 100 · max(0, m + 0.01 − N_min/g)            (contact margin over the region, kept with the synthesis's safety)
 //!      + 10 · (invalid coarse samples / samples)
 //!      + 10 · max(0, lost − lost₀) / played          (no more lost parts than at the start)
 //! ```
@@ -38,16 +38,28 @@
 //! samples are those of the synthesis objective
 //! ([`Objective`]: kinematic and steady-orbit least N on the coarse grid),
 //! so the polish keeps every constraint the synthesis kept; parts lost
-//! *outside* the region (as the saddle's above) may not become more. The
-//! polish runs argmin's Nelder–Mead from the synthesized motion with an
-//! initial simplex of `step` (fraction of each axis limit), then restarts
-//! from the best point with a third of that step, halving at each restart,
-//! until `max_plays` plays are spent or the stall rule
-//! ([`PolishOptions::stall`], counted in plays) says the played cost has
-//! stopped improving (sequential and deterministic: same
-//! input, same bytes). The best point is re-checked on the full grid
-//! ([`Checked::of`]) and kept only if its cost is lower than the start's
-//! and the check is not POOR (unless the start was POOR too).
+//! *outside* the region (as the saddle's above) may not become more.
+//!
+//! **Search** (issue 27): Levenberg–Marquardt
+//! ([`crate::synth::levenberg`], [`PolishOptions::lm`]) on the played
+//! residuals — the cost above as a sum of squares: each part's
+//! ω_i (R_i − ŝ P_i) rescaled to the norm 20 · max(0, e − budget)
+//! ([`shape_block`]), 1 − ŝ/([`POLISH_GOAL`] s₀), 20 · max(0, e_grid −
+//! grid budget), the excess, 10 · the margin violation, √(10 · invalid
+//! fraction) and √(10 · extra lost fraction). Each step's Jacobian is one
+//! parallel batch of n plays (recorded in order: same bytes on one thread
+//! or two), so two steps are ≈ 2n + 5 plays where Nelder–Mead spent 300:
+//! plays that confirm the synthesis and correct it, not a search. With
+//! `lm` `None` it runs argmin's Nelder–Mead from the synthesized motion
+//! (initial simplex `step`, restarts from the best point with a third of
+//! that step, halving at each restart) until `max_plays` plays are spent
+//! or the stall rule ([`PolishOptions::stall`], counted in plays) says the
+//! played cost has stopped improving. Either way the best point by the
+//! cost is re-checked on the full grid ([`Checked::of`]) and kept only if
+//! its cost is lower than the start's and the check is not POOR (unless
+//! the start was POOR too). `design` plays the polish with the realised
+//! check's cycles (10 warm-up, 10 measured): what judges the design is
+//! what the polish optimises.
 //!
 //! **Overfitting check.** The polish sees only the start points it is given;
 //! the study reports the kept motion on a second, disjoint set of start
@@ -57,6 +69,8 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::Instant;
 
+use rayon::prelude::*;
+
 use super::closed_loop::measure::{self, MeasureOptions, RealisedError};
 use crate::error::{positive, Error, Result};
 use crate::field::{FieldSettings, Grid};
@@ -64,7 +78,10 @@ use crate::motion::Motion;
 use crate::play::{PlayedSegment, ScheduleMotion};
 use crate::request::{SampledTarget, Target};
 use crate::scene::FrictionSpec;
-use crate::synth::objective::{Objective, CONTACT_WEIGHT, INVALID_WEIGHT, LIMIT_WEIGHT};
+use crate::synth::levenberg::{levenberg_marquardt, LmOptions};
+use crate::synth::objective::{
+    shape_block, Objective, CONTACT_WEIGHT, INVALID_WEIGHT, LIMIT_WEIGHT,
+};
 use crate::synth::params::{Coefficients, Layout};
 use crate::synth::progress::{Progress, ProgressMode};
 use crate::synth::refine::nelder_mead;
@@ -73,6 +90,10 @@ use crate::synth::{Checked, ShakerLimits, Synthesis};
 
 /// Weight of the played shape error over budget (the synthesis objective's).
 pub const SHAPE_WEIGHT: f64 = crate::synth::objective::SHAPE_WEIGHT;
+/// Strength goal of the played residuals, relative to the start's played
+/// strength: the one residual left once the shape is within budget asks
+/// for 10 % more.
+pub const POLISH_GOAL: f64 = 1.1;
 /// Cap on the played shape error inside the cost.
 const SHAPE_CAP: f64 = 10.0;
 
@@ -105,6 +126,9 @@ pub struct PolishOptions {
     /// and score its worst case ([`crate::synth::robust`]); `None` (or an
     /// exact friction): the settings' friction only.
     pub robust: Option<FrictionSpec>,
+    /// Levenberg–Marquardt on the played residuals with these settings
+    /// (module documentation); `None`: Nelder–Mead with restarts.
+    pub lm: Option<LmOptions>,
 }
 
 impl Default for PolishOptions {
@@ -119,6 +143,7 @@ impl Default for PolishOptions {
             stall: None,
             progress: ProgressMode::Quiet,
             robust: None,
+            lm: Some(crate::synth::POLISH_LM),
         }
     }
 }
@@ -179,6 +204,7 @@ struct Eval {
     params: Vec<f64>,
     cost: f64,
     played: RealisedError,
+    residuals: Vec<f64>,
 }
 
 /// The played objective (see the module documentation).
@@ -186,13 +212,13 @@ struct Played<'a> {
     target: &'a Target,
     sampled: &'a SampledTarget,
     starts: &'a [usize],
-    settings: &'a FieldSettings,
     objective: Objective<'a>,
-    limits: &'a ShakerLimits,
     options: &'a PolishOptions,
     strength_ref: f64,
     lost_ref: usize,
     grid_budget: f64,
+    /// Strength goal s_g of the residuals.
+    goal: f64,
     plays: AtomicUsize,
     best: Mutex<Option<Eval>>,
     stall: Mutex<StallTracker>,
@@ -201,39 +227,61 @@ struct Played<'a> {
 
 impl Played<'_> {
     /// The played measure of `c`: its worst case over the objective's
-    /// physics ([`RealisedError::worst_of`]).
-    fn play(&self, c: &Coefficients) -> Result<RealisedError> {
+    /// physics ([`RealisedError::worst_of`]), and the played residuals
+    /// (module documentation) under each physics in turn.
+    fn play(&self, c: &Coefficients) -> Result<(RealisedError, Vec<f64>)> {
         let sm = ScheduleMotion::new(vec![PlayedSegment::moving(
             "synthesized",
             Motion::Signals(c.to_signals()),
             1,
         )])?;
-        let each: Vec<RealisedError> = self
-            .objective
-            .physics()
-            .iter()
-            .map(|settings| {
-                let plays = measure::play_motion(
-                    &sm,
-                    1,
-                    &self.sampled.points,
-                    self.starts,
-                    settings,
-                    &self.options.measure,
-                );
-                measure::realised_error(self.target, &self.sampled.weights, &plays, None)
-            })
-            .collect();
-        RealisedError::worst_of(&each)
-            .ok_or_else(|| Error::Physical("no physics to play the polish under".into()))
+        let mut residuals = Vec::new();
+        let mut each = Vec::new();
+        for settings in self.objective.physics() {
+            let plays = measure::play_motion(
+                &sm,
+                1,
+                &self.sampled.points,
+                self.starts,
+                settings,
+                &self.options.measure,
+            );
+            let r = measure::realised_error(self.target, &self.sampled.weights, &plays, None);
+            residuals.extend(self.part_residuals(&plays, &r));
+            each.push(r);
+        }
+        let worst = RealisedError::worst_of(&each)
+            .ok_or_else(|| Error::Physical("no physics to play the polish under".into()))?;
+        Ok((worst, residuals))
     }
 
-    fn evaluate(&self, params: &[f64]) -> Result<Eval> {
+    /// The shape block of the played residuals (module documentation):
+    /// ω_i (R_i − ŝ P_i) for each part in start order (P_i the promise
+    /// along its windows, 0 for a part that does not count), rescaled by
+    /// [`shape_block`] to the cost's shape term.
+    fn part_residuals(&self, plays: &[measure::PointPlay], r: &RealisedError) -> Vec<f64> {
+        let s = r.realised_strength;
+        let raw: Vec<f64> = plays
+            .iter()
+            .flat_map(|p| {
+                if !measure::counts(&self.sampled.weights, p) || !s.is_finite() {
+                    return [0.0, 0.0];
+                }
+                let w = self.sampled.weights[p.index];
+                let t = measure::promised(self.target, &[p], s)[0];
+                [w * (p.realised[0] - t[0]), w * (p.realised[1] - t[1])]
+            })
+            .collect();
+        shape_block(&raw, r.shape_error, self.options.shape_budget)
+    }
+
+    /// The evaluation of `params`, not counted (callable from several
+    /// threads).
+    fn measure(&self, params: &[f64]) -> Result<Eval> {
         let (c, excess) = self.objective.motion(params);
-        let coarse = self.objective.evaluate(params);
-        let played = self.play(&c)?;
-        let g = self.settings.gravity;
-        let margin = (self.limits.contact_margin - coarse.least_normal / g).max(0.0);
+        let coarse = self.objective.measure(params);
+        let (played, mut residuals) = self.play(&c)?;
+        let margin = self.objective.margin_violation(coarse.least_normal);
         let lost = self.starts.len().saturating_sub(played.valid);
         let shape = if played.shape_error.is_finite() && played.realised_strength > 0.0 {
             played.shape_error.min(SHAPE_CAP)
@@ -245,28 +293,42 @@ impl Played<'_> {
         } else {
             0.0
         };
+        let grid_over = (coarse.realised.shape_error.min(SHAPE_CAP) - self.grid_budget).max(0.0);
+        let invalid = coarse.realised.invalid as f64 / self.objective_len() as f64;
+        let lost_over = lost.saturating_sub(self.lost_ref) as f64 / self.starts.len().max(1) as f64;
         let cost = -strength / self.strength_ref
             + SHAPE_WEIGHT * (shape - self.options.shape_budget).max(0.0)
-            + SHAPE_WEIGHT
-                * (coarse.realised.shape_error.min(SHAPE_CAP) - self.grid_budget).max(0.0)
+            + SHAPE_WEIGHT * grid_over
             + LIMIT_WEIGHT * excess
             + CONTACT_WEIGHT * margin
-            + INVALID_WEIGHT * coarse.realised.invalid as f64 / self.objective_len() as f64
-            + INVALID_WEIGHT * lost.saturating_sub(self.lost_ref) as f64
-                / self.starts.len().max(1) as f64;
-        let n = self.plays.fetch_add(1, Ordering::Relaxed) + 1;
-        self.bar.set_position(n as u64);
-        let e = Eval {
+            + INVALID_WEIGHT * invalid
+            + INVALID_WEIGHT * lost_over;
+        residuals.extend([
+            1.0 - strength / self.goal,
+            SHAPE_WEIGHT * grid_over,
+            LIMIT_WEIGHT.sqrt() * excess,
+            CONTACT_WEIGHT.sqrt() * margin,
+            (INVALID_WEIGHT * invalid).sqrt(),
+            (INVALID_WEIGHT * lost_over).sqrt(),
+        ]);
+        Ok(Eval {
             params: params.to_vec(),
             cost,
             played,
-        };
+            residuals,
+        })
+    }
+
+    /// Counts `e`: plays, the stall rule, the best.
+    fn record(&self, e: &Eval) {
+        let n = self.plays.fetch_add(1, Ordering::Relaxed) + 1;
+        self.bar.set_position(n as u64);
         self.stall
             .lock()
             .unwrap_or_else(|p| p.into_inner())
-            .record(cost, self.options.stall.as_ref());
+            .record(e.cost, self.options.stall.as_ref());
         let mut best = self.best.lock().unwrap_or_else(|p| p.into_inner());
-        if best.as_ref().is_none_or(|b| cost < b.cost) {
+        if best.as_ref().is_none_or(|b| e.cost < b.cost) {
             self.bar.set_message(format!(
                 "best played: strength {:.4}, shape error {:.2} %",
                 e.played.realised_strength,
@@ -274,7 +336,25 @@ impl Played<'_> {
             ));
             *best = Some(e.clone());
         }
+    }
+
+    fn evaluate(&self, params: &[f64]) -> Result<Eval> {
+        let e = self.measure(params)?;
+        self.record(&e);
         Ok(e)
+    }
+
+    /// Evaluates `points` in parallel and records them in their order
+    /// (same bytes on one thread or two); their residual vectors.
+    fn evaluate_batch(&self, points: &[Vec<f64>]) -> Result<Vec<Vec<f64>>> {
+        let all: Vec<Result<Eval>> = points.par_iter().map(|p| self.measure(p)).collect();
+        let mut out = Vec::with_capacity(all.len());
+        for e in all {
+            let e = e?;
+            self.record(&e);
+            out.push(e.residuals);
+        }
+        Ok(out)
     }
 
     fn objective_len(&self) -> usize {
@@ -293,6 +373,18 @@ impl Played<'_> {
     fn best(&self) -> Option<Eval> {
         self.best.lock().unwrap_or_else(|p| p.into_inner()).clone()
     }
+}
+
+/// Levenberg–Marquardt from `x0` on the played residuals, its Jacobian's
+/// columns one parallel batch of plays.
+fn run_lm(played: &Played<'_>, x0: &[f64], lm: &LmOptions) -> Result<()> {
+    levenberg_marquardt(
+        x0,
+        &|xs: &[Vec<f64>]| played.evaluate_batch(xs),
+        || played.spent(),
+        lm,
+    )?;
+    Ok(())
 }
 
 /// One Nelder–Mead run from `x0` (simplex step `step`) until convergence or
@@ -353,13 +445,12 @@ pub fn polish(
         target,
         sampled,
         starts,
-        settings,
         objective,
-        limits,
         options,
         strength_ref: 1.0,
         lost_ref: 0,
         grid_budget: f64::INFINITY,
+        goal: 1.0,
         plays: AtomicUsize::new(0),
         best: Mutex::new(None),
         stall: Mutex::new(StallTracker::default()),
@@ -370,7 +461,7 @@ pub fn polish(
             options.progress,
         ),
     };
-    let before = played.play(&coefficients)?;
+    let before = played.play(&coefficients)?.0;
     played.strength_ref = if before.realised_strength.is_finite() && before.realised_strength > 0.0
     {
         before.realised_strength
@@ -380,10 +471,15 @@ pub fn polish(
     played.lost_ref = starts.len().saturating_sub(before.valid);
     let start_grid = played.objective.evaluate(&x0).realised.shape_error;
     played.grid_budget = options.grid_budget.max(start_grid.min(SHAPE_CAP));
+    played.goal = played.strength_ref * POLISH_GOAL;
     let start = played.evaluate(&x0)?;
-    run(&played, &x0, options.step)?;
+    if let Some(lm) = &options.lm {
+        run_lm(&played, &x0, lm)?;
+    } else {
+        run(&played, &x0, options.step)?;
+    }
     let mut step = options.step / 3.0;
-    while let Some(best) = played.best() {
+    while let Some(best) = played.best().filter(|_| options.lm.is_none()) {
         let n = played.plays.load(Ordering::Relaxed);
         if played.spent() || step < 1e-4 {
             break;

@@ -11,12 +11,13 @@
 //! wall and CPU seconds of each design go to the printed summary only (the
 //! machine is shared: CPU seconds are the steadier number).
 //!
-//! `full` is today's default ([`SynthOptions::default`]: every evaluation
-//! and play spent); `stall 60/40` stops the synthesis and the polish by
-//! [`SYNTH_STALL`] and [`POLISH_STALL`] (measured on the sink under load:
-//! 10.9 CPU s against 52.9, played 4.88 % at 0.704 against 4.74 % at
-//! 0.701), the candidate default once the shipped designs are regenerated
-//! with it.
+//! The default (issue 27) refines by least squares: three
+//! Levenberg–Marquardt steps on the coarse residuals
+//! ([`crate::synth::least_squares`]) and two on the played ones
+//! ([`crate::design::polish`]); the other rows take fewer or more steps,
+//! no polish, or the Nelder–Mead path of before with its stall rules
+//! ([`SYNTH_STALL`], [`POLISH_STALL`]; its polish plays the check's
+//! cycles too).
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -28,9 +29,10 @@ use crate::design::DesignOptions;
 use crate::error::Result;
 use crate::output::write_atomic;
 use crate::request::Target;
+use crate::synth::levenberg::LmOptions;
 use crate::synth::progress::ProgressMode;
 use crate::synth::stall::{StallRule, POLISH_STALL, SYNTH_STALL};
-use crate::synth::SynthOptions;
+use crate::synth::{SynthOptions, POLISH_LM, SYNTH_LM};
 
 /// Default output folder.
 pub const DIR: &str = "results";
@@ -54,51 +56,73 @@ pub struct Budget {
     pub label: &'static str,
     /// Coarse re-simulations allowed.
     pub evaluations: usize,
+    /// Synthesis by least squares with these settings (`None`: Nelder–Mead).
+    pub lm: Option<LmOptions>,
     /// Synthesis stall rule.
     pub synth_stall: Option<StallRule>,
     /// Plays of the played polish (0: none).
     pub plays: usize,
+    /// Polish by least squares with these settings (`None`: Nelder–Mead).
+    pub polish_lm: Option<LmOptions>,
     /// Polish stall rule.
     pub polish_stall: Option<StallRule>,
 }
 
-/// Half the default stall windows.
-const fn halved(r: StallRule) -> StallRule {
-    StallRule {
-        window: r.window / 2,
-        tol: r.tol,
+/// `lm` with at most `steps` steps.
+const fn steps(lm: LmOptions, steps: usize) -> LmOptions {
+    LmOptions {
+        max_iterations: steps,
+        ..lm
     }
 }
 
-/// The budgets compared, cheapest last.
-pub const BUDGETS: [Budget; 4] = [
+/// The budgets compared: the default first, then cheaper ones, then the
+/// Nelder–Mead path of before issue 27 with its stall rules.
+pub const BUDGETS: [Budget; 5] = [
     Budget {
-        label: "full (default)",
+        label: "least squares 3+2 (default)",
         evaluations: 300,
+        lm: Some(SYNTH_LM),
         synth_stall: None,
         plays: 300,
+        polish_lm: Some(POLISH_LM),
         polish_stall: None,
     },
     Budget {
-        label: "stall 60/40",
+        label: "least squares 3, no polish",
         evaluations: 300,
-        synth_stall: Some(SYNTH_STALL),
-        plays: 300,
-        polish_stall: Some(POLISH_STALL),
-    },
-    Budget {
-        label: "stall 30/20",
-        evaluations: 300,
-        synth_stall: Some(halved(SYNTH_STALL)),
-        plays: 300,
-        polish_stall: Some(halved(POLISH_STALL)),
-    },
-    Budget {
-        label: "stall 60, no polish",
-        evaluations: 300,
-        synth_stall: Some(SYNTH_STALL),
+        lm: Some(SYNTH_LM),
+        synth_stall: None,
         plays: 0,
+        polish_lm: Some(POLISH_LM),
         polish_stall: None,
+    },
+    Budget {
+        label: "least squares 1+1",
+        evaluations: 300,
+        lm: Some(steps(SYNTH_LM, 1)),
+        synth_stall: None,
+        plays: 300,
+        polish_lm: Some(steps(POLISH_LM, 1)),
+        polish_stall: None,
+    },
+    Budget {
+        label: "least squares 6+4",
+        evaluations: 300,
+        lm: Some(steps(SYNTH_LM, 6)),
+        synth_stall: None,
+        plays: 300,
+        polish_lm: Some(steps(POLISH_LM, 4)),
+        polish_stall: None,
+    },
+    Budget {
+        label: "Nelder–Mead stall 60/40",
+        evaluations: 300,
+        lm: None,
+        synth_stall: Some(SYNTH_STALL),
+        plays: 300,
+        polish_lm: None,
+        polish_stall: Some(POLISH_STALL),
     },
 ];
 
@@ -133,6 +157,8 @@ pub fn row(target: &Target, budget: &Budget, cache: &Path) -> Result<Row> {
     let d = SynthOptions::default();
     let synth = SynthOptions {
         max_evaluations: budget.evaluations,
+        lm: budget.lm,
+        polish_lm: budget.polish_lm,
         stall: budget.synth_stall,
         polish_plays: budget.plays,
         polish_stall: budget.polish_stall,

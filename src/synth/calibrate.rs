@@ -24,7 +24,7 @@ pub const STEPS: usize = 3;
 const TURN_TOL: f64 = 0.2 * std::f64::consts::PI / 180.0;
 
 /// Axes whose harmonic 1 is the normal-force modulation: a_z, α_x, α_y.
-const NORMAL_AXES: [usize; 3] = [2, 3, 4];
+pub const NORMAL_AXES: [usize; 3] = [2, 3, 4];
 
 /// `c` with harmonic 1 of a_z, α_x and α_y shifted in phase by `phi`.
 pub fn shifted(c: &Coefficients, phi: f64) -> Coefficients {

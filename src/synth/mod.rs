@@ -145,10 +145,18 @@
 //! the measured turn removes it without changing any amplitude (so the
 //! peaks and the contact margin are the seed's); measured on the lab sink
 //! (`tests/synth.rs`), 16.0 % → 2.4 % shape error at 0.506 → 0.512 s⁻¹ in
-//! one step. Then [`refine`] runs argmin's Nelder–Mead on the six signals' Fourier
-//! coefficients ([`params`]), from the calibrated seed and from the seed
-//! itself: the objective re-simulates the steady-state
-//! velocity field on a coarse grid ([`objective`]). Nelder–Mead because the
+//! one step. Then [`least_squares`] runs Levenberg–Marquardt
+//! ([`levenberg`]) on the six signals' Fourier coefficients ([`params`])
+//! from the calibrated seed: the residuals are the coarse grid's
+//! re-simulated steady-state field against the target, the peaks and the
+//! contact margin ([`objective`]), and the Jacobian's columns are one
+//! parallel batch of re-simulations. Three steps (≈ 70 re-simulations)
+//! reach what 300 Nelder–Mead evaluations did on the lab sink (issue 27,
+//! `results/design_speed.md`): the seed has already put the motion near
+//! the target, and the kinks below are smoothed by the forward-difference
+//! step (1 % of each axis limit). The path before, kept for comparison
+//! (`SynthOptions::lm` `None`): [`refine`], argmin's Nelder–Mead from the
+//! calibrated seed and from the seed itself. It was chosen because the
 //! objective is a simulation with stick-slip events and validity switches
 //! (piecewise smooth, kinks where a sample starts or stops sticking), the
 //! dimension is small (8 for the lab's harmonic-1 x/y limits, 12·H at
@@ -170,6 +178,8 @@
 
 pub mod calibrate;
 pub mod contact;
+pub mod least_squares;
+pub mod levenberg;
 pub mod limits;
 pub mod margin_cap;
 pub mod objective;
@@ -183,4 +193,4 @@ mod synthesize;
 pub mod transport;
 
 pub use limits::ShakerLimits;
-pub use synthesize::{synthesize, AxisPeak, Checked, SynthOptions, Synthesis};
+pub use synthesize::{synthesize, AxisPeak, Checked, SynthOptions, Synthesis, POLISH_LM, SYNTH_LM};

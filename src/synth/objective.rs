@@ -11,7 +11,7 @@
 //! cost = −ŝ / s_ref                                   (maximise strength)
 //!      + 20 · max(0, e − budget)                      (shape first)
 //!      + 1 · Σ_axes max(0, peak/limit − 1)            (excess clamped away)
-//!      + 100 · max(0, m − N_min/g)                    (contact margin)
+//!      + 100 · max(0, m + 0.01 − N_min/g)             (contact margin, MARGIN_SAFETY kept)
 //!      + 10 · (invalid samples / samples)             (contact lost, not converged)
 //! ```
 //!
@@ -21,9 +21,28 @@
 //! smaller of [`kinematic_least_normal`] and [`orbit_least_normal`] over
 //! the coarse grid (the same check the final full-grid result gets); its
 //! weight makes a 1 % of g violation cost as much as the whole strength.
+//!
+//! **Residuals** (what [`super::least_squares`] minimises, ½‖r‖²): the cost
+//! above as a sum of squares, with s_g the strength goal
+//! ([`Objective::with_goal`], the seed's predicted strength by default):
+//!
+//! ```text
+//! r = ( 20 · max(0, e − budget) · (R_i − ŝ t_i)/‖R − ŝ t‖   for every coarse point i,
+//!       1 − ŝ/s_g,
+//!       excess,  10 · max(0, m + 0.01 − N_min/g),  √10 · √(invalid / samples) )
+//! ```
+//!
+//! The first block's norm is 20 (e − budget), the cost's shape term, its
+//! direction the residual field (where the shape is wrong); so below the
+//! budget only strength counts, and one point over it weighs as 20 % of
+//! strength, as in the cost. Under several physics each adds its own
+//! first block. The search keeps the evaluation of least *cost*, so the
+//! residuals steer it and the cost judges it.
 
 use std::sync::Mutex;
 use std::time::Instant;
+
+use rayon::prelude::*;
 
 use super::contact::{kinematic_least_normal, orbit_least_normal};
 use super::limits::ShakerLimits;
@@ -46,6 +65,11 @@ pub const CONTACT_WEIGHT: f64 = 100.0;
 pub const INVALID_WEIGHT: f64 = 10.0;
 /// Cap on the shape error inside the cost.
 const SHAPE_CAP: f64 = 10.0;
+/// Extra contact margin (fraction of g) the coarse objective keeps: it sees
+/// the steady orbits at its own points only, and the full grid's least N
+/// can come out lower (the lab sink refined by least squares to the coarse
+/// margin: 0.0982 g on the full 21 × 21 grid against 0.1 g on 7 × 7).
+pub const MARGIN_SAFETY: f64 = 0.01;
 
 /// Realised strength and shape error of a field against target vectors.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -119,6 +143,31 @@ pub fn realised(field: &Field, target: &[[f64; 2]]) -> Realised {
     }
 }
 
+/// A residual field `raw` (components in order) rescaled to the norm
+/// 20 · max(0, e − budget) of the cost's shape term (its direction kept;
+/// the module documentation). A non-finite `e` (no positive strength)
+/// counts as the cost's cap.
+pub fn shape_block(raw: &[f64], e: f64, budget: f64) -> Vec<f64> {
+    let e = if e.is_finite() {
+        e.min(SHAPE_CAP)
+    } else {
+        SHAPE_CAP
+    };
+    let over = SHAPE_WEIGHT * (e - budget).max(0.0);
+    let norm = raw.iter().map(|v| v * v).sum::<f64>().sqrt();
+    if over == 0.0 || norm == 0.0 {
+        return vec![
+            if norm == 0.0 {
+                over / (raw.len().max(1) as f64).sqrt()
+            } else {
+                0.0
+            };
+            raw.len()
+        ];
+    }
+    raw.iter().map(|v| v * over / norm).collect()
+}
+
 /// One evaluated candidate.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Evaluation {
@@ -130,6 +179,8 @@ pub struct Evaluation {
     pub realised: Realised,
     /// Least N over the coarse grid (m/s²).
     pub least_normal: f64,
+    /// The residual vector (module documentation).
+    pub residuals: Vec<f64>,
 }
 
 /// Budget state shared by all evaluations of one synthesis.
@@ -149,6 +200,7 @@ pub struct Objective<'a> {
     target: Vec<[f64; 2]>,
     shape_budget: f64,
     strength_ref: f64,
+    goal: f64,
     max_evaluations: usize,
     deadline: Option<Instant>,
     stall: Option<StallRule>,
@@ -181,6 +233,7 @@ impl<'a> Objective<'a> {
             grid,
             shape_budget,
             strength_ref: strength_ref.max(1e-12),
+            goal: strength_ref.max(1e-12),
             max_evaluations,
             deadline,
             stall: None,
@@ -216,6 +269,13 @@ impl<'a> Objective<'a> {
             None,
             progress,
         )
+    }
+
+    /// This objective with residuals against the strength goal `goal`
+    /// (s_g of the module documentation; default the strength scale).
+    pub fn with_goal(mut self, goal: f64) -> Self {
+        self.goal = goal.max(1e-12);
+        self
     }
 
     /// This objective, also spent once `rule` says its best cost has
@@ -263,42 +323,99 @@ impl<'a> Objective<'a> {
 
     /// Evaluates `params` (counts against the budget).
     pub fn evaluate(&self, params: &[f64]) -> Evaluation {
+        let e = self.measure(params);
+        self.record(&e);
+        e
+    }
+
+    /// Evaluates every point of `points` in parallel (rayon) and records
+    /// them in their order, so the budget, the best and the stall rule see
+    /// the same sequence on any number of threads.
+    pub fn evaluate_batch(&self, points: &[Vec<f64>]) -> Vec<Evaluation> {
+        let all: Vec<Evaluation> = points.par_iter().map(|p| self.measure(p)).collect();
+        for e in &all {
+            self.record(e);
+        }
+        all
+    }
+
+    /// The evaluation of `params` without counting it (pure: callable from
+    /// several threads).
+    pub fn measure(&self, params: &[f64]) -> Evaluation {
         let (c, excess) = self.motion(params);
         let motion = Motion::Signals(c.to_signals());
         let mut each = Vec::with_capacity(self.physics.len());
         let mut least_normal = f64::INFINITY;
+        let mut residuals = Vec::new();
         for settings in &self.physics {
             let field = Field::compute(&motion, &self.grid, FieldKind::Velocity, settings, &|| {});
-            each.push(realised(&field, &self.target));
+            let r = realised(&field, &self.target);
+            residuals.extend(self.shape_residuals(&field, &r));
+            each.push(r);
             least_normal = least_normal.min(
                 kinematic_least_normal(&motion, &self.grid, settings)
                     .min(orbit_least_normal(&motion, &self.grid, settings)),
             );
         }
         let r = Realised::worst_of(&each).expect("judged_under never returns an empty set");
-        let g = self.settings.gravity;
-        let margin = (self.limits.contact_margin - least_normal / g).max(0.0);
+        let margin = self.margin_violation(least_normal);
         let cost = -r.strength / self.strength_ref
             + SHAPE_WEIGHT * (r.shape_error.min(SHAPE_CAP) - self.shape_budget).max(0.0)
             + LIMIT_WEIGHT * excess
             + CONTACT_WEIGHT * margin
             + INVALID_WEIGHT * r.invalid as f64 / self.grid.len() as f64;
-        let e = Evaluation {
+        residuals.extend([
+            1.0 - r.strength / self.goal,
+            LIMIT_WEIGHT.sqrt() * excess,
+            CONTACT_WEIGHT.sqrt() * margin,
+            (INVALID_WEIGHT * r.invalid as f64 / self.grid.len() as f64).sqrt(),
+        ]);
+        Evaluation {
             params: params.to_vec(),
             cost,
             realised: r,
             least_normal,
-        };
+            residuals,
+        }
+    }
+
+    /// How far `least_normal` (m/s²) falls below the contact margin plus
+    /// [`MARGIN_SAFETY`], as a fraction of g (0 when it does not).
+    pub fn margin_violation(&self, least_normal: f64) -> f64 {
+        (self.limits.contact_margin + MARGIN_SAFETY - least_normal / self.settings.gravity).max(0.0)
+    }
+
+    /// The shape block of the residuals (module documentation) of `field`
+    /// measured as `r`.
+    fn shape_residuals(&self, field: &Field, r: &Realised) -> Vec<f64> {
+        let s = r.strength;
+        let raw: Vec<f64> = field
+            .vectors
+            .iter()
+            .zip(&field.validity)
+            .zip(&self.target)
+            .flat_map(|((v, ok), t)| {
+                if *ok == Validity::Ok {
+                    [v[0] - s * t[0], v[1] - s * t[1]]
+                } else {
+                    [0.0, 0.0]
+                }
+            })
+            .collect();
+        shape_block(&raw, r.shape_error, self.shape_budget)
+    }
+
+    /// Counts `e` against the budget, the best and the stall rule.
+    fn record(&self, e: &Evaluation) {
         let mut tally = self.tally.lock().unwrap_or_else(|p| p.into_inner());
         tally.evaluations += 1;
-        tally.stall.record(cost, self.stall.as_ref());
-        if tally.best.as_ref().is_none_or(|b| cost < b.cost) {
+        tally.stall.record(e.cost, self.stall.as_ref());
+        if tally.best.as_ref().is_none_or(|b| e.cost < b.cost) {
             tally.best = Some(e.clone());
         }
         let best = tally.best.as_ref();
         let best = best.map(|b| (b.realised.strength, b.realised.shape_error));
         self.progress.update(tally.evaluations, best);
-        e
     }
 
     /// Evaluations so far.
