@@ -391,7 +391,7 @@ fn error_table(m: &Measured) -> String {
         calibrated
             .cpu_seconds
             .map_or("n/a".into(), |c| format!("{c:.2}")),
-        sci(worst(&calibrated_errors)),
+        sci(worst(calibrated_errors)),
         row(calibrated_errors.iter().map(|x| sci(*x)))
     );
     error_only_row(&mut md, "reference's own error (estimate)", ref_error);
@@ -751,10 +751,10 @@ fn error_limits(m: &Measured, md: &mut String) {
         one_d.join(", "),
         builds[*half].steps,
         builds[last].steps,
-        pick(true, &fine_order, &order_fmt),
-        pick(true, &noise, &sci),
-        pick(false, &fine_order, &order_fmt),
-        pick(false, &noise, &sci),
+        pick(true, fine_order, &order_fmt),
+        pick(true, noise, &sci),
+        pick(false, fine_order, &order_fmt),
+        pick(false, noise, &sci),
         builds[last].steps,
         pick(false, &errors[last], &sci),
     );
