@@ -193,6 +193,33 @@ fn default_dir(dir: &'static str) -> impl FnOnce(clap::Arg) -> clap::Arg {
     move |a| a.default_value(dir).required(false)
 }
 
+/// `order`'s request from its arguments.
+fn order_request(rest: Vec<u32>, play: &Play, long: &AllowLong, quiet: &Quiet) -> OrderRequest {
+    OrderRequest {
+        n: play.points,
+        rest_cycles: rest,
+        warmup: play.warmup,
+        periods: play.periods,
+        model: play.model.map(Preset::model),
+        allow_long: long.allow_long,
+        quiet: quiet.quiet,
+    }
+}
+
+/// The synthesis study's settings from its arguments (evaluations, starts,
+/// polish plays).
+fn synthesis_settings(
+    harmonics: u32,
+    [evaluations, starts, plays]: [u64; 3],
+) -> studies::synthesis::StudySettings {
+    studies::synthesis::StudySettings {
+        harmonics,
+        evaluations: evaluations as usize,
+        starts: starts as usize,
+        polish_plays: plays as usize,
+    }
+}
+
 fn run(cli: Cli) -> Result<String> {
     match cli.command {
         Command::Design(args) => args.run(),
@@ -205,19 +232,7 @@ fn run(cli: Cli) -> Result<String> {
             out,
             long,
             quiet,
-        } => report::order(
-            &schedule,
-            &OrderRequest {
-                n: play.points,
-                rest_cycles: rest,
-                warmup: play.warmup,
-                periods: play.periods,
-                model: play.model.map(Preset::model),
-                allow_long: long.allow_long,
-                quiet: quiet.quiet,
-            },
-            &out,
-        ),
+        } => report::order(&schedule, &order_request(rest, &play, &long, &quiet), &out),
         Command::Field {
             scene,
             out,
@@ -249,17 +264,15 @@ fn run(cli: Cli) -> Result<String> {
             calibrated,
             quiet,
             out,
-        } => studies::primitives::run(
-            &out.out,
-            grid,
-            steps.numerics().steps_per_cycle,
-            if calibrated {
+        } => {
+            let plan = if calibrated {
                 StepsPlan::Calibrated
             } else {
                 StepsPlan::Uniform
-            },
-            quiet.quiet,
-        ),
+            };
+            let steps = steps.numerics().steps_per_cycle;
+            studies::primitives::run(&out.out, grid, steps, plan, quiet.quiet)
+        }
         Command::PosesStudy { play_drops, out } => studies::poses::run(&out.out, play_drops),
         Command::Rungs { tolerance, out } => studies::rung::run(&out.out, tolerance),
         Command::Speed(o) => studies::speed::run(&o.out),
@@ -276,16 +289,10 @@ fn run(cli: Cli) -> Result<String> {
             starts,
             polish_plays,
             out,
-        } => studies::synthesis::run(
-            &out.out,
-            &rows,
-            &studies::synthesis::StudySettings {
-                harmonics,
-                evaluations: evaluations as usize,
-                starts: starts as usize,
-                polish_plays: polish_plays as usize,
-            },
-        ),
+        } => {
+            let study = synthesis_settings(harmonics, [evaluations, starts, polish_plays]);
+            studies::synthesis::run(&out.out, &rows, &study)
+        }
     }
 }
 

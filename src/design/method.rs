@@ -488,24 +488,6 @@ pub fn sweep_estimate(schedule: &Schedule, values: usize) -> Estimate {
 
 /// The candidate kept and why (see the [module documentation](self)).
 fn choose(cands: &[Candidate], failures: &[(Method, String)], asked: Method) -> (usize, String) {
-    let describe = |c: &Candidate| {
-        let p = c.played();
-        let (worst, shape, strength) = match &c.sensitivity {
-            Some(s) => (
-                " worst over the friction range:",
-                s.worst_shape_error(),
-                s.weakest_strength(),
-            ),
-            None => ("", p.realised_shape_error, p.realised_strength),
-        };
-        format!(
-            "{}{worst} realised shape error {}, strength {}{}",
-            c.method.name(),
-            percent(shape),
-            number(strength),
-            if p.poor { " (POOR)" } else { "" }
-        )
-    };
     let failed: String = failures
         .iter()
         .map(|(m, e)| format!("; {} failed: {e}", m.name()))
@@ -520,18 +502,6 @@ fn choose(cands: &[Candidate], failures: &[(Method, String)], asked: Method) -> 
         };
         return (0, why);
     }
-    let key = |c: &Candidate| {
-        let p = c.played();
-        let (shape, strength) = match &c.sensitivity {
-            Some(s) => (s.worst_shape_error(), s.weakest_strength()),
-            None => (p.realised_shape_error, p.realised_strength),
-        };
-        (
-            p.poor,
-            shape.unwrap_or(f64::INFINITY),
-            strength.unwrap_or(f64::NEG_INFINITY),
-        )
-    };
     // The rule between two candidates: (b is better, why).
     let better = |a: &Candidate, b: &Candidate| {
         let (a, b) = (key(a), key(b));
@@ -567,6 +537,44 @@ fn choose(cands: &[Candidate], failures: &[(Method, String)], asked: Method) -> 
             describe(&cands[pick]),
             others.join("; ")
         ),
+    )
+}
+
+/// One candidate in `choose`'s reason: its method, its realised shape
+/// error and strength (worst over the friction range when judged so), and
+/// POOR.
+fn describe(c: &Candidate) -> String {
+    let p = c.played();
+    let (worst, shape, strength) = match &c.sensitivity {
+        Some(s) => (
+            " worst over the friction range:",
+            s.worst_shape_error(),
+            s.weakest_strength(),
+        ),
+        None => ("", p.realised_shape_error, p.realised_strength),
+    };
+    format!(
+        "{}{worst} realised shape error {}, strength {}{}",
+        c.method.name(),
+        percent(shape),
+        number(strength),
+        if p.poor { " (POOR)" } else { "" }
+    )
+}
+
+/// What `choose` compares: POOR, then the realised shape error, then the
+/// realised strength (worst over the friction range when judged so;
+/// missing numbers rank last).
+fn key(c: &Candidate) -> (bool, f64, f64) {
+    let p = c.played();
+    let (shape, strength) = match &c.sensitivity {
+        Some(s) => (s.worst_shape_error(), s.weakest_strength()),
+        None => (p.realised_shape_error, p.realised_strength),
+    };
+    (
+        p.poor,
+        shape.unwrap_or(f64::INFINITY),
+        strength.unwrap_or(f64::NEG_INFINITY),
     )
 }
 

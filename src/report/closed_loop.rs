@@ -66,38 +66,7 @@ type Row = (&'static str, fn(&Candidate) -> String);
 
 /// `closed_loop.md`.
 pub fn markdown(cl: &ClosedLoop) -> String {
-    let mut md = format!("# Closed-loop design for target \"{}\"\n\n", cl.target);
-    let _ = write!(
-        md,
-        "Regenerate: `platefield design <target file> --closed-loop` (with the same options).\n\n\
-         Every schedule below was played on point parts from {} start points (every {}-th \
-         target grid point per axis, masked points skipped), with the physics the design's basis \
-         was built with ({} model), for a warm-up of at least {} primitive cycles and at least {} measured \
-         cycles (whole schedule periods), the mean velocity R averaged over the windows that start at \
-         each segment join (`platefield::play::measure`).\n\n\
-         * **realised error** ‖R − P(s)‖/‖P(s)‖: the realised field against the promise, where \
-         P(s) is the mean velocity over the same windows of a part that follows the promised field \
-         s·t exactly from each window's start (s the strength the schedule's design claims, t the \
-         target; the target's weights and mask), so a schedule that realises s·t exactly scores 0;\n\
-         * **realised strength** ŝ (the scale at which the residual is orthogonal to P(ŝ)) and \
-         **shape-only error** ‖R − P(ŝ)‖/‖P(ŝ)‖, which no choice of strength can lower;\n\
-         * **vs s₀**: the realised error against the open-loop promise s₀ = {:.4};\n\
-         * error parts (of R − P(s), relative to ‖P(s)‖, over the parts' mean positions): affine \
-         least-squares decomposition into isotropic (for a sink target: strength), rotational \
-         (swirl), anisotropic (shear), offset, and the remainder.\n\n\
-         Stages: *design* is the open-loop schedule; *order* plays the same segments and cycles \
-         in another order (the weights are unchanged, so the promise it supports is its realised \
-         strength ŝ); *re-fit* re-fits the time fractions to the segments' realised velocities in \
-         their schedule context and is judged against the re-fit's strength. The best eligible \
-         schedule (lowest realised error, the open-loop one included) is kept. Re-fit stopped: {}.\n\n",
-        cl.points,
-        cl.options.stride,
-        cl.model,
-        cl.options.measure.warmup_cycles,
-        cl.options.measure.measured_cycles,
-        cl.design_strength,
-        cl.stop
-    );
+    let mut md = intro(cl);
     md.push_str("## Before and after\n\n| | before | after |\n|---|---|---|\n");
     let (b, a) = (cl.before(), cl.after());
     let rows: [Row; 11] = [
@@ -144,6 +113,44 @@ pub fn markdown(cl: &ClosedLoop) -> String {
             c.rejected.as_deref().unwrap_or("")
         );
     }
+    md
+}
+
+/// The title and the paragraph on how every schedule was played and
+/// measured.
+fn intro(cl: &ClosedLoop) -> String {
+    let mut md = format!("# Closed-loop design for target \"{}\"\n\n", cl.target);
+    let _ = write!(
+        md,
+        "Regenerate: `platefield design <target file> --closed-loop` (with the same options).\n\n\
+         Every schedule below was played on point parts from {} start points (every {}-th \
+         target grid point per axis, masked points skipped), with the physics the design's basis \
+         was built with ({} model), for a warm-up of at least {} primitive cycles and at least {} measured \
+         cycles (whole schedule periods), the mean velocity R averaged over the windows that start at \
+         each segment join (`platefield::play::measure`).\n\n\
+         * **realised error** ‖R − P(s)‖/‖P(s)‖: the realised field against the promise, where \
+         P(s) is the mean velocity over the same windows of a part that follows the promised field \
+         s·t exactly from each window's start (s the strength the schedule's design claims, t the \
+         target; the target's weights and mask), so a schedule that realises s·t exactly scores 0;\n\
+         * **realised strength** ŝ (the scale at which the residual is orthogonal to P(ŝ)) and \
+         **shape-only error** ‖R − P(ŝ)‖/‖P(ŝ)‖, which no choice of strength can lower;\n\
+         * **vs s₀**: the realised error against the open-loop promise s₀ = {:.4};\n\
+         * error parts (of R − P(s), relative to ‖P(s)‖, over the parts' mean positions): affine \
+         least-squares decomposition into isotropic (for a sink target: strength), rotational \
+         (swirl), anisotropic (shear), offset, and the remainder.\n\n\
+         Stages: *design* is the open-loop schedule; *order* plays the same segments and cycles \
+         in another order (the weights are unchanged, so the promise it supports is its realised \
+         strength ŝ); *re-fit* re-fits the time fractions to the segments' realised velocities in \
+         their schedule context and is judged against the re-fit's strength. The best eligible \
+         schedule (lowest realised error, the open-loop one included) is kept. Re-fit stopped: {}.\n\n",
+        cl.points,
+        cl.options.stride,
+        cl.model,
+        cl.options.measure.warmup_cycles,
+        cl.options.measure.measured_cycles,
+        cl.design_strength,
+        cl.stop
+    );
     md
 }
 

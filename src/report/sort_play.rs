@@ -117,28 +117,13 @@ pub fn play_classes(
                 strength: fit.strength,
             },
         );
-        let n = swarm.parts.len().max(1) as f64;
-        let near = |a: &Attractor, p: [f64; 2]| a.distance(p) <= SORT_TOL;
-        let at_own = own.map(|a| {
-            swarm
-                .parts
-                .iter()
-                .filter(|p| p.note.is_none() && near(&a, p.end))
-                .count() as f64
-                / n
-        });
         let others: Vec<Attractor> = attractors
             .iter()
             .enumerate()
             .filter(|(j, _)| *j != i)
             .filter_map(|(_, a)| *a)
             .collect();
-        let mixed_up = swarm
-            .parts
-            .iter()
-            .filter(|p| p.note.is_none() && others.iter().any(|a| near(a, p.end)))
-            .count() as f64
-            / n;
+        let (at_own, mixed_up) = arrivals(&swarm.parts, own, &others);
         let distances: Vec<f64> = swarm.parts.iter().map(|p| p.distance[1]).collect();
         out.push(ClassPlay {
             name: fit.name.clone(),
@@ -154,6 +139,31 @@ pub fn play_classes(
         });
     }
     Ok(out)
+}
+
+/// The fractions of a class's swarm `parts` that end (without a note)
+/// within [`SORT_TOL`] of its own attractor `own`, and of any of the
+/// `others`: at its own, and mixed up.
+fn arrivals(
+    parts: &[crate::verify::swarm::SwarmPart],
+    own: Option<Attractor>,
+    others: &[Attractor],
+) -> (Option<f64>, f64) {
+    let n = parts.len().max(1) as f64;
+    let near = |a: &Attractor, p: [f64; 2]| a.distance(p) <= SORT_TOL;
+    let at_own = own.map(|a| {
+        parts
+            .iter()
+            .filter(|p| p.note.is_none() && near(&a, p.end))
+            .count() as f64
+            / n
+    });
+    let mixed_up = parts
+        .iter()
+        .filter(|p| p.note.is_none() && others.iter().any(|a| near(a, p.end)))
+        .count() as f64
+        / n;
+    (at_own, mixed_up)
 }
 
 /// [`SORT_STARTS`] points over the box of the target's grid.

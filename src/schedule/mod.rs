@@ -417,6 +417,13 @@ impl Schedule {
                 format!("the schedule period is {period:.4e} s, more than {MAX_PERIOD_S} s"),
             ));
         }
+        self.validate_settings()
+    }
+
+    /// The settings' checks of [`Schedule::validate`] (the scene's ranges:
+    /// friction, numerics, each six-signal motion resolved by the steps,
+    /// the steady-state iterations, gravity) and the target's.
+    fn validate_settings(&self) -> Result<()> {
         let s = &self.settings;
         // The scene's one friction validation (a schedule is played like a scene).
         crate::scene::FrictionSpec::exact(s.friction).validate("settings.friction")?;

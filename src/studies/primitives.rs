@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use super::table1;
-use crate::basis::{Library, StepsPlan};
+use crate::basis::{Library, LibraryEntry, StepsPlan};
 use crate::error::Result;
 use crate::field::{FieldSettings, Grid};
 use crate::output::write_atomic;
@@ -44,32 +44,7 @@ pub fn write_primitives(lib: &Library, out: &Path) -> Result<String> {
     );
     for e in &lib.entries {
         let name = e.primitive.kind.name();
-        // The force field's own settings (its steps per cycle may be its
-        // calibrated count, not the library's).
-        let mut force_settings = *s;
-        force_settings.numerics.steps_per_cycle = e.force_steps;
-        write_atomic(
-            &out.join(format!("{name}.json")),
-            &json_bytes(&e.force.to_json(&force_settings)),
-        )?;
-        write_atomic(
-            &out.join(format!("{name}.velocity.json")),
-            &json_bytes(&e.velocity.to_json(s)),
-        )?;
-        write_atomic(
-            &out.join(format!("{name}.svg")),
-            e.force
-                .quiver(&format!("{name}: zero-velocity force field"))
-                .to_svg()
-                .as_bytes(),
-        )?;
-        write_atomic(
-            &out.join(format!("{name}.velocity.svg")),
-            e.velocity
-                .quiver(&format!("{name}: steady-state velocity field"))
-                .to_svg()
-                .as_bytes(),
-        )?;
+        write_entry_files(e, s, out)?;
         let (ff, fv) = (
             table1::fit(e.primitive.kind, &e.force),
             table1::fit(e.primitive.kind, &e.velocity),
@@ -98,6 +73,39 @@ pub fn write_primitives(lib: &Library, out: &Path) -> Result<String> {
     }
     write_atomic(&out.join("table1.md"), md.as_bytes())?;
     Ok(md)
+}
+
+/// One primitive's files: its force and velocity fields as JSON and quiver
+/// plots.
+fn write_entry_files(e: &LibraryEntry, s: &FieldSettings, out: &Path) -> Result<()> {
+    let name = e.primitive.kind.name();
+    // The force field's own settings (its steps per cycle may be its
+    // calibrated count, not the library's).
+    let mut force_settings = *s;
+    force_settings.numerics.steps_per_cycle = e.force_steps;
+    write_atomic(
+        &out.join(format!("{name}.json")),
+        &json_bytes(&e.force.to_json(&force_settings)),
+    )?;
+    write_atomic(
+        &out.join(format!("{name}.velocity.json")),
+        &json_bytes(&e.velocity.to_json(s)),
+    )?;
+    write_atomic(
+        &out.join(format!("{name}.svg")),
+        e.force
+            .quiver(&format!("{name}: zero-velocity force field"))
+            .to_svg()
+            .as_bytes(),
+    )?;
+    write_atomic(
+        &out.join(format!("{name}.velocity.svg")),
+        e.velocity
+            .quiver(&format!("{name}: steady-state velocity field"))
+            .to_svg()
+            .as_bytes(),
+    )?;
+    Ok(())
 }
 
 /// Default output folder of `platefield primitives`.
