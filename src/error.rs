@@ -21,6 +21,11 @@ pub enum Error {
     /// An iterative solver did not converge.
     #[error("not converged: {0}")]
     NotConverged(String),
+    /// The fit failed, with its kind ([`crate::fit::FitError`]: a dimension
+    /// mismatch, invalid input, the conic solver's setup or status, a failed
+    /// verification).
+    #[error("not converged: fit: {0}")]
+    Fit(#[from] crate::fit::FitError),
     /// I/O error with the path involved.
     #[error("{path}: {source}")]
     Io {
@@ -29,6 +34,20 @@ pub enum Error {
         /// Underlying error.
         source: std::io::Error,
     },
+}
+
+/// Why an argmin run stopped early: the evaluation budget was spent.
+/// Its cost functions return it as their error, and the runs recognise it
+/// by type ([`BudgetSpent::is`]), not by message.
+#[derive(Debug, Error)]
+#[error("{0} budget spent")]
+pub struct BudgetSpent(pub &'static str);
+
+impl BudgetSpent {
+    /// Whether `e` (an argmin error) is a spent budget.
+    pub fn is(e: &anyhow::Error) -> bool {
+        e.downcast_ref::<BudgetSpent>().is_some()
+    }
 }
 
 /// Result alias.

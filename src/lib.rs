@@ -13,11 +13,14 @@
 //!
 //! A target field, read like a target file (`targets/*.json`, see
 //! [`request`]), is designed into a schedule of primitive plate motions by
-//! [`design::design`] (the sequence method); here on a small grid with few
-//! steps per cycle, so that it runs in seconds:
+//! [`design::run`], the one door of the inverse design: it designs by the
+//! method asked for ([`design::Method`]; here the sequence of primitives),
+//! plays every candidate on simulated point parts and keeps one with a
+//! typed reason ([`design::Choice`]). Here on a small grid with few steps
+//! per cycle, so that it runs in seconds:
 //!
 //! ```
-//! use platefield::design::{design, DesignOptions};
+//! use platefield::design::{self, DesignOptions, DesignOutcome, Method};
 //! use platefield::request::Target;
 //!
 //! // Parts drawn to the plate's centre, sampled on a 7 × 7 grid (m).
@@ -29,17 +32,23 @@
 //!     rotation_step_deg: 45.0, // primitives turned in steps of 45°
 //!     cache_dir: None,         // build the primitive library, do not cache it
 //!     quiet: true,
+//!     method: Method::Sequence,
 //!     ..DesignOptions::default()
 //! };
 //! options.settings.numerics.steps_per_cycle = 16;
 //! options.settings.phases = 4;
-//! let sink = design(&target, &options)?;
+//! let DesignOutcome::Method(outcome) = design::run(&target, &options)? else {
+//!     unreachable!("a target without classes or closed loop is designed by its method")
+//! };
+//! assert_eq!(outcome.choice, design::Choice::Asked(Method::Sequence));
+//! let kept = outcome.kept();
+//! assert_eq!(kept.method, Method::Sequence);
 //!
 //! // The schedule's predicted field has the target's shape within 5 %
 //! // (relative L2 error of the fitted time fractions, and after rounding
 //! // them to whole cycles), and a sink needs squeezing along two lines at
 //! // least: primitives at two angles.
-//! let schedule = &sink.schedule;
+//! let schedule = &kept.schedule;
 //! assert!(!schedule.poor_fit);
 //! assert!(schedule.fit.relative_l2_error < 0.05, "{}", schedule.fit.relative_l2_error);
 //! assert!(schedule.fit_quantized.relative_l2_error < 0.05);
@@ -50,6 +59,11 @@
 //!     .map(|p| p.rotation_deg.rem_euclid(180.0).round() as i64)
 //!     .collect();
 //! assert!(angles.len() >= 2, "{angles:?}");
+//!
+//! // Realised, not only predicted: point parts played from about 5 × 5
+//! // start points kept contact and were measured.
+//! let played = kept.played();
+//! assert!(played.points >= 9 && played.valid >= 3, "{played:?}");
 //! # Ok::<(), platefield::Error>(())
 //! ```
 //!
@@ -108,7 +122,6 @@
 #![warn(missing_docs)]
 
 pub mod basis;
-pub mod cli;
 pub mod design;
 pub mod dynamics;
 pub mod error;

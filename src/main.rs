@@ -6,8 +6,10 @@ use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
 
+mod cli;
+
+use cli::{AllowLong, Json, Play, Quiet, Steps};
 use platefield::basis::StepsPlan;
-use platefield::cli::{self, AllowLong, Json, Play, Quiet, Steps};
 use platefield::design::order::OrderRequest;
 use platefield::dynamics::Preset;
 use platefield::studies;

@@ -280,7 +280,8 @@ fn crate_graph(src: &Path) -> Graph {
         let rel = f.strip_prefix(src).expect("under src");
         let path = module_path(rel);
         let top = match path.first().map(String::as_str) {
-            None | Some("lib") | Some("main") => continue,
+            // The binary's files (main.rs and cli/) are no library module.
+            None | Some("lib") | Some("main") | Some("cli") => continue,
             Some(t) => t.to_string(),
         };
         let text = std::fs::read_to_string(&f).expect("read file");
@@ -691,4 +692,218 @@ fn dynamics_has_no_long_argument_lists() {
             f.display()
         );
     }
+}
+
+/// The files of the `platefield` binary: `src/main.rs` and `src/cli/`
+/// (declared from main.rs; the Python package compiles them in too).
+fn is_binary_file(rel: &Path) -> bool {
+    rel == Path::new("main.rs") || rel.starts_with("cli")
+}
+
+/// The library names no clap type: clap is the binary's (its argument
+/// structs and value parsers are in `src/cli`), so `lib.rs` exports none.
+#[test]
+fn only_the_binary_names_clap() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    rust_files(&src, &mut files);
+    let mut library = 0;
+    for f in files {
+        let rel = f.strip_prefix(&src).expect("under src");
+        if is_binary_file(rel) {
+            continue;
+        }
+        library += 1;
+        let code = strip_comments_and_literals(&std::fs::read_to_string(&f).expect("read file"));
+        let names = code.match_indices("clap").any(|(k, _)| {
+            let before = code[..k].chars().next_back();
+            let after = code[k + 4..].chars().next();
+            let word = |c: Option<char>| c.is_some_and(|c| c.is_alphanumeric() || c == '_');
+            !word(before) && !word(after)
+        });
+        assert!(!names, "{} names clap", rel.display());
+    }
+    assert!(library > 100, "too few library files: {library}");
+    // The check sees a use of clap.
+    let planted = strip_comments_and_literals("use clap::Args; // clap\nlet s = \"clap\";");
+    assert_eq!(planted.matches("clap").count(), 1);
+}
+
+/// `line` with string literals emptied, a `//` comment cut and one-
+/// character char literals removed (so their braces do not count), as
+/// /work/tools/fnlen.py reads a line.
+fn fn_line_code(line: &str) -> String {
+    let c: Vec<char> = line.chars().collect();
+    let mut out = String::new();
+    let mut i = 0;
+    while i < c.len() {
+        if c[i] == '"' {
+            // A closed literal on this line becomes "", an open one stays.
+            let mut j = i + 1;
+            while j < c.len() && c[j] != '"' {
+                j += if c[j] == '\\' { 2 } else { 1 };
+            }
+            if j < c.len() {
+                out.push_str("\"\"");
+                i = j + 1;
+                continue;
+            }
+        }
+        out.push(c[i]);
+        i += 1;
+    }
+    if let Some(k) = out.find("//") {
+        out.truncate(k);
+    }
+    let c: Vec<char> = out.chars().collect();
+    let mut code = String::new();
+    let mut i = 0;
+    while i < c.len() {
+        if c[i] == '\'' && i + 2 < c.len() && c[i + 2] == '\'' {
+            i += 3;
+        } else {
+            code.push(c[i]);
+            i += 1;
+        }
+    }
+    code
+}
+
+/// The function a line opens, if any: `[pub[(…)]] [const] [async]
+/// [unsafe] fn name`, indented or not.
+fn fn_name(line: &str) -> Option<&str> {
+    let mut rest = line.trim_start();
+    if let Some(r) = rest.strip_prefix("pub") {
+        let r = match r.strip_prefix('(') {
+            Some(inner) => &inner[inner.find(')')? + 1..],
+            None => r,
+        };
+        if r.starts_with(char::is_whitespace) {
+            rest = r.trim_start();
+        }
+    }
+    for word in ["const", "async", "unsafe"] {
+        if let Some(r) = rest.strip_prefix(word) {
+            if r.starts_with(char::is_whitespace) {
+                rest = r.trim_start();
+            }
+        }
+    }
+    let r = rest.strip_prefix("fn")?;
+    if !r.starts_with(char::is_whitespace) {
+        return None;
+    }
+    let r = r.trim_start();
+    let end = r
+        .find(|c: char| !(c.is_alphanumeric() || c == '_'))
+        .unwrap_or(r.len());
+    (end > 0).then(|| &r[..end])
+}
+
+/// Every function of `text` with a body, as (lines, name, first line),
+/// up to its `#[cfg(test)] mod` (tests aside): from the line that opens it
+/// to the line whose brace closes its body, braces matched line by line.
+fn function_lengths(text: &str) -> Vec<(usize, String, usize)> {
+    let lines: Vec<&str> = text.split('\n').collect();
+    let end = (0..lines.len())
+        .find(|&i| {
+            lines[i].trim() == "#[cfg(test)]"
+                && lines
+                    .get(i + 1)
+                    .is_some_and(|l| l.trim_start().starts_with("mod "))
+        })
+        .unwrap_or(lines.len());
+    let mut out = Vec::new();
+    for i in 0..end {
+        let Some(name) = fn_name(lines[i]) else {
+            continue;
+        };
+        let (mut depth, mut started, mut j) = (0i64, false, i);
+        while j < end {
+            let code = fn_line_code(lines[j]);
+            if code.contains(';') && !started && !code.contains('{') {
+                break;
+            }
+            for ch in code.chars() {
+                match ch {
+                    '{' => {
+                        depth += 1;
+                        started = true;
+                    }
+                    '}' => depth -= 1,
+                    _ => {}
+                }
+            }
+            if started && depth <= 0 {
+                break;
+            }
+            j += 1;
+        }
+        if started {
+            out.push((j - i + 1, name.to_string(), i + 1));
+        }
+    }
+    out
+}
+
+/// Functions of at least this many lines are long.
+const LONG_FUNCTION_LINES: usize = 80;
+/// At most this share of the functions in `src/` may be long (the crates
+/// platefield is built on: clarabel 0.9 %, argmin 2.2 %, serde_json 0.2 %).
+const LONG_FUNCTION_SHARE: f64 = 0.015;
+
+/// Functions of ≥ [`LONG_FUNCTION_LINES`] lines are at most
+/// [`LONG_FUNCTION_SHARE`] of the functions in `src/` (tests aside);
+/// the count matches /work/tools/fnlen.py's.
+#[test]
+fn long_functions_are_few() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    rust_files(&src, &mut files);
+    let mut all = Vec::new();
+    for f in &files {
+        let text = std::fs::read_to_string(f).expect("read file");
+        for (n, name, line) in function_lengths(&text) {
+            all.push((n, format!("{}:{line} {name}", f.display())));
+        }
+    }
+    let long: Vec<&(usize, String)> = all
+        .iter()
+        .filter(|(n, _)| *n >= LONG_FUNCTION_LINES)
+        .collect();
+    assert!(all.len() > 1000, "too few functions found: {}", all.len());
+    let share = long.len() as f64 / all.len() as f64;
+    println!(
+        "{} of {} functions >= {LONG_FUNCTION_LINES} lines ({:.2} %)",
+        long.len(),
+        all.len(),
+        100.0 * share
+    );
+    assert!(
+        share <= LONG_FUNCTION_SHARE,
+        "{} of {} functions are >= {LONG_FUNCTION_LINES} lines: {long:?}",
+        long.len(),
+        all.len()
+    );
+}
+
+/// The counter on planted code: a body's braces matched (those in strings,
+/// comments and char literals not counted), declarations without a body
+/// and the test module skipped, signatures over several lines counted.
+#[test]
+fn function_counter_matches_braces() {
+    let code = "fn a() {\n    let s = \"}}\"; // }\n    let c = '{';\n}\n\
+                pub(crate) fn b(\n    x: u8,\n) -> u8 {\n    if x > 0 { x } else { 0 }\n}\n\
+                trait T {\n    fn c(&self);\n}\n\
+                pub const unsafe fn d() {}\n\
+                #[cfg(test)]\nmod tests {\n    fn e() {\n    }\n}\n";
+    let got = function_lengths(code);
+    let want = vec![
+        (4, "a".to_string(), 1),
+        (5, "b".to_string(), 5),
+        (1, "d".to_string(), 13),
+    ];
+    assert_eq!(got, want);
+    assert_eq!(fn_name("    pub(in crate::x) async fn go<T>()"), Some("go"));
+    assert_eq!(fn_name("let fnord = 1;"), None);
 }

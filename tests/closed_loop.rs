@@ -146,13 +146,13 @@ fn closed_loop_without_candidates_keeps_the_open_loop_schedule() {
     assert_eq!(cl.best, 0);
     assert_eq!(cl.after(), cl.before());
     assert_eq!(cl.schedule(&target, &d.target.weights), d.schedule);
-    // Bad options name the flag.
+    // Bad options name the option's path.
     let bad = LoopOptions {
         stride: 0,
         ..COARSE
     };
     let e = closed_loop(&target, &d, &bad).unwrap_err().to_string();
-    assert!(e.contains("--loop-stride"), "{e}");
+    assert!(e.contains("closed_loop.stride"), "{e}");
 }
 
 /// `platefield design --closed-loop`: before/after printed, files written,

@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 
 use platefield::basis::PrimitiveKind;
-use platefield::design::method::{Candidate, TIE_SHAPE_ERROR};
+use platefield::design::method::{Candidate, Choice, TIE_SHAPE_ERROR};
 use platefield::design::{design_by_method, DesignOptions, Method};
 use platefield::field::FieldSettings;
 use platefield::fit::POOR_ERROR;
@@ -94,9 +94,10 @@ fn auto_plays_both_and_keeps_the_better_realised_one() {
     assert_eq!(md.candidates[0].method, Method::Sequence);
     assert_eq!(md.candidates[1].method, Method::Synthesize);
     let (k, o) = (md.chosen, 1 - md.chosen);
-    assert!(better(&md.candidates[k], &md.candidates[o]), "{}", md.why);
+    assert!(better(&md.candidates[k], &md.candidates[o]), "{}", md.why());
+    assert!(matches!(md.choice, Choice::Rule(_)), "{:?}", md.choice);
     assert!(md
-        .why
+        .why()
         .starts_with(&format!("auto kept {}", md.kept().method.name())));
     for c in &md.candidates {
         let p = c.played();
@@ -109,9 +110,9 @@ fn auto_plays_both_and_keeps_the_better_realised_one() {
             p.poor,
             p.notes
         );
-        assert_eq!(p.method, c.method.name());
-        assert_eq!(p.asked, "auto");
-        assert_eq!(p.choice, md.why);
+        assert_eq!(p.method, c.method);
+        assert_eq!(p.asked, Method::Auto);
+        assert_eq!(p.choice, md.why());
         assert!(p.points >= 16 && p.valid <= p.points);
         let shape = p.realised_shape_error.expect("finite");
         // A sink has an attractor: every lost part is POOR (lost in the
@@ -164,13 +165,15 @@ fn auto_keeps_the_method_that_works() {
     .expect("design");
     assert_eq!(md.candidates.len(), 1);
     assert_eq!(md.kept().method, Method::Synthesize);
-    let (m, e) = &md.failures[0];
-    assert_eq!(*m, Method::Sequence);
+    let f = &md.failures[0];
+    assert_eq!(f.method, Method::Sequence);
+    let e = f.reason.to_string();
     assert!(e.contains("shaker limit") && e.contains("linear.x"), "{e}");
+    assert_eq!(md.choice, Choice::Only);
+    let why = md.why();
     assert!(
-        md.why.contains("only synthesize") && md.why.contains("sequence failed"),
-        "{}",
-        md.why
+        why.contains("only synthesize") && why.contains("sequence failed"),
+        "{why}"
     );
     // Asked for alone, the failure is the error.
     let e = design_by_method(
@@ -313,7 +316,7 @@ fn mix_combines_a_synthesized_motion_with_primitives() {
         s.fit.relative_l2_error
     );
     let p = md.kept().played();
-    assert_eq!(p.method, "mix");
+    assert_eq!(p.method, Method::Mix);
     assert!(p.valid > 0, "{p:?}");
     // The ramps' overshoot is scaled away: every peak within its limit.
     let lim = [50.0, 50.0, 0.0, 170.0, 170.0, 0.0];

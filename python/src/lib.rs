@@ -2,8 +2,8 @@
 //! (`platefield._platefield`). Each function is the library call the
 //! command-line tool makes for the same job, so Python and the CLI give the
 //! same numbers: `design` and `verify` parse the CLI's own argument structs
-//! ([`platefield::cli::design::DesignArgs`],
-//! [`platefield::cli::verify::VerifyArgs`]) from the argument list the
+//! (`cli::design::DesignArgs`, `cli::verify::VerifyArgs`: the binary's
+//! `src/cli`, compiled in here, as the library has no clap types) from the argument list the
 //! Python layer builds from keyword arguments and run them with `--json`;
 //! `field` and `export` return numpy arrays of what `field` and `export`
 //! print. The GIL is released while Rust works.
@@ -19,12 +19,18 @@ use pyo3::exceptions::PyException;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use platefield::cli::design::DesignArgs;
-use platefield::cli::verify::VerifyArgs;
+use cli::design::DesignArgs;
+use cli::verify::VerifyArgs;
 use platefield::field::Validity;
 use platefield::scene::Scene;
 use platefield::schedule::{export as schedule_export, Schedule};
 use platefield::Error;
+
+/// The `platefield` binary's argument groups and handlers, compiled from
+/// its source: the library exports no clap types.
+#[path = "../../src/cli/mod.rs"]
+#[allow(dead_code)]
+mod cli;
 
 create_exception!(
     _platefield,
@@ -55,6 +61,9 @@ fn library_error(e: Error) -> PyErr {
         Error::Invalid { field, message } => ("invalid", field, message),
         Error::Physical(m) => ("physical", String::new(), m),
         Error::NotConverged(m) => ("not_converged", String::new(), m),
+        // The fit's own kind stays in the Rust error; Python sees it as
+        // not converged, with the fit's message, as before.
+        Error::Fit(f) => ("not_converged", String::new(), format!("fit: {f}")),
         Error::Io { path, source } => ("io", path, source.to_string()),
     };
     NativeError::new_err((kind, path, message, String::new()))
@@ -142,7 +151,7 @@ fn field<'py>(
             Scene::from_json_str,
         )?;
         let origin = path.as_deref().unwrap_or("scene");
-        platefield::cli::field::compute(&s, Path::new(origin), quiet, allow_long)
+        cli::field::compute(&s, Path::new(origin), quiet, allow_long)
     });
     let f = computed.map_err(library_error)?;
     let [nx, ny] = f.grid.n;

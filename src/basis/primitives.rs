@@ -17,20 +17,7 @@ use crate::error::{finite, positive, Error, Result};
 use crate::motion::{FourierTerm, Motion, Screw, Waveform};
 
 /// The eight primitives of the paper's Table I.
-#[derive(
-    Debug,
-    Clone,
-    Copy,
-    PartialEq,
-    Eq,
-    Hash,
-    PartialOrd,
-    Ord,
-    Serialize,
-    Deserialize,
-    clap::ValueEnum,
-)]
-#[value(rename_all = "verbatim")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 pub enum PrimitiveKind {
     /// Rotation about a horizontal axis below the plate: f ≈ a(−x, 0).
     LineSink,

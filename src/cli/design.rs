@@ -4,15 +4,17 @@ use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 
-use crate::basis::PrimitiveKind;
-use crate::design::closed_loop::LoopOptions;
-use crate::design::{DesignOptions, Method};
-use crate::dynamics::Preset;
-use crate::field::FieldKind;
-use crate::fit::FitMode;
-use crate::synth::progress::ProgressMode;
-use crate::synth::SynthOptions;
-use crate::{report, Error, Result};
+use platefield::basis::PrimitiveKind;
+use platefield::design::closed_loop::LoopOptions;
+use platefield::design::{DesignOptions, Method};
+use platefield::dynamics::Preset;
+use platefield::field::FieldKind;
+use platefield::fit::FitMode;
+use platefield::synth::progress::ProgressMode;
+use platefield::synth::SynthOptions;
+use platefield::{report, Error, Result};
+
+use super::values::{choices, FIELD_KINDS, PRESETS, PRIMITIVE_KINDS};
 
 /// Fit mode (see [`FitMode`]).
 #[derive(Clone, Copy, ValueEnum)]
@@ -86,13 +88,13 @@ pub struct DesignArgs {
     #[arg(long, allow_negative_numbers = true)]
     pub max_primitives: Option<usize>,
     /// Basis field kind: velocity (steady-state velocity fields, default) or force.
-    #[arg(long, value_enum, default_value_t = FieldKind::Velocity)]
+    #[arg(long, value_parser = choices(&FIELD_KINDS), default_value = "velocity")]
     pub basis: FieldKind,
     /// Rotation step of the basis copies (degrees; in [1, 360] and dividing 360).
     #[arg(long, default_value_t = 15.0, allow_negative_numbers = true)]
     pub rotation_step: f64,
     /// Primitive kinds allowed, comma separated (default: all eight).
-    #[arg(long, value_enum, value_delimiter = ',')]
+    #[arg(long, value_parser = choices(&PRIMITIVE_KINDS), value_delimiter = ',')]
     pub primitives: Option<Vec<PrimitiveKind>>,
     /// Also use basis copies shifted by this horizontal offset "x,y" (m); repeatable.
     #[arg(long, allow_negative_numbers = true, value_parser = xy)]
@@ -101,7 +103,7 @@ pub struct DesignArgs {
     #[arg(long)]
     pub keep_invalid: bool,
     /// Minimum cycles per segment.
-    #[arg(long, default_value_t = crate::schedule::DEFAULT_MIN_CYCLES)]
+    #[arg(long, default_value_t = platefield::schedule::DEFAULT_MIN_CYCLES)]
     pub min_cycles: u32,
     /// Total schedule length in cycles (default: the shortest within the quantisation tolerance).
     #[arg(long)]
@@ -152,7 +154,7 @@ pub struct DesignArgs {
     #[arg(long, default_value_t = 8)]
     pub loop_iterations: u32,
     /// Closed loop: model the schedules are played with: the design's own (default, normally full), full, paper, or frozen (positions frozen: the local field, for long schedule periods in which parts travel far; not valid with Circle segments).
-    #[arg(long, value_enum)]
+    #[arg(long, value_parser = choices(&PRESETS))]
     pub loop_model: Option<Preset>,
 }
 
@@ -175,7 +177,10 @@ impl DesignArgs {
                 if !(self.budget > 0.0 && self.budget < 1.0) {
                     return Err(Error::invalid(
                         "--budget",
-                        format!("must be in (0, 1), got {}", crate::input::num(self.budget)),
+                        format!(
+                            "must be in (0, 1), got {}",
+                            platefield::input::num(self.budget)
+                        ),
                     ));
                 }
                 FitMode::Budget {
@@ -213,15 +218,15 @@ impl DesignArgs {
 
     /// Checks the arguments, designs the schedule and returns the summary to print.
     pub fn run(&self) -> Result<String> {
-        let opts = self.options()?;
+        let mut opts = self.options()?;
         let loop_opts = LoopOptions {
             stride: self.loop_stride,
             max_iterations: self.loop_iterations,
             model: self.loop_model.map(Preset::model),
             ..LoopOptions::default()
         };
-        loop_opts.validate()?;
-        let closed = self.closed_loop.then_some(&loop_opts);
+        loop_opts.validate().map_err(flag_named)?;
+        opts.closed_loop = self.closed_loop.then_some(loop_opts);
         if self.synth_evaluations == 0 {
             return Err(Error::invalid("--synth-evaluations", "must be ≥ 1"));
         }
@@ -239,14 +244,35 @@ impl DesignArgs {
             synth.lm = None;
             synth.polish_lm = None;
         }
-        report::run_design::run(
-            &self.target,
-            &opts,
-            closed,
-            &self.out,
-            self.json,
-            self.method.into(),
-            &synth,
-        )
+        opts.synthesis = synth;
+        opts.method = self.method.into();
+        report::run_design::run(&self.target, &opts, &self.out, self.json).map_err(flag_named)
+    }
+}
+
+/// The command-line flag of each option path [`DesignOptions`]' checks
+/// name (the library speaks in option paths, the command line in flags).
+const FLAGS: [(&str, &str); 8] = [
+    ("total_cycles", "--cycles"),
+    ("min_cycles", "--min-cycles"),
+    ("shifts", "--shift"),
+    ("rotation_step_deg", "--rotation-step"),
+    ("method", "--method"),
+    ("closed_loop", "--closed-loop"),
+    ("closed_loop.stride", "--loop-stride"),
+    ("closed_loop.max_iterations", "--loop-iterations"),
+];
+
+/// `e` with an option path of [`FLAGS`] replaced by its flag.
+fn flag_named(e: Error) -> Error {
+    match e {
+        Error::Invalid { field, message } => {
+            let field = FLAGS
+                .iter()
+                .find(|(path, _)| *path == field)
+                .map_or(field, |(_, flag)| flag.to_string());
+            Error::Invalid { field, message }
+        }
+        e => e,
     }
 }

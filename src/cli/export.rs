@@ -4,10 +4,10 @@ use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 
-use crate::output::write_atomic;
-use crate::schedule::export::{self, harmonics};
-use crate::schedule::Schedule;
-use crate::Result;
+use platefield::output::write_atomic;
+use platefield::schedule::export::{self, harmonics};
+use platefield::schedule::Schedule;
+use platefield::Result;
 
 /// What `export` writes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]

@@ -3,10 +3,10 @@
 
 use std::path::Path;
 
-use crate::output::write_all_atomic;
-use crate::scene::Scene;
-use crate::work::Estimate;
-use crate::{Error, Result};
+use platefield::output::write_all_atomic;
+use platefield::scene::Scene;
+use platefield::work::Estimate;
+use platefield::{Error, Result};
 
 /// Computes the field of the scene at `scene_path`, writes it as JSON to `out`
 /// and as a quiver plot to `svg` (when given), and returns the text to print:
@@ -24,7 +24,7 @@ pub fn run(
     // none after it.
     for (path, arg) in [(out, "--out"), (svg, "--svg")] {
         if let Some(folder) = path.and_then(Path::parent) {
-            crate::output::check_writable(folder, arg)?;
+            platefield::output::check_writable(folder, arg)?;
         }
     }
     let start = std::time::Instant::now();
@@ -57,32 +57,22 @@ pub fn run(
 /// name), after the work estimate allows it (`allow_long` lifts the limit);
 /// `quiet` hides the progress bar. What `field` and the Python package's
 /// `platefield.field` compute.
-///
-/// ```no_run
-/// use std::path::Path;
-/// use platefield::scene::Scene;
-///
-/// let path = Path::new("targets/scenes/linesink.json");
-/// let field = platefield::cli::field::compute(&Scene::load(path)?, path, true, false)?;
-/// println!("{} of {} samples valid", field.valid_count(), field.vectors.len());
-/// # Ok::<(), platefield::Error>(())
-/// ```
 pub fn compute(
     scene: &Scene,
     scene_path: &Path,
     quiet: bool,
     allow_long: bool,
-) -> Result<crate::field::Field> {
+) -> Result<platefield::field::Field> {
     Estimate::new(
         "scene",
         "computing the field",
         "a smaller scene.grid.n, scene.numerics.steps_per_cycle or (force fields) scene.phases",
     )
-    .plus(crate::work::field_term(
+    .plus(platefield::work::field_term(
         "field",
         1.0,
         "field",
-        crate::field::simulated_points(&scene.motion.to_motion(), &scene.grid) as f64,
+        platefield::field::simulated_points(&scene.motion.to_motion(), &scene.grid) as f64,
         scene.kind,
         &scene.settings(),
     ))

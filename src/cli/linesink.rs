@@ -2,16 +2,17 @@
 
 use clap::Args;
 
+use super::values::{choices, PRESETS, WAVES};
 use super::{Json, Steps};
-use crate::dynamics::{Friction, Preset};
-use crate::studies::linesink::{LineSink, Wave};
-use crate::Result;
+use platefield::dynamics::{Friction, Preset};
+use platefield::studies::linesink::{LineSink, Wave};
+use platefield::Result;
 
 /// Arguments of `platefield linesink`.
 #[derive(Args)]
 pub struct LinesinkArgs {
     /// Angular-acceleration waveform: square (eq. 1, ±α) or sine (ψ'' = A sin ωt).
-    #[arg(long, value_enum, default_value_t = Wave::Square)]
+    #[arg(long, value_parser = choices(&WAVES), default_value = "square")]
     pub wave: Wave,
     /// α of the square wave, or the sine's amplitude A (rad/s²).
     #[arg(long, allow_negative_numbers = true)]
@@ -37,7 +38,7 @@ pub struct LinesinkArgs {
     )]
     pub r: Vec<f64>,
     /// Model preset: paper (small angle, frozen position, no centripetal/tilt/Coriolis), full, or frozen (full, position frozen).
-    #[arg(long, value_enum, default_value_t = Preset::Paper)]
+    #[arg(long, value_parser = choices(&PRESETS), default_value = "paper")]
     pub model: Preset,
     /// The part moves during the cycle (free steady state); implied by --model full.
     #[arg(long)]

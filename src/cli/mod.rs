@@ -7,11 +7,12 @@ pub mod export;
 pub mod field;
 pub mod linesink;
 pub mod poses;
+pub mod values;
 pub mod verify;
 
 use clap::Args;
 
-use crate::dynamics::{Numerics, Preset};
+use platefield::dynamics::{Numerics, Preset};
 
 /// How a schedule is played to measure its realised field (`verify`, `order`).
 #[derive(Args)]
@@ -26,7 +27,7 @@ pub struct Play {
     #[arg(long, default_value_t = 1)]
     pub warmup: u32,
     /// Model: the schedule's own (default, normally full), full, paper, or frozen (full with positions frozen: an exact comparison when parts drift far).
-    #[arg(long, value_enum)]
+    #[arg(long, value_parser = values::choices(&values::PRESETS))]
     pub model: Option<Preset>,
 }
 

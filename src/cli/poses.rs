@@ -4,24 +4,24 @@
 //! SOURCE is a target (its requested field is the point field), a scene
 //! (its point-part steady-state velocity field on its grid, computed here
 //! whatever its `kind`) or a designed schedule (the time-weighted field of
-//! its segments on its target's grid, [`crate::pose::schedule_field`]).
+//! its segments on its target's grid, [`platefield::pose::schedule_field`]).
 //! The region is the source's grid. With `--play SECONDS` (schedules only)
 //! every drop is also played by the planar simulator through the schedule
-//! ([`crate::pose::played_basins`]). For a part with an unknown support the
-//! equilibrium bounds ([`crate::pose::Bounds`]) are scanned over the region.
+//! ([`platefield::pose::played_basins`]). For a part with an unknown support the
+//! equilibrium bounds ([`platefield::pose::Bounds`]) are scanned over the region.
 
 use std::path::Path;
 
 use serde_json::Value;
 
-use crate::field::{Field, FieldKind, Grid};
-use crate::output::write_all_atomic;
-use crate::part::Part;
-use crate::pose::{analyse, schedule_field, GridField, PointField, Region, MAX_DROPS};
-use crate::request::Target;
-use crate::scene::Scene;
-use crate::schedule::Schedule;
-use crate::{Error, Result};
+use platefield::field::{Field, FieldKind, Grid};
+use platefield::output::write_all_atomic;
+use platefield::part::Part;
+use platefield::pose::{analyse, schedule_field, GridField, PointField, Region, MAX_DROPS};
+use platefield::request::Target;
+use platefield::scene::Scene;
+use platefield::schedule::Schedule;
+use platefield::{Error, Result};
 
 /// A point field, its grid, the grid's JSON path and the schedule it came
 /// from (if any).
@@ -32,7 +32,7 @@ const MAX_PLAY_S: f64 = 3600.0;
 
 /// The point field and its region from `source` (module docs).
 fn point_field(source: &Path) -> Result<Source> {
-    let text = crate::input::read_input(source).map_err(|e| Error::Io {
+    let text = platefield::input::read_input(source).map_err(|e| Error::Io {
         path: source.display().to_string(),
         source: e,
     })?;
@@ -117,7 +117,7 @@ pub fn run(
     }
     let part = Part::load(part)?;
     if let Some(dir) = out {
-        crate::output::check_writable(dir, "--out")?;
+        platefield::output::check_writable(dir, "--out")?;
     }
     let (field, grid, path, schedule) = point_field(source)?;
     part.check_fits(grid.x[1] - grid.x[0], grid.y[1] - grid.y[0], path)?;
@@ -135,29 +135,31 @@ pub fn run(
             ))
         }
         (Some(t), Some(s)) => {
-            let sm = crate::play::ScheduleMotion::from_schedule(s)?;
-            let p = crate::pose::DropPlay::new(&s.settings, t);
-            Some(crate::pose::played_basins(&analysis, &part, &sm, &p))
+            let sm = platefield::play::ScheduleMotion::from_schedule(s)?;
+            let p = platefield::pose::DropPlay::new(&s.settings, t);
+            Some(platefield::pose::played_basins(&analysis, &part, &sm, &p))
         }
     };
-    let bounds = matches!(part.support, crate::part::Support::Unknown { .. }).then(|| {
-        crate::pose::Bounds::new(&part, field.as_ref()).scan(&region, crate::report::poses::SCAN)
+    let bounds = matches!(part.support, platefield::part::Support::Unknown { .. }).then(|| {
+        platefield::pose::Bounds::new(&part, field.as_ref())
+            .scan(&region, platefield::report::poses::SCAN)
     });
-    let extras = crate::report::poses::Extras {
+    let extras = platefield::report::poses::Extras {
         played: played.as_ref(),
         bounds: bounds.as_deref(),
     };
-    let mut text =
-        serde_json::to_string_pretty(&crate::report::poses::to_json(&part, &analysis, &extras))
-            .map_err(|e| Error::Physical(e.to_string()))?;
+    let mut text = serde_json::to_string_pretty(&platefield::report::poses::to_json(
+        &part, &analysis, &extras,
+    ))
+    .map_err(|e| Error::Physical(e.to_string()))?;
     text.push('\n');
-    let mut summary = crate::report::poses::summary(&part, &analysis, &extras);
+    let mut summary = platefield::report::poses::summary(&part, &analysis, &extras);
     if let Some(dir) = out {
         std::fs::create_dir_all(dir).map_err(|e| Error::Io {
             path: dir.display().to_string(),
             source: e,
         })?;
-        let svg = crate::report::poses::picture(&part, &analysis);
+        let svg = platefield::report::poses::picture(&part, &analysis);
         let (jp, sp) = (dir.join("poses.json"), dir.join("poses.svg"));
         write_all_atomic(&[(&jp, text.as_bytes()), (&sp, svg.as_bytes())])?;
         summary.push_str(&format!("wrote {}\nwrote {}\n", jp.display(), sp.display()));

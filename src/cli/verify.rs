@@ -5,10 +5,10 @@ use std::path::PathBuf;
 use clap::Args;
 
 use super::{AllowLong, Play, Quiet};
-use crate::dynamics::Preset;
-use crate::verify::friction::FrictionArg;
-use crate::verify::{Duration, VerifyRequest};
-use crate::{report, Error, Result};
+use platefield::dynamics::Preset;
+use platefield::verify::friction::FrictionArg;
+use platefield::verify::{Duration, VerifyRequest};
+use platefield::{report, Error, Result};
 
 /// Arguments of `platefield verify`.
 #[derive(Args)]

@@ -111,17 +111,18 @@ impl Default for LoopOptions {
 }
 
 impl LoopOptions {
-    /// Validates ranges (errors name the CLI flag).
+    /// Validates ranges (errors name the option's path under
+    /// [`DesignOptions::closed_loop`](super::DesignOptions::closed_loop)).
     pub fn validate(&self) -> Result<()> {
         if !(1..=100).contains(&self.stride) {
             return Err(Error::invalid(
-                "--loop-stride",
+                "closed_loop.stride",
                 format!("must be in 1..=100, got {}", self.stride),
             ));
         }
         if self.max_iterations > 50 {
             return Err(Error::invalid(
-                "--loop-iterations",
+                "closed_loop.max_iterations",
                 format!("must be in 0..=50, got {}", self.max_iterations),
             ));
         }
@@ -129,7 +130,7 @@ impl LoopOptions {
             || self.measure.warmup_cycles > 100_000
         {
             return Err(Error::invalid(
-                "measure",
+                "closed_loop.measure",
                 format!(
                     "measured cycles must be in 1..=100000 and warm-up cycles in 0..=100000, got {} and {}",
                     self.measure.measured_cycles, self.measure.warmup_cycles
@@ -394,7 +395,7 @@ pub fn closed_loop(target: &Target, design: &Design, opts: &LoopOptions) -> Resu
     let starts = loop_points(target, &design.target, opts.stride);
     if starts.is_empty() {
         return Err(Error::invalid(
-            "--loop-stride",
+            "closed_loop.stride",
             "leaves no target point with a positive weight",
         ));
     }

@@ -55,8 +55,6 @@
 
 use std::time::Instant;
 
-use serde::{Deserialize, Serialize};
-
 use super::closed_loop::{loop_points, measure};
 use super::polish::{polish, PolishOptions};
 use super::{design, Design, DesignOptions};
@@ -68,6 +66,7 @@ use crate::fit::{self, FitMetrics};
 use crate::play::sensitivity::{self, FrictionRow, Judged, Sensitivity, Span};
 use crate::request::{Attractor, SampledTarget, Target};
 use crate::schedule::export::schedule_peaks;
+pub use crate::schedule::Method;
 use crate::schedule::{AxisPeaks, BasisInfo, Played, Schedule, Segment, SolverInfo};
 use crate::synth::{synthesize, ShakerLimits, SynthOptions, Synthesis};
 use crate::work::{Estimate, Term};
@@ -103,42 +102,6 @@ pub const TIE_SHAPE_ERROR: f64 = 0.01;
 /// whirlpool's centre part 1.25 mm, then back towards the centre).
 pub const ESCAPE_TOL: f64 = 1e-3;
 
-/// How `design` designs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
-#[serde(rename_all = "snake_case")]
-pub enum Method {
-    /// A time-shared schedule of primitives.
-    Sequence,
-    /// One simultaneous six-signal motion.
-    Synthesize,
-    /// Both; the better realised one is kept.
-    #[default]
-    Auto,
-    /// A schedule whose fit mixes a synthesized six-signal motion (one
-    /// basis column, ramped in and out inside its segment) with the
-    /// primitives: for targets no single motion reaches (see
-    /// [`mix_design`]).
-    Mix,
-    /// A synthesized motion time-shared with its mirror image
-    /// ([`super::mirror`]): a field that keeps its shape over the parts'
-    /// friction, for targets symmetric under y → −y. `auto` designs it too
-    /// when the target states a friction range and is symmetric.
-    Mirror,
-}
-
-impl Method {
-    /// The name used on the command line and in `schedule.json`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Method::Sequence => "sequence",
-            Method::Synthesize => "synthesize",
-            Method::Auto => "auto",
-            Method::Mix => "mix",
-            Method::Mirror => "mirror",
-        }
-    }
-}
-
 /// One designed and played candidate.
 #[derive(Debug, Clone)]
 pub struct Candidate {
@@ -168,10 +131,7 @@ impl Candidate {
     ) -> Result<Candidate> {
         let t = Instant::now();
         let p = play_check(target, sampled, &schedule, predicted, asked, limits)?;
-        let method = [Method::Synthesize, Method::Mix, Method::Mirror]
-            .into_iter()
-            .find(|m| p.method == m.name())
-            .unwrap_or(Method::Sequence);
+        let method = p.method;
         schedule.played = Some(p);
         Ok(Candidate {
             method,
@@ -207,10 +167,10 @@ pub struct MethodDesign {
     pub candidates: Vec<Candidate>,
     /// Index of the kept candidate.
     pub chosen: usize,
-    /// Why it was kept.
-    pub why: String,
-    /// Methods that failed, with the error.
-    pub failures: Vec<(Method, String)>,
+    /// Why it was kept ([`MethodDesign::why`] words it).
+    pub choice: Choice,
+    /// Methods that failed, with the reason.
+    pub failures: Vec<Failure>,
     /// The limits a synthesis keeps.
     pub limits: ShakerLimits,
     /// The kept design played across the friction the target states
@@ -251,7 +211,7 @@ pub fn design_by_method(
         mixed: None,
         candidates: Vec::new(),
         chosen: 0,
-        why: String::new(),
+        choice: Choice::Asked(method),
         failures: Vec::new(),
         limits: limits.clone(),
         sensitivity: None,
@@ -287,7 +247,10 @@ pub fn design_by_method(
             // a design that is physically impossible or did not converge
             // hands over to the synthesis.
             Err(e) if method == Method::Auto && !matches!(e, Error::Invalid { .. }) => {
-                out.failures.push((Method::Sequence, e.to_string()));
+                out.failures.push(Failure::new(
+                    Method::Sequence,
+                    FailureReason::Error(e.to_string()),
+                ));
                 first_error = Some(e);
             }
             Err(e) => return Err(e),
@@ -341,13 +304,12 @@ pub fn design_by_method(
                 out.synthesis = Some(syn);
             }
             Err(e) if method == Method::Auto && !out.candidates.is_empty() => {
-                let within = if from_sequence {
-                    "within the sequenced schedule's per-axis peaks: "
+                let reason = if from_sequence {
+                    FailureReason::WithinSequencedPeaks(e.to_string())
                 } else {
-                    ""
+                    FailureReason::Error(e.to_string())
                 };
-                out.failures
-                    .push((Method::Synthesize, format!("{within}{e}")));
+                out.failures.push(Failure::new(Method::Synthesize, reason));
             }
             Err(e) => return Err(first_error.unwrap_or(e)),
         }
@@ -360,11 +322,8 @@ pub fn design_by_method(
         match mix_design(target, &sampled, &out, opts, synth) {
             Ok((d, syn)) if d.schedule.segments.iter().all(|s| s.motion.is_none()) => {
                 // Nothing mixed: the schedule is the sequenced one again.
-                out.failures.push((
-                    Method::Mix,
-                    "the fit left the synthesized column out (the mixed design is the sequenced one)"
-                        .into(),
-                ));
+                out.failures
+                    .push(Failure::new(Method::Mix, FailureReason::ColumnLeftOut));
                 if out.synthesis.is_none() {
                     out.synthesis = syn;
                 }
@@ -385,7 +344,10 @@ pub fn design_by_method(
                 }
             }
             Err(e) if method == Method::Auto && !out.candidates.is_empty() => {
-                out.failures.push((Method::Mix, e.to_string()));
+                out.failures.push(Failure::new(
+                    Method::Mix,
+                    FailureReason::Error(e.to_string()),
+                ));
             }
             Err(e) => return Err(first_error.unwrap_or(e)),
         }
@@ -397,9 +359,10 @@ pub fn design_by_method(
             out.candidates[k].sensitivity = s;
         }
     }
-    let (chosen, why) = choose(&out.candidates, &out.failures, method);
+    let (chosen, choice) = choose(&out.candidates, method);
     out.chosen = chosen;
-    out.why = why.clone();
+    out.choice = choice;
+    let why = out.why();
     for c in &mut out.candidates {
         if let Some(p) = c.schedule.played.as_mut() {
             p.choice = why.clone();
@@ -487,33 +450,23 @@ pub fn sweep_estimate(schedule: &Schedule, values: usize) -> Estimate {
 }
 
 /// The candidate kept and why (see the [module documentation](self)).
-fn choose(cands: &[Candidate], failures: &[(Method, String)], asked: Method) -> (usize, String) {
-    let failed: String = failures
-        .iter()
-        .map(|(m, e)| format!("; {} failed: {e}", m.name()))
-        .collect();
+fn choose(cands: &[Candidate], asked: Method) -> (usize, Choice) {
     if cands.len() < 2 {
-        let why = match asked {
-            Method::Auto => format!(
-                "auto: only {} was designed{failed}",
-                cands.first().map_or("nothing".into(), describe)
-            ),
-            m => format!("method {} asked for", m.name()),
+        let choice = match asked {
+            Method::Auto => Choice::Only,
+            m => Choice::Asked(m),
         };
-        return (0, why);
+        return (0, choice);
     }
-    // The rule between two candidates: (b is better, why).
+    // The rule between two candidates: (b is better, the rule).
     let better = |a: &Candidate, b: &Candidate| {
         let (a, b) = (key(a), key(b));
         if a.0 != b.0 {
-            (a.0, "the other is POOR")
+            (a.0, Rule::OtherPoor)
         } else if (a.1 - b.1).abs() <= TIE_SHAPE_ERROR {
-            (
-                b.2 > a.2,
-                "shape errors within 1 percentage point: the higher realised strength wins",
-            )
+            (b.2 > a.2, Rule::HigherStrength)
         } else {
-            (b.1 < a.1, "the lower realised shape error wins")
+            (b.1 < a.1, Rule::LowerShapeError)
         }
     };
     // The best of `ks` by the rule, and the rule that decided against the
@@ -524,20 +477,121 @@ fn choose(cands: &[Candidate], failures: &[(Method, String)], asked: Method) -> 
     };
     let pick = best_of(&mut (0..cands.len()));
     let runner = best_of(&mut (0..cands.len()).filter(|&k| k != pick));
-    let rule = better(&cands[runner], &cands[pick]).1;
-    let others: Vec<String> = (0..cands.len())
-        .filter(|&k| k != pick)
-        .map(|k| describe(&cands[k]))
-        .collect();
-    (
-        pick,
-        format!(
-            "auto kept {}: {rule} ({} against {})",
-            cands[pick].method.name(),
-            describe(&cands[pick]),
-            others.join("; ")
-        ),
-    )
+    (pick, Choice::Rule(better(&cands[runner], &cands[pick]).1))
+}
+
+/// Why [`design_by_method`] kept its candidate.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Choice {
+    /// A method other than `auto` was asked for: its one candidate.
+    Asked(Method),
+    /// `auto` designed one candidate (or none): the others failed.
+    Only,
+    /// `auto` kept the best candidate by this rule, the one that decided
+    /// against the runner-up.
+    Rule(Rule),
+}
+
+/// The rule that decides between two candidates under `auto`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Rule {
+    /// One is POOR and the other is not.
+    OtherPoor,
+    /// Realised shape errors within [`TIE_SHAPE_ERROR`]: the higher
+    /// realised strength wins.
+    HigherStrength,
+    /// The lower realised shape error wins.
+    LowerShapeError,
+}
+
+impl Rule {
+    /// The rule in words.
+    pub fn text(self) -> &'static str {
+        match self {
+            Rule::OtherPoor => "the other is POOR",
+            Rule::HigherStrength => {
+                "shape errors within 1 percentage point: the higher realised strength wins"
+            }
+            Rule::LowerShapeError => "the lower realised shape error wins",
+        }
+    }
+}
+
+/// A method that failed under `auto` (or left nothing to play), and why.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Failure {
+    /// The method.
+    pub method: Method,
+    /// Why.
+    pub reason: FailureReason,
+}
+
+impl Failure {
+    fn new(method: Method, reason: FailureReason) -> Failure {
+        Failure { method, reason }
+    }
+}
+
+/// Why a method failed.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum FailureReason {
+    /// Its design failed with this error (its message).
+    Error(String),
+    /// The synthesis failed within the sequenced schedule's per-axis
+    /// peaks (the shaker `auto` gives it without the target's own limits).
+    WithinSequencedPeaks(String),
+    /// The mix's fit left the synthesized column out: the mixed design is
+    /// the sequenced one.
+    ColumnLeftOut,
+}
+
+impl std::fmt::Display for FailureReason {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            FailureReason::Error(e) => f.write_str(e),
+            FailureReason::WithinSequencedPeaks(e) => {
+                write!(f, "within the sequenced schedule's per-axis peaks: {e}")
+            }
+            FailureReason::ColumnLeftOut => f.write_str(
+                "the fit left the synthesized column out (the mixed design is the sequenced one)",
+            ),
+        }
+    }
+}
+
+impl MethodDesign {
+    /// [`MethodDesign::choice`] in words, with every candidate's numbers
+    /// and the failures (as `schedule.json` records it in `played.choice`).
+    pub fn why(&self) -> String {
+        let cands = &self.candidates;
+        match self.choice {
+            Choice::Asked(m) => format!("method {} asked for", m.name()),
+            Choice::Only => {
+                let failed: String = self
+                    .failures
+                    .iter()
+                    .map(|f| format!("; {} failed: {}", f.method.name(), f.reason))
+                    .collect();
+                format!(
+                    "auto: only {} was designed{failed}",
+                    cands.first().map_or("nothing".into(), describe)
+                )
+            }
+            Choice::Rule(rule) => {
+                let others: Vec<String> = (0..cands.len())
+                    .filter(|&k| k != self.chosen)
+                    .map(|k| describe(&cands[k]))
+                    .collect();
+                format!(
+                    "auto kept {}: {} ({} against {})",
+                    cands[self.chosen].method.name(),
+                    rule.text(),
+                    describe(&cands[self.chosen]),
+                    others.join("; ")
+                )
+            }
+        }
+    }
 }
 
 /// One candidate in `choose`'s reason: its method, its realised shape
@@ -1078,13 +1132,13 @@ pub fn play_check(
             schedule.segments.iter().filter(|s| s.is_moving()).count() > 1,
         ) {
             (true, true) if schedule.segments.iter().all(|s| s.primitive.is_none()) => {
-                Method::Mirror.name().into()
+                Method::Mirror
             }
-            (true, true) => Method::Mix.name().into(),
-            (true, false) => Method::Synthesize.name().into(),
-            (false, _) => Method::Sequence.name().into(),
+            (true, true) => Method::Mix,
+            (true, false) => Method::Synthesize,
+            (false, _) => Method::Sequence,
         },
-        asked: asked.name().into(),
+        asked,
         choice: String::new(),
         points: plays.len(),
         valid: r.valid,
@@ -1123,8 +1177,8 @@ mod tests {
         };
         let mut schedule = Schedule::of_segments("t", vec![rest], FieldSettings::default(), fit);
         schedule.played = Some(Played {
-            method: method.name().into(),
-            asked: "auto".into(),
+            method,
+            asked: Method::Auto,
             choice: String::new(),
             points: 25,
             valid: 25,
@@ -1151,19 +1205,19 @@ mod tests {
     /// percentage point the higher realised strength; POOR loses.
     #[test]
     fn the_rule_is_the_stated_one() {
-        let pick = |a: Candidate, b: Candidate| choose(&[a, b], &[], Method::Auto);
+        let pick = |a: Candidate, b: Candidate| choose(&[a, b], Method::Auto);
         let (i, why) = pick(
             cand(Method::Sequence, 0.04, 0.3, false),
             cand(Method::Synthesize, 0.06, 0.5, false),
         );
-        assert_eq!(i, 0, "{why}");
-        assert!(why.contains("lower realised shape error"));
+        assert_eq!(i, 0, "{why:?}");
+        assert_eq!(why, Choice::Rule(Rule::LowerShapeError));
         let (i, why) = pick(
             cand(Method::Sequence, 0.040, 0.3, false),
             cand(Method::Synthesize, 0.049, 0.5, false),
         );
-        assert_eq!(i, 1, "{why}");
-        assert!(why.contains("higher realised strength"));
+        assert_eq!(i, 1, "{why:?}");
+        assert_eq!(why, Choice::Rule(Rule::HigherStrength));
         let (i, _) = pick(
             cand(Method::Sequence, 0.30, 0.3, true),
             cand(Method::Synthesize, 0.25, 0.5, false),
@@ -1173,8 +1227,8 @@ mod tests {
             cand(Method::Sequence, 0.10, 0.3, false),
             cand(Method::Synthesize, 0.02, 0.5, true),
         );
-        assert_eq!(i, 0, "{why}");
-        assert!(why.contains("the other is POOR"));
+        assert_eq!(i, 0, "{why:?}");
+        assert_eq!(why, Choice::Rule(Rule::OtherPoor));
     }
 
     /// The polish term counts the parts the polish plays: every sample of a

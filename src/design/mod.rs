@@ -30,6 +30,7 @@ mod options;
 pub mod order;
 pub mod polish;
 pub mod refine;
+mod run;
 pub mod sort;
 mod stages;
 
@@ -47,7 +48,8 @@ use crate::schedule::{self, Schedule};
 use order::OrderSearch;
 
 pub use basis::DesignBasis;
-pub use method::{design_by_method, Method, MethodDesign};
+pub use method::{design_by_method, Choice, Method, MethodDesign};
+pub use run::{run, DesignOutcome};
 
 /// Options of [`design`] (range-checked by [`DesignOptions::validate`]).
 #[derive(Debug, Clone)]
@@ -90,6 +92,15 @@ pub struct DesignOptions {
     /// with primitives): each column is the motion's own field of the
     /// basis kind, simulated on the target's sampling grid.
     pub motions: Vec<(String, crate::motion::Signals)>,
+    /// How [`run`] designs (default [`Method::Auto`]; [`design`] always
+    /// sequences).
+    pub method: Method,
+    /// Settings of the synthesis [`run`] makes for the methods that
+    /// synthesize.
+    pub synthesis: crate::synth::SynthOptions,
+    /// [`run`] closes the loop on the sequenced design with these options
+    /// ([`closed_loop`]; `None`: open loop).
+    pub closed_loop: Option<closed_loop::LoopOptions>,
 }
 
 impl DesignOptions {
@@ -125,6 +136,9 @@ impl Default for DesignOptions {
             allow_long: false,
             order_search: false,
             motions: Vec::new(),
+            method: Method::Auto,
+            synthesis: crate::synth::SynthOptions::default(),
+            closed_loop: None,
         }
     }
 }
@@ -176,12 +190,6 @@ impl From<crate::request::TargetError> for Error {
     fn from(e: crate::request::TargetError) -> Self {
         let (field, message) = e.located();
         Error::invalid(field, message)
-    }
-}
-
-impl From<fit::FitError> for Error {
-    fn from(e: fit::FitError) -> Self {
-        Error::NotConverged(format!("fit: {e}"))
     }
 }
 

@@ -12,20 +12,20 @@ use crate::schedule::MAX_SEGMENT_CYCLES;
 pub const MAX_SHIFT_M: f64 = 0.1;
 
 impl DesignOptions {
-    /// Checks every option against its allowed range, naming the
-    /// command-line argument in the error.
+    /// Checks every option against its allowed range, naming the option's
+    /// path (`total_cycles`, `closed_loop.stride`) in the error.
     pub fn validate(&self) -> Result<()> {
         if let Some(n) = self.total_cycles {
             if !(1..=MAX_SEGMENT_CYCLES).contains(&n) {
                 return Err(Error::invalid(
-                    "--cycles",
+                    "total_cycles",
                     format!("must be in 1..={MAX_SEGMENT_CYCLES}, got {n}"),
                 ));
             }
         }
         if !(1..=MAX_SEGMENT_CYCLES).contains(&self.min_cycles) {
             return Err(Error::invalid(
-                "--min-cycles",
+                "min_cycles",
                 format!(
                     "must be in 1..={MAX_SEGMENT_CYCLES}, got {}",
                     self.min_cycles
@@ -35,7 +35,7 @@ impl DesignOptions {
         for s in &self.shifts {
             if !s.iter().all(|v| v.is_finite() && v.abs() <= MAX_SHIFT_M) {
                 return Err(Error::invalid(
-                    "--shift",
+                    "shifts",
                     format!(
                         "each coordinate must be in [-{MAX_SHIFT_M}, {MAX_SHIFT_M}] m, got {:.3e},{:.3e}",
                         s[0], s[1]
@@ -53,7 +53,7 @@ impl DesignOptions {
 /// of 1e-9° asked for 2.9 TB and aborted.
 pub const MIN_ROTATION_STEP_DEG: f64 = 1.0;
 
-/// `--rotation-step` must divide 360: the basis holds 360/step rotated
+/// The rotation step (`--rotation-step`) must divide 360: the basis holds 360/step rotated
 /// copies of each primitive, and a step that does not divide 360 was
 /// rounded to the nearest whole number of copies without a word (7 became
 /// 7.0588°, 51 copies; the sink's LineSinks fell out of the basis and the
@@ -65,7 +65,7 @@ pub const MIN_ROTATION_STEP_DEG: f64 = 1.0;
 fn rotation_step(step: f64) -> Result<()> {
     if !(MIN_ROTATION_STEP_DEG..=360.0).contains(&step) {
         return Err(Error::invalid(
-            "--rotation-step",
+            "rotation_step_deg",
             format!(
                 "must be in [{MIN_ROTATION_STEP_DEG}, 360] degrees (at most 360 rotated copies of each primitive), got {}",
                 crate::input::num(step)
@@ -97,7 +97,7 @@ fn rotation_step(step: f64) -> Result<()> {
         .map(|s| crate::input::num((s * 1000.0).round() / 1000.0))
         .collect();
     Err(Error::invalid(
-        "--rotation-step",
+        "rotation_step_deg",
         format!(
             "{} does not divide 360 (360/{} = {:.4} rotated copies; a whole number is needed); nearest steps that divide 360: {}",
             crate::input::num(step),

@@ -56,7 +56,7 @@ use argmin::solver::neldermead::NelderMead;
 
 use super::closed_loop::loop_points;
 use super::closed_loop::measure::{play, realised_error, MeasureOptions, RealisedError};
-use crate::error::{Error, Result};
+use crate::error::{BudgetSpent, Error, Result};
 use crate::request::{SampledTarget, Target};
 use crate::schedule::Schedule;
 
@@ -204,7 +204,7 @@ fn judge(
 }
 
 /// Why a run stopped early.
-const BUDGET_SPENT: &str = "refinement budget spent";
+const BUDGET_SPENT: BudgetSpent = BudgetSpent("refinement");
 
 struct Problem<'a> {
     schedule: &'a Schedule,
@@ -228,7 +228,7 @@ impl CostFunction for Problem<'_> {
         // argmin's Nelder–Mead evaluates its first simplex unconditionally
         // (n + 1 plays, counted against the budget).
         if n >= self.options.max_evaluations.max(x.len() + 1) {
-            return Err(argmin::core::Error::msg(BUDGET_SPENT));
+            return Err(BUDGET_SPENT.into());
         }
         let s = apply(self.schedule, x);
         let j = judge(
@@ -301,7 +301,7 @@ pub fn refine_schedule(
             .configure(|s| s.max_iters(1_000_000))
             .run();
         if let Err(e) = outcome {
-            if !e.to_string().contains(BUDGET_SPENT) {
+            if !BudgetSpent::is(&e) {
                 return Err(Error::NotConverged(format!("Nelder–Mead: {e}")));
             }
         }

@@ -130,7 +130,7 @@ pub(crate) fn step_end(a: f64, b: f64, n: usize, i: usize) -> f64 {
 }
 
 /// A named model, as chosen on the command line (`--model`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Preset {
     /// [`Model::PAPER`]: the paper's analysis.
     Paper,

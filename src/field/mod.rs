@@ -45,7 +45,7 @@ use crate::dynamics::{Friction, KinematicsTable, Model, Numerics, Simulator};
 use crate::motion::{Invariance, Motion};
 
 /// Which field to compute.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Hash, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Hash)]
 #[serde(rename_all = "snake_case")]
 pub enum FieldKind {
     /// Zero-velocity force field (m/s²).

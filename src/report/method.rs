@@ -96,10 +96,10 @@ pub fn summary(md: &MethodDesign) -> String {
             poor_text(p)
         );
     }
-    for (m, e) in &md.failures {
-        let _ = writeln!(out, "{} failed: {e}", m.name());
+    for f in &md.failures {
+        let _ = writeln!(out, "{} failed: {}", f.method.name(), f.reason);
     }
-    let _ = writeln!(out, "{}", md.why);
+    let _ = writeln!(out, "{}", md.why());
     if let Some(s) = &md.sensitivity {
         let _ = writeln!(
             out,
@@ -154,12 +154,12 @@ pub fn method_md(md: &MethodDesign) -> String {
     let mut out = format!(
         "## Method and realised check\n\nMethod: `{}`; {}.\n\nEvery candidate is played before it is reported: point parts from about 5 × 5 start points over the target region (every k-th target grid point), 10 warm-up and 10 measured cycles (each rounded up to whole schedule periods), with the one realised measure (`play::measure`), against the target. POOR: realised shape error above {:.0} %, a part losing contact or escaping the attractor. Rule under `auto`: the lower realised shape error wins; within 1 percentage point, the higher realised strength. When every candidate is POOR, `auto` also designs the mix (primitives and a synthesized motion in one fit) and plays it.\n\n",
         md.asked.name(),
-        md.why,
+        md.why(),
         100.0 * crate::fit::POOR_ERROR
     );
     out.push_str(&played_md(&md.candidates, md.chosen));
-    for (m, e) in &md.failures {
-        let _ = writeln!(out, "\n{} failed: {e}", m.name());
+    for f in &md.failures {
+        let _ = writeln!(out, "\n{} failed: {}", f.method.name(), f.reason);
     }
     let p = md.kept().played();
     let _ = writeln!(

@@ -25,60 +25,43 @@ pub const DESIGN_FILES: [&str; 9] = [
 ];
 
 /// `platefield design`: loads the target at `path`, designs it by
-/// `method` (the closed loop, when `closed_loop` is given, re-fits the
-/// sequenced design only), plays every candidate, writes
-/// `OUT/<target name>/…` and returns the schedule JSON (`json`) or the
-/// terminal summary with the files written.
+/// [`crate::design::run`] with `opts`, writes `OUT/<target name>/…` whole
+/// and returns the schedule JSON (`json`) or the terminal summary with the
+/// files written.
 pub fn run(
     path: &Path,
     opts: &crate::design::DesignOptions,
-    closed_loop: Option<&crate::design::closed_loop::LoopOptions>,
     out: &Path,
     json: bool,
-    method: crate::design::Method,
-    synth: &crate::synth::SynthOptions,
 ) -> crate::error::Result<String> {
-    use crate::design::closed_loop as cl;
-    use crate::design::Method;
+    use crate::design::{DesignOutcome, Method};
     let mut target = crate::request::Target::load(path)?;
     target.name = target.folder_name(path)?;
     let dir = out.join(&target.name);
     crate::output::check_writable(&dir, "--out")?;
-    if !target.classes.is_empty() {
-        if closed_loop.is_some()
-            || matches!(method, Method::Synthesize | Method::Mix | Method::Mirror)
-        {
-            return Err(crate::error::Error::invalid(
-                "--method",
-                "a target with classes is designed by one stacked fit of primitives (sort by friction): use --method auto or sequence, without --closed-loop",
+    let md = match crate::design::run(&target, opts)? {
+        DesignOutcome::Sorted(d) => {
+            return super::sort::run(&target, &d, &dir, json, &DESIGN_FILES)
+        }
+        DesignOutcome::ClosedLoop {
+            design: d,
+            closed_loop: result,
+        } => {
+            let stage = crate::output::Staged::new(&dir)?;
+            super::closed_loop::write(&d, &target, &result, stage.path())?;
+            stage.commit(&DESIGN_FILES)?;
+            if json {
+                return super::closed_loop::schedule_json(&d, &target, &result);
+            }
+            return Ok(format!(
+                "{}{}wrote {}/{{schedule.json, schedule_open_loop.json, closed_loop.md, closed_loop.json, fit.svg, report.md}}\n",
+                super::design::summary(&d),
+                super::closed_loop::summary(&result),
+                dir.display()
             ));
         }
-        return super::sort::run(&target, opts, &dir, json, &DESIGN_FILES);
-    }
-    if let Some(l) = closed_loop {
-        l.validate()?;
-        if matches!(method, Method::Synthesize | Method::Mix | Method::Mirror) {
-            return Err(crate::error::Error::invalid(
-                "--closed-loop",
-                "re-fits a sequenced schedule; use it with --method sequence (or auto, which then designs by sequence)",
-            ));
-        }
-        let d = crate::design::design(&target, opts)?;
-        let result = cl::closed_loop(&target, &d, l)?;
-        let stage = crate::output::Staged::new(&dir)?;
-        super::closed_loop::write(&d, &target, &result, stage.path())?;
-        stage.commit(&DESIGN_FILES)?;
-        if json {
-            return super::closed_loop::schedule_json(&d, &target, &result);
-        }
-        return Ok(format!(
-            "{}{}wrote {}/{{schedule.json, schedule_open_loop.json, closed_loop.md, closed_loop.json, fit.svg, report.md}}\n",
-            super::design::summary(&d),
-            super::closed_loop::summary(&result),
-            dir.display()
-        ));
-    }
-    let md = crate::design::design_by_method(&target, opts, synth, method)?;
+        DesignOutcome::Method(md) => md,
+    };
     let stage = crate::output::Staged::new(&dir)?;
     let files = super::method::write(&md, stage.path())?;
     stage.commit(&DESIGN_FILES)?;

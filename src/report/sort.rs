@@ -172,22 +172,22 @@ pub fn summary(played: &[ClassPlay]) -> String {
     s
 }
 
-/// `platefield design` for a target with classes: design, play every
-/// class, write `OUT/<target>/` whole; the summary or the `--json` text.
+/// `platefield design` for a target with classes, once designed
+/// ([`crate::design::DesignOutcome::Sorted`]): play every class, write
+/// `OUT/<target>/` whole; the summary or the `--json` text.
 pub fn run(
     target: &crate::request::Target,
-    opts: &crate::design::DesignOptions,
+    d: &crate::design::sort::SortDesign,
     dir: &Path,
     json: bool,
     files: &[&str],
 ) -> Result<String> {
-    let d = crate::design::sort::design_sort(target, opts)?;
-    let played = crate::report::sort_play::play_classes(target, &d, None)?;
+    let played = crate::report::sort_play::play_classes(target, d, None)?;
     let stage = crate::output::Staged::new(dir)?;
-    write(&target.name, &d, &played, stage.path())?;
+    write(&target.name, d, &played, stage.path())?;
     stage.commit(files)?;
     if json {
-        return design_json(&d, &played);
+        return design_json(d, &played);
     }
     Ok(format!(
         "{}wrote {}/{{schedule.json, sort.json, report.md}}\n",

@@ -6,6 +6,48 @@ use serde::{Deserialize, Serialize};
 
 use crate::request::ShakerSpec;
 
+/// How `design` designs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum Method {
+    /// A time-shared schedule of primitives.
+    Sequence,
+    /// One simultaneous six-signal motion.
+    Synthesize,
+    /// Both; the better realised one is kept.
+    #[default]
+    Auto,
+    /// A schedule whose fit mixes a synthesized six-signal motion (one
+    /// basis column, ramped in and out inside its segment) with the
+    /// primitives: for targets no single motion reaches (see
+    /// `design::method::mix_design`).
+    Mix,
+    /// A synthesized motion time-shared with its mirror image
+    /// (`design::mirror`): a field that keeps its shape over the parts'
+    /// friction, for targets symmetric under y → −y. `auto` designs it too
+    /// when the target states a friction range and is symmetric.
+    Mirror,
+}
+
+impl Method {
+    /// The name used on the command line and in `schedule.json`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Sequence => "sequence",
+            Method::Synthesize => "synthesize",
+            Method::Auto => "auto",
+            Method::Mix => "mix",
+            Method::Mirror => "mirror",
+        }
+    }
+}
+
+impl std::fmt::Display for Method {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 /// Per-axis peak |plate-centre acceleration| a schedule commands (world
 /// axes; see [`super::export::motion_peaks`]).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -33,10 +75,10 @@ impl AxisPeaks {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Played {
-    /// How the schedule was designed: `sequence` or `synthesize`.
-    pub method: String,
-    /// The method asked for: `sequence`, `synthesize` or `auto`.
-    pub asked: String,
+    /// How the schedule was designed (never [`Method::Auto`]).
+    pub method: Method,
+    /// The method asked for.
+    pub asked: Method,
     /// Why this design was kept (the rule and both candidates' numbers
     /// under `auto`).
     pub choice: String,

@@ -29,7 +29,7 @@ use crate::error::{finite, non_negative, positive, Error, Result};
 use crate::motion::{Motion, Screw, Waveform};
 
 /// Angular-acceleration waveform of the LineSink shaker.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Wave {
     /// The paper's eq. 1: ±α square wave.

@@ -27,7 +27,7 @@ use argmin::solver::neldermead::NelderMead;
 
 use super::objective::{Evaluation, Objective};
 use super::progress::{Observer, Progress};
-use crate::error::{Error, Result};
+use crate::error::{BudgetSpent, Error, Result};
 
 /// Settings of the refinement.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -70,7 +70,7 @@ impl SplitMix64 {
 }
 
 /// Why a run stopped early.
-const BUDGET_SPENT: &str = "synthesis budget spent";
+const BUDGET_SPENT: BudgetSpent = BudgetSpent("synthesis");
 
 /// The argmin problem: `cost`, refusing evaluations once `spent()` says
 /// the budget is gone — but never during the simplex's first n + 1
@@ -96,7 +96,7 @@ where
             .fetch_update(Ordering::Relaxed, Ordering::Relaxed, |n| n.checked_sub(1))
             .is_ok();
         if !init && (self.spent)() {
-            return Err(argmin::core::Error::msg(BUDGET_SPENT));
+            return Err(BUDGET_SPENT.into());
         }
         (self.cost)(param).map_err(|e| argmin::core::Error::msg(e.to_string()))
     }
@@ -149,7 +149,7 @@ where
     }
     match executor.run() {
         Ok(_) => Ok(()),
-        Err(e) if e.to_string().contains(BUDGET_SPENT) => Ok(()),
+        Err(e) if BudgetSpent::is(&e) => Ok(()),
         Err(e) => Err(Error::NotConverged(format!("{label}: {e}"))),
     }
 }

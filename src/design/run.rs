@@ -1,0 +1,86 @@
+//! [`run`]: the one door of the inverse design. It decides what runs for a
+//! target and its [`DesignOptions`] — the stacked sort of a target with
+//! classes, the closed loop on a sequenced design, or the design by
+//! [`Method`] with every candidate played — and returns the typed
+//! [`DesignOutcome`]; the report layer and the command line only format
+//! and write it.
+
+use super::closed_loop::{closed_loop, ClosedLoop};
+use super::method::design_by_method;
+use super::sort::{design_sort, SortDesign};
+use super::{design, Design, DesignOptions, Method, MethodDesign};
+use crate::error::{Error, Result};
+use crate::request::Target;
+
+/// What [`run`] designed.
+#[derive(Debug, Clone)]
+#[allow(clippy::large_enum_variant)]
+pub enum DesignOutcome {
+    /// A target with classes: one stacked fit of primitives that sorts
+    /// the classes by friction ([`super::sort`]).
+    Sorted(SortDesign),
+    /// The sequenced design and the closed loop run on it
+    /// ([`DesignOptions::closed_loop`]).
+    ClosedLoop {
+        /// The open-loop sequenced design.
+        design: Design,
+        /// The closed loop's candidates, plays and kept schedule.
+        closed_loop: ClosedLoop,
+    },
+    /// The design by [`DesignOptions::method`]: every candidate played
+    /// against the target, one kept with a typed
+    /// [`Choice`](super::Choice).
+    Method(MethodDesign),
+}
+
+/// Designs `target` as `opts` ask: the one entry point of the inverse
+/// design (see the [`crate`] docs for an example).
+///
+/// * a target with `classes`: the stacked sort fit ([`design_sort`]);
+///   only with [`Method::Auto`] or [`Method::Sequence`] and no closed loop;
+/// * [`DesignOptions::closed_loop`] given: the sequenced design
+///   ([`design`]) and the closed loop on it; not with a method that
+///   synthesizes;
+/// * otherwise [`design_by_method`] with [`DesignOptions::method`] and
+///   [`DesignOptions::synthesis`].
+///
+/// # Errors
+/// [`Error::Invalid`] naming the option path (`method`, `closed_loop`,
+/// `total_cycles`, …) or the target's JSON path; the errors of the design
+/// that runs.
+pub fn run(target: &Target, opts: &DesignOptions) -> Result<DesignOutcome> {
+    let synthesizes = matches!(
+        opts.method,
+        Method::Synthesize | Method::Mix | Method::Mirror
+    );
+    if !target.classes.is_empty() {
+        if opts.closed_loop.is_some() || synthesizes {
+            return Err(Error::invalid(
+                "method",
+                "a target with classes is designed by one stacked fit of primitives (sort by friction): use method `auto` or `sequence`, without `closed_loop`",
+            ));
+        }
+        return Ok(DesignOutcome::Sorted(design_sort(target, opts)?));
+    }
+    if let Some(l) = &opts.closed_loop {
+        l.validate()?;
+        if synthesizes {
+            return Err(Error::invalid(
+                "closed_loop",
+                "re-fits a sequenced schedule; use it with method `sequence` (or `auto`, which then designs by sequence)",
+            ));
+        }
+        let design = design(target, opts)?;
+        let closed_loop = closed_loop(target, &design, l)?;
+        return Ok(DesignOutcome::ClosedLoop {
+            design,
+            closed_loop,
+        });
+    }
+    Ok(DesignOutcome::Method(design_by_method(
+        target,
+        opts,
+        &opts.synthesis,
+        opts.method,
+    )?))
+}
