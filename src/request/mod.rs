@@ -46,7 +46,10 @@
 //! ## `shaker`
 //!
 //! `{"period": T, "linear": [ax, ay, az], "angular": [bx, by, bz],
-//! "harmonics": H, "contact_margin": m}`, every key optional ([`ShakerSpec`]):
+//! "harmonics": H, "contact_margin": m, "velocity": {"linear": [3], "angular": [3]},
+//! "stroke": {"linear": [3], "angular": [3]}}`, every key optional ([`ShakerSpec`];
+//! `velocity` and `stroke` limit the plate centre's peak velocity and
+//! displacement per axis, [`TravelSpec`]):
 //! the fundamental period (s, in [1e-4, 10]), the peak plate-centre
 //! accelerations allowed per world axis (of the summed signal: linear in
 //! [0, 1e4] m/s², angular in [0, 1e5] rad/s²), the harmonics 1..=H of
@@ -195,7 +198,7 @@ pub use field::{
 };
 pub use folder::{plain_folder_name, MAX_NAME_BYTES};
 pub use grid::{scattered_grid, Grid, MaskRegion, MAX_GRID_N, SCATTERED_N, SCATTERED_SPACING};
-pub use shaker::{ShakerSpec, MAX_HARMONICS, MAX_PERIOD_S, MIN_PERIOD_S};
+pub use shaker::{ShakerSpec, TravelSpec, MAX_HARMONICS, MAX_PERIOD_S, MIN_PERIOD_S};
 
 use error::show;
 
