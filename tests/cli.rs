@@ -564,6 +564,23 @@ fn design_refuses_bad_shaker_limits_naming_the_field() {
             serde_json::json!({"angular": [70, 70, 1e6]}),
             "target.shaker.angular[2]: must be a peak acceleration in [0, 100000] rad/s²",
         ),
+        // Travel limits (issue 29): each group checked against its range.
+        (
+            serde_json::json!({"stroke": {"linear": [-1e-3, 1e-3, 1e-3]}}),
+            "target.shaker.stroke.linear[0]: must be a stroke in [0, 1] m, got -0.001",
+        ),
+        (
+            serde_json::json!({"stroke": {"angular": [0.01, 0.01, 2.0]}}),
+            "target.shaker.stroke.angular[2]: must be a stroke in [0, 1] rad, got 2",
+        ),
+        (
+            serde_json::json!({"velocity": {"linear": [0.1, 1e3, 0.1]}}),
+            "target.shaker.velocity.linear[1]: must be a peak velocity in [0, 100] m/s",
+        ),
+        (
+            serde_json::json!({"velocity": {"angular": [1, 1, 1], "spin": 2}}),
+            "target.shaker.velocity",
+        ),
     ] {
         let mut t = base.clone();
         t["shaker"] = shaker.clone();
@@ -1858,4 +1875,105 @@ fn frozen_verify_places_a_lost_contact_at_the_frozen_part() {
         lost += 1;
     }
     assert!(lost > 0, "no lost contact to check: {summary}");
+}
+
+/// Shaker stroke and velocity limits hold in design (issue 29). The lab
+/// sink under a linear stroke limit of 3 mm and an angular velocity limit
+/// of 0.5 rad/s (half of what its accelerations would move at harmonic 1:
+/// 12/ω² = 7.6 mm, 220/ω = 1.75 rad/s): the synthesized motion's steady
+/// stroke and velocity (zero-mean antiderivatives, `KinematicPeaks`) stay
+/// within them, its export's as-played peaks too (sample-and-hold from rest,
+/// 2e-3 relative), and it still moves parts. Sequenced, an angular stroke
+/// limit of 4 mrad leaves out every rotation primitive (the paper's ψ0 is
+/// 5 mrad) and says so per column.
+#[test]
+fn stroke_and_velocity_limits_hold_in_design() {
+    use platefield::schedule::export::peaks::KinematicPeaks;
+    let dir = temp_dir("travel");
+    let target = dir.join("travel.json");
+    let write = |shaker: &str| {
+        std::fs::write(
+            &target,
+            format!(
+                r#"{{"name": "travel", "grid": {{"x": [-0.02, 0.02], "y": [-0.02, 0.02], "n": [5, 5]}},
+                    "field": {{"kind": "sink"}}, "shaker": {shaker}}}"#
+            ),
+        )
+        .unwrap();
+    };
+    write(
+        r#"{"period": 0.05, "linear": [12, 12, 0.2], "angular": [220, 220, 0], "harmonics": 1,
+            "stroke": {"linear": [3e-3, 3e-3, 1]}, "velocity": {"angular": [0.5, 0.5, 1]}}"#,
+    );
+    let out = dir.join("syn");
+    let (code, _, err) = platefield(&[
+        "design",
+        target.to_str().unwrap(),
+        "--method",
+        "synthesize",
+        "--synth-evaluations",
+        "20",
+        "--polish-plays",
+        "0",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let file = out.join("travel/schedule.json");
+    let schedule = platefield::schedule::Schedule::load(&file).unwrap();
+    let motion = schedule.segments[0].plate_motion().unwrap();
+    let steady = KinematicPeaks::of_motion(&motion, 1);
+    println!(
+        "steady stroke {:?}, velocity {:?}",
+        steady.stroke, steady.velocity
+    );
+    let (stroke, velocity) = ([3e-3, 3e-3], [0.5, 0.5]);
+    for k in 0..2 {
+        assert!(steady.stroke[k] <= stroke[k] * (1.0 + 1e-9), "{steady:?}");
+        assert!(
+            steady.velocity[3 + k] <= velocity[k] * (1.0 + 1e-9),
+            "{steady:?}"
+        );
+    }
+    let played = schedule.played.as_ref().unwrap();
+    assert!(played.realised_strength.unwrap_or(0.0) > 0.05, "{played:?}");
+    let e = platefield::schedule::export::export(&schedule, 20_000.0, 5).unwrap();
+    let p = e.peaks();
+    for k in 0..2 {
+        assert!(p.stroke[k] <= stroke[k] * 1.002, "{p:?}");
+        assert!(p.velocity[3 + k] <= velocity[k] * 1.002, "{p:?}");
+    }
+    write(r#"{"stroke": {"angular": [4e-3, 4e-3, 4e-3]}}"#);
+    let (code, stdout, err) = platefield(&[
+        "design",
+        target.to_str().unwrap(),
+        "--method",
+        "sequence",
+        "--quiet",
+        "--out",
+        dir.join("seq").to_str().unwrap(),
+    ]);
+    let all = format!("{stdout}{err}");
+    println!("{all}");
+    assert!(all.contains("over the shaker limits"), "{all}");
+    let report = std::fs::read_to_string(dir.join("seq/travel/report.md")).unwrap_or_default();
+    assert!(
+        report.contains("over the shaker limit on angular.x stroke")
+            || report.contains("over the shaker limit on angular.y stroke"),
+        "{report}"
+    );
+    if code == 0 {
+        let s =
+            platefield::schedule::Schedule::load(&dir.join("seq/travel/schedule.json")).unwrap();
+        for seg in s.segments.iter().filter_map(|s| s.plate_motion()) {
+            let p = KinematicPeaks::of_motion(&seg, 1);
+            assert!(
+                p.stroke[3..].iter().all(|&x| x <= 4e-3 * (1.0 + 1e-9)),
+                "{p:?}"
+            );
+        }
+    } else {
+        assert_eq!(code, 2, "{all}");
+    }
 }

@@ -237,6 +237,97 @@ fn six_signal_parameters_and_peaks() {
     assert!(same(&Coefficients::from_signals(&c.to_signals(), 3), &c));
 }
 
+/// Velocity and stroke limits (issue 29): a three-harmonic signal is
+/// clamped onto its stroke limit, the summed displacement measured by
+/// brute force — the double integral of the acceleration samples over one
+/// period, its mean taken out — within 1e-6, its acceleration peak falling
+/// by the same factor; a velocity limit likewise; the acceleration limits
+/// the layout sees are lowered to min(v ω, s ω²) for harmonic 1.
+#[test]
+fn travel_limits_clamp_the_summed_velocity_and_stroke() {
+    use platefield::request::TravelSpec;
+    let w = std::f64::consts::TAU / 0.05;
+    let limits = ShakerLimits {
+        harmonics: 3,
+        linear: [10.0, 10.0, 2.0],
+        stroke: Some(TravelSpec {
+            linear: Some([2e-4, 1.0, 1.0]),
+            angular: None,
+        }),
+        velocity: Some(TravelSpec {
+            linear: None,
+            angular: Some([1.0, 0.2, 1.0]),
+        }),
+        ..lab()
+    };
+    assert_eq!(limits.axes()[0], 2e-4 * w * w);
+    assert_eq!(limits.axes()[4], 70.0_f64.min(0.2 * w));
+    let mut c = Coefficients::zero(0.05, 3);
+    c.set(0, 1, 6.0, 0.3);
+    c.set(0, 2, 2.0, -1.1);
+    c.set(0, 3, 1.0, 2.0);
+    c.set(4, 1, 40.0, 0.7);
+    c.set(4, 2, 15.0, 0.1);
+    // Brute force: integrate the summed signal twice (trapezoid, 2e5 steps),
+    // removing the mean velocity, then the mean displacement.
+    let travel = |c: &Coefficients, axis: usize| -> (f64, f64) {
+        let n = 200_000;
+        let dt = 0.05 / n as f64;
+        let s = c.to_signals();
+        let a: Vec<f64> = (0..=n)
+            .map(|i| {
+                let t = i as f64 * dt;
+                let terms = [
+                    &s.linear.x,
+                    &s.linear.y,
+                    &s.linear.z,
+                    &s.angular.x,
+                    &s.angular.y,
+                    &s.angular.z,
+                ][axis];
+                terms
+                    .iter()
+                    .map(|k| k.amplitude * (f64::from(k.harmonic) * w * t + k.phase).sin())
+                    .sum()
+            })
+            .collect();
+        let integrate = |f: &[f64]| -> Vec<f64> {
+            let mut out = vec![0.0; f.len()];
+            for i in 1..f.len() {
+                out[i] = out[i - 1] + 0.5 * (f[i] + f[i - 1]) * dt;
+            }
+            let mean = out[..n].iter().sum::<f64>() / n as f64;
+            out.iter().map(|x| x - mean).collect()
+        };
+        let v = integrate(&a);
+        let x = integrate(&v);
+        let peak = |f: &[f64]| f.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+        (peak(&v), peak(&x))
+    };
+    let (_, stroke0) = travel(&c, 0);
+    let (vel4, _) = travel(&c, 4);
+    assert!(stroke0 > 2e-4 && vel4 > 0.2, "{stroke0} {vel4}");
+    // Within the acceleration limits as given: only travel scales them.
+    let before = (c.peak(0), c.peak(4));
+    assert!(before.0 < 10.0 && before.1 < 70.0, "{before:?}");
+    let excess = c.clamp(&limits);
+    let (_, stroke0_after) = travel(&c, 0);
+    let (vel4_after, _) = travel(&c, 4);
+    println!("stroke {stroke0:.4e} -> {stroke0_after:.4e} m, velocity {vel4:.4} -> {vel4_after:.4} rad/s, excess {excess:.4}");
+    assert!((stroke0_after / 2e-4 - 1.0).abs() < 1e-6, "{stroke0_after}");
+    assert!((vel4_after / 0.2 - 1.0).abs() < 1e-6, "{vel4_after}");
+    assert!((c.peak(0) / before.0 - 2e-4 / stroke0).abs() < 1e-6);
+    assert!((c.peak(4) / before.1 - 0.2 / vel4).abs() < 1e-6);
+    assert!(
+        (excess - (stroke0 / 2e-4 - 1.0) - (vel4 / 0.2 - 1.0)).abs() < 1e-5,
+        "{excess}"
+    );
+    // Within the limits nothing moves.
+    let again = c.clone();
+    assert!(c.clamp(&limits).abs() < 1e-9);
+    assert_eq!(c, again);
+}
+
 /// The averaged-friction seed for a sink under lab limits, against the
 /// simulated steady-state velocity field and zero-velocity force field
 /// (full model, 9 × 9 over ±4 cm). Measured: predicted strength 0.543 s⁻¹;
@@ -658,6 +749,8 @@ fn transport_start_carries_the_uniform_part() {
         angular: [218.405, 0.0, 0.0],
         harmonics: 2,
         contact_margin: 0.1,
+        velocity: None,
+        stroke: None,
     };
     let target = FieldSpec::SqueezeTrans {
         center: [0.0, 0.0],

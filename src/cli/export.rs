@@ -50,6 +50,9 @@ impl ExportArgs {
         let (text, what) = match self.format {
             Format::Csv => {
                 let e = export::export(&s, self.rate, self.steady_cycles)?;
+                for line in e.over_limits() {
+                    eprintln!("warning: {line}");
+                }
                 let what = format!(
                     "{} samples at {} Hz: {}",
                     e.samples.samples.len(),

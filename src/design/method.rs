@@ -685,7 +685,8 @@ fn region(target: &Target, sampled: &SampledTarget) -> Grid {
 /// mixed schedule's joins fall on one sample grid and `export` can write it
 /// (two periods share no practical sample interval), and scaled down where
 /// its ramps (the acceleration overshoots the steady peak by up to
-/// 1.875/(πR) + 0.146/R²) would take a peak over the target's limits.
+/// 1.875/(πR) + 0.146/R²) would take a peak over the target's limits, or
+/// its steady velocity or stroke at the primitives' period would.
 ///
 /// # Errors
 /// The synthesis or the design failing.
@@ -715,11 +716,26 @@ pub fn mix_design(
         2 * ramp + 1,
         "mix",
     )?);
-    let peaks = crate::schedule::export::motion_peaks(&ramped);
-    let axes = ShakerLimits::from_spec(target.shaker.as_ref()).axes();
-    let fit = (0..6)
-        .filter(|&k| peaks[k] > 0.0)
-        .map(|k| axes[k] / peaks[k])
+    let limits = ShakerLimits::from_spec(target.shaker.as_ref());
+    let steady = crate::schedule::export::peaks::KinematicPeaks::of_motion(
+        &crate::motion::Motion::Signals(motion.clone()),
+        limits.harmonics,
+    );
+    let checks = [
+        (
+            crate::schedule::export::motion_peaks(&ramped),
+            limits.acceleration_axes(),
+        ),
+        (steady.velocity, limits.velocity_axes()),
+        (steady.stroke, limits.stroke_axes()),
+    ];
+    let fit = checks
+        .iter()
+        .flat_map(|(peaks, axes)| {
+            (0..6)
+                .filter(|&k| peaks[k] > 0.0)
+                .map(|k| axes[k] / peaks[k])
+        })
         .fold(1.0_f64, f64::min);
     if fit < 1.0 {
         motion = motion.scaled(fit);

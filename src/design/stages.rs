@@ -19,10 +19,10 @@ use crate::field::{Field, FieldKind, Grid};
 use crate::fit::{self, FitMetrics, FitMode, FitOptions, FitProblem, FitSolution};
 use crate::play::PlayOptions;
 use crate::request::{SampledTarget, Target};
+use crate::schedule::export::peaks::KinematicPeaks;
 use crate::schedule::{
-    self, export, BasisInfo, ExcludedColumn, ExclusionReason, KeptColumn, Schedule, Segment,
+    self, BasisInfo, ExcludedColumn, ExclusionReason, KeptColumn, Schedule, Segment,
 };
-use crate::synth::params::AXIS_NAMES;
 use crate::synth::ShakerLimits;
 use crate::work::Estimate;
 
@@ -329,26 +329,19 @@ fn add_motion_columns(basis: &mut DesignBasis, stage: &BasisStage, opts: &Design
 }
 
 /// Leaves out (and lists) the basis columns whose primitive commands a
-/// per-axis peak above `limits` ([`export::motion_peaks`], world axes, so a
-/// rotated copy is judged by its own x and y peaks). A primitive cannot be
+/// per-axis peak acceleration, velocity or stroke above `limits`
+/// ([`ShakerLimits::first_excess`] of the exact [`KinematicPeaks`], world
+/// axes, so a rotated copy is judged by its own x and y peaks). A primitive cannot be
 /// scaled down without re-simulating its field, so it is left out whole.
 fn leave_out_over_limit(basis: &mut DesignBasis, limits: &ShakerLimits) {
-    let axes = limits.axes();
     let mut kept = Vec::with_capacity(basis.columns.len());
     for c in basis.columns.drain(..) {
-        let peaks = export::motion_peaks(&c.source.motion());
-        let over = (0..6)
-            .find(|&k| peaks[k] > axes[k] * (1.0 + 1e-9))
-            .map(|k| (k, peaks[k], axes[k]));
-        match over {
-            Some((k, peak, limit)) => basis.excluded.push(ExcludedColumn {
+        let peaks = KinematicPeaks::of_motion(&c.source.motion(), 1);
+        match limits.first_excess(&peaks) {
+            Some((axis, peak, limit)) => basis.excluded.push(ExcludedColumn {
                 label: c.source.label(),
                 invalid_samples: 0,
-                reason: ExclusionReason::OverLimit {
-                    axis: AXIS_NAMES[k].into(),
-                    peak,
-                    limit,
-                },
+                reason: ExclusionReason::OverLimit { axis, peak, limit },
             }),
             None => kept.push(c),
         }

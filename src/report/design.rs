@@ -18,10 +18,11 @@ pub fn schedule_json(d: &Design) -> String {
 pub fn summary(d: &Design) -> String {
     let s = &d.schedule;
     let mut out = format!(
-        "target \"{}\": {} basis fields ({} left out: invalid in the region or rotated copies of isotropic fields), mode {}, solver {} in {} iterations\n",
+        "target \"{}\": {} basis fields ({} left out: {}), mode {}, solver {} in {} iterations\n",
         s.target,
         d.basis.columns.len(),
         d.basis.excluded.len(),
+        left_out_counts(&d.basis.excluded),
         s.solver.mode,
         s.solver.status,
         s.solver.iterations
@@ -142,6 +143,38 @@ pub fn report_md(d: &Design) -> String {
     }
     md.push_str(&excluded_md(&d.basis.excluded));
     md
+}
+
+/// How many basis fields were left out for each kind of reason, in one
+/// phrase ("150 invalid in the region, 18 over the shaker limits"); "none"
+/// when none was.
+fn left_out_counts(excluded: &[crate::schedule::ExcludedColumn]) -> String {
+    use crate::schedule::ExclusionReason as R;
+    let count = |f: fn(&R) -> bool| excluded.iter().filter(|e| f(&e.reason)).count();
+    let kinds = [
+        (
+            count(|r| matches!(r, R::Invalid(_))),
+            "invalid in the region",
+        ),
+        (
+            count(|r| matches!(r, R::IsotropicCopy { .. })),
+            "rotated copies of isotropic fields",
+        ),
+        (
+            count(|r| matches!(r, R::OverLimit { .. })),
+            "over the shaker limits",
+        ),
+    ];
+    let parts: Vec<String> = kinds
+        .iter()
+        .filter(|(n, _)| *n > 0)
+        .map(|(n, what)| format!("{n} {what}"))
+        .collect();
+    if parts.is_empty() {
+        "none".into()
+    } else {
+        parts.join(", ")
+    }
 }
 
 /// The basis fields left out, as counts by reason (each field, its invalid

@@ -46,7 +46,10 @@
 //! ## `shaker`
 //!
 //! `{"period": T, "linear": [ax, ay, az], "angular": [bx, by, bz],
-//! "harmonics": H, "contact_margin": m}`, every key optional ([`ShakerSpec`]):
+//! "harmonics": H, "contact_margin": m, "velocity": {"linear": [3], "angular": [3]},
+//! "stroke": {"linear": [3], "angular": [3]}}`, every key optional ([`ShakerSpec`];
+//! `velocity` and `stroke` limit the plate centre's peak velocity and
+//! displacement per axis, [`TravelSpec`]):
 //! the fundamental period (s, in [1e-4, 10]), the peak plate-centre
 //! accelerations allowed per world axis (of the summed signal: linear in
 //! [0, 1e4] m/s², angular in [0, 1e5] rad/s²), the harmonics 1..=H of
@@ -183,6 +186,13 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 use crate::field::FieldSettings;
+/// Fewest sample points with a positive weight a target may leave: one or
+/// two points sample a field at one or two places (a 2-D affine field has
+/// six coefficients; three points in general position fix them), so a fit
+/// or a realised measure over fewer would be reported as a result it is
+/// not (issue 30).
+pub const MIN_WEIGHTED_POINTS: usize = 3;
+
 pub use crate::scene::FrictionSpec;
 pub use attractor::Attractor;
 pub use classes::PartClass;
@@ -195,7 +205,7 @@ pub use field::{
 };
 pub use folder::{plain_folder_name, MAX_NAME_BYTES};
 pub use grid::{scattered_grid, Grid, MaskRegion, MAX_GRID_N, SCATTERED_N, SCATTERED_SPACING};
-pub use shaker::{ShakerSpec, MAX_HARMONICS, MAX_PERIOD_S, MIN_PERIOD_S};
+pub use shaker::{ShakerSpec, TravelSpec, MAX_HARMONICS, MAX_PERIOD_S, MIN_PERIOD_S};
 
 use error::show;
 
@@ -528,6 +538,22 @@ impl Target {
                 ),
             ));
         }
+        let weighted = weights.iter().filter(|&&w| w > 0.0).count();
+        if weighted < MIN_WEIGHTED_POINTS {
+            let at = match (&self.field, &self.weights, self.mask.is_empty()) {
+                (FieldSpec::Sampled { .. }, None, true) => "target.field.points",
+                (_, Some(_), true) => "target.weights",
+                (_, None, false) => "target.mask",
+                _ => "target.weights",
+            };
+            return Err(TargetError::invalid(
+                at,
+                format!(
+                    "leaves {weighted} of {} sample points with a positive weight; a field is fitted and measured over at least {MIN_WEIGHTED_POINTS} (a 2-D affine field has six coefficients: three points in general position fix them)",
+                    points.len()
+                ),
+            ));
+        }
         Ok(SampledTarget {
             points,
             vectors,
@@ -652,18 +678,32 @@ mod tests {
         );
 
         let json = r#"{
-            "field": {"kind": "sampled", "points": [[0, 0], [1, 1]], "vectors": [[1, 0], [0, 1]]},
-            "weights": [[0.5, 2]]
+            "field": {"kind": "sampled", "points": [[0, 0], [1, 1], [1, 0]],
+                      "vectors": [[1, 0], [0, 1], [1, 1]]},
+            "weights": [[0.5, 2, 1]]
         }"#;
         let s = Target::from_json_str(json).unwrap().sample().unwrap();
-        assert_eq!(s.points, vec![[0.0, 0.0], [1.0, 1.0]]);
-        assert_eq!(s.weights, vec![0.5, 2.0]);
+        assert_eq!(s.points, vec![[0.0, 0.0], [1.0, 1.0], [1.0, 0.0]]);
+        assert_eq!(s.weights, vec![0.5, 2.0, 1.0]);
 
         let json = r#"{
-            "field": {"kind": "sampled", "points": [[0, 0], [1, 1]], "vectors": [[1, 0], [0, 1]]},
-            "weights": [[0.5], [2]]
+            "field": {"kind": "sampled", "points": [[0, 0], [1, 1], [1, 0]],
+                      "vectors": [[1, 0], [0, 1], [1, 1]]},
+            "weights": [[0.5], [2], [1]]
         }"#;
         assert_err(json, &["target.weights", "expected 1 rows"]);
+
+        // Two weighted points are no field to fit (issue 30).
+        let json = r#"{
+            "field": {"kind": "sampled", "points": [[0, 0], [1, 1], [1, 0]],
+                      "vectors": [[1, 0], [0, 1], [1, 1]]},
+            "weights": [[0.5, 2, 0]]
+        }"#;
+        let e = Target::from_json_str(json).unwrap().sample().unwrap_err();
+        assert!(
+            e.to_string().starts_with("target.weights: leaves 2 of 3 sample points"),
+            "{e}"
+        );
     }
 
     #[test]

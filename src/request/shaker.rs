@@ -6,8 +6,16 @@
 //!
 //! ```json
 //! "shaker": {"period": 0.05, "linear": [10, 10, 0], "angular": [70, 70, 0],
-//!            "harmonics": 1, "contact_margin": 0.1}
+//!            "harmonics": 1, "contact_margin": 0.1,
+//!            "velocity": {"linear": [0.1, 0.1, 0.05]},
+//!            "stroke": {"linear": [2e-3, 2e-3, 1e-3], "angular": [0.01, 0.01, 0.01]}}
 //! ```
+//!
+//! `velocity` and `stroke` are optional travel limits of the plate centre:
+//! peak |velocity| (m/s, rad/s) and peak displacement from its mean pose
+//! (m, rad) per world axis, each group (`linear`, `angular`) optional; an
+//! axis not given is not limited by them. A shaker's stroke and velocity
+//! are what its actuators' travel and speed allow.
 //!
 //! Ranges (checked here, and by `ShakerLimits::validate` through
 //! [`ShakerSpec::validate`], so they are stated once): `period` in
@@ -21,7 +29,11 @@
 //! peak (a square-like wave's first harmonic by up to 4/π), so a motion
 //! synthesized at peaks above π/4 of these ranges — about 800 g — may be
 //! refused when read back, naming the term); `harmonics` in
-//! 1..=[`MAX_HARMONICS`]; `contact_margin` a fraction of g in [0, 1).
+//! 1..=[`MAX_HARMONICS`]; `contact_margin` a fraction of g in [0, 1);
+//! `velocity.linear` in [0, [`MAX_LINEAR_VELOCITY`]] m/s,
+//! `velocity.angular` in [0, [`MAX_ANGULAR_VELOCITY`]] rad/s,
+//! `stroke.linear` in [0, [`MAX_LINEAR_STROKE`]] m and `stroke.angular` in
+//! [0, [`MAX_ANGULAR_STROKE`]] rad (0 forbids the axis, as for the peaks).
 
 use serde::{Deserialize, Serialize};
 
@@ -36,6 +48,84 @@ pub const MAX_PERIOD_S: f64 = 10.0;
 /// ([`crate::scene::PERIOD`]). A period of 1e-300 s made the synthesis
 /// run without end, and one below it wrote motions no command could read.
 pub const MIN_PERIOD_S: f64 = *crate::scene::PERIOD.start();
+
+/// Largest linear velocity limit (m/s).
+pub const MAX_LINEAR_VELOCITY: f64 = 100.0;
+/// Largest angular velocity limit (rad/s).
+pub const MAX_ANGULAR_VELOCITY: f64 = 1e3;
+/// Largest linear stroke limit (m).
+pub const MAX_LINEAR_STROKE: f64 = 1.0;
+/// Largest angular stroke limit (rad): the small-angle model of a
+/// six-signal motion means nothing near a half turn.
+pub const MAX_ANGULAR_STROKE: f64 = 1.0;
+
+/// A travel limit per world axis (`velocity` or `stroke` of a `shaker`
+/// object): `linear` x, y, z and `angular` about x, y, z; a group left out
+/// is not limited.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TravelSpec {
+    /// Linear x, y, z (m/s or m).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub linear: Option<[f64; 3]>,
+    /// Angular about x, y, z (rad/s or rad).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub angular: Option<[f64; 3]>,
+}
+
+impl TravelSpec {
+    /// The six limits in signal order (linear x, y, z, angular x, y, z);
+    /// an axis not limited is `f64::INFINITY`.
+    ///
+    /// ```
+    /// use platefield::request::TravelSpec;
+    /// let t = TravelSpec { linear: Some([1e-3, 2e-3, 0.0]), angular: None };
+    /// assert_eq!(t.axes(), [1e-3, 2e-3, 0.0, f64::INFINITY, f64::INFINITY, f64::INFINITY]);
+    /// ```
+    pub fn axes(&self) -> [f64; 6] {
+        let inf = [f64::INFINITY; 3];
+        let (l, a) = (self.linear.unwrap_or(inf), self.angular.unwrap_or(inf));
+        [l[0], l[1], l[2], a[0], a[1], a[2]]
+    }
+
+    /// Checks every value against `[0, max]` of its group; errors name
+    /// `{field}.linear[i]` or `{field}.angular[i]`.
+    fn validate(&self, field: &str, what: &str, max: [(f64, &str); 2]) -> Result<(), TargetError> {
+        for ((name, values), (max, unit)) in [("linear", self.linear), ("angular", self.angular)]
+            .into_iter()
+            .zip(max)
+        {
+            in_range(
+                field,
+                name,
+                values,
+                max,
+                &format!("{what} in [0, {}] {unit}", show(max)),
+            )?;
+        }
+        Ok(())
+    }
+}
+
+/// Checks `values` (one group of three axes) against [0, max]; errors name
+/// `{field}.{name}[i]` and say it must be `expected`.
+fn in_range(
+    field: &str,
+    name: &str,
+    values: Option<[f64; 3]>,
+    max: f64,
+    expected: &str,
+) -> Result<(), TargetError> {
+    for (i, v) in values.iter().flatten().enumerate() {
+        if !(v.is_finite() && (0.0..=max).contains(v)) {
+            return Err(TargetError::invalid(
+                format!("{field}.{name}[{i}]"),
+                format!("must be a {expected}, got {}", show(*v)),
+            ));
+        }
+    }
+    Ok(())
+}
 
 /// The `shaker` object of a target, as written (missing keys `None`).
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
@@ -57,6 +147,13 @@ pub struct ShakerSpec {
     /// of g.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub contact_margin: Option<f64>,
+    /// Peak plate-centre velocity per world axis (m/s, rad/s).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub velocity: Option<TravelSpec>,
+    /// Peak plate-centre displacement from its mean pose per world axis
+    /// (m, rad).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stroke: Option<TravelSpec>,
 }
 
 impl ShakerSpec {
@@ -84,18 +181,19 @@ impl ShakerSpec {
                 "rad/s²",
             ),
         ] {
-            for (i, v) in values.iter().flatten().enumerate() {
-                if !(v.is_finite() && (0.0..=max).contains(v)) {
-                    return Err(TargetError::invalid(
-                        format!("{field}.{name}[{i}]"),
-                        format!(
-                            "must be a peak acceleration in [0, {}] {unit}, got {}",
-                            show(max),
-                            show(*v)
-                        ),
-                    ));
-                }
-            }
+            let expected = format!("peak acceleration in [0, {}] {unit}", show(max));
+            in_range(field, name, values, max, &expected)?;
+        }
+        if let Some(v) = &self.velocity {
+            let max = [
+                (MAX_LINEAR_VELOCITY, "m/s"),
+                (MAX_ANGULAR_VELOCITY, "rad/s"),
+            ];
+            v.validate(&format!("{field}.velocity"), "peak velocity", max)?;
+        }
+        if let Some(v) = &self.stroke {
+            let max = [(MAX_LINEAR_STROKE, "m"), (MAX_ANGULAR_STROKE, "rad")];
+            v.validate(&format!("{field}.stroke"), "stroke", max)?;
         }
         if let Some(h) = self.harmonics {
             if !(1..=MAX_HARMONICS).contains(&h) {

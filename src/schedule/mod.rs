@@ -172,12 +172,14 @@ pub enum ExclusionReason {
         /// rotation ([`crate::basis::symmetry::rotation_asymmetry`]).
         rotation_change: f64,
     },
-    /// Its peak acceleration on an axis exceeds the target's `shaker`
-    /// limit ([`export::motion_peaks`]).
+    /// Its peak acceleration, velocity or stroke on an axis exceeds the
+    /// target's `shaker` limit ([`export::peaks::KinematicPeaks`]).
     OverLimit {
-        /// Axis (`linear.x`, …, `angular.z`).
+        /// Axis (`linear.x`, …, `angular.z`), followed by ` velocity` or
+        /// ` stroke` when that is the limit exceeded.
         axis: String,
-        /// The primitive's peak on that axis (m/s² or rad/s²).
+        /// The primitive's peak on that axis (m/s² or rad/s²; m/s or rad/s;
+        /// m or rad).
         peak: f64,
         /// The limit.
         limit: f64,

@@ -15,6 +15,15 @@
 //!   plate-centre acceleration signal (not per harmonic). 0 forbids the axis.
 //! * `contact_margin` m: the normal force per unit mass N must stay
 //!   ≥ m·g everywhere in the region at every instant (0 ≤ m < 1).
+//! * `velocity` and `stroke` (optional, [`TravelSpec`]): peak plate-centre
+//!   velocity (m/s, rad/s) and displacement from the mean pose (m, rad)
+//!   per axis. A term A sin(nωt + φ) moves at A/(nω) and travels A/(nω)²,
+//!   so on an axis with velocity limit v and stroke limit s a harmonic-1
+//!   term may have at most min(v ω, s ω²): [`ShakerLimits::axes`] lowers
+//!   the acceleration limits to it, which is exact for one harmonic. Higher
+//!   harmonics travel less per unit acceleration; a motion of several is
+//!   held to the velocity and stroke of its summed signals by
+//!   [`crate::synth::params::Coefficients::clamp`].
 //!
 //! Defaults ([`ShakerLimits::paper_envelope`]): the per-axis envelope of the
 //! eight primitives of the paper's library with their default parameters
@@ -36,8 +45,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::basis::{Primitive, PrimitiveKind};
 use crate::error::{Error, Result};
-use crate::request::ShakerSpec;
+use crate::request::{ShakerSpec, TravelSpec};
 use crate::schedule::export::centre_acceleration;
+use crate::schedule::export::peaks::KinematicPeaks;
 
 /// Peak accelerations, harmonics and contact margin a synthesized motion
 /// must respect (see the [module documentation](self)).
@@ -54,6 +64,13 @@ pub struct ShakerLimits {
     pub harmonics: u32,
     /// Least normal force to keep, as a fraction of g.
     pub contact_margin: f64,
+    /// Peak plate-centre velocity per axis (m/s, rad/s), if limited.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub velocity: Option<TravelSpec>,
+    /// Peak plate-centre displacement from the mean pose per axis (m,
+    /// rad), if limited.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stroke: Option<TravelSpec>,
 }
 
 /// Samples per primitive period used to find the envelope's peaks.
@@ -80,6 +97,8 @@ impl ShakerLimits {
             l.angular = s.angular.unwrap_or(l.angular);
             l.harmonics = s.harmonics.unwrap_or(l.harmonics);
             l.contact_margin = s.contact_margin.unwrap_or(l.contact_margin);
+            l.velocity = s.velocity;
+            l.stroke = s.stroke;
         }
         l
     }
@@ -92,6 +111,8 @@ impl ShakerLimits {
             angular: Some(self.angular),
             harmonics: Some(self.harmonics),
             contact_margin: Some(self.contact_margin),
+            velocity: self.velocity,
+            stroke: self.stroke,
         }
     }
 
@@ -127,6 +148,8 @@ impl ShakerLimits {
             angular,
             harmonics: 2,
             contact_margin: 0.1,
+            velocity: None,
+            stroke: None,
         }
     }
 
@@ -140,14 +163,63 @@ impl ShakerLimits {
             angular: [70.0, 70.0, 0.0],
             harmonics: 1,
             contact_margin: 0.1,
+            velocity: None,
+            stroke: None,
         }
     }
 
-    /// The six per-axis limits in signal order (linear x, y, z, angular x,
-    /// y, z).
+    /// The six per-axis acceleration limits in signal order (linear x, y,
+    /// z, angular x, y, z), each lowered to what a harmonic-1 term may have
+    /// under the axis's velocity and stroke limits, min(v ω, s ω²) with
+    /// ω = 2π/T (see the [module documentation](self)).
+    ///
+    /// ```
+    /// use platefield::request::TravelSpec;
+    /// use platefield::synth::ShakerLimits;
+    /// let mut l = ShakerLimits::lab_class(); // T = 0.05 s, 10 m/s² on x
+    /// assert_eq!(l.axes()[0], 10.0);
+    /// // 1 mm of stroke at ω = 40π rad/s allows 1e-3 ω² ≈ 15.8 m/s²: no change.
+    /// l.stroke = Some(TravelSpec { linear: Some([1e-3; 3]), angular: None });
+    /// assert_eq!(l.axes()[0], 10.0);
+    /// // 0.25 mm allows 3.95 m/s².
+    /// l.stroke = Some(TravelSpec { linear: Some([2.5e-4; 3]), angular: None });
+    /// let w = std::f64::consts::TAU / 0.05;
+    /// assert!((l.axes()[0] - 2.5e-4 * w * w).abs() < 1e-12);
+    /// ```
     pub fn axes(&self) -> [f64; 6] {
+        let w = std::f64::consts::TAU / self.period;
+        let (accel, v, s) = (
+            self.acceleration_axes(),
+            self.velocity_axes(),
+            self.stroke_axes(),
+        );
+        std::array::from_fn(|k| accel[k].min(v[k] * w).min(s[k] * w * w))
+    }
+
+    /// The six peak-acceleration limits as given (not lowered by the
+    /// travel limits; compare [`axes`](Self::axes)).
+    pub fn acceleration_axes(&self) -> [f64; 6] {
         let (l, a) = (self.linear, self.angular);
         [l[0], l[1], l[2], a[0], a[1], a[2]]
+    }
+
+    /// The first limit `peaks` exceed by more than a relative 1e-9
+    /// ([`KinematicPeaks::excesses`]): the axis named as in a `signals`
+    /// motion (`linear.x`, with ` velocity` or ` stroke` after it for
+    /// those), the peak and the limit. `None`: within every limit.
+    pub fn first_excess(&self, peaks: &KinematicPeaks) -> Option<(String, f64, f64)> {
+        let e = peaks.excesses(&self.to_spec()).into_iter().next()?;
+        Some((e.axis, e.peak, e.limit))
+    }
+
+    /// The six peak-velocity limits (`f64::INFINITY` where not limited).
+    pub fn velocity_axes(&self) -> [f64; 6] {
+        self.velocity.unwrap_or_default().axes()
+    }
+
+    /// The six stroke limits (`f64::INFINITY` where not limited).
+    pub fn stroke_axes(&self) -> [f64; 6] {
+        self.stroke.unwrap_or_default().axes()
     }
 
     /// Validates every value; errors name `{field}.period`,

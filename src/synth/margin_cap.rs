@@ -328,6 +328,8 @@ mod tests {
             angular: [218.4, 218.4, 0.0],
             harmonics: 2,
             contact_margin: 0.1,
+            velocity: None,
+            stroke: None,
         }
     }
 

@@ -175,13 +175,29 @@ impl Coefficients {
     /// (axes with limit 0 are zeroed). Returns the total relative excess
     /// Σ max(0, peak/limit − 1) before scaling (a forbidden axis with a
     /// non-zero signal counts its peak relative to the largest limit).
+    ///
+    /// Then, where `limits` give a velocity or stroke limit, every axis
+    /// whose summed velocity or displacement ([`Coefficients::antiderivative`])
+    /// peaks above it is scaled onto it too, its relative excess added.
     pub fn clamp(&mut self, limits: &ShakerLimits) -> f64 {
-        let lim = limits.axes();
+        let excess = self.clamp_acceleration(limits);
+        if limits.velocity.is_none() && limits.stroke.is_none() {
+            return excess;
+        }
+        excess + self.clamp_travel(limits)
+    }
+
+    /// The peak-acceleration part of [`Coefficients::clamp`].
+    /// An axis is forbidden where [`ShakerLimits::axes`] is 0 (a velocity
+    /// or stroke limit of 0 forbids it too); the others are held to the
+    /// acceleration limits as given.
+    fn clamp_acceleration(&mut self, limits: &ShakerLimits) -> f64 {
+        let (lim, allowed) = (limits.acceleration_axes(), limits.axes());
         let scale_ref = lim.iter().copied().fold(0.0, f64::max).max(1e-300);
         let mut excess = 0.0;
         for (a, l) in lim.iter().enumerate() {
             let p = self.peak(a);
-            if *l <= 0.0 {
+            if allowed[a] <= 0.0 {
                 excess += p / scale_ref;
                 self.c[a].iter_mut().for_each(|cs| *cs = [0.0; 2]);
             } else if p > *l {
@@ -193,6 +209,56 @@ impl Coefficients {
             }
         }
         excess
+    }
+
+    /// The velocity and stroke part of [`Coefficients::clamp`]: each axis
+    /// scaled by min(1, v_max / v, s_max / s) with v and s the peaks of its
+    /// first and second antiderivatives.
+    fn clamp_travel(&mut self, limits: &ShakerLimits) -> f64 {
+        let velocity = self.antiderivative();
+        let stroke = velocity.antiderivative();
+        let (v_max, s_max) = (limits.velocity_axes(), limits.stroke_axes());
+        let mut excess = 0.0;
+        for a in 0..6 {
+            let over = [(velocity.peak(a), v_max[a]), (stroke.peak(a), s_max[a])]
+                .into_iter()
+                // Round-off: an axis already scaled onto its limit stays.
+                .filter(|&(peak, max)| peak > max * (1.0 + 1e-12))
+                .map(|(peak, max)| peak / max)
+                .fold(1.0_f64, f64::max);
+            if over > 1.0 {
+                excess += over - 1.0;
+                self.c[a]
+                    .iter_mut()
+                    .for_each(|cs| *cs = [cs[0] / over, cs[1] / over]);
+            }
+        }
+        excess
+    }
+
+    /// The coefficients of every signal's zero-mean antiderivative: a term
+    /// c sin(nωt) + s cos(nωt) integrates to (s sin(nωt) − c cos(nωt))/(nω).
+    /// Applied to accelerations it gives velocities; applied twice, the
+    /// displacement from the mean pose.
+    ///
+    /// ```
+    /// use platefield::synth::params::Coefficients;
+    /// let mut c = Coefficients::zero(0.05, 2);
+    /// c.set(0, 2, 10.0, 0.3); // 10 m/s² at harmonic 2
+    /// let w = 2.0 * std::f64::consts::TAU / 0.05;
+    /// let stroke = c.antiderivative().antiderivative();
+    /// assert!((stroke.peak(0) - 10.0 / (w * w)).abs() < 1e-15);
+    /// ```
+    pub fn antiderivative(&self) -> Coefficients {
+        let w = 2.0 * PI / self.period;
+        let mut out = self.clone();
+        for axis in &mut out.c {
+            for (k, cs) in axis.iter_mut().enumerate() {
+                let wn = w * (k + 1) as f64;
+                *cs = [cs[1] / wn, -cs[0] / wn];
+            }
+        }
+        out
     }
 }
 

@@ -23,6 +23,31 @@ use std::fmt::Write as _;
 
 use crate::motion::sample_hold::{centre_state, HoldSamples};
 use crate::motion::Motion;
+use crate::request::ShakerSpec;
+
+/// Names of the six axes in order (as in a `signals` motion).
+const AXES: [&str; 6] = [
+    "linear.x",
+    "linear.y",
+    "linear.z",
+    "angular.x",
+    "angular.y",
+    "angular.z",
+];
+
+/// A peak over a shaker limit ([`KinematicPeaks::excesses`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Excess {
+    /// The axis (`linear.x`, …), followed by ` velocity` or ` stroke` when
+    /// that is the quantity over its limit.
+    pub axis: String,
+    /// The peak.
+    pub peak: f64,
+    /// The limit.
+    pub limit: f64,
+    /// Unit of both.
+    pub unit: &'static str,
+}
 
 /// Per-axis peak |acceleration|, |velocity| and |stroke|, each
 /// [x, y, z linear, x, y, z angular].
@@ -95,6 +120,67 @@ impl KinematicPeaks {
             }
         }
         p
+    }
+
+    /// Every peak above `limits` by more than a relative 1e-9, in the order
+    /// acceleration, velocity, stroke and axis. A key `limits` leaves out is
+    /// not checked.
+    ///
+    /// ```
+    /// use platefield::request::{ShakerSpec, TravelSpec};
+    /// use platefield::schedule::export::peaks::KinematicPeaks;
+    /// let p = KinematicPeaks { acceleration: [10.0; 6], velocity: [0.1; 6], stroke: [1e-3; 6] };
+    /// let limits = ShakerSpec {
+    ///     linear: Some([10.0, 9.0, 10.0]),
+    ///     stroke: Some(TravelSpec { linear: None, angular: Some([1e-3, 1e-3, 5e-4]) }),
+    ///     ..ShakerSpec::default()
+    /// };
+    /// let over: Vec<String> = p.excesses(&limits).into_iter().map(|e| e.axis).collect();
+    /// assert_eq!(over, ["linear.y", "angular.z stroke"]);
+    /// ```
+    pub fn excesses(&self, limits: &ShakerSpec) -> Vec<Excess> {
+        let group = |l: Option<[f64; 3]>, a: Option<[f64; 3]>| -> [Option<f64>; 6] {
+            std::array::from_fn(|k| {
+                if k < 3 {
+                    l.map(|v| v[k])
+                } else {
+                    a.map(|v| v[k - 3])
+                }
+            })
+        };
+        let travel = |t: Option<crate::request::TravelSpec>| {
+            group(t.and_then(|t| t.linear), t.and_then(|t| t.angular))
+        };
+        let checks = [
+            (
+                "",
+                &self.acceleration,
+                group(limits.linear, limits.angular),
+                ["m/s²", "rad/s²"],
+            ),
+            (
+                " velocity",
+                &self.velocity,
+                travel(limits.velocity),
+                ["m/s", "rad/s"],
+            ),
+            (" stroke", &self.stroke, travel(limits.stroke), ["m", "rad"]),
+        ];
+        let mut out = Vec::new();
+        for (what, peaks, limit, units) in checks {
+            for k in 0..6 {
+                match limit[k] {
+                    Some(l) if peaks[k] > l * (1.0 + 1e-9) => out.push(Excess {
+                        axis: format!("{}{what}", AXES[k]),
+                        peak: peaks[k],
+                        limit: l,
+                        unit: units[k / 3],
+                    }),
+                    _ => {}
+                }
+            }
+        }
+        out
     }
 
     /// Comment lines (`# `) stating the peaks with units, for an export's
