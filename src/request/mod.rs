@@ -701,7 +701,8 @@ mod tests {
         }"#;
         let e = Target::from_json_str(json).unwrap().sample().unwrap_err();
         assert!(
-            e.to_string().starts_with("target.weights: leaves 2 of 3 sample points"),
+            e.to_string()
+                .starts_with("target.weights: leaves 2 of 3 sample points"),
             "{e}"
         );
     }
