@@ -176,6 +176,7 @@ mod examples;
 mod field;
 mod folder;
 mod grid;
+mod interpolant;
 mod shaker;
 
 use std::path::Path;
@@ -189,12 +190,13 @@ pub use classes::PartClass;
 pub use error::TargetError;
 pub use examples::examples;
 pub use field::{
-    FieldSpec, Interpolation, LocalAffine, SumTerm, ANGLE, COINCIDENT, DEFAULT_JET_WIDTH, EXTENT,
-    FIELD_KINDS, IDW_NEIGHBORS, MAX_SAMPLED_POINTS, MAX_TERMS, MIN_JET_WIDTH, RATIO, SPEED,
-    STRENGTH, TRANSPORT_LENGTH, WEIGHT,
+    FieldSpec, Interpolation, SumTerm, ANGLE, COINCIDENT, DEFAULT_JET_WIDTH, EXTENT, FIELD_KINDS,
+    IDW_NEIGHBORS, MAX_SAMPLED_POINTS, MAX_TERMS, MIN_JET_WIDTH, RATIO, SPEED, STRENGTH,
+    TRANSPORT_LENGTH, WEIGHT,
 };
 pub use folder::{plain_folder_name, MAX_NAME_BYTES};
 pub use grid::{scattered_grid, Grid, MaskRegion, MAX_GRID_N, SCATTERED_N, SCATTERED_SPACING};
+pub use interpolant::{SampledInterpolant, LINEAR_NEIGHBORS, MAX_NODES, MIN_NODES};
 pub use shaker::{ShakerSpec, MAX_HARMONICS, MAX_PERIOD_S, MIN_PERIOD_S};
 
 use error::show;
