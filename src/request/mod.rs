@@ -148,6 +148,11 @@
 //! cloud get the values of the nearest samples, so mask them if they do not
 //! matter. A `sampled` field nested inside a `sum` needs a grid.
 //!
+//! Where a part goes between and beyond the samples of a grid-less target
+//! (the played measure of a design, [`crate::design::closed_loop::measure`]),
+//! the field is [`SampledInterpolant`]: local linear fits on a node grid,
+//! computed once per point set, exact for an affine field.
+//!
 //! ## Errors
 //!
 //! [`Target::from_json_str`] and [`Target::load`] parse *and* validate.
