@@ -276,6 +276,18 @@ pub fn realised_error(
     plays: &[PointPlay],
     strength: Option<f64>,
 ) -> RealisedError {
+    realised_error_of(&Promise::of(target), weights, plays, strength)
+}
+
+/// [`realised_error`] against a [`Promise`] built once (a grid-less
+/// sampled target's interpolant costs a search of its samples per node:
+/// a caller that measures many plays builds it once).
+pub fn realised_error_of(
+    promise: &Promise<'_>,
+    weights: &[f64],
+    plays: &[PointPlay],
+    strength: Option<f64>,
+) -> RealisedError {
     let ok = counted(weights, plays);
     let q: Vec<[f64; 2]> = ok.iter().map(|p| p.position).collect();
     // ω² (the target's weight multiplies the residual, as in the design's metrics).
@@ -290,7 +302,6 @@ pub fn realised_error(
     };
     // ŝ by fixed-point iteration s ← s⟨R, P(s)⟩/⟨P(s), P(s)⟩ from the
     // scale of R on t at the mean positions.
-    let promise = Promise::of(target);
     let t: Vec<[f64; 2]> = ok.iter().map(|p| promise.at(p.position)).collect();
     let tt = dot(&t, &t);
     let mut s_hat = if tt > 0.0 { dot(&r, &t) / tt } else { 0.0 };
