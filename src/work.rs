@@ -36,6 +36,11 @@ pub const VELOCITY_CYCLES: f64 = 20.0;
 /// Longest expected run accepted without `--allow-long` (seconds).
 pub const LIMIT_S: f64 = 600.0;
 
+/// Expected seconds above which a command states its estimate on stderr
+/// before the work ([`Estimate::announcement`]; issue 30: every command
+/// that can take more than 10 s says so first).
+pub const ANNOUNCE_S: f64 = 10.0;
+
 /// One term of an estimate: a product of named counts, e.g. `8 primitives
 /// × 2500 samples × 20 cycles × 64 steps`.
 #[derive(Debug, Clone, PartialEq)]
@@ -146,6 +151,22 @@ impl Estimate {
             if threads == 1 { "" } else { "s" }
         );
         s
+    }
+
+    /// The line a command prints on stderr before work expected to take
+    /// more than [`ANNOUNCE_S`] on `threads` threads (the estimate in words,
+    /// [`Estimate::describe`]); `None` for shorter work.
+    ///
+    /// ```
+    /// use platefield::work::{Estimate, Term};
+    /// let e = Estimate::new("target", "playing", "fewer plays")
+    ///     .plus(Term::new("plays").times(1e3, "plays").times(1e5, "steps"));
+    /// assert!(e.announcement(1).unwrap().starts_with("playing would take about"));
+    /// assert!(e.announcement(1000).is_none());
+    /// ```
+    pub fn announcement(&self, threads: usize) -> Option<String> {
+        let s = self.seconds(threads);
+        (s.is_nan() || s > ANNOUNCE_S).then(|| self.describe(threads))
     }
 
     /// `Ok` when the work is within [`LIMIT_S`] or `allow_long`; else an

@@ -202,7 +202,12 @@ pub fn design_by_method(
     limits.validate("target.shaker")?;
     let sampled = target.sample()?;
     if method != Method::Sequence {
-        synthesis_estimate(target, &sampled, synth, opts).check(opts.allow_long)?;
+        let estimate = synthesis_estimate(target, &sampled, synth, opts);
+        estimate.check(opts.allow_long)?;
+        let announcement = estimate.announcement(crate::work::threads());
+        if let Some(line) = announcement.filter(|_| !opts.quiet) {
+            eprintln!("{line}");
+        }
     }
     let mut out = MethodDesign {
         asked: method,
@@ -904,8 +909,10 @@ pub fn synthesize_schedule(
 /// on the full grid, and every play of the polish its start points (those of
 /// the realised check, [`check_starts`]: 40 for a 40-point grid-less
 /// target) over the polish's warm-up and measured cycles plus one coarse
-/// field.
-fn synthesis_estimate(
+/// field. The flows of the promise that every play's measure integrates
+/// cost O(1) per step (a grid-less sampled target's field through its
+/// [`crate::request::SampledInterpolant`]), within the steps counted.
+pub fn synthesis_estimate(
     target: &Target,
     sampled: &SampledTarget,
     synth: &SynthOptions,

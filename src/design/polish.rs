@@ -209,7 +209,8 @@ struct Eval {
 
 /// The played objective (see the module documentation).
 struct Played<'a> {
-    target: &'a Target,
+    /// The target's promise, built once ([`measure::Promise`]).
+    promise: measure::Promise<'a>,
     sampled: &'a SampledTarget,
     starts: &'a [usize],
     objective: Objective<'a>,
@@ -246,7 +247,7 @@ impl Played<'_> {
                 settings,
                 &self.options.measure,
             );
-            let r = measure::realised_error(self.target, &self.sampled.weights, &plays, None);
+            let r = measure::realised_error_of(&self.promise, &self.sampled.weights, &plays, None);
             residuals.extend(self.part_residuals(&plays, &r));
             each.push(r);
         }
@@ -268,7 +269,7 @@ impl Played<'_> {
                     return [0.0, 0.0];
                 }
                 let w = self.sampled.weights[p.index];
-                let t = measure::promised(self.target, &[p], s)[0];
+                let t = self.promise.along(&[p], s)[0];
                 [w * (p.realised[0] - t[0]), w * (p.realised[1] - t[1])]
             })
             .collect();
@@ -442,7 +443,7 @@ pub fn polish(
     )
     .with_robust(options.robust);
     let mut played = Played {
-        target,
+        promise: measure::Promise::of(target),
         sampled,
         starts,
         objective,

@@ -8,6 +8,7 @@ use serde::{Deserialize, Serialize};
 use crate::request::error::{
     check_finite, check_finite2, check_range, check_scale, show, TargetError,
 };
+use crate::request::interpolant::SampledInterpolant;
 
 /// Reference length `L` (metres) of the `squeeze_trans` transport term:
 /// `transport = 1` means the transport speed equals the squeeze speed found
@@ -435,13 +436,13 @@ impl FieldSpec {
         }
     }
 
-    /// The [`LocalAffine`] models of a `sampled` field's samples; `None`
-    /// for every other kind.
-    pub fn local_affine(&self) -> Option<LocalAffine> {
+    /// The [`SampledInterpolant`] of a `sampled` field's samples (weights
+    /// computed once, O(1) per evaluation); `None` for every other kind.
+    pub fn interpolant(&self) -> Option<SampledInterpolant> {
         match self {
             FieldSpec::Sampled {
                 points, vectors, ..
-            } => Some(LocalAffine::new(points, vectors)),
+            } => Some(SampledInterpolant::new(points, vectors)),
             _ => None,
         }
     }
@@ -670,107 +671,6 @@ fn interpolate(
     }
 }
 
-/// A grid-less `sampled` field as one local affine model per sample point,
-/// `t_i(p) = v_i + G_i (p − p_i)`, with weights computed once per point
-/// set: the gradient G_i is the weighted least-squares fit
-/// `min Σ_j |v_j − v_i − G_i (p_j − p_i)|² / |p_j − p_i|²` over the
-/// [`IDW_NEIGHBORS`] nearest other samples (G_i = 0 when they do not span
-/// the plane, e.g. a single sample or collinear ones).
-///
-/// It is exact at the samples (t_i(p_i) = v_i, like [`Interpolation::Idw`])
-/// and smooth along a path, where the inverse-distance interpolation jumps
-/// whenever its set of nearest samples changes. A flow started at sample i
-/// (the played measure of a design, whose parts start at the same points
-/// the fit uses) follows t_i: an affine field, whose flow RK4 resolves
-/// at the first step doubling and which costs O(1) per evaluation, where
-/// the interpolation costs a search over every sample at every step.
-#[derive(Debug, Clone, PartialEq)]
-pub struct LocalAffine {
-    points: Vec<[f64; 2]>,
-    vectors: Vec<[f64; 2]>,
-    /// G_i as rows: `[[∂x tx, ∂y tx], [∂x ty, ∂y ty]]`.
-    gradients: Vec<[[f64; 2]; 2]>,
-}
-
-impl LocalAffine {
-    /// The models of the samples `points` with values `vectors`.
-    pub fn new(points: &[[f64; 2]], vectors: &[[f64; 2]]) -> LocalAffine {
-        let n = points.len().min(vectors.len());
-        let gradients = (0..n)
-            .map(|i| local_gradient(&points[..n], &vectors[..n], i))
-            .collect();
-        LocalAffine {
-            points: points[..n].to_vec(),
-            vectors: vectors[..n].to_vec(),
-            gradients,
-        }
-    }
-
-    /// Number of samples (models).
-    pub fn len(&self) -> usize {
-        self.points.len()
-    }
-
-    /// `true` without samples.
-    pub fn is_empty(&self) -> bool {
-        self.points.is_empty()
-    }
-
-    /// t_i(p), the model of sample `i` at `p`; `None` if there is no
-    /// sample `i`.
-    pub fn eval(&self, i: usize, p: [f64; 2]) -> Option<[f64; 2]> {
-        let (q, v, g) = (self.points.get(i)?, self.vectors[i], self.gradients[i]);
-        let d = [p[0] - q[0], p[1] - q[1]];
-        Some([
-            v[0] + g[0][0] * d[0] + g[0][1] * d[1],
-            v[1] + g[1][0] * d[0] + g[1][1] * d[1],
-        ])
-    }
-}
-
-/// The weighted least-squares gradient of sample `i` (see [`LocalAffine`]).
-fn local_gradient(points: &[[f64; 2]], vectors: &[[f64; 2]], i: usize) -> [[f64; 2]; 2] {
-    let pi = points[i];
-    let mut near: Vec<(f64, usize)> = points
-        .iter()
-        .enumerate()
-        .filter(|&(j, _)| j != i)
-        .map(|(j, q)| ((q[0] - pi[0]).powi(2) + (q[1] - pi[1]).powi(2), j))
-        .filter(|&(d2, _)| d2 > COINCIDENT * COINCIDENT)
-        .collect();
-    near.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-    near.truncate(IDW_NEIGHBORS);
-    // Normal equations G M = B with M = Σ w d dᵀ, B = Σ w Δv dᵀ, w = 1/|d|².
-    let (mut m, mut b) = ([[0.0; 2]; 2], [[0.0; 2]; 2]);
-    for &(d2, j) in &near {
-        let d = [points[j][0] - pi[0], points[j][1] - pi[1]];
-        let dv = [vectors[j][0] - vectors[i][0], vectors[j][1] - vectors[i][1]];
-        for r in 0..2 {
-            for c in 0..2 {
-                m[r][c] += d[r] * d[c] / d2;
-                b[r][c] += dv[r] * d[c] / d2;
-            }
-        }
-    }
-    let det = m[0][0] * m[1][1] - m[0][1] * m[1][0];
-    // Unit-free test: det/trace² is 0 for collinear offsets, 1/4 for isotropic ones.
-    let trace = m[0][0] + m[1][1];
-    if !(trace > 0.0 && det > 1e-6 * trace * trace) {
-        return [[0.0; 2]; 2];
-    }
-    let inv = [
-        [m[1][1] / det, -m[0][1] / det],
-        [-m[1][0] / det, m[0][0] / det],
-    ];
-    let row = |r: usize| {
-        [
-            b[r][0] * inv[0][0] + b[r][1] * inv[1][0],
-            b[r][0] * inv[0][1] + b[r][1] * inv[1][1],
-        ]
-    };
-    [row(0), row(1)]
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -973,48 +873,5 @@ mod tests {
         };
         assert!(FIELD_KINDS.contains(&f.kind()));
         assert_eq!(FIELD_KINDS.len(), 12);
-    }
-
-    /// The local affine models reproduce an affine sampled field exactly
-    /// (gradient recovered to 1e-9 at every sample, from scattered points),
-    /// are exact at the samples, and fall back to a constant for a single
-    /// or collinear samples.
-    #[test]
-    fn local_affine_models_recover_an_affine_field() {
-        let a = [[-0.7, 1.3], [0.4, -0.2]];
-        let c = [0.01, -0.02];
-        let f = |p: [f64; 2]| {
-            [
-                c[0] + a[0][0] * p[0] + a[0][1] * p[1],
-                c[1] + a[1][0] * p[0] + a[1][1] * p[1],
-            ]
-        };
-        let points: Vec<[f64; 2]> = (0..40)
-            .map(|k| {
-                let t = k as f64;
-                [0.04 * (1.7 * t).sin(), 0.04 * (2.3 * t + 0.5).cos()]
-            })
-            .collect();
-        let vectors: Vec<[f64; 2]> = points.iter().map(|&p| f(p)).collect();
-        let m = LocalAffine::new(&points, &vectors);
-        assert_eq!(m.len(), 40);
-        for (i, p) in points.iter().enumerate() {
-            assert_eq!(m.eval(i, *p), Some(vectors[i]));
-            let q = [p[0] + 0.013, p[1] - 0.007];
-            let (got, want) = (m.eval(i, q).unwrap(), f(q));
-            assert!(close_to(got, want, 1e-9), "{i}: {got:?} vs {want:?}");
-        }
-        assert_eq!(m.eval(40, [0.0, 0.0]), None);
-        let one = LocalAffine::new(&[[0.01, 0.0]], &[[1.0, 2.0]]);
-        assert_eq!(one.eval(0, [0.5, 0.5]), Some([1.0, 2.0]));
-        let line = LocalAffine::new(
-            &[[0.0, 0.0], [0.01, 0.0], [0.02, 0.0]],
-            &[[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]],
-        );
-        assert_eq!(line.eval(1, [0.5, 0.5]), Some([1.0, 0.0]));
-    }
-
-    fn close_to(a: [f64; 2], b: [f64; 2], tol: f64) -> bool {
-        (a[0] - b[0]).abs() < tol && (a[1] - b[1]).abs() < tol
     }
 }

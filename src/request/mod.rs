@@ -151,6 +151,11 @@
 //! cloud get the values of the nearest samples, so mask them if they do not
 //! matter. A `sampled` field nested inside a `sum` needs a grid.
 //!
+//! Where a part goes between and beyond the samples of a grid-less target
+//! (the played measure of a design, [`crate::design::closed_loop::measure`]),
+//! the field is [`SampledInterpolant`]: local linear fits on a node grid,
+//! computed once per point set, exact for an affine field.
+//!
 //! ## Errors
 //!
 //! [`Target::from_json_str`] and [`Target::load`] parse *and* validate.
@@ -179,6 +184,7 @@ mod examples;
 mod field;
 mod folder;
 mod grid;
+mod interpolant;
 mod shaker;
 
 use std::path::Path;
@@ -199,12 +205,13 @@ pub use classes::PartClass;
 pub use error::TargetError;
 pub use examples::examples;
 pub use field::{
-    FieldSpec, Interpolation, LocalAffine, SumTerm, ANGLE, COINCIDENT, DEFAULT_JET_WIDTH, EXTENT,
-    FIELD_KINDS, IDW_NEIGHBORS, MAX_SAMPLED_POINTS, MAX_TERMS, MIN_JET_WIDTH, RATIO, SPEED,
-    STRENGTH, TRANSPORT_LENGTH, WEIGHT,
+    FieldSpec, Interpolation, SumTerm, ANGLE, COINCIDENT, DEFAULT_JET_WIDTH, EXTENT, FIELD_KINDS,
+    IDW_NEIGHBORS, MAX_SAMPLED_POINTS, MAX_TERMS, MIN_JET_WIDTH, RATIO, SPEED, STRENGTH,
+    TRANSPORT_LENGTH, WEIGHT,
 };
 pub use folder::{plain_folder_name, MAX_NAME_BYTES};
 pub use grid::{scattered_grid, Grid, MaskRegion, MAX_GRID_N, SCATTERED_N, SCATTERED_SPACING};
+pub use interpolant::{SampledInterpolant, LINEAR_NEIGHBORS, MAX_NODES, MIN_NODES};
 pub use shaker::{ShakerSpec, TravelSpec, MAX_HARMONICS, MAX_PERIOD_S, MIN_PERIOD_S};
 
 use error::show;
