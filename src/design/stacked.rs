@@ -23,8 +23,8 @@ use super::{DesignBasis, DesignOptions, SHAPE_SLACK};
 use crate::dynamics::Friction;
 use crate::error::Result;
 use crate::field::FieldSettings;
-use crate::fit::worst::{solve_worst_case, WorstCaseFit, WorstCaseOptions};
-use crate::fit::{FitSolution, UNREACHABLE_REL_ERROR};
+use crate::fit::worst::{shape_and_strength, solve_worst_case, WorstCaseFit, WorstCaseOptions};
+use crate::fit::{FitProblem, FitSolution, UNREACHABLE_REL_ERROR};
 use crate::request::{FrictionSpec, Target};
 
 /// Samples are added where the fit's error halfway between two samples
@@ -167,12 +167,12 @@ fn worst_between(
 ) -> f64 {
     all.iter()
         .map(|a| {
-            let p = crate::fit::FitProblem {
+            let p = FitProblem {
                 a,
                 t,
                 row_weights: Some(d),
             };
-            crate::fit::worst::relative_error(&p, &fit.fractions, fit.strength)
+            shape_and_strength(&p, &fit.fractions).0
         })
         .fold(0.0, f64::max)
 }
@@ -187,7 +187,15 @@ fn finish(
     let a = basis_matrix(&basis, sampled.len());
     let achieved_vec = &a * DVector::from_column_slice(&fit.fractions);
     let achieved = unstack(&achieved_vec);
-    let fit_metrics = metrics(sampled, &achieved, fit.strength)?;
+    // The prediction at the nominal friction: its least-squares strength.
+    let (t, d) = stacked_target(sampled);
+    let nominal = FitProblem {
+        a: &a,
+        t: &t,
+        row_weights: Some(&d),
+    };
+    let strength = shape_and_strength(&nominal, &fit.fractions).1;
+    let fit_metrics = metrics(sampled, &achieved, strength)?;
     let at: Vec<String> = bases
         .iter()
         .zip(&fit.errors)
@@ -196,15 +204,15 @@ fn finish(
     let worst = fit.worst();
     let solution = FitSolution {
         fractions: fit.fractions,
-        strength: fit.strength,
+        strength,
         objective: worst,
         relative_error: worst,
         status: format!("{}; relative error at μ {}", fit.status, at.join(", ")),
-        iterations: fit.iterations,
+        iterations: fit.solves,
         solve_time_s: 0.0,
         total_time_s: 0.0,
         kkt_residual: 0.0,
-        independent_gap: fit.best_worst - fit.lower_bound,
+        independent_gap: fit.best_worst - fit.bounds[0],
         unreachable: worst > UNREACHABLE_REL_ERROR,
         polished: false,
         independent_kept: false,
