@@ -32,6 +32,7 @@ pub mod polish;
 pub mod refine;
 mod run;
 pub mod sort;
+pub mod stacked;
 mod stages;
 
 use std::path::PathBuf;
@@ -248,7 +249,11 @@ pub fn design(target: &Target, opts: &DesignOptions) -> Result<Design> {
     opts.validate()?;
     let basis = stages::basis_stage(target, opts)?;
     let t_fit = Instant::now();
-    let fit = stages::fit_stage(&basis, opts)?;
+    // Over a friction range: one set of weights, worst case over the range.
+    let fit = match stacked::ranged(target) {
+        Some(spec) => stacked::fit_stage(target, &basis, spec, opts)?,
+        None => stages::fit_stage(&basis, opts)?,
+    };
     let (schedule, achieved_quantized) =
         stages::schedule_stage(target, &basis.sampled, &fit, opts)?;
     let fit_time_s = t_fit.elapsed().as_secs_f64();

@@ -119,8 +119,9 @@ pub fn fit_settings(tol: f64) -> DefaultSettings<f64> {
     }
 }
 
-/// Sparse constraint matrix assembled row by row, with its cones.
-struct ConeBuilder {
+/// Sparse constraint matrix assembled row by row, with its cones (also
+/// the stacked worst-case fit's, [`crate::fit::worst`]).
+pub(crate) struct ConeBuilder {
     ncols: usize,
     nrows: usize,
     ri: Vec<usize>,
@@ -131,7 +132,7 @@ struct ConeBuilder {
 }
 
 impl ConeBuilder {
-    fn new(ncols: usize) -> Self {
+    pub(crate) fn new(ncols: usize) -> Self {
         Self {
             ncols,
             nrows: 0,
@@ -144,7 +145,7 @@ impl ConeBuilder {
     }
 
     /// Add one row `Σ vals·x[cols] + s = b`; exact zeros are skipped.
-    fn row(&mut self, entries: impl IntoIterator<Item = (usize, f64)>, b: f64) {
+    pub(crate) fn row(&mut self, entries: impl IntoIterator<Item = (usize, f64)>, b: f64) {
         for (j, v) in entries {
             if v != 0.0 {
                 self.ri.push(self.nrows);
@@ -169,11 +170,16 @@ impl ConeBuilder {
         m + usize::from(sum_cap)
     }
 
-    fn cone(&mut self, cone: SupportedConeT<f64>) {
+    pub(crate) fn cone(&mut self, cone: SupportedConeT<f64>) {
         self.cones.push(cone);
     }
 
-    fn solve(self, q: Vec<f64>, tol: f64, mode: &'static str) -> Result<ConicOutcome, FitError> {
+    pub(crate) fn solve(
+        self,
+        q: Vec<f64>,
+        tol: f64,
+        mode: &'static str,
+    ) -> Result<ConicOutcome, FitError> {
         let p = CscMatrix::zeros((self.ncols, self.ncols));
         let a = CscMatrix::new_from_triplets(self.nrows, self.ncols, self.ri, self.ci, self.vals);
         run(&p, &q, &a, &self.b, &self.cones, fit_settings(tol), mode)

@@ -92,6 +92,7 @@ pub(crate) mod polish;
 pub mod prepare;
 pub mod subset;
 pub mod verify;
+pub mod worst;
 
 #[cfg(test)]
 pub(crate) mod testutil;
