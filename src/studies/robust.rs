@@ -197,13 +197,18 @@ pub fn render(rows: &[Row], single: &[Row]) -> String {
         let cells: Vec<String> = r.rows.iter().map(cell).collect();
         let _ = writeln!(
             md,
-            "| {} | {} | {} | {} | {:.1} % | {:.3} | {goal_text} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {goal_text} | {} |",
             r.target,
             r.design,
             r.method,
             cells.join(" | "),
-            100.0 * shape,
-            strength,
+            // Not measured at some μ (no valid part): said so, not ±inf.
+            crate::output::percent(shape, 1),
+            if strength.is_finite() {
+                format!("{strength:.3}")
+            } else {
+                "n/a".into()
+            },
             if r.design.contains("[0.2, 0.4]") {
                 if met {
                     "yes"
