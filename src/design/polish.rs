@@ -413,14 +413,28 @@ fn run_lm_shape_first(
     if over {
         let first = lm.max_iterations / 2;
         (played.reach, played.goal) = (1.0, played.strength_ref * POLISH_GOAL);
-        run_lm(played, x0, &LmOptions { max_iterations: first, ..*lm })?;
+        run_lm(
+            played,
+            x0,
+            &LmOptions {
+                max_iterations: first,
+                ..*lm
+            },
+        )?;
         if let Some(best) = played.best() {
             from = best.params;
         }
         left -= first;
     }
     (played.reach, played.goal) = (STRENGTH_REACH, played.strength_ref);
-    run_lm(played, &from, &LmOptions { max_iterations: left, ..*lm })
+    run_lm(
+        played,
+        &from,
+        &LmOptions {
+            max_iterations: left,
+            ..*lm
+        },
+    )
 }
 
 /// One Nelder–Mead run from `x0` (simplex step `step`) until convergence or
@@ -510,7 +524,7 @@ pub fn polish(
     played.grid_budget = options.grid_budget.max(start_grid.min(SHAPE_CAP));
     let start = played.evaluate(&x0)?;
     if let Some(lm) = &options.lm {
-        let over = !(before.shape_error <= options.shape_budget);
+        let over = before.shape_error.is_nan() || before.shape_error > options.shape_budget;
         run_lm_shape_first(&mut played, &x0, over, lm)?;
     } else {
         run(&played, &x0, options.step)?;

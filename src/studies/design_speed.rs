@@ -11,10 +11,10 @@
 //! wall and CPU seconds of each design go to the printed summary only (the
 //! machine is shared: CPU seconds are the steadier number).
 //!
-//! The default (issue 27) refines by least squares: three
+//! The default (issue 27) refines by least squares: up to six
 //! Levenberg–Marquardt steps on the coarse residuals
-//! ([`crate::synth::least_squares`]) and two on the played ones
-//! ([`crate::design::polish`]); the other rows take fewer or more steps,
+//! ([`crate::synth::least_squares`]) and four on the played ones
+//! ([`crate::design::polish`]); the other rows take fewer steps,
 //! no polish, or the Nelder–Mead path of before with its stall rules
 //! ([`SYNTH_STALL`], [`POLISH_STALL`]; its polish plays the check's
 //! cycles too).
