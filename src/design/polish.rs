@@ -425,6 +425,10 @@ fn run_lm_shape_first(
             from = best.params;
         }
         left -= first;
+        if played.spent() {
+            // No play once the budget or the stall rule says stop.
+            return Ok(());
+        }
     }
     (played.reach, played.goal) = (STRENGTH_REACH, played.strength_ref);
     run_lm(
