@@ -3,9 +3,10 @@
 //! Quality only — timings live in `results/design_speed.md` and
 //! `benches/design.rs`, never in tests.
 //!
-//! The sink designed by `auto` with the default options (≈ 10 s under
-//! load): its played check within the issue's goal, shape ≤ 5 % at
-//! strength ≥ 0.65 s⁻¹ (the Nelder–Mead path of before: 4.74 % at 0.701).
+//! The sink designed by `auto` with the default options (≈ 10 s CPU):
+//! its played check within the issue's goal, shape ≤ 5 % at strength
+//! ≥ 0.65 s⁻¹ (the Nelder–Mead path of before: 4.74 % at 0.701); and
+//! line_sink_30 (≈ 15 s CPU) within 5 % of the Nelder–Mead strength.
 
 use std::path::Path;
 
@@ -21,10 +22,13 @@ fn sink() -> Target {
     Target::load(Path::new("targets/sink.json")).expect("shipped target")
 }
 
-#[test]
-fn default_sink_design_meets_the_played_goal() {
-    let cache =
-        std::env::temp_dir().join(format!("platefield-design-speed-{}", std::process::id()));
+/// The default `auto` design of `target` (a fresh basis cache): the kept
+/// method and its played shape error and strength.
+fn default_design(target: &Target, name: &str) -> (Method, f64, f64) {
+    let cache = std::env::temp_dir().join(format!(
+        "platefield-design-speed-{name}-{}",
+        std::process::id()
+    ));
     let opts = DesignOptions {
         cache_dir: Some(cache.clone()),
         quiet: true,
@@ -34,15 +38,36 @@ fn default_sink_design_meets_the_played_goal() {
         progress: ProgressMode::Quiet,
         ..SynthOptions::default()
     };
-    let m = design_by_method(&sink(), &opts, &synth, Method::Auto).expect("designs");
+    let m = design_by_method(target, &opts, &synth, Method::Auto).expect("designs");
     let _ = std::fs::remove_dir_all(&cache);
     let kept = m.kept();
-    assert_eq!(kept.method, Method::Synthesize);
     let p = kept.played();
-    let shape = p.realised_shape_error.expect("played");
-    let strength = p.realised_strength.expect("played");
+    (
+        kept.method,
+        p.realised_shape_error.expect("played"),
+        p.realised_strength.expect("played"),
+    )
+}
+
+#[test]
+fn default_sink_design_meets_the_played_goal() {
+    let (method, shape, strength) = default_design(&sink(), "sink");
+    assert_eq!(method, Method::Synthesize);
     assert!(shape <= 0.05, "played shape {shape}");
     assert!(strength >= 0.65, "played strength {strength}");
+}
+
+/// Issue 27's bar for least squares: within 5 % of the Nelder–Mead path's
+/// played strength (line_sink_30: 3.93 % at 0.408 s⁻¹) at a shape error at
+/// most 0.5 points above its. The strength row 1 − ŝ/s_ref of before
+/// pulled the synthesis back to the seed's strength: 2.10 % at 0.302.
+#[test]
+fn default_line_sink_30_keeps_the_nelder_mead_strength() {
+    let t = Target::load(Path::new("targets/line_sink_30.json")).expect("shipped target");
+    let (method, shape, strength) = default_design(&t, "line_sink_30");
+    assert_eq!(method, Method::Synthesize);
+    assert!(shape <= 0.0393 + 0.005, "played shape {shape}");
+    assert!(strength >= 0.95 * 0.408, "played strength {strength}");
 }
 
 #[test]

@@ -11,10 +11,10 @@
 //! wall and CPU seconds of each design go to the printed summary only (the
 //! machine is shared: CPU seconds are the steadier number).
 //!
-//! The default (issue 27) refines by least squares: three
+//! The default (issue 27) refines by least squares: up to six
 //! Levenberg–Marquardt steps on the coarse residuals
-//! ([`crate::synth::least_squares`]) and two on the played ones
-//! ([`crate::design::polish`]); the other rows take fewer or more steps,
+//! ([`crate::synth::least_squares`]) and four on the played ones
+//! ([`crate::design::polish`]); the other rows take fewer steps,
 //! no polish, or the Nelder–Mead path of before with its stall rules
 //! ([`SYNTH_STALL`], [`POLISH_STALL`]; its polish plays the check's
 //! cycles too).
@@ -80,7 +80,7 @@ const fn steps(lm: LmOptions, steps: usize) -> LmOptions {
 /// Nelder–Mead path of before issue 27 with its stall rules.
 pub const BUDGETS: [Budget; 5] = [
     Budget {
-        label: "least squares 3+2 (default)",
+        label: "least squares 6+4 (default)",
         evaluations: 300,
         lm: Some(SYNTH_LM),
         synth_stall: None,
@@ -89,12 +89,21 @@ pub const BUDGETS: [Budget; 5] = [
         polish_stall: None,
     },
     Budget {
-        label: "least squares 3, no polish",
+        label: "least squares 6, no polish",
         evaluations: 300,
         lm: Some(SYNTH_LM),
         synth_stall: None,
         plays: 0,
         polish_lm: Some(POLISH_LM),
+        polish_stall: None,
+    },
+    Budget {
+        label: "least squares 3+2",
+        evaluations: 300,
+        lm: Some(steps(SYNTH_LM, 3)),
+        synth_stall: None,
+        plays: 300,
+        polish_lm: Some(steps(POLISH_LM, 2)),
         polish_stall: None,
     },
     Budget {
@@ -104,15 +113,6 @@ pub const BUDGETS: [Budget; 5] = [
         synth_stall: None,
         plays: 300,
         polish_lm: Some(steps(POLISH_LM, 1)),
-        polish_stall: None,
-    },
-    Budget {
-        label: "least squares 6+4",
-        evaluations: 300,
-        lm: Some(steps(SYNTH_LM, 6)),
-        synth_stall: None,
-        plays: 300,
-        polish_lm: Some(steps(POLISH_LM, 4)),
         polish_stall: None,
     },
     Budget {
