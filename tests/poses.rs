@@ -593,10 +593,7 @@ fn drop_speed_report() {
         })
         .collect();
     let reference = |samples: usize| {
-        let i = runs
-            .iter()
-            .position(|r| *r == (samples, 256, 10))
-            .unwrap();
+        let i = runs.iter().position(|r| *r == (samples, 256, 10)).unwrap();
         ends[i].0.pose
     };
     let off = |a: &Pose, b: &Pose| {
@@ -697,9 +694,7 @@ fn drop_defaults_are_converged() {
     let sm = platefield::play::ScheduleMotion::from_schedule(&schedule).unwrap();
     let start = Pose::new(0.01, -0.005, 40f64.to_radians());
     let defaults = platefield::pose::DropPlay::new(&schedule.settings, 20.0);
-    let (coarse, offset) = rectangle()
-        .coarse_body(defaults.samples.unwrap())
-        .unwrap();
+    let (coarse, offset) = rectangle().coarse_body(defaults.samples.unwrap()).unwrap();
     assert_eq!(coarse.points().len(), 36);
     assert!(offset.norm() < 1e-15);
     let mut fine = defaults;

@@ -236,10 +236,9 @@ impl Part {
         if !uniform || self.body.points().len() <= samples {
             return None;
         }
-        let (points, weights): (Vec<V2>, Vec<f64>) =
-            polygon::uniform_grid(&self.polygon, samples)
-                .into_iter()
-                .unzip();
+        let (points, weights): (Vec<V2>, Vec<f64>) = polygon::uniform_grid(&self.polygon, samples)
+            .into_iter()
+            .unzip();
         (!points.is_empty()).then(|| PlanarBody::centred(&points, &weights))
     }
 

@@ -161,29 +161,53 @@ fn newton(
         if step.norm() <= tol {
             return (z + step, it + 1, true);
         }
-        let slope = g.dot(&step);
-        let flat = -slope <= FLAT * f.abs();
-        let mut t = 1.0;
-        loop {
-            let cand = z + step * t;
-            let (fc, gc, hc) = smoothed(&cand, zf, contacts, mu, eps);
+        let eval = |c: &V3| smoothed(c, zf, contacts, mu, eps);
+        match backtrack(&z, &step, (f, &g), eval, |_| true, 1e-12) {
+            Some(next) => (z, f, g, h) = next,
+            // No progress representable: converged to round-off.
+            None => return (z, it + 1, true),
+        }
+    }
+    (z, MAX_NEWTON, false)
+}
+
+/// Objective, gradient and Hessian at a point.
+type Local = (f64, V3, Matrix3<f64>);
+
+/// The backtracking of a damped Newton step from `z` along `step` (`at`:
+/// the objective and gradient at `z`): Armijo on the objective `eval`, or,
+/// where its round-off cannot resolve the step ([`FLAT`]), a falling
+/// gradient norm; candidates `admit` refuses are halved past. The accepted
+/// point with its [`Local`], or `None` once the step fraction falls below
+/// `t_min`.
+fn backtrack(
+    z: &V3,
+    step: &V3,
+    at: (f64, &V3),
+    eval: impl Fn(&V3) -> Local,
+    admit: impl Fn(&V3) -> bool,
+    t_min: f64,
+) -> Option<(V3, f64, V3, Matrix3<f64>)> {
+    let (f, g) = at;
+    let slope = g.dot(step);
+    let flat = -slope <= FLAT * f.abs();
+    let mut t = 1.0;
+    while t >= t_min {
+        let cand = z + step * t;
+        if admit(&cand) {
+            let (fc, gc, hc) = eval(&cand);
             let better = if flat {
                 gc.norm() < g.norm()
             } else {
                 fc <= f + 1e-4 * t * slope
             };
             if better {
-                (z, f, g, h) = (cand, fc, gc, hc);
-                break;
-            }
-            t *= 0.5;
-            if t < 1e-12 {
-                // No progress representable: converged to round-off.
-                return (z, it + 1, true);
+                return Some((cand, fc, gc, hc));
             }
         }
+        t *= 0.5;
     }
-    (z, MAX_NEWTON, false)
+    None
 }
 
 /// True when z_f is proven to lie in the friction set C = Σ_j μ w_j B_jᵀ D
@@ -319,25 +343,11 @@ fn slipping_newton(
             let z = z + step;
             return all_slip(&z, contacts).then_some((z, it + 1));
         }
-        let slope = g.dot(&step);
-        let flat = -slope <= FLAT * f.abs();
-        let mut t = 1.0;
-        loop {
-            let cand = z + step * t;
-            if all_slip(&cand, contacts) {
-                let (fc, gc, hc) = smoothed(&cand, zf, contacts, mu, 0.0);
-                let better = if flat {
-                    gc.norm() < g.norm()
-                } else {
-                    fc <= f + 1e-4 * t * slope
-                };
-                if better {
-                    (z, f, g, h) = (cand, fc, gc, hc);
-                    break;
-                }
-            }
-            t *= 0.5;
-            if t < 1e-6 {
+        let eval = |c: &V3| smoothed(c, zf, contacts, mu, 0.0);
+        let admit = |c: &V3| all_slip(c, contacts);
+        match backtrack(&z, &step, (f, &g), eval, admit, 1e-6) {
+            Some(next) => (z, f, g, h) = next,
+            None => {
                 let done = step.norm() <= FAST_STALL * scale;
                 return done.then_some((z, it + 1));
             }
