@@ -380,15 +380,14 @@ fn played_drops_end_where_predicted() {
     assert_eq!(p.ends, a.ends, "played {:?} predicted {:?}", p.ends, a.ends);
 }
 
-/// Issue 28: basins of ≥ 200 drops played by the planar simulator (64-point
-/// rectangle, 20 s each, 64 steps per cycle, default refinement) on the
+/// Issue 28: basins of ≥ 200 drops played by the planar simulator (the
+/// rectangle, 20 s each, the drop defaults of `DropPlay::new`) on the
 /// designed ellipse and on it turned by 30°, against the lifted field's
 /// prediction from the same starts: every basin within 5 percentage
-/// points. Measured (ellipse_30): predicted 52.0/48.0 %, played 53.0/47.0 %,
-/// per-drop agreement 92 %, none lost; (ellipse, before the starts were
-/// inset by the part's radius) 35 of 200 lost contact at the region's
-/// edge, every other drop ended where predicted. Long (about 25 min per
-/// ellipse on a loaded 2-core machine):
+/// points. Measured (ellipse_30): predicted 52.0/48.0 %, played 53.5/46.5 %,
+/// per-drop agreement 91.5 %, none lost; (ellipse) predicted and played
+/// 49.5/50.5 %, per-drop agreement 100 %, none lost. 20 min for both on a
+/// heavily loaded 2-core machine:
 /// `cargo test --release --test poses played_basins_match_prediction -- --ignored --nocapture`.
 #[test]
 #[ignore]

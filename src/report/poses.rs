@@ -162,7 +162,7 @@ const THETA_PANEL: f64 = 300.0;
 
 /// The region with the part drawn at every equilibrium (stable: filled,
 /// labelled with θ and its basin; unstable: dashed outline), and below it
-/// θ against x and against y ([`theta_panels`]).
+/// θ against x and against y (each drop's start, coloured by its end).
 pub fn picture(part: &Part, a: &PoseAnalysis) -> String {
     let (w, h, pad) = (520.0, 520.0, 40.0);
     let mut s = region_panel(part, a, w, h, pad);
