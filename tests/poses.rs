@@ -268,8 +268,8 @@ fn designed(
     (s, field, region)
 }
 
-/// The drops of `analysis` played by the planar simulator for 20 s
-/// through `schedule` (`part`, 64 steps per cycle, default refinement).
+/// The drops of `analysis` played by the planar simulator for `seconds`
+/// through `schedule` (`part`, the defaults of `DropPlay::new`).
 fn played(
     analysis: &platefield::pose::PoseAnalysis,
     part: &Part,
@@ -281,36 +281,38 @@ fn played(
     platefield::pose::played_basins(analysis, part, &sm, &play)
 }
 
-/// Cost of played drops (run with `--ignored --nocapture`; DROPS drops,
-/// default 4, of the 64-point rectangle for 20 s on the designed ellipse).
+/// Cost of played drops (run with `--ignored --nocapture`): DROPS drops
+/// (default 100) of the shipped rectangle for 20 s on the designed ellipse
+/// with the defaults (`DropPlay::new`); the process's CPU time (user +
+/// sys) and the wall time on the threads rayon has.
 #[test]
 #[ignore]
 fn drop_cost_report() {
     let n: usize = std::env::var("DROPS")
         .ok()
         .and_then(|s| s.parse().ok())
-        .unwrap_or(4);
+        .unwrap_or(100);
+    let cpu = || {
+        // SAFETY: a valid out-pointer to an rusage.
+        let mut u: libc::rusage = unsafe { std::mem::zeroed() };
+        unsafe { libc::getrusage(libc::RUSAGE_SELF, &mut u) };
+        let t = |v: libc::timeval| v.tv_sec as f64 + 1e-6 * v.tv_usec as f64;
+        t(u.ru_utime) + t(u.ru_stime)
+    };
     let (schedule, field, region) = designed("ellipse");
-    for samples in [64, 256] {
-        let part = Part::from_json_str(&format!(
-            r#"{{"name": "r", "polygon": [[-0.01, -0.0025], [0.01, -0.0025], [0.01, 0.0025], [-0.01, 0.0025]],
-                "support": {{"uniform": {{"samples": {samples}}}}}}}"#
-        ))
-        .unwrap();
-        let a = platefield::pose::analyse(&part, &field, region, n);
-        let t = std::time::Instant::now();
-        let p = played(&a, &part, &schedule, 20.0);
-        let secs = t.elapsed().as_secs_f64();
-        println!(
-            "{samples} points: {n} drops × {:.2} s simulated in {secs:.2} s ({} threads), {:.0} steps per drop, {:.0} steps per cycle; agreement {:.3}, lost {}",
-            p.time,
-            rayon::current_num_threads(),
-            p.steps as f64 / n as f64,
-            p.steps as f64 / n as f64 / (p.time / 0.030),
-            p.agreement,
-            p.lost
-        );
-    }
+    let part = rectangle();
+    let a = platefield::pose::analyse(&part, &field, region, n);
+    let (c, t) = (cpu(), std::time::Instant::now());
+    let p = played(&a, &part, &schedule, 20.0);
+    let (cpu_s, wall) = (cpu() - c, t.elapsed().as_secs_f64());
+    println!(
+        "{n} drops × {:.2} s simulated: {cpu_s:.1} s CPU, {wall:.1} s wall on {} threads; {:.0} steps per drop; agreement {:.3}, lost {}",
+        p.time,
+        rayon::current_num_threads(),
+        p.steps as f64 / n as f64,
+        p.agreement,
+        p.lost
+    );
 }
 
 /// Stable and unstable poses of the rectangle on the DESIGNED ellipses
@@ -361,8 +363,8 @@ fn rectangle_on_the_designed_ellipses() {
     }
 }
 
-/// A few drops played by the planar simulator (64-point rectangle, 10 s on
-/// the designed ellipse) end at the stable pose the lifted field predicts
+/// A few drops played by the planar simulator (the rectangle, 10 s on the
+/// designed ellipse, the drop defaults) end at the stable pose the lifted field predicts
 /// for each; the 200-drop comparison is `played_basins_match_prediction`.
 #[test]
 fn played_drops_end_where_predicted() {
@@ -378,15 +380,14 @@ fn played_drops_end_where_predicted() {
     assert_eq!(p.ends, a.ends, "played {:?} predicted {:?}", p.ends, a.ends);
 }
 
-/// Issue 28: basins of ≥ 200 drops played by the planar simulator (64-point
-/// rectangle, 20 s each, 64 steps per cycle, default refinement) on the
+/// Issue 28: basins of ≥ 200 drops played by the planar simulator (the
+/// rectangle, 20 s each, the drop defaults of `DropPlay::new`) on the
 /// designed ellipse and on it turned by 30°, against the lifted field's
 /// prediction from the same starts: every basin within 5 percentage
-/// points. Measured (ellipse_30): predicted 52.0/48.0 %, played 53.0/47.0 %,
-/// per-drop agreement 92 %, none lost; (ellipse, before the starts were
-/// inset by the part's radius) 35 of 200 lost contact at the region's
-/// edge, every other drop ended where predicted. Long (about 25 min per
-/// ellipse on a loaded 2-core machine):
+/// points. Measured (ellipse_30): predicted 52.0/48.0 %, played 53.5/46.5 %,
+/// per-drop agreement 91.5 %, none lost; (ellipse) predicted and played
+/// 49.5/50.5 %, per-drop agreement 100 %, none lost. 20 min for both on a
+/// heavily loaded 2-core machine:
 /// `cargo test --release --test poses played_basins_match_prediction -- --ignored --nocapture`.
 #[test]
 #[ignore]
@@ -417,53 +418,51 @@ fn played_basins_match_prediction() {
 }
 
 /// Convergence order of the planar scheme on a drop (run with `--ignored
-/// --nocapture`): the 64-point rectangle from (1 cm, −0.5 cm, 40°) for 3 s
-/// on the designed ellipse at 32…512 steps per cycle, without and with the
-/// event refinement; Richardson: p = log2(|q_h − q_h/2| / |q_h/2 − q_h/4|)
-/// on the end pose (x, y, R θ). Measured: no stable order; with
-/// refinement successive differences 8.1, 7.4, 3.3, 3.0 µm (order 0.1–1.1,
-/// the erratic event-timing error of the planar scheme), without it 1.3 mm,
-/// 89, 102, 272 µm.
+/// --nocapture`): the rectangle (SAMPLES support points, default 16) from
+/// (1 cm, −0.5 cm, 40°) for 3 s on the designed ellipse at 16…1024 steps
+/// per cycle, refinement depth 0, 3 and 10, against 4096 steps per cycle
+/// (depth 10): error |q_h − q_ref| on the end pose (x, y, R θ) and the
+/// observed order log2(e_h / e_h/2).
 #[test]
 #[ignore]
 fn drop_order_report() {
-    let part = Part::from_json_str(
-        r#"{"name": "r", "polygon": [[-0.01, -0.0025], [0.01, -0.0025], [0.01, 0.0025], [-0.01, 0.0025]],
-            "support": {"uniform": {"samples": 64}}}"#,
-    )
-    .unwrap();
+    use rayon::prelude::*;
+    let samples: usize = std::env::var("SAMPLES")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(16);
+    let part = rectangle_with(samples);
     let (schedule, _, _) = designed("ellipse");
     let sm = platefield::play::ScheduleMotion::from_schedule(&schedule).unwrap();
     let start = Pose::new(0.01, -0.005, 40f64.to_radians());
     let r = part.radius();
-    for depth in [0u32, 10] {
-        let ends: Vec<(usize, platefield::pose::DropEnd)> = [32usize, 64, 128, 256, 512]
-            .iter()
-            .map(|&spc| {
-                let mut play = platefield::pose::DropPlay::new(&schedule.settings, 3.0);
-                play.steps_per_cycle = spc;
-                play.refine_depth = depth;
-                (
-                    spc,
-                    platefield::pose::play_drop(&sm, &part.body, start, &play).unwrap(),
-                )
-            })
-            .collect();
-        let diff = |a: &platefield::pose::DropEnd, b: &platefield::pose::DropEnd| {
-            ((a.pose.r - b.pose.r).norm_squared() + (r * (a.pose.theta - b.pose.theta)).powi(2))
-                .sqrt()
-        };
-        for w in ends.windows(3) {
-            let (d1, d2) = (diff(&w[0].1, &w[1].1), diff(&w[1].1, &w[2].1));
-            println!(
-                "depth {depth}: steps/cycle {}→{}→{}: |Δq| {d1:.3e} m, {d2:.3e} m, order {:.2} (steps per drop {})",
-                w[0].0,
-                w[1].0,
-                w[2].0,
-                (d1 / d2).log2(),
-                w[0].1.steps
-            );
-        }
+    let spcs = [16usize, 32, 64, 128, 256, 512, 1024];
+    let mut runs = vec![(4096usize, 10u32)];
+    for depth in [0u32, 3, 10] {
+        runs.extend(spcs.iter().map(|&spc| (spc, depth)));
+    }
+    let ends: Vec<platefield::pose::DropEnd> = runs
+        .par_iter()
+        .map(|&(spc, depth)| {
+            let mut play = platefield::pose::DropPlay::new(&schedule.settings, 3.0);
+            play.steps_per_cycle = spc;
+            play.refine_depth = depth;
+            platefield::pose::play_drop(&sm, &part.body, start, &play).unwrap()
+        })
+        .collect();
+    let diff = |a: &platefield::pose::DropEnd, b: &platefield::pose::DropEnd| {
+        ((a.pose.r - b.pose.r).norm_squared() + (r * (a.pose.theta - b.pose.theta)).powi(2)).sqrt()
+    };
+    let mut last: Option<f64> = None;
+    for (&(spc, depth), end) in runs.iter().zip(&ends).skip(1) {
+        let e = diff(end, &ends[0]);
+        let order = last.filter(|_| spc > spcs[0]).map(|l| (l / e).log2());
+        println!(
+            "{samples} points, depth {depth:2}, {spc:4} steps/cycle: error {e:.3e} m, order {}, {:.0} steps per cycle",
+            order.map_or("-".to_string(), |o| format!("{o:.2}")),
+            end.steps as f64 / (end.time / 0.030)
+        );
+        last = Some(e);
     }
 }
 
@@ -533,4 +532,193 @@ fn unknown_support_bounds_contain_random_supports() {
         kept.len()
     );
     assert!(kept.len() < 1728 / 2 && !kept.is_empty() && far == 0);
+}
+
+/// CPU seconds of the calling thread.
+fn thread_cpu() -> f64 {
+    let mut t = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: a valid out-pointer to a timespec.
+    unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut t) };
+    t.tv_sec as f64 + 1e-9 * t.tv_nsec as f64
+}
+
+/// The 2 × 0.5 cm rectangle with `samples` uniform support points.
+fn rectangle_with(samples: usize) -> Part {
+    Part::from_json_str(&format!(
+        r#"{{"name": "r", "polygon": [[-0.01, -0.0025], [0.01, -0.0025], [0.01, 0.0025], [-0.01, 0.0025]],
+            "support": {{"uniform": {{"samples": {samples}}}}}}}"#
+    ))
+    .unwrap()
+}
+
+/// Speed and accuracy of one played drop (run with `--ignored --nocapture`):
+/// the rectangle from (1 cm, −0.5 cm, 40°) for SECONDS (default 20) on the
+/// designed ellipse, by support samples, steps per cycle and refinement
+/// depth; CPU time of the drop's thread and its end pose against the same
+/// support at 256 steps per cycle (depth 10) and against 256 support points.
+#[test]
+#[ignore]
+fn drop_speed_report() {
+    use rayon::prelude::*;
+    let seconds: f64 = std::env::var("SECONDS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(20.0);
+    let (schedule, field, region) = designed("ellipse");
+    let sm = platefield::play::ScheduleMotion::from_schedule(&schedule).unwrap();
+    let start = Pose::new(0.01, -0.005, 40f64.to_radians());
+    let mut runs = vec![(256usize, 256usize, 10u32), (256, 64, 10)];
+    for samples in [16usize, 36, 64] {
+        runs.push((samples, 256, 10));
+        for spc in [32usize, 64] {
+            for depth in [0u32, 3, 10] {
+                runs.push((samples, spc, depth));
+            }
+        }
+    }
+    let ends: Vec<_> = runs
+        .par_iter()
+        .map(|&(samples, spc, depth)| {
+            let part = rectangle_with(samples);
+            let mut play = platefield::pose::DropPlay::new(&schedule.settings, seconds);
+            play.steps_per_cycle = spc;
+            play.refine_depth = depth;
+            let t = thread_cpu();
+            let end = platefield::pose::play_drop(&sm, &part.body, start, &play).unwrap();
+            (end, thread_cpu() - t)
+        })
+        .collect();
+    let reference = |samples: usize| {
+        let i = runs.iter().position(|r| *r == (samples, 256, 10)).unwrap();
+        ends[i].0.pose
+    };
+    let off = |a: &Pose, b: &Pose| {
+        (
+            1e3 * (a.r - b.r).norm(),
+            wrap(a.theta - b.theta).to_degrees().abs(),
+        )
+    };
+    for (&(samples, spc, depth), (end, cpu)) in runs.iter().zip(&ends) {
+        let cycles = end.time / 0.030;
+        let (dr, dt) = off(&end.pose, &reference(samples));
+        let (sr, st) = off(&end.pose, &reference(256));
+        println!(
+            "samples {samples:3} spc {spc:3} depth {depth:2}: {cpu:6.2} s CPU, {:5.1} steps/cycle, {:5.1} halvings/cycle, {:4.1} Newton/step; end ({:+.3}, {:+.3}) mm {:+.2}°; vs fine steps {dr:.3} mm {dt:.3}°, vs 256 points {sr:.3} mm {st:.3}°",
+            end.steps as f64 / cycles,
+            end.refinements as f64 / cycles,
+            end.solver_iterations as f64 / end.steps as f64,
+            1e3 * end.pose.r.x,
+            1e3 * end.pose.r.y,
+            end.pose.theta.to_degrees(),
+        );
+    }
+    for samples in [16usize, 36, 64, 256] {
+        let a = platefield::pose::analyse(&rectangle_with(samples), &field, region, 0);
+        for e in a.equilibria.iter().filter(|e| e.stable) {
+            println!(
+                "lifted field, {samples} points: stable ({:+.4}, {:+.4}) mm {:+.3}°",
+                1e3 * e.pose.r.x,
+                1e3 * e.pose.r.y,
+                e.pose.theta.to_degrees()
+            );
+        }
+    }
+}
+
+/// The planar scheme's order, measured: the rectangle (16 support points)
+/// from (1 cm, −0.5 cm, 40°) for 3 s on the designed ellipse at 16…1024
+/// steps per cycle without event refinement, against 4096 steps per cycle
+/// with refinement depth 10. The least-squares slope of log error against
+/// log step is the order: measured 1.06 (first order; single halvings
+/// scatter from −0.2 to 2.7, the erratic event-timing error); refinement
+/// depth 10 at 64 steps per cycle cuts the error 40-fold (0.29 mm → 7 µm).
+#[test]
+fn planar_scheme_is_first_order() {
+    use rayon::prelude::*;
+    let part = rectangle_with(16);
+    let (schedule, _, _) = designed("ellipse");
+    let sm = platefield::play::ScheduleMotion::from_schedule(&schedule).unwrap();
+    let start = Pose::new(0.01, -0.005, 40f64.to_radians());
+    let r = part.radius();
+    let spcs = [16usize, 32, 64, 128, 256, 512, 1024];
+    let mut runs = vec![(4096usize, 10u32), (64, 10)];
+    runs.extend(spcs.iter().map(|&spc| (spc, 0)));
+    let ends: Vec<Pose> = runs
+        .par_iter()
+        .map(|&(spc, depth)| {
+            let mut play = platefield::pose::DropPlay::new(&schedule.settings, 3.0);
+            play.steps_per_cycle = spc;
+            play.refine_depth = depth;
+            platefield::pose::play_drop(&sm, &part.body, start, &play)
+                .unwrap()
+                .pose
+        })
+        .collect();
+    let error = |p: &Pose| {
+        ((p.r - ends[0].r).norm_squared() + (r * (p.theta - ends[0].theta)).powi(2)).sqrt()
+    };
+    let points: Vec<(f64, f64)> = spcs
+        .iter()
+        .zip(&ends[2..])
+        .map(|(&spc, p)| ((1.0 / spc as f64).ln(), error(p).ln()))
+        .collect();
+    let n = points.len() as f64;
+    let (mx, my) = (
+        points.iter().map(|p| p.0).sum::<f64>() / n,
+        points.iter().map(|p| p.1).sum::<f64>() / n,
+    );
+    let order = points.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum::<f64>()
+        / points.iter().map(|p| (p.0 - mx).powi(2)).sum::<f64>();
+    let refined = error(&ends[1]) / error(&ends[4]);
+    println!("order {order:.3}; refinement at 64 steps per cycle: error × {refined:.4}");
+    assert!((0.8..=1.4).contains(&order), "order {order}");
+    assert!(refined < 0.1, "{refined}");
+}
+
+/// The played drop's defaults (`DropPlay::new`: 64 steps per cycle,
+/// refinement depth 3, the shipped rectangle resampled to 36 support
+/// points) against 256 steps per cycle, depth 10 and 64 support points,
+/// on a 20 s drop from (1 cm, −0.5 cm, 40°) on the designed ellipse: the
+/// end pose within 0.05 mm and 0.3° (measured 0.011 mm, 0.09°), at most 140
+/// steps per cycle and 5 Newton iterations per step (measured 125, 3.9:
+/// 0.4 s CPU per drop against 10 s before the slipping fast path and the
+/// coarser drop defaults, `drop_speed_report`).
+#[test]
+fn drop_defaults_are_converged() {
+    use rayon::prelude::*;
+    let (schedule, _, _) = designed("ellipse");
+    let sm = platefield::play::ScheduleMotion::from_schedule(&schedule).unwrap();
+    let start = Pose::new(0.01, -0.005, 40f64.to_radians());
+    let defaults = platefield::pose::DropPlay::new(&schedule.settings, 20.0);
+    let (coarse, offset) = rectangle().coarse_body(defaults.samples.unwrap()).unwrap();
+    assert_eq!(coarse.points().len(), 36);
+    assert!(offset.norm() < 1e-15);
+    let mut fine = defaults;
+    fine.steps_per_cycle = 256;
+    fine.refine_depth = 10;
+    let fine_body = rectangle_with(64).body;
+    let cases = [(&coarse, defaults), (&fine_body, fine)];
+    let ends: Vec<platefield::pose::DropEnd> = cases
+        .par_iter()
+        .map(|(body, play)| platefield::pose::play_drop(&sm, body, start, play).unwrap())
+        .collect();
+    let (a, b) = (ends[0].pose, ends[1].pose);
+    let (dr, dt) = (
+        1e3 * (a.r - b.r).norm(),
+        wrap(a.theta - b.theta).to_degrees().abs(),
+    );
+    let cycle = sm
+        .segments()
+        .iter()
+        .filter_map(|s| s.motion.as_ref().map(|m| m.period()))
+        .fold(f64::INFINITY, f64::min);
+    let cycles = ends[0].time / cycle;
+    let per_cycle = ends[0].steps as f64 / cycles;
+    let newton = ends[0].solver_iterations as f64 / ends[0].steps as f64;
+    println!("{dr:.4} mm {dt:.4}°, {per_cycle:.1} steps per cycle, {newton:.2} Newton per step");
+    assert!(dr < 0.05 && dt < 0.3, "{dr} mm {dt}°");
+    assert!(per_cycle <= 140.0 && newton <= 5.0, "{per_cycle} {newton}");
 }

@@ -81,7 +81,17 @@
 //! therefore halved, recursively, up to [`PLANAR_REFINE_DEPTH`] times. Each
 //! piece is still a Moreau–Jean step (so the no-creep property holds); the
 //! error at events shrinks by 2^depth at the cost of a few extra steps per
-//! event. Measured numbers are in `tests/planar.rs`.
+//! event. Measured numbers are in `tests/planar.rs`; the order on a played
+//! drop (`tests/poses.rs` `planar_scheme_is_first_order`: end pose after 3 s
+//! against 4096 steps per cycle) is 1.06, the least-squares slope over
+//! 16…1024 steps per cycle without refinement (single halvings scatter
+//! from −0.2 to 2.7: the event-timing error), and refinement depth 10
+//! cuts the error at 64 steps per cycle 40-fold.
+//!
+//! **Cost.** A slipping step's implicit solve is usually a few Newton
+//! iterations on the exact objective from the last slip velocity (the
+//! solver's fast path); only steps where the body comes to rest or breaks
+//! away pay the smoothing continuation.
 //!
 //! With the model's `moving` switch off the body's geometry is frozen at
 //! the anchor pose (kinematics at the anchor's support points, lever arms

@@ -215,6 +215,33 @@ impl Part {
         Ok(())
     }
 
+    /// The body resampled by about `samples` uniform support points, with
+    /// its centre of mass in the part's body frame (a cheaper body for
+    /// played drops, `crate::pose::DropPlay`); `None` unless the support is
+    /// uniform (or unknown, simulated as uniform) with more points than that.
+    ///
+    /// ```
+    /// use platefield::part::Part;
+    /// let p = Part::load(std::path::Path::new("targets/parts/rectangle.json"))?;
+    /// let (body, offset) = p.coarse_body(36).unwrap();
+    /// assert_eq!(body.points().len(), 36); // a 12 × 3 grid
+    /// assert!(offset.norm() < 1e-15); // symmetric: the same centre of mass
+    /// # Ok::<(), platefield::Error>(())
+    /// ```
+    pub fn coarse_body(&self, samples: usize) -> Option<(PlanarBody, V2)> {
+        let uniform = matches!(
+            self.support,
+            Support::Uniform { .. } | Support::Unknown { .. }
+        );
+        if !uniform || self.body.points().len() <= samples {
+            return None;
+        }
+        let (points, weights): (Vec<V2>, Vec<f64>) = polygon::uniform_grid(&self.polygon, samples)
+            .into_iter()
+            .unzip();
+        (!points.is_empty()).then(|| PlanarBody::centred(&points, &weights))
+    }
+
     /// Vertices in the plate frame at pose (r, θ).
     pub fn placed(&self, r: V2, theta: f64) -> Vec<V2> {
         let (s, c) = theta.sin_cos();

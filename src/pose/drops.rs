@@ -18,9 +18,7 @@ use rayon::prelude::*;
 
 use super::equilibria::{wrap, Equilibrium};
 use super::lifted::Pose;
-use crate::dynamics::{
-    Friction, Model, PlanarBody, PlanarSimulator, PlanarState, Plate, PLANAR_REFINE_DEPTH,
-};
+use crate::dynamics::{Friction, Model, PlanarBody, PlanarSimulator, PlanarState, Plate, V2};
 use crate::play::{PlayLoss, ScheduleMotion};
 use crate::verify::plate_twist;
 
@@ -39,11 +37,33 @@ pub struct DropPlay {
     pub steps_per_cycle: usize,
     /// How many times a step holding a stick-slip event may be halved.
     pub refine_depth: u32,
+    /// Support points of the played body ([`played_basins`]): a uniform
+    /// support with more is resampled by about this many
+    /// ([`crate::part::Part::coarse_body`]); `None` plays the part's own.
+    pub samples: Option<usize>,
 }
+
+/// Default support points of a played drop ([`DropPlay::samples`]).
+pub const DROP_SAMPLES: usize = 36;
+
+/// Default refinement depth of a played drop ([`DropPlay::refine_depth`]).
+pub const DROP_REFINE_DEPTH: u32 = 3;
 
 impl DropPlay {
     /// `duration_s` of play with the schedule's settings, 64 steps per
-    /// cycle and the default event refinement.
+    /// cycle, [`DROP_REFINE_DEPTH`] and [`DROP_SAMPLES`]. Measured on the
+    /// 2 × 0.5 cm rectangle dropped on the designed ellipse for 20 s
+    /// (`tests/poses.rs` `drop_speed_report`): 0.4 s CPU per drop (about
+    /// 125 steps per cycle, 4 Newton iterations per step), so 100 drops
+    /// in about 20 s on 2 cores; its end pose within 0.02 mm and 0.2° of
+    /// 256 steps per cycle (depth 10) and of 256 support points
+    /// (`drop_defaults_are_converged` checks it).
+    ///
+    /// ```
+    /// use platefield::pose::{DropPlay, DROP_SAMPLES};
+    /// let play = DropPlay::new(&platefield::field::FieldSettings::default(), 20.0);
+    /// assert_eq!((play.steps_per_cycle, play.samples), (64, Some(DROP_SAMPLES)));
+    /// ```
     pub fn new(settings: &crate::field::FieldSettings, duration_s: f64) -> DropPlay {
         DropPlay {
             friction: settings.friction,
@@ -51,7 +71,8 @@ impl DropPlay {
             model: settings.model,
             duration_s,
             steps_per_cycle: 64,
-            refine_depth: PLANAR_REFINE_DEPTH,
+            refine_depth: DROP_REFINE_DEPTH,
+            samples: Some(DROP_SAMPLES),
         }
     }
 }
@@ -65,6 +86,10 @@ pub struct DropEnd {
     pub time: f64,
     /// Integrator steps taken (refined halves included).
     pub steps: u64,
+    /// Steps halved because they held a stick-slip event.
+    pub refinements: u64,
+    /// Newton iterations of the implicit friction solves.
+    pub solver_iterations: u64,
 }
 
 /// Plays `body` from rest at `start` through `sm` for whole periods
@@ -101,7 +126,7 @@ pub fn play_drop(
     let periods = (play.duration_s / sm.period()).ceil().max(1.0) as u32;
     let mut s = PlanarState::at_rest(start.r, start.theta);
     let anchor = (start.r, start.theta);
-    let mut steps = 0;
+    let mut cost = crate::dynamics::PlanarOutcome::default();
     let n = segments.len();
     for period in 0..periods {
         for (i, seg) in segments.iter().enumerate() {
@@ -120,7 +145,9 @@ pub fn play_drop(
                     period,
                     loss,
                 })?;
-            steps += out.steps;
+            cost.steps += out.steps;
+            cost.refinements += out.refinements;
+            cost.solver_iterations += out.solver_iterations;
         }
     }
     Ok(DropEnd {
@@ -129,7 +156,9 @@ pub fn play_drop(
             theta: s.theta,
         },
         time: f64::from(periods) * sm.period(),
-        steps,
+        steps: cost.steps,
+        refinements: cost.refinements,
+        solver_iterations: cost.solver_iterations,
     })
 }
 
@@ -185,6 +214,7 @@ pub struct PlayedBasins {
 }
 
 /// Plays the drops of `analysis` (same starts, same order) for `part`
+/// (resampled as [`DropPlay::samples`] asks, its poses still the part's)
 /// through `sm` and classifies each end by its nearest stable pose.
 pub fn played_basins(
     analysis: &super::PoseAnalysis,
@@ -196,7 +226,31 @@ pub fn played_basins(
     let index: Vec<usize> = (0..eq.len()).filter(|&i| eq[i].stable).collect();
     let stable: Vec<Equilibrium> = index.iter().map(|&i| eq[i]).collect();
     let starts = super::drop_starts(&analysis.starts, analysis.drops);
-    let runs = play_drops(sm, &part.body, &starts, play);
+    // The played body's centre of mass sits at `offset` in the part's frame.
+    let (body, offset) = play
+        .samples
+        .and_then(|n| part.coarse_body(n))
+        .unwrap_or_else(|| (part.body.clone(), V2::zeros()));
+    let at = |theta: f64| {
+        let (s, c) = theta.sin_cos();
+        V2::new(c * offset.x - s * offset.y, s * offset.x + c * offset.y)
+    };
+    let moved: Vec<Pose> = starts
+        .iter()
+        .map(|p| Pose {
+            r: p.r + at(p.theta),
+            theta: p.theta,
+        })
+        .collect();
+    let runs: Vec<Result<DropEnd, PlayLoss>> = play_drops(sm, &body, &moved, play)
+        .into_iter()
+        .map(|run| {
+            run.map(|mut end| {
+                end.pose.r -= at(end.pose.theta);
+                end
+            })
+        })
+        .collect();
     let radius = part.radius();
     let mut worst: f64 = 0.0;
     let (mut steps, mut time) = (0, 0.0);

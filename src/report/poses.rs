@@ -152,16 +152,109 @@ pub fn summary(part: &Part, a: &PoseAnalysis, extras: &Extras<'_>) -> String {
     s
 }
 
+/// Colours of the stable poses' basins in the θ-against-position panels.
+const BASIN_COLOURS: [&str; 6] = [
+    "#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd", "#8c564b", "#e377c2",
+];
+
+/// Height of the θ-against-position panels below the region (px).
+const THETA_PANEL: f64 = 300.0;
+
 /// The region with the part drawn at every equilibrium (stable: filled,
-/// labelled with θ and its basin; unstable: dashed outline).
+/// labelled with θ and its basin; unstable: dashed outline), and below it
+/// θ against x and against y (each drop's start, coloured by its end).
 pub fn picture(part: &Part, a: &PoseAnalysis) -> String {
     let (w, h, pad) = (520.0, 520.0, 40.0);
+    let mut s = region_panel(part, a, w, h, pad);
+    theta_panels(&mut s, a, w, h);
+    s.push_str("</svg>\n");
+    s
+}
+
+/// θ against position: every drop's start (x in the left panel, y in the
+/// right; θ from −180° to 180° upwards) as a dot coloured by the stable
+/// pose it settled at (grey: unsettled), each equilibrium as a ring
+/// (stable: filled). A field that orients the part shows horizontal
+/// bands: the end angle depends on the start angle, not on where it fell.
+fn theta_panels(s: &mut String, a: &PoseAnalysis, w: f64, top: f64) {
+    let (pad, gap) = (40.0, 30.0);
+    let side = (w - 2.0 * pad - gap) / 2.0;
+    let height = THETA_PANEL - 70.0;
+    let y0 = top + 20.0;
+    let stable: Vec<usize> = (0..a.equilibria.len())
+        .filter(|&i| a.equilibria[i].stable)
+        .collect();
+    let colour = |end: Option<usize>| {
+        end.and_then(|i| stable.iter().position(|&k| k == i))
+            .map_or("#999", |k| BASIN_COLOURS[k % BASIN_COLOURS.len()])
+    };
+    let starts = crate::pose::drop_starts(&a.starts, a.drops);
+    let theta_y = |t: f64| y0 + height * (0.5 - t / std::f64::consts::TAU);
+    for (panel, (name, range)) in [("x", a.region.x), ("y", a.region.y)].iter().enumerate() {
+        let left = pad + panel as f64 * (side + gap);
+        let px = |v: f64| left + side * (v - range[0]) / (range[1] - range[0]);
+        let _ = writeln!(
+            s,
+            "<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"none\" stroke=\"#888\"/>",
+            num(left),
+            num(y0),
+            num(side),
+            num(height)
+        );
+        let coord = |p: &Pose| if panel == 0 { p.r.x } else { p.r.y };
+        for (p, end) in starts.iter().zip(&a.ends) {
+            let _ = writeln!(
+                s,
+                "<circle cx=\"{}\" cy=\"{}\" r=\"2\" fill=\"{}\"/>",
+                num(px(coord(p))),
+                num(theta_y(p.theta)),
+                colour(*end)
+            );
+        }
+        for (i, e) in a.equilibria.iter().enumerate() {
+            let fill = if e.stable { colour(Some(i)) } else { "none" };
+            let _ = writeln!(
+                s,
+                "<circle cx=\"{}\" cy=\"{}\" r=\"6\" fill=\"{fill}\" stroke=\"#000\"/>",
+                num(px(coord(&e.pose))),
+                num(theta_y(e.pose.theta))
+            );
+        }
+        for (t, label) in [(180.0f64, "180°"), (0.0, "0°"), (-180.0, "−180°")] {
+            let _ = writeln!(
+                s,
+                "<text x=\"{}\" y=\"{}\" text-anchor=\"end\" font-size=\"10\">{label}</text>",
+                num(left - 3.0),
+                num(theta_y(t.to_radians()) + 4.0)
+            );
+        }
+        let _ = writeln!(
+            s,
+            "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">start {name} ({} to {} mm)</text>",
+            num(left + side / 2.0),
+            num(y0 + height + 16.0),
+            num(1e3 * range[0]),
+            num(1e3 * range[1])
+        );
+    }
+    let _ = writeln!(
+        s,
+        "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\" fill=\"#555\">θ against position: each drop's start, coloured by the stable pose it reached (ring; open ring: unstable; grey: unsettled)</text>",
+        num(w / 2.0),
+        num(y0 + height + 36.0)
+    );
+}
+
+/// The region panel of [`picture`]: the `<svg>` opening (tall enough for
+/// the θ panels) and the part at every equilibrium.
+fn region_panel(part: &Part, a: &PoseAnalysis, w: f64, h: f64, pad: f64) -> String {
     let (x0, x1, y0, y1) = (a.region.x[0], a.region.x[1], a.region.y[0], a.region.y[1]);
     let scale = ((w - 2.0 * pad) / (x1 - x0)).min((h - 2.0 * pad) / (y1 - y0));
     let px = |x: f64| pad + (x - x0) * scale;
     let py = |y: f64| h - pad - (y - y0) * scale;
+    let total = h + THETA_PANEL;
     let mut s = format!(
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\" font-family=\"sans-serif\" font-size=\"12\">\n"
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{total}\" viewBox=\"0 0 {w} {total}\" font-family=\"sans-serif\" font-size=\"12\">\n"
     );
     let _ = writeln!(
         s,
@@ -226,6 +319,5 @@ pub fn picture(part: &Part, a: &PoseAnalysis) -> String {
         num(1e3 * (x1 - x0)),
         num(1e3 * (y1 - y0))
     );
-    s.push_str("</svg>\n");
     s
 }

@@ -12,6 +12,12 @@
 //! B_jᵀ D (D the unit disc) the set of friction impulses: exactly 0 iff z_f ∈ C.
 //!
 //! Method:
+//! 0. **Slipping fast path**: when the body slipped at the last step, damped
+//!    Newton on the exact objective from that slip velocity, every iterate
+//!    with every support point slipping (f smooth there). If it converges,
+//!    ∇f(z) = 0 at a smooth point of a strictly convex f: z is the exact
+//!    minimiser and steps 1–4 are skipped. Otherwise (a support point at or
+//!    near rest, the body coming to rest) they decide.
 //! 1. **Smoothing with continuation**: |v| → √(|v|² + ε²) − ε, minimised by
 //!    damped Newton (Cholesky on the 3×3 Hessian, Armijo backtracking; where
 //!    the objective's round-off cannot resolve the step, the gradient norm
@@ -155,29 +161,53 @@ fn newton(
         if step.norm() <= tol {
             return (z + step, it + 1, true);
         }
-        let slope = g.dot(&step);
-        let flat = -slope <= FLAT * f.abs();
-        let mut t = 1.0;
-        loop {
-            let cand = z + step * t;
-            let (fc, gc, hc) = smoothed(&cand, zf, contacts, mu, eps);
+        let eval = |c: &V3| smoothed(c, zf, contacts, mu, eps);
+        match backtrack(&z, &step, (f, &g), eval, |_| true, 1e-12) {
+            Some(next) => (z, f, g, h) = next,
+            // No progress representable: converged to round-off.
+            None => return (z, it + 1, true),
+        }
+    }
+    (z, MAX_NEWTON, false)
+}
+
+/// Objective, gradient and Hessian at a point.
+type Local = (f64, V3, Matrix3<f64>);
+
+/// The backtracking of a damped Newton step from `z` along `step` (`at`:
+/// the objective and gradient at `z`): Armijo on the objective `eval`, or,
+/// where its round-off cannot resolve the step ([`FLAT`]), a falling
+/// gradient norm; candidates `admit` refuses are halved past. The accepted
+/// point with its [`Local`], or `None` once the step fraction falls below
+/// `t_min`.
+fn backtrack(
+    z: &V3,
+    step: &V3,
+    at: (f64, &V3),
+    eval: impl Fn(&V3) -> Local,
+    admit: impl Fn(&V3) -> bool,
+    t_min: f64,
+) -> Option<(V3, f64, V3, Matrix3<f64>)> {
+    let (f, g) = at;
+    let slope = g.dot(step);
+    let flat = -slope <= FLAT * f.abs();
+    let mut t = 1.0;
+    while t >= t_min {
+        let cand = z + step * t;
+        if admit(&cand) {
+            let (fc, gc, hc) = eval(&cand);
             let better = if flat {
                 gc.norm() < g.norm()
             } else {
                 fc <= f + 1e-4 * t * slope
             };
             if better {
-                (z, f, g, h) = (cand, fc, gc, hc);
-                break;
-            }
-            t *= 0.5;
-            if t < 1e-12 {
-                // No progress representable: converged to round-off.
-                return (z, it + 1, true);
+                return Some((cand, fc, gc, hc));
             }
         }
+        t *= 0.5;
     }
-    (z, MAX_NEWTON, false)
+    None
 }
 
 /// True when z_f is proven to lie in the friction set C = Σ_j μ w_j B_jᵀ D
@@ -225,6 +255,21 @@ pub(crate) fn minimise(zf: &V3, start: &V3, contacts: &[Contact], mu: f64) -> So
     if stuck_certificate(zf, contacts, mu, &s) {
         return zero(0, true);
     }
+    // A slipping body usually keeps every support point slipping: Newton on
+    // the exact objective from the last slip velocity, accepted only when it
+    // converges with every point slipping (then f is smooth at z, ∇f(z) = 0
+    // and, f being strictly convex, z is the unique minimiser).
+    if *start != V3::zeros() {
+        if let Some((z, iterations)) = slipping_newton(*start, zf, contacts, mu, scale) {
+            if gain(&z, zf, contacts, mu) < 0.0 {
+                return Solution {
+                    z,
+                    iterations,
+                    converged: true,
+                };
+            }
+        }
+    }
     // Start from whichever of `start` and z_f is better for the exact objective.
     let mut z = if objective(start, zf, contacts, mu) <= objective(zf, zf, contacts, mu) {
         *start
@@ -258,6 +303,57 @@ pub(crate) fn minimise(zf: &V3, start: &V3, contacts: &[Contact], mu: f64) -> So
     } else {
         zero(iterations, converged)
     }
+}
+
+/// Newton iterations of the slipping fast path, at most.
+const FAST_NEWTON: usize = 12;
+
+/// True when every support point slips at `z` (f is smooth there).
+fn all_slip(z: &V3, contacts: &[Contact]) -> bool {
+    contacts.iter().all(|c| slip(c, z) != Vector2::zeros())
+}
+
+/// Where round-off stops the fast path's line search, a Newton step below
+/// this (relative to the velocity scale) is accepted as converged.
+const FAST_STALL: f64 = 1e-10;
+
+/// Damped Newton on the exact objective from `z`, every iterate keeping
+/// every support point slipping; `Some((minimiser, iterations))` when the
+/// step falls below [`STEP_TOL`] (or [`FAST_STALL`] where round-off stops
+/// the line search) of `scale` within [`FAST_NEWTON`] iterations, else
+/// `None` (a support point at or near rest: the continuation decides).
+fn slipping_newton(
+    mut z: V3,
+    zf: &V3,
+    contacts: &[Contact],
+    mu: f64,
+    scale: f64,
+) -> Option<(V3, usize)> {
+    let tol = STEP_TOL * scale;
+    if !all_slip(&z, contacts) {
+        return None;
+    }
+    let (mut f, mut g, mut h) = smoothed(&z, zf, contacts, mu, 0.0);
+    for it in 0..FAST_NEWTON {
+        let step = -h.cholesky()?.solve(&g);
+        if !step.iter().all(|x| x.is_finite()) {
+            return None;
+        }
+        if step.norm() <= tol {
+            let z = z + step;
+            return all_slip(&z, contacts).then_some((z, it + 1));
+        }
+        let eval = |c: &V3| smoothed(c, zf, contacts, mu, 0.0);
+        let admit = |c: &V3| all_slip(c, contacts);
+        match backtrack(&z, &step, (f, &g), eval, admit, 1e-6) {
+            Some(next) => (z, f, g, h) = next,
+            None => {
+                let done = step.norm() <= FAST_STALL * scale;
+                return done.then_some((z, it + 1));
+            }
+        }
+    }
+    None
 }
 
 /// f(z) − f(0) = Σ μ w_j |B_j z| − z·(z_f − z/2), computed without the
@@ -389,6 +485,44 @@ mod tests {
             };
             let p = s.z + V3::new(r(), r(), r()) * 1e-4;
             assert!(objective(&p, &zf, &cs, 1.0) >= f);
+        }
+    }
+
+    /// The slipping fast path (a nonzero start) and the continuation (a
+    /// zero start) find the same minimiser, the fast path with fewer
+    /// Newton iterations; where the minimiser has a support point at rest
+    /// the fast path gives way (`inside_friction_set_is_exactly_zero`).
+    #[test]
+    fn fast_path_matches_continuation() {
+        let cs: Vec<Contact> = (0..16)
+            .map(|j| {
+                let a = j as f64 * 0.4;
+                Contact {
+                    lever: Vector2::new(1.2 * a.cos(), 0.3 * a.sin()),
+                    weight: 0.002 * (1.0 + 0.05 * j as f64),
+                }
+            })
+            .collect();
+        for zf in [
+            V3::new(0.05, -0.03, 0.08),
+            V3::new(-0.2, 0.01, -0.01),
+            V3::new(0.001, 0.07, 0.3),
+        ] {
+            let slow = minimise(&zf, &V3::zeros(), &cs, 1.0);
+            let fast = minimise(&zf, &(zf * 0.9), &cs, 1.0);
+            assert!(slow.z != V3::zeros() && fast.converged);
+            assert!(
+                (slow.z - fast.z).norm() <= 1e-12 * zf.norm(),
+                "{zf:?}: {:?} {:?}",
+                slow.z,
+                fast.z
+            );
+            assert!(
+                fast.iterations < slow.iterations,
+                "{} {}",
+                fast.iterations,
+                slow.iterations
+            );
         }
     }
 
