@@ -158,7 +158,7 @@ const BASIN_COLOURS: [&str; 6] = [
 ];
 
 /// Height of the θ-against-position panels below the region (px).
-const THETA_PANEL: f64 = 300.0;
+const THETA_PANEL: f64 = 320.0;
 
 /// The region with the part drawn at every equilibrium (stable: filled,
 /// labelled with θ and its basin; unstable: dashed outline), and below it
@@ -179,7 +179,7 @@ pub fn picture(part: &Part, a: &PoseAnalysis) -> String {
 fn theta_panels(s: &mut String, a: &PoseAnalysis, w: f64, top: f64) {
     let (pad, gap) = (40.0, 30.0);
     let side = (w - 2.0 * pad - gap) / 2.0;
-    let height = THETA_PANEL - 70.0;
+    let height = THETA_PANEL - 90.0;
     let y0 = top + 20.0;
     let stable: Vec<usize> = (0..a.equilibria.len())
         .filter(|&i| a.equilibria[i].stable)
@@ -239,9 +239,15 @@ fn theta_panels(s: &mut String, a: &PoseAnalysis, w: f64, top: f64) {
     }
     let _ = writeln!(
         s,
-        "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\" fill=\"#555\">θ against position: each drop's start, coloured by the stable pose it reached (ring; open ring: unstable; grey: unsettled)</text>",
+        "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\" fill=\"#555\">θ against position: each drop's start, coloured by the stable pose it reached</text>",
         num(w / 2.0),
         num(y0 + height + 36.0)
+    );
+    let _ = writeln!(
+        s,
+        "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\" fill=\"#555\">(ring: stable pose; open ring: unstable; grey: unsettled)</text>",
+        num(w / 2.0),
+        num(y0 + height + 54.0)
     );
 }
 

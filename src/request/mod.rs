@@ -545,27 +545,37 @@ impl Target {
                 ),
             ));
         }
-        let weighted = weights.iter().filter(|&&w| w > 0.0).count();
-        if weighted < MIN_WEIGHTED_POINTS {
-            let at = match (&self.field, &self.weights, self.mask.is_empty()) {
-                (FieldSpec::Sampled { .. }, None, true) => "target.field.points",
-                (_, Some(_), true) => "target.weights",
-                (_, None, false) => "target.mask",
-                _ => "target.weights",
-            };
-            return Err(TargetError::invalid(
-                at,
-                format!(
-                    "leaves {weighted} of {} sample points with a positive weight; a field is fitted and measured over at least {MIN_WEIGHTED_POINTS} (a 2-D affine field has six coefficients: three points in general position fix them)",
-                    points.len()
-                ),
-            ));
-        }
+        self.enough_weighted(&weights)?;
         Ok(SampledTarget {
             points,
             vectors,
             weights,
         })
+    }
+}
+
+impl Target {
+    /// Refuses `weights` (one per sample point, masks applied) that leave
+    /// fewer than [`MIN_WEIGHTED_POINTS`] points weighted, naming what left
+    /// them: `target.field.points` (a sampled field with too few points),
+    /// `target.weights` or `target.mask`.
+    fn enough_weighted(&self, weights: &[f64]) -> Result<(), TargetError> {
+        let weighted = weights.iter().filter(|&&w| w > 0.0).count();
+        if weighted >= MIN_WEIGHTED_POINTS {
+            return Ok(());
+        }
+        let at = match (&self.field, &self.weights, self.mask.is_empty()) {
+            (FieldSpec::Sampled { .. }, None, true) => "target.field.points",
+            (_, None, false) => "target.mask",
+            _ => "target.weights",
+        };
+        Err(TargetError::invalid(
+            at,
+            format!(
+                "leaves {weighted} of {} sample points with a positive weight; a field is fitted and measured over at least {MIN_WEIGHTED_POINTS} (a 2-D affine field has six coefficients: three points in general position fix them)",
+                weights.len()
+            ),
+        ))
     }
 }
 
