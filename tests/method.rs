@@ -331,9 +331,9 @@ fn mix_combines_a_synthesized_motion_with_primitives() {
     assert!(export::export(s, 20_000.0, 20).is_ok());
 }
 
-/// A target whose weights leave two points plays two parts: its realised
-/// measure is "not measured" and POOR, naming the count, not a strength
-/// and shape reported as a result (issue 30). Three points are measured.
+/// A target whose weights leave two points is refused naming
+/// `target.weights` (issue 30: it reported a strength and shape over two
+/// parts); three points are measured.
 #[test]
 fn a_measure_over_too_few_points_is_not_measured() {
     let target = |keep: usize| {
@@ -357,13 +357,13 @@ fn a_measure_over_too_few_points_is_not_measured() {
         let d = design_by_method(&target(keep), &opts, &synth(), Method::Sequence).unwrap();
         d.candidates[d.chosen].played().clone()
     };
-    let two = played(2);
-    assert!(two.poor, "{:?}", two.notes);
-    assert!(
-        two.notes.iter().any(|n| n.contains("not measured: 2 of")),
-        "{:?}",
-        two.notes
-    );
+    // Two weighted points are refused before any play, naming the weights
+    // (`request::MIN_WEIGHTED_POINTS`).
+    let two = design_by_method(&target(2), &opts, &synth(), Method::Sequence)
+        .err()
+        .map(|e| e.to_string())
+        .unwrap_or_default();
+    assert!(two.contains("target.weights: leaves 2 of 25"), "{two}");
     let three = played(3);
     assert!(
         !three.notes.iter().any(|n| n.contains("not measured")),
