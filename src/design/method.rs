@@ -907,7 +907,7 @@ pub fn synthesize_schedule(
 /// The work of one synthesis and its played polish ([`crate::work`]):
 /// every evaluation a steady-state field on the coarse grid, the check one
 /// on the full grid, and every play of the polish its start points (those of
-/// the realised check, [`check_starts`]: 40 for a 40-point grid-less
+/// the realised check, `check_starts`: 40 for a 40-point grid-less
 /// target) over the polish's warm-up and measured cycles plus one coarse
 /// field. The flows of the promise that every play's measure integrates
 /// cost O(1) per step (a grid-less sampled target's field through its
