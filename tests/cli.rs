@@ -621,6 +621,25 @@ fn design_refuses_bad_shaker_limits_naming_the_field() {
     );
 }
 
+/// `design TARGET --method synthesize` on a small budget (20 evaluations,
+/// no played polish) into `out`; asserts exit 0.
+fn design_synthesized_quickly(target: &Path, out: &Path) {
+    let (code, _, err) = platefield(&[
+        "design",
+        target.to_str().unwrap(),
+        "--method",
+        "synthesize",
+        "--synth-evaluations",
+        "20",
+        "--polish-plays",
+        "0",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+}
+
 /// A small sink under lab-class shaker limits on an n × n grid, written in
 /// `dir`.
 fn small_lab(dir: &Path, n: usize) -> std::path::PathBuf {
@@ -703,20 +722,7 @@ fn design_method_auto_plays_both_and_states_the_choice() {
     );
     // A synthesized schedule exports with its ramp stated.
     let syn = dir.join("syn");
-    let (code, _, err) = platefield(&[
-        "design",
-        target.to_str().unwrap(),
-        "--method",
-        "synthesize",
-        "--synth-evaluations",
-        "20",
-        "--polish-plays",
-        "0",
-        "--quiet",
-        "--out",
-        syn.to_str().unwrap(),
-    ]);
-    assert_eq!(code, 0, "{err}");
+    design_synthesized_quickly(&target, &syn);
     let csv = dir.join("syn.csv");
     let (code, stdout, err) = platefield(&[
         "export",
@@ -1906,20 +1912,7 @@ fn stroke_and_velocity_limits_hold_in_design() {
             "stroke": {"linear": [3e-3, 3e-3, 1]}, "velocity": {"angular": [0.5, 0.5, 1]}}"#,
     );
     let out = dir.join("syn");
-    let (code, _, err) = platefield(&[
-        "design",
-        target.to_str().unwrap(),
-        "--method",
-        "synthesize",
-        "--synth-evaluations",
-        "20",
-        "--polish-plays",
-        "0",
-        "--quiet",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    assert_eq!(code, 0, "{err}");
+    design_synthesized_quickly(&target, &out);
     let file = out.join("travel/schedule.json");
     let schedule = platefield::schedule::Schedule::load(&file).unwrap();
     let motion = schedule.segments[0].plate_motion().unwrap();

@@ -16,15 +16,7 @@ use std::f64::consts::PI;
 use super::limits::ShakerLimits;
 use crate::motion::{Axes, FourierTerm, Signals};
 
-/// Names of the six signals in order, as JSON paths in a `signals` motion.
-pub const AXIS_NAMES: [&str; 6] = [
-    "linear.x",
-    "linear.y",
-    "linear.z",
-    "angular.x",
-    "angular.y",
-    "angular.z",
-];
+pub use crate::schedule::export::peaks::AXIS_NAMES;
 
 /// Time samples per harmonic used to bracket a signal's peak before the
 /// Newton polish (see [`Coefficients::peak`]).

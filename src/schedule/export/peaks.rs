@@ -25,8 +25,8 @@ use crate::motion::sample_hold::{centre_state, HoldSamples};
 use crate::motion::Motion;
 use crate::request::ShakerSpec;
 
-/// Names of the six axes in order (as in a `signals` motion).
-const AXES: [&str; 6] = [
+/// Names of the six signals in order, as JSON paths in a `signals` motion.
+pub const AXIS_NAMES: [&str; 6] = [
     "linear.x",
     "linear.y",
     "linear.z",
@@ -171,7 +171,7 @@ impl KinematicPeaks {
             for k in 0..6 {
                 match limit[k] {
                     Some(l) if peaks[k] > l * (1.0 + 1e-9) => out.push(Excess {
-                        axis: format!("{}{what}", AXES[k]),
+                        axis: format!("{}{what}", AXIS_NAMES[k]),
                         peak: peaks[k],
                         limit: l,
                         unit: units[k / 3],
