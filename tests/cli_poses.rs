@@ -54,6 +54,23 @@ fn bad_parts_exit_2_naming_the_path() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// `platefield poses` of the rectangle in `source` with `drops` drops and
+/// `--json`; asserts success and returns the parsed output.
+fn rectangle_poses_json(source: &std::ffi::OsStr, drops: &str) -> serde_json::Value {
+    let out = bin()
+        .args(["poses", "targets/parts/rectangle.json"])
+        .arg(source)
+        .args(["--json", "--drops", drops])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
 /// The rectangle in an elliptic sink turned to −40°: stable at −40° and
 /// 140°, unstable at 50° and −130°, within 1°; the two basins hold all 200
 /// drops, each 50 ± 10 %.
@@ -62,18 +79,7 @@ fn json_lists_the_equilibria() {
     let dir = std::env::temp_dir().join(format!("pf_poses_json_{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let target = ellipse(&dir, 0.04);
-    let out = bin()
-        .args(["poses", "targets/parts/rectangle.json"])
-        .arg(&target)
-        .args(["--json", "--drops", "200"])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let v = rectangle_poses_json(target.as_os_str(), "200");
     let eq = v["equilibria"].as_array().unwrap();
     let got: Vec<(i64, bool)> = eq
         .iter()
@@ -105,23 +111,7 @@ fn json_lists_the_equilibria() {
 /// range, else exit 2 naming `--play`.
 #[test]
 fn schedule_source_and_play_flag() {
-    let out = bin()
-        .args([
-            "poses",
-            "targets/parts/rectangle.json",
-            "results/ellipse/schedule.json",
-            "--drops",
-            "50",
-            "--json",
-        ])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let v = rectangle_poses_json("results/ellipse/schedule.json".as_ref(), "50");
     let eq = v["equilibria"].as_array().unwrap();
     assert_eq!(eq.len(), 4, "{v}");
     for e in eq {
