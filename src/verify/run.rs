@@ -195,8 +195,9 @@ pub struct VerifyReport {
 
 /// The region verified: the target's grid; for a grid-less `sampled`
 /// target, the region its basis was resampled on
-/// ([`crate::request::scattered_grid`]: the samples' bounding box plus
-/// 1 mm); ±3 cm when the schedule records no target.
+/// ([`crate::request::scattered_grid`]: the samples' bounding box
+/// rounded outward to its lattice); ±3 cm when the schedule records no
+/// target.
 pub fn region(schedule: &Schedule) -> Grid {
     const UNRECORDED: Grid = Grid {
         x: [-0.03, 0.03],
