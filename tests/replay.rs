@@ -76,7 +76,10 @@ fn shipped_sinks_replay_as_they_play_and_a_corrupted_export_does_not() {
         assert!(agrees(&c, order, order / 4.0), "{path}");
         let bad = replay_check(&schedule, &flipped(&file, 1), "flipped", None).unwrap();
         println!("flipped a_y:\n{}", bad.text());
-        assert!(!agrees(&bad, 0.01, 0.005), "{path}: a flipped channel agrees");
+        assert!(
+            !agrees(&bad, 0.01, 0.005),
+            "{path}: a flipped channel agrees"
+        );
     }
 }
 
@@ -129,12 +132,7 @@ fn verify_replay_prints_both_and_refuses_a_bad_file() {
     std::fs::create_dir_all(&dir).unwrap();
     let schedule = "results/sequenced/sink/schedule.json";
     let csv = dir.join("sink.csv");
-    let (code, _, err) = common::platefield(&[
-        "export",
-        schedule,
-        "--out",
-        csv.to_str().unwrap(),
-    ]);
+    let (code, _, err) = common::platefield(&["export", schedule, "--out", csv.to_str().unwrap()]);
     assert_eq!(code, 0, "{err}");
     let verify = |file: &std::path::Path| {
         common::platefield(&[
@@ -155,8 +153,14 @@ fn verify_replay_prints_both_and_refuses_a_bad_file() {
     };
     let (code, out, err) = verify(&csv);
     assert_eq!(code, 0, "{err}");
-    assert!(out.contains("schedule played: realised strength 0.29"), "{out}");
-    assert!(out.contains("export replayed: realised strength 0.29"), "{out}");
+    assert!(
+        out.contains("schedule played: realised strength 0.29"),
+        "{out}"
+    );
+    assert!(
+        out.contains("export replayed: realised strength 0.29"),
+        "{out}"
+    );
     let text = std::fs::read_to_string(&csv).unwrap();
     let mut lines: Vec<String> = text.lines().map(String::from).collect();
     let row = lines.iter().position(|l| l.starts_with("t_s")).unwrap() + 5;
@@ -190,7 +194,10 @@ fn sampled_whirlpool() -> Target {
         let v = whirl(p);
         let n = 0.05 * v[0].hypot(v[1]);
         points.push(p);
-        vectors.push([v[0] + n * (2.0 * next() - 1.0), v[1] + n * (2.0 * next() - 1.0)]);
+        vectors.push([
+            v[0] + n * (2.0 * next() - 1.0),
+            v[1] + n * (2.0 * next() - 1.0),
+        ]);
     }
     let json = serde_json::json!({
         "name": "sampled_whirlpool_40",
@@ -231,7 +238,11 @@ fn sampled_target_reports_what_its_export_replays(method: Method) {
         c.text()
     );
     assert_eq!(c.played.realised_strength, played.realised_strength);
-    assert!(c.strength_gap() <= 0.03 && c.shape_gap() <= 0.01, "{}", c.text());
+    assert!(
+        c.strength_gap() <= 0.03 && c.shape_gap() <= 0.01,
+        "{}",
+        c.text()
+    );
 }
 
 #[test]
@@ -304,6 +315,9 @@ fn stacked_sequenced_sink_holds_its_worst_case_over_the_range() {
     for (p, r) in stacked_rows.iter().zip(&replayed) {
         let (ps, rs) = (p.realised_strength.unwrap(), r.realised_strength.unwrap());
         let shape = (p.realised_shape_error.unwrap() - r.realised_shape_error.unwrap()).abs();
-        assert!((rs / ps - 1.0).abs() <= order && shape <= order / 4.0, "{p:?} {r:?}");
+        assert!(
+            (rs / ps - 1.0).abs() <= order && shape <= order / 4.0,
+            "{p:?} {r:?}"
+        );
     }
 }

@@ -126,7 +126,11 @@ pub fn replay_check(
 /// # Errors
 /// An unreadable or malformed file (names the file, line and column), or
 /// [`replay_check`]'s.
-pub fn replay_file(schedule: &Schedule, path: &Path, friction: Option<Friction>) -> Result<ReplayCheck> {
+pub fn replay_file(
+    schedule: &Schedule,
+    path: &Path,
+    friction: Option<Friction>,
+) -> Result<ReplayCheck> {
     let file = held_csv::read(path)?;
     replay_check(schedule, &file, &path.display().to_string(), friction)
 }

@@ -204,7 +204,9 @@ impl Held {
     /// start with no other velocity or pose.
     pub fn is_in_plane(&self) -> bool {
         let off = |v: &[f64; 6]| v[2] != 0.0 || v[3] != 0.0 || v[4] != 0.0;
-        !self.samples.iter().any(off) && !off(&self.states[0].velocity) && !off(&self.states[0].pose)
+        !self.samples.iter().any(off)
+            && !off(&self.states[0].velocity)
+            && !off(&self.states[0].pose)
     }
 
     /// Rotated about the vertical by `angle` (rad), then shifted
@@ -221,7 +223,14 @@ impl Held {
             let (ax, ay) = turn(v[3], v[4]);
             let az = v[5];
             let (sx, sy) = (shift[0], shift[1]);
-            [lx + az * sy, ly - az * sx, v[2] - ax * sy + ay * sx, ax, ay, az]
+            [
+                lx + az * sy,
+                ly - az * sx,
+                v[2] - ax * sy + ay * sx,
+                ax,
+                ay,
+                az,
+            ]
         };
         let state = |st: &CentreState| CentreState {
             velocity: map(&st.velocity),

@@ -17,8 +17,7 @@ use crate::error::{Error, Result};
 use crate::input::{read_capped, MAX_INPUT_BYTES};
 
 /// The header `platefield export` writes.
-pub const HEADER: &str =
-    "t_s,ax_m_s2,ay_m_s2,az_m_s2,alpha_x_rad_s2,alpha_y_rad_s2,alpha_z_rad_s2";
+pub const HEADER: &str = "t_s,ax_m_s2,ay_m_s2,az_m_s2,alpha_x_rad_s2,alpha_y_rad_s2,alpha_z_rad_s2";
 
 /// How far a row's time may be from kΔt (s): the export prints t with 9
 /// decimals (±5e-10 s), so 2e-9 s allows that and refuses a skipped or
@@ -209,13 +208,24 @@ mod tests {
     #[test]
     fn bad_rows_name_line_and_column() {
         let e = error(&["0,1,0,0,0,0,0", "0.001,1,0,0,0,0"]);
-        assert!(e.contains("f.csv line 4:") && e.contains("6 columns"), "{e}");
+        assert!(
+            e.contains("f.csv line 4:") && e.contains("6 columns"),
+            "{e}"
+        );
         let e = error(&["0,1,0,0,0,0,0", "0.001,1,x,0,0,0,0"]);
         assert!(e.contains("f.csv line 4 column 3 (ay_m_s2)"), "{e}");
         let e = error(&["0,1,0,0,0,0,inf", "0.001,1,0,0,0,0,0"]);
         assert!(e.contains("line 3 column 7 (alpha_z_rad_s2)"), "{e}");
-        let e = error(&["0,1,0,0,0,0,0", "0.001,1,0,0,0,0,0", "0.0025,1,0,0,0,0,0", "0.003,1,0,0,0,0,0"]);
-        assert!(e.contains("line 5 column 1 (t_s)") && e.contains("uniform"), "{e}");
+        let e = error(&[
+            "0,1,0,0,0,0,0",
+            "0.001,1,0,0,0,0,0",
+            "0.0025,1,0,0,0,0,0",
+            "0.003,1,0,0,0,0,0",
+        ]);
+        assert!(
+            e.contains("line 5 column 1 (t_s)") && e.contains("uniform"),
+            "{e}"
+        );
         let e = error(&["0.5,1,0,0,0,0,0", "0.6,1,0,0,0,0,0"]);
         assert!(e.contains("line 3 column 1") && e.contains("t = 0"), "{e}");
         let e = error(&["0,1,0,0,0,0,0"]);

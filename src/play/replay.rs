@@ -53,14 +53,23 @@ const WHOLE: f64 = 1e-2;
 /// # Errors
 /// The schedule is invalid or all rest; the file's rows or Δt do not fit
 /// the schedule's layout (names `source`).
-pub fn replay_motion(schedule: &Schedule, file: &HoldSamples, source: &str) -> Result<ScheduleMotion> {
+pub fn replay_motion(
+    schedule: &Schedule,
+    file: &HoldSamples,
+    source: &str,
+) -> Result<ScheduleMotion> {
     schedule.validate()?;
     let schedule = &schedule.with_segments(schedule.segments.clone());
     let first = schedule
         .segments
         .iter()
         .find_map(|s| s.cycle_period())
-        .ok_or_else(|| Error::invalid("schedule.segments", "every segment is rest: nothing was exported"))?;
+        .ok_or_else(|| {
+            Error::invalid(
+                "schedule.segments",
+                "every segment is rest: nothing was exported",
+            )
+        })?;
     let per_period = (first / file.dt).round().max(1.0) as usize;
     let held = Held::new(&HoldSamples {
         samples_per_period: per_period,
@@ -78,7 +87,12 @@ pub fn replay_motion(schedule: &Schedule, file: &HoldSamples, source: &str) -> R
 }
 
 /// A moving segment of `held`'s samples `range`.
-fn held_segment(label: &str, held: &Held, range: std::ops::Range<usize>, cycles: u32) -> PlayedSegment {
+fn held_segment(
+    label: &str,
+    held: &Held,
+    range: std::ops::Range<usize>,
+    cycles: u32,
+) -> PlayedSegment {
     let part = held.slice(range);
     PlayedSegment {
         label: format!("{label} (replayed)"),
@@ -119,7 +133,10 @@ fn looped_segments(schedule: &Schedule, held: &Held, source: &str) -> Result<Vec
         if at + k > held.len() {
             return Err(misfit(
                 source,
-                format!("{} rows, fewer than the schedule's segments take at its Δt", held.len()),
+                format!(
+                    "{} rows, fewer than the schedule's segments take at its Δt",
+                    held.len()
+                ),
             ));
         }
         out.push(held_segment(&seg.label, held, at..at + k, seg.cycles));
@@ -128,7 +145,10 @@ fn looped_segments(schedule: &Schedule, held: &Held, source: &str) -> Result<Vec
     if at != held.len() {
         return Err(misfit(
             source,
-            format!("{} rows, the schedule's segments take {at} at its Δt", held.len()),
+            format!(
+                "{} rows, the schedule's segments take {at} at its Δt",
+                held.len()
+            ),
         ));
     }
     Ok(out)
@@ -184,7 +204,10 @@ pub struct ReplayCheck {
 impl ReplayCheck {
     /// |ŝ_replayed/ŝ_played − 1| (infinite when either is not measured).
     pub fn strength_gap(&self) -> f64 {
-        match (self.played.realised_strength, self.replayed.realised_strength) {
+        match (
+            self.played.realised_strength,
+            self.replayed.realised_strength,
+        ) {
             (Some(p), Some(r)) if p != 0.0 => (r / p - 1.0).abs(),
             _ => f64::INFINITY,
         }
@@ -237,4 +260,3 @@ fn format_pp(x: f64) -> String {
         "n/a".into()
     }
 }
-

@@ -153,7 +153,10 @@ fn is_translation(motion: &Motion) -> bool {
         }
         Motion::Held(h) => (0..=h.len()).all(|k| {
             let s = h.state_at(k);
-            s.velocity[3..].iter().chain(&s.pose[3..]).all(|x| *x == 0.0)
+            s.velocity[3..]
+                .iter()
+                .chain(&s.pose[3..])
+                .all(|x| *x == 0.0)
         }),
     }
 }
