@@ -20,7 +20,7 @@ use platefield::design::DesignOptions;
 use platefield::dynamics::Friction;
 use platefield::motion::sample_hold::HoldSamples;
 use platefield::play::replay::{replay_motion, ReplayCheck};
-use platefield::play::sensitivity::{friction_sweep, FrictionRow};
+use platefield::play::sensitivity::{friction_sweep, FrictionRow, Sensitivity, Span};
 use platefield::request::{FrictionSpec, Target};
 use platefield::schedule::export::{export, DEFAULT_STEADY_CYCLES};
 use platefield::schedule::Schedule;
@@ -258,13 +258,17 @@ fn sampled_whirlpool_auto_reports_what_its_export_replays() {
     sampled_target_reports_what_its_export_replays(Method::Auto);
 }
 
+/// Worst shape error and weakest strength over `rows`.
 fn worst(rows: &[FrictionRow]) -> (f64, f64) {
-    rows.iter().fold((0.0_f64, f64::INFINITY), |(e, s), r| {
-        (
-            e.max(r.realised_shape_error.unwrap()),
-            s.min(r.realised_strength.unwrap()),
-        )
-    })
+    let s = Sensitivity {
+        span: Span::Asked,
+        nominal: Friction::uniform(0.3),
+        rows: rows.to_vec(),
+    };
+    (
+        s.worst_shape_error().unwrap(),
+        s.weakest_strength().unwrap(),
+    )
 }
 
 /// `design::stacked`: the sink with `"friction": [0.2, 0.4]` under

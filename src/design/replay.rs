@@ -77,6 +77,17 @@ fn recorded_target(schedule: &Schedule) -> Result<(&Target, SampledTarget)> {
     Ok((target, target.sample()?))
 }
 
+/// Checks, before anything is played, that [`replay_check`] can judge
+/// `file` against `schedule`: the schedule records a target and the file's
+/// rows fit its segments.
+///
+/// # Errors
+/// As [`replay_check`]'s, without playing.
+pub fn check_replay(schedule: &Schedule, file: &HoldSamples, source: &str) -> Result<()> {
+    recorded_target(schedule)?;
+    replay_motion(schedule, file, source).map(|_| ())
+}
+
 /// Plays `schedule` and replays `file` (its export; `source` names it)
 /// at `friction` (default: the schedule's), by the design's realised
 /// check (see the [module documentation](self)).

@@ -155,7 +155,7 @@ fn uniform_step(
         ));
     }
     let dt = last.1[0] / (rows.len() - 1) as f64;
-    if !(dt > 0.0) {
+    if dt <= 0.0 {
         return Err(Error::invalid(
             at(last.0, Some(0)),
             format!("times must increase, got the last at {} s", last.1[0]),

@@ -165,7 +165,7 @@ fn steady_segments(
     let n = (held.period() / held.dt()).round() as usize;
     let seg = &schedule.segments[steady];
     let (ramp, cycles) = (RAMP_CYCLES as usize, seg.cycles as usize);
-    if held.len() % n != 0 || held.len() / n < 2 * ramp + cycles {
+    if !held.len().is_multiple_of(n) || held.len() / n < 2 * ramp + cycles {
         return Err(misfit(
             source,
             format!(

@@ -519,9 +519,10 @@ pub fn run(
     // and its work estimated before anything is played.
     let replay_file = match &req.replay {
         Some(p) => {
-            let file = crate::motion::held_csv::read(p)?;
+            let (file, source) = (crate::motion::held_csv::read(p)?, p.display().to_string());
+            crate::design::replay::check_replay(&schedule, &file, &source)?;
             crate::design::replay::replay_estimate(&schedule, file.rate).check(req.allow_long)?;
-            Some((file, p.display().to_string()))
+            Some((file, source))
         }
         None => None,
     };
