@@ -273,9 +273,9 @@ mod tests {
             let exact = sample_hold::centre_state(&motion, k as f64 * dt);
             let s = held.state_at(k);
             let whole = k == held.len();
-            for i in 0..6 {
+            for (i, peak) in peak.iter().enumerate() {
                 assert!((s.velocity[i] - exact.velocity[i]).abs() < 1e-12, "{k} {i}");
-                let bound = if whole { 0.0 } else { dt * dt / 6.0 * peak[i] };
+                let bound = if whole { 0.0 } else { dt * dt / 6.0 * peak };
                 let e = (s.pose[i] - exact.pose[i]).abs();
                 assert!(e <= bound + 1e-14, "{k} {i}: {e:e} > {bound:e}");
             }
