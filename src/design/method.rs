@@ -1035,9 +1035,30 @@ pub fn realised_check(
     settings: &crate::field::FieldSettings,
     predicted: Option<f64>,
 ) -> Result<(Vec<measure::PointPlay>, measure::RealisedError)> {
+    let sm = crate::play::ScheduleMotion::from_schedule(schedule)?;
+    Ok(realised_check_of(
+        target,
+        sampled,
+        (&sm, schedule.total_cycles),
+        settings,
+        predicted,
+    ))
+}
+
+/// [`realised_check`] of a trajectory `sm` of `per_period` primitive
+/// cycles per schedule period (e.g. a schedule's exported file played,
+/// [`crate::play::replay`]).
+pub fn realised_check_of(
+    target: &Target,
+    sampled: &SampledTarget,
+    (sm, per_period): (&crate::play::ScheduleMotion, u32),
+    settings: &crate::field::FieldSettings,
+    predicted: Option<f64>,
+) -> (Vec<measure::PointPlay>, measure::RealisedError) {
     let starts = check_starts(target, sampled);
-    let plays = measure::play(
-        schedule,
+    let plays = measure::play_motion(
+        sm,
+        per_period,
         &sampled.points,
         &starts,
         settings,
@@ -1046,9 +1067,9 @@ pub fn realised_check(
             measured_cycles: CHECK_MEASURED_CYCLES,
             settle: false,
         },
-    )?;
+    );
     let r = measure::realised_error(target, &sampled.weights, &plays, predicted);
-    Ok((plays, r))
+    (plays, r)
 }
 
 /// Plays `schedule` on about [`CHECK_POINTS`]² start points over the
