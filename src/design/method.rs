@@ -57,6 +57,7 @@ use std::time::Instant;
 
 use super::closed_loop::{loop_points, measure};
 use super::polish::{polish, PolishOptions};
+pub use super::rule::{Rule, MIN_MEASURED_POINTS, TIE_SHAPE_ERROR};
 use super::{design, Design, DesignOptions};
 use crate::dynamics::Friction;
 use crate::error::{Error, Result};
@@ -71,12 +72,6 @@ use crate::schedule::{AxisPeaks, BasisInfo, Played, Schedule, Segment, SolverInf
 use crate::synth::{synthesize, ShakerLimits, SynthOptions, Synthesis};
 use crate::work::{Estimate, Term};
 
-/// Fewest counted parts a realised measure is reported over. A shape is a
-/// property of the field over the region: one or two parts sample it at
-/// one or two places (a 2-D affine field has six coefficients; three
-/// points in general position fix them), so fewer are reported as not
-/// measured, POOR, with the reason, rather than as a strength and shape.
-pub const MIN_MEASURED_POINTS: usize = 3;
 
 /// Cycles of the synthesized motion per schedule period.
 pub const SYNTH_SEGMENT_CYCLES: u32 = 10;
@@ -88,9 +83,6 @@ pub const CHECK_WARMUP_CYCLES: u32 = 10;
 pub const CHECK_MEASURED_CYCLES: u32 = 10;
 /// Start points per axis of the realised check (about).
 pub const CHECK_POINTS: usize = 5;
-/// Realised shape errors within this of each other are a tie, broken by
-/// the realised strength.
-pub const TIE_SHAPE_ERROR: f64 = 0.01;
 /// A part that ends more than this (m) farther from the attractor than it
 /// was when the measured windows began (after the warm-up) has escaped it:
 /// 1 mm, a third of `verify`'s convergence tolerance, well above the
@@ -464,16 +456,7 @@ fn choose(cands: &[Candidate], asked: Method) -> (usize, Choice) {
         return (0, choice);
     }
     // The rule between two candidates: (b is better, the rule).
-    let better = |a: &Candidate, b: &Candidate| {
-        let (a, b) = (key(a), key(b));
-        if a.0 != b.0 {
-            (a.0, Rule::OtherPoor)
-        } else if (a.1 - b.1).abs() <= TIE_SHAPE_ERROR {
-            (b.2 > a.2, Rule::HigherStrength)
-        } else {
-            (b.1 < a.1, Rule::LowerShapeError)
-        }
-    };
+    let better = |a: &Candidate, b: &Candidate| super::rule::better(key(a), key(b));
     // The best of `ks` by the rule, and the rule that decided against the
     // runner-up.
     let best_of = |ks: &mut dyn Iterator<Item = usize>| {
@@ -495,31 +478,6 @@ pub enum Choice {
     /// `auto` kept the best candidate by this rule, the one that decided
     /// against the runner-up.
     Rule(Rule),
-}
-
-/// The rule that decides between two candidates under `auto`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Rule {
-    /// One is POOR and the other is not.
-    OtherPoor,
-    /// Realised shape errors within [`TIE_SHAPE_ERROR`]: the higher
-    /// realised strength wins.
-    HigherStrength,
-    /// The lower realised shape error wins.
-    LowerShapeError,
-}
-
-impl Rule {
-    /// The rule in words.
-    pub fn text(self) -> &'static str {
-        match self {
-            Rule::OtherPoor => "the other is POOR",
-            Rule::HigherStrength => {
-                "shape errors within 1 percentage point: the higher realised strength wins"
-            }
-            Rule::LowerShapeError => "the lower realised shape error wins",
-        }
-    }
 }
 
 /// A method that failed under `auto` (or left nothing to play), and why.
@@ -985,6 +943,7 @@ fn polish_played(
         progress: synth.progress,
         robust: synth.robust,
         lm: synth.polish_lm,
+        segment_cycles: SYNTH_SEGMENT_CYCLES,
         measure: measure::MeasureOptions {
             warmup_cycles: CHECK_WARMUP_CYCLES,
             measured_cycles: CHECK_MEASURED_CYCLES,

@@ -30,6 +30,7 @@ mod options;
 pub mod order;
 pub mod polish;
 pub mod refine;
+mod rule;
 mod run;
 pub mod sort;
 pub mod stacked;
