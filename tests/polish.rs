@@ -50,18 +50,20 @@ fn synthesized(t: &Target) -> Synthesis {
 /// The polish kept its start, or a motion `auto`'s rule prefers to it
 /// (stated here as the module documentation of `design::method` states it:
 /// realised shape errors within one percentage point are a tie broken by
-/// the higher strength, else the lower shape error wins).
+/// the higher strength, else the lower shape error wins), or one of lower
+/// played shape error at a lower cost.
 fn never_loses(p: &Polished) -> bool {
     let (a, b) = (&p.before, &p.after);
     if !p.improved {
         return a.shape_error.to_bits() == b.shape_error.to_bits()
             && a.realised_strength.to_bits() == b.realised_strength.to_bits();
     }
-    if (a.shape_error - b.shape_error).abs() <= 0.01 {
+    let rule = if (a.shape_error - b.shape_error).abs() <= 0.01 {
         b.realised_strength > a.realised_strength
     } else {
         b.shape_error < a.shape_error
-    }
+    };
+    rule || (b.shape_error < a.shape_error && p.cost_after < p.cost_before)
 }
 
 fn options() -> PolishOptions {
@@ -217,6 +219,7 @@ fn stall_rule_ends_the_polish() {
         &s,
         &PolishOptions {
             stall: None,
+            patience: None,
             ..options()
         },
     )
@@ -229,6 +232,7 @@ fn stall_rule_ends_the_polish() {
                 window: 3,
                 tol: 1e9,
             }),
+            patience: None,
             ..options()
         },
     )

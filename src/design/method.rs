@@ -194,7 +194,7 @@ pub fn design_by_method(
     limits.validate("target.shaker")?;
     let sampled = target.sample()?;
     if method != Method::Sequence {
-        let estimate = synthesis_estimate(target, &sampled, synth, opts);
+        let estimate = design_estimate(target, &sampled, synth, opts, method);
         estimate.check(opts.allow_long)?;
         let announcement = estimate.announcement(crate::work::threads());
         if let Some(line) = announcement.filter(|_| !opts.quiet) {
@@ -862,13 +862,20 @@ pub fn synthesize_schedule(
     Ok((syn, schedule))
 }
 
-/// The work of one synthesis and its played polish ([`crate::work`]):
-/// every evaluation a steady-state field on the coarse grid, the check one
-/// on the full grid, and every play of the polish its start points (those of
-/// the realised check, `check_starts`: 40 for a 40-point grid-less
-/// target) over the polish's warm-up and measured cycles plus one coarse
-/// field. The flows of the promise that every play's measure integrates
-/// cost O(1) per step (a grid-less sampled target's field through its
+/// The work of one synthesis and its played polish ([`crate::work`]), as
+/// they run: the seed, its phase calibration and the
+/// Levenberg–Marquardt steps ([`LmOptions::evaluations`] over the
+/// parameters of the target's shaker limits; all of
+/// `--synth-evaluations` for Nelder–Mead), each a steady-state field on
+/// the coarse grid; the check of the motion on the full grid; and every
+/// play of the polish — its start points (those of the realised check,
+/// `check_starts`: 40 for a 40-point grid-less target) over the cycles
+/// the check plays ([`check_cycles`]) plus one coarse field for its
+/// contact check — the start's two plays and those of its steps (all of
+/// `--polish-plays` for Nelder–Mead). Over a friction range optimised
+/// for its worst case, every evaluation and play is made under its three
+/// physics. The promise's flow that each play's measure integrates costs
+/// O(1) per step (a grid-less sampled target's field through its
 /// [`crate::request::SampledInterpolant`]), within the steps counted.
 pub fn synthesis_estimate(
     target: &Target,
@@ -876,6 +883,20 @@ pub fn synthesis_estimate(
     synth: &SynthOptions,
     opts: &DesignOptions,
 ) -> Estimate {
+    let limits = ShakerLimits::from_spec(target.shaker.as_ref());
+    let opts = &resolving(opts, limits.harmonics);
+    let n = crate::synth::params::Layout::new(&limits).len();
+    let ranged = target.friction.filter(|f| !f.is_exact()).is_some();
+    let robust = synth.robust.is_some_and(|f| !f.is_exact()) || (synth.robust_synthesis && ranged);
+    let physics = if robust { 3.0 } else { 1.0 };
+    let evaluations = synth.lm.map_or(synth.max_evaluations, |lm| {
+        (1 + crate::synth::calibrate::STEPS + lm.evaluations(n)).min(synth.max_evaluations)
+    });
+    let plays = match (synth.polish_plays, synth.polish_lm) {
+        (0, _) => 0,
+        (p, Some(lm)) => (2 + lm.evaluations(n)).min(p + 1),
+        (p, None) => p + 1,
+    };
     let coarse = (synth.coarse[0] * synth.coarse[1]) as f64;
     let velocity = |label: &str, fields: f64, name: &str, samples: f64| {
         crate::work::field_term(
@@ -887,37 +908,98 @@ pub fn synthesis_estimate(
             &opts.settings,
         )
     };
-    let play_cycles = f64::from(CHECK_WARMUP_CYCLES + CHECK_MEASURED_CYCLES);
     Estimate::new(
         "target",
         "synthesizing a six-signal motion",
         "fewer --synth-evaluations or --polish-plays, or a smaller target grid n",
     )
-    .plus(velocity(
-        "synthesis",
-        synth.max_evaluations as f64,
-        "evaluations",
-        coarse,
-    ))
+    .plus(
+        velocity("synthesis", evaluations as f64, "evaluations", coarse)
+            .times(physics, "physics"),
+    )
     .plus(velocity(
         "full-grid check",
         1.0,
         "field",
-        sampled.len() as f64,
+        region(target, sampled).len() as f64,
     ))
     .plus(
         Term::new("played polish")
-            .times(synth.polish_plays as f64, "plays")
+            .times(plays as f64, "plays")
+            .times(physics, "physics")
             .times(check_starts(target, sampled).len() as f64, "parts")
-            .times(play_cycles, "cycles")
+            .times(f64::from(check_cycles(SYNTH_SEGMENT_CYCLES)), "cycles")
             .times(opts.settings.numerics.steps_per_cycle as f64, "steps"),
     )
-    .plus(velocity(
-        "polish contact check",
-        synth.polish_plays as f64,
-        "plays",
-        coarse,
-    ))
+    .plus(
+        velocity("polish contact check", plays as f64, "plays", coarse).times(physics, "physics"),
+    )
+}
+
+/// Cycles the realised check plays a schedule of `per_period` cycles per
+/// period ([`measure::play_motion`]): the warm-up and the measured cycles,
+/// each rounded up to whole periods, and the period played after the
+/// windows.
+pub fn check_cycles(per_period: u32) -> u32 {
+    let p = per_period.max(1);
+    p * (CHECK_WARMUP_CYCLES.div_ceil(p) + CHECK_MEASURED_CYCLES.div_ceil(p).max(1) + 1)
+}
+
+/// The work of designing `target` by `method` ([`crate::work`]), stated
+/// before it starts and compared with the work done by `tests/estimates.rs`
+/// ([`crate::dynamics::steps_taken`], within 3×): the sequenced design's
+/// library when the cache does not hold it ([`super::stages`]), the
+/// synthesis and its polish ([`synthesis_estimate`]), the realised check
+/// of every candidate (sequenced schedules counted at the synthesized
+/// motion's [`SYNTH_SEGMENT_CYCLES`] cycles per period) and, for a target
+/// that states its friction, each candidate's friction sweep.
+pub fn design_estimate(
+    target: &Target,
+    sampled: &SampledTarget,
+    synth: &SynthOptions,
+    opts: &DesignOptions,
+    method: Method,
+) -> Estimate {
+    let mut e = Estimate::new(
+        "target",
+        "designing it",
+        "fewer --synth-evaluations or --polish-plays, a smaller target grid n, a larger --rotation-step, or --method sequence",
+    );
+    let sequenced = matches!(method, Method::Sequence | Method::Auto | Method::Mix);
+    if sequenced {
+        if let Some(library) = super::stages::cold_library_estimate(target, sampled, opts) {
+            e.terms.extend(library.terms);
+        }
+    }
+    if method != Method::Sequence {
+        e.terms
+            .extend(synthesis_estimate(target, sampled, synth, opts).terms);
+    }
+    let ranged = target.friction.is_some_and(|f| !f.is_exact());
+    let candidates = match method {
+        Method::Auto => 2 + usize::from(ranged),
+        Method::Mix => 2,
+        _ => 1,
+    } as f64;
+    let check = |label: &str, candidates: f64, times: f64, name: &str| {
+        Term::new(label)
+            .times(candidates, "candidates")
+            .times(times, name)
+            .times(check_starts(target, sampled).len() as f64, "parts")
+            .times(f64::from(check_cycles(SYNTH_SEGMENT_CYCLES)), "cycles")
+            .times(opts.settings.numerics.steps_per_cycle as f64, "steps")
+    };
+    e = e.plus(check("realised checks", candidates, 1.0, "checks"));
+    if target.friction.is_some() {
+        // Every candidate over a range; the kept one around an exact value.
+        e = e.plus(check(
+            "friction sweeps",
+            if ranged { candidates } else { 1.0 },
+            crate::play::sensitivity::SWEEP_VALUES as f64,
+            "frictions",
+        ));
+    }
+    e
 }
 
 /// The played polish of a synthesized motion ([`super::polish`]:
@@ -1035,13 +1117,7 @@ pub fn play_check(
     // beyond it a primitive's tilt may lift them) is not, unless the target
     // has an attractor: then it escaped it.
     let g = region(target, sampled);
-    let inside = |q: [f64; 2]| {
-        let (dx, dy) = (
-            1e-9 * (g.x[1] - g.x[0]).abs(),
-            1e-9 * (g.y[1] - g.y[0]).abs(),
-        );
-        q[0] >= g.x[0] - dx && q[0] <= g.x[1] + dx && q[1] >= g.y[0] - dy && q[1] <= g.y[1] + dy
-    };
+    let inside = |q: [f64; 2]| super::polish::in_region(&g, q);
     let lost_inside: Vec<&measure::PointPlay> = plays
         .iter()
         .filter(|p| p.note.is_some() && p.lost_at.is_none_or(inside))
