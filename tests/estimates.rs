@@ -14,7 +14,7 @@
 
 use std::path::Path;
 
-use platefield::design::method::{design_by_method, design_estimate, Method};
+use platefield::design::method::{design_by_method, Method};
 use platefield::design::DesignOptions;
 use platefield::dynamics::steps_taken;
 use platefield::request::Target;
@@ -33,17 +33,10 @@ fn ratio(target: &Target, cache: &Path) -> f64 {
         progress: ProgressMode::Quiet,
         ..SynthOptions::default()
     };
-    let sampled = target.sample().unwrap();
-    let estimate = design_estimate(
-        target,
-        &sampled,
-        &synth,
-        &opts.for_target(target),
-        Method::Auto,
-    );
     let before = steps_taken();
-    design_by_method(target, &opts, &synth, Method::Auto).unwrap();
+    let m = design_by_method(target, &opts, &synth, Method::Auto).unwrap();
     let counted = (steps_taken() - before) as f64;
+    let estimate = &m.estimate;
     let r = estimate.steps() / counted;
     println!(
         "{:<14} estimated {:.3e} counted {:.3e} steps: ratio {r:.2} ({})",

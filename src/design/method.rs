@@ -69,9 +69,9 @@ use crate::request::{Attractor, SampledTarget, Target};
 use crate::schedule::export::schedule_peaks;
 pub use crate::schedule::Method;
 use crate::schedule::{AxisPeaks, BasisInfo, Played, Schedule, Segment, SolverInfo};
+use crate::synth::levenberg::LmOptions;
 use crate::synth::{synthesize, ShakerLimits, SynthOptions, Synthesis};
 use crate::work::{Estimate, Term};
-
 
 /// Cycles of the synthesized motion per schedule period.
 pub const SYNTH_SEGMENT_CYCLES: u32 = 10;
@@ -168,6 +168,10 @@ pub struct MethodDesign {
     /// The kept design played across the friction the target states
     /// ([`sensitivity::of_target`]; `None` when it states none).
     pub sensitivity: Option<Sensitivity>,
+    /// The work stated before the synthesis ([`design_estimate`] with the
+    /// limits the synthesis keeps; `auto` states it once the sequenced
+    /// schedule has given them).
+    pub estimate: Estimate,
 }
 
 impl MethodDesign {
@@ -193,13 +197,24 @@ pub fn design_by_method(
     let mut limits = ShakerLimits::from_spec(target.shaker.as_ref());
     limits.validate("target.shaker")?;
     let sampled = target.sample()?;
-    if method != Method::Sequence {
-        let estimate = design_estimate(target, &sampled, synth, opts, method);
-        estimate.check(opts.allow_long)?;
-        let announcement = estimate.announcement(crate::work::threads());
-        if let Some(line) = announcement.filter(|_| !opts.quiet) {
-            eprintln!("{line}");
-        }
+    let library = super::stages::cold_library_estimate(target, &sampled, opts);
+    let estimate = |limits: &ShakerLimits| {
+        design_estimate(
+            target,
+            &sampled,
+            synth,
+            opts,
+            method,
+            limits,
+            library.clone(),
+        )
+    };
+    // Refused up front on the target's limits (those of `auto`'s synthesis
+    // come from the sequenced schedule, within them).
+    let first = estimate(&limits);
+    first.check(opts.allow_long)?;
+    if method != Method::Auto {
+        announce(&first, opts.quiet);
     }
     let mut out = MethodDesign {
         asked: method,
@@ -212,6 +227,7 @@ pub fn design_by_method(
         failures: Vec::new(),
         limits: limits.clone(),
         sensitivity: None,
+        estimate: first,
     };
     let mut first_error = None;
     let mut from_sequence = false;
@@ -258,6 +274,10 @@ pub fn design_by_method(
     // For a target no reflection maps to itself, the mirror image turned
     // back onto it by its phase (`turned_mirror_share`).
     let ranged = target.friction.is_some_and(|f| !f.is_exact());
+    if method == Method::Auto {
+        out.estimate = estimate(&limits);
+        announce(&out.estimate, opts.quiet);
+    }
     let try_mirror = (method == Method::Mirror || (method == Method::Auto && ranged))
         .then(|| super::mirror::mirror_axis(target, &sampled));
     if matches!(method, Method::Synthesize | Method::Auto | Method::Mirror) {
@@ -370,6 +390,16 @@ pub fn design_by_method(
         None => candidate_sensitivity(target, &sampled, &out.candidates[chosen].schedule)?,
     };
     Ok(out)
+}
+
+/// Prints `estimate` on stderr when it is long enough to state
+/// ([`Estimate::announcement`]) and not `quiet`.
+fn announce(estimate: &Estimate, quiet: bool) {
+    if let Some(line) = estimate.announcement(crate::work::threads()) {
+        if !quiet {
+            eprintln!("{line}");
+        }
+    }
 }
 
 /// `schedule`'s realised check across the friction the target states
@@ -871,8 +901,9 @@ pub fn synthesize_schedule(
 /// play of the polish — its start points (those of the realised check,
 /// `check_starts`: 40 for a 40-point grid-less target) over the cycles
 /// the check plays ([`check_cycles`]) plus one coarse field for its
-/// contact check — the start's two plays and those of its steps (all of
-/// `--polish-plays` for Nelder–Mead). Over a friction range optimised
+/// contact check — the start's two plays and those of its steps, as many
+/// as its patience and one gain allow (all of `--polish-plays` for
+/// Nelder–Mead). Over a friction range optimised
 /// for its worst case, every evaluation and play is made under its three
 /// physics. The promise's flow that each play's measure integrates costs
 /// O(1) per step (a grid-less sampled target's field through its
@@ -882,19 +913,45 @@ pub fn synthesis_estimate(
     sampled: &SampledTarget,
     synth: &SynthOptions,
     opts: &DesignOptions,
+    limits: &ShakerLimits,
 ) -> Estimate {
-    let limits = ShakerLimits::from_spec(target.shaker.as_ref());
     let opts = &resolving(opts, limits.harmonics);
-    let n = crate::synth::params::Layout::new(&limits).len();
+    let n = crate::synth::params::Layout::new(limits).len();
     let ranged = target.friction.filter(|f| !f.is_exact()).is_some();
     let robust = synth.robust.is_some_and(|f| !f.is_exact()) || (synth.robust_synthesis && ranged);
     let physics = if robust { 3.0 } else { 1.0 };
     let evaluations = synth.lm.map_or(synth.max_evaluations, |lm| {
         (1 + crate::synth::calibrate::STEPS + lm.evaluations(n)).min(synth.max_evaluations)
     });
+    // Limits the closed-form seed finds no motion in end the synthesis
+    // before its first simulation.
+    let region = region(target, sampled);
+    let settings = &opts.settings;
+    let seeded = crate::synth::seed::seed(
+        &target.field,
+        &region,
+        limits,
+        settings.friction,
+        settings.gravity,
+    )
+    .is_ok();
+    let (evaluations, checks) = if seeded { (evaluations, 1.0) } else { (0, 0.0) };
     let plays = match (synth.polish_plays, synth.polish_lm) {
+        _ if !seeded => 0,
         (0, _) => 0,
-        (p, Some(lm)) => (2 + lm.evaluations(n)).min(p + 1),
+        // The polish stops after its patience without a gain: counted
+        // as one gain (the sink's takes one step, the saddle's all four).
+        (p, Some(lm)) => {
+            let steps = PolishOptions::default()
+                .patience
+                .map_or(lm.max_iterations, |k| lm.max_iterations.min(k + 1));
+            (2 + LmOptions {
+                max_iterations: steps,
+                ..lm
+            }
+            .evaluations(n))
+            .min(p + 1)
+        }
         (p, None) => p + 1,
     };
     let coarse = (synth.coarse[0] * synth.coarse[1]) as f64;
@@ -914,14 +971,13 @@ pub fn synthesis_estimate(
         "fewer --synth-evaluations or --polish-plays, or a smaller target grid n",
     )
     .plus(
-        velocity("synthesis", evaluations as f64, "evaluations", coarse)
-            .times(physics, "physics"),
+        velocity("synthesis", evaluations as f64, "evaluations", coarse).times(physics, "physics"),
     )
     .plus(velocity(
         "full-grid check",
-        1.0,
+        checks,
         "field",
-        region(target, sampled).len() as f64,
+        region.len() as f64,
     ))
     .plus(
         Term::new("played polish")
@@ -931,9 +987,7 @@ pub fn synthesis_estimate(
             .times(f64::from(check_cycles(SYNTH_SEGMENT_CYCLES)), "cycles")
             .times(opts.settings.numerics.steps_per_cycle as f64, "steps"),
     )
-    .plus(
-        velocity("polish contact check", plays as f64, "plays", coarse).times(physics, "physics"),
-    )
+    .plus(velocity("polish contact check", plays as f64, "plays", coarse).times(physics, "physics"))
 }
 
 /// Cycles the realised check plays a schedule of `per_period` cycles per
@@ -953,12 +1007,18 @@ pub fn check_cycles(per_period: u32) -> u32 {
 /// of every candidate (sequenced schedules counted at the synthesized
 /// motion's [`SYNTH_SEGMENT_CYCLES`] cycles per period) and, for a target
 /// that states its friction, each candidate's friction sweep.
+/// `limits` are those the synthesis keeps, `library` the basis stage's
+/// work when the cache does not hold the library
+/// ([`super::stages::cold_library_estimate`]).
+#[allow(clippy::too_many_arguments)]
 pub fn design_estimate(
     target: &Target,
     sampled: &SampledTarget,
     synth: &SynthOptions,
     opts: &DesignOptions,
     method: Method,
+    limits: &ShakerLimits,
+    library: Option<Estimate>,
 ) -> Estimate {
     let mut e = Estimate::new(
         "target",
@@ -966,14 +1026,12 @@ pub fn design_estimate(
         "fewer --synth-evaluations or --polish-plays, a smaller target grid n, a larger --rotation-step, or --method sequence",
     );
     let sequenced = matches!(method, Method::Sequence | Method::Auto | Method::Mix);
-    if sequenced {
-        if let Some(library) = super::stages::cold_library_estimate(target, sampled, opts) {
-            e.terms.extend(library.terms);
-        }
+    if let Some(library) = library.filter(|_| sequenced) {
+        e.terms.extend(library.terms);
     }
     if method != Method::Sequence {
         e.terms
-            .extend(synthesis_estimate(target, sampled, synth, opts).terms);
+            .extend(synthesis_estimate(target, sampled, synth, opts, limits).terms);
     }
     let ranged = target.friction.is_some_and(|f| !f.is_exact());
     let candidates = match method {
@@ -1322,6 +1380,7 @@ mod tests {
                 &sampled,
                 &SynthOptions::default(),
                 &DesignOptions::default(),
+                &ShakerLimits::from_spec(None),
             );
             let polish = e.terms.iter().find(|t| t.label == "played polish").unwrap();
             polish.factors.iter().find(|f| f.0 == "parts").unwrap().1

@@ -686,7 +686,11 @@ pub fn polish(
     }
     let plays = played.plays.load(Ordering::Relaxed);
     played.bar.finish();
-    let kept = played.kept.lock().unwrap_or_else(|p| p.into_inner()).clone();
+    let kept = played
+        .kept
+        .lock()
+        .unwrap_or_else(|p| p.into_inner())
+        .clone();
     let keep = |checked: &Checked| !checked.poor || synthesis.poor;
     let (synthesis, after, cost_after, improved) = if let Some(best) = kept {
         let c = played.objective.motion(&best.params).0;
