@@ -97,16 +97,7 @@ fn within_3x(name: &str, r: f64) {
 #[test]
 fn design_estimates_hold_within_3x() {
     let dir = cold_cache("shipped");
-    for name in [
-        "sink",
-        "saddle",
-        "squeeze_trans",
-        "whirlpool",
-        "jet",
-        "line_sink",
-        "line_sink_30",
-        "sink_trans",
-    ] {
+    for name in platefield::studies::design_speed::TARGETS {
         let t = Target::load(&Path::new("targets").join(format!("{name}.json"))).unwrap();
         within_3x(name, ratio(&t, &dir));
     }

@@ -916,44 +916,9 @@ pub fn synthesis_estimate(
     limits: &ShakerLimits,
 ) -> Estimate {
     let opts = &resolving(opts, limits.harmonics);
-    let n = crate::synth::params::Layout::new(limits).len();
-    let ranged = target.friction.filter(|f| !f.is_exact()).is_some();
-    let robust = synth.robust.is_some_and(|f| !f.is_exact()) || (synth.robust_synthesis && ranged);
-    let physics = if robust { 3.0 } else { 1.0 };
-    let evaluations = synth.lm.map_or(synth.max_evaluations, |lm| {
-        (1 + crate::synth::calibrate::STEPS + lm.evaluations(n)).min(synth.max_evaluations)
-    });
-    // Limits the closed-form seed finds no motion in end the synthesis
-    // before its first simulation.
     let region = region(target, sampled);
-    let settings = &opts.settings;
-    let seeded = crate::synth::seed::seed(
-        &target.field,
-        &region,
-        limits,
-        settings.friction,
-        settings.gravity,
-    )
-    .is_ok();
-    let (evaluations, checks) = if seeded { (evaluations, 1.0) } else { (0, 0.0) };
-    let plays = match (synth.polish_plays, synth.polish_lm) {
-        _ if !seeded => 0,
-        (0, _) => 0,
-        // The polish stops after its patience without a gain: counted
-        // as one gain (the sink's takes one step, the saddle's all four).
-        (p, Some(lm)) => {
-            let steps = PolishOptions::default()
-                .patience
-                .map_or(lm.max_iterations, |k| lm.max_iterations.min(k + 1));
-            (2 + LmOptions {
-                max_iterations: steps,
-                ..lm
-            }
-            .evaluations(n))
-            .min(p + 1)
-        }
-        (p, None) => p + 1,
-    };
+    let (evaluations, plays, checks, physics) =
+        synthesis_counts(target, &region, synth, &opts.settings, limits);
     let coarse = (synth.coarse[0] * synth.coarse[1]) as f64;
     let velocity = |label: &str, fields: f64, name: &str, samples: f64| {
         crate::work::field_term(
@@ -990,6 +955,55 @@ pub fn synthesis_estimate(
     .plus(velocity("polish contact check", plays as f64, "plays", coarse).times(physics, "physics"))
 }
 
+/// The counts of [`synthesis_estimate`]: coarse evaluations, polish plays,
+/// full-grid checks and physics per evaluation.
+fn synthesis_counts(
+    target: &Target,
+    region: &Grid,
+    synth: &SynthOptions,
+    settings: &crate::field::FieldSettings,
+    limits: &ShakerLimits,
+) -> (usize, usize, f64, f64) {
+    let n = crate::synth::params::Layout::new(limits).len();
+    let ranged = target.friction.filter(|f| !f.is_exact()).is_some();
+    let robust = synth.robust.is_some_and(|f| !f.is_exact()) || (synth.robust_synthesis && ranged);
+    let physics = if robust { 3.0 } else { 1.0 };
+    // Limits the closed-form seed finds no motion in end the synthesis
+    // before its first simulation.
+    let seeded = crate::synth::seed::seed(
+        &target.field,
+        region,
+        limits,
+        settings.friction,
+        settings.gravity,
+    )
+    .is_ok();
+    if !seeded {
+        return (0, 0, 0.0, physics);
+    }
+    let evaluations = synth.lm.map_or(synth.max_evaluations, |lm| {
+        (1 + crate::synth::calibrate::STEPS + lm.evaluations(n)).min(synth.max_evaluations)
+    });
+    let plays = match (synth.polish_plays, synth.polish_lm) {
+        (0, _) => 0,
+        // The polish stops after its patience without a gain: counted
+        // as one gain (the sink's takes one step, the saddle's all four).
+        (p, Some(lm)) => {
+            let steps = PolishOptions::default()
+                .patience
+                .map_or(lm.max_iterations, |k| lm.max_iterations.min(k + 1));
+            (2 + LmOptions {
+                max_iterations: steps,
+                ..lm
+            }
+            .evaluations(n))
+            .min(p + 1)
+        }
+        (p, None) => p + 1,
+    };
+    (evaluations, plays, 1.0, physics)
+}
+
 /// Cycles the realised check plays a schedule of `per_period` cycles per
 /// period ([`measure::play_motion`]): the warm-up and the measured cycles,
 /// each rounded up to whole periods, and the period played after the
@@ -1002,14 +1016,14 @@ pub fn check_cycles(per_period: u32) -> u32 {
 /// The work of designing `target` by `method` ([`crate::work`]), stated
 /// before it starts and compared with the work done by `tests/estimates.rs`
 /// ([`crate::dynamics::steps_taken`], within 3×): the sequenced design's
-/// library when the cache does not hold it ([`super::stages`]), the
+/// library when the cache does not hold it (the basis stage), the
 /// synthesis and its polish ([`synthesis_estimate`]), the realised check
 /// of every candidate (sequenced schedules counted at the synthesized
 /// motion's [`SYNTH_SEGMENT_CYCLES`] cycles per period) and, for a target
 /// that states its friction, each candidate's friction sweep.
 /// `limits` are those the synthesis keeps, `library` the basis stage's
 /// work when the cache does not hold the library
-/// ([`super::stages::cold_library_estimate`]).
+/// (`stages::cold_library_estimate`).
 #[allow(clippy::too_many_arguments)]
 pub fn design_estimate(
     target: &Target,

@@ -67,7 +67,7 @@
 //!
 //! **Never loses** (issue 27). The cost steers; the played measure judges.
 //! A played motion may replace the start only if `auto`'s rule between
-//! candidates ([`super::rule`]: POOR, then realised shape errors within
+//! candidates ([`crate::design::method::Rule`]: POOR, then realised shape errors within
 //! one percentage point broken by the higher strength, else the lower
 //! shape error) prefers its played measure to the start's — or, not
 //! POOR, it plays a lower shape error than the start at a lower cost (a
@@ -265,8 +265,10 @@ impl Eval {
     /// realised shape error and strength.
     fn key(&self) -> rule::Key {
         let p = &self.played;
-        let poor = !(p.shape_error <= crate::fit::POOR_ERROR)
-            || !(p.realised_strength > 0.0)
+        let measured = p.shape_error.is_finite() && p.shape_error <= crate::fit::POOR_ERROR;
+        let poor = !measured
+            || p.realised_strength.is_nan()
+            || p.realised_strength <= 0.0
             || p.valid < rule::MIN_MEASURED_POINTS;
         let shape = if p.shape_error.is_finite() {
             p.shape_error
