@@ -211,6 +211,10 @@ pub fn design_by_method(
     };
     // Refused up front on the target's limits (those of `auto`'s synthesis
     // come from the sequenced schedule, within them).
+    // The library's own refusal first (as the basis stage words it).
+    if let Some(library) = &library {
+        library.check(opts.allow_long)?;
+    }
     let first = estimate(&limits);
     first.check(opts.allow_long)?;
     if method != Method::Auto {
