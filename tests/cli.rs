@@ -677,15 +677,27 @@ fn design_method_auto_plays_both_and_states_the_choice() {
         out.to_str().unwrap(),
     ];
     for (extra, name) in [
-        (["--method", "bogus"], "--method"),
-        (["--synth-evaluations", "0"], "--synth-evaluations"),
+        (&["--method", "bogus"][..], "--method"),
+        (&["--synth-evaluations", "0"][..], "--synth-evaluations"),
         // Refused by the work estimate before any simulation: it names the
-        // knobs and --allow-long.
-        (["--synth-evaluations", "100000000"], "--allow-long"),
-        (["--polish-plays", "100000000"], "--polish-plays"),
+        // knobs and --allow-long. (Nelder–Mead spends the budgets; least
+        // squares takes its steps, whatever they allow.)
+        (
+            &[
+                "--optimizer",
+                "nelder-mead",
+                "--synth-evaluations",
+                "100000000",
+            ][..],
+            "--allow-long",
+        ),
+        (
+            &["--optimizer", "nelder-mead", "--polish-plays", "100000000"][..],
+            "--polish-plays",
+        ),
     ] {
         let mut args = base.to_vec();
-        args.extend_from_slice(&extra);
+        args.extend_from_slice(extra);
         let (code, _, err) = platefield(&args);
         assert_eq!(code, 2, "{extra:?}: {err}");
         assert!(err.contains(name), "{err}");
