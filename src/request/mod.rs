@@ -1045,7 +1045,7 @@ mod tests {
             e.starts_with("target.field: is zero (|f| ≤ 1e-12 m/s) at every sample point"),
             "{e}"
         );
-        let zero = r#"{"field": {"kind": "sampled", "points": [[0, 0], [0.01, 0]], "vectors": [[0, 0], [0, 0]]}}"#;
+        let zero = r#"{"field": {"kind": "sampled", "points": [[0, 0], [0.01, 0], [0, 0.01]], "vectors": [[0, 0], [0, 0], [0, 0]]}}"#;
         let e = Target::from_json_str(zero)
             .unwrap()
             .sample()
