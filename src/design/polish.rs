@@ -174,6 +174,12 @@ pub struct PolishOptions {
     pub patience: Option<usize>,
 }
 
+/// Played shape error of the start above which the polish takes all its
+/// steps whatever [`PolishOptions::patience`] says: patience stopped the
+/// whirlpool designed for μ 0.15 after 28 plays at 6.45 %, where its steps
+/// reach 5.27 %; the sink (4.95 %) keeps its early stop.
+pub const PATIENT_BELOW: f64 = 0.06;
+
 impl Default for PolishOptions {
     fn default() -> Self {
         PolishOptions {
@@ -657,6 +663,11 @@ pub fn polish(
         ),
     };
     let (before, _, lost_before) = played.play(&coefficients)?;
+    // Patience ends a polish that has little to gain; one whose start
+    // plays worse than PATIENT_BELOW takes all its steps.
+    if before.shape_error > PATIENT_BELOW {
+        played.patience_plays = usize::MAX;
+    }
     played.strength_ref = if before.realised_strength.is_finite() && before.realised_strength > 0.0
     {
         before.realised_strength
