@@ -85,6 +85,8 @@ enum Command {
         out: Option<PathBuf>,
         #[command(flatten)]
         json: Json,
+        #[command(flatten)]
+        long: cli::AllowLong,
     },
     /// Study: steady-state velocity of a point part on the paper's one-axis LineSink shaker (section II).
     Linesink(cli::linesink::LinesinkArgs),
@@ -257,7 +259,16 @@ fn run(cli: Cli) -> Result<String> {
             play,
             out,
             json,
-        } => cli::poses::run(&part, &source, drops, play, json.json, out.as_deref()),
+            long,
+        } => cli::poses::run(
+            &part,
+            &source,
+            drops,
+            play,
+            json.json,
+            out.as_deref(),
+            long.allow_long,
+        ),
         Command::Linesink(args) => args.run(),
         Command::Reproduce(o) => studies::reproduce::linesink_results(&o.out),
         Command::Primitives {
