@@ -243,3 +243,33 @@ fn poses_drop_estimate_counts_the_played_steps() {
     println!("poses drops: estimated {estimated:.3e} counted {counted:.3e} support-point steps: ratio {r:.3}");
     assert!((0.95..=1.05).contains(&r), "estimated / counted = {r:.3}");
 }
+
+/// The studies' estimates ([`platefield::studies::work::EXPECTED_STEPS`],
+/// the steps counted at their last regeneration) hold within 3× for the
+/// quick ones, run here into a temporary folder (about 6 s of CPU): a
+/// change that makes a study much more or less work shows here first.
+#[test]
+fn study_estimates_hold_for_the_quick_studies() {
+    let _serial = one_at_a_time();
+    use platefield::studies::{interaction, reproduce, rung, work};
+    let dir = cold_cache("studies");
+    std::fs::create_dir_all(&dir).unwrap();
+    let runs: [(&str, &dyn Fn() -> platefield::Result<String>); 3] = [
+        ("reproduce", &|| reproduce::linesink_results(&dir)),
+        ("rungs", &|| rung::run(&dir, rung::DEFAULT_RUNG_TOLERANCE)),
+        ("interaction", &|| interaction::run(&dir)),
+    ];
+    for (name, run) in runs {
+        let estimate = work::estimate(name).expect("a recorded count");
+        let before = steps_taken();
+        run().unwrap();
+        let counted = (steps_taken() - before) as f64;
+        let r = estimate.steps() / counted;
+        println!(
+            "{name}: estimated {:.3e} counted {counted:.3e} steps: ratio {r:.2}",
+            estimate.steps()
+        );
+        within_3x(name, r);
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
