@@ -85,6 +85,8 @@ enum Command {
         out: Option<PathBuf>,
         #[command(flatten)]
         json: Json,
+        #[command(flatten)]
+        long: cli::AllowLong,
     },
     /// Study: steady-state velocity of a point part on the paper's one-axis LineSink shaker (section II).
     Linesink(cli::linesink::LinesinkArgs),
@@ -257,9 +259,20 @@ fn run(cli: Cli) -> Result<String> {
             play,
             out,
             json,
-        } => cli::poses::run(&part, &source, drops, play, json.json, out.as_deref()),
+            long,
+        } => cli::poses::run(
+            &part,
+            &source,
+            drops,
+            play,
+            json.json,
+            out.as_deref(),
+            long.allow_long,
+        ),
         Command::Linesink(args) => args.run(),
-        Command::Reproduce(o) => studies::reproduce::linesink_results(&o.out),
+        Command::Reproduce(o) => studies::watched("reproduce", true, false, || {
+            studies::reproduce::linesink_results(&o.out)
+        }),
         Command::Primitives {
             grid,
             steps,
@@ -273,17 +286,46 @@ fn run(cli: Cli) -> Result<String> {
                 StepsPlan::Uniform
             };
             let steps = steps.numerics().steps_per_cycle;
-            studies::primitives::run(&out.out, grid, steps, plan, quiet.quiet)
+            let defaults = grid == 21
+                && steps == platefield::dynamics::Numerics::default().steps_per_cycle
+                && !calibrated;
+            studies::watched("primitives", defaults, quiet.quiet, || {
+                studies::primitives::run(&out.out, grid, steps, plan, quiet.quiet)
+            })
         }
-        Command::PosesStudy { play_drops, out } => studies::poses::run(&out.out, play_drops),
-        Command::Rungs { tolerance, out } => studies::rung::run(&out.out, tolerance),
-        Command::Speed(o) => studies::speed::run(&o.out),
-        Command::EngineSpeed(o) => studies::engine_speed::run(&o.out),
-        Command::FitQuality(o) => studies::fit_quality::run(Path::new("targets"), &o.out),
-        Command::Interaction(o) => studies::interaction::run(&o.out),
-        Command::Robust { quiet, out } => studies::robust::run(&out.out, quiet.quiet),
-        Command::SqueezeOrder(o) => studies::squeeze_order::run(&o.out),
-        Command::DesignSpeed { targets, out } => studies::design_speed::run(&out.out, &targets),
+        Command::PosesStudy { play_drops, out } => {
+            let defaults = play_drops == 0;
+            studies::watched("poses-study", defaults, false, || {
+                studies::poses::run(&out.out, play_drops)
+            })
+        }
+        Command::Rungs { tolerance, out } => {
+            let defaults = tolerance == studies::rung::DEFAULT_RUNG_TOLERANCE;
+            studies::watched("rungs", defaults, false, || {
+                studies::rung::run(&out.out, tolerance)
+            })
+        }
+        Command::Speed(o) => studies::watched("speed", true, false, || studies::speed::run(&o.out)),
+        Command::EngineSpeed(o) => studies::watched("engine-speed", true, false, || {
+            studies::engine_speed::run(&o.out)
+        }),
+        Command::FitQuality(o) => studies::watched("fit-quality", true, false, || {
+            studies::fit_quality::run(Path::new("targets"), &o.out)
+        }),
+        Command::Interaction(o) => studies::watched("interaction", true, false, || {
+            studies::interaction::run(&o.out)
+        }),
+        Command::Robust { quiet, out } => studies::watched("robust", true, quiet.quiet, || {
+            studies::robust::run(&out.out, quiet.quiet)
+        }),
+        Command::SqueezeOrder(o) => studies::watched("squeeze-order", true, false, || {
+            studies::squeeze_order::run(&o.out)
+        }),
+        Command::DesignSpeed { targets, out } => {
+            studies::watched("design-speed", targets.is_empty(), false, || {
+                studies::design_speed::run(&out.out, &targets)
+            })
+        }
         Command::Synthesis {
             rows,
             harmonics,
@@ -293,7 +335,10 @@ fn run(cli: Cli) -> Result<String> {
             out,
         } => {
             let study = synthesis_settings(harmonics, [evaluations, starts, polish_plays]);
-            studies::synthesis::run(&out.out, &rows, &study)
+            let defaults = rows.is_empty() && study == studies::synthesis::StudySettings::default();
+            studies::watched("synthesis", defaults, false, || {
+                studies::synthesis::run(&out.out, &rows, &study)
+            })
         }
     }
 }

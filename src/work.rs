@@ -6,16 +6,19 @@
 //! the work smaller. One estimator, here; the callers only supply counts.
 //!
 //! The unit of work is one RK4 step of one point part ([`SECONDS_PER_STEP`]
-//! on one core); a rectangle step costs [`RECT_STEP_COST`] point-part steps;
+//! on one core); a planar step of one support point (rectangles, parts
+//! dropped by `poses`) costs [`PLANAR_POINT_STEP_COST`] point-part steps;
 //! a steady-state velocity sample costs [`VELOCITY_CYCLES`] cycles. The
 //! counts are plain `f64` products, so no count from user input can
 //! overflow (a `cycles: 1e9` schedule is an estimate of 1e9 × …, not a wrap
 //! to a small number).
 
 use std::fmt::Write as _;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use crate::error::{Error, Result};
 use crate::field::{FieldKind, FieldSettings};
+use crate::progress::Progress;
 
 /// Seconds per RK4 step of one point part on one core: a stated, slightly
 /// pessimistic rate. Measured on the 2-core development machine with other
@@ -24,9 +27,19 @@ use crate::field::{FieldKind, FieldSettings};
 /// point-part cycle of 300 steps.
 pub const SECONDS_PER_STEP: f64 = 1.0e-6;
 
-/// Cost of one rectangle step in point-part steps (support points and
-/// sub-steps; measured on `verify`'s 16 × 4 rectangle).
-pub const RECT_STEP_COST: f64 = 50.0;
+/// Cost of one nominal planar step of one support point in point-part
+/// steps: its share of the implicit friction solve and of the halved
+/// steps at stick-slip events. Measured CPU per nominal support-point step
+/// ([`crate::dynamics::steps_taken`]'s unit for a planar body): 0.09 µs
+/// for `verify`'s rectangles (128 steps per cycle; 16 × 16 support points
+/// against the default 16 × 4 added 6.2 s of CPU for 6.6e7 steps) and
+/// 0.24 µs for `poses --play` drops (64 steps per cycle, 36 support points,
+/// coarser steps with more Newton iterations; 22.7 s for 9.5e7 steps on a
+/// loaded machine), against [`SECONDS_PER_STEP`] per point-part step. A
+/// rectangle's cost grows with its support points (issue 30:
+/// `--rect 1e-9x1e-9` is sampled by 16 × 16 and took four times as long
+/// as the default under the same estimate).
+pub const PLANAR_POINT_STEP_COST: f64 = 0.15;
 
 /// Expected cycle evaluations of one steady-state velocity sample (a few
 /// plain iterations, then Newton steps of three cycle maps each; measured:
@@ -169,6 +182,23 @@ impl Estimate {
         (s.is_nan() || s > ANNOUNCE_S).then(|| self.describe(threads))
     }
 
+    /// [`Estimate::check`], then the [`Estimate::announcement`] on stderr
+    /// unless `quiet`: what a command calls before long work.
+    pub fn admit(&self, allow_long: bool, quiet: bool) -> Result<()> {
+        self.check(allow_long)?;
+        self.announce(quiet);
+        Ok(())
+    }
+
+    /// Prints the [`Estimate::announcement`] on stderr, if any, unless
+    /// `quiet`.
+    pub fn announce(&self, quiet: bool) {
+        match self.announcement(threads()) {
+            Some(line) if !quiet => eprintln!("{line}"),
+            _ => {}
+        }
+    }
+
     /// `Ok` when the work is within [`LIMIT_S`] or `allow_long`; else an
     /// [`Error::Invalid`] naming [`Estimate::subject`], stating the
     /// estimate, the limit, the knobs and `--allow-long`.
@@ -191,6 +221,29 @@ impl Estimate {
             ),
         ))
     }
+}
+
+/// Runs `f` while `progress` follows the steps the engine counts
+/// ([`crate::dynamics::steps_taken`], in thousands, from their reading
+/// now): progress for work whose loops the caller does not own, such as
+/// drops played in parallel. `progress` should count thousands of counted
+/// steps; it is read every 100 ms and finished when `f` returns.
+pub fn with_counted_progress<T>(progress: &Progress, f: impl FnOnce() -> T) -> T {
+    let start = crate::dynamics::steps_taken();
+    let done = AtomicBool::new(false);
+    let out = std::thread::scope(|scope| {
+        scope.spawn(|| {
+            while !done.load(Ordering::Relaxed) {
+                progress.set_position((crate::dynamics::steps_taken() - start) / 1000);
+                std::thread::sleep(std::time::Duration::from_millis(100));
+            }
+        });
+        let out = f();
+        done.store(true, Ordering::Relaxed);
+        out
+    });
+    progress.finish();
+    out
 }
 
 /// The term of computing `kind` fields on `samples` grid points per field,

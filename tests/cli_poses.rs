@@ -147,3 +147,54 @@ fn schedule_source_and_play_flag() {
         assert!(err.contains(want), "{err}");
     }
 }
+
+/// Issue 30: `poses --play` states its work before it plays. Drops whose
+/// estimate is over the limit are refused at once, exit 2 naming `--play`
+/// with the estimate and the knobs, nothing written; 2 drops of 2 s play
+/// with a progress line on stderr under `--json` too.
+#[test]
+fn played_drops_are_estimated_first() {
+    let dir = std::env::temp_dir().join(format!("pf_poses_long_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let started = std::time::Instant::now();
+    let out = bin()
+        .args([
+            "poses",
+            "targets/parts/rectangle.json",
+            "results/ellipse/schedule.json",
+        ])
+        .args(["--play", "3600", "--drops", "1000", "--out"])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    for want in [
+        "--play: playing the drops would take about",
+        "--drops or --play",
+        "--allow-long",
+    ] {
+        assert!(err.contains(want), "want {want:?} in: {err}");
+    }
+    assert!(
+        started.elapsed().as_secs_f64() < 30.0,
+        "refused only after the work"
+    );
+    assert!(!dir.exists(), "nothing may be written");
+    let out = bin()
+        .env("PLATEFIELD_PROGRESS_INTERVAL", "0")
+        .args([
+            "poses",
+            "targets/parts/rectangle.json",
+            "results/ellipse/schedule.json",
+        ])
+        .args(["--play", "2", "--drops", "2", "--json"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    assert!(
+        err.contains("poses: ") && err.contains("k planar steps"),
+        "no progress line: {err}"
+    );
+}

@@ -443,3 +443,80 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, failure_persistence: None, ..ProptestConfig::default() })]
+
+    /// Sizes of input files (issue 30): every input is read through
+    /// `platefield::input::read_capped`. For a file of any size against
+    /// any cap, the bytes come back whole exactly when the size is within
+    /// the cap; else the read is refused with `InvalidInput` stating the
+    /// cap, never truncated (the file's bytes differ at every position, so
+    /// a short read would show).
+    #[test]
+    fn files_of_any_size_are_read_whole_or_refused(size in 0usize..=6000, cap in 0u64..=3000) {
+        let dir = std::env::temp_dir().join(format!("pf_sizes_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join(format!("in_{size}_{cap}"));
+        let bytes: Vec<u8> = (0..size).map(|i| (i % 251) as u8).collect();
+        std::fs::write(&path, &bytes).unwrap();
+        let read = platefield::input::read_capped(&path, cap);
+        std::fs::remove_file(&path).ok();
+        match read {
+            Ok(got) => {
+                prop_assert!(size as u64 <= cap, "{} bytes read past a cap of {}", size, cap);
+                prop_assert_eq!(got, bytes);
+            }
+            Err(e) => {
+                prop_assert!(size as u64 > cap, "{} bytes within the cap {} refused: {}", size, cap, e);
+                prop_assert_eq!(e.kind(), std::io::ErrorKind::InvalidInput);
+                prop_assert!(e.to_string().contains("larger than the cap"), "{}", e);
+            }
+        }
+    }
+}
+
+/// The real cap on targets, scenes and schedules
+/// ([`platefield::input::MAX_INPUT_BYTES`], 64 MiB): a file one byte over
+/// it (sparse, so the test writes nothing) is refused naming the file and
+/// the cap, for each loader; a file at the cap is read and fails as the
+/// JSON it is not, naming the file.
+#[test]
+fn inputs_one_byte_over_the_cap_are_refused_by_every_loader() {
+    let cap = platefield::input::MAX_INPUT_BYTES;
+    let dir = std::env::temp_dir().join(format!("pf_cap_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("big.json");
+    let load = |p: &Path| -> [String; 3] {
+        [
+            Target::load(p)
+                .err()
+                .map(|e| e.to_string())
+                .unwrap_or_default(),
+            Scene::load(p)
+                .err()
+                .map(|e| e.to_string())
+                .unwrap_or_default(),
+            Schedule::load(p)
+                .err()
+                .map(|e| e.to_string())
+                .unwrap_or_default(),
+        ]
+    };
+    let file = std::fs::File::create(&path).unwrap();
+    file.set_len(cap + 1).unwrap();
+    for e in load(&path) {
+        assert!(
+            e.contains(&path.display().to_string()) && e.contains("larger than the cap of 64 MiB"),
+            "{e}"
+        );
+    }
+    file.set_len(cap).unwrap();
+    for e in load(&path) {
+        assert!(
+            e.contains(&path.display().to_string()) && !e.contains("larger than the cap"),
+            "{e}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -143,7 +143,7 @@ def export(schedule, rate=10000.0, *, steady_cycles=None):
         raise raised(e, "export", path, None if path else "schedule") from None
 
 
-def poses(part, source, *, drops=200, play=None, out=None):
+def poses(part, source, *, drops=200, play=None, out=None, allow_long=False):
     """Where a part with planar extent comes to rest: ``platefield poses PART SOURCE --json``.
 
     ``part`` is a part file's path or a dict (the schema of
@@ -151,7 +151,9 @@ def poses(part, source, *, drops=200, play=None, out=None):
     schedule, as a path or a dict. ``drops``: random drops for the basin
     fractions; ``play``: seconds each drop is also played by the planar
     simulator (schedule sources only). Files (``poses.json``,
-    ``poses.svg``) go to ``out`` when given, else nowhere.
+    ``poses.svg``) go to ``out`` when given, else nowhere. Played drops
+    whose work estimate exceeds the limit are refused unless
+    ``allow_long``, as ``--allow-long`` does.
 
     Returns the dict ``poses --json`` prints: ``{"equilibria": [{"x", "y",
     "theta_deg", "stable", "basin"}, ...], ...}`` (metres, degrees).
@@ -161,7 +163,9 @@ def poses(part, source, *, drops=200, play=None, out=None):
         source_path, source_temp = _as_file(source, tmp, "source.json")
         folder = os.fspath(out) if out is not None else None
         try:
-            text = _platefield.poses(part_path, source_path, int(drops), play, folder)
+            text = _platefield.poses(
+                part_path, source_path, int(drops), play, folder, bool(allow_long)
+            )
         except NativeError as e:
             # The error names the file it is about before its JSON path.
             own = e.args[1].startswith(part_path + ": ")

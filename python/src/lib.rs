@@ -117,9 +117,10 @@ fn verify(py: Python<'_>, argv: Vec<String>) -> PyResult<String> {
 
 /// `platefield poses PART SOURCE --json`: the analysis JSON it prints
 /// (`drops` random drops; `play` seconds of planar simulation per drop
-/// through a schedule source; files into `out` when given).
+/// through a schedule source; files into `out` when given; `allow_long`
+/// lifts the work limit as `--allow-long` does).
 #[pyfunction]
-#[pyo3(signature = (part, source, drops, play, out))]
+#[pyo3(signature = (part, source, drops, play, out, allow_long))]
 fn poses(
     py: Python<'_>,
     part: String,
@@ -127,10 +128,12 @@ fn poses(
     drops: usize,
     play: Option<f64>,
     out: Option<String>,
+    allow_long: bool,
 ) -> PyResult<String> {
     py.detach(|| {
         let out = out.as_deref().map(Path::new);
-        cli::poses::run(Path::new(&part), Path::new(&source), drops, play, true, out)
+        let (part, source) = (Path::new(&part), Path::new(&source));
+        cli::poses::run(part, source, drops, play, true, out, allow_long)
     })
     .map_err(library_error)
 }

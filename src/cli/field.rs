@@ -76,7 +76,7 @@ pub fn compute(
         scene.kind,
         &scene.settings(),
     ))
-    .check(allow_long)?;
+    .admit(allow_long, quiet)?;
     scene.compute(quiet).map_err(|e| match e {
         Error::Physical(m) => Error::Physical(format!("{}: {m}", scene_path.display())),
         e => e,

@@ -18,9 +18,11 @@ use platefield::field::{Field, FieldKind, Grid};
 use platefield::output::write_all_atomic;
 use platefield::part::Part;
 use platefield::pose::{analyse, schedule_field, GridField, PointField, Region, MAX_DROPS};
+use platefield::progress::{Progress, ProgressMode};
 use platefield::request::Target;
 use platefield::scene::Scene;
 use platefield::schedule::Schedule;
+use platefield::work::{with_counted_progress, PLANAR_POINT_STEP_COST};
 use platefield::{Error, Result};
 
 /// A point field, its grid, the grid's JSON path and the schedule it came
@@ -100,6 +102,7 @@ pub fn run(
     play: Option<f64>,
     json: bool,
     out: Option<&Path>,
+    allow_long: bool,
 ) -> Result<String> {
     if !(1..=MAX_DROPS).contains(&drops) {
         return Err(Error::invalid(
@@ -125,8 +128,9 @@ pub fn run(
         x: grid.x,
         y: grid.y,
     };
-    let analysis = analyse(&part, field.as_ref(), region, drops);
-    let played = match (play, &schedule) {
+    // The drops' play is refused (a non-schedule source, or work over the
+    // limit) and estimated before anything is computed.
+    let play = match (play, &schedule) {
         (None, _) => None,
         (Some(_), None) => {
             return Err(Error::invalid(
@@ -137,9 +141,23 @@ pub fn run(
         (Some(t), Some(s)) => {
             let sm = platefield::play::ScheduleMotion::from_schedule(s)?;
             let p = platefield::pose::DropPlay::new(&s.settings, t);
-            Some(platefield::pose::played_basins(&analysis, &part, &sm, &p))
+            let work = platefield::pose::drops_estimate(&part, &sm, drops, &p);
+            work.admit(allow_long, false)?;
+            Some((sm, p, work))
         }
     };
+    let analysis = analyse(&part, field.as_ref(), region, drops);
+    let played = play.map(|(sm, p, work)| {
+        let progress = Progress::new(
+            "poses",
+            "k planar steps",
+            (work.steps() / PLANAR_POINT_STEP_COST / 1e3).ceil() as u64,
+            ProgressMode::Auto,
+        );
+        with_counted_progress(&progress, || {
+            platefield::pose::played_basins(&analysis, &part, &sm, &p)
+        })
+    });
     let bounds = matches!(part.support, platefield::part::Support::Unknown { .. }).then(|| {
         platefield::pose::Bounds::new(&part, field.as_ref())
             .scan(&region, platefield::report::poses::SCAN)

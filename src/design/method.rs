@@ -218,7 +218,7 @@ pub fn design_by_method(
     let first = estimate(&limits);
     first.check(opts.allow_long)?;
     if method != Method::Auto {
-        announce(&first, opts.quiet);
+        first.announce(opts.quiet);
     }
     let mut out = MethodDesign {
         asked: method,
@@ -280,7 +280,7 @@ pub fn design_by_method(
     let ranged = target.friction.is_some_and(|f| !f.is_exact());
     if method == Method::Auto {
         out.estimate = estimate(&limits);
-        announce(&out.estimate, opts.quiet);
+        out.estimate.announce(opts.quiet);
     }
     let try_mirror = (method == Method::Mirror || (method == Method::Auto && ranged))
         .then(|| super::mirror::mirror_axis(target, &sampled));
@@ -394,16 +394,6 @@ pub fn design_by_method(
         None => candidate_sensitivity(target, &sampled, &out.candidates[chosen].schedule)?,
     };
     Ok(out)
-}
-
-/// Prints `estimate` on stderr when it is long enough to state
-/// ([`Estimate::announcement`]) and not `quiet`.
-fn announce(estimate: &Estimate, quiet: bool) {
-    if let Some(line) = estimate.announcement(crate::work::threads()) {
-        if !quiet {
-            eprintln!("{line}");
-        }
-    }
 }
 
 /// `schedule`'s realised check across the friction the target states

@@ -743,7 +743,7 @@ pub fn order_schedule_file(path: &Path, req: &OrderRequest) -> Result<(Schedule,
         progress: ProgressMode::quiet_if(req.quiet),
         ..OrderOptions::new(verify, grid_points(n, 0.03))
     };
-    work_estimate(&schedule, &opts).check(allow_long)?;
+    work_estimate(&schedule, &opts).admit(allow_long, req.quiet)?;
     let (_, search) = choose_order(&schedule, &opts)?;
     Ok((schedule, search))
 }

@@ -13,6 +13,7 @@ mod equilibria;
 mod lifted;
 mod run;
 mod source;
+mod work;
 
 pub use bounds::Bounds;
 pub use check::{check_twist, Measure, TwistCheck};
@@ -24,3 +25,4 @@ pub use equilibria::{equilibria, settle, wrap, Equilibrium, Region};
 pub use lifted::{GridField, LiftedField, PointField, Pose, Twist};
 pub use run::{analyse, drop_starts, PoseAnalysis, MAX_DROPS};
 pub use source::schedule_field;
+pub use work::{drops_estimate, played_points, steps_per_period};

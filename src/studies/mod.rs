@@ -32,3 +32,6 @@ pub mod speed;
 pub mod squeeze_order;
 pub mod synthesis;
 pub mod table1;
+pub mod work;
+
+pub use work::watched;

@@ -35,7 +35,7 @@ use crate::play::{ScheduleMotion, V2};
 use crate::progress::{Progress, ProgressMode};
 use crate::request::{Attractor, FieldSpec};
 use crate::schedule::Schedule;
-use crate::work::{Estimate, Term, RECT_STEP_COST};
+use crate::work::{Estimate, Term, PLANAR_POINT_STEP_COST};
 
 /// How long the swarm is played.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -365,8 +365,9 @@ pub fn run_rectangles(
 
 /// The work of a verification ([`crate::work`]): RK4 point-part steps of
 /// the realised grid (with the settled warm-up at its longest), the
-/// prediction, the swarm and the rectangles (a rectangle step costs
-/// [`crate::work::RECT_STEP_COST`] point-part steps).
+/// prediction, the swarm and the rectangles (each support point of a
+/// [`sampled_rectangle`] step costs [`PLANAR_POINT_STEP_COST`] point-part
+/// steps).
 pub fn work_estimate(
     schedule: &Schedule,
     req: &VerifyRequest,
@@ -398,6 +399,7 @@ pub fn work_estimate(
         .iter()
         .filter(|s| s.primitive.is_some())
         .count() as f64;
+    let r = sampled_rectangle(req.rectangle);
     let moving_parts = req.model.unwrap_or(schedule.settings.model).moving;
     let evaluations = if moving_parts {
         let first = 2 * req.periods.max(1) as usize;
@@ -439,8 +441,19 @@ pub fn work_estimate(
     )
     .plus(term(SWARM_TERM, swarm, swarm_periods))
     .plus(
-        term(RECTANGLES_TERM, req.rectangle_poses as f64, rect_periods)
-            .times(RECT_STEP_COST, "point steps per rectangle step"),
+        Term::new(RECTANGLES_TERM)
+            .times(req.rectangle_poses as f64, "parts")
+            .times(f64::from(rect_periods), "periods")
+            .times(cycles, "cycles")
+            .times(
+                RectangleOptions::default().steps_per_cycle as f64,
+                "planar steps",
+            )
+            .times(
+                (r.nx * r.ny) as f64,
+                "support points",
+            )
+            .times(PLANAR_POINT_STEP_COST, "point steps per support-point step"),
     )
 }
 
@@ -516,7 +529,7 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest) -> Result<VerifyRe
         _ => periods,
     };
     let work = work_estimate(&schedule, req, periods, rect_periods);
-    work.check(req.allow_long)?;
+    work.admit(req.allow_long, req.quiet)?;
     let poses = rectangle_poses(&g, req.rectangle_poses);
     let counts = [req.points * req.points, starts.len(), poses.len()];
     let weights = progress_weights(&work, counts);
