@@ -1174,6 +1174,7 @@ pub fn play_check(
         notes: notes.into_iter().chain(left).collect(),
         peaks: AxisPeaks::from_six(schedule_peaks(schedule)),
         limits,
+        pose: None,
     })
 }
 
@@ -1214,6 +1215,7 @@ mod tests {
             notes: Vec::new(),
             peaks: AxisPeaks::from_six([0.0; 6]),
             limits: None,
+            pose: None,
         });
         Candidate {
             method,
