@@ -58,8 +58,7 @@ impl Part {
             .find(|&n| {
                 let angle = std::f64::consts::TAU / n as f64;
                 maps_onto(&self.polygon, &ones, angle, tol)
-                    && (!listed
-                        || maps_onto(self.body.points(), self.body.weights(), angle, tol))
+                    && (!listed || maps_onto(self.body.points(), self.body.weights(), angle, tol))
             })
             .unwrap_or(1)
     }

@@ -17,8 +17,8 @@ mod source;
 pub use bounds::Bounds;
 pub use check::{check_twist, Measure, TwistCheck};
 pub use drops::{
-    nearest, play_drop, play_drop_tracked, play_drops, play_part, played_basins, DropEnd, DropPlay, PlayedBasins,
-    DROP_REFINE_DEPTH, DROP_SAMPLES,
+    nearest, play_drop, play_drop_tracked, play_drops, play_part, played_basins, DropEnd, DropPlay,
+    PlayedBasins, DROP_REFINE_DEPTH, DROP_SAMPLES,
 };
 pub use equilibria::{equilibria, settle, wrap, Equilibrium, Region};
 pub use lifted::{GridField, LiftedField, PointField, Pose, Twist};

@@ -108,7 +108,10 @@ fn run_pose(
     }
     let mut text = super::pose_design::headline(&d);
     text.push_str(&super::design::summary(
-        d.method.sequence.as_ref().expect("a pose design is sequenced"),
+        d.method
+            .sequence
+            .as_ref()
+            .expect("a pose design is sequenced"),
     ));
     let _ = writeln!(text, "wrote {}/{{{}}}", dir.display(), files.join(", "));
     Ok(text)

@@ -45,10 +45,21 @@ pub struct Round {
 
 /// The probe starts around `asked`: at it, and 2 mm and 5° off it.
 fn probe_starts(asked: &Pose) -> Vec<Pose> {
-    let off: [(f64, f64, f64); 4] = [(0.0, 0.0, 0.0), (2.0, 0.0, 5.0), (0.0, 2.0, -5.0), (-2.0, -2.0, 0.0)];
+    let off: [(f64, f64, f64); 4] = [
+        (0.0, 0.0, 0.0),
+        (2.0, 0.0, 5.0),
+        (0.0, 2.0, -5.0),
+        (-2.0, -2.0, 0.0),
+    ];
     off.iter()
         .take(PROBES)
-        .map(|(x, y, t)| Pose::new(asked.r.x + 1e-3 * x, asked.r.y + 1e-3 * y, asked.theta + t.to_radians()))
+        .map(|(x, y, t)| {
+            Pose::new(
+                asked.r.x + 1e-3 * x,
+                asked.r.y + 1e-3 * y,
+                asked.theta + t.to_radians(),
+            )
+        })
         .collect()
 }
 
@@ -77,7 +88,11 @@ fn probe(req: &PoseRequest, trial: &Trial) -> Result<Option<Pose>> {
 
 /// `trial` placed again on played probes (module docs): the trial kept
 /// and every round.
-pub fn correct(req: &PoseRequest, opts: &DesignOptions, trial: Trial) -> Result<(Trial, Vec<Round>)> {
+pub fn correct(
+    req: &PoseRequest,
+    opts: &DesignOptions,
+    trial: Trial,
+) -> Result<(Trial, Vec<Round>)> {
     let grid = req.target.grid.unwrap_or(Grid::DEFAULT);
     let n = req.part.symmetry();
     let mut rounds: Vec<Round> = Vec::new();

@@ -115,7 +115,11 @@ pub fn play(
         .iter()
         .zip(&ends)
         .map(|(&i, &c)| PoseBasin {
-            pose: [eqs[i].pose.r.x, eqs[i].pose.r.y, eqs[i].pose.theta.to_degrees()],
+            pose: [
+                eqs[i].pose.r.x,
+                eqs[i].pose.r.y,
+                eqs[i].pose.theta.to_degrees(),
+            ],
             lifted: analysis.basins[i],
             played: c as f64 / total,
         })

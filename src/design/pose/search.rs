@@ -297,10 +297,7 @@ pub fn place(req: &PoseRequest, opts: &DesignOptions, family: Family) -> Result<
 /// Every family of [`FAMILIES`] placed; the errors of a family that could
 /// not be designed are kept as its reason.
 pub fn search(req: &PoseRequest, opts: &DesignOptions) -> Vec<(Family, Result<Trial>)> {
-    FAMILIES
-        .iter()
-        .map(|&f| (f, place(req, opts, f)))
-        .collect()
+    FAMILIES.iter().map(|&f| (f, place(req, opts, f))).collect()
 }
 
 /// The best trial: a unique stable pose (modulo symmetry) first, then the
@@ -309,7 +306,11 @@ pub fn search(req: &PoseRequest, opts: &DesignOptions) -> Vec<(Family, Result<Tr
 pub fn best<'a>(trials: &'a [Trial], asked: &Pose, n: usize) -> Option<&'a Trial> {
     let key = |t: &Trial| {
         let (d, a) = t.error(asked, n).unwrap_or((f64::INFINITY, f64::INFINITY));
-        ((t.distinct != 1) as u8, (10.0 * (d + a.abs())).round(), -t.slowest_rate())
+        (
+            (t.distinct != 1) as u8,
+            (10.0 * (d + a.abs())).round(),
+            -t.slowest_rate(),
+        )
     };
     trials.iter().min_by(|a, b| {
         let (ka, kb) = (key(a), key(b));
