@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use platefield::design::pose::{design_pose, search, PoseRequest};
+use platefield::design::pose::{search, PoseRequest};
 use platefield::design::DesignOptions;
 
 fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
@@ -85,18 +85,6 @@ fn bad_pose_targets_exit_2_naming_the_path() {
         assert!(!dir.join("out/pose").exists(), "{field}: nothing written");
     }
     let _ = std::fs::remove_dir_all(&dir);
-}
-
-/// The rectangle's pose design with `drops` played drops.
-fn rectangle(drops: usize) -> platefield::design::pose::PoseDesign {
-    let req = PoseRequest::load(Path::new("targets/pose_rectangle.json"))
-        .unwrap()
-        .unwrap();
-    let opts = DesignOptions {
-        quiet: true,
-        ..DesignOptions::default()
-    };
-    design_pose(&req, &opts, drops).unwrap()
 }
 
 /// The rectangle's elliptic candidate placed on its designed lifted field:

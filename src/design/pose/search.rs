@@ -8,7 +8,7 @@
 //! - an elliptic sink: line sinks of strengths `ratio` and 1 whose weaker
 //!   contraction runs along the angle. A linear field v = A p + b turns a
 //!   part by its second moments only, so the part's major axis
-//!   ([`Part::principal_angle`]) aligns with the weaker contraction up to
+//!   ([`crate::part::Part::principal_angle`]) aligns with the weaker contraction up to
 //!   180°: one pose for a part symmetric under 180° (the rectangle), two
 //!   180° apart for the others.
 //! - a radial sink of unit speed (linear within [`CORE`] of its centre)
