@@ -159,7 +159,7 @@ impl PoseRequest {
                 "a pose target asks for one part's pose; it has no classes",
             ));
         }
-        target.friction.get_or_insert_with(|| part.friction.clone());
+        target.friction.get_or_insert(part.friction);
         let grid = target
             .grid
             .ok_or_else(|| Error::invalid("target.grid", "a pose target needs a grid"))?;
