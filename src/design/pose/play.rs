@@ -6,7 +6,7 @@
 //! drop starting a region's half-width (4 cm) away comes within 0.4 mm,
 //! a hundredth, after ln(100)/|λ|. The played part turns slower than the
 //! isotropic lifted field predicts ([`crate::pose::LiftedField`]: 2–3
-//! times on a line sink; about 5 times measured on the rectangle's
+//! times on a line sink; about 5 times estimated from one drop on the rectangle's
 //! designed off-centre ellipse), so each drop plays [`SPIN_SLOWER`] times
 //! that long, at least [`MIN_PLAY_S`] and at most [`MAX_PLAY_S`] (whole
 //! schedule periods).
