@@ -372,7 +372,7 @@ proptest! {
                 let g = platefield::request::scattered_grid(&s.points);
                 prop_assert!(g.n[0] <= platefield::request::SCATTERED_N && g.n[1] <= platefield::request::SCATTERED_N);
                 for p in &s.points {
-                    prop_assert!(g.x[0] < p[0] && p[0] < g.x[1] && g.y[0] < p[1] && p[1] < g.y[1], "{:?} outside {:?}", p, g);
+                    prop_assert!(g.x[0] <= p[0] && p[0] <= g.x[1] && g.y[0] <= p[1] && p[1] <= g.y[1], "{:?} outside {:?}", p, g);
                 }
             }
         }

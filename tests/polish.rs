@@ -47,6 +47,25 @@ fn synthesized(t: &Target) -> Synthesis {
     .unwrap()
 }
 
+/// The polish kept its start, or a motion `auto`'s rule prefers to it
+/// (stated here as the module documentation of `design::method` states it:
+/// realised shape errors within one percentage point are a tie broken by
+/// the higher strength, else the lower shape error wins), or one of lower
+/// played shape error at a lower cost.
+fn never_loses(p: &Polished) -> bool {
+    let (a, b) = (&p.before, &p.after);
+    if !p.improved {
+        return a.shape_error.to_bits() == b.shape_error.to_bits()
+            && a.realised_strength.to_bits() == b.realised_strength.to_bits();
+    }
+    let rule = if (a.shape_error - b.shape_error).abs() <= 0.01 {
+        b.realised_strength > a.realised_strength
+    } else {
+        b.shape_error < a.shape_error
+    };
+    rule || (b.shape_error < a.shape_error && p.cost_after < p.cost_before)
+}
+
 fn options() -> PolishOptions {
     PolishOptions {
         max_plays: 25,
@@ -135,13 +154,12 @@ fn polish_is_honest_about_what_it_returns() {
     );
     // Budget: the start and whole simplices only.
     assert!(p.plays >= 1 && p.plays <= o.max_plays, "{}", p.plays);
-    // Never worse by its own cost; unchanged when not kept.
-    assert!(p.cost_after <= p.cost_before);
+    // Never worse by the choice's rule; unchanged when not kept.
+    assert!(never_loses(&p), "{:?} → {:?}", p.before, p.after);
     if !p.improved {
         assert_eq!(p.synthesis.motion, s.motion);
         assert_eq!(p.cost_after, p.cost_before);
     } else {
-        assert!(p.cost_after < p.cost_before);
         assert!(p.synthesis.evaluations > s.evaluations);
     }
     // The played measure reported is the returned motion's, re-played here
@@ -201,6 +219,7 @@ fn stall_rule_ends_the_polish() {
         &s,
         &PolishOptions {
             stall: None,
+            patience: None,
             ..options()
         },
     )
@@ -213,6 +232,7 @@ fn stall_rule_ends_the_polish() {
                 window: 3,
                 tol: 1e9,
             }),
+            patience: None,
             ..options()
         },
     )
@@ -223,5 +243,5 @@ fn stall_rule_ends_the_polish() {
     );
     assert!(spent.plays > n + 2, "{}", spent.plays);
     assert_eq!(stalled.plays, n + 2);
-    assert!(stalled.cost_after <= stalled.cost_before);
+    assert!(never_loses(&stalled));
 }

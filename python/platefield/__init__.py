@@ -7,6 +7,7 @@ same library call as the command-line tool, so the numbers are the CLI's:
 - :func:`verify` -- ``platefield verify SCHEDULE --json``, as a dict;
 - :func:`field` -- ``platefield field SCENE``, as numpy arrays;
 - :func:`export` -- ``platefield export SCHEDULE``, as an (n, 7) numpy array;
+- :func:`poses` -- ``platefield poses PART SOURCE --json``, as a dict;
 - :func:`sweep` -- many designs (targets x friction x shaker limits), serially
   or on a Dask ``Client``.
 
@@ -16,7 +17,7 @@ Keyword options are the command's flags with ``-`` written ``_``
 option they are about (:attr:`Error.path`). See docs/python.md.
 """
 
-from ._api import design, export, field, verify
+from ._api import design, export, field, poses, verify
 from ._errors import Error, InvalidInput, NotConverged, PhysicalError
 from ._sweep import sweep
 
@@ -25,6 +26,7 @@ __all__ = [
     "verify",
     "field",
     "export",
+    "poses",
     "sweep",
     "Error",
     "InvalidInput",

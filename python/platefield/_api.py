@@ -1,4 +1,4 @@
-"""design, verify, field and export: the CLI's library calls, from Python."""
+"""design, verify, field, export and poses: the CLI's library calls, from Python."""
 
 import json
 import os
@@ -141,3 +141,30 @@ def export(schedule, rate=10000.0, *, steady_cycles=None):
     except NativeError as e:
         # A dict's errors name it "schedule" (the library's origin prefix).
         raise raised(e, "export", path, None if path else "schedule") from None
+
+
+def poses(part, source, *, drops=200, play=None, out=None):
+    """Where a part with planar extent comes to rest: ``platefield poses PART SOURCE --json``.
+
+    ``part`` is a part file's path or a dict (the schema of
+    ``targets/parts/*.json``); ``source`` a target, a scene or a designed
+    schedule, as a path or a dict. ``drops``: random drops for the basin
+    fractions; ``play``: seconds each drop is also played by the planar
+    simulator (schedule sources only). Files (``poses.json``,
+    ``poses.svg``) go to ``out`` when given, else nowhere.
+
+    Returns the dict ``poses --json`` prints: ``{"equilibria": [{"x", "y",
+    "theta_deg", "stable", "basin"}, ...], ...}`` (metres, degrees).
+    """
+    with tempfile.TemporaryDirectory(prefix="platefield-") as tmp:
+        part_path, part_temp = _as_file(part, tmp, "part.json")
+        source_path, source_temp = _as_file(source, tmp, "source.json")
+        folder = os.fspath(out) if out is not None else None
+        try:
+            text = _platefield.poses(part_path, source_path, int(drops), play, folder)
+        except NativeError as e:
+            # The error names the file it is about before its JSON path.
+            own = e.args[1].startswith(part_path + ": ")
+            file, temp = (part_path, part_temp) if own else (source_path, source_temp)
+            raise raised(e, "poses", file, temp) from None
+    return json.loads(text)

@@ -5,6 +5,7 @@
 //! (`cli::design::DesignArgs`, `cli::verify::VerifyArgs`: the binary's
 //! `src/cli`, compiled in here, as the library has no clap types) from the argument list the
 //! Python layer builds from keyword arguments and run them with `--json`;
+//! `poses` calls the same `cli::poses::run` with `--json`;
 //! `field` and `export` return numpy arrays of what `field` and `export`
 //! print. The GIL is released while Rust works.
 
@@ -114,6 +115,26 @@ fn verify(py: Python<'_>, argv: Vec<String>) -> PyResult<String> {
     py.detach(|| cmd.args.run()).map_err(library_error)
 }
 
+/// `platefield poses PART SOURCE --json`: the analysis JSON it prints
+/// (`drops` random drops; `play` seconds of planar simulation per drop
+/// through a schedule source; files into `out` when given).
+#[pyfunction]
+#[pyo3(signature = (part, source, drops, play, out))]
+fn poses(
+    py: Python<'_>,
+    part: String,
+    source: String,
+    drops: usize,
+    play: Option<f64>,
+    out: Option<String>,
+) -> PyResult<String> {
+    py.detach(|| {
+        let out = out.as_deref().map(Path::new);
+        cli::poses::run(Path::new(&part), Path::new(&source), drops, play, true, out)
+    })
+    .map_err(library_error)
+}
+
 /// A document (`what`: scene or schedule) from the file `path` by `load`,
 /// or from JSON `text` by `parse`: the library's own readers and checks.
 fn document<T>(
@@ -217,6 +238,7 @@ fn _platefield(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(verify, m)?)?;
     m.add_function(wrap_pyfunction!(field, m)?)?;
     m.add_function(wrap_pyfunction!(export, m)?)?;
+    m.add_function(wrap_pyfunction!(poses, m)?)?;
     m.add_function(wrap_pyfunction!(default_steady_cycles, m)?)?;
     m.add("NativeError", m.py().get_type::<NativeError>())?;
     Ok(())

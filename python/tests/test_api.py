@@ -149,3 +149,26 @@ def test_default_design_of_sink_equals_the_shipped_result(root):
     s = platefield.design(root / "targets" / "sink.json", quiet=True)
     assert s == shipped
     assert s["played"]["realised_strength"] > 0 and not s["played"]["poor"]
+
+
+def test_poses_equals_cli(root, cli):
+    part = root / "targets" / "parts" / "rectangle.json"
+    source = root / "targets" / "ellipse.json"
+    py = platefield.poses(part, source, drops=20)
+    assert py == json.loads(cli("poses", part, source, "--drops", 20, "--json"))
+    # From dicts: the same analysis.
+    as_dicts = platefield.poses(json.loads(part.read_text()), json.loads(source.read_text()), drops=20)
+    assert as_dicts == py
+    # The rectangle on the elliptic sink (-0.3x, -y): stable with its long
+    # side along x (0 deg or 180 deg), within 1 deg of the closed form.
+    stable = [e["theta_deg"] for e in py["equilibria"] if e["stable"]]
+    assert len(stable) == 2
+    assert all(min(abs(t), abs(abs(t) - 180.0)) < 1.0 for t in stable), stable
+
+
+def test_bad_part_names_its_path(root):
+    with pytest.raises(platefield.InvalidInput) as e:
+        platefield.poses({"name": "x", "polygon": [[0, 0], [0.01, 0]]}, root / "targets" / "ellipse.json")
+    assert e.value.path == "part.polygon"
+    assert e.value.file is None
+    assert "at least 3" in e.value.message

@@ -42,6 +42,9 @@ pub struct VerifyArgs {
     /// Parts' friction: MU plays everything at μ_s = μ_k = MU; LO:HI:N also sweeps the design's realised check over N values (table and plot in verify/). Default: the schedule's own.
     #[arg(long, allow_negative_numbers = true)]
     pub friction: Option<String>,
+    /// The schedule's exported CSV (`platefield export`): also plays the file's held samples on the same parts by the design's realised check and prints both (schedule played, export replayed).
+    #[arg(long, value_name = "EXPORT.csv")]
+    pub replay: Option<PathBuf>,
     /// Print the summary JSON on stdout.
     #[arg(long)]
     pub json: bool,
@@ -98,6 +101,7 @@ impl VerifyArgs {
                 .as_deref()
                 .map(FrictionArg::parse)
                 .transpose()?,
+            replay: self.replay.clone(),
         })
     }
 

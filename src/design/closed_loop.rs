@@ -383,6 +383,111 @@ fn best_of(c: &[Candidate]) -> usize {
     best
 }
 
+/// Stage 2: every segment order played with the weights unchanged
+/// (when `search`); returns the best order's pattern (the design's own
+/// order when none is better or none is searched).
+fn order_stage(
+    judge: &Judge,
+    open: &Schedule,
+    cands: &mut Vec<Candidate>,
+    search: bool,
+) -> Result<Vec<usize>> {
+    let base = &open.segments;
+    let pattern: Vec<usize> = (0..base.len()).collect();
+    if !search {
+        return Ok(pattern);
+    }
+    for order in order::candidates(base.len()) {
+        let same = order.sequence == pattern;
+        let schedule = play_in(open, base, &order.sequence);
+        let plays = if same {
+            cands[0].plays.clone()
+        } else {
+            judge.play(&schedule)?
+        };
+        let what = if same {
+            "design order"
+        } else if order.mirrored {
+            "mirrored order"
+        } else {
+            "cyclic order"
+        };
+        cands.push(judge.judge(
+            Stage::Order,
+            schedule,
+            plays,
+            None,
+            format!("{what}, weights unchanged: realised strength ŝ"),
+        ));
+    }
+    let b = best_of(cands);
+    Ok(if cands[b].stage == Stage::Order {
+        order::candidates(base.len())[b - 1].sequence.clone()
+    } else {
+        pattern
+    })
+}
+
+/// Stage 3: contextual re-fits from the best candidate so far, at most
+/// `max_iterations`, stopping at a schedule already played or after two
+/// re-fits without improvement; returns why it stopped.
+fn refit_stage(
+    judge: &Judge,
+    design: &Design,
+    cands: &mut Vec<Candidate>,
+    mut pattern: Vec<usize>,
+    max_iterations: u32,
+) -> Result<String> {
+    let open = &design.schedule;
+    let mut current = best_of(cands);
+    let mut base = open.segments.clone();
+    let mut seen: Vec<Vec<u32>> = vec![base.iter().map(|g| g.cycles).collect()];
+    let total: u32 = base.iter().map(|g| g.cycles).sum();
+    let mut stale = 0;
+    for _ in 0..max_iterations {
+        let refitted = refit::refit(
+            judge.target,
+            &design.target.weights,
+            open,
+            &base,
+            &pattern,
+            &cands[current].plays,
+            total,
+        );
+        let (new_base, new_pattern, strength) = match refitted {
+            Ok(x) => x,
+            Err(e) => return Ok(format!("re-fit failed: {e}")),
+        };
+        let cycles: Vec<u32> = new_base.iter().map(|g| g.cycles).collect();
+        if seen.contains(&cycles) {
+            return Ok("the re-fit returns a schedule already played (converged)".into());
+        }
+        seen.push(cycles);
+        let schedule = play_in(open, &new_base, &new_pattern);
+        let plays = judge.play(&schedule)?;
+        let before_best = cands[best_of(cands)].error.error;
+        cands.push(judge.judge(
+            Stage::Refit,
+            schedule,
+            plays,
+            Some(strength),
+            "contextual re-fit".into(),
+        ));
+        current = cands.len() - 1;
+        base = new_base;
+        pattern = new_pattern;
+        if cands[current].rejected.is_none() && cands[current].error.error < before_best {
+            stale = 0;
+        } else {
+            stale += 1;
+            if stale >= 2 {
+                return Ok("two re-fits without improvement".into());
+            }
+        }
+    }
+    Ok("iteration cap".into())
+}
+
 /// Runs the closed loop on a finished open-loop design of `target`.
 pub fn closed_loop(target: &Target, design: &Design, opts: &LoopOptions) -> Result<ClosedLoop> {
     opts.validate()?;
@@ -423,91 +528,8 @@ pub fn closed_loop(target: &Target, design: &Design, opts: &LoopOptions) -> Resu
     judge.valid_before = Some(first.error.valid);
     let mut cands = vec![first];
 
-    // 2. Orders.
-    let base = open.segments.clone();
-    let mut pattern: Vec<usize> = (0..base.len()).collect();
-    if opts.search_orders {
-        for order in order::candidates(base.len()) {
-            let same = order.sequence == pattern;
-            let schedule = play_in(open, &base, &order.sequence);
-            let plays = if same {
-                cands[0].plays.clone()
-            } else {
-                judge.play(&schedule)?
-            };
-            let what = if same {
-                "design order"
-            } else if order.mirrored {
-                "mirrored order"
-            } else {
-                "cyclic order"
-            };
-            cands.push(judge.judge(
-                Stage::Order,
-                schedule,
-                plays,
-                None,
-                format!("{what}, weights unchanged: realised strength ŝ"),
-            ));
-        }
-        let b = best_of(&cands);
-        if cands[b].stage == Stage::Order {
-            pattern = order::candidates(base.len())[b - 1].sequence.clone();
-        }
-    }
-
-    // 3. Contextual re-fits, from the best so far.
-    let mut current = best_of(&cands);
-    let mut base = base;
-    let mut seen: Vec<Vec<u32>> = vec![base.iter().map(|g| g.cycles).collect()];
-    let total: u32 = base.iter().map(|g| g.cycles).sum();
-    let mut stale = 0;
-    let mut stop = String::from("iteration cap");
-    for _ in 0..opts.max_iterations {
-        let (new_base, new_pattern, strength) = match refit::refit(
-            target,
-            &design.target.weights,
-            open,
-            &base,
-            &pattern,
-            &cands[current].plays,
-            total,
-        ) {
-            Ok(x) => x,
-            Err(e) => {
-                stop = format!("re-fit failed: {e}");
-                break;
-            }
-        };
-        let cycles: Vec<u32> = new_base.iter().map(|g| g.cycles).collect();
-        if seen.contains(&cycles) {
-            stop = "the re-fit returns a schedule already played (converged)".into();
-            break;
-        }
-        seen.push(cycles);
-        let schedule = play_in(open, &new_base, &new_pattern);
-        let plays = judge.play(&schedule)?;
-        let before_best = cands[best_of(&cands)].error.error;
-        cands.push(judge.judge(
-            Stage::Refit,
-            schedule,
-            plays,
-            Some(strength),
-            "contextual re-fit".into(),
-        ));
-        current = cands.len() - 1;
-        base = new_base;
-        pattern = new_pattern;
-        if cands[current].rejected.is_none() && cands[current].error.error < before_best {
-            stale = 0;
-        } else {
-            stale += 1;
-            if stale >= 2 {
-                stop = "two re-fits without improvement".into();
-                break;
-            }
-        }
-    }
+    let pattern = order_stage(&judge, open, &mut cands, opts.search_orders)?;
+    let mut stop = refit_stage(&judge, design, &mut cands, pattern, opts.max_iterations)?;
     if opts.max_iterations == 0 {
         stop = "no re-fit asked".into();
     }

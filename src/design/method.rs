@@ -57,6 +57,7 @@ use std::time::Instant;
 
 use super::closed_loop::{loop_points, measure};
 use super::polish::{polish, PolishOptions};
+pub use super::rule::{Rule, MIN_MEASURED_POINTS, TIE_SHAPE_ERROR};
 use super::{design, Design, DesignOptions};
 use crate::dynamics::Friction;
 use crate::error::{Error, Result};
@@ -68,15 +69,9 @@ use crate::request::{Attractor, SampledTarget, Target};
 use crate::schedule::export::schedule_peaks;
 pub use crate::schedule::Method;
 use crate::schedule::{AxisPeaks, BasisInfo, Played, Schedule, Segment, SolverInfo};
+use crate::synth::levenberg::LmOptions;
 use crate::synth::{synthesize, ShakerLimits, SynthOptions, Synthesis};
 use crate::work::{Estimate, Term};
-
-/// Fewest counted parts a realised measure is reported over. A shape is a
-/// property of the field over the region: one or two parts sample it at
-/// one or two places (a 2-D affine field has six coefficients; three
-/// points in general position fix them), so fewer are reported as not
-/// measured, POOR, with the reason, rather than as a strength and shape.
-pub const MIN_MEASURED_POINTS: usize = 3;
 
 /// Cycles of the synthesized motion per schedule period.
 pub const SYNTH_SEGMENT_CYCLES: u32 = 10;
@@ -88,9 +83,6 @@ pub const CHECK_WARMUP_CYCLES: u32 = 10;
 pub const CHECK_MEASURED_CYCLES: u32 = 10;
 /// Start points per axis of the realised check (about).
 pub const CHECK_POINTS: usize = 5;
-/// Realised shape errors within this of each other are a tie, broken by
-/// the realised strength.
-pub const TIE_SHAPE_ERROR: f64 = 0.01;
 /// A part that ends more than this (m) farther from the attractor than it
 /// was when the measured windows began (after the warm-up) has escaped it:
 /// 1 mm, a third of `verify`'s convergence tolerance, well above the
@@ -176,6 +168,10 @@ pub struct MethodDesign {
     /// The kept design played across the friction the target states
     /// ([`sensitivity::of_target`]; `None` when it states none).
     pub sensitivity: Option<Sensitivity>,
+    /// The work stated before the synthesis ([`design_estimate`] with the
+    /// limits the synthesis keeps; `auto` states it once the sequenced
+    /// schedule has given them).
+    pub estimate: Estimate,
 }
 
 impl MethodDesign {
@@ -201,13 +197,28 @@ pub fn design_by_method(
     let mut limits = ShakerLimits::from_spec(target.shaker.as_ref());
     limits.validate("target.shaker")?;
     let sampled = target.sample()?;
-    if method != Method::Sequence {
-        let estimate = synthesis_estimate(target, &sampled, synth, opts);
-        estimate.check(opts.allow_long)?;
-        let announcement = estimate.announcement(crate::work::threads());
-        if let Some(line) = announcement.filter(|_| !opts.quiet) {
-            eprintln!("{line}");
-        }
+    let library = super::stages::cold_library_estimate(target, &sampled, opts);
+    let estimate = |limits: &ShakerLimits| {
+        design_estimate(
+            target,
+            &sampled,
+            synth,
+            opts,
+            method,
+            limits,
+            library.clone(),
+        )
+    };
+    // Refused up front on the target's limits (those of `auto`'s synthesis
+    // come from the sequenced schedule, within them).
+    // The library's own refusal first (as the basis stage words it).
+    if let Some(library) = &library {
+        library.check(opts.allow_long)?;
+    }
+    let first = estimate(&limits);
+    first.check(opts.allow_long)?;
+    if method != Method::Auto {
+        announce(&first, opts.quiet);
     }
     let mut out = MethodDesign {
         asked: method,
@@ -220,6 +231,7 @@ pub fn design_by_method(
         failures: Vec::new(),
         limits: limits.clone(),
         sensitivity: None,
+        estimate: first,
     };
     let mut first_error = None;
     let mut from_sequence = false;
@@ -266,6 +278,10 @@ pub fn design_by_method(
     // For a target no reflection maps to itself, the mirror image turned
     // back onto it by its phase (`turned_mirror_share`).
     let ranged = target.friction.is_some_and(|f| !f.is_exact());
+    if method == Method::Auto {
+        out.estimate = estimate(&limits);
+        announce(&out.estimate, opts.quiet);
+    }
     let try_mirror = (method == Method::Mirror || (method == Method::Auto && ranged))
         .then(|| super::mirror::mirror_axis(target, &sampled));
     if matches!(method, Method::Synthesize | Method::Auto | Method::Mirror) {
@@ -380,6 +396,16 @@ pub fn design_by_method(
     Ok(out)
 }
 
+/// Prints `estimate` on stderr when it is long enough to state
+/// ([`Estimate::announcement`]) and not `quiet`.
+fn announce(estimate: &Estimate, quiet: bool) {
+    if let Some(line) = estimate.announcement(crate::work::threads()) {
+        if !quiet {
+            eprintln!("{line}");
+        }
+    }
+}
+
 /// `schedule`'s realised check across the friction the target states
 /// ([`sensitivity::of_target`]).
 fn candidate_sensitivity(
@@ -464,16 +490,7 @@ fn choose(cands: &[Candidate], asked: Method) -> (usize, Choice) {
         return (0, choice);
     }
     // The rule between two candidates: (b is better, the rule).
-    let better = |a: &Candidate, b: &Candidate| {
-        let (a, b) = (key(a), key(b));
-        if a.0 != b.0 {
-            (a.0, Rule::OtherPoor)
-        } else if (a.1 - b.1).abs() <= TIE_SHAPE_ERROR {
-            (b.2 > a.2, Rule::HigherStrength)
-        } else {
-            (b.1 < a.1, Rule::LowerShapeError)
-        }
-    };
+    let better = |a: &Candidate, b: &Candidate| super::rule::better(key(a), key(b));
     // The best of `ks` by the rule, and the rule that decided against the
     // runner-up.
     let best_of = |ks: &mut dyn Iterator<Item = usize>| {
@@ -495,31 +512,6 @@ pub enum Choice {
     /// `auto` kept the best candidate by this rule, the one that decided
     /// against the runner-up.
     Rule(Rule),
-}
-
-/// The rule that decides between two candidates under `auto`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Rule {
-    /// One is POOR and the other is not.
-    OtherPoor,
-    /// Realised shape errors within [`TIE_SHAPE_ERROR`]: the higher
-    /// realised strength wins.
-    HigherStrength,
-    /// The lower realised shape error wins.
-    LowerShapeError,
-}
-
-impl Rule {
-    /// The rule in words.
-    pub fn text(self) -> &'static str {
-        match self {
-            Rule::OtherPoor => "the other is POOR",
-            Rule::HigherStrength => {
-                "shape errors within 1 percentage point: the higher realised strength wins"
-            }
-            Rule::LowerShapeError => "the lower realised shape error wins",
-        }
-    }
 }
 
 /// A method that failed under `auto` (or left nothing to play), and why.
@@ -904,20 +896,33 @@ pub fn synthesize_schedule(
     Ok((syn, schedule))
 }
 
-/// The work of one synthesis and its played polish ([`crate::work`]):
-/// every evaluation a steady-state field on the coarse grid, the check one
-/// on the full grid, and every play of the polish its start points (those of
-/// the realised check, `check_starts`: 40 for a 40-point grid-less
-/// target) over the polish's warm-up and measured cycles plus one coarse
-/// field. The flows of the promise that every play's measure integrates
-/// cost O(1) per step (a grid-less sampled target's field through its
+/// The work of one synthesis and its played polish ([`crate::work`]), as
+/// they run: the seed, its phase calibration and the
+/// Levenberg–Marquardt steps ([`LmOptions::evaluations`] over the
+/// parameters of the target's shaker limits; all of
+/// `--synth-evaluations` for Nelder–Mead), each a steady-state field on
+/// the coarse grid; the check of the motion on the full grid; and every
+/// play of the polish — its start points (those of the realised check,
+/// `check_starts`: 40 for a 40-point grid-less target) over the cycles
+/// the check plays ([`check_cycles`]) plus one coarse field for its
+/// contact check — the start's two plays and those of its steps, as many
+/// as its patience and one gain allow (all of `--polish-plays` for
+/// Nelder–Mead). Over a friction range optimised
+/// for its worst case, every evaluation and play is made under its three
+/// physics. The promise's flow that each play's measure integrates costs
+/// O(1) per step (a grid-less sampled target's field through its
 /// [`crate::request::SampledInterpolant`]), within the steps counted.
 pub fn synthesis_estimate(
     target: &Target,
     sampled: &SampledTarget,
     synth: &SynthOptions,
     opts: &DesignOptions,
+    limits: &ShakerLimits,
 ) -> Estimate {
+    let opts = &resolving(opts, limits.harmonics);
+    let region = region(target, sampled);
+    let (evaluations, plays, checks, physics) =
+        synthesis_counts(target, &region, synth, &opts.settings, limits);
     let coarse = (synth.coarse[0] * synth.coarse[1]) as f64;
     let velocity = |label: &str, fields: f64, name: &str, samples: f64| {
         crate::work::field_term(
@@ -929,37 +934,148 @@ pub fn synthesis_estimate(
             &opts.settings,
         )
     };
-    let play_cycles = f64::from(CHECK_WARMUP_CYCLES + CHECK_MEASURED_CYCLES);
     Estimate::new(
         "target",
         "synthesizing a six-signal motion",
         "fewer --synth-evaluations or --polish-plays, or a smaller target grid n",
     )
-    .plus(velocity(
-        "synthesis",
-        synth.max_evaluations as f64,
-        "evaluations",
-        coarse,
-    ))
+    .plus(
+        velocity("synthesis", evaluations as f64, "evaluations", coarse).times(physics, "physics"),
+    )
     .plus(velocity(
         "full-grid check",
-        1.0,
+        checks,
         "field",
-        sampled.len() as f64,
+        region.len() as f64,
     ))
     .plus(
         Term::new("played polish")
-            .times(synth.polish_plays as f64, "plays")
+            .times(plays as f64, "plays")
+            .times(physics, "physics")
             .times(check_starts(target, sampled).len() as f64, "parts")
-            .times(play_cycles, "cycles")
+            .times(f64::from(check_cycles(SYNTH_SEGMENT_CYCLES)), "cycles")
             .times(opts.settings.numerics.steps_per_cycle as f64, "steps"),
     )
-    .plus(velocity(
-        "polish contact check",
-        synth.polish_plays as f64,
-        "plays",
-        coarse,
-    ))
+    .plus(velocity("polish contact check", plays as f64, "plays", coarse).times(physics, "physics"))
+}
+
+/// The counts of [`synthesis_estimate`]: coarse evaluations, polish plays,
+/// full-grid checks and physics per evaluation.
+fn synthesis_counts(
+    target: &Target,
+    region: &Grid,
+    synth: &SynthOptions,
+    settings: &crate::field::FieldSettings,
+    limits: &ShakerLimits,
+) -> (usize, usize, f64, f64) {
+    let n = crate::synth::params::Layout::new(limits).len();
+    let ranged = target.friction.filter(|f| !f.is_exact()).is_some();
+    let robust = synth.robust.is_some_and(|f| !f.is_exact()) || (synth.robust_synthesis && ranged);
+    let physics = if robust { 3.0 } else { 1.0 };
+    // Limits the closed-form seed finds no motion in end the synthesis
+    // before its first simulation.
+    let seeded = crate::synth::seed::seed(
+        &target.field,
+        region,
+        limits,
+        settings.friction,
+        settings.gravity,
+    )
+    .is_ok();
+    if !seeded {
+        return (0, 0, 0.0, physics);
+    }
+    let evaluations = synth.lm.map_or(synth.max_evaluations, |lm| {
+        (1 + crate::synth::calibrate::STEPS + lm.evaluations(n)).min(synth.max_evaluations)
+    });
+    let plays = match (synth.polish_plays, synth.polish_lm) {
+        (0, _) => 0,
+        // The polish stops after its patience without a gain: counted
+        // as one gain (the sink's takes one step, the saddle's all four).
+        (p, Some(lm)) => {
+            let steps = PolishOptions::default()
+                .patience
+                .map_or(lm.max_iterations, |k| lm.max_iterations.min(k + 1));
+            (2 + LmOptions {
+                max_iterations: steps,
+                ..lm
+            }
+            .evaluations(n))
+            .min(p + 1)
+        }
+        (p, None) => p + 1,
+    };
+    (evaluations, plays, 1.0, physics)
+}
+
+/// Cycles the realised check plays a schedule of `per_period` cycles per
+/// period ([`measure::play_motion`]): the warm-up and the measured cycles,
+/// each rounded up to whole periods, and the period played after the
+/// windows.
+pub fn check_cycles(per_period: u32) -> u32 {
+    let p = per_period.max(1);
+    p * (CHECK_WARMUP_CYCLES.div_ceil(p) + CHECK_MEASURED_CYCLES.div_ceil(p).max(1) + 1)
+}
+
+/// The work of designing `target` by `method` ([`crate::work`]), stated
+/// before it starts and compared with the work done by `tests/estimates.rs`
+/// ([`crate::dynamics::steps_taken`], within 3×): the sequenced design's
+/// library when the cache does not hold it (the basis stage), the
+/// synthesis and its polish ([`synthesis_estimate`]), the realised check
+/// of every candidate (sequenced schedules counted at the synthesized
+/// motion's [`SYNTH_SEGMENT_CYCLES`] cycles per period) and, for a target
+/// that states its friction, each candidate's friction sweep.
+/// `limits` are those the synthesis keeps, `library` the basis stage's
+/// work when the cache does not hold the library
+/// (`stages::cold_library_estimate`).
+#[allow(clippy::too_many_arguments)]
+pub fn design_estimate(
+    target: &Target,
+    sampled: &SampledTarget,
+    synth: &SynthOptions,
+    opts: &DesignOptions,
+    method: Method,
+    limits: &ShakerLimits,
+    library: Option<Estimate>,
+) -> Estimate {
+    let mut e = Estimate::new(
+        "target",
+        "designing it",
+        "fewer --synth-evaluations or --polish-plays, a smaller target grid n, a larger --rotation-step, or --method sequence",
+    );
+    let sequenced = matches!(method, Method::Sequence | Method::Auto | Method::Mix);
+    if let Some(library) = library.filter(|_| sequenced) {
+        e.terms.extend(library.terms);
+    }
+    if method != Method::Sequence {
+        e.terms
+            .extend(synthesis_estimate(target, sampled, synth, opts, limits).terms);
+    }
+    let ranged = target.friction.is_some_and(|f| !f.is_exact());
+    let candidates = match method {
+        Method::Auto => 2 + usize::from(ranged),
+        Method::Mix => 2,
+        _ => 1,
+    } as f64;
+    let check = |label: &str, candidates: f64, times: f64, name: &str| {
+        Term::new(label)
+            .times(candidates, "candidates")
+            .times(times, name)
+            .times(check_starts(target, sampled).len() as f64, "parts")
+            .times(f64::from(check_cycles(SYNTH_SEGMENT_CYCLES)), "cycles")
+            .times(opts.settings.numerics.steps_per_cycle as f64, "steps")
+    };
+    e = e.plus(check("realised checks", candidates, 1.0, "checks"));
+    if target.friction.is_some() {
+        // Every candidate over a range; the kept one around an exact value.
+        e = e.plus(check(
+            "friction sweeps",
+            if ranged { candidates } else { 1.0 },
+            crate::play::sensitivity::SWEEP_VALUES as f64,
+            "frictions",
+        ));
+    }
+    e
 }
 
 /// The played polish of a synthesized motion ([`super::polish`]:
@@ -985,6 +1101,7 @@ fn polish_played(
         progress: synth.progress,
         robust: synth.robust,
         lm: synth.polish_lm,
+        segment_cycles: SYNTH_SEGMENT_CYCLES,
         measure: measure::MeasureOptions {
             warmup_cycles: CHECK_WARMUP_CYCLES,
             measured_cycles: CHECK_MEASURED_CYCLES,
@@ -1035,9 +1152,30 @@ pub fn realised_check(
     settings: &crate::field::FieldSettings,
     predicted: Option<f64>,
 ) -> Result<(Vec<measure::PointPlay>, measure::RealisedError)> {
+    let sm = crate::play::ScheduleMotion::from_schedule(schedule)?;
+    Ok(realised_check_of(
+        target,
+        sampled,
+        (&sm, schedule.total_cycles),
+        settings,
+        predicted,
+    ))
+}
+
+/// [`realised_check`] of a trajectory `sm` of `per_period` primitive
+/// cycles per schedule period (e.g. a schedule's exported file played,
+/// [`crate::play::replay`]).
+pub fn realised_check_of(
+    target: &Target,
+    sampled: &SampledTarget,
+    (sm, per_period): (&crate::play::ScheduleMotion, u32),
+    settings: &crate::field::FieldSettings,
+    predicted: Option<f64>,
+) -> (Vec<measure::PointPlay>, measure::RealisedError) {
     let starts = check_starts(target, sampled);
-    let plays = measure::play(
-        schedule,
+    let plays = measure::play_motion(
+        sm,
+        per_period,
         &sampled.points,
         &starts,
         settings,
@@ -1046,9 +1184,9 @@ pub fn realised_check(
             measured_cycles: CHECK_MEASURED_CYCLES,
             settle: false,
         },
-    )?;
+    );
     let r = measure::realised_error(target, &sampled.weights, &plays, predicted);
-    Ok((plays, r))
+    (plays, r)
 }
 
 /// Plays `schedule` on about [`CHECK_POINTS`]² start points over the
@@ -1076,13 +1214,7 @@ pub fn play_check(
     // beyond it a primitive's tilt may lift them) is not, unless the target
     // has an attractor: then it escaped it.
     let g = region(target, sampled);
-    let inside = |q: [f64; 2]| {
-        let (dx, dy) = (
-            1e-9 * (g.x[1] - g.x[0]).abs(),
-            1e-9 * (g.y[1] - g.y[0]).abs(),
-        );
-        q[0] >= g.x[0] - dx && q[0] <= g.x[1] + dx && q[1] >= g.y[0] - dy && q[1] <= g.y[1] + dy
-    };
+    let inside = |q: [f64; 2]| super::polish::in_region(&g, q);
     let lost_inside: Vec<&measure::PointPlay> = plays
         .iter()
         .filter(|p| p.note.is_some() && p.lost_at.is_none_or(inside))
@@ -1289,6 +1421,7 @@ mod tests {
                 &sampled,
                 &SynthOptions::default(),
                 &DesignOptions::default(),
+                &ShakerLimits::from_spec(None),
             );
             let polish = e.terms.iter().find(|t| t.label == "played polish").unwrap();
             polish.factors.iter().find(|f| f.0 == "parts").unwrap().1

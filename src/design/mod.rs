@@ -31,6 +31,8 @@ pub mod order;
 pub mod polish;
 pub mod pose;
 pub mod refine;
+pub mod replay;
+mod rule;
 mod run;
 pub mod sort;
 pub mod stacked;

@@ -404,8 +404,9 @@ pub fn choose(candidates: &[OrderCandidate], tie_tolerance: f64) -> Option<usize
         })
 }
 
-/// Searches orders and rest insertions of `segments` (see the module docs).
-pub fn search_orders(segments: &[PlayedSegment], opts: &OrderOptions) -> Result<OrderSearch> {
+/// Refuses a search over no points, a bad tie tolerance or segments
+/// without a positive duration.
+fn check_search(segments: &[PlayedSegment], opts: &OrderOptions) -> Result<()> {
     if opts.points.is_empty() {
         return Err(Error::invalid("points", "must hold at least one point"));
     }
@@ -426,17 +427,80 @@ pub fn search_orders(segments: &[PlayedSegment], opts: &OrderOptions) -> Result<
             "every segment to order must have a positive duration",
         ));
     }
-    let t_rest = rest_period(segments)?;
-    let first = segments
-        .iter()
-        .position(|s| s.motion.is_some())
-        .unwrap_or(0);
-    let mut rests = opts.rest_cycles.clone();
+    Ok(())
+}
+
+/// One order and rest evaluated: the candidate, or why it could not be.
+type Evaluate<'a> = dyn Fn(&[usize], u32) -> Result<OrderCandidate> + 'a;
+
+/// The heuristic search for many segments: steepest descent over pairwise
+/// swaps from `start` at rest `k0`, within `budget` evaluations, pushing
+/// every candidate onto `candidates`; returns the number of orders seen.
+fn descend(
+    start: Vec<usize>,
+    k0: u32,
+    budget: usize,
+    evaluate: &Evaluate,
+    candidates: &mut Vec<OrderCandidate>,
+) -> Result<usize> {
+    let n = start.len();
+    let mut current = start;
+    candidates.push(evaluate(&current, k0)?);
+    let mut current_err = key(&candidates[0]);
+    let mut seen = vec![current.clone()];
+    'descent: loop {
+        let mut step: Option<(Vec<usize>, f64)> = None;
+        for i in 1..n {
+            for j in i + 1..n {
+                if candidates.len() >= budget {
+                    break 'descent;
+                }
+                let mut o = current.clone();
+                o.swap(i, j);
+                if seen.contains(&o) {
+                    continue;
+                }
+                seen.push(o.clone());
+                let c = evaluate(&o, k0)?;
+                let e = key(&c);
+                candidates.push(c);
+                if step.as_ref().is_none_or(|s| e < s.1) {
+                    step = Some((o, e));
+                }
+            }
+        }
+        match step {
+            Some((o, e)) if e < current_err => {
+                current = o;
+                current_err = e;
+            }
+            _ => break,
+        }
+    }
+    Ok(seen.len())
+}
+
+/// The rest insertions to try, in cycles: sorted, without repeats, and
+/// no rest when none is given.
+fn rest_choices(asked: &[u32]) -> Vec<u32> {
+    let mut rests = asked.to_vec();
     rests.sort_unstable();
     rests.dedup();
     if rests.is_empty() {
         rests.push(0);
     }
+    rests
+}
+
+/// Searches orders and rest insertions of `segments` (see the module docs).
+pub fn search_orders(segments: &[PlayedSegment], opts: &OrderOptions) -> Result<OrderSearch> {
+    check_search(segments, opts)?;
+    let t_rest = rest_period(segments)?;
+    let first = segments
+        .iter()
+        .position(|s| s.motion.is_some())
+        .unwrap_or(0);
+    let rests = rest_choices(&opts.rest_cycles);
     let n = segments.len();
     let mut candidates = Vec::new();
     let method;
@@ -470,52 +534,21 @@ pub fn search_orders(segments: &[PlayedSegment], opts: &OrderOptions) -> Result<
         }
     } else {
         let k0 = rests[0];
-        let mut current: Vec<usize> = (first..n).chain(0..first).collect();
-        candidates.push(evaluate(&current, k0)?);
-        let mut current_err = key(&candidates[0]);
-        let mut seen = vec![current.clone()];
-        'descent: loop {
-            let mut step: Option<(Vec<usize>, f64)> = None;
-            for i in 1..n {
-                for j in i + 1..n {
-                    if candidates.len() >= opts.max_evaluations.max(1) {
-                        break 'descent;
-                    }
-                    let mut o = current.clone();
-                    o.swap(i, j);
-                    if seen.contains(&o) {
-                        continue;
-                    }
-                    seen.push(o.clone());
-                    let c = evaluate(&o, k0)?;
-                    let e = key(&c);
-                    candidates.push(c);
-                    if step.as_ref().is_none_or(|s| e < s.1) {
-                        step = Some((o, e));
-                    }
-                }
-            }
-            match step {
-                Some((o, e)) if e < current_err => {
-                    current = o;
-                    current_err = e;
-                }
-                _ => break,
-            }
-        }
+        let start: Vec<usize> = (first..n).chain(0..first).collect();
+        let budget = opts.max_evaluations.max(1);
+        let seen = descend(start.clone(), k0, budget, &evaluate, &mut candidates)?;
         // Whatever the budget, the rest insertions go on the best order found.
         let best_order = candidates
             .iter()
             .min_by(|a, b| key(a).total_cmp(&key(b)))
-            .map_or(current, |c| c.order.clone());
+            .map_or(start, |c| c.order.clone());
         for &k in &rests[1..] {
             candidates.push(evaluate(&best_order, k)?);
         }
         method = format!(
-            "heuristic ({n} segments > {}): steepest descent over pairwise swaps from the given order ({} first), rest {k0} cycles, {} orders evaluated (budget {}); then rest {:?} cycles on the best order",
+            "heuristic ({n} segments > {}): steepest descent over pairwise swaps from the given order ({} first), rest {k0} cycles, {seen} orders evaluated (budget {}); then rest {:?} cycles on the best order",
             opts.exhaustive_max,
             segments[first].label,
-            seen.len(),
             opts.max_evaluations,
             &rests[1..]
         );

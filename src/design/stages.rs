@@ -61,10 +61,7 @@ pub(crate) fn basis_stage(target: &Target, opts: &DesignOptions) -> Result<Basis
         n: g.n,
     });
     let angles = super::rotations(opts.rotation_step_deg);
-    let region = basis::sampling_grid(target_grid.as_ref(), &sampled.points);
-    let angles_rad: Vec<f64> = angles.iter().map(|a| a.to_radians()).collect();
-    let source = symmetry::source_grid(&region, &angles_rad, &opts.shifts);
-    let primitives: Vec<Primitive> = opts.kinds.iter().map(|k| Primitive::new(*k)).collect();
+    let (primitives, source) = library_source(target_grid.as_ref(), &sampled, opts);
 
     let estimate = library_estimate(&primitives, &source, opts);
     let check = || estimate.check(opts.allow_long);
@@ -100,6 +97,45 @@ pub(crate) fn basis_stage(target: &Target, opts: &DesignOptions) -> Result<Basis
             .as_ref()
             .map(|s| ShakerLimits::from_spec(Some(s))),
     })
+}
+
+/// The primitives and the source grid the basis stage simulates for a
+/// target of grid `target_grid` sampled as `sampled`: a grid that covers
+/// the target region under every rotation and shift of `opts`.
+fn library_source(
+    target_grid: Option<&Grid>,
+    sampled: &SampledTarget,
+    opts: &DesignOptions,
+) -> (Vec<Primitive>, Grid) {
+    let region = basis::sampling_grid(target_grid, &sampled.points);
+    let angles_rad: Vec<f64> = super::rotations(opts.rotation_step_deg)
+        .iter()
+        .map(|a| a.to_radians())
+        .collect();
+    let source = symmetry::source_grid(&region, &angles_rad, &opts.shifts);
+    let primitives = opts.kinds.iter().map(|k| Primitive::new(*k)).collect();
+    (primitives, source)
+}
+
+/// The work of the basis stage's library for `target` when the cache does
+/// not hold it (no cache folder, or no entry under its key: a cold
+/// build); `None` when it will be read from the cache.
+pub(crate) fn cold_library_estimate(
+    target: &Target,
+    sampled: &SampledTarget,
+    opts: &DesignOptions,
+) -> Option<Estimate> {
+    let grid = target.grid.as_ref().map(|g| Grid {
+        x: g.x,
+        y: g.y,
+        n: g.n,
+    });
+    let (primitives, source) = library_source(grid.as_ref(), sampled, opts);
+    let cached = opts.cache_dir.as_ref().is_some_and(|dir| {
+        let key = BasisCache::key(&primitives, &source, &opts.settings, opts.kind);
+        BasisCache::new(dir).path(&key).is_file()
+    });
+    (!cached).then(|| library_estimate(&primitives, &source, opts))
 }
 
 /// The work of building the design's library of `primitives` on `source`

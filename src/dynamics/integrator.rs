@@ -152,6 +152,7 @@ impl Simulator<'_> {
         for w in edges.windows(2) {
             let (a, b) = (w[0], w[1]);
             let n = super::step_count(a, b, nominal);
+            super::count_steps(n);
             let piece = 0.5 * (a + b);
             let nodes = self.table.and_then(|table| table.piece(a, b, n, piece));
             let mut at = Step {

@@ -88,6 +88,32 @@ use serde::{Deserialize, Serialize};
 use crate::error::{non_negative, Error, Result};
 use crate::motion::{Kinematics, V3};
 
+/// Nominal RK4 steps of point parts taken since the program started: the
+/// unit of [`crate::work`]'s estimates, counted where the engine takes
+/// them ([`Simulator::advance`]: every fixed step of nominal size
+/// period / steps per cycle, whatever its events split it into), so an
+/// estimate can be compared with the work done (issue 30). A relaxed
+/// atomic added once per smooth piece; never part of a result.
+static STEPS_TAKEN: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+
+/// The nominal point-part steps taken so far by this process (see
+/// `STEPS_TAKEN`); the difference of two readings is the work done between
+/// them (by every thread).
+///
+/// ```
+/// let before = platefield::dynamics::steps_taken();
+/// assert!(platefield::dynamics::steps_taken() >= before);
+/// ```
+pub fn steps_taken() -> u64 {
+    STEPS_TAKEN.load(std::sync::atomic::Ordering::Relaxed)
+}
+
+/// Adds `n` nominal steps to [`steps_taken`].
+#[inline]
+pub(crate) fn count_steps(n: usize) {
+    STEPS_TAKEN.fetch_add(n as u64, std::sync::atomic::Ordering::Relaxed);
+}
+
 /// The times t0 < … < t1 that split [t0, t1] at the acceleration
 /// `breakpoints` (times in [0, `period`), repeated every period), so that no
 /// integration step straddles a jump.

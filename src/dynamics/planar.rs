@@ -523,6 +523,8 @@ impl<'a> PlanarSimulator<'a> {
         for w in edges.windows(2) {
             let (a, b) = (w[0], w[1]);
             let n = ((b - a) / self.step - 1e-9).ceil().max(1.0) as usize;
+            // One nominal step of every support point (`steps_taken`).
+            super::count_steps(n * self.body.points.len());
             let piece = 0.5 * (a + b);
             for i in 0..n {
                 let ta = a + (b - a) * i as f64 / n as f64;

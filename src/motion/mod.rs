@@ -16,6 +16,8 @@
 //! or the plate centre for six-signal motions), v_c and a_c its velocity and
 //! acceleration, and Ω, Ω' the angular velocity and acceleration, all in S'.
 
+mod held;
+pub mod held_csv;
 mod invariance;
 mod prepared;
 mod ramped;
@@ -25,6 +27,7 @@ mod signals;
 pub mod trig;
 mod waveform;
 
+pub use held::Held;
 pub use invariance::Invariance;
 pub use prepared::PreparedMotion;
 pub use ramped::{smoothstep, Ramped};
@@ -90,6 +93,10 @@ pub enum Motion {
     /// cycles ([`Ramped`]); built by schedules, never read from a file.
     #[serde(skip)]
     Ramped(Ramped),
+    /// Held acceleration samples, as a controller plays an exported file
+    /// ([`Held`]); read from the file, never from a schedule.
+    #[serde(skip)]
+    Held(Held),
 }
 
 impl Motion {
@@ -99,6 +106,7 @@ impl Motion {
             Motion::Screw(s) => s.period,
             Motion::Signals(s) => s.period,
             Motion::Ramped(r) => r.signals.period,
+            Motion::Held(h) => h.period(),
         }
     }
 
@@ -107,6 +115,7 @@ impl Motion {
     pub fn span(&self) -> f64 {
         match self {
             Motion::Ramped(r) => r.span(),
+            Motion::Held(h) => h.span(),
             m => m.period(),
         }
     }
@@ -127,6 +136,7 @@ impl Motion {
             Motion::Screw(s) => s.kinematics(t, piece_t, g, tilt),
             Motion::Signals(s) => s.kinematics(t, g, tilt),
             Motion::Ramped(r) => r.kinematics(t, g, tilt),
+            Motion::Held(h) => h.kinematics(t, piece_t, g, tilt),
         }
     }
 
@@ -134,6 +144,7 @@ impl Motion {
     pub fn breakpoints(&self) -> Vec<f64> {
         let mut b = match self {
             Motion::Screw(s) => s.breakpoints(),
+            Motion::Held(h) => h.breakpoints(),
             Motion::Signals(_) | Motion::Ramped(_) => Vec::new(),
         };
         b.sort_by(f64::total_cmp);
@@ -148,6 +159,7 @@ impl Motion {
             Motion::Screw(s) => s.is_in_plane(),
             Motion::Signals(s) => s.is_in_plane(),
             Motion::Ramped(r) => r.signals.is_in_plane(),
+            Motion::Held(h) => h.is_in_plane(),
         }
     }
 
@@ -169,20 +181,20 @@ impl Motion {
     pub fn slip_axis(&self) -> Option<usize> {
         match self {
             Motion::Screw(s) => s.slip_axis(),
-            Motion::Signals(_) | Motion::Ramped(_) => None,
+            Motion::Signals(_) | Motion::Ramped(_) | Motion::Held(_) => None,
         }
     }
 
     /// The families of plate points this motion moves alike
     /// ([`Invariance`]): a screw about a horizontal or vertical axis, a
     /// six-signal motion turning about one plate axis only, or a motion
-    /// without rotation. A ramped segment returns [`Invariance::None`] (its
-    /// fields are not sampled).
+    /// without rotation. A ramped segment or held samples return
+    /// [`Invariance::None`] (their fields are not sampled).
     pub fn invariance(&self) -> Invariance {
         match self {
             Motion::Screw(s) => s.invariance(),
             Motion::Signals(s) => s.invariance(),
-            Motion::Ramped(_) => Invariance::None,
+            Motion::Ramped(_) | Motion::Held(_) => Invariance::None,
         }
     }
 
@@ -192,6 +204,8 @@ impl Motion {
             Motion::Screw(s) => s.validate(field),
             Motion::Signals(s) => s.validate(field),
             Motion::Ramped(r) => r.signals.validate(field),
+            // Checked when built from the samples (`Held::new`).
+            Motion::Held(_) => Ok(()),
         }
     }
 
@@ -205,6 +219,7 @@ impl Motion {
                 signals: r.signals.transformed(angle, shift),
                 ..r.clone()
             }),
+            Motion::Held(h) => Motion::Held(h.transformed(angle, shift)),
         }
     }
 }

@@ -215,7 +215,7 @@ impl<'a> PreparedMotion<'a> {
         let prepared = match motion {
             Motion::Screw(s) => Prepared::Screw(PreparedScrew::new(s)),
             Motion::Signals(s) => Prepared::Signals(PreparedSignals::new(s)),
-            Motion::Ramped(_) => Prepared::Direct,
+            Motion::Ramped(_) | Motion::Held(_) => Prepared::Direct,
         };
         PreparedMotion { motion, prepared }
     }

@@ -146,6 +146,7 @@ pub fn centre_state(motion: &Motion, t: f64) -> CentreState {
             let (pose, velocity) = r.centre_state(t);
             CentreState { velocity, pose }
         }
+        Motion::Held(h) => h.centre_state_piece(t, t),
     }
 }
 

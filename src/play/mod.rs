@@ -26,12 +26,17 @@
 //! integrated in closed form: a slipping part decelerates at μ_k g against
 //! its slip direction until it stops, and then stays stuck.
 //!
+//! [`replay`] plays a schedule's exported signal file instead of its
+//! motions: the held samples a controller plays, cut into the schedule's
+//! segments.
+//!
 //! [`measure`] is the one realised-velocity measure: what a played
 //! schedule realises at a start point, compared with the field it is meant
 //! to realise (used by `verify`, the order search and the closed loop).
 
 pub mod lag;
 pub mod measure;
+pub mod replay;
 pub mod sensitivity;
 pub mod settle;
 

@@ -42,6 +42,8 @@ pub fn summary_json(r: &VerifyReport) -> Result<String> {
         friction_played: Option<crate::dynamics::Friction>,
         #[serde(skip_serializing_if = "Option::is_none")]
         friction_sweep: Option<&'a Sensitivity>,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        replay: Option<&'a crate::play::replay::ReplayCheck>,
     }
     #[derive(Serialize)]
     struct RealisedSummary<'a> {
@@ -83,6 +85,7 @@ pub fn summary_json(r: &VerifyReport) -> Result<String> {
         swarm: &r.swarm,
         friction_played: r.request.friction.and_then(|f| f.played()),
         friction_sweep: r.friction_sweep.as_ref(),
+        replay: r.replay.as_ref(),
     };
     let mut text =
         serde_json::to_string_pretty(&summary).map_err(|e| Error::Physical(e.to_string()))?;
@@ -512,9 +515,26 @@ pub fn run(
     if !sweep.is_empty() {
         crate::design::method::sweep_estimate(&schedule, sweep.len()).check(req.allow_long)?;
     }
+    // The replay is judged like the sweep: its file is read (and refused)
+    // and its work estimated before anything is played.
+    let replay_file = match &req.replay {
+        Some(p) => {
+            let (file, source) = (crate::motion::held_csv::read(p)?, p.display().to_string());
+            crate::design::replay::check_replay(&schedule, &file, &source)?;
+            crate::design::replay::replay_estimate(&schedule, file.rate).check(req.allow_long)?;
+            Some((file, source))
+        }
+        None => None,
+    };
     let mut r = crate::verify::verify_schedule_file(path, req)?;
     if !sweep.is_empty() {
         r.friction_sweep = Some(crate::design::method::sweep_schedule(&schedule, &sweep)?);
+    }
+    if let Some((file, source)) = &replay_file {
+        let played = req.friction.and_then(|f| f.played());
+        r.replay = Some(crate::design::replay::replay_check(
+            &schedule, file, source, played,
+        )?);
     }
     let files = write(&r, &dir)?;
     if json {
@@ -531,6 +551,9 @@ pub fn run(
     }
     if let Some(s) = &r.friction_sweep {
         text.push_str(&s.table_md());
+    }
+    if let Some(c) = &r.replay {
+        text.push_str(&c.text());
     }
     for f in files {
         let _ = writeln!(text, "wrote {}", f.display());

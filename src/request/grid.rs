@@ -89,16 +89,24 @@ pub fn validate_grid(grid: &Grid, path: &str) -> Result<(), TargetError> {
 pub const SCATTERED_SPACING: f64 = 2e-3;
 /// Most points per side of that grid.
 pub const SCATTERED_N: usize = 41;
-/// Margin (m) of that grid around the sample points.
-const SCATTERED_MARGIN: f64 = 1e-3;
 
 /// The grid on which a grid-less `sampled` target's basis is resampled:
-/// the points' bounding box plus 1 mm, with at most [`SCATTERED_N`] points
-/// per side and spacing at least [`SCATTERED_SPACING`] (coarser when the
-/// points lie far from the plate centre, so that the library grid
-/// covering its rotations stays within [`crate::field::Grid::MAX_N`]
-/// nodes per side). Sized by the region, never by the points' spacing: one
-/// point, or four within 1 cm, give a grid of a few nodes.
+/// the points' bounding box rounded outward to a lattice of spacing h
+/// through the plate centre, with at most [`SCATTERED_N`] points per side
+/// and h at least [`SCATTERED_SPACING`] (coarser when the points lie far
+/// from the plate centre, so that the library grid covering its rotations
+/// stays within [`crate::field::Grid::MAX_N`] nodes per side). Sized by the
+/// region, never by the points' spacing: one point, or four within 1 cm,
+/// give a grid of a few nodes.
+///
+/// **Why a lattice through the centre and no margin.** The library grid
+/// ([`crate::basis::symmetry::source_grid`]) lies on this grid's lattice,
+/// so copies turned by multiples of 90° are resampled exactly (node onto
+/// node), as on a target grid symmetric about the centre. A margin, or a
+/// lattice off the centre, puts interpolation nodes beyond the farthest
+/// sample, where a LineSink's plate lifts the part: a dense scattered
+/// target then loses every LineSink to "contact lost" at nodes no part
+/// visits (issue 30: 1000 points over ±4 cm designed to DivCircles only).
 pub fn scattered_grid(points: &[[f64; 2]]) -> Grid {
     if points.is_empty() {
         return Grid::DEFAULT;
@@ -110,30 +118,31 @@ pub fn scattered_grid(points: &[[f64; 2]]) -> Grid {
             hi[k] = hi[k].max(p[k]);
         }
     }
-    let box_of = |k: usize| [lo[k] - SCATTERED_MARGIN, hi[k] + SCATTERED_MARGIN];
-    let reach = [box_of(0), box_of(1)]
-        .iter()
-        .flat_map(|r| r.iter())
-        .fold(0.0_f64, |m, &c| m.max(c.abs()))
-        * std::f64::consts::SQRT_2;
-    let h = SCATTERED_SPACING.max(reach / cover_nodes());
-    // Each side at least one spacing long, and split into whole cells of
-    // at least h.
-    let side = |k: usize| {
-        let [a, b] = box_of(k);
-        let grow = (h - (b - a)).max(0.0) / 2.0;
-        let r = [a - grow, b + grow];
-        let cells = ((r[1] - r[0]) / h + 1e-9).floor();
-        let n = if cells.is_finite() && cells >= 1.0 {
-            (cells as usize + 1).min(SCATTERED_N)
-        } else {
-            2
-        };
-        (r, n)
-    };
-    let ((x, nx), (y, ny)) = (side(0), side(1));
-    let n = [nx, ny];
-    Grid { x, y, n }
+    let reach =
+        lo.iter().chain(&hi).fold(0.0_f64, |m, &c| m.max(c.abs())) * std::f64::consts::SQRT_2;
+    let mut h = SCATTERED_SPACING.max(reach / cover_nodes());
+    loop {
+        let (x, y) = (lattice_side(lo[0], hi[0], h), lattice_side(lo[1], hi[1], h));
+        let n = [side_nodes(x, h), side_nodes(y, h)];
+        if n[0] <= SCATTERED_N && n[1] <= SCATTERED_N {
+            return Grid { x, y, n };
+        }
+        h *= n[0].max(n[1]) as f64 / SCATTERED_N as f64 * (1.0 + 1e-9);
+    }
+}
+
+/// `[a, b]` rounded outward to multiples of `h` (a side of at least one
+/// spacing), tolerant of points already on the lattice.
+fn lattice_side(a: f64, b: f64, h: f64) -> [f64; 2] {
+    const ON_LATTICE: f64 = 1e-9;
+    let lo = (a / h + ON_LATTICE).floor();
+    let hi = (b / h - ON_LATTICE).ceil().max(lo + 1.0);
+    [lo * h, hi * h]
+}
+
+/// Nodes on a lattice side from [`lattice_side`].
+fn side_nodes(r: [f64; 2], h: f64) -> usize {
+    ((r[1] - r[0]) / h).round() as usize + 1
 }
 
 /// A region of the plate whose sample points do not matter (weight 0).

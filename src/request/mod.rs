@@ -520,22 +520,6 @@ impl Target {
                 *w = 0.0;
             }
         }
-        let largest = vectors
-            .iter()
-            .zip(&weights)
-            .filter(|(_, &w)| w > 0.0)
-            .map(|(v, _)| v[0].hypot(v[1]))
-            .fold(0.0, f64::max);
-        if weights.iter().any(|&w| w > 0.0) && largest <= ZERO_FIELD {
-            return Err(TargetError::invalid(
-                "target.field",
-                format!(
-                    "is zero (|f| ≤ {} m/s) at every sample point with a positive weight: \
-                     there is nothing to design (check the strengths and sum weights)",
-                    error::show(ZERO_FIELD)
-                ),
-            ));
-        }
         if !weights.iter().any(|&w| w > 0.0) {
             return Err(TargetError::invalid(
                 "target",
@@ -546,6 +530,22 @@ impl Target {
             ));
         }
         self.enough_weighted(&weights)?;
+        let largest = vectors
+            .iter()
+            .zip(&weights)
+            .filter(|(_, &w)| w > 0.0)
+            .map(|(v, _)| v[0].hypot(v[1]))
+            .fold(0.0, f64::max);
+        if largest <= ZERO_FIELD {
+            return Err(TargetError::invalid(
+                "target.field",
+                format!(
+                    "is zero (|f| ≤ {} m/s) at every sample point with a positive weight: \
+                     there is nothing to design (check the strengths and sum weights)",
+                    error::show(ZERO_FIELD)
+                ),
+            ));
+        }
         Ok(SampledTarget {
             points,
             vectors,
@@ -1045,7 +1045,7 @@ mod tests {
             e.starts_with("target.field: is zero (|f| ≤ 1e-12 m/s) at every sample point"),
             "{e}"
         );
-        let zero = r#"{"field": {"kind": "sampled", "points": [[0, 0], [0.01, 0]], "vectors": [[0, 0], [0, 0]]}}"#;
+        let zero = r#"{"field": {"kind": "sampled", "points": [[0, 0], [0.01, 0], [0, 0.01]], "vectors": [[0, 0], [0, 0], [0, 0]]}}"#;
         let e = Target::from_json_str(zero)
             .unwrap()
             .sample()
@@ -1130,7 +1130,7 @@ mod tests {
         let g = scattered_grid(&s.points);
         assert_eq!(g.n, [41, 41]);
         assert!(
-            (g.x[0] + 0.041).abs() < 1e-12 && (g.x[1] - 0.041).abs() < 1e-12,
+            (g.x[0] + 0.04).abs() < 1e-12 && (g.x[1] - 0.04).abs() < 1e-12,
             "{g:?}"
         );
         let far = [[0.99, 0.99], [0.995, 0.99]];

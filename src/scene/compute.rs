@@ -44,6 +44,8 @@ impl SceneMotion {
                 }
                 out
             }
+            // Held samples are never read from a scene.
+            SceneMotion::Motion(Motion::Held(_)) => Vec::new(),
             SceneMotion::Primitive(p) => {
                 let mut out = vec![format!("{path}.amplitude")];
                 if p.translation.is_some()
@@ -215,6 +217,9 @@ impl Scene {
                 Motion::Signals(s) | Motion::Ramped(crate::motion::Ramped { signals: s, .. }),
             ) => {
                 format!("six signals, T = {} s", s.period)
+            }
+            SceneMotion::Motion(Motion::Held(h)) => {
+                format!("held samples, Δt = {} s", h.dt())
             }
             SceneMotion::Primitive(p) => {
                 format!("primitive {}, T = {:.6} s", p.kind.name(), p.period())

@@ -251,6 +251,8 @@ fn top_harmonic(m: &Motion, path: &str) -> Option<(u32, String)> {
                 }
             }
         }
+        // Held samples have no harmonics (never read from a scene).
+        Motion::Held(_) => {}
     }
     found.into_iter().max_by_key(|(h, _)| *h)
 }
@@ -335,6 +337,8 @@ impl Scene {
             SceneMotion::Motion(
                 Motion::Signals(s) | Motion::Ramped(crate::motion::Ramped { signals: s, .. }),
             ) => signals(s, path)?,
+            // Held samples are never read from a scene; checked when built.
+            SceneMotion::Motion(Motion::Held(_)) => {}
             SceneMotion::Primitive(p) => primitive(p, path)?,
         }
         let g = &self.grid;

@@ -142,6 +142,12 @@ pub struct Row {
     pub seconds: f64,
     /// CPU seconds of the design over all threads (printed only).
     pub cpu_seconds: Option<f64>,
+    /// The work `design` states before its synthesis (RK4 point-part
+    /// steps, [`crate::design::method::design_estimate`]).
+    pub estimated_steps: f64,
+    /// The nominal point-part steps the engine took
+    /// ([`crate::dynamics::steps_taken`]).
+    pub counted_steps: u64,
 }
 
 /// Designs `target` (auto) under `budget`, the basis cached in `cache`.
@@ -165,10 +171,13 @@ pub fn row(target: &Target, budget: &Budget, cache: &Path) -> Result<Row> {
         progress: ProgressMode::Quiet,
         ..d
     };
+    let steps0 = crate::dynamics::steps_taken();
     let cpu0 = process_cpu_seconds();
     let clock = Instant::now();
     let m = design_by_method(target, &opts, &synth, Method::Auto)?;
     let seconds = clock.elapsed().as_secs_f64();
+    let counted_steps = crate::dynamics::steps_taken() - steps0;
+    let estimated_steps = m.estimate.steps();
     let cpu_seconds = cpu0.zip(process_cpu_seconds()).map(|(a, b)| b - a);
     let synthesized = m
         .candidates
@@ -190,7 +199,19 @@ pub fn row(target: &Target, budget: &Budget, cache: &Path) -> Result<Row> {
         ),
         seconds,
         cpu_seconds,
+        estimated_steps,
+        counted_steps,
     })
+}
+
+/// Builds (or reads) `target`'s basis library into `cache`.
+fn warm_cache(target: &Target, cache: &Path) -> Result<()> {
+    let opts = DesignOptions {
+        cache_dir: Some(cache.to_path_buf()),
+        quiet: true,
+        ..DesignOptions::default()
+    };
+    crate::design::design(target, &opts).map(|_| ())
 }
 
 fn pct(x: Option<f64>) -> String {
@@ -207,10 +228,13 @@ pub fn markdown(rows: &[Row]) -> String {
         "# Design cost against realised quality (issue 27)\n\n\
          Written by `platefield design-speed` (`src/studies/design_speed.rs` says how). \
          Every shipped target designed by `design --method auto` under each budget; \
-         realised shape error and strength (s⁻¹) of the played check. Timings are printed \
-         by the command, never written here.\n\n\
-         | target | budget | synthesized shape | synthesized strength | kept | kept shape | kept strength |\n\
-         |---|---|---|---|---|---|---|\n",
+         realised shape error and strength (s⁻¹) of the played check; the work `design` \
+         estimates before it starts and the work the engine counted (nominal RK4 point-part \
+         steps, `platefield::dynamics::steps_taken`; the basis read from a warm cache), and \
+         their ratio (issue 30: within 3×). Timings, and the seconds per counted step that \
+         turn work into time, are printed by the command, never written here.\n\n\
+         | target | budget | synthesized shape | synthesized strength | kept | kept shape | kept strength | estimated steps | counted steps | estimated / counted |\n\
+         |---|---|---|---|---|---|---|---|---|---|\n",
     );
     for r in rows {
         let (ss, st) = r
@@ -220,14 +244,17 @@ pub fn markdown(rows: &[Row]) -> String {
             });
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {:.3e} | {:.3e} | {:.2} |",
             r.target,
             r.budget,
             ss,
             st,
             r.kept.0,
             pct(r.kept.1),
-            strength(r.kept.2)
+            strength(r.kept.2),
+            r.estimated_steps,
+            r.counted_steps as f64,
+            r.estimated_steps / (r.counted_steps as f64).max(1.0)
         );
     }
     s
@@ -249,15 +276,24 @@ pub fn run(out: &Path, targets: &[String]) -> Result<String> {
     let mut summary = String::from("design-speed (wall and CPU seconds; shared machine):\n");
     for name in &names {
         let target = Target::load(&Path::new("targets").join(format!("{name}.json")))?;
+        // The basis in the cache first, so that every row's work is the
+        // same whatever the cache held before.
+        warm_cache(&target, cache)?;
         for b in &BUDGETS {
             let r = row(&target, b, cache)?;
             let _ = writeln!(
                 summary,
-                "  {:<14} {:<24} {:>6.1} s wall {:>6} s CPU  synthesized {} at {}, kept {} {} at {}",
+                "  {:<14} {:<24} {:>6.1} s wall {:>6} s CPU ({} µs per counted step; estimated {:.2e}, counted {:.2e} steps)  synthesized {} at {}, kept {} {} at {}",
                 r.target,
                 r.budget,
                 r.seconds,
                 r.cpu_seconds.map_or("—".into(), |c| format!("{c:.1}")),
+                r.cpu_seconds.map_or("—".into(), |c| format!(
+                    "{:.2}",
+                    1e6 * c / (r.counted_steps as f64).max(1.0)
+                )),
+                r.estimated_steps,
+                r.counted_steps as f64,
                 r.synthesized.map_or("—".into(), |(e, _)| pct(e)),
                 r.synthesized.map_or("—".into(), |(_, s)| strength(s)),
                 r.kept.0,

@@ -11,7 +11,11 @@
 //! μ = 0.2, 0.25, 0.3, 0.35 and 0.4 by the design's own realised check
 //! (moving parts from about 5 × 5 start points, 10 warm-up and 10
 //! measured cycles rounded up to whole periods): realised strength ŝ and
-//! shape error ‖R − ŝt‖/‖ŝt‖ against the target. Two more rows per target
+//! shape error ‖R − ŝt‖/‖ŝt‖ against the target. Each of these two kept
+//! designs is also exported as `platefield export` writes it (10 kHz,
+//! held samples) and the file **replayed** by the same check
+//! ([`crate::design::replay`]): a row "…, export replayed" under it.
+//! Two more rows per target
 //! do the same for the sequenced method alone: fitted at μ 0.3, and by the
 //! stacked worst-case fit over the range ([`crate::design::stacked`]).
 //! A second table designs
@@ -22,9 +26,11 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use crate::design::method::{design_by_method, judge_check, Method};
+use crate::design::replay::{exported, judge_replay};
 use crate::design::DesignOptions;
 use crate::dynamics::Friction;
 use crate::error::Result;
+use crate::play::replay::replay_motion;
 use crate::play::sensitivity::{friction_sweep, FrictionRow};
 use crate::request::{FrictionSpec, Target};
 use crate::synth::SynthOptions;
@@ -99,27 +105,53 @@ fn options(quiet: bool) -> (DesignOptions, SynthOptions) {
 }
 
 /// Designs `target` with `method` and plays the kept design at
-/// `frictions`.
-pub fn design_row(
+/// `frictions`; with `replay`, also replays its export there (a second
+/// row, labelled `…, export replayed`).
+pub fn design_rows(
     target: &Target,
     (label, method): (&str, Method),
     frictions: &[f64],
-    quiet: bool,
-) -> Result<Row> {
+    (quiet, replay): (bool, bool),
+) -> Result<Vec<Row>> {
     let (opts, synth) = options(quiet);
     let md = design_by_method(target, &opts, &synth, method)?;
     let kept = &md.kept().schedule;
     let sampled = target.sample()?;
     let values: Vec<Friction> = frictions.iter().map(|&m| Friction::uniform(m)).collect();
-    let rows = friction_sweep(&kept.settings, &values, &|settings| {
-        judge_check(target, &sampled, kept, settings)
-    })?;
-    Ok(Row {
+    let row = |design: String, rows: Vec<FrictionRow>| Row {
         target: target.name.clone(),
-        design: label.into(),
+        design,
         method: md.kept().method.name().into(),
         rows,
-    })
+    };
+    let played = friction_sweep(&kept.settings, &values, &|settings| {
+        judge_check(target, &sampled, kept, settings)
+    })?;
+    let mut out = vec![row(label.into(), played)];
+    if replay {
+        let sm = replay_motion(kept, &exported(kept)?, "export")?;
+        let replayed = friction_sweep(&kept.settings, &values, &|settings| {
+            Ok(judge_replay(
+                target,
+                &sampled,
+                (&sm, kept.total_cycles),
+                settings,
+            ))
+        })?;
+        out.push(row(format!("{label}, export replayed"), replayed));
+    }
+    Ok(out)
+}
+
+/// [`design_rows`] without the replay: the one row.
+pub fn design_row(
+    target: &Target,
+    design: (&str, Method),
+    frictions: &[f64],
+    quiet: bool,
+) -> Result<Row> {
+    let mut rows = design_rows(target, design, frictions, (quiet, false))?;
+    Ok(rows.remove(0))
 }
 
 fn load(name: &str) -> Result<Target> {
@@ -133,20 +165,20 @@ fn load(name: &str) -> Result<Target> {
 pub const STACKED: &str = "sequenced, stacked worst case [0.2, 0.4]";
 
 /// The comparison rows of one target: `auto` as shipped and robust over
-/// [`RANGE`]; the sequenced method fitted at μ 0.3 and by the stacked
-/// worst case over [`RANGE`].
-pub fn target_rows(name: &str, quiet: bool) -> Result<[Row; 4]> {
+/// [`RANGE`], each played and its export replayed; the sequenced method
+/// fitted at μ 0.3 and by the stacked worst case over [`RANGE`].
+pub fn target_rows(name: &str, quiet: bool) -> Result<Vec<Row>> {
     let nominal = load(name)?;
     let mut robust = nominal.clone();
     robust.friction = Some(FrictionSpec::range(RANGE[0], RANGE[1]));
-    Ok([
-        design_row(&nominal, ("μ 0.3", Method::Auto), &FRICTIONS, quiet)?,
-        design_row(
-            &robust,
-            ("robust [0.2, 0.4]", Method::Auto),
-            &FRICTIONS,
-            quiet,
-        )?,
+    let mut rows = design_rows(&nominal, ("μ 0.3", Method::Auto), &FRICTIONS, (quiet, true))?;
+    rows.extend(design_rows(
+        &robust,
+        ("robust [0.2, 0.4]", Method::Auto),
+        &FRICTIONS,
+        (quiet, true),
+    )?);
+    rows.extend([
         design_row(
             &nominal,
             ("sequenced, μ 0.3", Method::Sequence),
@@ -154,7 +186,8 @@ pub fn target_rows(name: &str, quiet: bool) -> Result<[Row; 4]> {
             quiet,
         )?,
         design_row(&robust, (STACKED, Method::Sequence), &FRICTIONS, quiet)?,
-    ])
+    ]);
+    Ok(rows)
 }
 
 /// The designs for a single μ of 0.15 and 0.6, each played at its μ.
@@ -183,7 +216,7 @@ fn cell(r: &FrictionRow) -> String {
 /// `robust.md` from the comparison and the single-μ rows.
 pub fn render(rows: &[Row], single: &[Row]) -> String {
     let mut md = String::from(
-        "# Designs over the parts' friction\n\nGenerated by `platefield robust` (see `platefield::studies::robust`). Each design is `design`'s default (`auto`) for the shipped target, as shipped (μ 0.3) and with `\"friction\": [0.2, 0.4]` (every candidate judged by its worst case over the range; the mirror-image time-share added, turned back onto the target by its phase where no reflection maps the target to itself, `design::mirror`). Every kept design is played at each μ by the design's own realised check: moving point parts from about 5 × 5 start points, 10 warm-up and 10 measured cycles (rounded up to whole schedule periods), realised strength ŝ (× the target's strength, s⁻¹ for these linear fields) and realised shape error ‖R − ŝt‖/‖ŝt‖. Cells: strength / shape error. The sequenced rows compare the sequenced method (a schedule of primitives) fitted at μ 0.3 with the same method fitting one set of time weights against the basis simulated at μ 0.2, 0.3 and 0.4 (more where the worst case falls between), minimising the worst shape error over them (the stacked worst-case fit, `fit::worst`, `design::stacked`); the goal column applies to both robust rows.\n\n",
+        "# Designs over the parts' friction\n\nGenerated by `platefield robust` (see `platefield::studies::robust`). Each design is `design`'s default (`auto`) for the shipped target, as shipped (μ 0.3) and with `\"friction\": [0.2, 0.4]` (every candidate judged by its worst case over the range; the mirror-image time-share added, turned back onto the target by its phase where no reflection maps the target to itself, `design::mirror`). Every kept design is played at each μ by the design's own realised check: moving point parts from about 5 × 5 start points, 10 warm-up and 10 measured cycles (rounded up to whole schedule periods), realised strength ŝ (× the target's strength, s⁻¹ for these linear fields) and realised shape error ‖R − ŝt‖/‖ŝt‖. Cells: strength / shape error. The sequenced rows compare the sequenced method (a schedule of primitives) fitted at μ 0.3 with the same method fitting one set of time weights against the basis simulated at μ 0.2, 0.3 and 0.4 (more where the worst case falls between), minimising the worst shape error over them (the stacked worst-case fit, `fit::worst`, `design::stacked`); the goal column applies to both robust rows. Rows \"…, export replayed\" play the same design's export instead of its motions: the CSV `platefield export` writes (10 kHz; a synthesized motion's 10 ramp-in cycles from rest at home, then its steady cycles), its held samples integrated exactly from rest at home and cut into the schedule's segments (`play::replay`), by the same check on the same parts (`design::replay`).\n\n",
     );
     md.push_str("| target | design | kept | μ 0.2 | μ 0.25 | μ 0.3 | μ 0.35 | μ 0.4 | worst shape | weakest strength | goal | met |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for r in rows {

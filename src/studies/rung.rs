@@ -151,6 +151,13 @@ fn is_translation(motion: &Motion) -> bool {
                 .iter()
                 .all(|terms| terms.iter().all(|t| t.amplitude == 0.0))
         }
+        Motion::Held(h) => (0..=h.len()).all(|k| {
+            let s = h.state_at(k);
+            s.velocity[3..]
+                .iter()
+                .chain(&s.pose[3..])
+                .all(|x| *x == 0.0)
+        }),
     }
 }
 

@@ -73,6 +73,23 @@ impl Default for LmOptions {
     }
 }
 
+impl LmOptions {
+    /// Residual evaluations of a run over `n` parameters that takes all
+    /// its [`LmOptions::max_iterations`] steps, each accepted at its first
+    /// batch: the start, then per step the n Jacobian columns and the two
+    /// tries (the work estimate's count, [`crate::work`]; a rejected try
+    /// adds two, a run that stops early takes fewer).
+    ///
+    /// ```
+    /// use platefield::synth::levenberg::LmOptions;
+    /// let lm = LmOptions { max_iterations: 4, ..LmOptions::default() };
+    /// assert_eq!(lm.evaluations(10), 1 + 4 * 12);
+    /// ```
+    pub fn evaluations(&self, n: usize) -> usize {
+        1 + self.max_iterations * (n + 2)
+    }
+}
+
 /// Why a run ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Stop {

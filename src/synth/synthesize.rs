@@ -40,7 +40,7 @@ pub const SYNTH_LM: LmOptions = LmOptions {
     max_iterations: 6,
     lambda0: 1e-2,
     step: 0.01,
-    min_improvement: 0.01,
+    min_improvement: 0.001,
     abs_cost: 0.0,
     max_rejections: 3,
     max_step: 0.5,

@@ -82,6 +82,9 @@ pub struct VerifyRequest {
     /// Another friction to play at, or a sweep ([`super::friction`];
     /// default: the schedule's own).
     pub friction: Option<FrictionArg>,
+    /// The schedule's exported CSV to replay beside its own play
+    /// (`design::replay`, judged in the report layer).
+    pub replay: Option<std::path::PathBuf>,
 }
 
 impl Default for VerifyRequest {
@@ -99,6 +102,7 @@ impl Default for VerifyRequest {
             allow_long: false,
             quiet: false,
             friction: None,
+            replay: None,
         }
     }
 }
@@ -191,12 +195,16 @@ pub struct VerifyReport {
     pub rectangles: Vec<RectangleResult>,
     /// The friction sweep (`--friction LO:HI:N`).
     pub friction_sweep: Option<Sensitivity>,
+    /// The schedule played and its export replayed (`--replay`), judged
+    /// by the report layer like the sweep.
+    pub replay: Option<crate::play::replay::ReplayCheck>,
 }
 
 /// The region verified: the target's grid; for a grid-less `sampled`
 /// target, the region its basis was resampled on
-/// ([`crate::request::scattered_grid`]: the samples' bounding box plus
-/// 1 mm); ±3 cm when the schedule records no target.
+/// ([`crate::request::scattered_grid`]: the samples' bounding box
+/// rounded outward to its lattice); ±3 cm when the schedule records no
+/// target.
 pub fn region(schedule: &Schedule) -> Grid {
     const UNRECORDED: Grid = Grid {
         x: [-0.03, 0.03],
@@ -596,5 +604,6 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest) -> Result<VerifyRe
         // Judged against the target by the report layer (`design` is not
         // below `verify`).
         friction_sweep: None,
+        replay: None,
     })
 }

@@ -20,7 +20,7 @@ use crate::basis::{Primitive, PrimitiveKind};
 use crate::error::{Error, Result};
 use crate::fit::{FitMode, FitOptions, FitProblem};
 use crate::request::Target;
-use crate::schedule::{quantize, Schedule, Segment, DEFAULT_QUANTIZATION_TOL};
+use crate::schedule::{quantize, Quantized, Schedule, Segment, DEFAULT_QUANTIZATION_TOL};
 
 /// One contextual re-fit: the segments' realised velocities in context as
 /// basis columns, the conic fit, whole cycles. Returns the new segments
@@ -47,30 +47,7 @@ pub fn refit(
     if ok.is_empty() || moving.is_empty() {
         return Err(Error::Physical("nothing to re-fit".into()));
     }
-    let played: Vec<&Segment> = pattern.iter().map(|&i| &base[i]).collect();
-    let n = ok.len();
-    // c_b: time-weighted mean of the contributions of b's plays.
-    let mut a = DMatrix::zeros(2 * n, moving.len());
-    for (col, &b) in moving.iter().enumerate() {
-        let plays_of_b: Vec<usize> = (0..pattern.len()).filter(|&k| pattern[k] == b).collect();
-        let time: f64 = plays_of_b.iter().map(|&k| played[k].duration_s).sum();
-        for (row, p) in ok.iter().enumerate() {
-            for &k in &plays_of_b {
-                let f = played[k].duration_s / time;
-                a[(row, col)] += f * p.contributions[k][0];
-                a[(row + n, col)] += f * p.contributions[k][1];
-            }
-        }
-    }
-    let mut t = DVector::zeros(2 * n);
-    let mut d = DVector::zeros(2 * n);
-    for (row, p) in ok.iter().enumerate() {
-        let v = target.field.eval(p.position);
-        t[row] = v[0];
-        t[row + n] = v[1];
-        d[row] = w[p.index];
-        d[row + n] = w[p.index];
-    }
+    let (a, t, d) = contextual_rows(target, w, base, pattern, &ok, &moving);
     let problem = FitProblem {
         a: &a,
         t: &t,
@@ -90,7 +67,7 @@ pub fn refit(
     }
     // Whole cycles at the open-loop schedule's total length.
     let f = &sol.fractions;
-    let wa = DMatrix::from_fn(2 * n, moving.len(), |i, j| d[i] * a[(i, j)]);
+    let wa = DMatrix::from_fn(a.nrows(), moving.len(), |i, j| d[i] * a[(i, j)]);
     let fv = DVector::from_column_slice(f);
     let norm = (&wa * &fv).norm().max(f64::MIN_POSITIVE);
     let field_error = |q: &[f64]| -> f64 {
@@ -116,6 +93,59 @@ pub fn refit(
             "no segment keeps a whole cycle at {total} cycles"
         )));
     }
+    let (new_base, new_pattern) = with_cycles(base, pattern, &moving, &q, f, &periods, rest_period);
+    Ok((new_base, new_pattern, sol.strength))
+}
+
+/// The re-fit's rows: columns c_b of the moving segments (time-weighted
+/// means of their plays' contributions) at the `ok` plays' mean positions,
+/// the target there, and the target's weights per row (x rows, then y).
+fn contextual_rows(
+    target: &Target,
+    w: &[f64],
+    base: &[Segment],
+    pattern: &[usize],
+    ok: &[&PointPlay],
+    moving: &[usize],
+) -> (DMatrix<f64>, DVector<f64>, DVector<f64>) {
+    let played: Vec<&Segment> = pattern.iter().map(|&i| &base[i]).collect();
+    let n = ok.len();
+    let mut a = DMatrix::zeros(2 * n, moving.len());
+    for (col, &b) in moving.iter().enumerate() {
+        let plays_of_b: Vec<usize> = (0..pattern.len()).filter(|&k| pattern[k] == b).collect();
+        let time: f64 = plays_of_b.iter().map(|&k| played[k].duration_s).sum();
+        for (row, p) in ok.iter().enumerate() {
+            for &k in &plays_of_b {
+                let f = played[k].duration_s / time;
+                a[(row, col)] += f * p.contributions[k][0];
+                a[(row + n, col)] += f * p.contributions[k][1];
+            }
+        }
+    }
+    let mut t = DVector::zeros(2 * n);
+    let mut d = DVector::zeros(2 * n);
+    for (row, p) in ok.iter().enumerate() {
+        let v = target.field.eval(p.position);
+        t[row] = v[0];
+        t[row + n] = v[1];
+        d[row] = w[p.index];
+        d[row + n] = w[p.index];
+    }
+    (a, t, d)
+}
+
+/// `base` with the quantised cycles `q` of the fractions `f` on its moving
+/// segments (the others at 0 cycles), the rest segment set or appended, and
+/// the playing pattern without segments of 0 cycles.
+fn with_cycles(
+    base: &[Segment],
+    pattern: &[usize],
+    moving: &[usize],
+    q: &Quantized,
+    f: &[f64],
+    periods: &[f64],
+    rest_period: f64,
+) -> (Vec<Segment>, Vec<usize>) {
     let mut new_base: Vec<Segment> = base.to_vec();
     for g in new_base.iter_mut() {
         if g.is_moving() {
@@ -154,5 +184,5 @@ pub fn refit(
         None => {}
     }
     new_pattern.retain(|&i| new_base[i].cycles > 0);
-    Ok((new_base, new_pattern, sol.strength))
+    (new_base, new_pattern)
 }

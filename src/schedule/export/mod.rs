@@ -337,7 +337,7 @@ pub fn centre_acceleration(motion: &Motion, t: f64) -> (V3, V3) {
             let lin = -(a.cross(&rh) + w.cross(&w.cross(&rh))) + k * d.ddq;
             (lin, a)
         }
-        Motion::Signals(_) | Motion::Ramped(_) => {
+        Motion::Signals(_) | Motion::Ramped(_) | Motion::Held(_) => {
             let kin = motion.kinematics(t, 0.0, false);
             (kin.accel_center, kin.alpha)
         }

@@ -1,0 +1,236 @@
+//! Reading an exported signal file back: the CSV `platefield export`
+//! writes ([`super::sample_hold::HoldSamples::to_csv`]), as held samples
+//! from rest at home.
+//!
+//! Lines starting with `#` are comments and blank lines are skipped. The
+//! first other line is the header
+//! `t_s,ax_m_s2,ay_m_s2,az_m_s2,alpha_x_rad_s2,alpha_y_rad_s2,alpha_z_rad_s2`;
+//! every row after it holds 7 finite numbers. The times must start at 0
+//! and be uniform: Δt = t_last/(n − 1) and every t_k within
+//! [`T_TOLERANCE`] of kΔt (the export prints t to 1 ns). Every error names
+//! the file, the line and the column, and says what is allowed.
+
+use std::path::Path;
+
+use super::sample_hold::{CentreState, HoldSamples};
+use crate::error::{Error, Result};
+use crate::input::{read_capped, MAX_INPUT_BYTES};
+
+/// The header `platefield export` writes.
+pub const HEADER: &str = "t_s,ax_m_s2,ay_m_s2,az_m_s2,alpha_x_rad_s2,alpha_y_rad_s2,alpha_z_rad_s2";
+
+/// How far a row's time may be from kΔt (s): the export prints t with 9
+/// decimals (±5e-10 s), so 2e-9 s allows that and refuses a skipped or
+/// repeated sample (Δt is at least 1e-7 s at the export's rates).
+pub const T_TOLERANCE: f64 = 2e-9;
+
+/// Reads the exported CSV at `path` (at most [`MAX_INPUT_BYTES`]) as held
+/// samples from rest at home ([`parse`]).
+///
+/// # Errors
+/// An unreadable or oversized file (names the file), or [`parse`]'s.
+pub fn read(path: &Path) -> Result<HoldSamples> {
+    let io = |source| Error::Io {
+        path: path.display().to_string(),
+        source,
+    };
+    let bytes = read_capped(path, MAX_INPUT_BYTES).map_err(io)?;
+    let text = String::from_utf8(bytes).map_err(|_| {
+        io(std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            "not UTF-8 text",
+        ))
+    })?;
+    parse(&text, &path.display().to_string())
+}
+
+/// Parses an exported CSV (`source` names it in errors): the samples, Δt,
+/// the whole file as one period, starting at rest in the home pose.
+///
+/// ```
+/// use platefield::motion::held_csv::{parse, HEADER};
+///
+/// let csv = format!("# comment\n{HEADER}\n0,1,0,0,0,0,0\n0.001,-1,0,0,0,0,0\n");
+/// let held = parse(&csv, "x.csv").unwrap();
+/// assert_eq!(held.samples.len(), 2);
+/// assert!((held.dt - 0.001).abs() < 1e-15);
+/// let bad = format!("{HEADER}\n0,1,0,0,0,0,0\n0.001,-1,0,NaN,0,0,0\n");
+/// let e = parse(&bad, "x.csv").unwrap_err().to_string();
+/// assert!(e.contains("x.csv line 3 column 4 (az_m_s2)"), "{e}");
+/// ```
+///
+/// # Errors
+/// A missing or wrong header, a row without 7 columns, a value that is not
+/// a finite number, fewer than 2 rows, or times that do not start at 0 or
+/// are not uniform: each names `source`, the line and the column.
+pub fn parse(text: &str, source: &str) -> Result<HoldSamples> {
+    let columns: Vec<&str> = HEADER.split(',').collect();
+    let at = |line: usize, col: Option<usize>| match col {
+        Some(c) => format!("{source} line {line} column {} ({})", c + 1, columns[c]),
+        None => format!("{source} line {line}"),
+    };
+    let mut lines = text
+        .lines()
+        .enumerate()
+        .map(|(i, l)| (i + 1, l.trim()))
+        .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
+    match lines.next() {
+        Some((_, l)) if l == HEADER => {}
+        Some((n, l)) => {
+            return Err(Error::invalid(
+                at(n, None),
+                format!("expected the header \"{HEADER}\" (the CSV `platefield export` writes), got \"{l}\""),
+            ))
+        }
+        None => {
+            return Err(Error::invalid(
+                source,
+                format!("no header \"{HEADER}\" and no samples"),
+            ))
+        }
+    }
+    let mut rows: Vec<(usize, [f64; 7])> = Vec::new();
+    for (n, l) in lines {
+        let fields: Vec<&str> = l.split(',').collect();
+        if fields.len() != columns.len() {
+            return Err(Error::invalid(
+                at(n, None),
+                format!(
+                    "{} columns, expected {} ({HEADER})",
+                    fields.len(),
+                    columns.len()
+                ),
+            ));
+        }
+        let mut row = [0.0; 7];
+        for (c, f) in fields.iter().enumerate() {
+            row[c] = f
+                .trim()
+                .parse::<f64>()
+                .ok()
+                .filter(|x| x.is_finite())
+                .ok_or_else(|| {
+                    Error::invalid(
+                        at(n, Some(c)),
+                        format!("\"{}\" is not a finite number", f.trim()),
+                    )
+                })?;
+        }
+        rows.push((n, row));
+    }
+    let dt = uniform_step(&rows, source, &at)?;
+    Ok(HoldSamples {
+        dt,
+        rate: 1.0 / dt,
+        samples_per_period: rows.len(),
+        samples: rows
+            .iter()
+            .map(|(_, r)| std::array::from_fn(|i| r[i + 1]))
+            .collect(),
+        start: CentreState::default(),
+    })
+}
+
+/// Δt = t_last/(n − 1), checked: t₀ = 0 and every t_k within
+/// [`T_TOLERANCE`] of kΔt.
+fn uniform_step(
+    rows: &[(usize, [f64; 7])],
+    source: &str,
+    at: &dyn Fn(usize, Option<usize>) -> String,
+) -> Result<f64> {
+    if rows.len() < 2 {
+        return Err(Error::invalid(
+            source,
+            format!(
+                "{} sample rows, at least 2 needed (the hold time is their spacing)",
+                rows.len()
+            ),
+        ));
+    }
+    let (first, last) = (rows[0], rows[rows.len() - 1]);
+    if first.1[0] != 0.0 {
+        return Err(Error::invalid(
+            at(first.0, Some(0)),
+            format!("the first sample must start at t = 0, got {}", first.1[0]),
+        ));
+    }
+    let dt = last.1[0] / (rows.len() - 1) as f64;
+    if dt <= 0.0 {
+        return Err(Error::invalid(
+            at(last.0, Some(0)),
+            format!("times must increase, got the last at {} s", last.1[0]),
+        ));
+    }
+    for (k, (n, r)) in rows.iter().enumerate() {
+        let expected = k as f64 * dt;
+        if (r[0] - expected).abs() > T_TOLERANCE {
+            return Err(Error::invalid(
+                at(*n, Some(0)),
+                format!(
+                    "{} s, expected {expected:.9} s: samples must be uniform (Δt = {dt:.9e} s from the first and last rows, each within {T_TOLERANCE:e} s)",
+                    r[0]
+                ),
+            ));
+        }
+    }
+    Ok(dt)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn csv(rows: &[&str]) -> String {
+        format!("# a comment\n{HEADER}\n{}\n", rows.join("\n"))
+    }
+
+    fn error(rows: &[&str]) -> String {
+        parse(&csv(rows), "f.csv").unwrap_err().to_string()
+    }
+
+    /// The export's own CSV reads back to its samples (to the 13
+    /// significant digits it prints) and hold time.
+    #[test]
+    fn an_export_reads_back() {
+        let motion = crate::motion::Motion::Signals(crate::motion::Signals::example());
+        let file = crate::motion::sample_hold::periodic(&motion, 5_000.0).unwrap();
+        let back = parse(&file.to_csv(), "e.csv").unwrap();
+        assert_eq!(back.samples.len(), file.samples.len());
+        assert!((back.dt - file.dt).abs() < 1e-12 * file.dt);
+        for (a, b) in back.samples.iter().zip(&file.samples) {
+            for i in 0..6 {
+                assert!((a[i] - b[i]).abs() <= 1e-12 * (1.0 + b[i].abs()));
+            }
+        }
+    }
+
+    /// Bad rows name the line and column.
+    #[test]
+    fn bad_rows_name_line_and_column() {
+        let e = error(&["0,1,0,0,0,0,0", "0.001,1,0,0,0,0"]);
+        assert!(
+            e.contains("f.csv line 4:") && e.contains("6 columns"),
+            "{e}"
+        );
+        let e = error(&["0,1,0,0,0,0,0", "0.001,1,x,0,0,0,0"]);
+        assert!(e.contains("f.csv line 4 column 3 (ay_m_s2)"), "{e}");
+        let e = error(&["0,1,0,0,0,0,inf", "0.001,1,0,0,0,0,0"]);
+        assert!(e.contains("line 3 column 7 (alpha_z_rad_s2)"), "{e}");
+        let e = error(&[
+            "0,1,0,0,0,0,0",
+            "0.001,1,0,0,0,0,0",
+            "0.0025,1,0,0,0,0,0",
+            "0.003,1,0,0,0,0,0",
+        ]);
+        assert!(
+            e.contains("line 5 column 1 (t_s)") && e.contains("uniform"),
+            "{e}"
+        );
+        let e = error(&["0.5,1,0,0,0,0,0", "0.6,1,0,0,0,0,0"]);
+        assert!(e.contains("line 3 column 1") && e.contains("t = 0"), "{e}");
+        let e = error(&["0,1,0,0,0,0,0"]);
+        assert!(e.contains("at least 2"), "{e}");
+        let e = parse("t,a\n0,1\n", "f.csv").unwrap_err().to_string();
+        assert!(e.contains("f.csv line 1") && e.contains("header"), "{e}");
+    }
+}
