@@ -1,12 +1,12 @@
 //! A pose target's design written and summarised: the kept schedule's
 //! files as for any design ([`super::method::write`]), its `report.md`
-//! headed by the pose section (the candidates placed, the lifted field's
+//! headed by the pose section (the motion and its placement, the lifted field's
 //! stable poses, the played drops), and the terminal summary.
 
 use std::fmt::Write as _;
 use std::path::Path;
 
-use crate::design::pose::{PoseDesign, TOL_DEG, TOL_MM};
+use crate::design::pose::{Placement, PoseDesign, TOL_DEG, TOL_MM};
 use crate::error::{Error, Result};
 use crate::schedule::PosePlayed;
 
@@ -50,70 +50,53 @@ pub fn headline(d: &PoseDesign) -> String {
     )
 }
 
-/// The candidates table.
-fn trials_md(d: &PoseDesign, md: &mut String) {
-    let asked = &d.request.pose;
-    let n = d.request.part.symmetry();
-    md.push_str("| candidate | kept | designs | centre (mm) | angle (°) | stable poses (mod symmetry) | nearest: Δr (mm), Δθ (°) | slowest rate (1/s) |\n|---|---|---|---|---|---|---|---|\n");
-    for (i, (family, trial)) in d.trials.iter().enumerate() {
-        let kept = if i == d.kept { "yes" } else { "" };
-        match trial {
-            Ok(t) => {
-                let err = t
-                    .error(asked, n)
-                    .map_or("none stable".into(), |(r, a)| format!("{r:.2}, {a:+.2}"));
-                let _ = writeln!(
-                    md,
-                    "| {} | {kept} | {} | ({:+.2}, {:+.2}) | {:.2} | {} | {err} | {:.3} |",
-                    family.label(),
-                    t.designs,
-                    1e3 * t.center.x,
-                    1e3 * t.center.y,
-                    t.angle,
-                    t.distinct,
-                    t.slowest_rate()
-                );
-            }
-            Err(e) => {
-                let _ = writeln!(md, "| {} | | not designed: {e} | | | | | |", family.label());
-            }
-        }
-    }
+/// A placement in words: turn (°) and reference point (mm).
+fn placement_text(p: &Placement) -> String {
+    format!(
+        "turned {:+.2}°, reference point ({:+.3}, {:+.3}) mm",
+        p.angle.to_degrees(),
+        1e3 * p.shift.x,
+        1e3 * p.shift.y
+    )
 }
 
-/// The placement on played probes.
-fn rounds_md(d: &PoseDesign, md: &mut String) {
+/// The motion, its lifted placement and the played correction.
+fn placement_md(d: &PoseDesign, md: &mut String) {
+    let c = &d.centred;
     let _ = writeln!(
         md,
-        "\nPlaced again on played probes (`design::pose::correct`: {} drops at and around the pose, {} s each; their mean end moves the kept candidate):\n\n| round | centre (mm) | angle (°) | probes' mean end (mm, mm, °) | Δr (mm) | Δθ (°) |\n|---|---|---|---|---|---|",
+        "One six-signal motion synthesized once for the centred elliptic sink (`design::pose::placement`, ratio {}); the part's stable pose in its lifted field: ({:+.3}, {:+.3}) mm, {:+.2}°, decay rates {:.3}, {:.3}, {:.3} 1/s, turning rate −∂θ'/∂θ {:.3} 1/s. Placed on the lifted field: {}.",
+        crate::design::pose::placement::RATIO,
+        1e3 * c.pose.r.x,
+        1e3 * c.pose.r.y,
+        c.pose.theta.to_degrees(),
+        -c.rates[0],
+        -c.rates[1],
+        -c.rates[2],
+        d.lifted_turning_rate,
+        placement_text(&d.lifted)
+    );
+    let _ = writeln!(
+        md,
+        "\nCorrected on played probes (`design::pose::correct`: {} drops at and around the pose, {} s each, on the same motion; their mean end moves the placement):\n\n| round | placement | probes' mean end (mm, mm, °) | Δr (mm) | Δθ (°) | played turning rate (1/s) |\n|---|---|---|---|---|---|",
         crate::design::pose::correct::PROBES,
         crate::design::pose::correct::PROBE_S
     );
     for (i, r) in d.rounds.iter().enumerate() {
         let _ = writeln!(
             md,
-            "| {} | ({:+.2}, {:+.2}) | {:.2} | ({:+.2}, {:+.2}, {:+.2}) | {:.2} | {:+.2} |",
+            "| {} | {} | ({:+.3}, {:+.3}, {:+.2}) | {:.3} | {:+.2} | {} |",
             i + 1,
-            1e3 * r.center.x,
-            1e3 * r.center.y,
-            r.angle,
+            placement_text(&r.placement),
             1e3 * r.end.r.x,
             1e3 * r.end.r.y,
             r.end.theta.to_degrees(),
             r.error.0,
-            r.error.1
+            r.error.1,
+            r.turning_rate.map_or("—".into(), |k| format!("{k:.3}"))
         );
     }
-    let n = d.request.part.symmetry();
-    if let Some((mm, deg)) = d.corrected.error(&d.request.pose, n) {
-        let _ = writeln!(
-            md,
-            "\nKept: centre ({:+.2}, {:+.2}) mm, angle {:.2}°; its lifted field's stable pose nearest the asked one is {mm:.2} mm and {deg:+.2}° from it (the lifted field's bias against play).",
-            1e3 * d.corrected.center.x,
-            1e3 * d.corrected.center.y,
-            d.corrected.angle
-        );
-    }
+    let _ = writeln!(md, "\nKept: {}.", placement_text(&d.placement));
 }
 
 /// The stable poses with their basins.
@@ -137,12 +120,8 @@ pub fn pose_md(d: &PoseDesign) -> String {
     let p = played(d);
     let mut md = String::from("## Pose target\n\n");
     md.push_str(&headline(d));
-    let _ = writeln!(
-        md,
-        "\nCandidates (`design::pose::search`): each requested field designed by the sequenced fit and placed so that the stable pose of its designed schedule's lifted field nearest the asked one sits on it; kept: a unique stable pose first, then the smaller error, then the faster slowest rate.\n"
-    );
-    trials_md(d, &mut md);
-    rounds_md(d, &mut md);
+    md.push('\n');
+    placement_md(d, &mut md);
     let _ = writeln!(
         md,
         "\nPlayed: {} drops (centres uniform over the region inset by the part's radius, angles uniform), {:.1} s each by the planar simulator; {} lost contact. Basins: each end counted for its nearest stable pose of the kept schedule's lifted field; lifted: {} drops integrated along it.",

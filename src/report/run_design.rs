@@ -107,12 +107,9 @@ fn run_pose(
         return d.method.kept().schedule.to_json();
     }
     let mut text = super::pose_design::headline(&d);
-    text.push_str(&super::design::summary(
-        d.method
-            .sequence
-            .as_ref()
-            .expect("a pose design is sequenced"),
-    ));
+    if let Some(syn) = &d.method.synthesis {
+        let _ = writeln!(text, "synthesize: {}", syn.summary());
+    }
     let _ = writeln!(text, "wrote {}/{{{}}}", dir.display(), files.join(", "));
     Ok(text)
 }

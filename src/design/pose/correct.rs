@@ -1,58 +1,69 @@
-//! The placement corrected by play: the lifted field of the designed
-//! schedule's predicted point field places the pose only as well as that
-//! field and the lifted model hold, and played drops end millimetres
-//! away (`results/poses.md` says why). So the kept candidate is placed
-//! again on played drops: [`PROBES`] drops started at and around the asked
-//! pose are played for [`PROBE_S`]; their mean end (modulo the part's
-//! symmetry) moves the candidate by the same turn-and-shift step as the
-//! lifted placement ([`super::search::replace`]), at most [`ROUNDS`]
-//! designs, until the mean end is within [`DONE_MM`] and [`DONE_DEG`].
-//! The round whose mean end is nearest is kept.
+//! The placement corrected by play, on one fixed motion.
+//!
+//! The lifted field places the part only as well as the point field and
+//! the lifted model hold; the played equilibrium of the placed motion is
+//! measured and the placement corrected. Since a placement turns and
+//! shifts the whole physics ([`super::placement`]), the played rest pose
+//! moves with it exactly as the lifted one does: [`PROBES`] drops at and
+//! around the asked pose are played for [`PROBE_S`], their mean end
+//! (modulo the part's symmetry) is taken back to the centred motion and
+//! the placement moved onto the asked pose ([`Placement::corrected`],
+//! gain 1, halved whenever a round ends farther than the best so far: a
+//! damped step). The motion is never redesigned, so the rest pose cannot
+//! jump. At most [`ROUNDS`] rounds, until within [`DONE_MM`] and
+//! [`DONE_DEG`]; the best round is kept.
+//!
+//! **Turning rate.** Each probe's angle error against its end, recorded
+//! every schedule period, decays as e^{−kt} near the pose; k is fitted by
+//! least squares to ln |Δθ| over the samples with
+//! [`RATE_BAND_DEG`]`[0]` < |Δθ| < [`RATE_BAND_DEG`]`[1]`, and the probes'
+//! median reported beside the lifted field's −∂θ'/∂θ at its stable pose.
 
-use super::search::{pose_error, replace, trial_at, wrap_symmetric, Trial};
+use super::placement::Placement;
+use super::search::{pose_error, wrap_symmetric};
 use super::PoseRequest;
-use crate::design::DesignOptions;
 use crate::dynamics::V2;
 use crate::error::Result;
-use crate::field::Grid;
 use crate::play::ScheduleMotion;
 use crate::pose::{play_part, DropPlay, Pose};
+use crate::schedule::Schedule;
 
 /// Probe drops per round.
 pub const PROBES: usize = 4;
 /// Seconds each probe plays.
-pub const PROBE_S: f64 = 40.0;
-/// Most designs.
-pub const ROUNDS: usize = 3;
+pub const PROBE_S: f64 = 20.0;
+/// Most rounds.
+pub const ROUNDS: usize = 4;
 /// Done when the probes' mean end is this close (mm) …
-pub const DONE_MM: f64 = 0.2;
+pub const DONE_MM: f64 = 0.05;
 /// … and this close (degrees).
-pub const DONE_DEG: f64 = 0.5;
+pub const DONE_DEG: f64 = 0.2;
+/// The angle errors (degrees) a turning rate is fitted over.
+pub const RATE_BAND_DEG: [f64; 2] = [0.3, 20.0];
 
-/// One round: where the candidate was and where its probes ended.
+/// One round: the placement and where its probes ended.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Round {
-    /// Centre (m) of the requested field.
-    pub center: V2,
-    /// Its angle (degrees).
-    pub angle: f64,
+    /// The placement played.
+    pub placement: Placement,
     /// The probes' mean end (θ the asked one plus the mean error modulo
     /// symmetry).
     pub end: Pose,
     /// Its error: |Δr| (mm), Δθ (degrees).
     pub error: (f64, f64),
+    /// The probes' median played turning rate (1/s), when fitted.
+    pub turning_rate: Option<f64>,
 }
 
-/// The probe starts around `asked`: at it, and 2 mm and 5° off it.
+/// The probe starts around `asked`: at it, and 3 mm and 30°–60° off it.
 fn probe_starts(asked: &Pose) -> Vec<Pose> {
-    let off: [(f64, f64, f64); 4] = [
+    let off: [(f64, f64, f64); PROBES] = [
         (0.0, 0.0, 0.0),
-        (2.0, 0.0, 5.0),
-        (0.0, 2.0, -5.0),
-        (-2.0, -2.0, 0.0),
+        (3.0, 0.0, 30.0),
+        (0.0, 3.0, -30.0),
+        (-3.0, -3.0, 60.0),
     ];
     off.iter()
-        .take(PROBES)
         .map(|(x, y, t)| {
             Pose::new(
                 asked.r.x + 1e-3 * x,
@@ -63,64 +74,103 @@ fn probe_starts(asked: &Pose) -> Vec<Pose> {
         .collect()
 }
 
-/// The probes of `trial` played: their mean end, `None` when one lost
-/// contact.
-fn probe(req: &PoseRequest, trial: &Trial) -> Result<Option<Pose>> {
-    let schedule = &trial.design.schedule;
-    let sm = ScheduleMotion::from_schedule(schedule)?;
+/// The turning rate of one track (module docs): `None` with fewer than 3
+/// samples in the band.
+pub fn turning_rate(track: &[Pose], end: &Pose, n: usize, period: f64) -> Option<f64> {
+    let [lo, hi] = RATE_BAND_DEG.map(f64::to_radians);
+    let pts: Vec<(f64, f64)> = track
+        .iter()
+        .enumerate()
+        .filter_map(|(k, p)| {
+            let e = wrap_symmetric(p.theta - end.theta, n).abs();
+            (e > lo && e < hi).then(|| ((k + 1) as f64 * period, e.ln()))
+        })
+        .collect();
+    if pts.len() < 3 {
+        return None;
+    }
+    let m = pts.len() as f64;
+    let (st, sl) = pts.iter().fold((0.0, 0.0), |a, p| (a.0 + p.0, a.1 + p.1));
+    let (tm, lm) = (st / m, sl / m);
+    let (num, den) = pts.iter().fold((0.0, 0.0), |a, p| {
+        (a.0 + (p.0 - tm) * (p.1 - lm), a.1 + (p.0 - tm).powi(2))
+    });
+    (den > 0.0).then(|| -num / den)
+}
+
+/// The median of `xs` (`None` when empty).
+fn median(mut xs: Vec<f64>) -> Option<f64> {
+    xs.sort_by(f64::total_cmp);
+    let n = xs.len();
+    (n > 0).then(|| 0.5 * (xs[(n - 1) / 2] + xs[n / 2]))
+}
+
+/// The probes of `origin` placed by `p`: their mean end and median
+/// turning rate, `None` when one lost contact.
+fn probe(
+    req: &PoseRequest,
+    origin: &Schedule,
+    p: &Placement,
+) -> Result<Option<(Pose, Option<f64>)>> {
+    let schedule = p.schedule(origin, None)?;
+    let sm = ScheduleMotion::from_schedule(&schedule)?;
     let starts = probe_starts(&req.pose);
     let play = DropPlay::new(&schedule.settings, PROBE_S);
     let n = req.part.symmetry();
-    let (mut r, mut dt) = (V2::zeros(), 0.0);
+    let (mut r, mut dt, mut rates) = (V2::zeros(), 0.0, Vec::new());
     for run in play_part(&req.part, &sm, &starts, &play) {
-        let Ok((end, _)) = run else {
+        let Ok((end, track)) = run else {
             return Ok(None);
         };
         r += end.pose.r;
         dt += wrap_symmetric(end.pose.theta - req.pose.theta, n);
+        rates.extend(turning_rate(&track, &end.pose, n, sm.period()));
     }
     let k = starts.len() as f64;
-    Ok(Some(Pose {
+    let end = Pose {
         r: r / k,
         theta: req.pose.theta + dt / k,
-    }))
+    };
+    Ok(Some((end, median(rates))))
 }
 
-/// `trial` placed again on played probes (module docs): the trial kept
+/// `start` corrected on played probes (module docs): the best placement
 /// and every round.
+///
+/// # Errors
+/// `origin` is not one six-signal motion.
 pub fn correct(
     req: &PoseRequest,
-    opts: &DesignOptions,
-    trial: Trial,
-) -> Result<(Trial, Vec<Round>)> {
-    let grid = req.target.grid.unwrap_or(Grid::DEFAULT);
+    origin: &Schedule,
+    start: Placement,
+) -> Result<(Placement, Vec<Round>)> {
     let n = req.part.symmetry();
     let mut rounds: Vec<Round> = Vec::new();
-    let (mut best, mut best_err) = (trial.clone(), f64::INFINITY);
-    let mut current = trial;
+    let (mut best, mut best_end, mut best_err) = (start, req.pose, f64::INFINITY);
+    let (mut current, mut gain) = (start, 1.0);
     for round in 0..ROUNDS {
-        let Some(end) = probe(req, &current)? else {
+        let Some((end, turning_rate)) = probe(req, origin, &current)? else {
             break;
         };
         let (d, t) = pose_error(&end, &req.pose, n);
         let (mm, deg) = (1e3 * d, t.to_degrees());
         rounds.push(Round {
-            center: current.center,
-            angle: current.angle,
+            placement: current,
             end,
             error: (mm, deg),
+            turning_rate,
         });
         let err = mm / super::TOL_MM + deg.abs() / super::TOL_DEG;
         if err < best_err {
-            (best, best_err) = (current.clone(), err);
+            (best, best_end, best_err) = (current, end, err);
+        } else {
+            gain *= 0.5;
         }
-        if (mm <= DONE_MM && deg.abs() <= DONE_DEG) || round + 1 == ROUNDS {
+        let (bd, bt) = pose_error(&best_end, &req.pose, n);
+        if (1e3 * bd <= DONE_MM && bt.abs().to_degrees() <= DONE_DEG) || round + 1 == ROUNDS {
             break;
         }
-        let (c, angle) = replace(current.center, current.angle, &end, &req.pose, n);
-        let designs = current.designs;
-        current = trial_at(req, opts, (current.family, c, angle), &grid)?;
-        current.designs = designs + 1;
+        current = best.corrected(&best_end, &req.pose, n, gain);
     }
     Ok((best, rounds))
 }

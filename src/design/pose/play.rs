@@ -17,7 +17,7 @@
 //! (modulo the part's symmetry); a drop whose end is not has none. The
 //! median counts those as longer than any.
 
-use super::search::{pose_error, Trial};
+use super::search::pose_error;
 use super::{PoseRequest, TOL_DEG, TOL_MM};
 use crate::field::FieldSettings;
 use crate::play::ScheduleMotion;
@@ -78,16 +78,17 @@ fn median(mut times: Vec<Option<f64>>) -> Option<f64> {
 
 /// Plays `drops` drops of the request's part through `sm` (module docs):
 /// `analysis` is the kept schedule's lifted field (its stable poses and
-/// predicted basins), `trial` the kept candidate.
+/// predicted basins), `field` names the requested point field and `rate`
+/// is the slowest decay rate at the asked pose (1/s).
 pub fn play(
     req: &PoseRequest,
     sm: &ScheduleMotion,
     settings: &FieldSettings,
-    (analysis, trial): (&PoseAnalysis, &Trial),
+    (analysis, field, rate): (&PoseAnalysis, String, f64),
     drops: usize,
 ) -> PosePlayed {
     let n = req.part.symmetry();
-    let duration = play_seconds(trial.slowest_rate());
+    let duration = play_seconds(rate);
     let starts = drop_starts(&analysis.starts, drops);
     let runs = play_part(&req.part, sm, &starts, &DropPlay::new(settings, duration));
     let period = sm.period();
@@ -128,7 +129,7 @@ pub fn play(
         part: req.part_path.clone(),
         pose: [req.pose.r.x, req.pose.r.y, req.pose.theta.to_degrees()],
         symmetry: n,
-        field: trial.family.label(),
+        field,
         drops,
         duration_s: if runs.is_empty() { duration } else { time },
         tolerance: [TOL_MM, TOL_DEG],
