@@ -12,9 +12,10 @@
 //! 20 s each (minutes per part: off by default). The bracket with 3
 //! unknown contacts gives the unknown-support bounds. Last, the shipped
 //! pose targets (`targets/pose_*.json`) designed by
-//! [`crate::design::pose::design_pose`] with 100 played drops each (many
-//! minutes of CPU per part), with the lifted equilibria of the kept
-//! schedule's predicted and realised point fields.
+//! [`crate::design::pose::design_pose`] (one synthesized motion placed by
+//! rigid transforms) with 100 played drops each (about a minute of CPU per
+//! part), with the lifted equilibria of the kept schedule's predicted and
+//! realised point fields.
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -134,8 +135,15 @@ fn bounds_section(md: &mut String, field: &crate::pose::GridField, region: &Regi
 /// The pose-target section's head.
 const POSE_TARGETS_INTRO: &str = "## Pose targets (`design` of `targets/pose_*.json`)\n\n\
 Each part asked for at a nonzero angle off the centre (`\"field\": {\"kind\": \"pose\", …}`), \
-designed by `platefield design targets/pose_<part>.json` (`design::pose`) and played from 100 \
-random drops by the planar simulator; goal: 95 % within 1 mm and 3° modulo the part's symmetry.\n\n";
+designed by `platefield design targets/pose_<part>.json` (`design::pose`: one six-signal motion \
+synthesized once for the centred elliptic sink (−0.3x, −y), turned and shifted onto the pose by \
+rigid transforms of the motion (the turn exact, the shift to first order in the tilt), the placement corrected on played probes without \
+redesign) and played from 100 random drops by the planar simulator; goal: 95 % within 1 mm and \
+3° modulo the part's symmetry. A linear field turns a part by its second moments only, so a part \
+without a 180° symmetry (the bracket, the triangle) has two stable poses 180° apart in it, each \
+with about half the drops. A unique pose needs a nonlinear field (radial plus a small uniform \
+part); in the averaged analysis of `synth` one motion's field is affine in position, so it \
+cannot make one.\n\n";
 
 /// The shipped pose targets (`targets/pose_*.json`).
 const POSE_TARGETS: [&str; 3] = ["rectangle", "bracket", "triangle"];
