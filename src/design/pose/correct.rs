@@ -174,3 +174,45 @@ pub fn correct(
     }
     Ok((best, rounds))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An angle error decaying as 15° e^{−0.8 t} (sampled every 0.3 s,
+    /// about a rest pose at 170° and wrapped modulo 180°) gives back 0.8
+    /// 1/s: only the samples inside the band enter the fit.
+    #[test]
+    fn turning_rate_fits_an_exponential_decay() {
+        let end = Pose::new(0.0, 0.0, 170f64.to_radians());
+        let track: Vec<Pose> = (1..=60)
+            .map(|k| {
+                let t = 0.3 * k as f64;
+                let e = 15f64.to_radians() * (-0.8 * t).exp();
+                Pose::new(0.0, 0.0, end.theta + e - std::f64::consts::PI)
+            })
+            .collect();
+        let k = turning_rate(&track, &end, 2, 0.3).unwrap();
+        assert!((k - 0.8).abs() < 1e-9, "{k}");
+        assert_eq!(turning_rate(&track[..2], &end, 2, 0.3), None);
+    }
+
+    /// A correction with gain 1 takes the placed rest pose onto the asked
+    /// one; gain ½ moves the placement half way.
+    #[test]
+    fn correction_moves_the_rest_pose_onto_the_asked_one() {
+        let p = Placement {
+            angle: 0.4,
+            shift: V2::new(0.01, -0.005),
+        };
+        let centred_rest = Pose::new(0.001, 0.002, -0.1);
+        let end = p.apply(&centred_rest);
+        let asked = Pose::new(0.012, -0.008, 0.5);
+        let full = p.corrected(&end, &asked, 1, 1.0);
+        let (d, t) = pose_error(&full.apply(&centred_rest), &asked, 1);
+        assert!(d < 1e-15 && t.abs() < 1e-15, "{d} {t}");
+        let half = p.corrected(&end, &asked, 1, 0.5);
+        assert!((half.angle - 0.5 * (p.angle + full.angle)).abs() < 1e-15);
+        assert!((half.shift - 0.5 * (p.shift + full.shift)).norm() < 1e-15);
+    }
+}
