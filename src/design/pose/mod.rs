@@ -11,8 +11,9 @@
 //! 3. **Lifted placement** ([`placement::Placement::onto`]): the centred
 //!    motion's lifted field's stable pose ([`placement::centred_pose`])
 //!    moved onto the asked one by turning the motion about the vertical and
-//!    moving its reference point (an exact rigid transform of the plate
-//!    physics, so of every pose, lifted or played).
+//!    moving its reference point: a rigid transform of the plate physics
+//!    (the turn exact, the shift to first order in the tilt), so of every
+//!    pose, lifted or played.
 //! 4. **Played correction** ([`correct`]): probes played on the placed
 //!    motion; their mean rest pose corrects the placement (damped steps,
 //!    the motion never redesigned).
