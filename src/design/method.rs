@@ -1296,6 +1296,7 @@ pub fn play_check(
         notes: notes.into_iter().chain(left).collect(),
         peaks: AxisPeaks::from_six(schedule_peaks(schedule)),
         limits,
+        pose: None,
     })
 }
 
@@ -1336,6 +1337,7 @@ mod tests {
             notes: Vec::new(),
             peaks: AxisPeaks::from_six([0.0; 6]),
             limits: None,
+            pose: None,
         });
         Candidate {
             method,

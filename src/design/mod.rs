@@ -29,6 +29,7 @@ pub mod mirror;
 mod options;
 pub mod order;
 pub mod polish;
+pub mod pose;
 pub mod refine;
 pub mod replay;
 mod rule;

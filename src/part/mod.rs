@@ -30,8 +30,10 @@
 //! a target's region.
 
 mod polygon;
+mod symmetry;
 
 pub use polygon::{centroid, contains, covers, diameter, signed_area};
+pub use symmetry::MAX_ORDER;
 
 use std::path::Path;
 

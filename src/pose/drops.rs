@@ -100,6 +100,17 @@ pub fn play_drop(
     start: Pose,
     play: &DropPlay,
 ) -> Result<DropEnd, PlayLoss> {
+    play_drop_tracked(sm, body, start, play).map(|(end, _)| end)
+}
+
+/// [`play_drop`], with the pose at the end of every schedule period (the
+/// last is the end pose): when a drop came to rest where it ended.
+pub fn play_drop_tracked(
+    sm: &ScheduleMotion,
+    body: &PlanarBody,
+    start: Pose,
+    play: &DropPlay,
+) -> Result<(DropEnd, Vec<Pose>), PlayLoss> {
     let segments = sm.segments();
     let shortest = segments
         .iter()
@@ -128,6 +139,7 @@ pub fn play_drop(
     let anchor = (start.r, start.theta);
     let mut cost = crate::dynamics::PlanarOutcome::default();
     let n = segments.len();
+    let mut track = Vec::with_capacity(periods as usize);
     for period in 0..periods {
         for (i, seg) in segments.iter().enumerate() {
             if period > 0 || i > 0 {
@@ -149,8 +161,12 @@ pub fn play_drop(
             cost.refinements += out.refinements;
             cost.solver_iterations += out.solver_iterations;
         }
+        track.push(Pose {
+            r: s.r,
+            theta: s.theta,
+        });
     }
-    Ok(DropEnd {
+    let end = DropEnd {
         pose: Pose {
             r: s.r,
             theta: s.theta,
@@ -159,7 +175,8 @@ pub fn play_drop(
         steps: cost.steps,
         refinements: cost.refinements,
         solver_iterations: cost.solver_iterations,
-    })
+    };
+    Ok((end, track))
 }
 
 /// Every start played (in parallel, module docs), in the order given.
@@ -186,6 +203,44 @@ pub fn nearest(stable: &[Equilibrium], pose: &Pose, radius: f64) -> Option<(usiz
         })
         .enumerate()
         .min_by(|a, b| a.1.total_cmp(&b.1))
+}
+
+/// Plays `part` (resampled as [`DropPlay::samples`] asks) from rest at
+/// each of `starts` (poses of the part, in parallel) through `sm`: per
+/// drop its end and its pose after every schedule period, as poses of the
+/// part (the resampled body's centre of mass moved back to the part's).
+pub fn play_part(
+    part: &crate::part::Part,
+    sm: &ScheduleMotion,
+    starts: &[Pose],
+    play: &DropPlay,
+) -> Vec<Result<(DropEnd, Vec<Pose>), PlayLoss>> {
+    // The played body's centre of mass sits at `offset` in the part's frame.
+    let (body, offset) = play
+        .samples
+        .and_then(|n| part.coarse_body(n))
+        .unwrap_or_else(|| (part.body.clone(), V2::zeros()));
+    let at = |theta: f64| {
+        let (s, c) = theta.sin_cos();
+        V2::new(c * offset.x - s * offset.y, s * offset.x + c * offset.y)
+    };
+    let back = |p: Pose| Pose {
+        r: p.r - at(p.theta),
+        theta: p.theta,
+    };
+    starts
+        .par_iter()
+        .map(|p| {
+            let moved = Pose {
+                r: p.r + at(p.theta),
+                theta: p.theta,
+            };
+            play_drop_tracked(sm, &body, moved, play).map(|(mut end, track)| {
+                end.pose = back(end.pose);
+                (end, track.into_iter().map(back).collect())
+            })
+        })
+        .collect()
 }
 
 /// The basins measured by playing an analysis's drops ([`super::drop_starts`])
@@ -226,30 +281,9 @@ pub fn played_basins(
     let index: Vec<usize> = (0..eq.len()).filter(|&i| eq[i].stable).collect();
     let stable: Vec<Equilibrium> = index.iter().map(|&i| eq[i]).collect();
     let starts = super::drop_starts(&analysis.starts, analysis.drops);
-    // The played body's centre of mass sits at `offset` in the part's frame.
-    let (body, offset) = play
-        .samples
-        .and_then(|n| part.coarse_body(n))
-        .unwrap_or_else(|| (part.body.clone(), V2::zeros()));
-    let at = |theta: f64| {
-        let (s, c) = theta.sin_cos();
-        V2::new(c * offset.x - s * offset.y, s * offset.x + c * offset.y)
-    };
-    let moved: Vec<Pose> = starts
-        .iter()
-        .map(|p| Pose {
-            r: p.r + at(p.theta),
-            theta: p.theta,
-        })
-        .collect();
-    let runs: Vec<Result<DropEnd, PlayLoss>> = play_drops(sm, &body, &moved, play)
+    let runs: Vec<Result<DropEnd, PlayLoss>> = play_part(part, sm, &starts, play)
         .into_iter()
-        .map(|run| {
-            run.map(|mut end| {
-                end.pose.r -= at(end.pose.theta);
-                end
-            })
-        })
+        .map(|run| run.map(|(end, _)| end))
         .collect();
     let radius = part.radius();
     let mut worst: f64 = 0.0;

@@ -18,11 +18,11 @@ mod work;
 pub use bounds::Bounds;
 pub use check::{check_twist, Measure, TwistCheck};
 pub use drops::{
-    nearest, play_drop, play_drops, played_basins, DropEnd, DropPlay, PlayedBasins,
-    DROP_REFINE_DEPTH, DROP_SAMPLES,
+    nearest, play_drop, play_drop_tracked, play_drops, play_part, played_basins, DropEnd, DropPlay,
+    PlayedBasins, DROP_REFINE_DEPTH, DROP_SAMPLES,
 };
 pub use equilibria::{equilibria, settle, wrap, Equilibrium, Region};
 pub use lifted::{GridField, LiftedField, PointField, Pose, Twist};
 pub use run::{analyse, drop_starts, PoseAnalysis, MAX_DROPS};
-pub use source::schedule_field;
+pub use source::{realised_field, schedule_field, REALISED_STRIDE};
 pub use work::{drops_estimate, played_points, steps_per_period};

@@ -65,3 +65,47 @@ pub fn schedule_field(schedule: &Schedule, grid: &Grid) -> Result<GridField> {
     let mean = sum.iter().map(|v| [v[0] / total, v[1] / total]).collect();
     Ok(GridField::from_samples(*grid, mean))
 }
+
+/// Every [`REALISED_STRIDE`]-th grid point per axis is played for the
+/// realised field.
+pub const REALISED_STRIDE: usize = 2;
+
+/// The realised point field of `schedule` on `grid`: a point part played
+/// through the schedule from every [`REALISED_STRIDE`]-th grid point with
+/// its position frozen there ([`crate::dynamics::Model::FROZEN`]: the
+/// local field, start-up transients at the segment joins included), one
+/// warm-up period (lengthened while its transient lasts) and one measured
+/// period averaged over windows starting at every join
+/// ([`crate::play::measure`]). What the played part sees, where
+/// [`schedule_field`] is what the design predicts; the lifted field of a
+/// pose design is placed on this one. A point that loses contact is
+/// refused as physically invalid.
+pub fn realised_field(schedule: &Schedule, grid: &Grid) -> Result<GridField> {
+    use crate::play::measure::{play_points, Windows};
+    let sm = crate::play::ScheduleMotion::from_schedule(schedule)?;
+    let mut opts = crate::play::PlayOptions::from_settings(&schedule.settings);
+    opts.model = crate::dynamics::Model {
+        moving: false,
+        ..schedule.settings.model
+    };
+    let coarse = Grid {
+        n: [
+            (grid.n[0] - 1) / REALISED_STRIDE + 1,
+            (grid.n[1] - 1) / REALISED_STRIDE + 1,
+        ],
+        ..*grid
+    };
+    let plays = play_points(&sm, &coarse.points(), &opts, Windows::EveryJoin);
+    if let Some(p) = plays.iter().find(|p| p.note.is_some()) {
+        return Err(Error::Physical(format!(
+            "the point part played from ({}, {}) m: {}",
+            p.start[0],
+            p.start[1],
+            p.note.clone().unwrap_or_default()
+        )));
+    }
+    Ok(GridField::from_samples(
+        coarse,
+        plays.iter().map(|p| p.realised).collect(),
+    ))
+}

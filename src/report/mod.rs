@@ -11,6 +11,7 @@ pub mod closed_loop;
 pub mod design;
 pub mod method;
 pub mod order;
+pub mod pose_design;
 pub mod poses;
 pub mod run_design;
 pub mod sort;

@@ -35,6 +35,9 @@ pub fn run(
     json: bool,
 ) -> crate::error::Result<String> {
     use crate::design::{DesignOutcome, Method};
+    if let Some(req) = crate::design::pose::PoseRequest::load(path)? {
+        return run_pose(path, req, opts, out, json);
+    }
     let mut target = crate::request::Target::load(path)?;
     target.name = target.folder_name(path)?;
     let dir = out.join(&target.name);
@@ -79,6 +82,34 @@ pub fn run(
         let _ = writeln!(text, "synthesize: {}", syn.summary());
     }
     text.push_str(&super::method::summary(&md));
+    let _ = writeln!(text, "wrote {}/{{{}}}", dir.display(), files.join(", "));
+    Ok(text)
+}
+
+/// `platefield design` for a pose target (`crate::design::pose`): designs
+/// it with [`crate::design::pose::DROPS`] played drops, writes the folder
+/// whole and returns the schedule JSON or the summary.
+fn run_pose(
+    path: &Path,
+    req: crate::design::pose::PoseRequest,
+    opts: &crate::design::DesignOptions,
+    out: &Path,
+    json: bool,
+) -> crate::error::Result<String> {
+    let name = req.target.folder_name(path)?;
+    let dir = out.join(&name);
+    crate::output::check_writable(&dir, "--out")?;
+    let d = crate::design::pose::design_pose(&req, opts, crate::design::pose::DROPS)?;
+    let stage = crate::output::Staged::new(&dir)?;
+    let files = super::pose_design::write(&d, stage.path())?;
+    stage.commit(&DESIGN_FILES)?;
+    if json {
+        return d.method.kept().schedule.to_json();
+    }
+    let mut text = super::pose_design::headline(&d);
+    if let Some(syn) = &d.method.synthesis {
+        let _ = writeln!(text, "synthesize: {}", syn.summary());
+    }
     let _ = writeln!(text, "wrote {}/{{{}}}", dir.display(), files.join(", "));
     Ok(text)
 }

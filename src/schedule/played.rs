@@ -114,4 +114,57 @@ pub struct Played {
     /// sequenced.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub limits: Option<ShakerSpec>,
+    /// A pose target's part played from random drops (`design::pose`);
+    /// `None` for every other target.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pose: Option<PosePlayed>,
+}
+
+/// A pose target's design played: the part dropped at random poses and
+/// simulated by the planar simulator, each end compared with the asked
+/// pose (modulo the part's symmetry) and with the stable poses the lifted
+/// field predicts.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PosePlayed {
+    /// The part file as the target names it.
+    pub part: String,
+    /// The pose asked for: x, y (m), θ (degrees).
+    pub pose: [f64; 3],
+    /// Order of the part's rotational symmetry (poses count modulo
+    /// 360°/symmetry).
+    pub symmetry: usize,
+    /// The requested point field the kept schedule was designed for.
+    pub field: String,
+    /// Drops played.
+    pub drops: usize,
+    /// Simulated time per drop (s).
+    pub duration_s: f64,
+    /// The tolerance of "at the pose": mm and degrees.
+    pub tolerance: [f64; 2],
+    /// Fraction of the drops ending within the tolerance of the pose.
+    pub pose_fraction: f64,
+    /// Median over the drops of the time after which the part stays
+    /// within the tolerance (s, at whole schedule periods); `None` when
+    /// half of the drops or more never do.
+    pub median_settle_s: Option<f64>,
+    /// Drops that lost contact.
+    pub lost: usize,
+    /// The lifted field's stable poses (all of them, symmetric copies
+    /// included) with their basins.
+    pub stable: Vec<PoseBasin>,
+    /// Stable poses modulo the part's symmetry: 1 when the pose is unique.
+    pub distinct_stable: usize,
+}
+
+/// One stable pose of the lifted field and its basin.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PoseBasin {
+    /// x, y (m), θ (degrees).
+    pub pose: [f64; 3],
+    /// Fraction of drops integrated along the lifted field that settle here.
+    pub lifted: f64,
+    /// Fraction of the played drops ending nearest to it.
+    pub played: f64,
 }

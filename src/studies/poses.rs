@@ -10,7 +10,12 @@
 //! and the basins of 200 drops integrated along it. With `--play-drops N`
 //! the first N of those drops are also played by the planar simulator for
 //! 20 s each (minutes per part: off by default). The bracket with 3
-//! unknown contacts gives the unknown-support bounds.
+//! unknown contacts gives the unknown-support bounds. Last, the shipped
+//! pose targets (`targets/pose_*.json`) designed by
+//! [`crate::design::pose::design_pose`] (one synthesized motion placed by
+//! rigid transforms) with 100 played drops each (about a minute of CPU per
+//! part), with the lifted equilibria of the kept schedule's predicted and
+//! realised point fields.
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -127,6 +132,70 @@ fn bounds_section(md: &mut String, field: &crate::pose::GridField, region: &Regi
     Ok(())
 }
 
+/// The pose-target section's head.
+const POSE_TARGETS_INTRO: &str = "## Pose targets (`design` of `targets/pose_*.json`)\n\n\
+Each part asked for at a nonzero angle off the centre (`\"field\": {\"kind\": \"pose\", …}`), \
+designed by `platefield design targets/pose_<part>.json` (`design::pose`: one six-signal motion \
+synthesized once for the centred elliptic sink (−0.3x, −y), turned and shifted onto the pose by \
+rigid transforms of the motion (the turn exact, the shift to first order in the tilt), the placement corrected on played probes without \
+redesign) and played from 100 random drops by the planar simulator; goal: 95 % within 1 mm and \
+3° modulo the part's symmetry. A linear field turns a part by its second moments only, so a part \
+without a 180° symmetry (the bracket, the triangle) has two stable poses 180° apart in it, each \
+with about half the drops. A unique pose needs a nonlinear field (radial plus a small uniform \
+part); in the averaged analysis of `synth` one motion's field is affine in position, so it \
+cannot make one.\n\n";
+
+/// The shipped pose targets (`targets/pose_*.json`).
+const POSE_TARGETS: [&str; 3] = ["rectangle", "bracket", "triangle"];
+
+/// One pose target designed with [`crate::design::pose::DROPS`] played
+/// drops: its report section, the lifted equilibria of its predicted and
+/// realised point fields, and a summary line.
+fn pose_target(md: &mut String, summary: &mut String, name: &str) -> Result<()> {
+    use crate::design::pose::{design_pose, PoseRequest, DROPS};
+    let path = format!("targets/pose_{name}.json");
+    let req = PoseRequest::load(Path::new(&path))?
+        .ok_or_else(|| Error::invalid(path.clone(), "is not a pose target"))?;
+    let opts = crate::design::DesignOptions {
+        quiet: true,
+        ..Default::default()
+    };
+    let d = design_pose(&req, &opts, DROPS)?;
+    let _ = writeln!(md, "### {name} (`{path}`)\n");
+    let section = crate::report::pose_design::pose_md(&d);
+    md.push_str(section.trim_start_matches("## Pose target\n\n"));
+    let schedule = &d.method.kept().schedule;
+    let grid = req.target.grid.unwrap_or(crate::field::Grid::DEFAULT);
+    let n = req.part.symmetry();
+    let near =
+        |field: &dyn crate::pose::PointField| {
+            let eqs = crate::pose::equilibria(
+                &crate::pose::LiftedField::new(field, &req.part.body),
+                &req.region,
+            );
+            crate::design::pose::search::nearest_stable(&eqs, &req.pose, n, req.part.radius())
+                .map_or("none stable".to_string(), |e| {
+                    let (d, t) = crate::design::pose::search::pose_error(&e.pose, &req.pose, n);
+                    format!("{:.2} mm, {:+.2}°", 1e3 * d, t.to_degrees())
+                })
+        };
+    let predicted = near(&schedule_field(schedule, &grid)?);
+    let realised = near(&crate::pose::realised_field(schedule, &grid)?);
+    let _ = writeln!(
+        md,
+        "\nThe kept schedule's stable pose nearest the asked one, from the lifted field of its predicted point field (time-weighted segment steady states): {predicted}; of its realised point field (point parts played with frozen positions at every second grid point, joins included, `pose::realised_field`): {realised}.\n"
+    );
+    let p = crate::report::pose_design::played(&d);
+    let _ = writeln!(
+        summary,
+        "pose_{name}: {:.1} % of {} drops within 1 mm and 3°, {} stable poses modulo symmetry",
+        100.0 * p.pose_fraction,
+        p.drops,
+        p.distinct_stable
+    );
+    Ok(())
+}
+
 /// Runs the study and writes `poses.md` into `out`; `play_drops` drops of
 /// each part are played by the planar simulator (0: none).
 pub fn run(out: &Path, play_drops: usize) -> Result<String> {
@@ -149,9 +218,8 @@ pub fn run(out: &Path, play_drops: usize) -> Result<String> {
          uniform) integrated along the lifted field; with `--play-drops N` the first N drops are \
          also played by the planar simulator for {PLAY_S} s (full stick-slip of every support \
          point) and each end classified by its nearest stable pose.\n\n\
-         Not done: pose targets in `design` (`\"field\": {{\"kind\": \"pose\"}}`); the \
-         designs here are elliptic sinks, which give every part two stable poses 180° apart \
-         (each with about half the drops), not one.\n\n",
+         The designed ellipses give every part two stable poses 180° apart (each with about \
+         half the drops), not one; the pose targets (last section) ask for one.\n\n",
         if play_drops > 0 {
             format!(" --play-drops {play_drops}")
         } else {
@@ -190,6 +258,10 @@ pub fn run(out: &Path, play_drops: usize) -> Result<String> {
         if name == "ellipse" {
             bounds_section(&mut md, &field, &region)?;
         }
+    }
+    md.push_str(POSE_TARGETS_INTRO);
+    for name in POSE_TARGETS {
+        pose_target(&mut md, &mut summary, name)?;
     }
     std::fs::create_dir_all(out).map_err(|e| Error::Io {
         path: out.display().to_string(),

@@ -1,0 +1,218 @@
+//! The placement corrected by play, on one fixed motion.
+//!
+//! The lifted field places the part only as well as the point field and
+//! the lifted model hold; the played equilibrium of the placed motion is
+//! measured and the placement corrected. Since a placement turns and
+//! shifts the whole physics ([`super::placement`]), the played rest pose
+//! moves with it exactly as the lifted one does: [`PROBES`] drops at and
+//! around the asked pose are played for [`PROBE_S`], their mean end
+//! (modulo the part's symmetry) is taken back to the centred motion and
+//! the placement moved onto the asked pose ([`Placement::corrected`],
+//! gain 1, halved whenever a round ends farther than the best so far: a
+//! damped step). The motion is never redesigned, so the rest pose cannot
+//! jump. At most [`ROUNDS`] rounds, until within [`DONE_MM`] and
+//! [`DONE_DEG`]; the best round is kept.
+//!
+//! **Turning rate.** Each probe's angle error against its end, recorded
+//! every schedule period, decays as e^{−kt} near the pose; k is fitted by
+//! least squares to ln |Δθ| over the samples with
+//! [`RATE_BAND_DEG`]`[0]` < |Δθ| < [`RATE_BAND_DEG`]`[1]`, and the probes'
+//! median reported beside the lifted field's −∂θ'/∂θ at its stable pose.
+
+use super::placement::Placement;
+use super::search::{pose_error, wrap_symmetric};
+use super::PoseRequest;
+use crate::dynamics::V2;
+use crate::error::Result;
+use crate::play::ScheduleMotion;
+use crate::pose::{play_part, DropPlay, Pose};
+use crate::schedule::Schedule;
+
+/// Probe drops per round.
+pub const PROBES: usize = 4;
+/// Seconds each probe plays.
+pub const PROBE_S: f64 = 20.0;
+/// Most rounds.
+pub const ROUNDS: usize = 4;
+/// Done when the probes' mean end is this close (mm) …
+pub const DONE_MM: f64 = 0.05;
+/// … and this close (degrees).
+pub const DONE_DEG: f64 = 0.2;
+/// The angle errors (degrees) a turning rate is fitted over.
+pub const RATE_BAND_DEG: [f64; 2] = [0.3, 20.0];
+
+/// One round: the placement and where its probes ended.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Round {
+    /// The placement played.
+    pub placement: Placement,
+    /// The probes' mean end (θ the asked one plus the mean error modulo
+    /// symmetry).
+    pub end: Pose,
+    /// Its error: |Δr| (mm), Δθ (degrees).
+    pub error: (f64, f64),
+    /// The probes' median played turning rate (1/s), when fitted.
+    pub turning_rate: Option<f64>,
+}
+
+/// The probe starts around `asked`: at it, and 3 mm and 30°–60° off it.
+fn probe_starts(asked: &Pose) -> Vec<Pose> {
+    let off: [(f64, f64, f64); PROBES] = [
+        (0.0, 0.0, 0.0),
+        (3.0, 0.0, 30.0),
+        (0.0, 3.0, -30.0),
+        (-3.0, -3.0, 60.0),
+    ];
+    off.iter()
+        .map(|(x, y, t)| {
+            Pose::new(
+                asked.r.x + 1e-3 * x,
+                asked.r.y + 1e-3 * y,
+                asked.theta + t.to_radians(),
+            )
+        })
+        .collect()
+}
+
+/// The turning rate of one track (module docs): `None` with fewer than 3
+/// samples in the band.
+pub fn turning_rate(track: &[Pose], end: &Pose, n: usize, period: f64) -> Option<f64> {
+    let [lo, hi] = RATE_BAND_DEG.map(f64::to_radians);
+    let pts: Vec<(f64, f64)> = track
+        .iter()
+        .enumerate()
+        .filter_map(|(k, p)| {
+            let e = wrap_symmetric(p.theta - end.theta, n).abs();
+            (e > lo && e < hi).then(|| ((k + 1) as f64 * period, e.ln()))
+        })
+        .collect();
+    if pts.len() < 3 {
+        return None;
+    }
+    let m = pts.len() as f64;
+    let (st, sl) = pts.iter().fold((0.0, 0.0), |a, p| (a.0 + p.0, a.1 + p.1));
+    let (tm, lm) = (st / m, sl / m);
+    let (num, den) = pts.iter().fold((0.0, 0.0), |a, p| {
+        (a.0 + (p.0 - tm) * (p.1 - lm), a.1 + (p.0 - tm).powi(2))
+    });
+    (den > 0.0).then(|| -num / den)
+}
+
+/// The median of `xs` (`None` when empty).
+fn median(mut xs: Vec<f64>) -> Option<f64> {
+    xs.sort_by(f64::total_cmp);
+    let n = xs.len();
+    (n > 0).then(|| 0.5 * (xs[(n - 1) / 2] + xs[n / 2]))
+}
+
+/// The probes of `origin` placed by `p`: their mean end and median
+/// turning rate, `None` when one lost contact.
+fn probe(
+    req: &PoseRequest,
+    origin: &Schedule,
+    p: &Placement,
+) -> Result<Option<(Pose, Option<f64>)>> {
+    let schedule = p.schedule(origin, None)?;
+    let sm = ScheduleMotion::from_schedule(&schedule)?;
+    let starts = probe_starts(&req.pose);
+    let play = DropPlay::new(&schedule.settings, PROBE_S);
+    let n = req.part.symmetry();
+    let (mut r, mut dt, mut rates) = (V2::zeros(), 0.0, Vec::new());
+    for run in play_part(&req.part, &sm, &starts, &play) {
+        let Ok((end, track)) = run else {
+            return Ok(None);
+        };
+        r += end.pose.r;
+        dt += wrap_symmetric(end.pose.theta - req.pose.theta, n);
+        rates.extend(turning_rate(&track, &end.pose, n, sm.period()));
+    }
+    let k = starts.len() as f64;
+    let end = Pose {
+        r: r / k,
+        theta: req.pose.theta + dt / k,
+    };
+    Ok(Some((end, median(rates))))
+}
+
+/// `start` corrected on played probes (module docs): the best placement
+/// and every round.
+///
+/// # Errors
+/// `origin` is not one six-signal motion.
+pub fn correct(
+    req: &PoseRequest,
+    origin: &Schedule,
+    start: Placement,
+) -> Result<(Placement, Vec<Round>)> {
+    let n = req.part.symmetry();
+    let mut rounds: Vec<Round> = Vec::new();
+    let (mut best, mut best_end, mut best_err) = (start, req.pose, f64::INFINITY);
+    let (mut current, mut gain) = (start, 1.0);
+    for round in 0..ROUNDS {
+        let Some((end, turning_rate)) = probe(req, origin, &current)? else {
+            break;
+        };
+        let (d, t) = pose_error(&end, &req.pose, n);
+        let (mm, deg) = (1e3 * d, t.to_degrees());
+        rounds.push(Round {
+            placement: current,
+            end,
+            error: (mm, deg),
+            turning_rate,
+        });
+        let err = mm / super::TOL_MM + deg.abs() / super::TOL_DEG;
+        if err < best_err {
+            (best, best_end, best_err) = (current, end, err);
+        } else {
+            gain *= 0.5;
+        }
+        let (bd, bt) = pose_error(&best_end, &req.pose, n);
+        if (1e3 * bd <= DONE_MM && bt.abs().to_degrees() <= DONE_DEG) || round + 1 == ROUNDS {
+            break;
+        }
+        current = best.corrected(&best_end, &req.pose, n, gain);
+    }
+    Ok((best, rounds))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An angle error decaying as 15° e^{−0.8 t} (sampled every 0.3 s,
+    /// about a rest pose at 170° and wrapped modulo 180°) gives back 0.8
+    /// 1/s: only the samples inside the band enter the fit.
+    #[test]
+    fn turning_rate_fits_an_exponential_decay() {
+        let end = Pose::new(0.0, 0.0, 170f64.to_radians());
+        let track: Vec<Pose> = (1..=60)
+            .map(|k| {
+                let t = 0.3 * k as f64;
+                let e = 15f64.to_radians() * (-0.8 * t).exp();
+                Pose::new(0.0, 0.0, end.theta + e - std::f64::consts::PI)
+            })
+            .collect();
+        let k = turning_rate(&track, &end, 2, 0.3).unwrap();
+        assert!((k - 0.8).abs() < 1e-9, "{k}");
+        assert_eq!(turning_rate(&track[..2], &end, 2, 0.3), None);
+    }
+
+    /// A correction with gain 1 takes the placed rest pose onto the asked
+    /// one; gain ½ moves the placement half way.
+    #[test]
+    fn correction_moves_the_rest_pose_onto_the_asked_one() {
+        let p = Placement {
+            angle: 0.4,
+            shift: V2::new(0.01, -0.005),
+        };
+        let centred_rest = Pose::new(0.001, 0.002, -0.1);
+        let end = p.apply(&centred_rest);
+        let asked = Pose::new(0.012, -0.008, 0.5);
+        let full = p.corrected(&end, &asked, 1, 1.0);
+        let (d, t) = pose_error(&full.apply(&centred_rest), &asked, 1);
+        assert!(d < 1e-15 && t.abs() < 1e-15, "{d} {t}");
+        let half = p.corrected(&end, &asked, 1, 0.5);
+        assert!((half.angle - 0.5 * (p.angle + full.angle)).abs() < 1e-15);
+        assert!((half.shift - 0.5 * (p.shift + full.shift)).norm() < 1e-15);
+    }
+}

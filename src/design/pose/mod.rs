@@ -1,0 +1,158 @@
+//! Pose targets (issue 28): a motion whose lifted field makes one pose of a
+//! part the stable equilibrium, played on the part from random drops.
+//!
+//! 1. **Request** ([`PoseRequest`]): the target file with
+//!    `"field": {"kind": "pose", "part": …, "pose": [x, y, θ°]}`.
+//! 2. **One motion** ([`placement::synthesize_centred`]): one simultaneous
+//!    six-signal motion synthesized once for the elliptic sink −(αx, βy)
+//!    centred at the plate centre (weaker contraction along x,
+//!    α/β = [`placement::RATIO`]), on a square large enough for any
+//!    placement of it to keep contact over the region.
+//! 3. **Lifted placement** ([`placement::Placement::onto`]): the centred
+//!    motion's lifted field's stable pose ([`placement::centred_pose`])
+//!    moved onto the asked one by turning the motion about the vertical and
+//!    moving its reference point: a rigid transform of the plate physics
+//!    (the turn exact, the shift to first order in the tilt), so of every
+//!    pose, lifted or played.
+//! 4. **Played correction** ([`correct`]): probes played on the placed
+//!    motion; their mean rest pose corrects the placement (damped steps,
+//!    the motion never redesigned).
+//! 5. **Played** ([`play`]): the part dropped at `drops` random poses
+//!    (centres uniform over the region inset by the part's radius, angles
+//!    uniform: [`crate::pose::drop_starts`]) and simulated by the planar
+//!    simulator; `"pose_fraction"` is the fraction ending within
+//!    [`TOL_MM`] and [`TOL_DEG`] of the pose modulo its symmetry, recorded
+//!    in `schedule.json`'s `played.pose` ([`crate::schedule::PosePlayed`])
+//!    with the median settle time and each stable pose's basin, predicted
+//!    (along the lifted field) and played.
+//!
+//! The kept schedule is the placed motion, its `target_spec` the elliptic
+//! sink placed with it. Its point-part check (`played`, and `fit`) is the
+//! centred motion's against the centred target: the placement turns and
+//! shifts motion and target together, which leaves those measures
+//! unchanged up to where the grid samples them.
+
+pub mod correct;
+pub mod placement;
+pub mod play;
+pub mod request;
+pub mod search;
+
+pub use placement::Placement;
+pub use request::PoseRequest;
+pub use search::Family;
+
+use crate::design::{DesignOptions, MethodDesign};
+use crate::error::{Error, Result};
+use crate::play::ScheduleMotion;
+use crate::pose::{analyse, equilibria, schedule_field, Equilibrium, LiftedField, PoseAnalysis};
+
+/// "At the pose": within this distance (mm) …
+pub const TOL_MM: f64 = 1.0;
+/// … and this angle (degrees), modulo the part's symmetry.
+pub const TOL_DEG: f64 = 3.0;
+/// Drops `design` plays by default.
+pub const DROPS: usize = 100;
+/// Drops integrated along the lifted field for the predicted basins.
+pub const LIFTED_DROPS: usize = 200;
+
+/// A designed pose target.
+#[derive(Debug, Clone)]
+pub struct PoseDesign {
+    /// The request.
+    pub request: PoseRequest,
+    /// The stable pose of the centred motion's lifted field that was placed.
+    pub centred: Equilibrium,
+    /// The lifted field's turning rate there, −∂θ'/∂θ (1/s).
+    pub lifted_turning_rate: f64,
+    /// The placement on the lifted field.
+    pub lifted: Placement,
+    /// The placement kept after the played correction.
+    pub placement: Placement,
+    /// The rounds of the played correction.
+    pub rounds: Vec<correct::Round>,
+    /// The centred motion's synthesis, its kept schedule replaced by the
+    /// placed one, whose `played.pose` holds the part's played drops.
+    pub method: MethodDesign,
+    /// The lifted field of the placed schedule: equilibria and predicted basins.
+    pub analysis: PoseAnalysis,
+}
+
+/// Designs the pose target `req` (module docs), playing `drops` drops.
+///
+/// # Errors
+/// The synthesis's; a centred motion that gives the part no stable pose in
+/// the region; a placed motion that loses contact somewhere in the region.
+///
+/// ```no_run
+/// use platefield::design::pose::{design_pose, PoseRequest, DROPS};
+/// let req = PoseRequest::load(std::path::Path::new("targets/pose_rectangle.json"))?.unwrap();
+/// let d = design_pose(&req, &Default::default(), DROPS)?;
+/// let played = d.method.kept().schedule.played.as_ref().unwrap().pose.as_ref().unwrap();
+/// println!("{:.0} % at the pose", 100.0 * played.pose_fraction);
+/// # Ok::<(), platefield::Error>(())
+/// ```
+pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Result<PoseDesign> {
+    if !opts.quiet {
+        eprintln!(
+            "pose: one synthesis (about half a minute of CPU), then at most {} rounds of {} probes × {} s and {drops} drops of ≥ {} s on the planar simulator (about 0.2 s of CPU per 20 s drop)",
+            correct::ROUNDS,
+            correct::PROBES,
+            correct::PROBE_S,
+            play::MIN_PLAY_S
+        );
+    }
+    let mut method = placement::synthesize_centred(req, opts, &opts.synthesis)?;
+    let origin = method.kept().schedule.clone();
+    let grid = req.target.grid.unwrap_or(crate::field::Grid::DEFAULT);
+    let n = req.part.symmetry();
+    let centred_field = schedule_field(&origin, &grid)?;
+    let lifted_field = LiftedField::new(&centred_field, &req.part.body);
+    let eqs = equilibria(&lifted_field, &req.region);
+    let centred = placement::centred_pose(&eqs, &req.pose, n).ok_or_else(|| {
+        Error::Physical(format!(
+            "the synthesized elliptic sink gives the part no stable pose in the region ({} equilibria, none stable)",
+            eqs.len()
+        ))
+    })?;
+    let lifted_turning_rate = -lifted_field.jacobian(centred.pose)[(2, 2)];
+    let lifted = Placement::onto(&centred.pose, &req.pose, n);
+    let (kept, rounds) = correct::correct(req, &origin, lifted)?;
+    let mut target = req.target.clone();
+    target.field = Family::Ellipse {
+        ratio: placement::RATIO,
+    }
+    .field(kept.shift, kept.angle.to_degrees());
+    let mut schedule = kept.schedule(&origin, Some(target))?;
+    let field = schedule_field(&schedule, &grid)?;
+    let analysis = analyse(&req.part, &field, req.region, LIFTED_DROPS);
+    let rate = search::nearest_stable(&analysis.equilibria, &req.pose, n, req.part.radius())
+        .map_or(0.0, |e| -e.rates[0]);
+    let sm = ScheduleMotion::from_schedule(&schedule)?;
+    let label = Family::Ellipse {
+        ratio: placement::RATIO,
+    }
+    .label();
+    let played = play::play(
+        req,
+        &sm,
+        &schedule.settings,
+        (&analysis, format!("one synthesized motion: {label}"), rate),
+        drops,
+    );
+    if let Some(p) = schedule.played.as_mut() {
+        p.pose = Some(played);
+    }
+    let chosen = method.chosen;
+    method.candidates[chosen].schedule = schedule;
+    Ok(PoseDesign {
+        request: req.clone(),
+        centred,
+        lifted_turning_rate,
+        lifted,
+        placement: kept,
+        rounds,
+        method,
+        analysis,
+    })
+}

@@ -1,0 +1,207 @@
+//! One synthesized motion, placed by rigid transforms.
+//!
+//! **The motion.** One simultaneous six-signal motion ([`crate::synth`],
+//! `design --method synthesize`) is synthesized for the elliptic sink
+//! f = −(αx, βy) centred at the plate centre, its weaker contraction
+//! along x ([`Family::Ellipse`], α/β = [`RATIO`]). A linear field turns a
+//! part by its second moments only: its major axis settles along the
+//! weaker contraction, so the part has one stable pose modulo 180° (two
+//! 180° apart for a part without that symmetry).
+//!
+//! **Placement without redesign.** The plate is homogeneous, so turning
+//! the motion about the vertical by Δ and moving its reference point by
+//! c ([`crate::motion::Signals::transformed`]: the linear signals mixed by
+//! the turn, and v(p) = v₀ + ω × p → v₀ − ω × c + ω × p) turns the whole
+//! physics by Δ and shifts it by c: a part's trajectory from Q(Δ)q + c is
+//! the turned and shifted trajectory from q. So a stable pose (r₀, θ₀) of
+//! the centred motion becomes (Q(Δ) r₀ + c, θ₀ + Δ) of the placed one,
+//! played or lifted alike, and the asked pose (r*, θ*) is reached with
+//! Δ = θ* − θ₀ (modulo the part's symmetry) and c = r* − Q(Δ) r₀
+//! ([`Placement::onto`]). The shift is exact to first order in the tilt
+//! amplitude (the centripetal and tilt-of-the-lever terms are second
+//! order: `tests/pose_design.rs` measures the field of a shifted motion
+//! against the shifted field).
+//!
+//! **Region.** The motion's strength is capped by the contact margin at
+//! the corners of the region it is synthesized on; the placed motion must
+//! keep contact over the whole target region, whose corners lie up to
+//! |corner − c| from the moved reference point in any direction. So the
+//! motion is synthesized on a square of half-width the farthest corner's
+//! distance from the asked pose plus [`SLACK`] (rounded up to 5 mm).
+
+use super::search::{wrap_symmetric, Family};
+use super::PoseRequest;
+use crate::design::{design_by_method, DesignOptions, MethodDesign};
+use crate::dynamics::V2;
+use crate::error::{Error, Result};
+use crate::field::Grid;
+use crate::pose::{Equilibrium, Pose};
+use crate::schedule::{Method, Schedule};
+use crate::synth::SynthOptions;
+
+/// α/β of the synthesized elliptic sink.
+pub const RATIO: f64 = 0.3;
+/// Room (m) beyond the farthest corner for the placement's corrections.
+pub const SLACK: f64 = 0.005;
+/// Samples per axis of the synthesis grid.
+const SYNTH_N: usize = 21;
+
+/// A rigid placement of the centred motion: turned by `angle` (rad) about
+/// the vertical, its reference point moved to `shift` (m).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Placement {
+    /// Turn about the vertical (rad).
+    pub angle: f64,
+    /// The moved reference point (m).
+    pub shift: V2,
+}
+
+impl Placement {
+    /// No turn, no shift.
+    pub const IDENTITY: Placement = Placement {
+        angle: 0.0,
+        shift: V2::new(0.0, 0.0),
+    };
+
+    /// Where this placement takes `pose` of the centred motion.
+    pub fn apply(&self, pose: &Pose) -> Pose {
+        let (s, c) = self.angle.sin_cos();
+        let r = pose.r;
+        Pose {
+            r: V2::new(c * r.x - s * r.y, s * r.x + c * r.y) + self.shift,
+            theta: pose.theta + self.angle,
+        }
+    }
+
+    /// The pose of the centred motion this placement takes to `pose`.
+    pub fn unapply(&self, pose: &Pose) -> Pose {
+        let (s, c) = (-self.angle).sin_cos();
+        let r = pose.r - self.shift;
+        Pose {
+            r: V2::new(c * r.x - s * r.y, s * r.x + c * r.y),
+            theta: pose.theta - self.angle,
+        }
+    }
+
+    /// The placement that takes `centred` (a pose of the centred motion)
+    /// onto `asked`, turning by the least angle modulo the symmetry `n`.
+    ///
+    /// ```
+    /// use platefield::design::pose::placement::Placement;
+    /// use platefield::pose::Pose;
+    /// let centred = Pose::new(0.001, -0.002, 0.1);
+    /// let asked = Pose::new(0.012, -0.008, 0.5);
+    /// let p = Placement::onto(&centred, &asked, 2);
+    /// let got = p.apply(&centred);
+    /// assert!((got.r - asked.r).norm() < 1e-15 && (got.theta - asked.theta).abs() < 1e-15);
+    /// ```
+    pub fn onto(centred: &Pose, asked: &Pose, n: usize) -> Placement {
+        let angle = -wrap_symmetric(centred.theta - asked.theta, n);
+        let turned = Placement {
+            angle,
+            shift: V2::zeros(),
+        }
+        .apply(centred);
+        Placement {
+            angle,
+            shift: asked.r - turned.r,
+        }
+    }
+
+    /// A damped correction: where the placed motion's part came to rest
+    /// (`end`) is taken back to the centred motion and this placement moved
+    /// by `gain` (0 … 1) of the way to the one that takes it onto `asked`.
+    pub fn corrected(&self, end: &Pose, asked: &Pose, n: usize, gain: f64) -> Placement {
+        let full = Placement::onto(&self.unapply(end), asked, n);
+        Placement {
+            angle: self.angle + gain * wrap_symmetric(full.angle - self.angle, n),
+            shift: self.shift + gain * (full.shift - self.shift),
+        }
+    }
+
+    /// `origin`'s one synthesized segment placed (module docs); its
+    /// target, when it has one, placed with it.
+    ///
+    /// # Errors
+    /// `origin` is not one six-signal motion.
+    pub fn schedule(
+        &self,
+        origin: &Schedule,
+        placed_target: Option<crate::request::Target>,
+    ) -> Result<Schedule> {
+        let mut out = origin.clone();
+        let [seg] = out.segments.as_mut_slice() else {
+            return Err(Error::Physical(
+                "a pose placement needs a schedule of one motion".into(),
+            ));
+        };
+        let motion = seg
+            .motion
+            .as_ref()
+            .ok_or_else(|| Error::Physical("a pose placement needs a six-signal motion".into()))?;
+        seg.motion = Some(motion.transformed(self.angle, [self.shift.x, self.shift.y]));
+        if placed_target.is_some() {
+            out.target_spec = placed_target;
+        }
+        Ok(out)
+    }
+}
+
+/// Half-width (m) of the synthesis square for `req` (module docs).
+pub fn synthesis_half_width(req: &PoseRequest) -> f64 {
+    let g = &req.region;
+    let far = [g.x[0], g.x[1]]
+        .iter()
+        .flat_map(|&x| [g.y[0], g.y[1]].map(|y| (V2::new(x, y) - req.pose.r).norm()))
+        .fold(0.0, f64::max);
+    ((far + SLACK) / 0.005).ceil() * 0.005
+}
+
+/// The request's target with the elliptic sink of [`RATIO`] turned by
+/// `angle` (degrees) about `c` on `grid`, no mask.
+pub fn ellipse_target(req: &PoseRequest, c: V2, angle: f64, grid: Grid) -> crate::request::Target {
+    let mut target = req.target.clone();
+    target.grid = Some(grid);
+    target.mask = Vec::new();
+    target.field = Family::Ellipse { ratio: RATIO }.field(c, angle);
+    target
+}
+
+/// The centred elliptic sink synthesized once (module docs), on the square
+/// of [`synthesis_half_width`].
+///
+/// # Errors
+/// The synthesis's.
+pub fn synthesize_centred(
+    req: &PoseRequest,
+    opts: &DesignOptions,
+    synth: &SynthOptions,
+) -> Result<MethodDesign> {
+    let h = synthesis_half_width(req);
+    let grid = Grid {
+        x: [-h, h],
+        y: [-h, h],
+        n: [SYNTH_N, SYNTH_N],
+    };
+    let target = ellipse_target(req, V2::zeros(), 0.0, grid);
+    design_by_method(&target, opts, synth, Method::Synthesize)
+}
+
+/// The lifted stable pose of the centred motion that the placement moves
+/// onto the asked one: the stable equilibrium whose turn onto the asked
+/// angle is least (modulo the symmetry), then the nearest to the centre.
+pub fn centred_pose(eqs: &[Equilibrium], asked: &Pose, n: usize) -> Option<Equilibrium> {
+    let key = |e: &Equilibrium| {
+        (
+            (1e3 * wrap_symmetric(e.pose.theta - asked.theta, n).abs()).round(),
+            e.pose.r.norm(),
+        )
+    };
+    eqs.iter()
+        .filter(|e| e.stable)
+        .min_by(|a, b| {
+            let (ka, kb) = (key(a), key(b));
+            ka.0.total_cmp(&kb.0).then(ka.1.total_cmp(&kb.1))
+        })
+        .copied()
+}

@@ -1,0 +1,143 @@
+//! A pose design played: the part dropped at random poses and simulated by
+//! the planar simulator ([`crate::pose::play_part`]).
+//!
+//! **Duration.** Near a stable pose the lifted field decays as e^{λt} with
+//! λ its slowest rate (the Jacobian eigenvalue of largest real part): a
+//! drop starting a region's half-width (4 cm) away comes within 0.4 mm,
+//! a hundredth, after ln(100)/|λ|. A played part may turn slower than the
+//! isotropic lifted field predicts ([`crate::pose::LiftedField`]: 2–3
+//! times on a line sink, about 5 times on a time-shared elliptic
+//! schedule; on the one synthesized motion of a pose design the rectangle
+//! turned faster, 1.7 against 1.28 1/s, `results/poses.md`), so each drop
+//! plays [`SPIN_SLOWER`] times that long, at least [`MIN_PLAY_S`] and at
+//! most [`MAX_PLAY_S`] (whole schedule periods).
+//!
+//! **Settle time.** The pose is recorded at the end of every schedule
+//! period; a drop's settle time is the end of the first period from which
+//! on every recorded pose is within the tolerance of the asked one
+//! (modulo the part's symmetry); a drop whose end is not has none. The
+//! median counts those as longer than any.
+
+use super::search::pose_error;
+use super::{PoseRequest, TOL_DEG, TOL_MM};
+use crate::field::FieldSettings;
+use crate::play::ScheduleMotion;
+use crate::pose::{drop_starts, nearest, play_part, DropPlay, Pose, PoseAnalysis};
+use crate::schedule::{PoseBasin, PosePlayed};
+
+/// Shortest play per drop (s).
+pub const MIN_PLAY_S: f64 = 20.0;
+/// Longest play per drop (s).
+pub const MAX_PLAY_S: f64 = 120.0;
+/// How many times slower than the lifted field's slowest rate a played
+/// drop is taken to settle (module docs).
+pub const SPIN_SLOWER: f64 = 3.0;
+
+/// Seconds each drop plays for a slowest rate `rate` (1/s, module docs).
+pub fn play_seconds(rate: f64) -> f64 {
+    if rate > 0.0 {
+        (SPIN_SLOWER * 100f64.ln() / rate).clamp(MIN_PLAY_S, MAX_PLAY_S)
+    } else {
+        MAX_PLAY_S
+    }
+}
+
+/// Whether `p` is at the `asked` pose (modulo symmetry `n`).
+pub fn at_pose(p: &Pose, asked: &Pose, n: usize) -> bool {
+    let (d, t) = pose_error(p, asked, n);
+    d <= 1e-3 * TOL_MM && t.abs().to_degrees() <= TOL_DEG
+}
+
+/// Index of the first period from which on the track stays at the pose.
+fn settled_from(track: &[Pose], asked: &Pose, n: usize) -> Option<usize> {
+    let last_out = track.iter().rposition(|p| !at_pose(p, asked, n));
+    match last_out {
+        None => Some(0),
+        Some(k) if k + 1 < track.len() => Some(k + 1),
+        Some(_) => None,
+    }
+}
+
+/// The median of `times` where `None` is longer than any; `None` when
+/// that median is itself `None`.
+fn median(mut times: Vec<Option<f64>>) -> Option<f64> {
+    times.sort_by(|a, b| match (a, b) {
+        (Some(x), Some(y)) => x.total_cmp(y),
+        (Some(_), None) => std::cmp::Ordering::Less,
+        (None, Some(_)) => std::cmp::Ordering::Greater,
+        (None, None) => std::cmp::Ordering::Equal,
+    });
+    let n = times.len();
+    if n == 0 {
+        return None;
+    }
+    match (times[(n - 1) / 2], times[n / 2]) {
+        (Some(a), Some(b)) => Some(0.5 * (a + b)),
+        _ => None,
+    }
+}
+
+/// Plays `drops` drops of the request's part through `sm` (module docs):
+/// `analysis` is the kept schedule's lifted field (its stable poses and
+/// predicted basins), `field` names the requested point field and `rate`
+/// is the slowest decay rate at the asked pose (1/s).
+pub fn play(
+    req: &PoseRequest,
+    sm: &ScheduleMotion,
+    settings: &FieldSettings,
+    (analysis, field, rate): (&PoseAnalysis, String, f64),
+    drops: usize,
+) -> PosePlayed {
+    let n = req.part.symmetry();
+    let duration = play_seconds(rate);
+    let starts = drop_starts(&analysis.starts, drops);
+    let runs = play_part(&req.part, sm, &starts, &DropPlay::new(settings, duration));
+    let period = sm.period();
+    let eqs = &analysis.equilibria;
+    let stable: Vec<usize> = (0..eqs.len()).filter(|&i| eqs[i].stable).collect();
+    let stable_eq: Vec<_> = stable.iter().map(|&i| eqs[i]).collect();
+    let mut ends = vec![0usize; stable.len()];
+    let mut settle = Vec::with_capacity(runs.len());
+    let (mut at, mut lost, mut time) = (0usize, 0usize, 0.0);
+    for run in &runs {
+        let Ok((end, track)) = run else {
+            lost += 1;
+            settle.push(None);
+            continue;
+        };
+        time = end.time;
+        at += usize::from(at_pose(&end.pose, &req.pose, n));
+        settle.push(settled_from(track, &req.pose, n).map(|k| (k + 1) as f64 * period));
+        if let Some((k, _)) = nearest(&stable_eq, &end.pose, req.part.radius()) {
+            ends[k] += 1;
+        }
+    }
+    let total = drops.max(1) as f64;
+    let basins = stable
+        .iter()
+        .zip(&ends)
+        .map(|(&i, &c)| PoseBasin {
+            pose: [
+                eqs[i].pose.r.x,
+                eqs[i].pose.r.y,
+                eqs[i].pose.theta.to_degrees(),
+            ],
+            lifted: analysis.basins[i],
+            played: c as f64 / total,
+        })
+        .collect();
+    PosePlayed {
+        part: req.part_path.clone(),
+        pose: [req.pose.r.x, req.pose.r.y, req.pose.theta.to_degrees()],
+        symmetry: n,
+        field,
+        drops,
+        duration_s: if runs.is_empty() { duration } else { time },
+        tolerance: [TOL_MM, TOL_DEG],
+        pose_fraction: at as f64 / total,
+        median_settle_s: median(settle),
+        lost,
+        stable: basins,
+        distinct_stable: super::search::distinct_stable(eqs, n).len(),
+    }
+}

@@ -1,0 +1,150 @@
+//! A pose target's design written and summarised: the kept schedule's
+//! files as for any design ([`super::method::write`]), its `report.md`
+//! headed by the pose section (the motion and its placement, the lifted field's
+//! stable poses, the played drops), and the terminal summary.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use crate::design::pose::{Placement, PoseDesign, TOL_DEG, TOL_MM};
+use crate::error::{Error, Result};
+use crate::schedule::PosePlayed;
+
+/// The played drops of `d`'s kept schedule.
+pub fn played(d: &PoseDesign) -> &PosePlayed {
+    d.method
+        .kept()
+        .schedule
+        .played
+        .as_ref()
+        .and_then(|p| p.pose.as_ref())
+        .expect("design_pose records the played drops")
+}
+
+/// One line: the pose fraction, the median settle time, the uniqueness.
+pub fn headline(d: &PoseDesign) -> String {
+    let p = played(d);
+    let settle = p
+        .median_settle_s
+        .map_or("none (half or more never settle)".into(), |t| {
+            format!("{t:.1} s")
+        });
+    format!(
+        "pose {} at ({:.1} mm, {:.1} mm, {:.1}°), symmetry {}: {:.1} % of {} played drops end within {TOL_MM} mm and {TOL_DEG}° (median settle {settle}); field {}; {}\n",
+        p.part,
+        1e3 * p.pose[0],
+        1e3 * p.pose[1],
+        p.pose[2],
+        p.symmetry,
+        100.0 * p.pose_fraction,
+        p.drops,
+        p.field,
+        if p.distinct_stable == 1 {
+            "the lifted field has one stable pose modulo symmetry".to_string()
+        } else {
+            format!(
+                "the lifted field has {} stable poses modulo symmetry (basins below)",
+                p.distinct_stable
+            )
+        }
+    )
+}
+
+/// A placement in words: turn (°) and reference point (mm).
+fn placement_text(p: &Placement) -> String {
+    format!(
+        "turned {:+.2}°, reference point ({:+.3}, {:+.3}) mm",
+        p.angle.to_degrees(),
+        1e3 * p.shift.x,
+        1e3 * p.shift.y
+    )
+}
+
+/// The motion, its lifted placement and the played correction.
+fn placement_md(d: &PoseDesign, md: &mut String) {
+    let c = &d.centred;
+    let _ = writeln!(
+        md,
+        "One six-signal motion synthesized once for the centred elliptic sink (`design::pose::placement`, ratio {}); the part's stable pose in its lifted field: ({:+.3}, {:+.3}) mm, {:+.2}°, decay rates {:.3}, {:.3}, {:.3} 1/s, turning rate −∂θ'/∂θ {:.3} 1/s. Placed on the lifted field: {}.",
+        crate::design::pose::placement::RATIO,
+        1e3 * c.pose.r.x,
+        1e3 * c.pose.r.y,
+        c.pose.theta.to_degrees(),
+        -c.rates[0],
+        -c.rates[1],
+        -c.rates[2],
+        d.lifted_turning_rate,
+        placement_text(&d.lifted)
+    );
+    let _ = writeln!(
+        md,
+        "\nCorrected on played probes (`design::pose::correct`: {} drops at and around the pose, {} s each, on the same motion; their mean end moves the placement):\n\n| round | placement | probes' mean end (mm, mm, °) | Δr (mm) | Δθ (°) | played turning rate (1/s) |\n|---|---|---|---|---|---|",
+        crate::design::pose::correct::PROBES,
+        crate::design::pose::correct::PROBE_S
+    );
+    for (i, r) in d.rounds.iter().enumerate() {
+        let _ = writeln!(
+            md,
+            "| {} | {} | ({:+.3}, {:+.3}, {:+.2}) | {:.3} | {:+.2} | {} |",
+            i + 1,
+            placement_text(&r.placement),
+            1e3 * r.end.r.x,
+            1e3 * r.end.r.y,
+            r.end.theta.to_degrees(),
+            r.error.0,
+            r.error.1,
+            r.turning_rate.map_or("—".into(), |k| format!("{k:.3}"))
+        );
+    }
+    let _ = writeln!(md, "\nKept: {}.", placement_text(&d.placement));
+}
+
+/// The stable poses with their basins.
+fn basins_md(p: &PosePlayed, md: &mut String) {
+    md.push_str("\n| stable pose x (mm) | y (mm) | θ (°) | basin (lifted) | basin (played) |\n|---|---|---|---|---|\n");
+    for b in &p.stable {
+        let _ = writeln!(
+            md,
+            "| {:+.2} | {:+.2} | {:+.2} | {:.1} % | {:.1} % |",
+            1e3 * b.pose[0],
+            1e3 * b.pose[1],
+            b.pose[2],
+            100.0 * b.lifted,
+            100.0 * b.played
+        );
+    }
+}
+
+/// The pose section of `report.md`.
+pub fn pose_md(d: &PoseDesign) -> String {
+    let p = played(d);
+    let mut md = String::from("## Pose target\n\n");
+    md.push_str(&headline(d));
+    md.push('\n');
+    placement_md(d, &mut md);
+    let _ = writeln!(
+        md,
+        "\nPlayed: {} drops (centres uniform over the region inset by the part's radius, angles uniform), {:.1} s each by the planar simulator; {} lost contact. Basins: each end counted for its nearest stable pose of the kept schedule's lifted field; lifted: {} drops integrated along it.",
+        p.drops,
+        p.duration_s,
+        p.lost,
+        d.analysis.drops
+    );
+    basins_md(p, &mut md);
+    md
+}
+
+/// Puts the pose section at the head of `dir/report.md`.
+pub fn write(d: &PoseDesign, dir: &Path) -> Result<Vec<&'static str>> {
+    let files = super::method::write(&d.method, dir)?;
+    let path = dir.join("report.md");
+    let io = |source| Error::Io {
+        path: path.display().to_string(),
+        source,
+    };
+    let report = std::fs::read_to_string(&path).map_err(io)?;
+    let (title, rest) = report.split_once("\n\n").unwrap_or((&report, ""));
+    let text = format!("{title}\n\n{}\n{rest}", pose_md(d));
+    std::fs::write(&path, text).map_err(io)?;
+    Ok(files)
+}
