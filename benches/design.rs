@@ -12,17 +12,37 @@ use std::path::Path;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 
-use platefield::design::method::{design_by_method, Method};
+use platefield::design::method::Method;
 use platefield::design::DesignOptions;
 use platefield::request::Target;
 use platefield::synth::progress::ProgressMode;
 use platefield::synth::SynthOptions;
 
+/// The design by `method` with `synthesis`, through the one door
+/// (`design::run`).
+fn design_by_method(
+    target: &Target,
+    opts: &DesignOptions,
+    synthesis: &SynthOptions,
+    method: Method,
+) -> platefield::Result<platefield::design::MethodDesign> {
+    let opts = DesignOptions {
+        method,
+        synthesis: *synthesis,
+        ..opts.clone()
+    };
+    let outcome = platefield::design::run(target, &opts)?;
+    Ok(outcome.into_method().expect("designed by its method"))
+}
+
 fn design(c: &mut Criterion) {
     let target = Target::load(Path::new("targets/sink.json")).expect("targets/sink.json loads");
     let opts = DesignOptions {
-        cache_dir: None,
-        quiet: true,
+        basis: platefield::design::BasisSection {
+            cache_dir: None,
+            ..Default::default()
+        },
+        runtime: platefield::work::Runtime::QUIET,
         ..DesignOptions::default()
     };
     let synth = SynthOptions {

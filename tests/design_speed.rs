@@ -10,13 +10,30 @@
 
 use std::path::Path;
 
-use platefield::design::method::{design_by_method, Method};
+use platefield::design::method::Method;
 use platefield::design::DesignOptions;
 use platefield::field::{FieldSettings, Grid};
 use platefield::request::Target;
 use platefield::synth::params::Layout;
 use platefield::synth::progress::ProgressMode;
 use platefield::synth::{synthesize, ShakerLimits, SynthOptions};
+
+/// The design by `method` with `synthesis`, through the one door
+/// (`design::run`).
+fn design_by_method(
+    target: &Target,
+    opts: &DesignOptions,
+    synthesis: &SynthOptions,
+    method: Method,
+) -> platefield::Result<platefield::design::MethodDesign> {
+    let opts = DesignOptions {
+        method,
+        synthesis: *synthesis,
+        ..opts.clone()
+    };
+    let outcome = platefield::design::run(target, &opts)?;
+    Ok(outcome.into_method().expect("designed by its method"))
+}
 
 fn sink() -> Target {
     Target::load(Path::new("targets/sink.json")).expect("shipped target")
@@ -29,11 +46,7 @@ fn default_design(target: &Target, name: &str) -> (Method, f64, f64) {
         "platefield-design-speed-{name}-{}",
         std::process::id()
     ));
-    let opts = DesignOptions {
-        cache_dir: Some(cache.clone()),
-        quiet: true,
-        ..DesignOptions::default()
-    };
+    let opts = DesignOptions::cached_quiet(&cache);
     let synth = SynthOptions {
         progress: ProgressMode::Quiet,
         ..SynthOptions::default()

@@ -18,21 +18,34 @@
 
 use std::path::Path;
 
-use platefield::design::method::{design_by_method, Method};
+use platefield::design::method::Method;
 use platefield::design::DesignOptions;
 use platefield::dynamics::steps_taken;
 use platefield::request::Target;
 use platefield::synth::progress::ProgressMode;
 use platefield::synth::SynthOptions;
 
+/// The design by `method` with `synthesis`, through the one door
+/// (`design::run`).
+fn design_by_method(
+    target: &Target,
+    opts: &DesignOptions,
+    synthesis: &SynthOptions,
+    method: Method,
+) -> platefield::Result<platefield::design::MethodDesign> {
+    let opts = DesignOptions {
+        method,
+        synthesis: *synthesis,
+        ..opts.clone()
+    };
+    let outcome = platefield::design::run(target, &opts)?;
+    Ok(outcome.into_method().expect("designed by its method"))
+}
+
 /// Estimated over counted steps of designing `target` by `auto` from a
 /// cold cache in `cache`, printed; the ratio.
 fn ratio(target: &Target, cache: &Path) -> f64 {
-    let opts = DesignOptions {
-        cache_dir: Some(cache.to_path_buf()),
-        quiet: true,
-        ..DesignOptions::default()
-    };
+    let opts = DesignOptions::cached_quiet(cache);
     let synth = SynthOptions {
         progress: ProgressMode::Quiet,
         ..SynthOptions::default()

@@ -6,13 +6,30 @@ use std::path::PathBuf;
 
 use platefield::basis::PrimitiveKind;
 use platefield::design::method::{Candidate, Choice, TIE_SHAPE_ERROR};
-use platefield::design::{design_by_method, DesignOptions, Method};
+use platefield::design::{DesignOptions, Method};
 use platefield::field::FieldSettings;
 use platefield::fit::POOR_ERROR;
 use platefield::request::Target;
 use platefield::schedule::{export, ExclusionReason, Schedule};
 use platefield::synth::progress::ProgressMode;
 use platefield::synth::SynthOptions;
+
+/// The design by `method` with `synthesis`, through the one door
+/// (`design::run`).
+fn design_by_method(
+    target: &Target,
+    opts: &DesignOptions,
+    synthesis: &SynthOptions,
+    method: Method,
+) -> platefield::Result<platefield::design::MethodDesign> {
+    let opts = DesignOptions {
+        method,
+        synthesis: *synthesis,
+        ..opts.clone()
+    };
+    let outcome = platefield::design::run(target, &opts)?;
+    Ok(outcome.into_method().expect("designed by its method"))
+}
 
 /// A ±3 cm sink on 9 × 9 points with the lab-class limits of issue 11
 /// (T = 0.05 s, 10 m/s² in x and y, 70 rad/s² about x and y, harmonic 1).
@@ -32,11 +49,14 @@ fn options(kinds: Vec<PrimitiveKind>) -> DesignOptions {
     let mut settings = FieldSettings::default();
     settings.numerics.steps_per_cycle = 48;
     DesignOptions {
-        rotation_step_deg: 90.0,
-        kinds,
         settings,
-        cache_dir: Some(PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("method-cache")),
-        quiet: true,
+        basis: platefield::design::BasisSection {
+            rotation_step_deg: 90.0,
+            kinds,
+            cache_dir: Some(PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("method-cache")),
+            ..Default::default()
+        },
+        runtime: platefield::work::Runtime::QUIET,
         ..DesignOptions::default()
     }
 }

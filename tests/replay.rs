@@ -14,7 +14,7 @@
 
 mod common;
 
-use platefield::design::method::{design_by_method, judge_check, Method};
+use platefield::design::method::{judge_check, Method};
 use platefield::design::replay::{exported, judge_replay, replay_check};
 use platefield::design::DesignOptions;
 use platefield::dynamics::Friction;
@@ -25,6 +25,23 @@ use platefield::request::{FrictionSpec, Target};
 use platefield::schedule::export::{export, DEFAULT_STEADY_CYCLES};
 use platefield::schedule::Schedule;
 use platefield::synth::SynthOptions;
+
+/// The design by `method` with `synthesis`, through the one door
+/// (`design::run`).
+fn design_by_method(
+    target: &Target,
+    opts: &DesignOptions,
+    synthesis: &SynthOptions,
+    method: Method,
+) -> platefield::Result<platefield::design::MethodDesign> {
+    let opts = DesignOptions {
+        method,
+        synthesis: *synthesis,
+        ..opts.clone()
+    };
+    let outcome = platefield::design::run(target, &opts)?;
+    Ok(outcome.into_method().expect("designed by its method"))
+}
 
 fn load(path: &str) -> Schedule {
     Schedule::load(std::path::Path::new(path)).unwrap()
@@ -209,7 +226,7 @@ fn sampled_whirlpool() -> Target {
 fn design_options() -> (DesignOptions, SynthOptions) {
     (
         DesignOptions {
-            quiet: true,
+            runtime: platefield::work::Runtime::QUIET,
             ..DesignOptions::default()
         },
         SynthOptions {

@@ -644,10 +644,8 @@ pub struct OrderRequest {
     pub periods: u32,
     /// Model override (default: the schedule's own).
     pub model: Option<Model>,
-    /// Run even when the work estimate exceeds [`crate::work::LIMIT_S`].
-    pub allow_long: bool,
-    /// No progress output.
-    pub quiet: bool,
+    /// Progress output and the long-run guard.
+    pub runtime: crate::work::Runtime,
 }
 
 /// The work of an order search of `schedule` with `opts`
@@ -692,7 +690,7 @@ pub fn work_estimate(schedule: &Schedule, opts: &OrderOptions) -> Estimate {
 /// physics (the model overridden by `model` when given; `warmup` and
 /// `periods` are minimums); returns the schedule and the search (written
 /// by `crate::report::order`). The work is estimated first and refused
-/// above [`crate::work::LIMIT_S`] unless `allow_long`.
+/// above [`crate::work::LIMIT_S`] unless `runtime.allow_long`.
 pub fn order_schedule_file(path: &Path, req: &OrderRequest) -> Result<(Schedule, OrderSearch)> {
     let OrderRequest {
         n,
@@ -700,8 +698,7 @@ pub fn order_schedule_file(path: &Path, req: &OrderRequest) -> Result<(Schedule,
         warmup,
         periods,
         model,
-        allow_long,
-        quiet: _,
+        runtime,
     } = *req;
     if !(2..=41).contains(&n) {
         return Err(Error::invalid(
@@ -740,10 +737,10 @@ pub fn order_schedule_file(path: &Path, req: &OrderRequest) -> Result<(Schedule,
     }
     let opts = OrderOptions {
         rest_cycles: rest_cycles.to_vec(),
-        progress: ProgressMode::quiet_if(req.quiet),
+        progress: runtime.progress(),
         ..OrderOptions::new(verify, grid_points(n, 0.03))
     };
-    work_estimate(&schedule, &opts).check(allow_long)?;
+    runtime.check(&work_estimate(&schedule, &opts))?;
     let (_, search) = choose_order(&schedule, &opts)?;
     Ok((schedule, search))
 }
