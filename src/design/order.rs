@@ -685,13 +685,38 @@ pub fn work_estimate(schedule: &Schedule, opts: &OrderOptions) -> Estimate {
     )
 }
 
+/// What `platefield order` found (written by `crate::report::order`).
+#[derive(Debug, Clone)]
+pub struct OrderOutcome {
+    /// The schedule searched, as read.
+    pub schedule: Schedule,
+    /// Every order and rest insertion judged, and the one chosen.
+    pub search: OrderSearch,
+}
+
 /// `platefield order`: searches the orders and rest insertions of the
 /// schedule at `path` on `n × n` points over ±3 cm with the schedule's own
 /// physics (the model overridden by `model` when given; `warmup` and
-/// `periods` are minimums); returns the schedule and the search (written
-/// by `crate::report::order`). The work is estimated first and refused
-/// above [`crate::work::LIMIT_S`] unless `runtime.allow_long`.
-pub fn order_schedule_file(path: &Path, req: &OrderRequest) -> Result<(Schedule, OrderSearch)> {
+/// `periods` are minimums); returns the schedule and the search. The work
+/// is estimated first and refused above [`crate::work::LIMIT_S`] unless
+/// `runtime.allow_long`.
+///
+/// ```no_run
+/// use platefield::design::order::{order_schedule_file, OrderRequest};
+/// use platefield::work::Runtime;
+/// let req = OrderRequest {
+///     n: 5,
+///     rest_cycles: vec![0, 2],
+///     warmup: 1,
+///     periods: 1,
+///     model: None,
+///     runtime: Runtime::QUIET,
+/// };
+/// let outcome = order_schedule_file(std::path::Path::new("results/sink/schedule.json"), &req)?;
+/// println!("{} orders judged", outcome.search.candidates.len());
+/// # Ok::<(), platefield::Error>(())
+/// ```
+pub fn order_schedule_file(path: &Path, req: &OrderRequest) -> Result<OrderOutcome> {
     let OrderRequest {
         n,
         ref rest_cycles,
@@ -742,7 +767,7 @@ pub fn order_schedule_file(path: &Path, req: &OrderRequest) -> Result<(Schedule,
     };
     runtime.check(&work_estimate(&schedule, &opts))?;
     let (_, search) = choose_order(&schedule, &opts)?;
-    Ok((schedule, search))
+    Ok(OrderOutcome { schedule, search })
 }
 
 #[cfg(test)]

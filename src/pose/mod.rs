@@ -11,6 +11,7 @@ mod check;
 mod drops;
 mod equilibria;
 mod lifted;
+mod request;
 mod run;
 mod source;
 
@@ -22,5 +23,6 @@ pub use drops::{
 };
 pub use equilibria::{equilibria, settle, wrap, Equilibrium, Region};
 pub use lifted::{GridField, LiftedField, PointField, Pose, Twist};
+pub use request::{check_counts, poses, PoseOutcome, PoseRequest, MAX_PLAY_S, SCAN};
 pub use run::{analyse, drop_starts, PoseAnalysis, MAX_DROPS};
 pub use source::schedule_field;

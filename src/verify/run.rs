@@ -466,7 +466,20 @@ pub fn progress_weights(work: &Estimate, counts: [usize; 3]) -> [u64; 3] {
 }
 
 /// `platefield verify`: runs `req` on the schedule at `path` with the
-/// physics its basis was built with (nothing is written here).
+/// physics its basis was built with (nothing is written here). The one
+/// door of the verification: [`VerifyRequest`] in, [`VerifyReport`] out
+/// (the friction sweep and the export's replay, judged by the design's
+/// own check, are added above this module, in `crate::report::verify`,
+/// since `verify` does not import `design`).
+///
+/// ```no_run
+/// use platefield::verify::{verify_schedule_file, VerifyRequest};
+/// use platefield::work::Runtime;
+/// let req = VerifyRequest { runtime: Runtime::QUIET, ..VerifyRequest::default() };
+/// let report = verify_schedule_file(std::path::Path::new("results/sink/schedule.json"), &req)?;
+/// println!("realised {:?}, designed {}", report.realised_strength, report.design_strength);
+/// # Ok::<(), platefield::Error>(())
+/// ```
 pub fn verify_schedule_file(path: &Path, req: &VerifyRequest) -> Result<VerifyReport> {
     req.validate()?;
     if let Some(f) = &req.friction {
