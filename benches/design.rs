@@ -3,7 +3,7 @@
 //! One cold `design targets/sink.json` (method auto) as the CLI runs it:
 //! no basis cache (the library is built), the sequenced fit, the synthesis
 //! with its stall rule and the played polish, both candidates played
-//! (`platefield::design::method::design_by_method`, default options), with
+//! (`platefield::design::run` by method `auto`, default options), with
 //! rayon's default thread count. Issue 27's goal: ≤ 5 s wall on 2 cores.
 //! `platefield design-speed` puts every shipped target and several budgets
 //! on a cost-against-quality table (`results/design_speed.md`).
@@ -17,23 +17,6 @@ use platefield::design::DesignOptions;
 use platefield::request::Target;
 use platefield::synth::progress::ProgressMode;
 use platefield::synth::SynthOptions;
-
-/// The design by `method` with `synthesis`, through the one door
-/// (`design::run`).
-fn design_by_method(
-    target: &Target,
-    opts: &DesignOptions,
-    synthesis: &SynthOptions,
-    method: Method,
-) -> platefield::Result<platefield::design::MethodDesign> {
-    let opts = DesignOptions {
-        method,
-        synthesis: *synthesis,
-        ..opts.clone()
-    };
-    let outcome = platefield::design::run(target, &opts)?;
-    Ok(outcome.into_method().expect("designed by its method"))
-}
 
 fn design(c: &mut Criterion) {
     let target = Target::load(Path::new("targets/sink.json")).expect("targets/sink.json loads");
@@ -52,7 +35,11 @@ fn design(c: &mut Criterion) {
     let mut group = c.benchmark_group("design");
     group.sample_size(10);
     group.bench_function("sink_auto_cold", |b| {
-        b.iter(|| design_by_method(&target, &opts, &synth, Method::Auto).expect("sink designs"))
+        b.iter(|| {
+            platefield::design::run(&target, &opts.by_method(Method::Auto, &synth))
+                .and_then(|o| o.into_method())
+                .expect("sink designs")
+        })
     });
     group.finish();
 }

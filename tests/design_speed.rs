@@ -18,23 +18,6 @@ use platefield::synth::params::Layout;
 use platefield::synth::progress::ProgressMode;
 use platefield::synth::{synthesize, ShakerLimits, SynthOptions};
 
-/// The design by `method` with `synthesis`, through the one door
-/// (`design::run`).
-fn design_by_method(
-    target: &Target,
-    opts: &DesignOptions,
-    synthesis: &SynthOptions,
-    method: Method,
-) -> platefield::Result<platefield::design::MethodDesign> {
-    let opts = DesignOptions {
-        method,
-        synthesis: *synthesis,
-        ..opts.clone()
-    };
-    let outcome = platefield::design::run(target, &opts)?;
-    Ok(outcome.into_method().expect("designed by its method"))
-}
-
 fn sink() -> Target {
     Target::load(Path::new("targets/sink.json")).expect("shipped target")
 }
@@ -51,7 +34,9 @@ fn default_design(target: &Target, name: &str) -> (Method, f64, f64) {
         progress: ProgressMode::Quiet,
         ..SynthOptions::default()
     };
-    let m = design_by_method(target, &opts, &synth, Method::Auto).expect("designs");
+    let m = platefield::design::run(target, &opts.by_method(Method::Auto, &synth))
+        .and_then(|o| o.into_method())
+        .expect("designs");
     let _ = std::fs::remove_dir_all(&cache);
     let kept = m.kept();
     let p = kept.played();

@@ -25,23 +25,6 @@ use platefield::request::Target;
 use platefield::synth::progress::ProgressMode;
 use platefield::synth::SynthOptions;
 
-/// The design by `method` with `synthesis`, through the one door
-/// (`design::run`).
-fn design_by_method(
-    target: &Target,
-    opts: &DesignOptions,
-    synthesis: &SynthOptions,
-    method: Method,
-) -> platefield::Result<platefield::design::MethodDesign> {
-    let opts = DesignOptions {
-        method,
-        synthesis: *synthesis,
-        ..opts.clone()
-    };
-    let outcome = platefield::design::run(target, &opts)?;
-    Ok(outcome.into_method().expect("designed by its method"))
-}
-
 /// Estimated over counted steps of designing `target` by `auto` from a
 /// cold cache in `cache`, printed; the ratio.
 fn ratio(target: &Target, cache: &Path) -> f64 {
@@ -51,7 +34,9 @@ fn ratio(target: &Target, cache: &Path) -> f64 {
         ..SynthOptions::default()
     };
     let before = steps_taken();
-    let m = design_by_method(target, &opts, &synth, Method::Auto).unwrap();
+    let m = platefield::design::run(target, &opts.by_method(Method::Auto, &synth))
+        .and_then(|o| o.into_method())
+        .unwrap();
     let counted = (steps_taken() - before) as f64;
     let estimate = &m.estimate;
     let r = estimate.steps() / counted;

@@ -14,23 +14,6 @@ use platefield::schedule::{export, ExclusionReason, Schedule};
 use platefield::synth::progress::ProgressMode;
 use platefield::synth::SynthOptions;
 
-/// The design by `method` with `synthesis`, through the one door
-/// (`design::run`).
-fn design_by_method(
-    target: &Target,
-    opts: &DesignOptions,
-    synthesis: &SynthOptions,
-    method: Method,
-) -> platefield::Result<platefield::design::MethodDesign> {
-    let opts = DesignOptions {
-        method,
-        synthesis: *synthesis,
-        ..opts.clone()
-    };
-    let outcome = platefield::design::run(target, &opts)?;
-    Ok(outcome.into_method().expect("designed by its method"))
-}
-
 /// A ±3 cm sink on 9 × 9 points with the lab-class limits of issue 11
 /// (T = 0.05 s, 10 m/s² in x and y, 70 rad/s² about x and y, harmonic 1).
 fn sink_lab(shaker: &str) -> Target {
@@ -103,12 +86,11 @@ fn auto_plays_both_and_keeps_the_better_realised_one() {
     let target = sink_lab(
         r#"{"period": 0.05, "linear": [12, 12, 0.2], "angular": [220, 220, 0], "harmonics": 1}"#,
     );
-    let md = design_by_method(
+    let md = platefield::design::run(
         &target,
-        &options(vec![PrimitiveKind::LineSink]),
-        &synth(),
-        Method::Auto,
+        &options(vec![PrimitiveKind::LineSink]).by_method(Method::Auto, &synth()),
     )
+    .and_then(|o| o.into_method())
     .expect("design");
     assert_eq!(md.candidates.len(), 2, "{:?}", md.failures);
     assert_eq!(md.candidates[0].method, Method::Sequence);
@@ -176,12 +158,11 @@ fn auto_plays_both_and_keeps_the_better_realised_one() {
 /// motion and says why.
 #[test]
 fn auto_keeps_the_method_that_works() {
-    let md = design_by_method(
+    let md = platefield::design::run(
         &sink_lab(LAB),
-        &options(vec![PrimitiveKind::LineSink]),
-        &synth(),
-        Method::Auto,
+        &options(vec![PrimitiveKind::LineSink]).by_method(Method::Auto, &synth()),
     )
+    .and_then(|o| o.into_method())
     .expect("design");
     assert_eq!(md.candidates.len(), 1);
     assert_eq!(md.kept().method, Method::Synthesize);
@@ -196,12 +177,11 @@ fn auto_keeps_the_method_that_works() {
         "{why}"
     );
     // Asked for alone, the failure is the error.
-    let e = design_by_method(
+    let e = platefield::design::run(
         &sink_lab(LAB),
-        &options(vec![PrimitiveKind::LineSink]),
-        &synth(),
-        Method::Sequence,
+        &options(vec![PrimitiveKind::LineSink]).by_method(Method::Sequence, &synth()),
     )
+    .and_then(|o| o.into_method())
     .unwrap_err()
     .to_string();
     assert!(e.contains("shaker limit"), "{e}");
@@ -215,8 +195,12 @@ fn auto_keeps_the_method_that_works() {
 fn sequenced_designs_keep_the_shaker_limits() {
     let kinds = vec![PrimitiveKind::LineSink, PrimitiveKind::Trans];
     let target = sink_lab(r#"{"linear": [30, 30, 1]}"#);
-    let md = design_by_method(&target, &options(kinds.clone()), &synth(), Method::Sequence)
-        .expect("design");
+    let md = platefield::design::run(
+        &target,
+        &options(kinds.clone()).by_method(Method::Sequence, &synth()),
+    )
+    .and_then(|o| o.into_method())
+    .expect("design");
     assert_eq!(md.candidates.len(), 1);
     let d = md.sequence.as_ref().unwrap();
     let over: Vec<&str> = d
@@ -241,7 +225,9 @@ fn sequenced_designs_keep_the_shaker_limits() {
     // Without limits the Trans columns stay in the basis.
     let mut free = sink_lab("{}");
     free.shaker = None;
-    let md = design_by_method(&free, &options(kinds), &synth(), Method::Sequence).unwrap();
+    let md = platefield::design::run(&free, &options(kinds).by_method(Method::Sequence, &synth()))
+        .and_then(|o| o.into_method())
+        .unwrap();
     let d = md.sequence.as_ref().unwrap();
     assert!(d
         .basis
@@ -260,12 +246,11 @@ fn sequenced_designs_keep_the_shaker_limits() {
 fn auto_without_limits_synthesizes_within_the_sequenced_peaks() {
     let mut target = sink_lab("{}");
     target.shaker = None;
-    let md = design_by_method(
+    let md = platefield::design::run(
         &target,
-        &options(vec![PrimitiveKind::LineSink]),
-        &synth(),
-        Method::Auto,
+        &options(vec![PrimitiveKind::LineSink]).by_method(Method::Auto, &synth()),
     )
+    .and_then(|o| o.into_method())
     .expect("design");
     let seq = &md.sequence.as_ref().expect("sequenced").schedule;
     let peaks = export::schedule_peaks(seq);
@@ -313,10 +298,16 @@ fn mix_combines_a_synthesized_motion_with_primitives() {
     ))
     .expect("valid target");
     let kinds = vec![PrimitiveKind::Trans];
-    let alone =
-        design_by_method(&target, &options(kinds.clone()), &synth(), Method::Sequence).unwrap();
+    let alone = platefield::design::run(
+        &target,
+        &options(kinds.clone()).by_method(Method::Sequence, &synth()),
+    )
+    .and_then(|o| o.into_method())
+    .unwrap();
     let alone_error = alone.kept().schedule.fit.relative_l2_error;
-    let md = design_by_method(&target, &options(kinds), &synth(), Method::Mix).unwrap();
+    let md = platefield::design::run(&target, &options(kinds).by_method(Method::Mix, &synth()))
+        .and_then(|o| o.into_method())
+        .unwrap();
     let d = md.mixed.as_ref().expect("mixed design");
     assert!(d
         .basis
@@ -374,12 +365,15 @@ fn a_measure_over_too_few_points_is_not_measured() {
     };
     let opts = options(vec![PrimitiveKind::LineSink]);
     let played = |keep| {
-        let d = design_by_method(&target(keep), &opts, &synth(), Method::Sequence).unwrap();
+        let d = platefield::design::run(&target(keep), &opts.by_method(Method::Sequence, &synth()))
+            .and_then(|o| o.into_method())
+            .unwrap();
         d.candidates[d.chosen].played().clone()
     };
     // Two weighted points are refused before any play, naming the weights
     // (`request::MIN_WEIGHTED_POINTS`).
-    let two = design_by_method(&target(2), &opts, &synth(), Method::Sequence)
+    let two = platefield::design::run(&target(2), &opts.by_method(Method::Sequence, &synth()))
+        .and_then(|o| o.into_method())
         .err()
         .map(|e| e.to_string())
         .unwrap_or_default();

@@ -26,23 +26,6 @@ use platefield::schedule::export::{export, DEFAULT_STEADY_CYCLES};
 use platefield::schedule::Schedule;
 use platefield::synth::SynthOptions;
 
-/// The design by `method` with `synthesis`, through the one door
-/// (`design::run`).
-fn design_by_method(
-    target: &Target,
-    opts: &DesignOptions,
-    synthesis: &SynthOptions,
-    method: Method,
-) -> platefield::Result<platefield::design::MethodDesign> {
-    let opts = DesignOptions {
-        method,
-        synthesis: *synthesis,
-        ..opts.clone()
-    };
-    let outcome = platefield::design::run(target, &opts)?;
-    Ok(outcome.into_method().expect("designed by its method"))
-}
-
 fn load(path: &str) -> Schedule {
     Schedule::load(std::path::Path::new(path)).unwrap()
 }
@@ -247,7 +230,9 @@ fn design_options() -> (DesignOptions, SynthOptions) {
 fn sampled_target_reports_what_its_export_replays(method: Method) {
     let target = sampled_whirlpool();
     let (opts, synth) = design_options();
-    let md = design_by_method(&target, &opts, &synth, method).unwrap();
+    let md = platefield::design::run(&target, &opts.by_method(method, &synth))
+        .and_then(|o| o.into_method())
+        .unwrap();
     let kept = &md.kept().schedule;
     let played = md.kept().played();
     let c = replay_check(kept, &exported(kept).unwrap(), "export", None).unwrap();
@@ -308,7 +293,8 @@ fn stacked_sequenced_sink_holds_its_worst_case_over_the_range() {
     let mu: Vec<Friction> = [0.2, 0.3, 0.4].map(Friction::uniform).to_vec();
     let sampled = nominal.sample().unwrap();
     let design = |t: &Target| {
-        design_by_method(t, &opts, &synth, Method::Sequence)
+        platefield::design::run(t, &opts.by_method(Method::Sequence, &synth))
+            .and_then(|o| o.into_method())
             .unwrap()
             .kept()
             .schedule

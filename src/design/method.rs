@@ -306,6 +306,15 @@ impl<'a> MethodRun<'a> {
         )
     }
 
+    /// The limits a primitive design records: the limits kept, when the
+    /// target gives its own.
+    fn recorded_limits(&self) -> Option<crate::request::ShakerSpec> {
+        self.target
+            .shaker
+            .as_ref()
+            .map(|_| self.out.limits.to_spec())
+    }
+
     /// The sequenced candidate (`sequence`, `auto`). Bad input or a
     /// refused long run (exit 2) ends `auto` too: only a design that is
     /// physically impossible or did not converge hands over to the
@@ -318,11 +327,7 @@ impl<'a> MethodRun<'a> {
         let t = Instant::now();
         match design(self.target, self.opts) {
             Ok(d) => {
-                let record = self
-                    .target
-                    .shaker
-                    .as_ref()
-                    .map(|_| self.out.limits.to_spec());
+                let record = self.recorded_limits();
                 let c = self.play(
                     d.schedule.clone(),
                     d.schedule.fit.strength,
@@ -471,11 +476,7 @@ impl<'a> MethodRun<'a> {
             }
             Ok((d, syn)) => {
                 // The whole-cycle strength: the ramps' extra cycles dilute it.
-                let record = self
-                    .target
-                    .shaker
-                    .as_ref()
-                    .map(|_| self.out.limits.to_spec());
+                let record = self.recorded_limits();
                 let c = self.play(
                     d.schedule.clone(),
                     d.schedule.fit_quantized.strength,

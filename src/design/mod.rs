@@ -96,6 +96,19 @@ impl DesignOptions {
         }
     }
 
+    /// These options designing by `method` with `synthesis` ([`run`]).
+    pub fn by_method(
+        &self,
+        method: Method,
+        synthesis: &crate::synth::SynthOptions,
+    ) -> DesignOptions {
+        DesignOptions {
+            method,
+            synthesis: *synthesis,
+            ..self.clone()
+        }
+    }
+
     /// These options with the physics `target` states in `settings`: its
     /// nominal friction and its gravity ([`Target::physics`]). Every
     /// design entry point applies it first, so the basis (whose cache key

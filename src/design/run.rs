@@ -39,16 +39,23 @@ impl DesignOutcome {
     /// one.
     ///
     /// ```
-    /// # use platefield::design::{DesignOutcome, DesignOptions};
-    /// # fn kept(outcome: DesignOutcome) -> Option<platefield::design::Method> {
+    /// # use platefield::design::DesignOutcome;
+    /// # fn kept(outcome: DesignOutcome) -> platefield::Result<platefield::design::Method> {
     /// let by_method = outcome.into_method()?;
-    /// Some(by_method.kept().method)
+    /// Ok(by_method.kept().method)
     /// # }
     /// ```
-    pub fn into_method(self) -> Option<MethodDesign> {
+    ///
+    /// # Errors
+    /// [`Error::Invalid`] naming `method` for a sorted or closed-loop
+    /// design.
+    pub fn into_method(self) -> Result<MethodDesign> {
         match self {
-            DesignOutcome::Method(m) => Some(m),
-            _ => None,
+            DesignOutcome::Method(m) => Ok(m),
+            _ => Err(Error::invalid(
+                "method",
+                "the target was sorted or closed-loop designed, not designed by its method",
+            )),
         }
     }
 }
