@@ -143,7 +143,8 @@ impl Candidate {
     }
 }
 
-/// The result of [`design_by_method`].
+/// The design by method: what [`super::run`] returns for a target
+/// designed by [`DesignOptions::method`].
 #[derive(Debug, Clone)]
 pub struct MethodDesign {
     /// The method asked for.
@@ -634,7 +635,7 @@ fn choose(cands: &[Candidate], asked: Method) -> (usize, Choice) {
     (pick, Choice::Rule(better(&cands[runner], &cands[pick]).1))
 }
 
-/// Why [`design_by_method`] kept its candidate.
+/// Why the design by method kept its candidate.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Choice {
     /// A method other than `auto` was asked for: its one candidate.
