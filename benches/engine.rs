@@ -39,8 +39,11 @@ fn cold_design(c: &mut Criterion) {
     let target =
         Target::load(std::path::Path::new("targets/sink.json")).expect("targets/sink.json");
     let opts = DesignOptions {
-        cache_dir: None,
-        quiet: true,
+        basis: platefield::design::BasisSection {
+            cache_dir: None,
+            ..Default::default()
+        },
+        runtime: platefield::work::Runtime::QUIET,
         ..DesignOptions::default()
     };
     let mut group = c.benchmark_group("design");

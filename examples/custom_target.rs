@@ -27,7 +27,7 @@ fn main() -> platefield::Result<()> {
     let target = Target::from_json_str(&json.to_string())?;
     let options = DesignOptions {
         method: Method::Sequence,
-        quiet: true,
+        runtime: platefield::work::Runtime::QUIET,
         ..DesignOptions::default()
     };
     let DesignOutcome::Method(outcome) = design::run(&target, &options)? else {

@@ -30,7 +30,7 @@ fn main() -> platefield::Result<()> {
     let target = Target::load(Path::new(path))?;
     let options = DesignOptions {
         method,
-        quiet: true,
+        runtime: platefield::work::Runtime::QUIET,
         ..DesignOptions::default()
     };
     match design::run(&target, &options)? {

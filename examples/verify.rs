@@ -14,7 +14,7 @@ fn main() -> platefield::Result<()> {
         .nth(1)
         .unwrap_or_else(|| "results/sequenced/sink/schedule.json".into());
     let request = VerifyRequest {
-        quiet: true,
+        runtime: platefield::work::Runtime::QUIET,
         rectangle_poses: 0,
         ..VerifyRequest::default()
     };

@@ -20,8 +20,9 @@
 //! per cycle, so that it runs in seconds:
 //!
 //! ```
-//! use platefield::design::{self, DesignOptions, DesignOutcome, Method};
+//! use platefield::design::{self, BasisSection, DesignOptions, DesignOutcome, Method};
 //! use platefield::request::Target;
+//! use platefield::work::Runtime;
 //!
 //! // Parts drawn to the plate's centre, sampled on a 7 × 7 grid (m).
 //! let target = Target::from_json_str(
@@ -29,10 +30,13 @@
 //!         "grid": {"x": [-0.03, 0.03], "y": [-0.03, 0.03], "n": [7, 7]}}"#,
 //! )?;
 //! let mut options = DesignOptions {
-//!     rotation_step_deg: 45.0, // primitives turned in steps of 45°
-//!     cache_dir: None,         // build the primitive library, do not cache it
-//!     quiet: true,
 //!     method: Method::Sequence,
+//!     basis: BasisSection {
+//!         rotation_step_deg: 45.0, // primitives turned in steps of 45°
+//!         cache_dir: None,         // build the primitive library, do not cache it
+//!         ..BasisSection::default()
+//!     },
+//!     runtime: Runtime::QUIET, // no progress on stderr
 //!     ..DesignOptions::default()
 //! };
 //! options.settings.numerics.steps_per_cycle = 16;

@@ -13,6 +13,7 @@ use platefield::basis::StepsPlan;
 use platefield::design::order::OrderRequest;
 use platefield::dynamics::Preset;
 use platefield::studies;
+use platefield::work::Runtime;
 use platefield::{report, Result};
 
 #[derive(Parser)]
@@ -205,8 +206,10 @@ fn order_request(rest: Vec<u32>, play: &Play, long: &AllowLong, quiet: &Quiet) -
         warmup: play.warmup,
         periods: play.periods,
         model: play.model.map(Preset::model),
-        allow_long: long.allow_long,
-        quiet: quiet.quiet,
+        runtime: Runtime {
+            quiet: quiet.quiet,
+            allow_long: long.allow_long,
+        },
     }
 }
 

@@ -20,6 +20,49 @@ use crate::error::{Error, Result};
 use crate::field::{FieldKind, FieldSettings};
 use crate::progress::Progress;
 
+/// How a long computation runs, not what it computes: its progress output
+/// and the long-run guard. One section shared by the design, `verify`,
+/// `order`, `field` and `poses` requests.
+///
+/// ```
+/// use platefield::work::Runtime;
+/// let r = Runtime { quiet: true, ..Runtime::default() };
+/// assert!(!r.allow_long);
+/// assert_eq!(r.progress(), platefield::progress::ProgressMode::Quiet);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Runtime {
+    /// No progress output (default: progress on stderr).
+    pub quiet: bool,
+    /// Run even when the work estimate exceeds [`LIMIT_S`].
+    pub allow_long: bool,
+}
+
+impl Runtime {
+    /// No progress output, the long-run guard on.
+    pub const QUIET: Runtime = Runtime {
+        quiet: true,
+        allow_long: false,
+    };
+
+    /// The progress mode these settings ask for.
+    pub fn progress(&self) -> crate::progress::ProgressMode {
+        crate::progress::ProgressMode::quiet_if(self.quiet)
+    }
+
+    /// [`Estimate::check`] of `estimate` under this long-run guard.
+    pub fn check(&self, estimate: &Estimate) -> Result<()> {
+        estimate.check(self.allow_long)
+    }
+
+    /// [`Estimate::admit`] of `estimate` under these settings: refused over
+    /// the limit unless `allow_long`, then stated on stderr unless `quiet`
+    /// when it is long enough.
+    pub fn admit(&self, estimate: &Estimate) -> Result<()> {
+        estimate.admit(self.allow_long, self.quiet)
+    }
+}
+
 /// Seconds per RK4 step of one point part on one core: a stated, slightly
 /// pessimistic rate. Measured on the 2-core development machine with other
 /// builds running: 0.3 µs (LineSink screw, force field, 64 steps per

@@ -20,11 +20,17 @@ fn sink() -> Target {
 /// picks for it: four LineSinks at 0/90/180/270°), default physics.
 fn sink_design(target: &Target, min_cycles: u32) -> Design {
     let opts = DesignOptions {
-        min_cycles,
-        kinds: vec![PrimitiveKind::LineSink],
-        rotation_step_deg: 90.0,
-        cache_dir: Some(PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("closed-loop-cache")),
-        quiet: true,
+        schedule: platefield::design::ScheduleSection {
+            min_cycles,
+            ..Default::default()
+        },
+        basis: platefield::design::BasisSection {
+            kinds: vec![PrimitiveKind::LineSink],
+            rotation_step_deg: 90.0,
+            cache_dir: Some(PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("closed-loop-cache")),
+            ..Default::default()
+        },
+        runtime: platefield::work::Runtime::QUIET,
         ..DesignOptions::default()
     };
     design(target, &opts).expect("design")

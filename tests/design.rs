@@ -23,10 +23,13 @@ fn options() -> DesignOptions {
     settings.numerics.steps_per_cycle = 32;
     settings.phases = 6;
     DesignOptions {
-        rotation_step_deg: 45.0,
         settings,
-        cache_dir: Some(PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("design-cache")),
-        quiet: true,
+        basis: platefield::design::BasisSection {
+            rotation_step_deg: 45.0,
+            cache_dir: Some(PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("design-cache")),
+            ..Default::default()
+        },
+        runtime: platefield::work::Runtime::QUIET,
         ..DesignOptions::default()
     }
 }
@@ -70,10 +73,8 @@ fn sink_fits_within_five_percent_with_a_consistent_schedule() {
 #[test]
 fn unreachable_target_reports_a_poor_fit() {
     // A pure rotation from sink-like primitives only.
-    let opts = DesignOptions {
-        kinds: vec![PrimitiveKind::LineSink, PrimitiveKind::LineSource],
-        ..options()
-    };
+    let mut opts = options();
+    opts.basis.kinds = vec![PrimitiveKind::LineSink, PrimitiveKind::LineSource];
     let d = design(&target("rotation", r#"{"kind": "scaled_circle"}"#), &opts)
         .expect("best fit, not an error");
     assert!(d.schedule.poor_fit, "{:?}", d.schedule.fit);
@@ -261,11 +262,9 @@ fn small_sampled_target_designs_on_a_small_grid() {
             "vectors": [[0.0045, 0.0045], [-0.0045, 0.0045], [0.0045, -0.0045], [-0.0045, -0.0045]]}}"#,
     )
     .expect("valid target");
-    let opts = DesignOptions {
-        kinds: vec![PrimitiveKind::LineSink],
-        rotation_step_deg: 90.0,
-        ..options()
-    };
+    let mut opts = options();
+    opts.basis.kinds = vec![PrimitiveKind::LineSink];
+    opts.basis.rotation_step_deg = 90.0;
     let start = std::time::Instant::now();
     let d = design(&t, &opts).expect("design");
     assert!(start.elapsed().as_secs_f64() < 60.0);
@@ -304,11 +303,9 @@ fn dense_scattered_sink_keeps_its_line_sinks() {
     let json = serde_json::json!({"name": "dense", "field": {"kind": "sampled",
         "points": points, "vectors": vectors}});
     let t = Target::from_json_str(&json.to_string()).expect("valid target");
-    let opts = DesignOptions {
-        kinds: vec![PrimitiveKind::LineSink],
-        rotation_step_deg: 90.0,
-        ..options()
-    };
+    let mut opts = options();
+    opts.basis.kinds = vec![PrimitiveKind::LineSink];
+    opts.basis.rotation_step_deg = 90.0;
     let d = design(&t, &opts).expect("design");
     let kept = d.basis.columns.len();
     assert_eq!(

@@ -10,7 +10,7 @@
 
 use std::path::Path;
 
-use platefield::design::method::{design_by_method, Method};
+use platefield::design::method::Method;
 use platefield::design::DesignOptions;
 use platefield::field::{FieldSettings, Grid};
 use platefield::request::Target;
@@ -29,16 +29,14 @@ fn default_design(target: &Target, name: &str) -> (Method, f64, f64) {
         "platefield-design-speed-{name}-{}",
         std::process::id()
     ));
-    let opts = DesignOptions {
-        cache_dir: Some(cache.clone()),
-        quiet: true,
-        ..DesignOptions::default()
-    };
+    let opts = DesignOptions::cached_quiet(&cache);
     let synth = SynthOptions {
         progress: ProgressMode::Quiet,
         ..SynthOptions::default()
     };
-    let m = design_by_method(target, &opts, &synth, Method::Auto).expect("designs");
+    let m = platefield::design::run(target, &opts.by_method(Method::Auto, &synth))
+        .and_then(|o| o.into_method())
+        .expect("designs");
     let _ = std::fs::remove_dir_all(&cache);
     let kept = m.kept();
     let p = kept.played();

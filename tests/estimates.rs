@@ -20,7 +20,7 @@
 
 use std::path::Path;
 
-use platefield::design::method::{design_by_method, Method};
+use platefield::design::method::Method;
 use platefield::design::DesignOptions;
 use platefield::dynamics::steps_taken;
 use platefield::request::Target;
@@ -30,17 +30,15 @@ use platefield::synth::SynthOptions;
 /// Estimated over counted steps of designing `target` by `auto` from a
 /// cold cache in `cache`, printed; the ratio.
 fn ratio(target: &Target, cache: &Path) -> f64 {
-    let opts = DesignOptions {
-        cache_dir: Some(cache.to_path_buf()),
-        quiet: true,
-        ..DesignOptions::default()
-    };
+    let opts = DesignOptions::cached_quiet(cache);
     let synth = SynthOptions {
         progress: ProgressMode::Quiet,
         ..SynthOptions::default()
     };
     let before = steps_taken();
-    let m = design_by_method(target, &opts, &synth, Method::Auto).unwrap();
+    let m = platefield::design::run(target, &opts.by_method(Method::Auto, &synth))
+        .and_then(|o| o.into_method())
+        .unwrap();
     let counted = (steps_taken() - before) as f64;
     let estimate = &m.estimate;
     let r = estimate.steps() / counted;
@@ -169,7 +167,7 @@ fn verify_steps(size: [f64; 2], rectangle_poses: usize, periods: u32) -> (f64, f
         duration: Duration::Repetitions(periods),
         rectangle: size,
         rectangle_poses,
-        quiet: true,
+        runtime: platefield::work::Runtime::QUIET,
         ..VerifyRequest::default()
     };
     let schedule = platefield::schedule::Schedule::load(path).unwrap();

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use platefield::basis::PrimitiveKind;
 use platefield::design::method::{Candidate, Choice, TIE_SHAPE_ERROR};
-use platefield::design::{design_by_method, DesignOptions, Method};
+use platefield::design::{DesignOptions, Method};
 use platefield::field::FieldSettings;
 use platefield::fit::POOR_ERROR;
 use platefield::request::Target;
@@ -32,11 +32,14 @@ fn options(kinds: Vec<PrimitiveKind>) -> DesignOptions {
     let mut settings = FieldSettings::default();
     settings.numerics.steps_per_cycle = 48;
     DesignOptions {
-        rotation_step_deg: 90.0,
-        kinds,
         settings,
-        cache_dir: Some(PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("method-cache")),
-        quiet: true,
+        basis: platefield::design::BasisSection {
+            rotation_step_deg: 90.0,
+            kinds,
+            cache_dir: Some(PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("method-cache")),
+            ..Default::default()
+        },
+        runtime: platefield::work::Runtime::QUIET,
         ..DesignOptions::default()
     }
 }
@@ -83,12 +86,11 @@ fn auto_plays_both_and_keeps_the_better_realised_one() {
     let target = sink_lab(
         r#"{"period": 0.05, "linear": [12, 12, 0.2], "angular": [220, 220, 0], "harmonics": 1}"#,
     );
-    let md = design_by_method(
+    let md = platefield::design::run(
         &target,
-        &options(vec![PrimitiveKind::LineSink]),
-        &synth(),
-        Method::Auto,
+        &options(vec![PrimitiveKind::LineSink]).by_method(Method::Auto, &synth()),
     )
+    .and_then(|o| o.into_method())
     .expect("design");
     assert_eq!(md.candidates.len(), 2, "{:?}", md.failures);
     assert_eq!(md.candidates[0].method, Method::Sequence);
@@ -156,12 +158,11 @@ fn auto_plays_both_and_keeps_the_better_realised_one() {
 /// motion and says why.
 #[test]
 fn auto_keeps_the_method_that_works() {
-    let md = design_by_method(
+    let md = platefield::design::run(
         &sink_lab(LAB),
-        &options(vec![PrimitiveKind::LineSink]),
-        &synth(),
-        Method::Auto,
+        &options(vec![PrimitiveKind::LineSink]).by_method(Method::Auto, &synth()),
     )
+    .and_then(|o| o.into_method())
     .expect("design");
     assert_eq!(md.candidates.len(), 1);
     assert_eq!(md.kept().method, Method::Synthesize);
@@ -176,12 +177,11 @@ fn auto_keeps_the_method_that_works() {
         "{why}"
     );
     // Asked for alone, the failure is the error.
-    let e = design_by_method(
+    let e = platefield::design::run(
         &sink_lab(LAB),
-        &options(vec![PrimitiveKind::LineSink]),
-        &synth(),
-        Method::Sequence,
+        &options(vec![PrimitiveKind::LineSink]).by_method(Method::Sequence, &synth()),
     )
+    .and_then(|o| o.into_method())
     .unwrap_err()
     .to_string();
     assert!(e.contains("shaker limit"), "{e}");
@@ -195,8 +195,12 @@ fn auto_keeps_the_method_that_works() {
 fn sequenced_designs_keep_the_shaker_limits() {
     let kinds = vec![PrimitiveKind::LineSink, PrimitiveKind::Trans];
     let target = sink_lab(r#"{"linear": [30, 30, 1]}"#);
-    let md = design_by_method(&target, &options(kinds.clone()), &synth(), Method::Sequence)
-        .expect("design");
+    let md = platefield::design::run(
+        &target,
+        &options(kinds.clone()).by_method(Method::Sequence, &synth()),
+    )
+    .and_then(|o| o.into_method())
+    .expect("design");
     assert_eq!(md.candidates.len(), 1);
     let d = md.sequence.as_ref().unwrap();
     let over: Vec<&str> = d
@@ -221,7 +225,9 @@ fn sequenced_designs_keep_the_shaker_limits() {
     // Without limits the Trans columns stay in the basis.
     let mut free = sink_lab("{}");
     free.shaker = None;
-    let md = design_by_method(&free, &options(kinds), &synth(), Method::Sequence).unwrap();
+    let md = platefield::design::run(&free, &options(kinds).by_method(Method::Sequence, &synth()))
+        .and_then(|o| o.into_method())
+        .unwrap();
     let d = md.sequence.as_ref().unwrap();
     assert!(d
         .basis
@@ -240,12 +246,11 @@ fn sequenced_designs_keep_the_shaker_limits() {
 fn auto_without_limits_synthesizes_within_the_sequenced_peaks() {
     let mut target = sink_lab("{}");
     target.shaker = None;
-    let md = design_by_method(
+    let md = platefield::design::run(
         &target,
-        &options(vec![PrimitiveKind::LineSink]),
-        &synth(),
-        Method::Auto,
+        &options(vec![PrimitiveKind::LineSink]).by_method(Method::Auto, &synth()),
     )
+    .and_then(|o| o.into_method())
     .expect("design");
     let seq = &md.sequence.as_ref().expect("sequenced").schedule;
     let peaks = export::schedule_peaks(seq);
@@ -293,10 +298,16 @@ fn mix_combines_a_synthesized_motion_with_primitives() {
     ))
     .expect("valid target");
     let kinds = vec![PrimitiveKind::Trans];
-    let alone =
-        design_by_method(&target, &options(kinds.clone()), &synth(), Method::Sequence).unwrap();
+    let alone = platefield::design::run(
+        &target,
+        &options(kinds.clone()).by_method(Method::Sequence, &synth()),
+    )
+    .and_then(|o| o.into_method())
+    .unwrap();
     let alone_error = alone.kept().schedule.fit.relative_l2_error;
-    let md = design_by_method(&target, &options(kinds), &synth(), Method::Mix).unwrap();
+    let md = platefield::design::run(&target, &options(kinds).by_method(Method::Mix, &synth()))
+        .and_then(|o| o.into_method())
+        .unwrap();
     let d = md.mixed.as_ref().expect("mixed design");
     assert!(d
         .basis
@@ -354,12 +365,15 @@ fn a_measure_over_too_few_points_is_not_measured() {
     };
     let opts = options(vec![PrimitiveKind::LineSink]);
     let played = |keep| {
-        let d = design_by_method(&target(keep), &opts, &synth(), Method::Sequence).unwrap();
+        let d = platefield::design::run(&target(keep), &opts.by_method(Method::Sequence, &synth()))
+            .and_then(|o| o.into_method())
+            .unwrap();
         d.candidates[d.chosen].played().clone()
     };
     // Two weighted points are refused before any play, naming the weights
     // (`request::MIN_WEIGHTED_POINTS`).
-    let two = design_by_method(&target(2), &opts, &synth(), Method::Sequence)
+    let two = platefield::design::run(&target(2), &opts.by_method(Method::Sequence, &synth()))
+        .and_then(|o| o.into_method())
         .err()
         .map(|e| e.to_string())
         .unwrap_or_default();

@@ -341,12 +341,20 @@ fn design_order_search_reorders_and_reports() {
     settings.numerics.steps_per_cycle = 32;
     settings.phases = 6;
     let opts = DesignOptions {
-        rotation_step_deg: 90.0,
-        kinds: vec![PrimitiveKind::LineSink, PrimitiveKind::Trans],
         settings,
-        cache_dir: Some(std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("order-cache")),
-        quiet: true,
-        order_search: true,
+        basis: platefield::design::BasisSection {
+            rotation_step_deg: 90.0,
+            kinds: vec![PrimitiveKind::LineSink, PrimitiveKind::Trans],
+            cache_dir: Some(
+                std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("order-cache"),
+            ),
+            ..Default::default()
+        },
+        runtime: platefield::work::Runtime::QUIET,
+        schedule: platefield::design::ScheduleSection {
+            order_search: true,
+            ..Default::default()
+        },
         ..DesignOptions::default()
     };
     let d = design(&target, &opts).unwrap();
@@ -377,7 +385,10 @@ fn design_order_search_reorders_and_reports() {
     let plain = design(
         &target,
         &DesignOptions {
-            order_search: false,
+            schedule: platefield::design::ScheduleSection {
+                order_search: false,
+                ..opts.schedule
+            },
             ..opts
         },
     )

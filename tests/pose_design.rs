@@ -207,7 +207,7 @@ fn rectangle_pose_design_places_the_part() {
         .unwrap()
         .unwrap();
     let opts = DesignOptions {
-        quiet: true,
+        runtime: platefield::work::Runtime::QUIET,
         ..DesignOptions::default()
     };
     let d = design_pose(&req, &opts, DROPS).unwrap();

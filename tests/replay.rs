@@ -14,7 +14,7 @@
 
 mod common;
 
-use platefield::design::method::{design_by_method, judge_check, Method};
+use platefield::design::method::{judge_check, Method};
 use platefield::design::replay::{exported, judge_replay, replay_check};
 use platefield::design::DesignOptions;
 use platefield::dynamics::Friction;
@@ -209,7 +209,7 @@ fn sampled_whirlpool() -> Target {
 fn design_options() -> (DesignOptions, SynthOptions) {
     (
         DesignOptions {
-            quiet: true,
+            runtime: platefield::work::Runtime::QUIET,
             ..DesignOptions::default()
         },
         SynthOptions {
@@ -230,7 +230,9 @@ fn design_options() -> (DesignOptions, SynthOptions) {
 fn sampled_target_reports_what_its_export_replays(method: Method) {
     let target = sampled_whirlpool();
     let (opts, synth) = design_options();
-    let md = design_by_method(&target, &opts, &synth, method).unwrap();
+    let md = platefield::design::run(&target, &opts.by_method(method, &synth))
+        .and_then(|o| o.into_method())
+        .unwrap();
     let kept = &md.kept().schedule;
     let played = md.kept().played();
     let c = replay_check(kept, &exported(kept).unwrap(), "export", None).unwrap();
@@ -291,7 +293,8 @@ fn stacked_sequenced_sink_holds_its_worst_case_over_the_range() {
     let mu: Vec<Friction> = [0.2, 0.3, 0.4].map(Friction::uniform).to_vec();
     let sampled = nominal.sample().unwrap();
     let design = |t: &Target| {
-        design_by_method(t, &opts, &synth, Method::Sequence)
+        platefield::design::run(t, &opts.by_method(Method::Sequence, &synth))
+            .and_then(|o| o.into_method())
             .unwrap()
             .kept()
             .schedule

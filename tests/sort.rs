@@ -169,8 +169,11 @@ fn gentle_translation_moves_the_slippery_class_only() {
 fn shipped_sort() -> (Target, platefield::design::sort::SortDesign) {
     let t = Target::load(Path::new("targets/sort_friction.json")).unwrap();
     let opts = DesignOptions {
-        quiet: true,
-        min_cycles: 1,
+        runtime: platefield::work::Runtime::QUIET,
+        schedule: platefield::design::ScheduleSection {
+            min_cycles: 1,
+            ..Default::default()
+        },
         ..DesignOptions::default()
     };
     let d = design_sort(&t, &opts).unwrap();

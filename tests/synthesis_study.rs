@@ -19,7 +19,7 @@ fn sink_schedule() -> Schedule {
     design(
         &target,
         &DesignOptions {
-            quiet: true,
+            runtime: platefield::work::Runtime::QUIET,
             ..DesignOptions::default()
         },
     )

@@ -6,7 +6,8 @@
 //! `src/cli`, compiled in here, as the library has no clap types) from the argument list the
 //! Python layer builds from keyword arguments and run them with `--json`;
 //! `poses` calls the same `cli::poses::run` with `--json`;
-//! `field` and `export` return numpy arrays of what `field` and `export`
+//! `field` (the library door `platefield::scene::field`) and `export`
+//! return numpy arrays of what `field` and `export`
 //! print. The GIL is released while Rust works.
 
 use std::path::Path;
@@ -175,7 +176,11 @@ fn field<'py>(
             Scene::from_json_str,
         )?;
         let origin = path.as_deref().unwrap_or("scene");
-        cli::field::compute(&s, Path::new(origin), quiet, allow_long)
+        platefield::scene::field(&platefield::scene::FieldRequest {
+            scene: s,
+            source: origin.into(),
+            runtime: platefield::work::Runtime { quiet, allow_long },
+        })
     });
     let f = computed.map_err(library_error)?;
     let [nx, ny] = f.grid.n;

@@ -6,12 +6,12 @@ use clap::{Args, ValueEnum};
 
 use platefield::basis::PrimitiveKind;
 use platefield::design::closed_loop::LoopOptions;
-use platefield::design::{DesignOptions, Method};
+use platefield::design::{BasisSection, DesignOptions, FitSection, Method, ScheduleSection};
 use platefield::dynamics::Preset;
 use platefield::field::FieldKind;
 use platefield::fit::FitMode;
-use platefield::synth::progress::ProgressMode;
 use platefield::synth::SynthOptions;
+use platefield::work::Runtime;
 use platefield::{report, Error, Result};
 
 use super::values::{choices, FIELD_KINDS, PRESETS, PRIMITIVE_KINDS};
@@ -199,19 +199,29 @@ impl DesignArgs {
         let mut shifts = vec![[0.0, 0.0]];
         shifts.extend(self.shift.iter().copied());
         Ok(DesignOptions {
-            mode,
-            kind: self.basis,
-            shifts,
-            rotation_step_deg: self.rotation_step,
-            keep_invalid: self.keep_invalid,
-            max_primitives: self.max_primitives,
-            min_cycles: self.min_cycles,
-            total_cycles: self.cycles,
-            kinds: (self.primitives.clone()).unwrap_or_else(|| PrimitiveKind::ALL.to_vec()),
-            cache_dir: (!self.no_cache).then(|| PathBuf::from(".platefield-cache")),
-            quiet: self.quiet,
-            allow_long: self.allow_long,
-            order_search: self.order_search,
+            basis: BasisSection {
+                kind: self.basis,
+                shifts,
+                rotation_step_deg: self.rotation_step,
+                keep_invalid: self.keep_invalid,
+                kinds: (self.primitives.clone()).unwrap_or_else(|| PrimitiveKind::ALL.to_vec()),
+                cache_dir: (!self.no_cache).then(|| PathBuf::from(".platefield-cache")),
+                ..BasisSection::default()
+            },
+            fit: FitSection {
+                mode,
+                max_primitives: self.max_primitives,
+            },
+            schedule: ScheduleSection {
+                min_cycles: self.min_cycles,
+                total_cycles: self.cycles,
+                order_search: self.order_search,
+                ..ScheduleSection::default()
+            },
+            runtime: Runtime {
+                quiet: self.quiet,
+                allow_long: self.allow_long,
+            },
             ..DesignOptions::default()
         })
     }
@@ -236,7 +246,7 @@ impl DesignArgs {
             robust_synthesis: self.robust_synthesis,
             // Progress is on stderr, so it is shown whatever stdout
             // carries (--json too); only --quiet silences it.
-            progress: ProgressMode::quiet_if(self.quiet),
+            progress: opts.runtime.progress(),
             ..SynthOptions::default()
         };
         synth.refine.seed = self.synth_seed;
@@ -253,10 +263,10 @@ impl DesignArgs {
 /// The command-line flag of each option path [`DesignOptions`]' checks
 /// name (the library speaks in option paths, the command line in flags).
 const FLAGS: [(&str, &str); 8] = [
-    ("total_cycles", "--cycles"),
-    ("min_cycles", "--min-cycles"),
-    ("shifts", "--shift"),
-    ("rotation_step_deg", "--rotation-step"),
+    ("schedule.total_cycles", "--cycles"),
+    ("schedule.min_cycles", "--min-cycles"),
+    ("basis.shifts", "--shift"),
+    ("basis.rotation_step_deg", "--rotation-step"),
     ("method", "--method"),
     ("closed_loop", "--closed-loop"),
     ("closed_loop.stride", "--loop-stride"),

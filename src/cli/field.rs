@@ -4,8 +4,8 @@
 use std::path::Path;
 
 use platefield::output::write_all_atomic;
-use platefield::scene::Scene;
-use platefield::work::Estimate;
+use platefield::scene::{FieldRequest, Scene};
+use platefield::work::Runtime;
 use platefield::{Error, Result};
 
 /// Computes the field of the scene at `scene_path`, writes it as JSON to `out`
@@ -28,7 +28,13 @@ pub fn run(
         }
     }
     let start = std::time::Instant::now();
-    let field = compute(&scene, scene_path, quiet, allow_long)?;
+    let req = FieldRequest {
+        scene,
+        source: scene_path.to_path_buf(),
+        runtime: Runtime { quiet, allow_long },
+    };
+    let field = platefield::scene::field(&req)?;
+    let scene = req.scene;
     let seconds = start.elapsed().as_secs_f64();
     let mut text = serde_json::to_string_pretty(&field.to_json(&scene.settings()))
         .map_err(|e| Error::Physical(e.to_string()))?;
@@ -51,34 +57,4 @@ pub fn run(
         summary.push_str(&format!("wrote {}\n", path.display()));
     }
     Ok(summary)
-}
-
-/// The field of `scene` (loaded from `scene_path`, which physical errors
-/// name), after the work estimate allows it (`allow_long` lifts the limit);
-/// `quiet` hides the progress bar. What `field` and the Python package's
-/// `platefield.field` compute.
-pub fn compute(
-    scene: &Scene,
-    scene_path: &Path,
-    quiet: bool,
-    allow_long: bool,
-) -> Result<platefield::field::Field> {
-    Estimate::new(
-        "scene",
-        "computing the field",
-        "a smaller scene.grid.n, scene.numerics.steps_per_cycle or (force fields) scene.phases",
-    )
-    .plus(platefield::work::field_term(
-        "field",
-        1.0,
-        "field",
-        platefield::field::simulated_points(&scene.motion.to_motion(), &scene.grid) as f64,
-        scene.kind,
-        &scene.settings(),
-    ))
-    .admit(allow_long, quiet)?;
-    scene.compute(quiet).map_err(|e| match e {
-        Error::Physical(m) => Error::Physical(format!("{}: {m}", scene_path.display())),
-        e => e,
-    })
 }

@@ -94,8 +94,10 @@ impl VerifyArgs {
             tol: self.tol,
             rectangle: rect_size(&self.rect)?,
             rectangle_poses: self.rect_poses,
-            allow_long: self.long.allow_long,
-            quiet: self.quiet.quiet,
+            runtime: platefield::work::Runtime {
+                quiet: self.quiet.quiet,
+                allow_long: self.long.allow_long,
+            },
             friction: self
                 .friction
                 .as_deref()

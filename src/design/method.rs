@@ -143,7 +143,8 @@ impl Candidate {
     }
 }
 
-/// The result of [`design_by_method`].
+/// The design by method: what [`super::run`] returns for a target
+/// designed by [`DesignOptions::method`].
 #[derive(Debug, Clone)]
 pub struct MethodDesign {
     /// The method asked for.
@@ -181,118 +182,214 @@ impl MethodDesign {
     }
 }
 
-/// Designs `target` by `method` (see the [module documentation](self)),
-/// plays every candidate and keeps one.
+/// Designs `target` by [`DesignOptions::method`] with
+/// [`DesignOptions::synthesis`] (see the [module documentation](self)),
+/// plays every candidate and keeps one; [`super::run`] is its public door.
+/// The stages, in order: the work refused up front
+/// ([`MethodRun::start`]), the sequenced candidate, the synthesized one
+/// (and its mirror-image share), the mix, then the judgement across the
+/// target's friction and the choice ([`MethodRun::finish`]).
 ///
 /// # Errors
 /// Invalid options; every method asked for failing (the first error).
-pub fn design_by_method(
-    target: &Target,
-    opts: &DesignOptions,
-    synth: &SynthOptions,
-    method: Method,
-) -> Result<MethodDesign> {
+pub(crate) fn design_by_method(target: &Target, opts: &DesignOptions) -> Result<MethodDesign> {
     let opts = &opts.for_target(target);
     opts.validate()?;
-    let mut limits = ShakerLimits::from_spec(target.shaker.as_ref());
-    limits.validate("target.shaker")?;
     let sampled = target.sample()?;
-    let library = super::stages::cold_library_estimate(target, &sampled, opts);
-    let estimate = |limits: &ShakerLimits| {
-        design_estimate(
+    let mut run = MethodRun::start(target, &sampled, opts)?;
+    run.sequence()?;
+    run.synthesis()?;
+    run.mix()?;
+    run.finish()
+}
+
+/// One [`design_by_method`] under way: the target, its options, the
+/// design so far and what the later stages need to know of the earlier.
+struct MethodRun<'a> {
+    target: &'a Target,
+    sampled: &'a SampledTarget,
+    opts: &'a DesignOptions,
+    /// The cold basis library's work, when it is to be built.
+    library: Option<Estimate>,
+    /// The design so far; its `limits` are those the synthesis keeps.
+    out: MethodDesign,
+    /// The sequenced design's error under `auto`, returned when nothing
+    /// else designs.
+    first_error: Option<Error>,
+    /// The synthesis keeps the sequenced schedule's peaks (`auto` without
+    /// the target's own limits).
+    from_sequence: bool,
+}
+
+impl<'a> MethodRun<'a> {
+    /// The run's start: the target's limits checked and the work refused
+    /// up front on them (those of `auto`'s synthesis come from the
+    /// sequenced schedule, within them), the library's own refusal first
+    /// (as the basis stage words it).
+    fn start(
+        target: &'a Target,
+        sampled: &'a SampledTarget,
+        opts: &'a DesignOptions,
+    ) -> Result<MethodRun<'a>> {
+        let method = opts.method;
+        let limits = ShakerLimits::from_spec(target.shaker.as_ref());
+        limits.validate("target.shaker")?;
+        let library = super::stages::cold_library_estimate(target, sampled, opts);
+        if let Some(library) = &library {
+            opts.runtime.check(library)?;
+        }
+        let estimate = design_estimate(
             target,
-            &sampled,
-            synth,
+            sampled,
+            &opts.synthesis,
             opts,
             method,
-            limits,
+            &limits,
             library.clone(),
+        );
+        opts.runtime.check(&estimate)?;
+        if method != Method::Auto {
+            estimate.announce(opts.runtime.quiet);
+        }
+        Ok(MethodRun {
+            target,
+            sampled,
+            opts,
+            library,
+            out: MethodDesign {
+                asked: method,
+                sequence: None,
+                synthesis: None,
+                mixed: None,
+                candidates: Vec::new(),
+                chosen: 0,
+                choice: Choice::Asked(method),
+                failures: Vec::new(),
+                limits,
+                sensitivity: None,
+                estimate,
+            },
+            first_error: None,
+            from_sequence: false,
+        })
+    }
+
+    /// The work of the design with the limits the synthesis keeps now
+    /// ([`design_estimate`]; `auto` states it once the sequenced schedule
+    /// has given them).
+    fn estimate(&self) -> Estimate {
+        design_estimate(
+            self.target,
+            self.sampled,
+            &self.opts.synthesis,
+            self.opts,
+            self.opts.method,
+            &self.out.limits,
+            self.library.clone(),
         )
-    };
-    // Refused up front on the target's limits (those of `auto`'s synthesis
-    // come from the sequenced schedule, within them).
-    // The library's own refusal first (as the basis stage words it).
-    if let Some(library) = &library {
-        library.check(opts.allow_long)?;
     }
-    let first = estimate(&limits);
-    first.check(opts.allow_long)?;
-    if method != Method::Auto {
-        first.announce(opts.quiet);
+
+    /// A candidate of `schedule` (predicted strength `predicted`, the
+    /// limits to record `limits`), played; designed in `design_s` seconds.
+    fn play(
+        &self,
+        schedule: Schedule,
+        predicted: f64,
+        limits: Option<crate::request::ShakerSpec>,
+        design_s: f64,
+    ) -> Result<Candidate> {
+        Candidate::play(
+            (self.target, self.sampled),
+            schedule,
+            predicted,
+            (self.opts.method, limits),
+            design_s,
+        )
     }
-    let mut out = MethodDesign {
-        asked: method,
-        sequence: None,
-        synthesis: None,
-        mixed: None,
-        candidates: Vec::new(),
-        chosen: 0,
-        choice: Choice::Asked(method),
-        failures: Vec::new(),
-        limits: limits.clone(),
-        sensitivity: None,
-        estimate: first,
-    };
-    let mut first_error = None;
-    let mut from_sequence = false;
-    if matches!(method, Method::Sequence | Method::Auto) {
+
+    /// The limits a primitive design records: the limits kept, when the
+    /// target gives its own.
+    fn recorded_limits(&self) -> Option<crate::request::ShakerSpec> {
+        self.target
+            .shaker
+            .as_ref()
+            .map(|_| self.out.limits.to_spec())
+    }
+
+    /// The sequenced candidate (`sequence`, `auto`). Bad input or a
+    /// refused long run (exit 2) ends `auto` too: only a design that is
+    /// physically impossible or did not converge hands over to the
+    /// synthesis.
+    fn sequence(&mut self) -> Result<()> {
+        let method = self.opts.method;
+        if !matches!(method, Method::Sequence | Method::Auto) {
+            return Ok(());
+        }
         let t = Instant::now();
-        match design(target, opts) {
+        match design(self.target, self.opts) {
             Ok(d) => {
-                let record = target.shaker.as_ref().map(|_| limits.to_spec());
-                let c = Candidate::play(
-                    (target, &sampled),
+                let record = self.recorded_limits();
+                let c = self.play(
                     d.schedule.clone(),
                     d.schedule.fit.strength,
-                    (method, record),
+                    record,
                     t.elapsed().as_secs_f64(),
                 )?;
                 // Without the target's own limits, the synthesis gets the
                 // shaker that plays the sequenced schedule (the envelope if
                 // that schedule has no moving primitive to take peaks from).
-                if method == Method::Auto && target.shaker.is_none() {
-                    if let Ok(l) = sequenced_limits(&d.schedule, &limits) {
-                        limits = l;
-                        out.limits = limits.clone();
-                        from_sequence = true;
+                if method == Method::Auto && self.target.shaker.is_none() {
+                    if let Ok(l) = sequenced_limits(&d.schedule, &self.out.limits) {
+                        self.out.limits = l;
+                        self.from_sequence = true;
                     }
                 }
-                out.candidates.push(c);
-                out.sequence = Some(d);
+                self.out.candidates.push(c);
+                self.out.sequence = Some(d);
             }
-            // Bad input or a refused long run (exit 2) ends `auto` too: only
-            // a design that is physically impossible or did not converge
-            // hands over to the synthesis.
             Err(e) if method == Method::Auto && !matches!(e, Error::Invalid { .. }) => {
-                out.failures.push(Failure::new(
+                self.out.failures.push(Failure::new(
                     Method::Sequence,
                     FailureReason::Error(e.to_string()),
                 ));
-                first_error = Some(e);
+                self.first_error = Some(e);
             }
             Err(e) => return Err(e),
         }
+        Ok(())
     }
-    // The mirror-image time-share: asked for, or under `auto` when the
-    // target states a friction range and is symmetric under y → −y.
-    // For a target no reflection maps to itself, the mirror image turned
-    // back onto it by its phase (`turned_mirror_share`).
-    let ranged = target.friction.is_some_and(|f| !f.is_exact());
-    if method == Method::Auto {
-        out.estimate = estimate(&limits);
-        out.estimate.announce(opts.quiet);
-    }
-    let try_mirror = (method == Method::Mirror || (method == Method::Auto && ranged))
-        .then(|| super::mirror::mirror_axis(target, &sampled));
-    if matches!(method, Method::Synthesize | Method::Auto | Method::Mirror) {
+
+    /// The synthesized candidate (`synthesize`, `auto`, `mirror`) and the
+    /// mirror-image time-share: asked for, or under `auto` when the target
+    /// states a friction range and is symmetric under y → −y. For a target
+    /// no reflection maps to itself, the mirror image turned back onto it
+    /// by its phase (`turned_mirror_share`).
+    fn synthesis(&mut self) -> Result<()> {
+        let method = self.opts.method;
+        if method == Method::Auto {
+            self.out.estimate = self.estimate();
+            self.out.estimate.announce(self.opts.runtime.quiet);
+        }
+        if !matches!(method, Method::Synthesize | Method::Auto | Method::Mirror) {
+            return Ok(());
+        }
+        let try_mirror = (method == Method::Mirror || (method == Method::Auto && self.ranged()))
+            .then(|| super::mirror::mirror_axis(self.target, self.sampled));
         let t = Instant::now();
-        match synthesize_schedule(target, &sampled, &limits, opts, synth) {
+        let limits = &self.out.limits;
+        match synthesize_schedule(
+            self.target,
+            self.sampled,
+            limits,
+            self.opts,
+            &self.opts.synthesis,
+        ) {
             Ok((syn, schedule)) => {
-                let mut c = Candidate::play(
-                    (target, &sampled),
+                let spec = Some(limits.to_spec());
+                let mut c = self.play(
                     schedule,
                     syn.realised.strength,
-                    (method, Some(limits.to_spec())),
+                    spec.clone(),
                     t.elapsed().as_secs_f64(),
                 )?;
                 if let (true, Some(p)) = (syn.poor, c.schedule.played.as_mut()) {
@@ -302,98 +399,134 @@ pub fn design_by_method(
                 }
                 if let Some(axis) = try_mirror {
                     let t = Instant::now();
-                    let share = match axis {
-                        Some(axis) => super::mirror::mirror_share(&c.schedule, &limits, axis)?,
-                        None => super::mirror::turned_mirror_share(
-                            &c.schedule,
-                            target,
-                            &region(target, &sampled),
-                            &limits,
-                        )?,
-                    };
-                    out.candidates.push(Candidate::play(
-                        (target, &sampled),
+                    let share = self.mirror_share(&c.schedule, axis)?;
+                    let share = self.play(
                         share,
                         syn.realised.strength,
-                        (method, Some(limits.to_spec())),
+                        spec,
                         c.design_s + t.elapsed().as_secs_f64(),
-                    )?);
+                    )?;
+                    self.out.candidates.push(share);
                 }
                 if method != Method::Mirror {
-                    out.candidates.push(c);
+                    self.out.candidates.push(c);
                 }
-                out.synthesis = Some(syn);
+                self.out.synthesis = Some(syn);
             }
-            Err(e) if method == Method::Auto && !out.candidates.is_empty() => {
-                let reason = if from_sequence {
+            Err(e) if method == Method::Auto && !self.out.candidates.is_empty() => {
+                let reason = if self.from_sequence {
                     FailureReason::WithinSequencedPeaks(e.to_string())
                 } else {
                     FailureReason::Error(e.to_string())
                 };
-                out.failures.push(Failure::new(Method::Synthesize, reason));
+                self.out
+                    .failures
+                    .push(Failure::new(Method::Synthesize, reason));
             }
-            Err(e) => return Err(first_error.unwrap_or(e)),
+            Err(e) => return Err(self.first_error.take().unwrap_or(e)),
+        }
+        Ok(())
+    }
+
+    /// The target states a friction range: every candidate is judged by
+    /// its worst case over it.
+    fn ranged(&self) -> bool {
+        self.target.friction.is_some_and(|f| !f.is_exact())
+    }
+
+    /// The mirror-image time-share of the synthesized `schedule`: about
+    /// `axis` when a reflection maps the target to itself, else turned
+    /// back onto the target by its phase.
+    fn mirror_share(&self, schedule: &Schedule, axis: Option<f64>) -> Result<Schedule> {
+        let limits = &self.out.limits;
+        match axis {
+            Some(axis) => super::mirror::mirror_share(schedule, limits, axis),
+            None => super::mirror::turned_mirror_share(
+                schedule,
+                self.target,
+                &region(self.target, self.sampled),
+                limits,
+            ),
         }
     }
-    // The mix: asked for, or under `auto` when no candidate realises the
-    // target (every one POOR): one motion alone cannot reach it.
-    let all_poor = out.candidates.iter().all(|c| c.played().poor);
-    if method == Method::Mix || (method == Method::Auto && all_poor) {
+
+    /// The mix: asked for, or under `auto` when no candidate realises the
+    /// target (every one POOR): one motion alone cannot reach it.
+    fn mix(&mut self) -> Result<()> {
+        let method = self.opts.method;
+        let all_poor = self.out.candidates.iter().all(|c| c.played().poor);
+        if !(method == Method::Mix || (method == Method::Auto && all_poor)) {
+            return Ok(());
+        }
         let t = Instant::now();
-        match mix_design(target, &sampled, &out, opts, synth) {
+        match mix_design(
+            self.target,
+            self.sampled,
+            &self.out,
+            self.opts,
+            &self.opts.synthesis,
+        ) {
             Ok((d, syn)) if d.schedule.segments.iter().all(|s| s.motion.is_none()) => {
                 // Nothing mixed: the schedule is the sequenced one again.
-                out.failures
+                self.out
+                    .failures
                     .push(Failure::new(Method::Mix, FailureReason::ColumnLeftOut));
-                if out.synthesis.is_none() {
-                    out.synthesis = syn;
+                if self.out.synthesis.is_none() {
+                    self.out.synthesis = syn;
                 }
             }
             Ok((d, syn)) => {
                 // The whole-cycle strength: the ramps' extra cycles dilute it.
-                let c = Candidate::play(
-                    (target, &sampled),
+                let record = self.recorded_limits();
+                let c = self.play(
                     d.schedule.clone(),
                     d.schedule.fit_quantized.strength,
-                    (method, target.shaker.as_ref().map(|_| limits.to_spec())),
+                    record,
                     t.elapsed().as_secs_f64(),
                 )?;
-                out.candidates.push(c);
-                out.mixed = Some(d);
-                if out.synthesis.is_none() {
-                    out.synthesis = syn;
+                self.out.candidates.push(c);
+                self.out.mixed = Some(d);
+                if self.out.synthesis.is_none() {
+                    self.out.synthesis = syn;
                 }
             }
-            Err(e) if method == Method::Auto && !out.candidates.is_empty() => {
-                out.failures.push(Failure::new(
+            Err(e) if method == Method::Auto && !self.out.candidates.is_empty() => {
+                self.out.failures.push(Failure::new(
                     Method::Mix,
                     FailureReason::Error(e.to_string()),
                 ));
             }
-            Err(e) => return Err(first_error.unwrap_or(e)),
+            Err(e) => return Err(self.first_error.take().unwrap_or(e)),
         }
+        Ok(())
     }
-    // Over a friction range every candidate is judged by its worst case.
-    if ranged {
-        for k in 0..out.candidates.len() {
-            let s = candidate_sensitivity(target, &sampled, &out.candidates[k].schedule)?;
-            out.candidates[k].sensitivity = s;
+
+    /// Over a friction range every candidate is judged by its worst case;
+    /// then one is kept ([`choose`]) and the kept one's realised check
+    /// across the target's friction recorded.
+    fn finish(mut self) -> Result<MethodDesign> {
+        let (target, sampled) = (self.target, self.sampled);
+        if self.ranged() {
+            for c in &mut self.out.candidates {
+                c.sensitivity = candidate_sensitivity(target, sampled, &c.schedule)?;
+            }
         }
-    }
-    let (chosen, choice) = choose(&out.candidates, method);
-    out.chosen = chosen;
-    out.choice = choice;
-    let why = out.why();
-    for c in &mut out.candidates {
-        if let Some(p) = c.schedule.played.as_mut() {
-            p.choice = why.clone();
+        let mut out = self.out;
+        let (chosen, choice) = choose(&out.candidates, out.asked);
+        out.chosen = chosen;
+        out.choice = choice;
+        let why = out.why();
+        for c in &mut out.candidates {
+            if let Some(p) = c.schedule.played.as_mut() {
+                p.choice = why.clone();
+            }
         }
+        out.sensitivity = match &out.candidates[chosen].sensitivity {
+            Some(s) => Some(s.clone()),
+            None => candidate_sensitivity(target, sampled, &out.candidates[chosen].schedule)?,
+        };
+        Ok(out)
     }
-    out.sensitivity = match &out.candidates[chosen].sensitivity {
-        Some(s) => Some(s.clone()),
-        None => candidate_sensitivity(target, &sampled, &out.candidates[chosen].schedule)?,
-    };
-    Ok(out)
 }
 
 /// `schedule`'s realised check across the friction the target states
@@ -492,7 +625,7 @@ fn choose(cands: &[Candidate], asked: Method) -> (usize, Choice) {
     (pick, Choice::Rule(better(&cands[runner], &cands[pick]).1))
 }
 
-/// Why [`design_by_method`] kept its candidate.
+/// Why the design by method kept its candidate.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Choice {
     /// A method other than `auto` was asked for: its one candidate.
@@ -693,7 +826,7 @@ pub fn mix_design(
         }
     };
     let mut motion = motion;
-    if let Some(kind) = opts.kinds.first() {
+    if let Some(kind) = opts.basis.kinds.first() {
         motion.period = crate::basis::Primitive::new(*kind).period();
     }
     let ramp = crate::design::basis::MIXED_RAMP_CYCLES;
@@ -728,7 +861,10 @@ pub fn mix_design(
         motion = motion.scaled(fit);
     }
     let mut with_motion = opts.clone();
-    with_motion.motions.push(("Synthesized".into(), motion));
+    with_motion
+        .basis
+        .motions
+        .push(("Synthesized".into(), motion));
     Ok((design(target, &with_motion)?, fresh))
 }
 

@@ -11,7 +11,7 @@
 //! 3. **Schedule** ([`crate::schedule`]): whole cycles per segment, a
 //!    minimum per segment, an order; exportable as controller signals
 //!    ([`crate::schedule::export`]).
-//! 4. **Order** (optional, [`DesignOptions::order_search`]): the segment
+//! 4. **Order** (optional, [`ScheduleSection::order_search`]): the segment
 //!    order and rest insertions that best realise the prediction in
 //!    closed-loop simulation ([`order`]).
 //! 5. **Refine** ([`refine`], a library step `design` does not call yet;
@@ -38,64 +38,38 @@ pub mod sort;
 pub mod stacked;
 mod stages;
 
-use std::path::PathBuf;
 use std::time::Instant;
 
 use serde::Serialize;
 
-use crate::basis::PrimitiveKind;
 use crate::error::{Error, Result};
-use crate::field::{FieldKind, FieldSettings};
+use crate::field::FieldSettings;
 use crate::fit::{self, FitMode, FitOptions, FitProblem, FitSolution};
 use crate::request::{SampledTarget, Target};
-use crate::schedule::{self, Schedule};
+use crate::schedule::Schedule;
+use crate::work::Runtime;
 use order::OrderSearch;
 
 pub use basis::DesignBasis;
-pub use method::{design_by_method, Choice, Method, MethodDesign};
+pub use method::{Choice, Method, MethodDesign};
+pub use options::{BasisSection, FitSection, ScheduleSection};
 pub use run::{run, DesignOutcome};
 
-/// Options of [`design`] (range-checked by [`DesignOptions::validate`]).
-#[derive(Debug, Clone)]
+/// Options of [`design`] and [`run`], in sections (each range-checked
+/// by its own `validate`, all of them by [`DesignOptions::validate`],
+/// whose errors name the option path: `schedule.min_cycles`,
+/// `basis.rotation_step_deg`, `closed_loop.stride`).
+#[derive(Debug, Clone, Default)]
 pub struct DesignOptions {
-    /// Fit mode (default `shape`).
-    pub mode: FitMode,
-    /// Basis field kind (default velocity).
-    pub kind: FieldKind,
-    /// Rotation step of the basis copies (degrees, default 15).
-    pub rotation_step_deg: f64,
-    /// Horizontal shifts of the basis copies (default: none).
-    pub shifts: Vec<[f64; 2]>,
-    /// Keep basis columns that are invalid somewhere in the region.
-    pub keep_invalid: bool,
-    /// At most this many segments.
-    pub max_primitives: Option<usize>,
-    /// Minimum cycles per segment.
-    pub min_cycles: u32,
-    /// Total cycles (default: the shortest within the quantisation tolerance).
-    pub total_cycles: Option<u32>,
-    /// Tolerance on the field's quantisation error.
-    pub quantization_tol: f64,
-    /// Primitive kinds allowed in the basis (default: all eight).
-    pub kinds: Vec<PrimitiveKind>,
-    /// Simulation settings of the basis.
+    /// Simulation settings (the physics and numerics) of the basis, the
+    /// synthesis and every play.
     pub settings: FieldSettings,
-    /// Basis cache folder (`None`: no cache).
-    pub cache_dir: Option<PathBuf>,
-    /// No progress output.
-    pub quiet: bool,
-    /// Build the library even when its work estimate exceeds
-    /// [`crate::work::LIMIT_S`].
-    pub allow_long: bool,
-    /// After scheduling, search the segment order and rest insertions that
-    /// best realise the prediction ([`order`]) and play the
-    /// schedule in that order.
-    pub order_search: bool,
-    /// Six-signal motions added to the basis as columns, with their labels
-    /// (e.g. a motion synthesized for the target, so the fit can mix it
-    /// with primitives): each column is the motion's own field of the
-    /// basis kind, simulated on the target's sampling grid.
-    pub motions: Vec<(String, crate::motion::Signals)>,
+    /// The primitive basis the fit chooses from.
+    pub basis: BasisSection,
+    /// The fit of time fractions to the target.
+    pub fit: FitSection,
+    /// Whole cycles per segment and the segment order.
+    pub schedule: ScheduleSection,
     /// How [`run`] designs (default [`Method::Auto`]; [`design`] always
     /// sequences).
     pub method: Method,
@@ -105,9 +79,37 @@ pub struct DesignOptions {
     /// [`run`] closes the loop on the sequenced design with these options
     /// ([`closed_loop`]; `None`: open loop).
     pub closed_loop: Option<closed_loop::LoopOptions>,
+    /// Progress output and the long-run guard.
+    pub runtime: Runtime,
 }
 
 impl DesignOptions {
+    /// The default options with the basis cached in `cache` and no
+    /// progress output (the studies' and tests' designs).
+    pub fn cached_quiet(cache: &std::path::Path) -> DesignOptions {
+        DesignOptions {
+            basis: BasisSection {
+                cache_dir: Some(cache.to_path_buf()),
+                ..BasisSection::default()
+            },
+            runtime: Runtime::QUIET,
+            ..DesignOptions::default()
+        }
+    }
+
+    /// These options designing by `method` with `synthesis` ([`run`]).
+    pub fn by_method(
+        &self,
+        method: Method,
+        synthesis: &crate::synth::SynthOptions,
+    ) -> DesignOptions {
+        DesignOptions {
+            method,
+            synthesis: *synthesis,
+            ..self.clone()
+        }
+    }
+
     /// These options with the physics `target` states in `settings`: its
     /// nominal friction and its gravity ([`Target::physics`]). Every
     /// design entry point applies it first, so the basis (whose cache key
@@ -117,32 +119,6 @@ impl DesignOptions {
         DesignOptions {
             settings: target.physics(&self.settings),
             ..self.clone()
-        }
-    }
-}
-
-impl Default for DesignOptions {
-    fn default() -> Self {
-        DesignOptions {
-            mode: FitMode::Shape,
-            kind: FieldKind::Velocity,
-            rotation_step_deg: 15.0,
-            shifts: vec![[0.0, 0.0]],
-            keep_invalid: false,
-            max_primitives: None,
-            min_cycles: schedule::DEFAULT_MIN_CYCLES,
-            total_cycles: None,
-            quantization_tol: schedule::DEFAULT_QUANTIZATION_TOL,
-            kinds: PrimitiveKind::ALL.to_vec(),
-            settings: FieldSettings::default(),
-            cache_dir: Some(PathBuf::from(".platefield-cache")),
-            quiet: false,
-            allow_long: false,
-            order_search: false,
-            motions: Vec::new(),
-            method: Method::Auto,
-            synthesis: crate::synth::SynthOptions::default(),
-            closed_loop: None,
         }
     }
 }
@@ -181,7 +157,7 @@ pub struct Design {
     pub basis_time_s: f64,
     /// Seconds spent fitting, verifying and scheduling.
     pub fit_time_s: f64,
-    /// The order search, when [`DesignOptions::order_search`] was set.
+    /// The order search, when [`ScheduleSection::order_search`] was set.
     pub order_search: Option<OrderSearch>,
     /// Seconds spent in the order search.
     pub order_time_s: f64,

@@ -1,41 +1,66 @@
-//! Range checks of [`DesignOptions`], run before any library build, so a
-//! count or a shift from the command line can neither overflow nor ask for
-//! hours of simulation without a word.
+//! The sections of [`DesignOptions`] with their defaults and range
+//! checks, run before any library build, so a count or a shift from the
+//! command line can neither overflow nor ask for hours of simulation
+//! without a word. Each check names the option's path
+//! (`schedule.total_cycles`, `basis.shifts`).
+
+use std::path::PathBuf;
 
 use super::DesignOptions;
+use crate::basis::PrimitiveKind;
 use crate::error::{Error, Result};
-use crate::schedule::MAX_SEGMENT_CYCLES;
+use crate::field::FieldKind;
+use crate::fit::FitMode;
+use crate::schedule::{DEFAULT_MIN_CYCLES, DEFAULT_QUANTIZATION_TOL, MAX_SEGMENT_CYCLES};
 
 /// Largest basis shift (m) along either axis: the plate regions the
 /// primitives are built for span a few centimetres, and the library grid
 /// grows with the shift (a 1 m shift asked for 4.4 M samples per primitive).
 pub const MAX_SHIFT_M: f64 = 0.1;
 
-impl DesignOptions {
-    /// Checks every option against its allowed range, naming the option's
-    /// path (`total_cycles`, `closed_loop.stride`) in the error.
+/// The primitive basis the fit chooses from (`basis.*`).
+#[derive(Debug, Clone)]
+pub struct BasisSection {
+    /// Basis field kind (default velocity).
+    pub kind: FieldKind,
+    /// Rotation step of the basis copies (degrees, default 15).
+    pub rotation_step_deg: f64,
+    /// Horizontal shifts of the basis copies (default: none, `[[0, 0]]`).
+    pub shifts: Vec<[f64; 2]>,
+    /// Keep basis columns that are invalid somewhere in the region.
+    pub keep_invalid: bool,
+    /// Primitive kinds allowed in the basis (default: all eight).
+    pub kinds: Vec<PrimitiveKind>,
+    /// Six-signal motions added to the basis as columns, with their labels
+    /// (e.g. a motion synthesized for the target, so the fit can mix it
+    /// with primitives): each column is the motion's own field of the
+    /// basis kind, simulated on the target's sampling grid.
+    pub motions: Vec<(String, crate::motion::Signals)>,
+    /// Basis cache folder (default `.platefield-cache`; `None`: no cache).
+    pub cache_dir: Option<PathBuf>,
+}
+
+impl Default for BasisSection {
+    fn default() -> Self {
+        BasisSection {
+            kind: FieldKind::Velocity,
+            rotation_step_deg: 15.0,
+            shifts: vec![[0.0, 0.0]],
+            keep_invalid: false,
+            kinds: PrimitiveKind::ALL.to_vec(),
+            motions: Vec::new(),
+            cache_dir: Some(PathBuf::from(".platefield-cache")),
+        }
+    }
+}
+
+impl BasisSection {
+    /// Checks `basis.shifts` and `basis.rotation_step_deg`.
     pub fn validate(&self) -> Result<()> {
-        if let Some(n) = self.total_cycles {
-            if !(1..=MAX_SEGMENT_CYCLES).contains(&n) {
-                return Err(Error::invalid(
-                    "total_cycles",
-                    format!("must be in 1..={MAX_SEGMENT_CYCLES}, got {n}"),
-                ));
-            }
-        }
-        if !(1..=MAX_SEGMENT_CYCLES).contains(&self.min_cycles) {
-            return Err(Error::invalid(
-                "min_cycles",
-                format!(
-                    "must be in 1..={MAX_SEGMENT_CYCLES}, got {}",
-                    self.min_cycles
-                ),
-            ));
-        }
         for s in &self.shifts {
             if !s.iter().all(|v| v.is_finite() && v.abs() <= MAX_SHIFT_M) {
                 return Err(Error::invalid(
-                    "shifts",
+                    "basis.shifts",
                     format!(
                         "each coordinate must be in [-{MAX_SHIFT_M}, {MAX_SHIFT_M}] m, got {:.3e},{:.3e}",
                         s[0], s[1]
@@ -44,6 +69,86 @@ impl DesignOptions {
             }
         }
         rotation_step(self.rotation_step_deg)
+    }
+}
+
+/// The fit of time fractions to the target (`fit.*`).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct FitSection {
+    /// Fit mode (default `shape`).
+    pub mode: FitMode,
+    /// At most this many segments (default: no limit).
+    pub max_primitives: Option<usize>,
+}
+
+impl FitSection {
+    /// Checks `fit.max_primitives` (at least 1 when given).
+    pub fn validate(&self) -> Result<()> {
+        if self.max_primitives == Some(0) {
+            return Err(Error::invalid("fit.max_primitives", "must be ≥ 1"));
+        }
+        Ok(())
+    }
+}
+
+/// Whole cycles per segment and the segment order (`schedule.*`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ScheduleSection {
+    /// Minimum cycles per segment.
+    pub min_cycles: u32,
+    /// Total cycles (default: the shortest within the quantisation tolerance).
+    pub total_cycles: Option<u32>,
+    /// Tolerance on the field's quantisation error.
+    pub quantization_tol: f64,
+    /// After scheduling, search the segment order and rest insertions that
+    /// best realise the prediction ([`super::order`]) and play the
+    /// schedule in that order.
+    pub order_search: bool,
+}
+
+impl Default for ScheduleSection {
+    fn default() -> Self {
+        ScheduleSection {
+            min_cycles: DEFAULT_MIN_CYCLES,
+            total_cycles: None,
+            quantization_tol: DEFAULT_QUANTIZATION_TOL,
+            order_search: false,
+        }
+    }
+}
+
+impl ScheduleSection {
+    /// Checks `schedule.total_cycles` and `schedule.min_cycles`.
+    pub fn validate(&self) -> Result<()> {
+        if let Some(n) = self.total_cycles {
+            if !(1..=MAX_SEGMENT_CYCLES).contains(&n) {
+                return Err(Error::invalid(
+                    "schedule.total_cycles",
+                    format!("must be in 1..={MAX_SEGMENT_CYCLES}, got {n}"),
+                ));
+            }
+        }
+        if !(1..=MAX_SEGMENT_CYCLES).contains(&self.min_cycles) {
+            return Err(Error::invalid(
+                "schedule.min_cycles",
+                format!(
+                    "must be in 1..={MAX_SEGMENT_CYCLES}, got {}",
+                    self.min_cycles
+                ),
+            ));
+        }
+        Ok(())
+    }
+}
+
+impl DesignOptions {
+    /// Checks every section against its allowed ranges, naming the
+    /// option's path (`schedule.total_cycles`, `closed_loop.stride`) in
+    /// the error.
+    pub fn validate(&self) -> Result<()> {
+        self.schedule.validate()?;
+        self.basis.validate()?;
+        self.fit.validate()
     }
 }
 
@@ -65,7 +170,7 @@ pub const MIN_ROTATION_STEP_DEG: f64 = 1.0;
 fn rotation_step(step: f64) -> Result<()> {
     if !(MIN_ROTATION_STEP_DEG..=360.0).contains(&step) {
         return Err(Error::invalid(
-            "rotation_step_deg",
+            "basis.rotation_step_deg",
             format!(
                 "must be in [{MIN_ROTATION_STEP_DEG}, 360] degrees (at most 360 rotated copies of each primitive), got {}",
                 crate::input::num(step)
@@ -97,7 +202,7 @@ fn rotation_step(step: f64) -> Result<()> {
         .map(|s| crate::input::num((s * 1000.0).round() / 1000.0))
         .collect();
     Err(Error::invalid(
-        "rotation_step_deg",
+        "basis.rotation_step_deg",
         format!(
             "{} does not divide 360 (360/{} = {:.4} rotated copies; a whole number is needed); nearest steps that divide 360: {}",
             crate::input::num(step),

@@ -644,10 +644,8 @@ pub struct OrderRequest {
     pub periods: u32,
     /// Model override (default: the schedule's own).
     pub model: Option<Model>,
-    /// Run even when the work estimate exceeds [`crate::work::LIMIT_S`].
-    pub allow_long: bool,
-    /// No progress output.
-    pub quiet: bool,
+    /// Progress output and the long-run guard.
+    pub runtime: crate::work::Runtime,
 }
 
 /// The work of an order search of `schedule` with `opts`
@@ -687,21 +685,45 @@ pub fn work_estimate(schedule: &Schedule, opts: &OrderOptions) -> Estimate {
     )
 }
 
+/// What `platefield order` found (written by `crate::report::order`).
+#[derive(Debug, Clone)]
+pub struct OrderOutcome {
+    /// The schedule searched, as read.
+    pub schedule: Schedule,
+    /// Every order and rest insertion judged, and the one chosen.
+    pub search: OrderSearch,
+}
+
 /// `platefield order`: searches the orders and rest insertions of the
 /// schedule at `path` on `n × n` points over ±3 cm with the schedule's own
 /// physics (the model overridden by `model` when given; `warmup` and
-/// `periods` are minimums); returns the schedule and the search (written
-/// by `crate::report::order`). The work is estimated first and refused
-/// above [`crate::work::LIMIT_S`] unless `allow_long`.
-pub fn order_schedule_file(path: &Path, req: &OrderRequest) -> Result<(Schedule, OrderSearch)> {
+/// `periods` are minimums); returns the schedule and the search. The work
+/// is estimated first and refused above [`crate::work::LIMIT_S`] unless
+/// `runtime.allow_long`.
+///
+/// ```no_run
+/// use platefield::design::order::{order_schedule_file, OrderRequest};
+/// use platefield::work::Runtime;
+/// let req = OrderRequest {
+///     n: 5,
+///     rest_cycles: vec![0, 2],
+///     warmup: 1,
+///     periods: 1,
+///     model: None,
+///     runtime: Runtime::QUIET,
+/// };
+/// let outcome = order_schedule_file(std::path::Path::new("results/sink/schedule.json"), &req)?;
+/// println!("{} orders judged", outcome.search.candidates.len());
+/// # Ok::<(), platefield::Error>(())
+/// ```
+pub fn order_schedule_file(path: &Path, req: &OrderRequest) -> Result<OrderOutcome> {
     let OrderRequest {
         n,
         ref rest_cycles,
         warmup,
         periods,
         model,
-        allow_long,
-        quiet: _,
+        runtime,
     } = *req;
     if !(2..=41).contains(&n) {
         return Err(Error::invalid(
@@ -740,12 +762,12 @@ pub fn order_schedule_file(path: &Path, req: &OrderRequest) -> Result<(Schedule,
     }
     let opts = OrderOptions {
         rest_cycles: rest_cycles.to_vec(),
-        progress: ProgressMode::quiet_if(req.quiet),
+        progress: runtime.progress(),
         ..OrderOptions::new(verify, grid_points(n, 0.03))
     };
-    work_estimate(&schedule, &opts).admit(allow_long, req.quiet)?;
+    runtime.admit(&work_estimate(&schedule, &opts))?;
     let (_, search) = choose_order(&schedule, &opts)?;
-    Ok((schedule, search))
+    Ok(OrderOutcome { schedule, search })
 }
 
 #[cfg(test)]

@@ -33,6 +33,33 @@ pub enum DesignOutcome {
     Method(MethodDesign),
 }
 
+impl DesignOutcome {
+    /// The design by method, when that is what ran (a target without
+    /// classes and no closed loop): every candidate played and the kept
+    /// one.
+    ///
+    /// ```
+    /// # use platefield::design::DesignOutcome;
+    /// # fn kept(outcome: DesignOutcome) -> platefield::Result<platefield::design::Method> {
+    /// let by_method = outcome.into_method()?;
+    /// Ok(by_method.kept().method)
+    /// # }
+    /// ```
+    ///
+    /// # Errors
+    /// [`Error::Invalid`] naming `method` for a sorted or closed-loop
+    /// design.
+    pub fn into_method(self) -> Result<MethodDesign> {
+        match self {
+            DesignOutcome::Method(m) => Ok(m),
+            _ => Err(Error::invalid(
+                "method",
+                "the target was sorted or closed-loop designed, not designed by its method",
+            )),
+        }
+    }
+}
+
 /// Designs `target` as `opts` ask: the one entry point of the inverse
 /// design (see the [`crate`] docs for an example).
 ///
@@ -41,12 +68,12 @@ pub enum DesignOutcome {
 /// * [`DesignOptions::closed_loop`] given: the sequenced design
 ///   ([`design`]) and the closed loop on it; not with a method that
 ///   synthesizes;
-/// * otherwise [`design_by_method`] with [`DesignOptions::method`] and
+/// * otherwise the design by [`DesignOptions::method`] and
 ///   [`DesignOptions::synthesis`].
 ///
 /// # Errors
 /// [`Error::Invalid`] naming the option path (`method`, `closed_loop`,
-/// `total_cycles`, …) or the target's JSON path; the errors of the design
+/// `schedule.total_cycles`, …) or the target's JSON path; the errors of the design
 /// that runs.
 pub fn run(target: &Target, opts: &DesignOptions) -> Result<DesignOutcome> {
     let synthesizes = matches!(
@@ -77,10 +104,5 @@ pub fn run(target: &Target, opts: &DesignOptions) -> Result<DesignOutcome> {
             closed_loop,
         });
     }
-    Ok(DesignOutcome::Method(design_by_method(
-        target,
-        opts,
-        &opts.synthesis,
-        opts.method,
-    )?))
+    Ok(DesignOutcome::Method(design_by_method(target, opts)?))
 }

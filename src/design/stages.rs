@@ -60,28 +60,33 @@ pub(crate) fn basis_stage(target: &Target, opts: &DesignOptions) -> Result<Basis
         y: g.y,
         n: g.n,
     });
-    let angles = super::rotations(opts.rotation_step_deg);
+    let angles = super::rotations(opts.basis.rotation_step_deg);
     let (primitives, source) = library_source(target_grid.as_ref(), &sampled, opts);
 
     let estimate = library_estimate(&primitives, &source, opts);
-    let check = || estimate.check(opts.allow_long);
+    let check = || opts.runtime.check(&estimate);
     let t_basis = Instant::now();
-    let (library, cache_status) = match &opts.cache_dir {
+    let (library, cache_status) = match &opts.basis.cache_dir {
         Some(dir) => {
             let (lib, status) = BasisCache::new(dir).get_or_build_checked(
                 &primitives,
                 &source,
                 &opts.settings,
-                opts.kind,
-                opts.quiet,
+                opts.basis.kind,
+                opts.runtime.quiet,
                 check,
             )?;
             (lib, status.to_string())
         }
         None => {
             check()?;
-            let lib =
-                FieldLibrary::build(&primitives, &source, &opts.settings, opts.kind, opts.quiet);
+            let lib = FieldLibrary::build(
+                &primitives,
+                &source,
+                &opts.settings,
+                opts.basis.kind,
+                opts.runtime.quiet,
+            );
             (lib, "no cache".to_string())
         }
     };
@@ -108,12 +113,17 @@ fn library_source(
     opts: &DesignOptions,
 ) -> (Vec<Primitive>, Grid) {
     let region = basis::sampling_grid(target_grid, &sampled.points);
-    let angles_rad: Vec<f64> = super::rotations(opts.rotation_step_deg)
+    let angles_rad: Vec<f64> = super::rotations(opts.basis.rotation_step_deg)
         .iter()
         .map(|a| a.to_radians())
         .collect();
-    let source = symmetry::source_grid(&region, &angles_rad, &opts.shifts);
-    let primitives = opts.kinds.iter().map(|k| Primitive::new(*k)).collect();
+    let source = symmetry::source_grid(&region, &angles_rad, &opts.basis.shifts);
+    let primitives = opts
+        .basis
+        .kinds
+        .iter()
+        .map(|k| Primitive::new(*k))
+        .collect();
     (primitives, source)
 }
 
@@ -131,8 +141,8 @@ pub(crate) fn cold_library_estimate(
         n: g.n,
     });
     let (primitives, source) = library_source(grid.as_ref(), sampled, opts);
-    let cached = opts.cache_dir.as_ref().is_some_and(|dir| {
-        let key = BasisCache::key(&primitives, &source, &opts.settings, opts.kind);
+    let cached = opts.basis.cache_dir.as_ref().is_some_and(|dir| {
+        let key = BasisCache::key(&primitives, &source, &opts.settings, opts.basis.kind);
         BasisCache::new(dir).path(&key).is_file()
     });
     (!cached).then(|| library_estimate(&primitives, &source, opts))
@@ -145,7 +155,7 @@ pub(crate) fn library_estimate(
     source: &Grid,
     opts: &DesignOptions,
 ) -> Estimate {
-    let what = match opts.kind {
+    let what = match opts.basis.kind {
         FieldKind::Force => "building the force library",
         FieldKind::Velocity => "building the velocity library",
     };
@@ -163,7 +173,7 @@ pub(crate) fn library_estimate(
                 1.0,
                 "field",
                 crate::field::simulated_points(&p.motion(), source) as f64,
-                opts.kind,
+                opts.basis.kind,
                 &opts.settings,
             ))
         },
@@ -267,11 +277,11 @@ pub(crate) fn assemble_library(
     basis::assemble(
         library,
         &stage.angles,
-        &opts.shifts,
+        &opts.basis.shifts,
         stage.target_grid.as_ref(),
         &sampled.points,
         &sampled.weights,
-        opts.keep_invalid,
+        opts.basis.keep_invalid,
     )
 }
 
@@ -318,8 +328,8 @@ pub(crate) fn fit_basis(
         row_weights: Some(&d),
     };
     let options = FitOptions {
-        mode: opts.mode,
-        max_primitives: opts.max_primitives,
+        mode: opts.fit.mode,
+        max_primitives: opts.fit.max_primitives,
         ..FitOptions::default()
     };
     let full = strongest(&problem, &options)?;
@@ -338,13 +348,13 @@ pub(crate) fn fit_basis(
     })
 }
 
-/// Appends a column for each of [`DesignOptions::motions`]: the motion's
+/// Appends a column for each of [`BasisSection::motions`](super::BasisSection::motions): the motion's
 /// field of the basis kind, simulated on the target's sampling grid with
 /// the design's settings (left out, and listed, where it is invalid).
 fn add_motion_columns(basis: &mut DesignBasis, stage: &BasisStage, opts: &DesignOptions) {
     let sampled = &stage.sampled;
     let grid = basis::sampling_grid(stage.target_grid.as_ref(), &sampled.points);
-    for (label, signals) in &opts.motions {
+    for (label, signals) in &opts.basis.motions {
         let source = ColumnSource::Motion {
             label: label.clone(),
             signals: signals.clone(),
@@ -356,7 +366,7 @@ fn add_motion_columns(basis: &mut DesignBasis, stage: &BasisStage, opts: &Design
             stage.target_grid.is_some(),
             &sampled.points,
             &sampled.weights,
-            opts.keep_invalid,
+            opts.basis.keep_invalid,
         ) {
             Ok(c) => basis.columns.push(c),
             Err(e) => basis.excluded.push(e),
@@ -517,22 +527,22 @@ pub(crate) fn schedule_stage(
         &solution.fractions,
         &periods,
         rest_period,
-        opts.min_cycles,
-        opts.total_cycles,
-        opts.quantization_tol,
+        opts.schedule.min_cycles,
+        opts.schedule.total_cycles,
+        opts.schedule.quantization_tol,
         &field_error,
     );
     let mut order: Vec<usize> = (0..m).filter(|&j| quant.cycles[j] > 0).collect();
     // A given total too short for any segment to reach its minimum cycles
     // leaves no moving segment: name --cycles, not the empty schedule.
     let largest = solution.fractions.iter().copied().fold(0.0, f64::max);
-    if let (Some(n), true, true) = (opts.total_cycles, order.is_empty(), largest > 0.0) {
-        let need = (0.5 * f64::from(opts.min_cycles.max(1)) / largest).ceil();
+    if let (Some(n), true, true) = (opts.schedule.total_cycles, order.is_empty(), largest > 0.0) {
+        let need = (0.5 * f64::from(opts.schedule.min_cycles.max(1)) / largest).ceil();
         return Err(Error::invalid(
             "--cycles",
             format!(
                 "{n} cycles leave no segment of at least --min-cycles {} cycles (the fit's largest time fraction is {largest:.3}): give --cycles ≥ {need} or a smaller --min-cycles",
-                opts.min_cycles
+                opts.schedule.min_cycles
             ),
         ));
     }
@@ -588,14 +598,14 @@ pub(crate) fn schedule_stage(
         total_cycles: 0,
         period_s: 0.0,
         segments,
-        min_cycles: opts.min_cycles,
+        min_cycles: opts.schedule.min_cycles,
         fit: fit.fit_metrics,
         fit_quantized,
         quantization_error: quant.error,
         poor_fit: solution.unreachable
             || fit.fit_metrics.relative_l2_error > fit::UNREACHABLE_REL_ERROR,
         solver: schedule::SolverInfo {
-            mode: opts.mode.name().into(),
+            mode: opts.fit.mode.name().into(),
             status: if solution.independent_kept {
                 format!(
                     "{}, its weights replaced by the independent NNLS optimum",
@@ -621,8 +631,8 @@ pub(crate) fn schedule_stage(
                 })
                 .collect(),
             kind: basis.kind,
-            rotation_step_deg: opts.rotation_step_deg,
-            shifts: opts.shifts.clone(),
+            rotation_step_deg: opts.basis.rotation_step_deg,
+            shifts: opts.basis.shifts.clone(),
         },
         settings: opts.settings,
         played: None,
@@ -631,7 +641,7 @@ pub(crate) fn schedule_stage(
     Ok((schedule, achieved_quantized))
 }
 
-/// Order stage (only with [`DesignOptions::order_search`]): runs the order
+/// Order stage (only with [`ScheduleSection::order_search`](super::ScheduleSection::order_search)): runs the order
 /// search on `schedule` with the design's physics on
 /// [`ORDER_SEARCH_POINTS`]² points over the bounding box of the target's
 /// weighted points, and returns the schedule in the order found with the
@@ -642,7 +652,7 @@ pub(crate) fn order_stage(
     target: &SampledTarget,
     opts: &DesignOptions,
 ) -> Result<(Schedule, Option<OrderSearch>)> {
-    if !opts.order_search || schedule.segments.iter().all(|s| !s.is_moving()) {
+    if !opts.schedule.order_search || schedule.segments.iter().all(|s| !s.is_moving()) {
         return Ok((schedule, None));
     }
     let region: Vec<[f64; 2]> = target
@@ -655,7 +665,7 @@ pub(crate) fn order_stage(
     let points = order::region_grid(&region, ORDER_SEARCH_POINTS);
     let verify = PlayOptions::from_settings(&opts.settings);
     let order_opts = OrderOptions {
-        progress: crate::progress::ProgressMode::quiet_if(opts.quiet),
+        progress: opts.runtime.progress(),
         ..OrderOptions::new(verify, points)
     };
     let (reordered, search) = choose_order(&schedule, &order_opts)?;

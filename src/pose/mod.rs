@@ -11,6 +11,7 @@ mod check;
 mod drops;
 mod equilibria;
 mod lifted;
+mod request;
 mod run;
 mod source;
 mod work;
@@ -23,6 +24,7 @@ pub use drops::{
 };
 pub use equilibria::{equilibria, settle, wrap, Equilibrium, Region};
 pub use lifted::{GridField, LiftedField, PointField, Pose, Twist};
+pub use request::{check_counts, poses, PoseOutcome, PoseRequest, MAX_PLAY_S, SCAN};
 pub use run::{analyse, drop_starts, PoseAnalysis, MAX_DROPS};
 pub use source::{realised_field, schedule_field, REALISED_STRIDE};
 pub use work::{drops_estimate, played_points, steps_per_period};

@@ -62,7 +62,8 @@ pub fn order(path: &Path, req: &OrderRequest, out: &Path) -> Result<String> {
     // schedule is cheap; its errors are the ones the search would give).
     let schedule = crate::schedule::Schedule::load(path)?;
     crate::output::check_writable(&out.join(schedule.target_folder()?).join("verify"), "--out")?;
-    let (schedule, search) = crate::design::order::order_schedule_file(path, req)?;
+    let crate::design::order::OrderOutcome { schedule, search } =
+        crate::design::order::order_schedule_file(path, req)?;
     let md = order::order_md(path, req.n, &schedule, &search);
     let file = order::write(&md, &schedule, out)?;
     Ok(format!(

@@ -9,8 +9,7 @@ use crate::part::Part;
 use crate::plot::{escape, num};
 use crate::pose::{PlayedBasins, Pose, PoseAnalysis};
 
-/// The grid of poses (x, y, θ) scanned for an unknown support's bounds.
-pub const SCAN: [usize; 3] = [24, 24, 36];
+pub use crate::pose::SCAN;
 
 /// What a run adds to the lifted field's analysis.
 #[derive(Debug, Clone, Copy, Default)]

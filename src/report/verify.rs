@@ -513,8 +513,10 @@ pub fn run(
     // check, a `design` step: estimated before anything is played.
     let sweep = req.friction.map(|f| f.sweep_values()).unwrap_or_default();
     if !sweep.is_empty() {
-        crate::design::method::sweep_estimate(&schedule, sweep.len())
-            .admit(req.allow_long, req.quiet)?;
+        req.runtime.admit(&crate::design::method::sweep_estimate(
+            &schedule,
+            sweep.len(),
+        ))?;
     }
     // The replay is judged like the sweep: its file is read (and refused)
     // and its work estimated before anything is played.
@@ -522,8 +524,9 @@ pub fn run(
         Some(p) => {
             let (file, source) = (crate::motion::held_csv::read(p)?, p.display().to_string());
             crate::design::replay::check_replay(&schedule, &file, &source)?;
-            crate::design::replay::replay_estimate(&schedule, file.rate)
-                .admit(req.allow_long, req.quiet)?;
+            req.runtime.admit(&crate::design::replay::replay_estimate(
+                &schedule, file.rate,
+            ))?;
             Some((file, source))
         }
         None => None,

@@ -45,6 +45,7 @@
 
 mod compute;
 mod friction;
+mod request;
 mod validate;
 
 use std::path::Path;
@@ -61,6 +62,7 @@ use crate::input;
 use crate::motion::Motion;
 
 pub use friction::{FrictionSpec, Interval, MU};
+pub use request::{field, FieldRequest};
 pub use validate::primitive as validate_primitive;
 pub use validate::resolved as validate_resolved;
 pub use validate::signals as validate_signals;

@@ -2,7 +2,7 @@
 //! realises (issue 27): `results/design_speed.md`.
 //!
 //! Every shipped target ([`TARGETS`]) is designed as `design --method auto`
-//! does ([`design_by_method`], default options, the basis from the cache)
+//! does (`design_by_method`, default options, the basis from the cache)
 //! under each of the [`BUDGETS`]: the synthesis's evaluation budget and
 //! stall rule, the played polish's plays and stall rule. For each it writes
 //! the synthesized candidate's realised shape error and strength (the
@@ -155,13 +155,8 @@ pub struct Row {
 /// # Errors
 /// The design fails.
 pub fn row(target: &Target, budget: &Budget, cache: &Path) -> Result<Row> {
-    let opts = DesignOptions {
-        cache_dir: Some(cache.to_path_buf()),
-        quiet: true,
-        ..DesignOptions::default()
-    };
     let d = SynthOptions::default();
-    let synth = SynthOptions {
+    let synthesis = SynthOptions {
         max_evaluations: budget.evaluations,
         lm: budget.lm,
         polish_lm: budget.polish_lm,
@@ -174,7 +169,12 @@ pub fn row(target: &Target, budget: &Budget, cache: &Path) -> Result<Row> {
     let steps0 = crate::dynamics::steps_taken();
     let cpu0 = process_cpu_seconds();
     let clock = Instant::now();
-    let m = design_by_method(target, &opts, &synth, Method::Auto)?;
+    let opts = DesignOptions {
+        method: Method::Auto,
+        synthesis,
+        ..DesignOptions::cached_quiet(cache)
+    };
+    let m = design_by_method(target, &opts)?;
     let seconds = clock.elapsed().as_secs_f64();
     let counted_steps = crate::dynamics::steps_taken() - steps0;
     let estimated_steps = m.estimate.steps();
@@ -206,11 +206,7 @@ pub fn row(target: &Target, budget: &Budget, cache: &Path) -> Result<Row> {
 
 /// Builds (or reads) `target`'s basis library into `cache`.
 fn warm_cache(target: &Target, cache: &Path) -> Result<()> {
-    let opts = DesignOptions {
-        cache_dir: Some(cache.to_path_buf()),
-        quiet: true,
-        ..DesignOptions::default()
-    };
+    let opts = DesignOptions::cached_quiet(cache);
     crate::design::design(target, &opts).map(|_| ())
 }
 

@@ -38,8 +38,8 @@ pub fn write_fit_quality(targets: &[PathBuf], base: &DesignOptions, out: &Path) 
         let target = Target::load(path)?;
         for mode in modes() {
             let opts = DesignOptions {
-                mode,
-                quiet: true,
+                fit: crate::design::FitSection { mode, ..base.fit },
+                runtime: crate::work::Runtime::QUIET,
                 ..base.clone()
             };
             match design(&target, &opts) {

@@ -157,7 +157,7 @@ fn pose_target(md: &mut String, summary: &mut String, name: &str) -> Result<()> 
     let req = PoseRequest::load(Path::new(&path))?
         .ok_or_else(|| Error::invalid(path.clone(), "is not a pose target"))?;
     let opts = crate::design::DesignOptions {
-        quiet: true,
+        runtime: crate::work::Runtime::QUIET,
         ..Default::default()
     };
     let d = design_pose(&req, &opts, DROPS)?;

@@ -90,18 +90,22 @@ impl Row {
     }
 }
 
-fn options(quiet: bool) -> (DesignOptions, SynthOptions) {
-    let synth = SynthOptions {
-        progress: crate::progress::ProgressMode::quiet_if(quiet),
-        ..SynthOptions::default()
+/// `design`'s default options designing by `method`, progress unless
+/// `quiet`.
+fn options(method: Method, quiet: bool) -> DesignOptions {
+    let runtime = crate::work::Runtime {
+        quiet,
+        allow_long: false,
     };
-    (
-        DesignOptions {
-            quiet,
-            ..DesignOptions::default()
+    DesignOptions {
+        method,
+        synthesis: SynthOptions {
+            progress: runtime.progress(),
+            ..SynthOptions::default()
         },
-        synth,
-    )
+        runtime,
+        ..DesignOptions::default()
+    }
 }
 
 /// Designs `target` with `method` and plays the kept design at
@@ -113,8 +117,7 @@ pub fn design_rows(
     frictions: &[f64],
     (quiet, replay): (bool, bool),
 ) -> Result<Vec<Row>> {
-    let (opts, synth) = options(quiet);
-    let md = design_by_method(target, &opts, &synth, method)?;
+    let md = design_by_method(target, &options(method, quiet))?;
     let kept = &md.kept().schedule;
     let sampled = target.sample()?;
     let values: Vec<Friction> = frictions.iter().map(|&m| Friction::uniform(m)).collect();

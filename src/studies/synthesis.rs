@@ -523,11 +523,7 @@ fn synthesize_row(
 /// from `results/<name>/schedule.json`, which holds whichever method
 /// `design --method auto` kept.
 pub fn sequenced(target: &Target, cache: &Path) -> Result<Schedule> {
-    let opts = DesignOptions {
-        cache_dir: Some(cache.to_path_buf()),
-        quiet: true,
-        ..DesignOptions::default()
-    };
+    let opts = DesignOptions::cached_quiet(cache);
     Ok(design(target, &opts)?.schedule)
 }
 

@@ -32,7 +32,7 @@ use crate::field::Grid;
 use crate::play::measure::{verify_points_ticked, PlayOptions, RealisedField};
 use crate::play::sensitivity::Sensitivity;
 use crate::play::{ScheduleMotion, V2};
-use crate::progress::{Progress, ProgressMode};
+use crate::progress::Progress;
 use crate::request::{Attractor, FieldSpec};
 use crate::schedule::Schedule;
 use crate::work::{Estimate, Term, PLANAR_POINT_STEP_COST};
@@ -75,10 +75,8 @@ pub struct VerifyRequest {
     pub rectangle: [f64; 2],
     /// Rectangle start poses (0: none).
     pub rectangle_poses: usize,
-    /// Run even when the work estimate exceeds [`crate::work::LIMIT_S`].
-    pub allow_long: bool,
-    /// No progress output.
-    pub quiet: bool,
+    /// Progress output and the long-run guard.
+    pub runtime: crate::work::Runtime,
     /// Another friction to play at, or a sweep ([`super::friction`];
     /// default: the schedule's own).
     pub friction: Option<FrictionArg>,
@@ -99,8 +97,7 @@ impl Default for VerifyRequest {
             tol: 0.003,
             rectangle: [0.02, 0.005],
             rectangle_poses: 4,
-            allow_long: false,
-            quiet: false,
+            runtime: crate::work::Runtime::default(),
             friction: None,
             replay: None,
         }
@@ -482,7 +479,20 @@ pub fn progress_weights(work: &Estimate, counts: [usize; 3]) -> [u64; 3] {
 }
 
 /// `platefield verify`: runs `req` on the schedule at `path` with the
-/// physics its basis was built with (nothing is written here).
+/// physics its basis was built with (nothing is written here). The one
+/// door of the verification: [`VerifyRequest`] in, [`VerifyReport`] out
+/// (the friction sweep and the export's replay, judged by the design's
+/// own check, are added above this module, in `crate::report::verify`,
+/// since `verify` does not import `design`).
+///
+/// ```no_run
+/// use platefield::verify::{verify_schedule_file, VerifyRequest};
+/// use platefield::work::Runtime;
+/// let req = VerifyRequest { runtime: Runtime::QUIET, ..VerifyRequest::default() };
+/// let report = verify_schedule_file(std::path::Path::new("results/sink/schedule.json"), &req)?;
+/// println!("realised {:?}, designed {}", report.realised_strength, report.design_strength);
+/// # Ok::<(), platefield::Error>(())
+/// ```
 pub fn verify_schedule_file(path: &Path, req: &VerifyRequest) -> Result<VerifyReport> {
     req.validate()?;
     if let Some(f) = &req.friction {
@@ -529,7 +539,7 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest) -> Result<VerifyRe
         _ => periods,
     };
     let work = work_estimate(&schedule, req, periods, rect_periods);
-    work.admit(req.allow_long, req.quiet)?;
+    req.runtime.admit(&work)?;
     let poses = rectangle_poses(&g, req.rectangle_poses);
     let counts = [req.points * req.points, starts.len(), poses.len()];
     let weights = progress_weights(&work, counts);
@@ -537,7 +547,7 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest) -> Result<VerifyRe
         "verify",
         "k RK4 steps",
         weights.iter().zip(counts).map(|(w, n)| w * n as u64).sum(),
-        ProgressMode::quiet_if(req.quiet),
+        req.runtime.progress(),
     );
     let tick_by = |k: usize| {
         let (p, w) = (&progress, weights[k]);

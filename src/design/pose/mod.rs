@@ -93,7 +93,7 @@ pub struct PoseDesign {
 /// # Ok::<(), platefield::Error>(())
 /// ```
 pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Result<PoseDesign> {
-    if !opts.quiet {
+    if !opts.runtime.quiet {
         eprintln!(
             "pose: one synthesis (about half a minute of CPU), then at most {} rounds of {} probes × {} s and {drops} drops of ≥ {} s on the planar simulator (about 0.2 s of CPU per 20 s drop)",
             correct::ROUNDS,

@@ -31,7 +31,8 @@
 
 use super::search::{wrap_symmetric, Family};
 use super::PoseRequest;
-use crate::design::{design_by_method, DesignOptions, MethodDesign};
+use crate::design::method::design_by_method;
+use crate::design::{DesignOptions, MethodDesign};
 use crate::dynamics::V2;
 use crate::error::{Error, Result};
 use crate::field::Grid;
@@ -184,7 +185,7 @@ pub fn synthesize_centred(
         n: [SYNTH_N, SYNTH_N],
     };
     let target = ellipse_target(req, V2::zeros(), 0.0, grid);
-    design_by_method(&target, opts, synth, Method::Synthesize)
+    design_by_method(&target, &opts.by_method(Method::Synthesize, synth))
 }
 
 /// The lifted stable pose of the centred motion that the placement moves

@@ -1,0 +1,218 @@
+//! [`poses`]: the one door of `platefield poses` — where a part comes to
+//! rest in a field, in which orientation, and from how many drops each.
+//!
+//! The source is a target (its requested field is the point field), a
+//! scene (its point-part steady-state velocity field on its grid, computed
+//! here whatever its `kind`) or a designed schedule (the time-weighted
+//! field of its segments on its target's grid, [`super::schedule_field`]).
+//! The region is the source's grid. With [`PoseRequest::play`] (schedules
+//! only) every drop is also played by the planar simulator through the
+//! schedule ([`super::played_basins`]). For a part with an unknown support
+//! the equilibrium bounds ([`super::Bounds`]) are scanned over the region
+//! ([`SCAN`]).
+
+use std::path::{Path, PathBuf};
+
+use serde_json::Value;
+
+use super::bounds::Bounds;
+use super::drops::{played_basins, DropPlay, PlayedBasins};
+use super::equilibria::Region;
+use super::lifted::{GridField, PointField, Pose};
+use super::run::{analyse, PoseAnalysis, MAX_DROPS};
+use super::source::schedule_field;
+use super::work::drops_estimate;
+use crate::error::{Error, Result};
+use crate::field::{Field, FieldKind, Grid};
+use crate::part::{Part, Support};
+use crate::progress::Progress;
+use crate::request::Target;
+use crate::scene::Scene;
+use crate::schedule::Schedule;
+use crate::work::{with_counted_progress, PLANAR_POINT_STEP_COST};
+
+/// Longest [`PoseRequest::play`] (s).
+pub const MAX_PLAY_S: f64 = 3600.0;
+
+/// The grid of poses (x, y, θ) scanned for an unknown support's bounds.
+pub const SCAN: [usize; 3] = [24, 24, 36];
+
+/// What `platefield poses` is asked to do.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PoseRequest {
+    /// The part's JSON file.
+    pub part: PathBuf,
+    /// The source's JSON file: a target, a scene or a schedule.
+    pub source: PathBuf,
+    /// Random drops (1..=[`MAX_DROPS`]).
+    pub drops: usize,
+    /// Seconds of planar simulation per drop through a schedule source
+    /// (`None`: no play; at most [`MAX_PLAY_S`]).
+    pub play: Option<f64>,
+    /// The played drops' progress and long-run guard
+    /// ([`super::drops_estimate`]).
+    pub runtime: crate::work::Runtime,
+}
+
+/// What [`poses`] found (written by `crate::report::poses`).
+#[derive(Debug, Clone)]
+pub struct PoseOutcome {
+    /// The part, as read.
+    pub part: Part,
+    /// Equilibria, their stability and basins along the lifted field.
+    pub analysis: PoseAnalysis,
+    /// The drops played through the schedule (with [`PoseRequest::play`]).
+    pub played: Option<PlayedBasins>,
+    /// The poses of the [`SCAN`] that may rest for some admissible
+    /// support (a part with an unknown support).
+    pub bounds: Option<Vec<Pose>>,
+}
+
+/// A point field, its grid, the grid's JSON path and the schedule it came
+/// from (if any).
+type Source = (Box<dyn PointField>, Grid, &'static str, Option<Schedule>);
+
+/// The point field and its region from `source` (module docs).
+fn point_field(source: &Path) -> Result<Source> {
+    let text = crate::input::read_input(source).map_err(|e| Error::Io {
+        path: source.display().to_string(),
+        source: e,
+    })?;
+    let value: Value = serde_json::from_str(&text)
+        .map_err(|e| Error::invalid(source.display().to_string(), format!("not JSON: {e}")))?;
+    if value.get("motion").is_some() {
+        let scene = Scene::load(source)?;
+        let settings = scene.settings();
+        let field = Field::compute(
+            &scene.motion.to_motion(),
+            &scene.grid,
+            FieldKind::Velocity,
+            &settings,
+            &|| {},
+        );
+        return Ok((
+            Box::new(GridField::new(&field)),
+            scene.grid,
+            "scene.grid",
+            None,
+        ));
+    }
+    if value.get("segments").is_some() {
+        let schedule = Schedule::load(source)?;
+        let Some(grid) = schedule.target_spec.as_ref().and_then(|t| t.grid) else {
+            return Err(Error::invalid(
+                "schedule.target_spec.grid",
+                "a pose analysis needs the schedule's target grid as its region",
+            ));
+        };
+        let field = schedule_field(&schedule, &grid)?;
+        return Ok((
+            Box::new(field),
+            grid,
+            "schedule.target_spec.grid",
+            Some(schedule),
+        ));
+    }
+    if value.get("field").is_some() {
+        let target = Target::load(source)
+            .map_err(|e| Error::invalid(source.display().to_string(), e.to_string()))?;
+        let Some(grid) = target.grid else {
+            return Err(Error::invalid(
+                "target.grid",
+                "a pose analysis needs the target's grid as its region",
+            ));
+        };
+        return Ok((Box::new(target.field.clone()), grid, "target.grid", None));
+    }
+    Err(Error::invalid(
+        "SOURCE",
+        format!(
+            "{}: must be a target (with \"field\"), a scene (with \"motion\") or a schedule (with \"segments\")",
+            source.display()
+        ),
+    ))
+}
+
+/// The pose analysis `req` asks for (module docs).
+///
+/// ```no_run
+/// use platefield::pose::{poses, PoseRequest};
+/// let req = PoseRequest {
+///     part: "targets/parts/triangle.json".into(),
+///     source: "targets/sink.json".into(),
+///     drops: 200,
+///     play: None,
+/// };
+/// let outcome = poses(&req)?;
+/// println!("{} equilibria", outcome.analysis.equilibria.len());
+/// # Ok::<(), platefield::Error>(())
+/// ```
+///
+/// # Errors
+/// [`Error::Invalid`] naming `--drops`, `--play`, `SOURCE` or a JSON path;
+/// a part that does not fit the region; the source's own errors.
+pub fn poses(req: &PoseRequest) -> Result<PoseOutcome> {
+    check_counts(req.drops, req.play)?;
+    let part = Part::load(&req.part)?;
+    let (field, grid, path, schedule) = point_field(&req.source)?;
+    part.check_fits(grid.x[1] - grid.x[0], grid.y[1] - grid.y[0], path)?;
+    let region = Region {
+        x: grid.x,
+        y: grid.y,
+    };
+    // The drops' play is refused (a non-schedule source, or work over the
+    // limit) and its work stated before anything is computed.
+    let play = match (req.play, &schedule) {
+        (None, _) => None,
+        (Some(_), None) => {
+            return Err(Error::invalid(
+                "--play",
+                "needs a schedule as SOURCE (the drops are played through it)",
+            ))
+        }
+        (Some(t), Some(s)) => {
+            let sm = crate::play::ScheduleMotion::from_schedule(s)?;
+            let p = DropPlay::new(&s.settings, t);
+            let work = drops_estimate(&part, &sm, req.drops, &p);
+            req.runtime.admit(&work)?;
+            Some((sm, p, work))
+        }
+    };
+    let analysis = analyse(&part, field.as_ref(), region, req.drops);
+    let played = play.map(|(sm, p, work)| {
+        let progress = Progress::new(
+            "poses",
+            "k planar steps",
+            (work.steps() / PLANAR_POINT_STEP_COST / 1e3).ceil() as u64,
+            req.runtime.progress(),
+        );
+        with_counted_progress(&progress, || played_basins(&analysis, &part, &sm, &p))
+    });
+    let bounds = matches!(part.support, Support::Unknown { .. })
+        .then(|| Bounds::new(&part, field.as_ref()).scan(&region, SCAN));
+    Ok(PoseOutcome {
+        part,
+        analysis,
+        played,
+        bounds,
+    })
+}
+
+/// `drops` in 1..=[`MAX_DROPS`] and `play` in (0, [`MAX_PLAY_S`]] s.
+pub fn check_counts(drops: usize, play: Option<f64>) -> Result<()> {
+    if !(1..=MAX_DROPS).contains(&drops) {
+        return Err(Error::invalid(
+            "--drops",
+            format!("must be in 1..={MAX_DROPS}, got {drops}"),
+        ));
+    }
+    if let Some(t) = play {
+        if !(t > 0.0 && t <= MAX_PLAY_S) {
+            return Err(Error::invalid(
+                "--play",
+                format!("must be in (0, {MAX_PLAY_S}] s, got {t}"),
+            ));
+        }
+    }
+    Ok(())
+}
