@@ -6,7 +6,9 @@
 //! The sink designed by `auto` with the default options (≈ 10 s CPU):
 //! its played check within the issue's goal, shape ≤ 5 % at strength
 //! ≥ 0.65 s⁻¹ (the Nelder–Mead path of before: 4.74 % at 0.701); and
-//! line_sink_30 (≈ 15 s CPU) within 5 % of the Nelder–Mead strength.
+//! line_sink_30 (≈ 11 s CPU) within 5 % of the Nelder–Mead strength and
+//! 0.5 points of its shape error (squeeze_trans's bar, the same, is
+//! ignored while it fails).
 
 use std::path::Path;
 
@@ -59,24 +61,38 @@ fn default_sink_design_meets_the_played_goal() {
 
 /// Issue 27's bar for least squares: within 5 % of the Nelder–Mead path's
 /// played strength (line_sink_30: 3.93 % at 0.408 s⁻¹) at a shape error at
-/// most 0.5 points above its. The strength row 1 − ŝ/s_ref of before
-/// pulled the synthesis back to the seed's strength: 2.10 % at 0.302.
-///
-/// Ignored while it fails (issue 27, session 4, "speed5"): since the
-/// played polish plays the motion exactly as the realised check does (a
-/// 10-cycle segment, the period after the windows included) and keeps
-/// only what the check's rule prefers, line_sink_30's default design
-/// plays 2.78 % at 0.350 s⁻¹ (before: 3.01 % at 0.420, reached by a
-/// polish that measured another play of the motion). Run it with
-/// `cargo test --release --test design_speed -- --ignored`.
+/// most 0.5 points above its. Measured (issue 27, session 5, "speed6"):
+/// 3.48 % at 0.726 s⁻¹ since the synthesis's shape block steers by the
+/// whole shape error with the strength row's reach 4
+/// (`platefield::synth::objective`); 2.78 % at 0.350 before, with the
+/// cost's hinge as the block (the first Gauss–Newton step went for
+/// strength alone, to 34.8 % shape, and the run crept on).
 #[test]
-#[ignore = "fails since the polish plays the check's measure: 0.350 < 0.388 s⁻¹ (speed5 report)"]
 fn default_line_sink_30_keeps_the_nelder_mead_strength() {
     let t = Target::load(Path::new("targets/line_sink_30.json")).expect("shipped target");
     let (method, shape, strength) = default_design(&t, "line_sink_30");
     assert_eq!(method, Method::Synthesize);
     assert!(shape <= 0.0393 + 0.005, "played shape {shape}");
     assert!(strength >= 0.95 * 0.408, "played strength {strength}");
+}
+
+/// Issue 27's bar for squeeze_trans: the Nelder–Mead path played 3.32 %
+/// at 0.790 s⁻¹, so ≤ 3.82 % at ≥ 0.751 s⁻¹.
+///
+/// Ignored while it fails (issue 27, session 5, "speed6"): the default
+/// design plays 3.48 % at 0.694 s⁻¹ (0.644 before this session); the
+/// least-squares run from the transport start presses the peak limits
+/// (relative excess 3–5 % clamped away at every step) and gains strength
+/// slowly, where Nelder–Mead reached 0.84 s⁻¹ at 38.8 s CPU. Run it with
+/// `cargo test --release --test design_speed -- --ignored`.
+#[test]
+#[ignore = "fails: squeeze_trans plays 0.694 < 0.751 s⁻¹ (speed6 report)"]
+fn default_squeeze_trans_keeps_the_nelder_mead_strength() {
+    let t = Target::load(Path::new("targets/squeeze_trans.json")).expect("shipped target");
+    let (method, shape, strength) = default_design(&t, "squeeze_trans");
+    assert_eq!(method, Method::Synthesize);
+    assert!(shape <= 0.0332 + 0.005, "played shape {shape}");
+    assert!(strength >= 0.95 * 0.790, "played strength {strength}");
 }
 
 #[test]

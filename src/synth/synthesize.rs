@@ -35,7 +35,9 @@ const PEAK_TOL: f64 = 1e-9;
 /// sink stops after fewer). With the strength row asking for strength up
 /// to [`super::objective::STRENGTH_REACH`] times the seed's, the longer
 /// run is what lifts line_sink_30 (played 0.302 s⁻¹ with three steps of
-/// 0.3, 0.420 with these after the polish; `platefield design-speed`).
+/// 0.3 and the row's reach 1; 0.726 at 3.5 % with these, the reach 4 and
+/// the always-on shape block of [`super::objective`], after the polish;
+/// `platefield design-speed`).
 pub const SYNTH_LM: LmOptions = LmOptions {
     max_iterations: 6,
     lambda0: 1e-2,
