@@ -52,9 +52,15 @@
 //! line_sink_30 played 0.498 s⁻¹ at 2.2 %, squeeze_trans 0.650 at 3.5 %;
 //! a = 4: 0.726 at 3.5 % and 0.694 at 3.5 %; a = 6 over-reaches,
 //! squeeze_trans 0.707 at 4.4 %; `design --method auto`, played check).
-//! (With a = 1, as before issue 27, the row was zero at the seed's
-//! strength and pulled any stronger motion back to it.) Under several
-//! physics each adds its own first block.
+//! The strength scale s_g that [`crate::synth::synthesize`] gives is the
+//! realised coarse strength of the start the run begins from (the
+//! polish's s₀ is its start's played strength alike), not the seed's
+//! predicted one: squeeze_trans's transport start realises 0.60 s⁻¹
+//! against a nominal 1.0, and with s_g = 1.0 the row's slope was 0.6 of
+//! the cost's (played 0.694 at 3.48 %; with the start's, 0.710 at
+//! 2.46 %). (With a = 1, as before issue 27, the row was zero at the
+//! seed's strength and pulled any stronger motion back to it.) Under
+//! several physics each adds its own first block.
 
 use std::sync::Mutex;
 use std::time::Instant;
