@@ -6,7 +6,9 @@
 //! The sink designed by `auto` with the default options (≈ 10 s CPU):
 //! its played check within the issue's goal, shape ≤ 5 % at strength
 //! ≥ 0.65 s⁻¹ (the Nelder–Mead path of before: 4.74 % at 0.701); and
-//! line_sink_30 (≈ 15 s CPU) within 5 % of the Nelder–Mead strength.
+//! line_sink_30 (≈ 11 s CPU) within 5 % of the Nelder–Mead strength and
+//! 0.5 points of its shape error (squeeze_trans's bar, the same, is
+//! ignored while it fails).
 
 use std::path::Path;
 
@@ -57,24 +59,46 @@ fn default_sink_design_meets_the_played_goal() {
 
 /// Issue 27's bar for least squares: within 5 % of the Nelder–Mead path's
 /// played strength (line_sink_30: 3.93 % at 0.408 s⁻¹) at a shape error at
-/// most 0.5 points above its. The strength row 1 − ŝ/s_ref of before
-/// pulled the synthesis back to the seed's strength: 2.10 % at 0.302.
+/// most 0.5 points above its. Measured (issue 27, session 5, "speed6"):
+/// 3.66 % at 0.725 s⁻¹ since the synthesis's shape block steers by the
+/// whole shape error with the strength row's reach 4
+/// (`platefield::synth::objective`); 2.78 % at 0.350 before, with the
+/// cost's hinge as the block (the first Gauss–Newton step went for
+/// strength alone, to 34.8 % shape, and the run crept on).
+#[test]
+fn default_line_sink_30_keeps_the_nelder_mead_strength() {
+    meets_the_nelder_mead_bar("line_sink_30", 0.0393, 0.408);
+}
+
+/// Issue 27's bar for squeeze_trans: the Nelder–Mead path played 3.32 %
+/// at 0.790 s⁻¹, so ≤ 3.82 % at ≥ 0.751 s⁻¹.
 ///
-/// Ignored while it fails (issue 27, session 4, "speed5"): since the
-/// played polish plays the motion exactly as the realised check does (a
-/// 10-cycle segment, the period after the windows included) and keeps
-/// only what the check's rule prefers, line_sink_30's default design
-/// plays 2.78 % at 0.350 s⁻¹ (before: 3.01 % at 0.420, reached by a
-/// polish that measured another play of the motion). Run it with
+/// Ignored while it fails (issue 27, session 5, "speed6"): the default
+/// design plays 2.46 % at 0.710 s⁻¹ (2.66 % at 0.644 before this
+/// session): the shape has room, the strength does not; the
+/// least-squares run from the transport start presses the peak limits
+/// (relative excess 3–5 % clamped away at every step) and gains strength
+/// slowly, where Nelder–Mead reached 0.84 s⁻¹ at 38.8 s CPU. Run it with
 /// `cargo test --release --test design_speed -- --ignored`.
 #[test]
-#[ignore = "fails since the polish plays the check's measure: 0.350 < 0.388 s⁻¹ (speed5 report)"]
-fn default_line_sink_30_keeps_the_nelder_mead_strength() {
-    let t = Target::load(Path::new("targets/line_sink_30.json")).expect("shipped target");
-    let (method, shape, strength) = default_design(&t, "line_sink_30");
+#[ignore = "fails: squeeze_trans plays 0.710 < 0.751 s⁻¹ (speed6 report)"]
+fn default_squeeze_trans_keeps_the_nelder_mead_strength() {
+    meets_the_nelder_mead_bar("squeeze_trans", 0.0332, 0.790);
+}
+
+/// Issue 27's bar: the default design of the shipped target `name` is
+/// synthesized and plays a shape error at most 0.5 points above the
+/// Nelder–Mead path's `shape` and a strength at least 95 % of its
+/// `strength`.
+fn meets_the_nelder_mead_bar(name: &str, shape0: f64, strength0: f64) {
+    let t = Target::load(Path::new(&format!("targets/{name}.json"))).expect("shipped target");
+    let (method, shape, strength) = default_design(&t, name);
     assert_eq!(method, Method::Synthesize);
-    assert!(shape <= 0.0393 + 0.005, "played shape {shape}");
-    assert!(strength >= 0.95 * 0.408, "played strength {strength}");
+    assert!(shape <= shape0 + 0.005, "{name}: played shape {shape}");
+    assert!(
+        strength >= 0.95 * strength0,
+        "{name}: played strength {strength}"
+    );
 }
 
 #[test]

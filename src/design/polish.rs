@@ -47,10 +47,13 @@
 //! ([`shape_block`]), a strength row, 20 · max(0, e_grid − grid budget),
 //! the excess, 10 · the margin violation, √(10 · invalid fraction) and
 //! √(10 · extra lost fraction). The strength row is a − ŝ/s₀ with a =
-//! [`STRENGTH_REACH`], whose square has the cost's slope −1/s₀ at ŝ = s₀
-//! ([`crate::synth::objective`]: it asks for strength as the cost does;
-//! line_sink_30, within budget, plays 0.420 s⁻¹ with it and 0.378 with the
-//! row 1 − ŝ/(1.1 s₀) of before). Shape first, as the cost: when the
+//! [`STRENGTH_REACH`] (2), whose square has the cost's slope −1/s₀ at
+//! ŝ = s₀: it asks for strength as the cost does (line_sink_30, within
+//! budget, played 0.420 s⁻¹ with it and 0.378 with the row
+//! 1 − ŝ/(1.1 s₀) of before, in session 4). Unlike the synthesis's
+//! ([`crate::synth::objective`]), the played shape block is the cost's
+//! hinge: the polish's steps are short (at most 0.05 of the limits) and it
+//! plays what the synthesis already balanced. Shape first, as the cost: when the
 //! start's played shape is over the budget, the first half of the steps
 //! run with 1 − ŝ/([`POLISH_GOAL`] s₀), which asks for 10 % more and lets
 //! the shape block lead (the whirlpool, 6 % at the start, stays there with
@@ -111,7 +114,7 @@ use crate::request::{SampledTarget, Target};
 use crate::scene::FrictionSpec;
 use crate::synth::levenberg::{levenberg_marquardt, LmOptions};
 use crate::synth::objective::{
-    shape_block, Objective, CONTACT_WEIGHT, INVALID_WEIGHT, LIMIT_WEIGHT, STRENGTH_REACH,
+    shape_block, Objective, CONTACT_WEIGHT, INVALID_WEIGHT, LIMIT_WEIGHT,
 };
 use crate::synth::params::{Coefficients, Layout};
 use crate::synth::progress::{Progress, ProgressMode};
@@ -125,6 +128,10 @@ pub const SHAPE_WEIGHT: f64 = crate::synth::objective::SHAPE_WEIGHT;
 /// strength, while the start's played shape is over budget (module
 /// documentation): the strength row asks for 10 % more.
 pub const POLISH_GOAL: f64 = 1.1;
+/// The played strength row a − ŝ/s₀ asks for up to a = 2 times the
+/// start's played strength (module documentation: the row's square then
+/// has the cost's slope −1/s₀ at ŝ = s₀).
+pub const STRENGTH_REACH: f64 = 2.0;
 /// Cap on the played shape error inside the cost.
 const SHAPE_CAP: f64 = 10.0;
 

@@ -22,30 +22,45 @@
 //! the coarse grid (the same check the final full-grid result gets); its
 //! weight makes a 1 % of g violation cost as much as the whole strength.
 //!
-//! **Residuals** (what [`super::least_squares`] minimises, ½‖r‖²): the cost
-//! above as a sum of squares, with s_g the strength scale
+//! **Residuals** (what [`super::least_squares`] minimises, ½‖r‖²): the
+//! cost's terms as a sum of squares, with s_g the strength scale
 //! ([`Objective::with_goal`], s_ref by default) and a = [`STRENGTH_REACH`]:
 //!
 //! ```text
-//! r = ( 20 · max(0, e − budget) · (R_i − ŝ t_i)/‖R − ŝ t‖   for every coarse point i,
+//! r = ( 20 · e · (R_i − ŝ t_i)/‖R − ŝ t‖   for every coarse point i,
 //!       a − ŝ/s_g,
 //!       excess,  10 · max(0, m + 0.01 − N_min/g),  √10 · √(invalid / samples) )
 //! ```
 //!
-//! The first block's norm is 20 (e − budget), the cost's shape term, its
-//! direction the residual field (where the shape is wrong); so below the
-//! budget only strength counts, and one point over it weighs as 20 % of
-//! strength, as in the cost. The strength row's square has the slope
-//! ∂(½ r²)/∂ŝ = −(a − ŝ/s_g)/s_g, which at ŝ = s_g is −1/s_g, the cost's own
-//! strength reward −ŝ/s_ref: near the seed's strength the least-squares
-//! search sees the trade of shape for strength the cost (and Nelder–Mead)
-//! sees, and it keeps asking for strength up to a s_g. (With a = 1, as
-//! before, the row was zero at the seed's strength and pulled any stronger
-//! motion back to it: line_sink_30's synthesis stopped at 0.282 on the
-//! coarse grid, the seed's 0.272, with shape to spare, and played 0.302
-//! against Nelder–Mead's 0.408.) Under several physics
-//! each adds its own first block. The search keeps the evaluation of least
-//! *cost*, so the residuals steer it and the cost judges it.
+//! **The shape block steers by the whole shape error** (issue 27): its
+//! norm is 20 e, its direction the residual field (where the shape is
+//! wrong), below the budget as well as above it ([`shape_block`] with
+//! budget 0). The budget is the cost's: the search keeps the evaluation of
+//! least *cost*, so the residuals steer it and the cost judges it. With
+//! the cost's hinge 20 · max(0, e − budget) as the block (before), the
+//! linearisation saw no shape inside the budget: the first Gauss–Newton
+//! step went for strength alone and left the budget far behind
+//! (line_sink_30 from 0.9 % to 34.8 % on the coarse grid, rejected, and
+//! the run crept on at λ ≈ 10²; squeeze_trans left it along its whole
+//! path, 4.6 % → 6.0 %, and the cost kept a point next to the start), and
+//! just over the budget the square ½ (20 (e − budget))² is flat where the
+//! cost's hinge is steep. Always on, the block's square ½ (20 e)² makes
+//! the run a balance of shape against strength whose rate it sees at every
+//! step: Gauss–Newton rests where 400 e ∂e = (a − ŝ/s_g)/s_g ∂ŝ. The
+//! strength row asks for up to a = 4 times the strength scale, so that
+//! balance sits near the cost's budget rather than below it (a = 2:
+//! line_sink_30 played 0.498 s⁻¹ at 2.2 %, squeeze_trans 0.650 at 3.5 %;
+//! a = 4: 0.726 at 3.5 % and 0.694 at 3.5 %; a = 6 over-reaches,
+//! squeeze_trans 0.707 at 4.4 %; `design --method auto`, played check).
+//! The strength scale s_g that [`crate::synth::synthesize`] gives is the
+//! realised coarse strength of the start the run begins from (the
+//! polish's s₀ is its start's played strength alike), not the seed's
+//! predicted one: squeeze_trans's transport start realises 0.60 s⁻¹
+//! against a nominal 1.0, and with s_g = 1.0 the row's slope was 0.6 of
+//! the cost's (played 0.694 at 3.48 %; with the start's, 0.710 at
+//! 2.46 %). (With a = 1, as before issue 27, the row was zero at the
+//! seed's strength and pulled any stronger motion back to it.) Under
+//! several physics each adds its own first block.
 
 use std::sync::Mutex;
 use std::time::Instant;
@@ -65,10 +80,11 @@ use crate::scene::FrictionSpec;
 
 /// Weight of the shape error over budget.
 pub const SHAPE_WEIGHT: f64 = 20.0;
-/// The strength row a − ŝ/s_g of the residuals asks for up to a = 2 times
-/// the strength scale (module documentation: the row's slope at ŝ = s_g is
-/// then the cost's strength reward).
-pub const STRENGTH_REACH: f64 = 2.0;
+/// The strength row a − ŝ/s_g of the residuals asks for up to a = 4 times
+/// the strength scale (module documentation: against the always-on shape
+/// block, Gauss–Newton's balance of shape and strength then sits near the
+/// cost's shape budget).
+pub const STRENGTH_REACH: f64 = 4.0;
 /// Weight of the relative peak excess.
 pub const LIMIT_WEIGHT: f64 = 1.0;
 /// Weight of the contact-margin violation (fraction of g).
@@ -156,9 +172,10 @@ pub fn realised(field: &Field, target: &[[f64; 2]]) -> Realised {
 }
 
 /// A residual field `raw` (components in order) rescaled to the norm
-/// 20 · max(0, e − budget) of the cost's shape term (its direction kept;
-/// the module documentation). A non-finite `e` (no positive strength)
-/// counts as the cost's cap.
+/// 20 · max(0, e − budget) of the cost's shape term (its direction kept):
+/// the played polish's block ([`crate::design::polish`]); with budget 0,
+/// 20 e, the synthesis's (the module documentation). A non-finite `e` (no
+/// positive strength) counts as the cost's cap.
 pub fn shape_block(raw: &[f64], e: f64, budget: f64) -> Vec<f64> {
     let e = if e.is_finite() {
         e.min(SHAPE_CAP)
@@ -415,7 +432,7 @@ impl<'a> Objective<'a> {
                 }
             })
             .collect();
-        shape_block(&raw, r.shape_error, self.shape_budget)
+        shape_block(&raw, r.shape_error, 0.0)
     }
 
     /// Counts `e` against the budget, the best and the stall rule.

@@ -35,7 +35,9 @@ const PEAK_TOL: f64 = 1e-9;
 /// sink stops after fewer). With the strength row asking for strength up
 /// to [`super::objective::STRENGTH_REACH`] times the seed's, the longer
 /// run is what lifts line_sink_30 (played 0.302 s⁻¹ with three steps of
-/// 0.3, 0.420 with these after the polish; `platefield design-speed`).
+/// 0.3 and the row's reach 1; 0.725 at 3.7 % with these, the reach 4 and
+/// the always-on shape block of [`super::objective`], after the polish;
+/// `platefield design-speed`).
 pub const SYNTH_LM: LmOptions = LmOptions {
     max_iterations: 6,
     lambda0: 1e-2,
@@ -305,8 +307,7 @@ pub fn synthesize(
         &progress,
     )
     .with_stall(options.stall)
-    .with_robust(options.robust)
-    .with_goal(strength_ref);
+    .with_robust(options.robust);
     let x0 = layout.to_vec(&seed.coefficients);
     let seed_eval = objective.evaluate(&x0);
     // Refinement starts from the phase-calibrated seed; the seed itself is
@@ -336,6 +337,14 @@ pub fn synthesize(
         }
     }
     objective.restart_stall();
+    // The residuals' strength scale is what the run starts from: the
+    // start's realised coarse strength ([`super::objective`]).
+    let s0 = first.realised.strength;
+    let objective = if s0.is_finite() && s0 > 0.0 {
+        objective.with_goal(s0)
+    } else {
+        objective
+    };
     let best = match &options.lm {
         Some(lm) => least_squares(&objective, &first.params, lm)?,
         None => refine(
