@@ -242,7 +242,7 @@ fn poses_drop_estimate_counts_the_played_steps() {
     assert!((0.95..=1.05).contains(&r), "estimated / counted = {r:.3}");
 }
 
-/// The studies' estimates ([`platefield::studies::work::EXPECTED_STEPS`],
+/// The studies' recorded counts ([`platefield::studies::work::EXPECTED_STEPS`],
 /// the steps counted at their last regeneration) hold within 3× for the
 /// quick ones, run here into a temporary folder (about 6 s of CPU): a
 /// change that makes a study much more or less work shows here first.
