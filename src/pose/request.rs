@@ -142,6 +142,7 @@ fn point_field(source: &Path) -> Result<Source> {
 ///     source: "targets/sink.json".into(),
 ///     drops: 200,
 ///     play: None,
+///     runtime: platefield::work::Runtime::default(),
 /// };
 /// let outcome = poses(&req)?;
 /// println!("{} equilibria", outcome.analysis.equilibria.len());
