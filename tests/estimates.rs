@@ -110,47 +110,42 @@ fn within_3x(name: &str, r: f64) {
 const QUICK: [&str; 3] = ["sink", "sink_trans", "line_sink"];
 
 /// `names` of the shipped targets, then sampled whirlpools of `counts`,
-/// each within 3×.
-fn estimates_hold(names: &[&str], counts: &[usize], dir: &Path) {
+/// each within 3×, from a cold cache of its own (`cache`), one test at a
+/// time.
+fn estimates_hold(names: &[&str], counts: &[usize], cache: &str) {
+    let _serial = one_at_a_time();
+    let dir = cold_cache(cache);
     for name in names {
         let t = Target::load(&Path::new("targets").join(format!("{name}.json"))).unwrap();
-        within_3x(name, ratio(&t, dir));
+        within_3x(name, ratio(&t, &dir));
     }
     for &count in counts {
         let t = scattered_whirlpool(count);
-        within_3x(&t.name, ratio(&t, dir));
+        within_3x(&t.name, ratio(&t, &dir));
     }
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn design_estimates_hold_within_3x() {
-    let _serial = one_at_a_time();
-    let dir = cold_cache("quick");
-    estimates_hold(&QUICK, &[40], &dir);
-    let _ = std::fs::remove_dir_all(&dir);
+    estimates_hold(&QUICK, &[40], "quick");
 }
 
 #[test]
 #[ignore = "about a minute: cargo test --release --test estimates -- --ignored"]
 fn design_estimates_hold_within_3x_on_every_shipped_target() {
-    let _serial = one_at_a_time();
-    let dir = cold_cache("shipped");
     let rest: Vec<&str> = platefield::studies::design_speed::TARGETS
         .iter()
         .copied()
         .filter(|n| !QUICK.contains(n))
         .collect();
-    estimates_hold(&rest, &[200], &dir);
-    let _ = std::fs::remove_dir_all(&dir);
+    estimates_hold(&rest, &[200], "shipped");
 }
 
 #[test]
 #[ignore = "minutes: cargo test --release --test estimates -- --ignored"]
 fn design_estimate_holds_for_2000_points() {
-    let _serial = one_at_a_time();
-    let dir = cold_cache("2000");
-    estimates_hold(&[], &[2000], &dir);
-    let _ = std::fs::remove_dir_all(&dir);
+    estimates_hold(&[], &[2000], "2000");
 }
 
 /// Counted steps of `verify` on the shipped sink with `rectangle_poses`

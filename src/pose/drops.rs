@@ -92,6 +92,15 @@ pub struct DropEnd {
     pub solver_iterations: u64,
 }
 
+/// The cycle a rest segment is stepped at: the shortest moving segment's
+/// period.
+pub(super) fn rest_cycle(sm: &ScheduleMotion) -> f64 {
+    sm.segments()
+        .iter()
+        .filter_map(|s| s.motion.as_ref().map(|m| m.period()))
+        .fold(f64::INFINITY, f64::min)
+}
+
 /// Plays `body` from rest at `start` through `sm` for whole periods
 /// covering `play.duration_s` (module docs).
 pub fn play_drop(
@@ -112,10 +121,7 @@ pub fn play_drop_tracked(
     play: &DropPlay,
 ) -> Result<(DropEnd, Vec<Pose>), PlayLoss> {
     let segments = sm.segments();
-    let shortest = segments
-        .iter()
-        .filter_map(|s| s.motion.as_ref().map(|m| m.period()))
-        .fold(f64::INFINITY, f64::min);
+    let shortest = rest_cycle(sm);
     let sims: Vec<PlanarSimulator> = segments
         .iter()
         .map(|s| {

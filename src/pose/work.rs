@@ -5,7 +5,7 @@
 //! plays it), each step of each support point of the played body at
 //! [`PLANAR_POINT_STEP_COST`] point-part steps.
 
-use super::drops::DropPlay;
+use super::drops::{rest_cycle, DropPlay};
 use crate::part::Part;
 use crate::play::ScheduleMotion;
 use crate::work::{Estimate, Term, PLANAR_POINT_STEP_COST};
@@ -21,15 +21,11 @@ pub fn played_points(part: &Part, play: &DropPlay) -> usize {
 /// Nominal planar steps of one schedule period of `sm` at
 /// `steps_per_cycle` (rest segments at the shortest moving segment's step).
 pub fn steps_per_period(sm: &ScheduleMotion, steps_per_cycle: usize) -> f64 {
-    let segments = sm.segments();
-    let shortest = segments
-        .iter()
-        .filter_map(|s| s.motion.as_ref().map(|m| m.period()))
-        .fold(f64::INFINITY, f64::min);
-    segments
+    let rest = rest_cycle(sm);
+    sm.segments()
         .iter()
         .map(|s| {
-            let cycle = s.motion.as_ref().map_or(shortest, |m| m.period());
+            let cycle = s.motion.as_ref().map_or(rest, |m| m.period());
             (s.duration / cycle * steps_per_cycle.max(1) as f64).ceil()
         })
         .sum()

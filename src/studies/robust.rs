@@ -116,16 +116,32 @@ fn options(method: Method, quiet: bool, robust_synthesis: bool) -> DesignOptions
     }
 }
 
+/// How [`design_rows`] designs and plays: without progress (`quiet`), the
+/// export replayed too (`replay`, a second row labelled `…, export
+/// replayed`), as `design --robust-synthesis` (`robust_synthesis`).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct RowOptions {
+    /// No progress output.
+    pub quiet: bool,
+    /// Also replay the kept design's export.
+    pub replay: bool,
+    /// Design as `design --robust-synthesis` does.
+    pub robust_synthesis: bool,
+}
+
 /// Designs `target` with `method` and plays the kept design at
-/// `frictions`; with `replay`, also replays its export there (a second
-/// row, labelled `…, export replayed`).
+/// `frictions` (and its export, as `how` says).
 pub fn design_rows(
     target: &Target,
     (label, method): (&str, Method),
     frictions: &[f64],
-    (quiet, replay): (bool, bool),
+    how: RowOptions,
 ) -> Result<Vec<Row>> {
-    let robust_synthesis = label.ends_with(ROBUST_SYNTHESIS);
+    let RowOptions {
+        quiet,
+        replay,
+        robust_synthesis,
+    } = how;
     let md = design_by_method(target, &options(method, quiet, robust_synthesis))?;
     let kept = &md.kept().schedule;
     let sampled = target.sample()?;
@@ -162,7 +178,15 @@ pub fn design_row(
     frictions: &[f64],
     quiet: bool,
 ) -> Result<Row> {
-    let mut rows = design_rows(target, design, frictions, (quiet, false))?;
+    let mut rows = design_rows(
+        target,
+        design,
+        frictions,
+        RowOptions {
+            quiet,
+            ..RowOptions::default()
+        },
+    )?;
     Ok(rows.remove(0))
 }
 
@@ -189,12 +213,17 @@ pub fn target_rows(name: &str, quiet: bool) -> Result<Vec<Row>> {
     let nominal = load(name)?;
     let mut robust = nominal.clone();
     robust.friction = Some(FrictionSpec::range(RANGE[0], RANGE[1]));
-    let mut rows = design_rows(&nominal, ("μ 0.3", Method::Auto), &FRICTIONS, (quiet, true))?;
+    let how = RowOptions {
+        quiet,
+        replay: true,
+        robust_synthesis: false,
+    };
+    let mut rows = design_rows(&nominal, ("μ 0.3", Method::Auto), &FRICTIONS, how)?;
     let auto = design_rows(
         &robust,
         ("robust [0.2, 0.4]", Method::Auto),
         &FRICTIONS,
-        (quiet, true),
+        how,
     )?;
     let missed = !auto[0].meets_goal();
     rows.extend(auto);
@@ -204,7 +233,10 @@ pub fn target_rows(name: &str, quiet: bool) -> Result<Vec<Row>> {
             &robust,
             (&label, Method::Auto),
             &FRICTIONS,
-            (quiet, true),
+            RowOptions {
+                robust_synthesis: true,
+                ..how
+            },
         )?);
     }
     rows.extend([

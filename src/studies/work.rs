@@ -40,24 +40,29 @@ pub const EXPECTED_STEPS: &[(&str, f64, f64)] = &[
     ("poses-study", 6.84e8, PLANAR_POINT_STEP_COST),
 ];
 
+/// Study `name`'s entry of [`EXPECTED_STEPS`]: its steps and their cost.
+fn entry(name: &str) -> Option<(f64, f64)> {
+    EXPECTED_STEPS
+        .iter()
+        .find(|(n, ..)| *n == name)
+        .map(|&(_, steps, cost)| (steps, cost))
+}
+
 /// The estimate of study `name`, if its count is known.
 pub fn estimate(name: &str) -> Option<Estimate> {
-    let (_, steps, cost) = EXPECTED_STEPS.iter().find(|(n, ..)| *n == name)?;
+    let (steps, cost) = entry(name)?;
     Some(
         Estimate::new(name, &format!("the {name} study"), "—").plus(
             Term::new("its last regeneration")
-                .times(*steps, "steps")
-                .times(*cost, "point steps per step"),
+                .times(steps, "steps")
+                .times(cost, "point steps per step"),
         ),
     )
 }
 
 /// Steps study `name` is expected to count, if known.
 pub fn expected_steps(name: &str) -> Option<f64> {
-    EXPECTED_STEPS
-        .iter()
-        .find(|(n, ..)| *n == name)
-        .map(|(_, steps, _)| *steps)
+    entry(name).map(|(steps, _)| steps)
 }
 
 /// Runs study `name` (`f`) with its estimate stated first (when it runs
