@@ -108,6 +108,11 @@ pub struct Candidate {
     /// Its realised check over the friction range the target states
     /// (`None` for an exact friction): what `auto` judges it by.
     pub sensitivity: Option<Sensitivity>,
+    /// The synthesis `auto` adds over a friction range when no other
+    /// candidate holds the target within [`RANGE_HELD`] at its worst: one
+    /// motion synthesized and polished for the worst case over the range
+    /// (as `--robust-synthesis` does).
+    pub worst_case: bool,
 }
 
 impl Candidate {
@@ -131,7 +136,19 @@ impl Candidate {
             design_s,
             play_s: t.elapsed().as_secs_f64(),
             sensitivity: None,
+            worst_case: false,
         })
+    }
+
+    /// Its name in reports: the method's, marked when synthesized for the
+    /// worst case ([`Candidate::worst_case`]).
+    pub fn name(&self) -> String {
+        let tag = if self.worst_case {
+            " (for the worst case)"
+        } else {
+            ""
+        };
+        format!("{}{tag}", self.method.name())
     }
 
     /// The realised check.
@@ -200,6 +217,8 @@ pub(crate) fn design_by_method(target: &Target, opts: &DesignOptions) -> Result<
     run.sequence()?;
     run.synthesis()?;
     run.mix()?;
+    run.judge_range()?;
+    run.worst_case_synthesis()?;
     run.finish()
 }
 
@@ -219,6 +238,9 @@ struct MethodRun<'a> {
     /// The synthesis keeps the sequenced schedule's peaks (`auto` without
     /// the target's own limits).
     from_sequence: bool,
+    /// The worst-case synthesis ([`MethodRun::worst_case_synthesis`]), kept
+    /// as the design's synthesis if its candidate is chosen.
+    worst_case: Option<Synthesis>,
 }
 
 impl<'a> MethodRun<'a> {
@@ -271,6 +293,7 @@ impl<'a> MethodRun<'a> {
             },
             first_error: None,
             from_sequence: false,
+            worst_case: None,
         })
     }
 
@@ -386,17 +409,7 @@ impl<'a> MethodRun<'a> {
         ) {
             Ok((syn, schedule)) => {
                 let spec = Some(limits.to_spec());
-                let mut c = self.play(
-                    schedule,
-                    syn.realised.strength,
-                    spec.clone(),
-                    t.elapsed().as_secs_f64(),
-                )?;
-                if let (true, Some(p)) = (syn.poor, c.schedule.played.as_mut()) {
-                    p.poor = true;
-                    p.notes
-                        .extend(syn.notes.iter().map(|n| format!("synthesis: {n}")));
-                }
+                let c = self.synthesized(&syn, schedule, t)?;
                 if let Some(axis) = try_mirror {
                     let t = Instant::now();
                     let share = self.mirror_share(&c.schedule, axis)?;
@@ -424,6 +437,71 @@ impl<'a> MethodRun<'a> {
                     .push(Failure::new(Method::Synthesize, reason));
             }
             Err(e) => return Err(self.first_error.take().unwrap_or(e)),
+        }
+        Ok(())
+    }
+
+    /// The candidate of the synthesized `schedule` (`syn`'s, begun at `t`),
+    /// played; POOR with the synthesis' notes when the synthesis says so.
+    fn synthesized(&self, syn: &Synthesis, schedule: Schedule, t: Instant) -> Result<Candidate> {
+        let spec = Some(self.out.limits.to_spec());
+        let mut c = self.play(
+            schedule,
+            syn.realised.strength,
+            spec,
+            t.elapsed().as_secs_f64(),
+        )?;
+        if let (true, Some(p)) = (syn.poor, c.schedule.played.as_mut()) {
+            p.poor = true;
+            p.notes
+                .extend(syn.notes.iter().map(|n| format!("synthesis: {n}")));
+        }
+        Ok(c)
+    }
+
+    /// Over a friction range, every candidate so far played across it
+    /// ([`candidate_sensitivity`]): what `auto` judges it by.
+    fn judge_range(&mut self) -> Result<()> {
+        if self.ranged() {
+            for c in &mut self.out.candidates {
+                c.sensitivity = candidate_sensitivity(self.target, self.sampled, &c.schedule)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// `auto` over a friction range when no candidate holds the target
+    /// within [`RANGE_HELD`] at its worst over the range: one more motion,
+    /// synthesized and polished for the worst case (as
+    /// `--robust-synthesis`: every evaluation and play under the range's
+    /// ends and middle, about three times the synthesis' work, stated
+    /// first), played across the range and judged beside the others. Its
+    /// failure is stated, not fatal: the other candidates stand.
+    fn worst_case_synthesis(&mut self) -> Result<()> {
+        let synth = SynthOptions {
+            robust_synthesis: true,
+            ..self.opts.synthesis
+        };
+        let asked = self.opts.method == Method::Auto && !self.opts.synthesis.robust_synthesis;
+        if !asked || !self.ranged() || held(&self.out.candidates) {
+            return Ok(());
+        }
+        let limits = self.out.limits.clone();
+        let estimate = synthesis_estimate(self.target, self.sampled, &synth, self.opts, &limits);
+        self.opts.runtime.admit(&estimate)?;
+        let t = Instant::now();
+        match synthesize_schedule(self.target, self.sampled, &limits, self.opts, &synth) {
+            Ok((syn, schedule)) => {
+                let mut c = self.synthesized(&syn, schedule, t)?;
+                c.sensitivity = candidate_sensitivity(self.target, self.sampled, &c.schedule)?;
+                c.worst_case = true;
+                self.out.candidates.push(c);
+                self.worst_case = Some(syn);
+            }
+            Err(e) => self.out.failures.push(Failure::new(
+                Method::Synthesize,
+                FailureReason::WorstCase(e.to_string()),
+            )),
         }
         Ok(())
     }
@@ -501,20 +579,18 @@ impl<'a> MethodRun<'a> {
         Ok(())
     }
 
-    /// Over a friction range every candidate is judged by its worst case;
-    /// then one is kept ([`choose`]) and the kept one's realised check
+    /// One candidate kept ([`choose`]; over a friction range by its worst
+    /// case, [`MethodRun::judge_range`]) and the kept one's realised check
     /// across the target's friction recorded.
-    fn finish(mut self) -> Result<MethodDesign> {
+    fn finish(self) -> Result<MethodDesign> {
         let (target, sampled) = (self.target, self.sampled);
-        if self.ranged() {
-            for c in &mut self.out.candidates {
-                c.sensitivity = candidate_sensitivity(target, sampled, &c.schedule)?;
-            }
-        }
         let mut out = self.out;
         let (chosen, choice) = choose(&out.candidates, out.asked);
         out.chosen = chosen;
         out.choice = choice;
+        if out.candidates[chosen].worst_case {
+            out.synthesis = self.worst_case;
+        }
         let why = out.why();
         for c in &mut out.candidates {
             if let Some(p) = c.schedule.played.as_mut() {
@@ -663,6 +739,9 @@ pub enum FailureReason {
     /// The mix's fit left the synthesized column out: the mixed design is
     /// the sequenced one.
     ColumnLeftOut,
+    /// The synthesis for the worst case over the friction range
+    /// ([`Candidate::worst_case`]) failed with this error.
+    WorstCase(String),
 }
 
 impl std::fmt::Display for FailureReason {
@@ -675,6 +754,9 @@ impl std::fmt::Display for FailureReason {
             FailureReason::ColumnLeftOut => f.write_str(
                 "the fit left the synthesized column out (the mixed design is the sequenced one)",
             ),
+            FailureReason::WorstCase(e) => {
+                write!(f, "for the worst case over the friction range: {e}")
+            }
         }
     }
 }
@@ -729,11 +811,27 @@ fn describe(c: &Candidate) -> String {
     };
     format!(
         "{}{worst} realised shape error {}, strength {}{}",
-        c.method.name(),
+        c.name(),
         percent(shape),
         number(strength),
         if p.poor { " (POOR)" } else { "" }
     )
+}
+
+/// The worst-case shape error over a friction range within which a
+/// candidate holds the target: 6 %, the friction issue's goal for the
+/// sink (the other shipped targets ask ≤ 8 %). Above it on every
+/// candidate, `auto` also synthesizes for the worst case
+/// ([`Candidate::worst_case`]). Measured (`platefield robust`,
+/// `results/robust.md`): the mirror-image shares hold the sink, saddle,
+/// whirlpool and squeeze_trans within 2.5–4.8 % over μ 0.2–0.4 and
+/// add nothing; line_sink_30's best default candidate is at 10.1 %.
+pub const RANGE_HELD: f64 = 0.06;
+
+/// Some candidate that is not POOR holds the target within [`RANGE_HELD`]
+/// (at its worst over the friction range when judged so).
+fn held(cands: &[Candidate]) -> bool {
+    cands.iter().map(key).any(|(poor, shape, _)| !poor && shape <= RANGE_HELD)
 }
 
 /// What `choose` compares: POOR, then the realised shape error, then the
@@ -1481,6 +1579,7 @@ mod tests {
             design_s: 0.0,
             play_s: 0.0,
             sensitivity: None,
+            worst_case: false,
         }
     }
 
@@ -1512,6 +1611,18 @@ mod tests {
         );
         assert_eq!(i, 0, "{why:?}");
         assert_eq!(why, Choice::Rule(Rule::OtherPoor));
+    }
+
+    /// `auto` adds the worst-case synthesis only when no candidate that
+    /// is not POOR holds the target within 6 %: at 5.9 % held, at 6.1 %
+    /// not, and a POOR candidate at 2 % does not count.
+    #[test]
+    fn the_range_is_held_within_six_percent_by_a_candidate_that_is_not_poor() {
+        let c = |shape: f64, poor: bool| cand(Method::Synthesize, shape, 0.5, poor);
+        assert!(held(&[c(0.10, false), c(0.059, false)]));
+        assert!(!held(&[c(0.10, false), c(0.061, false)]));
+        assert!(!held(&[c(0.02, true), c(0.09, false)]));
+        assert!(!held(&[]));
     }
 
     /// The polish term counts the parts the polish plays: every sample of a

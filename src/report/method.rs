@@ -28,7 +28,7 @@ pub fn headline(md: &MethodDesign) -> String {
     let field = c.schedule.target_spec.as_ref().map(|t| &t.field);
     format!(
         "kept {}: realised strength {} at realised shape error {}{} — point parts played from {} start points over the region ({} valid); ŝ is the scale of the target their mean velocities best match, the shape error what ŝ × target leaves unmatched. Every candidate below.\n",
-        c.method.name(),
+        c.name(),
         strength_with_unit(p.realised_strength, field),
         percent(p.realised_shape_error),
         if p.poor { ", POOR" } else { "" },
@@ -77,7 +77,7 @@ pub fn summary(md: &MethodDesign) -> String {
             out,
             "{} {}: predicted strength {:.4} (fit error {:.2} %); played on {} points ({} valid): realised shape error {}, realised strength {}, error against the prediction {}; peaks linear [{:.3}, {:.3}, {:.3}] m/s², angular [{:.3}, {:.3}, {:.3}] rad/s²; design {:.1} s, play {:.1} s{}",
             if i == md.chosen { "kept" } else { "not kept" },
-            c.method.name(),
+            c.name(),
             p.predicted_strength,
             100.0 * c.schedule.fit.relative_l2_error,
             p.points,
@@ -130,7 +130,7 @@ fn played_md(cands: &[Candidate], chosen: usize) -> String {
         let _ = writeln!(
             md,
             "| {} | {} | {:.4} | {} | {} | {} | {} ({}) | {} | {} |",
-            c.method.name(),
+            c.name(),
             if i == chosen { "yes" } else { "no" },
             p.predicted_strength,
             number(p.realised_strength),

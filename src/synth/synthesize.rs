@@ -100,11 +100,13 @@ pub struct SynthOptions {
     /// settings' only.
     pub robust: Option<FrictionSpec>,
     /// `design` fills [`SynthOptions::robust`] from the target's friction
-    /// range (default off: three times the simulations, and measured no
-    /// better — the whirlpool over μ ∈ [0.2, 0.4], worst played shape
-    /// 19.6 % robust against 18.0 % at μ 0.3 alone: one motion's field
-    /// turns with the lead δ = asin(μg/A) whatever it is tuned for; the
-    /// mirror-image time-shares of `design::mirror` cancel the turn).
+    /// range (default off: three times the simulations, and for most
+    /// targets no better — the whirlpool over μ ∈ [0.2, 0.4], worst played
+    /// shape 19.6 % robust against 18.0 % at μ 0.3 alone: one motion's
+    /// field turns with the lead δ = asin(μg/A) whatever it is tuned for;
+    /// the mirror-image time-shares of `design::mirror` cancel the turn).
+    /// `auto` runs it as one more candidate when no other holds the target
+    /// over the range (`design::method::RANGE_HELD`).
     pub robust_synthesis: bool,
     /// Plays of the played polish that `design` runs after the synthesis
     /// (`platefield::design::polish`; 0: none). Not used by
