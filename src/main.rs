@@ -13,6 +13,7 @@ use platefield::basis::StepsPlan;
 use platefield::design::order::OrderRequest;
 use platefield::dynamics::Preset;
 use platefield::studies;
+use platefield::studies::work::Expected;
 use platefield::work::Runtime;
 use platefield::{report, Result};
 
@@ -273,9 +274,11 @@ fn run(cli: Cli) -> Result<String> {
             long.allow_long,
         ),
         Command::Linesink(args) => args.run(),
-        Command::Reproduce(o) => studies::watched("reproduce", true, false, || {
-            studies::reproduce::linesink_results(&o.out)
-        }),
+        Command::Reproduce(o) => {
+            studies::watched("reproduce", Expected::defaults("reproduce"), false, || {
+                studies::reproduce::linesink_results(&o.out)
+            })
+        }
         Command::Primitives {
             grid,
             steps,
@@ -289,43 +292,68 @@ fn run(cli: Cli) -> Result<String> {
                 StepsPlan::Uniform
             };
             let steps = steps.numerics().steps_per_cycle;
-            let defaults = grid == 21
-                && steps == platefield::dynamics::Numerics::default().steps_per_cycle
-                && !calibrated;
-            studies::watched("primitives", defaults, quiet.quiet, || {
+            let factor = studies::primitives::work_factor(grid, steps, plan);
+            let expected = Expected::scaled("primitives", factor, "grid and steps");
+            studies::watched("primitives", expected, quiet.quiet, || {
                 studies::primitives::run(&out.out, grid, steps, plan, quiet.quiet)
             })
         }
         Command::PosesStudy { play_drops, out } => {
-            let defaults = play_drops == 0;
-            studies::watched("poses-study", defaults, false, || {
+            let drops = studies::poses::played_drops_estimate(play_drops)?;
+            let expected = Expected::defaults("poses-study")
+                .map(|e| e.plus(drops, platefield::work::PLANAR_POINT_STEP_COST));
+            studies::watched("poses-study", expected, false, || {
                 studies::poses::run(&out.out, play_drops)
             })
         }
         Command::Rungs { tolerance, out } => {
-            let defaults = tolerance == studies::rung::DEFAULT_RUNG_TOLERANCE;
-            studies::watched("rungs", defaults, false, || {
+            // Every rung is computed whatever the tolerance: the same work.
+            studies::watched("rungs", Expected::defaults("rungs"), false, || {
                 studies::rung::run(&out.out, tolerance)
             })
         }
-        Command::Speed(o) => studies::watched("speed", true, false, || studies::speed::run(&o.out)),
-        Command::EngineSpeed(o) => studies::watched("engine-speed", true, false, || {
-            studies::engine_speed::run(&o.out)
+        Command::Speed(o) => studies::watched("speed", Expected::defaults("speed"), false, || {
+            studies::speed::run(&o.out)
         }),
-        Command::FitQuality(o) => studies::watched("fit-quality", true, false, || {
-            studies::fit_quality::run(Path::new("targets"), &o.out)
-        }),
-        Command::Interaction(o) => studies::watched("interaction", true, false, || {
-            studies::interaction::run(&o.out)
-        }),
-        Command::Robust { quiet, out } => studies::watched("robust", true, quiet.quiet, || {
-            studies::robust::run(&out.out, quiet.quiet)
-        }),
-        Command::SqueezeOrder(o) => studies::watched("squeeze-order", true, false, || {
-            studies::squeeze_order::run(&o.out)
-        }),
+        Command::EngineSpeed(o) => studies::watched(
+            "engine-speed",
+            Expected::defaults("engine-speed"),
+            false,
+            || studies::engine_speed::run(&o.out),
+        ),
+        Command::FitQuality(o) => studies::watched(
+            "fit-quality",
+            Expected::defaults("fit-quality"),
+            false,
+            || studies::fit_quality::run(Path::new("targets"), &o.out),
+        ),
+        Command::Interaction(o) => studies::watched(
+            "interaction",
+            Expected::defaults("interaction"),
+            false,
+            || studies::interaction::run(&o.out),
+        ),
+        Command::Robust { quiet, out } => {
+            studies::watched("robust", Expected::defaults("robust"), quiet.quiet, || {
+                studies::robust::run(&out.out, quiet.quiet)
+            })
+        }
+        Command::SqueezeOrder(o) => studies::watched(
+            "squeeze-order",
+            Expected::defaults("squeeze-order"),
+            false,
+            || studies::squeeze_order::run(&o.out),
+        ),
         Command::DesignSpeed { targets, out } => {
-            studies::watched("design-speed", targets.is_empty(), false, || {
+            let expected = if targets.is_empty() {
+                Expected::defaults("design-speed")
+            } else {
+                Some(Expected::estimated(
+                    studies::design_speed::estimate(&targets)?,
+                    1.0,
+                ))
+            };
+            studies::watched("design-speed", expected, false, || {
                 studies::design_speed::run(&out.out, &targets)
             })
         }
@@ -338,8 +366,8 @@ fn run(cli: Cli) -> Result<String> {
             out,
         } => {
             let study = synthesis_settings(harmonics, [evaluations, starts, polish_plays]);
-            let defaults = rows.is_empty() && study == studies::synthesis::StudySettings::default();
-            studies::watched("synthesis", defaults, false, || {
+            let expected = studies::synthesis::expected(&rows, &study)?;
+            studies::watched("synthesis", expected, false, || {
                 studies::synthesis::run(&out.out, &rows, &study)
             })
         }

@@ -239,30 +239,77 @@ fn poses_drop_estimate_counts_the_played_steps() {
 
 /// The studies' recorded counts ([`platefield::studies::work::EXPECTED_STEPS`],
 /// the steps counted at their last regeneration) hold within 3× for the
-/// quick ones, run here into a temporary folder (about 6 s of CPU): a
+/// quick ones, run here into a temporary folder (about 12 s of CPU): a
 /// change that makes a study much more or less work shows here first.
+/// `primitives` also runs with other inputs (an 11 × 11 grid at 32 steps,
+/// and the calibrated plan), estimated by its own model
+/// (`primitives::work_factor`; measured 0.86 and 1.14); `rungs` with
+/// another tolerance does the same work.
 #[test]
 fn study_estimates_hold_for_the_quick_studies() {
     let _serial = one_at_a_time();
-    use platefield::studies::{interaction, reproduce, rung, work};
+    use platefield::basis::StepsPlan;
+    use platefield::studies::work::Expected;
+    use platefield::studies::{fit_quality, interaction, primitives, reproduce, rung};
     let dir = cold_cache("studies");
     std::fs::create_dir_all(&dir).unwrap();
-    let runs: [(&str, &dyn Fn() -> platefield::Result<String>); 3] = [
-        ("reproduce", &|| reproduce::linesink_results(&dir)),
-        ("rungs", &|| rung::run(&dir, rung::DEFAULT_RUNG_TOLERANCE)),
-        ("interaction", &|| interaction::run(&dir)),
+    let scaled = |n, steps, plan| {
+        Expected::scaled(
+            "primitives",
+            primitives::work_factor(n, steps, plan),
+            "model",
+        )
+    };
+    type Run<'a> = (
+        &'a str,
+        Option<Expected>,
+        &'a dyn Fn() -> platefield::Result<String>,
+    );
+    let runs: [Run; 7] = [
+        ("reproduce", Expected::defaults("reproduce"), &|| {
+            reproduce::linesink_results(&dir)
+        }),
+        ("rungs", Expected::defaults("rungs"), &|| {
+            rung::run(&dir, 0.5)
+        }),
+        ("interaction", Expected::defaults("interaction"), &|| {
+            interaction::run(&dir)
+        }),
+        ("fit-quality", Expected::defaults("fit-quality"), &|| {
+            let targets = fit_quality::fitted_targets(std::path::Path::new("targets"))?;
+            let cold = platefield::design::DesignOptions::cached_quiet(&dir.join("cache"));
+            fit_quality::write_fit_quality(&targets, &cold, &dir)
+        }),
+        ("primitives", Expected::defaults("primitives"), &|| {
+            primitives::run(&dir, 21, 64, StepsPlan::Uniform, true)
+        }),
+        (
+            "primitives 11 × 11, 32 steps",
+            scaled(11, 32, StepsPlan::Uniform),
+            &|| primitives::run(&dir, 11, 32, StepsPlan::Uniform, true),
+        ),
+        (
+            "primitives calibrated",
+            scaled(21, 64, StepsPlan::Calibrated),
+            &|| primitives::run(&dir, 21, 64, StepsPlan::Calibrated, true),
+        ),
     ];
-    for (name, run) in runs {
-        let estimate = work::estimate(name).expect("a recorded count");
+    for (name, expected, run) in runs {
+        let expected = expected.expect("a recorded count");
         let before = steps_taken();
         run().unwrap();
         let counted = (steps_taken() - before) as f64;
-        let r = estimate.steps() / counted;
+        let r = expected.steps / counted;
         println!(
             "{name}: estimated {:.3e} counted {counted:.3e} steps: ratio {r:.2}",
-            estimate.steps()
+            expected.steps
         );
         within_3x(name, r);
+        assert_eq!(
+            expected.steps,
+            expected.estimate.steps(),
+            "{name}: point steps"
+        );
     }
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -193,9 +193,11 @@ fn auto_over_a_range_adds_the_worst_case_synthesis_when_nothing_holds() {
     let s = md.sensitivity.as_ref().unwrap();
     let worst = s.worst_shape_error().unwrap();
     assert!(worst <= 0.08, "worst {worst}");
-    assert!(md
-        .candidates
-        .iter()
-        .filter(|c| !c.worst_case)
-        .all(|c| c.sensitivity.as_ref().unwrap().worst_shape_error().unwrap_or(1.0) > 0.06));
+    assert!(md.candidates.iter().filter(|c| !c.worst_case).all(|c| c
+        .sensitivity
+        .as_ref()
+        .unwrap()
+        .worst_shape_error()
+        .unwrap_or(1.0)
+        > 0.06));
 }

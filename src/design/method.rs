@@ -831,7 +831,10 @@ pub const RANGE_HELD: f64 = 0.06;
 /// Some candidate that is not POOR holds the target within [`RANGE_HELD`]
 /// (at its worst over the friction range when judged so).
 fn held(cands: &[Candidate]) -> bool {
-    cands.iter().map(key).any(|(poor, shape, _)| !poor && shape <= RANGE_HELD)
+    cands
+        .iter()
+        .map(key)
+        .any(|(poor, shape, _)| !poor && shape <= RANGE_HELD)
 }
 
 /// What `choose` compares: POOR, then the realised shape error, then the

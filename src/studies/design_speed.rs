@@ -24,7 +24,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use super::speed::process_cpu_seconds;
-use crate::design::method::{design_by_method, Method};
+use crate::design::method::{design_by_method, design_estimate, Method};
 use crate::design::DesignOptions;
 use crate::error::Result;
 use crate::output::write_atomic;
@@ -32,7 +32,8 @@ use crate::request::Target;
 use crate::synth::levenberg::LmOptions;
 use crate::synth::progress::ProgressMode;
 use crate::synth::stall::{StallRule, POLISH_STALL, SYNTH_STALL};
-use crate::synth::{SynthOptions, POLISH_LM, SYNTH_LM};
+use crate::synth::{ShakerLimits, SynthOptions, POLISH_LM, SYNTH_LM};
+use crate::work::{Estimate, Term};
 
 /// Default output folder.
 pub const DIR: &str = "results";
@@ -126,6 +127,57 @@ pub const BUDGETS: [Budget; 5] = [
     },
 ];
 
+impl Budget {
+    /// The synthesis options of this budget (quiet).
+    fn synthesis(&self) -> SynthOptions {
+        SynthOptions {
+            max_evaluations: self.evaluations,
+            lm: self.lm,
+            polish_lm: self.polish_lm,
+            stall: self.synth_stall,
+            polish_plays: self.plays,
+            polish_stall: self.polish_stall,
+            progress: ProgressMode::Quiet,
+            ..SynthOptions::default()
+        }
+    }
+}
+
+/// The work of the study over the shipped targets `names` (every budget
+/// of each): the sum of the work each design states before its synthesis
+/// ([`crate::design::method::design_estimate`], on the target's own
+/// shaker limits or the envelope; the basis read from the warm cache).
+///
+/// # Errors
+/// A target file that does not load.
+pub fn estimate(names: &[String]) -> Result<Estimate> {
+    let mut total = Estimate::new("--targets", "the design-speed study", "fewer --targets");
+    for name in names {
+        let target = Target::load(&Path::new("targets").join(format!("{name}.json")))?;
+        let sampled = target.sample()?;
+        let limits = ShakerLimits::from_spec(target.shaker.as_ref());
+        for b in &BUDGETS {
+            let opts = DesignOptions::default();
+            let e = design_estimate(
+                &target,
+                &sampled,
+                &b.synthesis(),
+                &opts,
+                Method::Auto,
+                &limits,
+                None,
+            );
+            for term in e.terms {
+                total = total.plus(
+                    Term::new(format!("{name}, {}: {}", b.label, term.label))
+                        .times(term.steps(), "steps"),
+                );
+            }
+        }
+    }
+    Ok(total)
+}
+
 /// One target under one budget.
 #[derive(Debug, Clone)]
 pub struct Row {
@@ -155,17 +207,7 @@ pub struct Row {
 /// # Errors
 /// The design fails.
 pub fn row(target: &Target, budget: &Budget, cache: &Path) -> Result<Row> {
-    let d = SynthOptions::default();
-    let synthesis = SynthOptions {
-        max_evaluations: budget.evaluations,
-        lm: budget.lm,
-        polish_lm: budget.polish_lm,
-        stall: budget.synth_stall,
-        polish_plays: budget.plays,
-        polish_stall: budget.polish_stall,
-        progress: ProgressMode::Quiet,
-        ..d
-    };
+    let synthesis = budget.synthesis();
     let steps0 = crate::dynamics::steps_taken();
     let cpu0 = process_cpu_seconds();
     let clock = Instant::now();

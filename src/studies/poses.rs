@@ -196,6 +196,29 @@ fn pose_target(md: &mut String, summary: &mut String, name: &str) -> Result<()> 
     Ok(())
 }
 
+/// The work `--play-drops` adds to the study: `play_drops` drops of each
+/// part played on each designed ellipse for its play time
+/// ([`crate::pose::drops_estimate`], in point-part steps).
+///
+/// # Errors
+/// A designed ellipse or part file that does not load.
+pub fn played_drops_estimate(play_drops: usize) -> Result<crate::work::Estimate> {
+    let mut total =
+        crate::work::Estimate::new("--play-drops", "playing the drops", "fewer --play-drops");
+    for (name, _) in ELLIPSES {
+        let (schedule, _) = load_schedule(name)?;
+        let sm = ScheduleMotion::from_schedule(&schedule)?;
+        let play = DropPlay::new(&schedule.settings, PLAY_S);
+        for part_name in PARTS {
+            let part = Part::load(Path::new(&format!("targets/parts/{part_name}.json")))?;
+            total
+                .terms
+                .extend(crate::pose::drops_estimate(&part, &sm, play_drops, &play).terms);
+        }
+    }
+    Ok(total)
+}
+
 /// Runs the study and writes `poses.md` into `out`; `play_drops` drops of
 /// each part are played by the planar simulator (0: none).
 pub fn run(out: &Path, play_drops: usize) -> Result<String> {

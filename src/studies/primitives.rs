@@ -7,7 +7,7 @@ use std::path::Path;
 use super::table1;
 use crate::basis::{Library, LibraryEntry, StepsPlan};
 use crate::error::Result;
-use crate::field::{FieldSettings, Grid};
+use crate::field::{FieldKind, FieldSettings, Grid};
 use crate::output::write_atomic;
 
 fn json_bytes(v: &serde_json::Value) -> Vec<u8> {
@@ -110,6 +110,41 @@ fn write_entry_files(e: &LibraryEntry, s: &FieldSettings, out: &Path) -> Result<
 
 /// Default output folder of `platefield primitives`.
 pub const DIR: &str = "results/primitives";
+
+/// The study's work on an `n` × `n` grid at `steps` steps per cycle under
+/// `plan`, relative to its defaults (the default grid and steps,
+/// uniform): the sum over the default primitives of their force and
+/// velocity fields' terms ([`crate::work::field_term`]: samples × cycles ×
+/// steps) at the steps `plan` gives each.
+///
+/// ```
+/// use platefield::basis::StepsPlan;
+/// use platefield::studies::primitives::work_factor;
+/// assert_eq!(work_factor(21, 64, StepsPlan::Uniform), 1.0);
+/// assert!((work_factor(42, 32, StepsPlan::Uniform) - 2.0).abs() < 1e-12);
+/// assert!(work_factor(21, 64, StepsPlan::Calibrated) < 1.0);
+/// ```
+pub fn work_factor(n: usize, steps: usize, plan: StepsPlan) -> f64 {
+    let work = |n: usize, steps: usize, plan: StepsPlan| -> f64 {
+        let grid = Grid {
+            n: [n, n],
+            ..Grid::DEFAULT
+        };
+        let mut settings = FieldSettings::default();
+        settings.numerics.steps_per_cycle = steps;
+        let term = |p: &crate::basis::Primitive, kind: FieldKind| {
+            let mut s = settings;
+            s.numerics.steps_per_cycle = plan.steps(p, kind, &grid, &settings);
+            crate::work::field_term("", 1.0, "field", (n * n) as f64, kind, &s).steps()
+        };
+        Library::default_primitives()
+            .iter()
+            .map(|p| term(p, FieldKind::Force) + term(p, FieldKind::Velocity))
+            .sum()
+    };
+    let defaults = FieldSettings::default().numerics.steps_per_cycle;
+    work(n, steps, plan) / work(Grid::DEFAULT.n[0], defaults, StepsPlan::Uniform)
+}
 
 /// `platefield primitives`: simulates the default library on an `n × n`
 /// grid over ±4 cm at `steps` RK4 steps per cycle (force fields as `plan`

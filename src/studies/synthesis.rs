@@ -69,6 +69,7 @@ use crate::play::measure::{against_prediction, PlayOptions};
 use crate::play::{PlayedSegment, ScheduleMotion};
 use crate::request::{SampledTarget, Target};
 use crate::schedule::Schedule;
+use crate::studies::work::Expected;
 use crate::synth::params::AXIS_NAMES;
 use crate::synth::progress::ProgressMode;
 use crate::synth::seed::seed;
@@ -1057,4 +1058,62 @@ pub fn run(out: &Path, only: &[String], study: &StudySettings) -> Result<String>
         out.join("synthesis.md").display(),
         out.join("synthesis.csv").display()
     ))
+}
+
+/// Steps each row counted with the default settings
+/// ([`StudySettings::default`]), run alone (`--rows NAME`) when the
+/// study's results were last regenerated; a row's sequenced design reads
+/// its basis from the warm cache.
+pub const ROW_STEPS: &[(&str, f64)] = &[
+    ("sink", 3.63e7),
+    ("saddle", 3.87e7),
+    ("whirlpool", 5.21e7),
+    ("squeeze_trans", 5.44e7),
+    ("line_sink_30", 5.95e7),
+    ("lab", 1.61e7),
+    ("refine:whirlpool", 3.90e7),
+    ("refine:squeeze_trans", 1.15e7),
+];
+
+/// The study's settings' work relative to the defaults: the ratio of the
+/// work the design states for one synthesis and its polish
+/// ([`crate::design::method::synthesis_estimate`]) of the sink on the
+/// paper's envelope with these harmonics, evaluations and plays, to the
+/// same with the defaults. A model: every row is taken to scale as the
+/// sink's does.
+pub fn settings_factor(study: &StudySettings) -> Result<f64> {
+    let target = Target::load(Path::new("targets/sink.json"))?;
+    let sampled = target.sample()?;
+    let work = |s: &StudySettings| {
+        let limits = ShakerLimits {
+            harmonics: s.harmonics,
+            contact_margin: 0.1,
+            ..ShakerLimits::paper_envelope()
+        };
+        let synth = SynthOptions {
+            polish_plays: s.polish_plays,
+            ..s.options()
+        };
+        let opts = DesignOptions::default();
+        crate::design::method::synthesis_estimate(&target, &sampled, &synth, &opts, &limits).steps()
+    };
+    Ok(work(study) / work(&StudySettings::default()))
+}
+
+/// What `platefield synthesis` with rows `only` (empty: all) and settings
+/// `study` is expected to take: with the defaults, the count of its last
+/// regeneration; otherwise that count's share of the rows asked for
+/// ([`ROW_STEPS`]) times [`settings_factor`].
+///
+/// # Errors
+/// The sink target does not load.
+pub fn expected(only: &[String], study: &StudySettings) -> Result<Option<Expected>> {
+    if only.is_empty() && *study == StudySettings::default() {
+        return Ok(Expected::defaults("synthesis"));
+    }
+    let wanted = |n: &str| only.is_empty() || only.iter().any(|o| o == n);
+    let all: f64 = ROW_STEPS.iter().map(|r| r.1).sum();
+    let asked: f64 = ROW_STEPS.iter().filter(|r| wanted(r.0)).map(|r| r.1).sum();
+    let factor = asked / all * settings_factor(study)?;
+    Ok(Expected::scaled("synthesis", factor, "rows and settings"))
 }

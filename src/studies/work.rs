@@ -10,6 +10,16 @@
 //! cost in [`crate::work`]'s unit; the study
 //! states it as an [`Estimate`] before it starts, shows progress against
 //! it, and prints the count it took when it ends, so a stale entry shows.
+//!
+//! A study run with other inputs states its own model ([`Expected`]):
+//! `primitives` scales its count by the field terms of its grid and steps
+//! (`primitives::work_factor`); `poses-study --play-drops N` adds the
+//! drops' planar work (`poses::played_drops_estimate`); `design-speed
+//! --targets` sums the work each design states
+//! (`design_speed::estimate`); `synthesis --rows/--harmonics/…` takes its
+//! rows' share of the count times the settings' ratio
+//! (`synthesis::expected`); `rungs` computes every rung whatever its
+//! tolerance, the same work.
 
 use crate::error::Result;
 use crate::progress::{Progress, ProgressMode};
@@ -48,39 +58,90 @@ fn entry(name: &str) -> Option<(f64, f64)> {
         .map(|&(_, steps, cost)| (steps, cost))
 }
 
-/// The estimate of study `name`, if its count is known.
-pub fn estimate(name: &str) -> Option<Estimate> {
-    let (steps, cost) = entry(name)?;
-    Some(
-        Estimate::new(name, &format!("the {name} study"), "—").plus(
-            Term::new("its last regeneration")
-                .times(steps, "steps")
-                .times(cost, "point steps per step"),
-        ),
-    )
+/// What one run of a study is expected to take: the estimate it states
+/// before it starts and the engine steps its progress counts towards.
+///
+/// ```
+/// use platefield::studies::work::Expected;
+/// let defaults = Expected::defaults("rungs").expect("a recorded count");
+/// let twice = Expected::scaled("rungs", 2.0, "a model").unwrap();
+/// assert_eq!(twice.steps, 2.0 * defaults.steps);
+/// assert_eq!(twice.estimate.steps(), 2.0 * defaults.estimate.steps());
+/// ```
+#[derive(Debug, Clone)]
+pub struct Expected {
+    /// The estimate, in [`crate::work`]'s point-part steps.
+    pub estimate: Estimate,
+    /// The engine steps ([`crate::dynamics::steps_taken`]) it counts.
+    pub steps: f64,
 }
 
-/// Steps study `name` is expected to count, if known.
+impl Expected {
+    /// Study `name` run with its defaults: the count of its last
+    /// regeneration ([`EXPECTED_STEPS`]).
+    pub fn defaults(name: &str) -> Option<Expected> {
+        Expected::scaled(name, 1.0, "")
+    }
+
+    /// Study `name` run with inputs its own `model` says scale its default
+    /// work by `factor` (the model named in the estimate; empty: none).
+    pub fn scaled(name: &str, factor: f64, model: &str) -> Option<Expected> {
+        let (steps, cost) = entry(name)?;
+        let mut term = Term::new("its last regeneration").times(steps, "steps");
+        if !model.is_empty() {
+            term = term.times(factor, model);
+        }
+        Some(Expected {
+            estimate: Estimate::new(name, &format!("the {name} study"), "—")
+                .plus(term.times(cost, "point steps per step")),
+            steps: steps * factor,
+        })
+    }
+
+    /// The library's own `estimate` of the study's work, each counted
+    /// step costing `cost` point-part steps.
+    pub fn estimated(estimate: Estimate, cost: f64) -> Expected {
+        Expected {
+            steps: estimate.steps() / cost,
+            estimate,
+        }
+    }
+
+    /// This and the library's estimate `more` (each of its counted steps
+    /// costing `cost` point-part steps).
+    pub fn plus(mut self, more: Estimate, cost: f64) -> Expected {
+        self.steps += more.steps() / cost;
+        for term in more.terms {
+            self.estimate = self.estimate.plus(term);
+        }
+        self
+    }
+}
+
+/// The estimate of study `name` with its defaults, if its count is known.
+pub fn estimate(name: &str) -> Option<Estimate> {
+    Expected::defaults(name).map(|e| e.estimate)
+}
+
+/// Steps study `name` is expected to count with its defaults, if known.
 pub fn expected_steps(name: &str) -> Option<f64> {
     entry(name).map(|(steps, _)| steps)
 }
 
-/// Runs study `name` (`f`) with its estimate stated first (when it runs
-/// with its `defaults`, the inputs the count was measured on) and progress
-/// in thousands of counted steps on stderr, unless `quiet`; the count it
-/// took is printed at the end.
+/// Runs study `name` (`f`) with its `expected` work stated first and
+/// progress in thousands of counted steps on stderr, unless `quiet`; the
+/// count it took is printed at the end. `None`: no estimate is known for
+/// these inputs (progress without a total).
 pub fn watched<T>(
     name: &str,
-    defaults: bool,
+    expected: Option<Expected>,
     quiet: bool,
     f: impl FnOnce() -> Result<T>,
 ) -> Result<T> {
-    if let Some(e) = estimate(name).filter(|_| defaults) {
-        e.announce(quiet);
+    if let Some(e) = &expected {
+        e.estimate.announce(quiet);
     }
-    let total = expected_steps(name)
-        .filter(|_| defaults)
-        .map_or(0, |steps| (steps / 1e3).ceil() as u64);
+    let total = expected.map_or(0, |e| (e.steps / 1e3).ceil() as u64);
     let progress = Progress::new(name, "k steps", total, ProgressMode::quiet_if(quiet));
     let before = crate::dynamics::steps_taken();
     let out = with_counted_progress(&progress, f);
