@@ -167,12 +167,8 @@ pub fn estimate(names: &[String]) -> Result<Estimate> {
                 &limits,
                 None,
             );
-            for term in e.terms {
-                total = total.plus(
-                    Term::new(format!("{name}, {}: {}", b.label, term.label))
-                        .times(term.steps(), "steps"),
-                );
-            }
+            let label = format!("{name}, {}", b.label);
+            total = total.plus(Term::new(label).times(e.steps(), "steps"));
         }
     }
     Ok(total)
