@@ -263,7 +263,7 @@ impl<'a> MethodRun<'a> {
         let estimate = design_estimate(
             target,
             sampled,
-            &opts.synthesis,
+            &asked_synthesis(target, opts),
             opts,
             method,
             &limits,
@@ -304,7 +304,7 @@ impl<'a> MethodRun<'a> {
         design_estimate(
             self.target,
             self.sampled,
-            &self.opts.synthesis,
+            &asked_synthesis(self.target, self.opts),
             self.opts,
             self.opts.method,
             &self.out.limits,
@@ -405,7 +405,7 @@ impl<'a> MethodRun<'a> {
             self.sampled,
             limits,
             self.opts,
-            &self.opts.synthesis,
+            &asked_synthesis(self.target, self.opts),
         ) {
             Ok((syn, schedule)) => {
                 let spec = Some(limits.to_spec());
@@ -816,6 +816,21 @@ fn describe(c: &Candidate) -> String {
         number(strength),
         if p.poor { " (POOR)" } else { "" }
     )
+}
+
+/// The synthesis options of the method asked for: over a friction range
+/// `--method synthesize`, whose one candidate is the synthesized motion,
+/// optimises the worst case (as `--robust-synthesis`); `auto` and `mirror`
+/// synthesize for the range's middle and hold the range by the
+/// mirror-image share ([`super::mirror`]), `auto` adding the worst-case
+/// synthesis when no candidate holds it ([`RANGE_HELD`]).
+fn asked_synthesis(target: &Target, opts: &DesignOptions) -> SynthOptions {
+    let ranged = target.friction.is_some_and(|f| !f.is_exact());
+    SynthOptions {
+        robust_synthesis: opts.synthesis.robust_synthesis
+            || (ranged && opts.method == Method::Synthesize),
+        ..opts.synthesis
+    }
 }
 
 /// The worst-case shape error over a friction range within which a
@@ -1626,6 +1641,26 @@ mod tests {
         assert!(!held(&[c(0.10, false), c(0.061, false)]));
         assert!(!held(&[c(0.02, true), c(0.09, false)]));
         assert!(!held(&[]));
+    }
+
+    /// Over a friction range `--method synthesize` optimises the worst
+    /// case; `auto` and `mirror` synthesize for the middle; an exact
+    /// friction never asks for the worst case.
+    #[test]
+    fn synthesize_over_a_range_optimises_the_worst_case() {
+        let mut target = Target::load(std::path::Path::new("targets/sink.json")).unwrap();
+        let asked = |target: &Target, method| {
+            let opts = DesignOptions {
+                method,
+                ..DesignOptions::default()
+            };
+            asked_synthesis(target, &opts).robust_synthesis
+        };
+        assert!(!asked(&target, Method::Synthesize));
+        target.friction = Some(crate::scene::FrictionSpec::range(0.2, 0.4));
+        assert!(asked(&target, Method::Synthesize));
+        assert!(!asked(&target, Method::Auto));
+        assert!(!asked(&target, Method::Mirror));
     }
 
     /// The polish term counts the parts the polish plays: every sample of a
