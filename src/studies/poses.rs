@@ -143,7 +143,11 @@ redesign) and played from 100 random drops by the planar simulator; goal: 95 % w
 without a 180° symmetry (the bracket, the triangle) has two stable poses 180° apart in it, each \
 with about half the drops. A unique pose needs a nonlinear field (radial plus a small uniform \
 part); in the averaged analysis of `synth` one motion's field is affine in position, so it \
-cannot make one.\n\n";
+cannot make one. Time-shared primitives do not give one either: the LineSink's velocity field is \
+affine over the region to 0.55 % of its top speed, so LineSinks at several angles average to a \
+linear sink; the one strongly nonlinear primitive, DivCircle (70 % off affine, a stick disc of \
+about 2 cm), makes the bracket's pose unique in the lifted field but turns it 80 times slower \
+than the ellipse (`tests/pose_nonlinear.rs`, `docs/parts.md`).\n\n";
 
 /// The shipped pose targets (`targets/pose_*.json`).
 const POSE_TARGETS: [&str; 3] = ["rectangle", "bracket", "triangle"];
