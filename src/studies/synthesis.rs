@@ -750,11 +750,11 @@ const DIAGNOSTICS: &str = "\n## Reading the diagnostics\n\n\
          least N 0.98 m/s², on the margin.\n\
          - *valid / played* below played: at those start points a part lost contact (or a \
          steady state failed) somewhere along its path and the measure leaves the point out. For \
-         the saddle (checked point by point, `cargo run --release --example played_polish saddle`) \
+         the saddle (checked point by point by `platefield probes`, `results/probes.md`) \
          the 10 points left out are the starts at y = ±4 cm, on the expanding axis: their parts \
-         leave the plate at |y| = 6.1–6.8 cm in warm-up periods 25–32 (N < 0 where the tilts swing \
+         leave the plate at |y| = 6.2–6.9 cm in warm-up periods 25–32 (N < 0 where the tilts swing \
          it by more than g), outside the ±4 cm region the contact margin covers — a physical loss, \
-         not a defect of the measure. The parts started at y = ±2 cm are measured at |y| ≈ 5.5 cm, \
+         not a defect of the measure. The parts started at y = ±2 cm are measured at |y| ≈ 4.8–5.6 cm, \
          where the field falls below the region's affine one: hence the saddle's played ŝ below \
          its full-grid prediction, which the sink (whose parts move inwards) does not show. \
          Each motion's own ŝ is fitted where *its* parts stay; where the two motions keep \

@@ -21,9 +21,9 @@ pub mod sort_play;
 pub mod strength;
 pub mod swarm;
 
+pub use crate::play::plate_twist;
 pub use rectangles::{
-    plate_twist, play_rectangle, PoseSample, RectangleFailure, RectangleOptions, RectangleRun,
-    RectangleSummary,
+    play_rectangle, PoseSample, RectangleFailure, RectangleOptions, RectangleRun, RectangleSummary,
 };
 pub use run::{verify_schedule_file, Duration, VerifyReport, VerifyRequest};
 pub use swarm::{run_swarm, Swarm, SwarmOptions, SwarmPart};
