@@ -181,6 +181,9 @@ enum Command {
         #[command(flatten)]
         out: StudyOut,
     },
+    /// Study: the measurements behind numbers the docs state (the saddle's margin cap, the ratchet, the lag, the saddle's parts, single fields): probes.md (timings printed only).
+    #[command(mut_arg("out", default_dir(studies::probes::DIR)))]
+    Probes(StudyOut),
     /// Study: SqueezeTrans's squeeze line against segment order, phasing, cycles and rest (the paper's section V): squeeze_trans_order.{md,csv}.
     #[command(mut_arg("out", default_dir(studies::squeeze_order::DIR)))]
     SqueezeOrder(StudyOut),
@@ -336,6 +339,11 @@ fn run(cli: Cli) -> Result<String> {
         Command::Robust { quiet, out } => {
             studies::watched("robust", Expected::defaults("robust"), quiet.quiet, || {
                 studies::robust::run(&out.out, quiet.quiet)
+            })
+        }
+        Command::Probes(o) => {
+            studies::watched("probes", Expected::defaults("probes"), false, || {
+                studies::probes::run(&o.out)
             })
         }
         Command::SqueezeOrder(o) => studies::watched(

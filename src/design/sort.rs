@@ -34,7 +34,7 @@
 //! scale and relative error.
 //!
 //! **Judged by playing**: every class's swarm is played
-//! (`report::sort_play`, above `verify`); where its parts end is the measure.
+//! (`verify::sort_play`); where its parts end is the measure.
 
 use nalgebra::DVector;
 use serde::Serialize;

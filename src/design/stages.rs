@@ -55,11 +55,7 @@ pub(crate) fn basis_stage(target: &Target, opts: &DesignOptions) -> Result<Basis
     // a library caller may come straight to the basis.
     opts.validate()?;
     let sampled = target.sample()?;
-    let target_grid = target.grid.as_ref().map(|g| Grid {
-        x: g.x,
-        y: g.y,
-        n: g.n,
-    });
+    let target_grid = target.grid;
     let angles = super::rotations(opts.basis.rotation_step_deg);
     let (primitives, source) = library_source(target_grid.as_ref(), &sampled, opts);
 
@@ -135,11 +131,7 @@ pub(crate) fn cold_library_estimate(
     sampled: &SampledTarget,
     opts: &DesignOptions,
 ) -> Option<Estimate> {
-    let grid = target.grid.as_ref().map(|g| Grid {
-        x: g.x,
-        y: g.y,
-        n: g.n,
-    });
+    let grid = target.grid;
     let (primitives, source) = library_source(grid.as_ref(), sampled, opts);
     let cached = opts.basis.cache_dir.as_ref().is_some_and(|dir| {
         let key = BasisCache::key(&primitives, &source, &opts.settings, opts.basis.kind);

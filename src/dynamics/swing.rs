@@ -43,8 +43,9 @@
 //!   until |u| passed the bound: each grows ln |u| by only about
 //!   C_SLAVED (a_free·û − μ_k N)/|a_free|, dozens of steps where μ_k N is
 //!   close to |a_free|. Measured on the default library's 21×21×30 force
-//!   fields (`examples/engine_measure`, one thread, CPU time; error against
-//!   512 steps per cycle, `results/library_speed.md` before and after):
+//!   fields (`platefield probes`, which prints their CPU time on one
+//!   thread; error against 512 steps per cycle, `results/library_speed.md`
+//!   by `platefield speed`, before and after):
 //!   DivCircle at 32 steps per cycle 0.41 s → 0.34 s, error 5.49e-5 →
 //!   5.50e-5; at 64 steps 0.65 s → 0.58 s, 9.38e-7 → 1.02e-6; ScaledCircle
 //!   at 64 steps 0.12 s → 0.10 s, 2.53e-6 → 2.78e-6; the Circle's error at
@@ -63,7 +64,7 @@
 //!   ScaledCircle's and DivCircle's force fields (3.0 of 6.4 and 3.0 of 5.7
 //!   million at 64 steps per cycle, 21×21×30). With it the CPU time of
 //!   those fields falls from 2.43 s to 1.62 s and from 1.75 s to 1.12 s
-//!   (`examples/engine_measure`, one thread), with the same errors at 32
+//!   (`platefield probes`, one thread), with the same errors at 32
 //!   steps per cycle and more (see [`FINISH`]).
 //! * where |u| has fallen below [`STOP`] of the bound while slowing with
 //!   μ_k N ≤ |a_free| (no frozen stop; rare), the rest of the way to u = 0

@@ -49,8 +49,8 @@
 //! E = mean_j (r_P − r_j)/(P T) with the corrected F iterated once per cycle
 //! from r_j ([`PointPlay::expected_cycles`]). Measured on the lab-class
 //! sink (synthesized as in `platefield synthesis`, 24 points, 40 cycles of
-//! warm-up, 20 measured; `cargo run --release --example
-//! vs_predicted_window`): against the flow of F the gap was 3.2 % (the
+//! warm-up, 20 measured; `platefield probes`, `results/probes.md`):
+//! against the flow of F the gap was 3.2 % (the
 //! number issue 11 reported; 4.2 % over 1 cycle, 0.8 % over 100), F per
 //! cycle 2.2 %, the flow of the lagged F 1.2 %, the lagged F per cycle
 //! 0.14 % (0.18 % over 1 cycle, 0.04 % over 100; 0.15 % at 200 and 400

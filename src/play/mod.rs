@@ -66,6 +66,20 @@ pub struct PlayedSegment {
     pub duration: f64,
 }
 
+/// The plate's in-plane velocity at plate point `p` and its vertical spin
+/// at the start (and, by periodicity, the end) of segment `seg` (what a
+/// part at rest on the plate carries across a join).
+pub fn plate_twist(seg: &PlayedSegment, gravity: f64, tilt: bool, p: &V2) -> (V2, f64) {
+    match &seg.motion {
+        None => (V2::zeros(), 0.0),
+        Some(m) => {
+            let k = m.kinematics(0.0, gravity, tilt);
+            let v = k.velocity_at(&V3::new(p.x, p.y, 0.0));
+            (V2::new(v.x, v.y), k.omega.z)
+        }
+    }
+}
+
 impl PlayedSegment {
     /// `cycles` whole periods of `motion`.
     pub fn moving(label: impl Into<String>, motion: Motion, cycles: u32) -> PlayedSegment {

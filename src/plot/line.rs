@@ -3,7 +3,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use crate::plot::svg::{self, num, write_atomic, PALETTE};
+use crate::plot::svg::{self, num, write_atomic, AXIS_COLOR, PALETTE};
 use crate::plot::ticks::{log_ticks, nice_range};
 
 /// How a series is stroked.
@@ -208,41 +208,17 @@ impl Frame {
 
     /// The frame and its tick marks (major 5 px, minor 3 px).
     fn render_axes(&self, out: &mut String) {
-        let [left, top, right, bottom] = self.bounds();
-        let _ = writeln!(
-            out,
-            r#"<g class="axes" stroke="{AXIS_COLOR}" stroke-width="1" fill="none">"#
-        );
-        let _ = writeln!(
-            out,
-            r#"<rect x="{}" y="{}" width="{}" height="{}"/>"#,
-            num(left),
-            num(top),
-            num(right - left),
-            num(bottom - top)
-        );
+        let bounds = self.bounds();
+        let [left, _, _, bottom] = bounds;
+        svg::open_axes(out, bounds);
         for (v, _, major) in &self.xticks {
             if let Some(x) = self.ax.map(*v) {
-                let len = if *major { 5.0 } else { 3.0 };
-                let _ = writeln!(
-                    out,
-                    r#"<line x1="{x}" y1="{}" x2="{x}" y2="{}"/>"#,
-                    num(bottom),
-                    num(bottom + len),
-                    x = num(x)
-                );
+                svg::x_tick(out, x, bottom, if *major { 5.0 } else { 3.0 });
             }
         }
         for (v, _, major) in &self.yticks {
             if let Some(y) = self.ay.map(*v) {
-                let len = if *major { 5.0 } else { 3.0 };
-                let _ = writeln!(
-                    out,
-                    r#"<line x1="{}" y1="{y}" x2="{}" y2="{y}"/>"#,
-                    num(left - len),
-                    num(left),
-                    y = num(y)
-                );
+                svg::y_tick(out, y, left, if *major { 5.0 } else { 3.0 });
             }
         }
         let _ = writeln!(out, "</g>");
@@ -281,7 +257,6 @@ const MARGIN_RIGHT: f64 = 20.0;
 const MARGIN_TOP: f64 = 36.0;
 const MARGIN_BOTTOM: f64 = 52.0;
 const GRID_COLOR: &str = "#e6e6e6";
-const AXIS_COLOR: &str = "#333333";
 
 /// Data range of the values accepted on an axis.
 fn data_range(values: impl Iterator<Item = f64>, log: bool) -> Option<[f64; 2]> {
@@ -424,16 +399,7 @@ impl LinePlot {
     pub(crate) fn render(&self, out: &mut String, id: &str) {
         let f = self.frame();
         let _ = writeln!(out, r#"<g class="line-plot">"#);
-        if !self.title.is_empty() {
-            svg::text(
-                out,
-                self.width / 2.0,
-                22.0,
-                "middle",
-                r#"font-size="14" font-weight="bold""#,
-                &self.title,
-            );
-        }
+        svg::title(out, self.width, &self.title);
         f.render_grid(out);
         f.render_axes(out);
         f.render_tick_labels(out);

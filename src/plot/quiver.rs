@@ -3,7 +3,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use crate::plot::svg::{self, fmt_sig, num, write_atomic, INVALID_COLOR, PALETTE};
+use crate::plot::svg::{self, fmt_sig, num, write_atomic, AXIS_COLOR, INVALID_COLOR, PALETTE};
 use crate::plot::ticks::nice_ticks;
 
 /// Fraction of the sample spacing spanned by the longest arrow when the
@@ -295,7 +295,6 @@ pub fn estimate_spacing(points: &[[f64; 2]]) -> f64 {
 
 const MARGIN_LEFT: f64 = 58.0;
 const MARGIN_RIGHT: f64 = 16.0;
-const AXIS_COLOR: &str = "#333333";
 
 impl QuiverPlot {
     /// A quiver plot of `vectors` at `points` (default size 420 × 460).
@@ -502,16 +501,7 @@ impl QuiverPlot {
         let lay = self.layout();
         let [fl, ft, fr, fb] = lay.frame;
         let _ = writeln!(out, r#"<g class="quiver-plot">"#);
-        if !self.title.is_empty() {
-            svg::text(
-                out,
-                self.width / 2.0,
-                22.0,
-                "middle",
-                r#"font-size="14" font-weight="bold""#,
-                &self.title,
-            );
-        }
+        svg::title(out, self.width, &self.title);
         self.render_axes(out, &lay);
 
         let clip = format!("{id}-clip");
@@ -723,37 +713,12 @@ impl QuiverPlot {
             lay.y_range[1] * 100.0,
             target(fb - ft),
         );
-        let _ = writeln!(
-            out,
-            r#"<g class="axes" stroke="{AXIS_COLOR}" stroke-width="1" fill="none">"#
-        );
-        let _ = writeln!(
-            out,
-            r#"<rect x="{}" y="{}" width="{}" height="{}"/>"#,
-            num(fl),
-            num(ft),
-            num(fr - fl),
-            num(fb - ft)
-        );
+        svg::open_axes(out, lay.frame);
         for v in xt.values() {
-            let x = lay.map([v / 100.0, 0.0])[0];
-            let _ = writeln!(
-                out,
-                r#"<line x1="{x}" y1="{}" x2="{x}" y2="{}"/>"#,
-                num(fb),
-                num(fb + 5.0),
-                x = num(x)
-            );
+            svg::x_tick(out, lay.map([v / 100.0, 0.0])[0], fb, 5.0);
         }
         for v in yt.values() {
-            let y = lay.map([0.0, v / 100.0])[1];
-            let _ = writeln!(
-                out,
-                r#"<line x1="{}" y1="{y}" x2="{}" y2="{y}"/>"#,
-                num(fl - 5.0),
-                num(fl),
-                y = num(y)
-            );
+            svg::y_tick(out, lay.map([0.0, v / 100.0])[1], fl, 5.0);
         }
         let _ = writeln!(out, "</g>");
         let _ = writeln!(out, r#"<g class="tick-labels" fill="{AXIS_COLOR}">"#);

@@ -118,6 +118,62 @@ pub(crate) fn text(out: &mut String, x: f64, y: f64, anchor: &str, extra: &str, 
     );
 }
 
+/// A plot's bold title centred over its `width` (none when empty).
+pub(crate) fn title(out: &mut String, width: f64, title: &str) {
+    if !title.is_empty() {
+        text(
+            out,
+            width / 2.0,
+            22.0,
+            "middle",
+            r#"font-size="14" font-weight="bold""#,
+            title,
+        );
+    }
+}
+
+/// Colour of a plot's frame, ticks and tick labels.
+pub(crate) const AXIS_COLOR: &str = "#333333";
+
+/// Opens a plot's axes group and draws its frame `[left, top, right,
+/// bottom]` (px); the ticks follow ([`x_tick`], [`y_tick`]), then `</g>`.
+pub(crate) fn open_axes(out: &mut String, [left, top, right, bottom]: [f64; 4]) {
+    let _ = writeln!(
+        out,
+        r#"<g class="axes" stroke="{AXIS_COLOR}" stroke-width="1" fill="none">"#
+    );
+    let _ = writeln!(
+        out,
+        r#"<rect x="{}" y="{}" width="{}" height="{}"/>"#,
+        num(left),
+        num(top),
+        num(right - left),
+        num(bottom - top)
+    );
+}
+
+/// A tick mark at `x` below the frame's bottom edge, `len` px long.
+pub(crate) fn x_tick(out: &mut String, x: f64, bottom: f64, len: f64) {
+    let _ = writeln!(
+        out,
+        r#"<line x1="{x}" y1="{}" x2="{x}" y2="{}"/>"#,
+        num(bottom),
+        num(bottom + len),
+        x = num(x)
+    );
+}
+
+/// A tick mark at `y` left of the frame's left edge, `len` px long.
+pub(crate) fn y_tick(out: &mut String, y: f64, left: f64, len: f64) {
+    let _ = writeln!(
+        out,
+        r#"<line x1="{}" y1="{y}" x2="{}" y2="{y}"/>"#,
+        num(left - len),
+        num(left),
+        y = num(y)
+    );
+}
+
 /// Path data (`M x y L x y ...`) for a polyline, starting a new subpath
 /// after every run of skipped points; `None` entries are gaps.
 pub(crate) fn path_data(points: impl IntoIterator<Item = Option<[f64; 2]>>) -> String {

@@ -8,7 +8,7 @@
 //! **Schedule.** Segment after segment from phase 0, repeated; rest
 //! segments with the plate at rest in the home pose. At a join the part's
 //! inertial planar velocity is kept continuous, as for the verified
-//! rectangles ([`crate::verify::plate_twist`]).
+//! rectangles ([`crate::play::plate_twist`]).
 //!
 //! **Determinism.** Drops are independent and played in parallel (rayon);
 //! each drop's arithmetic does not depend on the thread that plays it, so
@@ -19,8 +19,8 @@ use rayon::prelude::*;
 use super::equilibria::{wrap, Equilibrium};
 use super::lifted::Pose;
 use crate::dynamics::{Friction, Model, PlanarBody, PlanarSimulator, PlanarState, Plate, V2};
+use crate::play::plate_twist;
 use crate::play::{PlayLoss, ScheduleMotion};
-use crate::verify::plate_twist;
 
 /// How drops are played.
 #[derive(Debug, Clone, Copy, PartialEq)]

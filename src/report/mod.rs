@@ -15,7 +15,6 @@ pub mod pose_design;
 pub mod poses;
 pub mod run_design;
 pub mod sort;
-pub mod sort_play;
 pub mod verify;
 
 use std::path::Path;

@@ -11,7 +11,7 @@ use serde::Serialize;
 use crate::design::sort::{ClassFit, SortDesign};
 use crate::error::{Error, Result};
 use crate::output::percent;
-use crate::report::sort_play::{ClassPlay, SORT_TOL};
+use crate::verify::sort_play::{ClassPlay, SORT_TOL};
 
 /// Goal: fraction of each class's swarm at its own attractor.
 pub const GOAL_AT_OWN: f64 = 0.95;
@@ -182,7 +182,7 @@ pub fn run(
     json: bool,
     files: &[&str],
 ) -> Result<String> {
-    let played = crate::report::sort_play::play_classes(target, d, None)?;
+    let played = crate::verify::sort_play::play_classes(target, d, None)?;
     let stage = crate::output::Staged::new(dir)?;
     write(&target.name, d, &played, stage.path())?;
     stage.commit(files)?;

@@ -509,38 +509,7 @@ pub fn run(
     let schedule = Schedule::load(path)?;
     let dir = verify_dir(path, &schedule, out)?;
     crate::output::check_writable(&dir, "--out")?;
-    // The friction sweep is judged against the target by the design's own
-    // check, a `design` step: estimated before anything is played.
-    let sweep = req.friction.map(|f| f.sweep_values()).unwrap_or_default();
-    if !sweep.is_empty() {
-        req.runtime.admit(&crate::design::method::sweep_estimate(
-            &schedule,
-            sweep.len(),
-        ))?;
-    }
-    // The replay is judged like the sweep: its file is read (and refused)
-    // and its work estimated before anything is played.
-    let replay_file = match &req.replay {
-        Some(p) => {
-            let (file, source) = (crate::motion::held_csv::read(p)?, p.display().to_string());
-            crate::design::replay::check_replay(&schedule, &file, &source)?;
-            req.runtime.admit(&crate::design::replay::replay_estimate(
-                &schedule, file.rate,
-            ))?;
-            Some((file, source))
-        }
-        None => None,
-    };
-    let mut r = crate::verify::verify_schedule_file(path, req)?;
-    if !sweep.is_empty() {
-        r.friction_sweep = Some(crate::design::method::sweep_schedule(&schedule, &sweep)?);
-    }
-    if let Some((file, source)) = &replay_file {
-        let played = req.friction.and_then(|f| f.played());
-        r.replay = Some(crate::design::replay::replay_check(
-            &schedule, file, source, played,
-        )?);
-    }
+    let r = crate::verify::verify_schedule_file(path, req)?;
     let files = write(&r, &dir)?;
     if json {
         return summary_json(&r);

@@ -17,6 +17,7 @@
 //! | [`synthesis`] | `platefield synthesis` | `synthesis.{md,csv}` |
 //! | [`design_speed`] | `platefield design-speed` | `design_speed.md` |
 //! | [`poses`] | `platefield poses-study` | `poses.md` |
+//! | [`probes`] | `platefield probes` | `probes.md` (the measurements behind numbers the docs state) |
 
 pub mod design_speed;
 pub mod engine_speed;
@@ -25,6 +26,7 @@ pub mod interaction;
 pub mod linesink;
 pub mod poses;
 pub mod primitives;
+pub mod probes;
 pub mod reproduce;
 pub mod robust;
 pub mod rung;

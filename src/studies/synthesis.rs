@@ -62,7 +62,7 @@ use crate::design::polish::{polish, PolishOptions};
 use crate::design::refine::{refine_schedule, RefineOptions, Refined};
 use crate::design::{design, DesignOptions};
 use crate::error::{Error, Result};
-use crate::field::{FieldSettings, Grid};
+use crate::field::FieldSettings;
 use crate::motion::Motion;
 use crate::output::write_atomic;
 use crate::play::measure::{against_prediction, PlayOptions};
@@ -421,15 +421,9 @@ fn synthesize_row(
     settings: &FieldSettings,
     study: &StudySettings,
 ) -> Result<(Played, (u32, bool), Vec<String>)> {
-    let g = target
+    let region = target
         .grid
-        .as_ref()
         .ok_or_else(|| Error::invalid("grid", "the study's targets need a grid"))?;
-    let region = Grid {
-        x: g.x,
-        y: g.y,
-        n: g.n,
-    };
     let mut best: Option<(Played, (u32, bool))> = None;
     let mut tried = Vec::new();
     let runs = (1..=limits.harmonics.max(1)).flat_map(|h| [(h, false), (h, true)]);
@@ -567,13 +561,8 @@ pub fn seed_binding(
     limits: &ShakerLimits,
     settings: &FieldSettings,
 ) -> Vec<String> {
-    let Some(g) = target.grid.as_ref() else {
+    let Some(region) = target.grid else {
         return Vec::new();
-    };
-    let region = Grid {
-        x: g.x,
-        y: g.y,
-        n: g.n,
     };
     let l = ShakerLimits {
         harmonics: 1,
@@ -762,11 +751,11 @@ const DIAGNOSTICS: &str = "\n## Reading the diagnostics\n\n\
          least N 0.98 m/s², on the margin.\n\
          - *valid / played* below played: at those start points a part lost contact (or a \
          steady state failed) somewhere along its path and the measure leaves the point out. For \
-         the saddle (checked point by point, `cargo run --release --example played_polish saddle`) \
+         the saddle (checked point by point by `platefield probes`, `results/probes.md`) \
          the 10 points left out are the starts at y = ±4 cm, on the expanding axis: their parts \
-         leave the plate at |y| = 6.1–6.8 cm in warm-up periods 25–32 (N < 0 where the tilts swing \
+         leave the plate at |y| = 6.2–6.9 cm in warm-up periods 25–32 (N < 0 where the tilts swing \
          it by more than g), outside the ±4 cm region the contact margin covers — a physical loss, \
-         not a defect of the measure. The parts started at y = ±2 cm are measured at |y| ≈ 5.5 cm, \
+         not a defect of the measure. The parts started at y = ±2 cm are measured at |y| ≈ 4.8–5.6 cm, \
          where the field falls below the region's affine one: hence the saddle's played ŝ below \
          its full-grid prediction, which the sink (whose parts move inwards) does not show. \
          Each motion's own ŝ is fitted where *its* parts stay; where the two motions keep \
@@ -778,7 +767,7 @@ const DIAGNOSTICS: &str = "\n## Reading the diagnostics\n\n\
          `platefield::play::measure`): a steady state is a per-cycle displacement, and a part that \
          drifts lags the orbit through its position. Against the flow of the plain steady state (the \
          measure before) the lab sink was 3.2 % off at 20 measured cycles, 0.8 % at 100, at any \
-         warm-up; now 0.14 % and 0.04 % (`cargo run --release --example vs_predicted_window`). The \
+         warm-up; now 0.14 % and 0.04 % (`platefield probes`, `results/probes.md`). The \
          200 + 100-cycle line under each row is the same measure over a longer play.\n";
 
 /// The markdown (timings included) and the csv (none).

@@ -45,6 +45,7 @@ pub const EXPECTED_STEPS: &[(&str, f64, f64)] = &[
     ("speed", 2.71e7, 1.0),
     ("squeeze-order", 9.73e7, 1.0),
     ("synthesis", 3.08e8, 1.0),
+    ("probes", 3.65e8, 1.0),
     ("robust", 4.24e8, 1.0),
     ("design-speed", 4.71e8, 1.0),
     ("poses-study", 6.84e8, PLANAR_POINT_STEP_COST),

@@ -359,7 +359,7 @@ mod tests {
     /// the tilts' harmonic 2 adds < 0.5 %; no translation with a harmonic 2
     /// of 10 % of the limit (on x, on y, or a circle at 2ω either way, the
     /// ratchet-free choice) comes within 1 % of the circle's cap
-    /// (`examples/saddle_cap` scans more: the best is 0.997 of it); and the
+    /// (`platefield probes` scans more: the best is 0.997 of it); and the
     /// programme's tilts keep the peaks.
     #[test]
     fn second_harmonic_translation_does_not_lift_the_saddle_cap() {

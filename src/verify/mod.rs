@@ -10,17 +10,20 @@
 //! plays uniform rectangles (planar parts); [`strength`] measures the
 //! realised strength against the target; [`run`] is the
 //! `platefield verify` command. Nothing here depends on how the schedule
-//! was designed.
+//! was designed; a friction sweep and an export's replay are judged by the
+//! design's own check ([`crate::design::method::realised_check`]).
 
 pub mod friction;
+mod judged;
 pub mod rectangles;
 pub mod run;
+pub mod sort_play;
 pub mod strength;
 pub mod swarm;
 
+pub use crate::play::plate_twist;
 pub use rectangles::{
-    plate_twist, play_rectangle, PoseSample, RectangleFailure, RectangleOptions, RectangleRun,
-    RectangleSummary,
+    play_rectangle, PoseSample, RectangleFailure, RectangleOptions, RectangleRun, RectangleSummary,
 };
 pub use run::{verify_schedule_file, Duration, VerifyReport, VerifyRequest};
 pub use swarm::{run_swarm, Swarm, SwarmOptions, SwarmPart};

@@ -24,8 +24,7 @@ use crate::dynamics::{
 };
 use crate::error::{finite, positive, Error, Result};
 use crate::field::FieldSettings;
-use crate::motion::V3;
-use crate::play::{PlayLoss, PlayedSegment, ScheduleMotion, V2};
+use crate::play::{plate_twist, PlayLoss, ScheduleMotion, V2};
 
 /// Longest time a rectangle may be played (s).
 pub const MAX_DURATION_S: f64 = 3600.0;
@@ -174,19 +173,6 @@ impl From<RectangleFailure> for Error {
         match f {
             RectangleFailure::Invalid(e) => e,
             RectangleFailure::ContactLoss(l) => Error::Physical(format!("rectangle: {l}")),
-        }
-    }
-}
-
-/// The plate's in-plane velocity at plate point `p` and its vertical spin
-/// at the start (and, by periodicity, the end) of segment `seg`.
-pub fn plate_twist(seg: &PlayedSegment, gravity: f64, tilt: bool, p: &V2) -> (V2, f64) {
-    match &seg.motion {
-        None => (V2::zeros(), 0.0),
-        Some(m) => {
-            let k = m.kinematics(0.0, gravity, tilt);
-            let v = k.velocity_at(&V3::new(p.x, p.y, 0.0));
-            (V2::new(v.x, v.y), k.omega.z)
         }
     }
 }

@@ -23,6 +23,7 @@ use std::path::Path;
 use serde::Serialize;
 
 use super::friction::FrictionArg;
+use super::judged::Judged;
 use super::rectangles::{play_rectangle, PoseSample, RectangleOptions, RectangleSummary};
 use super::swarm::{run_swarm_ticked, Swarm, SwarmOptions};
 use crate::dynamics::Model;
@@ -480,10 +481,9 @@ pub fn progress_weights(work: &Estimate, counts: [usize; 3]) -> [u64; 3] {
 
 /// `platefield verify`: runs `req` on the schedule at `path` with the
 /// physics its basis was built with (nothing is written here). The one
-/// door of the verification: [`VerifyRequest`] in, [`VerifyReport`] out
-/// (the friction sweep and the export's replay, judged by the design's
-/// own check, are added above this module, in `crate::report::verify`,
-/// since `verify` does not import `design`).
+/// door of the verification: [`VerifyRequest`] in, [`VerifyReport`] out,
+/// the friction sweep and the export's replay included (judged by the
+/// design's own check, admitted before anything is played: `judged.rs`).
 ///
 /// ```no_run
 /// use platefield::verify::{verify_schedule_file, VerifyRequest};
@@ -499,6 +499,7 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest) -> Result<VerifyRe
         f.validate()?;
     }
     let schedule = Schedule::load(path)?;
+    let judged = Judged::admit(&schedule, req.friction, req.replay.as_deref(), &req.runtime)?;
     let settings = schedule.settings;
     let name = schedule.target_folder()?;
     if schedule.moving_time() <= 0.0 {
@@ -611,7 +612,7 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest) -> Result<VerifyRe
         &tick_by(2),
     );
     progress.finish();
-
+    let (friction_sweep, replay) = judged.run(&schedule)?;
     Ok(VerifyReport {
         target: name.to_string(),
         region: g,
@@ -624,9 +625,7 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest) -> Result<VerifyRe
         realised: v,
         swarm,
         rectangles,
-        // Judged against the target by the report layer (`design` is not
-        // below `verify`).
-        friction_sweep: None,
-        replay: None,
+        friction_sweep,
+        replay,
     })
 }

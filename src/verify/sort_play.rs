@@ -1,6 +1,6 @@
-//! Every class of a sort played ([`crate::design::sort`]; here in the
-//! report layer, the one above both the design's realised check and
-//! `verify`'s swarm): the realised
+//! Every class of a sort played ([`crate::design::sort`]; here in
+//! `verify`, the layer above the design's realised check, beside its
+//! swarm): the realised
 //! field of each class at its own friction, and where a swarm of its parts
 //! ends up.
 //!
@@ -18,12 +18,12 @@
 
 use serde::Serialize;
 
+use super::swarm::{run_swarm, SwarmOptions};
 use crate::design::method::realised_check;
 use crate::design::sort::SortDesign;
 use crate::error::Result;
 use crate::play::{PlayOptions, ScheduleMotion};
 use crate::request::{Attractor, Target};
-use crate::verify::swarm::{run_swarm, SwarmOptions};
 
 /// Distance (m) to an attractor within which a part counts as there: 5 mm.
 pub const SORT_TOL: f64 = 5e-3;
@@ -63,7 +63,7 @@ pub struct ClassPlay {
 /// ```no_run
 /// use platefield::design::{sort::design_sort, DesignOptions};
 /// use platefield::request::Target;
-/// use platefield::report::sort_play::play_classes;
+/// use platefield::verify::sort_play::play_classes;
 /// let target = Target::load(std::path::Path::new("targets/sort_friction.json"))?;
 /// let d = design_sort(&target, &DesignOptions::default())?;
 /// for c in play_classes(&target, &d, None)? {

@@ -1,0 +1,80 @@
+//! What a verification judges by the design's own check
+//! ([`crate::design::method::realised_check`]): the friction sweep of
+//! `--friction LO:HI:N` ([`crate::design::method::sweep_schedule`]) and the
+//! export's replay of `--replay FILE`
+//! ([`crate::design::replay::replay_check`]). Both are admitted — the
+//! replay file read and refused where it is not the schedule's, the work
+//! estimated against the long-run guard — before anything is played, and
+//! run after the verification's own plays.
+
+use std::path::Path;
+
+use super::friction::FrictionArg;
+use crate::design::method::{sweep_estimate, sweep_schedule};
+use crate::design::replay::{check_replay, replay_check, replay_estimate};
+use crate::dynamics::Friction;
+use crate::error::Result;
+use crate::motion::held_csv;
+use crate::motion::sample_hold::HoldSamples;
+use crate::play::replay::ReplayCheck;
+use crate::play::sensitivity::Sensitivity;
+use crate::schedule::Schedule;
+use crate::work::Runtime;
+
+/// The judged checks a request asks for, admitted.
+pub(crate) struct Judged {
+    /// The frictions of the sweep (none without one).
+    sweep: Vec<Friction>,
+    /// The replay file and its name.
+    replay: Option<(HoldSamples, String)>,
+    /// The friction the schedule is played at (`--friction MU`).
+    played: Option<Friction>,
+}
+
+impl Judged {
+    /// Reads and checks the replay file and admits both checks' estimates
+    /// under `runtime`, before anything is played.
+    pub(crate) fn admit(
+        schedule: &Schedule,
+        friction: Option<FrictionArg>,
+        replay: Option<&Path>,
+        runtime: &Runtime,
+    ) -> Result<Judged> {
+        let sweep = friction.map(|f| f.sweep_values()).unwrap_or_default();
+        if !sweep.is_empty() {
+            runtime.admit(&sweep_estimate(schedule, sweep.len()))?;
+        }
+        let replay = match replay {
+            Some(p) => {
+                let (file, source) = (held_csv::read(p)?, p.display().to_string());
+                check_replay(schedule, &file, &source)?;
+                runtime.admit(&replay_estimate(schedule, file.rate))?;
+                Some((file, source))
+            }
+            None => None,
+        };
+        let played = friction.and_then(|f| f.played());
+        Ok(Judged {
+            sweep,
+            replay,
+            played,
+        })
+    }
+
+    /// Runs the admitted checks on `schedule`: the sweep, then the replay.
+    pub(crate) fn run(
+        &self,
+        schedule: &Schedule,
+    ) -> Result<(Option<Sensitivity>, Option<ReplayCheck>)> {
+        let sweep = if self.sweep.is_empty() {
+            None
+        } else {
+            Some(sweep_schedule(schedule, &self.sweep)?)
+        };
+        let replay = match &self.replay {
+            Some((file, source)) => Some(replay_check(schedule, file, source, self.played)?),
+            None => None,
+        };
+        Ok((sweep, replay))
+    }
+}
