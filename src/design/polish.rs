@@ -43,22 +43,31 @@
 //! **Search** (issue 27): Levenberg–Marquardt
 //! ([`crate::synth::levenberg`], [`PolishOptions::lm`]) on the played
 //! residuals — the cost above as a sum of squares: each part's
-//! ω_i (R_i − ŝ P_i) rescaled to the norm 20 · max(0, e − budget)
-//! ([`shape_block`]), a strength row, 20 · max(0, e_grid − grid budget),
+//! ω_i (R_i − ŝ P_i) rescaled to the norm 20 · max(0, e − b)
+//! ([`shape_block`]; b the budget, or 0 for a start within it: below),
+//! a strength row, 20 · max(0, e_grid − grid budget),
 //! the excess, 10 · the margin violation, √(10 · invalid fraction) and
 //! √(10 · extra lost fraction). The strength row is a − ŝ/s₀ with a =
 //! [`STRENGTH_REACH`] (2), whose square has the cost's slope −1/s₀ at
 //! ŝ = s₀: it asks for strength as the cost does (line_sink_30, within
 //! budget, played 0.420 s⁻¹ with it and 0.378 with the row
-//! 1 − ŝ/(1.1 s₀) of before, in session 4). Unlike the synthesis's
-//! ([`crate::synth::objective`]), the played shape block is the cost's
-//! hinge: the polish's steps are short (at most 0.05 of the limits) and it
-//! plays what the synthesis already balanced. Shape first, as the cost: when the
+//! 1 − ŝ/(1.1 s₀) of before, in session 4). For a start over the budget
+//! the played shape block is the cost's hinge (b = the budget). For a
+//! start within it the block steers by the whole shape error (b = 0), as
+//! the synthesis's does ([`crate::synth::objective`]): the hinge is zero
+//! there, so the linearisation saw strength alone, and its steps bought
+//! strength with shape (squeeze_trans, issue 27: from 0.738 s⁻¹ at
+//! 3.27 % to 0.772 at 6.7 %); with the whole shape error they gain both
+//! (0.770 at 2.5 %). Shape first, as the cost: when the
 //! start's played shape is over the budget, the first half of the steps
 //! run with 1 − ŝ/([`POLISH_GOAL`] s₀), which asks for 10 % more and lets
 //! the shape block lead (the whirlpool, 6 % at the start, stays there with
 //! the first row alone: 0.491 s⁻¹ at 5.99 %, against 0.487 at 5.16 % with
-//! the second). Each step's Jacobian is one
+//! the second). A start within the budget runs the second half only: it
+//! has no shape to put first, and its steps then cost what an
+//! over-budget start's strength steps do (squeeze_trans: 0.780 s⁻¹ at
+//! 2.52 % after two steps, 66 plays; 0.820 at 2.60 % after four, 92
+//! plays, ≈ 5 s more CPU than issue 27's 8 s allow). Each step's Jacobian is one
 //! parallel batch of n plays (recorded in order: same bytes on one thread
 //! or two), so four steps are ≈ 4n + 9 plays where Nelder–Mead spent 300:
 //! plays that confirm the synthesis and correct it, not a search. With
@@ -76,8 +85,13 @@
 //! POOR, it plays a lower shape error than the start at a lower cost (a
 //! gain of shape the rule calls a tie: the whirlpool's 6.01 % at 0.493
 //! s⁻¹ → 5.31 % at 0.485) — and it breaks none of the cost's constraint
-//! terms more than the start (grid shape, excess, margin, invalid
-//! samples, lost parts). Of those, the one of
+//! terms more than the start (grid shape, margin, invalid samples, lost
+//! parts). The peak excess is not one of them: a parameter vector is
+//! played, checked and kept as its motion clamped onto the limits
+//! ([`Objective::motion`]), which exceeds none; the excess term only
+//! keeps the steps near the limits (squeeze_trans presses them, and every
+//! step that gained it strength at a lower shape error went 1–5 % past
+//! them before the clamp). Of those, the one of
 //! lowest cost is re-checked on the full grid ([`Checked::of`]) and kept
 //! if the check is not POOR (unless the start was POOR too); otherwise the
 //! start is returned unchanged. The polish stops when that measure stops
@@ -267,9 +281,12 @@ struct Eval {
     played: RealisedError,
     residuals: Vec<f64>,
     /// The cost's constraint terms (grid shape over budget, excess, margin,
-    /// invalid samples, extra lost parts): a motion kept breaks none more
-    /// than the start.
+    /// invalid samples, extra lost parts).
     penalty: f64,
+    /// The excess term of `penalty`, which the motion played (clamped onto
+    /// the limits) does not break: a motion kept breaks none of the others
+    /// more than the start ([`Played::beats_start`]).
+    excess: f64,
 }
 
 impl Eval {
@@ -310,6 +327,9 @@ struct Played<'a> {
     strength_ref: f64,
     lost_ref: usize,
     grid_budget: f64,
+    /// The budget b of the played shape block (module documentation): the
+    /// played shape budget for a start over it, 0 for a start within it.
+    steer_budget: f64,
     /// The strength row is `reach − ŝ/goal` (module documentation).
     goal: f64,
     /// See `goal`.
@@ -380,7 +400,7 @@ impl Played<'_> {
                 [w * (p.realised[0] - t[0]), w * (p.realised[1] - t[1])]
             })
             .collect();
-        shape_block(&raw, r.shape_error, self.options.shape_budget)
+        shape_block(&raw, r.shape_error, self.steer_budget)
     }
 
     /// The evaluation of `params`, not counted (callable from several
@@ -425,6 +445,7 @@ impl Played<'_> {
             played,
             residuals,
             penalty,
+            excess: LIMIT_WEIGHT * excess,
         })
     }
 
@@ -460,12 +481,13 @@ impl Played<'_> {
     /// Whether `e` may replace the start (module documentation): the
     /// choice's rule prefers its played measure ([`rule::better`]), or it
     /// is not POOR and plays a lower shape error at a lower cost; and it
-    /// breaks no constraint of the cost more than the start does.
+    /// breaks no constraint of the cost more than the start does (the peak
+    /// excess aside: the motion played is clamped onto the limits).
     fn beats_start(&self, e: &Eval) -> bool {
         self.start.as_ref().is_some_and(|s| {
             let (a, b) = (s.key(), e.key());
             let preferred = rule::better(a, b).0 || (!b.0 && b.1 < a.1 && e.cost < s.cost);
-            preferred && e.penalty <= s.penalty + 1e-12
+            preferred && e.penalty - e.excess <= s.penalty - s.excess + 1e-12
         })
     }
 
@@ -546,7 +568,8 @@ fn run_lm(played: &Played<'_>, x0: &[f64], lm: &LmOptions) -> Result<()> {
 /// The least-squares polish from `x0` (module documentation): when the
 /// start is `over` the played shape budget, the first half of the steps
 /// shape first (strength row 1 − ŝ/([`POLISH_GOAL`] s₀)), then the rest
-/// from the best point so far with the strength row a − ŝ/s₀.
+/// from the best point so far with the strength row a − ŝ/s₀; a start
+/// within the budget runs that second half only.
 fn run_lm_shape_first(
     played: &mut Played<'_>,
     x0: &[f64],
@@ -554,9 +577,9 @@ fn run_lm_shape_first(
     lm: &LmOptions,
 ) -> Result<()> {
     let mut from = x0.to_vec();
-    let mut left = lm.max_iterations;
+    let first = lm.max_iterations / 2;
+    let left = lm.max_iterations - first;
     if over {
-        let first = lm.max_iterations / 2;
         (played.reach, played.goal) = (1.0, played.strength_ref * POLISH_GOAL);
         run_lm(
             played,
@@ -569,7 +592,6 @@ fn run_lm_shape_first(
         if let Some(best) = played.best() {
             from = best.params;
         }
-        left -= first;
         if played.spent() {
             // No play once the budget or the stall rule says stop.
             return Ok(());
@@ -650,6 +672,7 @@ pub fn polish(
         strength_ref: 1.0,
         lost_ref: 0,
         grid_budget: f64::INFINITY,
+        steer_budget: options.shape_budget,
         goal: 1.0,
         reach: 1.0,
         plays: AtomicUsize::new(0),
@@ -688,6 +711,9 @@ pub fn polish(
     played.start = Some(start.clone());
     if let Some(lm) = &options.lm {
         let over = before.shape_error.is_nan() || before.shape_error > options.shape_budget;
+        if !over {
+            played.steer_budget = 0.0;
+        }
         run_lm_shape_first(&mut played, &x0, over, lm)?;
     } else {
         run(&played, &x0, options.step)?;
