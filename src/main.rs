@@ -277,11 +277,9 @@ fn run(cli: Cli) -> Result<String> {
             long.allow_long,
         ),
         Command::Linesink(args) => args.run(),
-        Command::Reproduce(o) => {
-            studies::watched("reproduce", Expected::defaults("reproduce"), false, || {
-                studies::reproduce::linesink_results(&o.out)
-            })
-        }
+        Command::Reproduce(o) => studies::watched_defaults("reproduce", false, || {
+            studies::reproduce::linesink_results(&o.out)
+        }),
         Command::Primitives {
             grid,
             steps,
@@ -311,47 +309,29 @@ fn run(cli: Cli) -> Result<String> {
         }
         Command::Rungs { tolerance, out } => {
             // Every rung is computed whatever the tolerance: the same work.
-            studies::watched("rungs", Expected::defaults("rungs"), false, || {
-                studies::rung::run(&out.out, tolerance)
-            })
+            studies::watched_defaults("rungs", false, || studies::rung::run(&out.out, tolerance))
         }
-        Command::Speed(o) => studies::watched("speed", Expected::defaults("speed"), false, || {
-            studies::speed::run(&o.out)
+        Command::Speed(o) => {
+            studies::watched_defaults("speed", false, || studies::speed::run(&o.out))
+        }
+        Command::EngineSpeed(o) => {
+            studies::watched_defaults("engine-speed", false, || studies::engine_speed::run(&o.out))
+        }
+        Command::FitQuality(o) => studies::watched_defaults("fit-quality", false, || {
+            studies::fit_quality::run(Path::new("targets"), &o.out)
         }),
-        Command::EngineSpeed(o) => studies::watched(
-            "engine-speed",
-            Expected::defaults("engine-speed"),
-            false,
-            || studies::engine_speed::run(&o.out),
-        ),
-        Command::FitQuality(o) => studies::watched(
-            "fit-quality",
-            Expected::defaults("fit-quality"),
-            false,
-            || studies::fit_quality::run(Path::new("targets"), &o.out),
-        ),
-        Command::Interaction(o) => studies::watched(
-            "interaction",
-            Expected::defaults("interaction"),
-            false,
-            || studies::interaction::run(&o.out),
-        ),
-        Command::Robust { quiet, out } => {
-            studies::watched("robust", Expected::defaults("robust"), quiet.quiet, || {
-                studies::robust::run(&out.out, quiet.quiet)
-            })
+        Command::Interaction(o) => {
+            studies::watched_defaults("interaction", false, || studies::interaction::run(&o.out))
         }
+        Command::Robust { quiet, out } => studies::watched_defaults("robust", quiet.quiet, || {
+            studies::robust::run(&out.out, quiet.quiet)
+        }),
         Command::Probes(o) => {
-            studies::watched("probes", Expected::defaults("probes"), false, || {
-                studies::probes::run(&o.out)
-            })
+            studies::watched_defaults("probes", false, || studies::probes::run(&o.out))
         }
-        Command::SqueezeOrder(o) => studies::watched(
-            "squeeze-order",
-            Expected::defaults("squeeze-order"),
-            false,
-            || studies::squeeze_order::run(&o.out),
-        ),
+        Command::SqueezeOrder(o) => studies::watched_defaults("squeeze-order", false, || {
+            studies::squeeze_order::run(&o.out)
+        }),
         Command::DesignSpeed { targets, out } => {
             let expected = if targets.is_empty() {
                 Expected::defaults("design-speed")

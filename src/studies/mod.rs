@@ -36,4 +36,4 @@ pub mod synthesis;
 pub mod table1;
 pub mod work;
 
-pub use work::watched;
+pub use work::{watched, watched_defaults};

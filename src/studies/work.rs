@@ -152,3 +152,9 @@ pub fn watched<T>(
     }
     out
 }
+
+/// [`watched`] with the study's defaults: the count of its last
+/// regeneration ([`Expected::defaults`]).
+pub fn watched_defaults<T>(name: &str, quiet: bool, f: impl FnOnce() -> Result<T>) -> Result<T> {
+    watched(name, Expected::defaults(name), quiet, f)
+}
