@@ -185,9 +185,7 @@ pub fn synthesis_md(syn: &Synthesis, limits: &ShakerLimits, gravity: f64) -> Str
         "## Synthesized motion\n\n![the six signals over one period](signals.svg)\n\nOne simultaneous six-signal motion, period {:.5} s, harmonics 1..={}: {}\n\n| axis | peak | limit |\n|---|---|---|\n",
         syn.motion.period,
         limits.harmonics,
-        // Without the run time: committed reports change only when their
-        // content does (the time is in the printed summary).
-        syn.summary().replace(&format!(", {:.1} s,", syn.seconds), ",")
+        syn.summary()
     );
     for p in &syn.peaks {
         let unit = if p.axis.starts_with("linear") {

@@ -79,7 +79,7 @@ pub fn run(
         text.push_str(&super::design::summary(d));
     }
     if let Some(syn) = md.synthesis.as_ref().filter(|_| kept != Method::Sequence) {
-        let _ = writeln!(text, "synthesize: {}", syn.summary());
+        let _ = writeln!(text, "synthesize: {}", syn.timed_summary());
     }
     text.push_str(&super::method::summary(&md));
     let _ = writeln!(text, "wrote {}/{{{}}}", dir.display(), files.join(", "));
@@ -108,7 +108,7 @@ fn run_pose(
     }
     let mut text = super::pose_design::headline(&d);
     if let Some(syn) = &d.method.synthesis {
-        let _ = writeln!(text, "synthesize: {}", syn.summary());
+        let _ = writeln!(text, "synthesize: {}", syn.timed_summary());
     }
     let _ = writeln!(text, "wrote {}/{{{}}}", dir.display(), files.join(", "));
     Ok(text)

@@ -495,11 +495,10 @@ fn synthesize_row(
             && q.vs_predicted <= GOAL_VS_PREDICTED
     });
     tried.push(format!(
-        "played polish of the kept motion ({} plays, played shape budget {:.1} %, region shape budget {:.0} % or the start's, {:.1} s): played ŝ {} at shape {} → {} at {}, {}; {}",
+        "played polish of the kept motion ({} plays, played shape budget {:.1} %, region shape budget {:.0} % or the start's): played ŝ {} at shape {} → {} at {}, {}; {}",
         p.plays,
         100.0 * opts.shape_budget,
         100.0 * opts.grid_budget,
-        p.seconds,
         num(p.before.realised_strength),
         pct(p.before.shape_error),
         num(p.after.realised_strength),
@@ -770,13 +769,9 @@ const DIAGNOSTICS: &str = "\n## Reading the diagnostics\n\n\
          warm-up; now 0.14 % and 0.04 % (`platefield probes`, `results/probes.md`). The \
          200 + 100-cycle line under each row is the same measure over a longer play.\n";
 
-/// The markdown (timings included) and the csv (none).
-pub fn render(
-    rows: &[Row],
-    refined: &[RefineRow],
-    study: &StudySettings,
-    seconds: f64,
-) -> (String, String) {
+/// The markdown and the csv, neither with timings (those are printed by
+/// [`timings`]).
+pub fn render(rows: &[Row], refined: &[RefineRow], study: &StudySettings) -> (String, String) {
     let mut md = String::new();
     let mut csv = String::from(
         "target,sequenced_strength,sequenced_shape_error,sequenced_vs_predicted,synth_strength,synth_shape_error,synth_vs_predicted,synth_predicted_strength,synth_predicted_shape_error,evaluations,strength_ratio,valid,played\n",
@@ -797,14 +792,14 @@ pub fn render(
          {} starts, seed 1, full-grid check; then the kept motion is polished on the played \
          measure itself ({} plays, `platefield::design::polish`; kept only if the played measure \
          is better) and re-checked on the full grid; *evaluations* counts the coarse \
-         re-simulations of both (each play comes with one, for the contact check), *time* both. \
+         re-simulations of both (each play comes with one, for the contact check). \
          The line under each row's notes plays the kept motion from 16 start points the polish did \
          not see. Goals (issue 11): shape ≤ 5 %, strength ≥ 2× the \
          sequenced schedule's (lab row: ≥ 0.5 s⁻¹), realised vs predicted ≤ 2 %.\n\n",
         study.harmonics, study.evaluations, study.starts, study.polish_plays
     );
-    md.push_str("| target | sequenced ŝ | sequenced shape | synthesized ŝ | ratio | synthesized shape | vs pred. | valid / played | predicted ŝ (full grid) | evaluations | time | shape ≤ 5 % | strength | vs pred. ≤ 2 % |\n");
-    md.push_str("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    md.push_str("| target | sequenced ŝ | sequenced shape | synthesized ŝ | ratio | synthesized shape | vs pred. | valid / played | predicted ŝ (full grid) | evaluations | shape ≤ 5 % | strength | vs pred. ≤ 2 % |\n");
+    md.push_str("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for r in rows {
         table_row(r, &mut md, &mut csv);
     }
@@ -816,8 +811,27 @@ pub fn render(
         refinement(refined, &mut md, &mut csv);
     }
     md.push_str(DIAGNOSTICS);
-    let _ = writeln!(md, "\nTotal time {seconds:.0} s.");
     (md, csv)
+}
+
+/// The run times of each row's synthesis and polish, each refinement, and
+/// the whole study: for the printed summary only, never a committed file.
+pub fn timings(rows: &[Row], refined: &[RefineRow], seconds: f64) -> String {
+    let mut text = String::from("timings (this run):\n");
+    for r in rows {
+        if let Ok((s, _)) = &r.synthesis {
+            let _ = writeln!(
+                text,
+                "  {}: synthesis and polish {:.1} s",
+                r.name, s.seconds
+            );
+        }
+    }
+    for r in refined {
+        let _ = writeln!(text, "  refine:{}: {:.0} s", r.name, r.refined.seconds);
+    }
+    let _ = writeln!(text, "  total {seconds:.0} s");
+    text
 }
 
 /// One row of the table and of the csv.
@@ -832,20 +846,22 @@ fn table_row(r: &Row, md: &mut String, csv: &mut String) {
                 .filter(|q| q.strength > 0.0)
                 .map_or(f64::NAN, |q| m.strength / q.strength);
             let g = r.goals().unwrap_or([false; 3]);
-            let _ =
-                writeln!(
+            let _ = writeln!(
                 md,
-                "| {} | {qs} | {qe} | {} | {} | {} | {} | {} / {} | {} | {} | {:.1} s | {} | {} | {} |",
+                "| {} | {qs} | {qe} | {} | {} | {} | {} | {} / {} | {} | {} | {} | {} | {} |",
                 r.name,
                 num(m.strength),
-                if ratio.is_finite() { format!("{ratio:.2}×") } else { "—".into() },
+                if ratio.is_finite() {
+                    format!("{ratio:.2}×")
+                } else {
+                    "—".into()
+                },
                 pct(m.shape_error),
                 pct(m.vs_predicted),
                 m.valid,
                 m.played,
                 num(s.realised.strength),
                 s.evaluations,
-                s.seconds,
                 met(g[0]),
                 met(g[1]),
                 met(g[2]),
@@ -878,7 +894,7 @@ fn table_row(r: &Row, md: &mut String, csv: &mut String) {
         Err(e) => {
             let _ = writeln!(
                 md,
-                "| {} | {qs} | {qe} | no motion: {e} | | | | | | | | NOT met | NOT met | NOT met |",
+                "| {} | {qs} | {qe} | no motion: {e} | | | | | | | NOT met | NOT met | NOT met |",
                 r.name
             );
             let _ = writeln!(csv, "{},,,,,,,,,,,,", r.name);
@@ -953,15 +969,15 @@ fn refinement(refined: &[RefineRow], md: &mut String, csv: &mut String) {
          {}th grid point, {} plays; before and after on every {}th point; method and why \
          Nelder–Mead in its module documentation). Cost = shape error + max(0, 1 − ŝ/ŝ₀) \
          (+ points lost).\n\n\
-         | target | before: shape | before: ŝ | after: shape | after: ŝ | kept | plays | time |\n\
-         |---|---|---|---|---|---|---|---|\n",
+         | target | before: shape | before: ŝ | after: shape | after: ŝ | kept | plays |\n\
+         |---|---|---|---|---|---|---|\n",
         o.coarse_stride, o.max_evaluations, o.stride
     );
     for r in refined {
         let f = &r.refined;
         let _ = writeln!(
             md,
-            "| {} | {} | {} | {} | {} | {} | {} | {:.0} s |",
+            "| {} | {} | {} | {} | {} | {} | {} |",
             r.name,
             pct(f.before.error.shape_error),
             num(f.before.error.realised_strength),
@@ -972,8 +988,7 @@ fn refinement(refined: &[RefineRow], md: &mut String, csv: &mut String) {
             } else {
                 "design (refinement did not help)"
             },
-            f.evaluations,
-            f.seconds
+            f.evaluations
         );
         let _ = writeln!(
             csv,
@@ -1039,11 +1054,12 @@ pub fn run(out: &Path, only: &[String], study: &StudySettings) -> Result<String>
             refined.push(refine_row(name, targets, cache)?);
         }
     }
-    let (md, csv) = render(&rows, &refined, study, start.elapsed().as_secs_f64());
+    let (md, csv) = render(&rows, &refined, study);
     write_atomic(&out.join("synthesis.md"), md.as_bytes())?;
     write_atomic(&out.join("synthesis.csv"), csv.as_bytes())?;
+    let timed = timings(&rows, &refined, start.elapsed().as_secs_f64());
     Ok(format!(
-        "{md}wrote {}, {}\n",
+        "{md}{timed}wrote {}, {}\n",
         out.join("synthesis.md").display(),
         out.join("synthesis.csv").display()
     ))

@@ -237,12 +237,14 @@ impl Synthesis {
     }
 
     /// One-line summary: seed, realised strength and shape error on the
-    /// full grid, evaluations, time, least N, POOR and notes.
+    /// full grid, evaluations, least N, POOR and notes. Without the run time,
+    /// so committed reports change only when their content does; printed
+    /// summaries use [`Synthesis::timed_summary`].
     pub fn summary(&self) -> String {
         let n = self.field.grid.n;
         let pct = crate::output::percent;
         format!(
-            "seed {:.4} predicted, {:.4} at {} realised (coarse); synthesized {:.4} at {} ({}×{}), {} evaluations, {:.1} s, least N {:.2} m/s²{}{}",
+            "seed {:.4} predicted, {:.4} at {} realised (coarse); synthesized {:.4} at {} ({}×{}), {} evaluations, least N {:.2} m/s²{}{}",
             self.seed_strength,
             self.seed_realised.strength,
             pct(self.seed_realised.shape_error, 1),
@@ -251,7 +253,6 @@ impl Synthesis {
             n[0],
             n[1],
             self.evaluations,
-            self.seconds,
             self.least_normal,
             if self.poor { ", POOR" } else { "" },
             if self.notes.is_empty() {
@@ -260,6 +261,12 @@ impl Synthesis {
                 format!(" ({})", self.notes.join("; "))
             }
         )
+    }
+
+    /// [`Synthesis::summary`] followed by the run time, for printed
+    /// summaries only.
+    pub fn timed_summary(&self) -> String {
+        format!("{} ({:.1} s)", self.summary(), self.seconds)
     }
 }
 
