@@ -3,7 +3,8 @@
 //! loops ([`closed_loop`]), order searches ([`mod@order`]), verifications
 //! ([`verify`]: `summary.json`, `trajectories.svg`) and exported signals.
 //! The top layer: it may use every module below it, and nothing uses it
-//! but the command-line shell. Each `run` function is one subcommand:
+//! but the command-line shell and the studies (which write their tables
+//! with [`table::Table`]). Each `run` function is one subcommand:
 //! compute everything, then write (so bad input writes nothing), then
 //! return the text to print.
 
@@ -15,6 +16,7 @@ pub mod pose_design;
 pub mod poses;
 pub mod run_design;
 pub mod sort;
+pub mod table;
 pub mod verify;
 
 use std::path::Path;

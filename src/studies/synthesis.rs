@@ -67,6 +67,7 @@ use crate::motion::Motion;
 use crate::output::write_atomic;
 use crate::play::measure::{against_prediction, PlayOptions};
 use crate::play::{PlayedSegment, ScheduleMotion};
+use crate::report::table::Table;
 use crate::request::{SampledTarget, Target};
 use crate::schedule::Schedule;
 use crate::studies::work::Expected;
@@ -798,11 +799,25 @@ pub fn render(rows: &[Row], refined: &[RefineRow], study: &StudySettings) -> (St
          sequenced schedule's (lab row: ≥ 0.5 s⁻¹), realised vs predicted ≤ 2 %.\n\n",
         study.harmonics, study.evaluations, study.starts, study.polish_plays
     );
-    md.push_str("| target | sequenced ŝ | sequenced shape | synthesized ŝ | ratio | synthesized shape | vs pred. | valid / played | predicted ŝ (full grid) | evaluations | shape ≤ 5 % | strength | vs pred. ≤ 2 % |\n");
-    md.push_str("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    let mut table = Table::new([
+        "target",
+        "sequenced ŝ",
+        "sequenced shape",
+        "synthesized ŝ",
+        "ratio",
+        "synthesized shape",
+        "vs pred.",
+        "valid / played",
+        "predicted ŝ (full grid)",
+        "evaluations",
+        "shape ≤ 5 %",
+        "strength",
+        "vs pred. ≤ 2 %",
+    ]);
     for r in rows {
-        table_row(r, &mut md, &mut csv);
+        table.row(table_row(r, &mut csv));
     }
+    md.push_str(&table.markdown());
     md.push_str("\n## Limits and synthesis notes\n\n");
     for r in rows {
         row_notes(r, &mut md);
@@ -834,8 +849,8 @@ pub fn timings(rows: &[Row], refined: &[RefineRow], seconds: f64) -> String {
     text
 }
 
-/// One row of the table and of the csv.
-fn table_row(r: &Row, md: &mut String, csv: &mut String) {
+/// One row of the table (returned) and of the csv (appended).
+fn table_row(r: &Row, csv: &mut String) -> Vec<String> {
     let (qs, qe) = r.sequenced.map_or(("—".into(), "—".into()), |q| {
         (num(q.strength), pct(q.shape_error))
     });
@@ -846,26 +861,6 @@ fn table_row(r: &Row, md: &mut String, csv: &mut String) {
                 .filter(|q| q.strength > 0.0)
                 .map_or(f64::NAN, |q| m.strength / q.strength);
             let g = r.goals().unwrap_or([false; 3]);
-            let _ = writeln!(
-                md,
-                "| {} | {qs} | {qe} | {} | {} | {} | {} | {} / {} | {} | {} | {} | {} | {} |",
-                r.name,
-                num(m.strength),
-                if ratio.is_finite() {
-                    format!("{ratio:.2}×")
-                } else {
-                    "—".into()
-                },
-                pct(m.shape_error),
-                pct(m.vs_predicted),
-                m.valid,
-                m.played,
-                num(s.realised.strength),
-                s.evaluations,
-                met(g[0]),
-                met(g[1]),
-                met(g[2]),
-            );
             let q = r.sequenced.unwrap_or(Measured {
                 strength: f64::NAN,
                 shape_error: f64::NAN,
@@ -890,14 +885,32 @@ fn table_row(r: &Row, md: &mut String, csv: &mut String) {
                 m.valid,
                 m.played
             );
+            vec![
+                r.name.clone(),
+                qs,
+                qe,
+                num(m.strength),
+                if ratio.is_finite() {
+                    format!("{ratio:.2}×")
+                } else {
+                    "—".into()
+                },
+                pct(m.shape_error),
+                pct(m.vs_predicted),
+                format!("{} / {}", m.valid, m.played),
+                num(s.realised.strength),
+                s.evaluations.to_string(),
+                met(g[0]).into(),
+                met(g[1]).into(),
+                met(g[2]).into(),
+            ]
         }
         Err(e) => {
-            let _ = writeln!(
-                md,
-                "| {} | {qs} | {qe} | no motion: {e} | | | | | | | NOT met | NOT met | NOT met |",
-                r.name
-            );
             let _ = writeln!(csv, "{},,,,,,,,,,,,", r.name);
+            let mut cells = vec![r.name.clone(), qs, qe, format!("no motion: {e}")];
+            cells.resize(10, String::new());
+            cells.extend(["NOT met".to_string(), "NOT met".into(), "NOT met".into()]);
+            cells
         }
     }
 }
@@ -968,17 +981,22 @@ fn refinement(refined: &[RefineRow], md: &mut String, csv: &mut String) {
          rotation and amplitude scale ≤ 1; the played realised error in the objective on every \
          {}th grid point, {} plays; before and after on every {}th point; method and why \
          Nelder–Mead in its module documentation). Cost = shape error + max(0, 1 − ŝ/ŝ₀) \
-         (+ points lost).\n\n\
-         | target | before: shape | before: ŝ | after: shape | after: ŝ | kept | plays |\n\
-         |---|---|---|---|---|---|---|\n",
+         (+ points lost).\n\n",
         o.coarse_stride, o.max_evaluations, o.stride
     );
+    let mut table = Table::new([
+        "target",
+        "before: shape",
+        "before: ŝ",
+        "after: shape",
+        "after: ŝ",
+        "kept",
+        "plays",
+    ]);
     for r in refined {
         let f = &r.refined;
-        let _ = writeln!(
-            md,
-            "| {} | {} | {} | {} | {} | {} | {} |",
-            r.name,
+        table.row([
+            r.name.clone(),
             pct(f.before.error.shape_error),
             num(f.before.error.realised_strength),
             pct(f.after.error.shape_error),
@@ -987,9 +1005,10 @@ fn refinement(refined: &[RefineRow], md: &mut String, csv: &mut String) {
                 "refined"
             } else {
                 "design (refinement did not help)"
-            },
-            f.evaluations
-        );
+            }
+            .into(),
+            f.evaluations.to_string(),
+        ]);
         let _ = writeln!(
             csv,
             "refine:{},{},{},,{},{},,,,{},,{},{}",
@@ -1003,6 +1022,7 @@ fn refinement(refined: &[RefineRow], md: &mut String, csv: &mut String) {
             f.after.played
         );
     }
+    md.push_str(&table.markdown());
     md.push('\n');
     for r in refined {
         let _ = writeln!(
