@@ -75,14 +75,12 @@ impl Table {
     }
 }
 
-/// `| a | b |` and a newline; an empty cell is written as `| |`.
+/// `| a | b |` and a newline (an empty cell is `|  |`).
 fn line(cells: &[String]) -> String {
     let mut s = String::from("|");
     for c in cells {
-        if !c.is_empty() {
-            s.push(' ');
-            s.push_str(c);
-        }
+        s.push(' ');
+        s.push_str(c);
         s.push_str(" |");
     }
     s.push('\n');
@@ -102,7 +100,7 @@ mod tests {
         assert_eq!(t.len(), 2);
         assert_eq!(
             t.markdown(),
-            "| a | b | c |\n|---|---|---|\n| 1 | | |\n| x | y | z |\n"
+            "| a | b | c |\n|---|---|---|\n| 1 |  |  |\n| x | y | z |\n"
         );
     }
 }

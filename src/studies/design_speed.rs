@@ -28,6 +28,7 @@ use crate::design::method::{design_by_method, design_estimate, Method};
 use crate::design::DesignOptions;
 use crate::error::Result;
 use crate::output::write_atomic;
+use crate::report::table::Table;
 use crate::request::Target;
 use crate::synth::levenberg::LmOptions;
 use crate::synth::progress::ProgressMode;
@@ -266,31 +267,43 @@ pub fn markdown(rows: &[Row]) -> String {
          estimates before it starts and the work the engine counted (nominal RK4 point-part \
          steps, `platefield::dynamics::steps_taken`; the basis read from a warm cache), and \
          their ratio (issue 30: within 3×). Timings, and the seconds per counted step that \
-         turn work into time, are printed by the command, never written here.\n\n\
-         | target | budget | synthesized shape | synthesized strength | kept | kept shape | kept strength | estimated steps | counted steps | estimated / counted |\n\
-         |---|---|---|---|---|---|---|---|---|---|\n",
+         turn work into time, are printed by the command, never written here.\n\n",
     );
+    let mut table = Table::new([
+        "target",
+        "budget",
+        "synthesized shape",
+        "synthesized strength",
+        "kept",
+        "kept shape",
+        "kept strength",
+        "estimated steps",
+        "counted steps",
+        "estimated / counted",
+    ]);
     for r in rows {
         let (ss, st) = r
             .synthesized
             .map_or(("—".to_string(), "—".to_string()), |(e, s)| {
                 (pct(e), strength(s))
             });
-        let _ = writeln!(
-            s,
-            "| {} | {} | {} | {} | {} | {} | {} | {:.3e} | {:.3e} | {:.2} |",
-            r.target,
-            r.budget,
+        table.row([
+            r.target.clone(),
+            r.budget.to_string(),
             ss,
             st,
-            r.kept.0,
+            r.kept.0.to_string(),
             pct(r.kept.1),
             strength(r.kept.2),
-            r.estimated_steps,
-            r.counted_steps as f64,
-            r.estimated_steps / (r.counted_steps as f64).max(1.0)
-        );
+            format!("{:.3e}", r.estimated_steps),
+            format!("{:.3e}", r.counted_steps as f64),
+            format!(
+                "{:.2}",
+                r.estimated_steps / (r.counted_steps as f64).max(1.0)
+            ),
+        ]);
     }
+    s.push_str(&table.markdown());
     s
 }
 

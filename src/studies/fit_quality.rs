@@ -8,6 +8,7 @@ use crate::design::{design, DesignOptions};
 use crate::error::{Error, Result};
 use crate::fit::FitMode;
 use crate::output::write_atomic;
+use crate::report::table::Table;
 use crate::request::Target;
 
 /// The fit modes compared.
@@ -31,10 +32,18 @@ pub fn write_fit_quality(targets: &[PathBuf], base: &DesignOptions, out: &Path) 
          strength within a 5 % error budget (infeasible targets say so). Pose targets \
          (`\"kind\": \"pose\"`) are designed by `design::pose`, not fitted, and are left out. \
          Regenerate: `platefield fit-quality` (it prints each fit's time, which is not written \
-         here).\n\n\
-         | target | mode | rel. L2 error | schedule error | mean angle (°) | strength | segments | note |\n\
-         |---|---|---|---|---|---|---|---|\n",
+         here).\n\n",
     );
+    let mut table = Table::new([
+        "target",
+        "mode",
+        "rel. L2 error",
+        "schedule error",
+        "mean angle (°)",
+        "strength",
+        "segments",
+        "note",
+    ]);
     let mut times =
         String::from("fit, verification and scheduling time from the cached basis (s):\n");
     for path in targets {
@@ -48,32 +57,32 @@ pub fn write_fit_quality(targets: &[PathBuf], base: &DesignOptions, out: &Path) 
             match design(&target, &opts) {
                 Ok(d) => {
                     let s = &d.schedule;
-                    let _ = writeln!(
-                        md,
-                        "| {} | {} | {:.4} | {:.4} | {:.2} | {:.4} | {} | {} |",
-                        s.target,
-                        mode.name(),
-                        s.fit.relative_l2_error,
-                        s.fit_quantized.relative_l2_error,
-                        s.fit.mean_angle_error_deg,
-                        s.fit.strength,
-                        s.segments.iter().filter(|g| g.is_moving()).count(),
-                        if s.poor_fit { "poor fit" } else { "" }
-                    );
+                    table.row([
+                        s.target.clone(),
+                        mode.name().to_string(),
+                        format!("{:.4}", s.fit.relative_l2_error),
+                        format!("{:.4}", s.fit_quantized.relative_l2_error),
+                        format!("{:.2}", s.fit.mean_angle_error_deg),
+                        format!("{:.4}", s.fit.strength),
+                        s.segments
+                            .iter()
+                            .filter(|g| g.is_moving())
+                            .count()
+                            .to_string(),
+                        if s.poor_fit { "poor fit" } else { "" }.to_string(),
+                    ]);
                     let _ = writeln!(times, "  {} {}: {:.3}", s.target, mode.name(), d.fit_time_s);
                 }
                 Err(e) => {
-                    let _ = writeln!(
-                        md,
-                        "| {} | {} | – | – | – | – | – | {} |",
-                        target.name,
-                        mode.name(),
-                        e.to_string().replace('|', "/")
-                    );
+                    let mut cells = vec![target.name.clone(), mode.name().to_string()];
+                    cells.extend(["–"; 5].map(String::from));
+                    cells.push(e.to_string().replace('|', "/"));
+                    table.row(cells);
                 }
             }
         }
     }
+    md.push_str(&table.markdown());
     write_atomic(&out.join("fit_quality.md"), md.as_bytes())?;
     Ok(format!("{md}\n{times}"))
 }

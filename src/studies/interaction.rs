@@ -27,6 +27,7 @@ use crate::error::Result;
 use crate::motion::{Motion, Waveform};
 use crate::play::measure::{grid_points, verify_points, PlayOptions as VerifyOptions};
 use crate::play::{Join, PlayedSegment, ScheduleMotion};
+use crate::report::table::Table;
 
 /// Cycles per segment in the table.
 pub const CYCLES: [u32; 3] = [1, 3, 10];
@@ -141,26 +142,31 @@ pub fn interaction_table(out: &Path) -> Result<String> {
          because it is the naive way to chain simulations).\n\n",
     );
     let table = |md: &mut String, rows: &[InteractionRow], with_doc: bool| {
-        md.push_str("| cycles per segment | rest-to-rest ψ0(1 − cos ωt) | sine, inertial velocity continuous | sine, slip velocity kept |");
-        md.push_str(if with_doc {
-            " earlier reference script (rest-to-rest / sine) |\n|---|---|---|---|---|\n"
-        } else {
-            "\n|---|---|---|---|\n"
-        });
+        let doc_head = with_doc.then_some("earlier reference script (rest-to-rest / sine)");
+        let mut table = Table::new(
+            [
+                "cycles per segment",
+                "rest-to-rest ψ0(1 − cos ωt)",
+                "sine, inertial velocity continuous",
+                "sine, slip velocity kept",
+            ]
+            .into_iter()
+            .chain(doc_head),
+        );
         for r in rows {
-            md.push_str(&format!(
-                "| {} | {:.1} % | {:.1} % | {:.1} % |",
-                r.cycles,
-                100.0 * r.rest_to_rest,
-                100.0 * r.sine,
-                100.0 * r.sine_slip_kept
-            ));
+            let mut row = vec![
+                r.cycles.to_string(),
+                format!("{:.1} %", 100.0 * r.rest_to_rest),
+                format!("{:.1} %", 100.0 * r.sine),
+                format!("{:.1} %", 100.0 * r.sine_slip_kept),
+            ];
             if with_doc {
                 let (a, b) = doc(r.cycles);
-                md.push_str(&format!(" {a} / {b} |"));
+                row.push(format!("{a} / {b}"));
             }
-            md.push('\n');
+            table.row(row);
         }
+        md.push_str(&table.markdown());
     };
     md.push_str(
         "## Full model with frozen positions (centripetal, tilt, Coriolis on; `moving` off)\n\n",

@@ -9,6 +9,7 @@ use crate::basis::{Library, LibraryEntry, StepsPlan};
 use crate::error::Result;
 use crate::field::{FieldKind, FieldSettings, Grid};
 use crate::output::write_atomic;
+use crate::report::table::Table;
 
 fn json_bytes(v: &serde_json::Value) -> Vec<u8> {
     let mut s = serde_json::to_string_pretty(v).unwrap_or_default();
@@ -28,12 +29,23 @@ pub fn write_primitives(lib: &Library, out: &Path) -> Result<String> {
          (Circle: outside 1 cm of its axis). R² is uncentred (the forms have no constant \
          term): R² = 1 − Σ|f − f̂|²/Σ|f|². Coefficients in s⁻² m⁻ᵏ (force) and s⁻¹ m⁻ᵏ \
          (velocity) for a form of degree k in position. *Signs* checks a > 0 \
-         (for DivCircle, a > 0; b is reported).\n\n\
-         | primitive | form | force: coefficients | force R² | velocity: coefficients | velocity R² | valid (force, velocity) | signs |\n\
-         |---|---|---|---|---|---|---|---|\n",
-        lib.grid.n[0], lib.grid.n[1], lib.grid.x[0], lib.grid.x[1], lib.grid.y[0], lib.grid.y[1],
-        s.model.name(), s.friction.stat, s.friction.kinetic, s.phases, s.numerics.steps_per_cycle,
-        if lib.entries.iter().all(|e| e.force_steps == s.numerics.steps_per_cycle) {
+         (for DivCircle, a > 0; b is reported).\n\n",
+        lib.grid.n[0],
+        lib.grid.n[1],
+        lib.grid.x[0],
+        lib.grid.x[1],
+        lib.grid.y[0],
+        lib.grid.y[1],
+        s.model.name(),
+        s.friction.stat,
+        s.friction.kinetic,
+        s.phases,
+        s.numerics.steps_per_cycle,
+        if lib
+            .entries
+            .iter()
+            .all(|e| e.force_steps == s.numerics.steps_per_cycle)
+        {
             String::new()
         } else {
             format!(
@@ -42,6 +54,16 @@ pub fn write_primitives(lib: &Library, out: &Path) -> Result<String> {
             )
         }
     );
+    let mut table = Table::new([
+        "primitive",
+        "form",
+        "force: coefficients",
+        "force R²",
+        "velocity: coefficients",
+        "velocity R²",
+        "valid (force, velocity)",
+        "signs",
+    ]);
     for e in &lib.entries {
         let name = e.primitive.kind.name();
         write_entry_files(e, s, out)?;
@@ -56,21 +78,24 @@ pub fn write_primitives(lib: &Library, out: &Path) -> Result<String> {
                 .join(", ")
         };
         let signs_ok = ff.signs_ok && fv.signs_ok;
-        let _ = writeln!(
-            md,
-            "| {name} | {} | {} | {:.4} | {} | {:.4} | {}/{}, {}/{} | {} |",
-            ff.form,
+        table.row([
+            name.to_string(),
+            ff.form.to_string(),
             coef(&ff.coefficients),
-            ff.r2,
+            format!("{:.4}", ff.r2),
             coef(&fv.coefficients),
-            fv.r2,
-            e.force.valid_count(),
-            e.force.vectors.len(),
-            e.velocity.valid_count(),
-            e.velocity.vectors.len(),
-            if signs_ok { "ok" } else { "WRONG" }
-        );
+            format!("{:.4}", fv.r2),
+            format!(
+                "{}/{}, {}/{}",
+                e.force.valid_count(),
+                e.force.vectors.len(),
+                e.velocity.valid_count(),
+                e.velocity.vectors.len()
+            ),
+            if signs_ok { "ok" } else { "WRONG" }.to_string(),
+        ]);
     }
+    md.push_str(&table.markdown());
     write_atomic(&out.join("table1.md"), md.as_bytes())?;
     Ok(md)
 }

@@ -13,6 +13,7 @@ use crate::dynamics::{Friction, Model, Numerics, PartState, Simulator};
 use crate::error::{Error, Result};
 use crate::output::write_atomic;
 use crate::plot::{LegendPosition, LinePlot, Series};
+use crate::report::table::Table;
 
 const T: f64 = 0.03;
 const MU: f64 = 0.3;
@@ -139,33 +140,24 @@ pub fn terms(out: &Path) -> Result<String> {
         "# LineSink: what each term the paper drops changes\n\n\
          Sine angular acceleration A = 220 rad/s², axis 5 cm below, T = 0.03 s, μ = 0.3.\n\
          Steady-state velocity (mm/s) and, in brackets, the change relative to the paper model.\n\
-         Regenerate: `platefield reproduce`.\n\n| r (cm) |",
+         Regenerate: `platefield reproduce`.\n\n",
     );
-    for (name, _) in &variants {
-        let _ = write!(md, " {name} |");
-    }
-    md.push_str("\n|---|");
-    md.push_str(&"---|".repeat(variants.len()));
-    md.push('\n');
+    let mut table = Table::new(["r (cm)"].into_iter().chain(variants.iter().map(|v| v.0)));
     for &r in &rs {
         let base = ls.rows(&[r], Model::PAPER, numerics)[0].v_ss;
-        let _ = write!(md, "| {:.0} |", r * 100.0);
+        let mut row = vec![format!("{:.0}", r * 100.0)];
         for (_, model) in &variants {
             let v = ls.rows(&[r], *model, numerics)[0].v_ss;
-            match (v, base) {
+            row.push(match (v, base) {
                 (Some(v), Some(b)) => {
-                    let _ = write!(
-                        md,
-                        " {:.4} ({:+.2} %) |",
-                        v * 1e3,
-                        (v - b) / b.abs() * 100.0
-                    );
+                    format!("{:.4} ({:+.2} %)", v * 1e3, (v - b) / b.abs() * 100.0)
                 }
-                _ => md.push_str(" contact lost |"),
-            }
+                _ => "contact lost".into(),
+            });
         }
-        md.push('\n');
+        table.row(row);
     }
+    md.push_str(&table.markdown());
     md.push_str(
         "\nReading: the centripetal term ψ'²·(r − h) adds a small steady horizontal push \
          toward the axis and raises N; the gravity tilt adds g·sin ψ along the plate, \
@@ -269,9 +261,17 @@ pub fn convergence(out: &Path) -> Result<String> {
         "# Integrator convergence (sine LineSink, A = 220 rad/s², T = 0.03 s, μ = 0.3)\n\n\
          Relative error of v_ss against a run with 16384 steps per cycle; `order` is \
          log2(e(n/2)/e(n)). Events (stick, slip) are located to 1e-14 T in every run.\n\
-         Regenerate: `platefield reproduce`.\n\n\
-         | case | model | r (cm) | steps/cycle | v_ss (m/s) | rel. error | order |\n|---|---|---|---|---|---|---|\n",
+         Regenerate: `platefield reproduce`.\n\n",
     );
+    let mut table = Table::new([
+        "case",
+        "model",
+        "r (cm)",
+        "steps/cycle",
+        "v_ss (m/s)",
+        "rel. error",
+        "order",
+    ]);
     for (label, ls) in fig3_cases().into_iter().skip(1) {
         for model in [Model::PAPER, Model::FULL] {
             let r = 0.02;
@@ -295,16 +295,20 @@ pub fn convergence(out: &Path) -> Result<String> {
                 let order = prev
                     .filter(|p| *p > 0.0 && e > 0.0)
                     .map_or("".to_string(), |p| format!("{:.2}", (p / e).log2()));
-                let _ = writeln!(
-                    md,
-                    "| {label} | {} | {:.0} | {n} | {v:.9e} | {e:.2e} | {order} |",
-                    model.name(),
-                    r * 100.0
-                );
+                table.row([
+                    label.to_string(),
+                    model.name().to_string(),
+                    format!("{:.0}", r * 100.0),
+                    n.to_string(),
+                    format!("{v:.9e}"),
+                    format!("{e:.2e}"),
+                    order,
+                ]);
                 prev = Some(e);
             }
         }
     }
+    md.push_str(&table.markdown());
     write_atomic(&out.join("linesink_convergence.md"), md.as_bytes())?;
     Ok(md)
 }

@@ -40,6 +40,7 @@ use crate::error::{non_negative, Result};
 use crate::field::{Field, FieldKind, FieldSettings, Grid, Validity};
 use crate::motion::Motion;
 use crate::output::write_atomic;
+use crate::report::table::Table;
 
 /// Default tolerance: 2 % relative L2 error against the full model. Two
 /// per cent is below what separates a primitive's field from its Table I
@@ -344,13 +345,17 @@ pub fn rungs_markdown(reports: &[(&'static str, RungReport)], tolerance: f64) ->
     for kind in [FieldKind::Force, FieldKind::Velocity] {
         let _ = write!(
             md,
-            "\n## {}\n\n| primitive | chosen | {} | why |\n|---|---|{}---|\n",
+            "\n## {}\n\n",
             match kind {
                 FieldKind::Force => "Zero-velocity force fields",
                 FieldKind::Velocity => "Steady-state velocity fields",
-            },
-            RUNGS.map(|r| r.0).join(" | "),
-            "---|".repeat(RUNGS.len())
+            }
+        );
+        let mut table = Table::new(
+            ["primitive", "chosen"]
+                .into_iter()
+                .chain(RUNGS.map(|r| r.0))
+                .chain(["why"]),
         );
         for (name, r) in reports.iter().filter(|(_, r)| r.kind == kind) {
             let cells: Vec<String> = r
@@ -364,14 +369,12 @@ pub fn rungs_markdown(reports: &[(&'static str, RungReport)], tolerance: f64) ->
                     c
                 })
                 .collect();
-            let _ = writeln!(
-                md,
-                "| {name} | **{}** | {} | {} |",
-                r.rung,
-                cells.join(" | "),
-                r.reason
-            );
+            let mut row = vec![name.to_string(), format!("**{}**", r.rung)];
+            row.extend(cells);
+            row.push(r.reason.to_string());
+            table.row(row);
         }
+        md.push_str(&table.markdown());
     }
     md
 }

@@ -57,6 +57,7 @@ use crate::dynamics::{Model, PartState};
 use crate::error::{Error, Result};
 use crate::play::measure::{verify_points, PlayOptions as VerifyOptions};
 use crate::play::{periods_for, PlayedSegment, ScheduleMotion, V2};
+use crate::report::table::Table;
 
 /// Cycles per segment studied.
 pub const CYCLES: [u32; 3] = [1, 3, 10];
@@ -428,31 +429,48 @@ fn find<'a>(
 }
 
 fn two_primitive_table(md: &mut String, rows: &[OffsetRow], model: &str) {
-    md.push_str("| schedule | cycles per segment | rest cycles at each join | predicted y0 (mm) | realised y0 (mm) | offset (mm) | slope realised / predicted (1/s) | relative error | moving fraction |\n|---|---|---|---|---|---|---|---|---|\n");
+    let mut table = Table::new([
+        "schedule",
+        "cycles per segment",
+        "rest cycles at each join",
+        "predicted y0 (mm)",
+        "realised y0 (mm)",
+        "offset (mm)",
+        "slope realised / predicted (1/s)",
+        "relative error",
+        "moving fraction",
+    ]);
     for r in rows
         .iter()
         .filter(|r| r.case == "two-primitive" && r.model == model)
     {
         let l = &r.line;
-        let _ = writeln!(
-            md,
-            "| {} | {} | {} | {:+.3} | {:+.3} | {:+.3} | {:.3} / {:.3} | {:.1} % | {:.3} |",
-            r.sequence,
-            r.cycles,
-            r.rest_cycles,
-            1e3 * l.predicted.y0,
-            1e3 * l.realised.y0,
-            1e3 * l.offset(),
-            l.realised.slope,
-            l.predicted.slope,
-            100.0 * l.relative_error,
-            l.moving_fraction
-        );
+        table.row([
+            r.sequence.to_string(),
+            r.cycles.to_string(),
+            r.rest_cycles.to_string(),
+            format!("{:+.3}", 1e3 * l.predicted.y0),
+            format!("{:+.3}", 1e3 * l.realised.y0),
+            format!("{:+.3}", 1e3 * l.offset()),
+            format!("{:.3} / {:.3}", l.realised.slope, l.predicted.slope),
+            format!("{:.1} %", 100.0 * l.relative_error),
+            format!("{:.3}", l.moving_fraction),
+        ]);
     }
+    md.push_str(&table.markdown());
 }
 
 fn three_segment_table(md: &mut String, rows: &[OffsetRow], model: &str) {
-    md.push_str("| cycles per segment (LS90/LS270/Trans) | rest cycles at each join | predicted y0 (mm) | offset A (mm) | offset B (mm) | A − B (mm) | relative error A / B | moving fraction |\n|---|---|---|---|---|---|---|---|\n");
+    let mut table = Table::new([
+        "cycles per segment (LS90/LS270/Trans)",
+        "rest cycles at each join",
+        "predicted y0 (mm)",
+        "offset A (mm)",
+        "offset B (mm)",
+        "A − B (mm)",
+        "relative error A / B",
+        "moving fraction",
+    ]);
     let a = order_label(ThreeOrder::A);
     let b = order_label(ThreeOrder::B);
     for ra in rows
@@ -462,20 +480,22 @@ fn three_segment_table(md: &mut String, rows: &[OffsetRow], model: &str) {
         let Some(rb) = find(rows, &ra.case, b, &ra.cycles, ra.rest_cycles, model) else {
             continue;
         };
-        let _ = writeln!(
-            md,
-            "| {} | {} | {:+.3} | {:+.3} | {:+.3} | {:+.3} | {:.1} % / {:.1} % | {:.3} |",
-            ra.cycles,
-            ra.rest_cycles,
-            1e3 * ra.line.predicted.y0,
-            1e3 * ra.line.offset(),
-            1e3 * rb.line.offset(),
-            1e3 * (ra.line.offset() - rb.line.offset()),
-            100.0 * ra.line.relative_error,
-            100.0 * rb.line.relative_error,
-            ra.line.moving_fraction
-        );
+        table.row([
+            ra.cycles.to_string(),
+            ra.rest_cycles.to_string(),
+            format!("{:+.3}", 1e3 * ra.line.predicted.y0),
+            format!("{:+.3}", 1e3 * ra.line.offset()),
+            format!("{:+.3}", 1e3 * rb.line.offset()),
+            format!("{:+.3}", 1e3 * (ra.line.offset() - rb.line.offset())),
+            format!(
+                "{:.1} % / {:.1} %",
+                100.0 * ra.line.relative_error,
+                100.0 * rb.line.relative_error
+            ),
+            format!("{:.3}", ra.line.moving_fraction),
+        ]);
     }
+    md.push_str(&table.markdown());
 }
 
 fn budget_table(
@@ -492,18 +512,23 @@ fn budget_table(
         "\n**{title}** (anchor y = {:+.3} mm on the predicted line):\n",
         1e3 * anchor[1]
     );
-    md.push_str("| segment | normal slip at entry (mm/s) | its orbit's slip at phase 0 (mm/s) | normal slip at exit (mm/s) | transient displacement (mm) |\n|---|---|---|---|---|\n");
+    let mut table = Table::new([
+        "segment",
+        "normal slip at entry (mm/s)",
+        "its orbit's slip at phase 0 (mm/s)",
+        "normal slip at exit (mm/s)",
+        "transient displacement (mm)",
+    ]);
     for s in &b {
-        let _ = writeln!(
-            md,
-            "| {} | {:+.2} | {:+.2} | {:+.2} | {:+.4} |",
-            s.label,
-            1e3 * s.entry_slip,
-            1e3 * s.orbit_slip,
-            1e3 * s.exit_slip,
-            1e3 * s.excess
-        );
+        table.row([
+            s.label.to_string(),
+            format!("{:+.2}", 1e3 * s.entry_slip),
+            format!("{:+.2}", 1e3 * s.orbit_slip),
+            format!("{:+.2}", 1e3 * s.exit_slip),
+            format!("{:+.4}", 1e3 * s.excess),
+        ]);
     }
+    md.push_str(&table.markdown());
     let total: f64 = b.iter().map(|s| s.excess).sum();
     let bias = total / sm.period();
     let _ = writeln!(
