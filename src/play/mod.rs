@@ -42,7 +42,9 @@ pub mod settle;
 
 pub use measure::{grid_points, verify_points, PlayOptions, PointResult, RealisedField};
 
-use crate::dynamics::{ContactLoss, Friction, Model, Numerics, PartState, Simulator};
+use crate::dynamics::{
+    ContactLoss, Friction, KinematicsTable, Model, Numerics, PartState, Simulator,
+};
 use crate::error::{positive, Error, Result};
 use crate::motion::{Motion, V3};
 use crate::schedule::{Schedule, Segment};
@@ -277,6 +279,34 @@ impl<'a> Player<'a> {
     /// The trajectory played.
     pub fn schedule(&self) -> &'a ScheduleMotion {
         self.schedule
+    }
+
+    /// The plate kinematics each moving segment's simulator asks for over
+    /// the segment ([`KinematicsTable`]; `None` for rest): every period
+    /// plays each segment over the same span, so one table serves every
+    /// period of every part ([`Player::with_tables`]).
+    pub fn kinematics_tables(&self) -> Vec<Option<KinematicsTable<'a>>> {
+        self.sims
+            .iter()
+            .zip(&self.schedule.segments)
+            .map(|(sim, seg)| {
+                sim.as_ref()
+                    .map(|s| KinematicsTable::new(s, &[(0.0, seg.duration)]))
+            })
+            .collect()
+    }
+
+    /// The same player reading the plate kinematics from `tables`
+    /// ([`Player::kinematics_tables`] of a player of the same schedule and
+    /// physics): a memo, the parts' paths are bitwise unchanged.
+    pub fn with_tables(mut self, tables: &'a [Option<KinematicsTable<'a>>]) -> Player<'a> {
+        for (sim, table) in self.sims.iter_mut().zip(tables) {
+            *sim = sim.take().map(|s| match table {
+                Some(t) => s.with_table(t),
+                None => s,
+            });
+        }
+        self
     }
 
     /// The simulator of segment `i` (`None` for rest).

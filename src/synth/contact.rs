@@ -13,7 +13,7 @@
 
 use rayon::prelude::*;
 
-use crate::dynamics::{PartState, V2};
+use crate::dynamics::{KinematicsTable, PartState, V2};
 use crate::field::{FieldSettings, Grid};
 use crate::motion::{Motion, V3};
 
@@ -41,8 +41,12 @@ pub fn kinematic_least_normal(motion: &Motion, grid: &Grid, settings: &FieldSett
 
 /// Least N (m/s²) along the steady orbits started at the points of `grid`
 /// (points without a steady state are skipped: the field flags them).
+/// The plate kinematics of the cycle are tabulated once and shared by
+/// every point ([`KinematicsTable`], a memo: the same bits as without it).
 pub fn orbit_least_normal(motion: &Motion, grid: &Grid, settings: &FieldSettings) -> f64 {
-    let sim = settings.simulator(motion);
+    let direct = settings.simulator(motion);
+    let table = KinematicsTable::cycle(&direct);
+    let sim = direct.with_table(&table);
     let period = motion.period();
     grid.points()
         .par_iter()
