@@ -299,6 +299,33 @@ impl<'a> Player<'a> {
     /// The same player reading the plate kinematics from `tables`
     /// ([`Player::kinematics_tables`] of a player of the same schedule and
     /// physics): a memo, the parts' paths are bitwise unchanged.
+    ///
+    /// ```
+    /// use platefield::dynamics::{PartState, V2};
+    /// use platefield::field::FieldSettings;
+    /// use platefield::motion::{Motion, Signals};
+    /// use platefield::play::{PlayOptions, PlayedSegment, ScheduleMotion};
+    ///
+    /// let sm = ScheduleMotion::new(vec![
+    ///     PlayedSegment::moving("signals", Motion::Signals(Signals::example()), 3),
+    ///     PlayedSegment::rest(0.01),
+    /// ])
+    /// .unwrap();
+    /// let options = PlayOptions::from_settings(&FieldSettings::default());
+    /// let tables = options.player(&sm).kinematics_tables();
+    /// let play = |tabled: bool| {
+    ///     let player = options.player(&sm);
+    ///     let player = if tabled { player.with_tables(&tables) } else { player };
+    ///     let anchor = V2::new(0.02, -0.01);
+    ///     let mut state = PartState::new(anchor, V2::zeros());
+    ///     player.play_periods(&mut state, &anchor, 0, 4, |_, _, _| ()).unwrap();
+    ///     state
+    /// };
+    /// let (direct, tabled) = (play(false), play(true));
+    /// assert_eq!(direct.r.x.to_bits(), tabled.r.x.to_bits());
+    /// assert_eq!(direct.r.y.to_bits(), tabled.r.y.to_bits());
+    /// assert_ne!(direct.r, V2::new(0.02, -0.01)); // the part moved
+    /// ```
     pub fn with_tables(mut self, tables: &'a [Option<KinematicsTable<'a>>]) -> Player<'a> {
         for (sim, table) in self.sims.iter_mut().zip(tables) {
             *sim = sim.take().map(|s| match table {
