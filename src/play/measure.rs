@@ -410,11 +410,13 @@ pub fn play_points_ticked(
     windows: Windows,
     tick: &(dyn Fn() + Sync),
 ) -> Vec<PointPlay> {
+    // One kinematics table per segment, shared by every part (a memo).
+    let tables = opts.player(sm).kinematics_tables();
     points
         .par_iter()
         .enumerate()
         .map(|(i, p)| {
-            let player = opts.player(sm);
+            let player = opts.player(sm).with_tables(&tables);
             let played = play_point(
                 sm,
                 &player,

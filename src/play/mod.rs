@@ -42,7 +42,9 @@ pub mod settle;
 
 pub use measure::{grid_points, verify_points, PlayOptions, PointResult, RealisedField};
 
-use crate::dynamics::{ContactLoss, Friction, Model, Numerics, PartState, Simulator};
+use crate::dynamics::{
+    ContactLoss, Friction, KinematicsTable, Model, Numerics, PartState, Simulator,
+};
 use crate::error::{positive, Error, Result};
 use crate::motion::{Motion, V3};
 use crate::schedule::{Schedule, Segment};
@@ -277,6 +279,61 @@ impl<'a> Player<'a> {
     /// The trajectory played.
     pub fn schedule(&self) -> &'a ScheduleMotion {
         self.schedule
+    }
+
+    /// The plate kinematics each moving segment's simulator asks for over
+    /// the segment ([`KinematicsTable`]; `None` for rest): every period
+    /// plays each segment over the same span, so one table serves every
+    /// period of every part ([`Player::with_tables`]).
+    pub fn kinematics_tables(&self) -> Vec<Option<KinematicsTable<'a>>> {
+        self.sims
+            .iter()
+            .zip(&self.schedule.segments)
+            .map(|(sim, seg)| {
+                sim.as_ref()
+                    .map(|s| KinematicsTable::new(s, &[(0.0, seg.duration)]))
+            })
+            .collect()
+    }
+
+    /// The same player reading the plate kinematics from `tables`
+    /// ([`Player::kinematics_tables`] of a player of the same schedule and
+    /// physics): a memo, the parts' paths are bitwise unchanged.
+    ///
+    /// ```
+    /// use platefield::dynamics::{PartState, V2};
+    /// use platefield::field::FieldSettings;
+    /// use platefield::motion::{Motion, Signals};
+    /// use platefield::play::{PlayOptions, PlayedSegment, ScheduleMotion};
+    ///
+    /// let sm = ScheduleMotion::new(vec![
+    ///     PlayedSegment::moving("signals", Motion::Signals(Signals::example()), 3),
+    ///     PlayedSegment::rest(0.01),
+    /// ])
+    /// .unwrap();
+    /// let options = PlayOptions::from_settings(&FieldSettings::default());
+    /// let tables = options.player(&sm).kinematics_tables();
+    /// let play = |tabled: bool| {
+    ///     let player = options.player(&sm);
+    ///     let player = if tabled { player.with_tables(&tables) } else { player };
+    ///     let anchor = V2::new(0.02, -0.01);
+    ///     let mut state = PartState::new(anchor, V2::zeros());
+    ///     player.play_periods(&mut state, &anchor, 0, 4, |_, _, _| ()).unwrap();
+    ///     state
+    /// };
+    /// let (direct, tabled) = (play(false), play(true));
+    /// assert_eq!(direct.r.x.to_bits(), tabled.r.x.to_bits());
+    /// assert_eq!(direct.r.y.to_bits(), tabled.r.y.to_bits());
+    /// assert_ne!(direct.r, V2::new(0.02, -0.01)); // the part moved
+    /// ```
+    pub fn with_tables(mut self, tables: &'a [Option<KinematicsTable<'a>>]) -> Player<'a> {
+        for (sim, table) in self.sims.iter_mut().zip(tables) {
+            *sim = sim.take().map(|s| match table {
+                Some(t) => s.with_table(t),
+                None => s,
+            });
+        }
+        self
     }
 
     /// The simulator of segment `i` (`None` for rest).

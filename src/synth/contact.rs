@@ -13,7 +13,7 @@
 
 use rayon::prelude::*;
 
-use crate::dynamics::{PartState, V2};
+use crate::dynamics::{KinematicsTable, PartState, Simulator, V2};
 use crate::field::{FieldSettings, Grid};
 use crate::motion::{Motion, V3};
 
@@ -41,8 +41,22 @@ pub fn kinematic_least_normal(motion: &Motion, grid: &Grid, settings: &FieldSett
 
 /// Least N (m/s²) along the steady orbits started at the points of `grid`
 /// (points without a steady state are skipped: the field flags them).
+/// The plate kinematics of the cycle are tabulated once and shared by
+/// every point ([`KinematicsTable`], a memo: the same bits as without it).
 pub fn orbit_least_normal(motion: &Motion, grid: &Grid, settings: &FieldSettings) -> f64 {
-    let sim = settings.simulator(motion);
+    let direct = settings.simulator(motion);
+    let table = KinematicsTable::cycle(&direct);
+    least_normal_along_orbits(&direct.with_table(&table), motion, grid, settings)
+}
+
+/// [`orbit_least_normal`] with the simulator `sim` (of `motion` under
+/// `settings`).
+fn least_normal_along_orbits(
+    sim: &Simulator<'_>,
+    motion: &Motion,
+    grid: &Grid,
+    settings: &FieldSettings,
+) -> f64 {
     let period = motion.period();
     grid.points()
         .par_iter()
@@ -77,4 +91,29 @@ pub fn orbit_least_normal(motion: &Motion, grid: &Grid, settings: &FieldSettings
                 .fold(f64::INFINITY, f64::min)
         })
         .reduce(|| f64::INFINITY, f64::min)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::motion::Signals;
+
+    /// The table is a memo: the least N along the orbits is the same bits
+    /// as with the kinematics evaluated at every step (and a number: the
+    /// orbits were simulated, not skipped).
+    #[test]
+    fn tabled_orbit_check_is_the_direct_one() {
+        let motion = Motion::Signals(Signals::example());
+        let settings = FieldSettings::default();
+        let grid = Grid {
+            x: [-0.03, 0.03],
+            y: [-0.02, 0.02],
+            n: [3, 3],
+        };
+        let tabled = orbit_least_normal(&motion, &grid, &settings);
+        let direct =
+            least_normal_along_orbits(&settings.simulator(&motion), &motion, &grid, &settings);
+        assert_eq!(tabled.to_bits(), direct.to_bits());
+        assert!(tabled.is_finite(), "{tabled}");
+    }
 }

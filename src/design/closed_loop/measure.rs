@@ -124,10 +124,12 @@ pub fn play_motion(
     let warm = opts.warmup_cycles.div_ceil(per_period);
     let meas = opts.measured_cycles.div_ceil(per_period).max(1);
     let v = PlayOptions::from_settings(settings);
+    // One kinematics table per segment, shared by every part (a memo).
+    let tables = v.player(sm).kinematics_tables();
     starts
         .par_iter()
         .map(|&i| {
-            let player = v.player(sm);
+            let player = v.player(sm).with_tables(&tables);
             play_point(
                 sm,
                 &player,
