@@ -53,7 +53,7 @@ use order::OrderSearch;
 pub use basis::DesignBasis;
 pub use method::{Choice, Method, MethodDesign};
 pub use options::{BasisSection, FitSection, ScheduleSection};
-pub use run::{run, DesignOutcome};
+pub use run::{run, DesignOutcome, DesignRequest, TargetFile};
 
 /// Options of [`design`] and [`run`], in sections (each range-checked
 /// by its own `validate`, all of them by [`DesignOptions::validate`],
