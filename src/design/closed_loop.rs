@@ -166,7 +166,7 @@ impl Stage {
 
 /// One played schedule.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Candidate {
+pub struct LoopCandidate {
     /// The step that produced it.
     pub stage: Stage,
     /// Its segments in playing order, e.g. `LineSink@0°×1 LineSink@90°×1`.
@@ -194,7 +194,7 @@ pub struct ClosedLoop {
     pub target: String,
     /// Every played schedule, in the order played; the first is the
     /// open-loop schedule.
-    pub candidates: Vec<Candidate>,
+    pub candidates: Vec<LoopCandidate>,
     /// Index of the best candidate (lowest realised error among the eligible).
     pub best: usize,
     /// Start points played.
@@ -216,12 +216,12 @@ pub struct ClosedLoop {
 
 impl ClosedLoop {
     /// The open-loop schedule's measurement.
-    pub fn before(&self) -> &Candidate {
+    pub fn before(&self) -> &LoopCandidate {
         &self.candidates[0]
     }
 
     /// The best candidate's measurement.
-    pub fn after(&self) -> &Candidate {
+    pub fn after(&self) -> &LoopCandidate {
         &self.candidates[self.best]
     }
 
@@ -333,7 +333,7 @@ impl Judge<'_> {
         plays: Vec<PointPlay>,
         strength: Option<f64>,
         promise: String,
-    ) -> Candidate {
+    ) -> LoopCandidate {
         let w = &self.sampled.weights;
         let error = measure::realised_error(self.target, w, &plays, strength);
         let vs_design =
@@ -346,7 +346,7 @@ impl Judge<'_> {
             _ if !error.error.is_finite() => Some("no realised field".into()),
             _ => None,
         };
-        Candidate {
+        LoopCandidate {
             stage,
             order: order_text(&schedule),
             promise,
@@ -371,7 +371,7 @@ impl Judge<'_> {
 }
 
 /// Index of the best eligible candidate (lowest realised error, earliest on ties).
-fn best_of(c: &[Candidate]) -> usize {
+fn best_of(c: &[LoopCandidate]) -> usize {
     let mut best = 0;
     for (i, x) in c.iter().enumerate() {
         if x.rejected.is_none()
@@ -389,7 +389,7 @@ fn best_of(c: &[Candidate]) -> usize {
 fn order_stage(
     judge: &Judge,
     open: &Schedule,
-    cands: &mut Vec<Candidate>,
+    cands: &mut Vec<LoopCandidate>,
     search: bool,
 ) -> Result<Vec<usize>> {
     let base = &open.segments;
@@ -434,7 +434,7 @@ fn order_stage(
 fn refit_stage(
     judge: &Judge,
     design: &Design,
-    cands: &mut Vec<Candidate>,
+    cands: &mut Vec<LoopCandidate>,
     mut pattern: Vec<usize>,
     max_iterations: u32,
 ) -> Result<String> {
@@ -551,7 +551,7 @@ pub fn closed_loop(target: &Target, design: &Design, opts: &LoopOptions) -> Resu
 mod tests {
     use super::*;
 
-    fn candidate(error: f64, rejected: bool) -> Candidate {
+    fn candidate(error: f64, rejected: bool) -> LoopCandidate {
         let d = Decomposition {
             isotropic: 0.0,
             rotational: 0.0,
@@ -568,7 +568,7 @@ mod tests {
             strength: 1.0,
         };
         let schedule = Schedule::of_segments("t", Vec::new(), FieldSettings::default(), none);
-        Candidate {
+        LoopCandidate {
             stage: Stage::Order,
             order: String::new(),
             promise: String::new(),

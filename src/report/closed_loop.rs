@@ -7,7 +7,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use super::design as report;
-use crate::design::closed_loop::{Candidate, ClosedLoop};
+use crate::design::closed_loop::{ClosedLoop, LoopCandidate};
 use crate::design::Design;
 use crate::error::{Error, Result};
 use crate::output::write_atomic;
@@ -17,7 +17,7 @@ fn pct(x: f64) -> String {
     format!("{:.1} %", 100.0 * x)
 }
 
-fn line(name: &str, c: &Candidate) -> String {
+fn line(name: &str, c: &LoopCandidate) -> String {
     let e = &c.error;
     let d = &e.decomposition;
     format!(
@@ -62,7 +62,7 @@ pub fn summary(cl: &ClosedLoop) -> String {
 }
 
 /// A row of the before/after table: its name and how to show a candidate.
-type Row = (&'static str, fn(&Candidate) -> String);
+type Row = (&'static str, fn(&LoopCandidate) -> String);
 
 /// `closed_loop.md`.
 pub fn markdown(cl: &ClosedLoop) -> String {
