@@ -270,7 +270,7 @@ pub fn ramped(motion: &Motion, rate: f64, ramp: u32, steady: u32) -> Result<Hold
 /// One segment of a sequence: a motion played for `duration` seconds, or
 /// rest.
 #[derive(Debug, Clone, Copy)]
-pub struct Segment<'a> {
+pub struct MotionSpan<'a> {
     /// The motion (`None`: rest).
     pub motion: Option<&'a Motion>,
     /// Duration (s).
@@ -288,7 +288,7 @@ pub struct Segment<'a> {
 /// As [`periodic`]; a motion segment whose duration is not a whole number
 /// of samples or that does not start and end at rest (names
 /// `segments[i]`).
-pub fn sequence(segments: &[Segment<'_>], rate: f64) -> Result<HoldSamples> {
+pub fn sequence(segments: &[MotionSpan<'_>], rate: f64) -> Result<HoldSamples> {
     // The sample grid of the first motion; a rest-only sequence is held at
     // `rate` itself (all samples zero).
     let (n, dt) = match segments.iter().find_map(|s| s.motion) {

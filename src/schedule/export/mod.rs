@@ -406,11 +406,11 @@ fn sequence_samples(schedule: &Schedule, rate: f64) -> Result<sample_hold::HoldS
         ));
     }
     let motions: Vec<Option<Motion>> = schedule.segments.iter().map(|s| s.plate_motion()).collect();
-    let segments: Vec<sample_hold::Segment<'_>> = schedule
+    let segments: Vec<sample_hold::MotionSpan<'_>> = schedule
         .segments
         .iter()
         .zip(&motions)
-        .map(|(s, m)| sample_hold::Segment {
+        .map(|(s, m)| sample_hold::MotionSpan {
             motion: m.as_ref(),
             duration: s.duration_s,
         })
