@@ -54,7 +54,7 @@ use crate::schedule::{Schedule, Segment};
 use crate::synth::calibrate::shifted;
 use crate::synth::objective::{Evaluation, Objective};
 use crate::synth::params::Coefficients;
-use crate::synth::progress::{Progress, ProgressMode};
+use crate::synth::progress::{ProgressMode, SynthesisProgress};
 use crate::synth::ShakerLimits;
 
 /// Cycles of each of the two segments, ramps included.
@@ -148,7 +148,7 @@ pub fn turned_mirror_share(
 ) -> Result<Schedule> {
     let motion = only_motion(synthesized)?;
     let settings = &synthesized.settings;
-    let progress = Progress::new(ProgressMode::Quiet, usize::MAX);
+    let progress = SynthesisProgress::new(ProgressMode::Quiet, usize::MAX);
     let coarse = Grid {
         n: [7, 7],
         ..*region

@@ -131,7 +131,7 @@ use crate::synth::objective::{
     shape_block, Objective, CONTACT_WEIGHT, INVALID_WEIGHT, LIMIT_WEIGHT,
 };
 use crate::synth::params::{Coefficients, Layout};
-use crate::synth::progress::{Progress, ProgressMode};
+use crate::synth::progress::{ProgressMode, SynthesisProgress};
 use crate::synth::refine::nelder_mead;
 use crate::synth::stall::{StallRule, StallTracker};
 use crate::synth::{Checked, ShakerLimits, Synthesis};
@@ -648,7 +648,7 @@ pub fn polish(
     let layout = Layout::new(limits);
     let coefficients = Coefficients::from_signals(&synthesis.motion, limits.harmonics);
     let x0 = layout.to_vec(&coefficients);
-    let progress = Progress::new(ProgressMode::Quiet, options.max_plays);
+    let progress = SynthesisProgress::new(ProgressMode::Quiet, options.max_plays);
     let coarse = Grid {
         n: options.coarse,
         ..*region

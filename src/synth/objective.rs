@@ -70,7 +70,7 @@ use rayon::prelude::*;
 use super::contact::{kinematic_least_normal, orbit_least_normal};
 use super::limits::ShakerLimits;
 use super::params::{Coefficients, Layout};
-use super::progress::Progress;
+use super::progress::SynthesisProgress;
 use super::robust::judged_under;
 use super::stall::{StallRule, StallTracker};
 use crate::field::{Field, FieldKind, FieldSettings, Grid, Validity};
@@ -237,7 +237,7 @@ pub struct Objective<'a> {
     /// `settings` alone unless [`Objective::with_robust`] gave a range.
     physics: Vec<FieldSettings>,
     tally: Mutex<Tally>,
-    progress: &'a Progress,
+    progress: &'a SynthesisProgress,
 }
 
 impl<'a> Objective<'a> {
@@ -252,7 +252,7 @@ impl<'a> Objective<'a> {
         strength_ref: f64,
         max_evaluations: usize,
         deadline: Option<Instant>,
-        progress: &'a Progress,
+        progress: &'a SynthesisProgress,
     ) -> Objective<'a> {
         Objective {
             layout: Layout::new(limits),
@@ -285,7 +285,7 @@ impl<'a> Objective<'a> {
         limits: &'a ShakerLimits,
         settings: &'a FieldSettings,
         shape_budget: f64,
-        progress: &'a Progress,
+        progress: &'a SynthesisProgress,
     ) -> Objective<'a> {
         Objective::new(
             field,

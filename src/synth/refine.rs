@@ -26,7 +26,7 @@ use argmin::core::{CostFunction, Executor};
 use argmin::solver::neldermead::NelderMead;
 
 use super::objective::{Evaluation, Objective};
-use super::progress::{Observer, Progress};
+use super::progress::{Observer, SynthesisProgress};
 use crate::error::{BudgetSpent, Error, Result};
 
 /// Settings of the refinement.
@@ -117,7 +117,7 @@ pub fn nelder_mead<F, S>(
     cost: F,
     spent: S,
     label: &str,
-    progress: Option<&Arc<Progress>>,
+    progress: Option<&Arc<SynthesisProgress>>,
 ) -> Result<()>
 where
     F: Fn(&[f64]) -> Result<f64>,
@@ -160,7 +160,7 @@ fn run(
     x0: &[f64],
     step: f64,
     cap: usize,
-    progress: &Arc<Progress>,
+    progress: &Arc<SynthesisProgress>,
 ) -> Result<()> {
     nelder_mead(
         x0,
@@ -185,7 +185,7 @@ pub fn refine(
     extra: &[Vec<f64>],
     budget: usize,
     options: &RefineOptions,
-    progress: &Arc<Progress>,
+    progress: &Arc<SynthesisProgress>,
 ) -> Result<Evaluation> {
     let mut rng = SplitMix64(options.seed);
     let starts = options.starts.max(1 + extra.len());

@@ -11,7 +11,7 @@ use super::levenberg::LmOptions;
 use super::limits::ShakerLimits;
 use super::objective::{realised, Objective, Realised};
 use super::params::{Coefficients, Layout, AXIS_NAMES};
-use super::progress::{Progress, ProgressMode};
+use super::progress::{ProgressMode, SynthesisProgress};
 use super::refine::{refine, RefineOptions};
 use super::seed::{seed, Seed};
 use super::stall::StallRule;
@@ -285,7 +285,10 @@ pub fn synthesize(
         n: options.coarse,
         ..*region
     };
-    let progress = Arc::new(Progress::new(options.progress, options.max_evaluations));
+    let progress = Arc::new(SynthesisProgress::new(
+        options.progress,
+        options.max_evaluations,
+    ));
     let deadline = options
         .max_seconds
         .map(|s| start + Duration::from_secs_f64(s));
