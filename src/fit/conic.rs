@@ -348,7 +348,7 @@ pub fn solve_budget(
 /// which measured 3× faster than `−u ≤ Âw − t̂ ≤ u`.  With `z₁, z₂ ≥ 0` the
 /// duals of the two bound blocks, stationarity in `u` gives `z₁ + z₂ = 1`,
 /// so `y = z₁ − z₂ ∈ [−1, 1]^M` (stored in [`ConicOutcome::lp_dual`])
-/// certifies optimality (see [`mod@crate::fit::verify`]).
+/// certifies optimality (see [`mod@crate::fit::certify`]).
 pub fn solve_l1(ad: &DMatrix<f64>, td: &DVector<f64>) -> Result<ConicOutcome, FitError> {
     solve_lp(ad, td, true, &[])
 }

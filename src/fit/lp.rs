@@ -13,7 +13,7 @@
 //! * **Dual bound.**  For any `y` with `‖y‖_∞ ≤ 1` (L1) or `‖y‖₁ ≤ 1` (L∞)
 //!   and any feasible `w` (`w ≥ 0`, `1ᵀw ≤ 1`),
 //!   `‖Âw − t̂‖_p ≥ yᵀ(Âw − t̂) ≥ min(0, minⱼ (Âᵀy)ⱼ) − yᵀt̂ =: LB(y)`
-//!   (the weak-duality bound of [`mod@crate::fit::verify`]).
+//!   (the weak-duality bound of [`mod@crate::fit::certify`]).
 //! * **Round.**  Solve the LP on `S` (by [`mod@crate::fit::lp_rows`], which
 //!   passes only the residual rows that matter; weights outside `S` are 0, so its
 //!   optimum `UB` is attained by a feasible point of the full problem) and

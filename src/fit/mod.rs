@@ -64,7 +64,7 @@
 //!
 //! # Verification
 //!
-//! Every solution is checked before it is returned ([`mod@verify`]): primal
+//! Every solution is checked before it is returned ([`mod@certify`]): primal
 //! feasibility, a KKT / duality residual recomputed from the *uncompressed*
 //! data, and an independent optimum (Lawson–Hanson active-set NNLS in
 //! [`mod@nnls`] for the least-squares modes, a bracketing of the optimal strength
@@ -83,15 +83,15 @@
 //! divided by `‖Dt‖₂` (this leaves `w` and the strength unchanged); all
 //! reported objectives are converted back to the caller's units.
 
+pub(crate) mod active_set;
+pub mod certify;
 pub mod conic;
 pub mod lp;
 pub mod lp_rows;
 pub mod metrics;
 pub mod nnls;
-pub(crate) mod polish;
 pub mod prepare;
 pub mod subset;
-pub mod verify;
 pub mod worst;
 
 #[cfg(test)]
@@ -100,11 +100,11 @@ pub(crate) mod testutil;
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
 
+pub use certify::{verify, Verification};
 pub use conic::LsFormulation;
 pub use metrics::{field_metrics, rows_to_vectors, solution_metrics, FitMetrics, RowLayout};
 pub use nnls::{nnls, nnls_capped, nnls_detailed, NnlsOutput};
 pub use subset::{sparsity_path, sparsity_path_with, SubsetFit};
-pub use verify::{verify, Verification};
 
 use prepare::Prepared;
 
@@ -170,7 +170,7 @@ pub struct FitOptions {
     pub max_primitives: Option<usize>,
     /// Tolerance of the a-posteriori verification (feasibility, KKT
     /// residual, gap to the independent solver), dimensionless; see
-    /// [`mod@verify`] for the exact scaling of each check.  Default `1e-6`.
+    /// [`mod@certify`] for the exact scaling of each check.  Default `1e-6`.
     pub tolerance: f64,
     /// Print a one-line summary of each solve to stderr.
     pub verbose: bool,
@@ -401,7 +401,7 @@ pub(crate) fn validate_mode(mode: &FitMode) -> Result<(), FitError> {
 /// Solve on prepared (weighted, normalised, compressed) data using all its
 /// columns, and verify.  Fractions have length `prep.ncols()`.
 ///
-/// The steps: the independent reference ([`verify::Independent`]), the
+/// The steps: the independent reference ([`certify::Independent`]), the
 /// conic solve ([`solve_conic`]), the raw weights cleaned onto the
 /// constraints ([`cleaned_weights`]), the least-squares modes' active-set
 /// polish ([`polished_weights`]), verification ([`verified`]), and the
@@ -415,7 +415,7 @@ pub(crate) fn solve_prepared(
     let start = std::time::Instant::now();
     // Independent reference (also decides reachability / budget feasibility
     // exactly, before any interior-point answer is looked at).
-    let independent = verify::Independent::compute(prep, mode, tol)?;
+    let independent = certify::Independent::compute(prep, mode, tol)?;
     let outcome = solve_conic(prep, mode, tol, formulation)?;
     let status = outcome.status.to_string();
     let w = cleaned_weights(prep, mode, tol, &outcome, &status)?;
@@ -508,7 +508,7 @@ fn cleaned_weights(
     Ok(w)
 }
 
-/// Active-set polishing of the least-squares modes (see `polish`): kept
+/// Active-set polishing of the least-squares modes (see `active_set`): kept
 /// only when feasible and not worse in the KKT residual. Returns the
 /// weights and whether the polished ones were kept.
 fn polished_weights(
@@ -520,7 +520,7 @@ fn polished_weights(
     if !matches!(mode, FitMode::Absolute | FitMode::Shape) {
         return (w, false);
     }
-    let Some(wp) = polish::polish_ls(
+    let Some(wp) = active_set::polish_ls(
         &prep.r,
         &prep.c,
         &prep.col_norms,
@@ -531,14 +531,14 @@ fn polished_weights(
         return (w, false);
     };
     let cap = mode.has_sum_constraint();
-    if verify::ls_kkt_residual(prep, &wp, cap) <= verify::ls_kkt_residual(prep, &w, cap) {
+    if certify::ls_kkt_residual(prep, &wp, cap) <= certify::ls_kkt_residual(prep, &w, cap) {
         (wp, true)
     } else {
         (w, false)
     }
 }
 
-/// The weights verified ([`verify::verify_prepared`]). The interior-point
+/// The weights verified ([`certify::verify_prepared`]). The interior-point
 /// answer worse than the independent optimum by more than the tolerance
 /// (an ill-conditioned basis: its KKT residual can pass while its
 /// objective is 1e-6 off) is replaced by the independent active-set
@@ -552,10 +552,10 @@ fn verified(
     s_budget: f64,
     tol: f64,
     outcome: &conic::ConicOutcome,
-    independent: &verify::Independent,
+    independent: &certify::Independent,
 ) -> Result<(DVector<f64>, Verification, bool), FitError> {
     let mut check =
-        verify::verify_prepared(prep, mode, &w, s_budget, tol, Some(outcome), independent);
+        certify::verify_prepared(prep, mode, &w, s_budget, tol, Some(outcome), independent);
     let mut independent_kept = false;
     if let (
         Err(FitError::Verification {
@@ -566,7 +566,7 @@ fn verified(
     ) = (&check, &independent.weights)
     {
         if let Ok(c) =
-            verify::verify_prepared(prep, mode, wi, s_budget, tol, Some(outcome), independent)
+            certify::verify_prepared(prep, mode, wi, s_budget, tol, Some(outcome), independent)
         {
             w = wi.clone();
             check = Ok(c);
@@ -624,7 +624,7 @@ fn reported(
         FitMode::Shape => {
             let sum = w.sum();
             let achieved = (&prep.ad * w).norm();
-            if sum.is_nan() || sum <= 0.0 || achieved <= verify::ZERO_FIELD_TOL || zero_optimal {
+            if sum.is_nan() || sum <= 0.0 || achieved <= certify::ZERO_FIELD_TOL || zero_optimal {
                 Reported {
                     fractions: vec![0.0; prep.ncols()],
                     strength: 0.0,
