@@ -127,12 +127,12 @@ use crate::play::{PlayedSegment, ScheduleMotion};
 use crate::request::{SampledTarget, Target};
 use crate::scene::FrictionSpec;
 use crate::synth::levenberg::{levenberg_marquardt, LmOptions};
+use crate::synth::multistart::nelder_mead;
 use crate::synth::objective::{
     shape_block, Objective, CONTACT_WEIGHT, INVALID_WEIGHT, LIMIT_WEIGHT,
 };
 use crate::synth::params::{Coefficients, Layout};
 use crate::synth::progress::{ProgressMode, SynthesisProgress};
-use crate::synth::refine::nelder_mead;
 use crate::synth::stall::{StallRule, StallTracker};
 use crate::synth::{Checked, ShakerLimits, Synthesis};
 

@@ -306,7 +306,7 @@ impl StudySettings {
         let d = SynthOptions::default();
         SynthOptions {
             max_evaluations: self.evaluations,
-            refine: crate::synth::refine::RefineOptions {
+            refine: crate::synth::multistart::MultistartOptions {
                 starts: self.starts,
                 ..d.refine
             },

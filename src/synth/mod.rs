@@ -155,7 +155,7 @@
 //! `results/design_speed.md`): the seed has already put the motion near
 //! the target, and the kinks below are smoothed by the forward-difference
 //! step (1 % of each axis limit). The path before, kept for comparison
-//! (`SynthOptions::lm` `None`): [`refine`], argmin's Nelder–Mead from the
+//! (`SynthOptions::lm` `None`): [`multistart`], argmin's Nelder–Mead from the
 //! calibrated seed and from the seed itself. It was chosen because the
 //! objective is a simulation with stick-slip events and validity switches
 //! (piecewise smooth, kinks where a sample starts or stops sticking), the
@@ -182,10 +182,10 @@ pub mod least_squares;
 pub mod levenberg;
 pub mod limits;
 pub mod margin_cap;
+pub mod multistart;
 pub mod objective;
 pub mod params;
 pub mod progress;
-pub mod refine;
 pub mod robust;
 pub mod seed;
 pub mod stall;

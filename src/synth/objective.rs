@@ -220,7 +220,7 @@ struct Tally {
     stall: StallTracker,
 }
 
-/// The coarse-grid objective (driven by argmin through [`super::refine`]).
+/// The coarse-grid objective (driven by argmin through [`super::multistart`]).
 pub struct Objective<'a> {
     layout: Layout,
     limits: &'a ShakerLimits,

@@ -9,10 +9,10 @@ use super::contact::{kinematic_least_normal, orbit_least_normal};
 use super::least_squares::least_squares;
 use super::levenberg::LmOptions;
 use super::limits::ShakerLimits;
+use super::multistart::{refine, MultistartOptions};
 use super::objective::{realised, Objective, Realised};
 use super::params::{Coefficients, Layout, AXIS_NAMES};
 use super::progress::{ProgressMode, SynthesisProgress};
-use super::refine::{refine, RefineOptions};
 use super::seed::{seed, Seed};
 use super::stall::StallRule;
 use super::transport::{scale_search, transport_start};
@@ -77,10 +77,10 @@ pub struct SynthOptions {
     pub calibrate: bool,
     /// Multi-start settings and RNG seed (of the Nelder–Mead refinement,
     /// `lm` `None`).
-    pub refine: RefineOptions,
+    pub refine: MultistartOptions,
     /// Refine by Levenberg–Marquardt on the coarse residuals
     /// ([`super::least_squares`]) with these settings; `None`: the
-    /// multi-start Nelder–Mead of [`super::refine`] (the path before
+    /// multi-start Nelder–Mead of [`super::multistart`] (the path before
     /// issue 27, kept for the comparison of `platefield design-speed`).
     pub lm: Option<LmOptions>,
     /// Levenberg–Marquardt settings of the played polish that `design`
@@ -122,7 +122,7 @@ impl Default for SynthOptions {
             max_evaluations: 300,
             max_seconds: None,
             calibrate: true,
-            refine: RefineOptions::default(),
+            refine: MultistartOptions::default(),
             lm: Some(SYNTH_LM),
             polish_lm: Some(POLISH_LM),
             progress: ProgressMode::Auto,

@@ -31,7 +31,7 @@ use crate::error::{BudgetSpent, Error, Result};
 
 /// Settings of the refinement.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct RefineOptions {
+pub struct MultistartOptions {
     /// Number of starts (≥ 1; the first is the seed).
     pub starts: usize,
     /// RNG seed of the perturbed starts.
@@ -41,9 +41,9 @@ pub struct RefineOptions {
     pub step: f64,
 }
 
-impl Default for RefineOptions {
+impl Default for MultistartOptions {
     fn default() -> Self {
-        RefineOptions {
+        MultistartOptions {
             starts: 3,
             seed: 1,
             step: 0.1,
@@ -184,7 +184,7 @@ pub fn refine(
     x0: &[f64],
     extra: &[Vec<f64>],
     budget: usize,
-    options: &RefineOptions,
+    options: &MultistartOptions,
     progress: &Arc<SynthesisProgress>,
 ) -> Result<Evaluation> {
     let mut rng = SplitMix64(options.seed);
