@@ -38,7 +38,7 @@
 //!    realised strength ŝ: an order is judged by its shape-only error.
 //! 3. *Re-fit* (contextual basis): from the best schedule so far, each
 //!    segment's realised velocity in its schedule context c_i
-//!    ([`measure::play`]; R = Σ f_i c_i exactly) replaces its steady-state
+//!    ([`realised::play`]; R = Σ f_i c_i exactly) replaces its steady-state
 //!    field as a basis column; the time fractions are re-fitted to the
 //!    target with the design's conic fit (shape mode, strongest within its
 //!    slack), requantised to whole cycles with the same minimum per segment
@@ -56,14 +56,14 @@
 //! `shape` fit ignores). The loop states the strength the schedule realises
 //! and fixes the shape; the report gives both errors and both strengths.
 
-pub mod measure;
+pub mod realised;
 pub mod refit;
 
 use std::time::Instant;
 
 use serde::Serialize;
 
-pub use measure::{Decomposition, MeasureOptions, PointPlay, RealisedError};
+pub use realised::{Decomposition, MeasureOptions, PointPlay, RealisedError};
 
 use super::order::{self, arrange};
 use super::Design;
@@ -250,8 +250,8 @@ impl ClosedLoop {
 }
 
 /// [`FitMetrics`] of the realised field against the promise at `strength`
-/// ([`measure::promised`]), by the design's own metric code (an independent
-/// check of [`measure::realised_error`]).
+/// ([`realised::promised`]), by the design's own metric code (an independent
+/// check of [`realised::realised_error`]).
 pub fn realised_metrics(
     target: &Target,
     weights: &[f64],
@@ -265,7 +265,7 @@ pub fn realised_metrics(
     if strength == 0.0 {
         return None;
     }
-    let t: Vec<[f64; 2]> = measure::promised(target, &ok, strength)
+    let t: Vec<[f64; 2]> = realised::promised(target, &ok, strength)
         .iter()
         .map(|v| [v[0] / strength, v[1] / strength])
         .collect();
@@ -335,9 +335,9 @@ impl Judge<'_> {
         promise: String,
     ) -> LoopCandidate {
         let w = &self.sampled.weights;
-        let error = measure::realised_error(self.target, w, &plays, strength);
+        let error = realised::realised_error(self.target, w, &plays, strength);
         let vs_design =
-            measure::realised_error(self.target, w, &plays, Some(self.design_strength)).error;
+            realised::realised_error(self.target, w, &plays, Some(self.design_strength)).error;
         let rejected = match self.valid_before {
             Some(v) if error.valid < v => Some(format!(
                 "parts lose contact at {} more points than open loop",
@@ -360,7 +360,7 @@ impl Judge<'_> {
 
     fn play(&self, schedule: &Schedule) -> Result<Vec<PointPlay>> {
         self.played.set(self.played.get() + 1);
-        measure::play(
+        realised::play(
             schedule,
             &self.sampled.points,
             &self.starts,

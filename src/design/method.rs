@@ -39,7 +39,7 @@
 //! realised measure ([`CHECK_WARMUP_CYCLES`] warm-up and
 //! [`CHECK_MEASURED_CYCLES`] measured cycles, each rounded up to whole
 //! schedule periods, a window at every join;
-//! [`super::closed_loop::measure`]; not lengthened for a slow start-up
+//! [`super::closed_loop::realised`]; not lengthened for a slow start-up
 //! transient, see [`crate::play::settle`]). Short, so that a strong field (a
 //! synthesized sink of 1.5 s⁻¹ halves a part's distance in 0.5 s) is
 //! measured over the region rather than where parts have already gathered
@@ -55,7 +55,7 @@
 
 use std::time::Instant;
 
-use super::closed_loop::{loop_points, measure};
+use super::closed_loop::{loop_points, realised};
 use super::polish::{polish, PolishOptions};
 pub use super::rule::{Rule, MIN_MEASURED_POINTS, TIE_SHAPE_ERROR};
 use super::{design, Design, DesignOptions};
@@ -1251,7 +1251,7 @@ fn synthesis_counts(
 }
 
 /// Cycles the realised check plays a schedule of `per_period` cycles per
-/// period ([`measure::play_motion`]): the warm-up and the measured cycles,
+/// period ([`realised::play_motion`]): the warm-up and the measured cycles,
 /// each rounded up to whole periods, and the period played after the
 /// windows.
 pub fn check_cycles(per_period: u32) -> u32 {
@@ -1344,7 +1344,7 @@ fn polish_played(
         robust: synth.robust,
         lm: synth.polish_lm,
         segment_cycles: SYNTH_SEGMENT_CYCLES,
-        measure: measure::MeasureOptions {
+        measure: realised::MeasureOptions {
             warmup_cycles: CHECK_WARMUP_CYCLES,
             measured_cycles: CHECK_MEASURED_CYCLES,
             settle: false,
@@ -1385,7 +1385,7 @@ fn check_starts(target: &Target, sampled: &SampledTarget) -> Vec<usize> {
 
 /// The realised check's measure of `schedule` played under `settings`
 /// (its own or other physics): the plays from the check's start points and
-/// what they realise against `target` ([`measure::realised_error`], with
+/// what they realise against `target` ([`realised::realised_error`], with
 /// `predicted` the strength the error against the prediction uses).
 pub fn realised_check(
     target: &Target,
@@ -1393,7 +1393,7 @@ pub fn realised_check(
     schedule: &Schedule,
     settings: &crate::field::FieldSettings,
     predicted: Option<f64>,
-) -> Result<(Vec<measure::PointPlay>, measure::RealisedError)> {
+) -> Result<(Vec<realised::PointPlay>, realised::RealisedError)> {
     let sm = crate::play::ScheduleMotion::from_schedule(schedule)?;
     Ok(realised_check_of(
         target,
@@ -1413,21 +1413,21 @@ pub fn realised_check_of(
     (sm, per_period): (&crate::play::ScheduleMotion, u32),
     settings: &crate::field::FieldSettings,
     predicted: Option<f64>,
-) -> (Vec<measure::PointPlay>, measure::RealisedError) {
+) -> (Vec<realised::PointPlay>, realised::RealisedError) {
     let starts = check_starts(target, sampled);
-    let plays = measure::play_motion(
+    let plays = realised::play_motion(
         sm,
         per_period,
         &sampled.points,
         &starts,
         settings,
-        &measure::MeasureOptions {
+        &realised::MeasureOptions {
             warmup_cycles: CHECK_WARMUP_CYCLES,
             measured_cycles: CHECK_MEASURED_CYCLES,
             settle: false,
         },
     );
-    let r = measure::realised_error(target, &sampled.weights, &plays, predicted);
+    let r = realised::realised_error(target, &sampled.weights, &plays, predicted);
     (plays, r)
 }
 
@@ -1457,7 +1457,7 @@ pub fn play_check(
     // has an attractor: then it escaped it.
     let g = region(target, sampled);
     let inside = |q: [f64; 2]| super::polish::in_region(&g, q);
-    let lost_inside: Vec<&measure::PointPlay> = plays
+    let lost_inside: Vec<&realised::PointPlay> = plays
         .iter()
         .filter(|p| p.note.is_some() && p.lost_at.is_none_or(inside))
         .collect();

@@ -3,7 +3,7 @@
 //!
 //! **Why.** [`crate::synth::synthesize`] optimises the steady-state field on
 //! a coarse grid of the region, every grid point weighted alike. The played
-//! measure ([`measure::realised_error`]) weights the field where the parts
+//! measure ([`realised::realised_error`]) weights the field where the parts
 //! go: a part started at rest is measured over windows after a warm-up, at
 //! its mean position. For an expanding target the parts spend the measured
 //! windows outside the region (the saddle with its sequenced limits: parts
@@ -118,7 +118,7 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use super::closed_loop::measure::{self, MeasureOptions, RealisedError};
+use super::closed_loop::realised::{self, MeasureOptions, RealisedError};
 use super::rule;
 use crate::error::{positive, Error, Result};
 use crate::field::{FieldSettings, Grid};
@@ -316,8 +316,8 @@ impl Eval {
 
 /// The played objective (see the module documentation).
 struct Played<'a> {
-    /// The target's promise, built once ([`measure::Promise`]).
-    promise: measure::Promise<'a>,
+    /// The target's promise, built once ([`realised::Promise`]).
+    promise: realised::Promise<'a>,
     sampled: &'a SampledTarget,
     /// The target region: parts lost inside it count against a motion.
     region: &'a Grid,
@@ -365,7 +365,7 @@ impl Played<'_> {
         let mut each = Vec::new();
         let mut lost = 0;
         for settings in self.objective.physics() {
-            let plays = measure::play_motion(
+            let plays = realised::play_motion(
                 &sm,
                 cycles,
                 &self.sampled.points,
@@ -373,7 +373,7 @@ impl Played<'_> {
                 settings,
                 &self.options.measure,
             );
-            let r = measure::realised_error_of(&self.promise, &self.sampled.weights, &plays, None);
+            let r = realised::realised_error_of(&self.promise, &self.sampled.weights, &plays, None);
             residuals.extend(self.part_residuals(&plays, &r));
             each.push(r);
             lost = lost.max(lost_inside(&plays, self.region));
@@ -387,12 +387,12 @@ impl Played<'_> {
     /// ω_i (R_i − ŝ P_i) for each part in start order (P_i the promise
     /// along its windows, 0 for a part that does not count), rescaled by
     /// [`shape_block`] to the cost's shape term.
-    fn part_residuals(&self, plays: &[measure::PointPlay], r: &RealisedError) -> Vec<f64> {
+    fn part_residuals(&self, plays: &[realised::PointPlay], r: &RealisedError) -> Vec<f64> {
         let s = r.realised_strength;
         let raw: Vec<f64> = plays
             .iter()
             .flat_map(|p| {
-                if !measure::counts(&self.sampled.weights, p) || !s.is_finite() {
+                if !realised::counts(&self.sampled.weights, p) || !s.is_finite() {
                     return [0.0, 0.0];
                 }
                 let w = self.sampled.weights[p.index];
@@ -534,7 +534,7 @@ impl Played<'_> {
 /// the realised check's failures. A part lost after it left the region
 /// (an expanding target's) is left out of the measure, as the check
 /// leaves it out, and is no failure.
-fn lost_inside(plays: &[measure::PointPlay], region: &Grid) -> usize {
+fn lost_inside(plays: &[realised::PointPlay], region: &Grid) -> usize {
     plays
         .iter()
         .filter(|p| p.note.is_some() && p.lost_at.is_none_or(|q| in_region(region, q)))
@@ -663,7 +663,7 @@ pub fn polish(
     )
     .with_robust(options.robust);
     let mut played = Played {
-        promise: measure::Promise::of(target),
+        promise: realised::Promise::of(target),
         sampled,
         region,
         starts,

@@ -71,7 +71,7 @@ impl AxisPeaks {
 
 /// The realised check of a design: the schedule played on point parts with
 /// the one realised measure ([`crate::play::measure`], via
-/// `design::closed_loop::measure`), against the target.
+/// `design::closed_loop::realised`), against the target.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Played {

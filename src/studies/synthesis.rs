@@ -33,10 +33,10 @@
 //!
 //! **The realised measure** (the same for both motions): point parts placed
 //! at rest on the plate at every `STRIDE`-th point of the target grid (the
-//! unmasked ones), played ([`crate::design::closed_loop::measure::play_motion`]:
+//! unmasked ones), played ([`crate::design::closed_loop::realised::play_motion`]:
 //! ≥ 40 primitive cycles of warm-up, windows of ≥ 20 cycles starting at every
 //! join); realised strength ŝ and shape error against the target
-//! ([`crate::design::closed_loop::measure::realised_error`], ŝ in s⁻¹ since
+//! ([`crate::design::closed_loop::realised::realised_error`], ŝ in s⁻¹ since
 //! the targets have strength 1); realised vs predicted is
 //! ‖R − E‖/‖E‖ with E what a part following the motion's own steady state
 //! would do over the same windows — for one motion, the drift-lag-corrected
@@ -54,7 +54,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use crate::design::closed_loop::loop_points;
-use crate::design::closed_loop::measure::{
+use crate::design::closed_loop::realised::{
     counts, play_motion, realised_error, MeasureOptions, PointPlay,
 };
 use crate::design::method::sequenced_limits;
