@@ -9,14 +9,14 @@
 //! from the motion the previous one left. For the Sink target
 //! (`targets/sink.json`: four LineSinks, full model, parts moving) the
 //! realised error (below) is 38 % at one cycle per segment, 26 % at two,
-//! 19 % at three. Decomposed ([`measure`]): mostly a pure change of scale
+//! 19 % at three. Decomposed ([`realised`]): mostly a pure change of scale
 //! — the realised sink is weaker, 67 %, 79 % and 85 % of the promised
 //! strength — plus, in the design's order 0°→180°→270°→90°, an offset (18 %
 //! at one cycle) and an anisotropy (7 %); the cyclic order
 //! 0°→90°→180°→270° has no offset but a swirl (2 %) from its rotation sense
 //! (see [`super::order`]).
 //!
-//! **Realised error** ([`measure`]): the relative L2 error ‖R − s t‖/‖s t‖
+//! **Realised error** ([`realised`]): the relative L2 error ‖R − s t‖/‖s t‖
 //! of the realised mean velocity field R against the promise s·t, at the
 //! parts' mean positions, with the target's weights and mask; s is the
 //! strength the schedule's design claims. Reported with it: the realised
@@ -57,7 +57,7 @@
 //! and fixes the shape; the report gives both errors and both strengths.
 
 pub mod realised;
-pub mod refit;
+pub(crate) mod refit;
 
 use std::time::Instant;
 

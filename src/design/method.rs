@@ -40,7 +40,7 @@
 //! [`CHECK_MEASURED_CYCLES`] measured cycles, each rounded up to whole
 //! schedule periods, a window at every join;
 //! [`super::closed_loop::realised`]; not lengthened for a slow start-up
-//! transient, see [`crate::play::settle`]). Short, so that a strong field (a
+//! transient, see `crate::play::settle`). Short, so that a strong field (a
 //! synthesized sink of 1.5 s⁻¹ halves a part's distance in 0.5 s) is
 //! measured over the region rather than where parts have already gathered
 //! (with 40 warm-up cycles the parts of such a sink sat inside the masked

@@ -42,14 +42,14 @@ pub use state::{CycleOutcome, PartState, TrajectoryPoint, V2};
 /// Revision of the simulator's numerics: bumped whenever a change to the
 /// integrator changes any field it computes (not for changes that keep
 /// every field bitwise). Cached libraries are keyed by it
-/// ([`crate::basis::cache`]), so a library built by an earlier engine is
+/// (`crate::basis::cache`), so a library built by an earlier engine is
 /// rebuilt, not reused. 2: the 2-D order fixes of issue 12 (the
 /// regularised region held at its 64-step width, explicit 2-D steps
 /// limited by friction's damping across the slip, slowing slips
 /// regularised, tiny slips along a turning a_free started implicitly).
 /// 3: 2-D stops finished with the exact frozen flow (`frozen.rs`).
 /// 4: off-grid kinematics with table-based sin and cos
-/// ([`crate::motion::trig`]; fields change at round-off).
+/// (`crate::motion::trig`; fields change at round-off).
 /// 5: fields simulate one point per family of points the motion moves
 /// alike ([`crate::motion::Invariance`]; circles about a vertical axis
 /// change at round-off).

@@ -20,7 +20,7 @@
 //! | `Absolute`, `Shape` | [`solve_ls_residual_qp`] (default) | QP, zero + non-negative cones |
 //! | `Absolute`, `Shape` | [`solve_ls_epigraph`] ([`LsFormulation::Epigraph`]) | SOCP |
 //! | `Budget` | [`solve_budget`] | SOCP |
-//! | `L1`, `LInf` | [`solve_l1`], [`solve_linf`] | LP, zero + non-negative cones |
+//! | `L1`, `LInf` | [`solve_l1_linear`], [`solve_linf`] | LP, zero + non-negative cones |
 //!
 //! # Settings
 //!
@@ -84,12 +84,12 @@ pub struct ConicOutcome {
 #[serde(rename_all = "snake_case")]
 pub enum LsFormulation {
     /// Residual variables with a zero cone and a quadratic objective
-    /// (see [`solve_ls_residual_qp`]).  Default: measured weight errors
-    /// ~1e-11 at the tolerances of [`fit_settings`].
+    /// (see `solve_ls_residual_qp`).  Default: measured weight errors
+    /// ~1e-11 at the tolerances of `fit_settings`.
     #[default]
     ResidualQp,
     /// Second-order-cone epigraph `min τ, ‖Rw − c‖ ≤ τ` (see
-    /// [`solve_ls_epigraph`]).  Measured weight errors ~√tol ≈ 1e-6–1e-5
+    /// `solve_ls_epigraph`).  Measured weight errors ~√tol ≈ 1e-6–1e-5
     /// whenever the optimal residual is non-zero, which can fail the 1e-6
     /// KKT verification; kept for comparison.
     Epigraph,
@@ -349,15 +349,11 @@ pub fn solve_budget(
 /// duals of the two bound blocks, stationarity in `u` gives `z₁ + z₂ = 1`,
 /// so `y = z₁ − z₂ ∈ [−1, 1]^M` (stored in [`ConicOutcome::lp_dual`])
 /// certifies optimality (see [`mod@crate::fit::certify`]).
-pub fn solve_l1(ad: &DMatrix<f64>, td: &DVector<f64>) -> Result<ConicOutcome, FitError> {
-    solve_lp(ad, td, true, &[])
-}
-
-/// [`solve_l1`] with an extra linear term `gᵀw` in the objective
-/// (`min gᵀw + 1ᵀu`, same constraints): the L1 fit in which the residual
-/// rows of known sign are aggregated into `g` (see
-/// [`crate::fit::lp`]).  The dual certificate of the rows passed is in
-/// [`ConicOutcome::lp_dual`].
+///
+/// With an extra linear term `gᵀw` in the objective (`min gᵀw + 1ᵀu`, same
+/// constraints; `g` empty: none): the L1 fit in which the residual rows of
+/// known sign are aggregated into `g` (see [`crate::fit::lp`]).  The dual
+/// certificate of the rows passed is in [`ConicOutcome::lp_dual`].
 pub fn solve_l1_linear(
     ad: &DMatrix<f64>,
     td: &DVector<f64>,

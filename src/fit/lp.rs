@@ -1,6 +1,6 @@
 //! `L1` and `LInf` fits by column generation over small Clarabel LPs.
 //!
-//! The LPs of [`crate::fit::conic::solve_l1`] / [`crate::fit::conic::solve_linf`] carry one
+//! The LPs of [`crate::fit::conic::solve_l1_linear`] / [`crate::fit::conic::solve_linf`] carry one
 //! residual row per weighted sample (`M ≈ 900` on a 21×21 target) and the
 //! dense `M×m` block `Â`; an interior-point iteration factors a KKT system
 //! whose elimination costs `O(M·m²)`, so the full basis (`m ≈ 190`) costs

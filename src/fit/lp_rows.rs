@@ -1,7 +1,7 @@
 //! `L1` / `LInf` LPs on few columns, with only the residual rows that
 //! matter passed to Clarabel.
 //!
-//! An LP of [`conic::solve_l1`] / [`conic::solve_linf`] costs about 15 ms
+//! An LP of [`conic::solve_l1_linear`] / [`conic::solve_linf`] costs about 15 ms
 //! of CPU at `M = 882` rows even with a dozen columns: three constraint
 //! rows and two variables per residual row make a KKT system of ≈ 5M.
 //! Most rows are not needed to find the optimum; both modes are solved on

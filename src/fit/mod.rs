@@ -36,7 +36,7 @@
 //! * The least-squares modes (`Absolute`, `Shape`, `Budget`) never form the
 //!   normal equations `AᵀD²A` (a normal-equations QP on nearly collinear
 //!   columns ends `Solved` with weights off by up to 0.25 — measured, see
-//!   [`conic`]).  Instead the weighted matrix is compressed by a thin
+//!   `conic`).  Instead the weighted matrix is compressed by a thin
 //!   Householder QR, `DA = QR` with `R ∈ ℝ^{k×m}`, `k = min(2n, m)`, so that
 //!   `‖D(Aw − t)‖² = ‖Rw − c‖² + r₀²` with `c = QᵀDt` and
 //!   `r₀ = ‖(I − QQᵀ)Dt‖`, and the problem is posed on the small matrix `R`:
@@ -57,17 +57,17 @@
 //!   every check itself ([`FitSolution::independent_kept`]); otherwise the
 //!   fit fails as below.
 //! * `L1` and `LInf` are linear programs on the full rows with explicit
-//!   residual variables, solved by column generation ([`mod@lp`]): LPs on
+//!   residual variables, solved by column generation (`mod@lp`): LPs on
 //!   a small working set of columns, grown by the columns whose reduced
 //!   cost under the LP's dual certificate is negative, until the
 //!   weak-duality bound over all columns meets the working-set optimum.
 //!
 //! # Verification
 //!
-//! Every solution is checked before it is returned ([`mod@certify`]): primal
+//! Every solution is checked before it is returned (`mod@certify`): primal
 //! feasibility, a KKT / duality residual recomputed from the *uncompressed*
 //! data, and an independent optimum (Lawson–Hanson active-set NNLS in
-//! [`mod@nnls`] for the least-squares modes, a bracketing of the optimal strength
+//! `mod@nnls` for the least-squares modes, a bracketing of the optimal strength
 //! for `Budget`, and a weak-duality lower bound for `L1`/`LInf`).  A failed
 //! check is an error ([`FitError::Verification`]), never a result.
 //!
@@ -84,14 +84,14 @@
 //! reported objectives are converted back to the caller's units.
 
 pub(crate) mod active_set;
-pub mod certify;
-pub mod conic;
-pub mod lp;
-pub mod lp_rows;
-pub mod metrics;
-pub mod nnls;
-pub mod prepare;
-pub mod subset;
+pub(crate) mod certify;
+pub(crate) mod conic;
+pub(crate) mod lp;
+pub(crate) mod lp_rows;
+pub(crate) mod metrics;
+pub(crate) mod nnls;
+pub(crate) mod prepare;
+pub(crate) mod subset;
 pub mod worst;
 
 #[cfg(test)]
@@ -166,11 +166,11 @@ impl FitMode {
 pub struct FitOptions {
     /// The problem to solve.
     pub mode: FitMode,
-    /// Use at most this many basis columns (see [`subset`]); `None` = all.
+    /// Use at most this many basis columns (see `subset`); `None` = all.
     pub max_primitives: Option<usize>,
     /// Tolerance of the a-posteriori verification (feasibility, KKT
     /// residual, gap to the independent solver), dimensionless; see
-    /// [`mod@certify`] for the exact scaling of each check.  Default `1e-6`.
+    /// `mod@certify` for the exact scaling of each check.  Default `1e-6`.
     pub tolerance: f64,
     /// Print a one-line summary of each solve to stderr.
     pub verbose: bool,
@@ -333,7 +333,7 @@ pub enum FitError {
 /// the answer, and return it.
 ///
 /// With `options.max_primitives = Some(k)`, `k < m`, at most `k` columns
-/// are used (best subset found by [`subset`]; the returned `fractions`
+/// are used (best subset found by `subset`; the returned `fractions`
 /// still have length `m`, with zeros outside the chosen subset).
 ///
 /// # Errors

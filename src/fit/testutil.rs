@@ -145,7 +145,7 @@ pub(crate) fn assert_matches_full_lp(
 ) -> f64 {
     let m = a.ncols();
     let full = if l1 {
-        crate::fit::conic::solve_l1(a, t).unwrap()
+        crate::fit::conic::solve_l1_linear(a, t, &[]).unwrap()
     } else {
         crate::fit::conic::solve_linf(a, t).unwrap()
     };

@@ -22,7 +22,7 @@
 //!
 //! is a second-order cone program: the strongest weakest strength at worst
 //! shape ε. Each sample is compressed by its own thin QR exactly as
-//! [`crate::fit::prepare`] does (`Â_k = Q_k R_k`, `c_k = Q_kᵀt̂`, `r₀ₖ` the
+//! `crate::fit::prepare` does (`Â_k = Q_k R_k`, `c_k = Q_kᵀt̂`, `r₀ₖ` the
 //! unreachable part of `t̂`): with `g_k = R_kᵀc_k` (so `s_k = g_kᵀf`),
 //! `‖(I − t̂t̂ᵀ)Â_k f‖² = ‖(R_k − c_k g_kᵀ) f‖² + r₀ₖ² (g_kᵀf)²`.
 //! The worst shape is scale-free, so `σ*(ε)` is 0 below the least worst

@@ -24,7 +24,7 @@ mod ramped;
 pub mod sample_hold;
 mod screw;
 mod signals;
-pub mod trig;
+pub(crate) mod trig;
 mod waveform;
 
 pub use held::Held;

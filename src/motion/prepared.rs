@@ -10,7 +10,7 @@
 //! the rest of [`Screw::kinematics`] and [`Waveform::eval_piece`] (for a
 //! six-signal motion, of [`Signals::kinematics`]) with the same operations
 //! in the same order, except that every sine and cosine comes from
-//! [`trig::sin_cos`], which is libm's to 2.3e-16 absolute. So each waveform
+//! [`trig::Nodes::sin_cos`], which is libm's to 2.3e-16 absolute. So each waveform
 //! value differs from the direct [`Motion::kinematics_piece`] by at most
 //! 2.3e-16 times its amplitude (a Fourier series: the sum of its terms'
 //! amplitudes), the tilted gravity by as much times g (1 + |q|), q the tilt

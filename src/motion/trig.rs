@@ -106,12 +106,6 @@ pub fn small_sin_cosm1(r: f64) -> (f64, f64) {
     (s, cm1)
 }
 
-/// (sin x, cos x) to within 2.3e-16 of libm's (module docs).
-#[inline]
-pub fn sin_cos(x: f64) -> (f64, f64) {
-    table().sin_cos(x)
-}
-
 impl Nodes {
     /// (sin x, cos x) to within 2.3e-16 of libm's (module docs).
     #[inline(always)]
@@ -144,6 +138,11 @@ impl Nodes {
 
 #[cfg(test)]
 mod tests {
+    /// (sin x, cos x) from the shared table.
+    fn sin_cos(x: f64) -> (f64, f64) {
+        table().sin_cos(x)
+    }
+
     use super::*;
 
     /// The Taylor remainders stated in the docs, at the largest reduced

@@ -4,7 +4,7 @@
 //! **Playing** ([`play_point`]). A point part is placed at a start point p
 //! (at rest relative to the plate), the schedule is played for a warm-up of
 //! whole schedule periods — at least those asked for, and as many more as
-//! the part's start-up transient needs to die out ([`super::settle`]) —
+//! the part's start-up transient needs to die out (`super::settle`) —
 //! and then for `periods` more whole periods P. A
 //! measured **window** is P schedule periods long (span P·T): the first one
 //! starts at the end of the warm-up ([`Windows::First`]), or there is one
@@ -118,7 +118,7 @@ pub struct PlayOptions {
     /// Join rule where the plate velocity jumps (default inertial).
     pub join: Join,
     /// Lengthen the warm-up where a part's start-up transient outlasts it
-    /// ([`super::settle`]; default true).
+    /// (`super::settle`; default true).
     pub settle: bool,
 }
 
@@ -193,11 +193,11 @@ pub struct PointPlay {
     #[serde(skip)]
     pub lost_at: Option<[f64; 2]>,
     /// Warm-up periods played: those asked for, lengthened until the
-    /// start-up transient died out ([`super::settle`]).
+    /// start-up transient died out (`super::settle`).
     #[serde(skip)]
     pub warmup_periods: u32,
     /// False when the start-up transient had not died out within
-    /// [`super::settle::SETTLE_MAX_CYCLES`] cycles of warm-up.
+    /// `super::settle::SETTLE_MAX_CYCLES` cycles of warm-up.
     #[serde(skip)]
     pub settled: bool,
 }
@@ -302,7 +302,7 @@ pub fn flow_mean_velocity<E>(
 
 /// Plays `sm` from `start` (index `index`): `warm.0` warm-up periods —
 /// at least, and as many more as the start-up transient needs
-/// ([`super::settle::warmup`]) when `warm.1` — then windows of `periods`
+/// (`super::settle::warmup`) when `warm.1` — then windows of `periods`
 /// periods (see the module documentation).
 pub fn play_point(
     sm: &ScheduleMotion,
@@ -448,7 +448,7 @@ pub struct PointResult {
     /// Why the point is invalid.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub note: Option<String>,
-    /// Warm-up periods played before measuring ([`super::settle`]).
+    /// Warm-up periods played before measuring (`super::settle`).
     pub warmup_periods: u32,
     /// False when the start-up transient had not died out within the
     /// longest warm-up allowed.
@@ -476,7 +476,7 @@ pub struct RealisedField {
     /// Warm-up periods asked for.
     pub warmup_periods: u32,
     /// Most warm-up periods any point played (the start-up transient
-    /// lengthens the warm-up asked for where it needs to; [`super::settle`]).
+    /// lengthens the warm-up asked for where it needs to; `super::settle`).
     pub warmup_most: u32,
     /// Points whose start-up transient had not died out within the longest
     /// warm-up allowed.

@@ -38,7 +38,7 @@ pub mod lag;
 pub mod measure;
 pub mod replay;
 pub mod sensitivity;
-pub mod settle;
+pub(crate) mod settle;
 
 pub use measure::{grid_points, verify_points, PlayOptions, PointResult, RealisedField};
 

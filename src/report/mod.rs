@@ -1,20 +1,20 @@
 //! Every file the product writes and every terminal summary it prints:
 //! designs ([`design`]: `schedule.json`, `fit.svg`, `report.md`), closed
-//! loops ([`closed_loop`]), order searches ([`mod@order`]), verifications
+//! loops (`closed_loop`), order searches ([`mod@order`]), verifications
 //! ([`verify`]: `summary.json`, `trajectories.svg`) and exported signals.
 //! The top layer: it may use every module below it, and nothing uses it
 //! but the command-line shell. Each `run` function is one subcommand:
 //! compute everything, then write (so bad input writes nothing), then
 //! return the text to print.
 
-pub mod closed_loop;
+pub(crate) mod closed_loop;
 pub mod design;
-pub mod method;
+pub(crate) mod method;
 pub mod order;
-pub mod pose_design;
+pub(crate) mod pose_design;
 pub mod poses;
 pub mod run_design;
-pub mod sort;
+pub(crate) mod sort;
 pub mod verify;
 
 use std::path::Path;

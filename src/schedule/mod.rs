@@ -27,12 +27,12 @@
 //! as before, and a schedule without one is written byte for byte as before
 //! (the key is left out when absent).
 //!
-//! [`mod@quantize`] turns time fractions into whole cycles; [`export`] writes
+//! `mod@quantize` turns time fractions into whole cycles; [`export`] writes
 //! the six controller signals of a schedule.
 
 pub mod export;
-pub mod played;
-pub mod quantize;
+pub(crate) mod played;
+pub(crate) mod quantize;
 
 use std::path::Path;
 

@@ -13,7 +13,7 @@
 //!
 //! The default (issue 27) refines by least squares: up to six
 //! Levenberg–Marquardt steps on the coarse residuals
-//! ([`crate::synth::least_squares`]) and four on the played ones
+//! (`crate::synth::least_squares`) and four on the played ones
 //! ([`crate::design::polish`]); the other rows take fewer steps,
 //! no polish, or the Nelder–Mead path of before with its stall rules
 //! ([`SYNTH_STALL`], [`POLISH_STALL`]; its polish plays the check's

@@ -50,7 +50,7 @@ use crate::schedule::export::centre_acceleration;
 use crate::schedule::export::peaks::KinematicPeaks;
 
 /// Peak accelerations, harmonics and contact margin a synthesized motion
-/// must respect (see the [module documentation](self)).
+/// must respect (see the module documentation).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct ShakerLimits {
@@ -171,7 +171,7 @@ impl ShakerLimits {
     /// The six per-axis acceleration limits in signal order (linear x, y,
     /// z, angular x, y, z), each lowered to what a harmonic-1 term may have
     /// under the axis's velocity and stroke limits, min(v ω, s ω²) with
-    /// ω = 2π/T (see the [module documentation](self)).
+    /// ω = 2π/T (see the module documentation).
     ///
     /// ```
     /// use platefield::request::TravelSpec;

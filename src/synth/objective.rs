@@ -18,11 +18,11 @@
 //! s_ref is the seed's predicted strength, so the strength term is of order
 //! one; a shape error 5 points over budget costs as much as the whole
 //! strength. e is capped at 10 (ŝ ≤ 0 makes it infinite). N_min is the
-//! smaller of [`kinematic_least_normal`] and [`orbit_least_normal`] over
+//! smaller of `kinematic_least_normal` and `orbit_least_normal` over
 //! the coarse grid (the same check the final full-grid result gets); its
 //! weight makes a 1 % of g violation cost as much as the whole strength.
 //!
-//! **Residuals** (what [`super::least_squares`] minimises, ½‖r‖²): the
+//! **Residuals** (what `super::least_squares` minimises, ½‖r‖²): the
 //! cost's terms as a sum of squares, with s_g the strength scale
 //! ([`Objective::with_goal`], s_ref by default) and a = [`STRENGTH_REACH`]:
 //!

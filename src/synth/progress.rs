@@ -47,7 +47,7 @@ impl SynthesisProgress {
     }
 }
 
-/// The argmin observer that drives [`Progress`] once per iteration.
+/// The argmin observer that drives [`SynthesisProgress`] once per iteration.
 pub struct Observer(pub Arc<SynthesisProgress>);
 
 impl<I> Observe<I> for Observer {

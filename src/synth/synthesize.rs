@@ -79,7 +79,7 @@ pub struct SynthOptions {
     /// `lm` `None`).
     pub refine: MultistartOptions,
     /// Refine by Levenberg–Marquardt on the coarse residuals
-    /// ([`super::least_squares`]) with these settings; `None`: the
+    /// (`super::least_squares`) with these settings; `None`: the
     /// multi-start Nelder–Mead of [`super::multistart`] (the path before
     /// issue 27, kept for the comparison of `platefield design-speed`).
     pub lm: Option<LmOptions>,

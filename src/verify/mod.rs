@@ -5,7 +5,7 @@
 //!
 //! A [`crate::schedule::Schedule`] is played exactly by [`crate::play`];
 //! the realised field is compared with the prediction by the one measure of
-//! [`crate::play::measure`]; [`swarm`] plays many point parts over the
+//! [`crate::play::measure`]; `swarm` plays many point parts over the
 //! target region (where they end up, how long they take); [`rectangles`]
 //! plays uniform rectangles (planar parts); [`strength`] measures the
 //! realised strength against the target; [`run`] is the
@@ -19,7 +19,7 @@ pub mod rectangles;
 pub mod run;
 pub mod sort_play;
 pub mod strength;
-pub mod swarm;
+pub(crate) mod swarm;
 
 pub use crate::play::plate_twist;
 pub use rectangles::{

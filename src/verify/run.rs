@@ -5,7 +5,7 @@
 //!    ([`crate::play::measure::verify_points`]) on an
 //!    n × n grid of point parts over the target region.
 //! 2. A swarm of point parts over the region for a duration
-//!    ([`super::swarm`]): where they end up, the fraction converged to the
+//!    (`super::swarm`): where they end up, the fraction converged to the
 //!    target's attractor, and the time it takes against the time the
 //!    design's strength predicts.
 //! 3. Uniform rectangles ([`super::rectangles`], 2 cm × 0.5 cm by default)

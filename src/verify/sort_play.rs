@@ -9,7 +9,7 @@
 //!   check ([`crate::design::method::realised_check`]) against the class's
 //!   own field;
 //! * a swarm of point parts started on a grid over the target region
-//!   ([`SORT_STARTS`] per axis, [`crate::verify::swarm`]) played for
+//!   ([`SORT_STARTS`] per axis, `crate::verify::swarm`) played for
 //!   whole schedule periods, the same for every class (as on one plate):
 //!   enough for the slowest class's predicted field to bring its farthest
 //!   part within [`SORT_TOL`] twice over, at most [`MAX_SORT_PERIODS`]: the fraction of its parts that end within

@@ -15,7 +15,7 @@
 //! P_k(s) of that flow over the same windows ([`PointPlay::expected`];
 //! s·t(p) with frozen positions). With the target's weights ω_k of the start
 //! points (0 where masked; masked points are not played), which multiply the
-//! residual as in the design's own metrics ([`crate::fit::metrics`]):
+//! residual as in the design's own metrics (`crate::fit::metrics`):
 //!
 //! ```text
 //! error(s)    = ‖R − P(s)‖ / ‖P(s)‖,   ‖v‖² = Σ_k ω_k² |v_k|²
@@ -69,7 +69,7 @@ pub struct MeasureOptions {
     /// default 20).
     pub measured_cycles: u32,
     /// Lengthen the warm-up where a part's start-up transient outlasts it
-    /// ([`crate::play::settle`]; default false). Off by default: this
+    /// (`crate::play::settle`; default false). Off by default: this
     /// measure judges a design against its *target* where the parts are
     /// after a fixed warm-up, and a strong field gathers the parts before a
     /// slow transient dies out (the synthesized motion of `sink_trans`, a
