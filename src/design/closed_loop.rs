@@ -249,8 +249,8 @@ impl ClosedLoop {
     }
 }
 
-/// [`FitMetrics`] of the realised field against the promise at `strength`
-/// ([`realised::promised`]), by the design's own metric code (an independent
+/// `FitMetrics` of the realised field against the promise at `strength`
+/// (`realised::promised`), by the design's own metric code (an independent
 /// check of [`realised::realised_error`]).
 pub fn realised_metrics(
     target: &Target,
@@ -276,7 +276,7 @@ pub fn realised_metrics(
 
 /// The start points: every `stride`-th grid point along each axis (every
 /// `stride`-th sample of a grid-less target), weight > 0 only.
-pub fn loop_points(target: &Target, sampled: &SampledTarget, stride: usize) -> Vec<usize> {
+pub(crate) fn loop_points(target: &Target, sampled: &SampledTarget, stride: usize) -> Vec<usize> {
     let stride = stride.max(1);
     (0..sampled.len())
         .filter(|&k| sampled.weights[k] > 0.0)

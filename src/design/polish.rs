@@ -44,7 +44,7 @@
 //! ([`crate::synth::levenberg`], [`PolishOptions::lm`]) on the played
 //! residuals — the cost above as a sum of squares: each part's
 //! ω_i (R_i − ŝ P_i) rescaled to the norm 20 · max(0, e − b)
-//! ([`shape_block`]; b the budget, or 0 for a start within it: below),
+//! (`shape_block`; b the budget, or 0 for a start within it: below),
 //! a strength row, 20 · max(0, e_grid − grid budget),
 //! the excess, 10 · the margin violation, √(10 · invalid fraction) and
 //! √(10 · extra lost fraction). The strength row is a − ŝ/s₀ with a =
@@ -182,7 +182,7 @@ pub struct PolishOptions {
     /// (module documentation); `None`: Nelder–Mead with restarts.
     pub lm: Option<LmOptions>,
     /// Cycles of the motion per schedule period, as the schedule that is
-    /// judged plays it (`design`: [`super::method::SYNTH_SEGMENT_CYCLES`]):
+    /// judged plays it (`design`: `super::method::SYNTH_SEGMENT_CYCLES`):
     /// the warm-up and measured cycles are rounded up to whole periods and
     /// one period more is played after the windows, where a part that
     /// leaves the plate is left out of the measure — the polish plays the

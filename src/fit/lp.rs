@@ -43,12 +43,12 @@ use crate::fit::prepare::Prepared;
 use crate::fit::FitError;
 
 /// Columns added per round at most.
-pub const ADD_PER_ROUND: usize = 12;
+pub(crate) const ADD_PER_ROUND: usize = 12;
 
 /// The working set is optimal when `UB − LB(y) ≤ GAP_FACTOR · tol · ‖t̂‖_p`
 /// (a hundredth of the verification tolerance, so that verification of the
 /// final answer has room to spare).
-pub const GAP_FACTOR: f64 = 0.01;
+pub(crate) const GAP_FACTOR: f64 = 0.01;
 
 /// The solver's certificate `y` projected onto the dual-norm ball:
 /// `[−1, 1]^M` for L1 (clipping), the unit ℓ₁ ball for L∞ (scaling).
@@ -85,7 +85,7 @@ pub(crate) fn dual_bound(aty: &DVector<f64>, yt: f64, cols: Option<&[usize]>) ->
 /// Clarabel setup failures and Lawson–Hanson non-convergence.  A status
 /// other than `Solved`/`AlmostSolved` is returned in the outcome for the
 /// caller to report.
-pub fn solve_lp_mode(prep: &Prepared, l1: bool, tol: f64) -> Result<ConicOutcome, FitError> {
+pub(crate) fn solve_lp_mode(prep: &Prepared, l1: bool, tol: f64) -> Result<ConicOutcome, FitError> {
     column_generation(prep, l1, tol).map(|(out, _)| out)
 }
 

@@ -42,7 +42,7 @@
 //!   `r₀ = ‖(I − QQᵀ)Dt‖`, and the problem is posed on the small matrix `R`:
 //!   by default as `min ½‖y‖²` s.t. `Rw − y = c` (residual variables in a
 //!   zero cone), optionally in epigraph form `min τ` s.t.
-//!   `(τ, Rw − c) ∈ 𝒬^{k+1}` ([`FitOptions::formulation`]); `Budget` is a
+//!   `(τ, Rw − c) ∈ 𝒬^{k+1}` (`FitOptions::formulation`); `Budget` is a
 //!   second-order cone program on `R`.
 //! * The interior-point weights of `Absolute`/`Shape` are then *polished*:
 //!   the problem restricted to the active set the solver identified (support
@@ -73,9 +73,9 @@
 //!
 //! # Fewer primitives
 //!
-//! [`subset::sparsity_path`] gives the best fit found with at most `k`
-//! columns for `k = 1..=k_max`, and [`FitOptions::max_primitives`] restricts
-//! [`solve`] the same way.
+//! `subset::sparsity_path` gives the best fit found with at most `k`
+//! columns for `k = 1..=k_max`, and `FitOptions::max_primitives` restricts
+//! `solve` the same way.
 //!
 //! # Scaling and units
 //!
@@ -101,10 +101,9 @@ use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
 
 pub use certify::{verify, Verification};
-pub use conic::LsFormulation;
-pub use metrics::{field_metrics, rows_to_vectors, solution_metrics, FitMetrics, RowLayout};
-pub use nnls::{nnls, nnls_capped, nnls_detailed, NnlsOutput};
-pub use subset::{sparsity_path, sparsity_path_with, SubsetFit};
+pub(crate) use conic::LsFormulation;
+pub(crate) use metrics::{field_metrics, FitMetrics};
+pub(crate) use subset::sparsity_path;
 
 use prepare::Prepared;
 
@@ -116,9 +115,9 @@ pub const POOR_ERROR: f64 = 0.2;
 
 /// A fit whose relative L2 error exceeds this value is flagged
 /// [`FitSolution::unreachable`]: [`POOR_ERROR`] (one threshold).
-pub const UNREACHABLE_REL_ERROR: f64 = POOR_ERROR;
+pub(crate) const UNREACHABLE_REL_ERROR: f64 = POOR_ERROR;
 
-/// Which optimisation problem [`solve`] solves (see the module docs for the
+/// Which optimisation problem `solve` solves (see the module docs for the
 /// maths).  Serialised with snake_case tags: `"absolute"`, `"shape"`,
 /// `{"budget": {"rel_error": 0.1}}`, `"l1"`, `"l_inf"` (alias `"linf"`).
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
@@ -156,14 +155,14 @@ impl FitMode {
     }
 
     /// Whether the mode imposes `1ᵀw ≤ 1` on the solver variable.
-    pub fn has_sum_constraint(&self) -> bool {
+    pub(crate) fn has_sum_constraint(&self) -> bool {
         !matches!(self, FitMode::Shape)
     }
 }
 
 /// Options of [`solve`].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct FitOptions {
+pub(crate) struct FitOptions {
     /// The problem to solve.
     pub mode: FitMode,
     /// Use at most this many basis columns (see `subset`); `None` = all.
@@ -247,7 +246,7 @@ pub struct FitSolution {
     /// [`Verification::independent_gap`]).
     pub independent_gap: f64,
     /// The best achievable fit is poor: relative error above
-    /// [`UNREACHABLE_REL_ERROR`], or (in `Shape`) no non-negative mix
+    /// `UNREACHABLE_REL_ERROR`, or (in `Shape`) no non-negative mix
     /// correlates positively with the target at all (then `fractions` are
     /// all zero and `strength` is 0).
     pub unreachable: bool,
@@ -340,7 +339,7 @@ pub enum FitError {
 /// Invalid input, a Clarabel status other than `Solved` (`AlmostSolved` is
 /// accepted only when verification passes), a failed verification, or an
 /// infeasible `Budget`.
-pub fn solve(problem: &FitProblem, options: &FitOptions) -> Result<FitSolution, FitError> {
+pub(crate) fn solve(problem: &FitProblem, options: &FitOptions) -> Result<FitSolution, FitError> {
     let start = std::time::Instant::now();
     validate_options(options)?;
     let prep = Prepared::new(problem)?;
@@ -651,6 +650,7 @@ fn reported(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::fit::nnls::{nnls, nnls_capped};
     use crate::fit::testutil::*;
     use nalgebra::{DMatrix, DVector};
 

@@ -203,7 +203,7 @@ enum Prepared {
 
 /// A motion ready for repeated kinematics evaluation.
 #[derive(Debug, Clone)]
-pub struct PreparedMotion<'a> {
+pub(crate) struct PreparedMotion<'a> {
     motion: &'a Motion,
     prepared: Prepared,
 }
@@ -232,7 +232,7 @@ impl<'a> PreparedMotion<'a> {
 
     /// [`Motion::kinematics_piece`] to round-off (module docs).
     #[inline]
-    pub fn kinematics_piece(&self, t: f64, piece_t: f64, g: f64, tilt: bool) -> Kinematics {
+    pub(crate) fn kinematics_piece(&self, t: f64, piece_t: f64, g: f64, tilt: bool) -> Kinematics {
         match &self.prepared {
             Prepared::Screw(s) => s.kinematics(t, piece_t, g, tilt),
             Prepared::Signals(s) => s.kinematics(t, g, tilt),

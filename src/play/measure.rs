@@ -1,7 +1,7 @@
 //! The one realised-velocity measure: what a played schedule realises at a
 //! start point, against the field it is meant to realise.
 //!
-//! **Playing** ([`play_point`]). A point part is placed at a start point p
+//! **Playing** (`play_point`). A point part is placed at a start point p
 //! (at rest relative to the plate), the schedule is played for a warm-up of
 //! whole schedule periods — at least those asked for, and as many more as
 //! the part's start-up transient needs to die out (`super::settle`) —
@@ -36,7 +36,7 @@
 //! of the distance covered per period) that artefact was most of the 10 %
 //! the earlier measure reported. The flow is integrated with the classical
 //! Runge–Kutta method, step doubling from 2 steps per measured period until
-//! two step counts agree to [`FLOW_TOL`] (relative).
+//! two step counts agree to `FLOW_TOL` (relative).
 //!
 //! **One motion played alone** (a one-segment schedule: a synthesized
 //! six-signal motion, or one primitive; moving positions). Its steady state
@@ -96,9 +96,9 @@ use crate::field::{FieldSettings, Grid};
 use crate::motion::Motion;
 
 /// Agreement (relative) of two step counts of the flow integration.
-pub const FLOW_TOL: f64 = 1e-5;
+pub(crate) const FLOW_TOL: f64 = 1e-5;
 /// Most Runge–Kutta steps per measured period of the flow integration.
-pub const FLOW_MAX_STEPS_PER_PERIOD: usize = 256;
+pub(crate) const FLOW_MAX_STEPS_PER_PERIOD: usize = 256;
 
 /// Physics and lengths of a play.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -259,7 +259,7 @@ impl PointPlay {
 /// relative to the mean velocity (at most [`FLOW_MAX_STEPS_PER_PERIOD`]
 /// times `steps` / 2); the finer answer, Richardson-extrapolated, is
 /// returned (error well below FLOW_TOL / 15).
-pub fn flow_mean_velocity<E>(
+pub(crate) fn flow_mean_velocity<E>(
     field: &mut impl FnMut([f64; 2]) -> Result<[f64; 2], E>,
     r0: [f64; 2],
     span: f64,
@@ -304,7 +304,7 @@ pub fn flow_mean_velocity<E>(
 /// at least, and as many more as the start-up transient needs
 /// (`super::settle::warmup`) when `warm.1` — then windows of `periods`
 /// periods (see the module documentation).
-pub fn play_point(
+pub(crate) fn play_point(
     sm: &ScheduleMotion,
     player: &Player<'_>,
     index: usize,
@@ -391,7 +391,7 @@ pub fn play_point(
     out
 }
 
-/// [`play_point`] from every start point (in parallel, results in input
+/// `play_point` from every start point (in parallel, results in input
 /// order, indices 0, 1, …), with `opts`' physics and lengths.
 pub fn play_points(
     sm: &ScheduleMotion,
@@ -403,7 +403,7 @@ pub fn play_points(
 }
 
 /// [`play_points`], calling `tick` after each point is played (progress).
-pub fn play_points_ticked(
+pub(crate) fn play_points_ticked(
     sm: &ScheduleMotion,
     points: &[[f64; 2]],
     opts: &PlayOptions,
@@ -492,7 +492,7 @@ pub struct RealisedField {
 impl RealisedField {
     /// `Ok` when every point is valid, else a physical error naming
     /// `context`, how many points are invalid and the first reason.
-    pub fn require_all_valid(&self, context: &str) -> crate::error::Result<()> {
+    pub(crate) fn require_all_valid(&self, context: &str) -> crate::error::Result<()> {
         let n = self.points.len();
         if self.valid == n {
             return Ok(());
@@ -650,7 +650,7 @@ pub fn verify_points(
 }
 
 /// [`verify_points`], calling `tick` after each point is played (progress).
-pub fn verify_points_ticked(
+pub(crate) fn verify_points_ticked(
     sm: &ScheduleMotion,
     points: &[[f64; 2]],
     opts: &PlayOptions,
@@ -663,7 +663,7 @@ pub fn verify_points_ticked(
     )
 }
 
-/// Compares plays of `sm` (from [`play_points`] or [`play_point`], any
+/// Compares plays of `sm` (from [`play_points`] or `play_point`, any
 /// windows) with the time-weighted steady-state prediction of `sm`'s
 /// segments (see the module documentation), with `opts`' physics.
 pub fn against_prediction(

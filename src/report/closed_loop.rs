@@ -65,7 +65,7 @@ pub fn summary(cl: &ClosedLoop) -> String {
 type Row = (&'static str, fn(&LoopCandidate) -> String);
 
 /// `closed_loop.md`.
-pub fn markdown(cl: &ClosedLoop) -> String {
+pub(crate) fn markdown(cl: &ClosedLoop) -> String {
     let mut md = intro(cl);
     md.push_str("## Before and after\n\n| | before | after |\n|---|---|---|\n");
     let (b, a) = (cl.before(), cl.after());
@@ -155,7 +155,7 @@ fn intro(cl: &ClosedLoop) -> String {
 }
 
 /// The "Closed loop" section appended to `report.md`.
-pub fn report_section(cl: &ClosedLoop) -> String {
+pub(crate) fn report_section(cl: &ClosedLoop) -> String {
     let (b, a) = (cl.before(), cl.after());
     format!(
         "\n## Closed loop\n\n`schedule.json` is the closed-loop schedule; the open-loop one is \
@@ -181,7 +181,7 @@ pub fn report_section(cl: &ClosedLoop) -> String {
 }
 
 /// The closed-loop schedule ([`ClosedLoop::schedule`]) as pretty JSON.
-pub fn schedule_json(d: &Design, target: &Target, cl: &ClosedLoop) -> Result<String> {
+pub(crate) fn schedule_json(d: &Design, target: &Target, cl: &ClosedLoop) -> Result<String> {
     pretty(&cl.schedule(target, &d.target.weights))
 }
 

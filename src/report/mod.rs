@@ -25,7 +25,7 @@ use std::path::Path;
 /// left out), when they are a
 /// `platefield` subcommand (the CLI, or Python's argument list passed to
 /// it); else `platefield {fallback}`.
-pub fn invocation(fallback: &str) -> String {
+pub(crate) fn invocation(fallback: &str) -> String {
     // Flags that change only what is printed, not the files, are left out.
     let args: Vec<String> = std::env::args()
         .skip(1)

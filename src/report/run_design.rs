@@ -12,7 +12,7 @@ use std::path::Path;
 /// are not carried over, so that the folder holds one design (a sequenced
 /// run after a synthesized one leaves no `signals.svg`); `verify/` and
 /// files of the user's are kept.
-pub const DESIGN_FILES: [&str; 9] = [
+pub(crate) const DESIGN_FILES: [&str; 9] = [
     "schedule.json",
     "schedule_open_loop.json",
     "closed_loop.md",

@@ -11,7 +11,7 @@ use crate::output::write_atomic;
 use crate::request::Target;
 
 /// The fit modes compared.
-pub fn modes() -> Vec<FitMode> {
+pub(crate) fn modes() -> Vec<FitMode> {
     vec![
         FitMode::Shape,
         FitMode::Absolute,

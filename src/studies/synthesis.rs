@@ -15,7 +15,7 @@
 //! ([`sequenced_limits`]): the largest |plate-centre acceleration| of each of
 //! the six signals over every moving segment (a sequenced schedule plays one
 //! primitive at a time, so the summed signal is the segment's own), found on
-//! [`crate::schedule::export::PEAK_SAMPLES`] samples per primitive cycle; the period is the
+//! `crate::schedule::export::PEAK_SAMPLES` samples per primitive cycle; the period is the
 //! primitives' (all share ω); up to 2 harmonics, contact margin 0.1 g.
 //! Each row is synthesized with 1 and with 2 harmonics (fewer harmonics is
 //! within the same limits), each from the seed and from the
@@ -79,20 +79,20 @@ use crate::synth::{synthesize, ShakerLimits, SynthOptions, Synthesis};
 pub const DIR: &str = "results";
 
 /// Every `STRIDE`-th target grid point (each axis) carries a played part.
-pub const STRIDE: usize = 5;
+pub(crate) const STRIDE: usize = 5;
 
 /// Goals of issue 11.
-pub const GOAL_SHAPE: f64 = 0.05;
+pub(crate) const GOAL_SHAPE: f64 = 0.05;
 /// Realised strength against the sequenced schedule's.
-pub const GOAL_RATIO: f64 = 2.0;
+pub(crate) const GOAL_RATIO: f64 = 2.0;
 /// Realised against predicted (the synthesized motion's own steady state).
-pub const GOAL_VS_PREDICTED: f64 = 0.02;
+pub(crate) const GOAL_VS_PREDICTED: f64 = 0.02;
 /// Lab-class goal strength (s⁻¹).
-pub const GOAL_LAB_STRENGTH: f64 = 0.5;
+pub(crate) const GOAL_LAB_STRENGTH: f64 = 0.5;
 
 /// The rows compared with a sequenced schedule (`targets/<name>.json`,
 /// designed with `--method sequence`).
-pub const ROWS: [&str; 5] = [
+pub(crate) const ROWS: [&str; 5] = [
     "sink",
     "saddle",
     "whirlpool",
@@ -101,7 +101,7 @@ pub const ROWS: [&str; 5] = [
 ];
 
 /// The sequenced designs refined by re-simulation ([`refine_schedule`]).
-pub const REFINED: [&str; 2] = ["whirlpool", "squeeze_trans"];
+pub(crate) const REFINED: [&str; 2] = ["whirlpool", "squeeze_trans"];
 
 /// Shaker limits equal to a schedule's peaks, `harmonics` harmonics,
 /// margin 0.1 g.
@@ -129,7 +129,7 @@ pub struct Measured {
     pub played: usize,
 }
 
-/// The played points of a target: every [`STRIDE`]-th grid point with a
+/// The played points of a target: every `STRIDE`-th grid point with a
 /// positive weight.
 pub fn starts(target: &Target, sampled: &SampledTarget) -> Vec<usize> {
     loop_points(target, sampled, STRIDE)
@@ -151,7 +151,7 @@ pub fn measure(
 }
 
 /// [`measure`], with the plays it judged (in the order of [`starts`]).
-pub fn measure_plays(
+pub(crate) fn measure_plays(
     target: &Target,
     sm: &ScheduleMotion,
     per_period: u32,
@@ -384,7 +384,7 @@ impl Row {
     }
 
     /// Goal checks: (shape ≤ 5 %, strength goal, realised vs predicted ≤ 2 %).
-    pub fn goals(&self) -> Option<[bool; 3]> {
+    pub(crate) fn goals(&self) -> Option<[bool; 3]> {
         let (_, m) = self.synthesis.as_ref().ok()?;
         let strength = match &self.sequenced {
             // A sequenced schedule that does not realise the target at all
@@ -542,7 +542,7 @@ pub fn row(name: &str, targets: &Path, cache: &Path, study: &StudySettings) -> R
 
 /// The lab-class row: the sink target under [`ShakerLimits::lab_class`],
 /// default physics.
-pub fn lab_row(targets: &Path, study: &StudySettings) -> Result<Row> {
+pub(crate) fn lab_row(targets: &Path, study: &StudySettings) -> Result<Row> {
     let target = Target::load(&targets.join("sink.json"))?;
     let limits = ShakerLimits::lab_class();
     let settings = FieldSettings::default();
@@ -556,7 +556,7 @@ pub fn lab_row(targets: &Path, study: &StudySettings) -> Result<Row> {
 }
 
 /// What bounds the seed's strength under `limits` (see [`Row::binding`]).
-pub fn seed_binding(
+pub(crate) fn seed_binding(
     target: &Target,
     limits: &ShakerLimits,
     settings: &FieldSettings,
@@ -651,7 +651,7 @@ pub struct RefineRow {
 
 /// Refines the sequenced schedule (`sequenced`) for `targets/<name>.json`
 /// with the default [`RefineOptions`].
-pub fn refine_row(name: &str, targets: &Path, cache: &Path) -> Result<RefineRow> {
+pub(crate) fn refine_row(name: &str, targets: &Path, cache: &Path) -> Result<RefineRow> {
     let target = Target::load(&targets.join(format!("{name}.json")))?;
     let schedule = sequenced(&target, cache)?;
     Ok(RefineRow {
@@ -1053,7 +1053,7 @@ pub fn run(out: &Path, only: &[String], study: &StudySettings) -> Result<String>
 /// ([`StudySettings::default`]), run alone (`--rows NAME`) when the
 /// study's results were last regenerated; a row's sequenced design reads
 /// its basis from the warm cache.
-pub const ROW_STEPS: &[(&str, f64)] = &[
+pub(crate) const ROW_STEPS: &[(&str, f64)] = &[
     ("sink", 3.63e7),
     ("saddle", 3.87e7),
     ("whirlpool", 5.21e7),
@@ -1070,7 +1070,7 @@ pub const ROW_STEPS: &[(&str, f64)] = &[
 /// paper's envelope with these harmonics, evaluations and plays, to the
 /// same with the defaults. A model: every row is taken to scale as the
 /// sink's does.
-pub fn settings_factor(study: &StudySettings) -> Result<f64> {
+pub(crate) fn settings_factor(study: &StudySettings) -> Result<f64> {
     let target = Target::load(Path::new("targets/sink.json"))?;
     let sampled = target.sample()?;
     let work = |s: &StudySettings| {
@@ -1092,7 +1092,7 @@ pub fn settings_factor(study: &StudySettings) -> Result<f64> {
 /// What `platefield synthesis` with rows `only` (empty: all) and settings
 /// `study` is expected to take: with the defaults, the count of its last
 /// regeneration; otherwise that count's share of the rows asked for
-/// ([`ROW_STEPS`]) times [`settings_factor`].
+/// (`ROW_STEPS`) times `settings_factor`.
 ///
 /// # Errors
 /// The sink target does not load.

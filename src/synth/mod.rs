@@ -170,7 +170,7 @@
 //! translation (which a sequenced schedule's limits cap near 0.1 m/s²),
 //! balanced against the tilts' simulated gradient, phase-calibrated (with
 //! or without `calibrate`, which is about the seed) and
-//! line-searched in strength ([`transport::scale_search`]); the better of
+//! line-searched in strength (`transport::scale_search`); the better of
 //! it and the calibrated seed runs first. squeeze_trans under its
 //! sequenced limits: played 0.150 → 0.636 s⁻¹ at 4.9 % shape, and the
 //! played polish of `platefield::design::polish` then 0.807 at 3.9 %

@@ -110,7 +110,7 @@ where
 ///
 /// # Errors
 /// The optimizer (or `cost`) fails for a reason other than the budget.
-pub fn nelder_mead<F, S>(
+pub(crate) fn nelder_mead<F, S>(
     x0: &[f64],
     step: f64,
     room: usize,

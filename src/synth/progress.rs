@@ -48,7 +48,7 @@ impl SynthesisProgress {
 }
 
 /// The argmin observer that drives [`SynthesisProgress`] once per iteration.
-pub struct Observer(pub Arc<SynthesisProgress>);
+pub(crate) struct Observer(pub Arc<SynthesisProgress>);
 
 impl<I> Observe<I> for Observer {
     fn observe_iter(&mut self, _state: &I, _kv: &KV) -> Result<(), Error> {

@@ -24,7 +24,7 @@ use crate::scene::FrictionSpec;
 
 /// A realised shape error above this flags a synthesis as POOR: the
 /// product's one threshold, [`crate::fit::POOR_ERROR`].
-pub const POOR_SHAPE_ERROR: f64 = crate::fit::POOR_ERROR;
+pub(crate) const POOR_SHAPE_ERROR: f64 = crate::fit::POOR_ERROR;
 
 /// Peaks are within limits up to this relative round-off.
 const PEAK_TOL: f64 = 1e-9;
@@ -33,7 +33,7 @@ const PEAK_TOL: f64 = 1e-9;
 /// steps of at most 0.5 (fraction of the axis limits) from the
 /// phase-calibrated seed, ending when a step gains less than 1 % (the
 /// sink stops after fewer). With the strength row asking for strength up
-/// to [`super::objective::STRENGTH_REACH`] times the seed's, the longer
+/// to `super::objective::STRENGTH_REACH` times the seed's, the longer
 /// run is what lifts line_sink_30 (played 0.302 s⁻¹ with three steps of
 /// 0.3 and the row's reach 1; 0.725 at 3.7 % with these, the reach 4 and
 /// the always-on shape block of [`super::objective`], after the polish;
@@ -221,7 +221,12 @@ impl Synthesis {
     /// peaks, least N, POOR and notes are `checked`'s; the seed, coarse and
     /// evaluation records stay, `evaluations` and `seconds` grow by the
     /// polish's.
-    pub fn with_checked(&self, checked: Checked, evaluations: usize, seconds: f64) -> Synthesis {
+    pub(crate) fn with_checked(
+        &self,
+        checked: Checked,
+        evaluations: usize,
+        seconds: f64,
+    ) -> Synthesis {
         Synthesis {
             motion: checked.motion,
             field: checked.field,

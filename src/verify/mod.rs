@@ -11,7 +11,7 @@
 //! realised strength against the target; [`run`] is the
 //! `platefield verify` command. Nothing here depends on how the schedule
 //! was designed; a friction sweep and an export's replay are judged by the
-//! design's own check ([`crate::design::method::realised_check`]).
+//! design's own check (`crate::design::method::realised_check`).
 
 pub mod friction;
 mod judged;
@@ -21,7 +21,6 @@ pub mod sort_play;
 pub mod strength;
 pub(crate) mod swarm;
 
-pub use crate::play::plate_twist;
 pub use rectangles::{
     play_rectangle, PoseSample, RectangleFailure, RectangleOptions, RectangleRun, RectangleSummary,
 };

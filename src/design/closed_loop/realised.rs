@@ -44,7 +44,7 @@
 //! centre, where a few per cent of gradient error is the whole field: a
 //! sequenced schedule realising 0.13 of a 40-point whirlpool was
 //! measured at 147 % shape error.) Gridded targets evaluate their field
-//! ([`Promise::Field`]).
+//! (`Promise::Field`).
 
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
@@ -143,14 +143,14 @@ pub fn play_motion(
 
 /// The promise s·t at each of `plays` as a part following it exactly would
 /// realise it over the play's windows ([`PointPlay::expected`]).
-pub fn promised(target: &Target, plays: &[&PointPlay], s: f64) -> Vec<[f64; 2]> {
+pub(crate) fn promised(target: &Target, plays: &[&PointPlay], s: f64) -> Vec<[f64; 2]> {
     Promise::of(target).along(plays, s)
 }
 
 /// The target t a part follows, built once per target (see the module
 /// documentation).
 #[derive(Debug, Clone)]
-pub enum Promise<'a> {
+pub(crate) enum Promise<'a> {
     /// The target's field, evaluated where the part is.
     Field(&'a FieldSpec),
     /// A grid-less sampled target: its samples' interpolant.
@@ -216,7 +216,7 @@ impl RealisedError {
     /// shape error (a non-finite one counts as largest), with the weakest
     /// realised strength and the fewest valid points of all. `None` for no
     /// measures.
-    pub fn worst_of(all: &[RealisedError]) -> Option<RealisedError> {
+    pub(crate) fn worst_of(all: &[RealisedError]) -> Option<RealisedError> {
         let key = |r: &RealisedError| {
             if r.shape_error.is_finite() {
                 r.shape_error
@@ -282,7 +282,7 @@ pub fn realised_error(
 /// [`realised_error`] against a [`Promise`] built once (a grid-less
 /// sampled target's interpolant costs a search of its samples per node:
 /// a caller that measures many plays builds it once).
-pub fn realised_error_of(
+pub(crate) fn realised_error_of(
     promise: &Promise<'_>,
     weights: &[f64],
     plays: &[PointPlay],
