@@ -4,12 +4,12 @@
 //!
 //! `cargo run --release --example design [-- TARGET [METHOD]]`
 //! (default `targets/sink.json`, `sequence`; METHOD one of sequence,
-//! synthesize, auto, mix, mirror).
+//! synthesize, auto, mix, mirror; a pose target, `targets/pose_*.json`, is
+//! designed as a pose whatever the method).
 
 use std::path::Path;
 
-use platefield::design::{self, DesignOptions, DesignOutcome, Method};
-use platefield::request::Target;
+use platefield::design::{self, DesignOptions, DesignOutcome, Method, TargetFile};
 
 fn main() -> platefield::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -27,7 +27,7 @@ fn main() -> platefield::Result<()> {
             ))
         }
     };
-    let target = Target::load(Path::new(path))?;
+    let target = TargetFile::load(Path::new(path))?;
     let options = DesignOptions {
         method,
         runtime: platefield::work::Runtime::QUIET,
@@ -53,6 +53,17 @@ fn main() -> platefield::Result<()> {
         DesignOutcome::Sorted(sort) => println!("{}", sort.schedule.to_json()?),
         DesignOutcome::ClosedLoop { closed_loop, .. } => {
             println!("closed loop: {} candidates", closed_loop.candidates.len())
+        }
+        DesignOutcome::Pose(pose) => {
+            let played = pose.method.kept().schedule.played.as_ref();
+            if let Some(drops) = played.and_then(|p| p.pose.as_ref()) {
+                println!(
+                    "pose: {:.1} % of {} played drops end at the pose",
+                    100.0 * drops.pose_fraction,
+                    drops.drops
+                );
+            }
+            println!("{}", pose.method.kept().schedule.to_json()?);
         }
     }
     Ok(())

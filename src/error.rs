@@ -41,7 +41,7 @@ pub enum Error {
 /// by type ([`BudgetSpent::is`]), not by message.
 #[derive(Debug, Error)]
 #[error("{0} budget spent")]
-pub struct BudgetSpent(pub &'static str);
+pub(crate) struct BudgetSpent(pub &'static str);
 
 impl BudgetSpent {
     /// Whether `e` (an argmin error) is a spent budget.
@@ -89,7 +89,7 @@ pub fn positive(field: &str, value: f64) -> Result<f64> {
 }
 
 /// Checks that `value` is finite and non-negative.
-pub fn non_negative(field: &str, value: f64) -> Result<f64> {
+pub(crate) fn non_negative(field: &str, value: f64) -> Result<f64> {
     finite(field, value)?;
     if value >= 0.0 {
         Ok(value)

@@ -60,7 +60,7 @@ pub fn read_capped(path: &Path, cap: u64) -> std::io::Result<Vec<u8>> {
 }
 
 /// [`read_capped`] at [`MAX_INPUT_BYTES`], as UTF-8 text.
-pub fn read_input(path: &Path) -> std::io::Result<String> {
+pub(crate) fn read_input(path: &Path) -> std::io::Result<String> {
     String::from_utf8(read_capped(path, MAX_INPUT_BYTES)?)
         .map_err(|_| std::io::Error::new(std::io::ErrorKind::InvalidData, "not UTF-8 text"))
 }

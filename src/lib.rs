@@ -83,15 +83,15 @@
 //! | stage | module | what it states |
 //! |---|---|---|
 //! | inputs | [`scene`], [`request`] (target files) | a plate motion with its physics and grid; a requested field (kinds, grid, mask, attractor) |
-//! | kinematics | [`motion`] | world and plate frames; the plate's velocity and acceleration at a plate point; gravity in the plate frame. The screw primitive in `motion::screw`, general six-signal motion in `motion::signals` (ramped in and out of a mixed schedule's segment in [`motion::Ramped`]), waveforms in `motion::waveform`; repeated evaluation with constants worked out once in [`motion::PreparedMotion`], sin and cos by angle addition from tabulated nodes in [`motion::trig`] |
-//! | dynamics | [`dynamics`] | a point part's equations: the effective gravity N, Coulomb stick and slip, contact loss, the terms the paper drops as [`dynamics::Model`] switches. The simulator's settings, kinematics, forces and RK4 step in [`dynamics::Simulator`], exact stick-slip events in its `advance` ([`dynamics::Simulator::advance`]), one type per slip scheme behind one trait (`dynamics::scheme`): implicit steps where a 2-D slip's direction is stiff ([`dynamics::SlipScheme::Stiff`], opt-in), 2-D swings past u = 0 in regularised time ([`dynamics::SlipScheme::Regularised`], the default), the closed-form frozen flow that finishes a 2-D stop in `dynamics::frozen`, the periodic orbit (and its stall test) in `dynamics::steady`, time-only kinematics tabulated once per field in [`dynamics::KinematicsTable`], rectangles in `dynamics::planar` |
+//! | kinematics | [`motion`] | world and plate frames; the plate's velocity and acceleration at a plate point; gravity in the plate frame. The screw primitive in `motion::screw`, general six-signal motion in `motion::signals` (ramped in and out of a mixed schedule's segment in [`motion::Ramped`]), waveforms in `motion::waveform`; repeated evaluation with constants worked out once in `motion::PreparedMotion`, sin and cos by angle addition from tabulated nodes in `motion::trig` |
+//! | dynamics | [`dynamics`] | a point part's equations: the effective gravity N, Coulomb stick and slip, contact loss, the terms the paper drops as [`dynamics::Model`] switches. The simulator's settings, kinematics, forces and RK4 step in [`dynamics::Simulator`], exact stick-slip events in its `advance` ([`dynamics::Simulator::advance`]), one type per slip scheme behind one trait (`dynamics::scheme`): implicit steps where a 2-D slip's direction is stiff ([`dynamics::SlipScheme::Stiff`], opt-in), 2-D swings past u = 0 in regularised time ([`dynamics::SlipScheme::Regularised`], the default), the closed-form frozen flow that finishes a 2-D stop in `dynamics::frozen`, the periodic orbit (and its stall test) in `dynamics::steady`, time-only kinematics tabulated once per field in `dynamics::KinematicsTable`, rectangles in `dynamics::planar` |
 //! | fields | [`field`] | the zero-velocity force field, the steady-state velocity field (frozen or free), per-sample validity (including non-finite samples); one point simulated per family of points the motion moves alike ([`motion::Invariance`], [`field::Orbits`]) |
 //! | basis | [`basis`] | the paper's eight primitives and their defaults ([`basis::primitives`]), rotated and shifted copies by symmetry ([`basis::symmetry`]), the on-disk cache |
 //! | fit | [`fit`] | the inverse problem: time fractions w ≥ 0, Σw ≤ 1, the fit modes, how each is solved and verified |
-//! | schedule | [`schedule`] | time fractions as whole cycles ([`schedule::quantize`](mod@schedule::quantize)); the six controller signals ([`schedule::export`]) |
-//! | design | [`design`] | the open-loop pipeline, the closed loop ([`design::closed_loop`]), refinement of a design's primitives by re-simulation ([`design::refine`]), the played polish of a synthesized motion ([`design::polish`]), and `--method` ([`design::method`]): sequence, synthesize or mix (a synthesized motion as one more basis column, [`design::basis::ColumnSource`]), every candidate played against the target, the POOR rule ([`fit::POOR_ERROR`]) and the choice |
+//! | schedule | [`schedule`] | time fractions as whole cycles (`schedule::quantize`); the six controller signals ([`schedule::export`]) |
+//! | design | [`design`] | [`design::run`], the one door (a target file read by [`design::TargetFile`], a part's pose included: [`design::pose`]), the open-loop pipeline, the closed loop ([`design::closed_loop`]), refinement of a design's primitives by re-simulation ([`design::refine`]), the played polish of a synthesized motion ([`design::polish`]), and `--method` ([`design::method`]): sequence, synthesize or mix (a synthesized motion as one more basis column, [`design::basis::ColumnSource`]), every candidate played against the target, the POOR rule ([`fit::POOR_ERROR`]) and the choice |
 //! | synthesis | [`synth`] | one simultaneous six-signal motion: shaker limits, the averaged-friction seed, the in-plane ratchet start for transport ([`synth::transport`]), refinement by re-simulation |
-//! | play, verify | [`play`], [`verify`] | a schedule's exact plate trajectory, the rule at the joins, rest in closed form; realised against predicted (one motion alone: its drift-lag-corrected steady state per cycle, [`play::lag`]; a warm-up that outlasts the start-up transient, [`play::settle`]); where parts end up |
+//! | play, verify | [`play`], [`verify`] | a schedule's exact plate trajectory, the rule at the joins, rest in closed form; realised against predicted (one motion alone: its drift-lag-corrected steady state per cycle, [`play::lag`]; a warm-up that outlasts the start-up transient, `play::settle`); where parts end up |
 //! | work | [`work`] | the work estimate (RK4 part steps at a stated rate) every long command makes first, refusing above 10 min unless `--allow-long` |
 //! | studies | [`studies`] | the paper's results reproduced: eq. 17 of section II ([`studies::linesink`]), Table I, the interaction of sequenced primitives, the order study of section V; model rungs and speed against error (the library, [`studies::speed`]; every primitive and field kind, [`studies::engine_speed`]) |
 //!
@@ -117,7 +117,7 @@
 //! 10 ([`studies::interaction`], `results/verify/sink_interaction.md`).
 //! Hence the design's rules: primitives start and end each cycle at rest in
 //! the home pose (rest-to-rest waveforms, [`basis::primitives`]), a schedule
-//! has a minimum number of cycles per segment ([`schedule::quantize`](mod@schedule::quantize)), the
+//! has a minimum number of cycles per segment (`schedule::quantize`), the
 //! order of segments and rest at the joins are chosen by simulation
 //! ([`design::order`]), and the closed loop measures the real combination
 //! and feeds it back into the fit ([`design::closed_loop`]). At a join the
@@ -128,7 +128,7 @@
 pub mod basis;
 pub mod design;
 pub mod dynamics;
-pub mod error;
+pub(crate) mod error;
 pub mod field;
 pub mod fit;
 pub mod input;

@@ -1,7 +1,7 @@
 //! Writing result files atomically (a temporary file in the same folder,
 //! then a rename; see [`crate::plot::write_atomic`]), so that an interrupted
 //! run never leaves a half-written file behind; a folder of several
-//! results is written whole ([`Staged`]).
+//! results is written whole (`Staged`).
 
 use std::path::{Path, PathBuf};
 
@@ -135,7 +135,7 @@ static STAGE_COUNTER: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU6
 /// entries not yet moved back). A staging folder that is never committed
 /// is removed when the [`Staged`] is dropped (an error return).
 #[derive(Debug)]
-pub struct Staged {
+pub(crate) struct Staged {
     dir: PathBuf,
     stage: PathBuf,
     committed: bool,
@@ -178,7 +178,7 @@ impl Staged {
     /// Puts the staged run in place of `dir` (see [`Staged`]): one atomic
     /// exchange, then the previous folder's entries that are not among
     /// `products` are moved into the new one and the rest is removed.
-    pub fn commit(mut self, products: &[&str]) -> Result<()> {
+    pub(crate) fn commit(mut self, products: &[&str]) -> Result<()> {
         let io = |path: &Path| {
             let path = path.display().to_string();
             move |source| Error::Io { path, source }

@@ -1,7 +1,7 @@
 //! Progress of long work (library builds, `field`, `verify`'s parts, the
 //! order search, synthesis), shown on stderr and never in a result: an
 //! indicatif bar when stderr is a terminal; otherwise (CI logs, scripts,
-//! pipes) a plain line every [`DEFAULT_INTERVAL`] (or every
+//! pipes) a plain line every `DEFAULT_INTERVAL` (or every
 //! [`INTERVAL_ENV`] seconds), also while no count moves; nothing when
 //! quiet. One abstraction for every command; it depends on nothing else in
 //! the crate.
@@ -14,7 +14,7 @@ use std::time::{Duration, Instant};
 use indicatif::{ProgressBar, ProgressStyle};
 
 /// Seconds between plain progress lines by default.
-pub const DEFAULT_INTERVAL: Duration = Duration::from_secs(3);
+pub(crate) const DEFAULT_INTERVAL: Duration = Duration::from_secs(3);
 
 /// Environment variable overriding the seconds between plain lines (a
 /// number ≥ 0; 0 prints a line at every update).
@@ -42,7 +42,7 @@ impl ProgressMode {
 }
 
 /// The interval between plain lines: [`INTERVAL_ENV`] when it holds a
-/// finite number ≥ 0, else [`DEFAULT_INTERVAL`].
+/// finite number ≥ 0, else `DEFAULT_INTERVAL`.
 pub fn interval() -> Duration {
     std::env::var(INTERVAL_ENV)
         .ok()
@@ -212,7 +212,7 @@ impl Progress {
     }
 
     /// Advances by `n` units.
-    pub fn inc(&self, n: u64) {
+    pub(crate) fn inc(&self, n: u64) {
         if let Some(bar) = &self.bar {
             bar.inc(n);
         }
@@ -224,7 +224,7 @@ impl Progress {
     }
 
     /// Sets the count of units done.
-    pub fn set_position(&self, pos: u64) {
+    pub(crate) fn set_position(&self, pos: u64) {
         if let Some(bar) = &self.bar {
             bar.set_position(pos);
         }
@@ -237,7 +237,7 @@ impl Progress {
 
     /// Sets the message shown after the counts (e.g. the primitive being
     /// built, the best result so far).
-    pub fn set_message(&self, message: impl Into<String>) {
+    pub(crate) fn set_message(&self, message: impl Into<String>) {
         let message = message.into();
         if let Some(bar) = &self.bar {
             bar.set_message(message);

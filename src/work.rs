@@ -2,13 +2,13 @@
 //! may run for long (`field`, a `design`'s library build, `verify`,
 //! `order`) first counts the RK4 steps of point parts it is about to take,
 //! converts them to seconds at a stated rate, and refuses above
-//! [`LIMIT_S`] unless `--allow-long` is given, naming the knobs that make
+//! `LIMIT_S` unless `--allow-long` is given, naming the knobs that make
 //! the work smaller. One estimator, here; the callers only supply counts.
 //!
-//! The unit of work is one RK4 step of one point part ([`SECONDS_PER_STEP`]
+//! The unit of work is one RK4 step of one point part (`SECONDS_PER_STEP`
 //! on one core); a planar step of one support point (rectangles, parts
 //! dropped by `poses`) costs [`PLANAR_POINT_STEP_COST`] point-part steps;
-//! a steady-state velocity sample costs [`VELOCITY_CYCLES`] cycles. The
+//! a steady-state velocity sample costs `VELOCITY_CYCLES` cycles. The
 //! counts are plain `f64` products, so no count from user input can
 //! overflow (a `cycles: 1e9` schedule is an estimate of 1e9 × …, not a wrap
 //! to a small number).
@@ -34,7 +34,7 @@ use crate::progress::Progress;
 pub struct Runtime {
     /// No progress output (default: progress on stderr).
     pub quiet: bool,
-    /// Run even when the work estimate exceeds [`LIMIT_S`].
+    /// Run even when the work estimate exceeds `LIMIT_S`.
     pub allow_long: bool,
 }
 
@@ -58,7 +58,7 @@ impl Runtime {
     /// [`Estimate::admit`] of `estimate` under these settings: refused over
     /// the limit unless `allow_long`, then stated on stderr unless `quiet`
     /// when it is long enough.
-    pub fn admit(&self, estimate: &Estimate) -> Result<()> {
+    pub(crate) fn admit(&self, estimate: &Estimate) -> Result<()> {
         estimate.admit(self.allow_long, self.quiet)
     }
 }
@@ -68,7 +68,7 @@ impl Runtime {
 /// builds running: 0.3 µs (LineSink screw, force field, 64 steps per
 /// cycle) to 0.9 µs (six-signal motion) per step, and `verify`'s 0.3 ms per
 /// point-part cycle of 300 steps.
-pub const SECONDS_PER_STEP: f64 = 1.0e-6;
+pub(crate) const SECONDS_PER_STEP: f64 = 1.0e-6;
 
 /// Cost of one nominal planar step of one support point in point-part
 /// steps: its share of the implicit friction solve and of the halved
@@ -78,7 +78,7 @@ pub const SECONDS_PER_STEP: f64 = 1.0e-6;
 /// against the default 16 × 4 added 6.2 s of CPU for 6.6e7 steps) and
 /// 0.24 µs for `poses --play` drops (64 steps per cycle, 36 support points,
 /// coarser steps with more Newton iterations; 22.7 s for 9.5e7 steps on a
-/// loaded machine), against [`SECONDS_PER_STEP`] per point-part step. A
+/// loaded machine), against `SECONDS_PER_STEP` per point-part step. A
 /// rectangle's cost grows with its support points (issue 30:
 /// `--rect 1e-9x1e-9` is sampled by 16 × 16 and took four times as long
 /// as the default under the same estimate).
@@ -87,15 +87,15 @@ pub const PLANAR_POINT_STEP_COST: f64 = 0.15;
 /// Expected cycle evaluations of one steady-state velocity sample (a few
 /// plain iterations, then Newton steps of three cycle maps each; measured:
 /// about 13 on the LineSink scene).
-pub const VELOCITY_CYCLES: f64 = 20.0;
+pub(crate) const VELOCITY_CYCLES: f64 = 20.0;
 
 /// Longest expected run accepted without `--allow-long` (seconds).
-pub const LIMIT_S: f64 = 600.0;
+pub(crate) const LIMIT_S: f64 = 600.0;
 
 /// Expected seconds above which a command states its estimate on stderr
 /// before the work ([`Estimate::announcement`]; issue 30: every command
 /// that can take more than 10 s says so first).
-pub const ANNOUNCE_S: f64 = 10.0;
+pub(crate) const ANNOUNCE_S: f64 = 10.0;
 
 /// One term of an estimate: a product of named counts, e.g. `8 primitives
 /// × 2500 samples × 20 cycles × 64 steps`.
@@ -169,13 +169,13 @@ impl Estimate {
         self.terms.iter().map(Term::steps).sum()
     }
 
-    /// Expected seconds on `threads` threads at [`SECONDS_PER_STEP`].
+    /// Expected seconds on `threads` threads at `SECONDS_PER_STEP`.
     pub fn seconds(&self, threads: usize) -> f64 {
         self.steps() * SECONDS_PER_STEP / threads.max(1) as f64
     }
 
     /// Whether the work exceeds [`LIMIT_S`] on `threads` threads.
-    pub fn is_long(&self, threads: usize) -> bool {
+    pub(crate) fn is_long(&self, threads: usize) -> bool {
         // NaN work (it cannot be NaN from finite counts) counts as long.
         self.seconds(threads).is_nan() || self.seconds(threads) > LIMIT_S
     }
@@ -210,7 +210,7 @@ impl Estimate {
     }
 
     /// The line a command prints on stderr before work expected to take
-    /// more than [`ANNOUNCE_S`] on `threads` threads (the estimate in words,
+    /// more than `ANNOUNCE_S` on `threads` threads (the estimate in words,
     /// [`Estimate::describe`]); `None` for shorter work.
     ///
     /// ```
@@ -227,7 +227,7 @@ impl Estimate {
 
     /// [`Estimate::check`], then the [`Estimate::announcement`] on stderr
     /// unless `quiet`: what a command calls before long work.
-    pub fn admit(&self, allow_long: bool, quiet: bool) -> Result<()> {
+    pub(crate) fn admit(&self, allow_long: bool, quiet: bool) -> Result<()> {
         self.check(allow_long)?;
         self.announce(quiet);
         Ok(())
@@ -235,14 +235,14 @@ impl Estimate {
 
     /// Prints the [`Estimate::announcement`] on stderr, if any, unless
     /// `quiet`.
-    pub fn announce(&self, quiet: bool) {
+    pub(crate) fn announce(&self, quiet: bool) {
         match self.announcement(threads()) {
             Some(line) if !quiet => eprintln!("{line}"),
             _ => {}
         }
     }
 
-    /// `Ok` when the work is within [`LIMIT_S`] or `allow_long`; else an
+    /// `Ok` when the work is within `LIMIT_S` or `allow_long`; else an
     /// [`Error::Invalid`] naming [`Estimate::subject`], stating the
     /// estimate, the limit, the knobs and `--allow-long`.
     pub fn check(&self, allow_long: bool) -> Result<()> {
@@ -250,7 +250,7 @@ impl Estimate {
     }
 
     /// [`Estimate::check`] on `threads` threads.
-    pub fn check_on(&self, threads: usize, allow_long: bool) -> Result<()> {
+    pub(crate) fn check_on(&self, threads: usize, allow_long: bool) -> Result<()> {
         if allow_long || !self.is_long(threads) {
             return Ok(());
         }
@@ -271,7 +271,7 @@ impl Estimate {
 /// now): progress for work whose loops the caller does not own, such as
 /// drops played in parallel. `progress` should count thousands of counted
 /// steps; it is read every 100 ms and finished when `f` returns.
-pub fn with_counted_progress<T>(progress: &Progress, f: impl FnOnce() -> T) -> T {
+pub(crate) fn with_counted_progress<T>(progress: &Progress, f: impl FnOnce() -> T) -> T {
     let start = crate::dynamics::steps_taken();
     let done = AtomicBool::new(false);
     let out = std::thread::scope(|scope| {
@@ -293,7 +293,7 @@ pub fn with_counted_progress<T>(progress: &Progress, f: impl FnOnce() -> T) -> T
 /// `fields` fields: force fields take `settings.phases` cycles per sample,
 /// steady-state velocity fields [`VELOCITY_CYCLES`] (at most the
 /// settings' `max_iterations`).
-pub fn field_term(
+pub(crate) fn field_term(
     label: &str,
     fields: f64,
     field_name: &str,

@@ -9,7 +9,7 @@
 
 use std::path::Path;
 
-use platefield::design::closed_loop::measure::{play_motion, realised_error, MeasureOptions};
+use platefield::design::closed_loop::realised::{play_motion, realised_error, MeasureOptions};
 use platefield::design::polish::{polish, PolishOptions, Polished};
 use platefield::field::{FieldSettings, Grid};
 use platefield::request::Target;

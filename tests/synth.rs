@@ -8,7 +8,7 @@
 
 use platefield::basis::{Primitive, PrimitiveKind};
 use platefield::field::{Field, FieldKind, FieldSettings, Grid};
-use platefield::motion::sample_hold::{self, CentreState, Segment};
+use platefield::motion::sample_hold::{self, CentreState, MotionSpan};
 use platefield::motion::{Motion, Signals};
 use platefield::request::FieldSpec;
 use platefield::synth::params::{Coefficients, Layout};
@@ -618,19 +618,19 @@ fn sequence_export_loops_without_drift() {
     let c = Primitive::new(PrimitiveKind::ScaledCircle).motion();
     let t = a.period();
     let segments = [
-        Segment {
+        MotionSpan {
             motion: Some(&a),
             duration: 4.0 * t,
         },
-        Segment {
+        MotionSpan {
             motion: None,
             duration: 0.3 * t,
         },
-        Segment {
+        MotionSpan {
             motion: Some(&b),
             duration: 3.0 * t,
         },
-        Segment {
+        MotionSpan {
             motion: Some(&c),
             duration: 2.0 * t,
         },
@@ -644,7 +644,7 @@ fn sequence_export_loops_without_drift() {
     );
     assert!(dp < 1e-6 && dv < 1e-6, "{dp} {dv}");
     // A motion segment that is not a whole number of samples is an error.
-    let bad = [Segment {
+    let bad = [MotionSpan {
         motion: Some(&a),
         duration: 1.5 * t + 1e-7,
     }];

@@ -45,13 +45,13 @@ use crate::output::write_atomic;
 /// Version of the cache file layout and key serialization (2: one field
 /// kind per file, the kind in the key; 3: each entry records the steps per
 /// cycle it was simulated with).
-pub const FORMAT: u32 = 3;
+pub(crate) const FORMAT: u32 = 3;
 
 /// Largest cache entry read: 256 MiB (a library on the default grids takes
 /// under 1 MiB). An entry that is larger, or is not a regular file (a FIFO,
 /// a link to a device), is not read but rebuilt and overwritten, so it can
 /// neither hang a design nor fill memory.
-pub const MAX_ENTRY_BYTES: u64 = 256 << 20;
+pub(crate) const MAX_ENTRY_BYTES: u64 = 256 << 20;
 
 /// What [`BasisCache::get_or_build`] did.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize)]
@@ -300,7 +300,7 @@ impl BasisCache {
     /// [`BasisCache::get_or_build`], calling `before_build` (e.g. a work
     /// estimate's check) only when the library must be built, and
     /// returning its error without building.
-    pub fn get_or_build_checked(
+    pub(crate) fn get_or_build_checked(
         &self,
         primitives: &[Primitive],
         grid: &Grid,

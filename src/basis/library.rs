@@ -150,7 +150,7 @@ impl Library {
 
     /// "Kind steps" per entry, comma-separated: the steps per cycle of each
     /// force field.
-    pub fn force_steps_list(&self) -> String {
+    pub(crate) fn force_steps_list(&self) -> String {
         self.entries
             .iter()
             .map(|e| format!("{} {}", e.primitive.kind.name(), e.force_steps))

@@ -1,10 +1,10 @@
 //! Basis fields: the primitive library simulated into fields, reused by
-//! symmetry ([`symmetry`]) and cached on disk ([`cache`]). The fits to the
+//! symmetry ([`symmetry`]) and cached on disk (`cache`). The fits to the
 //! paper's Table I, the model rungs and the library's speed against error
 //! are studies ([`crate::studies`]).
 
-pub mod cache;
-pub mod library;
+pub(crate) mod cache;
+pub(crate) mod library;
 pub mod primitives;
 pub mod steps;
 pub mod symmetry;

@@ -80,14 +80,6 @@ impl PrimitiveKind {
                 )
             })
     }
-
-    /// True for purely in-plane motions (N = g exactly).
-    pub fn in_plane(&self) -> bool {
-        matches!(
-            self,
-            PrimitiveKind::Trans | PrimitiveKind::ScaledCircle | PrimitiveKind::Circle
-        )
-    }
 }
 
 /// A primitive with its parameters; every field but `kind` has the paper's
@@ -130,7 +122,7 @@ mod defaults {
 /// Paper default ψ0 (rad).
 pub const PSI0: f64 = 0.005;
 /// Paper default d0 (m).
-pub const D0: f64 = 0.0005;
+pub(crate) const D0: f64 = 0.0005;
 
 /// Ratio of second to first harmonic in the asymmetric in-plane waveform.
 const ASYM: f64 = 0.5;
@@ -193,7 +185,7 @@ impl Primitive {
     }
 
     /// The untransformed motion (rotation 0, shift 0).
-    pub fn base_motion(&self) -> Motion {
+    pub(crate) fn base_motion(&self) -> Motion {
         let period = self.period();
         let psi0 = self.amplitude.unwrap_or(Self::default_amplitude(self.kind));
         let d0 = self
@@ -257,7 +249,7 @@ impl Primitive {
 /// −q0 ω² (cos ωt + β cos 2ωt), β = 1/2: a short strong push one way and a
 /// long weak pull back, so that a part slips in one phase and is carried in
 /// the other (Reznik and Canny's mechanism). q(0) = q'(0) = 0.
-pub fn asymmetric(q0: f64, omega: f64) -> Waveform {
+pub(crate) fn asymmetric(q0: f64, omega: f64) -> Waveform {
     let a = -q0 * omega * omega;
     Waveform::Fourier {
         terms: vec![
@@ -283,7 +275,7 @@ pub fn asymmetric(q0: f64, omega: f64) -> Waveform {
 /// amplitude) the part always slips and the net friction follows the sign
 /// of the plate velocity, so what matters is how long each sign lasts.
 /// q(0) = q'(0) = 0.
-pub fn sawtooth(q0: f64, omega: f64) -> Waveform {
+pub(crate) fn sawtooth(q0: f64, omega: f64) -> Waveform {
     let a = q0 * omega * omega;
     let beta = 1.0;
     // q'' = a (cos − (β/2) sin + β sin 2), as sin(nωt + φ) terms.

@@ -46,7 +46,7 @@
 //! against direct simulation and states its tolerance.
 //!
 //! Where q coincides with a source node along an axis (within 1e-9 of the
-//! spacing, [`NODE_TOL`]) that axis uses the node alone, with weight 1, so
+//! spacing, `NODE_TOL`) that axis uses the node alone, with weight 1, so
 //! that 90° rotations of a grid symmetric about the rotation centre, and
 //! shifts by whole grid steps, are exact copies. (The kernel is exactly 1 at
 //! 0 and 0 at the other integers, so this is the same interpolant without
@@ -69,11 +69,11 @@ use crate::field::{Field, Grid, Validity};
 
 /// A preimage within this fraction of the source spacing of a node is taken
 /// to be on the node.
-pub const NODE_TOL: f64 = 1e-9;
+pub(crate) const NODE_TOL: f64 = 1e-9;
 
 /// Nodes added on each side of the preimages' bounding box by
 /// [`source_grid`], for the cubic stencil.
-pub const MARGIN_NODES: usize = 2;
+pub(crate) const MARGIN_NODES: usize = 2;
 
 /// Keys' cubic convolution weights (a = −1/2) of nodes i − 1 … i + 2 at
 /// fractional position `t` ∈ [0, 1) past node i.
@@ -262,7 +262,7 @@ pub fn rotation_asymmetry(field: &Field, angle: f64) -> Option<f64> {
 /// A square grid with the target grid's spacing (its smaller one; 1 mm for
 /// a single-point target) whose nodes lie on the target's lattice, covering
 /// the preimage Rᵀ(p − s) of the target rectangle under every combination
-/// of `angles` (rad) and `shifts` (m), plus [`MARGIN_NODES`] nodes on every
+/// of `angles` (rad) and `shifts` (m), plus `MARGIN_NODES` nodes on every
 /// side for the cubic stencil: simulate a primitive once on it, then
 /// [`transformed`] gives every copy on `target` without `OutsideSource`
 /// samples. An empty `angles` or `shifts` means no rotation or no shift.

@@ -163,7 +163,7 @@ pub struct DesignArgs {
 pub enum Optimizer {
     /// Levenberg–Marquardt on the residuals ([`crate::synth::levenberg`]).
     LeastSquares,
-    /// Multi-start Nelder–Mead ([`crate::synth::refine`]).
+    /// Multi-start Nelder–Mead ([`crate::synth::multistart`]).
     NelderMead,
 }
 

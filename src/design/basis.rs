@@ -34,7 +34,7 @@ pub enum ColumnSource {
     /// A six-signal motion (e.g. one synthesized for the target,
     /// [`crate::synth`]) with its label. In a schedule beside other moving
     /// segments it ramps in from rest and out to rest inside its cycles
-    /// ([`MIXED_RAMP_CYCLES`], [`crate::motion::Ramped`]); its column is the
+    /// (`MIXED_RAMP_CYCLES`, [`crate::motion::Ramped`]); its column is the
     /// steady motion's field.
     Motion {
         /// Label, e.g. `Synthesized`.
@@ -48,7 +48,7 @@ pub enum ColumnSource {
 /// schedule: 4 cycles each way fit the default 10-cycle minimum segment
 /// (with 2 steady cycles); the ramp raises the acceleration by up to about
 /// 1.875/(πR) + 0.146/R² ≈ 16 % of the steady peak (one harmonic).
-pub const MIXED_RAMP_CYCLES: u32 = 4;
+pub(crate) const MIXED_RAMP_CYCLES: u32 = 4;
 
 impl ColumnSource {
     /// Label, e.g. `LineSink@45°` or `Synthesized`.
@@ -77,7 +77,7 @@ impl ColumnSource {
 
     /// A schedule segment playing this column for `cycles` cycles. A
     /// six-signal motion beside other moving segments (`mixed`) ramps in and
-    /// out over R = [`MIXED_RAMP_CYCLES`] cycles (at most `cycles`) and is
+    /// out over R = `MIXED_RAMP_CYCLES` cycles (at most `cycles`) and is
     /// given R more cycles: the two ramps play about R cycles' worth of the
     /// steady field (the window averages ½ over each), so the segment still
     /// plays `cycles` of it, and the fit's proportions between segments

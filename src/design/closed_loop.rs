@@ -9,14 +9,14 @@
 //! from the motion the previous one left. For the Sink target
 //! (`targets/sink.json`: four LineSinks, full model, parts moving) the
 //! realised error (below) is 38 % at one cycle per segment, 26 % at two,
-//! 19 % at three. Decomposed ([`measure`]): mostly a pure change of scale
+//! 19 % at three. Decomposed ([`realised`]): mostly a pure change of scale
 //! — the realised sink is weaker, 67 %, 79 % and 85 % of the promised
 //! strength — plus, in the design's order 0°→180°→270°→90°, an offset (18 %
 //! at one cycle) and an anisotropy (7 %); the cyclic order
 //! 0°→90°→180°→270° has no offset but a swirl (2 %) from its rotation sense
 //! (see [`super::order`]).
 //!
-//! **Realised error** ([`measure`]): the relative L2 error ‖R − s t‖/‖s t‖
+//! **Realised error** ([`realised`]): the relative L2 error ‖R − s t‖/‖s t‖
 //! of the realised mean velocity field R against the promise s·t, at the
 //! parts' mean positions, with the target's weights and mask; s is the
 //! strength the schedule's design claims. Reported with it: the realised
@@ -38,7 +38,7 @@
 //!    realised strength ŝ: an order is judged by its shape-only error.
 //! 3. *Re-fit* (contextual basis): from the best schedule so far, each
 //!    segment's realised velocity in its schedule context c_i
-//!    ([`measure::play`]; R = Σ f_i c_i exactly) replaces its steady-state
+//!    ([`realised::play`]; R = Σ f_i c_i exactly) replaces its steady-state
 //!    field as a basis column; the time fractions are re-fitted to the
 //!    target with the design's conic fit (shape mode, strongest within its
 //!    slack), requantised to whole cycles with the same minimum per segment
@@ -56,14 +56,14 @@
 //! `shape` fit ignores). The loop states the strength the schedule realises
 //! and fixes the shape; the report gives both errors and both strengths.
 
-pub mod measure;
-pub mod refit;
+pub mod realised;
+pub(crate) mod refit;
 
 use std::time::Instant;
 
 use serde::Serialize;
 
-pub use measure::{Decomposition, MeasureOptions, PointPlay, RealisedError};
+pub use realised::{Decomposition, MeasureOptions, PointPlay, RealisedError};
 
 use super::order::{self, arrange};
 use super::Design;
@@ -166,7 +166,7 @@ impl Stage {
 
 /// One played schedule.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Candidate {
+pub struct LoopCandidate {
     /// The step that produced it.
     pub stage: Stage,
     /// Its segments in playing order, e.g. `LineSink@0°×1 LineSink@90°×1`.
@@ -194,7 +194,7 @@ pub struct ClosedLoop {
     pub target: String,
     /// Every played schedule, in the order played; the first is the
     /// open-loop schedule.
-    pub candidates: Vec<Candidate>,
+    pub candidates: Vec<LoopCandidate>,
     /// Index of the best candidate (lowest realised error among the eligible).
     pub best: usize,
     /// Start points played.
@@ -216,12 +216,12 @@ pub struct ClosedLoop {
 
 impl ClosedLoop {
     /// The open-loop schedule's measurement.
-    pub fn before(&self) -> &Candidate {
+    pub fn before(&self) -> &LoopCandidate {
         &self.candidates[0]
     }
 
     /// The best candidate's measurement.
-    pub fn after(&self) -> &Candidate {
+    pub fn after(&self) -> &LoopCandidate {
         &self.candidates[self.best]
     }
 
@@ -249,9 +249,9 @@ impl ClosedLoop {
     }
 }
 
-/// [`FitMetrics`] of the realised field against the promise at `strength`
-/// ([`measure::promised`]), by the design's own metric code (an independent
-/// check of [`measure::realised_error`]).
+/// `FitMetrics` of the realised field against the promise at `strength`
+/// (`realised::promised`), by the design's own metric code (an independent
+/// check of [`realised::realised_error`]).
 pub fn realised_metrics(
     target: &Target,
     weights: &[f64],
@@ -265,7 +265,7 @@ pub fn realised_metrics(
     if strength == 0.0 {
         return None;
     }
-    let t: Vec<[f64; 2]> = measure::promised(target, &ok, strength)
+    let t: Vec<[f64; 2]> = realised::promised(target, &ok, strength)
         .iter()
         .map(|v| [v[0] / strength, v[1] / strength])
         .collect();
@@ -276,7 +276,7 @@ pub fn realised_metrics(
 
 /// The start points: every `stride`-th grid point along each axis (every
 /// `stride`-th sample of a grid-less target), weight > 0 only.
-pub fn loop_points(target: &Target, sampled: &SampledTarget, stride: usize) -> Vec<usize> {
+pub(crate) fn loop_points(target: &Target, sampled: &SampledTarget, stride: usize) -> Vec<usize> {
     let stride = stride.max(1);
     (0..sampled.len())
         .filter(|&k| sampled.weights[k] > 0.0)
@@ -333,11 +333,11 @@ impl Judge<'_> {
         plays: Vec<PointPlay>,
         strength: Option<f64>,
         promise: String,
-    ) -> Candidate {
+    ) -> LoopCandidate {
         let w = &self.sampled.weights;
-        let error = measure::realised_error(self.target, w, &plays, strength);
+        let error = realised::realised_error(self.target, w, &plays, strength);
         let vs_design =
-            measure::realised_error(self.target, w, &plays, Some(self.design_strength)).error;
+            realised::realised_error(self.target, w, &plays, Some(self.design_strength)).error;
         let rejected = match self.valid_before {
             Some(v) if error.valid < v => Some(format!(
                 "parts lose contact at {} more points than open loop",
@@ -346,7 +346,7 @@ impl Judge<'_> {
             _ if !error.error.is_finite() => Some("no realised field".into()),
             _ => None,
         };
-        Candidate {
+        LoopCandidate {
             stage,
             order: order_text(&schedule),
             promise,
@@ -360,7 +360,7 @@ impl Judge<'_> {
 
     fn play(&self, schedule: &Schedule) -> Result<Vec<PointPlay>> {
         self.played.set(self.played.get() + 1);
-        measure::play(
+        realised::play(
             schedule,
             &self.sampled.points,
             &self.starts,
@@ -371,7 +371,7 @@ impl Judge<'_> {
 }
 
 /// Index of the best eligible candidate (lowest realised error, earliest on ties).
-fn best_of(c: &[Candidate]) -> usize {
+fn best_of(c: &[LoopCandidate]) -> usize {
     let mut best = 0;
     for (i, x) in c.iter().enumerate() {
         if x.rejected.is_none()
@@ -389,7 +389,7 @@ fn best_of(c: &[Candidate]) -> usize {
 fn order_stage(
     judge: &Judge,
     open: &Schedule,
-    cands: &mut Vec<Candidate>,
+    cands: &mut Vec<LoopCandidate>,
     search: bool,
 ) -> Result<Vec<usize>> {
     let base = &open.segments;
@@ -434,7 +434,7 @@ fn order_stage(
 fn refit_stage(
     judge: &Judge,
     design: &Design,
-    cands: &mut Vec<Candidate>,
+    cands: &mut Vec<LoopCandidate>,
     mut pattern: Vec<usize>,
     max_iterations: u32,
 ) -> Result<String> {
@@ -551,7 +551,7 @@ pub fn closed_loop(target: &Target, design: &Design, opts: &LoopOptions) -> Resu
 mod tests {
     use super::*;
 
-    fn candidate(error: f64, rejected: bool) -> Candidate {
+    fn candidate(error: f64, rejected: bool) -> LoopCandidate {
         let d = Decomposition {
             isotropic: 0.0,
             rotational: 0.0,
@@ -568,7 +568,7 @@ mod tests {
             strength: 1.0,
         };
         let schedule = Schedule::of_segments("t", Vec::new(), FieldSettings::default(), none);
-        Candidate {
+        LoopCandidate {
             stage: Stage::Order,
             order: String::new(),
             promise: String::new(),

@@ -8,9 +8,9 @@
 //! * `synthesize`: one simultaneous six-signal motion within the target's
 //!   limits ([`crate::synth::synthesize`]; `shaker` keys left out take the
 //!   paper's envelope), written as a one-segment schedule holding the
-//!   signals, [`SYNTH_SEGMENT_CYCLES`] cycles per schedule period (one
+//!   signals, `SYNTH_SEGMENT_CYCLES` cycles per schedule period (one
 //!   motion repeated: the count only sets the measuring windows).
-//! * `mix` ([`mix_design`]): the sequenced design's basis plus one column,
+//! * `mix` (`mix_design`): the sequenced design's basis plus one column,
 //!   a synthesized motion, so the conic fit can mix it with primitives where
 //!   neither reaches the target alone; its segment ramps in and out of rest
 //!   inside its cycles ([`crate::design::basis::ColumnSource::segment`]).
@@ -32,15 +32,15 @@
 //!   one that is not POOR. If one method fails (e.g. limits too small to
 //!   move parts), the other is kept and the failure is stated.
 //!
-//! **Every design is played before it is reported** ([`play_check`]): the
+//! **Every design is played before it is reported** (`play_check`): the
 //! schedule is played on point parts from a coarse grid over the target
 //! region — every k-th target grid point per axis, k = (n − 1)/
-//! ([`CHECK_POINTS`] − 1) rounded down, about 5 × 5 points — with the one
-//! realised measure ([`CHECK_WARMUP_CYCLES`] warm-up and
-//! [`CHECK_MEASURED_CYCLES`] measured cycles, each rounded up to whole
+//! (`CHECK_POINTS` − 1) rounded down, about 5 × 5 points — with the one
+//! realised measure (`CHECK_WARMUP_CYCLES` warm-up and
+//! `CHECK_MEASURED_CYCLES` measured cycles, each rounded up to whole
 //! schedule periods, a window at every join;
-//! [`super::closed_loop::measure`]; not lengthened for a slow start-up
-//! transient, see [`crate::play::settle`]). Short, so that a strong field (a
+//! [`super::closed_loop::realised`]; not lengthened for a slow start-up
+//! transient, see `crate::play::settle`). Short, so that a strong field (a
 //! synthesized sink of 1.5 s⁻¹ halves a part's distance in 0.5 s) is
 //! measured over the region rather than where parts have already gathered
 //! (with 40 warm-up cycles the parts of such a sink sat inside the masked
@@ -51,11 +51,11 @@
 //! exceeds [`crate::fit::POOR_ERROR`], when a part loses contact, when no
 //! point is valid, or when a part ends farther from the target's attractor
 //! ([`crate::request::Attractor`]) than it was when the measured windows
-//! began by more than [`ESCAPE_TOL`] (parts escaping the attractor).
+//! began by more than `ESCAPE_TOL` (parts escaping the attractor).
 
 use std::time::Instant;
 
-use super::closed_loop::{loop_points, measure};
+use super::closed_loop::{loop_points, realised};
 use super::polish::{polish, PolishOptions};
 pub use super::rule::{Rule, MIN_MEASURED_POINTS, TIE_SHAPE_ERROR};
 use super::{design, Design, DesignOptions};
@@ -74,15 +74,15 @@ use crate::synth::{synthesize, ShakerLimits, SynthOptions, Synthesis};
 use crate::work::{Estimate, Term};
 
 /// Cycles of the synthesized motion per schedule period.
-pub const SYNTH_SEGMENT_CYCLES: u32 = 10;
+pub(crate) const SYNTH_SEGMENT_CYCLES: u32 = 10;
 /// Warm-up of the realised check, in cycles (rounded up to whole schedule
 /// periods: one period for every sequenced schedule, whose segments last
 /// at least 10 cycles by default).
-pub const CHECK_WARMUP_CYCLES: u32 = 10;
+pub(crate) const CHECK_WARMUP_CYCLES: u32 = 10;
 /// Measured cycles of the realised check (rounded up likewise).
-pub const CHECK_MEASURED_CYCLES: u32 = 10;
+pub(crate) const CHECK_MEASURED_CYCLES: u32 = 10;
 /// Start points per axis of the realised check (about).
-pub const CHECK_POINTS: usize = 5;
+pub(crate) const CHECK_POINTS: usize = 5;
 /// A part that ends more than this (m) farther from the attractor than it
 /// was when the measured windows began (after the warm-up) has escaped it:
 /// 1 mm, a third of `verify`'s convergence tolerance, well above the
@@ -92,7 +92,7 @@ pub const CHECK_POINTS: usize = 5;
 /// check does not ramp it in, as `export` does) moves a part by 1–2 mm in
 /// its first cycles whatever the field (measured: the synthesized
 /// whirlpool's centre part 1.25 mm, then back towards the centre).
-pub const ESCAPE_TOL: f64 = 1e-3;
+pub(crate) const ESCAPE_TOL: f64 = 1e-3;
 
 /// One designed and played candidate.
 #[derive(Debug, Clone)]
@@ -109,7 +109,7 @@ pub struct Candidate {
     /// (`None` for an exact friction): what `auto` judges it by.
     pub sensitivity: Option<Sensitivity>,
     /// The synthesis `auto` adds over a friction range when no other
-    /// candidate holds the target within [`RANGE_HELD`] at its worst: one
+    /// candidate holds the target within `RANGE_HELD` at its worst: one
     /// motion synthesized and polished for the worst case over the range
     /// (as `--robust-synthesis` does).
     pub worst_case: bool,
@@ -184,7 +184,7 @@ pub struct MethodDesign {
     /// The limits a synthesis keeps.
     pub limits: ShakerLimits,
     /// The kept design played across the friction the target states
-    /// ([`sensitivity::of_target`]; `None` when it states none).
+    /// (`sensitivity::of_target`; `None` when it states none).
     pub sensitivity: Option<Sensitivity>,
     /// The work stated before the synthesis ([`design_estimate`] with the
     /// limits the synthesis keeps; `auto` states it once the sequenced
@@ -617,7 +617,7 @@ fn candidate_sensitivity(
     })
 }
 
-/// [`realised_check`] as a sensitivity judge.
+/// `realised_check` as a sensitivity judge.
 pub fn judge_check(
     target: &Target,
     sampled: &SampledTarget,
@@ -639,7 +639,7 @@ pub fn judge_check(
 /// # Errors
 /// The schedule records no target (nothing to judge against), or cannot be
 /// played.
-pub fn sweep_schedule(schedule: &Schedule, values: &[Friction]) -> Result<Sensitivity> {
+pub(crate) fn sweep_schedule(schedule: &Schedule, values: &[Friction]) -> Result<Sensitivity> {
     let target = schedule.target_spec.as_ref().ok_or_else(|| {
         Error::invalid(
             "--friction",
@@ -661,7 +661,7 @@ pub fn sweep_schedule(schedule: &Schedule, values: &[Friction]) -> Result<Sensit
 /// The work of [`sweep_schedule`] over `values` frictions: about
 /// [`CHECK_POINTS`]² parts, the check's warm-up and measured cycles each
 /// rounded up to whole periods, at each friction.
-pub fn sweep_estimate(schedule: &Schedule, values: usize) -> Estimate {
+pub(crate) fn sweep_estimate(schedule: &Schedule, values: usize) -> Estimate {
     let per_period = schedule.total_cycles.max(1);
     let periods =
         CHECK_WARMUP_CYCLES.div_ceil(per_period) + CHECK_MEASURED_CYCLES.div_ceil(per_period);
@@ -841,7 +841,7 @@ fn asked_synthesis(target: &Target, opts: &DesignOptions) -> SynthOptions {
 /// `results/robust.md`): the mirror-image shares hold the sink, saddle,
 /// whirlpool and squeeze_trans within 2.5–4.8 % over μ 0.2–0.4 and
 /// add nothing; line_sink_30's best default candidate is at 10.1 %.
-pub const RANGE_HELD: f64 = 0.06;
+pub(crate) const RANGE_HELD: f64 = 0.06;
 
 /// Some candidate that is not POOR holds the target within [`RANGE_HELD`]
 /// (at its worst over the friction range when judged so).
@@ -926,7 +926,7 @@ fn region(target: &Target, sampled: &SampledTarget) -> Grid {
 ///
 /// # Errors
 /// The synthesis or the design failing.
-pub fn mix_design(
+pub(crate) fn mix_design(
     target: &Target,
     sampled: &SampledTarget,
     out: &MethodDesign,
@@ -1040,7 +1040,7 @@ fn resolving(opts: &DesignOptions, harmonics: u32) -> DesignOptions {
 /// steady-state field against the target at its realised strength. The
 /// steps per cycle are raised to resolve the limits' harmonics
 /// (`resolving`).
-pub fn synthesize_schedule(
+pub(crate) fn synthesize_schedule(
     target: &Target,
     sampled: &SampledTarget,
     limits: &ShakerLimits,
@@ -1154,7 +1154,7 @@ pub fn synthesize_schedule(
 /// physics. The promise's flow that each play's measure integrates costs
 /// O(1) per step (a grid-less sampled target's field through its
 /// [`crate::request::SampledInterpolant`]), within the steps counted.
-pub fn synthesis_estimate(
+pub(crate) fn synthesis_estimate(
     target: &Target,
     sampled: &SampledTarget,
     synth: &SynthOptions,
@@ -1251,10 +1251,10 @@ fn synthesis_counts(
 }
 
 /// Cycles the realised check plays a schedule of `per_period` cycles per
-/// period ([`measure::play_motion`]): the warm-up and the measured cycles,
+/// period ([`realised::play_motion`]): the warm-up and the measured cycles,
 /// each rounded up to whole periods, and the period played after the
 /// windows.
-pub fn check_cycles(per_period: u32) -> u32 {
+pub(crate) fn check_cycles(per_period: u32) -> u32 {
     let p = per_period.max(1);
     p * (CHECK_WARMUP_CYCLES.div_ceil(p) + CHECK_MEASURED_CYCLES.div_ceil(p).max(1) + 1)
 }
@@ -1263,9 +1263,9 @@ pub fn check_cycles(per_period: u32) -> u32 {
 /// before it starts and compared with the work done by `tests/estimates.rs`
 /// ([`crate::dynamics::steps_taken`], within 3×): the sequenced design's
 /// library when the cache does not hold it (the basis stage), the
-/// synthesis and its polish ([`synthesis_estimate`]), the realised check
+/// synthesis and its polish (`synthesis_estimate`), the realised check
 /// of every candidate (sequenced schedules counted at the synthesized
-/// motion's [`SYNTH_SEGMENT_CYCLES`] cycles per period) and, for a target
+/// motion's `SYNTH_SEGMENT_CYCLES` cycles per period) and, for a target
 /// that states its friction, each candidate's friction sweep.
 /// `limits` are those the synthesis keeps, `library` the basis stage's
 /// work when the cache does not hold the library
@@ -1344,7 +1344,7 @@ fn polish_played(
         robust: synth.robust,
         lm: synth.polish_lm,
         segment_cycles: SYNTH_SEGMENT_CYCLES,
-        measure: measure::MeasureOptions {
+        measure: realised::MeasureOptions {
             warmup_cycles: CHECK_WARMUP_CYCLES,
             measured_cycles: CHECK_MEASURED_CYCLES,
             settle: false,
@@ -1385,15 +1385,15 @@ fn check_starts(target: &Target, sampled: &SampledTarget) -> Vec<usize> {
 
 /// The realised check's measure of `schedule` played under `settings`
 /// (its own or other physics): the plays from the check's start points and
-/// what they realise against `target` ([`measure::realised_error`], with
+/// what they realise against `target` ([`realised::realised_error`], with
 /// `predicted` the strength the error against the prediction uses).
-pub fn realised_check(
+pub(crate) fn realised_check(
     target: &Target,
     sampled: &SampledTarget,
     schedule: &Schedule,
     settings: &crate::field::FieldSettings,
     predicted: Option<f64>,
-) -> Result<(Vec<measure::PointPlay>, measure::RealisedError)> {
+) -> Result<(Vec<realised::PointPlay>, realised::RealisedError)> {
     let sm = crate::play::ScheduleMotion::from_schedule(schedule)?;
     Ok(realised_check_of(
         target,
@@ -1407,27 +1407,27 @@ pub fn realised_check(
 /// [`realised_check`] of a trajectory `sm` of `per_period` primitive
 /// cycles per schedule period (e.g. a schedule's exported file played,
 /// [`crate::play::replay`]).
-pub fn realised_check_of(
+pub(crate) fn realised_check_of(
     target: &Target,
     sampled: &SampledTarget,
     (sm, per_period): (&crate::play::ScheduleMotion, u32),
     settings: &crate::field::FieldSettings,
     predicted: Option<f64>,
-) -> (Vec<measure::PointPlay>, measure::RealisedError) {
+) -> (Vec<realised::PointPlay>, realised::RealisedError) {
     let starts = check_starts(target, sampled);
-    let plays = measure::play_motion(
+    let plays = realised::play_motion(
         sm,
         per_period,
         &sampled.points,
         &starts,
         settings,
-        &measure::MeasureOptions {
+        &realised::MeasureOptions {
             warmup_cycles: CHECK_WARMUP_CYCLES,
             measured_cycles: CHECK_MEASURED_CYCLES,
             settle: false,
         },
     );
-    let r = measure::realised_error(target, &sampled.weights, &plays, predicted);
+    let r = realised::realised_error(target, &sampled.weights, &plays, predicted);
     (plays, r)
 }
 
@@ -1435,7 +1435,7 @@ pub fn realised_check_of(
 /// target region and compares what it realises with the target (see the
 /// [module documentation](self)); `predicted` is the strength the design
 /// predicts.
-pub fn play_check(
+pub(crate) fn play_check(
     target: &Target,
     sampled: &SampledTarget,
     schedule: &Schedule,
@@ -1457,7 +1457,7 @@ pub fn play_check(
     // has an attractor: then it escaped it.
     let g = region(target, sampled);
     let inside = |q: [f64; 2]| super::polish::in_region(&g, q);
-    let lost_inside: Vec<&measure::PointPlay> = plays
+    let lost_inside: Vec<&realised::PointPlay> = plays
         .iter()
         .filter(|p| p.note.is_some() && p.lost_at.is_none_or(inside))
         .collect();

@@ -31,9 +31,9 @@
 //! a sink under every φ; the first of 0°, 15°, …, 165° that maps the
 //! target to itself is used.
 //!
-//! **Its schedule.** Two six-signal segments of [`MIRROR_SEGMENT_CYCLES`]
+//! **Its schedule.** Two six-signal segments of `MIRROR_SEGMENT_CYCLES`
 //! cycles each, the motion and its mirror, each ramped in from rest and out
-//! to rest over [`MIXED_RAMP_CYCLES`] cycles (the
+//! to rest over `MIXED_RAMP_CYCLES` cycles (the
 //! plate velocities of the two motions differ at a cycle's start, so they
 //! cannot be joined directly). Measured for the synthesized sink, worst
 //! over μ ∈ [0.2, 0.4] (the design's realised check, moving parts): 8
@@ -54,21 +54,21 @@ use crate::schedule::{Schedule, Segment};
 use crate::synth::calibrate::shifted;
 use crate::synth::objective::{Evaluation, Objective};
 use crate::synth::params::Coefficients;
-use crate::synth::progress::{Progress, ProgressMode};
+use crate::synth::progress::{ProgressMode, SynthesisProgress};
 use crate::synth::ShakerLimits;
 
 /// Cycles of each of the two segments, ramps included.
-pub const MIRROR_SEGMENT_CYCLES: u32 = 28;
+pub(crate) const MIRROR_SEGMENT_CYCLES: u32 = 28;
 
 /// Relative tolerance of the symmetry test of a target.
 const SYMMETRY_TOL: f64 = 1e-9;
 
 /// Axes tried by [`mirror_axis`] (degrees from x).
-pub const MIRROR_AXES_DEG: [f64; 12] = [
+pub(crate) const MIRROR_AXES_DEG: [f64; 12] = [
     0.0, 15.0, 30.0, 45.0, 60.0, 75.0, 90.0, 105.0, 120.0, 135.0, 150.0, 165.0,
 ];
 
-/// The first axis of [`MIRROR_AXES_DEG`] (degrees) in whose vertical plane
+/// The first axis of `MIRROR_AXES_DEG` (degrees) in whose vertical plane
 /// the target is symmetric at every sample point of positive weight:
 /// t(Mp) = M t(p) within 1e-9 of its largest vector, M the reflection;
 /// `None` when there is none (a whirlpool).
@@ -93,7 +93,7 @@ pub fn mirror_axis(target: &Target, sampled: &SampledTarget) -> Option<f64> {
 
 /// The mirror-image time-share of a one-motion schedule (a synthesized
 /// design) in the plane at `axis_deg` ([`mirror_axis`]): the motion and
-/// its mirror image, [`MIRROR_SEGMENT_CYCLES`]
+/// its mirror image, `MIRROR_SEGMENT_CYCLES`
 /// cycles each, ramped, scaled down where the ramps would pass `limits`.
 /// The rest of the schedule (target, settings, fit metrics) is kept.
 ///
@@ -118,7 +118,7 @@ pub fn mirror_share(
 
 /// Phases (degrees) the turned mirror image is tried at before its
 /// calibration: every 15°.
-pub const TURN_SCAN_DEG: f64 = 15.0;
+pub(crate) const TURN_SCAN_DEG: f64 = 15.0;
 
 /// The turned mirror-image time-share, for a target that no reflection
 /// maps to itself (a whirlpool): the synthesized motion of `synthesized`,
@@ -132,7 +132,7 @@ pub const TURN_SCAN_DEG: f64 = 15.0;
 /// harmonic 1 of M′'s normal-force signals (a_z, α_x, α_y) by φ turns its
 /// field by φ without changing any amplitude
 /// ([`crate::synth::calibrate`]); the phase that best realises the target
-/// at the nominal friction (a scan of every [`TURN_SCAN_DEG`], then one
+/// at the nominal friction (a scan of every `TURN_SCAN_DEG`, then one
 /// secant step on the measured turn) gives a motion M″ with the target's field and
 /// the opposite turn with friction. The time-share ½(M + M″) then turns
 /// as cos Δ: a friction error Δ in the turn costs strength to second order
@@ -148,7 +148,7 @@ pub fn turned_mirror_share(
 ) -> Result<Schedule> {
     let motion = only_motion(synthesized)?;
     let settings = &synthesized.settings;
-    let progress = Progress::new(ProgressMode::Quiet, usize::MAX);
+    let progress = SynthesisProgress::new(ProgressMode::Quiet, usize::MAX);
     let coarse = Grid {
         n: [7, 7],
         ..*region

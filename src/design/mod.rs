@@ -50,10 +50,10 @@ use crate::schedule::Schedule;
 use crate::work::Runtime;
 use order::OrderSearch;
 
-pub use basis::DesignBasis;
+pub(crate) use basis::DesignBasis;
 pub use method::{Choice, Method, MethodDesign};
 pub use options::{BasisSection, FitSection, ScheduleSection};
-pub use run::{run, DesignOutcome};
+pub use run::{run, DesignOutcome, DesignRequest, TargetFile};
 
 /// Options of [`design`] and [`run`], in sections (each range-checked
 /// by its own `validate`, all of them by [`DesignOptions::validate`],
@@ -115,7 +115,7 @@ impl DesignOptions {
     /// design entry point applies it first, so the basis (whose cache key
     /// holds the settings), the synthesis, the plays and `schedule.json`
     /// all use the target's parts.
-    pub fn for_target(&self, target: &Target) -> DesignOptions {
+    pub(crate) fn for_target(&self, target: &Target) -> DesignOptions {
         DesignOptions {
             settings: target.physics(&self.settings),
             ..self.clone()
@@ -164,7 +164,7 @@ pub struct Design {
 }
 
 /// Start points per side of the order search's grid over the target region.
-pub const ORDER_SEARCH_POINTS: usize = 5;
+pub(crate) const ORDER_SEARCH_POINTS: usize = 5;
 
 impl From<crate::request::TargetError> for Error {
     fn from(e: crate::request::TargetError) -> Self {
@@ -181,7 +181,7 @@ pub fn rotations(step: f64) -> Vec<f64> {
 
 /// Slack (absolute, on the relative L2 error) allowed when `shape` looks
 /// for the strongest schedule: two percentage points.
-pub const SHAPE_SLACK: f64 = 0.02;
+pub(crate) const SHAPE_SLACK: f64 = 0.02;
 
 /// Solves the fit. In `shape` mode, min ‖D(Aw − t)‖ over w ≥ 0 has many
 /// minimisers whenever some basis fields cancel (Trans at opposite angles
@@ -217,7 +217,7 @@ pub(crate) fn strongest(problem: &FitProblem, options: &FitOptions) -> Result<Fi
 
 /// A subset of the full fit's segments is used instead of all of them when
 /// its relative error is within this of the full fit's.
-pub const COMPACT_SLACK: f64 = 0.005;
+pub(crate) const COMPACT_SLACK: f64 = 0.005;
 
 /// Runs the inverse design for `target`: the open-loop pipeline
 /// `basis_stage` → `fit_stage` → `schedule_stage` → `order_stage` (in

@@ -16,7 +16,7 @@ use crate::schedule::{DEFAULT_MIN_CYCLES, DEFAULT_QUANTIZATION_TOL, MAX_SEGMENT_
 /// Largest basis shift (m) along either axis: the plate regions the
 /// primitives are built for span a few centimetres, and the library grid
 /// grows with the shift (a 1 m shift asked for 4.4 M samples per primitive).
-pub const MAX_SHIFT_M: f64 = 0.1;
+pub(crate) const MAX_SHIFT_M: f64 = 0.1;
 
 /// The primitive basis the fit chooses from (`basis.*`).
 #[derive(Debug, Clone)]
@@ -156,7 +156,7 @@ impl DesignOptions {
 /// simulated but held and fitted: their memory and the fit's time grow as
 /// 1/step² (the sink: 4 s at 1°, 19 s at 0.5°, 68 s at 0.25°), and a step
 /// of 1e-9° asked for 2.9 TB and aborted.
-pub const MIN_ROTATION_STEP_DEG: f64 = 1.0;
+pub(crate) const MIN_ROTATION_STEP_DEG: f64 = 1.0;
 
 /// The rotation step (`--rotation-step`) must divide 360: the basis holds 360/step rotated
 /// copies of each primitive, and a step that does not divide 360 was

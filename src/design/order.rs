@@ -16,7 +16,7 @@
 //!   the first moving segment is kept first and the others are permuted:
 //!   (n − 1)! orders for n segments (an existing rest segment of the
 //!   schedule is one of the n and takes part in the ordering), all of them
-//!   for n ≤ [`EXHAUSTIVE_MAX`], in lexicographic order of the permutation.
+//!   for n ≤ `EXHAUSTIVE_MAX`, in lexicographic order of the permutation.
 //! * *Beyond that, a heuristic*: steepest descent over pairwise swaps of
 //!   the segments after the first, starting from the given order, with no
 //!   rest inserted; every round evaluates all swaps of the current order
@@ -73,15 +73,15 @@ use crate::schedule::{Schedule, Segment};
 use crate::work::{Estimate, Term};
 
 /// Segments up to which every order (up to rotation) is tried.
-pub const EXHAUSTIVE_MAX: usize = 4;
+pub(crate) const EXHAUSTIVE_MAX: usize = 4;
 /// Default rest insertions tried (primitive cycles at every join).
 pub const DEFAULT_REST_CYCLES: [u32; 3] = [0, 1, 2];
 /// Default minimum warm-up in primitive cycles.
-pub const DEFAULT_WARMUP_CYCLES: u32 = 40;
+pub(crate) const DEFAULT_WARMUP_CYCLES: u32 = 40;
 /// Default tie tolerance on the relative error (absolute).
-pub const DEFAULT_TIE_TOLERANCE: f64 = 0.005;
+pub(crate) const DEFAULT_TIE_TOLERANCE: f64 = 0.005;
 /// Default budget of schedule evaluations of the heuristic.
-pub const DEFAULT_MAX_EVALUATIONS: usize = 60;
+pub(crate) const DEFAULT_MAX_EVALUATIONS: usize = 60;
 
 /// Settings of an order search.
 #[derive(Debug, Clone, PartialEq)]
@@ -184,7 +184,7 @@ impl OrderSearch {
 
 /// (n − 1)! orders of `n` segments up to rotation: `first` leads, the
 /// others in every permutation, lexicographic. Empty for n = 0.
-pub fn orders_up_to_rotation(n: usize, first: usize) -> Vec<Vec<usize>> {
+pub(crate) fn orders_up_to_rotation(n: usize, first: usize) -> Vec<Vec<usize>> {
     if n == 0 || first >= n {
         return Vec::new();
     }
@@ -218,7 +218,7 @@ fn next_permutation(v: &mut [usize]) -> bool {
 /// `items` in the playing order `sequence` (indices into `items`; an item
 /// may appear more than once), with `after(k)` inserted after position k
 /// when it returns one.
-pub fn arrange<T: Clone>(
+pub(crate) fn arrange<T: Clone>(
     items: &[T],
     sequence: &[usize],
     mut after: impl FnMut(usize) -> Option<T>,
@@ -233,7 +233,7 @@ pub fn arrange<T: Clone>(
 
 /// The played segments of `order` with `rest_cycles` × `rest_period` of
 /// rest after every segment whose (cyclic) successor is also moving.
-pub fn arrange_with_rest(
+pub(crate) fn arrange_with_rest(
     segments: &[PlayedSegment],
     order: &[usize],
     rest_cycles: u32,
@@ -312,7 +312,7 @@ fn evaluate(
 }
 
 /// Most segments whose cyclic orders are all tried ((n − 1)! ≤ 24).
-pub const MAX_PERMUTED: usize = 5;
+pub(crate) const MAX_PERMUTED: usize = 5;
 
 /// One candidate order.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -335,8 +335,8 @@ pub fn mirrored(sigma: &[usize]) -> Vec<usize> {
 }
 
 /// The closed loop's candidate orders of `n` segments: every cyclic order
-/// ([`orders_up_to_rotation`] with segment 0 first) when n ≤
-/// [`MAX_PERMUTED`], else the given order and its reverse; then the
+/// (`orders_up_to_rotation` with segment 0 first) when n ≤
+/// `MAX_PERMUTED`, else the given order and its reverse; then the
 /// mirrored order of each cyclic order up to reversal (n ≥ 3; for n ≤ 2 it
 /// would repeat σ). The first candidate is the given order.
 pub fn candidates(n: usize) -> Vec<Order> {
@@ -698,7 +698,7 @@ pub struct OrderOutcome {
 /// schedule at `path` on `n × n` points over ±3 cm with the schedule's own
 /// physics (the model overridden by `model` when given; `warmup` and
 /// `periods` are minimums); returns the schedule and the search. The work
-/// is estimated first and refused above [`crate::work::LIMIT_S`] unless
+/// is estimated first and refused above `crate::work::LIMIT_S` unless
 /// `runtime.allow_long`.
 ///
 /// ```no_run

@@ -3,7 +3,7 @@
 //!
 //! **Why.** [`crate::synth::synthesize`] optimises the steady-state field on
 //! a coarse grid of the region, every grid point weighted alike. The played
-//! measure ([`measure::realised_error`]) weights the field where the parts
+//! measure ([`realised::realised_error`]) weights the field where the parts
 //! go: a part started at rest is measured over windows after a warm-up, at
 //! its mean position. For an expanding target the parts spend the measured
 //! windows outside the region (the saddle with its sequenced limits: parts
@@ -44,7 +44,7 @@
 //! ([`crate::synth::levenberg`], [`PolishOptions::lm`]) on the played
 //! residuals — the cost above as a sum of squares: each part's
 //! ω_i (R_i − ŝ P_i) rescaled to the norm 20 · max(0, e − b)
-//! ([`shape_block`]; b the budget, or 0 for a start within it: below),
+//! (`shape_block`; b the budget, or 0 for a start within it: below),
 //! a strength row, 20 · max(0, e_grid − grid budget),
 //! the excess, 10 · the margin violation, √(10 · invalid fraction) and
 //! √(10 · extra lost fraction). The strength row is a − ŝ/s₀ with a =
@@ -118,7 +118,7 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use super::closed_loop::measure::{self, MeasureOptions, RealisedError};
+use super::closed_loop::realised::{self, MeasureOptions, RealisedError};
 use super::rule;
 use crate::error::{positive, Error, Result};
 use crate::field::{FieldSettings, Grid};
@@ -127,12 +127,12 @@ use crate::play::{PlayedSegment, ScheduleMotion};
 use crate::request::{SampledTarget, Target};
 use crate::scene::FrictionSpec;
 use crate::synth::levenberg::{levenberg_marquardt, LmOptions};
+use crate::synth::multistart::nelder_mead;
 use crate::synth::objective::{
     shape_block, Objective, CONTACT_WEIGHT, INVALID_WEIGHT, LIMIT_WEIGHT,
 };
 use crate::synth::params::{Coefficients, Layout};
-use crate::synth::progress::{Progress, ProgressMode};
-use crate::synth::refine::nelder_mead;
+use crate::synth::progress::{ProgressMode, SynthesisProgress};
 use crate::synth::stall::{StallRule, StallTracker};
 use crate::synth::{Checked, ShakerLimits, Synthesis};
 
@@ -182,7 +182,7 @@ pub struct PolishOptions {
     /// (module documentation); `None`: Nelder–Mead with restarts.
     pub lm: Option<LmOptions>,
     /// Cycles of the motion per schedule period, as the schedule that is
-    /// judged plays it (`design`: [`super::method::SYNTH_SEGMENT_CYCLES`]):
+    /// judged plays it (`design`: `super::method::SYNTH_SEGMENT_CYCLES`):
     /// the warm-up and measured cycles are rounded up to whole periods and
     /// one period more is played after the windows, where a part that
     /// leaves the plate is left out of the measure — the polish plays the
@@ -316,8 +316,8 @@ impl Eval {
 
 /// The played objective (see the module documentation).
 struct Played<'a> {
-    /// The target's promise, built once ([`measure::Promise`]).
-    promise: measure::Promise<'a>,
+    /// The target's promise, built once ([`realised::Promise`]).
+    promise: realised::Promise<'a>,
     sampled: &'a SampledTarget,
     /// The target region: parts lost inside it count against a motion.
     region: &'a Grid,
@@ -365,7 +365,7 @@ impl Played<'_> {
         let mut each = Vec::new();
         let mut lost = 0;
         for settings in self.objective.physics() {
-            let plays = measure::play_motion(
+            let plays = realised::play_motion(
                 &sm,
                 cycles,
                 &self.sampled.points,
@@ -373,7 +373,7 @@ impl Played<'_> {
                 settings,
                 &self.options.measure,
             );
-            let r = measure::realised_error_of(&self.promise, &self.sampled.weights, &plays, None);
+            let r = realised::realised_error_of(&self.promise, &self.sampled.weights, &plays, None);
             residuals.extend(self.part_residuals(&plays, &r));
             each.push(r);
             lost = lost.max(lost_inside(&plays, self.region));
@@ -387,12 +387,12 @@ impl Played<'_> {
     /// ω_i (R_i − ŝ P_i) for each part in start order (P_i the promise
     /// along its windows, 0 for a part that does not count), rescaled by
     /// [`shape_block`] to the cost's shape term.
-    fn part_residuals(&self, plays: &[measure::PointPlay], r: &RealisedError) -> Vec<f64> {
+    fn part_residuals(&self, plays: &[realised::PointPlay], r: &RealisedError) -> Vec<f64> {
         let s = r.realised_strength;
         let raw: Vec<f64> = plays
             .iter()
             .flat_map(|p| {
-                if !measure::counts(&self.sampled.weights, p) || !s.is_finite() {
+                if !realised::counts(&self.sampled.weights, p) || !s.is_finite() {
                     return [0.0, 0.0];
                 }
                 let w = self.sampled.weights[p.index];
@@ -534,7 +534,7 @@ impl Played<'_> {
 /// the realised check's failures. A part lost after it left the region
 /// (an expanding target's) is left out of the measure, as the check
 /// leaves it out, and is no failure.
-fn lost_inside(plays: &[measure::PointPlay], region: &Grid) -> usize {
+fn lost_inside(plays: &[realised::PointPlay], region: &Grid) -> usize {
     plays
         .iter()
         .filter(|p| p.note.is_some() && p.lost_at.is_none_or(|q| in_region(region, q)))
@@ -648,7 +648,7 @@ pub fn polish(
     let layout = Layout::new(limits);
     let coefficients = Coefficients::from_signals(&synthesis.motion, limits.harmonics);
     let x0 = layout.to_vec(&coefficients);
-    let progress = Progress::new(ProgressMode::Quiet, options.max_plays);
+    let progress = SynthesisProgress::new(ProgressMode::Quiet, options.max_plays);
     let coarse = Grid {
         n: options.coarse,
         ..*region
@@ -663,7 +663,7 @@ pub fn polish(
     )
     .with_robust(options.robust);
     let mut played = Played {
-        promise: measure::Promise::of(target),
+        promise: realised::Promise::of(target),
         sampled,
         region,
         starts,

@@ -35,7 +35,7 @@
 //! **Objective** (one play of the candidate schedule on a coarse set of
 //! start points, every [`RefineOptions::coarse_stride`]-th target grid
 //! point, by the closed loop's realised measure
-//! [`super::closed_loop::measure`]): with e the realised shape error and ŝ
+//! [`super::closed_loop::realised`]): with e the realised shape error and ŝ
 //! the realised strength against the target,
 //!
 //! ```text
@@ -55,7 +55,7 @@ use argmin::core::{CostFunction, Executor};
 use argmin::solver::neldermead::NelderMead;
 
 use super::closed_loop::loop_points;
-use super::closed_loop::measure::{play, realised_error, MeasureOptions, RealisedError};
+use super::closed_loop::realised::{play, realised_error, MeasureOptions, RealisedError};
 use crate::error::{BudgetSpent, Error, Result};
 use crate::request::{SampledTarget, Target};
 use crate::schedule::Schedule;

@@ -2,9 +2,9 @@
 //! parts, beside the schedule's own play.
 //!
 //! A design is judged by what parts do when its signals are played
-//! ([`super::method::realised_check`]: moving point parts from about 5 × 5
-//! start points over the target, [`super::method::CHECK_WARMUP_CYCLES`]
-//! warm-up and [`super::method::CHECK_MEASURED_CYCLES`] measured cycles
+//! (`super::method::realised_check`: moving point parts from about 5 × 5
+//! start points over the target, `super::method::CHECK_WARMUP_CYCLES`
+//! warm-up and `super::method::CHECK_MEASURED_CYCLES` measured cycles
 //! rounded up to whole schedule periods, one window starting at each
 //! segment join; realised strength ŝ = the least-squares scale against the
 //! target and realised shape error ‖R − ŝt‖/‖ŝt‖). Here that same measure
@@ -16,8 +16,6 @@
 //! changes — second order in ωΔt ([`crate::motion::Held`]) — and a file
 //! that is not the schedule's (a channel's sign flipped, another design's
 //! export) does not agree.
-
-use std::path::Path;
 
 use super::method::{
     judge_check, realised_check_of, CHECK_MEASURED_CYCLES, CHECK_POINTS, CHECK_WARMUP_CYCLES,
@@ -36,7 +34,7 @@ use crate::schedule::Schedule;
 use crate::work::{Estimate, Term};
 
 /// The rate `platefield export` samples at by default (Hz).
-pub const EXPORT_RATE: f64 = 10_000.0;
+pub(crate) const EXPORT_RATE: f64 = 10_000.0;
 
 /// The design's realised check of the replayed trajectory `sm` (one
 /// period `per_period` primitive cycles) under `settings`, as a judge.
@@ -56,7 +54,7 @@ pub fn judge_replay(
 }
 
 /// `schedule`'s export as `platefield export` writes it (at
-/// [`EXPORT_RATE`], [`DEFAULT_STEADY_CYCLES`] steady cycles), read back
+/// `EXPORT_RATE`, [`DEFAULT_STEADY_CYCLES`] steady cycles), read back
 /// from its CSV text.
 ///
 /// # Errors
@@ -83,7 +81,7 @@ fn recorded_target(schedule: &Schedule) -> Result<(&Target, SampledTarget)> {
 ///
 /// # Errors
 /// As [`replay_check`]'s, without playing.
-pub fn check_replay(schedule: &Schedule, file: &HoldSamples, source: &str) -> Result<()> {
+pub(crate) fn check_replay(schedule: &Schedule, file: &HoldSamples, source: &str) -> Result<()> {
     recorded_target(schedule)?;
     replay_motion(schedule, file, source).map(|_| ())
 }
@@ -132,25 +130,11 @@ pub fn replay_check(
     })
 }
 
-/// [`replay_check`] of the exported CSV at `path` ([`held_csv::read`]).
-///
-/// # Errors
-/// An unreadable or malformed file (names the file, line and column), or
-/// [`replay_check`]'s.
-pub fn replay_file(
-    schedule: &Schedule,
-    path: &Path,
-    friction: Option<Friction>,
-) -> Result<ReplayCheck> {
-    let file = held_csv::read(path)?;
-    replay_check(schedule, &file, &path.display().to_string(), friction)
-}
-
 /// The work of [`replay_check`] of a file sampled at `rate`: the realised
 /// check's parts and cycles, played at `steps_per_cycle` steps per cycle
 /// and replayed at one step (at least) per held sample (a 10 kHz file of a
 /// 0.03 s primitive: about 5 times as many).
-pub fn replay_estimate(schedule: &Schedule, rate: f64) -> Estimate {
+pub(crate) fn replay_estimate(schedule: &Schedule, rate: f64) -> Estimate {
     let per_period = schedule.total_cycles.max(1);
     let periods =
         CHECK_WARMUP_CYCLES.div_ceil(per_period) + CHECK_MEASURED_CYCLES.div_ceil(per_period);

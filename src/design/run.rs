@@ -1,16 +1,94 @@
 //! [`run`]: the one door of the inverse design. It decides what runs for a
-//! target and its [`DesignOptions`] — the stacked sort of a target with
-//! classes, the closed loop on a sequenced design, or the design by
-//! [`Method`] with every candidate played — and returns the typed
-//! [`DesignOutcome`]; the report layer and the command line only format
-//! and write it.
+//! target and its [`DesignOptions`] — a part's pose ([`super::pose`]), the
+//! stacked sort of a target with classes, the closed loop on a sequenced
+//! design, or the design by [`Method`] with every candidate played — and
+//! returns the typed [`DesignOutcome`]; the report layer and the command
+//! line only format and write it. [`TargetFile::load`] reads any target
+//! file, a pose target included.
+
+use std::path::Path;
 
 use super::closed_loop::{closed_loop, ClosedLoop};
 use super::method::design_by_method;
+use super::pose::{design_pose, PoseDesign, PoseRequest, DROPS};
 use super::sort::{design_sort, SortDesign};
 use super::{design, Design, DesignOptions, Method, MethodDesign};
 use crate::error::{Error, Result};
 use crate::request::Target;
+
+/// A target file as read: a field to realise, or a part's pose
+/// (`"field": {"kind": "pose", …}`, [`PoseRequest`]).
+#[derive(Debug, Clone)]
+#[allow(clippy::large_enum_variant)]
+pub enum TargetFile {
+    /// A target field ([`Target`]).
+    Field(Target),
+    /// A pose of a part.
+    Pose(PoseRequest),
+}
+
+impl TargetFile {
+    /// Reads the target file at `path`: a pose target when its field's
+    /// kind is `pose` ([`PoseRequest::load`]), any other target otherwise
+    /// ([`Target::load`]).
+    ///
+    /// ```
+    /// use platefield::design::TargetFile;
+    /// let file = TargetFile::load(std::path::Path::new("targets/pose_rectangle.json"))?;
+    /// assert!(matches!(file, TargetFile::Pose(_)));
+    /// # Ok::<(), platefield::Error>(())
+    /// ```
+    ///
+    /// # Errors
+    /// The loaders' ([`Error::Invalid`] naming the file and JSON path,
+    /// [`Error::Io`]).
+    pub fn load(path: &Path) -> Result<TargetFile> {
+        match PoseRequest::load(path)? {
+            Some(req) => Ok(TargetFile::Pose(req)),
+            None => Ok(TargetFile::Field(Target::load(path)?)),
+        }
+    }
+
+    /// The target: the field's, or the pose's (its field a sink at the
+    /// pose).
+    pub fn target(&self) -> &Target {
+        match self {
+            TargetFile::Field(t) => t,
+            TargetFile::Pose(req) => &req.target,
+        }
+    }
+}
+
+/// What [`run`] designs, borrowed: a target field or a pose request
+/// (`From` a `&Target`, a `&PoseRequest` or a `&TargetFile`).
+#[derive(Debug, Clone, Copy)]
+pub enum DesignRequest<'a> {
+    /// A target field.
+    Field(&'a Target),
+    /// A pose of a part.
+    Pose(&'a PoseRequest),
+}
+
+impl<'a> From<&'a Target> for DesignRequest<'a> {
+    fn from(t: &'a Target) -> Self {
+        DesignRequest::Field(t)
+    }
+}
+
+impl<'a> From<&'a PoseRequest> for DesignRequest<'a> {
+    fn from(req: &'a PoseRequest) -> Self {
+        DesignRequest::Pose(req)
+    }
+}
+
+impl<'a> From<&'a TargetFile> for DesignRequest<'a> {
+    fn from(file: &'a TargetFile) -> Self {
+        match file {
+            TargetFile::Field(t) => DesignRequest::Field(t),
+            TargetFile::Pose(req) => DesignRequest::Pose(req),
+        }
+    }
+}
 
 /// What [`run`] designed.
 #[derive(Debug, Clone)]
@@ -31,6 +109,10 @@ pub enum DesignOutcome {
     /// against the target, one kept with a typed
     /// [`Choice`](super::Choice).
     Method(MethodDesign),
+    /// A pose target: one synthesized motion placed and corrected so that
+    /// the part comes to rest at the pose, with [`DROPS`] played drops
+    /// ([`super::pose`]).
+    Pose(PoseDesign),
 }
 
 impl DesignOutcome {
@@ -47,22 +129,25 @@ impl DesignOutcome {
     /// ```
     ///
     /// # Errors
-    /// [`Error::Invalid`] naming `method` for a sorted or closed-loop
-    /// design.
+    /// [`Error::Invalid`] naming `method` for a sorted, closed-loop or
+    /// pose design.
     pub fn into_method(self) -> Result<MethodDesign> {
         match self {
             DesignOutcome::Method(m) => Ok(m),
             _ => Err(Error::invalid(
                 "method",
-                "the target was sorted or closed-loop designed, not designed by its method",
+                "the target was sorted, closed-loop or pose designed, not designed by its method",
             )),
         }
     }
 }
 
-/// Designs `target` as `opts` ask: the one entry point of the inverse
-/// design (see the [`crate`] docs for an example).
+/// Designs `request` (a [`Target`], a [`PoseRequest`] or a [`TargetFile`])
+/// as `opts` ask: the one entry point of the inverse design (see the
+/// [`crate`] docs for an example).
 ///
+/// * a pose target: [`design_pose`] with [`DROPS`] played drops (the
+///   method, closed loop and classes do not apply);
 /// * a target with `classes`: the stacked sort fit ([`design_sort`]);
 ///   only with [`Method::Auto`] or [`Method::Sequence`] and no closed loop;
 /// * [`DesignOptions::closed_loop`] given: the sequenced design
@@ -75,7 +160,14 @@ impl DesignOutcome {
 /// [`Error::Invalid`] naming the option path (`method`, `closed_loop`,
 /// `schedule.total_cycles`, …) or the target's JSON path; the errors of the design
 /// that runs.
-pub fn run(target: &Target, opts: &DesignOptions) -> Result<DesignOutcome> {
+pub fn run<'a>(
+    request: impl Into<DesignRequest<'a>>,
+    opts: &DesignOptions,
+) -> Result<DesignOutcome> {
+    let target = match request.into() {
+        DesignRequest::Pose(req) => return Ok(DesignOutcome::Pose(design_pose(req, opts, DROPS)?)),
+        DesignRequest::Field(t) => t,
+    };
     let synthesizes = matches!(
         opts.method,
         Method::Synthesize | Method::Mix | Method::Mirror

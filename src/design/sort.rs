@@ -1,5 +1,5 @@
 //! Sorting parts by friction: one schedule for every part class of a
-//! target ([`crate::request::PartClass`]), each class's field matched at
+//! target (`crate::request::PartClass`), each class's field matched at
 //! its own friction.
 //!
 //! **Physics.** A part slips when the friction it needs to follow the plate
@@ -25,10 +25,10 @@
 //! matrix (class after class), the class targets likewise, and one set of
 //! time fractions w ≥ 0 is fitted by the design's conic fit
 //! ([`super::design`]'s `shape` then strongest within
-//! [`super::SHAPE_SLACK`]). A stickier class is reached by the strong
+//! `super::SHAPE_SLACK`). A stickier class is reached by the strong
 //! columns only and so is faster; each class's target may therefore take
 //! its own scale: every class after the first is scaled by each of
-//! [`CLASS_SCALES`] in turn (one pass, class after class) and the scales
+//! `CLASS_SCALES` in turn (one pass, class after class) and the scales
 //! whose worst per-class shape error is lowest are kept. Each class's
 //! predicted strength and shape error are its own rows' least-squares
 //! scale and relative error.
@@ -53,7 +53,7 @@ use crate::schedule::Schedule;
 pub const GENTLE_FRACTIONS: [f64; 2] = [0.75, 0.9];
 
 /// Scales tried for each class's target after the first.
-pub const CLASS_SCALES: [f64; 7] = [0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 4.0];
+pub(crate) const CLASS_SCALES: [f64; 7] = [0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 4.0];
 
 /// A class's fitted field.
 #[derive(Debug, Clone, PartialEq, Serialize)]

@@ -10,7 +10,7 @@
 //! them is fitted with one set of weights against all three bases, and the
 //! fit's worst error is checked at the values halfway between the samples:
 //! where one of them is worse than the worst sample by more than
-//! [`REFINE_TOL`], the samples are doubled (5, then 9 per range) and the fit
+//! `REFINE_TOL`, the samples are doubled (5, then 9 per range) and the fit
 //! repeated. The schedule records the nominal (middle) basis's field; the
 //! solver status records the worst case and the samples.
 
@@ -29,10 +29,10 @@ use crate::request::{FrictionSpec, Target};
 
 /// Samples are added where the fit's error halfway between two samples
 /// exceeds its worst sampled error by more than this (absolute, 0.2 %).
-pub const REFINE_TOL: f64 = 0.002;
+pub(crate) const REFINE_TOL: f64 = 0.002;
 
 /// Most samples per range (3, 5, then 9).
-pub const MAX_SAMPLES: usize = 9;
+pub(crate) const MAX_SAMPLES: usize = 9;
 
 /// The friction range a target states, when it is a range.
 pub fn ranged(target: &Target) -> Option<FrictionSpec> {

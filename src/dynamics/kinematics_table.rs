@@ -156,13 +156,13 @@ impl<'t> StepNodes<'t> {
     /// `t` to the step's end `target`, when it is the whole step (t = s,
     /// h = target − s: the instants tabulated with the same arithmetic).
     #[inline]
-    pub fn stages(&self, t: f64, h: f64, target: f64) -> Option<[&'t Kinematics; 2]> {
+    pub(crate) fn stages(&self, t: f64, h: f64, target: f64) -> Option<[&'t Kinematics; 2]> {
         (t == self.start && h == target - t).then_some([self.k[1], self.k[2]])
     }
 
     /// The kinematics at `t` when it is the step's start.
     #[inline]
-    pub fn at_start(&self, t: f64) -> Option<&'t Kinematics> {
+    pub(crate) fn at_start(&self, t: f64) -> Option<&'t Kinematics> {
         (t == self.start).then_some(self.k[0])
     }
 }
@@ -170,7 +170,7 @@ impl<'t> StepNodes<'t> {
 /// Plate kinematics tabulated on the integrator's fixed-step time grid of
 /// some spans, shared (read-only) by every point of a field.
 #[derive(Debug)]
-pub struct KinematicsTable<'a> {
+pub(crate) struct KinematicsTable<'a> {
     motion: &'a Motion,
     gravity: f64,
     tilt: bool,
@@ -244,17 +244,6 @@ impl<'a> KinematicsTable<'a> {
             #[cfg(test)]
             hits: std::sync::atomic::AtomicUsize::new(0),
         }
-    }
-
-    /// Number of table slots (an instant may fill two: s + h and the step
-    /// end e often have the same bits).
-    pub fn len(&self) -> usize {
-        self.pieces.iter().map(|p| p.times.len()).sum()
-    }
-
-    /// True when nothing is tabulated.
-    pub fn is_empty(&self) -> bool {
-        self.pieces.is_empty()
     }
 
     /// True when this table holds `motion`'s kinematics under gravity `g`
@@ -386,7 +375,10 @@ mod tests {
                 count += 1;
             }
         }
-        assert_eq!(count, table.len());
+        assert_eq!(
+            count,
+            table.pieces.iter().map(|p| p.times.len()).sum::<usize>()
+        );
         assert!(table.get(0.0, 12.345).is_none());
     }
 

@@ -42,14 +42,14 @@ pub use state::{CycleOutcome, PartState, TrajectoryPoint, V2};
 /// Revision of the simulator's numerics: bumped whenever a change to the
 /// integrator changes any field it computes (not for changes that keep
 /// every field bitwise). Cached libraries are keyed by it
-/// ([`crate::basis::cache`]), so a library built by an earlier engine is
+/// (`crate::basis::cache`), so a library built by an earlier engine is
 /// rebuilt, not reused. 2: the 2-D order fixes of issue 12 (the
 /// regularised region held at its 64-step width, explicit 2-D steps
 /// limited by friction's damping across the slip, slowing slips
 /// regularised, tiny slips along a turning a_free started implicitly).
 /// 3: 2-D stops finished with the exact frozen flow (`frozen.rs`).
 /// 4: off-grid kinematics with table-based sin and cos
-/// ([`crate::motion::trig`]; fields change at round-off).
+/// (`crate::motion::trig`; fields change at round-off).
 /// 5: fields simulate one point per family of points the motion moves
 /// alike ([`crate::motion::Invariance`]; circles about a vertical axis
 /// change at round-off).
@@ -75,8 +75,8 @@ pub use state::{CycleOutcome, PartState, TrajectoryPoint, V2};
 /// 14: a converged Radau step with a stage reversed against a nonzero u₀
 /// rejected (`radau.rs`; of the default library's fields at 8–64 steps per
 /// cycle only ScaledCircle's force field at 8 steps changes).
-pub const ENGINE_REVISION: u32 = 14;
-pub use kinematics_table::KinematicsTable;
+pub(crate) const ENGINE_REVISION: u32 = 14;
+pub(crate) use kinematics_table::KinematicsTable;
 pub use planar::{
     PlanarBody, PlanarOutcome, PlanarSample, PlanarSimulator, PlanarState, Plate, Rectangle,
     MAX_POINTS_PER_SIDE, PLANAR_REFINE_DEPTH, PLANAR_STEPS_PER_CYCLE, REFINE_CHANGE,
@@ -233,7 +233,7 @@ impl Model {
     /// with velocity `u`, under these switches (`moving` is the caller's:
     /// `p` is wherever the kinematics are evaluated).
     #[inline]
-    pub fn point_forces(&self, k: &Kinematics, p: &V3, u: &V2) -> (f64, V2) {
+    pub(crate) fn point_forces(&self, k: &Kinematics, p: &V3, u: &V2) -> (f64, V2) {
         let a = k.acceleration_at(p, self.centripetal);
         let mut n = a.z - k.gravity.z;
         let mut free = V2::new(k.gravity.x - a.x, k.gravity.y - a.y);
@@ -317,7 +317,7 @@ impl Friction {
 /// 8 is the lowest rung of the library's calibrated ladder
 /// ([`crate::basis::steps::LADDER`]), where some primitives' force fields
 /// still meet their tolerance.
-pub const MIN_STEPS_PER_CYCLE: usize = 8;
+pub(crate) const MIN_STEPS_PER_CYCLE: usize = 8;
 
 /// Fewest RK4 steps per period of a motion's highest harmonic (the steps
 /// per cycle must be at least this times the harmonic number). Measured

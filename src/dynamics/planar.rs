@@ -173,7 +173,7 @@ impl Rectangle {
     }
 
     /// True for a single support point (a point part).
-    pub fn is_point(&self) -> bool {
+    pub(crate) fn is_point(&self) -> bool {
         self.nx == 1 && self.ny == 1
     }
 
@@ -261,7 +261,7 @@ impl PlanarBody {
     }
 
     /// True for a single support point (no lever arms, no inertia).
-    pub fn is_point(&self) -> bool {
+    pub(crate) fn is_point(&self) -> bool {
         self.points.len() == 1
     }
 
@@ -469,11 +469,6 @@ impl<'a> PlanarSimulator<'a> {
     pub fn with_refinement(mut self, depth: u32) -> PlanarSimulator<'a> {
         self.refine_depth = depth;
         self
-    }
-
-    /// Sampled inertia per unit mass I/m (0 for a point).
-    pub fn inertia(&self) -> f64 {
-        self.inertia
     }
 
     /// Nominal step (s).

@@ -74,7 +74,7 @@ impl<'a> Simulator<'a> {
     ///
     /// # Panics
     /// When `table` was built for another motion, gravity or tilt switch.
-    pub fn with_table(mut self, table: &'a KinematicsTable<'a>) -> Simulator<'a> {
+    pub(crate) fn with_table(mut self, table: &'a KinematicsTable<'a>) -> Simulator<'a> {
         assert!(
             table.fits(self.motion, self.gravity, self.model.tilt),
             "kinematics table built for another motion"

@@ -94,7 +94,7 @@ impl From<ContactLoss> for SteadyFailure {
 
 /// Newton rounds without a new best residual after which the iteration
 /// has stalled.
-pub const STALL_ROUNDS: usize = 4;
+pub(crate) const STALL_ROUNDS: usize = 4;
 
 struct CycleResult {
     u_end: V2,
@@ -204,7 +204,7 @@ impl Simulator<'_> {
     }
 
     /// True when the model freezes the position (the frozen variant).
-    pub fn is_frozen(&self) -> bool {
+    pub(crate) fn is_frozen(&self) -> bool {
         !self.model().moving
     }
 }

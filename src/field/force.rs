@@ -9,7 +9,7 @@ use crate::motion::{Kinematics, V3};
 /// The plate kinematics at the start t₀ = T j/`phases` and end t₀ + T of
 /// each start phase j: they depend on time only, so a field evaluates them
 /// once for all its points.
-pub fn phase_frames(sim: &Simulator<'_>, phases: usize) -> Vec<(Kinematics, Kinematics)> {
+pub(crate) fn phase_frames(sim: &Simulator<'_>, phases: usize) -> Vec<(Kinematics, Kinematics)> {
     let period = sim.period();
     let at = |t: f64| sim.motion().kinematics(t, sim.gravity(), sim.model().tilt);
     (0..phases)

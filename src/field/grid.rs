@@ -26,9 +26,9 @@ impl Grid {
     };
 
     /// Largest number of points per side ([`Grid::validate`]).
-    pub const MAX_N: usize = 1001;
+    pub(crate) const MAX_N: usize = 1001;
 
-    /// Validates ranges (nx, ny in 1..=[`Grid::MAX_N`], finite, min < max
+    /// Validates ranges (nx, ny in 1..=`Grid::MAX_N`, finite, min < max
     /// when n > 1).
     pub fn validate(&self, field: &str) -> Result<()> {
         for (axis, range, n) in [("x", self.x, self.n[0]), ("y", self.y, self.n[1])] {

@@ -35,7 +35,7 @@ mod orbits;
 mod velocity;
 
 pub use grid::Grid;
-pub use json::FieldStats;
+pub(crate) use json::FieldStats;
 pub use orbits::Orbits;
 
 use rayon::prelude::*;
@@ -138,7 +138,7 @@ impl Default for FieldSettings {
 /// The grid points [`Field::compute`] simulates for `motion` on `grid`: one
 /// per family of points the motion moves alike (what a work estimate
 /// counts).
-pub fn simulated_points(motion: &Motion, grid: &Grid) -> usize {
+pub(crate) fn simulated_points(motion: &Motion, grid: &Grid) -> usize {
     Orbits::count(&grid.points(), motion.invariance())
 }
 

@@ -20,7 +20,7 @@
 //! | `Absolute`, `Shape` | [`solve_ls_residual_qp`] (default) | QP, zero + non-negative cones |
 //! | `Absolute`, `Shape` | [`solve_ls_epigraph`] ([`LsFormulation::Epigraph`]) | SOCP |
 //! | `Budget` | [`solve_budget`] | SOCP |
-//! | `L1`, `LInf` | [`solve_l1`], [`solve_linf`] | LP, zero + non-negative cones |
+//! | `L1`, `LInf` | [`solve_l1_linear`], [`solve_linf`] | LP, zero + non-negative cones |
 //!
 //! # Settings
 //!
@@ -57,7 +57,7 @@ use crate::fit::FitError;
 
 /// What an interior-point solve returned.
 #[derive(Debug, Clone)]
-pub struct ConicOutcome {
+pub(crate) struct ConicOutcome {
     /// Primal solution.
     pub x: Vec<f64>,
     /// Dual solution (in the dual cone).
@@ -82,14 +82,14 @@ pub struct ConicOutcome {
 /// to Clarabel.  Both work on the QR-compressed `R` (never on `AᵀA`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
-pub enum LsFormulation {
+pub(crate) enum LsFormulation {
     /// Residual variables with a zero cone and a quadratic objective
-    /// (see [`solve_ls_residual_qp`]).  Default: measured weight errors
-    /// ~1e-11 at the tolerances of [`fit_settings`].
+    /// (see `solve_ls_residual_qp`).  Default: measured weight errors
+    /// ~1e-11 at the tolerances of `fit_settings`.
     #[default]
     ResidualQp,
     /// Second-order-cone epigraph `min τ, ‖Rw − c‖ ≤ τ` (see
-    /// [`solve_ls_epigraph`]).  Measured weight errors ~√tol ≈ 1e-6–1e-5
+    /// `solve_ls_epigraph`).  Measured weight errors ~√tol ≈ 1e-6–1e-5
     /// whenever the optimal residual is non-zero, which can fail the 1e-6
     /// KKT verification; kept for comparison.
     Epigraph,
@@ -97,17 +97,17 @@ pub enum LsFormulation {
 
 /// Gap/feasibility tolerance for the residual-QP least-squares form and
 /// the LPs (all measured `Solved`, one or two iterations more than 1e-8).
-pub const TOL_TIGHT: f64 = 1e-10;
+pub(crate) const TOL_TIGHT: f64 = 1e-10;
 /// Tolerance for the `Budget` SOCP (at 1e-10, 6 of 40 random budget
 /// problems ended `AlmostSolved`; at 1e-9 none did).
-pub const TOL_BUDGET: f64 = 1e-9;
+pub(crate) const TOL_BUDGET: f64 = 1e-9;
 /// Tolerance for the epigraph least-squares form (at 1e-10 it often ends
 /// `AlmostSolved`; polishing supplies the accuracy anyway).
-pub const TOL_EPIGRAPH: f64 = 1e-8;
+pub(crate) const TOL_EPIGRAPH: f64 = 1e-8;
 
 /// Clarabel settings used for every fit, with gap/feasibility tolerance
 /// `tol` (see module docs for the choices).
-pub fn fit_settings(tol: f64) -> DefaultSettings<f64> {
+pub(crate) fn fit_settings(tol: f64) -> DefaultSettings<f64> {
     DefaultSettings {
         verbose: false,
         max_iter: 200,
@@ -230,7 +230,7 @@ fn run(
 /// smooth and strongly convex in `y`, and the interior-point iterates
 /// converge to the weights at the rate of the duality gap rather than its
 /// square root (see [`LsFormulation`]).
-pub fn solve_ls_residual_qp(
+pub(crate) fn solve_ls_residual_qp(
     r: &DMatrix<f64>,
     c: &DVector<f64>,
     sum_cap: bool,
@@ -285,7 +285,7 @@ fn with_ls_duals(mut out: ConicOutcome, first: usize, m: usize, sum_cap: bool) -
 /// so `τ* = min ‖Rw − c‖₂` and the full residual is `√(τ*² + r₀²)`.  With
 /// `sum_cap` this is mode `Absolute` (minimising the norm or its square has
 /// the same minimiser), without it mode `Shape`.
-pub fn solve_ls_epigraph(
+pub(crate) fn solve_ls_epigraph(
     r: &DMatrix<f64>,
     c: &DVector<f64>,
     sum_cap: bool,
@@ -313,7 +313,7 @@ pub fn solve_ls_epigraph(
 /// ```
 ///
 /// i.e. `‖Âw − s t̂‖₂ = √(‖Rw − s c‖² + s²r₀²) ≤ ε s` with `‖t̂‖ = 1`.
-pub fn solve_budget(
+pub(crate) fn solve_budget(
     r: &DMatrix<f64>,
     c: &DVector<f64>,
     r0: f64,
@@ -348,17 +348,13 @@ pub fn solve_budget(
 /// which measured 3× faster than `−u ≤ Âw − t̂ ≤ u`.  With `z₁, z₂ ≥ 0` the
 /// duals of the two bound blocks, stationarity in `u` gives `z₁ + z₂ = 1`,
 /// so `y = z₁ − z₂ ∈ [−1, 1]^M` (stored in [`ConicOutcome::lp_dual`])
-/// certifies optimality (see [`mod@crate::fit::verify`]).
-pub fn solve_l1(ad: &DMatrix<f64>, td: &DVector<f64>) -> Result<ConicOutcome, FitError> {
-    solve_lp(ad, td, true, &[])
-}
-
-/// [`solve_l1`] with an extra linear term `gᵀw` in the objective
-/// (`min gᵀw + 1ᵀu`, same constraints): the L1 fit in which the residual
-/// rows of known sign are aggregated into `g` (see
-/// [`crate::fit::lp`]).  The dual certificate of the rows passed is in
-/// [`ConicOutcome::lp_dual`].
-pub fn solve_l1_linear(
+/// certifies optimality (see [`mod@crate::fit::certify`]).
+///
+/// With an extra linear term `gᵀw` in the objective (`min gᵀw + 1ᵀu`, same
+/// constraints; `g` empty: none): the L1 fit in which the residual rows of
+/// known sign are aggregated into `g` (see [`crate::fit::lp`]).  The dual
+/// certificate of the rows passed is in [`ConicOutcome::lp_dual`].
+pub(crate) fn solve_l1_linear(
     ad: &DMatrix<f64>,
     td: &DVector<f64>,
     g: &[f64],
@@ -374,7 +370,7 @@ pub fn solve_l1_linear(
 /// ```
 ///
 /// At stationarity `1ᵀ(z₁ + z₂) = 1`, so `y = z₁ − z₂` has `‖y‖₁ ≤ 1`.
-pub fn solve_linf(ad: &DMatrix<f64>, td: &DVector<f64>) -> Result<ConicOutcome, FitError> {
+pub(crate) fn solve_linf(ad: &DMatrix<f64>, td: &DVector<f64>) -> Result<ConicOutcome, FitError> {
     solve_lp(ad, td, false, &[])
 }
 

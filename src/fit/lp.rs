@@ -1,6 +1,6 @@
 //! `L1` and `LInf` fits by column generation over small Clarabel LPs.
 //!
-//! The LPs of [`crate::fit::conic::solve_l1`] / [`crate::fit::conic::solve_linf`] carry one
+//! The LPs of [`crate::fit::conic::solve_l1_linear`] / [`crate::fit::conic::solve_linf`] carry one
 //! residual row per weighted sample (`M ≈ 900` on a 21×21 target) and the
 //! dense `M×m` block `Â`; an interior-point iteration factors a KKT system
 //! whose elimination costs `O(M·m²)`, so the full basis (`m ≈ 190`) costs
@@ -13,7 +13,7 @@
 //! * **Dual bound.**  For any `y` with `‖y‖_∞ ≤ 1` (L1) or `‖y‖₁ ≤ 1` (L∞)
 //!   and any feasible `w` (`w ≥ 0`, `1ᵀw ≤ 1`),
 //!   `‖Âw − t̂‖_p ≥ yᵀ(Âw − t̂) ≥ min(0, minⱼ (Âᵀy)ⱼ) − yᵀt̂ =: LB(y)`
-//!   (the weak-duality bound of [`mod@crate::fit::verify`]).
+//!   (the weak-duality bound of [`mod@crate::fit::certify`]).
 //! * **Round.**  Solve the LP on `S` (by [`mod@crate::fit::lp_rows`], which
 //!   passes only the residual rows that matter; weights outside `S` are 0, so its
 //!   optimum `UB` is attained by a feasible point of the full problem) and
@@ -43,12 +43,12 @@ use crate::fit::prepare::Prepared;
 use crate::fit::FitError;
 
 /// Columns added per round at most.
-pub const ADD_PER_ROUND: usize = 12;
+pub(crate) const ADD_PER_ROUND: usize = 12;
 
 /// The working set is optimal when `UB − LB(y) ≤ GAP_FACTOR · tol · ‖t̂‖_p`
 /// (a hundredth of the verification tolerance, so that verification of the
 /// final answer has room to spare).
-pub const GAP_FACTOR: f64 = 0.01;
+pub(crate) const GAP_FACTOR: f64 = 0.01;
 
 /// The solver's certificate `y` projected onto the dual-norm ball:
 /// `[−1, 1]^M` for L1 (clipping), the unit ℓ₁ ball for L∞ (scaling).
@@ -85,7 +85,7 @@ pub(crate) fn dual_bound(aty: &DVector<f64>, yt: f64, cols: Option<&[usize]>) ->
 /// Clarabel setup failures and Lawson–Hanson non-convergence.  A status
 /// other than `Solved`/`AlmostSolved` is returned in the outcome for the
 /// caller to report.
-pub fn solve_lp_mode(prep: &Prepared, l1: bool, tol: f64) -> Result<ConicOutcome, FitError> {
+pub(crate) fn solve_lp_mode(prep: &Prepared, l1: bool, tol: f64) -> Result<ConicOutcome, FitError> {
     column_generation(prep, l1, tol).map(|(out, _)| out)
 }
 

@@ -1,7 +1,7 @@
 //! `L1` / `LInf` LPs on few columns, with only the residual rows that
 //! matter passed to Clarabel.
 //!
-//! An LP of [`conic::solve_l1`] / [`conic::solve_linf`] costs about 15 ms
+//! An LP of [`conic::solve_l1_linear`] / [`conic::solve_linf`] costs about 15 ms
 //! of CPU at `M = 882` rows even with a dozen columns: three constraint
 //! rows and two variables per residual row make a KKT system of ≈ 5M.
 //! Most rows are not needed to find the optimum; both modes are solved on
@@ -36,14 +36,14 @@ use crate::fit::conic::{self, ConicOutcome};
 use crate::fit::FitError;
 
 /// Starting rows per column (plus one) of the working set.
-pub const START_ROWS_PER_COLUMN: usize = 6;
+pub(crate) const START_ROWS_PER_COLUMN: usize = 6;
 
 /// The working set starts with at least this many rows.
-pub const MIN_START_ROWS: usize = 48;
+pub(crate) const MIN_START_ROWS: usize = 48;
 
 /// A row outside the working set violates its sign (L1) or the bound τ
 /// (L∞) when it does so by more than this fraction of `max|t̂ᵢ|`.
-pub const ROW_SLACK: f64 = 1e-13;
+pub(crate) const ROW_SLACK: f64 = 1e-13;
 
 /// The L1 (`l1 = true`) or L∞ LP on all rows of `ad` (`M×k`) and `td`,
 /// solved on a growing working set of rows from the estimate `w0` (see the
@@ -54,7 +54,7 @@ pub const ROW_SLACK: f64 = 1e-13;
 ///
 /// # Errors
 /// Clarabel setup failures.
-pub fn solve_on_rows(
+pub(crate) fn solve_on_rows(
     ad: &DMatrix<f64>,
     td: &DVector<f64>,
     l1: bool,

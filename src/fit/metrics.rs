@@ -14,10 +14,9 @@
 //!   (unweighted);
 //! * the strength `s` itself.
 
-use nalgebra::DVector;
 use serde::{Deserialize, Serialize};
 
-use crate::fit::{FitError, FitProblem, FitSolution};
+use crate::fit::FitError;
 
 /// Field-quality summary of a fit (see module docs for definitions).
 ///
@@ -45,42 +44,12 @@ fn number_or_null<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Erro
     Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
 }
 
-/// How the `2n` rows of `A` and `t` map to the `n` points.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum RowLayout {
-    /// `[fx₀ … fx_{n−1}, fy₀ … fy_{n−1}]`.
-    Stacked,
-    /// `[fx₀, fy₀, fx₁, fy₁, …]`.
-    Interleaved,
-}
-
-/// Convert a `2n` row vector to `n` 2-D vectors.
-///
-/// # Errors
-/// Odd length.
-pub fn rows_to_vectors(v: &DVector<f64>, layout: RowLayout) -> Result<Vec<[f64; 2]>, FitError> {
-    if !v.len().is_multiple_of(2) {
-        return Err(FitError::InvalidInput(format!(
-            "field vector has odd length {}",
-            v.len()
-        )));
-    }
-    let n = v.len() / 2;
-    Ok((0..n)
-        .map(|i| match layout {
-            RowLayout::Stacked => [v[i], v[n + i]],
-            RowLayout::Interleaved => [v[2 * i], v[2 * i + 1]],
-        })
-        .collect())
-}
-
 /// Metrics of `achieved` against `strength · target` (see module docs).
 ///
 /// # Errors
 /// Length mismatches, negative/non-finite weights or data, or a zero
 /// weighted reference field `ω s t` (relative error undefined).
-pub fn field_metrics(
+pub(crate) fn field_metrics(
     target: &[[f64; 2]],
     achieved: &[[f64; 2]],
     strength: f64,
@@ -159,42 +128,6 @@ pub fn field_metrics(
     })
 }
 
-/// Metrics of a [`FitSolution`] on its problem: achieved field `A f`
-/// against `strength · t`, split into points with `layout`.  Row weights of
-/// the problem are ignored; pass per-point weights explicitly.
-///
-/// # Errors
-/// As [`field_metrics`], plus size mismatches.
-pub fn solution_metrics(
-    problem: &FitProblem,
-    solution: &FitSolution,
-    layout: RowLayout,
-    point_weights: Option<&[f64]>,
-) -> Result<FitMetrics, FitError> {
-    if solution.fractions.len() != problem.a.ncols() {
-        return Err(FitError::DimensionMismatch {
-            what: "fractions",
-            expected: problem.a.ncols(),
-            got: solution.fractions.len(),
-        });
-    }
-    if problem.t.len() != problem.a.nrows() {
-        return Err(FitError::DimensionMismatch {
-            what: "target t",
-            expected: problem.a.nrows(),
-            got: problem.t.len(),
-        });
-    }
-    let f = DVector::from_column_slice(&solution.fractions);
-    let achieved = problem.a * f;
-    field_metrics(
-        &rows_to_vectors(problem.t, layout)?,
-        &rows_to_vectors(&achieved, layout)?,
-        solution.strength,
-        point_weights,
-    )
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -229,20 +162,6 @@ mod tests {
         assert!((m.relative_l2_error - (16.0 / 8.0_f64).sqrt()).abs() < 1e-15);
         assert!(field_metrics(&target, &achieved, 0.0, None).is_err());
         assert_serialize(&m);
-    }
-
-    /// Row layouts convert as documented.
-    #[test]
-    fn layouts() {
-        let v = DVector::from_vec(vec![1.0, 2.0, 3.0, 4.0]);
-        assert_eq!(
-            rows_to_vectors(&v, RowLayout::Stacked).unwrap(),
-            vec![[1.0, 3.0], [2.0, 4.0]]
-        );
-        assert_eq!(
-            rows_to_vectors(&v, RowLayout::Interleaved).unwrap(),
-            vec![[1.0, 2.0], [3.0, 4.0]]
-        );
     }
 
     /// Compile-time check that the metrics struct is serde-serialisable.

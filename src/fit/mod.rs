@@ -36,13 +36,13 @@
 //! * The least-squares modes (`Absolute`, `Shape`, `Budget`) never form the
 //!   normal equations `AᵀD²A` (a normal-equations QP on nearly collinear
 //!   columns ends `Solved` with weights off by up to 0.25 — measured, see
-//!   [`conic`]).  Instead the weighted matrix is compressed by a thin
+//!   `conic`).  Instead the weighted matrix is compressed by a thin
 //!   Householder QR, `DA = QR` with `R ∈ ℝ^{k×m}`, `k = min(2n, m)`, so that
 //!   `‖D(Aw − t)‖² = ‖Rw − c‖² + r₀²` with `c = QᵀDt` and
 //!   `r₀ = ‖(I − QQᵀ)Dt‖`, and the problem is posed on the small matrix `R`:
 //!   by default as `min ½‖y‖²` s.t. `Rw − y = c` (residual variables in a
 //!   zero cone), optionally in epigraph form `min τ` s.t.
-//!   `(τ, Rw − c) ∈ 𝒬^{k+1}` ([`FitOptions::formulation`]); `Budget` is a
+//!   `(τ, Rw − c) ∈ 𝒬^{k+1}` (`FitOptions::formulation`); `Budget` is a
 //!   second-order cone program on `R`.
 //! * The interior-point weights of `Absolute`/`Shape` are then *polished*:
 //!   the problem restricted to the active set the solver identified (support
@@ -57,25 +57,25 @@
 //!   every check itself ([`FitSolution::independent_kept`]); otherwise the
 //!   fit fails as below.
 //! * `L1` and `LInf` are linear programs on the full rows with explicit
-//!   residual variables, solved by column generation ([`mod@lp`]): LPs on
+//!   residual variables, solved by column generation (`mod@lp`): LPs on
 //!   a small working set of columns, grown by the columns whose reduced
 //!   cost under the LP's dual certificate is negative, until the
 //!   weak-duality bound over all columns meets the working-set optimum.
 //!
 //! # Verification
 //!
-//! Every solution is checked before it is returned ([`mod@verify`]): primal
+//! Every solution is checked before it is returned (`mod@certify`): primal
 //! feasibility, a KKT / duality residual recomputed from the *uncompressed*
 //! data, and an independent optimum (Lawson–Hanson active-set NNLS in
-//! [`mod@nnls`] for the least-squares modes, a bracketing of the optimal strength
+//! `mod@nnls` for the least-squares modes, a bracketing of the optimal strength
 //! for `Budget`, and a weak-duality lower bound for `L1`/`LInf`).  A failed
 //! check is an error ([`FitError::Verification`]), never a result.
 //!
 //! # Fewer primitives
 //!
-//! [`subset::sparsity_path`] gives the best fit found with at most `k`
-//! columns for `k = 1..=k_max`, and [`FitOptions::max_primitives`] restricts
-//! [`solve`] the same way.
+//! `subset::sparsity_path` gives the best fit found with at most `k`
+//! columns for `k = 1..=k_max`, and `FitOptions::max_primitives` restricts
+//! `solve` the same way.
 //!
 //! # Scaling and units
 //!
@@ -83,15 +83,15 @@
 //! divided by `‖Dt‖₂` (this leaves `w` and the strength unchanged); all
 //! reported objectives are converted back to the caller's units.
 
-pub mod conic;
-pub mod lp;
-pub mod lp_rows;
-pub mod metrics;
-pub mod nnls;
-pub(crate) mod polish;
-pub mod prepare;
-pub mod subset;
-pub mod verify;
+pub(crate) mod active_set;
+pub(crate) mod certify;
+pub(crate) mod conic;
+pub(crate) mod lp;
+pub(crate) mod lp_rows;
+pub(crate) mod metrics;
+pub(crate) mod nnls;
+pub(crate) mod prepare;
+pub(crate) mod subset;
 pub mod worst;
 
 #[cfg(test)]
@@ -100,11 +100,10 @@ pub(crate) mod testutil;
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
 
-pub use conic::LsFormulation;
-pub use metrics::{field_metrics, rows_to_vectors, solution_metrics, FitMetrics, RowLayout};
-pub use nnls::{nnls, nnls_capped, nnls_detailed, NnlsOutput};
-pub use subset::{sparsity_path, sparsity_path_with, SubsetFit};
-pub use verify::{verify, Verification};
+pub use certify::{verify, Verification};
+pub(crate) use conic::LsFormulation;
+pub(crate) use metrics::{field_metrics, FitMetrics};
+pub(crate) use subset::sparsity_path;
 
 use prepare::Prepared;
 
@@ -116,9 +115,9 @@ pub const POOR_ERROR: f64 = 0.2;
 
 /// A fit whose relative L2 error exceeds this value is flagged
 /// [`FitSolution::unreachable`]: [`POOR_ERROR`] (one threshold).
-pub const UNREACHABLE_REL_ERROR: f64 = POOR_ERROR;
+pub(crate) const UNREACHABLE_REL_ERROR: f64 = POOR_ERROR;
 
-/// Which optimisation problem [`solve`] solves (see the module docs for the
+/// Which optimisation problem `solve` solves (see the module docs for the
 /// maths).  Serialised with snake_case tags: `"absolute"`, `"shape"`,
 /// `{"budget": {"rel_error": 0.1}}`, `"l1"`, `"l_inf"` (alias `"linf"`).
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
@@ -156,21 +155,21 @@ impl FitMode {
     }
 
     /// Whether the mode imposes `1ᵀw ≤ 1` on the solver variable.
-    pub fn has_sum_constraint(&self) -> bool {
+    pub(crate) fn has_sum_constraint(&self) -> bool {
         !matches!(self, FitMode::Shape)
     }
 }
 
 /// Options of [`solve`].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct FitOptions {
+pub(crate) struct FitOptions {
     /// The problem to solve.
     pub mode: FitMode,
-    /// Use at most this many basis columns (see [`subset`]); `None` = all.
+    /// Use at most this many basis columns (see `subset`); `None` = all.
     pub max_primitives: Option<usize>,
     /// Tolerance of the a-posteriori verification (feasibility, KKT
     /// residual, gap to the independent solver), dimensionless; see
-    /// [`mod@verify`] for the exact scaling of each check.  Default `1e-6`.
+    /// `mod@certify` for the exact scaling of each check.  Default `1e-6`.
     pub tolerance: f64,
     /// Print a one-line summary of each solve to stderr.
     pub verbose: bool,
@@ -247,7 +246,7 @@ pub struct FitSolution {
     /// [`Verification::independent_gap`]).
     pub independent_gap: f64,
     /// The best achievable fit is poor: relative error above
-    /// [`UNREACHABLE_REL_ERROR`], or (in `Shape`) no non-negative mix
+    /// `UNREACHABLE_REL_ERROR`, or (in `Shape`) no non-negative mix
     /// correlates positively with the target at all (then `fractions` are
     /// all zero and `strength` is 0).
     pub unreachable: bool,
@@ -333,14 +332,14 @@ pub enum FitError {
 /// the answer, and return it.
 ///
 /// With `options.max_primitives = Some(k)`, `k < m`, at most `k` columns
-/// are used (best subset found by [`subset`]; the returned `fractions`
+/// are used (best subset found by `subset`; the returned `fractions`
 /// still have length `m`, with zeros outside the chosen subset).
 ///
 /// # Errors
 /// Invalid input, a Clarabel status other than `Solved` (`AlmostSolved` is
 /// accepted only when verification passes), a failed verification, or an
 /// infeasible `Budget`.
-pub fn solve(problem: &FitProblem, options: &FitOptions) -> Result<FitSolution, FitError> {
+pub(crate) fn solve(problem: &FitProblem, options: &FitOptions) -> Result<FitSolution, FitError> {
     let start = std::time::Instant::now();
     validate_options(options)?;
     let prep = Prepared::new(problem)?;
@@ -401,7 +400,7 @@ pub(crate) fn validate_mode(mode: &FitMode) -> Result<(), FitError> {
 /// Solve on prepared (weighted, normalised, compressed) data using all its
 /// columns, and verify.  Fractions have length `prep.ncols()`.
 ///
-/// The steps: the independent reference ([`verify::Independent`]), the
+/// The steps: the independent reference ([`certify::Independent`]), the
 /// conic solve ([`solve_conic`]), the raw weights cleaned onto the
 /// constraints ([`cleaned_weights`]), the least-squares modes' active-set
 /// polish ([`polished_weights`]), verification ([`verified`]), and the
@@ -415,7 +414,7 @@ pub(crate) fn solve_prepared(
     let start = std::time::Instant::now();
     // Independent reference (also decides reachability / budget feasibility
     // exactly, before any interior-point answer is looked at).
-    let independent = verify::Independent::compute(prep, mode, tol)?;
+    let independent = certify::Independent::compute(prep, mode, tol)?;
     let outcome = solve_conic(prep, mode, tol, formulation)?;
     let status = outcome.status.to_string();
     let w = cleaned_weights(prep, mode, tol, &outcome, &status)?;
@@ -508,7 +507,7 @@ fn cleaned_weights(
     Ok(w)
 }
 
-/// Active-set polishing of the least-squares modes (see `polish`): kept
+/// Active-set polishing of the least-squares modes (see `active_set`): kept
 /// only when feasible and not worse in the KKT residual. Returns the
 /// weights and whether the polished ones were kept.
 fn polished_weights(
@@ -520,7 +519,7 @@ fn polished_weights(
     if !matches!(mode, FitMode::Absolute | FitMode::Shape) {
         return (w, false);
     }
-    let Some(wp) = polish::polish_ls(
+    let Some(wp) = active_set::polish_ls(
         &prep.r,
         &prep.c,
         &prep.col_norms,
@@ -531,14 +530,14 @@ fn polished_weights(
         return (w, false);
     };
     let cap = mode.has_sum_constraint();
-    if verify::ls_kkt_residual(prep, &wp, cap) <= verify::ls_kkt_residual(prep, &w, cap) {
+    if certify::ls_kkt_residual(prep, &wp, cap) <= certify::ls_kkt_residual(prep, &w, cap) {
         (wp, true)
     } else {
         (w, false)
     }
 }
 
-/// The weights verified ([`verify::verify_prepared`]). The interior-point
+/// The weights verified ([`certify::verify_prepared`]). The interior-point
 /// answer worse than the independent optimum by more than the tolerance
 /// (an ill-conditioned basis: its KKT residual can pass while its
 /// objective is 1e-6 off) is replaced by the independent active-set
@@ -552,10 +551,10 @@ fn verified(
     s_budget: f64,
     tol: f64,
     outcome: &conic::ConicOutcome,
-    independent: &verify::Independent,
+    independent: &certify::Independent,
 ) -> Result<(DVector<f64>, Verification, bool), FitError> {
     let mut check =
-        verify::verify_prepared(prep, mode, &w, s_budget, tol, Some(outcome), independent);
+        certify::verify_prepared(prep, mode, &w, s_budget, tol, Some(outcome), independent);
     let mut independent_kept = false;
     if let (
         Err(FitError::Verification {
@@ -566,7 +565,7 @@ fn verified(
     ) = (&check, &independent.weights)
     {
         if let Ok(c) =
-            verify::verify_prepared(prep, mode, wi, s_budget, tol, Some(outcome), independent)
+            certify::verify_prepared(prep, mode, wi, s_budget, tol, Some(outcome), independent)
         {
             w = wi.clone();
             check = Ok(c);
@@ -624,7 +623,7 @@ fn reported(
         FitMode::Shape => {
             let sum = w.sum();
             let achieved = (&prep.ad * w).norm();
-            if sum.is_nan() || sum <= 0.0 || achieved <= verify::ZERO_FIELD_TOL || zero_optimal {
+            if sum.is_nan() || sum <= 0.0 || achieved <= certify::ZERO_FIELD_TOL || zero_optimal {
                 Reported {
                     fractions: vec![0.0; prep.ncols()],
                     strength: 0.0,
@@ -651,6 +650,7 @@ fn reported(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::fit::nnls::{nnls, nnls_capped};
     use crate::fit::testutil::*;
     use nalgebra::{DMatrix, DVector};
 

@@ -57,7 +57,7 @@ const GRADIENT_TOL: f64 = 1e-13;
 
 /// Result of [`nnls_detailed`].
 #[derive(Debug, Clone, PartialEq)]
-pub struct NnlsOutput {
+pub(crate) struct NnlsOutput {
     /// The minimiser `x ≥ 0`.
     pub x: DVector<f64>,
     /// `‖Ax − b‖₂`.
@@ -71,12 +71,12 @@ pub struct NnlsOutput {
 /// # Errors
 /// Dimension mismatch, non-finite data, or no convergence within
 /// `3·ncols + 30` iterations.
-pub fn nnls(a: &DMatrix<f64>, b: &DVector<f64>) -> Result<DVector<f64>, FitError> {
+pub(crate) fn nnls(a: &DMatrix<f64>, b: &DVector<f64>) -> Result<DVector<f64>, FitError> {
     nnls_detailed(a, b).map(|o| o.x)
 }
 
 /// [`nnls`] with residual norm and iteration count.
-pub fn nnls_detailed(a: &DMatrix<f64>, b: &DVector<f64>) -> Result<NnlsOutput, FitError> {
+pub(crate) fn nnls_detailed(a: &DMatrix<f64>, b: &DVector<f64>) -> Result<NnlsOutput, FitError> {
     check_inputs(a, b)?;
     lawson_hanson(a, b)
 }
@@ -85,7 +85,11 @@ pub fn nnls_detailed(a: &DMatrix<f64>, b: &DVector<f64>) -> Result<NnlsOutput, F
 ///
 /// # Errors
 /// As [`nnls`], plus `cap` not finite and positive.
-pub fn nnls_capped(a: &DMatrix<f64>, b: &DVector<f64>, cap: f64) -> Result<DVector<f64>, FitError> {
+pub(crate) fn nnls_capped(
+    a: &DMatrix<f64>,
+    b: &DVector<f64>,
+    cap: f64,
+) -> Result<DVector<f64>, FitError> {
     check_inputs(a, b)?;
     if !(cap.is_finite() && cap > 0.0) {
         return Err(FitError::InvalidInput(format!(

@@ -28,7 +28,7 @@ use crate::fit::{FitError, FitProblem};
 
 /// Weighted, normalised and compressed problem data (see module docs).
 #[derive(Debug, Clone)]
-pub struct Prepared {
+pub(crate) struct Prepared {
     /// `Â = DA/‖Dt‖` with zero-weight rows removed (`M×m`).
     pub ad: DMatrix<f64>,
     /// `t̂ = Dt/‖Dt‖` (unit norm).
@@ -132,12 +132,12 @@ impl Prepared {
     }
 
     /// Number of basis columns `m`.
-    pub fn ncols(&self) -> usize {
+    pub(crate) fn ncols(&self) -> usize {
         self.ad.ncols()
     }
 
     /// Number of (kept) residual rows.
-    pub fn nrows(&self) -> usize {
+    pub(crate) fn nrows(&self) -> usize {
         self.ad.nrows()
     }
 
@@ -146,7 +146,7 @@ impl Prepared {
     /// The compressed form is obtained from the columns of `R` (a further
     /// QR of `R_S`, with `r₀` combined in quadrature), the full rows from
     /// the columns of `Â`.
-    pub fn subset(&self, cols: &[usize]) -> Self {
+    pub(crate) fn subset(&self, cols: &[usize]) -> Self {
         let ad = self.ad.select_columns(cols.iter());
         let rs = self.r.select_columns(cols.iter());
         let (r, c, r0_inner) = compress(&rs, &self.c);
@@ -163,14 +163,14 @@ impl Prepared {
     }
 
     /// `‖Âw − s t̂‖₂` evaluated on the full rows.
-    pub fn residual_norm(&self, w: &DVector<f64>, s: f64) -> f64 {
+    pub(crate) fn residual_norm(&self, w: &DVector<f64>, s: f64) -> f64 {
         (&self.ad * w - &self.td * s).norm()
     }
 }
 
 /// Thin QR compression: returns `(R, c, r₀)` with
 /// `‖Ew − f‖² = ‖Rw − c‖² + r₀²` for all `w`.
-pub fn compress(e: &DMatrix<f64>, f: &DVector<f64>) -> (DMatrix<f64>, DVector<f64>, f64) {
+pub(crate) fn compress(e: &DMatrix<f64>, f: &DVector<f64>) -> (DMatrix<f64>, DVector<f64>, f64) {
     let (rows, m) = e.shape();
     let k = rows.min(m);
     let qr = e.clone().qr();

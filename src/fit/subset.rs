@@ -46,7 +46,7 @@ use crate::fit::{
 };
 
 /// Largest `C(m, k)` for which all subsets are tried.
-pub const EXHAUSTIVE_LIMIT: u64 = 2000;
+pub(crate) const EXHAUSTIVE_LIMIT: u64 = 2000;
 
 /// Relative improvement a candidate must bring to replace the incumbent
 /// (guards against flip-flopping on rounding noise).
@@ -54,7 +54,7 @@ const IMPROVEMENT: f64 = 1e-12;
 
 /// The best fit found with at most `k` columns.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct SubsetFit {
+pub(crate) struct SubsetFit {
     /// Column budget `k` this entry answers.
     pub k: usize,
     /// Chosen column indices (ascending, at most `k`).
@@ -84,7 +84,7 @@ pub struct SubsetFit {
 ///
 /// # Errors
 /// Invalid input, or a solver/verification failure of a reported fit.
-pub fn sparsity_path(
+pub(crate) fn sparsity_path(
     problem: &FitProblem,
     mode: &FitMode,
     k_max: usize,
@@ -100,7 +100,7 @@ pub fn sparsity_path(
 }
 
 /// [`sparsity_path`] with explicit options (`max_primitives` is ignored).
-pub fn sparsity_path_with(
+pub(crate) fn sparsity_path_with(
     problem: &FitProblem,
     options: &FitOptions,
     k_max: usize,

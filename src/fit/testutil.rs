@@ -4,14 +4,14 @@ use nalgebra::{DMatrix, DVector};
 
 /// splitmix64 (Steele, Lea & Flood 2014): tiny, deterministic, good enough
 /// for test data.
-pub struct SplitMix64(u64);
+pub(crate) struct SplitMix64(u64);
 
 impl SplitMix64 {
     pub fn new(seed: u64) -> Self {
         Self(seed)
     }
 
-    pub fn next_u64(&mut self) -> u64 {
+    pub(crate) fn next_u64(&mut self) -> u64 {
         self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
         let mut z = self.0;
         z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
@@ -30,11 +30,11 @@ impl SplitMix64 {
     }
 }
 
-pub fn random_matrix(rng: &mut SplitMix64, rows: usize, cols: usize) -> DMatrix<f64> {
+pub(crate) fn random_matrix(rng: &mut SplitMix64, rows: usize, cols: usize) -> DMatrix<f64> {
     DMatrix::from_fn(rows, cols, |_, _| rng.symmetric())
 }
 
-pub fn random_vector(rng: &mut SplitMix64, n: usize) -> DVector<f64> {
+pub(crate) fn random_vector(rng: &mut SplitMix64, n: usize) -> DVector<f64> {
     DVector::from_fn(n, |_, _| rng.symmetric())
 }
 
@@ -66,7 +66,7 @@ pub fn line_sink(points: &[[f64; 2]], theta: f64) -> DVector<f64> {
 }
 
 /// Point sink at `q`: `f(p) = −(p − q)`, stacked.
-pub fn point_sink(points: &[[f64; 2]], q: [f64; 2]) -> DVector<f64> {
+pub(crate) fn point_sink(points: &[[f64; 2]], q: [f64; 2]) -> DVector<f64> {
     let n = points.len();
     let mut v = DVector::zeros(2 * n);
     for (i, p) in points.iter().enumerate() {
@@ -77,7 +77,7 @@ pub fn point_sink(points: &[[f64; 2]], q: [f64; 2]) -> DVector<f64> {
 }
 
 /// Uniform translation field `f(p) = u`, stacked.
-pub fn uniform_field(points: &[[f64; 2]], u: [f64; 2]) -> DVector<f64> {
+pub(crate) fn uniform_field(points: &[[f64; 2]], u: [f64; 2]) -> DVector<f64> {
     let n = points.len();
     let mut v = DVector::zeros(2 * n);
     for i in 0..n {
@@ -88,7 +88,7 @@ pub fn uniform_field(points: &[[f64; 2]], u: [f64; 2]) -> DVector<f64> {
 }
 
 /// Rotation (vortex) field `f(p) = ω (−y, x)`, stacked.
-pub fn rotation_field(points: &[[f64; 2]], omega: f64) -> DVector<f64> {
+pub(crate) fn rotation_field(points: &[[f64; 2]], omega: f64) -> DVector<f64> {
     let n = points.len();
     let mut v = DVector::zeros(2 * n);
     for (i, p) in points.iter().enumerate() {
@@ -99,7 +99,7 @@ pub fn rotation_field(points: &[[f64; 2]], omega: f64) -> DVector<f64> {
 }
 
 /// Matrix from columns.
-pub fn from_columns(cols: &[DVector<f64>]) -> DMatrix<f64> {
+pub(crate) fn from_columns(cols: &[DVector<f64>]) -> DMatrix<f64> {
     let rows = cols[0].len();
     let mut a = DMatrix::zeros(rows, cols.len());
     for (j, c) in cols.iter().enumerate() {
@@ -111,7 +111,7 @@ pub fn from_columns(cols: &[DVector<f64>]) -> DMatrix<f64> {
 /// A "plate-like" basis of `m` columns on the `g×g` grid: line sinks at
 /// spread angles, point sinks at random centres, uniform fields, rotations,
 /// all deterministic from `seed`.
-pub fn plate_like_basis(rng: &mut SplitMix64, g: usize, m: usize) -> DMatrix<f64> {
+pub(crate) fn plate_like_basis(rng: &mut SplitMix64, g: usize, m: usize) -> DMatrix<f64> {
     let pts = grid_points(g);
     let mut cols = Vec::with_capacity(m);
     for j in 0..m {
@@ -145,7 +145,7 @@ pub(crate) fn assert_matches_full_lp(
 ) -> f64 {
     let m = a.ncols();
     let full = if l1 {
-        crate::fit::conic::solve_l1(a, t).unwrap()
+        crate::fit::conic::solve_l1_linear(a, t, &[]).unwrap()
     } else {
         crate::fit::conic::solve_linf(a, t).unwrap()
     };

@@ -22,13 +22,13 @@
 //!
 //! is a second-order cone program: the strongest weakest strength at worst
 //! shape ε. Each sample is compressed by its own thin QR exactly as
-//! [`crate::fit::prepare`] does (`Â_k = Q_k R_k`, `c_k = Q_kᵀt̂`, `r₀ₖ` the
+//! `crate::fit::prepare` does (`Â_k = Q_k R_k`, `c_k = Q_kᵀt̂`, `r₀ₖ` the
 //! unreachable part of `t̂`): with `g_k = R_kᵀc_k` (so `s_k = g_kᵀf`),
 //! `‖(I − t̂t̂ᵀ)Â_k f‖² = ‖(R_k − c_k g_kᵀ) f‖² + r₀ₖ² (g_kᵀf)²`.
 //! The worst shape is scale-free, so `σ*(ε)` is 0 below the least worst
 //! error `τ*` and of the order of the field's strength above it:
 //!
-//! * stage 1 bisects ε for `τ*` (to [`BISECTION_TOL`]) between the
+//! * stage 1 bisects ε for `τ*` (to `BISECTION_TOL`) between the
 //!   independent bounds below, `σ*(ε) > 0` (or `≥ s_min`) meaning feasible;
 //! * stage 2 solves `σ*(τ* + slack)`: as the single fit's `shape` mode
 //!   (`strongest` in [`crate::design`]) takes the strongest field within
@@ -73,7 +73,7 @@ use super::{FitError, FitProblem};
 const MODE: &str = "worst_case";
 
 /// Stage 1 bisects the least worst error to this (absolute).
-pub const BISECTION_TOL: f64 = 1e-6;
+pub(crate) const BISECTION_TOL: f64 = 1e-6;
 
 /// `σ*(ε)` above this (normalised strength units) counts as feasible.
 const FEASIBLE_STRENGTH: f64 = 1e-7;
@@ -138,7 +138,7 @@ impl WorstCaseFit {
 /// The realised check's measures of fractions `f` against the
 /// (row-weighted) target of `problem`: `(e, s)` with `s = ⟨DAf, Dt⟩/‖Dt‖²`
 /// the least-squares strength and `e = ‖D(Af − s t)‖ / ‖D s t‖`.
-pub fn shape_and_strength(problem: &FitProblem, fractions: &[f64]) -> (f64, f64) {
+pub(crate) fn shape_and_strength(problem: &FitProblem, fractions: &[f64]) -> (f64, f64) {
     let af = problem.a * DVector::from_column_slice(fractions);
     let (af, t) = match problem.row_weights {
         Some(d) => (af.component_mul(d), problem.t.component_mul(d)),

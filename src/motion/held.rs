@@ -122,7 +122,7 @@ impl Held {
     ///
     /// # Panics
     /// When `range` is empty or past the samples.
-    pub fn slice(&self, range: Range<usize>) -> Held {
+    pub(crate) fn slice(&self, range: Range<usize>) -> Held {
         assert!(range.start < range.end && range.end <= self.samples.len());
         Held {
             dt: self.dt,
@@ -174,7 +174,7 @@ impl Held {
     }
 
     /// Centre velocity and pose at `t` on the sample holding at `piece_t`.
-    pub fn centre_state_piece(&self, t: f64, piece_t: f64) -> CentreState {
+    pub(crate) fn centre_state_piece(&self, t: f64, piece_t: f64) -> CentreState {
         let k = self.index(piece_t);
         advance(&self.states[k], &self.samples[k], t - k as f64 * self.dt)
     }
@@ -202,7 +202,7 @@ impl Held {
 
     /// True when only x, y translation and z rotation are driven, from a
     /// start with no other velocity or pose.
-    pub fn is_in_plane(&self) -> bool {
+    pub(crate) fn is_in_plane(&self) -> bool {
         let off = |v: &[f64; 6]| v[2] != 0.0 || v[3] != 0.0 || v[4] != 0.0;
         !self.samples.iter().any(off)
             && !off(&self.states[0].velocity)

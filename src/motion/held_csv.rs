@@ -7,7 +7,7 @@
 //! `t_s,ax_m_s2,ay_m_s2,az_m_s2,alpha_x_rad_s2,alpha_y_rad_s2,alpha_z_rad_s2`;
 //! every row after it holds 7 finite numbers. The times must start at 0
 //! and be uniform: Δt = t_last/(n − 1) and every t_k within
-//! [`T_TOLERANCE`] of kΔt (the export prints t to 1 ns). Every error names
+//! `T_TOLERANCE` of kΔt (the export prints t to 1 ns). Every error names
 //! the file, the line and the column, and says what is allowed.
 
 use std::path::Path;
@@ -22,7 +22,7 @@ pub const HEADER: &str = "t_s,ax_m_s2,ay_m_s2,az_m_s2,alpha_x_rad_s2,alpha_y_rad
 /// How far a row's time may be from kΔt (s): the export prints t with 9
 /// decimals (±5e-10 s), so 2e-9 s allows that and refuses a skipped or
 /// repeated sample (Δt is at least 1e-7 s at the export's rates).
-pub const T_TOLERANCE: f64 = 2e-9;
+pub(crate) const T_TOLERANCE: f64 = 2e-9;
 
 /// Reads the exported CSV at `path` (at most [`MAX_INPUT_BYTES`]) as held
 /// samples from rest at home ([`parse`]).

@@ -24,12 +24,12 @@ mod ramped;
 pub mod sample_hold;
 mod screw;
 mod signals;
-pub mod trig;
+pub(crate) mod trig;
 mod waveform;
 
 pub use held::Held;
 pub use invariance::Invariance;
-pub use prepared::PreparedMotion;
+pub(crate) use prepared::PreparedMotion;
 pub use ramped::{smoothstep, Ramped};
 pub use screw::Screw;
 pub use signals::{Axes, Signals};
@@ -131,7 +131,7 @@ impl Motion {
     /// Kinematics at `t` on the smooth piece containing `piece_t` (see
     /// [`Waveform::eval_piece`]).
     #[inline]
-    pub fn kinematics_piece(&self, t: f64, piece_t: f64, g: f64, tilt: bool) -> Kinematics {
+    pub(crate) fn kinematics_piece(&self, t: f64, piece_t: f64, g: f64, tilt: bool) -> Kinematics {
         match self {
             Motion::Screw(s) => s.kinematics(t, piece_t, g, tilt),
             Motion::Signals(s) => s.kinematics(t, g, tilt),
@@ -154,7 +154,7 @@ impl Motion {
 
     /// True when the motion is purely in the plate plane (no vertical
     /// translation, rotation only about the vertical): then N = g exactly.
-    pub fn is_in_plane(&self) -> bool {
+    pub(crate) fn is_in_plane(&self) -> bool {
         match self {
             Motion::Screw(s) => s.is_in_plane(),
             Motion::Signals(s) => s.is_in_plane(),
@@ -178,7 +178,7 @@ impl Motion {
     /// rest or along e stays on the line (its ê component exactly zero) and
     /// the integrator skips its 2-D checks for it (`src/dynamics/integrator.rs`).
     /// Six-signal motions return `None`.
-    pub fn slip_axis(&self) -> Option<usize> {
+    pub(crate) fn slip_axis(&self) -> Option<usize> {
         match self {
             Motion::Screw(s) => s.slip_axis(),
             Motion::Signals(_) | Motion::Ramped(_) | Motion::Held(_) => None,
@@ -226,7 +226,7 @@ impl Motion {
 
 /// Rotates `v` by angle `theta` about unit axis `k` (Rodrigues).
 #[inline]
-pub fn rotate(v: &V3, k: &V3, theta: f64) -> V3 {
+pub(crate) fn rotate(v: &V3, k: &V3, theta: f64) -> V3 {
     if theta == 0.0 {
         return *v;
     }

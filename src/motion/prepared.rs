@@ -10,7 +10,7 @@
 //! the rest of [`Screw::kinematics`] and [`Waveform::eval_piece`] (for a
 //! six-signal motion, of [`Signals::kinematics`]) with the same operations
 //! in the same order, except that every sine and cosine comes from
-//! [`trig::sin_cos`], which is libm's to 2.3e-16 absolute. So each waveform
+//! [`trig::Nodes::sin_cos`], which is libm's to 2.3e-16 absolute. So each waveform
 //! value differs from the direct [`Motion::kinematics_piece`] by at most
 //! 2.3e-16 times its amplitude (a Fourier series: the sum of its terms'
 //! amplitudes), the tilted gravity by as much times g (1 + |q|), q the tilt
@@ -203,7 +203,7 @@ enum Prepared {
 
 /// A motion ready for repeated kinematics evaluation.
 #[derive(Debug, Clone)]
-pub struct PreparedMotion<'a> {
+pub(crate) struct PreparedMotion<'a> {
     motion: &'a Motion,
     prepared: Prepared,
 }
@@ -232,7 +232,7 @@ impl<'a> PreparedMotion<'a> {
 
     /// [`Motion::kinematics_piece`] to round-off (module docs).
     #[inline]
-    pub fn kinematics_piece(&self, t: f64, piece_t: f64, g: f64, tilt: bool) -> Kinematics {
+    pub(crate) fn kinematics_piece(&self, t: f64, piece_t: f64, g: f64, tilt: bool) -> Kinematics {
         match &self.prepared {
             Prepared::Screw(s) => s.kinematics(t, piece_t, g, tilt),
             Prepared::Signals(s) => s.kinematics(t, g, tilt),

@@ -44,7 +44,7 @@ pub const DEFAULT_RAMP_CYCLES: u32 = 10;
 /// Default number of steady cycles.
 pub const DEFAULT_STEADY_CYCLES: u32 = 20;
 /// Most samples an export may hold.
-pub const MAX_SAMPLES: usize = 50_000_000;
+pub(crate) const MAX_SAMPLES: usize = 50_000_000;
 
 /// Plate-centre velocity and pose (linear then angular: [v_x, v_y, v_z,
 /// ω_x, ω_y, ω_z] and [p_x, p_y, p_z, θ_x, θ_y, θ_z], θ the small-angle
@@ -207,7 +207,7 @@ fn grid(period: f64, rate: f64) -> Result<(usize, f64)> {
 ///
 /// # Errors
 /// A rate that is not positive or gives fewer than 2 or more than
-/// [`MAX_SAMPLES`] samples per period.
+/// `MAX_SAMPLES` samples per period.
 pub fn periodic(motion: &Motion, rate: f64) -> Result<HoldSamples> {
     let period = motion.period();
     let (n, dt) = grid(period, rate)?;
@@ -270,7 +270,7 @@ pub fn ramped(motion: &Motion, rate: f64, ramp: u32, steady: u32) -> Result<Hold
 /// One segment of a sequence: a motion played for `duration` seconds, or
 /// rest.
 #[derive(Debug, Clone, Copy)]
-pub struct Segment<'a> {
+pub struct MotionSpan<'a> {
     /// The motion (`None`: rest).
     pub motion: Option<&'a Motion>,
     /// Duration (s).
@@ -288,7 +288,7 @@ pub struct Segment<'a> {
 /// As [`periodic`]; a motion segment whose duration is not a whole number
 /// of samples or that does not start and end at rest (names
 /// `segments[i]`).
-pub fn sequence(segments: &[Segment<'_>], rate: f64) -> Result<HoldSamples> {
+pub fn sequence(segments: &[MotionSpan<'_>], rate: f64) -> Result<HoldSamples> {
     // The sample grid of the first motion; a rest-only sequence is held at
     // `rate` itself (all samples zero).
     let (n, dt) = match segments.iter().find_map(|s| s.motion) {

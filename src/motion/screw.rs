@@ -68,7 +68,7 @@ impl Screw {
     }
 
     /// True when rotation is about the vertical only and translation is horizontal.
-    pub fn is_in_plane(&self) -> bool {
+    pub(crate) fn is_in_plane(&self) -> bool {
         let k = self.k();
         let vertical = k.x == 0.0 && k.y == 0.0;
         (self.rotation.is_zero() || vertical) && (self.translation.is_zero() || k.z == 0.0)
@@ -78,7 +78,7 @@ impl Screw {
     /// other in-plane axis and translates along this one only (either may
     /// be zero): the LineSink, LineSource and Trans. See
     /// [`Motion::slip_axis`](super::Motion::slip_axis).
-    pub fn slip_axis(&self) -> Option<usize> {
+    pub(crate) fn slip_axis(&self) -> Option<usize> {
         let k = self.k();
         let turns = !self.rotation.is_zero();
         let moves = !self.translation.is_zero();

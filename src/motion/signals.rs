@@ -111,7 +111,7 @@ impl Signals {
     /// World-frame (value, rate, acceleration) of the plate centre at `t`:
     /// linear (pose p, p', p'') and angular (rotation vector θ, ω, ω').
     #[inline]
-    pub fn centre_triples(&self, t: f64) -> ([V3; 3], [V3; 3]) {
+    pub(crate) fn centre_triples(&self, t: f64) -> ([V3; 3], [V3; 3]) {
         (
             self.linear.eval(t, self.period),
             self.angular.eval(t, self.period),
@@ -173,7 +173,7 @@ impl Signals {
     }
 
     /// True when only x, y translation and z rotation are driven.
-    pub fn is_in_plane(&self) -> bool {
+    pub(crate) fn is_in_plane(&self) -> bool {
         let only = |axes: &Axes, keep_z: bool| {
             let mut a = axes.clone();
             if keep_z {

@@ -45,7 +45,7 @@ const BITS: u32 = 10;
 /// M, the nodes on the circle.
 const NODES: usize = 1 << BITS;
 /// The reduced argument's bound π/M.
-pub const REDUCED_MAX: f64 = PI / NODES as f64;
+pub(crate) const REDUCED_MAX: f64 = PI / NODES as f64;
 /// 2π − fl(2π).
 const TAU_LO: f64 = 2.449_293_598_294_706_4e-16;
 /// 1.5 · 2⁵²: adding and subtracting it rounds to the nearest integer
@@ -57,7 +57,7 @@ const LIMIT: f64 = (1u64 << 22) as f64 * (TAU / NODES as f64);
 
 /// The node table and the reduction constants ([`table`]).
 #[derive(Debug)]
-pub struct Nodes {
+pub(crate) struct Nodes {
     /// M/(2π).
     inv: f64,
     /// 2π/M to 31 significant bits.
@@ -99,17 +99,11 @@ pub fn table() -> &'static Nodes {
 /// (sin r, cos r − 1) for |r| ≤ [`REDUCED_MAX`] by the Taylor polynomials
 /// of the module docs.
 #[inline(always)]
-pub fn small_sin_cosm1(r: f64) -> (f64, f64) {
+pub(crate) fn small_sin_cosm1(r: f64) -> (f64, f64) {
     let r2 = r * r;
     let s = r + r * r2 * (-1.0 / 6.0 + r2 * (1.0 / 120.0));
     let cm1 = r2 * (-0.5 + r2 * (1.0 / 24.0));
     (s, cm1)
-}
-
-/// (sin x, cos x) to within 2.3e-16 of libm's (module docs).
-#[inline]
-pub fn sin_cos(x: f64) -> (f64, f64) {
-    table().sin_cos(x)
 }
 
 impl Nodes {
@@ -144,6 +138,11 @@ impl Nodes {
 
 #[cfg(test)]
 mod tests {
+    /// (sin x, cos x) from the shared table.
+    fn sin_cos(x: f64) -> (f64, f64) {
+        table().sin_cos(x)
+    }
+
     use super::*;
 
     /// The Taylor remainders stated in the docs, at the largest reduced

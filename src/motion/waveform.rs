@@ -67,7 +67,7 @@ pub enum Waveform {
 }
 
 /// The values of a waveform's `"type"`.
-pub const WAVE_TYPES: &[&str] = &["zero", "sine", "square", "rest_to_rest", "fourier"];
+pub(crate) const WAVE_TYPES: &[&str] = &["zero", "sine", "square", "rest_to_rest", "fourier"];
 
 impl<'de> Deserialize<'de> for Waveform {
     fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
@@ -117,7 +117,7 @@ impl Waveform {
     /// is the left limit, and constant accelerations stay exactly constant
     /// over the whole interval.
     #[inline]
-    pub fn eval_piece(&self, t: f64, period: f64, piece_t: f64) -> Sample {
+    pub(crate) fn eval_piece(&self, t: f64, period: f64, piece_t: f64) -> Sample {
         let w = 2.0 * PI / period;
         match self {
             Waveform::Zero => Sample::default(),
@@ -184,7 +184,7 @@ impl Waveform {
     }
 
     /// True when the waveform is identically zero.
-    pub fn is_zero(&self) -> bool {
+    pub(crate) fn is_zero(&self) -> bool {
         match self {
             Waveform::Zero => true,
             Waveform::Sine { accel } | Waveform::Square { accel } => *accel == 0.0,
@@ -196,7 +196,7 @@ impl Waveform {
     }
 
     /// Peak |q''| bound (sum of amplitudes), used for scales and checks.
-    pub fn accel_bound(&self, period: f64) -> f64 {
+    pub(crate) fn accel_bound(&self, period: f64) -> f64 {
         let w = 2.0 * PI / period;
         match self {
             Waveform::Zero => 0.0,

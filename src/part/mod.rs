@@ -26,14 +26,13 @@
 //! folding back); area above 1e-6 of the squared diameter; listed support
 //! points inside the polygon (within 1e-9 of its size), weights finite,
 //! ≥ 0 and not all zero, one per point; 16..=4096 uniform samples;
-//! 1..=64 unknown contacts. [`Part::check_fits`] refuses a part larger than
+//! 1..=64 unknown contacts. `Part::check_fits` refuses a part larger than
 //! a target's region.
 
 mod polygon;
 mod symmetry;
 
 pub use polygon::{centroid, contains, covers, diameter, signed_area};
-pub use symmetry::MAX_ORDER;
 
 use std::path::Path;
 
@@ -45,18 +44,18 @@ use crate::input::num;
 use crate::scene::FrictionSpec;
 
 /// Default uniform support samples.
-pub const DEFAULT_SAMPLES: usize = 256;
+pub(crate) const DEFAULT_SAMPLES: usize = 256;
 /// Allowed uniform support samples.
 pub const SAMPLES: [usize; 2] = [16, 4096];
 /// Most listed support points.
-pub const MAX_POINTS: usize = 4096;
+pub(crate) const MAX_POINTS: usize = 4096;
 /// Most unknown contact points.
-pub const MAX_CONTACTS: usize = 64;
+pub(crate) const MAX_CONTACTS: usize = 64;
 /// Largest |vertex coordinate| (m).
 pub const EXTENT: f64 = 1.0;
 /// An area below this fraction of the squared diameter is zero (a sliver
 /// 1 µm thick on 1 m long).
-pub const ZERO_AREA: f64 = 1e-6;
+pub(crate) const ZERO_AREA: f64 = 1e-6;
 
 /// The support distribution as written.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -201,7 +200,7 @@ impl Part {
     /// Refuses a part larger than a target region of sides `width` ×
     /// `height` (m): its diameter must fit in the smaller side. `path`
     /// names the region.
-    pub fn check_fits(&self, width: f64, height: f64, path: &str) -> Result<()> {
+    pub(crate) fn check_fits(&self, width: f64, height: f64, path: &str) -> Result<()> {
         let side = width.min(height);
         if self.size() > side {
             return Err(Error::invalid(

@@ -56,7 +56,7 @@ fn segments_meet(a: &V2, b: &V2, c: &V2, d: &V2) -> bool {
 /// neighbours (edge i joins vertex i to vertex i + 1); `None` for a simple
 /// polygon. A repeated vertex makes a zero-length edge that meets both
 /// its neighbours' neighbours, so it is found too.
-pub fn crossing(v: &[V2]) -> Option<(usize, usize)> {
+pub(crate) fn crossing(v: &[V2]) -> Option<(usize, usize)> {
     let n = v.len();
     let edge = |i: usize| (v[i], v[(i + 1) % n]);
     for i in 0..n {
@@ -83,7 +83,7 @@ pub fn crossing(v: &[V2]) -> Option<(usize, usize)> {
 }
 
 /// Distance from `p` to the polygon's boundary.
-pub fn boundary_distance(v: &[V2], p: &V2) -> f64 {
+pub(crate) fn boundary_distance(v: &[V2], p: &V2) -> f64 {
     let n = v.len();
     (0..n)
         .map(|i| {
@@ -124,7 +124,7 @@ pub fn covers(v: &[V2], p: &V2, tol: f64) -> bool {
 /// points' weighted centroid and total weight are then the polygon's
 /// exactly (to round-off); an axis-aligned rectangle gets its nx × ny
 /// cell centres with equal weights.
-pub fn uniform_grid(v: &[V2], samples: usize) -> Vec<(V2, f64)> {
+pub(crate) fn uniform_grid(v: &[V2], samples: usize) -> Vec<(V2, f64)> {
     let (lo, hi) = bounds(v);
     let size = hi - lo;
     // Coarser cells for a thin, slanted part (at most 64 per sample).

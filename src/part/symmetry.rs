@@ -18,7 +18,7 @@ use super::{Part, Support};
 use crate::dynamics::V2;
 
 /// Largest symmetry order tried.
-pub const MAX_ORDER: usize = 12;
+pub(crate) const MAX_ORDER: usize = 12;
 
 /// `a` turned by `angle` (rad).
 fn turned(a: &V2, angle: f64) -> V2 {

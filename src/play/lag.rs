@@ -38,7 +38,7 @@ use crate::dynamics::{PartState, Simulator, SteadyFailure, SteadyState};
 
 /// Relative size of the slip perturbation for J and D (of max(|u*|, the
 /// simulator's velocity scale)).
-pub const SLIP_STEP: f64 = 1e-5;
+pub(crate) const SLIP_STEP: f64 = 1e-5;
 
 /// The lag-corrected mean velocity of a part drifting through `r` under
 /// `sim`'s motion (with moving kinematics), given the steady state `ss` at

@@ -1,10 +1,10 @@
 //! The one realised-velocity measure: what a played schedule realises at a
 //! start point, against the field it is meant to realise.
 //!
-//! **Playing** ([`play_point`]). A point part is placed at a start point p
+//! **Playing** (`play_point`). A point part is placed at a start point p
 //! (at rest relative to the plate), the schedule is played for a warm-up of
 //! whole schedule periods — at least those asked for, and as many more as
-//! the part's start-up transient needs to die out ([`super::settle`]) —
+//! the part's start-up transient needs to die out (`super::settle`) —
 //! and then for `periods` more whole periods P. A
 //! measured **window** is P schedule periods long (span P·T): the first one
 //! starts at the end of the warm-up ([`Windows::First`]), or there is one
@@ -36,7 +36,7 @@
 //! of the distance covered per period) that artefact was most of the 10 %
 //! the earlier measure reported. The flow is integrated with the classical
 //! Runge–Kutta method, step doubling from 2 steps per measured period until
-//! two step counts agree to [`FLOW_TOL`] (relative).
+//! two step counts agree to `FLOW_TOL` (relative).
 //!
 //! **One motion played alone** (a one-segment schedule: a synthesized
 //! six-signal motion, or one primitive; moving positions). Its steady state
@@ -96,9 +96,9 @@ use crate::field::{FieldSettings, Grid};
 use crate::motion::Motion;
 
 /// Agreement (relative) of two step counts of the flow integration.
-pub const FLOW_TOL: f64 = 1e-5;
+pub(crate) const FLOW_TOL: f64 = 1e-5;
 /// Most Runge–Kutta steps per measured period of the flow integration.
-pub const FLOW_MAX_STEPS_PER_PERIOD: usize = 256;
+pub(crate) const FLOW_MAX_STEPS_PER_PERIOD: usize = 256;
 
 /// Physics and lengths of a play.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -118,7 +118,7 @@ pub struct PlayOptions {
     /// Join rule where the plate velocity jumps (default inertial).
     pub join: Join,
     /// Lengthen the warm-up where a part's start-up transient outlasts it
-    /// ([`super::settle`]; default true).
+    /// (`super::settle`; default true).
     pub settle: bool,
 }
 
@@ -193,11 +193,11 @@ pub struct PointPlay {
     #[serde(skip)]
     pub lost_at: Option<[f64; 2]>,
     /// Warm-up periods played: those asked for, lengthened until the
-    /// start-up transient died out ([`super::settle`]).
+    /// start-up transient died out (`super::settle`).
     #[serde(skip)]
     pub warmup_periods: u32,
     /// False when the start-up transient had not died out within
-    /// [`super::settle::SETTLE_MAX_CYCLES`] cycles of warm-up.
+    /// `super::settle::SETTLE_MAX_CYCLES` cycles of warm-up.
     #[serde(skip)]
     pub settled: bool,
 }
@@ -259,7 +259,7 @@ impl PointPlay {
 /// relative to the mean velocity (at most [`FLOW_MAX_STEPS_PER_PERIOD`]
 /// times `steps` / 2); the finer answer, Richardson-extrapolated, is
 /// returned (error well below FLOW_TOL / 15).
-pub fn flow_mean_velocity<E>(
+pub(crate) fn flow_mean_velocity<E>(
     field: &mut impl FnMut([f64; 2]) -> Result<[f64; 2], E>,
     r0: [f64; 2],
     span: f64,
@@ -302,9 +302,9 @@ pub fn flow_mean_velocity<E>(
 
 /// Plays `sm` from `start` (index `index`): `warm.0` warm-up periods —
 /// at least, and as many more as the start-up transient needs
-/// ([`super::settle::warmup`]) when `warm.1` — then windows of `periods`
+/// (`super::settle::warmup`) when `warm.1` — then windows of `periods`
 /// periods (see the module documentation).
-pub fn play_point(
+pub(crate) fn play_point(
     sm: &ScheduleMotion,
     player: &Player<'_>,
     index: usize,
@@ -391,7 +391,7 @@ pub fn play_point(
     out
 }
 
-/// [`play_point`] from every start point (in parallel, results in input
+/// `play_point` from every start point (in parallel, results in input
 /// order, indices 0, 1, …), with `opts`' physics and lengths.
 pub fn play_points(
     sm: &ScheduleMotion,
@@ -403,7 +403,7 @@ pub fn play_points(
 }
 
 /// [`play_points`], calling `tick` after each point is played (progress).
-pub fn play_points_ticked(
+pub(crate) fn play_points_ticked(
     sm: &ScheduleMotion,
     points: &[[f64; 2]],
     opts: &PlayOptions,
@@ -450,7 +450,7 @@ pub struct PointResult {
     /// Why the point is invalid.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub note: Option<String>,
-    /// Warm-up periods played before measuring ([`super::settle`]).
+    /// Warm-up periods played before measuring (`super::settle`).
     pub warmup_periods: u32,
     /// False when the start-up transient had not died out within the
     /// longest warm-up allowed.
@@ -478,7 +478,7 @@ pub struct RealisedField {
     /// Warm-up periods asked for.
     pub warmup_periods: u32,
     /// Most warm-up periods any point played (the start-up transient
-    /// lengthens the warm-up asked for where it needs to; [`super::settle`]).
+    /// lengthens the warm-up asked for where it needs to; `super::settle`).
     pub warmup_most: u32,
     /// Points whose start-up transient had not died out within the longest
     /// warm-up allowed.
@@ -494,7 +494,7 @@ pub struct RealisedField {
 impl RealisedField {
     /// `Ok` when every point is valid, else a physical error naming
     /// `context`, how many points are invalid and the first reason.
-    pub fn require_all_valid(&self, context: &str) -> crate::error::Result<()> {
+    pub(crate) fn require_all_valid(&self, context: &str) -> crate::error::Result<()> {
         let n = self.points.len();
         if self.valid == n {
             return Ok(());
@@ -652,7 +652,7 @@ pub fn verify_points(
 }
 
 /// [`verify_points`], calling `tick` after each point is played (progress).
-pub fn verify_points_ticked(
+pub(crate) fn verify_points_ticked(
     sm: &ScheduleMotion,
     points: &[[f64; 2]],
     opts: &PlayOptions,
@@ -665,7 +665,7 @@ pub fn verify_points_ticked(
     )
 }
 
-/// Compares plays of `sm` (from [`play_points`] or [`play_point`], any
+/// Compares plays of `sm` (from [`play_points`] or `play_point`, any
 /// windows) with the time-weighted steady-state prediction of `sm`'s
 /// segments (see the module documentation), with `opts`' physics.
 pub fn against_prediction(

@@ -38,7 +38,7 @@ pub mod lag;
 pub mod measure;
 pub mod replay;
 pub mod sensitivity;
-pub mod settle;
+pub(crate) mod settle;
 
 pub use measure::{grid_points, verify_points, PlayOptions, PointResult, RealisedField};
 
@@ -71,7 +71,7 @@ pub struct PlayedSegment {
 /// The plate's in-plane velocity at plate point `p` and its vertical spin
 /// at the start (and, by periodicity, the end) of segment `seg` (what a
 /// part at rest on the plate carries across a join).
-pub fn plate_twist(seg: &PlayedSegment, gravity: f64, tilt: bool, p: &V2) -> (V2, f64) {
+pub(crate) fn plate_twist(seg: &PlayedSegment, gravity: f64, tilt: bool, p: &V2) -> (V2, f64) {
     match &seg.motion {
         None => (V2::zeros(), 0.0),
         Some(m) => {
@@ -180,7 +180,7 @@ impl ScheduleMotion {
     }
 
     /// Time (s) per period in which the plate moves (rest segments excluded).
-    pub fn moving_time(&self) -> f64 {
+    pub(crate) fn moving_time(&self) -> f64 {
         self.segments
             .iter()
             .filter(|s| s.motion.is_some())
@@ -271,7 +271,7 @@ pub enum Join {
 
 impl<'a> Player<'a> {
     /// The same player with another join rule.
-    pub fn with_join(mut self, join: Join) -> Player<'a> {
+    pub(crate) fn with_join(mut self, join: Join) -> Player<'a> {
         self.join = join;
         self
     }
@@ -360,7 +360,7 @@ impl<'a> Player<'a> {
 
     /// Tangential plate velocity at plate point `p` at the start (and, by
     /// periodicity, the end) of segment `i`.
-    pub fn join_velocity(&self, i: usize, p: &V2) -> V2 {
+    pub(crate) fn join_velocity(&self, i: usize, p: &V2) -> V2 {
         match &self.schedule.segments[i].motion {
             None => V2::zeros(),
             Some(m) => {
@@ -386,7 +386,7 @@ impl<'a> Player<'a> {
     }
 
     /// Plays segment `i` from its start to its end; returns the time stuck.
-    pub fn play_segment(
+    pub(crate) fn play_segment(
         &self,
         i: usize,
         state: &mut PartState,
@@ -468,7 +468,7 @@ pub fn rest(state: &mut PartState, duration: f64, friction: Friction, gravity: f
 
 /// Whole periods of length `period` that cover at least `cycles` cycles
 /// of length `cycle` (at least one).
-pub fn periods_for(cycles: u32, cycle: f64, period: f64) -> u32 {
+pub(crate) fn periods_for(cycles: u32, cycle: f64, period: f64) -> u32 {
     let n = (f64::from(cycles) * cycle / period - 1e-9).ceil();
     if n.is_finite() && n >= 1.0 {
         n.min(f64::from(u32::MAX)) as u32

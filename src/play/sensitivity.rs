@@ -7,7 +7,7 @@
 //! field (a synthesized sink gains swirl) and scales it (a LineSink's
 //! strength follows eq. 19's b ∝ μ(μ²g² − 3h²α²)). Real friction is rarely
 //! known to better than ±20–30 %, so every design with a stated friction
-//! is played again across it: each row is a [`Judge`] at one friction —
+//! is played again across it: each row is a `Judge` at one friction —
 //! for a design, its realised check (`design::method::realised_check`:
 //! the same start points, warm-up and window as the design's own play,
 //! moving parts) judged against the target: realised strength ŝ (s⁻¹ for
@@ -25,10 +25,10 @@ use crate::request::{FrictionSpec, Target};
 
 /// Frictions a sensitivity table holds per range: the ends, the middle
 /// and the quarter points.
-pub const SWEEP_VALUES: usize = 5;
+pub(crate) const SWEEP_VALUES: usize = 5;
 
 /// A single stated friction is swept over ± this fraction of itself.
-pub const AROUND_FRACTION: f64 = 0.2;
+pub(crate) const AROUND_FRACTION: f64 = 0.2;
 
 /// The design's realised measure at one friction.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -51,7 +51,7 @@ pub struct FrictionRow {
 pub enum Span {
     /// The range the target states.
     TargetRange,
-    /// ± [`AROUND_FRACTION`] of the single value the target states.
+    /// ± `AROUND_FRACTION` of the single value the target states.
     AroundValue,
     /// Values the user asked for (`verify --friction`).
     Asked,
@@ -102,7 +102,7 @@ impl Sensitivity {
     }
 
     /// The table as markdown: one row per friction.
-    pub fn table_md(&self) -> String {
+    pub(crate) fn table_md(&self) -> String {
         let mut md = format!(
             "Realised {} (the design's own check: moving parts from its start points, same warm-up and window), made for μ_s = {}, μ_k = {}:\n\n",
             self.span.describe(),
@@ -148,7 +148,7 @@ pub struct Judged {
 }
 
 /// How a design is judged under given physics.
-pub type Judge<'a> = dyn Fn(&FieldSettings) -> Result<Judged> + 'a;
+pub(crate) type Judge<'a> = dyn Fn(&FieldSettings) -> Result<Judged> + 'a;
 
 /// `judge` at each of `frictions`, in order, with the rest of the physics
 /// `base`'s.
@@ -185,7 +185,7 @@ pub fn friction_sweep(
 ///
 /// # Errors
 /// The judge's.
-pub fn of_target(
+pub(crate) fn of_target(
     target: &Target,
     base: &FieldSettings,
     judge: &Judge,

@@ -47,18 +47,18 @@ use super::{PartState, Player, V2};
 
 /// What the start-up transient may still add to the measured mean
 /// velocity, relative to it.
-pub const SETTLE_TOL: f64 = 1e-4;
+pub(crate) const SETTLE_TOL: f64 = 1e-4;
 
 /// ... and in absolute terms (m/s), for parts that hardly drift.
-pub const SETTLE_FLOOR: f64 = 1e-7;
+pub(crate) const SETTLE_FLOOR: f64 = 1e-7;
 
 /// Longest warm-up the estimate may ask for, in primitive cycles of the
 /// schedule (at least one period).
-pub const SETTLE_MAX_CYCLES: u32 = 400;
+pub(crate) const SETTLE_MAX_CYCLES: u32 = 400;
 
 /// The warm-up found for one start point.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Settle {
+pub(crate) struct Settle {
     /// Warm-up periods (at least those asked for).
     pub periods: u32,
     /// False when the transient had not died out within the cap.

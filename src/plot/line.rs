@@ -53,7 +53,7 @@ impl Series {
     }
 
     /// Sets the colour.
-    pub fn color(mut self, color: impl Into<String>) -> Self {
+    pub(crate) fn color(mut self, color: impl Into<String>) -> Self {
         self.color = Some(color.into());
         self
     }
@@ -350,7 +350,7 @@ impl LinePlot {
     }
 
     /// Logarithmic x axis.
-    pub fn log_x(mut self) -> Self {
+    pub(crate) fn log_x(mut self) -> Self {
         self.log_x = true;
         self
     }
@@ -362,7 +362,7 @@ impl LinePlot {
     }
 
     /// Logarithmic x and y axes (convergence plots).
-    pub fn log_log(self) -> Self {
+    pub(crate) fn log_log(self) -> Self {
         self.log_x().log_y()
     }
 

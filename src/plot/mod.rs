@@ -40,7 +40,6 @@ pub use quiver::{
     QuiverPlot, ARROW_COLOR, AUTO_ARROW_FRACTION, LEGEND_WIDTH,
 };
 pub use svg::{escape, fmt_sig, num, write_atomic, COORD_DECIMALS, INVALID_COLOR, PALETTE};
-pub use ticks::{log_ticks, nice_range, nice_ticks, NiceStep, Ticks};
 
 #[cfg(test)]
 pub(crate) mod test_support {
@@ -49,7 +48,7 @@ pub(crate) mod test_support {
     /// Asserts the basic shape of an SVG document: starts with `<svg`, ends
     /// with `</svg>\n`, tags nest properly (so `<g>` is balanced) and no
     /// non-finite number leaked in.
-    pub fn assert_well_formed(svg: &str) {
+    pub(crate) fn assert_well_formed(svg: &str) {
         assert!(svg.starts_with("<svg"), "must start with <svg");
         assert!(svg.ends_with("</svg>\n"), "must end with </svg>\\n");
         assert!(!svg.contains("NaN"), "NaN in output");
@@ -89,7 +88,7 @@ pub(crate) mod test_support {
 
     /// Lengths (px) of the arrow shafts (`M x0 y0 L x1 y1 ...` paths) inside
     /// every `<g class="arrows" ...>` group of `svg`.
-    pub fn arrow_lengths(svg: &str) -> Vec<f64> {
+    pub(crate) fn arrow_lengths(svg: &str) -> Vec<f64> {
         let mut out = Vec::new();
         for group in svg.split(r#"<g class="arrows""#).skip(1) {
             let body = group.split("</g>").next().unwrap();

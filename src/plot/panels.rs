@@ -84,7 +84,7 @@ impl Panels {
     /// The common arrow scale (metres per m/s) used for auto-scaled quiver
     /// panels when `share_scale` is on; `None` if sharing is off or no panel
     /// has a non-zero vector.
-    pub fn shared_scale(&self) -> Option<f64> {
+    pub(crate) fn shared_scale(&self) -> Option<f64> {
         if !self.share_scale {
             return None;
         }

@@ -49,7 +49,7 @@ impl Overlay {
     }
 
     /// Sets the colour.
-    pub fn color(mut self, color: impl Into<String>) -> Self {
+    pub(crate) fn color(mut self, color: impl Into<String>) -> Self {
         self.color = Some(color.into());
         self
     }
@@ -109,7 +109,7 @@ impl Marker {
     }
 
     /// Sets the colour.
-    pub fn color(mut self, color: impl Into<String>) -> Self {
+    pub(crate) fn color(mut self, color: impl Into<String>) -> Self {
         self.color = color.into();
         self
     }
@@ -351,19 +351,19 @@ impl QuiverPlot {
     }
 
     /// Adds an overlay polyline.
-    pub fn overlay(mut self, o: Overlay) -> Self {
+    pub(crate) fn overlay(mut self, o: Overlay) -> Self {
         self.overlays.push(o);
         self
     }
 
     /// Adds a marker.
-    pub fn marker(mut self, m: Marker) -> Self {
+    pub(crate) fn marker(mut self, m: Marker) -> Self {
         self.markers.push(m);
         self
     }
 
     /// Sets the caption line.
-    pub fn caption(mut self, caption: impl Into<String>) -> Self {
+    pub(crate) fn caption(mut self, caption: impl Into<String>) -> Self {
         self.caption = Some(caption.into());
         self
     }
@@ -397,7 +397,7 @@ impl QuiverPlot {
     }
 
     /// Largest `|v|` (m/s) over valid points (0 if none).
-    pub fn max_norm(&self) -> f64 {
+    pub(crate) fn max_norm(&self) -> f64 {
         (0..self.points.len().min(self.vectors.len()))
             .filter(|&i| self.is_valid(i))
             .map(|i| self.vectors[i][0].hypot(self.vectors[i][1]))
@@ -412,7 +412,7 @@ impl QuiverPlot {
 
     /// The automatic scale: 0.9 × spacing / max |v| (metres per m/s), or 0
     /// when every vector is zero.
-    pub fn auto_scale(&self) -> f64 {
+    pub(crate) fn auto_scale(&self) -> f64 {
         let m = self.max_norm();
         if m > 0.0 {
             AUTO_ARROW_FRACTION * self.spacing() / m
@@ -422,7 +422,7 @@ impl QuiverPlot {
     }
 
     /// The scale in use: the fixed one, or [`QuiverPlot::auto_scale`].
-    pub fn arrow_scale(&self) -> f64 {
+    pub(crate) fn arrow_scale(&self) -> f64 {
         match self.scale {
             Some(s) if s.is_finite() && s >= 0.0 => s,
             _ => self.auto_scale(),

@@ -2,7 +2,7 @@
 
 /// A tick step `mantissa × 10^exponent` with `mantissa` ∈ {1, 2, 5}.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct NiceStep {
+pub(crate) struct NiceStep {
     /// 1, 2 or 5.
     pub mantissa: u8,
     /// Power of ten.
@@ -14,7 +14,7 @@ impl NiceStep {
     /// ~1.5×, 3× and 7× of a power of ten round to 1, 2 and 5).
     ///
     /// `raw` must be positive and finite; anything else gives step 1.
-    pub fn for_raw(raw: f64) -> NiceStep {
+    pub(crate) fn for_raw(raw: f64) -> NiceStep {
         if !(raw.is_finite() && raw > 0.0) {
             return NiceStep {
                 mantissa: 1,
@@ -43,7 +43,7 @@ impl NiceStep {
 
     /// `k × step`, computed as the double nearest to the exact decimal
     /// value (so `3 × 0.1` is `0.3`, not `0.30000000000000004`).
-    pub fn multiple(&self, k: i64) -> f64 {
+    pub(crate) fn multiple(&self, k: i64) -> f64 {
         format!("{}e{}", k * self.mantissa as i64, self.exponent)
             .parse()
             .unwrap_or(f64::NAN)
@@ -71,7 +71,7 @@ impl NiceStep {
 
 /// Ticks of a linear axis: the step and the integer multiples `k` of it.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Ticks {
+pub(crate) struct Ticks {
     /// The step.
     pub step: NiceStep,
     /// Multiples of `step`, increasing; tick `i` is at `step.multiple(ks[i])`.
@@ -94,7 +94,7 @@ impl Ticks {
 /// for about `target` ticks (at least 2 intervals' worth of resolution).
 ///
 /// Degenerate or non-finite input gives no ticks.
-pub fn nice_ticks(lo: f64, hi: f64, target: usize) -> Ticks {
+pub(crate) fn nice_ticks(lo: f64, hi: f64, target: usize) -> Ticks {
     let step = NiceStep::for_raw((hi - lo) / target.max(2) as f64);
     let s = step.value();
     if !(lo.is_finite() && hi.is_finite() && hi > lo && s > 0.0) {
@@ -111,7 +111,7 @@ pub fn nice_ticks(lo: f64, hi: f64, target: usize) -> Ticks {
 
 /// `[lo, hi]` widened outwards to multiples of the nice step chosen for
 /// about `target` ticks, together with those ticks.
-pub fn nice_range(lo: f64, hi: f64, target: usize) -> ([f64; 2], Ticks) {
+pub(crate) fn nice_range(lo: f64, hi: f64, target: usize) -> ([f64; 2], Ticks) {
     let step = NiceStep::for_raw((hi - lo) / target.max(2) as f64);
     let s = step.value();
     if !(lo.is_finite() && hi.is_finite() && hi > lo && s > 0.0) {
@@ -131,7 +131,7 @@ pub fn nice_range(lo: f64, hi: f64, target: usize) -> ([f64; 2], Ticks) {
 /// range widened to whole decades, the labelled decade exponents (every
 /// decade, or every 2nd/3rd/... when there are more than 8) and unlabelled
 /// minor ticks at 2..9 × 10^k when the range spans at most 6 decades.
-pub fn log_ticks(lo: f64, hi: f64) -> ([f64; 2], Vec<i32>, Vec<f64>) {
+pub(crate) fn log_ticks(lo: f64, hi: f64) -> ([f64; 2], Vec<i32>, Vec<f64>) {
     if !(lo.is_finite() && hi.is_finite() && lo > 0.0 && hi >= lo) {
         return ([1.0, 10.0], vec![0, 1], vec![]);
     }

@@ -7,7 +7,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use super::design as report;
-use crate::design::closed_loop::{Candidate, ClosedLoop};
+use crate::design::closed_loop::{ClosedLoop, LoopCandidate};
 use crate::design::Design;
 use crate::error::{Error, Result};
 use crate::output::write_atomic;
@@ -17,7 +17,7 @@ fn pct(x: f64) -> String {
     format!("{:.1} %", 100.0 * x)
 }
 
-fn line(name: &str, c: &Candidate) -> String {
+fn line(name: &str, c: &LoopCandidate) -> String {
     let e = &c.error;
     let d = &e.decomposition;
     format!(
@@ -62,10 +62,10 @@ pub fn summary(cl: &ClosedLoop) -> String {
 }
 
 /// A row of the before/after table: its name and how to show a candidate.
-type Row = (&'static str, fn(&Candidate) -> String);
+type Row = (&'static str, fn(&LoopCandidate) -> String);
 
 /// `closed_loop.md`.
-pub fn markdown(cl: &ClosedLoop) -> String {
+pub(crate) fn markdown(cl: &ClosedLoop) -> String {
     let mut md = intro(cl);
     md.push_str("## Before and after\n\n| | before | after |\n|---|---|---|\n");
     let (b, a) = (cl.before(), cl.after());
@@ -155,7 +155,7 @@ fn intro(cl: &ClosedLoop) -> String {
 }
 
 /// The "Closed loop" section appended to `report.md`.
-pub fn report_section(cl: &ClosedLoop) -> String {
+pub(crate) fn report_section(cl: &ClosedLoop) -> String {
     let (b, a) = (cl.before(), cl.after());
     format!(
         "\n## Closed loop\n\n`schedule.json` is the closed-loop schedule; the open-loop one is \
@@ -181,7 +181,7 @@ pub fn report_section(cl: &ClosedLoop) -> String {
 }
 
 /// The closed-loop schedule ([`ClosedLoop::schedule`]) as pretty JSON.
-pub fn schedule_json(d: &Design, target: &Target, cl: &ClosedLoop) -> Result<String> {
+pub(crate) fn schedule_json(d: &Design, target: &Target, cl: &ClosedLoop) -> Result<String> {
     pretty(&cl.schedule(target, &d.target.weights))
 }
 

@@ -10,7 +10,7 @@ use crate::output::write_atomic;
 use crate::plot::{Panels, QuiverPlot};
 
 /// The schedule as pretty JSON (deterministic bytes).
-pub fn schedule_json(d: &Design) -> String {
+pub(crate) fn schedule_json(d: &Design) -> String {
     d.schedule.to_json().unwrap_or_default()
 }
 
@@ -80,7 +80,7 @@ pub fn summary(d: &Design) -> String {
 }
 
 /// The report in Markdown.
-pub fn report_md(d: &Design) -> String {
+pub(crate) fn report_md(d: &Design) -> String {
     let s = &d.schedule;
     let mut md = format!("# Design for target \"{}\"\n\n", s.target);
     let _ = write!(
@@ -180,7 +180,7 @@ fn left_out_counts(excluded: &[crate::schedule::ExcludedColumn]) -> String {
 /// The basis fields left out, as counts by reason (each field, its invalid
 /// samples and the reason in full are in `schedule.json`'s
 /// `basis.excluded`); empty when none was.
-pub fn excluded_md(excluded: &[crate::schedule::ExcludedColumn]) -> String {
+pub(crate) fn excluded_md(excluded: &[crate::schedule::ExcludedColumn]) -> String {
     use crate::schedule::ExclusionReason as R;
     if excluded.is_empty() {
         return String::new();
@@ -209,7 +209,7 @@ pub fn excluded_md(excluded: &[crate::schedule::ExcludedColumn]) -> String {
 }
 
 /// The fit figure: target (scaled by the strength), achieved, residual.
-pub fn fit_svg(d: &Design) -> String {
+pub(crate) fn fit_svg(d: &Design) -> String {
     fit_figure(
         &d.schedule.target,
         &d.target,
@@ -222,7 +222,7 @@ pub fn fit_svg(d: &Design) -> String {
 /// Three panels at the points of `target`: the target scaled by
 /// `strength`, `achieved` (titled `label`) and their difference (masked
 /// points marked).
-pub fn fit_figure(
+pub(crate) fn fit_figure(
     name: &str,
     target: &crate::request::SampledTarget,
     strength: f64,
@@ -259,7 +259,7 @@ pub fn fit_figure(
 }
 
 /// The order search as markdown (`None` when it was not run).
-pub fn order_md(d: &Design) -> Option<String> {
+pub(crate) fn order_md(d: &Design) -> Option<String> {
     d.order_search.as_ref().map(|search| {
         format!(
             "# Segment order and rest: {}

@@ -42,7 +42,10 @@ pub fn headline(md: &MethodDesign) -> String {
 /// 1/s), m/s for the bounded ones (`trans`, `jet`); "ŝ (× the target's
 /// strength)" for `sum` and `sampled` fields, whose strength is their
 /// vectors' own scale.
-pub fn strength_with_unit(s_hat: Option<f64>, field: Option<&crate::request::FieldSpec>) -> String {
+pub(crate) fn strength_with_unit(
+    s_hat: Option<f64>,
+    field: Option<&crate::request::FieldSpec>,
+) -> String {
     use crate::request::FieldSpec as F;
     let (Some(v), Some(field)) = (s_hat, field) else {
         return format!("{} (× the target's strength)", number(s_hat));
@@ -150,7 +153,7 @@ fn played_md(cands: &[Candidate], chosen: usize) -> String {
 }
 
 /// The method section of `report.md`.
-pub fn method_md(md: &MethodDesign) -> String {
+pub(crate) fn method_md(md: &MethodDesign) -> String {
     let mut out = format!(
         "## Method and realised check\n\nMethod: `{}`; {}.\n\nEvery candidate is played before it is reported: point parts from about 5 × 5 start points over the target region (every k-th target grid point), 10 warm-up and 10 measured cycles (each rounded up to whole schedule periods), with the one realised measure (`play::measure`), against the target. POOR: realised shape error above {:.0} %, a part losing contact or escaping the attractor. Rule under `auto`: the lower realised shape error wins; within 1 percentage point, the higher realised strength. When every candidate is POOR, `auto` also designs the mix (primitives and a synthesized motion in one fit) and plays it.\n\n",
         md.asked.name(),
@@ -180,7 +183,7 @@ pub fn method_md(md: &MethodDesign) -> String {
 
 /// The synthesized motion's section of `report.md`: the signals plot, each
 /// axis's peak against its limit, the least normal force, the fit.
-pub fn synthesis_md(syn: &Synthesis, limits: &ShakerLimits, gravity: f64) -> String {
+pub(crate) fn synthesis_md(syn: &Synthesis, limits: &ShakerLimits, gravity: f64) -> String {
     let mut md = format!(
         "## Synthesized motion\n\n![the six signals over one period](signals.svg)\n\nOne simultaneous six-signal motion, period {:.5} s, harmonics 1..={}: {}\n\n| axis | peak | limit |\n|---|---|---|\n",
         syn.motion.period,
@@ -228,7 +231,7 @@ pub fn synthesis_md(syn: &Synthesis, limits: &ShakerLimits, gravity: f64) -> Str
 
 /// The six signals of `motion` over one period, each divided by its axis
 /// limit (axes with a zero limit and no signal are left out).
-pub fn signals_svg(motion: &Signals, limits: &ShakerLimits) -> String {
+pub(crate) fn signals_svg(motion: &Signals, limits: &ShakerLimits) -> String {
     let m = Motion::Signals(motion.clone());
     let t: Vec<f64> = (0..=PLOT_SAMPLES)
         .map(|i| motion.period * i as f64 / PLOT_SAMPLES as f64)
@@ -265,7 +268,7 @@ pub fn signals_svg(motion: &Signals, limits: &ShakerLimits) -> String {
 }
 
 /// Target (scaled), synthesized field and residual at the target's points.
-pub fn synthesis_fit_svg(md: &MethodDesign, syn: &Synthesis) -> Option<String> {
+pub(crate) fn synthesis_fit_svg(md: &MethodDesign, syn: &Synthesis) -> Option<String> {
     let target = md.kept().schedule.target_spec.as_ref()?;
     let sampled = target.sample().ok()?;
     (sampled.len() == syn.field.vectors.len()).then(|| {

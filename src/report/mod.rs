@@ -1,6 +1,6 @@
 //! Every file the product writes and every terminal summary it prints:
 //! designs ([`design`]: `schedule.json`, `fit.svg`, `report.md`), closed
-//! loops ([`closed_loop`]), order searches ([`mod@order`]), verifications
+//! loops (`closed_loop`), order searches ([`mod@order`]), verifications
 //! ([`verify`]: `summary.json`, `trajectories.svg`) and exported signals.
 //! The top layer: it may use every module below it, and nothing uses it
 //! but the command-line shell and the studies (which write their tables
@@ -8,14 +8,14 @@
 //! compute everything, then write (so bad input writes nothing), then
 //! return the text to print.
 
-pub mod closed_loop;
+pub(crate) mod closed_loop;
 pub mod design;
-pub mod method;
+pub(crate) mod method;
 pub mod order;
-pub mod pose_design;
+pub(crate) mod pose_design;
 pub mod poses;
 pub mod run_design;
-pub mod sort;
+pub(crate) mod sort;
 pub mod table;
 pub mod verify;
 
@@ -27,7 +27,7 @@ use std::path::Path;
 /// left out), when they are a
 /// `platefield` subcommand (the CLI, or Python's argument list passed to
 /// it); else `platefield {fallback}`.
-pub fn invocation(fallback: &str) -> String {
+pub(crate) fn invocation(fallback: &str) -> String {
     // Flags that change only what is printed, not the files, are left out.
     let args: Vec<String> = std::env::args()
         .skip(1)

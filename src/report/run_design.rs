@@ -12,7 +12,7 @@ use std::path::Path;
 /// are not carried over, so that the folder holds one design (a sequenced
 /// run after a synthesized one leaves no `signals.svg`); `verify/` and
 /// files of the user's are kept.
-pub const DESIGN_FILES: [&str; 9] = [
+pub(crate) const DESIGN_FILES: [&str; 9] = [
     "schedule.json",
     "schedule_open_loop.json",
     "closed_loop.md",
@@ -34,27 +34,27 @@ pub fn run(
     out: &Path,
     json: bool,
 ) -> crate::error::Result<String> {
-    use crate::design::{DesignOutcome, Method};
-    if let Some(req) = crate::design::pose::PoseRequest::load(path)? {
-        return run_pose(path, req, opts, out, json);
+    use crate::design::{DesignOutcome, Method, TargetFile};
+    let mut file = TargetFile::load(path)?;
+    let name = file.target().folder_name(path)?;
+    if let TargetFile::Field(target) = &mut file {
+        target.name = name.clone();
     }
-    let mut target = crate::request::Target::load(path)?;
-    target.name = target.folder_name(path)?;
-    let dir = out.join(&target.name);
+    let dir = out.join(&name);
     crate::output::check_writable(&dir, "--out")?;
-    let md = match crate::design::run(&target, opts)? {
-        DesignOutcome::Sorted(d) => {
-            return super::sort::run(&target, &d, &dir, json, &DESIGN_FILES)
-        }
+    let outcome = crate::design::run(&file, opts)?;
+    let target = file.target();
+    let md = match outcome {
+        DesignOutcome::Sorted(d) => return super::sort::run(target, &d, &dir, json, &DESIGN_FILES),
         DesignOutcome::ClosedLoop {
             design: d,
             closed_loop: result,
         } => {
             let stage = crate::output::Staged::new(&dir)?;
-            super::closed_loop::write(&d, &target, &result, stage.path())?;
+            super::closed_loop::write(&d, target, &result, stage.path())?;
             stage.commit(&DESIGN_FILES)?;
             if json {
-                return super::closed_loop::schedule_json(&d, &target, &result);
+                return super::closed_loop::schedule_json(&d, target, &result);
             }
             return Ok(format!(
                 "{}{}wrote {}/{{schedule.json, schedule_open_loop.json, closed_loop.md, closed_loop.json, fit.svg, report.md}}\n",
@@ -64,6 +64,7 @@ pub fn run(
             ));
         }
         DesignOutcome::Method(md) => md,
+        DesignOutcome::Pose(d) => return pose(&d, &dir, json),
     };
     let stage = crate::output::Staged::new(&dir)?;
     let files = super::method::write(&md, stage.path())?;
@@ -86,27 +87,20 @@ pub fn run(
     Ok(text)
 }
 
-/// `platefield design` for a pose target (`crate::design::pose`): designs
-/// it with [`crate::design::pose::DROPS`] played drops, writes the folder
+/// Writes a pose target's design `d` (`crate::design::pose`) to `dir`
 /// whole and returns the schedule JSON or the summary.
-fn run_pose(
-    path: &Path,
-    req: crate::design::pose::PoseRequest,
-    opts: &crate::design::DesignOptions,
-    out: &Path,
+fn pose(
+    d: &crate::design::pose::PoseDesign,
+    dir: &Path,
     json: bool,
 ) -> crate::error::Result<String> {
-    let name = req.target.folder_name(path)?;
-    let dir = out.join(&name);
-    crate::output::check_writable(&dir, "--out")?;
-    let d = crate::design::pose::design_pose(&req, opts, crate::design::pose::DROPS)?;
-    let stage = crate::output::Staged::new(&dir)?;
-    let files = super::pose_design::write(&d, stage.path())?;
+    let stage = crate::output::Staged::new(dir)?;
+    let files = super::pose_design::write(d, stage.path())?;
     stage.commit(&DESIGN_FILES)?;
     if json {
         return d.method.kept().schedule.to_json();
     }
-    let mut text = super::pose_design::headline(&d);
+    let mut text = super::pose_design::headline(d);
     if let Some(syn) = &d.method.synthesis {
         let _ = writeln!(text, "synthesize: {}", syn.timed_summary());
     }

@@ -14,13 +14,13 @@ use crate::output::percent;
 use crate::verify::sort_play::{ClassPlay, SORT_TOL};
 
 /// Goal: fraction of each class's swarm at its own attractor.
-pub const GOAL_AT_OWN: f64 = 0.95;
+pub(crate) const GOAL_AT_OWN: f64 = 0.95;
 /// Goal: largest fraction of a class's swarm at another class's attractor.
-pub const GOAL_MIXED_UP: f64 = 0.02;
+pub(crate) const GOAL_MIXED_UP: f64 = 0.02;
 
 /// What `sort.json` and `design --json`'s `played` hold.
 #[derive(Debug, Clone, Serialize)]
-pub struct SortReport<'a> {
+pub(crate) struct SortReport<'a> {
     /// Per class, the stacked fit's prediction.
     pub fits: &'a [ClassFit],
     /// Per class, played.
@@ -32,14 +32,14 @@ pub struct SortReport<'a> {
 }
 
 /// Whether every class met the goal.
-pub fn goal_met(played: &[ClassPlay]) -> bool {
+pub(crate) fn goal_met(played: &[ClassPlay]) -> bool {
     played
         .iter()
         .all(|c| c.at_own.is_some_and(|f| f >= GOAL_AT_OWN) && c.mixed_up <= GOAL_MIXED_UP)
 }
 
 /// `report.md` of a sort.
-pub fn report_md(target_name: &str, d: &SortDesign, played: &[ClassPlay]) -> String {
+pub(crate) fn report_md(target_name: &str, d: &SortDesign, played: &[ClassPlay]) -> String {
     let mut s = format!("# Sort by friction: {target_name}\n\n");
     let _ = writeln!(
         s,
@@ -102,7 +102,7 @@ pub fn report_md(target_name: &str, d: &SortDesign, played: &[ClassPlay]) -> Str
 /// a verdict that is not met (measured on `targets/sort_friction.json`:
 /// with the default 10 cycles per segment, period 36.7 s, 22-24 % of each
 /// class at its own sink after 147 s; with `--min-cycles 1` all of it).
-pub const WHY_NOT: &str = "What limits a sort: the primitives' fields change with friction mostly in strength, hardly in direction, so the fit separates the classes chiefly by the gentle in-plane translations under which the stickier class does not slip, and these carry the slippery parts at only 2-3 mm/s at 209 rad/s (plate speed ≤ μg/ω). Sinks centimetres apart then have rates of about 0.01 1/s (time constants ~100 s), built of strong motions that nearly cancel; segments must be short (`--min-cycles 1`) so that a part's excursion within a segment (a strong Trans carries a μ 0.2 part at 20 mm/s) stays well below the distances sorted, and the swarm must play for minutes.";
+pub(crate) const WHY_NOT: &str = "What limits a sort: the primitives' fields change with friction mostly in strength, hardly in direction, so the fit separates the classes chiefly by the gentle in-plane translations under which the stickier class does not slip, and these carry the slippery parts at only 2-3 mm/s at 209 rad/s (plate speed ≤ μg/ω). Sinks centimetres apart then have rates of about 0.01 1/s (time constants ~100 s), built of strong motions that nearly cancel; segments must be short (`--min-cycles 1`) so that a part's excursion within a segment (a strong Trans carries a μ 0.2 part at 20 mm/s) stays well below the distances sorted, and the swarm must play for minutes.";
 
 /// Writes `schedule.json`, `sort.json` and `report.md` into `dir`.
 pub fn write(target_name: &str, d: &SortDesign, played: &[ClassPlay], dir: &Path) -> Result<()> {
@@ -117,7 +117,7 @@ pub fn write(target_name: &str, d: &SortDesign, played: &[ClassPlay], dir: &Path
 }
 
 /// `sort.json`: the [`SortReport`].
-pub fn sort_json(d: &SortDesign, played: &[ClassPlay]) -> Result<String> {
+pub(crate) fn sort_json(d: &SortDesign, played: &[ClassPlay]) -> Result<String> {
     let r = SortReport {
         fits: &d.classes,
         played,
@@ -131,7 +131,7 @@ pub fn sort_json(d: &SortDesign, played: &[ClassPlay]) -> Result<String> {
 
 /// `design --json` for a sort: the schedule with `played` holding the
 /// [`SortReport`].
-pub fn design_json(d: &SortDesign, played: &[ClassPlay]) -> Result<String> {
+pub(crate) fn design_json(d: &SortDesign, played: &[ClassPlay]) -> Result<String> {
     let mut value =
         serde_json::to_value(&d.schedule).map_err(|e| Error::Physical(e.to_string()))?;
     let report = serde_json::from_str::<serde_json::Value>(&sort_json(d, played)?)

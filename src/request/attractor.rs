@@ -112,7 +112,7 @@ impl Attractor {
     /// of the attractor under the target field scaled by `strength` (the
     /// design's achieved strength): ln(d₀/tol)/(strength · s), 0 when it
     /// starts within `tol`, infinite when `strength` ≤ 0.
-    pub fn predicted_time(&self, p: [f64; 2], strength: f64, tol: f64) -> f64 {
+    pub(crate) fn predicted_time(&self, p: [f64; 2], strength: f64, tol: f64) -> f64 {
         let d0 = self.distance(p);
         if d0 <= tol {
             0.0

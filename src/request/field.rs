@@ -438,7 +438,7 @@ impl FieldSpec {
 
     /// The [`SampledInterpolant`] of a `sampled` field's samples (weights
     /// computed once, O(1) per evaluation); `None` for every other kind.
-    pub fn interpolant(&self) -> Option<SampledInterpolant> {
+    pub(crate) fn interpolant(&self) -> Option<SampledInterpolant> {
         match self {
             FieldSpec::Sampled {
                 points, vectors, ..

@@ -6,14 +6,14 @@ use super::Target;
 use crate::error::{Error, Result};
 
 /// Longest folder name (bytes) most file systems take (`NAME_MAX`).
-pub const MAX_NAME_BYTES: usize = 255;
+pub(crate) const MAX_NAME_BYTES: usize = 255;
 
 impl Target {
     /// The name of the folder for this target's results: its `name`, or the
     /// stem of the file it was loaded from (`path`) when the name is blank.
     /// It must be a plain folder name (no `/`, `\`, NUL, no leading `.`,
     /// at most [`MAX_NAME_BYTES`] bytes), checked before any work.
-    pub fn folder_name(&self, path: &Path) -> Result<String> {
+    pub(crate) fn folder_name(&self, path: &Path) -> Result<String> {
         let name = if self.name.trim().is_empty() {
             path.file_stem()
                 .map(|s| s.to_string_lossy().into_owned())
@@ -29,7 +29,7 @@ impl Target {
 /// Checks that `name` (from `field`) is a plain folder name: not blank, no
 /// `/`, `\` or NUL, no leading `.`, at most [`MAX_NAME_BYTES`] bytes. Used
 /// for a target's name and for a schedule's `target` alike.
-pub fn plain_folder_name(name: &str, field: &str) -> Result<()> {
+pub(crate) fn plain_folder_name(name: &str, field: &str) -> Result<()> {
     if name.trim().is_empty()
         || name.contains(['/', '\\', '\0'])
         || name.starts_with('.')

@@ -33,7 +33,7 @@ pub use crate::field::Grid;
 /// spacing: a disc of radius R (the farthest corner) at spacing h needs
 /// about 2R/h nodes per side, and the library grid has at most
 /// [`crate::field::Grid::MAX_N`]. So h ≥ R/497 and n ≤ L/h + 1 per axis.
-pub fn max_points(x: [f64; 2], y: [f64; 2]) -> [usize; 2] {
+pub(crate) fn max_points(x: [f64; 2], y: [f64; 2]) -> [usize; 2] {
     let reach = x
         .iter()
         .flat_map(|&a| y.iter().map(move |&b| a.hypot(b)))
@@ -52,7 +52,7 @@ pub fn max_points(x: [f64; 2], y: [f64; 2]) -> [usize; 2] {
 /// Validates a target grid: finite `xmin < xmax`, `ymin < ymax` within
 /// ±[`EXTENT`] m, and `2 ≤ nx, ny ≤ `[`MAX_GRID_N`], and no more points
 /// than the region allows (`max_points`); errors name `path`.
-pub fn validate_grid(grid: &Grid, path: &str) -> Result<(), TargetError> {
+pub(crate) fn validate_grid(grid: &Grid, path: &str) -> Result<(), TargetError> {
     for (axis, r) in [("x", grid.x), ("y", grid.y)] {
         let p = format!("{path}.{axis}");
         check_interval(&p, axis, r)?;
@@ -95,7 +95,7 @@ pub const SCATTERED_N: usize = 41;
 /// through the plate centre, with at most [`SCATTERED_N`] points per side
 /// and h at least [`SCATTERED_SPACING`] (coarser when the points lie far
 /// from the plate centre, so that the library grid covering its rotations
-/// stays within [`crate::field::Grid::MAX_N`] nodes per side). Sized by the
+/// stays within `crate::field::Grid::MAX_N` nodes per side). Sized by the
 /// region, never by the points' spacing: one point, or four within 1 cm,
 /// give a grid of a few nodes.
 ///

@@ -152,7 +152,7 @@
 //! matter. A `sampled` field nested inside a `sum` needs a grid.
 //!
 //! Where a part goes between and beyond the samples of a grid-less target
-//! (the played measure of a design, [`crate::design::closed_loop::measure`]),
+//! (the played measure of a design, [`crate::design::closed_loop::realised`]),
 //! the field is [`SampledInterpolant`]: local linear fits on a node grid,
 //! computed once per point set, exact for an affine field.
 //!
@@ -201,7 +201,7 @@ pub const MIN_WEIGHTED_POINTS: usize = 3;
 
 pub use crate::scene::FrictionSpec;
 pub use attractor::Attractor;
-pub use classes::PartClass;
+pub(crate) use classes::PartClass;
 pub use error::TargetError;
 pub use examples::examples;
 pub use field::{
@@ -209,7 +209,7 @@ pub use field::{
     IDW_NEIGHBORS, MAX_SAMPLED_POINTS, MAX_TERMS, MIN_JET_WIDTH, RATIO, SPEED, STRENGTH,
     TRANSPORT_LENGTH, WEIGHT,
 };
-pub use folder::{plain_folder_name, MAX_NAME_BYTES};
+pub(crate) use folder::plain_folder_name;
 pub use grid::{scattered_grid, Grid, MaskRegion, MAX_GRID_N, SCATTERED_N, SCATTERED_SPACING};
 pub use interpolant::{SampledInterpolant, LINEAR_NEIGHBORS, MAX_NODES, MIN_NODES};
 pub use shaker::{ShakerSpec, TravelSpec, MAX_HARMONICS, MAX_PERIOD_S, MIN_PERIOD_S};
@@ -218,7 +218,7 @@ use error::show;
 
 /// A target whose largest |f| (m/s) over its weighted points is at most
 /// this is refused as zero: no schedule can be designed for it.
-pub const ZERO_FIELD: f64 = 1e-12;
+pub(crate) const ZERO_FIELD: f64 = 1e-12;
 
 /// A requested velocity field on a region of the plate; the in-memory form
 /// of a target JSON file (see the [module documentation](self)).
@@ -252,7 +252,7 @@ pub struct Target {
     /// 9.81 by default).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub gravity: Option<f64>,
-    /// Part classes sorted by friction ([`PartClass`], at least two),
+    /// Part classes sorted by friction (`PartClass`, at least two),
     /// instead of one `field` and `friction`; empty for a plain target.
     /// With classes, `field` holds the first class's field.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -298,13 +298,8 @@ impl SampledTarget {
         self.points.is_empty()
     }
 
-    /// Number of points with a positive weight.
-    pub fn active_count(&self) -> usize {
-        self.weights.iter().filter(|&&w| w > 0.0).count()
-    }
-
     /// Largest `|f|` (m/s) over points with a positive weight.
-    pub fn max_norm(&self) -> f64 {
+    pub(crate) fn max_norm(&self) -> f64 {
         self.vectors
             .iter()
             .zip(&self.weights)
@@ -354,7 +349,7 @@ impl Target {
 
     /// Number of sample points: grid points if there is a grid, otherwise
     /// the samples of a `sampled` field (0 if neither).
-    pub fn sample_count(&self) -> usize {
+    pub(crate) fn sample_count(&self) -> usize {
         match (&self.grid, &self.field) {
             (Some(g), _) => g.len(),
             (None, FieldSpec::Sampled { points, .. }) => points.len(),
@@ -625,7 +620,7 @@ mod tests {
             let s = t.sample().unwrap_or_else(|e| panic!("{name}: {e}"));
             assert_eq!(s.points.len(), s.vectors.len());
             assert_eq!(s.points.len(), s.weights.len());
-            assert!(s.active_count() > 0);
+            assert!(s.weights.iter().any(|&w| w > 0.0));
             assert!(s.max_norm() > 0.0, "{name}");
             if name == "sampled.json" {
                 assert!(t.grid.is_none());

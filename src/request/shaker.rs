@@ -45,19 +45,19 @@ pub const MAX_HARMONICS: u32 = 16;
 /// Longest fundamental period (s).
 pub const MAX_PERIOD_S: f64 = 10.0;
 /// Shortest fundamental period (s): the scene and schedule minimum
-/// ([`crate::scene::PERIOD`]). A period of 1e-300 s made the synthesis
+/// (`crate::scene::PERIOD`). A period of 1e-300 s made the synthesis
 /// run without end, and one below it wrote motions no command could read.
 pub const MIN_PERIOD_S: f64 = *crate::scene::PERIOD.start();
 
 /// Largest linear velocity limit (m/s).
-pub const MAX_LINEAR_VELOCITY: f64 = 100.0;
+pub(crate) const MAX_LINEAR_VELOCITY: f64 = 100.0;
 /// Largest angular velocity limit (rad/s).
-pub const MAX_ANGULAR_VELOCITY: f64 = 1e3;
+pub(crate) const MAX_ANGULAR_VELOCITY: f64 = 1e3;
 /// Largest linear stroke limit (m).
-pub const MAX_LINEAR_STROKE: f64 = 1.0;
+pub(crate) const MAX_LINEAR_STROKE: f64 = 1.0;
 /// Largest angular stroke limit (rad): the small-angle model of a
 /// six-signal motion means nothing near a half turn.
-pub const MAX_ANGULAR_STROKE: f64 = 1.0;
+pub(crate) const MAX_ANGULAR_STROKE: f64 = 1.0;
 
 /// A travel limit per world axis (`velocity` or `stroke` of a `shaker`
 /// object): `linear` x, y, z and `angular` about x, y, z; a group left out

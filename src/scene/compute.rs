@@ -12,7 +12,7 @@ use crate::progress::{Progress, ProgressMode};
 impl SceneMotion {
     /// JSON paths (under `path`) of the parameters that set the motion's
     /// amplitude, for error messages.
-    pub fn amplitude_fields(&self, path: &str) -> Vec<String> {
+    pub(crate) fn amplitude_fields(&self, path: &str) -> Vec<String> {
         let wave = |name: &str, w: &Waveform| -> Option<String> {
             match w {
                 Waveform::Zero => None,

@@ -48,7 +48,7 @@ impl Interval {
     }
 
     /// `true` when known exactly.
-    pub fn is_exact(&self) -> bool {
+    pub(crate) fn is_exact(&self) -> bool {
         self.lo == self.hi
     }
 
@@ -143,7 +143,7 @@ impl FrictionSpec {
     }
 
     /// `true` when both coefficients are known exactly.
-    pub fn is_exact(&self) -> bool {
+    pub(crate) fn is_exact(&self) -> bool {
         self.stat.is_exact() && self.kinetic.is_exact()
     }
 

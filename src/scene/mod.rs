@@ -64,11 +64,10 @@ use crate::motion::Motion;
 pub use friction::{FrictionSpec, Interval, MU};
 pub use request::{field, FieldRequest};
 pub use validate::primitive as validate_primitive;
-pub use validate::resolved as validate_resolved;
+pub(crate) use validate::resolved as validate_resolved;
 pub use validate::signals as validate_signals;
-pub use validate::{
-    ANGULAR_ACCEL, GRAVITY, GRAVITY_MIN, GRID_EXTENT, GRID_N, HARMONIC, LINEAR_ACCEL,
-    MAX_ITERATIONS, PERIOD, PHASES, ROTATION, STEPS_PER_CYCLE, TERMS, TRANSLATION,
+pub(crate) use validate::{
+    ANGULAR_ACCEL, GRAVITY, GRAVITY_MIN, LINEAR_ACCEL, MAX_ITERATIONS, PERIOD,
 };
 
 /// The motion of a scene: a kinematic motion, or a library primitive.
@@ -81,11 +80,11 @@ pub enum SceneMotion {
 }
 
 /// The values of a scene motion's `"type"`.
-pub const MOTION_TYPES: &[&str] = &["screw", "signals", "primitive"];
+pub(crate) const MOTION_TYPES: &[&str] = &["screw", "signals", "primitive"];
 
 impl SceneMotion {
     /// The plate motion.
-    pub fn to_motion(&self) -> Motion {
+    pub(crate) fn to_motion(&self) -> Motion {
         match self {
             SceneMotion::Motion(m) => m.clone(),
             SceneMotion::Primitive(p) => p.motion(),

@@ -22,7 +22,7 @@ pub struct FieldRequest {
 
 /// The field of the request's scene ([`Scene::compute`]), after the work
 /// estimate allows it (`runtime.allow_long` lifts the limit of
-/// [`crate::work::LIMIT_S`]). What `platefield field` and the Python
+/// `crate::work::LIMIT_S`). What `platefield field` and the Python
 /// package's `platefield.field` compute; the report layer writes it.
 ///
 /// ```

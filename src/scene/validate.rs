@@ -18,47 +18,48 @@ use crate::input::num;
 use crate::motion::{Axes, FourierTerm, Motion, Screw, Signals, Waveform};
 
 /// Allowed range of `phases`.
-pub const PHASES: RangeInclusive<u64> = 1..=1000;
+pub(crate) const PHASES: RangeInclusive<u64> = 1..=1000;
 /// Allowed range of each grid count.
-pub const GRID_N: RangeInclusive<u64> = 1..=1001;
+pub(crate) const GRID_N: RangeInclusive<u64> = 1..=1001;
 /// Largest |coordinate| (m) of the grid's corners and of a screw's point,
 /// and the largest primitive depth and shift.
-pub const GRID_EXTENT: f64 = 1.0;
+pub(crate) const GRID_EXTENT: f64 = 1.0;
 /// Allowed range of a Fourier term's harmonic number: the highest the
 /// largest [`STEPS_PER_CYCLE`] resolves at
 /// [`STEPS_PER_HARMONIC`](crate::dynamics::STEPS_PER_HARMONIC) steps per
 /// harmonic period (100000 was accepted and integrated as if resolved).
-pub const HARMONIC: RangeInclusive<u64> =
+pub(crate) const HARMONIC: RangeInclusive<u64> =
     1..=(*STEPS_PER_CYCLE.end() / crate::dynamics::STEPS_PER_HARMONIC) as u64;
 /// Largest number of Fourier terms in one signal or waveform.
-pub const TERMS: usize = 1000;
+pub(crate) const TERMS: usize = 1000;
 /// Allowed range of a motion's period T (s).
-pub const PERIOD: RangeInclusive<f64> = 1e-4..=100.0;
+pub(crate) const PERIOD: RangeInclusive<f64> = 1e-4..=100.0;
 /// Largest rotation pose amplitude |q0| (rad): rest-to-rest amplitude,
 /// Fourier offset, primitive amplitude.
-pub const ROTATION: f64 = 0.5;
+pub(crate) const ROTATION: f64 = 0.5;
 /// Largest translation pose amplitude |d0| (m).
-pub const TRANSLATION: f64 = 0.1;
+pub(crate) const TRANSLATION: f64 = 0.1;
 /// Largest peak angular acceleration (rad/s²) of a rotation.
-pub const ANGULAR_ACCEL: f64 = 1e5;
+pub(crate) const ANGULAR_ACCEL: f64 = 1e5;
 /// Largest peak linear acceleration (m/s², about 1000 g) of a translation.
-pub const LINEAR_ACCEL: f64 = 1e4;
+pub(crate) const LINEAR_ACCEL: f64 = 1e4;
 /// Largest gravity (m/s²; gravity is in [GRAVITY_MIN, GRAVITY]).
-pub const GRAVITY: f64 = 100.0;
+pub(crate) const GRAVITY: f64 = 100.0;
 /// Smallest gravity (m/s²): 1 % of the paper's 9.81, below the Moon's
 /// 1.62. Everything scales with g (the normal force N = g + a_z that
 /// decides contact, the friction μN, the steady-state tolerances relative
 /// to μ_k g T), so a g near 0 is no plate on a shaker: 1e-300 made every
 /// point "leave the plate" and the message asked to reduce the amplitude.
-pub const GRAVITY_MIN: f64 = 0.1;
+pub(crate) const GRAVITY_MIN: f64 = 0.1;
 /// Allowed range of `numerics.steps_per_cycle`: 64 is the default and
 /// 512 the reference of the speed study; a field at 4096 steps per cycle
 /// already takes 64 times the default's time. The lower bound is
 /// [`MIN_STEPS_PER_CYCLE`](crate::dynamics::MIN_STEPS_PER_CYCLE) (its
 /// doc gives the measured errors below it).
-pub const STEPS_PER_CYCLE: RangeInclusive<usize> = crate::dynamics::MIN_STEPS_PER_CYCLE..=4096;
+pub(crate) const STEPS_PER_CYCLE: RangeInclusive<usize> =
+    crate::dynamics::MIN_STEPS_PER_CYCLE..=4096;
 /// Allowed range of `numerics.max_iterations` (cycle-map evaluations).
-pub const MAX_ITERATIONS: RangeInclusive<usize> = 1..=10_000;
+pub(crate) const MAX_ITERATIONS: RangeInclusive<usize> = 1..=10_000;
 
 /// `v` in `[lo, hi]` (and finite), with `unit` in the message.
 fn within(path: &str, v: f64, lo: f64, hi: f64, unit: &str) -> Result<()> {
@@ -203,9 +204,9 @@ fn screw(s: &Screw, path: &str) -> Result<()> {
 }
 
 /// Checks a six-signal motion against the scene ranges (period in
-/// [`PERIOD`], at most [`TERMS`] terms per signal, each amplitude within
-/// [`LINEAR_ACCEL`] or [`ANGULAR_ACCEL`], phase within ±1000 rad,
-/// harmonic in [`HARMONIC`]); errors name `path.linear.x[0].amplitude` etc.
+/// `PERIOD`, at most `TERMS` terms per signal, each amplitude within
+/// `LINEAR_ACCEL` or `ANGULAR_ACCEL`, phase within ±1000 rad,
+/// harmonic in `HARMONIC`); errors name `path.linear.x[0].amplitude` etc.
 /// Used for scene signals and for schedule segments alike.
 pub fn signals(s: &Signals, path: &str) -> Result<()> {
     period(&format!("{path}.period"), s.period)?;
@@ -263,7 +264,7 @@ fn top_harmonic(m: &Motion, path: &str) -> Option<(u32, String)> {
 /// period of that harmonic (its doc gives the measured errors). A harmonic
 /// above is refused, naming its path and the steps it needs, rather than
 /// integrated as if resolved (harmonic 100 at 64 steps was 28 % off).
-pub fn resolved(m: &Motion, path: &str, steps: usize, steps_path: &str) -> Result<()> {
+pub(crate) fn resolved(m: &Motion, path: &str, steps: usize, steps_path: &str) -> Result<()> {
     let per = crate::dynamics::STEPS_PER_HARMONIC;
     match top_harmonic(m, path) {
         Some((h, at)) if (h as usize).saturating_mul(per) > steps => Err(Error::invalid(
@@ -280,8 +281,8 @@ pub fn resolved(m: &Motion, path: &str, steps: usize, steps_path: &str) -> Resul
 }
 
 /// Checks a library primitive's parameters against the scene ranges
-/// (omega from [`PERIOD`], amplitude within [`ROTATION`], translation within
-/// [`TRANSLATION`], depth and shift within [`GRID_EXTENT`]) and its resolved
+/// (omega from `PERIOD`, amplitude within `ROTATION`, translation within
+/// `TRANSLATION`, depth and shift within `GRID_EXTENT`) and its resolved
 /// motion's peak accelerations; errors name `path.<parameter>`. Used for
 /// scene primitives and for schedule segments alike.
 pub fn primitive(p: &Primitive, path: &str) -> Result<()> {

@@ -27,12 +27,12 @@
 //! as before, and a schedule without one is written byte for byte as before
 //! (the key is left out when absent).
 //!
-//! [`mod@quantize`] turns time fractions into whole cycles; [`export`] writes
+//! `mod@quantize` turns time fractions into whole cycles; [`export`] writes
 //! the six controller signals of a schedule.
 
 pub mod export;
-pub mod played;
-pub mod quantize;
+pub(crate) mod played;
+pub(crate) mod quantize;
 
 use std::path::Path;
 
@@ -50,7 +50,7 @@ pub use quantize::{quantize, Quantized, DEFAULT_MIN_CYCLES, DEFAULT_QUANTIZATION
 
 /// Most cycles of one segment (about 50 minutes of plate motion at the
 /// paper's 30 ms cycle).
-pub const MAX_SEGMENT_CYCLES: u32 = 100_000;
+pub(crate) const MAX_SEGMENT_CYCLES: u32 = 100_000;
 /// Longest schedule period (s).
 pub const MAX_PERIOD_S: f64 = 3600.0;
 
@@ -119,7 +119,7 @@ impl Segment {
     /// Validates the segment's primitive or motion (not both), naming
     /// `{at}.primitive…` or `{at}.motion…`, and its ramp (only on a
     /// six-signal motion, 1 ≤ ramp ≤ cycles/2, `{at}.ramp_cycles`).
-    pub fn validate_motion(&self, at: &str) -> Result<()> {
+    pub(crate) fn validate_motion(&self, at: &str) -> Result<()> {
         if let Some(ramp) = self.ramp_cycles {
             if self.motion.is_none() {
                 return Err(Error::invalid(
@@ -365,7 +365,7 @@ impl Schedule {
     /// Checks ranges and physics (errors name the JSON path): at least one
     /// segment of positive duration; moving segments with a valid primitive
     /// (the scene ranges, [`crate::scene::validate_primitive`])
-    /// and 1..=[`MAX_SEGMENT_CYCLES`] cycles; rest segments with a finite
+    /// and 1..=`MAX_SEGMENT_CYCLES` cycles; rest segments with a finite
     /// duration ≥ 0; a period of at most [`MAX_PERIOD_S`]; weights finite
     /// and ≥ 0; valid settings and target.
     pub fn validate(&self) -> Result<()> {
@@ -492,7 +492,7 @@ impl Schedule {
     /// A schedule built by hand from `segments` (not by a fit): `fit` is the
     /// field it claims (both metrics), no basis, solver mode `"none"`, a
     /// minimum of 1 cycle per segment; derived quantities computed.
-    pub fn of_segments(
+    pub(crate) fn of_segments(
         target: &str,
         segments: Vec<Segment>,
         settings: FieldSettings,
@@ -542,7 +542,7 @@ impl Schedule {
     }
 
     /// Time (s) per period in which the plate moves.
-    pub fn moving_time(&self) -> f64 {
+    pub(crate) fn moving_time(&self) -> f64 {
         self.segments
             .iter()
             .filter(|s| s.is_moving())
@@ -552,7 +552,7 @@ impl Schedule {
 
     /// The target name, checked to be a plain folder name (results go to
     /// `OUT/<target>/`).
-    pub fn target_folder(&self) -> Result<&str> {
+    pub(crate) fn target_folder(&self) -> Result<&str> {
         let name = self.target.as_str();
         crate::request::plain_folder_name(name, "target")?;
         Ok(name)

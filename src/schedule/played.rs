@@ -49,7 +49,7 @@ impl std::fmt::Display for Method {
 }
 
 /// Per-axis peak |plate-centre acceleration| a schedule commands (world
-/// axes; see [`super::export::motion_peaks`]).
+/// axes; see `super::export::motion_peaks`).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct AxisPeaks {
@@ -61,7 +61,7 @@ pub struct AxisPeaks {
 
 impl AxisPeaks {
     /// From the six peaks in signal order (linear x, y, z, angular x, y, z).
-    pub fn from_six(p: [f64; 6]) -> AxisPeaks {
+    pub(crate) fn from_six(p: [f64; 6]) -> AxisPeaks {
         AxisPeaks {
             linear: [p[0], p[1], p[2]],
             angular: [p[3], p[4], p[5]],
@@ -71,7 +71,7 @@ impl AxisPeaks {
 
 /// The realised check of a design: the schedule played on point parts with
 /// the one realised measure ([`crate::play::measure`], via
-/// `design::closed_loop::measure`), against the target.
+/// `design::closed_loop::realised`), against the target.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Played {

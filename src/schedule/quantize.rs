@@ -18,7 +18,7 @@ pub const DEFAULT_MIN_CYCLES: u32 = 10;
 /// Default tolerance on the field's quantisation error.
 pub const DEFAULT_QUANTIZATION_TOL: f64 = 0.02;
 /// Longest schedule searched (cycles).
-pub const MAX_TOTAL_CYCLES: u32 = 5000;
+pub(crate) const MAX_TOTAL_CYCLES: u32 = 5000;
 
 /// Result of quantising fractions.
 #[derive(Debug, Clone, PartialEq)]

@@ -3,20 +3,20 @@
 //!
 //! Every shipped target ([`TARGETS`]) is designed as `design --method auto`
 //! does (`design_by_method`, default options, the basis from the cache)
-//! under each of the [`BUDGETS`]: the synthesis's evaluation budget and
+//! under each of the `BUDGETS`: the synthesis's evaluation budget and
 //! stall rule, the played polish's plays and stall rule. For each it writes
 //! the synthesized candidate's realised shape error and strength (the
-//! played check every design reports, [`crate::design::method::play_check`])
+//! played check every design reports, `crate::design::method::play_check`)
 //! and what `auto` kept. The file holds no timings, so it is deterministic;
 //! wall and CPU seconds of each design go to the printed summary only (the
 //! machine is shared: CPU seconds are the steadier number).
 //!
 //! The default (issue 27) refines by least squares: up to six
 //! Levenberg–Marquardt steps on the coarse residuals
-//! ([`crate::synth::least_squares`]) and four on the played ones
+//! (`crate::synth::least_squares`) and four on the played ones
 //! ([`crate::design::polish`]); the other rows take fewer steps,
 //! no polish, or the Nelder–Mead path of before with its stall rules
-//! ([`SYNTH_STALL`], [`POLISH_STALL`]; its polish plays the check's
+//! (`SYNTH_STALL`, `POLISH_STALL`; its polish plays the check's
 //! cycles too).
 
 use std::fmt::Write as _;
@@ -80,7 +80,7 @@ const fn steps(lm: LmOptions, steps: usize) -> LmOptions {
 
 /// The budgets compared: the default first, then cheaper ones, then the
 /// Nelder–Mead path of before issue 27 with its stall rules.
-pub const BUDGETS: [Budget; 5] = [
+pub(crate) const BUDGETS: [Budget; 5] = [
     Budget {
         label: "least squares 6+4 (default)",
         evaluations: 300,
@@ -258,7 +258,7 @@ fn strength(x: Option<f64>) -> String {
 }
 
 /// The markdown table (no timings).
-pub fn markdown(rows: &[Row]) -> String {
+pub(crate) fn markdown(rows: &[Row]) -> String {
     let mut s = String::from(
         "# Design cost against realised quality (issue 27)\n\n\
          Written by `platefield design-speed` (`src/studies/design_speed.rs` says how). \

@@ -5,8 +5,8 @@
 //! Each of the eight default primitives' zero-velocity force field and
 //! steady-state velocity field (model full, μ = 0.3, [`FieldSettings`]
 //! defaults otherwise) is computed on a small grid ([`GRID`], 11 × 11 over
-//! ±4 cm, 30 start phases for force fields) at [`STEPS`] RK4 steps per
-//! cycle and against a reference at [`REFERENCE_STEPS`]. For each: the
+//! ±4 cm, 30 start phases for force fields) at `STEPS` RK4 steps per
+//! cycle and against a reference at `REFERENCE_STEPS`. For each: the
 //! relative L2 error over samples valid in both ([`relative_l2`]), the wall
 //! and CPU time of the field (timings only in the markdown; the csv holds
 //! the deterministic numbers), and the observed order log₂(e(n)/e(2n)).
@@ -30,9 +30,9 @@ use crate::plot::{LegendPosition, LinePlot, Series};
 /// Default output folder.
 pub const DIR: &str = "results";
 /// Steps per cycle measured.
-pub const STEPS: [usize; 6] = [8, 16, 32, 64, 128, 256];
+pub(crate) const STEPS: [usize; 6] = [8, 16, 32, 64, 128, 256];
 /// Steps per cycle of the reference.
-pub const REFERENCE_STEPS: usize = 1024;
+pub(crate) const REFERENCE_STEPS: usize = 1024;
 /// The grid: 11 × 11 over ±4 cm.
 pub const GRID: Grid = Grid {
     x: [-0.04, 0.04],
@@ -40,7 +40,7 @@ pub const GRID: Grid = Grid {
     n: [11, 11],
 };
 /// The error target.
-pub const TARGET_ERROR: f64 = 1e-4;
+pub(crate) const TARGET_ERROR: f64 = 1e-4;
 
 /// What is measured.
 #[derive(Debug, Clone)]
@@ -108,7 +108,7 @@ impl Curve {
     /// Richardson estimate of the reference's own error from the order
     /// between the two finest step counts (NaN when that order is not
     /// positive).
-    pub fn reference_error(&self, reference: usize) -> f64 {
+    pub(crate) fn reference_error(&self, reference: usize) -> f64 {
         let p = self.orders().last().copied().unwrap_or(f64::NAN);
         let (n, e) = (
             *self.steps.last().unwrap_or(&1) as f64,
@@ -122,7 +122,7 @@ impl Curve {
     }
 
     /// Fewest measured steps per cycle with error ≤ `target`.
-    pub fn steps_for(&self, target: f64) -> Option<usize> {
+    pub(crate) fn steps_for(&self, target: f64) -> Option<usize> {
         self.steps
             .iter()
             .zip(&self.errors)
@@ -263,7 +263,7 @@ pub fn plot(curves: &[Curve], kind: FieldKind, reference: usize) -> LinePlot {
 }
 
 /// The report.
-pub fn markdown(config: &Config, curves: &[Curve]) -> String {
+pub(crate) fn markdown(config: &Config, curves: &[Curve]) -> String {
     let g = config.grid;
     let threads = rayon::current_num_threads();
     let load = load_average().map_or(String::new(), |l| {

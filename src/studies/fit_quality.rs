@@ -12,7 +12,7 @@ use crate::report::table::Table;
 use crate::request::Target;
 
 /// The fit modes compared.
-pub fn modes() -> Vec<FitMode> {
+pub(crate) fn modes() -> Vec<FitMode> {
     vec![
         FitMode::Shape,
         FitMode::Absolute,

@@ -30,11 +30,11 @@ use crate::play::{Join, PlayedSegment, ScheduleMotion};
 use crate::report::table::Table;
 
 /// Cycles per segment in the table.
-pub const CYCLES: [u32; 3] = [1, 3, 10];
+pub(crate) const CYCLES: [u32; 3] = [1, 3, 10];
 
 /// One row of the table.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct InteractionRow {
+pub(crate) struct InteractionRow {
     /// Cycles per segment.
     pub cycles: u32,
     /// Relative L2 error, rest-to-rest waveform.
@@ -98,7 +98,7 @@ pub fn interaction_error(
 }
 
 /// Computes the rows of the table for `model` on `n × n` points over ±`half` m.
-pub fn interaction_rows(n: usize, half: f64, model: Model) -> Result<Vec<InteractionRow>> {
+pub(crate) fn interaction_rows(n: usize, half: f64, model: Model) -> Result<Vec<InteractionRow>> {
     CYCLES
         .iter()
         .map(|&c| {
@@ -115,7 +115,7 @@ pub fn interaction_rows(n: usize, half: f64, model: Model) -> Result<Vec<Interac
 /// Computes the table (5 × 5 points over ±4 cm, frozen full model; the
 /// paper model alongside) and writes it to `out/sink_interaction.md`;
 /// returns the markdown.
-pub fn interaction_table(out: &Path) -> Result<String> {
+pub(crate) fn interaction_table(out: &Path) -> Result<String> {
     let rows = interaction_rows(5, 0.04, Model::FROZEN)?;
     let paper_rows = interaction_rows(5, 0.04, Model::PAPER)?;
     let doc = |c: u32| match c {
@@ -202,7 +202,7 @@ pub fn interaction_table(out: &Path) -> Result<String> {
 /// Default output folder of `platefield interaction`.
 pub const DIR: &str = "results/verify";
 
-/// `platefield interaction`: [`interaction_table`] and the file it wrote.
+/// `platefield interaction`: `interaction_table` and the file it wrote.
 pub fn run(out: &Path) -> Result<String> {
     let mut s = interaction_table(out)?;
     s.push_str(&format!(

@@ -7,7 +7,7 @@
 //! |---|---|---|
 //! | [`linesink`] | `platefield linesink` | — (the section II one-axis shaker against eq. 17) |
 //! | [`reproduce`] | `platefield reproduce` | `linesink_fig3.{csv,svg}`, `linesink_terms.md`, `linesink_travel.csv`, `linesink_convergence.md` |
-//! | [`primitives`], [`table1`] | `platefield primitives` | `primitives/` fields, plots, `table1.md` |
+//! | [`primitives`], `table1` | `platefield primitives` | `primitives/` fields, plots, `table1.md` |
 //! | [`rung`] | `platefield rungs` | `primitives/rungs.md` |
 //! | [`speed`] | `platefield speed` | `library_speed.md` |
 //! | [`engine_speed`] | `platefield engine-speed` | `engine_speed.{md,csv}`, `engine_speed_{force,velocity}.svg` |
@@ -33,7 +33,7 @@ pub mod rung;
 pub mod speed;
 pub mod squeeze_order;
 pub mod synthesis;
-pub mod table1;
+pub(crate) mod table1;
 pub mod work;
 
 pub use work::{watched, watched_defaults};

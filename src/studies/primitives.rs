@@ -19,7 +19,7 @@ fn json_bytes(v: &serde_json::Value) -> Vec<u8> {
 
 /// Writes `<Name>.json`, `<Name>.velocity.json`, `<Name>.svg`,
 /// `<Name>.velocity.svg` and `table1.md` under `out`; returns table1.md.
-pub fn write_primitives(lib: &Library, out: &Path) -> Result<String> {
+pub(crate) fn write_primitives(lib: &Library, out: &Path) -> Result<String> {
     let s = &lib.settings;
     let mut md = format!(
         "# Primitive fields against the paper's Table I\n\n\
@@ -139,7 +139,7 @@ pub const DIR: &str = "results/primitives";
 /// The study's work on an `n` × `n` grid at `steps` steps per cycle under
 /// `plan`, relative to its defaults (the default grid and steps,
 /// uniform): the sum over the default primitives of their force and
-/// velocity fields' terms ([`crate::work::field_term`]: samples × cycles ×
+/// velocity fields' terms (`crate::work::field_term`: samples × cycles ×
 /// steps) at the steps `plan` gives each.
 ///
 /// ```

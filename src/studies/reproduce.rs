@@ -31,7 +31,7 @@ fn shaker(wave: Wave, accel: f64, depth: f64) -> LineSink {
 }
 
 /// The Fig. 3 cases: (label, shaker).
-pub fn fig3_cases() -> Vec<(&'static str, LineSink)> {
+pub(crate) fn fig3_cases() -> Vec<(&'static str, LineSink)> {
     vec![
         ("square_a180_h5cm", shaker(Wave::Square, 180.0, 0.05)),
         ("sine_a220_h5cm", shaker(Wave::Sine, 220.0, 0.05)),
@@ -45,7 +45,7 @@ fn cell(v: Option<f64>) -> String {
 }
 
 /// Writes `linesink_fig3.csv` and `linesink_fig3.svg`; returns the CSV text.
-pub fn fig3(out: &Path) -> Result<String> {
+pub(crate) fn fig3(out: &Path) -> Result<String> {
     let rs: Vec<f64> = (0..=50).map(|i| i as f64 * 0.001).collect();
     let numerics = Numerics::default();
     let cases = fig3_cases();

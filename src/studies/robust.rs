@@ -48,10 +48,10 @@ pub const TARGETS: [&str; 5] = [
 ];
 
 /// The frictions every design is played at.
-pub const FRICTIONS: [f64; 5] = [0.2, 0.25, 0.3, 0.35, 0.4];
+pub(crate) const FRICTIONS: [f64; 5] = [0.2, 0.25, 0.3, 0.35, 0.4];
 
 /// The range the robust designs hold over.
-pub const RANGE: [f64; 2] = [0.2, 0.4];
+pub(crate) const RANGE: [f64; 2] = [0.2, 0.4];
 
 /// The goals over the range: (worst shape error, least worst
 /// strength) per target.
@@ -63,7 +63,7 @@ pub fn goal(target: &str) -> (f64, Option<f64>) {
     }
 }
 
-/// One kept design played across [`FRICTIONS`].
+/// One kept design played across `FRICTIONS`.
 #[derive(Debug, Clone)]
 pub struct Row {
     /// Target name.
@@ -78,7 +78,7 @@ pub struct Row {
 
 impl Row {
     /// Whether its worst case over the range meets the target's [`goal`].
-    pub fn meets_goal(&self) -> bool {
+    pub(crate) fn meets_goal(&self) -> bool {
         let (shape, strength) = self.worst();
         let (g_shape, g_strength) = goal(&self.target);
         shape <= g_shape && g_strength.is_none_or(|g| strength >= g)
@@ -120,7 +120,7 @@ fn options(method: Method, quiet: bool, robust_synthesis: bool) -> DesignOptions
 /// export replayed too (`replay`, a second row labelled `…, export
 /// replayed`), as `design --robust-synthesis` (`robust_synthesis`).
 #[derive(Debug, Clone, Copy, Default)]
-pub struct RowOptions {
+pub(crate) struct RowOptions {
     /// No progress output.
     pub quiet: bool,
     /// Also replay the kept design's export.
@@ -131,7 +131,7 @@ pub struct RowOptions {
 
 /// Designs `target` with `method` and plays the kept design at
 /// `frictions` (and its export, as `how` says).
-pub fn design_rows(
+pub(crate) fn design_rows(
     target: &Target,
     (label, method): (&str, Method),
     frictions: &[f64],
@@ -172,7 +172,7 @@ pub fn design_rows(
 }
 
 /// [`design_rows`] without the replay: the one row.
-pub fn design_row(
+pub(crate) fn design_row(
     target: &Target,
     design: (&str, Method),
     frictions: &[f64],
@@ -198,18 +198,18 @@ fn load(name: &str) -> Result<Target> {
 
 /// Label of the sequenced design over [`RANGE`] (the stacked worst-case
 /// fit, [`crate::design::stacked`]).
-pub const STACKED: &str = "sequenced, stacked worst case [0.2, 0.4]";
+pub(crate) const STACKED: &str = "sequenced, stacked worst case [0.2, 0.4]";
 
 /// The label of the robust rows designed as `design --robust-synthesis`
 /// does (the synthesis and its polish optimise the worst case over the
 /// range, three frictions per evaluation: about 3× the CPU). Added for a
 /// target whose default robust design misses its goal.
-pub const ROBUST_SYNTHESIS: &str = "robust synthesis";
+pub(crate) const ROBUST_SYNTHESIS: &str = "robust synthesis";
 
 /// The comparison rows of one target: `auto` as shipped and robust over
 /// [`RANGE`], each played and its export replayed; the sequenced method
 /// fitted at μ 0.3 and by the stacked worst case over [`RANGE`].
-pub fn target_rows(name: &str, quiet: bool) -> Result<Vec<Row>> {
+pub(crate) fn target_rows(name: &str, quiet: bool) -> Result<Vec<Row>> {
     let nominal = load(name)?;
     let mut robust = nominal.clone();
     robust.friction = Some(FrictionSpec::range(RANGE[0], RANGE[1]));
@@ -252,7 +252,7 @@ pub fn target_rows(name: &str, quiet: bool) -> Result<Vec<Row>> {
 }
 
 /// The designs for a single μ of 0.15 and 0.6, each played at its μ.
-pub fn single_rows(quiet: bool) -> Result<Vec<Row>> {
+pub(crate) fn single_rows(quiet: bool) -> Result<Vec<Row>> {
     let mut rows = Vec::new();
     for name in ["sink", "whirlpool"] {
         for mu in [0.15, 0.6] {

@@ -53,7 +53,7 @@ use crate::report::table::Table;
 pub const DEFAULT_RUNG_TOLERANCE: f64 = 0.02;
 
 /// The rungs, cheapest first: name and model.
-pub const RUNGS: [(&str, Model); 4] = [
+pub(crate) const RUNGS: [(&str, Model); 4] = [
     ("paper", Model::PAPER),
     (
         "paper+moving",
@@ -295,7 +295,7 @@ fn physics_reason(motion: &Motion) -> &'static str {
 }
 
 /// The grid of `rungs.md`: 9 × 9 over ±4 cm.
-pub const RUNG_GRID: Grid = Grid {
+pub(crate) const RUNG_GRID: Grid = Grid {
     x: [-0.04, 0.04],
     y: [-0.04, 0.04],
     n: [9, 9],
@@ -303,7 +303,7 @@ pub const RUNG_GRID: Grid = Grid {
 
 /// Rung reports for the 8 default primitives on [`RUNG_GRID`], force and
 /// velocity fields, default settings: (primitive name, report).
-pub fn default_reports(tolerance: f64) -> Vec<(&'static str, RungReport)> {
+pub(crate) fn default_reports(tolerance: f64) -> Vec<(&'static str, RungReport)> {
     let settings = FieldSettings::default();
     let mut out = Vec::new();
     for kind in [FieldKind::Force, FieldKind::Velocity] {
@@ -317,7 +317,7 @@ pub fn default_reports(tolerance: f64) -> Vec<(&'static str, RungReport)> {
 
 /// `rungs.md` for `reports` (as from [`default_reports`]): deterministic,
 /// no times.
-pub fn rungs_markdown(reports: &[(&'static str, RungReport)], tolerance: f64) -> String {
+pub(crate) fn rungs_markdown(reports: &[(&'static str, RungReport)], tolerance: f64) -> String {
     let s = FieldSettings::default();
     let g = RUNG_GRID;
     let mut md = format!(
@@ -380,7 +380,7 @@ pub fn rungs_markdown(reports: &[(&'static str, RungReport)], tolerance: f64) ->
 }
 
 /// Writes `out/rungs.md` for `reports` and returns it.
-pub fn write_reports(
+pub(crate) fn write_reports(
     out: &Path,
     reports: &[(&'static str, RungReport)],
     tolerance: f64,
@@ -391,7 +391,7 @@ pub fn write_reports(
 }
 
 /// Compute times of every rung (s), as a plain-text table for the terminal.
-pub fn times_table(reports: &[(&'static str, RungReport)]) -> String {
+pub(crate) fn times_table(reports: &[(&'static str, RungReport)]) -> String {
     let mut t = format!("{:<14} {:<9}", "compute time", "field");
     for (name, _) in RUNGS {
         let _ = write!(t, " {name:>30}");
@@ -409,13 +409,6 @@ pub fn times_table(reports: &[(&'static str, RungReport)]) -> String {
         t.push('\n');
     }
     t
-}
-
-/// Computes the default reports ([`default_reports`]), writes
-/// `out/rungs.md` and returns it.
-pub fn write_rungs(out: &Path, tolerance: f64) -> Result<String> {
-    non_negative("--tolerance", tolerance)?;
-    write_reports(out, &default_reports(tolerance), tolerance)
 }
 
 /// Default output folder of `platefield rungs`.

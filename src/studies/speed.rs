@@ -5,18 +5,18 @@
 //!
 //! The default 8-primitive *force* library (21 × 21 grid over ±4 cm, 30
 //! start phases, [`FieldSettings::default`] otherwise: model full, μ = 0.3)
-//! is built at each of [`SPEED_STEPS`] RK4 steps per cycle, with each
+//! is built at each of `SPEED_STEPS` RK4 steps per cycle, with each
 //! primitive at its own calibrated count ([`StepsPlan::Calibrated`],
 //! `src/basis/steps.rs`), and at a converged reference
-//! ([`REFERENCE_STEPS`]). For each build the wall time (best of
-//! [`REPEATS`], rayon's default thread count) and each primitive's relative
+//! (`REFERENCE_STEPS`). For each build the wall time (best of
+//! `REPEATS`, rayon's default thread count) and each primitive's relative
 //! L2 error against the reference (over samples valid in both) are
 //! reported, with the target: a library in ≤ 0.3 s at ≤ 1e-4; the
 //! report says whether the fewest counts it measures are the calibrated
 //! ones.
 //!
 //! Two more measurements say what limits it: the 64-step build repeated
-//! with every motion shifted by [`PERTURBATION`] (which changes the true
+//! with every motion shifted by `PERTURBATION` (which changes the true
 //! field by about 1e-10 relative) shows how reproducible each primitive's
 //! field is under round-off-sized changes, and a Richardson estimate of the
 //! reference's own error (from the observed order between 32 and 64 steps)
@@ -39,24 +39,24 @@ use crate::field::{Field, FieldKind, FieldSettings, Grid, Orbits};
 use crate::output::write_atomic;
 
 /// Step counts measured (the calibration's ladder, `src/basis/steps.rs`).
-pub const SPEED_STEPS: [usize; 7] = LADDER;
+pub(crate) const SPEED_STEPS: [usize; 7] = LADDER;
 /// Steps per cycle of the reference.
-pub const REFERENCE_STEPS: usize = 512;
+pub(crate) const REFERENCE_STEPS: usize = 512;
 /// The target wall time (s).
-pub const TARGET_SECONDS: f64 = 0.3;
+pub(crate) const TARGET_SECONDS: f64 = 0.3;
 /// The target relative L2 error.
-pub const TARGET_ERROR: f64 = 1e-4;
+pub(crate) const TARGET_ERROR: f64 = 1e-4;
 /// Timed builds per step count (the best is reported).
-pub const REPEATS: usize = 3;
+pub(crate) const REPEATS: usize = 3;
 
 /// The largest order the reference's Richardson error estimate assumes:
 /// between 32 and 64 steps the 2-D primitives' fields converge at 5–6, above
 /// the order 3.2–4.3 `tests/slip2d.rs` `order_2d` measures from 16 to 64,
 /// so the observed order there would make the estimate 10–100× too small.
-pub const RICHARDSON_ORDER: f64 = 3.0;
+pub(crate) const RICHARDSON_ORDER: f64 = 3.0;
 
 /// Horizontal shift (m) of every motion in the reproducibility build.
-pub const PERTURBATION: f64 = 1e-12;
+pub(crate) const PERTURBATION: f64 = 1e-12;
 
 /// One timed build of the default force library.
 #[derive(Debug, Clone)]

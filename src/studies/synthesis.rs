@@ -15,7 +15,7 @@
 //! ([`sequenced_limits`]): the largest |plate-centre acceleration| of each of
 //! the six signals over every moving segment (a sequenced schedule plays one
 //! primitive at a time, so the summed signal is the segment's own), found on
-//! [`crate::schedule::export::PEAK_SAMPLES`] samples per primitive cycle; the period is the
+//! `crate::schedule::export::PEAK_SAMPLES` samples per primitive cycle; the period is the
 //! primitives' (all share ω); up to 2 harmonics, contact margin 0.1 g.
 //! Each row is synthesized with 1 and with 2 harmonics (fewer harmonics is
 //! within the same limits), each from the seed and from the
@@ -33,10 +33,10 @@
 //!
 //! **The realised measure** (the same for both motions): point parts placed
 //! at rest on the plate at every `STRIDE`-th point of the target grid (the
-//! unmasked ones), played ([`crate::design::closed_loop::measure::play_motion`]:
+//! unmasked ones), played ([`crate::design::closed_loop::realised::play_motion`]:
 //! ≥ 40 primitive cycles of warm-up, windows of ≥ 20 cycles starting at every
 //! join); realised strength ŝ and shape error against the target
-//! ([`crate::design::closed_loop::measure::realised_error`], ŝ in s⁻¹ since
+//! ([`crate::design::closed_loop::realised::realised_error`], ŝ in s⁻¹ since
 //! the targets have strength 1); realised vs predicted is
 //! ‖R − E‖/‖E‖ with E what a part following the motion's own steady state
 //! would do over the same windows — for one motion, the drift-lag-corrected
@@ -54,7 +54,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use crate::design::closed_loop::loop_points;
-use crate::design::closed_loop::measure::{
+use crate::design::closed_loop::realised::{
     counts, play_motion, realised_error, MeasureOptions, PointPlay,
 };
 use crate::design::method::sequenced_limits;
@@ -80,20 +80,20 @@ use crate::synth::{synthesize, ShakerLimits, SynthOptions, Synthesis};
 pub const DIR: &str = "results";
 
 /// Every `STRIDE`-th target grid point (each axis) carries a played part.
-pub const STRIDE: usize = 5;
+pub(crate) const STRIDE: usize = 5;
 
 /// Goals of issue 11.
-pub const GOAL_SHAPE: f64 = 0.05;
+pub(crate) const GOAL_SHAPE: f64 = 0.05;
 /// Realised strength against the sequenced schedule's.
-pub const GOAL_RATIO: f64 = 2.0;
+pub(crate) const GOAL_RATIO: f64 = 2.0;
 /// Realised against predicted (the synthesized motion's own steady state).
-pub const GOAL_VS_PREDICTED: f64 = 0.02;
+pub(crate) const GOAL_VS_PREDICTED: f64 = 0.02;
 /// Lab-class goal strength (s⁻¹).
-pub const GOAL_LAB_STRENGTH: f64 = 0.5;
+pub(crate) const GOAL_LAB_STRENGTH: f64 = 0.5;
 
 /// The rows compared with a sequenced schedule (`targets/<name>.json`,
 /// designed with `--method sequence`).
-pub const ROWS: [&str; 5] = [
+pub(crate) const ROWS: [&str; 5] = [
     "sink",
     "saddle",
     "whirlpool",
@@ -102,7 +102,7 @@ pub const ROWS: [&str; 5] = [
 ];
 
 /// The sequenced designs refined by re-simulation ([`refine_schedule`]).
-pub const REFINED: [&str; 2] = ["whirlpool", "squeeze_trans"];
+pub(crate) const REFINED: [&str; 2] = ["whirlpool", "squeeze_trans"];
 
 /// Shaker limits equal to a schedule's peaks, `harmonics` harmonics,
 /// margin 0.1 g.
@@ -130,7 +130,7 @@ pub struct Measured {
     pub played: usize,
 }
 
-/// The played points of a target: every [`STRIDE`]-th grid point with a
+/// The played points of a target: every `STRIDE`-th grid point with a
 /// positive weight.
 pub fn starts(target: &Target, sampled: &SampledTarget) -> Vec<usize> {
     loop_points(target, sampled, STRIDE)
@@ -152,7 +152,7 @@ pub fn measure(
 }
 
 /// [`measure`], with the plays it judged (in the order of [`starts`]).
-pub fn measure_plays(
+pub(crate) fn measure_plays(
     target: &Target,
     sm: &ScheduleMotion,
     per_period: u32,
@@ -307,7 +307,7 @@ impl StudySettings {
         let d = SynthOptions::default();
         SynthOptions {
             max_evaluations: self.evaluations,
-            refine: crate::synth::refine::RefineOptions {
+            refine: crate::synth::multistart::MultistartOptions {
                 starts: self.starts,
                 ..d.refine
             },
@@ -385,7 +385,7 @@ impl Row {
     }
 
     /// Goal checks: (shape ≤ 5 %, strength goal, realised vs predicted ≤ 2 %).
-    pub fn goals(&self) -> Option<[bool; 3]> {
+    pub(crate) fn goals(&self) -> Option<[bool; 3]> {
         let (_, m) = self.synthesis.as_ref().ok()?;
         let strength = match &self.sequenced {
             // A sequenced schedule that does not realise the target at all
@@ -542,7 +542,7 @@ pub fn row(name: &str, targets: &Path, cache: &Path, study: &StudySettings) -> R
 
 /// The lab-class row: the sink target under [`ShakerLimits::lab_class`],
 /// default physics.
-pub fn lab_row(targets: &Path, study: &StudySettings) -> Result<Row> {
+pub(crate) fn lab_row(targets: &Path, study: &StudySettings) -> Result<Row> {
     let target = Target::load(&targets.join("sink.json"))?;
     let limits = ShakerLimits::lab_class();
     let settings = FieldSettings::default();
@@ -556,7 +556,7 @@ pub fn lab_row(targets: &Path, study: &StudySettings) -> Result<Row> {
 }
 
 /// What bounds the seed's strength under `limits` (see [`Row::binding`]).
-pub fn seed_binding(
+pub(crate) fn seed_binding(
     target: &Target,
     limits: &ShakerLimits,
     settings: &FieldSettings,
@@ -651,7 +651,7 @@ pub struct RefineRow {
 
 /// Refines the sequenced schedule (`sequenced`) for `targets/<name>.json`
 /// with the default [`RefineOptions`].
-pub fn refine_row(name: &str, targets: &Path, cache: &Path) -> Result<RefineRow> {
+pub(crate) fn refine_row(name: &str, targets: &Path, cache: &Path) -> Result<RefineRow> {
     let target = Target::load(&targets.join(format!("{name}.json")))?;
     let schedule = sequenced(&target, cache)?;
     Ok(RefineRow {
@@ -1089,7 +1089,7 @@ pub fn run(out: &Path, only: &[String], study: &StudySettings) -> Result<String>
 /// ([`StudySettings::default`]), run alone (`--rows NAME`) when the
 /// study's results were last regenerated; a row's sequenced design reads
 /// its basis from the warm cache.
-pub const ROW_STEPS: &[(&str, f64)] = &[
+pub(crate) const ROW_STEPS: &[(&str, f64)] = &[
     ("sink", 3.63e7),
     ("saddle", 3.87e7),
     ("whirlpool", 5.21e7),
@@ -1106,7 +1106,7 @@ pub const ROW_STEPS: &[(&str, f64)] = &[
 /// paper's envelope with these harmonics, evaluations and plays, to the
 /// same with the defaults. A model: every row is taken to scale as the
 /// sink's does.
-pub fn settings_factor(study: &StudySettings) -> Result<f64> {
+pub(crate) fn settings_factor(study: &StudySettings) -> Result<f64> {
     let target = Target::load(Path::new("targets/sink.json"))?;
     let sampled = target.sample()?;
     let work = |s: &StudySettings| {
@@ -1128,7 +1128,7 @@ pub fn settings_factor(study: &StudySettings) -> Result<f64> {
 /// What `platefield synthesis` with rows `only` (empty: all) and settings
 /// `study` is expected to take: with the defaults, the count of its last
 /// regeneration; otherwise that count's share of the rows asked for
-/// ([`ROW_STEPS`]) times [`settings_factor`].
+/// (`ROW_STEPS`) times `settings_factor`.
 ///
 /// # Errors
 /// The sink target does not load.

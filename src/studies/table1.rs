@@ -15,7 +15,7 @@ use crate::field::{Field, Validity};
 
 /// A fitted Table I form.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct FormFit {
+pub(crate) struct FormFit {
     /// The form, as in Table I.
     pub form: &'static str,
     /// Coefficients (a, or a and b for DivCircle).

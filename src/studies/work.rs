@@ -124,11 +124,6 @@ pub fn estimate(name: &str) -> Option<Estimate> {
     Expected::defaults(name).map(|e| e.estimate)
 }
 
-/// Steps study `name` is expected to count with its defaults, if known.
-pub fn expected_steps(name: &str) -> Option<f64> {
-    entry(name).map(|(steps, _)| steps)
-}
-
 /// Runs study `name` (`f`) with its `expected` work stated first and
 /// progress in thousands of counted steps on stderr, unless `quiet`; the
 /// count it took is printed at the end. `None`: no estimate is known for

@@ -18,13 +18,13 @@ use super::objective::{Evaluation, Objective};
 use super::params::Coefficients;
 
 /// Calibration steps (one coarse re-simulation each).
-pub const STEPS: usize = 3;
+pub(crate) const STEPS: usize = 3;
 
 /// A turn below this (rad, 0.2°) ends the calibration.
 const TURN_TOL: f64 = 0.2 * std::f64::consts::PI / 180.0;
 
 /// Axes whose harmonic 1 is the normal-force modulation: a_z, α_x, α_y.
-pub const NORMAL_AXES: [usize; 3] = [2, 3, 4];
+pub(crate) const NORMAL_AXES: [usize; 3] = [2, 3, 4];
 
 /// `c` with harmonic 1 of a_z, α_x and α_y shifted in phase by `phi`.
 pub fn shifted(c: &Coefficients, phi: f64) -> Coefficients {

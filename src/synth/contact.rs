@@ -18,11 +18,15 @@ use crate::field::{FieldSettings, Grid};
 use crate::motion::{Motion, V3};
 
 /// Instants per period of the kinematic check.
-pub const TIME_SAMPLES: usize = 256;
+pub(crate) const TIME_SAMPLES: usize = 256;
 
 /// Least N (m/s²) over the points of `grid` and [`TIME_SAMPLES`] instants
 /// of one period, for a part at rest relative to the plate.
-pub fn kinematic_least_normal(motion: &Motion, grid: &Grid, settings: &FieldSettings) -> f64 {
+pub(crate) fn kinematic_least_normal(
+    motion: &Motion,
+    grid: &Grid,
+    settings: &FieldSettings,
+) -> f64 {
     let period = motion.period();
     let points = grid.points();
     let mut least = f64::INFINITY;
@@ -43,7 +47,7 @@ pub fn kinematic_least_normal(motion: &Motion, grid: &Grid, settings: &FieldSett
 /// (points without a steady state are skipped: the field flags them).
 /// The plate kinematics of the cycle are tabulated once and shared by
 /// every point ([`KinematicsTable`], a memo: the same bits as without it).
-pub fn orbit_least_normal(motion: &Motion, grid: &Grid, settings: &FieldSettings) -> f64 {
+pub(crate) fn orbit_least_normal(motion: &Motion, grid: &Grid, settings: &FieldSettings) -> f64 {
     let direct = settings.simulator(motion);
     let table = KinematicsTable::cycle(&direct);
     least_normal_along_orbits(&direct.with_table(&table), motion, grid, settings)

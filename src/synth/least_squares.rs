@@ -25,7 +25,7 @@ use crate::error::{Error, Result};
 /// # Errors
 /// Never for a deterministic objective; a residual vector of changing
 /// length (a bug) is reported.
-pub fn least_squares(
+pub(crate) fn least_squares(
     objective: &Objective<'_>,
     x0: &[f64],
     options: &LmOptions,

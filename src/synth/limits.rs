@@ -50,7 +50,7 @@ use crate::schedule::export::centre_acceleration;
 use crate::schedule::export::peaks::KinematicPeaks;
 
 /// Peak accelerations, harmonics and contact margin a synthesized motion
-/// must respect (see the [module documentation](self)).
+/// must respect (see the module documentation).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct ShakerLimits {
@@ -104,7 +104,7 @@ impl ShakerLimits {
     }
 
     /// These limits as a fully given `shaker` object.
-    pub fn to_spec(&self) -> ShakerSpec {
+    pub(crate) fn to_spec(&self) -> ShakerSpec {
         ShakerSpec {
             period: Some(self.period),
             linear: Some(self.linear),
@@ -171,7 +171,7 @@ impl ShakerLimits {
     /// The six per-axis acceleration limits in signal order (linear x, y,
     /// z, angular x, y, z), each lowered to what a harmonic-1 term may have
     /// under the axis's velocity and stroke limits, min(v ω, s ω²) with
-    /// ω = 2π/T (see the [module documentation](self)).
+    /// ω = 2π/T (see the module documentation).
     ///
     /// ```
     /// use platefield::request::TravelSpec;
@@ -198,7 +198,7 @@ impl ShakerLimits {
 
     /// The six peak-acceleration limits as given (not lowered by the
     /// travel limits; compare [`axes`](Self::axes)).
-    pub fn acceleration_axes(&self) -> [f64; 6] {
+    pub(crate) fn acceleration_axes(&self) -> [f64; 6] {
         let (l, a) = (self.linear, self.angular);
         [l[0], l[1], l[2], a[0], a[1], a[2]]
     }
@@ -207,18 +207,18 @@ impl ShakerLimits {
     /// ([`KinematicPeaks::excesses`]): the axis named as in a `signals`
     /// motion (`linear.x`, with ` velocity` or ` stroke` after it for
     /// those), the peak and the limit. `None`: within every limit.
-    pub fn first_excess(&self, peaks: &KinematicPeaks) -> Option<(String, f64, f64)> {
+    pub(crate) fn first_excess(&self, peaks: &KinematicPeaks) -> Option<(String, f64, f64)> {
         let e = peaks.excesses(&self.to_spec()).into_iter().next()?;
         Some((e.axis, e.peak, e.limit))
     }
 
     /// The six peak-velocity limits (`f64::INFINITY` where not limited).
-    pub fn velocity_axes(&self) -> [f64; 6] {
+    pub(crate) fn velocity_axes(&self) -> [f64; 6] {
         self.velocity.unwrap_or_default().axes()
     }
 
     /// The six stroke limits (`f64::INFINITY` where not limited).
-    pub fn stroke_axes(&self) -> [f64; 6] {
+    pub(crate) fn stroke_axes(&self) -> [f64; 6] {
         self.stroke.unwrap_or_default().axes()
     }
 

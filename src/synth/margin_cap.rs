@@ -44,27 +44,27 @@ use crate::motion::Motion;
 
 /// Tilt amplitude of one linear-response probe (rad/s²): small against the
 /// ≈ 150 rad/s² at the margin, large against the simulator's tolerances.
-pub const PROBE_TILT: f64 = 20.0;
+pub(crate) const PROBE_TILT: f64 = 20.0;
 /// Probe points' offset from the centre, as a fraction of the region's
 /// half-width (x) and half-height (y).
-pub const PROBE_OFFSET: f64 = 0.5;
+pub(crate) const PROBE_OFFSET: f64 = 0.5;
 /// Instants per period of the programme's margin and peak rows.
-pub const TIMES: usize = 256;
+pub(crate) const TIMES: usize = 256;
 
 /// Largest constraint violation accepted in a programme's solution,
 /// relative to its right-hand sides' scale (Clarabel's default tolerances
 /// are 1e-8).
-pub const FEASIBILITY: f64 = 1e-6;
+pub(crate) const FEASIBILITY: f64 = 1e-6;
 
 /// Signal indices of the tilts α_x, α_y ([`super::params::AXIS_NAMES`]).
 const TILTS: [usize; 2] = [3, 4];
 
 /// One tilt coefficient: signal index, harmonic index (0 = harmonic 1),
 /// slot (0: the sin coefficient c, 1: the cos coefficient s).
-pub type TiltSlot = (usize, usize, usize);
+pub(crate) type TiltSlot = (usize, usize, usize);
 
 /// The tilt coefficients of `harmonics` harmonics, in a fixed order.
-pub fn tilt_slots(harmonics: usize) -> Vec<TiltSlot> {
+pub(crate) fn tilt_slots(harmonics: usize) -> Vec<TiltSlot> {
     let mut out = Vec::with_capacity(4 * harmonics);
     for a in TILTS {
         for h in 0..harmonics {
@@ -78,7 +78,7 @@ pub fn tilt_slots(harmonics: usize) -> Vec<TiltSlot> {
 
 /// The simulated linear response of a translation (see the module docs).
 #[derive(Debug, Clone, PartialEq)]
-pub struct TiltResponse {
+pub(crate) struct TiltResponse {
     /// The coefficients probed.
     pub slots: Vec<TiltSlot>,
     /// Per slot, the velocity gradient per rad/s².
@@ -91,7 +91,7 @@ pub struct TiltResponse {
 /// The linear response of `translation` (its tilts are replaced; its
 /// in-plane and other signals kept) over `region`, tilts of `harmonics`
 /// harmonics; `None` when a probe has no steady state.
-pub fn tilt_response(
+pub(crate) fn tilt_response(
     translation: &Coefficients,
     region: &Grid,
     settings: &FieldSettings,
@@ -142,7 +142,7 @@ pub fn tilt_response(
 
 /// The programme's answer.
 #[derive(Debug, Clone, PartialEq)]
-pub struct MarginCap {
+pub(crate) struct MarginCap {
     /// Largest strength k (first order in the tilts).
     pub strength: f64,
     /// The tilts that realise it (other signals zero).
@@ -153,7 +153,7 @@ pub struct MarginCap {
 /// `response`'s translation reaches under `limits`' tilt peaks and contact
 /// margin over `region`, with tilt harmonics above `harmonics` held at
 /// zero; `None` when the solver fails.
-pub fn margin_cap(
+pub(crate) fn margin_cap(
     response: &TiltResponse,
     m: [[f64; 2]; 2],
     limits: &ShakerLimits,

@@ -110,7 +110,7 @@
 //!    and with less harmonic 1 under the same per-axis peak, so a smaller
 //!    slip speed W and less drift per unit force (v ∝ W above).
 //!
-//! Measured by [`margin_cap`] (the simulator's linear response to each tilt
+//! Measured by `margin_cap` (the simulator's linear response to each tilt
 //! coefficient and a linear programme for the largest strength under the
 //! peaks and the corner margin, all tilt harmonics free) on the saddle row's
 //! limits (`platefield probes`, `results/probes.md`): the circle's cap is
@@ -145,7 +145,7 @@
 //! the measured turn removes it without changing any amplitude (so the
 //! peaks and the contact margin are the seed's); measured on the lab sink
 //! (`tests/synth.rs`), 16.0 % → 2.4 % shape error at 0.506 → 0.512 s⁻¹ in
-//! one step. Then [`least_squares`] runs Levenberg–Marquardt
+//! one step. Then `least_squares` runs Levenberg–Marquardt
 //! ([`levenberg`]) on the six signals' Fourier coefficients ([`params`])
 //! from the calibrated seed: the residuals are the coarse grid's
 //! re-simulated steady-state field against the target, the peaks and the
@@ -155,7 +155,7 @@
 //! `results/design_speed.md`): the seed has already put the motion near
 //! the target, and the kinks below are smoothed by the forward-difference
 //! step (1 % of each axis limit). The path before, kept for comparison
-//! (`SynthOptions::lm` `None`): [`refine`], argmin's Nelder–Mead from the
+//! (`SynthOptions::lm` `None`): [`multistart`], argmin's Nelder–Mead from the
 //! calibrated seed and from the seed itself. It was chosen because the
 //! objective is a simulation with stick-slip events and validity switches
 //! (piecewise smooth, kinks where a sample starts or stops sticking), the
@@ -170,22 +170,22 @@
 //! translation (which a sequenced schedule's limits cap near 0.1 m/s²),
 //! balanced against the tilts' simulated gradient, phase-calibrated (with
 //! or without `calibrate`, which is about the seed) and
-//! line-searched in strength ([`transport::scale_search`]); the better of
+//! line-searched in strength (`transport::scale_search`); the better of
 //! it and the calibrated seed runs first. squeeze_trans under its
 //! sequenced limits: played 0.150 → 0.636 s⁻¹ at 4.9 % shape, and the
 //! played polish of `platefield::design::polish` then 0.807 at 3.9 %
 //! (`results/synthesis.md`).
 
 pub mod calibrate;
-pub mod contact;
-pub mod least_squares;
+pub(crate) mod contact;
+pub(crate) mod least_squares;
 pub mod levenberg;
-pub mod limits;
-pub mod margin_cap;
+pub(crate) mod limits;
+pub(crate) mod margin_cap;
+pub mod multistart;
 pub mod objective;
 pub mod params;
 pub mod progress;
-pub mod refine;
 pub mod robust;
 pub mod seed;
 pub mod stall;

@@ -18,13 +18,13 @@
 //! s_ref is the seed's predicted strength, so the strength term is of order
 //! one; a shape error 5 points over budget costs as much as the whole
 //! strength. e is capped at 10 (ŝ ≤ 0 makes it infinite). N_min is the
-//! smaller of [`kinematic_least_normal`] and [`orbit_least_normal`] over
+//! smaller of `kinematic_least_normal` and `orbit_least_normal` over
 //! the coarse grid (the same check the final full-grid result gets); its
 //! weight makes a 1 % of g violation cost as much as the whole strength.
 //!
-//! **Residuals** (what [`super::least_squares`] minimises, ½‖r‖²): the
+//! **Residuals** (what `super::least_squares` minimises, ½‖r‖²): the
 //! cost's terms as a sum of squares, with s_g the strength scale
-//! ([`Objective::with_goal`], s_ref by default) and a = [`STRENGTH_REACH`]:
+//! (`Objective::with_goal`, s_ref by default) and a = `STRENGTH_REACH`:
 //!
 //! ```text
 //! r = ( 20 · e · (R_i − ŝ t_i)/‖R − ŝ t‖   for every coarse point i,
@@ -34,7 +34,7 @@
 //!
 //! **The shape block steers by the whole shape error** (issue 27): its
 //! norm is 20 e, its direction the residual field (where the shape is
-//! wrong), below the budget as well as above it ([`shape_block`] with
+//! wrong), below the budget as well as above it (`shape_block` with
 //! budget 0). The budget is the cost's: the search keeps the evaluation of
 //! least *cost*, so the residuals steer it and the cost judges it. With
 //! the cost's hinge 20 · max(0, e − budget) as the block (before), the
@@ -70,7 +70,7 @@ use rayon::prelude::*;
 use super::contact::{kinematic_least_normal, orbit_least_normal};
 use super::limits::ShakerLimits;
 use super::params::{Coefficients, Layout};
-use super::progress::Progress;
+use super::progress::SynthesisProgress;
 use super::robust::judged_under;
 use super::stall::{StallRule, StallTracker};
 use crate::field::{Field, FieldKind, FieldSettings, Grid, Validity};
@@ -79,18 +79,18 @@ use crate::request::FieldSpec;
 use crate::scene::FrictionSpec;
 
 /// Weight of the shape error over budget.
-pub const SHAPE_WEIGHT: f64 = 20.0;
+pub(crate) const SHAPE_WEIGHT: f64 = 20.0;
 /// The strength row a − ŝ/s_g of the residuals asks for up to a = 4 times
 /// the strength scale (module documentation: against the always-on shape
 /// block, Gauss–Newton's balance of shape and strength then sits near the
 /// cost's shape budget).
-pub const STRENGTH_REACH: f64 = 4.0;
+pub(crate) const STRENGTH_REACH: f64 = 4.0;
 /// Weight of the relative peak excess.
-pub const LIMIT_WEIGHT: f64 = 1.0;
+pub(crate) const LIMIT_WEIGHT: f64 = 1.0;
 /// Weight of the contact-margin violation (fraction of g).
-pub const CONTACT_WEIGHT: f64 = 100.0;
+pub(crate) const CONTACT_WEIGHT: f64 = 100.0;
 /// Weight of the fraction of invalid samples.
-pub const INVALID_WEIGHT: f64 = 10.0;
+pub(crate) const INVALID_WEIGHT: f64 = 10.0;
 /// Cap on the shape error inside the cost.
 const SHAPE_CAP: f64 = 10.0;
 /// Extra contact margin (fraction of g) the coarse objective keeps: it sees
@@ -120,7 +120,7 @@ impl Realised {
     /// and invalid count, and the mean turn (what a phase calibration
     /// removes: centred, the turns at the range's ends are balanced).
     /// `None` for no measures.
-    pub fn worst_of(all: &[Realised]) -> Option<Realised> {
+    pub(crate) fn worst_of(all: &[Realised]) -> Option<Realised> {
         let first = all.first()?;
         Some(Realised {
             strength: all
@@ -176,7 +176,7 @@ pub fn realised(field: &Field, target: &[[f64; 2]]) -> Realised {
 /// the played polish's block ([`crate::design::polish`]); with budget 0,
 /// 20 e, the synthesis's (the module documentation). A non-finite `e` (no
 /// positive strength) counts as the cost's cap.
-pub fn shape_block(raw: &[f64], e: f64, budget: f64) -> Vec<f64> {
+pub(crate) fn shape_block(raw: &[f64], e: f64, budget: f64) -> Vec<f64> {
     let e = if e.is_finite() {
         e.min(SHAPE_CAP)
     } else {
@@ -220,7 +220,7 @@ struct Tally {
     stall: StallTracker,
 }
 
-/// The coarse-grid objective (driven by argmin through [`super::refine`]).
+/// The coarse-grid objective (driven by argmin through [`super::multistart`]).
 pub struct Objective<'a> {
     layout: Layout,
     limits: &'a ShakerLimits,
@@ -237,7 +237,7 @@ pub struct Objective<'a> {
     /// `settings` alone unless [`Objective::with_robust`] gave a range.
     physics: Vec<FieldSettings>,
     tally: Mutex<Tally>,
-    progress: &'a Progress,
+    progress: &'a SynthesisProgress,
 }
 
 impl<'a> Objective<'a> {
@@ -252,7 +252,7 @@ impl<'a> Objective<'a> {
         strength_ref: f64,
         max_evaluations: usize,
         deadline: Option<Instant>,
-        progress: &'a Progress,
+        progress: &'a SynthesisProgress,
     ) -> Objective<'a> {
         Objective {
             layout: Layout::new(limits),
@@ -279,13 +279,13 @@ impl<'a> Objective<'a> {
     /// The objective for `field` on `grid` without a budget or deadline and
     /// with strength scale 1: a yardstick that evaluates motions for a
     /// caller's own search (the played polish, the turned mirror).
-    pub fn unbounded(
+    pub(crate) fn unbounded(
         field: &FieldSpec,
         grid: Grid,
         limits: &'a ShakerLimits,
         settings: &'a FieldSettings,
         shape_budget: f64,
-        progress: &'a Progress,
+        progress: &'a SynthesisProgress,
     ) -> Objective<'a> {
         Objective::new(
             field,
@@ -303,14 +303,14 @@ impl<'a> Objective<'a> {
     /// This objective with residuals against the strength scale `goal`
     /// (s_g of the module documentation; default the cost's strength
     /// scale).
-    pub fn with_goal(mut self, goal: f64) -> Self {
+    pub(crate) fn with_goal(mut self, goal: f64) -> Self {
         self.goal = goal.max(1e-12);
         self
     }
 
     /// This objective, also spent once `rule` says its best cost has
     /// stopped improving ([`super::stall`]).
-    pub fn with_stall(mut self, rule: Option<StallRule>) -> Self {
+    pub(crate) fn with_stall(mut self, rule: Option<StallRule>) -> Self {
         self.stall = rule;
         self
     }
@@ -318,7 +318,7 @@ impl<'a> Objective<'a> {
     /// This objective judging every candidate by its worst case over the
     /// friction range `spec` ([`super::robust`]); `None` or an exact
     /// friction keeps the settings' own.
-    pub fn with_robust(mut self, spec: Option<FrictionSpec>) -> Self {
+    pub(crate) fn with_robust(mut self, spec: Option<FrictionSpec>) -> Self {
         self.physics = judged_under(self.settings, spec);
         self
     }
@@ -330,7 +330,7 @@ impl<'a> Objective<'a> {
 
     /// Counts the stall window from now (a search's start: what came
     /// before, such as the calibration, does not use it up).
-    pub fn restart_stall(&self) {
+    pub(crate) fn restart_stall(&self) {
         self.tally
             .lock()
             .unwrap_or_else(|p| p.into_inner())
@@ -352,7 +352,7 @@ impl<'a> Objective<'a> {
     }
 
     /// Evaluates `params` (counts against the budget).
-    pub fn evaluate(&self, params: &[f64]) -> Evaluation {
+    pub(crate) fn evaluate(&self, params: &[f64]) -> Evaluation {
         let e = self.measure(params);
         self.record(&e);
         e
@@ -361,7 +361,7 @@ impl<'a> Objective<'a> {
     /// Evaluates every point of `points` in parallel (rayon) and records
     /// them in their order, so the budget, the best and the stall rule see
     /// the same sequence on any number of threads.
-    pub fn evaluate_batch(&self, points: &[Vec<f64>]) -> Vec<Evaluation> {
+    pub(crate) fn evaluate_batch(&self, points: &[Vec<f64>]) -> Vec<Evaluation> {
         let all: Vec<Evaluation> = points.par_iter().map(|p| self.measure(p)).collect();
         for e in &all {
             self.record(e);
@@ -411,7 +411,7 @@ impl<'a> Objective<'a> {
 
     /// How far `least_normal` (m/s²) falls below the contact margin plus
     /// [`MARGIN_SAFETY`], as a fraction of g (0 when it does not).
-    pub fn margin_violation(&self, least_normal: f64) -> f64 {
+    pub(crate) fn margin_violation(&self, least_normal: f64) -> f64 {
         (self.limits.contact_margin + MARGIN_SAFETY - least_normal / self.settings.gravity).max(0.0)
     }
 

@@ -12,12 +12,12 @@ pub use crate::progress::ProgressMode;
 
 /// Shared progress of one synthesis.
 #[derive(Debug)]
-pub struct Progress(crate::progress::Progress);
+pub struct SynthesisProgress(crate::progress::Progress);
 
-impl Progress {
+impl SynthesisProgress {
     /// Progress over `total` evaluations.
-    pub fn new(mode: ProgressMode, total: usize) -> Progress {
-        Progress(crate::progress::Progress::new(
+    pub fn new(mode: ProgressMode, total: usize) -> SynthesisProgress {
+        SynthesisProgress(crate::progress::Progress::new(
             "synthesis",
             "evaluations",
             total as u64,
@@ -47,8 +47,8 @@ impl Progress {
     }
 }
 
-/// The argmin observer that drives [`Progress`] once per iteration.
-pub struct Observer(pub Arc<Progress>);
+/// The argmin observer that drives [`SynthesisProgress`] once per iteration.
+pub(crate) struct Observer(pub Arc<SynthesisProgress>);
 
 impl<I> Observe<I> for Observer {
     fn observe_iter(&mut self, _state: &I, _kv: &KV) -> Result<(), Error> {

@@ -7,7 +7,7 @@
 //! so a motion tuned at one μ realises a turned (and rescaled) field at
 //! another. Over a stated range `[μ_lo, μ_hi]` the synthesis objective and
 //! the played polish therefore judge every candidate at
-//! [`ROBUST_VALUES`] frictions spread over the range (its ends and its
+//! `ROBUST_VALUES` frictions spread over the range (its ends and its
 //! middle, the nominal), and score it by the worst case:
 //!
 //! ```text
@@ -15,7 +15,7 @@
 //! ```
 //!
 //! The worst case between those values is what the design's realised check
-//! then reports over [`crate::play::sensitivity::SWEEP_VALUES`] values
+//! then reports over `crate::play::sensitivity::SWEEP_VALUES` values
 //! (`auto` chooses by it).
 
 use crate::field::FieldSettings;
@@ -23,10 +23,10 @@ use crate::scene::FrictionSpec;
 
 /// Frictions per range a robust objective judges a motion at: the ends
 /// and the middle.
-pub const ROBUST_VALUES: usize = 3;
+pub(crate) const ROBUST_VALUES: usize = 3;
 
 /// The physics a motion is judged under: `settings` at each of
-/// [`ROBUST_VALUES`] frictions spread over `spec` when it is a range;
+/// `ROBUST_VALUES` frictions spread over `spec` when it is a range;
 /// `settings` alone when `spec` is `None` or exact. Never empty.
 ///
 /// # Examples

@@ -119,7 +119,7 @@ impl Averaged {
     }
 
     /// The circular translation: a_x = A sin(ωt + π/2), a_y = A sin(ωt).
-    pub fn set_translation(&self, c: &mut Coefficients) {
+    pub(crate) fn set_translation(&self, c: &mut Coefficients) {
         c.set(LIN_X, 1, self.translation, FRAC_PI_2);
         c.set(LIN_Y, 1, self.translation, 0.0);
     }

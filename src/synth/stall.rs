@@ -11,7 +11,7 @@
 /// The default stall rule of the synthesis: 60 coarse re-simulations
 /// without lowering the cost by 0.005 (half a percent of the seed's
 /// strength, or a quarter point of shape error over budget) end it.
-pub const SYNTH_STALL: StallRule = StallRule {
+pub(crate) const SYNTH_STALL: StallRule = StallRule {
     window: 60,
     tol: 0.005,
 };
@@ -20,7 +20,7 @@ pub const SYNTH_STALL: StallRule = StallRule {
 /// (`platefield::design::polish`): 40 plays without lowering the played
 /// cost by 0.005 (half a percent of the start's played strength, or a
 /// quarter point of shape error over budget) end it.
-pub const POLISH_STALL: StallRule = StallRule {
+pub(crate) const POLISH_STALL: StallRule = StallRule {
     window: 40,
     tol: 0.005,
 };
@@ -38,7 +38,7 @@ pub struct StallRule {
 /// Tracks the best cost and when it last improved by more than the rule's
 /// tolerance.
 #[derive(Debug, Clone, Default)]
-pub struct StallTracker {
+pub(crate) struct StallTracker {
     evaluations: usize,
     /// The best cost as of the last improvement that counted.
     reference: Option<f64>,
@@ -61,7 +61,7 @@ impl StallTracker {
     }
 
     /// Counts the window from the current evaluation.
-    pub fn restart(&mut self) {
+    pub(crate) fn restart(&mut self) {
         self.last_improvement = self.evaluations;
     }
 

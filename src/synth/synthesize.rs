@@ -9,10 +9,10 @@ use super::contact::{kinematic_least_normal, orbit_least_normal};
 use super::least_squares::least_squares;
 use super::levenberg::LmOptions;
 use super::limits::ShakerLimits;
+use super::multistart::{refine, MultistartOptions};
 use super::objective::{realised, Objective, Realised};
 use super::params::{Coefficients, Layout, AXIS_NAMES};
-use super::progress::{Progress, ProgressMode};
-use super::refine::{refine, RefineOptions};
+use super::progress::{ProgressMode, SynthesisProgress};
 use super::seed::{seed, Seed};
 use super::stall::StallRule;
 use super::transport::{scale_search, transport_start};
@@ -24,7 +24,7 @@ use crate::scene::FrictionSpec;
 
 /// A realised shape error above this flags a synthesis as POOR: the
 /// product's one threshold, [`crate::fit::POOR_ERROR`].
-pub const POOR_SHAPE_ERROR: f64 = crate::fit::POOR_ERROR;
+pub(crate) const POOR_SHAPE_ERROR: f64 = crate::fit::POOR_ERROR;
 
 /// Peaks are within limits up to this relative round-off.
 const PEAK_TOL: f64 = 1e-9;
@@ -33,7 +33,7 @@ const PEAK_TOL: f64 = 1e-9;
 /// steps of at most 0.5 (fraction of the axis limits) from the
 /// phase-calibrated seed, ending when a step gains less than 1 % (the
 /// sink stops after fewer). With the strength row asking for strength up
-/// to [`super::objective::STRENGTH_REACH`] times the seed's, the longer
+/// to `super::objective::STRENGTH_REACH` times the seed's, the longer
 /// run is what lifts line_sink_30 (played 0.302 s⁻¹ with three steps of
 /// 0.3 and the row's reach 1; 0.725 at 3.7 % with these, the reach 4 and
 /// the always-on shape block of [`super::objective`], after the polish;
@@ -77,10 +77,10 @@ pub struct SynthOptions {
     pub calibrate: bool,
     /// Multi-start settings and RNG seed (of the Nelder–Mead refinement,
     /// `lm` `None`).
-    pub refine: RefineOptions,
+    pub refine: MultistartOptions,
     /// Refine by Levenberg–Marquardt on the coarse residuals
-    /// ([`super::least_squares`]) with these settings; `None`: the
-    /// multi-start Nelder–Mead of [`super::refine`] (the path before
+    /// (`super::least_squares`) with these settings; `None`: the
+    /// multi-start Nelder–Mead of [`super::multistart`] (the path before
     /// issue 27, kept for the comparison of `platefield design-speed`).
     pub lm: Option<LmOptions>,
     /// Levenberg–Marquardt settings of the played polish that `design`
@@ -122,7 +122,7 @@ impl Default for SynthOptions {
             max_evaluations: 300,
             max_seconds: None,
             calibrate: true,
-            refine: RefineOptions::default(),
+            refine: MultistartOptions::default(),
             lm: Some(SYNTH_LM),
             polish_lm: Some(POLISH_LM),
             progress: ProgressMode::Auto,
@@ -221,7 +221,12 @@ impl Synthesis {
     /// peaks, least N, POOR and notes are `checked`'s; the seed, coarse and
     /// evaluation records stay, `evaluations` and `seconds` grow by the
     /// polish's.
-    pub fn with_checked(&self, checked: Checked, evaluations: usize, seconds: f64) -> Synthesis {
+    pub(crate) fn with_checked(
+        &self,
+        checked: Checked,
+        evaluations: usize,
+        seconds: f64,
+    ) -> Synthesis {
         Synthesis {
             motion: checked.motion,
             field: checked.field,
@@ -292,7 +297,10 @@ pub fn synthesize(
         n: options.coarse,
         ..*region
     };
-    let progress = Arc::new(Progress::new(options.progress, options.max_evaluations));
+    let progress = Arc::new(SynthesisProgress::new(
+        options.progress,
+        options.max_evaluations,
+    ));
     let deadline = options
         .max_seconds
         .map(|s| start + Duration::from_secs_f64(s));

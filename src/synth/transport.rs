@@ -14,12 +14,12 @@
 //! direction that turns with the harmonic's phase.
 //!
 //! [`transport_start`] scans that harmonic on each in-plane axis with room
-//! left under its limit (amplitudes [`AMPLITUDES`] of the room, phases in
-//! steps of 360°/[`PHASES`]), simulating the steady drift of the seed's
+//! left under its limit (amplitudes `AMPLITUDES` of the room, phases in
+//! steps of 360°/`PHASES`), simulating the steady drift of the seed's
 //! translation plus the harmonic at the plate centre (tilts off, N = g
 //! there), and keeps the one that carries the target's b at the greatest
 //! strength k_T = (d·b̂)/|b| with the drift across b̂ at most
-//! [`ACROSS`] of it. The start is the seed with its tilts rescaled to
+//! `ACROSS` of it. The start is the seed with its tilts rescaled to
 //! strength k = min(k_T, k_tilt) (k_tilt: the tilts' peak limits and the
 //! contact margin, checked kinematically over the region) plus that
 //! harmonic, at the smallest scanned amplitude whose k_T reaches k.
@@ -33,12 +33,12 @@ use crate::field::{FieldSettings, Grid};
 use crate::motion::Motion;
 
 /// Scanned amplitudes, as fractions of an axis's room (limit − harmonic 1).
-pub const AMPLITUDES: [f64; 5] = [0.2, 0.4, 0.6, 0.8, 1.0];
+pub(crate) const AMPLITUDES: [f64; 5] = [0.2, 0.4, 0.6, 0.8, 1.0];
 /// Scanned phases per turn.
-pub const PHASES: usize = 24;
+pub(crate) const PHASES: usize = 24;
 /// Largest drift across the target's transport direction (fraction of the
 /// drift along it).
-pub const ACROSS: f64 = 0.1;
+pub(crate) const ACROSS: f64 = 0.1;
 
 /// Axes of the in-plane translation and of the tilts.
 const IN_PLANE: [usize; 2] = [0, 1];
@@ -190,7 +190,7 @@ pub fn transport_start(
 }
 
 /// Scales tried by [`scale_search`].
-pub const SCALES: [f64; 4] = [0.85, 0.7, 0.55, 0.4];
+pub(crate) const SCALES: [f64; 4] = [0.85, 0.7, 0.55, 0.4];
 
 /// A line search on the transport start's strength: its tilts and in-plane
 /// harmonics ≥ 2 scaled by each of [`SCALES`] (the ratchet's drift and the
@@ -198,7 +198,7 @@ pub const SCALES: [f64; 4] = [0.85, 0.7, 0.55, 0.4];
 /// the two leaves falls with them: measured on squeeze_trans 10.8 % at
 /// full scale, 4.4 % at half); returns the best evaluation by the cost,
 /// `start` included.
-pub fn scale_search(objective: &Objective<'_>, start: &Evaluation) -> Evaluation {
+pub(crate) fn scale_search(objective: &Objective<'_>, start: &Evaluation) -> Evaluation {
     let c = objective.motion(&start.params).0;
     let mut best = start.clone();
     for f in SCALES {

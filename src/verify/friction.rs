@@ -14,7 +14,7 @@ use crate::error::{Error, Result};
 use crate::request::FrictionSpec;
 
 /// Most frictions in one sweep.
-pub const MAX_SWEEP_VALUES: usize = 41;
+pub(crate) const MAX_SWEEP_VALUES: usize = 41;
 
 /// What `--friction` asks.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -27,7 +27,7 @@ pub enum FrictionArg {
         lo: f64,
         /// Highest friction.
         hi: f64,
-        /// Number of values (2..=[`MAX_SWEEP_VALUES`]).
+        /// Number of values (2..=`MAX_SWEEP_VALUES`).
         n: usize,
     },
 }
@@ -87,7 +87,7 @@ impl FrictionArg {
     }
 
     /// The sweep's frictions, low to high (empty for [`FrictionArg::At`]).
-    pub fn sweep_values(&self) -> Vec<Friction> {
+    pub(crate) fn sweep_values(&self) -> Vec<Friction> {
         match *self {
             FrictionArg::At(_) => Vec::new(),
             FrictionArg::Sweep { lo, hi, n } => FrictionSpec::range(lo, hi).values(n),

@@ -27,7 +27,7 @@ use crate::field::FieldSettings;
 use crate::play::{plate_twist, PlayLoss, ScheduleMotion, V2};
 
 /// Longest time a rectangle may be played (s).
-pub const MAX_DURATION_S: f64 = 3600.0;
+pub(crate) const MAX_DURATION_S: f64 = 3600.0;
 
 /// Settings of a rectangle run.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -5,7 +5,7 @@
 //!    ([`crate::play::measure::verify_points`]) on an
 //!    n × n grid of point parts over the target region.
 //! 2. A swarm of point parts over the region for a duration
-//!    ([`super::swarm`]): where they end up, the fraction converged to the
+//!    (`super::swarm`): where they end up, the fraction converged to the
 //!    target's attractor, and the time it takes against the time the
 //!    design's strength predicts.
 //! 3. Uniform rectangles ([`super::rectangles`], 2 cm × 0.5 cm by default)
@@ -43,8 +43,8 @@ use crate::work::{Estimate, Term, PLANAR_POINT_STEP_COST};
 pub enum Duration {
     /// 1.5 × the longest predicted time to converge from a start point plus
     /// one schedule period, or 10 schedule periods without an attractor;
-    /// at most [`MAX_AUTO_PERIODS`].
-    /// Rectangles play at least [`RECT_MIN_AUTO_S`].
+    /// at most `MAX_AUTO_PERIODS`.
+    /// Rectangles play at least `RECT_MIN_AUTO_S`.
     Auto,
     /// At least this many seconds (rounded up to whole schedule periods).
     Seconds(f64),
@@ -53,7 +53,7 @@ pub enum Duration {
 }
 
 /// Longest automatic swarm duration (schedule periods).
-pub const MAX_AUTO_PERIODS: u32 = 200;
+pub(crate) const MAX_AUTO_PERIODS: u32 = 200;
 
 /// What `platefield verify` is asked to do.
 #[derive(Debug, Clone, PartialEq)]
@@ -254,16 +254,16 @@ pub fn swarm_periods(
 /// With an automatic duration rectangles play at least this long (s):
 /// turning a 2 cm strip onto a LineSink's line takes about 10 s
 /// (`tests/planar.rs`), longer than a point part needs to reach it.
-pub const RECT_MIN_AUTO_S: f64 = 20.0;
+pub(crate) const RECT_MIN_AUTO_S: f64 = 20.0;
 
 /// Support points along a rectangle's length (its width gets the same
 /// spacing, at least one row): 16 along 2 cm resolves the friction torque
 /// to about 1 % (`tests/planar.rs`).
-pub const RECT_POINTS_ALONG: usize = 16;
+pub(crate) const RECT_POINTS_ALONG: usize = 16;
 
 /// A rectangle of `size` = [length, width] sampled by support points at
 /// the spacing of [`RECT_POINTS_ALONG`] points along its length.
-pub fn sampled_rectangle(size: [f64; 2]) -> Rectangle {
+pub(crate) fn sampled_rectangle(size: [f64; 2]) -> Rectangle {
     let ny = ((RECT_POINTS_ALONG as f64 * size[1] / size[0]).round() as usize)
         .clamp(1, crate::dynamics::MAX_POINTS_PER_SIDE);
     Rectangle::new(size[0], size[1], RECT_POINTS_ALONG, ny)
@@ -310,7 +310,7 @@ pub struct RectangleResult {
 /// Plays rectangles of `size` from `poses` for `periods` schedule periods
 /// (whole periods, so the final pose is at the end of a cycle), in
 /// parallel, collected in input order.
-pub fn run_rectangles(
+pub(crate) fn run_rectangles(
     sm: &ScheduleMotion,
     size: [f64; 2],
     poses: &[(V2, f64)],
@@ -364,7 +364,7 @@ pub fn run_rectangles(
 /// The work of a verification ([`crate::work`]): RK4 point-part steps of
 /// the realised grid (with the settled warm-up at its longest), the
 /// prediction, the swarm and the rectangles (each support point of a
-/// [`sampled_rectangle`] step costs [`PLANAR_POINT_STEP_COST`] point-part
+/// `sampled_rectangle` step costs [`PLANAR_POINT_STEP_COST`] point-part
 /// steps).
 pub fn work_estimate(
     schedule: &Schedule,

@@ -6,15 +6,15 @@
 //!
 //! **Measures.** Per class, at the class's nominal friction:
 //! * the realised strength and shape error: the design's one realised
-//!   check ([`crate::design::method::realised_check`]) against the class's
+//!   check (`crate::design::method::realised_check`) against the class's
 //!   own field;
 //! * a swarm of point parts started on a grid over the target region
-//!   ([`SORT_STARTS`] per axis, [`crate::verify::swarm`]) played for
+//!   (`SORT_STARTS` per axis, `crate::verify::swarm`) played for
 //!   whole schedule periods, the same for every class (as on one plate):
 //!   enough for the slowest class's predicted field to bring its farthest
-//!   part within [`SORT_TOL`] twice over, at most [`MAX_SORT_PERIODS`]: the fraction of its parts that end within
-//!   [`SORT_TOL`] of its own attractor, and the fraction that end within
-//!   [`SORT_TOL`] of another class's attractor (the mix-up).
+//!   part within `SORT_TOL` twice over, at most `MAX_SORT_PERIODS`: the fraction of its parts that end within
+//!   `SORT_TOL` of its own attractor, and the fraction that end within
+//!   `SORT_TOL` of another class's attractor (the mix-up).
 
 use serde::Serialize;
 
@@ -26,11 +26,11 @@ use crate::play::{PlayOptions, ScheduleMotion};
 use crate::request::{Attractor, Target};
 
 /// Distance (m) to an attractor within which a part counts as there: 5 mm.
-pub const SORT_TOL: f64 = 5e-3;
+pub(crate) const SORT_TOL: f64 = 5e-3;
 /// Swarm start points per axis (over the target grid's box).
-pub const SORT_STARTS: [usize; 2] = [9, 5];
+pub(crate) const SORT_STARTS: [usize; 2] = [9, 5];
 /// Most schedule periods a swarm is played.
-pub const MAX_SORT_PERIODS: u32 = 40;
+pub(crate) const MAX_SORT_PERIODS: u32 = 40;
 
 /// One class played.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -47,9 +47,9 @@ pub struct ClassPlay {
     pub parts: usize,
     /// Time played (s).
     pub duration_s: f64,
-    /// Fraction ending within [`SORT_TOL`] of the class's own attractor.
+    /// Fraction ending within `SORT_TOL` of the class's own attractor.
     pub at_own: Option<f64>,
-    /// Fraction ending within [`SORT_TOL`] of another class's attractor.
+    /// Fraction ending within `SORT_TOL` of another class's attractor.
     pub mixed_up: f64,
     /// Parts that lost contact.
     pub contact_lost: usize,

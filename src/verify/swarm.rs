@@ -113,7 +113,7 @@ pub fn median(values: &[f64]) -> Option<f64> {
 /// Time at which the distance series `(t, d)` last comes within `tol` and
 /// stays there (linear interpolation across the last crossing); `None` if
 /// it ends outside.
-pub fn convergence_time(series: &[(f64, f64)], tol: f64) -> Option<f64> {
+pub(crate) fn convergence_time(series: &[(f64, f64)], tol: f64) -> Option<f64> {
     let (&(_, d_end), _) = series.split_last()?;
     if d_end > tol {
         return None;
@@ -193,7 +193,7 @@ pub fn run_swarm(
 }
 
 /// [`run_swarm`], calling `tick` after each part is played (progress).
-pub fn run_swarm_ticked(
+pub(crate) fn run_swarm_ticked(
     sm: &ScheduleMotion,
     starts: &[[f64; 2]],
     attractor: Option<Attractor>,

@@ -27,7 +27,7 @@ use crate::schedule::{quantize, Quantized, Schedule, Segment, DEFAULT_QUANTIZATI
 /// (same indices as `base`, plus a rest segment at the end if one is newly
 /// needed; unused ones with 0 cycles), the playing pattern without unused
 /// segments, and the re-fit's strength.
-pub fn refit(
+pub(crate) fn refit(
     target: &Target,
     weights: &[f64],
     template: &Schedule,

@@ -14,10 +14,10 @@
 //!    moving its reference point: a rigid transform of the plate physics
 //!    (the turn exact, the shift to first order in the tilt), so of every
 //!    pose, lifted or played.
-//! 4. **Played correction** ([`correct`]): probes played on the placed
+//! 4. **Played correction** (`correct`): probes played on the placed
 //!    motion; their mean rest pose corrects the placement (damped steps,
 //!    the motion never redesigned).
-//! 5. **Played** ([`play`]): the part dropped at `drops` random poses
+//! 5. **Played** (`play`): the part dropped at `drops` random poses
 //!    (centres uniform over the region inset by the part's radius, angles
 //!    uniform: [`crate::pose::drop_starts`]) and simulated by the planar
 //!    simulator; `"pose_fraction"` is the fraction ending within
@@ -32,10 +32,10 @@
 //! shifts motion and target together, which leaves those measures
 //! unchanged up to where the grid samples them.
 
-pub mod correct;
+pub(crate) mod correct;
 pub mod placement;
-pub mod play;
-pub mod request;
+pub(crate) mod play;
+pub(crate) mod request;
 pub mod search;
 
 pub use placement::Placement;

@@ -21,7 +21,7 @@ use crate::motion::{FourierTerm, Motion, Signals};
 /// One term c(t) = amplitude · sin(harmonic · ω t + phase) of a channel.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Term {
-    /// Channel index into [`CHANNELS`] (x, y, z linear, then angular).
+    /// Channel index into `CHANNELS` (x, y, z linear, then angular).
     pub channel: usize,
     /// Harmonic number n ≥ 1.
     pub harmonic: u32,

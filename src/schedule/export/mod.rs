@@ -43,7 +43,7 @@ pub use sample_hold::DEFAULT_STEADY_CYCLES;
 
 /// The exported channels, as the CSV columns name them (after `t_s`):
 /// plate-centre acceleration along and about the world axes.
-pub const CHANNELS: [&str; 6] = [
+pub(crate) const CHANNELS: [&str; 6] = [
     "ax_m_s2",
     "ay_m_s2",
     "az_m_s2",
@@ -54,7 +54,7 @@ pub const CHANNELS: [&str; 6] = [
 
 /// The frame and reference point of every exported signal, as the export
 /// headers state them.
-pub const FRAME: &str = "frame: world axes, x and y horizontal in the plate's rest plane, z up (right-handed), angular channels about the same axes; reference point: the plate centre (the plate frame's origin, where the target grid's (0, 0) is); linear in m/s², angular in rad/s²";
+pub(crate) const FRAME: &str = "frame: world axes, x and y horizontal in the plate's rest plane, z up (right-handed), angular channels about the same axes; reference point: the plate centre (the plate frame's origin, where the target grid's (0, 0) is); linear in m/s², angular in rad/s²";
 
 /// Ramp length (cycles of the motion) of a six-signal export, in and out.
 pub const RAMP_CYCLES: u32 = sample_hold::DEFAULT_RAMP_CYCLES;
@@ -69,11 +69,11 @@ pub const RAMP_CYCLES: u32 = sample_hold::DEFAULT_RAMP_CYCLES;
 /// 1000 s, far more than the ≈ 1 s period of a designed schedule. The
 /// sampler's own bound ([`sample_hold::MAX_SAMPLES`], 5e7) let a 5.7 GB
 /// file through without a word.
-pub const MAX_EXPORT_ROWS: f64 = 1e7;
+pub(crate) const MAX_EXPORT_ROWS: f64 = 1e7;
 
 /// Bytes per CSV row used to state an export's size (measured; see
 /// [`MAX_EXPORT_ROWS`]).
-pub const BYTES_PER_ROW: f64 = 118.0;
+pub(crate) const BYTES_PER_ROW: f64 = 118.0;
 
 /// A schedule's exported samples and how they were laid out.
 #[derive(Debug, Clone, PartialEq)]
@@ -90,7 +90,7 @@ pub struct Export {
 
 impl Export {
     /// The CSV `platefield export` writes: comment lines (`# `) stating the
-    /// layout, the frame and reference point ([`FRAME`]) and each axis's
+    /// layout, the frame and reference point (`FRAME`) and each axis's
     /// peak acceleration, velocity and stroke as played
     /// ([`peaks::KinematicPeaks::of_held`]), then the samples
     /// ([`sample_hold::HoldSamples::to_csv`]).
@@ -345,12 +345,12 @@ pub fn centre_acceleration(motion: &Motion, t: f64) -> (V3, V3) {
 }
 
 /// Samples per period used to find a motion's peaks.
-pub const PEAK_SAMPLES: usize = 4096;
+pub(crate) const PEAK_SAMPLES: usize = 4096;
 
 /// Per-axis peak |plate-centre acceleration| of `motion` over
 /// [`PEAK_SAMPLES`] samples per period (over the whole segment of a ramped motion) (linear x, y, z in m/s², angular
 /// x, y, z in rad/s², world axes): what a controller must be able to play.
-pub fn motion_peaks(motion: &Motion) -> [f64; 6] {
+pub(crate) fn motion_peaks(motion: &Motion) -> [f64; 6] {
     // A ramped motion over its whole segment, at the same density.
     let n = PEAK_SAMPLES * (motion.span() / motion.period()).round().max(1.0) as usize;
     let mut p = [0.0_f64; 6];
@@ -367,7 +367,7 @@ pub fn motion_peaks(motion: &Motion) -> [f64; 6] {
 }
 
 /// Per-axis peaks over every moving segment of `schedule` (see
-/// [`motion_peaks`]; rest contributes 0).
+/// `motion_peaks`; rest contributes 0).
 pub fn schedule_peaks(schedule: &Schedule) -> [f64; 6] {
     let mut p = [0.0_f64; 6];
     for m in schedule.segments.iter().filter_map(|s| s.plate_motion()) {
@@ -406,11 +406,11 @@ fn sequence_samples(schedule: &Schedule, rate: f64) -> Result<sample_hold::HoldS
         ));
     }
     let motions: Vec<Option<Motion>> = schedule.segments.iter().map(|s| s.plate_motion()).collect();
-    let segments: Vec<sample_hold::Segment<'_>> = schedule
+    let segments: Vec<sample_hold::MotionSpan<'_>> = schedule
         .segments
         .iter()
         .zip(&motions)
-        .map(|(s, m)| sample_hold::Segment {
+        .map(|(s, m)| sample_hold::MotionSpan {
             motion: m.as_ref(),
             duration: s.duration_s,
         })

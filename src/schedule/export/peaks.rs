@@ -16,7 +16,7 @@
 //! A sin(nωt + φ) of a channel integrates to the zero-mean velocity
 //! −A/(nω) cos(nωt + φ) and pose −A/(nω)² sin(nωt + φ)
 //! ([`crate::motion::sample_hold::centre_state`]); a channel's peaks are
-//! those of the sums, sampled at [`super::PEAK_SAMPLES`] points per period
+//! those of the sums, sampled at `super::PEAK_SAMPLES` points per period
 //! of its highest harmonic (relative error ≤ 1 − cos(π/4096) ≈ 3e-7).
 
 use std::fmt::Write as _;
@@ -26,7 +26,7 @@ use crate::motion::Motion;
 use crate::request::ShakerSpec;
 
 /// Names of the six signals in order, as JSON paths in a `signals` motion.
-pub const AXIS_NAMES: [&str; 6] = [
+pub(crate) const AXIS_NAMES: [&str; 6] = [
     "linear.x",
     "linear.y",
     "linear.z",
@@ -103,7 +103,7 @@ impl KinematicPeaks {
     }
 
     /// The peaks of a steady motion over one period (see the module
-    /// documentation), sampled at [`super::PEAK_SAMPLES`] × `highest`
+    /// documentation), sampled at `super::PEAK_SAMPLES` × `highest`
     /// points with `highest` its highest harmonic.
     pub fn of_motion(motion: &Motion, highest: u32) -> KinematicPeaks {
         let n = super::PEAK_SAMPLES * highest.max(1) as usize;

@@ -16,7 +16,7 @@ use crate::motion::{Motion, Signals};
 use crate::studies::speed::process_cpu_seconds;
 
 /// Runs of each field per thread count.
-pub const REPEATS: usize = 3;
+pub(crate) const REPEATS: usize = 3;
 
 /// One field timed: its motion, grid, kind and steps per cycle, and
 /// whether every point is simulated (no reduction by the motion's

@@ -20,7 +20,7 @@ use std::path::Path;
 
 use nalgebra::Matrix2;
 
-use crate::design::closed_loop::measure::{play_motion, MeasureOptions};
+use crate::design::closed_loop::realised::{play_motion, MeasureOptions};
 use crate::dynamics::{PartState, Simulator, SteadyState, V2};
 use crate::error::{Error, Result};
 use crate::field::FieldSettings;

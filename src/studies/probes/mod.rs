@@ -4,11 +4,11 @@
 //!
 //! | section | module | the docs citing it |
 //! |---|---|---|
-//! | the saddle's margin cap against a translation harmonic 2 | [`saddle_cap`] | `platefield::synth` ("Why a second harmonic does not lift the margin's cap"), `docs/design.md` |
-//! | the in-plane harmonic-2 ratchet on squeeze_trans | [`transport`] | `platefield::synth::transport` |
-//! | realised against predicted over the measured window | [`lag_window`] | `platefield::play::measure`, `platefield::play::lag`, `results/synthesis.md` |
-//! | the saddle's synthesized motion start point by start point | [`saddle_parts`] | `results/synthesis.md` ("valid / played"), `docs/design.md` |
-//! | single fields' CPU time and bitwise equality on 1 and 2 threads | [`engine`] | `platefield::dynamics` (swing), `docs/design.md`, `docs/dev/forward-model.md` |
+//! | the saddle's margin cap against a translation harmonic 2 | `saddle_cap` | `platefield::synth` ("Why a second harmonic does not lift the margin's cap"), `docs/design.md` |
+//! | the in-plane harmonic-2 ratchet on squeeze_trans | `transport` | `platefield::synth::transport` |
+//! | realised against predicted over the measured window | `lag_window` | `platefield::play::measure`, `platefield::play::lag`, `results/synthesis.md` |
+//! | the saddle's synthesized motion start point by start point | `saddle_parts` | `results/synthesis.md` ("valid / played"), `docs/design.md` |
+//! | single fields' CPU time and bitwise equality on 1 and 2 threads | `engine` | `platefield::dynamics` (swing), `docs/design.md`, `docs/dev/forward-model.md` |
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -18,11 +18,11 @@ use crate::field::Grid;
 use crate::output::write_atomic;
 use crate::synth::Synthesis;
 
-pub mod engine;
-pub mod lag_window;
-pub mod saddle_cap;
-pub mod saddle_parts;
-pub mod transport;
+pub(crate) mod engine;
+pub(crate) mod lag_window;
+pub(crate) mod saddle_cap;
+pub(crate) mod saddle_parts;
+pub(crate) mod transport;
 
 /// Default output folder.
 pub const DIR: &str = "results";

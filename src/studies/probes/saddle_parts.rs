@@ -14,7 +14,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use crate::design::closed_loop::measure::{
+use crate::design::closed_loop::realised::{
     play_motion, realised_error, MeasureOptions, RealisedError,
 };
 use crate::design::polish::{polish, PolishOptions};

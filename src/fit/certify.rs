@@ -54,7 +54,7 @@ use crate::fit::{validate_mode, FitError, FitMode, FitProblem};
 
 /// A field below this fraction of the (weighted) target norm counts as
 /// zero when deciding that a `Shape` target is unreachable.
-pub const ZERO_FIELD_TOL: f64 = 1e-9;
+pub(crate) const ZERO_FIELD_TOL: f64 = 1e-9;
 
 /// Bisection steps used to refine the independent `Budget` strength.
 const BUDGET_BISECTION_STEPS: usize = 20;

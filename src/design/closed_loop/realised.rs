@@ -15,7 +15,7 @@
 //! P_k(s) of that flow over the same windows ([`PointPlay::expected`];
 //! s·t(p) with frozen positions). With the target's weights ω_k of the start
 //! points (0 where masked; masked points are not played), which multiply the
-//! residual as in the design's own metrics ([`crate::fit::metrics`]):
+//! residual as in the design's own metrics (`crate::fit::metrics`):
 //!
 //! ```text
 //! error(s)    = ‖R − P(s)‖ / ‖P(s)‖,   ‖v‖² = Σ_k ω_k² |v_k|²
@@ -44,7 +44,7 @@
 //! centre, where a few per cent of gradient error is the whole field: a
 //! sequenced schedule realising 0.13 of a 40-point whirlpool was
 //! measured at 147 % shape error.) Gridded targets evaluate their field
-//! ([`Promise::Field`]).
+//! (`Promise::Field`).
 
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
@@ -69,7 +69,7 @@ pub struct MeasureOptions {
     /// default 20).
     pub measured_cycles: u32,
     /// Lengthen the warm-up where a part's start-up transient outlasts it
-    /// ([`crate::play::settle`]; default false). Off by default: this
+    /// (`crate::play::settle`; default false). Off by default: this
     /// measure judges a design against its *target* where the parts are
     /// after a fixed warm-up, and a strong field gathers the parts before a
     /// slow transient dies out (the synthesized motion of `sink_trans`, a
@@ -145,14 +145,14 @@ pub fn play_motion(
 
 /// The promise s·t at each of `plays` as a part following it exactly would
 /// realise it over the play's windows ([`PointPlay::expected`]).
-pub fn promised(target: &Target, plays: &[&PointPlay], s: f64) -> Vec<[f64; 2]> {
+pub(crate) fn promised(target: &Target, plays: &[&PointPlay], s: f64) -> Vec<[f64; 2]> {
     Promise::of(target).along(plays, s)
 }
 
 /// The target t a part follows, built once per target (see the module
 /// documentation).
 #[derive(Debug, Clone)]
-pub enum Promise<'a> {
+pub(crate) enum Promise<'a> {
     /// The target's field, evaluated where the part is.
     Field(&'a FieldSpec),
     /// A grid-less sampled target: its samples' interpolant.
@@ -218,7 +218,7 @@ impl RealisedError {
     /// shape error (a non-finite one counts as largest), with the weakest
     /// realised strength and the fewest valid points of all. `None` for no
     /// measures.
-    pub fn worst_of(all: &[RealisedError]) -> Option<RealisedError> {
+    pub(crate) fn worst_of(all: &[RealisedError]) -> Option<RealisedError> {
         let key = |r: &RealisedError| {
             if r.shape_error.is_finite() {
                 r.shape_error
@@ -284,7 +284,7 @@ pub fn realised_error(
 /// [`realised_error`] against a [`Promise`] built once (a grid-less
 /// sampled target's interpolant costs a search of its samples per node:
 /// a caller that measures many plays builds it once).
-pub fn realised_error_of(
+pub(crate) fn realised_error_of(
     promise: &Promise<'_>,
     weights: &[f64],
     plays: &[PointPlay],

@@ -26,12 +26,12 @@ use argmin::core::{CostFunction, Executor};
 use argmin::solver::neldermead::NelderMead;
 
 use super::objective::{Evaluation, Objective};
-use super::progress::{Observer, Progress};
+use super::progress::{Observer, SynthesisProgress};
 use crate::error::{BudgetSpent, Error, Result};
 
 /// Settings of the refinement.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct RefineOptions {
+pub struct MultistartOptions {
     /// Number of starts (≥ 1; the first is the seed).
     pub starts: usize,
     /// RNG seed of the perturbed starts.
@@ -41,9 +41,9 @@ pub struct RefineOptions {
     pub step: f64,
 }
 
-impl Default for RefineOptions {
+impl Default for MultistartOptions {
     fn default() -> Self {
-        RefineOptions {
+        MultistartOptions {
             starts: 3,
             seed: 1,
             step: 0.1,
@@ -110,14 +110,14 @@ where
 ///
 /// # Errors
 /// The optimizer (or `cost`) fails for a reason other than the budget.
-pub fn nelder_mead<F, S>(
+pub(crate) fn nelder_mead<F, S>(
     x0: &[f64],
     step: f64,
     room: usize,
     cost: F,
     spent: S,
     label: &str,
-    progress: Option<&Arc<Progress>>,
+    progress: Option<&Arc<SynthesisProgress>>,
 ) -> Result<()>
 where
     F: Fn(&[f64]) -> Result<f64>,
@@ -160,7 +160,7 @@ fn run(
     x0: &[f64],
     step: f64,
     cap: usize,
-    progress: &Arc<Progress>,
+    progress: &Arc<SynthesisProgress>,
 ) -> Result<()> {
     nelder_mead(
         x0,
@@ -184,8 +184,8 @@ pub fn refine(
     x0: &[f64],
     extra: &[Vec<f64>],
     budget: usize,
-    options: &RefineOptions,
-    progress: &Arc<Progress>,
+    options: &MultistartOptions,
+    progress: &Arc<SynthesisProgress>,
 ) -> Result<Evaluation> {
     let mut rng = SplitMix64(options.seed);
     let starts = options.starts.max(1 + extra.len());
