@@ -37,6 +37,7 @@ pub mod placement;
 pub mod play;
 pub mod request;
 pub mod search;
+pub mod spin;
 
 pub use placement::Placement;
 pub use request::PoseRequest;
@@ -74,6 +75,9 @@ pub struct PoseDesign {
     /// The centred motion's synthesis, its kept schedule replaced by the
     /// placed one, whose `played.pose` holds the part's played drops.
     pub method: MethodDesign,
+    /// The spin added to the synthesized sink ([`spin`]), `None` for a
+    /// part with a 180° symmetry (the elliptic sink alone).
+    pub spin: Option<spin::Spin>,
     /// The lifted field of the placed schedule: equilibria and predicted basins.
     pub analysis: PoseAnalysis,
 }
@@ -103,9 +107,9 @@ pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Res
         );
     }
     let mut method = placement::synthesize_centred(req, opts, &opts.synthesis)?;
-    let origin = method.kept().schedule.clone();
     let grid = req.target.grid.unwrap_or(crate::field::Grid::DEFAULT);
     let n = req.part.symmetry();
+    let (origin, spin) = spun_origin(req, method.kept().schedule.clone(), &grid)?;
     let centred_field = schedule_field(&origin, &grid)?;
     let lifted_field = LiftedField::new(&centred_field, &req.part.body);
     let eqs = equilibria(&lifted_field, &req.region);
@@ -119,20 +123,23 @@ pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Res
     let lifted = Placement::onto(&centred.pose, &req.pose, n);
     let (kept, rounds) = correct::correct(req, &origin, lifted)?;
     let mut target = req.target.clone();
-    target.field = Family::Ellipse {
-        ratio: placement::RATIO,
-    }
-    .field(kept.shift, kept.angle.to_degrees());
+    target.field = placement::family(req).field(kept.shift, kept.angle.to_degrees());
     let mut schedule = kept.schedule(&origin, Some(target))?;
     let field = schedule_field(&schedule, &grid)?;
     let analysis = analyse(&req.part, &field, req.region, LIFTED_DROPS);
     let rate = search::nearest_stable(&analysis.equilibria, &req.pose, n, req.part.radius())
         .map_or(0.0, |e| -e.rates[0]);
     let sm = ScheduleMotion::from_schedule(&schedule)?;
-    let label = Family::Ellipse {
-        ratio: placement::RATIO,
-    }
-    .label();
+    let label = match spin {
+        Some(s) => format!(
+            "{}, translation × {}, plus a spin of {} rad/s² at phase {} rad",
+            placement::family(req).label(),
+            s.translation,
+            s.alpha,
+            s.phase
+        ),
+        None => placement::family(req).label(),
+    };
     let played = play::play(
         req,
         &sm,
@@ -153,6 +160,27 @@ pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Res
         placement: kept,
         rounds,
         method,
+        spin,
         analysis,
     })
+}
+
+/// The centred schedule the placement moves: `synthesized` itself for a
+/// part with a 180° symmetry, else with the spin [`spin::choose`] keeps.
+///
+/// # Errors
+/// A spun motion losing contact on `grid`.
+fn spun_origin(
+    req: &PoseRequest,
+    synthesized: crate::schedule::Schedule,
+    grid: &crate::field::Grid,
+) -> Result<(crate::schedule::Schedule, Option<spin::Spin>)> {
+    if !spin::needs_spin(req.part.symmetry()) {
+        return Ok((synthesized, None));
+    }
+    let tried = spin::try_all(req, &synthesized, grid)?;
+    match spin::choose(&tried) {
+        Some(t) => Ok((spin::spun(&synthesized, t.spin)?, Some(t.spin))),
+        None => Ok((synthesized, None)),
+    }
 }

@@ -158,13 +158,25 @@ pub fn synthesis_half_width(req: &PoseRequest) -> f64 {
     ((far + SLACK) / 0.005).ceil() * 0.005
 }
 
-/// The request's target with the elliptic sink of [`RATIO`] turned by
-/// `angle` (degrees) about `c` on `grid`, no mask.
+/// The point field synthesized for `req`'s part: the elliptic sink of
+/// [`RATIO`] for a part with a 180° symmetry; for the others the isotropic
+/// sink (ratio 1), which [`super::spin`] makes nonlinear.
+pub fn family(req: &PoseRequest) -> Family {
+    let ratio = if super::spin::needs_spin(req.part.symmetry()) {
+        1.0
+    } else {
+        RATIO
+    };
+    Family::Ellipse { ratio }
+}
+
+/// The request's target with [`family`]'s sink turned by `angle`
+/// (degrees) about `c` on `grid`, no mask.
 pub fn ellipse_target(req: &PoseRequest, c: V2, angle: f64, grid: Grid) -> crate::request::Target {
     let mut target = req.target.clone();
     target.grid = Some(grid);
     target.mask = Vec::new();
-    target.field = Family::Ellipse { ratio: RATIO }.field(c, angle);
+    target.field = family(req).field(c, angle);
     target
 }
 
