@@ -127,7 +127,11 @@ pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Res
     let mut schedule = kept.schedule(&origin, Some(target))?;
     let field = schedule_field(&schedule, &grid)?;
     let analysis = analyse(&req.part, &field, req.region, LIFTED_DROPS);
+    // The spin route plays the longest (`play::play_seconds(0)`): its
+    // slowest lifted rate is a spiral's and drops from the region's edge
+    // settle later than it predicts (module `spin` docs).
     let rate = search::nearest_stable(&analysis.equilibria, &req.pose, n, req.part.radius())
+        .filter(|_| spin.is_none())
         .map_or(0.0, |e| -e.rates[0]);
     let sm = ScheduleMotion::from_schedule(&schedule)?;
     let label = match spin {

@@ -33,7 +33,7 @@ use super::search::distinct_stable;
 use super::PoseRequest;
 use crate::error::{Error, Result};
 use crate::field::Grid;
-use crate::motion::FourierTerm;
+use crate::motion::{FourierTerm, Signals};
 use crate::pose::{equilibria, schedule_field, Equilibrium, LiftedField};
 use crate::schedule::Schedule;
 
@@ -48,6 +48,28 @@ pub struct Spin {
     /// Factor on the motion's in-plane (x, y) translation signals: a
     /// smaller translation shortens r* = V/Ω at the same spin.
     pub translation: f64,
+}
+
+impl Spin {
+    /// Scales `motion`'s in-plane translation by [`Spin::translation`] and
+    /// adds the spin as one more harmonic-1 term of its angular z signal.
+    ///
+    /// ```
+    /// use platefield::design::pose::spin::CANDIDATES;
+    /// let mut motion = platefield::motion::Signals::example();
+    /// CANDIDATES[0].apply(&mut motion);
+    /// assert_eq!(motion.angular.z.len(), 1);
+    /// ```
+    pub fn apply(&self, motion: &mut Signals) {
+        for t in motion.linear.x.iter_mut().chain(motion.linear.y.iter_mut()) {
+            t.amplitude *= self.translation;
+        }
+        motion.angular.z.push(FourierTerm {
+            amplitude: self.alpha,
+            phase: self.phase,
+            harmonic: 1,
+        });
+    }
 }
 
 /// The spins tried: r* = 0.25 A / α ≈ 9 mm for the synthesized sink's
@@ -90,14 +112,7 @@ pub fn spun(origin: &Schedule, spin: Spin) -> Result<Schedule> {
         .motion
         .as_mut()
         .ok_or_else(|| Error::Physical("a spin needs a six-signal motion".into()))?;
-    for t in motion.linear.x.iter_mut().chain(motion.linear.y.iter_mut()) {
-        t.amplitude *= spin.translation;
-    }
-    motion.angular.z.push(FourierTerm {
-        amplitude: spin.alpha,
-        phase: spin.phase,
-        harmonic: 1,
-    });
+    spin.apply(motion);
     Ok(out)
 }
 
