@@ -100,7 +100,10 @@ fn affine_residual_matches_closed_forms() {
 #[test]
 fn spin_makes_the_sink_nonlinear_and_the_bracket_pose_unique() {
     let spin = CANDIDATES[1];
-    assert_eq!((spin.alpha, spin.phase, spin.translation), (1200.0, -0.8, 0.25));
+    assert_eq!(
+        (spin.alpha, spin.phase, spin.translation),
+        (1200.0, -0.8, 0.25)
+    );
     let mut plain = spin;
     plain.alpha = 0.0;
     let flat = field(Some(plain));
@@ -131,7 +134,10 @@ fn explore_spin() {
             translation: v[2],
         }));
         let r = affine::affine_residual(&GRID, &f.vectors);
-        eprintln!("spin {item}: affine residual {r:.3}, top {:.4} m/s", f.max_magnitude());
+        eprintln!(
+            "spin {item}: affine residual {r:.3}, top {:.4} m/s",
+            f.max_magnitude()
+        );
         for e in bracket_stable(&f) {
             eprintln!("  bracket stable {:?}", e);
         }

@@ -106,10 +106,10 @@ pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Res
             play::MIN_PLAY_S
         );
     }
-    let mut method = placement::synthesize_centred(req, opts, &opts.synthesis)?;
     let grid = req.target.grid.unwrap_or(crate::field::Grid::DEFAULT);
     let n = req.part.symmetry();
-    let (origin, spin) = spun_origin(req, method.kept().schedule.clone(), &grid)?;
+    let (mut method, origin, spin) = centred_motion(req, opts, &grid)?;
+    let family = placement::family(spin.is_some());
     let centred_field = schedule_field(&origin, &grid)?;
     let lifted_field = LiftedField::new(&centred_field, &req.part.body);
     let eqs = equilibria(&lifted_field, &req.region);
@@ -123,7 +123,7 @@ pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Res
     let lifted = Placement::onto(&centred.pose, &req.pose, n);
     let (kept, rounds) = correct::correct(req, &origin, lifted)?;
     let mut target = req.target.clone();
-    target.field = placement::family(req).field(kept.shift, kept.angle.to_degrees());
+    target.field = family.field(kept.shift, kept.angle.to_degrees());
     let mut schedule = kept.schedule(&origin, Some(target))?;
     let field = schedule_field(&schedule, &grid)?;
     let analysis = analyse(&req.part, &field, req.region, LIFTED_DROPS);
@@ -137,12 +137,12 @@ pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Res
     let label = match spin {
         Some(s) => format!(
             "{}, translation × {}, plus a spin of {} rad/s² at phase {} rad",
-            placement::family(req).label(),
+            family.label(),
             s.translation,
             s.alpha,
             s.phase
         ),
-        None => placement::family(req).label(),
+        None => family.label(),
     };
     let played = play::play(
         req,
@@ -169,22 +169,29 @@ pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Res
     })
 }
 
-/// The centred schedule the placement moves: `synthesized` itself for a
-/// part with a 180° symmetry, else with the spin [`spin::choose`] keeps.
+/// The centred motion the placement moves, its synthesis and its spin: for
+/// a part without a 180° symmetry the isotropic sink with the spin
+/// [`spin::choose`] keeps, when one gives the part a unique stable pose
+/// decaying at least at [`spin::MIN_RATE`]; else the elliptic sink alone.
 ///
 /// # Errors
-/// A spun motion losing contact on `grid`.
-fn spun_origin(
+/// The synthesis's; a spun motion losing contact on `grid`.
+fn centred_motion(
     req: &PoseRequest,
-    synthesized: crate::schedule::Schedule,
+    opts: &DesignOptions,
     grid: &crate::field::Grid,
-) -> Result<(crate::schedule::Schedule, Option<spin::Spin>)> {
-    if !spin::needs_spin(req.part.symmetry()) {
-        return Ok((synthesized, None));
+) -> Result<(MethodDesign, crate::schedule::Schedule, Option<spin::Spin>)> {
+    if spin::needs_spin(req.part.symmetry()) {
+        let method =
+            placement::synthesize_centred(req, placement::family(true), opts, &opts.synthesis)?;
+        let sink = method.kept().schedule.clone();
+        let tried = spin::try_all(req, &sink, grid)?;
+        if let Some(t) = spin::choose(&tried) {
+            return Ok((method, spin::spun(&sink, t.spin)?, Some(t.spin)));
+        }
     }
-    let tried = spin::try_all(req, &synthesized, grid)?;
-    match spin::choose(&tried) {
-        Some(t) => Ok((spin::spun(&synthesized, t.spin)?, Some(t.spin))),
-        None => Ok((synthesized, None)),
-    }
+    let method =
+        placement::synthesize_centred(req, placement::family(false), opts, &opts.synthesis)?;
+    let origin = method.kept().schedule.clone();
+    Ok((method, origin, None))
 }

@@ -158,35 +158,38 @@ pub fn synthesis_half_width(req: &PoseRequest) -> f64 {
     ((far + SLACK) / 0.005).ceil() * 0.005
 }
 
-/// The point field synthesized for `req`'s part: the elliptic sink of
-/// [`RATIO`] for a part with a 180° symmetry; for the others the isotropic
-/// sink (ratio 1), which [`super::spin`] makes nonlinear.
-pub fn family(req: &PoseRequest) -> Family {
-    let ratio = if super::spin::needs_spin(req.part.symmetry()) {
-        1.0
-    } else {
-        RATIO
-    };
-    Family::Ellipse { ratio }
+/// The point field synthesized: the elliptic sink of [`RATIO`], or with
+/// `spin` the isotropic sink (ratio 1) that [`super::spin`] makes
+/// nonlinear.
+pub fn family(spin: bool) -> Family {
+    Family::Ellipse {
+        ratio: if spin { 1.0 } else { RATIO },
+    }
 }
 
-/// The request's target with [`family`]'s sink turned by `angle`
-/// (degrees) about `c` on `grid`, no mask.
-pub fn ellipse_target(req: &PoseRequest, c: V2, angle: f64, grid: Grid) -> crate::request::Target {
+/// The request's target with `family` turned by `angle` (degrees) about
+/// `c` on `grid`, no mask.
+pub fn ellipse_target(
+    req: &PoseRequest,
+    family: Family,
+    (c, angle): (V2, f64),
+    grid: Grid,
+) -> crate::request::Target {
     let mut target = req.target.clone();
     target.grid = Some(grid);
     target.mask = Vec::new();
-    target.field = family(req).field(c, angle);
+    target.field = family.field(c, angle);
     target
 }
 
-/// The centred elliptic sink synthesized once (module docs), on the square
-/// of [`synthesis_half_width`].
+/// The centred `family` synthesized once (module docs), on the square of
+/// [`synthesis_half_width`].
 ///
 /// # Errors
 /// The synthesis's.
 pub fn synthesize_centred(
     req: &PoseRequest,
+    family: Family,
     opts: &DesignOptions,
     synth: &SynthOptions,
 ) -> Result<MethodDesign> {
@@ -196,7 +199,7 @@ pub fn synthesize_centred(
         y: [-h, h],
         n: [SYNTH_N, SYNTH_N],
     };
-    let target = ellipse_target(req, V2::zeros(), 0.0, grid);
+    let target = ellipse_target(req, family, (V2::zeros(), 0.0), grid);
     design_by_method(&target, &opts.by_method(Method::Synthesize, synth))
 }
 
