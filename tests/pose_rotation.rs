@@ -33,7 +33,10 @@ fn synthesized_sink() -> Signals {
     Signals {
         period: 0.030_063_087_594_160_7,
         linear: Axes {
-            x: vec![term(45.266_439, 1.570_796_3, 1), term(0.452_664, 0.0, 2)],
+            x: vec![
+                term(45.266_439, std::f64::consts::FRAC_PI_2, 1),
+                term(0.452_664, 0.0, 2),
+            ],
             y: vec![term(45.275_488, 0.009_999_7, 1)],
             z: Vec::new(),
         },

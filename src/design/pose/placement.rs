@@ -130,22 +130,37 @@ impl Placement {
         origin: &Schedule,
         placed_target: Option<crate::request::Target>,
     ) -> Result<Schedule> {
-        let mut out = origin.clone();
-        let [seg] = out.segments.as_mut_slice() else {
-            return Err(Error::Physical(
-                "a pose placement needs a schedule of one motion".into(),
-            ));
-        };
-        let motion = seg
-            .motion
-            .as_ref()
-            .ok_or_else(|| Error::Physical("a pose placement needs a six-signal motion".into()))?;
-        seg.motion = Some(motion.transformed(self.angle, [self.shift.x, self.shift.y]));
+        let mut out = with_motion(origin, "a pose placement", |m| {
+            *m = m.transformed(self.angle, [self.shift.x, self.shift.y]);
+        })?;
         if placed_target.is_some() {
             out.target_spec = placed_target;
         }
         Ok(out)
     }
+}
+
+/// `origin` with its one six-signal motion changed by `edit`.
+///
+/// # Errors
+/// `origin` is not one six-signal motion (`what` names the user).
+pub fn with_motion(
+    origin: &Schedule,
+    what: &str,
+    edit: impl FnOnce(&mut crate::motion::Signals),
+) -> Result<Schedule> {
+    let mut out = origin.clone();
+    let [seg] = out.segments.as_mut_slice() else {
+        return Err(Error::Physical(format!(
+            "{what} needs a schedule of one motion"
+        )));
+    };
+    let motion = seg
+        .motion
+        .as_mut()
+        .ok_or_else(|| Error::Physical(format!("{what} needs a six-signal motion")))?;
+    edit(motion);
+    Ok(out)
 }
 
 /// Half-width (m) of the synthesis square for `req` (module docs).

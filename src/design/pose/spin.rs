@@ -31,7 +31,7 @@
 
 use super::search::distinct_stable;
 use super::PoseRequest;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::field::Grid;
 use crate::motion::{FourierTerm, Signals};
 use crate::pose::{equilibria, schedule_field, Equilibrium, LiftedField};
@@ -82,7 +82,7 @@ pub const CANDIDATES: [Spin; 6] = [
     spin(0.0),
     spin(0.8),
     spin(1.6),
-    spin(3.14),
+    spin(std::f64::consts::PI),
 ];
 
 const fn spin(phase: f64) -> Spin {
@@ -104,18 +104,7 @@ pub fn needs_spin(symmetry: usize) -> bool {
 /// # Errors
 /// `origin` is not one six-signal motion.
 pub fn spun(origin: &Schedule, spin: Spin) -> Result<Schedule> {
-    let mut out = origin.clone();
-    let [seg] = out.segments.as_mut_slice() else {
-        return Err(Error::Physical(
-            "a spin needs a schedule of one motion".into(),
-        ));
-    };
-    let motion = seg
-        .motion
-        .as_mut()
-        .ok_or_else(|| Error::Physical("a spin needs a six-signal motion".into()))?;
-    spin.apply(motion);
-    Ok(out)
+    super::placement::with_motion(origin, "a spin", |m| spin.apply(m))
 }
 
 /// A candidate's lifted outcome: its distinct stable poses.
