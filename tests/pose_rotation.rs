@@ -146,3 +146,27 @@ fn explore_spin() {
         }
     }
 }
+
+/// The bracket's pose target designed whole on the spin route: the kept
+/// spin gives one stable pose (lifted), and at least 70 % of 100 drops
+/// played for 120 s end within 1 mm and 3° of (8 mm, 6 mm, −40°) (measured
+/// 73 %: the goal of 95 % is not reached, docs/parts.md). About 2.5 min of
+/// CPU: `cargo test --release --test pose_rotation -- --ignored bracket`.
+#[test]
+#[ignore = "minutes of CPU: cargo test --release --test pose_rotation -- --ignored bracket"]
+fn bracket_pose_design_on_the_spin_route() {
+    use platefield::design::pose::{design_pose, DROPS};
+    let req = PoseRequest::load(std::path::Path::new("targets/pose_bracket.json"))
+        .unwrap()
+        .unwrap();
+    let opts = platefield::design::DesignOptions {
+        runtime: platefield::work::Runtime::QUIET,
+        ..Default::default()
+    };
+    let d = design_pose(&req, &opts, DROPS).unwrap();
+    assert_eq!(d.spin, Some(CANDIDATES[1]));
+    let p = d.method.kept().schedule.played.as_ref().unwrap();
+    let p = p.pose.as_ref().unwrap();
+    assert_eq!((p.drops, p.lost, p.distinct_stable), (DROPS, 0, 1));
+    assert!(p.pose_fraction >= 0.7, "{}", p.pose_fraction);
+}
