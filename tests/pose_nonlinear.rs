@@ -10,7 +10,9 @@
 //! affine fields are sequenced. A unique pose needs a field that is
 //! nonlinear over the part (2–3 cm).
 
-use nalgebra::{Matrix3, Vector3};
+#[path = "common/affine.rs"]
+mod affine;
+
 use platefield::basis::{Primitive, PrimitiveKind};
 use platefield::dynamics::V2;
 use platefield::field::{Field, FieldKind, FieldSettings, Grid};
@@ -38,37 +40,9 @@ fn primitive_field(kind: PrimitiveKind) -> Field {
     f
 }
 
-/// The sample positions of `GRID`, row-major (y outer).
-fn points() -> Vec<V2> {
-    let at = |r: [f64; 2], n: usize, k: usize| r[0] + (r[1] - r[0]) * k as f64 / (n - 1) as f64;
-    (0..GRID.n[1])
-        .flat_map(|j| {
-            (0..GRID.n[0]).map(move |i| V2::new(at(GRID.x, GRID.n[0], i), at(GRID.y, GRID.n[1], j)))
-        })
-        .collect()
-}
-
-/// The largest residual of the least-squares affine fit v ≈ b + A p to
-/// `field`, as a fraction of its largest speed.
+/// `field`'s affine residual over `GRID` (tests/common/affine.rs).
 fn affine_residual(field: &Field) -> f64 {
-    let ps = points();
-    let rows: Vec<Vector3<f64>> = ps.iter().map(|p| Vector3::new(1.0, p.x, p.y)).collect();
-    let normal: Matrix3<f64> = rows.iter().map(|r| r * r.transpose()).sum();
-    let inv = normal.try_inverse().expect("a 2-D grid");
-    let mut worst: f64 = 0.0;
-    for c in 0..2 {
-        let rhs: Vector3<f64> = rows.iter().zip(&field.vectors).map(|(r, v)| r * v[c]).sum();
-        let coef = inv * rhs;
-        for (r, v) in rows.iter().zip(&field.vectors) {
-            worst = worst.max((v[c] - coef.dot(r)).abs());
-        }
-    }
-    let speed = field
-        .vectors
-        .iter()
-        .map(|v| v[0].hypot(v[1]))
-        .fold(0.0, f64::max);
-    worst / speed
+    affine::affine_residual(&GRID, &field.vectors)
 }
 
 /// The LineSink's band is the whole region: its velocity field is affine

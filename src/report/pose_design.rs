@@ -65,8 +65,12 @@ fn placement_md(d: &PoseDesign, md: &mut String) {
     let c = &d.centred;
     let _ = writeln!(
         md,
-        "One six-signal motion synthesized once for the centred elliptic sink (`design::pose::placement`, ratio {}); the part's stable pose in its lifted field: ({:+.3}, {:+.3}) mm, {:+.2}°, decay rates {:.3}, {:.3}, {:.3} 1/s, turning rate −∂θ'/∂θ {:.3} 1/s. Placed on the lifted field: {}.",
-        crate::design::pose::placement::RATIO,
+        "One six-signal motion synthesized once for the centred {} (`design::pose::placement`){}; the part's stable pose in its lifted field: ({:+.3}, {:+.3}) mm, {:+.2}°, decay rates {:.3}, {:.3}, {:.3} 1/s, turning rate −∂θ'/∂θ {:.3} 1/s. Placed on the lifted field: {}.",
+        crate::design::pose::placement::family(d.spin.is_some()).label(),
+        d.spin.map_or(String::new(), |s| format!(
+            ", its in-plane translation × {}, plus a spin about the vertical of {} rad/s² at phase {} rad (`design::pose::spin`: a field nonlinear at the part's scale)",
+            s.translation, s.alpha, s.phase
+        )),
         1e3 * c.pose.r.x,
         1e3 * c.pose.r.y,
         c.pose.theta.to_degrees(),

@@ -141,13 +141,14 @@ rigid transforms of the motion (the turn exact, the shift to first order in the 
 redesign) and played from 100 random drops by the planar simulator; goal: 95 % within 1 mm and \
 3° modulo the part's symmetry. A linear field turns a part by its second moments only, so a part \
 without a 180° symmetry (the bracket, the triangle) has two stable poses 180° apart in it, each \
-with about half the drops. A unique pose needs a nonlinear field (radial plus a small uniform \
-part); in the averaged analysis of `synth` one motion's field is affine in position, so it \
-cannot make one. Time-shared primitives do not give one either: the LineSink's velocity field is \
-affine over the region to 0.55 % of its top speed, so LineSinks at several angles average to a \
-linear sink; the one strongly nonlinear primitive, DivCircle (70 % off affine, a stick disc of \
-about 2 cm), makes the bracket's pose unique in the lifted field but turns it 80 times slower \
-than the ellipse (`tests/pose_nonlinear.rs`, `docs/parts.md`).\n\n";
+with about half the drops. A unique pose needs a field nonlinear over the part. For such a part \
+`design` first tries the isotropic sink with its translation scaled by 0.25 and a spin about the \
+vertical out of phase with it (`design::pose::spin`: the slip path at p is an ellipse spanned by \
+the translation and the rotation's velocity at p, so the mean friction direction turns across the \
+plate on the scale r* = V/Ω ≈ 9 mm: 63–77 % off affine over ±4 cm); it keeps the spin that gives \
+the part one stable pose in the lifted field decaying at ≥ 0.1 1/s, else the elliptic sink. The \
+bracket gets it (one pose, 0.28 1/s); the triangle's best spin (0.064 1/s) is refused and it keeps \
+the ellipse (`tests/pose_rotation.rs`, `docs/parts.md`).\n\n";
 
 /// The shipped pose targets (`targets/pose_*.json`).
 const POSE_TARGETS: [&str; 3] = ["rectangle", "bracket", "triangle"];

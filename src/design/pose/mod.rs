@@ -37,6 +37,7 @@ pub mod placement;
 pub(crate) mod play;
 pub(crate) mod request;
 pub mod search;
+pub mod spin;
 
 pub use placement::Placement;
 pub use request::PoseRequest;
@@ -74,6 +75,9 @@ pub struct PoseDesign {
     /// The centred motion's synthesis, its kept schedule replaced by the
     /// placed one, whose `played.pose` holds the part's played drops.
     pub method: MethodDesign,
+    /// The spin added to the synthesized sink ([`spin`]), `None` for a
+    /// part with a 180° symmetry (the elliptic sink alone).
+    pub spin: Option<spin::Spin>,
     /// The lifted field of the placed schedule: equilibria and predicted basins.
     pub analysis: PoseAnalysis,
 }
@@ -102,10 +106,10 @@ pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Res
             play::MIN_PLAY_S
         );
     }
-    let mut method = placement::synthesize_centred(req, opts, &opts.synthesis)?;
-    let origin = method.kept().schedule.clone();
     let grid = req.target.grid.unwrap_or(crate::field::Grid::DEFAULT);
     let n = req.part.symmetry();
+    let (mut method, origin, spin) = centred_motion(req, opts, &grid)?;
+    let family = placement::family(spin.is_some());
     let centred_field = schedule_field(&origin, &grid)?;
     let lifted_field = LiftedField::new(&centred_field, &req.part.body);
     let eqs = equilibria(&lifted_field, &req.region);
@@ -119,20 +123,27 @@ pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Res
     let lifted = Placement::onto(&centred.pose, &req.pose, n);
     let (kept, rounds) = correct::correct(req, &origin, lifted)?;
     let mut target = req.target.clone();
-    target.field = Family::Ellipse {
-        ratio: placement::RATIO,
-    }
-    .field(kept.shift, kept.angle.to_degrees());
+    target.field = family.field(kept.shift, kept.angle.to_degrees());
     let mut schedule = kept.schedule(&origin, Some(target))?;
     let field = schedule_field(&schedule, &grid)?;
     let analysis = analyse(&req.part, &field, req.region, LIFTED_DROPS);
+    // The spin route plays the longest (`play::play_seconds(0)`): its
+    // slowest lifted rate is a spiral's and drops from the region's edge
+    // settle later than it predicts (module `spin` docs).
     let rate = search::nearest_stable(&analysis.equilibria, &req.pose, n, req.part.radius())
+        .filter(|_| spin.is_none())
         .map_or(0.0, |e| -e.rates[0]);
     let sm = ScheduleMotion::from_schedule(&schedule)?;
-    let label = Family::Ellipse {
-        ratio: placement::RATIO,
-    }
-    .label();
+    let label = match spin {
+        Some(s) => format!(
+            "{}, translation × {}, plus a spin of {} rad/s² at phase {} rad",
+            family.label(),
+            s.translation,
+            s.alpha,
+            s.phase
+        ),
+        None => family.label(),
+    };
     let played = play::play(
         req,
         &sm,
@@ -153,6 +164,34 @@ pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Res
         placement: kept,
         rounds,
         method,
+        spin,
         analysis,
     })
+}
+
+/// The centred motion the placement moves, its synthesis and its spin: for
+/// a part without a 180° symmetry the isotropic sink with the spin
+/// [`spin::choose`] keeps, when one gives the part a unique stable pose
+/// decaying at least at [`spin::MIN_RATE`]; else the elliptic sink alone.
+///
+/// # Errors
+/// The synthesis's; a spun motion losing contact on `grid`.
+fn centred_motion(
+    req: &PoseRequest,
+    opts: &DesignOptions,
+    grid: &crate::field::Grid,
+) -> Result<(MethodDesign, crate::schedule::Schedule, Option<spin::Spin>)> {
+    if spin::needs_spin(req.part.symmetry()) {
+        let method =
+            placement::synthesize_centred(req, placement::family(true), opts, &opts.synthesis)?;
+        let sink = method.kept().schedule.clone();
+        let tried = spin::try_all(req, &sink, grid)?;
+        if let Some(t) = spin::choose(&tried) {
+            return Ok((method, spin::spun(&sink, t.spin)?, Some(t.spin)));
+        }
+    }
+    let method =
+        placement::synthesize_centred(req, placement::family(false), opts, &opts.synthesis)?;
+    let origin = method.kept().schedule.clone();
+    Ok((method, origin, None))
 }

@@ -130,22 +130,37 @@ impl Placement {
         origin: &Schedule,
         placed_target: Option<crate::request::Target>,
     ) -> Result<Schedule> {
-        let mut out = origin.clone();
-        let [seg] = out.segments.as_mut_slice() else {
-            return Err(Error::Physical(
-                "a pose placement needs a schedule of one motion".into(),
-            ));
-        };
-        let motion = seg
-            .motion
-            .as_ref()
-            .ok_or_else(|| Error::Physical("a pose placement needs a six-signal motion".into()))?;
-        seg.motion = Some(motion.transformed(self.angle, [self.shift.x, self.shift.y]));
+        let mut out = with_motion(origin, "a pose placement", |m| {
+            *m = m.transformed(self.angle, [self.shift.x, self.shift.y]);
+        })?;
         if placed_target.is_some() {
             out.target_spec = placed_target;
         }
         Ok(out)
     }
+}
+
+/// `origin` with its one six-signal motion changed by `edit`.
+///
+/// # Errors
+/// `origin` is not one six-signal motion (`what` names the user).
+pub fn with_motion(
+    origin: &Schedule,
+    what: &str,
+    edit: impl FnOnce(&mut crate::motion::Signals),
+) -> Result<Schedule> {
+    let mut out = origin.clone();
+    let [seg] = out.segments.as_mut_slice() else {
+        return Err(Error::Physical(format!(
+            "{what} needs a schedule of one motion"
+        )));
+    };
+    let motion = seg
+        .motion
+        .as_mut()
+        .ok_or_else(|| Error::Physical(format!("{what} needs a six-signal motion")))?;
+    edit(motion);
+    Ok(out)
 }
 
 /// Half-width (m) of the synthesis square for `req` (module docs).
@@ -158,23 +173,38 @@ pub fn synthesis_half_width(req: &PoseRequest) -> f64 {
     ((far + SLACK) / 0.005).ceil() * 0.005
 }
 
-/// The request's target with the elliptic sink of [`RATIO`] turned by
-/// `angle` (degrees) about `c` on `grid`, no mask.
-pub fn ellipse_target(req: &PoseRequest, c: V2, angle: f64, grid: Grid) -> crate::request::Target {
+/// The point field synthesized: the elliptic sink of [`RATIO`], or with
+/// `spin` the isotropic sink (ratio 1) that [`super::spin`] makes
+/// nonlinear.
+pub fn family(spin: bool) -> Family {
+    Family::Ellipse {
+        ratio: if spin { 1.0 } else { RATIO },
+    }
+}
+
+/// The request's target with `family` turned by `angle` (degrees) about
+/// `c` on `grid`, no mask.
+pub fn ellipse_target(
+    req: &PoseRequest,
+    family: Family,
+    (c, angle): (V2, f64),
+    grid: Grid,
+) -> crate::request::Target {
     let mut target = req.target.clone();
     target.grid = Some(grid);
     target.mask = Vec::new();
-    target.field = Family::Ellipse { ratio: RATIO }.field(c, angle);
+    target.field = family.field(c, angle);
     target
 }
 
-/// The centred elliptic sink synthesized once (module docs), on the square
-/// of [`synthesis_half_width`].
+/// The centred `family` synthesized once (module docs), on the square of
+/// [`synthesis_half_width`].
 ///
 /// # Errors
 /// The synthesis's.
 pub fn synthesize_centred(
     req: &PoseRequest,
+    family: Family,
     opts: &DesignOptions,
     synth: &SynthOptions,
 ) -> Result<MethodDesign> {
@@ -184,7 +214,7 @@ pub fn synthesize_centred(
         y: [-h, h],
         n: [SYNTH_N, SYNTH_N],
     };
-    let target = ellipse_target(req, V2::zeros(), 0.0, grid);
+    let target = ellipse_target(req, family, (V2::zeros(), 0.0), grid);
     design_by_method(&target, &opts.by_method(Method::Synthesize, synth))
 }
 

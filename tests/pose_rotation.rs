@@ -1,0 +1,172 @@
+//! Issue 28, route A (`design::pose::spin`): a rotation about the vertical
+//! mixed with the in-plane translation in one motion makes the synthesized
+//! sink's point field nonlinear at the part's scale and gives the bracket
+//! one stable pose (measured numbers in docs/parts.md).
+
+#[path = "common/affine.rs"]
+mod affine;
+
+use platefield::design::pose::spin::{Spin, CANDIDATES};
+use platefield::design::pose::PoseRequest;
+use platefield::field::{Field, FieldKind, FieldSettings, Grid};
+use platefield::motion::{Axes, FourierTerm, Motion, Signals};
+use platefield::pose::{equilibria, Equilibrium, GridField, LiftedField};
+
+/// The plate region the fields are measured on (m): ±4 cm.
+const GRID: Grid = Grid {
+    x: [-0.04, 0.04],
+    y: [-0.04, 0.04],
+    n: [17, 17],
+};
+
+fn term(amplitude: f64, phase: f64, harmonic: u32) -> FourierTerm {
+    FourierTerm {
+        amplitude,
+        phase,
+        harmonic,
+    }
+}
+
+/// The isotropic sink `design` synthesizes for targets/pose_bracket.json
+/// (its centred motion, as printed by the synthesis on this branch).
+fn synthesized_sink() -> Signals {
+    Signals {
+        period: 0.030_063_087_594_160_7,
+        linear: Axes {
+            x: vec![
+                term(45.266_439, std::f64::consts::FRAC_PI_2, 1),
+                term(0.452_664, 0.0, 2),
+            ],
+            y: vec![term(45.275_488, 0.009_999_7, 1)],
+            z: Vec::new(),
+        },
+        angular: Axes {
+            x: vec![term(82.739_718, 1.668_121_2, 1)],
+            y: vec![term(82.739_718, 0.097_324_9, 1)],
+            z: Vec::new(),
+        },
+    }
+}
+
+/// The sink with `spin` (none for `None`): its field on `GRID`.
+fn field(spin: Option<Spin>) -> Field {
+    let mut motion = synthesized_sink();
+    if let Some(s) = spin {
+        s.apply(&mut motion);
+    }
+    let f = Field::compute(
+        &Motion::Signals(motion),
+        &GRID,
+        FieldKind::Velocity,
+        &FieldSettings::default(),
+        &|| {},
+    );
+    assert_eq!(f.valid_count(), GRID.len(), "contact lost");
+    f
+}
+
+/// The bracket's stable poses in `f`'s lifted field over its request's region.
+fn bracket_stable(f: &Field) -> Vec<Equilibrium> {
+    let req = PoseRequest::load(std::path::Path::new("targets/pose_bracket.json"))
+        .unwrap()
+        .unwrap();
+    let g = GridField::new(f);
+    let eqs = equilibria(&LiftedField::new(&g, &req.part.body), &req.region);
+    eqs.into_iter().filter(|e| e.stable).collect()
+}
+
+/// The residual measure against closed forms: an affine field leaves
+/// nothing; v = (x², 0) on the 17-point symmetric grid is fitted by its
+/// mean, a²·Σk²/(8²·17)·2 = 0.375 a² (k = −8…8), so the largest residual
+/// is a² − 0.375 a² = 0.625 of the largest speed a².
+#[test]
+fn affine_residual_matches_closed_forms() {
+    let ps = affine::points(&GRID);
+    let exact: Vec<[f64; 2]> = ps
+        .iter()
+        .map(|p| [0.01 + 2.0 * p.x - p.y, -0.02 + 0.5 * p.y + 3.0 * p.x])
+        .collect();
+    let r = affine::affine_residual(&GRID, &exact);
+    assert!(r < 1e-12, "{r}");
+    let square: Vec<[f64; 2]> = ps.iter().map(|p| [p.x * p.x, 0.0]).collect();
+    let r = affine::affine_residual(&GRID, &square);
+    assert!((r - 0.625).abs() < 1e-12, "{r}");
+}
+
+/// The synthesized sink is affine to 6 % over ±4 cm (measured 3.5 % with
+/// its translation scaled by 0.25) and leaves the bracket's orientation
+/// neutral (no stable pose: an isotropic linear sink does not turn a
+/// part); with the kept spin (α = 1200 rad/s² at −0.8 rad, translation ×
+/// 0.25, r* ≈ 9 mm) the residual exceeds 50 % (measured 63 %) and the
+/// bracket has exactly one stable pose, decaying faster than 0.1 1/s
+/// (measured 0.28 1/s; the time-shared DivCircle route: 0.0028–0.013).
+#[test]
+fn spin_makes_the_sink_nonlinear_and_the_bracket_pose_unique() {
+    let spin = CANDIDATES[1];
+    assert_eq!(
+        (spin.alpha, spin.phase, spin.translation),
+        (1200.0, -0.8, 0.25)
+    );
+    let mut plain = spin;
+    plain.alpha = 0.0;
+    let flat = field(Some(plain));
+    let r0 = affine::affine_residual(&GRID, &flat.vectors);
+    assert!(r0 < 0.06, "{r0}");
+    assert!(bracket_stable(&flat).is_empty());
+    let spun = field(Some(spin));
+    let r1 = affine::affine_residual(&GRID, &spun.vectors);
+    let stable = bracket_stable(&spun);
+    eprintln!("affine residual {r0:.3} → {r1:.3}; bracket stable {stable:?}");
+    assert!(r1 > 0.5, "{r1}");
+    assert_eq!(stable.len(), 1, "{stable:?}");
+    assert!(-stable[0].rates[0] > 0.1, "{stable:?}");
+}
+
+/// Exploration: `PF_SPIN="alpha,phase,translation;..."` prints each spun
+/// sink's affine residual and the bracket's stable poses
+/// (`cargo test --release --test pose_rotation -- --ignored --nocapture`).
+#[test]
+#[ignore = "exploration: PF_SPIN=alpha,phase,translation;..."]
+fn explore_spin() {
+    let spec = std::env::var("PF_SPIN").unwrap_or("1200,-0.8,0.25".into());
+    for item in spec.split(';') {
+        let v: Vec<f64> = item.split(',').map(|s| s.parse().unwrap()).collect();
+        let f = field(Some(Spin {
+            alpha: v[0],
+            phase: v[1],
+            translation: v[2],
+        }));
+        let r = affine::affine_residual(&GRID, &f.vectors);
+        eprintln!(
+            "spin {item}: affine residual {r:.3}, top {:.4} m/s",
+            f.max_magnitude()
+        );
+        for e in bracket_stable(&f) {
+            eprintln!("  bracket stable {:?}", e);
+        }
+    }
+}
+
+/// The bracket's pose target designed whole on the spin route: the kept
+/// spin gives one stable pose (lifted), and at least 70 % of 100 drops
+/// played for 120 s end within 1 mm and 3° of (8 mm, 6 mm, −40°) (measured
+/// 73 %: the goal of 95 % is not reached, docs/parts.md). About 2.5 min of
+/// CPU: `cargo test --release --test pose_rotation -- --ignored bracket`.
+#[test]
+#[ignore = "minutes of CPU: cargo test --release --test pose_rotation -- --ignored bracket"]
+fn bracket_pose_design_on_the_spin_route() {
+    use platefield::design::pose::{design_pose, DROPS};
+    let req = PoseRequest::load(std::path::Path::new("targets/pose_bracket.json"))
+        .unwrap()
+        .unwrap();
+    let opts = platefield::design::DesignOptions {
+        runtime: platefield::work::Runtime::QUIET,
+        ..Default::default()
+    };
+    let d = design_pose(&req, &opts, DROPS).unwrap();
+    assert_eq!(d.spin, Some(CANDIDATES[1]));
+    let p = d.method.kept().schedule.played.as_ref().unwrap();
+    let p = p.pose.as_ref().unwrap();
+    assert_eq!((p.drops, p.lost, p.distinct_stable), (DROPS, 0, 1));
+    assert!(p.pose_fraction >= 0.7, "{}", p.pose_fraction);
+}
