@@ -285,7 +285,7 @@ impl<'a> Player<'a> {
     /// the segment ([`KinematicsTable`]; `None` for rest): every period
     /// plays each segment over the same span, so one table serves every
     /// period of every part ([`Player::with_tables`]).
-    pub fn kinematics_tables(&self) -> Vec<Option<KinematicsTable<'a>>> {
+    pub(crate) fn kinematics_tables(&self) -> Vec<Option<KinematicsTable<'a>>> {
         self.sims
             .iter()
             .zip(&self.schedule.segments)
@@ -298,35 +298,9 @@ impl<'a> Player<'a> {
 
     /// The same player reading the plate kinematics from `tables`
     /// ([`Player::kinematics_tables`] of a player of the same schedule and
-    /// physics): a memo, the parts' paths are bitwise unchanged.
-    ///
-    /// ```
-    /// use platefield::dynamics::{PartState, V2};
-    /// use platefield::field::FieldSettings;
-    /// use platefield::motion::{Motion, Signals};
-    /// use platefield::play::{PlayOptions, PlayedSegment, ScheduleMotion};
-    ///
-    /// let sm = ScheduleMotion::new(vec![
-    ///     PlayedSegment::moving("signals", Motion::Signals(Signals::example()), 3),
-    ///     PlayedSegment::rest(0.01),
-    /// ])
-    /// .unwrap();
-    /// let options = PlayOptions::from_settings(&FieldSettings::default());
-    /// let tables = options.player(&sm).kinematics_tables();
-    /// let play = |tabled: bool| {
-    ///     let player = options.player(&sm);
-    ///     let player = if tabled { player.with_tables(&tables) } else { player };
-    ///     let anchor = V2::new(0.02, -0.01);
-    ///     let mut state = PartState::new(anchor, V2::zeros());
-    ///     player.play_periods(&mut state, &anchor, 0, 4, |_, _, _| ()).unwrap();
-    ///     state
-    /// };
-    /// let (direct, tabled) = (play(false), play(true));
-    /// assert_eq!(direct.r.x.to_bits(), tabled.r.x.to_bits());
-    /// assert_eq!(direct.r.y.to_bits(), tabled.r.y.to_bits());
-    /// assert_ne!(direct.r, V2::new(0.02, -0.01)); // the part moved
-    /// ```
-    pub fn with_tables(mut self, tables: &'a [Option<KinematicsTable<'a>>]) -> Player<'a> {
+    /// physics): a memo, the parts' paths are bitwise unchanged
+    /// (`tests::tabled_plays_are_the_direct_ones`).
+    pub(crate) fn with_tables(mut self, tables: &'a [Option<KinematicsTable<'a>>]) -> Player<'a> {
         for (sim, table) in self.sims.iter_mut().zip(tables) {
             *sim = sim.take().map(|s| match table {
                 Some(t) => s.with_table(t),
@@ -491,5 +465,40 @@ mod tests {
         assert_eq!(periods_for(40, t, 41.0 * t), 1);
         assert_eq!(periods_for(40, t, 13.0 * t), 4);
         assert_eq!(periods_for(0, t, t), 1);
+    }
+
+    /// The kinematics tables are a memo: a part played four periods of a
+    /// two-segment schedule ends at the same bits with and without them,
+    /// and it moved.
+    #[test]
+    fn tabled_plays_are_the_direct_ones() {
+        use crate::dynamics::{PartState, V2};
+        use crate::field::FieldSettings;
+        use crate::motion::{Motion, Signals};
+        let sm = ScheduleMotion::new(vec![
+            PlayedSegment::moving("signals", Motion::Signals(Signals::example()), 3),
+            PlayedSegment::rest(0.01),
+        ])
+        .expect("a valid schedule");
+        let options = PlayOptions::from_settings(&FieldSettings::default());
+        let tables = options.player(&sm).kinematics_tables();
+        let play = |tabled: bool| {
+            let player = options.player(&sm);
+            let player = if tabled {
+                player.with_tables(&tables)
+            } else {
+                player
+            };
+            let anchor = V2::new(0.02, -0.01);
+            let mut state = PartState::new(anchor, V2::zeros());
+            player
+                .play_periods(&mut state, &anchor, 0, 4, |_, _, _| ())
+                .expect("a played schedule");
+            state
+        };
+        let (direct, tabled) = (play(false), play(true));
+        assert_eq!(direct.r.x.to_bits(), tabled.r.x.to_bits());
+        assert_eq!(direct.r.y.to_bits(), tabled.r.y.to_bits());
+        assert_ne!(direct.r, V2::new(0.02, -0.01));
     }
 }
