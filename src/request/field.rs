@@ -316,6 +316,36 @@ impl FieldSpec {
         }
     }
 
+    /// The centre (m) and strength of an analytic field; `None` for a sum
+    /// or a sampled field.
+    pub(crate) fn center_strength(&self) -> Option<([f64; 2], f64)> {
+        match *self {
+            FieldSpec::Sink { center, strength }
+            | FieldSpec::Source { center, strength }
+            | FieldSpec::Circle { center, strength }
+            | FieldSpec::ScaledCircle { center, strength }
+            | FieldSpec::LineSink {
+                center, strength, ..
+            }
+            | FieldSpec::Saddle {
+                center, strength, ..
+            }
+            | FieldSpec::Whirlpool {
+                center, strength, ..
+            }
+            | FieldSpec::Trans {
+                center, strength, ..
+            }
+            | FieldSpec::SqueezeTrans {
+                center, strength, ..
+            }
+            | FieldSpec::Jet {
+                center, strength, ..
+            } => Some((center, strength)),
+            FieldSpec::Sum { .. } | FieldSpec::Sampled { .. } => None,
+        }
+    }
+
     /// Evaluates the field (m/s) at `p` (metres).
     ///
     /// Assumes the spec is valid (see [`FieldSpec::validate`]); an empty
@@ -468,62 +498,30 @@ impl FieldSpec {
             check_finite(&at(name), v)?;
             check_range(&at(name), v, -max, max, unit)
         };
+        if let Some((center, strength)) = self.center_strength() {
+            center_strength(&center, &strength)?;
+        }
         match self {
-            FieldSpec::Sink { center, strength }
-            | FieldSpec::Source { center, strength }
-            | FieldSpec::Circle { center, strength }
-            | FieldSpec::ScaledCircle { center, strength } => center_strength(center, strength),
-            FieldSpec::LineSink {
-                center,
-                strength,
-                angle,
-                offset,
-            } => {
-                center_strength(center, strength)?;
+            FieldSpec::Sink { .. }
+            | FieldSpec::Source { .. }
+            | FieldSpec::Circle { .. }
+            | FieldSpec::ScaledCircle { .. } => Ok(()),
+            FieldSpec::LineSink { angle, offset, .. } => {
                 param("angle", *angle, ANGLE, "°")?;
                 param("offset", *offset, EXTENT, " m")
             }
-            FieldSpec::Saddle {
-                center,
-                strength,
-                angle,
-            } => {
-                center_strength(center, strength)?;
-                param("angle", *angle, ANGLE, "°")
-            }
-            FieldSpec::Whirlpool {
-                center,
-                strength,
-                rotation,
-            } => {
-                center_strength(center, strength)?;
-                param("rotation", *rotation, RATIO, "")
-            }
-            FieldSpec::Trans {
-                center,
-                strength,
-                direction,
-            } => {
-                center_strength(center, strength)?;
-                param("direction", *direction, ANGLE, "°")
-            }
+            FieldSpec::Saddle { angle, .. } => param("angle", *angle, ANGLE, "°"),
+            FieldSpec::Whirlpool { rotation, .. } => param("rotation", *rotation, RATIO, ""),
+            FieldSpec::Trans { direction, .. } => param("direction", *direction, ANGLE, "°"),
             FieldSpec::SqueezeTrans {
-                center,
-                strength,
-                angle,
-                transport,
+                angle, transport, ..
             } => {
-                center_strength(center, strength)?;
                 param("angle", *angle, ANGLE, "°")?;
                 param("transport", *transport, RATIO, "")
             }
             FieldSpec::Jet {
-                center,
-                strength,
-                direction,
-                width,
+                direction, width, ..
             } => {
-                center_strength(center, strength)?;
                 param("direction", *direction, ANGLE, "°")?;
                 check_finite(&at("width"), *width)?;
                 if !(MIN_JET_WIDTH..=EXTENT).contains(width) {

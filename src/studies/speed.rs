@@ -330,18 +330,10 @@ pub fn library_speed(out: &Path) -> Result<String> {
 /// errors, the calibrated build, the reference's own error and the
 /// reproducibility row.
 fn error_table(m: &Measured) -> String {
-    let Measured {
-        names,
-        reference,
-        builds,
-        calibrated,
-        calibrated_errors,
-        errors,
-        noise,
-        ref_error,
-        simulations,
-        ..
-    } = m;
+    let (names, reference, builds, calibrated) = (&m.names, &m.reference, &m.builds, &m.calibrated);
+    let (calibrated_errors, errors, noise, ref_error) =
+        (&m.calibrated_errors, &m.errors, &m.noise, &m.ref_error);
+    let simulations = &m.simulations;
     let last = builds.len() - 1;
     let threads = rayon::current_num_threads();
     let g = Grid::DEFAULT;
@@ -406,13 +398,7 @@ fn error_table(m: &Measured) -> String {
 /// The notes on the last rows, and the observed orders between
 /// neighbouring step counts.
 fn order_table(m: &Measured, md: &mut String) {
-    let Measured {
-        names,
-        builds,
-        orders,
-        half,
-        ..
-    } = m;
+    let (names, builds, orders, half) = (&m.names, &m.builds, &m.orders, &m.half);
     let last = builds.len() - 1;
     let dashes = "---|".repeat(names.len());
     let _ = write!(
@@ -447,14 +433,8 @@ fn order_table(m: &Measured, md: &mut String) {
 
 /// Wall time per primitive, calibrated steps and points simulated.
 fn time_table(m: &Measured, md: &mut String) {
-    let Measured {
-        names,
-        reference,
-        builds,
-        calibrated,
-        simulated,
-        ..
-    } = m;
+    let (names, reference, builds, calibrated) = (&m.names, &m.reference, &m.builds, &m.calibrated);
+    let simulated = &m.simulated;
     let g = Grid::DEFAULT;
     let dashes = "---|".repeat(names.len());
     let _ = write!(
@@ -490,14 +470,9 @@ fn time_table(m: &Measured, md: &mut String) {
 
 /// The verdict against the time and error target, from the numbers.
 fn verdict(m: &Measured, md: &mut String) {
-    let Measured {
-        names,
-        builds,
-        calibrated,
-        calibrated_errors,
-        errors,
-        ..
-    } = m;
+    let (names, builds, calibrated, calibrated_errors) =
+        (&m.names, &m.builds, &m.calibrated, &m.calibrated_errors);
+    let errors = &m.errors;
     let threads = rayon::current_num_threads();
     let met = builds
         .iter()
@@ -551,7 +526,7 @@ fn verdict(m: &Measured, md: &mut String) {
 
 /// Not met: where the error target is first reached, or the best error.
 fn nearest_accurate(m: &Measured, md: &mut String) {
-    let Measured { builds, errors, .. } = m;
+    let (builds, errors) = (&m.builds, &m.errors);
     let last = builds.len() - 1;
     let accurate = builds
         .iter()
@@ -590,7 +565,7 @@ fn nearest_accurate(m: &Measured, md: &mut String) {
 /// Not met: the most accurate build within the time target, or the
 /// cheapest build's time (and its CPU time per thread).
 fn nearest_fast(m: &Measured, md: &mut String) {
-    let Measured { builds, errors, .. } = m;
+    let (builds, errors) = (&m.builds, &m.errors);
     let threads = rayon::current_num_threads();
     let fast = builds
         .iter()
@@ -635,13 +610,7 @@ fn nearest_fast(m: &Measured, md: &mut String) {
 /// Each primitive at its own fewest steps within the error target: the
 /// per-primitive times already measured, summed (no new build).
 fn own_steps(m: &Measured, md: &mut String) {
-    let Measured {
-        names,
-        builds,
-        calibrated,
-        errors,
-        ..
-    } = m;
+    let (names, builds, calibrated, errors) = (&m.names, &m.builds, &m.calibrated, &m.errors);
     let own: Vec<Option<usize>> = (0..names.len())
         .map(|i| errors.iter().position(|e| e[i] <= TARGET_ERROR))
         .collect();
@@ -697,15 +666,8 @@ fn own_steps(m: &Measured, md: &mut String) {
 
 /// What limits the error: 1-D against 2-D slips.
 fn error_limits(m: &Measured, md: &mut String) {
-    let Measured {
-        names,
-        builds,
-        errors,
-        noise,
-        half,
-        fine_order,
-        ..
-    } = m;
+    let (names, builds, errors, noise) = (&m.names, &m.builds, &m.errors, &m.noise);
+    let (half, fine_order) = (&m.half, &m.fine_order);
     let last = builds.len() - 1;
     let one_d = ["LineSink", "LineSource", "Trans"];
     let pick = |want_1d: bool, v: &[f64], f: &dyn Fn(f64) -> String| -> String {
@@ -762,13 +724,8 @@ fn error_limits(m: &Measured, md: &mut String) {
 
 /// What limits the time, and how to regenerate.
 fn time_limits(m: &Measured, md: &mut String) {
-    let Measured {
-        names,
-        builds,
-        simulated,
-        simulations,
-        ..
-    } = m;
+    let (names, builds, simulated, simulations) =
+        (&m.names, &m.builds, &m.simulated, &m.simulations);
     let threads = rayon::current_num_threads();
     let g = Grid::DEFAULT;
     let _ = writeln!(
