@@ -8,6 +8,7 @@ use std::path::Path;
 
 use serde::Serialize;
 
+use super::table::Table;
 use crate::design::sort::{ClassFit, SortDesign};
 use crate::error::{Error, Result};
 use crate::output::percent;
@@ -49,26 +50,38 @@ pub(crate) fn report_md(target_name: &str, d: &SortDesign, played: &[ClassPlay])
         played.len(),
         if d.gentle.is_empty() { "none".to_string() } else { d.gentle.join(", ") }
     );
-    s.push_str("| class | μ | predicted strength (1/s) | predicted shape | realised strength (1/s) | realised shape | swarm | played (s) | at own attractor | mixed up | median distance (mm) | lost contact |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    let mut table = Table::new([
+        "class",
+        "μ",
+        "predicted strength (1/s)",
+        "predicted shape",
+        "realised strength (1/s)",
+        "realised shape",
+        "swarm",
+        "played (s)",
+        "at own attractor",
+        "mixed up",
+        "median distance (mm)",
+        "lost contact",
+    ]);
     for (f, p) in d.classes.iter().zip(played) {
-        let _ = writeln!(
-            s,
-            "| {} | {} | {:.4} | {} | {:.4} | {} | {} | {:.0} | {} | {} | {} | {} |",
-            f.name,
-            p.friction,
-            f.strength,
+        table.row([
+            f.name.clone(),
+            p.friction.to_string(),
+            format!("{:.4}", f.strength),
             percent(f.shape_error, 1),
-            p.realised_strength,
+            format!("{:.4}", p.realised_strength),
             percent(p.realised_shape_error, 1),
-            p.parts,
-            p.duration_s,
+            p.parts.to_string(),
+            format!("{:.0}", p.duration_s),
             p.at_own.map_or("n/a".into(), |x| percent(x, 1)),
             percent(p.mixed_up, 1),
             p.median_distance_m
                 .map_or("n/a".into(), |m| format!("{:.1}", 1e3 * m)),
-            p.contact_lost
-        );
+            p.contact_lost.to_string(),
+        ]);
     }
+    s.push_str(&table.markdown());
     let _ = writeln!(
         s,
         "\n\"At own attractor\": the swarm's parts ending within {:.0} mm of the class's attractor; \"mixed up\": ending within {:.0} mm of another class's.\n",

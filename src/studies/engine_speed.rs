@@ -26,6 +26,7 @@ use crate::error::Result;
 use crate::field::{Field, FieldKind, FieldSettings, Grid};
 use crate::output::write_atomic;
 use crate::plot::{LegendPosition, LinePlot, Series};
+use crate::report::table::Table;
 
 /// Default output folder.
 pub const DIR: &str = "results";
@@ -296,84 +297,70 @@ pub(crate) fn markdown(config: &Config, curves: &[Curve]) -> String {
 
 /// One field kind's error table and observed orders.
 fn error_tables(config: &Config, kind: FieldKind, of_kind: &[&Curve], md: &mut String) {
-    let head: Vec<String> = config.steps.iter().map(|s| s.to_string()).collect();
-    let dashes = "---|".repeat(config.steps.len());
     let _ = write!(
         md,
-        "\n## {} fields\n\nRelative L2 error against steps per cycle:\n\n| primitive | {} | reference's own error (est.) | fewest steps ≤ 1e-4 |\n|---|{dashes}---|---|\n",
-        kind_name(kind),
-        head.join(" | ")
+        "\n## {} fields\n\nRelative L2 error against steps per cycle:\n\n",
+        kind_name(kind)
+    );
+    let mut table = Table::new(
+        std::iter::once("primitive".to_string())
+            .chain(config.steps.iter().map(|s| s.to_string()))
+            .chain([
+                "reference's own error (est.)".into(),
+                "fewest steps ≤ 1e-4".into(),
+            ]),
     );
     for c in of_kind {
-        let _ = writeln!(
-            md,
-            "| {} | {} | {} | {} |",
-            c.name,
-            c.errors
-                .iter()
-                .map(|e| sci(*e))
-                .collect::<Vec<_>>()
-                .join(" | "),
-            sci(c.reference_error(config.reference)),
+        let mut row = vec![c.name.to_string()];
+        row.extend(c.errors.iter().map(|e| sci(*e)));
+        row.push(sci(c.reference_error(config.reference)));
+        row.push(
             c.steps_for(TARGET_ERROR)
-                .map_or("none measured".into(), |s| s.to_string())
+                .map_or("none measured".into(), |s| s.to_string()),
         );
+        table.row(row);
     }
-    let pairs: Vec<String> = config
+    md.push_str(&table.markdown());
+    md.push_str("\nObserved order log₂(e(n)/e(2n)):\n\n");
+    let pairs = config
         .steps
         .windows(2)
-        .map(|w| format!("{}→{}", w[0], w[1]))
-        .collect();
-    let _ = write!(
-        md,
-        "\nObserved order log₂(e(n)/e(2n)):\n\n| primitive | {} |\n|---|{}\n",
-        pairs.join(" | "),
-        "---|".repeat(pairs.len())
-    );
+        .map(|w| format!("{}→{}", w[0], w[1]));
+    let mut table = Table::new(std::iter::once("primitive".to_string()).chain(pairs));
     for c in of_kind {
-        let _ = writeln!(
-            md,
-            "| {} | {} |",
-            c.name,
-            c.orders()
-                .iter()
-                .map(|p| if p.is_finite() {
-                    format!("{p:.2}")
-                } else {
-                    "n/a".into()
-                })
-                .collect::<Vec<_>>()
-                .join(" | ")
-        );
+        let mut row = vec![c.name.to_string()];
+        row.extend(c.orders().iter().map(|p| {
+            if p.is_finite() {
+                format!("{p:.2}")
+            } else {
+                "n/a".into()
+            }
+        }));
+        table.row(row);
     }
+    md.push_str(&table.markdown());
 }
 
 /// One field kind's times, and the target against them.
 fn time_table(config: &Config, kind: FieldKind, of_kind: &[&Curve], md: &mut String) {
-    let head: Vec<String> = config.steps.iter().map(|s| s.to_string()).collect();
-    let dashes = "---|".repeat(config.steps.len());
-    let _ = write!(
-        md,
-        "\nWall time / CPU time of one field (s):\n\n| primitive | {} | reference |\n|---|{dashes}---|\n",
-        head.join(" | ")
+    md.push_str("\nWall time / CPU time of one field (s):\n\n");
+    let mut table = Table::new(
+        std::iter::once("primitive".to_string())
+            .chain(config.steps.iter().map(|s| s.to_string()))
+            .chain(["reference".into()]),
     );
     for c in of_kind {
-        let _ = writeln!(
-            md,
-            "| {} | {} | {:.3} |",
-            c.name,
-            c.seconds
-                .iter()
-                .zip(&c.cpu)
-                .map(|(w, cpu)| format!(
-                    "{w:.3} / {}",
-                    cpu.map_or("n/a".into(), |x| format!("{x:.2}"))
-                ))
-                .collect::<Vec<_>>()
-                .join(" | "),
-            c.reference_seconds
-        );
+        let mut row = vec![c.name.to_string()];
+        row.extend(c.seconds.iter().zip(&c.cpu).map(|(w, cpu)| {
+            format!(
+                "{w:.3} / {}",
+                cpu.map_or("n/a".into(), |x| format!("{x:.2}"))
+            )
+        }));
+        row.push(format!("{:.3}", c.reference_seconds));
+        table.row(row);
     }
+    md.push_str(&table.markdown());
     let at64: Vec<String> = of_kind
         .iter()
         .filter_map(|c| {
