@@ -400,6 +400,27 @@ mod tests {
         SCREW.replace(replace, by)
     }
 
+    /// Each case's scene is refused with an error starting with its text;
+    /// every mismatch is listed.
+    fn assert_errors(cases: &[(String, &str)]) {
+        let mut bad = Vec::new();
+        for (text, expected) in cases {
+            let e = err(text);
+            if !e.starts_with(expected) {
+                bad.push(format!("got {e:?}\n    expected {expected:?}"));
+            }
+        }
+        assert!(bad.is_empty(), "{}", bad.join("\n"));
+    }
+
+    /// The screw scene with `key` (`"name": value`) added after its kind.
+    fn adding(key: &str) -> String {
+        with(
+            "\"kind\": \"force\",",
+            &format!("\"kind\": \"force\", {key},"),
+        )
+    }
+
     #[test]
     fn defaults_and_round_trip() {
         let s = Scene::from_json_str(SCREW).unwrap();
@@ -484,48 +505,20 @@ mod tests {
             (with("\"force\"", "\"speed\""), "scene.kind: unknown value \"speed\" (expected \"force\" or \"velocity\")"),
             (with("\"rest_to_rest\"", "\"triangle\""), "scene.motion.rotation.type: unknown type \"triangle\" (expected one of zero, sine,"),
             (with("\"kind\"", "\"knd\""), "scene.knd: unknown field"),
-            (
-                with("\"kind\": \"force\",", "\"kind\": \"force\", \"friction\": {\"static\": 0.1, \"kinetic\": 0.3},"),
-                "scene.friction.static: must be ≥ the kinetic coefficient",
-            ),
-            (
-                with("\"kind\": \"force\",", "\"kind\": \"force\", \"model\": \"exact\","),
-                "scene.model: must be \"paper\", \"full\" or an object of the switches",
-            ),
-            (
-                with("\"kind\": \"force\",", "\"kind\": \"force\", \"model\": {\"tilt\": true},"),
-                "scene.model.centripetal: missing",
-            ),
-            (
-                with("\"kind\": \"force\",", "\"kind\": \"force\", \"phases\": 0,"),
-                "scene.phases: must be in 1..=1000, got 0",
-            ),
-            (
-                with("\"kind\": \"force\",", "\"kind\": \"force\", \"numerics\": {\"steps_per_cycle\": -1},"),
-                "scene.numerics.steps_per_cycle: must be a non-negative integer, got -1",
-            ),
-            (
-                with("\"kind\": \"force\",", "\"kind\": \"force\", \"numerics\": {\"event_tol\": 2},"),
-                "scene.numerics.event_tol: must be in (0, 1)",
-            ),
-            (
-                with("\"kind\": \"force\",", "\"kind\": \"force\", \"gravity\": 0,"),
-                "scene.gravity: must be in [0.1, 100] m/s², got 0",
-            ),
+            (adding(r#""friction": {"static": 0.1, "kinetic": 0.3}"#), "scene.friction.static: must be ≥ the kinetic coefficient"),
+            (adding(r#""model": "exact""#), "scene.model: must be \"paper\", \"full\" or an object of the switches"),
+            (adding(r#""model": {"tilt": true}"#), "scene.model.centripetal: missing"),
+            (adding(r#""phases": 0"#), "scene.phases: must be in 1..=1000, got 0"),
+            (adding(r#""numerics": {"steps_per_cycle": -1}"#), "scene.numerics.steps_per_cycle: must be a non-negative integer, got -1"),
+            (adding(r#""numerics": {"event_tol": 2}"#), "scene.numerics.event_tol: must be in (0, 1)"),
+            (adding(r#""gravity": 0"#), "scene.gravity: must be in [0.1, 100] m/s², got 0"),
             (with(
                     r#""grid": {"x": [-0.04, 0.04], "y": [-0.01, 0.01], "n": [5, 2]}"#,
                     r#""grid": 1"#,
                 ), "scene.grid: must be an object, got 1"),
             (with("\"force\",", "\"force\""), "scene: invalid JSON: expected `,` or `}` at line 5"),
         ];
-        let mut bad = Vec::new();
-        for (text, expected) in cases {
-            let e = err(&text);
-            if !e.starts_with(expected) {
-                bad.push(format!("got {e:?}\n    expected {expected:?}"));
-            }
-        }
-        assert!(bad.is_empty(), "{}", bad.join("\n"));
+        assert_errors(&cases);
     }
 
     #[test]
@@ -599,18 +592,12 @@ mod tests {
     /// naming the field and the allowed range, with short numbers.
     #[test]
     fn physics_out_of_range() {
-        let extra = |kv: &str| {
-            with(
-                "\"kind\": \"force\",",
-                &format!("\"kind\": \"force\", {kv},"),
-            )
-        };
         let cases = [
-            (extra("\"friction\": 1e5"), "scene.friction: must be in [0, 2], got 100000"),
-            (extra("\"friction\": {\"kinetic\": -0.1}"), "scene.friction: must be in [0, 2], got -0.1"),
-            (extra("\"friction\": {\"static\": 0.3, \"kinetic\": 2.5}"), "scene.friction.kinetic: must be in [0, 2], got 2.5"),
-            (extra("\"friction\": [0.2, 0.4]"), "scene.friction: a scene simulates one friction"),
-            (extra("\"gravity\": 1e308"), "scene.gravity: must be in [0.1, 100] m/s², got 1e308"),
+            (adding("\"friction\": 1e5"), "scene.friction: must be in [0, 2], got 100000"),
+            (adding("\"friction\": {\"kinetic\": -0.1}"), "scene.friction: must be in [0, 2], got -0.1"),
+            (adding("\"friction\": {\"static\": 0.3, \"kinetic\": 2.5}"), "scene.friction.kinetic: must be in [0, 2], got 2.5"),
+            (adding("\"friction\": [0.2, 0.4]"), "scene.friction: a scene simulates one friction"),
+            (adding("\"gravity\": 1e308"), "scene.gravity: must be in [0.1, 100] m/s², got 1e308"),
             (
                 with("0.005}", "1e308}"),
                 "scene.motion.rotation.amplitude: must be in [-0.5, 0.5] rad, got 1e308",
@@ -620,30 +607,23 @@ mod tests {
                 "scene.motion.rotation.amplitude: must be in [-1.0132e-4, 1.0132e-4] rad, got 0.005 (the peak acceleration q0·ω² must stay within 100000 rad/s² at T = 0.0002 s)",
             ),
             (
-                extra("\"numerics\": {\"steps_per_cycle\": 1000000}"),
+                adding("\"numerics\": {\"steps_per_cycle\": 1000000}"),
                 "scene.numerics.steps_per_cycle: must be in 8..=4096, got 1000000",
             ),
             (
-                extra("\"numerics\": {\"steps_per_cycle\": 2}"),
+                adding("\"numerics\": {\"steps_per_cycle\": 2}"),
                 "scene.numerics.steps_per_cycle: must be in 8..=4096, got 2",
             ),
             (
-                extra("\"numerics\": {\"steady_tol\": -1e300}"),
+                adding("\"numerics\": {\"steady_tol\": -1e300}"),
                 "scene.numerics.steady_tol: must be in (0, 1), got -1e300",
             ),
-            (extra("\"phases\": 100000"), "scene.phases: must be in 1..=1000, got 100000"),
+            (adding("\"phases\": 100000"), "scene.phases: must be in 1..=1000, got 100000"),
             (with("[-0.04, 0.04]", "[-40, 0.04]"), "scene.grid.x[0]: must be in [-1, 1] m, got -40"),
             (with("-0.05]", "-1e300]"), "scene.motion.point[2]: must be in [-1, 1] m, got -1e300"),
             (with("\"period\": 0.03", "\"period\": 1e9"), "scene.motion.period: must be in [0.0001, 100] s, got 1e9"),
         ];
-        let mut bad = Vec::new();
-        for (text, expected) in cases {
-            let e = err(&text);
-            if !e.starts_with(expected) {
-                bad.push(format!("got {e:?}\n    expected {expected:?}"));
-            }
-        }
-        assert!(bad.is_empty(), "{}", bad.join("\n"));
+        assert_errors(&cases);
     }
 
     #[test]

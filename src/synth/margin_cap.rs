@@ -327,9 +327,7 @@ mod tests {
             linear: [10.920, 10.920, 0.109],
             angular: [218.4, 218.4, 0.0],
             harmonics: 2,
-            contact_margin: 0.1,
-            velocity: None,
-            stroke: None,
+            ..ShakerLimits::lab_class()
         }
     }
 
