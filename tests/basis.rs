@@ -307,7 +307,7 @@ fn cache_round_trips_and_hits() {
     let key = BasisCache::key(&prims, &grid, &s, v);
     assert!(cache.load(&key).is_none());
     let (built, status) = cache
-        .get_or_build(&prims, &grid, &s, v, true)
+        .get_or_build(&prims, &grid, &s, v, true, || Ok(()))
         .expect("build");
     assert_eq!(status, CacheStatus::Built);
     assert_eq!(built, FieldLibrary::build(&prims, &grid, &s, v, true));
@@ -318,18 +318,22 @@ fn cache_round_trips_and_hits() {
         assert_eq!(e.field, b.velocity);
     }
     assert_eq!(cache.load(&key).as_ref(), Some(&built));
-    let (again, status) = cache.get_or_build(&prims, &grid, &s, v, true).expect("hit");
+    let (again, status) = cache
+        .get_or_build(&prims, &grid, &s, v, true, || Ok(()))
+        .expect("hit");
     assert_eq!(status, CacheStatus::Hit);
     assert_eq!(again, built);
     let f = FieldKind::Force;
     let (forces, status) = cache
-        .get_or_build(&prims, &grid, &s, f, true)
+        .get_or_build(&prims, &grid, &s, f, true, || Ok(()))
         .expect("force");
     assert_eq!(status, CacheStatus::Built);
     for (e, b) in forces.entries.iter().zip(&both.entries) {
         assert_eq!(e.field, b.force);
     }
-    let (again, status) = cache.get_or_build(&prims, &grid, &s, v, true).expect("hit");
+    let (again, status) = cache
+        .get_or_build(&prims, &grid, &s, v, true, || Ok(()))
+        .expect("hit");
     assert_eq!((status, again), (CacheStatus::Hit, built.clone()));
     // store/load directly, under another key.
     let other = BasisCache::key(&prims[..1], &grid, &s, v);
@@ -421,7 +425,7 @@ fn corrupt_cache_files_are_rebuilt() {
     let v = FieldKind::Velocity;
     let key = BasisCache::key(&prims, &grid, &s, v);
     let (good, _) = cache
-        .get_or_build(&prims, &grid, &s, v, true)
+        .get_or_build(&prims, &grid, &s, v, true, || Ok(()))
         .expect("build");
     let path = cache.path(&key);
     let bytes = std::fs::read(&path).expect("cache file");
@@ -444,7 +448,7 @@ fn corrupt_cache_files_are_rebuilt() {
         std::fs::write(&path, &corrupt).expect("write");
         assert!(cache.load(&key).is_none(), "{what}: loaded a corrupt file");
         let (lib, status) = cache
-            .get_or_build(&prims, &grid, &s, v, true)
+            .get_or_build(&prims, &grid, &s, v, true, || Ok(()))
             .expect("rebuild");
         match &status {
             CacheStatus::Rebuilt { reason } => {
@@ -609,7 +613,7 @@ fn cache_entries_that_are_not_regular_files_are_rebuilt() {
         let (tx, rx) = std::sync::mpsc::channel();
         let (p, g, st, d) = (prims.clone(), grid, s, dir.clone());
         std::thread::spawn(move || {
-            let _ = tx.send(BasisCache::new(d).get_or_build(&p, &g, &st, v, true));
+            let _ = tx.send(BasisCache::new(d).get_or_build(&p, &g, &st, v, true, || Ok(())));
         });
         let got = rx
             .recv_timeout(std::time::Duration::from_secs(60))

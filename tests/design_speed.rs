@@ -129,7 +129,8 @@ fn least_squares_synthesis_is_the_same_on_one_and_two_threads() {
             })
     };
     let (one, two) = (on(1), on(2));
-    let json = |s: &platefield::synth::Synthesis| serde_json::to_string(&s.motion).expect("json");
+    let json =
+        |s: &platefield::synth::Synthesis| serde_json::to_string(&s.checked.motion).expect("json");
     assert_eq!(json(&one), json(&two));
     assert_eq!(one.evaluations, two.evaluations);
     // The comparison covers a parallel batch: the least-squares run

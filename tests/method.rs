@@ -261,7 +261,7 @@ fn auto_without_limits_synthesizes_within_the_sequenced_peaks() {
     // LineSinks at 0° and 90°: both horizontal axes move, so a synthesis runs.
     assert!(peaks[0] > 0.0 && peaks[1] > 0.0, "{peaks:?}");
     let syn = md.synthesis.as_ref().expect("synthesized");
-    for p in &syn.peaks {
+    for p in &syn.checked.peaks {
         assert!(p.peak <= p.limit * (1.0 + 1e-9), "{p:?}");
     }
     let limits = [
@@ -272,7 +272,7 @@ fn auto_without_limits_synthesizes_within_the_sequenced_peaks() {
         md.limits.angular[1],
         md.limits.angular[2],
     ];
-    for (p, l) in syn.peaks.iter().zip(limits) {
+    for (p, l) in syn.checked.peaks.iter().zip(limits) {
         assert_eq!(p.limit, l, "{}", p.axis);
     }
 }

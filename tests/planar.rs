@@ -90,7 +90,7 @@ fn stuck_rectangle_never_moves() {
 }
 
 fn rest_sim(rect: &Rectangle) -> PlanarSimulator<'static> {
-    PlanarSimulator::new(
+    PlanarSimulator::for_body(
         rect,
         Plate::Rest,
         Friction::uniform(MU),

@@ -157,7 +157,7 @@ fn polish_is_honest_about_what_it_returns() {
     // Never worse by the choice's rule; unchanged when not kept.
     assert!(never_loses(&p), "{:?} → {:?}", p.before, p.after);
     if !p.improved {
-        assert_eq!(p.synthesis.motion, s.motion);
+        assert_eq!(p.synthesis.checked.motion, s.checked.motion);
         assert_eq!(p.cost_after, p.cost_before);
     } else {
         assert!(p.synthesis.evaluations > s.evaluations);
@@ -186,16 +186,16 @@ fn polish_is_honest_about_what_it_returns() {
         p.before.valid
     );
     // Constraints kept, checked on the full grid (not the polish's coarse one).
-    for a in &p.synthesis.peaks {
+    for a in &p.synthesis.checked.peaks {
         assert!(a.peak <= a.limit * (1.0 + 1e-9), "{a:?}");
     }
-    assert!(p.synthesis.least_normal >= 0.1 * settings.gravity);
-    assert!(!p.synthesis.poor, "{:?}", p.synthesis.notes);
+    assert!(p.synthesis.checked.least_normal >= 0.1 * settings.gravity);
+    assert!(!p.synthesis.checked.poor, "{:?}", p.synthesis.checked.notes);
     // Same input, same bytes.
     let q = run(&t, &s, &o).unwrap();
     assert_eq!(
-        serde_json::to_string(&q.synthesis.motion).unwrap(),
-        serde_json::to_string(&p.synthesis.motion).unwrap()
+        serde_json::to_string(&q.synthesis.checked.motion).unwrap(),
+        serde_json::to_string(&p.synthesis.checked.motion).unwrap()
     );
     // The overfitting check's points are disjoint from the polished ones.
     let ho = holdout_starts(&t, &sampled);

@@ -29,7 +29,7 @@ use nalgebra::Vector2;
 use platefield::basis::{Library, Primitive, PrimitiveKind};
 use platefield::dynamics::{CycleOutcome, PartState, SlipScheme, TrajectoryPoint};
 use platefield::field::{Field, FieldKind, FieldSettings, Grid};
-use platefield::motion::{Motion, V3};
+use platefield::motion::{Invariance, Motion, V3};
 
 /// One serially computed force field and what it cost.
 struct Measured {
@@ -188,8 +188,8 @@ fn harness_matches_field_compute() {
     let m = measure(&p, &small_grid(), 5, &s);
     let mut s5 = s;
     s5.phases = 5;
-    let every =
-        Field::compute_every_point(&p.motion(), &small_grid(), FieldKind::Force, &s5, &|| {});
+    let (grid, none) = (small_grid(), Invariance::None);
+    let every = Field::compute_by(&p.motion(), &grid, FieldKind::Force, &s5, none, &|| {});
     assert_eq!(m.vectors, every.vectors);
     // The engine's field simulates one point per circle about the axis
     // (`tests/invariance.rs`): the same to round-off.

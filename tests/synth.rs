@@ -465,14 +465,22 @@ fn lab_limits_sink_reaches_the_goal() {
     let limits = lab();
     let s = run(&sink(), 11, &limits, &quiet(300)).unwrap();
     println!("lab sink: {}", s.summary());
-    println!("{}", serde_json::to_string(&s.motion).unwrap());
-    assert!(!s.poor, "{:?}", s.notes);
-    assert!(s.realised.strength >= 0.5, "{}", s.realised.strength);
-    assert!(s.realised.shape_error <= 0.05, "{}", s.realised.shape_error);
-    for p in &s.peaks {
+    println!("{}", serde_json::to_string(&s.checked.motion).unwrap());
+    assert!(!s.checked.poor, "{:?}", s.checked.notes);
+    assert!(
+        s.checked.realised.strength >= 0.5,
+        "{}",
+        s.checked.realised.strength
+    );
+    assert!(
+        s.checked.realised.shape_error <= 0.05,
+        "{}",
+        s.checked.realised.shape_error
+    );
+    for p in &s.checked.peaks {
         assert!(p.peak <= p.limit * (1.0 + 1e-9), "{p:?}");
     }
-    assert!(s.least_normal >= 0.1 * 9.81);
+    assert!(s.checked.least_normal >= 0.1 * 9.81);
     assert!(s.evaluations <= 300);
 }
 
@@ -490,6 +498,7 @@ fn binding_contact_margin_is_kept() {
     let s = run(&sink(), 5, &limits, &o).unwrap();
     println!("margin 0.8 g: {}", s.summary());
     assert!(s
+        .checked
         .notes
         .iter()
         .any(|n| n.contains("contact margin 0.8 g limits")));
@@ -500,8 +509,12 @@ fn binding_contact_margin_is_kept() {
         "{}",
         s.seed_strength
     );
-    assert!(!s.poor, "{:?}", s.notes);
-    assert!(s.least_normal >= 0.8 * 9.81, "{}", s.least_normal);
+    assert!(!s.checked.poor, "{:?}", s.checked.notes);
+    assert!(
+        s.checked.least_normal >= 0.8 * 9.81,
+        "{}",
+        s.checked.least_normal
+    );
 }
 
 #[test]
@@ -512,8 +525,8 @@ fn same_seed_gives_the_same_bytes() {
         o.refine.seed = seed;
         let s = run(&sink(), 5, &lab(), &o).unwrap();
         (
-            serde_json::to_string(&s.motion).unwrap(),
-            serde_json::to_string(&s.field).unwrap(),
+            serde_json::to_string(&s.checked.motion).unwrap(),
+            serde_json::to_string(&s.checked.field).unwrap(),
         )
     };
     let a = run(7);
@@ -723,7 +736,7 @@ fn print_scene() {
     .unwrap();
     let scene = serde_json::json!({
         "name": "synthesized sink (lab limits)",
-        "motion": Motion::Signals(s.motion),
+        "motion": Motion::Signals(s.checked.motion),
         "kind": "velocity",
         "grid": region(21),
         "model": "full"

@@ -283,24 +283,13 @@ impl BasisCache {
     /// the cache when a trustworthy file exists, else built (with a progress
     /// bar unless `quiet`) and stored. Inputs are validated first, and the
     /// cache folder is created before the build so an unwritable cache
-    /// fails before the work, not after it. Every field is built at the
-    /// settings' steps per cycle ([`StepsPlan::Uniform`](super::StepsPlan):
-    /// the key holds no other plan).
+    /// fails before the work, not after it. `before_build` (e.g. a work
+    /// estimate's check; `|| Ok(())`: none) is called only when the library
+    /// must be built, and its error returned without building. Every field
+    /// is built at the settings' steps per cycle
+    /// ([`StepsPlan::Uniform`](super::StepsPlan): the key holds no other
+    /// plan).
     pub fn get_or_build(
-        &self,
-        primitives: &[Primitive],
-        grid: &Grid,
-        settings: &FieldSettings,
-        kind: FieldKind,
-        quiet: bool,
-    ) -> Result<(FieldLibrary, CacheStatus)> {
-        self.get_or_build_checked(primitives, grid, settings, kind, quiet, || Ok(()))
-    }
-
-    /// [`BasisCache::get_or_build`], calling `before_build` (e.g. a work
-    /// estimate's check) only when the library must be built, and
-    /// returning its error without building.
-    pub(crate) fn get_or_build_checked(
         &self,
         primitives: &[Primitive],
         grid: &Grid,

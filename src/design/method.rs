@@ -415,7 +415,7 @@ impl<'a> MethodRun<'a> {
                     let share = self.mirror_share(&c.schedule, axis)?;
                     let share = self.play(
                         share,
-                        syn.realised.strength,
+                        syn.checked.realised.strength,
                         spec,
                         c.design_s + t.elapsed().as_secs_f64(),
                     )?;
@@ -447,14 +447,14 @@ impl<'a> MethodRun<'a> {
         let spec = Some(self.out.limits.to_spec());
         let mut c = self.play(
             schedule,
-            syn.realised.strength,
+            syn.checked.realised.strength,
             spec,
             t.elapsed().as_secs_f64(),
         )?;
-        if let (true, Some(p)) = (syn.poor, c.schedule.played.as_mut()) {
+        if let (true, Some(p)) = (syn.checked.poor, c.schedule.played.as_mut()) {
             p.poor = true;
             p.notes
-                .extend(syn.notes.iter().map(|n| format!("synthesis: {n}")));
+                .extend(syn.checked.notes.iter().map(|n| format!("synthesis: {n}")));
         }
         Ok(c)
     }
@@ -934,11 +934,11 @@ pub(crate) fn mix_design(
     synth: &SynthOptions,
 ) -> Result<(Design, Option<Synthesis>)> {
     let (motion, fresh) = match &out.synthesis {
-        Some(s) => (s.motion.clone(), None),
+        Some(s) => (s.checked.motion.clone(), None),
         None => {
             let limits = ShakerLimits::from_spec(target.shaker.as_ref());
             let (syn, _) = synthesize_schedule(target, sampled, &limits, opts, synth)?;
-            (syn.motion.clone(), Some(syn))
+            (syn.checked.motion.clone(), Some(syn))
         }
     };
     let mut motion = motion;
@@ -1062,11 +1062,11 @@ pub(crate) fn synthesize_schedule(
     let syn = synthesize(&target.field, &grid, limits, &opts.settings, synth)?;
     // A motion that keeps no part on the plate anywhere is no design: said
     // as such (an error; `auto` keeps the other method and says why).
-    if syn.realised.invalid >= syn.field.grid.len() {
+    if syn.checked.realised.invalid >= syn.checked.field.grid.len() {
         return Err(Error::Physical(format!(
             "the synthesized motion keeps no part on the plate anywhere in the region: all {} samples lose contact or do not converge (least N {:.3} m/s², the margin asks ≥ {:.3}); the shaker limits (period {} s, linear peaks [{:.3}, {:.3}, {:.3}] m/s², angular peaks [{:.1}, {:.1}, {:.1}] rad/s², a tilt of up to {:.3} rad at harmonic 1) give no motion that keeps contact",
-            syn.field.grid.len(),
-            syn.least_normal,
+            syn.checked.field.grid.len(),
+            syn.checked.least_normal,
             limits.contact_margin * opts.settings.gravity,
             crate::input::num(limits.period),
             limits.linear[0],
@@ -1083,18 +1083,18 @@ pub(crate) fn synthesize_schedule(
     let (syn, polished) = polish_played(target, sampled, &grid, limits, opts, synth, syn)?;
     // The synthesized field at the target's points (the region grid is the
     // target's grid when it has one).
-    let strength = syn.realised.strength;
+    let strength = syn.checked.realised.strength;
     let fit_metrics = if target.grid.is_some() && strength > 0.0 && strength.is_finite() {
         fit::field_metrics(
             &sampled.vectors,
-            &syn.field.vectors,
+            &syn.checked.field.vectors,
             strength,
             Some(&sampled.weights),
         )
         .map_err(|e| Error::Physical(format!("synthesized field metrics: {e}")))?
     } else {
         FitMetrics {
-            relative_l2_error: syn.realised.shape_error.min(1.0),
+            relative_l2_error: syn.checked.realised.shape_error.min(1.0),
             mean_angle_error_deg: f64::NAN,
             max_error: f64::NAN,
             strength: strength.max(0.0),
@@ -1103,7 +1103,7 @@ pub(crate) fn synthesize_schedule(
     let segment = Segment {
         label: "Synthesized".into(),
         primitive: None,
-        motion: Some(syn.motion.clone()),
+        motion: Some(syn.checked.motion.clone()),
         ramp_cycles: None,
         weight: 1.0,
         cycles: SYNTH_SEGMENT_CYCLES,
@@ -1112,7 +1112,7 @@ pub(crate) fn synthesize_schedule(
     let mut schedule =
         Schedule::of_segments(&target.name, vec![segment], opts.settings, fit_metrics);
     schedule.target_spec = Some(target.clone());
-    schedule.poor_fit = syn.poor;
+    schedule.poor_fit = syn.checked.poor;
     schedule.solver = SolverInfo {
         mode: "synthesize".into(),
         status: format!(
@@ -1334,7 +1334,7 @@ fn polish_played(
     synth: &SynthOptions,
     syn: Synthesis,
 ) -> Result<(Synthesis, Option<String>)> {
-    if synth.polish_plays == 0 || syn.poor {
+    if synth.polish_plays == 0 || syn.checked.poor {
         return Ok((syn, None));
     }
     let options = PolishOptions {

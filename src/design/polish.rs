@@ -646,7 +646,7 @@ pub fn polish(
     let clock = Instant::now();
     options.validate()?;
     let layout = Layout::new(limits);
-    let coefficients = Coefficients::from_signals(&synthesis.motion, limits.harmonics);
+    let coefficients = Coefficients::from_signals(&synthesis.checked.motion, limits.harmonics);
     let x0 = layout.to_vec(&coefficients);
     let progress = SynthesisProgress::new(ProgressMode::Quiet, options.max_plays);
     let coarse = Grid {
@@ -737,7 +737,7 @@ pub fn polish(
         .lock()
         .unwrap_or_else(|p| p.into_inner())
         .clone();
-    let keep = |checked: &Checked| !checked.poor || synthesis.poor;
+    let keep = |checked: &Checked| !checked.poor || synthesis.checked.poor;
     let (synthesis, after, cost_after, improved) = if let Some(best) = kept {
         let c = played.objective.motion(&best.params).0;
         let checked = Checked::of(

@@ -64,7 +64,7 @@ pub(crate) fn basis_stage(target: &Target, opts: &DesignOptions) -> Result<Basis
     let t_basis = Instant::now();
     let (library, cache_status) = match &opts.basis.cache_dir {
         Some(dir) => {
-            let (lib, status) = BasisCache::new(dir).get_or_build_checked(
+            let (lib, status) = BasisCache::new(dir).get_or_build(
                 &primitives,
                 &source,
                 &opts.settings,

@@ -133,12 +133,7 @@ impl Simulator<'_> {
         anchor: &V2,
         mut record: Option<&mut Vec<TrajectoryPoint>>,
     ) -> Result<CycleOutcome, ContactLoss> {
-        let mut out = CycleOutcome {
-            state: *state,
-            stuck_time: 0.0,
-            events: 0,
-            rk4_steps: 0,
-        };
+        let mut out = CycleOutcome::starting(*state);
         let nominal = self.period / self.numerics.steps_per_cycle as f64;
         // One smooth piece without breakpoints (no allocation per call).
         let whole = [t0, t1];
@@ -300,8 +295,11 @@ impl Simulator<'_> {
         grid: Option<StepNodes<'_>>,
         line: bool,
     ) -> Result<Option<Stages>, ContactLoss> {
+        if !S::IMPLICIT {
+            return Ok(Some(None));
+        }
         if !line {
-            return Ok(if S::own_step(self, at, k0)? {
+            return Ok(if self.own_step::<S>(at, k0)? {
                 None
             } else {
                 Some(None)
@@ -310,7 +308,7 @@ impl Simulator<'_> {
         if at.state.u != V2::zeros() {
             return Ok(Some(None));
         }
-        match S::from_rest_on_line(self, at, k0, grid)? {
+        match self.line_start(at, k0, grid)? {
             LineStart::Implicit => {
                 #[cfg(test)]
                 line_tests::LINE_RADAU.with(|c| c.set(c.get() + 1));
@@ -336,7 +334,8 @@ impl Simulator<'_> {
             && u0 != V2::zeros()
             && u1.dot(&u0) > 0.0
             && walk.cuts < MAX_CUTS
-            && S::ends_in_turn(self, at, h, (&r1, &u1, &k1))
+            && S::IMPLICIT
+            && self.ends_in_turn(at, h, (&r1, &u1, &k1))
         {
             // The explicit step ended where the slip direction turns
             // faster than the step can follow (close to a 2-D swing

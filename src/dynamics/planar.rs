@@ -398,21 +398,10 @@ pub struct PlanarSimulator<'a> {
 }
 
 impl<'a> PlanarSimulator<'a> {
-    /// A simulator with nominal step `step` (s); parameters are assumed
-    /// validated ([`Rectangle::validate`], [`Friction::validate`], step > 0).
-    pub fn new(
-        rect: &Rectangle,
-        plate: Plate<'a>,
-        friction: Friction,
-        gravity: f64,
-        model: Model,
-        step: f64,
-    ) -> PlanarSimulator<'a> {
-        PlanarSimulator::for_body(rect.into(), plate, friction, gravity, model, step)
-    }
-
-    /// A simulator of any rigid body of support points ([`PlanarBody`],
-    /// e.g. a part file's, `crate::part`).
+    /// A simulator of a rigid body of support points with nominal step
+    /// `step` (s): a [`Rectangle`] (`&rect`), or any [`PlanarBody`] (e.g. a
+    /// part file's, `crate::part`). Parameters are assumed validated
+    /// ([`Rectangle::validate`], [`Friction::validate`], step > 0).
     ///
     /// ```
     /// use platefield::dynamics::{Friction, Model, PlanarBody, PlanarSimulator, PlanarState, Plate, V2};
@@ -426,13 +415,14 @@ impl<'a> PlanarSimulator<'a> {
     /// assert!(s.stuck); // sliding to rest on a plate at rest
     /// ```
     pub fn for_body(
-        body: PlanarBody,
+        body: impl Into<PlanarBody>,
         plate: Plate<'a>,
         friction: Friction,
         gravity: f64,
         model: Model,
         step: f64,
     ) -> PlanarSimulator<'a> {
+        let body = body.into();
         let (period, breakpoints) = match plate {
             Plate::Moving(m) => (m.period(), m.breakpoints()),
             Plate::Rest => (f64::INFINITY, Vec::new()),
@@ -461,7 +451,7 @@ impl<'a> PlanarSimulator<'a> {
         steps_per_cycle: usize,
     ) -> PlanarSimulator<'a> {
         let step = motion.period() / steps_per_cycle.max(1) as f64;
-        PlanarSimulator::new(rect, Plate::Moving(motion), friction, gravity, model, step)
+        PlanarSimulator::for_body(rect, Plate::Moving(motion), friction, gravity, model, step)
     }
 
     /// The same simulator halving a step that holds an event at most
@@ -755,7 +745,7 @@ mod tests {
     /// A point part keeps θ and ω = 0 whatever it is given.
     #[test]
     fn point_part_does_not_turn() {
-        let sim = PlanarSimulator::new(
+        let sim = PlanarSimulator::for_body(
             &Rectangle::point(),
             Plate::Rest,
             Friction::uniform(0.3),

@@ -153,7 +153,7 @@ impl Simulator<'_> {
     pub(super) fn wants_radau(
         &self,
         at: &Step<'_>,
-        k0: &crate::motion::Kinematics,
+        k0: &Kinematics,
         start: Option<(f64, V2)>,
     ) -> Option<bool> {
         let (t, h, piece, state, anchor) =
@@ -162,7 +162,7 @@ impl Simulator<'_> {
         if s == 0.0 {
             let km = self.kin(t + 0.5 * h, piece);
             let k1 = self.kin(t + h, piece);
-            return if self.keeps_direction(k0, [&km, &k1], &state.r, &state.u, anchor) {
+            return if self.keeps_direction(at, k0, [&km, &k1]) {
                 None
             } else {
                 Some(true)
@@ -190,7 +190,7 @@ impl Simulator<'_> {
             }
             let km = self.kin(t + 0.5 * h, piece);
             let k1 = self.kin(t + h, piece);
-            let [a, b] = self.turns(k0, [&km, &k1], &state.r, &state.u, anchor);
+            let [a, b] = self.turns(at, k0, [&km, &k1]);
             return if a.0 || b.0 { Some(true) } else { None };
         }
         if along > c && across <= SLAVED * free.norm() {
@@ -203,34 +203,27 @@ impl Simulator<'_> {
         }
     }
 
-    /// True when a_free at (`r`, `u`) keeps the direction it has with the
-    /// kinematics `k0` (at a step's start) with each of `ks` (at the step's
+    /// True when a_free at the part's (r, u) of `at` keeps the direction it
+    /// has with the kinematics `k0` (at a step's start) with each of `ks` (at the step's
     /// RK4 nodes t + h/2 and t + h). From rest along such a fixed line (a
     /// 1-D slip) the explicit step is exact for piecewise-constant
     /// accelerations and needs no stiff solve.
     pub(super) fn keeps_direction(
         &self,
-        k0: &crate::motion::Kinematics,
-        ks: [&crate::motion::Kinematics; 2],
-        r: &V2,
-        u: &V2,
-        anchor: &V2,
+        at: &Step<'_>,
+        k0: &Kinematics,
+        ks: [&Kinematics; 2],
     ) -> bool {
-        self.turns(k0, ks, r, u, anchor)
+        self.turns(at, k0, ks)
             .iter()
             .all(|(off, reversed)| !off && !reversed)
     }
 
-    /// For each of `ks`: whether a_free at (`r`, `u`) has turned off the
-    /// line it has with `k0` (beyond round-off), and whether it has reversed.
-    fn turns(
-        &self,
-        k0: &crate::motion::Kinematics,
-        ks: [&crate::motion::Kinematics; 2],
-        r: &V2,
-        u: &V2,
-        anchor: &V2,
-    ) -> [(bool, bool); 2] {
+    /// For each of `ks`: whether a_free at the part's (r, u) of `at` has
+    /// turned off the line it has with `k0` (beyond round-off), and whether
+    /// it has reversed.
+    fn turns(&self, at: &Step<'_>, k0: &Kinematics, ks: [&Kinematics; 2]) -> [(bool, bool); 2] {
+        let (r, u, anchor) = (&at.state.r, &at.state.u, at.anchor);
         let (_, f0) = self.forces(k0, r, u, anchor);
         ks.map(|k| {
             let (_, f) = self.forces(k, r, u, anchor);

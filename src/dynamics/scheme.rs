@@ -53,54 +53,17 @@ pub(super) enum LineStart {
 /// What a slip scheme decides in the stick-slip integrator. The defaults
 /// are the stiff scheme's ([`Stiff`]).
 pub(super) trait Scheme {
-    /// A part at rest on the motion's line (`at.state.u` = 0; `k0` the
-    /// kinematics at `at.t`, `grid` the tabulated kinematics of the fixed
-    /// step): from rest a_free keeps its line, so only whether it keeps its
-    /// direction over the step matters; if not, an implicit step.
-    fn from_rest_on_line(
-        sim: &Simulator<'_>,
-        at: &mut Step<'_>,
-        k0: &Kinematics,
-        grid: Option<StepNodes<'_>>,
-    ) -> Result<LineStart, ContactLoss> {
-        let h = at.target - at.t;
-        let (km, k1) = match grid.and_then(|g| g.stages(at.t, h, at.target)) {
-            Some([km, k1]) => (*km, *k1),
-            None => (
-                sim.kin(at.t + 0.5 * h, at.piece),
-                sim.kin(at.t + h, at.piece),
-            ),
-        };
-        if !sim.keeps_direction(k0, [&km, &k1], &at.state.r, &at.state.u, at.anchor)
-            && sim.radau_to(at)?
-        {
-            return Ok(LineStart::Implicit);
-        }
-        Ok(LineStart::Explicit(Some((km, k1))))
-    }
+    /// Whether the scheme takes implicit steps (a start from rest on the
+    /// motion's line, its own step off the line) and backs off explicit
+    /// steps ending in a swing's fast turn (`Simulator::ends_in_turn`);
+    /// false: explicit RK4 steps only ([`Legacy`]).
+    const IMPLICIT: bool = true;
 
-    /// A slipping or resting part off the motion's line, before the
-    /// explicit step: the scheme's own step, where it takes one (true when
-    /// it did; `at` advanced).
-    fn own_step(
-        sim: &Simulator<'_>,
-        at: &mut Step<'_>,
-        k0: &Kinematics,
-    ) -> Result<bool, ContactLoss> {
-        let start = sim.start_forces(at, k0);
-        sim.implicit_slip(at, k0, start)
-    }
-
-    /// True when the explicit step of size `h` from `at` (slipping with
-    /// u₀ ≠ 0), ending at `end` = (r₁, u₁, kinematics) with u₁·u₀ > 0, ended
-    /// in the fast turn of a 2-D swing and is to be backed off.
-    fn ends_in_turn(
-        sim: &Simulator<'_>,
-        at: &Step<'_>,
-        h: f64,
-        end: (&V2, &V2, &Kinematics),
-    ) -> bool {
-        sim.ends_in_turn(at, h, end)
+    /// True when a part slipping with `u` ≠ 0 (N and a_free `start` at the
+    /// step's start) is in the region the scheme follows in regularised
+    /// time (`swing.rs`).
+    fn in_swing(_sim: &Simulator<'_>, _u: &V2, _start: (f64, V2)) -> bool {
+        false
     }
 
     /// A root of u(s)·u₀ where the part can stick and |u(s)| is at most
@@ -138,31 +101,7 @@ pub(super) struct Stiff;
 pub(super) struct Regularised;
 
 impl Scheme for Legacy {
-    fn from_rest_on_line(
-        _sim: &Simulator<'_>,
-        _at: &mut Step<'_>,
-        _k0: &Kinematics,
-        _grid: Option<StepNodes<'_>>,
-    ) -> Result<LineStart, ContactLoss> {
-        Ok(LineStart::Explicit(None))
-    }
-
-    fn own_step(
-        _sim: &Simulator<'_>,
-        _at: &mut Step<'_>,
-        _k0: &Kinematics,
-    ) -> Result<bool, ContactLoss> {
-        Ok(false)
-    }
-
-    fn ends_in_turn(
-        _sim: &Simulator<'_>,
-        _at: &Step<'_>,
-        _h: f64,
-        _end: (&V2, &V2, &Kinematics),
-    ) -> bool {
-        false
-    }
+    const IMPLICIT: bool = false;
 
     fn stop_fraction() -> f64 {
         STOP_FRACTION
@@ -176,19 +115,8 @@ impl Scheme for Legacy {
 impl Scheme for Stiff {}
 
 impl Scheme for Regularised {
-    fn own_step(
-        sim: &Simulator<'_>,
-        at: &mut Step<'_>,
-        k0: &Kinematics,
-    ) -> Result<bool, ContactLoss> {
-        let start = sim.start_forces(at, k0);
-        if let Some((n, free)) = start {
-            if sim.wants_tau(n, &free, &at.state.u) {
-                sim.swing(at)?;
-                return Ok(true);
-            }
-        }
-        sim.implicit_slip(at, k0, start)
+    fn in_swing(sim: &Simulator<'_>, u: &V2, (n, free): (f64, V2)) -> bool {
+        sim.wants_tau(n, &free, u)
     }
 
     fn turn(sim: &Simulator<'_>) -> f64 {
@@ -208,6 +136,49 @@ impl Scheme for Regularised {
 }
 
 impl Simulator<'_> {
+    /// A part at rest on the motion's line (`at.state.u` = 0; `k0` the
+    /// kinematics at `at.t`, `grid` the tabulated kinematics of the fixed
+    /// step), in an implicit scheme ([`Scheme::IMPLICIT`]): from rest
+    /// a_free keeps its line, so only whether it keeps its direction over
+    /// the step matters; if not, an implicit step.
+    pub(super) fn line_start(
+        &self,
+        at: &mut Step<'_>,
+        k0: &Kinematics,
+        grid: Option<StepNodes<'_>>,
+    ) -> Result<LineStart, ContactLoss> {
+        let h = at.target - at.t;
+        let (km, k1) = match grid.and_then(|g| g.stages(at.t, h, at.target)) {
+            Some([km, k1]) => (*km, *k1),
+            None => (
+                self.kin(at.t + 0.5 * h, at.piece),
+                self.kin(at.t + h, at.piece),
+            ),
+        };
+        if !self.keeps_direction(at, k0, [&km, &k1]) && self.radau_to(at)? {
+            return Ok(LineStart::Implicit);
+        }
+        Ok(LineStart::Explicit(Some((km, k1))))
+    }
+
+    /// A slipping or resting part off the motion's line, before the
+    /// explicit step, in an implicit scheme: the scheme's own step, where
+    /// it takes one (true when it did; `at` advanced) — followed in
+    /// regularised time where the scheme says so ([`Scheme::in_swing`]),
+    /// else implicit where the slip direction is stiff.
+    pub(super) fn own_step<S: Scheme>(
+        &self,
+        at: &mut Step<'_>,
+        k0: &Kinematics,
+    ) -> Result<bool, ContactLoss> {
+        let start = self.start_forces(at, k0);
+        if start.is_some_and(|s| S::in_swing(self, &at.state.u, s)) {
+            self.swing(at)?;
+            return Ok(true);
+        }
+        self.implicit_slip(at, k0, start)
+    }
+
     /// N and a_free at the start of a slip step from `at` (u ≠ 0), for the
     /// implicit schemes' checks; `None` from rest.
     fn start_forces(&self, at: &Step<'_>, k0: &Kinematics) -> Option<(f64, V2)> {
@@ -281,7 +252,12 @@ impl Simulator<'_> {
     /// [`TURN`] per h/4 (rate |a_⊥|/|u|, a_⊥ the part of a_free across u₁):
     /// the step's end lies in the fast turn of a 2-D swing, which it cannot
     /// have followed.
-    fn ends_in_turn(&self, at: &Step<'_>, h: f64, (r1, u1, k1): (&V2, &V2, &Kinematics)) -> bool {
+    pub(super) fn ends_in_turn(
+        &self,
+        at: &Step<'_>,
+        h: f64,
+        (r1, u1, k1): (&V2, &V2, &Kinematics),
+    ) -> bool {
         let s1 = u1.norm();
         if s1 >= 0.25 * at.state.u.norm() {
             return false;

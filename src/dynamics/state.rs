@@ -47,6 +47,19 @@ pub struct CycleOutcome {
     /// measure: each is four right-hand sides and two kinematics evaluations).
     pub rk4_steps: u32,
 }
+
+impl CycleOutcome {
+    /// Nothing simulated yet: the part in `state`, no stuck time, events
+    /// or RK4 steps.
+    pub(crate) fn starting(state: PartState) -> CycleOutcome {
+        CycleOutcome {
+            state,
+            stuck_time: 0.0,
+            events: 0,
+            rk4_steps: 0,
+        }
+    }
+}
 /// Where the integration of one fixed step stands: the time reached `t`,
 /// the fixed step's end `target`, the key `piece` of the smooth piece it
 /// lies on, the part's `state`, the point `anchor` at which the kinematics

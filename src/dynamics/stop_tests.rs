@@ -64,12 +64,7 @@ fn stop_in_step_finds_newtons_root_in_fewer_trials() {
                     state.u = free * 1e-6;
                 }
                 let piece = t + 0.5 * h;
-                let mut tally = CycleOutcome {
-                    state,
-                    stuck_time: 0.0,
-                    events: 0,
-                    rk4_steps: 0,
-                };
+                let mut tally = CycleOutcome::starting(state);
                 let mut here = state;
                 let span = (t, t + h, piece);
                 let (r1, u1, k1) = sim
@@ -77,12 +72,7 @@ fn stop_in_step_finds_newtons_root_in_fewer_trials() {
                     .unwrap();
                 assert_eq!(u1.y, 0.0, "the LineSink slip stays on x");
                 if u1.dot(&state.u) <= 0.0 {
-                    let mut new = CycleOutcome {
-                        state,
-                        stuck_time: 0.0,
-                        events: 0,
-                        rk4_steps: 0,
-                    };
+                    let mut new = CycleOutcome::starting(state);
                     let mut old = new;
                     let end = (&r1, &u1, &k1);
                     let (s, rs, us) = sim

@@ -56,6 +56,21 @@ impl Grid {
         Ok(())
     }
 
+    /// The grid as reports print it: `nx×ny over x ∈ [xmin, xmax] m,
+    /// y ∈ [ymin, ymax] m` (numbers as `{}` prints them).
+    ///
+    /// ```
+    /// use platefield::field::Grid;
+    /// assert_eq!(Grid::DEFAULT.describe(), "21×21 over x ∈ [-0.04, 0.04] m, y ∈ [-0.04, 0.04] m");
+    /// ```
+    pub fn describe(&self) -> String {
+        let (x, y, n) = (self.x, self.y, self.n);
+        format!(
+            "{}×{} over x ∈ [{}, {}] m, y ∈ [{}, {}] m",
+            n[0], n[1], x[0], x[1], y[0], y[1]
+        )
+    }
+
     fn axis(range: [f64; 2], n: usize) -> Vec<f64> {
         if n == 1 {
             return vec![0.5 * (range[0] + range[1])];

@@ -170,19 +170,23 @@ impl Field {
         Self::compute_by(motion, grid, kind, settings, motion.invariance(), progress)
     }
 
-    /// [`Field::compute`] simulating every grid point: the reference the
-    /// reduction by invariance is tested against.
-    pub fn compute_every_point(
-        motion: &Motion,
-        grid: &Grid,
-        kind: FieldKind,
-        settings: &FieldSettings,
-        progress: &(dyn Fn() + Sync),
-    ) -> Field {
-        Self::compute_by(motion, grid, kind, settings, Invariance::None, progress)
-    }
-
-    fn compute_by(
+    /// [`Field::compute`] simulating one point per family of points that
+    /// `invariance` moves alike: the motion's own ([`Motion::invariance`])
+    /// in [`Field::compute`]; [`Invariance::None`] simulates every grid
+    /// point, the reference the reduction by invariance is tested against.
+    ///
+    /// ```
+    /// use platefield::basis::{Primitive, PrimitiveKind};
+    /// use platefield::field::{Field, FieldKind, FieldSettings, Grid};
+    /// use platefield::motion::Invariance;
+    /// let motion = Primitive::new(PrimitiveKind::Circle).motion();
+    /// let grid = Grid { x: [-0.02, 0.02], y: [-0.02, 0.02], n: [3, 3] };
+    /// let mut settings = FieldSettings::default();
+    /// settings.numerics.steps_per_cycle = 16;
+    /// let every = Field::compute_by(&motion, &grid, FieldKind::Force, &settings, Invariance::None, &|| {});
+    /// assert_eq!(every.vectors.len(), 9);
+    /// ```
+    pub fn compute_by(
         motion: &Motion,
         grid: &Grid,
         kind: FieldKind,

@@ -17,8 +17,8 @@
 //!
 //! | mode | function | form |
 //! |------|----------|------|
-//! | `Absolute`, `Shape` | [`solve_ls_residual_qp`] (default) | QP, zero + non-negative cones |
-//! | `Absolute`, `Shape` | [`solve_ls_epigraph`] ([`LsFormulation::Epigraph`]) | SOCP |
+//! | `Absolute`, `Shape` | [`solve_ls`] with [`ls_residual_qp`] (default) | QP, zero + non-negative cones |
+//! | `Absolute`, `Shape` | [`solve_ls`] with [`ls_epigraph`] ([`LsFormulation::Epigraph`]) | SOCP |
 //! | `Budget` | [`solve_budget`] | SOCP |
 //! | `L1`, `LInf` | [`solve_l1_linear`], [`solve_linf`] | LP, zero + non-negative cones |
 //!
@@ -84,12 +84,12 @@ pub(crate) struct ConicOutcome {
 #[serde(rename_all = "snake_case")]
 pub(crate) enum LsFormulation {
     /// Residual variables with a zero cone and a quadratic objective
-    /// (see `solve_ls_residual_qp`).  Default: measured weight errors
+    /// (see `ls_residual_qp`).  Default: measured weight errors
     /// ~1e-11 at the tolerances of `fit_settings`.
     #[default]
     ResidualQp,
     /// Second-order-cone epigraph `min τ, ‖Rw − c‖ ≤ τ` (see
-    /// `solve_ls_epigraph`).  Measured weight errors ~√tol ≈ 1e-6–1e-5
+    /// `ls_epigraph`).  Measured weight errors ~√tol ≈ 1e-6–1e-5
     /// whenever the optimal residual is non-zero, which can fail the 1e-6
     /// KKT verification; kept for comparison.
     Epigraph,
@@ -174,6 +174,8 @@ impl ConeBuilder {
         self.cones.push(cone);
     }
 
+    /// Solves the linear program min qᵀx over the rows and cones built
+    /// (`mode` names the fit in a set-up error).
     pub(crate) fn solve(
         self,
         q: Vec<f64>,
@@ -181,8 +183,19 @@ impl ConeBuilder {
         mode: &'static str,
     ) -> Result<ConicOutcome, FitError> {
         let p = CscMatrix::zeros((self.ncols, self.ncols));
+        self.solve_with(&p, q, tol, mode)
+    }
+
+    /// [`ConeBuilder::solve`] with the quadratic term ½xᵀPx.
+    fn solve_with(
+        self,
+        p: &CscMatrix<f64>,
+        q: Vec<f64>,
+        tol: f64,
+        mode: &'static str,
+    ) -> Result<ConicOutcome, FitError> {
         let a = CscMatrix::new_from_triplets(self.nrows, self.ncols, self.ri, self.ci, self.vals);
-        run(&p, &q, &a, &self.b, &self.cones, fit_settings(tol), mode)
+        run(p, &q, &a, &self.b, &self.cones, fit_settings(tol), mode)
     }
 }
 
@@ -215,7 +228,39 @@ fn run(
     })
 }
 
-/// Compressed least-squares fit with residual variables (the default).
+/// Compressed least-squares fit (modes `Absolute` with `sum_cap`, `Shape`
+/// without): min ‖Rw − c‖ over the time fractions w ≥ 0 [, 1ᵀw ≤ 1 if
+/// `sum_cap`], posed as `form` ([`ls_residual_qp`] or [`ls_epigraph`]).
+/// The outcome carries the duals of `w ≥ 0` and of the cap.
+pub(crate) fn solve_ls(
+    form: LsFormulation,
+    r: &DMatrix<f64>,
+    c: &DVector<f64>,
+    sum_cap: bool,
+) -> Result<ConicOutcome, FitError> {
+    let LsForm { mut bld, p, q, tol } = match form {
+        LsFormulation::ResidualQp => ls_residual_qp(r, c),
+        LsFormulation::Epigraph => ls_epigraph(r, c),
+    };
+    let m = r.ncols();
+    let first = bld.nrows;
+    let rows = bld.feasible_fractions(m, sum_cap);
+    bld.cone(NonnegativeConeT(rows));
+    let out = bld.solve_with(&p, q, tol, if sum_cap { "absolute" } else { "shape" })?;
+    Ok(with_ls_duals(out, first, m, sum_cap))
+}
+
+/// One posing of the compressed least-squares fit: its rows before those
+/// of the feasible set of time fractions, its objective ½xᵀPx + qᵀx and
+/// its tolerance.
+struct LsForm {
+    bld: ConeBuilder,
+    p: CscMatrix<f64>,
+    q: Vec<f64>,
+    tol: f64,
+}
+
+/// Residual variables (the default).
 ///
 /// Variables `x = (w, y) ∈ ℝ^{m+k}`, `P = diag(0_m, I_k)`, `q = 0`:
 ///
@@ -230,20 +275,13 @@ fn run(
 /// smooth and strongly convex in `y`, and the interior-point iterates
 /// converge to the weights at the rate of the duality gap rather than its
 /// square root (see [`LsFormulation`]).
-pub(crate) fn solve_ls_residual_qp(
-    r: &DMatrix<f64>,
-    c: &DVector<f64>,
-    sum_cap: bool,
-) -> Result<ConicOutcome, FitError> {
+fn ls_residual_qp(r: &DMatrix<f64>, c: &DVector<f64>) -> LsForm {
     let (k, m) = r.shape();
-    let mode = if sum_cap { "absolute" } else { "shape" };
     let mut bld = ConeBuilder::new(m + k);
     for i in 0..k {
         bld.row((0..m).map(|j| (j, r[(i, j)])).chain([(m + i, -1.0)]), c[i]);
     }
     bld.cone(ZeroConeT(k));
-    let rows = bld.feasible_fractions(m, sum_cap);
-    bld.cone(NonnegativeConeT(rows));
     let p = CscMatrix::new_from_triplets(
         m + k,
         m + k,
@@ -251,17 +289,13 @@ pub(crate) fn solve_ls_residual_qp(
         (m..m + k).collect(),
         vec![1.0; k],
     );
-    let a = CscMatrix::new_from_triplets(bld.nrows, bld.ncols, bld.ri, bld.ci, bld.vals);
-    let out = run(
-        &p,
-        &vec![0.0; m + k],
-        &a,
-        &bld.b,
-        &bld.cones,
-        fit_settings(TOL_TIGHT),
-        mode,
-    )?;
-    Ok(with_ls_duals(out, k, m, sum_cap))
+    let q = vec![0.0; m + k];
+    LsForm {
+        bld,
+        p,
+        q,
+        tol: TOL_TIGHT,
+    }
 }
 
 /// Attach the duals of `w ≥ 0` (rows `first..first+m`) and of the cap.
@@ -273,8 +307,7 @@ fn with_ls_duals(mut out: ConicOutcome, first: usize, m: usize, sum_cap: bool) -
     out
 }
 
-/// Compressed least-squares fit in epigraph form (alternative, see
-/// [`LsFormulation::Epigraph`]).
+/// Epigraph form (alternative, see [`LsFormulation::Epigraph`]).
 ///
 /// Variables `x = (w, τ) ∈ ℝ^{m+1}`:
 ///
@@ -285,25 +318,23 @@ fn with_ls_duals(mut out: ConicOutcome, first: usize, m: usize, sum_cap: bool) -
 /// so `τ* = min ‖Rw − c‖₂` and the full residual is `√(τ*² + r₀²)`.  With
 /// `sum_cap` this is mode `Absolute` (minimising the norm or its square has
 /// the same minimiser), without it mode `Shape`.
-pub(crate) fn solve_ls_epigraph(
-    r: &DMatrix<f64>,
-    c: &DVector<f64>,
-    sum_cap: bool,
-) -> Result<ConicOutcome, FitError> {
+fn ls_epigraph(r: &DMatrix<f64>, c: &DVector<f64>) -> LsForm {
     let (k, m) = r.shape();
-    let mode = if sum_cap { "absolute" } else { "shape" };
     let mut bld = ConeBuilder::new(m + 1);
     bld.row([(m, -1.0)], 0.0);
     for i in 0..k {
         bld.row((0..m).map(|j| (j, r[(i, j)])), c[i]);
     }
     bld.cone(SecondOrderConeT(k + 1));
-    let rows = bld.feasible_fractions(m, sum_cap);
-    bld.cone(NonnegativeConeT(rows));
     let mut q = vec![0.0; m + 1];
     q[m] = 1.0;
-    let out = bld.solve(q, TOL_EPIGRAPH, mode)?;
-    Ok(with_ls_duals(out, k + 1, m, sum_cap))
+    let p = CscMatrix::zeros((m + 1, m + 1));
+    LsForm {
+        bld,
+        p,
+        q,
+        tol: TOL_EPIGRAPH,
+    }
 }
 
 /// Error-budget fit: variables `x = (w, s) ∈ ℝ^{m+1}`,

@@ -454,10 +454,7 @@ fn solve_conic(
     let outcome = match *mode {
         FitMode::Absolute | FitMode::Shape => {
             let cap = matches!(mode, FitMode::Absolute);
-            match formulation {
-                LsFormulation::ResidualQp => conic::solve_ls_residual_qp(&prep.r, &prep.c, cap)?,
-                LsFormulation::Epigraph => conic::solve_ls_epigraph(&prep.r, &prep.c, cap)?,
-            }
+            conic::solve_ls(formulation, &prep.r, &prep.c, cap)?
         }
         FitMode::Budget { rel_error } => conic::solve_budget(&prep.r, &prep.c, prep.r0, rel_error)?,
         FitMode::L1 => lp::solve_lp_mode(prep, true, tol)?,
@@ -904,8 +901,8 @@ mod tests {
         let prep = prepare::Prepared::new(&FitProblem::new(&a, &t)).unwrap();
         let w_ref = nnls_capped(&prep.r, &prep.c, 1.0).unwrap();
         let err = |x: &[f64]| (0..6).map(|j| (x[j] - w_ref[j]).abs()).fold(0.0, f64::max);
-        let qp = conic::solve_ls_residual_qp(&prep.r, &prep.c, true).unwrap();
-        let epi = conic::solve_ls_epigraph(&prep.r, &prep.c, true).unwrap();
+        let qp = conic::solve_ls(LsFormulation::ResidualQp, &prep.r, &prep.c, true).unwrap();
+        let epi = conic::solve_ls(LsFormulation::Epigraph, &prep.r, &prep.c, true).unwrap();
         eprintln!(
             "residual QP: {:?} {} it, weight error {:.2e}; epigraph: {:?} {} it, weight error {:.2e}",
             qp.status,

@@ -13,7 +13,7 @@ use crate::motion::{Motion, Signals};
 use crate::output::write_atomic;
 use crate::plot::{LinePlot, Series};
 use crate::schedule::export::centre_acceleration;
-use crate::schedule::Played;
+use crate::schedule::{AxisPeaks, Played};
 use crate::synth::params::AXIS_NAMES;
 use crate::synth::{ShakerLimits, Synthesis};
 
@@ -78,7 +78,7 @@ pub fn summary(md: &MethodDesign) -> String {
         let p = c.played();
         let _ = writeln!(
             out,
-            "{} {}: predicted strength {:.4} (fit error {:.2} %); played on {} points ({} valid): realised shape error {}, realised strength {}, error against the prediction {}; peaks linear [{:.3}, {:.3}, {:.3}] m/s², angular [{:.3}, {:.3}, {:.3}] rad/s²; design {:.1} s, play {:.1} s{}",
+            "{} {}: predicted strength {:.4} (fit error {:.2} %); played on {} points ({} valid): realised shape error {}, realised strength {}, error against the prediction {}; peaks {}; design {:.1} s, play {:.1} s{}",
             if i == md.chosen { "kept" } else { "not kept" },
             c.name(),
             p.predicted_strength,
@@ -88,12 +88,7 @@ pub fn summary(md: &MethodDesign) -> String {
             percent(p.realised_shape_error),
             number(p.realised_strength),
             percent(p.realised_error),
-            p.peaks.linear[0],
-            p.peaks.linear[1],
-            p.peaks.linear[2],
-            p.peaks.angular[0],
-            p.peaks.angular[1],
-            p.peaks.angular[2],
+            peaks_text(&p.peaks, 3),
             c.design_s,
             c.play_s,
             poor_text(p)
@@ -113,6 +108,17 @@ pub fn summary(md: &MethodDesign) -> String {
         );
     }
     out
+}
+
+/// `linear [x, y, z] m/s², angular [x, y, z] rad/s²`, each peak with
+/// `digits` decimals.
+fn peaks_text(peaks: &AxisPeaks, digits: usize) -> String {
+    let list = |v: [f64; 3]| v.map(|x| format!("{x:.digits$}")).join(", ");
+    format!(
+        "linear [{}] m/s², angular [{}] rad/s²",
+        list(peaks.linear),
+        list(peaks.angular)
+    )
 }
 
 fn poor_text(p: &Played) -> String {
@@ -167,13 +173,8 @@ pub(crate) fn method_md(md: &MethodDesign) -> String {
     let p = md.kept().played();
     let _ = writeln!(
         out,
-        "\nPeaks the kept schedule commands: linear [{:.4}, {:.4}, {:.4}] m/s², angular [{:.4}, {:.4}, {:.4}] rad/s².",
-        p.peaks.linear[0],
-        p.peaks.linear[1],
-        p.peaks.linear[2],
-        p.peaks.angular[0],
-        p.peaks.angular[1],
-        p.peaks.angular[2]
+        "\nPeaks the kept schedule commands: {}.",
+        peaks_text(&p.peaks, 4)
     );
     if let Some(s) = &md.sensitivity {
         let _ = write!(out, "\n## Friction sensitivity\n\n{}", s.table_md());
@@ -186,11 +187,11 @@ pub(crate) fn method_md(md: &MethodDesign) -> String {
 pub(crate) fn synthesis_md(syn: &Synthesis, limits: &ShakerLimits, gravity: f64) -> String {
     let mut md = format!(
         "## Synthesized motion\n\n![the six signals over one period](signals.svg)\n\nOne simultaneous six-signal motion, period {:.5} s, harmonics 1..={}: {}\n\n| axis | peak | limit |\n|---|---|---|\n",
-        syn.motion.period,
+        syn.checked.motion.period,
         limits.harmonics,
         syn.summary()
     );
-    for p in &syn.peaks {
+    for p in &syn.checked.peaks {
         let unit = if p.axis.starts_with("linear") {
             "m/s²"
         } else {
@@ -205,25 +206,25 @@ pub(crate) fn synthesis_md(syn: &Synthesis, limits: &ShakerLimits, gravity: f64)
     let _ = writeln!(
         md,
         "\nLeast normal force over the region (kinematic check and simulated steady orbits): {:.4} m/s² = {:.3} g (margin asked: {} g).",
-        syn.least_normal,
-        syn.least_normal / gravity,
+        syn.checked.least_normal,
+        syn.checked.least_normal / gravity,
         limits.contact_margin
     );
     let _ = writeln!(
         md,
         "\nPrediction (steady-state field on the full {}×{} grid): strength {:.4}, shape error {}; on the coarse grid the optimizer saw: {:.4}, {}. Seed (averaged-friction analysis): {:.4} predicted, {:.4} at {} simulated.",
-        syn.field.grid.n[0],
-        syn.field.grid.n[1],
-        syn.realised.strength,
-        crate::output::percent(syn.realised.shape_error, 2),
+        syn.checked.field.grid.n[0],
+        syn.checked.field.grid.n[1],
+        syn.checked.realised.strength,
+        crate::output::percent(syn.checked.realised.shape_error, 2),
         syn.coarse.strength,
         crate::output::percent(syn.coarse.shape_error, 2),
         syn.seed_strength,
         syn.seed_realised.strength,
         crate::output::percent(syn.seed_realised.shape_error, 2)
     );
-    if !syn.notes.is_empty() {
-        let _ = writeln!(md, "\nNotes: {}.", syn.notes.join("; "));
+    if !syn.checked.notes.is_empty() {
+        let _ = writeln!(md, "\nNotes: {}.", syn.checked.notes.join("; "));
     }
     md.push_str("\n`platefield export` writes it with a ramp-in from rest, `--steady-cycles` steady cycles (default 20) and a ramp-out to rest.\n");
     md
@@ -271,13 +272,13 @@ pub(crate) fn signals_svg(motion: &Signals, limits: &ShakerLimits) -> String {
 pub(crate) fn synthesis_fit_svg(md: &MethodDesign, syn: &Synthesis) -> Option<String> {
     let target = md.kept().schedule.target_spec.as_ref()?;
     let sampled = target.sample().ok()?;
-    (sampled.len() == syn.field.vectors.len()).then(|| {
+    (sampled.len() == syn.checked.field.vectors.len()).then(|| {
         super::design::fit_figure(
             &md.kept().schedule.target,
             &sampled,
-            syn.realised.strength,
+            syn.checked.realised.strength,
             "synthesized (steady state)",
-            &syn.field.vectors,
+            &syn.checked.field.vectors,
         )
     })
 }
@@ -343,7 +344,7 @@ pub fn write(md: &MethodDesign, dir: &Path) -> Result<Vec<&'static str>> {
     if let Some(syn) = &md.synthesis {
         write_atomic(
             &dir.join("signals.svg"),
-            signals_svg(&syn.motion, &md.limits).as_bytes(),
+            signals_svg(&syn.checked.motion, &md.limits).as_bytes(),
         )?;
         files.push("signals.svg");
     }

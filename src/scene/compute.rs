@@ -230,11 +230,7 @@ impl Scene {
             let _ = writeln!(s, "scene:   {name}");
         }
         let _ = writeln!(s, "motion:  {motion}");
-        let _ = writeln!(
-            s,
-            "grid:    {}×{} over x ∈ [{}, {}] m, y ∈ [{}, {}] m",
-            g.n[0], g.n[1], g.x[0], g.x[1], g.y[0], g.y[1]
-        );
+        let _ = writeln!(s, "grid:    {}", g.describe());
         let m = self.motion.to_motion();
         let _ = writeln!(
             s,

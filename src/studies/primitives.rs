@@ -23,19 +23,14 @@ pub(crate) fn write_primitives(lib: &Library, out: &Path) -> Result<String> {
     let s = &lib.settings;
     let mut md = format!(
         "# Primitive fields against the paper's Table I\n\n\
-         Grid {}×{} over x ∈ [{}, {}] m, y ∈ [{}, {}] m; model `{}`; μ_s = {}, μ_k = {}; \
+         Grid {}; model `{}`; μ_s = {}, μ_k = {}; \
          {} start phases; {} RK4 steps per cycle{}. Regenerate: `platefield primitives`.\n\n\
          Least-squares fit of each field to its Table I form over the valid samples \
          (Circle: outside 1 cm of its axis). R² is uncentred (the forms have no constant \
          term): R² = 1 − Σ|f − f̂|²/Σ|f|². Coefficients in s⁻² m⁻ᵏ (force) and s⁻¹ m⁻ᵏ \
          (velocity) for a form of degree k in position. *Signs* checks a > 0 \
          (for DivCircle, a > 0; b is reported).\n\n",
-        lib.grid.n[0],
-        lib.grid.n[1],
-        lib.grid.x[0],
-        lib.grid.x[1],
-        lib.grid.y[0],
-        lib.grid.y[1],
+        lib.grid.describe(),
         s.model.name(),
         s.friction.stat,
         s.friction.kinetic,

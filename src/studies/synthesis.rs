@@ -268,7 +268,7 @@ pub fn holdout_starts(target: &Target, sampled: &SampledTarget) -> Vec<usize> {
 pub fn synthesized_motion(s: &Synthesis) -> Result<ScheduleMotion> {
     ScheduleMotion::new(vec![PlayedSegment::moving(
         "synthesized",
-        Motion::Signals(s.motion.clone()),
+        Motion::Signals(s.checked.motion.clone()),
         1,
     )])
 }
@@ -878,8 +878,8 @@ fn table_row(r: &Row, csv: &mut String) -> Vec<String> {
                 sci(m.strength),
                 sci(m.shape_error),
                 sci(m.vs_predicted),
-                sci(s.realised.strength),
-                sci(s.realised.shape_error),
+                sci(s.checked.realised.strength),
+                sci(s.checked.realised.shape_error),
                 s.evaluations,
                 sci(ratio),
                 m.valid,
@@ -898,7 +898,7 @@ fn table_row(r: &Row, csv: &mut String) -> Vec<String> {
                 pct(m.shape_error),
                 pct(m.vs_predicted),
                 format!("{} / {}", m.valid, m.played),
-                num(s.realised.strength),
+                num(s.checked.realised.strength),
                 s.evaluations.to_string(),
                 met(g[0]).into(),
                 met(g[1]).into(),

@@ -184,32 +184,20 @@ pub struct AxisPeak {
 /// A synthesized motion and its checks.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Synthesis {
-    /// The six-signal motion (scene `signals` format).
-    pub motion: Signals,
-    /// Its steady-state velocity field on the full grid.
-    pub field: Field,
-    /// Realised strength and shape error on the full grid.
-    pub realised: Realised,
-    /// The same on the coarse grid (what the optimizer saw).
+    /// The six-signal motion and its checks on the full grid: field,
+    /// realised measure, peaks, least N, POOR, and notes (why it is poor,
+    /// and what limited the seed).
+    pub checked: Checked,
+    /// The realised measure on the coarse grid (what the optimizer saw).
     pub coarse: Realised,
     /// The seed's realised measure on the coarse grid.
     pub seed_realised: Realised,
     /// The seed's predicted strength (averaged-friction analysis).
     pub seed_strength: f64,
-    /// Per-axis peaks against limits.
-    pub peaks: Vec<AxisPeak>,
-    /// Least normal force per unit mass over the region (m/s²): the
-    /// smaller of the kinematic check and the simulated steady orbits.
-    pub least_normal: f64,
     /// Coarse re-simulations used (seed included).
     pub evaluations: usize,
     /// Wall time (s); not part of any data file.
     pub seconds: f64,
-    /// POOR: shape error above `POOR_SHAPE_ERROR`, no positive strength,
-    /// invalid samples, contact margin or a limit broken.
-    pub poor: bool,
-    /// Why it is poor, and what limited the seed.
-    pub notes: Vec<String>,
     /// What limited the seed (the notes that do not depend on the motion
     /// kept).
     pub seed_notes: Vec<String>,
@@ -217,10 +205,8 @@ pub struct Synthesis {
 
 impl Synthesis {
     /// This synthesis with its motion replaced by `checked` (a later
-    /// polish of the same request): motion, full-grid field and measure,
-    /// peaks, least N, POOR and notes are `checked`'s; the seed, coarse and
-    /// evaluation records stay, `evaluations` and `seconds` grow by the
-    /// polish's.
+    /// polish of the same request): the seed, coarse and evaluation
+    /// records stay, `evaluations` and `seconds` grow by the polish's.
     pub(crate) fn with_checked(
         &self,
         checked: Checked,
@@ -228,16 +214,13 @@ impl Synthesis {
         seconds: f64,
     ) -> Synthesis {
         Synthesis {
-            motion: checked.motion,
-            field: checked.field,
-            realised: checked.realised,
-            peaks: checked.peaks,
-            least_normal: checked.least_normal,
-            poor: checked.poor,
-            notes: checked.notes,
+            checked,
+            coarse: self.coarse,
+            seed_realised: self.seed_realised,
+            seed_strength: self.seed_strength,
             evaluations: self.evaluations + evaluations,
             seconds: self.seconds + seconds,
-            ..self.clone()
+            seed_notes: self.seed_notes.clone(),
         }
     }
 
@@ -246,24 +229,25 @@ impl Synthesis {
     /// so committed reports change only when their content does; printed
     /// summaries use [`Synthesis::timed_summary`].
     pub fn summary(&self) -> String {
-        let n = self.field.grid.n;
+        let c = &self.checked;
+        let n = c.field.grid.n;
         let pct = crate::output::percent;
         format!(
             "seed {:.4} predicted, {:.4} at {} realised (coarse); synthesized {:.4} at {} ({}×{}), {} evaluations, least N {:.2} m/s²{}{}",
             self.seed_strength,
             self.seed_realised.strength,
             pct(self.seed_realised.shape_error, 1),
-            self.realised.strength,
-            pct(self.realised.shape_error, 2),
+            c.realised.strength,
+            pct(c.realised.shape_error, 2),
             n[0],
             n[1],
             self.evaluations,
-            self.least_normal,
-            if self.poor { ", POOR" } else { "" },
-            if self.notes.is_empty() {
+            c.least_normal,
+            if c.poor { ", POOR" } else { "" },
+            if c.notes.is_empty() {
                 String::new()
             } else {
-                format!(" ({})", self.notes.join("; "))
+                format!(" ({})", c.notes.join("; "))
             }
         )
     }
@@ -383,57 +367,47 @@ pub fn synthesize(
         ));
     }
     let mut checked = Checked::of(field, region, limits, settings, &coefficients, &seed_notes);
-    if options.lm.is_some() {
-        if let Some(repaired) = repair_margin(
-            field,
-            region,
-            limits,
-            settings,
-            &coefficients,
-            &seed_notes,
-            &checked,
-        ) {
+    // Least-squares runs only: a motion below the contact margin on the full
+    // grid is scaled to it, and the scaled motion kept when it holds the
+    // margin and is not POOR.
+    let (g, floor) = (settings.gravity, limits.contact_margin * settings.gravity);
+    let scaled = options
+        .lm
+        .and_then(|_| margin_scaled(&coefficients, checked.least_normal, floor, g));
+    if let Some(c) = scaled {
+        let repaired = Checked::of(field, region, limits, settings, &c, &seed_notes);
+        if repaired.least_normal >= floor && !repaired.poor {
             checked = repaired;
         }
     }
     Ok(Synthesis {
-        motion: checked.motion,
-        field: checked.field,
-        realised: checked.realised,
+        checked,
         coarse: best.realised,
         seed_realised: seed_eval.realised,
         seed_strength: seed.strength,
-        peaks: checked.peaks,
-        least_normal: checked.least_normal,
         evaluations: objective.evaluations(),
         seconds: start.elapsed().as_secs_f64(),
-        poor: checked.poor,
-        notes: checked.notes,
         seed_notes,
     })
 }
 
-/// The motion `coefficients`, checked as `checked`, with its normal-force
-/// signals (a_z, α_x, α_y: [`super::calibrate::NORMAL_AXES`]) scaled down
-/// so the full grid keeps the contact margin, when only the coarse grid
+/// The motion `coefficients`, whose least normal force per unit mass on
+/// the full grid is `least_normal`, with its normal-force signals (a_z,
+/// α_x, α_y: [`super::calibrate::NORMAL_AXES`]) scaled down so the full
+/// grid keeps the contact margin `floor` = m g, when only the coarse grid
 /// did: N − g is linear in them (module documentation), so scaling them by
 /// f = 0.995 (1 − m) g / (g − N_min) lifts the least N to the margin. The
 /// least-squares refinement ends on the coarse margin's edge, where the
 /// full grid's steady orbits can dip below it (a few thousandths of g).
-/// `None` when the margin holds, or the repaired motion is not better.
-fn repair_margin(
-    field: &FieldSpec,
-    region: &Grid,
-    limits: &ShakerLimits,
-    settings: &FieldSettings,
+/// `None` when the margin holds (or N_min ≥ g).
+fn margin_scaled(
     coefficients: &Coefficients,
-    seed_notes: &[String],
-    checked: &Checked,
-) -> Option<Checked> {
-    let g = settings.gravity;
-    let floor = limits.contact_margin * g;
-    let swing = g - checked.least_normal;
-    if checked.least_normal >= floor || swing <= 0.0 {
+    least_normal: f64,
+    floor: f64,
+    g: f64,
+) -> Option<Coefficients> {
+    let swing = g - least_normal;
+    if least_normal >= floor || swing <= 0.0 {
         return None;
     }
     let f = (0.995 * (g - floor) / swing).clamp(0.0, 1.0);
@@ -443,8 +417,7 @@ fn repair_margin(
             *cs = [cs[0] * f, cs[1] * f];
         }
     }
-    let repaired = Checked::of(field, region, limits, settings, &c, seed_notes);
-    (repaired.least_normal >= floor && !repaired.poor).then_some(repaired)
+    Some(c)
 }
 
 /// The full-grid checks of one motion ([`Checked::of`]).
@@ -458,9 +431,11 @@ pub struct Checked {
     pub realised: Realised,
     /// Per-axis peaks against limits.
     pub peaks: Vec<AxisPeak>,
-    /// Least normal force per unit mass over the region (m/s²).
+    /// Least normal force per unit mass over the region (m/s²): the
+    /// smaller of the kinematic check and the simulated steady orbits.
     pub least_normal: f64,
-    /// POOR (see [`Synthesis::poor`]).
+    /// POOR: shape error above `POOR_SHAPE_ERROR`, no positive strength,
+    /// invalid samples, contact margin or a limit broken.
     pub poor: bool,
     /// `seed_notes`, then why it is poor.
     pub notes: Vec<String>,

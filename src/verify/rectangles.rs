@@ -219,7 +219,7 @@ pub fn play_rectangle(
                     opts.model,
                     opts.steps_per_cycle,
                 ),
-                None => PlanarSimulator::new(
+                None => PlanarSimulator::for_body(
                     rect,
                     Plate::Rest,
                     opts.friction,

@@ -12,7 +12,7 @@ use std::time::Instant;
 
 use crate::basis::{Primitive, PrimitiveKind};
 use crate::field::{Field, FieldKind, FieldSettings, Grid};
-use crate::motion::{Motion, Signals};
+use crate::motion::{Invariance, Motion, Signals};
 use crate::studies::speed::process_cpu_seconds;
 
 /// Runs of each field per thread count.
@@ -20,7 +20,7 @@ pub(crate) const REPEATS: usize = 3;
 
 /// One field timed: its motion, grid, kind and steps per cycle, and
 /// whether every point is simulated (no reduction by the motion's
-/// invariance, `Field::compute_every_point`).
+/// invariance, `Field::compute_by` with `Invariance::None`).
 struct Case {
     name: String,
     motion: Motion,
@@ -89,11 +89,19 @@ impl Case {
     fn compute(&self) -> Field {
         let mut settings = FieldSettings::default();
         settings.numerics.steps_per_cycle = self.steps;
-        if self.every_point {
-            Field::compute_every_point(&self.motion, &self.grid, self.kind, &settings, &|| {})
+        let invariance = if self.every_point {
+            Invariance::None
         } else {
-            Field::compute(&self.motion, &self.grid, self.kind, &settings, &|| {})
-        }
+            self.motion.invariance()
+        };
+        Field::compute_by(
+            &self.motion,
+            &self.grid,
+            self.kind,
+            &settings,
+            invariance,
+            &|| {},
+        )
     }
 
     /// Best wall time of [`REPEATS`] runs on `threads` threads, the mean

@@ -217,7 +217,7 @@ pub(crate) fn section() -> Result<String> {
     let sampled = target.sample()?;
     let points = starts(&target, &sampled);
     let sm = synthesized_motion(&s)?;
-    let motion = Motion::Signals(s.motion.clone());
+    let motion = Motion::Signals(s.checked.motion.clone());
     let sim = settings.simulator(&motion);
     let mut md = format!(
         "\n## Realised against predicted over the measured window\n\n\

@@ -46,18 +46,18 @@ pub(crate) fn synthesis_line(s: &Synthesis) -> String {
     let pct = crate::output::percent;
     let mut line = format!(
         "synthesized ŝ {:.4} s⁻¹ at shape {} on the full grid after {} evaluations (the seed: {:.4} predicted, {:.4} realised at {} on the coarse grid); least N {:.2} m/s²",
-        s.realised.strength,
-        pct(s.realised.shape_error, 2),
+        s.checked.realised.strength,
+        pct(s.checked.realised.shape_error, 2),
         s.evaluations,
         s.seed_strength,
         s.seed_realised.strength,
         pct(s.seed_realised.shape_error, 1),
-        s.least_normal,
+        s.checked.least_normal,
     );
-    if s.poor {
+    if s.checked.poor {
         line.push_str(", POOR");
     }
-    for note in &s.notes {
+    for note in &s.checked.notes {
         line.push_str("; ");
         line.push_str(note);
     }
