@@ -7,12 +7,12 @@
 //! ticks) is the one to compare on a loaded machine; the fields of a few
 //! milliseconds are compared by their best wall time.
 
-use std::fmt::Write as _;
 use std::time::Instant;
 
 use crate::basis::{Primitive, PrimitiveKind};
 use crate::field::{Field, FieldKind, FieldSettings, Grid};
 use crate::motion::{Invariance, Motion, Signals};
+use crate::report::table::Table;
 use crate::studies::speed::process_cpu_seconds;
 
 /// Runs of each field per thread count.
@@ -141,14 +141,24 @@ pub(crate) fn section() -> String {
     let mut md = String::from(
         "\n## Single fields of the engine\n\n\
          Model full, μ = 0.3. Their CPU time on one thread and wall time on one and two threads \
-         are printed by `platefield probes` (never written: they move with the machine).\n\n\
-         | field | invalid samples | same bits on 1 and 2 threads |\n|---|---|---|\n",
+         are printed by `platefield probes` (never written: they move with the machine).\n\n",
     );
-    eprintln!("| field | 1 thread wall (s) | 1 thread CPU (s) | 2 threads wall (s) |");
+    let mut table = Table::new(["field", "invalid samples", "same bits on 1 and 2 threads"]);
+    let mut timings = Table::new([
+        "field",
+        "1 thread wall (s)",
+        "1 thread CPU (s)",
+        "2 threads wall (s)",
+    ]);
     for case in cases() {
         let (w1, c1, f1) = case.time(1);
         let (w2, _, f2) = case.time(2);
-        eprintln!("| {} | {w1:.4} | {c1:.4} | {w2:.4} |", case.name);
+        timings.row([
+            case.name.clone(),
+            format!("{w1:.4}"),
+            format!("{c1:.4}"),
+            format!("{w2:.4}"),
+        ]);
         let (invalid, same) = match (&f1, &f2) {
             (Some(a), Some(b)) => (
                 (a.validity.len() - a.valid_count()).to_string(),
@@ -156,7 +166,9 @@ pub(crate) fn section() -> String {
             ),
             _ => ("—".into(), "no thread pool"),
         };
-        let _ = writeln!(md, "| {} | {invalid} | {same} |", case.name);
+        table.row([case.name, invalid, same.to_string()]);
     }
+    eprint!("{}", timings.markdown());
+    md.push_str(&table.markdown());
     md
 }

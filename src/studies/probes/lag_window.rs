@@ -15,7 +15,6 @@
 //! 40 cycles against the steady orbit through its position, and the
 //! first-order lag theory of [`crate::play::lag`].
 
-use std::fmt::Write as _;
 use std::path::Path;
 
 use nalgebra::Matrix2;
@@ -27,6 +26,7 @@ use crate::field::FieldSettings;
 use crate::motion::Motion;
 use crate::play::lag::lagged_velocity;
 use crate::play::measure::{against_prediction, relative_l2, PlayOptions, PointPlay};
+use crate::report::table::Table;
 use crate::request::Target;
 use crate::studies::synthesis::{starts, synthesized_motion, StudySettings};
 use crate::synth::{synthesize, ShakerLimits};
@@ -50,7 +50,8 @@ fn gap(
     e.map_or(f64::NAN, |e| relative_l2(&real, &e))
 }
 
-/// One table row: the four gaps and `against_prediction` for one window.
+/// One table row: the four gaps and `against_prediction` for one window
+/// (gaps, relative error and shape in %).
 fn window_row(
     sim: &Simulator<'_>,
     sm: &crate::play::ScheduleMotion,
@@ -58,7 +59,7 @@ fn window_row(
     points: &[usize],
     settings: &FieldSettings,
     (warmup_cycles, measured_cycles): (u32, u32),
-) -> String {
+) -> Vec<String> {
     let t = sim.period();
     let steady = |r: [f64; 2]| sim.steady_state(r).map_err(|e| e.to_string());
     let mut plain = |r: [f64; 2]| steady(r).map(|s| s.velocity);
@@ -78,16 +79,18 @@ fn window_row(
     let c = gap(&ok, &mut |p| p.expected(&mut lagged));
     let d = gap(&ok, &mut |p| p.expected_cycles(&mut lagged, t));
     let r = against_prediction(sm, plays, &PlayOptions::from_settings(settings));
-    format!(
-        "| {warmup_cycles} | {measured_cycles} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.4} | {:.2} |",
-        100.0 * a,
-        100.0 * b,
-        100.0 * c,
-        100.0 * d,
-        100.0 * r.relative_error,
-        r.realised_scale,
-        100.0 * r.shape_error
-    )
+    let pct = |x: f64| format!("{:.2}", 100.0 * x);
+    vec![
+        warmup_cycles.to_string(),
+        measured_cycles.to_string(),
+        pct(a),
+        pct(b),
+        pct(c),
+        pct(d),
+        pct(r.relative_error),
+        format!("{:.4}", r.realised_scale),
+        pct(r.shape_error),
+    ]
 }
 
 /// Sums of squares over the points of [`lag_theory`].
@@ -223,16 +226,32 @@ pub(crate) fn section() -> Result<String> {
         "\n## Realised against predicted over the measured window\n\n\
          The lab-class sink (`targets/sink.json`, `ShakerLimits::lab_class`) synthesized as in \
          `platefield synthesis` ({}), played from rest at the study's {} points. Relative L2 gap \
-         (%) between the realised displacement and each prediction from the steady states F:\n\n\
-         | warm-up cycles | measured cycles | flow of F | F per cycle | flow of lagged F | lagged F per cycle | `against_prediction` | its realised/predicted | its shape (%) |\n\
-         |---|---|---|---|---|---|---|---|---|\n",
+         (%) between the realised displacement and each prediction from the steady states F:\n\n",
         super::synthesis_line(&s),
         points.len()
     );
+    let mut table = Table::new([
+        "warm-up cycles",
+        "measured cycles",
+        "flow of F",
+        "F per cycle",
+        "flow of lagged F",
+        "lagged F per cycle",
+        "`against_prediction`",
+        "its realised/predicted",
+        "its shape (%)",
+    ]);
     for w in WINDOWS {
-        let row = window_row(&sim, &sm, &sampled.points, &points, &settings, w);
-        let _ = writeln!(md, "{row}");
+        table.row(window_row(
+            &sim,
+            &sm,
+            &sampled.points,
+            &points,
+            &settings,
+            w,
+        ));
     }
+    md.push_str(&table.markdown());
     md.push_str("\nThe lag at 40 cycles of warm-up, one cycle measured:\n\n");
     md.push_str(&lag_theory(&sim, &sampled.points, &points)?);
     Ok(md)

@@ -19,6 +19,7 @@ use super::square;
 use crate::error::{Error, Result};
 use crate::field::{Field, FieldKind, FieldSettings, Grid};
 use crate::motion::Motion;
+use crate::report::table::Table;
 use crate::request::Target;
 use crate::studies::synthesis::{limits_of, sequenced};
 use crate::synth::contact::kinematic_least_normal;
@@ -206,14 +207,18 @@ fn setup(cache: &Path) -> Result<(Setup, f64)> {
     Ok((s, seeded.strength))
 }
 
-/// One table row per group: its best cap, the ratio to the circle's, the
-/// phases that reach it, what the tilts' harmonic 2 adds at most, the best
-/// one's drift.
-fn group_rows(md: &mut String, scanned: &[(Candidate, Capped)], circle: f64) {
-    md.push_str(
-        "| translation | best cap (s⁻¹) | × the circle's | reached by | tilts' harmonic 2 adds at most (s⁻¹) | its drift (m/s) |\n\
-         |---|---|---|---|---|---|\n",
-    );
+/// The table of one row per group: its best cap, the ratio to the
+/// circle's, the phases that reach it, what the tilts' harmonic 2 adds at
+/// most, the best one's drift.
+fn group_table(scanned: &[(Candidate, Capped)], circle: f64) -> Table {
+    let mut table = Table::new([
+        "translation",
+        "best cap (s⁻¹)",
+        "× the circle's",
+        "reached by",
+        "tilts' harmonic 2 adds at most (s⁻¹)",
+        "its drift (m/s)",
+    ]);
     let mut groups: Vec<&str> = Vec::new();
     for (c, _) in scanned {
         if !groups.contains(&c.group.as_str()) {
@@ -228,17 +233,17 @@ fn group_rows(md: &mut String, scanned: &[(Candidate, Capped)], circle: f64) {
             .fold(f64::NEG_INFINITY, f64::max);
         let best = members.max_by(|a, b| a.1.cap.strength.total_cmp(&b.1.cap.strength));
         if let Some((c, k)) = best {
-            let _ = writeln!(
-                md,
-                "| {g} | {:.4} | {:.3} | {} | {gain:.4} | ({:+.5}, {:+.5}) |",
-                k.cap.strength,
-                k.cap.strength / circle,
-                c.label,
-                k.drift[0],
-                k.drift[1]
-            );
+            table.row([
+                g.to_string(),
+                format!("{:.4}", k.cap.strength),
+                format!("{:.3}", k.cap.strength / circle),
+                c.label.clone(),
+                format!("{gain:.4}"),
+                format!("({:+.5}, {:+.5})", k.drift[0], k.drift[1]),
+            ]);
         }
     }
+    table
 }
 
 /// The section of `probes.md`.
@@ -274,7 +279,7 @@ pub(crate) fn section(cache: &Path) -> Result<String> {
             format!(" ({})", failed.join("; "))
         }
     );
-    group_rows(&mut md, &scanned, circle);
+    md.push_str(&group_table(&scanned, circle).markdown());
     md.push_str("\nThe circle and the four best, with the programme's tilts:\n\n");
     let _ = writeln!(
         md,

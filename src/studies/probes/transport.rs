@@ -13,6 +13,7 @@ use super::square;
 use crate::error::Result;
 use crate::field::{Field, FieldKind, FieldSettings, Grid};
 use crate::motion::Motion;
+use crate::report::table::Table;
 use crate::request::Target;
 use crate::studies::synthesis::{limits_of, sequenced};
 use crate::synth::calibrate::shifted;
@@ -45,38 +46,47 @@ impl Coarse {
 
 /// The seed with a_x's harmonic 2 at 0–30 m/s², every 45°.
 fn ratchet_rows(md: &mut String, coarse: &Coarse, start: &Coefficients) {
-    md.push_str(
-        "| a_x harmonic 2 (m/s²) | phase (°) | peak x (m/s²) | mean v (m/s) | abs. mean v (cm/s) | ŝ (s⁻¹) | shape (%) | invalid |\n\
-         |---|---|---|---|---|---|---|---|\n",
-    );
+    let mut table = Table::new([
+        "a_x harmonic 2 (m/s²)",
+        "phase (°)",
+        "peak x (m/s²)",
+        "mean v (m/s)",
+        "abs. mean v (cm/s)",
+        "ŝ (s⁻¹)",
+        "shape (%)",
+        "invalid",
+    ]);
     for amp in [0.0, 10.0, 20.0, 30.0] {
         for k in 0..(if amp == 0.0 { 1 } else { 8 }) {
             let phase = f64::from(k) * PI / 4.0;
             let mut c = start.clone();
             c.set(0, 2, amp, phase);
             let (r, v) = coarse.eval(&c);
-            let _ = writeln!(
-                md,
-                "| {amp:.1} | {:.1} | {:.2} | ({:+.5}, {:+.5}) | {:.3} | {:.4} | {:.1} | {} |",
-                phase.to_degrees(),
-                c.peak(0),
-                v[0],
-                v[1],
-                100.0 * v[0].hypot(v[1]),
-                r.strength,
-                100.0 * r.shape_error,
-                r.invalid
-            );
+            table.row([
+                format!("{amp:.1}"),
+                format!("{:.1}", phase.to_degrees()),
+                format!("{:.2}", c.peak(0)),
+                format!("({:+.5}, {:+.5})", v[0], v[1]),
+                format!("{:.3}", 100.0 * v[0].hypot(v[1])),
+                format!("{:.4}", r.strength),
+                format!("{:.1}", 100.0 * r.shape_error),
+                r.invalid.to_string(),
+            ]);
         }
     }
+    md.push_str(&table.markdown());
 }
 
 /// [`transport_start`]'s start scaled by f and turned.
 fn start_rows(md: &mut String, coarse: &Coarse, c: &Coefficients) {
-    md.push_str(
-        "| scale | turn (°) | ŝ (s⁻¹) | shape (%) | realised turn (°) | mean v_x (m/s) |\n\
-         |---|---|---|---|---|---|\n",
-    );
+    let mut table = Table::new([
+        "scale",
+        "turn (°)",
+        "ŝ (s⁻¹)",
+        "shape (%)",
+        "realised turn (°)",
+        "mean v_x (m/s)",
+    ]);
     for f in [0.25, 0.5, 0.75, 1.0] {
         for turn in [-10.0f64, 0.0, 10.0] {
             let mut s = shifted(c, turn.to_radians());
@@ -86,16 +96,17 @@ fn start_rows(md: &mut String, coarse: &Coarse, c: &Coefficients) {
                 }
             }
             let (r, v) = coarse.eval(&s);
-            let _ = writeln!(
-                md,
-                "| {f:.2} | {turn:+.0} | {:.4} | {:.1} | {:.1} | {:.5} |",
-                r.strength,
-                100.0 * r.shape_error,
-                r.turn.to_degrees(),
-                v[0]
-            );
+            table.row([
+                format!("{f:.2}"),
+                format!("{turn:+.0}"),
+                format!("{:.4}", r.strength),
+                format!("{:.1}", 100.0 * r.shape_error),
+                format!("{:.1}", r.turn.to_degrees()),
+                format!("{:.5}", v[0]),
+            ]);
         }
     }
+    md.push_str(&table.markdown());
 }
 
 /// The section of `probes.md`.
