@@ -33,6 +33,7 @@
 //! unchanged up to where the grid samples them.
 
 pub(crate) mod correct;
+pub mod friction;
 pub mod placement;
 pub(crate) mod play;
 pub(crate) mod request;
@@ -127,12 +128,7 @@ pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Res
     let mut schedule = kept.schedule(&origin, Some(target))?;
     let field = schedule_field(&schedule, &grid)?;
     let analysis = analyse(&req.part, &field, req.region, LIFTED_DROPS);
-    // The spin route plays the longest (`play::play_seconds(0)`): its
-    // slowest lifted rate is a spiral's and drops from the region's edge
-    // settle later than it predicts (module `spin` docs).
-    let rate = search::nearest_stable(&analysis.equilibria, &req.pose, n, req.part.radius())
-        .filter(|_| spin.is_none())
-        .map_or(0.0, |e| -e.rates[0]);
+    let rate = play::play_rate(req, &analysis, spin.is_some());
     let sm = ScheduleMotion::from_schedule(&schedule)?;
     let label = match spin {
         Some(s) => format!(
@@ -151,6 +147,8 @@ pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Res
         (&analysis, format!("one synthesized motion: {label}"), rate),
         drops,
     );
+    let range = crate::design::stacked::ranged(&req.target);
+    let played = friction::over_range(req, &schedule, (played, &analysis), rate, range)?;
     if let Some(p) = schedule.played.as_mut() {
         p.pose = Some(played);
     }

@@ -42,6 +42,18 @@ pub fn play_seconds(rate: f64) -> f64 {
     }
 }
 
+/// The slowest decay rate (1/s) a design's drops are timed by
+/// ([`play_seconds`]): the lifted field's at the stable pose of
+/// `analysis` nearest the asked one; 0 (the longest play) for a spun
+/// motion, whose slowest lifted rate is a spiral's and whose drops from
+/// the region's edge settle later than it predicts (module `spin` docs).
+pub fn play_rate(req: &PoseRequest, analysis: &PoseAnalysis, spun: bool) -> f64 {
+    let (n, radius) = (req.part.symmetry(), req.part.radius());
+    super::search::nearest_stable(&analysis.equilibria, &req.pose, n, radius)
+        .filter(|_| !spun)
+        .map_or(0.0, |e| -e.rates[0])
+}
+
 /// Whether `p` is at the `asked` pose (modulo symmetry `n`).
 pub fn at_pose(p: &Pose, asked: &Pose, n: usize) -> bool {
     let (d, t) = pose_error(p, asked, n);
@@ -139,5 +151,6 @@ pub fn play(
         lost,
         stable: basins,
         distinct_stable: super::search::distinct_stable(eqs, n).len(),
+        over_friction: None,
     }
 }

@@ -1,0 +1,159 @@
+//! A pose design played over the part's friction range: the part's
+//! friction is the user's, rarely known within ±20 %, so a design judged at
+//! one μ only may be lucky. When the target (or the part file, whose
+//! friction a pose target takes when it states none: [`super::PoseRequest`])
+//! gives a range, the design's drops are played again at its ends and
+//! middle ([`FrictionSpec::values`], [`PER_RANGE`] per range, as
+//! [`crate::design::stacked`] fits fields) and recorded in
+//! `schedule.json`'s `played.pose.over_friction`
+//! ([`crate::schedule::PoseOverFriction`]); its `worst_pose_fraction` is
+//! the least over them. The design itself is made, placed and corrected at
+//! the middle; `pose_fraction` stays the middle's.
+//!
+//! **Which μ the drops take.** [`super::play::play`] builds its
+//! [`crate::pose::DropPlay`] from the settings it is given, and a design
+//! passes the schedule's, whose friction is the target's nominal (the
+//! middle of a range). Here each value is played with the schedule's
+//! settings at that friction, so every support point's Coulomb law in the
+//! planar simulator takes it, and each drop's end is classified against
+//! the lifted field computed at it ([`crate::pose::schedule_field`] with
+//! that friction). Every friction plays the same starts for the same time
+//! (the middle's: [`super::play::play_rate`]).
+//!
+//! **Why the pose moves with μ.** The placement puts the middle's lifted
+//! stable pose on the asked one. The lifted field is the part's mean twist
+//! from the point-part velocity field, and that field is not a fixed
+//! shape times a μ-dependent speed: the slip direction leads the plate
+//! velocity by δ = asin(μg/A) (`synth` docs), so a friction error turns
+//! the field about every point, and a turned elliptic sink has its zero and
+//! its principal axes elsewhere. Measured on the shipped designs
+//! (`platefield poses-friction-study`, `results/poses_friction.md`): the
+//! lifted pose moves by tenths of a millimetre and about a degree over
+//! ±20 % of μ, while the slowest lifted decay rate changes by less than μ
+//! does: the velocity field is not ∝ μ. The averaged friction *force* on
+//! a part held still is ∝ μ in pure slip (the slip direction is then the
+//! plate's velocity direction, whatever μ), a closed form
+//! `tests/pose_friction.rs` checks; the velocity field, where parts stick
+//! part of the cycle, is not.
+
+use super::play::{play, play_rate};
+use super::search::{nearest_stable, pose_error};
+use super::{PoseRequest, LIFTED_DROPS};
+use crate::dynamics::Friction;
+use crate::error::Result;
+use crate::play::ScheduleMotion;
+use crate::pose::{analyse, schedule_field, PoseAnalysis};
+use crate::request::FrictionSpec;
+use crate::schedule::{PoseAtFriction, PoseOverFriction, PosePlayed, Schedule};
+
+/// Frictions played per range: its ends and middle.
+pub const PER_RANGE: usize = 3;
+
+/// `nominal` (the design's drops at the schedule's friction, `analysis`
+/// its lifted field) with the same drops played over `range`'s values
+/// (module docs), timed by the slowest decay `rate` (1/s); unchanged when
+/// `range` is `None` (an exact friction: `over_friction` stays absent).
+///
+/// # Errors
+/// A schedule whose field cannot be computed at one of the values.
+///
+/// ```no_run
+/// use platefield::design::pose::{design_pose, friction, PoseRequest, DROPS};
+/// use platefield::request::FrictionSpec;
+/// let req = PoseRequest::load(std::path::Path::new("targets/pose_rectangle.json"))?.unwrap();
+/// let d = design_pose(&req, &Default::default(), DROPS)?;
+/// let schedule = &d.method.kept().schedule;
+/// let nominal = schedule.played.as_ref().unwrap().pose.clone().unwrap();
+/// let rate = friction::rate(&d);
+/// let range = FrictionSpec::range(0.24, 0.36);
+/// let p = friction::over_range(&req, schedule, (nominal, &d.analysis), rate, Some(range))?;
+/// println!("worst {:.0} %", 100.0 * p.over_friction.unwrap().worst_pose_fraction);
+/// # Ok::<(), platefield::Error>(())
+/// ```
+pub fn over_range(
+    req: &PoseRequest,
+    schedule: &Schedule,
+    (nominal, analysis): (PosePlayed, &PoseAnalysis),
+    rate: f64,
+    range: Option<FrictionSpec>,
+) -> Result<PosePlayed> {
+    let Some(range) = range else {
+        return Ok(nominal);
+    };
+    let at = range
+        .values(PER_RANGE)
+        .into_iter()
+        .map(|f| {
+            if close(f, schedule.settings.friction) {
+                Ok(entry(req, f, &nominal, analysis))
+            } else {
+                play_at(req, schedule, f, rate, nominal.drops)
+            }
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let worst_pose_fraction = at.iter().map(|a| a.pose_fraction).fold(1.0, f64::min);
+    Ok(PosePlayed {
+        over_friction: Some(PoseOverFriction {
+            range,
+            worst_pose_fraction,
+            at,
+        }),
+        ..nominal
+    })
+}
+
+/// The slowest decay rate `design` timed `d`'s drops by
+/// ([`super::play::play_rate`]).
+pub fn rate(d: &super::PoseDesign) -> f64 {
+    play_rate(&d.request, &d.analysis, d.spin.is_some())
+}
+
+/// Equal within rounding (a range's middle against its nominal).
+fn close(a: Friction, b: Friction) -> bool {
+    (a.stat - b.stat).abs() < 1e-12 && (a.kinetic - b.kinetic).abs() < 1e-12
+}
+
+/// `drops` drops of the request's part played through `schedule` with
+/// the parts' friction `friction`, judged against the lifted field at it.
+///
+/// # Errors
+/// A schedule whose field cannot be computed.
+pub fn play_at(
+    req: &PoseRequest,
+    schedule: &Schedule,
+    friction: Friction,
+    rate: f64,
+    drops: usize,
+) -> Result<PoseAtFriction> {
+    let mut at = schedule.clone();
+    at.settings.friction = friction;
+    let grid = req.target.grid.unwrap_or(crate::field::Grid::DEFAULT);
+    let analysis = analyse(&req.part, &schedule_field(&at, &grid)?, req.region, LIFTED_DROPS);
+    let sm = ScheduleMotion::from_schedule(&at)?;
+    let p = play(req, &sm, &at.settings, (&analysis, String::new(), rate), drops);
+    Ok(entry(req, friction, &p, &analysis))
+}
+
+/// One friction's row from its played drops `p` and lifted `analysis`.
+fn entry(
+    req: &PoseRequest,
+    friction: Friction,
+    p: &PosePlayed,
+    analysis: &PoseAnalysis,
+) -> PoseAtFriction {
+    let n = req.part.symmetry();
+    let near = nearest_stable(&analysis.equilibria, &req.pose, n, req.part.radius());
+    PoseAtFriction {
+        friction,
+        pose_fraction: p.pose_fraction,
+        median_settle_s: p.median_settle_s,
+        lost: p.lost,
+        stable: p.stable.clone(),
+        distinct_stable: p.distinct_stable,
+        lifted_offset: near.map(|e| {
+            let (d, t) = pose_error(&e.pose, &req.pose, n);
+            [1e3 * d, t.to_degrees()]
+        }),
+        lifted_rates: near.map(|e| e.rates.map(|r| -r)),
+    }
+}

@@ -1,0 +1,117 @@
+//! Issue 28 and "robust, not lucky": the shipped pose designs played over
+//! ±20 % of their part's friction, `results/poses_friction.md`.
+//!
+//! Each shipped pose target (`targets/pose_{rectangle,bracket,triangle}.json`,
+//! parts of μ = 0.3) is designed as `design` does
+//! ([`crate::design::pose::design_pose`], [`DROPS`] drops) and its kept
+//! schedule's drops are played again, from the same starts for the same
+//! time, at μ 0.24 and 0.36 ([`FrictionSpec::around`] 0.3 by
+//! [`FRACTION`], its ends and middle: the middle is the design's own
+//! play), each judged against the lifted field at that μ
+//! ([`crate::design::pose::friction`]). Minutes of CPU: three designs, then
+//! twice their drops; its own command, `platefield poses-friction-study`.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use crate::design::pose::{design_pose, friction, PoseRequest, DROPS};
+use crate::output::write_all_atomic;
+use crate::request::FrictionSpec;
+use crate::{Error, Result};
+
+/// Default output folder.
+pub const DIR: &str = "results";
+
+/// The shipped pose targets.
+const TARGETS: [&str; 3] = ["rectangle", "bracket", "triangle"];
+
+/// The friction band played: ± this fraction of the part's μ.
+pub const FRACTION: f64 = 0.2;
+
+/// The study's head.
+const INTRO: &str = "Each shipped pose target designed as `platefield design targets/pose_<part>.json` \
+does (the part's μ = 0.3; `results/poses.md` has each design), then its kept schedule's drops \
+played again from the same starts for the same time with the parts' friction at 0.24 and 0.36 \
+(±20 %; the 0.30 row is the design's own play): every support point's Coulomb law in the planar \
+simulator at that μ, each end judged against the lifted field at that μ \
+(`design::pose::friction`). Columns: the fraction of the drops ending within 1 mm and 3° of the \
+asked pose (modulo the part's symmetry), the median settle time, drops that lost contact, the \
+lifted field's stable poses modulo symmetry and each one's played basin, and the lifted field's \
+stable pose nearest the asked one: its distance and angle from the asked pose and its slowest \
+decay rate.\n\n";
+
+/// One target designed and played over the band: its section and a
+/// summary line.
+fn target(md: &mut String, summary: &mut String, name: &str) -> Result<()> {
+    let path = format!("targets/pose_{name}.json");
+    let req = PoseRequest::load(Path::new(&path))?
+        .ok_or_else(|| Error::invalid(path.clone(), "is not a pose target"))?;
+    let opts = crate::design::DesignOptions {
+        runtime: crate::work::Runtime::QUIET,
+        ..Default::default()
+    };
+    let d = design_pose(&req, &opts, DROPS)?;
+    let schedule = &d.method.kept().schedule;
+    let nominal = crate::report::pose_design::played(&d).clone();
+    let band = FrictionSpec::around(schedule.settings.friction, FRACTION);
+    let p = friction::over_range(
+        &req,
+        schedule,
+        (nominal, &d.analysis),
+        friction::rate(&d),
+        Some(band),
+    )?;
+    let o = p
+        .over_friction
+        .as_ref()
+        .expect("over_range with a range records it");
+    let _ = writeln!(
+        md,
+        "## {name} (`{path}`)\n\n{} drops of {:.1} s, pose ({:.1} mm, {:.1} mm, {:.1}°), symmetry {}; field {}.\n\n{}",
+        p.drops,
+        p.duration_s,
+        1e3 * p.pose[0],
+        1e3 * p.pose[1],
+        p.pose[2],
+        p.symmetry,
+        p.field,
+        crate::report::pose_friction::table(o)
+    );
+    let cells: Vec<String> = o
+        .at
+        .iter()
+        .map(|a| format!("{:.1} %", 100.0 * a.pose_fraction))
+        .collect();
+    let _ = writeln!(
+        summary,
+        "pose_{name}: within 1 mm and 3° at μ {}: {}",
+        band.to_json(),
+        cells.join(" / ")
+    );
+    Ok(())
+}
+
+/// Runs the study and writes `poses_friction.md` into `out`.
+///
+/// # Errors
+/// An unwritable `out`; a shipped pose target that does not load or design.
+pub fn run(out: &Path) -> Result<String> {
+    crate::output::check_writable(out, "--out")?;
+    let mut md = format!(
+        "# Pose designs over ±{:.0} % of the part's friction (issue 28)\n\n\
+         Regenerate: `platefield poses-friction-study` (deterministic). {INTRO}",
+        100.0 * FRACTION
+    );
+    let mut summary = String::new();
+    for name in TARGETS {
+        target(&mut md, &mut summary, name)?;
+    }
+    std::fs::create_dir_all(out).map_err(|e| Error::Io {
+        path: out.display().to_string(),
+        source: e,
+    })?;
+    let path = out.join("poses_friction.md");
+    write_all_atomic(&[(&path, md.as_bytes())])?;
+    let _ = writeln!(summary, "wrote {}", path.display());
+    Ok(summary)
+}
