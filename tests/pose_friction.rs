@@ -15,7 +15,6 @@ use std::path::{Path, PathBuf};
 use platefield::design::pose::{friction, PoseRequest};
 use platefield::design::stacked::ranged;
 use platefield::dynamics::Friction;
-use platefield::pose::{analyse, schedule_field};
 use platefield::request::FrictionSpec;
 use platefield::schedule::{PoseAtFriction, PoseOverFriction, PosePlayed, Schedule};
 
@@ -123,8 +122,6 @@ fn an_exact_friction_leaves_over_friction_absent() {
     let req = request("exact", "0.3");
     assert_eq!(ranged(&req.target), None);
     let s = ellipse();
-    let grid = req.target.grid.unwrap();
-    let analysis = analyse(&req.part, &schedule_field(&s, &grid).unwrap(), req.region, 4);
     let nominal = PosePlayed {
         part: "part.json".into(),
         pose: [0.0; 3],
@@ -140,7 +137,7 @@ fn an_exact_friction_leaves_over_friction_absent() {
         distinct_stable: 1,
         over_friction: None,
     };
-    let same = friction::over_range(&req, &s, (nominal.clone(), &analysis), 1.0, None).unwrap();
+    let same = friction::over_range(&req, &s, nominal.clone(), 1.0, None).unwrap();
     assert_eq!(same, nominal);
     let json = serde_json::to_string(&same).unwrap();
     assert!(!json.contains("over_friction"), "{json}");

@@ -30,8 +30,9 @@ fn basins(a: &PoseAtFriction) -> String {
 }
 
 /// One row per friction: the fraction at the pose, the median settle,
-/// the stable poses and their played basins, and the lifted field's
-/// stable pose nearest the asked one (offset and slowest decay rate).
+/// the stable poses and their played basins, where the played drops rest
+/// near the asked pose, and the lifted field's stable pose nearest it
+/// (offset and slowest decay rate).
 ///
 /// ```
 /// use platefield::dynamics::Friction;
@@ -46,6 +47,7 @@ fn basins(a: &PoseAtFriction) -> String {
 ///     distinct_stable: 1,
 ///     lifted_offset: Some([0.1, -0.5]),
 ///     lifted_rates: Some([0.4, 0.9, 1.1]),
+///     played_offset: Some([0.05, 0.3]),
 /// };
 /// let o = PoseOverFriction { range: FrictionSpec::uniform(0.3), worst_pose_fraction: 0.97, at: vec![at] };
 /// let md = platefield::report::pose_friction::table(&o);
@@ -59,6 +61,7 @@ pub fn table(o: &PoseOverFriction) -> String {
         "lost",
         "stable poses (mod symmetry)",
         "played basins",
+        "played rest off the asked (mm, °)",
         "lifted pose off the asked (mm, °)",
         "slowest lifted rate (1/s)",
     ]);
@@ -71,6 +74,8 @@ pub fn table(o: &PoseOverFriction) -> String {
             a.lost.to_string(),
             a.distinct_stable.to_string(),
             basins(a),
+            a.played_offset
+                .map_or("none near".into(), |[d, t]| format!("{d:.3}, {t:+.2}")),
             a.lifted_offset
                 .map_or("none stable".into(), |[d, t]| format!("{d:.3}, {t:+.2}")),
             a.lifted_rates

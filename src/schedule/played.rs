@@ -201,6 +201,10 @@ pub struct PoseAtFriction {
     /// That pose's decay rates, the negated real parts of its Jacobian's
     /// eigenvalues, slowest first (1/s).
     pub lifted_rates: Option<[f64; 3]>,
+    /// Where the played drops rest near the asked pose: the median
+    /// distance (mm) and signed angle (degrees, modulo symmetry) from it
+    /// of the ends within 30° of it; `None` when none ends there.
+    pub played_offset: Option<[f64; 2]>,
 }
 
 /// One stable pose of the lifted field and its basin.

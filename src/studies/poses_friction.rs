@@ -9,7 +9,7 @@
 //! [`FRACTION`], its ends and middle: the middle is the design's own
 //! play), each judged against the lifted field at that μ
 //! ([`crate::design::pose::friction`]). Minutes of CPU: three designs, then
-//! twice their drops; its own command, `platefield poses-friction-study`.
+//! three times their drops; its own command, `platefield poses-friction-study`.
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -32,12 +32,13 @@ pub const FRACTION: f64 = 0.2;
 const INTRO: &str = "Each shipped pose target designed as `platefield design targets/pose_<part>.json` \
 does (the part's μ = 0.3; `results/poses.md` has each design), then its kept schedule's drops \
 played again from the same starts for the same time with the parts' friction at 0.24 and 0.36 \
-(±20 %; the 0.30 row is the design's own play): every support point's Coulomb law in the planar \
+(±20 %), and at 0.30 again (the design's own play, the same bytes): every support point's Coulomb law in the planar \
 simulator at that μ, each end judged against the lifted field at that μ \
 (`design::pose::friction`). Columns: the fraction of the drops ending within 1 mm and 3° of the \
 asked pose (modulo the part's symmetry), the median settle time, drops that lost contact, the \
-lifted field's stable poses modulo symmetry and each one's played basin, and the lifted field's \
-stable pose nearest the asked one: its distance and angle from the asked pose and its slowest \
+lifted field's stable poses modulo symmetry and each one's played basin, where the played drops \
+rest near the asked pose (the median distance and signed angle from it of the ends within 30° of \
+it), and the lifted field's stable pose nearest the asked one: its distance and angle from the asked pose and its slowest \
 decay rate.\n\n";
 
 /// One target designed and played over the band: its section and a
@@ -54,13 +55,8 @@ fn target(md: &mut String, summary: &mut String, name: &str) -> Result<()> {
     let schedule = &d.method.kept().schedule;
     let nominal = crate::report::pose_design::played(&d).clone();
     let band = FrictionSpec::around(schedule.settings.friction, FRACTION);
-    let p = friction::over_range(
-        &req,
-        schedule,
-        (nominal, &d.analysis),
-        friction::rate(&d),
-        Some(band),
-    )?;
+    let own = nominal.pose_fraction;
+    let p = friction::over_range(&req, schedule, nominal, friction::rate(&d), Some(band))?;
     let o = p
         .over_friction
         .as_ref()
@@ -84,9 +80,10 @@ fn target(md: &mut String, summary: &mut String, name: &str) -> Result<()> {
         .collect();
     let _ = writeln!(
         summary,
-        "pose_{name}: within 1 mm and 3° at μ {}: {}",
+        "pose_{name}: within 1 mm and 3° at μ {}: {} (the design's own play: {:.1} %)",
         band.to_json(),
-        cells.join(" / ")
+        cells.join(" / "),
+        100.0 * own
     );
     Ok(())
 }

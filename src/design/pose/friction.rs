@@ -36,23 +36,24 @@
 //! `tests/pose_friction.rs` checks; the velocity field, where parts stick
 //! part of the cycle, is not.
 
-use super::play::{play, play_rate};
+use super::play::{play_ends, play_rate};
 use super::search::{nearest_stable, pose_error};
 use super::{PoseRequest, LIFTED_DROPS};
 use crate::dynamics::Friction;
 use crate::error::Result;
 use crate::play::ScheduleMotion;
-use crate::pose::{analyse, schedule_field, PoseAnalysis};
+use crate::pose::{analyse, schedule_field, Pose, PoseAnalysis};
 use crate::request::FrictionSpec;
 use crate::schedule::{PoseAtFriction, PoseOverFriction, PosePlayed, Schedule};
 
 /// Frictions played per range: its ends and middle.
 pub const PER_RANGE: usize = 3;
 
-/// `nominal` (the design's drops at the schedule's friction, `analysis`
-/// its lifted field) with the same drops played over `range`'s values
-/// (module docs), timed by the slowest decay `rate` (1/s); unchanged when
-/// `range` is `None` (an exact friction: `over_friction` stays absent).
+/// `nominal` (the design's drops at the schedule's friction) with the
+/// same drops played over `range`'s values (module docs), the middle
+/// again so that every row carries its played rest pose, timed by the
+/// slowest decay `rate` (1/s); unchanged when `range` is `None` (an exact
+/// friction: `over_friction` stays absent).
 ///
 /// # Errors
 /// A schedule whose field cannot be computed at one of the values.
@@ -66,14 +67,14 @@ pub const PER_RANGE: usize = 3;
 /// let nominal = schedule.played.as_ref().unwrap().pose.clone().unwrap();
 /// let rate = friction::rate(&d);
 /// let range = FrictionSpec::range(0.24, 0.36);
-/// let p = friction::over_range(&req, schedule, (nominal, &d.analysis), rate, Some(range))?;
+/// let p = friction::over_range(&req, schedule, nominal, rate, Some(range))?;
 /// println!("worst {:.0} %", 100.0 * p.over_friction.unwrap().worst_pose_fraction);
 /// # Ok::<(), platefield::Error>(())
 /// ```
 pub fn over_range(
     req: &PoseRequest,
     schedule: &Schedule,
-    (nominal, analysis): (PosePlayed, &PoseAnalysis),
+    nominal: PosePlayed,
     rate: f64,
     range: Option<FrictionSpec>,
 ) -> Result<PosePlayed> {
@@ -83,13 +84,7 @@ pub fn over_range(
     let at = range
         .values(PER_RANGE)
         .into_iter()
-        .map(|f| {
-            if close(f, schedule.settings.friction) {
-                Ok(entry(req, f, &nominal, analysis))
-            } else {
-                play_at(req, schedule, f, rate, nominal.drops)
-            }
-        })
+        .map(|f| play_at(req, schedule, f, rate, nominal.drops))
         .collect::<Result<Vec<_>>>()?;
     let worst_pose_fraction = at.iter().map(|a| a.pose_fraction).fold(1.0, f64::min);
     Ok(PosePlayed {
@@ -106,11 +101,6 @@ pub fn over_range(
 /// ([`super::play::play_rate`]).
 pub fn rate(d: &super::PoseDesign) -> f64 {
     play_rate(&d.request, &d.analysis, d.spin.is_some())
-}
-
-/// Equal within rounding (a range's middle against its nominal).
-fn close(a: Friction, b: Friction) -> bool {
-    (a.stat - b.stat).abs() < 1e-12 && (a.kinetic - b.kinetic).abs() < 1e-12
 }
 
 /// `drops` drops of the request's part played through `schedule` with
@@ -130,8 +120,31 @@ pub fn play_at(
     let grid = req.target.grid.unwrap_or(crate::field::Grid::DEFAULT);
     let analysis = analyse(&req.part, &schedule_field(&at, &grid)?, req.region, LIFTED_DROPS);
     let sm = ScheduleMotion::from_schedule(&at)?;
-    let p = play(req, &sm, &at.settings, (&analysis, String::new(), rate), drops);
-    Ok(entry(req, friction, &p, &analysis))
+    let (p, ends) = play_ends(req, &sm, &at.settings, (&analysis, String::new(), rate), drops);
+    Ok(entry(req, friction, &p, &analysis, &ends))
+}
+
+/// Drops ending within this angle (degrees, modulo symmetry) of the asked
+/// pose count for the played offset.
+pub const NEAR_DEG: f64 = 30.0;
+
+/// The median distance (mm) and the median signed angle (degrees, modulo
+/// symmetry) from the asked pose of the ends within [`NEAR_DEG`] of it:
+/// where the played drops come to rest near it; `None` when none does.
+fn played_offset(req: &PoseRequest, ends: &[Option<Pose>]) -> Option<[f64; 2]> {
+    let n = req.part.symmetry();
+    let (mut d, mut t): (Vec<f64>, Vec<f64>) = ends
+        .iter()
+        .flatten()
+        .map(|e| pose_error(e, &req.pose, n))
+        .map(|(d, t)| (1e3 * d, t.to_degrees()))
+        .filter(|(_, t)| t.abs() <= NEAR_DEG)
+        .unzip();
+    let median = |v: &mut Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        0.5 * (v[(v.len() - 1) / 2] + v[v.len() / 2])
+    };
+    (!d.is_empty()).then(|| [median(&mut d), median(&mut t)])
 }
 
 /// One friction's row from its played drops `p` and lifted `analysis`.
@@ -140,6 +153,7 @@ fn entry(
     friction: Friction,
     p: &PosePlayed,
     analysis: &PoseAnalysis,
+    ends: &[Option<Pose>],
 ) -> PoseAtFriction {
     let n = req.part.symmetry();
     let near = nearest_stable(&analysis.equilibria, &req.pose, n, req.part.radius());
@@ -155,5 +169,6 @@ fn entry(
             [1e3 * d, t.to_degrees()]
         }),
         lifted_rates: near.map(|e| e.rates.map(|r| -r)),
+        played_offset: played_offset(req, ends),
     }
 }

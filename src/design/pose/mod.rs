@@ -148,7 +148,7 @@ pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Res
         drops,
     );
     let range = crate::design::stacked::ranged(&req.target);
-    let played = friction::over_range(req, &schedule, (played, &analysis), rate, range)?;
+    let played = friction::over_range(req, &schedule, played, rate, range)?;
     if let Some(p) = schedule.played.as_mut() {
         p.pose = Some(played);
     }
