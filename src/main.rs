@@ -123,7 +123,10 @@ enum Command {
         out: StudyOut,
     },
     /// Study: the shipped pose designs played at their part's friction ±20 % (μ 0.24, 0.30, 0.36; minutes of CPU): poses_friction.md.
-    #[command(name = "poses-friction-study", mut_arg("out", default_dir(studies::poses_friction::DIR)))]
+    #[command(
+        name = "poses-friction-study",
+        mut_arg("out", default_dir(studies::poses_friction::DIR))
+    )]
     PosesFrictionStudy(StudyOut),
     /// Study: cheapest model rung within tolerance of the full model, per primitive: rungs.md.
     #[command(mut_arg("out", default_dir(studies::rung::DIR)))]

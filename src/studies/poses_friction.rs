@@ -73,11 +73,10 @@ fn target(md: &mut String, summary: &mut String, name: &str) -> Result<()> {
         p.field,
         crate::report::pose_friction::table(o)
     );
-    let cells: Vec<String> = o
-        .at
-        .iter()
-        .map(|a| format!("{:.1} %", 100.0 * a.pose_fraction))
-        .collect();
+    let cells: Vec<String> =
+        o.at.iter()
+            .map(|a| format!("{:.1} %", 100.0 * a.pose_fraction))
+            .collect();
     let _ = writeln!(
         summary,
         "pose_{name}: within 1 mm and 3° at μ {}: {} (the design's own play: {:.1} %)",

@@ -20,21 +20,23 @@
 //! that friction). Every friction plays the same starts for the same time
 //! (the middle's: [`super::play::play_rate`]).
 //!
-//! **Why the pose moves with μ.** The placement puts the middle's lifted
-//! stable pose on the asked one. The lifted field is the part's mean twist
-//! from the point-part velocity field, and that field is not a fixed
-//! shape times a μ-dependent speed: the slip direction leads the plate
-//! velocity by δ = asin(μg/A) (`synth` docs), so a friction error turns
-//! the field about every point, and a turned elliptic sink has its zero and
-//! its principal axes elsewhere. Measured on the shipped designs
-//! (`platefield poses-friction-study`, `results/poses_friction.md`): the
-//! lifted pose moves by tenths of a millimetre and about a degree over
-//! ±20 % of μ, while the slowest lifted decay rate changes by less than μ
-//! does: the velocity field is not ∝ μ. The averaged friction *force* on
-//! a part held still is ∝ μ in pure slip (the slip direction is then the
-//! plate's velocity direction, whatever μ), a closed form
-//! `tests/pose_friction.rs` checks; the velocity field, where parts stick
-//! part of the cycle, is not.
+//! **Why the pose moves with μ.** The placement puts the middle's stable
+//! pose on the asked one; at another μ the field is another field, not
+//! the same shape at another speed. One synthesized motion's slip
+//! direction leads the plate velocity by δ = asin(μg/A) (`synth` docs),
+//! so a friction error turns the field about every point: the elliptic
+//! sink's principal axes turn with μ and the part's long axis follows.
+//! Measured on the shipped designs (`platefield poses-friction-study`,
+//! `results/poses_friction.md`, μ 0.24 → 0.36): the rectangle's lifted
+//! pose turns by −1.25° and the triangle's by −4.2°, each within 0.12 mm,
+//! while the slowest lifted rate stays within 2 % (0.642 → 0.641 1/s for
+//! the rectangle: the synthesized field's strength is not ∝ μ); the
+//! bracket's spin route, whose angle is a balance of the spin's torque
+//! against the sink's, turns by +16°. On a schedule whose field is
+//! mirror-symmetric in x and y at every μ (line sinks at 0°, 90°, 180°,
+//! 270°) the pose cannot move and only the speed changes, all lifted
+//! rates by one factor (1.78 from μ 0.2 to 0.4: less than μ's 2);
+//! `tests/pose_friction.rs` checks both.
 
 use super::play::{play_ends, play_rate};
 use super::search::{nearest_stable, pose_error};
@@ -118,9 +120,20 @@ pub fn play_at(
     let mut at = schedule.clone();
     at.settings.friction = friction;
     let grid = req.target.grid.unwrap_or(crate::field::Grid::DEFAULT);
-    let analysis = analyse(&req.part, &schedule_field(&at, &grid)?, req.region, LIFTED_DROPS);
+    let analysis = analyse(
+        &req.part,
+        &schedule_field(&at, &grid)?,
+        req.region,
+        LIFTED_DROPS,
+    );
     let sm = ScheduleMotion::from_schedule(&at)?;
-    let (p, ends) = play_ends(req, &sm, &at.settings, (&analysis, String::new(), rate), drops);
+    let (p, ends) = play_ends(
+        req,
+        &sm,
+        &at.settings,
+        (&analysis, String::new(), rate),
+        drops,
+    );
     Ok(entry(req, friction, &p, &analysis, &ends))
 }
 

@@ -24,7 +24,9 @@
 //!    [`TOL_MM`] and [`TOL_DEG`] of the pose modulo its symmetry, recorded
 //!    in `schedule.json`'s `played.pose` ([`crate::schedule::PosePlayed`])
 //!    with the median settle time and each stable pose's basin, predicted
-//!    (along the lifted field) and played.
+//!    (along the lifted field) and played. When the part's friction is a
+//!    range, the same drops are also played at its ends and middle
+//!    ([`friction`]: `played.pose.over_friction`).
 //!
 //! The kept schedule is the placed motion, its `target_spec` the elliptic
 //! sink placed with it. Its point-part check (`played`, and `fit`) is the
