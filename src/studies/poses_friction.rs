@@ -3,7 +3,7 @@
 //!
 //! Each shipped pose target (`targets/pose_{rectangle,bracket,triangle}.json`,
 //! parts of μ = 0.3) is designed as `design` does
-//! ([`crate::design::pose::design_pose`], [`DROPS`] drops) and its kept
+//! ([`crate::design::pose::design_pose`], [`crate::design::pose::DROPS`] drops) and its kept
 //! schedule's drops are played again, from the same starts for the same
 //! time, at μ 0.24 and 0.36 ([`FrictionSpec::around`] 0.3 by
 //! [`FRACTION`], its ends and middle: the middle is the design's own
@@ -14,10 +14,9 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use crate::design::pose::{design_pose, friction, PoseRequest, DROPS};
-use crate::output::write_all_atomic;
+use crate::design::pose::friction;
 use crate::request::FrictionSpec;
-use crate::{Error, Result};
+use crate::Result;
 
 /// Default output folder.
 pub const DIR: &str = "results";
@@ -44,14 +43,7 @@ decay rate.\n\n";
 /// One target designed and played over the band: its section and a
 /// summary line.
 fn target(md: &mut String, summary: &mut String, name: &str) -> Result<()> {
-    let path = format!("targets/pose_{name}.json");
-    let req = PoseRequest::load(Path::new(&path))?
-        .ok_or_else(|| Error::invalid(path.clone(), "is not a pose target"))?;
-    let opts = crate::design::DesignOptions {
-        runtime: crate::work::Runtime::QUIET,
-        ..Default::default()
-    };
-    let d = design_pose(&req, &opts, DROPS)?;
+    let (path, req, d) = super::poses::designed(name)?;
     let schedule = &d.method.kept().schedule;
     let nominal = crate::report::pose_design::played(&d).clone();
     let band = FrictionSpec::around(schedule.settings.friction, FRACTION);
@@ -102,12 +94,5 @@ pub fn run(out: &Path) -> Result<String> {
     for name in TARGETS {
         target(&mut md, &mut summary, name)?;
     }
-    std::fs::create_dir_all(out).map_err(|e| Error::Io {
-        path: out.display().to_string(),
-        source: e,
-    })?;
-    let path = out.join("poses_friction.md");
-    write_all_atomic(&[(&path, md.as_bytes())])?;
-    let _ = writeln!(summary, "wrote {}", path.display());
-    Ok(summary)
+    super::poses::write_md(out, "poses_friction.md", &md, summary)
 }
