@@ -10,7 +10,7 @@
 //! the least over them. The design itself is made, placed and corrected at
 //! the middle; `pose_fraction` stays the middle's.
 //!
-//! **Which μ the drops take.** [`super::play::play`] builds its
+//! **Which μ the drops take.** `play::play` builds its
 //! [`crate::pose::DropPlay`] from the settings it is given, and a design
 //! passes the schedule's, whose friction is the target's nominal (the
 //! middle of a range). Here each value is played with the schedule's
@@ -18,7 +18,7 @@
 //! planar simulator takes it, and each drop's end is classified against
 //! the lifted field computed at it ([`crate::pose::schedule_field`] with
 //! that friction). Every friction plays the same starts for the same time
-//! (the middle's: [`super::play::play_rate`]).
+//! (the middle's: `play::play_rate`).
 //!
 //! **Why the pose moves with μ.** The placement puts the middle's stable
 //! pose on the asked one; at another μ the field is another field, not
@@ -102,7 +102,7 @@ pub fn over_range(
 }
 
 /// The slowest decay rate `design` timed `d`'s drops by
-/// ([`super::play::play_rate`]).
+/// (`play::play_rate`).
 pub fn rate(d: &super::PoseDesign) -> f64 {
     play_rate(&d.request, &d.analysis, d.spin.is_some())
 }
