@@ -122,6 +122,12 @@ enum Command {
         #[command(flatten)]
         out: StudyOut,
     },
+    /// Study: the shipped pose designs played at their part's friction ±20 % (μ 0.24, 0.30, 0.36; minutes of CPU): poses_friction.md.
+    #[command(
+        name = "poses-friction-study",
+        mut_arg("out", default_dir(studies::poses_friction::DIR))
+    )]
+    PosesFrictionStudy(StudyOut),
     /// Study: cheapest model rung within tolerance of the full model, per primitive: rungs.md.
     #[command(mut_arg("out", default_dir(studies::rung::DIR)))]
     Rungs {
@@ -305,6 +311,11 @@ fn run(cli: Cli) -> Result<String> {
                 .map(|e| e.plus(drops, platefield::work::PLANAR_POINT_STEP_COST));
             studies::watched("poses-study", expected, false, || {
                 studies::poses::run(&out.out, play_drops)
+            })
+        }
+        Command::PosesFrictionStudy(o) => {
+            studies::watched_defaults("poses-friction-study", false, || {
+                studies::poses_friction::run(&o.out)
             })
         }
         Command::Rungs { tolerance, out } => {

@@ -13,6 +13,7 @@ pub mod design;
 pub(crate) mod method;
 pub mod order;
 pub(crate) mod pose_design;
+pub mod pose_friction;
 pub mod poses;
 pub mod run_design;
 pub(crate) mod sort;

@@ -21,9 +21,17 @@ pub fn played(d: &PoseDesign) -> &PosePlayed {
         .expect("design_pose records the played drops")
 }
 
-/// One line: the pose fraction, the median settle time, the uniqueness.
+/// One line: the pose fraction, the median settle time, the uniqueness;
+/// a second with the worst fraction over the part's friction range.
 pub fn headline(d: &PoseDesign) -> String {
     let p = played(d);
+    let worst = p.over_friction.as_ref().map_or(String::new(), |o| {
+        format!(
+            "over the part's friction {}: worst {:.1} % within {TOL_MM} mm and {TOL_DEG}° (report.md has each value)\n",
+            o.range.to_json(),
+            100.0 * o.worst_pose_fraction
+        )
+    });
     let settle = p
         .median_settle_s
         .map_or("none (half or more never settle)".into(), |t| {
@@ -47,7 +55,7 @@ pub fn headline(d: &PoseDesign) -> String {
                 p.distinct_stable
             )
         }
-    )
+    ) + &worst
 }
 
 /// A placement in words: turn (°) and reference point (mm).
@@ -135,6 +143,9 @@ pub fn pose_md(d: &PoseDesign) -> String {
         d.analysis.drops
     );
     basins_md(p, &mut md);
+    if let Some(o) = &p.over_friction {
+        md.push_str(&super::pose_friction::section(o));
+    }
     md
 }
 

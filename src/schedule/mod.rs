@@ -45,7 +45,9 @@ use crate::fit::FitMetrics;
 use crate::motion::{Motion, Ramped, Signals};
 use crate::request::Target;
 
-pub use played::{AxisPeaks, Method, Played, PoseBasin, PosePlayed};
+pub use played::{
+    AxisPeaks, Method, Played, PoseAtFriction, PoseBasin, PoseOverFriction, PosePlayed,
+};
 pub use quantize::{quantize, Quantized, DEFAULT_MIN_CYCLES, DEFAULT_QUANTIZATION_TOL};
 
 /// Most cycles of one segment (about 50 minutes of plate motion at the

@@ -4,7 +4,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::request::ShakerSpec;
+use crate::dynamics::Friction;
+use crate::request::{FrictionSpec, ShakerSpec};
 
 /// How `design` designs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
@@ -155,6 +156,55 @@ pub struct PosePlayed {
     pub stable: Vec<PoseBasin>,
     /// Stable poses modulo the part's symmetry: 1 when the pose is unique.
     pub distinct_stable: usize,
+    /// The same drops played at the ends and middle of the part's friction
+    /// range (`design::pose::friction`); `None` for an exact friction.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub over_friction: Option<PoseOverFriction>,
+}
+
+/// A pose design's drops played over the part's friction range: the same
+/// starts and play time at each friction, each judged against the lifted
+/// field at that friction.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PoseOverFriction {
+    /// The range played (the target's, or the part's when the target
+    /// states none).
+    pub range: FrictionSpec,
+    /// The least `pose_fraction` over the frictions played.
+    pub worst_pose_fraction: f64,
+    /// Each friction played, low to high (the range's ends and middle).
+    pub at: Vec<PoseAtFriction>,
+}
+
+/// The drops of a pose design played at one friction.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PoseAtFriction {
+    /// The friction the drops and the lifted field were computed at.
+    pub friction: Friction,
+    /// Fraction of the drops ending within the tolerance of the pose.
+    pub pose_fraction: f64,
+    /// Median settle time (s), as [`PosePlayed::median_settle_s`].
+    pub median_settle_s: Option<f64>,
+    /// Drops that lost contact.
+    pub lost: usize,
+    /// The lifted field's stable poses at this friction, with their
+    /// basins (lifted and played).
+    pub stable: Vec<PoseBasin>,
+    /// Stable poses modulo the part's symmetry.
+    pub distinct_stable: usize,
+    /// The lifted field's stable pose nearest the asked one at this
+    /// friction: its distance (mm) and angle (degrees, modulo symmetry)
+    /// from the asked pose; `None` when it has no stable pose.
+    pub lifted_offset: Option<[f64; 2]>,
+    /// That pose's decay rates, the negated real parts of its Jacobian's
+    /// eigenvalues, slowest first (1/s).
+    pub lifted_rates: Option<[f64; 3]>,
+    /// Where the played drops rest near the asked pose: the median
+    /// distance (mm) and signed angle (degrees, modulo symmetry) from it
+    /// of the ends within 30° of it; `None` when none ends there.
+    pub played_offset: Option<[f64; 2]>,
 }
 
 /// One stable pose of the lifted field and its basin.

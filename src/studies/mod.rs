@@ -17,6 +17,7 @@
 //! | [`synthesis`] | `platefield synthesis` | `synthesis.{md,csv}` |
 //! | [`design_speed`] | `platefield design-speed` | `design_speed.md` |
 //! | [`poses`] | `platefield poses-study` | `poses.md` |
+//! | [`poses_friction`] | `platefield poses-friction-study` | `poses_friction.md` (the pose designs at μ ± 20 %) |
 //! | [`probes`] | `platefield probes` | `probes.md` (the measurements behind numbers the docs state) |
 
 pub mod design_speed;
@@ -25,6 +26,7 @@ pub mod fit_quality;
 pub mod interaction;
 pub mod linesink;
 pub mod poses;
+pub mod poses_friction;
 pub mod primitives;
 pub mod probes;
 pub mod reproduce;

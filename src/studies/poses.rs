@@ -20,6 +20,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
+use crate::design::pose::PoseRequest;
 use crate::output::write_all_atomic;
 use crate::part::Part;
 use crate::play::ScheduleMotion;
@@ -157,15 +158,7 @@ const POSE_TARGETS: [&str; 3] = ["rectangle", "bracket", "triangle"];
 /// drops: its report section, the lifted equilibria of its predicted and
 /// realised point fields, and a summary line.
 fn pose_target(md: &mut String, summary: &mut String, name: &str) -> Result<()> {
-    use crate::design::pose::{design_pose, PoseRequest, DROPS};
-    let path = format!("targets/pose_{name}.json");
-    let req = PoseRequest::load(Path::new(&path))?
-        .ok_or_else(|| Error::invalid(path.clone(), "is not a pose target"))?;
-    let opts = crate::design::DesignOptions {
-        runtime: crate::work::Runtime::QUIET,
-        ..Default::default()
-    };
-    let d = design_pose(&req, &opts, DROPS)?;
+    let (path, req, d) = designed(name)?;
     let _ = writeln!(md, "### {name} (`{path}`)\n");
     let section = crate::report::pose_design::pose_md(&d);
     md.push_str(section.trim_start_matches("## Pose target\n\n"));
@@ -199,6 +192,43 @@ fn pose_target(md: &mut String, summary: &mut String, name: &str) -> Result<()> 
         p.distinct_stable
     );
     Ok(())
+}
+
+/// The shipped pose target `targets/pose_{name}.json` designed as
+/// `design` does, quietly, with [`crate::design::pose::DROPS`] drops: its
+/// path, request and design.
+///
+/// # Errors
+/// A target that does not load, is not a pose target or does not design.
+pub(crate) fn designed(
+    name: &str,
+) -> Result<(String, PoseRequest, crate::design::pose::PoseDesign)> {
+    use crate::design::pose::{design_pose, DROPS};
+    let path = format!("targets/pose_{name}.json");
+    let req = PoseRequest::load(Path::new(&path))?
+        .ok_or_else(|| Error::invalid(path.clone(), "is not a pose target"))?;
+    let opts = crate::design::DesignOptions {
+        runtime: crate::work::Runtime::QUIET,
+        ..Default::default()
+    };
+    let d = design_pose(&req, &opts, DROPS)?;
+    Ok((path, req, d))
+}
+
+/// Writes `md` to `out/file` (the folder made first) and appends the
+/// "wrote" line to `summary`, which it returns.
+///
+/// # Errors
+/// The folder or the file cannot be written.
+pub(crate) fn write_md(out: &Path, file: &str, md: &str, mut summary: String) -> Result<String> {
+    std::fs::create_dir_all(out).map_err(|e| Error::Io {
+        path: out.display().to_string(),
+        source: e,
+    })?;
+    let path = out.join(file);
+    write_all_atomic(&[(&path, md.as_bytes())])?;
+    let _ = writeln!(summary, "wrote {}", path.display());
+    Ok(summary)
 }
 
 /// The work `--play-drops` adds to the study: `play_drops` drops of each
@@ -291,12 +321,5 @@ pub fn run(out: &Path, play_drops: usize) -> Result<String> {
     for name in POSE_TARGETS {
         pose_target(&mut md, &mut summary, name)?;
     }
-    std::fs::create_dir_all(out).map_err(|e| Error::Io {
-        path: out.display().to_string(),
-        source: e,
-    })?;
-    let path = out.join("poses.md");
-    write_all_atomic(&[(&path, md.as_bytes())])?;
-    let _ = writeln!(summary, "wrote {}", path.display());
-    Ok(summary)
+    write_md(out, "poses.md", &md, summary)
 }

@@ -24,7 +24,9 @@
 //!    [`TOL_MM`] and [`TOL_DEG`] of the pose modulo its symmetry, recorded
 //!    in `schedule.json`'s `played.pose` ([`crate::schedule::PosePlayed`])
 //!    with the median settle time and each stable pose's basin, predicted
-//!    (along the lifted field) and played.
+//!    (along the lifted field) and played. When the part's friction is a
+//!    range, the same drops are also played at its ends and middle
+//!    ([`friction`]: `played.pose.over_friction`).
 //!
 //! The kept schedule is the placed motion, its `target_spec` the elliptic
 //! sink placed with it. Its point-part check (`played`, and `fit`) is the
@@ -33,6 +35,7 @@
 //! unchanged up to where the grid samples them.
 
 pub(crate) mod correct;
+pub mod friction;
 pub mod placement;
 pub(crate) mod play;
 pub(crate) mod request;
@@ -127,12 +130,7 @@ pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Res
     let mut schedule = kept.schedule(&origin, Some(target))?;
     let field = schedule_field(&schedule, &grid)?;
     let analysis = analyse(&req.part, &field, req.region, LIFTED_DROPS);
-    // The spin route plays the longest (`play::play_seconds(0)`): its
-    // slowest lifted rate is a spiral's and drops from the region's edge
-    // settle later than it predicts (module `spin` docs).
-    let rate = search::nearest_stable(&analysis.equilibria, &req.pose, n, req.part.radius())
-        .filter(|_| spin.is_none())
-        .map_or(0.0, |e| -e.rates[0]);
+    let rate = play::play_rate(req, &analysis, spin.is_some());
     let sm = ScheduleMotion::from_schedule(&schedule)?;
     let label = match spin {
         Some(s) => format!(
@@ -151,6 +149,8 @@ pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Res
         (&analysis, format!("one synthesized motion: {label}"), rate),
         drops,
     );
+    let range = crate::design::stacked::ranged(&req.target);
+    let played = friction::over_range(req, &schedule, played, rate, range)?;
     if let Some(p) = schedule.played.as_mut() {
         p.pose = Some(played);
     }

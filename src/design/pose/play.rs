@@ -42,6 +42,18 @@ pub fn play_seconds(rate: f64) -> f64 {
     }
 }
 
+/// The slowest decay rate (1/s) a design's drops are timed by
+/// ([`play_seconds`]): the lifted field's at the stable pose of
+/// `analysis` nearest the asked one; 0 (the longest play) for a spun
+/// motion, whose slowest lifted rate is a spiral's and whose drops from
+/// the region's edge settle later than it predicts (module `spin` docs).
+pub fn play_rate(req: &PoseRequest, analysis: &PoseAnalysis, spun: bool) -> f64 {
+    let (n, radius) = (req.part.symmetry(), req.part.radius());
+    super::search::nearest_stable(&analysis.equilibria, &req.pose, n, radius)
+        .filter(|_| !spun)
+        .map_or(0.0, |e| -e.rates[0])
+}
+
 /// Whether `p` is at the `asked` pose (modulo symmetry `n`).
 pub fn at_pose(p: &Pose, asked: &Pose, n: usize) -> bool {
     let (d, t) = pose_error(p, asked, n);
@@ -88,6 +100,17 @@ pub fn play(
     (analysis, field, rate): (&PoseAnalysis, String, f64),
     drops: usize,
 ) -> PosePlayed {
+    play_ends(req, sm, settings, (analysis, field, rate), drops).0
+}
+
+/// [`play`], with each drop's end pose (`None`: it lost contact).
+pub fn play_ends(
+    req: &PoseRequest,
+    sm: &ScheduleMotion,
+    settings: &FieldSettings,
+    (analysis, field, rate): (&PoseAnalysis, String, f64),
+    drops: usize,
+) -> (PosePlayed, Vec<Option<Pose>>) {
     let n = req.part.symmetry();
     let duration = play_seconds(rate);
     let starts = drop_starts(&analysis.starts, drops);
@@ -98,14 +121,17 @@ pub fn play(
     let stable_eq: Vec<_> = stable.iter().map(|&i| eqs[i]).collect();
     let mut ends = vec![0usize; stable.len()];
     let mut settle = Vec::with_capacity(runs.len());
+    let mut end_poses = Vec::with_capacity(runs.len());
     let (mut at, mut lost, mut time) = (0usize, 0usize, 0.0);
     for run in &runs {
         let Ok((end, track)) = run else {
             lost += 1;
             settle.push(None);
+            end_poses.push(None);
             continue;
         };
         time = end.time;
+        end_poses.push(Some(end.pose));
         at += usize::from(at_pose(&end.pose, &req.pose, n));
         settle.push(settled_from(track, &req.pose, n).map(|k| (k + 1) as f64 * period));
         if let Some((k, _)) = nearest(&stable_eq, &end.pose, req.part.radius()) {
@@ -126,7 +152,7 @@ pub fn play(
             played: c as f64 / total,
         })
         .collect();
-    PosePlayed {
+    let played = PosePlayed {
         part: req.part_path.clone(),
         pose: [req.pose.r.x, req.pose.r.y, req.pose.theta.to_degrees()],
         symmetry: n,
@@ -139,5 +165,7 @@ pub fn play(
         lost,
         stable: basins,
         distinct_stable: super::search::distinct_stable(eqs, n).len(),
-    }
+        over_friction: None,
+    };
+    (played, end_poses)
 }
