@@ -2,7 +2,7 @@
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 
-use platefield::dynamics::{Friction, Model, Numerics, Simulator};
+use platefield::dynamics::{Friction, Model, Numerics, PartPhysics, Simulator};
 use platefield::studies::linesink::{LineSink, Wave};
 
 fn shaker(wave: Wave, accel: f64, depth: f64) -> LineSink {
@@ -37,7 +37,11 @@ fn steady_state(c: &mut Criterion) {
         ),
     ] {
         let motion = ls.motion();
-        let sim = Simulator::new(&motion, ls.friction, 9.81, model, Numerics::default());
+        let sim = Simulator::new(
+            &motion,
+            PartPhysics::new(ls.friction, 9.81, model),
+            Numerics::default(),
+        );
         c.bench_function(name, |b| {
             b.iter(|| sim.steady_state(black_box([0.02, 0.0])))
         });

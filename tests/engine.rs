@@ -48,13 +48,7 @@ fn stalled_steady_state_stops_early_or_is_not_converged() {
         max_iterations: 60,
         ..settings.numerics
     };
-    let sim = Simulator::new(
-        &motion,
-        settings.friction,
-        settings.gravity,
-        settings.model,
-        strict,
-    );
+    let sim = Simulator::new(&motion, settings.physics(), strict);
     match sim.steady_state([0.024, 0.0]) {
         Err(SteadyFailure::NotConverged {
             residual,

@@ -3,8 +3,8 @@
 
 use platefield::basis::{Primitive, PrimitiveKind};
 use platefield::dynamics::{
-    Friction, Model, Numerics, PartState, PlanarSample, PlanarSimulator, PlanarState, Plate,
-    Rectangle, Simulator, V2,
+    Friction, Model, Numerics, PartPhysics, PartState, PlanarSample, PlanarSimulator, PlanarState,
+    Plate, Rectangle, Simulator, V2,
 };
 use platefield::motion::{Motion, Screw, Waveform, V3};
 use platefield::play::{PlayedSegment, ScheduleMotion};
@@ -62,8 +62,12 @@ fn stuck_rectangle_never_moves() {
         let m = p.motion();
         let top = max_accel(&m, &rect, r, theta);
         assert!(top < 0.8 * MU * G && top > 0.5 * MU * G, "{kind:?}: {top}");
-        let sim =
-            PlanarSimulator::for_motion(&rect, &m, Friction::uniform(MU), G, Model::FULL, 128);
+        let sim = PlanarSimulator::for_motion(
+            &rect,
+            &m,
+            PartPhysics::new(Friction::uniform(MU), G, Model::FULL),
+            128,
+        );
         let start = PlanarState::at_rest(r, theta);
         let mut s = start;
         let mut rec: Vec<PlanarSample> = Vec::new();
@@ -93,9 +97,7 @@ fn rest_sim(rect: &Rectangle) -> PlanarSimulator<'static> {
     PlanarSimulator::for_body(
         rect,
         Plate::Rest,
-        Friction::uniform(MU),
-        G,
-        Model::FULL,
+        PartPhysics::new(Friction::uniform(MU), G, Model::FULL),
         0.03 / 128.0,
     )
 }
@@ -182,8 +184,13 @@ fn mean_velocity(
     theta: f64,
     cycles: (u32, u32),
 ) -> V2 {
-    let sim = PlanarSimulator::for_motion(rect, m, Friction::uniform(MU), G, model, spc)
-        .with_refinement(depth);
+    let sim = PlanarSimulator::for_motion(
+        rect,
+        m,
+        PartPhysics::new(Friction::uniform(MU), G, model),
+        spc,
+    )
+    .with_refinement(depth);
     let a = V2::new(x, 0.0);
     let mut s = PlanarState::at_rest(a, theta);
     let t = |c: u32| f64::from(c) * m.period();
@@ -235,7 +242,7 @@ fn exact_displacement(m: &Motion, model: Model, x: f64) -> f64 {
         steps_per_cycle: 256,
         ..Numerics::default()
     };
-    let sim = Simulator::new(m, Friction::uniform(MU), G, model, num);
+    let sim = Simulator::new(m, PartPhysics::new(Friction::uniform(MU), G, model), num);
     let a = V2::new(x, 0.0);
     let mut s = PartState::new(a, V2::zeros());
     sim.advance(0.0, 40.0 * m.period(), &mut s, &a, None)
@@ -254,9 +261,7 @@ fn point_error(m: &Motion, model: Model, spc: usize, depth: u32) -> f64 {
         let sim = PlanarSimulator::for_motion(
             &Rectangle::point(),
             m,
-            Friction::uniform(MU),
-            G,
-            model,
+            PartPhysics::new(Friction::uniform(MU), G, model),
             spc,
         )
         .with_refinement(depth);
@@ -321,9 +326,7 @@ fn point_case_converges_to_the_exact_integrator() {
 fn line_sink_zero_line(m: &Motion) -> f64 {
     let sim = Simulator::new(
         m,
-        Friction::uniform(MU),
-        G,
-        Model::FULL,
+        PartPhysics::new(Friction::uniform(MU), G, Model::FULL),
         Numerics::default(),
     );
     let v = |x: f64| sim.steady_state([x, 0.0]).unwrap().velocity[0];
@@ -391,7 +394,12 @@ fn rectangle_aligns_with_the_line_sink() {
 #[test]
 fn mirrored_start_ends_mirrored() {
     let m = Primitive::new(PrimitiveKind::LineSink).motion();
-    let sim = PlanarSimulator::for_motion(&strip(), &m, Friction::uniform(MU), G, Model::FULL, 128);
+    let sim = PlanarSimulator::for_motion(
+        &strip(),
+        &m,
+        PartPhysics::new(Friction::uniform(MU), G, Model::FULL),
+        128,
+    );
     let run = |y: f64, th: f64| {
         let a = V2::new(0.012, y);
         let mut s = PlanarState::at_rest(a, th);
@@ -533,8 +541,13 @@ fn bad_input_is_invalid() {
 /// Pose (x, θ) of the strip after `seconds` of LineSink from (x, 0) at 45°.
 fn strip_pose(rect: &Rectangle, spc: usize, depth: u32, x: f64, seconds: f64) -> (f64, f64, u64) {
     let m = Primitive::new(PrimitiveKind::LineSink).motion();
-    let sim = PlanarSimulator::for_motion(rect, &m, Friction::uniform(MU), G, Model::FULL, spc)
-        .with_refinement(depth);
+    let sim = PlanarSimulator::for_motion(
+        rect,
+        &m,
+        PartPhysics::new(Friction::uniform(MU), G, Model::FULL),
+        spc,
+    )
+    .with_refinement(depth);
     let a = V2::new(x, 0.0);
     let th = f64::to_radians(45.0);
     let mut s = PlanarState::at_rest(a, th);

@@ -206,9 +206,7 @@ fn lifted_field_against_simulation() {
                 &lifted,
                 &part.body,
                 &motion,
-                settings.friction,
-                settings.gravity,
-                settings.model,
+                settings.physics(),
                 *p,
                 &measure,
             )

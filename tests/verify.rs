@@ -1,7 +1,7 @@
 //! Playing schedules and the realised measure (`platefield::play`).
 
 use platefield::basis::{Primitive, PrimitiveKind};
-use platefield::dynamics::{Friction, Model, Numerics, PartState, Simulator};
+use platefield::dynamics::{Friction, Model, Numerics, PartPhysics, PartState, Simulator};
 use platefield::motion::{Motion, Screw, Waveform};
 use platefield::play::{
     grid_points, rest, verify_points, Join, PlayOptions as VerifyOptions, PlayedSegment,
@@ -19,7 +19,7 @@ const G: f64 = 9.81;
 fn plate_at_rest_creates_no_energy() {
     let f = Friction::uniform(0.3);
     let sm = ScheduleMotion::new(vec![PlayedSegment::rest(0.1)]).unwrap();
-    let player = sm.player(f, G, Model::FULL, Numerics::default());
+    let player = sm.player(PartPhysics::new(f, G, Model::FULL), Numerics::default());
     let a = V2::new(0.01, -0.02);
     let mut s = PartState::new(a, V2::zeros());
     player.play_periods(&mut s, &a, 0, 3, |_, _, _| {}).unwrap();
@@ -47,7 +47,11 @@ fn plate_at_rest_creates_no_energy() {
         rotation: Waveform::Zero,
         translation: Waveform::Zero,
     });
-    let sim = Simulator::new(&zero, f, G, Model::FULL, Numerics::default());
+    let sim = Simulator::new(
+        &zero,
+        PartPhysics::new(f, G, Model::FULL),
+        Numerics::default(),
+    );
     let mut s = PartState::new(a, u0);
     sim.advance(0.0, 0.06, &mut s, &a, None).unwrap();
     assert_eq!(s.u, V2::zeros());

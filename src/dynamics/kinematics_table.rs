@@ -311,7 +311,7 @@ impl<'a> KinematicsTable<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dynamics::{Friction, Model, Numerics, PartState, Simulator, V2};
+    use crate::dynamics::{Numerics, PartPhysics, PartState, Simulator, V2};
     use crate::motion::{FourierTerm, Screw, Waveform};
 
     fn screw(rotation: Waveform, translation: Waveform) -> Motion {
@@ -330,7 +330,7 @@ mod tests {
             steps_per_cycle: steps,
             ..Numerics::default()
         };
-        Simulator::new(motion, Friction::uniform(0.3), 9.81, Model::FULL, numerics)
+        Simulator::new(motion, PartPhysics::full(0.3), numerics)
     }
 
     fn fourier() -> Waveform {

@@ -2,7 +2,7 @@
 //! ([`Motion::slip_axis`]) skip the 2-D checks without changing a bit.
 
 use super::*;
-use crate::dynamics::{Friction, Model, Numerics};
+use crate::dynamics::{Model, Numerics, PartPhysics};
 use crate::motion::{Motion, Screw, Waveform, V3};
 
 const PERIOD: f64 = 0.03;
@@ -104,8 +104,7 @@ fn line_fast_path_is_bitwise_the_general_path() {
                     slip,
                     ..Numerics::default()
                 };
-                let fast =
-                    Simulator::new(&motion, Friction::uniform(0.3), 9.81, Model::FULL, numerics);
+                let fast = Simulator::new(&motion, PartPhysics::full(0.3), numerics);
                 let mut general = fast.clone();
                 general.line = None;
                 assert_eq!(fast.line, Some(i));

@@ -309,6 +309,44 @@ impl Friction {
     }
 }
 
+/// The physics a part is played under: its Coulomb friction with the
+/// plate, the gravity g (m/s²) that presses it onto the plate, and which
+/// physical terms are modelled. The three go together wherever a part is
+/// played; both simulators ([`Simulator`], [`PlanarSimulator`]) take them
+/// as one.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PartPhysics {
+    /// Friction coefficients.
+    pub friction: Friction,
+    /// Gravity (m/s²).
+    pub gravity: f64,
+    /// Model switches.
+    pub model: Model,
+}
+
+impl PartPhysics {
+    /// The physics of these three.
+    pub fn new(friction: Friction, gravity: f64, model: Model) -> PartPhysics {
+        PartPhysics {
+            friction,
+            gravity,
+            model,
+        }
+    }
+
+    /// Friction μ (static = kinetic) under g = 9.81 m/s² with every term
+    /// modelled ([`Model::FULL`]).
+    ///
+    /// ```
+    /// use platefield::dynamics::{Friction, Model, PartPhysics};
+    /// let c = PartPhysics::full(0.3);
+    /// assert_eq!((c.friction, c.gravity, c.model), (Friction::uniform(0.3), 9.81, Model::FULL));
+    /// ```
+    pub fn full(mu: f64) -> PartPhysics {
+        PartPhysics::new(Friction::uniform(mu), 9.81, Model::FULL)
+    }
+}
+
 /// Fewest RK4 steps per cycle any field is integrated with. Measured on a
 /// velocity field of the Trans signals (harmonics 1 and 2) against 4096
 /// steps: 4 steps per cycle are 40 % off, 8 steps 6.5 %, 16 steps 0.8 %,

@@ -103,7 +103,7 @@ mod solver;
 use serde::{Deserialize, Serialize};
 
 use self::solver::{minimise, shrink, Contact};
-use super::{ContactLoss, Friction, Model, V2};
+use super::{ContactLoss, Friction, Model, PartPhysics, V2};
 use crate::error::{positive, Error, Result};
 use crate::motion::{Kinematics, Motion, V3};
 
@@ -404,12 +404,12 @@ impl<'a> PlanarSimulator<'a> {
     /// ([`Rectangle::validate`], [`Friction::validate`], step > 0).
     ///
     /// ```
-    /// use platefield::dynamics::{Friction, Model, PlanarBody, PlanarSimulator, PlanarState, Plate, V2};
+    /// use platefield::dynamics::{PartPhysics, PlanarBody, PlanarSimulator, PlanarState, Plate, V2};
     /// let (body, _) = PlanarBody::centred(
     ///     &[V2::new(-0.01, 0.0), V2::new(0.01, 0.0), V2::new(0.0, 0.01)],
     ///     &[1.0, 1.0, 2.0],
     /// );
-    /// let sim = PlanarSimulator::for_body(body, Plate::Rest, Friction::uniform(0.3), 9.81, Model::FULL, 1e-4);
+    /// let sim = PlanarSimulator::for_body(body, Plate::Rest, PartPhysics::full(0.3), 1e-4);
     /// let mut s = PlanarState::slipping(V2::zeros(), 0.0, V2::new(0.01, 0.0), 0.0);
     /// sim.advance(0.0, 0.01, &mut s, (V2::zeros(), 0.0), None).unwrap();
     /// assert!(s.stuck); // sliding to rest on a plate at rest
@@ -417,12 +417,15 @@ impl<'a> PlanarSimulator<'a> {
     pub fn for_body(
         body: impl Into<PlanarBody>,
         plate: Plate<'a>,
-        friction: Friction,
-        gravity: f64,
-        model: Model,
+        physics: PartPhysics,
         step: f64,
     ) -> PlanarSimulator<'a> {
         let body = body.into();
+        let PartPhysics {
+            friction,
+            gravity,
+            model,
+        } = physics;
         let (period, breakpoints) = match plate {
             Plate::Moving(m) => (m.period(), m.breakpoints()),
             Plate::Rest => (f64::INFINITY, Vec::new()),
@@ -445,13 +448,11 @@ impl<'a> PlanarSimulator<'a> {
     pub fn for_motion(
         rect: &Rectangle,
         motion: &'a Motion,
-        friction: Friction,
-        gravity: f64,
-        model: Model,
+        physics: PartPhysics,
         steps_per_cycle: usize,
     ) -> PlanarSimulator<'a> {
         let step = motion.period() / steps_per_cycle.max(1) as f64;
-        PlanarSimulator::for_body(rect, Plate::Moving(motion), friction, gravity, model, step)
+        PlanarSimulator::for_body(rect, Plate::Moving(motion), physics, step)
     }
 
     /// The same simulator halving a step that holds an event at most
@@ -717,14 +718,7 @@ mod tests {
         assert!((o1 - o2).norm() < 1e-18);
         assert!((weighted.inertia_per_mass() - copies.inertia_per_mass()).abs() < 1e-18);
         let run = |body: PlanarBody| {
-            let sim = PlanarSimulator::for_body(
-                body,
-                Plate::Rest,
-                Friction::uniform(0.3),
-                9.81,
-                Model::FULL,
-                1e-4,
-            );
+            let sim = PlanarSimulator::for_body(body, Plate::Rest, PartPhysics::full(0.3), 1e-4);
             let mut s = PlanarState::slipping(V2::zeros(), 0.2, V2::new(0.02, -0.01), 3.0);
             sim.advance(0.0, 0.005, &mut s, (V2::zeros(), 0.2), None)
                 .unwrap();
@@ -748,9 +742,7 @@ mod tests {
         let sim = PlanarSimulator::for_body(
             &Rectangle::point(),
             Plate::Rest,
-            Friction::uniform(0.3),
-            9.81,
-            Model::FULL,
+            PartPhysics::full(0.3),
             1e-4,
         );
         let mut s = PlanarState::slipping(V2::zeros(), 0.3, V2::new(0.01, 0.0), 5.0);

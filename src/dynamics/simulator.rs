@@ -7,7 +7,7 @@
 
 use super::kinematics_table::KinematicsTable;
 use super::state::{Step, V2};
-use super::{ContactLoss, Friction, Model, Numerics};
+use super::{ContactLoss, Friction, Model, Numerics, PartPhysics};
 use crate::motion::{Kinematics, Motion, PreparedMotion, V3};
 
 /// A part a_⊥ of a_free across the slip below this fraction of |a_free| is
@@ -41,13 +41,12 @@ pub struct Simulator<'a> {
 
 impl<'a> Simulator<'a> {
     /// A simulator; parameters are assumed validated by the caller.
-    pub fn new(
-        motion: &'a Motion,
-        friction: Friction,
-        gravity: f64,
-        model: Model,
-        numerics: Numerics,
-    ) -> Simulator<'a> {
+    pub fn new(motion: &'a Motion, physics: PartPhysics, numerics: Numerics) -> Simulator<'a> {
+        let PartPhysics {
+            friction,
+            gravity,
+            model,
+        } = physics;
         let period = motion.period();
         let line = motion.slip_axis();
         Simulator {
@@ -98,6 +97,10 @@ impl<'a> Simulator<'a> {
     /// Gravity (m/s²).
     pub fn gravity(&self) -> f64 {
         self.gravity
+    }
+    /// The part physics (friction, gravity, model).
+    pub fn physics(&self) -> PartPhysics {
+        PartPhysics::new(self.friction, self.gravity, self.model)
     }
     /// Numerical settings.
     pub fn numerics(&self) -> Numerics {

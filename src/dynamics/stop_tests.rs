@@ -2,7 +2,7 @@
 //! (`Simulator::stop_in_step`, `hermite_root`, `brent_min`).
 
 use super::*;
-use crate::dynamics::{Friction, Model, Numerics};
+use crate::dynamics::{Numerics, PartPhysics};
 use crate::motion::{Motion, Screw, Waveform};
 
 /// The step from `t` to `target` on the piece keyed `piece`.
@@ -47,7 +47,7 @@ fn stop_in_step_finds_newtons_root_in_fewer_trials() {
             steps_per_cycle: steps,
             ..Numerics::default()
         };
-        let sim = Simulator::new(&motion, Friction::uniform(0.3), 9.81, Model::FULL, numerics);
+        let sim = Simulator::new(&motion, PartPhysics::full(0.3), numerics);
         let period = sim.period();
         let h = period / steps as f64;
         let tol = numerics.event_tol * period;

@@ -41,7 +41,7 @@ pub use orbits::Orbits;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::dynamics::{Friction, KinematicsTable, Model, Numerics, Simulator};
+use crate::dynamics::{Friction, KinematicsTable, Model, Numerics, PartPhysics, Simulator};
 use crate::motion::{Invariance, Motion};
 
 /// Which field to compute.
@@ -112,13 +112,12 @@ pub struct FieldSettings {
 impl FieldSettings {
     /// The point-part simulator of `motion` under these physics.
     pub fn simulator<'a>(&self, motion: &'a Motion) -> Simulator<'a> {
-        Simulator::new(
-            motion,
-            self.friction,
-            self.gravity,
-            self.model,
-            self.numerics,
-        )
+        Simulator::new(motion, self.physics(), self.numerics)
+    }
+
+    /// The part physics (friction, gravity, model) of these settings.
+    pub fn physics(&self) -> PartPhysics {
+        PartPhysics::new(self.friction, self.gravity, self.model)
     }
 }
 

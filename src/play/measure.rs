@@ -91,7 +91,9 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use super::{Join, Player, ScheduleMotion, V2};
-use crate::dynamics::{Friction, Model, Numerics, PartState, Simulator, SteadyFailure};
+use crate::dynamics::{
+    Friction, Model, Numerics, PartPhysics, PartState, Simulator, SteadyFailure,
+};
 use crate::field::{FieldSettings, Grid};
 use crate::motion::Motion;
 
@@ -146,8 +148,11 @@ impl PlayOptions {
 
     /// A player of `sm` with these physics.
     pub fn player<'a>(&self, sm: &'a ScheduleMotion) -> Player<'a> {
-        sm.player(self.friction, self.gravity, self.model, self.numerics)
-            .with_join(self.join)
+        sm.player(
+            PartPhysics::new(self.friction, self.gravity, self.model),
+            self.numerics,
+        )
+        .with_join(self.join)
     }
 }
 
@@ -581,13 +586,7 @@ fn compare(sm: &ScheduleMotion, player: &Player<'_>, play: PointPlay) -> PointRe
         .map(|(i, s)| {
             let (m, share) = s.as_ref()?;
             let base = player.simulator(i)?;
-            let sim = Simulator::new(
-                m,
-                base.friction(),
-                base.gravity(),
-                base.model(),
-                base.numerics(),
-            );
+            let sim = Simulator::new(m, base.physics(), base.numerics());
             Some((sim, *share))
         })
         .collect();

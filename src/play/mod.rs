@@ -43,7 +43,7 @@ pub(crate) mod settle;
 pub use measure::{grid_points, verify_points, PlayOptions, PointResult, RealisedField};
 
 use crate::dynamics::{
-    ContactLoss, Friction, KinematicsTable, Model, Numerics, PartState, Simulator,
+    ContactLoss, Friction, KinematicsTable, Model, Numerics, PartPhysics, PartState, Simulator,
 };
 use crate::error::{positive, Error, Result};
 use crate::motion::{Motion, V3};
@@ -197,20 +197,19 @@ impl ScheduleMotion {
     }
 
     /// A player for point parts under this trajectory.
-    pub fn player(
-        &self,
-        friction: Friction,
-        gravity: f64,
-        model: Model,
-        numerics: Numerics,
-    ) -> Player<'_> {
+    pub fn player(&self, physics: PartPhysics, numerics: Numerics) -> Player<'_> {
+        let PartPhysics {
+            friction,
+            gravity,
+            model,
+        } = physics;
         let sims = self
             .segments
             .iter()
             .map(|s| {
                 s.motion
                     .as_ref()
-                    .map(|m| Simulator::new(m, friction, gravity, model, numerics))
+                    .map(|m| Simulator::new(m, physics, numerics))
             })
             .collect();
         Player {
@@ -328,7 +327,10 @@ impl<'a> Player<'a> {
             ..self.model
         };
         self.schedule
-            .player(self.friction, self.gravity, model, self.numerics)
+            .player(
+                PartPhysics::new(self.friction, self.gravity, model),
+                self.numerics,
+            )
             .with_join(self.join)
     }
 

@@ -183,7 +183,7 @@ mod tests {
     fn warmup_outlasts_a_slow_transient() {
         let sm = ratchet();
         let s = FieldSettings::default();
-        let player = sm.player(s.friction, s.gravity, s.model, s.numerics);
+        let player = sm.player(s.physics(), s.numerics);
         let steady = V2::from(
             player
                 .simulator(0)

@@ -5,9 +5,7 @@
 //! divided by its length, compared with the lifted field at the window's
 //! mean pose.
 
-use crate::dynamics::{
-    ContactLoss, Friction, Model, PlanarBody, PlanarSimulator, PlanarState, Plate,
-};
+use crate::dynamics::{ContactLoss, PartPhysics, PlanarBody, PlanarSimulator, PlanarState, Plate};
 use crate::motion::Motion;
 
 use super::lifted::{LiftedField, Pose, Twist};
@@ -36,23 +34,18 @@ pub struct TwistCheck {
 
 /// Plays `body` from rest at `start` on `motion` and measures its mean
 /// twist over the window (module docs); `lifted` gives the prediction.
-#[allow(clippy::too_many_arguments)]
 pub fn check_twist(
     lifted: &LiftedField<'_>,
     body: &PlanarBody,
     motion: &Motion,
-    friction: Friction,
-    gravity: f64,
-    model: Model,
+    physics: PartPhysics,
     start: Pose,
     measure: &Measure,
 ) -> Result<TwistCheck, ContactLoss> {
     let sim = PlanarSimulator::for_body(
         body.clone(),
         Plate::Moving(motion),
-        friction,
-        gravity,
-        model,
+        physics,
         motion.period() / measure.steps_per_cycle as f64,
     );
     let t = motion.period();

@@ -18,7 +18,9 @@ use rayon::prelude::*;
 
 use super::equilibria::{wrap, Equilibrium};
 use super::lifted::Pose;
-use crate::dynamics::{Friction, Model, PlanarBody, PlanarSimulator, PlanarState, Plate, V2};
+use crate::dynamics::{
+    Friction, Model, PartPhysics, PlanarBody, PlanarSimulator, PlanarState, Plate, V2,
+};
 use crate::play::plate_twist;
 use crate::play::{PlayLoss, ScheduleMotion};
 
@@ -132,9 +134,7 @@ pub fn play_drop_tracked(
             PlanarSimulator::for_body(
                 body.clone(),
                 plate,
-                play.friction,
-                play.gravity,
-                play.model,
+                PartPhysics::new(play.friction, play.gravity, play.model),
                 step / play.steps_per_cycle.max(1) as f64,
             )
             .with_refinement(play.refine_depth)

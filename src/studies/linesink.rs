@@ -24,7 +24,9 @@ use std::fmt::Write as _;
 
 use serde::Serialize;
 
-use crate::dynamics::{ContactLoss, Friction, Model, Numerics, Simulator, SteadyFailure};
+use crate::dynamics::{
+    ContactLoss, Friction, Model, Numerics, PartPhysics, Simulator, SteadyFailure,
+};
 use crate::error::{finite, non_negative, positive, Error, Result};
 use crate::motion::{Motion, Screw, Waveform};
 
@@ -166,7 +168,11 @@ impl LineSink {
     /// Simulates the steady state at each distance in `rs`.
     pub fn rows(&self, rs: &[f64], model: Model, numerics: Numerics) -> Vec<LineSinkRow> {
         let motion = self.motion();
-        let sim = Simulator::new(&motion, self.friction, self.gravity, model, numerics);
+        let sim = Simulator::new(
+            &motion,
+            PartPhysics::new(self.friction, self.gravity, model),
+            numerics,
+        );
         rs.iter()
             .map(|&r| {
                 let eq17 = self.eq17(r);

@@ -9,7 +9,7 @@ use std::path::Path;
 use nalgebra::Vector2;
 
 use super::linesink::{LineSink, Wave};
-use crate::dynamics::{Friction, Model, Numerics, PartState, Simulator};
+use crate::dynamics::{Friction, Model, Numerics, PartPhysics, PartState, Simulator};
 use crate::error::{Error, Result};
 use crate::output::write_atomic;
 use crate::plot::{LegendPosition, LinePlot, Series};
@@ -189,7 +189,11 @@ pub struct Travel {
 pub fn travel(out: &Path) -> Result<Travel> {
     let ls = shaker(Wave::Sine, 220.0, 0.05);
     let motion = ls.motion();
-    let sim = Simulator::new(&motion, ls.friction, G, Model::FULL, Numerics::default());
+    let sim = Simulator::new(
+        &motion,
+        PartPhysics::new(ls.friction, G, Model::FULL),
+        Numerics::default(),
+    );
     let r0 = 0.04;
     let thresholds: Vec<f64> = (1..=7).map(|i| r0 - 0.005 * i as f64).collect();
     let mut state = PartState::new(Vector2::new(r0, 0.0), Vector2::zeros());

@@ -53,7 +53,7 @@ use std::path::Path;
 use serde::Serialize;
 
 use crate::basis::{Primitive, PrimitiveKind};
-use crate::dynamics::{Model, PartState};
+use crate::dynamics::{Model, PartPhysics, PartState};
 use crate::error::{Error, Result};
 use crate::play::measure::{verify_points, PlayOptions as VerifyOptions};
 use crate::play::{periods_for, PlayedSegment, ScheduleMotion, V2};
@@ -267,7 +267,10 @@ pub struct JoinBudget {
 /// normal bias velocity the joins add to the prediction at `anchor`.
 pub fn join_budget(sm: &ScheduleMotion, anchor: [f64; 2]) -> Result<Vec<JoinBudget>> {
     let opts = squeeze_options(sm, Model::FROZEN);
-    let player = sm.player(opts.friction, opts.gravity, opts.model, opts.numerics);
+    let player = sm.player(
+        PartPhysics::new(opts.friction, opts.gravity, opts.model),
+        opts.numerics,
+    );
     let a = V2::from(anchor);
     let mut state = PartState::new(a, V2::zeros());
     player

@@ -19,8 +19,8 @@
 use serde::Serialize;
 
 use crate::dynamics::{
-    Friction, Model, PlanarSimulator, PlanarState, Plate, Rectangle, PLANAR_REFINE_DEPTH,
-    PLANAR_STEPS_PER_CYCLE,
+    Friction, Model, PartPhysics, PlanarSimulator, PlanarState, Plate, Rectangle,
+    PLANAR_REFINE_DEPTH, PLANAR_STEPS_PER_CYCLE,
 };
 use crate::error::{finite, positive, Error, Result};
 use crate::field::FieldSettings;
@@ -214,17 +214,13 @@ pub fn play_rectangle(
                 Some(m) => PlanarSimulator::for_motion(
                     rect,
                     m,
-                    opts.friction,
-                    opts.gravity,
-                    opts.model,
+                    PartPhysics::new(opts.friction, opts.gravity, opts.model),
                     opts.steps_per_cycle,
                 ),
                 None => PlanarSimulator::for_body(
                     rect,
                     Plate::Rest,
-                    opts.friction,
-                    opts.gravity,
-                    opts.model,
+                    PartPhysics::new(opts.friction, opts.gravity, opts.model),
                     rest_step,
                 ),
             };

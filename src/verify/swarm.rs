@@ -27,7 +27,7 @@
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::dynamics::PartState;
+use crate::dynamics::{Model, PartPhysics, PartState};
 use crate::play::{ScheduleMotion, V2};
 use crate::request::Attractor;
 
@@ -135,12 +135,12 @@ fn one_part(
     opts: &SwarmOptions,
 ) -> SwarmPart {
     let v = &opts.verify;
-    let model = crate::dynamics::Model {
+    let model = Model {
         moving: true,
         ..v.model
     };
     let player = sm
-        .player(v.friction, v.gravity, model, v.numerics)
+        .player(PartPhysics::new(v.friction, v.gravity, model), v.numerics)
         .with_join(v.join);
     let anchor = V2::from(start);
     let mut state = PartState::new(anchor, V2::zeros());

@@ -415,7 +415,6 @@ fn decompose(q: &[[f64; 2]], e: &[[f64; 2]], w: &[f64], scale: f64) -> Decomposi
 mod tests {
     use super::*;
     use crate::basis::{Primitive, PrimitiveKind};
-    use crate::dynamics::Simulator;
     use crate::fit::FitMetrics;
     use crate::schedule::Segment;
 
@@ -469,13 +468,7 @@ mod tests {
         )
         .expect("play");
         let motion = schedule.segments[0].primitive.as_ref().unwrap().motion();
-        let sim = Simulator::new(
-            &motion,
-            settings.friction,
-            settings.gravity,
-            settings.model,
-            settings.numerics,
-        );
+        let sim = settings.simulator(&motion);
         for (p, play) in points.iter().zip(&plays) {
             assert!(play.note.is_none());
             let v = sim.steady_state(*p).expect("steady state").velocity;
