@@ -170,3 +170,72 @@ fn bracket_pose_design_on_the_spin_route() {
     assert_eq!((p.drops, p.lost, p.distinct_stable), (DROPS, 0, 1));
     assert!(p.pose_fraction >= 0.7, "{}", p.pose_fraction);
 }
+
+/// Exploration: where a pose design's drops end. `PF_SCHEDULE` a kept
+/// `schedule.json` of `PF_TARGET` (default targets/pose_bracket.json),
+/// played `PF_DROPS` drops (default 100) for `PF_SECONDS` (default 120):
+/// per drop not at the pose its start, its error at the end and 20 s
+/// before (`cargo test --release --test pose_rotation -- --ignored
+/// --nocapture explore_ends`).
+#[test]
+#[ignore = "exploration: PF_SCHEDULE=…/schedule.json"]
+fn explore_ends() {
+    use platefield::design::pose::search::pose_error;
+    use platefield::pose::{drop_starts, play_part, DropPlay};
+    let env = |k: &str, d: &str| std::env::var(k).unwrap_or(d.into());
+    let target = env("PF_TARGET", "targets/pose_bracket.json");
+    let req = PoseRequest::load(std::path::Path::new(&target))
+        .unwrap()
+        .unwrap();
+    let s = platefield::schedule::Schedule::load(std::path::Path::new(&env(
+        "PF_SCHEDULE",
+        "/tmp/p8/b/pose_bracket/schedule.json",
+    )))
+    .unwrap();
+    let sm = platefield::play::ScheduleMotion::from_schedule(&s).unwrap();
+    let drops: usize = env("PF_DROPS", "100").parse().unwrap();
+    let secs: f64 = env("PF_SECONDS", "120").parse().unwrap();
+    let starts = drop_starts(&req.region.inset(req.part.radius()), drops);
+    let runs = play_part(
+        &req.part,
+        &sm,
+        &starts,
+        &DropPlay::new(&s.settings, secs),
+    );
+    let n = req.part.symmetry();
+    let per_20 = (20.0 / sm.period()).round() as usize;
+    for (i, (run, st)) in runs.iter().zip(&starts).enumerate() {
+        let Ok((_, track)) = run else {
+            eprintln!("drop {i}: lost");
+            continue;
+        };
+        let err = |k: usize| {
+            let (d, t) = pose_error(&track[k], &req.pose, n);
+            (d * 1e3, t.to_degrees())
+        };
+        let last = track.len() - 1;
+        let (e1, e0) = (err(last), err(last.saturating_sub(per_20)));
+        let tag = if e1.0 <= 1.0 && e1.1.abs() <= 3.0 {
+            "AT"
+        } else {
+            "OUT"
+        };
+        let pr = |p: &platefield::pose::Pose| {
+            format!(
+                "({:+.1} mm, {:+.1} mm, {:+.0}°)",
+                p.r.x * 1e3,
+                p.r.y * 1e3,
+                p.theta.to_degrees()
+            )
+        };
+        eprintln!(
+            "drop {i} {tag}: start {} end {} err {:.2} mm {:+.1}° (20 s before {:.2} mm {:+.1}°)",
+            pr(st),
+            pr(&track[last]),
+            e1.0,
+            e1.1,
+            e0.0,
+            e0.1
+        );
+    }
+}
