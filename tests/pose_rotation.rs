@@ -239,3 +239,48 @@ fn explore_ends() {
         );
     }
 }
+
+/// Exploration: spins judged by play (`design::pose::screen`) on the
+/// centred sink `design` synthesizes for `PF_TARGET` (default the
+/// bracket's): `PF_SPIN="alpha,phase,translation;..."` (default the six
+/// candidates) prints each one's score and played pose
+/// (`cargo test --release --test pose_rotation -- --ignored --nocapture explore_screen`).
+#[test]
+#[ignore = "exploration: PF_SPIN=alpha,phase,translation;..."]
+fn explore_screen() {
+    use platefield::design::pose::{placement, screen};
+    let env = |k: &str, d: &str| std::env::var(k).unwrap_or(d.into());
+    let target = env("PF_TARGET", "targets/pose_bracket.json");
+    let req = PoseRequest::load(std::path::Path::new(&target))
+        .unwrap()
+        .unwrap();
+    let opts = platefield::design::DesignOptions {
+        runtime: platefield::work::Runtime::QUIET,
+        ..Default::default()
+    };
+    let method =
+        placement::synthesize_centred(&req, placement::family(true), &opts, &opts.synthesis)
+            .unwrap();
+    let sink = method.kept().schedule.clone();
+    let spins: Vec<Spin> = match std::env::var("PF_SPIN") {
+        Ok(spec) => spec
+            .split(';')
+            .map(|item| {
+                let v: Vec<f64> = item.split(',').map(|s| s.parse().unwrap()).collect();
+                Spin {
+                    alpha: v[0],
+                    phase: v[1],
+                    translation: v[2],
+                }
+            })
+            .collect(),
+        Err(_) => CANDIDATES.to_vec(),
+    };
+    for spin in spins {
+        let s = screen::screen(&req, &sink, spin).unwrap();
+        eprintln!(
+            "spin {} {} {}: score {:.3} pose {:?}",
+            spin.alpha, spin.phase, spin.translation, s.score, s.pose
+        );
+    }
+}

@@ -36,6 +36,7 @@ pub(crate) mod correct;
 pub mod placement;
 pub(crate) mod play;
 pub(crate) mod request;
+pub mod screen;
 pub mod search;
 pub mod spin;
 
