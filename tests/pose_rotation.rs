@@ -102,10 +102,10 @@ fn affine_residual_matches_closed_forms() {
 /// (measured 0.28 1/s; the time-shared DivCircle route: 0.0028–0.013).
 #[test]
 fn spin_makes_the_sink_nonlinear_and_the_bracket_pose_unique() {
-    let spin = CANDIDATES[1];
+    let spin = CANDIDATES[0];
     assert_eq!(
         (spin.alpha, spin.phase, spin.translation),
-        (1200.0, -0.8, 0.25)
+        (1200.0, -1.6, 0.25)
     );
     let mut plain = spin;
     plain.alpha = 0.0;
@@ -147,10 +147,12 @@ fn explore_spin() {
     }
 }
 
-/// The bracket's pose target designed whole on the spin route: the kept
-/// spin gives one stable pose (lifted), and at least 70 % of 100 drops
-/// played for 120 s end within 1 mm and 3° of (8 mm, 6 mm, −40°) (measured
-/// 73 %: the goal of 95 % is not reached, docs/parts.md). About 2.5 min of
+/// The bracket's pose target designed whole on the spin route: the spin
+/// kept by play (`design::pose::screen`: 1200 rad/s², translation × 0.4,
+/// every probe at one pose) gives one stable pose (lifted), and at least
+/// 95 % of 100 drops played for 120 s end within 1 mm and 3° of (8 mm,
+/// 6 mm, −40°) (measured 100 %, median settle 24.8 s; session 7's spin
+/// chosen on the lifted field alone: 73 %, docs/parts.md). About 3 min of
 /// CPU: `cargo test --release --test pose_rotation -- --ignored bracket`.
 #[test]
 #[ignore = "minutes of CPU: cargo test --release --test pose_rotation -- --ignored bracket"]
@@ -164,11 +166,13 @@ fn bracket_pose_design_on_the_spin_route() {
         ..Default::default()
     };
     let d = design_pose(&req, &opts, DROPS).unwrap();
-    assert_eq!(d.spin, Some(CANDIDATES[1]));
+    assert_eq!(d.spin, Some(CANDIDATES[2]));
+    assert_eq!(d.screened.len(), CANDIDATES.len());
+    assert_eq!(d.screened[2].score, 1.0);
     let p = d.method.kept().schedule.played.as_ref().unwrap();
     let p = p.pose.as_ref().unwrap();
     assert_eq!((p.drops, p.lost, p.distinct_stable), (DROPS, 0, 1));
-    assert!(p.pose_fraction >= 0.7, "{}", p.pose_fraction);
+    assert!(p.pose_fraction >= 0.95, "{}", p.pose_fraction);
 }
 
 /// Exploration: where a pose design's drops end. `PF_SCHEDULE` a kept

@@ -17,6 +17,14 @@
 //! symmetry); the candidate's score is the largest cluster's share of the
 //! probes and its played pose that cluster's mean. A drop lost, at a
 //! second pose or still moving after [`PROBE_S`] counts against it.
+//!
+//! **Choice** ([`choose`]): among the candidates with a lifted stable pose
+//! ([`super::spin::try_all`]), the largest share, then the tightest cluster
+//! (least mean |Δr|/1 mm + |Δθ|/3° of its members from its mean: the most
+//! nearly settled), then the earlier in [`super::spin::CANDIDATES`]; kept
+//! when that share is at least [`MIN_SHARE`], else `design` keeps the
+//! elliptic sink, whose two poses 180° apart hold about half the drops
+//! each.
 
 use super::search::{pose_error, wrap_symmetric};
 use super::spin::{spun, Spin};
@@ -31,6 +39,9 @@ use crate::schedule::Schedule;
 pub const PROBES: usize = 16;
 /// Seconds each probe plays.
 pub const PROBE_S: f64 = 60.0;
+/// Least share of the probes at one pose for a spin to be kept: 12 of 16,
+/// well above the elliptic sink's half.
+pub const MIN_SHARE: f64 = 0.75;
 
 /// A candidate judged by play.
 #[derive(Debug, Clone, PartialEq)]
@@ -39,6 +50,8 @@ pub struct Screened {
     pub spin: Spin,
     /// Share of the probes in the largest cluster of ends (0 … 1).
     pub score: f64,
+    /// Mean of |Δr|/1 mm + |Δθ|/3° of that cluster's members from its mean.
+    pub spread: f64,
     /// That cluster's mean pose on the centred motion, `None` when every
     /// probe lost contact.
     pub pose: Option<Pose>,
@@ -68,22 +81,28 @@ pub fn probe_starts(region: &Region) -> Vec<Pose> {
         .collect()
 }
 
-/// The largest cluster of `ends` (module docs): its share of `total` and
-/// its mean pose (θ averaged as offsets modulo the symmetry `n` from the
-/// cluster's seed).
+/// The largest cluster of `ends` (module docs): its share of `total`, its
+/// mean pose (θ averaged as offsets modulo the symmetry `n` from the
+/// cluster's seed) and its spread (module docs).
 ///
 /// ```
 /// use platefield::design::pose::screen::largest_cluster;
 /// use platefield::pose::Pose;
 /// let ends = [Pose::new(0.0, 0.0, 0.0), Pose::new(0.0002, 0.0, 0.02), Pose::new(0.01, 0.0, 2.0)];
-/// let (share, pose) = largest_cluster(&ends, 1, 4).unwrap();
+/// let (share, pose, spread) = largest_cluster(&ends, 1, 4).unwrap();
 /// assert_eq!(share, 0.5);
+/// // each member 0.1 mm and 0.01 rad (0.573°) from the mean
+/// assert!((spread - (0.1 + 0.01f64.to_degrees() / 3.0)).abs() < 1e-9);
 /// assert!((pose.r.x - 0.0001).abs() < 1e-15 && (pose.theta - 0.01).abs() < 1e-15);
 /// ```
-pub fn largest_cluster(ends: &[Pose], n: usize, total: usize) -> Option<(f64, Pose)> {
-    let near = |a: &Pose, b: &Pose| {
+pub fn largest_cluster(ends: &[Pose], n: usize, total: usize) -> Option<(f64, Pose, f64)> {
+    let off = |a: &Pose, b: &Pose| {
         let (d, t) = pose_error(a, b, n);
-        1e3 * d <= super::TOL_MM && t.abs().to_degrees() <= super::TOL_DEG
+        (1e3 * d / super::TOL_MM, t.abs().to_degrees() / super::TOL_DEG)
+    };
+    let near = |a: &Pose, b: &Pose| {
+        let (d, t) = off(a, b);
+        d <= 1.0 && t <= 1.0
     };
     let members = |seed: &Pose| ends.iter().filter(|e| near(e, seed)).collect::<Vec<_>>();
     // The first seed with the most members (ties to the earlier drop).
@@ -104,7 +123,8 @@ pub fn largest_cluster(ends: &[Pose], n: usize, total: usize) -> Option<(f64, Po
         r: r / k,
         theta: crate::pose::wrap(seed.theta + dt / k),
     };
-    Some((k / total.max(1) as f64, pose))
+    let spread = m.iter().map(|e| off(e, &pose)).map(|(d, t)| d + t).sum::<f64>() / k;
+    Some((k / total.max(1) as f64, pose, spread))
 }
 
 /// `spin` added to the centred `sink` and judged by play (module docs).
@@ -124,6 +144,83 @@ pub fn screen(req: &PoseRequest, sink: &Schedule, spin: Spin) -> Result<Screened
     Ok(Screened {
         spin,
         score: best.map_or(0.0, |b| b.0),
+        spread: best.map_or(f64::INFINITY, |b| b.2),
         pose: best.map(|b| b.1),
     })
+}
+
+/// Every candidate of `tried` with a lifted stable pose judged by play on
+/// the centred `sink`, and the kept one (module docs).
+///
+/// # Errors
+/// `sink` is not one six-signal motion.
+pub fn choose(
+    req: &PoseRequest,
+    sink: &Schedule,
+    tried: &[super::spin::Tried],
+) -> Result<(Vec<Screened>, Option<Screened>)> {
+    let screened = tried
+        .iter()
+        .filter(|t| !t.stable.is_empty())
+        .map(|t| screen(req, sink, t.spin))
+        .collect::<Result<Vec<_>>>()?;
+    let kept = best(&screened).filter(|s| s.score >= MIN_SHARE).cloned();
+    Ok((screened, kept))
+}
+
+/// The largest share, then the least spread, then the earliest.
+fn best(screened: &[Screened]) -> Option<&Screened> {
+    screened.iter().rev().max_by(|a, b| {
+        a.score
+            .total_cmp(&b.score)
+            .then(b.spread.total_cmp(&a.spread))
+    })
+}
+
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn screened(score: f64, spread: f64, alpha: f64) -> Screened {
+        Screened {
+            spin: Spin {
+                alpha,
+                phase: 0.0,
+                translation: 0.25,
+            },
+            score,
+            spread,
+            pose: None,
+        }
+    }
+
+    /// The largest share wins, then the least spread, then the earlier.
+    #[test]
+    fn best_takes_share_then_spread_then_order() {
+        let s = [
+            screened(0.875, 0.1, 1.0),
+            screened(1.0, 0.5, 2.0),
+            screened(1.0, 0.3, 3.0),
+            screened(1.0, 0.3, 4.0),
+        ];
+        assert_eq!(best(&s).unwrap().spin.alpha, 3.0);
+        assert_eq!(best(&s[..2]).unwrap().spin.alpha, 2.0);
+        assert_eq!(best(&s[..1]).unwrap().spin.alpha, 1.0);
+        assert!(best(&[]).is_none());
+    }
+
+    /// Two clusters of three and two ends among six drops: the larger
+    /// wins, its share out of all six; symmetry 2 joins ends 180° apart.
+    #[test]
+    fn largest_cluster_counts_modulo_symmetry() {
+        let p = |x: f64, t: f64| Pose::new(x, 0.0, t.to_radians());
+        let ends = [p(0.0, 10.0), p(0.0, 11.0), p(0.01, 50.0), p(0.0, 12.0), p(0.01, 51.0)];
+        let (share, pose, _) = largest_cluster(&ends, 1, 6).unwrap();
+        assert_eq!(share, 0.5);
+        assert!((pose.theta.to_degrees() - 11.0).abs() < 1e-9);
+        let turned = [p(0.0, 10.0), p(0.0, 190.5), p(0.01, 50.0)];
+        assert_eq!(largest_cluster(&turned, 2, 3).unwrap().0, 2.0 / 3.0);
+        assert_eq!(largest_cluster(&turned, 1, 3).unwrap().0, 1.0 / 3.0);
+    }
 }
