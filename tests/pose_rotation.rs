@@ -65,9 +65,11 @@ fn field(spin: Option<Spin>) -> Field {
     f
 }
 
-/// The bracket's stable poses in `f`'s lifted field over its request's region.
+/// The bracket's stable poses in `f`'s lifted field over its request's
+/// region (`PF_TARGET`'s part instead when set, for the explorations).
 fn bracket_stable(f: &Field) -> Vec<Equilibrium> {
-    let req = PoseRequest::load(std::path::Path::new("targets/pose_bracket.json"))
+    let target = std::env::var("PF_TARGET").unwrap_or("targets/pose_bracket.json".into());
+    let req = PoseRequest::load(std::path::Path::new(&target))
         .unwrap()
         .unwrap();
     let g = GridField::new(f);
