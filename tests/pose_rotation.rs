@@ -98,16 +98,19 @@ fn affine_residual_matches_closed_forms() {
 /// The synthesized sink is affine to 6 % over ±4 cm (measured 3.5 % with
 /// its translation scaled by 0.25) and leaves the bracket's orientation
 /// neutral (no stable pose: an isotropic linear sink does not turn a
-/// part); with the kept spin (α = 1200 rad/s² at −0.8 rad, translation ×
-/// 0.25, r* ≈ 9 mm) the residual exceeds 50 % (measured 63 %) and the
-/// bracket has exactly one stable pose, decaying faster than 0.1 1/s
-/// (measured 0.28 1/s; the time-shared DivCircle route: 0.0028–0.013).
+/// part); with the spin the bracket keeps (`design::pose::screen`: α =
+/// 1200 rad/s² at −1.6 rad, translation × 0.4, r* ≈ 14 mm) the residual
+/// exceeds 50 % (measured 67 %) and the bracket has exactly one stable
+/// pose, decaying faster than 0.1 1/s (measured 0.41 1/s; the time-shared
+/// DivCircle route: 0.0028–0.013). (One lifted pose is not enough: the
+/// spin of session 7 also had one, and 26 % of its played drops rested at
+/// a second pose, docs/parts.md.)
 #[test]
 fn spin_makes_the_sink_nonlinear_and_the_bracket_pose_unique() {
-    let spin = CANDIDATES[0];
+    let spin = CANDIDATES[2];
     assert_eq!(
         (spin.alpha, spin.phase, spin.translation),
-        (1200.0, -1.6, 0.25)
+        (1200.0, -1.6, 0.4)
     );
     let mut plain = spin;
     plain.alpha = 0.0;
@@ -202,12 +205,7 @@ fn explore_ends() {
     let drops: usize = env("PF_DROPS", "100").parse().unwrap();
     let secs: f64 = env("PF_SECONDS", "120").parse().unwrap();
     let starts = drop_starts(&req.region.inset(req.part.radius()), drops);
-    let runs = play_part(
-        &req.part,
-        &sm,
-        &starts,
-        &DropPlay::new(&s.settings, secs),
-    );
+    let runs = play_part(&req.part, &sm, &starts, &DropPlay::new(&s.settings, secs));
     let n = req.part.symmetry();
     let per_20 = (20.0 / sm.period()).round() as usize;
     for (i, (run, st)) in runs.iter().zip(&starts).enumerate() {
@@ -285,8 +283,22 @@ fn explore_screen() {
     for spin in spins {
         let s = screen::screen(&req, &sink, spin).unwrap();
         eprintln!(
-            "spin {} {} {}: score {:.3} pose {:?}",
-            spin.alpha, spin.phase, spin.translation, s.score, s.pose
+            "spin {} {} {}: score {:.3} spread {:.3} pose {:?}",
+            spin.alpha, spin.phase, spin.translation, s.score, s.spread, s.pose
         );
+        if std::env::var("PF_ENDS").is_ok() {
+            for e in screen::probe_ends(&req, &sink, spin)
+                .unwrap()
+                .iter()
+                .flatten()
+            {
+                eprintln!(
+                    "  end ({:+.2} mm, {:+.2} mm, {:+.1}°)",
+                    1e3 * e.r.x,
+                    1e3 * e.r.y,
+                    e.theta.to_degrees()
+                );
+            }
+        }
     }
 }

@@ -98,7 +98,10 @@ pub fn probe_starts(region: &Region) -> Vec<Pose> {
 pub fn largest_cluster(ends: &[Pose], n: usize, total: usize) -> Option<(f64, Pose, f64)> {
     let off = |a: &Pose, b: &Pose| {
         let (d, t) = pose_error(a, b, n);
-        (1e3 * d / super::TOL_MM, t.abs().to_degrees() / super::TOL_DEG)
+        (
+            1e3 * d / super::TOL_MM,
+            t.abs().to_degrees() / super::TOL_DEG,
+        )
     };
     let near = |a: &Pose, b: &Pose| {
         let (d, t) = off(a, b);
@@ -123,8 +126,29 @@ pub fn largest_cluster(ends: &[Pose], n: usize, total: usize) -> Option<(f64, Po
         r: r / k,
         theta: crate::pose::wrap(seed.theta + dt / k),
     };
-    let spread = m.iter().map(|e| off(e, &pose)).map(|(d, t)| d + t).sum::<f64>() / k;
+    let spread = m
+        .iter()
+        .map(|e| off(e, &pose))
+        .map(|(d, t)| d + t)
+        .sum::<f64>()
+        / k;
     Some((k / total.max(1) as f64, pose, spread))
+}
+
+/// The probes' end poses on the centred `sink` with `spin` (module docs),
+/// `None` for a probe that lost contact.
+///
+/// # Errors
+/// `sink` is not one six-signal motion.
+pub fn probe_ends(req: &PoseRequest, sink: &Schedule, spin: Spin) -> Result<Vec<Option<Pose>>> {
+    let schedule = spun(sink, spin)?;
+    let sm = ScheduleMotion::from_schedule(&schedule)?;
+    let starts = probe_starts(&req.region.inset(req.part.radius()));
+    let play = DropPlay::new(&schedule.settings, PROBE_S);
+    Ok(play_part(&req.part, &sm, &starts, &play)
+        .into_iter()
+        .map(|run| run.ok().map(|(end, _)| end.pose))
+        .collect())
 }
 
 /// `spin` added to the centred `sink` and judged by play (module docs).
@@ -132,15 +156,8 @@ pub fn largest_cluster(ends: &[Pose], n: usize, total: usize) -> Option<(f64, Po
 /// # Errors
 /// `sink` is not one six-signal motion.
 pub fn screen(req: &PoseRequest, sink: &Schedule, spin: Spin) -> Result<Screened> {
-    let schedule = spun(sink, spin)?;
-    let sm = ScheduleMotion::from_schedule(&schedule)?;
-    let starts = probe_starts(&req.region.inset(req.part.radius()));
-    let play = DropPlay::new(&schedule.settings, PROBE_S);
-    let ends: Vec<Pose> = play_part(&req.part, &sm, &starts, &play)
-        .into_iter()
-        .filter_map(|run| run.ok().map(|(end, _)| end.pose))
-        .collect();
-    let best = largest_cluster(&ends, req.part.symmetry(), starts.len());
+    let ends: Vec<Pose> = probe_ends(req, sink, spin)?.into_iter().flatten().collect();
+    let best = largest_cluster(&ends, req.part.symmetry(), PROBES);
     Ok(Screened {
         spin,
         score: best.map_or(0.0, |b| b.0),
@@ -176,7 +193,6 @@ fn best(screened: &[Screened]) -> Option<&Screened> {
             .then(b.spread.total_cmp(&a.spread))
     })
 }
-
 
 #[cfg(test)]
 mod tests {
@@ -215,7 +231,13 @@ mod tests {
     #[test]
     fn largest_cluster_counts_modulo_symmetry() {
         let p = |x: f64, t: f64| Pose::new(x, 0.0, t.to_radians());
-        let ends = [p(0.0, 10.0), p(0.0, 11.0), p(0.01, 50.0), p(0.0, 12.0), p(0.01, 51.0)];
+        let ends = [
+            p(0.0, 10.0),
+            p(0.0, 11.0),
+            p(0.01, 50.0),
+            p(0.0, 12.0),
+            p(0.01, 51.0),
+        ];
         let (share, pose, _) = largest_cluster(&ends, 1, 6).unwrap();
         assert_eq!(share, 0.5);
         assert!((pose.theta.to_degrees() - 11.0).abs() < 1e-9);
