@@ -65,13 +65,19 @@ fn field(spin: Option<Spin>) -> Field {
     f
 }
 
-/// The bracket's stable poses in `f`'s lifted field over its request's
-/// region (`PF_TARGET`'s part instead when set, for the explorations).
-fn bracket_stable(f: &Field) -> Vec<Equilibrium> {
+/// The bracket's pose request (`PF_TARGET`'s instead when set, for the
+/// explorations).
+fn request() -> PoseRequest {
     let target = std::env::var("PF_TARGET").unwrap_or("targets/pose_bracket.json".into());
-    let req = PoseRequest::load(std::path::Path::new(&target))
+    PoseRequest::load(std::path::Path::new(&target))
         .unwrap()
-        .unwrap();
+        .unwrap()
+}
+
+/// The stable poses of [`request`]'s part in `f`'s lifted field over its
+/// region.
+fn bracket_stable(f: &Field) -> Vec<Equilibrium> {
+    let req = request();
     let g = GridField::new(f);
     let eqs = equilibria(&LiftedField::new(&g, &req.part.body), &req.region);
     eqs.into_iter().filter(|e| e.stable).collect()
@@ -192,10 +198,7 @@ fn explore_ends() {
     use platefield::design::pose::search::pose_error;
     use platefield::pose::{drop_starts, play_part, DropPlay};
     let env = |k: &str, d: &str| std::env::var(k).unwrap_or(d.into());
-    let target = env("PF_TARGET", "targets/pose_bracket.json");
-    let req = PoseRequest::load(std::path::Path::new(&target))
-        .unwrap()
-        .unwrap();
+    let req = request();
     let s = platefield::schedule::Schedule::load(std::path::Path::new(&env(
         "PF_SCHEDULE",
         "/tmp/p8/b/pose_bracket/schedule.json",
@@ -246,18 +249,15 @@ fn explore_ends() {
 
 /// Exploration: spins judged by play (`design::pose::screen`) on the
 /// centred sink `design` synthesizes for `PF_TARGET` (default the
-/// bracket's): `PF_SPIN="alpha,phase,translation;..."` (default the six
-/// candidates) prints each one's score and played pose
+/// bracket's): `PF_SPIN="alpha,phase,translation;..."` (default the
+/// candidates) prints each one's score and played pose (`PF_ENDS=1`: and
+/// every probe's end)
 /// (`cargo test --release --test pose_rotation -- --ignored --nocapture explore_screen`).
 #[test]
 #[ignore = "exploration: PF_SPIN=alpha,phase,translation;..."]
 fn explore_screen() {
     use platefield::design::pose::{placement, screen};
-    let env = |k: &str, d: &str| std::env::var(k).unwrap_or(d.into());
-    let target = env("PF_TARGET", "targets/pose_bracket.json");
-    let req = PoseRequest::load(std::path::Path::new(&target))
-        .unwrap()
-        .unwrap();
+    let req = request();
     let opts = platefield::design::DesignOptions {
         runtime: platefield::work::Runtime::QUIET,
         ..Default::default()

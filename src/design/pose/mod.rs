@@ -103,23 +103,7 @@ pub struct PoseDesign {
 /// ```
 pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Result<PoseDesign> {
     if !opts.runtime.quiet {
-        let screen = if spin::needs_spin(req.part.symmetry()) {
-            format!(
-                ", up to {} spin candidates × {} probes × {} s (and a second synthesis if none is kept)",
-                spin::CANDIDATES.len(),
-                screen::PROBES,
-                screen::PROBE_S
-            )
-        } else {
-            String::new()
-        };
-        eprintln!(
-            "pose: one synthesis (about half a minute of CPU){screen}, then at most {} rounds of {} probes × {} s and {drops} drops of ≥ {} s on the planar simulator (about 0.2 s of CPU per 20 s drop)",
-            correct::ROUNDS,
-            correct::PROBES,
-            correct::PROBE_S,
-            play::MIN_PLAY_S
-        );
+        eprintln!("{}", announce(req, drops));
     }
     let grid = req.target.grid.unwrap_or(crate::field::Grid::DEFAULT);
     let n = req.part.symmetry();
@@ -195,6 +179,27 @@ pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Res
         screened,
         analysis,
     })
+}
+
+/// The work `design_pose` will do, said before it starts.
+fn announce(req: &PoseRequest, drops: usize) -> String {
+    let screen = if spin::needs_spin(req.part.symmetry()) {
+        format!(
+            ", up to {} spin candidates × {} probes × {} s (and a second synthesis if none is kept)",
+            spin::CANDIDATES.len(),
+            screen::PROBES,
+            screen::PROBE_S
+        )
+    } else {
+        String::new()
+    };
+    format!(
+        "pose: one synthesis (about half a minute of CPU){screen}, then at most {} rounds of {} probes × {} s and {drops} drops of ≥ {} s on the planar simulator (about 0.2 s of CPU per 20 s drop)",
+        correct::ROUNDS,
+        correct::PROBES,
+        correct::PROBE_S,
+        play::MIN_PLAY_S
+    )
 }
 
 /// The centred motion the placement moves, its synthesis, the spin
