@@ -65,11 +65,19 @@ fn field(spin: Option<Spin>) -> Field {
     f
 }
 
-/// The bracket's stable poses in `f`'s lifted field over its request's region.
-fn bracket_stable(f: &Field) -> Vec<Equilibrium> {
-    let req = PoseRequest::load(std::path::Path::new("targets/pose_bracket.json"))
+/// The bracket's pose request (`PF_TARGET`'s instead when set, for the
+/// explorations).
+fn request() -> PoseRequest {
+    let target = std::env::var("PF_TARGET").unwrap_or("targets/pose_bracket.json".into());
+    PoseRequest::load(std::path::Path::new(&target))
         .unwrap()
-        .unwrap();
+        .unwrap()
+}
+
+/// The stable poses of [`request`]'s part in `f`'s lifted field over its
+/// region.
+fn bracket_stable(f: &Field) -> Vec<Equilibrium> {
+    let req = request();
     let g = GridField::new(f);
     let eqs = equilibria(&LiftedField::new(&g, &req.part.body), &req.region);
     eqs.into_iter().filter(|e| e.stable).collect()
@@ -96,16 +104,19 @@ fn affine_residual_matches_closed_forms() {
 /// The synthesized sink is affine to 6 % over ±4 cm (measured 3.5 % with
 /// its translation scaled by 0.25) and leaves the bracket's orientation
 /// neutral (no stable pose: an isotropic linear sink does not turn a
-/// part); with the kept spin (α = 1200 rad/s² at −0.8 rad, translation ×
-/// 0.25, r* ≈ 9 mm) the residual exceeds 50 % (measured 63 %) and the
-/// bracket has exactly one stable pose, decaying faster than 0.1 1/s
-/// (measured 0.28 1/s; the time-shared DivCircle route: 0.0028–0.013).
+/// part); with the spin the bracket keeps (`design::pose::screen`: α =
+/// 1200 rad/s² at −1.6 rad, translation × 0.4, r* ≈ 14 mm) the residual
+/// exceeds 50 % (measured 67 %) and the bracket has exactly one stable
+/// pose, decaying faster than 0.1 1/s (measured 0.41 1/s; the time-shared
+/// DivCircle route: 0.0028–0.013). (One lifted pose is not enough: the
+/// spin of session 7 also had one, and 26 % of its played drops rested at
+/// a second pose, docs/parts.md.)
 #[test]
 fn spin_makes_the_sink_nonlinear_and_the_bracket_pose_unique() {
-    let spin = CANDIDATES[1];
+    let spin = CANDIDATES[2];
     assert_eq!(
         (spin.alpha, spin.phase, spin.translation),
-        (1200.0, -0.8, 0.25)
+        (1200.0, -1.6, 0.4)
     );
     let mut plain = spin;
     plain.alpha = 0.0;
@@ -147,10 +158,12 @@ fn explore_spin() {
     }
 }
 
-/// The bracket's pose target designed whole on the spin route: the kept
-/// spin gives one stable pose (lifted), and at least 70 % of 100 drops
-/// played for 120 s end within 1 mm and 3° of (8 mm, 6 mm, −40°) (measured
-/// 73 %: the goal of 95 % is not reached, docs/parts.md). About 2.5 min of
+/// The bracket's pose target designed whole on the spin route: the spin
+/// kept by play (`design::pose::screen`: 1200 rad/s², translation × 0.4,
+/// every probe at one pose) gives one stable pose (lifted), and at least
+/// 95 % of 100 drops played for 120 s end within 1 mm and 3° of (8 mm,
+/// 6 mm, −40°) (measured 100 %, median settle 24.8 s; session 7's spin
+/// chosen on the lifted field alone: 73 %, docs/parts.md). About 3 min of
 /// CPU: `cargo test --release --test pose_rotation -- --ignored bracket`.
 #[test]
 #[ignore = "minutes of CPU: cargo test --release --test pose_rotation -- --ignored bracket"]
@@ -164,9 +177,128 @@ fn bracket_pose_design_on_the_spin_route() {
         ..Default::default()
     };
     let d = design_pose(&req, &opts, DROPS).unwrap();
-    assert_eq!(d.spin, Some(CANDIDATES[1]));
+    assert_eq!(d.spin, Some(CANDIDATES[2]));
+    assert_eq!(d.screened.len(), CANDIDATES.len());
+    assert_eq!(d.screened[2].score, 1.0);
     let p = d.method.kept().schedule.played.as_ref().unwrap();
     let p = p.pose.as_ref().unwrap();
     assert_eq!((p.drops, p.lost, p.distinct_stable), (DROPS, 0, 1));
-    assert!(p.pose_fraction >= 0.7, "{}", p.pose_fraction);
+    assert!(p.pose_fraction >= 0.95, "{}", p.pose_fraction);
+}
+
+/// Exploration: where a pose design's drops end. `PF_SCHEDULE` a kept
+/// `schedule.json` of `PF_TARGET` (default targets/pose_bracket.json),
+/// played `PF_DROPS` drops (default 100) for `PF_SECONDS` (default 120):
+/// per drop not at the pose its start, its error at the end and 20 s
+/// before (`cargo test --release --test pose_rotation -- --ignored
+/// --nocapture explore_ends`).
+#[test]
+#[ignore = "exploration: PF_SCHEDULE=…/schedule.json"]
+fn explore_ends() {
+    use platefield::design::pose::search::pose_error;
+    use platefield::pose::{drop_starts, play_part, DropPlay};
+    let env = |k: &str, d: &str| std::env::var(k).unwrap_or(d.into());
+    let req = request();
+    let s = platefield::schedule::Schedule::load(std::path::Path::new(&env(
+        "PF_SCHEDULE",
+        "/tmp/p8/b/pose_bracket/schedule.json",
+    )))
+    .unwrap();
+    let sm = platefield::play::ScheduleMotion::from_schedule(&s).unwrap();
+    let drops: usize = env("PF_DROPS", "100").parse().unwrap();
+    let secs: f64 = env("PF_SECONDS", "120").parse().unwrap();
+    let starts = drop_starts(&req.region.inset(req.part.radius()), drops);
+    let runs = play_part(&req.part, &sm, &starts, &DropPlay::new(&s.settings, secs));
+    let n = req.part.symmetry();
+    let per_20 = (20.0 / sm.period()).round() as usize;
+    for (i, (run, st)) in runs.iter().zip(&starts).enumerate() {
+        let Ok((_, track)) = run else {
+            eprintln!("drop {i}: lost");
+            continue;
+        };
+        let err = |k: usize| {
+            let (d, t) = pose_error(&track[k], &req.pose, n);
+            (d * 1e3, t.to_degrees())
+        };
+        let last = track.len() - 1;
+        let (e1, e0) = (err(last), err(last.saturating_sub(per_20)));
+        let tag = if e1.0 <= 1.0 && e1.1.abs() <= 3.0 {
+            "AT"
+        } else {
+            "OUT"
+        };
+        let pr = |p: &platefield::pose::Pose| {
+            format!(
+                "({:+.1} mm, {:+.1} mm, {:+.0}°)",
+                p.r.x * 1e3,
+                p.r.y * 1e3,
+                p.theta.to_degrees()
+            )
+        };
+        eprintln!(
+            "drop {i} {tag}: start {} end {} err {:.2} mm {:+.1}° (20 s before {:.2} mm {:+.1}°)",
+            pr(st),
+            pr(&track[last]),
+            e1.0,
+            e1.1,
+            e0.0,
+            e0.1
+        );
+    }
+}
+
+/// Exploration: spins judged by play (`design::pose::screen`) on the
+/// centred sink `design` synthesizes for `PF_TARGET` (default the
+/// bracket's): `PF_SPIN="alpha,phase,translation;..."` (default the
+/// candidates) prints each one's score and played pose (`PF_ENDS=1`: and
+/// every probe's end)
+/// (`cargo test --release --test pose_rotation -- --ignored --nocapture explore_screen`).
+#[test]
+#[ignore = "exploration: PF_SPIN=alpha,phase,translation;..."]
+fn explore_screen() {
+    use platefield::design::pose::{placement, screen};
+    let req = request();
+    let opts = platefield::design::DesignOptions {
+        runtime: platefield::work::Runtime::QUIET,
+        ..Default::default()
+    };
+    let method =
+        placement::synthesize_centred(&req, placement::family(true), &opts, &opts.synthesis)
+            .unwrap();
+    let sink = method.kept().schedule.clone();
+    let spins: Vec<Spin> = match std::env::var("PF_SPIN") {
+        Ok(spec) => spec
+            .split(';')
+            .map(|item| {
+                let v: Vec<f64> = item.split(',').map(|s| s.parse().unwrap()).collect();
+                Spin {
+                    alpha: v[0],
+                    phase: v[1],
+                    translation: v[2],
+                }
+            })
+            .collect(),
+        Err(_) => CANDIDATES.to_vec(),
+    };
+    for spin in spins {
+        let s = screen::screen(&req, &sink, spin).unwrap();
+        eprintln!(
+            "spin {} {} {}: score {:.3} spread {:.3} pose {:?}",
+            spin.alpha, spin.phase, spin.translation, s.score, s.spread, s.pose
+        );
+        if std::env::var("PF_ENDS").is_ok() {
+            for e in screen::probe_ends(&req, &sink, spin)
+                .unwrap()
+                .iter()
+                .flatten()
+            {
+                eprintln!(
+                    "  end ({:+.2} mm, {:+.2} mm, {:+.1}°)",
+                    1e3 * e.r.x,
+                    1e3 * e.r.y,
+                    e.theta.to_degrees()
+                );
+            }
+        }
+    }
 }

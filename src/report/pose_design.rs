@@ -73,7 +73,7 @@ fn placement_md(d: &PoseDesign, md: &mut String) {
     let c = &d.centred;
     let _ = writeln!(
         md,
-        "One six-signal motion synthesized once for the centred {} (`design::pose::placement`){}; the part's stable pose in its lifted field: ({:+.3}, {:+.3}) mm, {:+.2}°, decay rates {:.3}, {:.3}, {:.3} 1/s, turning rate −∂θ'/∂θ {:.3} 1/s. Placed on the lifted field: {}.",
+        "One six-signal motion synthesized once for the centred {} (`design::pose::placement`){}; the part's stable pose in its lifted field: ({:+.3}, {:+.3}) mm, {:+.2}°, decay rates {:.3}, {:.3}, {:.3} 1/s, turning rate −∂θ'/∂θ {:.3} 1/s. Placed {}: {}.",
         crate::design::pose::placement::family(d.spin.is_some()).label(),
         d.spin.map_or(String::new(), |s| format!(
             ", its in-plane translation × {}, plus a spin about the vertical of {} rad/s² at phase {} rad (`design::pose::spin`: a field nonlinear at the part's scale)",
@@ -86,8 +86,14 @@ fn placement_md(d: &PoseDesign, md: &mut String) {
         -c.rates[1],
         -c.rates[2],
         d.lifted_turning_rate,
+        if d.spin.is_some() {
+            "on the screen's played pose"
+        } else {
+            "on the lifted field"
+        },
         placement_text(&d.lifted)
     );
+    screened_md(d, md);
     let _ = writeln!(
         md,
         "\nCorrected on played probes (`design::pose::correct`: {} drops at and around the pose, {} s each, on the same motion; their mean end moves the placement):\n\n| round | placement | probes' mean end (mm, mm, °) | Δr (mm) | Δθ (°) | played turning rate (1/s) |\n|---|---|---|---|---|---|",
@@ -109,6 +115,38 @@ fn placement_md(d: &PoseDesign, md: &mut String) {
         );
     }
     let _ = writeln!(md, "\nKept: {}.", placement_text(&d.placement));
+}
+
+/// The spin candidates judged by play, when there were any.
+fn screened_md(d: &PoseDesign, md: &mut String) {
+    use crate::design::pose::screen::{MIN_SHARE, PROBES, PROBE_S};
+    if d.screened.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        md,
+        "\nSpin candidates judged by play (`design::pose::screen`: {PROBES} probes × {PROBE_S} s from a 4 × 4 grid of starts on the centred motion; kept: the largest share at one pose, at least {:.0} %, then the tightest):\n\n| α (rad/s²) | phase (rad) | translation × | share at one pose | spread | played pose (mm, mm, °) |\n|---|---|---|---|---|---|",
+        100.0 * MIN_SHARE
+    );
+    for s in &d.screened {
+        let pose = s.pose.map_or("—".into(), |p| {
+            format!(
+                "({:+.2}, {:+.2}, {:+.1})",
+                1e3 * p.r.x,
+                1e3 * p.r.y,
+                p.theta.to_degrees()
+            )
+        });
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {:.0} % | {:.2} | {pose} |",
+            s.spin.alpha,
+            s.spin.phase,
+            s.spin.translation,
+            100.0 * s.score,
+            s.spread
+        );
+    }
 }
 
 /// The stable poses with their basins.

@@ -49,7 +49,7 @@ pub const EXPECTED_STEPS: &[(&str, f64, f64)] = &[
     ("probes", 3.65e8, 1.0),
     ("robust", 4.24e8, 1.0),
     ("design-speed", 4.71e8, 1.0),
-    ("poses-study", 1.49e9, PLANAR_POINT_STEP_COST),
+    ("poses-study", 2.08e9, PLANAR_POINT_STEP_COST),
     ("poses-friction-study", 5.44e9, PLANAR_POINT_STEP_COST),
 ];
 

@@ -39,6 +39,7 @@ pub mod friction;
 pub mod placement;
 pub(crate) mod play;
 pub(crate) mod request;
+pub mod screen;
 pub mod search;
 pub mod spin;
 
@@ -69,7 +70,8 @@ pub struct PoseDesign {
     pub centred: Equilibrium,
     /// The lifted field's turning rate there, −∂θ'/∂θ (1/s).
     pub lifted_turning_rate: f64,
-    /// The placement on the lifted field.
+    /// The placement the correction starts from: on the lifted field, or
+    /// on the spin route on the probes' played pose ([`screen`]).
     pub lifted: Placement,
     /// The placement kept after the played correction.
     pub placement: Placement,
@@ -81,6 +83,9 @@ pub struct PoseDesign {
     /// The spin added to the synthesized sink ([`spin`]), `None` for a
     /// part with a 180° symmetry (the elliptic sink alone).
     pub spin: Option<spin::Spin>,
+    /// The spin candidates judged by play ([`screen`]), empty for a part
+    /// with a 180° symmetry.
+    pub screened: Vec<screen::Screened>,
     /// The lifted field of the placed schedule: equilibria and predicted basins.
     pub analysis: PoseAnalysis,
 }
@@ -101,29 +106,35 @@ pub struct PoseDesign {
 /// ```
 pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Result<PoseDesign> {
     if !opts.runtime.quiet {
-        eprintln!(
-            "pose: one synthesis (about half a minute of CPU), then at most {} rounds of {} probes × {} s and {drops} drops of ≥ {} s on the planar simulator (about 0.2 s of CPU per 20 s drop)",
-            correct::ROUNDS,
-            correct::PROBES,
-            correct::PROBE_S,
-            play::MIN_PLAY_S
-        );
+        eprintln!("{}", announce(req, drops));
     }
     let grid = req.target.grid.unwrap_or(crate::field::Grid::DEFAULT);
     let n = req.part.symmetry();
-    let (mut method, origin, spin) = centred_motion(req, opts, &grid)?;
+    let Centred {
+        mut method,
+        origin,
+        spin: spun,
+        screened,
+    } = centred_motion(req, opts, &grid)?;
+    let spin = spun.map(|s| s.0);
     let family = placement::family(spin.is_some());
     let centred_field = schedule_field(&origin, &grid)?;
     let lifted_field = LiftedField::new(&centred_field, &req.part.body);
     let eqs = equilibria(&lifted_field, &req.region);
-    let centred = placement::centred_pose(&eqs, &req.pose, n).ok_or_else(|| {
+    // On the spin route the lifted stable pose nearest the played one.
+    let centred = match spun {
+        Some((_, p)) => search::nearest_stable(&eqs, &p, 1, req.part.radius()),
+        None => placement::centred_pose(&eqs, &req.pose, n),
+    }
+    .ok_or_else(|| {
         Error::Physical(format!(
-            "the synthesized elliptic sink gives the part no stable pose in the region ({} equilibria, none stable)",
+            "the synthesized sink gives the part no stable pose in the region ({} equilibria, none stable)",
             eqs.len()
         ))
     })?;
     let lifted_turning_rate = -lifted_field.jacobian(centred.pose)[(2, 2)];
-    let lifted = Placement::onto(&centred.pose, &req.pose, n);
+    // The spin route starts the correction from the probes' played pose.
+    let lifted = Placement::onto(&spun.map_or(centred.pose, |s| s.1), &req.pose, n);
     let (kept, rounds) = correct::correct(req, &origin, lifted)?;
     let mut target = req.target.clone();
     target.field = family.field(kept.shift, kept.angle.to_degrees());
@@ -165,14 +176,37 @@ pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Res
         rounds,
         method,
         spin,
+        screened,
         analysis,
     })
 }
 
-/// The centred motion the placement moves, its synthesis and its spin: for
-/// a part without a 180° symmetry the isotropic sink with the spin
-/// [`spin::choose`] keeps, when one gives the part a unique stable pose
-/// decaying at least at [`spin::MIN_RATE`]; else the elliptic sink alone.
+/// The work `design_pose` will do, said before it starts.
+fn announce(req: &PoseRequest, drops: usize) -> String {
+    let screen = if spin::needs_spin(req.part.symmetry()) {
+        format!(
+            ", up to {} spin candidates × {} probes × {} s (and a second synthesis if none is kept)",
+            spin::CANDIDATES.len(),
+            screen::PROBES,
+            screen::PROBE_S
+        )
+    } else {
+        String::new()
+    };
+    format!(
+        "pose: one synthesis (about half a minute of CPU){screen}, then at most {} rounds of {} probes × {} s and {drops} drops of ≥ {} s on the planar simulator (about 0.2 s of CPU per 20 s drop)",
+        correct::ROUNDS,
+        correct::PROBES,
+        correct::PROBE_S,
+        play::MIN_PLAY_S
+    )
+}
+
+/// The centred motion the placement moves, its synthesis, the spin
+/// candidates judged by play and the kept one with its played pose: for a
+/// part without a 180° symmetry the isotropic sink with the spin
+/// [`screen::choose`] keeps; else (or when it keeps none) the elliptic
+/// sink alone.
 ///
 /// # Errors
 /// The synthesis's; a spun motion losing contact on `grid`.
@@ -180,18 +214,41 @@ fn centred_motion(
     req: &PoseRequest,
     opts: &DesignOptions,
     grid: &crate::field::Grid,
-) -> Result<(MethodDesign, crate::schedule::Schedule, Option<spin::Spin>)> {
+) -> Result<Centred> {
+    let mut screened = Vec::new();
     if spin::needs_spin(req.part.symmetry()) {
         let method =
             placement::synthesize_centred(req, placement::family(true), opts, &opts.synthesis)?;
         let sink = method.kept().schedule.clone();
         let tried = spin::try_all(req, &sink, grid)?;
-        if let Some(t) = spin::choose(&tried) {
-            return Ok((method, spin::spun(&sink, t.spin)?, Some(t.spin)));
+        let (all, kept) = screen::choose(req, &sink, &tried)?;
+        if let Some(k) = kept.and_then(|k| Some((k.spin, k.pose?))) {
+            let origin = spin::spun(&sink, k.0)?;
+            return Ok(Centred {
+                method,
+                origin,
+                spin: Some(k),
+                screened: all,
+            });
         }
+        screened = all;
     }
     let method =
         placement::synthesize_centred(req, placement::family(false), opts, &opts.synthesis)?;
     let origin = method.kept().schedule.clone();
-    Ok((method, origin, None))
+    Ok(Centred {
+        method,
+        origin,
+        spin: None,
+        screened,
+    })
+}
+
+/// [`centred_motion`]'s outcome.
+struct Centred {
+    method: MethodDesign,
+    origin: crate::schedule::Schedule,
+    /// The kept spin and its played pose on the centred motion.
+    spin: Option<(spin::Spin, crate::pose::Pose)>,
+    screened: Vec<screen::Screened>,
 }

@@ -1,0 +1,248 @@
+//! Spin candidates judged by play: probes from spread starts on the
+//! centred spun motion, their ends clustered.
+//!
+//! **Why.** The lifted field of a spun sink ([`super::spin`]) is rough:
+//! on the bracket's kept spin (1200 rad/s² at −0.8 rad) it gave one
+//! stable pose, yet 26 of 100 played drops came to rest at a second pose
+//! 130° from the asked one (at rest there: the same pose 20 s before the
+//! end, `docs/parts.md`). A second played attractor is a property of the
+//! motion, not of its placement (a placement turns and shifts the whole
+//! physics, [`super::placement`]), so it is measured once per candidate on
+//! the centred motion.
+//!
+//! **Measure.** [`PROBES`] drops at [`probe_starts`] (a 4 × 4 grid over the
+//! region inset by the part's radius, angles stepped by the golden angle)
+//! play [`PROBE_S`] each; an end's cluster is the ends within
+//! [`super::TOL_MM`] and [`super::TOL_DEG`] of it (modulo the part's
+//! symmetry); the candidate's score is the largest cluster's share of the
+//! probes and its played pose that cluster's mean. A drop lost, at a
+//! second pose or still moving after [`PROBE_S`] counts against it.
+//!
+//! **Choice** ([`choose`]): among the candidates with a lifted stable pose
+//! ([`super::spin::try_all`]), the largest share, then the tightest cluster
+//! (least mean |Δr|/1 mm + |Δθ|/3° of its members from its mean: the most
+//! nearly settled), then the earlier in [`super::spin::CANDIDATES`]; kept
+//! when that share is at least [`MIN_SHARE`], else `design` keeps the
+//! elliptic sink, whose two poses 180° apart hold about half the drops
+//! each.
+
+use super::search::{pose_error, wrap_symmetric};
+use super::spin::{spun, Spin};
+use super::PoseRequest;
+use crate::dynamics::V2;
+use crate::error::Result;
+use crate::play::ScheduleMotion;
+use crate::pose::{play_part, DropPlay, Pose, Region};
+use crate::schedule::Schedule;
+
+/// Probe drops per candidate.
+pub const PROBES: usize = 16;
+/// Seconds each probe plays.
+pub const PROBE_S: f64 = 60.0;
+/// Least share of the probes at one pose for a spin to be kept: 12 of 16,
+/// well above the elliptic sink's half.
+pub const MIN_SHARE: f64 = 0.75;
+
+/// A candidate judged by play.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Screened {
+    /// The spin.
+    pub spin: Spin,
+    /// Share of the probes in the largest cluster of ends (0 … 1).
+    pub score: f64,
+    /// Mean of |Δr|/1 mm + |Δθ|/3° of that cluster's members from its mean.
+    pub spread: f64,
+    /// That cluster's mean pose on the centred motion, `None` when every
+    /// probe lost contact.
+    pub pose: Option<Pose>,
+}
+
+/// The probe starts over `region` (module docs): a 4 × 4 grid of centres
+/// at the cell middles, the k-th turned by k golden angles.
+///
+/// ```
+/// use platefield::design::pose::screen::{probe_starts, PROBES};
+/// use platefield::pose::Region;
+/// let s = probe_starts(&Region { x: [-0.02, 0.02], y: [-0.02, 0.02] });
+/// assert_eq!(s.len(), PROBES);
+/// assert!((s[0].r.x + 0.015).abs() < 1e-15 && s[0].theta == 0.0);
+/// ```
+pub fn probe_starts(region: &Region) -> Vec<Pose> {
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    (0..PROBES)
+        .map(|k| {
+            let (i, j) = ((k % 4) as f64, (k / 4) as f64);
+            let r = region.at((i + 0.5) / 4.0, (j + 0.5) / 4.0);
+            Pose {
+                r,
+                theta: crate::pose::wrap(k as f64 * golden),
+            }
+        })
+        .collect()
+}
+
+/// The largest cluster of `ends` (module docs): its share of `total`, its
+/// mean pose (θ averaged as offsets modulo the symmetry `n` from the
+/// cluster's seed) and its spread (module docs).
+///
+/// ```
+/// use platefield::design::pose::screen::largest_cluster;
+/// use platefield::pose::Pose;
+/// let ends = [Pose::new(0.0, 0.0, 0.0), Pose::new(0.0002, 0.0, 0.02), Pose::new(0.01, 0.0, 2.0)];
+/// let (share, pose, spread) = largest_cluster(&ends, 1, 4).unwrap();
+/// assert_eq!(share, 0.5);
+/// // each member 0.1 mm and 0.01 rad (0.573°) from the mean
+/// assert!((spread - (0.1 + 0.01f64.to_degrees() / 3.0)).abs() < 1e-9);
+/// assert!((pose.r.x - 0.0001).abs() < 1e-15 && (pose.theta - 0.01).abs() < 1e-15);
+/// ```
+pub fn largest_cluster(ends: &[Pose], n: usize, total: usize) -> Option<(f64, Pose, f64)> {
+    let off = |a: &Pose, b: &Pose| {
+        let (d, t) = pose_error(a, b, n);
+        (
+            1e3 * d / super::TOL_MM,
+            t.abs().to_degrees() / super::TOL_DEG,
+        )
+    };
+    let near = |a: &Pose, b: &Pose| {
+        let (d, t) = off(a, b);
+        d <= 1.0 && t <= 1.0
+    };
+    let members = |seed: &Pose| ends.iter().filter(|e| near(e, seed)).collect::<Vec<_>>();
+    // The first seed with the most members (ties to the earlier drop).
+    let seed = ends
+        .iter()
+        .enumerate()
+        .max_by(|a, b| {
+            let (ca, cb) = (members(a.1).len(), members(b.1).len());
+            ca.cmp(&cb).then(b.0.cmp(&a.0))
+        })?
+        .1;
+    let m = members(seed);
+    let k = m.len() as f64;
+    let (r, dt) = m.iter().fold((V2::zeros(), 0.0), |(r, dt), e| {
+        (r + e.r, dt + wrap_symmetric(e.theta - seed.theta, n))
+    });
+    let pose = Pose {
+        r: r / k,
+        theta: crate::pose::wrap(seed.theta + dt / k),
+    };
+    let spread = m
+        .iter()
+        .map(|e| off(e, &pose))
+        .map(|(d, t)| d + t)
+        .sum::<f64>()
+        / k;
+    Some((k / total.max(1) as f64, pose, spread))
+}
+
+/// The probes' end poses on the centred `sink` with `spin` (module docs),
+/// `None` for a probe that lost contact.
+///
+/// # Errors
+/// `sink` is not one six-signal motion.
+pub fn probe_ends(req: &PoseRequest, sink: &Schedule, spin: Spin) -> Result<Vec<Option<Pose>>> {
+    let schedule = spun(sink, spin)?;
+    let sm = ScheduleMotion::from_schedule(&schedule)?;
+    let starts = probe_starts(&req.region.inset(req.part.radius()));
+    let play = DropPlay::new(&schedule.settings, PROBE_S);
+    Ok(play_part(&req.part, &sm, &starts, &play)
+        .into_iter()
+        .map(|run| run.ok().map(|(end, _)| end.pose))
+        .collect())
+}
+
+/// `spin` added to the centred `sink` and judged by play (module docs).
+///
+/// # Errors
+/// `sink` is not one six-signal motion.
+pub fn screen(req: &PoseRequest, sink: &Schedule, spin: Spin) -> Result<Screened> {
+    let ends: Vec<Pose> = probe_ends(req, sink, spin)?.into_iter().flatten().collect();
+    let best = largest_cluster(&ends, req.part.symmetry(), PROBES);
+    Ok(Screened {
+        spin,
+        score: best.map_or(0.0, |b| b.0),
+        spread: best.map_or(f64::INFINITY, |b| b.2),
+        pose: best.map(|b| b.1),
+    })
+}
+
+/// Every candidate of `tried` with a lifted stable pose judged by play on
+/// the centred `sink`, and the kept one (module docs).
+///
+/// # Errors
+/// `sink` is not one six-signal motion.
+pub fn choose(
+    req: &PoseRequest,
+    sink: &Schedule,
+    tried: &[super::spin::Tried],
+) -> Result<(Vec<Screened>, Option<Screened>)> {
+    let screened = tried
+        .iter()
+        .filter(|t| !t.stable.is_empty())
+        .map(|t| screen(req, sink, t.spin))
+        .collect::<Result<Vec<_>>>()?;
+    let kept = best(&screened).filter(|s| s.score >= MIN_SHARE).cloned();
+    Ok((screened, kept))
+}
+
+/// The largest share, then the least spread, then the earliest.
+fn best(screened: &[Screened]) -> Option<&Screened> {
+    screened.iter().rev().max_by(|a, b| {
+        a.score
+            .total_cmp(&b.score)
+            .then(b.spread.total_cmp(&a.spread))
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn screened(score: f64, spread: f64, alpha: f64) -> Screened {
+        Screened {
+            spin: Spin {
+                alpha,
+                phase: 0.0,
+                translation: 0.25,
+            },
+            score,
+            spread,
+            pose: None,
+        }
+    }
+
+    /// The largest share wins, then the least spread, then the earlier.
+    #[test]
+    fn best_takes_share_then_spread_then_order() {
+        let s = [
+            screened(0.875, 0.1, 1.0),
+            screened(1.0, 0.5, 2.0),
+            screened(1.0, 0.3, 3.0),
+            screened(1.0, 0.3, 4.0),
+        ];
+        assert_eq!(best(&s).unwrap().spin.alpha, 3.0);
+        assert_eq!(best(&s[..2]).unwrap().spin.alpha, 2.0);
+        assert_eq!(best(&s[..1]).unwrap().spin.alpha, 1.0);
+        assert!(best(&[]).is_none());
+    }
+
+    /// Two clusters of three and two ends among six drops: the larger
+    /// wins, its share out of all six; symmetry 2 joins ends 180° apart.
+    #[test]
+    fn largest_cluster_counts_modulo_symmetry() {
+        let p = |x: f64, t: f64| Pose::new(x, 0.0, t.to_radians());
+        let ends = [
+            p(0.0, 10.0),
+            p(0.0, 11.0),
+            p(0.01, 50.0),
+            p(0.0, 12.0),
+            p(0.01, 51.0),
+        ];
+        let (share, pose, _) = largest_cluster(&ends, 1, 6).unwrap();
+        assert_eq!(share, 0.5);
+        assert!((pose.theta.to_degrees() - 11.0).abs() < 1e-9);
+        let turned = [p(0.0, 10.0), p(0.0, 190.5), p(0.01, 50.0)];
+        assert_eq!(largest_cluster(&turned, 2, 3).unwrap().0, 2.0 / 3.0);
+        assert_eq!(largest_cluster(&turned, 1, 3).unwrap().0, 1.0 / 3.0);
+    }
+}
