@@ -33,8 +33,9 @@
 //! lifted rate stays within 2 % (0.642 → 0.641 1/s for the rectangle: the
 //! synthesized field's strength is not ∝ μ); the bracket's spin route,
 //! whose angle is a balance of the spin's torque against the sink's,
-//! turns by +16° lifted and +3.1° played, which puts its drops at μ 0.24
-//! 3.4° off the asked angle: 0 % within 3°, against 73 % at μ 0.3. On a schedule whose field is
+//! turns by −11.1° lifted and +5.7° played, which puts its drops at μ
+//! 0.24 4.8° off the asked angle: 0 % within 3°, against 100 % at μ 0.3
+//! and 0.36. On a schedule whose field is
 //! mirror-symmetric in x and y at every μ (line sinks at 0°, 90°, 180°,
 //! 270°) the pose cannot move and only the speed changes, all lifted
 //! rates by one factor (1.78 from μ 0.2 to 0.4: less than μ's 2);
