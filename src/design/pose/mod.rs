@@ -193,8 +193,15 @@ fn announce(req: &PoseRequest, drops: usize) -> String {
     } else {
         String::new()
     };
+    let range = match crate::design::stacked::ranged(&req.target) {
+        Some(_) => format!(
+            ", then the same drops again at each of {} frictions over the range",
+            friction::PER_RANGE
+        ),
+        None => String::new(),
+    };
     format!(
-        "pose: one synthesis (about half a minute of CPU){screen}, then at most {} rounds of {} probes × {} s and {drops} drops of ≥ {} s on the planar simulator (about 0.2 s of CPU per 20 s drop)",
+        "pose: one synthesis (about half a minute of CPU){screen}, then at most {} rounds of {} probes × {} s and {drops} drops of ≥ {} s on the planar simulator{range} (about 0.2 s of CPU per 20 s drop)",
         correct::ROUNDS,
         correct::PROBES,
         correct::PROBE_S,
@@ -251,4 +258,21 @@ struct Centred {
     /// The kept spin and its played pose on the centred motion.
     spin: Option<(spin::Spin, crate::pose::Pose)>,
     screened: Vec<screen::Screened>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The estimate stated before a pose design names the drops played
+    /// again over a friction range exactly when the request has one.
+    #[test]
+    fn announce_names_the_range_plays() {
+        let path = std::path::Path::new("targets/pose_bracket.json");
+        let mut req = PoseRequest::load(path).unwrap().unwrap();
+        let extra = "the same drops again at each of 3 frictions over the range";
+        assert!(!announce(&req, DROPS).contains(extra));
+        req.target.friction = Some(crate::request::FrictionSpec::range(0.24, 0.36));
+        assert!(announce(&req, DROPS).contains(extra));
+    }
 }
