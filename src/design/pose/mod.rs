@@ -50,7 +50,12 @@ pub use search::Family;
 use crate::design::{DesignOptions, MethodDesign};
 use crate::error::{Error, Result};
 use crate::play::ScheduleMotion;
-use crate::pose::{analyse, equilibria, schedule_field, Equilibrium, LiftedField, PoseAnalysis};
+use crate::pose::{
+    analyse, drops_estimate, equilibria, schedule_field, DropPlay, Equilibrium, LiftedField,
+    PoseAnalysis,
+};
+use crate::progress::{Progress, ProgressMode};
+use crate::work::{with_counted_progress, PLANAR_POINT_STEP_COST};
 
 /// "At the pose": within this distance (mm) …
 pub const TOL_MM: f64 = 1.0;
@@ -153,15 +158,39 @@ pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Res
         ),
         None => family.label(),
     };
-    let played = play::play(
+    let plays = (
         req,
         &sm,
         &schedule.settings,
-        (&analysis, format!("one synthesized motion: {label}"), rate),
         drops,
+        play::play_seconds(rate),
     );
+    let played = watched("pose drops", plays, opts.runtime.quiet, || {
+        play::play(
+            req,
+            &sm,
+            &schedule.settings,
+            (&analysis, format!("one synthesized motion: {label}"), rate),
+            drops,
+        )
+    });
     let range = crate::design::stacked::ranged(&req.target);
-    let played = friction::over_range(req, &schedule, played, rate, range)?;
+    let replays = (
+        req,
+        &sm,
+        &schedule.settings,
+        drops * friction::PER_RANGE,
+        plays.4,
+    );
+    let played = match range {
+        Some(_) => watched(
+            "pose drops over friction",
+            replays,
+            opts.runtime.quiet,
+            || friction::over_range(req, &schedule, played, rate, range),
+        )?,
+        None => played,
+    };
     if let Some(p) = schedule.played.as_mut() {
         p.pose = Some(played);
     }
@@ -209,6 +238,30 @@ fn announce(req: &PoseRequest, drops: usize) -> String {
     )
 }
 
+/// Runs `f`, which plays `drops` drops of `duration_s` seconds each of
+/// the request's part through `sm` (the `plays`), with its progress on
+/// stderr in thousands of counted planar steps (the total from
+/// [`drops_estimate`]) unless `quiet`.
+fn watched<T>(
+    label: &str,
+    plays: (
+        &PoseRequest,
+        &ScheduleMotion,
+        &crate::field::FieldSettings,
+        usize,
+        f64,
+    ),
+    quiet: bool,
+    f: impl FnOnce() -> T,
+) -> T {
+    let (req, sm, settings, drops, duration_s) = plays;
+    let play = DropPlay::new(settings, duration_s);
+    let steps = drops_estimate(&req.part, sm, drops, &play).steps() / PLANAR_POINT_STEP_COST;
+    let total = (steps / 1e3).ceil() as u64;
+    let progress = Progress::new(label, "k steps", total, ProgressMode::quiet_if(quiet));
+    with_counted_progress(&progress, f)
+}
+
 /// The centred motion the placement moves, its synthesis, the spin
 /// candidates judged by play and the kept one with its played pose: for a
 /// part without a 180° symmetry the isotropic sink with the spin
@@ -228,7 +281,14 @@ fn centred_motion(
             placement::synthesize_centred(req, placement::family(true), opts, &opts.synthesis)?;
         let sink = method.kept().schedule.clone();
         let tried = spin::try_all(req, &sink, grid)?;
-        let (all, kept) = screen::choose(req, &sink, &tried)?;
+        let probes = tried.len() * screen::PROBES;
+        let sm = ScheduleMotion::from_schedule(&sink)?;
+        let (all, kept) = watched(
+            "pose spin screen",
+            (req, &sm, &sink.settings, probes, screen::PROBE_S),
+            opts.runtime.quiet,
+            || screen::choose(req, &sink, &tried),
+        )?;
         if let Some(k) = kept.and_then(|k| Some((k.spin, k.pose?))) {
             let origin = spin::spun(&sink, k.0)?;
             return Ok(Centred {
