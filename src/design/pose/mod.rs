@@ -147,7 +147,6 @@ pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Res
     let field = schedule_field(&schedule, &grid)?;
     let analysis = analyse(&req.part, &field, req.region, LIFTED_DROPS);
     let rate = play::play_rate(req, &analysis, spin.is_some());
-    let sm = ScheduleMotion::from_schedule(&schedule)?;
     let label = match spin {
         Some(s) => format!(
             "{}, translation × {}, plus a spin of {} rad/s² at phase {} rad",
@@ -158,39 +157,7 @@ pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Res
         ),
         None => family.label(),
     };
-    let plays = (
-        req,
-        &sm,
-        &schedule.settings,
-        drops,
-        play::play_seconds(rate),
-    );
-    let played = watched("pose drops", plays, opts.runtime.quiet, || {
-        play::play(
-            req,
-            &sm,
-            &schedule.settings,
-            (&analysis, format!("one synthesized motion: {label}"), rate),
-            drops,
-        )
-    });
-    let range = crate::design::stacked::ranged(&req.target);
-    let replays = (
-        req,
-        &sm,
-        &schedule.settings,
-        drops * friction::PER_RANGE,
-        plays.4,
-    );
-    let played = match range {
-        Some(_) => watched(
-            "pose drops over friction",
-            replays,
-            opts.runtime.quiet,
-            || friction::over_range(req, &schedule, played, rate, range),
-        )?,
-        None => played,
-    };
+    let played = play_drops(req, &schedule, (&analysis, label, rate), drops, opts)?;
     if let Some(p) = schedule.played.as_mut() {
         p.pose = Some(played);
     }
@@ -236,6 +203,39 @@ fn announce(req: &PoseRequest, drops: usize) -> String {
         correct::PROBE_S,
         play::MIN_PLAY_S
     )
+}
+
+/// The placed `schedule`'s `drops` drops, played with progress on stderr
+/// (`play::play`), and again over the request's friction range when it
+/// states one (`friction::over_range`); `label` names the field.
+///
+/// # Errors
+/// A schedule that is not one motion, or whose field cannot be computed
+/// at a friction of the range.
+fn play_drops(
+    req: &PoseRequest,
+    schedule: &crate::schedule::Schedule,
+    (analysis, label, rate): (&PoseAnalysis, String, f64),
+    drops: usize,
+    opts: &DesignOptions,
+) -> Result<crate::schedule::PosePlayed> {
+    let sm = ScheduleMotion::from_schedule(schedule)?;
+    let quiet = opts.runtime.quiet;
+    let (settings, duration) = (&schedule.settings, play::play_seconds(rate));
+    let field = format!("one synthesized motion: {label}");
+    let played = watched(
+        "pose drops",
+        (req, &sm, settings, drops, duration),
+        quiet,
+        || play::play(req, &sm, settings, (analysis, field, rate), drops),
+    );
+    let Some(range) = crate::design::stacked::ranged(&req.target) else {
+        return Ok(played);
+    };
+    let replays = (req, &sm, settings, drops * friction::PER_RANGE, duration);
+    watched("pose drops over friction", replays, quiet, || {
+        friction::over_range(req, schedule, played, rate, Some(range))
+    })
 }
 
 /// Runs `f`, which plays `drops` drops of `duration_s` seconds each of
