@@ -99,7 +99,7 @@ pub fn turning_rate(track: &[Pose], end: &Pose, n: usize, period: f64) -> Option
 }
 
 /// The median of `xs` (`None` when empty).
-fn median(mut xs: Vec<f64>) -> Option<f64> {
+pub(crate) fn median(mut xs: Vec<f64>) -> Option<f64> {
     xs.sort_by(f64::total_cmp);
     let n = xs.len();
     (n > 0).then(|| 0.5 * (xs[(n - 1) / 2] + xs[n / 2]))

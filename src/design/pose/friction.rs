@@ -41,6 +41,7 @@
 //! rates by one factor (1.78 from μ 0.2 to 0.4: less than μ's 2);
 //! `tests/pose_friction.rs` checks both.
 
+use super::correct::median;
 use super::play::{play_ends, play_rate};
 use super::search::{nearest_stable, pose_error};
 use super::{PoseRequest, LIFTED_DROPS};
@@ -149,18 +150,14 @@ pub const NEAR_DEG: f64 = 30.0;
 /// where the played drops come to rest near it; `None` when none does.
 fn played_offset(req: &PoseRequest, ends: &[Option<Pose>]) -> Option<[f64; 2]> {
     let n = req.part.symmetry();
-    let (mut d, mut t): (Vec<f64>, Vec<f64>) = ends
+    let (d, t): (Vec<f64>, Vec<f64>) = ends
         .iter()
         .flatten()
         .map(|e| pose_error(e, &req.pose, n))
         .map(|(d, t)| (1e3 * d, t.to_degrees()))
         .filter(|(_, t)| t.abs() <= NEAR_DEG)
         .unzip();
-    let median = |v: &mut Vec<f64>| {
-        v.sort_by(f64::total_cmp);
-        0.5 * (v[(v.len() - 1) / 2] + v[v.len() / 2])
-    };
-    (!d.is_empty()).then(|| [median(&mut d), median(&mut t)])
+    Some([median(d)?, median(t)?])
 }
 
 /// One friction's row from its played drops `p` and lifted `analysis`.
