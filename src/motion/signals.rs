@@ -200,10 +200,16 @@ impl Signals {
 
     /// Rotated about the vertical by `angle` (rad), then shifted
     /// horizontally by `shift` (m). The new plate centre is the old plate
-    /// point −s, whose acceleration is a_c + Ω' × (−s) + Ω × (Ω × (−s)). The
-    /// first two terms are added as Fourier terms; the centripetal part is
-    /// second order in the (small) amplitude and is not a finite Fourier
-    /// series of accelerations, so the shift is exact to first order only.
+    /// point −s: it moves as the old centre plus (I − R_z(θ_z(t))) s, the
+    /// offset of a point turned with the plate about the vertical through
+    /// the old centre. That offset's acceleration −(R_z(θ_z) s)'' is added
+    /// to the linear x and y signals as Fourier terms
+    /// ([`turned_offset_terms`]): to first order in θ_z it is Ω'_z ẑ × (−s);
+    /// its second-order part, (θ_z²/2)'' s at twice the spin's harmonics,
+    /// is what a spin of angular amplitude θ_z needs for the plate frame's
+    /// centripetal acceleration about the moved centre. The vertical
+    /// signal gets the tilts' lever Ω' × (−s) to first order in the tilt
+    /// (milliradians: its second-order part is below 10⁻⁵ of it).
     /// Screw motions shift exactly.
     pub fn transformed(&self, angle: f64, shift: [f64; 2]) -> Signals {
         let (s, c) = angle.sin_cos();
@@ -222,9 +228,10 @@ impl Signals {
         let angular = rot(&self.angular);
         let mut linear = rot(&self.linear);
         let (sx, sy) = (shift[0], shift[1]);
-        // Ω' × (−s) with s = (sx, sy, 0): (Ω'_z sy, −Ω'_z sx, −Ω'_x sy + Ω'_y sx)
-        linear.x.extend(angular.z.iter().map(|t| scale(t, sy)));
-        linear.y.extend(angular.z.iter().map(|t| scale(t, -sx)));
+        let [ox, oy] = turned_offset_terms(&angular.z, self.period, shift);
+        linear.x.extend(ox);
+        linear.y.extend(oy);
+        // Ω' × (−s) with s = (sx, sy, 0), vertical part: −Ω'_x sy + Ω'_y sx
         linear.z.extend(angular.x.iter().map(|t| scale(t, -sy)));
         linear.z.extend(angular.y.iter().map(|t| scale(t, sx)));
         Signals {
@@ -285,9 +292,141 @@ impl Signals {
     }
 }
 
+/// Samples per period and per harmonic of the angular z signal on which
+/// [`turned_offset_terms`] takes the offset's Fourier series.
+const OFFSET_SAMPLES: usize = 128;
+/// Offset terms below this acceleration amplitude (m/s²) are left out.
+const OFFSET_FLOOR: f64 = 1e-9;
+
+/// The acceleration −(R_z(θ_z(t)) s)'' of the plate point s turned with
+/// the plate about the vertical through the centre, θ_z(t) the zero-mean
+/// angle of the angular z signal `z`: its x and y Fourier terms.
+///
+/// The offset is periodic, so its terms come from a discrete Fourier
+/// transform of R_z(θ_z) s on N = [`OFFSET_SAMPLES`] × the highest
+/// harmonic of `z` samples per period: with p(t) ≈ a_h cos hωt + b_h sin
+/// hωt per harmonic h ≤ N/4, −p'' has the term (hω)² √(a_h² + b_h²) ·
+/// sin(hωt + atan2(a_h, b_h)). For one spin term of angular amplitude Φ
+/// the harmonic-h amplitude is 2 J_h(Φ) (hω)² |s| (Bessel J_h): Φω²|s| at
+/// h = 1, the first-order Ω'_z ẑ × (−s), then Φ²ω²|s| at h = 2 and
+/// falling as Φ^h; terms below [`OFFSET_FLOOR`] are left out. No spin or
+/// no shift: no terms.
+pub fn turned_offset_terms(z: &[FourierTerm], period: f64, s: [f64; 2]) -> [Vec<FourierTerm>; 2] {
+    let highest = z.iter().map(|t| t.harmonic).max().unwrap_or(0) as usize;
+    if highest == 0 || s == [0.0, 0.0] {
+        return [Vec::new(), Vec::new()];
+    }
+    let angle = Axes {
+        z: z.to_vec(),
+        ..Axes::default()
+    };
+    let n = OFFSET_SAMPLES * highest;
+    let turn = |k: usize| 2.0 * std::f64::consts::PI * k as f64 / n as f64;
+    let path: Vec<[f64; 2]> = (0..n)
+        .map(|k| {
+            let theta = angle.eval(period * k as f64 / n as f64, period)[0].z;
+            let (sn, cs) = theta.sin_cos();
+            [cs * s[0] - sn * s[1], sn * s[0] + cs * s[1]]
+        })
+        .collect();
+    let w = 2.0 * std::f64::consts::PI / period;
+    let mut out = [Vec::new(), Vec::new()];
+    for h in 1..=n / 4 {
+        for (axis, terms) in out.iter_mut().enumerate() {
+            let (a, b) = path.iter().enumerate().fold((0.0, 0.0), |(a, b), (k, p)| {
+                let (sn, cs) = (h as f64 * turn(k)).sin_cos();
+                (a + p[axis] * cs, b + p[axis] * sn)
+            });
+            let (a, b) = (2.0 * a / n as f64, 2.0 * b / n as f64);
+            let amplitude = (h as f64 * w).powi(2) * a.hypot(b);
+            if amplitude > OFFSET_FLOOR {
+                terms.push(FourierTerm {
+                    amplitude,
+                    phase: a.atan2(b),
+                    harmonic: h as u32,
+                });
+            }
+        }
+    }
+    out
+}
+
 fn scale(t: &FourierTerm, k: f64) -> FourierTerm {
     FourierTerm {
         amplitude: t.amplitude * k,
         ..*t
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A translation with a spin of angular amplitude 0.11 rad (the
+    /// triangle's strongest spin).
+    fn spun() -> Signals {
+        let term = |amplitude: f64, phase: f64| FourierTerm {
+            amplitude,
+            phase,
+            harmonic: 1,
+        };
+        Signals {
+            period: 0.03,
+            linear: Axes {
+                x: vec![term(6.8, 0.0)],
+                y: vec![term(6.8, 1.57)],
+                z: Vec::new(),
+            },
+            angular: Axes {
+                x: Vec::new(),
+                y: Vec::new(),
+                z: vec![term(4800.0, -1.6)],
+            },
+        }
+    }
+
+    /// Moved by s, the plate's velocity and acceleration (centripetal
+    /// included, in the plate frame) at plate point r are the unmoved
+    /// motion's at r − s, at every time: the rigid motion moved, exactly
+    /// up to the offset's truncation (10⁻⁹ of the spin's lever α|s|).
+    /// The first-order shift alone misses it by the centripetal term's
+    /// order, Φ²ω²|s|.
+    #[test]
+    fn shift_moves_the_plate_physics_at_a_large_spin() {
+        let (m, s) = (spun(), [0.012, -0.007]);
+        let moved = m.transformed(0.0, s);
+        let lever = 4800.0 * s[0].hypot(s[1]);
+        let r = V3::new(0.004, 0.009, 0.0);
+        let d = r - V3::new(s[0], s[1], 0.0);
+        let worst = |moved: &Signals| {
+            (0..37).fold(0.0_f64, |worst, k| {
+                let t = 0.03 * k as f64 / 37.0;
+                let (a, b) = (m.kinematics(t, 9.81, true), moved.kinematics(t, 9.81, true));
+                let gap = (a.acceleration_at(&d, true) - b.acceleration_at(&r, true)).norm();
+                let vgap = (a.velocity_at(&d) - b.velocity_at(&r)).norm();
+                worst.max(gap / lever).max(vgap / (lever * 0.03))
+            })
+        };
+        assert!(worst(&moved) < 1e-9, "{:e}", worst(&moved));
+        // First order only (Ω'_z ẑ × (−s)): off by about Φ = α/ω² = 0.11.
+        let mut first = m.clone();
+        first.linear.x.extend(m.angular.z.iter().map(|t| scale(t, s[1])));
+        first.linear.y.extend(m.angular.z.iter().map(|t| scale(t, -s[0])));
+        assert!(worst(&first) > 0.05, "{:e}", worst(&first));
+        // The offset's harmonics against the Bessel series 2 J_h(Φ) (hω)² |s|:
+        // odd ones along ẑ × s (y), even ones along s (x).
+        let w = 2.0 * std::f64::consts::PI / 0.03;
+        let phi = 4800.0 / (w * w);
+        let j1 = phi / 2.0 - phi.powi(3) / 16.0 + phi.powi(5) / 384.0;
+        let j2 = phi.powi(2) / 8.0 - phi.powi(4) / 96.0;
+        let [ox, oy] = turned_offset_terms(&m.angular.z, 0.03, [0.01, 0.0]);
+        let amp = |terms: &[FourierTerm], h: u32| {
+            let t: Vec<_> = terms.iter().filter(|t| t.harmonic == h).collect();
+            assert!(t.len() <= 1, "{t:?}");
+            t.first().map_or(0.0, |t| t.amplitude)
+        };
+        assert!((amp(&oy, 1) / (2.0 * j1 * w * w * 0.01) - 1.0).abs() < 1e-9);
+        assert!((amp(&ox, 2) / (2.0 * j2 * 4.0 * w * w * 0.01) - 1.0).abs() < 1e-6);
+        assert_eq!((amp(&ox, 1), amp(&oy, 2)), (0.0, 0.0));
     }
 }
