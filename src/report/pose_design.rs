@@ -96,19 +96,22 @@ fn placement_md(d: &PoseDesign, md: &mut String) {
     screened_md(d, md);
     let _ = writeln!(
         md,
-        "\nCorrected on played probes (`design::pose::correct`: {} drops at and around the pose, {} s each, on the same motion; their mean end moves the placement):\n\n| round | placement | probes' mean end (mm, mm, °) | Δr (mm) | Δθ (°) | played turning rate (1/s) |\n|---|---|---|---|---|---|",
+        "\nCorrected on played probes (`design::pose::correct`: {} drops at and around the pose, {} s each, on the same motion; the mean end of the largest group within {} mm and {}° of one another moves the placement):\n\n| round | placement | probes' mean end (mm, mm, °) | probes in it | Δr (mm) | Δθ (°) | played turning rate (1/s) |\n|---|---|---|---|---|---|---|",
         crate::design::pose::correct::PROBES,
-        crate::design::pose::correct::PROBE_S
+        crate::design::pose::correct::PROBE_S,
+        crate::design::pose::correct::SAME_REST[0],
+        crate::design::pose::correct::SAME_REST[1],
     );
     for (i, r) in d.rounds.iter().enumerate() {
         let _ = writeln!(
             md,
-            "| {} | {} | ({:+.3}, {:+.3}, {:+.2}) | {:.3} | {:+.2} | {} |",
+            "| {} | {} | ({:+.3}, {:+.3}, {:+.2}) | {:.0} % | {:.3} | {:+.2} | {} |",
             i + 1,
             placement_text(&r.placement),
             1e3 * r.end.r.x,
             1e3 * r.end.r.y,
             r.end.theta.to_degrees(),
+            100.0 * r.together,
             r.error.0,
             r.error.1,
             r.turning_rate.map_or("—".into(), |k| format!("{k:.3}"))

@@ -96,12 +96,20 @@ pub fn probe_starts(region: &Region) -> Vec<Pose> {
 /// assert!((pose.r.x - 0.0001).abs() < 1e-15 && (pose.theta - 0.01).abs() < 1e-15);
 /// ```
 pub fn largest_cluster(ends: &[Pose], n: usize, total: usize) -> Option<(f64, Pose, f64)> {
+    largest_cluster_within(ends, n, total, [super::TOL_MM, super::TOL_DEG])
+}
+
+/// [`largest_cluster`] with ends within `tol` (mm, degrees) of the seed
+/// counted as one cluster, and the spread in units of `tol`.
+pub fn largest_cluster_within(
+    ends: &[Pose],
+    n: usize,
+    total: usize,
+    tol: [f64; 2],
+) -> Option<(f64, Pose, f64)> {
     let off = |a: &Pose, b: &Pose| {
         let (d, t) = pose_error(a, b, n);
-        (
-            1e3 * d / super::TOL_MM,
-            t.abs().to_degrees() / super::TOL_DEG,
-        )
+        (1e3 * d / tol[0], t.abs().to_degrees() / tol[1])
     };
     let near = |a: &Pose, b: &Pose| {
         let (d, t) = off(a, b);
