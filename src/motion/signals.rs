@@ -410,8 +410,14 @@ mod tests {
         assert!(worst(&moved) < 1e-9, "{:e}", worst(&moved));
         // First order only (Ω'_z ẑ × (−s)): off by about Φ = α/ω² = 0.11.
         let mut first = m.clone();
-        first.linear.x.extend(m.angular.z.iter().map(|t| scale(t, s[1])));
-        first.linear.y.extend(m.angular.z.iter().map(|t| scale(t, -s[0])));
+        first
+            .linear
+            .x
+            .extend(m.angular.z.iter().map(|t| scale(t, s[1])));
+        first
+            .linear
+            .y
+            .extend(m.angular.z.iter().map(|t| scale(t, -s[0])));
         assert!(worst(&first) > 0.05, "{:e}", worst(&first));
         // The offset's harmonics against the Bessel series 2 J_h(Φ) (hω)² |s|:
         // odd ones along ẑ × s (y), even ones along s (x).
