@@ -302,3 +302,68 @@ fn explore_screen() {
         }
     }
 }
+
+/// Exploration: each `PF_SPIN` candidate's played basins on the centred
+/// motion from `PF_DROPS` (default 64) drops spread as `design`'s are,
+/// 60 s each: the largest cluster's share and the second's
+/// (`cargo test --release --test pose_rotation -- --ignored --nocapture explore_basins`).
+#[test]
+#[ignore = "exploration: PF_SPIN=alpha,phase,translation;... PF_DROPS=n"]
+fn explore_basins() {
+    use platefield::design::pose::{placement, screen, spin::spun};
+    use platefield::pose::{drop_starts, play_part, DropPlay, Pose};
+    let req = request();
+    let opts = platefield::design::DesignOptions {
+        runtime: platefield::work::Runtime::QUIET,
+        ..Default::default()
+    };
+    let method =
+        placement::synthesize_centred(&req, placement::family(true), &opts, &opts.synthesis)
+            .unwrap();
+    let sink = method.kept().schedule.clone();
+    let drops: usize = std::env::var("PF_DROPS")
+        .unwrap_or("64".into())
+        .parse()
+        .unwrap();
+    let spec = std::env::var("PF_SPIN").unwrap_or("4800,-1.6,0.15".into());
+    for item in spec.split(';') {
+        let v: Vec<f64> = item.split(',').map(|s| s.parse().unwrap()).collect();
+        let spin = Spin {
+            alpha: v[0],
+            phase: v[1],
+            translation: v[2],
+        };
+        let s = spun(&sink, spin).unwrap();
+        let sm = platefield::play::ScheduleMotion::from_schedule(&s).unwrap();
+        let starts = drop_starts(&req.region.inset(req.part.radius()), drops);
+        let runs = play_part(&req.part, &sm, &starts, &DropPlay::new(&s.settings, 60.0));
+        let mut ends: Vec<Pose> = runs.iter().flatten().map(|(e, _)| e.pose).collect();
+        let lost = drops - ends.len();
+        let n = req.part.symmetry();
+        let mut shares = Vec::new();
+        while let Some((share, pose, _)) = screen::largest_cluster(&ends, n, drops) {
+            shares.push(format!(
+                "{:.0} % at ({:+.1}, {:+.1}, {:+.0}°)",
+                100.0 * share,
+                1e3 * pose.r.x,
+                1e3 * pose.r.y,
+                pose.theta.to_degrees()
+            ));
+            ends.retain(|e| {
+                let (d, t) = platefield::design::pose::search::pose_error(e, &pose, n);
+                1e3 * d > 1.0 || t.abs().to_degrees() > 3.0
+            });
+            if shares.len() == 3 {
+                break;
+            }
+        }
+        eprintln!(
+            "spin {} {} {}: {} lost; {}",
+            spin.alpha,
+            spin.phase,
+            spin.translation,
+            lost,
+            shares.join("; ")
+        );
+    }
+}

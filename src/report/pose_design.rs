@@ -96,7 +96,7 @@ fn placement_md(d: &PoseDesign, md: &mut String) {
     screened_md(d, md);
     let _ = writeln!(
         md,
-        "\nCorrected on played probes (`design::pose::correct`: {} drops at and around the pose, {} s each, on the same motion; the mean end of the largest group within {} mm and {}° of one another moves the placement):\n\n| round | placement | probes' mean end (mm, mm, °) | probes in it | Δr (mm) | Δθ (°) | played turning rate (1/s) |\n|---|---|---|---|---|---|---|",
+        "\nCorrected on played probes (`design::pose::correct`: {} drops from starts spread over the region, {} s each, on the same motion; the mean end of the largest group within {} mm and {}° of one another moves the placement):\n\n| round | placement | probes' mean end (mm, mm, °) | probes in it | Δr (mm) | Δθ (°) | played turning rate (1/s) |\n|---|---|---|---|---|---|---|",
         crate::design::pose::correct::PROBES,
         crate::design::pose::correct::PROBE_S,
         crate::design::pose::correct::SAME_REST[0],

@@ -138,21 +138,22 @@ const POSE_TARGETS_INTRO: &str = "## Pose targets (`design` of `targets/pose_*.j
 Each part asked for at a nonzero angle off the centre (`\"field\": {\"kind\": \"pose\", …}`), \
 designed by `platefield design targets/pose_<part>.json` (`design::pose`: one six-signal motion \
 synthesized once for the centred elliptic sink (−0.3x, −y), turned and shifted onto the pose by \
-rigid transforms of the motion (the turn exact, the shift to first order in the tilt), the placement corrected on played probes without \
-redesign) and played from 100 random drops by the planar simulator; goal: 95 % within 1 mm and \
+rigid transforms of the motion (the turn exact, the shift exact for a spin about the vertical and to first order in the tilts), \
+the placement corrected on played probes from spread starts without redesign) and played from 100 random drops by the planar simulator; goal: 95 % within 1 mm and \
 3° modulo the part's symmetry. A linear field turns a part by its second moments only, so a part \
 without a 180° symmetry (the bracket, the triangle) has two stable poses 180° apart in it, each \
 with about half the drops. A unique pose needs a field nonlinear over the part. For such a part \
-`design` first tries the isotropic sink with its translation scaled by 0.25–0.6 and a spin about the \
+`design` first tries the isotropic sink with its translation scaled by 0.15–0.6 and a spin about the \
 vertical out of phase with it (`design::pose::spin`: the slip path at p is an ellipse spanned by \
 the translation and the rotation's velocity at p, so the mean friction direction turns across the \
-plate on the scale r* = V/Ω ≈ 9–27 mm: 61–70 % off affine over ±4 cm). Its 4 candidate spins are \
+plate on the scale r* = V/Ω ≈ 1.4–27 mm: 61–70 % off affine over ±4 cm at 9–27 mm). Its 5 candidate spins are \
 judged by play, not by the lifted field alone (`design::pose::screen`: 16 probes × 60 s from a 4 × 4 \
 grid of starts on the centred motion; the lifted field showed one stable pose for a spin whose played \
 drops rested 26 % at a second pose): it keeps the one with the largest share of probes at one pose, \
 at least 75 %, else the elliptic sink. The bracket keeps 1200 rad/s² with its translation × 0.4 \
-(every probe at one pose); the triangle's candidates put at most 4 of 16 at one pose and it keeps \
-the ellipse (`tests/pose_rotation.rs`, `docs/parts.md`).\n\n";
+(every probe at one pose); the triangle keeps 4800 rad/s² with its translation × 0.15 (15 of 16 \
+probes at one pose; r* ≈ 1.4 mm), the only candidate above 75 % for it (`tests/pose_rotation.rs`, \
+`docs/parts.md`).\n\n";
 
 /// The shipped pose targets (`targets/pose_*.json`).
 const POSE_TARGETS: [&str; 3] = ["rectangle", "bracket", "triangle"];

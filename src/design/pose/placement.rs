@@ -17,10 +17,11 @@
 //! the centred motion becomes (Q(Δ) r₀ + c, θ₀ + Δ) of the placed one,
 //! played or lifted alike, and the asked pose (r*, θ*) is reached with
 //! Δ = θ* − θ₀ (modulo the part's symmetry) and c = r* − Q(Δ) r₀
-//! ([`Placement::onto`]). The shift is exact to first order in the tilt
-//! amplitude (the centripetal and tilt-of-the-lever terms are second
-//! order: `tests/pose_design.rs` measures the field of a shifted motion
-//! against the shifted field).
+//! ([`Placement::onto`]). The shift moves a spin about the vertical
+//! exactly, centripetal acceleration included (the moved reference
+//! point's path as Fourier terms); the tilts' lever is moved to first
+//! order in the tilt (milliradians): `tests/pose_design.rs` measures the
+//! field of a shifted motion against the shifted field.
 //!
 //! **Region.** The motion's strength is capped by the contact margin at
 //! the corners of the region it is synthesized on; the placed motion must
