@@ -189,15 +189,18 @@ fn announce(req: &PoseRequest, drops: usize) -> String {
     } else {
         String::new()
     };
-    let range = match crate::design::stacked::ranged(&req.target) {
-        Some(_) => format!(
-            ", then the same drops again at each of {} frictions over the range",
-            friction::PER_RANGE
+    let (ends, range) = match crate::design::stacked::ranged(&req.target) {
+        Some(_) => (
+            " at each end of the friction range",
+            format!(
+                ", then the same drops again at each of {} frictions over the range",
+                friction::PER_RANGE
+            ),
         ),
-        None => String::new(),
+        None => ("", String::new()),
     };
     format!(
-        "pose: one synthesis (about half a minute of CPU){screen}, then at most {} rounds of {} probes × {} s and {drops} drops of ≥ {} s on the planar simulator{range} (about 0.2 s of CPU per 20 s drop)",
+        "pose: one synthesis (about half a minute of CPU){screen}, then at most {} rounds of {} probes × {} s{ends} and {drops} drops of ≥ {} s on the planar simulator{range} (about 0.2 s of CPU per 20 s drop)",
         correct::ROUNDS,
         correct::PROBES,
         correct::PROBE_S,
@@ -331,8 +334,11 @@ mod tests {
         let path = std::path::Path::new("targets/pose_bracket.json");
         let mut req = PoseRequest::load(path).unwrap().unwrap();
         let extra = "the same drops again at each of 3 frictions over the range";
+        let probes = "probes × 60 s at each end of the friction range";
         assert!(!announce(&req, DROPS).contains(extra));
+        assert!(!announce(&req, DROPS).contains(probes));
         req.target.friction = Some(crate::request::FrictionSpec::range(0.24, 0.36));
         assert!(announce(&req, DROPS).contains(extra));
+        assert!(announce(&req, DROPS).contains(probes));
     }
 }
