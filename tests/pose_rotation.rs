@@ -287,7 +287,7 @@ fn explore_screen() {
             spin.alpha, spin.phase, spin.translation, s.score, s.spread, s.pose
         );
         if std::env::var("PF_ENDS").is_ok() {
-            for e in screen::probe_ends(&req, &sink, spin)
+            for e in screen::probe_ends(&req, &sink, spin, None)
                 .unwrap()
                 .iter()
                 .flatten()
@@ -308,18 +308,23 @@ fn explore_screen() {
 /// 60 s each: the largest cluster's share and the second's
 /// (`cargo test --release --test pose_rotation -- --ignored --nocapture explore_basins`).
 #[test]
-#[ignore = "exploration: PF_SPIN=alpha,phase,translation;... PF_DROPS=n"]
+#[ignore = "exploration: PF_SPIN=alpha,phase,translation;... PF_DROPS=n PF_RATIO=r"]
 fn explore_basins() {
     use platefield::design::pose::{placement, screen, spin::spun};
     use platefield::pose::{drop_starts, play_part, DropPlay, Pose};
     let req = request();
+    // PF_RATIO: the synthesized ellipse's α/β (1: the isotropic sink).
+    let family = platefield::design::pose::search::Family::Ellipse {
+        ratio: std::env::var("PF_RATIO")
+            .unwrap_or("1".into())
+            .parse()
+            .unwrap(),
+    };
     let opts = platefield::design::DesignOptions {
         runtime: platefield::work::Runtime::QUIET,
         ..Default::default()
     };
-    let method =
-        placement::synthesize_centred(&req, placement::family(true), &opts, &opts.synthesis)
-            .unwrap();
+    let method = placement::synthesize_centred(&req, family, &opts, &opts.synthesis).unwrap();
     let sink = method.kept().schedule.clone();
     let drops: usize = std::env::var("PF_DROPS")
         .unwrap_or("64".into())

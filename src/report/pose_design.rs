@@ -122,13 +122,23 @@ fn placement_md(d: &PoseDesign, md: &mut String) {
 
 /// The spin candidates judged by play, when there were any.
 fn screened_md(d: &PoseDesign, md: &mut String) {
-    use crate::design::pose::screen::{MIN_SHARE, PROBES, PROBE_S};
+    use crate::design::pose::screen::{MAX_TURN, MIN_SHARE, PROBES, PROBE_S};
     if d.screened.is_empty() {
         return;
     }
+    let ranged = d.screened.iter().any(|s| s.turn.is_some());
+    let (range_text, head, rule) = if ranged {
+        (
+            format!("; over the friction range the least share at its middle and ends, and kept only if its pose turns by at most {MAX_TURN} tolerances between the ends"),
+            " turn over the range (tolerances) |",
+            "---|",
+        )
+    } else {
+        (String::new(), "", "")
+    };
     let _ = writeln!(
         md,
-        "\nSpin candidates judged by play (`design::pose::screen`: {PROBES} probes × {PROBE_S} s from a 4 × 4 grid of starts on the centred motion; kept: the largest share at one pose, at least {:.0} %, then the tightest):\n\n| α (rad/s²) | phase (rad) | translation × | share at one pose | spread | played pose (mm, mm, °) |\n|---|---|---|---|---|---|",
+        "\nSpin candidates judged by play (`design::pose::screen`: {PROBES} probes × {PROBE_S} s from a 4 × 4 grid of starts on the centred motion; kept: the largest share at one pose, at least {:.0} %, then the tightest{range_text}):\n\n| α (rad/s²) | phase (rad) | translation × | share at one pose | spread | played pose (mm, mm, °) |{head}\n|---|---|---|---|---|---|{rule}",
         100.0 * MIN_SHARE
     );
     for s in &d.screened {
@@ -140,9 +150,10 @@ fn screened_md(d: &PoseDesign, md: &mut String) {
                 p.theta.to_degrees()
             )
         });
+        let turn = s.turn.map_or(String::new(), |t| format!(" {t:.2} |"));
         let _ = writeln!(
             md,
-            "| {} | {} | {} | {:.0} % | {:.2} | {pose} |",
+            "| {} | {} | {} | {:.0} % | {:.2} | {pose} |{turn}",
             s.spin.alpha,
             s.spin.phase,
             s.spin.translation,

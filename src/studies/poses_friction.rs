@@ -2,7 +2,9 @@
 //! ±20 % of their part's friction, `results/poses_friction.md`.
 //!
 //! Each shipped pose target (`targets/pose_{rectangle,bracket,triangle}.json`,
-//! parts of μ = 0.3) is designed as `design` does
+//! parts of μ = 0.3, and `pose_{bracket,triangle}_range.json`, designed for
+//! μ ∈ [0.24, 0.36], whose own plays over the range are their rows) is
+//! designed as `design` does
 //! ([`crate::design::pose::design_pose`], [`crate::design::pose::DROPS`] drops) and its kept
 //! schedule's drops are played again, from the same starts for the same
 //! time, at μ 0.24 and 0.36 ([`FrictionSpec::around`] 0.3 by
@@ -21,8 +23,16 @@ use crate::Result;
 /// Default output folder.
 pub const DIR: &str = "results";
 
-/// The shipped pose targets.
-const TARGETS: [&str; 3] = ["rectangle", "bracket", "triangle"];
+/// The shipped pose targets: the three at the part's μ, then the bracket
+/// and the triangle designed for μ ∈ [0.24, 0.36]
+/// (`targets/pose_{bracket,triangle}_range.json`).
+const TARGETS: [&str; 5] = [
+    "rectangle",
+    "bracket",
+    "triangle",
+    "bracket_range",
+    "triangle_range",
+];
 
 /// The friction band played: ± this fraction of the part's μ.
 pub const FRACTION: f64 = 0.2;
@@ -33,7 +43,11 @@ does (the part's μ = 0.3; `results/poses.md` has each design), then its kept sc
 played again from the same starts for the same time with the parts' friction at 0.24 and 0.36 \
 (±20 %), and at 0.30 again (the design's own play, the same bytes): every support point's Coulomb law in the planar \
 simulator at that μ, each end judged against the lifted field at that μ \
-(`design::pose::friction`). Columns: the fraction of the drops ending within 1 mm and 3° of the \
+(`design::pose::friction`). The last two sections are the bracket and the triangle designed \
+for μ ∈ [0.24, 0.36] (`targets/pose_<part>_range.json`): spin candidates screened at the range's \
+middle and ends, kept only if their played pose turns by at most twice the tolerance between the \
+ends, and the placement centred between the ends' rests (`design::pose::screen`, \
+`design::pose::correct`); their rows are the design's own plays over the range. Columns: the fraction of the drops ending within 1 mm and 3° of the \
 asked pose (modulo the part's symmetry), the median settle time, drops that lost contact, the \
 lifted field's stable poses modulo symmetry and each one's played basin, where the played drops \
 rest near the asked pose (the median distance and signed angle from it of the ends within 30° of \
@@ -48,7 +62,11 @@ fn target(md: &mut String, summary: &mut String, name: &str) -> Result<()> {
     let nominal = crate::report::pose_design::played(&d).clone();
     let band = FrictionSpec::around(schedule.settings.friction, FRACTION);
     let own = nominal.pose_fraction;
-    let p = friction::over_range(&req, schedule, nominal, friction::rate(&d), Some(band))?;
+    // A design for a range has played its drops over it already.
+    let p = match nominal.over_friction {
+        Some(_) => nominal,
+        None => friction::over_range(&req, schedule, nominal, friction::rate(&d), Some(band))?,
+    };
     let o = p
         .over_friction
         .as_ref()

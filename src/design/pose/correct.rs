@@ -141,11 +141,8 @@ pub(crate) fn median(mut xs: Vec<f64>) -> Option<f64> {
 /// range when it states one (module docs, "Over a friction range"), else
 /// the schedule's own (`None`).
 fn probe_frictions(req: &PoseRequest) -> Vec<Option<Friction>> {
-    match crate::design::stacked::ranged(&req.target) {
-        Some(range) => {
-            let v = range.values(2);
-            vec![Some(v[0]), Some(v[v.len() - 1])]
-        }
+    match req.friction_ends() {
+        Some(ends) => ends.map(Some).to_vec(),
         None => vec![None],
     }
 }

@@ -179,9 +179,14 @@ pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Res
 
 /// The work `design_pose` will do, said before it starts.
 fn announce(req: &PoseRequest, drops: usize) -> String {
+    let at_ends = if req.friction_ends().is_some() {
+        " at the middle and each end of the friction range"
+    } else {
+        ""
+    };
     let screen = if spin::needs_spin(req.part.symmetry()) {
         format!(
-            ", up to {} spin candidates × {} probes × {} s (and a second synthesis if none is kept)",
+            ", up to {} spin candidates × {} probes × {} s{at_ends} (and a second synthesis if none is kept)",
             spin::CANDIDATES.len(),
             screen::PROBES,
             screen::PROBE_S
@@ -284,7 +289,8 @@ fn centred_motion(
             placement::synthesize_centred(req, placement::family(true), opts, &opts.synthesis)?;
         let sink = method.kept().schedule.clone();
         let tried = spin::try_all(req, &sink, grid)?;
-        let probes = tried.len() * screen::PROBES;
+        let plays = if req.friction_ends().is_some() { 3 } else { 1 };
+        let probes = tried.len() * screen::PROBES * plays;
         let sm = ScheduleMotion::from_schedule(&sink)?;
         let (all, kept) = watched(
             "pose spin screen",

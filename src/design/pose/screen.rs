@@ -18,8 +18,21 @@
 //! probes and its played pose that cluster's mean. A drop lost, at a
 //! second pose or still moving after [`PROBE_S`] counts against it.
 //!
+//! **Over a friction range.** When the request states a friction range,
+//! the probes also play at its two ends: a candidate's score is its least
+//! share over the three frictions, and its `turn` how far its played pose
+//! moves from the low end to the high one, in tolerances (the larger of
+//! |Δr|/1 mm and |Δθ|/3°). Only a candidate that turns by at most
+//! [`MAX_TURN`] tolerances can be kept: the correction centres the
+//! placement between the ends ([`super::correct`]), so a turn of at most
+//! twice the tolerance leaves both ends within it. Otherwise `design`
+//! keeps the elliptic sink, whose pose hardly moves with μ (its worst
+//! fraction over μ 0.24–0.36 was 45 % on the triangle, against 0 % for
+//! its strongest spin, whose rest turned 17.6°).
+//!
 //! **Choice** ([`choose`]): among the candidates with a lifted stable pose
-//! ([`super::spin::try_all`]), the largest share, then the tightest cluster
+//! ([`super::spin::try_all`]), the largest share, then (over a range) the
+//! least turn, then the tightest cluster
 //! (least mean |Δr|/1 mm + |Δθ|/3° of its members from its mean: the most
 //! nearly settled), then the earlier in [`super::spin::CANDIDATES`]; kept
 //! when that share is at least [`MIN_SHARE`], else `design` keeps the
@@ -29,7 +42,7 @@
 use super::search::{pose_error, wrap_symmetric};
 use super::spin::{spun, Spin};
 use super::PoseRequest;
-use crate::dynamics::V2;
+use crate::dynamics::{Friction, V2};
 use crate::error::Result;
 use crate::play::ScheduleMotion;
 use crate::pose::{play_part, DropPlay, Pose, Region};
@@ -42,6 +55,9 @@ pub const PROBE_S: f64 = 60.0;
 /// Least share of the probes at one pose for a spin to be kept: 12 of 16,
 /// well above the elliptic sink's half.
 pub const MIN_SHARE: f64 = 0.75;
+/// Most a kept spin's played pose may move over a stated friction range,
+/// in tolerances (module docs): twice the tolerance, centred.
+pub const MAX_TURN: f64 = 2.0;
 
 /// A candidate judged by play.
 #[derive(Debug, Clone, PartialEq)]
@@ -55,6 +71,10 @@ pub struct Screened {
     /// That cluster's mean pose on the centred motion, `None` when every
     /// probe lost contact.
     pub pose: Option<Pose>,
+    /// With a friction range: how far the played pose moves from its low
+    /// end to its high one, in tolerances (module docs); `None` for an
+    /// exact friction, infinite when an end has no cluster.
+    pub turn: Option<f64>,
 }
 
 /// The probe starts over `region` (module docs): a 4 × 4 grid of centres
@@ -144,12 +164,21 @@ pub fn largest_cluster_within(
 }
 
 /// The probes' end poses on the centred `sink` with `spin` (module docs),
-/// `None` for a probe that lost contact.
+/// played at `friction` (`None`: the schedule's own), `None` for a probe
+/// that lost contact.
 ///
 /// # Errors
 /// `sink` is not one six-signal motion.
-pub fn probe_ends(req: &PoseRequest, sink: &Schedule, spin: Spin) -> Result<Vec<Option<Pose>>> {
-    let schedule = spun(sink, spin)?;
+pub fn probe_ends(
+    req: &PoseRequest,
+    sink: &Schedule,
+    spin: Spin,
+    friction: Option<Friction>,
+) -> Result<Vec<Option<Pose>>> {
+    let mut schedule = spun(sink, spin)?;
+    if let Some(f) = friction {
+        schedule.settings.friction = f;
+    }
     let sm = ScheduleMotion::from_schedule(&schedule)?;
     let starts = probe_starts(&req.region.inset(req.part.radius()));
     let play = DropPlay::new(&schedule.settings, PROBE_S);
@@ -159,18 +188,53 @@ pub fn probe_ends(req: &PoseRequest, sink: &Schedule, spin: Spin) -> Result<Vec<
         .collect())
 }
 
-/// `spin` added to the centred `sink` and judged by play (module docs).
+/// The largest cluster of the probes' ends at `friction` (module docs).
+fn cluster_at(
+    req: &PoseRequest,
+    sink: &Schedule,
+    spin: Spin,
+    friction: Option<Friction>,
+) -> Result<Option<(f64, Pose, f64)>> {
+    let ends: Vec<Pose> = probe_ends(req, sink, spin, friction)?
+        .into_iter()
+        .flatten()
+        .collect();
+    Ok(largest_cluster(&ends, req.part.symmetry(), PROBES))
+}
+
+/// `spin` added to the centred `sink` and judged by play (module docs),
+/// over the request's friction range when it states one.
 ///
 /// # Errors
 /// `sink` is not one six-signal motion.
 pub fn screen(req: &PoseRequest, sink: &Schedule, spin: Spin) -> Result<Screened> {
-    let ends: Vec<Pose> = probe_ends(req, sink, spin)?.into_iter().flatten().collect();
-    let best = largest_cluster(&ends, req.part.symmetry(), PROBES);
+    let best = cluster_at(req, sink, spin, None)?;
+    let mut score = best.map_or(0.0, |b| b.0);
+    let turn = match req.friction_ends() {
+        None => None,
+        Some(ends) => {
+            let [lo, hi] = [
+                cluster_at(req, sink, spin, Some(ends[0]))?,
+                cluster_at(req, sink, spin, Some(ends[1]))?,
+            ];
+            score = [lo, hi]
+                .iter()
+                .fold(score, |s, c| s.min(c.map_or(0.0, |c| c.0)));
+            Some(match (lo, hi) {
+                (Some(a), Some(b)) => {
+                    let (d, t) = pose_error(&a.1, &b.1, req.part.symmetry());
+                    (1e3 * d / super::TOL_MM).max(t.abs().to_degrees() / super::TOL_DEG)
+                }
+                _ => f64::INFINITY,
+            })
+        }
+    };
     Ok(Screened {
         spin,
-        score: best.map_or(0.0, |b| b.0),
+        score,
         spread: best.map_or(f64::INFINITY, |b| b.2),
         pose: best.map(|b| b.1),
+        turn,
     })
 }
 
@@ -189,15 +253,30 @@ pub fn choose(
         .filter(|t| !t.stable.is_empty())
         .map(|t| screen(req, sink, t.spin))
         .collect::<Result<Vec<_>>>()?;
-    let kept = best(&screened).filter(|s| s.score >= MIN_SHARE).cloned();
+    let kept = best(&within_turn(&screened))
+        .filter(|s| s.score >= MIN_SHARE)
+        .cloned();
     Ok((screened, kept))
 }
 
-/// The largest share, then the least spread, then the earliest.
+/// The candidates whose pose turns by at most [`MAX_TURN`] tolerances
+/// over the friction range (all of them for an exact friction).
+fn within_turn(screened: &[Screened]) -> Vec<Screened> {
+    screened
+        .iter()
+        .filter(|s| s.turn.is_none_or(|t| t <= MAX_TURN))
+        .cloned()
+        .collect()
+}
+
+/// The largest share, then (over a friction range) the least turn, then
+/// the least spread, then the earliest.
 fn best(screened: &[Screened]) -> Option<&Screened> {
+    let turn = |s: &Screened| s.turn.unwrap_or(0.0);
     screened.iter().rev().max_by(|a, b| {
         a.score
             .total_cmp(&b.score)
+            .then(turn(b).total_cmp(&turn(a)))
             .then(b.spread.total_cmp(&a.spread))
     })
 }
@@ -216,6 +295,7 @@ mod tests {
             score,
             spread,
             pose: None,
+            turn: None,
         }
     }
 
@@ -232,6 +312,30 @@ mod tests {
         assert_eq!(best(&s[..2]).unwrap().spin.alpha, 2.0);
         assert_eq!(best(&s[..1]).unwrap().spin.alpha, 1.0);
         assert!(best(&[]).is_none());
+    }
+
+    /// Over a friction range only a candidate whose pose turns by at most
+    /// [`MAX_TURN`] tolerances can be kept, however large its share; among
+    /// equal shares the least turn wins before the least spread (the
+    /// bracket's range: 900 × 0.25 turning 1.31 before 1200 × 0.4 turning
+    /// 1.90 with the tighter cluster).
+    #[test]
+    fn a_range_keeps_only_a_spin_that_turns_little() {
+        let turning = |score: f64, turn: Option<f64>, spread: f64, alpha: f64| Screened {
+            turn,
+            ..screened(score, spread, alpha)
+        };
+        let s = [
+            turning(1.0, Some(2.5), 0.1, 1.0),
+            turning(0.8, Some(1.5), 0.1, 2.0),
+        ];
+        assert_eq!(best(&within_turn(&s)).unwrap().spin.alpha, 2.0);
+        assert_eq!(best(&s).unwrap().spin.alpha, 1.0);
+        let bracket = [
+            turning(1.0, Some(1.31), 0.02, 900.0),
+            turning(1.0, Some(1.90), 0.00, 1200.0),
+        ];
+        assert_eq!(best(&within_turn(&bracket)).unwrap().spin.alpha, 900.0);
     }
 
     /// Two clusters of three and two ends among six drops: the larger
