@@ -7,8 +7,10 @@
 //! [`crate::design::stacked`] fits fields) and recorded in
 //! `schedule.json`'s `played.pose.over_friction`
 //! ([`crate::schedule::PoseOverFriction`]); its `worst_pose_fraction` is
-//! the least over them. The design itself is made, placed and corrected at
-//! the middle; `pose_fraction` stays the middle's.
+//! the least over them. The design itself is synthesized at the middle,
+//! its spin screened and its placement centred over the range
+//! ([`super::screen`], [`super::correct`]); `pose_fraction` stays the
+//! middle's.
 //!
 //! **Which μ the drops take.** `play::play` builds its
 //! [`crate::pose::DropPlay`] from the settings it is given, and a design
