@@ -9,7 +9,7 @@
 //! ([`crate::schedule::PoseOverFriction`]); its `worst_pose_fraction` is
 //! the least over them. The design itself is synthesized at the middle,
 //! its spin screened and its placement centred over the range
-//! ([`super::screen`], [`super::correct`]); `pose_fraction` stays the
+//! ([`super::screen`], `design::pose::correct`); `pose_fraction` stays the
 //! middle's.
 //!
 //! **Which μ the drops take.** `play::play` builds its

@@ -113,7 +113,7 @@ fn in_file(path: &Path, e: Error) -> Error {
 impl PoseRequest {
     /// The two ends of the target's friction range (μ low, μ high), `None`
     /// for an exact friction: where a pose design's probes play to meet
-    /// the range ([`super::correct`], [`super::screen`]).
+    /// the range (`design::pose::correct`, [`super::screen`]).
     pub fn friction_ends(&self) -> Option<[crate::dynamics::Friction; 2]> {
         let v = crate::design::stacked::ranged(&self.target)?.values(2);
         Some([v[0], v[v.len() - 1]])
