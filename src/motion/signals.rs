@@ -204,7 +204,7 @@ impl Signals {
     /// offset of a point turned with the plate about the vertical through
     /// the old centre. That offset's acceleration −(R_z(θ_z) s)'' is added
     /// to the linear x and y signals as Fourier terms
-    /// ([`turned_offset_terms`]): to first order in θ_z it is Ω'_z ẑ × (−s);
+    /// (`turned_offset_terms` below): to first order in θ_z it is Ω'_z ẑ × (−s);
     /// its second-order part, (θ_z²/2)'' s at twice the spin's harmonics,
     /// is what a spin of angular amplitude θ_z needs for the plate frame's
     /// centripetal acceleration about the moved centre. The vertical
@@ -311,7 +311,11 @@ const OFFSET_FLOOR: f64 = 1e-9;
 /// h = 1, the first-order Ω'_z ẑ × (−s), then Φ²ω²|s| at h = 2 and
 /// falling as Φ^h; terms below [`OFFSET_FLOOR`] are left out. No spin or
 /// no shift: no terms.
-pub fn turned_offset_terms(z: &[FourierTerm], period: f64, s: [f64; 2]) -> [Vec<FourierTerm>; 2] {
+pub(crate) fn turned_offset_terms(
+    z: &[FourierTerm],
+    period: f64,
+    s: [f64; 2],
+) -> [Vec<FourierTerm>; 2] {
     let highest = z.iter().map(|t| t.harmonic).max().unwrap_or(0) as usize;
     if highest == 0 || s == [0.0, 0.0] {
         return [Vec::new(), Vec::new()];

@@ -24,7 +24,7 @@
 //! moves from the low end to the high one, in tolerances (the larger of
 //! |Δr|/1 mm and |Δθ|/3°). Only a candidate that turns by at most
 //! [`MAX_TURN`] tolerances can be kept: the correction centres the
-//! placement between the ends ([`super::correct`]), so a turn of at most
+//! placement between the ends (`design::pose::correct`), so a turn of at most
 //! twice the tolerance leaves both ends within it. Otherwise `design`
 //! keeps the elliptic sink, whose pose hardly moves with μ (its worst
 //! fraction over μ 0.24–0.36 was 45 % on the triangle, against 0 % for
