@@ -2,8 +2,9 @@
 //! friction is the user's, rarely known within ±20 %, so a design judged at
 //! one μ only may be lucky. When the target (or the part file, whose
 //! friction a pose target takes when it states none: [`super::PoseRequest`])
-//! gives a range, the design's drops are played again at its ends and
-//! middle ([`FrictionSpec::values`], [`PER_RANGE`] per range, as
+//! gives a range, the design's drops are played again at its ends (its
+//! middle is the design's own play, `over_range_after`; [`over_range`]
+//! plays all three: [`FrictionSpec::values`], [`PER_RANGE`] per range, as
 //! [`crate::design::stacked`] fits fields) and recorded in
 //! `schedule.json`'s `played.pose.over_friction`
 //! ([`crate::schedule::PoseOverFriction`]); its `worst_pose_fraction` is
@@ -12,7 +13,7 @@
 //! ([`super::screen`], `design::pose::correct`); `pose_fraction` stays the
 //! middle's.
 //!
-//! **Which μ the drops take.** `play::play` builds its
+//! **Which μ the drops take.** `play::play_ends` builds its
 //! [`crate::pose::DropPlay`] from the settings it is given, and a design
 //! passes the schedule's, whose friction is the target's nominal (the
 //! middle of a range). Here each value is played with the schedule's
@@ -86,13 +87,38 @@ pub fn over_range(
     rate: f64,
     range: Option<FrictionSpec>,
 ) -> Result<PosePlayed> {
+    over_range_after(req, schedule, (nominal, None), rate, range)
+}
+
+/// [`over_range`] after the design's own play `nominal` at the schedule's
+/// friction, with its drops' ends when known: the range's value equal to
+/// that friction (its middle) takes that play instead of playing the same
+/// drops again (the same starts, time and friction: the same row).
+///
+/// # Errors
+/// A schedule whose field cannot be computed at one of the values.
+pub(crate) fn over_range_after(
+    req: &PoseRequest,
+    schedule: &Schedule,
+    (nominal, ends): (PosePlayed, Option<&[Option<Pose>]>),
+    rate: f64,
+    range: Option<FrictionSpec>,
+) -> Result<PosePlayed> {
     let Some(range) = range else {
         return Ok(nominal);
     };
     let at = range
         .values(PER_RANGE)
         .into_iter()
-        .map(|f| play_at(req, schedule, f, rate, nominal.drops))
+        .map(|f| match ends {
+            Some(ends) if f == schedule.settings.friction => {
+                let grid = req.target.grid.unwrap_or(crate::field::Grid::DEFAULT);
+                let field = schedule_field(schedule, &grid)?;
+                let analysis = analyse(&req.part, &field, req.region, LIFTED_DROPS);
+                Ok(entry(req, f, &nominal, &analysis, ends))
+            }
+            _ => play_at(req, schedule, f, rate, nominal.drops),
+        })
         .collect::<Result<Vec<_>>>()?;
     let worst_pose_fraction = at.iter().map(|a| a.pose_fraction).fold(1.0, f64::min);
     Ok(PosePlayed {

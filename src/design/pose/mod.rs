@@ -198,8 +198,8 @@ fn announce(req: &PoseRequest, drops: usize) -> String {
         Some(_) => (
             " at each end of the friction range",
             format!(
-                ", then the same drops again at each of {} frictions over the range",
-                friction::PER_RANGE
+                ", then the same drops again at {} more frictions over the range (its middle is that play)",
+                friction::PER_RANGE - 1
             ),
         ),
         None => ("", String::new()),
@@ -214,7 +214,7 @@ fn announce(req: &PoseRequest, drops: usize) -> String {
 }
 
 /// The placed `schedule`'s `drops` drops, played with progress on stderr
-/// (`play::play`), and again over the request's friction range when it
+/// (`play::play_ends`), and again over the request's friction range when it
 /// states one (`friction::over_range`); `label` names the field.
 ///
 /// # Errors
@@ -231,18 +231,25 @@ fn play_drops(
     let quiet = opts.runtime.quiet;
     let (settings, duration) = (&schedule.settings, play::play_seconds(rate));
     let field = format!("one synthesized motion: {label}");
-    let played = watched(
+    let (played, ends) = watched(
         "pose drops",
         (req, &sm, settings, drops, duration),
         quiet,
-        || play::play(req, &sm, settings, (analysis, field, rate), drops),
+        || play::play_ends(req, &sm, settings, (analysis, field, rate), drops),
     );
     let Some(range) = crate::design::stacked::ranged(&req.target) else {
         return Ok(played);
     };
-    let replays = (req, &sm, settings, drops * friction::PER_RANGE, duration);
+    // The range's middle is the play above: its ends only are replayed.
+    let replays = (
+        req,
+        &sm,
+        settings,
+        drops * (friction::PER_RANGE - 1),
+        duration,
+    );
     watched("pose drops over friction", replays, quiet, || {
-        friction::over_range(req, schedule, played, rate, Some(range))
+        friction::over_range_after(req, schedule, (played, Some(&ends)), rate, Some(range))
     })
 }
 
@@ -339,7 +346,7 @@ mod tests {
     fn announce_names_the_range_plays() {
         let path = std::path::Path::new("targets/pose_bracket.json");
         let mut req = PoseRequest::load(path).unwrap().unwrap();
-        let extra = "the same drops again at each of 3 frictions over the range";
+        let extra = "the same drops again at 2 more frictions over the range";
         let probes = "probes × 60 s at each end of the friction range";
         assert!(!announce(&req, DROPS).contains(extra));
         assert!(!announce(&req, DROPS).contains(probes));

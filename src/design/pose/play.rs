@@ -92,18 +92,8 @@ fn median(mut times: Vec<Option<f64>>) -> Option<f64> {
 /// Plays `drops` drops of the request's part through `sm` (module docs):
 /// `analysis` is the kept schedule's lifted field (its stable poses and
 /// predicted basins), `field` names the requested point field and `rate`
-/// is the slowest decay rate at the asked pose (1/s).
-pub fn play(
-    req: &PoseRequest,
-    sm: &ScheduleMotion,
-    settings: &FieldSettings,
-    (analysis, field, rate): (&PoseAnalysis, String, f64),
-    drops: usize,
-) -> PosePlayed {
-    play_ends(req, sm, settings, (analysis, field, rate), drops).0
-}
-
-/// [`play`], with each drop's end pose (`None`: it lost contact).
+/// is the slowest decay rate at the asked pose (1/s); with each drop's
+/// end pose (`None`: it lost contact).
 pub fn play_ends(
     req: &PoseRequest,
     sm: &ScheduleMotion,
