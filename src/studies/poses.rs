@@ -182,11 +182,12 @@ fn pose_target(md: &mut String, summary: &mut String, name: &str) -> Result<()> 
                 })
         };
     let predicted = near(&schedule_field(schedule, &grid)?);
-    // A point part that leaves the plate somewhere on the grid is said so
-    // (the planar drops count such parts as lost), not a failed study.
+    // A physically invalid play (a point part leaving the plate somewhere
+    // on the grid; the planar drops count such parts as lost) is said so,
+    // not a failed study.
     let realised = match crate::pose::realised_field(schedule, &grid) {
         Ok(field) => near(&field),
-        Err(Error::Physical(why)) => format!("none, a point part leaves the plate ({why})"),
+        Err(Error::Physical(why)) => format!("none ({why})"),
         Err(e) => return Err(e),
     };
     let _ = writeln!(

@@ -91,16 +91,17 @@ pub fn over_range(
 }
 
 /// [`over_range`] after the design's own play `nominal` at the schedule's
-/// friction, with its drops' ends when known: the range's value equal to
-/// that friction (its middle) takes that play instead of playing the same
-/// drops again (the same starts, time and friction: the same row).
+/// friction, with its drops' ends and the lifted analysis it was judged
+/// by when known: the range's value equal to that friction (its middle)
+/// takes that play instead of playing the same drops again (the same
+/// starts, time and friction: the same row).
 ///
 /// # Errors
 /// A schedule whose field cannot be computed at one of the values.
 pub(crate) fn over_range_after(
     req: &PoseRequest,
     schedule: &Schedule,
-    (nominal, ends): (PosePlayed, Option<&[Option<Pose>]>),
+    (nominal, own): (PosePlayed, Option<(&[Option<Pose>], &PoseAnalysis)>),
     rate: f64,
     range: Option<FrictionSpec>,
 ) -> Result<PosePlayed> {
@@ -110,12 +111,9 @@ pub(crate) fn over_range_after(
     let at = range
         .values(PER_RANGE)
         .into_iter()
-        .map(|f| match ends {
-            Some(ends) if f == schedule.settings.friction => {
-                let grid = req.target.grid.unwrap_or(crate::field::Grid::DEFAULT);
-                let field = schedule_field(schedule, &grid)?;
-                let analysis = analyse(&req.part, &field, req.region, LIFTED_DROPS);
-                Ok(entry(req, f, &nominal, &analysis, ends))
+        .map(|f| match own {
+            Some((ends, analysis)) if f == schedule.settings.friction => {
+                Ok(entry(req, f, &nominal, analysis, ends))
             }
             _ => play_at(req, schedule, f, rate, nominal.drops),
         })

@@ -249,7 +249,8 @@ fn play_drops(
         duration,
     );
     watched("pose drops over friction", replays, quiet, || {
-        friction::over_range_after(req, schedule, (played, Some(&ends)), rate, Some(range))
+        let own = Some((ends.as_slice(), analysis));
+        friction::over_range_after(req, schedule, (played, own), rate, Some(range))
     })
 }
 
