@@ -90,6 +90,10 @@ pub fn over_range(
     over_range_after(req, schedule, (nominal, None), rate, range)
 }
 
+/// A design's own drops at the schedule's friction: each drop's end
+/// (`None`: lost) and the lifted analysis they were judged by.
+pub(crate) type OwnPlay<'a> = (&'a [Option<Pose>], &'a PoseAnalysis);
+
 /// [`over_range`] after the design's own play `nominal` at the schedule's
 /// friction, with its drops' ends and the lifted analysis it was judged
 /// by when known: the range's value equal to that friction (its middle)
@@ -101,7 +105,7 @@ pub fn over_range(
 pub(crate) fn over_range_after(
     req: &PoseRequest,
     schedule: &Schedule,
-    (nominal, own): (PosePlayed, Option<(&[Option<Pose>], &PoseAnalysis)>),
+    (nominal, own): (PosePlayed, Option<OwnPlay>),
     rate: f64,
     range: Option<FrictionSpec>,
 ) -> Result<PosePlayed> {
