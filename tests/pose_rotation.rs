@@ -250,8 +250,8 @@ fn explore_ends() {
 /// Exploration: spins judged by play (`design::pose::screen`) on the
 /// centred sink `design` synthesizes for `PF_TARGET` (default the
 /// bracket's): `PF_SPIN="alpha,phase,translation;..."` (default the
-/// candidates) prints each one's score and played pose (`PF_ENDS=1`: and
-/// every probe's end)
+/// candidates) prints each one's score and its cycle's played pose
+/// (`PF_ENDS=1`: and every probe's end on the spun sink alone)
 /// (`cargo test --release --test pose_rotation -- --ignored --nocapture explore_screen`).
 #[test]
 #[ignore = "exploration: PF_SPIN=alpha,phase,translation;..."]
@@ -266,6 +266,16 @@ fn explore_screen() {
         placement::synthesize_centred(&req, placement::family(true), &opts, &opts.synthesis)
             .unwrap();
     let sink = method.kept().schedule.clone();
+    let ellipse =
+        placement::synthesize_centred(&req, placement::family(false), &opts, &opts.synthesis)
+            .unwrap();
+    let grid = req.target.grid.unwrap_or(Grid::DEFAULT);
+    let stage = platefield::design::pose::cycle::EllipseStage::new(
+        &req,
+        ellipse.kept().schedule.clone(),
+        &grid,
+    )
+    .unwrap();
     let spins: Vec<Spin> = match std::env::var("PF_SPIN") {
         Ok(spec) => spec
             .split(';')
@@ -281,13 +291,14 @@ fn explore_screen() {
         Err(_) => CANDIDATES.to_vec(),
     };
     for spin in spins {
-        let s = screen::screen(&req, &sink, spin).unwrap();
+        let s = screen::screen(&req, &sink, &stage, spin).unwrap();
         eprintln!(
             "spin {} {} {}: score {:.3} spread {:.3} pose {:?}",
             spin.alpha, spin.phase, spin.translation, s.score, s.spread, s.pose
         );
         if std::env::var("PF_ENDS").is_ok() {
-            for e in screen::probe_ends(&req, &sink, spin, None)
+            let spun = platefield::design::pose::spin::spun(&sink, spin).unwrap();
+            for e in screen::probe_ends(&req, &spun, None)
                 .unwrap()
                 .iter()
                 .flatten()
@@ -370,5 +381,105 @@ fn explore_basins() {
             lost,
             shares.join("; ")
         );
+    }
+}
+
+/// The cycle of a spun sink and the ellipse (`design::pose::cycle`):
+/// `PF_SPIN_A` (default 4800,-1.6,0.15) on the isotropic sink, its probes'
+/// main rest, and its cycle with the ellipse placed there, the stages
+/// `PF_STAGE_S` seconds (default the library's 40,20); `PF_DROPS` drops
+/// (default 64) for `PF_SECONDS` (default 160) at each μ of `PF_MU`
+/// (default 0.3; `PF_ALONE=1`: the spun sink alone too): the shares at
+/// the three largest rests (`cargo test --release --test pose_rotation --
+/// --ignored --nocapture explore_cycle`).
+#[test]
+#[ignore = "exploration: PF_TARGET, PF_SPIN_A, PF_STAGE_S, PF_MU"]
+fn explore_cycle() {
+    use platefield::design::pose::cycle::{cycle, EllipseStage, ELLIPSE_S, SPIN_S};
+    use platefield::design::pose::{placement, screen, search::pose_error, spin::spun};
+    use platefield::pose::{drop_starts, play_part, DropPlay, Pose};
+    use platefield::schedule::Schedule;
+    let env = |k: &str, d: &str| std::env::var(k).unwrap_or(d.into());
+    let req = request();
+    let n = req.part.symmetry();
+    let opts = platefield::design::DesignOptions {
+        runtime: platefield::work::Runtime::QUIET,
+        ..Default::default()
+    };
+    let synth = |spin: bool| {
+        placement::synthesize_centred(&req, placement::family(spin), &opts, &opts.synthesis)
+            .unwrap()
+            .kept()
+            .schedule
+            .clone()
+    };
+    let grid = req.target.grid.unwrap_or(Grid::DEFAULT);
+    let (sink, ellipse) = (
+        synth(true),
+        EllipseStage::new(&req, synth(false), &grid).unwrap(),
+    );
+    let v: Vec<f64> = env("PF_SPIN_A", "4800,-1.6,0.15")
+        .split(',')
+        .map(|s| s.parse().unwrap())
+        .collect();
+    let spin = Spin {
+        alpha: v[0],
+        phase: v[1],
+        translation: v[2],
+    };
+    let drops: usize = env("PF_DROPS", "64").parse().unwrap();
+    let secs: f64 = env("PF_SECONDS", "160").parse().unwrap();
+    let stages: Vec<f64> = env("PF_STAGE_S", &format!("{SPIN_S},{ELLIPSE_S}"))
+        .split(',')
+        .map(|s| s.parse().unwrap())
+        .collect();
+    let starts = drop_starts(&req.region.inset(req.part.radius()), drops);
+    let say = |what: &str, s: &Schedule, secs: f64| -> Pose {
+        let sm = platefield::play::ScheduleMotion::from_schedule(s).unwrap();
+        let runs = play_part(&req.part, &sm, &starts, &DropPlay::new(&s.settings, secs));
+        let mut ends: Vec<Pose> = runs.iter().flatten().map(|(e, _)| e.pose).collect();
+        let lost = drops - ends.len();
+        let mut out = Vec::new();
+        while let Some((share, pose, _)) = screen::largest_cluster(&ends, n, drops) {
+            out.push((share, pose));
+            ends.retain(|e| {
+                let (d, t) = pose_error(e, &pose, n);
+                1e3 * d > 1.0 || t.abs().to_degrees() > 3.0
+            });
+            if out.len() == 3 {
+                break;
+            }
+        }
+        let text: Vec<String> = out
+            .iter()
+            .map(|(f, p)| {
+                format!(
+                    "{:.0} % at ({:+.1}, {:+.1}, {:+.1}°)",
+                    100.0 * f,
+                    1e3 * p.r.x,
+                    1e3 * p.r.y,
+                    p.theta.to_degrees()
+                )
+            })
+            .collect();
+        eprintln!("{what}: {lost} lost; {}", text.join("; "));
+        out[0].1
+    };
+    let a = spun(&sink, spin).unwrap();
+    let rest = say("spun sink alone", &a, 60.0);
+    let mut c = cycle(&a, &ellipse, &rest).unwrap();
+    for (seg, secs) in c.segments.iter_mut().zip(&stages) {
+        seg.cycles = (secs / seg.cycle_period().unwrap()).round() as u32;
+    }
+    c.derive();
+    for mu in env("PF_MU", "0.3").split(',') {
+        let friction = platefield::dynamics::Friction::uniform(mu.parse().unwrap());
+        if std::env::var("PF_ALONE").is_ok() {
+            let mut alone = a.clone();
+            alone.settings.friction = friction;
+            say(&format!("spun sink alone at μ {mu}"), &alone, 60.0);
+        }
+        c.settings.friction = friction;
+        say(&format!("cycle {stages:?} s at μ {mu}"), &c, secs);
     }
 }

@@ -70,29 +70,36 @@ fn placement_text(p: &Placement) -> String {
 
 /// The motion, its lifted placement and the played correction.
 fn placement_md(d: &PoseDesign, md: &mut String) {
-    let c = &d.centred;
-    let _ = writeln!(
-        md,
-        "One six-signal motion synthesized once for the centred {} (`design::pose::placement`){}; the part's stable pose in its lifted field: ({:+.3}, {:+.3}) mm, {:+.2}°, decay rates {:.3}, {:.3}, {:.3} 1/s, turning rate −∂θ'/∂θ {:.3} 1/s. Placed {}: {}.",
-        crate::design::pose::placement::family(d.spin.is_some()).label(),
-        d.spin.map_or(String::new(), |s| format!(
-            ", its in-plane translation × {}, plus a spin about the vertical of {} rad/s² at phase {} rad (`design::pose::spin`: a field nonlinear at the part's scale)",
-            s.translation, s.alpha, s.phase
-        )),
-        1e3 * c.pose.r.x,
-        1e3 * c.pose.r.y,
-        c.pose.theta.to_degrees(),
-        -c.rates[0],
-        -c.rates[1],
-        -c.rates[2],
-        d.lifted_turning_rate,
-        if d.spin.is_some() {
-            "on the screen's played pose"
-        } else {
-            "on the lifted field"
-        },
-        placement_text(&d.lifted)
-    );
+    let motion = match d.spin {
+        None => format!(
+            "One six-signal motion synthesized once for the centred {} (`design::pose::placement`)",
+            crate::design::pose::placement::family(false).label()
+        ),
+        Some(s) => format!(
+            "A cycle (`design::pose::cycle`) of two six-signal motions, each synthesized once: {} s of the centred {}, its in-plane translation × {}, plus a spin about the vertical of {} rad/s² at phase {} rad (`design::pose::spin`: a field nonlinear at the part's scale, which selects one of the ellipse's two poses), then {} s of the {} placed on that motion's played rest (which sets the pose)",
+            crate::design::pose::cycle::SPIN_S,
+            crate::design::pose::placement::family(true).label(),
+            s.translation,
+            s.alpha,
+            s.phase,
+            crate::design::pose::cycle::ELLIPSE_S,
+            crate::design::pose::placement::family(false).label(),
+        ),
+    };
+    let lifted = match &d.centred {
+        Some((c, rate)) => format!(
+            "; the part's stable pose in its lifted field: ({:+.3}, {:+.3}) mm, {:+.2}°, decay rates {:.3}, {:.3}, {:.3} 1/s, turning rate −∂θ'/∂θ {:.3} 1/s. Placed on the lifted field",
+            1e3 * c.pose.r.x,
+            1e3 * c.pose.r.y,
+            c.pose.theta.to_degrees(),
+            -c.rates[0],
+            -c.rates[1],
+            -c.rates[2],
+            rate
+        ),
+        None => ". Placed on the cycle's played pose (the screen's probes)".into(),
+    };
+    let _ = writeln!(md, "{motion}{lifted}: {}.", placement_text(&d.lifted));
     screened_md(d, md);
     let _ = writeln!(
         md,
@@ -138,7 +145,9 @@ fn screened_md(d: &PoseDesign, md: &mut String) {
     };
     let _ = writeln!(
         md,
-        "\nSpin candidates judged by play (`design::pose::screen`: {PROBES} probes × {PROBE_S} s from a 4 × 4 grid of starts on the centred motion; kept: the largest share at one pose, at least {:.0} %, then the tightest{range_text}):\n\n| α (rad/s²) | phase (rad) | translation × | share at one pose | spread | played pose (mm, mm, °) |{head}\n|---|---|---|---|---|---|{rule}",
+        "\nSpin candidates judged by play (`design::pose::screen`: {PROBES} probes × {PROBE_S} s from a 4 × 4 grid of starts on the centred spun sink, whose largest cluster places the ellipse stage, then × {} s on that cycle; share, spread and pose are the cycle's; kept: the largest share at one pose, at least {:.0} %, then the tightest{range_text}):\n\n| α (rad/s²) | phase (rad) | translation × | share at one pose | spread | played pose (mm, mm, °) |{head}\n|---|---|---|---|---|---|{rule}",
+        crate::design::pose::cycle::SETTLE_PERIODS
+            * (crate::design::pose::cycle::SPIN_S + crate::design::pose::cycle::ELLIPSE_S),
         100.0 * MIN_SHARE
     );
     for s in &d.screened {

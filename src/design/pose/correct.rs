@@ -166,7 +166,8 @@ fn probe(
             schedule.settings.friction = f;
         }
         let sm = ScheduleMotion::from_schedule(&schedule)?;
-        let play = DropPlay::new(&schedule.settings, PROBE_S);
+        let seconds = super::cycle::settle_seconds(PROBE_S, sm.period());
+        let play = DropPlay::new(&schedule.settings, seconds);
         let mut ends = Vec::new();
         for run in play_part(&req.part, &sm, &starts, &play) {
             let Ok((end, track)) = run else {

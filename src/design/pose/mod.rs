@@ -7,7 +7,12 @@
 //!    six-signal motion synthesized once for the elliptic sink −(αx, βy)
 //!    centred at the plate centre (weaker contraction along x,
 //!    α/β = [`placement::RATIO`]), on a square large enough for any
-//!    placement of it to keep contact over the region.
+//!    placement of it to keep contact over the region. For a part
+//!    without a 180° symmetry, whose two poses 180° apart the ellipse
+//!    cannot tell, a second motion, the isotropic sink with a spin
+//!    ([`spin`], chosen by play: [`screen`]), is played in turn with it
+//!    ([`cycle`]: the spin selects one of the two poses, the ellipse sets
+//!    it), and the cycle is the motion placed below.
 //! 3. **Lifted placement** ([`placement::Placement::onto`]): the centred
 //!    motion's lifted field's stable pose ([`placement::centred_pose`])
 //!    moved onto the asked one by turning the motion about the vertical and
@@ -28,13 +33,16 @@
 //!    range, the same drops are also played at its ends and middle
 //!    ([`friction`]: `played.pose.over_friction`).
 //!
-//! The kept schedule is the placed motion, its `target_spec` the elliptic
-//! sink placed with it. Its point-part check (`played`, and `fit`) is the
+//! The kept schedule is the placed motion (or cycle), its `target_spec`
+//! the elliptic sink placed with it. A cycle's lifted analysis (equilibria
+//! and predicted basins) is its time average's, which is not what a part
+//! played through the stages sees: its played drops judge it. Its point-part check (`played`, and `fit`) is the
 //! centred motion's against the centred target: the placement turns and
 //! shifts motion and target together, which leaves those measures
 //! unchanged up to where the grid samples them.
 
 pub(crate) mod correct;
+pub mod cycle;
 pub mod friction;
 pub mod placement;
 pub(crate) mod play;
@@ -71,10 +79,10 @@ pub const LIFTED_DROPS: usize = 200;
 pub struct PoseDesign {
     /// The request.
     pub request: PoseRequest,
-    /// The stable pose of the centred motion's lifted field that was placed.
-    pub centred: Equilibrium,
-    /// The lifted field's turning rate there, −∂θ'/∂θ (1/s).
-    pub lifted_turning_rate: f64,
+    /// The stable pose of the centred motion's lifted field that was
+    /// placed, with the lifted field's turning rate there, −∂θ'/∂θ (1/s);
+    /// `None` for a cycle ([`cycle`]), placed on its played pose.
+    pub centred: Option<(Equilibrium, f64)>,
     /// The placement the correction starts from: on the lifted field, or
     /// on the spin route on the probes' played pose ([`screen`]).
     pub lifted: Placement,
@@ -114,7 +122,6 @@ pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Res
         eprintln!("{}", announce(req, drops));
     }
     let grid = req.target.grid.unwrap_or(crate::field::Grid::DEFAULT);
-    let n = req.part.symmetry();
     let Centred {
         mut method,
         origin,
@@ -123,23 +130,7 @@ pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Res
     } = centred_motion(req, opts, &grid)?;
     let spin = spun.map(|s| s.0);
     let family = placement::family(spin.is_some());
-    let centred_field = schedule_field(&origin, &grid)?;
-    let lifted_field = LiftedField::new(&centred_field, &req.part.body);
-    let eqs = equilibria(&lifted_field, &req.region);
-    // On the spin route the lifted stable pose nearest the played one.
-    let centred = match spun {
-        Some((_, p)) => search::nearest_stable(&eqs, &p, 1, req.part.radius()),
-        None => placement::centred_pose(&eqs, &req.pose, n),
-    }
-    .ok_or_else(|| {
-        Error::Physical(format!(
-            "the synthesized sink gives the part no stable pose in the region ({} equilibria, none stable)",
-            eqs.len()
-        ))
-    })?;
-    let lifted_turning_rate = -lifted_field.jacobian(centred.pose)[(2, 2)];
-    // The spin route starts the correction from the probes' played pose.
-    let lifted = Placement::onto(&spun.map_or(centred.pose, |s| s.1), &req.pose, n);
+    let (centred, lifted) = lifted_start(req, &origin, &grid, spun.map(|s| s.1))?;
     let (kept, rounds) = correct::correct(req, &origin, lifted)?;
     let mut target = req.target.clone();
     target.field = family.field(kept.shift, kept.angle.to_degrees());
@@ -149,13 +140,16 @@ pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Res
     let rate = play::play_rate(req, &analysis, spin.is_some());
     let label = match spin {
         Some(s) => format!(
-            "{}, translation × {}, plus a spin of {} rad/s² at phase {} rad",
+            "a cycle of {} s of the {}, translation × {}, plus a spin of {} rad/s² at phase {} rad, then {} s of the {} placed on its rest (its lifted field: the stages' time average)",
+            cycle::SPIN_S,
             family.label(),
             s.translation,
             s.alpha,
-            s.phase
+            s.phase,
+            cycle::ELLIPSE_S,
+            placement::family(false).label()
         ),
-        None => family.label(),
+        None => format!("one synthesized motion: {}", family.label()),
     };
     let played = play_drops(req, &schedule, (&analysis, label, rate), drops, opts)?;
     if let Some(p) = schedule.played.as_mut() {
@@ -166,7 +160,6 @@ pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Res
     Ok(PoseDesign {
         request: req.clone(),
         centred,
-        lifted_turning_rate,
         lifted,
         placement: kept,
         rounds,
@@ -177,6 +170,40 @@ pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Res
     })
 }
 
+/// Where the correction starts: a cycle's placement onto the asked pose
+/// from its `played` pose on the centred motion; else the lifted field's
+/// stable pose of `origin` nearest the asked one (with its turning rate)
+/// placed onto it.
+///
+/// # Errors
+/// `origin`'s field loses contact on `grid`; its lifted field has no
+/// stable pose in the region.
+fn lifted_start(
+    req: &PoseRequest,
+    origin: &crate::schedule::Schedule,
+    grid: &crate::field::Grid,
+    played: Option<crate::pose::Pose>,
+) -> Result<(Option<(Equilibrium, f64)>, Placement)> {
+    let n = req.part.symmetry();
+    if let Some(p) = played {
+        return Ok((None, Placement::onto(&p, &req.pose, n)));
+    }
+    let field = schedule_field(origin, grid)?;
+    let lifted_field = LiftedField::new(&field, &req.part.body);
+    let eqs = equilibria(&lifted_field, &req.region);
+    let centred = placement::centred_pose(&eqs, &req.pose, n).ok_or_else(|| {
+        Error::Physical(format!(
+            "the synthesized sink gives the part no stable pose in the region ({} equilibria, none stable)",
+            eqs.len()
+        ))
+    })?;
+    let rate = -lifted_field.jacobian(centred.pose)[(2, 2)];
+    Ok((
+        Some((centred, rate)),
+        Placement::onto(&centred.pose, &req.pose, n),
+    ))
+}
+
 /// The work `design_pose` will do, said before it starts.
 fn announce(req: &PoseRequest, drops: usize) -> String {
     let at_ends = if req.friction_ends().is_some() {
@@ -184,15 +211,17 @@ fn announce(req: &PoseRequest, drops: usize) -> String {
     } else {
         ""
     };
-    let screen = if spin::needs_spin(req.part.symmetry()) {
-        format!(
-            ", up to {} spin candidates × {} probes × {} s{at_ends} (and a second synthesis if none is kept)",
+    let (syntheses, screen) = if spin::needs_spin(req.part.symmetry()) {
+        let screen = format!(
+            ", up to {} spin candidates × {} probes × {} s on the spun sink and × {} s on its cycle with the ellipse{at_ends}",
             spin::CANDIDATES.len(),
             screen::PROBES,
-            screen::PROBE_S
-        )
+            screen::PROBE_S,
+            cycle::SETTLE_PERIODS * (cycle::SPIN_S + cycle::ELLIPSE_S)
+        );
+        ("two syntheses (about a minute", screen)
     } else {
-        String::new()
+        ("one synthesis (about half a minute", String::new())
     };
     let (ends, range) = match crate::design::stacked::ranged(&req.target) {
         Some(_) => (
@@ -205,7 +234,7 @@ fn announce(req: &PoseRequest, drops: usize) -> String {
         None => ("", String::new()),
     };
     format!(
-        "pose: one synthesis (about half a minute of CPU){screen}, then at most {} rounds of {} probes × {} s{ends} and {drops} drops of ≥ {} s on the planar simulator{range} (about 0.2 s of CPU per 20 s drop)",
+        "pose: {syntheses} of CPU){screen}, then at most {} rounds of {} probes × {} s{ends} and {drops} drops of ≥ {} s on the planar simulator{range} (about 0.2 s of CPU per 20 s drop)",
         correct::ROUNDS,
         correct::PROBES,
         correct::PROBE_S,
@@ -215,7 +244,8 @@ fn announce(req: &PoseRequest, drops: usize) -> String {
 
 /// The placed `schedule`'s `drops` drops, played with progress on stderr
 /// (`play::play_ends`), and again over the request's friction range when it
-/// states one (`friction::over_range`); `label` names the field.
+/// states one (`friction::over_range`); `label` names the field (the
+/// motion or cycle).
 ///
 /// # Errors
 /// A schedule that is not one motion, or whose field cannot be computed
@@ -229,13 +259,13 @@ fn play_drops(
 ) -> Result<crate::schedule::PosePlayed> {
     let sm = ScheduleMotion::from_schedule(schedule)?;
     let quiet = opts.runtime.quiet;
-    let (settings, duration) = (&schedule.settings, play::play_seconds(rate));
-    let field = format!("one synthesized motion: {label}");
+    let duration = cycle::settle_seconds(play::play_seconds(rate), sm.period());
+    let settings = &schedule.settings;
     let (played, ends) = watched(
         "pose drops",
         (req, &sm, settings, drops, duration),
         quiet,
-        || play::play_ends(req, &sm, settings, (analysis, field, rate), drops),
+        || play::play_ends(req, &sm, settings, (analysis, label, rate), drops),
     );
     let Some(range) = crate::design::stacked::ranged(&req.target) else {
         return Ok(played);
@@ -279,10 +309,10 @@ fn watched<T>(
 }
 
 /// The centred motion the placement moves, its synthesis, the spin
-/// candidates judged by play and the kept one with its played pose: for a
-/// part without a 180° symmetry the isotropic sink with the spin
-/// [`screen::choose`] keeps; else (or when it keeps none) the elliptic
-/// sink alone.
+/// candidates judged by play and the kept one with its cycle's played
+/// pose: for a part without a 180° symmetry the cycle ([`cycle`]) of the
+/// isotropic sink with the spin [`screen::choose`] keeps and the elliptic
+/// sink; else (or when it keeps none) the elliptic sink alone.
 ///
 /// # Errors
 /// The synthesis's; a spun motion losing contact on `grid`.
@@ -291,40 +321,38 @@ fn centred_motion(
     opts: &DesignOptions,
     grid: &crate::field::Grid,
 ) -> Result<Centred> {
-    let mut screened = Vec::new();
-    if spin::needs_spin(req.part.symmetry()) {
-        let method =
-            placement::synthesize_centred(req, placement::family(true), opts, &opts.synthesis)?;
-        let sink = method.kept().schedule.clone();
-        let tried = spin::try_all(req, &sink, grid)?;
-        let plays = if req.friction_ends().is_some() { 3 } else { 1 };
-        let probes = tried.len() * screen::PROBES * plays;
-        let sm = ScheduleMotion::from_schedule(&sink)?;
-        let (all, kept) = watched(
-            "pose spin screen",
-            (req, &sm, &sink.settings, probes, screen::PROBE_S),
-            opts.runtime.quiet,
-            || screen::choose(req, &sink, &tried),
-        )?;
-        if let Some(k) = kept.and_then(|k| Some((k.spin, k.pose?))) {
-            let origin = spin::spun(&sink, k.0)?;
-            return Ok(Centred {
-                method,
-                origin,
-                spin: Some(k),
-                screened: all,
-            });
-        }
-        screened = all;
+    let ellipse =
+        placement::synthesize_centred(req, placement::family(false), opts, &opts.synthesis)?;
+    if !spin::needs_spin(req.part.symmetry()) {
+        return Ok(Centred::ellipse(ellipse, Vec::new()));
     }
     let method =
-        placement::synthesize_centred(req, placement::family(false), opts, &opts.synthesis)?;
-    let origin = method.kept().schedule.clone();
+        placement::synthesize_centred(req, placement::family(true), opts, &opts.synthesis)?;
+    let sink = method.kept().schedule.clone();
+    let stage = cycle::EllipseStage::new(req, ellipse.kept().schedule.clone(), grid)?;
+    let tried = spin::try_all(req, &sink, grid)?;
+    let plays = if req.friction_ends().is_some() { 3 } else { 1 };
+    // Per candidate: the spun sink's probes, then its cycle's at each
+    // friction, each as long as SETTLE_PERIODS cycle periods (counted in
+    // probes of PROBE_S on the sink).
+    let per_cycle = cycle::SETTLE_PERIODS * (cycle::SPIN_S + cycle::ELLIPSE_S) / screen::PROBE_S;
+    let probes = tried.len() * screen::PROBES * (1 + (per_cycle * plays as f64).ceil() as usize);
+    let sm = ScheduleMotion::from_schedule(&sink)?;
+    let (all, kept) = watched(
+        "pose spin screen",
+        (req, &sm, &sink.settings, probes, screen::PROBE_S),
+        opts.runtime.quiet,
+        || screen::choose(req, (&sink, &stage), &tried),
+    )?;
+    let Some((k, rest, pose)) = kept.and_then(|k| Some((k.spin, k.spin_rest?, k.pose?))) else {
+        return Ok(Centred::ellipse(ellipse, all));
+    };
+    let origin = cycle::cycle(&spin::spun(&sink, k)?, &stage, &rest)?;
     Ok(Centred {
         method,
         origin,
-        spin: None,
-        screened,
+        spin: Some((k, pose)),
+        screened: all,
     })
 }
 
@@ -332,9 +360,22 @@ fn centred_motion(
 struct Centred {
     method: MethodDesign,
     origin: crate::schedule::Schedule,
-    /// The kept spin and its played pose on the centred motion.
+    /// The kept spin and its cycle's played pose on the centred motion.
     spin: Option<(spin::Spin, crate::pose::Pose)>,
     screened: Vec<screen::Screened>,
+}
+
+impl Centred {
+    /// The elliptic sink alone, after the `screened` spins (if any).
+    fn ellipse(method: MethodDesign, screened: Vec<screen::Screened>) -> Centred {
+        let origin = method.kept().schedule.clone();
+        Centred {
+            method,
+            origin,
+            spin: None,
+            screened,
+        }
+    }
 }
 
 #[cfg(test)]

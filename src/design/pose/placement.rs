@@ -122,19 +122,38 @@ impl Placement {
         }
     }
 
-    /// `origin`'s one synthesized segment placed (module docs); its
-    /// target, when it has one, placed with it.
+    /// `origin`'s six-signal segments placed (module docs; each stage of
+    /// a [`super::cycle`] alike); its target, when it has one, placed
+    /// with it.
     ///
     /// # Errors
-    /// `origin` is not one six-signal motion.
+    /// `origin` has no six-signal motion, or a segment with a primitive.
     pub fn schedule(
         &self,
         origin: &Schedule,
         placed_target: Option<crate::request::Target>,
     ) -> Result<Schedule> {
-        let mut out = with_motion(origin, "a pose placement", |m| {
-            *m = m.transformed(self.angle, [self.shift.x, self.shift.y]);
-        })?;
+        let mut out = origin.clone();
+        let mut motions = 0;
+        for seg in &mut out.segments {
+            match (&seg.primitive, seg.motion.as_mut()) {
+                (Some(_), _) => {
+                    return Err(Error::Physical(
+                        "a pose placement needs six-signal motions, not primitives".into(),
+                    ))
+                }
+                (None, Some(m)) => {
+                    *m = m.transformed(self.angle, [self.shift.x, self.shift.y]);
+                    motions += 1;
+                }
+                (None, None) => {}
+            }
+        }
+        if motions == 0 {
+            return Err(Error::Physical(
+                "a pose placement needs a six-signal motion".into(),
+            ));
+        }
         if placed_target.is_some() {
             out.target_spec = placed_target;
         }

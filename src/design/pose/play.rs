@@ -102,7 +102,7 @@ pub fn play_ends(
     drops: usize,
 ) -> (PosePlayed, Vec<Option<Pose>>) {
     let n = req.part.symmetry();
-    let duration = play_seconds(rate);
+    let duration = super::cycle::settle_seconds(play_seconds(rate), sm.period());
     let starts = drop_starts(&analysis.starts, drops);
     let runs = play_part(&req.part, sm, &starts, &DropPlay::new(settings, duration));
     let period = sm.period();

@@ -10,9 +10,16 @@
 //! physics, [`super::placement`]), so it is measured once per candidate on
 //! the centred motion.
 //!
+//! **What is judged.** What `design` keeps: the candidate's cycle with
+//! the ellipse ([`super::cycle`]). The probes first play on the centred
+//! spun sink alone, whose largest cluster is where the cycle's ellipse
+//! stage is placed, then on that cycle; the candidate's score, pose and
+//! turn below are the cycle's.
+//!
 //! **Measure.** [`PROBES`] drops at [`probe_starts`] (a 4 × 4 grid over the
 //! region inset by the part's radius, angles stepped by the golden angle)
-//! play [`PROBE_S`] each; an end's cluster is the ends within
+//! play [`PROBE_S`] each (on a cycle at least
+//! [`super::cycle::SETTLE_PERIODS`] of its periods); an end's cluster is the ends within
 //! [`super::TOL_MM`] and [`super::TOL_DEG`] of it (modulo the part's
 //! symmetry); the candidate's score is the largest cluster's share of the
 //! probes and its played pose that cluster's mean. A drop lost, at a
@@ -26,9 +33,9 @@
 //! [`MAX_TURN`] tolerances can be kept: the correction centres the
 //! placement between the ends (`design::pose::correct`), so a turn of at most
 //! twice the tolerance leaves both ends within it. Otherwise `design`
-//! keeps the elliptic sink, whose pose hardly moves with μ (its worst
-//! fraction over μ 0.24–0.36 was 45 % on the triangle, against 0 % for
-//! its strongest spin, whose rest turned 17.6°).
+//! keeps the elliptic sink alone. (Judged alone, the triangle's strongest
+//! spin turned its rest 17.6° over μ 0.24–0.36; in its cycle the ellipse
+//! sets the pose, which moved 2.5°.)
 //!
 //! **Choice** ([`choose`]): among the candidates with a lifted stable pose
 //! ([`super::spin::try_all`]), the largest share, then (over a range) the
@@ -39,6 +46,7 @@
 //! elliptic sink, whose two poses 180° apart hold about half the drops
 //! each.
 
+use super::cycle::{cycle, settle_seconds, EllipseStage};
 use super::search::{pose_error, wrap_symmetric};
 use super::spin::{spun, Spin};
 use super::PoseRequest;
@@ -64,6 +72,10 @@ pub const MAX_TURN: f64 = 2.0;
 pub struct Screened {
     /// The spin.
     pub spin: Spin,
+    /// The spun sink's own played rest (its probes' largest cluster),
+    /// where its cycle's ellipse stage is placed; `None` when every probe
+    /// lost contact.
+    pub spin_rest: Option<Pose>,
     /// Share of the probes in the largest cluster of ends (0 … 1).
     pub score: f64,
     /// Mean of |Δr|/1 mm + |Δθ|/3° of that cluster's members from its mean.
@@ -75,6 +87,20 @@ pub struct Screened {
     /// end to its high one, in tolerances (module docs); `None` for an
     /// exact friction, infinite when an end has no cluster.
     pub turn: Option<f64>,
+}
+
+impl Screened {
+    /// A candidate whose spun sink lost every probe: no cycle was played.
+    fn unplayed(spin: Spin) -> Screened {
+        Screened {
+            spin,
+            spin_rest: None,
+            score: 0.0,
+            spread: f64::INFINITY,
+            pose: None,
+            turn: None,
+        }
+    }
 }
 
 /// The probe starts over `region` (module docs): a 4 × 4 grid of centres
@@ -163,59 +189,69 @@ pub fn largest_cluster_within(
     Some((k / total.max(1) as f64, pose, spread))
 }
 
-/// The probes' end poses on the centred `sink` with `spin` (module docs),
-/// played at `friction` (`None`: the schedule's own), `None` for a probe
-/// that lost contact.
+/// The probes' end poses on `schedule` (module docs), played at
+/// `friction` (`None`: the schedule's own), `None` for a probe that lost
+/// contact.
 ///
 /// # Errors
-/// `sink` is not one six-signal motion.
+/// A schedule that cannot be played.
 pub fn probe_ends(
     req: &PoseRequest,
-    sink: &Schedule,
-    spin: Spin,
+    schedule: &Schedule,
     friction: Option<Friction>,
 ) -> Result<Vec<Option<Pose>>> {
-    let mut schedule = spun(sink, spin)?;
+    let mut schedule = schedule.clone();
     if let Some(f) = friction {
         schedule.settings.friction = f;
     }
     let sm = ScheduleMotion::from_schedule(&schedule)?;
     let starts = probe_starts(&req.region.inset(req.part.radius()));
-    let play = DropPlay::new(&schedule.settings, PROBE_S);
+    let play = DropPlay::new(&schedule.settings, settle_seconds(PROBE_S, sm.period()));
     Ok(play_part(&req.part, &sm, &starts, &play)
         .into_iter()
         .map(|run| run.ok().map(|(end, _)| end.pose))
         .collect())
 }
 
-/// The largest cluster of the probes' ends at `friction` (module docs).
+/// The largest cluster of the probes' ends on `schedule` at `friction`
+/// (module docs).
 fn cluster_at(
     req: &PoseRequest,
-    sink: &Schedule,
-    spin: Spin,
+    schedule: &Schedule,
     friction: Option<Friction>,
 ) -> Result<Option<(f64, Pose, f64)>> {
-    let ends: Vec<Pose> = probe_ends(req, sink, spin, friction)?
+    let ends: Vec<Pose> = probe_ends(req, schedule, friction)?
         .into_iter()
         .flatten()
         .collect();
     Ok(largest_cluster(&ends, req.part.symmetry(), PROBES))
 }
 
-/// `spin` added to the centred `sink` and judged by play (module docs),
-/// over the request's friction range when it states one.
+/// `spin` added to the centred `sink` and judged by play in its cycle
+/// with `ellipse` (module docs), over the request's friction range when
+/// it states one.
 ///
 /// # Errors
-/// `sink` is not one six-signal motion.
-pub fn screen(req: &PoseRequest, sink: &Schedule, spin: Spin) -> Result<Screened> {
-    let best = cluster_at(req, sink, spin, None)?;
+/// `sink` or `ellipse` is not one six-signal motion.
+pub fn screen(
+    req: &PoseRequest,
+    sink: &Schedule,
+    ellipse: &EllipseStage,
+    spin: Spin,
+) -> Result<Screened> {
+    let spun = spun(sink, spin)?;
+    let Some(alone) = cluster_at(req, &spun, None)? else {
+        return Ok(Screened::unplayed(spin));
+    };
+    let cycle = cycle(&spun, ellipse, &alone.1)?;
+    let best = cluster_at(req, &cycle, None)?;
     let mut score = best.map_or(0.0, |b| b.0);
     let turn = match req.friction_ends() {
         None => None,
         Some(ends) => {
             let [lo, hi] = [
-                cluster_at(req, sink, spin, Some(ends[0]))?,
-                cluster_at(req, sink, spin, Some(ends[1]))?,
+                cluster_at(req, &cycle, Some(ends[0]))?,
+                cluster_at(req, &cycle, Some(ends[1]))?,
             ];
             score = [lo, hi]
                 .iter()
@@ -231,6 +267,7 @@ pub fn screen(req: &PoseRequest, sink: &Schedule, spin: Spin) -> Result<Screened
     };
     Ok(Screened {
         spin,
+        spin_rest: Some(alone.1),
         score,
         spread: best.map_or(f64::INFINITY, |b| b.2),
         pose: best.map(|b| b.1),
@@ -238,20 +275,21 @@ pub fn screen(req: &PoseRequest, sink: &Schedule, spin: Spin) -> Result<Screened
     })
 }
 
-/// Every candidate of `tried` with a lifted stable pose judged by play on
-/// the centred `sink`, and the kept one (module docs).
+/// Every candidate of `tried` with a lifted stable pose added to the
+/// centred `sink` and judged by play in its cycle with `ellipse`, and the
+/// kept one (module docs).
 ///
 /// # Errors
 /// `sink` is not one six-signal motion.
 pub fn choose(
     req: &PoseRequest,
-    sink: &Schedule,
+    (sink, ellipse): (&Schedule, &EllipseStage),
     tried: &[super::spin::Tried],
 ) -> Result<(Vec<Screened>, Option<Screened>)> {
     let screened = tried
         .iter()
         .filter(|t| !t.stable.is_empty())
-        .map(|t| screen(req, sink, t.spin))
+        .map(|t| screen(req, sink, ellipse, t.spin))
         .collect::<Result<Vec<_>>>()?;
     let kept = best(&within_turn(&screened))
         .filter(|s| s.score >= MIN_SHARE)
@@ -292,6 +330,7 @@ mod tests {
                 phase: 0.0,
                 translation: 0.25,
             },
+            spin_rest: None,
             score,
             spread,
             pose: None,

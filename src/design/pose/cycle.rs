@@ -1,0 +1,200 @@
+//! The two-stage cycle: the spin selects, the ellipse sets.
+//!
+//! **Why.** A spun sink ([`super::spin`]) puts most drops of a part
+//! without a 180° symmetry at one pose, but not all, and its pose moves
+//! with friction: the triangle's strongest spin (4800 rad/s² × 0.15) put
+//! 97 % of 64 drops at one pose and 3 % at a second 139° away, and its
+//! rest turned 17.6° over μ 0.24–0.36 (0 % within 3° at either end,
+//! session 9). The elliptic sink ([`super::search::Family::Ellipse`])
+//! gives every such part two stable poses 180° apart, fixed by its second
+//! moments and hardly moving with μ (the triangle's ±1.25° over the same
+//! range), each holding about half the drops.
+//!
+//! **How.** The two are played in turn, repeated: [`SPIN_S`] of the spun
+//! sink, then [`ELLIPSE_S`] of the elliptic sink placed (turned about the
+//! vertical and shifted, [`super::placement`]) so that its lifted stable
+//! pose nearest the spun sink's played rest lies on it; each stage ramps
+//! in and out over about [`RAMP_S`] ([`crate::motion::Ramped`]). The spin
+//! stage takes a part into the half of the ellipse's turn that holds the
+//! kept pose; the ellipse stage takes it onto that pose, wherever in the
+//! half the spin left it. A part ending at the spin's second rest is
+//! turned back by the ellipse to the pose 180° from the kept one, which
+//! the next spin stage takes away. The cycle is one schedule: the
+//! placement and the correction move both stages together, and its
+//! probes and drops play at least [`SETTLE_PERIODS`] of its periods.
+//!
+//! **Measured** (`explore_cycle` in `tests/pose_rotation.rs`, 64 drops
+//! from over the region, 200 s, clusters within 1 mm and 3°): the
+//! triangle's cycle 40 s + 20 s put **100 % at one pose at μ 0.24, 0.30
+//! and 0.36**, that pose moving 2.5° over the range (the spin alone: 27 %,
+//! 97 % and 48 % at its largest rest); 40 s + 10 s did the same, 20 s +
+//! 20 s lost the selection at μ 0.36 (52 / 48 %), 10 s + 10 s at μ 0.30
+//! (the spin stage too short to turn a part out of the wrong half).
+//! The bracket's (1200 rad/s² × 0.4): 100 % at each μ, the pose moving
+//! 1.5° (the spin alone: 5.7°).
+
+use super::placement::{centred_pose, Placement};
+use super::PoseRequest;
+use crate::error::{Error, Result};
+use crate::field::Grid;
+use crate::pose::{equilibria, schedule_field, Equilibrium, LiftedField, Pose};
+use crate::schedule::{Schedule, Segment};
+
+/// Seconds of the spin stage.
+pub const SPIN_S: f64 = 40.0;
+/// Seconds of the ellipse stage.
+pub const ELLIPSE_S: f64 = 20.0;
+/// Seconds of each stage's ramp in and out (whole cycles, at least one).
+pub const RAMP_S: f64 = 0.5;
+/// Periods of a schedule a probe or drop plays at least: one spin stage
+/// does not always take a part out of the ellipse's wrong half (the
+/// triangle's cycle after one period: 58 / 94 / 53 % at one pose at
+/// μ 0.24 / 0.30 / 0.36; after two, 100 % at each: `explore_cycle`).
+pub const SETTLE_PERIODS: f64 = 2.0;
+
+/// `seconds`, or [`SETTLE_PERIODS`] periods of `period` (s) when longer.
+///
+/// ```
+/// use platefield::design::pose::cycle::settle_seconds;
+/// assert_eq!(settle_seconds(60.0, 0.05), 60.0);
+/// assert_eq!(settle_seconds(60.0, 60.0), 120.0);
+/// ```
+pub fn settle_seconds(seconds: f64, period: f64) -> f64 {
+    seconds.max(SETTLE_PERIODS * period)
+}
+
+/// The ellipse stage before placement: the centred elliptic sink and its
+/// part's lifted stable poses.
+#[derive(Debug, Clone)]
+pub struct EllipseStage {
+    /// The centred elliptic sink (one six-signal motion).
+    pub schedule: Schedule,
+    /// The request's part's lifted stable poses in its field.
+    pub stable: Vec<Equilibrium>,
+}
+
+impl EllipseStage {
+    /// The elliptic sink `schedule` and the request's part's lifted stable
+    /// poses in its field on `grid`.
+    ///
+    /// # Errors
+    /// A field that loses contact on `grid`; no stable pose in the region.
+    pub fn new(req: &PoseRequest, schedule: Schedule, grid: &Grid) -> Result<EllipseStage> {
+        let field = schedule_field(&schedule, grid)?;
+        let lifted = LiftedField::new(&field, &req.part.body);
+        let stable: Vec<Equilibrium> = equilibria(&lifted, &req.region)
+            .into_iter()
+            .filter(|e| e.stable)
+            .collect();
+        if stable.is_empty() {
+            return Err(Error::Physical(
+                "the elliptic sink gives the part no stable pose in the region".into(),
+            ));
+        }
+        Ok(EllipseStage { schedule, stable })
+    }
+
+    /// The elliptic sink placed so that its stable pose of least turn
+    /// onto `rest` lies on it.
+    ///
+    /// # Errors
+    /// The schedule is not one six-signal motion.
+    pub fn placed_on(&self, rest: &Pose) -> Result<Schedule> {
+        let own = centred_pose(&self.stable, rest, 1)
+            .ok_or_else(|| Error::Physical("the elliptic sink has no stable pose".into()))?;
+        Placement::onto(&own.pose, rest, 1).schedule(&self.schedule, None)
+    }
+}
+
+/// The cycle of the centred spun sink `spun` whose played rest is `rest`
+/// and `ellipse` placed on that rest (module docs).
+///
+/// # Errors
+/// Either schedule is not one six-signal motion.
+pub fn cycle(spun: &Schedule, ellipse: &EllipseStage, rest: &Pose) -> Result<Schedule> {
+    let placed = ellipse.placed_on(rest)?;
+    let mut out = spun.clone();
+    out.segments = vec![
+        stage(&spun.segments, SPIN_S, "spin stage")?,
+        stage(&placed.segments, ELLIPSE_S, "ellipse stage")?,
+    ];
+    let total: f64 = out.segments.iter().map(|s| s.duration_s).sum();
+    for seg in &mut out.segments {
+        seg.weight = seg.duration_s / total;
+    }
+    out.derive();
+    Ok(out)
+}
+
+/// The one six-signal segment of `segments` played for about `seconds`
+/// (whole cycles) with a ramp in and out of about [`RAMP_S`].
+fn stage(segments: &[Segment], seconds: f64, what: &str) -> Result<Segment> {
+    let [seg] = segments else {
+        return Err(Error::Physical(format!("a {what} needs one motion")));
+    };
+    let period = seg
+        .motion
+        .as_ref()
+        .map(|m| m.period)
+        .ok_or_else(|| Error::Physical(format!("a {what} needs a six-signal motion")))?;
+    let mut out = seg.clone();
+    let ramp = ((RAMP_S / period).ceil() as u32).max(1);
+    out.cycles = ((seconds / period).round() as u32).max(2 * ramp);
+    out.ramp_cycles = Some(ramp);
+    out.duration_s = f64::from(out.cycles) * period;
+    out.label = format!("{} ({what})", seg.label);
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::design::pose::placement::{family, synthesize_centred};
+    use crate::design::pose::spin::{spun, CANDIDATES};
+    use crate::design::DesignOptions;
+
+    /// The cycle plays the spun sink for [`SPIN_S`] then the ellipse for
+    /// [`ELLIPSE_S`] (whole cycles, ramped), and the placed ellipse's
+    /// lifted stable pose lies on the given rest (within 0.5 mm and 1°:
+    /// the lifted equilibria are found on a grid field, so up to its
+    /// interpolation), while the centred one does not.
+    #[test]
+    fn the_ellipse_stage_rests_where_the_spin_did() {
+        let path = std::path::Path::new("targets/pose_triangle.json");
+        let req = PoseRequest::load(path).unwrap().unwrap();
+        let opts = DesignOptions {
+            runtime: crate::work::Runtime::QUIET,
+            ..Default::default()
+        };
+        let grid = req.target.grid.unwrap_or(Grid::DEFAULT);
+        let synth = |spin| synthesize_centred(&req, family(spin), &opts, &opts.synthesis);
+        let sink = synth(true).unwrap().kept().schedule.clone();
+        let ellipse = synth(false).unwrap().kept().schedule.clone();
+        let stage = EllipseStage::new(&req, ellipse, &grid).unwrap();
+        let rest = Pose::new(-0.0016, 0.0065, 89.2f64.to_radians());
+        let c = cycle(&spun(&sink, CANDIDATES[4]).unwrap(), &stage, &rest).unwrap();
+        let secs: Vec<f64> = c.segments.iter().map(|s| s.duration_s).collect();
+        assert!(
+            (secs[0] - SPIN_S).abs() < 0.1 && (secs[1] - ELLIPSE_S).abs() < 0.1,
+            "{secs:?}"
+        );
+        assert!((c.period_s - secs[0] - secs[1]).abs() < 1e-9);
+        assert!(c.segments.iter().all(|s| s.ramp_cycles.is_some()));
+        let placed = EllipseStage::new(&req, stage.placed_on(&rest).unwrap(), &grid).unwrap();
+        let near = |st: &EllipseStage| {
+            st.stable
+                .iter()
+                .map(|e| {
+                    let (d, t) = crate::design::pose::search::pose_error(&e.pose, &rest, 1);
+                    (1e3 * d, t.abs().to_degrees())
+                })
+                .fold((f64::INFINITY, f64::INFINITY), |a, b| {
+                    (a.0.min(b.0), a.1.min(b.1))
+                })
+        };
+        let (d, t) = near(&placed);
+        assert!(d < 0.5 && t < 1.0, "placed: {d} mm, {t}°");
+        let (d0, t0) = near(&stage);
+        assert!(d0 > 2.0 || t0 > 10.0, "centred: {d0} mm, {t0}°");
+    }
+}
