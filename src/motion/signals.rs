@@ -295,8 +295,14 @@ impl Signals {
 /// Samples per period and per harmonic of the angular z signal on which
 /// [`turned_offset_terms`] takes the offset's Fourier series.
 const OFFSET_SAMPLES: usize = 128;
-/// Offset terms below this acceleration amplitude (m/s²) are left out.
+/// Offset terms below this acceleration amplitude (m/s²) are left out …
 const OFFSET_FLOOR: f64 = 1e-9;
+/// … and those whose displacement amplitude is below this fraction of
+/// |s|: the transform's round-off (about 1e-16 |s|), which (hω)² lifts
+/// above [`OFFSET_FLOOR`] at high harmonics (1–5e-9 m/s² at harmonics
+/// 44–64 of a 33 Hz motion turned twice, more than its integration step
+/// resolves).
+const OFFSET_REL_FLOOR: f64 = 1e-13;
 
 /// The acceleration −(R_z(θ_z(t)) s)'' of the plate point s turned with
 /// the plate about the vertical through the centre, θ_z(t) the zero-mean
@@ -309,8 +315,8 @@ const OFFSET_FLOOR: f64 = 1e-9;
 /// sin(hωt + atan2(a_h, b_h)). For one spin term of angular amplitude Φ
 /// the harmonic-h amplitude is 2 J_h(Φ) (hω)² |s| (Bessel J_h): Φω²|s| at
 /// h = 1, the first-order Ω'_z ẑ × (−s), then Φ²ω²|s| at h = 2 and
-/// falling as Φ^h; terms below [`OFFSET_FLOOR`] are left out. No spin or
-/// no shift: no terms.
+/// falling as Φ^h; terms below [`OFFSET_FLOOR`] or
+/// [`OFFSET_REL_FLOOR`] |s| are left out. No spin or no shift: no terms.
 pub(crate) fn turned_offset_terms(
     z: &[FourierTerm],
     period: f64,
@@ -343,7 +349,7 @@ pub(crate) fn turned_offset_terms(
             });
             let (a, b) = (2.0 * a / n as f64, 2.0 * b / n as f64);
             let amplitude = (h as f64 * w).powi(2) * a.hypot(b);
-            if amplitude > OFFSET_FLOOR {
+            if amplitude > OFFSET_FLOOR && a.hypot(b) > OFFSET_REL_FLOOR * s[0].hypot(s[1]) {
                 terms.push(FourierTerm {
                     amplitude,
                     phase: a.atan2(b),

@@ -143,17 +143,19 @@ the placement corrected on played probes from spread starts without redesign) an
 3° modulo the part's symmetry. A linear field turns a part by its second moments only, so a part \
 without a 180° symmetry (the bracket, the triangle) has two stable poses 180° apart in it, each \
 with about half the drops. A unique pose needs a field nonlinear over the part. For such a part \
-`design` first tries the isotropic sink with its translation scaled by 0.15–0.6 and a spin about the \
-vertical out of phase with it (`design::pose::spin`: the slip path at p is an ellipse spanned by \
-the translation and the rotation's velocity at p, so the mean friction direction turns across the \
-plate on the scale r* = V/Ω ≈ 1.4–27 mm: 61–70 % off affine over ±4 cm at 9–27 mm). Its 5 candidate spins are \
-judged by play, not by the lifted field alone (`design::pose::screen`: 16 probes × 60 s from a 4 × 4 \
-grid of starts on the centred motion; the lifted field showed one stable pose for a spin whose played \
-drops rested 26 % at a second pose): it keeps the one with the largest share of probes at one pose, \
-at least 75 %, else the elliptic sink. The bracket keeps 1200 rad/s² with its translation × 0.4 \
-(every probe at one pose); the triangle keeps 4800 rad/s² with its translation × 0.15 (15 of 16 \
-probes at one pose; r* ≈ 1.4 mm), the only candidate above 75 % for it (`tests/pose_rotation.rs`, \
-`docs/parts.md`).\n\n";
+`design` plays a cycle (`design::pose::cycle`): 40 s of the isotropic sink with its translation scaled by \
+0.15–0.6 and a spin about the vertical out of phase with it (`design::pose::spin`: the slip path at p \
+is an ellipse spanned by the translation and the rotation's velocity at p, so the mean friction \
+direction turns across the plate on the scale r* = V/Ω ≈ 1.4–27 mm: 61–70 % off affine over ±4 cm \
+at 9–27 mm), which selects one of the ellipse's two poses, then 20 s of the elliptic sink placed on \
+the spun sink's played rest, which sets it (the spun sink alone left the triangle's drops 92 % at \
+the pose and 7 % at a second rest 139° away, and its rest turned 17.6° over μ ± 20 %). Its 5 \
+candidate spins are judged by play, not by the lifted field alone (`design::pose::screen`: 16 probes \
+× 60 s from a 4 × 4 grid of starts on the centred spun sink, whose largest cluster places the \
+ellipse stage, then 16 × 120 s on the cycle): it keeps the one whose cycle puts the largest share \
+of probes at one pose, at least 75 %, else the elliptic sink alone. A cycle's lifted field is the \
+stages' time average, which no played part sees: its drops are counted by where they end, not by \
+basin (`tests/pose_rotation.rs` `explore_cycle`, `docs/parts.md`).\n\n";
 
 /// The shipped pose targets (`targets/pose_*.json`).
 const POSE_TARGETS: [&str; 3] = ["rectangle", "bracket", "triangle"];

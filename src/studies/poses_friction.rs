@@ -44,8 +44,8 @@ played again from the same starts for the same time with the parts' friction at 
 (±20 %), and at 0.30 again (the design's own play, the same bytes): every support point's Coulomb law in the planar \
 simulator at that μ, each end judged against the lifted field at that μ \
 (`design::pose::friction`). The last two sections are the bracket and the triangle designed \
-for μ ∈ [0.24, 0.36] (`targets/pose_<part>_range.json`): spin candidates screened at the range's \
-middle and ends, kept only if their played pose turns by at most twice the tolerance between the \
+for μ ∈ [0.24, 0.36] (`targets/pose_<part>_range.json`): spin candidates screened in their cycle \
+with the ellipse at the range's middle and ends, kept only if the cycle's played pose turns by at most twice the tolerance between the \
 ends, and the placement centred between the ends' rests (`design::pose::screen`, \
 `design::pose::correct`); their rows are the design's own plays over the range. Columns: the fraction of the drops ending within 1 mm and 3° of the \
 asked pose (modulo the part's symmetry), the median settle time, drops that lost contact, the \

@@ -180,6 +180,11 @@ mod tests {
         );
         assert!((c.period_s - secs[0] - secs[1]).abs() < 1e-9);
         assert!(c.segments.iter().all(|s| s.ramp_cycles.is_some()));
+        // Placed again as a whole (the ellipse stage turned twice), it is
+        // still a schedule the loader accepts (no round-off harmonics
+        // beyond what its steps per cycle resolve).
+        let twice = Placement::onto(&rest, &req.pose, 1).schedule(&c, None).unwrap();
+        twice.validate().unwrap();
         let placed = EllipseStage::new(&req, stage.placed_on(&rest).unwrap(), &grid).unwrap();
         let near = |st: &EllipseStage| {
             st.stable

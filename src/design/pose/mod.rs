@@ -135,6 +135,8 @@ pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Res
     let mut target = req.target.clone();
     target.field = family.field(kept.shift, kept.angle.to_degrees());
     let mut schedule = kept.schedule(&origin, Some(target))?;
+    // What is written must load again (`platefield export`, `verify`).
+    schedule.validate()?;
     let field = schedule_field(&schedule, &grid)?;
     let analysis = analyse(&req.part, &field, req.region, LIFTED_DROPS);
     let rate = play::play_rate(req, &analysis, spin.is_some());
