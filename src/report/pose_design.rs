@@ -50,10 +50,10 @@ pub fn headline(d: &PoseDesign) -> String {
         if p.distinct_stable == 1 {
             "the lifted field has one stable pose modulo symmetry".to_string()
         } else {
-            format!(
-                "the lifted field has {} stable poses modulo symmetry (basins below)",
-                p.distinct_stable
-            )
+            match p.distinct_stable {
+                0 => "the lifted field has no stable pose".to_string(),
+                k => format!("the lifted field has {k} stable poses modulo symmetry (basins below)"),
+            }
         }
     ) + &worst
 }
@@ -174,6 +174,10 @@ fn screened_md(d: &PoseDesign, md: &mut String) {
 
 /// The stable poses with their basins.
 fn basins_md(p: &PosePlayed, md: &mut String) {
+    if p.stable.is_empty() {
+        md.push_str("\nThe kept schedule's lifted field has no stable pose in the region (a cycle's is its stages' time average, which no played part sees): no basins; the drops are judged by where they end.\n");
+        return;
+    }
     md.push_str("\n| stable pose x (mm) | y (mm) | θ (°) | basin (lifted) | basin (played) |\n|---|---|---|---|---|\n");
     for b in &p.stable {
         let _ = writeln!(

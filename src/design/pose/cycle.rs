@@ -183,7 +183,9 @@ mod tests {
         // Placed again as a whole (the ellipse stage turned twice), it is
         // still a schedule the loader accepts (no round-off harmonics
         // beyond what its steps per cycle resolve).
-        let twice = Placement::onto(&rest, &req.pose, 1).schedule(&c, None).unwrap();
+        let twice = Placement::onto(&rest, &req.pose, 1)
+            .schedule(&c, None)
+            .unwrap();
         twice.validate().unwrap();
         let placed = EllipseStage::new(&req, stage.placed_on(&rest).unwrap(), &grid).unwrap();
         let near = |st: &EllipseStage| {
