@@ -213,13 +213,14 @@ fn announce(req: &PoseRequest, drops: usize) -> String {
     } else {
         ""
     };
+    let cycle_s = cycle::SETTLE_PERIODS * (cycle::SPIN_S + cycle::ELLIPSE_S);
     let (syntheses, screen) = if spin::needs_spin(req.part.symmetry()) {
         let screen = format!(
             ", up to {} spin candidates × {} probes × {} s on the spun sink and × {} s on its cycle with the ellipse{at_ends}",
             spin::CANDIDATES.len(),
             screen::PROBES,
             screen::PROBE_S,
-            cycle::SETTLE_PERIODS * (cycle::SPIN_S + cycle::ELLIPSE_S)
+            cycle_s
         );
         ("two syntheses (about a minute", screen)
     } else {
@@ -236,11 +237,16 @@ fn announce(req: &PoseRequest, drops: usize) -> String {
         None => ("", String::new()),
     };
     format!(
-        "pose: {syntheses} of CPU){screen}, then at most {} rounds of {} probes × {} s{ends} and {drops} drops of ≥ {} s on the planar simulator{range} (about 0.2 s of CPU per 20 s drop)",
+        "pose: {syntheses} of CPU){screen}, then at most {} rounds of {} probes × {} s{ends} and {drops} drops of ≥ {} s on the planar simulator{range} (about 0.2 s of CPU per 20 s drop){}",
         correct::ROUNDS,
         correct::PROBES,
         correct::PROBE_S,
-        play::MIN_PLAY_S
+        play::MIN_PLAY_S,
+        if spin::needs_spin(req.part.symmetry()) {
+            format!("; on a cycle each probe and drop plays at least {cycle_s} s")
+        } else {
+            String::new()
+        }
     )
 }
 
