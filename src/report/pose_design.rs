@@ -125,6 +125,14 @@ fn placement_md(d: &PoseDesign, md: &mut String) {
         );
     }
     let _ = writeln!(md, "\nKept: {}.", placement_text(&d.placement));
+    if d.over_limits.is_empty() {
+        md.push_str("\nThe placed schedule's peaks are within the shaker limits its motion was synthesized within.\n");
+    } else {
+        md.push_str("\n**Over the shaker limits** its motion was synthesized within, once placed (the placement's shift adds α × c to the plate-centre signals; the played physics is this motion's, whether a shaker delivers it is not checked):\n\n");
+        for line in &d.over_limits {
+            let _ = writeln!(md, "- {line}");
+        }
+    }
 }
 
 /// The spin candidates judged by play, when there were any.

@@ -187,6 +187,18 @@ mod tests {
             .schedule(&c, None)
             .unwrap();
         twice.validate().unwrap();
+        // The centred spun sink is within the limits it was synthesized
+        // for; the placed cycle is not: its shift c ≈ 1 cm adds α × c to
+        // the plate-centre linear signals (4800 rad/s² × 1 cm = 48 m/s²,
+        // more than the 45.3 m/s² limit) and a vertical acceleration.
+        let spun_sink = spun(&sink, CANDIDATES[4]).unwrap();
+        assert!(crate::design::pose::placement::over_limits(&spun_sink).is_empty());
+        let over = crate::design::pose::placement::over_limits(&twice);
+        assert!(
+            over.iter().any(|l| l.contains("(spin stage)): linear.z")),
+            "{over:?}"
+        );
+        assert!(over.iter().any(|l| l.contains("linear.y")), "{over:?}");
         let placed = EllipseStage::new(&req, stage.placed_on(&rest).unwrap(), &grid).unwrap();
         let near = |st: &EllipseStage| {
             st.stable

@@ -101,6 +101,9 @@ pub struct PoseDesign {
     pub screened: Vec<screen::Screened>,
     /// The lifted field of the placed schedule: equilibria and predicted basins.
     pub analysis: PoseAnalysis,
+    /// The placed schedule's peaks above the shaker limits its motion was
+    /// synthesized within ([`placement::over_limits`]), one line each.
+    pub over_limits: Vec<String>,
 }
 
 /// Designs the pose target `req` (module docs), playing `drops` drops.
@@ -137,6 +140,12 @@ pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Res
     let mut schedule = kept.schedule(&origin, Some(target))?;
     // What is written must load again (`platefield export`, `verify`).
     schedule.validate()?;
+    let over_limits = placement::over_limits(&schedule);
+    if !opts.runtime.quiet {
+        for line in &over_limits {
+            eprintln!("warning: the placed motion is over the shaker limit: {line}");
+        }
+    }
     let field = schedule_field(&schedule, &grid)?;
     let analysis = analyse(&req.part, &field, req.region, LIFTED_DROPS);
     let rate = play::play_rate(req, &analysis, spin.is_some());
@@ -169,6 +178,7 @@ pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Res
         spin,
         screened,
         analysis,
+        over_limits,
     })
 }
 

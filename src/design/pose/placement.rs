@@ -184,6 +184,45 @@ pub fn with_motion(
     Ok(out)
 }
 
+/// Every peak of `schedule`'s six-signal segments above the shaker limits
+/// it records (`played.limits`, those the motion was synthesized within),
+/// one line each: a placement moves the reference point by c, which adds
+/// α × c (and a spin's centripetal terms) to the plate-centre linear
+/// signals and, with the tilts, a vertical acceleration, none of which the
+/// synthesis budgeted. Empty when within every limit or when the schedule
+/// records none.
+pub fn over_limits(schedule: &Schedule) -> Vec<String> {
+    use crate::schedule::export::peaks::KinematicPeaks;
+    let Some(limits) = schedule.played.as_ref().and_then(|p| p.limits.as_ref()) else {
+        return Vec::new();
+    };
+    let mut out = Vec::new();
+    for (k, seg) in schedule.segments.iter().enumerate() {
+        let Some(signals) = &seg.motion else {
+            continue;
+        };
+        let highest = [&signals.linear, &signals.angular]
+            .iter()
+            .flat_map(|a| a.x.iter().chain(&a.y).chain(&a.z))
+            .map(|t| t.harmonic)
+            .max()
+            .unwrap_or(1);
+        let motion = crate::motion::Motion::Signals(signals.clone());
+        for e in KinematicPeaks::of_motion(&motion, highest).excesses(limits) {
+            out.push(format!(
+                "segment {k} ({}): {} peaks at {:.4} {} against {:.4} (+{:.1} %)",
+                seg.label,
+                e.axis,
+                e.peak,
+                e.unit,
+                e.limit,
+                100.0 * (e.peak / e.limit - 1.0)
+            ));
+        }
+    }
+    out
+}
+
 /// Half-width (m) of the synthesis square for `req` (module docs).
 pub fn synthesis_half_width(req: &PoseRequest) -> f64 {
     let g = &req.region;
