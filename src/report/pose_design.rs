@@ -47,13 +47,10 @@ pub fn headline(d: &PoseDesign) -> String {
         100.0 * p.pose_fraction,
         p.drops,
         p.field,
-        if p.distinct_stable == 1 {
-            "the lifted field has one stable pose modulo symmetry".to_string()
-        } else {
-            match p.distinct_stable {
-                0 => "the lifted field has no stable pose".to_string(),
-                k => format!("the lifted field has {k} stable poses modulo symmetry (basins below)"),
-            }
+        match p.distinct_stable {
+            0 => "the lifted field has no stable pose".to_string(),
+            1 => "the lifted field has one stable pose modulo symmetry".to_string(),
+            k => format!("the lifted field has {k} stable poses modulo symmetry (basins below)"),
         }
     ) + &worst
 }
@@ -75,16 +72,7 @@ fn placement_md(d: &PoseDesign, md: &mut String) {
             "One six-signal motion synthesized once for the centred {} (`design::pose::placement`)",
             crate::design::pose::placement::family(false).label()
         ),
-        Some(s) => format!(
-            "A cycle (`design::pose::cycle`) of two six-signal motions, each synthesized once: {} s of the centred {}, its in-plane translation × {}, plus a spin about the vertical of {} rad/s² at phase {} rad (`design::pose::spin`: a field nonlinear at the part's scale, which selects one of the ellipse's two poses), then {} s of the {} placed on that motion's played rest (which sets the pose)",
-            crate::design::pose::cycle::SPIN_S,
-            crate::design::pose::placement::family(true).label(),
-            s.translation,
-            s.alpha,
-            s.phase,
-            crate::design::pose::cycle::ELLIPSE_S,
-            crate::design::pose::placement::family(false).label(),
-        ),
+        Some(_) => "The cycle named above (`design::pose::cycle`: two six-signal motions, each synthesized once; the spun sink (`design::pose::spin`: a field nonlinear at the part's scale) selects one of the ellipse's two poses, the ellipse, placed on the spun sink's played rest, sets it)".to_string(),
     };
     let lifted = match &d.centred {
         Some((c, rate)) => format!(
@@ -154,8 +142,7 @@ fn screened_md(d: &PoseDesign, md: &mut String) {
     let _ = writeln!(
         md,
         "\nSpin candidates judged by play (`design::pose::screen`: {PROBES} probes × {PROBE_S} s from a 4 × 4 grid of starts on the centred spun sink, whose largest cluster places the ellipse stage, then × {} s on that cycle; share, spread and pose are the cycle's; kept: the largest share at one pose, at least {:.0} %, then the tightest{range_text}):\n\n| α (rad/s²) | phase (rad) | translation × | share at one pose | spread | played pose (mm, mm, °) |{head}\n|---|---|---|---|---|---|{rule}",
-        crate::design::pose::cycle::SETTLE_PERIODS
-            * (crate::design::pose::cycle::SPIN_S + crate::design::pose::cycle::ELLIPSE_S),
+        crate::design::pose::cycle::SETTLED_S,
         100.0 * MIN_SHARE
     );
     for s in &d.screened {

@@ -52,6 +52,10 @@ pub const RAMP_S: f64 = 0.5;
 /// μ 0.24 / 0.30 / 0.36; after two, 100 % at each: `explore_cycle`).
 pub const SETTLE_PERIODS: f64 = 2.0;
 
+/// How long a probe or drop plays on a cycle of the stages above: its
+/// [`SETTLE_PERIODS`] periods (s).
+pub const SETTLED_S: f64 = SETTLE_PERIODS * (SPIN_S + ELLIPSE_S);
+
 /// `seconds`, or [`SETTLE_PERIODS`] periods of `period` (s) when longer.
 ///
 /// ```

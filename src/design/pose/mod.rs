@@ -223,7 +223,7 @@ fn announce(req: &PoseRequest, drops: usize) -> String {
     } else {
         ""
     };
-    let cycle_s = cycle::SETTLE_PERIODS * (cycle::SPIN_S + cycle::ELLIPSE_S);
+    let cycle_s = cycle::SETTLED_S;
     let (syntheses, screen) = if spin::needs_spin(req.part.symmetry()) {
         let screen = format!(
             ", up to {} spin candidates × {} probes × {} s on the spun sink and × {} s on its cycle with the ellipse{at_ends}",
@@ -277,7 +277,7 @@ fn play_drops(
 ) -> Result<crate::schedule::PosePlayed> {
     let sm = ScheduleMotion::from_schedule(schedule)?;
     let quiet = opts.runtime.quiet;
-    let duration = cycle::settle_seconds(play::play_seconds(rate), sm.period());
+    let duration = play::drop_seconds(rate, sm.period());
     let settings = &schedule.settings;
     let (played, ends) = watched(
         "pose drops",
@@ -353,7 +353,7 @@ fn centred_motion(
     // Per candidate: the spun sink's probes, then its cycle's at each
     // friction, each as long as SETTLE_PERIODS cycle periods (counted in
     // probes of PROBE_S on the sink).
-    let per_cycle = cycle::SETTLE_PERIODS * (cycle::SPIN_S + cycle::ELLIPSE_S) / screen::PROBE_S;
+    let per_cycle = cycle::SETTLED_S / screen::PROBE_S;
     let probes = tried.len() * screen::PROBES * (1 + (per_cycle * plays as f64).ceil() as usize);
     let sm = ScheduleMotion::from_schedule(&sink)?;
     let (all, kept) = watched(

@@ -42,6 +42,13 @@ pub fn play_seconds(rate: f64) -> f64 {
     }
 }
 
+/// Seconds each drop plays on a schedule of period `period` (s): its
+/// [`play_seconds`], at least a cycle's settling periods
+/// ([`super::cycle::settle_seconds`]).
+pub fn drop_seconds(rate: f64, period: f64) -> f64 {
+    super::cycle::settle_seconds(play_seconds(rate), period)
+}
+
 /// The slowest decay rate (1/s) a design's drops are timed by
 /// ([`play_seconds`]): the lifted field's at the stable pose of
 /// `analysis` nearest the asked one; 0 (the longest play) for a spun
@@ -102,7 +109,7 @@ pub fn play_ends(
     drops: usize,
 ) -> (PosePlayed, Vec<Option<Pose>>) {
     let n = req.part.symmetry();
-    let duration = super::cycle::settle_seconds(play_seconds(rate), sm.period());
+    let duration = drop_seconds(rate, sm.period());
     let starts = drop_starts(&analysis.starts, drops);
     let runs = play_part(&req.part, sm, &starts, &DropPlay::new(settings, duration));
     let period = sm.period();
