@@ -25,14 +25,16 @@
 //! the points' (zero) velocities, exact too.
 //!
 //! **Measured against the planar simulation** (`tests/poses.rs`, LineSink
-//! primitive, 2 × 0.5 cm rectangle, 20 poses): translation within 1.7 %
-//! RMS. The spin has the right sign everywhere but the isotropic model
-//! predicts 2–3 times the simulated rate: the cycle-averaged Coulomb
-//! friction of a slip oscillating along one direction damps a drift across
-//! it about 4 times more than along it. [`LiftedField::with_damping`]
-//! takes that anisotropy as a tensor B (B = diag(1, 4) there: 7.4 % RMS).
-//! Where every V(p_j) is parallel to one direction B leaves the
-//! equilibria unchanged.
+//! primitive, 2 × 0.5 cm rectangle, 20 poses): translation within 0.6 %
+//! RMS. The spin has the right sign everywhere but is 1.3–3 times the
+//! simulated rate (RMS error 129 %): the cycle-averaged Coulomb friction
+//! of a slip oscillating along one direction damps a drift across it more
+//! than along it, and by how much V(p) does not record
+//! ([`super::AveragedField`], which sums the friction over the support
+//! before averaging over the cycle, agrees within 0.3 %).
+//! [`LiftedField::with_damping`] takes that anisotropy as a fitted tensor
+//! B (B = diag(1, 4) there: 7.6 % RMS). Where every V(p_j) is parallel to
+//! one direction B leaves the equilibria unchanged.
 
 use nalgebra::{Matrix2, Matrix3, Vector3};
 

@@ -1,11 +1,13 @@
 //! Parts with planar extent in a vibration field: the lifted field on the
-//! part's configuration space (x, y, θ) ([`LiftedField`]), its equilibrium
+//! part's configuration space (x, y, θ) ([`LiftedField`]; checked by the
+//! [`AveragedField`] of the rigid part's own periodic slip), its equilibrium
 //! poses and their stability ([`equilibria`]), the basins of the stable
 //! ones predicted ([`settle`]) and played by the planar simulator
 //! ([`played_basins`]), a designed schedule's point field
 //! ([`schedule_field`]), and the poses that may rest for some support when
 //! the support is unknown ([`Bounds`]).
 
+mod averaged;
 mod bounds;
 mod check;
 mod drops;
@@ -16,6 +18,10 @@ mod run;
 mod source;
 mod work;
 
+pub use averaged::{
+    checked_poses, Averaged, AveragedField, LiftCheck, Segments, AVERAGING_STEPS,
+    AVERAGING_TOLERANCE, CHECKED_POSES, MAX_AVERAGING_CYCLES,
+};
 pub use bounds::Bounds;
 pub use check::{check_twist, Measure, TwistCheck};
 pub use drops::{

@@ -15,13 +15,15 @@ use std::path::{Path, PathBuf};
 
 use serde_json::Value;
 
+use super::averaged::{checked_poses, AveragedField, LiftCheck, Segments};
 use super::bounds::Bounds;
 use super::drops::{played_basins, DropPlay, PlayedBasins};
 use super::equilibria::Region;
-use super::lifted::{GridField, PointField, Pose};
+use super::lifted::{GridField, LiftedField, PointField, Pose};
 use super::run::{analyse, PoseAnalysis, MAX_DROPS};
 use super::source::schedule_field;
 use super::work::drops_estimate;
+use crate::dynamics::PartPhysics;
 use crate::error::{Error, Result};
 use crate::field::{Field, FieldKind, Grid};
 use crate::part::{Part, Support};
@@ -66,11 +68,27 @@ pub struct PoseOutcome {
     /// The poses of the [`SCAN`] that may rest for some admissible
     /// support (a part with an unknown support).
     pub bounds: Option<Vec<Pose>>,
+    /// The lifted field against the averaged field at the equilibria and
+    /// drop starts ([`checked_poses`]); `None` for a target (no plate
+    /// motion to play).
+    pub lift_check: Option<LiftCheck>,
 }
 
-/// A point field, its grid, the grid's JSON path and the schedule it came
-/// from (if any).
-type Source = (Box<dyn PointField>, Grid, &'static str, Option<Schedule>);
+/// What a SOURCE file gives the analysis.
+struct Source {
+    /// The point field.
+    field: Box<dyn PointField>,
+    /// Its grid: the region.
+    grid: Grid,
+    /// The grid's JSON path, for errors.
+    path: &'static str,
+    /// The schedule, when the source is one (its drops can be played).
+    schedule: Option<Schedule>,
+    /// The plate motions behind the field, (motion or rest, duration), and
+    /// the part physics, for the averaged field; `None` for a target (a
+    /// requested field has no plate motion).
+    plate: Option<(Segments, PartPhysics)>,
+}
 
 /// The point field and its region from `source` (module docs).
 fn point_field(source: &Path) -> Result<Source> {
@@ -83,19 +101,15 @@ fn point_field(source: &Path) -> Result<Source> {
     if value.get("motion").is_some() {
         let scene = Scene::load(source)?;
         let settings = scene.settings();
-        let field = Field::compute(
-            &scene.motion.to_motion(),
-            &scene.grid,
-            FieldKind::Velocity,
-            &settings,
-            &|| {},
-        );
-        return Ok((
-            Box::new(GridField::new(&field)),
-            scene.grid,
-            "scene.grid",
-            None,
-        ));
+        let motion = scene.motion.to_motion();
+        let field = Field::compute(&motion, &scene.grid, FieldKind::Velocity, &settings, &|| {});
+        return Ok(Source {
+            field: Box::new(GridField::new(&field)),
+            grid: scene.grid,
+            path: "scene.grid",
+            schedule: None,
+            plate: Some((vec![(Some(motion), 1.0)], settings.physics())),
+        });
     }
     if value.get("segments").is_some() {
         let schedule = Schedule::load(source)?;
@@ -106,12 +120,18 @@ fn point_field(source: &Path) -> Result<Source> {
             ));
         };
         let field = schedule_field(&schedule, &grid)?;
-        return Ok((
-            Box::new(field),
+        let segments = schedule
+            .segments
+            .iter()
+            .map(|s| (s.plate_motion(), s.duration_s))
+            .collect();
+        return Ok(Source {
+            field: Box::new(field),
             grid,
-            "schedule.target_spec.grid",
-            Some(schedule),
-        ));
+            path: "schedule.target_spec.grid",
+            plate: Some((segments, schedule.settings.physics())),
+            schedule: Some(schedule),
+        });
     }
     if value.get("field").is_some() {
         let target = Target::load(source)
@@ -122,7 +142,13 @@ fn point_field(source: &Path) -> Result<Source> {
                 "a pose analysis needs the target's grid as its region",
             ));
         };
-        return Ok((Box::new(target.field.clone()), grid, "target.grid", None));
+        return Ok(Source {
+            field: Box::new(target.field.clone()),
+            grid,
+            path: "target.grid",
+            schedule: None,
+            plate: None,
+        });
     }
     Err(Error::invalid(
         "SOURCE",
@@ -155,7 +181,13 @@ fn point_field(source: &Path) -> Result<Source> {
 pub fn poses(req: &PoseRequest) -> Result<PoseOutcome> {
     check_counts(req.drops, req.play)?;
     let part = Part::load(&req.part)?;
-    let (field, grid, path, schedule) = point_field(&req.source)?;
+    let Source {
+        field,
+        grid,
+        path,
+        schedule,
+        plate,
+    } = point_field(&req.source)?;
     part.check_fits(grid.x[1] - grid.x[0], grid.y[1] - grid.y[0], path)?;
     let region = Region {
         x: grid.x,
@@ -191,11 +223,17 @@ pub fn poses(req: &PoseRequest) -> Result<PoseOutcome> {
     });
     let bounds = matches!(part.support, Support::Unknown { .. })
         .then(|| Bounds::new(&part, field.as_ref()).scan(&region, SCAN));
+    let lift_check = plate.map(|(segments, physics)| {
+        let averaged = AveragedField::of_segments(&part.body, physics, segments);
+        let lifted = LiftedField::new(field.as_ref(), &part.body);
+        LiftCheck::run(&lifted, &averaged, &checked_poses(&analysis))
+    });
     Ok(PoseOutcome {
         part,
         analysis,
         played,
         bounds,
+        lift_check,
     })
 }
 

@@ -7,7 +7,7 @@ use serde_json::{json, Value};
 
 use crate::part::Part;
 use crate::plot::{escape, num};
-use crate::pose::{PlayedBasins, Pose, PoseAnalysis};
+use crate::pose::{LiftCheck, PlayedBasins, Pose, PoseAnalysis, Twist};
 
 pub use crate::pose::SCAN;
 
@@ -19,6 +19,38 @@ pub struct Extras<'a> {
     /// The poses of the [`SCAN`] that may rest for some admissible
     /// support (an unknown support's bounds).
     pub bounds: Option<&'a [Pose]>,
+    /// The lifted field against the averaged field.
+    pub lift_check: Option<&'a LiftCheck>,
+}
+
+/// A twist as JSON: `{"vx", "vy", "omega"}` (m/s, rad/s).
+fn twist_json(t: &Twist) -> Value {
+    json!({"vx": t.v.x, "vy": t.v.y, "omega": t.omega})
+}
+
+/// The lift check as JSON.
+fn lift_check_json(c: &LiftCheck) -> Value {
+    let poses: Vec<Value> = c
+        .poses
+        .iter()
+        .map(|(p, l, a)| {
+            json!({
+                "x": p.r.x,
+                "y": p.r.y,
+                "theta_deg": p.theta.to_degrees(),
+                "lifted": twist_json(l),
+                "averaged": a.map(|a| twist_json(&a.twist)),
+                "cycles": a.map(|a| a.cycles),
+                "converged": a.map(|a| a.converged),
+            })
+        })
+        .collect();
+    json!({
+        "poses": poses,
+        "translation_rms": c.translation_rms,
+        "spin_rms": c.spin_rms,
+        "by": "the lifted field's twist against the averaged field's (the rigid part's periodic slip at the pose, pose::AveragedField) at the equilibria and the first drop starts; RMS of the difference over the RMS of the averaged twist; \"averaged\": null where a support point loses contact",
+    })
 }
 
 /// The bounds as JSON: how many scanned poses are kept, their extent and
@@ -64,7 +96,8 @@ fn played_json(p: &PlayedBasins) -> Value {
 
 /// `{"part", "support", "equilibria": [{"x", "y", "theta_deg", "stable",
 /// "basin", "rates"}], "drops", "unsettled", "basins_by"}` (positions in m),
-/// with `"played"` and `"bounds"` when `extras` holds them.
+/// with `"played"`, `"bounds"` and `"lifted_check"` when `extras` holds
+/// them.
 pub fn to_json(part: &Part, a: &PoseAnalysis, extras: &Extras<'_>) -> Value {
     let eq: Vec<Value> = a
         .equilibria
@@ -101,6 +134,9 @@ pub fn to_json(part: &Part, a: &PoseAnalysis, extras: &Extras<'_>) -> Value {
     }
     if let Some(b) = extras.bounds {
         out["bounds"] = bounds_json(b);
+    }
+    if let Some(c) = extras.lift_check {
+        out["lifted_check"] = lift_check_json(c);
     }
     out
 }
@@ -148,7 +184,28 @@ pub fn summary(part: &Part, a: &PoseAnalysis, extras: &Extras<'_>) -> String {
             SCAN.iter().product::<usize>()
         );
     }
+    if let Some(c) = extras.lift_check {
+        s.push_str(&lift_check_line(c));
+    }
     s
+}
+
+/// The lift check in one line.
+fn lift_check_line(c: &LiftCheck) -> String {
+    let kept = c.poses.iter().filter(|p| p.2.is_some()).count();
+    let pct = |e: Option<f64>| e.map_or("—".to_string(), |e| format!("{:.1} %", 100.0 * e));
+    let lost = c.poses.len() - kept;
+    format!(
+        "lifted field against the averaged part at {} poses: translation RMS {}, spin RMS {}{}\n",
+        c.poses.len(),
+        pct(c.translation_rms),
+        pct(c.spin_rms),
+        if lost > 0 {
+            format!(" ({lost} lost contact)")
+        } else {
+            String::new()
+        }
+    )
 }
 
 /// Colours of the stable poses' basins in the θ-against-position panels.
