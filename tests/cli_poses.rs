@@ -111,10 +111,10 @@ fn json_lists_the_equilibria() {
 /// the rectangle on the designed ellipse (−0.3x, −y) rests at 0° and 180°,
 /// unstable at ±90°, within 1°; `--play` needs a schedule and a time in
 /// range, else exit 2 naming `--play`. The lifted field's check against
-/// the averaged field: at the four centred equilibria the rigid part's
-/// own twist is zero too (the ellipse's mirror symmetries), the translation
-/// agrees within 1 % RMS (measured 0.1 %) and the lifted spin is too fast
-/// (RMS error 185 %: the averaged field's module docs).
+/// the averaged field (the part played period after period from each
+/// pose, joins included): the lifted translation is off by 30–100 % RMS
+/// (measured 68 %: it leaves out the joins) and its spin is too fast
+/// (measured 154 %: the averaged field's module docs).
 #[test]
 fn schedule_source_and_play_flag() {
     let v = rectangle_poses_json("results/ellipse/schedule.json".as_ref(), "50");
@@ -133,20 +133,37 @@ fn schedule_source_and_play_flag() {
     let check = &v["lifted_check"];
     let poses = check["poses"].as_array().unwrap();
     assert_eq!(poses.len(), 20, "{check}");
-    for p in &poses[..4] {
-        let a = &p["averaged"];
-        let speed = a["vx"].as_f64().unwrap().hypot(a["vy"].as_f64().unwrap());
-        assert!(
-            speed < 1e-9 && a["omega"].as_f64().unwrap().abs() < 1e-9,
-            "{p}"
-        );
-        assert_eq!(p["converged"], true, "{p}");
-    }
+    assert!(poses.iter().all(|p| p["converged"] == true), "{check}");
     let (t, w) = (
         check["translation_rms"].as_f64().unwrap(),
         check["spin_rms"].as_f64().unwrap(),
     );
-    assert!(t < 0.01 && (1.5..2.2).contains(&w), "{t} {w}");
+    println!("lifted against averaged: translation {t}, spin {w}");
+    assert!(
+        (0.3..1.0).contains(&t) && (1.2..2.0).contains(&w),
+        "{t} {w}"
+    );
+    // Refined on the averaged field, each equilibrium keeps its stability
+    // and its angle within 1°, and moves to the played rest the joins
+    // shift off the centre, the same point for all four (measured 1.41 mm).
+    let refined = v["averaged_equilibria"].as_array().unwrap();
+    assert_eq!(refined.len(), 4, "{v}");
+    let at = |r: &serde_json::Value, k: &str| r["found"][k].as_f64().unwrap();
+    for r in refined {
+        let (from, found) = (&r["from"], &r["found"]);
+        let turned = (at(r, "theta_deg") - from["theta_deg"].as_f64().unwrap()).abs();
+        assert!(turned.min((turned - 360.0).abs()) < 1.0, "{r}");
+        let moved = at(r, "x").hypot(at(r, "y"));
+        assert!((1.0e-3..2.0e-3).contains(&moved), "{r}");
+        assert!(
+            (at(r, "x") - at(&refined[0], "x")).hypot(at(r, "y") - at(&refined[0], "y")) < 5e-5
+        );
+        let lifted = eq
+            .iter()
+            .find(|e| e["theta_deg"] == from["theta_deg"])
+            .unwrap();
+        assert_eq!(found["stable"], lifted["stable"], "{r}");
+    }
     for (source, play, want) in [
         ("targets/ellipse.json", "5", "--play: needs a schedule"),
         (

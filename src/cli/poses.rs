@@ -38,6 +38,7 @@ pub fn run(
         played: o.played.as_ref(),
         bounds: o.bounds.as_deref(),
         lift_check: o.lift_check.as_ref(),
+        refined: o.refined.as_deref(),
     };
     let mut text = serde_json::to_string_pretty(&to_json(&o.part, &o.analysis, &extras))
         .map_err(|e| Error::Physical(e.to_string()))?;

@@ -365,6 +365,17 @@ pub struct PlanarOutcome {
     pub refinements: u64,
 }
 
+impl std::ops::AddAssign for PlanarOutcome {
+    /// The cost of two runs together.
+    fn add_assign(&mut self, o: PlanarOutcome) {
+        self.stuck_time += o.stuck_time;
+        self.steps += o.steps;
+        self.solver_iterations += o.solver_iterations;
+        self.unconverged_solves += o.unconverged_solves;
+        self.refinements += o.refinements;
+    }
+}
+
 /// Per-call data of the steps of one smooth piece.
 struct StepContext<'c> {
     piece: f64,

@@ -96,7 +96,7 @@ pub struct DropEnd {
 
 /// The cycle a rest segment is stepped at: the shortest moving segment's
 /// period.
-pub(super) fn rest_cycle(sm: &ScheduleMotion) -> f64 {
+pub(crate) fn rest_cycle(sm: &ScheduleMotion) -> f64 {
     sm.segments()
         .iter()
         .filter_map(|s| s.motion.as_ref().map(|m| m.period()))
@@ -114,6 +114,80 @@ pub fn play_drop(
     play_drop_tracked(sm, body, start, play).map(|(end, _)| end)
 }
 
+/// A body's planar simulators for the segments of a schedule: plays it
+/// period by period (module docs).
+pub struct PlanarPlayer<'a> {
+    segments: &'a [crate::play::PlayedSegment],
+    sims: Vec<PlanarSimulator<'a>>,
+    gravity: f64,
+    model: Model,
+}
+
+impl<'a> PlanarPlayer<'a> {
+    /// `body` on `sm` with `play`'s physics, steps per cycle and
+    /// refinement depth (its duration and samples are the caller's).
+    pub fn new(sm: &'a ScheduleMotion, body: &PlanarBody, play: &DropPlay) -> PlanarPlayer<'a> {
+        let shortest = rest_cycle(sm);
+        let sims = sm
+            .segments()
+            .iter()
+            .map(|s| {
+                let (plate, step) = match &s.motion {
+                    Some(m) => (Plate::Moving(m), m.period()),
+                    None => (Plate::Rest, shortest),
+                };
+                PlanarSimulator::for_body(
+                    body.clone(),
+                    plate,
+                    PartPhysics::new(play.friction, play.gravity, play.model),
+                    step / play.steps_per_cycle.max(1) as f64,
+                )
+                .with_refinement(play.refine_depth)
+            })
+            .collect();
+        PlanarPlayer {
+            segments: sm.segments(),
+            sims,
+            gravity: play.gravity,
+            model: play.model,
+        }
+    }
+
+    /// Plays one schedule period (number `period`, for a loss's report)
+    /// from `s`, the geometry frozen at `anchor` when the model's `moving`
+    /// is off. With `joined` the first segment is entered by a join from
+    /// the last (a period that follows another); without, `s` starts it
+    /// as it is. Returns the period's cost.
+    pub fn play_period(
+        &self,
+        s: &mut PlanarState,
+        period: u32,
+        joined: bool,
+        anchor: (V2, f64),
+    ) -> Result<crate::dynamics::PlanarOutcome, PlayLoss> {
+        let mut cost = crate::dynamics::PlanarOutcome::default();
+        let n = self.segments.len();
+        for (i, seg) in self.segments.iter().enumerate() {
+            if joined || i > 0 {
+                let from = &self.segments[(i + n - 1) % n];
+                let p = if self.model.moving { s.r } else { anchor.0 };
+                let (va, wa) = plate_twist(from, self.gravity, self.model.tilt, &p);
+                let (vb, wb) = plate_twist(seg, self.gravity, self.model.tilt, &p);
+                s.u += va - vb;
+                s.omega += wa - wb;
+            }
+            cost += self.sims[i]
+                .advance(0.0, seg.duration, s, anchor, None)
+                .map_err(|loss| PlayLoss {
+                    segment: i,
+                    period,
+                    loss,
+                })?;
+        }
+        Ok(cost)
+    }
+}
+
 /// [`play_drop`], with the pose at the end of every schedule period (the
 /// last is the end pose): when a drop came to rest where it ended.
 pub fn play_drop_tracked(
@@ -122,51 +196,14 @@ pub fn play_drop_tracked(
     start: Pose,
     play: &DropPlay,
 ) -> Result<(DropEnd, Vec<Pose>), PlayLoss> {
-    let segments = sm.segments();
-    let shortest = rest_cycle(sm);
-    let sims: Vec<PlanarSimulator> = segments
-        .iter()
-        .map(|s| {
-            let (plate, step) = match &s.motion {
-                Some(m) => (Plate::Moving(m), m.period()),
-                None => (Plate::Rest, shortest),
-            };
-            PlanarSimulator::for_body(
-                body.clone(),
-                plate,
-                PartPhysics::new(play.friction, play.gravity, play.model),
-                step / play.steps_per_cycle.max(1) as f64,
-            )
-            .with_refinement(play.refine_depth)
-        })
-        .collect();
+    let player = PlanarPlayer::new(sm, body, play);
     let periods = (play.duration_s / sm.period()).ceil().max(1.0) as u32;
     let mut s = PlanarState::at_rest(start.r, start.theta);
     let anchor = (start.r, start.theta);
     let mut cost = crate::dynamics::PlanarOutcome::default();
-    let n = segments.len();
     let mut track = Vec::with_capacity(periods as usize);
     for period in 0..periods {
-        for (i, seg) in segments.iter().enumerate() {
-            if period > 0 || i > 0 {
-                let from = &segments[(i + n - 1) % n];
-                let p = if play.model.moving { s.r } else { anchor.0 };
-                let (va, wa) = plate_twist(from, play.gravity, play.model.tilt, &p);
-                let (vb, wb) = plate_twist(seg, play.gravity, play.model.tilt, &p);
-                s.u += va - vb;
-                s.omega += wa - wb;
-            }
-            let out = sims[i]
-                .advance(0.0, seg.duration, &mut s, anchor, None)
-                .map_err(|loss| PlayLoss {
-                    segment: i,
-                    period,
-                    loss,
-                })?;
-            cost.steps += out.steps;
-            cost.refinements += out.refinements;
-            cost.solver_iterations += out.solver_iterations;
-        }
+        cost += player.play_period(&mut s, period, period > 0, anchor)?;
         track.push(Pose {
             r: s.r,
             theta: s.theta,

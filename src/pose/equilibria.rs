@@ -19,7 +19,7 @@
 //! of a stable equilibrium (then it counts for that one), leaves the
 //! region, or runs 20000 steps (then it counts for none).
 
-use nalgebra::Vector3;
+use nalgebra::{Matrix3, Vector3};
 
 use super::lifted::{LiftedField, Pose};
 use crate::dynamics::V2;
@@ -34,7 +34,8 @@ pub struct Region {
 }
 
 impl Region {
-    fn contains(&self, r: &V2) -> bool {
+    /// True when `r` lies in the region (edges included).
+    pub fn contains(&self, r: &V2) -> bool {
         (self.x[0]..=self.x[1]).contains(&r.x) && (self.y[0]..=self.y[1]).contains(&r.y)
     }
 
@@ -135,12 +136,21 @@ fn newton(lifted: &LiftedField<'_>, start: Pose, region: &Region, tol: f64) -> O
     None
 }
 
-/// The real parts of the Jacobian's eigenvalues at `pose`, largest first.
-fn rates(lifted: &LiftedField<'_>, pose: Pose) -> [f64; 3] {
-    let e = lifted.jacobian(pose).complex_eigenvalues();
-    let mut r = [e[0].re, e[1].re, e[2].re];
-    r.sort_by(|a, b| b.total_cmp(a));
-    r
+impl Equilibrium {
+    /// The equilibrium at `pose` with the Jacobian `j` of its field there:
+    /// stable when every eigenvalue's real part is below −1e-9 of the
+    /// largest magnitude.
+    pub fn of_jacobian(pose: Pose, j: &Matrix3<f64>) -> Equilibrium {
+        let e = j.complex_eigenvalues();
+        let mut rates = [e[0].re, e[1].re, e[2].re];
+        rates.sort_by(|a, b| b.total_cmp(a));
+        let scale = rates.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        Equilibrium {
+            pose,
+            stable: rates[0] < -1e-9 * scale,
+            rates,
+        }
+    }
 }
 
 /// Every equilibrium of `lifted` found from the start grid over `region`,
@@ -183,15 +193,7 @@ pub fn equilibria(lifted: &LiftedField<'_>, region: &Region) -> Vec<Equilibrium>
     });
     found
         .into_iter()
-        .map(|pose| {
-            let rates = rates(lifted, pose);
-            let scale = rates.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-            Equilibrium {
-                pose,
-                stable: rates[0] < -1e-9 * scale,
-                rates,
-            }
-        })
+        .map(|pose| Equilibrium::of_jacobian(pose, &lifted.jacobian(pose)))
         .collect()
 }
 

@@ -13,23 +13,25 @@ mod check;
 mod drops;
 mod equilibria;
 mod lifted;
+mod refine;
 mod request;
 mod run;
 mod source;
 mod work;
 
 pub use averaged::{
-    checked_poses, Averaged, AveragedField, LiftCheck, Segments, AVERAGING_STEPS,
-    AVERAGING_TOLERANCE, CHECKED_POSES, MAX_AVERAGING_CYCLES,
+    checked_poses, Averaged, AveragedField, LiftCheck, Slip, AVERAGING_STEPS, AVERAGING_TOLERANCE,
+    CHECKED_POSES, JACOBIAN_STEP, JACOBIAN_STEP_RAD, MAX_AVERAGING_PERIODS,
 };
 pub use bounds::Bounds;
 pub use check::{check_twist, Measure, TwistCheck};
 pub use drops::{
     nearest, play_drop, play_drop_tracked, play_drops, play_part, played_basins, DropEnd, DropPlay,
-    PlayedBasins, DROP_REFINE_DEPTH, DROP_SAMPLES,
+    PlanarPlayer, PlayedBasins, DROP_REFINE_DEPTH, DROP_SAMPLES,
 };
 pub use equilibria::{equilibria, settle, wrap, Equilibrium, Region};
 pub use lifted::{GridField, LiftedField, PointField, Pose, Twist};
+pub use refine::{refine, Refined, Refinement, MAX_NEWTON, MAX_REFINED, STOP};
 pub use request::{check_counts, poses, PoseOutcome, PoseRequest, MAX_PLAY_S, SCAN};
 pub use run::{analyse, drop_starts, PoseAnalysis, MAX_DROPS};
 pub use source::{realised_field, schedule_field, REALISED_STRIDE};

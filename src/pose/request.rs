@@ -15,11 +15,12 @@ use std::path::{Path, PathBuf};
 
 use serde_json::Value;
 
-use super::averaged::{checked_poses, AveragedField, LiftCheck, Segments};
+use super::averaged::{checked_poses, AveragedField, LiftCheck};
 use super::bounds::Bounds;
 use super::drops::{played_basins, DropPlay, PlayedBasins};
 use super::equilibria::Region;
 use super::lifted::{GridField, LiftedField, PointField, Pose};
+use super::refine::{refine, Refinement, MAX_NEWTON, MAX_REFINED};
 use super::run::{analyse, PoseAnalysis, MAX_DROPS};
 use super::source::schedule_field;
 use super::work::drops_estimate;
@@ -27,6 +28,7 @@ use crate::dynamics::PartPhysics;
 use crate::error::{Error, Result};
 use crate::field::{Field, FieldKind, Grid};
 use crate::part::{Part, Support};
+use crate::play::{PlayedSegment, ScheduleMotion};
 use crate::progress::Progress;
 use crate::request::Target;
 use crate::scene::Scene;
@@ -72,6 +74,9 @@ pub struct PoseOutcome {
     /// drop starts ([`checked_poses`]); `None` for a target (no plate
     /// motion to play).
     pub lift_check: Option<LiftCheck>,
+    /// The lifted equilibria refined on the averaged field
+    /// ([`super::refine`]); `None` for a target.
+    pub refined: Option<Vec<Refinement>>,
 }
 
 /// What a SOURCE file gives the analysis.
@@ -87,7 +92,7 @@ struct Source {
     /// The plate motions behind the field, (motion or rest, duration), and
     /// the part physics, for the averaged field; `None` for a target (a
     /// requested field has no plate motion).
-    plate: Option<(Segments, PartPhysics)>,
+    plate: Option<(ScheduleMotion, PartPhysics)>,
 }
 
 /// The point field and its region from `source` (module docs).
@@ -108,7 +113,10 @@ fn point_field(source: &Path) -> Result<Source> {
             grid: scene.grid,
             path: "scene.grid",
             schedule: None,
-            plate: Some((vec![(Some(motion), 1.0)], settings.physics())),
+            plate: Some((
+                ScheduleMotion::new(vec![PlayedSegment::moving("scene", motion, 1)])?,
+                settings.physics(),
+            )),
         });
     }
     if value.get("segments").is_some() {
@@ -120,16 +128,12 @@ fn point_field(source: &Path) -> Result<Source> {
             ));
         };
         let field = schedule_field(&schedule, &grid)?;
-        let segments = schedule
-            .segments
-            .iter()
-            .map(|s| (s.plate_motion(), s.duration_s))
-            .collect();
+        let sm = ScheduleMotion::from_schedule(&schedule)?;
         return Ok(Source {
             field: Box::new(field),
             grid,
             path: "schedule.target_spec.grid",
-            plate: Some((segments, schedule.settings.physics())),
+            plate: Some((sm, schedule.settings.physics())),
             schedule: Some(schedule),
         });
     }
@@ -223,18 +227,43 @@ pub fn poses(req: &PoseRequest) -> Result<PoseOutcome> {
     });
     let bounds = matches!(part.support, Support::Unknown { .. })
         .then(|| Bounds::new(&part, field.as_ref()).scan(&region, SCAN));
-    let lift_check = plate.map(|(segments, physics)| {
-        let averaged = AveragedField::of_segments(&part.body, physics, segments);
+    let averaged = plate.map(|(sm, physics)| {
+        let averaged = AveragedField::for_part(&part, sm, physics);
         let lifted = LiftedField::new(field.as_ref(), &part.body);
-        LiftCheck::run(&lifted, &averaged, &checked_poses(&analysis))
+        let check = LiftCheck::run(&lifted, &averaged, &checked_poses(&analysis));
+        let refined = refine_announced(&averaged, &analysis, req.runtime.progress());
+        (check, refined)
     });
+    let (lift_check, refined) = averaged.unzip();
     Ok(PoseOutcome {
         part,
         analysis,
         played,
         bounds,
         lift_check,
+        refined,
     })
+}
+
+/// The lifted equilibria refined on `averaged`, with a progress line per
+/// equilibrium on stderr.
+fn refine_announced(
+    averaged: &AveragedField,
+    analysis: &PoseAnalysis,
+    mode: crate::progress::ProgressMode,
+) -> Vec<Refinement> {
+    let n = analysis.equilibria.len().min(MAX_REFINED);
+    let progress = Progress::new(
+        "poses: equilibria refined on the averaged field",
+        &format!("equilibria (each at most {MAX_NEWTON} Newton steps of 7 averaged twists)"),
+        n as u64,
+        mode,
+    );
+    let refined = refine(averaged, &analysis.equilibria, &analysis.region, &|| {
+        progress.inc(1)
+    });
+    progress.finish();
+    refined
 }
 
 /// `drops` in 1..=[`MAX_DROPS`] and `play` in (0, [`MAX_PLAY_S`]] s.

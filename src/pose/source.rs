@@ -4,7 +4,9 @@
 //! **Model.** A part that moves little during one segment drifts, over a
 //! schedule period T = Σ d_i, by Σ d_i V_i(p): its mean velocity is
 //! V(p) = Σ_i d_i V_i(p) / T, a rest segment contributing V = 0 for its
-//! duration (a part at rest on a plate at rest stays). This is the field
+//! duration (a part at rest on a plate at rest stays). V_i is the field of
+//! the periodic motion segment i plays between its ramps
+//! ([`crate::schedule::Segment::steady_motion`]). This is the field
 //! the design fitted (its predicted field); the played drops
 //! ([`super::play_drops`]) measure what it leaves out (start-up transients
 //! at the joins, motion within a segment).
@@ -33,7 +35,7 @@ pub fn schedule_field(schedule: &Schedule, grid: &Grid) -> Result<GridField> {
     for (i, seg) in schedule.segments.iter().enumerate() {
         seg.validate_motion(&format!("schedule.segments[{i}]"))?;
         total += seg.duration_s;
-        let Some(motion) = seg.plate_motion() else {
+        let Some(motion) = seg.steady_motion() else {
             continue;
         };
         let field = Field::compute(

@@ -7,7 +7,7 @@ use serde_json::{json, Value};
 
 use crate::part::Part;
 use crate::plot::{escape, num};
-use crate::pose::{LiftCheck, PlayedBasins, Pose, PoseAnalysis, Twist};
+use crate::pose::{LiftCheck, PlayedBasins, Pose, PoseAnalysis, Refined, Refinement, Twist};
 
 pub use crate::pose::SCAN;
 
@@ -21,6 +21,64 @@ pub struct Extras<'a> {
     pub bounds: Option<&'a [Pose]>,
     /// The lifted field against the averaged field.
     pub lift_check: Option<&'a LiftCheck>,
+    /// The lifted equilibria refined on the averaged field.
+    pub refined: Option<&'a [Refinement]>,
+}
+
+/// A pose as JSON: `{"x", "y", "theta_deg"}` (m, degrees).
+fn pose_json(p: &Pose) -> Value {
+    json!({"x": p.r.x, "y": p.r.y, "theta_deg": p.theta.to_degrees()})
+}
+
+/// One refinement as JSON: the lifted equilibrium it started from and the
+/// averaged field's (`"found"`), or why none (`"left_region"`,
+/// `"unconverged"`, `"lost_contact"`).
+fn refined_json(r: &Refinement) -> Value {
+    let from = pose_json(&r.from.pose);
+    match r.outcome {
+        Refined::Found {
+            equilibrium: e,
+            steps,
+        } => json!({
+            "from": from,
+            "found": {"x": e.pose.r.x, "y": e.pose.r.y, "theta_deg": e.pose.theta.to_degrees(),
+                      "stable": e.stable, "rates": e.rates, "newton_steps": steps},
+        }),
+        Refined::Left(p) => json!({"from": from, "left_region": pose_json(&p)}),
+        Refined::Unconverged(p) => json!({"from": from, "unconverged": pose_json(&p)}),
+        Refined::Lost(c) => json!({"from": from, "lost_contact": c}),
+    }
+}
+
+/// One summary line per refinement.
+fn refined_lines(refined: &[Refinement]) -> String {
+    let mut s = String::from(
+        "on the averaged field (the rigid part's own slip), Newton from each lifted equilibrium:\n",
+    );
+    for r in refined {
+        let f = r.from.pose;
+        let what = match r.outcome {
+            Refined::Found { equilibrium: e, steps } => format!(
+                "x {:+.2} mm  y {:+.2} mm  θ {:+7.2}°  {} ({steps} Newton steps; moved {:.2} mm, {:+.2}°)",
+                1e3 * e.pose.r.x,
+                1e3 * e.pose.r.y,
+                e.pose.theta.to_degrees(),
+                if e.stable { "stable  " } else { "unstable" },
+                1e3 * (e.pose.r - f.r).norm(),
+                crate::pose::wrap(e.pose.theta - f.theta).to_degrees()
+            ),
+            Refined::Left(p) => format!("left the region at ({:+.2}, {:+.2}) mm", 1e3 * p.r.x, 1e3 * p.r.y),
+            Refined::Unconverged(p) => format!(
+                "no convergence (last at {:+.2} mm, {:+.2} mm, {:+.2}°)",
+                1e3 * p.r.x,
+                1e3 * p.r.y,
+                p.theta.to_degrees()
+            ),
+            Refined::Lost(c) => format!("a support point loses contact at ({:+.4}, {:+.4}) m", c.position[0], c.position[1]),
+        };
+        let _ = writeln!(s, "  from θ {:+7.2}°: {what}", f.theta.to_degrees());
+    }
+    s
 }
 
 /// A twist as JSON: `{"vx", "vy", "omega"}` (m/s, rad/s).
@@ -40,7 +98,7 @@ fn lift_check_json(c: &LiftCheck) -> Value {
                 "theta_deg": p.theta.to_degrees(),
                 "lifted": twist_json(l),
                 "averaged": a.map(|a| twist_json(&a.twist)),
-                "cycles": a.map(|a| a.cycles),
+                "periods": a.map(|a| a.periods),
                 "converged": a.map(|a| a.converged),
             })
         })
@@ -96,8 +154,8 @@ fn played_json(p: &PlayedBasins) -> Value {
 
 /// `{"part", "support", "equilibria": [{"x", "y", "theta_deg", "stable",
 /// "basin", "rates"}], "drops", "unsettled", "basins_by"}` (positions in m),
-/// with `"played"`, `"bounds"` and `"lifted_check"` when `extras` holds
-/// them.
+/// with `"played"`, `"bounds"`, `"lifted_check"` and
+/// `"averaged_equilibria"` when `extras` holds them.
 pub fn to_json(part: &Part, a: &PoseAnalysis, extras: &Extras<'_>) -> Value {
     let eq: Vec<Value> = a
         .equilibria
@@ -137,6 +195,9 @@ pub fn to_json(part: &Part, a: &PoseAnalysis, extras: &Extras<'_>) -> Value {
     }
     if let Some(c) = extras.lift_check {
         out["lifted_check"] = lift_check_json(c);
+    }
+    if let Some(r) = extras.refined {
+        out["averaged_equilibria"] = Value::Array(r.iter().map(refined_json).collect());
     }
     out
 }
@@ -186,6 +247,9 @@ pub fn summary(part: &Part, a: &PoseAnalysis, extras: &Extras<'_>) -> String {
     }
     if let Some(c) = extras.lift_check {
         s.push_str(&lift_check_line(c));
+    }
+    if let Some(r) = extras.refined {
+        s.push_str(&refined_lines(r));
     }
     s
 }
