@@ -112,9 +112,10 @@ fn json_lists_the_equilibria() {
 /// unstable at ±90°, within 1°; `--play` needs a schedule and a time in
 /// range, else exit 2 naming `--play`. The lifted field's check against
 /// the averaged field (the part played period after period from each
-/// pose, joins included): the lifted translation is off by 30–100 % RMS
-/// (measured 68 %: it leaves out the joins) and its spin is too fast
-/// (measured 154 %: the averaged field's module docs).
+/// pose, joins included), over the poses a period moves the part little:
+/// the lifted translation is off by 20–100 % RMS (measured 40 %: it leaves
+/// out the joins) and its spin is too fast (measured 277 %: the averaged
+/// field's module docs).
 #[test]
 fn schedule_source_and_play_flag() {
     let v = rectangle_poses_json("results/ellipse/schedule.json".as_ref(), "50");
@@ -140,7 +141,7 @@ fn schedule_source_and_play_flag() {
     );
     println!("lifted against averaged: translation {t}, spin {w}");
     assert!(
-        (0.3..1.0).contains(&t) && (1.2..2.0).contains(&w),
+        (0.2..1.0).contains(&t) && (1.5..4.0).contains(&w),
         "{t} {w}"
     );
     // Refined on the averaged field, each equilibrium keeps its stability

@@ -39,6 +39,7 @@ pub fn run(
         bounds: o.bounds.as_deref(),
         lift_check: o.lift_check.as_ref(),
         refined: o.refined.as_deref(),
+        averaged_skipped: o.averaged_skipped.as_deref(),
     };
     let mut text = serde_json::to_string_pretty(&to_json(&o.part, &o.analysis, &extras))
         .map_err(|e| Error::Physical(e.to_string()))?;

@@ -81,6 +81,11 @@ pub struct Slip {
     pub omega: f64,
 }
 
+/// Largest travel over one period, relative to the part's radius (and
+/// in rad), at which the averaged field counts as local
+/// ([`AveragedField::is_local`]).
+pub const LOCAL: f64 = 0.5;
+
 /// Jacobian step in x and y, relative to the part's radius.
 pub const JACOBIAN_STEP: f64 = 0.02;
 /// Jacobian step in θ (rad).
@@ -293,6 +298,16 @@ impl AveragedField {
         ))
     }
 
+    /// Whether `twist` moves the part less than [`LOCAL`] of its radius and
+    /// [`LOCAL`] rad over one period: then the period map's mean twist is
+    /// the field near the pose, comparable with the lifted field's. (Over
+    /// a long schedule period, a pose design's minute-long cycle, the part
+    /// travels to its rest within the period, and ξ̄ is that trip over T.)
+    pub fn is_local(&self, twist: &Twist) -> bool {
+        let t = self.sm.period();
+        twist.v.norm() * t < LOCAL * self.radius() && twist.omega.abs() * t < LOCAL
+    }
+
     /// ∂(v_x, v_y, ω)/∂(x, y, θ) at `pose` by central differences (steps
     /// [`JACOBIAN_STEP`] of the part's radius and [`JACOBIAN_STEP_RAD`]),
     /// every evaluation warm-started from `warm`.
@@ -334,14 +349,27 @@ pub fn checked_poses(a: &PoseAnalysis) -> Vec<Pose> {
     poses
 }
 
+/// One pose of a [`LiftCheck`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LiftRow {
+    /// The pose.
+    pub pose: Pose,
+    /// The lifted field's twist there.
+    pub lifted: Twist,
+    /// The averaged field's (`None` where a support point loses contact).
+    pub averaged: Option<Averaged>,
+    /// The averaged field is local there ([`AveragedField::is_local`]).
+    pub local: bool,
+}
+
 /// The lifted field against the averaged field at sampled poses.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LiftCheck {
-    /// Per pose: the pose, the lifted field's twist and the averaged one
-    /// (`None` where a support point loses contact).
-    pub poses: Vec<(Pose, Twist, Option<Averaged>)>,
+    /// Per pose, in the order asked.
+    pub poses: Vec<LiftRow>,
     /// RMS of |v_lifted − v_averaged| over the RMS of |v_averaged|
-    /// (`None` when no pose kept contact or every averaged v is 0).
+    /// over the poses where the averaged field is local (`None` when none
+    /// is, or every averaged v is 0).
     pub translation_rms: Option<f64>,
     /// RMS of |ω_lifted − ω_averaged| over the RMS of |ω_averaged|
     /// (`None` likewise).
@@ -350,16 +378,26 @@ pub struct LiftCheck {
 
 impl LiftCheck {
     /// Compares `lifted` with `averaged` at `poses` (in parallel; the
-    /// same result on any number of threads).
+    /// same result on any number of threads). The RMS errors count only
+    /// the poses the averaged field is local at ([`AveragedField::is_local`]).
     pub fn run(lifted: &LiftedField<'_>, averaged: &AveragedField, poses: &[Pose]) -> LiftCheck {
         use rayon::prelude::*;
-        let rows: Vec<_> = poses
+        let rows: Vec<LiftRow> = poses
             .par_iter()
-            .map(|p| (*p, lifted.twist(*p), averaged.twist(*p).ok()))
+            .map(|p| {
+                let a = averaged.twist(*p).ok();
+                LiftRow {
+                    pose: *p,
+                    lifted: lifted.twist(*p),
+                    averaged: a,
+                    local: a.is_some_and(|a| averaged.is_local(&a.twist)),
+                }
+            })
             .collect();
         let pairs: Vec<(Twist, Twist)> = rows
             .iter()
-            .filter_map(|(_, l, a)| a.map(|a| (*l, a.twist)))
+            .filter(|r| r.local)
+            .filter_map(|r| r.averaged.map(|a| (r.lifted, a.twist)))
             .collect();
         let rms = |f: &dyn Fn(&(Twist, Twist)) -> f64| {
             (pairs.iter().map(|p| f(p).powi(2)).sum::<f64>() / pairs.len().max(1) as f64).sqrt()

@@ -20,8 +20,9 @@ mod source;
 mod work;
 
 pub use averaged::{
-    checked_poses, Averaged, AveragedField, LiftCheck, Slip, AVERAGING_STEPS, AVERAGING_TOLERANCE,
-    CHECKED_POSES, JACOBIAN_STEP, JACOBIAN_STEP_RAD, MAX_AVERAGING_PERIODS,
+    checked_poses, Averaged, AveragedField, LiftCheck, LiftRow, Slip, AVERAGING_STEPS,
+    AVERAGING_TOLERANCE, CHECKED_POSES, JACOBIAN_STEP, JACOBIAN_STEP_RAD, LOCAL,
+    MAX_AVERAGING_PERIODS,
 };
 pub use bounds::Bounds;
 pub use check::{check_twist, Measure, TwistCheck};

@@ -23,7 +23,7 @@ use super::lifted::{GridField, LiftedField, PointField, Pose};
 use super::refine::{refine, Refinement, MAX_NEWTON, MAX_REFINED};
 use super::run::{analyse, PoseAnalysis, MAX_DROPS};
 use super::source::schedule_field;
-use super::work::drops_estimate;
+use super::work::{averaged_estimate, drops_estimate};
 use crate::dynamics::PartPhysics;
 use crate::error::{Error, Result};
 use crate::field::{Field, FieldKind, Grid};
@@ -77,6 +77,9 @@ pub struct PoseOutcome {
     /// The lifted equilibria refined on the averaged field
     /// ([`super::refine`]); `None` for a target.
     pub refined: Option<Vec<Refinement>>,
+    /// Why the averaged field's check and refinement did not run (their
+    /// work estimate is over the limit without `--allow-long`).
+    pub averaged_skipped: Option<String>,
 }
 
 /// What a SOURCE file gives the analysis.
@@ -227,12 +230,20 @@ pub fn poses(req: &PoseRequest) -> Result<PoseOutcome> {
     });
     let bounds = matches!(part.support, Support::Unknown { .. })
         .then(|| Bounds::new(&part, field.as_ref()).scan(&region, SCAN));
-    let averaged = plate.map(|(sm, physics)| {
+    let mut averaged_skipped = None;
+    let averaged = plate.and_then(|(sm, physics)| {
+        let work = averaged_estimate(&part, &sm, analysis.equilibria.len());
+        if let Err(e) = req.runtime.admit(&work) {
+            let why = format!("the averaged field's check and refinement are skipped: {e}");
+            eprintln!("poses: {why}");
+            averaged_skipped = Some(why);
+            return None;
+        }
         let averaged = AveragedField::for_part(&part, sm, physics);
         let lifted = LiftedField::new(field.as_ref(), &part.body);
         let check = LiftCheck::run(&lifted, &averaged, &checked_poses(&analysis));
         let refined = refine_announced(&averaged, &analysis, req.runtime.progress());
-        (check, refined)
+        Some((check, refined))
     });
     let (lift_check, refined) = averaged.unzip();
     Ok(PoseOutcome {
@@ -242,6 +253,7 @@ pub fn poses(req: &PoseRequest) -> Result<PoseOutcome> {
         bounds,
         lift_check,
         refined,
+        averaged_skipped,
     })
 }
 

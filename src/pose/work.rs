@@ -1,11 +1,14 @@
-//! The work of played drops ([`super::played_basins`]), estimated before
+//! The work of played drops ([`super::played_basins`]) and of the
+//! averaged field's check and refinement ([`averaged_estimate`]), estimated before
 //! they play ([`crate::work`]): per drop, whole schedule periods covering
 //! [`DropPlay::duration_s`], each segment at its own planar step (a rest
 //! segment at the shortest moving segment's, as [`super::play_drop`]
 //! plays it), each step of each support point of the played body at
 //! [`PLANAR_POINT_STEP_COST`] point-part steps.
 
-use super::drops::{rest_cycle, DropPlay};
+use super::averaged::CHECKED_POSES;
+use super::drops::{rest_cycle, DropPlay, DROP_SAMPLES};
+use super::refine::MAX_REFINED;
 use crate::part::Part;
 use crate::play::ScheduleMotion;
 use crate::work::{Estimate, Term, PLANAR_POINT_STEP_COST};
@@ -55,5 +58,47 @@ pub fn drops_estimate(part: &Part, sm: &ScheduleMotion, drops: usize, play: &Dro
             .times(steps_per_period(sm, play.steps_per_cycle), "steps")
             .times(played_points(part, play) as f64, "support points")
             .times(PLANAR_POINT_STEP_COST, "point steps per support-point step"),
+    )
+}
+
+/// Expected schedule periods of one averaged twist from rest (measured: 3
+/// on the designed ellipse, 4 on a pose design's cycle).
+const PERIODS_FROM_REST: f64 = 4.0;
+/// Expected periods of one warm-started averaged twist (measured: 2–3).
+const PERIODS_WARM: f64 = 2.5;
+/// Expected Newton steps per refined equilibrium (measured: 3–12).
+const NEWTON_STEPS: f64 = 6.0;
+
+/// The work of the `poses` averaged-field check ([`super::LiftCheck`] at
+/// [`CHECKED_POSES`] poses from rest) and refinement ([`super::refine`]:
+/// 7 warm-started averaged twists per Newton step) of `equilibria`
+/// lifted equilibria of `part` on `sm`, played as
+/// [`super::AveragedField::for_part`] plays.
+pub fn averaged_estimate(part: &Part, sm: &ScheduleMotion, equilibria: usize) -> Estimate {
+    let play = DropPlay {
+        samples: Some(DROP_SAMPLES),
+        ..DropPlay::new(&crate::field::FieldSettings::default(), 0.0)
+    };
+    let refined = equilibria.min(MAX_REFINED) as f64;
+    let per_period = steps_per_period(sm, super::averaged::AVERAGING_STEPS)
+        * played_points(part, &play) as f64
+        * PLANAR_POINT_STEP_COST;
+    Estimate::new(
+        "poses",
+        "checking and refining on the averaged field",
+        "a shorter schedule period",
+    )
+    .plus(
+        Term::new("check")
+            .times(CHECKED_POSES as f64, "poses")
+            .times(PERIODS_FROM_REST, "periods")
+            .times(per_period, "point steps per period"),
+    )
+    .plus(
+        Term::new("refinement")
+            .times(refined, "equilibria")
+            .times(NEWTON_STEPS * 7.0, "twists")
+            .times(PERIODS_WARM, "periods")
+            .times(per_period, "point steps per period"),
     )
 }

@@ -23,6 +23,8 @@ pub struct Extras<'a> {
     pub lift_check: Option<&'a LiftCheck>,
     /// The lifted equilibria refined on the averaged field.
     pub refined: Option<&'a [Refinement]>,
+    /// Why the averaged field did not run, when it was skipped.
+    pub averaged_skipped: Option<&'a str>,
 }
 
 /// A pose as JSON: `{"x", "y", "theta_deg"}` (m, degrees).
@@ -91,15 +93,17 @@ fn lift_check_json(c: &LiftCheck) -> Value {
     let poses: Vec<Value> = c
         .poses
         .iter()
-        .map(|(p, l, a)| {
+        .map(|r| {
+            let a = r.averaged;
             json!({
-                "x": p.r.x,
-                "y": p.r.y,
-                "theta_deg": p.theta.to_degrees(),
-                "lifted": twist_json(l),
+                "x": r.pose.r.x,
+                "y": r.pose.r.y,
+                "theta_deg": r.pose.theta.to_degrees(),
+                "lifted": twist_json(&r.lifted),
                 "averaged": a.map(|a| twist_json(&a.twist)),
                 "periods": a.map(|a| a.periods),
                 "converged": a.map(|a| a.converged),
+                "local": r.local,
             })
         })
         .collect();
@@ -107,7 +111,7 @@ fn lift_check_json(c: &LiftCheck) -> Value {
         "poses": poses,
         "translation_rms": c.translation_rms,
         "spin_rms": c.spin_rms,
-        "by": "the lifted field's twist against the averaged field's (the rigid part's periodic slip at the pose, pose::AveragedField) at the equilibria and the first drop starts; RMS of the difference over the RMS of the averaged twist; \"averaged\": null where a support point loses contact",
+        "by": "the lifted field's twist against the averaged field's (the rigid part's periodic slip at the pose, pose::AveragedField) at the equilibria and the first drop starts; RMS of the difference over the RMS of the averaged twist, over the poses where one period moves the part less than half its radius and 0.5 rad (\"local\") (the rest: the part travels to its rest within a period, and the averaged twist is that trip); \"averaged\": null where a support point loses contact",
     })
 }
 
@@ -154,8 +158,8 @@ fn played_json(p: &PlayedBasins) -> Value {
 
 /// `{"part", "support", "equilibria": [{"x", "y", "theta_deg", "stable",
 /// "basin", "rates"}], "drops", "unsettled", "basins_by"}` (positions in m),
-/// with `"played"`, `"bounds"`, `"lifted_check"` and
-/// `"averaged_equilibria"` when `extras` holds them.
+/// with `"played"`, `"bounds"`, `"lifted_check"`, `"averaged_equilibria"`
+/// and `"averaged_skipped"` when `extras` holds them.
 pub fn to_json(part: &Part, a: &PoseAnalysis, extras: &Extras<'_>) -> Value {
     let eq: Vec<Value> = a
         .equilibria
@@ -198,6 +202,9 @@ pub fn to_json(part: &Part, a: &PoseAnalysis, extras: &Extras<'_>) -> Value {
     }
     if let Some(r) = extras.refined {
         out["averaged_equilibria"] = Value::Array(r.iter().map(refined_json).collect());
+    }
+    if let Some(why) = extras.averaged_skipped {
+        out["averaged_skipped"] = json!(why);
     }
     out
 }
@@ -251,16 +258,20 @@ pub fn summary(part: &Part, a: &PoseAnalysis, extras: &Extras<'_>) -> String {
     if let Some(r) = extras.refined {
         s.push_str(&refined_lines(r));
     }
+    if let Some(why) = extras.averaged_skipped {
+        let _ = writeln!(s, "{why}");
+    }
     s
 }
 
 /// The lift check in one line.
 fn lift_check_line(c: &LiftCheck) -> String {
-    let kept = c.poses.iter().filter(|p| p.2.is_some()).count();
+    let kept = c.poses.iter().filter(|p| p.averaged.is_some()).count();
     let pct = |e: Option<f64>| e.map_or("—".to_string(), |e| format!("{:.1} %", 100.0 * e));
     let lost = c.poses.len() - kept;
+    let local = c.poses.iter().filter(|p| p.local).count();
     format!(
-        "lifted field against the averaged part at {} poses: translation RMS {}, spin RMS {}{}\n",
+        "lifted field against the averaged part at {local} of {} poses (those a schedule period moves less than half the part's radius and 0.5 rad): translation RMS {}, spin RMS {}{}\n",
         c.poses.len(),
         pct(c.translation_rms),
         pct(c.spin_rms),
