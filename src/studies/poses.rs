@@ -104,6 +104,50 @@ fn table(md: &mut String, a: &PoseAnalysis, played: Option<&PlayedBasins>) {
     );
 }
 
+/// The lifted equilibria `eqs` (only the stable ones when `stable_only`)
+/// of `part` refined on the averaged field of `sm` (the period map of the
+/// played schedule, `pose::refine`): a table, and the refinements.
+fn averaged_table(
+    md: &mut String,
+    part: &Part,
+    sm: &ScheduleMotion,
+    settings: &crate::field::FieldSettings,
+    eqs: &[crate::pose::Equilibrium],
+    region: &Region,
+) -> Vec<crate::pose::Refinement> {
+    use crate::pose::{refine, AveragedField, Refined};
+    let averaged = AveragedField::for_part(part, sm.clone(), settings.physics());
+    let refined = refine(&averaged, eqs, region, &|| {});
+    md.push_str("Refined on the averaged field (the part played period after period from the pose, joins included: its zeros are the played rests; `pose::refine`, Newton from each lifted equilibrium):\n\n| from θ (lifted, °) | x (mm) | y (mm) | θ (°) | stable | moved (mm) | turned (°) | Newton steps |\n|---|---|---|---|---|---|---|---|\n");
+    for r in &refined {
+        let from = r.from.pose;
+        let row = match r.outcome {
+            Refined::Found {
+                equilibrium: e,
+                steps,
+            } => format!(
+                "{:+.2} | {:+.2} | {:+.2} | {} | {:.2} | {:+.2} | {steps}",
+                1e3 * e.pose.r.x,
+                1e3 * e.pose.r.y,
+                e.pose.theta.to_degrees(),
+                if e.stable { "yes" } else { "no" },
+                1e3 * (e.pose.r - from.r).norm(),
+                crate::pose::wrap(e.pose.theta - from.theta).to_degrees()
+            ),
+            Refined::Left(p) => format!(
+                "left the region at ({:+.2}, {:+.2}) mm | | | | | | ",
+                1e3 * p.r.x,
+                1e3 * p.r.y
+            ),
+            Refined::Unconverged(_) => "no convergence | | | | | | ".to_string(),
+            Refined::Lost(_) => "a support point loses contact | | | | | | ".to_string(),
+        };
+        let _ = writeln!(md, "| {:+.2} | {row} |", from.theta.to_degrees());
+    }
+    md.push('\n');
+    refined
+}
+
 /// The bracket with 3 unknown contacts on `field`: the bounds' size.
 fn bounds_section(md: &mut String, field: &crate::pose::GridField, region: &Region) -> Result<()> {
     let part = Part::from_json_str(
@@ -183,7 +227,8 @@ fn pose_target(md: &mut String, summary: &mut String, name: &str) -> Result<()> 
                     format!("{:.2} mm, {:+.2}°", 1e3 * d, t.to_degrees())
                 })
         };
-    let predicted = near(&schedule_field(schedule, &grid)?);
+    let predicted_field = schedule_field(schedule, &grid)?;
+    let predicted = near(&predicted_field);
     // A physically invalid play (a point part leaving the plate somewhere
     // on the grid; the planar drops count such parts as lost) is said so,
     // not a failed study.
@@ -196,6 +241,13 @@ fn pose_target(md: &mut String, summary: &mut String, name: &str) -> Result<()> 
         md,
         "\nThe kept schedule's stable pose nearest the asked one, from the lifted field of its predicted point field (time-weighted segment steady states): {predicted}; of its realised point field (point parts played with frozen positions at every second grid point, joins included, `pose::realised_field`): {realised}.\n"
     );
+    let lifted = crate::pose::equilibria(
+        &crate::pose::LiftedField::new(&predicted_field, &req.part.body),
+        &req.region,
+    );
+    let stable: Vec<_> = lifted.into_iter().filter(|e| e.stable).collect();
+    let sm = ScheduleMotion::from_schedule(schedule)?;
+    averaged_table(md, &req.part, &sm, &schedule.settings, &stable, &req.region);
     let p = crate::report::pose_design::played(&d);
     let _ = writeln!(
         summary,
@@ -288,7 +340,10 @@ pub fn run(out: &Path, play_drops: usize) -> Result<String> {
          random drops (centres uniform over the region inset by the part's radius, angles \
          uniform) integrated along the lifted field; with `--play-drops N` the first N drops are \
          also played by the planar simulator for {PLAY_S} s (full stick-slip of every support \
-         point) and each end classified by its nearest stable pose.\n\n\
+         point) and each end classified by its nearest stable pose. Each lifted equilibrium is \
+         then refined on the averaged field (`pose::AveragedField`: the part played period after \
+         period from the pose, every support point's stick-slip and the joins included, so its \
+         zeros are the poses a played part returns to; `pose::refine`).\n\n\
          The designed ellipses give every part two stable poses 180° apart (each with about \
          half the drops), not one; the pose targets (last section) ask for one.\n\n",
         if play_drops > 0 {
@@ -319,6 +374,14 @@ pub fn run(out: &Path, play_drops: usize) -> Result<String> {
             });
             let _ = writeln!(md, "### {part_name}\n");
             table(&mut md, &a, played.as_ref());
+            averaged_table(
+                &mut md,
+                &part,
+                &sm,
+                &schedule.settings,
+                &a.equilibria,
+                &region,
+            );
             let _ = writeln!(
                 summary,
                 "{name} {part_name}: {} equilibria, {} stable",
