@@ -60,6 +60,44 @@ pub struct Refinement {
     pub outcome: Refined,
 }
 
+impl Refined {
+    /// Why no equilibrium was found, in words (`None` when one was).
+    pub fn failure(&self) -> Option<String> {
+        let at = |p: &Pose| {
+            format!(
+                "({:+.2} mm, {:+.2} mm, {:+.2}°)",
+                1e3 * p.r.x,
+                1e3 * p.r.y,
+                p.theta.to_degrees()
+            )
+        };
+        match self {
+            Refined::Found { .. } => None,
+            Refined::Left(p) => Some(format!("left the region at {}", at(p))),
+            Refined::Unconverged(p) => Some(format!("no convergence (last at {})", at(p))),
+            Refined::Lost(c) => Some(format!(
+                "a support point loses contact at ({:+.4}, {:+.4}) m",
+                c.position[0], c.position[1]
+            )),
+        }
+    }
+}
+
+impl Refinement {
+    /// How far the averaged field's equilibrium lies from the lifted one
+    /// it started from: distance (m) and turn (rad, wrapped); `None` when
+    /// none was found.
+    pub fn moved(&self) -> Option<(f64, f64)> {
+        match self.outcome {
+            Refined::Found { equilibrium: e, .. } => Some((
+                (e.pose.r - self.from.pose.r).norm(),
+                wrap(e.pose.theta - self.from.pose.theta),
+            )),
+            _ => None,
+        }
+    }
+}
+
 /// Refines the lifted equilibria `lifted` (stable first, at most
 /// [`MAX_REFINED`]) on `averaged` within `region`, in parallel (the same
 /// result on any number of threads); `done` is called after each.

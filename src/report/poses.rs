@@ -7,7 +7,9 @@ use serde_json::{json, Value};
 
 use crate::part::Part;
 use crate::plot::{escape, num};
-use crate::pose::{LiftCheck, PlayedBasins, Pose, PoseAnalysis, Refined, Refinement, Twist};
+use crate::pose::{
+    Equilibrium, LiftCheck, PlayedBasins, Pose, PoseAnalysis, Refined, Refinement, Twist,
+};
 
 pub use crate::pose::SCAN;
 
@@ -52,6 +54,17 @@ fn refined_json(r: &Refinement) -> Value {
     }
 }
 
+/// An equilibrium in a summary line: `x … mm  y … mm  θ …°  stable  `.
+fn equilibrium_text(e: &Equilibrium) -> String {
+    format!(
+        "x {:+.2} mm  y {:+.2} mm  θ {:+7.2}°  {}",
+        1e3 * e.pose.r.x,
+        1e3 * e.pose.r.y,
+        e.pose.theta.to_degrees(),
+        if e.stable { "stable  " } else { "unstable" }
+    )
+}
+
 /// One summary line per refinement.
 fn refined_lines(refined: &[Refinement]) -> String {
     let mut s = String::from(
@@ -59,24 +72,20 @@ fn refined_lines(refined: &[Refinement]) -> String {
     );
     for r in refined {
         let f = r.from.pose;
-        let what = match r.outcome {
-            Refined::Found { equilibrium: e, steps } => format!(
-                "x {:+.2} mm  y {:+.2} mm  θ {:+7.2}°  {} ({steps} Newton steps; moved {:.2} mm, {:+.2}°)",
-                1e3 * e.pose.r.x,
-                1e3 * e.pose.r.y,
-                e.pose.theta.to_degrees(),
-                if e.stable { "stable  " } else { "unstable" },
-                1e3 * (e.pose.r - f.r).norm(),
-                crate::pose::wrap(e.pose.theta - f.theta).to_degrees()
+        let what = match (r.outcome, r.moved()) {
+            (
+                Refined::Found {
+                    equilibrium: e,
+                    steps,
+                },
+                Some((d, t)),
+            ) => format!(
+                "{} ({steps} Newton steps; moved {:.2} mm, {:+.2}°)",
+                equilibrium_text(&e),
+                1e3 * d,
+                t.to_degrees()
             ),
-            Refined::Left(p) => format!("left the region at ({:+.2}, {:+.2}) mm", 1e3 * p.r.x, 1e3 * p.r.y),
-            Refined::Unconverged(p) => format!(
-                "no convergence (last at {:+.2} mm, {:+.2} mm, {:+.2}°)",
-                1e3 * p.r.x,
-                1e3 * p.r.y,
-                p.theta.to_degrees()
-            ),
-            Refined::Lost(c) => format!("a support point loses contact at ({:+.4}, {:+.4}) m", c.position[0], c.position[1]),
+            (other, _) => other.failure().unwrap_or_default(),
         };
         let _ = writeln!(s, "  from θ {:+7.2}°: {what}", f.theta.to_degrees());
     }
@@ -227,11 +236,8 @@ pub fn summary(part: &Part, a: &PoseAnalysis, extras: &Extras<'_>) -> String {
             .unwrap_or_default();
         let _ = writeln!(
             s,
-            "  x {:+.2} mm  y {:+.2} mm  θ {:+7.2}°  {}  basin {:.1} %{played}",
-            1e3 * e.pose.r.x,
-            1e3 * e.pose.r.y,
-            e.pose.theta.to_degrees(),
-            if e.stable { "stable  " } else { "unstable" },
+            "  {}  basin {:.1} %{played}",
+            equilibrium_text(e),
             100.0 * b
         );
     }

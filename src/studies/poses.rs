@@ -65,6 +65,17 @@ fn load_schedule(name: &str) -> Result<(Schedule, Region)> {
     ))
 }
 
+/// An equilibrium's table cells: x (mm) | y (mm) | θ (°) | stable.
+fn equilibrium_cells(e: &crate::pose::Equilibrium) -> String {
+    format!(
+        "{:+.2} | {:+.2} | {:+.2} | {}",
+        1e3 * e.pose.r.x,
+        1e3 * e.pose.r.y,
+        e.pose.theta.to_degrees(),
+        if e.stable { "yes" } else { "no" }
+    )
+}
+
 /// One part's table of equilibria on one ellipse.
 fn table(md: &mut String, a: &PoseAnalysis, played: Option<&PlayedBasins>) {
     md.push_str("| x (mm) | y (mm) | θ (°) | stable | basin (lifted) | basin (played) | Jacobian real parts (1/s) |\n|---|---|---|---|---|---|---|\n");
@@ -74,11 +85,8 @@ fn table(md: &mut String, a: &PoseAnalysis, played: Option<&PlayedBasins>) {
             .unwrap_or_else(|| "not played".into());
         let _ = writeln!(
             md,
-            "| {:+.2} | {:+.2} | {:+.2} | {} | {:.1} % | {p} | {:.3}, {:.3}, {:.3} |",
-            1e3 * e.pose.r.x,
-            1e3 * e.pose.r.y,
-            e.pose.theta.to_degrees(),
-            if e.stable { "yes" } else { "no" },
+            "| {} | {:.1} % | {p} | {:.3}, {:.3}, {:.3} |",
+            equilibrium_cells(e),
             100.0 * b,
             e.rates[0],
             e.rates[1],
@@ -104,8 +112,7 @@ fn table(md: &mut String, a: &PoseAnalysis, played: Option<&PlayedBasins>) {
     );
 }
 
-/// The lifted equilibria `eqs` (only the stable ones when `stable_only`)
-/// of `part` refined on the averaged field of `sm` (the period map of the
+/// The lifted equilibria `eqs` of `part` refined on the averaged field of `sm` (the period map of the
 /// played schedule, `pose::refine`): a table, and the refinements.
 fn averaged_table(
     md: &mut String,
@@ -121,26 +128,20 @@ fn averaged_table(
     md.push_str("Refined on the averaged field (the part played period after period from the pose, joins included: its zeros are the played rests; `pose::refine`, Newton from each lifted equilibrium):\n\n| from θ (lifted, °) | x (mm) | y (mm) | θ (°) | stable | moved (mm) | turned (°) | Newton steps |\n|---|---|---|---|---|---|---|---|\n");
     for r in &refined {
         let from = r.from.pose;
-        let row = match r.outcome {
-            Refined::Found {
-                equilibrium: e,
-                steps,
-            } => format!(
-                "{:+.2} | {:+.2} | {:+.2} | {} | {:.2} | {:+.2} | {steps}",
-                1e3 * e.pose.r.x,
-                1e3 * e.pose.r.y,
-                e.pose.theta.to_degrees(),
-                if e.stable { "yes" } else { "no" },
-                1e3 * (e.pose.r - from.r).norm(),
-                crate::pose::wrap(e.pose.theta - from.theta).to_degrees()
+        let row = match (r.outcome, r.moved()) {
+            (
+                Refined::Found {
+                    equilibrium: e,
+                    steps,
+                },
+                Some((d, t)),
+            ) => format!(
+                "{} | {:.2} | {:+.2} | {steps}",
+                equilibrium_cells(&e),
+                1e3 * d,
+                t.to_degrees()
             ),
-            Refined::Left(p) => format!(
-                "left the region at ({:+.2}, {:+.2}) mm | | | | | | ",
-                1e3 * p.r.x,
-                1e3 * p.r.y
-            ),
-            Refined::Unconverged(_) => "no convergence | | | | | | ".to_string(),
-            Refined::Lost(_) => "a support point loses contact | | | | | | ".to_string(),
+            (other, _) => format!("{} | | | | | | ", other.failure().unwrap_or_default()),
         };
         let _ = writeln!(md, "| {:+.2} | {row} |", from.theta.to_degrees());
     }
