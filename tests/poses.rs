@@ -724,48 +724,51 @@ fn drop_defaults_are_converged() {
 }
 
 /// The averaged field's equilibria are where the played part rests: the
-/// triangle on the designed ellipse turned by 30° (a sequenced schedule of
-/// five primitives). Each stable equilibrium refined from the lifted one
+/// triangle and the rectangle on the designed ellipse turned by 30° (a
+/// sequenced schedule of five primitives). Each stable equilibrium refined from the lifted one
 /// ([`platefield::pose::refine`]) is played for 30 s by the planar
 /// simulator from rest (`DropPlay::new`'s defaults): it ends within
 /// 0.05 mm and 0.1° of where it started (measured 0.006 mm, 0.01°). From
-/// the lifted equilibrium (12.6° and 2.3 mm away: the lifted spin is
-/// too fast and leaves out the joins) the part turns toward the refined
-/// one, at least halfway there in 30 s (measured 7° of 12.6°).
+/// the lifted equilibrium (12.6° for the triangle, 25.4° for the
+/// rectangle, and 2.3 mm away: the lifted spin is too fast and the lifted
+/// field leaves out the joins) the part turns toward the refined one, at
+/// least halfway there in 30 s (measured 7° of 12.6°).
 #[test]
 fn averaged_equilibria_are_played_rests() {
     use platefield::pose::{play_part, poses, DropPlay, PoseRequest, Refined};
     let source = "results/ellipse_30/schedule.json";
-    let out = poses(&PoseRequest {
-        part: "targets/parts/triangle.json".into(),
-        source: source.into(),
-        drops: 20,
-        play: None,
-        runtime: platefield::work::Runtime::QUIET,
-    })
-    .unwrap();
-    let schedule = platefield::schedule::Schedule::load(Path::new(source)).unwrap();
-    let sm = platefield::play::ScheduleMotion::from_schedule(&schedule).unwrap();
-    let play = DropPlay::new(&schedule.settings, 30.0);
-    let mut stable = 0;
-    for r in out.refined.unwrap() {
-        let Refined::Found { equilibrium: e, .. } = r.outcome else {
-            panic!("{r:?}");
-        };
-        if !e.stable {
-            continue;
+    for name in ["triangle", "rectangle"] {
+        let out = poses(&PoseRequest {
+            part: format!("targets/parts/{name}.json").into(),
+            source: source.into(),
+            drops: 20,
+            play: None,
+            runtime: platefield::work::Runtime::QUIET,
+        })
+        .unwrap();
+        let schedule = platefield::schedule::Schedule::load(Path::new(source)).unwrap();
+        let sm = platefield::play::ScheduleMotion::from_schedule(&schedule).unwrap();
+        let play = DropPlay::new(&schedule.settings, 30.0);
+        let mut stable = 0;
+        for r in out.refined.unwrap() {
+            let Refined::Found { equilibrium: e, .. } = r.outcome else {
+                panic!("{r:?}");
+            };
+            if !e.stable {
+                continue;
+            }
+            stable += 1;
+            let ends = play_part(&out.part, &sm, &[e.pose, r.from.pose], &play);
+            let at = |k: usize| ends[k].as_ref().unwrap().0.pose;
+            let (rest, turned) = (at(0), at(1));
+            println!(
+                "refined {e:?}: played from it to {rest:?}, from the lifted {:?} to {turned:?}",
+                r.from.pose
+            );
+            assert!((rest.r - e.pose.r).norm() < 5e-5 && off_deg(rest.theta, e.pose.theta) < 0.1);
+            let lifted_off = off_deg(r.from.pose.theta, e.pose.theta);
+            assert!(lifted_off > 5.0 && off_deg(turned.theta, e.pose.theta) < 0.5 * lifted_off);
         }
-        stable += 1;
-        let ends = play_part(&out.part, &sm, &[e.pose, r.from.pose], &play);
-        let at = |k: usize| ends[k].as_ref().unwrap().0.pose;
-        let (rest, turned) = (at(0), at(1));
-        println!(
-            "refined {e:?}: played from it to {rest:?}, from the lifted {:?} to {turned:?}",
-            r.from.pose
-        );
-        assert!((rest.r - e.pose.r).norm() < 5e-5 && off_deg(rest.theta, e.pose.theta) < 0.1);
-        let lifted_off = off_deg(r.from.pose.theta, e.pose.theta);
-        assert!(lifted_off > 5.0 && off_deg(turned.theta, e.pose.theta) < 0.5 * lifted_off);
+        assert_eq!(stable, 2);
     }
-    assert_eq!(stable, 2);
 }

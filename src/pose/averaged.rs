@@ -68,7 +68,7 @@ pub const MAX_AVERAGING_PERIODS: u32 = 60;
 /// Two consecutive periods' twists closer than this, relative to the slip
 /// scale μ g T_c (T_c the shortest motion cycle; μ g T_c / radius for the
 /// spin), end the averaging.
-pub const AVERAGING_TOLERANCE: f64 = 1e-5;
+pub const AVERAGING_TOLERANCE: f64 = 1e-6;
 
 /// The slip (relative velocity u of the centre of mass, m/s, and spin ω,
 /// rad/s) a period ends with: where the next period, or a nearby pose's

@@ -13,7 +13,13 @@
 //! with J by central differences ([`super::AveragedField::jacobian`]),
 //! every evaluation warm-started from the periodic slip at q_k, and each
 //! step cut to at most a quarter of the part's radius and 0.3 rad (as the
-//! lifted search). It stops when a step is below [`STOP`] of the radius
+//! lifted search). A Newton step that does not lower the merit
+//! |v|² + (ω R)² (R the part's radius) is replaced by a step of that cut
+//! length along the twist itself: the part's own flow, which a stable
+//! equilibrium attracts (ω(θ) can fold between the lifted pose and the
+//! part's own, where Newton alone oscillates: the rectangle on the
+//! designed ellipse turned by 30°, whose averaged rest is 15° from the
+//! lifted one). It stops when a step is below [`STOP`] of the radius
 //! and [`STOP`] rad: the averaged twist's own precision
 //! ([`super::AVERAGING_TOLERANCE`]) bounds what Newton resolves. The
 //! stability is that of J at the last iterate (the eigenvalues' real
@@ -21,9 +27,9 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use super::averaged::{AveragedField, Slip};
+use super::averaged::AveragedField;
 use super::equilibria::{wrap, Equilibrium, Region};
-use super::lifted::Pose;
+use super::lifted::{Pose, Twist};
 use crate::dynamics::ContactLoss;
 
 /// Most lifted equilibria refined.
@@ -121,55 +127,77 @@ pub fn refine(
         .collect()
 }
 
-/// Newton on the averaged field from `start` (module docs).
+/// Newton on the averaged field from `start`, guarded by the flow
+/// (module docs).
 fn newton(averaged: &AveragedField, start: Pose, region: &Region) -> Refined {
-    let radius = averaged.radius();
-    let mut q = start;
-    let mut warm: Option<Slip> = None;
-    for k in 0..MAX_NEWTON {
-        let step = match newton_step(averaged, q, &mut warm) {
-            Ok(s) => s,
-            Err(loss) => return Refined::Lost(loss),
-        };
-        let Some((dq, j)) = step else {
-            return Refined::Unconverged(q);
-        };
-        q = Pose::new(q.r.x + dq[0], q.r.y + dq[1], q.theta + dq[2]);
-        if !region.contains(&q.r) {
-            return Refined::Left(q);
-        }
-        if (dq[0].hypot(dq[1])) < STOP * radius && dq[2].abs() < STOP {
-            let pose = Pose::new(q.r.x, q.r.y, wrap(q.theta));
-            return Refined::Found {
-                equilibrium: Equilibrium::of_jacobian(pose, &j),
-                steps: k + 1,
-            };
-        }
+    match newton_or_flow(averaged, start, region) {
+        Ok(r) => r,
+        Err(loss) => Refined::Lost(loss),
     }
-    Refined::Unconverged(q)
 }
 
-/// A Newton step (Δx, Δy, Δθ) and the Jacobian it solved with.
-type Step = ([f64; 3], Matrix3<f64>);
-
-/// One cut Newton step at `q` and the Jacobian there (`None` when it is
-/// singular); `warm` carries the periodic slip from iterate to iterate.
-fn newton_step(
+/// [`newton`], a lost contact as the error.
+fn newton_or_flow(
     averaged: &AveragedField,
-    q: Pose,
-    warm: &mut Option<Slip>,
-) -> Result<Option<Step>, ContactLoss> {
-    let (a, slip) = averaged.twist_from(q, *warm)?;
-    *warm = Some(slip);
-    let j = averaged.jacobian(q, *warm)?;
-    let xi = Vector3::new(a.twist.v.x, a.twist.v.y, a.twist.omega);
-    let Some(mut dq) = j.lu().solve(&(-xi)) else {
-        return Ok(None);
-    };
+    start: Pose,
+    region: &Region,
+) -> Result<Refined, ContactLoss> {
     let radius = averaged.radius();
-    let cut = (dq.fixed_rows::<2>(0).norm() / (0.25 * radius)).max(dq.z.abs() / 0.3);
-    if cut > 1.0 {
-        dq /= cut;
+    let merit = |t: &Twist| t.v.norm_squared() + (t.omega * radius).powi(2);
+    let mut q = start;
+    let (a, slip) = averaged.twist_from(q, None)?;
+    let (mut xi, mut warm) = (a.twist, slip);
+    for k in 0..MAX_NEWTON {
+        let j = averaged.jacobian(q, Some(warm))?;
+        let Some(newton) = newton_step(&j, &xi, radius) else {
+            return Ok(Refined::Unconverged(q));
+        };
+        let (mut dq, (mut next, mut slip)) =
+            (newton, averaged.twist_from(moved(q, &newton), Some(warm))?);
+        if merit(&next.twist) >= merit(&xi) {
+            // Newton does not bring the twist down (a fold of ω(θ) between
+            // the lifted pose and the part's own): follow the flow instead.
+            dq = flow_step(&xi, radius);
+            (next, slip) = averaged.twist_from(moved(q, &dq), Some(warm))?;
+        }
+        q = moved(q, &dq);
+        (xi, warm) = (next.twist, slip);
+        if !region.contains(&q.r) {
+            return Ok(Refined::Left(q));
+        }
+        if dq.fixed_rows::<2>(0).norm() < STOP * radius && dq.z.abs() < STOP {
+            let pose = Pose::new(q.r.x, q.r.y, wrap(q.theta));
+            return Ok(Refined::Found {
+                equilibrium: Equilibrium::of_jacobian(pose, &j),
+                steps: k + 1,
+            });
+        }
     }
-    Ok(Some(([dq.x, dq.y, dq.z], j)))
+    Ok(Refined::Unconverged(q))
+}
+
+/// `q` moved by `dq` = (Δx, Δy, Δθ).
+fn moved(q: Pose, dq: &Vector3<f64>) -> Pose {
+    Pose::new(q.r.x + dq.x, q.r.y + dq.y, q.theta + dq.z)
+}
+
+/// `dq` cut to at most a quarter of `radius` in position and 0.3 rad.
+fn cut(mut dq: Vector3<f64>, radius: f64) -> Vector3<f64> {
+    let c = (dq.fixed_rows::<2>(0).norm() / (0.25 * radius)).max(dq.z.abs() / 0.3);
+    if c > 1.0 {
+        dq /= c;
+    }
+    dq
+}
+
+/// The cut Newton step −J⁻¹ ξ (`None` when J is singular).
+fn newton_step(j: &Matrix3<f64>, xi: &Twist, radius: f64) -> Option<Vector3<f64>> {
+    let rhs = -Vector3::new(xi.v.x, xi.v.y, xi.omega);
+    j.lu().solve(&rhs).map(|dq| cut(dq, radius))
+}
+
+/// A step along the twist, as far as the cut allows: where the part
+/// would go (a stable equilibrium attracts it).
+fn flow_step(xi: &Twist, radius: f64) -> Vector3<f64> {
+    cut(Vector3::new(xi.v.x, xi.v.y, xi.omega) * 1e6, radius)
 }
