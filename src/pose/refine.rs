@@ -74,7 +74,7 @@ impl Refined {
                 "({:+.2} mm, {:+.2} mm, {:+.2}°)",
                 1e3 * p.r.x,
                 1e3 * p.r.y,
-                p.theta.to_degrees()
+                wrap(p.theta).to_degrees()
             )
         };
         match self {
