@@ -191,7 +191,7 @@ fn lifted_field_against_simulation() {
     // cycles; 7.6 % at 4 over the 10 here).
     let damped = LiftedField::new(&point, &part.body)
         .with_damping(nalgebra::Matrix2::new(1.0, 0.0, 0.0, 4.0));
-    let averaged = AveragedField::new(&part.body, &motion, settings.physics());
+    let averaged = AveragedField::new(&part.body, &motion, settings.physics()).unwrap();
     let measure = Measure {
         warm_up: 10,
         cycles: 24,

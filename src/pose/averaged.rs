@@ -46,6 +46,7 @@
 use nalgebra::{Matrix3, Vector3};
 
 use crate::dynamics::{ContactLoss, PartPhysics, PlanarBody, PlanarState, PLANAR_REFINE_DEPTH, V2};
+use crate::error::Result;
 use crate::motion::Motion;
 use crate::part::Part;
 use crate::play::{PlayedSegment, ScheduleMotion};
@@ -127,15 +128,18 @@ impl AveragedField {
     /// // drifts toward it (near x = 2.5 mm) from x = 5 mm.
     /// let (body, _) = PlanarBody::centred(&[V2::new(-0.01, 0.0), V2::new(0.01, 0.0)], &[1.0, 1.0]);
     /// let motion = Primitive::new(PrimitiveKind::LineSink).motion();
-    /// let field = AveragedField::new(&body, &motion, PartPhysics::full(0.3));
+    /// let field = AveragedField::new(&body, &motion, PartPhysics::full(0.3))?;
     /// let a = field.twist(Pose::new(0.005, 0.0, 45f64.to_radians())).unwrap();
     /// assert!(a.converged && a.twist.omega > 0.0 && a.twist.v.x < 0.0);
+    /// # Ok::<(), platefield::Error>(())
     /// ```
-    pub fn new(body: &PlanarBody, motion: &Motion, physics: PartPhysics) -> AveragedField {
+    ///
+    /// # Errors
+    /// An invalid `motion` (its validation's error).
+    pub fn new(body: &PlanarBody, motion: &Motion, physics: PartPhysics) -> Result<AveragedField> {
         let segment = PlayedSegment::moving("motion", motion.clone(), 1);
-        // One moving segment of one cycle of a validated motion.
-        let sm = ScheduleMotion::new(vec![segment]).unwrap_or_else(|e| panic!("{e}"));
-        AveragedField::of_schedule(body, sm, physics)
+        let sm = ScheduleMotion::new(vec![segment])?;
+        Ok(AveragedField::of_schedule(body, sm, physics))
     }
 
     /// The averaged field of `part` on a schedule's plate trajectory `sm`,
@@ -182,11 +186,6 @@ impl AveragedField {
     pub fn with_steps(mut self, steps: usize) -> AveragedField {
         self.play.steps_per_cycle = steps.max(1);
         self
-    }
-
-    /// The plate trajectory.
-    pub fn schedule(&self) -> &ScheduleMotion {
-        &self.sm
     }
 
     /// The support's radius about its centre of mass (m).
@@ -438,7 +437,7 @@ mod tests {
         let motion = Primitive::new(PrimitiveKind::LineSink).motion();
         let settings = FieldSettings::default();
         let body = PlanarBody::point();
-        let averaged = AveragedField::new(&body, &motion, settings.physics());
+        let averaged = AveragedField::new(&body, &motion, settings.physics()).unwrap();
         let grid = Grid {
             x: [-0.02, 0.02],
             y: [0.0, 0.0],
@@ -471,7 +470,8 @@ mod tests {
     fn mirror_poses_spin_oppositely() {
         let motion = Primitive::new(PrimitiveKind::LineSink).motion();
         let body = rectangle();
-        let averaged = AveragedField::new(&body, &motion, FieldSettings::default().physics());
+        let averaged =
+            AveragedField::new(&body, &motion, FieldSettings::default().physics()).unwrap();
         let at = |theta: f64| {
             averaged
                 .twist(Pose::new(0.006, 0.0, theta.to_radians()))
@@ -504,6 +504,7 @@ mod tests {
         physics.model.moving = false;
         let pose = Pose::new(0.004, 0.002, 0.7);
         let one = AveragedField::new(&body, &motion, physics)
+            .unwrap()
             .twist(pose)
             .unwrap();
         let sm = ScheduleMotion::new(vec![PlayedSegment::moving("five", motion, 5)]).unwrap();
@@ -531,10 +532,12 @@ mod tests {
         let physics = FieldSettings::default().physics();
         let pose = Pose::new(0.008, 0.0, 0.5);
         let coarse = AveragedField::new(&body, &motion, physics)
+            .unwrap()
             .twist(pose)
             .unwrap()
             .twist;
         let fine = AveragedField::new(&body, &motion, physics)
+            .unwrap()
             .with_steps(512)
             .twist(pose)
             .unwrap()

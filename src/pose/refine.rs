@@ -196,8 +196,17 @@ fn newton_step(j: &Matrix3<f64>, xi: &Twist, radius: f64) -> Option<Vector3<f64>
     j.lu().solve(&rhs).map(|dq| cut(dq, radius))
 }
 
+/// How long (s) the part follows its twist in a flow step before the cut
+/// shortens it: long enough that the cut decides for any twist above
+/// 1e-9 m/s or rad/s (a smaller one is an equilibrium to the averaging's
+/// precision).
+const FLOW_REACH_S: f64 = 1e6;
+
 /// A step along the twist, as far as the cut allows: where the part
 /// would go (a stable equilibrium attracts it).
 fn flow_step(xi: &Twist, radius: f64) -> Vector3<f64> {
-    cut(Vector3::new(xi.v.x, xi.v.y, xi.omega) * 1e6, radius)
+    cut(
+        Vector3::new(xi.v.x, xi.v.y, xi.omega) * FLOW_REACH_S,
+        radius,
+    )
 }

@@ -92,9 +92,9 @@ struct Source {
     path: &'static str,
     /// The schedule, when the source is one (its drops can be played).
     schedule: Option<Schedule>,
-    /// The plate motions behind the field, (motion or rest, duration), and
-    /// the part physics, for the averaged field; `None` for a target (a
-    /// requested field has no plate motion).
+    /// The plate trajectory behind the field and the part physics, for the
+    /// averaged field; `None` for a target (a requested field has no plate
+    /// motion).
     plate: Option<(ScheduleMotion, PartPhysics)>,
 }
 

@@ -7,7 +7,7 @@
 //! [`PLANAR_POINT_STEP_COST`] point-part steps.
 
 use super::averaged::CHECKED_POSES;
-use super::drops::{rest_cycle, DropPlay, DROP_SAMPLES};
+use super::drops::{rest_cycle, DropPlay};
 use super::refine::MAX_REFINED;
 use crate::part::Part;
 use crate::play::ScheduleMotion;
@@ -75,10 +75,8 @@ const NEWTON_STEPS: f64 = 6.0;
 /// lifted equilibria of `part` on `sm`, played as
 /// [`super::AveragedField::for_part`] plays.
 pub fn averaged_estimate(part: &Part, sm: &ScheduleMotion, equilibria: usize) -> Estimate {
-    let play = DropPlay {
-        samples: Some(DROP_SAMPLES),
-        ..DropPlay::new(&crate::field::FieldSettings::default(), 0.0)
-    };
+    // The drops' resampling (`DropPlay::new`'s samples), as `for_part` plays.
+    let play = DropPlay::new(&crate::field::FieldSettings::default(), 0.0);
     let refined = equilibria.min(MAX_REFINED) as f64;
     let per_period = steps_per_period(sm, super::averaged::AVERAGING_STEPS)
         * played_points(part, &play) as f64

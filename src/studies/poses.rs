@@ -113,7 +113,7 @@ fn table(md: &mut String, a: &PoseAnalysis, played: Option<&PlayedBasins>) {
 }
 
 /// The lifted equilibria `eqs` of `part` refined on the averaged field of `sm` (the period map of the
-/// played schedule, `pose::refine`): a table, and the refinements.
+/// played schedule, `pose::refine`): a table.
 fn averaged_table(
     md: &mut String,
     part: &Part,
@@ -121,7 +121,7 @@ fn averaged_table(
     settings: &crate::field::FieldSettings,
     eqs: &[crate::pose::Equilibrium],
     region: &Region,
-) -> Vec<crate::pose::Refinement> {
+) {
     use crate::pose::{refine, AveragedField, Refined};
     let averaged = AveragedField::for_part(part, sm.clone(), settings.physics());
     let refined = refine(&averaged, eqs, region, &|| {});
@@ -146,7 +146,6 @@ fn averaged_table(
         let _ = writeln!(md, "| {:+.2} | {row} |", from.theta.to_degrees());
     }
     md.push('\n');
-    refined
 }
 
 /// The bracket with 3 unknown contacts on `field`: the bounds' size.
