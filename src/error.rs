@@ -89,7 +89,7 @@ pub fn positive(field: &str, value: f64) -> Result<f64> {
 }
 
 /// Checks that `value` is finite and non-negative.
-pub(crate) fn non_negative(field: &str, value: f64) -> Result<f64> {
+pub fn non_negative(field: &str, value: f64) -> Result<f64> {
     finite(field, value)?;
     if value >= 0.0 {
         Ok(value)

@@ -1,11 +1,48 @@
 //! Writing result files atomically (a temporary file in the same folder,
-//! then a rename; see [`crate::plot::write_atomic`]), so that an interrupted
+//! then a rename; see [`replace_atomic`]), so that an interrupted
 //! run never leaves a half-written file behind; a folder of several
 //! results is written whole (`Staged`).
 
+use std::io::Write as _;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
 
 use crate::error::{Error, Result};
+
+static TEMP_COUNTER: AtomicU64 = AtomicU64::new(0);
+
+/// Writes `contents` to `path` atomically: the data goes to a temporary file
+/// in the same directory, is flushed to disk, and is then renamed over
+/// `path`, so readers see either the old or the complete new file.
+pub fn replace_atomic(path: &Path, contents: &[u8]) -> std::io::Result<()> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => std::path::PathBuf::from("."),
+    };
+    let file_name = path.file_name().ok_or_else(|| {
+        std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            format!("{}: not a file path", path.display()),
+        )
+    })?;
+    let tmp = dir.join(format!(
+        ".{}.tmp.{}.{}",
+        file_name.to_string_lossy(),
+        std::process::id(),
+        TEMP_COUNTER.fetch_add(1, Ordering::Relaxed)
+    ));
+    let result = (|| {
+        let mut f = std::fs::File::create(&tmp)?;
+        f.write_all(contents)?;
+        f.sync_all()?;
+        drop(f);
+        std::fs::rename(&tmp, path)
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
+}
 
 /// Writes `bytes` to `path` atomically, creating parent folders; errors
 /// name the path.
@@ -19,7 +56,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
             std::fs::create_dir_all(dir).map_err(io)?;
         }
     }
-    crate::plot::write_atomic(path, bytes).map_err(io)
+    replace_atomic(path, bytes).map_err(io)
 }
 
 /// Writes several files all or none: each goes to a temporary file beside
@@ -135,7 +172,7 @@ static STAGE_COUNTER: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU6
 /// entries not yet moved back). A staging folder that is never committed
 /// is removed when the [`Staged`] is dropped (an error return).
 #[derive(Debug)]
-pub(crate) struct Staged {
+pub struct Staged {
     dir: PathBuf,
     stage: PathBuf,
     committed: bool,
@@ -178,7 +215,7 @@ impl Staged {
     /// Puts the staged run in place of `dir` (see [`Staged`]): one atomic
     /// exchange, then the previous folder's entries that are not among
     /// `products` are moved into the new one and the rest is removed.
-    pub(crate) fn commit(mut self, products: &[&str]) -> Result<()> {
+    pub fn commit(mut self, products: &[&str]) -> Result<()> {
         let io = |path: &Path| {
             let path = path.display().to_string();
             move |source| Error::Io { path, source }

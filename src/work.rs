@@ -235,7 +235,7 @@ impl Estimate {
 
     /// Prints the [`Estimate::announcement`] on stderr, if any, unless
     /// `quiet`.
-    pub(crate) fn announce(&self, quiet: bool) {
+    pub fn announce(&self, quiet: bool) {
         match self.announcement(threads()) {
             Some(line) if !quiet => eprintln!("{line}"),
             _ => {}
@@ -271,7 +271,7 @@ impl Estimate {
 /// now): progress for work whose loops the caller does not own, such as
 /// drops played in parallel. `progress` should count thousands of counted
 /// steps; it is read every 100 ms and finished when `f` returns.
-pub(crate) fn with_counted_progress<T>(progress: &Progress, f: impl FnOnce() -> T) -> T {
+pub fn with_counted_progress<T>(progress: &Progress, f: impl FnOnce() -> T) -> T {
     let start = crate::dynamics::steps_taken();
     let done = AtomicBool::new(false);
     let out = std::thread::scope(|scope| {
@@ -293,7 +293,7 @@ pub(crate) fn with_counted_progress<T>(progress: &Progress, f: impl FnOnce() -> 
 /// `fields` fields: force fields take `settings.phases` cycles per sample,
 /// steady-state velocity fields [`VELOCITY_CYCLES`] (at most the
 /// settings' `max_iterations`).
-pub(crate) fn field_term(
+pub fn field_term(
     label: &str,
     fields: f64,
     field_name: &str,

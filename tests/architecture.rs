@@ -280,8 +280,7 @@ fn crate_graph(src: &Path) -> Graph {
         let rel = f.strip_prefix(src).expect("under src");
         let path = module_path(rel);
         let top = match path.first().map(String::as_str) {
-            // The binary's files (main.rs and cli/) are no library module.
-            None | Some("lib") | Some("main") | Some("cli") => continue,
+            None | Some("lib") => continue,
             Some(t) => t.to_string(),
         };
         let text = std::fs::read_to_string(&f).expect("read file");
@@ -694,14 +693,9 @@ fn dynamics_has_no_long_argument_lists() {
     }
 }
 
-/// The files of the `platefield` binary: `src/main.rs` and `src/cli/`
-/// (declared from main.rs; the Python package compiles them in too).
-fn is_binary_file(rel: &Path) -> bool {
-    rel == Path::new("main.rs") || rel.starts_with("cli")
-}
-
-/// The library names no clap type: clap is the binary's (its argument
-/// structs and value parsers are in `src/cli`), so `lib.rs` exports none.
+/// The library names no clap type: clap is the command's (its argument
+/// structs and value parsers are in the `platefield-cli` crate), so
+/// `lib.rs` exports none.
 #[test]
 fn only_the_binary_names_clap() {
     let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
@@ -710,9 +704,6 @@ fn only_the_binary_names_clap() {
     let mut library = 0;
     for f in files {
         let rel = f.strip_prefix(&src).expect("under src");
-        if is_binary_file(rel) {
-            continue;
-        }
         library += 1;
         let code = strip_comments_and_literals(&std::fs::read_to_string(&f).expect("read file"));
         let names = code.match_indices("clap").any(|(k, _)| {
@@ -906,4 +897,64 @@ fn function_counter_matches_braces() {
     assert_eq!(got, want);
     assert_eq!(fn_name("    pub(in crate::x) async fn go<T>()"), Some("go"));
     assert_eq!(fn_name("let fnord = 1;"), None);
+}
+
+/// The names of the dependencies (normal, dev and build) a manifest
+/// declares: every `name = …` or `name.workspace = …` line inside a
+/// `[*dependencies]` table (not `[workspace.dependencies]`, which only
+/// names versions for the members).
+fn manifest_dependencies(manifest: &str) -> BTreeSet<String> {
+    let mut names = BTreeSet::new();
+    let mut in_dependencies = false;
+    for line in manifest.lines().map(str::trim) {
+        if line.starts_with('[') {
+            let table = line.trim_matches(['[', ']']);
+            in_dependencies = table.ends_with("dependencies") && !table.starts_with("workspace");
+        } else if in_dependencies && !line.starts_with('#') {
+            if let Some((key, _)) = line.split_once('=') {
+                let name = key.trim().trim_end_matches(".workspace");
+                names.insert(name.to_string());
+            }
+        }
+    }
+    names
+}
+
+/// The workspace's crates are layered: the library depends on none of the
+/// others; the report writers on the library only; the studies on the
+/// library and the report writers; the command on all three. So the
+/// library never depends on the command or the laboratory.
+#[test]
+fn crates_are_layered() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let ours = [
+        "platefield",
+        "platefield-report",
+        "platefield-studies",
+        "platefield-cli",
+    ];
+    for (manifest, allowed) in [
+        ("Cargo.toml", &[][..]),
+        ("report/Cargo.toml", &["platefield"][..]),
+        (
+            "studies/Cargo.toml",
+            &["platefield", "platefield-report"][..],
+        ),
+        (
+            "cli/Cargo.toml",
+            &["platefield", "platefield-report", "platefield-studies"][..],
+        ),
+    ] {
+        let text = std::fs::read_to_string(root.join(manifest)).expect("read manifest");
+        let deps = manifest_dependencies(&text);
+        let ours_used: Vec<&String> = deps.iter().filter(|d| ours.contains(&d.as_str())).collect();
+        for d in &ours_used {
+            assert!(allowed.contains(&d.as_str()), "{manifest} depends on {d}");
+        }
+        assert_eq!(ours_used.len(), allowed.len(), "{manifest}: {ours_used:?}");
+    }
+    // The reader sees a workspace dependency and skips other tables.
+    let planted = "[workspace.dependencies]\ny = \"1\"\n[package]\nname = \"x\"\n[dependencies]\nplatefield.workspace = true\n[dev-dependencies]\napprox = \"0.5\"\n";
+    let names: Vec<String> = manifest_dependencies(planted).into_iter().collect();
+    assert_eq!(names, ["approx", "platefield"]);
 }

@@ -2,8 +2,8 @@
 //! (`platefield._platefield`). Each function is the library call the
 //! command-line tool makes for the same job, so Python and the CLI give the
 //! same numbers: `design` and `verify` parse the CLI's own argument structs
-//! (`cli::design::DesignArgs`, `cli::verify::VerifyArgs`: the binary's
-//! `src/cli`, compiled in here, as the library has no clap types) from the argument list the
+//! (`cli::design::DesignArgs`, `cli::verify::VerifyArgs`: the CLI crate's
+//! library, as the platefield library has no clap types) from the argument list the
 //! Python layer builds from keyword arguments and run them with `--json`;
 //! `poses` calls the same `cli::poses::run` with `--json`;
 //! `field` (the library door `platefield::scene::field`) and `export`
@@ -28,11 +28,9 @@ use platefield::scene::Scene;
 use platefield::schedule::{export as schedule_export, Schedule};
 use platefield::Error;
 
-/// The `platefield` binary's argument groups and handlers, compiled from
-/// its source: the library exports no clap types.
-#[path = "../../src/cli/mod.rs"]
-#[allow(dead_code)]
-mod cli;
+/// The `platefield` command's argument groups and handlers (the CLI crate's
+/// library): the library exports no clap types.
+use platefield_cli as cli;
 
 create_exception!(
     _platefield,

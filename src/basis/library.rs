@@ -1,7 +1,7 @@
 //! The primitive library simulated into fields: [`FieldLibrary`] holds one
 //! field kind (what a design needs: the default velocity basis never uses
 //! force fields, which were a third of a cold design's time), [`Library`]
-//! both kinds (what `platefield primitives` reports).
+//! both kinds (what `platefield study primitives` reports).
 
 use serde::{Deserialize, Serialize};
 
@@ -150,7 +150,7 @@ impl Library {
 
     /// "Kind steps" per entry, comma-separated: the steps per cycle of each
     /// force field.
-    pub(crate) fn force_steps_list(&self) -> String {
+    pub fn force_steps_list(&self) -> String {
         self.entries
             .iter()
             .map(|e| format!("{} {}", e.primitive.kind.name(), e.force_steps))

@@ -10,7 +10,7 @@
 //! primitive's force field with the fewest steps per cycle at which the
 //! default primitive's force field on the default grid was measured within
 //! 1e-4 ([`PrimitiveKind::force_steps`]); `tests/library_steps.rs` checks
-//! the table against a 512-step library, and `platefield speed` reports
+//! the table against a 512-step library, and `platefield study speed` reports
 //! the plan's time and error beside every uniform count.
 
 use serde::{Deserialize, Serialize};
@@ -79,7 +79,7 @@ impl PrimitiveKind {
     /// The fewest steps per cycle of [`LADDER`] at which this kind's
     /// default zero-velocity force field (21×21 over ±4 cm, 30 phases,
     /// default settings) is within [`CALIBRATED_ERROR`] of the 512-step
-    /// field, as measured by `platefield speed` (`results/library_speed.md`,
+    /// field, as measured by `platefield study speed` (`results/library_speed.md`,
     /// engine revision 13; errors at this count and one rung fewer):
     ///
     /// | kind | steps | error | one rung fewer |

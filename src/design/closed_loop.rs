@@ -276,7 +276,7 @@ pub fn realised_metrics(
 
 /// The start points: every `stride`-th grid point along each axis (every
 /// `stride`-th sample of a grid-less target), weight > 0 only.
-pub(crate) fn loop_points(target: &Target, sampled: &SampledTarget, stride: usize) -> Vec<usize> {
+pub fn loop_points(target: &Target, sampled: &SampledTarget, stride: usize) -> Vec<usize> {
     let stride = stride.max(1);
     (0..sampled.len())
         .filter(|&k| sampled.weights[k] > 0.0)

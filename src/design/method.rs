@@ -209,7 +209,7 @@ impl MethodDesign {
 ///
 /// # Errors
 /// Invalid options; every method asked for failing (the first error).
-pub(crate) fn design_by_method(target: &Target, opts: &DesignOptions) -> Result<MethodDesign> {
+pub fn design_by_method(target: &Target, opts: &DesignOptions) -> Result<MethodDesign> {
     let opts = &opts.for_target(target);
     opts.validate()?;
     let sampled = target.sample()?;
@@ -837,7 +837,7 @@ fn asked_synthesis(target: &Target, opts: &DesignOptions) -> SynthOptions {
 /// candidate holds the target: 6 %, the friction issue's goal for the
 /// sink (the other shipped targets ask ≤ 8 %). Above it on every
 /// candidate, `auto` also synthesizes for the worst case
-/// ([`Candidate::worst_case`]). Measured (`platefield robust`,
+/// ([`Candidate::worst_case`]). Measured (`platefield study robust`,
 /// `results/robust.md`): the mirror-image shares hold the sink, saddle,
 /// whirlpool and squeeze_trans within 2.5–4.8 % over μ 0.2–0.4 and
 /// add nothing; line_sink_30's best default candidate is at 10.1 %.
@@ -1154,7 +1154,7 @@ pub(crate) fn synthesize_schedule(
 /// physics. The promise's flow that each play's measure integrates costs
 /// O(1) per step (a grid-less sampled target's field through its
 /// [`crate::request::SampledInterpolant`]), within the steps counted.
-pub(crate) fn synthesis_estimate(
+pub fn synthesis_estimate(
     target: &Target,
     sampled: &SampledTarget,
     synth: &SynthOptions,

@@ -15,7 +15,7 @@
 //!    order and rest insertions that best realise the prediction in
 //!    closed-loop simulation ([`order`]).
 //! 5. **Refine** ([`refine`], a library step `design` does not call yet;
-//!    `platefield synthesis` uses it): the primitives' cycles, rotations
+//!    `platefield study synthesis` uses it): the primitives' cycles, rotations
 //!    and amplitudes tuned by Nelder–Mead on the played realised error.
 //!
 //! Each step is one named stage function in `stages.rs`

@@ -6,7 +6,7 @@
 //! the part arrives with the slip velocity the previous segment left it
 //! (or none, after rest), and the transient until it settles displaces it
 //! by a fraction of a millimetre, once per segment and always the same way
-//! for the same pair of neighbours (`platefield squeeze-order` measures
+//! for the same pair of neighbours (`platefield study squeeze-order` measures
 //! this for SqueezeTrans). So the realised field depends on which segment follows
 //! which, and on rest at the joins; the time-weighted prediction does not.
 //!

@@ -110,7 +110,7 @@
 //!
 //! **Overfitting check.** The polish sees only the start points it is given;
 //! the study reports the kept motion on a second, disjoint set of start
-//! points as well (`platefield::studies::synthesis`).
+//! points as well (`platefield_studies::synthesis`).
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;

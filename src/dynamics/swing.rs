@@ -43,9 +43,9 @@
 //!   until |u| passed the bound: each grows ln |u| by only about
 //!   C_SLAVED (a_free·û − μ_k N)/|a_free|, dozens of steps where μ_k N is
 //!   close to |a_free|. Measured on the default library's 21×21×30 force
-//!   fields (`platefield probes`, which prints their CPU time on one
+//!   fields (`platefield study probes`, which prints their CPU time on one
 //!   thread; error against 512 steps per cycle, `results/library_speed.md`
-//!   by `platefield speed`, before and after):
+//!   by `platefield study speed`, before and after):
 //!   DivCircle at 32 steps per cycle 0.41 s → 0.34 s, error 5.49e-5 →
 //!   5.50e-5; at 64 steps 0.65 s → 0.58 s, 9.38e-7 → 1.02e-6; ScaledCircle
 //!   at 64 steps 0.12 s → 0.10 s, 2.53e-6 → 2.78e-6; the Circle's error at
@@ -64,7 +64,7 @@
 //!   ScaledCircle's and DivCircle's force fields (3.0 of 6.4 and 3.0 of 5.7
 //!   million at 64 steps per cycle, 21×21×30). With it the CPU time of
 //!   those fields falls from 2.43 s to 1.62 s and from 1.75 s to 1.12 s
-//!   (`platefield probes`, one thread), with the same errors at 32
+//!   (`platefield study probes`, one thread), with the same errors at 32
 //!   steps per cycle and more (see [`FINISH`]).
 //! * where |u| has fallen below [`STOP`] of the bound while slowing with
 //!   μ_k N ≤ |a_free| (no frozen stop; rare), the rest of the way to u = 0
@@ -170,7 +170,7 @@ const STOP: f64 = 1e-7;
 /// and no one-cycle end velocity among the worst three moves, while the RK4
 /// and τ-steps per cycle fall from 837 to 310 (ScaledCircle) and 379 to 243
 /// (DivCircle) at 64 steps. But on the default library's 21×21×30 grid
-/// (`platefield speed`, against 512 steps) DivCircle's error at 64 steps
+/// (`platefield study speed`, against 512 steps) DivCircle's error at 64 steps
 /// rose from 9.74e-7 to 1.06e-6 at 0.1; at 0.05 every error there at 32
 /// and 64 steps is the one without the finish to three digits, for 4.9 s
 /// of CPU for the library at 64 steps instead of 6.1 s (4.6 s at 0.1). At
@@ -178,7 +178,7 @@ const STOP: f64 = 1e-7;
 /// (1.5e-6 m/s off at 64 steps). A plain average of the two nodes' fields
 /// instead of the composition did so at 0.05 already: DivCircle's 11×11×30
 /// force field at 32 steps per cycle 1.7e-4 off, against 3.0e-5 without
-/// the finish. With 0.05 and the composition, `platefield engine-speed`
+/// the finish. With 0.05 and the composition, `platefield study engine-speed`
 /// (11×11 force and velocity fields against 1024 steps) gives the same
 /// errors as without the finish to three digits at 32 to 256 steps per
 /// cycle; at 8 and 16 steps, where other errors of 1e-4 to 1e-3 dominate,

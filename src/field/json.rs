@@ -79,22 +79,4 @@ impl Field {
             "stats": self.stats(),
         })
     }
-
-    /// A quiver plot of the field (axes in cm, invalid samples marked ×).
-    pub fn quiver(&self, title: &str) -> crate::plot::QuiverPlot {
-        let units = match self.kind {
-            FieldKind::Force => "m/s²",
-            FieldKind::Velocity => "m/s",
-        };
-        let invalid: Vec<bool> = self.validity.iter().map(|v| *v != Validity::Ok).collect();
-        let n_bad = invalid.iter().filter(|b| **b).count();
-        crate::plot::QuiverPlot::new(title, self.grid.points(), self.vectors.clone())
-            .invalid(invalid)
-            .caption(format!(
-                "max |f| = {:.4} {units}; {} of {} samples invalid (×)",
-                self.max_magnitude(),
-                n_bad,
-                self.vectors.len()
-            ))
-    }
 }

@@ -154,7 +154,7 @@ impl Motion {
 
     /// True when the motion is purely in the plate plane (no vertical
     /// translation, rotation only about the vertical): then N = g exactly.
-    pub(crate) fn is_in_plane(&self) -> bool {
+    pub fn is_in_plane(&self) -> bool {
         match self {
             Motion::Screw(s) => s.is_in_plane(),
             Motion::Signals(s) => s.is_in_plane(),

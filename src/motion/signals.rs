@@ -76,7 +76,7 @@ pub struct Signals {
 }
 
 impl Signals {
-    /// A six-signal motion for timings (benches, `platefield probes`):
+    /// A six-signal motion for timings (benches, `platefield study probes`):
     /// T = 0.05 s, x and y translation (the x one with a second harmonic)
     /// and tilts about x and y — the kind synthesis evaluates hundreds of
     /// (the motion of `tests/synth.rs`).

@@ -184,7 +184,7 @@ impl Waveform {
     }
 
     /// True when the waveform is identically zero.
-    pub(crate) fn is_zero(&self) -> bool {
+    pub fn is_zero(&self) -> bool {
         match self {
             Waveform::Zero => true,
             Waveform::Sine { accel } | Waveform::Square { accel } => *accel == 0.0,

@@ -22,7 +22,7 @@
 //! translation) J is close to a rotation, (I − J)⁻¹ large: the lab-class
 //! sink's parts realise 2.8 % more than F over one cycle after 40 cycles of
 //! play, and 0.2 % more than the corrected v
-//! (`platefield probes`, `results/probes.md`). This is physics
+//! (`platefield study probes`, `results/probes.md`). This is physics
 //! (a moving part is not on the fixed point's orbit), not an artefact of
 //! the measure: it is there over one cycle, at every warm-up.
 //!

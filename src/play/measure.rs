@@ -48,8 +48,8 @@
 //! the drift-lag-corrected F of [`super::lag`]. The comparison is then
 //! E = mean_j (r_P − r_j)/(P T) with the corrected F iterated once per cycle
 //! from r_j ([`PointPlay::expected_cycles`]). Measured on the lab-class
-//! sink (synthesized as in `platefield synthesis`, 24 points, 40 cycles of
-//! warm-up, 20 measured; `platefield probes`, `results/probes.md`):
+//! sink (synthesized as in `platefield study synthesis`, 24 points, 40 cycles of
+//! warm-up, 20 measured; `platefield study probes`, `results/probes.md`):
 //! against the flow of F the gap was 3.2 % (the
 //! number issue 11 reported; 4.2 % over 1 cycle, 0.8 % over 100), F per
 //! cycle 2.2 %, the flow of the lagged F 1.2 %, the lagged F per cycle
@@ -499,7 +499,7 @@ pub struct RealisedField {
 impl RealisedField {
     /// `Ok` when every point is valid, else a physical error naming
     /// `context`, how many points are invalid and the first reason.
-    pub(crate) fn require_all_valid(&self, context: &str) -> crate::error::Result<()> {
+    pub fn require_all_valid(&self, context: &str) -> crate::error::Result<()> {
         let n = self.points.len();
         if self.valid == n {
             return Ok(());

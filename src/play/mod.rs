@@ -180,7 +180,7 @@ impl ScheduleMotion {
     }
 
     /// Time (s) per period in which the plate moves (rest segments excluded).
-    pub(crate) fn moving_time(&self) -> f64 {
+    pub fn moving_time(&self) -> f64 {
         self.segments
             .iter()
             .filter(|s| s.motion.is_some())
@@ -362,7 +362,7 @@ impl<'a> Player<'a> {
     }
 
     /// Plays segment `i` from its start to its end; returns the time stuck.
-    pub(crate) fn play_segment(
+    pub fn play_segment(
         &self,
         i: usize,
         state: &mut PartState,
@@ -444,7 +444,7 @@ pub fn rest(state: &mut PartState, duration: f64, friction: Friction, gravity: f
 
 /// Whole periods of length `period` that cover at least `cycles` cycles
 /// of length `cycle` (at least one).
-pub(crate) fn periods_for(cycles: u32, cycle: f64, period: f64) -> u32 {
+pub fn periods_for(cycles: u32, cycle: f64, period: f64) -> u32 {
     let n = (f64::from(cycles) * cycle / period - 1e-9).ceil();
     if n.is_finite() && n >= 1.0 {
         n.min(f64::from(u32::MAX)) as u32

@@ -102,7 +102,7 @@ impl Sensitivity {
     }
 
     /// The table as markdown: one row per friction.
-    pub(crate) fn table_md(&self) -> String {
+    pub fn table_md(&self) -> String {
         let mut md = format!(
             "Realised {} (the design's own check: moving parts from its start points, same warm-up and window), made for μ_s = {}, μ_k = {}:\n\n",
             self.span.describe(),

@@ -13,7 +13,7 @@ impl Target {
     /// stem of the file it was loaded from (`path`) when the name is blank.
     /// It must be a plain folder name (no `/`, `\`, NUL, no leading `.`,
     /// at most [`MAX_NAME_BYTES`] bytes), checked before any work.
-    pub(crate) fn folder_name(&self, path: &Path) -> Result<String> {
+    pub fn folder_name(&self, path: &Path) -> Result<String> {
         let name = if self.name.trim().is_empty() {
             path.file_stem()
                 .map(|s| s.to_string_lossy().into_owned())

@@ -565,7 +565,7 @@ impl Schedule {
 
     /// The target name, checked to be a plain folder name (results go to
     /// `OUT/<target>/`).
-    pub(crate) fn target_folder(&self) -> Result<&str> {
+    pub fn target_folder(&self) -> Result<&str> {
         let name = self.target.as_str();
         crate::request::plain_folder_name(name, "target")?;
         Ok(name)

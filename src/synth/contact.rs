@@ -22,11 +22,7 @@ pub(crate) const TIME_SAMPLES: usize = 256;
 
 /// Least N (m/s²) over the points of `grid` and [`TIME_SAMPLES`] instants
 /// of one period, for a part at rest relative to the plate.
-pub(crate) fn kinematic_least_normal(
-    motion: &Motion,
-    grid: &Grid,
-    settings: &FieldSettings,
-) -> f64 {
+pub fn kinematic_least_normal(motion: &Motion, grid: &Grid, settings: &FieldSettings) -> f64 {
     let period = motion.period();
     let points = grid.points();
     let mut least = f64::INFINITY;

@@ -78,7 +78,7 @@ pub(crate) fn tilt_slots(harmonics: usize) -> Vec<TiltSlot> {
 
 /// The simulated linear response of a translation (see the module docs).
 #[derive(Debug, Clone, PartialEq)]
-pub(crate) struct TiltResponse {
+pub struct TiltResponse {
     /// The coefficients probed.
     pub slots: Vec<TiltSlot>,
     /// Per slot, the velocity gradient per rad/s².
@@ -91,7 +91,7 @@ pub(crate) struct TiltResponse {
 /// The linear response of `translation` (its tilts are replaced; its
 /// in-plane and other signals kept) over `region`, tilts of `harmonics`
 /// harmonics; `None` when a probe has no steady state.
-pub(crate) fn tilt_response(
+pub fn tilt_response(
     translation: &Coefficients,
     region: &Grid,
     settings: &FieldSettings,
@@ -142,7 +142,7 @@ pub(crate) fn tilt_response(
 
 /// The programme's answer.
 #[derive(Debug, Clone, PartialEq)]
-pub(crate) struct MarginCap {
+pub struct MarginCap {
     /// Largest strength k (first order in the tilts).
     pub strength: f64,
     /// The tilts that realise it (other signals zero).
@@ -153,7 +153,7 @@ pub(crate) struct MarginCap {
 /// `response`'s translation reaches under `limits`' tilt peaks and contact
 /// margin over `region`, with tilt harmonics above `harmonics` held at
 /// zero; `None` when the solver fails.
-pub(crate) fn margin_cap(
+pub fn margin_cap(
     response: &TiltResponse,
     m: [[f64; 2]; 2],
     limits: &ShakerLimits,
@@ -357,7 +357,7 @@ mod tests {
     /// the tilts' harmonic 2 adds < 0.5 %; no translation with a harmonic 2
     /// of 10 % of the limit (on x, on y, or a circle at 2ω either way, the
     /// ratchet-free choice) comes within 1 % of the circle's cap
-    /// (`platefield probes` scans more: the best is 0.997 of it); and the
+    /// (`platefield study probes` scans more: the best is 0.997 of it); and the
     /// programme's tilts keep the peaks.
     #[test]
     fn second_harmonic_translation_does_not_lift_the_saddle_cap() {

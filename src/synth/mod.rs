@@ -113,7 +113,7 @@
 //! Measured by `margin_cap` (the simulator's linear response to each tilt
 //! coefficient and a linear programme for the largest strength under the
 //! peaks and the corner margin, all tilt harmonics free) on the saddle row's
-//! limits (`platefield probes`, `results/probes.md`): the circle's cap is
+//! limits (`platefield study probes`, `results/probes.md`): the circle's cap is
 //! 0.806 s⁻¹ (closed form 0.8005) and the tilts' harmonic 2 adds nothing
 //! (< 0.1 %); with a harmonic 2 of f of the limit on x, on y or on both
 //! (every 45° of phase, harmonic 1 cut to 1 − f, each axis rescaled onto
@@ -177,11 +177,11 @@
 //! (`results/synthesis.md`).
 
 pub mod calibrate;
-pub(crate) mod contact;
+pub mod contact;
 pub(crate) mod least_squares;
 pub mod levenberg;
 pub(crate) mod limits;
-pub(crate) mod margin_cap;
+pub mod margin_cap;
 pub mod multistart;
 pub mod objective;
 pub mod params;

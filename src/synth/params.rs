@@ -16,7 +16,7 @@ use std::f64::consts::PI;
 use super::limits::ShakerLimits;
 use crate::motion::{Axes, FourierTerm, Signals};
 
-pub(crate) use crate::schedule::export::peaks::AXIS_NAMES;
+pub use crate::schedule::export::peaks::AXIS_NAMES;
 
 /// Time samples per harmonic used to bracket a signal's peak before the
 /// Newton polish (see [`Coefficients::peak`]).

@@ -11,7 +11,7 @@
 /// The default stall rule of the synthesis: 60 coarse re-simulations
 /// without lowering the cost by 0.005 (half a percent of the seed's
 /// strength, or a quarter point of shape error over budget) end it.
-pub(crate) const SYNTH_STALL: StallRule = StallRule {
+pub const SYNTH_STALL: StallRule = StallRule {
     window: 60,
     tol: 0.005,
 };
@@ -20,7 +20,7 @@ pub(crate) const SYNTH_STALL: StallRule = StallRule {
 /// (`platefield::design::polish`): 40 plays without lowering the played
 /// cost by 0.005 (half a percent of the start's played strength, or a
 /// quarter point of shape error over budget) end it.
-pub(crate) const POLISH_STALL: StallRule = StallRule {
+pub const POLISH_STALL: StallRule = StallRule {
     window: 40,
     tol: 0.005,
 };

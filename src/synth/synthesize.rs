@@ -37,7 +37,7 @@ const PEAK_TOL: f64 = 1e-9;
 /// run is what lifts line_sink_30 (played 0.302 s⁻¹ with three steps of
 /// 0.3 and the row's reach 1; 0.725 at 3.7 % with these, the reach 4 and
 /// the always-on shape block of [`super::objective`], after the polish;
-/// `platefield design-speed`).
+/// `platefield study design-speed`).
 pub const SYNTH_LM: LmOptions = LmOptions {
     max_iterations: 6,
     lambda0: 1e-2,
@@ -81,7 +81,7 @@ pub struct SynthOptions {
     /// Refine by Levenberg–Marquardt on the coarse residuals
     /// (`super::least_squares`) with these settings; `None`: the
     /// multi-start Nelder–Mead of [`super::multistart`] (the path before
-    /// issue 27, kept for the comparison of `platefield design-speed`).
+    /// issue 27, kept for the comparison of `platefield study design-speed`).
     pub lm: Option<LmOptions>,
     /// Levenberg–Marquardt settings of the played polish that `design`
     /// runs; `None`: its Nelder–Mead. Not used by [`synthesize`] itself.
@@ -127,7 +127,7 @@ impl Default for SynthOptions {
             polish_lm: Some(POLISH_LM),
             progress: ProgressMode::Auto,
             // Off until the shipped designs are regenerated with it
-            // (`platefield design-speed` measures it against `full`).
+            // (`platefield study design-speed` measures it against `full`).
             stall: None,
             polish_stall: None,
             robust: None,

@@ -8,7 +8,7 @@
 //! a seed strength of 0.060 s⁻¹. A second harmonic on an in-plane axis
 //! makes the slip direction turn non-uniformly over the cycle, so ⟨ê⟩ ≠ 0
 //! and friction drifts the part uniformly — a mechanism the averaged
-//! analysis does not model. Measured (`platefield probes`,
+//! analysis does not model. Measured (`platefield study probes`,
 //! `results/probes.md`): 10 m/s² at harmonic 2 on x beside that seed's 11.7
 //! m/s² circle drifts parts by ≈ 1.06 cm/s (17× the a_z mechanism), in a
 //! direction that turns with the harmonic's phase.

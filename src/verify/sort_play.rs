@@ -26,7 +26,7 @@ use crate::play::{PlayOptions, ScheduleMotion};
 use crate::request::{Attractor, Target};
 
 /// Distance (m) to an attractor within which a part counts as there: 5 mm.
-pub(crate) const SORT_TOL: f64 = 5e-3;
+pub const SORT_TOL: f64 = 5e-3;
 /// Swarm start points per axis (over the target grid's box).
 pub(crate) const SORT_STARTS: [usize; 2] = [9, 5];
 /// Most schedule periods a swarm is played.

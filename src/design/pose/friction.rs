@@ -29,7 +29,7 @@
 //! direction leads the plate velocity by δ = asin(μg/A) (`synth` docs),
 //! so a friction error turns the field about every point: the elliptic
 //! sink's principal axes turn with μ and the part's long axis follows.
-//! Measured on the shipped designs (`platefield poses-friction-study`,
+//! Measured on the shipped designs (`platefield study poses-friction`,
 //! `results/poses_friction.md`, μ 0.24 → 0.36): the rectangle's lifted
 //! pose turns by −1.25° and the triangle's by −4.2°, each within 0.12 mm
 //! (their played rest poses by −0.86° and −2.5°), while the slowest

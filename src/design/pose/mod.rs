@@ -41,7 +41,7 @@
 //! shifts motion and target together, which leaves those measures
 //! unchanged up to where the grid samples them.
 
-pub(crate) mod correct;
+pub mod correct;
 pub mod cycle;
 pub mod friction;
 pub mod placement;

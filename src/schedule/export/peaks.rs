@@ -26,7 +26,7 @@ use crate::motion::Motion;
 use crate::request::ShakerSpec;
 
 /// Names of the six signals in order, as JSON paths in a `signals` motion.
-pub(crate) const AXIS_NAMES: [&str; 6] = [
+pub const AXIS_NAMES: [&str; 6] = [
     "linear.x",
     "linear.y",
     "linear.z",

@@ -1,0 +1,75 @@
+//! Command-line argument groups and handlers of the `platefield` binary: each
+//! handler turns parsed arguments into one library call and returns the text
+//! to print, so `main.rs` stays a thin clap shell.
+
+pub mod design;
+pub mod export;
+pub mod field;
+pub mod linesink;
+pub mod poses;
+pub mod values;
+pub mod verify;
+
+use clap::Args;
+
+use platefield::dynamics::{Numerics, Preset};
+
+/// How a schedule is played to measure its realised field (`verify`, `order`).
+#[derive(Args)]
+pub struct Play {
+    /// Start points per side of the N×N grid over the target region (order: over ±3 cm).
+    #[arg(long, default_value_t = 5)]
+    pub points: usize,
+    /// Schedule periods measured after the warm-up (order: at least, per candidate).
+    #[arg(long, default_value_t = 1)]
+    pub periods: u32,
+    /// Schedule periods played before measuring (order: at least, and at least 40 primitive cycles).
+    #[arg(long, default_value_t = 1)]
+    pub warmup: u32,
+    /// Model: the schedule's own (default, normally full), full, paper, or frozen (full with positions frozen: an exact comparison when parts drift far).
+    #[arg(long, value_parser = values::choices(&values::PRESETS), hide_possible_values = true)]
+    pub model: Option<Preset>,
+}
+
+/// `--json`.
+#[derive(Args)]
+pub struct Json {
+    /// Print JSON on stdout instead of a summary.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// `--quiet`.
+#[derive(Args)]
+pub struct Quiet {
+    /// No progress bar.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// `--allow-long`.
+#[derive(Args)]
+pub struct AllowLong {
+    /// Run even when the work estimate exceeds the limit (10 min at the stated rate; docs/commands.md).
+    #[arg(long)]
+    pub allow_long: bool,
+}
+
+/// Integrator resolution.
+#[derive(Args)]
+pub struct Steps {
+    /// RK4 steps per cycle.
+    #[arg(long, default_value_t = Numerics::default().steps_per_cycle as u64,
+          value_parser = clap::value_parser!(u64).range(1..=1_000_000))]
+    pub steps: u64,
+}
+
+impl Steps {
+    /// The default numerics with `--steps` RK4 steps per cycle.
+    pub fn numerics(&self) -> Numerics {
+        Numerics {
+            steps_per_cycle: self.steps as usize,
+            ..Numerics::default()
+        }
+    }
+}

@@ -1,0 +1,333 @@
+//! The parts' friction in a target: read, validated, used by every
+//! simulation of a design, recorded in `schedule.json`, and played back by
+//! `verify` at the schedule's own friction or at another one.
+
+use std::path::{Path, PathBuf};
+
+mod common;
+use common::platefield;
+
+fn temp_dir(name: &str) -> PathBuf {
+    let dir =
+        std::env::temp_dir().join(format!("platefield-friction-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// `targets/sink.json` with `extra` keys set (e.g. `"friction": 0.2`).
+fn sink_with(dir: &Path, name: &str, extra: &[(&str, serde_json::Value)]) -> String {
+    let text =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../targets/sink.json"))
+            .unwrap();
+    let mut t: serde_json::Value = serde_json::from_str(&text).unwrap();
+    t["name"] = name.into();
+    for (k, v) in extra {
+        t[*k] = v.clone();
+    }
+    let path = dir.join(format!("{name}.json"));
+    std::fs::write(&path, t.to_string()).unwrap();
+    path.display().to_string()
+}
+
+/// Each bad friction or gravity exits 2 naming its JSON path and the
+/// allowed range, and writes nothing.
+#[test]
+fn bad_friction_is_refused_naming_the_path() {
+    let dir = temp_dir("bad");
+    let out = dir.join("out");
+    let cases: Vec<(serde_json::Value, &str, &str)> = vec![
+        (
+            serde_json::json!(-0.1),
+            "target.friction",
+            "must be in [0, 2], got -0.1",
+        ),
+        (
+            serde_json::json!(2.5),
+            "target.friction",
+            "must be in [0, 2], got 2.5",
+        ),
+        (
+            serde_json::json!([0.4, 0.2]),
+            "target.friction",
+            "(reversed)",
+        ),
+        (
+            serde_json::json!([0.2, 3.0]),
+            "target.friction[1]",
+            "must be in [0, 2], got 3",
+        ),
+        (
+            serde_json::json!("NaN"),
+            "target.friction",
+            "must be a number",
+        ),
+        (serde_json::json!([0.2]), "target.friction", "two numbers"),
+        (
+            serde_json::json!({"static": 0.2, "kinetic": 0.3}),
+            "target.friction.static",
+            "must be ≥ the kinetic coefficient 0.3",
+        ),
+        (
+            serde_json::json!({"static": 0.3, "kinetik": 0.3}),
+            "target.friction.kinetik",
+            "unknown field",
+        ),
+    ];
+    for (i, (friction, path, message)) in cases.into_iter().enumerate() {
+        let name = format!("bad{i}");
+        let target = sink_with(&dir, &name, &[("friction", friction.clone())]);
+        let (code, stdout, err) = platefield(&[
+            "design",
+            &target,
+            "--method",
+            "sequence",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 2, "{friction}: {err}");
+        assert!(
+            err.contains(path) && err.contains(message),
+            "{friction}: {err}"
+        );
+        assert!(stdout.is_empty());
+        assert!(!out.join(&name).exists(), "{friction}: nothing written");
+    }
+    let target = sink_with(&dir, "badg", &[("gravity", serde_json::json!(0.0))]);
+    let (code, _, err) = platefield(&["design", &target, "--out", out.to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("target.gravity: must be in [0.1, 100] m/s², got 0"),
+        "{err}"
+    );
+}
+
+/// `design TARGET --method sequence --quiet --no-cache --out OUT` plus
+/// `extra`; its stdout.
+fn design_sequence_with(target: &str, out: &Path, extra: &[&str]) -> String {
+    let mut args = vec![
+        "design",
+        target,
+        "--method",
+        "sequence",
+        "--quiet",
+        "--no-cache",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    let (code, stdout, err) = platefield(&args);
+    assert_eq!(code, 0, "{err}");
+    stdout
+}
+
+fn design_sequence(target: &str, out: &Path) -> serde_json::Value {
+    serde_json::from_str(&design_sequence_with(target, out, &["--json"])).expect("schedule JSON")
+}
+
+/// A design for μ = 0.2 is made, played and recorded at μ = 0.2. The
+/// sequenced sink is four LineSinks, whose strength near their line is
+/// eq. 19's b = μT(μ²g² − 3h²α²)/(8h²α): the predicted strength at μ 0.2
+/// against μ 0.3 must follow b's ratio (0.676 for the paper's LineSink,
+/// h = 5 cm, α = 218.4 rad/s², square-wave value) within 5 %; the sine
+/// wave and the sink's extent away from the lines account for the rest.
+#[test]
+fn a_design_is_made_for_the_targets_friction() {
+    let dir = temp_dir("design");
+    let low = design_sequence(&sink_with(&dir, "mu02", &[("friction", 0.2.into())]), &dir);
+    let nominal = design_sequence(&sink_with(&dir, "mu03", &[]), &dir);
+    assert_eq!(low["settings"]["friction"]["kinetic"], 0.2);
+    assert_eq!(low["settings"]["friction"]["static"], 0.2);
+    assert_eq!(low["target_spec"]["friction"], 0.2);
+    assert_eq!(nominal["settings"]["friction"]["kinetic"], 0.3);
+    assert!(nominal["target_spec"].get("friction").is_none());
+    let s = |d: &serde_json::Value| d["fit"]["strength"].as_f64().unwrap();
+    let b = |mu: f64| {
+        let (g, h, a, t) = (9.81, 0.05, 218.4_f64, 0.03);
+        mu * t * (mu * mu * g * g - 3.0 * h * h * a * a) / (8.0 * h * h * a)
+    };
+    let (ratio, expected) = (s(&low) / s(&nominal), b(0.2) / b(0.3));
+    assert!(
+        (ratio / expected - 1.0).abs() < 0.05,
+        "strength ratio {ratio:.4} against eq. 19's {expected:.4}"
+    );
+    // The design's own play is at its friction: realised close to predicted.
+    let played = &low["played"];
+    let realised = played["realised_strength"].as_f64().unwrap();
+    assert!(
+        (realised / s(&low) - 1.0).abs() < 0.15,
+        "played at μ 0.2: {realised} against predicted {}",
+        s(&low)
+    );
+    // A range designs for its middle.
+    let range = design_sequence(
+        &sink_with(
+            &dir,
+            "range",
+            &[("friction", serde_json::json!([0.2, 0.4]))],
+        ),
+        &dir,
+    );
+    let mid = range["settings"]["friction"]["kinetic"].as_f64().unwrap();
+    assert!((mid - 0.3).abs() < 1e-12, "{mid}");
+    assert_eq!(
+        range["target_spec"]["friction"],
+        serde_json::json!([0.2, 0.4])
+    );
+}
+
+/// Without `friction` a target designs exactly as before: the sequenced
+/// sink's `schedule.json` is byte-identical to the committed one.
+#[test]
+fn no_friction_key_changes_nothing() {
+    let dir = temp_dir("same");
+    design_sequence_with(
+        concat!(env!("CARGO_MANIFEST_DIR"), "/../targets/sink.json"),
+        &dir,
+        &[],
+    );
+    let new = std::fs::read(dir.join("sink/schedule.json")).unwrap();
+    let old = std::fs::read(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../results/sequenced/sink/schedule.json"
+    ))
+    .unwrap();
+    assert!(
+        new == old,
+        "schedule.json differs from results/sequenced/sink/"
+    );
+}
+
+/// The sensitivity table of a design for μ 0.2 (±20 %): its row at 0.2 is
+/// the design's own play, bit for bit (the override changes only the
+/// friction), and the four-LineSink sink's realised strength follows
+/// eq. 19's b(μ) ∝ μ(μ²g² − 3h²α²) across it: b(0.24)/b(0.16) = 1.487,
+/// within 5 %.
+#[test]
+fn the_sensitivity_table_is_the_designs_play_across_friction() {
+    let dir = temp_dir("table");
+    let target = sink_with(&dir, "mu02", &[("friction", 0.2.into())]);
+    let stdout = design_sequence_with(&target, &dir, &[]);
+    assert!(
+        stdout.contains("friction: the kept design over ±20 %"),
+        "{stdout}"
+    );
+    let report = std::fs::read_to_string(dir.join("mu02/report.md")).unwrap();
+    let rows: Vec<Vec<f64>> = report
+        .lines()
+        .skip_while(|l| !l.starts_with("## Friction sensitivity"))
+        .filter(|l| l.starts_with("| 0."))
+        .map(|l| {
+            l.split('|')
+                .map(str::trim)
+                .filter_map(|c| c.trim_end_matches(" %").parse().ok())
+                .collect()
+        })
+        .collect();
+    assert_eq!(rows.len(), 5, "{report}");
+    let mu: Vec<f64> = rows.iter().map(|r| r[1]).collect();
+    assert_eq!(mu, [0.16, 0.18, 0.2, 0.22, 0.24]);
+    let schedule: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("mu02/schedule.json")).unwrap())
+            .unwrap();
+    let played = &schedule["played"];
+    let own = played["realised_strength"].as_f64().unwrap();
+    assert!(
+        (rows[2][2] - own).abs() < 5e-5,
+        "row at 0.2 {} against the play {own}",
+        rows[2][2]
+    );
+    let shape = 100.0 * played["realised_shape_error"].as_f64().unwrap();
+    assert!(
+        (rows[2][3] - shape).abs() < 0.05 + 1e-9,
+        "{} against {shape}",
+        rows[2][3]
+    );
+    let b = |mu: f64| {
+        let (g, h, a) = (9.81, 0.05, 218.4_f64);
+        mu * (mu * mu * g * g - 3.0 * h * h * a * a)
+    };
+    let (ratio, expected) = (rows[4][2] / rows[0][2], b(0.24) / b(0.16));
+    assert!(
+        (ratio / expected - 1.0).abs() < 0.05,
+        "{ratio} against {expected}"
+    );
+}
+
+/// `verify --friction`: bad values exit 2 naming the argument; a single
+/// value plays at it (recorded in summary.json); a sweep writes its table
+/// and plot beside the verification, its row at the schedule's friction
+/// equal to a plain verify's design check.
+#[test]
+fn verify_plays_at_another_friction_and_sweeps() {
+    let dir = temp_dir("verify");
+    let out = dir.to_str().unwrap();
+    let schedule = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../results/sequenced/sink/schedule.json"
+    );
+    for bad in [
+        "-0.1",
+        "0.4:0.2:5",
+        "0.2:0.4:1",
+        "0.2:0.4:x",
+        "abc",
+        "0.1:0.2",
+        "3",
+    ] {
+        let (code, _, err) = platefield(&["verify", schedule, "--friction", bad, "--out", out]);
+        assert_eq!(code, 2, "{bad}: {err}");
+        assert!(err.contains("--friction"), "{bad}: {err}");
+        assert!(!dir.join("sink").exists(), "{bad}: nothing written");
+    }
+    let fast = [
+        "--swarm",
+        "2",
+        "--rect-poses",
+        "0",
+        "--repetitions",
+        "1",
+        "--quiet",
+    ];
+    let run = |extra: &[&str]| -> serde_json::Value {
+        let mut args = vec!["verify", schedule, "--json", "--out", out];
+        args.extend_from_slice(&fast);
+        args.extend_from_slice(extra);
+        let (code, stdout, err) = platefield(&args);
+        assert_eq!(code, 0, "{err}");
+        serde_json::from_str(&stdout).unwrap()
+    };
+    let own = run(&[]);
+    assert!(own.get("friction_played").is_none() && own.get("friction_sweep").is_none());
+    let low = run(&["--friction", "0.2"]);
+    assert_eq!(low["friction_played"]["kinetic"], 0.2);
+    let (s_own, s_low) = (
+        own["realised_field"]["rms_predicted_m_per_s"]
+            .as_f64()
+            .unwrap(),
+        low["realised_field"]["rms_predicted_m_per_s"]
+            .as_f64()
+            .unwrap(),
+    );
+    // Weaker, by about eq. 19's near-line ratio b(0.2)/b(0.3) = 0.676; the
+    // 5 × 5 grid reaches r = 4 cm, where the cubic term c r³ ∝ μ³ adds
+    // (measured 0.815).
+    let ratio = s_low / s_own;
+    assert!((0.65..0.85).contains(&ratio), "μ 0.2 against 0.3: {ratio}");
+    let sweep = run(&["--friction", "0.2:0.3:3"]);
+    let rows = sweep["friction_sweep"]["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), 3);
+    let at_own = &rows[2];
+    assert_eq!(at_own["friction"]["kinetic"], 0.3);
+    let played: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(schedule).unwrap()).unwrap();
+    let expected = played["played"]["realised_strength"].as_f64().unwrap();
+    let got = at_own["realised_strength"].as_f64().unwrap();
+    assert!(
+        (got - expected).abs() < 1e-9 * expected.abs(),
+        "{got} against the design's {expected}"
+    );
+    for f in ["friction.md", "friction.svg"] {
+        assert!(dir.join("sink/verify").join(f).is_file(), "{f}");
+    }
+}

@@ -1,0 +1,225 @@
+//! A pose target's design written and summarised: the kept schedule's
+//! files as for any design ([`super::method::write`]), its `report.md`
+//! headed by the pose section (the motion and its placement, the lifted field's
+//! stable poses, the played drops), and the terminal summary.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use platefield::design::pose::{Placement, PoseDesign, TOL_DEG, TOL_MM};
+use platefield::error::{Error, Result};
+use platefield::schedule::PosePlayed;
+
+/// The played drops of `d`'s kept schedule.
+pub fn played(d: &PoseDesign) -> &PosePlayed {
+    d.method
+        .kept()
+        .schedule
+        .played
+        .as_ref()
+        .and_then(|p| p.pose.as_ref())
+        .expect("design_pose records the played drops")
+}
+
+/// One line: the pose fraction, the median settle time, the uniqueness;
+/// a second with the worst fraction over the part's friction range.
+pub fn headline(d: &PoseDesign) -> String {
+    let p = played(d);
+    let worst = p.over_friction.as_ref().map_or(String::new(), |o| {
+        format!(
+            "over the part's friction {}: worst {:.1} % within {TOL_MM} mm and {TOL_DEG}° (report.md has each value)\n",
+            o.range.to_json(),
+            100.0 * o.worst_pose_fraction
+        )
+    });
+    let settle = p
+        .median_settle_s
+        .map_or("none (half or more never settle)".into(), |t| {
+            format!("{t:.1} s")
+        });
+    format!(
+        "pose {} at ({:.1} mm, {:.1} mm, {:.1}°), symmetry {}: {:.1} % of {} played drops end within {TOL_MM} mm and {TOL_DEG}° (median settle {settle}); field {}; {}\n",
+        p.part,
+        1e3 * p.pose[0],
+        1e3 * p.pose[1],
+        p.pose[2],
+        p.symmetry,
+        100.0 * p.pose_fraction,
+        p.drops,
+        p.field,
+        match p.distinct_stable {
+            0 => "the lifted field has no stable pose".to_string(),
+            1 => "the lifted field has one stable pose modulo symmetry".to_string(),
+            k => format!("the lifted field has {k} stable poses modulo symmetry (basins below)"),
+        }
+    ) + &worst
+}
+
+/// A placement in words: turn (°) and reference point (mm).
+fn placement_text(p: &Placement) -> String {
+    format!(
+        "turned {:+.2}°, reference point ({:+.3}, {:+.3}) mm",
+        p.angle.to_degrees(),
+        1e3 * p.shift.x,
+        1e3 * p.shift.y
+    )
+}
+
+/// The motion, its lifted placement and the played correction.
+fn placement_md(d: &PoseDesign, md: &mut String) {
+    let motion = match d.spin {
+        None => format!(
+            "One six-signal motion synthesized once for the centred {} (`design::pose::placement`)",
+            platefield::design::pose::placement::family(false).label()
+        ),
+        Some(_) => "The cycle named above (`design::pose::cycle`: two six-signal motions, each synthesized once; the spun sink (`design::pose::spin`: a field nonlinear at the part's scale) selects one of the ellipse's two poses, the ellipse, placed on the spun sink's played rest, sets it)".to_string(),
+    };
+    let lifted = match &d.centred {
+        Some((c, rate)) => format!(
+            "; the part's stable pose in its lifted field: ({:+.3}, {:+.3}) mm, {:+.2}°, decay rates {:.3}, {:.3}, {:.3} 1/s, turning rate −∂θ'/∂θ {:.3} 1/s. Placed on the lifted field",
+            1e3 * c.pose.r.x,
+            1e3 * c.pose.r.y,
+            c.pose.theta.to_degrees(),
+            -c.rates[0],
+            -c.rates[1],
+            -c.rates[2],
+            rate
+        ),
+        None => ". Placed on the cycle's played pose (the screen's probes)".into(),
+    };
+    let _ = writeln!(md, "{motion}{lifted}: {}.", placement_text(&d.lifted));
+    screened_md(d, md);
+    let _ = writeln!(
+        md,
+        "\nCorrected on played probes (`design::pose::correct`: {} drops from starts spread over the region, {} s each, on the same motion; the mean end of the largest group within {} mm and {}° of one another moves the placement):\n\n| round | placement | probes' mean end (mm, mm, °) | probes in it | Δr (mm) | Δθ (°) | played turning rate (1/s) |\n|---|---|---|---|---|---|---|",
+        platefield::design::pose::correct::PROBES,
+        platefield::design::pose::correct::PROBE_S,
+        platefield::design::pose::correct::SAME_REST[0],
+        platefield::design::pose::correct::SAME_REST[1],
+    );
+    for (i, r) in d.rounds.iter().enumerate() {
+        let _ = writeln!(
+            md,
+            "| {} | {} | ({:+.3}, {:+.3}, {:+.2}) | {:.0} % | {:.3} | {:+.2} | {} |",
+            i + 1,
+            placement_text(&r.placement),
+            1e3 * r.end.r.x,
+            1e3 * r.end.r.y,
+            r.end.theta.to_degrees(),
+            100.0 * r.together,
+            r.error.0,
+            r.error.1,
+            r.turning_rate.map_or("—".into(), |k| format!("{k:.3}"))
+        );
+    }
+    let _ = writeln!(md, "\nKept: {}.", placement_text(&d.placement));
+    if d.over_limits.is_empty() {
+        md.push_str("\nThe placed schedule's peaks are within the shaker limits its motion was synthesized within.\n");
+    } else {
+        md.push_str("\n**Over the shaker limits** its motion was synthesized within, once placed (the placement's shift adds α × c to the plate-centre signals; the played physics is this motion's, whether a shaker delivers it is not checked):\n\n");
+        for line in &d.over_limits {
+            let _ = writeln!(md, "- {line}");
+        }
+    }
+}
+
+/// The spin candidates judged by play, when there were any.
+fn screened_md(d: &PoseDesign, md: &mut String) {
+    use platefield::design::pose::screen::{MAX_TURN, MIN_SHARE, PROBES, PROBE_S};
+    if d.screened.is_empty() {
+        return;
+    }
+    let ranged = d.screened.iter().any(|s| s.turn.is_some());
+    let (range_text, head, rule) = if ranged {
+        (
+            format!("; over the friction range the least share at its middle and ends, and kept only if its pose turns by at most {MAX_TURN} tolerances between the ends"),
+            " turn over the range (tolerances) |",
+            "---|",
+        )
+    } else {
+        (String::new(), "", "")
+    };
+    let _ = writeln!(
+        md,
+        "\nSpin candidates judged by play (`design::pose::screen`: {PROBES} probes × {PROBE_S} s from a 4 × 4 grid of starts on the centred spun sink, whose largest cluster places the ellipse stage, then × {} s on that cycle; share, spread and pose are the cycle's; kept: the largest share at one pose, at least {:.0} %, then the tightest{range_text}):\n\n| α (rad/s²) | phase (rad) | translation × | share at one pose | spread | played pose (mm, mm, °) |{head}\n|---|---|---|---|---|---|{rule}",
+        platefield::design::pose::cycle::SETTLED_S,
+        100.0 * MIN_SHARE
+    );
+    for s in &d.screened {
+        let pose = s.pose.map_or("—".into(), |p| {
+            format!(
+                "({:+.2}, {:+.2}, {:+.1})",
+                1e3 * p.r.x,
+                1e3 * p.r.y,
+                p.theta.to_degrees()
+            )
+        });
+        let turn = s.turn.map_or(String::new(), |t| format!(" {t:.2} |"));
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {:.0} % | {:.2} | {pose} |{turn}",
+            s.spin.alpha,
+            s.spin.phase,
+            s.spin.translation,
+            100.0 * s.score,
+            s.spread
+        );
+    }
+}
+
+/// The stable poses with their basins.
+fn basins_md(p: &PosePlayed, md: &mut String) {
+    if p.stable.is_empty() {
+        md.push_str("\nThe kept schedule's lifted field has no stable pose in the region (a cycle's is its stages' time average, which no played part sees): no basins; the drops are judged by where they end.\n");
+        return;
+    }
+    md.push_str("\n| stable pose x (mm) | y (mm) | θ (°) | basin (lifted) | basin (played) |\n|---|---|---|---|---|\n");
+    for b in &p.stable {
+        let _ = writeln!(
+            md,
+            "| {:+.2} | {:+.2} | {:+.2} | {:.1} % | {:.1} % |",
+            1e3 * b.pose[0],
+            1e3 * b.pose[1],
+            b.pose[2],
+            100.0 * b.lifted,
+            100.0 * b.played
+        );
+    }
+}
+
+/// The pose section of `report.md`.
+pub fn pose_md(d: &PoseDesign) -> String {
+    let p = played(d);
+    let mut md = String::from("## Pose target\n\n");
+    md.push_str(&headline(d));
+    md.push('\n');
+    placement_md(d, &mut md);
+    let _ = writeln!(
+        md,
+        "\nPlayed: {} drops (centres uniform over the region inset by the part's radius, angles uniform), {:.1} s each by the planar simulator; {} lost contact. Basins: each end counted for its nearest stable pose of the kept schedule's lifted field; lifted: {} drops integrated along it.",
+        p.drops,
+        p.duration_s,
+        p.lost,
+        d.analysis.drops
+    );
+    basins_md(p, &mut md);
+    if let Some(o) = &p.over_friction {
+        md.push_str(&super::pose_friction::section(o));
+    }
+    md
+}
+
+/// Puts the pose section at the head of `dir/report.md`.
+pub fn write(d: &PoseDesign, dir: &Path) -> Result<Vec<&'static str>> {
+    let files = super::method::write(&d.method, dir)?;
+    let path = dir.join("report.md");
+    let io = |source| Error::Io {
+        path: path.display().to_string(),
+        source,
+    };
+    let report = std::fs::read_to_string(&path).map_err(io)?;
+    let (title, rest) = report.split_once("\n\n").unwrap_or((&report, ""));
+    let text = format!("{title}\n\n{}\n{rest}", pose_md(d));
+    std::fs::write(&path, text).map_err(io)?;
+    Ok(files)
+}

@@ -1,0 +1,41 @@
+//! Paper reproductions and benchmarks-as-commands, kept apart from the
+//! product: each module is one study behind one subcommand and writes its
+//! files under `results/`. Studies import product modules; no product module
+//! imports a study.
+//!
+//! | module | command | writes |
+//! |---|---|---|
+//! | [`linesink`] | `platefield study linesink` | — (the section II one-axis shaker against eq. 17) |
+//! | [`reproduce`] | `platefield study reproduce` | `linesink_fig3.{csv,svg}`, `linesink_terms.md`, `linesink_travel.csv`, `linesink_convergence.md` |
+//! | [`primitives`], `table1` | `platefield study primitives` | `primitives/` fields, plots, `table1.md` |
+//! | [`rung`] | `platefield study rungs` | `primitives/rungs.md` |
+//! | [`speed`] | `platefield study speed` | `library_speed.md` |
+//! | [`engine_speed`] | `platefield study engine-speed` | `engine_speed.{md,csv}`, `engine_speed_{force,velocity}.svg` |
+//! | [`fit_quality`] | `platefield study fit-quality` | `fit_quality.md` |
+//! | [`interaction`] | `platefield study interaction` | `verify/sink_interaction.md` |
+//! | [`squeeze_order`] | `platefield study squeeze-order` | `verify/squeeze_trans_order.{md,csv}` |
+//! | [`synthesis`] | `platefield study synthesis` | `synthesis.{md,csv}` |
+//! | [`design_speed`] | `platefield study design-speed` | `design_speed.md` |
+//! | [`poses`] | `platefield study poses` | `poses.md` |
+//! | [`poses_friction`] | `platefield study poses-friction` | `poses_friction.md` (the pose designs at μ ± 20 %) |
+//! | [`probes`] | `platefield study probes` | `probes.md` (the measurements behind numbers the docs state) |
+
+pub mod design_speed;
+pub mod engine_speed;
+pub mod fit_quality;
+pub mod interaction;
+pub mod linesink;
+pub mod poses;
+pub mod poses_friction;
+pub mod primitives;
+pub mod probes;
+pub mod reproduce;
+pub mod robust;
+pub mod rung;
+pub mod speed;
+pub mod squeeze_order;
+pub mod synthesis;
+pub(crate) mod table1;
+pub mod work;
+
+pub use work::{watched, watched_defaults};
