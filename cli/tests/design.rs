@@ -393,3 +393,42 @@ fn sink_swarm_converges_in_the_time_the_strength_predicts() {
     let d0 = (p.start[0].powi(2) + p.start[1].powi(2)).sqrt();
     assert!((p.predicted_time_s.unwrap() - (d0 / 0.003).ln() / strength).abs() < 1e-12);
 }
+
+/// `git status --porcelain` of the workspace (tracked changes and files
+/// git does not ignore), or `None` where the workspace is no git checkout.
+fn git_status(root: &str) -> Option<String> {
+    let out = Command::new("git")
+        .args(["status", "--porcelain", "--untracked-files=all"])
+        .current_dir(root)
+        .output()
+        .ok()?;
+    out.status
+        .success()
+        .then(|| String::from_utf8_lossy(&out.stdout).into_owned())
+}
+
+/// `design` without `--out` writes to `out/`, which git ignores: designing
+/// a shipped target, with a non-default option, changes nothing git tracks
+/// or shows.
+#[test]
+fn design_by_default_leaves_the_checkout_as_it_was() {
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+    let Some(before) = git_status(root) else {
+        eprintln!("not a git checkout: nothing to compare");
+        return;
+    };
+    let run = Command::new(env!("CARGO_BIN_EXE_platefield"))
+        .args(["design", "targets/line_sink.json", "--method", "sequence"])
+        .args(["--min-cycles", "12", "--quiet"])
+        .current_dir(root)
+        .output()
+        .expect("runs");
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let written = std::path::Path::new(root).join("out/line_sink/schedule.json");
+    assert!(written.is_file(), "design writes under out/");
+    assert_eq!(git_status(root).as_deref(), Some(before.as_str()));
+}
