@@ -24,5 +24,5 @@ pub(crate) mod swarm;
 pub use rectangles::{
     play_rectangle, PoseSample, RectangleFailure, RectangleOptions, RectangleRun, RectangleSummary,
 };
-pub use run::{verify_schedule_file, Duration, VerifyReport, VerifyRequest};
+pub use run::{run, verify_schedule_file, Duration, VerifyReport, VerifyRequest};
 pub use swarm::{run_swarm, Swarm, SwarmOptions, SwarmPart};

@@ -479,11 +479,8 @@ pub fn progress_weights(work: &Estimate, counts: [usize; 3]) -> [u64; 3] {
     std::array::from_fn(|k| (steps[k] / counts[k].max(1) as f64 / 1e3).ceil().max(1.0) as u64)
 }
 
-/// `platefield verify`: runs `req` on the schedule at `path` with the
-/// physics its basis was built with (nothing is written here). The one
-/// door of the verification: [`VerifyRequest`] in, [`VerifyReport`] out,
-/// the friction sweep and the export's replay included (judged by the
-/// design's own check, admitted before anything is played: `judged.rs`).
+/// `platefield verify`: loads the schedule at `path` and verifies it by
+/// [`run`] (errors name the file).
 ///
 /// ```no_run
 /// use platefield::verify::{verify_schedule_file, VerifyRequest};
@@ -499,12 +496,74 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest) -> Result<VerifyRe
         f.validate()?;
     }
     let schedule = Schedule::load(path)?;
-    let judged = Judged::admit(&schedule, req.friction, req.replay.as_deref(), &req.runtime)?;
+    verify_labelled(&schedule, req, &path.display().to_string())
+}
+
+/// Verifies `schedule` in memory with the physics its basis was built with
+/// (nothing is written here): the one door of the verification,
+/// [`VerifyRequest`] in, [`VerifyReport`] out, the friction sweep and the
+/// export's replay included (judged by the design's own check, admitted
+/// before anything is played: `judged.rs`). Errors name the schedule by
+/// its target.
+///
+/// Design, verify and export chained in memory (a small grid and few
+/// steps per cycle, so that it runs in seconds):
+///
+/// ```
+/// use platefield::design::{self, BasisSection, DesignOptions, DesignOutcome, Method};
+/// use platefield::request::Target;
+/// use platefield::schedule::export;
+/// use platefield::verify::{self, Duration, VerifyRequest};
+/// use platefield::work::Runtime;
+///
+/// let target = Target::from_json_str(
+///     r#"{"name": "sink", "field": {"kind": "sink"},
+///         "grid": {"x": [-0.03, 0.03], "y": [-0.03, 0.03], "n": [7, 7]}}"#,
+/// )?;
+/// let mut options = DesignOptions {
+///     method: Method::Sequence,
+///     basis: BasisSection { rotation_step_deg: 45.0, cache_dir: None, ..BasisSection::default() },
+///     runtime: Runtime::QUIET,
+///     ..DesignOptions::default()
+/// };
+/// options.settings.numerics.steps_per_cycle = 16;
+/// options.settings.phases = 4;
+/// let DesignOutcome::Method(outcome) = design::run(&target, &options)? else {
+///     unreachable!("a target without classes or closed loop is designed by its method")
+/// };
+/// let schedule = &outcome.kept().schedule;
+///
+/// let request = VerifyRequest {
+///     points: 3,
+///     swarm: 2,
+///     duration: Duration::Repetitions(1),
+///     rectangle_poses: 0,
+///     runtime: Runtime::QUIET,
+///     ..VerifyRequest::default()
+/// };
+/// let report = verify::run(schedule, &request)?;
+/// assert_eq!(report.realised.points.len(), 9);
+///
+/// let csv = export::signals_csv(schedule, 2_000.0)?;
+/// assert!(csv.lines().count() > 100);
+/// # Ok::<(), platefield::Error>(())
+/// ```
+pub fn run(schedule: &Schedule, req: &VerifyRequest) -> Result<VerifyReport> {
+    req.validate()?;
+    if let Some(f) = &req.friction {
+        f.validate()?;
+    }
+    verify_labelled(schedule, req, schedule.target_folder()?)
+}
+
+/// [`run`], with errors naming the schedule as `label`.
+fn verify_labelled(schedule: &Schedule, req: &VerifyRequest, label: &str) -> Result<VerifyReport> {
+    let judged = Judged::admit(schedule, req.friction, req.replay.as_deref(), &req.runtime)?;
     let settings = schedule.settings;
     let name = schedule.target_folder()?;
     if schedule.moving_time() <= 0.0 {
         return Err(Error::invalid(
-            format!("{}: segments", path.display()),
+            format!("{label}: segments"),
             "every segment is rest: the plate never moves, so there is no field to verify",
         ));
     }
@@ -564,8 +623,7 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest) -> Result<VerifyRe
             .find_map(|p| p.note.clone())
             .unwrap_or_default();
         return Err(Error::Physical(format!(
-            "{}: no realised field: all {} parts left the plate or had no steady state (first: {why})",
-            path.display(),
+            "{label}: no realised field: all {} parts left the plate or had no steady state (first: {why})",
             v.points.len()
         )));
     }
@@ -573,8 +631,7 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest) -> Result<VerifyRe
         // Nothing moves in the prediction (every segment too gentle for
         // the parts to slip): the relative and shape errors are 0/0.
         return Err(Error::Physical(format!(
-            "{}: no predicted field: the time-weighted steady-state field is zero at all {} valid points (the parts stick to the plate in every segment), so there is nothing to verify",
-            path.display(),
+            "{label}: no predicted field: the time-weighted steady-state field is zero at all {} valid points (the parts stick to the plate in every segment), so there is nothing to verify",
             v.valid
         )));
     }
