@@ -94,7 +94,17 @@
 //! | play, verify | [`play`], [`verify`] | a schedule's exact plate trajectory, the rule at the joins, rest in closed form; realised against predicted (one motion alone: its drift-lag-corrected steady state per cycle, [`play::lag`]; a warm-up that outlasts the start-up transient, `play::settle`); where parts end up |
 //! | poses | [`pose`] | a planar part in a field: the lifted field on (x, y, θ) (the point field integrated over the support, [`pose::LiftedField`]), its equilibria and their stability, basins from drops integrated along it or played ([`pose::played_basins`]); the averaged field ([`pose::AveragedField`]: the rigid part's own periodic slip, the period map of the played schedule), which checks the lifted field and refines its equilibria onto the played rests ([`pose::refine`]) |
 //! | work | [`work`] | the work estimate (RK4 part steps at a stated rate) every long command makes first, refusing above 10 min unless `--allow-long` |
-//! | studies | [`studies`] | the paper's results reproduced: eq. 17 of section II ([`studies::linesink`]), Table I, the interaction of sequenced primitives, the order study of section V; model rungs and speed against error (the library, [`studies::speed`]; every primitive and field kind, [`studies::engine_speed`]) |
+//!
+//! ## The workspace around the library
+//!
+//! This crate is the pipeline only. Beside it: `platefield-report` (the
+//! report writers and SVG plots a design, a verification or a study
+//! writes), `platefield-studies` (the laboratory: the paper's results
+//! reproduced — eq. 17 of section II, Table I, the interaction of
+//! sequenced primitives, the order study of section V —, model rungs,
+//! speed against error) and `platefield-cli` (the `platefield` command,
+//! `platefield study <name>` for the studies). They depend on this crate,
+//! never the reverse.
 //!
 //! ## Sequencing: what combines
 //!
@@ -115,7 +125,7 @@
 //! segment starts off its own periodic orbit and spends a cycle or so
 //! reaching it. For a Sink from two orthogonal LineSinks the realised field
 //! is 50 % off the prediction at 1 cycle per segment, 21 % at 3 and 6.5 % at
-//! 10 ([`studies::interaction`], `results/verify/sink_interaction.md`).
+//! 10 (`platefield study interaction`, `results/verify/sink_interaction.md`).
 //! Hence the design's rules: primitives start and end each cycle at rest in
 //! the home pose (rest-to-rest waveforms, [`basis::primitives`]), a schedule
 //! has a minimum number of cycles per segment (`schedule::quantize`), the

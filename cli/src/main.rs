@@ -124,8 +124,8 @@ enum Study {
         out: StudyOut,
     },
     /// The shipped parts' equilibrium poses and basins on the designed elliptic sinks: poses.md.
-    #[command(name = "poses", mut_arg("out", default_dir(studies::poses::DIR)))]
-    PosesStudy {
+    #[command(mut_arg("out", default_dir(studies::poses::DIR)))]
+    Poses {
         /// Also play this many drops per part and ellipse with the planar simulator (slow: minutes per part).
         #[arg(long, default_value_t = 0)]
         play_drops: usize,
@@ -133,11 +133,8 @@ enum Study {
         out: StudyOut,
     },
     /// The shipped pose designs played at their part's friction ±20 % (μ 0.24, 0.30, 0.36; minutes of CPU): poses_friction.md.
-    #[command(
-        name = "poses-friction",
-        mut_arg("out", default_dir(studies::poses_friction::DIR))
-    )]
-    PosesFrictionStudy(StudyOut),
+    #[command(mut_arg("out", default_dir(studies::poses_friction::DIR)))]
+    PosesFriction(StudyOut),
     /// Cheapest model rung within tolerance of the full model, per primitive: rungs.md.
     #[command(mut_arg("out", default_dir(studies::rung::DIR)))]
     Rungs {
@@ -322,7 +319,7 @@ fn run_study(study: Study) -> Result<String> {
                 studies::primitives::run(&out.out, grid, steps, plan, quiet.quiet)
             })
         }
-        Study::PosesStudy { play_drops, out } => {
+        Study::Poses { play_drops, out } => {
             let drops = studies::poses::played_drops_estimate(play_drops)?;
             let expected = Expected::defaults("poses-study")
                 .map(|e| e.plus(drops, platefield::work::PLANAR_POINT_STEP_COST));
@@ -330,11 +327,9 @@ fn run_study(study: Study) -> Result<String> {
                 studies::poses::run(&out.out, play_drops)
             })
         }
-        Study::PosesFrictionStudy(o) => {
-            studies::watched_defaults("poses-friction-study", false, || {
-                studies::poses_friction::run(&o.out)
-            })
-        }
+        Study::PosesFriction(o) => studies::watched_defaults("poses-friction-study", false, || {
+            studies::poses_friction::run(&o.out)
+        }),
         Study::Rungs { tolerance, out } => {
             // Every rung is computed whatever the tolerance: the same work.
             studies::watched_defaults("rungs", false, || studies::rung::run(&out.out, tolerance))

@@ -567,7 +567,7 @@ fn verify_labelled(schedule: &Schedule, req: &VerifyRequest, label: &str) -> Res
             "every segment is rest: the plate never moves, so there is no field to verify",
         ));
     }
-    let sm = ScheduleMotion::from_schedule(&schedule)?;
+    let sm = ScheduleMotion::from_schedule(schedule)?;
     let mut opts = PlayOptions {
         warmup_periods: req.warmup,
         periods: req.periods,
@@ -579,7 +579,7 @@ fn verify_labelled(schedule: &Schedule, req: &VerifyRequest, label: &str) -> Res
     if let Some(f) = req.friction.and_then(|f| f.played()) {
         opts.friction = f;
     }
-    let g = region(&schedule);
+    let g = region(schedule);
     let attractor = schedule
         .target_spec
         .as_ref()
@@ -598,7 +598,7 @@ fn verify_labelled(schedule: &Schedule, req: &VerifyRequest, label: &str) -> Res
         Duration::Auto => periods.max((RECT_MIN_AUTO_S / sm.period()).ceil() as u32),
         _ => periods,
     };
-    let work = work_estimate(&schedule, req, periods, rect_periods);
+    let work = work_estimate(schedule, req, periods, rect_periods);
     req.runtime.admit(&work)?;
     let poses = rectangle_poses(&g, req.rectangle_poses);
     let counts = [req.points * req.points, starts.len(), poses.len()];
@@ -669,7 +669,7 @@ fn verify_labelled(schedule: &Schedule, req: &VerifyRequest, label: &str) -> Res
         &tick_by(2),
     );
     progress.finish();
-    let (friction_sweep, replay) = judged.run(&schedule)?;
+    let (friction_sweep, replay) = judged.run(schedule)?;
     Ok(VerifyReport {
         target: name.to_string(),
         region: g,
