@@ -42,9 +42,8 @@ use crate::error::{Error, Result};
 use crate::field::{FieldKind, FieldSettings, Grid};
 use crate::output::write_atomic;
 
-/// Version of the cache file layout and key serialization (2: one field
-/// kind per file, the kind in the key; 3: each entry records the steps per
-/// cycle it was simulated with).
+/// Version of the cache file layout and key serialization, bumped whenever
+/// either changes (each version's change: the workspace's `CHANGELOG.md`).
 pub(crate) const FORMAT: u32 = 3;
 
 /// Largest cache entry read: 256 MiB (a library on the default grids takes

@@ -39,13 +39,13 @@
 //!   (`radau.rs`) takes it to the nominal step's end, as it would outside
 //!   the region, unless its collocation equations fail or its end is
 //!   reversed or no longer a slaved speed-up ([`still_slaved`]; then the
-//!   τ-steps go on). Before, such a slip was followed by τ-steps
-//!   until |u| passed the bound: each grows ln |u| by only about
+//!   τ-steps go on). Without that step such a slip is followed by τ-steps
+//!   until |u| passes the bound: each grows ln |u| by only about
 //!   C_SLAVED (a_free·û − μ_k N)/|a_free|, dozens of steps where μ_k N is
 //!   close to |a_free|. Measured on the default library's 21×21×30 force
 //!   fields (`platefield study probes`, which prints their CPU time on one
 //!   thread; error against 512 steps per cycle, `results/library_speed.md`
-//!   by `platefield study speed`, before and after):
+//!   by `platefield study speed`, without and with it):
 //!   DivCircle at 32 steps per cycle 0.41 s → 0.34 s, error 5.49e-5 →
 //!   5.50e-5; at 64 steps 0.65 s → 0.58 s, 9.38e-7 → 1.02e-6; ScaledCircle
 //!   at 64 steps 0.12 s → 0.10 s, 2.53e-6 → 2.78e-6; the Circle's error at
@@ -56,9 +56,9 @@
 //!   comes to rest within [`FINISH`] of the nominal step, the rest of the
 //!   way (or the way to the nominal step's end, if that comes first) is the
 //!   commutator-free composition of two such flows (`frozen.rs` [`Cf4`]),
-//!   with a_free and N from the two Gauss nodes of the remaining time. Before
-//!   it, a slowing slip was followed by τ-steps down to |u| = 1e-7 of the
-//!   bound: 64 or more τ-steps per stop, several hundred where μ_k N is
+//!   with a_free and N from the two Gauss nodes of the remaining time.
+//!   Without it, a slowing slip is followed by τ-steps down to |u| = 1e-7
+//!   of the bound: 64 or more τ-steps per stop, several hundred where μ_k N is
 //!   close to |a_free| (ψ turns onto a_free at the rate |a_free| in τ, but
 //!   s falls only at μ_k N − |a_free|), in all about half the τ-steps of
 //!   ScaledCircle's and DivCircle's force fields (3.0 of 6.4 and 3.0 of 5.7
@@ -127,7 +127,7 @@ const C_MAX: f64 = 0.5;
 /// h_r = max(h, T/[`REGION_STEPS`]) (an explicit step there would have
 /// h μ_k N/|u| or its turn h |a_⊥|/|u| above 1/REGION).
 ///
-/// # Why the width is held below 64 steps' (issue 12)
+/// # Why the width is held below 64 steps'
 ///
 /// A bound that scales with h at every h leaves an error floor: just
 /// outside the region the explicit steps then see h μ_k N/|u| and
@@ -146,9 +146,9 @@ const C_MAX: f64 = 0.5;
 /// Two rarer errors that appeared at single fine step counts only (a
 /// break-away just before a step's end, a slip slowing to a stop with
 /// a_free nearly along û) are fixed in `radau.rs::wants_radau` and
-/// [`Simulator::wants_tau`]: DivCircle's 16384-step field, once 2.9e-6 off
-/// the 4096-step one from one cycle ((−0.0133, −0.0133), phase 4 of 6), now
-/// agrees with it cycle by cycle within 1.7e-9 (`worst_cycles` with
+/// [`Simulator::wants_tau`]: without them DivCircle's 16384-step field is
+/// 2.9e-6 off the 4096-step one from one cycle ((−0.0133, −0.0133), phase 4
+/// of 6); with them it agrees with it cycle by cycle within 1.7e-9 (`worst_cycles` with
 /// `SLIP2D_N=16384 SLIP2D_WREF=4096`).
 const REGION: f64 = 2.0;
 

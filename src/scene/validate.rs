@@ -588,7 +588,7 @@ mod tests {
         );
     }
 
-    /// Issue 13: out-of-range physics is refused before any computation,
+    /// Out-of-range physics is refused before any computation,
     /// naming the field and the allowed range, with short numbers.
     #[test]
     fn physics_out_of_range() {
