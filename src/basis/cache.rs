@@ -229,8 +229,8 @@ impl BasisCache {
     }
 
     /// Checks, before a library is built, that the cache folder can be
-    /// created and written (a read-only folder used to fail only when the
-    /// built library was stored, after the whole build); the error names the
+    /// created and written (else a read-only folder would fail only when the
+    /// built library is stored, after the whole build); the error names the
     /// folder and `--no-cache`, which designs without the cache.
     fn check_writable(&self) -> Result<()> {
         let refuse = |why: String| {

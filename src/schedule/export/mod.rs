@@ -24,8 +24,8 @@
 //! home. The file ends at rest in the home pose, so looping it repeats the
 //! whole sequence. Such a schedule must hold that one moving segment (rest
 //! segments are allowed and ignored: the ramps begin and end at rest).
-//! Schedules of primitives only are exported exactly as before: one
-//! schedule period, to be looped. So are mixed schedules, whose six-signal
+//! Schedules of primitives only are exported as one schedule period, to be
+//! looped. So are mixed schedules, whose six-signal
 //! segments ramp in and out inside their own cycles (`ramp_cycles`,
 //! [`crate::motion::Ramped`]): every segment then starts and ends at rest
 //! at home, like a primitive.
