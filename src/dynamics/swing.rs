@@ -171,12 +171,12 @@ const STOP: f64 = 1e-7;
 /// and τ-steps per cycle fall from 837 to 310 (ScaledCircle) and 379 to 243
 /// (DivCircle) at 64 steps. But on the default library's 21×21×30 grid
 /// (`platefield study speed`, against 512 steps) DivCircle's error at 64 steps
-/// rose from 9.74e-7 to 1.06e-6 at 0.1; at 0.05 every error there at 32
+/// is 1.06e-6 at 0.1 against 9.74e-7 without the finish; at 0.05 every error there at 32
 /// and 64 steps is the one without the finish to three digits, for 4.9 s
 /// of CPU for the library at 64 steps instead of 6.1 s (4.6 s at 0.1). At
 /// 0.25 single cycles find a stop that the 1024-step run swings past
 /// (1.5e-6 m/s off at 64 steps). A plain average of the two nodes' fields
-/// instead of the composition did so at 0.05 already: DivCircle's 11×11×30
+/// instead of the composition does so at 0.05 already: DivCircle's 11×11×30
 /// force field at 32 steps per cycle 1.7e-4 off, against 3.0e-5 without
 /// the finish. With 0.05 and the composition, `platefield study engine-speed`
 /// (11×11 force and velocity fields against 1024 steps) gives the same
@@ -287,9 +287,10 @@ impl Simulator<'_> {
         // Turning, or slowing (d|u|/dt = a_free·û − μ_k N < 0) towards
         // u = 0 off a straight line (an exact 1-D slip, a_⊥ = 0, keeps its
         // exact explicit steps). Slowing, not only a_free·û < 0: a slip
-        // slowing with a_free nearly along û took explicit steps that grew
-        // stiff near the stop, and one DivCircle cycle at 1024 steps per
-        // cycle ended 2.2e-7 m/s off (512 and 2048 steps agree to 1e-8).
+        // slowing with a_free nearly along û would take explicit steps that
+        // grow stiff near the stop, and one DivCircle cycle at 1024 steps
+        // per cycle would end 2.2e-7 m/s off (512 and 2048 steps agree to
+        // 1e-8).
         let slowing = along < self.friction().kinetic * n;
         across > SLAVED * free.norm() || (slowing && across > ACROSS_ROUND_OFF * free.norm())
     }

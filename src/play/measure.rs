@@ -33,8 +33,8 @@
 //! sequenced schedule: while the x-pushing segments play, y stands still,
 //! so the part's mean position is not the mean position of the averaged
 //! flow, and for the Sink schedule (40 cycles, strength 0.31 s⁻¹, a third
-//! of the distance covered per period) that artefact was most of the 10 %
-//! the earlier measure reported. The flow is integrated with the classical
+//! of the distance covered per period) that artefact makes most of a 10 %
+//! gap between measure and prediction. The flow is integrated with the classical
 //! Runge–Kutta method, step doubling from 2 steps per measured period until
 //! two step counts agree to `FLOW_TOL` (relative).
 //!

@@ -518,7 +518,7 @@ mod tests {
 
     /// No valid point (every part lost contact): nothing is measured —
     /// zero valid points and NaN metrics, not a panic (the SVD of an empty
-    /// system panicked before).
+    /// system would panic).
     #[test]
     fn no_valid_point_measures_nothing() {
         let target = sink_target();
