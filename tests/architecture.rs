@@ -994,7 +994,7 @@ fn work_log_references(text: &str) -> Vec<(usize, String)> {
             continue;
         }
         let numbered = named.contains(&first.as_str()) && is_number(second);
-        let ordinal = is_ordinal(first) && second.starts_with("round");
+        let ordinal = is_ordinal(first) && (second == "round" || second == "rounds");
         if numbered || ordinal {
             found.push((*l, format!("{first} {second}")));
         }
