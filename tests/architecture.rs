@@ -966,14 +966,18 @@ fn crates_are_layered() {
 /// two words of a reference may be separated only by spaces, `#` or the
 /// markers of a comment continued on the next line (`//`, `//!`, `///`).
 fn work_log_references(text: &str) -> Vec<(usize, String)> {
-    let mut words: Vec<(usize, usize, String)> = Vec::new();
+    // (line, start, end, lower-case word)
+    let mut words: Vec<(usize, usize, usize, String)> = Vec::new();
     let mut line = 1;
     let mut start = None;
-    for (k, c) in text.char_indices().chain(std::iter::once((text.len(), ' '))) {
+    for (k, c) in text
+        .char_indices()
+        .chain(std::iter::once((text.len(), ' ')))
+    {
         if c.is_alphanumeric() {
             start.get_or_insert(k);
         } else if let Some(s) = start.take() {
-            words.push((line, s, text[s..k].to_lowercase()));
+            words.push((line, s, k, text[s..k].to_lowercase()));
         }
         if c == '\n' {
             line += 1;
@@ -988,9 +992,12 @@ fn work_log_references(text: &str) -> Vec<(usize, String)> {
     let named = ["issue", "issues", "session", "sessions", "round", "rounds"];
     let mut found = Vec::new();
     for pair in words.windows(2) {
-        let ((l, s, first), (_, t, second)) = (&pair[0], &pair[1]);
-        let gap = &text[s + first.len()..*t];
-        if !gap.chars().all(|c| c.is_whitespace() || c == '#' || c == '/' || c == '!') {
+        let ((l, _, end, first), (_, t, _, second)) = (&pair[0], &pair[1]);
+        let gap = &text[*end..*t];
+        if !gap
+            .chars()
+            .all(|c| c.is_whitespace() || c == '#' || c == '/' || c == '!')
+        {
             continue;
         }
         let numbered = named.contains(&first.as_str()) && is_number(second);
