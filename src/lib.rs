@@ -94,7 +94,7 @@
 //! | play, verify | [`play`], [`verify`] | a schedule's exact plate trajectory, the rule at the joins, rest in closed form; realised against predicted (one motion alone: its drift-lag-corrected steady state per cycle, [`play::lag`]; a warm-up that outlasts the start-up transient, `play::settle`); where parts end up |
 //! | poses | [`pose`] | a planar part in a field: the lifted field on (x, y, θ) (the point field integrated over the support, [`pose::LiftedField`]), its equilibria and their stability, basins from drops integrated along it or played ([`pose::played_basins`]); the averaged field ([`pose::AveragedField`]: the rigid part's own periodic slip, the period map of the played schedule), which checks the lifted field and refines its equilibria onto the played rests ([`pose::refine`]) |
 //! | work | [`work`] | the work estimate (RK4 part steps at a stated rate) every long command makes first, refusing above 10 min unless `--allow-long` |
-//! | studies | [`studies`] | the paper's results reproduced: eq. 17 of section II ([`studies::linesink`]), Table I, the interaction of sequenced primitives, the order study of section V; model rungs and speed against error (the library, [`studies::speed`]; every primitive and field kind, [`studies::engine_speed`]) |
+//! | studies | the `platefield-studies` crate (`studies/`) | the paper's results reproduced: eq. 17 of section II (`platefield_studies::linesink`), Table I, the interaction of sequenced primitives, the order study of section V; model rungs and speed against error (the library, `platefield_studies::speed`; every primitive and field kind, `platefield_studies::engine_speed`) |
 //!
 //! ## Sequencing: what combines
 //!

@@ -14,7 +14,7 @@
 //!    long side to the line.
 //!
 //! Everything is computed here and nothing is written: the files
-//! (`summary.json`, `trajectories.svg`) are [`crate::report::verify`]'s.
+//! (`summary.json`, `trajectories.svg`) are `platefield_report::verify`'s.
 //! Before anything is played the work is estimated ([`work_estimate`]) and
 //! an overlong verification refused unless `--allow-long`.
 
