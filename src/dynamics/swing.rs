@@ -143,9 +143,9 @@ const C_MAX: f64 = 0.5;
 /// and fewer). Widening it at 64 steps instead (REGION 4) makes the
 /// τ-steps carry more of the swing: Circle 2.7e-4 at 64 steps.
 ///
-/// Two rarer errors that appeared at single fine step counts only (a
-/// break-away just before a step's end, a slip slowing to a stop with
-/// a_free nearly along û) are fixed in `radau.rs::wants_radau` and
+/// Two rarer errors at single fine step counts only (a break-away just
+/// before a step's end, a slip slowing to a stop with a_free nearly along
+/// û) are handled in `radau.rs::wants_radau` and
 /// [`Simulator::wants_tau`]: without them DivCircle's 16384-step field is
 /// 2.9e-6 off the 4096-step one from one cycle ((−0.0133, −0.0133), phase 4
 /// of 6); with them it agrees with it cycle by cycle within 1.7e-9 (`worst_cycles` with
