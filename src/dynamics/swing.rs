@@ -245,12 +245,13 @@ impl Simulator<'_> {
     /// is every Runge–Kutta method's) and damps the departure from it by
     /// R(−2) = 1/3 per step instead of e⁻². Never shorter than the general
     /// step. Measured on the default library's 21×21×30 force fields
-    /// against 512 steps per cycle: DivCircle's kinematics evaluations per
+    /// against 512 steps per cycle, the general τ-step → this one:
+    /// DivCircle's kinematics evaluations per
     /// one-cycle simulation 526 → 295 at 32 steps, 982 → 476 at 64,
     /// ScaledCircle's about halved, every error the same to two digits
     /// (DivCircle 5.50e-5 → 5.52e-5 at 32, 9.74e-7 → 9.43e-7 at 64;
     /// ScaledCircle 2.75e-6 → 2.46e-6 at 64); `order_2d` unchanged. (Measured
-    /// before the span limit, which moves these errors by under 3 %.)
+    /// without the span limit, which moves these errors by under 3 %.)
     fn tau_step(&self, c: f64, free: &V2, mu_n: f64, along: f64, uhat: &V2, s: f64) -> f64 {
         let fm = free.norm();
         let scale = fm.max(mu_n);
