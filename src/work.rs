@@ -81,7 +81,7 @@ pub(crate) const SECONDS_PER_STEP: f64 = 1.0e-6;
 /// loaded machine), against `SECONDS_PER_STEP` per point-part step. A
 /// rectangle's cost grows with its support points (`--rect 1e-9x1e-9` is
 /// sampled by 16 × 16 and takes about four times as long as the default
-/// 16 × 4, so a count of steps alone would underestimate it).
+/// 16 × 4: an estimate blind to the support points would miss that).
 pub const PLANAR_POINT_STEP_COST: f64 = 0.15;
 
 /// Expected cycle evaluations of one steady-state velocity sample (a few
