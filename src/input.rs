@@ -110,7 +110,7 @@ pub fn from_str<T: DeserializeOwned>(text: &str, root: &str) -> Result<T, InputE
 /// given twice in one object is an error located at that key
 /// (`target.grid.n: duplicate key "n" ...`). `serde_json::Value` itself
 /// keeps the last of a repeated key without a word, so a file with
-/// `"name": "a", "name": "b"` was read as `"b"`.
+/// `"name": "a", "name": "b"` would be read as `"b"`.
 struct Unique(Value);
 
 impl<'de> Deserialize<'de> for Unique {

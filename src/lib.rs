@@ -124,8 +124,10 @@
 //! The combination is only approximate, and worst for short segments: each
 //! segment starts off its own periodic orbit and spends a cycle or so
 //! reaching it. For a Sink from two orthogonal LineSinks the realised field
-//! is 50 % off the prediction at 1 cycle per segment, 21 % at 3 and 6.5 % at
-//! 10 (`platefield study interaction`, `results/verify/sink_interaction.md`).
+//! is far off the prediction at 1 cycle per segment and approaches it as
+//! the segments lengthen (`results/verify/sink_interaction.md`, written by
+//! `platefield study interaction`; `schedule::quantize` states the numbers
+//! its default minimum of cycles per segment rests on).
 //! Hence the design's rules: primitives start and end each cycle at rest in
 //! the home pose (rest-to-rest waveforms, [`basis::primitives`]), a schedule
 //! has a minimum number of cycles per segment (`schedule::quantize`), the

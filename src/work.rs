@@ -1,4 +1,4 @@
-//! Work estimates before long computations (issue 13): every command that
+//! Work estimates before long computations: every command that
 //! may run for long (`field`, a `design`'s library build, `verify`,
 //! `order`) first counts the RK4 steps of point parts it is about to take,
 //! converts them to seconds at a stated rate, and refuses above
@@ -79,9 +79,9 @@ pub(crate) const SECONDS_PER_STEP: f64 = 1.0e-6;
 /// 0.24 µs for `poses --play` drops (64 steps per cycle, 36 support points,
 /// coarser steps with more Newton iterations; 22.7 s for 9.5e7 steps on a
 /// loaded machine), against `SECONDS_PER_STEP` per point-part step. A
-/// rectangle's cost grows with its support points (issue 30:
-/// `--rect 1e-9x1e-9` is sampled by 16 × 16 and took four times as long
-/// as the default under the same estimate).
+/// rectangle's cost grows with its support points (`--rect 1e-9x1e-9` is
+/// sampled by 16 × 16 and takes about four times as long as the default
+/// 16 × 4: an estimate blind to the support points would miss that).
 pub const PLANAR_POINT_STEP_COST: f64 = 0.15;
 
 /// Expected cycle evaluations of one steady-state velocity sample (a few
@@ -93,8 +93,8 @@ pub(crate) const VELOCITY_CYCLES: f64 = 20.0;
 pub(crate) const LIMIT_S: f64 = 600.0;
 
 /// Expected seconds above which a command states its estimate on stderr
-/// before the work ([`Estimate::announcement`]; issue 30: every command
-/// that can take more than 10 s says so first).
+/// before the work ([`Estimate::announcement`]: every command that can
+/// take more than 10 s says so first).
 pub(crate) const ANNOUNCE_S: f64 = 10.0;
 
 /// One term of an estimate: a product of named counts, e.g. `8 primitives
@@ -358,7 +358,7 @@ mod tests {
         )
     }
 
-    /// The issue's sampled target: 63,504 samples per primitive, 8
+    /// A dense sampled target: 63,504 samples per primitive, 8
     /// primitives: 8 × 63504 × 20 × 64 = 6.50e8 steps, 650 s at 1 µs on
     /// one thread (325 s on two). Refused on one thread, accepted on two,
     /// and accepted on one with --allow-long.

@@ -958,3 +958,97 @@ fn crates_are_layered() {
     let names: Vec<String> = manifest_dependencies(planted).into_iter().collect();
     assert_eq!(names, ["approx", "platefield"]);
 }
+
+/// Numbered work-log references in `text`: an issue, session or round
+/// named by its number ("issue 27", "Issue #13", "session 7", "round 2")
+/// or a round by its ordinal ("the 7th round"), as (line, reference).
+/// Words are runs of letters and digits, compared case-insensitively; the
+/// two words of a reference may be separated only by spaces, `#` or the
+/// markers of a comment continued on the next line (`//`, `//!`, `///`).
+fn work_log_references(text: &str) -> Vec<(usize, String)> {
+    // (line, start, end, lower-case word)
+    let mut words: Vec<(usize, usize, usize, String)> = Vec::new();
+    let mut line = 1;
+    let mut start = None;
+    for (k, c) in text
+        .char_indices()
+        .chain(std::iter::once((text.len(), ' ')))
+    {
+        if c.is_alphanumeric() {
+            start.get_or_insert(k);
+        } else if let Some(s) = start.take() {
+            words.push((line, s, k, text[s..k].to_lowercase()));
+        }
+        if c == '\n' {
+            line += 1;
+        }
+    }
+    let is_number = |w: &str| !w.is_empty() && w.chars().all(|c| c.is_ascii_digit());
+    let is_ordinal = |w: &str| {
+        ["st", "nd", "rd", "th"]
+            .iter()
+            .any(|s| w.strip_suffix(s).is_some_and(is_number))
+    };
+    let named = ["issue", "issues", "session", "sessions", "round", "rounds"];
+    let mut found = Vec::new();
+    for pair in words.windows(2) {
+        let ((l, _, end, first), (_, t, _, second)) = (&pair[0], &pair[1]);
+        let gap = &text[*end..*t];
+        if !gap
+            .chars()
+            .all(|c| c.is_whitespace() || c == '#' || c == '/' || c == '!')
+        {
+            continue;
+        }
+        let numbered = named.contains(&first.as_str()) && is_number(second);
+        let ordinal = is_ordinal(first) && (second == "round" || second == "rounds");
+        if numbered || ordinal {
+            found.push((*l, format!("{first} {second}")));
+        }
+    }
+    found
+}
+
+/// Comments and code say what the code does and why, not in which piece of
+/// work it was written: no file of the library, the report writers or the
+/// command (comments, doc comments and literals included) names an issue,
+/// a session or a round by its number.
+#[test]
+fn no_work_log_references() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut files = Vec::new();
+    for dir in ["src", "report/src", "cli/src"] {
+        rust_files(&root.join(dir), &mut files);
+    }
+    assert!(files.len() > 150, "too few files: {}", files.len());
+    let mut hits = Vec::new();
+    for f in &files {
+        let text = std::fs::read_to_string(f).expect("read file");
+        for (line, reference) in work_log_references(&text) {
+            let rel = f.strip_prefix(root).expect("under the workspace");
+            hits.push(format!("{}:{line}: {reference}", rel.display()));
+        }
+    }
+    assert!(hits.is_empty(), "work-log references:\n{}", hits.join("\n"));
+    // The check sees every form, across a comment's line break too …
+    let planted = "//! As in Issue #13 and issues 27,\n/// the session\n/// 7 and the\n\
+                   // 2nd round (round 3) found.\nlet s = \"issue 30\";";
+    let found: Vec<(usize, String)> = work_log_references(planted);
+    let expected = [
+        (1, "issue 13"),
+        (1, "issues 27"),
+        (2, "session 7"),
+        (4, "2nd round"),
+        (4, "round 3"),
+        (5, "issue 30"),
+    ];
+    assert_eq!(
+        found,
+        expected.map(|(l, r)| (l, r.to_string())).to_vec(),
+        "planted references"
+    );
+    // … and leaves numbers and words that only stand near each other alone.
+    let clean = "// The issue. 5 points round the 3rd axis; tissue 4; 12 rounds of sessions;\n\
+                 // rounding 2 places; the 1st and 2nd rounding; \"#2ca02c\"";
+    assert_eq!(work_log_references(clean), Vec::new());
+}

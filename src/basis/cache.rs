@@ -42,9 +42,8 @@ use crate::error::{Error, Result};
 use crate::field::{FieldKind, FieldSettings, Grid};
 use crate::output::write_atomic;
 
-/// Version of the cache file layout and key serialization (2: one field
-/// kind per file, the kind in the key; 3: each entry records the steps per
-/// cycle it was simulated with).
+/// Version of the cache file layout and key serialization, bumped whenever
+/// either changes (each version's change: the workspace's `CHANGELOG.md`).
 pub(crate) const FORMAT: u32 = 3;
 
 /// Largest cache entry read: 256 MiB (a library on the default grids takes
@@ -230,8 +229,8 @@ impl BasisCache {
     }
 
     /// Checks, before a library is built, that the cache folder can be
-    /// created and written (a read-only folder used to fail only when the
-    /// built library was stored, after the whole build); the error names the
+    /// created and written (else a read-only folder would fail only when the
+    /// built library is stored, after the whole build); the error names the
     /// folder and `--no-cache`, which designs without the cache.
     fn check_writable(&self) -> Result<()> {
         let refuse = |why: String| {

@@ -1,6 +1,6 @@
 //! The primitive library simulated into fields: [`FieldLibrary`] holds one
 //! field kind (what a design needs: the default velocity basis never uses
-//! force fields, which were a third of a cold design's time), [`Library`]
+//! force fields, which would be a third of a cold design's time), [`Library`]
 //! both kinds (what `platefield study primitives` reports).
 
 use serde::{Deserialize, Serialize};

@@ -1,7 +1,7 @@
 //! Basis fields: the primitive library simulated into fields, reused by
 //! symmetry ([`symmetry`]) and cached on disk (`cache`). The fits to the
 //! paper's Table I, the model rungs and the library's speed against error
-//! are studies ([`crate::studies`]).
+//! are studies (the `platefield-studies` crate, `studies/`).
 
 pub(crate) mod cache;
 pub(crate) mod library;

@@ -340,10 +340,10 @@ mod tests {
     use super::*;
     use crate::basis::PrimitiveKind;
 
-    /// Issue 30: a scattered point next to a node where the part lost
-    /// contact leaves its column out as "contact lost" (before: "outside
-    /// source", which read as a grid too small); a point off the grid is
-    /// "outside source".
+    /// A scattered point next to a node where the part lost contact leaves
+    /// its column out as "contact lost" (not "outside source", which would
+    /// read as a grid too small); a point off the grid is "outside
+    /// source".
     #[test]
     fn scattered_points_pass_on_the_flag_of_an_invalid_node() {
         let mut validity = vec![Validity::Ok; 9];

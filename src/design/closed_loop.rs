@@ -51,7 +51,7 @@
 //! What it cannot do: make the field stronger. Time fractions already sum to
 //! one in a `shape` design, and the weakening at short segments is common to
 //! the segments, so no re-weighting recovers it (iterative target correction
-//! t ← t + γ(s t − R) was considered and not built for this reason: a
+//! t ← t + γ(s t − R) is not built, for this reason: a
 //! scale error gives a correction parallel to t, which the scale-free
 //! `shape` fit ignores). The loop states the strength the schedule realises
 //! and fixes the shape; the report gives both errors and both strengths.

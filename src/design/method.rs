@@ -1665,7 +1665,7 @@ mod tests {
 
     /// The polish term counts the parts the polish plays: every sample of a
     /// 40-point grid-less target (stride 1), 25 of a 5 × 5-sampled
-    /// 2000-point one; before, always 25.
+    /// 2000-point one (not a fixed 25).
     #[test]
     fn polish_estimate_counts_the_played_parts() {
         let parts_of = |n: usize| {

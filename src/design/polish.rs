@@ -1,5 +1,5 @@
-//! Played polish of a synthesized motion: Nelder–Mead on the *played*
-//! realised measure itself.
+//! Played polish of a synthesized motion: a local search whose objective
+//! is the *played* realised measure itself.
 //!
 //! **Why.** [`crate::synth::synthesize`] optimises the steady-state field on
 //! a coarse grid of the region, every grid point weighted alike. The played
@@ -31,16 +31,16 @@
 //!
 //! e_grid is the shape error of the steady-state field on the coarse grid
 //! over the whole region, its budget the larger of `grid_budget` and the
-//! start's: without it the polish trades the field where parts do not go
-//! for the field where they do (squeeze_trans: played 0.64 → 1.06 s⁻¹ at
-//! 4.0 %, but 12.8 % shape over the region — parts are squeezed onto the
-//! line during the warm-up and measured only there). N_min and the coarse
+//! start's: without it the polish would trade the field where parts do
+//! not go for the field where they do (squeeze_trans: played 0.64 →
+//! 1.06 s⁻¹ at 4.0 %, but 12.8 % shape over the region — parts are
+//! squeezed onto the line during the warm-up and measured only there). N_min and the coarse
 //! samples are those of the synthesis objective
 //! ([`Objective`]: kinematic and steady-orbit least N on the coarse grid),
 //! so the polish keeps every constraint the synthesis kept; parts lost
 //! *outside* the region (as the saddle's above) may not become more.
 //!
-//! **Search** (issue 27): Levenberg–Marquardt
+//! **Search**: Levenberg–Marquardt
 //! ([`crate::synth::levenberg`], [`PolishOptions::lm`]) on the played
 //! residuals — the cost above as a sum of squares: each part's
 //! ω_i (R_i − ŝ P_i) rescaled to the norm 20 · max(0, e − b)
@@ -50,16 +50,16 @@
 //! √(10 · extra lost fraction). The strength row is a − ŝ/s₀ with a =
 //! [`STRENGTH_REACH`] (2), whose square has the cost's slope −1/s₀ at
 //! ŝ = s₀: it asks for strength as the cost does (line_sink_30, within
-//! budget, played 0.420 s⁻¹ with it and 0.378 with the row
-//! 1 − ŝ/(1.1 s₀) of before, in session 4). For a start over the budget
-//! the played shape block is the cost's hinge (b = the budget). For a
-//! start within it the block steers by the whole shape error (b = 0), as
-//! the synthesis's does ([`crate::synth::objective`]): the hinge is zero
-//! there, so the linearisation saw strength alone, and its steps bought
-//! strength with shape (squeeze_trans, issue 27: from 0.738 s⁻¹ at
-//! 3.27 % to 0.772 at 6.7 %); with the whole shape error they gain both
-//! (0.770 at 2.5 %). Shape first, as the cost: when the
-//! start's played shape is over the budget, the first half of the steps
+//! budget, plays 0.420 s⁻¹ with it and 0.378 with the row
+//! 1 − ŝ/(1.1 s₀)). For a start over the budget the played shape block is
+//! the cost's hinge (b = the budget). For a start within it the block
+//! steers by the whole shape error (b = 0), as the synthesis's does
+//! ([`crate::synth::objective`]): the hinge is zero there, so with it the
+//! linearisation would see strength alone and its steps buy strength with
+//! shape (squeeze_trans: from 0.738 s⁻¹ at 3.27 % to 0.772 at 6.7 %); with
+//! the whole shape error they gain both (0.770 at 2.5 %).
+//!
+//! **Shape first**, as the cost: when the start's played shape is over the budget, the first half of the steps
 //! run with 1 − ŝ/([`POLISH_GOAL`] s₀), which asks for 10 % more and lets
 //! the shape block lead (the whirlpool, 6 % at the start, stays there with
 //! the first row alone: 0.491 s⁻¹ at 5.99 %, against 0.487 at 5.16 % with
@@ -67,9 +67,10 @@
 //! has no shape to put first, and its steps then cost what an
 //! over-budget start's strength steps do (squeeze_trans: 0.780 s⁻¹ at
 //! 2.52 % after two steps, 66 plays; 0.820 at 2.60 % after four, 92
-//! plays, ≈ 5 s more CPU than issue 27's 8 s allow). Each step's Jacobian is one
-//! parallel batch of n plays (recorded in order: same bytes on one thread
-//! or two), so four steps are ≈ 4n + 9 plays where Nelder–Mead spent 300:
+//! plays, ≈ 5 s more CPU, past the 8 s a design's polish is meant to
+//! take). Each step's Jacobian is one parallel batch of n plays (recorded
+//! in order: same bytes on one thread or two), so four steps are ≈ 4n + 9
+//! plays where Nelder–Mead needs 300:
 //! plays that confirm the synthesis and correct it, not a search. With
 //! `lm` `None` it runs argmin's Nelder–Mead from the synthesized motion
 //! (initial simplex `step`, restarts from the best point with a third of
@@ -77,7 +78,7 @@
 //! or the stall rule ([`PolishOptions::stall`], counted in plays) says the
 //! played cost has stopped improving.
 //!
-//! **Never loses** (issue 27). The cost steers; the played measure judges.
+//! **Never loses.** The cost steers; the played measure judges.
 //! A played motion may replace the start only if `auto`'s rule between
 //! candidates ([`crate::design::method::Rule`]: POOR, then realised shape errors within
 //! one percentage point broken by the higher strength, else the lower
@@ -98,15 +99,16 @@
 //! improving: after [`PolishOptions::patience`] steps' worth of plays
 //! (n + 2 each) without a motion that replaces the best so far (the sink,
 //! whose synthesized motion no step beats by the rule, stops after its
-//! first Jacobian and tries: 23 plays where it played 79). `design` plays the polish exactly as the
-//! realised check plays the schedule — its cycles (10 warm-up, 10
+//! first Jacobian and tries: 23 plays). `design` plays the polish exactly
+//! as the realised check plays the schedule — its cycles (10 warm-up, 10
 //! measured), and the motion as a segment of
 //! [`PolishOptions::segment_cycles`] cycles, with the period played after
 //! the windows in which a part that leaves the plate is left out — so the
-//! polish's measure of a motion is the check's, bit for bit. (Before, it
-//! played the motion in one-cycle periods: the saddle's start measured
-//! 8.33 % at 0.633 s⁻¹ in the polish and 4.92 % at 0.697 in the check,
-//! and the polish "improved" it to 7.03 % at 0.614 by the check.)
+//! polish's measure of a motion is the check's, bit for bit. Played in
+//! one-cycle periods instead, the two measures disagree: the saddle's
+//! start measures 8.33 % at 0.633 s⁻¹ that way and 4.92 % at 0.697 in the
+//! check, and a polish on the one-cycle measure "improves" it to 7.03 % at
+//! 0.614 by the check.
 //!
 //! **Overfitting check.** The polish sees only the start points it is given;
 //! the study reports the kept motion on a second, disjoint set of start

@@ -1,5 +1,5 @@
-//! Refinement of a sequenced design by re-simulation (issue 11's argmin
-//! loop on primitives): the continuous parameters of a schedule's
+//! Refinement of a sequenced design by re-simulation (argmin's
+//! Nelder–Mead on the primitives' parameters): the continuous parameters of a schedule's
 //! primitives are tuned so that the *played* schedule realises the target
 //! better.
 //!

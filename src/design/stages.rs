@@ -689,7 +689,7 @@ mod tests {
         }
     }
 
-    /// Issue 30: with every column over the shaker limit and the isotropic
+    /// With every column over the shaker limit and the isotropic
     /// copies listed first, the message names an over-limit column, counts
     /// the copies, and does not suggest --keep-invalid (which does not
     /// help); with invalid columns it does.

@@ -546,7 +546,7 @@ impl Simulator<'_> {
     /// component exactly zero, so that no stage of the step had a free
     /// acceleration across the axis (the LineSink and LineSource move every
     /// point along x, as does an in-plane translation along x). A 2-D slip
-    /// goes to [`Simulator::locate_stop`] (Newton from s = 0), as before.
+    /// goes to [`Simulator::locate_stop`] (Newton from s = 0).
     ///
     /// Each evaluation of g is a trial RK4 step with two kinematics
     /// evaluations off the tabulated grid, so they are kept few: the first

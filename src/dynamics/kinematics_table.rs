@@ -6,7 +6,7 @@
 //! grid points (and, for force fields, every start phase) over the same
 //! time spans with the same fixed RK4 steps, so each point evaluated the
 //! same waveforms (and their `sin_cos`) at the same instants — about half
-//! of a field's CPU time before this table (issue 12).
+//! of a field's CPU time without this table.
 //!
 //! [`KinematicsTable`] holds the kinematics at every instant the integrator
 //! asks for on its fixed-step path over given spans: for each smooth piece
@@ -29,9 +29,9 @@
 //! the same spans: the orbit contact check of a synthesis
 //! (`synth::contact::orbit_least_normal`, one cycle per grid point) and
 //! every played schedule (one table per segment, shared by every part and
-//! every period: `play::Player::with_tables`). Issue 27: that halved the
-//! CPU of a six-signal design (saddle 15.8 → 8.4 s, same bytes), whose
-//! plays and contact checks had evaluated the kinematics at every step.
+//! every period: `play::Player::with_tables`). That halves the CPU of a
+//! six-signal design (saddle 15.8 → 8.4 s, same bytes), whose plays and
+//! contact checks would otherwise evaluate the kinematics at every step.
 
 use crate::motion::{Kinematics, Motion, PreparedMotion};
 

@@ -43,38 +43,8 @@ pub use state::{CycleOutcome, PartState, TrajectoryPoint, V2};
 /// integrator changes any field it computes (not for changes that keep
 /// every field bitwise). Cached libraries are keyed by it
 /// (`crate::basis::cache`), so a library built by an earlier engine is
-/// rebuilt, not reused. 2: the 2-D order fixes of issue 12 (the
-/// regularised region held at its 64-step width, explicit 2-D steps
-/// limited by friction's damping across the slip, slowing slips
-/// regularised, tiny slips along a turning a_free started implicitly).
-/// 3: 2-D stops finished with the exact frozen flow (`frozen.rs`).
-/// 4: off-grid kinematics with table-based sin and cos
-/// (`crate::motion::trig`; fields change at round-off).
-/// 5: fields simulate one point per family of points the motion moves
-/// alike ([`crate::motion::Invariance`]; circles about a vertical axis
-/// change at round-off).
-/// 6: τ-steps of a slip slaved to a_free sized by its log-speed
-/// (`swing.rs` `tau_step`; 2-D fields change within their errors).
-/// 7: a τ-step's length to the nominal step's end found by Newton from a
-/// cubic Hermite guess (2-D fields change at round-off).
-/// 8: a slaved τ-step spans at most a tenth of the nominal step in t
-/// (`swing.rs` `SLAVED_SPAN`; 2-D fields change within their errors).
-/// 9: that τ-step's first guess from the integrator's own `hermite_root`
-/// instead of a second copy of it (2-D fields change at round-off).
-/// 10: the frozen flow's progress found by one-sided Newton iterations
-/// (`frozen.rs` `Frozen::at`), Radau's Newton iteration stopped by its
-/// contraction estimate (`radau.rs`; 2-D fields change at round-off).
-/// 11: Radau's Newton update by a rank-3 (Woodbury) solve instead of the
-/// dense 6×6 one (`radau.rs` `newton_update`; round-off).
-/// 12: Radau's contraction stop not measured across a damped update, a
-/// damped update never accepted; the frozen flow's root finder ends where
-/// its steps turn back at round-off (the library's fields bitwise as in 11).
-/// 13: a slip speeding up slaved to a_free inside the regularised region
-/// leaves the τ-steps for one implicit step to the nominal step's end
-/// (`swing.rs`; 2-D fields change within their errors).
-/// 14: a converged Radau step with a stage reversed against a nonzero u₀
-/// rejected (`radau.rs`; of the default library's fields at 8–64 steps per
-/// cycle only ScaledCircle's force field at 8 steps changes).
+/// rebuilt, not reused. What each revision changed is listed in the
+/// workspace's `CHANGELOG.md`.
 pub(crate) const ENGINE_REVISION: u32 = 14;
 pub(crate) use kinematics_table::KinematicsTable;
 pub use planar::{
@@ -92,7 +62,7 @@ use crate::motion::{Kinematics, V3};
 /// unit of [`crate::work`]'s estimates, counted where the engine takes
 /// them ([`Simulator::advance`]: every fixed step of nominal size
 /// period / steps per cycle, whatever its events split it into), so an
-/// estimate can be compared with the work done (issue 30). A relaxed
+/// estimate can be compared with the work done. A relaxed
 /// atomic added once per smooth piece; never part of a result.
 static STEPS_TAKEN: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
 

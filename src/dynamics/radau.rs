@@ -181,8 +181,8 @@ impl Simulator<'_> {
             // slip speeds up: then the slip only just started (a break-away
             // close to the end of the last step leaves |u| ≪ h μ_k N along
             // a_free) and turns with a_free, a stiff start as from rest. (An
-            // explicit step there erred by 2e-5 m/s on one DivCircle cycle
-            // at 1024 steps per cycle, first order in h; 512 steps were
+            // explicit step there errs by 2e-5 m/s on one DivCircle cycle
+            // at 1024 steps per cycle, first order in h; at 512 steps it is
             // exact.) a_free reversing along its line is a 1-D stop, which
             // the explicit step locates.
             if along <= c {
@@ -485,7 +485,7 @@ fn damped_update(u: &mut [V2; 3], delta: &[V2; 3]) -> (f64, bool) {
 /// below the tolerance: Newton iterations per step 4.06 → 3.09 on
 /// DivCircle's force field, its error the same to four digits. Or stalled
 /// at the round-off floor (the last stage near u = 0 makes the system
-/// ill-conditioned). A damped update was not the Newton step taken: it
+/// ill-conditioned). A damped update is not the Newton step taken: it
 /// never converges, and the next update's contraction is not measured
 /// against it.
 fn newton_converged(change: f64, previous: &mut f64, tol: f64, damped: bool) -> bool {

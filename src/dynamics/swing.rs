@@ -39,13 +39,13 @@
 //!   (`radau.rs`) takes it to the nominal step's end, as it would outside
 //!   the region, unless its collocation equations fail or its end is
 //!   reversed or no longer a slaved speed-up ([`still_slaved`]; then the
-//!   τ-steps go on). Before, such a slip was followed by τ-steps
-//!   until |u| passed the bound: each grows ln |u| by only about
+//!   τ-steps go on). Without that step such a slip is followed by τ-steps
+//!   until |u| passes the bound: each grows ln |u| by only about
 //!   C_SLAVED (a_free·û − μ_k N)/|a_free|, dozens of steps where μ_k N is
 //!   close to |a_free|. Measured on the default library's 21×21×30 force
 //!   fields (`platefield study probes`, which prints their CPU time on one
 //!   thread; error against 512 steps per cycle, `results/library_speed.md`
-//!   by `platefield study speed`, before and after):
+//!   by `platefield study speed`, without and with it):
 //!   DivCircle at 32 steps per cycle 0.41 s → 0.34 s, error 5.49e-5 →
 //!   5.50e-5; at 64 steps 0.65 s → 0.58 s, 9.38e-7 → 1.02e-6; ScaledCircle
 //!   at 64 steps 0.12 s → 0.10 s, 2.53e-6 → 2.78e-6; the Circle's error at
@@ -56,9 +56,9 @@
 //!   comes to rest within [`FINISH`] of the nominal step, the rest of the
 //!   way (or the way to the nominal step's end, if that comes first) is the
 //!   commutator-free composition of two such flows (`frozen.rs` [`Cf4`]),
-//!   with a_free and N from the two Gauss nodes of the remaining time. Before
-//!   it, a slowing slip was followed by τ-steps down to |u| = 1e-7 of the
-//!   bound: 64 or more τ-steps per stop, several hundred where μ_k N is
+//!   with a_free and N from the two Gauss nodes of the remaining time.
+//!   Without it, a slowing slip is followed by τ-steps down to |u| = 1e-7
+//!   of the bound: 64 or more τ-steps per stop, several hundred where μ_k N is
 //!   close to |a_free| (ψ turns onto a_free at the rate |a_free| in τ, but
 //!   s falls only at μ_k N − |a_free|), in all about half the τ-steps of
 //!   ScaledCircle's and DivCircle's force fields (3.0 of 6.4 and 3.0 of 5.7
@@ -127,7 +127,7 @@ const C_MAX: f64 = 0.5;
 /// h_r = max(h, T/[`REGION_STEPS`]) (an explicit step there would have
 /// h μ_k N/|u| or its turn h |a_⊥|/|u| above 1/REGION).
 ///
-/// # Why the width is held below 64 steps' (issue 12)
+/// # Why the width is held below 64 steps'
 ///
 /// A bound that scales with h at every h leaves an error floor: just
 /// outside the region the explicit steps then see h μ_k N/|u| and
@@ -143,12 +143,12 @@ const C_MAX: f64 = 0.5;
 /// and fewer). Widening it at 64 steps instead (REGION 4) makes the
 /// τ-steps carry more of the swing: Circle 2.7e-4 at 64 steps.
 ///
-/// Two rarer errors that appeared at single fine step counts only (a
-/// break-away just before a step's end, a slip slowing to a stop with
-/// a_free nearly along û) are fixed in `radau.rs::wants_radau` and
-/// [`Simulator::wants_tau`]: DivCircle's 16384-step field, once 2.9e-6 off
-/// the 4096-step one from one cycle ((−0.0133, −0.0133), phase 4 of 6), now
-/// agrees with it cycle by cycle within 1.7e-9 (`worst_cycles` with
+/// Two rarer errors at single fine step counts only (a break-away just
+/// before a step's end, a slip slowing to a stop with a_free nearly along
+/// û) are handled in `radau.rs::wants_radau` and
+/// [`Simulator::wants_tau`]: without them DivCircle's 16384-step field is
+/// 2.9e-6 off the 4096-step one from one cycle ((−0.0133, −0.0133), phase 4
+/// of 6); with them it agrees with it cycle by cycle within 1.7e-9 (`worst_cycles` with
 /// `SLIP2D_N=16384 SLIP2D_WREF=4096`).
 const REGION: f64 = 2.0;
 
@@ -171,12 +171,12 @@ const STOP: f64 = 1e-7;
 /// and τ-steps per cycle fall from 837 to 310 (ScaledCircle) and 379 to 243
 /// (DivCircle) at 64 steps. But on the default library's 21×21×30 grid
 /// (`platefield study speed`, against 512 steps) DivCircle's error at 64 steps
-/// rose from 9.74e-7 to 1.06e-6 at 0.1; at 0.05 every error there at 32
+/// is 1.06e-6 at 0.1 against 9.74e-7 without the finish; at 0.05 every error there at 32
 /// and 64 steps is the one without the finish to three digits, for 4.9 s
 /// of CPU for the library at 64 steps instead of 6.1 s (4.6 s at 0.1). At
 /// 0.25 single cycles find a stop that the 1024-step run swings past
 /// (1.5e-6 m/s off at 64 steps). A plain average of the two nodes' fields
-/// instead of the composition did so at 0.05 already: DivCircle's 11×11×30
+/// instead of the composition does so at 0.05 already: DivCircle's 11×11×30
 /// force field at 32 steps per cycle 1.7e-4 off, against 3.0e-5 without
 /// the finish. With 0.05 and the composition, `platefield study engine-speed`
 /// (11×11 force and velocity fields against 1024 steps) gives the same
@@ -245,12 +245,13 @@ impl Simulator<'_> {
     /// is every Runge–Kutta method's) and damps the departure from it by
     /// R(−2) = 1/3 per step instead of e⁻². Never shorter than the general
     /// step. Measured on the default library's 21×21×30 force fields
-    /// against 512 steps per cycle: DivCircle's kinematics evaluations per
+    /// against 512 steps per cycle, the general τ-step → this one:
+    /// DivCircle's kinematics evaluations per
     /// one-cycle simulation 526 → 295 at 32 steps, 982 → 476 at 64,
     /// ScaledCircle's about halved, every error the same to two digits
     /// (DivCircle 5.50e-5 → 5.52e-5 at 32, 9.74e-7 → 9.43e-7 at 64;
     /// ScaledCircle 2.75e-6 → 2.46e-6 at 64); `order_2d` unchanged. (Measured
-    /// before the span limit, which moves these errors by under 3 %.)
+    /// without the span limit, which moves these errors by under 3 %.)
     fn tau_step(&self, c: f64, free: &V2, mu_n: f64, along: f64, uhat: &V2, s: f64) -> f64 {
         let fm = free.norm();
         let scale = fm.max(mu_n);
@@ -287,9 +288,10 @@ impl Simulator<'_> {
         // Turning, or slowing (d|u|/dt = a_free·û − μ_k N < 0) towards
         // u = 0 off a straight line (an exact 1-D slip, a_⊥ = 0, keeps its
         // exact explicit steps). Slowing, not only a_free·û < 0: a slip
-        // slowing with a_free nearly along û took explicit steps that grew
-        // stiff near the stop, and one DivCircle cycle at 1024 steps per
-        // cycle ended 2.2e-7 m/s off (512 and 2048 steps agree to 1e-8).
+        // slowing with a_free nearly along û would take explicit steps that
+        // grow stiff near the stop, and one DivCircle cycle at 1024 steps
+        // per cycle would end 2.2e-7 m/s off (512 and 2048 steps agree to
+        // 1e-8).
         let slowing = along < self.friction().kinetic * n;
         across > SLAVED * free.norm() || (slowing && across > ACROSS_ROUND_OFF * free.norm())
     }

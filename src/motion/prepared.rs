@@ -3,9 +3,9 @@
 //!
 //! The integrator evaluates the plate kinematics at thousands of instants
 //! off the kinematics table's grid per field (the stages of τ-steps and
-//! implicit steps, event location: issue 12). For a screw, each evaluation
-//! normalised the axis and divided the waveform amplitudes by ω and ω²
-//! again, and called libm's `sin_cos` three times (rotation, translation,
+//! implicit steps, event location). For a screw, each evaluation off the
+//! table would normalise the axis and divide the waveform amplitudes by ω
+//! and ω² again, and call libm's `sin_cos` three times (rotation, translation,
 //! the gravity tilt). [`PreparedMotion`] holds those quotients and performs
 //! the rest of [`Screw::kinematics`] and [`Waveform::eval_piece`] (for a
 //! six-signal motion, of [`Signals::kinematics`]) with the same operations

@@ -2,7 +2,7 @@
 //!
 //! The integrator evaluates the plate kinematics at instants off the
 //! kinematics table's grid (the stages of τ-steps and implicit steps, event
-//! location: issue 12), each with a `sin_cos` per waveform term and one for
+//! location), each with a `sin_cos` per waveform term and one for
 //! the gravity tilt — a third of a 2-D field's time in libm. [`sin_cos`]
 //! gives the same values to round-off at a fraction of the cost.
 //!

@@ -6,7 +6,9 @@ fn err(json: &str) -> String {
 
 const SQUARE: &str = "[[0, 0], [0.01, 0], [0.01, 0.01], [0, 0.01]]";
 
-/// Every bad part named in issue 28 is refused at its JSON path.
+/// Every kind of bad part (a crossed, degenerate or oversized outline,
+/// support points outside it or without weight, out-of-range contacts or
+/// friction, an unknown key) is refused at its JSON path.
 #[test]
 fn bad_parts_name_their_path() {
     let cases = [

@@ -33,8 +33,8 @@
 //! sequenced schedule: while the x-pushing segments play, y stands still,
 //! so the part's mean position is not the mean position of the averaged
 //! flow, and for the Sink schedule (40 cycles, strength 0.31 s⁻¹, a third
-//! of the distance covered per period) that artefact was most of the 10 %
-//! the earlier measure reported. The flow is integrated with the classical
+//! of the distance covered per period) that artefact makes most of a 10 %
+//! gap between measure and prediction. The flow is integrated with the classical
 //! Runge–Kutta method, step doubling from 2 steps per measured period until
 //! two step counts agree to `FLOW_TOL` (relative).
 //!
@@ -50,17 +50,17 @@
 //! from r_j ([`PointPlay::expected_cycles`]). Measured on the lab-class
 //! sink (synthesized as in `platefield study synthesis`, 24 points, 40 cycles of
 //! warm-up, 20 measured; `platefield study probes`, `results/probes.md`):
-//! against the flow of F the gap was 3.2 % (the
-//! number issue 11 reported; 4.2 % over 1 cycle, 0.8 % over 100), F per
+//! against the flow of F the gap is 3.2 % (4.2 % over 1 cycle, 0.8 % over
+//! 100), F per
 //! cycle 2.2 %, the flow of the lagged F 1.2 %, the lagged F per cycle
 //! 0.14 % (0.18 % over 1 cycle, 0.04 % over 100; 0.15 % at 200 and 400
 //! warm-up cycles). The first part, of order T_c·|∇F|/2 (1.4 % per cycle
-//! at 0.55 s⁻¹, T = 0.05 s), was a bias of the comparison (a per-cycle
+//! at 0.55 s⁻¹, T = 0.05 s), is a bias of the comparison (a per-cycle
 //! displacement integrated as if it were a continuous velocity); the
 //! second, the lag (2.8 % at one cycle), is physics the fixed-point steady
-//! state leaves out, now in the prediction; neither is a start-up
+//! state leaves out, so the prediction includes it; neither is a start-up
 //! transient. The
-//! gap *looked* smaller over longer windows only because for a sink both
+//! gap *looks* smaller over longer windows only because for a sink both
 //! displacements saturate at the centre (a rate error δ shows as
 //! δ·sS e^(−sS)/(1 − e^(−sS)) over a span S: 0.75 δ at sS = 0.55, 0.19 δ at
 //! 2.75). For a *sequence* the prediction stays the flow of the

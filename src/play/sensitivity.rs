@@ -181,7 +181,7 @@ pub fn friction_sweep(
 /// The sensitivity table a design reports when its target states a
 /// friction: [`SWEEP_VALUES`] values over the stated range, or over
 /// ±[`AROUND_FRACTION`] of a single value; `None` when the target states
-/// none (such designs report as before). `base` is the design's physics.
+/// none (such designs report no sensitivity table). `base` is the design's physics.
 ///
 /// # Errors
 /// The judge's.

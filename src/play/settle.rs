@@ -12,8 +12,8 @@
 //! and ρ ≈ exp(−T μ_k g / V) comes close to 1. Measured on the jet's
 //! synthesized motion (`results/jet/schedule.json`, an in-plane ratchet of
 //! 45 m/s², V ≈ 0.2 m/s): `verify` with 1 warm-up period (10 cycles)
-//! reported realised against predicted 41 % off; with 5 periods 0.01 %,
-//! with 20 periods 0.00 % — the prediction was right, the measure was
+//! reports realised against predicted 41 % off; with 5 periods 0.01 %,
+//! with 20 periods 0.00 % — the prediction is right, the short measure is
 //! taken on the transient.
 //!
 //! **The estimate.** The schedule is played with the part's position

@@ -106,7 +106,7 @@ pub const SCATTERED_N: usize = 41;
 /// lattice off the centre, puts interpolation nodes beyond the farthest
 /// sample, where a LineSink's plate lifts the part: a dense scattered
 /// target then loses every LineSink to "contact lost" at nodes no part
-/// visits (issue 30: 1000 points over ±4 cm designed to DivCircles only).
+/// visits (1000 points over ±4 cm would design to DivCircles only).
 pub fn scattered_grid(points: &[[f64; 2]]) -> Grid {
     if points.is_empty() {
         return Grid::DEFAULT;

@@ -196,7 +196,7 @@ use crate::field::FieldSettings;
 /// two points sample a field at one or two places (a 2-D affine field has
 /// six coefficients; three points in general position fix them), so a fit
 /// or a realised measure over fewer would be reported as a result it is
-/// not (issue 30).
+/// not.
 pub const MIN_WEIGHTED_POINTS: usize = 3;
 
 pub use crate::scene::FrictionSpec;
@@ -705,7 +705,7 @@ mod tests {
         }"#;
         assert_err(json, &["target.weights", "expected 1 rows"]);
 
-        // Two weighted points are no field to fit (issue 30).
+        // Two weighted points are no field to fit.
         let json = r#"{
             "field": {"kind": "sampled", "points": [[0, 0], [1, 1], [1, 0]],
                       "vectors": [[1, 0], [0, 1], [1, 1]]},
@@ -1007,7 +1007,7 @@ mod tests {
         assert_err(r#"[1, 2]"#, &["target: must be a JSON object"]);
     }
 
-    /// Issue 13: vanishing strengths and weights, a zero field, a grid
+    /// Vanishing strengths and weights, a zero field, a grid
     /// finer than the region allows and flat weights are refused by the
     /// loader, naming the path and the range, with short numbers.
     #[test]
@@ -1101,7 +1101,7 @@ mod tests {
         }
     }
 
-    /// Issue 13: scattered points spanning a small area (one point, four
+    /// Scattered points spanning a small area (one point, four
     /// within 1 cm) give a library grid of a few hundred samples, not the
     /// 63,504 their spacing asked for; the shipped example keeps its grid.
     #[test]

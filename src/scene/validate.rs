@@ -27,7 +27,8 @@ pub(crate) const GRID_EXTENT: f64 = 1.0;
 /// Allowed range of a Fourier term's harmonic number: the highest the
 /// largest [`STEPS_PER_CYCLE`] resolves at
 /// [`STEPS_PER_HARMONIC`](crate::dynamics::STEPS_PER_HARMONIC) steps per
-/// harmonic period (100000 was accepted and integrated as if resolved).
+/// harmonic period (without it, harmonic 100000 would be accepted and
+/// integrated as if resolved).
 pub(crate) const HARMONIC: RangeInclusive<u64> =
     1..=(*STEPS_PER_CYCLE.end() / crate::dynamics::STEPS_PER_HARMONIC) as u64;
 /// Largest number of Fourier terms in one signal or waveform.
@@ -263,7 +264,7 @@ fn top_harmonic(m: &Motion, path: &str) -> Option<(u32, String)> {
 /// [`STEPS_PER_HARMONIC`](crate::dynamics::STEPS_PER_HARMONIC) steps per
 /// period of that harmonic (its doc gives the measured errors). A harmonic
 /// above is refused, naming its path and the steps it needs, rather than
-/// integrated as if resolved (harmonic 100 at 64 steps was 28 % off).
+/// integrated as if resolved (harmonic 100 at 64 steps is 28 % off).
 pub(crate) fn resolved(m: &Motion, path: &str, steps: usize, steps_path: &str) -> Result<()> {
     let per = crate::dynamics::STEPS_PER_HARMONIC;
     match top_harmonic(m, path) {
@@ -588,7 +589,7 @@ mod tests {
         );
     }
 
-    /// Issue 13: out-of-range physics is refused before any computation,
+    /// Out-of-range physics is refused before any computation,
     /// naming the field and the allowed range, with short numbers.
     #[test]
     fn physics_out_of_range() {

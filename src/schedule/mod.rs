@@ -23,9 +23,9 @@
 //! "linear": {...}, "angular": {...}}` ([`crate::motion::Signals`], the
 //! scene file's `signals` object) instead of a `primitive`; never both. Its
 //! signals are validated by the scene validators (errors name
-//! `segments[i].motion.linear.x[0].amplitude` etc.). Files without it load
-//! as before, and a schedule without one is written byte for byte as before
-//! (the key is left out when absent).
+//! `segments[i].motion.linear.x[0].amplitude` etc.). The key is optional:
+//! it is left out when absent, so a schedule of primitives only is written
+//! without it.
 //!
 //! `mod@quantize` turns time fractions into whole cycles; [`export`] writes
 //! the six controller signals of a schedule.

@@ -9,9 +9,10 @@
 //! the remaining time in modes where Σf < 1.
 //!
 //! The default minimum of 10 cycles per segment comes from the interaction
-//! errors measured by [`crate::studies::interaction`] (a Sink from two orthogonal
-//! rest-to-rest LineSinks: 50 % error against the time-weighted prediction at
-//! 1 cycle per segment, 21 % at 3, 6.5 % at 10).
+//! errors in `results/verify/sink_interaction.md` (written by `platefield
+//! study interaction`; a Sink from two orthogonal rest-to-rest LineSinks:
+//! 50 % error against the time-weighted prediction at 1 cycle per segment,
+//! 21 % at 3, 6.5 % at 10).
 
 /// Default minimum cycles per segment.
 pub const DEFAULT_MIN_CYCLES: u32 = 10;

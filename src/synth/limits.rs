@@ -153,7 +153,7 @@ impl ShakerLimits {
         }
     }
 
-    /// The lab-class limits of issue 11: T = 0.05 s, linear ≤ 10 m/s² on x
+    /// The limits of a lab-class shaker: T = 0.05 s, linear ≤ 10 m/s² on x
     /// and y and 0 on z, angular ≤ 70 rad/s² about x and y and 0 about z,
     /// harmonic 1 only, margin 0.1.
     pub fn lab_class() -> ShakerLimits {

@@ -151,12 +151,12 @@
 //! re-simulated steady-state field against the target, the peaks and the
 //! contact margin ([`objective`]), and the Jacobian's columns are one
 //! parallel batch of re-simulations. Three steps (≈ 70 re-simulations)
-//! reach what 300 Nelder–Mead evaluations did on the lab sink (issue 27,
-//! `results/design_speed.md`): the seed has already put the motion near
+//! reach what 300 Nelder–Mead evaluations do on the lab sink
+//! (`results/design_speed.md`): the seed has already put the motion near
 //! the target, and the kinks below are smoothed by the forward-difference
-//! step (1 % of each axis limit). The path before, kept for comparison
+//! step (1 % of each axis limit). The alternative, kept for comparison
 //! (`SynthOptions::lm` `None`): [`multistart`], argmin's Nelder–Mead from the
-//! calibrated seed and from the seed itself. It was chosen because the
+//! calibrated seed and from the seed itself. It needs no gradient: the
 //! objective is a simulation with stick-slip events and validity switches
 //! (piecewise smooth, kinks where a sample starts or stops sticking), the
 //! dimension is small (8 for the lab's harmonic-1 x/y limits, 12·H at

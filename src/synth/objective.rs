@@ -32,19 +32,20 @@
 //!       excess,  10 · max(0, m + 0.01 − N_min/g),  √10 · √(invalid / samples) )
 //! ```
 //!
-//! **The shape block steers by the whole shape error** (issue 27): its
+//! **The shape block steers by the whole shape error**: its
 //! norm is 20 e, its direction the residual field (where the shape is
 //! wrong), below the budget as well as above it (`shape_block` with
 //! budget 0). The budget is the cost's: the search keeps the evaluation of
 //! least *cost*, so the residuals steer it and the cost judges it. With
-//! the cost's hinge 20 · max(0, e − budget) as the block (before), the
-//! linearisation saw no shape inside the budget: the first Gauss–Newton
-//! step went for strength alone and left the budget far behind
-//! (line_sink_30 from 0.9 % to 34.8 % on the coarse grid, rejected, and
-//! the run crept on at λ ≈ 10²; squeeze_trans left it along its whole
-//! path, 4.6 % → 6.0 %, and the cost kept a point next to the start), and
-//! just over the budget the square ½ (20 (e − budget))² is flat where the
-//! cost's hinge is steep. Always on, the block's square ½ (20 e)² makes
+//! the cost's hinge 20 · max(0, e − budget) as the block, the
+//! linearisation would see no shape inside the budget: the first
+//! Gauss–Newton step goes for strength alone and leaves the budget far
+//! behind (measured with the hinge block: line_sink_30 from 0.9 % to
+//! 34.8 % on the coarse grid, rejected, and the run creeping on at
+//! λ ≈ 10²; squeeze_trans leaving it along its whole path, 4.6 % → 6.0 %,
+//! and the cost keeping a point next to the start), and just over the
+//! budget the square ½ (20 (e − budget))² is flat where the cost's hinge
+//! is steep. Always on, the block's square ½ (20 e)² makes
 //! the run a balance of shape against strength whose rate it sees at every
 //! step: Gauss–Newton rests where 400 e ∂e = (a − ŝ/s_g)/s_g ∂ŝ. The
 //! strength row asks for up to a = 4 times the strength scale, so that
@@ -56,10 +57,10 @@
 //! realised coarse strength of the start the run begins from (the
 //! polish's s₀ is its start's played strength alike), not the seed's
 //! predicted one: squeeze_trans's transport start realises 0.60 s⁻¹
-//! against a nominal 1.0, and with s_g = 1.0 the row's slope was 0.6 of
-//! the cost's (played 0.694 at 3.48 %; with the start's, 0.710 at
-//! 2.46 %). (With a = 1, as before issue 27, the row was zero at the
-//! seed's strength and pulled any stronger motion back to it.) Under
+//! against a nominal 1.0, and with s_g = 1.0 the row's slope would be 0.6
+//! of the cost's (played 0.694 at 3.48 %; with the start's, 0.710 at
+//! 2.46 %). With a = 1 the row would be zero at the seed's strength and
+//! pull any stronger motion back to it. Under
 //! several physics each adds its own first block.
 
 use std::sync::Mutex;

@@ -1,4 +1,4 @@
-//! Stopping when the measure stops improving (issue 27).
+//! Stopping when the measure stops improving.
 //!
 //! A search (the synthesis's Nelder–Mead on the coarse cost, the played
 //! polish on the played cost) records every evaluated cost in order. It has

@@ -80,8 +80,8 @@ pub struct SynthOptions {
     pub refine: MultistartOptions,
     /// Refine by Levenberg–Marquardt on the coarse residuals
     /// (`super::least_squares`) with these settings; `None`: the
-    /// multi-start Nelder–Mead of [`super::multistart`] (the path before
-    /// issue 27, kept for the comparison of `platefield study design-speed`).
+    /// multi-start Nelder–Mead of [`super::multistart`] (kept for the
+    /// comparison of `platefield study design-speed`).
     pub lm: Option<LmOptions>,
     /// Levenberg–Marquardt settings of the played polish that `design`
     /// runs; `None`: its Nelder–Mead. Not used by [`synthesize`] itself.

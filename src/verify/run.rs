@@ -14,7 +14,7 @@
 //!    long side to the line.
 //!
 //! Everything is computed here and nothing is written: the files
-//! (`summary.json`, `trajectories.svg`) are [`crate::report::verify`]'s.
+//! (`summary.json`, `trajectories.svg`) are `platefield_report::verify`'s.
 //! Before anything is played the work is estimated ([`work_estimate`]) and
 //! an overlong verification refused unless `--allow-long`.
 
@@ -464,8 +464,8 @@ const RECTANGLES_TERM: &str = "rectangles";
 /// point, one swarm part and one rectangle: each group's terms of `work`
 /// over its part count (`counts`: grid points, swarm parts, rectangles),
 /// so that `Σ weight × count` is the estimate and the time left is right
-/// whichever group dominates (before, the rectangles' term was never
-/// counted and the bar stood at 100 % while they played).
+/// whichever group dominates (the rectangles too: without their term the
+/// bar would stand at 100 % while they play).
 pub fn progress_weights(work: &Estimate, counts: [usize; 3]) -> [u64; 3] {
     let mut steps = [0.0; 3];
     for t in &work.terms {

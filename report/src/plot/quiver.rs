@@ -162,7 +162,8 @@ pub struct QuiverPlot {
     /// Image height in px (default 460).
     pub height: f64,
     /// Clip the arrows and markers to the axes frame, as overlays always
-    /// are (default: no, so existing plots render byte for byte as before).
+    /// are (default: no; the field plots in `results/` are drawn
+    /// unclipped).
     pub clip: bool,
     /// Legend entries, drawn in a column right of the axes (empty: none).
     pub legend: Vec<LegendEntry>,

@@ -37,13 +37,13 @@
 //! samples' interpolant ([`crate::request::SampledInterpolant`]: a local
 //! linear fit on a node grid, weights computed once per point set, exact
 //! for an affine field), one field for every part, so the flow of the
-//! promise costs four node values per evaluation where the
-//! inverse-distance interpolation searched every sample at every step.
-//! (A part's own start sample's local model, used before, was extrapolated
-//! to wherever the warm-up had carried the part — for a whirlpool, the
+//! promise costs four node values per evaluation where an
+//! inverse-distance interpolation would search every sample at every step.
+//! (A part's own start sample's local model would be extrapolated to
+//! wherever the warm-up has carried the part — for a whirlpool, the
 //! centre, where a few per cent of gradient error is the whole field: a
-//! sequenced schedule realising 0.13 of a 40-point whirlpool was
-//! measured at 147 % shape error.) Gridded targets evaluate their field
+//! sequenced schedule realising 0.13 of a 40-point whirlpool measures
+//! 147 % shape error that way.) Gridded targets evaluate their field
 //! (`Promise::Field`).
 
 use nalgebra::{DMatrix, DVector};
@@ -518,7 +518,7 @@ mod tests {
 
     /// No valid point (every part lost contact): nothing is measured —
     /// zero valid points and NaN metrics, not a panic (the SVD of an empty
-    /// system panicked before).
+    /// system would panic).
     #[test]
     fn no_valid_point_measures_nothing() {
         let target = sink_target();
@@ -657,9 +657,9 @@ mod tests {
     /// of the noisy 40-point grid-less target finds strength 0.4 within
     /// 5 % and a shape error below 10 %. The promise is the samples'
     /// interpolant wherever the part is; the start sample's own local
-    /// affine model, used before, extrapolated its noisy gradient over
-    /// the part's whole path to the centre, where the field is small (a
-    /// sequenced schedule realising 0.13 was measured at 147 %).
+    /// affine model would extrapolate its noisy gradient over the part's
+    /// whole path to the centre, where the field is small (a sequenced
+    /// schedule realising 0.13 measures 147 % that way).
     #[test]
     fn gathered_parts_measure_the_whirlpool_they_realise() {
         let target = Target::from_json_str(&noisy_whirlpool_json(40)).unwrap();

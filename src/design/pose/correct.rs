@@ -32,14 +32,14 @@
 //! rest poses over the range on the asked pose, not the nominal μ's rest.
 //! A rest pose that turns with μ by less than twice the tolerance over
 //! the range then stays within it at both ends. Measured on the bracket
-//! (spin route, μ 0.3 ± 20 %, session 8): placed at μ 0.3 its drops
-//! rested −4.83° / −0.34° / +0.89° off at μ 0.24 / 0.30 / 0.36, the
-//! rest turning fastest at the low end, so 0 % were within 3° at 0.24.
-//! Centred on the same spin (1200 rad/s² × 0.4) for `"friction": [0.24,
-//! 0.36]` the median rest was −3.01° / +1.47° / +2.70° off: its rest turns
-//! 5.7° over the range, all but the 6° the tolerance spans, so μ 0.24 stayed
-//! at 0 %. The spin screen over the range ([`super::screen`]) now keeps the
-//! spin that turns least, 900 × 0.25 (3.9°): centred, its drops rest
+//! (spin route, μ 0.3 ± 20 %): placed at μ 0.3 its drops rest
+//! −4.83° / −0.34° / +0.89° off at μ 0.24 / 0.30 / 0.36, the rest turning
+//! fastest at the low end, so 0 % are within 3° at 0.24. Centred on the
+//! same spin (1200 rad/s² × 0.4) for `"friction": [0.24, 0.36]` the median
+//! rest is −3.01° / +1.47° / +2.70° off: its rest turns 5.7° over the
+//! range, all but the 6° the tolerance spans, so μ 0.24 stays at 0 %.
+//! Hence the spin screen over the range ([`super::screen`]) keeps the spin
+//! that turns least, 900 × 0.25 (3.9°): centred, its drops rest
 //! +1.95° / +0.59° / −1.93° off, **100 / 100 / 100 %** within 1 mm and 3°
 //! (`targets/pose_bracket_range.json`, 404 s CPU).
 //!

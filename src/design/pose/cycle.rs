@@ -4,8 +4,8 @@
 //! without a 180° symmetry at one pose, but not all, and its pose moves
 //! with friction: the triangle's strongest spin (4800 rad/s² × 0.15) put
 //! 97 % of 64 drops at one pose and 3 % at a second 139° away, and its
-//! rest turned 17.6° over μ 0.24–0.36 (0 % within 3° at either end,
-//! session 9). The elliptic sink ([`super::search::Family::Ellipse`])
+//! rest turned 17.6° over μ 0.24–0.36 (0 % within 3° at either end;
+//! `docs/parts.md`). The elliptic sink ([`super::search::Family::Ellipse`])
 //! gives every such part two stable poses 180° apart, fixed by its second
 //! moments and hardly moving with μ (the triangle's ±1.25° over the same
 //! range), each holding about half the drops.

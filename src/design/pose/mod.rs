@@ -1,4 +1,4 @@
-//! Pose targets (issue 28): a motion whose lifted field makes one pose of a
+//! Pose targets: a motion whose lifted field makes one pose of a
 //! part the stable equilibrium, played on the part from random drops.
 //!
 //! 1. **Request** ([`PoseRequest`]): the target file with

@@ -245,9 +245,9 @@ pub fn family(spin: bool) -> Family {
 /// The request's target with `family` turned by `angle` (degrees) about
 /// `c` on `grid`, no mask, at the middle of its friction range: a pose
 /// design meets a range by centring its placement over it
-/// (`design::pose::correct`), not by a worst-case synthesis, which turned the
+/// (`design::pose::correct`), not by a worst-case synthesis, which turns the
 /// bracket's played rest by 8.4° over μ 0.24–0.36 against 5.7° for the
-/// nominal synthesis (session 8, `docs/parts.md`).
+/// nominal synthesis (`docs/parts.md`).
 pub fn ellipse_target(
     req: &PoseRequest,
     family: Family,

@@ -2,8 +2,8 @@
 //! centred spun motion, their ends clustered.
 //!
 //! **Why.** The lifted field of a spun sink ([`super::spin`]) is rough:
-//! on the bracket's kept spin (1200 rad/s² at −0.8 rad) it gave one
-//! stable pose, yet 26 of 100 played drops came to rest at a second pose
+//! on the bracket's spin of 1200 rad/s² at −0.8 rad it gives one
+//! stable pose, yet 26 of 100 played drops come to rest at a second pose
 //! 130° from the asked one (at rest there: the same pose 20 s before the
 //! end, `docs/parts.md`). A second played attractor is a property of the
 //! motion, not of its placement (a placement turns and shifts the whole

@@ -27,8 +27,8 @@
 //! z signal; those whose lifted field gives the part a stable pose in the
 //! region ([`try_all`]) are judged by play on probes from spread starts,
 //! since the lifted model misses played attractors of these fields (the
-//! bracket's spin of session 7 had one lifted pose and a second played
-//! one holding 26 % of the drops, `docs/parts.md`); when none puts enough
+//! bracket's spin of 1200 rad/s² × 0.25 has one lifted pose and a second
+//! played one holding 26 % of the drops, `docs/parts.md`); when none puts enough
 //! probes at one pose, `design` keeps the elliptic sink alone (two poses
 //! 180° apart).
 
@@ -78,8 +78,8 @@ impl Spin {
 /// The spins tried, in order: the phase fixed at −1.6 rad (on the
 /// isotropic sink the phase mostly turns the pattern, and the placement
 /// turns it anyway; measured on the bracket, `tests/pose_rotation.rs`),
-/// r* = V/Ω from about 9 mm (1200 rad/s², translation × 0.25, the route
-/// of session 7) to about 3 times that, where the bracket's played probes
+/// r* = V/Ω from about 9 mm (1200 rad/s², translation × 0.25) to about
+/// 3 times that, where the bracket's played probes
 /// all end at one pose (`design::pose::screen`), and one short r* for a
 /// small part: 4800 rad/s² with translation × 0.15 (r* ≈ 1.4 mm, angular
 /// amplitude α/ω² = 0.11 rad), where 62 of 64 of the triangle's played

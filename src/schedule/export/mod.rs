@@ -24,8 +24,8 @@
 //! home. The file ends at rest in the home pose, so looping it repeats the
 //! whole sequence. Such a schedule must hold that one moving segment (rest
 //! segments are allowed and ignored: the ramps begin and end at rest).
-//! Schedules of primitives only are exported exactly as before: one
-//! schedule period, to be looped. So are mixed schedules, whose six-signal
+//! Schedules of primitives only are exported as one schedule period, to be
+//! looped. So are mixed schedules, whose six-signal
 //! segments ramp in and out inside their own cycles (`ramp_cycles`,
 //! [`crate::motion::Ramped`]): every segment then starts and ends at rest
 //! at home, like a primitive.
@@ -63,12 +63,12 @@ pub const RAMP_CYCLES: u32 = sample_hold::DEFAULT_RAMP_CYCLES;
 /// 118–119 bytes per row (`results/sink` and `results/line_sink` at
 /// 100 kHz: 14.2 MB for 120 240 rows, 7.17 MB for 60 120), at most about
 /// 128; the file is built in memory, with the samples, about 160 bytes per
-/// row at the peak (a 4.8e7-row export took 7.8 GB). 1e7 rows is then
+/// row at the peak (a 4.8e7-row export takes 7.8 GB). 1e7 rows is then
 /// ≈ 1.2 GB of CSV and ≈ 1.6 GB of memory: 100 kHz (well above a shaker
 /// controller's usual 5–20 kHz) for 100 s, or the default 10 kHz for
 /// 1000 s, far more than the ≈ 1 s period of a designed schedule. The
-/// sampler's own bound ([`sample_hold::MAX_SAMPLES`], 5e7) let a 5.7 GB
-/// file through without a word.
+/// sampler's own bound ([`sample_hold::MAX_SAMPLES`], 5e7) would let a
+/// 5.7 GB file through without a word.
 pub(crate) const MAX_EXPORT_ROWS: f64 = 1e7;
 
 /// Bytes per CSV row used to state an export's size (measured; see
