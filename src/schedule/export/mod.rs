@@ -36,7 +36,7 @@ pub mod peaks;
 use super::Schedule;
 use crate::error::{positive, Error, Result};
 use crate::input::num;
-use crate::motion::{rotate, sample_hold, Motion, V3};
+use crate::motion::{rotate, rotation, sample_hold, Motion, V3};
 use crate::request::ShakerSpec;
 
 pub use sample_hold::DEFAULT_STEADY_CYCLES;
@@ -54,7 +54,7 @@ pub(crate) const CHANNELS: [&str; 6] = [
 
 /// The frame and reference point of every exported signal, as the export
 /// headers state them.
-pub(crate) const FRAME: &str = "frame: world axes, x and y horizontal in the plate's rest plane, z up (right-handed), angular channels about the same axes; reference point: the plate centre (the plate frame's origin, where the target grid's (0, 0) is); linear in m/s², angular in rad/s²";
+pub(crate) const FRAME: &str = "frame: world axes, x and y horizontal in the plate's rest plane, z up (right-handed); reference point: the plate centre (the plate frame's origin, where the target grid's (0, 0) is); linear channels: the centre's acceleration in m/s²; angular channels: the plate's angular acceleration α = dω/dt about the world axes in rad/s², ω the angular velocity in dR/dt = [ω]× R: integrate α to ω and compose the rotation (not each angle on its own), and the plate takes the design's orientation R = exp([θ]×), θ its rotation vector (body axes: Rᵀω, Rᵀα; docs/shaker.md gives the other readings)";
 
 /// Ramp length (cycles of the motion) of a six-signal export, in and out.
 pub const RAMP_CYCLES: u32 = sample_hold::DEFAULT_RAMP_CYCLES;
@@ -325,7 +325,8 @@ fn check_size(schedule: &Schedule, ramped: Option<&Motion>, rate: f64, steady: u
     ))
 }
 
-/// Plate-centre (linear, angular) acceleration of `motion` at time `t`.
+/// Plate-centre (linear, angular) acceleration of `motion` at time `t`,
+/// world axes (the angular one the world ω′, [`crate::motion::rotation`]).
 pub fn centre_acceleration(motion: &Motion, t: f64) -> (V3, V3) {
     match motion {
         Motion::Screw(s) => {
@@ -338,8 +339,13 @@ pub fn centre_acceleration(motion: &Motion, t: f64) -> (V3, V3) {
             (lin, a)
         }
         Motion::Signals(_) | Motion::Ramped(_) | Motion::Held(_) => {
-            let kin = motion.kinematics(t, 0.0, false);
-            (kin.accel_center, kin.alpha)
+            // The plate-frame kinematics turned back to the world axes by
+            // the orientation exp([θ]×): α is the world ω′ of
+            // `motion::rotation`, not θ″.
+            let kin = motion.kinematics(t, 0.0, true);
+            let pose = sample_hold::centre_state(motion, t).pose;
+            let turn = rotation::orientation(&V3::new(pose[3], pose[4], pose[5]));
+            (turn * kin.accel_center, turn * kin.alpha)
         }
     }
 }

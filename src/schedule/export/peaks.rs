@@ -8,8 +8,11 @@
 //! home), as the controller plays them: over a hold of Δt with constant a,
 //! v(τ) = v₀ + aτ and x(τ) = x₀ + v₀τ + aτ²/2, so |v| peaks at a hold's
 //! ends and |x| at its ends or at the turning point τ* = −v₀/a inside it.
-//! The rotation vector is integrated like the translation (the small-angle
-//! model of [`crate::motion::Signals`]; exact for a rotation about one
+//! The angular samples are composed as a rotation ([`crate::motion::Held`])
+//! and the angular stroke is the peak |component| of the orientation's
+//! rotation vector, taken at the hold ends and where the component of ω
+//! changes sign inside a hold (where that component of the rotation vector
+//! turns, to first order in the rotation: exact for a rotation about one
 //! fixed axis, as a screw primitive's).
 //!
 //! **Steady six-signal motion** ([`KinematicPeaks::of_motion`]): each term
@@ -22,7 +25,7 @@
 use std::fmt::Write as _;
 
 use crate::motion::sample_hold::{centre_state, HoldSamples};
-use crate::motion::Motion;
+use crate::motion::{Held, Motion};
 use crate::request::ShakerSpec;
 
 /// Names of the six signals in order, as JSON paths in a `signals` motion.
@@ -78,25 +81,28 @@ impl KinematicPeaks {
     pub fn of_held(samples: &HoldSamples) -> KinematicPeaks {
         let dt = samples.dt;
         let mut p = KinematicPeaks::default();
-        let (mut x, mut v) = (samples.start.pose, samples.start.velocity);
+        let Ok(held) = Held::new(samples) else {
+            return p;
+        };
+        let start = held.state_at(0);
         for i in 0..6 {
-            p.velocity[i] = v[i].abs();
-            p.stroke[i] = x[i].abs();
+            p.velocity[i] = start.velocity[i].abs();
+            p.stroke[i] = start.pose[i].abs();
         }
-        for a in &samples.samples {
+        for (k, a) in samples.samples.iter().enumerate() {
+            let (s, end) = (held.state_at(k), held.state_at(k + 1));
+            let t0 = k as f64 * dt;
             for i in 0..6 {
                 p.acceleration[i] = p.acceleration[i].max(a[i].abs());
                 if a[i] != 0.0 {
-                    let turn = -v[i] / a[i];
+                    let turn = -s.velocity[i] / a[i];
                     if turn > 0.0 && turn < dt {
-                        let xt = x[i] + v[i] * turn + 0.5 * a[i] * turn * turn;
+                        let xt = held.centre_state_piece(t0 + turn, t0).pose[i];
                         p.stroke[i] = p.stroke[i].max(xt.abs());
                     }
                 }
-                x[i] += v[i] * dt + 0.5 * a[i] * dt * dt;
-                v[i] += a[i] * dt;
-                p.velocity[i] = p.velocity[i].max(v[i].abs());
-                p.stroke[i] = p.stroke[i].max(x[i].abs());
+                p.velocity[i] = p.velocity[i].max(end.velocity[i].abs());
+                p.stroke[i] = p.stroke[i].max(end.pose[i].abs());
             }
         }
         p
