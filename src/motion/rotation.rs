@@ -19,11 +19,11 @@
 //! fixed rotation axis (θ ∥ θ′ ∥ θ″) every correction vanishes and
 //! ω = θ′, α = θ″.
 //!
-//! Near t = 0 the quotients lose digits, so below [`SERIES_BELOW`] their
-//! Taylor series are used: a = 1/2 − t²/24 + t⁴/720,
-//! b = 1/6 − t²/120 + t⁴/5040, a₁ = −1/12 + t²/180 − t⁴/6720,
-//! b₁ = −1/60 + t²/1260 − t⁴/60480 (truncation below 1e-15 of each at
-//! t < 0.02).
+//! Near t = 0 the closed forms cancel (b₁'s numerator is t⁵/60 of terms
+//! of t³/2), so below [`SERIES_BELOW`] their Taylor series are used:
+//! a = Σ (−1)ⁿ t²ⁿ/(2n+2)!, b = Σ (−1)ⁿ t²ⁿ/(2n+3)!, a₁ = (da/dt)/t and
+//! b₁ = (db/dt)/t term by term, which also leaves them independent of the
+//! sine and cosine passed in.
 //!
 //! **Playing world-frame rates** ([`advance`]): a controller that holds α
 //! constant over an interval τ, ω(s) = ω₀ + α s, turns the plate by
@@ -37,20 +37,36 @@ use super::V3;
 
 /// Below this rotation angle (rad) the Jacobian's quotients are taken from
 /// their Taylor series (see the module documentation).
-pub const SERIES_BELOW: f64 = 0.02;
+pub const SERIES_BELOW: f64 = 0.5;
+
+/// Terms of each series: the first left out is below 1e-22 at
+/// [`SERIES_BELOW`].
+const SERIES_TERMS: u32 = 9;
 
 /// The quotients a, b, a₁, b₁ of the module documentation at angle `t`
 /// with (sin t, cos t) = `sc`.
 fn quotients(t: f64, (s, c): (f64, f64)) -> [f64; 4] {
     if t < SERIES_BELOW {
+        // a = Σ (−1)ⁿ t²ⁿ/(2n+2)!, b = Σ (−1)ⁿ t²ⁿ/(2n+3)!, and a₁, b₁ their
+        // derivatives over t: Σ_{n≥1} (−1)ⁿ 2n t²ⁿ⁻²/(2n+2)! and /(2n+3)!.
         let t2 = t * t;
-        let t4 = t2 * t2;
-        return [
-            0.5 - t2 / 24.0 + t4 / 720.0,
-            1.0 / 6.0 - t2 / 120.0 + t4 / 5040.0,
-            -1.0 / 12.0 + t2 / 180.0 - t4 / 6720.0,
-            -1.0 / 60.0 + t2 / 1260.0 - t4 / 60480.0,
-        ];
+        let (mut a, mut b, mut a1, mut b1) = (0.0, 0.0, 0.0, 0.0);
+        // (−1)ⁿ t²ⁿ and the one before, and 1/(2n+2)!, 1/(2n+3)!.
+        let (mut power, mut before, mut fa, mut fb) = (1.0, 0.0, 0.5, 1.0 / 6.0);
+        for n in 0..SERIES_TERMS {
+            a += power * fa;
+            b += power * fb;
+            // (−1)ⁿ 2n t²ⁿ⁻² = −2n (−1)ⁿ⁻¹ t²⁽ⁿ⁻¹⁾.
+            let k = -2.0 * f64::from(n) * before;
+            a1 += k * fa;
+            b1 += k * fb;
+            let m = f64::from(2 * n + 3);
+            fa /= m * (m + 1.0);
+            fb /= (m + 1.0) * (m + 2.0);
+            before = power;
+            power *= -t2;
+        }
+        return [a, b, a1, b1];
     }
     let (t2, t3) = (t * t, t * t * t);
     [
@@ -219,8 +235,11 @@ mod tests {
         let s = quotients(t * (1.0 - 1e-12), t.sin_cos());
         let c = quotients(t, t.sin_cos());
         for (x, y) in s.iter().zip(&c) {
-            assert!((x - y).abs() < 1e-9 * y.abs(), "{x} {y}");
+            assert!((x - y).abs() < 1e-13 * y.abs(), "{x} {y}");
         }
+        // The first terms: 1/2, 1/6, −1/12, −1/60 at t = 0.
+        let zero = quotients(0.0, (0.0, 1.0));
+        assert_eq!(zero, [0.5, 1.0 / 6.0, -1.0 / 12.0, -1.0 / 60.0]);
     }
 
     /// Held acceleration over many short holds reproduces a smooth
