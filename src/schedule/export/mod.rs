@@ -123,10 +123,18 @@ impl Export {
             Some(_) => " (the ramp's pose envelope w(t) adds 2ẇẋ + ẅx to the steady acceleration; the steady cycles are what the design kept within the limit)",
             None => "",
         };
+        // A rotation's second-order part: tilts about two axes, composed
+        // exactly, turn the plate about the third.
+        let coning = " (the exact rotation: tilts about two axes turn the plate about the third at second order in their angles, which the design's signals leave at 0; docs/shaker.md)";
         self.peaks()
             .excesses(limits)
             .iter()
             .map(|e| {
+                let why = if e.limit == 0.0 && e.axis.starts_with("angular") {
+                    coning
+                } else {
+                    why
+                };
                 format!(
                     "over the shaker limit: {} peaks at {:.6e} {} against {:.6e} (+{:.3} %){why}",
                     e.axis,

@@ -129,8 +129,10 @@ impl KinematicPeaks {
     }
 
     /// Every peak above `limits` by more than a relative 1e-9, in the order
-    /// acceleration, velocity, stroke and axis. A key `limits` leaves out is
-    /// not checked.
+    /// acceleration, velocity, stroke and axis; against a limit of 0, a peak
+    /// above 1e-12 of the largest linear or angular peak of its quantity
+    /// (below that it is round-off). A key `limits` leaves out is not
+    /// checked.
     ///
     /// ```
     /// use platefield::request::{ShakerSpec, TravelSpec};
@@ -174,9 +176,13 @@ impl KinematicPeaks {
         ];
         let mut out = Vec::new();
         for (what, peaks, limit, units) in checks {
+            let floor = |k: usize| {
+                let group = if k < 3 { &peaks[..3] } else { &peaks[3..] };
+                1e-12 * group.iter().fold(0.0_f64, |m, p| m.max(*p))
+            };
             for k in 0..6 {
                 match limit[k] {
-                    Some(l) if peaks[k] > l * (1.0 + 1e-9) => out.push(Excess {
+                    Some(l) if peaks[k] > (l * (1.0 + 1e-9)).max(floor(k)) => out.push(Excess {
                         axis: format!("{}{what}", AXIS_NAMES[k]),
                         peak: peaks[k],
                         limit: l,
