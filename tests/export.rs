@@ -264,9 +264,9 @@ fn gauss_mean(f: &dyn Fn(f64) -> [f64; 6], t0: f64, h: f64) -> [f64; 6] {
     m
 }
 
-/// (linear, angular) plate-centre acceleration of `motion` at `t`, as six numbers.
+/// (linear, world angular) plate-centre acceleration of `motion` at `t`, as six numbers.
 fn six(motion: &platefield::motion::Motion, t: f64) -> [f64; 6] {
-    let (l, a) = platefield::schedule::export::centre_acceleration(motion, t);
+    let (l, a) = platefield::schedule::export::world_acceleration(motion, t);
     [l.x, l.y, l.z, a.x, a.y, a.z]
 }
 

@@ -136,6 +136,16 @@ impl HoldSamples {
 /// [`super::rotation`]).
 pub fn centre_state(motion: &Motion, t: f64) -> CentreState {
     match motion {
+        Motion::Signals(_) | Motion::Ramped(_) => world_angular(signal_state(motion, t)),
+        m => signal_state(m, t),
+    }
+}
+
+/// [`centre_state`] but with a six-signal motion's angular velocity the
+/// rate θ′ of its rotation vector (the integral of its signals, which
+/// design limits), not the world ω; the same for the other motions.
+pub fn signal_state(motion: &Motion, t: f64) -> CentreState {
+    match motion {
         Motion::Screw(s) => {
             let k = V3::from(s.axis).normalize();
             let psi = s.rotation.eval(t, s.period);
@@ -150,10 +160,10 @@ pub fn centre_state(motion: &Motion, t: f64) -> CentreState {
                 pose: [p.x, p.y, p.z, th.x, th.y, th.z],
             }
         }
-        Motion::Signals(sig) => world_angular(signals_state(sig, t)),
+        Motion::Signals(sig) => signals_state(sig, t),
         Motion::Ramped(r) => {
             let (pose, velocity) = r.centre_state(t);
-            world_angular(CentreState { velocity, pose })
+            CentreState { velocity, pose }
         }
         Motion::Held(h) => h.centre_state_piece(t, t),
     }
@@ -195,16 +205,6 @@ fn signals_state(sig: &Signals, t: f64) -> CentreState {
         }
     }
     out
-}
-
-/// The steady pose and its rate of `motion` at `t`: for a six-signal
-/// motion θ and θ′ (the rate of the rotation vector, which the ramp's
-/// window multiplies), for the others [`centre_state`].
-fn steady_state(motion: &Motion, t: f64) -> CentreState {
-    match motion {
-        Motion::Signals(sig) => signals_state(sig, t),
-        m => centre_state(m, t),
-    }
 }
 
 /// Samples per period N = round(rate · T) (≥ 2) and Δt = T/N.
@@ -288,7 +288,7 @@ pub fn ramped(motion: &Motion, rate: f64, ramp: u32, steady: u32) -> Result<Hold
                 (1.0, 0.0)
             };
             let t = (k % n) as f64 * dt;
-            let s = steady_state(motion, t);
+            let s = signal_state(motion, t);
             world_angular(CentreState {
                 velocity: std::array::from_fn(|i| dw / ramp_time * s.pose[i] + w * s.velocity[i]),
                 pose: s.pose.map(|x| w * x),
@@ -326,6 +326,27 @@ pub struct MotionSpan<'a> {
 /// of samples or that does not start and end at rest (names
 /// `segments[i]`).
 pub fn sequence(segments: &[MotionSpan<'_>], rate: f64) -> Result<HoldSamples> {
+    let (n, dt, states) = sequence_states(segments, rate)?;
+    let v: Vec<[f64; 6]> = states.iter().map(|s| s.velocity).collect();
+    Ok(HoldSamples::from_velocities(
+        &v,
+        dt,
+        n,
+        CentreState::default(),
+    ))
+}
+
+/// The plate-centre states at the sample times t_k = kΔt (k = 0 to the
+/// last sample's end) of [`sequence`]'s grid, with its samples per period
+/// N and Δt: the exact velocity and pose of each segment's motion at its
+/// own time, rest at home between.
+///
+/// # Errors
+/// As [`sequence`].
+pub fn sequence_states(
+    segments: &[MotionSpan<'_>],
+    rate: f64,
+) -> Result<(usize, f64, Vec<CentreState>)> {
     // The sample grid of the first motion; a rest-only sequence is held at
     // `rate` itself (all samples zero).
     let (n, dt) = match segments.iter().find_map(|s| s.motion) {
@@ -335,7 +356,7 @@ pub fn sequence(segments: &[MotionSpan<'_>], rate: f64) -> Result<HoldSamples> {
             (1, 1.0 / rate)
         }
     };
-    let mut v: Vec<[f64; 6]> = vec![[0.0; 6]];
+    let mut v: Vec<CentreState> = vec![CentreState::default()];
     for (i, seg) in segments.iter().enumerate() {
         // A rest of 0 s (which a schedule may hold) is no rest.
         if seg.motion.is_none() && seg.duration == 0.0 {
@@ -344,7 +365,7 @@ pub fn sequence(segments: &[MotionSpan<'_>], rate: f64) -> Result<HoldSamples> {
         positive(&format!("segments[{i}].duration_s"), seg.duration)?;
         let k = (seg.duration / dt).round().max(1.0) as usize;
         let Some(m) = seg.motion else {
-            v.extend(std::iter::repeat_n([0.0; 6], k));
+            v.extend(std::iter::repeat_n(CentreState::default(), k));
             continue;
         };
         if (k as f64 * dt - seg.duration).abs() > 1e-9 * dt {
@@ -376,7 +397,7 @@ pub fn sequence(segments: &[MotionSpan<'_>], rate: f64) -> Result<HoldSamples> {
                 ));
             }
         }
-        v.extend((1..=k).map(|j| centre_state(m, j as f64 * dt).velocity));
+        v.extend((1..=k).map(|j| centre_state(m, j as f64 * dt)));
         if v.len() > MAX_SAMPLES {
             return Err(Error::invalid(
                 "--rate",
@@ -384,12 +405,7 @@ pub fn sequence(segments: &[MotionSpan<'_>], rate: f64) -> Result<HoldSamples> {
             ));
         }
     }
-    Ok(HoldSamples::from_velocities(
-        &v,
-        dt,
-        n,
-        CentreState::default(),
-    ))
+    Ok((n, dt, v))
 }
 
 /// The controller: holds each sample for Δt, looping the file `loops`

@@ -108,6 +108,22 @@ impl Signals {
         }
     }
 
+    /// The highest harmonic of any signal (1 when there is none).
+    ///
+    /// ```
+    /// use platefield::motion::Signals;
+    /// assert_eq!(Signals::example().highest_harmonic(), 2);
+    /// ```
+    pub fn highest_harmonic(&self) -> u32 {
+        [&self.linear, &self.angular]
+            .iter()
+            .flat_map(|a| [&a.x, &a.y, &a.z])
+            .flat_map(|terms| terms.iter().map(|t| t.harmonic))
+            .max()
+            .unwrap_or(1)
+            .max(1)
+    }
+
     /// Kinematics at time `t`.
     #[inline]
     pub fn kinematics(&self, t: f64, g: f64, tilt: bool) -> Kinematics {

@@ -32,11 +32,12 @@
 
 pub mod harmonics;
 pub mod peaks;
+pub mod pose;
 
 use super::Schedule;
 use crate::error::{positive, Error, Result};
 use crate::input::num;
-use crate::motion::{rotate, rotation, sample_hold, Motion, V3};
+use crate::motion::{rotate, rotation, sample_hold, Motion, Signals, V3};
 use crate::request::ShakerSpec;
 
 pub use sample_hold::DEFAULT_STEADY_CYCLES;
@@ -333,8 +334,10 @@ fn check_size(schedule: &Schedule, ramped: Option<&Motion>, rate: f64, steady: u
     ))
 }
 
-/// Plate-centre (linear, angular) acceleration of `motion` at time `t`,
-/// world axes (the angular one the world ω′, [`crate::motion::rotation`]).
+/// Plate-centre (linear, angular) acceleration of `motion`'s signals at
+/// time `t`, world axes: for a six-signal motion the angular one is θ″, the
+/// rotation vector's, which design limits ([`world_acceleration`] is the
+/// plate's, which exports write).
 pub fn centre_acceleration(motion: &Motion, t: f64) -> (V3, V3) {
     match motion {
         Motion::Screw(s) => {
@@ -347,9 +350,32 @@ pub fn centre_acceleration(motion: &Motion, t: f64) -> (V3, V3) {
             (lin, a)
         }
         Motion::Signals(_) | Motion::Ramped(_) | Motion::Held(_) => {
+            let kin = motion.kinematics(t, 0.0, false);
+            (kin.accel_center, kin.alpha)
+        }
+    }
+}
+
+/// Plate-centre (linear, angular) acceleration of `motion` at time `t`,
+/// world axes, the angular one the plate's α = ω′ ([`crate::motion::rotation`]):
+/// what the export's channels hold.
+///
+/// ```
+/// use platefield::motion::{Motion, Signals};
+/// use platefield::schedule::export::{centre_acceleration, world_acceleration};
+///
+/// let m = Motion::Signals(Signals::example());
+/// let ((l, a), (wl, wa)) = (centre_acceleration(&m, 0.01), world_acceleration(&m, 0.01));
+/// assert!((l - wl).norm() < 1e-12);
+/// // Two tilts: α differs from θ″ at second order in the tilt angles.
+/// assert!((a - wa).norm() > 0.0 && (a - wa).norm() < 1e-3 * a.norm());
+/// ```
+pub fn world_acceleration(motion: &Motion, t: f64) -> (V3, V3) {
+    match motion {
+        Motion::Screw(_) => centre_acceleration(motion, t),
+        Motion::Signals(_) | Motion::Ramped(_) | Motion::Held(_) => {
             // The plate-frame kinematics turned back to the world axes by
-            // the orientation exp([θ]×): α is the world ω′ of
-            // `motion::rotation`, not θ″.
+            // the orientation exp([θ]×).
             let kin = motion.kinematics(t, 0.0, true);
             let pose = sample_hold::centre_state(motion, t).pose;
             let turn = rotation::orientation(&V3::new(pose[3], pose[4], pose[5]));
@@ -419,15 +445,39 @@ fn sequence_samples(schedule: &Schedule, rate: f64) -> Result<sample_hold::HoldS
             ),
         ));
     }
-    let motions: Vec<Option<Motion>> = schedule.segments.iter().map(|s| s.plate_motion()).collect();
-    let segments: Vec<sample_hold::MotionSpan<'_>> = schedule
+    let motions = segment_motions(schedule);
+    sample_hold::sequence(&spans(schedule, &motions), rate)
+}
+
+/// The plate motion of every segment of `schedule` (`None`: rest).
+pub(crate) fn segment_motions(schedule: &Schedule) -> Vec<Option<Motion>> {
+    schedule.segments.iter().map(|s| s.plate_motion()).collect()
+}
+
+/// The segments of `schedule` as spans of their `motions`
+/// ([`segment_motions`]).
+pub(crate) fn spans<'a>(
+    schedule: &Schedule,
+    motions: &'a [Option<Motion>],
+) -> Vec<sample_hold::MotionSpan<'a>> {
+    schedule
         .segments
         .iter()
-        .zip(&motions)
+        .zip(motions)
         .map(|(s, m)| sample_hold::MotionSpan {
             motion: m.as_ref(),
             duration: s.duration_s,
         })
-        .collect();
-    sample_hold::sequence(&segments, rate)
+        .collect()
+}
+
+/// The one steady six-signal motion of a validated `schedule` (a
+/// synthesized design), if that is what it holds: a single moving segment
+/// without `ramp_cycles`.
+pub(crate) fn steady_signals(schedule: &Schedule) -> Option<&Signals> {
+    let mut moving = schedule.segments.iter().filter(|s| s.is_moving());
+    match (moving.next(), moving.next()) {
+        (Some(s), None) if s.ramp_cycles.is_none() => s.motion.as_ref(),
+        _ => None,
+    }
 }

@@ -24,7 +24,7 @@
 
 use std::fmt::Write as _;
 
-use crate::motion::sample_hold::{centre_state, HoldSamples};
+use crate::motion::sample_hold::{centre_state, signal_state, CentreState, HoldSamples};
 use crate::motion::{Held, Motion};
 use crate::request::ShakerSpec;
 
@@ -108,16 +108,34 @@ impl KinematicPeaks {
         p
     }
 
-    /// The peaks of a steady motion over one period (see the module
-    /// documentation), sampled at `super::PEAK_SAMPLES` × `highest`
-    /// points with `highest` its highest harmonic.
+    /// The peaks of a steady motion's signals over one period (see the
+    /// module documentation), sampled at `super::PEAK_SAMPLES` × `highest`
+    /// points with `highest` its highest harmonic: a six-signal motion's
+    /// angular ones are those of its rotation vector θ and its rates θ′, θ″,
+    /// which design limits ([`KinematicPeaks::of_plate`] gives the plate's).
     pub fn of_motion(motion: &Motion, highest: u32) -> KinematicPeaks {
+        Self::sampled(motion, highest, signal_state, super::centre_acceleration)
+    }
+
+    /// [`KinematicPeaks::of_motion`] with the plate's world angular
+    /// velocity and acceleration (the exported channels) in place of θ′
+    /// and θ″.
+    pub fn of_plate(motion: &Motion, highest: u32) -> KinematicPeaks {
+        Self::sampled(motion, highest, centre_state, super::world_acceleration)
+    }
+
+    fn sampled(
+        motion: &Motion,
+        highest: u32,
+        state: fn(&Motion, f64) -> CentreState,
+        acceleration: fn(&Motion, f64) -> (crate::motion::V3, crate::motion::V3),
+    ) -> KinematicPeaks {
         let n = super::PEAK_SAMPLES * highest.max(1) as usize;
         let mut p = KinematicPeaks::default();
         for k in 0..n {
             let t = motion.period() * k as f64 / n as f64;
-            let s = centre_state(motion, t);
-            let (lin, ang) = super::centre_acceleration(motion, t);
+            let s = state(motion, t);
+            let (lin, ang) = acceleration(motion, t);
             let a = [lin.x, lin.y, lin.z, ang.x, ang.y, ang.z];
             for (i, ai) in a.iter().enumerate() {
                 p.acceleration[i] = p.acceleration[i].max(ai.abs());
