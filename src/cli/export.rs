@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use clap::{Args, ValueEnum};
 
 use platefield::output::write_atomic;
-use platefield::schedule::export::{self, harmonics, pose};
+use platefield::schedule::export::{self, harmonics, pose, response};
 use platefield::schedule::Schedule;
 use platefield::Result;
 
@@ -39,6 +39,9 @@ pub struct ExportArgs {
     /// Points per cycle (cycle).
     #[arg(long, default_value_t = 256)]
     pub points: usize,
+    /// A measured shaker response (per harmonic a complex 6 × 6 matrix or its diagonal, drive to plate accelerations): write the drive signals that make the plate play the design (as harmonics) instead.
+    #[arg(long)]
+    pub response: Option<PathBuf>,
     /// Output file (default: stdout).
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -55,48 +58,64 @@ impl ExportArgs {
     /// unwritable `--out`. Nothing is written then.
     pub fn run(&self) -> Result<String> {
         let s = Schedule::load(&self.schedule)?;
-        let (text, what) = match self.format {
-            Format::Csv => {
-                let e = export::export(&s, self.rate, self.steady_cycles)?;
-                for line in e.over_limits() {
-                    eprintln!("warning: {line}");
-                }
+        let (text, what) = match (&self.response, self.format) {
+            (Some(file), Format::Harmonics | Format::Csv) => {
+                let r = response::Response::read(file)?;
+                let d = response::drive(&harmonics::harmonics(&s)?, &r)?;
                 let what = format!(
-                    "{} samples at {} Hz: {}",
-                    e.samples.samples.len(),
-                    self.rate,
-                    e.describe()
+                    "drive: {} terms over 6 channels through {}",
+                    d.terms.len(),
+                    file.display()
                 );
-                (e.to_csv(), what)
+                (d.to_csv(), what)
             }
-            Format::Harmonics => {
-                let h = harmonics::harmonics(&s)?;
-                let what = format!(
-                    "{} terms over 6 channels, T = {} s",
-                    h.terms.len(),
-                    h.period
-                );
-                (h.to_csv(), what)
-            }
-            Format::Pose => {
-                let p = pose::poses(&s, self.rate)?;
-                let what = format!(
-                    "{} poses {:.9} s apart, {}",
-                    p.points.len(),
-                    p.dt,
-                    if p.steady {
-                        "one steady cycle"
-                    } else {
-                        "one schedule period"
+            (Some(_), _) => return Err(platefield::Error::invalid(
+                "--response",
+                "writes the drive as harmonics: use it with --format harmonics (or no --format)",
+            )),
+            (None, format) => match format {
+                Format::Csv => {
+                    let e = export::export(&s, self.rate, self.steady_cycles)?;
+                    for line in e.over_limits() {
+                        eprintln!("warning: {line}");
                     }
-                );
-                (p.to_csv(), what)
-            }
-            Format::Cycle => {
-                let c = pose::cycle(&s, self.points)?;
-                let what = format!("{} points of one {} s cycle", c.points.len(), c.period);
-                (c.to_csv(), what)
-            }
+                    let what = format!(
+                        "{} samples at {} Hz: {}",
+                        e.samples.samples.len(),
+                        self.rate,
+                        e.describe()
+                    );
+                    (e.to_csv(), what)
+                }
+                Format::Harmonics => {
+                    let h = harmonics::harmonics(&s)?;
+                    let what = format!(
+                        "{} terms over 6 channels, T = {} s",
+                        h.terms.len(),
+                        h.period
+                    );
+                    (h.to_csv(), what)
+                }
+                Format::Pose => {
+                    let p = pose::poses(&s, self.rate)?;
+                    let what = format!(
+                        "{} poses {:.9} s apart, {}",
+                        p.points.len(),
+                        p.dt,
+                        if p.steady {
+                            "one steady cycle"
+                        } else {
+                            "one schedule period"
+                        }
+                    );
+                    (p.to_csv(), what)
+                }
+                Format::Cycle => {
+                    let c = pose::cycle(&s, self.points)?;
+                    let what = format!("{} points of one {} s cycle", c.points.len(), c.period);
+                    (c.to_csv(), what)
+                }
+            },
         };
         match &self.out {
             Some(file) => {

@@ -33,6 +33,7 @@
 pub mod harmonics;
 pub mod peaks;
 pub mod pose;
+pub mod response;
 
 use super::Schedule;
 use crate::error::{positive, Error, Result};
