@@ -797,11 +797,12 @@ fn design_method_auto_plays_both_and_states_the_choice() {
 }
 
 /// `export --format harmonics` of the lab-class sink's synthesized motion
-/// (`schedule`, synthesized above) writes each of its terms exactly: per
-/// channel one row (harmonic, amplitude, phase) equal, as f64, to the
+/// (`schedule`, synthesized above) writes each of its linear terms exactly:
+/// per channel one row (harmonic, amplitude, phase) equal, as f64, to the
 /// schedule's own term (the lab class plays one harmonic, so every
 /// channel holds one term; a negative amplitude is written as |A| with
-/// φ + π).
+/// φ + π); its angular terms are the plate's world α, the schedule's θ″
+/// terms to second order in the tilts.
 fn harmonics_are_the_motions_terms(schedule: &Path, dir: &Path) {
     let out = dir.join("harmonics.csv");
     let (code, stdout, err) = platefield(&[
@@ -859,6 +860,32 @@ fn harmonics_are_the_motions_terms(schedule: &Path, dir: &Path) {
             )
         })
         .collect();
+    // The angular channels are the plate's world α, the schedule's θ″ terms
+    // but for second-order terms in the tilts (a few 1e-6 of them here):
+    // each θ″ term within 1e-4, and every other term below 1e-3 of them.
+    let angular = |r: &&(String, u64, f64, f64)| r.0.starts_with("alpha");
+    let (got_angular, got): (Vec<_>, Vec<_>) = got.iter().partition(angular);
+    let (expected_angular, expected): (Vec<_>, Vec<_>) = expected.iter().partition(angular);
+    let largest = expected_angular
+        .iter()
+        .fold(0.0_f64, |m, e| m.max(e.2.abs()));
+    for g in &got_angular {
+        match expected_angular.iter().find(|e| (&e.0, e.1) == (&g.0, g.1)) {
+            Some(e) => {
+                let (a, phase) = if e.2 >= 0.0 {
+                    (e.2, e.3)
+                } else {
+                    (-e.2, e.3 + std::f64::consts::PI)
+                };
+                let d = (g.3 - phase).rem_euclid(std::f64::consts::TAU);
+                assert!(
+                    (g.2 / a - 1.0).abs() < 1e-4 && d.min(std::f64::consts::TAU - d) < 1e-4,
+                    "{g:?} against {e:?}"
+                );
+            }
+            None => assert!(g.2 < 1e-3 * largest, "{g:?}"),
+        }
+    }
     assert_eq!(got.len(), expected.len(), "{got:?} against {expected:?}");
     for (g, e) in got.iter().zip(&expected) {
         assert_eq!((&g.0, g.1), (&e.0, e.1));

@@ -7,16 +7,23 @@
 //! a_k = (v(t_{k+1}) − v(t_k)) / Δt
 //! ```
 //!
-//! from the analytic plate-centre velocity v (linear and angular), so the
-//! held velocity equals v at every sample time to round-off, whatever the
-//! waveform. The pose the controller integrates,
+//! from the analytic plate-centre velocity v (linear, and the world angular
+//! velocity ω = J(θ)θ′ of the orientation exp(\[θ\]×), [`super::rotation`]),
+//! so the held velocity equals v at every sample time to round-off,
+//! whatever the waveform. The linear pose the controller integrates,
 //! x_{k+1} = x_k + v_k Δt + a_k Δt²/2 = x_k + (v_k + v_{k+1}) Δt/2, is the
 //! trapezoidal rule of v: exact over a whole period for a Fourier series
 //! with fewer harmonics than samples per period (the trapezoidal rule is
 //! exact for trigonometric polynomials of lower degree), and exponentially
 //! accurate for smooth periodic v. Periods and segment joins fall on sample
 //! boundaries: a period holds N = round(rate · T) samples, Δt = T/N, and the
-//! **effective rate** N/T is reported.
+//! **effective rate** N/T is reported. The orientation the controller
+//! composes from the held angular samples ([`super::Held`]) follows
+//! exp(\[θ\]×) to the same order: per hold the rotation's increment is
+//! the trapezoidal rule of ω plus the Magnus term (Δt³/12) α × ω, off by
+//! O((ωΔt)²) of the rotation's rates, which accumulates over many cycles
+//! as a slow coning drift of order (ωΔt)²/6 of the motion's coning rate
+//! (`tests/convention.rs` measures it on every shipped design).
 //!
 //! **Ramps for six-signal motions.** A six-signal motion has zero-mean
 //! velocity and pose only from its own initial state, not from rest. The
@@ -35,7 +42,7 @@
 use std::f64::consts::PI;
 use std::fmt::Write as _;
 
-use super::{rotate, smoothstep, Motion, Signals, V3};
+use super::{rotate, rotation, smoothstep, Motion, Signals, V3};
 use crate::error::{positive, Error, Result};
 use crate::input::num;
 
@@ -47,8 +54,8 @@ pub const DEFAULT_STEADY_CYCLES: u32 = 20;
 pub(crate) const MAX_SAMPLES: usize = 50_000_000;
 
 /// Plate-centre velocity and pose (linear then angular: [v_x, v_y, v_z,
-/// ω_x, ω_y, ω_z] and [p_x, p_y, p_z, θ_x, θ_y, θ_z], θ the small-angle
-/// rotation vector).
+/// ω_x, ω_y, ω_z] and [p_x, p_y, p_z, θ_x, θ_y, θ_z], ω the world angular
+/// velocity and θ the rotation vector of the orientation exp(\[θ\]×)).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct CentreState {
     /// Velocity (m/s, rad/s).
@@ -66,7 +73,8 @@ pub struct HoldSamples {
     pub rate: f64,
     /// Samples per period of the (first) motion.
     pub samples_per_period: usize,
-    /// [a_x, a_y, a_z, α_x, α_y, α_z] per sample (m/s², rad/s²).
+    /// [a_x, a_y, a_z, α_x, α_y, α_z] per sample (m/s², rad/s²; α the
+    /// angular acceleration about the world axes).
     pub samples: Vec<[f64; 6]>,
     /// The state the plate must be in when the first sample starts.
     pub start: CentreState,
@@ -124,8 +132,19 @@ impl HoldSamples {
 
 /// Velocity and pose of the plate centre at time `t` (exact: the screw's
 /// rotation is not linearised; a six-signal motion's are its zero-mean
-/// antiderivatives).
+/// antiderivatives, its angular velocity the world ω = J(θ)θ′ of
+/// [`super::rotation`]).
 pub fn centre_state(motion: &Motion, t: f64) -> CentreState {
+    match motion {
+        Motion::Signals(_) | Motion::Ramped(_) => world_angular(signal_state(motion, t)),
+        m => signal_state(m, t),
+    }
+}
+
+/// [`centre_state`] but with a six-signal motion's angular velocity the
+/// rate θ′ of its rotation vector (the integral of its signals, which
+/// design limits), not the world ω; the same for the other motions.
+pub fn signal_state(motion: &Motion, t: f64) -> CentreState {
     match motion {
         Motion::Screw(s) => {
             let k = V3::from(s.axis).normalize();
@@ -148,6 +167,20 @@ pub fn centre_state(motion: &Motion, t: f64) -> CentreState {
         }
         Motion::Held(h) => h.centre_state_piece(t, t),
     }
+}
+
+/// `state` with its angular velocity θ′ replaced by the world angular
+/// velocity ω = J(θ)θ′ of the orientation exp(\[θ\]×).
+fn world_angular(mut state: CentreState) -> CentreState {
+    let v3 = |x: &[f64; 6]| V3::new(x[3], x[4], x[5]);
+    let (w, _) = rotation::world_rates(
+        &v3(&state.pose),
+        &v3(&state.velocity),
+        &V3::zeros(),
+        f64::sin_cos,
+    );
+    state.velocity[3..].copy_from_slice(w.as_slice());
+    state
 }
 
 /// Zero-mean antiderivatives of every term `A sin(nωt + φ)`:
@@ -255,8 +288,12 @@ pub fn ramped(motion: &Motion, rate: f64, ramp: u32, steady: u32) -> Result<Hold
                 (1.0, 0.0)
             };
             let t = (k % n) as f64 * dt;
-            let s = centre_state(motion, t);
-            std::array::from_fn(|i| dw / ramp_time * s.pose[i] + w * s.velocity[i])
+            let s = signal_state(motion, t);
+            world_angular(CentreState {
+                velocity: std::array::from_fn(|i| dw / ramp_time * s.pose[i] + w * s.velocity[i]),
+                pose: s.pose.map(|x| w * x),
+            })
+            .velocity
         })
         .collect();
     Ok(HoldSamples::from_velocities(
@@ -289,6 +326,27 @@ pub struct MotionSpan<'a> {
 /// of samples or that does not start and end at rest (names
 /// `segments[i]`).
 pub fn sequence(segments: &[MotionSpan<'_>], rate: f64) -> Result<HoldSamples> {
+    let (n, dt, states) = sequence_states(segments, rate)?;
+    let v: Vec<[f64; 6]> = states.iter().map(|s| s.velocity).collect();
+    Ok(HoldSamples::from_velocities(
+        &v,
+        dt,
+        n,
+        CentreState::default(),
+    ))
+}
+
+/// The plate-centre states at the sample times t_k = kΔt (k = 0 to the
+/// last sample's end) of [`sequence`]'s grid, with its samples per period
+/// N and Δt: the exact velocity and pose of each segment's motion at its
+/// own time, rest at home between.
+///
+/// # Errors
+/// As [`sequence`].
+pub fn sequence_states(
+    segments: &[MotionSpan<'_>],
+    rate: f64,
+) -> Result<(usize, f64, Vec<CentreState>)> {
     // The sample grid of the first motion; a rest-only sequence is held at
     // `rate` itself (all samples zero).
     let (n, dt) = match segments.iter().find_map(|s| s.motion) {
@@ -298,7 +356,7 @@ pub fn sequence(segments: &[MotionSpan<'_>], rate: f64) -> Result<HoldSamples> {
             (1, 1.0 / rate)
         }
     };
-    let mut v: Vec<[f64; 6]> = vec![[0.0; 6]];
+    let mut v: Vec<CentreState> = vec![CentreState::default()];
     for (i, seg) in segments.iter().enumerate() {
         // A rest of 0 s (which a schedule may hold) is no rest.
         if seg.motion.is_none() && seg.duration == 0.0 {
@@ -307,7 +365,7 @@ pub fn sequence(segments: &[MotionSpan<'_>], rate: f64) -> Result<HoldSamples> {
         positive(&format!("segments[{i}].duration_s"), seg.duration)?;
         let k = (seg.duration / dt).round().max(1.0) as usize;
         let Some(m) = seg.motion else {
-            v.extend(std::iter::repeat_n([0.0; 6], k));
+            v.extend(std::iter::repeat_n(CentreState::default(), k));
             continue;
         };
         if (k as f64 * dt - seg.duration).abs() > 1e-9 * dt {
@@ -339,7 +397,7 @@ pub fn sequence(segments: &[MotionSpan<'_>], rate: f64) -> Result<HoldSamples> {
                 ));
             }
         }
-        v.extend((1..=k).map(|j| centre_state(m, j as f64 * dt).velocity));
+        v.extend((1..=k).map(|j| centre_state(m, j as f64 * dt)));
         if v.len() > MAX_SAMPLES {
             return Err(Error::invalid(
                 "--rate",
@@ -347,31 +405,35 @@ pub fn sequence(segments: &[MotionSpan<'_>], rate: f64) -> Result<HoldSamples> {
             ));
         }
     }
-    Ok(HoldSamples::from_velocities(
-        &v,
-        dt,
-        n,
-        CentreState::default(),
-    ))
+    Ok((n, dt, v))
 }
 
 /// The controller: holds each sample for Δt, looping the file `loops`
 /// times from `start`, and returns the state at the end of each loop
-/// (x ← x + v Δt + a Δt²/2, v ← v + a Δt, per axis; the rotation vector is
-/// integrated like the translation, the small-angle model of
-/// [`crate::motion::Signals`]).
+/// (x ← x + v Δt + a Δt²/2, v ← v + a Δt per linear axis; the angular
+/// samples composed as a rotation, [`super::Held`]).
+///
+/// ```
+/// use platefield::motion::sample_hold::{play, CentreState, HoldSamples};
+///
+/// let file = HoldSamples { dt: 0.1, rate: 10.0, samples_per_period: 2,
+///     samples: vec![[1.0, 0.0, 0.0, 0.0, 0.0, 2.0], [-1.0, 0.0, 0.0, 0.0, 0.0, -2.0]],
+///     start: CentreState::default() };
+/// let ends = play(&file, CentreState::default(), 2);
+/// assert!((ends[1].pose[0] - 0.02).abs() < 1e-15 && (ends[1].pose[5] - 0.04).abs() < 1e-15);
+/// ```
 pub fn play(samples: &HoldSamples, start: CentreState, loops: usize) -> Vec<CentreState> {
-    let dt = samples.dt;
-    let mut s = start;
     let mut ends = Vec::with_capacity(loops);
+    let mut state = start;
     for _ in 0..loops {
-        for a in &samples.samples {
-            for ((x, v), a) in s.pose.iter_mut().zip(&mut s.velocity).zip(a) {
-                *x += *v * dt + 0.5 * a * dt * dt;
-                *v += a * dt;
-            }
-        }
-        ends.push(s);
+        let Ok(held) = super::Held::new(&HoldSamples {
+            start: state,
+            ..samples.clone()
+        }) else {
+            break;
+        };
+        state = held.state_at(held.len());
+        ends.push(state);
     }
     ends
 }

@@ -1,18 +1,22 @@
-//! General periodic 6-DOF motion, the form in which shaker controllers are
-//! commanded: six plate-centre signals, each a sum of sinusoids
-//! `A sin(n·2πt/T + φ)`: translational acceleration p''(t) along the world
-//! x, y, z axes (m/s²) and angular acceleration about them (rad/s²).
+//! General periodic 6-DOF motion: six plate-centre signals, each a sum of
+//! sinusoids `A sin(n·2πt/T + φ)`: translational acceleration p''(t) along
+//! the world x, y, z axes (m/s²), and the second derivative θ''(t) of the
+//! plate's rotation vector θ (rad/s²), R = exp(\[θ\]×).
 //!
-//! Velocities and poses are the zero-mean antiderivatives. Orientation is
-//! R(t) = exp([θ(t)]×) with θ the zero-mean second antiderivative of the
-//! angular acceleration: exact to first order in the (small) amplitude, which
-//! is the regime of vibratory plates (rotations of milliradians). In the
-//! plate frame: Ω = Rᵀω, Ω' = Rᵀω', c = 0, v_c = Rᵀp', a_c = Rᵀp'',
-//! g_S = Rᵀ(0,0,−g); with the tilt switch off, R = I.
+//! Velocities and poses are the zero-mean antiderivatives: p, p' and θ, θ'
+//! are periodic. The plate's physical angular velocity and acceleration
+//! follow from θ exactly ([`super::rotation`]): ω = J(θ)θ' and α = ω' in
+//! world axes, equal to θ' and θ'' to first order in the (small) rotation
+//! and exactly when the plate turns about one fixed axis. An export writes
+//! those world-frame ω' (`crate::schedule::export`), so a controller that
+//! composes them as rotations plays the orientation exp(\[θ\]×). In the
+//! plate frame: Ω = Rᵀω, Ω' = Rᵀα, c = 0, v_c = Rᵀp', a_c = Rᵀp'',
+//! g_S = Rᵀ(0,0,−g). With the tilt switch off (the small-angle model)
+//! R = I and Ω = θ', Ω' = θ''.
 
 use serde::{Deserialize, Serialize};
 
-use super::{rotate_sc, FourierTerm, Invariance, Kinematics, Waveform, V3};
+use super::{rotate_sc, rotation, FourierTerm, Invariance, Kinematics, Waveform, V3};
 use crate::error::{positive, Result};
 
 /// Three Fourier-series signals about/along the world x, y and z axes.
@@ -70,7 +74,10 @@ pub struct Signals {
     /// Translational acceleration of the plate centre (m/s²), world axes.
     #[serde(default)]
     pub linear: Axes,
-    /// Angular acceleration about the world axes (rad/s²), right-handed.
+    /// Second time derivative θ'' of the plate's rotation vector θ
+    /// (rad/s², world axes, right-handed; R = exp(\[θ\]×)): to first order
+    /// in the rotation, the angular acceleration about the world axes (see
+    /// the module documentation for the exact one).
     #[serde(default)]
     pub angular: Axes,
 }
@@ -101,6 +108,22 @@ impl Signals {
         }
     }
 
+    /// The highest harmonic of any signal (1 when there is none).
+    ///
+    /// ```
+    /// use platefield::motion::Signals;
+    /// assert_eq!(Signals::example().highest_harmonic(), 2);
+    /// ```
+    pub fn highest_harmonic(&self) -> u32 {
+        [&self.linear, &self.angular]
+            .iter()
+            .flat_map(|a| [&a.x, &a.y, &a.z])
+            .flat_map(|terms| terms.iter().map(|t| t.harmonic))
+            .max()
+            .unwrap_or(1)
+            .max(1)
+    }
+
     /// Kinematics at time `t`.
     #[inline]
     pub fn kinematics(&self, t: f64, g: f64, tilt: bool) -> Kinematics {
@@ -118,8 +141,10 @@ impl Signals {
         )
     }
 
-    /// Plate-frame kinematics from the world-frame centre triples (module
-    /// docs: R = exp(\[θ\]×), quantities rotated back by Rᵀ when `tilt`).
+    /// Plate-frame kinematics from the world-frame centre triples (p, p',
+    /// p'') and (θ, θ', θ'') (module docs: R = exp(\[θ\]×), ω and α from
+    /// θ exactly and every vector rotated back by Rᵀ when `tilt`; Ω = θ',
+    /// Ω' = θ'' and R = I when not).
     #[inline]
     pub fn frame(lin: &[V3; 3], ang: &[V3; 3], g: f64, tilt: bool) -> Kinematics {
         Signals::frame_with(lin, ang, g, tilt, f64::sin_cos)
@@ -136,17 +161,27 @@ impl Signals {
         sin_cos: impl Fn(f64) -> (f64, f64),
     ) -> Kinematics {
         let [_, v, a] = lin;
-        let [theta, w, dw] = ang;
+        let [theta, dtheta, ddtheta] = ang;
         let down = V3::new(0.0, 0.0, -g);
         let angle = theta.norm();
-        let turn = (tilt && angle > 0.0).then(|| (theta / angle, sin_cos(-angle)));
-        let back = |x: V3| match &turn {
-            Some((axis, sc)) => rotate_sc(&x, axis, *sc),
-            None => x,
-        };
+        if !tilt || angle == 0.0 {
+            // The small-angle model (or no rotation): Ω = θ′, Ω′ = θ″.
+            return Kinematics {
+                omega: *dtheta,
+                alpha: *ddtheta,
+                center: V3::zeros(),
+                vel_center: *v,
+                accel_center: *a,
+                gravity: down,
+            };
+        }
+        let (s, c) = sin_cos(angle);
+        let (w, dw) = rotation::world_rates(theta, dtheta, ddtheta, |_| (s, c));
+        let axis = theta / angle;
+        let back = |x: V3| rotate_sc(&x, &axis, (-s, c));
         Kinematics {
-            omega: back(*w),
-            alpha: back(*dw),
+            omega: back(w),
+            alpha: back(dw),
             center: V3::zeros(),
             vel_center: back(*v),
             accel_center: back(*a),

@@ -3,18 +3,28 @@
 //! A and phase φ of each harmonic n in c(t) = A·sin(nωt + φ), ω = 2π/T.
 //!
 //! Only a schedule of one steady six-signal motion (a synthesized design)
-//! is a finite sum of harmonics; a sequence of primitives is not (its
+//! is a sum of harmonics; a sequence of primitives is not (its
 //! rest-to-rest screws are played one after the other, and their exact
 //! rotation is not a sum of a few sines), so it is refused, naming
-//! `--format`, and exported as CSV samples instead. A channel's terms of
-//! one harmonic are written as one term, their phasors A·e^{iφ} summed; a
-//! single term is written as it is in the schedule (a negative amplitude
-//! as |A| with φ + π), so the motion's own terms come back exactly.
+//! `--format`, and exported as CSV samples instead.
+//!
+//! The channels are the export's (`super::FRAME`): the linear ones are the
+//! schedule's own terms; a channel's terms of one harmonic are written as
+//! one term, their phasors A·e^{iφ} summed; a single term is written as it
+//! is in the schedule (a negative amplitude as |A| with φ + π), so the
+//! motion's own terms come back exactly. The angular ones are the plate's
+//! world-frame angular acceleration α = ω′ of the orientation exp(\[θ\]×)
+//! ([`crate::motion::rotation`]): the schedule's own terms (θ″) when the
+//! motion turns about one axis only (then α = θ″ exactly); otherwise α
+//! holds, besides θ″, terms second order in the tilt angles at other
+//! harmonics (and on the third axis), taken from a discrete Fourier
+//! transform of α over [`DFT_POINTS`] × the highest harmonic points per
+//! cycle, terms below [`DFT_FLOOR`] of the largest angular peak left out.
 
 use std::fmt::Write as _;
 
 use super::peaks::KinematicPeaks;
-use super::{Schedule, CHANNELS, FRAME};
+use super::{steady_signals, world_acceleration, Schedule, CHANNELS, FRAME};
 use crate::error::{Error, Result};
 use crate::motion::{FourierTerm, Motion, Signals};
 
@@ -49,21 +59,57 @@ pub struct Harmonics {
 /// motion (names `--format`).
 pub fn harmonics(schedule: &Schedule) -> Result<Harmonics> {
     schedule.validate()?;
-    let moving: Vec<_> = schedule.segments.iter().filter(|s| s.is_moving()).collect();
-    let signals = match moving.as_slice() {
-        [s] if s.ramp_cycles.is_none() => s.motion.as_ref(),
-        _ => None,
-    };
-    let Some(signals) = signals else {
+    let Some(signals) = steady_signals(schedule) else {
+        let moving = schedule.segments.iter().filter(|s| s.is_moving()).count();
         return Err(Error::invalid(
             "--format",
             format!(
-                "harmonics needs a schedule of one steady six-signal motion (a synthesized design); this one has {} moving segment(s) of primitives or ramped motions, which are not a sum of harmonics: export it with --format csv",
-                moving.len()
+                "harmonics needs a schedule of one steady six-signal motion (a synthesized design); this one has {moving} moving segment(s) of primitives or ramped motions, which are not a sum of harmonics: export it with --format csv"
             ),
         ));
     };
     Ok(of_signals(signals))
+}
+
+/// Points per cycle and per harmonic of the motion on which the angular
+/// channels' transform is taken.
+pub const DFT_POINTS: usize = 128;
+/// Angular terms below this fraction of the largest angular acceleration
+/// peak are left out.
+pub const DFT_FLOOR: f64 = 1e-12;
+
+/// The world angular acceleration's terms per angular channel (3, 4, 5),
+/// from a discrete Fourier transform over one period (module docs).
+fn angular_terms(signals: &Signals) -> Vec<Term> {
+    let motion = Motion::Signals(signals.clone());
+    let n = DFT_POINTS * signals.highest_harmonic() as usize;
+    let tau = std::f64::consts::TAU;
+    let alpha: Vec<[f64; 3]> = (0..n)
+        .map(|k| {
+            let a = world_acceleration(&motion, signals.period * k as f64 / n as f64).1;
+            [a.x, a.y, a.z]
+        })
+        .collect();
+    let peak = alpha.iter().flatten().fold(0.0_f64, |m, a| m.max(a.abs()));
+    let mut terms = Vec::new();
+    for axis in 0..3 {
+        for h in 1..=n / 4 {
+            let (a, b) = alpha.iter().enumerate().fold((0.0, 0.0), |(a, b), (k, v)| {
+                let (sn, cs) = (tau * (h * k) as f64 / n as f64).sin_cos();
+                (a + v[axis] * cs, b + v[axis] * sn)
+            });
+            let (a, b) = (2.0 * a / n as f64, 2.0 * b / n as f64);
+            if a.hypot(b) > DFT_FLOOR * peak {
+                terms.push(Term {
+                    channel: 3 + axis,
+                    harmonic: h as u32,
+                    amplitude: a.hypot(b),
+                    phase: a.atan2(b),
+                });
+            }
+        }
+    }
+    terms
 }
 
 /// The harmonics of a six-signal motion (see the module documentation).
@@ -76,8 +122,14 @@ pub fn of_signals(signals: &Signals) -> Harmonics {
         &signals.angular.y,
         &signals.angular.z,
     ];
+    // One axis turning (or none): α = θ″ exactly, the schedule's terms.
+    let turning = channels[3..]
+        .iter()
+        .filter(|l| l.iter().any(|t| t.amplitude != 0.0))
+        .count();
+    let own = if turning <= 1 { 6 } else { 3 };
     let mut terms = Vec::new();
-    for (channel, list) in channels.into_iter().enumerate() {
+    for (channel, list) in channels.into_iter().enumerate().take(own) {
         let mut ns: Vec<u32> = list.iter().map(|t| t.harmonic).collect();
         ns.sort_unstable();
         ns.dedup();
@@ -92,11 +144,16 @@ pub fn of_signals(signals: &Signals) -> Harmonics {
             });
         }
     }
-    let highest = terms.iter().map(|t| t.harmonic).max().unwrap_or(1);
+    if own == 3 {
+        terms.extend(angular_terms(signals));
+    }
     Harmonics {
         period: signals.period,
         terms,
-        peaks: KinematicPeaks::of_motion(&Motion::Signals(signals.clone()), highest),
+        peaks: KinematicPeaks::of_plate(
+            &Motion::Signals(signals.clone()),
+            signals.highest_harmonic(),
+        ),
     }
 }
 

@@ -32,11 +32,13 @@
 
 pub mod harmonics;
 pub mod peaks;
+pub mod pose;
+pub mod response;
 
 use super::Schedule;
 use crate::error::{positive, Error, Result};
 use crate::input::num;
-use crate::motion::{rotate, sample_hold, Motion, V3};
+use crate::motion::{rotate, rotation, sample_hold, Motion, Signals, V3};
 use crate::request::ShakerSpec;
 
 pub use sample_hold::DEFAULT_STEADY_CYCLES;
@@ -54,7 +56,7 @@ pub(crate) const CHANNELS: [&str; 6] = [
 
 /// The frame and reference point of every exported signal, as the export
 /// headers state them.
-pub(crate) const FRAME: &str = "frame: world axes, x and y horizontal in the plate's rest plane, z up (right-handed), angular channels about the same axes; reference point: the plate centre (the plate frame's origin, where the target grid's (0, 0) is); linear in m/s², angular in rad/s²";
+pub(crate) const FRAME: &str = "frame: world axes, x and y horizontal in the plate's rest plane, z up (right-handed); reference point: the plate centre (the plate frame's origin, where the target grid's (0, 0) is); linear channels: the centre's acceleration in m/s²; angular channels: the plate's angular acceleration α = dω/dt about the world axes in rad/s², ω the angular velocity in dR/dt = [ω]× R: integrate α to ω and compose the rotation (not each angle on its own), and the plate takes the design's orientation R = exp([θ]×), θ its rotation vector (body axes: Rᵀω, Rᵀα; docs/shaker.md gives the other readings)";
 
 /// Ramp length (cycles of the motion) of a six-signal export, in and out.
 pub const RAMP_CYCLES: u32 = sample_hold::DEFAULT_RAMP_CYCLES;
@@ -123,10 +125,18 @@ impl Export {
             Some(_) => " (the ramp's pose envelope w(t) adds 2ẇẋ + ẅx to the steady acceleration; the steady cycles are what the design kept within the limit)",
             None => "",
         };
+        // A rotation's second-order part: tilts about two axes, composed
+        // exactly, turn the plate about the third.
+        let coning = " (the exact rotation: tilts about two axes turn the plate about the third at second order in their angles, which the design's signals leave at 0; docs/shaker.md)";
         self.peaks()
             .excesses(limits)
             .iter()
             .map(|e| {
+                let why = if e.limit == 0.0 && e.axis.starts_with("angular") {
+                    coning
+                } else {
+                    why
+                };
                 format!(
                     "over the shaker limit: {} peaks at {:.6e} {} against {:.6e} (+{:.3} %){why}",
                     e.axis,
@@ -325,7 +335,10 @@ fn check_size(schedule: &Schedule, ramped: Option<&Motion>, rate: f64, steady: u
     ))
 }
 
-/// Plate-centre (linear, angular) acceleration of `motion` at time `t`.
+/// Plate-centre (linear, angular) acceleration of `motion`'s signals at
+/// time `t`, world axes: for a six-signal motion the angular one is θ″, the
+/// rotation vector's, which design limits ([`world_acceleration`] is the
+/// plate's, which exports write).
 pub fn centre_acceleration(motion: &Motion, t: f64) -> (V3, V3) {
     match motion {
         Motion::Screw(s) => {
@@ -340,6 +353,34 @@ pub fn centre_acceleration(motion: &Motion, t: f64) -> (V3, V3) {
         Motion::Signals(_) | Motion::Ramped(_) | Motion::Held(_) => {
             let kin = motion.kinematics(t, 0.0, false);
             (kin.accel_center, kin.alpha)
+        }
+    }
+}
+
+/// Plate-centre (linear, angular) acceleration of `motion` at time `t`,
+/// world axes, the angular one the plate's α = ω′ ([`crate::motion::rotation`]):
+/// what the export's channels hold.
+///
+/// ```
+/// use platefield::motion::{Motion, Signals};
+/// use platefield::schedule::export::{centre_acceleration, world_acceleration};
+///
+/// let m = Motion::Signals(Signals::example());
+/// let ((l, a), (wl, wa)) = (centre_acceleration(&m, 0.01), world_acceleration(&m, 0.01));
+/// assert!((l - wl).norm() < 1e-12);
+/// // Two tilts: α differs from θ″ at second order in the tilt angles.
+/// assert!((a - wa).norm() > 0.0 && (a - wa).norm() < 1e-3 * a.norm());
+/// ```
+pub fn world_acceleration(motion: &Motion, t: f64) -> (V3, V3) {
+    match motion {
+        Motion::Screw(_) => centre_acceleration(motion, t),
+        Motion::Signals(_) | Motion::Ramped(_) | Motion::Held(_) => {
+            // The plate-frame kinematics turned back to the world axes by
+            // the orientation exp([θ]×).
+            let kin = motion.kinematics(t, 0.0, true);
+            let pose = sample_hold::centre_state(motion, t).pose;
+            let turn = rotation::orientation(&V3::new(pose[3], pose[4], pose[5]));
+            (turn * kin.accel_center, turn * kin.alpha)
         }
     }
 }
@@ -405,15 +446,39 @@ fn sequence_samples(schedule: &Schedule, rate: f64) -> Result<sample_hold::HoldS
             ),
         ));
     }
-    let motions: Vec<Option<Motion>> = schedule.segments.iter().map(|s| s.plate_motion()).collect();
-    let segments: Vec<sample_hold::MotionSpan<'_>> = schedule
+    let motions = segment_motions(schedule);
+    sample_hold::sequence(&spans(schedule, &motions), rate)
+}
+
+/// The plate motion of every segment of `schedule` (`None`: rest).
+pub(crate) fn segment_motions(schedule: &Schedule) -> Vec<Option<Motion>> {
+    schedule.segments.iter().map(|s| s.plate_motion()).collect()
+}
+
+/// The segments of `schedule` as spans of their `motions`
+/// ([`segment_motions`]).
+pub(crate) fn spans<'a>(
+    schedule: &Schedule,
+    motions: &'a [Option<Motion>],
+) -> Vec<sample_hold::MotionSpan<'a>> {
+    schedule
         .segments
         .iter()
-        .zip(&motions)
+        .zip(motions)
         .map(|(s, m)| sample_hold::MotionSpan {
             motion: m.as_ref(),
             duration: s.duration_s,
         })
-        .collect();
-    sample_hold::sequence(&segments, rate)
+        .collect()
+}
+
+/// The one steady six-signal motion of a validated `schedule` (a
+/// synthesized design), if that is what it holds: a single moving segment
+/// without `ramp_cycles`.
+pub(crate) fn steady_signals(schedule: &Schedule) -> Option<&Signals> {
+    let mut moving = schedule.segments.iter().filter(|s| s.is_moving());
+    match (moving.next(), moving.next()) {
+        (Some(s), None) if s.ramp_cycles.is_none() => s.motion.as_ref(),
+        _ => None,
+    }
 }

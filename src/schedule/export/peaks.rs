@@ -8,8 +8,11 @@
 //! home), as the controller plays them: over a hold of Δt with constant a,
 //! v(τ) = v₀ + aτ and x(τ) = x₀ + v₀τ + aτ²/2, so |v| peaks at a hold's
 //! ends and |x| at its ends or at the turning point τ* = −v₀/a inside it.
-//! The rotation vector is integrated like the translation (the small-angle
-//! model of [`crate::motion::Signals`]; exact for a rotation about one
+//! The angular samples are composed as a rotation ([`crate::motion::Held`])
+//! and the angular stroke is the peak |component| of the orientation's
+//! rotation vector, taken at the hold ends and where the component of ω
+//! changes sign inside a hold (where that component of the rotation vector
+//! turns, to first order in the rotation: exact for a rotation about one
 //! fixed axis, as a screw primitive's).
 //!
 //! **Steady six-signal motion** ([`KinematicPeaks::of_motion`]): each term
@@ -21,8 +24,8 @@
 
 use std::fmt::Write as _;
 
-use crate::motion::sample_hold::{centre_state, HoldSamples};
-use crate::motion::Motion;
+use crate::motion::sample_hold::{centre_state, signal_state, CentreState, HoldSamples};
+use crate::motion::{Held, Motion};
 use crate::request::ShakerSpec;
 
 /// Names of the six signals in order, as JSON paths in a `signals` motion.
@@ -78,40 +81,61 @@ impl KinematicPeaks {
     pub fn of_held(samples: &HoldSamples) -> KinematicPeaks {
         let dt = samples.dt;
         let mut p = KinematicPeaks::default();
-        let (mut x, mut v) = (samples.start.pose, samples.start.velocity);
+        let Ok(held) = Held::new(samples) else {
+            return p;
+        };
+        let start = held.state_at(0);
         for i in 0..6 {
-            p.velocity[i] = v[i].abs();
-            p.stroke[i] = x[i].abs();
+            p.velocity[i] = start.velocity[i].abs();
+            p.stroke[i] = start.pose[i].abs();
         }
-        for a in &samples.samples {
+        for (k, a) in samples.samples.iter().enumerate() {
+            let (s, end) = (held.state_at(k), held.state_at(k + 1));
+            let t0 = k as f64 * dt;
             for i in 0..6 {
                 p.acceleration[i] = p.acceleration[i].max(a[i].abs());
                 if a[i] != 0.0 {
-                    let turn = -v[i] / a[i];
+                    let turn = -s.velocity[i] / a[i];
                     if turn > 0.0 && turn < dt {
-                        let xt = x[i] + v[i] * turn + 0.5 * a[i] * turn * turn;
+                        let xt = held.centre_state_piece(t0 + turn, t0).pose[i];
                         p.stroke[i] = p.stroke[i].max(xt.abs());
                     }
                 }
-                x[i] += v[i] * dt + 0.5 * a[i] * dt * dt;
-                v[i] += a[i] * dt;
-                p.velocity[i] = p.velocity[i].max(v[i].abs());
-                p.stroke[i] = p.stroke[i].max(x[i].abs());
+                p.velocity[i] = p.velocity[i].max(end.velocity[i].abs());
+                p.stroke[i] = p.stroke[i].max(end.pose[i].abs());
             }
         }
         p
     }
 
-    /// The peaks of a steady motion over one period (see the module
-    /// documentation), sampled at `super::PEAK_SAMPLES` × `highest`
-    /// points with `highest` its highest harmonic.
+    /// The peaks of a steady motion's signals over one period (see the
+    /// module documentation), sampled at `super::PEAK_SAMPLES` × `highest`
+    /// points with `highest` its highest harmonic: a six-signal motion's
+    /// angular ones are those of its rotation vector θ and its rates θ′, θ″,
+    /// which design limits ([`KinematicPeaks::of_plate`] gives the plate's).
     pub fn of_motion(motion: &Motion, highest: u32) -> KinematicPeaks {
+        Self::sampled(motion, highest, signal_state, super::centre_acceleration)
+    }
+
+    /// [`KinematicPeaks::of_motion`] with the plate's world angular
+    /// velocity and acceleration (the exported channels) in place of θ′
+    /// and θ″.
+    pub fn of_plate(motion: &Motion, highest: u32) -> KinematicPeaks {
+        Self::sampled(motion, highest, centre_state, super::world_acceleration)
+    }
+
+    fn sampled(
+        motion: &Motion,
+        highest: u32,
+        state: fn(&Motion, f64) -> CentreState,
+        acceleration: fn(&Motion, f64) -> (crate::motion::V3, crate::motion::V3),
+    ) -> KinematicPeaks {
         let n = super::PEAK_SAMPLES * highest.max(1) as usize;
         let mut p = KinematicPeaks::default();
         for k in 0..n {
             let t = motion.period() * k as f64 / n as f64;
-            let s = centre_state(motion, t);
-            let (lin, ang) = super::centre_acceleration(motion, t);
+            let s = state(motion, t);
+            let (lin, ang) = acceleration(motion, t);
             let a = [lin.x, lin.y, lin.z, ang.x, ang.y, ang.z];
             for (i, ai) in a.iter().enumerate() {
                 p.acceleration[i] = p.acceleration[i].max(ai.abs());
@@ -123,8 +147,10 @@ impl KinematicPeaks {
     }
 
     /// Every peak above `limits` by more than a relative 1e-9, in the order
-    /// acceleration, velocity, stroke and axis. A key `limits` leaves out is
-    /// not checked.
+    /// acceleration, velocity, stroke and axis; against a limit of 0, a peak
+    /// above 1e-12 of the largest linear or angular peak of its quantity
+    /// (below that it is round-off). A key `limits` leaves out is not
+    /// checked.
     ///
     /// ```
     /// use platefield::request::{ShakerSpec, TravelSpec};
@@ -168,9 +194,13 @@ impl KinematicPeaks {
         ];
         let mut out = Vec::new();
         for (what, peaks, limit, units) in checks {
+            let floor = |k: usize| {
+                let group = if k < 3 { &peaks[..3] } else { &peaks[3..] };
+                1e-12 * group.iter().fold(0.0_f64, |m, p| m.max(*p))
+            };
             for k in 0..6 {
                 match limit[k] {
-                    Some(l) if peaks[k] > l * (1.0 + 1e-9) => out.push(Excess {
+                    Some(l) if peaks[k] > (l * (1.0 + 1e-9)).max(floor(k)) => out.push(Excess {
                         axis: format!("{}{what}", AXIS_NAMES[k]),
                         peak: peaks[k],
                         limit: l,
