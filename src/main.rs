@@ -374,6 +374,7 @@ fn run(cli: Cli) -> Result<String> {
 }
 
 fn main() -> ExitCode {
+    platefield::output::remove_stages_on_interrupt();
     match run(Cli::parse()) {
         Ok(summary) => print_summary(&summary),
         Err(e) => {

@@ -1,9 +1,7 @@
 //! Low-level SVG helpers: number formatting, escaping, atomic writes.
 
 use std::fmt::Write as _;
-use std::io::Write as _;
 use std::path::Path;
-use std::sync::atomic::{AtomicU64, Ordering};
 
 /// Decimals used for every coordinate and length written to SVG.
 pub const COORD_DECIMALS: usize = 2;
@@ -195,39 +193,11 @@ pub(crate) fn path_data(points: impl IntoIterator<Item = Option<[f64; 2]>>) -> S
     d
 }
 
-static TEMP_COUNTER: AtomicU64 = AtomicU64::new(0);
-
-/// Writes `contents` to `path` atomically: the data goes to a temporary file
-/// in the same directory, is flushed to disk, and is then renamed over
-/// `path`, so readers see either the old or the complete new file.
+/// Writes `contents` to `path` atomically: see
+/// [`crate::output::replace_file`] (a temporary file renamed over a
+/// regular file; devices and FIFOs written directly; links followed).
 pub fn write_atomic(path: &Path, contents: &[u8]) -> std::io::Result<()> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => std::path::PathBuf::from("."),
-    };
-    let file_name = path.file_name().ok_or_else(|| {
-        std::io::Error::new(
-            std::io::ErrorKind::InvalidInput,
-            format!("{}: not a file path", path.display()),
-        )
-    })?;
-    let tmp = dir.join(format!(
-        ".{}.tmp.{}.{}",
-        file_name.to_string_lossy(),
-        std::process::id(),
-        TEMP_COUNTER.fetch_add(1, Ordering::Relaxed)
-    ));
-    let result = (|| {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(contents)?;
-        f.sync_all()?;
-        drop(f);
-        std::fs::rename(&tmp, path)
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result
+    crate::output::replace_file(path, contents)
 }
 
 #[cfg(test)]
