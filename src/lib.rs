@@ -133,6 +133,7 @@ pub(crate) mod error;
 pub mod field;
 pub mod fit;
 pub mod input;
+pub(crate) mod linalg;
 pub mod motion;
 pub mod output;
 pub mod part;

@@ -319,3 +319,269 @@ fn long_target_names_are_refused_by_name() {
     assert!(out.join("n".repeat(205)).join("schedule.json").is_file());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The CSV `export` writes for `schedule`, with every acceleration of every
+/// row replaced by `value` (times and comments kept).
+fn export_with_accelerations(schedule: &str, value: &str) -> String {
+    let (code, csv, err) = platefield(&["export", schedule]);
+    assert_eq!(code, 0, "{err}");
+    csv.lines()
+        .map(|l| {
+            if l.starts_with('#') || l.starts_with("t_s") {
+                return format!("{l}\n");
+            }
+            let t = l.split(',').next().unwrap();
+            format!("{t},{}\n", [value; 6].join(","))
+        })
+        .collect()
+}
+
+/// Item 5: `verify --replay` of a file whose accelerations are all 1e300
+/// (or 1e100) m/s² is refused at once, naming the file's line and column
+/// and the bound 1e4 m/s², exit 2. Before, it ran for more than 300 s
+/// inside an SVD that never converges on the non-finite played field.
+#[test]
+fn replay_of_non_physical_accelerations_is_refused_at_once() {
+    let dir = temp_dir("huge");
+    let schedule = "results/sink/schedule.json";
+    for value in ["1e300", "1e100", "2e4"] {
+        let csv = dir.join(format!("{value}.csv"));
+        std::fs::write(&csv, export_with_accelerations(schedule, value)).unwrap();
+        let start = Instant::now();
+        let (code, _, err) = platefield(&[
+            "verify",
+            schedule,
+            "--replay",
+            csv.to_str().unwrap(),
+            "--out",
+            dir.join("out").to_str().unwrap(),
+        ]);
+        assert_eq!(code, 2, "{value}: {err}");
+        assert!(
+            err.contains(&format!("{} line ", csv.display()))
+                && err.contains("column 2 (ax_m_s2)")
+                && err.contains("is not a physical plate acceleration: at most 1e4 m/s²"),
+            "{value}: {err}"
+        );
+        assert!(start.elapsed() < Duration::from_secs(30), "{value}");
+        assert!(!dir.join("out").exists());
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A small sink target (5 × 5 points) with `friction` (a JSON value).
+fn sink_with_friction(dir: &Path, file: &str, friction: serde_json::Value) -> String {
+    let t = serde_json::json!({
+        "name": "sink",
+        "grid": {"x": [-0.04, 0.04], "y": [-0.04, 0.04], "n": [5, 5]},
+        "field": {"kind": "sink", "center": [0.0, 0.0], "strength": 1.0},
+        "friction": friction,
+    });
+    let path = dir.join(file);
+    std::fs::write(&path, t.to_string()).unwrap();
+    path.to_str().unwrap().to_string()
+}
+
+/// Item 9: μ_k = 0, −0.0 or 1e-300 in a target, or `verify --friction 0`,
+/// is refused before any work, naming the key and saying that parts on a
+/// frictionless plate cannot be driven (exit 2, nothing written). Before,
+/// the design ran to a 150 s all-rest schedule and verify blamed lost
+/// contact.
+#[test]
+fn a_frictionless_plate_is_refused_naming_the_key() {
+    let dir = temp_dir("mu0");
+    let out = dir.join("out");
+    for (friction, key, shown) in [
+        (
+            serde_json::json!(0.0),
+            "target.friction",
+            "μ_k = 0 is a frictionless plate",
+        ),
+        (
+            serde_json::json!(-0.0),
+            "target.friction",
+            "μ_k = 0 is a frictionless plate",
+        ),
+        (
+            serde_json::json!(1e-300),
+            "target.friction",
+            "μ_k = 1e-300 is in effect a frictionless plate",
+        ),
+        (
+            serde_json::json!([0.0, 0.4]),
+            "target.friction[0]",
+            "μ_k = 0 is a frictionless plate",
+        ),
+        (
+            serde_json::json!({"static": 0.3, "kinetic": 0.0}),
+            "target.friction.kinetic",
+            "μ_k = 0 is a frictionless plate",
+        ),
+    ] {
+        let target = sink_with_friction(&dir, "t.json", friction.clone());
+        let (code, _, err) = platefield(&design_args(&target, out.to_str().unwrap()));
+        assert_eq!(code, 2, "{friction}: {err}");
+        assert!(
+            err.contains(&format!("{key}: {shown}: parts on it cannot be driven")),
+            "{friction}: {err}"
+        );
+        assert!(!out.exists());
+    }
+    for friction in ["0", "-0.0", "0:0.4:3"] {
+        let (code, _, err) = platefield(&[
+            "verify",
+            "results/sink/schedule.json",
+            "--friction",
+            friction,
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 2, "{friction}: {err}");
+        assert!(
+            err.contains("--friction") && err.contains("parts on it cannot be driven"),
+            "{friction}: {err}"
+        );
+        assert!(!out.exists());
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Item 10: the shipped sink target at μ = 2 (the documented maximum) with
+/// `--method sequence` is designed. Before, its fit was refused with "kkt
+/// residual 2.165e-6 exceeds tolerance 1e-6": the complementarity sum was
+/// absolute while the answer combines fields whose total size is many
+/// times the target's (the parts mostly stick at μ 2); it is now relative
+/// to that scale, and the independent NNLS optimum still bounds the
+/// answer's error. The design reports what μ 2 allows: a POOR, weak sink.
+#[test]
+#[ignore = "about 40 s of CPU: cargo test --release --test edges -- --ignored mu_2"]
+fn mu_2_with_sequence_is_certified_relative_to_the_problem_scale() {
+    let dir = temp_dir("mu2");
+    let mut t: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string("targets/sink.json").unwrap()).unwrap();
+    t["friction"] = serde_json::json!(2.0);
+    let target = dir.join("mu2.json");
+    std::fs::write(&target, t.to_string()).unwrap();
+    let out = dir.join("out");
+    let (code, stdout, err) = platefield(&[
+        "design",
+        target.to_str().unwrap(),
+        "--method",
+        "sequence",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(stdout.contains("POOR"), "{stdout}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Item 11: `verify --replay` of another schedule's export (the same
+/// layout: the sink's schedule with its y harmonic turned by half a turn)
+/// is refused first, naming the file and both fingerprints, exit 2.
+/// Before: exit 0 and "strength differs by 78.08 %".
+#[test]
+fn replay_of_another_schedules_export_is_refused_by_its_fingerprint() {
+    let dir = temp_dir("other");
+    let schedule = "results/sink/schedule.json";
+    let mut other: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(schedule).unwrap()).unwrap();
+    other["segments"][0]["motion"]["linear"]["y"][0]["phase"] = serde_json::json!(3.14159);
+    let other_path = dir.join("other.json");
+    std::fs::write(&other_path, other.to_string()).unwrap();
+    let csv = dir.join("other.csv");
+    let (code, _, err) = platefield(&[
+        "export",
+        other_path.to_str().unwrap(),
+        "--rate",
+        "2000",
+        "--steady-cycles",
+        "1",
+        "--out",
+        csv.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let stated = platefield::motion::held_csv::fingerprint(&text).unwrap();
+    let out = dir.join("out");
+    let replay = |file: &Path| {
+        platefield(&[
+            "verify",
+            schedule,
+            "--replay",
+            file.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+    };
+    let (code, _, err) = replay(&csv);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains(&format!(
+            "{}: is the export of another schedule: its header states the schedule fingerprint {stated}, this schedule's is ",
+            csv.display()
+        )),
+        "{err}"
+    );
+    assert!(!out.exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Item 12: an export too large for `verify --replay` (1 MHz: 134 MiB)
+/// warns with its size, the one limit (64 MiB) and the rate that fits;
+/// replaying it is refused with the same words; an export at that rate
+/// fits the limit. Before, the export said nothing and the replay refused
+/// it without a rate.
+#[test]
+fn export_and_replay_state_one_size_limit() {
+    let dir = temp_dir("size");
+    let schedule = "results/sink/schedule.json";
+    let big = dir.join("big.csv");
+    let (code, _, err) = platefield(&[
+        "export",
+        schedule,
+        "--rate",
+        "1000000",
+        "--out",
+        big.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let advice = "MiB, over the 64 MiB a file `verify --replay` reads: export it at --rate ";
+    assert!(
+        err.contains(&format!("warning: the file is 133.6 {advice}")),
+        "{err}"
+    );
+    let rate = err
+        .split("--rate ")
+        .nth(1)
+        .and_then(|r| r.split(' ').next())
+        .unwrap()
+        .to_string();
+    let (code, _, err) = platefield(&[
+        "verify",
+        schedule,
+        "--replay",
+        big.to_str().unwrap(),
+        "--out",
+        dir.join("out").to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains(&format!("{}: 133.6 {advice}{rate} or lower", big.display())),
+        "{err}"
+    );
+    std::fs::remove_file(&big).unwrap();
+    let (code, _, err) = platefield(&[
+        "export",
+        schedule,
+        "--rate",
+        &rate,
+        "--out",
+        big.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(!err.contains("verify --replay"), "{err}");
+    assert!(std::fs::metadata(&big).unwrap().len() <= 64 << 20);
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -382,7 +382,12 @@ fn listed(v: &[V2], points: &[[f64; 2]], weights: Option<&[f64]>) -> Result<(Vec
             "are all zero; at least one support point must carry the part",
         ));
     }
-    Ok((pts, w))
+    // Only the weights' ratios matter (they are fractions of the part's
+    // mass): scaled by the largest, so that their sum neither overflows
+    // (three weights of 1e308) nor the centre of mass underflows (three
+    // of 5e-324).
+    let largest = w.iter().copied().fold(0.0, f64::max);
+    Ok((pts, w.iter().map(|x| x / largest).collect()))
 }
 
 #[cfg(test)]
