@@ -585,3 +585,177 @@ fn export_and_replay_state_one_size_limit() {
     assert!(std::fs::metadata(&big).unwrap().len() <= 64 << 20);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Item 13: three errors now name their cause: a pose angle of 1e9 states
+/// the limit; `poses` given a pose or sorting target says what it is and
+/// what to give instead, with the file named once; a support object with
+/// two keys says it has two, and which.
+#[test]
+fn errors_name_their_cause() {
+    let dir = temp_dir("errors");
+    let mut pose: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string("targets/pose_rectangle.json").unwrap())
+            .unwrap();
+    pose["field"]["pose"][2] = serde_json::json!(1e9);
+    pose["field"]["part"] =
+        serde_json::json!(std::fs::canonicalize("targets/parts/rectangle.json")
+            .unwrap()
+            .to_str()
+            .unwrap());
+    let pose_file = dir.join("pose.json");
+    std::fs::write(&pose_file, pose.to_string()).unwrap();
+    let out = dir.join("out");
+    let (code, _, err) = platefield(&design_args(
+        pose_file.to_str().unwrap(),
+        out.to_str().unwrap(),
+    ));
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("target.field.pose[2]: must be a finite number in [-1e6, 1e6] degrees, got 1"),
+        "{err}"
+    );
+
+    for (source, key, what) in [
+        (
+            "targets/pose_rectangle.json",
+            "target.field.kind",
+            "is a pose target",
+        ),
+        (
+            "targets/sort_friction.json",
+            "target.classes",
+            "is a sorting target",
+        ),
+    ] {
+        let (code, _, err) = platefield(&["poses", "targets/parts/rectangle.json", source]);
+        assert_eq!(code, 2, "{err}");
+        assert_eq!(err.matches(source).count(), 1, "{err}");
+        assert!(
+            err.contains(&format!("{source}: {key}: {what}"))
+                && err.contains("give its schedule.json as SOURCE"),
+            "{err}"
+        );
+    }
+
+    let mut part: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string("targets/parts/rectangle.json").unwrap())
+            .unwrap();
+    part["support"] = serde_json::json!({"uniform": {"samples": 64}, "unknown": {"contacts": 3}});
+    let part_file = dir.join("part.json");
+    std::fs::write(&part_file, part.to_string()).unwrap();
+    let (code, _, err) = platefield(&["poses", part_file.to_str().unwrap(), "targets/sink.json"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("part.support: must be an object with a single key, the kind it describes, got 2 keys (\"uniform\", \"unknown\")"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Item 7: a 100 000-vertex polygon is refused at once, naming
+/// `part.polygon` and the 4096-vertex limit (before: 100 s of a quadratic
+/// check); 4096 vertices load. `poses --drops 100000` states its work and
+/// is refused without `--allow-long`, naming `--drops` (before: no
+/// estimate and about a day of work), and so is the default 200 drops of
+/// a part 2e-8 m across.
+#[test]
+fn poses_work_is_bounded_and_stated() {
+    let dir = temp_dir("poses");
+    let circle = |n: usize, r: f64| -> Vec<[f64; 2]> {
+        (0..n)
+            .map(|k| {
+                let a = std::f64::consts::TAU * k as f64 / n as f64;
+                [r * a.cos(), r * a.sin()]
+            })
+            .collect()
+    };
+    let part = |name: &str, polygon: Vec<[f64; 2]>| {
+        let path = dir.join(name);
+        let p = serde_json::json!({"name": "p", "polygon": polygon, "friction": 0.3});
+        std::fs::write(&path, p.to_string()).unwrap();
+        path.to_str().unwrap().to_string()
+    };
+    let huge = part("huge.json", circle(100_000, 0.005));
+    let start = Instant::now();
+    let (code, _, err) = platefield(&["poses", &huge, "targets/sink.json", "--drops", "1"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("part.polygon: has 100000 vertices, more than the 4096"),
+        "{err}"
+    );
+    assert!(start.elapsed() < Duration::from_secs(10));
+    let most = part("most.json", circle(4096, 0.005));
+    let (code, _, err) = platefield(&["poses", &most, "targets/sink.json", "--drops", "1"]);
+    assert_eq!(code, 0, "{err}");
+
+    let (code, _, err) = platefield(&[
+        "poses",
+        "targets/parts/rectangle.json",
+        "targets/sink.json",
+        "--drops",
+        "100000",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("--drops") && err.contains("settling the drops would take about"),
+        "{err}"
+    );
+    let thin = part(
+        "thin.json",
+        vec![[0.0, 0.0], [2e-8, 0.0], [2e-8, 1e-8], [0.0, 1e-8]],
+    );
+    let (code, _, err) = platefield(&["poses", &thin, "targets/sink.json"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("settling the drops would take about"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Item 6: a sorting target (2 classes on a 9 × 5 grid: 149 s of CPU with
+/// nothing on stderr before) states the swarms' work first and then
+/// reports its progress class by class on stderr. The run is stopped once
+/// both have been seen.
+#[test]
+fn sorting_states_its_work_and_progress() {
+    use std::io::BufRead;
+    let dir = temp_dir("sort");
+    let mut t: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string("targets/sort_friction.json").unwrap())
+            .unwrap();
+    t["grid"]["n"] = serde_json::json!([9, 5]);
+    let target = dir.join("sort.json");
+    std::fs::write(&target, t.to_string()).unwrap();
+    let mut child = Command::new(BIN)
+        .args([
+            "design",
+            target.to_str().unwrap(),
+            "--no-cache",
+            "--out",
+            dir.join("out").to_str().unwrap(),
+        ])
+        .env("PLATEFIELD_PROGRESS_INTERVAL", "0.2")
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let stderr = std::io::BufReader::new(child.stderr.take().unwrap());
+    let (mut estimate, mut progress) = (None, false);
+    for line in stderr.lines() {
+        let line = line.unwrap();
+        if line.starts_with("playing the sort's classes would take about") {
+            estimate = Some(line);
+        } else if line.starts_with("sort: plays: 0/2 classes") {
+            assert!(estimate.is_some(), "progress before the estimate");
+            progress = true;
+            break;
+        }
+    }
+    let _ = child.kill();
+    let _ = child.wait();
+    let estimate = estimate.expect("no estimate on stderr");
+    assert!(
+        estimate.contains("swarms 2 classes × 45 parts"),
+        "{estimate}"
+    );
+    assert!(progress, "no progress line");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -45,7 +45,9 @@ pub fn run(
     let outcome = crate::design::run(&file, opts)?;
     let target = file.target();
     let md = match outcome {
-        DesignOutcome::Sorted(d) => return super::sort::run(target, &d, &dir, json, &DESIGN_FILES),
+        DesignOutcome::Sorted(d) => {
+            return super::sort::run(target, &d, &dir, json, &DESIGN_FILES, &opts.runtime)
+        }
         DesignOutcome::ClosedLoop {
             design: d,
             closed_loop: result,
