@@ -55,7 +55,7 @@ enum Command {
     },
     /// Compute a force or velocity field from a scene JSON file (motion, friction, grid, model).
     Field {
-        /// The scene file (see README, "Scenes").
+        /// The scene file (its schema: docs/scenes.md).
         scene: PathBuf,
         /// Write the field JSON to this file.
         #[arg(long)]

@@ -759,3 +759,209 @@ fn sorting_states_its_work_and_progress() {
     assert!(progress, "no progress line");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The headings (`#` lines, without the hashes) of the markdown file at
+/// `path`.
+fn headings(path: &str) -> Vec<String> {
+    std::fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .filter(|l| l.starts_with('#'))
+        .map(|l| l.trim_start_matches('#').trim().to_string())
+        .collect()
+}
+
+/// Item 15: cross-references stay true. Every section a text names in the
+/// README ("the README's *X*", `README, "X"`; in `--help`, every mention
+/// of the README) is a heading of README.md;
+/// every `docs/…md` path the docs, the README or the commands' `--help`
+/// name exists; and the README says where to load an export in Python
+/// only where that is shown. Before: `design --help` named "the README's
+/// target schema", `field --help` `README, "Scenes"`, docs/python.md "the
+/// README's *Inverse design*" (none is a README section), and the README
+/// sent Python users to docs/shaker.md, which does not show Python.
+#[test]
+fn cross_references_name_what_exists() {
+    let readme = headings("README.md");
+    let mut texts: Vec<(String, String)> = vec![(
+        "README.md".into(),
+        std::fs::read_to_string("README.md").unwrap(),
+    )];
+    for e in std::fs::read_dir("docs").unwrap() {
+        let path = e.unwrap().path();
+        if path.extension().is_some_and(|x| x == "md") {
+            texts.push((
+                path.display().to_string(),
+                std::fs::read_to_string(&path).unwrap(),
+            ));
+        }
+    }
+    for command in ["design", "verify", "export", "field", "poses", "order"] {
+        let (_, help, _) = platefield(&[command, "--help"]);
+        texts.push((format!("{command} --help"), help));
+    }
+    for (name, text) in &texts {
+        let text = text.replace('\n', " ");
+        for mark in ["README's *", "README, \"", "README's "] {
+            for rest in text.split(mark).skip(1) {
+                let end = if mark.ends_with('*') { '*' } else { '"' };
+                if mark == "README's " {
+                    // In a command's help, a plain "the README's ..." must
+                    // name one of its sections in italics or quotes
+                    // (checked above).
+                    if !name.ends_with("--help") {
+                        continue;
+                    }
+                    assert!(
+                        rest.starts_with('*') || rest.starts_with('"'),
+                        "{name}: \"README's {}\" names no section",
+                        &rest[..rest.len().min(30)]
+                    );
+                    continue;
+                }
+                let section = rest.split(end).next().unwrap();
+                assert!(
+                    readme.iter().any(|h| h == section),
+                    "{name}: the README has no section \"{section}\""
+                );
+            }
+        }
+        for rest in text.split("docs/").skip(1) {
+            let path: String = rest
+                .chars()
+                .take_while(|c| c.is_alphanumeric() || matches!(c, '_' | '-' | '.' | '/'))
+                .collect();
+            let path = path.trim_end_matches('.');
+            if path.ends_with(".md") {
+                assert!(
+                    Path::new("docs").join(path).is_file(),
+                    "{name}: docs/{path} does not exist"
+                );
+            }
+        }
+    }
+    let shaker = std::fs::read_to_string("docs/shaker.md").unwrap();
+    let readme_text = std::fs::read_to_string("README.md").unwrap();
+    if !shaker.contains("import platefield") {
+        assert!(
+            !readme_text.contains("Loading these in MATLAB or Python: [docs/shaker.md]"),
+            "the README sends Python users to docs/shaker.md"
+        );
+    }
+}
+
+/// Item 18: `fit.svg`'s title states the realised strength the headline
+/// reports beside the predicted one it scales the target by, and the red
+/// × marks of masked points have a legend; `signals.svg`'s time axis ends
+/// at the period (before: 35 ms for a 30.1 ms period).
+#[test]
+fn plots_state_what_the_headline_states() {
+    let dir = temp_dir("plots");
+    let t = serde_json::json!({
+        "name": "sink",
+        "grid": {"x": [-0.04, 0.04], "y": [-0.04, 0.04], "n": [7, 7]},
+        "field": {"kind": "sink", "center": [0.0, 0.0], "strength": 1.0},
+        "mask": [{"circle": {"center": [0.0, 0.0], "radius": 0.005}}],
+    });
+    let target = dir.join("t.json");
+    std::fs::write(&target, t.to_string()).unwrap();
+    let out = dir.join("out");
+    let (code, stdout, err) = platefield(&design_args(
+        target.to_str().unwrap(),
+        out.to_str().unwrap(),
+    ));
+    assert_eq!(code, 0, "{err}");
+    let realised = stdout
+        .split("realised strength ")
+        .nth(1)
+        .and_then(|r| r.split(' ').next())
+        .unwrap();
+    let svg = std::fs::read_to_string(out.join("sink/fit.svg")).unwrap();
+    assert!(
+        svg.contains(&format!("; realised {realised})")),
+        "fit.svg's title lacks the realised strength {realised}"
+    );
+    assert!(
+        svg.contains("masked (weight 0)"),
+        "no legend for the × marks"
+    );
+
+    let (code, _, err) = platefield(&[
+        "design",
+        target.to_str().unwrap(),
+        "--method",
+        "synthesize",
+        "--synth-evaluations",
+        "20",
+        "--polish-plays",
+        "0",
+        "--no-cache",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let svg = std::fs::read_to_string(out.join("sink/signals.svg")).unwrap();
+    let period_ms: f64 = svg
+        .split("(T = ")
+        .nth(1)
+        .and_then(|r| r.split(" ms").next())
+        .unwrap()
+        .parse()
+        .unwrap();
+    // The x tick labels sit below the plot, centred ("middle") on whole
+    // numbers of ms: none may pass the period.
+    let ticks: Vec<f64> = svg
+        .split("text-anchor=\"middle\"")
+        .skip(1)
+        .filter_map(|r| r.split('>').nth(1)?.split('<').next()?.trim().parse().ok())
+        .collect();
+    assert!(!ticks.is_empty(), "no tick labels found");
+    let last = ticks.iter().copied().fold(f64::MIN, f64::max);
+    assert!(
+        last <= period_ms + 1e-9,
+        "the time axis runs to {last} ms for a {period_ms} ms period"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Item 16: `design --friction` sets the target's friction, as `verify
+/// --friction` sets the friction played: the schedule records it; μ 0 is
+/// refused naming `--friction`; a sorting target's classes keep theirs.
+#[test]
+fn design_friction_sets_the_targets_friction() {
+    let dir = temp_dir("friction");
+    let target = sink_target(&dir, "t.json", "sink");
+    let out = dir.join("out");
+    let with = |friction: &str| {
+        let mut args = design_args(&target, out.to_str().unwrap());
+        args.extend(["--friction", friction]);
+        platefield(&args)
+    };
+    let (code, _, err) = with("0.45");
+    assert_eq!(code, 0, "{err}");
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("sink/schedule.json")).unwrap())
+            .unwrap();
+    assert_eq!(s["target_spec"]["friction"], serde_json::json!(0.45));
+    let (code, _, err) = with("0");
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("--friction: μ_k = 0 is a frictionless plate"),
+        "{err}"
+    );
+    let (code, _, err) = platefield(&[
+        "design",
+        "targets/sort_friction.json",
+        "--friction",
+        "0.3",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("--friction: a sorting target's classes state their own friction"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

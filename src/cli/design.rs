@@ -76,8 +76,11 @@ fn xy(text: &str) -> std::result::Result<[f64; 2], String> {
 /// Arguments of `platefield design`.
 #[derive(Args)]
 pub struct DesignArgs {
-    /// Target field JSON (see the README's target schema).
+    /// Target field JSON (its schema: docs/targets.md).
     pub target: PathBuf,
+    /// Parts' friction, replacing the target's "friction": MU (μ_s = μ_k = MU) or LO:HI (known within a range), as verify --friction sets the friction played.
+    #[arg(long, allow_negative_numbers = true)]
+    pub friction: Option<String>,
     /// Fit mode: shape (strongest field of the target's shape), absolute, budget, l1 or linf.
     #[arg(long, value_enum, default_value_t = Mode::Shape)]
     pub mode: Mode,
@@ -222,6 +225,9 @@ impl DesignArgs {
                 quiet: self.quiet,
                 allow_long: self.allow_long,
             },
+            friction: (self.friction.as_deref())
+                .map(|f| platefield::scene::FrictionSpec::parse_arg(f, "--friction"))
+                .transpose()?,
             ..DesignOptions::default()
         })
     }

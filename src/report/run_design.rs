@@ -36,6 +36,9 @@ pub fn run(
 ) -> crate::error::Result<String> {
     use crate::design::{DesignOutcome, Method, TargetFile};
     let mut file = TargetFile::load(path)?;
+    if let Some(f) = opts.friction {
+        file.set_friction(f, "--friction")?;
+    }
     let name = file.target().folder_name(path)?;
     if let TargetFile::Field(target) = &mut file {
         target.name = name.clone();

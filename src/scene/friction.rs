@@ -270,6 +270,35 @@ impl FrictionSpec {
         ))
     }
 
+    /// Reads a command-line friction `MU` (μ_s = μ_k = MU) or `LO:HI` (a
+    /// range), checked by [`FrictionSpec::validate_driven`]; errors name
+    /// `arg`.
+    ///
+    /// ```
+    /// use platefield::scene::FrictionSpec;
+    /// assert_eq!(FrictionSpec::parse_arg("0.3", "--friction")?, FrictionSpec::uniform(0.3));
+    /// assert_eq!(FrictionSpec::parse_arg("0.2:0.4", "--friction")?, FrictionSpec::range(0.2, 0.4));
+    /// let e = FrictionSpec::parse_arg("0.2:x", "--friction").unwrap_err().to_string();
+    /// assert!(e.starts_with("--friction: expected MU (e.g. 0.25) or LO:HI"), "{e}");
+    /// # Ok::<(), platefield::Error>(())
+    /// ```
+    pub fn parse_arg(text: &str, arg: &str) -> Result<FrictionSpec> {
+        let bad = || {
+            Error::invalid(
+                arg,
+                format!("expected MU (e.g. 0.25) or LO:HI (e.g. 0.2:0.4), got \"{text}\""),
+            )
+        };
+        let number = |s: &str| s.trim().parse::<f64>().map_err(|_| bad());
+        let spec = match text.split(':').collect::<Vec<_>>().as_slice() {
+            [mu] => FrictionSpec::uniform(number(mu)?),
+            [lo, hi] => FrictionSpec::range(number(lo)?, number(hi)?),
+            _ => return Err(bad()),
+        };
+        spec.validate_driven(arg)?;
+        Ok(spec)
+    }
+
     /// The spec as JSON, in the shortest form that reads back to it.
     pub fn to_json(&self) -> Value {
         if self.tied {
