@@ -478,7 +478,7 @@ fn mu_2_with_sequence_is_certified_relative_to_the_problem_scale() {
 }
 
 /// Item 11: `verify --replay` of another schedule's export (the same
-/// layout: the sink's schedule with its y harmonic turned by half a turn)
+/// layout: the sink's schedule with its y harmonic's phase set to 2.5 rad)
 /// is refused first, naming the file and both fingerprints, exit 2.
 /// Before: exit 0 and "strength differs by 78.08 %".
 #[test]
@@ -487,7 +487,7 @@ fn replay_of_another_schedules_export_is_refused_by_its_fingerprint() {
     let schedule = "results/sink/schedule.json";
     let mut other: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(schedule).unwrap()).unwrap();
-    other["segments"][0]["motion"]["linear"]["y"][0]["phase"] = serde_json::json!(3.14159);
+    other["segments"][0]["motion"]["linear"]["y"][0]["phase"] = serde_json::json!(2.5);
     let other_path = dir.join("other.json");
     std::fs::write(&other_path, other.to_string()).unwrap();
     let csv = dir.join("other.csv");
