@@ -225,14 +225,36 @@ fn marked<E: serde::de::Error>(sub: &str, message: &str) -> E {
 /// Deserialises `value` (found at relative path `at`), returning a located
 /// error (relative path, message) on failure.
 fn read<T: DeserializeOwned>(value: Value, at: &str) -> Result<T, (String, String)> {
-    serde_path_to_error::deserialize(value).map_err(|e| {
+    serde_path_to_error::deserialize(&value).map_err(|e| {
         let raw = e.inner().to_string();
         let (sub, message) = unmark(&raw);
-        (
-            format!("{at}{}{sub}", path_string(e.path())),
-            message.to_string(),
-        )
+        let message = match keys_at(&value, e.path()) {
+            Some(keys) if message.ends_with("expected map with a single key") => format!(
+                "must be an object with a single key, the kind it describes, got {} keys{}",
+                keys.len(),
+                if keys.is_empty() {
+                    String::new()
+                } else {
+                    format!(" ({})", keys.join(", "))
+                }
+            ),
+            _ => message.to_string(),
+        };
+        (format!("{at}{}{sub}", path_string(e.path())), message)
     })
+}
+
+/// The keys (quoted) of the object at `path` in `value`, if it is one.
+fn keys_at(value: &Value, path: &serde_path_to_error::Path) -> Option<Vec<String>> {
+    let mut v = value;
+    for segment in path {
+        v = match segment {
+            Segment::Seq { index } => v.get(*index)?,
+            Segment::Map { key } => v.get(key.as_str())?,
+            Segment::Enum { .. } | Segment::Unknown => v,
+        };
+    }
+    Some(v.as_object()?.keys().map(|k| format!("\"{k}\"")).collect())
 }
 
 /// The keys of one JSON object, read one by one with their paths. Reads

@@ -145,6 +145,7 @@ pub mod error;
 pub mod field;
 pub mod fit;
 pub mod input;
+pub(crate) mod linalg;
 pub mod motion;
 pub mod output;
 pub mod part;

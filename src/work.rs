@@ -116,6 +116,18 @@ impl Term {
         }
     }
 
+    /// The same term named `label`.
+    ///
+    /// ```
+    /// use platefield::work::Term;
+    /// let t = Term::new("a").times(3.0, "parts").named("b");
+    /// assert_eq!((t.label.as_str(), t.steps()), ("b", 3.0));
+    /// ```
+    pub fn named(mut self, label: &str) -> Term {
+        self.label = label.to_string();
+        self
+    }
+
     /// Multiplies by `count` named `name`.
     pub fn times(mut self, count: f64, name: &str) -> Term {
         self.factors.push((name.to_string(), count));

@@ -79,6 +79,9 @@ fn xy(text: &str) -> std::result::Result<[f64; 2], String> {
 pub struct DesignArgs {
     /// Target field JSON (docs/targets.md).
     pub target: PathBuf,
+    /// Parts' friction, replacing the target's "friction": MU (μ_s = μ_k = MU) or LO:HI (known within a range).
+    #[arg(long, allow_negative_numbers = true)]
+    pub friction: Option<String>,
     /// Fit mode: shape (strongest field of the target's shape), absolute, budget, l1 or linf (docs/design.md).
     #[arg(long, value_enum, default_value_t = Mode::Shape, hide_possible_values = true)]
     pub mode: Mode,
@@ -223,6 +226,9 @@ impl DesignArgs {
                 quiet: self.quiet,
                 allow_long: self.allow_long,
             },
+            friction: (self.friction.as_deref())
+                .map(|f| platefield::scene::FrictionSpec::parse_arg(f, "--friction"))
+                .transpose()?,
             ..DesignOptions::default()
         })
     }

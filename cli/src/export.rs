@@ -4,6 +4,7 @@ use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 
+use platefield::motion::held_csv;
 use platefield::output::write_atomic;
 use platefield::schedule::export::{self, harmonics, pose, response};
 use platefield::schedule::Schedule;
@@ -79,13 +80,19 @@ impl ExportArgs {
                     for line in e.over_limits() {
                         eprintln!("warning: {line}");
                     }
+                    let text = e.to_csv();
+                    if let Some(why) =
+                        held_csv::over_replay_size(Some(self.rate), text.len() as u64)
+                    {
+                        eprintln!("warning: the file is {why}");
+                    }
                     let what = format!(
                         "{} samples at {} Hz: {}",
                         e.samples.samples.len(),
                         self.rate,
                         e.describe()
                     );
-                    (e.to_csv(), what)
+                    (text, what)
                 }
                 Format::Harmonics => {
                     let h = harmonics::harmonics(&s)?;

@@ -57,7 +57,7 @@ enum Command {
     },
     /// Compute a force or velocity field from a scene JSON file (motion, friction, grid, model).
     Field {
-        /// The scene file (docs/scenes.md).
+        /// The scene file (its schema: docs/scenes.md).
         scene: PathBuf,
         /// Write the field JSON to this file.
         #[arg(long)]
@@ -386,6 +386,7 @@ fn run_study(study: Study) -> Result<String> {
 }
 
 fn main() -> ExitCode {
+    platefield::output::remove_stages_on_interrupt();
     match run(Cli::parse()) {
         Ok(summary) => print_summary(&summary),
         Err(e) => {

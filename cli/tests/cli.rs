@@ -1166,7 +1166,7 @@ fn design_refuses_degenerate_inputs_naming_them() {
     for (edit, needle) in [
         (
             serde_json::json!({"name": "n".repeat(300)}),
-            "target.name: must be a plain folder name (at most 255 bytes, no /, \\ or NUL, not starting with .), got \"nnnn",
+            "target.name: must be a plain folder name (at most 205 bytes, which leaves room for its staging folder within the file system's 255 per name; no /, \\ or NUL, not starting with .), got \"nnnn",
         ),
         (
             serde_json::json!({"name": "n".repeat(300)}),
@@ -1174,7 +1174,7 @@ fn design_refuses_degenerate_inputs_naming_them() {
         ),
         (
             serde_json::json!({"name": "a\u{0}b"}),
-            "target.name: must be a plain folder name (at most 255 bytes, no /, \\ or NUL",
+            "target.name: must be a plain folder name (at most 205 bytes",
         ),
         (
             serde_json::json!({"field": {"kind": "jet", "width": 1e-300}}),

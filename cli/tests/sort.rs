@@ -220,7 +220,13 @@ fn stacked_fit_matches_each_class_at_its_own_friction() {
 #[ignore]
 fn designed_sort_plays_as_measured() {
     let (t, d) = shipped_sort();
-    let plays = platefield::verify::sort_play::play_classes(&t, &d, None).unwrap();
+    let plays = platefield::verify::sort_play::play_classes(
+        &t,
+        &d,
+        None,
+        &platefield::work::Runtime::QUIET,
+    )
+    .unwrap();
     let measured = [(MEASURED_AT_OWN[0], 0.0), (MEASURED_AT_OWN[1], 0.0)];
     for (p, (own, mixed)) in plays.iter().zip(measured) {
         assert!((p.at_own.unwrap() - own).abs() <= 0.05, "{p:?}");

@@ -79,7 +79,8 @@ def design(target, method="auto", *, out=None, **options):
     ``targets/*.json``). ``method`` is ``"auto"``, ``"sequence"``,
     ``"synthesize"``, ``"mix"`` or ``"mirror"``. ``options`` are ``design``'s
     flags (``polish_plays=50``, ``mode="budget"``, ``budget=0.1``,
-    ``quiet=True``, ...). The files ``design`` writes go to ``out/<name>/``
+    ``quiet=True``, ...); ``friction=0.3`` or ``friction="0.2:0.4"`` replaces
+    the target's friction, as ``--friction`` does. The files ``design`` writes go to ``out/<name>/``
     when ``out`` is given, else nowhere. The basis cache is
     ``./.platefield-cache`` as for the CLI (``no_cache=True``: none).
 
@@ -87,7 +88,7 @@ def design(target, method="auto", *, out=None, **options):
 
     >>> import platefield
     >>> s = platefield.design("targets/sink.json", method="sequence", quiet=True)
-    >>> s["played"]["shape_error"] < 0.2  # doctest: +SKIP
+    >>> s["played"]["realised_shape_error"] < 0.2  # doctest: +SKIP
     True
     """
     return _run_json(
@@ -125,19 +126,39 @@ def field(scene, *, quiet=False, allow_long=False):
         raise raised(e, "field", path) from None
 
 
-def export(schedule, rate=10000.0, *, steady_cycles=None):
-    """The schedule's six plate-centre signals at ``rate`` samples/s: ``platefield export``.
+def export(schedule, rate=10000.0, *, steady_cycles=None, format="csv", peaks=False):
+    """The schedule's six plate-centre signals: ``platefield export``.
 
-    ``schedule`` is a ``schedule.json`` path or a schedule dict. Returns an
+    ``schedule`` is a ``schedule.json`` path or a schedule dict.
+
+    ``format="csv"`` (default): the held samples at ``rate`` samples/s, an
     (n, 7) numpy array, the CSV's rows: t (s), a_x, a_y, a_z (m/s²),
     alpha_x, alpha_y, alpha_z (rad/s²). ``steady_cycles``: as ``export
-    --steady-cycles`` (default the CLI's).
+    --steady-cycles`` (default the CLI's). With ``peaks=True`` returns
+    ``(rows, peaks)``: ``peaks`` is the header's dict of ``acceleration``,
+    ``velocity`` and ``stroke``, six numbers each (x, y, z linear, then
+    angular), of the file as played from rest.
+
+    ``format="harmonics"`` (``export --format harmonics``; a schedule of
+    one six-signal motion): a dict of ``period`` (s), ``terms`` (an (m, 4)
+    array of channel 0-5, harmonic n, amplitude A, phase φ (rad): the
+    channel is the sum of A·sin(n·2πt/T + φ)) and the steady motion's
+    ``peaks``.
+
+    >>> import platefield
+    >>> rows, p = platefield.export("results/sink/schedule.json", peaks=True)  # doctest: +SKIP
+    >>> h = platefield.export("results/sink/schedule.json", format="harmonics")  # doctest: +SKIP
     """
+    if format not in ("csv", "harmonics"):
+        raise ValueError(f'format must be "csv" or "harmonics", got {format!r}')
     if steady_cycles is None:
         steady_cycles = _platefield.default_steady_cycles()
     path, text = (os.fspath(schedule), None) if _is_path(schedule) else (None, json.dumps(schedule))
     try:
-        return _platefield.export(path, text, float(rate), int(steady_cycles))
+        if format == "harmonics":
+            return _platefield.harmonics(path, text)
+        rows, found = _platefield.export(path, text, float(rate), int(steady_cycles))
+        return (rows, found) if peaks else rows
     except NativeError as e:
         # A dict's errors name it "schedule" (the library's origin prefix).
         raise raised(e, "export", path, None if path else "schedule") from None

@@ -200,26 +200,42 @@ fn field<'py>(
     Ok(d)
 }
 
+/// The schedule at `path` or in JSON `text`.
+fn schedule(path: Option<&str>, text: Option<&str>) -> Result<Schedule, Error> {
+    document(path, text, "schedule", Schedule::load, |t| {
+        Schedule::from_json_str(t, "schedule")
+    })
+}
+
+/// Peak acceleration, velocity and stroke per channel (the header's
+/// figures): a dict of three 6-lists, x, y, z linear then angular.
+fn peaks_dict<'py>(
+    py: Python<'py>,
+    p: &schedule_export::peaks::KinematicPeaks,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("acceleration", p.acceleration.to_vec())?;
+    d.set_item("velocity", p.velocity.to_vec())?;
+    d.set_item("stroke", p.stroke.to_vec())?;
+    Ok(d)
+}
+
 /// `platefield export` as an (n, 7) array: t (s), then a_x, a_y, a_z
 /// (m/s²) and α_x, α_y, α_z (rad/s²) of the plate centre, one row per
-/// sample, the rows of the CSV before formatting.
+/// sample, the rows of the CSV before formatting; with the file's peaks
+/// as played (`peaks_dict`).
 #[pyfunction]
 #[pyo3(signature = (path, text, rate, steady_cycles))]
+#[allow(clippy::type_complexity)]
 fn export<'py>(
     py: Python<'py>,
     path: Option<String>,
     text: Option<String>,
     rate: f64,
     steady_cycles: u32,
-) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
+) -> PyResult<(Bound<'py, numpy::PyArray2<f64>>, Bound<'py, PyDict>)> {
     let exported = py.detach(|| {
-        let s = document(
-            path.as_deref(),
-            text.as_deref(),
-            "schedule",
-            Schedule::load,
-            |t| Schedule::from_json_str(t, "schedule"),
-        )?;
+        let s = schedule(path.as_deref(), text.as_deref())?;
         schedule_export::export(&s, rate, steady_cycles)
     });
     let e = exported.map_err(library_error)?;
@@ -229,7 +245,33 @@ fn export<'py>(
         .collect();
     let rows = Array2::from_shape_vec((e.samples.samples.len(), 7), flat)
         .map_err(|e| PyException::new_err(e.to_string()))?;
-    Ok(rows.into_pyarray(py))
+    Ok((rows.into_pyarray(py), peaks_dict(py, &e.peaks())?))
+}
+
+/// `platefield export --format harmonics`: a dict of `period` (s), `terms`
+/// (an (m, 4) array of channel index 0-5, harmonic n, amplitude A in m/s²
+/// or rad/s², phase φ in rad: A·sin(n·2πt/T + φ)) and the steady motion's
+/// `peaks` (`peaks_dict`).
+#[pyfunction]
+#[pyo3(signature = (path, text))]
+fn harmonics<'py>(
+    py: Python<'py>,
+    path: Option<String>,
+    text: Option<String>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let h = py
+        .detach(|| schedule_export::harmonics::harmonics(&schedule(path.as_deref(), text.as_deref())?))
+        .map_err(library_error)?;
+    let flat: Vec<f64> = (h.terms.iter())
+        .flat_map(|t| [t.channel as f64, f64::from(t.harmonic), t.amplitude, t.phase])
+        .collect();
+    let terms = Array2::from_shape_vec((h.terms.len(), 4), flat)
+        .map_err(|e| PyException::new_err(e.to_string()))?;
+    let d = PyDict::new(py);
+    d.set_item("period", h.period)?;
+    d.set_item("terms", terms.into_pyarray(py))?;
+    d.set_item("peaks", peaks_dict(py, &h.peaks)?)?;
+    Ok(d)
 }
 
 /// The default steady cycles of `export` for a six-signal motion.
@@ -244,6 +286,7 @@ fn _platefield(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(verify, m)?)?;
     m.add_function(wrap_pyfunction!(field, m)?)?;
     m.add_function(wrap_pyfunction!(export, m)?)?;
+    m.add_function(wrap_pyfunction!(harmonics, m)?)?;
     m.add_function(wrap_pyfunction!(poses, m)?)?;
     m.add_function(wrap_pyfunction!(default_steady_cycles, m)?)?;
     m.add("NativeError", m.py().get_type::<NativeError>())?;

@@ -172,3 +172,45 @@ def test_bad_part_names_its_path(root):
     assert e.value.path == "part.polygon"
     assert e.value.file is None
     assert "at least 3" in e.value.message
+
+
+def test_export_returns_peaks_and_harmonics_as_the_cli(root, cli):
+    # The peaks are the CSV header's, and --format harmonics' terms are the
+    # same numbers as the CLI's harmonics CSV.
+    s = root / "results" / "sink" / "schedule.json"
+    rows, peaks = platefield.export(s, 5000, peaks=True)
+    assert np.array_equal(rows, platefield.export(s, 5000))
+    text = cli("export", s, "--rate", 5000)
+    line = next(l for l in text.splitlines() if l.startswith("#   acceleration:"))
+    numbers = [float(x) for x in line.replace("[", ",").replace("]", ",").split(",")[1:]
+               if x.strip() and not x.strip().startswith(("m/s", "rad"))]
+    assert np.allclose(numbers, peaks["acceleration"], rtol=1e-6, atol=1e-12)
+    assert set(peaks) == {"acceleration", "velocity", "stroke"}
+    h = platefield.export(s, format="harmonics")
+    assert h["terms"].shape[1] == 4 and h["period"] > 0
+    table = [l for l in cli("export", s, "--format", "harmonics").splitlines()
+             if l and not l.startswith("#")]
+    assert len(table) - 1 == h["terms"].shape[0]
+    with pytest.raises(ValueError, match='format must be "csv" or "harmonics"'):
+        platefield.export(s, format="mat")
+
+
+def test_design_friction_keyword_sets_the_targets_friction(root):
+    target = root / "targets" / "sink.json"
+    as_dict = json.loads(target.read_text())
+    as_dict["friction"] = 0.45
+    fast = dict(quiet=True, primitives=["LineSink"], rotation_step=90, no_cache=True)
+    by_keyword = platefield.design(target, "sequence", friction=0.45, **fast)
+    assert by_keyword == platefield.design(as_dict, "sequence", **fast)
+    with pytest.raises(platefield.InvalidInput) as e:
+        platefield.design(target, "sequence", friction=0, **fast)
+    assert e.value.path == "friction" and "frictionless" in str(e.value)
+
+
+def test_package_ships_type_hints():
+    import pathlib
+    here = pathlib.Path(platefield.__file__).parent
+    assert (here / "py.typed").is_file()
+    stub = (here / "__init__.pyi").read_text()
+    for name in platefield.__all__:
+        assert name in stub, name

@@ -36,6 +36,9 @@ pub fn run(
 ) -> platefield::error::Result<String> {
     use platefield::design::{DesignOutcome, Method, TargetFile};
     let mut file = TargetFile::load(path)?;
+    if let Some(f) = opts.friction {
+        file.set_friction(f, "--friction")?;
+    }
     let name = file.target().folder_name(path)?;
     if let TargetFile::Field(target) = &mut file {
         target.name = name.clone();
@@ -45,7 +48,9 @@ pub fn run(
     let outcome = platefield::design::run(&file, opts)?;
     let target = file.target();
     let md = match outcome {
-        DesignOutcome::Sorted(d) => return super::sort::run(target, &d, &dir, json, &DESIGN_FILES),
+        DesignOutcome::Sorted(d) => {
+            return super::sort::run(target, &d, &dir, json, &DESIGN_FILES, &opts.runtime)
+        }
         DesignOutcome::ClosedLoop {
             design: d,
             closed_loop: result,

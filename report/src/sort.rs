@@ -194,8 +194,9 @@ pub fn run(
     dir: &Path,
     json: bool,
     files: &[&str],
+    runtime: &platefield::work::Runtime,
 ) -> Result<String> {
-    let played = platefield::verify::sort_play::play_classes(target, d, None)?;
+    let played = platefield::verify::sort_play::play_classes(target, d, None, runtime)?;
     let stage = platefield::output::Staged::new(dir)?;
     write(&target.name, d, &played, stage.path())?;
     stage.commit(files)?;

@@ -1300,12 +1300,10 @@ pub fn design_estimate(
         _ => 1,
     } as f64;
     let check = |label: &str, candidates: f64, times: f64, name: &str| {
-        Term::new(label)
+        check_estimate(target, sampled, opts)
+            .named(label)
             .times(candidates, "candidates")
             .times(times, name)
-            .times(check_starts(target, sampled).len() as f64, "parts")
-            .times(f64::from(check_cycles(SYNTH_SEGMENT_CYCLES)), "cycles")
-            .times(opts.settings.numerics.steps_per_cycle as f64, "steps")
     };
     e = e.plus(check("realised checks", candidates, 1.0, "checks"));
     if target.friction.is_some() {
@@ -1318,6 +1316,20 @@ pub fn design_estimate(
         ));
     }
     e
+}
+
+/// The work of one realised check of a design of `target`: its start
+/// points played `check_cycles` cycles of a period of
+/// `SYNTH_SEGMENT_CYCLES` cycles.
+pub(crate) fn check_estimate(
+    target: &Target,
+    sampled: &SampledTarget,
+    opts: &DesignOptions,
+) -> Term {
+    Term::new("realised check")
+        .times(check_starts(target, sampled).len() as f64, "parts")
+        .times(f64::from(check_cycles(SYNTH_SEGMENT_CYCLES)), "cycles")
+        .times(opts.settings.numerics.steps_per_cycle as f64, "steps")
 }
 
 /// The played polish of a synthesized motion ([`super::polish`]:

@@ -81,6 +81,9 @@ pub struct DesignOptions {
     pub closed_loop: Option<closed_loop::LoopOptions>,
     /// Progress output and the long-run guard.
     pub runtime: Runtime,
+    /// The parts' friction, replacing the target's `friction` (`design
+    /// --friction`; [`TargetFile::set_friction`]); `None`: the target's.
+    pub friction: Option<crate::scene::FrictionSpec>,
 }
 
 impl DesignOptions {

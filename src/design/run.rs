@@ -15,6 +15,7 @@ use super::sort::{design_sort, SortDesign};
 use super::{design, Design, DesignOptions, Method, MethodDesign};
 use crate::error::{Error, Result};
 use crate::request::Target;
+use crate::scene::FrictionSpec;
 
 /// A target file as read: a field to realise, or a part's pose
 /// (`"field": {"kind": "pose", …}`, [`PoseRequest`]).
@@ -46,6 +47,42 @@ impl TargetFile {
         match PoseRequest::load(path)? {
             Some(req) => Ok(TargetFile::Pose(req)),
             None => Ok(TargetFile::Field(Target::load(path)?)),
+        }
+    }
+
+    /// Sets the parts' friction to `friction` (`design --friction`, named
+    /// `arg` in errors), replacing the target's `friction`. A sorting
+    /// target's classes and a pose target's part state their own: refused.
+    ///
+    /// ```
+    /// use platefield::design::TargetFile;
+    /// use platefield::scene::FrictionSpec;
+    /// let mut file = TargetFile::load(std::path::Path::new("targets/sink.json"))?;
+    /// file.set_friction(FrictionSpec::uniform(0.45), "--friction")?;
+    /// assert_eq!(file.target().friction, Some(FrictionSpec::uniform(0.45)));
+    /// let mut sort = TargetFile::load(std::path::Path::new("targets/sort_friction.json"))?;
+    /// assert!(sort.set_friction(FrictionSpec::uniform(0.45), "--friction").is_err());
+    /// # Ok::<(), platefield::Error>(())
+    /// ```
+    ///
+    /// # Errors
+    /// A sorting or pose target, or a friction that
+    /// [`FrictionSpec::validate_driven`] refuses.
+    pub fn set_friction(&mut self, friction: FrictionSpec, arg: &str) -> Result<()> {
+        friction.validate_driven(arg)?;
+        match self {
+            TargetFile::Field(t) if t.classes.is_empty() => {
+                t.friction = Some(friction);
+                Ok(())
+            }
+            TargetFile::Field(_) => Err(Error::invalid(
+                arg,
+                "a sorting target's classes state their own friction (target.classes[i].friction)",
+            )),
+            TargetFile::Pose(_) => Err(Error::invalid(
+                arg,
+                "a pose target plays its part's friction (the part file's \"friction\")",
+            )),
         }
     }
 

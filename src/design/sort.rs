@@ -102,18 +102,28 @@ pub fn design_sort(target: &Target, opts: &DesignOptions) -> Result<SortDesign> 
             "a sort needs at least 2 part classes",
         ));
     }
+    opts.runtime.admit(&sort_estimate(target, opts)?)?;
     let gentle = gentle_primitives(target, opts);
     let mut bases = Vec::new();
     let mut sampled = Vec::new();
+    let progress = crate::progress::Progress::new(
+        "sort: libraries",
+        "classes",
+        target.classes.len() as u64,
+        opts.runtime.progress(),
+    );
     for i in 0..target.classes.len() {
         let ct = target.class_target(i);
+        progress.set_message(format!("class {}", target.classes[i].name));
         let copts = opts.for_target(&ct);
         let stage = stages::basis_stage(&ct, &copts)?;
         let mut basis = stages::assemble_stage(&stage, &copts)?;
         append_gentle(&mut basis, &stage, &gentle, &copts);
         bases.push(basis);
         sampled.push(stage.sampled);
+        progress.inc(1);
     }
+    progress.finish();
     let basis = stack_bases(&bases);
     if basis.columns.is_empty() {
         return Err(Error::Physical(
@@ -131,6 +141,48 @@ pub fn design_sort(target: &Target, opts: &DesignOptions) -> Result<SortDesign> 
         classes,
         gentle: gentle.iter().map(dbasis::label).collect(),
     })
+}
+
+/// The work of designing the sort of `target` ([`crate::work`]), stated
+/// before it starts: each class's library when the cache does not hold it
+/// (a library per class: each is simulated at its class's friction), and
+/// each class's realised check (counted, as a design's, at
+/// `SYNTH_SEGMENT_CYCLES` cycles per period); the swarms are estimated
+/// once the schedule is known (`crate::verify::sort_play::play_estimate`).
+///
+/// ```
+/// use platefield::design::{sort::sort_estimate, DesignOptions};
+/// use platefield::request::Target;
+/// let target = Target::load(std::path::Path::new("targets/sort_friction.json"))?;
+/// let e = sort_estimate(&target, &DesignOptions::default())?;
+/// assert!(e.terms.iter().any(|t| t.label.starts_with("class mu_0.45")));
+/// # Ok::<(), platefield::Error>(())
+/// ```
+///
+/// # Errors
+/// A class whose target cannot be sampled.
+pub fn sort_estimate(target: &Target, opts: &DesignOptions) -> Result<crate::work::Estimate> {
+    let mut e = crate::work::Estimate::new(
+        "target",
+        "designing the sort",
+        "fewer classes, a smaller target grid n, or a larger --rotation-step",
+    );
+    for (i, class) in target.classes.iter().enumerate() {
+        let ct = target.class_target(i);
+        let copts = opts.for_target(&ct);
+        let sampled = ct.sample()?;
+        if let Some(library) = stages::cold_library_estimate(&ct, &sampled, &copts) {
+            e.terms.extend(library.terms.into_iter().map(|mut t| {
+                t.label = format!("class {}: {}", class.name, t.label);
+                t
+            }));
+        }
+        e = e.plus(
+            super::method::check_estimate(&ct, &sampled, &copts)
+                .named(&format!("class {}: realised check", class.name)),
+        );
+    }
+    Ok(e)
 }
 
 /// The gentle Trans copies for `target`'s classes: for every class

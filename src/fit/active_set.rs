@@ -182,7 +182,7 @@ fn solve_on_support(
 
 /// Minimum-norm least squares by SVD.
 fn lstsq(a: DMatrix<f64>, b: &DVector<f64>) -> Option<DVector<f64>> {
-    let svd = a.svd(true, true);
+    let svd = crate::linalg::svd(a)?;
     let smax = svd.singular_values.max();
     if smax.is_nan() || smax <= 0.0 {
         return Some(DVector::zeros(svd.v_t.as_ref()?.nrows()));

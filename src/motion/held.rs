@@ -104,7 +104,8 @@ impl Held {
     /// ```
     ///
     /// # Errors
-    /// No samples, Δt not positive and finite, or a sample not finite.
+    /// No samples, Δt not positive and finite, a sample not finite, or a
+    /// sample after which the integrated velocity or pose is not finite.
     pub fn new(held: &HoldSamples) -> Result<Held> {
         if held.samples.is_empty() || !(held.dt.is_finite() && held.dt > 0.0) {
             return Err(Error::invalid(
@@ -132,8 +133,17 @@ impl Held {
             held.start,
             rotation::orientation(&V3::new(start[3], start[4], start[5])),
         ));
-        for a in &held.samples {
+        for (k, a) in held.samples.iter().enumerate() {
             let next = advance(&states[states.len() - 1], a, held.dt);
+            if !(next.0.velocity.iter().chain(&next.0.pose)).all(|x| x.is_finite()) {
+                return Err(Error::invalid(
+                    format!("held samples[{k}]"),
+                    format!(
+                        "the plate's velocity or pose, integrated over the samples of {} s, is not finite after this one: the accelerations are not physical",
+                        held.dt
+                    ),
+                ));
+            }
             states.push(next);
         }
         Ok(Held {
@@ -299,6 +309,30 @@ mod tests {
     use super::*;
     use crate::motion::sample_hold;
     use crate::motion::{Motion, Signals};
+
+    /// Finite samples whose integral overflows are refused, naming the
+    /// first sample after which the state is not finite: 1e307 m/s² held
+    /// 1 s from rest gives x = 1e307 (k + 1)²/2 after sample k, past f64's
+    /// 1.797e308 first at k + 1 = 6 ((k + 1)² > 35.95).
+    #[test]
+    fn an_overflowing_integral_is_refused_naming_the_sample() {
+        let file = HoldSamples {
+            dt: 1.0,
+            rate: 1.0,
+            samples_per_period: 10,
+            samples: vec![[1e307, 0.0, 0.0, 0.0, 0.0, 0.0]; 10],
+            start: CentreState::default(),
+        };
+        let e = Held::new(&file).unwrap_err().to_string();
+        assert!(
+            e.starts_with("held samples[5]: ")
+                && e.contains("is not finite after this one: the accelerations are not physical"),
+            "{e}"
+        );
+        let mut ok = file.clone();
+        ok.samples.truncate(5);
+        assert!(Held::new(&ok).is_ok());
+    }
 
     /// The held motion of an exported six-signal motion matches it at
     /// every sample time in velocity (exact, by the mean-acceleration

@@ -7,7 +7,9 @@
 //! `t_s,ax_m_s2,ay_m_s2,az_m_s2,alpha_x_rad_s2,alpha_y_rad_s2,alpha_z_rad_s2`;
 //! every row after it holds 7 finite numbers. The times must start at 0
 //! and be uniform: Δt = t_last/(n − 1) and every t_k within
-//! `T_TOLERANCE` of kΔt (the export prints t to 1 ns). Every error names
+//! `T_TOLERANCE` of kΔt (the export prints t to 1 ns). The accelerations
+//! must be physical: at most the scenes' bounds, 1e4 m/s² (about 1000 g)
+//! linear and 1e5 rad/s² angular (a shaker plays tens). Every error names
 //! the file, the line and the column, and says what is allowed.
 
 use std::path::Path;
@@ -25,15 +27,22 @@ pub const HEADER: &str = "t_s,ax_m_s2,ay_m_s2,az_m_s2,alpha_x_rad_s2,alpha_y_rad
 pub(crate) const T_TOLERANCE: f64 = 2e-9;
 
 /// Reads the exported CSV at `path` (at most [`MAX_INPUT_BYTES`]) as held
-/// samples from rest at home ([`parse`]).
+/// samples from rest at home ([`parse`]), with the schedule fingerprint
+/// its header states ([`fingerprint`]).
 ///
 /// # Errors
 /// An unreadable or oversized file (names the file), or [`parse`]'s.
-pub fn read(path: &Path) -> Result<HoldSamples> {
+pub fn read(path: &Path) -> Result<(HoldSamples, Option<String>)> {
     let io = |source| Error::Io {
         path: path.display().to_string(),
         source,
     };
+    if let Some(too_big) = std::fs::metadata(path)
+        .ok()
+        .and_then(|m| over_replay_size(file_rate(path), m.len()))
+    {
+        return Err(Error::invalid(path.display().to_string(), too_big));
+    }
     let bytes = read_capped(path, MAX_INPUT_BYTES).map_err(io)?;
     let text = String::from_utf8(bytes).map_err(|_| {
         io(std::io::Error::new(
@@ -41,7 +50,82 @@ pub fn read(path: &Path) -> Result<HoldSamples> {
             "not UTF-8 text",
         ))
     })?;
-    parse(&text, &path.display().to_string())
+    let samples = parse(&text, &path.display().to_string())?;
+    Ok((samples, fingerprint(&text).map(str::to_string)))
+}
+
+/// What an export of `bytes` at `rate` samples/s (`None`: unknown) has to
+/// say against the one size limit of a file `verify --replay` reads,
+/// [`MAX_INPUT_BYTES`]: nothing when it fits, else its size, the limit
+/// and the rate that fits (the size is proportional to the rate).
+///
+/// ```
+/// use platefield::motion::held_csv::over_replay_size;
+/// assert_eq!(over_replay_size(Some(1e4), 1 << 20), None);
+/// let s = over_replay_size(Some(1e6), 157_000_000).unwrap();
+/// assert!(s.contains("over the 64 MiB") && s.contains("--rate 427000 or lower"), "{s}");
+/// ```
+pub fn over_replay_size(rate: Option<f64>, bytes: u64) -> Option<String> {
+    if bytes <= MAX_INPUT_BYTES {
+        return None;
+    }
+    let mib = |b: u64| b as f64 / f64::from(1 << 20);
+    let fits = match rate.filter(|r| r.is_finite() && *r > 0.0) {
+        Some(r) => {
+            // Three significant digits, rounded down, so that it fits.
+            let fit = r * MAX_INPUT_BYTES as f64 / bytes as f64;
+            let unit = 10f64.powi(fit.log10().floor() as i32 - 2);
+            format!(
+                "export it at --rate {} or lower to replay it",
+                (fit / unit).floor() * unit
+            )
+        }
+        None => "export it at a lower --rate to replay it (the size is proportional to the rate)"
+            .to_string(),
+    };
+    Some(format!(
+        "{:.1} MiB, over the {} MiB a file `verify --replay` reads: {fits}",
+        mib(bytes),
+        MAX_INPUT_BYTES >> 20
+    ))
+}
+
+/// The sample rate of the export at `path`, from its first two rows'
+/// times (read from its first 64 KiB); `None` when they are not there.
+fn file_rate(path: &Path) -> Option<f64> {
+    use std::io::Read;
+    let mut head = Vec::new();
+    std::fs::File::open(path)
+        .ok()?
+        .take(1 << 16)
+        .read_to_end(&mut head)
+        .ok()?;
+    let text = String::from_utf8_lossy(&head);
+    let mut times = text
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty() && !l.starts_with('#') && *l != HEADER)
+        .filter_map(|l| l.split(',').next()?.trim().parse::<f64>().ok());
+    let (t0, t1) = (times.next()?, times.next()?);
+    Some(1.0 / (t1 - t0)).filter(|r| r.is_finite() && *r > 0.0)
+}
+
+/// The schedule fingerprint an export's header states (the comment
+/// `# schedule fingerprint: HEX …` before the column header), if any.
+///
+/// ```
+/// use platefield::motion::held_csv::{fingerprint, HEADER};
+/// let csv = format!("# schedule fingerprint: 0123abcd0123abcd (of the schedule's segments)\n{HEADER}\n");
+/// assert_eq!(fingerprint(&csv), Some("0123abcd0123abcd"));
+/// assert_eq!(fingerprint(HEADER), None);
+/// ```
+pub fn fingerprint(text: &str) -> Option<&str> {
+    let mark = crate::schedule::export::FINGERPRINT;
+    text.lines()
+        .map(str::trim)
+        .take_while(|l| l.is_empty() || l.starts_with('#'))
+        .find_map(|l| l.trim_start_matches('#').trim_start().strip_prefix(mark))
+        .and_then(|rest| rest.split_whitespace().next())
 }
 
 /// Parses an exported CSV (`source` names it in errors): the samples, Δt,
@@ -57,11 +141,14 @@ pub fn read(path: &Path) -> Result<HoldSamples> {
 /// let bad = format!("{HEADER}\n0,1,0,0,0,0,0\n0.001,-1,0,NaN,0,0,0\n");
 /// let e = parse(&bad, "x.csv").unwrap_err().to_string();
 /// assert!(e.contains("x.csv line 3 column 4 (az_m_s2)"), "{e}");
+/// let huge = format!("{HEADER}\n0,1e300,0,0,0,0,0\n0.001,0,0,0,0,0,0\n");
+/// let e = parse(&huge, "x.csv").unwrap_err().to_string();
+/// assert!(e.contains("line 2 column 2 (ax_m_s2): 1e300 m/s² is not a physical plate acceleration: at most 1e4 m/s²"), "{e}");
 /// ```
 ///
 /// # Errors
 /// A missing or wrong header, a row without 7 columns, a value that is not
-/// a finite number, fewer than 2 rows, or times that do not start at 0 or
+/// a finite number, an acceleration over the bounds above, fewer than 2 rows, or times that do not start at 0 or
 /// are not uniform: each names `source`, the line and the column.
 pub fn parse(text: &str, source: &str) -> Result<HoldSamples> {
     let columns: Vec<&str> = HEADER.split(',').collect();
@@ -115,6 +202,19 @@ pub fn parse(text: &str, source: &str) -> Result<HoldSamples> {
                         format!("\"{}\" is not a finite number", f.trim()),
                     )
                 })?;
+        }
+        for (c, x) in row.iter().enumerate().skip(1) {
+            let (max, unit) = if c <= 3 {
+                (crate::scene::LINEAR_ACCEL, "m/s²")
+            } else {
+                (crate::scene::ANGULAR_ACCEL, "rad/s²")
+            };
+            if x.abs() > max {
+                return Err(Error::invalid(
+                    at(n, Some(c)),
+                    format!("{x:e} {unit} is not a physical plate acceleration: at most {max:e} {unit} in magnitude"),
+                ));
+            }
         }
         rows.push((n, row));
     }

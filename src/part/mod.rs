@@ -49,6 +49,11 @@ pub(crate) const DEFAULT_SAMPLES: usize = 256;
 pub const SAMPLES: [usize; 2] = [16, 4096];
 /// Most listed support points.
 pub(crate) const MAX_POINTS: usize = 4096;
+/// Most polygon vertices. The simple-polygon check compares every pair of
+/// edges (n²/2: 8.4e6 pairs at the cap, about 0.1 s; a 100 000-vertex
+/// outline took 100 s), and a part's outline is drawn with tens of
+/// vertices (a circle to 0.03 % of its radius with 128).
+pub const MAX_VERTICES: usize = 4096;
 /// Most unknown contact points.
 pub(crate) const MAX_CONTACTS: usize = 64;
 /// Largest |vertex coordinate| (m).
@@ -261,6 +266,15 @@ fn check_polygon(raw: &[[f64; 2]]) -> Result<Vec<V2>> {
             format!("needs at least 3 vertices, got {}", raw.len()),
         ));
     }
+    if raw.len() > MAX_VERTICES {
+        return Err(Error::invalid(
+            "part.polygon",
+            format!(
+                "has {} vertices, more than the {MAX_VERTICES} a part's outline may have (its simplicity check takes n²/2 edge pairs)",
+                raw.len()
+            ),
+        ));
+    }
     for (i, p) in raw.iter().enumerate() {
         for (k, v) in p.iter().enumerate() {
             if !(v.is_finite() && v.abs() <= EXTENT) {
@@ -382,7 +396,12 @@ fn listed(v: &[V2], points: &[[f64; 2]], weights: Option<&[f64]>) -> Result<(Vec
             "are all zero; at least one support point must carry the part",
         ));
     }
-    Ok((pts, w))
+    // Only the weights' ratios matter (they are fractions of the part's
+    // mass): scaled by the largest, so that their sum neither overflows
+    // (three weights of 1e308) nor the centre of mass underflows (three
+    // of 5e-324).
+    let largest = w.iter().copied().fold(0.0, f64::max);
+    Ok((pts, w.iter().map(|x| x / largest).collect()))
 }
 
 #[cfg(test)]

@@ -84,6 +84,27 @@ fn bad_parts_name_their_path() {
     );
 }
 
+/// Support weights are ratios: three weights of 1e308 (whose sum
+/// overflowed: no equilibria) and of 5e-324 (whose centre of mass
+/// underflowed: rests 8 mm off) give the body of three weights of 1, to
+/// the last bit.
+#[test]
+fn support_weights_at_the_limits_of_f64_are_ratios() {
+    let with = |w: &str| {
+        Part::from_json_str(&format!(
+            r#"{{"name": "x", "polygon": {SQUARE}, "support": {{"points": {{"points": [[0.001, 0.001], [0.009, 0.001], [0.005, 0.009]], "weights": {w}}}}}}}"#
+        ))
+        .unwrap()
+    };
+    let one = with("[1, 1, 1]");
+    assert!((one.origin - V2::new(0.005, 0.011 / 3.0)).norm() < 1e-15);
+    for w in ["[1e308, 1e308, 1e308]", "[5e-324, 5e-324, 5e-324]"] {
+        let p = with(w);
+        assert_eq!(p.origin, one.origin, "{w}");
+        assert_eq!(p.body, one.body, "{w}");
+    }
+}
+
 /// The body origin is the support's weighted centroid: listed weights
 /// move it by their moment, a clockwise polygon is turned round, and the
 /// uniform support of an axis-aligned rectangle is its exact cell grid.

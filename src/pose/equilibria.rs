@@ -21,6 +21,12 @@
 
 use nalgebra::{Matrix3, Vector3};
 
+/// Most RK4 steps of one drop ([`settle`]).
+pub(crate) const SETTLE_STEPS: usize = 20000;
+/// Largest step of a drop as a fraction of the part's radius R (and in
+/// radians of turn).
+pub(crate) const SETTLE_STEP: f64 = 0.02;
+
 use super::lifted::{LiftedField, Pose};
 use crate::dynamics::V2;
 
@@ -210,7 +216,7 @@ pub fn settle(
         .map(|e| e.rates.iter().fold(0.0f64, |m, x| m.max(x.abs())))
         .fold(0.0f64, f64::max);
     let mut q = Vector3::new(start.r.x, start.r.y, start.theta);
-    for _ in 0..20000 {
+    for _ in 0..SETTLE_STEPS {
         let near = stable.iter().position(|e| {
             (V2::new(q.x, q.y) - e.pose.r).norm() <= 1e-3 * r
                 && wrap(q.z - e.pose.theta).abs() <= 0.1f64.to_radians()
@@ -223,7 +229,8 @@ pub fn settle(
         }
         let f = |q: &Vector3<f64>| lifted.twist3(q);
         let k1 = f(&q);
-        let speed = (k1.fixed_rows::<2>(0).norm() / (0.02 * r)).max(k1.z.abs() / 0.02);
+        let speed =
+            (k1.fixed_rows::<2>(0).norm() / (SETTLE_STEP * r)).max(k1.z.abs() / SETTLE_STEP);
         let mut h = if speed > 0.0 {
             1.0 / speed
         } else {

@@ -36,4 +36,4 @@ pub use refine::{refine, Refined, Refinement, MAX_NEWTON, MAX_REFINED, STOP};
 pub use request::{check_counts, poses, PoseOutcome, PoseRequest, MAX_PLAY_S, SCAN};
 pub use run::{analyse, drop_starts, PoseAnalysis, MAX_DROPS};
 pub use source::{realised_field, schedule_field, REALISED_STRIDE};
-pub use work::{drops_estimate, played_points, steps_per_period};
+pub use work::{drops_estimate, played_points, settle_estimate, steps_per_period};

@@ -23,7 +23,7 @@ use super::lifted::{GridField, LiftedField, PointField, Pose};
 use super::refine::{refine, Refinement, MAX_NEWTON, MAX_REFINED};
 use super::run::{analyse, PoseAnalysis, MAX_DROPS};
 use super::source::schedule_field;
-use super::work::{averaged_estimate, drops_estimate};
+use super::work::{averaged_estimate, drops_estimate, settle_estimate};
 use crate::dynamics::PartPhysics;
 use crate::error::{Error, Result};
 use crate::field::{Field, FieldKind, Grid};
@@ -140,9 +140,27 @@ fn point_field(source: &Path) -> Result<Source> {
             schedule: Some(schedule),
         });
     }
+    let designed_first = |what: &str, key: &str| {
+        Error::invalid(
+            format!("{}: {key}", source.display()),
+            format!("is {what}: `poses` analyses a point field (a target's field, a scene's or a schedule's); design this target first (`platefield design`) and give its schedule.json as SOURCE"),
+        )
+    };
+    if value.get("classes").is_some() {
+        return Err(designed_first(
+            "a sorting target (one field per friction class)",
+            "target.classes",
+        ));
+    }
+    if value.pointer("/field/kind").and_then(Value::as_str) == Some("pose") {
+        return Err(designed_first(
+            "a pose target (a part's pose to reach)",
+            "target.field.kind",
+        ));
+    }
     if value.get("field").is_some() {
-        let target = Target::load(source)
-            .map_err(|e| Error::invalid(source.display().to_string(), e.to_string()))?;
+        // Its errors name the file and the JSON path already.
+        let target = Target::load(source)?;
         let Some(grid) = target.grid else {
             return Err(Error::invalid(
                 "target.grid",
@@ -218,6 +236,8 @@ pub fn poses(req: &PoseRequest) -> Result<PoseOutcome> {
             Some((sm, p, work))
         }
     };
+    req.runtime
+        .admit(&settle_estimate(&part, &region, req.drops))?;
     let analysis = analyse(&part, field.as_ref(), region, req.drops);
     let played = play.map(|(sm, p, work)| {
         let progress = Progress::new(

@@ -8,6 +8,7 @@
 
 use super::averaged::CHECKED_POSES;
 use super::drops::{rest_cycle, DropPlay};
+use super::equilibria::{Region, SETTLE_STEP, SETTLE_STEPS};
 use super::refine::MAX_REFINED;
 use crate::part::Part;
 use crate::play::ScheduleMotion;
@@ -58,6 +59,47 @@ pub fn drops_estimate(part: &Part, sm: &ScheduleMotion, drops: usize, play: &Dro
             .times(steps_per_period(sm, play.steps_per_cycle), "steps")
             .times(played_points(part, play) as f64, "support points")
             .times(PLANAR_POINT_STEP_COST, "point steps per support-point step"),
+    )
+}
+
+/// Cost of one lifted-twist evaluation per support point, in point-part
+/// steps ([`crate::work`]'s unit): the rectangle (256 support points) on
+/// the shipped sink target, 200 drops, took 37.3 s of CPU for the
+/// 200 × 532 × 256 × 4 evaluations [`settle_estimate`] counts (0.34 µs
+/// each).
+const LIFTED_POINT_COST: f64 = 0.35;
+
+/// The work of settling `drops` drops of `part` in `region` (`poses`'
+/// predicted basins, [`super::settle`]), in [`crate::work`]'s unit: per
+/// drop the RK4 steps to cross half the region's diagonal at the largest
+/// step (2 % of the part's radius), turn half a turn at 0.02 rad a step
+/// and close in (100 steps), at most the 20000 steps a drop may take;
+/// each step 4 lifted-twist evaluations over the part's support points.
+/// A part of 2e-8 m takes the 20000 steps per drop.
+///
+/// ```
+/// use platefield::pose::{settle_estimate, Region};
+/// use platefield::part::Part;
+/// let part = Part::load(std::path::Path::new("targets/parts/rectangle.json"))?;
+/// let region = Region { x: [-0.04, 0.04], y: [-0.04, 0.04] };
+/// let e = settle_estimate(&part, &region, 200);
+/// // 200 drops × 532 steps × 256 points × 4 evaluations × 0.35.
+/// assert!((e.steps() / 3.81e7 - 1.0).abs() < 0.01, "{}", e.steps());
+/// assert_eq!(settle_estimate(&part, &region, 100_000).steps(), 500.0 * e.steps());
+/// # Ok::<(), platefield::Error>(())
+/// ```
+pub fn settle_estimate(part: &Part, region: &Region, drops: usize) -> Estimate {
+    let half_diagonal = 0.5 * (region.x[1] - region.x[0]).hypot(region.y[1] - region.y[0]);
+    let travel = half_diagonal / (SETTLE_STEP * part.radius());
+    let turn = std::f64::consts::PI / SETTLE_STEP;
+    let steps = (travel + turn + 100.0).min(SETTLE_STEPS as f64).round();
+    Estimate::new("--drops", "settling the drops", "--drops").plus(
+        Term::new("predicted drops")
+            .times(drops as f64, "drops")
+            .times(steps, "steps")
+            .times(4.0, "evaluations")
+            .times(part.body.points().len() as f64, "support points")
+            .times(LIFTED_POINT_COST, "point steps per evaluation"),
     )
 }
 

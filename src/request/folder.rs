@@ -5,8 +5,10 @@ use std::path::Path;
 use super::Target;
 use crate::error::{Error, Result};
 
-/// Longest folder name (bytes) most file systems take (`NAME_MAX`).
-pub(crate) const MAX_NAME_BYTES: usize = 255;
+/// Longest folder name (bytes): what leaves room, within the file
+/// system's 255 bytes per name, for the staging folder written beside it
+/// ([`crate::output::MAX_FOLDER_NAME_BYTES`]).
+pub(crate) const MAX_NAME_BYTES: usize = crate::output::MAX_FOLDER_NAME_BYTES;
 
 impl Target {
     /// The name of the folder for this target's results: its `name`, or the
@@ -38,7 +40,7 @@ pub(crate) fn plain_folder_name(name: &str, field: &str) -> Result<()> {
         return Err(Error::invalid(
             field,
             format!(
-                "must be a plain folder name (at most {MAX_NAME_BYTES} bytes, no /, \\ or NUL, not starting with .), got \"{}\" ({} bytes)",
+                "must be a plain folder name (at most {MAX_NAME_BYTES} bytes, which leaves room for its staging folder within the file system's 255 per name; no /, \\ or NUL, not starting with .), got \"{}\" ({} bytes)",
                 crate::input::short(name).escape_debug(),
                 name.len()
             ),

@@ -401,7 +401,7 @@ impl Target {
             other => TargetError::invalid("target", other.to_string()),
         };
         if let Some(f) = &self.friction {
-            f.validate("target.friction").map_err(invalid)?;
+            f.validate_driven("target.friction").map_err(invalid)?;
         }
         if let Some(g) = self.gravity {
             let (lo, hi) = (crate::scene::GRAVITY_MIN, crate::scene::GRAVITY);

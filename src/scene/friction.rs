@@ -27,6 +27,13 @@ use crate::input::{self, num};
 /// number is a typo, not a part.
 pub const MU: f64 = 2.0;
 
+/// Smallest kinetic friction of a part that is to be driven (a target's,
+/// `verify --friction`): the plate moves a part only by friction, μ_k g
+/// at most, so at μ_k = 0 nothing can be designed or played, and below
+/// 1e-3 the drive is a thousandth of g. PTFE on steel, among the most
+/// slippery real pairs, is near 0.04. A scene may still simulate μ = 0.
+pub const MU_DRIVEN: f64 = 1e-3;
+
 /// A coefficient known within `[lo, hi]` (`lo == hi`: known exactly).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Interval {
@@ -221,6 +228,75 @@ impl FrictionSpec {
             ));
         }
         Ok(())
+    }
+
+    /// [`FrictionSpec::validate`], and that the kinetic coefficient (its
+    /// low end, of a range) is at least [`MU_DRIVEN`]: parts on a
+    /// frictionless plate cannot be driven. Errors name the key under
+    /// `path` that holds the kinetic coefficient.
+    ///
+    /// ```
+    /// use platefield::scene::FrictionSpec;
+    /// assert!(FrictionSpec::uniform(0.3).validate_driven("target.friction").is_ok());
+    /// let e = FrictionSpec::uniform(0.0).validate_driven("target.friction").unwrap_err();
+    /// assert!(e.to_string().starts_with("target.friction: μ_k = 0 is a frictionless plate"));
+    /// let e = FrictionSpec::range(-0.0, 0.4).validate_driven("target.friction").unwrap_err();
+    /// assert!(e.to_string().starts_with("target.friction[0]: μ_k = 0 "));
+    /// ```
+    pub fn validate_driven(&self, path: &str) -> Result<()> {
+        self.validate(path)?;
+        let lo = self.kinetic.lo;
+        if lo >= MU_DRIVEN {
+            return Ok(());
+        }
+        let key = if self.tied {
+            path.to_string()
+        } else {
+            format!("{path}.kinetic")
+        };
+        let key = if self.kinetic.is_exact() {
+            key
+        } else {
+            format!("{key}[0]")
+        };
+        Err(Error::invalid(
+            key,
+            format!(
+                "μ_k = {} is {}a frictionless plate: parts on it cannot be driven (the plate moves a part only by friction, at most μ_k g); a part to drive needs μ_k ≥ {} (PTFE on steel is near 0.04)",
+                num(lo.abs()),
+                if lo == 0.0 { "" } else { "in effect " },
+                num(MU_DRIVEN)
+            ),
+        ))
+    }
+
+    /// Reads a command-line friction `MU` (μ_s = μ_k = MU) or `LO:HI` (a
+    /// range), checked by [`FrictionSpec::validate_driven`]; errors name
+    /// `arg`.
+    ///
+    /// ```
+    /// use platefield::scene::FrictionSpec;
+    /// assert_eq!(FrictionSpec::parse_arg("0.3", "--friction")?, FrictionSpec::uniform(0.3));
+    /// assert_eq!(FrictionSpec::parse_arg("0.2:0.4", "--friction")?, FrictionSpec::range(0.2, 0.4));
+    /// let e = FrictionSpec::parse_arg("0.2:x", "--friction").unwrap_err().to_string();
+    /// assert!(e.starts_with("--friction: expected MU (e.g. 0.25) or LO:HI"), "{e}");
+    /// # Ok::<(), platefield::Error>(())
+    /// ```
+    pub fn parse_arg(text: &str, arg: &str) -> Result<FrictionSpec> {
+        let bad = || {
+            Error::invalid(
+                arg,
+                format!("expected MU (e.g. 0.25) or LO:HI (e.g. 0.2:0.4), got \"{text}\""),
+            )
+        };
+        let number = |s: &str| s.trim().parse::<f64>().map_err(|_| bad());
+        let spec = match text.split(':').collect::<Vec<_>>().as_slice() {
+            [mu] => FrictionSpec::uniform(number(mu)?),
+            [lo, hi] => FrictionSpec::range(number(lo)?, number(hi)?),
+            _ => return Err(bad()),
+        };
+        spec.validate_driven(arg)?;
+        Ok(spec)
     }
 
     /// The spec as JSON, in the shortest form that reads back to it.

@@ -571,6 +571,31 @@ impl Schedule {
         Ok(name)
     }
 
+    /// The schedule's fingerprint: the first 16 hex digits of the SHA-256
+    /// of its segments as compact JSON (what its export plays; the design
+    /// report beside them does not count). `export` writes it in the
+    /// CSV's header and `verify --replay` checks it.
+    ///
+    /// ```
+    /// use platefield::schedule::Schedule;
+    /// let s = Schedule::load("results/sink/schedule.json".as_ref())?;
+    /// let f = s.fingerprint();
+    /// assert_eq!(f.len(), 16);
+    /// let mut other = s.clone();
+    /// other.segments[0].cycles += 1;
+    /// assert_ne!(other.fingerprint(), f);
+    /// # Ok::<(), platefield::Error>(())
+    /// ```
+    pub fn fingerprint(&self) -> String {
+        use sha2::{Digest, Sha256};
+        let json = serde_json::to_string(&self.segments).unwrap_or_default();
+        Sha256::digest(json.as_bytes())
+            .iter()
+            .take(8)
+            .map(|b| format!("{b:02x}"))
+            .collect()
+    }
+
     /// The schedule as pretty JSON with a final newline.
     pub fn to_json(&self) -> Result<String> {
         let mut text =

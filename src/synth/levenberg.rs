@@ -187,10 +187,9 @@ pub fn damped_step(jtj: &DMatrix<f64>, jtr: &DVector<f64>, lambda: f64) -> Vec<f
     let rhs = -jtr;
     let delta = match a.clone().cholesky() {
         Some(c) => c.solve(&rhs),
-        None => a
-            .svd(true, true)
-            .solve(&rhs, 1e-12 * largest.max(f64::MIN_POSITIVE))
-            .unwrap_or_else(|_| DVector::zeros(n)),
+        None => crate::linalg::svd(a)
+            .and_then(|svd| svd.solve(&rhs, 1e-12 * largest.max(f64::MIN_POSITIVE)).ok())
+            .unwrap_or_else(|| DVector::zeros(n)),
     };
     delta.iter().copied().collect()
 }

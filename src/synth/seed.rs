@@ -50,8 +50,11 @@ impl AffineFit {
         }
         // A 1-point or 1-row grid leaves the affine map underdetermined:
         // the pseudo-inverse picks the least-norm solution.
-        let inv = ata
-            .pseudo_inverse(1e-12 * ata.norm())
+        // A pseudo-inverse is an SVD: only of a finite matrix (see
+        // `crate::linalg`).
+        let inv = Some(ata)
+            .filter(|m| crate::linalg::all_finite(m.iter()))
+            .and_then(|m| m.pseudo_inverse(1e-12 * m.norm()).ok())
             .unwrap_or(Matrix3::zeros());
         let sol = [inv * atf[0], inv * atf[1]];
         let m = [[sol[0][0], sol[0][1]], [sol[1][0], sol[1][1]]];

@@ -75,7 +75,7 @@ impl FrictionArg {
                 FrictionSpec::range(lo, hi)
             }
         };
-        spec.validate("--friction")
+        spec.validate_driven("--friction")
     }
 
     /// The one friction everything is played at (`None`: the schedule's).

@@ -46,7 +46,8 @@ impl Judged {
         }
         let replay = match replay {
             Some(p) => {
-                let (file, source) = (held_csv::read(p)?, p.display().to_string());
+                let ((file, stated), source) = (held_csv::read(p)?, p.display().to_string());
+                check_fingerprint(schedule, stated.as_deref(), &source)?;
                 check_replay(schedule, &file, &source)?;
                 runtime.admit(&replay_estimate(schedule, file.rate))?;
                 Some((file, source))
@@ -76,5 +77,30 @@ impl Judged {
             None => None,
         };
         Ok((sweep, replay))
+    }
+}
+
+/// Refuses a replay file whose header states another schedule's
+/// fingerprint (`source` names it): its realised field would be compared
+/// with this schedule's as if it were its export. A file without one
+/// (written by hand or by an older `export`) is checked by its layout
+/// alone ([`check_replay`]), and a note says so.
+fn check_fingerprint(schedule: &Schedule, stated: Option<&str>, source: &str) -> Result<()> {
+    let own = schedule.fingerprint();
+    match stated {
+        Some(f) if f != own => Err(crate::error::Error::invalid(
+            source,
+            format!(
+                "is the export of another schedule: its header states the schedule fingerprint {f}, this schedule's is {own}; replay the file `platefield export` writes from this schedule.json"
+            ),
+        )),
+        Some(_) => Ok(()),
+        None => {
+            eprintln!(
+                "note: {source} states no schedule fingerprint (its header lacks \"# {}\"): only its layout (rows, sample time) is checked against this schedule",
+                crate::schedule::export::FINGERPRINT.trim_end()
+            );
+            Ok(())
+        }
     }
 }

@@ -23,7 +23,9 @@ use crate::design::method::realised_check;
 use crate::design::sort::SortDesign;
 use crate::error::Result;
 use crate::play::{PlayOptions, ScheduleMotion};
+use crate::progress::Progress;
 use crate::request::{Attractor, Target};
+use crate::work::{Estimate, Runtime, Term};
 
 /// Distance (m) to an attractor within which a part counts as there: 5 mm.
 pub const SORT_TOL: f64 = 5e-3;
@@ -66,7 +68,7 @@ pub struct ClassPlay {
 /// use platefield::verify::sort_play::play_classes;
 /// let target = Target::load(std::path::Path::new("targets/sort_friction.json"))?;
 /// let d = design_sort(&target, &DesignOptions::default())?;
-/// for c in play_classes(&target, &d, None)? {
+/// for c in play_classes(&target, &d, None, &platefield::work::Runtime::QUIET)? {
 ///     println!("{}: {:?} at its own sink, {} mixed up", c.name, c.at_own, c.mixed_up);
 /// }
 /// # Ok::<(), platefield::Error>(())
@@ -75,6 +77,7 @@ pub fn play_classes(
     target: &Target,
     design: &SortDesign,
     periods: Option<u32>,
+    runtime: &Runtime,
 ) -> Result<Vec<ClassPlay>> {
     let attractors: Vec<Option<Attractor>> = target
         .classes
@@ -93,8 +96,16 @@ pub fn play_classes(
             .max()
             .unwrap_or(1)
     });
+    runtime.admit(&play_estimate(design, starts.len(), periods))?;
+    let progress = Progress::new(
+        "sort: plays",
+        "classes",
+        design.classes.len() as u64,
+        runtime.progress(),
+    );
     let mut out = Vec::new();
     for (i, fit) in design.classes.iter().enumerate() {
+        progress.set_message(format!("class {}", fit.name));
         let ct = target.class_target(i);
         let settings = ct.physics(&design.schedule.settings);
         let sampled = ct.sample()?;
@@ -137,7 +148,9 @@ pub fn play_classes(
             contact_lost: swarm.contact_lost,
             median_distance_m: own.and_then(|_| crate::verify::swarm::median(&distances)),
         });
+        progress.inc(1);
     }
+    progress.finish();
     Ok(out)
 }
 
@@ -185,6 +198,42 @@ fn swarm_starts(target: &Target) -> Vec<[f64; 2]> {
 
 /// Whole periods for the predicted field to bring the farthest start
 /// within [`SORT_TOL`] twice over, in 1..=[`MAX_SORT_PERIODS`].
+/// The work of [`play_classes`] ([`crate::work`]): per class its swarm
+/// of `parts` parts played `periods` schedule periods, and its realised
+/// check (the design's, `crate::design::method::check_estimate`, on a
+/// period of the schedule's cycles).
+pub(crate) fn play_estimate(design: &SortDesign, parts: usize, periods: u32) -> Estimate {
+    let s = &design.schedule;
+    let steps = s.settings.numerics.steps_per_cycle as f64;
+    let cycles = f64::from(s.total_cycles);
+    Estimate::new(
+        "target",
+        "playing the sort's classes",
+        "fewer classes or a schedule of fewer cycles",
+    )
+    .plus(
+        Term::new("swarms")
+            .times(design.classes.len() as f64, "classes")
+            .times(parts as f64, "parts")
+            .times(f64::from(periods), "periods")
+            .times(cycles, "cycles")
+            .times(steps, "steps"),
+    )
+    .plus(
+        Term::new("realised checks")
+            .times(design.classes.len() as f64, "classes")
+            .times(
+                (crate::design::method::CHECK_POINTS * crate::design::method::CHECK_POINTS) as f64,
+                "parts",
+            )
+            .times(
+                f64::from(crate::design::method::check_cycles(s.total_cycles)),
+                "cycles",
+            )
+            .times(steps, "steps"),
+    )
+}
+
 fn swarm_periods(
     own: Option<Attractor>,
     starts: &[[f64; 2]],

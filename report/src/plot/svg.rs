@@ -192,8 +192,10 @@ pub(crate) fn path_data(points: impl IntoIterator<Item = Option<[f64; 2]>>) -> S
     d
 }
 
-/// Writes `contents` to `path` atomically ([`platefield::output::replace_atomic`]).
-pub use platefield::output::replace_atomic as write_atomic;
+/// Writes `contents` to `path` atomically: see
+/// [`platefield::output::replace_file`] (a temporary file renamed over a
+/// regular file; devices and FIFOs written directly; links followed).
+pub use platefield::output::replace_file as write_atomic;
 
 #[cfg(test)]
 mod tests {

@@ -387,11 +387,12 @@ fn decompose(q: &[[f64; 2]], e: &[[f64; 2]], w: &[f64], scale: f64) -> Decomposi
         b[2 * i] = sw * e[i][0];
         b[2 * i + 1] = sw * e[i][1];
     }
-    let x = a
-        .clone()
-        .svd(true, true)
-        .solve(&b, 1e-12)
-        .unwrap_or_else(|_| DVector::zeros(6));
+    // A non-finite residual (a replayed file of huge accelerations)
+    // leaves every part unmeasured rather than an SVD that never ends.
+    let x = crate::linalg::svd(a.clone())
+        .filter(|_| crate::linalg::all_finite(b.iter()))
+        .and_then(|svd| svd.solve(&b, 1e-12).ok())
+        .unwrap_or_else(|| DVector::from_element(6, f64::NAN));
     let scale = if scale > 0.0 { scale } else { f64::INFINITY };
     let part = |ks: &[usize]| -> f64 {
         let mut v = DVector::zeros(2 * n);

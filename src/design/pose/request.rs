@@ -52,6 +52,11 @@ fn pose_field(value: &Value) -> Option<&serde_json::Map<String, Value>> {
     (field.get("kind")?.as_str()? == "pose").then_some(field)
 }
 
+/// Largest magnitude of a pose's numbers as read (x, y in m; θ in
+/// degrees): far beyond any plate and any number of turns, so that only a
+/// typo is refused here; the position is then checked against the grid.
+const POSE_MAX: f64 = 1e6;
+
 /// `pose` as three finite numbers (x m, y m, θ degrees).
 fn pose_numbers(field: &serde_json::Map<String, Value>) -> Result<[f64; 3]> {
     let bad = |what: &str| {
@@ -70,13 +75,16 @@ fn pose_numbers(field: &serde_json::Map<String, Value>) -> Result<[f64; 3]> {
     }
     let mut out = [0.0; 3];
     for (i, v) in items.iter().enumerate() {
+        let unit = if i == 2 { "degrees" } else { "m" };
         out[i] = v
             .as_f64()
-            .filter(|x| x.is_finite() && x.abs() <= 1e6)
+            .filter(|x| x.is_finite() && x.abs() <= POSE_MAX)
             .ok_or_else(|| {
                 Error::invalid(
                     format!("{POSE}[{i}]"),
-                    format!("must be a finite number, got {v}"),
+                    format!(
+                        "must be a finite number in [-{POSE_MAX:e}, {POSE_MAX:e}] {unit}, got {v}"
+                    ),
                 )
             })?;
     }

@@ -73,6 +73,9 @@ pub const RAMP_CYCLES: u32 = sample_hold::DEFAULT_RAMP_CYCLES;
 /// 5.7 GB file through without a word.
 pub(crate) const MAX_EXPORT_ROWS: f64 = 1e7;
 
+/// The header comment that states the schedule's fingerprint, before it.
+pub const FINGERPRINT: &str = "schedule fingerprint: ";
+
 /// Bytes per CSV row used to state an export's size (measured; see
 /// [`MAX_EXPORT_ROWS`]).
 pub(crate) const BYTES_PER_ROW: f64 = 118.0;
@@ -88,6 +91,8 @@ pub struct Export {
     /// The shaker limits the schedule was designed for
     /// (`played.limits`), if it records them.
     pub limits: Option<ShakerSpec>,
+    /// The schedule's [`Schedule::fingerprint`], stated in the header.
+    pub fingerprint: String,
 }
 
 impl Export {
@@ -103,8 +108,9 @@ impl Export {
             .map(|l| format!("# {l}\n"))
             .collect();
         format!(
-            "# platefield export: the six plate-centre acceleration signals, each sample held for its interval: {}\n# {FRAME}\n{}{over}{}",
+            "# platefield export: the six plate-centre acceleration signals, each sample held for its interval: {}\n# {FINGERPRINT}{} (of the schedule's segments; verify --replay checks it)\n# {FRAME}\n{}{over}{}",
             self.describe(),
+            self.fingerprint,
             self.peaks().header("the file as played, from rest at home"),
             self.samples.to_csv()
         )
@@ -188,6 +194,7 @@ impl Export {
 pub fn export(schedule: &Schedule, rate: f64, steady: u32) -> Result<Export> {
     positive("--rate", rate)?;
     schedule.validate()?;
+    let fingerprint = schedule.fingerprint();
     let schedule = &schedule.with_segments(schedule.segments.clone());
     // A steady six-signal segment is, by `validate`, the one moving segment.
     let steady_motion = schedule
@@ -203,12 +210,14 @@ pub fn export(schedule: &Schedule, rate: f64, steady: u32) -> Result<Export> {
             samples,
             ramped: Some(steady),
             limits,
+            fingerprint,
         });
     }
     Ok(Export {
         samples: sequence_samples(schedule, rate)?,
         ramped: None,
         limits,
+        fingerprint,
     })
 }
 
