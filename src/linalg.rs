@@ -13,6 +13,10 @@ use nalgebra::{DMatrix, SVD};
 /// that never converges.
 const SVD_ITERATIONS_PER_VALUE: usize = 1000;
 
+/// Convergence threshold of an off-diagonal entry, relative: nalgebra's
+/// own `svd`'s (5 ε), so that a finite matrix decomposes to the same bits.
+const SVD_EPS: f64 = 5.0 * f64::EPSILON;
+
 /// Whether every entry of `m` is finite.
 pub(crate) fn all_finite<'a>(m: impl IntoIterator<Item = &'a f64>) -> bool {
     m.into_iter().all(|x| x.is_finite())
@@ -26,7 +30,7 @@ pub(crate) fn svd(m: DMatrix<f64>) -> Option<SVD<f64, nalgebra::Dyn, nalgebra::D
         return None;
     }
     let max = SVD_ITERATIONS_PER_VALUE * m.nrows().min(m.ncols()).max(1);
-    m.try_svd(true, true, f64::EPSILON, max)
+    m.try_svd(true, true, SVD_EPS, max)
 }
 
 #[cfg(test)]

@@ -50,6 +50,22 @@ fn writing() -> std::sync::RwLockReadGuard<'static, ()> {
     WRITES.read().unwrap_or_else(|e| e.into_inner())
 }
 
+/// Writes `bytes` to `path` atomically in a folder this program owns (the
+/// basis cache's entries, whose names are its own): whatever is at `path`
+/// — a FIFO, a link to a device left there — is replaced by the rename,
+/// never written through. Errors name the path.
+pub(crate) fn write_owned(path: &Path, bytes: &[u8]) -> Result<()> {
+    let io = |source| Error::Io {
+        path: path.display().to_string(),
+        source,
+    };
+    let _writing = writing();
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(io)?;
+    }
+    rename_into_place(path, bytes).map_err(io)
+}
+
 static TEMP_COUNTER: AtomicU64 = AtomicU64::new(0);
 
 /// What [`replace_file`] finds at a path.
@@ -147,13 +163,19 @@ fn write_file(path: &Path, contents: &[u8]) -> std::io::Result<()> {
     } else {
         path.to_path_buf()
     };
-    let tmp = temporary_beside(&path, "tmp")?;
+    rename_into_place(&path, contents)
+}
+
+/// Writes `contents` to a temporary file beside `path`, flushed, and
+/// renames it over whatever is at `path`.
+fn rename_into_place(path: &Path, contents: &[u8]) -> std::io::Result<()> {
+    let tmp = temporary_beside(path, "tmp")?;
     let result = (|| {
         let mut f = std::fs::File::create(&tmp)?;
         f.write_all(contents)?;
         f.sync_all()?;
         drop(f);
-        std::fs::rename(&tmp, &path)
+        std::fs::rename(&tmp, path)
     })();
     if result.is_err() {
         let _ = std::fs::remove_file(&tmp);

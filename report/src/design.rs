@@ -208,6 +208,12 @@ pub(crate) fn excluded_md(excluded: &[platefield::schedule::ExcludedColumn]) -> 
     md
 }
 
+/// The realised strength `schedule` was played at (the headline's), if
+/// it records its play.
+pub(crate) fn realised_strength(schedule: &platefield::schedule::Schedule) -> Option<f64> {
+    schedule.played.as_ref().and_then(|p| p.realised_strength)
+}
+
 /// The fit figure: target (scaled by the strength), achieved, residual;
 /// `realised`: the strength the kept design was played at, for the title.
 pub(crate) fn fit_svg(d: &Design, realised: Option<f64>) -> String {
@@ -215,7 +221,7 @@ pub(crate) fn fit_svg(d: &Design, realised: Option<f64>) -> String {
         &d.schedule.target,
         &d.target,
         d.schedule.fit.strength,
-        realised.or_else(|| super::method::realised_strength(&d.schedule)),
+        realised.or_else(|| realised_strength(&d.schedule)),
         "achieved (schedule)",
         &d.achieved_quantized,
     )

@@ -270,12 +270,6 @@ pub(crate) fn signals_svg(motion: &Signals, limits: &ShakerLimits) -> String {
     plot.to_svg()
 }
 
-/// The realised strength `schedule` was played at (the headline's), if
-/// it records its play.
-pub(crate) fn realised_strength(schedule: &platefield::schedule::Schedule) -> Option<f64> {
-    schedule.played.as_ref().and_then(|p| p.realised_strength)
-}
-
 /// Target (scaled), synthesized field and residual at the target's points.
 pub(crate) fn synthesis_fit_svg(md: &MethodDesign, syn: &Synthesis) -> Option<String> {
     let target = md.kept().schedule.target_spec.as_ref()?;
@@ -285,7 +279,7 @@ pub(crate) fn synthesis_fit_svg(md: &MethodDesign, syn: &Synthesis) -> Option<St
             &md.kept().schedule.target,
             &sampled,
             syn.checked.realised.strength,
-            realised_strength(&md.kept().schedule),
+            super::design::realised_strength(&md.kept().schedule),
             "synthesized (steady state)",
             &syn.checked.field.vectors,
         )
@@ -312,7 +306,7 @@ pub fn write(md: &MethodDesign, dir: &Path) -> Result<Vec<&'static str>> {
     report.push_str(&method_md(md));
     // No plot rather than an empty one (a synthesis for a grid-less target
     // has no field at the target's points).
-    let realised = realised_strength(&kept.schedule);
+    let realised = super::design::realised_strength(&kept.schedule);
     let fit_svg = match (kept.method, &md.sequence, &md.synthesis) {
         (Method::Sequence, Some(d), _) => Some(super::design::fit_svg(d, realised)),
         (Method::Mix, _, _) if md.mixed.is_some() => md

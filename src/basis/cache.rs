@@ -20,7 +20,8 @@
 //!   bump it, or clear the folder.)
 //! * **File**: `<dir>/<key>.json`, exactly
 //!   `{"format":3,"key":"<key>","payload_sha256":"<hash>","payload":<FieldLibrary>}`
-//!   and a newline, written atomically ([`crate::output::write_atomic`]).
+//!   and a newline, written atomically, replacing whatever is at the
+//!   entry's path (`crate::output::write_owned`).
 //!   `payload_sha256` is the SHA-256 of the payload's bytes as written.
 //! * **Load** never trusts a file: it is used only if it parses, has this
 //!   format and key, and its payload bytes hash to `payload_sha256`. A
@@ -40,7 +41,7 @@ use super::library::FieldLibrary;
 use super::primitives::Primitive;
 use crate::error::{Error, Result};
 use crate::field::{FieldKind, FieldSettings, Grid};
-use crate::output::write_atomic;
+use crate::output::write_owned;
 
 /// Version of the cache file layout and key serialization, bumped whenever
 /// either changes (each version's change: the workspace's `CHANGELOG.md`).
@@ -275,7 +276,7 @@ impl BasisCache {
         let mut bytes = header(key, &sha256_hex(&payload)).into_bytes();
         bytes.extend_from_slice(&payload);
         bytes.extend_from_slice(TRAILER);
-        write_atomic(&path, &bytes)
+        write_owned(&path, &bytes)
     }
 
     /// The `kind` fields of `primitives` on `grid` with `settings`: loaded from

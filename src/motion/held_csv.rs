@@ -8,8 +8,9 @@
 //! every row after it holds 7 finite numbers. The times must start at 0
 //! and be uniform: Δt = t_last/(n − 1) and every t_k within
 //! `T_TOLERANCE` of kΔt (the export prints t to 1 ns). The accelerations
-//! must be physical: at most the scenes' bounds, 1e4 m/s² (about 1000 g)
-//! linear and 1e5 rad/s² angular (a shaker plays tens). Every error names
+//! must be physical: at most [`super::LINEAR_ACCEL`], 1e4 m/s² (about
+//! 1000 g), linear and [`super::ANGULAR_ACCEL`], 1e5 rad/s², angular (the
+//! scenes' bounds; a shaker plays tens). Every error names
 //! the file, the line and the column, and says what is allowed.
 
 use std::path::Path;
@@ -17,6 +18,10 @@ use std::path::Path;
 use super::sample_hold::{CentreState, HoldSamples};
 use crate::error::{Error, Result};
 use crate::input::{read_capped, MAX_INPUT_BYTES};
+
+/// The header comment that states the schedule's fingerprint, before it
+/// (`# schedule fingerprint: HEX …`, written by `platefield export`).
+pub const FINGERPRINT: &str = "schedule fingerprint: ";
 
 /// The header `platefield export` writes.
 pub const HEADER: &str = "t_s,ax_m_s2,ay_m_s2,az_m_s2,alpha_x_rad_s2,alpha_y_rad_s2,alpha_z_rad_s2";
@@ -120,7 +125,7 @@ fn file_rate(path: &Path) -> Option<f64> {
 /// assert_eq!(fingerprint(HEADER), None);
 /// ```
 pub fn fingerprint(text: &str) -> Option<&str> {
-    let mark = crate::schedule::export::FINGERPRINT;
+    let mark = FINGERPRINT;
     text.lines()
         .map(str::trim)
         .take_while(|l| l.is_empty() || l.starts_with('#'))
@@ -205,9 +210,9 @@ pub fn parse(text: &str, source: &str) -> Result<HoldSamples> {
         }
         for (c, x) in row.iter().enumerate().skip(1) {
             let (max, unit) = if c <= 3 {
-                (crate::scene::LINEAR_ACCEL, "m/s²")
+                (super::LINEAR_ACCEL, "m/s²")
             } else {
-                (crate::scene::ANGULAR_ACCEL, "rad/s²")
+                (super::ANGULAR_ACCEL, "rad/s²")
             };
             if x.abs() > max {
                 return Err(Error::invalid(

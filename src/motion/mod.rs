@@ -29,6 +29,13 @@ pub(crate) mod trig;
 mod waveform;
 
 pub use held::Held;
+
+/// Largest peak linear acceleration (m/s², about 1000 g) of a plate
+/// motion: a scene's translation, a replayed export's sample.
+pub const LINEAR_ACCEL: f64 = 1e4;
+/// Largest peak angular acceleration (rad/s²) of a plate motion: a
+/// scene's rotation, a replayed export's sample.
+pub const ANGULAR_ACCEL: f64 = 1e5;
 pub use invariance::Invariance;
 pub(crate) use prepared::PreparedMotion;
 pub use ramped::{smoothstep, Ramped};

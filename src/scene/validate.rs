@@ -41,9 +41,9 @@ pub(crate) const ROTATION: f64 = 0.5;
 /// Largest translation pose amplitude |d0| (m).
 pub(crate) const TRANSLATION: f64 = 0.1;
 /// Largest peak angular acceleration (rad/s²) of a rotation.
-pub(crate) const ANGULAR_ACCEL: f64 = 1e5;
+pub(crate) const ANGULAR_ACCEL: f64 = crate::motion::ANGULAR_ACCEL;
 /// Largest peak linear acceleration (m/s², about 1000 g) of a translation.
-pub(crate) const LINEAR_ACCEL: f64 = 1e4;
+pub(crate) const LINEAR_ACCEL: f64 = crate::motion::LINEAR_ACCEL;
 /// Largest gravity (m/s²; gravity is in [GRAVITY_MIN, GRAVITY]).
 pub(crate) const GRAVITY: f64 = 100.0;
 /// Smallest gravity (m/s²): 1 % of the paper's 9.81, below the Moon's

@@ -98,7 +98,7 @@ fn check_fingerprint(schedule: &Schedule, stated: Option<&str>, source: &str) ->
         None => {
             eprintln!(
                 "note: {source} states no schedule fingerprint (its header lacks \"# {}\"): only its layout (rows, sample time) is checked against this schedule",
-                crate::schedule::export::FINGERPRINT.trim_end()
+                held_csv::FINGERPRINT.trim_end()
             );
             Ok(())
         }

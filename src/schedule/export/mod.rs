@@ -73,9 +73,6 @@ pub const RAMP_CYCLES: u32 = sample_hold::DEFAULT_RAMP_CYCLES;
 /// 5.7 GB file through without a word.
 pub(crate) const MAX_EXPORT_ROWS: f64 = 1e7;
 
-/// The header comment that states the schedule's fingerprint, before it.
-pub const FINGERPRINT: &str = "schedule fingerprint: ";
-
 /// Bytes per CSV row used to state an export's size (measured; see
 /// [`MAX_EXPORT_ROWS`]).
 pub(crate) const BYTES_PER_ROW: f64 = 118.0;
@@ -108,8 +105,9 @@ impl Export {
             .map(|l| format!("# {l}\n"))
             .collect();
         format!(
-            "# platefield export: the six plate-centre acceleration signals, each sample held for its interval: {}\n# {FINGERPRINT}{} (of the schedule's segments; verify --replay checks it)\n# {FRAME}\n{}{over}{}",
+            "# platefield export: the six plate-centre acceleration signals, each sample held for its interval: {}\n# {}{} (of the schedule's segments; verify --replay checks it)\n# {FRAME}\n{}{over}{}",
             self.describe(),
+            crate::motion::held_csv::FINGERPRINT,
             self.fingerprint,
             self.peaks().header("the file as played, from rest at home"),
             self.samples.to_csv()
