@@ -130,7 +130,9 @@ def export(schedule, rate=10000.0, *, steady_cycles=None):
 
     ``schedule`` is a ``schedule.json`` path or a schedule dict. Returns an
     (n, 7) numpy array, the CSV's rows: t (s), a_x, a_y, a_z (m/s²),
-    alpha_x, alpha_y, alpha_z (rad/s²). ``steady_cycles``: as ``export
+    alpha_x, alpha_y, alpha_z (rad/s², the plate's angular acceleration about
+    the world axes: integrate it to ω and compose the rotation, docs/shaker.md).
+    ``steady_cycles``: as ``export
     --steady-cycles`` (default the CLI's).
     """
     if steady_cycles is None:
