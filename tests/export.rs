@@ -285,9 +285,9 @@ fn every_sample_is_the_mean_acceleration_over_its_interval() {
         // tilts' second-order rotation peaks at 1e-4 of the tilts.
         let mut peak = [0.0_f64; 6];
         for s in samples {
-            for i in 0..6 {
+            for (i, v) in s.iter().enumerate() {
                 let g = 3 * (i / 3);
-                peak[g] = peak[g].max(s[i].abs());
+                peak[g] = peak[g].max(v.abs());
             }
         }
         for i in [1, 2, 4, 5] {

@@ -81,8 +81,8 @@ fn a_steady_pose_table_loops_and_is_what_the_export_plays() {
         if k >= 10 * n {
             let r = &p.points[k % n];
             angle = angle.max(angle_between(&plate.q, &from_xyz(r[3], r[4], r[5])));
-            for i in 0..3 {
-                position = position.max((plate.x[i] - r[i]).abs());
+            for (x, r) in plate.x.iter().zip(r) {
+                position = position.max((x - r).abs());
             }
         }
         plate.hold(a, dt, 2);
@@ -109,8 +109,8 @@ fn a_sequence_pose_table_runs_home_to_home() {
     let (mut angle, mut position) = (0.0_f64, 0.0_f64);
     for (a, r) in rows.iter().zip(&p.points) {
         angle = angle.max(angle_between(&plate.q, &from_xyz(r[3], r[4], r[5])));
-        for i in 0..3 {
-            position = position.max((plate.x[i] - r[i]).abs());
+        for (x, r) in plate.x.iter().zip(r) {
+            position = position.max((x - r).abs());
         }
         plate.hold(a, dt, 2);
     }
@@ -143,8 +143,8 @@ fn a_cycle_loops_with_no_velocity_change() {
     }
     let fine = cycle(&s, 128).unwrap();
     for (k, a) in c.points.iter().enumerate() {
-        for i in 0..6 {
-            assert!((a[i] - fine.points[2 * k][i]).abs() < 1e-12 * (1.0 + a[i].abs()));
+        for (a, f) in a.iter().zip(&fine.points[2 * k]) {
+            assert!((a - f).abs() < 1e-12 * (1.0 + a.abs()));
         }
     }
     let csv = c.to_csv();

@@ -43,9 +43,12 @@ pub struct VerifyArgs {
     /// Parts' friction: MU plays everything at μ_s = μ_k = MU; LO:HI:N also sweeps the design's realised check over N values (table and plot in verify/). Default: the schedule's own.
     #[arg(long, allow_negative_numbers = true)]
     pub friction: Option<String>,
-    /// The schedule's exported CSV (`platefield export`): also plays the file's held samples on the same parts by the design's realised check and prints both (schedule played, export replayed).
+    /// The schedule's exported CSV (`platefield export`), or an accelerometer recording of it (a header-less CSV of t and the six channels, or the six with --rate; averaged cycle by cycle onto the export's grid): also plays the file's held samples on the same parts by the design's realised check and prints both (schedule played, export replayed).
     #[arg(long, value_name = "EXPORT.csv")]
     pub replay: Option<PathBuf>,
+    /// The rate (samples/s) of a `--replay` recording whose rows hold the six channels without t (a header-less CSV; with t first, the times give it).
+    #[arg(long, allow_negative_numbers = true)]
+    pub rate: Option<f64>,
     /// Print the summary JSON on stdout.
     #[arg(long)]
     pub json: bool,
@@ -105,6 +108,7 @@ impl VerifyArgs {
                 .map(FrictionArg::parse)
                 .transpose()?,
             replay: self.replay.clone(),
+            replay_rate: self.rate,
         })
     }
 

@@ -133,8 +133,9 @@ def export(schedule, rate=10000.0, *, steady_cycles=None, format="csv", peaks=Fa
 
     ``format="csv"`` (default): the held samples at ``rate`` samples/s, an
     (n, 7) numpy array, the CSV's rows: t (s), a_x, a_y, a_z (m/s²),
-    alpha_x, alpha_y, alpha_z (rad/s²). ``steady_cycles``: as ``export
-    --steady-cycles`` (default the CLI's). With ``peaks=True`` returns
+    alpha_x, alpha_y, alpha_z (rad/s², the plate's angular acceleration about
+    the world axes: integrate it to ω and compose the rotation, docs/shaker.md).
+    ``steady_cycles``: as ``export --steady-cycles`` (default the CLI's). With ``peaks=True`` returns
     ``(rows, peaks)``: ``peaks`` is the header's dict of ``acceleration``,
     ``velocity`` and ``stroke``, six numbers each (x, y, z linear, then
     angular), of the file as played from rest.

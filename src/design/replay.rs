@@ -23,13 +23,14 @@ use super::method::{
 use crate::dynamics::Friction;
 use crate::error::{Error, Result};
 use crate::field::FieldSettings;
-use crate::motion::held_csv;
-use crate::motion::sample_hold::HoldSamples;
+use crate::motion::held_csv::{self, Recording};
+use crate::motion::sample_hold::{self, CentreState, HoldSamples};
+use crate::motion::{Held, Motion};
 use crate::play::replay::{replay_motion, ReplayCheck};
 use crate::play::sensitivity::{friction_sweep, Judged};
 use crate::play::ScheduleMotion;
 use crate::request::{SampledTarget, Target};
-use crate::schedule::export::{export, DEFAULT_STEADY_CYCLES};
+use crate::schedule::export::{export, DEFAULT_STEADY_CYCLES, RAMP_CYCLES};
 use crate::schedule::Schedule;
 use crate::work::{Estimate, Term};
 
@@ -62,6 +63,144 @@ pub fn judge_replay(
 pub fn exported(schedule: &Schedule) -> Result<HoldSamples> {
     let e = export(schedule, EXPORT_RATE, DEFAULT_STEADY_CYCLES)?;
     held_csv::parse(&e.to_csv(), "export")
+}
+
+/// An accelerometer recording of `schedule` played (any rate, noisy) as
+/// the file its export would be, so that [`replay_check`] judges it: the
+/// recording is held sample by sample (its velocity integral exact,
+/// piecewise linear), averaged cycle by cycle onto the export's grid at
+/// `EXPORT_RATE` (the mean acceleration over each grid interval, cycle
+/// after cycle, averaged: synchronous averaging, which divides white noise
+/// by the square root of the cycles recorded) and each channel's mean over
+/// the cycle removed (a periodic motion changes no velocity per cycle, so
+/// what is left of the noise cannot make the looped cycle drift).
+///
+/// * **A steady six-signal design**: the recording is taken to follow the
+///   export's layout, and its cycles after the [`RAMP_CYCLES`]-cycle
+///   ramp-in and before the ramp-out (all after the ramp-in when shorter)
+///   are averaged into one steady cycle, started in its own zero-mean
+///   steady state, and written as the export would write that cycle:
+///   ramped in, [`DEFAULT_STEADY_CYCLES`] steady cycles, ramped out.
+/// * **A looped schedule period**: every whole period recorded is
+///   averaged into one, from rest at home.
+///
+/// ```no_run
+/// use platefield::design::replay::{conform, replay_check};
+/// use platefield::motion::held_csv::parse_recording;
+/// use platefield::schedule::Schedule;
+///
+/// let schedule = Schedule::load("results/sink/schedule.json".as_ref()).unwrap();
+/// let text = std::fs::read_to_string("measured.csv").unwrap();
+/// let recording = parse_recording(&text, "measured.csv", Some(5000.0)).unwrap();
+/// let file = conform(&schedule, &recording, "measured.csv").unwrap();
+/// println!("{}", replay_check(&schedule, &file, "measured.csv", None).unwrap().strength_gap());
+/// ```
+///
+/// # Errors
+/// The schedule cannot be exported; the recording holds no whole cycle
+/// (after the ramp-in) or period (names `source`).
+pub fn conform(schedule: &Schedule, recording: &Recording, source: &str) -> Result<HoldSamples> {
+    let e = export(schedule, EXPORT_RATE, DEFAULT_STEADY_CYCLES)?;
+    let (step, per_cycle) = (e.samples.dt, e.samples.samples_per_period);
+    // The recording's velocity integral at `t`, its samples held.
+    let dt = recording.dt;
+    let mut nodes = vec![[0.0; 6]];
+    for a in &recording.samples {
+        let last = nodes[nodes.len() - 1];
+        nodes.push(std::array::from_fn(|i| last[i] + a[i] * dt));
+    }
+    let span = dt * recording.samples.len() as f64;
+    let velocity = |t: f64| -> [f64; 6] {
+        let k = ((t / dt).floor().max(0.0) as usize).min(recording.samples.len() - 1);
+        let tau = t - k as f64 * dt;
+        std::array::from_fn(|i| nodes[k][i] + recording.samples[k][i] * tau)
+    };
+    // Mean accelerations of `len` grid intervals from `t0`, averaged over
+    // `count` repeats `every` seconds apart, each channel's mean removed.
+    let average = |t0: f64, len: usize, every: f64, count: usize| -> Vec<[f64; 6]> {
+        let mut out = vec![[0.0; 6]; len];
+        for c in 0..count {
+            let start = t0 + every * c as f64;
+            for (j, o) in out.iter_mut().enumerate() {
+                let (a, b) = (
+                    velocity(start + step * j as f64),
+                    velocity(start + step * (j + 1) as f64),
+                );
+                for i in 0..6 {
+                    o[i] += (b[i] - a[i]) / step / count as f64;
+                }
+            }
+        }
+        for i in 0..6 {
+            let mean = out.iter().map(|a| a[i]).sum::<f64>() / len as f64;
+            out.iter_mut().for_each(|a| a[i] -= mean);
+        }
+        out
+    };
+    let too_short = |what: String| {
+        Error::invalid(
+            source,
+            format!("{span:.6} s recorded at {dt:.6e} s: {what}"),
+        )
+    };
+    let Some(steady) = e.ramped else {
+        let period = step * e.samples.samples.len() as f64;
+        let count = (span / period + 1e-9).floor() as usize;
+        if count == 0 {
+            return Err(too_short(format!(
+                "not one whole schedule period of {period:.6} s"
+            )));
+        }
+        return Ok(HoldSamples {
+            samples: average(0.0, e.samples.samples.len(), period, count),
+            ..e.samples
+        });
+    };
+    let cycle = step * per_cycle as f64;
+    let ramp = cycle * f64::from(RAMP_CYCLES);
+    let inside = ((span - 2.0 * ramp) / cycle + 1e-9).floor();
+    let count = if inside >= 1.0 {
+        inside
+    } else {
+        ((span - ramp) / cycle + 1e-9).floor()
+    };
+    if count < 1.0 {
+        return Err(too_short(format!(
+            "not one whole cycle of {cycle:.6} s after the {RAMP_CYCLES}-cycle ramp-in"
+        )));
+    }
+    let samples = average(ramp, per_cycle, cycle, count as usize);
+    // The zero-mean steady state at the cycle's start: node velocities
+    // v_j = v0 + Σ_{i<j} a_i Δ and trapezoidal poses with mean zero.
+    let mut v = vec![[0.0; 6]];
+    for a in &samples[..per_cycle - 1] {
+        let last = v[v.len() - 1];
+        v.push(std::array::from_fn(|i| last[i] + a[i] * step));
+    }
+    let mut x = vec![[0.0; 6]];
+    for w in v.windows(2) {
+        let last = x[x.len() - 1];
+        x.push(std::array::from_fn(|i| {
+            last[i] + (w[0][i] + w[1][i]) * step / 2.0
+        }));
+    }
+    let mean =
+        |rows: &[[f64; 6]], i: usize| rows.iter().map(|r| r[i]).sum::<f64>() / rows.len() as f64;
+    let v0: [f64; 6] = std::array::from_fn(|i| -mean(&v, i));
+    // The pose also advances by v0 per step: x_j + v0 j Δ.
+    let drift: [f64; 6] = std::array::from_fn(|i| v0[i] * step * (per_cycle - 1) as f64 / 2.0);
+    let x0: [f64; 6] = std::array::from_fn(|i| -mean(&x, i) - drift[i]);
+    let held = Held::new(&HoldSamples {
+        dt: step,
+        rate: 1.0 / step,
+        samples_per_period: per_cycle,
+        samples,
+        start: CentreState {
+            velocity: v0,
+            pose: x0,
+        },
+    })?;
+    sample_hold::ramped(&Motion::Held(held), 1.0 / step, RAMP_CYCLES, steady)
 }
 
 /// The target `schedule` records, sampled (a replay is judged against it).

@@ -31,13 +31,13 @@ pub const HEADER: &str = "t_s,ax_m_s2,ay_m_s2,az_m_s2,alpha_x_rad_s2,alpha_y_rad
 /// repeated sample (Δt is at least 1e-7 s at the export's rates).
 pub(crate) const T_TOLERANCE: f64 = 2e-9;
 
-/// Reads the exported CSV at `path` (at most [`MAX_INPUT_BYTES`]) as held
-/// samples from rest at home ([`parse`]), with the schedule fingerprint
-/// its header states ([`fingerprint`]).
+/// Reads the text of a file `verify --replay` takes (an export or a
+/// recording) at `path`: at most [`MAX_INPUT_BYTES`], refused with the rate
+/// that fits when larger, and UTF-8.
 ///
 /// # Errors
-/// An unreadable or oversized file (names the file), or [`parse`]'s.
-pub fn read(path: &Path) -> Result<(HoldSamples, Option<String>)> {
+/// An unreadable, oversized or non-UTF-8 file (names the file).
+pub fn read_text(path: &Path) -> Result<String> {
     let io = |source| Error::Io {
         path: path.display().to_string(),
         source,
@@ -49,14 +49,12 @@ pub fn read(path: &Path) -> Result<(HoldSamples, Option<String>)> {
         return Err(Error::invalid(path.display().to_string(), too_big));
     }
     let bytes = read_capped(path, MAX_INPUT_BYTES).map_err(io)?;
-    let text = String::from_utf8(bytes).map_err(|_| {
+    String::from_utf8(bytes).map_err(|_| {
         io(std::io::Error::new(
             std::io::ErrorKind::InvalidData,
             "not UTF-8 text",
         ))
-    })?;
-    let samples = parse(&text, &path.display().to_string())?;
-    Ok((samples, fingerprint(&text).map(str::to_string)))
+    })
 }
 
 /// What an export of `bytes` at `rate` samples/s (`None`: unknown) has to
@@ -279,6 +277,115 @@ fn uniform_step(
         }
     }
     Ok(dt)
+}
+
+/// An accelerometer recording: the six plate accelerations (the export's
+/// channels, world axes) at a uniform rate, read from a header-less
+/// numeric CSV ([`parse_recording`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Recording {
+    /// Time between rows (s).
+    pub dt: f64,
+    /// Per row a_x, a_y, a_z (m/s²), α_x, α_y, α_z (rad/s²).
+    pub samples: Vec<[f64; 6]>,
+}
+
+/// True when the first line of `text` that is not a comment or blank is
+/// all numbers: a header-less recording, not an export.
+pub fn is_recording(text: &str) -> bool {
+    text.lines()
+        .map(str::trim)
+        .find(|l| !l.is_empty() && !l.starts_with('#'))
+        .is_some_and(|l| l.split(',').all(|f| f.trim().parse::<f64>().is_ok()))
+}
+
+/// Parses a header-less recording (`source` names it in errors): every
+/// row `t,ax,ay,az,alpha_x,alpha_y,alpha_z` (7 columns, t in s from 0,
+/// uniform as in an export) or, with `rate` (samples/s), the six channels
+/// alone. `#` lines and blank lines are skipped.
+///
+/// ```
+/// use platefield::motion::held_csv::parse_recording;
+///
+/// let r = parse_recording("0,1,0,0,0,0,0\n0.5,2,0,0,0,0,0\n", "m.csv", None).unwrap();
+/// assert_eq!((r.dt, r.samples[1][0]), (0.5, 2.0));
+/// let r = parse_recording("1,0,0,0,0,0\n2,0,0,0,0,0\n", "m.csv", Some(4.0)).unwrap();
+/// assert_eq!(r.dt, 0.25);
+/// let e = parse_recording("1,0,0,0,0,0\n", "m.csv", None).unwrap_err().to_string();
+/// assert!(e.contains("m.csv line 1") && e.contains("--rate"), "{e}");
+/// ```
+///
+/// # Errors
+/// A row with the wrong number of columns, a value that is not a finite
+/// number, fewer than 2 rows, non-uniform times, or a `rate` that is not
+/// positive: each names `source`, the line and the column (or `--rate`).
+pub fn parse_recording(text: &str, source: &str, rate: Option<f64>) -> Result<Recording> {
+    if let Some(r) = rate {
+        crate::error::positive("--rate", r)?;
+    }
+    let width = if rate.is_some() { 6 } else { 7 };
+    let columns: Vec<&str> = HEADER.split(',').skip(7 - width).collect();
+    let mut rows: Vec<(usize, [f64; 7])> = Vec::new();
+    for (n, l) in text
+        .lines()
+        .enumerate()
+        .map(|(i, l)| (i + 1, l.trim()))
+        .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'))
+    {
+        let fields: Vec<&str> = l.split(',').collect();
+        if fields.len() != width {
+            let hint = if rate.is_some() {
+                "the six channels (with --rate)"
+            } else {
+                "t and the six channels (or the six channels alone with --rate)"
+            };
+            return Err(Error::invalid(
+                format!("{source} line {n}"),
+                format!(
+                    "{} columns, expected {width}: {hint}, {}",
+                    fields.len(),
+                    columns.join(",")
+                ),
+            ));
+        }
+        let mut row = [0.0; 7];
+        for (c, f) in fields.iter().enumerate() {
+            row[c + 7 - width] = f
+                .trim()
+                .parse::<f64>()
+                .ok()
+                .filter(|x| x.is_finite())
+                .ok_or_else(|| {
+                    Error::invalid(
+                        format!("{source} line {n} column {} ({})", c + 1, columns[c]),
+                        format!("\"{}\" is not a finite number", f.trim()),
+                    )
+                })?;
+        }
+        if let Some(r) = rate {
+            row[0] = rows.len() as f64 / r;
+        }
+        rows.push((n, row));
+    }
+    let at = |line: usize, col: Option<usize>| match col {
+        Some(c) => format!(
+            "{source} line {line} column {} ({})",
+            c + 1,
+            HEADER.split(',').nth(c).unwrap_or("")
+        ),
+        None => format!("{source} line {line}"),
+    };
+    let dt = match rate {
+        Some(r) if rows.len() >= 2 => 1.0 / r,
+        _ => uniform_step(&rows, source, &at)?,
+    };
+    Ok(Recording {
+        dt,
+        samples: rows
+            .iter()
+            .map(|(_, r)| std::array::from_fn(|i| r[i + 1]))
+            .collect(),
+    })
 }
 
 #[cfg(test)]

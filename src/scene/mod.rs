@@ -25,7 +25,9 @@
 //!   `zero`.
 //! * `{"type": "signals", "period": T, "linear": {"x": TERMS, "y": TERMS, "z": TERMS},
 //!   "angular": {...}}` — plate-centre translational acceleration (m/s²) and
-//!   angular acceleration about the world axes (rad/s²); TERMS is a list of
+//!   the second derivative θ'' of the plate's rotation vector θ, world axes
+//!   (rad/s²; R = exp(\[θ\]×), to first order the angular acceleration:
+//!   `motion::rotation`); TERMS is a list of
 //!   `{"amplitude": A, "phase": φ, "harmonic": n}` meaning A sin(n·2πt/T + φ)
 //!   (phase defaults to 0, harmonic to 1).
 //! * `{"type": "primitive", "kind": "LineSink", "omega": .., "amplitude": ..,

@@ -11,7 +11,7 @@ use std::path::Path;
 
 use super::friction::FrictionArg;
 use crate::design::method::{sweep_estimate, sweep_schedule};
-use crate::design::replay::{check_replay, replay_check, replay_estimate};
+use crate::design::replay::{check_replay, conform, replay_check, replay_estimate};
 use crate::dynamics::Friction;
 use crate::error::Result;
 use crate::motion::held_csv;
@@ -31,13 +31,26 @@ pub(crate) struct Judged {
     played: Option<Friction>,
 }
 
+/// The replay file at `path`: an export (with its header), or a
+/// header-less accelerometer recording (t and six channels, or six at
+/// `rate`) conformed to the export's grid ([`conform`]).
+fn read_replay(schedule: &Schedule, path: &Path, rate: Option<f64>) -> Result<HoldSamples> {
+    let (text, source) = (held_csv::read_text(path)?, path.display().to_string());
+    if held_csv::is_recording(&text) {
+        let recording = held_csv::parse_recording(&text, &source, rate)?;
+        return conform(schedule, &recording, &source);
+    }
+    check_fingerprint(schedule, held_csv::fingerprint(&text), &source)?;
+    held_csv::parse(&text, &source)
+}
+
 impl Judged {
     /// Reads and checks the replay file and admits both checks' estimates
     /// under `runtime`, before anything is played.
     pub(crate) fn admit(
         schedule: &Schedule,
         friction: Option<FrictionArg>,
-        replay: Option<&Path>,
+        replay: Option<(&Path, Option<f64>)>,
         runtime: &Runtime,
     ) -> Result<Judged> {
         let sweep = friction.map(|f| f.sweep_values()).unwrap_or_default();
@@ -45,9 +58,8 @@ impl Judged {
             runtime.admit(&sweep_estimate(schedule, sweep.len()))?;
         }
         let replay = match replay {
-            Some(p) => {
-                let ((file, stated), source) = (held_csv::read(p)?, p.display().to_string());
-                check_fingerprint(schedule, stated.as_deref(), &source)?;
+            Some((p, rate)) => {
+                let (file, source) = (read_replay(schedule, p, rate)?, p.display().to_string());
                 check_replay(schedule, &file, &source)?;
                 runtime.admit(&replay_estimate(schedule, file.rate))?;
                 Some((file, source))

@@ -81,9 +81,13 @@ pub struct VerifyRequest {
     /// Another friction to play at, or a sweep ([`super::friction`];
     /// default: the schedule's own).
     pub friction: Option<FrictionArg>,
-    /// The schedule's exported CSV to replay beside its own play
-    /// (`design::replay`, judged in the report layer).
+    /// The schedule's exported CSV, or an accelerometer recording of it
+    /// (header-less, `design::replay::conform`), to replay beside its own
+    /// play (`design::replay`, judged in the report layer).
     pub replay: Option<std::path::PathBuf>,
+    /// The recording's rate (samples/s) when its rows hold the six
+    /// channels without t.
+    pub replay_rate: Option<f64>,
 }
 
 impl Default for VerifyRequest {
@@ -101,6 +105,7 @@ impl Default for VerifyRequest {
             runtime: crate::work::Runtime::default(),
             friction: None,
             replay: None,
+            replay_rate: None,
         }
     }
 }
@@ -558,7 +563,12 @@ pub fn run(schedule: &Schedule, req: &VerifyRequest) -> Result<VerifyReport> {
 
 /// [`run`], with errors naming the schedule as `label`.
 fn verify_labelled(schedule: &Schedule, req: &VerifyRequest, label: &str) -> Result<VerifyReport> {
-    let judged = Judged::admit(schedule, req.friction, req.replay.as_deref(), &req.runtime)?;
+    let judged = Judged::admit(
+        schedule,
+        req.friction,
+        req.replay.as_deref().map(|p| (p, req.replay_rate)),
+        &req.runtime,
+    )?;
     let settings = schedule.settings;
     let name = schedule.target_folder()?;
     if schedule.moving_time() <= 0.0 {

@@ -8,6 +8,9 @@
 //! orientation by classical RK4 in `substeps` equal steps with
 //! ω(τ) = ω₀ + ατ evaluated at each stage time.
 
+// Each test that includes this file uses part of it.
+#![allow(dead_code)]
+
 /// A quaternion (w, x, y, z).
 pub type Quat = [f64; 4];
 
@@ -66,9 +69,9 @@ impl Plate {
 
     /// Holds the sample `a` (linear then angular) for `dt`.
     pub fn hold(&mut self, a: &[f64; 6], dt: f64, substeps: usize) {
-        for i in 0..3 {
-            self.x[i] += self.v[i] * dt + 0.5 * a[i] * dt * dt;
-            self.v[i] += a[i] * dt;
+        for ((x, v), a) in self.x.iter_mut().zip(&mut self.v).zip(a) {
+            *x += *v * dt + 0.5 * a * dt * dt;
+            *v += a * dt;
         }
         let h = dt / substeps as f64;
         let w0 = self.w;
@@ -91,8 +94,8 @@ impl Plate {
             q = q.map(|c| c / n);
         }
         self.q = q;
-        for i in 0..3 {
-            self.w[i] += a[3 + i] * dt;
+        for (w, a) in self.w.iter_mut().zip(&a[3..]) {
+            *w += a * dt;
         }
     }
 }

@@ -92,10 +92,10 @@ impl KinematicPeaks {
         for (k, a) in samples.samples.iter().enumerate() {
             let (s, end) = (held.state_at(k), held.state_at(k + 1));
             let t0 = k as f64 * dt;
-            for i in 0..6 {
-                p.acceleration[i] = p.acceleration[i].max(a[i].abs());
-                if a[i] != 0.0 {
-                    let turn = -s.velocity[i] / a[i];
+            for (i, &ai) in a.iter().enumerate() {
+                p.acceleration[i] = p.acceleration[i].max(ai.abs());
+                if ai != 0.0 {
+                    let turn = -s.velocity[i] / ai;
                     if turn > 0.0 && turn < dt {
                         let xt = held.centre_state_piece(t0 + turn, t0).pose[i];
                         p.stroke[i] = p.stroke[i].max(xt.abs());
