@@ -31,7 +31,11 @@ impl Noise {
 /// sample), plus white noise of 1 % of the channel's peak (seeded), six
 /// columns, no header.
 fn recorded_sink() -> String {
-    let s = Schedule::load(std::path::Path::new("results/sink/schedule.json")).unwrap();
+    let s = Schedule::load(std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../results/sink/schedule.json"
+    )))
+    .unwrap();
     let file = export(&s, 10_000.0, 20).unwrap().samples;
     let (dt, rate) = (file.dt, 5_000.0);
     let peaks = file.peaks();
@@ -70,7 +74,11 @@ fn recorded_sink() -> String {
 /// friction), through the library and through `verify --replay --rate`.
 #[test]
 fn a_noisy_5_khz_recording_replays_within_1_percent() {
-    let s = Schedule::load(std::path::Path::new("results/sink/schedule.json")).unwrap();
+    let s = Schedule::load(std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../results/sink/schedule.json"
+    )))
+    .unwrap();
     let text = recorded_sink();
     let recording = parse_recording(&text, "measured.csv", Some(5_000.0)).unwrap();
     let file = conform(&s, &recording, "measured.csv").unwrap();
@@ -89,7 +97,7 @@ fn a_noisy_5_khz_recording_replays_within_1_percent() {
     std::fs::write(&path, &text).unwrap();
     let (code, out, err) = platefield(&[
         "verify",
-        "results/sink/schedule.json",
+        concat!(env!("CARGO_MANIFEST_DIR"), "/../results/sink/schedule.json"),
         "--replay",
         path.to_str().unwrap(),
         "--rate",
@@ -107,7 +115,11 @@ fn a_noisy_5_khz_recording_replays_within_1_percent() {
 /// `--rate`.
 #[test]
 fn a_bad_recording_names_the_file() {
-    let s = Schedule::load(std::path::Path::new("results/sink/schedule.json")).unwrap();
+    let s = Schedule::load(std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../results/sink/schedule.json"
+    )))
+    .unwrap();
     let short: String = (0..100).map(|_| "0,0,0,0,0,0\n").collect();
     let r = parse_recording(&short, "m.csv", Some(5_000.0)).unwrap();
     let e = conform(&s, &r, "m.csv").unwrap_err().to_string();
@@ -125,7 +137,7 @@ fn a_bad_recording_names_the_file() {
     std::fs::write(&path, &short).unwrap();
     let (code, _, err) = platefield(&[
         "verify",
-        "results/sink/schedule.json",
+        concat!(env!("CARGO_MANIFEST_DIR"), "/../results/sink/schedule.json"),
         "--replay",
         path.to_str().unwrap(),
         "--out",
