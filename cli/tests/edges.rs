@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use common::platefield;
+use common::{design_args, platefield};
 
 const BIN: &str = env!("CARGO_BIN_EXE_platefield");
 
@@ -36,16 +36,6 @@ fn sink_target(dir: &Path, file: &str, name: &str) -> String {
     let path = dir.join(file);
     std::fs::write(&path, t.to_string()).unwrap();
     path.to_str().unwrap().to_string()
-}
-
-/// The arguments of a fast design (0.1 s) of `target` into `out`.
-fn design_args<'a>(target: &'a str, out: &'a str) -> Vec<&'a str> {
-    let fast = "--method sequence --primitives LineSink --rotation-step 90 --no-cache --quiet";
-    ["design", target]
-        .into_iter()
-        .chain(fast.split(' '))
-        .chain(["--out", out])
-        .collect()
 }
 
 /// The names in `dir`, sorted.
@@ -576,7 +566,8 @@ fn export_and_replay_state_one_size_limit() {
     ]);
     assert_eq!(code, 2, "{err}");
     assert!(
-        err.contains(&format!("{}: 133.6 {advice}{rate} or lower", big.display())),
+        err.contains(&format!("{}: ", big.display()))
+            && err.contains(&format!(" {advice}{rate} or lower")),
         "{err}"
     );
     std::fs::remove_file(&big).unwrap();

@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use common::platefield;
+use common::{design_args, platefield};
 
 const BIN: &str = env!("CARGO_BIN_EXE_platefield");
 
@@ -36,16 +36,6 @@ fn sink_target(dir: &Path, file: &str, strength: f64) -> String {
     let path = dir.join(file);
     std::fs::write(&path, t.to_string()).unwrap();
     path.to_str().unwrap().to_string()
-}
-
-/// The arguments of a fast design (0.1 s) of `target` into `out`.
-fn design_args<'a>(target: &'a str, out: &'a str) -> Vec<&'a str> {
-    let fast = "--method sequence --primitives LineSink --rotation-step 90 --no-cache --quiet";
-    ["design", target]
-        .into_iter()
-        .chain(fast.split(' '))
-        .chain(["--out", out])
-        .collect()
 }
 
 /// The design products in `folder` (name → bytes); hidden files, the

@@ -15,3 +15,14 @@ pub fn platefield(args: &[&str]) -> (i32, String, String) {
         String::from_utf8_lossy(&out.stderr).into_owned(),
     )
 }
+
+/// The arguments of a fast design (0.1 s) of `target` into `out`.
+#[allow(dead_code)] // not every test file that shares this module designs
+pub fn design_args<'a>(target: &'a str, out: &'a str) -> Vec<&'a str> {
+    let fast = "--method sequence --primitives LineSink --rotation-step 90 --no-cache --quiet";
+    ["design", target]
+        .into_iter()
+        .chain(fast.split(' '))
+        .chain(["--out", out])
+        .collect()
+}
