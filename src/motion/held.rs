@@ -262,7 +262,7 @@ impl Held {
     }
 
     /// Rotated about the vertical by `angle` (rad), then shifted
-    /// horizontally by `shift` (m), as [`Signals::transformed`]: linear
+    /// horizontally by `shift` (m), as [`super::Signals::transformed`]: linear
     /// vectors and angular vectors turned, and the new centre (the old
     /// plate point −s) given Ω' × (−s) more (and, in velocity and pose, the
     /// same map of Ω and θ); first order in the small rotation, like a

@@ -8,7 +8,7 @@
 //! [`crate::play::measure`]; `swarm` plays many point parts over the
 //! target region (where they end up, how long they take); [`rectangles`]
 //! plays uniform rectangles (planar parts); [`strength`] measures the
-//! realised strength against the target; [`run`] is the
+//! realised strength against the target; [`run()`] is the
 //! `platefield verify` command. Nothing here depends on how the schedule
 //! was designed; a friction sweep and an export's replay are judged by the
 //! design's own check (`crate::design::method::realised_check`).

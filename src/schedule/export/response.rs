@@ -5,7 +5,7 @@
 //! a complex 6 × 6 matrix H_n from the six drive channels to the six plate
 //! accelerations of the export (`super::CHANNELS`: linear, then world
 //! angular), in phasors: a drive d_j(t) = Im(D_j e^{inωt}) makes the plate
-//! play a_i(t) = Im(Σ_j H_n[i][j] D_j e^{inωt}) in steady state. A term
+//! play a_i(t) = Im(Σ_j H_n\[i\]\[j\] D_j e^{inωt}) in steady state. A term
 //! A sin(nωt + φ) is the phasor A e^{iφ}. The file:
 //!
 //! ```text
