@@ -98,13 +98,7 @@ impl HoldSamples {
 
     /// Per-axis peak |sample|.
     pub fn peaks(&self) -> [f64; 6] {
-        let mut p = [0.0_f64; 6];
-        for s in &self.samples {
-            for i in 0..6 {
-                p[i] = p[i].max(s[i].abs());
-            }
-        }
-        p
+        axis_extremes(&self.samples)
     }
 
     /// CSV with the columns of `platefield export` (t_s is the start of
@@ -128,6 +122,17 @@ impl HoldSamples {
         }
         csv
     }
+}
+
+/// Per axis the largest |value| over `rows` (six channels each).
+pub(crate) fn axis_extremes(rows: &[[f64; 6]]) -> [f64; 6] {
+    let mut p = [0.0_f64; 6];
+    for r in rows {
+        for (p, v) in p.iter_mut().zip(r) {
+            *p = p.max(v.abs());
+        }
+    }
+    p
 }
 
 /// Velocity and pose of the plate centre at time `t` (exact: the screw's

@@ -104,13 +104,7 @@ pub fn poses(schedule: &Schedule, rate: f64) -> Result<Poses> {
 impl Poses {
     /// Per axis the largest |value| over the points.
     pub fn extremes(&self) -> [f64; 6] {
-        let mut p = [0.0_f64; 6];
-        for r in &self.points {
-            for i in 0..6 {
-                p[i] = p[i].max(r[i].abs());
-            }
-        }
-        p
+        crate::motion::sample_hold::axis_extremes(&self.points)
     }
 
     /// The CSV `export --format pose` writes: comment lines (`# `) stating
