@@ -20,8 +20,10 @@ fn main() -> platefield::Result<()> {
     };
     let report = verify_schedule_file(Path::new(&path), &request)?;
     println!(
-        "{}: designed strength {:.4}, realised strength {:?}",
-        report.target, report.design_strength, report.realised_strength
+        "{}: designed strength {:.4}, realised strength {:?} (the judge)",
+        report.target,
+        report.design_strength,
+        report.judge.map(|j| j.realised_strength)
     );
     println!(
         "swarm of {} parts over {:.2} s: converged fraction {:?}, contact lost {}",

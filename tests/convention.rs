@@ -25,8 +25,9 @@ use platefield::schedule::export::{export, RAMP_CYCLES};
 use platefield::schedule::Schedule;
 
 /// Every shipped schedule.
-const DESIGNS: [&str; 20] = [
+const DESIGNS: [&str; 21] = [
     "sink",
+    "synthesized/sink",
     "saddle",
     "squeeze_trans",
     "whirlpool",
@@ -193,8 +194,8 @@ fn the_export_plays_the_design_pose() {
             "{name}: ends {home:e} rad, {away:e} m from home"
         );
     }
-    let [.., coarse, _] = pass_against_design("sink", RATE);
-    let [.., fine, _] = pass_against_design("sink", 2.0 * RATE);
+    let [.., coarse, _] = pass_against_design("synthesized/sink", RATE);
+    let [.., fine, _] = pass_against_design("synthesized/sink", 2.0 * RATE);
     println!("sink: ends {coarse:.3e} rad from home at 10 kHz, {fine:.3e} at 20 kHz");
     assert!(
         (coarse / fine / 4.0 - 1.0).abs() < 0.05,

@@ -52,7 +52,7 @@ fn from_xyz(roll: f64, pitch: f64, yaw: f64) -> Quat {
 /// in its steady cycles.
 #[test]
 fn a_steady_pose_table_loops_and_is_what_the_export_plays() {
-    let s = schedule("sink");
+    let s = schedule("synthesized/sink");
     let p = poses(&s, 10_000.0).unwrap();
     assert!(p.steady);
     for axis in 0..2 {
@@ -88,8 +88,11 @@ fn a_steady_pose_table_loops_and_is_what_the_export_plays() {
         plate.hold(a, dt, 2);
     }
     println!("steady table against the played export: {angle:.2e} rad, {position:.2e} m");
+    // Holding a linear acceleration a for Δt moves the plate off the exact
+    // path by at most a Δt²/2.
+    let peak = e.samples.peaks()[..3].iter().copied().fold(0.0, f64::max);
     assert!(
-        angle < 1e-6 && position < 1e-8,
+        angle < 1e-6 && position < 0.5 * peak * dt * dt,
         "{angle:e} rad, {position:e} m"
     );
 }
@@ -130,7 +133,7 @@ fn a_sequence_pose_table_runs_home_to_home() {
 /// header states the peaks and the means.
 #[test]
 fn a_cycle_loops_with_no_velocity_change() {
-    let s = schedule("sink");
+    let s = schedule("synthesized/sink");
     let c = cycle(&s, 64).unwrap();
     let means = c.means();
     for i in 0..6 {

@@ -99,20 +99,23 @@ fn worst(rows: &[FrictionRow]) -> (f64, f64) {
 }
 
 /// The sink goal, from the committed synthesized sink (designed
-/// for μ 0.3): alone it reaches 16.7 % shape error at μ 0.2; its
-/// mirror-image time-share holds worst shape ≤ 6 % at worst strength
-/// ≥ 0.4 s⁻¹ over μ ∈ [0.2, 0.4] (the design's realised check; measured
-/// 3.5 % at 0.615), within the shaker peaks the motion had.
+/// for μ 0.3): alone its judge leaves more than 6 % shape error over the
+/// range (7.3 % at its worst); its mirror-image time-share holds worst
+/// shape ≤ 6 % at worst strength ≥ 0.4 s⁻¹ over μ ∈ [0.2, 0.4] (the
+/// judge), within the shaker peaks the motion had.
 #[test]
 fn the_mirror_share_of_the_synthesized_sink_holds_over_friction() {
-    let synthesized = Schedule::load(std::path::Path::new("results/sink/schedule.json")).unwrap();
+    let synthesized = Schedule::load(std::path::Path::new(
+        "results/synthesized/sink/schedule.json",
+    ))
+    .unwrap();
     let limits = ShakerLimits::from_spec(synthesized.played.as_ref().unwrap().limits.as_ref());
     let share = mirror_share(&synthesized, &limits, 0.0).unwrap();
     assert_eq!(share.segments.len(), 2);
     let mu = [0.2, 0.25, 0.3, 0.35, 0.4];
     let (alone, _) = worst(&sweep(&synthesized, &mu));
     let (shape, strength) = worst(&sweep(&share, &mu));
-    assert!(alone > 0.12, "the synthesized sink alone: {alone}");
+    assert!(alone > 0.06, "the synthesized sink alone: {alone}");
     assert!(
         shape <= 0.06 && strength >= 0.4,
         "mirror share: {shape} at {strength}"

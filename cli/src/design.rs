@@ -124,8 +124,8 @@ pub struct DesignArgs {
     /// Synthesis: RNG seed of the multi-start (same seed, same bytes).
     #[arg(long, default_value_t = 1)]
     pub synth_seed: u64,
-    /// Synthesis: plays of the played polish of the synthesized motion (0: none).
-    #[arg(long, default_value_t = 300)]
+    /// Synthesis: plays of the polish of the synthesized motion on the judge's points (0, the default: none).
+    #[arg(long, default_value_t = 0)]
     pub polish_plays: usize,
     /// Synthesis and polish optimizer: least-squares (Levenberg–Marquardt) or nelder-mead (multi-start; results/design_speed.md compares them).
     #[arg(long, value_enum, default_value_t = Optimizer::LeastSquares, hide_possible_values = true)]

@@ -83,7 +83,10 @@ fn export_writes_into_special_files_never_over_them() {
         let fifo = fifo.clone();
         std::thread::spawn(move || std::fs::read(&fifo).unwrap())
     };
-    let schedule = concat!(env!("CARGO_MANIFEST_DIR"), "/../results/sink/schedule.json");
+    let schedule = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../results/synthesized/sink/schedule.json"
+    );
     let (code, _, err) = platefield(&["export", schedule, "--out", fifo.to_str().unwrap()]);
     assert_eq!(code, 0, "{err}");
     let got = reader.join().unwrap();
@@ -334,7 +337,10 @@ fn export_with_accelerations(schedule: &str, value: &str) -> String {
 #[test]
 fn replay_of_non_physical_accelerations_is_refused_at_once() {
     let dir = temp_dir("huge");
-    let schedule = concat!(env!("CARGO_MANIFEST_DIR"), "/../results/sink/schedule.json");
+    let schedule = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../results/synthesized/sink/schedule.json"
+    );
     for value in ["1e300", "1e100", "2e4"] {
         let csv = dir.join(format!("{value}.csv"));
         std::fs::write(&csv, export_with_accelerations(schedule, value)).unwrap();
@@ -421,7 +427,10 @@ fn a_frictionless_plate_is_refused_naming_the_key() {
     for friction in ["0", "-0.0", "0:0.4:3"] {
         let (code, _, err) = platefield(&[
             "verify",
-            concat!(env!("CARGO_MANIFEST_DIR"), "/../results/sink/schedule.json"),
+            concat!(
+                env!("CARGO_MANIFEST_DIR"),
+                "/../results/synthesized/sink/schedule.json"
+            ),
             "--friction",
             friction,
             "--out",
@@ -478,7 +487,10 @@ fn mu_2_with_sequence_is_certified_relative_to_the_problem_scale() {
 #[test]
 fn replay_of_another_schedules_export_is_refused_by_its_fingerprint() {
     let dir = temp_dir("other");
-    let schedule = concat!(env!("CARGO_MANIFEST_DIR"), "/../results/sink/schedule.json");
+    let schedule = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../results/synthesized/sink/schedule.json"
+    );
     let mut other: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(schedule).unwrap()).unwrap();
     other["segments"][0]["motion"]["linear"]["y"][0]["phase"] = serde_json::json!(2.5);
@@ -530,7 +542,10 @@ fn replay_of_another_schedules_export_is_refused_by_its_fingerprint() {
 #[test]
 fn export_and_replay_state_one_size_limit() {
     let dir = temp_dir("size");
-    let schedule = concat!(env!("CARGO_MANIFEST_DIR"), "/../results/sink/schedule.json");
+    let schedule = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../results/synthesized/sink/schedule.json"
+    );
     let big = dir.join("big.csv");
     let (code, _, err) = platefield(&[
         "export",

@@ -324,7 +324,10 @@ fn a_closed_stdout_ends_quietly() {
         .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/.."))
         .args([
             "export",
-            concat!(env!("CARGO_MANIFEST_DIR"), "/../results/sink/schedule.json"),
+            concat!(
+                env!("CARGO_MANIFEST_DIR"),
+                "/../results/synthesized/sink/schedule.json"
+            ),
             "--rate",
             "100000",
         ])
@@ -453,7 +456,7 @@ fn one_period_check_names_the_edited_segment() {
     ));
     let mut six = read(concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../results/sink/schedule.json"
+        "/../results/synthesized/sink/schedule.json"
     ))["segments"][0]
         .clone();
     six["ramp_cycles"] = serde_json::json!(2);

@@ -254,6 +254,70 @@ fn the_sensitivity_table_is_the_designs_play_across_friction() {
     );
 }
 
+/// Over a friction range the target states, the worst case leads: the
+/// summary's first line names the worst row's μ and its numbers, which
+/// are the worst row of `report.md`'s friction table (the largest
+/// realised shape error) and `schedule.json`'s `"played"`, with
+/// `"worst_friction"` its μ.
+#[test]
+fn a_friction_range_headline_is_the_worst_row() {
+    let dir = temp_dir("range");
+    let target = sink_with(
+        &dir,
+        "range",
+        &[("friction", serde_json::json!([0.2, 0.4]))],
+    );
+    let stdout = design_sequence_with(&target, &dir, &[]);
+    let first = stdout.lines().next().unwrap();
+    let report = std::fs::read_to_string(dir.join("range/report.md")).unwrap();
+    let rows: Vec<Vec<f64>> = report
+        .lines()
+        .skip_while(|l| !l.starts_with("## Friction sensitivity"))
+        .filter(|l| l.starts_with("| 0."))
+        .map(|l| {
+            l.split('|')
+                .map(str::trim)
+                .filter_map(|c| c.trim_end_matches(" %").parse().ok())
+                .collect()
+        })
+        .collect();
+    assert_eq!(rows.len(), 5, "{report}");
+    let worst = rows.iter().max_by(|a, b| a[3].total_cmp(&b[3])).unwrap();
+    let prefix = "kept sequence: worst over the friction range (μ_s ";
+    assert!(first.starts_with(prefix), "{first}");
+    let mu: f64 = first[prefix.len()..]
+        .split(',')
+        .next()
+        .and_then(|m| m.parse().ok())
+        .expect("the worst μ_s");
+    assert!((mu - worst[0]).abs() < 5e-4, "{first}: μ_s {}", worst[0]);
+    let numbers = format!("realised strength {:.4}", worst[2]);
+    assert!(first.contains(&numbers), "{first}: {numbers}");
+    let schedule: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("range/schedule.json")).unwrap())
+            .unwrap();
+    let played = &schedule["played"];
+    let stated = played["worst_friction"]["static"].as_f64().unwrap();
+    assert!((stated - worst[0]).abs() < 5e-4, "{stated}");
+    let strength = played["realised_strength"].as_f64().unwrap();
+    assert!(
+        (strength - worst[2]).abs() < 5e-5,
+        "{strength} against {}",
+        worst[2]
+    );
+    // The table rounds the shape error to 0.1 %, the headline to 0.01 %.
+    let shape = 100.0 * played["realised_shape_error"].as_f64().unwrap();
+    assert!(
+        (shape - worst[3]).abs() <= 0.05 + 1e-9,
+        "{shape} against {}",
+        worst[3]
+    );
+    assert!(
+        first.contains(&format!("shape error {shape:.2} %")),
+        "{first}"
+    );
+}
+
 /// `verify --friction`: bad values exit 2 naming the argument; a single
 /// value plays at it (recorded in summary.json); a sweep writes its table
 /// and plot beside the verification, its row at the schedule's friction

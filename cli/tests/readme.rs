@@ -245,6 +245,28 @@ fn readme_is_short_and_its_target_is_the_shipped_one() {
     assert_eq!(shown, shipped);
 }
 
+/// The design's first line the README quotes is the committed design's
+/// (`results/sink/report.md`), up to its explanation.
+#[test]
+fn readme_quotes_the_committed_designs_first_line() {
+    let text = readme();
+    let quoted = fenced(&text, "text")
+        .into_iter()
+        .flatten()
+        .find(|l| l.starts_with("kept "))
+        .expect("the README quotes the design's first line");
+    let quoted = quoted.trim_end_matches('…').trim_end();
+    let report = std::fs::read_to_string(root().join("results/sink/report.md")).unwrap();
+    let first = report
+        .lines()
+        .find(|l| l.starts_with("kept "))
+        .expect("report.md opens with the kept design");
+    assert!(
+        first.starts_with(quoted),
+        "README: {quoted}\nreport.md: {first}"
+    );
+}
+
 /// Every page the README links to exists.
 #[test]
 fn readme_links_resolve() {

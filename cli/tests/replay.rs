@@ -59,7 +59,10 @@ fn flipped(file: &HoldSamples, axis: usize) -> HoldSamples {
 #[test]
 fn shipped_sinks_replay_as_they_play_and_a_corrupted_export_does_not() {
     for path in [
-        concat!(env!("CARGO_MANIFEST_DIR"), "/../results/sink/schedule.json"),
+        concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../results/synthesized/sink/schedule.json"
+        ),
         concat!(
             env!("CARGO_MANIFEST_DIR"),
             "/../results/sequenced/sink/schedule.json"
@@ -120,7 +123,7 @@ fn the_replay_gap_falls_as_the_square_of_the_hold_time() {
 fn another_schedules_export_does_not_pass() {
     let synthesized = load(concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../results/sink/schedule.json"
+        "/../results/synthesized/sink/schedule.json"
     ));
     let sequenced = load(concat!(
         env!("CARGO_MANIFEST_DIR"),
@@ -333,12 +336,7 @@ fn stacked_sequenced_sink_holds_its_worst_case_over_the_range() {
     assert!(w_stacked <= w_single + 0.005, "{w_stacked} vs {w_single}");
     let sm = replay_motion(&stacked, &exported(&stacked).unwrap(), "export").unwrap();
     let replayed = friction_sweep(&stacked.settings, &mu, &|settings| {
-        Ok(judge_replay(
-            &nominal,
-            &sampled,
-            (&sm, stacked.total_cycles),
-            settings,
-        ))
+        Ok(judge_replay(&nominal, &sampled, &sm, settings))
     })
     .unwrap();
     let order = held_order(&stacked, 10_000.0);

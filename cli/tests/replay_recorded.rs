@@ -33,7 +33,7 @@ impl Noise {
 fn recorded_sink() -> String {
     let s = Schedule::load(std::path::Path::new(concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../results/sink/schedule.json"
+        "/../results/synthesized/sink/schedule.json"
     )))
     .unwrap();
     let file = export(&s, 10_000.0, 20).unwrap().samples;
@@ -76,7 +76,7 @@ fn recorded_sink() -> String {
 fn a_noisy_5_khz_recording_replays_within_1_percent() {
     let s = Schedule::load(std::path::Path::new(concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../results/sink/schedule.json"
+        "/../results/synthesized/sink/schedule.json"
     )))
     .unwrap();
     let text = recorded_sink();
@@ -97,7 +97,10 @@ fn a_noisy_5_khz_recording_replays_within_1_percent() {
     std::fs::write(&path, &text).unwrap();
     let (code, out, err) = platefield(&[
         "verify",
-        concat!(env!("CARGO_MANIFEST_DIR"), "/../results/sink/schedule.json"),
+        concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../results/synthesized/sink/schedule.json"
+        ),
         "--replay",
         path.to_str().unwrap(),
         "--rate",
@@ -117,7 +120,7 @@ fn a_noisy_5_khz_recording_replays_within_1_percent() {
 fn a_bad_recording_names_the_file() {
     let s = Schedule::load(std::path::Path::new(concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../results/sink/schedule.json"
+        "/../results/synthesized/sink/schedule.json"
     )))
     .unwrap();
     let short: String = (0..100).map(|_| "0,0,0,0,0,0\n").collect();
@@ -137,7 +140,10 @@ fn a_bad_recording_names_the_file() {
     std::fs::write(&path, &short).unwrap();
     let (code, _, err) = platefield(&[
         "verify",
-        concat!(env!("CARGO_MANIFEST_DIR"), "/../results/sink/schedule.json"),
+        concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../results/synthesized/sink/schedule.json"
+        ),
         "--replay",
         path.to_str().unwrap(),
         "--out",

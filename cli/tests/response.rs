@@ -80,7 +80,10 @@ fn response_json(matrices: &BTreeMap<u64, [[C; 6]; 6]>) -> String {
 fn a_random_response_applied_to_the_drive_plays_the_design() {
     let dir = std::env::temp_dir().join(format!("platefield-response-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let schedule = concat!(env!("CARGO_MANIFEST_DIR"), "/../results/sink/schedule.json");
+    let schedule = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../results/synthesized/sink/schedule.json"
+    );
     let (code, design, err) = platefield(&["export", schedule, "--format", "harmonics"]);
     assert_eq!(code, 0, "{err}");
     let want = phasors(&design, &PLATE);
@@ -139,7 +142,10 @@ fn a_random_response_applied_to_the_drive_plays_the_design() {
 fn an_ill_conditioned_or_incomplete_response_is_refused() {
     let dir = std::env::temp_dir().join(format!("platefield-response-bad-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let schedule = concat!(env!("CARGO_MANIFEST_DIR"), "/../results/sink/schedule.json");
+    let schedule = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../results/synthesized/sink/schedule.json"
+    );
     let (_, design, _) = platefield(&["export", schedule, "--format", "harmonics"]);
     let harmonics: Vec<u64> = phasors(&design, &PLATE).keys().copied().collect();
     let identity = |n: u64| -> (u64, [[C; 6]; 6]) {

@@ -27,8 +27,9 @@ pub fn headline(md: &MethodDesign) -> String {
     let p = c.played();
     let field = c.schedule.target_spec.as_ref().map(|t| &t.field);
     format!(
-        "kept {}: realised strength {} at realised shape error {}{} — point parts played from {} start points over the region ({} valid); ŝ is the scale of the target their mean velocities best match, the shape error what ŝ × target leaves unmatched. Every candidate below.\n",
+        "kept {}:{} realised strength {} at realised shape error {}{} — the realised field at {} points over the whole region ({} valid), each part held at its point and played whole periods; ŝ is the scale of the target that field best matches, the shape error what ŝ × target leaves unmatched. Every candidate below.\n",
         c.name(),
+        platefield::design::method::worst_at(p),
         strength_with_unit(p.realised_strength, field),
         percent(p.realised_shape_error),
         if p.poor { ", POOR" } else { "" },
@@ -78,13 +79,14 @@ pub fn summary(md: &MethodDesign) -> String {
         let p = c.played();
         let _ = writeln!(
             out,
-            "{} {}: predicted strength {:.4} (fit error {:.2} %); played on {} points ({} valid): realised shape error {}, realised strength {}, error against the prediction {}; peaks {}; design {:.1} s, play {:.1} s{}",
+            "{} {}: predicted strength {:.4} (fit error {:.2} %); judged at {} points ({} valid):{} realised shape error {}, realised strength {}, error against the prediction {}; peaks {}; design {:.1} s, play {:.1} s{}",
             if i == md.chosen { "kept" } else { "not kept" },
             c.name(),
             p.predicted_strength,
             100.0 * c.schedule.fit.relative_l2_error,
             p.points,
             p.valid,
+            platefield::design::method::worst_at(p),
             percent(p.realised_shape_error),
             number(p.realised_strength),
             percent(p.realised_error),
@@ -98,13 +100,20 @@ pub fn summary(md: &MethodDesign) -> String {
         let _ = writeln!(out, "{} failed: {}", f.method.name(), f.reason);
     }
     let _ = writeln!(out, "{}", md.why());
-    if let Some(s) = &md.sensitivity {
+    if let Some(row) = md
+        .sensitivity
+        .as_ref()
+        .and_then(|s| s.worst_row().map(|r| (s, r)))
+    {
+        let (s, row) = row;
         let _ = writeln!(
             out,
-            "friction: the kept design {}: worst realised shape error {}, weakest realised strength {} (table in report.md)",
+            "friction: the kept design {}: worst at μ_s {}, μ_k {}: realised shape error {}, realised strength {} (table in report.md)",
             s.span.describe(),
-            platefield::output::percent(s.worst_shape_error().unwrap_or(f64::NAN), 1),
-            number(s.weakest_strength())
+            row.friction.stat,
+            row.friction.kinetic,
+            platefield::output::percent(row.realised_shape_error.unwrap_or(f64::NAN), 1),
+            number(row.realised_strength)
         );
     }
     out
@@ -132,13 +141,13 @@ fn poor_text(p: &Played) -> String {
 /// The realised-check table of `report.md`.
 fn played_md(cands: &[Candidate], chosen: usize) -> String {
     let mut md = String::from(
-        "| method | kept | predicted strength | realised strength | realised shape error | error against prediction | points (valid) | escaped | POOR |\n|---|---|---|---|---|---|---|---|---|\n",
+        "| method | kept | predicted strength | realised strength | realised shape error | error against prediction | points (valid) | POOR |\n|---|---|---|---|---|---|---|---|\n",
     );
     for (i, c) in cands.iter().enumerate() {
         let p = c.played();
         let _ = writeln!(
             md,
-            "| {} | {} | {:.4} | {} | {} | {} | {} ({}) | {} | {} |",
+            "| {} | {} | {:.4} | {} | {} | {} | {} ({}) | {} |",
             c.name(),
             if i == chosen { "yes" } else { "no" },
             p.predicted_strength,
@@ -147,7 +156,6 @@ fn played_md(cands: &[Candidate], chosen: usize) -> String {
             percent(p.realised_error),
             p.points,
             p.valid,
-            p.escaped,
             if p.poor {
                 p.notes.join("; ")
             } else {
@@ -161,7 +169,7 @@ fn played_md(cands: &[Candidate], chosen: usize) -> String {
 /// The method section of `report.md`.
 pub(crate) fn method_md(md: &MethodDesign) -> String {
     let mut out = format!(
-        "## Method and realised check\n\nMethod: `{}`; {}.\n\nEvery candidate is played before it is reported: point parts from about 5 × 5 start points over the target region (every k-th target grid point), 10 warm-up and 10 measured cycles (each rounded up to whole schedule periods), with the one realised measure (`play::measure`), against the target. POOR: realised shape error above {:.0} %, a part losing contact or escaping the attractor. Rule under `auto`: the lower realised shape error wins; within 1 percentage point, the higher realised strength. When every candidate is POOR, `auto` also designs the mix (primitives and a synthesized motion in one fit) and plays it.\n\n",
+        "## Method and the judge\n\nMethod: `{}`; {}.\n\nEvery candidate is judged before it is reported: the realised field over the whole region, a point part held at each point of a regular sub-grid of the target (at least 9 × 9, both edges on it) and played whole schedule periods until its velocity runs periodic (`design::judge`), against the target; over a friction range the target states, its worst case. POOR: realised shape error above {:.0} %, or a part losing contact. Rule under `auto`: the lower realised shape error wins; within 1 percentage point, the higher realised strength. When every candidate is POOR, `auto` also designs the mix (primitives and a synthesized motion in one fit) and plays it.\n\n",
         md.asked.name(),
         md.why(),
         100.0 * platefield::fit::POOR_ERROR

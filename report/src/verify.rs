@@ -23,9 +23,10 @@ pub(crate) fn summary_json(r: &VerifyReport) -> Result<String> {
     let v = &r.realised;
     #[derive(Serialize)]
     struct Summary<'a> {
-        realised_vs_predicted_relative_error: f64,
-        realised_shape_error: f64,
-        realised_strength: Option<f64>,
+        model_check_error: f64,
+        model_check_shape_error: f64,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        judge: Option<platefield::play::sensitivity::Judged>,
         design_strength: f64,
         converged_fraction: Option<f64>,
         median_time_to_converge_s: Option<f64>,
@@ -58,9 +59,9 @@ pub(crate) fn summary_json(r: &VerifyReport) -> Result<String> {
         per_point: &'a [PointResult],
     }
     let summary = Summary {
-        realised_vs_predicted_relative_error: v.relative_error,
-        realised_shape_error: v.shape_error,
-        realised_strength: r.realised_strength,
+        model_check_error: v.relative_error,
+        model_check_shape_error: v.shape_error,
+        judge: r.judge,
         design_strength: r.design_strength,
         converged_fraction: r.swarm.converged_fraction,
         median_time_to_converge_s: r.swarm.median_time_to_converge_s,
@@ -359,17 +360,36 @@ pub(crate) fn friction_svg(target: &str, s: &Sensitivity) -> String {
         .to_svg()
 }
 
-/// The terminal summary: realised against predicted (error, shape error,
-/// strength), invalid points, the swarm and the rectangles.
+/// The terminal summary: the judge, the model check (realised against
+/// predicted), invalid points, the swarm and the rectangles.
 pub fn summary(r: &VerifyReport) -> String {
     let v = &r.realised;
     let req = &r.request;
     let mut out = String::new();
+    match &r.judge {
+        Some(j) => {
+            let _ = writeln!(
+                out,
+                "judge: realised strength {:.4} (designed {:.4}) at realised shape error {:.2} % — the realised field at {} points over the whole region ({} valid), each part held at its point",
+                j.realised_strength,
+                r.design_strength,
+                100.0 * j.shape_error,
+                j.points,
+                j.valid
+            );
+        }
+        None => {
+            let _ = writeln!(
+                out,
+                "judge: not measured (the schedule records no target to judge against)"
+            );
+        }
+    }
     let few = platefield::design::method::MIN_MEASURED_POINTS;
     if v.valid < few {
         let _ = writeln!(
             out,
-            "realised field not measured: {} of {} points kept contact and converged, and a realised strength and shape need at least {few} ({} model; the points below say why)",
+            "model check not measured: {} of {} points kept contact and converged, and a strength and shape need at least {few} ({} model; the points below say why)",
             v.valid,
             req.points * req.points,
             v.model,
@@ -377,14 +397,9 @@ pub fn summary(r: &VerifyReport) -> String {
     } else {
         let _ = writeln!(
         out,
-        "realised vs predicted relative error {:.2} % (shape {:.2} %, realised strength {} against {:.4} designed) over {} of {} points ({} model, {} warm-up + {} measured periods of {:.4} s); max |error| {:.3e} m/s, rms |predicted| {:.3e} m/s",
+        "model check (moving parts against the design's prediction): error {:.2} % (shape {:.2} %) over {} of {} points ({} model, {} warm-up + {} measured periods of {:.4} s); max |error| {:.3e} m/s, rms |predicted| {:.3e} m/s",
         100.0 * v.relative_error,
         100.0 * v.shape_error,
-        r.realised_strength.map_or_else(
-            || "not measured (no target field to measure against)".to_string(),
-            |s| format!("{s:.4}")
-        ),
-        r.design_strength,
         v.valid,
         req.points * req.points,
         v.model,

@@ -32,30 +32,23 @@
 //!   one that is not POOR. If one method fails (e.g. limits too small to
 //!   move parts), the other is kept and the failure is stated.
 //!
-//! **Every design is played before it is reported** (`play_check`): the
-//! schedule is played on point parts from a coarse grid over the target
-//! region — every k-th target grid point per axis, k = (n − 1)/
-//! (`CHECK_POINTS` − 1) rounded down, about 5 × 5 points — with the one
-//! realised measure (`CHECK_WARMUP_CYCLES` warm-up and
-//! `CHECK_MEASURED_CYCLES` measured cycles, each rounded up to whole
-//! schedule periods, a window at every join;
-//! [`super::closed_loop::realised`]; not lengthened for a slow start-up
-//! transient, see `crate::play::settle`). Short, so that a strong field (a
-//! synthesized sink of 1.5 s⁻¹ halves a part's distance in 0.5 s) is
-//! measured over the region rather than where parts have already gathered
-//! (with 40 warm-up cycles the parts of such a sink sat inside the masked
-//! centre when the window started). The realised field is compared with the
-//! target: realised strength ŝ (the least-squares scale of the realised
-//! field on the target), realised shape error ‖R − ŝt‖/‖ŝt‖ and the error
-//! against the predicted strength. It is POOR when the realised shape error
-//! exceeds [`crate::fit::POOR_ERROR`], when a part loses contact, when no
-//! point is valid, or when a part ends farther from the target's attractor
-//! ([`crate::request::Attractor`]) than it was when the measured windows
-//! began by more than `ESCAPE_TOL` (parts escaping the attractor).
+//! **Every design is judged before it is reported** (`play_check`): the
+//! schedule is played by [`super::judge`] — the realised field at frozen
+//! points over the whole region the target asks for, whole periods, joins
+//! and ramps included — and compared with the target: realised strength ŝ
+//! (the least-squares scale of the realised field on the target),
+//! realised shape error ‖R − ŝt‖/‖ŝt‖ and the error against the predicted
+//! strength. Over a friction range the target states, every candidate is
+//! judged across it and its played numbers are the worst case, with the
+//! friction where it falls ([`crate::schedule::Played::worst_friction`]).
+//! It is POOR when the realised shape error (at its worst) exceeds
+//! [`crate::fit::POOR_ERROR`], when a part loses contact at a point of the
+//! region, or when too few points count.
 
 use std::time::Instant;
 
-use super::closed_loop::{loop_points, realised};
+use super::closed_loop::realised;
+use super::judge::{judge_points, JUDGE_MIN_PERIODS};
 use super::polish::{polish, PolishOptions};
 pub use super::rule::{Rule, MIN_MEASURED_POINTS, TIE_SHAPE_ERROR};
 use super::{design, Design, DesignOptions};
@@ -65,7 +58,7 @@ use crate::field::FieldKind;
 use crate::field::Grid;
 use crate::fit::{self, FitMetrics};
 use crate::play::sensitivity::{self, FrictionRow, Judged, Sensitivity, Span};
-use crate::request::{Attractor, SampledTarget, Target};
+use crate::request::{SampledTarget, Target};
 use crate::schedule::export::schedule_peaks;
 pub use crate::schedule::Method;
 use crate::schedule::{AxisPeaks, BasisInfo, Played, Schedule, Segment, SolverInfo};
@@ -75,25 +68,6 @@ use crate::work::{Estimate, Term};
 
 /// Cycles of the synthesized motion per schedule period.
 pub(crate) const SYNTH_SEGMENT_CYCLES: u32 = 10;
-/// Warm-up of the realised check, in cycles (rounded up to whole schedule
-/// periods: one period for every sequenced schedule, whose segments last
-/// at least 10 cycles by default).
-pub(crate) const CHECK_WARMUP_CYCLES: u32 = 10;
-/// Measured cycles of the realised check (rounded up likewise).
-pub(crate) const CHECK_MEASURED_CYCLES: u32 = 10;
-/// Start points per axis of the realised check (about).
-pub(crate) const CHECK_POINTS: usize = 5;
-/// A part that ends more than this (m) farther from the attractor than it
-/// was when the measured windows began (after the warm-up) has escaped it:
-/// 1 mm, a third of `verify`'s convergence tolerance, well above the
-/// sub-millimetre wander of parts that start on a line attractor and are
-/// carried along it. The baseline is the first window's start, not the
-/// part's start: a six-signal motion switched on abruptly from rest (the
-/// check does not ramp it in, as `export` does) moves a part by 1–2 mm in
-/// its first cycles whatever the field (measured: the synthesized
-/// whirlpool's centre part 1.25 mm, then back towards the centre).
-pub(crate) const ESCAPE_TOL: f64 = 1e-3;
-
 /// One designed and played candidate.
 #[derive(Debug, Clone)]
 pub struct Candidate {
@@ -138,6 +112,33 @@ impl Candidate {
             sensitivity: None,
             worst_case: false,
         })
+    }
+
+    /// Judged across the friction range the target states
+    /// ([`candidate_sensitivity`]): its played measure becomes the worst
+    /// case ([`Played::worst_friction`]), POOR when that is.
+    fn judge_range(&mut self, target: &Target, sampled: &SampledTarget) -> Result<()> {
+        self.sensitivity = candidate_sensitivity(target, sampled, &self.schedule)?;
+        let (Some(s), Some(p)) = (&self.sensitivity, self.schedule.played.as_mut()) else {
+            return Ok(());
+        };
+        if let Some(row) = s.worst_row() {
+            p.realised_strength = row.realised_strength;
+            p.realised_shape_error = row.realised_shape_error;
+            p.worst_friction = Some(row.friction);
+            let shape = row.realised_shape_error.unwrap_or(f64::INFINITY);
+            if shape > fit::POOR_ERROR {
+                p.poor = true;
+                p.notes.push(format!(
+                    "worst over the friction range: realised shape error {} > {:.0} % at μ_s {}, μ_k {}",
+                    percent(row.realised_shape_error),
+                    100.0 * fit::POOR_ERROR,
+                    row.friction.stat,
+                    row.friction.kinetic
+                ));
+            }
+        }
+        Ok(())
     }
 
     /// Its name in reports: the method's, marked when synthesized for the
@@ -464,7 +465,7 @@ impl<'a> MethodRun<'a> {
     fn judge_range(&mut self) -> Result<()> {
         if self.ranged() {
             for c in &mut self.out.candidates {
-                c.sensitivity = candidate_sensitivity(self.target, self.sampled, &c.schedule)?;
+                c.judge_range(self.target, self.sampled)?;
             }
         }
         Ok(())
@@ -493,7 +494,7 @@ impl<'a> MethodRun<'a> {
         match synthesize_schedule(self.target, self.sampled, &limits, self.opts, &synth) {
             Ok((syn, schedule)) => {
                 let mut c = self.synthesized(&syn, schedule, t)?;
-                c.sensitivity = candidate_sensitivity(self.target, self.sampled, &c.schedule)?;
+                c.judge_range(self.target, self.sampled)?;
                 c.worst_case = true;
                 self.out.candidates.push(c);
                 self.worst_case = Some(syn);
@@ -640,13 +641,7 @@ pub fn judge_check(
 /// The schedule records no target (nothing to judge against), or cannot be
 /// played.
 pub(crate) fn sweep_schedule(schedule: &Schedule, values: &[Friction]) -> Result<Sensitivity> {
-    let target = schedule.target_spec.as_ref().ok_or_else(|| {
-        Error::invalid(
-            "--friction",
-            "a sweep judges the schedule against its target, and this schedule records none (\"target_spec\")",
-        )
-    })?;
-    let sampled = target.sample()?;
+    let (target, sampled) = recorded_target(schedule, "--friction")?;
     let rows: Vec<FrictionRow> =
         sensitivity::friction_sweep(&schedule.settings, values, &|settings| {
             judge_check(target, &sampled, schedule, settings)
@@ -658,25 +653,47 @@ pub(crate) fn sweep_schedule(schedule: &Schedule, values: &[Friction]) -> Result
     })
 }
 
-/// The work of [`sweep_schedule`] over `values` frictions: about
-/// [`CHECK_POINTS`]² parts, the check's warm-up and measured cycles each
-/// rounded up to whole periods, at each friction.
-pub(crate) fn sweep_estimate(schedule: &Schedule, values: usize) -> Estimate {
-    let per_period = schedule.total_cycles.max(1);
-    let periods =
-        CHECK_WARMUP_CYCLES.div_ceil(per_period) + CHECK_MEASURED_CYCLES.div_ceil(per_period);
-    Estimate::new(
+/// The work of [`sweep_schedule`] over `values` frictions: the judge
+/// ([`super::judge::judge_term`]) at each friction.
+pub(crate) fn sweep_estimate(schedule: &Schedule, values: usize) -> Result<Estimate> {
+    let (target, sampled) = recorded_target(schedule, "--friction")?;
+    Ok(Estimate::new(
         "schedule",
         "sweeping its friction",
         "fewer frictions (N of --friction LO:HI:N)",
     )
     .plus(
-        Term::new("friction sweep")
-            .times(values as f64, "frictions")
-            .times((CHECK_POINTS * CHECK_POINTS) as f64, "parts")
-            .times(f64::from(periods * per_period), "cycles")
-            .times(schedule.settings.numerics.steps_per_cycle as f64, "steps"),
-    )
+        super::judge::judge_term(
+            target,
+            &sampled,
+            super::judge::judged_cycles(schedule),
+            schedule.settings.numerics.steps_per_cycle,
+        )
+        .named("friction sweep")
+        .times(values as f64, "frictions"),
+    ))
+}
+
+/// Independent shapes of an affine field about its centre: divergence,
+/// curl and two shears ([`sequenced_cycles`]).
+const AFFINE_SHAPES: u32 = 4;
+
+/// The target `schedule` records, sampled: what the judge compares with
+/// when a schedule is judged again (`arg` names the option that asks).
+///
+/// # Errors
+/// The schedule records none.
+pub(crate) fn recorded_target<'a>(
+    schedule: &'a Schedule,
+    arg: &str,
+) -> Result<(&'a Target, SampledTarget)> {
+    let target = schedule.target_spec.as_ref().ok_or_else(|| {
+        Error::invalid(
+            arg,
+            "the judge compares the schedule with its target, and this schedule records none (\"target_spec\")",
+        )
+    })?;
+    Ok((target, target.sample()?))
 }
 
 /// The candidate kept and why (see the [module documentation](self)).
@@ -801,21 +818,25 @@ impl MethodDesign {
 /// POOR.
 fn describe(c: &Candidate) -> String {
     let p = c.played();
-    let (worst, shape, strength) = match &c.sensitivity {
-        Some(s) => (
-            " worst over the friction range:",
-            s.worst_shape_error(),
-            s.weakest_strength(),
-        ),
-        None => ("", p.realised_shape_error, p.realised_strength),
-    };
     format!(
-        "{}{worst} realised shape error {}, strength {}{}",
+        "{}{} realised shape error {}, strength {}{}",
         c.name(),
-        percent(shape),
-        number(strength),
+        worst_at(p),
+        percent(p.realised_shape_error),
+        number(p.realised_strength),
         if p.poor { " (POOR)" } else { "" }
     )
+}
+
+/// " worst over the friction range (μ_s a, μ_k b):" when `p` is judged
+/// over a range ([`Played::worst_friction`]), else nothing.
+pub fn worst_at(p: &Played) -> String {
+    p.worst_friction.map_or_else(String::new, |f| {
+        format!(
+            " worst over the friction range (μ_s {}, μ_k {}):",
+            f.stat, f.kinetic
+        )
+    })
 }
 
 /// The synthesis options of the method asked for: over a friction range
@@ -857,14 +878,10 @@ fn held(cands: &[Candidate]) -> bool {
 /// missing numbers rank last).
 fn key(c: &Candidate) -> (bool, f64, f64) {
     let p = c.played();
-    let (shape, strength) = match &c.sensitivity {
-        Some(s) => (s.worst_shape_error(), s.weakest_strength()),
-        None => (p.realised_shape_error, p.realised_strength),
-    };
     (
         p.poor,
-        shape.unwrap_or(f64::INFINITY),
-        strength.unwrap_or(f64::NEG_INFINITY),
+        p.realised_shape_error.unwrap_or(f64::INFINITY),
+        p.realised_strength.unwrap_or(f64::NEG_INFINITY),
     )
 }
 
@@ -1194,8 +1211,8 @@ pub fn synthesis_estimate(
         Term::new("played polish")
             .times(plays as f64, "plays")
             .times(physics, "physics")
-            .times(check_starts(target, sampled).len() as f64, "parts")
-            .times(f64::from(check_cycles(SYNTH_SEGMENT_CYCLES)), "cycles")
+            .times(judge_points(target, sampled).len() as f64, "points")
+            .times(f64::from(JUDGE_MIN_PERIODS), "cycles")
             .times(opts.settings.numerics.steps_per_cycle as f64, "steps"),
     )
     .plus(velocity("polish contact check", plays as f64, "plays", coarse).times(physics, "physics"))
@@ -1250,15 +1267,6 @@ fn synthesis_counts(
     (evaluations, plays, 1.0, physics)
 }
 
-/// Cycles the realised check plays a schedule of `per_period` cycles per
-/// period ([`realised::play_motion`]): the warm-up and the measured cycles,
-/// each rounded up to whole periods, and the period played after the
-/// windows.
-pub(crate) fn check_cycles(per_period: u32) -> u32 {
-    let p = per_period.max(1);
-    p * (CHECK_WARMUP_CYCLES.div_ceil(p) + CHECK_MEASURED_CYCLES.div_ceil(p).max(1) + 1)
-}
-
 /// The work of designing `target` by `method` ([`crate::work`]), stated
 /// before it starts and compared with the work done by `tests/estimates.rs`
 /// ([`crate::dynamics::steps_taken`], within 3×): the sequenced design's
@@ -1294,42 +1302,67 @@ pub fn design_estimate(
             .extend(synthesis_estimate(target, sampled, synth, opts, limits).terms);
     }
     let ranged = target.friction.is_some_and(|f| !f.is_exact());
-    let candidates = match method {
-        Method::Auto => 2 + usize::from(ranged),
-        Method::Mix => 2,
-        _ => 1,
-    } as f64;
-    let check = |label: &str, candidates: f64, times: f64, name: &str| {
-        check_estimate(target, sampled, opts)
-            .named(label)
-            .times(candidates, "candidates")
-            .times(times, name)
+    // Judges of sequenced schedules (and mixes) at their cycles per
+    // period, of synthesized motions at one cycle, of a mirror pair at
+    // its two segments' cycles (`judge::judged_cycles`).
+    let (sequenced, synthesized, pairs) = match method {
+        Method::Auto => (1, 1 + usize::from(ranged), usize::from(ranged)),
+        Method::Mix => (2, 0, 0),
+        Method::Sequence => (1, 0, 0),
+        Method::Synthesize => (0, 1, 0),
+        Method::Mirror => (0, 0, 1),
     };
-    e = e.plus(check("realised checks", candidates, 1.0, "checks"));
-    if target.friction.is_some() {
-        // Every candidate over a range; the kept one around an exact value.
-        e = e.plus(check(
-            "friction sweeps",
-            if ranged { candidates } else { 1.0 },
-            crate::play::sensitivity::SWEEP_VALUES as f64,
-            "frictions",
-        ));
+    let judges = [
+        (sequenced, sequenced_cycles(opts)),
+        (synthesized, 1),
+        (pairs, 2 * SYNTH_SEGMENT_CYCLES),
+    ];
+    let sweeps = if ranged { 1.0 } else { 0.0 };
+    for (count, cycles) in judges.into_iter().filter(|(n, _)| *n > 0) {
+        let judge = || {
+            super::judge::judge_term(
+                target,
+                sampled,
+                cycles,
+                opts.settings.numerics.steps_per_cycle,
+            )
+            .times(count as f64, "candidates")
+        };
+        e = e.plus(judge().named("judges"));
+        if ranged {
+            e = e.plus(
+                judge()
+                    .named("friction sweeps")
+                    .times(sweeps * sensitivity::SWEEP_VALUES as f64, "frictions"),
+            );
+        }
+    }
+    if target.friction.is_some_and(|f| f.is_exact()) {
+        // The kept design around an exact value.
+        e = e.plus(
+            super::judge::judge_term(
+                target,
+                sampled,
+                sequenced_cycles(opts),
+                opts.settings.numerics.steps_per_cycle,
+            )
+            .named("friction sweep")
+            .times(sensitivity::SWEEP_VALUES as f64, "frictions"),
+        );
     }
     e
 }
 
-/// The work of one realised check of a design of `target`: its start
-/// points played `check_cycles` cycles of a period of
-/// `SYNTH_SEGMENT_CYCLES` cycles.
-pub(crate) fn check_estimate(
-    target: &Target,
-    sampled: &SampledTarget,
-    opts: &DesignOptions,
-) -> Term {
-    Term::new("realised check")
-        .times(check_starts(target, sampled).len() as f64, "parts")
-        .times(f64::from(check_cycles(SYNTH_SEGMENT_CYCLES)), "cycles")
-        .times(opts.settings.numerics.steps_per_cycle as f64, "steps")
+/// Cycles per period a sequenced schedule is counted at before it is
+/// designed: the asked total, else [`AFFINE_SHAPES`] segments of the least
+/// cycles each — one segment per independent shape of an affine field
+/// about its centre (divergence, curl and two shears), what a fit of a
+/// smooth target mostly spends its segments on (the shipped sequenced
+/// designs hold 1–5 segments).
+pub(crate) fn sequenced_cycles(opts: &DesignOptions) -> u32 {
+    opts.schedule
+        .total_cycles
+        .unwrap_or(AFFINE_SHAPES * opts.schedule.min_cycles)
 }
 
 /// The played polish of a synthesized motion ([`super::polish`]:
@@ -1355,18 +1388,12 @@ fn polish_played(
         progress: synth.progress,
         robust: synth.robust,
         lm: synth.polish_lm,
-        segment_cycles: SYNTH_SEGMENT_CYCLES,
-        measure: realised::MeasureOptions {
-            warmup_cycles: CHECK_WARMUP_CYCLES,
-            measured_cycles: CHECK_MEASURED_CYCLES,
-            settle: false,
-        },
         ..PolishOptions::default()
     };
     let p = polish(
         target,
         sampled,
-        &check_starts(target, sampled),
+        &judge_points(target, sampled),
         grid,
         limits,
         &opts.settings,
@@ -1385,20 +1412,10 @@ fn polish_played(
     Ok((if p.improved { p.synthesis } else { syn }, Some(line)))
 }
 
-/// The realised check's start points: about [`CHECK_POINTS`]² target grid
-/// points over the region.
-fn check_starts(target: &Target, sampled: &SampledTarget) -> Vec<usize> {
-    let stride = match &target.grid {
-        Some(g) => (g.n[0].min(g.n[1]).saturating_sub(1) / (CHECK_POINTS - 1)).max(1),
-        None => (sampled.len() / (CHECK_POINTS * CHECK_POINTS)).max(1),
-    };
-    loop_points(target, sampled, stride)
-}
-
-/// The realised check's measure of `schedule` played under `settings`
-/// (its own or other physics): the plays from the check's start points and
-/// what they realise against `target` ([`realised::realised_error`], with
-/// `predicted` the strength the error against the prediction uses).
+/// The judge's measure of `schedule` played under `settings` (its own or
+/// other physics; [`super::judge`]): the plays at the judge's points and
+/// what they realise against `target`, with `predicted` the strength the
+/// error against the prediction uses.
 pub(crate) fn realised_check(
     target: &Target,
     sampled: &SampledTarget,
@@ -1407,46 +1424,14 @@ pub(crate) fn realised_check(
     predicted: Option<f64>,
 ) -> Result<(Vec<realised::PointPlay>, realised::RealisedError)> {
     let sm = crate::play::ScheduleMotion::from_schedule(schedule)?;
-    Ok(realised_check_of(
-        target,
-        sampled,
-        (&sm, schedule.total_cycles),
-        settings,
-        predicted,
+    Ok(super::judge::judge(
+        target, sampled, &sm, settings, predicted,
     ))
 }
 
-/// [`realised_check`] of a trajectory `sm` of `per_period` primitive
-/// cycles per schedule period (e.g. a schedule's exported file played,
-/// [`crate::play::replay`]).
-pub(crate) fn realised_check_of(
-    target: &Target,
-    sampled: &SampledTarget,
-    (sm, per_period): (&crate::play::ScheduleMotion, u32),
-    settings: &crate::field::FieldSettings,
-    predicted: Option<f64>,
-) -> (Vec<realised::PointPlay>, realised::RealisedError) {
-    let starts = check_starts(target, sampled);
-    let plays = realised::play_motion(
-        sm,
-        per_period,
-        &sampled.points,
-        &starts,
-        settings,
-        &realised::MeasureOptions {
-            warmup_cycles: CHECK_WARMUP_CYCLES,
-            measured_cycles: CHECK_MEASURED_CYCLES,
-            settle: false,
-        },
-    );
-    let r = realised::realised_error(target, &sampled.weights, &plays, predicted);
-    (plays, r)
-}
-
-/// Plays `schedule` on about [`CHECK_POINTS`]² start points over the
-/// target region and compares what it realises with the target (see the
-/// [module documentation](self)); `predicted` is the strength the design
-/// predicts.
+/// Judges `schedule` ([`super::judge`]) and compares what it realises with
+/// the target (see the [module documentation](self)); `predicted` is the
+/// strength the design predicts.
 pub(crate) fn play_check(
     target: &Target,
     sampled: &SampledTarget,
@@ -1463,40 +1448,9 @@ pub(crate) fn play_check(
         Some(predicted),
     )?;
     let finite = |x: f64| x.is_finite().then_some(x);
-    // Contact lost inside the region is a failure of the design; a part
-    // that first left the region (a saddle or a transport sends parts out,
-    // beyond it a primitive's tilt may lift them) is not, unless the target
-    // has an attractor: then it escaped it.
-    let g = region(target, sampled);
-    let inside = |q: [f64; 2]| super::polish::in_region(&g, q);
-    let lost_inside: Vec<&realised::PointPlay> = plays
-        .iter()
-        .filter(|p| p.note.is_some() && p.lost_at.is_none_or(inside))
-        .collect();
-    let lost_outside = plays
-        .iter()
-        .filter(|p| p.lost_at.is_some_and(|q| !inside(q)))
-        .count();
-    let attractor = Attractor::of(&target.field);
-    let escaped = match attractor {
-        Some(a) => {
-            plays
-                .iter()
-                .filter(|p| p.note.is_none())
-                .filter(|p| {
-                    let (Some(first), Some(w), span) =
-                        (p.window_starts.first(), p.window_starts.last(), p.span)
-                    else {
-                        return false;
-                    };
-                    let end = [w[0] + p.realised[0] * span, w[1] + p.realised[1] * span];
-                    a.distance(end) > a.distance(*first) + ESCAPE_TOL
-                })
-                .count()
-                + lost_outside
-        }
-        None => 0,
-    };
+    // Every judge point is in the region: a part that loses contact at
+    // one fails the design.
+    let lost: Vec<&realised::PointPlay> = plays.iter().filter(|p| p.note.is_some()).collect();
     let mut notes = Vec::new();
     if r.valid == 0 {
         notes.push("no valid point".to_string());
@@ -1514,27 +1468,14 @@ pub(crate) fn play_check(
             100.0 * fit::POOR_ERROR
         ));
     }
-    if let Some(first) = lost_inside.first() {
+    if let Some(first) = lost.first() {
         notes.push(format!(
             "{} of {} parts lost contact in the region ({})",
-            lost_inside.len(),
+            lost.len(),
             plays.len(),
             first.note.clone().unwrap_or_default()
         ));
     }
-    if escaped > 0 {
-        notes.push(format!(
-            "{escaped} of {} parts escaped the attractor (ended over 1 mm farther from it than after the warm-up, or left the region)",
-            plays.len()
-        ));
-    }
-    // Stated, not POOR: parts that left the region as the field sends them.
-    let left = (attractor.is_none() && lost_outside > 0).then(|| {
-        format!(
-            "{lost_outside} of {} parts left the region and lost contact beyond it",
-            plays.len()
-        )
-    });
     Ok(Played {
         method: match (
             schedule.segments.iter().any(|s| s.motion.is_some()),
@@ -1551,16 +1492,17 @@ pub(crate) fn play_check(
         choice: String::new(),
         points: plays.len(),
         valid: r.valid,
-        escaped,
         predicted_strength: predicted,
         realised_strength: finite(r.realised_strength),
         realised_shape_error: finite(r.shape_error),
+        worst_friction: None,
         realised_error: finite(r.error),
         poor: !notes.is_empty(),
-        notes: notes.into_iter().chain(left).collect(),
+        notes,
         peaks: AxisPeaks::from_six(schedule_peaks(schedule)),
         limits,
         pose: None,
+        moving_escaped: None,
     })
 }
 
@@ -1592,16 +1534,17 @@ mod tests {
             choice: String::new(),
             points: 25,
             valid: 25,
-            escaped: 0,
             predicted_strength: strength,
             realised_strength: Some(strength),
             realised_shape_error: Some(shape),
+            worst_friction: None,
             realised_error: Some(shape),
             poor,
             notes: Vec::new(),
             peaks: AxisPeaks::from_six([0.0; 6]),
             limits: None,
             pose: None,
+            moving_escaped: None,
         });
         Candidate {
             method,
@@ -1675,9 +1618,8 @@ mod tests {
         assert!(!asked(&target, Method::Mirror));
     }
 
-    /// The polish term counts the parts the polish plays: every sample of a
-    /// 40-point grid-less target (stride 1), 25 of a 5 × 5-sampled
-    /// 2000-point one (not a fixed 25).
+    /// The polish term counts the points the polish plays, the judge's:
+    /// every sample of a grid-less target, 40 or 2000.
     #[test]
     fn polish_estimate_counts_the_played_parts() {
         let parts_of = |n: usize| {
@@ -1711,9 +1653,9 @@ mod tests {
                 &ShakerLimits::from_spec(None),
             );
             let polish = e.terms.iter().find(|t| t.label == "played polish").unwrap();
-            polish.factors.iter().find(|f| f.0 == "parts").unwrap().1
+            polish.factors.iter().find(|f| f.0 == "points").unwrap().1
         };
         assert_eq!(parts_of(40), 40.0);
-        assert_eq!(parts_of(2000), 25.0);
+        assert_eq!(parts_of(2000), 2000.0);
     }
 }

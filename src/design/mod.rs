@@ -24,6 +24,7 @@
 
 pub mod basis;
 pub mod closed_loop;
+pub mod judge;
 pub mod method;
 pub mod mirror;
 mod options;

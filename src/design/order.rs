@@ -712,7 +712,7 @@ pub struct OrderOutcome {
 ///     model: None,
 ///     runtime: Runtime::QUIET,
 /// };
-/// let outcome = order_schedule_file(std::path::Path::new("results/sink/schedule.json"), &req)?;
+/// let outcome = order_schedule_file(std::path::Path::new("results/synthesized/sink/schedule.json"), &req)?;
 /// println!("{} orders judged", outcome.search.candidates.len());
 /// # Ok::<(), platefield::Error>(())
 /// ```

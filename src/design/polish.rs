@@ -120,7 +120,7 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use super::closed_loop::realised::{self, MeasureOptions, RealisedError};
+use super::closed_loop::realised::{self, RealisedError};
 use super::rule;
 use crate::error::{positive, Error, Result};
 use crate::field::{FieldSettings, Grid};
@@ -167,9 +167,6 @@ pub struct PolishOptions {
     pub step: f64,
     /// Coarse grid [nx, ny] of the contact check.
     pub coarse: [usize; 2],
-    /// How long each start point is played (default 40 warm-up and 20
-    /// measured cycles).
-    pub measure: MeasureOptions,
     /// Stop once the played cost has stopped improving
     /// ([`crate::synth::stall`]); `None` spends `max_plays`.
     pub stall: Option<StallRule>,
@@ -183,13 +180,6 @@ pub struct PolishOptions {
     /// Levenberg–Marquardt on the played residuals with these settings
     /// (module documentation); `None`: Nelder–Mead with restarts.
     pub lm: Option<LmOptions>,
-    /// Cycles of the motion per schedule period, as the schedule that is
-    /// judged plays it (`design`: `super::method::SYNTH_SEGMENT_CYCLES`):
-    /// the warm-up and measured cycles are rounded up to whole periods and
-    /// one period more is played after the windows, where a part that
-    /// leaves the plate is left out of the measure — the polish plays the
-    /// motion exactly as the realised check does (default 1).
-    pub segment_cycles: u32,
     /// With `lm`: stop once this many Levenberg–Marquardt steps' worth of
     /// plays (n + 2 each, n parameters) have found no motion the choice's
     /// rule prefers to the best so far (module documentation); `None`:
@@ -211,12 +201,10 @@ impl Default for PolishOptions {
             grid_budget: 0.06,
             step: 0.03,
             coarse: [7, 7],
-            measure: MeasureOptions::default(),
             stall: None,
             progress: ProgressMode::Quiet,
             robust: None,
             lm: Some(crate::synth::POLISH_LM),
-            segment_cycles: 1,
             patience: Some(1),
         }
     }
@@ -226,9 +214,6 @@ impl PolishOptions {
     fn validate(&self) -> Result<()> {
         if self.max_plays == 0 {
             return Err(Error::invalid("polish.max_plays", "must be ≥ 1"));
-        }
-        if self.segment_cycles == 0 {
-            return Err(Error::invalid("polish.segment_cycles", "must be ≥ 1"));
         }
         positive("polish.shape_budget", self.shape_budget)?;
         positive("polish.grid_budget", self.grid_budget)?;
@@ -357,24 +342,16 @@ impl Played<'_> {
     /// (module documentation) under each physics in turn, and the most
     /// parts lost inside the region under one physics ([`lost_inside`]).
     fn play(&self, c: &Coefficients) -> Result<(RealisedError, Vec<f64>, usize)> {
-        let cycles = self.options.segment_cycles;
         let sm = ScheduleMotion::new(vec![PlayedSegment::moving(
             "synthesized",
             Motion::Signals(c.to_signals()),
-            cycles,
+            1,
         )])?;
         let mut residuals = Vec::new();
         let mut each = Vec::new();
         let mut lost = 0;
         for settings in self.objective.physics() {
-            let plays = realised::play_motion(
-                &sm,
-                cycles,
-                &self.sampled.points,
-                self.starts,
-                settings,
-                &self.options.measure,
-            );
+            let plays = super::judge::play_motion(&sm, &self.sampled.points, self.starts, settings);
             let r = realised::realised_error_of(&self.promise, &self.sampled.weights, &plays, None);
             residuals.extend(self.part_residuals(&plays, &r));
             each.push(r);

@@ -17,9 +17,7 @@
 //! that is not the schedule's (a channel's sign flipped, another design's
 //! export) does not agree.
 
-use super::method::{
-    judge_check, realised_check_of, CHECK_MEASURED_CYCLES, CHECK_POINTS, CHECK_WARMUP_CYCLES,
-};
+use super::method::{judge_check, recorded_target};
 use crate::dynamics::Friction;
 use crate::error::{Error, Result};
 use crate::field::FieldSettings;
@@ -32,20 +30,19 @@ use crate::play::ScheduleMotion;
 use crate::request::{SampledTarget, Target};
 use crate::schedule::export::{export, DEFAULT_STEADY_CYCLES, RAMP_CYCLES};
 use crate::schedule::Schedule;
-use crate::work::{Estimate, Term};
+use crate::work::Estimate;
 
 /// The rate `platefield export` samples at by default (Hz).
 pub(crate) const EXPORT_RATE: f64 = 10_000.0;
 
-/// The design's realised check of the replayed trajectory `sm` (one
-/// period `per_period` primitive cycles) under `settings`, as a judge.
+/// The judge of the replayed trajectory `sm` under `settings`.
 pub fn judge_replay(
     target: &Target,
     sampled: &SampledTarget,
-    (sm, per_period): (&ScheduleMotion, u32),
+    sm: &ScheduleMotion,
     settings: &FieldSettings,
 ) -> Judged {
-    let (plays, r) = realised_check_of(target, sampled, (sm, per_period), settings, None);
+    let (plays, r) = super::judge::judge(target, sampled, sm, settings, None);
     Judged {
         points: plays.len(),
         valid: r.valid,
@@ -89,7 +86,7 @@ pub fn exported(schedule: &Schedule) -> Result<HoldSamples> {
 /// use platefield::motion::held_csv::parse_recording;
 /// use platefield::schedule::Schedule;
 ///
-/// let schedule = Schedule::load("results/sink/schedule.json".as_ref()).unwrap();
+/// let schedule = Schedule::load("results/synthesized/sink/schedule.json".as_ref()).unwrap();
 /// let text = std::fs::read_to_string("measured.csv").unwrap();
 /// let recording = parse_recording(&text, "measured.csv", Some(5000.0)).unwrap();
 /// let file = conform(&schedule, &recording, "measured.csv").unwrap();
@@ -203,17 +200,6 @@ pub fn conform(schedule: &Schedule, recording: &Recording, source: &str) -> Resu
     sample_hold::ramped(&Motion::Held(held), 1.0 / step, RAMP_CYCLES, steady)
 }
 
-/// The target `schedule` records, sampled (a replay is judged against it).
-fn recorded_target(schedule: &Schedule) -> Result<(&Target, SampledTarget)> {
-    let target = schedule.target_spec.as_ref().ok_or_else(|| {
-        Error::invalid(
-            "--replay",
-            "a replay is judged against the schedule's target, and this schedule records none (\"target_spec\")",
-        )
-    })?;
-    Ok((target, target.sample()?))
-}
-
 /// Checks, before anything is played, that [`replay_check`] can judge
 /// `file` against `schedule`: the schedule records a target and the file's
 /// rows fit its segments.
@@ -221,7 +207,7 @@ fn recorded_target(schedule: &Schedule) -> Result<(&Target, SampledTarget)> {
 /// # Errors
 /// As [`replay_check`]'s, without playing.
 pub(crate) fn check_replay(schedule: &Schedule, file: &HoldSamples, source: &str) -> Result<()> {
-    recorded_target(schedule)?;
+    recorded_target(schedule, "--replay")?;
     replay_motion(schedule, file, source).map(|_| ())
 }
 
@@ -247,7 +233,7 @@ pub fn replay_check(
     source: &str,
     friction: Option<Friction>,
 ) -> Result<ReplayCheck> {
-    let (target, sampled) = recorded_target(schedule)?;
+    let (target, sampled) = recorded_target(schedule, "--replay")?;
     let sm = replay_motion(schedule, file, source)?;
     let friction = [friction.unwrap_or(schedule.settings.friction)];
     let base = &schedule.settings;
@@ -255,12 +241,7 @@ pub fn replay_check(
         judge_check(target, &sampled, schedule, settings)
     })?;
     let replayed = friction_sweep(base, &friction, &|settings| {
-        Ok(judge_replay(
-            target,
-            &sampled,
-            (&sm, schedule.total_cycles),
-            settings,
-        ))
+        Ok(judge_replay(target, &sampled, &sm, settings))
     })?;
     Ok(ReplayCheck {
         file: source.into(),
@@ -269,29 +250,31 @@ pub fn replay_check(
     })
 }
 
-/// The work of [`replay_check`] of a file sampled at `rate`: the realised
-/// check's parts and cycles, played at `steps_per_cycle` steps per cycle
-/// and replayed at one step (at least) per held sample (a 10 kHz file of a
-/// 0.03 s primitive: about 5 times as many).
-pub(crate) fn replay_estimate(schedule: &Schedule, rate: f64) -> Estimate {
-    let per_period = schedule.total_cycles.max(1);
-    let periods =
-        CHECK_WARMUP_CYCLES.div_ceil(per_period) + CHECK_MEASURED_CYCLES.div_ceil(per_period);
+/// The work of [`replay_check`] of a file sampled at `rate`: the judge
+/// ([`super::judge::judge_term`]) of the schedule, at `steps_per_cycle`
+/// steps per cycle, and of the file, at one step (at least) per held
+/// sample (a 10 kHz file of a 0.03 s primitive: about 5 times as many).
+pub(crate) fn replay_estimate(schedule: &Schedule, rate: f64) -> Result<Estimate> {
+    let (target, sampled) = recorded_target(schedule, "--replay")?;
     let cycle = schedule
         .segments
         .iter()
         .find_map(|s| s.cycle_period())
         .unwrap_or(schedule.period_s);
-    let steps = schedule.settings.numerics.steps_per_cycle as f64;
-    Estimate::new(
+    let steps = schedule.settings.numerics.steps_per_cycle;
+    let held = (rate * cycle).max(steps as f64).ceil() as usize;
+    Ok(Estimate::new(
         "--replay",
         "playing the schedule and replaying its export",
         "an export at a lower --rate",
     )
     .plus(
-        Term::new("played and replayed")
-            .times((CHECK_POINTS * CHECK_POINTS) as f64, "parts")
-            .times(f64::from(periods * per_period), "cycles")
-            .times(steps + (rate * cycle).max(steps), "steps"),
-    )
+        super::judge::judge_term(
+            target,
+            &sampled,
+            super::judge::judged_cycles(schedule),
+            steps + held,
+        )
+        .named("played and replayed"),
+    ))
 }

@@ -178,8 +178,13 @@ pub fn sort_estimate(target: &Target, opts: &DesignOptions) -> Result<crate::wor
             }));
         }
         e = e.plus(
-            super::method::check_estimate(&ct, &sampled, &copts)
-                .named(&format!("class {}: realised check", class.name)),
+            super::judge::judge_term(
+                &ct,
+                &sampled,
+                super::method::sequenced_cycles(&copts),
+                copts.settings.numerics.steps_per_cycle,
+            )
+            .named(&format!("class {}: judge", class.name)),
         );
     }
     Ok(e)

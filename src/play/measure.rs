@@ -396,6 +396,54 @@ pub(crate) fn play_point(
     out
 }
 
+/// The periodic mean velocity at `start` with the part's position frozen
+/// there (`frozen` a [`Player::frozen`] player): whole schedule periods,
+/// joins included, played from rest until the velocity state's start-up
+/// transient adds less than `super::settle::SETTLE_TOL` to the mean
+/// (`super::settle::relax`); the last period's mean velocity is R, its
+/// per-segment displacements the contributions. A part that loses
+/// contact is invalid, with the reason.
+pub(crate) fn play_frozen_point(
+    sm: &ScheduleMotion,
+    frozen: &Player<'_>,
+    index: usize,
+    start: [f64; 2],
+) -> PointPlay {
+    let n = sm.segments().len();
+    let mut out = PointPlay {
+        index,
+        start,
+        position: start,
+        realised: [0.0; 2],
+        window_starts: vec![start],
+        span: sm.period(),
+        periods: 1,
+        moving: false,
+        contributions: vec![[0.0; 2]; n],
+        note: None,
+        lost_at: None,
+        warmup_periods: 0,
+        settled: true,
+    };
+    match super::settle::relax(frozen, start, 0) {
+        Ok(r) => {
+            let v = r.periodic_mean();
+            out.realised = [v.x, v.y];
+            out.warmup_periods = r.settle.periods;
+            out.settled = r.settle.settled;
+            for (k, d) in r.last_period.iter().enumerate() {
+                let tk = sm.segments()[k].duration;
+                out.contributions[k] = [d.x / tk, d.y / tk];
+            }
+        }
+        Err(e) => {
+            out.note = Some(e.to_string());
+            out.lost_at = Some(e.loss.position);
+        }
+    }
+    out
+}
+
 /// `play_point` from every start point (in parallel, results in input
 /// order, indices 0, 1, …), with `opts`' physics and lengths.
 pub fn play_points(

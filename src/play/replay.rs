@@ -229,7 +229,7 @@ impl ReplayCheck {
     pub fn text(&self) -> String {
         let row = |r: &FrictionRow| {
             format!(
-                "realised strength {}, shape error {} ({} of {} parts)",
+                "realised strength {}, shape error {} ({} of {} points)",
                 r.realised_strength
                     .map_or_else(|| "n/a".into(), |s| format!("{s:.4}")),
                 crate::output::percent(r.realised_shape_error.unwrap_or(f64::NAN), 2),
@@ -238,7 +238,7 @@ impl ReplayCheck {
             )
         };
         let mut t = format!(
-            "replay of {} (the design's realised check at μ_s = {}, μ_k = {}: moving parts from its start points, same warm-up and windows):\n",
+            "replay of {} (the judge at μ_s = {}, μ_k = {}: the realised field at the design's judge points, parts held at their points):\n",
             self.file, self.played.friction.stat, self.played.friction.kinetic
         );
         let _ = writeln!(t, "  schedule played: {}", row(&self.played));

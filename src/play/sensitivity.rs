@@ -8,11 +8,12 @@
 //! strength follows eq. 19's b ∝ μ(μ²g² − 3h²α²)). Real friction is rarely
 //! known to better than ±20–30 %, so every design with a stated friction
 //! is played again across it: each row is a `Judge` at one friction —
-//! for a design, its realised check (`design::method::realised_check`:
-//! the same start points, warm-up and window as the design's own play,
-//! moving parts) judged against the target: realised strength ŝ (s⁻¹ for
-//! a sink) and realised shape error ‖R − ŝt‖/‖ŝt‖. The types and the
-//! sweep live here, below `design` and `verify`, which both report them.
+//! for a design, the judge (`design::judge`: the realised field at frozen
+//! points over the whole region) against the target: realised strength ŝ
+//! (s⁻¹ for a sink) and realised shape error ‖R − ŝt‖/‖ŝt‖. Over a range
+//! the target states, the worst row is the design's headline
+//! ([`Sensitivity::worst_row`]). The types and the sweep live here, below
+//! `design` and `verify`, which both report them.
 
 use std::fmt::Write as _;
 
@@ -83,6 +84,16 @@ pub struct Sensitivity {
 }
 
 impl Sensitivity {
+    /// The worst case: the row of the largest realised shape error (a row
+    /// without one counts as largest; the first of equals). `None` without
+    /// rows.
+    pub fn worst_row(&self) -> Option<&FrictionRow> {
+        let key = |r: &FrictionRow| r.realised_shape_error.unwrap_or(f64::INFINITY);
+        self.rows
+            .iter()
+            .reduce(|a, b| if key(b) > key(a) { b } else { a })
+    }
+
     /// The worst realised shape error over the rows (`None` if a row has
     /// none).
     pub fn worst_shape_error(&self) -> Option<f64> {
@@ -104,7 +115,7 @@ impl Sensitivity {
     /// The table as markdown: one row per friction.
     pub fn table_md(&self) -> String {
         let mut md = format!(
-            "Realised {} (the design's own check: moving parts from its start points, same warm-up and window), made for μ_s = {}, μ_k = {}:\n\n",
+            "The judge {} (the realised field at the design's judge points, parts held at their points), made for μ_s = {}, μ_k = {}:\n\n",
             self.span.describe(),
             self.nominal.stat,
             self.nominal.kinetic
@@ -135,7 +146,7 @@ impl Sensitivity {
 }
 
 /// What a judge measured under one physics.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Judged {
     /// Parts played.
     pub points: usize,
@@ -144,6 +155,7 @@ pub struct Judged {
     /// Realised strength ŝ.
     pub realised_strength: f64,
     /// Realised shape error ‖R − ŝt‖/‖ŝt‖.
+    #[serde(rename = "realised_shape_error")]
     pub shape_error: f64,
 }
 

@@ -80,12 +80,61 @@ pub fn warmup(player: &Player<'_>, start: [f64; 2], asked: u32) -> Settle {
             settled: true,
         };
     }
-    let frozen = player.frozen();
+    relax(&player.frozen(), start, asked).map_or(
+        Settle {
+            periods: asked,
+            settled: true,
+        },
+        |r| r.settle,
+    )
+}
+
+/// A frozen part's period means until its start-up transient has died out
+/// ([`relax`]).
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Relaxation {
+    /// v_k, the part's mean velocity over period k = 0, 1, … (m/s); the
+    /// last is at least two periods past the warm-up found.
+    pub means: Vec<V2>,
+    /// The warm-up found.
+    pub settle: Settle,
+    /// The part's displacement during each segment of the last period
+    /// played (m).
+    pub last_period: Vec<V2>,
+}
+
+impl Relaxation {
+    /// The periodic mean velocity: the last period's mean, within
+    /// [`SETTLE_TOL`] of the limit (or [`SETTLE_FLOOR`] in absolute terms)
+    /// when settled.
+    pub fn periodic_mean(&self) -> V2 {
+        self.means.last().copied().unwrap_or_else(V2::zeros)
+    }
+}
+
+/// Plays `frozen` (a player whose part's position is frozen, see
+/// [`Player::frozen`]) from rest at `start`, period by period, until the
+/// start-up transient of the part's velocity state adds less than
+/// [`SETTLE_TOL`] to its mean velocity after a warm-up of at least `asked`
+/// periods (the module documentation's estimate), or for
+/// [`SETTLE_MAX_CYCLES`] primitive cycles (then not settled).
+///
+/// # Errors
+/// The part loses contact.
+pub(crate) fn relax(
+    frozen: &Player<'_>,
+    start: [f64; 2],
+    asked: u32,
+) -> Result<Relaxation, super::PlayLoss> {
+    let sm = frozen.schedule();
+    let n = sm.segments().len();
+    let cycles: u32 = sm.segments().iter().map(|s| s.cycles).sum();
+    let cap = SETTLE_MAX_CYCLES.div_ceil(cycles.max(1)).max(asked);
     let anchor = V2::from(start);
     let mut state = PartState::new(anchor, V2::zeros());
     let span = sm.period();
-    // v_k for k = 0, 1, …: the mean velocity over period k.
     let mut v: Vec<V2> = Vec::new();
+    let mut last_period = vec![V2::zeros(); n];
     let mut w = asked;
     loop {
         // Judging w needs v_(w+1), and v_(w−1) or v_(w+2) for the rate.
@@ -93,15 +142,13 @@ pub fn warmup(player: &Player<'_>, start: [f64; 2], asked: u32) -> Settle {
         while v.len() < need {
             let r0 = state.r;
             let k = v.len() as u32;
-            if frozen
-                .play_periods(&mut state, &anchor, k, 1, |_, _, _| {})
-                .is_err()
-            {
-                return Settle {
-                    periods: asked,
-                    settled: true,
-                };
-            }
+            let mut prev = r0;
+            frozen.play_periods(&mut state, &anchor, k, 1, |_, seg, s| {
+                if let Some(i) = seg {
+                    last_period[i] = s.r - prev;
+                }
+                prev = s.r;
+            })?;
             v.push((state.r - r0) / span);
         }
         let e = |k: usize| (v[k] - v[k - 1]).norm();
@@ -116,17 +163,16 @@ pub fn warmup(player: &Player<'_>, start: [f64; 2], asked: u32) -> Settle {
         } else {
             f64::INFINITY
         };
-        if left <= (SETTLE_TOL * v[w_].norm()).max(SETTLE_FLOOR) {
-            return Settle {
-                periods: w,
-                settled: true,
-            };
-        }
-        if w >= cap {
-            return Settle {
-                periods: w,
-                settled: false,
-            };
+        let settled = left <= (SETTLE_TOL * v[w_].norm()).max(SETTLE_FLOOR);
+        if settled || w >= cap {
+            return Ok(Relaxation {
+                means: v,
+                settle: Settle {
+                    periods: w,
+                    settled,
+                },
+                last_period,
+            });
         }
         w += 1;
     }

@@ -578,7 +578,7 @@ impl Schedule {
     ///
     /// ```
     /// use platefield::schedule::Schedule;
-    /// let s = Schedule::load("results/sink/schedule.json".as_ref())?;
+    /// let s = Schedule::load("results/synthesized/sink/schedule.json".as_ref())?;
     /// let f = s.fingerprint();
     /// assert_eq!(f.len(), 16);
     /// let mut other = s.clone();

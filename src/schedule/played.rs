@@ -70,9 +70,8 @@ impl AxisPeaks {
     }
 }
 
-/// The realised check of a design: the schedule played on point parts with
-/// the one realised measure ([`crate::play::measure`], via
-/// `design::closed_loop::realised`), against the target.
+/// The judge of a design (`design::judge`): the realised field at frozen
+/// points over the whole target region, against the target.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Played {
@@ -83,30 +82,35 @@ pub struct Played {
     /// Why this design was kept (the rule and both candidates' numbers
     /// under `auto`).
     pub choice: String,
-    /// Start points played (a coarse grid over the target region).
+    /// Judge points played (a regular sub-grid of the target region, at
+    /// least 9 × 9, or every sample).
     pub points: usize,
     /// Points whose part kept contact and counted (weight > 0).
     pub valid: usize,
-    /// Points whose part ended farther from the target's attractor than it
-    /// started, or left the region and lost contact beyond it (0 for
-    /// targets without an attractor).
-    pub escaped: usize,
     /// The strength the design predicts (fit or synthesis).
     pub predicted_strength: f64,
     /// Realised strength ŝ (least-squares scale of the realised field on
-    /// the target); `None` when not finite.
+    /// the target); `None` when not finite. Over a friction range, the
+    /// worst case's ([`Played::worst_friction`]).
     pub realised_strength: Option<f64>,
-    /// Realised shape error ‖R − ŝ t‖/‖ŝ t‖; `None` when not finite.
+    /// Realised shape error ‖R − ŝ t‖/‖ŝ t‖; `None` when not finite. Over
+    /// a friction range, the worst case's ([`Played::worst_friction`]).
     pub realised_shape_error: Option<f64>,
-    /// Realised error against the prediction ‖R − s t‖/‖s t‖; `None`
-    /// when not finite.
+    /// Over the friction range the target states: the friction of the
+    /// worst case, the row of the friction table with the largest realised
+    /// shape error, whose numbers `realised_strength` and
+    /// `realised_shape_error` are. `None` when the design is judged at its
+    /// one friction.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub worst_friction: Option<Friction>,
+    /// Realised error against the prediction ‖R − s t‖/‖s t‖ at the
+    /// design's own friction; `None` when not finite.
     pub realised_error: Option<f64>,
-    /// Realised shape error above [`crate::fit::POOR_ERROR`], no valid
-    /// point, a part that lost contact in the region, or a part escaping
-    /// the attractor.
+    /// Realised shape error above [`crate::fit::POOR_ERROR`] (over a
+    /// friction range, at its worst), no valid point, or a part that lost
+    /// contact in the region.
     pub poor: bool,
-    /// Why it is POOR; also parts that left the region of a target without
-    /// an attractor (stated, not POOR).
+    /// Why it is POOR.
     pub notes: Vec<String>,
     /// Per-axis peaks the schedule commands.
     pub peaks: AxisPeaks,
@@ -119,6 +123,11 @@ pub struct Played {
     /// `None` for every other target.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pose: Option<PosePlayed>,
+    /// `escaped` of a schedule judged by moving parts (how many escaped
+    /// the attractor): read so that such a schedule still loads, never
+    /// written.
+    #[serde(default, skip_serializing, rename = "escaped")]
+    pub(crate) moving_escaped: Option<serde::de::IgnoredAny>,
 }
 
 /// A pose target's design played: the part dropped at random poses and

@@ -55,13 +55,13 @@ impl Judged {
     ) -> Result<Judged> {
         let sweep = friction.map(|f| f.sweep_values()).unwrap_or_default();
         if !sweep.is_empty() {
-            runtime.admit(&sweep_estimate(schedule, sweep.len()))?;
+            runtime.admit(&sweep_estimate(schedule, sweep.len())?)?;
         }
         let replay = match replay {
             Some((p, rate)) => {
                 let (file, source) = (read_replay(schedule, p, rate)?, p.display().to_string());
                 check_replay(schedule, &file, &source)?;
-                runtime.admit(&replay_estimate(schedule, file.rate))?;
+                runtime.admit(&replay_estimate(schedule, file.rate)?)?;
                 Some((file, source))
             }
             None => None,

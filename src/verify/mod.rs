@@ -3,22 +3,25 @@
 //! by playing the schedule: realised against predicted, where a swarm of
 //! parts ends up, rectangles.
 //!
-//! A [`crate::schedule::Schedule`] is played exactly by [`crate::play`];
-//! the realised field is compared with the prediction by the one measure of
-//! [`crate::play::measure`]; `swarm` plays many point parts over the
-//! target region (where they end up, how long they take); [`rectangles`]
-//! plays uniform rectangles (planar parts); [`strength`] measures the
-//! realised strength against the target; [`run()`] is the
-//! `platefield verify` command. Nothing here depends on how the schedule
-//! was designed; a friction sweep and an export's replay are judged by the
-//! design's own check (`crate::design::method::realised_check`).
+//! A [`crate::schedule::Schedule`] is played exactly by [`crate::play`].
+//! Three numbers, each under its own name:
+//! - **the model check**: moving parts' realised field against the
+//!   design's prediction, by the measure of [`crate::play::measure`];
+//! - **the swarm**: many point parts over the target region (where they
+//!   end up, how long they take), and [`rectangles`] (planar parts);
+//! - **the judge** of the schedule against the target it records
+//!   ([`crate::design::judge`], as `design` judges): the realised field at
+//!   frozen points over the whole region; a friction sweep and an
+//!   export's replay are judged by it too.
+//!
+//! [`run()`] is the `platefield verify` command. Nothing here depends on
+//! how the schedule was designed.
 
 pub mod friction;
 mod judged;
 pub mod rectangles;
 pub mod run;
 pub mod sort_play;
-pub mod strength;
 pub(crate) mod swarm;
 
 pub use rectangles::{

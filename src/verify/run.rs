@@ -186,10 +186,10 @@ pub struct VerifyReport {
     /// The strength the schedule's design claims (s⁻¹ for linear fields):
     /// its stored `fit.strength`.
     pub design_strength: f64,
-    /// The strength the schedule realises, measured against the target's
-    /// field ([`super::strength`]); `None` when the schedule records no
-    /// target or no counted point has a nonzero target vector.
-    pub realised_strength: Option<f64>,
+    /// The judge of the schedule against the target it records, under the
+    /// physics played ([`crate::design::judge`]: the realised field at
+    /// frozen points over the whole region); `None` when it records none.
+    pub judge: Option<crate::play::sensitivity::Judged>,
     /// Realised field against the prediction.
     pub realised: RealisedField,
     /// The swarm.
@@ -491,8 +491,8 @@ pub fn progress_weights(work: &Estimate, counts: [usize; 3]) -> [u64; 3] {
 /// use platefield::verify::{verify_schedule_file, VerifyRequest};
 /// use platefield::work::Runtime;
 /// let req = VerifyRequest { runtime: Runtime::QUIET, ..VerifyRequest::default() };
-/// let report = verify_schedule_file(std::path::Path::new("results/sink/schedule.json"), &req)?;
-/// println!("realised {:?}, designed {}", report.realised_strength, report.design_strength);
+/// let report = verify_schedule_file(std::path::Path::new("results/synthesized/sink/schedule.json"), &req)?;
+/// println!("judged {:?}, designed {}", report.judge, report.design_strength);
 /// # Ok::<(), platefield::Error>(())
 /// ```
 pub fn verify_schedule_file(path: &Path, req: &VerifyRequest) -> Result<VerifyReport> {
@@ -685,10 +685,22 @@ fn verify_labelled(schedule: &Schedule, req: &VerifyRequest, label: &str) -> Res
         region: g,
         request: req.clone(),
         design_strength: strength,
-        realised_strength: schedule
-            .target_spec
-            .as_ref()
-            .and_then(|t| super::strength::realised_strength(t, &v)),
+        judge: match &schedule.target_spec {
+            Some(t) => {
+                let physics = crate::field::FieldSettings {
+                    friction: opts.friction,
+                    model: opts.model,
+                    ..settings
+                };
+                Some(crate::design::method::judge_check(
+                    t,
+                    &t.sample()?,
+                    schedule,
+                    &physics,
+                )?)
+            }
+            None => None,
+        },
         realised: v,
         swarm,
         rectangles,

@@ -96,7 +96,17 @@ pub fn play_classes(
             .max()
             .unwrap_or(1)
     });
-    runtime.admit(&play_estimate(design, starts.len(), periods))?;
+    let judge = {
+        let ct = target.class_target(0);
+        let sampled = ct.sample()?;
+        crate::design::judge::judge_term(
+            &ct,
+            &sampled,
+            crate::design::judge::judged_cycles(&design.schedule),
+            design.schedule.settings.numerics.steps_per_cycle,
+        )
+    };
+    runtime.admit(&play_estimate(design, starts.len(), periods, judge))?;
     let progress = Progress::new(
         "sort: plays",
         "classes",
@@ -199,10 +209,14 @@ fn swarm_starts(target: &Target) -> Vec<[f64; 2]> {
 /// Whole periods for the predicted field to bring the farthest start
 /// within [`SORT_TOL`] twice over, in 1..=[`MAX_SORT_PERIODS`].
 /// The work of [`play_classes`] ([`crate::work`]): per class its swarm
-/// of `parts` parts played `periods` schedule periods, and its realised
-/// check (the design's, `crate::design::method::check_estimate`, on a
-/// period of the schedule's cycles).
-pub(crate) fn play_estimate(design: &SortDesign, parts: usize, periods: u32) -> Estimate {
+/// of `parts` parts played `periods` schedule periods, and its judge
+/// (`judge`, `crate::design::judge::judge_term` of one class).
+pub(crate) fn play_estimate(
+    design: &SortDesign,
+    parts: usize,
+    periods: u32,
+    judge: Term,
+) -> Estimate {
     let s = &design.schedule;
     let steps = s.settings.numerics.steps_per_cycle as f64;
     let cycles = f64::from(s.total_cycles);
@@ -220,17 +234,9 @@ pub(crate) fn play_estimate(design: &SortDesign, parts: usize, periods: u32) -> 
             .times(steps, "steps"),
     )
     .plus(
-        Term::new("realised checks")
-            .times(design.classes.len() as f64, "classes")
-            .times(
-                (crate::design::method::CHECK_POINTS * crate::design::method::CHECK_POINTS) as f64,
-                "parts",
-            )
-            .times(
-                f64::from(crate::design::method::check_cycles(s.total_cycles)),
-                "cycles",
-            )
-            .times(steps, "steps"),
+        judge
+            .named("judges")
+            .times(design.classes.len() as f64, "classes"),
     )
 }
 

@@ -159,12 +159,7 @@ pub(crate) fn design_rows(
     if replay {
         let sm = replay_motion(kept, &exported(kept)?, "export")?;
         let replayed = friction_sweep(&kept.settings, &values, &|settings| {
-            Ok(judge_replay(
-                target,
-                &sampled,
-                (&sm, kept.total_cycles),
-                settings,
-            ))
+            Ok(judge_replay(target, &sampled, &sm, settings))
         })?;
         out.push(row(format!("{label}, export replayed"), replayed));
     }

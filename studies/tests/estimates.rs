@@ -161,7 +161,7 @@ fn verify_steps(size: [f64; 2], rectangle_poses: usize, periods: u32) -> (f64, f
     use platefield::verify::{verify_schedule_file, Duration, VerifyRequest};
     let path = Path::new(concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../results/sink/schedule.json"
+        "/../results/synthesized/sink/schedule.json"
     ));
     let req = VerifyRequest {
         points: 2,

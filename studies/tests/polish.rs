@@ -9,7 +9,7 @@
 
 use std::path::Path;
 
-use platefield::design::closed_loop::realised::{play_motion, realised_error, MeasureOptions};
+use platefield::design::closed_loop::realised::realised_error;
 use platefield::design::polish::{polish, PolishOptions, Polished};
 use platefield::field::{FieldSettings, Grid};
 use platefield::request::Target;
@@ -172,14 +172,7 @@ fn polish_is_honest_about_what_it_returns() {
     let st = starts(&t, &sampled);
     let sm = synthesized_motion(&p.synthesis).unwrap();
     let settings = FieldSettings::default();
-    let plays = play_motion(
-        &sm,
-        1,
-        &sampled.points,
-        &st,
-        &settings,
-        &MeasureOptions::default(),
-    );
+    let plays = platefield::design::judge::play_motion(&sm, &sampled.points, &st, &settings);
     let e = realised_error(&t, &sampled.weights, &plays, None);
     assert_eq!(e.realised_strength, p.after.realised_strength);
     assert_eq!(e.shape_error, p.after.shape_error);

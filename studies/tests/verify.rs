@@ -281,7 +281,7 @@ fn verify_progress_counts_every_term_of_the_estimate() {
     use platefield::verify::run::{progress_weights, work_estimate, Duration, VerifyRequest};
     let schedule = Schedule::load(std::path::Path::new(concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../results/sink/schedule.json"
+        "/../results/synthesized/sink/schedule.json"
     )))
     .unwrap();
     let req = VerifyRequest {

@@ -175,7 +175,7 @@ pub struct Cycle {
 /// use platefield::schedule::export::pose::cycle;
 /// use platefield::schedule::Schedule;
 ///
-/// let s = Schedule::load(std::path::Path::new("results/sink/schedule.json")).unwrap();
+/// let s = Schedule::load(std::path::Path::new("results/synthesized/sink/schedule.json")).unwrap();
 /// let c = cycle(&s, 256).unwrap();
 /// let mean: f64 = c.points.iter().map(|a| a[0]).sum::<f64>() / 256.0;
 /// assert!(mean.abs() < 1e-12 * c.peaks.acceleration[0]);
