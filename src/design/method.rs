@@ -832,9 +832,16 @@ fn describe(c: &Candidate) -> String {
 /// over a range ([`Played::worst_friction`]), else nothing.
 pub fn worst_at(p: &Played) -> String {
     p.worst_friction.map_or_else(String::new, |f| {
+        // Swept values carry round-off (0.45000000000000007): four
+        // decimals, trailing zeros dropped.
+        let mu = |x: f64| {
+            let t = format!("{x:.4}");
+            t.trim_end_matches('0').trim_end_matches('.').to_string()
+        };
         format!(
             " worst over the friction range (μ_s {}, μ_k {}):",
-            f.stat, f.kinetic
+            mu(f.stat),
+            mu(f.kinetic)
         )
     })
 }

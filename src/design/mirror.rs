@@ -28,8 +28,8 @@
 //! The same holds for the reflection in any vertical plane through the
 //! plate centre at an angle φ ([`crate::motion::Signals::mirrored_about`]):
 //! a LineSink along 30° is symmetric under φ = 120° (any line across it),
-//! a sink under every φ; the first of 0°, 15°, …, 165° that maps the
-//! target to itself is used.
+//! a sink under every φ; the smallest φ in [0°, 180°) that maps the target
+//! to itself is used, at any angle ([`mirror_axis`]).
 //!
 //! **Its schedule.** Two six-signal segments of `MIRROR_SEGMENT_CYCLES`
 //! cycles each, the motion and its mirror, each ramped in from rest and out
@@ -63,32 +63,124 @@ pub(crate) const MIRROR_SEGMENT_CYCLES: u32 = 28;
 /// Relative tolerance of the symmetry test of a target.
 const SYMMETRY_TOL: f64 = 1e-9;
 
-/// Axes tried by [`mirror_axis`] (degrees from x).
-pub(crate) const MIRROR_AXES_DEG: [f64; 12] = [
-    0.0, 15.0, 30.0, 45.0, 60.0, 75.0, 90.0, 105.0, 120.0, 135.0, 150.0, 165.0,
-];
+/// Step of the coarse scan of [`mirror_axis`] (degrees).
+const AXIS_SCAN_DEG: f64 = 0.5;
 
-/// The first axis of `MIRROR_AXES_DEG` (degrees) in whose vertical plane
-/// the target is symmetric at every sample point of positive weight:
-/// t(Mp) = M t(p) within 1e-9 of its largest vector, M the reflection;
-/// `None` when there is none (a whirlpool).
+/// Most points the coarse scan evaluates (every k-th weighted point
+/// beyond; the final test uses all of them).
+const AXIS_SCAN_POINTS: usize = 400;
+
+/// `v` reflected in the vertical plane at `deg` degrees from x.
+fn reflect(deg: f64, v: [f64; 2]) -> [f64; 2] {
+    let (s, c) = (2.0 * deg.to_radians()).sin_cos();
+    [c * v[0] + s * v[1], s * v[0] - c * v[1]]
+}
+
+/// Σ |t(Mp) − M t(p)|² over `points` (p, t(p)), M the reflection at `deg`.
+fn asymmetry(target: &Target, points: &[([f64; 2], [f64; 2])], deg: f64) -> f64 {
+    points
+        .iter()
+        .map(|(p, t)| {
+            let m = target.field.eval(reflect(deg, *p));
+            let r = reflect(deg, *t);
+            (m[0] - r[0]).powi(2) + (m[1] - r[1]).powi(2)
+        })
+        .sum()
+}
+
+/// The smallest axis angle in [0°, 180°) (degrees from x, through the
+/// plate centre) in whose vertical plane the target is symmetric at every
+/// sample point of positive weight: t(Mp) = M t(p) within 1e-9 of its
+/// largest vector, M the reflection; `None` when there is none (a
+/// whirlpool).
+///
+/// Any angle: the squared asymmetry Σ|t(Mp) − M t(p)|² is scanned every
+/// 0.5° (on at most 400 of the points), each local minimum of the scan is
+/// refined by golden-section search over the two steps around it (the
+/// asymmetry is quadratic in the angle near an axis, so the refinement
+/// reaches ≈ 1e-10 rad), snapped to the nearest millionth of a degree
+/// when that passes too, and the first that passes the test on every
+/// point is the axis.
+///
+/// ```
+/// use platefield::design::mirror::mirror_axis;
+/// use platefield::request::Target;
+///
+/// // Line sinks along −25° and 65° (weights 1 and 0.5): symmetric in
+/// // both lines, the first from 0° is 65°.
+/// let t = Target::from_json_str(r#"{"name": "e",
+///     "grid": {"x": [-0.04, 0.04], "y": [-0.04, 0.04], "n": [21, 21]},
+///     "field": {"kind": "sum", "terms": [
+///     {"field": {"kind": "line_sink", "angle": -25, "strength": 1}},
+///     {"field": {"kind": "line_sink", "angle": 65, "strength": 0.5}}]}}"#).unwrap();
+/// let axis = mirror_axis(&t, &t.sample().unwrap()).unwrap();
+/// assert!((axis - 65.0).abs() < 1e-9, "{axis}");
+/// ```
 pub fn mirror_axis(target: &Target, sampled: &SampledTarget) -> Option<f64> {
     let scale = sampled.max_norm().max(f64::MIN_POSITIVE);
-    MIRROR_AXES_DEG.into_iter().find(|deg| {
-        let (s, c) = (2.0 * deg.to_radians()).sin_cos();
-        let reflect = |v: [f64; 2]| [c * v[0] + s * v[1], s * v[0] - c * v[1]];
-        sampled
-            .points
-            .iter()
-            .zip(&sampled.vectors)
-            .zip(&sampled.weights)
-            .filter(|(_, &w)| w > 0.0)
-            .all(|((p, t), _)| {
-                let m = target.field.eval(reflect(*p));
-                let r = reflect(*t);
-                (m[0] - r[0]).hypot(m[1] - r[1]) <= SYMMETRY_TOL * scale
-            })
-    })
+    let all: Vec<([f64; 2], [f64; 2])> = sampled
+        .points
+        .iter()
+        .zip(&sampled.vectors)
+        .zip(&sampled.weights)
+        .filter(|(_, &w)| w > 0.0)
+        .map(|((p, t), _)| (*p, *t))
+        .collect();
+    let stride = all.len().div_ceil(AXIS_SCAN_POINTS).max(1);
+    let scan: Vec<([f64; 2], [f64; 2])> = all.iter().step_by(stride).copied().collect();
+    let symmetric = |deg: f64| {
+        all.iter().all(|(p, t)| {
+            let m = target.field.eval(reflect(deg, *p));
+            let r = reflect(deg, *t);
+            (m[0] - r[0]).hypot(m[1] - r[1]) <= SYMMETRY_TOL * scale
+        })
+    };
+    let n = (180.0 / AXIS_SCAN_DEG).round() as usize;
+    let f: Vec<f64> = (0..n)
+        .map(|k| asymmetry(target, &scan, k as f64 * AXIS_SCAN_DEG))
+        .collect();
+    (0..n)
+        .filter(|&k| f[k] <= f[(k + n - 1) % n] && f[k] <= f[(k + 1) % n])
+        .find_map(|k| {
+            let centre = k as f64 * AXIS_SCAN_DEG;
+            let best = if f[k] == 0.0 {
+                centre
+            } else {
+                golden_min(
+                    |d| asymmetry(target, &scan, d),
+                    centre - AXIS_SCAN_DEG,
+                    centre + AXIS_SCAN_DEG,
+                )
+            };
+            let snapped = (best * 1e6).round() / 1e6;
+            let axis = [snapped, best].into_iter().find(|&d| symmetric(d))?;
+            Some(axis.rem_euclid(180.0))
+        })
+}
+
+/// The minimiser of `f` on [a, b] by golden-section search, to the
+/// bracket's round-off.
+fn golden_min(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64) -> f64 {
+    let r = (5.0_f64.sqrt() - 1.0) / 2.0;
+    let (mut c, mut d) = (b - r * (b - a), a + r * (b - a));
+    let (mut fc, mut fd) = (f(c), f(d));
+    for _ in 0..200 {
+        if (b - a).abs() <= 1e-13 * (1.0 + a.abs()) {
+            break;
+        }
+        if fc < fd {
+            b = d;
+            (d, fd) = (c, fc);
+            c = b - r * (b - a);
+            fc = f(c);
+        } else {
+            a = c;
+            (c, fc) = (d, fd);
+            d = a + r * (b - a);
+            fd = f(d);
+        }
+    }
+    0.5 * (a + b)
 }
 
 /// The mirror-image time-share of a one-motion schedule (a synthesized
