@@ -1,0 +1,477 @@
+//! Friction from camera tracks: μ_s, μ_k and the motion's amplitude scale
+//! estimated from parts observed moving under a known schedule.
+//!
+//! A lab plays a schedule, films parts on the plate and tracks them
+//! ([`tracks`]: `t_s,part,x_m,y_m`). [`calibrate`] fits the parts' paths
+//! predicted by the played motion's **steady-state velocity field** as a
+//! function of position and of θ = (μ_k, μ_s − μ_k, scale) ([`model`]: the
+//! field, not a full replay: a path costs a few thousand field look-ups, a
+//! replay of one part over 10 s about 200 000 integrator steps) to the
+//! observed positions by least squares ([`estimate`]: the noise model,
+//! the intervals), part by part first to sort parts into friction classes
+//! ([`classes`]), then each class as one. Parameters the tracks do not
+//! determine are named: μ_s when the parts never stick (the field does
+//! not change with it), any parameter whose interval is wider than
+//! [`WEAK`], any pair whose estimates are correlated beyond [`CORRELATED`].
+//!
+//! [`simulate_tracks`] makes tracks by the exact simulator (the full
+//! replay): what the tests and the coverage study check the estimator
+//! against.
+
+pub mod classes;
+pub mod estimate;
+pub mod model;
+pub mod simulate;
+pub mod tracks;
+
+pub use classes::cluster;
+pub use model::PlayedMotion;
+pub use simulate::{simulate_tracks, TrackSimulation};
+pub use tracks::{Track, Tracks};
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+use crate::field::Grid;
+use crate::schedule::Schedule;
+use estimate::{fit_class, parabola_minimum, scan, ClassFit};
+use model::{EXCESS, MU_K, SCALE};
+
+/// A 95 % interval wider than this (in μ or in scale) names its parameter
+/// as weakly determined.
+pub const WEAK: f64 = 0.1;
+
+/// Estimates correlated beyond |ρ| = this are named as not separated.
+pub const CORRELATED: f64 = 0.95;
+
+/// The μ lattice of the part-by-part scan: 0.05 to 1.0 in steps of 0.05.
+pub fn lattice() -> Vec<f64> {
+    (1..=20).map(|k| 0.05 * f64::from(k)).collect()
+}
+
+/// Stencil steps of θ (μ_k, μ_s − μ_k, scale).
+const STEPS: model::Theta = [0.02, 0.02, 0.02];
+
+/// A change of μ_s that moves no field sample by more than this (m/s) is
+/// no change: the parts never stick.
+const STICK_SENSITIVITY: f64 = 1e-9;
+
+/// 97.5 % quantile of the standard normal.
+const Z95: f64 = 1.959_963_984_540_054;
+
+/// How to calibrate.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CalibrateOptions {
+    /// Also estimate the amplitude scale of the delivered motion.
+    pub scale: bool,
+    /// Grid points per side of the fields over the plate region.
+    pub grid: usize,
+    /// How long the motion was played (s), when known: frames after it
+    /// are refused.
+    pub played: Option<f64>,
+}
+
+impl Default for CalibrateOptions {
+    fn default() -> Self {
+        CalibrateOptions {
+            scale: false,
+            grid: 17,
+            played: None,
+        }
+    }
+}
+
+/// One parameter's estimate.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ParamEstimate {
+    /// The estimate; `None` when the tracks do not determine it.
+    pub value: Option<f64>,
+    /// Standard error.
+    pub standard_error: Option<f64>,
+    /// 95 % interval.
+    pub interval: Option<[f64; 2]>,
+    /// Whether the parameter was estimated (false: fixed or not
+    /// determined; see `note`).
+    pub estimated: bool,
+    /// Why it is fixed or undetermined, or how weakly it is determined.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub note: Option<String>,
+}
+
+/// One part's own estimate (μ_s = μ_k, scale 1, from the lattice scan).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PartEstimate {
+    /// The part's label.
+    pub part: String,
+    /// Frames observed.
+    pub frames: usize,
+    /// Its μ.
+    pub mu: f64,
+    /// Its standard error (`None` at the lattice's end).
+    pub standard_error: Option<f64>,
+    /// Its class (index into `classes`).
+    pub class: usize,
+}
+
+/// One friction class's fit.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ClassEstimate {
+    /// The parts of the class.
+    pub parts: Vec<String>,
+    /// μ_k.
+    pub mu_k: ParamEstimate,
+    /// μ_s.
+    pub mu_s: ParamEstimate,
+    /// Amplitude scale of the delivered motion.
+    pub scale: ParamEstimate,
+    /// Correlations of the estimated parameters: (name, name, ρ).
+    pub correlations: Vec<(String, String, f64)>,
+    /// RMS residual per coordinate (m).
+    pub residual_rms_m: f64,
+    /// Residual standard deviation over the tracks' own noise estimate
+    /// (about 1 when the model explains the tracks to their noise).
+    pub residual_over_noise: Option<f64>,
+    /// Coordinates fitted, and the fit's degrees of freedom.
+    pub coordinates: usize,
+    /// Degrees of freedom.
+    pub dof: usize,
+    /// What the tracks of this class do not determine.
+    pub not_separable: Vec<String>,
+}
+
+/// A calibration: what `platefield calibrate` prints and writes.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Calibration {
+    /// The schedule's target.
+    pub target: String,
+    /// The tracks file.
+    pub tracks: String,
+    /// Parts and frames.
+    pub parts: usize,
+    /// Frames.
+    pub frames: usize,
+    /// The model the paths were predicted by.
+    pub model: String,
+    /// Position noise σ per axis estimated from the tracks alone (m).
+    pub noise_m: Option<f64>,
+    /// Friction classes, by increasing μ.
+    pub classes: Vec<ClassEstimate>,
+    /// Each part's own estimate.
+    pub per_part: Vec<PartEstimate>,
+    /// The lattice scan, per class: (μ, Δχ² = ΔRSS/σ̂²) with μ_s = μ_k.
+    pub likelihood: Vec<Vec<[f64; 2]>>,
+    /// The fine profile about each class's estimate: (μ_k, Δχ²).
+    pub profile: Vec<Vec<[f64; 2]>>,
+    /// Velocity fields computed.
+    pub fields_computed: usize,
+}
+
+impl Calibration {
+    /// The class `class`'s friction as a range for design: μ_k's 95 %
+    /// interval, and μ_s's when determined (else the same as μ_k's).
+    ///
+    /// # Errors
+    /// No such class, or its μ_k was not estimated.
+    pub fn friction_range(&self, class: usize) -> Result<([f64; 2], [f64; 2])> {
+        let c = self.classes.get(class).ok_or_else(|| {
+            Error::invalid(
+                "class",
+                format!(
+                    "the calibration has {} class(es), no class {class}",
+                    self.classes.len()
+                ),
+            )
+        })?;
+        let k = c
+            .mu_k
+            .interval
+            .ok_or_else(|| Error::invalid("classes.mu_k", "μ_k was not estimated"))?;
+        let k = [k[0].max(0.001), k[1].min(2.0)];
+        let s = c
+            .mu_s
+            .interval
+            .map_or(k, |s| [s[0].max(k[0]), s[1].min(2.0).max(k[1])]);
+        Ok((k, s))
+    }
+}
+
+/// The calibration and what its report draws.
+#[derive(Debug, Clone)]
+pub struct CalibrationRun {
+    /// The summary.
+    pub calibration: Calibration,
+    /// Per track: observed frames and the fitted path at the same times.
+    pub paths: Vec<(String, Vec<[f64; 2]>, Vec<[f64; 2]>)>,
+}
+
+/// Calibrates the friction (and the scale, if asked) of the parts in
+/// `tracks`, observed under `schedule`.
+///
+/// ```
+/// use platefield::calibrate::{calibrate, simulate_tracks, CalibrateOptions, TrackSimulation};
+/// use platefield::dynamics::Friction;
+/// use platefield::schedule::Schedule;
+/// let schedule = Schedule::load(std::path::Path::new("results/sink/schedule.json"))?;
+/// let region = platefield::verify::run::region(&schedule);
+/// let mut sim = TrackSimulation::new(Friction::uniform(0.25), 4, 3);
+/// sim.seconds = 3.0;
+/// let tracks = simulate_tracks(&schedule, &region, &sim)?;
+/// let run = calibrate(&schedule, &tracks, &CalibrateOptions { grid: 9, ..Default::default() })?;
+/// let mu = run.calibration.classes[0].mu_k.value.unwrap();
+/// assert!((mu - 0.25).abs() < 0.05, "{mu}");
+/// # Ok::<(), platefield::Error>(())
+/// ```
+///
+/// # Errors
+/// Tracks outside the plate region or not fitting the schedule's
+/// duration (naming the file, line and column), an invalid schedule, a
+/// field the paths cannot follow.
+pub fn calibrate(
+    schedule: &Schedule,
+    tracks: &Tracks,
+    options: &CalibrateOptions,
+) -> Result<CalibrationRun> {
+    if !(3..=Grid::MAX_N).contains(&options.grid) {
+        return Err(Error::invalid(
+            "--grid",
+            format!("must be within [3, {}], got {}", Grid::MAX_N, options.grid),
+        ));
+    }
+    let region = crate::verify::run::region(schedule);
+    tracks.check_region(&region)?;
+    let grid = Grid {
+        n: [options.grid, options.grid],
+        ..region
+    };
+    let motion = PlayedMotion::from_schedule(schedule, grid)?;
+    tracks.check_duration(motion.period(), options.played)?;
+    let noise = tracks.noise();
+    let sigma_ref = noise.unwrap_or(1e-4).max(1e-7);
+    let all: Vec<&Track> = tracks.tracks.iter().collect();
+    let mus = lattice();
+    let scanned = scan(&motion, &all, &mus, 0.0, 1.0);
+    let mut fields_computed = mus.len() * motion_fields(&motion);
+    let per_track = |i: usize| -> Vec<f64> {
+        scanned
+            .iter()
+            .map(|s| s.as_ref().map_or(f64::INFINITY, |v| v[i]))
+            .collect()
+    };
+    // Pooled σ̂² at each part's own minimum: the scale of its curvature.
+    let coords: usize = all.iter().map(|t| 2 * t.frames.len()).sum();
+    let rss_min: f64 = (0..all.len())
+        .map(|i| per_track(i).into_iter().fold(f64::INFINITY, f64::min))
+        .sum();
+    let lattice_dof = coords.saturating_sub(3 * all.len()).max(1);
+    let sigma2 = rss_min / lattice_dof as f64;
+    let mut own = Vec::new();
+    for (i, tr) in all.iter().enumerate() {
+        let (mu, curv) = parabola_minimum(&mus, &per_track(i)).ok_or_else(|| {
+            Error::Physical(format!(
+                "part \"{}\": the field cannot follow it at any μ of the lattice",
+                tr.part
+            ))
+        })?;
+        own.push((mu, curv.map(|c| (2.0 * sigma2 / c).sqrt())));
+    }
+    let class_of = cluster(
+        &own.iter()
+            .map(|(m, s)| (*m, s.unwrap_or(0.0)))
+            .collect::<Vec<_>>(),
+    );
+    let n_classes = class_of.iter().max().map_or(0, |m| m + 1);
+    let mut classes = Vec::new();
+    let mut likelihood = Vec::new();
+    let mut profile = Vec::new();
+    let mut paths = vec![(String::new(), Vec::new(), Vec::new()); all.len()];
+    for c in 0..n_classes {
+        let members: Vec<usize> = (0..all.len()).filter(|&i| class_of[i] == c).collect();
+        let class_tracks: Vec<&Track> = members.iter().map(|&i| all[i]).collect();
+        let curve: Vec<f64> = (0..mus.len())
+            .map(|m| members.iter().map(|&i| per_track(i)[m]).sum())
+            .collect();
+        let mu0 = parabola_minimum(&mus, &curve).map_or(0.3, |m| m.0);
+        // Does μ_s matter? The fields with μ_s = μ_k and μ_s = μ_k + 2h.
+        let stick = {
+            let a = motion.fields(&[mu0, 0.0, 1.0])?;
+            let b = motion.fields(&[mu0, 2.0 * STEPS[EXCESS], 1.0])?;
+            fields_computed += 2 * motion_fields(&motion);
+            a.max_difference(&b) > STICK_SENSITIVITY
+        };
+        let mut free = vec![MU_K];
+        if stick {
+            free.push(EXCESS);
+        }
+        if options.scale {
+            free.push(SCALE);
+        }
+        let theta0 = [mu0, if stick { STEPS[EXCESS] } else { 0.0 }, 1.0];
+        let fit = fit_class(&motion, &class_tracks, theta0, STEPS, &free, sigma_ref)?;
+        fields_computed += fit.fields * motion_fields(&motion);
+        let s2 = fit.sigma().powi(2);
+        let lo = curve.iter().copied().fold(f64::INFINITY, f64::min);
+        likelihood.push(
+            mus.iter()
+                .zip(&curve)
+                .filter(|(_, v)| v.is_finite())
+                .map(|(m, v)| [*m, (v - lo) / s2])
+                .collect(),
+        );
+        let flo = fit
+            .profile
+            .iter()
+            .map(|p| p[1])
+            .fold(f64::INFINITY, f64::min);
+        profile.push(
+            fit.profile
+                .iter()
+                .map(|p| [p[0], (p[1] - flo) / s2])
+                .collect(),
+        );
+        for (k, &i) in members.iter().enumerate() {
+            let tr = all[i];
+            let times: Vec<f64> = tr.frames.iter().map(|f| f.t).collect();
+            let fitted = motion.path(&fit.set, fit.starts[k].start, times[0], &times)?;
+            paths[i] = (
+                tr.part.clone(),
+                tr.frames.iter().map(|f| f.r).collect(),
+                fitted,
+            );
+        }
+        classes.push(class_estimate(
+            &fit,
+            &class_tracks,
+            noise,
+            stick,
+            options.scale,
+        ));
+    }
+    let per_part = all
+        .iter()
+        .enumerate()
+        .map(|(i, tr)| PartEstimate {
+            part: tr.part.clone(),
+            frames: tr.frames.len(),
+            mu: own[i].0,
+            standard_error: own[i].1,
+            class: class_of[i],
+        })
+        .collect();
+    Ok(CalibrationRun {
+        calibration: Calibration {
+            target: schedule.target.clone(),
+            tracks: tracks.source.clone(),
+            parts: all.len(),
+            frames: tracks.frames(),
+            model: format!(
+                "steady-state velocity fields of the schedule's {} segment(s) on a {}×{} grid over the plate region, interpolated in μ and scale by a quadratic stencil; paths by RK4 (not a full replay)",
+                motion_fields(&motion),
+                options.grid,
+                options.grid
+            ),
+            noise_m: noise,
+            classes,
+            per_part,
+            likelihood,
+            profile,
+            fields_computed,
+        },
+        paths,
+    })
+}
+
+/// Moving segments of the played motion (fields per θ).
+fn motion_fields(motion: &PlayedMotion) -> usize {
+    motion.moving_segments()
+}
+
+/// A class's fitted θ as named estimates, with what is not separable.
+fn class_estimate(
+    fit: &ClassFit,
+    tracks: &[&Track],
+    noise: Option<f64>,
+    stick: bool,
+    scale: bool,
+) -> ClassEstimate {
+    let index = |j: usize| fit.free.iter().position(|&f| f == j);
+    let var = |a: usize, b: usize| fit.covariance[a][b];
+    let estimate = |value: f64, v: f64| {
+        let se = v.max(0.0).sqrt();
+        let weak = 2.0 * Z95 * se > WEAK;
+        ParamEstimate {
+            value: Some(value),
+            standard_error: Some(se),
+            interval: Some([value - Z95 * se, value + Z95 * se]),
+            estimated: true,
+            note: weak
+                .then(|| format!("weakly determined: its 95 % interval is wider than {WEAK}")),
+        }
+    };
+    let k = index(MU_K).unwrap_or(0);
+    let mu_k = estimate(fit.theta[MU_K], var(k, k));
+    let mu_s = match index(EXCESS) {
+        Some(e) => estimate(
+            fit.theta[MU_K] + fit.theta[EXCESS],
+            var(k, k) + var(e, e) + 2.0 * var(k, e),
+        ),
+        None => ParamEstimate {
+            value: None,
+            standard_error: None,
+            interval: None,
+            estimated: false,
+            note: (!stick).then(|| {
+                format!(
+                    "not determined: the parts never stick on this motion between μ_s = μ_k and μ_k + {} (the field does not change with μ_s), so the tracks bound only μ_s ≥ μ_k",
+                    2.0 * STEPS[EXCESS]
+                )
+            }),
+        },
+    };
+    let scale_estimate = match index(SCALE) {
+        Some(s) => estimate(fit.theta[SCALE], var(s, s)),
+        None => ParamEstimate {
+            value: Some(1.0),
+            standard_error: None,
+            interval: None,
+            estimated: false,
+            note: (!scale)
+                .then(|| "fixed at 1 (the motion as sent); --scale estimates it".to_string()),
+        },
+    };
+    let mut not_separable = Vec::new();
+    if mu_s.value.is_none() {
+        not_separable.push("mu_s (the parts never stick)".to_string());
+    }
+    let mut correlations = Vec::new();
+    for a in 0..fit.free.len() {
+        for b in 0..a {
+            let rho = var(a, b) / (var(a, a) * var(b, b)).sqrt();
+            let (na, nb) = (
+                model::NAMES[fit.free[a]].to_string(),
+                model::NAMES[fit.free[b]].to_string(),
+            );
+            if rho.abs() > CORRELATED {
+                not_separable.push(format!("{nb} from {na} (correlation {rho:.3})"));
+            }
+            correlations.push((nb, na, rho));
+        }
+    }
+    for (name, p) in [("mu_k", &mu_k), ("mu_s", &mu_s), ("scale", &scale_estimate)] {
+        if p.estimated && p.note.is_some() {
+            not_separable.push(format!("{name} (95 % interval wider than {WEAK})"));
+        }
+    }
+    let coordinates: usize = tracks.iter().map(|t| 2 * t.frames.len()).sum();
+    ClassEstimate {
+        parts: tracks.iter().map(|t| t.part.clone()).collect(),
+        mu_k,
+        mu_s,
+        scale: scale_estimate,
+        correlations,
+        residual_rms_m: (fit.rss / coordinates.max(1) as f64).sqrt(),
+        residual_over_noise: noise.map(|n| fit.sigma() / n),
+        coordinates,
+        dof: fit.dof,
+        not_separable,
+    }
+}
