@@ -24,7 +24,6 @@ pub mod model;
 pub mod simulate;
 pub mod tracks;
 
-pub use classes::cluster;
 pub use model::PlayedMotion;
 pub use simulate::{simulate_tracks, TrackSimulation};
 pub use tracks::{Track, Tracks};
@@ -34,6 +33,7 @@ use serde::{Deserialize, Serialize};
 use crate::error::{Error, Result};
 use crate::field::Grid;
 use crate::schedule::Schedule;
+use classes::cluster;
 use estimate::{fit_class, parabola_minimum, scan, ClassFit};
 use model::{EXCESS, MU_K, SCALE};
 
@@ -48,6 +48,10 @@ pub const CORRELATED: f64 = 0.95;
 pub fn lattice() -> Vec<f64> {
     (1..=20).map(|k| 0.05 * f64::from(k)).collect()
 }
+
+/// Frames before this time (s, from the schedule's start) are left out
+/// of the fit: the start-up transient (about three cycles of 30 ms).
+pub const SETTLE: f64 = 0.1;
 
 /// Stencil steps of θ (μ_k, μ_s − μ_k, scale).
 const STEPS: model::Theta = [0.02, 0.02, 0.02];
@@ -247,7 +251,28 @@ pub fn calibrate(
     tracks.check_duration(motion.period(), options.played)?;
     let noise = tracks.noise();
     let sigma_ref = noise.unwrap_or(1e-4).max(1e-7);
-    let all: Vec<&Track> = tracks.tracks.iter().collect();
+    // Frames of the start-up transient are left out: a part put at rest
+    // on the plate reaches its periodic orbit within a few cycles, with a
+    // jump of up to millimetres the mean-velocity model does not follow.
+    let settled: Vec<Track> = tracks
+        .tracks
+        .iter()
+        .map(|t| Track {
+            part: t.part.clone(),
+            frames: t.frames.iter().filter(|f| f.t >= SETTLE).copied().collect(),
+        })
+        .filter(|t| t.frames.len() >= tracks::MIN_FRAMES)
+        .collect();
+    if settled.is_empty() {
+        return Err(Error::invalid(
+            tracks.source.clone(),
+            format!(
+                "no part has {} frames after the start-up transient (t ≥ {SETTLE} s)",
+                tracks::MIN_FRAMES
+            ),
+        ));
+    }
+    let all: Vec<&Track> = settled.iter().collect();
     let mus = lattice();
     let scanned = scan(&motion, &all, &mus, 0.0, 1.0);
     let mut fields_computed = mus.len() * motion_fields(&motion);
@@ -274,11 +299,9 @@ pub fn calibrate(
         })?;
         own.push((mu, curv.map(|c| (2.0 * sigma2 / c).sqrt())));
     }
-    let class_of = cluster(
-        &own.iter()
-            .map(|(m, s)| (*m, s.unwrap_or(0.0)))
-            .collect::<Vec<_>>(),
-    );
+    let curves: Vec<Vec<f64>> = (0..all.len()).map(per_track).collect();
+    let own_mu: Vec<f64> = own.iter().map(|o| o.0).collect();
+    let class_of = cluster(&curves, &mus, &own_mu, sigma2);
     let n_classes = class_of.iter().max().map_or(0, |m| m + 1);
     let mut classes = Vec::new();
     let mut likelihood = Vec::new();
