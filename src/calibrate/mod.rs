@@ -32,6 +32,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
 use crate::field::Grid;
+use crate::scene::{FrictionSpec, Interval};
 use crate::schedule::Schedule;
 use classes::cluster;
 use estimate::{fit_class, parabola_minimum, scan, ClassFit};
@@ -51,7 +52,7 @@ pub fn lattice() -> Vec<f64> {
 
 /// Frames before this time (s, from the schedule's start) are left out
 /// of the fit: the start-up transient (about three cycles of 30 ms).
-pub const SETTLE: f64 = 0.1;
+pub const SETTLE: f64 = 0.3;
 
 /// Stencil steps of θ (μ_k, μ_s − μ_k, scale).
 const STEPS: model::Theta = [0.02, 0.02, 0.02];
@@ -171,31 +172,88 @@ pub struct Calibration {
 }
 
 impl Calibration {
-    /// The class `class`'s friction as a range for design: μ_k's 95 %
-    /// interval, and μ_s's when determined (else the same as μ_k's).
+    /// Reads a `calibration.json` written by `platefield calibrate`.
+    ///
+    /// # Errors
+    /// The file cannot be read or is not a calibration (names the file
+    /// and the JSON path).
+    pub fn load(path: &std::path::Path) -> Result<Calibration> {
+        let name = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
+            path: name.clone(),
+            source,
+        })?;
+        let de = &mut serde_json::Deserializer::from_str(&text);
+        serde_path_to_error::deserialize(de).map_err(|e| {
+            Error::invalid(
+                format!("{name}: {}", e.path()),
+                format!(
+                    "not a calibration written by `platefield calibrate`: {}",
+                    e.inner()
+                ),
+            )
+        })
+    }
+
+    /// Class `class`'s friction as a design's friction range: μ_k's 95 %
+    /// interval, and μ_s's when the tracks determined it (else μ_s = μ_k
+    /// over μ_k's interval: the tracks bound μ_s only from below).
+    ///
+    /// ```
+    /// use platefield::calibrate::{Calibration, ClassEstimate, ParamEstimate};
+    /// let p = |v: f64, lo: f64, hi: f64| ParamEstimate {
+    ///     value: Some(v), standard_error: None, interval: Some([lo, hi]), estimated: true, note: None,
+    /// };
+    /// let none = ParamEstimate { value: None, standard_error: None, interval: None, estimated: false, note: None };
+    /// let class = ClassEstimate {
+    ///     parts: vec![], mu_k: p(0.23, 0.22, 0.24), mu_s: none.clone(), scale: none,
+    ///     correlations: vec![], residual_rms_m: 2e-4, residual_over_noise: None,
+    ///     coordinates: 0, dof: 0, not_separable: vec![],
+    /// };
+    /// let c = Calibration {
+    ///     target: "sink".into(), tracks: "t.csv".into(), parts: 1, frames: 3, model: String::new(),
+    ///     noise_m: None, classes: vec![class], per_part: vec![], likelihood: vec![], profile: vec![],
+    ///     fields_computed: 0,
+    /// };
+    /// let spec = c.friction_spec(0)?;
+    /// assert!(spec.tied && spec.kinetic.lo == 0.22 && spec.kinetic.hi == 0.24);
+    /// assert!(c.friction_spec(1).is_err());
+    /// # Ok::<(), platefield::Error>(())
+    /// ```
     ///
     /// # Errors
     /// No such class, or its μ_k was not estimated.
-    pub fn friction_range(&self, class: usize) -> Result<([f64; 2], [f64; 2])> {
+    pub fn friction_spec(&self, class: usize) -> Result<FrictionSpec> {
         let c = self.classes.get(class).ok_or_else(|| {
             Error::invalid(
-                "class",
+                "--class",
                 format!(
-                    "the calibration has {} class(es), no class {class}",
-                    self.classes.len()
+                    "the calibration has {} class(es) (0 to {}), no class {class}",
+                    self.classes.len(),
+                    self.classes.len().saturating_sub(1)
                 ),
             )
         })?;
-        let k = c
-            .mu_k
-            .interval
-            .ok_or_else(|| Error::invalid("classes.mu_k", "μ_k was not estimated"))?;
-        let k = [k[0].max(0.001), k[1].min(2.0)];
-        let s = c
-            .mu_s
-            .interval
-            .map_or(k, |s| [s[0].max(k[0]), s[1].min(2.0).max(k[1])]);
-        Ok((k, s))
+        let k = c.mu_k.interval.ok_or_else(|| {
+            Error::invalid(format!("classes[{class}].mu_k"), "μ_k was not estimated")
+        })?;
+        let kinetic = Interval {
+            lo: k[0].max(0.001),
+            hi: k[1].min(2.0),
+        };
+        let spec = match c.mu_s.interval {
+            Some(s) => FrictionSpec {
+                stat: Interval {
+                    lo: s[0].max(kinetic.lo),
+                    hi: s[1].min(2.0).max(kinetic.hi),
+                },
+                kinetic,
+                tied: false,
+            },
+            None => FrictionSpec::range(kinetic.lo, kinetic.hi),
+        };
+        spec.validate_driven(&format!("classes[{class}]"))?;
+        Ok(spec)
     }
 }
 

@@ -6,15 +6,28 @@
 //! schedule segment playing at time t (t modulo the schedule period, t = 0
 //! where the first period starts) and V_i the steady-state velocity field
 //! of segment i's motion ([`crate::field`], free or frozen by the
-//! schedule's model), its amplitudes multiplied by the scale
+//! schedule's model; for a schedule of one motion without joins, played
+//! on and on, corrected for the drift lag of a moving part,
+//! [`crate::play::lag`]), its amplitudes multiplied by the scale
 //! ([`Motion::amplitude_scaled`]); V = 0 during rest. V_i is sampled on a
 //! grid over the plate region and interpolated bilinearly; the path is
 //! integrated by RK4 in steps of at most [`MAX_STEP`] that end on every
-//! segment boundary and every frame. What the model leaves out: the
-//! part's motion within a cycle (its excursion about the mean path, a
-//! fraction of a millimetre, is part of the residual), the few cycles a
-//! part takes to reach the periodic orbit after a join, ramps of a mixed
-//! schedule's six-signal segments (played steady here).
+//! segment boundary and every frame.
+//!
+//! **Within a cycle.** A camera frame catches the part somewhere in its
+//! cycle, off its mean path by the periodic orbit's excursion e(φ; r)
+//! (a few tenths of a millimetre on the shipped sink, as large as the
+//! camera's noise, and aliased by a frame rate near the plate's frequency
+//! into a slow wobble). The observed position is modelled as m(t) +
+//! e(φ(t); m(t)): m the mean path above (where the part is at phase 0:
+//! the steady velocity is its displacement from phase 0 to phase 0), φ the
+//! phase within the playing segment's cycle, e the periodic orbit's
+//! position less its phase-0 position and the mean drift ([`Excursions`]), sampled at [`PHASES`] phases per grid node and
+//! interpolated bilinearly in r and linearly in φ. e is computed at the
+//! stencil's centre and used over the stencil. What the model leaves out:
+//! the few cycles a part takes to reach the periodic orbit after it is put
+//! down and after a join, ramps of a mixed schedule's six-signal segments
+//! (played steady here).
 //!
 //! **Fields over θ.** A [`FieldSet`] holds every segment's field at one θ
 //! (computed, one steady state per grid point). A [`Stencil`] holds the
@@ -25,9 +38,11 @@
 
 use rayon::prelude::*;
 
-use crate::dynamics::Friction;
+use std::sync::Arc;
+
+use crate::dynamics::{Friction, PartState, SteadyFailure, V2};
 use crate::error::{Error, Result};
-use crate::field::{Field, FieldKind, FieldSettings, Grid};
+use crate::field::{Field, FieldKind, FieldSettings, Grid, Validity};
 use crate::motion::Motion;
 use crate::schedule::Schedule;
 
@@ -43,6 +58,9 @@ pub const NAMES: [&str; 3] = ["mu_k", "mu_s - mu_k", "scale"];
 /// Longest RK4 step of a path (s): the fields change over centimetres,
 /// parts move at centimetres per second.
 pub const MAX_STEP: f64 = 0.02;
+
+/// Phases per cycle at which a periodic orbit's excursion is sampled.
+pub const PHASES: usize = 32;
 
 /// θ: [μ_k, μ_s − μ_k, amplitude scale].
 pub type Theta = [f64; 3];
@@ -126,25 +144,66 @@ impl PlayedMotion {
             friction: friction(theta),
             ..self.settings
         };
+        let lagged =
+            self.moving_segments() == 1 && self.segments.len() == 1 && settings.model.moving;
         let fields = self
             .segments
-            .par_iter()
+            .iter()
             .map(|(m, _)| {
                 m.as_ref()
                     .map(|m| {
                         let m = m.amplitude_scaled(theta[SCALE])?;
-                        Ok(Field::compute(
-                            &m,
-                            &self.grid,
-                            FieldKind::Velocity,
-                            &settings,
-                            &|| {},
-                        ))
+                        Ok(if lagged {
+                            lagged_field(&m, &self.grid, &settings)
+                        } else {
+                            Field::compute(&m, &self.grid, FieldKind::Velocity, &settings, &|| {})
+                        })
                     })
                     .transpose()
             })
             .collect::<Result<Vec<_>>>()?;
-        Ok(FieldSet { fields })
+        Ok(FieldSet {
+            fields,
+            excursion: None,
+        })
+    }
+
+    /// Every moving segment's periodic-orbit excursion at θ on the grid
+    /// (a grid node without a steady state has none: zero).
+    ///
+    /// # Errors
+    /// A motion cannot be scaled.
+    pub fn excursions(&self, theta: &Theta) -> Result<Excursions> {
+        let settings = FieldSettings {
+            friction: friction(theta),
+            ..self.settings
+        };
+        let points = self.grid.points();
+        let per_segment = self
+            .segments
+            .iter()
+            .map(|(m, _)| {
+                m.as_ref()
+                    .map(|m| {
+                        let m = m.amplitude_scaled(theta[SCALE])?;
+                        let sim = settings.simulator(&m);
+                        Ok(points
+                            .par_iter()
+                            .map(|&p| orbit_excursion(&sim, p))
+                            .collect::<Vec<_>>())
+                    })
+                    .transpose()
+            })
+            .collect::<Result<Vec<_>>>()?;
+        Ok(Excursions {
+            grid: self.grid,
+            per_segment,
+            periods: self
+                .segments
+                .iter()
+                .map(|(m, _)| m.as_ref().map_or(0.0, Motion::period))
+                .collect(),
+        })
     }
 
     /// The segment playing at time `t` and the time its play ends.
@@ -207,9 +266,51 @@ impl PlayedMotion {
             .map(|&ti| {
                 r = self.advance(set, r, t, ti)?;
                 t = ti;
-                Ok(r)
+                Ok(match &set.excursion {
+                    Some(e) => {
+                        let (i, end) = self.segment_at(ti);
+                        let start = end - self.segments[i].1;
+                        let d = e.at(i, ti - start, r);
+                        [r[0] + d[0], r[1] + d[1]]
+                    }
+                    None => r,
+                })
             })
             .collect()
+    }
+}
+
+/// The drift-lag-corrected steady velocity field of `motion` on `grid`
+/// ([`crate::play::lag`]: a part that keeps moving under one motion is not
+/// on the fixed point's orbit, and realises up to a few per cent more or
+/// less than the steady state there). Samples where the correction fails
+/// keep the steady state; those without one are flagged as
+/// [`Field::compute`] flags them.
+fn lagged_field(motion: &Motion, grid: &Grid, settings: &FieldSettings) -> Field {
+    let direct = settings.simulator(motion);
+    let table = crate::dynamics::KinematicsTable::cycle(&direct);
+    let sim = direct.with_table(&table);
+    let samples: Vec<([f64; 2], Validity)> = grid
+        .points()
+        .par_iter()
+        .map(|&p| match sim.steady_state(p) {
+            Ok(ss) => {
+                let v = crate::play::lag::lagged_velocity(&sim, p, &ss).unwrap_or(ss.velocity);
+                if v[0].is_finite() && v[1].is_finite() {
+                    (v, Validity::Ok)
+                } else {
+                    ([0.0; 2], Validity::NonFinite)
+                }
+            }
+            Err(SteadyFailure::ContactLoss(_)) => ([0.0; 2], Validity::ContactLost),
+            Err(SteadyFailure::NotConverged { .. }) => ([0.0; 2], Validity::NotConverged),
+        })
+        .collect();
+    Field {
+        grid: *grid,
+        kind: FieldKind::Velocity,
+        vectors: samples.iter().map(|s| s.0).collect(),
+        validity: samples.iter().map(|s| s.1).collect(),
     }
 }
 
@@ -239,11 +340,107 @@ fn velocity(f: &Field, p: [f64; 2]) -> Result<[f64; 2]> {
     })
 }
 
-/// Every segment's velocity field at one θ (`None`: rest).
+/// The periodic orbit's excursion at grid point `p`: its position at
+/// [`PHASES`] phases less its position at phase 0 and less the mean drift
+/// V·τ (zero where there is no steady state).
+fn orbit_excursion(sim: &crate::dynamics::Simulator<'_>, p: [f64; 2]) -> Vec<[f64; 2]> {
+    let zero = vec![[0.0; 2]; PHASES];
+    let Ok(s) = sim.steady_state(p) else {
+        return zero;
+    };
+    let r0 = V2::from(p);
+    let period = sim.period();
+    let mut state = PartState::new(r0, V2::from(s.start_slip));
+    let mut rec = Vec::new();
+    if sim
+        .advance(0.0, period, &mut state, &r0, Some(&mut rec))
+        .is_err()
+    {
+        return zero;
+    }
+    let mut pts: Vec<(f64, [f64; 2])> = vec![(0.0, [0.0; 2])];
+    pts.extend(rec.iter().map(|q| {
+        (
+            q.t,
+            [
+                q.state.r.x - p[0] - s.velocity[0] * q.t,
+                q.state.r.y - p[1] - s.velocity[1] * q.t,
+            ],
+        )
+    }));
+    (0..PHASES)
+        .map(|k| {
+            let tau = period * k as f64 / PHASES as f64;
+            let j = pts
+                .partition_point(|q| q.0 <= tau)
+                .clamp(1, pts.len().max(2) - 1);
+            let (a, b) = (pts[j - 1], pts.get(j).copied().unwrap_or(pts[j - 1]));
+            let w = if b.0 > a.0 {
+                (tau - a.0) / (b.0 - a.0)
+            } else {
+                0.0
+            };
+            [
+                a.1[0] + w * (b.1[0] - a.1[0]),
+                a.1[1] + w * (b.1[1] - a.1[1]),
+            ]
+        })
+        .collect()
+}
+
+/// Each moving segment's periodic-orbit excursion on the grid:
+/// `per_segment[i][node][phase]` (m).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Excursions {
+    grid: Grid,
+    per_segment: Vec<Option<Vec<Vec<[f64; 2]>>>>,
+    periods: Vec<f64>,
+}
+
+impl Excursions {
+    /// The excursion of segment `i` at time `tau` into the segment, at `r`.
+    fn at(&self, i: usize, tau: f64, r: [f64; 2]) -> [f64; 2] {
+        let Some(nodes) = &self.per_segment[i] else {
+            return [0.0; 2];
+        };
+        let g = &self.grid;
+        let f = (tau / self.periods[i]).rem_euclid(1.0) * PHASES as f64;
+        let k0 = (f.floor() as usize).min(PHASES - 1);
+        let (k1, wk) = ((k0 + 1) % PHASES, f - k0 as f64);
+        let fx = |v: f64, lim: [f64; 2], n: usize| {
+            ((v.clamp(lim[0], lim[1]) - lim[0]) / (lim[1] - lim[0]) * (n - 1) as f64)
+                .min((n - 1) as f64)
+        };
+        let (u, v) = (fx(r[0], g.x, g.n[0]), fx(r[1], g.y, g.n[1]));
+        let (i0, j0) = (
+            (u.floor() as usize).min(g.n[0] - 2),
+            (v.floor() as usize).min(g.n[1] - 2),
+        );
+        let (a, b) = (u - i0 as f64, v - j0 as f64);
+        let mut out = [0.0; 2];
+        for (di, dj, w) in [
+            (0, 0, (1.0 - a) * (1.0 - b)),
+            (1, 0, a * (1.0 - b)),
+            (0, 1, (1.0 - a) * b),
+            (1, 1, a * b),
+        ] {
+            let node = &nodes[(j0 + dj) * g.n[0] + i0 + di];
+            for x in 0..2 {
+                out[x] += w * ((1.0 - wk) * node[k0][x] + wk * node[k1][x]);
+            }
+        }
+        out
+    }
+}
+
+/// Every segment's velocity field at one θ (`None`: rest), and the
+/// periodic orbits' excursions when the model includes them.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FieldSet {
     /// Per segment.
     pub fields: Vec<Option<Field>>,
+    /// The excursions within a cycle (`None`: the mean path alone).
+    pub excursion: Option<Arc<Excursions>>,
 }
 
 impl FieldSet {
@@ -285,7 +482,8 @@ impl Stencil {
         h: Theta,
         free: &[usize],
     ) -> Result<Stencil> {
-        let base = motion.fields(&center)?;
+        let mut base = motion.fields(&center)?;
+        base.excursion = Some(Arc::new(motion.excursions(&center)?));
         let sides = free
             .iter()
             .map(|&j| {
@@ -339,7 +537,7 @@ impl Stencil {
                         for (lo, hi) in &self.sides {
                             for side in [lo, hi] {
                                 if let Some(f) = &side.fields[s] {
-                                    if f.validity[k] != crate::field::Validity::Ok {
+                                    if f.validity[k] != Validity::Ok {
                                         *val = f.validity[k];
                                     }
                                 }
@@ -350,7 +548,10 @@ impl Stencil {
                 })
             })
             .collect();
-        FieldSet { fields }
+        FieldSet {
+            fields,
+            excursion: self.base.excursion.clone(),
+        }
     }
 
     /// Largest change of the samples along free parameter `j` over the
