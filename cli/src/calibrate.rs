@@ -1,5 +1,5 @@
-//! `platefield calibrate` (friction from camera tracks) and `platefield
-//! tracks` (synthetic tracks by the exact simulator).
+//! `platefield calibrate`: friction from camera tracks, and with
+//! `--simulate` synthetic tracks by the exact simulator.
 
 use std::path::PathBuf;
 
@@ -17,7 +17,11 @@ pub struct CalibrateArgs {
     /// The schedule.json that was played.
     pub schedule: PathBuf,
     /// Camera tracks: CSV with the header t_s,part,x_m,y_m (theta_rad optional), t = 0 where the schedule's first period starts, positions in the plate frame.
-    pub tracks: PathBuf,
+    #[arg(required_unless_present = "simulate")]
+    pub tracks: Option<PathBuf>,
+    /// Instead of calibrating, write synthetic tracks to this file: parts played through the schedule by the exact simulator, observed with noise and missing frames (the options under "Simulation").
+    #[arg(long, value_name = "TRACKS.csv", conflicts_with = "tracks")]
+    pub simulate: Option<PathBuf>,
     /// Also estimate the amplitude scale of the delivered motion.
     #[arg(long)]
     pub scale: bool,
@@ -30,11 +34,26 @@ pub struct CalibrateArgs {
     /// Output folder: calibration.json, report.md, trajectories.svg, likelihood.svg.
     #[arg(long, default_value = "out/calibration")]
     pub out: PathBuf,
+    #[command(flatten, next_help_heading = "Simulation (with --simulate)")]
+    #[allow(missing_docs)]
+    pub simulation: TracksArgs,
 }
 
 impl CalibrateArgs {
-    /// Calibrates, writes the report files and returns the JSON to print.
+    /// Calibrates, writes the report files and returns the JSON to print;
+    /// with `--simulate`, writes the synthetic tracks instead.
     pub fn run(&self) -> Result<String> {
+        if let Some(path) = &self.simulate {
+            let csv = self.simulation.run(&self.schedule)?;
+            platefield::output::write_atomic(path, csv.as_bytes())?;
+            return Ok(format!("wrote {}\n", path.display()));
+        }
+        let Some(tracks) = &self.tracks else {
+            return Err(Error::invalid(
+                "TRACKS",
+                "give the tracks file (or --simulate FILE)",
+            ));
+        };
         if let Some(p) = self.played {
             platefield::error::positive("--played", p)?;
         }
@@ -43,22 +62,20 @@ impl CalibrateArgs {
             grid: self.grid,
             played: self.played,
         };
-        report::calibrate::run(&self.schedule, &self.tracks, &options, &self.out)
+        report::calibrate::run(&self.schedule, tracks, &options, &self.out)
     }
 }
 
-/// Arguments of `platefield tracks`.
+/// The synthetic tracks of `platefield calibrate --simulate`.
 #[derive(Args)]
 pub struct TracksArgs {
-    /// The schedule.json to play.
-    pub schedule: PathBuf,
     /// A class's friction: MU (μ_s = μ_k) or STATIC:KINETIC; repeat for several classes (the parts are split evenly among them, in order).
     #[arg(long, default_value = "0.3")]
     pub friction: Vec<String>,
     /// Parts.
     #[arg(long, default_value_t = 20, value_parser = clap::value_parser!(u64).range(1..=10_000))]
     pub parts: u64,
-    /// Track duration (s).
+    /// Track duration (s) from the schedule's start.
     #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
     pub seconds: f64,
     /// Frames per second.
@@ -70,9 +87,9 @@ pub struct TracksArgs {
     /// Fraction of frames missing.
     #[arg(long, default_value_t = 0.05, allow_negative_numbers = true)]
     pub missing: f64,
-    /// Amplitude scale the motion is played at.
+    /// Amplitude scale the motion is played at (the shaker's delivered amplitude over the sent one).
     #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
-    pub scale: f64,
+    pub amplitude: f64,
     /// Seed.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
@@ -101,14 +118,14 @@ pub fn friction(text: &str) -> Result<Friction> {
 }
 
 impl TracksArgs {
-    /// Simulates the tracks and returns them as CSV.
-    pub fn run(&self) -> Result<String> {
+    /// Simulates the tracks on the schedule at `schedule` and returns them as CSV.
+    pub fn run(&self, schedule: &std::path::Path) -> Result<String> {
         let classes = self
             .friction
             .iter()
             .map(|f| friction(f))
             .collect::<Result<Vec<_>>>()?;
-        let schedule = Schedule::load(&self.schedule)?;
+        let schedule = Schedule::load(schedule)?;
         let region = platefield::verify::run::region(&schedule);
         let n = self.parts as usize;
         let sim = TrackSimulation {
@@ -117,7 +134,7 @@ impl TracksArgs {
             fps: self.fps,
             noise: self.noise,
             missing: self.missing,
-            scale: self.scale,
+            scale: self.amplitude,
             seed: self.seed,
         };
         Ok(simulate_tracks(&schedule, &region, &sim)?.to_csv())

@@ -92,10 +92,8 @@ enum Command {
         #[command(flatten)]
         long: cli::AllowLong,
     },
-    /// Friction from camera tracks: μ_s, μ_k (and --scale, the delivered amplitude) with 95 % intervals from parts observed under a played schedule; JSON on stdout, report.md and plots in --out.
+    /// Friction from camera tracks: μ_s, μ_k (and --scale, the delivered amplitude) with 95 % intervals from parts observed under a played schedule; JSON on stdout, report.md and plots in --out (--simulate: synthetic tracks).
     Calibrate(cli::calibrate::CalibrateArgs),
-    /// Synthetic camera tracks: point parts played through a schedule by the exact simulator, observed with noise and missing frames; CSV on stdout (the input of `calibrate`).
-    Tracks(cli::calibrate::TracksArgs),
     /// Laboratory studies: the paper's results reproduced, model rungs, speed and accuracy; each regenerates its files in results/.
     #[command(subcommand)]
     Study(Study),
@@ -254,7 +252,6 @@ fn run(cli: Cli) -> Result<String> {
         Command::Export(args) => args.run(),
         Command::Verify(args) => args.run(),
         Command::Calibrate(args) => args.run(),
-        Command::Tracks(args) => args.run(),
         Command::Order {
             schedule,
             rest,
