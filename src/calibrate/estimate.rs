@@ -99,7 +99,7 @@ pub fn fit_start(
             }
         }
         let det = a * c - b * b;
-        if !(det.abs() > 0.0) {
+        if det == 0.0 || det.is_nan() {
             break;
         }
         let d = [(c * gx - b * gy) / det, (a * gy - b * gx) / det];
@@ -370,7 +370,7 @@ pub fn parabola_minimum(x: &[f64], y: &[f64]) -> Option<(f64, Option<f64>)> {
     let h = x[i + 1] - x[i];
     let (a, b, c) = (y[i - 1], y[i], y[i + 1]);
     let curv = (a - 2.0 * b + c) / (h * h);
-    if !(curv > 0.0) {
+    if curv.is_nan() || curv <= 0.0 {
         return Some((x[i], None));
     }
     let shift = (a - c) / (2.0 * (a - 2.0 * b + c));

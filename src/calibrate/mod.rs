@@ -257,13 +257,16 @@ impl Calibration {
     }
 }
 
+/// One track's label, observed positions and fitted path at its frames.
+pub type TrackPaths = (String, Vec<[f64; 2]>, Vec<[f64; 2]>);
+
 /// The calibration and what its report draws.
 #[derive(Debug, Clone)]
 pub struct CalibrationRun {
     /// The summary.
     pub calibration: Calibration,
     /// Per track: observed frames and the fitted path at the same times.
-    pub paths: Vec<(String, Vec<[f64; 2]>, Vec<[f64; 2]>)>,
+    pub paths: Vec<TrackPaths>,
 }
 
 /// Calibrates the friction (and the scale, if asked) of the parts in

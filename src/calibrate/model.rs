@@ -526,8 +526,8 @@ impl Stencil {
                         for ((lo, hi), &(wl, wh)) in self.sides.iter().zip(&weights) {
                             let (a, b) = (&lo.fields[s], &hi.fields[s]);
                             if let (Some(a), Some(b)) = (a, b) {
-                                for x in 0..2 {
-                                    v[x] += wl * (a.vectors[k][x] - f0.vectors[k][x])
+                                for (x, vx) in v.iter_mut().enumerate() {
+                                    *vx += wl * (a.vectors[k][x] - f0.vectors[k][x])
                                         + wh * (b.vectors[k][x] - f0.vectors[k][x]);
                                 }
                             }
