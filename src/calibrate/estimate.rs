@@ -184,7 +184,13 @@ pub fn fit_class(
     free: &[usize],
     sigma_ref: f64,
 ) -> Result<ClassFit> {
-    let norm = 1.0 / (sigma_ref * sigma_ref);
+    let problem = Problem {
+        motion,
+        tracks,
+        free,
+        h,
+        norm: 1.0 / (sigma_ref * sigma_ref),
+    };
     // The stencil's centre keeps its nodes within the bounds.
     let centred = |t: Theta| -> Theta {
         let mut c = t;
@@ -194,78 +200,20 @@ pub fn fit_class(
         c
     };
     let mut center = centred(theta0);
-    let mut fields = 0;
+    let (mut fields, mut rounds) = (0, 0);
     let mut warm: Option<Vec<StartFit>> = None;
-    let mut stencil;
-    let mut best;
-    let mut rounds = 0;
-    loop {
+    let (stencil, best) = loop {
         rounds += 1;
-        stencil = Stencil::compute(motion, center, h, free)?;
+        let stencil = Stencil::compute(motion, center, h, free)?;
         fields += 1 + 2 * free.len();
-        let last = Mutex::new(warm.clone());
-        // Cost at normalised coordinates x_j = (θ_j − θ_c,j)/h_j, held to
-        // the box |x_j| ≤ 2 and the bounds, with a penalty outside.
-        let theta_at = |x: &[f64]| -> (Theta, f64) {
-            let mut t = center;
-            let mut out = 0.0;
-            for (k, &j) in free.iter().enumerate() {
-                let lo = (-2.0f64).max((BOUNDS[j][0] - center[j]) / h[j]);
-                let hi = 2.0f64.min((BOUNDS[j][1] - center[j]) / h[j]);
-                let xc = x[k].clamp(lo, hi);
-                out += (x[k] - xc).powi(2);
-                t[j] = center[j] + xc * h[j];
-            }
-            (t, out)
-        };
-        let cost = |x: &[f64]| -> Result<f64> {
-            let (t, out) = theta_at(x);
-            let set = stencil.at(&t);
-            let w = last
-                .lock()
-                .map_err(|_| Error::NotConverged("calibration: poisoned state".into()))?
-                .clone();
-            let fits = fit_starts(motion, &set, tracks, w.as_deref())?;
-            let rss: f64 = fits.iter().map(|f| f.rss).sum();
-            *last
-                .lock()
-                .map_err(|_| Error::NotConverged("calibration: poisoned state".into()))? =
-                Some(fits);
-            Ok(rss * norm * (1.0 + out))
-        };
-        let found = Mutex::new((f64::INFINITY, vec![0.0; free.len()]));
-        crate::synth::multistart::nelder_mead(
-            &vec![0.0; free.len()],
-            0.5,
-            usize::MAX,
-            |x| {
-                let c = cost(x)?;
-                if let Ok(mut f) = found.lock() {
-                    if c < f.0 {
-                        *f = (c, x.to_vec());
-                    }
-                }
-                Ok(c)
-            },
-            || false,
-            "calibration Nelder–Mead",
-            None,
-        )?;
-        let (_, x) = found
-            .into_inner()
-            .map_err(|_| Error::NotConverged("calibration: poisoned state".into()))?;
-        warm = last
-            .into_inner()
-            .map_err(|_| Error::NotConverged("calibration: poisoned state".into()))?;
-        best = theta_at(&x).0;
-        let inside = x.iter().all(|v| v.abs() <= 0.5);
+        let (best, inside, w) = problem.round(&stencil, warm.take())?;
+        warm = w;
         let next = centred(best);
         if inside || next == center || rounds >= 8 {
-            break;
+            break (stencil, best);
         }
         center = next;
-    }
-    // RSS and its Hessian at θ̂ over the free parameters.
+    };
     let rss_at = |t: &Theta| -> Result<f64> {
         let set = stencil.at(t);
         Ok(fit_starts(motion, &set, tracks, warm.as_deref())?
@@ -273,6 +221,138 @@ pub fn fit_class(
             .map(|f| f.rss)
             .sum())
     };
+    let hess = hessian(&rss_at, best, free, h)?;
+    let set = stencil.at(&best);
+    let starts = fit_starts(motion, &set, tracks, warm.as_deref())?;
+    let rss: f64 = starts.iter().map(|f| f.rss).sum();
+    let p = free.len();
+    let n: usize = tracks.iter().map(|t| 2 * t.frames.len()).sum();
+    let dof = n.saturating_sub(2 * tracks.len() + p).max(1);
+    let sigma2 = rss / dof as f64;
+    let hm = nalgebra::DMatrix::from_fn(p, p, |a, b| hess[a][b]);
+    let covariance = match hm.try_inverse() {
+        Some(inv) => (0..p)
+            .map(|a| (0..p).map(|b| 2.0 * sigma2 * inv[(a, b)]).collect())
+            .collect(),
+        None => vec![vec![f64::INFINITY; p]; p],
+    };
+    let profile = profile(&rss_at, best, stencil.center, free, h)?;
+    Ok(ClassFit {
+        theta: best,
+        free: free.to_vec(),
+        covariance,
+        starts,
+        rss,
+        dof,
+        fields,
+        profile,
+        set,
+    })
+}
+
+/// One class's least squares over the free parameters.
+struct Problem<'a> {
+    motion: &'a PlayedMotion,
+    tracks: &'a [&'a Track],
+    free: &'a [usize],
+    h: Theta,
+    /// 1/σ_ref²: the cost in units of the noise.
+    norm: f64,
+}
+
+/// A poisoned lock (a panicking worker) as an error.
+fn poisoned<T>(_: T) -> Error {
+    Error::NotConverged("calibration: poisoned state".into())
+}
+
+impl Problem<'_> {
+    /// θ at normalised coordinates x_j = (θ_j − θ_c,j)/h_j about the
+    /// stencil's centre, held to the box |x_j| ≤ 2 and the bounds, and the
+    /// squared distance outside (the penalty's measure).
+    fn theta_at(&self, center: &Theta, x: &[f64]) -> (Theta, f64) {
+        let mut t = *center;
+        let mut out = 0.0;
+        for (k, &j) in self.free.iter().enumerate() {
+            let lo = (-2.0f64).max((BOUNDS[j][0] - center[j]) / self.h[j]);
+            let hi = 2.0f64.min((BOUNDS[j][1] - center[j]) / self.h[j]);
+            let xc = x[k].clamp(lo, hi);
+            out += (x[k] - xc).powi(2);
+            t[j] = center[j] + xc * self.h[j];
+        }
+        (t, out)
+    }
+
+    /// One Nelder–Mead minimisation over the stencil (argmin): θ̂, whether
+    /// it lies within half a step of the centre, the tracks' last starts.
+    fn round(
+        &self,
+        stencil: &Stencil,
+        warm: Option<Vec<StartFit>>,
+    ) -> Result<(Theta, bool, Option<Vec<StartFit>>)> {
+        let last = Mutex::new(warm);
+        let found = Mutex::new((f64::INFINITY, vec![0.0; self.free.len()]));
+        let cost = |x: &[f64]| -> Result<f64> {
+            let (t, out) = self.theta_at(&stencil.center, x);
+            let set = stencil.at(&t);
+            let w = last.lock().map_err(poisoned)?.clone();
+            let fits = fit_starts(self.motion, &set, self.tracks, w.as_deref())?;
+            let rss: f64 = fits.iter().map(|f| f.rss).sum();
+            *last.lock().map_err(poisoned)? = Some(fits);
+            let c = rss * self.norm * (1.0 + out);
+            let mut f = found.lock().map_err(poisoned)?;
+            if c < f.0 {
+                *f = (c, x.to_vec());
+            }
+            Ok(c)
+        };
+        crate::synth::multistart::nelder_mead(
+            &vec![0.0; self.free.len()],
+            0.5,
+            usize::MAX,
+            cost,
+            || false,
+            "calibration Nelder–Mead",
+            None,
+        )?;
+        let (_, x) = found.into_inner().map_err(poisoned)?;
+        let warm = last.into_inner().map_err(poisoned)?;
+        let best = self.theta_at(&stencil.center, &x).0;
+        Ok((best, x.iter().all(|v| v.abs() <= 0.5), warm))
+    }
+}
+
+/// RSS along μ_k over ±2 stencil steps about `center` (the other
+/// parameters at `best`): (μ_k, RSS); empty when μ_k is not free.
+fn profile(
+    rss_at: &dyn Fn(&Theta) -> Result<f64>,
+    best: Theta,
+    center: Theta,
+    free: &[usize],
+    h: Theta,
+) -> Result<Vec<[f64; 2]>> {
+    let j = super::model::MU_K;
+    if !free.contains(&j) {
+        return Ok(Vec::new());
+    }
+    let mut out = Vec::new();
+    for k in -20..=20 {
+        let mut t = best;
+        t[j] = center[j] + f64::from(k) * 0.1 * h[j];
+        if t[j] >= BOUNDS[j][0] {
+            out.push([t[j], rss_at(&t)?]);
+        }
+    }
+    Ok(out)
+}
+
+/// The Hessian of `rss_at` at `best` over the free parameters, by central
+/// differences of a quarter stencil step.
+fn hessian(
+    rss_at: &dyn Fn(&Theta) -> Result<f64>,
+    best: Theta,
+    free: &[usize],
+    h: Theta,
+) -> Result<Vec<Vec<f64>>> {
     let p = free.len();
     let step: Vec<f64> = free.iter().map(|&j| 0.25 * h[j]).collect();
     let shifted = |pairs: &[(usize, f64)]| -> Theta {
@@ -298,42 +378,7 @@ pub fn fit_class(
             hess[b][a] = v;
         }
     }
-    let set = stencil.at(&best);
-    let starts = fit_starts(motion, &set, tracks, warm.as_deref())?;
-    let rss: f64 = starts.iter().map(|f| f.rss).sum();
-    let n: usize = tracks.iter().map(|t| 2 * t.frames.len()).sum();
-    let dof = n.saturating_sub(2 * tracks.len() + p).max(1);
-    let sigma2 = rss / dof as f64;
-    let hm = nalgebra::DMatrix::from_fn(p, p, |a, b| hess[a][b]);
-    let covariance = match hm.try_inverse() {
-        Some(inv) => (0..p)
-            .map(|a| (0..p).map(|b| 2.0 * sigma2 * inv[(a, b)]).collect())
-            .collect(),
-        None => vec![vec![f64::INFINITY; p]; p],
-    };
-    // The profile along μ_k over ±2 steps of the stencil.
-    let mut profile = Vec::new();
-    if free.contains(&super::model::MU_K) {
-        let j = super::model::MU_K;
-        for k in -20..=20 {
-            let mut t = best;
-            t[j] = stencil.center[j] + f64::from(k) * 0.1 * h[j];
-            if t[j] >= BOUNDS[j][0] {
-                profile.push([t[j], rss_at(&t)?]);
-            }
-        }
-    }
-    Ok(ClassFit {
-        theta: best,
-        free: free.to_vec(),
-        covariance,
-        starts,
-        rss,
-        dof,
-        fields,
-        profile,
-        set,
-    })
+    Ok(hess)
 }
 
 /// Each track's residual over a lattice of μ (μ_s − μ_k and the scale

@@ -315,24 +315,7 @@ pub fn calibrate(
     // Frames of the start-up transient are left out: a part put at rest
     // on the plate reaches its periodic orbit within a few cycles, with a
     // jump of up to millimetres the mean-velocity model does not follow.
-    let settled: Vec<Track> = tracks
-        .tracks
-        .iter()
-        .map(|t| Track {
-            part: t.part.clone(),
-            frames: t.frames.iter().filter(|f| f.t >= SETTLE).copied().collect(),
-        })
-        .filter(|t| t.frames.len() >= tracks::MIN_FRAMES)
-        .collect();
-    if settled.is_empty() {
-        return Err(Error::invalid(
-            tracks.source.clone(),
-            format!(
-                "no part has {} frames after the start-up transient (t ≥ {SETTLE} s)",
-                tracks::MIN_FRAMES
-            ),
-        ));
-    }
+    let settled = settled(tracks)?;
     let all: Vec<&Track> = settled.iter().collect();
     let mus = lattice();
     let scanned = scan(&motion, &all, &mus, 0.0, 1.0);
@@ -350,17 +333,8 @@ pub fn calibrate(
         .sum();
     let lattice_dof = coords.saturating_sub(3 * all.len()).max(1);
     let sigma2 = rss_min / lattice_dof as f64;
-    let mut own = Vec::new();
-    for (i, tr) in all.iter().enumerate() {
-        let (mu, curv) = parabola_minimum(&mus, &per_track(i)).ok_or_else(|| {
-            Error::Physical(format!(
-                "part \"{}\": the field cannot follow it at any μ of the lattice",
-                tr.part
-            ))
-        })?;
-        own.push((mu, curv.map(|c| (2.0 * sigma2 / c).sqrt())));
-    }
     let curves: Vec<Vec<f64>> = (0..all.len()).map(per_track).collect();
+    let own = own_estimates(&curves, &mus, &all, sigma2)?;
     let own_mu: Vec<f64> = own.iter().map(|o| o.0).collect();
     let class_of = cluster(&curves, &mus, &own_mu, sigma2);
     let n_classes = class_of.iter().max().map_or(0, |m| m + 1);
@@ -374,53 +348,21 @@ pub fn calibrate(
         let curve: Vec<f64> = (0..mus.len())
             .map(|m| members.iter().map(|&i| per_track(i)[m]).sum())
             .collect();
-        let mu0 = parabola_minimum(&mus, &curve).map_or(0.3, |m| m.0);
-        // Does μ_s matter? The fields with μ_s = μ_k and μ_s = μ_k + 2h.
-        let stick = {
-            let a = motion.fields(&[mu0, 0.0, 1.0])?;
-            let b = motion.fields(&[mu0, 2.0 * STEPS[EXCESS], 1.0])?;
-            fields_computed += 2 * motion_fields(&motion);
-            a.max_difference(&b) > STICK_SENSITIVITY
-        };
-        let mut free = vec![MU_K];
-        if stick {
-            free.push(EXCESS);
-        }
-        if options.scale {
-            free.push(SCALE);
-        }
-        let theta0 = [mu0, if stick { STEPS[EXCESS] } else { 0.0 }, 1.0];
-        let fit = fit_class(&motion, &class_tracks, theta0, STEPS, &free, sigma_ref)?;
-        fields_computed += fit.fields * motion_fields(&motion);
+        let (fit, stick, fields) = fit_one(
+            &motion,
+            &class_tracks,
+            &mus,
+            &curve,
+            options.scale,
+            sigma_ref,
+        )?;
+        fields_computed += fields;
         let s2 = fit.sigma().powi(2);
-        let lo = curve.iter().copied().fold(f64::INFINITY, f64::min);
-        likelihood.push(
-            mus.iter()
-                .zip(&curve)
-                .filter(|(_, v)| v.is_finite())
-                .map(|(m, v)| [*m, (v - lo) / s2])
-                .collect(),
-        );
-        let flo = fit
-            .profile
-            .iter()
-            .map(|p| p[1])
-            .fold(f64::INFINITY, f64::min);
-        profile.push(
-            fit.profile
-                .iter()
-                .map(|p| [p[0], (p[1] - flo) / s2])
-                .collect(),
-        );
+        let lattice_curve: Vec<[f64; 2]> = mus.iter().zip(&curve).map(|(m, v)| [*m, *v]).collect();
+        likelihood.push(delta_chi2(&lattice_curve, s2));
+        profile.push(delta_chi2(&fit.profile, s2));
         for (k, &i) in members.iter().enumerate() {
-            let tr = all[i];
-            let times: Vec<f64> = tr.frames.iter().map(|f| f.t).collect();
-            let fitted = motion.path(&fit.set, fit.starts[k].start, times[0], &times)?;
-            paths[i] = (
-                tr.part.clone(),
-                tr.frames.iter().map(|f| f.r).collect(),
-                fitted,
-            );
+            paths[i] = fitted_path(&motion, &fit, k, all[i])?;
         }
         classes.push(class_estimate(
             &fit,
@@ -462,6 +404,136 @@ pub fn calibrate(
         },
         paths,
     })
+}
+
+/// One class fitted from its summed lattice curve's minimum: the fit,
+/// whether μ_s matters, the fields computed.
+fn fit_one(
+    motion: &PlayedMotion,
+    tracks: &[&Track],
+    mus: &[f64],
+    curve: &[f64],
+    scale: bool,
+    sigma_ref: f64,
+) -> Result<(ClassFit, bool, usize)> {
+    let mu0 = parabola_minimum(mus, curve).map_or(0.3, |m| m.0);
+    let (free, stick) = free_parameters(motion, mu0, scale)?;
+    let theta0 = [mu0, if stick { STEPS[EXCESS] } else { 0.0 }, 1.0];
+    let fit = fit_class(motion, tracks, theta0, STEPS, &free, sigma_ref)?;
+    let fields = (2 + fit.fields) * motion_fields(motion);
+    Ok((fit, stick, fields))
+}
+
+/// Track `k` of a class fit: its label, observed positions and fitted path.
+fn fitted_path(
+    motion: &PlayedMotion,
+    fit: &ClassFit,
+    k: usize,
+    track: &Track,
+) -> Result<TrackPaths> {
+    let times: Vec<f64> = track.frames.iter().map(|f| f.t).collect();
+    let fitted = motion.path(&fit.set, fit.starts[k].start, times[0], &times)?;
+    Ok((
+        track.part.clone(),
+        track.frames.iter().map(|f| f.r).collect(),
+        fitted,
+    ))
+}
+
+/// The tracks without the frames of the start-up transient (t <
+/// [`SETTLE`]); tracks left with fewer than three frames are dropped.
+fn settled(tracks: &Tracks) -> Result<Vec<Track>> {
+    let settled: Vec<Track> = tracks
+        .tracks
+        .iter()
+        .map(|t| Track {
+            part: t.part.clone(),
+            frames: t.frames.iter().filter(|f| f.t >= SETTLE).copied().collect(),
+        })
+        .filter(|t| t.frames.len() >= tracks::MIN_FRAMES)
+        .collect();
+    if settled.is_empty() {
+        return Err(Error::invalid(
+            tracks.source.clone(),
+            format!(
+                "no part has {} frames after the start-up transient (t ≥ {SETTLE} s)",
+                tracks::MIN_FRAMES
+            ),
+        ));
+    }
+    Ok(settled)
+}
+
+/// Each part's own μ and standard error from its residual `curves[i]`
+/// over the lattice `mus` (σ̂² the pooled residual variance).
+fn own_estimates(
+    curves: &[Vec<f64>],
+    mus: &[f64],
+    tracks: &[&Track],
+    sigma2: f64,
+) -> Result<Vec<(f64, Option<f64>)>> {
+    curves
+        .iter()
+        .zip(tracks)
+        .map(|(curve, tr)| {
+            let (mu, curv) = parabola_minimum(mus, curve).ok_or_else(|| {
+                Error::Physical(format!(
+                    "part \"{}\": the field cannot follow it at any μ of the lattice",
+                    tr.part
+                ))
+            })?;
+            Ok((mu, curv.map(|c| (2.0 * sigma2 / c).sqrt())))
+        })
+        .collect()
+}
+
+/// The parameters to fit about μ = `mu0`: μ_k; μ_s − μ_k when the fields
+/// change with it (μ_s = μ_k against μ_k + 2h: some part sticks); the
+/// scale when asked. Also whether μ_s matters.
+fn free_parameters(motion: &PlayedMotion, mu0: f64, scale: bool) -> Result<(Vec<usize>, bool)> {
+    let a = motion.fields(&[mu0, 0.0, 1.0])?;
+    let b = motion.fields(&[mu0, 2.0 * STEPS[EXCESS], 1.0])?;
+    let stick = a.max_difference(&b) > STICK_SENSITIVITY;
+    let mut free = vec![MU_K];
+    if stick {
+        free.push(EXCESS);
+    }
+    if scale {
+        free.push(SCALE);
+    }
+    Ok((free, stick))
+}
+
+/// A residual curve (x, RSS) as (x, Δχ² = (RSS − min RSS)/σ̂²), its
+/// non-finite points left out.
+fn delta_chi2(curve: &[[f64; 2]], sigma2: f64) -> Vec<[f64; 2]> {
+    let lo = curve.iter().map(|p| p[1]).fold(f64::INFINITY, f64::min);
+    curve
+        .iter()
+        .filter(|p| p[1].is_finite())
+        .map(|p| [p[0], (p[1] - lo) / sigma2])
+        .collect()
+}
+
+/// The correlations of the fitted parameters, each pair beyond
+/// [`CORRELATED`] named in `not_separable`.
+fn correlations(fit: &ClassFit, not_separable: &mut Vec<String>) -> Vec<(String, String, f64)> {
+    let var = |a: usize, b: usize| fit.covariance[a][b];
+    let mut out = Vec::new();
+    for a in 0..fit.free.len() {
+        for b in 0..a {
+            let rho = var(a, b) / (var(a, a) * var(b, b)).sqrt();
+            let (na, nb) = (
+                model::NAMES[fit.free[a]].to_string(),
+                model::NAMES[fit.free[b]].to_string(),
+            );
+            if rho.abs() > CORRELATED {
+                not_separable.push(format!("{nb} from {na} (correlation {rho:.3})"));
+            }
+            out.push((nb, na, rho));
+        }
+    }
+    out
 }
 
 /// Moving segments of the played motion (fields per θ).
@@ -526,20 +598,7 @@ fn class_estimate(
     if mu_s.value.is_none() {
         not_separable.push("mu_s (the parts never stick)".to_string());
     }
-    let mut correlations = Vec::new();
-    for a in 0..fit.free.len() {
-        for b in 0..a {
-            let rho = var(a, b) / (var(a, a) * var(b, b)).sqrt();
-            let (na, nb) = (
-                model::NAMES[fit.free[a]].to_string(),
-                model::NAMES[fit.free[b]].to_string(),
-            );
-            if rho.abs() > CORRELATED {
-                not_separable.push(format!("{nb} from {na} (correlation {rho:.3})"));
-            }
-            correlations.push((nb, na, rho));
-        }
-    }
+    let correlations = correlations(fit, &mut not_separable);
     for (name, p) in [("mu_k", &mu_k), ("mu_s", &mu_s), ("scale", &scale_estimate)] {
         if p.estimated && p.note.is_some() {
             not_separable.push(format!("{name} (95 % interval wider than {WEAK})"));

@@ -35,6 +35,31 @@ pub struct TrackSimulation {
 }
 
 impl TrackSimulation {
+    /// Checks the settings: positive duration, rate and scale, noise ≥ 0,
+    /// missing fraction within [0, 0.9).
+    ///
+    /// # Errors
+    /// The first setting out of range, named.
+    pub fn validate(&self) -> Result<()> {
+        let sim = self;
+        crate::error::positive("seconds", sim.seconds)?;
+        crate::error::positive("fps", sim.fps)?;
+        crate::error::positive("scale", sim.scale)?;
+        if !(sim.noise >= 0.0 && sim.noise.is_finite()) {
+            return Err(Error::invalid(
+                "noise",
+                format!("must be ≥ 0 m, got {}", sim.noise),
+            ));
+        }
+        if !(0.0..0.9).contains(&sim.missing) {
+            return Err(Error::invalid(
+                "missing",
+                format!("must be within [0, 0.9), got {}", sim.missing),
+            ));
+        }
+        Ok(())
+    }
+
     /// `parts` parts at `friction`, 30 frames per second over 10 s, 0.2 mm
     /// noise, 5 % of frames missing, the motion as sent.
     pub fn new(friction: Friction, parts: usize, seed: u64) -> TrackSimulation {
@@ -76,21 +101,7 @@ pub fn simulate_tracks(
     region: &Grid,
     sim: &TrackSimulation,
 ) -> Result<Tracks> {
-    crate::error::positive("seconds", sim.seconds)?;
-    crate::error::positive("fps", sim.fps)?;
-    crate::error::positive("scale", sim.scale)?;
-    if !(sim.noise >= 0.0 && sim.noise.is_finite()) {
-        return Err(Error::invalid(
-            "noise",
-            format!("must be ≥ 0 m, got {}", sim.noise),
-        ));
-    }
-    if !(0.0..0.9).contains(&sim.missing) {
-        return Err(Error::invalid(
-            "missing",
-            format!("must be within [0, 0.9), got {}", sim.missing),
-        ));
-    }
+    sim.validate()?;
     let segments = schedule
         .segments
         .iter()

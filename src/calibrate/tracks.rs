@@ -27,6 +27,94 @@ pub const MIN_FRAMES: usize = 3;
 /// The columns a tracks file must have, and the optional one.
 pub const COLUMNS: [&str; 4] = ["t_s", "part", "x_m", "y_m"];
 
+/// A tracks file's columns: names, where the required ones are, the
+/// file's name for errors.
+struct Columns<'a> {
+    names: Vec<&'a str>,
+    /// Positions of t_s, part, x_m, y_m.
+    index: [usize; 4],
+    theta: Option<usize>,
+    source: &'a str,
+}
+
+impl<'a> Columns<'a> {
+    /// The columns of `header` (on line `line`).
+    fn new(header: &'a str, line: usize, source: &'a str) -> Result<Columns<'a>> {
+        let names: Vec<&str> = header.split(',').map(str::trim).collect();
+        let find = |name: &str| names.iter().position(|n| *n == name);
+        let mut index = [0usize; 4];
+        for (k, name) in COLUMNS.iter().enumerate() {
+            index[k] = find(name).ok_or_else(|| {
+                Error::invalid(
+                    format!("{source} line {line}"),
+                    format!(
+                        "the header \"{header}\" has no column \"{name}\": expected {} (theta_rad optional)",
+                        COLUMNS.join(",")
+                    ),
+                )
+            })?;
+        }
+        let theta = find("theta_rad");
+        Ok(Columns {
+            names,
+            index,
+            theta,
+            source,
+        })
+    }
+
+    /// "FILE line L column C (name)".
+    fn at(&self, line: usize, c: usize) -> String {
+        format!(
+            "{} line {line} column {} ({})",
+            self.source,
+            c + 1,
+            self.names[c]
+        )
+    }
+
+    /// Row `l` (on line `n`): time, position, part label.
+    fn row<'l>(&self, n: usize, l: &'l str) -> Result<(f64, [f64; 2], &'l str)> {
+        let fields: Vec<&str> = l.split(',').map(str::trim).collect();
+        if fields.len() != self.names.len() {
+            return Err(Error::invalid(
+                format!("{} line {n}", self.source),
+                format!(
+                    "{} columns, expected {} ({})",
+                    fields.len(),
+                    self.names.len(),
+                    self.names.join(",")
+                ),
+            ));
+        }
+        let number = |c: usize| -> Result<f64> {
+            fields[c]
+                .parse::<f64>()
+                .ok()
+                .filter(|x| x.is_finite())
+                .ok_or_else(|| {
+                    Error::invalid(
+                        self.at(n, c),
+                        format!("\"{}\" is not a finite number", fields[c]),
+                    )
+                })
+        };
+        let t = number(self.index[0])?;
+        let r = [number(self.index[2])?, number(self.index[3])?];
+        if let Some(c) = self.theta {
+            number(c)?;
+        }
+        let part = fields[self.index[1]];
+        if part.is_empty() {
+            return Err(Error::invalid(
+                self.at(n, self.index[1]),
+                "empty part label",
+            ));
+        }
+        Ok((t, r, part))
+    }
+}
+
 /// One observed frame.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Frame {
@@ -96,7 +184,7 @@ impl Tracks {
             .enumerate()
             .map(|(i, l)| (i + 1, l.trim()))
             .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
-        let (_, header) = lines.next().ok_or_else(|| {
+        let (hline, header) = lines.next().ok_or_else(|| {
             Error::invalid(
                 source,
                 format!(
@@ -105,63 +193,13 @@ impl Tracks {
                 ),
             )
         })?;
-        let names: Vec<&str> = header.split(',').map(str::trim).collect();
-        let find = |name: &str| names.iter().position(|n| *n == name);
-        let mut index = [0usize; 4];
-        for (k, name) in COLUMNS.iter().enumerate() {
-            index[k] = find(name).ok_or_else(|| {
-                Error::invalid(
-                    format!("{source} line 1"),
-                    format!(
-                        "the header \"{header}\" has no column \"{name}\": expected {} (theta_rad optional)",
-                        COLUMNS.join(",")
-                    ),
-                )
-            })?;
-        }
-        let at =
-            |line: usize, c: usize| format!("{source} line {line} column {} ({})", c + 1, names[c]);
+        let cols = Columns::new(header, hline, source)?;
+        let index = cols.index;
+        let at = |line: usize, c: usize| cols.at(line, c);
         let mut order: Vec<String> = Vec::new();
         let mut by_part: BTreeMap<String, Vec<Frame>> = BTreeMap::new();
         for (n, l) in lines {
-            let fields: Vec<&str> = l.split(',').map(str::trim).collect();
-            if fields.len() != names.len() {
-                return Err(Error::invalid(
-                    format!("{source} line {n}"),
-                    format!(
-                        "{} columns, expected {} ({header})",
-                        fields.len(),
-                        names.len()
-                    ),
-                ));
-            }
-            let number = |k: usize| -> Result<f64> {
-                let c = index[k];
-                fields[c]
-                    .parse::<f64>()
-                    .ok()
-                    .filter(|x| x.is_finite())
-                    .ok_or_else(|| {
-                        Error::invalid(
-                            at(n, c),
-                            format!("\"{}\" is not a finite number", fields[c]),
-                        )
-                    })
-            };
-            let t = number(0)?;
-            let r = [number(2)?, number(3)?];
-            if let Some(c) = find("theta_rad") {
-                if !fields[c].parse::<f64>().is_ok_and(f64::is_finite) {
-                    return Err(Error::invalid(
-                        at(n, c),
-                        format!("\"{}\" is not a finite number", fields[c]),
-                    ));
-                }
-            }
-            let part = fields[index[1]];
-            if part.is_empty() {
-                return Err(Error::invalid(at(n, index[1]), "empty part label"));
-            }
+            let (t, r, part) = cols.row(n, l)?;
             let frames = by_part.entry(part.to_string()).or_insert_with(|| {
                 order.push(part.to_string());
                 Vec::new()
