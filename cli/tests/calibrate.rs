@@ -149,3 +149,43 @@ fn the_example_is_regenerated_by_its_command() {
         "targets/tracks/example.csv differs from its command's output"
     );
 }
+
+/// `design --friction-from`: a class the calibration does not have, or a
+/// file that is not a calibration, exits 2 naming it, before designing.
+#[test]
+fn design_friction_from_names_a_bad_calibration() {
+    let dir = temp_dir("friction-from");
+    let o = dir.join("cal").display().to_string();
+    let (code, _, stderr) =
+        platefield(&["calibrate", SINK, "targets/tracks/example.csv", "--out", &o]);
+    assert_eq!(code, 0, "{stderr}");
+    let cal = dir.join("cal/calibration.json").display().to_string();
+    let out = dir.join("design").display().to_string();
+    let (code, _, stderr) = platefield(&[
+        "design",
+        "targets/sink.json",
+        "--friction-from",
+        &cal,
+        "--class",
+        "3",
+        "--out",
+        &out,
+    ]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(
+        stderr.contains("--class: the calibration has 1 class(es)"),
+        "{stderr}"
+    );
+    let (code, _, stderr) = platefield(&[
+        "design",
+        "targets/sink.json",
+        "--friction-from",
+        "targets/sink.json",
+        "--out",
+        &out,
+    ]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("targets/sink.json: "), "{stderr}");
+    assert!(stderr.contains("not a calibration"), "{stderr}");
+    assert!(!dir.join("design").exists());
+}
