@@ -139,6 +139,7 @@
 #![warn(missing_docs)]
 
 pub mod basis;
+pub mod calibrate;
 pub mod design;
 pub mod dynamics;
 pub mod error;
@@ -153,6 +154,7 @@ pub mod play;
 pub mod pose;
 pub mod progress;
 pub mod request;
+pub(crate) mod rng;
 pub mod scene;
 pub mod schedule;
 pub mod synth;

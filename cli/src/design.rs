@@ -80,8 +80,14 @@ pub struct DesignArgs {
     /// Target field JSON (docs/targets.md).
     pub target: PathBuf,
     /// Parts' friction, replacing the target's "friction": MU (μ_s = μ_k = MU) or LO:HI (known within a range).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_negative_numbers = true, conflicts_with = "friction_from")]
     pub friction: Option<String>,
+    /// Parts' friction from a calibration (`platefield calibrate`'s calibration.json): the design is over its 95 % interval (judged at the worst case over it).
+    #[arg(long, value_name = "CALIBRATION.json")]
+    pub friction_from: Option<PathBuf>,
+    /// The class of --friction-from's calibration to design for (classes by increasing μ, from 0).
+    #[arg(long, default_value_t = 0, requires = "friction_from")]
+    pub class: usize,
     /// Fit mode: shape (strongest field of the target's shape), absolute, budget, l1 or linf (docs/design.md).
     #[arg(long, value_enum, default_value_t = Mode::Shape, hide_possible_values = true)]
     pub mode: Mode,
@@ -226,9 +232,15 @@ impl DesignArgs {
                 quiet: self.quiet,
                 allow_long: self.allow_long,
             },
-            friction: (self.friction.as_deref())
-                .map(|f| platefield::scene::FrictionSpec::parse_arg(f, "--friction"))
-                .transpose()?,
+            friction: match (&self.friction, &self.friction_from) {
+                (_, Some(path)) => Some(
+                    platefield::calibrate::Calibration::load(path)?.friction_spec(self.class)?,
+                ),
+                (f, None) => f
+                    .as_deref()
+                    .map(|f| platefield::scene::FrictionSpec::parse_arg(f, "--friction"))
+                    .transpose()?,
+            },
             ..DesignOptions::default()
         })
     }

@@ -2,6 +2,7 @@
 //! handler turns parsed arguments into one library call and returns the text
 //! to print, so `main.rs` stays a thin clap shell.
 
+pub mod calibrate;
 pub mod design;
 pub mod export;
 pub mod field;

@@ -92,6 +92,8 @@ enum Command {
         #[command(flatten)]
         long: cli::AllowLong,
     },
+    /// Friction from camera tracks: μ_s, μ_k (and --scale, the delivered amplitude) with 95 % intervals from parts observed under a played schedule; JSON on stdout, report.md and plots in --out (--simulate: synthetic tracks).
+    Calibrate(cli::calibrate::CalibrateArgs),
     /// Laboratory studies: the paper's results reproduced, model rungs, speed and accuracy; each regenerates its files in results/.
     #[command(subcommand)]
     Study(Study),
@@ -249,6 +251,7 @@ fn run(cli: Cli) -> Result<String> {
         Command::Design(args) => args.run(),
         Command::Export(args) => args.run(),
         Command::Verify(args) => args.run(),
+        Command::Calibrate(args) => args.run(),
         Command::Order {
             schedule,
             rest,

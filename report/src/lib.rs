@@ -8,6 +8,7 @@
 //! compute everything, then write (so bad input writes nothing), then
 //! return the text to print.
 
+pub mod calibrate;
 pub mod closed_loop;
 pub mod design;
 pub mod method;

@@ -206,6 +206,46 @@ impl Motion {
         }
     }
 
+    /// The same motion with every amplitude multiplied by `k` (what a
+    /// shaker that plays a motion at k times its amplitude delivers): a
+    /// screw's rotation ψ(t) and translation d(t), a six-signal motion's
+    /// accelerations, a ramped one's signals. `k = 1` is the motion itself.
+    ///
+    /// ```
+    /// use platefield::basis::{Primitive, PrimitiveKind};
+    /// let m = Primitive::new(PrimitiveKind::LineSink).motion();
+    /// assert_eq!(m.amplitude_scaled(1.0)?, m);
+    /// assert_ne!(m.amplitude_scaled(0.95)?, m);
+    /// # Ok::<(), platefield::Error>(())
+    /// ```
+    ///
+    /// # Errors
+    /// Held samples (an export or recording replayed) are played as
+    /// recorded and are not scaled.
+    pub fn amplitude_scaled(&self, k: f64) -> Result<Motion> {
+        if k == 1.0 {
+            return Ok(self.clone());
+        }
+        Ok(match self {
+            Motion::Screw(s) => Motion::Screw(Screw {
+                rotation: s.rotation.scaled(k),
+                translation: s.translation.scaled(k),
+                ..s.clone()
+            }),
+            Motion::Signals(s) => Motion::Signals(s.scaled(k)),
+            Motion::Ramped(r) => Motion::Ramped(Ramped {
+                signals: r.signals.scaled(k),
+                ..r.clone()
+            }),
+            Motion::Held(_) => {
+                return Err(crate::Error::invalid(
+                    "scale",
+                    "held samples (an export or a recording) are played as recorded: their amplitude scale is not estimated",
+                ))
+            }
+        })
+    }
+
     /// Validates all parameters; errors name the field under `field`.
     pub fn validate(&self, field: &str) -> Result<()> {
         match self {

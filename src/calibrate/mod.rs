@@ -1,0 +1,620 @@
+//! Friction from camera tracks: μ_s, μ_k and the motion's amplitude scale
+//! estimated from parts observed moving under a known schedule.
+//!
+//! A lab plays a schedule, films parts on the plate and tracks them
+//! ([`tracks`]: `t_s,part,x_m,y_m`). [`calibrate`] fits the parts' paths
+//! predicted by the played motion's **steady-state velocity field** as a
+//! function of position and of θ = (μ_k, μ_s − μ_k, scale) ([`model`]: the
+//! field, not a full replay: a path costs a few thousand field look-ups, a
+//! replay of one part over 10 s about 200 000 integrator steps) to the
+//! observed positions by least squares ([`estimate`]: the noise model,
+//! the intervals), part by part first to sort parts into friction classes
+//! ([`classes`]), then each class as one. Parameters the tracks do not
+//! determine are named: μ_s when the parts never stick (the field does
+//! not change with it), any parameter whose interval is wider than
+//! [`WEAK`], any pair whose estimates are correlated beyond [`CORRELATED`].
+//!
+//! [`simulate_tracks`] makes tracks by the exact simulator (the full
+//! replay): what the tests and the coverage study check the estimator
+//! against.
+
+pub mod classes;
+pub mod estimate;
+pub mod model;
+pub mod simulate;
+pub mod tracks;
+
+pub use model::PlayedMotion;
+pub use simulate::{simulate_tracks, TrackSimulation};
+pub use tracks::{Track, Tracks};
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+use crate::field::Grid;
+use crate::scene::{FrictionSpec, Interval};
+use crate::schedule::Schedule;
+use classes::cluster;
+use estimate::{fit_class, parabola_minimum, scan, ClassFit};
+use model::{EXCESS, MU_K, SCALE};
+
+/// A 95 % interval wider than this (in μ or in scale) names its parameter
+/// as weakly determined.
+pub const WEAK: f64 = 0.1;
+
+/// Estimates correlated beyond |ρ| = this are named as not separated.
+pub const CORRELATED: f64 = 0.95;
+
+/// The μ lattice of the part-by-part scan: 0.05 to 1.0 in steps of 0.05.
+pub fn lattice() -> Vec<f64> {
+    (1..=20).map(|k| 0.05 * f64::from(k)).collect()
+}
+
+/// Frames before this time (s, from the schedule's start) are left out
+/// of the fit: the start-up transient (about three cycles of 30 ms).
+pub const SETTLE: f64 = 0.3;
+
+/// Stencil steps of θ (μ_k, μ_s − μ_k, scale).
+const STEPS: model::Theta = [0.02, 0.02, 0.02];
+
+/// A change of μ_s that moves no field sample by more than this (m/s) is
+/// no change: the parts never stick.
+const STICK_SENSITIVITY: f64 = 1e-9;
+
+/// 97.5 % quantile of the standard normal.
+const Z95: f64 = 1.959_963_984_540_054;
+
+/// How to calibrate.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CalibrateOptions {
+    /// Also estimate the amplitude scale of the delivered motion.
+    pub scale: bool,
+    /// Grid points per side of the fields over the plate region.
+    pub grid: usize,
+    /// How long the motion was played (s), when known: frames after it
+    /// are refused.
+    pub played: Option<f64>,
+}
+
+impl Default for CalibrateOptions {
+    fn default() -> Self {
+        CalibrateOptions {
+            scale: false,
+            grid: 17,
+            played: None,
+        }
+    }
+}
+
+/// One parameter's estimate.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ParamEstimate {
+    /// The estimate; `None` when the tracks do not determine it.
+    pub value: Option<f64>,
+    /// Standard error.
+    pub standard_error: Option<f64>,
+    /// 95 % interval.
+    pub interval: Option<[f64; 2]>,
+    /// Whether the parameter was estimated (false: fixed or not
+    /// determined; see `note`).
+    pub estimated: bool,
+    /// Why it is fixed or undetermined, or how weakly it is determined.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub note: Option<String>,
+}
+
+/// One part's own estimate (μ_s = μ_k, scale 1, from the lattice scan).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PartEstimate {
+    /// The part's label.
+    pub part: String,
+    /// Frames observed.
+    pub frames: usize,
+    /// Its μ.
+    pub mu: f64,
+    /// Its standard error (`None` at the lattice's end).
+    pub standard_error: Option<f64>,
+    /// Its class (index into `classes`).
+    pub class: usize,
+}
+
+/// One friction class's fit.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ClassEstimate {
+    /// The parts of the class.
+    pub parts: Vec<String>,
+    /// μ_k.
+    pub mu_k: ParamEstimate,
+    /// μ_s.
+    pub mu_s: ParamEstimate,
+    /// Amplitude scale of the delivered motion.
+    pub scale: ParamEstimate,
+    /// Correlations of the estimated parameters: (name, name, ρ).
+    pub correlations: Vec<(String, String, f64)>,
+    /// RMS residual per coordinate (m).
+    pub residual_rms_m: f64,
+    /// Residual standard deviation over the tracks' own noise estimate
+    /// (about 1 when the model explains the tracks to their noise).
+    pub residual_over_noise: Option<f64>,
+    /// Coordinates fitted, and the fit's degrees of freedom.
+    pub coordinates: usize,
+    /// Degrees of freedom.
+    pub dof: usize,
+    /// What the tracks of this class do not determine.
+    pub not_separable: Vec<String>,
+}
+
+/// A calibration: what `platefield calibrate` prints and writes.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Calibration {
+    /// The schedule's target.
+    pub target: String,
+    /// The tracks file.
+    pub tracks: String,
+    /// Parts and frames.
+    pub parts: usize,
+    /// Frames.
+    pub frames: usize,
+    /// The model the paths were predicted by.
+    pub model: String,
+    /// Position noise σ per axis estimated from the tracks alone (m).
+    pub noise_m: Option<f64>,
+    /// Friction classes, by increasing μ.
+    pub classes: Vec<ClassEstimate>,
+    /// Each part's own estimate.
+    pub per_part: Vec<PartEstimate>,
+    /// The lattice scan, per class: (μ, Δχ² = ΔRSS/σ̂²) with μ_s = μ_k.
+    pub likelihood: Vec<Vec<[f64; 2]>>,
+    /// The fine profile about each class's estimate: (μ_k, Δχ²).
+    pub profile: Vec<Vec<[f64; 2]>>,
+    /// Velocity fields computed.
+    pub fields_computed: usize,
+}
+
+impl Calibration {
+    /// Reads a `calibration.json` written by `platefield calibrate`.
+    ///
+    /// # Errors
+    /// The file cannot be read or is not a calibration (names the file
+    /// and the JSON path).
+    pub fn load(path: &std::path::Path) -> Result<Calibration> {
+        let name = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
+            path: name.clone(),
+            source,
+        })?;
+        let de = &mut serde_json::Deserializer::from_str(&text);
+        serde_path_to_error::deserialize(de).map_err(|e| {
+            Error::invalid(
+                format!("{name}: {}", e.path()),
+                format!(
+                    "not a calibration written by `platefield calibrate`: {}",
+                    e.inner()
+                ),
+            )
+        })
+    }
+
+    /// Class `class`'s friction as a design's friction range: μ_k's 95 %
+    /// interval, and μ_s's when the tracks determined it (else μ_s = μ_k
+    /// over μ_k's interval: the tracks bound μ_s only from below).
+    ///
+    /// ```
+    /// use platefield::calibrate::{Calibration, ClassEstimate, ParamEstimate};
+    /// let p = |v: f64, lo: f64, hi: f64| ParamEstimate {
+    ///     value: Some(v), standard_error: None, interval: Some([lo, hi]), estimated: true, note: None,
+    /// };
+    /// let none = ParamEstimate { value: None, standard_error: None, interval: None, estimated: false, note: None };
+    /// let class = ClassEstimate {
+    ///     parts: vec![], mu_k: p(0.23, 0.22, 0.24), mu_s: none.clone(), scale: none,
+    ///     correlations: vec![], residual_rms_m: 2e-4, residual_over_noise: None,
+    ///     coordinates: 0, dof: 0, not_separable: vec![],
+    /// };
+    /// let c = Calibration {
+    ///     target: "sink".into(), tracks: "t.csv".into(), parts: 1, frames: 3, model: String::new(),
+    ///     noise_m: None, classes: vec![class], per_part: vec![], likelihood: vec![], profile: vec![],
+    ///     fields_computed: 0,
+    /// };
+    /// let spec = c.friction_spec(0)?;
+    /// assert!(spec.tied && spec.kinetic.lo == 0.22 && spec.kinetic.hi == 0.24);
+    /// assert!(c.friction_spec(1).is_err());
+    /// # Ok::<(), platefield::Error>(())
+    /// ```
+    ///
+    /// # Errors
+    /// No such class, or its μ_k was not estimated.
+    pub fn friction_spec(&self, class: usize) -> Result<FrictionSpec> {
+        let c = self.classes.get(class).ok_or_else(|| {
+            Error::invalid(
+                "--class",
+                format!(
+                    "the calibration has {} class(es) (0 to {}), no class {class}",
+                    self.classes.len(),
+                    self.classes.len().saturating_sub(1)
+                ),
+            )
+        })?;
+        let k = c.mu_k.interval.ok_or_else(|| {
+            Error::invalid(format!("classes[{class}].mu_k"), "μ_k was not estimated")
+        })?;
+        let kinetic = Interval {
+            lo: k[0].max(0.001),
+            hi: k[1].min(2.0),
+        };
+        let spec = match c.mu_s.interval {
+            Some(s) => FrictionSpec {
+                stat: Interval {
+                    lo: s[0].max(kinetic.lo),
+                    hi: s[1].min(2.0).max(kinetic.hi),
+                },
+                kinetic,
+                tied: false,
+            },
+            None => FrictionSpec::range(kinetic.lo, kinetic.hi),
+        };
+        spec.validate_driven(&format!("classes[{class}]"))?;
+        Ok(spec)
+    }
+}
+
+/// One track's label, observed positions and fitted path at its frames.
+pub type TrackPaths = (String, Vec<[f64; 2]>, Vec<[f64; 2]>);
+
+/// The calibration and what its report draws.
+#[derive(Debug, Clone)]
+pub struct CalibrationRun {
+    /// The summary.
+    pub calibration: Calibration,
+    /// Per track: observed frames and the fitted path at the same times.
+    pub paths: Vec<TrackPaths>,
+}
+
+/// Calibrates the friction (and the scale, if asked) of the parts in
+/// `tracks`, observed under `schedule`.
+///
+/// ```
+/// use platefield::calibrate::{calibrate, simulate_tracks, CalibrateOptions, TrackSimulation};
+/// use platefield::dynamics::Friction;
+/// use platefield::schedule::Schedule;
+/// let schedule = Schedule::load(std::path::Path::new("results/sink/schedule.json"))?;
+/// let region = platefield::verify::run::region(&schedule);
+/// let mut sim = TrackSimulation::new(Friction::uniform(0.25), 4, 3);
+/// sim.seconds = 3.0;
+/// let tracks = simulate_tracks(&schedule, &region, &sim)?;
+/// let run = calibrate(&schedule, &tracks, &CalibrateOptions { grid: 9, ..Default::default() })?;
+/// let mu = run.calibration.classes[0].mu_k.value.unwrap();
+/// assert!((mu - 0.25).abs() < 0.05, "{mu}");
+/// # Ok::<(), platefield::Error>(())
+/// ```
+///
+/// # Errors
+/// Tracks outside the plate region or not fitting the schedule's
+/// duration (naming the file, line and column), an invalid schedule, a
+/// field the paths cannot follow.
+pub fn calibrate(
+    schedule: &Schedule,
+    tracks: &Tracks,
+    options: &CalibrateOptions,
+) -> Result<CalibrationRun> {
+    if !(3..=Grid::MAX_N).contains(&options.grid) {
+        return Err(Error::invalid(
+            "--grid",
+            format!("must be within [3, {}], got {}", Grid::MAX_N, options.grid),
+        ));
+    }
+    let region = crate::verify::run::region(schedule);
+    tracks.check_region(&region)?;
+    let grid = Grid {
+        n: [options.grid, options.grid],
+        ..region
+    };
+    let motion = PlayedMotion::from_schedule(schedule, grid)?;
+    tracks.check_duration(motion.period(), options.played)?;
+    let noise = tracks.noise();
+    let sigma_ref = noise.unwrap_or(1e-4).max(1e-7);
+    // Frames of the start-up transient are left out: a part put at rest
+    // on the plate reaches its periodic orbit within a few cycles, with a
+    // jump of up to millimetres the mean-velocity model does not follow.
+    let settled = settled(tracks)?;
+    let all: Vec<&Track> = settled.iter().collect();
+    let mus = lattice();
+    let scanned = scan(&motion, &all, &mus, 0.0, 1.0);
+    let mut fields_computed = mus.len() * motion_fields(&motion);
+    let per_track = |i: usize| -> Vec<f64> {
+        scanned
+            .iter()
+            .map(|s| s.as_ref().map_or(f64::INFINITY, |v| v[i]))
+            .collect()
+    };
+    // Pooled σ̂² at each part's own minimum: the scale of its curvature.
+    let coords: usize = all.iter().map(|t| 2 * t.frames.len()).sum();
+    let rss_min: f64 = (0..all.len())
+        .map(|i| per_track(i).into_iter().fold(f64::INFINITY, f64::min))
+        .sum();
+    let lattice_dof = coords.saturating_sub(3 * all.len()).max(1);
+    let sigma2 = rss_min / lattice_dof as f64;
+    let curves: Vec<Vec<f64>> = (0..all.len()).map(per_track).collect();
+    let own = own_estimates(&curves, &mus, &all, sigma2)?;
+    let own_mu: Vec<f64> = own.iter().map(|o| o.0).collect();
+    let class_of = cluster(&curves, &mus, &own_mu, sigma2);
+    let n_classes = class_of.iter().max().map_or(0, |m| m + 1);
+    let mut classes = Vec::new();
+    let mut likelihood = Vec::new();
+    let mut profile = Vec::new();
+    let mut paths = vec![(String::new(), Vec::new(), Vec::new()); all.len()];
+    for c in 0..n_classes {
+        let members: Vec<usize> = (0..all.len()).filter(|&i| class_of[i] == c).collect();
+        let class_tracks: Vec<&Track> = members.iter().map(|&i| all[i]).collect();
+        let curve: Vec<f64> = (0..mus.len())
+            .map(|m| members.iter().map(|&i| per_track(i)[m]).sum())
+            .collect();
+        let (fit, stick, fields) = fit_one(
+            &motion,
+            &class_tracks,
+            &mus,
+            &curve,
+            options.scale,
+            sigma_ref,
+        )?;
+        fields_computed += fields;
+        let s2 = fit.sigma().powi(2);
+        let lattice_curve: Vec<[f64; 2]> = mus.iter().zip(&curve).map(|(m, v)| [*m, *v]).collect();
+        likelihood.push(delta_chi2(&lattice_curve, s2));
+        profile.push(delta_chi2(&fit.profile, s2));
+        for (k, &i) in members.iter().enumerate() {
+            paths[i] = fitted_path(&motion, &fit, k, all[i])?;
+        }
+        classes.push(class_estimate(
+            &fit,
+            &class_tracks,
+            noise,
+            stick,
+            options.scale,
+        ));
+    }
+    let per_part = all
+        .iter()
+        .enumerate()
+        .map(|(i, tr)| PartEstimate {
+            part: tr.part.clone(),
+            frames: tr.frames.len(),
+            mu: own[i].0,
+            standard_error: own[i].1,
+            class: class_of[i],
+        })
+        .collect();
+    Ok(CalibrationRun {
+        calibration: Calibration {
+            target: schedule.target.clone(),
+            tracks: tracks.source.clone(),
+            parts: all.len(),
+            frames: tracks.frames(),
+            model: format!(
+                "steady-state velocity fields of the schedule's {} segment(s) on a {}×{} grid over the plate region, interpolated in μ and scale by a quadratic stencil; paths by RK4 (not a full replay)",
+                motion_fields(&motion),
+                options.grid,
+                options.grid
+            ),
+            noise_m: noise,
+            classes,
+            per_part,
+            likelihood,
+            profile,
+            fields_computed,
+        },
+        paths,
+    })
+}
+
+/// One class fitted from its summed lattice curve's minimum: the fit,
+/// whether μ_s matters, the fields computed.
+fn fit_one(
+    motion: &PlayedMotion,
+    tracks: &[&Track],
+    mus: &[f64],
+    curve: &[f64],
+    scale: bool,
+    sigma_ref: f64,
+) -> Result<(ClassFit, bool, usize)> {
+    let mu0 = parabola_minimum(mus, curve).map_or(0.3, |m| m.0);
+    let (free, stick) = free_parameters(motion, mu0, scale)?;
+    let theta0 = [mu0, if stick { STEPS[EXCESS] } else { 0.0 }, 1.0];
+    let fit = fit_class(motion, tracks, theta0, STEPS, &free, sigma_ref)?;
+    let fields = (2 + fit.fields) * motion_fields(motion);
+    Ok((fit, stick, fields))
+}
+
+/// Track `k` of a class fit: its label, observed positions and fitted path.
+fn fitted_path(
+    motion: &PlayedMotion,
+    fit: &ClassFit,
+    k: usize,
+    track: &Track,
+) -> Result<TrackPaths> {
+    let times: Vec<f64> = track.frames.iter().map(|f| f.t).collect();
+    let fitted = motion.path(&fit.set, fit.starts[k].start, times[0], &times)?;
+    Ok((
+        track.part.clone(),
+        track.frames.iter().map(|f| f.r).collect(),
+        fitted,
+    ))
+}
+
+/// The tracks without the frames of the start-up transient (t <
+/// [`SETTLE`]); tracks left with fewer than three frames are dropped.
+fn settled(tracks: &Tracks) -> Result<Vec<Track>> {
+    let settled: Vec<Track> = tracks
+        .tracks
+        .iter()
+        .map(|t| Track {
+            part: t.part.clone(),
+            frames: t.frames.iter().filter(|f| f.t >= SETTLE).copied().collect(),
+        })
+        .filter(|t| t.frames.len() >= tracks::MIN_FRAMES)
+        .collect();
+    if settled.is_empty() {
+        return Err(Error::invalid(
+            tracks.source.clone(),
+            format!(
+                "no part has {} frames after the start-up transient (t ≥ {SETTLE} s)",
+                tracks::MIN_FRAMES
+            ),
+        ));
+    }
+    Ok(settled)
+}
+
+/// Each part's own μ and standard error from its residual `curves[i]`
+/// over the lattice `mus` (σ̂² the pooled residual variance).
+fn own_estimates(
+    curves: &[Vec<f64>],
+    mus: &[f64],
+    tracks: &[&Track],
+    sigma2: f64,
+) -> Result<Vec<(f64, Option<f64>)>> {
+    curves
+        .iter()
+        .zip(tracks)
+        .map(|(curve, tr)| {
+            let (mu, curv) = parabola_minimum(mus, curve).ok_or_else(|| {
+                Error::Physical(format!(
+                    "part \"{}\": the field cannot follow it at any μ of the lattice",
+                    tr.part
+                ))
+            })?;
+            Ok((mu, curv.map(|c| (2.0 * sigma2 / c).sqrt())))
+        })
+        .collect()
+}
+
+/// The parameters to fit about μ = `mu0`: μ_k; μ_s − μ_k when the fields
+/// change with it (μ_s = μ_k against μ_k + 2h: some part sticks); the
+/// scale when asked. Also whether μ_s matters.
+fn free_parameters(motion: &PlayedMotion, mu0: f64, scale: bool) -> Result<(Vec<usize>, bool)> {
+    let a = motion.fields(&[mu0, 0.0, 1.0])?;
+    let b = motion.fields(&[mu0, 2.0 * STEPS[EXCESS], 1.0])?;
+    let stick = a.max_difference(&b) > STICK_SENSITIVITY;
+    let mut free = vec![MU_K];
+    if stick {
+        free.push(EXCESS);
+    }
+    if scale {
+        free.push(SCALE);
+    }
+    Ok((free, stick))
+}
+
+/// A residual curve (x, RSS) as (x, Δχ² = (RSS − min RSS)/σ̂²), its
+/// non-finite points left out.
+fn delta_chi2(curve: &[[f64; 2]], sigma2: f64) -> Vec<[f64; 2]> {
+    let lo = curve.iter().map(|p| p[1]).fold(f64::INFINITY, f64::min);
+    curve
+        .iter()
+        .filter(|p| p[1].is_finite())
+        .map(|p| [p[0], (p[1] - lo) / sigma2])
+        .collect()
+}
+
+/// The correlations of the fitted parameters, each pair beyond
+/// [`CORRELATED`] named in `not_separable`.
+fn correlations(fit: &ClassFit, not_separable: &mut Vec<String>) -> Vec<(String, String, f64)> {
+    let var = |a: usize, b: usize| fit.covariance[a][b];
+    let mut out = Vec::new();
+    for a in 0..fit.free.len() {
+        for b in 0..a {
+            let rho = var(a, b) / (var(a, a) * var(b, b)).sqrt();
+            let (na, nb) = (
+                model::NAMES[fit.free[a]].to_string(),
+                model::NAMES[fit.free[b]].to_string(),
+            );
+            if rho.abs() > CORRELATED {
+                not_separable.push(format!("{nb} from {na} (correlation {rho:.3})"));
+            }
+            out.push((nb, na, rho));
+        }
+    }
+    out
+}
+
+/// Moving segments of the played motion (fields per θ).
+fn motion_fields(motion: &PlayedMotion) -> usize {
+    motion.moving_segments()
+}
+
+/// A class's fitted θ as named estimates, with what is not separable.
+fn class_estimate(
+    fit: &ClassFit,
+    tracks: &[&Track],
+    noise: Option<f64>,
+    stick: bool,
+    scale: bool,
+) -> ClassEstimate {
+    let index = |j: usize| fit.free.iter().position(|&f| f == j);
+    let var = |a: usize, b: usize| fit.covariance[a][b];
+    let estimate = |value: f64, v: f64| {
+        let se = v.max(0.0).sqrt();
+        let weak = 2.0 * Z95 * se > WEAK;
+        ParamEstimate {
+            value: Some(value),
+            standard_error: Some(se),
+            interval: Some([value - Z95 * se, value + Z95 * se]),
+            estimated: true,
+            note: weak
+                .then(|| format!("weakly determined: its 95 % interval is wider than {WEAK}")),
+        }
+    };
+    let k = index(MU_K).unwrap_or(0);
+    let mu_k = estimate(fit.theta[MU_K], var(k, k));
+    let mu_s = match index(EXCESS) {
+        Some(e) => estimate(
+            fit.theta[MU_K] + fit.theta[EXCESS],
+            var(k, k) + var(e, e) + 2.0 * var(k, e),
+        ),
+        None => ParamEstimate {
+            value: None,
+            standard_error: None,
+            interval: None,
+            estimated: false,
+            note: (!stick).then(|| {
+                format!(
+                    "not determined: the parts never stick on this motion between μ_s = μ_k and μ_k + {} (the field does not change with μ_s), so the tracks bound only μ_s ≥ μ_k",
+                    2.0 * STEPS[EXCESS]
+                )
+            }),
+        },
+    };
+    let scale_estimate = match index(SCALE) {
+        Some(s) => estimate(fit.theta[SCALE], var(s, s)),
+        None => ParamEstimate {
+            value: Some(1.0),
+            standard_error: None,
+            interval: None,
+            estimated: false,
+            note: (!scale)
+                .then(|| "fixed at 1 (the motion as sent); --scale estimates it".to_string()),
+        },
+    };
+    let mut not_separable = Vec::new();
+    if mu_s.value.is_none() {
+        not_separable.push("mu_s (the parts never stick)".to_string());
+    }
+    let correlations = correlations(fit, &mut not_separable);
+    for (name, p) in [("mu_k", &mu_k), ("mu_s", &mu_s), ("scale", &scale_estimate)] {
+        if p.estimated && p.note.is_some() {
+            not_separable.push(format!("{name} (95 % interval wider than {WEAK})"));
+        }
+    }
+    let coordinates: usize = tracks.iter().map(|t| 2 * t.frames.len()).sum();
+    ClassEstimate {
+        parts: tracks.iter().map(|t| t.part.clone()).collect(),
+        mu_k,
+        mu_s,
+        scale: scale_estimate,
+        correlations,
+        residual_rms_m: (fit.rss / coordinates.max(1) as f64).sqrt(),
+        residual_over_noise: noise.map(|n| fit.sigma() / n),
+        coordinates,
+        dof: fit.dof,
+        not_separable,
+    }
+}
