@@ -85,15 +85,15 @@ fn amplitude_scale_is_recovered() {
     assert!((mu - 0.23).abs() <= 0.02, "{mu}");
 }
 
-/// 10 parts at μ 0.2 and 10 at 0.45 on the shipped sink: two classes,
-/// every part in its own, each class's μ_k within ±0.01.
+/// 10 parts at μ 0.2 and 10 at 0.45 on the shipped squeeze_trans: two
+/// classes, every part in its own, each class's μ_k within ±0.01.
 #[test]
 fn two_frictions_are_two_classes() {
     let mut sim = TrackSimulation::new(Friction::uniform(0.2), 20, 2);
     for f in &mut sim.frictions[10..] {
         *f = Friction::uniform(0.45);
     }
-    let c = calibrated("sink", &sim, false);
+    let c = calibrated("squeeze_trans", &sim, false);
     assert_eq!(c.classes.len(), 2, "{:?}", c.per_part);
     for p in &c.per_part {
         let truth: usize = p.part[1..].parse::<usize>().unwrap() - 1;

@@ -276,7 +276,7 @@ pub struct CalibrationRun {
 /// use platefield::calibrate::{calibrate, simulate_tracks, CalibrateOptions, TrackSimulation};
 /// use platefield::dynamics::Friction;
 /// use platefield::schedule::Schedule;
-/// let schedule = Schedule::load(std::path::Path::new("results/sink/schedule.json"))?;
+/// let schedule = Schedule::load(std::path::Path::new("results/squeeze_trans/schedule.json"))?;
 /// let region = platefield::verify::run::region(&schedule);
 /// let mut sim = TrackSimulation::new(Friction::uniform(0.25), 4, 3);
 /// sim.seconds = 3.0;

@@ -83,7 +83,7 @@ impl TrackSimulation {
 /// use platefield::calibrate::{simulate_tracks, TrackSimulation};
 /// use platefield::dynamics::Friction;
 /// use platefield::schedule::Schedule;
-/// let schedule = Schedule::load(std::path::Path::new("results/sink/schedule.json"))?;
+/// let schedule = Schedule::load(std::path::Path::new("results/squeeze_trans/schedule.json"))?;
 /// let region = platefield::verify::run::region(&schedule);
 /// let mut sim = TrackSimulation::new(Friction::uniform(0.3), 2, 7);
 /// sim.seconds = 0.5;
