@@ -19,7 +19,7 @@
 //! of a stable equilibrium (then it counts for that one), leaves the
 //! region, or runs 20000 steps (then it counts for none).
 
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::{Complex, Matrix3, Vector3};
 
 /// Most RK4 steps of one drop ([`settle`]).
 pub(crate) const SETTLE_STEPS: usize = 20000;
@@ -27,6 +27,7 @@ pub(crate) const SETTLE_STEPS: usize = 20000;
 /// radians of turn).
 pub(crate) const SETTLE_STEP: f64 = 0.02;
 
+use super::continua::{self, cut, refine_zero, Continuum, Destination, Scaled, Spectrum, ARRIVE};
 use super::lifted::{LiftedField, Pose};
 use crate::dynamics::V2;
 
@@ -78,6 +79,60 @@ pub struct Equilibrium {
     pub rates: [f64; 3],
 }
 
+/// Most iterations of the Schur decomposition behind [`eigenvalues`].
+const SCHUR_ITERATIONS: usize = 1000;
+
+/// The eigenvalues of `j`: from its Schur form, or, where that does not
+/// converge in [`SCHUR_ITERATIONS`] (nalgebra's unbounded one can loop
+/// for ever on an exactly singular Jacobian, a round sink's
+/// diag(−k, −k, 0)), the roots of its characteristic polynomial
+/// λ³ − tr J λ² + c₂ λ − det J (c₂ the sum of its principal 2 × 2 minors)
+/// in closed form.
+///
+/// ```
+/// use nalgebra::Matrix3;
+/// use platefield::pose::eigenvalues;
+/// let e = eigenvalues(&Matrix3::from_diagonal(&nalgebra::Vector3::new(-1.0, -1.0, 0.0)));
+/// let mut re: Vec<f64> = e.iter().map(|z| z.re).collect();
+/// re.sort_by(f64::total_cmp);
+/// assert!((re[0] + 1.0).abs() < 1e-12 && (re[1] + 1.0).abs() < 1e-12 && re[2].abs() < 1e-12);
+/// ```
+pub fn eigenvalues(j: &Matrix3<f64>) -> [Complex<f64>; 3] {
+    if let Some(schur) = nalgebra::Schur::try_new(*j, f64::EPSILON, SCHUR_ITERATIONS) {
+        let e = schur.complex_eigenvalues();
+        return [e[0], e[1], e[2]];
+    }
+    let a = -j.trace();
+    let minor = |p: usize, q: usize| j[(p, p)] * j[(q, q)] - j[(p, q)] * j[(q, p)];
+    let b = minor(0, 1) + minor(0, 2) + minor(1, 2);
+    let c = -j.determinant();
+    cubic_roots(a, b, c)
+}
+
+/// The roots of λ³ + a λ² + b λ + c (Cardano; trigonometric for three
+/// real roots).
+fn cubic_roots(a: f64, b: f64, c: f64) -> [Complex<f64>; 3] {
+    let shift = a / 3.0;
+    let p = b - a * a / 3.0;
+    let q = 2.0 * a * a * a / 27.0 - a * b / 3.0 + c;
+    let disc = (q / 2.0).powi(2) + (p / 3.0).powi(3);
+    let real = |t: f64| Complex::new(t - shift, 0.0);
+    if disc > 0.0 {
+        let root = disc.sqrt();
+        let (u, v) = ((-q / 2.0 + root).cbrt(), (-q / 2.0 - root).cbrt());
+        let im = 0.5 * 3f64.sqrt() * (u - v);
+        let re = -(u + v) / 2.0 - shift;
+        return [real(u + v), Complex::new(re, im), Complex::new(re, -im)];
+    }
+    if p == 0.0 {
+        return [real(0.0); 3];
+    }
+    let r = (-p / 3.0).sqrt();
+    let phi = (-q / (2.0 * r * r * r)).clamp(-1.0, 1.0).acos();
+    let tau = std::f64::consts::TAU;
+    [0.0, 1.0, 2.0].map(|k| real(2.0 * r * ((phi + tau * k) / 3.0).cos()))
+}
+
 /// θ wrapped into (−π, π].
 pub fn wrap(theta: f64) -> f64 {
     let t = theta.rem_euclid(std::f64::consts::TAU);
@@ -118,21 +173,46 @@ fn start_poses(region: &Region) -> Vec<Pose> {
     out
 }
 
-/// Newton from `start`; the zero when it converged inside the region.
-fn newton(lifted: &LiftedField<'_>, start: Pose, region: &Region, tol: f64) -> Option<Pose> {
+/// What Newton from one start converged to.
+enum Found {
+    /// An isolated zero.
+    Zero(Pose),
+    /// A point of a slow curve (scaled, [`super::continua`]).
+    Slow(Vector3<f64>),
+}
+
+/// Newton from `start`: the zero it converged to inside the region, or
+/// the point of a slow curve where the fast residual vanishes (the
+/// Jacobian's smallest singular value below [`GAP`] of the next: its step
+/// then takes the fast components only, [`super::continua`]).
+fn newton(lifted: &LiftedField<'_>, start: Pose, region: &Region, tol: f64) -> Option<Found> {
     let r = lifted.radius();
+    let scaled = Scaled::new(lifted);
     let mut q = Vector3::new(start.r.x, start.r.y, start.theta);
     for _ in 0..60 {
         let t = lifted.twist3(&q);
-        if t.fixed_rows::<2>(0).norm() <= tol && t.z.abs() * r <= tol {
-            let pose = Pose::new(q.x, q.y, wrap(q.z));
-            return region.contains(&pose.r).then_some(pose);
-        }
         let j = lifted.jacobian(Pose::new(q.x, q.y, q.z));
-        let mut step = j.lu().solve(&(-t))?;
-        let cut = (step.fixed_rows::<2>(0).norm() / (0.25 * r)).max(step.z.abs() / 0.3);
-        if cut > 1.0 {
-            step /= cut;
+        let spectrum = Spectrum::of(&scaled.scale_jacobian(&j));
+        let mut step = if spectrum.slow() {
+            let f = scaled.scale_twist3(&t);
+            if spectrum.fast_residual(&f) <= tol / r.max(f64::MIN_POSITIVE) {
+                let pose = Pose::new(q.x, q.y, q.z);
+                return region
+                    .contains(&pose.r)
+                    .then(|| Found::Slow(scaled.of(pose)));
+            }
+            let d = cut(spectrum.fast_step(&f));
+            Vector3::new(d.x * r, d.y * r, d.z)
+        } else {
+            if t.fixed_rows::<2>(0).norm() <= tol && t.z.abs() * r <= tol {
+                let pose = Pose::new(q.x, q.y, wrap(q.z));
+                return region.contains(&pose.r).then_some(Found::Zero(pose));
+            }
+            j.lu().solve(&(-t))?
+        };
+        let c = (step.fixed_rows::<2>(0).norm() / (0.25 * r)).max(step.z.abs() / 0.3);
+        if c > 1.0 {
+            step /= c;
         }
         q += step;
         if !q.iter().all(|x| x.is_finite()) {
@@ -147,7 +227,7 @@ impl Equilibrium {
     /// stable when every eigenvalue's real part is below −1e-9 of the
     /// largest magnitude.
     pub fn of_jacobian(pose: Pose, j: &Matrix3<f64>) -> Equilibrium {
-        let e = j.complex_eigenvalues();
+        let e = eigenvalues(j);
         let mut rates = [e[0].re, e[1].re, e[2].re];
         rates.sort_by(|a, b| b.total_cmp(a));
         let scale = rates.iter().fold(0.0f64, |m, x| m.max(x.abs()));
@@ -159,8 +239,19 @@ impl Equilibrium {
     }
 }
 
+/// The rests of a lifted field over a region: its isolated equilibria and
+/// its continua ([`super::continua`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Rests {
+    /// Isolated equilibria, sorted by θ then x then y: Newton's zeros and
+    /// the drift's zeros on the continua.
+    pub equilibria: Vec<Equilibrium>,
+    /// The slow curves traced, in the order their first point was found.
+    pub continua: Vec<Continuum>,
+}
+
 /// Every equilibrium of `lifted` found from the start grid over `region`,
-/// sorted by θ then x then y.
+/// sorted by θ then x then y ([`rests`]' equilibria).
 ///
 /// ```
 /// use platefield::dynamics::{PlanarBody, V2};
@@ -177,30 +268,102 @@ impl Equilibrium {
 /// assert!(stable.iter().all(|t| t.abs() < 1e-6 || (t.abs() - 180.0).abs() < 1e-6));
 /// ```
 pub fn equilibria(lifted: &LiftedField<'_>, region: &Region) -> Vec<Equilibrium> {
+    rests(lifted, region).equilibria
+}
+
+/// The isolated equilibria and the continua of `lifted` over `region`:
+/// Newton from every pose of the start grid (in parallel: the same result
+/// on any number of threads); each start that lands on a slow curve not
+/// yet traced traces it ([`super::continua`]), and the drift's zeros on
+/// the curves are refined into isolated equilibria.
+///
+/// ```
+/// use platefield::dynamics::{PlanarBody, V2};
+/// use platefield::pose::{rests, LiftedField, Region, Shape};
+/// let (body, _) = PlanarBody::centred(
+///     &[V2::new(-0.01, -0.002), V2::new(0.01, -0.002), V2::new(0.01, 0.002), V2::new(-0.01, 0.002)],
+///     &[1.0; 4],
+/// );
+/// // A round sink turns no part: at its centre, any angle is a rest.
+/// let sink = |p: V2| V2::new(-p.x, -p.y);
+/// let region = Region { x: [-0.03, 0.03], y: [-0.03, 0.03] };
+/// let r = rests(&LiftedField::new(&sink, &body), &region);
+/// assert!(r.equilibria.is_empty() && r.continua.len() == 1);
+/// let Shape::AnyAngle { at, spread } = r.continua[0].shape else { panic!() };
+/// assert!(at.norm() < 1e-9 && spread < 1e-9);
+/// ```
+pub fn rests(lifted: &LiftedField<'_>, region: &Region) -> Rests {
+    use rayon::prelude::*;
     let starts = start_poses(region);
     let tol = 1e-9 * speed_scale(lifted, &starts);
     let r = lifted.radius();
+    let outcomes: Vec<Option<Found>> = starts
+        .par_iter()
+        .map(|s| newton(lifted, *s, region, tol))
+        .collect();
+    let same = |q: &Pose, p: &Pose| {
+        (q.r - p.r).norm() <= 1e-6 * r && wrap(q.theta - p.theta).abs() <= 1e-4
+    };
+    let scaled = Scaled::new(lifted);
+    let step = continua::step(region, r);
     let mut found: Vec<Pose> = Vec::new();
-    for s in starts {
-        let Some(p) = newton(lifted, s, region, tol) else {
-            continue;
-        };
-        let same =
-            |q: &Pose| (q.r - p.r).norm() <= 1e-6 * r && wrap(q.theta - p.theta).abs() <= 1e-4;
-        if !found.iter().any(same) {
-            found.push(p);
+    let mut continua: Vec<Continuum> = Vec::new();
+    for outcome in outcomes.into_iter().flatten() {
+        match outcome {
+            Found::Zero(p) => {
+                if !found.iter().any(|q| same(q, &p)) {
+                    found.push(p);
+                }
+            }
+            Found::Slow(q) => {
+                let p = scaled.pose(&q);
+                if continua.iter().any(|c| c.distance(&p).0 <= 2.0 * step) {
+                    continue;
+                }
+                let c = continua::trace(&scaled, q, region, tol / r.max(f64::MIN_POSITIVE));
+                // A slow stretch shorter than two steps is a fold (the
+                // Jacobian singular at one pose: ω(θ) at its extremum),
+                // not a curve of rests.
+                if c.points.len() >= continua::MIN_POINTS {
+                    continua.push(c);
+                }
+            }
         }
     }
-    found.sort_by(|a, b| {
-        a.theta
-            .total_cmp(&b.theta)
-            .then(a.r.x.total_cmp(&b.r.x))
-            .then(a.r.y.total_cmp(&b.r.y))
-    });
-    found
+    let mut equilibria: Vec<Equilibrium> = found
         .into_iter()
         .map(|pose| Equilibrium::of_jacobian(pose, &lifted.jacobian(pose)))
-        .collect()
+        .collect();
+    for c in &continua {
+        for z in c.zeros() {
+            let Some(e) = refine_zero(lifted, z, region, tol / r.max(f64::MIN_POSITIVE)) else {
+                continue;
+            };
+            if !equilibria.iter().any(|q| same(&q.pose, &e.pose)) {
+                equilibria.push(e);
+            }
+        }
+    }
+    equilibria.sort_by(|a, b| {
+        a.pose
+            .theta
+            .total_cmp(&b.pose.theta)
+            .then(a.pose.r.x.total_cmp(&b.pose.r.x))
+            .then(a.pose.r.y.total_cmp(&b.pose.r.y))
+    });
+    Rests {
+        equilibria,
+        continua,
+    }
+}
+
+/// Where a drop ends ([`settle_on`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum End {
+    /// At the stable equilibrium of this index (in the list given).
+    At(usize),
+    /// On the continuum of this index: resting on it, or going round it.
+    On(usize),
 }
 
 /// Where one drop ends: the index of the stable equilibrium it reached.
@@ -210,22 +373,78 @@ pub fn settle(
     stable: &[Equilibrium],
     region: &Region,
 ) -> Option<usize> {
+    match settle_on(lifted, start, stable, &[], region)? {
+        End::At(k) => Some(k),
+        End::On(_) => None,
+    }
+}
+
+/// Where one drop ends among the `stable` equilibria and the `continua`
+/// (module docs): within [`ARRIVE`] of an attracting continuum, the flow
+/// along it decides ([`Continuum::destination`]): a rest on it or a
+/// curve it goes round is its end, a drift zero the stable equilibrium
+/// there (the drop goes on integrating when the drift carries it off the
+/// curve, or to a zero that is not a stable equilibrium).
+pub fn settle_on(
+    lifted: &LiftedField<'_>,
+    start: Pose,
+    stable: &[Equilibrium],
+    continua: &[Continuum],
+    region: &Region,
+) -> Option<End> {
     let r = lifted.radius();
+    let attracting: Vec<(usize, &Continuum)> = continua
+        .iter()
+        .enumerate()
+        .filter(|(_, c)| c.attracting())
+        .collect();
     let fastest = stable
         .iter()
         .map(|e| e.rates.iter().fold(0.0f64, |m, x| m.max(x.abs())))
+        .chain(attracting.iter().map(|(_, c)| c.fastest))
         .fold(0.0f64, f64::max);
-    let mut q = Vector3::new(start.r.x, start.r.y, start.theta);
-    for _ in 0..SETTLE_STEPS {
-        let near = stable.iter().position(|e| {
+    let scaled = Scaled::new(lifted);
+    let step = continua::step(region, r);
+    let near = |q: &Vector3<f64>| {
+        stable.iter().position(|e| {
             (V2::new(q.x, q.y) - e.pose.r).norm() <= 1e-3 * r
                 && wrap(q.z - e.pose.theta).abs() <= 0.1f64.to_radians()
-        });
-        if near.is_some() {
-            return near;
+        })
+    };
+    let mut q = Vector3::new(start.r.x, start.r.y, start.theta);
+    for _ in 0..SETTLE_STEPS {
+        if let Some(k) = near(&q) {
+            return Some(End::At(k));
         }
         if !region.contains(&V2::new(q.x, q.y)) {
             return None;
+        }
+        let pose = Pose::new(q.x, q.y, q.z);
+        for (k, c) in &attracting {
+            let (d, i) = c.distance(&pose);
+            if d > ARRIVE {
+                continue;
+            }
+            match c.destination(i) {
+                Destination::Rest(_) | Destination::Around => return Some(End::On(*k)),
+                Destination::Zero(z) => {
+                    let at = scaled.of(z);
+                    let k = stable
+                        .iter()
+                        .map(|e| {
+                            let mut d = scaled.of(e.pose) - at;
+                            d.z = wrap(d.z);
+                            d.norm()
+                        })
+                        .enumerate()
+                        .min_by(|a, b| a.1.total_cmp(&b.1))
+                        .filter(|(_, d)| *d <= 2.0 * step);
+                    if let Some((k, _)) = k {
+                        return Some(End::At(k));
+                    }
+                }
+                Destination::Off => {}
+            }
         }
         let f = |q: &Vector3<f64>| lifted.twist3(q);
         let k1 = f(&q);
