@@ -155,6 +155,9 @@ fn speed_scale(lifted: &LiftedField<'_>, starts: &[Pose]) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// Poses of the start grid ([`start_poses`]).
+pub(crate) const START_POSES: usize = 3 * 3 * 24;
+
 /// The grid of start poses: 3 × 3 positions at the quarters of the region
 /// times 24 angles.
 fn start_poses(region: &Region) -> Vec<Pose> {
@@ -443,6 +446,7 @@ pub fn settle_on(
                         return Some(End::At(k));
                     }
                 }
+                Destination::Leaves => return None,
                 Destination::Off => {}
             }
         }

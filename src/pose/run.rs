@@ -87,6 +87,18 @@ pub fn drop_starts(region: &Region, drops: usize) -> Vec<Pose> {
 /// # Ok::<(), platefield::Error>(())
 /// ```
 pub fn analyse(part: &Part, field: &dyn PointField, region: Region, drops: usize) -> PoseAnalysis {
+    analyse_with(part, field, region, drops, &|| {})
+}
+
+/// [`analyse`], calling `done` after each drop has settled (from the
+/// worker threads: progress).
+pub fn analyse_with(
+    part: &Part,
+    field: &dyn PointField,
+    region: Region,
+    drops: usize,
+    done: &(dyn Fn() + Sync),
+) -> PoseAnalysis {
     use rayon::prelude::*;
     let lifted = LiftedField::new(field, &part.body);
     let found = rests(&lifted, &region);
@@ -97,7 +109,11 @@ pub fn analyse(part: &Part, field: &dyn PointField, region: Region, drops: usize
     // Each drop is independent: the same ends on any number of threads.
     let outcomes: Vec<Option<End>> = drop_starts(&starts, drops)
         .par_iter()
-        .map(|start| settle_on(&lifted, *start, &stable, &found.continua, &region))
+        .map(|start| {
+            let end = settle_on(&lifted, *start, &stable, &found.continua, &region);
+            done();
+            end
+        })
         .collect();
     let ends: Vec<Option<usize>> = outcomes
         .iter()
