@@ -728,3 +728,115 @@ pub(crate) fn refine_zero(
     }
     None
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::part::Part;
+    use crate::pose::run::Uniform;
+    use crate::pose::{analyse, Region};
+
+    const REGION: Region = Region {
+        x: [-0.04, 0.04],
+        y: [-0.04, 0.04],
+    };
+
+    /// A seeded part: a rectangle (aspect 1.5–4) or a triangle, 8–30 mm
+    /// long, turned at random in its file frame.
+    fn random_part(rng: &mut Uniform, k: usize) -> Part {
+        let long = 0.008 + 0.022 * rng.next();
+        let turn = std::f64::consts::TAU * rng.next();
+        let corners: Vec<[f64; 2]> = if k % 2 == 0 {
+            let wide = long / (1.5 + 2.5 * rng.next());
+            [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]
+                .iter()
+                .map(|c| [0.5 * long * c[0], 0.5 * wide * c[1]])
+                .collect()
+        } else {
+            let (a, b) = (0.3 + 0.4 * rng.next(), 0.2 + 0.3 * rng.next());
+            vec![[0.0, 0.0], [long, 0.0], [a * long, b * long]]
+        };
+        let (s, c) = turn.sin_cos();
+        let polygon: Vec<[f64; 2]> = corners
+            .iter()
+            .map(|p| [c * p[0] - s * p[1], s * p[0] + c * p[1]])
+            .collect();
+        let text = serde_json::json!({"name": format!("part {k}"), "polygon": polygon}).to_string();
+        Part::from_json_str(&text).expect("a valid part")
+    }
+
+    /// Round sinks V = −s (p − c), centre c within ±10 mm and strength s
+    /// in 0.5–2 /s, on 6 seeded parts: no isolated equilibrium and one
+    /// continuum, through every angle at c (within 1e-6 of the part's
+    /// radius), neutral (a round sink turns no part) and attracting, that
+    /// all 60 drops end on.
+    #[test]
+    fn a_round_sink_rests_any_angle_at_its_centre() {
+        let mut rng = Uniform::new(7);
+        for k in 0..6 {
+            let part = random_part(&mut rng, k);
+            let centre = V2::new(0.02 * rng.next() - 0.01, 0.02 * rng.next() - 0.01);
+            let strength = 0.5 + 1.5 * rng.next();
+            let sink = move |p: V2| (centre - p) * strength;
+            let a = analyse(&part, &sink, REGION, 60);
+            assert!(a.equilibria.is_empty(), "{k}: {:?}", a.equilibria);
+            assert_eq!(a.continua.len(), 1, "{k}");
+            let c = &a.continua[0];
+            let Shape::AnyAngle { at, spread } = c.shape else {
+                panic!("{k}: {:?}", c.shape);
+            };
+            let r = part.radius();
+            assert!((at - centre).norm() < 1e-6 * r && spread < 1e-6 * r, "{k}: {at} {spread}");
+            assert!(c.closed && c.attracting() && c.motion() == Motion::Rest, "{k}");
+            assert_eq!(a.continuum_basins, vec![1.0], "{k}");
+        }
+    }
+
+    /// Line sinks V = −s (n·p − o) n at a random angle φ and offset o
+    /// (±10 mm), on 6 seeded parts: every continuum is a neutral line on
+    /// the sink line (its points within 1e-6 R of n·p = o, its chord along
+    /// it within 1e-6 of its length) at an angle where the part's
+    /// principal axes lie along it (within 1e-6 rad); the attracting ones
+    /// hold the major axis along the line; all 60 drops end on them.
+    #[test]
+    fn a_line_sink_rests_along_its_line() {
+        let mut rng = Uniform::new(11);
+        for k in 0..6 {
+            let part = random_part(&mut rng, k);
+            let phi = std::f64::consts::PI * rng.next();
+            let (t, n) = (V2::new(phi.cos(), phi.sin()), V2::new(-phi.sin(), phi.cos()));
+            let offset = 0.02 * rng.next() - 0.01;
+            let strength = 0.5 + 1.5 * rng.next();
+            let sink = move |p: V2| n * (-strength * (n.dot(&p) - offset));
+            let a = analyse(&part, &sink, REGION, 60);
+            let r = part.radius();
+            assert!(!a.continua.is_empty(), "{k}");
+            let quarter = |x: f64| {
+                let m = x.rem_euclid(std::f64::consts::FRAC_PI_2);
+                m.min(std::f64::consts::FRAC_PI_2 - m)
+            };
+            let half = |x: f64| {
+                let m = x.rem_euclid(std::f64::consts::PI);
+                m.min(std::f64::consts::PI - m)
+            };
+            let major = part.principal_angle();
+            for c in &a.continua {
+                let Shape::Line { from, to, theta, .. } = c.shape else {
+                    panic!("{k}: {:?}", c.shape);
+                };
+                let chord = to - from;
+                assert!((chord.x * t.y - chord.y * t.x).abs() < 1e-6 * chord.norm(), "{k}");
+                for p in &c.points {
+                    assert!((n.dot(&p.r) - offset).abs() < 1e-6 * r, "{k}: {p:?}");
+                }
+                assert!(quarter(theta + major - phi) < 1e-6, "{k}: θ {theta}");
+                assert!(c.motion() == Motion::Rest, "{k}");
+                if c.attracting() {
+                    assert!(half(theta + major - phi) < 1e-6, "{k}: θ {theta}");
+                }
+            }
+            let held: f64 = a.continuum_basins.iter().sum();
+            assert!((held - 1.0).abs() < 1e-12, "{k}: {held}");
+        }
+    }
+}
