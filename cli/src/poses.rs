@@ -11,7 +11,9 @@ use platefield::output::write_all_atomic;
 use platefield::pose::{poses, PoseRequest};
 use platefield::scene::FrictionSpec;
 use platefield::{Error, Result};
-use platefield_report::poses::{over_friction_json, over_friction_lines, picture, summary, to_json, Extras};
+use platefield_report::poses::{
+    over_friction_json, over_friction_lines, picture, summary, to_json, Extras,
+};
 
 /// `platefield poses PART SOURCE`.
 #[derive(Args)]

@@ -597,7 +597,11 @@ fn theta_panels(s: &mut String, a: &PoseAnalysis, w: f64, top: f64) {
                 );
                 last = Some(t);
             }
-            let dash = if c.attracting() { "" } else { " stroke-dasharray=\"4 3\"" };
+            let dash = if c.attracting() {
+                ""
+            } else {
+                " stroke-dasharray=\"4 3\""
+            };
             let _ = writeln!(
                 s,
                 "<path d=\"{}\" fill=\"none\" stroke=\"{}\" stroke-width=\"3\"{dash}/>",
@@ -715,7 +719,11 @@ fn region_panel(part: &Part, a: &PoseAnalysis, w: f64, h: f64, pad: f64) -> Stri
     let stable = a.equilibria.iter().filter(|e| e.stable).count();
     for (k, (c, b)) in a.continua.iter().zip(&a.continuum_basins).enumerate() {
         let colour = BASIN_COLOURS[(stable + k) % BASIN_COLOURS.len()];
-        let dash = if c.attracting() { "" } else { " stroke-dasharray=\"4 3\"" };
+        let dash = if c.attracting() {
+            ""
+        } else {
+            " stroke-dasharray=\"4 3\""
+        };
         // The part at twelve poses spread along the curve, and the curve's
         // positions as a thick line.
         for i in 0..12usize.min(c.points.len()) {

@@ -192,7 +192,8 @@ impl Spectrum {
             u: [Vector3::x(), Vector3::y(), Vector3::z()],
             v: [Vector3::x(), Vector3::y(), Vector3::z()],
         };
-        let Some(e) = nalgebra::SymmetricEigen::try_new(j.transpose() * j, f64::EPSILON, SVD_ITERATIONS)
+        let Some(e) =
+            nalgebra::SymmetricEigen::try_new(j.transpose() * j, f64::EPSILON, SVD_ITERATIONS)
         else {
             return fallback;
         };
@@ -354,7 +355,10 @@ impl Continuum {
             Motion::Rest
         } else if self.closed
             && !(0..self.points.len()).any(neutral)
-            && self.drift.iter().all(|g| g.signum() == self.drift[0].signum())
+            && self
+                .drift
+                .iter()
+                .all(|g| g.signum() == self.drift[0].signum())
         {
             Motion::Around
         } else {
@@ -482,18 +486,14 @@ impl Continuum {
 /// [`STEP`], or longer where a curve across the region's diagonal would
 /// take more than two thirds of [`MAX_STEPS`].
 pub fn step(region: &Region, r: f64) -> f64 {
-    let across = (region.x[1] - region.x[0]).hypot(region.y[1] - region.y[0]) / r.max(f64::MIN_POSITIVE);
+    let across =
+        (region.x[1] - region.x[0]).hypot(region.y[1] - region.y[0]) / r.max(f64::MIN_POSITIVE);
     STEP.max(1.5 * across / MAX_STEPS as f64)
 }
 
 /// Traces the slow curve through the slow point `q0` (scaled) within
 /// `region`, correcting to the fast residual `tol` (scaled, 1/s).
-pub(crate) fn trace(
-    s: &Scaled<'_, '_>,
-    q0: Vector3<f64>,
-    region: &Region,
-    tol: f64,
-) -> Continuum {
+pub(crate) fn trace(s: &Scaled<'_, '_>, q0: Vector3<f64>, region: &Region, tol: f64) -> Continuum {
     let h = step(region, s.r);
     let t0 = Spectrum::of(&s.j(&q0)).v[2];
     let (forward, ahead) = walk(s, q0, t0, h, region, tol);
@@ -786,8 +786,14 @@ mod tests {
                 panic!("{k}: {:?}", c.shape);
             };
             let r = part.radius();
-            assert!((at - centre).norm() < 1e-6 * r && spread < 1e-6 * r, "{k}: {at} {spread}");
-            assert!(c.closed && c.attracting() && c.motion() == Motion::Rest, "{k}");
+            assert!(
+                (at - centre).norm() < 1e-6 * r && spread < 1e-6 * r,
+                "{k}: {at} {spread}"
+            );
+            assert!(
+                c.closed && c.attracting() && c.motion() == Motion::Rest,
+                "{k}"
+            );
             assert_eq!(a.continuum_basins, vec![1.0], "{k}");
         }
     }
@@ -804,7 +810,10 @@ mod tests {
         for k in 0..6 {
             let part = random_part(&mut rng, k);
             let phi = std::f64::consts::PI * rng.next();
-            let (t, n) = (V2::new(phi.cos(), phi.sin()), V2::new(-phi.sin(), phi.cos()));
+            let (t, n) = (
+                V2::new(phi.cos(), phi.sin()),
+                V2::new(-phi.sin(), phi.cos()),
+            );
             let offset = 0.02 * rng.next() - 0.01;
             let strength = 0.5 + 1.5 * rng.next();
             let sink = move |p: V2| n * (-strength * (n.dot(&p) - offset));
@@ -821,11 +830,17 @@ mod tests {
             };
             let major = part.principal_angle();
             for c in &a.continua {
-                let Shape::Line { from, to, theta, .. } = c.shape else {
+                let Shape::Line {
+                    from, to, theta, ..
+                } = c.shape
+                else {
                     panic!("{k}: {:?}", c.shape);
                 };
                 let chord = to - from;
-                assert!((chord.x * t.y - chord.y * t.x).abs() < 1e-6 * chord.norm(), "{k}");
+                assert!(
+                    (chord.x * t.y - chord.y * t.x).abs() < 1e-6 * chord.norm(),
+                    "{k}"
+                );
                 for p in &c.points {
                     assert!((n.dot(&p.r) - offset).abs() < 1e-6 * r, "{k}: {p:?}");
                 }

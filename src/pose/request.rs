@@ -31,9 +31,9 @@ use crate::part::{Part, Support};
 use crate::play::{PlayedSegment, ScheduleMotion};
 use crate::progress::Progress;
 use crate::request::Target;
+use crate::scene::FrictionSpec;
 use crate::scene::Scene;
 use crate::schedule::Schedule;
-use crate::scene::FrictionSpec;
 use crate::work::{with_counted_progress, Term, PLANAR_POINT_STEP_COST};
 
 /// Longest [`PoseRequest::play`] (s).
@@ -328,7 +328,10 @@ pub fn poses(req: &PoseRequest) -> Result<PoseOutcome> {
                 }
                 let at = plays.field(&grid, *f)?;
                 let label = format!(" at μ {}", f.kinetic);
-                Ok((*f, settled(&part, at.as_ref(), region, req.drops, mode, &label)))
+                Ok((
+                    *f,
+                    settled(&part, at.as_ref(), region, req.drops, mode, &label),
+                ))
             })
             .collect::<Result<Vec<_>>>()?,
         _ => Vec::new(),

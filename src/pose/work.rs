@@ -7,8 +7,8 @@
 //! [`PLANAR_POINT_STEP_COST`] point-part steps.
 
 use super::averaged::CHECKED_POSES;
-use super::drops::{rest_cycle, DropPlay};
 use super::continua::MAX_STEPS;
+use super::drops::{rest_cycle, DropPlay};
 use super::equilibria::{Region, SETTLE_STEP, SETTLE_STEPS, START_POSES};
 use super::refine::MAX_REFINED;
 use crate::part::Part;
@@ -110,30 +110,31 @@ pub fn settle_estimate(part: &Part, region: &Region, drops: usize) -> Estimate {
     let turn = std::f64::consts::PI / SETTLE_STEP;
     let steps = (travel + turn + 100.0).min(SETTLE_STEPS as f64).round();
     let points = part.body.points().len() as f64;
-    Estimate::new("--drops", "settling the drops", "--drops").plus(
-        Term::new("rest search")
-            .times(START_POSES as f64, "starts")
-            .times(SEARCH_ITERATIONS, "Newton iterations")
-            .times(7.0, "evaluations")
-            .times(points, "support points")
-            .times(LIFTED_POINT_COST, "point steps per evaluation"),
-    )
-    .plus(
-        Term::new("continua")
-            .times(TRACED, "curves")
-            .times(2.0 * MAX_STEPS as f64, "steps")
-            .times(2.0 * 7.0, "evaluations")
-            .times(points, "support points")
-            .times(LIFTED_POINT_COST, "point steps per evaluation"),
-    )
-    .plus(
-        Term::new("predicted drops")
-            .times(drops as f64, "drops")
-            .times(steps, "steps")
-            .times(4.0, "evaluations")
-            .times(points, "support points")
-            .times(LIFTED_POINT_COST, "point steps per evaluation"),
-    )
+    Estimate::new("--drops", "settling the drops", "--drops")
+        .plus(
+            Term::new("rest search")
+                .times(START_POSES as f64, "starts")
+                .times(SEARCH_ITERATIONS, "Newton iterations")
+                .times(7.0, "evaluations")
+                .times(points, "support points")
+                .times(LIFTED_POINT_COST, "point steps per evaluation"),
+        )
+        .plus(
+            Term::new("continua")
+                .times(TRACED, "curves")
+                .times(2.0 * MAX_STEPS as f64, "steps")
+                .times(2.0 * 7.0, "evaluations")
+                .times(points, "support points")
+                .times(LIFTED_POINT_COST, "point steps per evaluation"),
+        )
+        .plus(
+            Term::new("predicted drops")
+                .times(drops as f64, "drops")
+                .times(steps, "steps")
+                .times(4.0, "evaluations")
+                .times(points, "support points")
+                .times(LIFTED_POINT_COST, "point steps per evaluation"),
+        )
 }
 
 /// The work of scanning an unknown support's equilibrium bounds
