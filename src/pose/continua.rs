@@ -746,7 +746,7 @@ mod tests {
     fn random_part(rng: &mut Uniform, k: usize) -> Part {
         let long = 0.008 + 0.022 * rng.next();
         let turn = std::f64::consts::TAU * rng.next();
-        let corners: Vec<[f64; 2]> = if k % 2 == 0 {
+        let corners: Vec<[f64; 2]> = if k.is_multiple_of(2) {
             let wide = long / (1.5 + 2.5 * rng.next());
             [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]]
                 .iter()

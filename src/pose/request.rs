@@ -116,19 +116,20 @@ struct Source {
 /// A field computed from a plate motion, at the parts' friction.
 enum Plays {
     /// A scene's motion with its settings.
-    Scene(crate::motion::Motion, crate::field::FieldSettings),
+    Scene(Box<(crate::motion::Motion, crate::field::FieldSettings)>),
     /// A schedule's segments.
-    Schedule(Schedule),
+    Schedule(Box<Schedule>),
 }
 
 impl Plays {
     /// The point field on `grid` with the parts' friction `f`.
     fn field(&self, grid: &Grid, f: Friction) -> Result<Box<dyn PointField>> {
         Ok(match self {
-            Plays::Scene(motion, settings) => {
+            Plays::Scene(scene) => {
+                let (motion, settings) = scene.as_ref();
                 let settings = crate::field::FieldSettings {
                     friction: f,
-                    ..settings.clone()
+                    ..*settings
                 };
                 let field = Field::compute(motion, grid, FieldKind::Velocity, &settings, &|| {});
                 Box::new(GridField::new(&field))
@@ -159,7 +160,7 @@ fn point_field(source: &Path, friction: Option<Friction>) -> Result<Source> {
             settings.friction = f;
         }
         let motion = scene.motion.to_motion();
-        let plays = Plays::Scene(motion.clone(), settings.clone());
+        let plays = Plays::Scene(Box::new((motion.clone(), settings)));
         return Ok(Source {
             field: plays.field(&scene.grid, settings.friction)?,
             grid: scene.grid,
@@ -190,7 +191,7 @@ fn point_field(source: &Path, friction: Option<Friction>) -> Result<Source> {
             grid,
             path: "schedule.target_spec.grid",
             plate: Some((sm, schedule.settings.physics())),
-            plays: Some(Plays::Schedule(schedule.clone())),
+            plays: Some(Plays::Schedule(Box::new(schedule.clone()))),
             schedule: Some(schedule),
         });
     }
