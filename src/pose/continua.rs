@@ -62,10 +62,9 @@
 //! curve, given by its points. A two-dimensional set of rests (σ₂ slow
 //! too, a region where the field vanishes) is traced along v₃ only.
 
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::{Complex, Matrix3, Vector3};
 
-use super::equilibria::{eigenvalues, wrap, Equilibrium, Region};
-use super::lifted::{LiftedField, Pose, Twist};
+use super::lifted::{wrap, LiftedField, Pose, Region, Twist};
 use crate::dynamics::V2;
 
 /// δ: a drop within this fraction of the part's radius (and this angle,
@@ -108,6 +107,60 @@ pub const LINE_TURN: f64 = 0.017_453_292_519_943_295;
 /// chord is one.
 pub const LINE_BEND: f64 = 0.01;
 
+/// Most iterations of the Schur decomposition behind [`eigenvalues`].
+const SCHUR_ITERATIONS: usize = 1000;
+
+/// The eigenvalues of `j`: from its Schur form, or, where that does not
+/// converge in [`SCHUR_ITERATIONS`] (nalgebra's unbounded one can loop
+/// for ever on an exactly singular Jacobian, a round sink's
+/// diag(−k, −k, 0)), the roots of its characteristic polynomial
+/// λ³ − tr J λ² + c₂ λ − det J (c₂ the sum of its principal 2 × 2 minors)
+/// in closed form.
+///
+/// ```
+/// use nalgebra::Matrix3;
+/// use platefield::pose::eigenvalues;
+/// let e = eigenvalues(&Matrix3::from_diagonal(&nalgebra::Vector3::new(-1.0, -1.0, 0.0)));
+/// let mut re: Vec<f64> = e.iter().map(|z| z.re).collect();
+/// re.sort_by(f64::total_cmp);
+/// assert!((re[0] + 1.0).abs() < 1e-12 && (re[1] + 1.0).abs() < 1e-12 && re[2].abs() < 1e-12);
+/// ```
+pub fn eigenvalues(j: &Matrix3<f64>) -> [Complex<f64>; 3] {
+    if let Some(schur) = nalgebra::Schur::try_new(*j, f64::EPSILON, SCHUR_ITERATIONS) {
+        let e = schur.complex_eigenvalues();
+        return [e[0], e[1], e[2]];
+    }
+    let a = -j.trace();
+    let minor = |p: usize, q: usize| j[(p, p)] * j[(q, q)] - j[(p, q)] * j[(q, p)];
+    let b = minor(0, 1) + minor(0, 2) + minor(1, 2);
+    let c = -j.determinant();
+    cubic_roots(a, b, c)
+}
+
+/// The roots of λ³ + a λ² + b λ + c (Cardano; trigonometric for three
+/// real roots).
+fn cubic_roots(a: f64, b: f64, c: f64) -> [Complex<f64>; 3] {
+    let shift = a / 3.0;
+    let p = b - a * a / 3.0;
+    let q = 2.0 * a * a * a / 27.0 - a * b / 3.0 + c;
+    let disc = (q / 2.0).powi(2) + (p / 3.0).powi(3);
+    let real = |t: f64| Complex::new(t - shift, 0.0);
+    if disc > 0.0 {
+        let root = disc.sqrt();
+        let (u, v) = ((-q / 2.0 + root).cbrt(), (-q / 2.0 - root).cbrt());
+        let im = 0.5 * 3f64.sqrt() * (u - v);
+        let re = -(u + v) / 2.0 - shift;
+        return [real(u + v), Complex::new(re, im), Complex::new(re, -im)];
+    }
+    if p == 0.0 {
+        return [real(0.0); 3];
+    }
+    let r = (-p / 3.0).sqrt();
+    let phi = (-q / (2.0 * r * r * r)).clamp(-1.0, 1.0).acos();
+    let tau = std::f64::consts::TAU;
+    [0.0, 1.0, 2.0].map(|k| real(2.0 * r * ((phi + tau * k) / 3.0).cos()))
+}
+
 /// The lifted field in scaled coordinates (module docs).
 pub(crate) struct Scaled<'a, 'b> {
     lifted: &'b LiftedField<'a>,
@@ -133,7 +186,7 @@ impl<'a, 'b> Scaled<'a, 'b> {
     }
 
     /// f̃ at `q`.
-    fn f(&self, q: &Vector3<f64>) -> Vector3<f64> {
+    pub(crate) fn f(&self, q: &Vector3<f64>) -> Vector3<f64> {
         self.scale_twist(&self.lifted.twist(self.pose(q)))
     }
 
@@ -148,7 +201,7 @@ impl<'a, 'b> Scaled<'a, 'b> {
     }
 
     /// J̃ at `q`.
-    fn j(&self, q: &Vector3<f64>) -> Matrix3<f64> {
+    pub(crate) fn j(&self, q: &Vector3<f64>) -> Matrix3<f64> {
         self.scale_jacobian(&self.lifted.jacobian(self.pose(q)))
     }
 
@@ -162,9 +215,9 @@ impl<'a, 'b> Scaled<'a, 'b> {
 /// The singular values of J̃, largest first, with their vectors.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Spectrum {
-    sigma: [f64; 3],
-    u: [Vector3<f64>; 3],
-    v: [Vector3<f64>; 3],
+    pub(crate) sigma: [f64; 3],
+    pub(crate) u: [Vector3<f64>; 3],
+    pub(crate) v: [Vector3<f64>; 3],
 }
 
 impl Spectrum {
@@ -693,40 +746,6 @@ fn shape_of(points: &[Pose], closed: bool) -> Shape {
         };
     }
     Shape::Curve
-}
-
-/// Full Newton on the lifted field from `start` (a drift zero on a
-/// curve): the zero within the region, or `None`.
-pub(crate) fn refine_zero(
-    lifted: &LiftedField<'_>,
-    start: Pose,
-    region: &Region,
-    tol: f64,
-) -> Option<Equilibrium> {
-    let s = Scaled::new(lifted);
-    let mut q = s.of(start);
-    for _ in 0..40 {
-        let f = s.f(&q);
-        let j = s.j(&q);
-        if f.norm() <= tol {
-            let pose = s.pose(&q);
-            let pose = Pose::new(pose.r.x, pose.r.y, wrap(pose.theta));
-            return region
-                .contains(&pose.r)
-                .then(|| Equilibrium::of_jacobian(pose, &lifted.jacobian(pose)));
-        }
-        let spec = Spectrum::of(&j);
-        // All three components: σ₃ is small on a slow curve, not zero.
-        let mut step = spec.fast_step(&f);
-        if spec.sigma[2] > 0.0 {
-            step += spec.v[2] * (-spec.u[2].dot(&f) / spec.sigma[2]);
-        }
-        q += cut(step);
-        if !q.iter().all(|x| x.is_finite()) {
-            return None;
-        }
-    }
-    None
 }
 
 #[cfg(test)]

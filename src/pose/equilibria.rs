@@ -19,7 +19,7 @@
 //! of a stable equilibrium (then it counts for that one), leaves the
 //! region, or runs 20000 steps (then it counts for none).
 
-use nalgebra::{Complex, Matrix3, Vector3};
+use nalgebra::{Matrix3, Vector3};
 
 /// Most RK4 steps of one drop ([`settle`]).
 pub(crate) const SETTLE_STEPS: usize = 20000;
@@ -27,46 +27,10 @@ pub(crate) const SETTLE_STEPS: usize = 20000;
 /// radians of turn).
 pub(crate) const SETTLE_STEP: f64 = 0.02;
 
-use super::continua::{self, cut, refine_zero, Continuum, Destination, Scaled, Spectrum, ARRIVE};
+use super::continua::{self, cut, eigenvalues, Continuum, Destination, Scaled, Spectrum, ARRIVE};
+pub use super::lifted::{wrap, Region};
 use super::lifted::{LiftedField, Pose};
 use crate::dynamics::V2;
-
-/// A rectangular region of the plate the part's centre must stay in (m).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Region {
-    /// [xmin, xmax].
-    pub x: [f64; 2],
-    /// [ymin, ymax].
-    pub y: [f64; 2],
-}
-
-impl Region {
-    /// True when `r` lies in the region (edges included).
-    pub fn contains(&self, r: &V2) -> bool {
-        (self.x[0]..=self.x[1]).contains(&r.x) && (self.y[0]..=self.y[1]).contains(&r.y)
-    }
-
-    /// The region shrunk by `margin` on every side (to its centre line
-    /// along an axis narrower than 2 `margin`).
-    pub fn inset(&self, margin: f64) -> Region {
-        let shrink = |a: [f64; 2]| {
-            let m = margin.min(0.5 * (a[1] - a[0]));
-            [a[0] + m, a[1] - m]
-        };
-        Region {
-            x: shrink(self.x),
-            y: shrink(self.y),
-        }
-    }
-
-    /// A point of the region from two numbers in [0, 1].
-    pub fn at(&self, u: f64, v: f64) -> V2 {
-        V2::new(
-            self.x[0] + (self.x[1] - self.x[0]) * u,
-            self.y[0] + (self.y[1] - self.y[0]) * v,
-        )
-    }
-}
 
 /// One equilibrium pose.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -77,70 +41,6 @@ pub struct Equilibrium {
     pub stable: bool,
     /// The eigenvalues' real parts, largest first (1/s).
     pub rates: [f64; 3],
-}
-
-/// Most iterations of the Schur decomposition behind [`eigenvalues`].
-const SCHUR_ITERATIONS: usize = 1000;
-
-/// The eigenvalues of `j`: from its Schur form, or, where that does not
-/// converge in [`SCHUR_ITERATIONS`] (nalgebra's unbounded one can loop
-/// for ever on an exactly singular Jacobian, a round sink's
-/// diag(−k, −k, 0)), the roots of its characteristic polynomial
-/// λ³ − tr J λ² + c₂ λ − det J (c₂ the sum of its principal 2 × 2 minors)
-/// in closed form.
-///
-/// ```
-/// use nalgebra::Matrix3;
-/// use platefield::pose::eigenvalues;
-/// let e = eigenvalues(&Matrix3::from_diagonal(&nalgebra::Vector3::new(-1.0, -1.0, 0.0)));
-/// let mut re: Vec<f64> = e.iter().map(|z| z.re).collect();
-/// re.sort_by(f64::total_cmp);
-/// assert!((re[0] + 1.0).abs() < 1e-12 && (re[1] + 1.0).abs() < 1e-12 && re[2].abs() < 1e-12);
-/// ```
-pub fn eigenvalues(j: &Matrix3<f64>) -> [Complex<f64>; 3] {
-    if let Some(schur) = nalgebra::Schur::try_new(*j, f64::EPSILON, SCHUR_ITERATIONS) {
-        let e = schur.complex_eigenvalues();
-        return [e[0], e[1], e[2]];
-    }
-    let a = -j.trace();
-    let minor = |p: usize, q: usize| j[(p, p)] * j[(q, q)] - j[(p, q)] * j[(q, p)];
-    let b = minor(0, 1) + minor(0, 2) + minor(1, 2);
-    let c = -j.determinant();
-    cubic_roots(a, b, c)
-}
-
-/// The roots of λ³ + a λ² + b λ + c (Cardano; trigonometric for three
-/// real roots).
-fn cubic_roots(a: f64, b: f64, c: f64) -> [Complex<f64>; 3] {
-    let shift = a / 3.0;
-    let p = b - a * a / 3.0;
-    let q = 2.0 * a * a * a / 27.0 - a * b / 3.0 + c;
-    let disc = (q / 2.0).powi(2) + (p / 3.0).powi(3);
-    let real = |t: f64| Complex::new(t - shift, 0.0);
-    if disc > 0.0 {
-        let root = disc.sqrt();
-        let (u, v) = ((-q / 2.0 + root).cbrt(), (-q / 2.0 - root).cbrt());
-        let im = 0.5 * 3f64.sqrt() * (u - v);
-        let re = -(u + v) / 2.0 - shift;
-        return [real(u + v), Complex::new(re, im), Complex::new(re, -im)];
-    }
-    if p == 0.0 {
-        return [real(0.0); 3];
-    }
-    let r = (-p / 3.0).sqrt();
-    let phi = (-q / (2.0 * r * r * r)).clamp(-1.0, 1.0).acos();
-    let tau = std::f64::consts::TAU;
-    [0.0, 1.0, 2.0].map(|k| real(2.0 * r * ((phi + tau * k) / 3.0).cos()))
-}
-
-/// θ wrapped into (−π, π].
-pub fn wrap(theta: f64) -> f64 {
-    let t = theta.rem_euclid(std::f64::consts::TAU);
-    if t > std::f64::consts::PI {
-        t - std::f64::consts::TAU
-    } else {
-        t
-    }
 }
 
 /// Speed scale of the lifted field over the region: the largest |v| + |ω|R
@@ -360,6 +260,81 @@ pub fn rests(lifted: &LiftedField<'_>, region: &Region) -> Rests {
     }
 }
 
+/// Full Newton on the lifted field from `start` (a drift zero on a
+/// curve): the zero within the region, or `None`.
+fn refine_zero(
+    lifted: &LiftedField<'_>,
+    start: Pose,
+    region: &Region,
+    tol: f64,
+) -> Option<Equilibrium> {
+    let s = Scaled::new(lifted);
+    let mut q = s.of(start);
+    for _ in 0..40 {
+        let f = s.f(&q);
+        let j = s.j(&q);
+        if f.norm() <= tol {
+            let pose = s.pose(&q);
+            let pose = Pose::new(pose.r.x, pose.r.y, wrap(pose.theta));
+            return region
+                .contains(&pose.r)
+                .then(|| Equilibrium::of_jacobian(pose, &lifted.jacobian(pose)));
+        }
+        let spec = Spectrum::of(&j);
+        // All three components: σ₃ is small on a slow curve, not zero.
+        let mut step = spec.fast_step(&f);
+        if spec.sigma[2] > 0.0 {
+            step += spec.v[2] * (-spec.u[2].dot(&f) / spec.sigma[2]);
+        }
+        q += cut(step);
+        if !q.iter().all(|x| x.is_finite()) {
+            return None;
+        }
+    }
+    None
+}
+
+/// Whether a drop at `pose` has arrived on one of the `attracting`
+/// continua (within [`ARRIVE`]) and where the flow along it takes it:
+/// `Some(end)` to stop there (`None` inside: it drifts out of the
+/// region), `None` to go on integrating.
+fn arrival(
+    scaled: &Scaled<'_, '_>,
+    pose: &Pose,
+    stable: &[Equilibrium],
+    attracting: &[(usize, &Continuum)],
+    step: f64,
+) -> Option<Option<End>> {
+    for (k, c) in attracting {
+        let (d, i) = c.distance(pose);
+        if d > ARRIVE {
+            continue;
+        }
+        match c.destination(i) {
+            Destination::Rest(_) | Destination::Around => return Some(Some(End::On(*k))),
+            Destination::Zero(z) => {
+                let at = scaled.of(z);
+                let k = stable
+                    .iter()
+                    .map(|e| {
+                        let mut d = scaled.of(e.pose) - at;
+                        d.z = wrap(d.z);
+                        d.norm()
+                    })
+                    .enumerate()
+                    .min_by(|a, b| a.1.total_cmp(&b.1))
+                    .filter(|(_, d)| *d <= 2.0 * step);
+                if let Some((k, _)) = k {
+                    return Some(Some(End::At(k)));
+                }
+            }
+            Destination::Leaves => return Some(None),
+            Destination::Off => {}
+        }
+    }
+    None
+}
+
 /// Where a drop ends ([`settle_on`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum End {
@@ -423,32 +398,8 @@ pub fn settle_on(
             return None;
         }
         let pose = Pose::new(q.x, q.y, q.z);
-        for (k, c) in &attracting {
-            let (d, i) = c.distance(&pose);
-            if d > ARRIVE {
-                continue;
-            }
-            match c.destination(i) {
-                Destination::Rest(_) | Destination::Around => return Some(End::On(*k)),
-                Destination::Zero(z) => {
-                    let at = scaled.of(z);
-                    let k = stable
-                        .iter()
-                        .map(|e| {
-                            let mut d = scaled.of(e.pose) - at;
-                            d.z = wrap(d.z);
-                            d.norm()
-                        })
-                        .enumerate()
-                        .min_by(|a, b| a.1.total_cmp(&b.1))
-                        .filter(|(_, d)| *d <= 2.0 * step);
-                    if let Some((k, _)) = k {
-                        return Some(End::At(k));
-                    }
-                }
-                Destination::Leaves => return None,
-                Destination::Off => {}
-            }
+        if let Some(end) = arrival(&scaled, &pose, stable, &attracting, step) {
+            return end;
         }
         let f = |q: &Vector3<f64>| lifted.twist3(q);
         let k1 = f(&q);

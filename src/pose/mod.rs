@@ -27,14 +27,12 @@ pub use averaged::{
 };
 pub use bounds::Bounds;
 pub use check::{check_twist, Measure, TwistCheck};
-pub use continua::{Continuum, Destination, Motion, Shape, Stop, ARRIVE, GAP};
+pub use continua::{eigenvalues, Continuum, Destination, Motion, Shape, Stop, ARRIVE, GAP};
 pub use drops::{
     nearest, play_drop, play_drop_tracked, play_drops, play_part, played_basins, DropEnd, DropPlay,
     PlanarPlayer, PlayedBasins, DROP_REFINE_DEPTH, DROP_SAMPLES,
 };
-pub use equilibria::{
-    eigenvalues, equilibria, rests, settle, settle_on, wrap, End, Equilibrium, Region, Rests,
-};
+pub use equilibria::{equilibria, rests, settle, settle_on, wrap, End, Equilibrium, Region, Rests};
 pub use lifted::{GridField, LiftedField, PointField, Pose, Twist};
 pub use refine::{refine, Refined, Refinement, MAX_NEWTON, MAX_REFINED, STOP};
 pub use request::{check_counts, poses, PoseOutcome, PoseRequest, MAX_PLAY_S, SCAN};
