@@ -61,6 +61,28 @@ impl Runtime {
     pub(crate) fn admit(&self, estimate: &Estimate) -> Result<()> {
         estimate.admit(self.allow_long, self.quiet)
     }
+
+    /// [`Estimate::check`] of `estimate` under this long-run guard, then
+    /// its [`Estimate::announcement`] on stderr whenever there is one,
+    /// `quiet` or not (work expected past `ANNOUNCE_S` always says so
+    /// first); returns the progress mode for the work: shown unless
+    /// `quiet`, and when the work is that long also under `quiet`.
+    ///
+    /// ```
+    /// use platefield::progress::ProgressMode;
+    /// use platefield::work::{Estimate, Runtime, Term};
+    /// let short = Estimate::new("--drops", "settling", "--drops").plus(Term::new("a").times(1e3, "steps"));
+    /// assert_eq!(Runtime::QUIET.admit_stated(&short)?, ProgressMode::Quiet);
+    /// let long = Estimate::new("--drops", "settling", "--drops").plus(Term::new("a").times(1e8, "steps"));
+    /// assert_eq!(Runtime::QUIET.admit_stated(&long)?, ProgressMode::Auto);
+    /// # Ok::<(), platefield::Error>(())
+    /// ```
+    pub fn admit_stated(&self, estimate: &Estimate) -> Result<crate::progress::ProgressMode> {
+        estimate.check(self.allow_long)?;
+        estimate.announce(false);
+        let long = estimate.announcement(threads()).is_some();
+        Ok(crate::progress::ProgressMode::quiet_if(self.quiet && !long))
+    }
 }
 
 /// Seconds per RK4 step of one point part on one core: a stated, slightly

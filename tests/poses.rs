@@ -743,6 +743,7 @@ fn averaged_equilibria_are_played_rests() {
             source: source.into(),
             drops: 20,
             play: None,
+            friction: None,
             runtime: platefield::work::Runtime::QUIET,
         })
         .unwrap();

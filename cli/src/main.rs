@@ -72,26 +72,8 @@ enum Command {
         #[command(flatten)]
         long: AllowLong,
     },
-    /// Equilibrium poses of a part with planar extent in a target's, scene's or schedule's field, their stability and basins.
-    Poses {
-        /// The part file (targets/parts/*.json).
-        part: PathBuf,
-        /// A target (its requested field), a scene (its velocity field) or a designed schedule (the time-weighted field of its segments).
-        source: PathBuf,
-        /// Random drops for the basin fractions.
-        #[arg(long, default_value_t = 200)]
-        drops: usize,
-        /// Also play every drop with the planar simulator for this many seconds through the schedule (schedule sources only) and report the played basins.
-        #[arg(long)]
-        play: Option<f64>,
-        /// Write poses.json and poses.svg into this folder.
-        #[arg(long)]
-        out: Option<PathBuf>,
-        #[command(flatten)]
-        json: Json,
-        #[command(flatten)]
-        long: cli::AllowLong,
-    },
+    /// Equilibrium poses and continua of rest of a part with planar extent in a target's, scene's or schedule's field, their stability and basins.
+    Poses(cli::poses::PosesArgs),
     /// Friction from camera tracks: μ_s, μ_k (and --scale, the delivered amplitude) with 95 % intervals from parts observed under a played schedule; JSON on stdout, report.md and plots in --out (--simulate: synthetic tracks).
     Calibrate(cli::calibrate::CalibrateArgs),
     /// Laboratory studies: the paper's results reproduced, model rungs, speed and accuracy; each regenerates its files in results/.
@@ -275,23 +257,7 @@ fn run(cli: Cli) -> Result<String> {
             quiet.quiet,
             long.allow_long,
         ),
-        Command::Poses {
-            part,
-            source,
-            drops,
-            play,
-            out,
-            json,
-            long,
-        } => cli::poses::run(
-            &part,
-            &source,
-            drops,
-            play,
-            json.json,
-            out.as_deref(),
-            long.allow_long,
-        ),
+        Command::Poses(args) => args.run(),
         Command::Study(study) => run_study(study),
     }
 }

@@ -759,10 +759,13 @@ fn poses_work_is_bounded_and_stated() {
         "thin.json",
         vec![[0.0, 0.0], [2e-8, 0.0], [2e-8, 1e-8], [0.0, 1e-8]],
     );
+    // 20000 steps a drop: 1000 drops are over the limit.
     let (code, _, err) = platefield(&[
         "poses",
         &thin,
         concat!(env!("CARGO_MANIFEST_DIR"), "/../targets/sink.json"),
+        "--drops",
+        "1000",
     ]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("settling the drops would take about"), "{err}");

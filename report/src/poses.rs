@@ -6,9 +6,11 @@ use std::fmt::Write as _;
 use serde_json::{json, Value};
 
 use crate::plot::{escape, num};
+use platefield::dynamics::Friction;
 use platefield::part::Part;
 use platefield::pose::{
-    Equilibrium, LiftCheck, PlayedBasins, Pose, PoseAnalysis, Refined, Refinement, Twist,
+    Continuum, Equilibrium, LiftCheck, Motion, PlayedBasins, Pose, PoseAnalysis, Refined,
+    Refinement, Shape, Twist,
 };
 
 pub use platefield::pose::SCAN;
@@ -153,6 +155,217 @@ fn bounds_json(kept: &[Pose]) -> Value {
     })
 }
 
+/// The spin range of `c` in °/s.
+fn spin_deg(c: &Continuum) -> [f64; 2] {
+    c.spin_range().map(f64::to_degrees)
+}
+
+/// The neutral bound of `c` in its own units: °/s for a curve through
+/// every angle, mm/s otherwise (its smallest over the points).
+fn neutral_text(c: &Continuum) -> String {
+    let least = c.neutral.iter().copied().fold(f64::INFINITY, f64::min);
+    match c.shape {
+        Shape::AnyAngle { .. } => format!("{:.2e}°/s", least.to_degrees()),
+        _ => format!("{:.2e} mm/s", 1e3 * least * c.radius),
+    }
+}
+
+/// Where `c` is, in words: "at (x, y) mm (within d mm), any angle", "on
+/// the line from … to … mm (L mm), at θ", or a curve's ends.
+pub fn continuum_place(c: &Continuum) -> String {
+    match c.shape {
+        Shape::AnyAngle { at, spread } => format!(
+            "at ({:+.2}, {:+.2}) mm (within {:.3} mm), any angle",
+            1e3 * at.x,
+            1e3 * at.y,
+            1e3 * spread
+        ),
+        Shape::Line {
+            from,
+            to,
+            theta,
+            ..
+        } => format!(
+            "anywhere on the line from ({:+.2}, {:+.2}) to ({:+.2}, {:+.2}) mm ({:.1} mm), at θ {:+.2}°",
+            1e3 * from.x,
+            1e3 * from.y,
+            1e3 * to.x,
+            1e3 * to.y,
+            1e3 * (to - from).norm(),
+            theta.to_degrees()
+        ),
+        Shape::Curve => {
+            let at = |p: &Pose| {
+                format!(
+                    "({:+.2} mm, {:+.2} mm, {:+.2}°)",
+                    1e3 * p.r.x,
+                    1e3 * p.r.y,
+                    p.theta.to_degrees()
+                )
+            };
+            let (first, last) = (c.points[0], c.points[c.points.len() - 1]);
+            format!(
+                "on a {}curve of {} poses from {} to {}",
+                if c.closed { "closed " } else { "" },
+                c.points.len(),
+                at(&first),
+                at(&last)
+            )
+        }
+    }
+}
+
+/// How a part moves on `c`, in words.
+pub fn continuum_motion(c: &Continuum) -> String {
+    let [lo, hi] = spin_deg(c);
+    let turning = matches!(c.shape, Shape::AnyAngle { .. });
+    match c.motion() {
+        Motion::Rest => format!(
+            "neutral: it stays where it arrives (the drift along it is below {} everywhere)",
+            neutral_text(c)
+        ),
+        Motion::Around if turning => {
+            let slowest = lo.abs().min(hi.abs());
+            format!(
+                "it keeps turning at {lo:+.2}…{hi:+.2}°/s (a half turn in at most {:.0} s): the angle it shows depends on when the plate stops",
+                180.0 / slowest
+            )
+        }
+        Motion::Around => format!(
+            "it keeps going round it at up to {:.3} mm/s and {:.2}°/s",
+            1e3 * c.top_speed(),
+            lo.abs().max(hi.abs())
+        ),
+        Motion::Drifts if turning => format!(
+            "it turns slowly (at most {:.3}°/s) towards the isolated rests on it (listed above)",
+            lo.abs().max(hi.abs())
+        ),
+        Motion::Drifts => format!(
+            "it drifts slowly along it (at most {:.3} mm/s, {:.3}°/s) towards the isolated rests on it or off its ends",
+            1e3 * c.top_speed(),
+            lo.abs().max(hi.abs())
+        ),
+    }
+}
+
+/// One summary line per continuum.
+fn continuum_lines(a: &PoseAnalysis) -> String {
+    let mut s = String::new();
+    for (c, b) in a.continua.iter().zip(&a.continuum_basins) {
+        let _ = writeln!(
+            s,
+            "  rests {}; {}; {}, basin {:.1} %",
+            continuum_place(c),
+            continuum_motion(c),
+            if c.attracting() {
+                "attracting"
+            } else {
+                "not attracting (unstable across it)"
+            },
+            100.0 * b
+        );
+    }
+    s
+}
+
+/// A continuum as JSON.
+fn continuum_json(c: &Continuum, basin: f64) -> Value {
+    let shape = match c.shape {
+        Shape::AnyAngle { at, spread } => {
+            json!({"kind": "any_angle", "x": at.x, "y": at.y, "spread": spread})
+        }
+        Shape::Line {
+            from,
+            to,
+            theta,
+            bend,
+        } => json!({"kind": "line", "from": [from.x, from.y], "to": [to.x, to.y],
+                     "theta_deg": theta.to_degrees(), "bend": bend}),
+        Shape::Curve => json!({"kind": "curve"}),
+    };
+    let motion = match c.motion() {
+        Motion::Rest => "rest",
+        Motion::Around => "around",
+        Motion::Drifts => "drifts",
+    };
+    let points: Vec<Value> = c
+        .points
+        .iter()
+        .map(|p| json!([p.r.x, p.r.y, p.theta.to_degrees()]))
+        .collect();
+    json!({
+        "shape": shape,
+        "motion": motion,
+        "text": format!("rests {}; {}", continuum_place(c), continuum_motion(c)),
+        "attracting": c.attracting(),
+        "basin": basin,
+        "closed": c.closed,
+        "spin_deg_per_s": spin_deg(c),
+        "top_speed": c.top_speed(),
+        "transverse_rate": c.transverse,
+        "points": points,
+    })
+}
+
+/// The analyses over a friction range as JSON: per value its friction,
+/// equilibria, continua and unsettled fraction.
+pub fn over_friction_json(at: &[(Friction, PoseAnalysis)]) -> Value {
+    Value::Array(
+        at.iter()
+            .map(|(f, a)| {
+                let eq: Vec<Value> = a
+                    .equilibria
+                    .iter()
+                    .zip(&a.basins)
+                    .map(|(e, b)| {
+                        json!({"x": e.pose.r.x, "y": e.pose.r.y, "theta_deg": e.pose.theta.to_degrees(),
+                               "stable": e.stable, "basin": b, "rates": e.rates})
+                    })
+                    .collect();
+                let continua: Vec<Value> = a
+                    .continua
+                    .iter()
+                    .zip(&a.continuum_basins)
+                    .map(|(c, b)| continuum_json(c, *b))
+                    .collect();
+                json!({"friction": {"static": f.stat, "kinetic": f.kinetic},
+                       "equilibria": eq, "continua": continua, "unsettled": a.unsettled})
+            })
+            .collect(),
+    )
+}
+
+/// The analyses over a friction range in words: per value its stable
+/// equilibria and continua with their basins (empty for one friction).
+pub fn over_friction_lines(at: &[(Friction, PoseAnalysis)]) -> String {
+    let mut s = String::new();
+    if at.is_empty() {
+        return s;
+    }
+    let _ = writeln!(s, "over the friction range ({} values):", at.len());
+    for (f, a) in at {
+        let mu = if f.stat == f.kinetic {
+            format!("μ {}", f.kinetic)
+        } else {
+            format!("μ_s {} μ_k {}", f.stat, f.kinetic)
+        };
+        let _ = writeln!(
+            s,
+            "at {mu}: {} equilibria ({} stable), {} continu{}, {:.1} % unsettled",
+            a.equilibria.len(),
+            a.equilibria.iter().filter(|e| e.stable).count(),
+            a.continua.len(),
+            if a.continua.len() == 1 { "um" } else { "a" },
+            100.0 * a.unsettled
+        );
+        for (e, b) in a.equilibria.iter().zip(&a.basins).filter(|(e, _)| e.stable) {
+            let _ = writeln!(s, "  {}  basin {:.1} %", equilibrium_text(e), 100.0 * b);
+        }
+        s.push_str(&continuum_lines(a));
+    }
+    s
+}
+
 /// The played basins as JSON.
 fn played_json(p: &PlayedBasins) -> Value {
     json!({
@@ -166,7 +379,9 @@ fn played_json(p: &PlayedBasins) -> Value {
 }
 
 /// `{"part", "support", "equilibria": [{"x", "y", "theta_deg", "stable",
-/// "basin", "rates"}], "drops", "unsettled", "basins_by"}` (positions in m),
+/// "basin", "rates"}], "continua": [{"shape", "motion", "text",
+/// "attracting", "basin", …, "points"}], "drops", "unsettled",
+/// "basins_by", "continua_by"}` (positions in m),
 /// with `"played"`, `"bounds"`, `"lifted_check"`, `"averaged_equilibria"`
 /// and `"averaged_skipped"` when `extras` holds them.
 pub fn to_json(part: &Part, a: &PoseAnalysis, extras: &Extras<'_>) -> Value {
@@ -192,13 +407,21 @@ pub fn to_json(part: &Part, a: &PoseAnalysis, extras: &Extras<'_>) -> Value {
         platefield::part::Support::Points { .. } => "listed points",
         platefield::part::Support::Uniform { .. } => "uniform",
     };
+    let continua: Vec<Value> = a
+        .continua
+        .iter()
+        .zip(&a.continuum_basins)
+        .map(|(c, b)| continuum_json(c, *b))
+        .collect();
     let mut out = json!({
         "part": part.name,
         "support": support,
         "equilibria": eq,
+        "continua": continua,
         "drops": a.drops,
         "unsettled": a.unsettled,
-        "basins_by": "drops integrated along the lifted field (pose::settle)",
+        "basins_by": "drops integrated along the lifted field (pose::settle_on)",
+        "continua_by": "where the lifted field's Jacobian (position in part radii R, angle in rad) has a singular value below 0.1/ln(1/δ) of the next (δ = 1e-3: a drop's arrival tolerance), the slow curve through the pose is traced; it is a rest where the drift along it moves the part less than δ while the transverse directions settle to δ (|drift| ≤ δ σ₂ / ln(1/δ)); points are [x (m), y (m), θ (°)] (pose::rests)",
     });
     if let Some(p) = extras.played {
         out["played"] = played_json(p);
@@ -221,8 +444,13 @@ pub fn to_json(part: &Part, a: &PoseAnalysis, extras: &Extras<'_>) -> Value {
 /// One line per equilibrium (with its played basin when played), then the
 /// bounds' size.
 pub fn summary(part: &Part, a: &PoseAnalysis, extras: &Extras<'_>) -> String {
+    let continua = match a.continua.len() {
+        0 => String::new(),
+        1 => ", 1 continuum".to_string(),
+        n => format!(", {n} continua"),
+    };
     let mut s = format!(
-        "{}: {} equilibria ({} stable), {} drops, {:.1} % unsettled\n",
+        "{}: {} equilibria ({} stable){continua}, {} drops, {:.1} % unsettled\n",
         part.name,
         a.equilibria.len(),
         a.equilibria.iter().filter(|e| e.stable).count(),
@@ -241,6 +469,7 @@ pub fn summary(part: &Part, a: &PoseAnalysis, extras: &Extras<'_>) -> String {
             100.0 * b
         );
     }
+    s.push_str(&continuum_lines(a));
     if let Some(p) = extras.played {
         let _ = writeln!(
             s,
@@ -261,7 +490,7 @@ pub fn summary(part: &Part, a: &PoseAnalysis, extras: &Extras<'_>) -> String {
     if let Some(c) = extras.lift_check {
         s.push_str(&lift_check_line(c));
     }
-    if let Some(r) = extras.refined {
+    if let Some(r) = extras.refined.filter(|r| !r.is_empty()) {
         s.push_str(&refined_lines(r));
     }
     if let Some(why) = extras.averaged_skipped {
@@ -325,6 +554,8 @@ fn theta_panels(s: &mut String, a: &PoseAnalysis, w: f64, top: f64) {
         end.and_then(|i| stable.iter().position(|&k| k == i))
             .map_or("#999", |k| BASIN_COLOURS[k % BASIN_COLOURS.len()])
     };
+    // A continuum's colour follows the stable poses'.
+    let on = |k: usize| BASIN_COLOURS[(stable.len() + k) % BASIN_COLOURS.len()];
     let starts = platefield::pose::drop_starts(&a.starts, a.drops);
     let theta_y = |t: f64| y0 + height * (0.5 - t / std::f64::consts::TAU);
     for (panel, (name, range)) in [("x", a.region.x), ("y", a.region.y)].iter().enumerate() {
@@ -339,13 +570,43 @@ fn theta_panels(s: &mut String, a: &PoseAnalysis, w: f64, top: f64) {
             num(height)
         );
         let coord = |p: &Pose| if panel == 0 { p.r.x } else { p.r.y };
-        for (p, end) in starts.iter().zip(&a.ends) {
+        for ((p, end), cont) in starts.iter().zip(&a.ends).zip(&a.continuum_ends) {
             let _ = writeln!(
                 s,
                 "<circle cx=\"{}\" cy=\"{}\" r=\"2\" fill=\"{}\"/>",
                 num(px(coord(p))),
                 num(theta_y(p.theta)),
-                colour(*end)
+                cont.map_or_else(|| colour(*end), on)
+            );
+        }
+        for (k, c) in a.continua.iter().enumerate() {
+            // θ against the coordinate, broken where θ wraps.
+            let mut path = String::new();
+            let mut last: Option<f64> = None;
+            let n = c.points.len() + usize::from(c.closed);
+            for i in 0..n {
+                let p = &c.points[i % c.points.len()];
+                let t = platefield::pose::wrap(p.theta);
+                let jump = last.is_some_and(|l| (t - l).abs() > std::f64::consts::PI);
+                let _ = write!(
+                    path,
+                    "{}{},{} ",
+                    if last.is_none() || jump { "M" } else { "L" },
+                    num(px(coord(p))),
+                    num(theta_y(t))
+                );
+                last = Some(t);
+            }
+            let dash = if c.attracting() {
+                ""
+            } else {
+                " stroke-dasharray=\"4 3\""
+            };
+            let _ = writeln!(
+                s,
+                "<path d=\"{}\" fill=\"none\" stroke=\"{}\" stroke-width=\"3\"{dash}/>",
+                path.trim_end(),
+                on(k)
             );
         }
         for (i, e) in a.equilibria.iter().enumerate() {
@@ -382,7 +643,7 @@ fn theta_panels(s: &mut String, a: &PoseAnalysis, w: f64, top: f64) {
     );
     let _ = writeln!(
         s,
-        "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\" fill=\"#555\">(ring: stable pose; open ring: unstable; grey: unsettled)</text>",
+        "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\" fill=\"#555\">(ring: stable pose; open ring: unstable; thick line: a continuum of rest, dashed when unstable; grey: unsettled)</text>",
         num(w / 2.0),
         num(y0 + height + 54.0)
     );
@@ -455,9 +716,54 @@ fn region_panel(part: &Part, a: &PoseAnalysis, w: f64, h: f64, pad: f64) -> Stri
             );
         }
     }
+    let stable = a.equilibria.iter().filter(|e| e.stable).count();
+    for (k, (c, b)) in a.continua.iter().zip(&a.continuum_basins).enumerate() {
+        let colour = BASIN_COLOURS[(stable + k) % BASIN_COLOURS.len()];
+        let dash = if c.attracting() {
+            ""
+        } else {
+            " stroke-dasharray=\"4 3\""
+        };
+        // The part at twelve poses spread along the curve, and the curve's
+        // positions as a thick line.
+        for i in 0..12usize.min(c.points.len()) {
+            let p = c.points[i * c.points.len() / 12usize.min(c.points.len())];
+            let pts: Vec<String> = part
+                .placed(p.r, p.theta)
+                .iter()
+                .map(|q| format!("{},{}", num(px(q.x)), num(py(q.y))))
+                .collect();
+            let _ = writeln!(
+                s,
+                "<polygon points=\"{}\" fill=\"none\" stroke=\"{colour}\" stroke-opacity=\"0.45\"{dash}/>",
+                pts.join(" ")
+            );
+        }
+        let path: Vec<String> = c
+            .points
+            .iter()
+            .map(|p| format!("{},{}", num(px(p.r.x)), num(py(p.r.y))))
+            .collect();
+        let _ = writeln!(
+            s,
+            "<polyline points=\"{}\" fill=\"none\" stroke=\"{colour}\" stroke-width=\"4\"{dash}/><circle cx=\"{}\" cy=\"{}\" r=\"3\" fill=\"{colour}\"/>",
+            path.join(" "),
+            num(px(c.points[0].r.x)),
+            num(py(c.points[0].r.y))
+        );
+        labels += 1;
+        let _ = writeln!(
+            s,
+            "<text x=\"{}\" y=\"{}\" fill=\"{colour}\">rests {}: basin {:.0} %</text>",
+            num(pad + 6.0),
+            num(pad + 16.0 * labels as f64),
+            escape(&continuum_place(c)),
+            100.0 * b
+        );
+    }
     let _ = writeln!(
         s,
-        "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\" fill=\"#555\">filled: stable (θ, basin); dashed: unstable; box: region {} × {} mm</text>",
+        "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\" fill=\"#555\">filled: stable (θ, basin); dashed: unstable; thick line: a continuum of rest (the part drawn along it); box: region {} × {} mm</text>",
         num(w / 2.0),
         num(h - 12.0),
         num(1e3 * (x1 - x0)),

@@ -27,45 +27,10 @@ pub(crate) const SETTLE_STEPS: usize = 20000;
 /// radians of turn).
 pub(crate) const SETTLE_STEP: f64 = 0.02;
 
+use super::continua::{self, cut, eigenvalues, Continuum, Destination, Scaled, Spectrum, ARRIVE};
+pub use super::lifted::{wrap, Region};
 use super::lifted::{LiftedField, Pose};
 use crate::dynamics::V2;
-
-/// A rectangular region of the plate the part's centre must stay in (m).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Region {
-    /// [xmin, xmax].
-    pub x: [f64; 2],
-    /// [ymin, ymax].
-    pub y: [f64; 2],
-}
-
-impl Region {
-    /// True when `r` lies in the region (edges included).
-    pub fn contains(&self, r: &V2) -> bool {
-        (self.x[0]..=self.x[1]).contains(&r.x) && (self.y[0]..=self.y[1]).contains(&r.y)
-    }
-
-    /// The region shrunk by `margin` on every side (to its centre line
-    /// along an axis narrower than 2 `margin`).
-    pub fn inset(&self, margin: f64) -> Region {
-        let shrink = |a: [f64; 2]| {
-            let m = margin.min(0.5 * (a[1] - a[0]));
-            [a[0] + m, a[1] - m]
-        };
-        Region {
-            x: shrink(self.x),
-            y: shrink(self.y),
-        }
-    }
-
-    /// A point of the region from two numbers in [0, 1].
-    pub fn at(&self, u: f64, v: f64) -> V2 {
-        V2::new(
-            self.x[0] + (self.x[1] - self.x[0]) * u,
-            self.y[0] + (self.y[1] - self.y[0]) * v,
-        )
-    }
-}
 
 /// One equilibrium pose.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -76,16 +41,6 @@ pub struct Equilibrium {
     pub stable: bool,
     /// The eigenvalues' real parts, largest first (1/s).
     pub rates: [f64; 3],
-}
-
-/// θ wrapped into (−π, π].
-pub fn wrap(theta: f64) -> f64 {
-    let t = theta.rem_euclid(std::f64::consts::TAU);
-    if t > std::f64::consts::PI {
-        t - std::f64::consts::TAU
-    } else {
-        t
-    }
 }
 
 /// Speed scale of the lifted field over the region: the largest |v| + |ω|R
@@ -99,6 +54,9 @@ fn speed_scale(lifted: &LiftedField<'_>, starts: &[Pose]) -> f64 {
         })
         .fold(0.0, f64::max)
 }
+
+/// Poses of the start grid ([`start_poses`]).
+pub(crate) const START_POSES: usize = 3 * 3 * 24;
 
 /// The grid of start poses: 3 × 3 positions at the quarters of the region
 /// times 24 angles.
@@ -118,21 +76,46 @@ fn start_poses(region: &Region) -> Vec<Pose> {
     out
 }
 
-/// Newton from `start`; the zero when it converged inside the region.
-fn newton(lifted: &LiftedField<'_>, start: Pose, region: &Region, tol: f64) -> Option<Pose> {
+/// What Newton from one start converged to.
+enum Found {
+    /// An isolated zero.
+    Zero(Pose),
+    /// A point of a slow curve (scaled, [`super::continua`]).
+    Slow(Vector3<f64>),
+}
+
+/// Newton from `start`: the zero it converged to inside the region, or
+/// the point of a slow curve where the fast residual vanishes (the
+/// Jacobian's smallest singular value below [`GAP`] of the next: its step
+/// then takes the fast components only, [`super::continua`]).
+fn newton(lifted: &LiftedField<'_>, start: Pose, region: &Region, tol: f64) -> Option<Found> {
     let r = lifted.radius();
+    let scaled = Scaled::new(lifted);
     let mut q = Vector3::new(start.r.x, start.r.y, start.theta);
     for _ in 0..60 {
         let t = lifted.twist3(&q);
-        if t.fixed_rows::<2>(0).norm() <= tol && t.z.abs() * r <= tol {
-            let pose = Pose::new(q.x, q.y, wrap(q.z));
-            return region.contains(&pose.r).then_some(pose);
-        }
         let j = lifted.jacobian(Pose::new(q.x, q.y, q.z));
-        let mut step = j.lu().solve(&(-t))?;
-        let cut = (step.fixed_rows::<2>(0).norm() / (0.25 * r)).max(step.z.abs() / 0.3);
-        if cut > 1.0 {
-            step /= cut;
+        let spectrum = Spectrum::of(&scaled.scale_jacobian(&j));
+        let mut step = if spectrum.slow() {
+            let f = scaled.scale_twist3(&t);
+            if spectrum.fast_residual(&f) <= tol / r.max(f64::MIN_POSITIVE) {
+                let pose = Pose::new(q.x, q.y, q.z);
+                return region
+                    .contains(&pose.r)
+                    .then(|| Found::Slow(scaled.of(pose)));
+            }
+            let d = cut(spectrum.fast_step(&f));
+            Vector3::new(d.x * r, d.y * r, d.z)
+        } else {
+            if t.fixed_rows::<2>(0).norm() <= tol && t.z.abs() * r <= tol {
+                let pose = Pose::new(q.x, q.y, wrap(q.z));
+                return region.contains(&pose.r).then_some(Found::Zero(pose));
+            }
+            j.lu().solve(&(-t))?
+        };
+        let c = (step.fixed_rows::<2>(0).norm() / (0.25 * r)).max(step.z.abs() / 0.3);
+        if c > 1.0 {
+            step /= c;
         }
         q += step;
         if !q.iter().all(|x| x.is_finite()) {
@@ -147,7 +130,7 @@ impl Equilibrium {
     /// stable when every eigenvalue's real part is below −1e-9 of the
     /// largest magnitude.
     pub fn of_jacobian(pose: Pose, j: &Matrix3<f64>) -> Equilibrium {
-        let e = j.complex_eigenvalues();
+        let e = eigenvalues(j);
         let mut rates = [e[0].re, e[1].re, e[2].re];
         rates.sort_by(|a, b| b.total_cmp(a));
         let scale = rates.iter().fold(0.0f64, |m, x| m.max(x.abs()));
@@ -159,8 +142,19 @@ impl Equilibrium {
     }
 }
 
+/// The rests of a lifted field over a region: its isolated equilibria and
+/// its continua ([`super::continua`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Rests {
+    /// Isolated equilibria, sorted by θ then x then y: Newton's zeros and
+    /// the drift's zeros on the continua.
+    pub equilibria: Vec<Equilibrium>,
+    /// The slow curves traced, in the order their first point was found.
+    pub continua: Vec<Continuum>,
+}
+
 /// Every equilibrium of `lifted` found from the start grid over `region`,
-/// sorted by θ then x then y.
+/// sorted by θ then x then y ([`rests`]' equilibria).
 ///
 /// ```
 /// use platefield::dynamics::{PlanarBody, V2};
@@ -177,30 +171,177 @@ impl Equilibrium {
 /// assert!(stable.iter().all(|t| t.abs() < 1e-6 || (t.abs() - 180.0).abs() < 1e-6));
 /// ```
 pub fn equilibria(lifted: &LiftedField<'_>, region: &Region) -> Vec<Equilibrium> {
+    rests(lifted, region).equilibria
+}
+
+/// The isolated equilibria and the continua of `lifted` over `region`:
+/// Newton from every pose of the start grid (in parallel: the same result
+/// on any number of threads); each start that lands on a slow curve not
+/// yet traced traces it ([`super::continua`]), and the drift's zeros on
+/// the curves are refined into isolated equilibria.
+///
+/// ```
+/// use platefield::dynamics::{PlanarBody, V2};
+/// use platefield::pose::{rests, LiftedField, Region, Shape};
+/// let (body, _) = PlanarBody::centred(
+///     &[V2::new(-0.01, -0.002), V2::new(0.01, -0.002), V2::new(0.01, 0.002), V2::new(-0.01, 0.002)],
+///     &[1.0; 4],
+/// );
+/// // A round sink turns no part: at its centre, any angle is a rest.
+/// let sink = |p: V2| V2::new(-p.x, -p.y);
+/// let region = Region { x: [-0.03, 0.03], y: [-0.03, 0.03] };
+/// let r = rests(&LiftedField::new(&sink, &body), &region);
+/// assert!(r.equilibria.is_empty() && r.continua.len() == 1);
+/// let Shape::AnyAngle { at, spread } = r.continua[0].shape else { panic!() };
+/// assert!(at.norm() < 1e-9 && spread < 1e-9);
+/// ```
+pub fn rests(lifted: &LiftedField<'_>, region: &Region) -> Rests {
+    use rayon::prelude::*;
     let starts = start_poses(region);
     let tol = 1e-9 * speed_scale(lifted, &starts);
     let r = lifted.radius();
+    let outcomes: Vec<Option<Found>> = starts
+        .par_iter()
+        .map(|s| newton(lifted, *s, region, tol))
+        .collect();
+    let same = |q: &Pose, p: &Pose| {
+        (q.r - p.r).norm() <= 1e-6 * r && wrap(q.theta - p.theta).abs() <= 1e-4
+    };
+    let scaled = Scaled::new(lifted);
+    let step = continua::step(region, r);
     let mut found: Vec<Pose> = Vec::new();
-    for s in starts {
-        let Some(p) = newton(lifted, s, region, tol) else {
-            continue;
-        };
-        let same =
-            |q: &Pose| (q.r - p.r).norm() <= 1e-6 * r && wrap(q.theta - p.theta).abs() <= 1e-4;
-        if !found.iter().any(same) {
-            found.push(p);
+    let mut continua: Vec<Continuum> = Vec::new();
+    for outcome in outcomes.into_iter().flatten() {
+        match outcome {
+            Found::Zero(p) => {
+                if !found.iter().any(|q| same(q, &p)) {
+                    found.push(p);
+                }
+            }
+            Found::Slow(q) => {
+                let p = scaled.pose(&q);
+                if continua.iter().any(|c| c.distance(&p).0 <= 2.0 * step) {
+                    continue;
+                }
+                let c = continua::trace(&scaled, q, region, tol / r.max(f64::MIN_POSITIVE));
+                // A slow stretch shorter than two steps is a fold (the
+                // Jacobian singular at one pose: ω(θ) at its extremum),
+                // not a curve of rests.
+                if c.points.len() >= continua::MIN_POINTS {
+                    continua.push(c);
+                }
+            }
         }
     }
-    found.sort_by(|a, b| {
-        a.theta
-            .total_cmp(&b.theta)
-            .then(a.r.x.total_cmp(&b.r.x))
-            .then(a.r.y.total_cmp(&b.r.y))
-    });
-    found
+    let mut equilibria: Vec<Equilibrium> = found
         .into_iter()
         .map(|pose| Equilibrium::of_jacobian(pose, &lifted.jacobian(pose)))
-        .collect()
+        .collect();
+    for c in &continua {
+        for z in c.zeros() {
+            let Some(e) = refine_zero(lifted, z, region, tol / r.max(f64::MIN_POSITIVE)) else {
+                continue;
+            };
+            if !equilibria.iter().any(|q| same(&q.pose, &e.pose)) {
+                equilibria.push(e);
+            }
+        }
+    }
+    equilibria.sort_by(|a, b| {
+        a.pose
+            .theta
+            .total_cmp(&b.pose.theta)
+            .then(a.pose.r.x.total_cmp(&b.pose.r.x))
+            .then(a.pose.r.y.total_cmp(&b.pose.r.y))
+    });
+    Rests {
+        equilibria,
+        continua,
+    }
+}
+
+/// Full Newton on the lifted field from `start` (a drift zero on a
+/// curve): the zero within the region, or `None`.
+fn refine_zero(
+    lifted: &LiftedField<'_>,
+    start: Pose,
+    region: &Region,
+    tol: f64,
+) -> Option<Equilibrium> {
+    let s = Scaled::new(lifted);
+    let mut q = s.of(start);
+    for _ in 0..40 {
+        let f = s.f(&q);
+        let j = s.j(&q);
+        if f.norm() <= tol {
+            let pose = s.pose(&q);
+            let pose = Pose::new(pose.r.x, pose.r.y, wrap(pose.theta));
+            return region
+                .contains(&pose.r)
+                .then(|| Equilibrium::of_jacobian(pose, &lifted.jacobian(pose)));
+        }
+        let spec = Spectrum::of(&j);
+        // All three components: σ₃ is small on a slow curve, not zero.
+        let mut step = spec.fast_step(&f);
+        if spec.sigma[2] > 0.0 {
+            step += spec.v[2] * (-spec.u[2].dot(&f) / spec.sigma[2]);
+        }
+        q += cut(step);
+        if !q.iter().all(|x| x.is_finite()) {
+            return None;
+        }
+    }
+    None
+}
+
+/// Whether a drop at `pose` has arrived on one of the `attracting`
+/// continua (within [`ARRIVE`]) and where the flow along it takes it:
+/// `Some(end)` to stop there (`None` inside: it drifts out of the
+/// region), `None` to go on integrating.
+fn arrival(
+    scaled: &Scaled<'_, '_>,
+    pose: &Pose,
+    stable: &[Equilibrium],
+    attracting: &[(usize, &Continuum)],
+    step: f64,
+) -> Option<Option<End>> {
+    for (k, c) in attracting {
+        let (d, i) = c.distance(pose);
+        if d > ARRIVE {
+            continue;
+        }
+        match c.destination(i) {
+            Destination::Rest(_) | Destination::Around => return Some(Some(End::On(*k))),
+            Destination::Zero(z) => {
+                let at = scaled.of(z);
+                let k = stable
+                    .iter()
+                    .map(|e| {
+                        let mut d = scaled.of(e.pose) - at;
+                        d.z = wrap(d.z);
+                        d.norm()
+                    })
+                    .enumerate()
+                    .min_by(|a, b| a.1.total_cmp(&b.1))
+                    .filter(|(_, d)| *d <= 2.0 * step);
+                if let Some((k, _)) = k {
+                    return Some(Some(End::At(k)));
+                }
+            }
+            Destination::Leaves => return Some(None),
+            Destination::Off => {}
+        }
+    }
+    None
+}
+
+/// Where a drop ends ([`settle_on`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum End {
+    /// At the stable equilibrium of this index (in the list given).
+    At(usize),
+    /// On the continuum of this index: resting on it, or going round it.
+    On(usize),
 }
 
 /// Where one drop ends: the index of the stable equilibrium it reached.
@@ -210,22 +351,55 @@ pub fn settle(
     stable: &[Equilibrium],
     region: &Region,
 ) -> Option<usize> {
+    match settle_on(lifted, start, stable, &[], region)? {
+        End::At(k) => Some(k),
+        End::On(_) => None,
+    }
+}
+
+/// Where one drop ends among the `stable` equilibria and the `continua`
+/// (module docs): within [`ARRIVE`] of an attracting continuum, the flow
+/// along it decides ([`Continuum::destination`]): a rest on it or a
+/// curve it goes round is its end, a drift zero the stable equilibrium
+/// there (the drop goes on integrating when the drift carries it off the
+/// curve, or to a zero that is not a stable equilibrium).
+pub fn settle_on(
+    lifted: &LiftedField<'_>,
+    start: Pose,
+    stable: &[Equilibrium],
+    continua: &[Continuum],
+    region: &Region,
+) -> Option<End> {
     let r = lifted.radius();
+    let attracting: Vec<(usize, &Continuum)> = continua
+        .iter()
+        .enumerate()
+        .filter(|(_, c)| c.attracting())
+        .collect();
     let fastest = stable
         .iter()
         .map(|e| e.rates.iter().fold(0.0f64, |m, x| m.max(x.abs())))
+        .chain(attracting.iter().map(|(_, c)| c.fastest))
         .fold(0.0f64, f64::max);
-    let mut q = Vector3::new(start.r.x, start.r.y, start.theta);
-    for _ in 0..SETTLE_STEPS {
-        let near = stable.iter().position(|e| {
+    let scaled = Scaled::new(lifted);
+    let step = continua::step(region, r);
+    let near = |q: &Vector3<f64>| {
+        stable.iter().position(|e| {
             (V2::new(q.x, q.y) - e.pose.r).norm() <= 1e-3 * r
                 && wrap(q.z - e.pose.theta).abs() <= 0.1f64.to_radians()
-        });
-        if near.is_some() {
-            return near;
+        })
+    };
+    let mut q = Vector3::new(start.r.x, start.r.y, start.theta);
+    for _ in 0..SETTLE_STEPS {
+        if let Some(k) = near(&q) {
+            return Some(End::At(k));
         }
         if !region.contains(&V2::new(q.x, q.y)) {
             return None;
+        }
+        let pose = Pose::new(q.x, q.y, q.z);
+        if let Some(end) = arrival(&scaled, &pose, stable, &attracting, step) {
+            return end;
         }
         let f = |q: &Vector3<f64>| lifted.twist3(q);
         let k1 = f(&q);

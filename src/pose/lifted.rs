@@ -279,3 +279,50 @@ impl<'a> LiftedField<'a> {
         j
     }
 }
+
+/// A rectangular region of the plate the part's centre must stay in (m).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Region {
+    /// [xmin, xmax].
+    pub x: [f64; 2],
+    /// [ymin, ymax].
+    pub y: [f64; 2],
+}
+
+impl Region {
+    /// True when `r` lies in the region (edges included).
+    pub fn contains(&self, r: &V2) -> bool {
+        (self.x[0]..=self.x[1]).contains(&r.x) && (self.y[0]..=self.y[1]).contains(&r.y)
+    }
+
+    /// The region shrunk by `margin` on every side (to its centre line
+    /// along an axis narrower than 2 `margin`).
+    pub fn inset(&self, margin: f64) -> Region {
+        let shrink = |a: [f64; 2]| {
+            let m = margin.min(0.5 * (a[1] - a[0]));
+            [a[0] + m, a[1] - m]
+        };
+        Region {
+            x: shrink(self.x),
+            y: shrink(self.y),
+        }
+    }
+
+    /// A point of the region from two numbers in [0, 1].
+    pub fn at(&self, u: f64, v: f64) -> V2 {
+        V2::new(
+            self.x[0] + (self.x[1] - self.x[0]) * u,
+            self.y[0] + (self.y[1] - self.y[0]) * v,
+        )
+    }
+}
+
+/// θ wrapped into (−π, π].
+pub fn wrap(theta: f64) -> f64 {
+    let t = theta.rem_euclid(std::f64::consts::TAU);
+    if t > std::f64::consts::PI {
+        t - std::f64::consts::TAU
+    } else {
+        t
+    }
+}

@@ -10,6 +10,7 @@
 mod averaged;
 mod bounds;
 mod check;
+mod continua;
 mod drops;
 mod equilibria;
 mod lifted;
@@ -26,14 +27,15 @@ pub use averaged::{
 };
 pub use bounds::Bounds;
 pub use check::{check_twist, Measure, TwistCheck};
+pub use continua::{eigenvalues, Continuum, Destination, Motion, Shape, Stop, ARRIVE, GAP};
 pub use drops::{
     nearest, play_drop, play_drop_tracked, play_drops, play_part, played_basins, DropEnd, DropPlay,
     PlanarPlayer, PlayedBasins, DROP_REFINE_DEPTH, DROP_SAMPLES,
 };
-pub use equilibria::{equilibria, settle, wrap, Equilibrium, Region};
+pub use equilibria::{equilibria, rests, settle, settle_on, wrap, End, Equilibrium, Region, Rests};
 pub use lifted::{GridField, LiftedField, PointField, Pose, Twist};
 pub use refine::{refine, Refined, Refinement, MAX_NEWTON, MAX_REFINED, STOP};
 pub use request::{check_counts, poses, PoseOutcome, PoseRequest, MAX_PLAY_S, SCAN};
-pub use run::{analyse, drop_starts, PoseAnalysis, MAX_DROPS};
+pub use run::{analyse, analyse_with, drop_starts, PoseAnalysis, MAX_DROPS};
 pub use source::{realised_field, schedule_field, REALISED_STRIDE};
-pub use work::{drops_estimate, played_points, settle_estimate, steps_per_period};
+pub use work::{bounds_term, drops_estimate, played_points, settle_estimate, steps_per_period};

@@ -21,19 +21,20 @@ use super::drops::{played_basins, DropPlay, PlayedBasins};
 use super::equilibria::Region;
 use super::lifted::{GridField, LiftedField, PointField, Pose};
 use super::refine::{refine, Refinement, MAX_NEWTON, MAX_REFINED};
-use super::run::{analyse, PoseAnalysis, MAX_DROPS};
+use super::run::{analyse_with, PoseAnalysis, MAX_DROPS};
 use super::source::schedule_field;
-use super::work::{averaged_estimate, drops_estimate, settle_estimate};
-use crate::dynamics::PartPhysics;
+use super::work::{averaged_estimate, bounds_term, drops_estimate, settle_estimate};
+use crate::dynamics::{Friction, PartPhysics};
 use crate::error::{Error, Result};
 use crate::field::{Field, FieldKind, Grid};
 use crate::part::{Part, Support};
 use crate::play::{PlayedSegment, ScheduleMotion};
 use crate::progress::Progress;
 use crate::request::Target;
+use crate::scene::FrictionSpec;
 use crate::scene::Scene;
 use crate::schedule::Schedule;
-use crate::work::{with_counted_progress, PLANAR_POINT_STEP_COST};
+use crate::work::{with_counted_progress, Term, PLANAR_POINT_STEP_COST};
 
 /// Longest [`PoseRequest::play`] (s).
 pub const MAX_PLAY_S: f64 = 3600.0;
@@ -53,10 +54,17 @@ pub struct PoseRequest {
     /// Seconds of planar simulation per drop through a schedule source
     /// (`None`: no play; at most [`MAX_PLAY_S`]).
     pub play: Option<f64>,
-    /// The played drops' progress and long-run guard
-    /// ([`super::drops_estimate`]).
+    /// The parts' friction: one value, or a range answered at its ends and
+    /// middle ([`PER_RANGE`]); `None`: the source's own (a scene's or a
+    /// schedule's settings). A target's requested field has none.
+    pub friction: Option<FrictionSpec>,
+    /// The work's progress and long-run guard ([`super::settle_estimate`],
+    /// [`super::drops_estimate`]).
     pub runtime: crate::work::Runtime,
 }
+
+/// Frictions a range is answered at: its low end, middle and high end.
+pub const PER_RANGE: usize = 3;
 
 /// What [`poses`] found (written by `crate::report::poses`).
 #[derive(Debug, Clone)]
@@ -80,6 +88,10 @@ pub struct PoseOutcome {
     /// Why the averaged field's check and refinement did not run (their
     /// work estimate is over the limit without `--allow-long`).
     pub averaged_skipped: Option<String>,
+    /// Over a friction range ([`PoseRequest::friction`]): the lifted
+    /// analysis at each of its [`PER_RANGE`] values, low to high (the
+    /// middle is `analysis`); empty for one friction.
+    pub over_friction: Vec<(Friction, PoseAnalysis)>,
 }
 
 /// What a SOURCE file gives the analysis.
@@ -96,10 +108,45 @@ struct Source {
     /// averaged field; `None` for a target (a requested field has no plate
     /// motion).
     plate: Option<(ScheduleMotion, PartPhysics)>,
+    /// What the field is computed from, to compute it again at another
+    /// friction; `None` for a target.
+    plays: Option<Plays>,
 }
 
-/// The point field and its region from `source` (module docs).
-fn point_field(source: &Path) -> Result<Source> {
+/// A field computed from a plate motion, at the parts' friction.
+enum Plays {
+    /// A scene's motion with its settings.
+    Scene(Box<(crate::motion::Motion, crate::field::FieldSettings)>),
+    /// A schedule's segments.
+    Schedule(Box<Schedule>),
+}
+
+impl Plays {
+    /// The point field on `grid` with the parts' friction `f`.
+    fn field(&self, grid: &Grid, f: Friction) -> Result<Box<dyn PointField>> {
+        Ok(match self {
+            Plays::Scene(scene) => {
+                let (motion, settings) = scene.as_ref();
+                let settings = crate::field::FieldSettings {
+                    friction: f,
+                    ..*settings
+                };
+                let field = Field::compute(motion, grid, FieldKind::Velocity, &settings, &|| {});
+                Box::new(GridField::new(&field))
+            }
+            Plays::Schedule(schedule) => {
+                let mut at = schedule.clone();
+                at.settings.friction = f;
+                Box::new(schedule_field(&at, grid)?)
+            }
+        })
+    }
+}
+
+/// The point field and its region from `source` (module docs), at the
+/// parts' friction `friction` when given (a scene or a schedule; a target
+/// refuses it, naming `--friction`).
+fn point_field(source: &Path, friction: Option<Friction>) -> Result<Source> {
     let text = crate::input::read_input(source).map_err(|e| Error::Io {
         path: source.display().to_string(),
         source: e,
@@ -108,11 +155,14 @@ fn point_field(source: &Path) -> Result<Source> {
         .map_err(|e| Error::invalid(source.display().to_string(), format!("not JSON: {e}")))?;
     if value.get("motion").is_some() {
         let scene = Scene::load(source)?;
-        let settings = scene.settings();
+        let mut settings = scene.settings();
+        if let Some(f) = friction {
+            settings.friction = f;
+        }
         let motion = scene.motion.to_motion();
-        let field = Field::compute(&motion, &scene.grid, FieldKind::Velocity, &settings, &|| {});
+        let plays = Plays::Scene(Box::new((motion.clone(), settings)));
         return Ok(Source {
-            field: Box::new(GridField::new(&field)),
+            field: plays.field(&scene.grid, settings.friction)?,
             grid: scene.grid,
             path: "scene.grid",
             schedule: None,
@@ -120,10 +170,14 @@ fn point_field(source: &Path) -> Result<Source> {
                 ScheduleMotion::new(vec![PlayedSegment::moving("scene", motion, 1)])?,
                 settings.physics(),
             )),
+            plays: Some(plays),
         });
     }
     if value.get("segments").is_some() {
-        let schedule = Schedule::load(source)?;
+        let mut schedule = Schedule::load(source)?;
+        if let Some(f) = friction {
+            schedule.settings.friction = f;
+        }
         let Some(grid) = schedule.target_spec.as_ref().and_then(|t| t.grid) else {
             return Err(Error::invalid(
                 "schedule.target_spec.grid",
@@ -137,6 +191,7 @@ fn point_field(source: &Path) -> Result<Source> {
             grid,
             path: "schedule.target_spec.grid",
             plate: Some((sm, schedule.settings.physics())),
+            plays: Some(Plays::Schedule(Box::new(schedule.clone()))),
             schedule: Some(schedule),
         });
     }
@@ -167,12 +222,19 @@ fn point_field(source: &Path) -> Result<Source> {
                 "a pose analysis needs the target's grid as its region",
             ));
         };
+        if friction.is_some() {
+            return Err(Error::invalid(
+                "--friction",
+                "a target's requested field does not depend on the parts' friction: give a scene or a designed schedule as SOURCE",
+            ));
+        }
         return Ok(Source {
             field: Box::new(target.field.clone()),
             grid,
             path: "target.grid",
             schedule: None,
             plate: None,
+            plays: None,
         });
     }
     Err(Error::invalid(
@@ -193,6 +255,7 @@ fn point_field(source: &Path) -> Result<Source> {
 ///     source: "targets/sink.json".into(),
 ///     drops: 200,
 ///     play: None,
+///     friction: None,
 ///     runtime: platefield::work::Runtime::default(),
 /// };
 /// let outcome = poses(&req)?;
@@ -206,20 +269,22 @@ fn point_field(source: &Path) -> Result<Source> {
 pub fn poses(req: &PoseRequest) -> Result<PoseOutcome> {
     check_counts(req.drops, req.play)?;
     let part = Part::load(&req.part)?;
+    let range = req.friction.filter(|f| f.values(PER_RANGE).len() > 1);
     let Source {
         field,
         grid,
         path,
         schedule,
         plate,
-    } = point_field(&req.source)?;
+        plays,
+    } = point_field(&req.source, req.friction.map(|f| f.nominal()))?;
     part.check_fits(grid.x[1] - grid.x[0], grid.y[1] - grid.y[0], path)?;
     let region = Region {
         x: grid.x,
         y: grid.y,
     };
-    // The drops' play is refused (a non-schedule source, or work over the
-    // limit) and its work stated before anything is computed.
+    // Every estimate is stated, and work over the limit refused, before
+    // anything is computed.
     let play = match (req.play, &schedule) {
         (None, _) => None,
         (Some(_), None) => {
@@ -232,37 +297,72 @@ pub fn poses(req: &PoseRequest) -> Result<PoseOutcome> {
             let sm = crate::play::ScheduleMotion::from_schedule(s)?;
             let p = DropPlay::new(&s.settings, t);
             let work = drops_estimate(&part, &sm, req.drops, &p);
-            req.runtime.admit(&work)?;
-            Some((sm, p, work))
+            let mode = req.runtime.admit_stated(&work)?;
+            Some((sm, p, work, mode))
         }
     };
-    req.runtime
-        .admit(&settle_estimate(&part, &region, req.drops))?;
-    let analysis = analyse(&part, field.as_ref(), region, req.drops);
-    let played = play.map(|(sm, p, work)| {
+    let frictions = range.map_or(Vec::new(), |f| f.values(PER_RANGE));
+    let mut work = settle_estimate(&part, &region, req.drops);
+    if frictions.len() > 1 {
+        // The middle is the main analysis; the others again each.
+        let again = (frictions.len() - 1) as f64;
+        let terms: Vec<Term> = work.terms.clone();
+        for t in terms {
+            work = work.plus(
+                t.times(again, "more frictions")
+                    .named("over the friction range"),
+            );
+        }
+    }
+    let unknown = matches!(part.support, Support::Unknown { .. });
+    if unknown {
+        work = work.plus(bounds_term(&part));
+    }
+    let mode = req.runtime.admit_stated(&work)?;
+    let analysis = settled(&part, field.as_ref(), region, req.drops, mode, "");
+    let over_friction = match &plays {
+        Some(plays) if frictions.len() > 1 => frictions
+            .iter()
+            .map(|f| {
+                if Some(*f) == req.friction.map(|r| r.nominal()) {
+                    return Ok((*f, analysis.clone()));
+                }
+                let at = plays.field(&grid, *f)?;
+                let label = format!(" at μ {}", f.kinetic);
+                Ok((
+                    *f,
+                    settled(&part, at.as_ref(), region, req.drops, mode, &label),
+                ))
+            })
+            .collect::<Result<Vec<_>>>()?,
+        _ => Vec::new(),
+    };
+    let played = play.map(|(sm, p, work, mode)| {
         let progress = Progress::new(
             "poses",
             "k planar steps",
             (work.steps() / PLANAR_POINT_STEP_COST / 1e3).ceil() as u64,
-            req.runtime.progress(),
+            mode,
         );
         with_counted_progress(&progress, || played_basins(&analysis, &part, &sm, &p))
     });
-    let bounds = matches!(part.support, Support::Unknown { .. })
-        .then(|| Bounds::new(&part, field.as_ref()).scan(&region, SCAN));
+    let bounds = unknown.then(|| Bounds::new(&part, field.as_ref()).scan(&region, SCAN));
     let mut averaged_skipped = None;
     let averaged = plate.and_then(|(sm, physics)| {
         let work = averaged_estimate(&part, &sm, analysis.equilibria.len());
-        if let Err(e) = req.runtime.admit(&work) {
-            let why = format!("the averaged field's check and refinement are skipped: {e}");
-            eprintln!("poses: {why}");
-            averaged_skipped = Some(why);
-            return None;
-        }
+        let mode = match req.runtime.admit_stated(&work) {
+            Ok(mode) => mode,
+            Err(e) => {
+                let why = format!("the averaged field's check and refinement are skipped: {e}");
+                eprintln!("poses: {why}");
+                averaged_skipped = Some(why);
+                return None;
+            }
+        };
         let averaged = AveragedField::for_part(&part, sm, physics);
         let lifted = LiftedField::new(field.as_ref(), &part.body);
         let check = LiftCheck::run(&lifted, &averaged, &checked_poses(&analysis));
-        let refined = refine_announced(&averaged, &analysis, req.runtime.progress());
+        let refined = refine_announced(&averaged, &analysis, mode);
         Some((check, refined))
     });
     let (lift_check, refined) = averaged.unzip();
@@ -274,7 +374,29 @@ pub fn poses(req: &PoseRequest) -> Result<PoseOutcome> {
         lift_check,
         refined,
         averaged_skipped,
+        over_friction,
     })
+}
+
+/// The lifted analysis of `drops` drops of `part` in `field` with its
+/// progress (`mode`) on stderr, one count per drop settled.
+fn settled(
+    part: &Part,
+    field: &dyn PointField,
+    region: Region,
+    drops: usize,
+    mode: crate::progress::ProgressMode,
+    label: &str,
+) -> PoseAnalysis {
+    let progress = Progress::new(
+        &format!("poses: drops settled along the lifted field{label}"),
+        "drops",
+        drops as u64,
+        mode,
+    );
+    let analysis = analyse_with(part, field, region, drops, &|| progress.inc(1));
+    progress.finish();
+    analysis
 }
 
 /// The lifted equilibria refined on `averaged`, with a progress line per

@@ -1,7 +1,8 @@
 //! A part's poses in one field: equilibria, stability and basin fractions
 //! from random drops integrated along the lifted field.
 
-use super::equilibria::{equilibria, settle, wrap, Equilibrium, Region};
+use super::continua::Continuum;
+use super::equilibria::{rests, settle_on, wrap, End, Equilibrium, Region};
 use super::lifted::{LiftedField, PointField, Pose};
 use crate::part::Part;
 
@@ -11,12 +12,20 @@ pub const MAX_DROPS: usize = 100_000;
 /// What [`analyse`] found.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PoseAnalysis {
-    /// Every equilibrium found, sorted by θ.
+    /// Every isolated equilibrium found, sorted by θ.
     pub equilibria: Vec<Equilibrium>,
+    /// The continua of rest (or of endless turning) found
+    /// ([`super::rests`]).
+    pub continua: Vec<Continuum>,
+    /// Fraction of the drops that ended on each continuum.
+    pub continuum_basins: Vec<f64>,
+    /// Per drop: the index in `continua` of the continuum it ended on.
+    pub continuum_ends: Vec<Option<usize>>,
     /// Fraction of the drops that settled at each equilibrium (0 for the
     /// unstable ones).
     pub basins: Vec<f64>,
-    /// Fraction of the drops that left the region or did not settle.
+    /// Fraction of the drops that left the region or did not settle (at
+    /// an equilibrium or on a continuum).
     pub unsettled: f64,
     /// Per drop ([`drop_starts`] order): the index in `equilibria` of the
     /// stable pose it settled at, `None` when it did not.
@@ -78,22 +87,62 @@ pub fn drop_starts(region: &Region, drops: usize) -> Vec<Pose> {
 /// # Ok::<(), platefield::Error>(())
 /// ```
 pub fn analyse(part: &Part, field: &dyn PointField, region: Region, drops: usize) -> PoseAnalysis {
+    analyse_with(part, field, region, drops, &|| {})
+}
+
+/// [`analyse`], calling `done` after each drop has settled (from the
+/// worker threads: progress).
+pub fn analyse_with(
+    part: &Part,
+    field: &dyn PointField,
+    region: Region,
+    drops: usize,
+    done: &(dyn Fn() + Sync),
+) -> PoseAnalysis {
+    use rayon::prelude::*;
     let lifted = LiftedField::new(field, &part.body);
-    let eq = equilibria(&lifted, &region);
+    let found = rests(&lifted, &region);
+    let eq = found.equilibria;
     let index: Vec<usize> = (0..eq.len()).filter(|&i| eq[i].stable).collect();
     let stable: Vec<Equilibrium> = index.iter().map(|&i| eq[i]).collect();
     let starts = region.inset(part.radius());
-    let ends: Vec<Option<usize>> = drop_starts(&starts, drops)
-        .into_iter()
-        .map(|start| settle(&lifted, start, &stable, &region).map(|k| index[k]))
+    // Each drop is independent: the same ends on any number of threads.
+    let outcomes: Vec<Option<End>> = drop_starts(&starts, drops)
+        .par_iter()
+        .map(|start| {
+            let end = settle_on(&lifted, *start, &stable, &found.continua, &region);
+            done();
+            end
+        })
+        .collect();
+    let ends: Vec<Option<usize>> = outcomes
+        .iter()
+        .map(|e| match e {
+            Some(End::At(k)) => Some(index[*k]),
+            _ => None,
+        })
+        .collect();
+    let continuum_ends: Vec<Option<usize>> = outcomes
+        .iter()
+        .map(|e| match e {
+            Some(End::On(k)) => Some(*k),
+            _ => None,
+        })
         .collect();
     let n = drops.max(1) as f64;
-    let basins = (0..eq.len())
-        .map(|i| ends.iter().filter(|e| **e == Some(i)).count() as f64 / n)
+    let fraction = |ends: &[Option<usize>], i: usize| {
+        ends.iter().filter(|e| **e == Some(i)).count() as f64 / n
+    };
+    let basins = (0..eq.len()).map(|i| fraction(&ends, i)).collect();
+    let continuum_basins = (0..found.continua.len())
+        .map(|i| fraction(&continuum_ends, i))
         .collect();
-    let lost = ends.iter().filter(|e| e.is_none()).count();
+    let lost = outcomes.iter().filter(|e| e.is_none()).count();
     PoseAnalysis {
         equilibria: eq,
+        continua: found.continua,
+        continuum_basins,
+        continuum_ends,
         basins,
         unsettled: lost as f64 / n,
         ends,

@@ -7,8 +7,9 @@
 //! [`PLANAR_POINT_STEP_COST`] point-part steps.
 
 use super::averaged::CHECKED_POSES;
+use super::continua::MAX_STEPS;
 use super::drops::{rest_cycle, DropPlay};
-use super::equilibria::{Region, SETTLE_STEP, SETTLE_STEPS};
+use super::equilibria::{Region, SETTLE_STEP, SETTLE_STEPS, START_POSES};
 use super::refine::MAX_REFINED;
 use crate::part::Part;
 use crate::play::ScheduleMotion;
@@ -63,19 +64,32 @@ pub fn drops_estimate(part: &Part, sm: &ScheduleMotion, drops: usize, play: &Dro
 }
 
 /// Cost of one lifted-twist evaluation per support point, in point-part
-/// steps ([`crate::work`]'s unit): the rectangle (256 support points) on
-/// the shipped sink target, 200 drops, took 37.3 s of CPU for the
-/// 200 × 532 × 256 × 4 evaluations [`settle_estimate`] counts (0.34 µs
-/// each).
-const LIFTED_POINT_COST: f64 = 0.35;
+/// steps ([`crate::work`]'s unit): measured on an idle 2-core machine
+/// with the 3 × 1 cm rectangle (252 support points), 0.06 µs on a
+/// designed schedule's grid field, 0.05 µs on a target's sum of two line
+/// sinks and 0.012 µs on a target's round sink; a slightly pessimistic
+/// 0.08.
+const LIFTED_POINT_COST: f64 = 0.08;
 
-/// The work of settling `drops` drops of `part` in `region` (`poses`'
-/// predicted basins, [`super::settle`]), in [`crate::work`]'s unit: per
-/// drop the RK4 steps to cross half the region's diagonal at the largest
-/// step (2 % of the part's radius), turn half a turn at 0.02 rad a step
-/// and close in (100 steps), at most the 20000 steps a drop may take;
-/// each step 4 lifted-twist evaluations over the part's support points.
-/// A part of 2e-8 m takes the 20000 steps per drop.
+/// Newton iterations the estimate counts per start of the rest search
+/// (at most 60; each 7 lifted twists: the twist and a central-difference
+/// Jacobian).
+const SEARCH_ITERATIONS: f64 = 20.0;
+
+/// Continua the estimate counts, each traced over [`super::continua::MAX_STEPS`]
+/// steps of 2 corrector iterations (a line sink gives four).
+const TRACED: f64 = 4.0;
+
+/// The work of the lifted analysis of `drops` drops of `part` in `region`
+/// (`poses`' predicted rests and basins, [`super::rests`] and
+/// [`super::settle_on`]), in [`crate::work`]'s unit: the rest search (the
+/// start grid's 216 poses, [`SEARCH_ITERATIONS`] Newton iterations of 7
+/// twists each), the continua traced ([`TRACED`]) and per drop the RK4
+/// steps to cross half the region's diagonal at the largest step (2 % of
+/// the part's radius), turn half a turn at 0.02 rad a step and close in
+/// (100 steps), at most the 20000 steps a drop may take; each step 4
+/// lifted-twist evaluations over the part's support points. A part of
+/// 2e-8 m takes the 20000 steps per drop.
 ///
 /// ```
 /// use platefield::pose::{settle_estimate, Region};
@@ -83,9 +97,11 @@ const LIFTED_POINT_COST: f64 = 0.35;
 /// let part = Part::load(std::path::Path::new("targets/parts/rectangle.json"))?;
 /// let region = Region { x: [-0.04, 0.04], y: [-0.04, 0.04] };
 /// let e = settle_estimate(&part, &region, 200);
-/// // 200 drops × 532 steps × 256 points × 4 evaluations × 0.35.
-/// assert!((e.steps() / 3.81e7 - 1.0).abs() < 0.01, "{}", e.steps());
-/// assert_eq!(settle_estimate(&part, &region, 100_000).steps(), 500.0 * e.steps());
+/// let drops = e.terms.iter().find(|t| t.label == "predicted drops").unwrap().steps();
+/// // 200 drops × 532 steps × 4 evaluations × 256 points × 0.08.
+/// assert!((drops / 8.72e6 - 1.0).abs() < 0.01, "{drops}");
+/// let more = settle_estimate(&part, &region, 100_000);
+/// assert_eq!(more.steps() - e.steps(), 499.0 * drops);
 /// # Ok::<(), platefield::Error>(())
 /// ```
 pub fn settle_estimate(part: &Part, region: &Region, drops: usize) -> Estimate {
@@ -93,14 +109,47 @@ pub fn settle_estimate(part: &Part, region: &Region, drops: usize) -> Estimate {
     let travel = half_diagonal / (SETTLE_STEP * part.radius());
     let turn = std::f64::consts::PI / SETTLE_STEP;
     let steps = (travel + turn + 100.0).min(SETTLE_STEPS as f64).round();
-    Estimate::new("--drops", "settling the drops", "--drops").plus(
-        Term::new("predicted drops")
-            .times(drops as f64, "drops")
-            .times(steps, "steps")
-            .times(4.0, "evaluations")
-            .times(part.body.points().len() as f64, "support points")
-            .times(LIFTED_POINT_COST, "point steps per evaluation"),
-    )
+    let points = part.body.points().len() as f64;
+    Estimate::new("--drops", "settling the drops", "--drops")
+        .plus(
+            Term::new("rest search")
+                .times(START_POSES as f64, "starts")
+                .times(SEARCH_ITERATIONS, "Newton iterations")
+                .times(7.0, "evaluations")
+                .times(points, "support points")
+                .times(LIFTED_POINT_COST, "point steps per evaluation"),
+        )
+        .plus(
+            Term::new("continua")
+                .times(TRACED, "curves")
+                .times(2.0 * MAX_STEPS as f64, "steps")
+                .times(2.0 * 7.0, "evaluations")
+                .times(points, "support points")
+                .times(LIFTED_POINT_COST, "point steps per evaluation"),
+        )
+        .plus(
+            Term::new("predicted drops")
+                .times(drops as f64, "drops")
+                .times(steps, "steps")
+                .times(4.0, "evaluations")
+                .times(points, "support points")
+                .times(LIFTED_POINT_COST, "point steps per evaluation"),
+        )
+}
+
+/// The work of scanning an unknown support's equilibrium bounds
+/// ([`super::Bounds::scan`] over [`super::SCAN`]): per pose, the field
+/// at every sample and vertex and at 8 neighbours of each (the covering
+/// bound), each a point-field evaluation at [`LIFTED_POINT_COST`].
+pub fn bounds_term(part: &Part) -> Term {
+    Term::new("unknown-support bounds")
+        .times(super::SCAN.iter().product::<usize>() as f64, "poses")
+        .times(
+            (part.body.points().len() + part.polygon.len()) as f64,
+            "samples and vertices",
+        )
+        .times(9.0, "evaluations")
+        .times(LIFTED_POINT_COST, "point steps per evaluation")
 }
 
 /// Expected schedule periods of one averaged twist from rest (measured: 3

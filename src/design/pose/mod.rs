@@ -121,9 +121,9 @@ pub struct PoseDesign {
 /// # Ok::<(), platefield::Error>(())
 /// ```
 pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Result<PoseDesign> {
-    if !opts.runtime.quiet {
-        eprintln!("{}", announce(req, drops));
-    }
+    // A pose design takes minutes (a synthesis alone is half a minute of
+    // CPU): its work is stated first, under --quiet too.
+    eprintln!("{}", announce(req, drops));
     let grid = req.target.grid.unwrap_or(crate::field::Grid::DEFAULT);
     let Centred {
         mut method,
@@ -305,7 +305,8 @@ fn play_drops(
 /// Runs `f`, which plays `drops` drops of `duration_s` seconds each of
 /// the request's part through `sm` (the `plays`), with its progress on
 /// stderr in thousands of counted planar steps (the total from
-/// [`drops_estimate`]) unless `quiet`.
+/// [`drops_estimate`]) unless `quiet` and the estimate is under 10 s
+/// (longer work shows its progress under `quiet` too).
 fn watched<T>(
     label: &str,
     plays: (
@@ -320,9 +321,12 @@ fn watched<T>(
 ) -> T {
     let (req, sm, settings, drops, duration_s) = plays;
     let play = DropPlay::new(settings, duration_s);
-    let steps = drops_estimate(&req.part, sm, drops, &play).steps() / PLANAR_POINT_STEP_COST;
+    let estimate = drops_estimate(&req.part, sm, drops, &play);
+    let steps = estimate.steps() / PLANAR_POINT_STEP_COST;
     let total = (steps / 1e3).ceil() as u64;
-    let progress = Progress::new(label, "k steps", total, ProgressMode::quiet_if(quiet));
+    let long = estimate.announcement(crate::work::threads()).is_some();
+    let mode = ProgressMode::quiet_if(quiet && !long);
+    let progress = Progress::new(label, "k steps", total, mode);
     with_counted_progress(&progress, f)
 }
 
