@@ -522,14 +522,18 @@ impl Continuum {
     }
 
     /// The drift's sign changes: the interpolated zeros between
-    /// neighbouring non-neutral points.
+    /// successive non-neutral points (a zero inside a neutral stretch lies
+    /// between the non-neutral points on either side of it).
     pub fn zeros(&self) -> Vec<Pose> {
         let neutral = |k: usize| self.drift[k].abs() <= self.neutral[k];
-        (0..self.segments())
-            .map(|i| (i, (i + 1) % self.points.len()))
-            .filter(|&(a, b)| {
-                !neutral(a) && !neutral(b) && (self.drift[a] > 0.0) != (self.drift[b] > 0.0)
-            })
+        let counted: Vec<usize> = (0..self.points.len()).filter(|&k| !neutral(k)).collect();
+        let wrap =
+            (self.closed && counted.len() > 2).then(|| (counted[counted.len() - 1], counted[0]));
+        counted
+            .windows(2)
+            .map(|w| (w[0], w[1]))
+            .chain(wrap)
+            .filter(|&(a, b)| (self.drift[a] > 0.0) != (self.drift[b] > 0.0))
             .map(|(a, b)| self.zero_between(a, b))
             .collect()
     }
