@@ -286,17 +286,20 @@ fn rect3x1(dir: &std::path::Path) -> PathBuf {
     )
 }
 
-/// The shipped sink design turns no 3 × 1 cm rectangle to an angle: the
-/// translation settles at the centre for every angle (a continuum, not
-/// isolated equilibria). `poses` answers in under 10 s with 200 drops
-/// (measured 1.5 s): one attracting continuum through every angle within
-/// 0.2 mm of (0, 0) (measured (0.096, −0.030) mm) holding every drop, and
-/// no stable equilibrium; the lifted field turns the part on it for ever
-/// (measured +2.7°/s). `verify --rect 0.03x0.01`, an independent play of
+/// The shipped sink design (`results/sink`, four LineSinks) turns no
+/// 3 × 1 cm rectangle to an angle: the translation settles at the centre
+/// for every angle (a continuum, not isolated equilibria). `poses`
+/// answers in under 10 s with 200 drops (measured 1.1 s): one attracting
+/// continuum through every angle within 0.2 mm of (0, 0) holding every
+/// drop, on which the part stays at the angle it arrived at, and no
+/// stable equilibrium. `verify --rect 0.03x0.01`, an independent play of
 /// the rectangle on the planar simulator, puts its 4 rectangles within
-/// 0.05 mm of that place (measured 0.004 mm), at 4 different angles, each
-/// turned the same way (measured +136° in 20 s: the lifted spin has the
-/// right sense but is too slow, as the averaged field's docs measure).
+/// 2 mm of that place after 20 s (measured up to 1.45 mm: the
+/// sequenced LineSinks hold an extended part in their stick band near
+/// the centre, which the lifted field averages away), at 4 different
+/// angles. (On the synthesized sink,
+/// `results/synthesized/sink`, the rest is 0.9 mm off the centre and the
+/// part keeps turning: `docs/parts.md`.)
 #[test]
 fn sink_design_rests_any_angle_at_the_centre() {
     let dir = std::env::temp_dir().join(format!("pf_poses_sink_{}", std::process::id()));
@@ -304,7 +307,7 @@ fn sink_design_rests_any_angle_at_the_centre() {
     let part = rect3x1(&dir);
     let schedule = concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../results/synthesized/sink/schedule.json"
+        "/../results/sink/schedule.json"
     );
     let started = std::time::Instant::now();
     let out = bin()
@@ -342,9 +345,9 @@ fn sink_design_rests_any_angle_at_the_centre() {
         c["attracting"] == true && c["basin"].as_f64() == Some(1.0),
         "{c}"
     );
-    assert_eq!(c["motion"], "around", "{c}");
-    let spin = c["spin_deg_per_s"].as_array().unwrap();
-    assert!(spin.iter().all(|w| w.as_f64().unwrap() > 0.0), "{c}");
+    // The shipped sink (four LineSinks) turns it neither way: the part
+    // stays at the angle it arrived at.
+    assert_eq!(c["motion"], "rest", "{c}");
     assert!(c["text"].as_str().unwrap().contains("any angle"), "{c}");
 
     let out = bin()
@@ -374,9 +377,7 @@ fn sink_design_rests_any_angle_at_the_centre() {
     for r in rects {
         let end = r["end"].as_array().unwrap();
         let (ex, ey) = (end[0].as_f64().unwrap(), end[1].as_f64().unwrap());
-        assert!((ex - x).hypot(ey - y) < 5e-5, "{r}");
-        let turned = r["end_theta_deg"].as_f64().unwrap() - r["start_theta_deg"].as_f64().unwrap();
-        assert!(turned > 0.0, "{r}");
+        assert!((ex - x).hypot(ey - y) < 2e-3, "{r}");
         axes.push(r["end_axis_deg"].as_f64().unwrap());
     }
     for (i, a) in axes.iter().enumerate() {
