@@ -130,9 +130,18 @@ fn poses(
     allow_long: bool,
 ) -> PyResult<String> {
     py.detach(|| {
-        let out = out.as_deref().map(Path::new);
-        let (part, source) = (Path::new(&part), Path::new(&source));
-        cli::poses::run(part, source, drops, play, true, out, allow_long)
+        cli::poses::PosesArgs {
+            part: part.into(),
+            source: source.into(),
+            drops,
+            play,
+            friction: None,
+            out: out.map(Into::into),
+            json: cli::Json { json: true },
+            quiet: true,
+            long: cli::AllowLong { allow_long },
+        }
+        .run()
     })
     .map_err(library_error)
 }

@@ -177,7 +177,7 @@ def test_bad_part_names_its_path(root):
 def test_export_returns_peaks_and_harmonics_as_the_cli(root, cli):
     # The peaks are the CSV header's, and --format harmonics' terms are the
     # same numbers as the CLI's harmonics CSV.
-    s = root / "results" / "sink" / "schedule.json"
+    s = root / "results" / "synthesized" / "sink" / "schedule.json"
     rows, peaks = platefield.export(s, 5000, peaks=True)
     assert np.array_equal(rows, platefield.export(s, 5000))
     text = cli("export", s, "--rate", 5000)
