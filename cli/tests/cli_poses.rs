@@ -305,10 +305,7 @@ fn sink_design_rests_any_angle_at_the_centre() {
     let dir = std::env::temp_dir().join(format!("pf_poses_sink_{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let part = rect3x1(&dir);
-    let schedule = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../results/sink/schedule.json"
-    );
+    let schedule = concat!(env!("CARGO_MANIFEST_DIR"), "/../results/sink/schedule.json");
     let started = std::time::Instant::now();
     let out = bin()
         .arg("poses")

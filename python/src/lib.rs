@@ -269,10 +269,19 @@ fn harmonics<'py>(
     text: Option<String>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let h = py
-        .detach(|| schedule_export::harmonics::harmonics(&schedule(path.as_deref(), text.as_deref())?))
+        .detach(|| {
+            schedule_export::harmonics::harmonics(&schedule(path.as_deref(), text.as_deref())?)
+        })
         .map_err(library_error)?;
     let flat: Vec<f64> = (h.terms.iter())
-        .flat_map(|t| [t.channel as f64, f64::from(t.harmonic), t.amplitude, t.phase])
+        .flat_map(|t| {
+            [
+                t.channel as f64,
+                f64::from(t.harmonic),
+                t.amplitude,
+                t.phase,
+            ]
+        })
         .collect();
     let terms = Array2::from_shape_vec((h.terms.len(), 4), flat)
         .map_err(|e| PyException::new_err(e.to_string()))?;
