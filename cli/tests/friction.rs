@@ -121,6 +121,22 @@ fn design_sequence_with(target: &str, out: &Path, extra: &[&str]) -> String {
     stdout
 }
 
+/// The numbers of each row of `report.md`'s friction table: μ_s, μ_k,
+/// realised strength, realised shape error (%), parts counted.
+fn friction_rows(report: &str) -> Vec<Vec<f64>> {
+    report
+        .lines()
+        .skip_while(|l| !l.starts_with("## Friction sensitivity"))
+        .filter(|l| l.starts_with("| 0."))
+        .map(|l| {
+            l.split('|')
+                .map(str::trim)
+                .filter_map(|c| c.trim_end_matches(" %").parse().ok())
+                .collect()
+        })
+        .collect()
+}
+
 fn design_sequence(target: &str, out: &Path) -> serde_json::Value {
     serde_json::from_str(&design_sequence_with(target, out, &["--json"])).expect("schedule JSON")
 }
@@ -213,17 +229,7 @@ fn the_sensitivity_table_is_the_designs_play_across_friction() {
         "{stdout}"
     );
     let report = std::fs::read_to_string(dir.join("mu02/report.md")).unwrap();
-    let rows: Vec<Vec<f64>> = report
-        .lines()
-        .skip_while(|l| !l.starts_with("## Friction sensitivity"))
-        .filter(|l| l.starts_with("| 0."))
-        .map(|l| {
-            l.split('|')
-                .map(str::trim)
-                .filter_map(|c| c.trim_end_matches(" %").parse().ok())
-                .collect()
-        })
-        .collect();
+    let rows = friction_rows(&report);
     assert_eq!(rows.len(), 5, "{report}");
     let mu: Vec<f64> = rows.iter().map(|r| r[1]).collect();
     assert_eq!(mu, [0.16, 0.18, 0.2, 0.22, 0.24]);
@@ -270,17 +276,7 @@ fn a_friction_range_headline_is_the_worst_row() {
     let stdout = design_sequence_with(&target, &dir, &[]);
     let first = stdout.lines().next().unwrap();
     let report = std::fs::read_to_string(dir.join("range/report.md")).unwrap();
-    let rows: Vec<Vec<f64>> = report
-        .lines()
-        .skip_while(|l| !l.starts_with("## Friction sensitivity"))
-        .filter(|l| l.starts_with("| 0."))
-        .map(|l| {
-            l.split('|')
-                .map(str::trim)
-                .filter_map(|c| c.trim_end_matches(" %").parse().ok())
-                .collect()
-        })
-        .collect();
+    let rows = friction_rows(&report);
     assert_eq!(rows.len(), 5, "{report}");
     let worst = rows.iter().max_by(|a, b| a[3].total_cmp(&b[3])).unwrap();
     let prefix = "kept sequence: worst over the friction range (μ_s ";
