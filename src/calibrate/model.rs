@@ -407,24 +407,12 @@ impl Excursions {
         let f = (tau / self.periods[i]).rem_euclid(1.0) * PHASES as f64;
         let k0 = (f.floor() as usize).min(PHASES - 1);
         let (k1, wk) = ((k0 + 1) % PHASES, f - k0 as f64);
-        let fx = |v: f64, lim: [f64; 2], n: usize| {
-            ((v.clamp(lim[0], lim[1]) - lim[0]) / (lim[1] - lim[0]) * (n - 1) as f64)
-                .min((n - 1) as f64)
+        let Some(cell) = g.bilinear_weights(g.clamp(r)) else {
+            return [0.0; 2];
         };
-        let (u, v) = (fx(r[0], g.x, g.n[0]), fx(r[1], g.y, g.n[1]));
-        let (i0, j0) = (
-            (u.floor() as usize).min(g.n[0] - 2),
-            (v.floor() as usize).min(g.n[1] - 2),
-        );
-        let (a, b) = (u - i0 as f64, v - j0 as f64);
         let mut out = [0.0; 2];
-        for (di, dj, w) in [
-            (0, 0, (1.0 - a) * (1.0 - b)),
-            (1, 0, a * (1.0 - b)),
-            (0, 1, (1.0 - a) * b),
-            (1, 1, a * b),
-        ] {
-            let node = &nodes[(j0 + dj) * g.n[0] + i0 + di];
+        for (k, w) in cell {
+            let node = &nodes[k];
             for x in 0..2 {
                 out[x] += w * ((1.0 - wk) * node[k0][x] + wk * node[k1][x]);
             }

@@ -28,6 +28,41 @@ impl Grid {
     /// Largest number of points per side ([`Grid::validate`]).
     pub(crate) const MAX_N: usize = 1001;
 
+    /// The four grid nodes around `p` (row-major indices, x fastest) and
+    /// their bilinear weights, which sum to 1; `None` outside the grid or
+    /// on a grid of fewer than 2 points per side.
+    pub(crate) fn bilinear_weights(&self, p: [f64; 2]) -> Option<[(usize, f64); 4]> {
+        if self.n[0] < 2 || self.n[1] < 2 {
+            return None;
+        }
+        let fx = |v: f64, r: [f64; 2], n: usize| (v - r[0]) / (r[1] - r[0]) * (n - 1) as f64;
+        let (u, v) = (fx(p[0], self.x, self.n[0]), fx(p[1], self.y, self.n[1]));
+        let (nu, nv) = ((self.n[0] - 1) as f64, (self.n[1] - 1) as f64);
+        if !(u >= 0.0 && v >= 0.0 && u <= nu && v <= nv) {
+            return None;
+        }
+        let (i, j) = (
+            (u.floor() as usize).min(self.n[0] - 2),
+            (v.floor() as usize).min(self.n[1] - 2),
+        );
+        let (a, b) = (u - i as f64, v - j as f64);
+        let k = |di: usize, dj: usize| (j + dj) * self.n[0] + i + di;
+        Some([
+            (k(0, 0), (1.0 - a) * (1.0 - b)),
+            (k(1, 0), a * (1.0 - b)),
+            (k(0, 1), (1.0 - a) * b),
+            (k(1, 1), a * b),
+        ])
+    }
+
+    /// `p` moved onto the grid's rectangle (each coordinate clamped).
+    pub(crate) fn clamp(&self, p: [f64; 2]) -> [f64; 2] {
+        [
+            p[0].clamp(self.x[0].min(self.x[1]), self.x[0].max(self.x[1])),
+            p[1].clamp(self.y[0].min(self.y[1]), self.y[0].max(self.y[1])),
+        ]
+    }
+
     /// Validates ranges (nx, ny in 1..=`Grid::MAX_N`, finite, min < max
     /// when n > 1).
     pub fn validate(&self, field: &str) -> Result<()> {

@@ -246,31 +246,17 @@ impl Field {
     /// of the region lies where it lifts the part off reads "contact lost",
     /// not "outside source").
     pub(crate) fn bilinear(&self, p: [f64; 2]) -> Result<[f64; 2], Validity> {
-        let field = self;
-        let g = &field.grid;
-        let fx = |v: f64, r: [f64; 2], n: usize| (v - r[0]) / (r[1] - r[0]) * (n - 1) as f64;
-        let (u, v) = (fx(p[0], g.x, g.n[0]), fx(p[1], g.y, g.n[1]));
-        if !(u >= 0.0 && v >= 0.0 && u <= (g.n[0] - 1) as f64 && v <= (g.n[1] - 1) as f64) {
-            return Err(Validity::OutsideSource);
-        }
-        let (i, j) = (
-            (u.floor() as usize).min(g.n[0] - 2),
-            (v.floor() as usize).min(g.n[1] - 2),
-        );
-        let (a, b) = (u - i as f64, v - j as f64);
+        let nodes = self
+            .grid
+            .bilinear_weights(p)
+            .ok_or(Validity::OutsideSource)?;
         let mut out = [0.0; 2];
-        for (di, dj, w) in [
-            (0, 0, (1.0 - a) * (1.0 - b)),
-            (1, 0, a * (1.0 - b)),
-            (0, 1, (1.0 - a) * b),
-            (1, 1, a * b),
-        ] {
-            let k = (j + dj) * g.n[0] + i + di;
-            if field.validity[k] != Validity::Ok {
-                return Err(field.validity[k]);
+        for (k, w) in nodes {
+            if self.validity[k] != Validity::Ok {
+                return Err(self.validity[k]);
             }
-            out[0] += w * field.vectors[k][0];
-            out[1] += w * field.vectors[k][1];
+            out[0] += w * self.vectors[k][0];
+            out[1] += w * self.vectors[k][1];
         }
         Ok(out)
     }
