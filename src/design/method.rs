@@ -385,9 +385,10 @@ impl<'a> MethodRun<'a> {
 
     /// The synthesized candidate (`synthesize`, `auto`, `mirror`) and the
     /// mirror-image time-share: asked for, or under `auto` when the target
-    /// states a friction range and is symmetric under y → −y. For a target
-    /// no reflection maps to itself, the mirror image turned back onto it
-    /// by its phase (`turned_mirror_share`).
+    /// states a friction range. About the target's symmetry axis where it
+    /// has one; for a target no reflection maps to itself, the
+    /// counter-rotating share (`super::mirror::counter_share`: one more
+    /// synthesis, for the target's mirror image).
     fn synthesis(&mut self) -> Result<()> {
         let method = self.opts.method;
         if method == Method::Auto {
@@ -461,12 +462,27 @@ impl<'a> MethodRun<'a> {
     }
 
     /// Over a friction range, every candidate so far played across it
-    /// ([`candidate_sensitivity`]): what `auto` judges it by.
+    /// ([`candidate_sensitivity`]): what `auto` judges it by. A candidate
+    /// already POOR at the nominal friction is not, while another is not
+    /// POOR: the range's values include the nominal one, so its worst case
+    /// is POOR too and it cannot be kept (the sweep of a schedule that
+    /// loses contact is the longest judge there is: parts that do not
+    /// settle play to the cap).
     fn judge_range(&mut self) -> Result<()> {
-        if self.ranged() {
-            for c in &mut self.out.candidates {
-                c.judge_range(self.target, self.sampled)?;
+        if !self.ranged() {
+            return Ok(());
+        }
+        let any_sound = self.out.candidates.iter().any(|c| !c.played().poor);
+        for c in &mut self.out.candidates {
+            if any_sound && c.played().poor {
+                if let Some(p) = c.schedule.played.as_mut() {
+                    p.notes.push(
+                        "POOR at the nominal friction: not judged across the range (its worst case is POOR too)".into(),
+                    );
+                }
+                continue;
             }
+            c.judge_range(self.target, self.sampled)?;
         }
         Ok(())
     }
@@ -514,18 +530,25 @@ impl<'a> MethodRun<'a> {
     }
 
     /// The mirror-image time-share of the synthesized `schedule`: about
-    /// `axis` when a reflection maps the target to itself, else turned
-    /// back onto the target by its phase.
+    /// `axis` when a reflection maps the target to itself, else shared with
+    /// a partner synthesized for the target's mirror image and mirrored
+    /// back (`super::mirror::counter_share`).
     fn mirror_share(&self, schedule: &Schedule, axis: Option<f64>) -> Result<Schedule> {
         let limits = &self.out.limits;
         match axis {
             Some(axis) => super::mirror::mirror_share(schedule, limits, axis),
-            None => super::mirror::turned_mirror_share(
-                schedule,
-                self.target,
-                &region(self.target, self.sampled),
-                limits,
-            ),
+            None => {
+                let mirrored = self.target.mirrored_y();
+                let sampled = mirrored.sample()?;
+                let (_, partner) = synthesize_schedule(
+                    &mirrored,
+                    &sampled,
+                    limits,
+                    self.opts,
+                    &asked_synthesis(self.target, self.opts),
+                )?;
+                super::mirror::counter_share(schedule, &partner, limits)
+            }
         }
     }
 
@@ -1304,11 +1327,19 @@ pub fn design_estimate(
     if let Some(library) = library.filter(|_| sequenced) {
         e.terms.extend(library.terms);
     }
-    if method != Method::Sequence {
-        e.terms
-            .extend(synthesis_estimate(target, sampled, synth, opts, limits).terms);
-    }
     let ranged = target.friction.is_some_and(|f| !f.is_exact());
+    if method != Method::Sequence {
+        let one = synthesis_estimate(target, sampled, synth, opts, limits);
+        // A target without a symmetry axis has its mirror-image partner
+        // synthesized too (`super::mirror::counter_share`).
+        let pair = (method == Method::Mirror || (method == Method::Auto && ranged))
+            && super::mirror::mirror_axis(target, sampled).is_none();
+        if pair {
+            let partner = |t: &Term| t.clone().named(&format!("partner's {}", t.label));
+            e.terms.extend(one.terms.iter().map(partner));
+        }
+        e.terms.extend(one.terms);
+    }
     // Judges of sequenced schedules (and mixes) at their cycles per
     // period, of synthesized motions at one cycle, of a mirror pair at
     // its two segments' cycles (`judge::judged_cycles`).

@@ -31,6 +31,13 @@
 //! a sink under every φ; the smallest φ in [0°, 180°) that maps the target
 //! to itself is used, at any angle ([`mirror_axis`]).
 //!
+//! **Without a symmetry** (a whirlpool, a line sink off the centre beside
+//! a swirl, any sampled field) the partner is made instead of mirrored:
+//! a second motion synthesized for the target's mirror image and
+//! reflected back realises the target itself with the opposite sense of
+//! circulation, so its friction turn is the opposite one
+//! ([`counter_share`]).
+//!
 //! **Its schedule.** Two six-signal segments of `MIRROR_SEGMENT_CYCLES`
 //! cycles each, the motion and its mirror, each ramped in from rest and out
 //! to rest over `MIXED_RAMP_CYCLES` cycles (the
@@ -46,15 +53,10 @@
 
 use super::basis::MIXED_RAMP_CYCLES;
 use crate::error::{Error, Result};
-use crate::field::Grid;
 use crate::motion::Signals;
 use crate::request::{SampledTarget, Target};
 use crate::schedule::export::schedule_peaks;
 use crate::schedule::{Schedule, Segment};
-use crate::synth::calibrate::shifted;
-use crate::synth::objective::{Evaluation, Objective};
-use crate::synth::params::Coefficients;
-use crate::synth::progress::{ProgressMode, SynthesisProgress};
 use crate::synth::ShakerLimits;
 
 /// Cycles of each of the two segments, ramps included.
@@ -208,86 +210,43 @@ pub fn mirror_share(
     ))
 }
 
-/// Phases (degrees) the turned mirror image is tried at before its
-/// calibration: every 15°.
-pub(crate) const TURN_SCAN_DEG: f64 = 15.0;
-
-/// The turned mirror-image time-share, for a target that no reflection
-/// maps to itself (a whirlpool): the synthesized motion of `synthesized`,
-/// and its mirror image in y = 0 turned back onto the target by the phase
-/// of its normal-force signals.
+/// The counter-rotating time-share, for any target: the synthesized
+/// motion of `synthesized`, and `partner` — a motion synthesized for the
+/// target's mirror image in y = 0 ([`crate::request::Target::mirrored_y`])
+/// — mirrored back ([`Signals::mirrored_y`]).
 ///
-/// **Why.** The mirror image M′ of a motion M circulates the other way, so
-/// a friction error turns its field the other way ([module
-/// documentation](self)); but its field is the target's mirror image (for
-/// a counter-clockwise whirlpool, a clockwise one). Shifting the phase of
-/// harmonic 1 of M′'s normal-force signals (a_z, α_x, α_y) by φ turns its
-/// field by φ without changing any amplitude
-/// ([`crate::synth::calibrate`]); the phase that best realises the target
-/// at the nominal friction (a scan of every `TURN_SCAN_DEG`, then one
-/// secant step on the measured turn) gives a motion M″ with the target's field and
-/// the opposite turn with friction. The time-share ½(M + M″) then turns
-/// as cos Δ: a friction error Δ in the turn costs strength to second order
-/// and shape not at all, to the extent that sequencing combines fields.
+/// **Why it holds over friction without symmetry.** A friction error
+/// turns a synthesized field pointwise by the change Δ of the slip lead
+/// (module documentation; [`crate::synth`]: in the averaged model
+/// v = (W/g)(Q_N, P_N), a change Δ of ε rotates every (P, Q) pair, so
+/// every field vector turns by the same Δ). The sense of that turn is the
+/// sense in which the plate's velocity circulates. The partner, made for
+/// f′(q) = S f(S q) and reflected by S = diag(1, −1), realises
+/// S f′(S q) = f at the nominal friction, and its circulation is
+/// reversed, so at another friction it realises R(−Δ) f where the first
+/// realises R(Δ) f. The equal time-share realises ½(R(Δ) + R(−Δ)) f =
+/// cos Δ · f: the turn costs strength to second order and shape not at
+/// all (to the extent that sequencing combines fields, and the two motions'
+/// strengths change alike with μ). For a target symmetric under a
+/// reflection the partner is that reflection of the motion itself
+/// ([`mirror_share`]), so this costs one synthesis more than it.
 ///
 /// # Errors
-/// The schedule does not hold exactly one six-signal motion.
-pub fn turned_mirror_share(
+/// Either schedule does not hold exactly one six-signal motion.
+pub fn counter_share(
     synthesized: &Schedule,
-    target: &Target,
-    region: &Grid,
+    partner: &Schedule,
     limits: &ShakerLimits,
 ) -> Result<Schedule> {
     let motion = only_motion(synthesized)?;
-    let settings = &synthesized.settings;
-    let progress = SynthesisProgress::new(ProgressMode::Quiet, usize::MAX);
-    let coarse = Grid {
-        n: [7, 7],
-        ..*region
-    };
-    let objective = Objective::unbounded(&target.field, coarse, limits, settings, 0.04, &progress);
-    let mirror = Coefficients::from_signals(&motion.mirrored_y(), limits.harmonics);
-    let steps = (360.0 / TURN_SCAN_DEG).round() as usize;
-    let at = |phi: f64| objective.evaluate(&objective.layout().to_vec(&shifted(&mirror, phi)));
-    let scan: Vec<Evaluation> = (0..steps)
-        .map(|k| at((k as f64 * TURN_SCAN_DEG).to_radians()))
-        .collect();
-    let Some(k) = (0..steps).min_by(|&a, &b| scan[a].cost.total_cmp(&scan[b].cost)) else {
-        return Err(Error::Physical(
-            "no phase of the mirror image was tried".into(),
-        ));
-    };
-    // The turn is close to linear in the phase: one secant step from the
-    // scan's best, through its neighbours' turns, removes what is left.
-    let (prev, next) = (&scan[(k + steps - 1) % steps], &scan[(k + 1) % steps]);
-    let slope = wrap(next.realised.turn - prev.realised.turn) / (2.0 * TURN_SCAN_DEG.to_radians());
-    let phi = (k as f64 * TURN_SCAN_DEG).to_radians();
-    let mut best = scan[k].clone();
-    if slope.abs() > 0.5 && scan[k].realised.turn.is_finite() {
-        let refined = at(phi - scan[k].realised.turn / slope);
-        if refined.cost < best.cost {
-            best = refined;
-        }
-    }
-    let turned = objective.motion(&best.params).0.to_signals();
-    let label = "Synthesized, mirrored in the 0° axis and turned by its phase";
+    let back = only_motion(partner)?.mirrored_y();
     Ok(time_share(
         synthesized,
         motion,
-        (label, &turned),
-        "turned mirror",
+        ("Synthesized for the mirror image, mirrored back", &back),
+        "counter-rotating",
         limits,
     ))
-}
-
-/// `a` (rad) wrapped into (−π, π].
-fn wrap(a: f64) -> f64 {
-    let t = a.rem_euclid(std::f64::consts::TAU);
-    if t > std::f64::consts::PI {
-        t - std::f64::consts::TAU
-    } else {
-        t
-    }
 }
 
 /// The one six-signal motion of a synthesized schedule.

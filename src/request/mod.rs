@@ -185,6 +185,7 @@ mod field;
 mod folder;
 mod grid;
 mod interpolant;
+mod mirror;
 mod shaker;
 
 use std::path::Path;
