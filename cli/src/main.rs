@@ -148,6 +148,17 @@ enum Study {
         #[command(flatten)]
         out: StudyOut,
     },
+    /// Robust design (auto over each target's friction range) against a nominal synthesized design, on a seeded family of random targets, both judged over the range: robust_family.md (CPU seconds printed only; about 30 s of CPU per target).
+    #[command(mut_arg("out", default_dir(studies::robust_family::DIR)))]
+    RobustFamily {
+        /// Targets in the family (the kinds in their shares).
+        #[arg(long, default_value_t = studies::robust_family::COUNT as u64, value_parser = clap::value_parser!(u64).range(1..=400))]
+        count: u64,
+        #[command(flatten)]
+        quiet: Quiet,
+        #[command(flatten)]
+        out: StudyOut,
+    },
     /// Every shipped target designed (auto) under several synthesis and polish budgets: design_speed.md (times printed only).
     #[command(mut_arg("out", default_dir(studies::design_speed::DIR)))]
     DesignSpeed {
@@ -318,6 +329,11 @@ fn run_study(study: Study) -> Result<String> {
         Study::Robust { quiet, out } => studies::watched_defaults("robust", quiet.quiet, || {
             studies::robust::run(&out.out, quiet.quiet)
         }),
+        Study::RobustFamily { count, quiet, out } => {
+            studies::watched_defaults("robust-family", quiet.quiet, || {
+                studies::robust_family::run(&out.out, count as usize, quiet.quiet)
+            })
+        }
         Study::Probes(o) => {
             studies::watched_defaults("probes", false, || studies::probes::run(&o.out))
         }

@@ -181,6 +181,7 @@ mod attractor;
 mod classes;
 mod error;
 mod examples;
+pub mod family;
 mod field;
 mod folder;
 mod grid;

@@ -18,6 +18,7 @@
 //! | [`design_speed`] | `platefield study design-speed` | `design_speed.md` |
 //! | [`poses`] | `platefield study poses` | `poses.md` |
 //! | [`poses_friction`] | `platefield study poses-friction` | `poses_friction.md` (the pose designs at μ ± 20 %) |
+//! | [`robust_family`] | `platefield study robust-family` | `robust_family.md` (robust design over a seeded family of random targets) |
 //! | [`probes`] | `platefield study probes` | `probes.md` (the measurements behind numbers the docs state) |
 
 pub mod design_speed;
@@ -31,6 +32,7 @@ pub mod primitives;
 pub mod probes;
 pub mod reproduce;
 pub mod robust;
+pub mod robust_family;
 pub mod rung;
 pub mod speed;
 pub mod squeeze_order;
