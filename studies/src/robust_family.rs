@@ -227,8 +227,12 @@ pub fn render(outcomes: &[Outcome]) -> String {
     md.push_str(&table.markdown());
     let n = outcomes.len();
     let within = robust.iter().filter(|e| **e <= GOALS.0).count();
-    let over = robust.iter().filter(|e| !(**e <= GOALS.1)).count();
-    let weak = ratio.iter().filter(|r| !(**r >= GOALS.2)).count();
+    // NaN (not measured) counts against the goals.
+    let over = robust
+        .iter()
+        .filter(|e| e.is_nan() || **e > GOALS.1)
+        .count();
+    let weak = ratio.iter().filter(|r| r.is_nan() || **r < GOALS.2).count();
     md.push_str(&format!(
         "\n{within} of {n} targets ({:.0} %) hold ≤ {:.0} % worst shape over their range (goal 90 %); {over} exceed {:.0} % (goal 0); {weak} fall below {} of the nominal design's strength (goal 0).\n",
         100.0 * within as f64 / n.max(1) as f64,
