@@ -25,7 +25,6 @@ impl SplitMix64 {
     }
 
     /// Uniform in [-1, 1).
-    #[cfg_attr(not(test), allow(dead_code))]
     pub fn symmetric(&mut self) -> f64 {
         2.0 * self.uniform() - 1.0
     }

@@ -49,6 +49,12 @@ pub struct VerifyArgs {
     /// The rate (samples/s) of a `--replay` recording whose rows hold the six channels without t (a header-less CSV; with t first, the times give it).
     #[arg(long, allow_negative_numbers = true)]
     pub rate: Option<f64>,
+    /// Judge the schedule under the shaker's delivery error: each channel's harmonics off by up to AMPLITUDE (a fraction, ≤ 0.5) and PHASE_DEG degrees (≤ 45), seeded random draws (--draws), at the friction where the design's worst case falls; without a value, the target's shaker.tolerance.
+    #[arg(long, value_name = "AMPLITUDE:PHASE_DEG", num_args = 0..=1, default_missing_value = "")]
+    pub tolerance: Option<String>,
+    /// Delivery-error draws of --tolerance.
+    #[arg(long, default_value_t = platefield::design::tolerance::DEFAULT_DRAWS as u64, value_parser = clap::value_parser!(u64).range(1..=10_000))]
+    pub draws: u64,
     /// Print the summary JSON on stdout.
     #[arg(long)]
     pub json: bool,
@@ -72,6 +78,28 @@ pub fn rect_size(text: &str) -> Result<[f64; 2]> {
     let l: f64 = l.trim().parse().map_err(|_| bad())?;
     let w: f64 = w.trim().parse().map_err(|_| bad())?;
     Ok([l, w])
+}
+
+/// `--tolerance`'s value: empty for the target's own, else
+/// `AMPLITUDE:PHASE_DEG`.
+fn tolerance(text: &str) -> Result<Option<platefield::request::Tolerance>> {
+    if text.is_empty() {
+        return Ok(None);
+    }
+    let bad = || {
+        Error::invalid(
+            "--tolerance",
+            format!("must be AMPLITUDE:PHASE_DEG (e.g. 0.05:5), got {text:?}"),
+        )
+    };
+    let (a, p) = text.split_once(':').ok_or_else(bad)?;
+    let t = platefield::request::Tolerance {
+        amplitude: a.trim().parse().map_err(|_| bad())?,
+        phase_deg: p.trim().parse().map_err(|_| bad())?,
+    };
+    t.validate("--tolerance")
+        .map_err(|e| Error::invalid("--tolerance", e.to_string()))?;
+    Ok(Some(t))
 }
 
 impl VerifyArgs {
@@ -109,6 +137,8 @@ impl VerifyArgs {
                 .transpose()?,
             replay: self.replay.clone(),
             replay_rate: self.rate,
+            tolerance: self.tolerance.as_deref().map(tolerance).transpose()?,
+            draws: self.draws as usize,
         })
     }
 

@@ -45,6 +45,8 @@ pub(crate) fn summary_json(r: &VerifyReport) -> Result<String> {
         friction_sweep: Option<&'a Sensitivity>,
         #[serde(skip_serializing_if = "Option::is_none")]
         replay: Option<&'a platefield::play::replay::ReplayCheck>,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        tolerance: Option<&'a platefield::design::tolerance::Spread>,
     }
     #[derive(Serialize)]
     struct RealisedSummary<'a> {
@@ -87,6 +89,7 @@ pub(crate) fn summary_json(r: &VerifyReport) -> Result<String> {
         friction_played: r.request.friction.and_then(|f| f.played()),
         friction_sweep: r.friction_sweep.as_ref(),
         replay: r.replay.as_ref(),
+        tolerance: r.tolerance.as_ref(),
     };
     let mut text =
         serde_json::to_string_pretty(&summary).map_err(|e| Error::Physical(e.to_string()))?;
@@ -384,6 +387,27 @@ pub fn summary(r: &VerifyReport) -> String {
                 "judge: not measured (the schedule records no target to judge against)"
             );
         }
+    }
+    if let Some(t) = &r.tolerance {
+        let [median, p90, worst] = t.shape();
+        let [_, _, weakest] = t.strength();
+        let _ = writeln!(
+            out,
+            "tolerance: the judge over {} delivery-error draws (each channel's harmonics within ±{} % and ±{}°) at μ_k {}: shape error median {:.2} %, 90th percentile {:.2} %, worst {:.2} %; weakest strength {:.4}{}",
+            t.shape_errors.len(),
+            100.0 * t.tolerance.amplitude,
+            t.tolerance.phase_deg,
+            t.friction,
+            100.0 * median,
+            100.0 * p90,
+            100.0 * worst,
+            weakest,
+            if t.primitive_segments > 0 {
+                format!(" ({} primitive segments played as designed)", t.primitive_segments)
+            } else {
+                String::new()
+            }
+        );
     }
     let few = platefield::design::method::MIN_MEASURED_POINTS;
     if v.valid < few {

@@ -38,6 +38,7 @@ mod run;
 pub mod sort;
 pub mod stacked;
 mod stages;
+pub mod tolerance;
 
 use std::time::Instant;
 

@@ -312,6 +312,47 @@ impl Signals {
             .transformed(angle, [0.0, 0.0])
     }
 
+    /// The motion a controller delivers with per-channel errors: every term
+    /// of channel `c` (linear x, y, z, angular x, y, z = 0…5) at harmonic
+    /// h has its amplitude multiplied by `gain(c, h)` and `shift(c, h)`
+    /// (rad) added to its phase — a transfer function's error at that
+    /// channel and frequency.
+    ///
+    /// ```
+    /// use platefield::motion::Signals;
+    /// let m = Signals::example();
+    /// let d = m.delivered(&|_, _| (1.05, 0.1));
+    /// let (a, b) = (&m.linear.x[0], &d.linear.x[0]);
+    /// assert!((b.amplitude - 1.05 * a.amplitude).abs() < 1e-12);
+    /// assert!((b.phase - a.phase - 0.1).abs() < 1e-12);
+    /// assert_eq!(m.delivered(&|_, _| (1.0, 0.0)), m);
+    /// ```
+    pub fn delivered(&self, error: &dyn Fn(usize, u32) -> (f64, f64)) -> Signals {
+        let channel = |c: usize, terms: &[FourierTerm]| -> Vec<FourierTerm> {
+            terms
+                .iter()
+                .map(|t| {
+                    let (gain, shift) = error(c, t.harmonic);
+                    FourierTerm {
+                        amplitude: t.amplitude * gain,
+                        phase: t.phase + shift,
+                        harmonic: t.harmonic,
+                    }
+                })
+                .collect()
+        };
+        let axes = |a: &Axes, first: usize| Axes {
+            x: channel(first, &a.x),
+            y: channel(first + 1, &a.y),
+            z: channel(first + 2, &a.z),
+        };
+        Signals {
+            period: self.period,
+            linear: axes(&self.linear, 0),
+            angular: axes(&self.angular, 3),
+        }
+    }
+
     /// Every amplitude multiplied by `k` (the same waveforms, scaled).
     pub fn scaled(&self, k: f64) -> Signals {
         let axes = |a: &Axes| Axes {

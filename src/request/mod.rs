@@ -214,7 +214,7 @@ pub use field::{
 pub(crate) use folder::plain_folder_name;
 pub use grid::{scattered_grid, Grid, MaskRegion, MAX_GRID_N, SCATTERED_N, SCATTERED_SPACING};
 pub use interpolant::{SampledInterpolant, LINEAR_NEIGHBORS, MAX_NODES, MIN_NODES};
-pub use shaker::{ShakerSpec, TravelSpec, MAX_HARMONICS, MAX_PERIOD_S, MIN_PERIOD_S};
+pub use shaker::{ShakerSpec, Tolerance, TravelSpec, MAX_HARMONICS, MAX_PERIOD_S, MIN_PERIOD_S};
 
 use error::show;
 

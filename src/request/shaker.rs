@@ -127,6 +127,66 @@ fn in_range(
     Ok(())
 }
 
+/// Largest delivery error of a channel's amplitude a `tolerance` may state
+/// (a fraction).
+pub const MAX_TOLERANCE_AMPLITUDE: f64 = 0.5;
+/// Largest delivery error of a channel's phase a `tolerance` may state
+/// (degrees).
+pub const MAX_TOLERANCE_PHASE_DEG: f64 = 45.0;
+
+/// How closely the shaker's controller delivers each channel's harmonics:
+/// within ±`amplitude` (a fraction) of the amplitude and ±`phase_deg`
+/// degrees of the phase asked for (`"tolerance": {"amplitude": 0.05,
+/// "phase_deg": 5}`). A design is not changed by it; `verify --tolerance`
+/// and `report.md` judge the design under seeded random errors within it
+/// (`platefield::design::tolerance`).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Tolerance {
+    /// Relative amplitude error bound, in [0, 0.5].
+    #[serde(default)]
+    pub amplitude: f64,
+    /// Phase error bound (degrees), in [0, 45].
+    #[serde(default)]
+    pub phase_deg: f64,
+}
+
+impl Tolerance {
+    /// Checks both bounds; errors name `{field}.amplitude` or
+    /// `{field}.phase_deg`.
+    ///
+    /// ```
+    /// use platefield::request::Tolerance;
+    /// assert!(Tolerance { amplitude: 0.05, phase_deg: 5.0 }.validate("shaker.tolerance").is_ok());
+    /// let e = Tolerance { amplitude: 0.8, phase_deg: 5.0 }.validate("shaker.tolerance");
+    /// assert!(e.unwrap_err().to_string().contains("shaker.tolerance.amplitude"));
+    /// ```
+    pub fn validate(&self, field: &str) -> Result<(), TargetError> {
+        for (name, v, max, what) in [
+            (
+                "amplitude",
+                self.amplitude,
+                MAX_TOLERANCE_AMPLITUDE,
+                "a fraction",
+            ),
+            (
+                "phase_deg",
+                self.phase_deg,
+                MAX_TOLERANCE_PHASE_DEG,
+                "degrees",
+            ),
+        ] {
+            if !(v.is_finite() && (0.0..=max).contains(&v)) {
+                return Err(TargetError::invalid(
+                    format!("{field}.{name}"),
+                    format!("must be in [0, {}] ({what}), got {}", show(max), show(v)),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
 /// The `shaker` object of a target, as written (missing keys `None`).
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -154,6 +214,9 @@ pub struct ShakerSpec {
     /// (m, rad).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stroke: Option<TravelSpec>,
+    /// How closely the controller delivers each channel ([`Tolerance`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tolerance: Option<Tolerance>,
 }
 
 impl ShakerSpec {
@@ -194,6 +257,9 @@ impl ShakerSpec {
         if let Some(v) = &self.stroke {
             let max = [(MAX_LINEAR_STROKE, "m"), (MAX_ANGULAR_STROKE, "rad")];
             v.validate(&format!("{field}.stroke"), "stroke", max)?;
+        }
+        if let Some(t) = &self.tolerance {
+            t.validate(&format!("{field}.tolerance"))?;
         }
         if let Some(h) = self.harmonics {
             if !(1..=MAX_HARMONICS).contains(&h) {

@@ -113,6 +113,7 @@ impl ShakerLimits {
             contact_margin: Some(self.contact_margin),
             velocity: self.velocity,
             stroke: self.stroke,
+            tolerance: None,
         }
     }
 

@@ -88,6 +88,13 @@ pub struct VerifyRequest {
     /// The recording's rate (samples/s) when its rows hold the six
     /// channels without t.
     pub replay_rate: Option<f64>,
+    /// Judge the schedule under the shaker's delivery error
+    /// ([`crate::design::tolerance`]) within this tolerance, or within the
+    /// target's `shaker.tolerance` (`Some(None)`), at the friction where
+    /// the design's worst case falls.
+    pub tolerance: Option<Option<crate::request::Tolerance>>,
+    /// Delivery-error draws of `tolerance`.
+    pub draws: usize,
 }
 
 impl Default for VerifyRequest {
@@ -106,6 +113,8 @@ impl Default for VerifyRequest {
             friction: None,
             replay: None,
             replay_rate: None,
+            tolerance: None,
+            draws: crate::design::tolerance::DEFAULT_DRAWS,
         }
     }
 }
@@ -201,6 +210,8 @@ pub struct VerifyReport {
     /// The schedule played and its export replayed (`--replay`), judged
     /// by the report layer like the sweep.
     pub replay: Option<crate::play::replay::ReplayCheck>,
+    /// The judge over delivery errors (`--tolerance`).
+    pub tolerance: Option<crate::design::tolerance::Spread>,
 }
 
 /// The region verified: the target's grid; for a grid-less `sampled`
@@ -680,6 +691,7 @@ fn verify_labelled(schedule: &Schedule, req: &VerifyRequest, label: &str) -> Res
     );
     progress.finish();
     let (friction_sweep, replay) = judged.run(schedule)?;
+    let tolerance = delivery_spread(schedule, req, &settings)?;
     Ok(VerifyReport {
         target: name.to_string(),
         region: g,
@@ -706,5 +718,51 @@ fn verify_labelled(schedule: &Schedule, req: &VerifyRequest, label: &str) -> Res
         rectangles,
         friction_sweep,
         replay,
+        tolerance,
     })
+}
+
+/// The judge over delivery errors asked for (`--tolerance`), at the
+/// friction played (`--friction MU`), else where the design's worst case
+/// over its range falls, else the schedule's own.
+fn delivery_spread(
+    schedule: &Schedule,
+    req: &VerifyRequest,
+    settings: &crate::field::FieldSettings,
+) -> Result<Option<crate::design::tolerance::Spread>> {
+    let Some(asked) = req.tolerance else {
+        return Ok(None);
+    };
+    let target = schedule.target_spec.as_ref().ok_or_else(|| {
+        Error::invalid(
+            "--tolerance",
+            "the schedule records no target to judge against",
+        )
+    })?;
+    let tol = asked
+        .or_else(|| target.shaker.as_ref().and_then(|s| s.tolerance))
+        .ok_or_else(|| {
+            Error::invalid(
+                "--tolerance",
+                "the schedule's target states no shaker.tolerance: give it as AMPLITUDE:PHASE_DEG (e.g. 0.05:5)",
+            )
+        })?;
+    tol.validate("--tolerance")
+        .map_err(|e| Error::invalid("--tolerance", e.to_string()))?;
+    let sampled = target.sample()?;
+    req.runtime
+        .admit(&crate::design::tolerance::spread_estimate(
+            target, &sampled, schedule, req.draws,
+        ))?;
+    let friction = req
+        .friction
+        .and_then(|f| f.played())
+        .or_else(|| schedule.played.as_ref().and_then(|p| p.worst_friction))
+        .unwrap_or(settings.friction);
+    let physics = crate::field::FieldSettings {
+        friction,
+        ..*settings
+    };
+    crate::design::tolerance::spread(target, &sampled, schedule, &physics, (&tol, req.draws))
+        .map(Some)
 }

@@ -1,0 +1,76 @@
+//! The judge under the shaker's delivery error (`design::tolerance`).
+
+use platefield::design::method::judge_check;
+use platefield::design::tolerance::{delivered, draws, spread, Draw};
+use platefield::request::Tolerance;
+use platefield::schedule::Schedule;
+
+fn sink() -> Schedule {
+    Schedule::load(std::path::Path::new(
+        "results/synthesized/sink/schedule.json",
+    ))
+    .unwrap()
+}
+
+/// A phase shift of h·φ at harmonic h on every channel, gains 1, is the
+/// whole motion played φ/ω later: a steady motion's judge (a periodic
+/// mean) cannot change. Within 1e-4 relative in strength and 0.01
+/// percentage point in shape (the judge's settle tolerance is 1e-4 of
+/// each part's drift). A sign slip in one channel's shift breaks it.
+#[test]
+fn a_common_time_shift_leaves_the_judge_unchanged() {
+    let s = sink();
+    let target = s.target_spec.clone().unwrap();
+    let sampled = target.sample().unwrap();
+    let base = judge_check(&target, &sampled, &s, &s.settings).unwrap();
+    let shift = Draw {
+        errors: (1..=16).map(|h| [(1.0, 0.7 * f64::from(h)); 6]).collect(),
+    };
+    let shifted = judge_check(&target, &sampled, &delivered(&s, &shift), &s.settings).unwrap();
+    let ds = (shifted.realised_strength / base.realised_strength - 1.0).abs();
+    let de = (shifted.shape_error - base.shape_error).abs();
+    assert!(ds < 1e-4 && de < 1e-4, "strength {ds:e}, shape {de:e}");
+    // One channel alone shifted is a different motion.
+    let mut one = shift.clone();
+    for row in &mut one.errors {
+        row[1..].fill((1.0, 0.0));
+    }
+    let off = judge_check(&target, &sampled, &delivered(&s, &one), &s.settings).unwrap();
+    assert!(
+        (off.shape_error - base.shape_error).abs() > 0.01,
+        "{off:?} against {base:?}"
+    );
+}
+
+/// With a zero tolerance every draw is the design's own judge, exactly;
+/// within ±5 % and ±5° the 16 draws spread (median above the design's
+/// shape error, worst above the median) and the same call gives the same
+/// draws.
+#[test]
+fn the_spread_is_the_judge_over_seeded_draws() {
+    let s = sink();
+    let target = s.target_spec.clone().unwrap();
+    let sampled = target.sample().unwrap();
+    let base = judge_check(&target, &sampled, &s, &s.settings).unwrap();
+    let zero = Tolerance::default();
+    let z = spread(&target, &sampled, &s, &s.settings, (&zero, 4)).unwrap();
+    assert!(z.shape_errors.iter().all(|e| *e == base.shape_error));
+    assert_eq!(z.perturbed_segments, 1);
+    let tol = Tolerance {
+        amplitude: 0.05,
+        phase_deg: 5.0,
+    };
+    let a = spread(&target, &sampled, &s, &s.settings, (&tol, 16)).unwrap();
+    let [median, _, worst] = a.shape();
+    assert!(
+        median > base.shape_error && worst > median,
+        "{median} {worst} against {}",
+        base.shape_error
+    );
+    assert!(worst < 0.5, "{worst}");
+    assert_eq!(
+        a,
+        spread(&target, &sampled, &s, &s.settings, (&tol, 16)).unwrap()
+    );
+    assert_eq!(draws(&tol, 16).len(), 16);
+}
