@@ -3,7 +3,7 @@
 //! schedule (LineSink at 0° and 180°) with its second segment detuned by
 //! 20°, so its line is turned and its realised shape error is large;
 //! Nelder–Mead over the segments' cycles, rotation and amplitude must bring
-//! it back (coarse: 3 × 3 start points, ≤ 30 plays).
+//! it back (coarse: 3 × 3 held points, ≤ 30 plays; before and after judged).
 
 use std::path::Path;
 
@@ -59,7 +59,6 @@ fn refinement_repairs_a_detuned_line_sink() {
     let detuned = s.with_segments(segments);
     let options = RefineOptions {
         coarse_stride: 10,
-        stride: 10,
         max_evaluations: 30,
         step: 0.5,
         ..RefineOptions::default()
