@@ -77,7 +77,7 @@ fn refinement_repairs_a_detuned_line_sink() {
     assert!(r.improved);
     assert!(r.evaluations <= 30);
     assert!(r.after.cost <= r.before.cost);
-    // Measured 40.6 % → 7.6 % (30 plays).
+    // Measured by the judge 25.5 % → 3.9 % (30 plays).
     assert!(
         a.shape_error <= 0.3 * b.shape_error,
         "{} vs {}",
@@ -85,7 +85,7 @@ fn refinement_repairs_a_detuned_line_sink() {
         b.shape_error
     );
     assert!(
-        b.shape_error > 0.25,
+        b.shape_error > 0.2,
         "the detuning must matter: {}",
         b.shape_error
     );
