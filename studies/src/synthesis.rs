@@ -182,7 +182,14 @@ pub(crate) fn measure_plays(
     let sampled = target.sample()?;
     let (plays, e) = judge::judge(target, &sampled, sm, settings, None);
     let vs_predicted = if with_prediction {
-        model_check(target, &sampled, sm, per_period, settings, &MeasureOptions::default())
+        model_check(
+            target,
+            &sampled,
+            sm,
+            per_period,
+            settings,
+            &MeasureOptions::default(),
+        )
     } else {
         f64::NAN
     };
