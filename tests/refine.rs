@@ -61,7 +61,6 @@ fn refinement_repairs_a_detuned_line_sink() {
         coarse_stride: 10,
         max_evaluations: 30,
         step: 0.5,
-        ..RefineOptions::default()
     };
     let r = refine_schedule(&detuned, &target, &options).unwrap();
     let (b, a) = (&r.before.error, &r.after.error);

@@ -141,7 +141,9 @@ impl Measured {
     /// [`platefield::fit::POOR_ERROR`], or a held part that loses contact
     /// at a point of the region.
     pub fn poor(&self) -> bool {
-        !(self.shape_error <= platefield::fit::POOR_ERROR) || self.valid < self.played
+        self.shape_error.is_nan()
+            || self.shape_error > platefield::fit::POOR_ERROR
+            || self.valid < self.played
     }
 }
 
