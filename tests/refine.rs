@@ -3,7 +3,7 @@
 //! schedule (LineSink at 0° and 180°) with its second segment detuned by
 //! 20°, so its line is turned and its realised shape error is large;
 //! Nelder–Mead over the segments' cycles, rotation and amplitude must bring
-//! it back (coarse: 3 × 3 start points, ≤ 30 plays).
+//! it back (coarse: 3 × 3 held points, ≤ 30 plays; before and after judged).
 
 use std::path::Path;
 
@@ -59,10 +59,8 @@ fn refinement_repairs_a_detuned_line_sink() {
     let detuned = s.with_segments(segments);
     let options = RefineOptions {
         coarse_stride: 10,
-        stride: 10,
         max_evaluations: 30,
         step: 0.5,
-        ..RefineOptions::default()
     };
     let r = refine_schedule(&detuned, &target, &options).unwrap();
     let (b, a) = (&r.before.error, &r.after.error);
@@ -78,7 +76,7 @@ fn refinement_repairs_a_detuned_line_sink() {
     assert!(r.improved);
     assert!(r.evaluations <= 30);
     assert!(r.after.cost <= r.before.cost);
-    // Measured 40.6 % → 7.6 % (30 plays).
+    // Measured by the judge 25.5 % → 3.9 % (30 plays).
     assert!(
         a.shape_error <= 0.3 * b.shape_error,
         "{} vs {}",
@@ -86,7 +84,7 @@ fn refinement_repairs_a_detuned_line_sink() {
         b.shape_error
     );
     assert!(
-        b.shape_error > 0.25,
+        b.shape_error > 0.2,
         "the detuning must matter: {}",
         b.shape_error
     );

@@ -36,7 +36,7 @@ enum Command {
     Design(cli::design::DesignArgs),
     /// Export a schedule for a shaker controller: the six plate-centre acceleration signals as CSV samples, or each channel's harmonics.
     Export(cli::export::ExportArgs),
-    /// Closed-loop verification: realised field against prediction, and where a swarm of parts ends up.
+    /// Closed-loop verification: the judge, the model check (moving parts against the prediction), and where a swarm of parts ends up.
     Verify(cli::verify::VerifyArgs),
     /// Segment order and rest at the joins: which one best realises a schedule's prediction; writes OUT/<target>/verify/order.md.
     Order {
@@ -168,7 +168,7 @@ enum Study {
         #[command(flatten)]
         out: StudyOut,
     },
-    /// One synthesized six-signal motion per target against its sequenced schedule, both played: synthesis.{md,csv}.
+    /// One synthesized six-signal motion per target against its sequenced schedule, both judged: synthesis.{md,csv}.
     #[command(mut_arg("out", default_dir(studies::synthesis::DIR)))]
     Synthesis {
         /// Only these rows (comma-separated: sink, saddle, whirlpool, squeeze_trans, line_sink_30, lab, refine:whirlpool, refine:squeeze_trans).

@@ -32,11 +32,11 @@
 //! a shifted one raises the peak linear acceleration (and the shift of a
 //! centred target only breaks its symmetry).
 //!
-//! **Objective** (one play of the candidate schedule on a coarse set of
-//! start points, every [`RefineOptions::coarse_stride`]-th target grid
-//! point, by the closed loop's realised measure
-//! [`super::closed_loop::realised`]): with e the realised shape error and ŝ
-//! the realised strength against the target,
+//! **Objective** (one play of the candidate schedule at a coarse set of
+//! points, every [`RefineOptions::coarse_stride`]-th target grid point,
+//! held there as the judge holds them, [`super::judge::play_motion`]):
+//! with e the realised shape error and ŝ the realised strength against the
+//! target,
 //!
 //! ```text
 //! cost = e + max(0, 1 − ŝ / ŝ₀) + (points lost) / (points)
@@ -44,9 +44,9 @@
 //!
 //! ŝ₀ the design's own realised strength: shape first, never bought by a
 //! weaker field, and a schedule whose parts lose contact at more points is
-//! penalised. The best candidate is then played on the finer set
-//! ([`RefineOptions::stride`]) beside the design; if it is not better there
-//! (lower cost) the design is kept and the result says so.
+//! penalised. The best candidate is then judged at the judge's points
+//! ([`super::judge::judge_points`]) beside the design; if it is not better
+//! there (lower cost) the design is kept and the result says so.
 
 use std::sync::Mutex;
 use std::time::Instant;
@@ -55,7 +55,8 @@ use argmin::core::{CostFunction, Executor};
 use argmin::solver::neldermead::NelderMead;
 
 use super::closed_loop::loop_points;
-use super::closed_loop::realised::{play, realised_error, MeasureOptions, RealisedError};
+use super::closed_loop::realised::{realised_error, RealisedError};
+use super::judge::{judge_points, play_motion};
 use crate::error::{BudgetSpent, Error, Result};
 use crate::request::{SampledTarget, Target};
 use crate::schedule::Schedule;
@@ -66,29 +67,23 @@ pub struct RefineOptions {
     /// Every `coarse_stride`-th grid point (each axis) is played inside the
     /// objective.
     pub coarse_stride: usize,
-    /// Every `stride`-th grid point is played for the before/after check.
-    pub stride: usize,
     /// Plays allowed inside the objective.
     pub max_evaluations: usize,
     /// Initial simplex step (parameter units, see the module docs).
     pub step: f64,
-    /// Warm-up and measured cycles of every play.
-    pub measure: MeasureOptions,
 }
 
 impl Default for RefineOptions {
     fn default() -> Self {
         RefineOptions {
             coarse_stride: 10,
-            stride: 5,
             max_evaluations: 150,
             step: 0.3,
-            measure: MeasureOptions::default(),
         }
     }
 }
 
-/// A schedule's realised measure: error, strength, points.
+/// A schedule's realised field at held points: error, strength, points.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Judged {
     /// Realised shape error and strength against the target.
@@ -102,9 +97,9 @@ pub struct Judged {
 /// Before and after a refinement.
 #[derive(Debug, Clone)]
 pub struct Refined {
-    /// The design as given, on the fine points.
+    /// The design as given, judged ([`super::judge`]'s points).
     pub before: Judged,
-    /// The refined schedule, on the fine points.
+    /// The refined schedule, judged.
     pub after: Judged,
     /// The refined schedule (the design itself when refining did not help).
     pub schedule: Schedule,
@@ -166,23 +161,18 @@ pub fn dimension(schedule: &Schedule) -> usize {
         .count()
 }
 
-/// Plays and judges `schedule` from `starts`; `reference` is ŝ₀ (None:
-/// this play's own strength).
+/// Plays `schedule` with a part held at each of `starts` (as the judge
+/// plays) and judges it; `reference` is ŝ₀ (None: this play's own
+/// strength).
 fn judge(
     schedule: &Schedule,
     target: &Target,
     sampled: &SampledTarget,
     starts: &[usize],
-    options: &MeasureOptions,
     reference: Option<(f64, usize)>,
 ) -> Result<Judged> {
-    let plays = play(
-        schedule,
-        &sampled.points,
-        starts,
-        &schedule.settings,
-        options,
-    )?;
+    let sm = crate::play::ScheduleMotion::from_schedule(schedule)?;
+    let plays = play_motion(&sm, &sampled.points, starts, &schedule.settings);
     let error = realised_error(target, &sampled.weights, &plays, None);
     let (s0, valid0) = reference.unwrap_or((error.realised_strength, error.valid));
     let shape = if error.shape_error.is_finite() {
@@ -236,7 +226,6 @@ impl CostFunction for Problem<'_> {
             self.target,
             self.sampled,
             &self.starts,
-            &self.options.measure,
             Some(self.reference),
         )
         .map_err(|e| argmin::core::Error::msg(e.to_string()))?;
@@ -265,14 +254,14 @@ pub fn refine_schedule(
     let start = Instant::now();
     let sampled = target.sample()?;
     let coarse = loop_points(target, &sampled, options.coarse_stride);
-    let fine = loop_points(target, &sampled, options.stride);
+    let fine = judge_points(target, &sampled);
     if coarse.is_empty() || fine.is_empty() {
         return Err(Error::invalid(
             "target.grid",
-            "no unmasked start point at the refinement strides",
+            "no unmasked point at the refinement's stride",
         ));
     }
-    let base = judge(schedule, target, &sampled, &coarse, &options.measure, None)?;
+    let base = judge(schedule, target, &sampled, &coarse, None)?;
     let n = dimension(schedule);
     let tally: Tally = Mutex::new((0, Some((base.cost, vec![0.0; n]))));
     let problem = Problem {
@@ -310,17 +299,10 @@ pub fn refine_schedule(
         .into_inner()
         .map_err(|_| Error::NotConverged("refinement: poisoned tally".into()))?;
     let x = best.map(|b| b.1).unwrap_or_else(|| vec![0.0; n]);
-    let before = judge(schedule, target, &sampled, &fine, &options.measure, None)?;
+    let before = judge(schedule, target, &sampled, &fine, None)?;
     let candidate = apply(schedule, &x);
     let reference = Some((before.error.realised_strength, before.error.valid));
-    let after = judge(
-        &candidate,
-        target,
-        &sampled,
-        &fine,
-        &options.measure,
-        reference,
-    )?;
+    let after = judge(&candidate, target, &sampled, &fine, reference)?;
     let improved = after.cost < before.cost;
     Ok(Refined {
         before,

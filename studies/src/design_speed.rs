@@ -5,9 +5,9 @@
 //! does (`design_by_method`, default options, the basis from the cache)
 //! under each of the `BUDGETS`: the synthesis's evaluation budget and
 //! stall rule, the played polish's plays and stall rule. For each it writes
-//! the synthesized candidate's realised shape error and strength (the
-//! played check every design reports, `platefield::design::method::play_check`)
-//! and what `auto` kept. The file holds no timings, so it is deterministic;
+//! the synthesized candidate's judge — realised shape error and strength
+//! (`platefield::design::judge`, what every design reports under
+//! `"played"`) — and what `auto` kept. The file holds no timings, so it is deterministic;
 //! wall and CPU seconds of each design go to the printed summary only (the
 //! machine is shared: CPU seconds are the steadier number).
 //!
@@ -182,10 +182,10 @@ pub struct Row {
     pub target: String,
     /// Budget label.
     pub budget: &'static str,
-    /// Synthesized candidate: realised shape error and strength (None when
-    /// the synthesis failed or was not played).
+    /// Synthesized candidate: the judge's realised shape error and strength
+    /// (None when the synthesis failed or was not judged).
     pub synthesized: Option<(Option<f64>, Option<f64>)>,
-    /// Kept method, realised shape error and strength.
+    /// Kept method, the judge's realised shape error and strength.
     pub kept: (String, Option<f64>, Option<f64>),
     /// Wall seconds of the design (printed only).
     pub seconds: f64,
@@ -260,10 +260,10 @@ fn strength(x: Option<f64>) -> String {
 /// The markdown table (no timings).
 pub(crate) fn markdown(rows: &[Row]) -> String {
     let mut s = String::from(
-        "# Design cost against realised quality (issue 27)\n\n\
+        "# Design cost against the judge (issue 27)\n\n\
          Written by `platefield study design-speed` (`studies/src/design_speed.rs` says how). \
          Every shipped target designed by `design --method auto` under each budget; \
-         realised shape error and strength (s⁻¹) of the played check; the work `design` \
+         the judge's realised shape error and strength (s⁻¹; `docs/measures.md`); the work `design` \
          estimates before it starts and the work the engine counted (nominal RK4 point-part \
          steps, `platefield::dynamics::steps_taken`; the basis read from a warm cache), and \
          their ratio (issue 30: within 3×). Timings, and the seconds per counted step that \

@@ -32,8 +32,8 @@
 //! Measured on the shipped designs (`platefield study poses-friction`,
 //! `results/poses_friction.md`, μ 0.24 → 0.36): the rectangle's lifted
 //! pose turns by −1.25° and the triangle's by −4.2°, each within 0.12 mm
-//! (their played rest poses by −0.86° and −2.5°), while the slowest
-//! lifted rate stays within 2 % (0.642 → 0.641 1/s for the rectangle: the
+//! (their played rest poses by −0.84° and −2.5°), while the slowest
+//! lifted rate stays within 2 % (0.648 → 0.648 1/s for the rectangle: the
 //! synthesized field's strength is not ∝ μ); the bracket's spin route,
 //! whose angle is a balance of the spin's torque against the sink's,
 //! turns by −11.1° lifted and +5.7° played, which puts its drops at μ

@@ -1,6 +1,8 @@
-//! Where the synthesized motions' realised-vs-predicted gap came from
+//! Where the synthesized motions' model-check gap (moving parts against
+//! the prediction) came from
 //! (issue 11): the lab-class sink is synthesized as in `platefield
-//! synthesis`, then played from rest at the study's points with different
+//! synthesis`, then played from rest at the model check's start points
+//! ([`check_starts`]) with different
 //! warm-ups and measured spans. Each play is compared with four
 //! predictions built from the motion's steady states F (see
 //! [`platefield::play::measure`] and [`platefield::play::lag`]):
@@ -19,7 +21,7 @@ use std::path::Path;
 
 use nalgebra::Matrix2;
 
-use crate::synthesis::{starts, synthesized_motion, StudySettings};
+use crate::synthesis::{check_starts, synthesized_motion, StudySettings};
 use platefield::design::closed_loop::realised::{play_motion, MeasureOptions};
 use platefield::dynamics::{PartState, Simulator, SteadyState, V2};
 use platefield::error::{Error, Result};
@@ -184,7 +186,7 @@ fn lag_point(sim: &Simulator<'_>, p: [f64; 2], sums: &mut LagSums) -> Result<()>
 
 /// The adiabatic-lag check over the study's points: each played 40 cycles
 /// from rest, then at phase 0 the part's slip u against the steady orbit's
-/// u* through its position, and the one-cycle realised velocity against F,
+/// u* through its position, and the one-cycle played velocity against F,
 /// the first-order lag theory and [`lagged_velocity`].
 fn lag_theory(sim: &Simulator<'_>, sampled: &[[f64; 2]], points: &[usize]) -> Result<String> {
     let mut s = LagSums::default();
@@ -193,11 +195,11 @@ fn lag_theory(sim: &Simulator<'_>, sampled: &[[f64; 2]], points: &[usize]) -> Re
     }
     let pct = |a: f64, b: f64| 100.0 * (a / b).sqrt();
     Ok(format!(
-        "- one-cycle realised against F: {:.2} % (realised/F {:.4})\n\
+        "- one-cycle played velocity against F: {:.2} % (played/F {:.4})\n\
          - slip at phase 0 off the steady orbit: |u − u*|/|u*| = {:.2} %\n\
          - first-order lag theory for u − u*: residual {:.1} % of |u − u*|\n\
-         - one-cycle realised against the lag-corrected F of the theory: {:.2} %\n\
-         - one-cycle realised against `play::lag::lagged_velocity`: {:.2} %\n",
+         - one-cycle played velocity against the lag-corrected F of the theory: {:.2} %\n\
+         - one-cycle played velocity against `play::lag::lagged_velocity`: {:.2} %\n",
         pct(s.off_f, s.f),
         s.dot / s.f,
         pct(s.slip_off, s.slip),
@@ -218,15 +220,16 @@ pub(crate) fn section() -> Result<String> {
     let options = StudySettings::default().options();
     let s = synthesize(&target.field, &region, &limits, &settings, &options)?;
     let sampled = target.sample()?;
-    let points = starts(&target, &sampled);
+    let points = check_starts(&target, &sampled);
     let sm = synthesized_motion(&s)?;
     let motion = Motion::Signals(s.checked.motion.clone());
     let sim = settings.simulator(&motion);
     let mut md = format!(
-        "\n## Realised against predicted over the measured window\n\n\
+        "\n## The model check over the measured window\n\n\
          The lab-class sink (`targets/sink.json`, `ShakerLimits::lab_class`) synthesized as in \
-         `platefield study synthesis` ({}), played from rest at the study's {} points. Relative L2 gap \
-         (%) between the realised displacement and each prediction from the steady states F:\n\n",
+         `platefield study synthesis` ({}), moving parts played from rest at the model check's {} start \
+         points. Relative L2 gap (%) between the parts' played displacement and each prediction from \
+         the steady states F:\n\n",
         super::synthesis_line(&s),
         points.len()
     );
@@ -238,7 +241,7 @@ pub(crate) fn section() -> Result<String> {
         "flow of lagged F",
         "lagged F per cycle",
         "`against_prediction`",
-        "its realised/predicted",
+        "its played/predicted",
         "its shape (%)",
     ]);
     for w in WINDOWS {

@@ -6,8 +6,8 @@
 //! |---|---|---|
 //! | the saddle's margin cap against a translation harmonic 2 | `saddle_cap` | `platefield::synth` ("Why a second harmonic does not lift the margin's cap"), `docs/design.md` |
 //! | the in-plane harmonic-2 ratchet on squeeze_trans | `transport` | `platefield::synth::transport` |
-//! | realised against predicted over the measured window | `lag_window` | `platefield::play::measure`, `platefield::play::lag`, `results/synthesis.md` |
-//! | the saddle's synthesized motion start point by start point | `saddle_parts` | `results/synthesis.md` ("valid / played"), `docs/design.md` |
+//! | the model check (moving parts against the prediction) over the measured window | `lag_window` | `platefield::play::measure`, `platefield::play::lag`, `results/synthesis.md` |
+//! | the saddle's synthesized motion point by point | `saddle_parts` | `results/synthesis.md` ("valid / judged"), `docs/design.md` |
 //! | single fields' CPU time and bitwise equality on 1 and 2 threads | `engine` | `platefield::dynamics` (swing), `docs/design.md`, `docs/dev/forward-model.md` |
 
 use std::fmt::Write as _;

@@ -1,15 +1,15 @@
-//! The saddle's synthesized motion looked at start point by start point:
-//! where each part was measured, or where and when it left the plate.
+//! The saddle's synthesized motion looked at point by point: at which of
+//! the judge's points ([`platefield::design::judge`]) a held part loses
+//! contact.
 //!
-//! First the motion `platefield study synthesis` keeps for its saddle row (where
-//! the saddle's parts are lost, `results/synthesis.md`, "valid / played"),
-//! as the study measures it. Then a controller that plays a third harmonic
+//! First the motion `platefield study synthesis` keeps for its saddle row
+//! (`results/synthesis.md`, "valid / judged"), as the study judges it. Then a controller that plays a third harmonic
 //! (which can lower the corners' peak normal acceleration for the same
 //! first harmonic, [`platefield::synth`] docs): the phase-calibrated synthesis
 //! under the same per-axis peaks with harmonics 1–3, played, then the
 //! played polish ([`platefield::design::polish`]: 300 plays of step 0.03, a
 //! region shape budget of 6 %, `PolishOptions::grid_budget`) and the kept
-//! motion played from the held-out start points as well.
+//! motion judged at the held-out points as well.
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -18,9 +18,8 @@ use crate::synthesis::{
     holdout_starts, limits_of, measure, row, sequenced, starts, synthesized_motion, Measured,
     StudySettings,
 };
-use platefield::design::closed_loop::realised::{
-    play_motion, realised_error, MeasureOptions, RealisedError,
-};
+use platefield::design::closed_loop::realised::{realised_error, RealisedError};
+use platefield::design::judge::play_motion;
 use platefield::design::polish::{polish, PolishOptions};
 use platefield::error::{Error, Result};
 use platefield::field::{FieldSettings, Grid};
@@ -37,22 +36,20 @@ const STEP: f64 = 0.03;
 /// The polish's shape budget over the region.
 const REGION_BUDGET: f64 = 0.06;
 
-/// One line per start point: where its part was measured, or where and
-/// why it was lost.
+/// How many held parts keep contact, and one line per point where one
+/// does not, saying why.
 fn start_lines(md: &mut String, played: &[PointPlay]) {
-    for p in played {
-        let at = format!("start ({:+.3}, {:+.3}) m", p.start[0], p.start[1]);
-        let _ = match (&p.note, p.lost_at) {
-            (Some(n), Some(l)) => {
-                writeln!(md, "- {at}: lost at ({:+.4}, {:+.4}) m: {n}", l[0], l[1])
-            }
-            (Some(n), None) => writeln!(md, "- {at}: {n}"),
-            _ => writeln!(
-                md,
-                "- {at}: measured at mean position ({:+.4}, {:+.4}) m",
-                p.position[0], p.position[1]
-            ),
-        };
+    let lost: Vec<&PointPlay> = played.iter().filter(|p| p.note.is_some()).collect();
+    let _ = writeln!(
+        md,
+        "{} of {} held parts keep contact{}",
+        played.len() - lost.len(),
+        played.len(),
+        if lost.is_empty() { "." } else { "; lost:" }
+    );
+    for p in lost {
+        let at = format!("({:+.3}, {:+.3}) m", p.start[0], p.start[1]);
+        let _ = writeln!(md, "- {at}: {}", p.note.clone().unwrap_or_default());
     }
 }
 
@@ -66,7 +63,7 @@ fn measured(e: &RealisedError, played: usize) -> String {
     )
 }
 
-/// `syn` played from the start points `st` (one cycle per period).
+/// `syn` judged at the points `st` (parts held there, as the judge plays).
 fn played(
     syn: &Synthesis,
     target: &Target,
@@ -75,15 +72,14 @@ fn played(
     settings: &FieldSettings,
 ) -> Result<(Vec<PointPlay>, RealisedError)> {
     let sm = synthesized_motion(syn)?;
-    let options = MeasureOptions::default();
-    let plays = play_motion(&sm, 1, &sampled.points, st, settings, &options);
+    let plays = play_motion(&sm, &sampled.points, st, settings);
     let e = realised_error(target, &sampled.weights, &plays, None);
     Ok((plays, e))
 }
 
 /// The synthesis `s` polished on its plays from `st` (one of the
-/// `sampled` target's points each), measured as the study does, and
-/// played from the held-out start points before and after the polish.
+/// `sampled` target's points each), judged as the study does, and
+/// judged at the held-out points before and after the polish.
 fn polished(
     md: &mut String,
     target: &Target,
@@ -126,7 +122,7 @@ fn polished(
         let (_, e) = played(syn, target, sampled, &ho, settings)?;
         let _ = writeln!(
             md,
-            "\nheld-out starts, {label} the polish: {}",
+            "\nheld-out points, {label} the polish: {}",
             measured(&e, ho.len())
         );
     }
@@ -155,15 +151,15 @@ fn run_harmonics(md: &mut String, target: &Target, cache: &Path, harmonics: u32)
     );
     let (plays, e) = played(&s, target, &sampled, &st, &settings)?;
     start_lines(md, &plays);
-    let _ = writeln!(md, "\nplayed: {}", measured(&e, st.len()));
+    let _ = writeln!(md, "\njudge: {}", measured(&e, st.len()));
     let physics = (&region, &limits, &settings);
     polished(md, target, &sampled, &st, &s, physics)
 }
 
-/// A motion measured as `platefield study synthesis` measures it.
+/// A motion judged and model-checked as `platefield study synthesis` does.
 fn study_measured(m: &Measured) -> String {
     format!(
-        "measured as `platefield study synthesis` does: ŝ {:.4} s⁻¹ at shape {:.2} %, {:.2} % from its prediction, {} / {} valid",
+        "judged as `platefield study synthesis` does: ŝ {:.4} s⁻¹ at shape {:.2} %, model check {:.2} %, {} / {} valid",
         m.strength,
         100.0 * m.shape_error,
         100.0 * m.vs_predicted,
@@ -172,8 +168,8 @@ fn study_measured(m: &Measured) -> String {
     )
 }
 
-/// `platefield study synthesis`'s saddle row: the motion it keeps, start point
-/// by start point, and from the held-out start points.
+/// `platefield study synthesis`'s saddle row: the motion it keeps, point by
+/// point, and at the held-out points.
 fn study_row(md: &mut String, cache: &Path) -> Result<()> {
     let r = row(
         "saddle",
@@ -207,7 +203,7 @@ fn study_row(md: &mut String, cache: &Path) -> Result<()> {
     if let Some((k, e, valid, played)) = r.holdout {
         let _ = writeln!(
             md,
-            "\nheld-out starts: ŝ {k:.4} s⁻¹ at shape {:.2} %, {valid} / {played} valid",
+            "\nheld-out points: ŝ {k:.4} s⁻¹ at shape {:.2} %, {valid} / {played} valid",
             100.0 * e
         );
     }
@@ -217,9 +213,9 @@ fn study_row(md: &mut String, cache: &Path) -> Result<()> {
 /// The section of `probes.md`.
 pub(crate) fn section(cache: &Path) -> Result<String> {
     let mut md = String::from(
-        "\n## The saddle's synthesized motion, start point by start point\n\n\
-         `targets/saddle.json` under its sequenced schedule's per-axis peaks, played from the \
-         study's start points: the motion `platefield study synthesis` keeps for its row, then a \
+        "\n## The saddle's synthesized motion, point by point\n\n\
+         `targets/saddle.json` under its sequenced schedule's per-axis peaks, judged at the \
+         judge's points (parts held there): the motion `platefield study synthesis` keeps for its row, then a \
          phase-calibrated synthesis (300 coarse evaluations) with harmonics 1–3 and its played \
          polish (300 plays, step 0.03, region shape budget 6 %).\n",
     );
