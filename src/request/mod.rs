@@ -58,7 +58,11 @@
 //! primitives ([`crate::synth::ShakerLimits::paper_envelope`]: T = 2π/209 s,
 //! linear [45.28, 45.28, 0.109] m/s², angular [218.4, 218.4, 9055] rad/s²,
 //! H = 2, m = 0.1). Sequenced designs report the per-axis peaks they use
-//! and keep to the limits given here.
+//! and keep to the limits given here. `"tolerance": {"amplitude": a,
+//! "phase_deg": p}` ([`Tolerance`]; a in [0, 0.5], p in [0, 45]) states how
+//! closely the controller delivers each channel's harmonics; `verify
+//! --tolerance` judges the design under seeded errors within it
+//! ([`crate::design::tolerance`]).
 //!
 //! ## `grid`
 //!
