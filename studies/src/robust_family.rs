@@ -26,6 +26,7 @@
 use std::path::Path;
 
 use platefield::design::method::Method;
+use platefield::design::tolerance::quantile;
 use platefield::error::Result;
 use platefield::play::sensitivity::FrictionRow;
 use platefield::request::family::family;
@@ -152,17 +153,6 @@ fn worst_mu(rows: &[FrictionRow]) -> f64 {
             e(a).total_cmp(&e(b))
         })
         .map_or(f64::NAN, |r| r.friction.kinetic)
-}
-
-/// The value at quantile `q` of `xs` (nearest rank; NaN counts as worst).
-fn quantile(xs: &[f64], q: f64) -> f64 {
-    let mut v: Vec<f64> = xs
-        .iter()
-        .map(|x| if x.is_nan() { f64::INFINITY } else { *x })
-        .collect();
-    v.sort_by(f64::total_cmp);
-    let k = ((q * v.len() as f64).ceil() as usize).clamp(1, v.len().max(1)) - 1;
-    v.get(k).copied().unwrap_or(f64::NAN)
 }
 
 /// `robust_family.md` from the outcomes.
