@@ -55,7 +55,7 @@ pub const KINDS: [(&str, usize); 6] = [
 /// let targets = family(7, 40);
 /// assert_eq!(targets.len(), 40);
 /// assert_eq!(targets[0].name, "sink_0");
-/// assert!(targets.iter().all(|t| t.friction.is_some_and(|f| !f.is_exact())));
+/// assert!(targets.iter().all(|t| t.friction.is_some_and(|f| f.kinetic.lo < f.kinetic.hi)));
 /// assert_eq!(family(7, 40), targets); // seeded
 /// ```
 pub fn family(seed: u64, count: usize) -> Vec<Target> {
