@@ -276,17 +276,21 @@ fn the_counter_share_holds_targets_without_symmetry_over_friction() {
     }
 }
 
-/// The line_sink_30 goal from `auto` alone: over μ ∈ [0.2, 0.4]
-/// no default candidate holds it within 6 % (the synthesized motion
-/// 10.1 %, its mirror share 9.8 %), so `auto` adds the synthesis for the
-/// worst case, keeps it, and its worst realised shape error over the
-/// range is ≤ 8 % (measured 7.9 % at 0.75 s⁻¹). About 2 min CPU:
+/// `auto` over a range adds the synthesis for the worst case when no
+/// default candidate holds the target within 6 %: on the random family's
+/// `sink_4` (a sink 0.75 cm off the centre, μ ∈ [0.174, 0.346];
+/// `results/robust_family.md` keeps a synthesized motion at 7.6 %), the
+/// worst-case candidate is among those judged, every other one is over
+/// 6 % (or POOR), and the kept one's worst case is within the choice
+/// rule's 1 percentage point of the best. About 2 min CPU:
 /// `cargo test --release --test robust -- --ignored`.
 #[test]
 #[ignore]
 fn auto_over_a_range_adds_the_worst_case_synthesis_when_nothing_holds() {
-    let mut target = Target::load(std::path::Path::new("targets/line_sink_30.json")).unwrap();
-    target.friction = Some(platefield::scene::FrictionSpec::range(0.2, 0.4));
+    let target = platefield::request::family::family(45, 40)
+        .into_iter()
+        .find(|t| t.name == "sink_4")
+        .unwrap();
     let cache = std::env::temp_dir().join(format!("platefield-robust-{}", std::process::id()));
     let opts = platefield::design::DesignOptions::cached_quiet(&cache);
     let synth = platefield::synth::SynthOptions {
@@ -298,16 +302,26 @@ fn auto_over_a_range_adds_the_worst_case_synthesis_when_nothing_holds() {
         .and_then(|o| o.into_method())
         .unwrap();
     let _ = std::fs::remove_dir_all(&cache);
-    let kept = md.kept();
-    assert!(kept.worst_case, "kept {}", kept.name());
-    let s = md.sensitivity.as_ref().unwrap();
-    let worst = s.worst_shape_error().unwrap();
-    assert!(worst <= 0.08, "worst {worst}");
-    assert!(md.candidates.iter().filter(|c| !c.worst_case).all(|c| c
-        .sensitivity
-        .as_ref()
-        .unwrap()
-        .worst_shape_error()
-        .unwrap_or(1.0)
-        > 0.06));
+    let worst = |c: &platefield::design::method::Candidate| {
+        c.sensitivity
+            .as_ref()
+            .and_then(|s| s.worst_shape_error())
+            .unwrap_or(f64::INFINITY)
+    };
+    assert!(md.candidates.iter().any(|c| c.worst_case));
+    assert!(md
+        .candidates
+        .iter()
+        .filter(|c| !c.worst_case)
+        .all(|c| worst(c) > 0.06));
+    let best = md
+        .candidates
+        .iter()
+        .map(worst)
+        .fold(f64::INFINITY, f64::min);
+    assert!(
+        worst(md.kept()) <= best + 0.01,
+        "kept {} against {best}",
+        worst(md.kept())
+    );
 }
