@@ -140,32 +140,40 @@ impl PlayedMotion {
     /// # Errors
     /// A motion cannot be scaled (see [`Motion::amplitude_scaled`]).
     pub fn fields(&self, theta: &Theta) -> Result<FieldSet> {
-        let settings = FieldSettings {
-            friction: friction(theta),
-            ..self.settings
-        };
         let lagged =
-            self.moving_segments() == 1 && self.segments.len() == 1 && settings.model.moving;
-        let fields = self
-            .segments
-            .iter()
-            .map(|(m, _)| {
-                m.as_ref()
-                    .map(|m| {
-                        let m = m.amplitude_scaled(theta[SCALE])?;
-                        Ok(if lagged {
-                            lagged_field(&m, &self.grid, &settings)
-                        } else {
-                            Field::compute(&m, &self.grid, FieldKind::Velocity, &settings, &|| {})
-                        })
-                    })
-                    .transpose()
-            })
-            .collect::<Result<Vec<_>>>()?;
+            self.moving_segments() == 1 && self.segments.len() == 1 && self.settings.model.moving;
+        let fields = self.per_moving_segment(theta, |m, settings| {
+            if lagged {
+                lagged_field(m, &self.grid, settings)
+            } else {
+                Field::compute(m, &self.grid, FieldKind::Velocity, settings, &|| {})
+            }
+        })?;
         Ok(FieldSet {
             fields,
             excursion: None,
         })
+    }
+
+    /// `f` of every moving segment's motion scaled by θ, under θ's
+    /// friction (`None` for rest).
+    fn per_moving_segment<T>(
+        &self,
+        theta: &Theta,
+        f: impl Fn(&Motion, &FieldSettings) -> T,
+    ) -> Result<Vec<Option<T>>> {
+        let settings = FieldSettings {
+            friction: friction(theta),
+            ..self.settings
+        };
+        self.segments
+            .iter()
+            .map(|(m, _)| {
+                m.as_ref()
+                    .map(|m| Ok(f(&m.amplitude_scaled(theta[SCALE])?, &settings)))
+                    .transpose()
+            })
+            .collect()
     }
 
     /// Every moving segment's periodic-orbit excursion at θ on the grid
@@ -174,27 +182,14 @@ impl PlayedMotion {
     /// # Errors
     /// A motion cannot be scaled.
     pub fn excursions(&self, theta: &Theta) -> Result<Excursions> {
-        let settings = FieldSettings {
-            friction: friction(theta),
-            ..self.settings
-        };
         let points = self.grid.points();
-        let per_segment = self
-            .segments
-            .iter()
-            .map(|(m, _)| {
-                m.as_ref()
-                    .map(|m| {
-                        let m = m.amplitude_scaled(theta[SCALE])?;
-                        let sim = settings.simulator(&m);
-                        Ok(points
-                            .par_iter()
-                            .map(|&p| orbit_excursion(&sim, p))
-                            .collect::<Vec<_>>())
-                    })
-                    .transpose()
-            })
-            .collect::<Result<Vec<_>>>()?;
+        let per_segment = self.per_moving_segment(theta, |m, settings| {
+            let sim = settings.simulator(m);
+            points
+                .par_iter()
+                .map(|&p| orbit_excursion(&sim, p))
+                .collect::<Vec<_>>()
+        })?;
         Ok(Excursions {
             grid: self.grid,
             per_segment,
