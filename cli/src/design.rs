@@ -7,7 +7,6 @@ use clap::{Args, ValueEnum};
 use platefield::basis::PrimitiveKind;
 use platefield::design::closed_loop::LoopOptions;
 use platefield::design::{BasisSection, DesignOptions, FitSection, Method, ScheduleSection};
-use platefield::dynamics::Preset;
 use platefield::field::FieldKind;
 use platefield::fit::FitMode;
 use platefield::synth::SynthOptions;
@@ -15,7 +14,7 @@ use platefield::work::Runtime;
 use platefield::{Error, Result};
 use platefield_report as report;
 
-use super::values::{choices, FIELD_KINDS, PRESETS, PRIMITIVE_KINDS};
+use super::values::{choices, FIELD_KINDS, PRIMITIVE_KINDS};
 
 /// Fit mode (see [`FitMode`]).
 #[derive(Clone, Copy, ValueEnum)]
@@ -40,7 +39,7 @@ pub enum DesignMethod {
     Sequence,
     /// One simultaneous six-signal motion.
     Synthesize,
-    /// Both, played; the better realised one is kept.
+    /// Both, judged; the better one is kept.
     Auto,
     /// Primitives and a synthesized motion mixed in one fit.
     Mix,
@@ -154,18 +153,12 @@ pub struct DesignArgs {
     /// Over the target's friction range, synthesize for the worst case at its ends and middle (three times the simulations).
     #[arg(long)]
     pub robust_synthesis: bool,
-    /// Closed loop: play the schedule, feed the realised field back (orders, contextual re-fit), keep the best; reports the realised error before and after.
+    /// Closed loop: judge the schedule, feed its realised field back (orders, contextual re-fit), keep the best; reports the realised error before and after.
     #[arg(long)]
     pub closed_loop: bool,
-    /// Closed loop: play every N-th target grid point per axis.
-    #[arg(long, default_value_t = 2)]
-    pub loop_stride: usize,
     /// Closed loop: most contextual re-fit iterations.
     #[arg(long, default_value_t = 8)]
     pub loop_iterations: u32,
-    /// Closed loop: model the schedules are played with: the design's own (default), full, paper or frozen (docs/verify.md).
-    #[arg(long, value_parser = choices(&PRESETS), hide_possible_values = true)]
-    pub loop_model: Option<Preset>,
 }
 
 /// The synthesis and polish optimizer (`--optimizer`).
@@ -249,9 +242,7 @@ impl DesignArgs {
     pub fn run(&self) -> Result<String> {
         let mut opts = self.options()?;
         let loop_opts = LoopOptions {
-            stride: self.loop_stride,
             max_iterations: self.loop_iterations,
-            model: self.loop_model.map(Preset::model),
             ..LoopOptions::default()
         };
         loop_opts.validate().map_err(flag_named)?;
@@ -281,14 +272,13 @@ impl DesignArgs {
 
 /// The command-line flag of each option path [`DesignOptions`]' checks
 /// name (the library speaks in option paths, the command line in flags).
-const FLAGS: [(&str, &str); 8] = [
+const FLAGS: [(&str, &str); 7] = [
     ("schedule.total_cycles", "--cycles"),
     ("schedule.min_cycles", "--min-cycles"),
     ("basis.shifts", "--shift"),
     ("basis.rotation_step_deg", "--rotation-step"),
     ("method", "--method"),
     ("closed_loop", "--closed-loop"),
-    ("closed_loop.stride", "--loop-stride"),
     ("closed_loop.max_iterations", "--loop-iterations"),
 ];
 

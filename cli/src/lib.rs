@@ -15,7 +15,7 @@ use clap::Args;
 
 use platefield::dynamics::{Numerics, Preset};
 
-/// How a schedule is played to measure its realised field (`verify`, `order`).
+/// How moving parts play a schedule for the model check (`verify`, `order`).
 #[derive(Args)]
 pub struct Play {
     /// Start points per side of the N×N grid over the target region (order: over ±3 cm).

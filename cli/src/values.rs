@@ -89,7 +89,7 @@ pub const PRIMITIVE_KINDS: [Choice<PrimitiveKind>; 8] = [
     ),
 ];
 
-/// `--model`, `--loop-model` ([`Preset`]).
+/// `--model` ([`Preset`]).
 pub const PRESETS: [Choice<Preset>; 3] = [
     (
         Preset::Paper,

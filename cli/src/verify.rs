@@ -40,10 +40,10 @@ pub struct VerifyArgs {
     /// Output folder; writes `OUT/<target>/verify/{summary.json, trajectories.svg}`. Default: beside the schedule, in `verify/` next to it.
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Parts' friction: MU plays everything at μ_s = μ_k = MU; LO:HI:N also sweeps the design's realised check over N values (table and plot in verify/). Default: the schedule's own.
+    /// Parts' friction: MU plays everything at μ_s = μ_k = MU; LO:HI:N also sweeps the design's judge over N values (table and plot in verify/). Default: the schedule's own.
     #[arg(long, allow_negative_numbers = true)]
     pub friction: Option<String>,
-    /// The schedule's exported CSV (`platefield export`), or an accelerometer recording of it (a header-less CSV of t and the six channels, or the six with --rate; averaged cycle by cycle onto the export's grid): also plays the file's held samples on the same parts by the design's realised check and prints both (schedule played, export replayed).
+    /// The schedule's exported CSV (`platefield export`), or an accelerometer recording of it (a header-less CSV of t and the six channels, or the six with --rate; averaged cycle by cycle onto the export's grid): also plays the file's held samples on the same parts by the design's judge and prints both (schedule played, export replayed).
     #[arg(long, value_name = "EXPORT.csv")]
     pub replay: Option<PathBuf>,
     /// The rate (samples/s) of a `--replay` recording whose rows hold the six channels without t (a header-less CSV; with t first, the times give it).

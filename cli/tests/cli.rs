@@ -1991,7 +1991,7 @@ fn frozen_verify_places_a_lost_contact_at_the_frozen_part() {
     .unwrap();
     let summary = quick_verify(&dir, &schedule, &["--model", "frozen"]);
     let mut lost = 0;
-    for p in summary["realised_field"]["per_point"].as_array().unwrap() {
+    for p in summary["model_check"]["per_point"].as_array().unwrap() {
         let Some(note) = p["note"].as_str() else {
             continue;
         };

@@ -362,10 +362,10 @@ fn verify_plays_at_another_friction_and_sweeps() {
     let low = run(&["--friction", "0.2"]);
     assert_eq!(low["friction_played"]["kinetic"], 0.2);
     let (s_own, s_low) = (
-        own["realised_field"]["rms_predicted_m_per_s"]
+        own["model_check"]["rms_predicted_m_per_s"]
             .as_f64()
             .unwrap(),
-        low["realised_field"]["rms_predicted_m_per_s"]
+        low["model_check"]["rms_predicted_m_per_s"]
             .as_f64()
             .unwrap(),
     );

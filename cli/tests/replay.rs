@@ -1,6 +1,6 @@
 //! Realised from the file (issues 26 and 27): a design's exported signals
 //! played on its parts (`design::replay`, `verify --replay`) against the
-//! schedule's own play, by the design's realised check.
+//! schedule's own play, by the design's judge.
 //!
 //! **Tolerances.** The replayed plate follows the held samples: velocity
 //! exact at every sample time, off by at most (ωΔt)²/8 inside one, and an
@@ -297,7 +297,7 @@ fn worst(rows: &[FrictionRow]) -> (f64, f64) {
 
 /// `design::stacked`: the sink with `"friction": [0.2, 0.4]` under
 /// `--method sequence` fits one set of time weights against the basis at
-/// μ 0.2, 0.3 and 0.4. Played by the design's realised check at those μ,
+/// μ 0.2, 0.3 and 0.4. Played by the design's judge at those μ,
 /// its worst shape error is no worse than that of the sequenced design for
 /// μ 0.3 alone (+0.5 pp: the played measure is not the fitted one), and
 /// its export replayed over them agrees with its play (the tolerance of

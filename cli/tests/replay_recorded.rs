@@ -70,7 +70,7 @@ fn recorded_sink() -> String {
 }
 
 /// The recording replays within 1 % of the strength the schedule plays
-/// (`replay_check`: the design's realised check, both at the schedule's
+/// (`replay_check`: the design's judge, both at the schedule's
 /// friction), through the library and through `verify --replay --rate`.
 #[test]
 fn a_noisy_5_khz_recording_replays_within_1_percent() {

@@ -122,7 +122,7 @@ def test_verify_equals_cli(root, cli, scratch):
     text = cli("verify", scratch / "sink" / "schedule.json", "--points", 3, "--swarm", 3,
                "--rect-poses", 0, "--repetitions", 1, "--quiet", "--json", "--out", scratch / "v")
     assert py == json.loads(text)
-    assert py["realised_field"]["points"] == 9
+    assert py["model_check"]["points"] == 9
 
 
 def test_options_become_the_cli_flags():

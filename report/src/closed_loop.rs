@@ -21,7 +21,7 @@ fn line(name: &str, c: &LoopCandidate) -> String {
     let e = &c.error;
     let d = &e.decomposition;
     format!(
-        "{name}: realised error {} (promise s = {:.4}), shape-only {} (realised strength ŝ = {:.4}); error parts: isotropic {}, rotational {}, anisotropic {}, offset {}, remainder {}",
+        "{name}: realised error {} (promise s = {:.4}), realised shape error {} (realised strength ŝ = {:.4}); error parts: isotropic {}, rotational {}, anisotropic {}, offset {}, remainder {}",
         pct(e.error),
         e.strength,
         pct(e.shape_error),
@@ -34,14 +34,21 @@ fn line(name: &str, c: &LoopCandidate) -> String {
     )
 }
 
+/// The summary's first line: the closed-loop schedule as the judge
+/// measured it (what `schedule.json`'s `"played"` holds).
+pub fn headline(d: &Design, target: &Target, cl: &ClosedLoop) -> String {
+    let s = cl.schedule(target, &d.target.weights);
+    match &s.played {
+        Some(p) => super::method::headline_of("closed loop", p, &s),
+        None => String::new(),
+    }
+}
+
 /// A short summary for the terminal.
 pub fn summary(cl: &ClosedLoop) -> String {
     let mut out = format!(
-        "closed loop: {} start points, {} model, warm-up ≥ {} + ≥ {} measured cycles; {} schedules played in {:.1} s; re-fit stopped: {}\n",
+        "closed loop: judged at {} held points; {} schedules played in {:.1} s; re-fit stopped: {}\n",
         cl.points,
-        cl.model,
-        cl.options.measure.warmup_cycles,
-        cl.options.measure.measured_cycles,
         cl.played,
         cl.seconds,
         cl.stop
@@ -77,7 +84,7 @@ pub(crate) fn markdown(cl: &ClosedLoop) -> String {
         ("realised strength ŝ", |c| {
             format!("{:.4}", c.error.realised_strength)
         }),
-        ("shape-only error", |c| pct(c.error.shape_error)),
+        ("realised shape error", |c| pct(c.error.shape_error)),
         ("error vs the open-loop promise s₀", |c| {
             pct(c.error_vs_design)
         }),
@@ -95,7 +102,7 @@ pub(crate) fn markdown(cl: &ClosedLoop) -> String {
     }
     let _ = writeln!(md, "\nBefore: `{}`.\n\nAfter: `{}`.\n", b.order, a.order);
     md.push_str(
-        "## Every schedule played\n\n| # | stage | order (segment×cycles) | promise | s | realised error | ŝ | shape-only | vs s₀ | note |\n|---|---|---|---|---|---|---|---|---|---|\n",
+        "## Every schedule played\n\n| # | stage | order (segment×cycles) | promise | s | realised error | ŝ | shape error | vs s₀ | note |\n|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for (i, c) in cl.candidates.iter().enumerate() {
         let _ = writeln!(
@@ -123,31 +130,26 @@ fn intro(cl: &ClosedLoop) -> String {
     let _ = write!(
         md,
         "Regenerate: `platefield design <target file> --closed-loop` (with the same options).\n\n\
-         Every schedule below was played on point parts from {} start points (every {}-th \
-         target grid point per axis, masked points skipped), with the physics the design's basis \
-         was built with ({} model), for a warm-up of at least {} primitive cycles and at least {} measured \
-         cycles (whole schedule periods), the mean velocity R averaged over the windows that start at \
-         each segment join (`platefield::play::measure`).\n\n\
-         * **realised error** ‖R − P(s)‖/‖P(s)‖: the realised field against the promise, where \
-         P(s) is the mean velocity over the same windows of a part that follows the promised field \
-         s·t exactly from each window's start (s the strength the schedule's design claims, t the \
-         target; the target's weights and mask), so a schedule that realises s·t exactly scores 0;\n\
-         * **realised strength** ŝ (the scale at which the residual is orthogonal to P(ŝ)) and \
-         **shape-only error** ‖R − P(ŝ)‖/‖P(ŝ)‖, which no choice of strength can lower;\n\
+         Every schedule below is judged as `design` judges (`platefield::design::judge`): \
+         a point part held at each of {} points of a regular sub-grid over the whole target \
+         region (masked points left out), with the physics the design's basis was built with, \
+         its velocity played from rest through whole schedule periods until periodic; R is its \
+         mean velocity over the last period.\n\n\
+         * **realised error** ‖R − s t‖/‖s t‖: the realised field against the promise s·t (s the \
+         strength the schedule's design claims, t the target; the target's weights and mask), so \
+         a schedule that realises s·t exactly scores 0;\n\
+         * **realised strength** ŝ = ⟨R, t⟩/⟨t, t⟩ and **realised shape error** \
+         ‖R − ŝ t‖/‖ŝ t‖, which no choice of strength can lower;\n\
          * **vs s₀**: the realised error against the open-loop promise s₀ = {:.4};\n\
-         * error parts (of R − P(s), relative to ‖P(s)‖, over the parts' mean positions): affine \
-         least-squares decomposition into isotropic (for a sink target: strength), rotational \
-         (swirl), anisotropic (shear), offset, and the remainder.\n\n\
+         * error parts (of R − s t, relative to ‖s t‖): affine least-squares decomposition into \
+         isotropic (for a sink target: strength), rotational (swirl), anisotropic (shear), \
+         offset, and the remainder.\n\n\
          Stages: *design* is the open-loop schedule; *order* plays the same segments and cycles \
          in another order (the weights are unchanged, so the promise it supports is its realised \
          strength ŝ); *re-fit* re-fits the time fractions to the segments' realised velocities in \
          their schedule context and is judged against the re-fit's strength. The best eligible \
          schedule (lowest realised error, the open-loop one included) is kept. Re-fit stopped: {}.\n\n",
         cl.points,
-        cl.options.stride,
-        cl.model,
-        cl.options.measure.warmup_cycles,
-        cl.options.measure.measured_cycles,
         cl.design_strength,
         cl.stop
     );
@@ -164,7 +166,7 @@ pub(crate) fn report_section(cl: &ClosedLoop) -> String {
          | realised error ‖R − s t‖/‖s t‖ | {} | {} |\n\
          | promised strength s | {:.4} | {:.4} |\n\
          | realised strength ŝ | {:.4} | {:.4} |\n\
-         | shape-only error ‖R − ŝ t‖/‖ŝ t‖ | {} | {} |\n\n\
+         | realised shape error ‖R − ŝ t‖/‖ŝ t‖ | {} | {} |\n\n\
          After: `{}` ({}, {}).\n",
         pct(b.error.error),
         pct(a.error.error),

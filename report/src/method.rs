@@ -1,6 +1,6 @@
 //! Writing a design made by `design --method` ([`MethodDesign`]): the kept
-//! schedule (`schedule.json`, with its realised check), `fit.svg`,
-//! `report.md` (method choice, realised check of every candidate, and the
+//! schedule (`schedule.json`, with its judge), `fit.svg`,
+//! `report.md` (method choice, judge of every candidate, and the
 //! kept design's own report), and for a synthesized motion `signals.svg`
 //! (the six signals over one period, each over its limit).
 
@@ -13,7 +13,7 @@ use platefield::error::Result;
 use platefield::motion::{Motion, Signals};
 use platefield::output::write_atomic;
 use platefield::schedule::export::centre_acceleration;
-use platefield::schedule::{AxisPeaks, Played};
+use platefield::schedule::{AxisPeaks, Played, Schedule};
 use platefield::synth::params::AXIS_NAMES;
 use platefield::synth::{ShakerLimits, Synthesis};
 
@@ -24,11 +24,15 @@ const PLOT_SAMPLES: usize = 200;
 /// measure, named and explained in a line (the candidates follow).
 pub fn headline(md: &MethodDesign) -> String {
     let c = md.kept();
-    let p = c.played();
-    let field = c.schedule.target_spec.as_ref().map(|t| &t.field);
+    headline_of(&c.name(), c.played(), &c.schedule)
+}
+
+/// [`headline`] for the kept design named `name`, judged as `p`.
+pub(crate) fn headline_of(name: &str, p: &Played, schedule: &Schedule) -> String {
+    let field = schedule.target_spec.as_ref().map(|t| &t.field);
     format!(
         "kept {}:{} realised strength {} at realised shape error {}{} — the realised field at {} points over the whole region ({} valid), each part held at its point and played whole periods; ŝ is the scale of the target that field best matches, the shape error what ŝ × target leaves unmatched. Every candidate below.\n",
-        c.name(),
+        name,
         platefield::design::method::worst_at(p),
         strength_with_unit(p.realised_strength, field),
         percent(p.realised_shape_error),

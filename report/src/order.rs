@@ -13,7 +13,7 @@ pub(crate) fn order_table(search: &OrderSearch) -> String {
     let mut md = String::new();
     let _ = writeln!(
         md,
-        "Segments: {}. {}.\n\nEach candidate is played on {} point parts ({} model): realised mean velocity over whole schedule periods after a warm-up of ≥ 1 period and ≥ {} primitive cycles, against the time-weighted steady-state prediction (rest counts as the zero field). Error: relative L2, ‖realised − predicted‖ / ‖predicted‖. Rest: cycles of {:.4} s at every join between two moving segments. Moving fraction: the strength factor rest costs. Chosen: the smallest error among the candidates with the most valid points; errors within {:.1} percentage points of it count as ties, which go to less rest.\n",
+        "Segments: {}. {}.\n\nEach candidate is played on {} moving point parts ({} model), the model check: their mean velocity over whole schedule periods after a warm-up of ≥ 1 period and ≥ {} primitive cycles, against the time-weighted steady-state prediction (rest counts as the zero field). Error: relative L2, ‖measured − predicted‖ / ‖predicted‖. Rest: cycles of {:.4} s at every join between two moving segments. Moving fraction: the strength factor rest costs. Chosen: the smallest error among the candidates with the most valid points; errors within {:.1} percentage points of it count as ties, which go to less rest.\n",
         search.segments.join(", "),
         search.method,
         search.points,

@@ -62,7 +62,8 @@ pub fn run(
                 return super::closed_loop::schedule_json(&d, target, &result);
             }
             return Ok(format!(
-                "{}{}wrote {}/{{schedule.json, schedule_open_loop.json, closed_loop.md, closed_loop.json, fit.svg, report.md}}\n",
+                "{}{}{}wrote {}/{{schedule.json, schedule_open_loop.json, closed_loop.md, closed_loop.json, fit.svg, report.md}}\n",
+                super::closed_loop::headline(&d, target, &result),
                 super::design::summary(&d),
                 super::closed_loop::summary(&result),
                 dir.display()

@@ -10,7 +10,7 @@ use crate::plot::{LegendEntry, LegendSymbol, Marker, MarkerShape, Overlay, Quive
 use crate::plot::{LinePlot, Panels, Series};
 use platefield::error::{Error, Result};
 use platefield::field::Grid;
-use platefield::play::measure::{PointResult, RealisedField};
+use platefield::play::measure::{ModelCheck, PointResult};
 use platefield::play::sensitivity::{FrictionRow, Sensitivity};
 use platefield::request::Attractor;
 use platefield::schedule::Schedule;
@@ -20,7 +20,7 @@ use platefield::verify::Swarm;
 /// `summary.json`: everything, per point, per part and per rectangle
 /// (deterministic: no timings).
 pub(crate) fn summary_json(r: &VerifyReport) -> Result<String> {
-    let v = &r.realised;
+    let v = &r.model_check;
     #[derive(Serialize)]
     struct Summary<'a> {
         model_check_error: f64,
@@ -37,7 +37,7 @@ pub(crate) fn summary_json(r: &VerifyReport) -> Result<String> {
         schedule_period_s: f64,
         model: &'a str,
         region: &'a Grid,
-        realised_field: RealisedSummary<'a>,
+        model_check: ModelCheckSummary<'a>,
         swarm: &'a Swarm,
         #[serde(skip_serializing_if = "Option::is_none")]
         friction_played: Option<platefield::dynamics::Friction>,
@@ -49,7 +49,7 @@ pub(crate) fn summary_json(r: &VerifyReport) -> Result<String> {
         tolerance: Option<&'a platefield::design::tolerance::Spread>,
     }
     #[derive(Serialize)]
-    struct RealisedSummary<'a> {
+    struct ModelCheckSummary<'a> {
         points: usize,
         valid_points: usize,
         warmup_periods: u32,
@@ -74,7 +74,7 @@ pub(crate) fn summary_json(r: &VerifyReport) -> Result<String> {
         schedule_period_s: v.schedule_period_s,
         model: &v.model,
         region: &r.region,
-        realised_field: RealisedSummary {
+        model_check: ModelCheckSummary {
             points: r.request.points * r.request.points,
             valid_points: v.valid,
             warmup_periods: r.request.warmup,
@@ -122,7 +122,7 @@ const LOST_COLOR: &str = "#d62728";
 pub(crate) fn trajectory_svg(
     name: &str,
     g: &Grid,
-    v: &RealisedField,
+    v: &ModelCheck,
     swarm: &Swarm,
     rects: &[RectangleResult],
     size: [f64; 2],
@@ -297,7 +297,7 @@ pub fn write(r: &VerifyReport, dir: &Path) -> Result<Vec<PathBuf>> {
     let svg = trajectory_svg(
         &r.target,
         &r.region,
-        &r.realised,
+        &r.model_check,
         &r.swarm,
         &r.rectangles,
         r.request.rectangle,
@@ -366,7 +366,7 @@ pub(crate) fn friction_svg(target: &str, s: &Sensitivity) -> String {
 /// The terminal summary: the judge, the model check (realised against
 /// predicted), invalid points, the swarm and the rectangles.
 pub fn summary(r: &VerifyReport) -> String {
-    let v = &r.realised;
+    let v = &r.model_check;
     let req = &r.request;
     let mut out = String::new();
     match &r.judge {

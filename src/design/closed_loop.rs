@@ -2,28 +2,24 @@
 //! [what combines under sequencing](crate#sequencing-what-combines)): what verification measures is fed back into the schedule, so
 //! that short segments (fast switching, finer time-averaging) become usable.
 //!
-//! **The problem, measured.** The open-loop design promises the field s·t
+//! **The problem.** The open-loop design promises the field s·t
 //! (strength s times the target t) on the assumption that a schedule
 //! realises the time-weighted combination of its segments' *steady-state*
 //! fields. With few cycles per segment it does not: each segment starts
-//! from the motion the previous one left. For the Sink target
-//! (`targets/sink.json`: four LineSinks, full model, parts moving) the
-//! realised error (below) is 38 % at one cycle per segment, 26 % at two,
-//! 19 % at three. Decomposed ([`realised`]): mostly a pure change of scale
-//! — the realised sink is weaker, 67 %, 79 % and 85 % of the promised
-//! strength — plus, in the design's order 0°→180°→270°→90°, an offset (18 %
-//! at one cycle) and an anisotropy (7 %); the cyclic order
-//! 0°→90°→180°→270° has no offset but a swirl (2 %) from its rotation sense
-//! (see [`super::order`]).
+//! from the motion the previous one left, and its field in that context
+//! differs from its steady state. The loop's numbers for the Sink target
+//! at 1, 2 and 3 cycles per segment are in `results/closed_loop/`.
 //!
-//! **Realised error** ([`realised`]): the relative L2 error ‖R − s t‖/‖s t‖
-//! of the realised mean velocity field R against the promise s·t, at the
-//! parts' mean positions, with the target's weights and mask; s is the
-//! strength the schedule's design claims. Reported with it: the realised
-//! strength ŝ (the least-squares scale of R on t) and the shape-only error
-//! ‖R − ŝ t‖/‖ŝ t‖, which no choice of strength can lower. A schedule whose
-//! parts lose contact at more points than the open-loop schedule's is
-//! rejected.
+//! **The measure** is the judge's ([`super::judge`]): the realised field R
+//! at the judge's held points over the whole region, whole schedule
+//! periods, against the promise s·t with the target's weights and mask
+//! ([`judge::compare`]): the **realised error** ‖R − s t‖/‖s t‖ at
+//! the strength s the schedule's design claims, the **realised strength**
+//! ŝ (the least-squares scale of R on t) and the **realised shape error**
+//! ‖R − ŝ t‖/‖ŝ t‖, which no choice of strength can lower. So the kept
+//! schedule's numbers are the ones `design` reports for it. A schedule
+//! whose held parts lose contact at more points than the open-loop
+//! schedule's is rejected.
 //!
 //! **The loop.** Every candidate is played and judged by its measured
 //! realised error, never by prediction alone; the best, including the
@@ -37,8 +33,8 @@
 //!    schedule is the measurement itself and the promise it supports is the
 //!    realised strength ŝ: an order is judged by its shape-only error.
 //! 3. *Re-fit* (contextual basis): from the best schedule so far, each
-//!    segment's realised velocity in its schedule context c_i
-//!    ([`realised::play`]; R = Σ f_i c_i exactly) replaces its steady-state
+//!    segment's realised velocity in its schedule context c_i (over the
+//!    judge's last period; R = Σ f_i c_i exactly) replaces its steady-state
 //!    field as a basis column; the time fractions are re-fitted to the
 //!    target with the design's conic fit (shape mode, strongest within its
 //!    slack), requantised to whole cycles with the same minimum per segment
@@ -56,56 +52,38 @@
 //! `shape` fit ignores). The loop states the strength the schedule realises
 //! and fixes the shape; the report gives both errors and both strengths.
 
-pub mod realised;
 pub(crate) mod refit;
 
 use std::time::Instant;
 
 use serde::Serialize;
 
-pub use realised::{Decomposition, MeasureOptions, PointPlay, RealisedError};
+pub use judge::{Decomposition, PointPlay, RealisedError};
 
+use super::judge;
 use super::order::{self, arrange};
 use super::Design;
-use crate::dynamics::Model;
 use crate::error::{Error, Result};
 use crate::field::FieldSettings;
 use crate::fit::{self, FitMetrics};
+use crate::play::ScheduleMotion;
 use crate::request::{SampledTarget, Target};
 use crate::schedule::{Schedule, Segment};
 
 /// Options of [`closed_loop`].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct LoopOptions {
-    /// Play every `stride`-th target grid point along each axis (every
-    /// `stride`-th point of a grid-less target); masked points are skipped.
-    /// Default 2.
-    pub stride: usize,
-    /// Warm-up and measurement lengths.
-    pub measure: MeasureOptions,
     /// Most contextual re-fit iterations (default 8).
     pub max_iterations: u32,
     /// Try other playing orders (default true).
     pub search_orders: bool,
-    /// Model the schedules are played with (`None`, the default: the one
-    /// the design's basis was built with, normally [`Model::FULL`]). With
-    /// the frozen model (kinematics held at the start point) the measurement
-    /// is the local field at each start point even when parts travel far
-    /// during a long schedule period; it is not valid for the large-amplitude
-    /// Circle (its frozen field has a spurious radial velocity, see
-    /// [`crate::field`]), whose
-    /// schedules must be played with moving parts.
-    pub model: Option<Model>,
 }
 
 impl Default for LoopOptions {
     fn default() -> Self {
         LoopOptions {
-            stride: 2,
-            measure: MeasureOptions::default(),
             max_iterations: 8,
             search_orders: true,
-            model: None,
         }
     }
 }
@@ -114,27 +92,10 @@ impl LoopOptions {
     /// Validates ranges (errors name the option's path under
     /// [`DesignOptions::closed_loop`](super::DesignOptions::closed_loop)).
     pub fn validate(&self) -> Result<()> {
-        if !(1..=100).contains(&self.stride) {
-            return Err(Error::invalid(
-                "closed_loop.stride",
-                format!("must be in 1..=100, got {}", self.stride),
-            ));
-        }
         if self.max_iterations > 50 {
             return Err(Error::invalid(
                 "closed_loop.max_iterations",
                 format!("must be in 0..=50, got {}", self.max_iterations),
-            ));
-        }
-        if !(1..=100_000).contains(&self.measure.measured_cycles)
-            || self.measure.warmup_cycles > 100_000
-        {
-            return Err(Error::invalid(
-                "closed_loop.measure",
-                format!(
-                    "measured cycles must be in 1..=100000 and warm-up cycles in 0..=100000, got {} and {}",
-                    self.measure.measured_cycles, self.measure.warmup_cycles
-                ),
             ));
         }
         Ok(())
@@ -173,7 +134,7 @@ pub struct LoopCandidate {
     pub order: String,
     /// Where its promised strength comes from.
     pub promise: String,
-    /// Realised error against its promise.
+    /// The judge's realised field against its promise.
     pub error: RealisedError,
     /// ‖R − s₀ t‖/‖s₀ t‖ against the open-loop promise s₀.
     pub error_vs_design: f64,
@@ -182,7 +143,7 @@ pub struct LoopCandidate {
     /// The schedule.
     #[serde(skip)]
     pub schedule: Schedule,
-    /// What was measured.
+    /// The judge's plays.
     #[serde(skip)]
     pub plays: Vec<PointPlay>,
 }
@@ -197,12 +158,10 @@ pub struct ClosedLoop {
     pub candidates: Vec<LoopCandidate>,
     /// Index of the best candidate (lowest realised error among the eligible).
     pub best: usize,
-    /// Start points played.
+    /// The judge's points played.
     pub points: usize,
     /// Schedules played (a candidate that repeats one is not played again).
     pub played: usize,
-    /// Name of the model the schedules were played with.
-    pub model: String,
     /// The options used.
     pub options: LoopOptions,
     /// The open-loop promise s₀.
@@ -225,12 +184,27 @@ impl ClosedLoop {
         &self.candidates[self.best]
     }
 
-    /// The best schedule, its `fit` and `fit_quantized` metrics replaced by
-    /// the realised ones against its promise (the open-loop schedule is
-    /// returned unchanged when it is the best).
+    /// The best schedule with the judge's record (`played`), its `fit` and
+    /// `fit_quantized` metrics replaced by the realised ones against its
+    /// promise (the open-loop schedule keeps its own when it is the best).
     pub fn schedule(&self, target: &Target, weights: &[f64]) -> Schedule {
         let best = self.after();
         let mut s = best.schedule.clone();
+        let mut played = super::method::played_of(
+            &best.plays,
+            &best.error,
+            &s,
+            best.error.strength,
+            super::Method::Sequence,
+            None,
+        );
+        played.choice = format!(
+            "closed loop: the best of {} schedules judged ({}, {})",
+            self.candidates.len(),
+            best.stage.name(),
+            best.promise
+        );
+        s.played = Some(played);
         if self.best == 0 {
             return s;
         }
@@ -239,7 +213,7 @@ impl ClosedLoop {
             s.fit_quantized = m;
         }
         s.solver.status = format!(
-            "closed loop ({}; realised over {} points, promise: {}); open loop: {}",
+            "closed loop ({}; judged over {} points, promise: {}); open loop: {}",
             best.stage.name(),
             best.error.valid,
             best.promise,
@@ -250,8 +224,8 @@ impl ClosedLoop {
 }
 
 /// `FitMetrics` of the realised field against the promise at `strength`
-/// (`realised::promised`), by the design's own metric code (an independent
-/// check of [`realised::realised_error`]).
+/// (`compare::promised`), by the design's own metric code (an independent
+/// check of [`judge::realised_error`]).
 pub fn realised_metrics(
     target: &Target,
     weights: &[f64],
@@ -265,26 +239,13 @@ pub fn realised_metrics(
     if strength == 0.0 {
         return None;
     }
-    let t: Vec<[f64; 2]> = realised::promised(target, &ok, strength)
+    let t: Vec<[f64; 2]> = judge::compare::promised(target, &ok, strength)
         .iter()
         .map(|v| [v[0] / strength, v[1] / strength])
         .collect();
     let r: Vec<[f64; 2]> = ok.iter().map(|p| p.realised).collect();
     let w: Vec<f64> = ok.iter().map(|p| weights[p.index]).collect();
     fit::field_metrics(&t, &r, strength, Some(&w)).ok()
-}
-
-/// The start points: every `stride`-th grid point along each axis (every
-/// `stride`-th sample of a grid-less target), weight > 0 only.
-pub fn loop_points(target: &Target, sampled: &SampledTarget, stride: usize) -> Vec<usize> {
-    let stride = stride.max(1);
-    (0..sampled.len())
-        .filter(|&k| sampled.weights[k] > 0.0)
-        .filter(|&k| match &target.grid {
-            Some(g) => (k % g.n[0]) % stride == 0 && (k / g.n[0]) % stride == 0,
-            None => k % stride == 0,
-        })
-        .collect()
 }
 
 /// `base` segments played in `sequence` (indices into `base`; a segment
@@ -314,18 +275,17 @@ fn order_text(s: &Schedule) -> String {
 }
 
 /// Everything a step needs to play and judge a schedule.
-struct Judge<'a> {
+struct Trial<'a> {
     target: &'a Target,
     sampled: &'a SampledTarget,
-    starts: Vec<usize>,
+    points: Vec<usize>,
     settings: FieldSettings,
-    measure: MeasureOptions,
     design_strength: f64,
     valid_before: Option<usize>,
     played: std::cell::Cell<usize>,
 }
 
-impl Judge<'_> {
+impl Trial<'_> {
     fn judge(
         &self,
         stage: Stage,
@@ -335,9 +295,9 @@ impl Judge<'_> {
         promise: String,
     ) -> LoopCandidate {
         let w = &self.sampled.weights;
-        let error = realised::realised_error(self.target, w, &plays, strength);
+        let error = judge::realised_error(self.target, w, &plays, strength);
         let vs_design =
-            realised::realised_error(self.target, w, &plays, Some(self.design_strength)).error;
+            judge::realised_error(self.target, w, &plays, Some(self.design_strength)).error;
         let rejected = match self.valid_before {
             Some(v) if error.valid < v => Some(format!(
                 "parts lose contact at {} more points than open loop",
@@ -360,13 +320,13 @@ impl Judge<'_> {
 
     fn play(&self, schedule: &Schedule) -> Result<Vec<PointPlay>> {
         self.played.set(self.played.get() + 1);
-        realised::play(
-            schedule,
+        let sm = ScheduleMotion::from_schedule(schedule)?;
+        Ok(judge::play_motion(
+            &sm,
             &self.sampled.points,
-            &self.starts,
+            &self.points,
             &self.settings,
-            &self.measure,
-        )
+        ))
     }
 }
 
@@ -387,7 +347,7 @@ fn best_of(c: &[LoopCandidate]) -> usize {
 /// (when `search`); returns the best order's pattern (the design's own
 /// order when none is better or none is searched).
 fn order_stage(
-    judge: &Judge,
+    trial: &Trial,
     open: &Schedule,
     cands: &mut Vec<LoopCandidate>,
     search: bool,
@@ -403,7 +363,7 @@ fn order_stage(
         let plays = if same {
             cands[0].plays.clone()
         } else {
-            judge.play(&schedule)?
+            trial.play(&schedule)?
         };
         let what = if same {
             "design order"
@@ -412,7 +372,7 @@ fn order_stage(
         } else {
             "cyclic order"
         };
-        cands.push(judge.judge(
+        cands.push(trial.judge(
             Stage::Order,
             schedule,
             plays,
@@ -432,7 +392,7 @@ fn order_stage(
 /// `max_iterations`, stopping at a schedule already played or after two
 /// re-fits without improvement; returns why it stopped.
 fn refit_stage(
-    judge: &Judge,
+    trial: &Trial,
     design: &Design,
     cands: &mut Vec<LoopCandidate>,
     mut pattern: Vec<usize>,
@@ -446,7 +406,7 @@ fn refit_stage(
     let mut stale = 0;
     for _ in 0..max_iterations {
         let refitted = refit::refit(
-            judge.target,
+            trial.target,
             &design.target.weights,
             open,
             &base,
@@ -464,9 +424,9 @@ fn refit_stage(
         }
         seen.push(cycles);
         let schedule = play_in(open, &new_base, &new_pattern);
-        let plays = judge.play(&schedule)?;
+        let plays = trial.play(&schedule)?;
         let before_best = cands[best_of(cands)].error.error;
-        cands.push(judge.judge(
+        cands.push(trial.judge(
             Stage::Refit,
             schedule,
             plays,
@@ -493,52 +453,45 @@ pub fn closed_loop(target: &Target, design: &Design, opts: &LoopOptions) -> Resu
     opts.validate()?;
     let start = Instant::now();
     let open = &design.schedule;
-    let mut settings: FieldSettings = open.settings;
-    if let Some(m) = opts.model {
-        settings.model = m;
-    }
-    let starts = loop_points(target, &design.target, opts.stride);
-    if starts.is_empty() {
-        return Err(Error::invalid(
-            "closed_loop.stride",
-            "leaves no target point with a positive weight",
+    let points = judge::judge_points(target, &design.target);
+    if points.is_empty() {
+        return Err(Error::Physical(
+            "the target has no point with a positive weight to judge".into(),
         ));
     }
     let s0 = open.fit.strength;
-    let mut judge = Judge {
+    let mut trial = Trial {
         target,
         sampled: &design.target,
-        starts,
-        settings,
-        measure: opts.measure,
+        points,
+        settings: open.settings,
         design_strength: s0,
         valid_before: None,
         played: std::cell::Cell::new(0),
     };
 
     // 1. The open-loop schedule.
-    let plays = judge.play(open)?;
-    let first = judge.judge(
+    let plays = trial.play(open)?;
+    let first = trial.judge(
         Stage::Design,
         open.clone(),
         plays,
         Some(s0),
         "open-loop design (steady-state fields)".into(),
     );
-    judge.valid_before = Some(first.error.valid);
+    trial.valid_before = Some(first.error.valid);
     let mut cands = vec![first];
 
-    let pattern = order_stage(&judge, open, &mut cands, opts.search_orders)?;
-    let mut stop = refit_stage(&judge, design, &mut cands, pattern, opts.max_iterations)?;
+    let pattern = order_stage(&trial, open, &mut cands, opts.search_orders)?;
+    let mut stop = refit_stage(&trial, design, &mut cands, pattern, opts.max_iterations)?;
     if opts.max_iterations == 0 {
         stop = "no re-fit asked".into();
     }
     Ok(ClosedLoop {
         target: open.target.clone(),
         best: best_of(&cands),
-        points: judge.starts.len(),
-        played: judge.played.get(),
-        model: judge.settings.model.name(),
+        points: trial.points.len(),
+        played: trial.played.get(),
         candidates: cands,
         options: *opts,
         design_strength: s0,

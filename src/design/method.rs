@@ -47,8 +47,7 @@
 
 use std::time::Instant;
 
-use super::closed_loop::realised;
-use super::judge::{judge_points, JUDGE_MIN_PERIODS};
+use super::judge::{judge_points, PointPlay, RealisedError, JUDGE_MIN_PERIODS};
 use super::polish::{polish, PolishOptions};
 pub use super::rule::{Rule, MIN_MEASURED_POINTS, TIE_SHAPE_ERROR};
 use super::{design, Design, DesignOptions};
@@ -79,7 +78,7 @@ pub struct Candidate {
     pub design_s: f64,
     /// Seconds to play it.
     pub play_s: f64,
-    /// Its realised check over the friction range the target states
+    /// Its judge over the friction range the target states
     /// (`None` for an exact friction): what `auto` judges it by.
     pub sensitivity: Option<Sensitivity>,
     /// The synthesis `auto` adds over a friction range when no other
@@ -152,7 +151,7 @@ impl Candidate {
         format!("{}{tag}", self.method.name())
     }
 
-    /// The realised check.
+    /// The judge.
     pub fn played(&self) -> &Played {
         self.schedule
             .played
@@ -604,7 +603,7 @@ impl<'a> MethodRun<'a> {
     }
 
     /// One candidate kept ([`choose`]; over a friction range by its worst
-    /// case, [`MethodRun::judge_range`]) and the kept one's realised check
+    /// case, [`MethodRun::judge_range`]) and the kept one's judge
     /// across the target's friction recorded.
     fn finish(self) -> Result<MethodDesign> {
         let (target, sampled) = (self.target, self.sampled);
@@ -629,7 +628,7 @@ impl<'a> MethodRun<'a> {
     }
 }
 
-/// `schedule`'s realised check across the friction the target states
+/// `schedule`'s judge across the friction the target states
 /// ([`sensitivity::of_target`]).
 fn candidate_sensitivity(
     target: &Target,
@@ -657,7 +656,7 @@ pub fn judge_check(
     })
 }
 
-/// The realised check of `schedule` at each of `values`, against the
+/// The judge of `schedule` at each of `values`, against the
 /// target it records (`verify --friction LO:HI:N`).
 ///
 /// # Errors
@@ -1191,7 +1190,7 @@ pub(crate) fn synthesize_schedule(
 /// parameters of the target's shaker limits; all of
 /// `--synth-evaluations` for Nelder–Mead), each a steady-state field on
 /// the coarse grid; the check of the motion on the full grid; and every
-/// play of the polish — its start points (those of the realised check,
+/// play of the polish — its start points (those of the judge,
 /// `check_starts`: 40 for a 40-point grid-less target) over the cycles
 /// the check plays ([`check_cycles`]) plus one coarse field for its
 /// contact check — the start's two plays and those of its steps, as many
@@ -1301,7 +1300,7 @@ fn synthesis_counts(
 /// before it starts and compared with the work done by `tests/estimates.rs`
 /// ([`crate::dynamics::steps_taken`], within 3×): the sequenced design's
 /// library when the cache does not hold it (the basis stage), the
-/// synthesis and its polish (`synthesis_estimate`), the realised check
+/// synthesis and its polish (`synthesis_estimate`), the judge
 /// of every candidate (sequenced schedules counted at the synthesized
 /// motion's `SYNTH_SEGMENT_CYCLES` cycles per period) and, for a target
 /// that states its friction, each candidate's friction sweep.
@@ -1404,7 +1403,7 @@ pub(crate) fn sequenced_cycles(opts: &DesignOptions) -> u32 {
 }
 
 /// The played polish of a synthesized motion ([`super::polish`]:
-/// `synth.polish_plays` plays on the realised check's start points, the
+/// `synth.polish_plays` plays on the judge's start points, the
 /// polish's own measure): the polished synthesis when the polish found a
 /// better motion, else `syn`; and a line saying what it did. A POOR
 /// synthesis, or `polish_plays` 0, is returned as it is.
@@ -1460,7 +1459,7 @@ pub(crate) fn realised_check(
     schedule: &Schedule,
     settings: &crate::field::FieldSettings,
     predicted: Option<f64>,
-) -> Result<(Vec<realised::PointPlay>, realised::RealisedError)> {
+) -> Result<(Vec<PointPlay>, RealisedError)> {
     let sm = crate::play::ScheduleMotion::from_schedule(schedule)?;
     Ok(super::judge::judge(
         target, sampled, &sm, settings, predicted,
@@ -1485,10 +1484,25 @@ pub(crate) fn play_check(
         &schedule.settings,
         Some(predicted),
     )?;
+    Ok(played_of(&plays, &r, schedule, predicted, asked, limits))
+}
+
+/// The [`Played`] record of `schedule` from the judge's `plays` and what
+/// they realise, `r` ([`play_check`]): POOR with the reasons when too few
+/// points count, the shape error exceeds [`fit::POOR_ERROR`] or a held part
+/// loses contact.
+pub(crate) fn played_of(
+    plays: &[PointPlay],
+    r: &RealisedError,
+    schedule: &Schedule,
+    predicted: f64,
+    asked: Method,
+    limits: Option<crate::request::ShakerSpec>,
+) -> Played {
     let finite = |x: f64| x.is_finite().then_some(x);
     // Every judge point is in the region: a part that loses contact at
     // one fails the design.
-    let lost: Vec<&realised::PointPlay> = plays.iter().filter(|p| p.note.is_some()).collect();
+    let lost: Vec<&PointPlay> = plays.iter().filter(|p| p.note.is_some()).collect();
     let mut notes = Vec::new();
     if r.valid == 0 {
         notes.push("no valid point".to_string());
@@ -1514,7 +1528,7 @@ pub(crate) fn play_check(
             first.note.clone().unwrap_or_default()
         ));
     }
-    Ok(Played {
+    Played {
         method: match (
             schedule.segments.iter().any(|s| s.motion.is_some()),
             schedule.segments.iter().filter(|s| s.is_moving()).count() > 1,
@@ -1541,7 +1555,7 @@ pub(crate) fn play_check(
         limits,
         pose: None,
         moving_escaped: None,
-    })
+    }
 }
 
 #[cfg(test)]

@@ -43,7 +43,7 @@
 //! to rest over `MIXED_RAMP_CYCLES` cycles (the
 //! plate velocities of the two motions differ at a cycle's start, so they
 //! cannot be joined directly). Measured for the synthesized sink, worst
-//! over μ ∈ [0.2, 0.4] (the design's realised check, moving parts): 8
+//! over μ ∈ [0.2, 0.4] (the design's judge, moving parts): 8
 //! steady-plus-ramp cycles per segment 7.1 % at 0.22 s⁻¹, 12: 4.3 % at
 //! 0.39, 20: 3.1 % at 0.55, 28: 3.5 % at 0.62, 36: 4.6 % at 0.66 —
 //! longer segments lose less to the ramps and gain back some interaction;

@@ -45,7 +45,7 @@
 //!   shape-only error is 0.9 % against 3.7 % and 27 %.
 //!
 //! **Evaluation.** Each candidate is played by [`verify_points`] on the
-//! given points: realised mean velocity against the time-weighted
+//! given points, the model check: the moving parts' mean velocity against the time-weighted
 //! steady-state prediction, in which rest counts as the zero field, so a
 //! candidate with rest is compared with its own (weaker) prediction and the
 //! comparison is fair about the field's shape. What rest costs is strength:
@@ -138,9 +138,10 @@ pub struct OrderCandidate {
     pub inserted_rest_s: f64,
     /// Moving time / period: the factor every field is scaled by.
     pub moving_fraction: f64,
-    /// Relative L2 error realised against predicted (NaN: no valid point).
+    /// The model check's relative L2 error, measured against predicted
+    /// (NaN: no valid point).
     pub relative_error: f64,
-    /// Largest |realised − predicted| (m/s).
+    /// Largest |measured − predicted| (m/s).
     pub max_abs_error: f64,
     /// Valid points.
     pub valid: usize,
@@ -728,7 +729,7 @@ pub fn order_schedule_file(path: &Path, req: &OrderRequest) -> Result<OrderOutco
     if !(2..=41).contains(&n) {
         return Err(Error::invalid(
             "--points",
-            format!("must be in 2..=41, got {n}: each order is judged by its realised-vs-predicted error over the N×N grid of points, and N = 1 is the region's centre alone (usually the attractor, where the field is zero)"),
+            format!("must be in 2..=41, got {n}: each order is measured by its model check (moving parts against the prediction) over the N×N grid of points, and N = 1 is the region's centre alone (usually the attractor, where the field is zero)"),
         ));
     }
     if let Some(k) = rest_cycles.iter().find(|&&k| k > 100) {

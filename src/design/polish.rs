@@ -3,7 +3,7 @@
 //!
 //! **Why.** [`crate::synth::synthesize`] optimises the steady-state field on
 //! a coarse grid of the region, every grid point weighted alike. The played
-//! measure ([`realised::realised_error`]) weights the field where the parts
+//! measure ([`super::judge::realised_error`]) weights the field where the parts
 //! go: a part started at rest is measured over windows after a warm-up, at
 //! its mean position. For an expanding target the parts spend the measured
 //! windows outside the region (the saddle with its sequenced limits: parts
@@ -100,7 +100,7 @@
 //! (n + 2 each) without a motion that replaces the best so far (the sink,
 //! whose synthesized motion no step beats by the rule, stops after its
 //! first Jacobian and tries: 23 plays). `design` plays the polish exactly
-//! as the realised check plays the schedule — its cycles (10 warm-up, 10
+//! as the judge plays the schedule — its cycles (10 warm-up, 10
 //! measured), and the motion as a segment of
 //! [`PolishOptions::segment_cycles`] cycles, with the period played after
 //! the windows in which a part that leaves the plate is left out — so the
@@ -120,7 +120,8 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use super::closed_loop::realised::{self, RealisedError};
+use super::judge::compare::{self, Promise};
+use super::judge::{PointPlay, RealisedError};
 use super::rule;
 use crate::error::{positive, Error, Result};
 use crate::field::{FieldSettings, Grid};
@@ -303,8 +304,8 @@ impl Eval {
 
 /// The played objective (see the module documentation).
 struct Played<'a> {
-    /// The target's promise, built once ([`realised::Promise`]).
-    promise: realised::Promise<'a>,
+    /// The target's promise, built once ([`Promise`]).
+    promise: Promise<'a>,
     sampled: &'a SampledTarget,
     /// The target region: parts lost inside it count against a motion.
     region: &'a Grid,
@@ -352,7 +353,7 @@ impl Played<'_> {
         let mut lost = 0;
         for settings in self.objective.physics() {
             let plays = super::judge::play_motion(&sm, &self.sampled.points, self.starts, settings);
-            let r = realised::realised_error_of(&self.promise, &self.sampled.weights, &plays, None);
+            let r = compare::realised_error_of(&self.promise, &self.sampled.weights, &plays, None);
             residuals.extend(self.part_residuals(&plays, &r));
             each.push(r);
             lost = lost.max(lost_inside(&plays, self.region));
@@ -366,12 +367,12 @@ impl Played<'_> {
     /// ω_i (R_i − ŝ P_i) for each part in start order (P_i the promise
     /// along its windows, 0 for a part that does not count), rescaled by
     /// [`shape_block`] to the cost's shape term.
-    fn part_residuals(&self, plays: &[realised::PointPlay], r: &RealisedError) -> Vec<f64> {
+    fn part_residuals(&self, plays: &[PointPlay], r: &RealisedError) -> Vec<f64> {
         let s = r.realised_strength;
         let raw: Vec<f64> = plays
             .iter()
             .flat_map(|p| {
-                if !realised::counts(&self.sampled.weights, p) || !s.is_finite() {
+                if !compare::counts(&self.sampled.weights, p) || !s.is_finite() {
                     return [0.0, 0.0];
                 }
                 let w = self.sampled.weights[p.index];
@@ -510,10 +511,10 @@ impl Played<'_> {
 }
 
 /// Parts of `plays` that lost contact inside `region` ([`in_region`]):
-/// the realised check's failures. A part lost after it left the region
+/// the judge's failures. A part lost after it left the region
 /// (an expanding target's) is left out of the measure, as the check
 /// leaves it out, and is no failure.
-fn lost_inside(plays: &[realised::PointPlay], region: &Grid) -> usize {
+fn lost_inside(plays: &[PointPlay], region: &Grid) -> usize {
     plays
         .iter()
         .filter(|p| p.note.is_some() && p.lost_at.is_none_or(|q| in_region(region, q)))
@@ -642,7 +643,7 @@ pub fn polish(
     )
     .with_robust(options.robust);
     let mut played = Played {
-        promise: realised::Promise::of(target),
+        promise: Promise::of(target),
         sampled,
         region,
         starts,

@@ -54,9 +54,8 @@ use std::time::Instant;
 use argmin::core::{CostFunction, Executor};
 use argmin::solver::neldermead::NelderMead;
 
-use super::closed_loop::loop_points;
-use super::closed_loop::realised::{realised_error, RealisedError};
 use super::judge::{judge_points, play_motion};
+use super::judge::{realised_error, strided_points, RealisedError};
 use crate::error::{BudgetSpent, Error, Result};
 use crate::request::{SampledTarget, Target};
 use crate::schedule::Schedule;
@@ -253,7 +252,7 @@ pub fn refine_schedule(
 ) -> Result<Refined> {
     let start = Instant::now();
     let sampled = target.sample()?;
-    let coarse = loop_points(target, &sampled, options.coarse_stride);
+    let coarse = strided_points(target, &sampled, options.coarse_stride);
     let fine = judge_points(target, &sampled);
     if coarse.is_empty() || fine.is_empty() {
         return Err(Error::invalid(

@@ -146,7 +146,7 @@ pub fn design_sort(target: &Target, opts: &DesignOptions) -> Result<SortDesign> 
 /// The work of designing the sort of `target` ([`crate::work`]), stated
 /// before it starts: each class's library when the cache does not hold it
 /// (a library per class: each is simulated at its class's friction), and
-/// each class's realised check (counted, as a design's, at
+/// each class's judge (counted, as a design's, at
 /// `SYNTH_SEGMENT_CYCLES` cycles per period); the swarms are estimated
 /// once the schedule is known (`crate::verify::sort_play::play_estimate`).
 ///

@@ -8,7 +8,7 @@
 //! sample k), one target `t` and row weights `D`; `Â_k = DA_k/‖Dt‖`,
 //! `t̂ = Dt/‖Dt‖` (unit norm). Time fractions `f ≥ 0`, `1ᵀf ≤ 1` give at
 //! sample k the field `Â_k f`, whose strength and shape error are those of
-//! the realised check (`crate::verify`): the least-squares scale
+//! the judge (`crate::verify`): the least-squares scale
 //! `s_k = t̂ᵀÂ_k f` and `e_k = ‖Â_k f − s_k t̂‖ / s_k` (the tangent of the
 //! angle between field and target; each sample has its own scale, so a
 //! field that only grows or shrinks with friction costs no shape).
@@ -135,7 +135,7 @@ impl WorstCaseFit {
     }
 }
 
-/// The realised check's measures of fractions `f` against the
+/// The judge's measures of fractions `f` against the
 /// (row-weighted) target of `problem`: `(e, s)` with `s = ⟨DAf, Dt⟩/‖Dt‖²`
 /// the least-squares strength and `e = ‖D(Af − s t)‖ / ‖D s t‖`.
 pub(crate) fn shape_and_strength(problem: &FitProblem, fractions: &[f64]) -> (f64, f64) {

@@ -510,14 +510,16 @@ pub struct PointResult {
     pub settled: bool,
 }
 
-/// The realised field of a played schedule against its prediction.
+/// The model check: the mean velocity field moving parts realise under a
+/// played schedule, against what its design's model predicts along their
+/// paths (not the judge, `crate::design::judge`, which holds its parts).
 #[derive(Debug, Clone, Default, PartialEq, Serialize)]
-pub struct RealisedField {
+pub struct ModelCheck {
     /// Relative L2 error ‖R − E‖/‖E‖ over valid points (NaN without one).
     pub relative_error: f64,
-    /// Least-squares scale κ = ⟨R, E⟩/⟨E, E⟩: realised strength over
-    /// predicted strength.
-    pub realised_scale: f64,
+    /// Least-squares scale κ = ⟨R, E⟩/⟨E, E⟩: the strength the moving
+    /// parts realise over the strength predicted.
+    pub strength_ratio: f64,
     /// Shape error ‖R − κE‖/‖κE‖.
     pub shape_error: f64,
     /// Largest |realised − predicted| over valid points (m/s).
@@ -544,7 +546,7 @@ pub struct RealisedField {
     pub points: Vec<PointResult>,
 }
 
-impl RealisedField {
+impl ModelCheck {
     /// `Ok` when every point is valid, else a physical error naming
     /// `context`, how many points are invalid and the first reason.
     pub fn require_all_valid(&self, context: &str) -> crate::error::Result<()> {
@@ -690,11 +692,7 @@ fn compare(sm: &ScheduleMotion, player: &Player<'_>, play: PointPlay) -> PointRe
 /// Plays `sm` from every start point (in parallel) and compares the
 /// realised mean velocities with the time-weighted steady-state prediction
 /// (see the module documentation; one window after the warm-up).
-pub fn verify_points(
-    sm: &ScheduleMotion,
-    points: &[[f64; 2]],
-    opts: &PlayOptions,
-) -> RealisedField {
+pub fn verify_points(sm: &ScheduleMotion, points: &[[f64; 2]], opts: &PlayOptions) -> ModelCheck {
     verify_points_ticked(sm, points, opts, &|| ())
 }
 
@@ -704,7 +702,7 @@ pub(crate) fn verify_points_ticked(
     points: &[[f64; 2]],
     opts: &PlayOptions,
     tick: &(dyn Fn() + Sync),
-) -> RealisedField {
+) -> ModelCheck {
     against_prediction(
         sm,
         play_points_ticked(sm, points, opts, Windows::First, tick),
@@ -719,7 +717,7 @@ pub fn against_prediction(
     sm: &ScheduleMotion,
     plays: Vec<PointPlay>,
     opts: &PlayOptions,
-) -> RealisedField {
+) -> ModelCheck {
     let results: Vec<PointResult> = plays
         .into_par_iter()
         .map(|play| compare(sm, &opts.player(sm), play))
@@ -743,13 +741,13 @@ pub fn against_prediction(
         f64::NAN
     };
     let scaled: Vec<[f64; 2]> = pred.iter().map(|v| [scale * v[0], scale * v[1]]).collect();
-    RealisedField {
+    ModelCheck {
         relative_error: if ok.is_empty() {
             f64::NAN
         } else {
             relative_l2(&real, &pred)
         },
-        realised_scale: scale,
+        strength_ratio: scale,
         shape_error: if scale.is_finite() {
             relative_l2(&real, &scaled)
         } else {

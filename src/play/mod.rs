@@ -39,8 +39,9 @@ pub mod measure;
 pub mod replay;
 pub mod sensitivity;
 pub(crate) mod settle;
+pub mod windowed;
 
-pub use measure::{grid_points, verify_points, PlayOptions, PointResult, RealisedField};
+pub use measure::{grid_points, verify_points, ModelCheck, PlayOptions, PointResult};
 
 use crate::dynamics::{
     ContactLoss, Friction, KinematicsTable, Model, Numerics, PartPhysics, PartState, Simulator,

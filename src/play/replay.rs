@@ -2,7 +2,7 @@
 //! controller gives the plate when it holds the file's samples
 //! ([`crate::motion::Held`], integrated exactly from rest in the home pose),
 //! cut into the schedule's segments so that every measure of a
-//! [`ScheduleMotion`] — the realised check's windows starting at each
+//! [`ScheduleMotion`] — the judge's windows starting at each
 //! segment join above all — applies to it unchanged.
 //!
 //! The cuts follow the export's layout ([`crate::schedule::export`]), with

@@ -34,8 +34,8 @@
 //!
 //! **Where it is used.** `verify` (realised against the steady-state
 //! prediction, [`super::measure::PlayOptions::settle`]) settles. The
-//! design's realised check and the studies' measures against the *target*
-//! keep their fixed warm-ups (`design::closed_loop::MeasureOptions::settle`
+//! design's judge and the studies' measures against the *target*
+//! keep their fixed warm-ups (`play::windowed::MeasureOptions::settle`
 //! off): a strong field gathers the parts before a slow transient dies out
 //! — the synthesized motion of `targets/sink_trans.json` (a 3 s⁻¹ sink
 //! slipping at up to 50 m/s²) needs 8 periods, by which time every part

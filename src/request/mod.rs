@@ -156,7 +156,7 @@
 //! matter. A `sampled` field nested inside a `sum` needs a grid.
 //!
 //! Where a part goes between and beyond the samples of a grid-less target
-//! (the played measure of a design, [`crate::design::closed_loop::realised`]),
+//! (the played measure of a design, [`crate::design::judge`]),
 //! the field is [`SampledInterpolant`]: local linear fits on a node grid,
 //! computed once per point set, exact for an affine field.
 //!

@@ -14,7 +14,7 @@
 //! ŝ_worst = min_k ŝ(μ_k),   e_worst = max_k e(μ_k)
 //! ```
 //!
-//! The worst case between those values is what the design's realised check
+//! The worst case between those values is what the design's judge
 //! then reports over `crate::play::sensitivity::SWEEP_VALUES` values
 //! (`auto` chooses by it).
 

@@ -4,7 +4,7 @@
 //! * `--friction 0.25` plays the whole verification (realised grid and its
 //!   prediction, swarm, rectangles) with μ_s = μ_k = 0.25.
 //! * `--friction 0.2:0.4:5` plays the schedule's own friction as usual and,
-//!   besides, the design's realised check at 5 frictions from 0.2 to 0.4
+//!   besides, the design's judge at 5 frictions from 0.2 to 0.4
 //!   ([`crate::play::sensitivity`], judged by `design::method::sweep_schedule`
 //!   in the report layer, above both): realised strength and shape error
 //!   against the schedule's target at each, the table a design reports.
@@ -21,7 +21,7 @@ pub(crate) const MAX_SWEEP_VALUES: usize = 41;
 pub enum FrictionArg {
     /// Play everything at this friction (μ_s = μ_k).
     At(f64),
-    /// Also sweep the realised check over `n` frictions from `lo` to `hi`.
+    /// Also sweep the judge over `n` frictions from `lo` to `hi`.
     Sweep {
         /// Lowest friction.
         lo: f64,

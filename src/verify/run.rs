@@ -30,7 +30,7 @@ use crate::dynamics::Model;
 use crate::dynamics::Rectangle;
 use crate::error::{Error, Result};
 use crate::field::Grid;
-use crate::play::measure::{verify_points_ticked, PlayOptions, RealisedField};
+use crate::play::measure::{verify_points_ticked, ModelCheck, PlayOptions};
 use crate::play::sensitivity::Sensitivity;
 use crate::play::{ScheduleMotion, V2};
 use crate::progress::Progress;
@@ -199,8 +199,8 @@ pub struct VerifyReport {
     /// physics played ([`crate::design::judge`]: the realised field at
     /// frozen points over the whole region); `None` when it records none.
     pub judge: Option<crate::play::sensitivity::Judged>,
-    /// Realised field against the prediction.
-    pub realised: RealisedField,
+    /// The model check: moving parts against the prediction.
+    pub model_check: ModelCheck,
     /// The swarm.
     pub swarm: Swarm,
     /// The rectangles.
@@ -558,7 +558,7 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest) -> Result<VerifyRe
 ///     ..VerifyRequest::default()
 /// };
 /// let report = verify::run(schedule, &request)?;
-/// assert_eq!(report.realised.points.len(), 9);
+/// assert_eq!(report.model_check.points.len(), 9);
 ///
 /// let csv = export::signals_csv(schedule, 2_000.0)?;
 /// assert!(csv.lines().count() > 100);
@@ -713,7 +713,7 @@ fn verify_labelled(schedule: &Schedule, req: &VerifyRequest, label: &str) -> Res
             }
             None => None,
         },
-        realised: v,
+        model_check: v,
         swarm,
         rectangles,
         friction_sweep,

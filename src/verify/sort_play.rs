@@ -1,5 +1,5 @@
 //! Every class of a sort played ([`crate::design::sort`]; here in
-//! `verify`, the layer above the design's realised check, beside its
+//! `verify`, the layer above the design's judge, beside its
 //! swarm): the realised
 //! field of each class at its own friction, and where a swarm of its parts
 //! ends up.

@@ -39,7 +39,7 @@
 //! against the target (ŝ in s⁻¹ since the targets have strength 1).
 //! **The model check** (`verify`'s number, [`check_starts`]): moving point
 //! parts started at rest at every `STRIDE`-th point of the target grid
-//! ([`platefield::design::closed_loop::realised::play_motion`]: ≥ 40
+//! ([`platefield::play::windowed::play_motion`]: ≥ 40
 //! primitive cycles of warm-up, windows of ≥ 20 cycles starting at every
 //! join) against what a part following the motion's own steady state
 //! would do over the same windows — for one motion, the drift-lag-corrected
@@ -56,11 +56,9 @@ use std::path::Path;
 use std::time::Instant;
 
 use crate::work::Expected;
-use platefield::design::closed_loop::loop_points;
-use platefield::design::closed_loop::realised::{
-    counts, play_motion, realised_error, MeasureOptions, PointPlay,
+use platefield::design::judge::{
+    self, counts, judge_points, realised_error, strided_points, PointPlay,
 };
-use platefield::design::judge::{self, judge_points};
 use platefield::design::method::sequenced_limits;
 use platefield::design::polish::{polish, PolishOptions};
 use platefield::design::refine::{refine_schedule, RefineOptions, Refined};
@@ -70,6 +68,7 @@ use platefield::field::FieldSettings;
 use platefield::motion::Motion;
 use platefield::output::write_atomic;
 use platefield::play::measure::{against_prediction, PlayOptions};
+use platefield::play::windowed::{play_motion, MeasureOptions};
 use platefield::play::{PlayedSegment, ScheduleMotion};
 use platefield::request::{SampledTarget, Target};
 use platefield::schedule::Schedule;
@@ -155,7 +154,7 @@ pub fn starts(target: &Target, sampled: &SampledTarget) -> Vec<usize> {
 /// The model check's start points: every `STRIDE`-th grid point with a
 /// positive weight.
 pub fn check_starts(target: &Target, sampled: &SampledTarget) -> Vec<usize> {
-    loop_points(target, sampled, STRIDE)
+    strided_points(target, sampled, STRIDE)
 }
 
 /// Judges `sm` (see the module documentation) and, `with_prediction`,

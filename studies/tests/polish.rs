@@ -9,7 +9,7 @@
 
 use std::path::Path;
 
-use platefield::design::closed_loop::realised::realised_error;
+use platefield::design::judge::realised_error;
 use platefield::design::polish::{polish, PolishOptions, Polished};
 use platefield::field::{FieldSettings, Grid};
 use platefield::request::Target;

@@ -86,7 +86,7 @@ fn sink_schedule_peaks_are_the_linesink_closed_form() {
 /// sets give no comparison.
 #[test]
 fn common_set_compares_both_motions_on_the_same_points() {
-    use platefield::design::closed_loop::realised::realised_error;
+    use platefield::design::judge::realised_error;
     use platefield::play::measure::PointPlay;
     use platefield_studies::synthesis::{common, starts};
     let target = Target::load(Path::new(concat!(

@@ -101,15 +101,15 @@ fn single_primitive_schedule_matches_its_steady_state() {
         "LineSink alone, free: realised vs predicted {:.3} %, shape {:.3} %, scale {:.4}",
         100.0 * v.relative_error,
         100.0 * v.shape_error,
-        v.realised_scale
+        v.strength_ratio
     );
     assert_eq!(v.valid, 9);
     assert!(v.relative_error < 0.005, "free {}", v.relative_error);
     assert!(v.shape_error < 0.002, "free shape {}", v.shape_error);
     assert!(
-        (v.realised_scale - 1.0).abs() < 0.005,
+        (v.strength_ratio - 1.0).abs() < 0.005,
         "scale {}",
-        v.realised_scale
+        v.strength_ratio
     );
     // A rest segment would only scale the field but for the joins, where
     // the part's slip does not stop and start with the plate: a fixed cost
@@ -260,7 +260,7 @@ fn one_motion_realises_its_lagged_per_cycle_prediction() {
         100.0 * b,
         100.0 * c,
         100.0 * v.relative_error,
-        v.realised_scale
+        v.strength_ratio
     );
     assert!(v.relative_error < 0.005, "{}", v.relative_error);
     assert!(a > 0.008 && b > 0.008 && c > 0.008, "{a} {b} {c}");

@@ -22,13 +22,13 @@ use std::path::Path;
 use nalgebra::Matrix2;
 
 use crate::synthesis::{check_starts, synthesized_motion, StudySettings};
-use platefield::design::closed_loop::realised::{play_motion, MeasureOptions};
 use platefield::dynamics::{PartState, Simulator, SteadyState, V2};
 use platefield::error::{Error, Result};
 use platefield::field::FieldSettings;
 use platefield::motion::Motion;
 use platefield::play::lag::lagged_velocity;
 use platefield::play::measure::{against_prediction, relative_l2, PlayOptions, PointPlay};
+use platefield::play::windowed::{play_motion, MeasureOptions};
 use platefield::request::Target;
 use platefield::synth::{synthesize, ShakerLimits};
 use platefield_report::table::Table;
@@ -90,7 +90,7 @@ fn window_row(
         pct(c),
         pct(d),
         pct(r.relative_error),
-        format!("{:.4}", r.realised_scale),
+        format!("{:.4}", r.strength_ratio),
         pct(r.shape_error),
     ]
 }

@@ -18,8 +18,8 @@ use crate::synthesis::{
     holdout_starts, limits_of, measure, row, sequenced, starts, synthesized_motion, Measured,
     StudySettings,
 };
-use platefield::design::closed_loop::realised::{realised_error, RealisedError};
 use platefield::design::judge::play_motion;
+use platefield::design::judge::{realised_error, RealisedError};
 use platefield::design::polish::{polish, PolishOptions};
 use platefield::error::{Error, Result};
 use platefield::field::{FieldSettings, Grid};

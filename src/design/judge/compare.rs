@@ -1,28 +1,23 @@
-//! What the closed loop measures: a schedule played on point parts, its
-//! realised mean velocity field, each segment's realised contribution in its
-//! schedule context, and the realised error against the design's promise.
+//! The judge's comparison: a realised mean velocity field R against the
+//! promise s·t (strength s times the target field t), with the target's
+//! weights and mask.
 //!
-//! **Playing** ([`play`]): the one measure of [`crate::play::measure`], with
-//! a warm-up of at least [`MeasureOptions::warmup_cycles`] primitive cycles
-//! and windows of at least [`MeasureOptions::measured_cycles`], both rounded
-//! up to whole schedule periods, one window starting at each segment join
-//! ([`Windows::EveryJoin`]); per point the realised mean velocity R, the
-//! mean position q and each segment's realised velocity in context c_i.
-//!
-//! **Realised error.** The design promises s·t: strength s times the target
-//! field t. A schedule that realises that promise exactly moves a part along
-//! the flow of s·t, so the promise at a start point is the mean velocity
-//! P_k(s) of that flow over the same windows ([`PointPlay::expected`];
-//! s·t(p) with frozen positions). With the target's weights ω_k of the start
-//! points (0 where masked; masked points are not played), which multiply the
+//! **Realised error.** With the target's weights ω_k of the played points
+//! (0 where masked; masked points are not played), which multiply the
 //! residual as in the design's own metrics (`crate::fit::metrics`):
 //!
 //! ```text
 //! error(s)    = ‖R − P(s)‖ / ‖P(s)‖,   ‖v‖² = Σ_k ω_k² |v_k|²
-//! ŝ           : ⟨R − P(ŝ), P(ŝ)⟩ = 0  (the least-squares scale; P is linear in s
-//!                                       with frozen positions, nearly so otherwise)
+//! ŝ           : ⟨R − P(ŝ), P(ŝ)⟩ = 0  (the least-squares scale: the realised strength)
 //! shape error = error(ŝ)             (scale-free: cannot be gamed by the strength)
 //! ```
+//!
+//! P(s) is the promise where the velocity was measured. For the judge's
+//! held parts it is s·t(p) at the held point p, and ŝ = ⟨R, t⟩/⟨t, t⟩.
+//! For parts that moved while measured (`crate::play::windowed`), it is the
+//! mean velocity over the same windows of a part that follows s·t exactly
+//! ([`PointPlay::expected`]), nearly linear in s; ŝ is then found by a
+//! fixed-point iteration.
 //!
 //! **Decomposition** of the error field e = R − P(s) by weighted least squares
 //! over the affine fields e(q) ≈ c + α q̃ + β J q̃ + S q̃ (q̃ = q minus the
@@ -30,118 +25,26 @@
 //! offset c, the isotropic part α (for a sink target, a pure change of
 //! strength), the rotational (whirlpool) part β, the anisotropic (shear)
 //! part S and what the affine fit leaves, each as its norm relative to ‖P(s)‖,
-//! over the parts' mean positions q.
+//! over the points q where the velocity belongs.
 //!
-//! **Grid-less sampled targets.** Their parts start at the samples (the
-//! points the fit uses), and the target wherever a part goes is the
-//! samples' interpolant ([`crate::request::SampledInterpolant`]: a local
-//! linear fit on a node grid, weights computed once per point set, exact
-//! for an affine field), one field for every part, so the flow of the
-//! promise costs four node values per evaluation where an
+//! **Grid-less sampled targets.** The target wherever a part is measured
+//! is the samples' interpolant ([`crate::request::SampledInterpolant`]: a
+//! local linear fit on a node grid, weights computed once per point set,
+//! exact for an affine field), one field for every part, so the flow of
+//! the promise costs four node values per evaluation where an
 //! inverse-distance interpolation would search every sample at every step.
-//! (A part's own start sample's local model would be extrapolated to
-//! wherever the warm-up has carried the part — for a whirlpool, the
-//! centre, where a few per cent of gradient error is the whole field: a
-//! sequenced schedule realising 0.13 of a 40-point whirlpool measures
-//! 147 % shape error that way.) Gridded targets evaluate their field
-//! (`Promise::Field`).
+//! (A moving part's own start sample's local model would be extrapolated
+//! to wherever the part has gone — for a whirlpool, the centre, where a
+//! few per cent of gradient error is the whole field: a sequenced schedule
+//! realising 0.13 of a 40-point whirlpool measures 147 % shape error that
+//! way.) Gridded targets evaluate their field (`Promise::Field`).
 
 use nalgebra::{DMatrix, DVector};
-use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::error::Result;
-use crate::field::FieldSettings;
-use crate::play::measure::{play_point, PlayOptions, Windows};
-use crate::play::ScheduleMotion;
 use crate::request::{FieldSpec, SampledInterpolant, Target};
-use crate::schedule::Schedule;
 
 pub use crate::play::measure::PointPlay;
-
-/// How long a schedule is played to measure its realised field.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct MeasureOptions {
-    /// Primitive cycles played before measuring (rounded up to whole
-    /// schedule periods; default 40).
-    pub warmup_cycles: u32,
-    /// Primitive cycles measured (rounded up to whole schedule periods;
-    /// default 20).
-    pub measured_cycles: u32,
-    /// Lengthen the warm-up where a part's start-up transient outlasts it
-    /// (`crate::play::settle`; default false). Off by default: this
-    /// measure judges a design against its *target* where the parts are
-    /// after a fixed warm-up, and a strong field gathers the parts before a
-    /// slow transient dies out (the synthesized motion of `sink_trans`, a
-    /// 3 s⁻¹ sink whose transient takes 8 periods, had every part at the
-    /// centre when its settled windows began); `verify`, which compares
-    /// with the steady-state *prediction*, settles.
-    pub settle: bool,
-}
-
-impl Default for MeasureOptions {
-    fn default() -> Self {
-        MeasureOptions {
-            warmup_cycles: 40,
-            measured_cycles: 20,
-            settle: false,
-        }
-    }
-}
-
-/// Plays `schedule` from each start point `points[i]`, `i` in `starts`, with
-/// the physics of `settings` (in parallel; results in the order of `starts`,
-/// [`PointPlay::index`] = i).
-pub fn play(
-    schedule: &Schedule,
-    points: &[[f64; 2]],
-    starts: &[usize],
-    settings: &FieldSettings,
-    opts: &MeasureOptions,
-) -> Result<Vec<PointPlay>> {
-    let sm = ScheduleMotion::from_schedule(schedule)?;
-    Ok(play_motion(
-        &sm,
-        schedule.total_cycles,
-        points,
-        starts,
-        settings,
-        opts,
-    ))
-}
-
-/// [`play`] for a trajectory `sm` of `per_period` primitive cycles per
-/// schedule period (e.g. one segment of a synthesized motion).
-pub fn play_motion(
-    sm: &ScheduleMotion,
-    per_period: u32,
-    points: &[[f64; 2]],
-    starts: &[usize],
-    settings: &FieldSettings,
-    opts: &MeasureOptions,
-) -> Vec<PointPlay> {
-    let per_period = per_period.max(1);
-    let warm = opts.warmup_cycles.div_ceil(per_period);
-    let meas = opts.measured_cycles.div_ceil(per_period).max(1);
-    let v = PlayOptions::from_settings(settings);
-    // One kinematics table per segment, shared by every part (a memo).
-    let tables = v.player(sm).kinematics_tables();
-    starts
-        .par_iter()
-        .map(|&i| {
-            let player = v.player(sm).with_tables(&tables);
-            play_point(
-                sm,
-                &player,
-                i,
-                points[i],
-                (warm, opts.settle),
-                meas,
-                Windows::EveryJoin,
-            )
-        })
-        .collect()
-}
 
 /// The promise s·t at each of `plays` as a part following it exactly would
 /// realise it over the play's windows ([`PointPlay::expected`]).
@@ -415,99 +318,6 @@ fn decompose(q: &[[f64; 2]], e: &[[f64; 2]], w: &[f64], scale: f64) -> Decomposi
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::basis::{Primitive, PrimitiveKind};
-    use crate::fit::FitMetrics;
-    use crate::schedule::Segment;
-
-    /// A schedule of LineSinks at the given (rotation, cycles).
-    fn line_sinks(parts: &[(f64, u32)]) -> Schedule {
-        let segments: Vec<Segment> = parts
-            .iter()
-            .map(|&(deg, cycles)| {
-                let p = Primitive {
-                    rotation_deg: deg,
-                    ..Primitive::new(PrimitiveKind::LineSink)
-                };
-                Segment {
-                    label: format!("LineSink@{deg}°"),
-                    duration_s: f64::from(cycles) * p.period(),
-                    primitive: Some(p),
-                    motion: None,
-                    ramp_cycles: None,
-                    weight: 0.0,
-                    cycles,
-                }
-            })
-            .collect();
-        let none = FitMetrics {
-            relative_l2_error: 0.0,
-            mean_angle_error_deg: 0.0,
-            max_error: 0.0,
-            strength: 1.0,
-        };
-        Schedule::of_segments("t", segments, FieldSettings::default(), none)
-    }
-
-    /// Frozen positions, one motion played in two segments of 1 and 2
-    /// cycles: the realised velocity and both contributions are the
-    /// steady-state velocity of the cycle map's fixed point (computed
-    /// independently by [`Simulator::steady_state`]).
-    #[test]
-    fn one_motion_realises_its_steady_state() {
-        let settings = FieldSettings {
-            model: crate::dynamics::Model::FROZEN,
-            ..FieldSettings::default()
-        };
-        let schedule = line_sinks(&[(0.0, 1), (0.0, 2)]);
-        let points = [[0.02, 0.01], [-0.03, 0.025]];
-        let plays = play(
-            &schedule,
-            &points,
-            &[0, 1],
-            &settings,
-            &MeasureOptions::default(),
-        )
-        .expect("play");
-        let motion = schedule.segments[0].primitive.as_ref().unwrap().motion();
-        let sim = settings.simulator(&motion);
-        for (p, play) in points.iter().zip(&plays) {
-            assert!(play.note.is_none());
-            let v = sim.steady_state(*p).expect("steady state").velocity;
-            let scale = v[0].hypot(v[1]);
-            assert!(scale > 1e-4, "{v:?}");
-            for r in std::iter::once(&play.realised).chain(&play.contributions) {
-                let e = (r[0] - v[0]).hypot(r[1] - v[1]);
-                assert!(e <= 1e-9 * scale, "{r:?} vs {v:?}");
-            }
-            // Frozen: the field belongs to the anchor.
-            assert_eq!(play.position, *p);
-        }
-    }
-
-    /// R = Σ f_i c_i exactly (full model, moving parts, two motions).
-    #[test]
-    fn realised_velocity_is_the_time_weighted_sum_of_contributions() {
-        let schedule = line_sinks(&[(0.0, 2), (90.0, 1), (180.0, 3)]);
-        let points = [[0.02, 0.01], [-0.01, -0.03]];
-        let plays = play(
-            &schedule,
-            &points,
-            &[0, 1],
-            &FieldSettings::default(),
-            &MeasureOptions::default(),
-        )
-        .expect("play");
-        for play in &plays {
-            let mut sum = [0.0; 2];
-            for (g, c) in schedule.segments.iter().zip(&play.contributions) {
-                let f = g.duration_s / schedule.period_s;
-                sum[0] += f * c[0];
-                sum[1] += f * c[1];
-            }
-            let r = play.realised;
-            assert!((sum[0] - r[0]).hypot(sum[1] - r[1]) <= 1e-12 * r[0].hypot(r[1]));
-        }
-    }
 
     fn sink_target() -> Target {
         Target::from_json_str(

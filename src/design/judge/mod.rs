@@ -20,7 +20,7 @@
 //!    last period's mean velocity is the realised field R(p). A schedule
 //!    of one steady motion is played one motion cycle per period (the
 //!    same periodic orbit, at a tenth of the work of a ten-cycle period).
-//! 3. **Compare** ([`realised::realised_error`], positions frozen so the
+//! 3. **Compare** ([`realised_error`], positions frozen so the
 //!    promise at p is t(p) exactly): with the target's weights ω_k,
 //!    ```text
 //!    ŝ           = ⟨R, t⟩ / ⟨t, t⟩           realised strength   (⟨u, v⟩ = Σ_k ω_k² u_k·v_k)
@@ -52,9 +52,12 @@
 //! segment and need no contact search; 121 points of a 21 × 21 target
 //! cost about three periods each.
 
+pub mod compare;
+
 use rayon::prelude::*;
 
-use super::closed_loop::realised::{self, PointPlay, RealisedError};
+pub use compare::{counts, realised_error, Decomposition, PointPlay, RealisedError};
+
 use crate::field::FieldSettings;
 use crate::play::measure::{play_frozen_point, PlayOptions};
 use crate::play::{PlayedSegment, ScheduleMotion};
@@ -126,6 +129,31 @@ pub fn judge_points(target: &Target, sampled: &SampledTarget) -> Vec<usize> {
                 .collect()
         }
     }
+}
+
+/// Every `stride`-th grid point along each axis (every `stride`-th sample
+/// of a grid-less target), weight > 0 only: a coarser, cheaper set of
+/// points than the judge's, for screening candidates before the judge
+/// and for the model check's moving parts.
+///
+/// ```
+/// use platefield::design::judge::strided_points;
+/// use platefield::request::Target;
+///
+/// let target = Target::from_json_str(r#"{"name": "s", "field": {"kind": "sink"},
+///     "grid": {"x": [-0.04, 0.04], "y": [-0.04, 0.04], "n": [21, 21]}}"#).unwrap();
+/// let sampled = target.sample().unwrap();
+/// assert_eq!(strided_points(&target, &sampled, 4).len(), 36);
+/// ```
+pub fn strided_points(target: &Target, sampled: &SampledTarget, stride: usize) -> Vec<usize> {
+    let stride = stride.max(1);
+    (0..sampled.len())
+        .filter(|&k| sampled.weights[k] > 0.0)
+        .filter(|&k| match &target.grid {
+            Some(g) => (k % g.n[0]) % stride == 0 && (k / g.n[0]) % stride == 0,
+            None => k % stride == 0,
+        })
+        .collect()
 }
 
 /// `sm` as the judge plays it: one cycle per period when it is one steady
@@ -206,7 +234,7 @@ pub fn judge(
         &judge_points(target, sampled),
         settings,
     );
-    let r = realised::realised_error(target, &sampled.weights, &plays, predicted);
+    let r = realised_error(target, &sampled.weights, &plays, predicted);
     (plays, r)
 }
 
