@@ -20,6 +20,46 @@ use crate::error::{Error, Result};
 use crate::field::{FieldKind, FieldSettings};
 use crate::progress::Progress;
 
+/// Why an iterative loop ended: one vocabulary for the loops of the
+/// design (the Levenberg–Marquardt runs of the synthesis and the polish,
+/// the closed loop's re-fits).
+///
+/// ```
+/// use platefield::work::Stop;
+/// assert_eq!(Stop::NoGain.to_string(), "no gain");
+/// assert_eq!(serde_json::to_string(&Stop::NotRun).unwrap(), "\"not_run\"");
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Stop {
+    /// The last step changed nothing that counts: an improvement below
+    /// the loop's tolerance, or a point already visited.
+    Converged,
+    /// The loop's iteration cap.
+    Iterations,
+    /// Steps in a row that did not improve the best so far.
+    NoGain,
+    /// The caller's budget (evaluations, time) was spent.
+    Spent,
+    /// No iteration was asked for.
+    NotRun,
+    /// A step could not be computed; the best so far is kept.
+    Failed,
+}
+
+impl std::fmt::Display for Stop {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Stop::Converged => "converged",
+            Stop::Iterations => "iteration cap",
+            Stop::NoGain => "no gain",
+            Stop::Spent => "budget spent",
+            Stop::NotRun => "not run",
+            Stop::Failed => "failed",
+        })
+    }
+}
+
 /// How a long computation runs, not what it computes: its progress output
 /// and the long-run guard. One section shared by the design, `verify`,
 /// `order`, `field` and `poses` requests.

@@ -12,6 +12,7 @@ use platefield::design::Design;
 use platefield::error::{Error, Result};
 use platefield::output::write_atomic;
 use platefield::request::Target;
+use platefield::work::Stop;
 
 fn pct(x: f64) -> String {
     format!("{:.1} %", 100.0 * x)
@@ -44,6 +45,21 @@ pub fn headline(d: &Design, target: &Target, cl: &ClosedLoop) -> String {
     }
 }
 
+/// Why the re-fit stopped, in words.
+fn stop_text(cl: &ClosedLoop) -> String {
+    match cl.stop {
+        Stop::Converged => "the re-fit returns a schedule already played (converged)".into(),
+        Stop::NoGain => "two re-fits without improvement".into(),
+        Stop::Iterations => "iteration cap".into(),
+        Stop::NotRun => "no re-fit asked".into(),
+        Stop::Failed => format!(
+            "re-fit failed: {}",
+            cl.refit_failure.as_deref().unwrap_or("unknown")
+        ),
+        Stop::Spent => "budget spent".into(),
+    }
+}
+
 /// A short summary for the terminal.
 pub fn summary(cl: &ClosedLoop) -> String {
     let mut out = format!(
@@ -51,7 +67,7 @@ pub fn summary(cl: &ClosedLoop) -> String {
         cl.points,
         cl.played,
         cl.seconds,
-        cl.stop
+        stop_text(cl)
     );
     let _ = writeln!(out, "  {}", line("before", cl.before()));
     let _ = writeln!(out, "  {}", line("after ", cl.after()));
@@ -117,7 +133,7 @@ pub(crate) fn markdown(cl: &ClosedLoop) -> String {
             c.error.realised_strength,
             pct(c.error.shape_error),
             pct(c.error_vs_design),
-            c.rejected.as_deref().unwrap_or("")
+            c.rejected.map(|r| r.to_string()).unwrap_or_default()
         );
     }
     md
@@ -151,7 +167,7 @@ fn intro(cl: &ClosedLoop) -> String {
          schedule (lowest realised error, the open-loop one included) is kept. Re-fit stopped: {}.\n\n",
         cl.points,
         cl.design_strength,
-        cl.stop
+        stop_text(cl)
     );
     md
 }

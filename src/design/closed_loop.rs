@@ -69,6 +69,7 @@ use crate::fit::{self, FitMetrics};
 use crate::play::ScheduleMotion;
 use crate::request::{SampledTarget, Target};
 use crate::schedule::{Schedule, Segment};
+use crate::work::Stop;
 
 /// Options of [`closed_loop`].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -125,6 +126,77 @@ impl Stage {
     }
 }
 
+/// Where a candidate's promised strength comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Promise {
+    /// The open-loop design's fit of the segments' steady-state fields.
+    OpenLoop,
+    /// A playing order with the weights unchanged: the promise is the
+    /// schedule's own realised strength ŝ.
+    Order(OrderKind),
+    /// The contextual re-fit's strength.
+    Refit,
+}
+
+/// Which playing order an [`Promise::Order`] candidate plays.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum OrderKind {
+    /// The open-loop design's own order.
+    Design,
+    /// Another cyclic order.
+    Cyclic,
+    /// A mirrored order: each segment twice per period, the second half
+    /// reversed.
+    Mirrored,
+}
+
+impl std::fmt::Display for Promise {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let order = |k: &OrderKind| match k {
+            OrderKind::Design => "design",
+            OrderKind::Cyclic => "cyclic",
+            OrderKind::Mirrored => "mirrored",
+        };
+        match self {
+            Promise::OpenLoop => f.write_str("open-loop design (steady-state fields)"),
+            Promise::Order(k) => write!(
+                f,
+                "{} order, weights unchanged: realised strength ŝ",
+                order(k)
+            ),
+            Promise::Refit => f.write_str("contextual re-fit"),
+        }
+    }
+}
+
+/// Why a candidate cannot be kept.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Rejection {
+    /// Held parts lose contact at more points than under the open-loop
+    /// schedule.
+    LostContact {
+        /// How many more points than the open-loop schedule.
+        more_points: usize,
+    },
+    /// No realised field: no point counted, or a non-finite error.
+    NoRealisedField,
+}
+
+impl std::fmt::Display for Rejection {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Rejection::LostContact { more_points } => write!(
+                f,
+                "parts lose contact at {more_points} more points than open loop"
+            ),
+            Rejection::NoRealisedField => f.write_str("no realised field"),
+        }
+    }
+}
+
 /// One played schedule.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct LoopCandidate {
@@ -133,13 +205,13 @@ pub struct LoopCandidate {
     /// Its segments in playing order, e.g. `LineSink@0°×1 LineSink@90°×1`.
     pub order: String,
     /// Where its promised strength comes from.
-    pub promise: String,
+    pub promise: Promise,
     /// The judge's realised field against its promise.
     pub error: RealisedError,
     /// ‖R − s₀ t‖/‖s₀ t‖ against the open-loop promise s₀.
     pub error_vs_design: f64,
     /// Why it was rejected (`None`: eligible).
-    pub rejected: Option<String>,
+    pub rejected: Option<Rejection>,
     /// The schedule.
     #[serde(skip)]
     pub schedule: Schedule,
@@ -166,8 +238,14 @@ pub struct ClosedLoop {
     pub options: LoopOptions,
     /// The open-loop promise s₀.
     pub design_strength: f64,
-    /// Why the re-fit stopped.
-    pub stop: String,
+    /// Why the re-fit stopped: [`Stop::Converged`] when a re-fit returns
+    /// a schedule already played, [`Stop::NoGain`] after two re-fits
+    /// without improvement, [`Stop::Iterations`] at
+    /// [`LoopOptions::max_iterations`], [`Stop::NotRun`] when none was
+    /// asked, [`Stop::Failed`] when the re-fit could not be computed.
+    pub stop: Stop,
+    /// Why the re-fit could not be computed ([`Stop::Failed`]).
+    pub refit_failure: Option<String>,
     /// Wall time (s): for the terminal summary, not written to files.
     #[serde(skip)]
     pub seconds: f64,
@@ -292,18 +370,17 @@ impl Trial<'_> {
         schedule: Schedule,
         plays: Vec<PointPlay>,
         strength: Option<f64>,
-        promise: String,
+        promise: Promise,
     ) -> LoopCandidate {
         let w = &self.sampled.weights;
         let error = judge::realised_error(self.target, w, &plays, strength);
         let vs_design =
             judge::realised_error(self.target, w, &plays, Some(self.design_strength)).error;
         let rejected = match self.valid_before {
-            Some(v) if error.valid < v => Some(format!(
-                "parts lose contact at {} more points than open loop",
-                v - error.valid
-            )),
-            _ if !error.error.is_finite() => Some("no realised field".into()),
+            Some(v) if error.valid < v => Some(Rejection::LostContact {
+                more_points: v - error.valid,
+            }),
+            _ if !error.error.is_finite() => Some(Rejection::NoRealisedField),
             _ => None,
         };
         LoopCandidate {
@@ -365,20 +442,14 @@ fn order_stage(
         } else {
             trial.play(&schedule)?
         };
-        let what = if same {
-            "design order"
+        let kind = if same {
+            OrderKind::Design
         } else if order.mirrored {
-            "mirrored order"
+            OrderKind::Mirrored
         } else {
-            "cyclic order"
+            OrderKind::Cyclic
         };
-        cands.push(trial.judge(
-            Stage::Order,
-            schedule,
-            plays,
-            None,
-            format!("{what}, weights unchanged: realised strength ŝ"),
-        ));
+        cands.push(trial.judge(Stage::Order, schedule, plays, None, Promise::Order(kind)));
     }
     let b = best_of(cands);
     Ok(if cands[b].stage == Stage::Order {
@@ -397,7 +468,7 @@ fn refit_stage(
     cands: &mut Vec<LoopCandidate>,
     mut pattern: Vec<usize>,
     max_iterations: u32,
-) -> Result<String> {
+) -> Result<(Stop, Option<String>)> {
     let open = &design.schedule;
     let mut current = best_of(cands);
     let mut base = open.segments.clone();
@@ -416,11 +487,11 @@ fn refit_stage(
         );
         let (new_base, new_pattern, strength) = match refitted {
             Ok(x) => x,
-            Err(e) => return Ok(format!("re-fit failed: {e}")),
+            Err(e) => return Ok((Stop::Failed, Some(e.to_string()))),
         };
         let cycles: Vec<u32> = new_base.iter().map(|g| g.cycles).collect();
         if seen.contains(&cycles) {
-            return Ok("the re-fit returns a schedule already played (converged)".into());
+            return Ok((Stop::Converged, None));
         }
         seen.push(cycles);
         let schedule = play_in(open, &new_base, &new_pattern);
@@ -431,7 +502,7 @@ fn refit_stage(
             schedule,
             plays,
             Some(strength),
-            "contextual re-fit".into(),
+            Promise::Refit,
         ));
         current = cands.len() - 1;
         base = new_base;
@@ -441,11 +512,11 @@ fn refit_stage(
         } else {
             stale += 1;
             if stale >= 2 {
-                return Ok("two re-fits without improvement".into());
+                return Ok((Stop::NoGain, None));
             }
         }
     }
-    Ok("iteration cap".into())
+    Ok((Stop::Iterations, None))
 }
 
 /// Runs the closed loop on a finished open-loop design of `target`.
@@ -477,16 +548,17 @@ pub fn closed_loop(target: &Target, design: &Design, opts: &LoopOptions) -> Resu
         open.clone(),
         plays,
         Some(s0),
-        "open-loop design (steady-state fields)".into(),
+        Promise::OpenLoop,
     );
     trial.valid_before = Some(first.error.valid);
     let mut cands = vec![first];
 
     let pattern = order_stage(&trial, open, &mut cands, opts.search_orders)?;
-    let mut stop = refit_stage(&trial, design, &mut cands, pattern, opts.max_iterations)?;
-    if opts.max_iterations == 0 {
-        stop = "no re-fit asked".into();
-    }
+    let (stop, refit_failure) = if opts.max_iterations == 0 {
+        (Stop::NotRun, None)
+    } else {
+        refit_stage(&trial, design, &mut cands, pattern, opts.max_iterations)?
+    };
     Ok(ClosedLoop {
         target: open.target.clone(),
         best: best_of(&cands),
@@ -496,6 +568,7 @@ pub fn closed_loop(target: &Target, design: &Design, opts: &LoopOptions) -> Resu
         options: *opts,
         design_strength: s0,
         stop,
+        refit_failure,
         seconds: start.elapsed().as_secs_f64(),
     })
 }
@@ -524,7 +597,7 @@ mod tests {
         LoopCandidate {
             stage: Stage::Order,
             order: String::new(),
-            promise: String::new(),
+            promise: Promise::Refit,
             error: RealisedError {
                 strength: 1.0,
                 error,
@@ -534,7 +607,7 @@ mod tests {
                 valid: 1,
             },
             error_vs_design: error,
-            rejected: rejected.then(|| "lost contact".to_string()),
+            rejected: rejected.then_some(Rejection::NoRealisedField),
             schedule,
             plays: Vec::new(),
         }

@@ -90,19 +90,13 @@ impl LmOptions {
     }
 }
 
-/// Why a run ended.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Stop {
-    /// `max_iterations` accepted steps.
-    Iterations,
-    /// The last accepted step improved the cost by less than
-    /// `min_improvement` of it, or the cost reached `abs_cost`.
-    Converged,
-    /// `max_rejections` tries in a row did not lower the cost.
-    Rejected,
-    /// The caller's budget was spent.
-    Spent,
-}
+/// Why a run ended: [`Stop::Iterations`] after `max_iterations`
+/// accepted steps; [`Stop::Converged`] when the last accepted step
+/// improved the cost by less than `min_improvement` of it, or the cost
+/// reached `abs_cost`; [`Stop::NoGain`] after `max_rejections` tries in a
+/// row that did not lower the cost; [`Stop::Spent`] when the caller's
+/// budget was spent.
+pub use crate::work::Stop;
 
 /// The result of one run.
 #[derive(Debug, Clone, PartialEq)]
@@ -313,7 +307,7 @@ where
             }
         };
         let Some((xn, rn, cn)) = accepted else {
-            return Ok(report(x, cost, iterations, evaluations, Stop::Rejected));
+            return Ok(report(x, cost, iterations, evaluations, Stop::NoGain));
         };
         let gain = cost - cn;
         x = xn;
