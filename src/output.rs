@@ -313,6 +313,17 @@ pub fn percent(x: f64, digits: usize) -> String {
     }
 }
 
+/// A friction coefficient (or any value set on a decimal grid) rounded to
+/// nine decimals, so that a sum such as 0.1 + 0.2 reads 0.3.
+///
+/// ```
+/// assert_eq!(platefield::output::coefficient(0.1 + 0.2), "0.3");
+/// assert_eq!(platefield::output::coefficient(0.45), "0.45");
+/// ```
+pub fn coefficient(x: f64) -> String {
+    format!("{}", (x * 1e9).round() / 1e9)
+}
+
 /// The part of a staging folder's name after the folder's own name
 /// (`.sink.platefield-stage-<pid>-<n>` beside `sink`). Entries named so are
 /// never carried over from one run to the next.

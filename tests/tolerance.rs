@@ -74,3 +74,54 @@ fn the_spread_is_the_judge_over_seeded_draws() {
     );
     assert_eq!(draws(&tol, 16).len(), 16);
 }
+
+/// A target that states `shaker.tolerance` is designed with the kept
+/// design's spread (`MethodDesign::tolerance`), judged at the friction of
+/// its worst case. A sequenced schedule of screw primitives has nothing a
+/// draw perturbs: all 64 draws are the kept design's own judge, exactly,
+/// at the worst friction of its range (μ 0.2, 0.3, 0.4 judged; the spread
+/// at the row the headline names).
+#[test]
+fn a_stated_tolerance_is_judged_at_the_worst_friction() {
+    use platefield::basis::PrimitiveKind;
+    use platefield::design::{run, BasisSection, DesignOptions};
+    let target = platefield::request::Target::from_json_str(
+        r#"{"name": "sink_tol", "field": {"kind": "sink"},
+            "grid": {"x": [-0.04, 0.04], "y": [-0.04, 0.04], "n": [9, 9]},
+            "friction": [0.2, 0.4],
+            "shaker": {"tolerance": {"amplitude": 0.05, "phase_deg": 5}}}"#,
+    )
+    .unwrap();
+    let opts = DesignOptions {
+        method: platefield::design::Method::Sequence,
+        basis: BasisSection {
+            kinds: vec![PrimitiveKind::LineSink],
+            rotation_step_deg: 90.0,
+            cache_dir: Some(
+                std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("tol-cache"),
+            ),
+            ..Default::default()
+        },
+        runtime: platefield::work::Runtime::QUIET,
+        ..DesignOptions::default()
+    };
+    let md = run(&target, &opts).unwrap().into_method().unwrap();
+    let t = md
+        .tolerance
+        .as_ref()
+        .expect("the target states a tolerance");
+    let played = md.kept().played();
+    let worst = played.worst_friction.expect("a friction range");
+    assert_eq!(t.friction, worst.kinetic);
+    assert_eq!((t.shape_errors.len(), t.perturbed_segments), (64, 0));
+    assert_eq!(t.primitive_segments, md.kept().schedule.segments.len());
+    assert!(t
+        .shape_errors
+        .iter()
+        .all(|e| Some(*e) == played.realised_shape_error));
+    // Without a stated tolerance, no spread.
+    let mut plain = target.clone();
+    plain.shaker = None;
+    let md = run(&plain, &opts).unwrap().into_method().unwrap();
+    assert!(md.tolerance.is_none());
+}

@@ -114,11 +114,14 @@ pub fn summary(md: &MethodDesign) -> String {
             out,
             "friction: the kept design {}: worst at μ_s {}, μ_k {}: realised shape error {}, realised strength {} (table in report.md)",
             s.span.describe(),
-            row.friction.stat,
-            row.friction.kinetic,
+            platefield::output::coefficient(row.friction.stat),
+            platefield::output::coefficient(row.friction.kinetic),
             platefield::output::percent(row.realised_shape_error.unwrap_or(f64::NAN), 1),
             number(row.realised_strength)
         );
+    }
+    if let Some(t) = &md.tolerance {
+        let _ = writeln!(out, "{} (report.md)", super::verify::tolerance_line(t));
     }
     out
 }
@@ -191,7 +194,43 @@ pub(crate) fn method_md(md: &MethodDesign) -> String {
     if let Some(s) = &md.sensitivity {
         let _ = write!(out, "\n## Friction sensitivity\n\n{}", s.table_md());
     }
+    if let Some(t) = &md.tolerance {
+        out.push_str(&tolerance_md(t));
+    }
     out
+}
+
+/// `report.md`'s section on the kept design judged over the shaker's
+/// delivery errors: what was drawn, the distribution, and every draw.
+fn tolerance_md(t: &platefield::design::tolerance::Spread) -> String {
+    let [median, p90, worst] = t.shape();
+    let [s_median, s_p10, weakest] = t.strength();
+    let mut md = format!(
+        "\n## Shaker tolerance\n\nThe kept design judged (the realised field at the judge's held points) as the \
+         controller delivers it: {} seeded draws, each channel's gain at each harmonic within ±{} % and its \
+         phase within ±{}°, at μ_k {} (the friction of its worst case over the range). \
+         Segments of screw primitives are played as designed ({} of them; {} six-signal segments perturbed); \
+         `platefield verify <schedule> --tolerance` repeats it.\n\n\
+         | | median | 90th percentile | worst |\n|---|---|---|---|\n",
+        t.shape_errors.len(),
+        100.0 * t.tolerance.amplitude,
+        t.tolerance.phase_deg,
+        platefield::output::coefficient(t.friction),
+        t.primitive_segments,
+        t.perturbed_segments,
+    );
+    let _ = writeln!(
+        md,
+        "| realised shape error | {:.2} % | {:.2} % | {:.2} % |",
+        100.0 * median,
+        100.0 * p90,
+        100.0 * worst
+    );
+    let _ = writeln!(
+        md,
+        "| realised strength (× the target's) | {s_median:.4} | {s_p10:.4} (10th percentile) | {weakest:.4} |"
+    );
+    md
 }
 
 /// The synthesized motion's section of `report.md`: the signals plot, each

@@ -389,25 +389,7 @@ pub fn summary(r: &VerifyReport) -> String {
         }
     }
     if let Some(t) = &r.tolerance {
-        let [median, p90, worst] = t.shape();
-        let [_, _, weakest] = t.strength();
-        let _ = writeln!(
-            out,
-            "tolerance: the judge over {} delivery-error draws (each channel's harmonics within ±{} % and ±{}°) at μ_k {}: shape error median {:.2} %, 90th percentile {:.2} %, worst {:.2} %; weakest strength {:.4}{}",
-            t.shape_errors.len(),
-            100.0 * t.tolerance.amplitude,
-            t.tolerance.phase_deg,
-            t.friction,
-            100.0 * median,
-            100.0 * p90,
-            100.0 * worst,
-            weakest,
-            if t.primitive_segments > 0 {
-                format!(" ({} primitive segments played as designed)", t.primitive_segments)
-            } else {
-                String::new()
-            }
-        );
+        let _ = writeln!(out, "{}", tolerance_line(t));
     }
     let few = platefield::design::method::MIN_MEASURED_POINTS;
     if v.valid < few {
@@ -572,4 +554,31 @@ pub fn run(
         let _ = writeln!(text, "wrote {}", f.display());
     }
     Ok(text)
+}
+
+/// The summary's line on a design judged over delivery errors
+/// (`verify --tolerance`, and `design` when the target states
+/// `shaker.tolerance`).
+pub(crate) fn tolerance_line(t: &platefield::design::tolerance::Spread) -> String {
+    let [median, p90, worst] = t.shape();
+    let [_, _, weakest] = t.strength();
+    format!(
+        "tolerance: the judge over {} delivery-error draws (each channel's harmonics within ±{} % and ±{}°) at μ_k {}: shape error median {:.2} %, 90th percentile {:.2} %, worst {:.2} %; weakest strength {:.4}{}",
+        t.shape_errors.len(),
+        100.0 * t.tolerance.amplitude,
+        t.tolerance.phase_deg,
+        platefield::output::coefficient(t.friction),
+        100.0 * median,
+        100.0 * p90,
+        100.0 * worst,
+        weakest,
+        if t.primitive_segments > 0 {
+            format!(
+                " ({} primitive segments played as designed)",
+                t.primitive_segments
+            )
+        } else {
+            String::new()
+        }
+    )
 }

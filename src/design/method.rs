@@ -190,6 +190,10 @@ pub struct MethodDesign {
     /// limits the synthesis keeps; `auto` states it once the sequenced
     /// schedule has given them).
     pub estimate: Estimate,
+    /// The kept design judged over the shaker's delivery errors at its
+    /// worst friction, when the target states `shaker.tolerance`
+    /// ([`super::tolerance`]).
+    pub tolerance: Option<super::tolerance::Spread>,
 }
 
 impl MethodDesign {
@@ -219,7 +223,30 @@ pub fn design_by_method(target: &Target, opts: &DesignOptions) -> Result<MethodD
     run.mix()?;
     run.judge_range()?;
     run.worst_case_synthesis()?;
-    run.finish()
+    let mut out = run.finish()?;
+    out.tolerance = tolerance_spread(target, &sampled, &out.kept().schedule, opts)?;
+    Ok(out)
+}
+
+/// The kept design judged over the shaker's delivery errors when the
+/// target states `shaker.tolerance` ([`super::tolerance`]):
+/// [`DEFAULT_DRAWS`](super::tolerance::DEFAULT_DRAWS) draws at the
+/// friction of its worst case over the target's range (its own without
+/// one), the work stated first.
+fn tolerance_spread(
+    target: &Target,
+    sampled: &SampledTarget,
+    schedule: &Schedule,
+    opts: &DesignOptions,
+) -> Result<Option<super::tolerance::Spread>> {
+    use super::tolerance::{judged_at, spread, spread_estimate, DEFAULT_DRAWS};
+    let Some(tol) = target.shaker.as_ref().and_then(|s| s.tolerance) else {
+        return Ok(None);
+    };
+    opts.runtime
+        .admit(&spread_estimate(target, sampled, schedule, DEFAULT_DRAWS))?;
+    let physics = judged_at(schedule, &schedule.settings, None);
+    spread(target, sampled, schedule, &physics, (&tol, DEFAULT_DRAWS)).map(Some)
 }
 
 /// One [`design_by_method`] under way: the target, its options, the
@@ -290,6 +317,7 @@ impl<'a> MethodRun<'a> {
                 limits,
                 sensitivity: None,
                 estimate,
+                tolerance: None,
             },
             first_error: None,
             from_sequence: false,

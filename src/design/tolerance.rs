@@ -139,7 +139,8 @@ pub fn quantile(xs: &[f64], q: f64) -> f64 {
     v.get(k).copied().unwrap_or(f64::NAN)
 }
 
-/// The work of [`spread`]: `count` judges of `schedule`.
+/// The work of [`spread`]: `count` judges of `schedule` (one when no
+/// segment of it is a six-signal motion a draw perturbs).
 pub fn spread_estimate(
     target: &Target,
     sampled: &SampledTarget,
@@ -152,7 +153,14 @@ pub fn spread_estimate(
         super::judge::judged_cycles(schedule),
         schedule.settings.numerics.steps_per_cycle,
     )
-    .times(count as f64, "draws")
+    .times(
+        if schedule.segments.iter().any(|s| s.motion.is_some()) {
+            count as f64
+        } else {
+            1.0
+        },
+        "draws",
+    )
     .named("delivery-error draws");
     crate::work::Estimate::new(
         "schedule",
@@ -160,6 +168,35 @@ pub fn spread_estimate(
         "fewer --draws",
     )
     .plus(term)
+}
+
+/// The physics a spread of `schedule` is judged under: `settings` at the
+/// friction `asked`, else where the design's worst case over its friction
+/// range falls (`played.worst_friction`), else the settings' own.
+///
+/// ```
+/// use platefield::design::tolerance::judged_at;
+/// use platefield::dynamics::Friction;
+/// use platefield::schedule::Schedule;
+///
+/// let schedule = Schedule::load(std::path::Path::new("results/sink/schedule.json"))?;
+/// let asked = Friction { stat: 0.4, kinetic: 0.4 };
+/// assert_eq!(judged_at(&schedule, &schedule.settings, Some(asked)).friction, asked);
+/// assert_eq!(judged_at(&schedule, &schedule.settings, None).friction, schedule.settings.friction);
+/// # Ok::<(), platefield::Error>(())
+/// ```
+pub fn judged_at(
+    schedule: &Schedule,
+    settings: &FieldSettings,
+    asked: Option<crate::dynamics::Friction>,
+) -> FieldSettings {
+    let friction = asked
+        .or_else(|| schedule.played.as_ref().and_then(|p| p.worst_friction))
+        .unwrap_or(settings.friction);
+    FieldSettings {
+        friction,
+        ..*settings
+    }
 }
 
 /// The judge of `schedule` against `target` under `settings` over `count`
@@ -174,19 +211,25 @@ pub fn spread(
     settings: &FieldSettings,
     (tol, count): (&Tolerance, usize),
 ) -> Result<Spread> {
-    let mut shape_errors = Vec::with_capacity(count);
-    let mut strengths = Vec::with_capacity(count);
-    for draw in draws(tol, count) {
-        let s = delivered(schedule, &draw);
-        let j = super::method::judge_check(target, sampled, &s, settings)?;
-        shape_errors.push(j.shape_error);
-        strengths.push(j.realised_strength);
-    }
     let perturbed = schedule
         .segments
         .iter()
         .filter(|s| s.motion.is_some())
         .count();
+    let mut shape_errors = Vec::with_capacity(count);
+    let mut strengths = Vec::with_capacity(count);
+    if perturbed == 0 {
+        // Nothing a draw perturbs: every draw is the design as designed.
+        let j = super::method::judge_check(target, sampled, schedule, settings)?;
+        shape_errors.resize(count, j.shape_error);
+        strengths.resize(count, j.realised_strength);
+    }
+    for draw in draws(tol, count).iter().filter(|_| perturbed > 0) {
+        let s = delivered(schedule, draw);
+        let j = super::method::judge_check(target, sampled, &s, settings)?;
+        shape_errors.push(j.shape_error);
+        strengths.push(j.realised_strength);
+    }
     Ok(Spread {
         tolerance: *tol,
         friction: settings.friction.kinetic,

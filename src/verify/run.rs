@@ -754,15 +754,11 @@ fn delivery_spread(
         .admit(&crate::design::tolerance::spread_estimate(
             target, &sampled, schedule, req.draws,
         ))?;
-    let friction = req
-        .friction
-        .and_then(|f| f.played())
-        .or_else(|| schedule.played.as_ref().and_then(|p| p.worst_friction))
-        .unwrap_or(settings.friction);
-    let physics = crate::field::FieldSettings {
-        friction,
-        ..*settings
-    };
+    let physics = crate::design::tolerance::judged_at(
+        schedule,
+        settings,
+        req.friction.and_then(|f| f.played()),
+    );
     crate::design::tolerance::spread(target, &sampled, schedule, &physics, (&tol, req.draws))
         .map(Some)
 }
