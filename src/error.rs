@@ -24,7 +24,7 @@ pub enum Error {
     /// The fit failed, with its kind ([`crate::fit::FitError`]: a dimension
     /// mismatch, invalid input, the conic solver's setup or status, a failed
     /// verification).
-    #[error("not converged: fit: {0}")]
+    #[error("fit: {0}")]
     Fit(#[from] crate::fit::FitError),
     /// I/O error with the path involved.
     #[error("{path}: {source}")]

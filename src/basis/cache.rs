@@ -66,16 +66,19 @@ pub enum CacheStatus {
         /// Why the file was not used.
         reason: String,
     },
+    /// No cache asked for: built and not stored.
+    NoCache,
 }
 
 impl std::fmt::Display for CacheStatus {
     /// In words, for the printed summary: "cache hit", "built and cached",
-    /// "rebuilt (REASON)".
+    /// "rebuilt (REASON)", "no cache".
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             CacheStatus::Hit => write!(f, "cache hit"),
             CacheStatus::Built => write!(f, "built and cached"),
             CacheStatus::Rebuilt { reason } => write!(f, "rebuilt ({reason})"),
+            CacheStatus::NoCache => write!(f, "no cache"),
         }
     }
 }

@@ -157,7 +157,7 @@ pub struct Design {
     /// The basis used.
     pub basis: DesignBasis,
     /// Basis cache outcome.
-    pub cache_status: String,
+    pub cache_status: crate::basis::CacheStatus,
     /// Seconds spent obtaining the basis (simulation or cache).
     pub basis_time_s: f64,
     /// Seconds spent fitting, verifying and scheduling.

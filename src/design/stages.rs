@@ -37,7 +37,7 @@ pub(crate) struct BasisStage {
     /// The simulated (or cached) primitive library on the source grid.
     pub library: FieldLibrary,
     /// Basis cache outcome.
-    pub cache_status: String,
+    pub cache_status: crate::basis::CacheStatus,
     /// Seconds spent obtaining the library.
     pub basis_time_s: f64,
     /// The target's `shaker` limits (defaults filled in), when it gives
@@ -72,7 +72,7 @@ pub(crate) fn basis_stage(target: &Target, opts: &DesignOptions) -> Result<Basis
                 opts.runtime.quiet,
                 check,
             )?;
-            (lib, status.to_string())
+            (lib, status)
         }
         None => {
             check()?;
@@ -83,7 +83,7 @@ pub(crate) fn basis_stage(target: &Target, opts: &DesignOptions) -> Result<Basis
                 opts.basis.kind,
                 opts.runtime.quiet,
             );
-            (lib, "no cache".to_string())
+            (lib, crate::basis::CacheStatus::NoCache)
         }
     };
     Ok(BasisStage {

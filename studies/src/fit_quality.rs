@@ -29,7 +29,10 @@ pub fn write_fit_quality(targets: &[PathBuf], base: &DesignOptions, out: &Path) 
          Every target in `targets/` designed in every fit mode from the cached basis \
          (velocity fields of the 8 primitives, rotated every 15°). Relative L2 error of the \
          continuous fit and of the whole-cycle schedule. `budget` maximises the \
-         strength within a 5 % error budget (infeasible targets say so). Pose targets \
+         strength within a 5 % error budget (infeasible targets say so). A target with a \
+         friction range is fitted by the worst-case fit over its range (`platefield::fit::worst`: \
+         the least worst shape error, then the strongest within it) in every mode, so its rows \
+         agree. Pose targets \
          (`\"kind\": \"pose\"`) are designed by `design::pose`, not fitted, and are left out. \
          Regenerate: `platefield study fit-quality` (it prints each fit's time, which is not written \
          here).\n\n",
