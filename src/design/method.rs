@@ -47,7 +47,8 @@
 
 use std::time::Instant;
 
-use super::judge::{judge_points, PointPlay, RealisedError, JUDGE_MIN_PERIODS};
+pub use super::judge::judge_check;
+use super::judge::{judge_points, realised_check, PointPlay, RealisedError, JUDGE_MIN_PERIODS};
 use super::polish::{polish, PolishOptions};
 pub use super::rule::{Rule, MIN_MEASURED_POINTS, TIE_SHAPE_ERROR};
 use super::{design, Design, DesignOptions};
@@ -56,7 +57,7 @@ use crate::error::{Error, Result};
 use crate::field::FieldKind;
 use crate::field::Grid;
 use crate::fit::{self, FitMetrics};
-use crate::play::sensitivity::{self, FrictionRow, Judged, Sensitivity, Span};
+use crate::play::sensitivity::{self, FrictionRow, Sensitivity, Span};
 use crate::request::{SampledTarget, Target};
 use crate::schedule::export::schedule_peaks;
 pub use crate::schedule::Method;
@@ -665,22 +666,6 @@ fn candidate_sensitivity(
 ) -> Result<Option<Sensitivity>> {
     sensitivity::of_target(target, &schedule.settings, &|settings| {
         judge_check(target, sampled, schedule, settings)
-    })
-}
-
-/// `realised_check` as a sensitivity judge.
-pub fn judge_check(
-    target: &Target,
-    sampled: &SampledTarget,
-    schedule: &Schedule,
-    settings: &crate::field::FieldSettings,
-) -> Result<Judged> {
-    let (plays, r) = realised_check(target, sampled, schedule, settings, None)?;
-    Ok(Judged {
-        points: plays.len(),
-        valid: r.valid,
-        realised_strength: r.realised_strength,
-        shape_error: r.shape_error,
     })
 }
 
@@ -1475,23 +1460,6 @@ fn polish_played(
         if p.improved { "kept" } else { "not kept" }
     );
     Ok((if p.improved { p.synthesis } else { syn }, Some(line)))
-}
-
-/// The judge's measure of `schedule` played under `settings` (its own or
-/// other physics; [`super::judge`]): the plays at the judge's points and
-/// what they realise against `target`, with `predicted` the strength the
-/// error against the prediction uses.
-pub(crate) fn realised_check(
-    target: &Target,
-    sampled: &SampledTarget,
-    schedule: &Schedule,
-    settings: &crate::field::FieldSettings,
-    predicted: Option<f64>,
-) -> Result<(Vec<PointPlay>, RealisedError)> {
-    let sm = crate::play::ScheduleMotion::from_schedule(schedule)?;
-    Ok(super::judge::judge(
-        target, sampled, &sm, settings, predicted,
-    ))
 }
 
 /// Judges `schedule` ([`super::judge`]) and compares what it realises with

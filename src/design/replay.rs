@@ -2,12 +2,11 @@
 //! parts, beside the schedule's own play.
 //!
 //! A design is judged by what parts do when its signals are played
-//! (`super::method::realised_check`: moving point parts from about 5 × 5
-//! start points over the target, `super::method::CHECK_WARMUP_CYCLES`
-//! warm-up and `super::method::CHECK_MEASURED_CYCLES` measured cycles
-//! rounded up to whole schedule periods, one window starting at each
-//! segment join; realised strength ŝ = the least-squares scale against the
-//! target and realised shape error ‖R − ŝt‖/‖ŝt‖). Here that same measure
+//! (the judge, `super::judge::realised_check`: a point part held at each
+//! of the judge's points over the whole region, played through whole
+//! schedule periods until periodic; realised strength ŝ = the
+//! least-squares scale against the target and realised shape error
+//! ‖R − ŝt‖/‖ŝt‖). Here that same measure
 //! is taken twice under the same physics: of the schedule's motions
 //! (**played**) and of the file a controller plays (**replayed**: its held
 //! samples integrated exactly from rest at home and cut into the
@@ -17,7 +16,8 @@
 //! that is not the schedule's (a channel's sign flipped, another design's
 //! export) does not agree.
 
-use super::method::{judge_check, recorded_target};
+use super::judge::judge_check;
+use super::method::recorded_target;
 use crate::dynamics::Friction;
 use crate::error::{Error, Result};
 use crate::field::FieldSettings;

@@ -220,13 +220,13 @@ pub fn spread(
     let mut strengths = Vec::with_capacity(count);
     if perturbed == 0 {
         // Nothing a draw perturbs: every draw is the design as designed.
-        let j = super::method::judge_check(target, sampled, schedule, settings)?;
+        let j = super::judge::judge_check(target, sampled, schedule, settings)?;
         shape_errors.resize(count, j.shape_error);
         strengths.resize(count, j.realised_strength);
     }
     for draw in draws(tol, count).iter().filter(|_| perturbed > 0) {
         let s = delivered(schedule, draw);
-        let j = super::method::judge_check(target, sampled, &s, settings)?;
+        let j = super::judge::judge_check(target, sampled, &s, settings)?;
         shape_errors.push(j.shape_error);
         strengths.push(j.realised_strength);
     }

@@ -1,5 +1,5 @@
 //! What a verification judges by the design's own check
-//! ([`crate::design::method::realised_check`]): the friction sweep of
+//! ([`crate::design::judge::realised_check`]): the friction sweep of
 //! `--friction LO:HI:N` ([`crate::design::method::sweep_schedule`]) and the
 //! export's replay of `--replay FILE`
 //! ([`crate::design::replay::replay_check`]). Both are admitted — the

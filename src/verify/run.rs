@@ -704,7 +704,7 @@ fn verify_labelled(schedule: &Schedule, req: &VerifyRequest, label: &str) -> Res
                     model: opts.model,
                     ..settings
                 };
-                Some(crate::design::method::judge_check(
+                Some(crate::design::judge::judge_check(
                     t,
                     &t.sample()?,
                     schedule,

@@ -6,7 +6,7 @@
 //!
 //! **Measures.** Per class, at the class's nominal friction:
 //! * the realised strength and shape error: the design's one realised
-//!   check (`crate::design::method::realised_check`) against the class's
+//!   check (`crate::design::judge::realised_check`) against the class's
 //!   own field;
 //! * a swarm of point parts started on a grid over the target region
 //!   (`SORT_STARTS` per axis, `crate::verify::swarm`) played for
@@ -19,7 +19,7 @@
 use serde::Serialize;
 
 use super::swarm::{run_swarm, SwarmOptions};
-use crate::design::method::realised_check;
+use crate::design::judge::realised_check;
 use crate::design::sort::SortDesign;
 use crate::error::Result;
 use crate::play::{PlayOptions, ScheduleMotion};

@@ -62,6 +62,7 @@ use crate::field::FieldSettings;
 use crate::play::measure::{play_frozen_point, PlayOptions};
 use crate::play::{PlayedSegment, ScheduleMotion};
 use crate::request::{SampledTarget, Target};
+use crate::schedule::Schedule;
 
 /// Fewest periods the judge plays at a point: the first transient
 /// estimate needs the means of three ([`crate::play::settle`]).
@@ -236,6 +237,38 @@ pub fn judge(
     );
     let r = realised_error(target, &sampled.weights, &plays, predicted);
     (plays, r)
+}
+
+/// The judge's measure of `schedule` played under `settings` (its own or
+/// other physics; see the [module documentation](self)): the plays at the judge's points and
+/// what they realise against `target`, with `predicted` the strength the
+/// error against the prediction uses.
+pub(crate) fn realised_check(
+    target: &Target,
+    sampled: &SampledTarget,
+    schedule: &Schedule,
+    settings: &crate::field::FieldSettings,
+    predicted: Option<f64>,
+) -> crate::error::Result<(Vec<PointPlay>, RealisedError)> {
+    let sm = crate::play::ScheduleMotion::from_schedule(schedule)?;
+    Ok(judge(target, sampled, &sm, settings, predicted))
+}
+
+/// [`realised_check`] as a friction sweep's judge: the points played,
+/// those that counted, the realised strength and shape error.
+pub fn judge_check(
+    target: &Target,
+    sampled: &SampledTarget,
+    schedule: &Schedule,
+    settings: &crate::field::FieldSettings,
+) -> crate::error::Result<crate::play::sensitivity::Judged> {
+    let (plays, r) = realised_check(target, sampled, schedule, settings, None)?;
+    Ok(crate::play::sensitivity::Judged {
+        points: plays.len(),
+        valid: r.valid,
+        realised_strength: r.realised_strength,
+        shape_error: r.shape_error,
+    })
 }
 
 /// The work of one judge of a schedule of `per_period` primitive cycles
