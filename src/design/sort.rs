@@ -33,8 +33,33 @@
 //! predicted strength and shape error are its own rows' least-squares
 //! scale and relative error.
 //!
-//! **Judged by playing**: every class's swarm is played
-//! (`verify::sort_play`); where its parts end is the measure.
+//! **Synthesized candidate.** The slip lead δ = asin(μg/A) of a part
+//! under an in-plane plate acceleration of amplitude A turns its field by
+//! δ and scales it by cos δ ([`crate::synth`]): parts of different μ see
+//! one motion's field turned and scaled differently, and where A < μ N
+//! they do not slip at all. Two consequences shape the candidate. (i) Under
+//! a uniformly turning slip direction, every signal's (P, Q) pair turns by
+//! the same lead, so the whole affine field turns about its fixed point:
+//! one harmonic-1 motion gives every class the *same* attractor, turned
+//! and rescaled (measured on `targets/sort_friction.json`: the motion
+//! synthesized for the μ 0.45 sink at (+2 cm, 0), at full strength
+//! 0.51 s⁻¹, realises 0.51 s⁻¹ at μ 0.2 toward the same sink, turned by
+//! 5°: with A ≈ 45 m/s² both leads are a few degrees). (ii) A motion whose
+//! in-plane peak stays below the stickier class's μ_s N never moves it,
+//! while it carries the slippery class. So the candidate offers the
+//! stacked fit, besides the primitives and the gentle Trans copies, a
+//! motion per class synthesized jointly for every class's field at its own
+//! friction (`crate::synth::synthesize_classes`: the worst class's
+//! judge, strength and contact margin; seeded on that class) and, for
+//! every class with a stickier one, a **gentle** motion synthesized for
+//! its field within in-plane peaks of [`GENTLE_SYNTH_FRACTION`] of the
+//! next stickier class's μ_s,low g and a contact margin of
+//! [`GENTLE_SYNTH_MARGIN`] (so μ_s,low N ≥ 0.85 μ_s,low g stays above the
+//! peak: that class is held). The fit's time fractions make the time-share.
+//!
+//! **Judged by playing**: every candidate's swarms are played
+//! (`verify::sort_play`); the sort that brings 95 % of every class to its
+//! own attractor soonest is kept.
 
 use nalgebra::DVector;
 use serde::Serialize;
@@ -45,12 +70,24 @@ use super::{strongest, DesignOptions};
 use crate::basis::{symmetry, FieldLibrary, Primitive, PrimitiveKind};
 use crate::error::{Error, Result};
 use crate::fit::{FitOptions, FitProblem};
-use crate::request::{SampledTarget, Target};
+use crate::field::{FieldSettings, Grid};
+use crate::motion::Signals;
+use crate::request::{FieldSpec, SampledTarget, Target};
 use crate::schedule::Schedule;
+use crate::synth::{synthesize, synthesize_classes, ShakerLimits};
 
 /// Peak plate accelerations of the gentle Trans copies, as fractions of
 /// the stickier class's μ_s g (both below 1: that class never slips).
 pub const GENTLE_FRACTIONS: [f64; 2] = [0.75, 0.9];
+
+/// In-plane peak of a gentle synthesized motion, as a fraction of the next
+/// stickier class's μ_s,low g.
+pub const GENTLE_SYNTH_FRACTION: f64 = 0.7;
+
+/// Contact margin of a gentle synthesized motion: N ≥ 0.85 g keeps the
+/// stickier class's μ_s,low N at or above 0.85 μ_s,low g, above the
+/// in-plane peak [`GENTLE_SYNTH_FRACTION`] μ_s,low g.
+pub const GENTLE_SYNTH_MARGIN: f64 = 0.85;
 
 /// Scales tried for each class's target after the first.
 pub(crate) const CLASS_SCALES: [f64; 7] = [0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 4.0];
@@ -71,9 +108,33 @@ pub struct ClassFit {
     pub shape_error: f64,
 }
 
+/// How a sort candidate's basis was made.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SortMethod {
+    /// The primitives and the gentle Trans copies.
+    Primitives,
+    /// The same with synthesized motions (module docs).
+    Synthesized,
+}
+
+impl SortMethod {
+    /// Name, e.g. `synthesized`.
+    pub fn name(self) -> &'static str {
+        match self {
+            SortMethod::Primitives => "primitives",
+            SortMethod::Synthesized => "synthesized",
+        }
+    }
+}
+
 /// A sort design: one schedule, every class's predicted field.
 #[derive(Debug, Clone)]
 pub struct SortDesign {
+    /// How its basis was made.
+    pub method: SortMethod,
+    /// The synthesized motions offered to the fit (labels).
+    pub motions: Vec<String>,
     /// The schedule (its settings hold the first class's friction).
     pub schedule: Schedule,
     /// Per class, in the target's order.
@@ -82,20 +143,23 @@ pub struct SortDesign {
     pub gentle: Vec<String>,
 }
 
-/// Designs one schedule for all of `target`'s classes (see the module
-/// docs). Errors when the target has no classes.
+/// Designs the sort candidates of `target`'s classes (see the module
+/// docs): the primitives' stacked fit, then the fit with synthesized
+/// motions; `crate::verify::sort_play::play_sort` plays them and keeps
+/// the faster. Errors when the target has no classes.
 ///
 /// ```no_run
 /// use platefield::design::{sort::design_sort, DesignOptions};
 /// use platefield::request::Target;
 /// let target = Target::load(std::path::Path::new("targets/sort_friction.json"))?;
-/// let d = design_sort(&target, &DesignOptions::default())?;
-/// for c in &d.classes {
-///     println!("{}: shape {:.1} %", c.name, 100.0 * c.shape_error);
+/// for d in design_sort(&target, &DesignOptions::default())? {
+///     for c in &d.classes {
+///         println!("{}: {}: shape {:.1} %", d.method.name(), c.name, 100.0 * c.shape_error);
+///     }
 /// }
 /// # Ok::<(), platefield::Error>(())
 /// ```
-pub fn design_sort(target: &Target, opts: &DesignOptions) -> Result<SortDesign> {
+pub fn design_sort(target: &Target, opts: &DesignOptions) -> Result<Vec<SortDesign>> {
     if target.classes.len() < 2 {
         return Err(Error::invalid(
             "target.classes",
@@ -103,6 +167,88 @@ pub fn design_sort(target: &Target, opts: &DesignOptions) -> Result<SortDesign> 
         ));
     }
     opts.runtime.admit(&sort_estimate(target, opts)?)?;
+    let primitives = design_stacked(target, opts, SortMethod::Primitives, &[])?;
+    let motions = sort_motions(target, opts)?;
+    let synthesized = design_stacked(target, opts, SortMethod::Synthesized, &motions)?;
+    Ok(vec![primitives, synthesized])
+}
+
+/// The synthesized motions of the sort of `target` (module docs), each
+/// made playable beside the primitives (`super::method::mixable`):
+/// `Joint:<class>` for every class, `Gentle:<class>` for every class with
+/// a stickier one.
+///
+/// # Errors
+/// A synthesis failing (invalid limits or options).
+pub fn sort_motions(target: &Target, opts: &DesignOptions) -> Result<Vec<(String, Signals)>> {
+    let g = target
+        .grid
+        .as_ref()
+        .ok_or_else(|| Error::invalid("target.grid", "a sort needs the target's grid"))?;
+    let region = Grid {
+        x: g.x,
+        y: g.y,
+        n: g.n,
+    };
+    let limits = ShakerLimits::from_spec(target.shaker.as_ref());
+    let synth = crate::synth::SynthOptions {
+        progress: opts.runtime.progress(),
+        ..opts.synthesis
+    };
+    let classes: Vec<(FieldSpec, FieldSettings)> = (0..target.classes.len())
+        .map(|i| {
+            let ct = target.class_target(i);
+            (ct.field.clone(), ct.physics(&opts.settings))
+        })
+        .collect();
+    let lows: Vec<f64> = target.classes.iter().map(|c| c.friction.stat.lo).collect();
+    let mut out = Vec::new();
+    for (i, class) in target.classes.iter().enumerate() {
+        let mut order = classes.clone();
+        order.swap(0, i);
+        let joint = synthesize_classes(&order, &region, &limits, &synth)?;
+        out.push((
+            format!("Joint:{}", class.name),
+            super::method::mixable(joint.checked.motion, &limits, opts)?,
+        ));
+        let stickier = lows
+            .iter()
+            .copied()
+            .filter(|&mu| mu > lows[i])
+            .fold(f64::INFINITY, f64::min);
+        if stickier.is_finite() {
+            let g = classes[i].1.gravity;
+            let peak = GENTLE_SYNTH_FRACTION * stickier * g;
+            let gentle = ShakerLimits {
+                linear: [
+                    limits.linear[0].min(peak),
+                    limits.linear[1].min(peak),
+                    limits.linear[2],
+                ],
+                contact_margin: limits.contact_margin.max(GENTLE_SYNTH_MARGIN),
+                ..limits.clone()
+            };
+            let s = synthesize(&classes[i].0, &region, &gentle, &classes[i].1, &synth)?;
+            out.push((
+                format!("Gentle:{}", class.name),
+                super::method::mixable(s.checked.motion, &gentle, opts)?,
+            ));
+        }
+    }
+    Ok(out)
+}
+
+/// One stacked fit of `target`'s classes over the primitives, the gentle
+/// Trans copies and `motions`.
+fn design_stacked(
+    target: &Target,
+    opts: &DesignOptions,
+    method: SortMethod,
+    motions: &[(String, Signals)],
+) -> Result<SortDesign> {
+    let mut opts = opts.clone();
+    opts.basis.motions.extend(motions.iter().cloned());
+    let opts = &opts;
     let gentle = gentle_primitives(target, opts);
     let mut bases = Vec::new();
     let mut sampled = Vec::new();
@@ -137,6 +283,8 @@ pub fn design_sort(target: &Target, opts: &DesignOptions) -> Result<SortDesign> 
     let (schedule, achieved) = stages::schedule_stage(target, &stacked, &fit, &opts0)?;
     let classes = class_fits(target, &sampled, &scales, &achieved)?;
     Ok(SortDesign {
+        method,
+        motions: motions.iter().map(|m| m.0.clone()).collect(),
         schedule,
         classes,
         gentle: gentle.iter().map(dbasis::label).collect(),
@@ -187,6 +335,22 @@ pub fn sort_estimate(target: &Target, opts: &DesignOptions) -> Result<crate::wor
             .named(&format!("class {}: judge", class.name)),
         );
     }
+    // The synthesized motions (`sort_motions`): a joint synthesis per class
+    // judged under every class's physics, a gentle one per class but the
+    // stickiest; each at most its evaluation budget on the coarse grid.
+    let n = target.classes.len() as f64;
+    let syn = &opts.synthesis;
+    e = e.plus(
+        crate::work::field_term(
+            "sort syntheses",
+            syn.max_evaluations as f64,
+            "evaluations",
+            (syn.coarse[0] * syn.coarse[1]) as f64,
+            crate::field::FieldKind::Velocity,
+            &opts.settings,
+        )
+        .times(n * n + n - 1.0, "class physics"),
+    );
     Ok(e)
 }
 
