@@ -26,8 +26,8 @@ pub(crate) const GOAL_MIXED_UP: f64 = 0.02;
 /// One candidate in `sort.json`.
 #[derive(Debug, Clone, Serialize)]
 pub(crate) struct CandidateReport<'a> {
-    /// `primitives` or `synthesized`.
-    pub method: &'static str,
+    /// `primitives` or `synthesized` (with its shape budget).
+    pub method: String,
     /// The synthesized motions offered to its fit.
     pub motions: &'a [String],
     /// The gentle columns offered to its fit.
@@ -41,8 +41,8 @@ pub(crate) struct CandidateReport<'a> {
 /// What `sort.json` and `design --json`'s `played` hold.
 #[derive(Debug, Clone, Serialize)]
 pub(crate) struct SortReport<'a> {
-    /// The kept candidate's method.
-    pub kept: &'static str,
+    /// The kept candidate's name.
+    pub kept: String,
     /// Its time to sort (s).
     pub time_to_sort_s: Option<f64>,
     /// Every candidate.
@@ -97,7 +97,7 @@ pub(crate) fn report_md(target_name: &str, ds: &[SortDesign], out: &SortOutcome)
     let _ = writeln!(
         s,
         "Kept: the {} candidate, one schedule of {} segments, period {:.2} s, for {} part classes, each class's field matched at its own friction by one stacked conic fit (`platefield::design::sort`). Gentle columns offered: {}. Synthesized motions offered: {}.\n",
-        d.method.name(),
+        d.label(),
         d.schedule.segments.len(),
         d.schedule.period_s,
         played.len(),
@@ -247,13 +247,13 @@ pub fn write(target_name: &str, ds: &[SortDesign], out: &SortOutcome, dir: &Path
 /// `sort.json`: the [`SortReport`].
 pub(crate) fn sort_json(ds: &[SortDesign], out: &SortOutcome) -> Result<String> {
     let r = SortReport {
-        kept: ds[out.kept].method.name(),
+        kept: ds[out.kept].label(),
         time_to_sort_s: out.kept().time_to_sort_s,
         candidates: ds
             .iter()
             .zip(&out.plays)
             .map(|(d, play)| CandidateReport {
-                method: d.method.name(),
+                method: d.label(),
                 motions: &d.motions,
                 gentle: &d.gentle,
                 fits: &d.classes,

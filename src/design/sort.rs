@@ -50,7 +50,9 @@
 //! stacked fit, besides the primitives and the gentle Trans copies, a
 //! motion per class synthesized jointly for every class's field at its own
 //! friction (`crate::synth::synthesize_classes`: the worst class's
-//! judge, strength and contact margin; seeded on that class) and, for
+//! judge, strength and contact margin; seeded on that class), a motion per
+//! class synthesized for its own field alone (which every class follows:
+//! the strong sink the others are pushed off) and, for
 //! every class with a stickier one, a **gentle** motion synthesized for
 //! its field within in-plane peaks of [`GENTLE_SYNTH_FRACTION`] of the
 //! next stickier class's μ_s,low g and a contact margin of
@@ -88,6 +90,16 @@ pub const GENTLE_SYNTH_FRACTION: f64 = 0.7;
 /// stickier class's μ_s,low N at or above 0.85 μ_s,low g, above the
 /// in-plane peak [`GENTLE_SYNTH_FRACTION`] μ_s,low g.
 pub const GENTLE_SYNTH_MARGIN: f64 = 0.85;
+
+/// Shape budgets of the synthesized candidates fitted strongest within a
+/// budget (`crate::fit::FitMode::Budget`) besides the shape-first one. A
+/// sort needs each class's attractor where it is asked and speed, not the
+/// field's shape everywhere: measured on `targets/sort_friction.json`
+/// (`--min-cycles 1`, 60 s of play), shape first gives 0.047 s⁻¹ per class
+/// predicted and leaves both swarms 9-17 mm off their sinks, a budget of
+/// 15 % 0.17 and 0.15 s⁻¹, a budget of 30 % 0.23 s⁻¹; which budget puts
+/// both classes on their own attractors is found by playing them all.
+pub const SORT_BUDGETS: [f64; 5] = [0.1, 0.15, 0.2, 0.25, 0.3];
 
 /// Scales tried for each class's target after the first.
 pub(crate) const CLASS_SCALES: [f64; 7] = [0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 4.0];
@@ -128,6 +140,17 @@ impl SortMethod {
     }
 }
 
+impl SortDesign {
+    /// The candidate's name: its method, and its shape budget if any, e.g.
+    /// `synthesized, shape ≤ 15 %`.
+    pub fn label(&self) -> String {
+        match self.budget {
+            None => self.method.name().to_string(),
+            Some(b) => format!("{}, shape ≤ {:.0} %", self.method.name(), 100.0 * b),
+        }
+    }
+}
+
 /// A sort design: one schedule, every class's predicted field.
 #[derive(Debug, Clone)]
 pub struct SortDesign {
@@ -135,6 +158,9 @@ pub struct SortDesign {
     pub method: SortMethod,
     /// The synthesized motions offered to the fit (labels).
     pub motions: Vec<String>,
+    /// The stacked fit's shape budget, when it was fitted strongest within
+    /// one ([`SORT_BUDGETS`]); `None`: shape first.
+    pub budget: Option<f64>,
     /// The schedule (its settings hold the first class's friction).
     pub schedule: Schedule,
     /// Per class, in the target's order.
@@ -169,14 +195,71 @@ pub fn design_sort(target: &Target, opts: &DesignOptions) -> Result<Vec<SortDesi
     opts.runtime.admit(&sort_estimate(target, opts)?)?;
     let primitives = design_stacked(target, opts, SortMethod::Primitives, &[])?;
     let motions = sort_motions(target, opts)?;
-    let synthesized = design_stacked(target, opts, SortMethod::Synthesized, &motions)?;
-    Ok(vec![primitives, synthesized])
+    let mut out = vec![primitives, design_sort_synthesized(target, opts, &motions)?];
+    for budget in SORT_BUDGETS {
+        let mut o = opts.clone();
+        o.fit.mode = crate::fit::FitMode::Budget { rel_error: budget };
+        // A budget the stacked fit cannot reach leaves that candidate out.
+        if let Ok(mut d) = design_sort_synthesized(target, &o, &motions) {
+            d.budget = Some(budget);
+            out.push(d);
+        }
+    }
+    Ok(out)
+}
+
+/// The synthesized candidate (the second of [`design_sort`]) from the
+/// motions of [`sort_motions`].
+///
+/// ```no_run
+/// use platefield::design::sort::{design_sort_synthesized, sort_motions};
+/// use platefield::design::DesignOptions;
+/// use platefield::request::Target;
+/// let target = Target::load(std::path::Path::new("targets/sort_friction.json"))?;
+/// let opts = DesignOptions::default();
+/// let d = design_sort_synthesized(&target, &opts, &sort_motions(&target, &opts)?)?;
+/// assert!(!d.motions.is_empty());
+/// # Ok::<(), platefield::Error>(())
+/// ```
+///
+/// # Errors
+/// Those of [`design_sort`].
+pub fn design_sort_synthesized(
+    target: &Target,
+    opts: &DesignOptions,
+    motions: &[(String, Signals)],
+) -> Result<SortDesign> {
+    design_stacked(target, opts, SortMethod::Synthesized, motions)
+}
+
+/// The primitives' candidate alone (the first of [`design_sort`]), without
+/// the syntheses.
+///
+/// ```no_run
+/// use platefield::design::{sort::design_sort_primitives, DesignOptions};
+/// use platefield::request::Target;
+/// let target = Target::load(std::path::Path::new("targets/sort_friction.json"))?;
+/// let d = design_sort_primitives(&target, &DesignOptions::default())?;
+/// assert!(d.motions.is_empty());
+/// # Ok::<(), platefield::Error>(())
+/// ```
+///
+/// # Errors
+/// Those of [`design_sort`].
+pub fn design_sort_primitives(target: &Target, opts: &DesignOptions) -> Result<SortDesign> {
+    design_stacked(target, opts, SortMethod::Primitives, &[])
 }
 
 /// The synthesized motions of the sort of `target` (module docs), each
 /// made playable beside the primitives (`super::method::mixable`):
-/// `Joint:<class>` for every class, `Gentle:<class>` for every class with
-/// a stickier one.
+/// `Own:<class>` (its field at its friction alone: every class sees it,
+/// nearly unturned at full strength) and `Joint:<class>` for every class;
+/// for every class with a stickier one,
+/// within the gentle limits, `Gentle:<class>` (its own field) and
+/// `GentleCarry:<class>` (a uniform transport from the next stickier
+/// class's attractor toward its own: an attractor off the plate's centre
+/// needs a uniform part, which the tilts cannot give and the vertical
+/// limit barely allows, so a gentle in-plane ratchet carries it).
 ///
 /// # Errors
 /// A synthesis failing (invalid limits or options).
@@ -204,6 +287,11 @@ pub fn sort_motions(target: &Target, opts: &DesignOptions) -> Result<Vec<(String
     let lows: Vec<f64> = target.classes.iter().map(|c| c.friction.stat.lo).collect();
     let mut out = Vec::new();
     for (i, class) in target.classes.iter().enumerate() {
+        let own = synthesize(&classes[i].0, &region, &limits, &classes[i].1, &synth)?;
+        out.push((
+            format!("Own:{}", class.name),
+            super::method::mixable(own.checked.motion, &limits, opts)?,
+        ));
         let mut order = classes.clone();
         order.swap(0, i);
         let joint = synthesize_classes(&order, &region, &limits, &synth)?;
@@ -233,9 +321,43 @@ pub fn sort_motions(target: &Target, opts: &DesignOptions) -> Result<Vec<(String
                 format!("Gentle:{}", class.name),
                 super::method::mixable(s.checked.motion, &gentle, opts)?,
             ));
+            let next = (0..lows.len())
+                .filter(|&j| lows[j] == stickier)
+                .min()
+                .unwrap_or(i);
+            if let Some(direction) = apart(&region, &classes[i].0, &classes[next].0) {
+                let carry = FieldSpec::Trans {
+                    center: [0.0; 2],
+                    strength: 1e-3,
+                    direction,
+                };
+                let s = synthesize(&carry, &region, &gentle, &classes[i].1, &synth)?;
+                out.push((
+                    format!("GentleCarry:{}", class.name),
+                    super::method::mixable(s.checked.motion, &gentle, opts)?,
+                ));
+            }
         }
     }
     Ok(out)
+}
+
+/// The direction (degrees) in which `own`'s parts must move relative to
+/// `other`'s: the difference of the two fields' means over `region` (for
+/// two sinks, from the other's centre to the own); `None` when the means
+/// are equal.
+fn apart(region: &Grid, own: &FieldSpec, other: &FieldSpec) -> Option<f64> {
+    let points = region.points();
+    let mean = |f: &FieldSpec| {
+        points.iter().fold([0.0; 2], |a, p| {
+            let v = f.eval(*p);
+            [a[0] + v[0], a[1] + v[1]]
+        })
+    };
+    let (a, b) = (mean(own), mean(other));
+    let d = [a[0] - b[0], a[1] - b[1]];
+    (d[0].hypot(d[1]) > 1e-12 * (a[0].hypot(a[1]) + b[0].hypot(b[1])))
+        .then(|| d[1].atan2(d[0]).to_degrees())
 }
 
 /// One stacked fit of `target`'s classes over the primitives, the gentle
@@ -285,6 +407,7 @@ fn design_stacked(
     Ok(SortDesign {
         method,
         motions: motions.iter().map(|m| m.0.clone()).collect(),
+        budget: None,
         schedule,
         classes,
         gentle: gentle.iter().map(dbasis::label).collect(),
@@ -335,9 +458,10 @@ pub fn sort_estimate(target: &Target, opts: &DesignOptions) -> Result<crate::wor
             .named(&format!("class {}: judge", class.name)),
         );
     }
-    // The synthesized motions (`sort_motions`): a joint synthesis per class
-    // judged under every class's physics, a gentle one per class but the
-    // stickiest; each at most its evaluation budget on the coarse grid.
+    // The synthesized motions (`sort_motions`): per class its own and a
+    // joint synthesis judged under every class's physics, two gentle ones
+    // per class but the stickiest; each at most its evaluation budget on
+    // the coarse grid.
     let n = target.classes.len() as f64;
     let syn = &opts.synthesis;
     e = e.plus(
@@ -349,7 +473,7 @@ pub fn sort_estimate(target: &Target, opts: &DesignOptions) -> Result<crate::wor
             crate::field::FieldKind::Velocity,
             &opts.settings,
         )
-        .times(n * n + n - 1.0, "class physics"),
+        .times(n * n + n + 2.0 * (n - 1.0), "class physics"),
     );
     Ok(e)
 }

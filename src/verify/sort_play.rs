@@ -172,7 +172,7 @@ pub fn play_sort(
             .map(|c| c.time_to_sort_s)
             .try_fold(0.0_f64, |a, t| t.map(|t| a.max(t)));
         plays.push(SortPlay {
-            method: d.method.name().to_string(),
+            method: d.label(),
             period_s: d.schedule.period_s,
             played_s: classes.first().map_or(0.0, |c| c.duration_s),
             time_to_sort_s,
