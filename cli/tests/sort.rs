@@ -251,10 +251,19 @@ fn designed_sort_plays_as_measured() {
     let k = out.kept();
     assert_eq!(k.method, MEASURED_KEPT, "{out:?}");
     let time = k.time_to_sort_s.unwrap();
-    assert!((time - MEASURED_TIME_S).abs() <= 0.1 * MEASURED_TIME_S, "{time}");
+    assert!(
+        (time - MEASURED_TIME_S).abs() <= 0.1 * MEASURED_TIME_S,
+        "{time}"
+    );
     for (p, own) in k.classes.iter().zip(MEASURED_AT_OWN) {
         assert!((p.at_own.unwrap() - own).abs() <= 0.05, "{p:?}");
         assert!(p.mixed_up <= 0.05, "{p:?}");
         assert_eq!(p.contact_lost, 0, "{p:?}");
     }
 }
+
+/// What `results/sort_friction/sort.json` measured: the kept candidate,
+/// its time to sort (s) and each class's fraction at its own attractor.
+const MEASURED_KEPT: &str = "synthesized, shape ≤ 25 %";
+const MEASURED_TIME_S: f64 = 27.4;
+const MEASURED_AT_OWN: [f64; 2] = [1.0, 1.0];

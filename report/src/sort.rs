@@ -93,7 +93,10 @@ pub(crate) fn headline(out: &SortOutcome) -> String {
 pub(crate) fn report_md(target_name: &str, ds: &[SortDesign], out: &SortOutcome) -> String {
     let d = &ds[out.kept];
     let played = &out.kept().classes;
-    let mut s = format!("# Sort by friction: {target_name}\n\n**{}**\n\n", headline(out));
+    let mut s = format!(
+        "# Sort by friction: {target_name}\n\n**{}**\n\n",
+        headline(out)
+    );
     let _ = writeln!(
         s,
         "Kept: the {} candidate, one schedule of {} segments, period {:.2} s, for {} part classes, each class's field matched at its own friction by one stacked conic fit (`platefield::design::sort`). Gentle columns offered: {}. Synthesized motions offered: {}.\n",
@@ -127,7 +130,11 @@ pub(crate) fn report_md(target_name: &str, ds: &[SortDesign], out: &SortOutcome)
                 1,
             ),
             percent(p.classes.iter().map(|c| c.mixed_up).fold(0.0, f64::max), 1),
-            p.classes.iter().map(|c| c.contact_lost).sum::<usize>().to_string(),
+            p.classes
+                .iter()
+                .map(|c| c.contact_lost)
+                .sum::<usize>()
+                .to_string(),
         ]);
     }
     s.push_str("## Candidates\n\nEvery candidate's swarms played, every class for the same time; the one that sorts soonest is kept.\n\n");
@@ -209,7 +216,10 @@ pub(crate) fn sorted_svg(target_name: &str, out: &SortOutcome) -> String {
         "{target_name}: each class at its own attractor ({} candidate)",
         k.method
     ))
-    .labels("time played (s)", "fraction within 5 mm of its own attractor");
+    .labels(
+        "time played (s)",
+        "fraction within 5 mm of its own attractor",
+    );
     for c in &k.classes {
         let points = (0..=SAMPLES)
             .map(|i| {
@@ -217,17 +227,24 @@ pub(crate) fn sorted_svg(target_name: &str, out: &SortOutcome) -> String {
                 [t, c.sorted_at(t)]
             })
             .collect();
-        plot = plot.series(Series::new(format!("{} (μ {})", c.name, c.friction), points));
+        plot = plot.series(Series::new(
+            format!("{} (μ {})", c.name, c.friction),
+            points,
+        ));
     }
-    plot.series(Series::new(percent(SORT_SHARE, 0), vec![[0.0, SORT_SHARE], [t_end, SORT_SHARE]]).dashed())
-        .to_svg()
+    plot.series(
+        Series::new(
+            percent(SORT_SHARE, 0),
+            vec![[0.0, SORT_SHARE], [t_end, SORT_SHARE]],
+        )
+        .dashed(),
+    )
+    .to_svg()
 }
 
-/// The physical limits of a sort with the paper's primitives, stated with
-/// a verdict that is not met (measured on `targets/sort_friction.json`:
-/// with the default 10 cycles per segment, period 36.7 s, 22-24 % of each
-/// class at its own sink after 147 s; with `--min-cycles 1` all of it).
-pub(crate) const WHY_NOT: &str = "What limits a sort: the primitives' fields change with friction mostly in strength, hardly in direction, so the fit separates the classes chiefly by the gentle in-plane translations under which the stickier class does not slip, and these carry the slippery parts at only 2-3 mm/s at 209 rad/s (plate speed ≤ μg/ω). Sinks centimetres apart then have rates of about 0.01 1/s (time constants ~100 s), built of strong motions that nearly cancel; segments must be short (`--min-cycles 1`) so that a part's excursion within a segment (a strong Trans carries a μ 0.2 part at 20 mm/s) stays well below the distances sorted, and the swarm must play for minutes.";
+/// What limits a sort, stated with a verdict that is not met (measured on
+/// `targets/sort_friction.json`, `results/sort_friction/`).
+pub(crate) const WHY_NOT: &str = "What limits a sort: every class follows every motion, so each class's attractor must come from how differently the classes follow the same motions. A motion synthesized for one class's sink is followed by the others nearly unturned (the slip lead δ = asin(μg/A) is a few degrees at the tens of m/s² that make strong fields), and the primitives' fields change with friction mostly in strength; a sort therefore rests on transports whose speed depends on friction, balanced against a common sink, or on gentle motions under which the stickier class does not slip at all (2-3 mm/s at 209 rad/s). Where the parts settle is off the time-averaged field's attractor by the schedule's within-period excursion (millimetres), so candidates are aimed by playing and several shape budgets tried; a target whose classes' transports hardly differ, or whose attractors are closer than those excursions, is not sorted by any of them.";
 
 /// Writes the kept candidate's `schedule.json`, `sort.json` (every
 /// candidate), `report.md` and `sorted.svg` into `dir`.

@@ -1006,7 +1006,11 @@ pub(crate) fn mix_design(
 ///
 /// # Errors
 /// A ramp that cannot be built (never for [`super::basis::MIXED_RAMP_CYCLES`]).
-pub(crate) fn mixable(motion: Signals, limits: &ShakerLimits, opts: &DesignOptions) -> Result<Signals> {
+pub(crate) fn mixable(
+    motion: Signals,
+    limits: &ShakerLimits,
+    opts: &DesignOptions,
+) -> Result<Signals> {
     let mut motion = motion;
     if let Some(kind) = opts.basis.kinds.first() {
         motion.period = crate::basis::Primitive::new(*kind).period();

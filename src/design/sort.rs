@@ -84,13 +84,13 @@ use super::stages::{self, BasisStage};
 use super::{strongest, DesignOptions};
 use crate::basis::{symmetry, FieldLibrary, Primitive, PrimitiveKind};
 use crate::error::{Error, Result};
-use crate::fit::{FitOptions, FitProblem};
 use crate::field::{FieldSettings, Grid};
+use crate::fit::{FitOptions, FitProblem};
 use crate::motion::Signals;
 use crate::request::{FieldSpec, SampledTarget, Target};
 use crate::schedule::Schedule;
-use crate::work::Term;
 use crate::synth::{synthesize, synthesize_classes, ShakerLimits};
+use crate::work::Term;
 
 /// Peak plate accelerations of the gentle Trans copies, as fractions of
 /// the stickier class's μ_s g (both below 1: that class never slips).
@@ -109,10 +109,11 @@ pub const GENTLE_SYNTH_MARGIN: f64 = 0.85;
 /// budget (`crate::fit::FitMode::Budget`) besides the shape-first one. A
 /// sort needs each class's attractor where it is asked and speed, not the
 /// field's shape everywhere: measured on `targets/sort_friction.json`
-/// (`--min-cycles 1`, 60 s of play), shape first gives 0.047 s⁻¹ per class
-/// predicted and leaves both swarms 9-17 mm off their sinks, a budget of
-/// 15 % 0.17 and 0.15 s⁻¹, a budget of 30 % 0.23 s⁻¹; which budget puts
-/// both classes on their own attractors is found by playing them all.
+/// (`--min-cycles 1`, 60 s of play, before aiming), shape first predicts
+/// 0.047 s⁻¹ per class and leaves both swarms 9-17 mm off their sinks, a
+/// budget of 15 % 0.17 and 0.15 s⁻¹, a budget of 30 % 0.23 s⁻¹. Which
+/// budget, aimed, puts both classes on their own attractors is found by
+/// playing them all (`results/sort_friction/`: 25 %).
 pub const SORT_BUDGETS: [f64; 5] = [0.1, 0.15, 0.2, 0.25, 0.3];
 
 /// Scales tried for each class's target after the first.

@@ -195,4 +195,5 @@ pub mod transport;
 
 pub use limits::ShakerLimits;
 pub use synthesize::{
-    synthesize, synthesize_classes, AxisPeak, Checked, SynthOptions, Synthesis, POLISH_LM, SYNTH_LM};
+    synthesize, synthesize_classes, AxisPeak, Checked, SynthOptions, Synthesis, POLISH_LM, SYNTH_LM,
+};
