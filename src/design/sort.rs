@@ -214,13 +214,24 @@ pub fn design_sort(target: &Target, opts: &DesignOptions) -> Result<Vec<SortDesi
     let primitives = design_sort_primitives(target, opts)?;
     let motions = sort_motions(target, opts)?;
     let stack = stack(target, opts, &motions)?;
+    let progress = crate::progress::Progress::new(
+        "sort: aiming",
+        "candidates",
+        1 + SORT_BUDGETS.len() as u64,
+        opts.runtime.progress(),
+    );
+    progress.set_message("shape first".to_string());
     let mut out = vec![primitives, aimed(target, &stack, None)?];
+    progress.inc(1);
     for budget in SORT_BUDGETS {
+        progress.set_message(format!("shape ≤ {:.0} %", 100.0 * budget));
         // A budget the stacked fit cannot reach leaves that candidate out.
         if let Ok(d) = aimed(target, &stack, Some(budget)) {
             out.push(d);
         }
+        progress.inc(1);
     }
+    progress.finish();
     Ok(out)
 }
 

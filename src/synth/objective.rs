@@ -507,3 +507,65 @@ impl<'a> Objective<'a> {
             || self.deadline.is_some_and(|d| Instant::now() >= d)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dynamics::Friction;
+    use crate::progress::ProgressMode;
+
+    /// Judged over classes, a candidate's measure is the worst class's: the
+    /// weakest strength, the largest shape error, and each class's shape
+    /// block its own objective's, class after class; one class alone is
+    /// that class's plain objective, residual for residual.
+    #[test]
+    fn classes_measure_is_the_worst_class_s() {
+        let grid = Grid {
+            x: [-0.02, 0.02],
+            y: [-0.01, 0.01],
+            n: [3, 3],
+        };
+        let limits = ShakerLimits::default();
+        let at = |mu: f64| FieldSettings {
+            friction: Friction::uniform(mu),
+            ..FieldSettings::default()
+        };
+        let (s1, s2) = (at(0.2), at(0.45));
+        let f1 = FieldSpec::Sink {
+            center: [-0.01, 0.0],
+            strength: 1.0,
+        };
+        let f2 = FieldSpec::Sink {
+            center: [0.01, 0.0],
+            strength: 1.0,
+        };
+        let progress = SynthesisProgress::new(ProgressMode::Quiet, 1);
+        let o1 = Objective::unbounded(&f1, grid, &limits, &s1, 0.04, &progress);
+        let o2 = Objective::unbounded(&f2, grid, &limits, &s2, 0.04, &progress);
+        let both = Objective::unbounded(&f1, grid, &limits, &s1, 0.04, &progress)
+            .with_classes(&[(f1.clone(), s1), (f2.clone(), s2)]);
+        let alone = Objective::unbounded(&f1, grid, &limits, &s1, 0.04, &progress)
+            .with_classes(&[(f1.clone(), s1)]);
+        // A circular translation (20 m/s²) with tilts: both classes slip.
+        let mut c = Coefficients::zero(limits.period, limits.harmonics);
+        c.set(0, 1, 20.0, 0.0);
+        c.set(1, 1, 20.0, -std::f64::consts::FRAC_PI_2);
+        c.set(3, 1, 60.0, 0.0);
+        c.set(4, 1, 60.0, -std::f64::consts::FRAC_PI_2);
+        let x = o1.layout().to_vec(&c);
+        let (e1, e2, e) = (o1.measure(&x), o2.measure(&x), both.measure(&x));
+        assert!(e1.realised.strength != e2.realised.strength);
+        assert_eq!(
+            e.realised.strength,
+            e1.realised.strength.min(e2.realised.strength)
+        );
+        assert_eq!(
+            e.realised.shape_error,
+            e1.realised.shape_error.max(e2.realised.shape_error)
+        );
+        let n = 2 * grid.len();
+        assert_eq!(e.residuals[..n], e1.residuals[..n]);
+        assert_eq!(e.residuals[n..2 * n], e2.residuals[..n]);
+        assert_eq!(alone.measure(&x).residuals, e1.residuals);
+    }
+}
