@@ -223,11 +223,11 @@ pub fn play_sort(
 /// swarms' schedule periods (`None`: from the predicted strengths).
 ///
 /// ```no_run
-/// use platefield::design::{sort::design_sort, DesignOptions};
+/// use platefield::design::{sort::design_sort_primitives, DesignOptions};
 /// use platefield::request::Target;
 /// use platefield::verify::sort_play::play_classes;
 /// let target = Target::load(std::path::Path::new("targets/sort_friction.json"))?;
-/// let d = design_sort(&target, &DesignOptions::default())?;
+/// let d = design_sort_primitives(&target, &DesignOptions::default())?;
 /// for c in play_classes(&target, &d, None, &platefield::work::Runtime::QUIET)? {
 ///     println!("{}: {:?} at its own sink, {} mixed up", c.name, c.at_own, c.mixed_up);
 /// }
