@@ -50,7 +50,13 @@ fn main() -> platefield::Result<()> {
             println!("choice: {:?}", outcome.choice);
             println!("{}", outcome.kept().schedule.to_json()?);
         }
-        DesignOutcome::Sorted(sort) => println!("{}", sort.schedule.to_json()?),
+        DesignOutcome::Sorted(candidates) => {
+            // Unplayed: `platefield::verify::sort_play::play_sort` keeps the
+            // one that sorts soonest.
+            for d in &candidates {
+                println!("{}: period {:.2} s", d.label(), d.schedule.period_s);
+            }
+        }
         DesignOutcome::ClosedLoop { closed_loop, .. } => {
             println!("closed loop: {} candidates", closed_loop.candidates.len())
         }

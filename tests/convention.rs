@@ -25,7 +25,7 @@ use platefield::schedule::export::{export, RAMP_CYCLES};
 use platefield::schedule::Schedule;
 
 /// Every shipped schedule.
-const DESIGNS: [&str; 21] = [
+const DESIGNS: [&str; 22] = [
     "sink",
     "synthesized/sink",
     "saddle",
@@ -38,6 +38,7 @@ const DESIGNS: [&str; 21] = [
     "ellipse",
     "ellipse_30",
     "sort_friction",
+    "sort_three",
     "sequenced/sink",
     "sequenced/saddle",
     "sequenced/whirlpool",

@@ -12,7 +12,7 @@ use std::path::Path;
 /// are not carried over, so that the folder holds one design (a sequenced
 /// run after a synthesized one leaves no `signals.svg`); `verify/` and
 /// files of the user's are kept.
-pub(crate) const DESIGN_FILES: [&str; 9] = [
+pub(crate) const DESIGN_FILES: [&str; 10] = [
     "schedule.json",
     "schedule_open_loop.json",
     "closed_loop.md",
@@ -22,6 +22,7 @@ pub(crate) const DESIGN_FILES: [&str; 9] = [
     "signals.svg",
     "order.md",
     "sort.json",
+    "sorted.svg",
 ];
 
 /// `platefield design`: loads the target at `path`, designs it by

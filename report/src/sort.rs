@@ -1,7 +1,10 @@
-//! A sort's files: `schedule.json`, `sort.json` (per class: the fit and
-//! the plays) and `report.md` with the per-class table and the verdict
-//! against the goal (≥ [`GOAL_AT_OWN`] of each class at its own attractor,
-//! ≤ [`GOAL_MIXED_UP`] mixed up), stated whether met or not.
+//! A sort's files: the kept candidate's `schedule.json`, `sort.json` (per
+//! candidate and class: the fit and the plays), `report.md` opening with
+//! the time to sort, the candidates' table, the kept candidate's per-class
+//! table and the verdict against the goal (≥ [`GOAL_AT_OWN`] of each class
+//! at its own attractor, ≤ [`GOAL_MIXED_UP`] mixed up, none lost), stated
+//! whether met or not, and `sorted.svg` (each class's fraction at its own
+//! attractor against time).
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -9,47 +12,134 @@ use std::path::Path;
 use serde::Serialize;
 
 use super::table::Table;
+use crate::plot::{LinePlot, Series};
 use platefield::design::sort::{ClassFit, SortDesign};
 use platefield::error::{Error, Result};
 use platefield::output::percent;
-use platefield::verify::sort_play::{ClassPlay, SORT_TOL};
+use platefield::verify::sort_play::{ClassPlay, SortOutcome, SortPlay, SORT_SHARE, SORT_TOL};
 
 /// Goal: fraction of each class's swarm at its own attractor.
 pub(crate) const GOAL_AT_OWN: f64 = 0.95;
 /// Goal: largest fraction of a class's swarm at another class's attractor.
 pub(crate) const GOAL_MIXED_UP: f64 = 0.02;
 
+/// One candidate in `sort.json`.
+#[derive(Debug, Clone, Serialize)]
+pub(crate) struct CandidateReport<'a> {
+    /// `primitives` or `synthesized` (with its shape budget).
+    pub method: String,
+    /// The synthesized motions offered to its fit.
+    pub motions: &'a [String],
+    /// The gentle columns offered to its fit.
+    pub gentle: &'a [String],
+    /// Per class, the stacked fit's prediction.
+    pub fits: &'a [ClassFit],
+    /// Played.
+    pub play: &'a SortPlay,
+}
+
 /// What `sort.json` and `design --json`'s `played` hold.
 #[derive(Debug, Clone, Serialize)]
 pub(crate) struct SortReport<'a> {
-    /// Per class, the stacked fit's prediction.
-    pub fits: &'a [ClassFit],
-    /// Per class, played.
-    pub played: &'a [ClassPlay],
-    /// The gentle columns offered to the fit.
-    pub gentle: &'a [String],
-    /// Whether every class met the goal.
+    /// The kept candidate's name.
+    pub kept: String,
+    /// Its time to sort (s).
+    pub time_to_sort_s: Option<f64>,
+    /// Every candidate.
+    pub candidates: Vec<CandidateReport<'a>>,
+    /// Whether every class of the kept candidate met the goal.
     pub goal_met: bool,
 }
 
-/// Whether every class met the goal.
+/// Whether every class met the goal: at its own attractor, not mixed up,
+/// none lost.
 pub(crate) fn goal_met(played: &[ClassPlay]) -> bool {
-    played
-        .iter()
-        .all(|c| c.at_own.is_some_and(|f| f >= GOAL_AT_OWN) && c.mixed_up <= GOAL_MIXED_UP)
+    played.iter().all(|c| {
+        c.at_own.is_some_and(|f| f >= GOAL_AT_OWN)
+            && c.mixed_up <= GOAL_MIXED_UP
+            && c.contact_lost == 0
+    })
+}
+
+/// `t` in seconds, or "not within the play".
+fn seconds(t: Option<f64>) -> String {
+    t.map_or("not within the play".into(), |t| format!("{t:.1} s"))
+}
+
+/// The first line of a sort's summary and report: the time to sort.
+pub(crate) fn headline(out: &SortOutcome) -> String {
+    let k = out.kept();
+    format!(
+        "time to sort: {} ({} of every class within {:.0} mm of its own attractor and staying; {} candidate of {}, played {:.0} s; worst class {} at its own attractor, {} mixed up, {} lost contact)",
+        seconds(k.time_to_sort_s),
+        percent(SORT_SHARE, 0),
+        1e3 * SORT_TOL,
+        k.method,
+        out.plays.len(),
+        k.played_s,
+        percent(
+            k.classes
+                .iter()
+                .map(|c| c.at_own.unwrap_or(0.0))
+                .fold(f64::INFINITY, f64::min),
+            1
+        ),
+        percent(k.classes.iter().map(|c| c.mixed_up).fold(0.0, f64::max), 1),
+        k.classes.iter().map(|c| c.contact_lost).sum::<usize>()
+    )
 }
 
 /// `report.md` of a sort.
-pub(crate) fn report_md(target_name: &str, d: &SortDesign, played: &[ClassPlay]) -> String {
-    let mut s = format!("# Sort by friction: {target_name}\n\n");
+pub(crate) fn report_md(target_name: &str, ds: &[SortDesign], out: &SortOutcome) -> String {
+    let d = &ds[out.kept];
+    let played = &out.kept().classes;
+    let mut s = format!(
+        "# Sort by friction: {target_name}\n\n**{}**\n\n",
+        headline(out)
+    );
     let _ = writeln!(
         s,
-        "One schedule of {} segments, period {:.2} s, for {} part classes, each class's field matched at its own friction by one stacked conic fit (`platefield::design::sort`). Gentle columns offered: {}.\n",
+        "Kept: the {} candidate, one schedule of {} segments, period {:.2} s, for {} part classes, each class's field matched at its own friction by one stacked conic fit (`platefield::design::sort`). Gentle columns offered: {}. Synthesized motions offered: {}.\n",
+        d.label(),
         d.schedule.segments.len(),
         d.schedule.period_s,
         played.len(),
-        if d.gentle.is_empty() { "none".to_string() } else { d.gentle.join(", ") }
+        if d.gentle.is_empty() { "none".to_string() } else { d.gentle.join(", ") },
+        if d.motions.is_empty() { "none".to_string() } else { d.motions.join(", ") }
     );
+    let mut cands = Table::new([
+        "candidate",
+        "period (s)",
+        "played (s)",
+        "time to sort",
+        "worst at own attractor",
+        "worst mixed up",
+        "lost contact",
+    ]);
+    for p in &out.plays {
+        cands.row([
+            p.method.clone(),
+            format!("{:.2}", p.period_s),
+            format!("{:.0}", p.played_s),
+            seconds(p.time_to_sort_s),
+            percent(
+                p.classes
+                    .iter()
+                    .map(|c| c.at_own.unwrap_or(0.0))
+                    .fold(f64::INFINITY, f64::min),
+                1,
+            ),
+            percent(p.classes.iter().map(|c| c.mixed_up).fold(0.0, f64::max), 1),
+            p.classes
+                .iter()
+                .map(|c| c.contact_lost)
+                .sum::<usize>()
+                .to_string(),
+        ]);
+    }
+    s.push_str("## Candidates\n\nEvery candidate's swarms played, every class for the same time; the one that sorts soonest is kept.\n\n");
+    s.push_str(&cands.markdown());
+    s.push_str("\n## Kept candidate per class\n\n");
     let mut table = Table::new([
         "class",
         "μ",
@@ -59,6 +149,7 @@ pub(crate) fn report_md(target_name: &str, d: &SortDesign, played: &[ClassPlay])
         "realised shape",
         "swarm",
         "played (s)",
+        "time to sort",
         "at own attractor",
         "mixed up",
         "median distance (mm)",
@@ -74,6 +165,7 @@ pub(crate) fn report_md(target_name: &str, d: &SortDesign, played: &[ClassPlay])
             percent(p.realised_shape_error, 1),
             p.parts.to_string(),
             format!("{:.0}", p.duration_s),
+            seconds(p.time_to_sort_s),
             p.at_own.map_or("n/a".into(), |x| percent(x, 1)),
             percent(p.mixed_up, 1),
             p.median_distance_m
@@ -84,21 +176,23 @@ pub(crate) fn report_md(target_name: &str, d: &SortDesign, played: &[ClassPlay])
     s.push_str(&table.markdown());
     let _ = writeln!(
         s,
-        "\n\"At own attractor\": the swarm's parts ending within {:.0} mm of the class's attractor; \"mixed up\": ending within {:.0} mm of another class's.\n",
+        "\n\"At own attractor\": the swarm's parts ending within {:.0} mm of the class's attractor; \"mixed up\": ending within {:.0} mm of another class's; \"time to sort\": the time by which {} of the class is within {:.0} mm of its own attractor and stays there to the end of the play. `sorted.svg`: each class's fraction at its own attractor (from then on) against time.\n",
         1e3 * SORT_TOL,
+        1e3 * SORT_TOL,
+        percent(SORT_SHARE, 0),
         1e3 * SORT_TOL
     );
     if goal_met(played) {
         let _ = writeln!(
             s,
-            "**Goal met**: every class ≥ {} at its own attractor and ≤ {} mixed up.",
+            "**Goal met**: every class ≥ {} at its own attractor, ≤ {} mixed up, none lost.",
             percent(GOAL_AT_OWN, 0),
             percent(GOAL_MIXED_UP, 0)
         );
     } else {
         let _ = writeln!(
             s,
-            "**Goal NOT met** (≥ {} of each class at its own attractor, ≤ {} mixed up). {}",
+            "**Goal NOT met** (≥ {} of each class at its own attractor, ≤ {} mixed up, none lost). {}",
             percent(GOAL_AT_OWN, 0),
             percent(GOAL_MIXED_UP, 0),
             WHY_NOT
@@ -111,43 +205,91 @@ pub(crate) fn report_md(target_name: &str, d: &SortDesign, played: &[ClassPlay])
     s
 }
 
-/// The physical limits of a sort with the paper's primitives, stated with
-/// a verdict that is not met (measured on `targets/sort_friction.json`:
-/// with the default 10 cycles per segment, period 36.7 s, 22-24 % of each
-/// class at its own sink after 147 s; with `--min-cycles 1` all of it).
-pub(crate) const WHY_NOT: &str = "What limits a sort: the primitives' fields change with friction mostly in strength, hardly in direction, so the fit separates the classes chiefly by the gentle in-plane translations under which the stickier class does not slip, and these carry the slippery parts at only 2-3 mm/s at 209 rad/s (plate speed ≤ μg/ω). Sinks centimetres apart then have rates of about 0.01 1/s (time constants ~100 s), built of strong motions that nearly cancel; segments must be short (`--min-cycles 1`) so that a part's excursion within a segment (a strong Trans carries a μ 0.2 part at 20 mm/s) stays well below the distances sorted, and the swarm must play for minutes.";
+/// `sorted.svg`: the kept candidate's classes, each class's fraction at its
+/// own attractor (from then on) against time, with the share that counts
+/// as sorted.
+pub(crate) fn sorted_svg(target_name: &str, out: &SortOutcome) -> String {
+    const SAMPLES: usize = 200;
+    let k = out.kept();
+    let t_end = k.played_s.max(f64::MIN_POSITIVE);
+    let mut plot = LinePlot::new(format!(
+        "{target_name}: each class at its own attractor ({} candidate)",
+        k.method
+    ))
+    .labels(
+        "time played (s)",
+        "fraction within 5 mm of its own attractor",
+    );
+    for c in &k.classes {
+        let points = (0..=SAMPLES)
+            .map(|i| {
+                let t = t_end * i as f64 / SAMPLES as f64;
+                [t, c.sorted_at(t)]
+            })
+            .collect();
+        plot = plot.series(Series::new(
+            format!("{} (μ {})", c.name, c.friction),
+            points,
+        ));
+    }
+    plot.series(
+        Series::new(
+            percent(SORT_SHARE, 0),
+            vec![[0.0, SORT_SHARE], [t_end, SORT_SHARE]],
+        )
+        .dashed(),
+    )
+    .to_svg()
+}
 
-/// Writes `schedule.json`, `sort.json` and `report.md` into `dir`.
-pub fn write(target_name: &str, d: &SortDesign, played: &[ClassPlay], dir: &Path) -> Result<()> {
-    let schedule = d.schedule.to_json()?;
-    let sort = sort_json(d, played)?;
-    let md = report_md(target_name, d, played);
+/// What limits a sort, stated with a verdict that is not met (measured on
+/// `targets/sort_friction.json`, `results/sort_friction/`).
+pub(crate) const WHY_NOT: &str = "What limits a sort: every class follows every motion, so each class's attractor must come from how differently the classes follow the same motions. A motion synthesized for one class's sink is followed by the others nearly unturned (the slip lead δ = asin(μg/A) is a few degrees at the tens of m/s² that make strong fields), and the primitives' fields change with friction mostly in strength; a sort therefore rests on transports whose speed depends on friction, balanced against a common sink, or on gentle motions under which the stickier class does not slip at all (2-3 mm/s at 209 rad/s). Where the parts settle is off the time-averaged field's attractor by the schedule's within-period excursion (millimetres), so candidates are aimed by playing and several shape budgets tried; a target whose classes' transports hardly differ, or whose attractors are closer than those excursions, is not sorted by any of them.";
+
+/// Writes the kept candidate's `schedule.json`, `sort.json` (every
+/// candidate), `report.md` and `sorted.svg` into `dir`.
+pub fn write(target_name: &str, ds: &[SortDesign], out: &SortOutcome, dir: &Path) -> Result<()> {
+    let schedule = ds[out.kept].schedule.to_json()?;
+    let sort = sort_json(ds, out)?;
+    let md = report_md(target_name, ds, out);
+    let svg = sorted_svg(target_name, out);
     platefield::output::write_all_atomic(&[
         (&dir.join("schedule.json"), schedule.as_bytes()),
         (&dir.join("sort.json"), sort.as_bytes()),
         (&dir.join("report.md"), md.as_bytes()),
+        (&dir.join("sorted.svg"), svg.as_bytes()),
     ])
 }
 
 /// `sort.json`: the [`SortReport`].
-pub(crate) fn sort_json(d: &SortDesign, played: &[ClassPlay]) -> Result<String> {
+pub(crate) fn sort_json(ds: &[SortDesign], out: &SortOutcome) -> Result<String> {
     let r = SortReport {
-        fits: &d.classes,
-        played,
-        gentle: &d.gentle,
-        goal_met: goal_met(played),
+        kept: ds[out.kept].label(),
+        time_to_sort_s: out.kept().time_to_sort_s,
+        candidates: ds
+            .iter()
+            .zip(&out.plays)
+            .map(|(d, play)| CandidateReport {
+                method: d.label(),
+                motions: &d.motions,
+                gentle: &d.gentle,
+                fits: &d.classes,
+                play,
+            })
+            .collect(),
+        goal_met: goal_met(&out.kept().classes),
     };
     let mut text = serde_json::to_string_pretty(&r).map_err(|e| Error::Physical(e.to_string()))?;
     text.push('\n');
     Ok(text)
 }
 
-/// `design --json` for a sort: the schedule with `played` holding the
+/// `design --json` for a sort: the kept schedule with `played` holding the
 /// [`SortReport`].
-pub(crate) fn design_json(d: &SortDesign, played: &[ClassPlay]) -> Result<String> {
+pub(crate) fn design_json(ds: &[SortDesign], out: &SortOutcome) -> Result<String> {
     let mut value =
-        serde_json::to_value(&d.schedule).map_err(|e| Error::Physical(e.to_string()))?;
-    let report = serde_json::from_str::<serde_json::Value>(&sort_json(d, played)?)
+        serde_json::to_value(&ds[out.kept].schedule).map_err(|e| Error::Physical(e.to_string()))?;
+    let report = serde_json::from_str::<serde_json::Value>(&sort_json(ds, out)?)
         .map_err(|e| Error::Physical(e.to_string()))?;
     if let Some(map) = value.as_object_mut() {
         map.insert("played".into(), report);
@@ -158,25 +300,27 @@ pub(crate) fn design_json(d: &SortDesign, played: &[ClassPlay]) -> Result<String
     Ok(text)
 }
 
-/// Terminal summary of a sort.
-pub fn summary(played: &[ClassPlay]) -> String {
-    let mut s = String::new();
-    for c in played {
+/// Terminal summary of a sort: the time to sort first, then per class.
+pub fn summary(out: &SortOutcome) -> String {
+    let mut s = format!("{}\n", headline(out));
+    for c in &out.kept().classes {
         let _ = writeln!(
             s,
-            "class {}: μ {}, realised strength {:.4} 1/s, shape {}, {} at its attractor, {} mixed up",
+            "class {}: μ {}, realised strength {:.4} 1/s, shape {}, sorted in {}, {} at its attractor, {} mixed up, {} lost contact",
             c.name,
             c.friction,
             c.realised_strength,
             percent(c.realised_shape_error, 1),
+            seconds(c.time_to_sort_s),
             c.at_own.map_or("n/a".into(), |x| percent(x, 1)),
-            percent(c.mixed_up, 1)
+            percent(c.mixed_up, 1),
+            c.contact_lost
         );
     }
     let _ = writeln!(
         s,
         "{}",
-        if goal_met(played) {
+        if goal_met(&out.kept().classes) {
             "sort goal met"
         } else {
             "sort goal NOT met (see report.md for the reason)"
@@ -186,26 +330,27 @@ pub fn summary(played: &[ClassPlay]) -> String {
 }
 
 /// `platefield design` for a target with classes, once designed
-/// ([`platefield::design::DesignOutcome::Sorted`]): play every class, write
-/// `OUT/<target>/` whole; the summary or the `--json` text.
+/// ([`platefield::design::DesignOutcome::Sorted`]): play every candidate,
+/// keep the faster, write `OUT/<target>/` whole; the summary or the
+/// `--json` text.
 pub fn run(
     target: &platefield::request::Target,
-    d: &platefield::design::sort::SortDesign,
+    ds: &[SortDesign],
     dir: &Path,
     json: bool,
     files: &[&str],
     runtime: &platefield::work::Runtime,
 ) -> Result<String> {
-    let played = platefield::verify::sort_play::play_classes(target, d, None, runtime)?;
+    let out = platefield::verify::sort_play::play_sort(target, ds, runtime)?;
     let stage = platefield::output::Staged::new(dir)?;
-    write(&target.name, d, &played, stage.path())?;
+    write(&target.name, ds, &out, stage.path())?;
     stage.commit(files)?;
     if json {
-        return design_json(d, &played);
+        return design_json(ds, &out);
     }
     Ok(format!(
-        "{}wrote {}/{{schedule.json, sort.json, report.md}}\n",
-        summary(&played),
+        "{}wrote {}/{{schedule.json, sort.json, report.md, sorted.svg}}\n",
+        summary(&out),
         dir.display()
     ))
 }

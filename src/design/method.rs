@@ -57,6 +57,7 @@ use crate::error::{Error, Result};
 use crate::field::FieldKind;
 use crate::field::Grid;
 use crate::fit::{self, FitMetrics};
+use crate::motion::Signals;
 use crate::play::sensitivity::{self, FrictionRow, Sensitivity, Span};
 use crate::request::{SampledTarget, Target};
 use crate::schedule::export::schedule_peaks;
@@ -1000,6 +1001,28 @@ pub(crate) fn mix_design(
             (syn.checked.motion.clone(), Some(syn))
         }
     };
+    let limits = ShakerLimits::from_spec(target.shaker.as_ref());
+    let motion = mixable(motion, &limits, opts)?;
+    let mut with_motion = opts.clone();
+    with_motion
+        .basis
+        .motions
+        .push(("Synthesized".into(), motion));
+    Ok((design(target, &with_motion)?, fresh))
+}
+
+/// `motion` made playable beside the primitives of a mixed schedule
+/// ([`mix_design`]'s rules): played at the primitives' period and scaled
+/// down where its ramps, or its steady velocity or stroke at that period,
+/// would exceed `limits`.
+///
+/// # Errors
+/// A ramp that cannot be built (never for [`super::basis::MIXED_RAMP_CYCLES`]).
+pub(crate) fn mixable(
+    motion: Signals,
+    limits: &ShakerLimits,
+    opts: &DesignOptions,
+) -> Result<Signals> {
     let mut motion = motion;
     if let Some(kind) = opts.basis.kinds.first() {
         motion.period = crate::basis::Primitive::new(*kind).period();
@@ -1011,7 +1034,6 @@ pub(crate) fn mix_design(
         2 * ramp + 1,
         "mix",
     )?);
-    let limits = ShakerLimits::from_spec(target.shaker.as_ref());
     let steady = crate::schedule::export::peaks::KinematicPeaks::of_motion(
         &crate::motion::Motion::Signals(motion.clone()),
         limits.harmonics,
@@ -1035,12 +1057,7 @@ pub(crate) fn mix_design(
     if fit < 1.0 {
         motion = motion.scaled(fit);
     }
-    let mut with_motion = opts.clone();
-    with_motion
-        .basis
-        .motions
-        .push(("Synthesized".into(), motion));
-    Ok((design(target, &with_motion)?, fresh))
+    Ok(motion)
 }
 
 /// Shaker limits equal to a sequenced schedule's per-axis peaks

@@ -131,9 +131,9 @@ impl<'a> From<&'a TargetFile> for DesignRequest<'a> {
 #[derive(Debug, Clone)]
 #[allow(clippy::large_enum_variant)]
 pub enum DesignOutcome {
-    /// A target with classes: one stacked fit of primitives that sorts
-    /// the classes by friction ([`super::sort`]).
-    Sorted(SortDesign),
+    /// A target with classes: the sort candidates, stacked fits that sort
+    /// the classes by friction ([`super::sort`]), not yet played.
+    Sorted(Vec<SortDesign>),
     /// The sequenced design and the closed loop run on it
     /// ([`DesignOptions::closed_loop`]).
     ClosedLoop {
@@ -185,7 +185,7 @@ impl DesignOutcome {
 ///
 /// * a pose target: [`design_pose`] with [`DROPS`] played drops (the
 ///   method, closed loop and classes do not apply);
-/// * a target with `classes`: the stacked sort fit ([`design_sort`]);
+/// * a target with `classes`: the stacked sort fits ([`design_sort`]);
 ///   only with [`Method::Auto`] or [`Method::Sequence`] and no closed loop;
 /// * [`DesignOptions::closed_loop`] given: the sequenced design
 ///   ([`design`]) and the closed loop on it; not with a method that

@@ -33,8 +33,48 @@
 //! predicted strength and shape error are its own rows' least-squares
 //! scale and relative error.
 //!
-//! **Judged by playing**: every class's swarm is played
-//! (`verify::sort_play`); where its parts end is the measure.
+//! **Synthesized candidate.** The slip lead δ = asin(μg/A) of a part
+//! under an in-plane plate acceleration of amplitude A turns its field by
+//! δ and scales it by cos δ ([`crate::synth`]): parts of different μ see
+//! one motion's field turned and scaled differently, and where A < μ N
+//! they do not slip at all. Two consequences shape the candidate. (i) Under
+//! a uniformly turning slip direction, every signal's (P, Q) pair turns by
+//! the same lead, so the whole affine field turns about its fixed point:
+//! one harmonic-1 motion gives every class the *same* attractor, turned
+//! and rescaled (measured on `targets/sort_friction.json`: the motion
+//! synthesized for the μ 0.45 sink at (+2 cm, 0), at full strength
+//! 0.51 s⁻¹, realises 0.51 s⁻¹ at μ 0.2 toward the same sink, turned by
+//! 5°: with A ≈ 45 m/s² both leads are a few degrees). (ii) A motion whose
+//! in-plane peak stays below the stickier class's μ_s N never moves it,
+//! while it carries the slippery class. So the candidate offers the
+//! stacked fit, besides the primitives and the gentle Trans copies, a
+//! motion per class synthesized jointly for every class's field at its own
+//! friction (`crate::synth::synthesize_classes`: the worst class's
+//! judge, strength and contact margin; seeded on that class), a motion per
+//! class synthesized for its own field alone (which every class follows:
+//! the strong sink the others are pushed off) and, for
+//! every class with a stickier one, a **gentle** motion synthesized for
+//! its field within in-plane peaks of [`GENTLE_SYNTH_FRACTION`] of the
+//! next stickier class's μ_s,low g and a contact margin of
+//! [`GENTLE_SYNTH_MARGIN`] (so μ_s,low N ≥ 0.85 μ_s,low g stays above the
+//! peak: that class is held). The fit's time fractions make the time-share.
+//!
+//! **Aim.** The stacked fit matches each class's whole-cycle average
+//! field; the parts follow the schedule segment by segment, and where they
+//! settle (the fixed point of one schedule period) is off that average's
+//! attractor by several millimetres when strong segments carry them
+//! centimetres per segment and cancel on average (measured on
+//! `targets/sort_friction.json`, budgets 10-30 %: the μ 0.2 swarm's median
+//! end 9-22 mm from its sink). So a synthesized candidate is aimed: five
+//! parts started at and around each class's attractor are played
+//! [`AIM_PLAY_S`], the offset e from the attractor of their orbits' mean
+//! centre over the last period (time-averaged between segment ends; for a
+//! line, its normal part) measured, the class's target moved by −e (fitted
+//! as f(q + e)) and refitted, up to [`AIM_STEPS`] times.
+//!
+//! **Judged by playing**: every candidate's swarms are played
+//! (`verify::sort_play`); the sort that brings 95 % of every class to its
+//! own attractor soonest is kept.
 
 use nalgebra::DVector;
 use serde::Serialize;
@@ -44,13 +84,37 @@ use super::stages::{self, BasisStage};
 use super::{strongest, DesignOptions};
 use crate::basis::{symmetry, FieldLibrary, Primitive, PrimitiveKind};
 use crate::error::{Error, Result};
+use crate::field::{FieldSettings, Grid};
 use crate::fit::{FitOptions, FitProblem};
-use crate::request::{SampledTarget, Target};
+use crate::motion::Signals;
+use crate::request::{FieldSpec, SampledTarget, Target};
 use crate::schedule::Schedule;
+use crate::synth::{synthesize, synthesize_classes, ShakerLimits};
+use crate::work::Term;
 
 /// Peak plate accelerations of the gentle Trans copies, as fractions of
 /// the stickier class's μ_s g (both below 1: that class never slips).
 pub const GENTLE_FRACTIONS: [f64; 2] = [0.75, 0.9];
+
+/// In-plane peak of a gentle synthesized motion, as a fraction of the next
+/// stickier class's μ_s,low g.
+pub const GENTLE_SYNTH_FRACTION: f64 = 0.7;
+
+/// Contact margin of a gentle synthesized motion: N ≥ 0.85 g keeps the
+/// stickier class's μ_s,low N at or above 0.85 μ_s,low g, above the
+/// in-plane peak [`GENTLE_SYNTH_FRACTION`] μ_s,low g.
+pub const GENTLE_SYNTH_MARGIN: f64 = 0.85;
+
+/// Shape budgets of the synthesized candidates fitted strongest within a
+/// budget (`crate::fit::FitMode::Budget`) besides the shape-first one. A
+/// sort needs each class's attractor where it is asked and speed, not the
+/// field's shape everywhere: measured on `targets/sort_friction.json`
+/// (`--min-cycles 1`, 60 s of play, before aiming), shape first predicts
+/// 0.047 s⁻¹ per class and leaves both swarms 9-17 mm off their sinks, a
+/// budget of 15 % 0.17 and 0.15 s⁻¹, a budget of 30 % 0.23 s⁻¹. Which
+/// budget, aimed, puts both classes on their own attractors is found by
+/// playing them all (`results/sort_friction/`: 25 %).
+pub const SORT_BUDGETS: [f64; 5] = [0.1, 0.15, 0.2, 0.25, 0.3];
 
 /// Scales tried for each class's target after the first.
 pub(crate) const CLASS_SCALES: [f64; 7] = [0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 4.0];
@@ -71,9 +135,50 @@ pub struct ClassFit {
     pub shape_error: f64,
 }
 
+/// How a sort candidate's basis was made.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SortMethod {
+    /// The primitives and the gentle Trans copies.
+    Primitives,
+    /// The same with synthesized motions (module docs).
+    Synthesized,
+}
+
+impl SortMethod {
+    /// Name, e.g. `synthesized`.
+    pub fn name(self) -> &'static str {
+        match self {
+            SortMethod::Primitives => "primitives",
+            SortMethod::Synthesized => "synthesized",
+        }
+    }
+}
+
+impl SortDesign {
+    /// The candidate's name: its method, and its shape budget if any, e.g.
+    /// `synthesized, shape ≤ 15 %`.
+    pub fn label(&self) -> String {
+        match self.budget {
+            None => self.method.name().to_string(),
+            Some(b) => format!("{}, shape ≤ {:.0} %", self.method.name(), 100.0 * b),
+        }
+    }
+}
+
 /// A sort design: one schedule, every class's predicted field.
 #[derive(Debug, Clone)]
 pub struct SortDesign {
+    /// How its basis was made.
+    pub method: SortMethod,
+    /// The synthesized motions offered to the fit (labels).
+    pub motions: Vec<String>,
+    /// The stacked fit's shape budget, when it was fitted strongest within
+    /// one ([`SORT_BUDGETS`]); `None`: shape first.
+    pub budget: Option<f64>,
+    /// Per class, the offset (m) its target was moved by so that its parts
+    /// settle on the attractor asked for (module docs, **Aim**).
+    pub aim: Vec<[f64; 2]>,
     /// The schedule (its settings hold the first class's friction).
     pub schedule: Schedule,
     /// Per class, in the target's order.
@@ -82,20 +187,23 @@ pub struct SortDesign {
     pub gentle: Vec<String>,
 }
 
-/// Designs one schedule for all of `target`'s classes (see the module
-/// docs). Errors when the target has no classes.
+/// Designs the sort candidates of `target`'s classes (see the module
+/// docs): the primitives' stacked fit, then the fit with synthesized
+/// motions; `crate::verify::sort_play::play_sort` plays them and keeps
+/// the faster. Errors when the target has no classes.
 ///
 /// ```no_run
 /// use platefield::design::{sort::design_sort, DesignOptions};
 /// use platefield::request::Target;
 /// let target = Target::load(std::path::Path::new("targets/sort_friction.json"))?;
-/// let d = design_sort(&target, &DesignOptions::default())?;
-/// for c in &d.classes {
-///     println!("{}: shape {:.1} %", c.name, 100.0 * c.shape_error);
+/// for d in design_sort(&target, &DesignOptions::default())? {
+///     for c in &d.classes {
+///         println!("{}: {}: shape {:.1} %", d.method.name(), c.name, 100.0 * c.shape_error);
+///     }
 /// }
 /// # Ok::<(), platefield::Error>(())
 /// ```
-pub fn design_sort(target: &Target, opts: &DesignOptions) -> Result<SortDesign> {
+pub fn design_sort(target: &Target, opts: &DesignOptions) -> Result<Vec<SortDesign>> {
     if target.classes.len() < 2 {
         return Err(Error::invalid(
             "target.classes",
@@ -103,7 +211,182 @@ pub fn design_sort(target: &Target, opts: &DesignOptions) -> Result<SortDesign> 
         ));
     }
     opts.runtime.admit(&sort_estimate(target, opts)?)?;
-    let gentle = gentle_primitives(target, opts);
+    let primitives = design_sort_primitives(target, opts)?;
+    let motions = sort_motions(target, opts)?;
+    let stack = stack(target, opts, &motions)?;
+    let progress = crate::progress::Progress::new(
+        "sort: aiming",
+        "candidates",
+        1 + SORT_BUDGETS.len() as u64,
+        opts.runtime.progress(),
+    );
+    progress.set_message("shape first".to_string());
+    let mut out = vec![primitives, aimed(target, &stack, None)?];
+    progress.inc(1);
+    for budget in SORT_BUDGETS {
+        progress.set_message(format!("shape ≤ {:.0} %", 100.0 * budget));
+        // A budget the stacked fit cannot reach leaves that candidate out.
+        if let Ok(d) = aimed(target, &stack, Some(budget)) {
+            out.push(d);
+        }
+        progress.inc(1);
+    }
+    progress.finish();
+    Ok(out)
+}
+
+/// The primitives' candidate alone (the first of [`design_sort`]), without
+/// the syntheses.
+///
+/// ```no_run
+/// use platefield::design::{sort::design_sort_primitives, DesignOptions};
+/// use platefield::request::Target;
+/// let target = Target::load(std::path::Path::new("targets/sort_friction.json"))?;
+/// let d = design_sort_primitives(&target, &DesignOptions::default())?;
+/// assert!(d.motions.is_empty());
+/// # Ok::<(), platefield::Error>(())
+/// ```
+///
+/// # Errors
+/// Those of [`design_sort`].
+pub fn design_sort_primitives(target: &Target, opts: &DesignOptions) -> Result<SortDesign> {
+    let n = target.classes.len();
+    fit_stack(
+        target,
+        &stack(target, opts, &[])?,
+        SortMethod::Primitives,
+        None,
+        &vec![[0.0; 2]; n],
+    )
+}
+
+/// The synthesized motions of the sort of `target` (module docs), each
+/// made playable beside the primitives (`super::method::mixable`):
+/// `Own:<class>` (its field at its friction alone: every class sees it,
+/// nearly unturned at full strength) and `Joint:<class>` for every class;
+/// for every class with a stickier one,
+/// within the gentle limits, `Gentle:<class>` (its own field) and
+/// `GentleCarry:<class>` (a uniform transport from the next stickier
+/// class's attractor toward its own: an attractor off the plate's centre
+/// needs a uniform part, which the tilts cannot give and the vertical
+/// limit barely allows, so a gentle in-plane ratchet carries it).
+///
+/// # Errors
+/// A synthesis failing (invalid limits or options).
+pub fn sort_motions(target: &Target, opts: &DesignOptions) -> Result<Vec<(String, Signals)>> {
+    let g = target
+        .grid
+        .as_ref()
+        .ok_or_else(|| Error::invalid("target.grid", "a sort needs the target's grid"))?;
+    let region = Grid {
+        x: g.x,
+        y: g.y,
+        n: g.n,
+    };
+    let limits = ShakerLimits::from_spec(target.shaker.as_ref());
+    let synth = crate::synth::SynthOptions {
+        progress: opts.runtime.progress(),
+        ..opts.synthesis
+    };
+    let classes: Vec<(FieldSpec, FieldSettings)> = (0..target.classes.len())
+        .map(|i| {
+            let ct = target.class_target(i);
+            (ct.field.clone(), ct.physics(&opts.settings))
+        })
+        .collect();
+    let lows: Vec<f64> = target.classes.iter().map(|c| c.friction.stat.lo).collect();
+    let mut out = Vec::new();
+    for (i, class) in target.classes.iter().enumerate() {
+        let own = synthesize(&classes[i].0, &region, &limits, &classes[i].1, &synth)?;
+        out.push((
+            format!("Own:{}", class.name),
+            super::method::mixable(own.checked.motion, &limits, opts)?,
+        ));
+        let mut order = classes.clone();
+        order.swap(0, i);
+        let joint = synthesize_classes(&order, &region, &limits, &synth)?;
+        out.push((
+            format!("Joint:{}", class.name),
+            super::method::mixable(joint.checked.motion, &limits, opts)?,
+        ));
+        let stickier = lows
+            .iter()
+            .copied()
+            .filter(|&mu| mu > lows[i])
+            .fold(f64::INFINITY, f64::min);
+        if stickier.is_finite() {
+            let g = classes[i].1.gravity;
+            let peak = GENTLE_SYNTH_FRACTION * stickier * g;
+            let gentle = ShakerLimits {
+                linear: [
+                    limits.linear[0].min(peak),
+                    limits.linear[1].min(peak),
+                    limits.linear[2],
+                ],
+                contact_margin: limits.contact_margin.max(GENTLE_SYNTH_MARGIN),
+                ..limits.clone()
+            };
+            let s = synthesize(&classes[i].0, &region, &gentle, &classes[i].1, &synth)?;
+            out.push((
+                format!("Gentle:{}", class.name),
+                super::method::mixable(s.checked.motion, &gentle, opts)?,
+            ));
+            let next = (0..lows.len())
+                .filter(|&j| lows[j] == stickier)
+                .min()
+                .unwrap_or(i);
+            if let Some(direction) = apart(&region, &classes[i].0, &classes[next].0) {
+                let carry = FieldSpec::Trans {
+                    center: [0.0; 2],
+                    strength: 1e-3,
+                    direction,
+                };
+                let s = synthesize(&carry, &region, &gentle, &classes[i].1, &synth)?;
+                out.push((
+                    format!("GentleCarry:{}", class.name),
+                    super::method::mixable(s.checked.motion, &gentle, opts)?,
+                ));
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// The direction (degrees) in which `own`'s parts must move relative to
+/// `other`'s: the difference of the two fields' means over `region` (for
+/// two sinks, from the other's centre to the own); `None` when the means
+/// are equal.
+fn apart(region: &Grid, own: &FieldSpec, other: &FieldSpec) -> Option<f64> {
+    let points = region.points();
+    let mean = |f: &FieldSpec| {
+        points.iter().fold([0.0; 2], |a, p| {
+            let v = f.eval(*p);
+            [a[0] + v[0], a[1] + v[1]]
+        })
+    };
+    let (a, b) = (mean(own), mean(other));
+    let d = [a[0] - b[0], a[1] - b[1]];
+    (d[0].hypot(d[1]) > 1e-12 * (a[0].hypot(a[1]) + b[0].hypot(b[1])))
+        .then(|| d[1].atan2(d[0]).to_degrees())
+}
+
+/// Every class's basis (the primitives, the gentle Trans copies and
+/// `motions`, simulated at the class's friction), stacked, and the classes'
+/// sampled targets.
+struct Stack {
+    basis: DesignBasis,
+    sampled: Vec<SampledTarget>,
+    motions: Vec<String>,
+    opts: DesignOptions,
+    gentle: Vec<String>,
+}
+
+/// The [`Stack`] of `target` over the primitives, the gentle Trans copies
+/// and `motions`.
+fn stack(target: &Target, opts: &DesignOptions, motions: &[(String, Signals)]) -> Result<Stack> {
+    let mut opts = opts.clone();
+    opts.basis.motions.extend(motions.iter().cloned());
+    let gentle = gentle_primitives(target, &opts);
     let mut bases = Vec::new();
     let mut sampled = Vec::new();
     let progress = crate::progress::Progress::new(
@@ -130,17 +413,192 @@ pub fn design_sort(target: &Target, opts: &DesignOptions) -> Result<SortDesign> 
             "no basis column is usable at every class's friction".into(),
         ));
     }
-    let scales = choose_scales(&basis, &sampled)?;
+    Ok(Stack {
+        basis,
+        sampled,
+        motions: motions.iter().map(|m| m.0.clone()).collect(),
+        opts,
+        gentle: gentle.iter().map(dbasis::label).collect(),
+    })
+}
+
+/// One stacked fit of `stack` (the fit mode of `stack.opts`), each class's
+/// target moved by its `aim` offset (m): class i's field f is fitted as
+/// f(q − aimᵢ).
+fn fit_stack(
+    target: &Target,
+    stack: &Stack,
+    method: SortMethod,
+    budget: Option<f64>,
+    aim: &[[f64; 2]],
+) -> Result<SortDesign> {
+    let mut opts = stack.opts.clone();
+    if let Some(b) = budget {
+        opts.fit.mode = crate::fit::FitMode::Budget { rel_error: b };
+    }
+    let sampled: Vec<SampledTarget> = stack
+        .sampled
+        .iter()
+        .zip(&target.classes)
+        .zip(aim)
+        .map(|((s, c), d)| SampledTarget {
+            vectors: s
+                .points
+                .iter()
+                .map(|p| c.field.eval([p[0] - d[0], p[1] - d[1]]))
+                .collect(),
+            ..s.clone()
+        })
+        .collect();
+    let scales = choose_scales(&stack.basis, &sampled)?;
     let stacked = stack_targets(&sampled, &scales);
     let opts0 = opts.for_target(&target.class_target(0));
-    let fit = stages::fit_basis(basis, &stacked, &opts0)?;
+    let fit = stages::fit_basis(stack.basis.clone(), &stacked, &opts0)?;
     let (schedule, achieved) = stages::schedule_stage(target, &stacked, &fit, &opts0)?;
     let classes = class_fits(target, &sampled, &scales, &achieved)?;
     Ok(SortDesign {
+        method,
+        motions: stack.motions.clone(),
+        budget,
+        aim: aim.to_vec(),
         schedule,
         classes,
-        gentle: gentle.iter().map(dbasis::label).collect(),
+        gentle: stack.gentle.clone(),
     })
+}
+
+/// Most refits of a synthesized candidate aimed by its settled parts.
+pub const AIM_STEPS: usize = 3;
+/// Aiming stops once every class settles within this (m) of its attractor.
+pub const AIM_TOL: f64 = 1e-3;
+/// Time (s) the aiming parts are played (whole schedule periods).
+pub const AIM_PLAY_S: f64 = 20.0;
+/// Offsets (m) of the aiming parts from the attractor: the attractor and
+/// four points this far along x and y.
+const AIM_SPREAD: f64 = 3e-3;
+
+/// `fit_stack` aimed (module docs, **Aim**): up to [`AIM_STEPS`] refits,
+/// each class's target moved against the offset of where its parts,
+/// started at and around its attractor and played [`AIM_PLAY_S`], settle;
+/// the refit whose worst class offset is least is kept.
+fn aimed(target: &Target, stack: &Stack, budget: Option<f64>) -> Result<SortDesign> {
+    let n = target.classes.len();
+    let mut aim = vec![[0.0; 2]; n];
+    let mut d = fit_stack(target, stack, SortMethod::Synthesized, budget, &aim)?;
+    let mut best: Option<(f64, SortDesign)> = None;
+    for step in 0..=AIM_STEPS {
+        let offsets = settle_offsets(target, &d)?;
+        let worst = offsets
+            .iter()
+            .flatten()
+            .map(|e| e[0].hypot(e[1]))
+            .fold(0.0, f64::max);
+        if best.as_ref().is_none_or(|b| worst < b.0) {
+            best = Some((worst, d.clone()));
+        }
+        if worst < AIM_TOL || step == AIM_STEPS {
+            break;
+        }
+        for (a, e) in aim.iter_mut().zip(&offsets) {
+            if let Some(e) = e {
+                *a = [a[0] - e[0], a[1] - e[1]];
+            }
+        }
+        d = fit_stack(target, stack, SortMethod::Synthesized, budget, &aim)?;
+    }
+    Ok(best.map(|b| b.1).unwrap_or(d))
+}
+
+/// The time average over the last `period` (s) of the path `(t, position)`
+/// recorded at segment ends, linear between them: the centre of the orbit
+/// a settled part repeats every period. `None` for a path shorter than two
+/// points.
+fn orbit_centre(path: &[(f64, [f64; 2])], period: f64) -> Option<[f64; 2]> {
+    let (&(t_end, _), _) = path.split_last()?;
+    let from = t_end - period * (1.0 - 1e-9);
+    let mut sum = [0.0; 2];
+    let mut time = 0.0;
+    for w in path.windows(2) {
+        let ((t0, p0), (t1, p1)) = (w[0], w[1]);
+        if t0 < from {
+            continue;
+        }
+        let dt = t1 - t0;
+        sum = [
+            sum[0] + dt * 0.5 * (p0[0] + p1[0]),
+            sum[1] + dt * 0.5 * (p0[1] + p1[1]),
+        ];
+        time += dt;
+    }
+    (time > 0.0).then(|| [sum[0] / time, sum[1] / time])
+}
+
+/// Per class, where parts started at and around its attractor settle under
+/// `d`'s schedule at the class's friction, as an offset (m) from the
+/// attractor (for a line, its normal part); `None` for a class without an
+/// attractor or whose parts all lose contact.
+fn settle_offsets(target: &Target, d: &SortDesign) -> Result<Vec<Option<[f64; 2]>>> {
+    use crate::dynamics::{Model, PartPhysics, PartState};
+    use crate::play::{PlayOptions, ScheduleMotion, V2};
+    use rayon::prelude::*;
+    let sm = ScheduleMotion::from_schedule(&d.schedule)?;
+    let periods = ((AIM_PLAY_S / sm.period()).ceil() as u32).max(1);
+    let mut out = Vec::new();
+    for i in 0..target.classes.len() {
+        let ct = target.class_target(i);
+        let Some(a) = crate::request::Attractor::of(&ct.field) else {
+            out.push(None);
+            continue;
+        };
+        let (centre, normal) = match a {
+            crate::request::Attractor::Point { center, .. } => (center, None),
+            crate::request::Attractor::Line {
+                point, direction, ..
+            } => (point, Some([-direction[1], direction[0]])),
+        };
+        let v = PlayOptions::from_settings(&ct.physics(&d.schedule.settings));
+        let starts = [[0.0, 0.0], [1.0, 0.0], [-1.0, 0.0], [0.0, 1.0], [0.0, -1.0]]
+            .map(|u| [centre[0] + AIM_SPREAD * u[0], centre[1] + AIM_SPREAD * u[1]]);
+        let ends: Vec<Option<[f64; 2]>> = starts
+            .par_iter()
+            .map(|p| {
+                let model = Model {
+                    moving: true,
+                    ..v.model
+                };
+                let player = sm
+                    .player(PartPhysics::new(v.friction, v.gravity, model), v.numerics)
+                    .with_join(v.join);
+                let anchor = V2::from(*p);
+                let mut state = PartState::new(anchor, V2::zeros());
+                let mut path: Vec<(f64, [f64; 2])> = Vec::new();
+                player
+                    .play_periods(&mut state, &anchor, 0, periods, |t, _, s| {
+                        path.push((t, [s.r.x, s.r.y]));
+                    })
+                    .ok()
+                    .and_then(|()| orbit_centre(&path, sm.period()))
+            })
+            .collect();
+        let kept: Vec<[f64; 2]> = ends.into_iter().flatten().collect();
+        if kept.is_empty() {
+            out.push(None);
+            continue;
+        }
+        let k = kept.len() as f64;
+        let m = kept
+            .iter()
+            .fold([0.0; 2], |s, e| [s[0] + e[0] / k, s[1] + e[1] / k]);
+        let e = [m[0] - centre[0], m[1] - centre[1]];
+        out.push(Some(match normal {
+            None => e,
+            Some(nv) => {
+                let along = e[0] * nv[0] + e[1] * nv[1];
+                [along * nv[0], along * nv[1]]
+            }
+        }));
+    }
+    Ok(out)
 }
 
 /// The work of designing the sort of `target` ([`crate::work`]), stated
@@ -187,6 +645,39 @@ pub fn sort_estimate(target: &Target, opts: &DesignOptions) -> Result<crate::wor
             .named(&format!("class {}: judge", class.name)),
         );
     }
+    // The synthesized motions (`sort_motions`): per class its own and a
+    // joint synthesis judged under every class's physics, two gentle ones
+    // per class but the stickiest; each at most its evaluation budget on
+    // the coarse grid.
+    let n = target.classes.len() as f64;
+    let syn = &opts.synthesis;
+    e = e.plus(
+        crate::work::field_term(
+            "sort syntheses",
+            syn.max_evaluations as f64,
+            "evaluations",
+            (syn.coarse[0] * syn.coarse[1]) as f64,
+            crate::field::FieldKind::Velocity,
+            &opts.settings,
+        )
+        .times(n * n + n + 2.0 * (n - 1.0), "class physics"),
+    );
+    // Aiming (`aimed`): every synthesized candidate at most AIM_STEPS + 1
+    // times, five parts per class for AIM_PLAY_S at the primitives' period.
+    let period = opts
+        .basis
+        .kinds
+        .first()
+        .map_or(0.03, |k| Primitive::new(*k).period());
+    e = e.plus(
+        Term::new("aim plays")
+            .times((1 + SORT_BUDGETS.len()) as f64, "candidates")
+            .times((AIM_STEPS + 1) as f64, "fits")
+            .times(n, "classes")
+            .times(5.0, "parts")
+            .times((AIM_PLAY_S / period).ceil(), "cycles")
+            .times(opts.settings.numerics.steps_per_cycle as f64, "steps"),
+    );
     Ok(e)
 }
 

@@ -91,8 +91,29 @@ pub(super) fn prepare(text: &str) -> Result<Option<String>, TargetError> {
     Ok(Some(Value::Object(map).to_string()))
 }
 
-/// Checks every class: a unique name, its friction and its field.
+/// Most part classes one target sorts. Each class needs its own attractor
+/// at least a few tolerances (5 mm) apart within the plate's region, and
+/// its own friction band separated from its neighbours': every class's
+/// field is judged at every class's friction, so the design's work grows
+/// with the square of the count, and ratios between neighbouring
+/// frictions shrink (μ 0.1–1.0 in 8 classes is a ratio of 1.39 between
+/// neighbours, where `results/sort_friction` already needs the lead
+/// δ = asin(μg/A) of each to differ).
+pub const MAX_CLASSES: usize = 8;
+
+/// Checks every class: a unique name, its friction and its field; at most
+/// [`MAX_CLASSES`] classes, and no two whose static friction ranges
+/// overlap (a part in both ranges could be sent to either attractor).
 pub(super) fn validate(classes: &[PartClass]) -> Result<(), TargetError> {
+    if classes.len() > MAX_CLASSES {
+        return Err(TargetError::invalid(
+            "target.classes",
+            format!(
+                "at most {MAX_CLASSES} classes, got {} (each class is judged at every class's friction; see platefield::request::MAX_CLASSES)",
+                classes.len()
+            ),
+        ));
+    }
     for (i, c) in classes.iter().enumerate() {
         let path = format!("target.classes[{i}]");
         if let Some(j) = classes[..i].iter().position(|d| d.name == c.name) {
@@ -113,6 +134,20 @@ pub(super) fn validate(classes: &[PartClass]) -> Result<(), TargetError> {
                 other => TargetError::invalid(path.clone(), other.to_string()),
             })?;
         c.field.validate(&format!("{path}.field"))?;
+        let (lo, hi) = (c.friction.stat.lo, c.friction.stat.hi);
+        if let Some(j) = classes[..i]
+            .iter()
+            .position(|d| lo <= d.friction.stat.hi && d.friction.stat.lo <= hi)
+        {
+            let d = &classes[j].friction.stat;
+            return Err(TargetError::invalid(
+                format!("{path}.friction"),
+                format!(
+                    "static friction [{lo}, {hi}] overlaps target.classes[{j}]'s [{}, {}]; a part in both ranges could go to either attractor, so class frictions must not overlap",
+                    d.lo, d.hi
+                ),
+            ));
+        }
     }
     Ok(())
 }

@@ -194,4 +194,6 @@ mod synthesize;
 pub mod transport;
 
 pub use limits::ShakerLimits;
-pub use synthesize::{synthesize, AxisPeak, Checked, SynthOptions, Synthesis, POLISH_LM, SYNTH_LM};
+pub use synthesize::{
+    synthesize, synthesize_classes, AxisPeak, Checked, SynthOptions, Synthesis, POLISH_LM, SYNTH_LM,
+};

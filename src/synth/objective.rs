@@ -237,6 +237,9 @@ pub struct Objective<'a> {
     /// The physics each candidate is judged under (worst case over them):
     /// `settings` alone unless [`Objective::with_robust`] gave a range.
     physics: Vec<FieldSettings>,
+    /// Per physics, its own target (sorting, [`Objective::with_classes`]);
+    /// empty: `target` under every physics.
+    class_targets: Vec<Vec<[f64; 2]>>,
     tally: Mutex<Tally>,
     progress: &'a SynthesisProgress,
 }
@@ -268,6 +271,7 @@ impl<'a> Objective<'a> {
             deadline,
             stall: None,
             physics: vec![*settings],
+            class_targets: Vec::new(),
             tally: Mutex::new(Tally {
                 evaluations: 0,
                 best: None,
@@ -324,6 +328,31 @@ impl<'a> Objective<'a> {
         self
     }
 
+    /// This objective judging every candidate by its worst case over part
+    /// classes, each class's own field under its own physics (sorting by
+    /// friction, [`crate::design::sort`]): `classes` replaces the physics
+    /// and the target (empty: unchanged). The cost and the residuals are
+    /// the robust objective's with the class's target in each physics'
+    /// block: the weakest class's strength, the worst class's shape, the
+    /// contact margin at every class's friction.
+    pub(crate) fn with_classes(mut self, classes: &[(FieldSpec, FieldSettings)]) -> Self {
+        if classes.is_empty() {
+            return self;
+        }
+        let points = self.grid.points();
+        self.physics = classes.iter().map(|c| c.1).collect();
+        self.class_targets = classes
+            .iter()
+            .map(|(f, _)| points.iter().map(|p| f.eval(*p)).collect())
+            .collect();
+        self
+    }
+
+    /// The target under the `k`-th physics.
+    fn target_of(&self, k: usize) -> &[[f64; 2]] {
+        self.class_targets.get(k).unwrap_or(&self.target)
+    }
+
     /// The physics each candidate is judged under.
     pub fn physics(&self) -> &[FieldSettings] {
         &self.physics
@@ -378,10 +407,11 @@ impl<'a> Objective<'a> {
         let mut each = Vec::with_capacity(self.physics.len());
         let mut least_normal = f64::INFINITY;
         let mut residuals = Vec::new();
-        for settings in &self.physics {
+        for (k, settings) in self.physics.iter().enumerate() {
             let field = Field::compute(&motion, &self.grid, FieldKind::Velocity, settings, &|| {});
-            let r = realised(&field, &self.target);
-            residuals.extend(self.shape_residuals(&field, &r));
+            let target = self.target_of(k);
+            let r = realised(&field, target);
+            residuals.extend(self.shape_residuals(&field, &r, target));
             each.push(r);
             least_normal = least_normal.min(
                 kinematic_least_normal(&motion, &self.grid, settings)
@@ -418,13 +448,13 @@ impl<'a> Objective<'a> {
 
     /// The shape block of the residuals (module documentation) of `field`
     /// measured as `r`.
-    fn shape_residuals(&self, field: &Field, r: &Realised) -> Vec<f64> {
+    fn shape_residuals(&self, field: &Field, r: &Realised, target: &[[f64; 2]]) -> Vec<f64> {
         let s = r.strength;
         let raw: Vec<f64> = field
             .vectors
             .iter()
             .zip(&field.validity)
-            .zip(&self.target)
+            .zip(target)
             .flat_map(|((v, ok), t)| {
                 if *ok == Validity::Ok {
                     [v[0] - s * t[0], v[1] - s * t[1]]
@@ -475,5 +505,67 @@ impl<'a> Objective<'a> {
         evaluations >= self.max_evaluations
             || stalled
             || self.deadline.is_some_and(|d| Instant::now() >= d)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dynamics::Friction;
+    use crate::progress::ProgressMode;
+
+    /// Judged over classes, a candidate's measure is the worst class's: the
+    /// weakest strength, the largest shape error, and each class's shape
+    /// block its own objective's, class after class; one class alone is
+    /// that class's plain objective, residual for residual.
+    #[test]
+    fn classes_measure_is_the_worst_class_s() {
+        let grid = Grid {
+            x: [-0.02, 0.02],
+            y: [-0.01, 0.01],
+            n: [3, 3],
+        };
+        let limits = ShakerLimits::default();
+        let at = |mu: f64| FieldSettings {
+            friction: Friction::uniform(mu),
+            ..FieldSettings::default()
+        };
+        let (s1, s2) = (at(0.2), at(0.45));
+        let f1 = FieldSpec::Sink {
+            center: [-0.01, 0.0],
+            strength: 1.0,
+        };
+        let f2 = FieldSpec::Sink {
+            center: [0.01, 0.0],
+            strength: 1.0,
+        };
+        let progress = SynthesisProgress::new(ProgressMode::Quiet, 1);
+        let o1 = Objective::unbounded(&f1, grid, &limits, &s1, 0.04, &progress);
+        let o2 = Objective::unbounded(&f2, grid, &limits, &s2, 0.04, &progress);
+        let both = Objective::unbounded(&f1, grid, &limits, &s1, 0.04, &progress)
+            .with_classes(&[(f1.clone(), s1), (f2.clone(), s2)]);
+        let alone = Objective::unbounded(&f1, grid, &limits, &s1, 0.04, &progress)
+            .with_classes(&[(f1.clone(), s1)]);
+        // A circular translation (20 m/s²) with tilts: both classes slip.
+        let mut c = Coefficients::zero(limits.period, limits.harmonics);
+        c.set(0, 1, 20.0, 0.0);
+        c.set(1, 1, 20.0, -std::f64::consts::FRAC_PI_2);
+        c.set(3, 1, 60.0, 0.0);
+        c.set(4, 1, 60.0, -std::f64::consts::FRAC_PI_2);
+        let x = o1.layout().to_vec(&c);
+        let (e1, e2, e) = (o1.measure(&x), o2.measure(&x), both.measure(&x));
+        assert!(e1.realised.strength != e2.realised.strength);
+        assert_eq!(
+            e.realised.strength,
+            e1.realised.strength.min(e2.realised.strength)
+        );
+        assert_eq!(
+            e.realised.shape_error,
+            e1.realised.shape_error.max(e2.realised.shape_error)
+        );
+        let n = 2 * grid.len();
+        assert_eq!(e.residuals[..n], e1.residuals[..n]);
+        assert_eq!(e.residuals[n..2 * n], e2.residuals[..n]);
+        assert_eq!(alone.measure(&x).residuals, e1.residuals);
     }
 }

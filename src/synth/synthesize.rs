@@ -277,6 +277,63 @@ pub fn synthesize(
     settings: &FieldSettings,
     options: &SynthOptions,
 ) -> Result<Synthesis> {
+    synthesize_judged(field, region, limits, settings, options, &[])
+}
+
+/// Synthesizes one six-signal motion for several part classes at once,
+/// each class's field under its own physics (sorting by friction,
+/// [`crate::design::sort`]): the objective is the worst class's
+/// (`Objective::with_classes`: the weakest strength, the worst shape, the
+/// contact margin at every class's friction), the solver the same.
+/// The seed, the calibration and the reported check are those of the first
+/// class; callers re-simulate the motion at every class's friction.
+///
+/// ```
+/// use platefield::dynamics::Friction;
+/// use platefield::field::{FieldSettings, Grid};
+/// use platefield::request::FieldSpec;
+/// use platefield::synth::{synthesize_classes, ShakerLimits, SynthOptions};
+///
+/// let at = |mu: f64| FieldSettings { friction: Friction::uniform(mu), ..FieldSettings::default() };
+/// let sink = |x: f64| FieldSpec::Sink { center: [x, 0.0], strength: 1.0 };
+/// let region = Grid { x: [-0.02, 0.02], y: [-0.01, 0.01], n: [5, 3] };
+/// let options = SynthOptions {
+///     coarse: [3, 3],
+///     max_evaluations: 4,
+///     lm: None,
+///     progress: platefield::progress::ProgressMode::Quiet,
+///     ..SynthOptions::default()
+/// };
+/// let classes = [(sink(-0.01), at(0.2)), (sink(0.01), at(0.45))];
+/// let s = synthesize_classes(&classes, &region, &ShakerLimits::default(), &options)?;
+/// assert!(s.evaluations <= 6);
+/// # Ok::<(), platefield::Error>(())
+/// ```
+///
+/// # Errors
+/// No classes; those of [`synthesize`].
+pub fn synthesize_classes(
+    classes: &[(FieldSpec, FieldSettings)],
+    region: &Grid,
+    limits: &ShakerLimits,
+    options: &SynthOptions,
+) -> Result<Synthesis> {
+    let (field, settings) = classes
+        .first()
+        .ok_or_else(|| Error::invalid("classes", "at least one class to synthesize for"))?;
+    synthesize_judged(field, region, limits, settings, options, classes)
+}
+
+/// [`synthesize`], judged over `classes` when there are any
+/// ([`synthesize_classes`]).
+fn synthesize_judged(
+    field: &FieldSpec,
+    region: &Grid,
+    limits: &ShakerLimits,
+    settings: &FieldSettings,
+    options: &SynthOptions,
+    classes: &[(FieldSpec, FieldSettings)],
+) -> Result<Synthesis> {
     let start = Instant::now();
     limits.validate("shaker")?;
     region.validate("region")?;
@@ -313,7 +370,8 @@ pub fn synthesize(
         &progress,
     )
     .with_stall(options.stall)
-    .with_robust(options.robust);
+    .with_robust(options.robust)
+    .with_classes(classes);
     let x0 = layout.to_vec(&seed.coefficients);
     let seed_eval = objective.evaluate(&x0);
     // Refinement starts from the phase-calibrated seed; the seed itself is

@@ -14,7 +14,22 @@
 //!   enough for the slowest class's predicted field to bring its farthest
 //!   part within `SORT_TOL` twice over, at most `MAX_SORT_PERIODS`: the fraction of its parts that end within
 //!   `SORT_TOL` of its own attractor, and the fraction that end within
-//!   `SORT_TOL` of another class's attractor (the mix-up).
+//!   `SORT_TOL` of another class's attractor (the mix-up);
+//! * the **time to sort**: the time by which at least [`SORT_SHARE`] of the
+//!   class's swarm is within `SORT_TOL` of its own attractor and stays
+//!   there to the end of the play (the ⌈0.95 n⌉-th smallest of the parts'
+//!   times to converge, `crate::verify::swarm`; `None` when fewer
+//!   converge within the play). A sort's time is its slowest class's.
+//!
+//! [`play_sort`] plays every candidate of a sort and keeps the one with
+//! the shortest time to sort (one that does not sort within its play ranks
+//! last; ties by the least share at the own attractor, higher first).
+//! Every candidate is played for at least [`MIN_SORT_PLAY_S`], so a fast
+//! candidate is seen to stay sorted; the synthesized candidates are played
+//! first, and once one has sorted in T the rest are played max(T,
+//! [`MIN_SORT_PLAY_S`]) only (a candidate not sorted by then cannot be the
+//! faster: the primitives' fit of `targets/sort_friction.json`, which
+//! needs 553 s, is no longer played for 553 s).
 
 use serde::Serialize;
 
@@ -33,6 +48,11 @@ pub const SORT_TOL: f64 = 5e-3;
 pub(crate) const SORT_STARTS: [usize; 2] = [9, 5];
 /// Most schedule periods a swarm is played.
 pub(crate) const MAX_SORT_PERIODS: u32 = 40;
+/// Share of a class that must be at its own attractor for it to be sorted.
+pub const SORT_SHARE: f64 = 0.95;
+/// Least time (s) a sort candidate is played (whole periods, at most
+/// `MAX_SORT_PERIODS`).
+pub const MIN_SORT_PLAY_S: f64 = 60.0;
 
 /// One class played.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -57,17 +77,157 @@ pub struct ClassPlay {
     pub contact_lost: usize,
     /// Median distance (m) of the parts' ends from the own attractor.
     pub median_distance_m: Option<f64>,
+    /// Time (s) by which [`SORT_SHARE`] of the swarm is within `SORT_TOL`
+    /// of its own attractor and stays there (module docs).
+    pub time_to_sort_s: Option<f64>,
+    /// Per part, its time to converge to its own attractor (s), `None`
+    /// when it does not within the play: the fraction-against-time curve.
+    #[serde(skip)]
+    pub arrivals: Vec<Option<f64>>,
+}
+
+impl ClassPlay {
+    /// The fraction of the swarm within `SORT_TOL` of its own attractor
+    /// from time `t` (s) on.
+    ///
+    /// ```
+    /// # use platefield::verify::sort_play::ClassPlay;
+    /// # fn f(c: &ClassPlay) { let _ = c.sorted_at(30.0); }
+    /// ```
+    pub fn sorted_at(&self, t: f64) -> f64 {
+        let n = self.arrivals.len().max(1) as f64;
+        self.arrivals
+            .iter()
+            .filter(|a| a.is_some_and(|a| a <= t))
+            .count() as f64
+            / n
+    }
+}
+
+/// The time by which `share` of the parts whose convergence times are
+/// `arrivals` have converged: the ⌈share·n⌉-th smallest; `None` when fewer
+/// converge.
+fn time_to_share(arrivals: &[Option<f64>], share: f64) -> Option<f64> {
+    let mut t: Vec<f64> = arrivals.iter().flatten().copied().collect();
+    t.sort_by(f64::total_cmp);
+    let k = ((share * arrivals.len() as f64) - 1e-9).ceil().max(1.0) as usize;
+    t.get(k - 1).copied()
+}
+
+/// One sort candidate played.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SortPlay {
+    /// The candidate's method (`primitives`, `synthesized`).
+    pub method: String,
+    /// Its schedule's period (s).
+    pub period_s: f64,
+    /// Time played (s), the same for every class.
+    pub played_s: f64,
+    /// The slowest class's time to sort (s); `None` when a class is not
+    /// sorted within the play.
+    pub time_to_sort_s: Option<f64>,
+    /// Per class.
+    pub classes: Vec<ClassPlay>,
+}
+
+/// Every candidate played and the one kept.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SortOutcome {
+    /// Index of the kept candidate.
+    pub kept: usize,
+    /// Per candidate, in the design's order.
+    pub plays: Vec<SortPlay>,
+}
+
+impl SortOutcome {
+    /// The kept candidate's play.
+    pub fn kept(&self) -> &SortPlay {
+        &self.plays[self.kept]
+    }
+}
+
+/// Plays every candidate of a sort ([`play_classes`], at least
+/// [`MIN_SORT_PLAY_S`]) and keeps the one that sorts soonest (module
+/// docs).
+///
+/// ```no_run
+/// use platefield::design::{sort::design_sort, DesignOptions};
+/// use platefield::request::Target;
+/// use platefield::verify::sort_play::play_sort;
+/// let target = Target::load(std::path::Path::new("targets/sort_friction.json"))?;
+/// let candidates = design_sort(&target, &DesignOptions::default())?;
+/// let out = play_sort(&target, &candidates, &platefield::work::Runtime::QUIET)?;
+/// println!("kept {}: sorted in {:?} s", out.kept().method, out.kept().time_to_sort_s);
+/// # Ok::<(), platefield::Error>(())
+/// ```
+///
+/// # Errors
+/// No candidate; those of [`play_classes`].
+pub fn play_sort(
+    target: &Target,
+    candidates: &[SortDesign],
+    runtime: &Runtime,
+) -> Result<SortOutcome> {
+    // The synthesized candidates first: once one has sorted in T, the
+    // others are played max(T, MIN_SORT_PLAY_S) only (whole periods): one
+    // that has not sorted by then is not the faster.
+    let mut order: Vec<usize> = (0..candidates.len()).collect();
+    order.sort_by_key(|&i| candidates[i].motions.is_empty());
+    let mut best: Option<f64> = None;
+    let mut plays: Vec<Option<SortPlay>> = vec![None; candidates.len()];
+    for i in order {
+        let d = &candidates[i];
+        let periods = best.map(|t| {
+            let p = (t.max(MIN_SORT_PLAY_S) / d.schedule.period_s).ceil();
+            if p.is_finite() && p >= 1.0 {
+                p as u32
+            } else {
+                1
+            }
+        });
+        let classes = play_classes(target, d, periods, runtime)?;
+        let time_to_sort_s = classes
+            .iter()
+            .map(|c| c.time_to_sort_s)
+            .try_fold(0.0_f64, |a, t| t.map(|t| a.max(t)));
+        if let Some(t) = time_to_sort_s {
+            best = Some(best.map_or(t, |b: f64| b.min(t)));
+        }
+        plays[i] = Some(SortPlay {
+            method: d.label(),
+            period_s: d.schedule.period_s,
+            played_s: classes.first().map_or(0.0, |c| c.duration_s),
+            time_to_sort_s,
+            classes,
+        });
+    }
+    let plays: Vec<SortPlay> = plays.into_iter().flatten().collect();
+    let rank = |p: &SortPlay| {
+        let least = p
+            .classes
+            .iter()
+            .map(|c| c.at_own.unwrap_or(0.0))
+            .fold(f64::INFINITY, f64::min);
+        (p.time_to_sort_s.unwrap_or(f64::INFINITY), -least)
+    };
+    let kept = (0..plays.len())
+        .min_by(|&a, &b| {
+            let (x, y) = (rank(&plays[a]), rank(&plays[b]));
+            x.0.total_cmp(&y.0).then(x.1.total_cmp(&y.1))
+        })
+        .ok_or_else(|| crate::error::Error::invalid("candidates", "no sort candidate to play"))?;
+    Ok(SortOutcome { kept, plays })
 }
 
 /// Plays every class of `design` (see the module docs). `periods`: the
 /// swarms' schedule periods (`None`: from the predicted strengths).
 ///
 /// ```no_run
-/// use platefield::design::{sort::design_sort, DesignOptions};
+/// use platefield::design::{sort::design_sort_primitives, DesignOptions};
 /// use platefield::request::Target;
 /// use platefield::verify::sort_play::play_classes;
 /// let target = Target::load(std::path::Path::new("targets/sort_friction.json"))?;
-/// let d = design_sort(&target, &DesignOptions::default())?;
+/// let d = design_sort_primitives(&target, &DesignOptions::default())?;
 /// for c in play_classes(&target, &d, None, &platefield::work::Runtime::QUIET)? {
 ///     println!("{}: {:?} at its own sink, {} mixed up", c.name, c.at_own, c.mixed_up);
 /// }
@@ -95,6 +255,7 @@ pub fn play_classes(
             .map(|(fit, own)| swarm_periods(*own, &starts, fit.strength, &sm))
             .max()
             .unwrap_or(1)
+            .max(min_periods(&sm))
     });
     let judge = {
         let ct = target.class_target(0);
@@ -146,6 +307,11 @@ pub fn play_classes(
             .collect();
         let (at_own, mixed_up) = arrivals(&swarm.parts, own, &others);
         let distances: Vec<f64> = swarm.parts.iter().map(|p| p.distance[1]).collect();
+        let arrivals: Vec<Option<f64>> = swarm
+            .parts
+            .iter()
+            .map(|p| p.time_to_converge_s.filter(|_| p.note.is_none()))
+            .collect();
         out.push(ClassPlay {
             name: fit.name.clone(),
             friction: settings.friction.stat,
@@ -157,6 +323,8 @@ pub fn play_classes(
             mixed_up,
             contact_lost: swarm.contact_lost,
             median_distance_m: own.and_then(|_| crate::verify::swarm::median(&distances)),
+            time_to_sort_s: time_to_share(&arrivals, SORT_SHARE),
+            arrivals,
         });
         progress.inc(1);
     }
@@ -206,8 +374,17 @@ fn swarm_starts(target: &Target) -> Vec<[f64; 2]> {
         .collect()
 }
 
-/// Whole periods for the predicted field to bring the farthest start
-/// within [`SORT_TOL`] twice over, in 1..=[`MAX_SORT_PERIODS`].
+/// Whole periods of `sm` that play at least [`MIN_SORT_PLAY_S`] (more than
+/// [`MAX_SORT_PERIODS`] for a schedule shorter than 1.5 s).
+fn min_periods(sm: &ScheduleMotion) -> u32 {
+    let p = (MIN_SORT_PLAY_S / sm.period()).ceil();
+    if p.is_finite() && p >= 1.0 {
+        p as u32
+    } else {
+        1
+    }
+}
+
 /// The work of [`play_classes`] ([`crate::work`]): per class its swarm
 /// of `parts` parts played `periods` schedule periods, and its judge
 /// (`judge`, `crate::design::judge::judge_term` of one class).
@@ -240,6 +417,8 @@ pub(crate) fn play_estimate(
     )
 }
 
+/// Whole periods for the predicted field to bring the farthest start
+/// within [`SORT_TOL`] twice over, in 1..=[`MAX_SORT_PERIODS`].
 fn swarm_periods(
     own: Option<Attractor>,
     starts: &[[f64; 2]],
@@ -257,5 +436,40 @@ fn swarm_periods(
         (periods as u32).clamp(1, MAX_SORT_PERIODS)
     } else {
         MAX_SORT_PERIODS
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The time to sort is the ⌈0.95 n⌉-th arrival: of 20 parts the 19th,
+    /// of 45 the 43rd; one part short of the share, none.
+    #[test]
+    fn time_to_sort_is_the_share_s_order_statistic() {
+        let twenty: Vec<Option<f64>> = (1..=20).map(|k| Some(f64::from(k))).collect();
+        assert_eq!(time_to_share(&twenty, SORT_SHARE), Some(19.0));
+        let mut forty_five: Vec<Option<f64>> = (1..=45).map(|k| Some(f64::from(k))).collect();
+        assert_eq!(time_to_share(&forty_five, SORT_SHARE), Some(43.0));
+        forty_five[0] = None;
+        forty_five[1] = None;
+        forty_five[2] = None;
+        assert_eq!(time_to_share(&forty_five, SORT_SHARE), None);
+        let c = ClassPlay {
+            name: "a".into(),
+            friction: 0.2,
+            realised_strength: 0.0,
+            realised_shape_error: 0.0,
+            parts: 4,
+            duration_s: 10.0,
+            at_own: Some(0.75),
+            mixed_up: 0.0,
+            contact_lost: 0,
+            median_distance_m: None,
+            time_to_sort_s: None,
+            arrivals: vec![Some(1.0), Some(2.0), None, Some(8.0)],
+        };
+        assert_eq!(c.sorted_at(2.0), 0.5);
+        assert_eq!(c.sorted_at(9.0), 0.75);
     }
 }
