@@ -304,12 +304,15 @@ impl Simulator<'_> {
                             *phase = PartPhase::Contact(state);
                             t = t1;
                         }
-                        Ok(Some(tk)) if self.flight.is_some() && zero_flights < MAX_ZERO_FLIGHTS => {
+                        Ok(Some(tk))
+                            if self.flight.is_some() && zero_flights < MAX_ZERO_FLIGHTS =>
+                        {
                             *phase = PartPhase::Flying(self.launch(tk, &state));
                             t = tk;
                         }
                         Ok(Some(tk)) => {
-                            let (n, _) = self.forces(&self.kin_off_grid(tk, tk), &state.r, &state.u, anchor);
+                            let (n, _) =
+                                self.forces(&self.kin_off_grid(tk, tk), &state.r, &state.u, anchor);
                             return Err(self.contact_loss(tk, &state.r, anchor, n));
                         }
                         Err(loss) => return Err(loss),
