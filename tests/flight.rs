@@ -221,7 +221,7 @@ impl Conveyor {
     }
 
     /// The mode a part at rest on the plate at `t` enters.
-    fn from_rest(&self, t: f64) -> Mode {
+    fn mode_at_rest(&self, t: f64) -> Mode {
         let ax = self.plate(self.x, t).2;
         if self.normal(t) < 0.0 {
             Mode::Fly
@@ -235,7 +235,7 @@ impl Conveyor {
     /// The landings (time, x) over `[0, end]` from rest at x = 0.
     fn landings(&self, end: f64) -> Vec<(f64, f64)> {
         let spacing = 2.0 * PI / self.w / 4000.0;
-        let (mut a, mut start, mut mode) = (0.0, (0.0, 0.0), self.from_rest(0.0));
+        let (mut a, mut start, mut mode) = (0.0, (0.0, 0.0), self.mode_at_rest(0.0));
         let mut out = Vec::new();
         loop {
             let st = |t: f64| self.state(mode, a, start, t);
@@ -265,7 +265,7 @@ impl Conveyor {
                 Mode::Stuck if self.normal(t) < 0.0 => (t, (x, 0.0), Mode::Fly),
                 Mode::Stuck => (t, (x, 0.0), Mode::Slip(-self.plate(self.x, t).2.signum())),
                 Mode::Slip(_) if self.normal(t) <= 0.0 => (t, (x, u), Mode::Fly),
-                Mode::Slip(_) => (t, (x, 0.0), self.from_rest(t)),
+                Mode::Slip(_) => (t, (x, 0.0), self.mode_at_rest(t)),
                 Mode::Fly => {
                     out.push((t, x));
                     let bound = self.mu * -hdot.min(0.0);
@@ -277,7 +277,7 @@ impl Conveyor {
                     let mode = if self.normal(t) < 0.0 {
                         Mode::Fly
                     } else if u == 0.0 {
-                        self.from_rest(t)
+                        self.mode_at_rest(t)
                     } else {
                         Mode::Slip(u.signum())
                     };
