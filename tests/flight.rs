@@ -420,3 +420,30 @@ fn bouncing_ball_with_restitution() {
         );
     }
 }
+
+/// Without a take-off, `advance_flying` (fixed step by fixed step) leaves
+/// the part bitwise where `advance` (the whole span at once) does: a
+/// six-signal motion with tilts, 2-D slips, parts at seeded points.
+#[test]
+fn in_contact_flying_is_advance_bitwise() {
+    let motion = Motion::Signals(Signals::example());
+    let sim = Simulator::new(&motion, PartPhysics::full(0.3), Numerics::default());
+    let flying = sim.clone().with_flight(Flight::INELASTIC).expect("valid");
+    let mut rng = Seeded(0xb17_5eed);
+    for _ in 0..8 {
+        let r = V2::new(
+            0.1 * (2.0 * rng.next() - 1.0),
+            0.1 * (2.0 * rng.next() - 1.0),
+        );
+        let end = 3.0 * motion.period();
+        let mut state = PartState::new(r, V2::zeros());
+        sim.advance(0.0, end, &mut state, &r, None)
+            .expect("stays in contact");
+        let mut part = PartPhase::Contact(PartState::new(r, V2::zeros()));
+        let out = flying
+            .advance_flying(0.0, end, &mut part, &r)
+            .expect("stays in contact");
+        assert!(out.hops.is_empty());
+        assert_eq!(part, PartPhase::Contact(state), "from {r:?}");
+    }
+}
