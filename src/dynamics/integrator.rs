@@ -697,7 +697,7 @@ impl Simulator<'_> {
     }
 
     /// Root of f in [a, b] with f(a) ≥ 0 > f(b) (Illinois false position).
-    fn illinois(
+    pub(super) fn illinois(
         &self,
         f: &impl Fn(f64) -> f64,
         mut a: f64,
@@ -742,7 +742,7 @@ impl Simulator<'_> {
 /// caller needs to know is whether the minimum dips below zero). On a smooth
 /// minimum it converges superlinearly: about ten evaluations where golden
 /// section alone needs forty or more.
-fn brent_min(f: &impl Fn(f64) -> f64, mut a: f64, mut b: f64, tol: f64) -> (f64, f64) {
+pub(super) fn brent_min(f: &impl Fn(f64) -> f64, mut a: f64, mut b: f64, tol: f64) -> (f64, f64) {
     // (3 − √5)/2, the golden-section fraction.
     const GOLD: f64 = 0.381_966_011_250_105_1;
     let mut x = a + GOLD * (b - a);

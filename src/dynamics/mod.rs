@@ -15,7 +15,11 @@
 //! ```
 //!
 //! N < 0 means the part leaves the plate: it is reported as
-//! [`ContactLoss`] (where and when), never integrated through.
+//! [`ContactLoss`] (where and when), unless the simulator follows parts
+//! through flight ([`Simulator::with_flight`], [`Simulator::advance_flying`]:
+//! ballistic flight in the world frame, the landing as an event, an
+//! inelastic or partly elastic impact with Coulomb friction; the model is
+//! stated in `src/dynamics/flight.rs`).
 //!
 //! Terms the paper's closed form drops are switches in [`Model`]: the
 //! centripetal part of a_s, the gravity tilt of g_S, the Coriolis term 2Ω×u,
@@ -25,6 +29,7 @@
 //! Planar parts (a uniform rectangle in x, y, θ sampled by support points,
 //! each obeying these equations) are in [`PlanarSimulator`].
 
+mod flight;
 mod frozen;
 mod integrator;
 mod kinematics_table;
@@ -36,6 +41,7 @@ mod state;
 mod steady;
 mod swing;
 
+pub use flight::{Airborne, Flight, FlightOutcome, Hop, PartPhase};
 pub use simulator::Simulator;
 pub use state::{CycleOutcome, PartState, TrajectoryPoint, V2};
 

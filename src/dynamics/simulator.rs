@@ -37,6 +37,9 @@ pub struct Simulator<'a> {
     /// The motion's slip axis ([`Motion::slip_axis`]): a part whose slip
     /// velocity has no component across it slips on a line.
     pub(super) line: Option<usize>,
+    /// How parts are followed through flight, when they are
+    /// ([`Simulator::with_flight`]).
+    pub(super) flight: Option<super::Flight>,
 }
 
 impl<'a> Simulator<'a> {
@@ -65,6 +68,7 @@ impl<'a> Simulator<'a> {
             } else {
                 PreparedMotion::new(motion)
             },
+            flight: None,
         }
     }
 
