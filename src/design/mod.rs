@@ -60,7 +60,7 @@ pub use run::{run, DesignOutcome, DesignRequest, TargetFile};
 /// Options of [`design`] and [`run`], in sections (each range-checked
 /// by its own `validate`, all of them by [`DesignOptions::validate`],
 /// whose errors name the option path: `schedule.min_cycles`,
-/// `basis.rotation_step_deg`, `closed_loop.stride`).
+/// `basis.rotation_step_deg`, `closed_loop.max_iterations`).
 #[derive(Debug, Clone, Default)]
 pub struct DesignOptions {
     /// Simulation settings (the physics and numerics) of the basis, the

@@ -30,9 +30,11 @@
 //! motions: the held samples a controller plays, cut into the schedule's
 //! segments.
 //!
-//! [`measure`] is the one realised-velocity measure: what a played
-//! schedule realises at a start point, compared with the field it is meant
-//! to realise (used by `verify`, the order search and the closed loop).
+//! [`measure`] plays moving point parts and compares their mean velocity
+//! with the field a schedule is meant to realise: the model check of
+//! `verify` and the order search ([`windowed`]: the same over fixed
+//! warm-ups). The judge, which holds its parts, is
+//! `crate::design::judge`.
 
 pub mod lag;
 pub mod measure;
