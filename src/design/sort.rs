@@ -538,7 +538,7 @@ fn orbit_centre(path: &[(f64, [f64; 2])], period: f64) -> Option<[f64; 2]> {
 /// attractor (for a line, its normal part); `None` for a class without an
 /// attractor or whose parts all lose contact.
 fn settle_offsets(target: &Target, d: &SortDesign) -> Result<Vec<Option<[f64; 2]>>> {
-    use crate::dynamics::{Model, PartPhysics, PartState};
+    use crate::dynamics::PartState;
     use crate::play::{PlayOptions, ScheduleMotion, V2};
     use rayon::prelude::*;
     let sm = ScheduleMotion::from_schedule(&d.schedule)?;
@@ -562,13 +562,7 @@ fn settle_offsets(target: &Target, d: &SortDesign) -> Result<Vec<Option<[f64; 2]
         let ends: Vec<Option<[f64; 2]>> = starts
             .par_iter()
             .map(|p| {
-                let model = Model {
-                    moving: true,
-                    ..v.model
-                };
-                let player = sm
-                    .player(PartPhysics::new(v.friction, v.gravity, model), v.numerics)
-                    .with_join(v.join);
+                let player = v.moving_player(&sm);
                 let anchor = V2::from(*p);
                 let mut state = PartState::new(anchor, V2::zeros());
                 let mut path: Vec<(f64, [f64; 2])> = Vec::new();

@@ -154,6 +154,20 @@ impl PlayOptions {
         )
         .with_join(self.join)
     }
+
+    /// [`PlayOptions::player`] with the part moving through the plate's
+    /// kinematics whatever `model.moving` says (swarms and parts that
+    /// must travel).
+    pub fn moving_player<'a>(&self, sm: &'a ScheduleMotion) -> Player<'a> {
+        PlayOptions {
+            model: crate::dynamics::Model {
+                moving: true,
+                ..self.model
+            },
+            ..*self
+        }
+        .player(sm)
+    }
 }
 
 /// Where the measured windows start.

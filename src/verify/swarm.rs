@@ -27,7 +27,7 @@
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::dynamics::{Model, PartPhysics, PartState};
+use crate::dynamics::PartState;
 use crate::play::{ScheduleMotion, V2};
 use crate::request::Attractor;
 
@@ -134,14 +134,7 @@ fn one_part(
     attractor: Option<&Attractor>,
     opts: &SwarmOptions,
 ) -> SwarmPart {
-    let v = &opts.verify;
-    let model = Model {
-        moving: true,
-        ..v.model
-    };
-    let player = sm
-        .player(PartPhysics::new(v.friction, v.gravity, model), v.numerics)
-        .with_join(v.join);
+    let player = opts.verify.moving_player(sm);
     let anchor = V2::from(start);
     let mut state = PartState::new(anchor, V2::zeros());
     let mut path = Vec::new();
