@@ -456,15 +456,7 @@ impl Simulator<'_> {
     fn landing(&self, b: &Airborne, t: f64, t1: f64) -> Option<f64> {
         let gap = |s: f64| self.gap(b, s);
         let neg_gap = |s: f64| -self.gap(b, s);
-        let spacing = 0.5 * self.period / self.numerics.steps_per_cycle as f64;
-        let n = ((t1 - t) / spacing).ceil().max(1.0) as usize;
-        let time = |i: usize| {
-            if i == n {
-                t1
-            } else {
-                t + (t1 - t) * i as f64 / n as f64
-            }
-        };
+        let (n, time) = self.half_step_samples(t, t1, 1);
         let tol = |lo: f64, hi: f64| (1e-9 * (hi - lo)).max(1e-3 * self.event_tolerance());
         // (time, gap) of the last two samples.
         let mut last: [(f64, f64); 2] = [(t, f64::NAN), (t, gap(t))];

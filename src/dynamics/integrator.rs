@@ -637,6 +637,26 @@ impl Simulator<'_> {
         Ok((hi, rs, us))
     }
 
+    /// Sample times of [a, b] an event scan visits: n ≥ `min` equal
+    /// intervals of at most half an integration step, sample n exactly b.
+    pub(super) fn half_step_samples(
+        &self,
+        a: f64,
+        b: f64,
+        min: usize,
+    ) -> (usize, impl Fn(usize) -> f64) {
+        let spacing = 0.5 * self.period / self.numerics.steps_per_cycle as f64;
+        let n = ((b - a) / spacing).ceil().max(min as f64) as usize;
+        let time = move |i: usize| {
+            if i == n {
+                b
+            } else {
+                a + (b - a) * i as f64 / n as f64
+            }
+        };
+        (n, time)
+    }
+
     /// First time in [a, b] = [`at.t`, `at.target`] at which the stuck part
     /// of `at` breaks away, if any.
     fn breakaway(&self, at: &Step<'_>) -> Option<f64> {
@@ -649,17 +669,9 @@ impl Simulator<'_> {
         if fa < 0.0 {
             return Some(a);
         }
-        let spacing = 0.5 * self.period / self.numerics.steps_per_cycle as f64;
-        let n = ((b - a) / spacing).ceil().max(2.0) as usize;
         // Sample i's time, and φ there (each sample evaluated once, as the
         // scan reaches it; the scan needs samples i − 1, i and i + 1).
-        let time = |i: usize| {
-            if i == n {
-                b
-            } else {
-                a + (b - a) * i as f64 / n as f64
-            }
-        };
+        let (n, time) = self.half_step_samples(a, b, 2);
         let probe = 1e-4 * (b - a) / n as f64;
         let (mut prev, mut cur) = (fa, phi(time(1)));
         for i in 1..=n {
