@@ -25,7 +25,15 @@
 //!   at once, and a motion that uses all of it at once is too strong for its
 //!   steady-state field to describe what moving parts do (measured: the
 //!   synthesized sink within the envelope predicts 2.76 s⁻¹ and realises
-//!   4.07 s⁻¹ at 14.7 % shape error). The kept candidate's
+//!   4.07 s⁻¹ at 14.7 % shape error). **Over a friction range** the
+//!   synthesis takes the envelope instead: a part slips with the lead
+//!   δ = asin(μg/A) behind the plate's in-plane acceleration amplitude A, so
+//!   a change of μ turns the field by dδ = g dμ / (A cos δ), less the
+//!   stronger the drive; the envelope's A (45.3 m/s²) against a sequenced
+//!   schedule's peaks (often 11–23 m/s²) halves or quarters the turn the
+//!   range causes, which is what a robust design has to cancel (measured
+//!   on the family's sink_4, μ 0.17–0.35: worst shape 7.6 % within the
+//!   sequenced peaks, 1.5 % within the envelope). The kept candidate's
 //!   limits are recorded in `schedule.json`. The rule: the lower realised shape error wins; when the two are
 //!   within [`TIE_SHAPE_ERROR`] (one percentage point) of each other, the
 //!   higher realised strength wins. A POOR candidate (see below) loses to
@@ -390,8 +398,9 @@ impl<'a> MethodRun<'a> {
                 )?;
                 // Without the target's own limits, the synthesis gets the
                 // shaker that plays the sequenced schedule (the envelope if
-                // that schedule has no moving primitive to take peaks from).
-                if method == Method::Auto && self.target.shaker.is_none() {
+                // that schedule has no moving primitive to take peaks from),
+                // except over a friction range (module docs).
+                if method == Method::Auto && self.target.shaker.is_none() && !self.ranged() {
                     if let Ok(l) = sequenced_limits(&d.schedule, &self.out.limits) {
                         self.out.limits = l;
                         self.from_sequence = true;
@@ -443,14 +452,15 @@ impl<'a> MethodRun<'a> {
                 let c = self.synthesized(&syn, schedule, t)?;
                 if let Some(axis) = try_mirror {
                     let t = Instant::now();
-                    let share = self.mirror_share(&c.schedule, axis)?;
-                    let share = self.play(
-                        share,
-                        syn.checked.realised.strength,
-                        spec,
-                        c.design_s + t.elapsed().as_secs_f64(),
-                    )?;
-                    self.out.candidates.push(share);
+                    for share in self.mirror_shares(&c.schedule, axis.as_ref())? {
+                        let share = self.play(
+                            share,
+                            syn.checked.realised.strength,
+                            spec.clone(),
+                            c.design_s + t.elapsed().as_secs_f64(),
+                        )?;
+                        self.out.candidates.push(share);
+                    }
                 }
                 if method != Method::Mirror {
                     self.out.candidates.push(c);
@@ -558,27 +568,38 @@ impl<'a> MethodRun<'a> {
         self.target.friction.is_some_and(|f| !f.is_exact())
     }
 
-    /// The mirror-image time-share of the synthesized `schedule`: about
-    /// `axis` when a reflection maps the target to itself, else shared with
-    /// a partner synthesized for the target's mirror image and mirrored
-    /// back (`super::mirror::counter_share`).
-    fn mirror_share(&self, schedule: &Schedule, axis: Option<f64>) -> Result<Schedule> {
+    /// The mirror-image time-shares of the synthesized `schedule`: about
+    /// `axis` when a reflection maps the target to itself, and shared with
+    /// a partner synthesized for the target's mirror image and mirrored back
+    /// (`super::mirror::counter_share`) when there is none or the line
+    /// misses the centre: that mirror image moves the reference point, so
+    /// the tilts' lever about it adds vertical acceleration at the centre,
+    /// which the limits may not allow (then the share is scaled down and
+    /// the partner, exact about the centre, may be the stronger one; the
+    /// judge chooses).
+    fn mirror_shares(
+        &self,
+        schedule: &Schedule,
+        axis: Option<&super::mirror::MirrorLine>,
+    ) -> Result<Vec<Schedule>> {
         let limits = &self.out.limits;
-        match axis {
-            Some(axis) => super::mirror::mirror_share(schedule, limits, axis),
-            None => {
-                let mirrored = self.target.mirrored_y();
-                let sampled = mirrored.sample()?;
-                let (_, partner) = synthesize_schedule(
-                    &mirrored,
-                    &sampled,
-                    limits,
-                    self.opts,
-                    &asked_synthesis(self.target, self.opts),
-                )?;
-                super::mirror::counter_share(schedule, &partner, limits)
-            }
+        let mut shares = Vec::new();
+        if let Some(line) = axis {
+            shares.push(super::mirror::mirror_share(schedule, limits, line)?);
         }
+        if !axis.is_some_and(super::mirror::MirrorLine::is_through_centre) {
+            let mirrored = self.target.mirrored_y();
+            let sampled = mirrored.sample()?;
+            let (_, partner) = synthesize_schedule(
+                &mirrored,
+                &sampled,
+                limits,
+                self.opts,
+                &asked_synthesis(self.target, self.opts),
+            )?;
+            shares.push(super::mirror::counter_share(schedule, &partner, limits)?);
+        }
+        Ok(shares)
     }
 
     /// The mix: asked for, or under `auto` when no candidate realises the
@@ -1359,10 +1380,10 @@ pub fn design_estimate(
     let ranged = target.friction.is_some_and(|f| !f.is_exact());
     if method != Method::Sequence {
         let one = synthesis_estimate(target, sampled, synth, opts, limits);
-        // A target without a symmetry axis has its mirror-image partner
+        // A target without a symmetry line through the centre has its mirror-image partner
         // synthesized too (`super::mirror::counter_share`).
         let pair = (method == Method::Mirror || (method == Method::Auto && ranged))
-            && super::mirror::mirror_axis(target, sampled).is_none();
+            && !super::mirror::mirror_axis(target, sampled).is_some_and(|l| l.is_through_centre());
         if pair {
             let partner = |t: &Term| t.clone().named(&format!("partner's {}", t.label));
             e.terms.extend(one.terms.iter().map(partner));

@@ -25,17 +25,31 @@
 //! extent that sequencing combines fields (the joins' interaction, see the
 //! crate docs).
 //!
-//! The same holds for the reflection in any vertical plane through the
-//! plate centre at an angle φ ([`crate::motion::Signals::mirrored_about`]):
-//! a LineSink along 30° is symmetric under φ = 120° (any line across it),
-//! a sink under every φ; the smallest φ in [0°, 180°) that maps the target
-//! to itself is used, at any angle ([`mirror_axis`]).
+//! The same holds for the reflection in any vertical plane, at any angle
+//! φ and through any point c of the plate ([`MirrorLine`],
+//! [`crate::motion::Signals::mirrored_in`]): the reflection S(p) =
+//! M(p − c) + c conjugates the whole plate motion, its reference point
+//! included, so the mirror motion moves a part at S p as the mirror image
+//! of a part at p and its field is F′(q) = M F(S q). A LineSink along 30°
+//! is symmetric in every line across it (the one through the centre at
+//! 120°), a sink in every line through its centre, a saddle off the
+//! centre only in its own two axes, which miss the centre.
+//! [`mirror_axis`] finds a line through the centre if there is one (its
+//! mirror image is exact and needs no shift), else one anywhere.
 //!
-//! **Without a symmetry** (a whirlpool, a line sink off the centre beside
-//! a swirl, any sampled field) the partner is made instead of mirrored:
-//! a second motion synthesized for the target's mirror image and
-//! reflected back realises the target itself with the opposite sense of
-//! circulation, so its friction turn is the opposite one
+//! **Rotations do not cancel the turn.** A target may also be symmetric
+//! under a rotation about a point (a sink or saddle by 180°, a whirlpool
+//! by every angle). Time-sharing a motion with its rotated copy makes the
+//! field rotation-symmetric, but a friction error turns every field
+//! vector by the same Δ, and R(Δ) commutes with every rotation: the turned
+//! field is as rotation-symmetric as the target, so no rotation share
+//! removes it. Only a reflection, which reverses the sense of turning,
+//! does; so reflections are the symmetries used.
+//!
+//! **Without a symmetry** (a whirlpool, any sampled field) the partner is
+//! made instead of mirrored: a second motion synthesized for the target's
+//! mirror image and reflected back realises the target itself with the
+//! opposite sense of circulation, so its friction turn is the opposite one
 //! ([`counter_share`]).
 //!
 //! **Its schedule.** Two six-signal segments of `MIRROR_SEGMENT_CYCLES`
@@ -72,37 +86,130 @@ const AXIS_SCAN_DEG: f64 = 0.5;
 /// beyond; the final test uses all of them).
 const AXIS_SCAN_POINTS: usize = 400;
 
-/// `v` reflected in the vertical plane at `deg` degrees from x.
-fn reflect(deg: f64, v: [f64; 2]) -> [f64; 2] {
-    let (s, c) = (2.0 * deg.to_radians()).sin_cos();
-    [c * v[0] + s * v[1], s * v[0] - c * v[1]]
+/// Most points the scan over angle and offset evaluates (each angle
+/// costs about 130 lines).
+const OFF_CENTRE_SCAN_POINTS: usize = 64;
+
+/// Offset steps on either side of the centre in the scan over angle and
+/// offset, out to the points' largest distance from the centre.
+const OFFSET_SCAN_STEPS: usize = 40;
+
+/// Local minima of the scan over angle and offset refined and tested.
+const OFF_CENTRE_CANDIDATES: usize = 8;
+
+/// A line in the plate plane, the trace of a vertical mirror plane: at
+/// `angle_deg` degrees from x, through `point` (m), the line's point
+/// nearest the plate centre (the centre itself for an axis through it).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MirrorLine {
+    /// Direction of the line, degrees from x in [0°, 180°).
+    pub angle_deg: f64,
+    /// The line's point nearest the plate centre (m).
+    pub point: [f64; 2],
 }
 
-/// Σ |t(Mp) − M t(p)|² over `points` (p, t(p)), M the reflection at `deg`.
-fn asymmetry(target: &Target, points: &[([f64; 2], [f64; 2])], deg: f64) -> f64 {
+impl MirrorLine {
+    /// The line through the plate centre at `angle_deg`.
+    pub fn through_centre(angle_deg: f64) -> MirrorLine {
+        MirrorLine {
+            angle_deg,
+            point: [0.0, 0.0],
+        }
+    }
+
+    /// The line at `angle_deg` at signed distance `offset` (m) from the
+    /// centre along its normal (−sin, cos).
+    fn at(angle_deg: f64, offset: f64) -> MirrorLine {
+        if offset == 0.0 {
+            return MirrorLine::through_centre(angle_deg);
+        }
+        let (s, c) = angle_deg.to_radians().sin_cos();
+        MirrorLine {
+            angle_deg,
+            point: [-s * offset, c * offset],
+        }
+    }
+
+    /// True when the line passes through the plate centre.
+    pub fn is_through_centre(&self) -> bool {
+        self.point == [0.0, 0.0]
+    }
+
+    /// Signed distance of the line from the plate centre (m), along the
+    /// normal (−sin, cos).
+    pub fn offset(&self) -> f64 {
+        let (s, c) = self.angle_deg.to_radians().sin_cos();
+        -s * self.point[0] + c * self.point[1]
+    }
+
+    /// The vector `v` reflected (the reflection's linear part M).
+    fn reflect_vector(&self, v: [f64; 2]) -> [f64; 2] {
+        let (s, c) = (2.0 * self.angle_deg.to_radians()).sin_cos();
+        [c * v[0] + s * v[1], s * v[0] - c * v[1]]
+    }
+
+    /// The point `p` reflected in the line: M (p − c) + c.
+    fn reflect_point(&self, p: [f64; 2]) -> [f64; 2] {
+        let c = self.point;
+        let m = self.reflect_vector([p[0] - c[0], p[1] - c[1]]);
+        [m[0] + c[0], m[1] + c[1]]
+    }
+
+    /// The motion's mirror image in this line ([`Signals::mirrored_in`]).
+    pub fn mirror(&self, motion: &Signals) -> Signals {
+        motion.mirrored_in(self.angle_deg.to_radians(), self.point)
+    }
+
+    /// The line's words: "the 65° axis" through the centre, else with the
+    /// point in mm.
+    pub fn describe(&self) -> String {
+        if self.is_through_centre() {
+            format!("the {}° axis", self.angle_deg)
+        } else {
+            format!(
+                "the line at {}° through ({:.3}, {:.3}) mm",
+                self.angle_deg,
+                1e3 * self.point[0],
+                1e3 * self.point[1]
+            )
+        }
+    }
+}
+
+/// The target's field `t(p)`, evaluated.
+type Eval<'a> = &'a dyn Fn([f64; 2]) -> [f64; 2];
+
+/// Σ |t(Sp) − M t(p)|² over `points` (p, t(p)), S the reflection in `line`.
+fn asymmetry(t: Eval, points: &[([f64; 2], [f64; 2])], line: &MirrorLine) -> f64 {
     points
         .iter()
-        .map(|(p, t)| {
-            let m = target.field.eval(reflect(deg, *p));
-            let r = reflect(deg, *t);
+        .map(|(p, v)| {
+            let m = t(line.reflect_point(*p));
+            let r = line.reflect_vector(*v);
             (m[0] - r[0]).powi(2) + (m[1] - r[1]).powi(2)
         })
         .sum()
 }
 
-/// The smallest axis angle in [0°, 180°) (degrees from x, through the
-/// plate centre) in whose vertical plane the target is symmetric at every
-/// sample point of positive weight: t(Mp) = M t(p) within 1e-9 of its
-/// largest vector, M the reflection; `None` when there is none (a
-/// whirlpool).
+/// A line in whose vertical plane the target is symmetric at every sample
+/// point of positive weight: t(Sp) = M t(p) within 1e-9 of its largest
+/// vector, S the reflection, M its linear part; `None` when there is none
+/// (a whirlpool, a generic sampled field). Lines through the plate centre
+/// come first (the smallest angle in [0°, 180°)): their mirror image needs
+/// no shift of the reference point. Only then lines off the centre (an
+/// off-centre saddle's axes), at any angle and offset.
 ///
-/// Any angle: the squared asymmetry Σ|t(Mp) − M t(p)|² is scanned every
-/// 0.5° (on at most 400 of the points), each local minimum of the scan is
-/// refined by golden-section search over the two steps around it (the
-/// asymmetry is quadratic in the angle near an axis, so the refinement
-/// reaches ≈ 1e-10 rad), snapped to the nearest millionth of a degree
-/// when that passes too, and the first that passes the test on every
-/// point is the axis.
+/// Through the centre, the squared asymmetry Σ|t(Sp) − M t(p)|² is scanned
+/// every 0.5° (on at most 400 of the points); each local minimum of the
+/// scan is refined by golden-section search over the two steps around it
+/// (the asymmetry is a sum of squares that vanishes on an axis, so its
+/// round-off shrinks with it and the refinement reaches ≈ 1e-10 rad),
+/// snapped to the nearest millionth of a degree when that passes too, and
+/// the first that passes the test on every point is the axis. Off the
+/// centre, the scan runs over angle and offset (0.5° by 1/40 of the
+/// points' largest distance from the centre, on at most 100 points); its
+/// local minima, lowest first, are refined by nested golden-section
+/// searches (offset within angle) and tested the same way.
 ///
 /// ```
 /// use platefield::design::mirror::mirror_axis;
@@ -116,9 +223,19 @@ fn asymmetry(target: &Target, points: &[([f64; 2], [f64; 2])], deg: f64) -> f64 
 ///     {"field": {"kind": "line_sink", "angle": -25, "strength": 1}},
 ///     {"field": {"kind": "line_sink", "angle": 65, "strength": 0.5}}]}}"#).unwrap();
 /// let axis = mirror_axis(&t, &t.sample().unwrap()).unwrap();
-/// assert!((axis - 65.0).abs() < 1e-9, "{axis}");
+/// assert!((axis.angle_deg - 65.0).abs() < 1e-9 && axis.point == [0.0, 0.0], "{axis:?}");
+/// // A saddle at (1, −0.5) cm along 30°: its axes miss the centre.
+/// let t = Target::from_json_str(r#"{"name": "s",
+///     "grid": {"x": [-0.04, 0.04], "y": [-0.04, 0.04], "n": [21, 21]},
+///     "field": {"kind": "saddle", "center": [0.01, -0.005], "angle": 30}}"#).unwrap();
+/// let axis = mirror_axis(&t, &t.sample().unwrap()).unwrap();
+/// let d = (axis.angle_deg - 30.0).rem_euclid(90.0);
+/// assert!(d.min(90.0 - d) < 1e-6, "{axis:?}");
+/// // The line passes through the saddle's centre.
+/// let (s, c) = axis.angle_deg.to_radians().sin_cos();
+/// assert!((-s * 0.01 + c * -0.005 - axis.offset()).abs() < 1e-9, "{axis:?}");
 /// ```
-pub fn mirror_axis(target: &Target, sampled: &SampledTarget) -> Option<f64> {
+pub fn mirror_axis(target: &Target, sampled: &SampledTarget) -> Option<MirrorLine> {
     let scale = sampled.max_norm().max(f64::MIN_POSITIVE);
     let all: Vec<([f64; 2], [f64; 2])> = sampled
         .points
@@ -128,36 +245,111 @@ pub fn mirror_axis(target: &Target, sampled: &SampledTarget) -> Option<f64> {
         .filter(|(_, &w)| w > 0.0)
         .map(|((p, t), _)| (*p, *t))
         .collect();
-    let stride = all.len().div_ceil(AXIS_SCAN_POINTS).max(1);
-    let scan: Vec<([f64; 2], [f64; 2])> = all.iter().step_by(stride).copied().collect();
-    let symmetric = |deg: f64| {
+    let symmetric = |line: &MirrorLine| {
         all.iter().all(|(p, t)| {
-            let m = target.field.eval(reflect(deg, *p));
-            let r = reflect(deg, *t);
+            let m = target.field.eval(line.reflect_point(*p));
+            let r = line.reflect_vector(*t);
             (m[0] - r[0]).hypot(m[1] - r[1]) <= SYMMETRY_TOL * scale
         })
     };
+    let passing = |line: MirrorLine| {
+        let snapped = MirrorLine::at(
+            (line.angle_deg * 1e6).round() / 1e6,
+            (line.offset() * 1e9).round() / 1e9,
+        );
+        let found = [snapped, line].into_iter().find(|l| symmetric(l))?;
+        Some(MirrorLine {
+            angle_deg: found.angle_deg.rem_euclid(180.0),
+            point: found.point,
+        })
+    };
+    // The scans evaluate a sampled field by its grid interpolant (O(1)
+    // per point); the test above by the field itself.
+    let interpolant = target.field.interpolant();
+    let fast = |p: [f64; 2]| {
+        interpolant
+            .as_ref()
+            .map_or_else(|| target.field.eval(p), |i| i.eval(p))
+    };
+    centre_axes(&fast, &thinned(&all, AXIS_SCAN_POINTS))
+        .into_iter()
+        .find_map(passing)
+        .or_else(|| {
+            off_centre_axes(&fast, &thinned(&all, OFF_CENTRE_SCAN_POINTS))
+                .into_iter()
+                .find_map(passing)
+        })
+}
+
+/// Every k-th of `points`, at most `most` of them.
+fn thinned(points: &[([f64; 2], [f64; 2])], most: usize) -> Vec<([f64; 2], [f64; 2])> {
+    let stride = points.len().div_ceil(most).max(1);
+    points.iter().step_by(stride).copied().collect()
+}
+
+/// The refined local minima of the asymmetry over lines through the
+/// centre, in order of angle.
+fn centre_axes(t: Eval, scan: &[([f64; 2], [f64; 2])]) -> Vec<MirrorLine> {
+    let f = |deg: f64| asymmetry(t, scan, &MirrorLine::through_centre(deg));
     let n = (180.0 / AXIS_SCAN_DEG).round() as usize;
-    let f: Vec<f64> = (0..n)
-        .map(|k| asymmetry(target, &scan, k as f64 * AXIS_SCAN_DEG))
-        .collect();
+    let values: Vec<f64> = (0..n).map(|k| f(k as f64 * AXIS_SCAN_DEG)).collect();
     (0..n)
-        .filter(|&k| f[k] <= f[(k + n - 1) % n] && f[k] <= f[(k + 1) % n])
-        .find_map(|k| {
+        .filter(|&k| values[k] <= values[(k + n - 1) % n] && values[k] <= values[(k + 1) % n])
+        .map(|k| {
             let centre = k as f64 * AXIS_SCAN_DEG;
-            let best = if f[k] == 0.0 {
+            let best = if values[k] == 0.0 {
                 centre
             } else {
-                golden_min(
-                    |d| asymmetry(target, &scan, d),
-                    centre - AXIS_SCAN_DEG,
-                    centre + AXIS_SCAN_DEG,
-                )
+                golden_min(f, centre - AXIS_SCAN_DEG, centre + AXIS_SCAN_DEG)
             };
-            let snapped = (best * 1e6).round() / 1e6;
-            let axis = [snapped, best].into_iter().find(|&d| symmetric(d))?;
-            Some(axis.rem_euclid(180.0))
+            MirrorLine::through_centre(best)
         })
+        .collect()
+}
+
+/// The refined local minima of the asymmetry over lines at any angle and
+/// offset, lowest first (at most [`OFF_CENTRE_CANDIDATES`]). At each
+/// angle of the scan the asymmetry is minimised over the offset (a scan
+/// of [`OFFSET_SCAN_STEPS`] each side, refined by golden section): a
+/// scan of both at once aliases the narrow valley along the best offset
+/// into false minima. The local minima of that valley over the angle are
+/// refined by golden section in turn.
+fn off_centre_axes(t: Eval, scan: &[([f64; 2], [f64; 2])]) -> Vec<MirrorLine> {
+    let reach = scan
+        .iter()
+        .map(|(p, _)| p[0].hypot(p[1]))
+        .fold(0.0, f64::max);
+    if reach == 0.0 {
+        return Vec::new();
+    }
+    let step = reach / OFFSET_SCAN_STEPS as f64;
+    let f = |deg: f64, d: f64| asymmetry(t, scan, &MirrorLine::at(deg, d));
+    let best_offset = |deg: f64| {
+        let steps = OFFSET_SCAN_STEPS as i64;
+        let j = (-steps..=steps)
+            .map(|j| (f(deg, j as f64 * step), j))
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+            .map_or(0, |(_, j)| j);
+        let d = j as f64 * step;
+        golden_min(|x| f(deg, x), d - step, d + step)
+    };
+    let valley = |deg: f64| f(deg, best_offset(deg));
+    let n = (180.0 / AXIS_SCAN_DEG).round() as usize;
+    let values: Vec<f64> = (0..n).map(|k| valley(k as f64 * AXIS_SCAN_DEG)).collect();
+    let mut minima: Vec<(f64, usize)> = (0..n)
+        .filter(|&k| values[k] <= values[(k + n - 1) % n] && values[k] <= values[(k + 1) % n])
+        .map(|k| (values[k], k))
+        .collect();
+    minima.sort_by(|a, b| a.0.total_cmp(&b.0));
+    minima
+        .into_iter()
+        .take(OFF_CENTRE_CANDIDATES)
+        .map(|(_, k)| {
+            let deg = k as f64 * AXIS_SCAN_DEG;
+            let a = golden_min(valley, deg - AXIS_SCAN_DEG, deg + AXIS_SCAN_DEG);
+            MirrorLine::at(a, best_offset(a))
+        })
+        .collect()
 }
 
 /// The minimiser of `f` on [a, b] by golden-section search, to the
@@ -186,7 +378,7 @@ fn golden_min(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64) -> f64 {
 }
 
 /// The mirror-image time-share of a one-motion schedule (a synthesized
-/// design) in the plane at `axis_deg` ([`mirror_axis`]): the motion and
+/// design) in the vertical plane of `line` ([`mirror_axis`]): the motion and
 /// its mirror image, `MIRROR_SEGMENT_CYCLES`
 /// cycles each, ramped, scaled down where the ramps would pass `limits`.
 /// The rest of the schedule (target, settings, fit metrics) is kept.
@@ -196,11 +388,11 @@ fn golden_min(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64) -> f64 {
 pub fn mirror_share(
     synthesized: &Schedule,
     limits: &ShakerLimits,
-    axis_deg: f64,
+    line: &MirrorLine,
 ) -> Result<Schedule> {
     let motion = only_motion(synthesized)?;
-    let mirrored = motion.mirrored_about(axis_deg.to_radians());
-    let label = format!("Synthesized, mirrored in the {axis_deg}° axis");
+    let mirrored = line.mirror(motion);
+    let label = format!("Synthesized, mirrored in {}", line.describe());
     Ok(time_share(
         synthesized,
         motion,

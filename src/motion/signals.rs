@@ -312,6 +312,39 @@ impl Signals {
             .transformed(angle, [0.0, 0.0])
     }
 
+    /// The mirror image in the vertical plane at `angle` (rad) from x
+    /// through the plate point `point` (m): a reflection S about a line
+    /// off the centre conjugates the whole plate motion by S, its
+    /// reference point included. Shifted so that `point` is the centre
+    /// ([`Signals::transformed`] by −point), mirrored through the centre
+    /// ([`Signals::mirrored_about`]), shifted back: the field becomes
+    /// F′(q) = M F(M (q − c) + c), M the reflection's linear part, c the
+    /// point. The shifts are exact for turns and translations and first
+    /// order in the tilts (see [`Signals::transformed`]); through the
+    /// centre this is [`Signals::mirrored_about`] itself.
+    ///
+    /// ```
+    /// use platefield::motion::Signals;
+    /// let m = Signals::example();
+    /// assert_eq!(m.mirrored_in(0.3, [0.0, 0.0]), m.mirrored_about(0.3));
+    /// // The mirror image of the mirror image is the motion again.
+    /// let c = [0.004, -0.002];
+    /// let twice = m.mirrored_in(0.3, c).mirrored_in(0.3, c);
+    /// for t in [0.0, 0.007, 0.019] {
+    ///     let (a, b) = (m.kinematics(t, 9.81, true), twice.kinematics(t, 9.81, true));
+    ///     assert!((a.accel_center - b.accel_center).norm() < 1e-6, "{t}");
+    ///     assert!((a.alpha - b.alpha).norm() < 1e-9, "{t}");
+    /// }
+    /// ```
+    pub fn mirrored_in(&self, angle: f64, point: [f64; 2]) -> Signals {
+        if point == [0.0, 0.0] {
+            return self.mirrored_about(angle);
+        }
+        self.transformed(0.0, [-point[0], -point[1]])
+            .mirrored_about(angle)
+            .transformed(0.0, point)
+    }
+
     /// The motion a controller delivers with per-channel errors: every term
     /// of channel `c` (linear x, y, z, angular x, y, z = 0…5) at harmonic
     /// h has its amplitude multiplied by `gain(c, h)` and `shift(c, h)`
