@@ -36,7 +36,9 @@
 //!   sequenced peaks, 1.5 % within the envelope). The kept candidate's
 //!   limits are recorded in `schedule.json`. The rule: the lower realised shape error wins; when the two are
 //!   within [`TIE_SHAPE_ERROR`] (one percentage point) of each other, the
-//!   higher realised strength wins. A POOR candidate (see below) loses to
+//!   higher realised strength wins. Over a friction range, a candidate
+//!   that holds the target within [`RANGE_HELD`] (6 %) at its worst beats
+//!   one that does not first ([`better_within`]). A POOR candidate (see below) loses to
 //!   one that is not POOR. If one method fails (e.g. limits too small to
 //!   move parts), the other is kept and the failure is stated.
 //!
@@ -58,7 +60,7 @@ use std::time::Instant;
 pub use super::judge::judge_check;
 use super::judge::{judge_points, realised_check, PointPlay, RealisedError, JUDGE_MIN_PERIODS};
 use super::polish::{polish, PolishOptions};
-pub use super::rule::{Rule, MIN_MEASURED_POINTS, TIE_SHAPE_ERROR};
+pub use super::rule::{better_within, Rule, MIN_MEASURED_POINTS, TIE_SHAPE_ERROR};
 use super::{design, Design, DesignOptions};
 use crate::dynamics::Friction;
 use crate::error::{Error, Result};
@@ -658,8 +660,9 @@ impl<'a> MethodRun<'a> {
     /// across the target's friction recorded.
     fn finish(self) -> Result<MethodDesign> {
         let (target, sampled) = (self.target, self.sampled);
+        let bound = self.ranged().then_some(RANGE_HELD);
         let mut out = self.out;
-        let (chosen, choice) = choose(&out.candidates, out.asked);
+        let (chosen, choice) = choose(&out.candidates, out.asked, bound);
         out.chosen = chosen;
         out.choice = choice;
         if out.candidates[chosen].worst_case {
@@ -754,7 +757,7 @@ pub(crate) fn recorded_target<'a>(
 }
 
 /// The candidate kept and why (see the [module documentation](self)).
-fn choose(cands: &[Candidate], asked: Method) -> (usize, Choice) {
+fn choose(cands: &[Candidate], asked: Method, bound: Option<f64>) -> (usize, Choice) {
     if cands.len() < 2 {
         let choice = match asked {
             Method::Auto => Choice::Only,
@@ -763,7 +766,7 @@ fn choose(cands: &[Candidate], asked: Method) -> (usize, Choice) {
         return (0, choice);
     }
     // The rule between two candidates: (b is better, the rule).
-    let better = |a: &Candidate, b: &Candidate| super::rule::better(key(a), key(b));
+    let better = |a: &Candidate, b: &Candidate| super::rule::better_within(key(a), key(b), bound);
     // The best of `ks` by the rule, and the rule that decided against the
     // runner-up.
     let best_of = |ks: &mut dyn Iterator<Item = usize>| {
@@ -1646,7 +1649,7 @@ mod tests {
     /// percentage point the higher realised strength; POOR loses.
     #[test]
     fn the_rule_is_the_stated_one() {
-        let pick = |a: Candidate, b: Candidate| choose(&[a, b], Method::Auto);
+        let pick = |a: Candidate, b: Candidate| choose(&[a, b], Method::Auto, None);
         let (i, why) = pick(
             cand(Method::Sequence, 0.04, 0.3, false),
             cand(Method::Synthesize, 0.06, 0.5, false),
@@ -1670,6 +1673,24 @@ mod tests {
         );
         assert_eq!(i, 0, "{why:?}");
         assert_eq!(why, Choice::Rule(Rule::OtherPoor));
+    }
+
+    /// Over a friction range the bound comes first: 5.9 % at 0.3 beats
+    /// 6.4 % at 0.5 (a tie without the bound), and two candidates on the
+    /// same side of it fall back to the stated rule.
+    #[test]
+    fn over_a_range_holding_the_bound_comes_first() {
+        let pick = |a: Candidate, b: Candidate| choose(&[a, b], Method::Auto, Some(RANGE_HELD));
+        let (i, why) = pick(
+            cand(Method::Mirror, 0.059, 0.3, false),
+            cand(Method::Synthesize, 0.064, 0.5, false),
+        );
+        assert_eq!((i, why), (0, Choice::Rule(Rule::HoldsRange)));
+        let (i, why) = pick(
+            cand(Method::Mirror, 0.065, 0.3, false),
+            cand(Method::Synthesize, 0.070, 0.5, false),
+        );
+        assert_eq!((i, why), (1, Choice::Rule(Rule::HigherStrength)));
     }
 
     /// `auto` adds the worst-case synthesis only when no candidate that

@@ -8,6 +8,13 @@
 //! standing, realised shape errors within [`TIE_SHAPE_ERROR`] are a tie
 //! broken by the higher realised strength, and otherwise the lower shape
 //! error wins. Missing numbers rank last (shape +∞, strength −∞).
+//!
+//! `auto` over a friction range first asks which candidates hold the
+//! target within the range's bound (their worst-case shape error at most
+//! 6 %, `RANGE_HELD`, and not POOR) ([`better_within`]): one that does
+//! beats one that does not, whatever their strengths, so the tie above
+//! never trades a design that holds the range for a stronger one that
+//! does not.
 
 /// Fewest counted parts a realised measure is reported over. A shape is a
 /// property of the field over the region: one or two parts sample it at
@@ -30,6 +37,9 @@ pub enum Rule {
     HigherStrength,
     /// The lower realised shape error wins.
     LowerShapeError,
+    /// Over a friction range only one of the two holds the target within
+    /// the range's bound ([`better_within`]).
+    HoldsRange,
 }
 
 impl Rule {
@@ -41,6 +51,9 @@ impl Rule {
                 "shape errors within 1 percentage point: the higher realised strength wins"
             }
             Rule::LowerShapeError => "the lower realised shape error wins",
+            Rule::HoldsRange => {
+                "only it holds the target within 6 % at its worst over the friction range"
+            }
         }
     }
 }
@@ -48,6 +61,29 @@ impl Rule {
 /// A design's key: POOR, realised shape error, realised strength (module
 /// documentation).
 pub type Key = (bool, f64, f64);
+
+/// Whether `b` beats `a` by the rule over a friction range whose bound is
+/// `bound` (`None`: [`better`]): a design that is not POOR and holds its
+/// worst-case shape error within the bound beats one that does not.
+///
+/// ```
+/// use platefield::design::method::{better_within, Rule};
+/// // 5.9 % at 0.6 s⁻¹ against 6.5 % at 1.0 s⁻¹: within a point of each
+/// // other, but only the first holds 6 %.
+/// assert_eq!(better_within((false, 0.059, 0.6), (false, 0.065, 1.0), Some(0.06)),
+///     (false, Rule::HoldsRange));
+/// assert_eq!(better_within((false, 0.059, 0.6), (false, 0.065, 1.0), None),
+///     (true, Rule::HigherStrength));
+/// ```
+pub fn better_within(a: Key, b: Key, bound: Option<f64>) -> (bool, Rule) {
+    if let Some(bound) = bound {
+        let holds = |k: Key| !k.0 && k.1 <= bound;
+        if holds(a) != holds(b) {
+            return (holds(b), Rule::HoldsRange);
+        }
+    }
+    better(a, b)
+}
 
 /// Whether `b` beats `a` by the rule, and the rule that decided.
 pub fn better(a: Key, b: Key) -> (bool, Rule) {
