@@ -148,6 +148,14 @@ enum Study {
         #[command(flatten)]
         out: StudyOut,
     },
+    /// The shipped targets that state their own friction range, designed by auto over it, played at 5 frictions over it and their exports replayed: robust_shipped.md (about 2 min of CPU per target).
+    #[command(mut_arg("out", default_dir(studies::robust_shipped::DIR)))]
+    RobustShipped {
+        #[command(flatten)]
+        quiet: Quiet,
+        #[command(flatten)]
+        out: StudyOut,
+    },
     /// Robust design (auto over each target's friction range) against a nominal synthesized design, on a seeded family of random targets, both judged over the range: robust_family.md (CPU seconds printed only; about 30 s of CPU per target).
     #[command(mut_arg("out", default_dir(studies::robust_family::DIR)))]
     RobustFamily {
@@ -329,6 +337,11 @@ fn run_study(study: Study) -> Result<String> {
         Study::Robust { quiet, out } => studies::watched_defaults("robust", quiet.quiet, || {
             studies::robust::run(&out.out, quiet.quiet)
         }),
+        Study::RobustShipped { quiet, out } => {
+            studies::watched_defaults("robust-shipped", quiet.quiet, || {
+                studies::robust_shipped::run(&out.out, quiet.quiet)
+            })
+        }
         Study::RobustFamily { count, quiet, out } => {
             studies::watched_defaults("robust-family", quiet.quiet, || {
                 studies::robust_family::run(&out.out, count as usize, quiet.quiet)

@@ -150,7 +150,13 @@ impl FrictionSpec {
     }
 
     /// `true` when both coefficients are known exactly.
-    pub(crate) fn is_exact(&self) -> bool {
+    ///
+    /// ```
+    /// use platefield::request::FrictionSpec;
+    /// assert!(FrictionSpec::uniform(0.3).is_exact());
+    /// assert!(!FrictionSpec::range(0.2, 0.4).is_exact());
+    /// ```
+    pub fn is_exact(&self) -> bool {
         self.stat.is_exact() && self.kinetic.is_exact()
     }
 

@@ -33,6 +33,7 @@ pub mod probes;
 pub mod reproduce;
 pub mod robust;
 pub mod robust_family;
+pub mod robust_shipped;
 pub mod rung;
 pub mod speed;
 pub mod squeeze_order;

@@ -186,7 +186,7 @@ pub(crate) fn design_row(
     Ok(rows.remove(0))
 }
 
-fn load(name: &str) -> Result<Target> {
+pub(crate) fn load(name: &str) -> Result<Target> {
     let mut t = Target::load(&Path::new("targets").join(format!("{name}.json")))?;
     t.name = name.into();
     Ok(t)

@@ -77,7 +77,7 @@ impl Outcome {
 }
 
 /// The frictions over `spec`'s range.
-fn values(spec: FrictionSpec) -> Vec<f64> {
+pub(crate) fn values(spec: FrictionSpec) -> Vec<f64> {
     spec.values(VALUES).iter().map(|f| f.kinetic).collect()
 }
 
