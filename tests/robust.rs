@@ -26,38 +26,57 @@ fn the_mirror_motions_field_is_the_mirror_image_at_every_friction() {
         y: [-0.03, 0.03],
         n: [7, 7],
     };
+    let [nx, ny] = grid.n;
     for mu in [0.2, 0.45] {
-        let settings = FieldSettings {
-            friction: Friction::uniform(mu),
-            ..FieldSettings::default()
-        };
-        let field = |m: &Signals| {
-            Field::compute(
-                &Motion::Signals(m.clone()),
-                &grid,
-                FieldKind::Velocity,
-                &settings,
-                &|| {},
-            )
-        };
-        let (f, g) = (field(&motion), field(&motion.mirrored_y()));
-        let scale = f
-            .vectors
-            .iter()
-            .map(|v| v[0].hypot(v[1]))
-            .fold(0.0, f64::max);
-        assert!(scale > 1e-4, "a field to compare: {scale}");
-        let [nx, ny] = grid.n;
-        let mut worst = 0.0_f64;
-        for iy in 0..ny {
-            for ix in 0..nx {
-                let a = f.vectors[iy * nx + ix];
-                let b = g.vectors[(ny - 1 - iy) * nx + ix];
-                worst = worst.max((a[0] - b[0]).hypot(a[1] + b[1]));
-            }
-        }
+        let (worst, scale) = mirror_mismatch(
+            (&motion, &motion.mirrored_y()),
+            &grid,
+            mu,
+            (|ix, iy| (ny - 1 - iy) * nx + ix, [1.0, -1.0]),
+        );
         assert!(worst <= 1e-9 * scale, "μ {mu}: {worst:e} of {scale:e}");
     }
+}
+
+/// The largest |V′(S p) − M V(p)| over `grid`'s points p at μ, with the
+/// largest |V| (asserted large enough to compare): V the field of
+/// `motion`, V′ of its `mirrored` image, `image(ix, iy)` the index of
+/// S p, `sign` the diagonal of M.
+fn mirror_mismatch(
+    (motion, mirrored): (&Signals, &Signals),
+    grid: &Grid,
+    mu: f64,
+    (image, sign): (impl Fn(usize, usize) -> usize, [f64; 2]),
+) -> (f64, f64) {
+    let settings = FieldSettings {
+        friction: Friction::uniform(mu),
+        ..FieldSettings::default()
+    };
+    let field = |m: &Signals| {
+        Field::compute(
+            &Motion::Signals(m.clone()),
+            grid,
+            FieldKind::Velocity,
+            &settings,
+            &|| {},
+        )
+    };
+    let (f, g) = (field(motion), field(mirrored));
+    let scale = f
+        .vectors
+        .iter()
+        .map(|v| v[0].hypot(v[1]))
+        .fold(0.0, f64::max);
+    assert!(scale > 1e-4, "a field to compare: {scale}");
+    let [nx, ny] = grid.n;
+    let mut worst = 0.0_f64;
+    for iy in 0..ny {
+        for ix in 0..nx {
+            let (a, b) = (f.vectors[iy * nx + ix], g.vectors[image(ix, iy)]);
+            worst = worst.max((b[0] - sign[0] * a[0]).hypot(b[1] - sign[1] * a[1]));
+        }
+    }
+    (worst, scale)
 }
 
 /// Which shipped targets the reflection y → −y maps to themselves.
@@ -224,36 +243,14 @@ fn the_mirror_motion_in_a_line_off_the_centre_mirrors_the_field() {
         angle_deg: 90.0,
         point: [0.005, 0.0],
     };
+    let nx = grid.n[0];
     for mu in [0.2, 0.45] {
-        let settings = FieldSettings {
-            friction: Friction::uniform(mu),
-            ..FieldSettings::default()
-        };
-        let field = |m: &Signals| {
-            Field::compute(
-                &Motion::Signals(m.clone()),
-                &grid,
-                FieldKind::Velocity,
-                &settings,
-                &|| {},
-            )
-        };
-        let (f, g) = (field(&motion), field(&line.mirror(&motion)));
-        let scale = f
-            .vectors
-            .iter()
-            .map(|v| v[0].hypot(v[1]))
-            .fold(0.0, f64::max);
-        assert!(scale > 1e-4, "a field to compare: {scale}");
-        let [nx, ny] = grid.n;
-        let mut worst = 0.0_f64;
-        for iy in 0..ny {
-            for ix in 0..nx {
-                let a = f.vectors[iy * nx + ix];
-                let b = g.vectors[iy * nx + (nx - 1 - ix)];
-                worst = worst.max((a[0] + b[0]).hypot(a[1] - b[1]));
-            }
-        }
+        let (worst, scale) = mirror_mismatch(
+            (&motion, &line.mirror(&motion)),
+            &grid,
+            mu,
+            (|ix, iy| iy * nx + (nx - 1 - ix), [-1.0, 1.0]),
+        );
         assert!(worst <= 1e-3 * scale, "μ {mu}: {worst:e} of {scale:e}");
     }
 }

@@ -261,13 +261,23 @@ pub(crate) fn single_rows(quiet: bool) -> Result<Vec<Row>> {
     Ok(rows)
 }
 
-fn cell(r: &FrictionRow) -> String {
+/// A judge's cell: strength / shape error.
+pub(crate) fn cell(r: &FrictionRow) -> String {
     format!(
         "{} / {}",
         r.realised_strength
             .map_or_else(|| "n/a".into(), |s| format!("{s:.3}")),
         platefield::output::percent(r.realised_shape_error.unwrap_or(f64::NAN), 1)
     )
+}
+
+/// The weakest strength, "n/a" where not measured.
+pub(crate) fn weakest(strength: f64) -> String {
+    if strength.is_finite() {
+        format!("{strength:.3}")
+    } else {
+        "n/a".into()
+    }
 }
 
 /// `robust.md` from the comparison and the single-μ rows.
@@ -302,11 +312,7 @@ pub fn render(rows: &[Row], single: &[Row]) -> String {
         cells.extend([
             // Not measured at some μ (no valid part): said so, not ±inf.
             platefield::output::percent(shape, 1),
-            if strength.is_finite() {
-                format!("{strength:.3}")
-            } else {
-                "n/a".into()
-            },
+            weakest(strength),
             goal_text,
             if r.design.contains("[0.2, 0.4]") {
                 if met {

@@ -17,7 +17,7 @@ use platefield::design::method::Method;
 use platefield::error::{Error, Result};
 use platefield_report::table::Table;
 
-use crate::robust::{design_rows, load, Row, RowOptions};
+use crate::robust::{cell, design_rows, load, weakest, Row, RowOptions};
 use crate::robust_family::values;
 
 /// Default output folder.
@@ -76,18 +76,7 @@ pub fn render(rows: &[Row]) -> String {
             .iter()
             .map(|f| platefield::output::coefficient(f.friction.kinetic))
             .collect();
-        let cells: Vec<String> = r
-            .rows
-            .iter()
-            .map(|f| {
-                format!(
-                    "{} / {}",
-                    f.realised_strength
-                        .map_or_else(|| "n/a".into(), |s| format!("{s:.3}")),
-                    platefield::output::percent(f.realised_shape_error.unwrap_or(f64::NAN), 1)
-                )
-            })
-            .collect();
+        let cells: Vec<String> = r.rows.iter().map(cell).collect();
         table.row([
             r.target.clone(),
             r.design.clone(),
@@ -95,11 +84,7 @@ pub fn render(rows: &[Row]) -> String {
             mus.join(", "),
             cells.join("; "),
             platefield::output::percent(shape, 1),
-            if strength.is_finite() {
-                format!("{strength:.3}")
-            } else {
-                "n/a".into()
-            },
+            weakest(strength),
             if shape <= GOAL { "yes" } else { "no" }.into(),
         ]);
     }
