@@ -50,6 +50,11 @@ const TABLES: &[(&str, &str, Kept)] = &[
     ),
     ("docs/shaker.md", "| reading | formula |", Kept::NoMeasurement),
     (
+        "docs/dev/README.md",
+        "| moved to `--ignored` | its command | kept in the default run |",
+        Kept::NoMeasurement,
+    ),
+    (
         "docs/python.md",
         "| exception | when | attributes |",
         Kept::NoMeasurement,
