@@ -206,6 +206,10 @@ pub struct MethodDesign {
     /// worst friction, when the target states `shaker.tolerance`
     /// ([`super::tolerance`]).
     pub tolerance: Option<super::tolerance::Spread>,
+    /// The worst-case shape error a candidate had to hold over the
+    /// friction range to beat those that do not ([`RANGE_HELD`] when the
+    /// target states a range, [`better_within`]).
+    pub bound: Option<f64>,
 }
 
 impl MethodDesign {
@@ -330,6 +334,7 @@ impl<'a> MethodRun<'a> {
                 sensitivity: None,
                 estimate,
                 tolerance: None,
+                bound: None,
             },
             first_error: None,
             from_sequence: false,
@@ -663,6 +668,7 @@ impl<'a> MethodRun<'a> {
         let bound = self.ranged().then_some(RANGE_HELD);
         let mut out = self.out;
         let (chosen, choice) = choose(&out.candidates, out.asked, bound);
+        out.bound = bound;
         out.chosen = chosen;
         out.choice = choice;
         if out.candidates[chosen].worst_case {
@@ -856,21 +862,50 @@ impl MethodDesign {
                     cands.first().map_or("nothing".into(), describe)
                 )
             }
-            Choice::Rule(rule) => {
-                let others: Vec<String> = (0..cands.len())
-                    .filter(|&k| k != self.chosen)
-                    .map(|k| describe(&cands[k]))
-                    .collect();
-                format!(
-                    "auto kept {}: {} ({} against {})",
-                    cands[self.chosen].method.name(),
-                    rule.text(),
-                    describe(&cands[self.chosen]),
-                    others.join("; ")
-                )
-            }
+            Choice::Rule(_) => kept_reason(cands, self.chosen, self.bound),
         }
     }
+}
+
+/// Why `auto` kept `cands[chosen]`: each other candidate with the rule that
+/// decides between it and the kept one ([`better_within`] under `bound`), grouped by
+/// rule in the order met; the first group also describes the kept one.
+fn kept_reason(cands: &[Candidate], chosen: usize, bound: Option<f64>) -> String {
+    let kept = &cands[chosen];
+    let mut groups: Vec<(String, Vec<String>)> = Vec::new();
+    for other in (0..cands.len()).filter(|&k| k != chosen) {
+        let better = |a, b| super::rule::better_within(key(a), key(b), bound);
+        let (kept_wins, rule) = better(&cands[other], kept);
+        let text = if kept_wins || !better(kept, &cands[other]).0 {
+            rule.text().to_string()
+        } else {
+            // Ties do not chain: A within a point of B, B of C, and C more
+            // than a point from A leave no candidate that beats every other.
+            format!(
+                "no candidate beats every other, as ties do not chain; \
+                 against this one the rule ({}) would not keep it",
+                rule.text()
+            )
+        };
+        let desc = describe(&cands[other]);
+        match groups.iter_mut().find(|(t, _)| *t == text) {
+            Some((_, v)) => v.push(desc),
+            None => groups.push((text, vec![desc])),
+        }
+    }
+    let groups: Vec<String> = groups
+        .iter()
+        .enumerate()
+        .map(|(i, (text, others))| {
+            let kept_desc = if i == 0 {
+                describe(kept) + " "
+            } else {
+                String::new()
+            };
+            format!("{text} ({kept_desc}against {})", others.join("; "))
+        })
+        .collect();
+    format!("auto kept {}: {}", kept.method.name(), groups.join("; "))
 }
 
 /// One candidate in `choose`'s reason: its method, its realised shape
@@ -1691,6 +1726,55 @@ mod tests {
             cand(Method::Synthesize, 0.070, 0.5, false),
         );
         assert_eq!((i, why), (1, Choice::Rule(Rule::HigherStrength)));
+    }
+
+    /// With three candidates each other one is named with the rule that
+    /// decides between it and the kept one: a mix kept at 24.91 % (all
+    /// POOR) beats a sequence at 276.23 % by the lower shape error and a
+    /// synthesis at 24.50 % by the higher strength, never "within 1
+    /// percentage point" of 276.23 %. Where ties chain into a cycle (10.0 %
+    /// ties 10.5 %, 10.5 % ties 11.2 %, 11.2 % loses to 10.0 %) the reason
+    /// says so rather than claim a rule the kept one loses by.
+    #[test]
+    fn the_reason_names_the_rule_for_each_other_candidate() {
+        let cands = [
+            cand(Method::Sequence, 2.7623, 0.2, true),
+            cand(Method::Synthesize, 0.2450, 0.5, true),
+            cand(Method::Mix, 0.2491, 0.6, true),
+        ];
+        let (i, why) = choose(&cands, Method::Auto, None);
+        assert_eq!((i, why), (2, Choice::Rule(Rule::HigherStrength)));
+        assert_eq!(
+            kept_reason(&cands, i, None),
+            "auto kept mix: the lower realised shape error wins (mix realised shape error 24.91 %, \
+             strength 0.6000 (POOR) against sequence realised shape error 276.23 %, strength 0.2000 \
+             (POOR)); shape errors within 1 percentage point: the higher realised strength wins \
+             (against synthesize realised shape error 24.50 %, strength 0.5000 (POOR))"
+        );
+        let cycle = [
+            cand(Method::Sequence, 0.100, 1.0, false),
+            cand(Method::Synthesize, 0.105, 2.0, false),
+            cand(Method::Mix, 0.112, 3.0, false),
+        ];
+        let (i, _) = choose(&cycle, Method::Auto, None);
+        assert_eq!(i, 2);
+        let reason = kept_reason(&cycle, i, None);
+        assert!(
+            reason.starts_with(
+                "auto kept mix: no candidate beats every other, as ties do not chain; against \
+                 this one the rule (the lower realised shape error wins) would not keep it (mix \
+                 realised shape error 11.20 %, strength 3.0000 against sequence realised shape \
+                 error 10.00 %"
+            ),
+            "{reason}"
+        );
+        // Two candidates: the reason as before, one rule.
+        assert_eq!(
+            kept_reason(&cands[..2], 1, None),
+            "auto kept synthesize: the lower realised shape error wins (synthesize realised shape \
+             error 24.50 %, strength 0.5000 (POOR) against sequence realised shape error 276.23 %, \
+             strength 0.2000 (POOR))"
+        );
     }
 
     /// `auto` adds the worst-case synthesis only when no candidate that
