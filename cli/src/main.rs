@@ -148,7 +148,7 @@ enum Study {
         #[command(flatten)]
         out: StudyOut,
     },
-    /// The shipped targets that state their own friction range, designed by auto over it, played at 5 frictions over it and their exports replayed: robust_shipped.md (about 2 min of CPU per target).
+    /// The shipped targets that state their own friction range, designed by auto over it, played at 5 frictions over it and their exports replayed: robust_shipped.md (about 40 s of CPU per target).
     #[command(mut_arg("out", default_dir(studies::robust_shipped::DIR)))]
     RobustShipped {
         #[command(flatten)]
