@@ -19,9 +19,9 @@ use platefield::output::percent;
 use platefield::verify::sort_play::{ClassPlay, SortOutcome, SortPlay, SORT_SHARE, SORT_TOL};
 
 /// Goal: fraction of each class's swarm at its own attractor.
-pub(crate) const GOAL_AT_OWN: f64 = 0.95;
+pub const GOAL_AT_OWN: f64 = 0.95;
 /// Goal: largest fraction of a class's swarm at another class's attractor.
-pub(crate) const GOAL_MIXED_UP: f64 = 0.02;
+pub const GOAL_MIXED_UP: f64 = 0.02;
 
 /// One candidate in `sort.json`.
 #[derive(Debug, Clone, Serialize)]
@@ -53,7 +53,7 @@ pub(crate) struct SortReport<'a> {
 
 /// Whether every class met the goal: at its own attractor, not mixed up,
 /// none lost.
-pub(crate) fn goal_met(played: &[ClassPlay]) -> bool {
+pub fn goal_met(played: &[ClassPlay]) -> bool {
     played.iter().all(|c| {
         c.at_own.is_some_and(|f| f >= GOAL_AT_OWN)
             && c.mixed_up <= GOAL_MIXED_UP
@@ -326,6 +326,53 @@ pub fn summary(out: &SortOutcome) -> String {
             "sort goal NOT met (see report.md for the reason)"
         }
     );
+    s
+}
+
+/// The text `verify` prints for a sort's schedule
+/// ([`platefield::verify::sort_play::SortVerify`]): per motion (the
+/// schedule played, the export replayed) the time to sort and per class
+/// the measures of the design's plays, and the goal's verdict.
+pub fn verify_text(v: &platefield::verify::sort_play::SortVerify) -> String {
+    use platefield::verify::sort_play::SortVerify;
+    let parts = v.played.first().map_or(0, |c| c.parts);
+    let mut s = format!(
+        "sort: every class's swarm of {parts} parts at its own friction, {:.1} s:\n",
+        v.played_s
+    );
+    let mut section = |what: &str, plays: &[ClassPlay]| {
+        let slowest_90 = plays
+            .iter()
+            .map(|c| c.time_to(0.9))
+            .try_fold(0.0_f64, |m, t| t.map(|t| m.max(t)));
+        let _ = writeln!(
+            s,
+            "  {what}: time to sort {} ({} of every class within {:.0} mm of its own attractor and staying; {} for 90 %); goal {}",
+            seconds(SortVerify::time_to_sort(plays)),
+            percent(SORT_SHARE, 0),
+            1e3 * SORT_TOL,
+            seconds(slowest_90),
+            if goal_met(plays) { "met" } else { "NOT met" }
+        );
+        for c in plays {
+            let _ = writeln!(
+                s,
+                "    class {}: μ {}, realised strength {:.4} 1/s, shape {}, sorted in {}, {} at its attractor, {} mixed up, {} lost contact",
+                c.name,
+                c.friction,
+                c.realised_strength,
+                percent(c.realised_shape_error, 1),
+                seconds(c.time_to_sort_s),
+                c.at_own.map_or("n/a".into(), |x| percent(x, 1)),
+                percent(c.mixed_up, 1),
+                c.contact_lost
+            );
+        }
+    };
+    section("schedule played", &v.played);
+    if let Some((file, plays)) = &v.replayed {
+        section(&format!("export {file} replayed"), plays);
+    }
     s
 }
 
