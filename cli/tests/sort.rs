@@ -90,6 +90,36 @@ fn bad_classes_input_exits_2_naming_the_path() {
         (
             classes_target(
                 "",
+                &[
+                    r#"{"name": "a", "friction": 0.2, "exit": "front", "field": {"kind": "trans", "direction": 180}}"#.into(),
+                    ok_b.clone(),
+                ],
+            ),
+            "target.classes[0].exit",
+        ),
+        (
+            classes_target(
+                "",
+                &[
+                    r#"{"name": "a", "friction": 0.2, "exit": "left", "field": {"kind": "sink"}}"#.into(),
+                    ok_b.clone(),
+                ],
+            ),
+            "target.classes[0].field",
+        ),
+        (
+            classes_target(
+                "",
+                &[
+                    r#"{"name": "a", "friction": 0.2, "exit": "left", "field": {"kind": "trans", "direction": 0}}"#.into(),
+                    ok_b.clone(),
+                ],
+            ),
+            "target.classes[0].field.direction",
+        ),
+        (
+            classes_target(
+                "",
                 &(0..9)
                     .map(|k| class(&format!("c{k}"), &format!("{}", 0.1 + 0.1 * f64::from(k)), 0.0))
                     .collect::<Vec<_>>(),

@@ -74,6 +74,17 @@
 //! line, its normal part) measured, the class's target moved by −e (fitted
 //! as f(q + e)) and refitted, up to [`AIM_STEPS`] times.
 //!
+//! **Lanes.** A class may instead ask to leave the region through one of
+//! its edges (`"exit"`, [`crate::request::Edge`]), its field a uniform
+//! `trans` through that edge. A uniform transport carries every class the
+//! same way, faster or slower, and the slip lead turns it by a few degrees
+//! only; opposite lanes come from the threshold again: a gentle motion
+//! carries the slippery class while the sticky one is held, time-shared
+//! with a strong transport the other way. The same stacked fit makes
+//! them (nothing is aimed: a lane has no attractor), and the plays
+//! measure where each part first leaves the region
+//! (`crate::verify::sort_play`).
+//!
 //! **Judged by playing**: every candidate's swarms are played
 //! (`verify::sort_play`); the sort that brings 95 % of every class to its
 //! own attractor soonest is kept.

@@ -43,7 +43,7 @@ use crate::motion::sample_hold::HoldSamples;
 use crate::play::replay::replay_motion;
 use crate::play::{PlayOptions, ScheduleMotion};
 use crate::progress::Progress;
-use crate::request::{Attractor, SampledTarget, Target};
+use crate::request::{Attractor, Edge, SampledTarget, Target};
 use crate::schedule::Schedule;
 use crate::work::{Estimate, Runtime, Term};
 
@@ -85,10 +85,80 @@ pub struct ClassPlay {
     /// Time (s) by which [`SORT_SHARE`] of the swarm is within `SORT_TOL`
     /// of its own attractor and stays there (module docs).
     pub time_to_sort_s: Option<f64>,
-    /// Per part, its time to converge to its own attractor (s), `None`
-    /// when it does not within the play: the fraction-against-time curve.
+    /// For a lane (a class with an `exit`): the edge and the mean exit
+    /// time; `at_own` is then the fraction that left through its own
+    /// edge, `mixed_up` through another, `time_to_sort_s` the time by
+    /// which [`SORT_SHARE`] left through its own.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub exit: Option<LaneExit>,
+    /// Per part, its time to converge to its own attractor (s) (for a
+    /// lane: to leave through its own edge), `None` when it does not
+    /// within the play: the fraction-against-time curve.
     #[serde(skip)]
     pub arrivals: Vec<Option<f64>>,
+}
+
+/// A lane class's swarm: which edge it should leave through and how.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct LaneExit {
+    /// The edge of the region the class should leave through.
+    pub edge: Edge,
+    /// Fraction of the swarm that left through it.
+    pub through_own: f64,
+    /// Fraction that left through another edge.
+    pub through_other: f64,
+    /// Mean time (s) of the exits through its own edge.
+    pub mean_exit_time_s: Option<f64>,
+}
+
+/// Where each of a lane class's swarm `parts` (played by `sm`) first
+/// leaves the target's region (the box of its grid; positions recorded
+/// at segment ends, the crossing interpolated along the straight move
+/// between two), against its own `edge`: the [`LaneExit`] and, per part,
+/// its exit time through its own edge.
+fn lane_exits(
+    target: &Target,
+    sm: &ScheduleMotion,
+    parts: &[crate::verify::swarm::SwarmPart],
+    edge: Edge,
+) -> (LaneExit, Vec<Option<f64>>) {
+    let g = target
+        .grid
+        .as_ref()
+        .expect("a classes target has a grid (validated)");
+    let durations: Vec<f64> = sm.segments().iter().map(|s| s.duration).collect();
+    let mut own = Vec::new();
+    let mut other = 0;
+    for p in parts {
+        let mut t = 0.0;
+        let mut found = None;
+        for (k, w) in p.path.windows(2).enumerate() {
+            let dt = durations[k % durations.len()];
+            if let Some((e, s)) = Edge::crossing(w[0], w[1], g.x, g.y) {
+                found = Some((e, t + s * dt));
+                break;
+            }
+            t += dt;
+        }
+        match found {
+            Some((e, t)) if e == edge => own.push(Some(t)),
+            Some(_) => {
+                other += 1;
+                own.push(None);
+            }
+            None => own.push(None),
+        }
+    }
+    let n = parts.len().max(1) as f64;
+    let times: Vec<f64> = own.iter().flatten().copied().collect();
+    let lane = LaneExit {
+        edge,
+        through_own: times.len() as f64 / n,
+        through_other: f64::from(other) / n,
+        mean_exit_time_s: (!times.is_empty())
+            .then(|| times.iter().sum::<f64>() / times.len() as f64),
+    };
+    (lane, own)
 }
 
 impl ClassPlay {
@@ -381,12 +451,21 @@ fn play_each_class(
             .collect();
         let (at_own, mixed_up) = arrivals(&swarm.parts, own, &others);
         let distances: Vec<f64> = swarm.parts.iter().map(|p| p.distance[1]).collect();
-        let arrivals: Vec<Option<f64>> = swarm
+        let mut arrivals: Vec<Option<f64>> = swarm
             .parts
             .iter()
             .map(|p| p.time_to_converge_s.filter(|_| p.note.is_none()))
             .collect();
+        let (mut at_own, mut mixed_up) = (at_own, mixed_up);
+        let exit = class.exit.map(|edge| {
+            let (lane, exits) = lane_exits(target, motion.sm, &swarm.parts, edge);
+            at_own = Some(lane.through_own);
+            mixed_up = lane.through_other;
+            arrivals = exits;
+            lane
+        });
         out.push(ClassPlay {
+            exit,
             name: class.name.clone(),
             friction: settings.friction.stat,
             realised_strength,
@@ -611,7 +690,8 @@ fn arrivals(
     (at_own, mixed_up)
 }
 
-/// [`SORT_STARTS`] points over the box of the target's grid.
+/// [`SORT_STARTS`] points over the box of the target's grid (for lanes,
+/// at its cells' centres).
 fn swarm_starts(target: &Target) -> Vec<[f64; 2]> {
     let g = target
         .grid
@@ -622,7 +702,20 @@ fn swarm_starts(target: &Target) -> Vec<[f64; 2]> {
             .map(|i| r[0] + (r[1] - r[0]) * i as f64 / (n - 1) as f64)
             .collect()
     };
-    let (xs, ys) = (axis(g.x, SORT_STARTS[0]), axis(g.y, SORT_STARTS[1]));
+    // A lane's parts start strictly inside the region (at the centres of
+    // SORT_STARTS cells per axis): one started on an edge would count as
+    // leaving through it at its first move outward.
+    let lanes = target.classes.iter().any(|c| c.exit.is_some());
+    let inside = |r: [f64; 2], n: usize| -> Vec<f64> {
+        (0..n)
+            .map(|i| r[0] + (r[1] - r[0]) * (i as f64 + 0.5) / n as f64)
+            .collect()
+    };
+    let (xs, ys) = if lanes {
+        (inside(g.x, SORT_STARTS[0]), inside(g.y, SORT_STARTS[1]))
+    } else {
+        (axis(g.x, SORT_STARTS[0]), axis(g.y, SORT_STARTS[1]))
+    };
     ys.iter()
         .flat_map(|&y| xs.iter().map(move |&x| [x, y]))
         .collect()
@@ -694,6 +787,45 @@ fn swarm_periods(
 mod tests {
     use super::*;
 
+    /// A lane's exits from hand-made paths (segment ends 1 s apart, the
+    /// region x ±3 cm, y ±1 cm): through the left edge at 2.5 s (the
+    /// crossing halfway between the ends at 2 s and 3 s), through the
+    /// right edge, through the top, and not at all.
+    #[test]
+    fn lane_exits_find_the_first_edge_crossed_and_its_time() {
+        use crate::play::PlayedSegment;
+        use crate::verify::swarm::SwarmPart;
+        let target = Target::from_json_str(
+            r#"{"grid": {"x": [-0.03, 0.03], "y": [-0.01, 0.01], "n": [7, 3]},
+                "classes": [
+                  {"name": "a", "friction": 0.2, "exit": "left", "field": {"kind": "trans", "direction": 180}},
+                  {"name": "b", "friction": 0.45, "exit": "right", "field": {"kind": "trans"}}]}"#,
+        )
+        .unwrap();
+        let sm = ScheduleMotion::new(vec![PlayedSegment::rest(1.0)]).unwrap();
+        let part = |path: Vec<[f64; 2]>| SwarmPart {
+            start: path[0],
+            end: path[path.len() - 1],
+            distance: [f64::NAN; 2],
+            converged: false,
+            time_to_converge_s: None,
+            predicted_time_s: None,
+            note: None,
+            path,
+        };
+        let parts = [
+            part(vec![[0.0, 0.0], [-0.01, 0.0], [-0.02, 0.0], [-0.04, 0.0]]),
+            part(vec![[0.0, 0.0], [0.025, 0.0], [0.035, 0.0]]),
+            part(vec![[0.0, 0.0], [-0.01, 0.02]]),
+            part(vec![[0.0, 0.0], [0.01, 0.005]]),
+        ];
+        let (lane, times) = lane_exits(&target, &sm, &parts, Edge::Left);
+        assert_eq!(times, vec![Some(2.5), None, None, None]);
+        assert_eq!(lane.through_own, 0.25);
+        assert_eq!(lane.through_other, 0.5);
+        assert_eq!(lane.mean_exit_time_s, Some(2.5));
+    }
+
     /// The time to sort is the ⌈0.95 n⌉-th arrival: of 20 parts the 19th,
     /// of 45 the 43rd; one part short of the share, none.
     #[test]
@@ -718,6 +850,7 @@ mod tests {
             contact_lost: 0,
             median_distance_m: None,
             time_to_sort_s: None,
+            exit: None,
             arrivals: vec![Some(1.0), Some(2.0), None, Some(8.0)],
         };
         assert_eq!(c.sorted_at(2.0), 0.5);
