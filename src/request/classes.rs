@@ -95,10 +95,12 @@ impl Edge {
     ///
     /// ```
     /// use platefield::request::Edge;
-    /// let x = [-0.03, 0.03];
-    /// let y = [-0.01, 0.01];
-    /// assert_eq!(Edge::crossing([0.02, 0.0], [0.04, 0.0], x, y), Some((Edge::Right, 0.5)));
-    /// assert_eq!(Edge::crossing([0.0, 0.0], [0.01, 0.0], x, y), None);
+    /// let x = [-0.5, 0.5];
+    /// let y = [-0.25, 0.25];
+    /// assert_eq!(Edge::crossing([0.25, 0.0], [0.75, 0.0], x, y), Some((Edge::Right, 0.5)));
+    /// // Both bounds passed: the one crossed first.
+    /// assert_eq!(Edge::crossing([0.25, 0.0], [0.75, 0.75], x, y), Some((Edge::Top, 1.0 / 3.0)));
+    /// assert_eq!(Edge::crossing([0.0, 0.0], [0.25, 0.0], x, y), None);
     /// ```
     pub fn crossing(from: [f64; 2], to: [f64; 2], x: [f64; 2], y: [f64; 2]) -> Option<(Edge, f64)> {
         let fraction = |a: f64, b: f64, bound: f64| {

@@ -95,6 +95,15 @@ impl Case {
 }
 
 /// The study's cases: the contrast sweep, then the distance sweep.
+///
+/// ```
+/// use platefield_studies::sort::cases;
+/// let all = cases();
+/// assert_eq!(all.len(), 7);
+/// assert_eq!(all[0].frictions(), [0.2, 0.25]);
+/// assert_eq!(all[0].target()?.classes.len(), 2);
+/// # Ok::<(), platefield::Error>(())
+/// ```
 pub fn cases() -> Vec<Case> {
     let mut out: Vec<Case> = RATIOS
         .iter()
@@ -140,7 +149,13 @@ pub fn options() -> DesignOptions {
     }
 }
 
-/// Designs and plays one case.
+/// Designs and plays one case (minutes of CPU).
+///
+/// ```no_run
+/// let o = platefield_studies::sort::outcome(platefield_studies::sort::cases()[3])?;
+/// println!("{:?}", o.played.kept().time_to_sort_s);
+/// # Ok::<(), platefield::Error>(())
+/// ```
 ///
 /// # Errors
 /// The design or the plays fail.
@@ -163,6 +178,12 @@ pub fn outcome(case: Case) -> Result<Outcome> {
 /// The slip lead δ = asin(μg/A) (degrees) of a part of friction `mu`
 /// under an in-plane plate acceleration of amplitude `a` (m/s²); `None`
 /// when μg ≥ A (the part is held).
+///
+/// ```
+/// use platefield_studies::sort::slip_lead_deg;
+/// assert!((slip_lead_deg(0.5, 10.0, 10.0).unwrap() - 30.0).abs() < 1e-9);
+/// assert_eq!(slip_lead_deg(0.5, 10.0, 4.0), None);
+/// ```
 pub fn slip_lead_deg(mu: f64, g: f64, a: f64) -> Option<f64> {
     let s = mu * g / a;
     (s < 1.0).then(|| s.asin().to_degrees())
@@ -343,6 +364,11 @@ const WHY: &str = "Reading. Within the ranges swept no sort fails: every case en
 /// `platefield study sort`: designs and plays every case, writes
 /// `OUT/sort.md` and returns its text with each case's CPU seconds
 /// (printed only).
+///
+/// ```no_run
+/// platefield_studies::sort::run(std::path::Path::new("results"))?;
+/// # Ok::<(), platefield::Error>(())
+/// ```
 pub fn run(out: &Path) -> Result<String> {
     platefield::output::check_writable(out, "--out")?;
     let all = cases();
