@@ -25,7 +25,7 @@ use platefield::schedule::export::{export, RAMP_CYCLES};
 use platefield::schedule::Schedule;
 
 /// Every shipped schedule.
-const DESIGNS: [&str; 22] = [
+const DESIGNS: [&str; 23] = [
     "sink",
     "synthesized/sink",
     "saddle",
@@ -39,6 +39,7 @@ const DESIGNS: [&str; 22] = [
     "ellipse_30",
     "sort_friction",
     "sort_three",
+    "sort_lanes",
     "sequenced/sink",
     "sequenced/saddle",
     "sequenced/whirlpool",

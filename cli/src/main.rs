@@ -197,6 +197,9 @@ enum Study {
         #[command(flatten)]
         out: StudyOut,
     },
+    /// Sorting by friction against the friction contrast (μ ratio 1.25-3, sinks 3 cm apart) and the sinks' distance (1, 2, 4 cm at ratio 2), each designed and played as `design` does a classes target: sort.md (about 26 min of CPU; CPU seconds printed only).
+    #[command(mut_arg("out", default_dir(studies::sort::DIR)))]
+    Sort(StudyOut),
     /// The measurements behind numbers the docs state (the saddle's margin cap, the ratchet, the lag, the saddle's parts, single fields): probes.md (timings printed only).
     #[command(mut_arg("out", default_dir(studies::probes::DIR)))]
     Probes(StudyOut),
@@ -347,6 +350,7 @@ fn run_study(study: Study) -> Result<String> {
                 studies::robust_family::run(&out.out, count as usize, quiet.quiet)
             })
         }
+        Study::Sort(o) => studies::watched_defaults("sort", false, || studies::sort::run(&o.out)),
         Study::Probes(o) => {
             studies::watched_defaults("probes", false, || studies::probes::run(&o.out))
         }

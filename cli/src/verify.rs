@@ -22,7 +22,7 @@ pub struct VerifyArgs {
     /// Swarm: point parts per side of the N×N grid over the target region.
     #[arg(long, default_value_t = 9)]
     pub swarm: usize,
-    /// Swarm duration in seconds (rounded up to whole schedule periods); default: long enough to converge by the design's strength.
+    /// Swarm duration in seconds (rounded up to whole schedule periods); default: long enough to converge by the design's strength (a sort's class swarms: at least 60 s, as `design` plays them).
     #[arg(long, allow_negative_numbers = true)]
     pub duration: Option<f64>,
     /// Swarm duration in schedule periods.
@@ -43,7 +43,7 @@ pub struct VerifyArgs {
     /// Parts' friction: MU plays everything at μ_s = μ_k = MU; LO:HI:N also sweeps the design's judge over N values (table and plot in verify/). Default: the schedule's own.
     #[arg(long, allow_negative_numbers = true)]
     pub friction: Option<String>,
-    /// The schedule's exported CSV (`platefield export`), or an accelerometer recording of it (a header-less CSV of t and the six channels, or the six with --rate; averaged cycle by cycle onto the export's grid): also plays the file's held samples on the same parts by the design's judge and prints both (schedule played, export replayed).
+    /// The schedule's exported CSV (`platefield export`), or an accelerometer recording of it (a header-less CSV of t and the six channels, or the six with --rate; averaged cycle by cycle onto the export's grid): also plays the file's held samples on the same parts by the design's judge and prints both (schedule played, export replayed); for a sort's schedule (a target with classes) also every class's swarm at its own friction, with the time to sort, at own attractor, mixed up and lost contact.
     #[arg(long, value_name = "EXPORT.csv")]
     pub replay: Option<PathBuf>,
     /// The rate (samples/s) of a `--replay` recording whose rows hold the six channels without t (a header-less CSV; with t first, the times give it).

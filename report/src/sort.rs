@@ -19,9 +19,9 @@ use platefield::output::percent;
 use platefield::verify::sort_play::{ClassPlay, SortOutcome, SortPlay, SORT_SHARE, SORT_TOL};
 
 /// Goal: fraction of each class's swarm at its own attractor.
-pub(crate) const GOAL_AT_OWN: f64 = 0.95;
+pub const GOAL_AT_OWN: f64 = 0.95;
 /// Goal: largest fraction of a class's swarm at another class's attractor.
-pub(crate) const GOAL_MIXED_UP: f64 = 0.02;
+pub const GOAL_MIXED_UP: f64 = 0.02;
 
 /// One candidate in `sort.json`.
 #[derive(Debug, Clone, Serialize)]
@@ -53,12 +53,43 @@ pub(crate) struct SortReport<'a> {
 
 /// Whether every class met the goal: at its own attractor, not mixed up,
 /// none lost.
-pub(crate) fn goal_met(played: &[ClassPlay]) -> bool {
+pub fn goal_met(played: &[ClassPlay]) -> bool {
     played.iter().all(|c| {
         c.at_own.is_some_and(|f| f >= GOAL_AT_OWN)
             && c.mixed_up <= GOAL_MIXED_UP
             && c.contact_lost == 0
     })
+}
+
+/// What a sort's measures say in words: for sinks (and other attractors)
+/// where a class ends up, for lanes (classes with an `exit`) which edge
+/// it leaves through.
+struct Words {
+    /// What "sorted" means for one part.
+    sorted: String,
+    /// The fraction of a class counted as sorted.
+    own: &'static str,
+    /// The fraction counted as mixed up.
+    mixed: &'static str,
+}
+
+fn words(plays: &[ClassPlay]) -> Words {
+    if plays.iter().any(|c| c.exit.is_some()) {
+        Words {
+            sorted: "out through its own edge of the region".into(),
+            own: "through its own edge",
+            mixed: "through another edge",
+        }
+    } else {
+        Words {
+            sorted: format!(
+                "within {:.0} mm of its own attractor and staying",
+                1e3 * SORT_TOL
+            ),
+            own: "at its own attractor",
+            mixed: "mixed up",
+        }
+    }
 }
 
 /// `t` in seconds, or "not within the play".
@@ -69,11 +100,13 @@ fn seconds(t: Option<f64>) -> String {
 /// The first line of a sort's summary and report: the time to sort.
 pub(crate) fn headline(out: &SortOutcome) -> String {
     let k = out.kept();
+    let w = words(&k.classes);
     format!(
-        "time to sort: {} ({} of every class within {:.0} mm of its own attractor and staying; {} candidate of {}, played {:.0} s; worst class {} at its own attractor, {} mixed up, {} lost contact)",
+        "time to sort: {} ({} of every class {}; {} for 90 %; {} candidate of {}, played {:.0} s; worst class {} {}, {} {}, {} lost contact)",
         seconds(k.time_to_sort_s),
         percent(SORT_SHARE, 0),
-        1e3 * SORT_TOL,
+        w.sorted,
+        seconds(slowest(&k.classes, 0.9)),
         k.method,
         out.plays.len(),
         k.played_s,
@@ -84,15 +117,28 @@ pub(crate) fn headline(out: &SortOutcome) -> String {
                 .fold(f64::INFINITY, f64::min),
             1
         ),
+        w.own,
         percent(k.classes.iter().map(|c| c.mixed_up).fold(0.0, f64::max), 1),
+        w.mixed,
         k.classes.iter().map(|c| c.contact_lost).sum::<usize>()
     )
+}
+
+/// The slowest class's time (s) to bring `share` of it to its own
+/// attractor (or out through its own edge); `None` when a class does not.
+fn slowest(plays: &[ClassPlay], share: f64) -> Option<f64> {
+    plays
+        .iter()
+        .map(|c| c.time_to(share))
+        .try_fold(0.0_f64, |m, t| t.map(|t| m.max(t)))
 }
 
 /// `report.md` of a sort.
 pub(crate) fn report_md(target_name: &str, ds: &[SortDesign], out: &SortOutcome) -> String {
     let d = &ds[out.kept];
     let played = &out.kept().classes;
+    let w = words(played);
+    let lanes = played.iter().any(|c| c.exit.is_some());
     let mut s = format!(
         "# Sort by friction: {target_name}\n\n**{}**\n\n",
         headline(out)
@@ -108,13 +154,13 @@ pub(crate) fn report_md(target_name: &str, ds: &[SortDesign], out: &SortOutcome)
         if d.motions.is_empty() { "none".to_string() } else { d.motions.join(", ") }
     );
     let mut cands = Table::new([
-        "candidate",
-        "period (s)",
-        "played (s)",
-        "time to sort",
-        "worst at own attractor",
-        "worst mixed up",
-        "lost contact",
+        "candidate".to_string(),
+        "period (s)".into(),
+        "played (s)".into(),
+        "time to sort".into(),
+        format!("worst {}", w.own),
+        format!("worst {}", w.mixed),
+        "lost contact".into(),
     ]);
     for p in &out.plays {
         cands.row([
@@ -141,19 +187,23 @@ pub(crate) fn report_md(target_name: &str, ds: &[SortDesign], out: &SortOutcome)
     s.push_str(&cands.markdown());
     s.push_str("\n## Kept candidate per class\n\n");
     let mut table = Table::new([
-        "class",
-        "μ",
-        "predicted strength (1/s)",
-        "predicted shape",
-        "realised strength (1/s)",
-        "realised shape",
-        "swarm",
-        "played (s)",
-        "time to sort",
-        "at own attractor",
-        "mixed up",
-        "median distance (mm)",
-        "lost contact",
+        "class".to_string(),
+        "μ".into(),
+        "predicted strength (1/s)".into(),
+        "predicted shape".into(),
+        "realised strength (1/s)".into(),
+        "realised shape".into(),
+        "swarm".into(),
+        "played (s)".into(),
+        "time to sort".into(),
+        w.own.into(),
+        w.mixed.into(),
+        if lanes {
+            "mean exit time (s)".into()
+        } else {
+            "median distance (mm)".into()
+        },
+        "lost contact".into(),
     ]);
     for (f, p) in d.classes.iter().zip(played) {
         table.row([
@@ -168,34 +218,55 @@ pub(crate) fn report_md(target_name: &str, ds: &[SortDesign], out: &SortOutcome)
             seconds(p.time_to_sort_s),
             p.at_own.map_or("n/a".into(), |x| percent(x, 1)),
             percent(p.mixed_up, 1),
-            p.median_distance_m
-                .map_or("n/a".into(), |m| format!("{:.1}", 1e3 * m)),
+            match p.exit {
+                Some(e) => format!(
+                    "{} ({})",
+                    e.mean_exit_time_s
+                        .map_or("n/a".into(), |t| format!("{t:.1}")),
+                    e.edge.name()
+                ),
+                None => p
+                    .median_distance_m
+                    .map_or("n/a".into(), |m| format!("{:.1}", 1e3 * m)),
+            },
             p.contact_lost.to_string(),
         ]);
     }
     s.push_str(&table.markdown());
-    let _ = writeln!(
-        s,
-        "\n\"At own attractor\": the swarm's parts ending within {:.0} mm of the class's attractor; \"mixed up\": ending within {:.0} mm of another class's; \"time to sort\": the time by which {} of the class is within {:.0} mm of its own attractor and stays there to the end of the play. `sorted.svg`: each class's fraction at its own attractor (from then on) against time.\n",
-        1e3 * SORT_TOL,
-        1e3 * SORT_TOL,
-        percent(SORT_SHARE, 0),
-        1e3 * SORT_TOL
-    );
-    if goal_met(played) {
+    if lanes {
         let _ = writeln!(
             s,
-            "**Goal met**: every class ≥ {} at its own attractor, ≤ {} mixed up, none lost.",
-            percent(GOAL_AT_OWN, 0),
-            percent(GOAL_MIXED_UP, 0)
+            "\n\"Through its own edge\": the swarm's parts (started at the centres of a 9 × 5 grid of cells over the region) whose first exit from the region is through the class's edge, the crossing interpolated between segment ends; \"through another edge\": through any other; \"time to sort\": the time by which {} of the class has left through its own edge; mean exit time over those. `sorted.svg`: each class's fraction out through its own edge against time.\n",
+            percent(SORT_SHARE, 0),
         );
     } else {
         let _ = writeln!(
             s,
-            "**Goal NOT met** (≥ {} of each class at its own attractor, ≤ {} mixed up, none lost). {}",
+            "\n\"At own attractor\": the swarm's parts ending within {:.0} mm of the class's attractor; \"mixed up\": ending within {:.0} mm of another class's; \"time to sort\": the time by which {} of the class is within {:.0} mm of its own attractor and stays there to the end of the play. `sorted.svg`: each class's fraction at its own attractor (from then on) against time.\n",
+            1e3 * SORT_TOL,
+            1e3 * SORT_TOL,
+            percent(SORT_SHARE, 0),
+            1e3 * SORT_TOL
+        );
+    }
+    if goal_met(played) {
+        let _ = writeln!(
+            s,
+            "**Goal met**: every class ≥ {} {}, ≤ {} {}, none lost.",
             percent(GOAL_AT_OWN, 0),
+            w.own,
             percent(GOAL_MIXED_UP, 0),
-            WHY_NOT
+            w.mixed
+        );
+    } else {
+        let _ = writeln!(
+            s,
+            "**Goal NOT met** (≥ {} of each class {}, ≤ {} {}, none lost). {}",
+            percent(GOAL_AT_OWN, 0),
+            w.own,
+            percent(GOAL_MIXED_UP, 0),
+            w.mixed,
+            if lanes { LANES_WHY_NOT } else { WHY_NOT }
         );
     }
     s.push_str("\n## Schedule\n\n| segment | cycles | weight |\n|---|---|---|\n");
@@ -211,14 +282,22 @@ pub(crate) fn report_md(target_name: &str, ds: &[SortDesign], out: &SortOutcome)
 pub(crate) fn sorted_svg(target_name: &str, out: &SortOutcome) -> String {
     const SAMPLES: usize = 200;
     let k = out.kept();
+    let w = words(&k.classes);
     let t_end = k.played_s.max(f64::MIN_POSITIVE);
     let mut plot = LinePlot::new(format!(
-        "{target_name}: each class at its own attractor ({} candidate)",
-        k.method
+        "{target_name}: each class {} ({} candidate)",
+        w.own, k.method
     ))
     .labels(
         "time played (s)",
-        "fraction within 5 mm of its own attractor",
+        if k.classes.iter().any(|c| c.exit.is_some()) {
+            "fraction out through its own edge".to_string()
+        } else {
+            format!(
+                "fraction within {:.0} mm of its own attractor",
+                1e3 * SORT_TOL
+            )
+        },
     );
     for c in &k.classes {
         let points = (0..=SAMPLES)
@@ -245,6 +324,9 @@ pub(crate) fn sorted_svg(target_name: &str, out: &SortOutcome) -> String {
 /// What limits a sort, stated with a verdict that is not met (measured on
 /// `targets/sort_friction.json`, `results/sort_friction/`).
 pub(crate) const WHY_NOT: &str = "What limits a sort: every class follows every motion, so each class's attractor must come from how differently the classes follow the same motions. A motion synthesized for one class's sink is followed by the others nearly unturned (the slip lead δ = asin(μg/A) is a few degrees at the tens of m/s² that make strong fields), and the primitives' fields change with friction mostly in strength; a sort therefore rests on transports whose speed depends on friction, balanced against a common sink, or on gentle motions under which the stickier class does not slip at all (2-3 mm/s at 209 rad/s). Where the parts settle is off the time-averaged field's attractor by the schedule's within-period excursion (millimetres), so candidates are aimed by playing and several shape budgets tried; a target whose classes' transports hardly differ, or whose attractors are closer than those excursions, is not sorted by any of them.";
+
+/// What limits lanes, stated with a verdict that is not met.
+pub(crate) const LANES_WHY_NOT: &str = "What limits lanes: every class follows every motion, and a uniform transport carries all classes the same way, faster or slower; opposite lanes need a motion that carries the slippery class and holds the sticky one (an in-plane peak between μ_lo g and μ_hi g: a few mm/s), time-shared with a strong transport the other way that the sticky class follows at least as fast as the slippery one. Where the strong transport carries the slippery class nearly as fast, the gentle share must win it back and both lanes slow down.";
 
 /// Writes the kept candidate's `schedule.json`, `sort.json` (every
 /// candidate), `report.md` and `sorted.svg` into `dir`.
@@ -300,22 +382,34 @@ pub(crate) fn design_json(ds: &[SortDesign], out: &SortOutcome) -> Result<String
     Ok(text)
 }
 
+/// One class's line of a summary.
+fn class_line(c: &ClassPlay) -> String {
+    let w = words(std::slice::from_ref(c));
+    format!(
+        "class {}: μ {}, realised strength {:.4} 1/s, shape {}, sorted in {}, {} {}, {} {}{}, {} lost contact",
+        c.name,
+        c.friction,
+        c.realised_strength,
+        percent(c.realised_shape_error, 1),
+        seconds(c.time_to_sort_s),
+        c.at_own.map_or("n/a".into(), |x| percent(x, 1)),
+        w.own,
+        percent(c.mixed_up, 1),
+        w.mixed,
+        c.exit.map_or(String::new(), |e| format!(
+            ", mean exit time {} through the {} edge",
+            seconds(e.mean_exit_time_s),
+            e.edge.name()
+        )),
+        c.contact_lost
+    )
+}
+
 /// Terminal summary of a sort: the time to sort first, then per class.
 pub fn summary(out: &SortOutcome) -> String {
     let mut s = format!("{}\n", headline(out));
     for c in &out.kept().classes {
-        let _ = writeln!(
-            s,
-            "class {}: μ {}, realised strength {:.4} 1/s, shape {}, sorted in {}, {} at its attractor, {} mixed up, {} lost contact",
-            c.name,
-            c.friction,
-            c.realised_strength,
-            percent(c.realised_shape_error, 1),
-            seconds(c.time_to_sort_s),
-            c.at_own.map_or("n/a".into(), |x| percent(x, 1)),
-            percent(c.mixed_up, 1),
-            c.contact_lost
-        );
+        let _ = writeln!(s, "{}", class_line(c));
     }
     let _ = writeln!(
         s,
@@ -326,6 +420,38 @@ pub fn summary(out: &SortOutcome) -> String {
             "sort goal NOT met (see report.md for the reason)"
         }
     );
+    s
+}
+
+/// The text `verify` prints for a sort's schedule
+/// ([`platefield::verify::sort_play::SortVerify`]): per motion (the
+/// schedule played, the export replayed) the time to sort and per class
+/// the measures of the design's plays, and the goal's verdict.
+pub fn verify_text(v: &platefield::verify::sort_play::SortVerify) -> String {
+    use platefield::verify::sort_play::SortVerify;
+    let parts = v.played.first().map_or(0, |c| c.parts);
+    let mut s = format!(
+        "sort: every class's swarm of {parts} parts at its own friction, {:.1} s:\n",
+        v.played_s
+    );
+    let mut section = |what: &str, plays: &[ClassPlay]| {
+        let _ = writeln!(
+            s,
+            "  {what}: time to sort {} ({} of every class {}; {} for 90 %); goal {}",
+            seconds(SortVerify::time_to_sort(plays)),
+            percent(SORT_SHARE, 0),
+            words(plays).sorted,
+            seconds(slowest(plays, 0.9)),
+            if goal_met(plays) { "met" } else { "NOT met" }
+        );
+        for c in plays {
+            let _ = writeln!(s, "    {}", class_line(c));
+        }
+    };
+    section("schedule played", &v.played);
+    if let Some((file, plays)) = &v.replayed {
+        section(&format!("export {file} replayed"), plays);
+    }
     s
 }
 

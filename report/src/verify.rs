@@ -47,6 +47,8 @@ pub(crate) fn summary_json(r: &VerifyReport) -> Result<String> {
         replay: Option<&'a platefield::play::replay::ReplayCheck>,
         #[serde(skip_serializing_if = "Option::is_none")]
         tolerance: Option<&'a platefield::design::tolerance::Spread>,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        sort: Option<&'a platefield::verify::sort_play::SortVerify>,
     }
     #[derive(Serialize)]
     struct ModelCheckSummary<'a> {
@@ -90,6 +92,7 @@ pub(crate) fn summary_json(r: &VerifyReport) -> Result<String> {
         friction_sweep: r.friction_sweep.as_ref(),
         replay: r.replay.as_ref(),
         tolerance: r.tolerance.as_ref(),
+        sort: r.sort.as_ref(),
     };
     let mut text =
         serde_json::to_string_pretty(&summary).map_err(|e| Error::Physical(e.to_string()))?;
@@ -549,6 +552,9 @@ pub fn run(
     }
     if let Some(c) = &r.replay {
         text.push_str(&c.text());
+    }
+    if let Some(v) = &r.sort {
+        text.push_str(&crate::sort::verify_text(v));
     }
     for f in files {
         let _ = writeln!(text, "wrote {}", f.display());

@@ -57,7 +57,9 @@
 //! its field within in-plane peaks of [`GENTLE_SYNTH_FRACTION`] of the
 //! next stickier class's μ_s,low g and a contact margin of
 //! [`GENTLE_SYNTH_MARGIN`] (so μ_s,low N ≥ 0.85 μ_s,low g stays above the
-//! peak: that class is held). The fit's time fractions make the time-share.
+//! peak: that class is held), when that peak exceeds its own μ_s g (a
+//! contrast above 1/0.7; below it the gentle window is closed to
+//! syntheses). The fit's time fractions make the time-share.
 //!
 //! **Aim.** The stacked fit matches each class's whole-cycle average
 //! field; the parts follow the schedule segment by segment, and where they
@@ -71,6 +73,17 @@
 //! centre over the last period (time-averaged between segment ends; for a
 //! line, its normal part) measured, the class's target moved by −e (fitted
 //! as f(q + e)) and refitted, up to [`AIM_STEPS`] times.
+//!
+//! **Lanes.** A class may instead ask to leave the region through one of
+//! its edges (`"exit"`, [`crate::request::Edge`]), its field a uniform
+//! `trans` through that edge. A uniform transport carries every class the
+//! same way, faster or slower, and the slip lead turns it by a few degrees
+//! only; opposite lanes come from the threshold again: a gentle motion
+//! carries the slippery class while the sticky one is held, time-shared
+//! with a strong transport the other way. The same stacked fit makes
+//! them (nothing is aimed: a lane has no attractor), and the plays
+//! measure where each part first leaves the region
+//! (`crate::verify::sort_play`).
 //!
 //! **Judged by playing**: every candidate's swarms are played
 //! (`verify::sort_play`); the sort that brings 95 % of every class to its
@@ -97,7 +110,9 @@ use crate::work::Term;
 pub const GENTLE_FRACTIONS: [f64; 2] = [0.75, 0.9];
 
 /// In-plane peak of a gentle synthesized motion, as a fraction of the next
-/// stickier class's μ_s,low g.
+/// stickier class's μ_s,low g. A class whose own μ_s is not below this
+/// fraction of the next stickier one's (a contrast below 1/0.7 = 1.43)
+/// gets no gentle motion: none could make it slip.
 pub const GENTLE_SYNTH_FRACTION: f64 = 0.7;
 
 /// Contact margin of a gentle synthesized motion: N ≥ 0.85 g keeps the
@@ -264,7 +279,8 @@ pub fn design_sort_primitives(target: &Target, opts: &DesignOptions) -> Result<S
 /// made playable beside the primitives (`super::method::mixable`):
 /// `Own:<class>` (its field at its friction alone: every class sees it,
 /// nearly unturned at full strength) and `Joint:<class>` for every class;
-/// for every class with a stickier one,
+/// for every class with a stickier one whose gentle limits still exceed
+/// its own μ_s g (`GENTLE_SYNTH_FRACTION`),
 /// within the gentle limits, `Gentle:<class>` (its own field) and
 /// `GentleCarry:<class>` (a uniform transport from the next stickier
 /// class's attractor toward its own: an attractor off the plate's centre
@@ -314,7 +330,12 @@ pub fn sort_motions(target: &Target, opts: &DesignOptions) -> Result<Vec<(String
             .copied()
             .filter(|&mu| mu > lows[i])
             .fold(f64::INFINITY, f64::min);
-        if stickier.is_finite() {
+        // The gentle limits must still let this class slip: a peak of
+        // GENTLE_SYNTH_FRACTION of the stickier threshold above its own
+        // μ_s g, i.e. a friction contrast above 1/GENTLE_SYNTH_FRACTION
+        // (1.43); below it no gentle motion carries either class.
+        let own_threshold = classes[i].1.friction.stat;
+        if stickier.is_finite() && GENTLE_SYNTH_FRACTION * stickier > own_threshold {
             let g = classes[i].1.gravity;
             let peak = GENTLE_SYNTH_FRACTION * stickier * g;
             let gentle = ShakerLimits {

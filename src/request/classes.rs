@@ -38,6 +38,90 @@ pub struct PartClass {
     pub friction: FrictionSpec,
     /// The field this class's parts should follow.
     pub field: FieldSpec,
+    /// A lane: the edge of the target's region (its grid's box) the
+    /// class's parts should leave through; its field is then a uniform
+    /// `trans` pointing through that edge.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub exit: Option<Edge>,
+}
+
+/// An edge of the target's region, the box of its grid: x low (`left`),
+/// x high (`right`), y low (`bottom`), y high (`top`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Edge {
+    /// x = x_min.
+    Left,
+    /// x = x_max.
+    Right,
+    /// y = y_min.
+    Bottom,
+    /// y = y_max.
+    Top,
+}
+
+impl Edge {
+    /// Every edge, in the order above.
+    pub const ALL: [Edge; 4] = [Edge::Left, Edge::Right, Edge::Bottom, Edge::Top];
+
+    /// Its name in a target file, e.g. `left`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Edge::Left => "left",
+            Edge::Right => "right",
+            Edge::Bottom => "bottom",
+            Edge::Top => "top",
+        }
+    }
+
+    /// Its outward unit normal.
+    ///
+    /// ```
+    /// use platefield::request::Edge;
+    /// assert_eq!(Edge::Left.outward(), [-1.0, 0.0]);
+    /// ```
+    pub fn outward(self) -> [f64; 2] {
+        match self {
+            Edge::Left => [-1.0, 0.0],
+            Edge::Right => [1.0, 0.0],
+            Edge::Bottom => [0.0, -1.0],
+            Edge::Top => [0.0, 1.0],
+        }
+    }
+
+    /// Where the straight move from `from` (inside the box `x` × `y`) to
+    /// `to` first leaves it: the edge crossed and the fraction of the
+    /// move at the crossing; `None` when `to` is inside.
+    ///
+    /// ```
+    /// use platefield::request::Edge;
+    /// let x = [-0.5, 0.5];
+    /// let y = [-0.25, 0.25];
+    /// assert_eq!(Edge::crossing([0.25, 0.0], [0.75, 0.0], x, y), Some((Edge::Right, 0.5)));
+    /// // Both bounds passed: the one crossed first.
+    /// assert_eq!(Edge::crossing([0.25, 0.0], [0.75, 0.75], x, y), Some((Edge::Top, 1.0 / 3.0)));
+    /// assert_eq!(Edge::crossing([0.0, 0.0], [0.25, 0.0], x, y), None);
+    /// ```
+    pub fn crossing(from: [f64; 2], to: [f64; 2], x: [f64; 2], y: [f64; 2]) -> Option<(Edge, f64)> {
+        let fraction = |a: f64, b: f64, bound: f64| {
+            let d = b - a;
+            (d != 0.0).then(|| ((bound - a) / d).clamp(0.0, 1.0))
+        };
+        let mut out: Option<(Edge, f64)> = None;
+        for (edge, outside, s) in [
+            (Edge::Left, to[0] < x[0], fraction(from[0], to[0], x[0])),
+            (Edge::Right, to[0] > x[1], fraction(from[0], to[0], x[1])),
+            (Edge::Bottom, to[1] < y[0], fraction(from[1], to[1], y[0])),
+            (Edge::Top, to[1] > y[1], fraction(from[1], to[1], y[1])),
+        ] {
+            if let (true, Some(s)) = (outside, s) {
+                if out.is_none_or(|(_, best)| s < best) {
+                    out = Some((edge, s));
+                }
+            }
+        }
+        out
+    }
 }
 
 /// `classes` read alone, so its errors carry their paths.
@@ -134,6 +218,9 @@ pub(super) fn validate(classes: &[PartClass]) -> Result<(), TargetError> {
                 other => TargetError::invalid(path.clone(), other.to_string()),
             })?;
         c.field.validate(&format!("{path}.field"))?;
+        if let Some(edge) = c.exit {
+            validate_lane(&path, edge, &c.field)?;
+        }
         let (lo, hi) = (c.friction.stat.lo, c.friction.stat.hi);
         if let Some(j) = classes[..i]
             .iter()
@@ -148,6 +235,34 @@ pub(super) fn validate(classes: &[PartClass]) -> Result<(), TargetError> {
                 ),
             ));
         }
+    }
+    Ok(())
+}
+
+/// A lane's field (class at `path`, leaving through `edge`): a uniform
+/// `trans` whose direction points out through that edge.
+fn validate_lane(path: &str, edge: Edge, field: &FieldSpec) -> Result<(), TargetError> {
+    let FieldSpec::Trans { direction, .. } = field else {
+        return Err(TargetError::invalid(
+            format!("{path}.field"),
+            format!(
+                "a lane (\"exit\": \"{}\") takes a uniform field, {{\"kind\": \"trans\", \"direction\": DEGREES}}, pointing through its edge",
+                edge.name()
+            ),
+        ));
+    };
+    let a = direction.to_radians();
+    let n = edge.outward();
+    if a.cos() * n[0] + a.sin() * n[1] <= 1e-9 {
+        return Err(TargetError::invalid(
+            format!("{path}.field.direction"),
+            format!(
+                "{direction}° does not point through the {} edge of the region (its outward normal is [{}, {}]); a lane's transport must leave through its exit",
+                edge.name(),
+                n[0],
+                n[1]
+            ),
+        ));
     }
     Ok(())
 }

@@ -208,7 +208,7 @@ pub const MIN_WEIGHTED_POINTS: usize = 3;
 pub use crate::scene::FrictionSpec;
 pub use attractor::Attractor;
 pub(crate) use classes::PartClass;
-pub use classes::MAX_CLASSES;
+pub use classes::{Edge, MAX_CLASSES};
 pub use error::TargetError;
 pub use examples::examples;
 pub use field::{

@@ -74,6 +74,11 @@ impl Judged {
         })
     }
 
+    /// The replay file read and its name, when one was asked for.
+    pub(crate) fn replay_file(&self) -> Option<(&HoldSamples, &str)> {
+        self.replay.as_ref().map(|(f, s)| (f, s.as_str()))
+    }
+
     /// Runs the admitted checks on `schedule`: the sweep, then the replay.
     pub(crate) fn run(
         &self,

@@ -212,6 +212,10 @@ pub struct VerifyReport {
     pub replay: Option<crate::play::replay::ReplayCheck>,
     /// The judge over delivery errors (`--tolerance`).
     pub tolerance: Option<crate::design::tolerance::Spread>,
+    /// For a sort's schedule (its target has classes): every class's
+    /// swarm at its own friction, the schedule played and the export
+    /// replayed (`--replay`) ([`super::sort_play::verify_sort`]).
+    pub sort: Option<super::sort_play::SortVerify>,
 }
 
 /// The region verified: the target's grid; for a grid-less `sampled`
@@ -580,6 +584,29 @@ fn verify_labelled(schedule: &Schedule, req: &VerifyRequest, label: &str) -> Res
         req.replay.as_deref().map(|p| (p, req.replay_rate)),
         &req.runtime,
     )?;
+    // A sort's classes: played as long as the design plays them, unless a
+    // duration is asked for; admitted before anything is played.
+    let sort_periods = match req.duration {
+        _ if !super::sort_play::is_sort(schedule) => None,
+        Duration::Auto => Some(super::sort_play::verify_periods(schedule, None)?),
+        d => Some(swarm_periods(
+            d,
+            ScheduleMotion::from_schedule(schedule)?.period(),
+            None,
+            &[],
+            0.0,
+            req.tol,
+        )),
+    };
+    if let Some(periods) = sort_periods {
+        if let Some(e) = super::sort_play::verify_estimate(
+            schedule,
+            periods,
+            judged.replay_file().map(|(f, _)| f.rate),
+        )? {
+            req.runtime.admit(&e)?;
+        }
+    }
     let settings = schedule.settings;
     let name = schedule.target_folder()?;
     if schedule.moving_time() <= 0.0 {
@@ -691,6 +718,12 @@ fn verify_labelled(schedule: &Schedule, req: &VerifyRequest, label: &str) -> Res
     );
     progress.finish();
     let (friction_sweep, replay) = judged.run(schedule)?;
+    let sort = match sort_periods {
+        Some(periods) => {
+            super::sort_play::verify_sort(schedule, judged.replay_file(), periods, &req.runtime)?
+        }
+        None => None,
+    };
     let tolerance = delivery_spread(schedule, req, &settings)?;
     Ok(VerifyReport {
         target: name.to_string(),
@@ -719,6 +752,7 @@ fn verify_labelled(schedule: &Schedule, req: &VerifyRequest, label: &str) -> Res
         friction_sweep,
         replay,
         tolerance,
+        sort,
     })
 }
 

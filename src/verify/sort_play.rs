@@ -35,11 +35,16 @@ use serde::Serialize;
 
 use super::swarm::{run_swarm, SwarmOptions};
 use crate::design::judge::realised_check;
+use crate::design::replay::judge_replay;
 use crate::design::sort::SortDesign;
 use crate::error::Result;
+use crate::field::FieldSettings;
+use crate::motion::sample_hold::HoldSamples;
+use crate::play::replay::replay_motion;
 use crate::play::{PlayOptions, ScheduleMotion};
 use crate::progress::Progress;
-use crate::request::{Attractor, Target};
+use crate::request::{Attractor, Edge, SampledTarget, Target};
+use crate::schedule::Schedule;
 use crate::work::{Estimate, Runtime, Term};
 
 /// Distance (m) to an attractor within which a part counts as there: 5 mm.
@@ -80,10 +85,80 @@ pub struct ClassPlay {
     /// Time (s) by which [`SORT_SHARE`] of the swarm is within `SORT_TOL`
     /// of its own attractor and stays there (module docs).
     pub time_to_sort_s: Option<f64>,
-    /// Per part, its time to converge to its own attractor (s), `None`
-    /// when it does not within the play: the fraction-against-time curve.
+    /// For a lane (a class with an `exit`): the edge and the mean exit
+    /// time; `at_own` is then the fraction that left through its own
+    /// edge, `mixed_up` through another, `time_to_sort_s` the time by
+    /// which [`SORT_SHARE`] left through its own.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub exit: Option<LaneExit>,
+    /// Per part, its time to converge to its own attractor (s) (for a
+    /// lane: to leave through its own edge), `None` when it does not
+    /// within the play: the fraction-against-time curve.
     #[serde(skip)]
     pub arrivals: Vec<Option<f64>>,
+}
+
+/// A lane class's swarm: which edge it should leave through and how.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct LaneExit {
+    /// The edge of the region the class should leave through.
+    pub edge: Edge,
+    /// Fraction of the swarm that left through it.
+    pub through_own: f64,
+    /// Fraction that left through another edge.
+    pub through_other: f64,
+    /// Mean time (s) of the exits through its own edge.
+    pub mean_exit_time_s: Option<f64>,
+}
+
+/// Where each of a lane class's swarm `parts` (played by `sm`) first
+/// leaves the target's region (the box of its grid; positions recorded
+/// at segment ends, the crossing interpolated along the straight move
+/// between two), against its own `edge`: the [`LaneExit`] and, per part,
+/// its exit time through its own edge.
+fn lane_exits(
+    target: &Target,
+    sm: &ScheduleMotion,
+    parts: &[crate::verify::swarm::SwarmPart],
+    edge: Edge,
+) -> (LaneExit, Vec<Option<f64>>) {
+    let g = target
+        .grid
+        .as_ref()
+        .expect("a classes target has a grid (validated)");
+    let durations: Vec<f64> = sm.segments().iter().map(|s| s.duration).collect();
+    let mut own = Vec::new();
+    let mut other = 0;
+    for p in parts {
+        let mut t = 0.0;
+        let mut found = None;
+        for (k, w) in p.path.windows(2).enumerate() {
+            let dt = durations[k % durations.len()];
+            if let Some((e, s)) = Edge::crossing(w[0], w[1], g.x, g.y) {
+                found = Some((e, t + s * dt));
+                break;
+            }
+            t += dt;
+        }
+        match found {
+            Some((e, t)) if e == edge => own.push(Some(t)),
+            Some(_) => {
+                other += 1;
+                own.push(None);
+            }
+            None => own.push(None),
+        }
+    }
+    let n = parts.len().max(1) as f64;
+    let times: Vec<f64> = own.iter().flatten().copied().collect();
+    let lane = LaneExit {
+        edge,
+        through_own: times.len() as f64 / n,
+        through_other: f64::from(other) / n,
+        mean_exit_time_s: (!times.is_empty())
+            .then(|| times.iter().sum::<f64>() / times.len() as f64),
+    };
+    (lane, own)
 }
 
 impl ClassPlay {
@@ -101,6 +176,19 @@ impl ClassPlay {
             .filter(|a| a.is_some_and(|a| a <= t))
             .count() as f64
             / n
+    }
+
+    /// The time (s) by which `share` of the swarm is within `SORT_TOL` of
+    /// its own attractor and stays there (the ⌈share·n⌉-th smallest of
+    /// the parts' times to converge); `None` when fewer converge within
+    /// the play. [`ClassPlay::time_to_sort_s`] is this at [`SORT_SHARE`].
+    ///
+    /// ```
+    /// # use platefield::verify::sort_play::ClassPlay;
+    /// # fn f(c: &ClassPlay) { let _ = c.time_to(0.9); }
+    /// ```
+    pub fn time_to(&self, share: f64) -> Option<f64> {
+        time_to_share(&self.arrivals, share)
     }
 }
 
@@ -239,11 +327,7 @@ pub fn play_classes(
     periods: Option<u32>,
     runtime: &Runtime,
 ) -> Result<Vec<ClassPlay>> {
-    let attractors: Vec<Option<Attractor>> = target
-        .classes
-        .iter()
-        .map(|c| Attractor::of(&c.field))
-        .collect();
+    let attractors = class_attractors(target);
     let sm = ScheduleMotion::from_schedule(&design.schedule)?;
     let starts = swarm_starts(target);
     // Every class for the same time, as on one plate: the slowest class's.
@@ -257,46 +341,106 @@ pub fn play_classes(
             .unwrap_or(1)
             .max(min_periods(&sm))
     });
-    let judge = {
-        let ct = target.class_target(0);
-        let sampled = ct.sample()?;
-        crate::design::judge::judge_term(
-            &ct,
-            &sampled,
-            crate::design::judge::judged_cycles(&design.schedule),
-            design.schedule.settings.numerics.steps_per_cycle,
-        )
-    };
-    runtime.admit(&play_estimate(design, starts.len(), periods, judge))?;
+    runtime.admit(&play_estimate(
+        &design.schedule,
+        target.classes.len(),
+        starts.len(),
+        periods,
+        class_judge(target, &design.schedule)?,
+    ))?;
+    let strengths: Vec<f64> = design.classes.iter().map(|c| c.strength).collect();
+    play_each_class(
+        target,
+        &ClassMotion {
+            sm: &sm,
+            label: "sort: plays",
+            realised: &|ct, sampled, settings, strength| {
+                let (_, r) =
+                    realised_check(ct, sampled, &design.schedule, settings, Some(strength))?;
+                Ok((r.realised_strength, r.shape_error))
+            },
+        },
+        &design.schedule.settings,
+        &strengths,
+        periods,
+        runtime,
+    )
+}
+
+/// The classes' attractors, in the target's order.
+fn class_attractors(target: &Target) -> Vec<Option<Attractor>> {
+    target
+        .classes
+        .iter()
+        .map(|c| Attractor::of(&c.field))
+        .collect()
+}
+
+/// The judge's work of one class of `target` under `schedule`
+/// (`crate::design::judge::judge_term`).
+fn class_judge(target: &Target, schedule: &Schedule) -> Result<Term> {
+    let ct = target.class_target(0);
+    let sampled = ct.sample()?;
+    Ok(crate::design::judge::judge_term(
+        &ct,
+        &sampled,
+        crate::design::judge::judged_cycles(schedule),
+        schedule.settings.numerics.steps_per_cycle,
+    ))
+}
+
+/// The realised strength and shape error of a class (its target, sampled,
+/// under its physics, against the strength its design predicts).
+type Realised<'a> = dyn Fn(&Target, &SampledTarget, &FieldSettings, f64) -> Result<(f64, f64)> + 'a;
+
+/// What the classes' swarms are played with: the plate's trajectory and
+/// the realised check of each class under it.
+struct ClassMotion<'a> {
+    sm: &'a ScheduleMotion,
+    /// The progress bar's label.
+    label: &'static str,
+    realised: &'a Realised<'a>,
+}
+
+/// Every class of `target` played by `motion` for `periods` periods at
+/// its own friction (`base` with the class's physics): the realised check
+/// and the swarm's measures (module docs). `strengths`: per class, the
+/// strength the design predicts (the swarm's predicted times).
+fn play_each_class(
+    target: &Target,
+    motion: &ClassMotion<'_>,
+    base: &FieldSettings,
+    strengths: &[f64],
+    periods: u32,
+    runtime: &Runtime,
+) -> Result<Vec<ClassPlay>> {
+    let attractors = class_attractors(target);
+    let starts = swarm_starts(target);
     let progress = Progress::new(
-        "sort: plays",
+        motion.label,
         "classes",
-        design.classes.len() as u64,
+        target.classes.len() as u64,
         runtime.progress(),
     );
     let mut out = Vec::new();
-    for (i, fit) in design.classes.iter().enumerate() {
-        progress.set_message(format!("class {}", fit.name));
+    for (i, class) in target.classes.iter().enumerate() {
+        progress.set_message(format!("class {}", class.name));
         let ct = target.class_target(i);
-        let settings = ct.physics(&design.schedule.settings);
+        let settings = ct.physics(base);
         let sampled = ct.sample()?;
-        let (_, r) = realised_check(
-            &ct,
-            &sampled,
-            &design.schedule,
-            &settings,
-            Some(fit.strength),
-        )?;
+        let strength = strengths.get(i).copied().unwrap_or(0.0);
+        let (realised_strength, realised_shape_error) =
+            (motion.realised)(&ct, &sampled, &settings, strength)?;
         let own = attractors[i];
         let swarm = run_swarm(
-            &sm,
+            motion.sm,
             &starts,
             own,
             &SwarmOptions {
                 verify: PlayOptions::from_settings(&settings),
                 periods,
                 tol: SORT_TOL,
-                strength: fit.strength,
+                strength,
             },
         );
         let others: Vec<Attractor> = attractors
@@ -307,16 +451,25 @@ pub fn play_classes(
             .collect();
         let (at_own, mixed_up) = arrivals(&swarm.parts, own, &others);
         let distances: Vec<f64> = swarm.parts.iter().map(|p| p.distance[1]).collect();
-        let arrivals: Vec<Option<f64>> = swarm
+        let mut arrivals: Vec<Option<f64>> = swarm
             .parts
             .iter()
             .map(|p| p.time_to_converge_s.filter(|_| p.note.is_none()))
             .collect();
+        let (mut at_own, mut mixed_up) = (at_own, mixed_up);
+        let exit = class.exit.map(|edge| {
+            let (lane, exits) = lane_exits(target, motion.sm, &swarm.parts, edge);
+            at_own = Some(lane.through_own);
+            mixed_up = lane.through_other;
+            arrivals = exits;
+            lane
+        });
         out.push(ClassPlay {
-            name: fit.name.clone(),
+            exit,
+            name: class.name.clone(),
             friction: settings.friction.stat,
-            realised_strength: r.realised_strength,
-            realised_shape_error: r.shape_error,
+            realised_strength,
+            realised_shape_error,
             parts: swarm.parts.len(),
             duration_s: swarm.duration_s,
             at_own,
@@ -330,6 +483,186 @@ pub fn play_classes(
     }
     progress.finish();
     Ok(out)
+}
+
+/// A sort's schedule verified class by class (`platefield verify` of a
+/// schedule whose target has classes): every class's swarm played by the
+/// schedule's motions and, with an export, by the export's held samples
+/// replayed (`crate::play::replay`), each at the class's own friction, by
+/// the measures of the design's plays (module docs).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SortVerify {
+    /// Time played (s), the same for every class.
+    pub played_s: f64,
+    /// The schedule's motions played, per class.
+    pub played: Vec<ClassPlay>,
+    /// The export replayed: the file's name and, per class, its play.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub replayed: Option<(String, Vec<ClassPlay>)>,
+}
+
+impl SortVerify {
+    /// The slowest class's time to sort (s) of `plays`; `None` when a
+    /// class is not sorted within the play.
+    ///
+    /// ```
+    /// use platefield::verify::sort_play::SortVerify;
+    /// let v = SortVerify { played_s: 60.0, played: Vec::new(), replayed: None };
+    /// assert_eq!(SortVerify::time_to_sort(&v.played), Some(0.0));
+    /// ```
+    pub fn time_to_sort(plays: &[ClassPlay]) -> Option<f64> {
+        plays
+            .iter()
+            .map(|c| c.time_to_sort_s)
+            .try_fold(0.0_f64, |a, t| t.map(|t| a.max(t)))
+    }
+}
+
+/// Schedule periods a verification plays a sort's swarms: `asked`, else
+/// at least [`MIN_SORT_PLAY_S`] (the design's least play) in whole
+/// periods of `schedule`.
+///
+/// # Errors
+/// The schedule cannot be played.
+pub fn verify_periods(schedule: &Schedule, asked: Option<u32>) -> Result<u32> {
+    let sm = ScheduleMotion::from_schedule(schedule)?;
+    Ok(asked.unwrap_or_else(|| min_periods(&sm)))
+}
+
+/// The work of [`verify_sort`] of `schedule` (its target's classes, the
+/// swarms played `periods` periods, and replayed too when `replay_rate`
+/// (samples/s) is given), `None` when its target has no classes.
+///
+/// # Errors
+/// A class whose target cannot be sampled.
+pub fn verify_estimate(
+    schedule: &Schedule,
+    periods: u32,
+    replay_rate: Option<f64>,
+) -> Result<Option<Estimate>> {
+    let Some(target) = classes_target(schedule) else {
+        return Ok(None);
+    };
+    let judge = class_judge(target, schedule)?;
+    let n = target.classes.len();
+    let parts = swarm_starts(target).len();
+    let played = play_estimate(schedule, n, parts, periods, judge.clone());
+    let Some(rate) = replay_rate else {
+        return Ok(Some(played));
+    };
+    // The replay's part steps: at least one per held sample
+    // (`crate::design::replay` counts its judge the same way).
+    let steps = schedule.settings.numerics.steps_per_cycle as f64;
+    let cycle = schedule
+        .segments
+        .iter()
+        .find_map(|s| s.cycle_period())
+        .unwrap_or(schedule.period_s);
+    let per_step = (rate * cycle / steps).max(1.0);
+    let mut e = played;
+    for t in play_estimate(schedule, n, parts, periods, judge).terms {
+        e = e.plus(t.named("replayed").times(per_step, "held samples per step"));
+    }
+    Ok(Some(e))
+}
+
+/// Whether `schedule` is a sort's: the target it records has classes.
+///
+/// ```
+/// use platefield::schedule::Schedule;
+/// let s = Schedule::load("results/sort_friction/schedule.json".as_ref())?;
+/// assert!(platefield::verify::sort_play::is_sort(&s));
+/// # Ok::<(), platefield::Error>(())
+/// ```
+pub fn is_sort(schedule: &Schedule) -> bool {
+    classes_target(schedule).is_some()
+}
+
+/// The target `schedule` records when it has classes.
+fn classes_target(schedule: &Schedule) -> Option<&Target> {
+    schedule
+        .target_spec
+        .as_ref()
+        .filter(|t| t.classes.len() >= 2)
+}
+
+/// Verifies a sort's `schedule` class by class ([`SortVerify`]) for
+/// `periods` schedule periods ([`verify_periods`]): the schedule played
+/// and, with `replay` (the export's held samples and the file's name),
+/// the export replayed. `None` when the schedule's target has no classes.
+///
+/// ```no_run
+/// use platefield::design::replay::exported;
+/// use platefield::schedule::Schedule;
+/// use platefield::verify::sort_play::{verify_periods, verify_sort};
+/// let s = Schedule::load("results/sort_friction/schedule.json".as_ref())?;
+/// let file = exported(&s)?;
+/// let v = verify_sort(&s, Some((&file, "export")), verify_periods(&s, None)?, &platefield::work::Runtime::QUIET)?
+///     .expect("a sort");
+/// for c in &v.replayed.as_ref().unwrap().1 {
+///     println!("{}: sorted in {:?} s", c.name, c.time_to_sort_s);
+/// }
+/// # Ok::<(), platefield::Error>(())
+/// ```
+///
+/// # Errors
+/// The schedule cannot be played; the file does not fit it (names the
+/// file).
+pub fn verify_sort(
+    schedule: &Schedule,
+    replay: Option<(&HoldSamples, &str)>,
+    periods: u32,
+    runtime: &Runtime,
+) -> Result<Option<SortVerify>> {
+    let Some(target) = classes_target(schedule) else {
+        return Ok(None);
+    };
+    let sm = ScheduleMotion::from_schedule(schedule)?;
+    // The design's per-class strengths are not in the schedule: its one
+    // fitted strength stands for every class's predicted times.
+    let strengths = vec![schedule.fit_quantized.strength; target.classes.len()];
+    let played = play_each_class(
+        target,
+        &ClassMotion {
+            sm: &sm,
+            label: "sort: schedule played",
+            realised: &|ct, sampled, settings, _| {
+                let (_, r) = realised_check(ct, sampled, schedule, settings, None)?;
+                Ok((r.realised_strength, r.shape_error))
+            },
+        },
+        &schedule.settings,
+        &strengths,
+        periods,
+        runtime,
+    )?;
+    let replayed = match replay {
+        Some((file, source)) => {
+            let rm = replay_motion(schedule, file, source)?;
+            let plays = play_each_class(
+                target,
+                &ClassMotion {
+                    sm: &rm,
+                    label: "sort: export replayed",
+                    realised: &|ct, sampled, settings, _| {
+                        let j = judge_replay(ct, sampled, &rm, settings);
+                        Ok((j.realised_strength, j.shape_error))
+                    },
+                },
+                &schedule.settings,
+                &strengths,
+                periods,
+                runtime,
+            )?;
+            Some((source.to_string(), plays))
+        }
+        None => None,
+    };
+    Ok(Some(SortVerify {
+        played_s: f64::from(periods) * sm.period(),
+        played,
+        replayed,
+    }))
 }
 
 /// The fractions of a class's swarm `parts` that end (without a note)
@@ -357,7 +690,8 @@ fn arrivals(
     (at_own, mixed_up)
 }
 
-/// [`SORT_STARTS`] points over the box of the target's grid.
+/// [`SORT_STARTS`] points over the box of the target's grid (for lanes,
+/// at its cells' centres).
 fn swarm_starts(target: &Target) -> Vec<[f64; 2]> {
     let g = target
         .grid
@@ -368,7 +702,20 @@ fn swarm_starts(target: &Target) -> Vec<[f64; 2]> {
             .map(|i| r[0] + (r[1] - r[0]) * i as f64 / (n - 1) as f64)
             .collect()
     };
-    let (xs, ys) = (axis(g.x, SORT_STARTS[0]), axis(g.y, SORT_STARTS[1]));
+    // A lane's parts start strictly inside the region (at the centres of
+    // SORT_STARTS cells per axis): one started on an edge would count as
+    // leaving through it at its first move outward.
+    let lanes = target.classes.iter().any(|c| c.exit.is_some());
+    let inside = |r: [f64; 2], n: usize| -> Vec<f64> {
+        (0..n)
+            .map(|i| r[0] + (r[1] - r[0]) * (i as f64 + 0.5) / n as f64)
+            .collect()
+    };
+    let (xs, ys) = if lanes {
+        (inside(g.x, SORT_STARTS[0]), inside(g.y, SORT_STARTS[1]))
+    } else {
+        (axis(g.x, SORT_STARTS[0]), axis(g.y, SORT_STARTS[1]))
+    };
     ys.iter()
         .flat_map(|&y| xs.iter().map(move |&x| [x, y]))
         .collect()
@@ -385,18 +732,19 @@ fn min_periods(sm: &ScheduleMotion) -> u32 {
     }
 }
 
-/// The work of [`play_classes`] ([`crate::work`]): per class its swarm
-/// of `parts` parts played `periods` schedule periods, and its judge
-/// (`judge`, `crate::design::judge::judge_term` of one class).
+/// The work of [`play_classes`] ([`crate::work`]): per class (of
+/// `classes`) its swarm of `parts` parts played `periods` periods of
+/// `schedule`, and its judge (`judge`, `crate::design::judge::judge_term`
+/// of one class).
 pub(crate) fn play_estimate(
-    design: &SortDesign,
+    schedule: &Schedule,
+    classes: usize,
     parts: usize,
     periods: u32,
     judge: Term,
 ) -> Estimate {
-    let s = &design.schedule;
-    let steps = s.settings.numerics.steps_per_cycle as f64;
-    let cycles = f64::from(s.total_cycles);
+    let steps = schedule.settings.numerics.steps_per_cycle as f64;
+    let cycles = f64::from(schedule.total_cycles);
     Estimate::new(
         "target",
         "playing the sort's classes",
@@ -404,17 +752,13 @@ pub(crate) fn play_estimate(
     )
     .plus(
         Term::new("swarms")
-            .times(design.classes.len() as f64, "classes")
+            .times(classes as f64, "classes")
             .times(parts as f64, "parts")
             .times(f64::from(periods), "periods")
             .times(cycles, "cycles")
             .times(steps, "steps"),
     )
-    .plus(
-        judge
-            .named("judges")
-            .times(design.classes.len() as f64, "classes"),
-    )
+    .plus(judge.named("judges").times(classes as f64, "classes"))
 }
 
 /// Whole periods for the predicted field to bring the farthest start
@@ -443,6 +787,45 @@ fn swarm_periods(
 mod tests {
     use super::*;
 
+    /// A lane's exits from hand-made paths (segment ends 1 s apart, the
+    /// region x ±3 cm, y ±1 cm): through the left edge at 2.5 s (the
+    /// crossing halfway between the ends at 2 s and 3 s), through the
+    /// right edge, through the top, and not at all.
+    #[test]
+    fn lane_exits_find_the_first_edge_crossed_and_its_time() {
+        use crate::play::PlayedSegment;
+        use crate::verify::swarm::SwarmPart;
+        let target = Target::from_json_str(
+            r#"{"grid": {"x": [-0.03, 0.03], "y": [-0.01, 0.01], "n": [7, 3]},
+                "classes": [
+                  {"name": "a", "friction": 0.2, "exit": "left", "field": {"kind": "trans", "direction": 180}},
+                  {"name": "b", "friction": 0.45, "exit": "right", "field": {"kind": "trans"}}]}"#,
+        )
+        .unwrap();
+        let sm = ScheduleMotion::new(vec![PlayedSegment::rest(1.0)]).unwrap();
+        let part = |path: Vec<[f64; 2]>| SwarmPart {
+            start: path[0],
+            end: path[path.len() - 1],
+            distance: [f64::NAN; 2],
+            converged: false,
+            time_to_converge_s: None,
+            predicted_time_s: None,
+            note: None,
+            path,
+        };
+        let parts = [
+            part(vec![[0.0, 0.0], [-0.01, 0.0], [-0.02, 0.0], [-0.04, 0.0]]),
+            part(vec![[0.0, 0.0], [0.025, 0.0], [0.035, 0.0]]),
+            part(vec![[0.0, 0.0], [-0.01, 0.02]]),
+            part(vec![[0.0, 0.0], [0.01, 0.005]]),
+        ];
+        let (lane, times) = lane_exits(&target, &sm, &parts, Edge::Left);
+        assert_eq!(times, vec![Some(2.5), None, None, None]);
+        assert_eq!(lane.through_own, 0.25);
+        assert_eq!(lane.through_other, 0.5);
+        assert_eq!(lane.mean_exit_time_s, Some(2.5));
+    }
+
     /// The time to sort is the ⌈0.95 n⌉-th arrival: of 20 parts the 19th,
     /// of 45 the 43rd; one part short of the share, none.
     #[test]
@@ -467,6 +850,7 @@ mod tests {
             contact_lost: 0,
             median_distance_m: None,
             time_to_sort_s: None,
+            exit: None,
             arrivals: vec![Some(1.0), Some(2.0), None, Some(8.0)],
         };
         assert_eq!(c.sorted_at(2.0), 0.5);

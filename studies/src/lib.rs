@@ -19,6 +19,7 @@
 //! | [`poses`] | `platefield study poses` | `poses.md` |
 //! | [`poses_friction`] | `platefield study poses-friction` | `poses_friction.md` (the pose designs at μ ± 20 %) |
 //! | [`robust_family`] | `platefield study robust-family` | `robust_family.md` (robust design over a seeded family of random targets) |
+//! | [`sort`] | `platefield study sort` | `sort.md` (where sorting by friction stops: time to sort against the friction contrast and the sinks' distance) |
 //! | [`probes`] | `platefield study probes` | `probes.md` (the measurements behind numbers the docs state) |
 
 pub mod design_speed;
@@ -35,6 +36,7 @@ pub mod robust;
 pub mod robust_family;
 pub mod robust_shipped;
 pub mod rung;
+pub mod sort;
 pub mod speed;
 pub mod squeeze_order;
 pub mod synthesis;

@@ -54,6 +54,7 @@ pub const EXPECTED_STEPS: &[(&str, f64, f64)] = &[
     ("probes", 3.81e8, 1.0),
     ("robust", 4.24e8, 1.0),
     ("design-speed", 1.07e9, 1.0),
+    ("sort", 2.21e9, 1.0),
     ("poses-study", 7.55e9, PLANAR_POINT_STEP_COST),
     ("poses-friction-study", 2.42e10, PLANAR_POINT_STEP_COST),
 ];
