@@ -46,7 +46,7 @@ pub const EXPECTED_STEPS: &[(&str, f64, f64)] = &[
     ("rungs", 1.64e6, 1.0),
     ("primitives", 1.70e6, 1.0),
     ("interaction", 4.29e6, 1.0),
-    ("fit-quality", 6.46e6, 1.0),
+    ("fit-quality", 1.96e7, 1.0),
     ("engine-speed", 1.31e7, 1.0),
     ("speed", 2.71e7, 1.0),
     ("squeeze-order", 9.73e7, 1.0),
