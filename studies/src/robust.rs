@@ -344,17 +344,28 @@ pub fn render(rows: &[Row], single: &[Row]) -> String {
     md
 }
 
+/// Every target's rows by `rows`, each target announced on stderr as
+/// "`study`: name" unless `quiet`.
+pub(crate) fn rows_of(
+    (study, names): (&str, &[&str]),
+    quiet: bool,
+    rows: impl Fn(&str, bool) -> Result<Vec<Row>>,
+) -> Result<Vec<Row>> {
+    let mut out = Vec::new();
+    for name in names {
+        if !quiet {
+            eprintln!("{study}: {name}");
+        }
+        out.extend(rows(name, quiet)?);
+    }
+    Ok(out)
+}
+
 /// `platefield study robust`: designs, plays and writes `OUT/robust.md`;
 /// returns the file's text and where it was written.
 pub fn run(out: &Path, quiet: bool) -> Result<String> {
     platefield::output::check_writable(out, "--out")?;
-    let mut rows = Vec::new();
-    for name in TARGETS {
-        if !quiet {
-            eprintln!("robust: {name}");
-        }
-        rows.extend(target_rows(name, quiet)?);
-    }
+    let rows = rows_of(("robust", &TARGETS), quiet, target_rows)?;
     let single = single_rows(quiet)?;
     let md = render(&rows, &single);
     let path = out.join("robust.md");

@@ -17,7 +17,7 @@ use platefield::design::method::Method;
 use platefield::error::{Error, Result};
 use platefield_report::table::Table;
 
-use crate::robust::{cell, design_rows, load, weakest, Row, RowOptions};
+use crate::robust::{cell, design_rows, load, rows_of, weakest, Row, RowOptions};
 use crate::robust_family::values;
 
 /// Default output folder.
@@ -100,13 +100,7 @@ pub fn render(rows: &[Row]) -> String {
 /// `out` is not writable, or a design fails.
 pub fn run(out: &Path, quiet: bool) -> Result<String> {
     platefield::output::check_writable(out, "--out")?;
-    let mut rows = Vec::new();
-    for name in TARGETS {
-        if !quiet {
-            eprintln!("robust-shipped: {name}");
-        }
-        rows.extend(target_rows(name, quiet)?);
-    }
+    let rows = rows_of(("robust-shipped", &TARGETS), quiet, target_rows)?;
     let md = render(&rows);
     let path = out.join("robust_shipped.md");
     platefield::output::write_atomic(&path, md.as_bytes())?;
