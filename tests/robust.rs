@@ -103,6 +103,22 @@ fn symmetric_targets_are_recognised() {
     }
 }
 
+/// A seeded xorshift generator of uniform numbers in [0, 1).
+fn seeded(mut seed: u64) -> impl FnMut() -> f64 {
+    move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// The target `json` (without a grid) on a ±4 cm, 21 × 21 grid.
+fn on_grid(json: &str) -> Target {
+    let grid = r#"{"grid": {"x": [-0.04, 0.04], "y": [-0.04, 0.04], "n": [21, 21]}, "#;
+    Target::from_json_str(&json.replacen('{', grid, 1)).unwrap()
+}
+
 /// Symmetry axes at any angle through the plate centre, on seeded random
 /// targets: a sink centred at c is symmetric in the line through the
 /// centre and c, a line sink at angle θ off the centre in every line
@@ -110,16 +126,9 @@ fn symmetric_targets_are_recognised() {
 /// two line sinks in both of their lines. Each axis found within 1e-6°.
 #[test]
 fn symmetry_axes_are_found_at_any_angle() {
-    let mut seed = 0x2545_f491_4f6c_dd1d_u64;
-    let mut uniform = || {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut uniform = seeded(0x2545_f491_4f6c_dd1d);
     let axis = |json: &str| {
-        let grid = r#"{"grid": {"x": [-0.04, 0.04], "y": [-0.04, 0.04], "n": [21, 21]}, "#;
-        let t = Target::from_json_str(&json.replacen('{', grid, 1)).unwrap();
+        let t = on_grid(json);
         let line = mirror_axis(&t, &t.sample().unwrap());
         assert!(line.is_none_or(|l| l.point == [0.0, 0.0]), "{line:?}");
         line.map(|l| l.angle_deg)
@@ -171,16 +180,9 @@ fn symmetry_axes_are_found_at_any_angle() {
 /// has none.
 #[test]
 fn symmetry_lines_off_the_centre_are_found() {
-    let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
-    let mut uniform = || {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut uniform = seeded(0x9e37_79b9_7f4a_7c15);
     let line = |json: &str| {
-        let grid = r#"{"grid": {"x": [-0.04, 0.04], "y": [-0.04, 0.04], "n": [21, 21]}, "#;
-        let t = Target::from_json_str(&json.replacen('{', grid, 1)).unwrap();
+        let t = on_grid(json);
         mirror_axis(&t, &t.sample().unwrap())
     };
     let on_axes = |l: MirrorLine, theta: f64, c: [f64; 2]| {
