@@ -71,7 +71,8 @@ pub struct Row {
     pub target: String,
     /// `μ 0.3` or `robust [0.2, 0.4]`.
     pub design: String,
-    /// The kept method.
+    /// The kept candidate's name (its method, marked by the synthesis it
+    /// comes from: `design::method::Candidate::name`).
     pub method: String,
     /// One row per friction.
     pub rows: Vec<FrictionRow>,
@@ -150,7 +151,7 @@ pub(crate) fn design_rows(
     let row = |design: String, rows: Vec<FrictionRow>| Row {
         target: target.name.clone(),
         design,
-        method: md.kept().method.name().into(),
+        method: md.kept().name(),
         rows,
     };
     let played = friction_sweep(&kept.settings, &values, &|settings| {
