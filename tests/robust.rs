@@ -396,15 +396,16 @@ fn the_counter_share_holds_targets_without_symmetry_over_friction() {
     }
 }
 
-/// `auto` over a range adds the synthesis for the worst case when no
-/// default candidate holds the target within 6 %: on the random family's
-/// `saddle_5` (a saddle 1.4 cm off the centre, μ ∈ [0.168, 0.334]; its
-/// own axes miss the centre, so its mirror share is scaled down to keep
-/// the tilts' lever within the vertical limit: 9.4 %), the worst-case
-/// candidate is among those judged, every other one is over 6 % (or
-/// POOR), and the kept one's worst case is within the choice rule's 1
-/// percentage point of the best. About 2 min CPU:
-/// `cargo test --release --test robust -- --ignored`.
+/// `auto` over a range adds syntheses when no default candidate holds the
+/// target within 6 %: on the random family's `saddle_5` (a saddle 1.4 cm
+/// off the centre, μ ∈ [0.168, 0.334]; its own axes miss the centre, so
+/// its mirror share is scaled down to keep the tilts' lever within the
+/// vertical limit), every candidate within the envelope is over 6 % (or
+/// POOR); the synthesis and its shares within the sequenced peaks are
+/// judged next, and the worst-case synthesis exactly when those do not
+/// hold it either. The kept one holds 6 % if any candidate does, and is
+/// otherwise within the choice rule's 1 percentage point of the best.
+/// About 3 min CPU: `cargo test --release --test robust -- --ignored`.
 #[test]
 #[ignore]
 fn auto_over_a_range_adds_the_worst_case_synthesis_when_nothing_holds() {
@@ -429,20 +430,18 @@ fn auto_over_a_range_adds_the_worst_case_synthesis_when_nothing_holds() {
             .and_then(|s| s.worst_shape_error())
             .unwrap_or(f64::INFINITY)
     };
-    assert!(md.candidates.iter().any(|c| c.worst_case));
-    assert!(md
-        .candidates
-        .iter()
-        .filter(|c| !c.worst_case)
-        .all(|c| worst(c) > 0.06));
+    use platefield::design::method::Variant;
+    let of = |v: Variant| md.candidates.iter().filter(move |c| c.variant == v);
+    assert!(of(Variant::First).all(|c| worst(c) > 0.06));
+    assert!(of(Variant::SequencedPeaks).count() >= 1);
+    let peaks_hold = of(Variant::SequencedPeaks).any(|c| worst(c) <= 0.06);
+    assert_eq!(of(Variant::WorstCase).count() == 1, !peaks_hold);
     let best = md
         .candidates
         .iter()
         .map(worst)
         .fold(f64::INFINITY, f64::min);
-    assert!(
-        worst(md.kept()) <= best + 0.01,
-        "kept {} against {best}",
-        worst(md.kept())
-    );
+    let kept = worst(md.kept());
+    let bound = if best <= 0.06 { 0.06 } else { best + 0.01 };
+    assert!(kept <= bound, "kept {kept} against {best}");
 }

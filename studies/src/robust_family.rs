@@ -237,7 +237,7 @@ pub fn render(outcomes: &[Outcome]) -> String {
     let weak = ratio.iter().filter(|r| r.is_nan() || **r < GOALS.2).count();
     let floor = outcomes
         .iter()
-        .filter(|o| !(o.nominal_shape() <= GOALS.0))
+        .filter(|o| o.nominal_shape().is_nan() || o.nominal_shape() > GOALS.0)
         .count();
     md.push_str(&format!(
         "\n{within} of {n} targets ({:.0} %) hold ≤ {:.0} % worst shape over their range (goal 90 %); {over} exceed {:.0} % (goal 0); {weak} fall below {} of the nominal design's strength (goal 0). For {floor} of them the nominal design misses {:.0} % at its own μ already (column \"nominal shape at its μ\"): the product realises no closer at one friction.\n",
