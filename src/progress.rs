@@ -52,7 +52,8 @@ pub fn interval() -> Duration {
 }
 
 /// One plain progress line: `label: pos/total unit (P %), elapsed, about
-/// T left[, message]`.
+/// T left[, message]`; without a total (0: not known), `label: pos unit,
+/// elapsed[, message]`.
 pub fn line(
     label: &str,
     pos: u64,
@@ -61,7 +62,11 @@ pub fn line(
     message: &str,
     elapsed_s: f64,
 ) -> String {
-    let mut s = format!("{label}: {pos}/{total} {unit}");
+    let mut s = if total > 0 {
+        format!("{label}: {pos}/{total} {unit}")
+    } else {
+        format!("{label}: {pos} {unit}")
+    };
     if total > 0 {
         let _ = std::fmt::Write::write_fmt(
             &mut s,
@@ -291,6 +296,10 @@ mod tests {
         assert_eq!(
             line("order search", 6, 6, "candidates", "", 300.0),
             "order search: 6/6 candidates (100 %), 5.0 min elapsed"
+        );
+        assert_eq!(
+            line("a study", 4386, 0, "k steps", "", 93.0),
+            "a study: 4386 k steps, 93 s elapsed"
         );
     }
 
