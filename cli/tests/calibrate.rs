@@ -97,7 +97,7 @@ fn bad_tracks_exit_2_naming_file_line_and_column() {
 #[test]
 fn the_shipped_example_calibrates() {
     let (out, stdout) = calibrated_example();
-    let c: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let c: serde_json::Value = serde_json::from_str(stdout).unwrap();
     assert_eq!(c["classes"].as_array().unwrap().len(), 1, "{stdout}");
     let mu = c["classes"][0]["mu_k"]["value"].as_f64().unwrap();
     assert!((mu - 0.23).abs() <= 0.01, "{mu}");
