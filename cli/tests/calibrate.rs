@@ -96,12 +96,8 @@ fn bad_tracks_exit_2_naming_file_line_and_column() {
 /// never stick on this motion), one class; the four files written.
 #[test]
 fn the_shipped_example_calibrates() {
-    let dir = temp_dir("example");
-    let o = dir.join("out").display().to_string();
-    let (code, stdout, stderr) =
-        platefield(&["calibrate", SINK, "targets/tracks/example.csv", "--out", &o]);
-    assert_eq!(code, 0, "{stderr}");
-    let c: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let (out, stdout) = calibrated_example();
+    let c: serde_json::Value = serde_json::from_str(stdout).unwrap();
     assert_eq!(c["classes"].as_array().unwrap().len(), 1, "{stdout}");
     let mu = c["classes"][0]["mu_k"]["value"].as_f64().unwrap();
     assert!((mu - 0.23).abs() <= 0.01, "{mu}");
@@ -116,8 +112,22 @@ fn the_shipped_example_calibrates() {
         "trajectories.svg",
         "likelihood.svg",
     ] {
-        assert!(dir.join("out").join(f).exists(), "{f}");
+        assert!(out.join(f).exists(), "{f}");
     }
+}
+
+/// `calibrate` of the shipped example, run once for the tests that read
+/// it: its out folder and its stdout (about 5 s of CPU).
+fn calibrated_example() -> &'static (PathBuf, String) {
+    static CELL: std::sync::OnceLock<(PathBuf, String)> = std::sync::OnceLock::new();
+    CELL.get_or_init(|| {
+        let out = temp_dir("example").join("out");
+        let o = out.display().to_string();
+        let (code, stdout, stderr) =
+            platefield(&["calibrate", SINK, "targets/tracks/example.csv", "--out", &o]);
+        assert_eq!(code, 0, "{stderr}");
+        (out, stdout)
+    })
 }
 
 /// The example file is what its documented command writes.
@@ -155,11 +165,8 @@ fn the_example_is_regenerated_by_its_command() {
 #[test]
 fn design_friction_from_names_a_bad_calibration() {
     let dir = temp_dir("friction-from");
-    let o = dir.join("cal").display().to_string();
-    let (code, _, stderr) =
-        platefield(&["calibrate", SINK, "targets/tracks/example.csv", "--out", &o]);
-    assert_eq!(code, 0, "{stderr}");
-    let cal = dir.join("cal/calibration.json").display().to_string();
+    let cal = calibrated_example().0.join("calibration.json");
+    let cal = cal.display().to_string();
     let out = dir.join("design").display().to_string();
     let (code, _, stderr) = platefield(&[
         "design",

@@ -217,7 +217,9 @@ fn schedule_source_and_play_flag() {
 /// Issue 30: `poses --play` states its work before it plays. Drops whose
 /// estimate is over the limit are refused at once, exit 2 naming `--play`
 /// with the estimate and the knobs, nothing written; 2 drops of 2 s play
-/// with a progress line on stderr under `--json` too.
+/// with a progress line on stderr under `--json` too, on the shipped sink
+/// (a continuum of rest and no equilibrium to refine on the averaged
+/// field: 1.5 s of CPU against the ellipse's 8 s).
 #[test]
 fn played_drops_are_estimated_first() {
     let dir = std::env::temp_dir().join(format!("pf_poses_long_{}", std::process::id()));
@@ -261,10 +263,7 @@ fn played_drops_are_estimated_first() {
                 env!("CARGO_MANIFEST_DIR"),
                 "/../targets/parts/rectangle.json"
             ),
-            concat!(
-                env!("CARGO_MANIFEST_DIR"),
-                "/../results/ellipse/schedule.json"
-            ),
+            concat!(env!("CARGO_MANIFEST_DIR"), "/../results/sink/schedule.json"),
         ])
         .args(["--play", "2", "--drops", "2", "--json"])
         .output()

@@ -1,6 +1,8 @@
 //! The parts' friction in a target: read, validated, used by every
 //! simulation of a design, recorded in `schedule.json`, and played back by
-//! `verify` at the schedule's own friction or at another one.
+//! `verify` at the schedule's own friction or at another one. The sink's
+//! designs for μ 0.2 and for the range 0.2–0.4 are made once and read by
+//! every test that checks them ([`shared`]).
 
 use std::path::{Path, PathBuf};
 
@@ -141,6 +143,56 @@ fn design_sequence(target: &str, out: &Path) -> serde_json::Value {
     serde_json::from_str(&design_sequence_with(target, out, &["--json"])).expect("schedule JSON")
 }
 
+/// A sequenced design shared by the tests of this file, made once: its
+/// folder (`report.md`, `schedule.json`) and its summary on stdout.
+struct Shared {
+    dir: PathBuf,
+    stdout: String,
+}
+
+impl Shared {
+    /// `schedule.json`, parsed.
+    fn schedule(&self) -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(self.dir.join("schedule.json")).unwrap())
+            .unwrap()
+    }
+
+    /// `report.md`.
+    fn report(&self) -> String {
+        std::fs::read_to_string(self.dir.join("report.md")).unwrap()
+    }
+}
+
+/// The sink designed by `--method sequence` for `"friction": friction`
+/// into a folder `name` of its own, once per process (`cell`).
+fn shared(
+    cell: &'static std::sync::OnceLock<Shared>,
+    name: &str,
+    friction: serde_json::Value,
+) -> &'static Shared {
+    cell.get_or_init(|| {
+        let dir = temp_dir(&format!("shared-{name}"));
+        let target = sink_with(&dir, name, &[("friction", friction)]);
+        let stdout = design_sequence_with(&target, &dir, &[]);
+        Shared {
+            dir: dir.join(name),
+            stdout,
+        }
+    })
+}
+
+/// The sink designed for μ 0.2.
+fn designed_mu02() -> &'static Shared {
+    static CELL: std::sync::OnceLock<Shared> = std::sync::OnceLock::new();
+    shared(&CELL, "mu02", 0.2.into())
+}
+
+/// The sink designed for the range μ 0.2–0.4.
+fn designed_range() -> &'static Shared {
+    static CELL: std::sync::OnceLock<Shared> = std::sync::OnceLock::new();
+    shared(&CELL, "range", serde_json::json!([0.2, 0.4]))
+}
+
 /// A design for μ = 0.2 is made, played and recorded at μ = 0.2. The
 /// sequenced sink is four LineSinks, whose strength near their line is
 /// eq. 19's b = μT(μ²g² − 3h²α²)/(8h²α): the predicted strength at μ 0.2
@@ -150,7 +202,7 @@ fn design_sequence(target: &str, out: &Path) -> serde_json::Value {
 #[test]
 fn a_design_is_made_for_the_targets_friction() {
     let dir = temp_dir("design");
-    let low = design_sequence(&sink_with(&dir, "mu02", &[("friction", 0.2.into())]), &dir);
+    let low = designed_mu02().schedule();
     let nominal = design_sequence(&sink_with(&dir, "mu03", &[]), &dir);
     assert_eq!(low["settings"]["friction"]["kinetic"], 0.2);
     assert_eq!(low["settings"]["friction"]["static"], 0.2);
@@ -176,14 +228,7 @@ fn a_design_is_made_for_the_targets_friction() {
         s(&low)
     );
     // A range designs for its middle.
-    let range = design_sequence(
-        &sink_with(
-            &dir,
-            "range",
-            &[("friction", serde_json::json!([0.2, 0.4]))],
-        ),
-        &dir,
-    );
+    let range = designed_range().schedule();
     let mid = range["settings"]["friction"]["kinetic"].as_f64().unwrap();
     assert!((mid - 0.3).abs() < 1e-12, "{mid}");
     assert_eq!(
@@ -221,21 +266,18 @@ fn no_friction_key_changes_nothing() {
 /// within 5 %.
 #[test]
 fn the_sensitivity_table_is_the_designs_play_across_friction() {
-    let dir = temp_dir("table");
-    let target = sink_with(&dir, "mu02", &[("friction", 0.2.into())]);
-    let stdout = design_sequence_with(&target, &dir, &[]);
+    let designed = designed_mu02();
+    let stdout = &designed.stdout;
     assert!(
         stdout.contains("friction: the kept design over ±20 %"),
         "{stdout}"
     );
-    let report = std::fs::read_to_string(dir.join("mu02/report.md")).unwrap();
+    let report = designed.report();
     let rows = friction_rows(&report);
     assert_eq!(rows.len(), 5, "{report}");
     let mu: Vec<f64> = rows.iter().map(|r| r[1]).collect();
     assert_eq!(mu, [0.16, 0.18, 0.2, 0.22, 0.24]);
-    let schedule: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("mu02/schedule.json")).unwrap())
-            .unwrap();
+    let schedule = designed.schedule();
     let played = &schedule["played"];
     let own = played["realised_strength"].as_f64().unwrap();
     assert!(
@@ -267,15 +309,9 @@ fn the_sensitivity_table_is_the_designs_play_across_friction() {
 /// `"worst_friction"` its μ.
 #[test]
 fn a_friction_range_headline_is_the_worst_row() {
-    let dir = temp_dir("range");
-    let target = sink_with(
-        &dir,
-        "range",
-        &[("friction", serde_json::json!([0.2, 0.4]))],
-    );
-    let stdout = design_sequence_with(&target, &dir, &[]);
-    let first = stdout.lines().next().unwrap();
-    let report = std::fs::read_to_string(dir.join("range/report.md")).unwrap();
+    let designed = designed_range();
+    let first = designed.stdout.lines().next().unwrap();
+    let report = designed.report();
     let rows = friction_rows(&report);
     assert_eq!(rows.len(), 5, "{report}");
     let worst = rows.iter().max_by(|a, b| a[3].total_cmp(&b[3])).unwrap();
@@ -289,9 +325,7 @@ fn a_friction_range_headline_is_the_worst_row() {
     assert!((mu - worst[0]).abs() < 5e-4, "{first}: μ_s {}", worst[0]);
     let numbers = format!("realised strength {:.4}", worst[2]);
     assert!(first.contains(&numbers), "{first}: {numbers}");
-    let schedule: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("range/schedule.json")).unwrap())
-            .unwrap();
+    let schedule = designed.schedule();
     let played = &schedule["played"];
     let stated = played["worst_friction"]["static"].as_f64().unwrap();
     assert!((stated - worst[0]).abs() < 5e-4, "{stated}");
