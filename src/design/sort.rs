@@ -71,26 +71,8 @@
 //! parts started at and around each class's attractor are played
 //! [`AIM_PLAY_S`], the offset e from the attractor of their orbits' mean
 //! centre over the last period (time-averaged between segment ends; for a
-//! line, its normal part) measured, the class's target moved against it
-//! (f(q − a)), up to [`AIM_STEPS`] times. A free refit to the moved
-//! targets picks other columns, class scales and a schedule length, and
-//! where the parts settle jumps (measured on `targets/sort_three.json`:
-//! aims 3 mm apart settled the μ 0.15 parts 17 mm apart, and after 3
-//! steps the kept candidate's still settled 3.8 mm off, its orbit 4.6-6.1
-//! mm from the sink). So the aim corrects the first fit instead: a target
-//! moved by a changes the class's field by f(q − a) − f(q) (for a sink of
-//! rate s, the uniform s a), and the new time fractions are the
-//! non-negative least-squares ones nearest to adding σ times that change
-//! to each class's first fitted field (σ its predicted strength), pulled
-//! toward the first fit's fractions, on the same total cycles (`retarget`):
-//! the fractions move continuously with the aim. A moved target still
-//! does not move the settled parts by as much, so each class's aim a is
-//! stepped by a secant (Broyden) model of e(a) learnt from the steps
-//! (`Secant`).
-//! The step kept is the one whose worst class's parts come nearest their
-//! attractor at every segment end of the last period (what the swarm
-//! judges: a part swings along its orbit within a period, and counts as
-//! sorted only while every segment end is within 5 mm).
+//! line, its normal part) measured, the class's target moved by −e (fitted
+//! as f(q + e)) and refitted, up to [`AIM_STEPS`] times.
 //!
 //! **Lanes.** A class may instead ask to leave the region through one of
 //! its edges (`"exit"`, [`crate::request::Edge`]), its field a uniform
@@ -99,19 +81,14 @@
 //! only; opposite lanes come from the threshold again: a gentle motion
 //! carries the slippery class while the sticky one is held, time-shared
 //! with a strong transport the other way. The same stacked fit makes
-//! them, and the plays measure where each part first leaves the region
-//! (`crate::verify::sort_play`); a lane is not aimed. What limits
-//! `targets/sort_lanes.json` (x ±3 cm, y ±1 cm): the fit's residual and
-//! the slip lead turn the realised μ 0.2 lane by 3.3° (0.14 mm/s across
-//! 2.45 mm/s), so 3 of its 45 parts, started 2 mm from the top edge and
-//! 4-5 cm from the left, leave through the top; and at 2.45 mm/s the
-//! parts started farthest from the left edge (5.7 cm) need 23 s. Turning
-//! the lane's target against the drift measured from the region's centre,
-//! as a sink is aimed, did not help: the drift jumped by 0.1-0.5 per unit
-//! of travel between corrections one cycle apart, and with schedules 4
-//! times longer for finer corrections the kept candidates let 22-38 % of
-//! the worse class out through a side (its segments swing the parts
-//! across by more within a period).
+//! them (nothing is aimed: a lane has no attractor), and the plays
+//! measure where each part first leaves the region
+//! (`crate::verify::sort_play`). What limits `targets/sort_lanes.json`
+//! (x ±3 cm, y ±1 cm): the fit's residual and the slip lead turn the
+//! realised μ 0.2 lane by 3.3° (0.14 mm/s across 2.45 mm/s), so 3 of its
+//! 45 parts, started 2 mm from the top edge and 4-5 cm from the left,
+//! leave through the top; and at 2.45 mm/s the parts started farthest
+//! from the left edge (5.7 cm) need 23 s.
 //!
 //! **Judged by playing**: every candidate's swarms are played
 //! (`verify::sort_play`); the sort that brings 95 % of every class to its
@@ -220,8 +197,7 @@ pub struct SortDesign {
     /// one ([`SORT_BUDGETS`]); `None`: shape first.
     pub budget: Option<f64>,
     /// Per class, the offset (m) its target was moved by so that its parts
-    /// settle on the attractor asked for (module docs, **Aim**; zero for a
-    /// lane).
+    /// settle on the attractor asked for (module docs, **Aim**).
     pub aim: Vec<[f64; 2]>,
     /// The schedule (its settings hold the first class's friction).
     pub schedule: Schedule,
@@ -472,24 +448,16 @@ fn stack(target: &Target, opts: &DesignOptions, motions: &[(String, Signals)]) -
     })
 }
 
-/// A stacked fit before its schedule: the fit, the classes' aimed targets
-/// and scales, and the options it was fitted with.
-struct StackFit {
-    fit: stages::FitStage,
-    sampled: Vec<SampledTarget>,
-    scales: Vec<f64>,
-    opts: DesignOptions,
-}
-
-/// One stacked fit of `stack` (the fit mode of `stack.opts`, or strongest
-/// within `budget`), each class's target aimed by its `aim`
-/// (`aimed_value`) and scaled by `choose_scales`.
-fn fit_only(
+/// One stacked fit of `stack` (the fit mode of `stack.opts`), each class's
+/// target moved by its `aim` offset (m): class i's field f is fitted as
+/// f(q − aimᵢ).
+fn fit_stack(
     target: &Target,
     stack: &Stack,
+    method: SortMethod,
     budget: Option<f64>,
     aim: &[[f64; 2]],
-) -> Result<StackFit> {
+) -> Result<SortDesign> {
     let mut opts = stack.opts.clone();
     if let Some(b) = budget {
         opts.fit.mode = crate::fit::FitMode::Budget { rel_error: b };
@@ -500,35 +468,20 @@ fn fit_only(
         .zip(&target.classes)
         .zip(aim)
         .map(|((s, c), d)| SampledTarget {
-            vectors: s.points.iter().map(|p| aimed_value(c, *p, *d)).collect(),
+            vectors: s
+                .points
+                .iter()
+                .map(|p| c.field.eval([p[0] - d[0], p[1] - d[1]]))
+                .collect(),
             ..s.clone()
         })
         .collect();
     let scales = choose_scales(&stack.basis, &sampled)?;
     let stacked = stack_targets(&sampled, &scales);
-    let opts = opts.for_target(&target.class_target(0));
-    let fit = stages::fit_basis(stack.basis.clone(), &stacked, &opts)?;
-    Ok(StackFit {
-        fit,
-        sampled,
-        scales,
-        opts,
-    })
-}
-
-/// The [`SortDesign`] of the stacked fit `f` (its schedule, each class's
-/// predicted field); `aim` is recorded.
-fn scheduled(
-    target: &Target,
-    stack: &Stack,
-    method: SortMethod,
-    budget: Option<f64>,
-    aim: &[[f64; 2]],
-    f: &StackFit,
-) -> Result<SortDesign> {
-    let stacked = stack_targets(&f.sampled, &f.scales);
-    let (schedule, achieved) = stages::schedule_stage(target, &stacked, &f.fit, &f.opts)?;
-    let classes = class_fits(target, &f.sampled, &f.scales, &achieved)?;
+    let opts0 = opts.for_target(&target.class_target(0));
+    let fit = stages::fit_basis(stack.basis.clone(), &stacked, &opts0)?;
+    let (schedule, achieved) = stages::schedule_stage(target, &stacked, &fit, &opts0)?;
+    let classes = class_fits(target, &sampled, &scales, &achieved)?;
     Ok(SortDesign {
         method,
         motions: stack.motions.clone(),
@@ -540,236 +493,46 @@ fn scheduled(
     })
 }
 
-/// One stacked fit of `stack`, scheduled ([`fit_only`], [`scheduled`]).
-fn fit_stack(
-    target: &Target,
-    stack: &Stack,
-    method: SortMethod,
-    budget: Option<f64>,
-    aim: &[[f64; 2]],
-) -> Result<SortDesign> {
-    let f = fit_only(target, stack, budget, aim)?;
-    scheduled(target, stack, method, budget, aim, &f)
-}
-
-/// Weight of the pull of an aim's time fractions toward the first fit's
-/// (module docs, **Aim**): a change of the whole period costs as much as
-/// a field error of this fraction of the first fit's field.
-const AIM_RIDGE: f64 = 0.1;
-
-/// The first fit `first` moved by the aim `aim` (module docs, **Aim**):
-/// the time fractions w ≥ 0, Σw ≤ 1 nearest (least squares) to making
-/// each class's field its first field plus σᵢ (fᵢ aimed by aimᵢ − fᵢ)
-/// (σᵢ its predicted strength), pulled toward the first fit's fractions
-/// w₀ by [`AIM_RIDGE`] ‖D A w₀‖ ‖w − w₀‖.
-fn retarget(target: &Target, first: &StackFit, aim: &[[f64; 2]]) -> Result<stages::FitStage> {
-    use nalgebra::DMatrix;
-    let f = &first.fit;
-    let strengths = class_errors(&first.sampled, &f.achieved);
-    let mut wanted = SampledTarget {
-        points: Vec::new(),
-        vectors: Vec::new(),
-        weights: Vec::new(),
-    };
-    let mut k = 0;
-    for (((s, c), a), (sigma, _)) in first
-        .sampled
-        .iter()
-        .zip(&target.classes)
-        .zip(aim)
-        .zip(&strengths)
-    {
-        for (p, w) in s.points.iter().zip(&s.weights) {
-            let (v0, v1) = (aimed_value(c, *p, [0.0; 2]), aimed_value(c, *p, *a));
-            let now = f.achieved[k];
-            k += 1;
-            wanted.points.push(*p);
-            wanted.weights.push(*w);
-            wanted.vectors.push([
-                now[0] + sigma * (v1[0] - v0[0]),
-                now[1] + sigma * (v1[1] - v0[1]),
-            ]);
-        }
-    }
-    let (t, d) = stages::stacked_target(&wanted);
-    let (rows, m) = f.a.shape();
-    let w0 = DVector::from_column_slice(&f.solution.fractions);
-    let da = DMatrix::from_fn(rows, m, |i, j| d[i] * f.a[(i, j)]);
-    let lambda = AIM_RIDGE * (&da * &w0).norm();
-    let mut big = DMatrix::zeros(rows + m, m);
-    big.view_mut((0, 0), (rows, m)).copy_from(&da);
-    let mut rhs = DVector::zeros(rows + m);
-    for i in 0..rows {
-        rhs[i] = d[i] * t[i];
-    }
-    for j in 0..m {
-        big[(rows + j, j)] = lambda;
-        rhs[rows + j] = lambda * w0[j];
-    }
-    let cap = w0.sum().max(1.0);
-    let w = crate::fit::nnls::nnls_capped(&big, &rhs, cap)
-        .map_err(|e| Error::Physical(format!("the aim's refit: {e}")))?;
-    let achieved_vec = &f.a * &w;
-    Ok(stages::FitStage {
-        basis: f.basis.clone(),
-        a: f.a.clone(),
-        solution: crate::fit::FitSolution {
-            fractions: w.iter().copied().collect(),
-            ..f.solution.clone()
-        },
-        sparsity: f.sparsity.clone(),
-        achieved: stages::unstack(&achieved_vec),
-        achieved_vec,
-        fit_metrics: f.fit_metrics.clone(),
-    })
-}
-
-/// Most corrections of a synthesized candidate aimed by its played parts.
-pub const AIM_STEPS: usize = 8;
-/// Aiming stops once every class's aim error is within this (m): a sink's
-/// settled orbit centre from its attractor.
+/// Most refits of a synthesized candidate aimed by its settled parts.
+pub const AIM_STEPS: usize = 3;
+/// Aiming stops once every class settles within this (m) of its attractor.
 pub const AIM_TOL: f64 = 1e-3;
 /// Time (s) the aiming parts are played (whole schedule periods).
 pub const AIM_PLAY_S: f64 = 20.0;
 /// Offsets (m) of the aiming parts from the attractor: the attractor and
 /// four points this far along x and y.
 const AIM_SPREAD: f64 = 3e-3;
-/// Longest secant step of the aim, in multiples of the plain step −e.
-const AIM_MAX_GAIN: f64 = 3.0;
 
-/// One class's aim error under a schedule (module docs, **Aim**).
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct AimError {
-    /// What the aim corrects: the parts' settled orbit centre less the
-    /// attractor (m; for a line, the normal part).
-    e: [f64; 2],
-    /// How far off the played parts are as the swarm judges them (m): their
-    /// largest distance from the attractor at the segment ends of the last
-    /// period.
-    miss: f64,
-    /// |e| (m), held against [`AIM_TOL`].
-    size: f64,
-}
-
-/// A secant (Broyden) model of how one class's aim error responds to its
-/// aim: e(a) ≈ eₖ + J (a − aₖ), J starting at the identity (a target
-/// moved by a moves the settled parts by a) and updated by every step's
-/// change (Broyden's rank-one update). The response is not the identity:
-/// the realised field is not the predicted one, the quantised fractions
-/// not the fitted ones, and the parts follow the schedule segment by
-/// segment (measured on `targets/sort_three.json` with free refits: the
-/// plain step a ← a − e moved the slipperier classes' settled parts by
-/// 1.7-2.6 times the step and the stickiest's by 0.2-0.7). A step the model makes longer than
-/// [`AIM_MAX_GAIN`] plain steps, or turned more than 90° from one, is
-/// replaced by the plain step and the model reset.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct Secant {
-    j: [[f64; 2]; 2],
-    last: Option<([f64; 2], [f64; 2])>,
-}
-
-impl Secant {
-    const IDENTITY: [[f64; 2]; 2] = [[1.0, 0.0], [0.0, 1.0]];
-
-    fn new() -> Secant {
-        Secant {
-            j: Secant::IDENTITY,
-            last: None,
-        }
-    }
-
-    /// The next aim from aim `a`, whose error is `e`.
-    fn next(&mut self, a: [f64; 2], e: [f64; 2]) -> [f64; 2] {
-        if let Some((a0, e0)) = self.last {
-            let da = [a[0] - a0[0], a[1] - a0[1]];
-            let de = [e[0] - e0[0], e[1] - e0[1]];
-            let dd = da[0] * da[0] + da[1] * da[1];
-            if dd > 0.0 {
-                let j = &mut self.j;
-                let r = [
-                    de[0] - (j[0][0] * da[0] + j[0][1] * da[1]),
-                    de[1] - (j[1][0] * da[0] + j[1][1] * da[1]),
-                ];
-                for (row, rr) in j.iter_mut().zip(r) {
-                    for (x, d) in row.iter_mut().zip(da) {
-                        *x += rr * d / dd;
-                    }
-                }
-            }
-        }
-        self.last = Some((a, e));
-        let j = self.j;
-        let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
-        let step = [
-            (-j[1][1] * e[0] + j[0][1] * e[1]) / det,
-            (j[1][0] * e[0] - j[0][0] * e[1]) / det,
-        ];
-        let plain_len = e[0].hypot(e[1]);
-        let along = -(step[0] * e[0] + step[1] * e[1]);
-        let step = if step[0].is_finite()
-            && step[1].is_finite()
-            && step[0].hypot(step[1]) <= AIM_MAX_GAIN * plain_len
-            && along > 0.0
-        {
-            step
-        } else {
-            self.j = Secant::IDENTITY;
-            [-e[0], -e[1]]
-        };
-        [a[0] + step[0], a[1] + step[1]]
-    }
-}
-
-/// The stacked fit aimed (module docs, **Aim**): up to [`AIM_STEPS`]
-/// corrections of the first fit's time fractions (`retarget`), each
-/// class's aim moved by its [`Secant`] against the error of its played
-/// parts, the schedule's total cycles held; the design whose worst class
-/// misses least is kept.
+/// `fit_stack` aimed (module docs, **Aim**): up to [`AIM_STEPS`] refits,
+/// each class's target moved against the offset of where its parts,
+/// started at and around its attractor and played [`AIM_PLAY_S`], settle;
+/// the refit whose worst class offset is least is kept.
 fn aimed(target: &Target, stack: &Stack, budget: Option<f64>) -> Result<SortDesign> {
     let n = target.classes.len();
     let mut aim = vec![[0.0; 2]; n];
-    let mut secants = vec![Secant::new(); n];
-    let method = SortMethod::Synthesized;
-    let first = fit_only(target, stack, budget, &aim)?;
-    let mut d = scheduled(target, stack, method, budget, &aim, &first)?;
-    let total: u32 = d
-        .schedule
-        .segments
-        .iter()
-        .map(|s| s.cycles - s.ramp_cycles.unwrap_or(0))
-        .sum();
-    let mut opts = first.opts.clone();
-    opts.schedule.total_cycles = Some(total.max(1));
+    let mut d = fit_stack(target, stack, SortMethod::Synthesized, budget, &aim)?;
     let mut best: Option<(f64, SortDesign)> = None;
     for step in 0..=AIM_STEPS {
-        let errors = aim_errors(target, &d)?;
-        let worst = errors.iter().flatten().map(|e| e.miss).fold(0.0, f64::max);
+        let offsets = settle_offsets(target, &d)?;
+        let worst = offsets
+            .iter()
+            .flatten()
+            .map(|e| e[0].hypot(e[1]))
+            .fold(0.0, f64::max);
         if best.as_ref().is_none_or(|b| worst < b.0) {
             best = Some((worst, d.clone()));
         }
-        if errors.iter().flatten().all(|e| e.size < AIM_TOL) || step == AIM_STEPS {
+        if worst < AIM_TOL || step == AIM_STEPS {
             break;
         }
-        for ((a, e), s) in aim.iter_mut().zip(&errors).zip(&mut secants) {
+        for (a, e) in aim.iter_mut().zip(&offsets) {
             if let Some(e) = e {
-                *a = s.next(*a, e.e);
+                *a = [a[0] - e[0], a[1] - e[1]];
             }
         }
-        let f = StackFit {
-            fit: retarget(target, &first, &aim)?,
-            sampled: first.sampled.clone(),
-            scales: first.scales.clone(),
-            opts: opts.clone(),
-        };
-        d = scheduled(target, stack, method, budget, &aim, &f)?;
+        d = fit_stack(target, stack, SortMethod::Synthesized, budget, &aim)?;
     }
     Ok(best.map(|b| b.1).unwrap_or(d))
-}
-
-/// Class `class`'s field at `p` under its aim `a` (module docs, **Aim**):
-/// its field moved by `a` (m), f(p − a).
-fn aimed_value(class: &crate::request::PartClass, p: [f64; 2], a: [f64; 2]) -> [f64; 2] {
-    class.field.eval([p[0] - a[0], p[1] - a[1]])
 }
 
 /// The time average over the last `period` (s) of the path `(t, position)`
@@ -796,36 +559,35 @@ fn orbit_centre(path: &[(f64, [f64; 2])], period: f64) -> Option<[f64; 2]> {
     (time > 0.0).then(|| [sum[0] / time, sum[1] / time])
 }
 
-/// Per class, the [`AimError`] of parts started at and around its
-/// attractor and played [`AIM_PLAY_S`] under `d`'s schedule at the
-/// class's friction; `None` for a class without an attractor (a lane) or
-/// whose parts all lose contact.
-fn aim_errors(target: &Target, d: &SortDesign) -> Result<Vec<Option<AimError>>> {
+/// Per class, where parts started at and around its attractor settle under
+/// `d`'s schedule at the class's friction, as an offset (m) from the
+/// attractor (for a line, its normal part); `None` for a class without an
+/// attractor or whose parts all lose contact.
+fn settle_offsets(target: &Target, d: &SortDesign) -> Result<Vec<Option<[f64; 2]>>> {
     use crate::dynamics::PartState;
     use crate::play::{PlayOptions, ScheduleMotion, V2};
     use rayon::prelude::*;
     let sm = ScheduleMotion::from_schedule(&d.schedule)?;
     let periods = ((AIM_PLAY_S / sm.period()).ceil() as u32).max(1);
-    let segments = sm.segments().len();
     let mut out = Vec::new();
     for i in 0..target.classes.len() {
         let ct = target.class_target(i);
-        let Some(attractor) = crate::request::Attractor::of(&ct.field) else {
+        let Some(a) = crate::request::Attractor::of(&ct.field) else {
             out.push(None);
             continue;
         };
-        let centre = match attractor {
-            crate::request::Attractor::Point { center, .. } => center,
-            crate::request::Attractor::Line { point, .. } => point,
+        let (centre, normal) = match a {
+            crate::request::Attractor::Point { center, .. } => (center, None),
+            crate::request::Attractor::Line {
+                point, direction, ..
+            } => (point, Some([-direction[1], direction[0]])),
         };
         let v = PlayOptions::from_settings(&ct.physics(&d.schedule.settings));
         let starts = [[0.0, 0.0], [1.0, 0.0], [-1.0, 0.0], [0.0, 1.0], [0.0, -1.0]]
             .map(|u| [centre[0] + AIM_SPREAD * u[0], centre[1] + AIM_SPREAD * u[1]]);
-        // Each part's path at segment ends; a part that loses contact is
-        // dropped.
-        let paths: Vec<Vec<(f64, [f64; 2])>> = starts
+        let ends: Vec<Option<[f64; 2]>> = starts
             .par_iter()
-            .filter_map(|p| {
+            .map(|p| {
                 let player = v.moving_player(&sm);
                 let anchor = V2::from(*p);
                 let mut state = PartState::new(anchor, V2::zeros());
@@ -835,55 +597,28 @@ fn aim_errors(target: &Target, d: &SortDesign) -> Result<Vec<Option<AimError>>> 
                         path.push((t, [s.r.x, s.r.y]));
                     })
                     .ok()
-                    .map(|()| path)
+                    .and_then(|()| orbit_centre(&path, sm.period()))
             })
             .collect();
-        out.push(sink_error(&paths, attractor, centre, sm.period(), segments));
+        let kept: Vec<[f64; 2]> = ends.into_iter().flatten().collect();
+        if kept.is_empty() {
+            out.push(None);
+            continue;
+        }
+        let k = kept.len() as f64;
+        let m = kept
+            .iter()
+            .fold([0.0; 2], |s, e| [s[0] + e[0] / k, s[1] + e[1] / k]);
+        let e = [m[0] - centre[0], m[1] - centre[1]];
+        out.push(Some(match normal {
+            None => e,
+            Some(nv) => {
+                let along = e[0] * nv[0] + e[1] * nv[1];
+                [along * nv[0], along * nv[1]]
+            }
+        }));
     }
     Ok(out)
-}
-
-/// A sink's [`AimError`] from its parts' `paths`: their orbit centres'
-/// mean offset from `centre` (for a line attractor, the normal part), and
-/// the largest distance from `a` over the last period's `segments`
-/// segment ends.
-fn sink_error(
-    paths: &[Vec<(f64, [f64; 2])>],
-    a: crate::request::Attractor,
-    centre: [f64; 2],
-    period: f64,
-    segments: usize,
-) -> Option<AimError> {
-    let centres: Vec<[f64; 2]> = paths
-        .iter()
-        .filter_map(|p| orbit_centre(p, period))
-        .collect();
-    if centres.is_empty() {
-        return None;
-    }
-    let k = centres.len() as f64;
-    let m = centres
-        .iter()
-        .fold([0.0; 2], |s, e| [s[0] + e[0] / k, s[1] + e[1] / k]);
-    let e = [m[0] - centre[0], m[1] - centre[1]];
-    let e = match a {
-        crate::request::Attractor::Point { .. } => e,
-        crate::request::Attractor::Line { direction, .. } => {
-            let nv = [-direction[1], direction[0]];
-            let along = e[0] * nv[0] + e[1] * nv[1];
-            [along * nv[0], along * nv[1]]
-        }
-    };
-    let miss = paths
-        .iter()
-        .flat_map(|p| p.iter().rev().take(segments))
-        .map(|(_, q)| a.distance(*q))
-        .fold(0.0, f64::max);
-    Some(AimError {
-        e,
-        miss,
-        size: e[0].hypot(e[1]),
-    })
 }
 
 /// The work of designing the sort of `target` ([`crate::work`]), stated
@@ -1153,45 +888,4 @@ fn class_fits(
             }
         })
         .collect())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The secant aim on a linear response e(a) = J a + c whose gains are
-    /// 2 along x and 0.5 along y (the plain step a ← a − e overshoots x
-    /// and undershoots y): within 6 steps e is below 1e-9 of its start
-    /// (the exact root a* = −J⁻¹c, to 1e-9 relatively).
-    #[test]
-    fn secant_aim_finds_the_root_of_a_linear_response() {
-        let j = [[2.0, 0.3], [0.1, 0.5]];
-        let c = [-0.008, 0.004];
-        let e = |a: [f64; 2]| {
-            [
-                j[0][0] * a[0] + j[0][1] * a[1] + c[0],
-                j[1][0] * a[0] + j[1][1] * a[1] + c[1],
-            ]
-        };
-        let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
-        let root = [
-            -(j[1][1] * c[0] - j[0][1] * c[1]) / det,
-            -(-j[1][0] * c[0] + j[0][0] * c[1]) / det,
-        ];
-        let mut s = Secant::new();
-        let mut a = [0.0; 2];
-        for _ in 0..6 {
-            a = s.next(a, e(a));
-        }
-        let r = e(a);
-        assert!(r[0].hypot(r[1]) < 1e-9 * c[0].hypot(c[1]), "{r:?}");
-        assert!(
-            (a[0] - root[0]).abs() < 1e-9 * root[0].abs(),
-            "{a:?} {root:?}"
-        );
-        assert!(
-            (a[1] - root[1]).abs() < 1e-9 * root[1].abs(),
-            "{a:?} {root:?}"
-        );
-    }
 }
