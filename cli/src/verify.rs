@@ -22,7 +22,7 @@ pub struct VerifyArgs {
     /// Swarm: point parts per side of the N×N grid over the target region.
     #[arg(long, default_value_t = 9)]
     pub swarm: usize,
-    /// Swarm duration in seconds (rounded up to whole schedule periods); default: long enough to converge by the design's strength (a sort's class swarms: at least 60 s, as `design` plays them).
+    /// Swarm duration in seconds (rounded up to whole schedule periods); default: long enough to converge by the design's strength (a sort's class swarms: at least 90 s, 60 s judged and 30 s held, as `design` plays them).
     #[arg(long, allow_negative_numbers = true)]
     pub duration: Option<f64>,
     /// Swarm duration in schedule periods.

@@ -16,7 +16,9 @@ use crate::plot::{LinePlot, Series};
 use platefield::design::sort::{ClassFit, SortDesign};
 use platefield::error::{Error, Result};
 use platefield::output::percent;
-use platefield::verify::sort_play::{ClassPlay, SortOutcome, SortPlay, SORT_SHARE, SORT_TOL};
+use platefield::verify::sort_play::{
+    ClassPlay, SortOutcome, SortPlay, MIN_SORT_PLAY_S, SORT_HOLD_S, SORT_SHARE, SORT_TOL,
+};
 
 /// Goal: fraction of each class's swarm at its own attractor.
 pub const GOAL_AT_OWN: f64 = 0.95;
@@ -183,7 +185,12 @@ pub(crate) fn report_md(target_name: &str, ds: &[SortDesign], out: &SortOutcome)
                 .to_string(),
         ]);
     }
-    s.push_str("## Candidates\n\nEvery candidate's swarms played, every class for the same time; the one that sorts soonest is kept.\n\n");
+    let _ = write!(
+        s,
+        "## Candidates\n\nEvery candidate's swarms played, every class for the same time: {:.0} s (or the soonest sort so far, if longer) and {:.0} s beyond, so that a class sorted by then is seen to stay sorted; the one that sorts soonest is kept.\n\n",
+        MIN_SORT_PLAY_S,
+        SORT_HOLD_S,
+    );
     s.push_str(&cands.markdown());
     s.push_str("\n## Kept candidate per class\n\n");
     let mut table = Table::new([

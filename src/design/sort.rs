@@ -83,7 +83,12 @@
 //! with a strong transport the other way. The same stacked fit makes
 //! them (nothing is aimed: a lane has no attractor), and the plays
 //! measure where each part first leaves the region
-//! (`crate::verify::sort_play`).
+//! (`crate::verify::sort_play`). What limits `targets/sort_lanes.json`
+//! (x ±3 cm, y ±1 cm): the fit's residual and the slip lead turn the
+//! realised μ 0.2 lane by 3.3° (0.14 mm/s across 2.45 mm/s), so 3 of its
+//! 45 parts, started 2 mm from the top edge and 4-5 cm from the left,
+//! leave through the top; and at 2.45 mm/s the parts started farthest
+//! from the left edge (5.7 cm) need 23 s.
 //!
 //! **Judged by playing**: every candidate's swarms are played
 //! (`verify::sort_play`); the sort that brings 95 % of every class to its

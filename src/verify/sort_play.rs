@@ -24,12 +24,18 @@
 //! [`play_sort`] plays every candidate of a sort and keeps the one with
 //! the shortest time to sort (one that does not sort within its play ranks
 //! last; ties by the least share at the own attractor, higher first).
-//! Every candidate is played for at least [`MIN_SORT_PLAY_S`], so a fast
-//! candidate is seen to stay sorted; the synthesized candidates are played
+//! Every candidate is played for at least [`MIN_SORT_PLAY_S`] and
+//! [`SORT_HOLD_S`] beyond, so a candidate sorted within
+//! [`MIN_SORT_PLAY_S`] is seen to stay sorted for [`SORT_HOLD_S`] (a play
+//! that ends just after the time judged cannot tell a sorted swarm from
+//! one whose parts swing out of `SORT_TOL` once a period: with plays of
+//! 61 s, `targets/sort_three.json`'s kept candidate read 60.6 s, the time
+//! of its parts' last swing out); the synthesized candidates are played
 //! first, and once one has sorted in T the rest are played max(T,
-//! [`MIN_SORT_PLAY_S`]) only (a candidate not sorted by then cannot be the
-//! faster: the primitives' fit of `targets/sort_friction.json`, which
-//! needs 553 s, is no longer played for 553 s).
+//! [`MIN_SORT_PLAY_S`]) + [`SORT_HOLD_S`] only (a candidate not sorted by
+//! T cannot be the faster: the primitives' fit of
+//! `targets/sort_friction.json`, which needs 553 s, is no longer played
+//! for 553 s).
 
 use serde::Serialize;
 
@@ -55,9 +61,13 @@ pub(crate) const SORT_STARTS: [usize; 2] = [9, 5];
 pub(crate) const MAX_SORT_PERIODS: u32 = 40;
 /// Share of a class that must be at its own attractor for it to be sorted.
 pub const SORT_SHARE: f64 = 0.95;
-/// Least time (s) a sort candidate is played (whole periods, at most
-/// `MAX_SORT_PERIODS`).
+/// Least time (s) a sort candidate is judged over: it is played this
+/// long and [`SORT_HOLD_S`] beyond (whole periods).
 pub const MIN_SORT_PLAY_S: f64 = 60.0;
+/// Time (s) a sort candidate is played beyond the time it is judged
+/// against, so that a class sorted by then is seen to stay sorted (module
+/// docs).
+pub const SORT_HOLD_S: f64 = 30.0;
 
 /// One class played.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -235,7 +245,7 @@ impl SortOutcome {
 }
 
 /// Plays every candidate of a sort ([`play_classes`], at least
-/// [`MIN_SORT_PLAY_S`]) and keeps the one that sorts soonest (module
+/// [`MIN_SORT_PLAY_S`] + [`SORT_HOLD_S`]) and keeps the one that sorts soonest (module
 /// docs).
 ///
 /// ```no_run
@@ -257,8 +267,8 @@ pub fn play_sort(
     runtime: &Runtime,
 ) -> Result<SortOutcome> {
     // The synthesized candidates first: once one has sorted in T, the
-    // others are played max(T, MIN_SORT_PLAY_S) only (whole periods): one
-    // that has not sorted by then is not the faster.
+    // others are played max(T, MIN_SORT_PLAY_S) + SORT_HOLD_S only (whole
+    // periods): one that has not sorted by T is not the faster.
     let mut order: Vec<usize> = (0..candidates.len()).collect();
     order.sort_by_key(|&i| candidates[i].motions.is_empty());
     let mut best: Option<f64> = None;
@@ -266,7 +276,7 @@ pub fn play_sort(
     for i in order {
         let d = &candidates[i];
         let periods = best.map(|t| {
-            let p = (t.max(MIN_SORT_PLAY_S) / d.schedule.period_s).ceil();
+            let p = ((t.max(MIN_SORT_PLAY_S) + SORT_HOLD_S) / d.schedule.period_s).ceil();
             if p.is_finite() && p >= 1.0 {
                 p as u32
             } else {
@@ -519,8 +529,8 @@ impl SortVerify {
 }
 
 /// Schedule periods a verification plays a sort's swarms: `asked`, else
-/// at least [`MIN_SORT_PLAY_S`] (the design's least play) in whole
-/// periods of `schedule`.
+/// at least [`MIN_SORT_PLAY_S`] + [`SORT_HOLD_S`] (the design's least
+/// play) in whole periods of `schedule`.
 ///
 /// # Errors
 /// The schedule cannot be played.
@@ -721,10 +731,11 @@ fn swarm_starts(target: &Target) -> Vec<[f64; 2]> {
         .collect()
 }
 
-/// Whole periods of `sm` that play at least [`MIN_SORT_PLAY_S`] (more than
-/// [`MAX_SORT_PERIODS`] for a schedule shorter than 1.5 s).
+/// Whole periods of `sm` that play at least [`MIN_SORT_PLAY_S`] +
+/// [`SORT_HOLD_S`] (more than [`MAX_SORT_PERIODS`] for a schedule shorter
+/// than 2.25 s).
 fn min_periods(sm: &ScheduleMotion) -> u32 {
-    let p = (MIN_SORT_PLAY_S / sm.period()).ceil();
+    let p = ((MIN_SORT_PLAY_S + SORT_HOLD_S) / sm.period()).ceil();
     if p.is_finite() && p >= 1.0 {
         p as u32
     } else {
