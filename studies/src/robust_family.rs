@@ -240,7 +240,7 @@ pub fn render(outcomes: &[Outcome]) -> String {
         .filter(|o| o.nominal_shape().is_nan() || o.nominal_shape() > GOALS.0)
         .count();
     md.push_str(&format!(
-        "\n{within} of {n} targets ({:.0} %) hold ≤ {:.0} % worst shape over their range (goal 90 %); {over} exceed {:.0} % (goal 0); {weak} fall below {} of the nominal design's strength (goal 0). For {floor} of them the nominal design misses {:.0} % at its own μ already (column \"nominal shape at its μ\"): the product realises no closer at one friction.\n",
+        "\n{within} of {n} targets ({:.0} %) hold ≤ {:.0} % worst shape over their range (goal 90 %); {over} exceed {:.0} % (goal 0); {weak} fall below {} of the nominal design's strength (goal 0). For {floor} of the {n} targets the nominal design misses {:.0} % at its own μ already (column \"nominal shape at its μ\"): at one friction `auto` comes no closer, so over a range it cannot be expected to.\n",
         100.0 * within as f64 / n.max(1) as f64,
         100.0 * GOALS.0,
         100.0 * GOALS.1,
