@@ -156,7 +156,7 @@ enum Study {
         #[command(flatten)]
         out: StudyOut,
     },
-    /// Robust design (auto over each target's friction range) against a nominal synthesized design, on a seeded family of random targets, both judged over the range: robust_family.md (CPU seconds printed only; about 30 s of CPU per target).
+    /// Robust design (auto over each target's friction range) against the nominal design (auto at the range's middle), on a seeded family of random targets, both judged over the range: robust_family.md (CPU seconds printed only; about 65 s of CPU per target).
     #[command(mut_arg("out", default_dir(studies::robust_family::DIR)))]
     RobustFamily {
         /// Targets in the family (the kinds in their shares).
