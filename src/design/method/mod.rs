@@ -631,14 +631,7 @@ impl<'a> MethodRun<'a> {
         let estimate = synthesis_estimate(self.target, self.sampled, &synth, self.opts, &limits);
         self.opts.runtime.admit(&estimate)?;
         match self.synthesized_with_shares(&limits) {
-            Ok((syn, cands)) => {
-                for mut c in cands {
-                    c.variant = Variant::SequencedPeaks;
-                    c.judge_range(self.target, self.sampled)?;
-                    self.out.candidates.push(c);
-                }
-                self.added.push((Variant::SequencedPeaks, syn, limits));
-            }
+            Ok((syn, cands)) => self.add(Variant::SequencedPeaks, (syn, limits), cands)?,
             Err(e) => self.out.failures.push(Failure::new(
                 Method::Synthesize,
                 FailureReason::WithinSequencedPeaks(e.to_string()),
@@ -670,17 +663,32 @@ impl<'a> MethodRun<'a> {
         let t = Instant::now();
         match synthesize_schedule(self.target, self.sampled, &limits, self.opts, &synth) {
             Ok((syn, schedule)) => {
-                let mut c = self.synthesized(&syn, schedule, &limits, t)?;
-                c.judge_range(self.target, self.sampled)?;
-                c.variant = Variant::WorstCase;
-                self.out.candidates.push(c);
-                self.added.push((Variant::WorstCase, syn, limits));
+                let c = self.synthesized(&syn, schedule, &limits, t)?;
+                self.add(Variant::WorstCase, (syn, limits), vec![c])?;
             }
             Err(e) => self.out.failures.push(Failure::new(
                 Method::Synthesize,
                 FailureReason::WorstCase(e.to_string()),
             )),
         }
+        Ok(())
+    }
+
+    /// The candidates of a synthesis `auto` adds over a friction range
+    /// (`variant`, with the synthesis and its limits), each judged across
+    /// the range beside the others.
+    fn add(
+        &mut self,
+        variant: Variant,
+        (syn, limits): (Synthesis, ShakerLimits),
+        cands: Vec<Candidate>,
+    ) -> Result<()> {
+        for mut c in cands {
+            c.variant = variant;
+            c.judge_range(self.target, self.sampled)?;
+            self.out.candidates.push(c);
+        }
+        self.added.push((variant, syn, limits));
         Ok(())
     }
 
