@@ -55,7 +55,7 @@ pub const EXPECTED_STEPS: &[(&str, f64, f64)] = &[
     ("synthesis", 3.46e8, 1.0),
     ("probes", 3.81e8, 1.0),
     ("design-speed", 1.07e9, 1.0),
-    ("sort", 2.21e9, 1.0),
+    ("sort", 2.41e9, 1.0),
     ("robust", 2.85e9, 1.0),
     ("robust-family", 6.75e9, 1.0),
     ("poses-study", 7.55e9, PLANAR_POINT_STEP_COST),
