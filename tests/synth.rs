@@ -101,9 +101,15 @@ fn envelope_defaults_are_the_documented_numbers() {
     }
     assert_eq!(env.harmonics, 2);
     assert_eq!(env.contact_margin, 0.1);
+    // The default: per axis the larger of the paper's and the PPOD's, which
+    // differ from the paper's on the vertical only.
+    let default = ShakerLimits::default();
+    assert_eq!(default.linear[..2], env.linear[..2]);
+    assert_eq!(default.linear[2], 7.0);
+    assert_eq!((default.angular, default.period), (env.angular, env.period));
     // Missing keys take the defaults; unknown keys are errors.
     let parsed: ShakerLimits = serde_json::from_str(r#"{"period": 0.05}"#).unwrap();
-    assert_eq!(parsed.linear, env.linear);
+    assert_eq!(parsed.linear, default.linear);
     assert_eq!(parsed.period, 0.05);
     assert!(serde_json::from_str::<ShakerLimits>(r#"{"periode": 0.05}"#).is_err());
 }

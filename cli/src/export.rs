@@ -80,6 +80,9 @@ impl ExportArgs {
                     for line in e.over_limits() {
                         eprintln!("warning: {line}");
                     }
+                    for line in e.scaled().into_iter().chain(e.undriven_turns()) {
+                        eprintln!("note: {line}");
+                    }
                     let text = e.to_csv();
                     if let Some(why) =
                         held_csv::over_replay_size(Some(self.rate), text.len() as u64)

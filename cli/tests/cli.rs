@@ -640,7 +640,7 @@ fn design_refuses_bad_shaker_limits_naming_the_field() {
     });
     t.validate().unwrap();
     let l = platefield::synth::ShakerLimits::from_spec(t.shaker.as_ref());
-    let env = platefield::synth::ShakerLimits::paper_envelope();
+    let env = platefield::synth::ShakerLimits::envelope();
     assert_eq!((l.period, l.linear), (0.05, [10.0, 10.0, 0.0]));
     assert_eq!(
         (l.angular, l.harmonics, l.contact_margin),

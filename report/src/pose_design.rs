@@ -113,11 +113,11 @@ fn placement_md(d: &PoseDesign, md: &mut String) {
         );
     }
     let _ = writeln!(md, "\nKept: {}.", placement_text(&d.placement));
-    if d.over_limits.is_empty() {
+    if d.scaled.is_empty() {
         md.push_str("\nThe placed schedule's peaks are within the shaker limits its motion was synthesized within.\n");
     } else {
-        md.push_str("\n**Over the shaker limits** its motion was synthesized within, once placed (the placement's shift adds α × c to the plate-centre signals; the played physics is this motion's, whether a shaker delivers it is not checked):\n\n");
-        for line in &d.over_limits {
+        md.push_str("\n**Scaled into the shaker limits** its motion was synthesized within, once placed (the placement's shift adds α × c to the plate-centre signals; each segment so scaled is what the probes, the correction and the drops play):\n\n");
+        for line in &d.scaled {
             let _ = writeln!(md, "- {line}");
         }
     }

@@ -556,6 +556,12 @@ pub(crate) fn schedule_stage(
                 .segment(solution.fractions[j], quant.cycles[j], mixed)
         })
         .collect();
+    // Ramps are a transform the steady motion's synthesis did not budget:
+    // each ramped segment is scaled into the target's limits.
+    let limits = crate::synth::ShakerLimits::from_spec(target.shaker.as_ref()).to_spec();
+    for seg in &mut segments {
+        seg.ramps_within(&limits);
+    }
     if quant.rest_cycles > 0 {
         segments.push(Segment {
             label: "Rest".into(),

@@ -54,9 +54,10 @@
 //! accelerations allowed per world axis (of the summed signal: linear in
 //! [0, 1e4] m/s², angular in [0, 1e5] rad/s²), the harmonics 1..=H of
 //! 2π/T the controller may play (1..=16) and the least normal force to keep
-//! everywhere in the region as a fraction of g ([0, 1)). Keys left out take the envelope of the paper's
-//! primitives ([`crate::synth::ShakerLimits::paper_envelope`]: T = 2π/209 s,
-//! linear [45.28, 45.28, 0.109] m/s², angular [218.4, 218.4, 9055] rad/s²,
+//! everywhere in the region as a fraction of g ([0, 1)). Keys left out take the default
+//! envelope ([`crate::synth::ShakerLimits::envelope`], the paper's primitives and a
+//! 6-DOF plate's saved signals: T = 2π/209 s,
+//! linear [45.28, 45.28, 7] m/s², angular [218.4, 218.4, 9055] rad/s²,
 //! H = 2, m = 0.1). Sequenced designs report the per-axis peaks they use
 //! and keep to the limits given here. `"tolerance": {"amplitude": a,
 //! "phase_deg": p}` ([`Tolerance`]; a in [0, 0.5], p in [0, 45]) states how

@@ -1,8 +1,9 @@
 //! The optional `shaker` object of a target file: the limits a synthesized
 //! motion must keep (peak accelerations per axis, period, harmonics,
 //! contact margin). Every key is optional; a key left out takes the default
-//! of [`crate::synth::ShakerLimits::paper_envelope`] (the envelope of the
-//! paper's eight primitives), which `design` fills in.
+//! of [`crate::synth::ShakerLimits::envelope`] (the paper's eight primitives
+//! and a 6-DOF plate's saved signals, per axis the larger), which `design`
+//! fills in.
 //!
 //! ```json
 //! "shaker": {"period": 0.05, "linear": [10, 10, 0], "angular": [70, 70, 0],

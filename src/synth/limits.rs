@@ -25,19 +25,36 @@
 //!   held to the velocity and stroke of its summed signals by
 //!   [`crate::synth::params::Coefficients::clamp`].
 //!
-//! Defaults ([`ShakerLimits::paper_envelope`]): the per-axis envelope of the
-//! eight primitives of the paper's library with their default parameters
-//! (ω = 209 rad/s, so T = 2π/209 ≈ 0.030063 s), 2 harmonics, margin 0.1.
-//! Computed from the primitives' exact plate-centre accelerations, with x
-//! and y both taking the largest horizontal magnitude (designs turn the
-//! primitives about the vertical):
+//! Defaults ([`ShakerLimits::envelope`]): per axis, the larger of two
+//! libraries of motions a 6-DOF plate has played, so that every motion of
+//! either is within the default:
+//!
+//! * the paper's eight primitives with their default parameters
+//!   ([`ShakerLimits::paper_envelope`]; ω = 209 rad/s, so T = 2π/209 ≈
+//!   0.030063 s), which the sequenced designs play. Computed from the
+//!   primitives' exact plate-centre accelerations, with x and y both taking
+//!   the largest horizontal magnitude (designs turn the primitives about the
+//!   vertical);
+//! * the saved signal library of the PPOD, a 6-DOF vibrating plate driven
+//!   through a measured transfer function ([`ShakerLimits::ppod_library`]:
+//!   the desired plate accelerations of its saved cycles, repository
+//!   `benbdon/PPOD2`, folders `*/SavedSignals_Pdd`, played at 20–30 Hz and
+//!   measured on the plate within 10 % of them).
 //!
 //! | axis | default | from |
 //! |------|---------|------|
-//! | linear x, y | 45.28 m/s² | Trans (sawtooth, d0 ω² · 2.07) |
-//! | linear z | 0.109 m/s² | centripetal term of the Line/Skew rotations |
-//! | angular x, y | 218.4 rad/s² | LineSink, ψ0 ω² |
-//! | angular z | 9055 rad/s² | Circle (sawtooth, 0.1 ω² · 2.07) |
+//! | linear x, y | 45.28 m/s² | paper: Trans (sawtooth, d0 ω² · 2.07); the PPOD's 20 |
+//! | linear z | 7 m/s² | PPOD: Trans and Circle (the paper's primitives only reach 0.109, the centripetal term of the Line/Skew rotations) |
+//! | angular x, y | 218.4 rad/s² | paper: LineSink, ψ0 ω²; the PPOD's 100 |
+//! | angular z | 9055 rad/s² | paper: Circle (sawtooth, 0.1 ω² · 2.07); the PPOD's 100 |
+//!
+//! The period, harmonics (2) and contact margin (0.1) are the paper
+//! envelope's. The vertical limit lets a design move the plate up and down
+//! where that helps; the contact margin keeps the normal force at least
+//! m·g at every point of the region whatever the vertical acceleration.
+//! A lab whose plate delivers less states its own `shaker` object: the
+//! PPOD's library alone is `{"period": 0.05, "linear": [20, 20, 7],
+//! "angular": [100, 100, 100]}`.
 //!
 //! `tests/synth.rs` holds these numbers against the computation.
 
@@ -78,7 +95,7 @@ const ENVELOPE_SAMPLES: usize = 4096;
 
 impl Default for ShakerLimits {
     fn default() -> Self {
-        ShakerLimits::paper_envelope()
+        ShakerLimits::envelope()
     }
 }
 
@@ -87,10 +104,10 @@ impl ShakerLimits {
     pub const MAX_HARMONICS: u32 = crate::request::MAX_HARMONICS;
 
     /// The limits a target's `shaker` object asks for: each key given
-    /// replaces the [`paper_envelope`](Self::paper_envelope) value (`None`:
+    /// replaces the default [`envelope`](Self::envelope) value (`None`:
     /// the envelope itself).
     pub fn from_spec(spec: Option<&ShakerSpec>) -> ShakerLimits {
-        let mut l = ShakerLimits::paper_envelope();
+        let mut l = ShakerLimits::envelope();
         if let Some(s) = spec {
             l.period = s.period.unwrap_or(l.period);
             l.linear = s.linear.unwrap_or(l.linear);
@@ -114,6 +131,48 @@ impl ShakerLimits {
             velocity: self.velocity,
             stroke: self.stroke,
             tolerance: None,
+        }
+    }
+
+    /// The default limits (module documentation): per axis the larger of
+    /// the [`paper_envelope`](Self::paper_envelope) and the
+    /// [`ppod_library`](Self::ppod_library), with the paper envelope's
+    /// period, harmonics and contact margin.
+    ///
+    /// ```
+    /// use platefield::synth::ShakerLimits;
+    /// let (env, paper) = (ShakerLimits::envelope(), ShakerLimits::paper_envelope());
+    /// assert_eq!(env.linear[2], 7.0); // the PPOD's vertical
+    /// assert_eq!(env.linear[0], paper.linear[0]); // the paper's Trans
+    /// assert_eq!(env.period, paper.period);
+    /// ```
+    pub fn envelope() -> ShakerLimits {
+        let (paper, ppod) = (ShakerLimits::paper_envelope(), ShakerLimits::ppod_library());
+        let larger = |a: [f64; 3], b: [f64; 3]| std::array::from_fn(|k| a[k].max(b[k]));
+        ShakerLimits {
+            linear: larger(paper.linear, ppod.linear),
+            angular: larger(paper.angular, ppod.angular),
+            ..paper
+        }
+    }
+
+    /// The per-channel peaks of the PPOD's saved desired plate
+    /// accelerations (`benbdon/PPOD2`, `*/SavedSignals_Pdd/*.mat`, field
+    /// `signalinfo.PddDesCyc`): linear x 20 (Trans), y 15 (TransY, LineSinkY)
+    /// taken on both horizontal axes, z 7 m/s² (Trans, Circle); angular
+    /// 100 rad/s² about every axis (Sink, LineSink, Circle). Its cycles are
+    /// 0.05 s (20 Hz) and 0.0333 s; this takes T = 0.05 s, the most common,
+    /// and harmonic 1, the only one its saved desired cycles use (each
+    /// channel `A sin(ωt + φ)`).
+    pub fn ppod_library() -> ShakerLimits {
+        ShakerLimits {
+            period: 0.05,
+            linear: [20.0, 20.0, 7.0],
+            angular: [100.0, 100.0, 100.0],
+            harmonics: 1,
+            contact_margin: 0.1,
+            velocity: None,
+            stroke: None,
         }
     }
 

@@ -210,9 +210,19 @@ const POSE_TARGETS: [&str; 3] = ["rectangle", "bracket", "triangle"];
 
 /// One pose target designed with [`platefield::design::pose::DROPS`] played
 /// drops: its report section, the lifted equilibria of its predicted and
-/// realised point fields, and a summary line.
-fn pose_target(md: &mut String, summary: &mut String, name: &str) -> Result<()> {
+/// realised point fields, and a summary line; its kept schedule written to
+/// `out/poses/<name>/schedule.json` (what `export` and `verify` take, and
+/// `tests/envelope.rs` holds to its limits).
+fn pose_target(md: &mut String, summary: &mut String, name: &str, out: &Path) -> Result<()> {
     let (path, req, d) = designed(name)?;
+    let folder = out.join("poses").join(name);
+    std::fs::create_dir_all(&folder).map_err(|e| Error::Io {
+        path: folder.display().to_string(),
+        source: e,
+    })?;
+    let file = folder.join("schedule.json");
+    write_all_atomic(&[(&file, d.method.kept().schedule.to_json()?.as_bytes())])?;
+    let _ = writeln!(summary, "wrote {}", file.display());
     let _ = writeln!(md, "### {name} (`{path}`)\n");
     let section = platefield_report::pose_design::pose_md(&d);
     md.push_str(section.trim_start_matches("## Pose target\n\n"));
@@ -398,7 +408,7 @@ pub fn run(out: &Path, play_drops: usize) -> Result<String> {
     }
     md.push_str(POSE_TARGETS_INTRO);
     for name in POSE_TARGETS {
-        pose_target(&mut md, &mut summary, name)?;
+        pose_target(&mut md, &mut summary, name, out)?;
     }
     write_md(out, "poses.md", &md, summary)
 }

@@ -101,9 +101,9 @@ pub struct PoseDesign {
     pub screened: Vec<screen::Screened>,
     /// The lifted field of the placed schedule: equilibria and predicted basins.
     pub analysis: PoseAnalysis,
-    /// The placed schedule's peaks above the shaker limits its motion was
-    /// synthesized within ([`placement::over_limits`]), one line each.
-    pub over_limits: Vec<String>,
+    /// The placed segments scaled into the shaker limits their motion was
+    /// synthesized within ([`placement::within_limits`]), one line each.
+    pub scaled: Vec<String>,
 }
 
 /// Designs the pose target `req` (module docs), playing `drops` drops.
@@ -137,13 +137,12 @@ pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Res
     let (kept, rounds) = correct::correct(req, &origin, lifted)?;
     let mut target = req.target.clone();
     target.field = family.field(kept.shift, kept.angle.to_degrees());
-    let mut schedule = kept.schedule(&origin, Some(target))?;
+    let (mut schedule, scaled) = kept.schedule_scaled(&origin, Some(target))?;
     // What is written must load again (`platefield export`, `verify`).
     schedule.validate()?;
-    let over_limits = placement::over_limits(&schedule);
     if !opts.runtime.quiet {
-        for line in &over_limits {
-            eprintln!("warning: the placed motion is over the shaker limit: {line}");
+        for line in &scaled {
+            eprintln!("note: the placed motion is scaled into the shaker limits: {line}");
         }
     }
     let field = schedule_field(&schedule, &grid)?;
@@ -178,7 +177,7 @@ pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Res
         spin,
         screened,
         analysis,
-        over_limits,
+        scaled,
     })
 }
 

@@ -123,12 +123,40 @@ impl Placement {
     }
 
     /// `origin`'s six-signal segments placed (module docs; each stage of
-    /// a [`super::cycle`] alike); its target, when it has one, placed
-    /// with it.
+    /// a [`super::cycle`] alike) and each scaled into the shaker limits
+    /// `origin` records ([`within_limits`]); its target, when it has one,
+    /// placed with it.
     ///
     /// # Errors
-    /// `origin` has no six-signal motion, or a segment with a primitive.
+    /// `origin` has no six-signal motion, or a segment with a primitive;
+    /// a placed segment over a limit of 0 ([`within_limits`]).
     pub fn schedule(
+        &self,
+        origin: &Schedule,
+        placed_target: Option<crate::request::Target>,
+    ) -> Result<Schedule> {
+        let mut out = self.placed(origin, placed_target)?;
+        within_limits(&mut out)?;
+        Ok(out)
+    }
+
+    /// [`schedule`](Self::schedule) and one line per segment it scaled.
+    ///
+    /// # Errors
+    /// As [`schedule`](Self::schedule).
+    pub fn schedule_scaled(
+        &self,
+        origin: &Schedule,
+        placed_target: Option<crate::request::Target>,
+    ) -> Result<(Schedule, Vec<String>)> {
+        let mut out = self.placed(origin, placed_target)?;
+        let lines = within_limits(&mut out)?;
+        Ok((out, lines))
+    }
+
+    /// `origin`'s six-signal segments placed as they are, whatever their
+    /// peaks.
+    fn placed(
         &self,
         origin: &Schedule,
         placed_target: Option<crate::request::Target>,
@@ -184,13 +212,69 @@ pub fn with_motion(
     Ok(out)
 }
 
+/// Each six-signal segment of `schedule` scaled by the largest factor ≤ 1
+/// that keeps its peaks (acceleration, velocity, stroke) within the shaker
+/// limits it records (`played.limits`, those the motion was synthesized
+/// within), one line per segment scaled. A placement moves the reference
+/// point by c, which adds α × c (and a spin's centripetal terms) to the
+/// plate-centre linear signals and, with the tilts, a vertical
+/// acceleration, none of which the synthesis budgeted; scaling the signals
+/// by k scales every one of these peaks by k (the signals are linear in
+/// their terms), so one factor per segment is exact. Nothing changes when
+/// the schedule records no limits.
+///
+/// # Errors
+/// A segment over a limit of 0 (no factor but 0 keeps it), naming the
+/// axis and `target.shaker`.
+pub fn within_limits(schedule: &mut Schedule) -> Result<Vec<String>> {
+    use crate::schedule::export::peaks::KinematicPeaks;
+    let Some(limits) = schedule.played.as_ref().and_then(|p| p.limits.clone()) else {
+        return Ok(Vec::new());
+    };
+    let mut out = Vec::new();
+    for (k, seg) in schedule.segments.iter_mut().enumerate() {
+        let Some(signals) = seg.motion.as_mut() else {
+            continue;
+        };
+        let motion = crate::motion::Motion::Signals(signals.clone());
+        let excesses = KinematicPeaks::of_motion(&motion, highest_harmonic(signals)).excesses(&limits);
+        if let Some(e) = excesses.iter().find(|e| e.limit == 0.0) {
+            return Err(Error::invalid(
+                "target.shaker",
+                format!(
+                    "segment {k} ({}) placed peaks on {} at {:.4} {}, which the limits forbid (0): no scale keeps it; allow the axis",
+                    seg.label, e.axis, e.peak, e.unit
+                ),
+            ));
+        }
+        let Some(worst) = excesses
+            .iter()
+            .max_by(|a, b| (a.peak / a.limit).total_cmp(&(b.peak / b.limit)))
+        else {
+            continue;
+        };
+        let factor = worst.limit / worst.peak;
+        *signals = signals.scaled(factor);
+        out.push(format!(
+            "segment {k} ({}): scaled × {factor:.4}, placed it peaked on {} at {:.4} {} against {:.4}",
+            seg.label, worst.axis, worst.peak, worst.unit, worst.limit
+        ));
+    }
+    Ok(out)
+}
+
+/// The highest harmonic among `signals`' terms (1 when it has none).
+fn highest_harmonic(signals: &crate::motion::Signals) -> u32 {
+    [&signals.linear, &signals.angular]
+        .iter()
+        .flat_map(|a| a.x.iter().chain(&a.y).chain(&a.z))
+        .map(|t| t.harmonic)
+        .max()
+        .unwrap_or(1)
+}
+
 /// Every peak of `schedule`'s six-signal segments above the shaker limits
-/// it records (`played.limits`, those the motion was synthesized within),
-/// one line each: a placement moves the reference point by c, which adds
-/// α × c (and a spin's centripetal terms) to the plate-centre linear
-/// signals and, with the tilts, a vertical acceleration, none of which the
-/// synthesis budgeted. Empty when within every limit or when the schedule
-/// records none.
+/// it records, one line each (empty after [`within_limits`]).
 pub fn over_limits(schedule: &Schedule) -> Vec<String> {
     use crate::schedule::export::peaks::KinematicPeaks;
     let Some(limits) = schedule.played.as_ref().and_then(|p| p.limits.as_ref()) else {
@@ -201,14 +285,8 @@ pub fn over_limits(schedule: &Schedule) -> Vec<String> {
         let Some(signals) = &seg.motion else {
             continue;
         };
-        let highest = [&signals.linear, &signals.angular]
-            .iter()
-            .flat_map(|a| a.x.iter().chain(&a.y).chain(&a.z))
-            .map(|t| t.harmonic)
-            .max()
-            .unwrap_or(1);
         let motion = crate::motion::Motion::Signals(signals.clone());
-        for e in KinematicPeaks::of_motion(&motion, highest).excesses(limits) {
+        for e in KinematicPeaks::of_motion(&motion, highest_harmonic(signals)).excesses(limits) {
             out.push(format!(
                 "segment {k} ({}): {} peaks at {:.4} {} against {:.4} (+{:.1} %)",
                 seg.label,

@@ -85,8 +85,12 @@ pub struct Export {
     /// `Some(steady cycles)` when a six-signal motion was ramped in and out
     /// ([`RAMP_CYCLES`] each way); `None` for a looped schedule period.
     pub ramped: Option<u32>,
-    /// The shaker limits the schedule was designed for
-    /// (`played.limits`), if it records them.
+    /// The factor (≤ 1) the design's signals are played at so that the
+    /// ramps keep within the shaker limits (`ramped_within`); 1 for a
+    /// looped schedule period and for a ramped design within them.
+    pub scale: f64,
+    /// The shaker limits the schedule is held to: those it was designed
+    /// for (`played.limits`), else its target's (`stated_limits`).
     pub limits: Option<ShakerSpec>,
     /// The schedule's [`Schedule::fingerprint`], stated in the header.
     pub fingerprint: String,
@@ -99,13 +103,15 @@ impl Export {
     /// ([`peaks::KinematicPeaks::of_held`]), then the samples
     /// ([`sample_hold::HoldSamples::to_csv`]).
     pub fn to_csv(&self) -> String {
-        let over: String = self
-            .over_limits()
-            .iter()
+        let lines: String = self
+            .scaled()
+            .into_iter()
+            .chain(self.over_limits())
+            .chain(self.undriven_turns())
             .map(|l| format!("# {l}\n"))
             .collect();
         format!(
-            "# platefield export: the six plate-centre acceleration signals, each sample held for its interval: {}\n# {}{} (of the schedule's segments; verify --replay checks it)\n# {FRAME}\n{}{over}{}",
+            "# platefield export: the six plate-centre acceleration signals, each sample held for its interval: {}\n# {}{} (of the schedule's segments; verify --replay checks it)\n# {FRAME}\n{}{lines}{}",
             self.describe(),
             crate::motion::held_csv::FINGERPRINT,
             self.fingerprint,
@@ -114,35 +120,29 @@ impl Export {
         )
     }
 
-    /// One line per peak of the file as played above the schedule's shaker
-    /// limits ([`peaks::KinematicPeaks::excesses`]), saying by how much and,
-    /// for a ramped export, why: the ramp multiplies the steady pose by a
-    /// smoothstep w(t), so its acceleration w ẍ + 2ẇẋ + ẅx exceeds the
-    /// steady peak by up to about 2e-4 at 10 ramp cycles for one harmonic
-    /// (`tests/export.rs` measures it). Empty when within every limit or
-    /// when the schedule records none.
+    /// The line saying the design is played scaled so that its ramps keep
+    /// within the shaker limits (`ramped_within`), when it is.
+    pub fn scaled(&self) -> Option<String> {
+        (self.scale < 1.0).then(|| {
+            format!(
+                "scaled: the design's signals are played × {:.6} (−{:.4} %) so that the ramps keep within the shaker limits (the ramp's pose envelope w(t) adds 2ẇẋ + ẅx to the steady acceleration, which no ramp of finite length avoids); the steady cycles play the design so scaled",
+                self.scale,
+                100.0 * (1.0 - self.scale)
+            )
+        })
+    }
+
+    /// One line per peak of the file as played above a shaker limit of the
+    /// schedule's ([`peaks::KinematicPeaks::excesses`]), saying by how much;
+    /// an angular axis the limits forbid (limit 0) is
+    /// [`undriven_turns`](Self::undriven_turns)'. Empty when within every
+    /// limit or when the schedule records none.
     pub fn over_limits(&self) -> Vec<String> {
-        let Some(limits) = &self.limits else {
-            return Vec::new();
-        };
-        let why = match self.ramped {
-            Some(_) => " (the ramp's pose envelope w(t) adds 2ẇẋ + ẅx to the steady acceleration; the steady cycles are what the design kept within the limit)",
-            None => "",
-        };
-        // A rotation's second-order part: tilts about two axes, composed
-        // exactly, turn the plate about the third.
-        let coning = " (the exact rotation: tilts about two axes turn the plate about the third at second order in their angles, which the design's signals leave at 0; docs/shaker.md)";
-        self.peaks()
-            .excesses(limits)
+        self.excesses(false)
             .iter()
             .map(|e| {
-                let why = if e.limit == 0.0 && e.axis.starts_with("angular") {
-                    coning
-                } else {
-                    why
-                };
                 format!(
-                    "over the shaker limit: {} peaks at {:.6e} {} against {:.6e} (+{:.3} %){why}",
+                    "over the shaker limit: {} peaks at {:.6e} {} against {:.6e} (+{:.3} %)",
                     e.axis,
                     e.peak,
                     e.unit,
@@ -150,6 +150,37 @@ impl Export {
                     100.0 * (e.peak / e.limit - 1.0)
                 )
             })
+            .collect()
+    }
+
+    /// One line per angular axis the limits forbid (limit 0) on which the
+    /// plate still turns: tilts about the two other axes, composed exactly,
+    /// turn the plate about the third at second order in their angles.
+    /// The design's signals leave the axis at 0; no periodic motion with
+    /// tilts in quadrature can (the tilts' path encloses an area, and the
+    /// orientation's holonomy is that turn; docs/shaker.md).
+    pub fn undriven_turns(&self) -> Vec<String> {
+        self.excesses(true)
+            .iter()
+            .map(|e| {
+                format!(
+                    "undriven axis turned: {} peaks at {:.6e} {} where the limits forbid the axis (the exact rotation: tilts about two axes turn the plate about the third at second order in their angles, which the design's signals leave at 0; docs/shaker.md)",
+                    e.axis, e.peak, e.unit
+                )
+            })
+            .collect()
+    }
+
+    /// The excesses of the file as played over the schedule's limits:
+    /// those on a forbidden angular axis (`undriven`) or the others.
+    fn excesses(&self, undriven: bool) -> Vec<peaks::Excess> {
+        let Some(limits) = &self.limits else {
+            return Vec::new();
+        };
+        self.peaks()
+            .excesses(limits)
+            .into_iter()
+            .filter(|e| (e.limit == 0.0 && e.axis.starts_with("angular")) == undriven)
             .collect()
     }
 
@@ -201,12 +232,13 @@ pub fn export(schedule: &Schedule, rate: f64, steady: u32) -> Result<Export> {
         .find(|s| s.motion.is_some() && s.ramp_cycles.is_none())
         .and_then(|s| s.plate_motion());
     check_size(schedule, steady_motion.as_ref(), rate, steady)?;
-    let limits = schedule.played.as_ref().and_then(|p| p.limits.clone());
-    if let Some(motion) = steady_motion {
-        let samples = sample_hold::ramped(&motion, rate, RAMP_CYCLES, steady)?;
+    let limits = stated_limits(schedule);
+    if let Some(Motion::Signals(signals)) = steady_motion {
+        let (samples, scale) = ramped_within(&signals, limits.as_ref(), rate, steady)?;
         return Ok(Export {
             samples,
             ramped: Some(steady),
+            scale,
             limits,
             fingerprint,
         });
@@ -214,9 +246,74 @@ pub fn export(schedule: &Schedule, rate: f64, steady: u32) -> Result<Export> {
     Ok(Export {
         samples: sequence_samples(schedule, rate)?,
         ramped: None,
+        scale: 1.0,
         limits,
         fingerprint,
     })
+}
+
+/// The shaker limits `schedule` is held to: those its design recorded
+/// (`played.limits`), else those its target states (`shaker`, keys left
+/// out the default envelope, [`crate::synth::ShakerLimits::from_spec`]);
+/// `None` for a schedule without either.
+fn stated_limits(schedule: &Schedule) -> Option<ShakerSpec> {
+    schedule
+        .played
+        .as_ref()
+        .and_then(|p| p.limits.clone())
+        .or_else(|| {
+            let target = schedule.target_spec.as_ref()?;
+            Some(crate::synth::ShakerLimits::from_spec(target.shaker.as_ref()).to_spec())
+        })
+}
+
+/// `signals` ramped in, played `steady` cycles and ramped out, scaled by
+/// the largest factor ≤ 1 whose file as played keeps within `limits`
+/// (acceleration, velocity and stroke; the axes a limit of 0 forbids
+/// aside, see [`Export::over_limits`]), and that factor
+/// ([`peaks::KinematicPeaks::within_scale`]).
+///
+/// Why a factor: the ramp multiplies the steady pose by a smoothstep w(t),
+/// so its acceleration w ẍ + 2ẇẋ + ẅx exceeds the steady peak wherever
+/// ẅ < 0 while w < 1, the last cycles of the ramp-in (by about 2e-4 at
+/// [`RAMP_CYCLES`] cycles for one harmonic, `tests/export.rs`). No ramp of
+/// finite length avoids it: near its end 1 − w = e must satisfy
+/// ë ≤ ω² e, and e(t_end) = ė(t_end) = 0 then gives e ≡ 0 (Grönwall).
+/// A design whose steady peak sits on a limit, as a synthesis's does, is
+/// therefore played scaled by 1/(1 + that excess).
+fn ramped_within(
+    signals: &Signals,
+    limits: Option<&ShakerSpec>,
+    rate: f64,
+    steady: u32,
+) -> Result<(sample_hold::HoldSamples, f64)> {
+    let sample = |k: f64| {
+        sample_hold::ramped(&Motion::Signals(signals.scaled(k)), rate, RAMP_CYCLES, steady)
+    };
+    let scale = match limits {
+        None => 1.0,
+        Some(l) => {
+            // The sampler's errors are the rate's, the same at every scale:
+            // the first call states them below.
+            let mut failed = false;
+            let k = peaks::KinematicPeaks::within_scale(
+                |k| match sample(k) {
+                    Ok(s) => peaks::KinematicPeaks::of_held(&s),
+                    Err(_) => {
+                        failed = true;
+                        peaks::KinematicPeaks::default()
+                    }
+                },
+                l,
+            );
+            if failed {
+                1.0
+            } else {
+                k
+            }
+        }
+    };
+    Ok((sample(scale)?, scale))
 }
 
 /// Rows an export of `schedule` at `rate` would hold (before anything is

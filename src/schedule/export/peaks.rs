@@ -108,9 +108,10 @@ impl KinematicPeaks {
         p
     }
 
-    /// The peaks of a steady motion's signals over one period (see the
-    /// module documentation), sampled at `super::PEAK_SAMPLES` × `highest`
-    /// points with `highest` its highest harmonic: a six-signal motion's
+    /// The peaks of a motion's signals over one period (over the whole
+    /// segment, ramps included, for a ramped one; see the module
+    /// documentation), sampled at `super::PEAK_SAMPLES` × `highest` points
+    /// per cycle with `highest` its highest harmonic: a six-signal motion's
     /// angular ones are those of its rotation vector θ and its rates θ′, θ″,
     /// which design limits ([`KinematicPeaks::of_plate`] gives the plate's).
     pub fn of_motion(motion: &Motion, highest: u32) -> KinematicPeaks {
@@ -130,10 +131,12 @@ impl KinematicPeaks {
         state: fn(&Motion, f64) -> CentreState,
         acceleration: fn(&Motion, f64) -> (crate::motion::V3, crate::motion::V3),
     ) -> KinematicPeaks {
-        let n = super::PEAK_SAMPLES * highest.max(1) as usize;
+        // A ramped segment over its whole span, its ramps included.
+        let cycles = (motion.span() / motion.period()).round().max(1.0) as usize;
+        let n = super::PEAK_SAMPLES * highest.max(1) as usize * cycles;
         let mut p = KinematicPeaks::default();
         for k in 0..n {
-            let t = motion.period() * k as f64 / n as f64;
+            let t = motion.span() * k as f64 / n as f64;
             let s = state(motion, t);
             let (lin, ang) = acceleration(motion, t);
             let a = [lin.x, lin.y, lin.z, ang.x, ang.y, ang.z];
@@ -144,6 +147,38 @@ impl KinematicPeaks {
             }
         }
         p
+    }
+
+    /// The largest factor k ≤ 1 whose motion keeps within `limits`, where
+    /// `peaks_at(k)` gives the peaks of the motion scaled by k: every
+    /// excess over a limit above 0 removed (one over a limit of 0 no factor
+    /// but 0 removes, so it is left to the caller). Peaks linear in k are
+    /// settled by one step; the rotation's second-order part falls as k²,
+    /// so a few steps settle the rest.
+    ///
+    /// ```
+    /// use platefield::request::ShakerSpec;
+    /// use platefield::schedule::export::peaks::KinematicPeaks;
+    /// let limits = ShakerSpec { linear: Some([8.0, 10.0, 10.0]), ..ShakerSpec::default() };
+    /// let at = |k: f64| KinematicPeaks { acceleration: [10.0 * k; 6], ..KinematicPeaks::default() };
+    /// assert_eq!(KinematicPeaks::within_scale(at, &limits), 0.8);
+    /// ```
+    pub fn within_scale(mut peaks_at: impl FnMut(f64) -> KinematicPeaks, limits: &ShakerSpec) -> f64 {
+        /// Steps tried before the factor found is taken as it is.
+        const STEPS: usize = 4;
+        let mut k = 1.0;
+        for _ in 0..STEPS {
+            let over = peaks_at(k)
+                .excesses(limits)
+                .iter()
+                .filter(|e| e.limit > 0.0)
+                .fold(1.0_f64, |m, e| m.max(e.peak / e.limit));
+            if over <= 1.0 {
+                break;
+            }
+            k /= over;
+        }
+        k
     }
 
     /// Every peak above `limits` by more than a relative 1e-9, in the order
