@@ -117,15 +117,17 @@ fn the_test_plate_plays_the_physics_pose_120_s() {
 }
 
 /// The design's own pose at the file's sample times: a steady six-signal
-/// design ramped as the export plays it, a sequence segment by segment
-/// (rest at home between), from `platefield::motion::sample_hold`.
-fn design_poses(s: &Schedule, dt: f64, n: usize) -> Vec<CentreState> {
+/// design ramped as the export plays it (its signals × `scale`, the
+/// export's `Export::scale`), a sequence segment by segment (rest at home
+/// between), from `platefield::motion::sample_hold`.
+fn design_poses(s: &Schedule, dt: f64, n: usize, scale: f64) -> Vec<CentreState> {
     let steady = s
         .segments
         .iter()
         .find(|g| g.motion.is_some() && g.ramp_cycles.is_none())
         .and_then(|g| g.motion.clone());
     if let Some(sig) = steady {
+        let sig = sig.scaled(scale);
         let cycles = (n as f64 * dt / sig.period).round() as u32;
         let ramped = Motion::Ramped(Ramped::new(sig, RAMP_CYCLES, cycles, "test").unwrap());
         return (0..=n)
@@ -153,9 +155,9 @@ fn design_poses(s: &Schedule, dt: f64, n: usize) -> Vec<CentreState> {
 /// position, angle from home at the end, distance from home at the end).
 fn pass_against_design(name: &str, rate: f64) -> [f64; 4] {
     let s = schedule(name);
-    let csv = export(&s, rate, 20).unwrap().samples.to_csv();
-    let (dt, rows) = read_export(&csv);
-    let poses = design_poses(&s, dt, rows.len());
+    let e = export(&s, rate, 20).unwrap();
+    let (dt, rows) = read_export(&e.samples.to_csv());
+    let poses = design_poses(&s, dt, rows.len(), e.scale);
     let mut plate = Plate::rest();
     let (mut angle, mut position) = (0.0_f64, 0.0_f64);
     for (a, want) in rows.iter().zip(&poses[1..]) {
