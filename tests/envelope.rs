@@ -15,6 +15,7 @@ use std::path::{Path, PathBuf};
 
 use platefield::schedule::export::{export, DEFAULT_STEADY_CYCLES};
 use platefield::schedule::Schedule;
+use platefield::synth::ShakerLimits;
 
 /// Every `schedule.json` under `dir`, sorted.
 fn schedules(dir: &Path) -> Vec<PathBuf> {
@@ -46,19 +47,28 @@ fn every_committed_design_exports_within_its_limits() {
         "poses/triangle",
         "sort_three",
     ] {
-        assert!(files.contains(&root.join(path).join("schedule.json")), "{path}");
+        assert!(
+            files.contains(&root.join(path).join("schedule.json")),
+            "{path}"
+        );
     }
     let mut failures = Vec::new();
     for path in &files {
         let s = Schedule::load(path).unwrap();
-        let e = export(&s, 10_000.0, DEFAULT_STEADY_CYCLES).unwrap();
+        let e = export(&s, 10_000.0, DEFAULT_STEADY_CYCLES)
+            .unwrap()
+            .held_to(ShakerLimits::stated(&s));
         assert!(e.limits.is_some(), "{}: no limits stated", path.display());
         for line in e.over_limits() {
             failures.push(format!("{}: {line}", path.display()));
         }
         let p = e.peaks().acceleration;
         let angular = p[3].max(p[4]).max(p[5]);
-        let forbidden = e.limits.as_ref().and_then(|l| l.angular).unwrap_or([1.0; 3]);
+        let forbidden = e
+            .limits
+            .as_ref()
+            .and_then(|l| l.angular)
+            .unwrap_or([1.0; 3]);
         for k in (0..3).filter(|&k| forbidden[k] == 0.0) {
             assert!(
                 p[3 + k] <= 1e-3 * angular,

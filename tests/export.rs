@@ -479,7 +479,11 @@ fn six_signal_exports_state_peaks_over_the_schedules_limits() {
     let mut none_about_z = limits(1.0003, None);
     none_about_z["angular"][2] = serde_json::json!(0.0);
     let coning = export_with(&mut v, none_about_z);
-    assert!(coning.over_limits().is_empty(), "{:?}", coning.over_limits());
+    assert!(
+        coning.over_limits().is_empty(),
+        "{:?}",
+        coning.over_limits()
+    );
     let turns = coning.undriven_turns();
     assert_eq!(turns.len(), 1, "{turns:?}");
     assert!(
@@ -488,16 +492,27 @@ fn six_signal_exports_state_peaks_over_the_schedules_limits() {
     );
     let e = export_with(&mut v, limits(1.0, None));
     assert!(e.over_limits().is_empty(), "{:?}", e.over_limits());
-    assert!(e.scale < 1.0 && e.scale >= 1.0 / (1.0 + 2.1e-4), "{}", e.scale);
+    assert!(
+        e.scale < 1.0 && e.scale >= 1.0 / (1.0 + 2.1e-4),
+        "{}",
+        e.scale
+    );
     let line = e.scaled().unwrap();
-    assert!(line.contains("ramps keep within the shaker limits"), "{line}");
+    assert!(
+        line.contains("ramps keep within the shaker limits"),
+        "{line}"
+    );
     assert!(e.to_csv().contains(&format!("# {line}")));
     let roomy = export_with(&mut v, limits(1.0003, None));
     assert_eq!(roomy.scale, 1.0);
     assert!(roomy.scaled().is_none() && roomy.over_limits().is_empty());
     let steady_stroke = 10.0 / (std::f64::consts::TAU / 0.05).powi(2);
     let stroke = export_with(&mut v, limits(1.0003, Some(0.9 * steady_stroke)));
-    assert!(stroke.over_limits().is_empty(), "{:?}", stroke.over_limits());
+    assert!(
+        stroke.over_limits().is_empty(),
+        "{:?}",
+        stroke.over_limits()
+    );
     assert!((stroke.scale - 0.9).abs() < 1e-3, "{}", stroke.scale);
     assert_eq!(
         export_with(&mut v, limits(1.0003, Some(1.001 * steady_stroke))).scale,

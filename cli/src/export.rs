@@ -76,7 +76,8 @@ impl ExportArgs {
             )),
             (None, format) => match format {
                 Format::Csv => {
-                    let e = export::export(&s, self.rate, self.steady_cycles)?;
+                    let e = export::export(&s, self.rate, self.steady_cycles)?
+                        .held_to(platefield::synth::ShakerLimits::stated(&s));
                     for line in e.over_limits() {
                         eprintln!("warning: {line}");
                     }

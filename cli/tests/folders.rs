@@ -343,11 +343,11 @@ fn a_closed_stdout_ends_quietly() {
     let done = child.wait_with_output().unwrap();
     let err = String::from_utf8_lossy(&done.stderr);
     assert_eq!(done.status.code(), Some(0), "{err}");
-    // Only the statement of a ramp's peak over the schedule's limit
-    // (`Export::over_limits`) may be on stderr: no error about the pipe.
+    // Only the statement of the scale that keeps the ramps within the
+    // schedule's limits (`Export::scaled`) may be on stderr: no error
+    // about the pipe.
     assert!(
-        err.lines()
-            .all(|l| l.starts_with("warning: over the shaker limit")),
+        err.lines().all(|l| l.starts_with("note: scaled: ")),
         "{err}"
     );
 }

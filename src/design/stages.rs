@@ -497,6 +497,65 @@ pub(crate) fn metrics(
 /// Schedule stage: quantises the fractions to whole cycles per segment
 /// (at least `min_cycles` each, the plate at rest filling the remainder),
 /// orders the segments by cycles (then label), and fills in the
+/// Scalings [`ramps_within`] tries before it keeps the factor found.
+const RAMP_SCALINGS: usize = 4;
+
+/// A ramped six-signal segment's signals scaled by the largest factor ≤ 1
+/// (found in up to [`RAMP_SCALINGS`] steps) whose whole segment, ramps
+/// included, keeps within `limits`: the plate's peaks
+/// ([`KinematicPeaks::within_scale`], what an export of it holds) and,
+/// over `grid` when the target has one, the contact margin (the least
+/// normal force per unit mass of a part at rest, N ≥ m g:
+/// [`crate::synth::contact::kinematic_least_normal`] over the segment's
+/// span; N − g is linear in the signals to first order, so the factor
+/// 0.995 (1 − m) g / (g − N_min) lifts it to the margin). The label then
+/// ends with the factor. A ramp over R cycles multiplies the steady pose
+/// by a smoothstep w(t), adding 2ẇẋ + ẅx to the steady acceleration, about
+/// 2e-4 of it at R = 10 and 10–20 % at R = 1 (ẇ ∝ 1/R), which the steady
+/// motion's synthesis did not budget: a vertical drive at the margin would
+/// lift parts off the plate during the ramp. Returns the factor (1 for any
+/// other segment).
+fn ramps_within(
+    seg: &mut Segment,
+    limits: &ShakerLimits,
+    grid: Option<&Grid>,
+    settings: &crate::field::FieldSettings,
+) -> f64 {
+    use crate::motion::{Motion, Ramped};
+    let (Some(ramp), Some(signals)) = (seg.ramp_cycles, seg.motion.clone()) else {
+        return 1.0;
+    };
+    let ramped = |k: f64| {
+        Motion::Ramped(Ramped {
+            signals: signals.scaled(k),
+            ramp,
+            cycles: seg.cycles,
+        })
+    };
+    let highest = signals.highest_harmonic();
+    let spec = limits.to_spec();
+    let mut k =
+        KinematicPeaks::within_scale(|k| KinematicPeaks::of_plate(&ramped(k), highest), &spec);
+    if let Some(grid) = grid {
+        let (gravity, floor) = (settings.gravity, limits.contact_margin * settings.gravity);
+        for _ in 0..RAMP_SCALINGS {
+            let least = crate::synth::contact::kinematic_least_normal(&ramped(k), grid, settings);
+            if least >= floor || least >= gravity {
+                break;
+            }
+            k *= (0.995 * (gravity - floor) / (gravity - least)).clamp(0.0, 1.0);
+        }
+    }
+    if k < 1.0 {
+        seg.motion = Some(signals.scaled(k));
+        seg.label = format!(
+            "{} × {k:.4} (its ramps within the shaker limits)",
+            seg.label
+        );
+    }
+    k
+}
+
 /// [`Schedule`] with its fit, solver and basis records. Consumes the
 /// target and the [`FitStage`]; produces the schedule and the field of
 /// its whole-cycle fractions at the target points.
@@ -558,9 +617,9 @@ pub(crate) fn schedule_stage(
         .collect();
     // Ramps are a transform the steady motion's synthesis did not budget:
     // each ramped segment is scaled into the target's limits.
-    let limits = crate::synth::ShakerLimits::from_spec(target.shaker.as_ref()).to_spec();
+    let limits = crate::synth::ShakerLimits::from_spec(target.shaker.as_ref());
     for seg in &mut segments {
-        seg.ramps_within(&limits);
+        ramps_within(seg, &limits, target.grid.as_ref(), &opts.settings);
     }
     if quant.rest_cycles > 0 {
         segments.push(Segment {

@@ -87,35 +87,6 @@ pub struct Segment {
 }
 
 impl Segment {
-    /// A ramped six-signal segment's signals scaled by the largest factor
-    /// ≤ 1 whose whole segment, ramps included, keeps within `limits`
-    /// ([`export::peaks::KinematicPeaks::within_scale`] on the plate's
-    /// peaks, what an export of it holds); the label then ends with the
-    /// factor. A ramp over R cycles adds 2ẇẋ + ẅx to the steady
-    /// acceleration, about 2e-4 of it at R = 10 and far more at R = 1
-    /// (w′ ∝ 1/R), which the steady motion's synthesis did not budget.
-    /// Returns the factor (1 for any other segment).
-    pub fn ramps_within(&mut self, limits: &crate::request::ShakerSpec) -> f64 {
-        let (Some(ramp), Some(signals)) = (self.ramp_cycles, self.motion.as_ref()) else {
-            return 1.0;
-        };
-        let highest = signals.highest_harmonic();
-        let peaks = |k: f64| {
-            let motion = Motion::Ramped(Ramped {
-                signals: signals.scaled(k),
-                ramp,
-                cycles: self.cycles,
-            });
-            export::peaks::KinematicPeaks::of_plate(&motion, highest)
-        };
-        let k = export::peaks::KinematicPeaks::within_scale(peaks, limits);
-        if k < 1.0 {
-            self.motion = Some(signals.scaled(k));
-            self.label = format!("{} × {k:.4} (its ramps within the shaker limits)", self.label);
-        }
-        k
-    }
-
     /// The plate motion this segment plays: its primitive's motion
     /// (rotation and shift applied) or its six signals; `None` for rest.
     pub fn plate_motion(&self) -> Option<Motion> {

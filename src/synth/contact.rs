@@ -21,13 +21,15 @@ use crate::motion::{Motion, V3};
 pub(crate) const TIME_SAMPLES: usize = 256;
 
 /// Least N (m/s²) over the points of `grid` and [`TIME_SAMPLES`] instants
-/// of one period, for a part at rest relative to the plate.
+/// per period of the motion's span (one period; a ramped segment's whole
+/// span, its ramps included), for a part at rest relative to the plate.
 pub fn kinematic_least_normal(motion: &Motion, grid: &Grid, settings: &FieldSettings) -> f64 {
-    let period = motion.period();
+    let span = motion.span();
+    let instants = TIME_SAMPLES * (span / motion.period()).round().max(1.0) as usize;
     let points = grid.points();
     let mut least = f64::INFINITY;
-    for i in 0..TIME_SAMPLES {
-        let t = period * i as f64 / TIME_SAMPLES as f64;
+    for i in 0..instants {
+        let t = span * i as f64 / instants as f64;
         let k = motion.kinematics(t, settings.gravity, settings.model.tilt);
         for p in &points {
             let (n, _) = settings

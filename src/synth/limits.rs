@@ -120,6 +120,30 @@ impl ShakerLimits {
         l
     }
 
+    /// The limits `schedule` is held to: those its design recorded
+    /// (`played.limits`), else those its target states (keys left out the
+    /// default [`envelope`](Self::envelope)); `None` for a schedule with
+    /// neither.
+    ///
+    /// ```
+    /// use platefield::schedule::Schedule;
+    /// use platefield::synth::ShakerLimits;
+    /// let s = Schedule::load(std::path::Path::new("results/sort_friction/schedule.json"))?;
+    /// let held = ShakerLimits::stated(&s).unwrap();
+    /// assert_eq!(held.linear, Some(ShakerLimits::envelope().linear));
+    /// # Ok::<(), platefield::Error>(())
+    /// ```
+    pub fn stated(schedule: &crate::schedule::Schedule) -> Option<ShakerSpec> {
+        schedule
+            .played
+            .as_ref()
+            .and_then(|p| p.limits.clone())
+            .or_else(|| {
+                let target = schedule.target_spec.as_ref()?;
+                Some(ShakerLimits::from_spec(target.shaker.as_ref()).to_spec())
+            })
+    }
+
     /// These limits as a fully given `shaker` object.
     pub(crate) fn to_spec(&self) -> ShakerSpec {
         ShakerSpec {

@@ -203,7 +203,9 @@ mod tests {
             .schedule_scaled(&c, None)
             .unwrap();
         assert!(
-            scaled.iter().any(|l| l.contains("(spin stage)): scaled × 0.")),
+            scaled
+                .iter()
+                .any(|l| l.contains("(spin stage)): scaled × 0.")),
             "{scaled:?}"
         );
         let placed = EllipseStage::new(&req, stage.placed_on(&rest).unwrap(), &grid).unwrap();

@@ -237,7 +237,8 @@ pub fn within_limits(schedule: &mut Schedule) -> Result<Vec<String>> {
             continue;
         };
         let motion = crate::motion::Motion::Signals(signals.clone());
-        let excesses = KinematicPeaks::of_motion(&motion, highest_harmonic(signals)).excesses(&limits);
+        let excesses =
+            KinematicPeaks::of_motion(&motion, highest_harmonic(signals)).excesses(&limits);
         if let Some(e) = excesses.iter().find(|e| e.limit == 0.0) {
             return Err(Error::invalid(
                 "target.shaker",

@@ -89,8 +89,9 @@ pub struct Export {
     /// ramps keep within the shaker limits (`ramped_within`); 1 for a
     /// looped schedule period and for a ramped design within them.
     pub scale: f64,
-    /// The shaker limits the schedule is held to: those it was designed
-    /// for (`played.limits`), else its target's (`stated_limits`).
+    /// The shaker limits the file is held to: those the schedule was
+    /// designed for (`played.limits`), or those [`Export::held_to`] gives
+    /// a schedule that records none.
     pub limits: Option<ShakerSpec>,
     /// The schedule's [`Schedule::fingerprint`], stated in the header.
     pub fingerprint: String,
@@ -130,6 +131,15 @@ impl Export {
                 100.0 * (1.0 - self.scale)
             )
         })
+    }
+
+    /// This export held to `limits` when its schedule records none
+    /// (`crate::synth::ShakerLimits::stated` gives its target's).
+    pub fn held_to(mut self, limits: Option<ShakerSpec>) -> Export {
+        if self.limits.is_none() {
+            self.limits = limits;
+        }
+        self
     }
 
     /// One line per peak of the file as played above a shaker limit of the
@@ -232,7 +242,7 @@ pub fn export(schedule: &Schedule, rate: f64, steady: u32) -> Result<Export> {
         .find(|s| s.motion.is_some() && s.ramp_cycles.is_none())
         .and_then(|s| s.plate_motion());
     check_size(schedule, steady_motion.as_ref(), rate, steady)?;
-    let limits = stated_limits(schedule);
+    let limits = schedule.played.as_ref().and_then(|p| p.limits.clone());
     if let Some(Motion::Signals(signals)) = steady_motion {
         let (samples, scale) = ramped_within(&signals, limits.as_ref(), rate, steady)?;
         return Ok(Export {
@@ -250,21 +260,6 @@ pub fn export(schedule: &Schedule, rate: f64, steady: u32) -> Result<Export> {
         limits,
         fingerprint,
     })
-}
-
-/// The shaker limits `schedule` is held to: those its design recorded
-/// (`played.limits`), else those its target states (`shaker`, keys left
-/// out the default envelope, [`crate::synth::ShakerLimits::from_spec`]);
-/// `None` for a schedule without either.
-fn stated_limits(schedule: &Schedule) -> Option<ShakerSpec> {
-    schedule
-        .played
-        .as_ref()
-        .and_then(|p| p.limits.clone())
-        .or_else(|| {
-            let target = schedule.target_spec.as_ref()?;
-            Some(crate::synth::ShakerLimits::from_spec(target.shaker.as_ref()).to_spec())
-        })
 }
 
 /// `signals` ramped in, played `steady` cycles and ramped out, scaled by
@@ -288,7 +283,12 @@ fn ramped_within(
     steady: u32,
 ) -> Result<(sample_hold::HoldSamples, f64)> {
     let sample = |k: f64| {
-        sample_hold::ramped(&Motion::Signals(signals.scaled(k)), rate, RAMP_CYCLES, steady)
+        sample_hold::ramped(
+            &Motion::Signals(signals.scaled(k)),
+            rate,
+            RAMP_CYCLES,
+            steady,
+        )
     };
     let scale = match limits {
         None => 1.0,

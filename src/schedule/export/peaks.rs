@@ -163,7 +163,10 @@ impl KinematicPeaks {
     /// let at = |k: f64| KinematicPeaks { acceleration: [10.0 * k; 6], ..KinematicPeaks::default() };
     /// assert_eq!(KinematicPeaks::within_scale(at, &limits), 0.8);
     /// ```
-    pub fn within_scale(mut peaks_at: impl FnMut(f64) -> KinematicPeaks, limits: &ShakerSpec) -> f64 {
+    pub fn within_scale(
+        mut peaks_at: impl FnMut(f64) -> KinematicPeaks,
+        limits: &ShakerSpec,
+    ) -> f64 {
         /// Steps tried before the factor found is taken as it is.
         const STEPS: usize = 4;
         let mut k = 1.0;
