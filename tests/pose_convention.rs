@@ -24,11 +24,12 @@
 //!    (`platefield::pose::play_part` from the seeded starts
 //!    `platefield::pose::drop_starts` over the region inset by the part's
 //!    radius: the first of the design's own drops, at its settings and
-//!    duration) are played on that motion and on the schedule itself, and
-//!    the drops ending at the asked pose (`design::pose::at_pose`: within
-//!    1 mm and 3° modulo the part's symmetry) are counted on each: the
-//!    file's count is at least the schedule's minus one, and each drop
-//!    ends within 0.1 mm and 0.5° of where it ends on the schedule.
+//!    duration) are played on that motion and on the schedule itself (at
+//!    the file's step size: below), and the drops ending at the asked pose
+//!    (`design::pose::at_pose`: within 1 mm and 3° modulo the part's
+//!    symmetry) are counted on each: the file's count is at least the
+//!    schedule's minus one, and each drop ends within 0.1 mm and 0.5° of
+//!    where it ends on the schedule.
 //!
 //! **Step size.** Every held sample is a breakpoint, so a drop on the file
 //! takes at least one step per sample: 301 per cycle at 10 kHz, where the
@@ -76,8 +77,8 @@ struct Bracket {
     passes: u32,
     /// The file's samples `passes` times over from rest at home, one cycle
     /// of the schedule's moving segments per period (the step size the
-    /// drops take on it).
-    looped: Held,
+    /// drops take on it), as the one segment of a schedule motion.
+    file: ScheduleMotion,
 }
 
 fn bracket() -> Bracket {
@@ -95,41 +96,47 @@ fn bracket() -> Bracket {
         .unwrap();
     file.samples_per_period = (cycle / file.dt).round() as usize;
     file.samples = file.samples.repeat(passes as usize);
+    let looped = Held::new(&file).unwrap();
+    let file = ScheduleMotion::new(vec![PlayedSegment {
+        label: "export looped".into(),
+        cycles: (looped.span() / looped.period()).round() as u32,
+        duration: looped.span(),
+        motion: Some(Motion::Held(looped)),
+    }])
+    .unwrap();
     Bracket {
         request,
         schedule,
         csv,
         passes,
-        looped: Held::new(&file).unwrap(),
+        file,
     }
 }
 
 impl Bracket {
-    /// The looped file as the one segment of a schedule motion.
-    fn file_motion(&self) -> ScheduleMotion {
-        ScheduleMotion::new(vec![PlayedSegment {
-            label: "export looped".into(),
-            motion: Some(Motion::Held(self.looped.clone())),
-            cycles: (self.looped.span() / self.looped.period()).round() as u32,
-            duration: self.looped.span(),
-        }])
-        .unwrap()
+    /// The looped file's held motion.
+    fn looped(&self) -> &Held {
+        match &self.file.segments()[0].motion {
+            Some(Motion::Held(h)) => h,
+            _ => unreachable!("the file's segment is held samples"),
+        }
     }
 
     /// The worst (angle, position) gap between the test plate playing the
     /// file `passes` times over and the looped segment, at every sample;
     /// and the test plate's angle from home after the first pass.
     fn gap_to_file(&self) -> (f64, f64, f64) {
+        let looped = self.looped();
         let (dt, rows) = read_export(&self.csv);
-        assert_eq!(rows.len() * self.passes as usize, self.looped.len());
-        assert!((dt / self.looped.dt() - 1.0).abs() < 1e-12);
+        assert_eq!(rows.len() * self.passes as usize, looped.len());
+        assert!((dt / looped.dt() - 1.0).abs() < 1e-12);
         let mut plate = Plate::rest();
         let (mut angle, mut position, mut tilt) = (0.0_f64, 0.0_f64, 0.0);
         let home = from_rotation_vector(&[0.0; 3]);
-        for (k, a) in rows.iter().cycle().take(self.looped.len()).enumerate() {
+        for (k, a) in rows.iter().cycle().take(looped.len()).enumerate() {
             plate.hold(a, dt, SUBSTEPS);
-            let s = self.looped.state_at(k + 1);
-            let q = self.looped.orientation_at(k + 1);
+            let s = looped.state_at(k + 1);
+            let q = looped.orientation_at(k + 1);
             angle = angle.max(angle_between(&plate.q, &[q.w, q.i, q.j, q.k]));
             for i in 0..3 {
                 position = position.max((plate.x[i] - s.pose[i]).abs());
@@ -144,7 +151,8 @@ impl Bracket {
     /// The file's samples per cycle: the drops on it take at least one
     /// step per sample (each is a breakpoint).
     fn samples_per_cycle(&self) -> usize {
-        (self.looped.period() / self.looped.dt()).round() as usize
+        let looped = self.looped();
+        (looped.period() / looped.dt()).round() as usize
     }
 
     /// The end poses of the first `drops` of the design's drops played on
@@ -201,9 +209,9 @@ fn the_motion_is_the_test_plates(b: &Bracket) {
     let (angle, position, tilt) = b.gap_to_file();
     println!(
         "bracket export ({} samples at {RATE} Hz) looped {} times, {:.1} s: the test plate against the played file, worst orientation {angle:.2e} rad, position {position:.2e} m; {tilt:.2e} rad from home after one pass",
-        b.looped.len() / b.passes as usize,
+        b.looped().len() / b.passes as usize,
         b.passes,
-        b.looped.span()
+        b.looped().span()
     );
     assert!(
         angle < 1e-9 && position < 1e-9,
@@ -226,7 +234,7 @@ fn end_gap(a: &Option<Pose>, b: &Option<Pose>) -> (f64, f64) {
 
 fn the_parts_reach_the_pose(b: &Bracket, drops: usize) {
     let req = &b.request;
-    let file = b.ends(&b.file_motion(), 1, None, drops);
+    let file = b.ends(&b.file, 1, None, drops);
     let own = ScheduleMotion::from_schedule(&b.schedule).unwrap();
     let fine = b.samples_per_cycle();
     let matched = b.ends(&own, b.passes, Some(fine), drops);
@@ -250,7 +258,7 @@ fn the_parts_reach_the_pose(b: &Bracket, drops: usize) {
     println!(
         "drops at the pose (1 mm, 3°) after {} periods ({:.1} s): {on_file} of {drops} on the exported file looped (the test plate's motion); on the schedule {on_matched} of {drops} at the file's {fine} steps per cycle, {on_design} of {drops} at the design's drop steps (its {} drops: {:.0} %); worst end-pose gap file to schedule {:.3} mm, {:.2}°",
         b.passes,
-        b.looped.span(),
+        b.looped().span(),
         recorded.drops,
         100.0 * recorded.pose_fraction,
         1e3 * far,
