@@ -16,8 +16,9 @@
 //!    that segment's at every sample within 1e-9 rad and 1e-9 m: the parts
 //!    below are played on that plate's motion to 1e-9. (A pass of the file
 //!    does not end exactly at home: the held samples of the coning tilts
-//!    leave a tilt, 1.2e-5 rad on the bracket, printed and bounded below,
-//!    see `tests/convention.rs`; a controller looping the file keeps it,
+//!    leave a tilt, 1.2e-5 rad on the bracket, printed and bounded below
+//!    (4.7e-5 at 5 kHz, 2.9e-6 at 20 kHz: second order in Δt, measured;
+//!    see `tests/convention.rs`); a controller looping the file keeps it,
 //!    as this loop does, where a replay of one pass at a time restarts
 //!    each at home.)
 //! 2. **The parts still reach the pose.** The product's pose drops
