@@ -52,6 +52,7 @@ pub mod search;
 pub mod spin;
 
 pub use placement::Placement;
+pub use play::at_pose;
 pub use request::PoseRequest;
 pub use search::Family;
 

@@ -61,7 +61,22 @@ pub fn play_rate(req: &PoseRequest, analysis: &PoseAnalysis, spun: bool) -> f64 
         .map_or(0.0, |e| -e.rates[0])
 }
 
-/// Whether `p` is at the `asked` pose (modulo symmetry `n`).
+/// Whether `p` is at the `asked` pose: within [`TOL_MM`] and [`TOL_DEG`]
+/// of it, the angle modulo the part's symmetry `n` (the count a pose
+/// design's played drops record as `pose_fraction`).
+///
+/// ```
+/// use platefield::design::pose::at_pose;
+/// use platefield::dynamics::V2;
+/// use platefield::pose::Pose;
+/// let asked = Pose { r: V2::new(0.008, 0.006), theta: (-40f64).to_radians() };
+/// // 0.8 mm and 2° off: at the pose.
+/// let near = Pose { r: V2::new(0.0088, 0.006), theta: (-38f64).to_radians() };
+/// assert!(at_pose(&near, &asked, 1));
+/// // A half turn off: at the pose only for a part symmetric under it.
+/// let turned = Pose { r: asked.r, theta: 140f64.to_radians() };
+/// assert!(!at_pose(&turned, &asked, 1) && at_pose(&turned, &asked, 2));
+/// ```
 pub fn at_pose(p: &Pose, asked: &Pose, n: usize) -> bool {
     let (d, t) = pose_error(p, asked, n);
     d <= 1e-3 * TOL_MM && t.abs().to_degrees() <= TOL_DEG
