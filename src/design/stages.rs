@@ -509,7 +509,7 @@ const RAMP_SCALINGS: usize = 4;
 /// [`crate::synth::contact::kinematic_least_normal`] over the segment's
 /// span; N − g is linear in the signals to first order, so the factor
 /// 0.995 (1 − m) g / (g − N_min) lifts it to the margin). The label then
-/// ends with the factor. A ramp over R cycles multiplies the steady pose
+/// ends with the factor, as 1 − its shortfall. A ramp over R cycles multiplies the steady pose
 /// by a smoothstep w(t), adding 2ẇẋ + ẅx to the steady acceleration, about
 /// 2e-4 of it at R = 10 and 10–20 % at R = 1 (ẇ ∝ 1/R), which the steady
 /// motion's synthesis did not budget: a vertical drive at the margin would
@@ -549,8 +549,9 @@ fn ramps_within(
     if k < 1.0 {
         seg.motion = Some(signals.scaled(k));
         seg.label = format!(
-            "{} × {k:.4} (its ramps within the shaker limits)",
-            seg.label
+            "{} × (1 − {:.1e}) (its ramps within the shaker limits)",
+            seg.label,
+            1.0 - k
         );
     }
     k
