@@ -238,7 +238,7 @@ pub fn within_limits(schedule: &mut Schedule) -> Result<Vec<String>> {
         };
         let motion = crate::motion::Motion::Signals(signals.clone());
         let excesses =
-            KinematicPeaks::of_motion(&motion, highest_harmonic(signals)).excesses(&limits);
+            KinematicPeaks::of_motion(&motion, signals.highest_harmonic()).excesses(&limits);
         if let Some(e) = excesses.iter().find(|e| e.limit == 0.0) {
             return Err(Error::invalid(
                 "target.shaker",
@@ -264,16 +264,6 @@ pub fn within_limits(schedule: &mut Schedule) -> Result<Vec<String>> {
     Ok(out)
 }
 
-/// The highest harmonic among `signals`' terms (1 when it has none).
-fn highest_harmonic(signals: &crate::motion::Signals) -> u32 {
-    [&signals.linear, &signals.angular]
-        .iter()
-        .flat_map(|a| a.x.iter().chain(&a.y).chain(&a.z))
-        .map(|t| t.harmonic)
-        .max()
-        .unwrap_or(1)
-}
-
 /// Every peak of `schedule`'s six-signal segments above the shaker limits
 /// it records, one line each (empty after [`within_limits`]).
 pub fn over_limits(schedule: &Schedule) -> Vec<String> {
@@ -287,7 +277,7 @@ pub fn over_limits(schedule: &Schedule) -> Vec<String> {
             continue;
         };
         let motion = crate::motion::Motion::Signals(signals.clone());
-        for e in KinematicPeaks::of_motion(&motion, highest_harmonic(signals)).excesses(limits) {
+        for e in KinematicPeaks::of_motion(&motion, signals.highest_harmonic()).excesses(limits) {
             out.push(format!(
                 "segment {k} ({}): {} peaks at {:.4} {} against {:.4} (+{:.1} %)",
                 seg.label,
