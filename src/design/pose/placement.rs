@@ -220,7 +220,8 @@ pub fn with_motion(
 /// plate-centre linear signals and, with the tilts, a vertical
 /// acceleration, none of which the synthesis budgeted; scaling the signals
 /// by k scales every one of these peaks by k (the signals are linear in
-/// their terms), so one factor per segment is exact. Nothing changes when
+/// their terms), so [`within_scale`](crate::schedule::export::peaks::KinematicPeaks::within_scale)'s first step is the
+/// factor (the steps after it settle a rotation's second-order peaks). Nothing changes when
 /// the schedule records no limits.
 ///
 /// # Errors
@@ -254,7 +255,16 @@ pub fn within_limits(schedule: &mut Schedule) -> Result<Vec<String>> {
         else {
             continue;
         };
-        let factor = worst.limit / worst.peak;
+        let harmonic = signals.highest_harmonic();
+        let factor = KinematicPeaks::within_scale(
+            |k| {
+                KinematicPeaks::of_motion(
+                    &crate::motion::Motion::Signals(signals.scaled(k)),
+                    harmonic,
+                )
+            },
+            &limits,
+        );
         *signals = signals.scaled(factor);
         out.push(format!(
             "segment {k} ({}): scaled × {factor:.4}, placed it peaked on {} at {:.4} {} against {:.4}",
