@@ -86,7 +86,7 @@ fn line_sink_is_affine_over_the_region_and_div_circle_is_not() {
 
 /// The time share `weights` of LineSink along x, LineSink along y and
 /// DivCircle (time fractions, normalised), all centred.
-fn share(line: &GridField, div: &GridField, weights: [f64; 3]) -> impl Fn(V2) -> V2 + Sync {
+fn share(line: &GridField, div: &GridField, weights: [f64; 3]) -> impl Fn(V2) -> V2 + Sync + use<> {
     let total: f64 = weights.iter().sum();
     let lc = GridField::clone(line);
     let dc = GridField::clone(div);

@@ -242,7 +242,7 @@ pub fn mirror_axis(target: &Target, sampled: &SampledTarget) -> Option<MirrorLin
         .iter()
         .zip(&sampled.vectors)
         .zip(&sampled.weights)
-        .filter(|(_, &w)| w > 0.0)
+        .filter(|&(_, &w)| w > 0.0)
         .map(|((p, t), _)| (*p, *t))
         .collect();
     let symmetric = |line: &MirrorLine| {

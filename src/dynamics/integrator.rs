@@ -644,7 +644,7 @@ impl Simulator<'_> {
         a: f64,
         b: f64,
         min: usize,
-    ) -> (usize, impl Fn(usize) -> f64) {
+    ) -> (usize, impl Fn(usize) -> f64 + use<>) {
         let spacing = 0.5 * self.period / self.numerics.steps_per_cycle as f64;
         let n = ((b - a) / spacing).ceil().max(min as f64) as usize;
         let time = move |i: usize| {

@@ -117,7 +117,7 @@ fn drop_negative(support: &[usize], v: &DVector<f64>, in_s: &mut [bool]) -> bool
     let negative: Vec<usize> = support
         .iter()
         .zip(v.iter())
-        .filter(|(_, &x)| x < -POLISH_FEAS * scale)
+        .filter(|&(_, &x)| x < -POLISH_FEAS * scale)
         .map(|(&j, _)| j)
         .collect();
     negative.iter().for_each(|&j| in_s[j] = false);

@@ -311,7 +311,7 @@ impl SampledTarget {
         self.vectors
             .iter()
             .zip(&self.weights)
-            .filter(|(_, &w)| w > 0.0)
+            .filter(|&(_, &w)| w > 0.0)
             .map(|(v, _)| v[0].hypot(v[1]))
             .fold(0.0, f64::max)
     }
@@ -536,7 +536,7 @@ impl Target {
         let largest = vectors
             .iter()
             .zip(&weights)
-            .filter(|(_, &w)| w > 0.0)
+            .filter(|&(_, &w)| w > 0.0)
             .map(|(v, _)| v[0].hypot(v[1]))
             .fold(0.0, f64::max);
         if largest <= ZERO_FIELD {
