@@ -441,7 +441,7 @@ impl Staged {
         }
         drop(live);
         for note in recover_stale(&self.dir, products)? {
-            eprintln!("note: {note}");
+            crate::progress::say(&format!("note: {note}"));
         }
         Ok(())
     }
@@ -486,11 +486,11 @@ fn resolve_folder(dir: &Path, arg: &str, say: bool) -> Result<PathBuf> {
     match std::fs::canonicalize(dir) {
         Ok(target) if target.is_dir() => {
             if say {
-                eprintln!(
+                crate::progress::say(&format!(
                     "note: {} is a link to the folder {}; writing the results there (the link stays)",
                     dir.display(),
                     target.display()
-                );
+                ));
             }
             Ok(target)
         }
@@ -630,10 +630,10 @@ pub fn remove_stages_on_interrupt() {
         let _no_writes = WRITES.write().unwrap_or_else(|e| e.into_inner());
         let live = live_stages();
         if !live.is_empty() {
-            eprintln!(
+            crate::progress::say(&format!(
                 "interrupted: removing {} unfinished staging folder(s)",
                 live.len()
-            );
+            ));
         }
         for stage in live.iter() {
             // The run's other threads go on writing into the folder while

@@ -1,17 +1,82 @@
 //! Progress of long work (library builds, `field`, `verify`'s parts, the
-//! order search, synthesis), shown on stderr and never in a result: an
-//! indicatif bar when stderr is a terminal; otherwise (CI logs, scripts,
-//! pipes) a plain line every `DEFAULT_INTERVAL` (or every
+//! order search, synthesis), shown to the person running it and never in a
+//! result: an indicatif bar when stderr is a terminal; otherwise (CI logs,
+//! scripts, pipes) a plain line every `DEFAULT_INTERVAL` (or every
 //! [`INTERVAL_ENV`] seconds), also while no count moves; nothing when
 //! quiet. One abstraction for every command; it depends on nothing else in
 //! the crate.
+//!
+//! **One observer.** Every line the library has for a person (plain
+//! progress lines, work estimates, notes such as "scaled into the shaker
+//! limits") goes through [`say`] to the process's [`Observer`]: by default
+//! [`Stderr`], the only place the library writes to stderr. A program that
+//! embeds the library (a notebook, a GUI, a service's log) installs its own
+//! with [`set_observer`]; while one is installed, progress comes as plain
+//! lines to it, never as a terminal bar.
 
 use std::io::IsTerminal;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, Condvar, Mutex};
+use std::sync::{Arc, Condvar, Mutex, RwLock};
 use std::time::{Duration, Instant};
 
 use indicatif::{ProgressBar, ProgressStyle};
+
+/// Who hears the library's lines for a person (module docs).
+pub trait Observer: Send + Sync {
+    /// One line of text, without its newline.
+    fn line(&self, text: &str);
+}
+
+/// The default [`Observer`]: each line on stderr.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Stderr;
+
+impl Observer for Stderr {
+    fn line(&self, text: &str) {
+        eprintln!("{text}");
+    }
+}
+
+/// The installed observer; `None` is [`Stderr`].
+static OBSERVER: RwLock<Option<Arc<dyn Observer>>> = RwLock::new(None);
+
+/// Installs `observer` for the whole process and returns the one it
+/// replaces (`None`: the default [`Stderr`]); `None` restores the default.
+///
+/// ```
+/// use std::sync::{Arc, Mutex};
+/// use platefield::progress::{say, set_observer, Observer};
+/// #[derive(Default)]
+/// struct Collect(Mutex<Vec<String>>);
+/// impl Observer for Collect {
+///     fn line(&self, text: &str) {
+///         self.0.lock().unwrap().push(text.to_string());
+///     }
+/// }
+/// let heard = Arc::new(Collect::default());
+/// let before = set_observer(Some(heard.clone()));
+/// say("note: heard by the observer, not on stderr");
+/// set_observer(before);
+/// assert!(heard.0.lock().unwrap().iter().any(|l| l.starts_with("note: heard")));
+/// ```
+pub fn set_observer(observer: Option<Arc<dyn Observer>>) -> Option<Arc<dyn Observer>> {
+    let mut slot = OBSERVER.write().unwrap_or_else(|p| p.into_inner());
+    std::mem::replace(&mut *slot, observer)
+}
+
+/// Gives `text` (one line, no newline) to the installed [`Observer`].
+pub fn say(text: &str) {
+    let installed = OBSERVER.read().unwrap_or_else(|p| p.into_inner()).clone();
+    match installed {
+        Some(o) => o.line(text),
+        None => Stderr.line(text),
+    }
+}
+
+/// Whether an observer other than [`Stderr`] is installed.
+fn observed() -> bool {
+    OBSERVER.read().unwrap_or_else(|p| p.into_inner()).is_some()
+}
 
 /// Seconds between plain progress lines by default.
 pub(crate) const DEFAULT_INTERVAL: Duration = Duration::from_secs(3);
@@ -124,17 +189,14 @@ impl Lines {
     fn maybe_print(&self, s: &mut State) {
         if !self.stop.load(Ordering::Relaxed) && s.last_line.elapsed() >= self.interval {
             s.last_line = Instant::now();
-            eprintln!(
-                "{}",
-                line(
-                    &self.label,
-                    s.pos,
-                    self.total,
-                    &self.unit,
-                    &s.message,
-                    self.start.elapsed().as_secs_f64()
-                )
-            );
+            say(&line(
+                &self.label,
+                s.pos,
+                self.total,
+                &self.unit,
+                &s.message,
+                self.start.elapsed().as_secs_f64(),
+            ));
         }
     }
 }
@@ -155,7 +217,7 @@ impl Progress {
         if mode == ProgressMode::Quiet {
             return Progress::hidden();
         }
-        if std::io::stderr().is_terminal() {
+        if std::io::stderr().is_terminal() && !observed() {
             let bar = ProgressBar::new(total);
             let template = format!("{label} [{{bar:40}}] {{pos}}/{{len}} {unit} ({{eta}}) {{msg}}");
             if let Ok(style) = ProgressStyle::with_template(&template) {

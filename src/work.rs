@@ -311,7 +311,7 @@ impl Estimate {
     /// `quiet`.
     pub fn announce(&self, quiet: bool) {
         match self.announcement(threads()) {
-            Some(line) if !quiet => eprintln!("{line}"),
+            Some(line) if !quiet => crate::progress::say(&line),
             _ => {}
         }
     }

@@ -1052,3 +1052,79 @@ fn no_work_log_references() {
                  // rounding 2 places; the 1st and 2nd rounding; \"#2ca02c\"";
     assert_eq!(work_log_references(clean), Vec::new());
 }
+
+/// The printing macros and stream handles a file's code (comments,
+/// literals and `#[cfg(test)]` items removed) names, each with its count.
+fn printing(code: &str) -> BTreeMap<&'static str, usize> {
+    const TOKENS: [&str; 7] = [
+        "eprintln!",
+        "eprint!",
+        "println!",
+        "print!",
+        "dbg!",
+        "stderr()",
+        "stdout()",
+    ];
+    let mut found = BTreeMap::new();
+    for token in TOKENS {
+        let n = code
+            .match_indices(token)
+            .filter(|(k, _)| {
+                // `println!` holds `print!`'s letters only as a suffix of
+                // a longer name: count a token where no identifier
+                // character precedes it.
+                !code[..*k]
+                    .chars()
+                    .next_back()
+                    .is_some_and(|c| c.is_alphanumeric() || c == '_')
+            })
+            .count();
+        if n > 0 {
+            found.insert(token, n);
+        }
+    }
+    found
+}
+
+/// The library speaks to a person only through its one observer
+/// (`platefield::progress::say`): the default observer's `eprintln!` and
+/// the terminal check of the progress bar (`stderr()`) are its only
+/// stream writes; no other file of the library prints, so an embedding
+/// program that installs an observer hears every line. Test-only files
+/// (`*tests.rs`, `testutil.rs`, declared under `#[cfg(test)]`) may print.
+#[test]
+fn the_library_prints_only_through_its_observer() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    rust_files(&src, &mut files);
+    let mut printed = Vec::new();
+    for f in &files {
+        let name = f.file_name().and_then(|n| n.to_str()).unwrap_or("");
+        if name.ends_with("tests.rs") || name == "testutil.rs" || name == "main.rs" {
+            continue;
+        }
+        let text = std::fs::read_to_string(f).expect("read file");
+        let found = printing(&strip_cfg_test(&strip_comments_and_literals(&text)));
+        let rel = f.strip_prefix(&src).unwrap_or(f).display().to_string();
+        let allowed: BTreeMap<&str, usize> = if rel == "progress.rs" {
+            [("eprintln!", 1), ("stderr()", 1)].into_iter().collect()
+        } else {
+            BTreeMap::new()
+        };
+        if found != allowed {
+            printed.push(format!("{rel}: {found:?}"));
+        }
+    }
+    assert!(
+        printed.is_empty(),
+        "printing outside the observer: {printed:#?}"
+    );
+    // The scanner counts a planted print and skips one in a test module.
+    let planted = "fn f() { eprintln!(\"x\"); let p = std::io::stdout(); }\n\
+                   #[cfg(test)]\nmod tests { fn g() { println!(\"y\"); } }\n";
+    let found = printing(&strip_cfg_test(&strip_comments_and_literals(planted)));
+    assert_eq!(
+        found,
+        [("eprintln!", 1), ("stdout()", 1)].into_iter().collect()
+    );
+}

@@ -634,7 +634,7 @@ mod tests {
             let t_err = (path.stop_time() / t_ref - 1.0).abs();
             let r_err = (path.at(path.stop_time()).0 - r_ref).norm() / r_ref.norm();
             let frozen_err = (start.stop_time() / t_ref - 1.0).abs();
-            eprintln!(
+            println!(
                 "ω t_stop {omega_t}: stop time {t_err:.2e}, position {r_err:.2e} (frozen at the start {frozen_err:.2e})"
             );
             assert!(

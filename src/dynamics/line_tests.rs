@@ -130,5 +130,5 @@ fn line_fast_path_is_bitwise_the_general_path() {
     }
     let radau = LINE_RADAU.with(|c| c.get());
     assert!(radau > 0, "no start from rest took the Radau step");
-    eprintln!("starts from rest on a line taken by Radau: {radau}");
+    println!("starts from rest on a line taken by Radau: {radau}");
 }

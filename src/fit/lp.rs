@@ -195,7 +195,7 @@ mod tests {
             if l1 {
                 assert!(rounds >= 2, "{rounds}");
             }
-            eprintln!(
+            println!(
                 "l1={l1}: {rounds} rounds, {} iterations, support {support}",
                 cg.iterations
             );

@@ -357,7 +357,7 @@ pub(crate) fn solve(problem: &FitProblem, options: &FitOptions) -> Result<FitSol
     };
     sol.total_time_s = start.elapsed().as_secs_f64();
     if options.verbose {
-        eprintln!(
+        crate::progress::say(&format!(
             "platefield::fit [{}] m={} rows={} status={} iters={} solve={:.3}ms total={:.3}ms rel_err={:.3e} strength={:.6} kkt={:.2e} gap={:.2e}{}",
             options.mode.name(),
             m,
@@ -371,7 +371,7 @@ pub(crate) fn solve(problem: &FitProblem, options: &FitOptions) -> Result<FitSol
             sol.kkt_residual,
             sol.independent_gap,
             if sol.unreachable { " UNREACHABLE" } else { "" }
-        );
+        ));
     }
     Ok(sol)
 }
@@ -855,7 +855,7 @@ mod tests {
             let noeq_err = (0..w_true.len())
                 .map(|j| (naive_noeq.x[j] - w_true[j]).abs())
                 .fold(0.0, f64::max);
-            eprintln!(
+            println!(
                 "normal-equations QP, scale {scale:e}: equilibrated: status {:?}, max weight error {naive_err:.3e}; \
                  no equilibration: status {:?}, max weight error {noeq_err:.3e}",
                 naive.status, naive_noeq.status
@@ -903,7 +903,7 @@ mod tests {
         let err = |x: &[f64]| (0..6).map(|j| (x[j] - w_ref[j]).abs()).fold(0.0, f64::max);
         let qp = conic::solve_ls(LsFormulation::ResidualQp, &prep.r, &prep.c, true).unwrap();
         let epi = conic::solve_ls(LsFormulation::Epigraph, &prep.r, &prep.c, true).unwrap();
-        eprintln!(
+        println!(
             "residual QP: {:?} {} it, weight error {:.2e}; epigraph: {:?} {} it, weight error {:.2e}",
             qp.status,
             qp.iterations,
@@ -1194,7 +1194,7 @@ mod tests {
                 },
             )
             .unwrap();
-            eprintln!(
+            println!(
                 "timing m=100 n=441 {:>8}: clarabel {:7.2} ms, total {:7.2} ms, {} iterations, rel err {:.4}",
                 mode.name(),
                 sol.solve_time_s * 1e3,

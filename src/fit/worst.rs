@@ -458,7 +458,7 @@ mod tests {
             .iter()
             .map(|f| worst_of(f))
             .fold(f64::INFINITY, f64::min);
-        eprintln!(
+        println!(
             "worst case {:.4}; bounds [{lower:.4}, {upper:.4}]; middle fit's worst {:.4}",
             fit.best_worst,
             worst_of(&own[1])

@@ -354,7 +354,7 @@ pub fn poses(req: &PoseRequest) -> Result<PoseOutcome> {
             Ok(mode) => mode,
             Err(e) => {
                 let why = format!("the averaged field's check and refinement are skipped: {e}");
-                eprintln!("poses: {why}");
+                crate::progress::say(&format!("poses: {why}"));
                 averaged_skipped = Some(why);
                 return None;
             }

@@ -113,10 +113,10 @@ fn check_fingerprint(schedule: &Schedule, stated: Option<&str>, source: &str) ->
         )),
         Some(_) => Ok(()),
         None => {
-            eprintln!(
+            crate::progress::say(&format!(
                 "note: {source} states no schedule fingerprint (its header lacks \"# {}\"): only its layout (rows, sample time) is checked against this schedule",
                 held_csv::FINGERPRINT.trim_end()
-            );
+            ));
             Ok(())
         }
     }

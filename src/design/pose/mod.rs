@@ -124,7 +124,7 @@ pub struct PoseDesign {
 pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Result<PoseDesign> {
     // A pose design takes minutes (a synthesis alone is half a minute of
     // CPU): its work is stated first, under --quiet too.
-    eprintln!("{}", announce(req, drops));
+    crate::progress::say(&announce(req, drops));
     let grid = req.target.grid.unwrap_or(crate::field::Grid::DEFAULT);
     let Centred {
         mut method,
@@ -143,7 +143,9 @@ pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Res
     schedule.validate()?;
     if !opts.runtime.quiet {
         for line in &scaled {
-            eprintln!("note: the placed motion is scaled into the shaker limits: {line}");
+            crate::progress::say(&format!(
+                "note: the placed motion is scaled into the shaker limits: {line}"
+            ));
         }
     }
     let field = schedule_field(&schedule, &grid)?;
