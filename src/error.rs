@@ -14,10 +14,21 @@ pub enum Error {
         /// What is wrong and what is allowed.
         message: String,
     },
-    /// The requested computation is physically invalid for this input
-    /// (for example the part leaves the plate).
+    /// A part leaves the plate (its normal force reaches zero) or finds no
+    /// steady state where the computation needs it in contact: reduce the
+    /// motion's amplitude or its vertical and tilt terms.
     #[error("{0}")]
-    Physical(String),
+    ContactLost(String),
+    /// No motion the method can make meets the request: no usable basis,
+    /// no axis that realises the target, no stable pose, a field the
+    /// calibration's model cannot follow. The message says what is missing.
+    #[error("{0}")]
+    Unreachable(String),
+    /// A step had nothing to work on or an internal invariant broke (a
+    /// segment without the motion its stage made, a library that does not
+    /// round-trip through JSON): a defect of platefield, to report.
+    #[error("{0}")]
+    Internal(String),
     /// An iterative solver did not converge.
     #[error("not converged: {0}")]
     NotConverged(String),
@@ -59,6 +70,24 @@ impl Error {
         Error::Invalid {
             field: field.into(),
             message: message.into(),
+        }
+    }
+
+    /// The same error with `context` before the message of a
+    /// [`Error::ContactLost`], [`Error::Unreachable`] or [`Error::Internal`]
+    /// (e.g. the input file it is about); other kinds unchanged.
+    ///
+    /// ```
+    /// use platefield::Error;
+    /// let e = Error::ContactLost("the part leaves the plate".into()).within("scene.json");
+    /// assert_eq!(e.to_string(), "scene.json: the part leaves the plate");
+    /// ```
+    pub fn within(self, context: impl std::fmt::Display) -> Self {
+        match self {
+            Error::ContactLost(m) => Error::ContactLost(format!("{context}: {m}")),
+            Error::Unreachable(m) => Error::Unreachable(format!("{context}: {m}")),
+            Error::Internal(m) => Error::Internal(format!("{context}: {m}")),
+            e => e,
         }
     }
 }

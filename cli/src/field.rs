@@ -37,7 +37,7 @@ pub fn run(
     let scene = req.scene;
     let seconds = start.elapsed().as_secs_f64();
     let mut text = serde_json::to_string_pretty(&field.to_json(&scene.settings()))
-        .map_err(|e| Error::Physical(e.to_string()))?;
+        .map_err(|e| Error::Internal(e.to_string()))?;
     text.push('\n');
     let stem = scene_path
         .file_stem()

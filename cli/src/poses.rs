@@ -89,7 +89,7 @@ fn write(
         value["over_friction"] = over_friction_json(&o.over_friction);
     }
     let mut text =
-        serde_json::to_string_pretty(&value).map_err(|e| Error::Physical(e.to_string()))?;
+        serde_json::to_string_pretty(&value).map_err(|e| Error::Internal(e.to_string()))?;
     text.push('\n');
     let mut summary = summary(&o.part, &o.analysis, &extras);
     summary.push_str(&over_friction_lines(&o.over_friction));

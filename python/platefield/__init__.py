@@ -18,7 +18,15 @@ option they are about (:attr:`Error.path`). See docs/python.md.
 """
 
 from ._api import design, export, field, poses, verify
-from ._errors import Error, InvalidInput, NotConverged, PhysicalError
+from ._errors import (
+    ContactLost,
+    Error,
+    InternalError,
+    InvalidInput,
+    NotConverged,
+    PhysicalError,
+    Unreachable,
+)
 from ._sweep import sweep
 
 __all__ = [
@@ -31,5 +39,8 @@ __all__ = [
     "Error",
     "InvalidInput",
     "PhysicalError",
+    "ContactLost",
+    "Unreachable",
+    "InternalError",
     "NotConverged",
 ]

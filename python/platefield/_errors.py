@@ -27,7 +27,19 @@ class InvalidInput(Error, ValueError):
 
 
 class PhysicalError(Error, RuntimeError):
-    """The computation is physically invalid (e.g. the part leaves the plate)."""
+    """The computation is physically invalid: :class:`ContactLost` or :class:`Unreachable`."""
+
+
+class ContactLost(PhysicalError):
+    """A part leaves the plate, or finds no steady state, where the computation needs contact."""
+
+
+class Unreachable(PhysicalError):
+    """No motion the method can make meets the request (no usable basis, no stable pose, ...)."""
+
+
+class InternalError(Error, RuntimeError):
+    """A step had nothing to work on or an internal invariant broke: a defect to report."""
 
 
 class NotConverged(Error, RuntimeError):
@@ -63,7 +75,13 @@ def raised(err, function, input_file=None, temp_file=None):
     file, path = _split(path, [temp_file, input_file])
     if file is not None and file == temp_file:
         file = None
-    cls = {"invalid": InvalidInput, "physical": PhysicalError, "not_converged": NotConverged}
+    cls = {
+        "invalid": InvalidInput,
+        "contact_lost": ContactLost,
+        "unreachable": Unreachable,
+        "internal": InternalError,
+        "not_converged": NotConverged,
+    }
     return cls.get(kind, Error)(option_name(path), message, file)
 
 

@@ -59,7 +59,9 @@ struct VerifyCommand {
 fn library_error(e: Error) -> PyErr {
     let (kind, path, message) = match e {
         Error::Invalid { field, message } => ("invalid", field, message),
-        Error::Physical(m) => ("physical", String::new(), m),
+        Error::ContactLost(m) => ("contact_lost", String::new(), m),
+        Error::Unreachable(m) => ("unreachable", String::new(), m),
+        Error::Internal(m) => ("internal", String::new(), m),
         Error::NotConverged(m) => ("not_converged", String::new(), m),
         // The fit's own kind stays in the Rust error; Python sees it as
         // not converged, with the fit's message, as before.

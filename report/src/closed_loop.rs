@@ -204,7 +204,7 @@ pub(crate) fn schedule_json(d: &Design, target: &Target, cl: &ClosedLoop) -> Res
 }
 
 fn pretty<T: serde::Serialize>(v: &T) -> Result<String> {
-    let mut s = serde_json::to_string_pretty(v).map_err(|e| Error::Physical(e.to_string()))?;
+    let mut s = serde_json::to_string_pretty(v).map_err(|e| Error::Internal(e.to_string()))?;
     s.push('\n');
     Ok(s)
 }

@@ -368,7 +368,7 @@ pub(crate) fn sort_json(ds: &[SortDesign], out: &SortOutcome) -> Result<String> 
             .collect(),
         goal_met: goal_met(&out.kept().classes),
     };
-    let mut text = serde_json::to_string_pretty(&r).map_err(|e| Error::Physical(e.to_string()))?;
+    let mut text = serde_json::to_string_pretty(&r).map_err(|e| Error::Internal(e.to_string()))?;
     text.push('\n');
     Ok(text)
 }
@@ -377,14 +377,14 @@ pub(crate) fn sort_json(ds: &[SortDesign], out: &SortOutcome) -> Result<String> 
 /// [`SortReport`].
 pub(crate) fn design_json(ds: &[SortDesign], out: &SortOutcome) -> Result<String> {
     let mut value =
-        serde_json::to_value(&ds[out.kept].schedule).map_err(|e| Error::Physical(e.to_string()))?;
+        serde_json::to_value(&ds[out.kept].schedule).map_err(|e| Error::Internal(e.to_string()))?;
     let report = serde_json::from_str::<serde_json::Value>(&sort_json(ds, out)?)
-        .map_err(|e| Error::Physical(e.to_string()))?;
+        .map_err(|e| Error::Internal(e.to_string()))?;
     if let Some(map) = value.as_object_mut() {
         map.insert("played".into(), report);
     }
     let mut text =
-        serde_json::to_string_pretty(&value).map_err(|e| Error::Physical(e.to_string()))?;
+        serde_json::to_string_pretty(&value).map_err(|e| Error::Internal(e.to_string()))?;
     text.push('\n');
     Ok(text)
 }

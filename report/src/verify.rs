@@ -95,7 +95,7 @@ pub(crate) fn summary_json(r: &VerifyReport) -> Result<String> {
         sort: r.sort.as_ref(),
     };
     let mut text =
-        serde_json::to_string_pretty(&summary).map_err(|e| Error::Physical(e.to_string()))?;
+        serde_json::to_string_pretty(&summary).map_err(|e| Error::Internal(e.to_string()))?;
     text.push('\n');
     Ok(text)
 }

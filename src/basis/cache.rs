@@ -267,11 +267,11 @@ impl BasisCache {
             ));
         }
         let payload = serde_json::to_vec(lib).map_err(|e| {
-            Error::Physical(format!("{}: cannot serialize library: {e}", path.display()))
+            Error::Internal(format!("{}: cannot serialize library: {e}", path.display()))
         })?;
         let back: Option<FieldLibrary> = serde_json::from_slice(&payload).ok();
         if back.as_ref() != Some(lib) {
-            return Err(Error::Physical(format!(
+            return Err(Error::Internal(format!(
                 "{}: library does not round-trip through JSON (non-finite values?); not cached",
                 path.display()
             )));

@@ -477,7 +477,7 @@ fn own_estimates(
         .zip(tracks)
         .map(|(curve, tr)| {
             let (mu, curv) = parabola_minimum(mus, curve).ok_or_else(|| {
-                Error::Physical(format!(
+                Error::Unreachable(format!(
                     "part \"{}\": the field cannot follow it at any μ of the lattice",
                     tr.part
                 ))

@@ -328,7 +328,7 @@ fn velocity(f: &Field, p: [f64; 2]) -> Result<[f64; 2]> {
     let g = &f.grid;
     let q = [p[0].clamp(g.x[0], g.x[1]), p[1].clamp(g.y[0], g.y[1])];
     f.bilinear(q).map_err(|v| {
-        Error::Physical(format!(
+        Error::Unreachable(format!(
             "the velocity field near ({:.4}, {:.4}) m is not valid ({v}): the model cannot follow a part there",
             q[0], q[1]
         ))

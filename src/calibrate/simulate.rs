@@ -192,7 +192,9 @@ fn play(
                     Some(s) => {
                         s.advance(local, local + span, &mut state, &r0, None)
                             .map_err(|loss| {
-                                Error::Physical(format!("a simulated part loses contact: {loss}"))
+                                Error::ContactLost(format!(
+                                    "a simulated part loses contact: {loss}"
+                                ))
                             })?;
                     }
                     None => {

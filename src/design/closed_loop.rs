@@ -526,7 +526,7 @@ pub fn closed_loop(target: &Target, design: &Design, opts: &LoopOptions) -> Resu
     let open = &design.schedule;
     let points = judge::judge_points(target, &design.target);
     if points.is_empty() {
-        return Err(Error::Physical(
+        return Err(Error::Unreachable(
             "the target has no point with a positive weight to judge".into(),
         ));
     }

@@ -556,7 +556,7 @@ pub fn search_orders(segments: &[PlayedSegment], opts: &OrderOptions) -> Result<
     }
     progress.finish();
     let best = choose(&candidates, opts.tie_tolerance).ok_or_else(|| {
-        Error::Physical(
+        Error::ContactLost(
             "order search: no candidate has a valid point (parts leave the plate everywhere)"
                 .into(),
         )

@@ -359,7 +359,7 @@ impl Played<'_> {
             lost = lost.max(lost_inside(&plays, self.region));
         }
         let worst = RealisedError::worst_of(&each)
-            .ok_or_else(|| Error::Physical("no physics to play the polish under".into()))?;
+            .ok_or_else(|| Error::Internal("no physics to play the polish under".into()))?;
         Ok((worst, residuals, lost))
     }
 

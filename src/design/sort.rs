@@ -455,7 +455,7 @@ fn stack(target: &Target, opts: &DesignOptions, motions: &[(String, Signals)]) -
     progress.finish();
     let basis = stack_bases(&bases);
     if basis.columns.is_empty() {
-        return Err(Error::Physical(
+        return Err(Error::Unreachable(
             "no basis column is usable at every class's friction".into(),
         ));
     }

@@ -209,7 +209,7 @@ pub(crate) fn assemble_stage(stage: &BasisStage, opts: &DesignOptions) -> Result
         leave_out_over_limit(&mut basis, limits);
     }
     if basis.columns.is_empty() {
-        return Err(Error::Physical(no_usable_basis(&basis.excluded)));
+        return Err(Error::Unreachable(no_usable_basis(&basis.excluded)));
     }
     Ok(basis)
 }

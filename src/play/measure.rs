@@ -573,7 +573,7 @@ impl ModelCheck {
             .iter()
             .find_map(|p| p.note.clone())
             .unwrap_or_default();
-        Err(crate::error::Error::Physical(format!(
+        Err(crate::error::Error::ContactLost(format!(
             "{context}: {} of {n} points invalid: {why}",
             n - self.valid
         )))

@@ -46,7 +46,7 @@ pub fn schedule_field(schedule: &Schedule, grid: &Grid) -> Result<GridField> {
             &|| {},
         );
         if field.valid_count() != grid.len() {
-            return Err(Error::Physical(format!(
+            return Err(Error::ContactLost(format!(
                 "schedule.segments[{i}] ({}): the point part loses contact at {} of {} grid points; its field is not defined there",
                 seg.label,
                 grid.len() - field.valid_count(),
@@ -99,7 +99,7 @@ pub fn realised_field(schedule: &Schedule, grid: &Grid) -> Result<GridField> {
     };
     let plays = play_points(&sm, &coarse.points(), &opts, Windows::EveryJoin);
     if let Some(p) = plays.iter().find(|p| p.note.is_some()) {
-        return Err(Error::Physical(format!(
+        return Err(Error::ContactLost(format!(
             "the point part played from ({}, {}) m: {}",
             p.start[0],
             p.start[1],

@@ -87,7 +87,7 @@ impl Scene {
         if stats.samples > 0 && stats.contact_lost == stats.samples {
             let fields = self.motion.amplitude_fields("scene.motion");
             let normal = self.min_normal(&motion);
-            return Err(Error::Physical(format!(
+            return Err(Error::ContactLost(format!(
                 "the part leaves the plate (N < 0) at every grid point{}; reduce the amplitude ({})",
                 if normal < 0.0 {
                     format!(" (lowest N at rest on the plate: {normal:.4} m/s²)")
@@ -102,7 +102,7 @@ impl Scene {
             )));
         }
         if stats.samples > 0 && stats.valid == 0 {
-            return Err(Error::Physical(self.no_valid_sample(&stats)));
+            return Err(Error::ContactLost(self.no_valid_sample(&stats)));
         }
         Ok(field)
     }

@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 use super::Scene;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::field::Field;
 use crate::work::{Estimate, Runtime};
 
@@ -62,8 +62,7 @@ pub fn field(req: &FieldRequest) -> Result<Field> {
             &scene.settings(),
         )),
     )?;
-    scene.compute(req.runtime.quiet).map_err(|e| match e {
-        Error::Physical(m) => Error::Physical(format!("{}: {m}", req.source.display())),
-        e => e,
-    })
+    scene
+        .compute(req.runtime.quiet)
+        .map_err(|e| e.within(req.source.display()))
 }

@@ -599,7 +599,7 @@ impl Schedule {
     /// The schedule as pretty JSON with a final newline.
     pub fn to_json(&self) -> Result<String> {
         let mut text =
-            serde_json::to_string_pretty(self).map_err(|e| Error::Physical(e.to_string()))?;
+            serde_json::to_string_pretty(self).map_err(|e| Error::Internal(e.to_string()))?;
         text.push('\n');
         Ok(text)
     }

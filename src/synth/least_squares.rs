@@ -40,5 +40,5 @@ pub(crate) fn least_squares(
     levenberg_marquardt(x0, &batch, || objective.spent(), options)?;
     objective
         .best()
-        .ok_or_else(|| Error::Physical("least squares: nothing evaluated".into()))
+        .ok_or_else(|| Error::Internal("least squares: nothing evaluated".into()))
 }

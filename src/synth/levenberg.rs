@@ -159,7 +159,7 @@ fn same_length(r: &[f64], r0: &[f64]) -> Result<()> {
     if r.len() == r0.len() {
         Ok(())
     } else {
-        Err(Error::Physical(format!(
+        Err(Error::Internal(format!(
             "Levenberg–Marquardt: residual length changed from {} to {}",
             r0.len(),
             r.len()
@@ -237,7 +237,7 @@ where
     let mut x = x0.to_vec();
     let mut r = batch(std::slice::from_ref(&x))?
         .pop()
-        .ok_or_else(|| Error::Physical("Levenberg–Marquardt: no residuals".into()))?;
+        .ok_or_else(|| Error::Internal("Levenberg–Marquardt: no residuals".into()))?;
     let mut cost = half_squared(&r);
     let mut evaluations = 1;
     let mut iterations = 0;

@@ -235,7 +235,7 @@ pub fn seed(
         strength = strength.min(lim[axis] / r);
     }
     if !strength.is_finite() || strength <= 0.0 {
-        return Err(Error::Physical(format!(
+        return Err(Error::Unreachable(format!(
             "no allowed axis realises any part of the target (affine fit M = {:?}, b = {:?}); {}",
             fit.m,
             fit.b,

@@ -172,7 +172,7 @@ impl From<RectangleFailure> for Error {
     fn from(f: RectangleFailure) -> Error {
         match f {
             RectangleFailure::Invalid(e) => e,
-            RectangleFailure::ContactLoss(l) => Error::Physical(format!("rectangle: {l}")),
+            RectangleFailure::ContactLoss(l) => Error::ContactLost(format!("rectangle: {l}")),
         }
     }
 }

@@ -670,7 +670,7 @@ fn verify_labelled(schedule: &Schedule, req: &VerifyRequest, label: &str) -> Res
             .iter()
             .find_map(|p| p.note.clone())
             .unwrap_or_default();
-        return Err(Error::Physical(format!(
+        return Err(Error::ContactLost(format!(
             "{label}: no realised field: all {} parts left the plate or had no steady state (first: {why})",
             v.points.len()
         )));
@@ -678,7 +678,7 @@ fn verify_labelled(schedule: &Schedule, req: &VerifyRequest, label: &str) -> Res
     if v.rms_predicted == 0.0 {
         // Nothing moves in the prediction (every segment too gentle for
         // the parts to slip): the relative and shape errors are 0/0.
-        return Err(Error::Physical(format!(
+        return Err(Error::Unreachable(format!(
             "{label}: no predicted field: the time-weighted steady-state field is zero at all {} valid points (the parts stick to the plate in every segment), so there is nothing to verify",
             v.valid
         )));

@@ -223,7 +223,7 @@ impl LineSink {
         let rows = self.rows(rs, model, numerics);
         if json {
             let mut s =
-                serde_json::to_string_pretty(&rows).map_err(|e| Error::Physical(e.to_string()))?;
+                serde_json::to_string_pretty(&rows).map_err(|e| Error::Internal(e.to_string()))?;
             s.push('\n');
             return Ok(s);
         }

@@ -247,7 +247,7 @@ fn pose_target(md: &mut String, summary: &mut String, name: &str, out: &Path) ->
     // not a failed study.
     let realised = match platefield::pose::realised_field(schedule, &grid) {
         Ok(field) => near(&field),
-        Err(Error::Physical(why)) => format!("none ({why})"),
+        Err(Error::ContactLost(why)) => format!("none ({why})"),
         Err(e) => return Err(e),
     };
     let _ = writeln!(

@@ -209,7 +209,7 @@ pub fn travel(out: &Path) -> Result<Travel> {
             )));
         }
         sim.advance(t, t + T, &mut state, &anchor, None)
-            .map_err(|c| Error::Physical(c.to_string()))?;
+            .map_err(|c| Error::ContactLost(c.to_string()))?;
         t += T;
         let x = state.r.x;
         while next < thresholds.len() && x <= thresholds[next] {
@@ -290,8 +290,9 @@ pub fn convergence(out: &Path) -> Result<String> {
                 )[0]
                 .v_ss
             };
-            let vref = at(reference)
-                .ok_or_else(|| Error::Physical(format!("{label}: no steady state at r = {r}")))?;
+            let vref = at(reference).ok_or_else(|| {
+                Error::ContactLost(format!("{label}: no steady state at r = {r}"))
+            })?;
             let mut prev: Option<f64> = None;
             for &n in &steps {
                 let v = at(n).unwrap_or(f64::NAN);

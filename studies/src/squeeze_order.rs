@@ -229,7 +229,7 @@ pub fn line_offset(sm: &ScheduleMotion, model: Model) -> Result<LineOffset> {
     let pred: Vec<[f64; 2]> = v.points.iter().map(|p| p.predicted).collect();
     let fit = |vel: &[[f64; 2]], what: &str| {
         fit_line(&pos, vel).ok_or_else(|| {
-            Error::Physical(format!(
+            Error::Unreachable(format!(
                 "squeeze line: the {what} normal velocity has no slope"
             ))
         })
@@ -275,7 +275,7 @@ pub fn join_budget(sm: &ScheduleMotion, anchor: [f64; 2]) -> Result<Vec<JoinBudg
     let mut state = PartState::new(a, V2::zeros());
     player
         .play_periods(&mut state, &a, 0, opts.warmup_periods, |_, _, _| {})
-        .map_err(|e| Error::Physical(format!("join budget: {e}")))?;
+        .map_err(|e| Error::ContactLost(format!("join budget: {e}")))?;
     let n = sm.segments().len();
     let mut out = Vec::with_capacity(n);
     for i in 0..n {
@@ -284,14 +284,14 @@ pub fn join_budget(sm: &ScheduleMotion, anchor: [f64; 2]) -> Result<Vec<JoinBudg
         let y_start = state.r.y;
         player
             .play_segment(i, &mut state, &a)
-            .map_err(|loss| Error::Physical(format!("join budget, segment {i}: {loss}")))?;
+            .map_err(|loss| Error::ContactLost(format!("join budget, segment {i}: {loss}")))?;
         let seg = &sm.segments()[i];
         let (orbit, steady) = match player.simulator(i) {
             None => (0.0, 0.0),
             Some(sim) => {
                 let s = sim
                     .steady_state(anchor)
-                    .map_err(|e| Error::Physical(format!("join budget, segment {i}: {e}")))?;
+                    .map_err(|e| Error::ContactLost(format!("join budget, segment {i}: {e}")))?;
                 (s.start_slip[1], s.velocity[1])
             }
         };

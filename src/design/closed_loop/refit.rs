@@ -45,7 +45,7 @@ pub(crate) fn refit(
         .filter(|&b| base[b].is_moving() && pattern.contains(&b))
         .collect();
     if ok.is_empty() || moving.is_empty() {
-        return Err(Error::Physical("nothing to re-fit".into()));
+        return Err(Error::Internal("nothing to re-fit".into()));
     }
     let (a, t, d) = contextual_rows(target, w, base, pattern, &ok, &moving);
     let problem = FitProblem {
@@ -61,7 +61,7 @@ pub(crate) fn refit(
         },
     )?;
     if sol.strength.is_nan() || sol.strength <= 0.0 {
-        return Err(Error::Physical(
+        return Err(Error::Unreachable(
             "the contextual fields do not reach the target's shape".into(),
         ));
     }
@@ -89,7 +89,7 @@ pub(crate) fn refit(
         &field_error,
     );
     if q.cycles.iter().all(|c| *c == 0) {
-        return Err(Error::Physical(format!(
+        return Err(Error::Unreachable(format!(
             "no segment keeps a whole cycle at {total} cycles"
         )));
     }

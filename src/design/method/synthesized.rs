@@ -83,7 +83,7 @@ pub(crate) fn synthesize_schedule(
     // A motion that keeps no part on the plate anywhere is no design: said
     // as such (an error; `auto` keeps the other method and says why).
     if syn.checked.realised.invalid >= syn.checked.field.grid.len() {
-        return Err(Error::Physical(format!(
+        return Err(Error::ContactLost(format!(
             "the synthesized motion keeps no part on the plate anywhere in the region: all {} samples lose contact or do not converge (least N {:.3} m/s², the margin asks ≥ {:.3}); the shaker limits (period {} s, linear peaks [{:.3}, {:.3}, {:.3}] m/s², angular peaks [{:.1}, {:.1}, {:.1}] rad/s², a tilt of up to {:.3} rad at harmonic 1) give no motion that keeps contact",
             syn.checked.field.grid.len(),
             syn.checked.least_normal,
@@ -111,7 +111,7 @@ pub(crate) fn synthesize_schedule(
             strength,
             Some(&sampled.weights),
         )
-        .map_err(|e| Error::Physical(format!("synthesized field metrics: {e}")))?
+        .map_err(|e| Error::Internal(format!("synthesized field metrics: {e}")))?
     } else {
         FitMetrics {
             relative_l2_error: syn.checked.realised.shape_error.min(1.0),

@@ -91,7 +91,7 @@ impl EllipseStage {
             .filter(|e| e.stable)
             .collect();
         if stable.is_empty() {
-            return Err(Error::Physical(
+            return Err(Error::Unreachable(
                 "the elliptic sink gives the part no stable pose in the region".into(),
             ));
         }
@@ -105,7 +105,7 @@ impl EllipseStage {
     /// The schedule is not one six-signal motion.
     pub fn placed_on(&self, rest: &Pose) -> Result<Schedule> {
         let own = centred_pose(&self.stable, rest, 1)
-            .ok_or_else(|| Error::Physical("the elliptic sink has no stable pose".into()))?;
+            .ok_or_else(|| Error::Unreachable("the elliptic sink has no stable pose".into()))?;
         Placement::onto(&own.pose, rest, 1).schedule(&self.schedule, None)
     }
 }
@@ -134,13 +134,13 @@ pub fn cycle(spun: &Schedule, ellipse: &EllipseStage, rest: &Pose) -> Result<Sch
 /// (whole cycles) with a ramp in and out of about [`RAMP_S`].
 fn stage(segments: &[Segment], seconds: f64, what: &str) -> Result<Segment> {
     let [seg] = segments else {
-        return Err(Error::Physical(format!("a {what} needs one motion")));
+        return Err(Error::Internal(format!("a {what} needs one motion")));
     };
     let period = seg
         .motion
         .as_ref()
         .map(|m| m.period)
-        .ok_or_else(|| Error::Physical(format!("a {what} needs a six-signal motion")))?;
+        .ok_or_else(|| Error::Internal(format!("a {what} needs a six-signal motion")))?;
     let mut out = seg.clone();
     let ramp = ((RAMP_S / period).ceil() as u32).max(1);
     out.cycles = ((seconds / period).round() as u32).max(2 * ramp);

@@ -206,7 +206,7 @@ fn lifted_start(
     let lifted_field = LiftedField::new(&field, &req.part.body);
     let eqs = equilibria(&lifted_field, &req.region);
     let centred = placement::centred_pose(&eqs, &req.pose, n).ok_or_else(|| {
-        Error::Physical(format!(
+        Error::Unreachable(format!(
             "the synthesized sink gives the part no stable pose in the region ({} equilibria, none stable)",
             eqs.len()
         ))

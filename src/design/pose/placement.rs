@@ -166,7 +166,7 @@ impl Placement {
         for seg in &mut out.segments {
             match (&seg.primitive, seg.motion.as_mut()) {
                 (Some(_), _) => {
-                    return Err(Error::Physical(
+                    return Err(Error::Internal(
                         "a pose placement needs six-signal motions, not primitives".into(),
                     ))
                 }
@@ -178,7 +178,7 @@ impl Placement {
             }
         }
         if motions == 0 {
-            return Err(Error::Physical(
+            return Err(Error::Internal(
                 "a pose placement needs a six-signal motion".into(),
             ));
         }
@@ -200,14 +200,14 @@ pub fn with_motion(
 ) -> Result<Schedule> {
     let mut out = origin.clone();
     let [seg] = out.segments.as_mut_slice() else {
-        return Err(Error::Physical(format!(
+        return Err(Error::Internal(format!(
             "{what} needs a schedule of one motion"
         )));
     };
     let motion = seg
         .motion
         .as_mut()
-        .ok_or_else(|| Error::Physical(format!("{what} needs a six-signal motion")))?;
+        .ok_or_else(|| Error::Internal(format!("{what} needs a six-signal motion")))?;
     edit(motion);
     Ok(out)
 }

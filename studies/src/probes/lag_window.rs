@@ -35,7 +35,7 @@ use platefield_report::table::Table;
 
 /// A simulator failure as this probe reports it.
 fn physical(e: impl std::fmt::Display) -> Error {
-    Error::Physical(e.to_string())
+    Error::ContactLost(e.to_string())
 }
 
 /// The (warm-up, measured) cycle pairs played.
