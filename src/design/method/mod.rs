@@ -41,8 +41,11 @@
 //!   envelope holds the range within [`RANGE_HELD`], `auto` synthesizes
 //!   again within the sequenced peaks, with the mirror-image shares
 //!   ([`Variant::SequencedPeaks`]), and the rule chooses between the two
-//!   shakers' candidates. If none holds it still, `auto` trades strength
-//!   for shape: the synthesis and its shares again within the envelope
+//!   shakers' candidates. If none holds it still, or those that hold it
+//!   are weaker than half the first synthesized motion (what the wider
+//!   margin below is expected to keep; the rule keeps the stronger of two
+//!   that hold), `auto` trades strength for shape: the synthesis and its
+//!   shares again within the envelope
 //!   with the contact margin raised halfway to g
 //!   ([`Variant::Gentle`], [`gentle_limits`]: 0.1 → 0.55). The averaged
 //!   model the synthesis is seeded from ([`crate::synth`]: v =
@@ -117,7 +120,7 @@ mod played;
 mod synthesized;
 
 pub(crate) use choice::RANGE_HELD;
-use choice::{choose, held};
+use choice::{choose, held, key};
 pub use choice::{number, percent, worst_at, Choice, Failure, FailureReason};
 use estimate::region;
 pub use estimate::{design_estimate, synthesis_estimate};
@@ -698,26 +701,39 @@ impl<'a> MethodRun<'a> {
     }
 
     /// `auto` over a friction range when no candidate holds the target
-    /// within [`RANGE_HELD`] at its worst: the synthesis and its
-    /// mirror-image shares again within the kept limits, the contact
-    /// margin raised halfway to g ([`gentle_limits`]; module
+    /// within [`RANGE_HELD`] at its worst, or every one that holds it is
+    /// weaker than [`GENTLE_SWING`] of the first synthesis' strength (what
+    /// the wider margin is expected to keep, [`gentle_limits`]; the rule
+    /// keeps the stronger of two that hold, so a weaker one could not
+    /// win): the synthesis and its mirror-image shares again within the
+    /// kept limits, the contact margin raised halfway to g (module
     /// documentation), judged across the range beside the others. Not
     /// made when the first synthesis keeps that margin already (its
     /// least normal force is at least the raised margin's): the same
     /// limits would bind the same motion. Its work is stated first; its
     /// failure is stated, not fatal.
     fn gentle_synthesis(&mut self) -> Result<()> {
-        if self.opts.method != Method::Auto || !self.ranged() || held(&self.out.candidates) {
+        if self.opts.method != Method::Auto || !self.ranged() {
             return Ok(());
         }
         let limits = gentle_limits(&self.out.limits);
         let floor = limits.contact_margin * self.opts.settings.gravity;
-        if self
+        let strongest_held = self
             .out
-            .synthesis
-            .as_ref()
-            .is_some_and(|s| s.checked.least_normal >= floor)
-        {
+            .candidates
+            .iter()
+            .map(key)
+            .filter(|&(poor, shape, _)| !poor && shape <= RANGE_HELD)
+            .map(|k| k.2)
+            .fold(f64::NEG_INFINITY, f64::max);
+        let worth = match &self.out.synthesis {
+            Some(s) => {
+                s.checked.least_normal < floor
+                    && strongest_held < GENTLE_SWING * s.checked.realised.strength
+            }
+            None => !held(&self.out.candidates),
+        };
+        if !worth {
             return Ok(());
         }
         let synth = asked_synthesis(self.target, self.opts);
