@@ -447,22 +447,23 @@ fn halving_the_normal_force_swing_holds_the_whirlpool_over_friction() {
 }
 
 /// `auto` over a range adds syntheses when no default candidate holds the
-/// target within 6 %: on the random family's `saddle_5` (a saddle 1.4 cm
-/// off the centre, μ ∈ [0.168, 0.334]; its own axes miss the centre, so
-/// its mirror share is scaled down to keep the tilts' lever within the
-/// vertical limit), every candidate within the envelope is over 6 % (or
-/// POOR); the synthesis and its shares within the sequenced peaks are
-/// judged next, then (when those do not hold it either) the synthesis
-/// and its shares within the wider contact margin, and the worst-case
-/// synthesis exactly when none of them holds it. The kept one holds 6 % if any candidate does, and is
-/// otherwise within the choice rule's 1 percentage point of the best.
-/// About 3 min CPU: `cargo test --release --test robust -- --ignored`.
+/// target within 6 %: on the random family's `whirlpool_2` (rotation
+/// −0.93, μ ∈ [0.217, 0.431]) every candidate within the envelope is over
+/// 6 % (measured: the counter-rotating share 6.22 %, the motion alone
+/// 9.94 %, the sequenced schedule 13.1 %); the synthesis and its shares
+/// within the sequenced peaks are judged next (6.13 %, 16.6 %), then
+/// (when those do not hold it either, or hold it weaker than half the
+/// first synthesis) the synthesis and its shares within the wider contact
+/// margin (2.57 %, 5.69 %), and the worst-case synthesis exactly when
+/// none of them holds it. The kept one holds 6 % if any candidate does,
+/// and is otherwise within the choice rule's 1 percentage point of the
+/// best. About 1 min CPU: `cargo test --release --test robust -- --ignored`.
 #[test]
 #[ignore]
-fn auto_over_a_range_adds_the_worst_case_synthesis_when_nothing_holds() {
+fn auto_over_a_range_adds_syntheses_when_nothing_holds() {
     let target = platefield::request::family::family(45, 40)
         .into_iter()
-        .find(|t| t.name == "saddle_5")
+        .find(|t| t.name == "whirlpool_2")
         .unwrap();
     let cache = std::env::temp_dir().join(format!("platefield-robust-{}", std::process::id()));
     let opts = platefield::design::DesignOptions::cached_quiet(&cache);
@@ -486,9 +487,7 @@ fn auto_over_a_range_adds_the_worst_case_synthesis_when_nothing_holds() {
     assert!(of(Variant::First).all(|c| worst(c) > 0.06));
     assert!(of(Variant::SequencedPeaks).count() >= 1);
     let peaks_hold = of(Variant::SequencedPeaks).any(|c| worst(c) <= 0.06);
-    if peaks_hold {
-        assert_eq!(of(Variant::Gentle).count(), 0);
-    }
+    assert!(of(Variant::Gentle).count() >= 1);
     let gentle_holds = of(Variant::Gentle).any(|c| worst(c) <= 0.06);
     assert_eq!(
         of(Variant::WorstCase).count() == 1,
