@@ -396,22 +396,74 @@ fn the_counter_share_holds_targets_without_symmetry_over_friction() {
     }
 }
 
-/// `auto` over a range adds syntheses when no default candidate holds the
-/// target within 6 %: on the random family's `saddle_5` (a saddle 1.4 cm
-/// off the centre, μ ∈ [0.168, 0.334]; its own axes miss the centre, so
-/// its mirror share is scaled down to keep the tilts' lever within the
-/// vertical limit), every candidate within the envelope is over 6 % (or
-/// POOR); the synthesis and its shares within the sequenced peaks are
-/// judged next, and the worst-case synthesis exactly when those do not
-/// hold it either. The kept one holds 6 % if any candidate does, and is
-/// otherwise within the choice rule's 1 percentage point of the best.
-/// About 3 min CPU: `cargo test --release --test robust -- --ignored`.
+/// What bounds a whirlpool's share is the normal force's swing, not the
+/// friction: the family's `whirlpool_2` (rotation −0.93, μ ∈ [0.217,
+/// 0.431]) as the counter-rotating share (`--method mirror`) within the
+/// envelope, whose contact margin 0.1 g lets the tilts swing N from 0.1 g
+/// to 1.9 g at the region's corners, misses 6 % over the range (measured
+/// 5.7–6.2 %, 0.5 percentage points from end to end: the share cancels
+/// the turn); within the margin `auto` raises it to when nothing holds
+/// (`design::method::gentle_limits`, 0.55 g: half the swing) it holds
+/// ≤ 4 % (measured 1.9–2.6 %) at about half the strength (the margin's
+/// cap ∝ 1 − m; measured 0.78 of 1.43 s⁻¹ at the weakest, 0.54).
+/// About 20 s of CPU.
 #[test]
-#[ignore]
-fn auto_over_a_range_adds_the_worst_case_synthesis_when_nothing_holds() {
+fn halving_the_normal_force_swing_holds_the_whirlpool_over_friction() {
     let target = platefield::request::family::family(45, 40)
         .into_iter()
-        .find(|t| t.name == "saddle_5")
+        .find(|t| t.name == "whirlpool_2")
+        .unwrap();
+    let worst_of = |margin: Option<f64>| {
+        let mut t = target.clone();
+        t.shaker = margin.map(|m| platefield::request::ShakerSpec {
+            contact_margin: Some(m),
+            ..Default::default()
+        });
+        let opts = platefield::design::DesignOptions {
+            runtime: platefield::work::Runtime::QUIET,
+            ..platefield::design::DesignOptions::default()
+        };
+        let synth = platefield::synth::SynthOptions {
+            progress: platefield::synth::progress::ProgressMode::Quiet,
+            ..opts.synthesis
+        };
+        let by_method = opts.by_method(platefield::design::Method::Mirror, &synth);
+        let md = platefield::design::run(&t, &by_method)
+            .and_then(|o| o.into_method())
+            .unwrap();
+        worst(&md.sensitivity.expect("judged over the range").rows)
+    };
+    let gentle = platefield::design::method::gentle_limits(&ShakerLimits::envelope());
+    let (shape, strength) = worst_of(None);
+    let (g_shape, g_strength) = worst_of(Some(gentle.contact_margin));
+    eprintln!("envelope {shape:.4} at {strength:.4}; gentle {g_shape:.4} at {g_strength:.4}");
+    assert!(shape > 0.05, "within the envelope: {shape}");
+    assert!(
+        g_shape <= 0.04 && g_shape <= shape - 0.02,
+        "within the wider margin: {g_shape} against {shape}"
+    );
+    let ratio = g_strength / strength;
+    assert!((0.4..=0.7).contains(&ratio), "strength ratio {ratio}");
+}
+
+/// `auto` over a range adds syntheses when no default candidate holds the
+/// target within 6 %: on the random family's `whirlpool_2` (rotation
+/// −0.93, μ ∈ [0.217, 0.431]) every candidate within the envelope is over
+/// 6 % (measured: the counter-rotating share 6.22 %, the motion alone
+/// 9.94 %, the sequenced schedule 13.1 %); the synthesis and its shares
+/// within the sequenced peaks are judged next (6.13 %, 16.6 %), then
+/// (when those do not hold it either, or hold it weaker than half the
+/// first synthesis) the synthesis and its shares within the wider contact
+/// margin (2.57 %, 5.69 %), and the worst-case synthesis exactly when
+/// none of them holds it. The kept one holds 6 % if any candidate does,
+/// and is otherwise within the choice rule's 1 percentage point of the
+/// best. About 1 min CPU: `cargo test --release --test robust -- --ignored`.
+#[test]
+#[ignore]
+fn auto_over_a_range_adds_syntheses_when_nothing_holds() {
+    let target = platefield::request::family::family(45, 40)
+        .into_iter()
+        .find(|t| t.name == "whirlpool_2")
         .unwrap();
     let cache = std::env::temp_dir().join(format!("platefield-robust-{}", std::process::id()));
     let opts = platefield::design::DesignOptions::cached_quiet(&cache);
@@ -435,7 +487,12 @@ fn auto_over_a_range_adds_the_worst_case_synthesis_when_nothing_holds() {
     assert!(of(Variant::First).all(|c| worst(c) > 0.06));
     assert!(of(Variant::SequencedPeaks).count() >= 1);
     let peaks_hold = of(Variant::SequencedPeaks).any(|c| worst(c) <= 0.06);
-    assert_eq!(of(Variant::WorstCase).count() == 1, !peaks_hold);
+    assert!(of(Variant::Gentle).count() >= 1);
+    let gentle_holds = of(Variant::Gentle).any(|c| worst(c) <= 0.06);
+    assert_eq!(
+        of(Variant::WorstCase).count() == 1,
+        !peaks_hold && !gentle_holds
+    );
     let best = md
         .candidates
         .iter()

@@ -9,7 +9,12 @@
 //! - **robust**: `design`'s default (`auto`) over the target's range —
 //!   every candidate judged by its worst case over the range, the
 //!   mirror-image share about the target's symmetry axis or, without one,
-//!   the counter-rotating share (`platefield::design::mirror`);
+//!   the counter-rotating share (`platefield::design::mirror`); when none
+//!   holds 6 %, the syntheses `auto` adds: within the sequenced peaks,
+//!   within the contact margin raised halfway to g
+//!   (`platefield::design::method::gentle_limits`: the whirlpools, saddles
+//!   and line sinks whose tilts swing the normal force to the margin), and
+//!   for the worst case;
 //! - **nominal**: `auto` again, for the range's middle as an exact
 //!   friction: the design a user who states no range gets (its basis is
 //!   the robust design's, read from the cache).

@@ -66,6 +66,9 @@ pub enum FailureReason {
     /// The mix's fit left the synthesized column out: the mixed design is
     /// the sequenced one.
     ColumnLeftOut,
+    /// The synthesis within the wider contact margin
+    /// ([`Variant::Gentle`]) failed with this error.
+    Gentle(String),
     /// The synthesis for the worst case over the friction range
     /// ([`Variant::WorstCase`]) failed with this error.
     WorstCase(String),
@@ -81,6 +84,9 @@ impl std::fmt::Display for FailureReason {
             FailureReason::ColumnLeftOut => f.write_str(
                 "the fit left the synthesized column out (the mixed design is the sequenced one)",
             ),
+            FailureReason::Gentle(e) => {
+                write!(f, "within the wider contact margin: {e}")
+            }
             FailureReason::WorstCase(e) => {
                 write!(f, "for the worst case over the friction range: {e}")
             }

@@ -41,7 +41,32 @@
 //!   envelope holds the range within [`RANGE_HELD`], `auto` synthesizes
 //!   again within the sequenced peaks, with the mirror-image shares
 //!   ([`Variant::SequencedPeaks`]), and the rule chooses between the two
-//!   shakers' candidates; if none holds it still, one more motion is
+//!   shakers' candidates. If none holds it still, or those that hold it
+//!   are weaker than half the first synthesized motion (what the wider
+//!   margin below is expected to keep; the rule keeps the stronger of two
+//!   that hold), `auto` trades strength for shape: the synthesis and its
+//!   shares again within the envelope
+//!   with the contact margin raised halfway to g
+//!   ([`Variant::Gentle`], [`gentle_limits`]: 0.1 → 0.55). The averaged
+//!   model the synthesis is seeded from ([`crate::synth`]: v =
+//!   (W/g)(Q_N, P_N)) is first order in the normal force's swing N − g,
+//!   and a target with a gradient (a sink, saddle, line sink, whirlpool)
+//!   takes that gradient from the tilts, whose swing the margin caps at
+//!   (1 − m) g at the region's corners; the synthesis drives them to the
+//!   cap. Where N swings from 0.1 g to 1.9 g the parts' slip is far from
+//!   the uniform one the model assumes, and the field bends away from the
+//!   affine target by more than any friction turn: the family's
+//!   whirlpool_2 (μ 0.22–0.43), its counter-rotating share at margins
+//!   0.1, 0.3, 0.5, 0.55, 0.7: worst shape 6.22, 4.03, 2.99, 2.57,
+//!   3.25 % at weakest strength 1.43, 1.16, 0.86, 0.78, 0.52 s⁻¹ (the
+//!   share turns by 0.5 percentage points over the range at each: the
+//!   swing, not the friction, bounds it). Halfway halves the strength
+//!   (the margin's cap is proportional to 1 − m: seed 2.518, 1.959,
+//!   1.399, 0.839 s⁻¹ at 0.1, 0.3, 0.5, 0.7) and about halves the part of
+//!   the error the swing makes; beyond it the rest (≈ 2–3 % there)
+//!   remains and only strength is lost. It is made only when the first
+//!   synthesis swings N past the raised margin (else the same limits bind
+//!   the same motion). If none holds it still, one more motion is
 //!   synthesized for the worst case ([`Variant::WorstCase`]). The kept
 //!   candidate's limits are recorded in `schedule.json`. The rule: the
 //!   lower realised shape error wins; when the two are within
@@ -95,7 +120,7 @@ mod played;
 mod synthesized;
 
 pub(crate) use choice::RANGE_HELD;
-use choice::{choose, held};
+use choice::{choose, held, key};
 pub use choice::{number, percent, worst_at, Choice, Failure, FailureReason};
 use estimate::region;
 pub use estimate::{design_estimate, synthesis_estimate};
@@ -129,7 +154,7 @@ pub struct Candidate {
     pub variant: Variant,
 }
 
-/// Which synthesis a candidate comes from: `auto` adds two over a
+/// Which synthesis a candidate comes from: `auto` adds up to three over a
 /// friction range when no candidate before holds the target within
 /// [`RANGE_HELD`] at its worst (module documentation).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -140,6 +165,11 @@ pub enum Variant {
     /// per-axis peaks instead of the envelope: a weaker drive, nearer what
     /// its steady-state field describes.
     SequencedPeaks,
+    /// Synthesized (and mirror-shared) within the kept limits with the
+    /// contact margin raised halfway to g ([`gentle_limits`]): tilts
+    /// that swing the normal force half as far, half the strength, nearer
+    /// what the averaged model describes.
+    Gentle,
     /// One motion synthesized and polished for the worst case over the
     /// range (as `--robust-synthesis` does).
     WorstCase,
@@ -203,6 +233,7 @@ impl Candidate {
         let tag = match self.variant {
             Variant::First => "",
             Variant::SequencedPeaks => " (within the sequenced peaks)",
+            Variant::Gentle => " (within the wider contact margin)",
             Variant::WorstCase => " (for the worst case)",
         };
         format!("{}{tag}", self.method.name())
@@ -214,6 +245,34 @@ impl Candidate {
             .played
             .as_ref()
             .expect("a candidate is always played")
+    }
+}
+
+/// Fraction of the normal force's allowed swing (1 − m) g that the
+/// [`Variant::Gentle`] synthesis keeps: half (module documentation).
+pub const GENTLE_SWING: f64 = 0.5;
+
+/// `limits` with the contact margin m raised so that the normal force may
+/// swing [`GENTLE_SWING`] of what m allows: m′ = 1 − (1 − m) / 2, halfway
+/// to g (0.1 → 0.55). A synthesis whose strength the margin binds keeps
+/// half of it (the seed's cap is (1 − m) g over the tilts' swing per unit
+/// strength, [`crate::synth::seed`]) and swings N half as far, which is
+/// what the averaged model's error grows with (module documentation).
+///
+/// ```
+/// use platefield::design::method::gentle_limits;
+/// use platefield::synth::ShakerLimits;
+///
+/// let envelope = ShakerLimits::envelope();
+/// let gentle = gentle_limits(&envelope);
+/// assert!((gentle.contact_margin - 0.55).abs() < 1e-12);
+/// assert_eq!(gentle.linear, envelope.linear);
+/// assert_eq!(gentle.angular, envelope.angular);
+/// ```
+pub fn gentle_limits(limits: &ShakerLimits) -> ShakerLimits {
+    ShakerLimits {
+        contact_margin: 1.0 - GENTLE_SWING * (1.0 - limits.contact_margin),
+        ..limits.clone()
     }
 }
 
@@ -285,6 +344,7 @@ pub fn design_by_method(target: &Target, opts: &DesignOptions) -> Result<MethodD
     run.mix()?;
     run.judge_range()?;
     run.sequenced_peaks_synthesis()?;
+    run.gentle_synthesis()?;
     run.worst_case_synthesis()?;
     let mut out = run.finish()?;
     out.tolerance = tolerance_spread(target, &sampled, &out.kept().schedule, opts)?;
@@ -635,6 +695,55 @@ impl<'a> MethodRun<'a> {
             Err(e) => self.out.failures.push(Failure::new(
                 Method::Synthesize,
                 FailureReason::WithinSequencedPeaks(e.to_string()),
+            )),
+        }
+        Ok(())
+    }
+
+    /// `auto` over a friction range when no candidate holds the target
+    /// within [`RANGE_HELD`] at its worst, or every one that holds it is
+    /// weaker than [`GENTLE_SWING`] of the first synthesis' strength (what
+    /// the wider margin is expected to keep, [`gentle_limits`]; the rule
+    /// keeps the stronger of two that hold, so a weaker one could not
+    /// win): the synthesis and its mirror-image shares again within the
+    /// kept limits, the contact margin raised halfway to g (module
+    /// documentation), judged across the range beside the others. Not
+    /// made when the first synthesis keeps that margin already (its
+    /// least normal force is at least the raised margin's): the same
+    /// limits would bind the same motion. Its work is stated first; its
+    /// failure is stated, not fatal.
+    fn gentle_synthesis(&mut self) -> Result<()> {
+        if self.opts.method != Method::Auto || !self.ranged() {
+            return Ok(());
+        }
+        let limits = gentle_limits(&self.out.limits);
+        let floor = limits.contact_margin * self.opts.settings.gravity;
+        let strongest_held = self
+            .out
+            .candidates
+            .iter()
+            .map(key)
+            .filter(|&(poor, shape, _)| !poor && shape <= RANGE_HELD)
+            .map(|k| k.2)
+            .fold(f64::NEG_INFINITY, f64::max);
+        let worth = match &self.out.synthesis {
+            Some(s) => {
+                s.checked.least_normal < floor
+                    && strongest_held < GENTLE_SWING * s.checked.realised.strength
+            }
+            None => !held(&self.out.candidates),
+        };
+        if !worth {
+            return Ok(());
+        }
+        let synth = asked_synthesis(self.target, self.opts);
+        let estimate = synthesis_estimate(self.target, self.sampled, &synth, self.opts, &limits);
+        self.opts.runtime.admit(&estimate)?;
+        match self.synthesized_with_shares(&limits) {
+            Ok((syn, cands)) => self.add(Variant::Gentle, (syn, limits), cands)?,
+            Err(e) => self.out.failures.push(Failure::new(
+                Method::Synthesize,
+                FailureReason::Gentle(e.to_string()),
             )),
         }
         Ok(())
