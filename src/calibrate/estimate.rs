@@ -158,6 +158,8 @@ pub struct ClassFit {
     pub profile: Vec<[f64; 2]>,
     /// The field sets at θ̂ (for the report's simulated paths).
     pub set: FieldSet,
+    /// The stencil θ̂ was found on.
+    pub stencil: Stencil,
 }
 
 impl ClassFit {
@@ -247,7 +249,76 @@ pub fn fit_class(
         fields,
         profile,
         set,
+        stencil,
     })
+}
+
+/// The field model's bias at the class fit `fit`: θ̂_sim − θ̂, θ̂_sim the
+/// same fit (same stencil, same optimiser from the same point) of
+/// `replayed`, noise-free tracks of the class's parts played by the exact
+/// simulator at θ̂ ([`super::simulate::replay_tracks`]). Zero, to the
+/// optimiser's tolerance, when `replayed` are the model's own paths at θ̂.
+///
+/// ```
+/// use platefield::calibrate::estimate::{fit_class, fit_starts, model_bias};
+/// use platefield::calibrate::{PlayedMotion, Track};
+/// use platefield::calibrate::tracks::Frame;
+/// use platefield::schedule::Schedule;
+/// let schedule = Schedule::load(std::path::Path::new("results/squeeze_trans/schedule.json"))?;
+/// let mut grid = platefield::verify::run::region(&schedule);
+/// grid.n = [7, 7];
+/// let motion = PlayedMotion::from_schedule(&schedule, grid)?;
+/// // Tracks that are the model's own paths at μ 0.3: the model is exact.
+/// let truth = motion.fields(&[0.3, 0.0, 1.0])?;
+/// let times: Vec<f64> = (10..100).map(|k| k as f64 / 30.0).collect();
+/// let tracks: Vec<Track> = [[-0.02, 0.01], [0.02, -0.01]]
+///     .iter()
+///     .map(|&r| {
+///         let p = motion.path(&truth, r, times[0], &times)?;
+///         let frames = times.iter().zip(p).map(|(&t, r)| Frame { t, r, line: 0 }).collect();
+///         Ok(Track { part: "a".into(), frames })
+///     })
+///     .collect::<platefield::Result<_>>()?;
+/// let refs: Vec<&Track> = tracks.iter().collect();
+/// let fit = fit_class(&motion, &refs, [0.28, 0.0, 1.0], [0.02; 3], &[0], 1e-4)?;
+/// // The model's paths at θ̂ replayed: no bias.
+/// let starts = fit_starts(&motion, &fit.set, &refs, None)?;
+/// let replayed: Vec<Track> = refs
+///     .iter()
+///     .zip(&starts)
+///     .map(|(tr, s)| {
+///         let t: Vec<f64> = tr.frames.iter().map(|f| f.t).collect();
+///         let p = motion.path(&fit.set, s.start, t[0], &t)?;
+///         let frames = t.iter().zip(p).map(|(&t, r)| Frame { t, r, line: 0 }).collect();
+///         Ok(Track { part: tr.part.clone(), frames })
+///     })
+///     .collect::<platefield::Result<_>>()?;
+/// let b = model_bias(&motion, &fit, &replayed.iter().collect::<Vec<_>>(), 1e-4)?;
+/// assert!(b[0].abs() < 1e-5, "{b:?}");
+/// # Ok::<(), platefield::Error>(())
+/// ```
+///
+/// # Errors
+/// A path crosses an invalid field sample, or the optimiser fails.
+pub fn model_bias(
+    motion: &PlayedMotion,
+    fit: &ClassFit,
+    replayed: &[&Track],
+    sigma_ref: f64,
+) -> Result<Theta> {
+    let problem = Problem {
+        motion,
+        tracks: replayed,
+        free: &fit.free,
+        h: fit.stencil.h,
+        norm: 1.0 / (sigma_ref * sigma_ref),
+    };
+    let (sim, _, _) = problem.round(&fit.stencil, None)?;
+    let mut b = [0.0; 3];
+    for &j in &fit.free {
+        b[j] = sim[j] - fit.theta[j];
+    }
+    Ok(b)
 }
 
 /// One class's least squares over the free parameters.

@@ -142,6 +142,14 @@ pub struct ClassEstimate {
     pub dof: usize,
     /// What the tracks of this class do not determine.
     pub not_separable: Vec<String>,
+    /// The field model's bias subtracted from the fit, per estimated
+    /// parameter: (name, θ̂_sim − θ̂) (see [`estimate::model_bias`]).
+    #[serde(default)]
+    pub model_bias: Vec<(String, f64)>,
+    /// Parts whose own fit does not determine their μ, joined to this
+    /// class (the nearest) and left out of its fit ([`classes`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub joined: Vec<String>,
 }
 
 /// A calibration: what `platefield calibrate` prints and writes.
@@ -208,7 +216,7 @@ impl Calibration {
     /// let class = ClassEstimate {
     ///     parts: vec![], mu_k: p(0.23, 0.22, 0.24), mu_s: none.clone(), scale: none,
     ///     correlations: vec![], residual_rms_m: 2e-4, residual_over_noise: None,
-    ///     coordinates: 0, dof: 0, not_separable: vec![],
+    ///     coordinates: 0, dof: 0, not_separable: vec![], model_bias: vec![], joined: vec![],
     /// };
     /// let c = Calibration {
     ///     target: "sink".into(), tracks: "t.csv".into(), parts: 1, frames: 3, model: String::new(),
@@ -335,25 +343,37 @@ pub fn calibrate(
     let sigma2 = rss_min / lattice_dof as f64;
     let curves: Vec<Vec<f64>> = (0..all.len()).map(per_track).collect();
     let own = own_estimates(&curves, &mus, &all, sigma2)?;
-    let own_mu: Vec<f64> = own.iter().map(|o| o.0).collect();
-    let class_of = cluster(&curves, &mus, &own_mu, sigma2);
-    let n_classes = class_of.iter().max().map_or(0, |m| m + 1);
+    let class_of = cluster(&own);
+    let n_classes = class_of.iter().map(|c| c.0).max().map_or(0, |m| m + 1);
     let mut classes = Vec::new();
     let mut likelihood = Vec::new();
     let mut profile = Vec::new();
     let mut paths = vec![(String::new(), Vec::new(), Vec::new()); all.len()];
     for c in 0..n_classes {
-        let members: Vec<usize> = (0..all.len()).filter(|&i| class_of[i] == c).collect();
+        let members: Vec<usize> = (0..all.len())
+            .filter(|&i| class_of[i] == (c, true))
+            .collect();
+        let joined: Vec<usize> = (0..all.len())
+            .filter(|&i| class_of[i] == (c, false))
+            .collect();
         let class_tracks: Vec<&Track> = members.iter().map(|&i| all[i]).collect();
         let curve: Vec<f64> = (0..mus.len())
             .map(|m| members.iter().map(|&i| per_track(i)[m]).sum())
             .collect();
-        let (fit, stick, fields) = fit_one(
+        let (mut fit, stick, fields) = fit_one(
             &motion,
             &class_tracks,
             &mus,
             &curve,
             options.scale,
+            sigma_ref,
+        )?;
+        let bias = correct_bias(
+            schedule,
+            &region,
+            &motion,
+            &mut fit,
+            &class_tracks,
             sigma_ref,
         )?;
         fields_computed += fields;
@@ -362,15 +382,20 @@ pub fn calibrate(
         likelihood.push(delta_chi2(&lattice_curve, s2));
         profile.push(delta_chi2(&fit.profile, s2));
         for (k, &i) in members.iter().enumerate() {
-            paths[i] = fitted_path(&motion, &fit, k, all[i])?;
+            paths[i] = fitted_path(&motion, &fit.set, fit.starts[k].start, all[i])?;
         }
-        classes.push(class_estimate(
-            &fit,
-            &class_tracks,
-            noise,
-            stick,
-            options.scale,
-        ));
+        for &i in &joined {
+            let start = estimate::fit_start(&motion, &fit.set, all[i], all[i].frames[0].r)?;
+            paths[i] = fitted_path(&motion, &fit.set, start.start, all[i])?;
+        }
+        let mut estimate = class_estimate(&fit, &class_tracks, noise, stick, options.scale);
+        estimate.model_bias = fit
+            .free
+            .iter()
+            .map(|&j| (model::NAMES[j].to_string(), bias[j]))
+            .collect();
+        estimate.joined = joined.iter().map(|&i| all[i].part.clone()).collect();
+        classes.push(estimate);
     }
     let per_part = all
         .iter()
@@ -380,7 +405,7 @@ pub fn calibrate(
             frames: tr.frames.len(),
             mu: own[i].0,
             standard_error: own[i].1,
-            class: class_of[i],
+            class: class_of[i].0,
         })
         .collect();
     Ok(CalibrationRun {
@@ -424,15 +449,67 @@ fn fit_one(
     Ok((fit, stick, fields))
 }
 
-/// Track `k` of a class fit: its label, observed positions and fitted path.
+/// Removes the field model's bias from `fit` (indirect inference): the
+/// class's parts are replayed noise-free by the exact simulator at θ̂, each
+/// put down at rest at t = 0 where the model's path at θ̂ puts its fitted
+/// start back by the time of its first frame, observed at the same
+/// frames; the same fit of those tracks on the same stencil gives θ̂_sim,
+/// and b = θ̂_sim − θ̂ is what the model adds to θ at θ̂. θ̂ − b is
+/// reported, and the profile shifted by −b along μ_k; the fitted paths stay
+/// the model's at θ̂. Returns b.
+///
+/// The covariance is kept: b is computed without noise, so what the
+/// correction adds to the uncertainty is (∂b/∂θ)·SE, a fraction of a
+/// standard error as small as b's change over one standard error of θ
+/// (b of a few thousandths changing over tenths of μ).
+fn correct_bias(
+    schedule: &Schedule,
+    region: &Grid,
+    motion: &PlayedMotion,
+    fit: &mut ClassFit,
+    tracks: &[&Track],
+    sigma_ref: f64,
+) -> Result<model::Theta> {
+    let parts = tracks
+        .iter()
+        .zip(&fit.starts)
+        .map(|(tr, s)| {
+            let times: Vec<f64> = tr.frames.iter().map(|f| f.t).collect();
+            let there = motion.advance(&fit.set, s.start, 0.0, times[0])?;
+            let r0 = [
+                (2.0 * s.start[0] - there[0]).clamp(region.x[0], region.x[1]),
+                (2.0 * s.start[1] - there[1]).clamp(region.y[0], region.y[1]),
+            ];
+            Ok((tr.part.clone(), r0, times))
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let replayed = simulate::replay_tracks(
+        schedule,
+        region,
+        model::friction(&fit.theta),
+        fit.theta[SCALE],
+        &parts,
+    )?;
+    let refs: Vec<&Track> = replayed.iter().collect();
+    let b = estimate::model_bias(motion, fit, &refs, sigma_ref)?;
+    for &j in &fit.free {
+        fit.theta[j] = (fit.theta[j] - b[j]).clamp(estimate::BOUNDS[j][0], estimate::BOUNDS[j][1]);
+    }
+    for p in &mut fit.profile {
+        p[0] -= b[MU_K];
+    }
+    Ok(b)
+}
+
+/// A track's label, observed positions and path in `set` from `start`.
 fn fitted_path(
     motion: &PlayedMotion,
-    fit: &ClassFit,
-    k: usize,
+    set: &model::FieldSet,
+    start: [f64; 2],
     track: &Track,
 ) -> Result<TrackPaths> {
     let times: Vec<f64> = track.frames.iter().map(|f| f.t).collect();
-    let fitted = motion.path(&fit.set, fit.starts[k].start, times[0], &times)?;
+    let fitted = motion.path(set, start, times[0], &times)?;
     Ok((
         track.part.clone(),
         track.frames.iter().map(|f| f.r).collect(),
@@ -616,5 +693,7 @@ fn class_estimate(
         coordinates,
         dof: fit.dof,
         not_separable,
+        model_bias: Vec::new(),
+        joined: Vec::new(),
     }
 }
