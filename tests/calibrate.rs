@@ -168,7 +168,8 @@ fn coverage(name: &str, f: Friction, reps: u64) -> Coverage {
 }
 
 /// The coverage study: per case, `PLATEFIELD_COVERAGE_REPS` (default 100)
-/// seeded repetitions; prints per case how many 95 % intervals cover the
+/// seeded repetitions (`PLATEFIELD_COVERAGE_CASE=NAME` keeps the cases
+/// whose schedule's name contains NAME); prints per case how many 95 % intervals cover the
 /// truth, the worst and mean error, and asserts the numbers
 /// (every estimate within ±0.01, ≥ 90 % of the intervals covering) after
 /// printing every case.
@@ -191,8 +192,9 @@ fn coverage_study() {
         ("squeeze_trans", Friction::uniform(0.23)),
         ("squeeze_trans", two),
     ];
+    let only = std::env::var("PLATEFIELD_COVERAGE_CASE").unwrap_or_default();
     let mut failed = Vec::new();
-    for (name, f) in cases {
+    for (name, f) in cases.into_iter().filter(|c| c.0.contains(&only)) {
         let c = coverage(name, f, reps);
         let line = format!(
             "{name} μ_s {} μ_k {}: {}/{reps} intervals cover ({} split into classes), worst |error| {:.4}, mean error {:+.4}, mean half-width {:.4}, mean model bias {:+.4}",

@@ -9,7 +9,11 @@
 //! replay of one part over 10 s about 200 000 integrator steps) to the
 //! observed positions by least squares ([`estimate`]: the noise model,
 //! the intervals), part by part first to sort parts into friction classes
-//! ([`classes`]), then each class as one. Parameters the tracks do not
+//! ([`classes`]), then each class as one; the model's own bias at the
+//! estimate is then measured on noise-free tracks replayed by the exact
+//! simulator and removed (indirect inference, [`estimate::binding`]: two
+//! replays of the class's parts and two more fits on the same fields, no
+//! new field). Parameters the tracks do not
 //! determine are named: μ_s when the parts never stick (the field does
 //! not change with it), any parameter whose interval is wider than
 //! [`WEAK`], any pair whose estimates are correlated beyond [`CORRELATED`].
@@ -142,10 +146,15 @@ pub struct ClassEstimate {
     pub dof: usize,
     /// What the tracks of this class do not determine.
     pub not_separable: Vec<String>,
-    /// The field model's bias subtracted from the fit, per estimated
-    /// parameter: (name, θ̂_sim − θ̂) (see [`estimate::model_bias`]).
+    /// The field model's bias removed from the fit, per estimated
+    /// parameter: (name, θ̂ − θ̃) (see [`estimate`]'s doc).
     #[serde(default)]
     pub model_bias: Vec<(String, f64)>,
+    /// The slope β′ of the model's fit against the truth, per estimated
+    /// parameter, from the bias correction's two replays (1: a constant
+    /// bias; the standard errors are divided by it).
+    #[serde(default)]
+    pub model_slope: Vec<(String, f64)>,
     /// Parts whose own fit does not determine their μ, joined to this
     /// class (the nearest) and left out of its fit ([`classes`]).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -216,7 +225,8 @@ impl Calibration {
     /// let class = ClassEstimate {
     ///     parts: vec![], mu_k: p(0.23, 0.22, 0.24), mu_s: none.clone(), scale: none,
     ///     correlations: vec![], residual_rms_m: 2e-4, residual_over_noise: None,
-    ///     coordinates: 0, dof: 0, not_separable: vec![], model_bias: vec![], joined: vec![],
+    ///     coordinates: 0, dof: 0, not_separable: vec![], model_bias: vec![],
+    ///     model_slope: vec![], joined: vec![],
     /// };
     /// let c = Calibration {
     ///     target: "sink".into(), tracks: "t.csv".into(), parts: 1, frames: 3, model: String::new(),
@@ -368,7 +378,7 @@ pub fn calibrate(
             options.scale,
             sigma_ref,
         )?;
-        let bias = correct_bias(
+        let (bias, slope) = correct_bias(
             schedule,
             &region,
             &motion,
@@ -394,6 +404,18 @@ pub fn calibrate(
             .iter()
             .map(|&j| (model::NAMES[j].to_string(), bias[j]))
             .collect();
+        estimate.model_slope = fit
+            .free
+            .iter()
+            .map(|&j| (model::NAMES[j].to_string(), slope[j]))
+            .collect();
+        for (j, s) in &estimate.model_slope {
+            if !(SLOPE[0] < *s && *s < SLOPE[1]) {
+                estimate.not_separable.push(format!(
+                    "{j} (the model's fit responds to it by a slope outside {SLOPE:?}: the bias correction is not reliable)"
+                ));
+            }
+        }
         estimate.joined = joined.iter().map(|&i| all[i].part.clone()).collect();
         classes.push(estimate);
     }
@@ -449,19 +471,23 @@ fn fit_one(
     Ok((fit, stick, fields))
 }
 
-/// Removes the field model's bias from `fit` (indirect inference): the
-/// class's parts are replayed noise-free by the exact simulator at θ̂, each
-/// put down at rest at t = 0 where the model's path at θ̂ puts its fitted
-/// start back by the time of its first frame, observed at the same
-/// frames; the same fit of those tracks on the same stencil gives θ̂_sim,
-/// and b = θ̂_sim − θ̂ is what the model adds to θ at θ̂. θ̂ − b is
-/// reported, and the profile shifted by −b along μ_k; the fitted paths stay
-/// the model's at θ̂. Returns b.
-///
-/// The covariance is kept: b is computed without noise, so what the
-/// correction adds to the uncertainty is (∂b/∂θ)·SE, a fraction of a
-/// standard error as small as b's change over one standard error of θ
-/// (b of a few thousandths changing over tenths of μ).
+/// Slopes β′ of the binding function beyond this range make the bias
+/// correction untrustworthy: held to it and named.
+pub const SLOPE: [f64; 2] = [0.5, 2.0];
+
+/// A correction shorter than this (in θ's units) is below any standard
+/// error: the slope is not measured over it (taken as 1).
+const SECANT_MIN: f64 = 1e-4;
+
+/// Removes the field model's bias from `fit` (indirect inference,
+/// [`estimate`]'s doc): the class's parts are replayed noise-free by the
+/// exact simulator, each put down at rest at t = 0 where the model's path
+/// at θ̂ puts its fitted start back by the time of its first frame,
+/// observed at the same frames, at θ̂ and at θ₁ = θ̂ − b(θ̂); one secant
+/// step solves β(θ̃) = θ̂. θ̃ is reported, its covariance divided by the
+/// slopes, the profile mapped through the same line; the fitted paths stay
+/// the model's at θ̂. Returns θ̂ − θ̃ and the slopes β′ (1 for parameters
+/// not fitted).
 fn correct_bias(
     schedule: &Schedule,
     region: &Grid,
@@ -469,7 +495,7 @@ fn correct_bias(
     fit: &mut ClassFit,
     tracks: &[&Track],
     sigma_ref: f64,
-) -> Result<model::Theta> {
+) -> Result<(model::Theta, model::Theta)> {
     let parts = tracks
         .iter()
         .zip(&fit.starts)
@@ -483,22 +509,48 @@ fn correct_bias(
             Ok((tr.part.clone(), r0, times))
         })
         .collect::<Result<Vec<_>>>()?;
-    let replayed = simulate::replay_tracks(
-        schedule,
-        region,
-        model::friction(&fit.theta),
-        fit.theta[SCALE],
-        &parts,
-    )?;
-    let refs: Vec<&Track> = replayed.iter().collect();
-    let b = estimate::model_bias(motion, fit, &refs, sigma_ref)?;
+    let fitted: &ClassFit = fit;
+    let beta = |theta: &model::Theta| -> Result<model::Theta> {
+        let replayed = simulate::replay_tracks(
+            schedule,
+            region,
+            model::friction(theta),
+            theta[SCALE],
+            &parts,
+        )?;
+        let refs: Vec<&Track> = replayed.iter().collect();
+        estimate::binding(motion, fitted, &refs, sigma_ref)
+    };
+    let bound = |j: usize, v: f64| v.clamp(estimate::BOUNDS[j][0], estimate::BOUNDS[j][1]);
+    let hat = fit.theta;
+    let b0 = beta(&hat)?;
+    let mut t1 = hat;
     for &j in &fit.free {
-        fit.theta[j] = (fit.theta[j] - b[j]).clamp(estimate::BOUNDS[j][0], estimate::BOUNDS[j][1]);
+        t1[j] = bound(j, 2.0 * hat[j] - b0[j]);
+    }
+    let b1 = beta(&t1)?;
+    let (mut slope, mut corrected) = ([1.0; 3], hat);
+    for &j in &fit.free {
+        let d = t1[j] - hat[j];
+        if d.abs() > SECANT_MIN {
+            slope[j] = ((b1[j] - b0[j]) / d).clamp(SLOPE[0], SLOPE[1]);
+        }
+        corrected[j] = bound(j, t1[j] + (hat[j] - b1[j]) / slope[j]);
+    }
+    for (a, &ja) in fit.free.iter().enumerate() {
+        for (b, &jb) in fit.free.iter().enumerate() {
+            fit.covariance[a][b] /= slope[ja] * slope[jb];
+        }
     }
     for p in &mut fit.profile {
-        p[0] -= b[MU_K];
+        p[0] = corrected[MU_K] + (p[0] - hat[MU_K]) / slope[MU_K];
     }
-    Ok(b)
+    fit.theta = corrected;
+    let mut bias = [0.0; 3];
+    for &j in &fit.free {
+        bias[j] = hat[j] - corrected[j];
+    }
+    Ok((bias, slope))
 }
 
 /// A track's label, observed positions and path in `set` from `start`.
@@ -694,6 +746,7 @@ fn class_estimate(
         dof: fit.dof,
         not_separable,
         model_bias: Vec::new(),
+        model_slope: Vec::new(),
         joined: Vec::new(),
     }
 }

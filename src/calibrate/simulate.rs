@@ -171,7 +171,7 @@ fn schedule_motion(schedule: &Schedule, scale: f64) -> Result<ScheduleMotion> {
 /// played at `scale` × its amplitudes, observed at the times `parts[k].2`
 /// (increasing, ≥ 0) until it leaves `region`; tracks left with fewer
 /// than three frames are dropped. What the calibration's bias correction
-/// replays at its estimate ([`super::estimate::model_bias`]).
+/// replays near its estimate ([`super::estimate::binding`]).
 ///
 /// ```
 /// use platefield::calibrate::simulate::replay_tracks;
