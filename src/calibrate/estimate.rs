@@ -475,7 +475,7 @@ impl Problem<'_> {
     }
 }
 
-/// RSS along μ_k over ±2 stencil steps about `center` (the other
+/// RSS along μ_k over ±2 stencil steps about `center` in fifths of a step (the other
 /// parameters at `best`): (μ_k, RSS); empty when μ_k is not free.
 fn profile(
     rss_at: &dyn Fn(&Theta) -> Result<f64>,
@@ -489,9 +489,9 @@ fn profile(
         return Ok(Vec::new());
     }
     let mut out = Vec::new();
-    for k in -20..=20 {
+    for k in -10..=10 {
         let mut t = best;
-        t[j] = center[j] + f64::from(k) * 0.1 * h[j];
+        t[j] = center[j] + f64::from(k) * 0.2 * h[j];
         if t[j] >= BOUNDS[j][0] {
             out.push([t[j], rss_at(&t)?]);
         }
