@@ -6,7 +6,7 @@
 //!
 //! The coverage study (100 seeded repetitions per case) is `#[ignore]`d:
 //! `cargo test --release --test calibrate -- --ignored --nocapture`
-//! (about 100 × 8 s of CPU per case; `PLATEFIELD_COVERAGE_REPS=N` runs N).
+//! (about 100 × 6 to 13 s of CPU per case; `PLATEFIELD_COVERAGE_REPS=N` runs N).
 
 use std::path::Path;
 
@@ -186,7 +186,7 @@ fn coverage(name: &str, f: Friction, reps: u64) -> Coverage {
 /// (every estimate within ±0.01, ≥ 90 % of the intervals covering) after
 /// printing every case.
 #[test]
-#[ignore = "about 100 × 8 s of CPU per case"]
+#[ignore = "about 100 × 6 to 13 s of CPU per case"]
 fn coverage_study() {
     let reps: u64 = std::env::var("PLATEFIELD_COVERAGE_REPS")
         .ok()
