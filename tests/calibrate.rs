@@ -6,7 +6,7 @@
 //!
 //! The coverage study (100 seeded repetitions per case) is `#[ignore]`d:
 //! `cargo test --release --test calibrate -- --ignored --nocapture`
-//! (about 100 × 6 s of CPU per case; `PLATEFIELD_COVERAGE_REPS=N` runs N).
+//! (about 100 × 6 to 13 s of CPU per case; `PLATEFIELD_COVERAGE_REPS=N` runs N).
 
 use std::path::Path;
 
@@ -41,9 +41,11 @@ fn calibrated(
 }
 
 /// μ_s = 0.41, μ_k = 0.33 on the translation-heavy squeeze_trans: μ_k
-/// within ±0.01 (measured 0.3296), one class, the fit's residual at the
-/// tracks' noise (within 10 %: measured 1.015), and μ_s named as not
-/// determined: the parts never stick on this motion.
+/// within ±0.01 (measured 0.3296, 95 %: 0.3284 – 0.3308) and its interval
+/// covering the truth, one class, the fit's residual at the tracks' noise
+/// (within 10 %: measured 1.017), the model's bias removed (measured
+/// +0.0002) at a slope near 1 (0.989: the correction is trusted), and μ_s
+/// named as not determined: the parts never stick on this motion.
 #[test]
 fn kinetic_friction_is_identified_and_static_named_undetermined() {
     let sim = TrackSimulation::new(
@@ -59,6 +61,15 @@ fn kinetic_friction_is_identified_and_static_named_undetermined() {
     let class = &c.classes[0];
     let mu = class.mu_k.value.expect("μ_k");
     assert!((mu - 0.33).abs() <= 0.01, "{mu}");
+    let [lo, hi] = class.mu_k.interval.expect("an interval");
+    assert!((lo..=hi).contains(&0.33), "{lo} – {hi}");
+    let slope = class.model_slope[0].1;
+    assert!((slope - 1.0).abs() < 0.1, "{slope}");
+    assert!(
+        class.model_bias[0].1.abs() < 0.002,
+        "{:?}",
+        class.model_bias
+    );
     assert!(class.mu_s.value.is_none());
     assert!(
         class.not_separable[0].starts_with("mu_s"),
@@ -72,7 +83,7 @@ fn kinetic_friction_is_identified_and_static_named_undetermined() {
 }
 
 /// The motion played at 0.95 × its amplitude: the scale within ±1 %
-/// (measured 0.9512) and μ within ±0.02 (0.2301).
+/// (measured 0.94999) and μ within ±0.02 (0.2297).
 #[test]
 fn amplitude_scale_is_recovered() {
     let mut sim = TrackSimulation::new(Friction::uniform(0.23), 20, 1);
@@ -86,7 +97,8 @@ fn amplitude_scale_is_recovered() {
 }
 
 /// 10 parts at μ 0.2 and 10 at 0.45 on the shipped squeeze_trans: two
-/// classes, every part in its own, each class's μ_k within ±0.01.
+/// classes, every part in its own, each class's μ_k within ±0.01
+/// (measured 0.2006 and 0.4498).
 #[test]
 fn two_frictions_are_two_classes() {
     let mut sim = TrackSimulation::new(Friction::uniform(0.2), 20, 2);
@@ -105,50 +117,105 @@ fn two_frictions_are_two_classes() {
     }
 }
 
-/// The coverage study: per case, `PLATEFIELD_COVERAGE_REPS` (default 100)
-/// seeded repetitions; prints the estimates' worst error and how many 95 %
-/// intervals cover the truth.
+/// 20 parts all at μ 0.23 on the shipped synthesized sink, which gathers
+/// them at its centre where the field carries little friction
+/// information: one class, the parts whose own fit is undetermined (11 of
+/// the 15 that stay on the plate region, their own minima at the lattice's
+/// end) joined to it rather than forming their own. μ_k only within ±0.03
+/// (measured 0.2550): on this motion the field model misses even
+/// noise-free tracks by 0.8 mm RMS, an error the bias correction's replay
+/// does not reproduce (docs/calibrate.md, "How well it does").
 #[test]
-#[ignore = "about 100 × 6 s of CPU per case"]
+fn one_friction_on_a_sink_is_one_class() {
+    let sim = TrackSimulation::new(Friction::uniform(0.23), 20, 1);
+    let c = calibrated("synthesized/sink", &sim, false);
+    assert_eq!(c.classes.len(), 1, "{:?}", c.per_part);
+    assert!(c.classes[0].joined.len() >= 5, "{:?}", c.classes[0]);
+    let mu = c.classes[0].mu_k.value.expect("μ_k");
+    assert!((mu - 0.23).abs() <= 0.03, "{mu}");
+}
+
+/// One case of the coverage study: its repetitions' count of 95 %
+/// intervals covering the truth (a calibration split into several classes
+/// counts as not covering), worst and mean error of μ_k, mean interval
+/// half-width and mean model-bias correction.
+struct Coverage {
+    covered: usize,
+    split: usize,
+    worst: f64,
+    mean: f64,
+    half_width: f64,
+    bias: f64,
+}
+
+fn coverage(name: &str, f: Friction, reps: u64) -> Coverage {
+    let (mut covered, mut split, mut worst) = (0, 0, 0.0f64);
+    let (mut errors, mut widths, mut biases) = (Vec::new(), Vec::new(), Vec::new());
+    for seed in 0..reps {
+        let sim = TrackSimulation::new(f, 20, 1000 + seed);
+        let c = calibrated(name, &sim, false);
+        split += usize::from(c.classes.len() > 1);
+        let class = c
+            .classes
+            .iter()
+            .max_by_key(|k| k.parts.len())
+            .expect("a class");
+        let mu = class.mu_k.value.expect("μ_k");
+        let [lo, hi] = class.mu_k.interval.expect("an interval");
+        covered += usize::from(c.classes.len() == 1 && (lo..=hi).contains(&f.kinetic));
+        worst = worst.max((mu - f.kinetic).abs());
+        errors.push(mu - f.kinetic);
+        widths.push(0.5 * (hi - lo));
+        biases.push(class.model_bias.first().map_or(0.0, |b| b.1));
+    }
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len().max(1) as f64;
+    Coverage {
+        covered,
+        split,
+        worst,
+        mean: mean(&errors),
+        half_width: mean(&widths),
+        bias: mean(&biases),
+    }
+}
+
+/// The coverage study: per case, `PLATEFIELD_COVERAGE_REPS` (default 100)
+/// seeded repetitions (`PLATEFIELD_COVERAGE_CASE=NAME` keeps the cases
+/// whose schedule's name contains NAME); prints per case how many 95 % intervals cover the
+/// truth, the worst and mean error, and asserts the numbers
+/// (every estimate within ±0.01, ≥ 90 % of the intervals covering) after
+/// printing every case.
+#[test]
+#[ignore = "about 100 × 6 to 13 s of CPU per case"]
 fn coverage_study() {
     let reps: u64 = std::env::var("PLATEFIELD_COVERAGE_REPS")
         .ok()
         .and_then(|v| v.parse().ok())
         .unwrap_or(100);
+    let two = Friction {
+        stat: 0.41,
+        kinetic: 0.33,
+    };
     let cases = [
         ("sink", Friction::uniform(0.23)),
-        (
-            "sink",
-            Friction {
-                stat: 0.41,
-                kinetic: 0.33,
-            },
-        ),
+        ("sink", two),
+        ("synthesized/sink", Friction::uniform(0.23)),
+        ("synthesized/sink", two),
         ("squeeze_trans", Friction::uniform(0.23)),
-        (
-            "squeeze_trans",
-            Friction {
-                stat: 0.41,
-                kinetic: 0.33,
-            },
-        ),
+        ("squeeze_trans", two),
     ];
-    for (name, f) in cases {
-        let (mut covered, mut worst, mut errors) = (0, 0.0f64, Vec::new());
-        for seed in 0..reps {
-            let sim = TrackSimulation::new(f, 20, 1000 + seed);
-            let c = calibrated(name, &sim, false);
-            let class = &c.classes[0];
-            let mu = class.mu_k.value.expect("μ_k");
-            let [lo, hi] = class.mu_k.interval.expect("an interval");
-            covered += usize::from((lo..=hi).contains(&f.kinetic));
-            worst = worst.max((mu - f.kinetic).abs());
-            errors.push(mu - f.kinetic);
-        }
-        let mean = errors.iter().sum::<f64>() / errors.len() as f64;
-        println!(
-            "{name} μ_s {} μ_k {}: {covered}/{reps} intervals cover, worst |error| {worst:.4}, mean error {mean:+.4}",
-            f.stat, f.kinetic
+    let only = std::env::var("PLATEFIELD_COVERAGE_CASE").unwrap_or_default();
+    let mut failed = Vec::new();
+    for (name, f) in cases.into_iter().filter(|c| c.0.contains(&only)) {
+        let c = coverage(name, f, reps);
+        let line = format!(
+            "{name} μ_s {} μ_k {}: {}/{reps} intervals cover ({} split into classes), worst |error| {:.4}, mean error {:+.4}, mean half-width {:.4}, mean model bias {:+.4}",
+            f.stat, f.kinetic, c.covered, c.split, c.worst, c.mean, c.half_width, c.bias
         );
+        println!("{line}");
+        if c.worst > 0.01 || 10 * c.covered < 9 * reps as usize {
+            failed.push(line);
+        }
     }
+    assert!(failed.is_empty(), "{failed:#?}");
 }

@@ -94,6 +94,19 @@ fn report(c: &Calibration, command: &str) -> String {
                 .residual_over_noise
                 .map_or(String::new(), |r| format!(", {r:.2} × the tracks' noise"))
         );
+        if !class.model_bias.is_empty() {
+            let removed: Vec<String> = class
+                .model_bias
+                .iter()
+                .zip(&class.model_slope)
+                .map(|((name, b), (_, slope))| format!("{name} {b:+.4} (slope {slope:.3})"))
+                .collect();
+            let _ = writeln!(
+                s,
+                "\nThe field model's bias removed (the parts replayed by the exact simulator): {}.",
+                removed.join(", ")
+            );
+        }
         if !class.not_separable.is_empty() {
             let _ = writeln!(
                 s,
@@ -102,6 +115,13 @@ fn report(c: &Calibration, command: &str) -> String {
             );
         }
         let _ = writeln!(s, "\nParts: {}.\n", class.parts.join(", "));
+        if !class.joined.is_empty() {
+            let _ = writeln!(
+                s,
+                "Joined (their own fits do not determine μ; left out of the class's fit): {}.\n",
+                class.joined.join(", ")
+            );
+        }
     }
     let _ = writeln!(s, "## Each part alone (μ_s = μ_k, scale 1)\n\n| part | frames | μ | standard error | class |\n|---|---|---|---|---|");
     for p in &c.per_part {
@@ -118,7 +138,7 @@ fn report(c: &Calibration, command: &str) -> String {
     }
     let _ = writeln!(
         s,
-        "\n`trajectories.svg`: observed positions (dots) against the fitted paths (lines). `likelihood.svg`: Δχ² over μ (μ_s = μ_k, scale 1) on the lattice, per class, and the fine profile about the estimate; the 95 % interval is where Δχ² < 3.84.\n\n{} velocity fields computed.",
+        "\n`trajectories.svg`: observed positions (dots) against the fitted paths (lines). `likelihood.svg`: Δχ² over μ (μ_s = μ_k, scale 1) on the lattice, per class, and the fine profile about the estimate (mapped through the bias correction); Δχ² < 3.84 is the noise model's 95 % interval, before the tracks' own scatter widens it.\n\n{} velocity fields computed.",
         c.fields_computed
     );
     s

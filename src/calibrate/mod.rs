@@ -9,7 +9,11 @@
 //! replay of one part over 10 s about 200 000 integrator steps) to the
 //! observed positions by least squares ([`estimate`]: the noise model,
 //! the intervals), part by part first to sort parts into friction classes
-//! ([`classes`]), then each class as one. Parameters the tracks do not
+//! ([`classes`]), then each class as one; the model's own bias at the
+//! estimate is then measured on noise-free tracks replayed by the exact
+//! simulator and removed (indirect inference, [`estimate::binding`]: two
+//! replays of the class's parts and two more fits on the same fields, no
+//! new field). Parameters the tracks do not
 //! determine are named: μ_s when the parts never stick (the field does
 //! not change with it), any parameter whose interval is wider than
 //! [`WEAK`], any pair whose estimates are correlated beyond [`CORRELATED`].
@@ -142,6 +146,19 @@ pub struct ClassEstimate {
     pub dof: usize,
     /// What the tracks of this class do not determine.
     pub not_separable: Vec<String>,
+    /// The field model's bias removed from the fit, per estimated
+    /// parameter: (name, θ̂ − θ̃) (see [`estimate`]'s doc).
+    #[serde(default)]
+    pub model_bias: Vec<(String, f64)>,
+    /// The slope β′ of the model's fit against the truth, per estimated
+    /// parameter, from the bias correction's two replays (1: a constant
+    /// bias; the standard errors are divided by it).
+    #[serde(default)]
+    pub model_slope: Vec<(String, f64)>,
+    /// Parts whose own fit does not determine their μ, joined to this
+    /// class (the nearest) and left out of its fit ([`classes`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub joined: Vec<String>,
 }
 
 /// A calibration: what `platefield calibrate` prints and writes.
@@ -208,7 +225,8 @@ impl Calibration {
     /// let class = ClassEstimate {
     ///     parts: vec![], mu_k: p(0.23, 0.22, 0.24), mu_s: none.clone(), scale: none,
     ///     correlations: vec![], residual_rms_m: 2e-4, residual_over_noise: None,
-    ///     coordinates: 0, dof: 0, not_separable: vec![],
+    ///     coordinates: 0, dof: 0, not_separable: vec![], model_bias: vec![],
+    ///     model_slope: vec![], joined: vec![],
     /// };
     /// let c = Calibration {
     ///     target: "sink".into(), tracks: "t.csv".into(), parts: 1, frames: 3, model: String::new(),
@@ -335,25 +353,37 @@ pub fn calibrate(
     let sigma2 = rss_min / lattice_dof as f64;
     let curves: Vec<Vec<f64>> = (0..all.len()).map(per_track).collect();
     let own = own_estimates(&curves, &mus, &all, sigma2)?;
-    let own_mu: Vec<f64> = own.iter().map(|o| o.0).collect();
-    let class_of = cluster(&curves, &mus, &own_mu, sigma2);
-    let n_classes = class_of.iter().max().map_or(0, |m| m + 1);
+    let class_of = cluster(&own);
+    let n_classes = class_of.iter().map(|c| c.0).max().map_or(0, |m| m + 1);
     let mut classes = Vec::new();
     let mut likelihood = Vec::new();
     let mut profile = Vec::new();
     let mut paths = vec![(String::new(), Vec::new(), Vec::new()); all.len()];
     for c in 0..n_classes {
-        let members: Vec<usize> = (0..all.len()).filter(|&i| class_of[i] == c).collect();
+        let members: Vec<usize> = (0..all.len())
+            .filter(|&i| class_of[i] == (c, true))
+            .collect();
+        let joined: Vec<usize> = (0..all.len())
+            .filter(|&i| class_of[i] == (c, false))
+            .collect();
         let class_tracks: Vec<&Track> = members.iter().map(|&i| all[i]).collect();
         let curve: Vec<f64> = (0..mus.len())
             .map(|m| members.iter().map(|&i| per_track(i)[m]).sum())
             .collect();
-        let (fit, stick, fields) = fit_one(
+        let (mut fit, stick, fields) = fit_one(
             &motion,
             &class_tracks,
             &mus,
             &curve,
             options.scale,
+            sigma_ref,
+        )?;
+        let (bias, slope) = correct_bias(
+            schedule,
+            &region,
+            &motion,
+            &mut fit,
+            &class_tracks,
             sigma_ref,
         )?;
         fields_computed += fields;
@@ -362,15 +392,32 @@ pub fn calibrate(
         likelihood.push(delta_chi2(&lattice_curve, s2));
         profile.push(delta_chi2(&fit.profile, s2));
         for (k, &i) in members.iter().enumerate() {
-            paths[i] = fitted_path(&motion, &fit, k, all[i])?;
+            paths[i] = fitted_path(&motion, &fit.set, fit.starts[k].start, all[i])?;
         }
-        classes.push(class_estimate(
-            &fit,
-            &class_tracks,
-            noise,
-            stick,
-            options.scale,
-        ));
+        for &i in &joined {
+            let start = estimate::fit_start(&motion, &fit.set, all[i], all[i].frames[0].r)?;
+            paths[i] = fitted_path(&motion, &fit.set, start.start, all[i])?;
+        }
+        let mut estimate = class_estimate(&fit, &class_tracks, noise, stick, options.scale);
+        estimate.model_bias = fit
+            .free
+            .iter()
+            .map(|&j| (model::NAMES[j].to_string(), bias[j]))
+            .collect();
+        estimate.model_slope = fit
+            .free
+            .iter()
+            .map(|&j| (model::NAMES[j].to_string(), slope[j]))
+            .collect();
+        for (j, s) in &estimate.model_slope {
+            if !(SLOPE[0] < *s && *s < SLOPE[1]) {
+                estimate.not_separable.push(format!(
+                    "{j} (the model's fit responds to it by a slope outside {SLOPE:?}: the bias correction is not reliable)"
+                ));
+            }
+        }
+        estimate.joined = joined.iter().map(|&i| all[i].part.clone()).collect();
+        classes.push(estimate);
     }
     let per_part = all
         .iter()
@@ -380,7 +427,7 @@ pub fn calibrate(
             frames: tr.frames.len(),
             mu: own[i].0,
             standard_error: own[i].1,
-            class: class_of[i],
+            class: class_of[i].0,
         })
         .collect();
     Ok(CalibrationRun {
@@ -424,15 +471,97 @@ fn fit_one(
     Ok((fit, stick, fields))
 }
 
-/// Track `k` of a class fit: its label, observed positions and fitted path.
+/// Slopes β′ of the binding function beyond this range make the bias
+/// correction untrustworthy: held to it and named.
+pub const SLOPE: [f64; 2] = [0.5, 2.0];
+
+/// A correction shorter than this (in θ's units) is below any standard
+/// error: the slope is not measured over it (taken as 1).
+const SECANT_MIN: f64 = 1e-4;
+
+/// Removes the field model's bias from `fit` (indirect inference,
+/// [`estimate`]'s doc): the class's parts are replayed noise-free by the
+/// exact simulator, each put down at rest at t = 0 where the model's path
+/// at θ̂ puts its fitted start back by the time of its first frame,
+/// observed at the same frames, at θ̂ and at θ₁ = θ̂ − b(θ̂); one secant
+/// step solves β(θ̃) = θ̂. θ̃ is reported, its covariance divided by the
+/// slopes, the profile mapped through the same line; the fitted paths stay
+/// the model's at θ̂. Returns θ̂ − θ̃ and the slopes β′ (1 for parameters
+/// not fitted).
+fn correct_bias(
+    schedule: &Schedule,
+    region: &Grid,
+    motion: &PlayedMotion,
+    fit: &mut ClassFit,
+    tracks: &[&Track],
+    sigma_ref: f64,
+) -> Result<(model::Theta, model::Theta)> {
+    let parts = tracks
+        .iter()
+        .zip(&fit.starts)
+        .map(|(tr, s)| {
+            let times: Vec<f64> = tr.frames.iter().map(|f| f.t).collect();
+            let there = motion.advance(&fit.set, s.start, 0.0, times[0])?;
+            let r0 = [
+                (2.0 * s.start[0] - there[0]).clamp(region.x[0], region.x[1]),
+                (2.0 * s.start[1] - there[1]).clamp(region.y[0], region.y[1]),
+            ];
+            Ok((tr.part.clone(), r0, times))
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let fitted: &ClassFit = fit;
+    let beta = |theta: &model::Theta| -> Result<model::Theta> {
+        let replayed = simulate::replay_tracks(
+            schedule,
+            region,
+            model::friction(theta),
+            theta[SCALE],
+            &parts,
+        )?;
+        let refs: Vec<&Track> = replayed.iter().collect();
+        estimate::binding(motion, fitted, &refs, sigma_ref)
+    };
+    let bound = |j: usize, v: f64| v.clamp(estimate::BOUNDS[j][0], estimate::BOUNDS[j][1]);
+    let hat = fit.theta;
+    let b0 = beta(&hat)?;
+    let mut t1 = hat;
+    for &j in &fit.free {
+        t1[j] = bound(j, 2.0 * hat[j] - b0[j]);
+    }
+    let b1 = beta(&t1)?;
+    let (mut slope, mut corrected) = ([1.0; 3], hat);
+    for &j in &fit.free {
+        let d = t1[j] - hat[j];
+        if d.abs() > SECANT_MIN {
+            slope[j] = ((b1[j] - b0[j]) / d).clamp(SLOPE[0], SLOPE[1]);
+        }
+        corrected[j] = bound(j, t1[j] + (hat[j] - b1[j]) / slope[j]);
+    }
+    for (a, &ja) in fit.free.iter().enumerate() {
+        for (b, &jb) in fit.free.iter().enumerate() {
+            fit.covariance[a][b] /= slope[ja] * slope[jb];
+        }
+    }
+    for p in &mut fit.profile {
+        p[0] = corrected[MU_K] + (p[0] - hat[MU_K]) / slope[MU_K];
+    }
+    fit.theta = corrected;
+    let mut bias = [0.0; 3];
+    for &j in &fit.free {
+        bias[j] = hat[j] - corrected[j];
+    }
+    Ok((bias, slope))
+}
+
+/// A track's label, observed positions and path in `set` from `start`.
 fn fitted_path(
     motion: &PlayedMotion,
-    fit: &ClassFit,
-    k: usize,
+    set: &model::FieldSet,
+    start: [f64; 2],
     track: &Track,
 ) -> Result<TrackPaths> {
     let times: Vec<f64> = track.frames.iter().map(|f| f.t).collect();
-    let fitted = motion.path(&fit.set, fit.starts[k].start, times[0], &times)?;
+    let fitted = motion.path(set, start, times[0], &times)?;
     Ok((
         track.part.clone(),
         track.frames.iter().map(|f| f.r).collect(),
@@ -616,5 +745,8 @@ fn class_estimate(
         coordinates,
         dof: fit.dof,
         not_separable,
+        model_bias: Vec::new(),
+        model_slope: Vec::new(),
+        joined: Vec::new(),
     }
 }

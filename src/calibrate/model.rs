@@ -441,7 +441,7 @@ impl FieldSet {
 
 /// Field sets at θ_c and θ_c ± h_j e_j for the free parameters; the
 /// samples at any θ as the per-axis quadratic through them.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Stencil {
     /// θ_c.
     pub center: Theta,

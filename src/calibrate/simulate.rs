@@ -102,20 +102,7 @@ pub fn simulate_tracks(
     sim: &TrackSimulation,
 ) -> Result<Tracks> {
     sim.validate()?;
-    let segments = schedule
-        .segments
-        .iter()
-        .enumerate()
-        .map(|(i, seg)| {
-            let mut p = PlayedSegment::from_segment(seg, i)?;
-            p.motion = p
-                .motion
-                .map(|m| m.amplitude_scaled(sim.scale))
-                .transpose()?;
-            Ok(p)
-        })
-        .collect::<Result<Vec<_>>>()?;
-    let sm = ScheduleMotion::new(segments)?;
+    let sm = schedule_motion(schedule, sim.scale)?;
     let frames = (sim.seconds * sim.fps).round() as usize;
     let times: Vec<f64> = (0..frames).map(|k| k as f64 / sim.fps).collect();
     let tracks = sim
@@ -133,9 +120,7 @@ pub fn simulate_tracks(
             let truth = play(schedule, &sm, friction, r0, &times)?;
             let mut out = Vec::new();
             for (&t, r) in times.iter().zip(truth) {
-                if !(region.x[0]..=region.x[1]).contains(&r.x)
-                    || !(region.y[0]..=region.y[1]).contains(&r.y)
-                {
+                if !inside(region, &r) {
                     break;
                 }
                 let noisy = [
@@ -164,6 +149,85 @@ pub fn simulate_tracks(
             .filter(|t| t.frames.len() >= super::tracks::MIN_FRAMES)
             .collect(),
     ))
+}
+
+/// `schedule`'s segments as played, every motion's amplitudes × `scale`.
+fn schedule_motion(schedule: &Schedule, scale: f64) -> Result<ScheduleMotion> {
+    let segments = schedule
+        .segments
+        .iter()
+        .enumerate()
+        .map(|(i, seg)| {
+            let mut p = PlayedSegment::from_segment(seg, i)?;
+            p.motion = p.motion.map(|m| m.amplitude_scaled(scale)).transpose()?;
+            Ok(p)
+        })
+        .collect::<Result<Vec<_>>>()?;
+    ScheduleMotion::new(segments)
+}
+
+/// Noise-free tracks by the exact simulator: part `k` put down at rest at
+/// `parts[k].1` at t = 0 (the schedule's start) at `friction`, the motion
+/// played at `scale` × its amplitudes, observed at the times `parts[k].2`
+/// (increasing, ≥ 0) until it leaves `region`; tracks left with fewer
+/// than three frames are dropped. What the calibration's bias correction
+/// replays near its estimate ([`super::estimate::binding`]).
+///
+/// ```
+/// use platefield::calibrate::simulate::replay_tracks;
+/// use platefield::dynamics::Friction;
+/// use platefield::schedule::Schedule;
+/// let schedule = Schedule::load(std::path::Path::new("results/squeeze_trans/schedule.json"))?;
+/// let region = platefield::verify::run::region(&schedule);
+/// let times: Vec<f64> = (10..40).map(|k| k as f64 / 30.0).collect();
+/// let parts = vec![("a".to_string(), [0.0, 0.0], times)];
+/// let tracks = replay_tracks(&schedule, &region, Friction::uniform(0.3), 1.0, &parts)?;
+/// assert_eq!(tracks[0].frames.len(), 30);
+/// assert!((tracks[0].frames[0].t - 1.0 / 3.0).abs() < 1e-12);
+/// # Ok::<(), platefield::Error>(())
+/// ```
+///
+/// # Errors
+/// The schedule is invalid, the scale is not positive, or a part loses
+/// contact.
+pub fn replay_tracks(
+    schedule: &Schedule,
+    region: &Grid,
+    friction: Friction,
+    scale: f64,
+    parts: &[(String, [f64; 2], Vec<f64>)],
+) -> Result<Vec<Track>> {
+    crate::error::positive("scale", scale)?;
+    let sm = schedule_motion(schedule, scale)?;
+    let tracks = parts
+        .par_iter()
+        .map(|(part, r0, times)| {
+            let truth = play(schedule, &sm, friction, V2::from(*r0), times)?;
+            let frames = times
+                .iter()
+                .zip(truth)
+                .take_while(|(_, r)| inside(region, r))
+                .map(|(&t, r)| Frame {
+                    t,
+                    r: [r.x, r.y],
+                    line: 0,
+                })
+                .collect();
+            Ok(Track {
+                part: part.clone(),
+                frames,
+            })
+        })
+        .collect::<Result<Vec<Track>>>()?;
+    Ok(tracks
+        .into_iter()
+        .filter(|t| t.frames.len() >= super::tracks::MIN_FRAMES)
+        .collect())
+}
+
+/// Whether `r` lies within `region` (edges included).
+fn inside(region: &Grid, r: &V2) -> bool {
+    (region.x[0]..=region.x[1]).contains(&r.x) && (region.y[0]..=region.y[1]).contains(&r.y)
 }
 
 /// The positions at `times` (increasing, from 0) of a part placed at rest
