@@ -305,25 +305,45 @@ fn the_mirror_share_of_the_synthesized_sink_holds_over_friction() {
     }
 }
 
-/// The one-motion synthesized design of `target` at its nominal friction
-/// (no progress output, no basis cache: synthesis needs none).
-fn synthesized(target: &Target) -> Schedule {
-    let opts = platefield::design::DesignOptions {
-        runtime: platefield::work::Runtime::QUIET,
-        ..platefield::design::DesignOptions::default()
-    };
+/// `target` designed by `method` with `opts`, no progress output.
+fn designed(
+    target: &Target,
+    opts: &platefield::design::DesignOptions,
+    method: platefield::design::Method,
+) -> platefield::design::method::MethodDesign {
     let synth = platefield::synth::SynthOptions {
         progress: platefield::synth::progress::ProgressMode::Quiet,
         ..opts.synthesis
     };
+    platefield::design::run(target, &opts.by_method(method, &synth))
+        .and_then(|o| o.into_method())
+        .unwrap()
+}
+
+/// Quiet design options without a basis cache (synthesis needs none).
+fn quiet() -> platefield::design::DesignOptions {
+    platefield::design::DesignOptions {
+        runtime: platefield::work::Runtime::QUIET,
+        ..platefield::design::DesignOptions::default()
+    }
+}
+
+/// The member `name` of the seeded random family (seed 45, 40 targets).
+fn family_member(name: &str) -> Target {
+    platefield::request::family::family(45, 40)
+        .into_iter()
+        .find(|t| t.name == name)
+        .unwrap()
+}
+
+/// The one-motion synthesized design of `target` at its nominal friction
+/// (no progress output, no basis cache: synthesis needs none).
+fn synthesized(target: &Target) -> Schedule {
     let mut exact = target.clone();
     exact.friction = target
         .friction
         .map(|f| platefield::scene::FrictionSpec::exact(f.nominal()));
-    let by_method = opts.by_method(platefield::design::Method::Synthesize, &synth);
-    let md = platefield::design::run(&exact, &by_method)
-        .and_then(|o| o.into_method())
-        .unwrap();
+    let md = designed(&exact, &quiet(), platefield::design::Method::Synthesize);
     let mut schedule = md.kept().schedule.clone();
     schedule.target_spec = Some(target.clone());
     schedule
@@ -409,28 +429,14 @@ fn the_counter_share_holds_targets_without_symmetry_over_friction() {
 /// About 20 s of CPU.
 #[test]
 fn halving_the_normal_force_swing_holds_the_whirlpool_over_friction() {
-    let target = platefield::request::family::family(45, 40)
-        .into_iter()
-        .find(|t| t.name == "whirlpool_2")
-        .unwrap();
+    let target = family_member("whirlpool_2");
     let worst_of = |margin: Option<f64>| {
         let mut t = target.clone();
         t.shaker = margin.map(|m| platefield::request::ShakerSpec {
             contact_margin: Some(m),
             ..Default::default()
         });
-        let opts = platefield::design::DesignOptions {
-            runtime: platefield::work::Runtime::QUIET,
-            ..platefield::design::DesignOptions::default()
-        };
-        let synth = platefield::synth::SynthOptions {
-            progress: platefield::synth::progress::ProgressMode::Quiet,
-            ..opts.synthesis
-        };
-        let by_method = opts.by_method(platefield::design::Method::Mirror, &synth);
-        let md = platefield::design::run(&t, &by_method)
-            .and_then(|o| o.into_method())
-            .unwrap();
+        let md = designed(&t, &quiet(), platefield::design::Method::Mirror);
         worst(&md.sensitivity.expect("judged over the range").rows)
     };
     let gentle = platefield::design::method::gentle_limits(&ShakerLimits::envelope());
@@ -461,20 +467,10 @@ fn halving_the_normal_force_swing_holds_the_whirlpool_over_friction() {
 #[test]
 #[ignore]
 fn auto_over_a_range_adds_syntheses_when_nothing_holds() {
-    let target = platefield::request::family::family(45, 40)
-        .into_iter()
-        .find(|t| t.name == "whirlpool_2")
-        .unwrap();
+    let target = family_member("whirlpool_2");
     let cache = std::env::temp_dir().join(format!("platefield-robust-{}", std::process::id()));
     let opts = platefield::design::DesignOptions::cached_quiet(&cache);
-    let synth = platefield::synth::SynthOptions {
-        progress: platefield::synth::progress::ProgressMode::Quiet,
-        ..opts.synthesis
-    };
-    let by_method = opts.by_method(platefield::design::Method::Auto, &synth);
-    let md = platefield::design::run(&target, &by_method)
-        .and_then(|o| o.into_method())
-        .unwrap();
+    let md = designed(&target, &opts, platefield::design::Method::Auto);
     let _ = std::fs::remove_dir_all(&cache);
     let worst = |c: &platefield::design::method::Candidate| {
         c.sensitivity
