@@ -687,15 +687,31 @@ impl<'a> MethodRun<'a> {
         if held(&self.out.candidates) {
             return Ok(());
         }
+        self.added_with_shares(
+            limits,
+            Variant::SequencedPeaks,
+            FailureReason::WithinSequencedPeaks,
+        )
+    }
+
+    /// The synthesis and its mirror-image shares again within `limits`,
+    /// its work stated first, added as `variant`'s candidates; a failure
+    /// is recorded as `reason`, not fatal.
+    fn added_with_shares(
+        &mut self,
+        limits: ShakerLimits,
+        variant: Variant,
+        reason: fn(String) -> FailureReason,
+    ) -> Result<()> {
         let synth = asked_synthesis(self.target, self.opts);
         let estimate = synthesis_estimate(self.target, self.sampled, &synth, self.opts, &limits);
         self.opts.runtime.admit(&estimate)?;
         match self.synthesized_with_shares(&limits) {
-            Ok((syn, cands)) => self.add(Variant::SequencedPeaks, (syn, limits), cands)?,
-            Err(e) => self.out.failures.push(Failure::new(
-                Method::Synthesize,
-                FailureReason::WithinSequencedPeaks(e.to_string()),
-            )),
+            Ok((syn, cands)) => self.add(variant, (syn, limits), cands)?,
+            Err(e) => self
+                .out
+                .failures
+                .push(Failure::new(Method::Synthesize, reason(e.to_string()))),
         }
         Ok(())
     }
@@ -736,17 +752,7 @@ impl<'a> MethodRun<'a> {
         if !worth {
             return Ok(());
         }
-        let synth = asked_synthesis(self.target, self.opts);
-        let estimate = synthesis_estimate(self.target, self.sampled, &synth, self.opts, &limits);
-        self.opts.runtime.admit(&estimate)?;
-        match self.synthesized_with_shares(&limits) {
-            Ok((syn, cands)) => self.add(Variant::Gentle, (syn, limits), cands)?,
-            Err(e) => self.out.failures.push(Failure::new(
-                Method::Synthesize,
-                FailureReason::Gentle(e.to_string()),
-            )),
-        }
-        Ok(())
+        self.added_with_shares(limits, Variant::Gentle, FailureReason::Gentle)
     }
 
     /// `auto` over a friction range when no candidate holds the target
