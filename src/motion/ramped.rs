@@ -124,13 +124,27 @@ impl Ramped {
     /// Kinematics at `t` (segment time, 0 at the start of the ramp-in).
     #[inline]
     pub fn kinematics(&self, t: f64, g: f64, tilt: bool) -> Kinematics {
+        self.kinematics_of(t, self.signals.centre_triples(t), g, tilt, f64::sin_cos)
+    }
+
+    /// [`Ramped::kinematics`] from the steady motion's centre triples at
+    /// `t` (linear, angular), with `sin_cos` for the tilt angle.
+    #[inline]
+    pub(crate) fn kinematics_of(
+        &self,
+        t: f64,
+        (lin, ang): ([V3; 3], [V3; 3]),
+        g: f64,
+        tilt: bool,
+        sin_cos: impl Fn(f64) -> (f64, f64),
+    ) -> Kinematics {
         let w = self.window(t);
-        let (lin, ang) = self.signals.centre_triples(t);
-        Signals::frame(
+        Signals::frame_with(
             &Self::windowed(&w, &lin),
             &Self::windowed(&w, &ang),
             g,
             tilt,
+            sin_cos,
         )
     }
 }
