@@ -31,7 +31,7 @@ use platefield::design::DesignOptions;
 use platefield::dynamics::Friction;
 use platefield::error::Result;
 use platefield::play::replay::replay_motion;
-use platefield::play::sensitivity::{friction_sweep, FrictionRow};
+use platefield::play::sensitivity::{friction_sweep, FrictionRow, Sensitivity};
 use platefield::request::{FrictionSpec, Target};
 use platefield::synth::SynthOptions;
 use platefield_report::table::Table;
@@ -154,9 +154,12 @@ pub(crate) fn design_rows(
         method: md.kept().name(),
         rows,
     };
-    let played = friction_sweep(&kept.settings, &values, &|settings| {
-        judge_check(target, &sampled, kept, settings)
-    })?;
+    let played = match judged_at(md.sensitivity.as_ref(), &values) {
+        Some(rows) => rows,
+        None => friction_sweep(&kept.settings, &values, &|settings| {
+            judge_check(target, &sampled, kept, settings)
+        })?,
+    };
     let mut out = vec![row(label.into(), played)];
     if replay {
         let sm = replay_motion(kept, &exported(kept)?, "export")?;
@@ -166,6 +169,15 @@ pub(crate) fn design_rows(
         out.push(row(format!("{label}, export replayed"), replayed));
     }
     Ok(out)
+}
+
+/// The kept design's own judge at exactly `values`, when the design
+/// judged it there (its sensitivity over the target's range: the same
+/// judge of the same schedule, so the same rows as playing it again).
+fn judged_at(sensitivity: Option<&Sensitivity>, values: &[Friction]) -> Option<Vec<FrictionRow>> {
+    let s = sensitivity?;
+    let at: Vec<Friction> = s.rows.iter().map(|r| r.friction).collect();
+    (at == values).then(|| s.rows.clone())
 }
 
 /// [`design_rows`] without the replay: the one row.
