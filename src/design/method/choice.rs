@@ -38,6 +38,10 @@ pub enum Choice {
     /// `auto` kept the best candidate by this rule, the one that decided
     /// against the runner-up.
     Rule(Rule),
+    /// `auto` kept the best candidate by the rule applied to the worst
+    /// case over the shaker's delivery errors, not the one the rule over
+    /// friction alone keeps (its index).
+    Delivered(usize),
 }
 
 /// A method that failed under `auto` (or left nothing to play), and why.
@@ -229,6 +233,28 @@ impl MethodDesign {
                 )
             }
             Choice::Rule(_) => kept_reason(cands, self.chosen, self.bound),
+            Choice::Delivered(rule) => {
+                let worst = |i: usize| {
+                    let s = self.delivered.iter().find(|(k, _)| *k == i);
+                    let (shape, strength) = s.map_or((None, None), |(_, s)| {
+                        (Some(s.shape()[2]), Some(s.strength()[2]))
+                    });
+                    format!("{}, strength {}", percent(shape), number(strength))
+                };
+                let draws = self
+                    .delivered
+                    .first()
+                    .map_or(0, |(_, s)| s.shape_errors.len());
+                format!(
+                    "auto kept {}: under the shaker's tolerance, over {draws} delivery-error draws \
+                     at its worst friction, its worst is {}, against {} for {} (which the rule \
+                     over friction alone keeps): the rule on the worst over the draws",
+                    describe(&cands[self.chosen]),
+                    worst(self.chosen),
+                    worst(rule),
+                    describe(&cands[rule]),
+                )
+            }
         }
     }
 }
