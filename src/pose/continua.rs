@@ -381,8 +381,8 @@ pub struct Continuum {
     pub neutral: Vec<f64>,
     /// Whether the last point joins the first.
     pub closed: bool,
-    /// Why it stops before its first point and after its last.
-    pub stops: [Stop; 2],
+    /// How the curve ends before its first point and after its last.
+    pub ends: [CurveEnd; 2],
     /// Largest real part of the transverse eigenvalues over the points
     /// (1/s): negative when the curve attracts.
     pub transverse: f64,
@@ -489,8 +489,8 @@ impl Continuum {
                 (false, _) if k > 0 => k - 1,
                 (false, true) => n - 1,
                 _ => {
-                    let stop = self.stops[usize::from(forward)];
-                    return if stop == Stop::Edge {
+                    let stop = self.ends[usize::from(forward)];
+                    return if stop == CurveEnd::Edge {
                         Destination::Leaves
                     } else {
                         Destination::Off
@@ -555,8 +555,8 @@ pub(crate) fn trace(s: &Scaled<'_, '_>, q0: Vector3<f64>, region: &Region, tol: 
     let t0 = Spectrum::of(&s.j(&q0)).v[2];
     let (forward, ahead) = walk(s, q0, t0, h, region, tol);
     let mut qs: Vec<Vector3<f64>> = Vec::new();
-    let mut behind = Stop::Closed;
-    if ahead != Stop::Closed {
+    let mut behind = CurveEnd::Closed;
+    if ahead != CurveEnd::Closed {
         let (mut back, stop) = walk(s, q0, -t0, h, region, tol);
         back.reverse();
         qs.extend(back);
@@ -567,9 +567,10 @@ pub(crate) fn trace(s: &Scaled<'_, '_>, q0: Vector3<f64>, region: &Region, tol: 
     build(s, &qs, [behind, ahead])
 }
 
-/// Why a traced curve stops at one end.
+/// How a traced curve ends at one side (an end of a curve, not an
+/// iterative loop's stop: that is [`crate::work::Stop`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Stop {
+pub enum CurveEnd {
     /// It joined its start: a closed curve.
     Closed,
     /// The next point is outside the region: a part drifting there leaves.
@@ -588,29 +589,29 @@ fn walk(
     h: f64,
     region: &Region,
     tol: f64,
-) -> (Vec<Vector3<f64>>, Stop) {
+) -> (Vec<Vector3<f64>>, CurveEnd) {
     let mut out = Vec::new();
     let mut q = q0;
     for _ in 0..MAX_STEPS {
         let Some((p, spec)) = correct(s, q, q + t * h, tol) else {
-            return (out, Stop::Ends);
+            return (out, CurveEnd::Ends);
         };
         if !region.contains(&s.pose(&p).r) {
-            return (out, Stop::Edge);
+            return (out, CurveEnd::Edge);
         }
         // Points are h apart, so the return passes within h/2 of q0; the
         // first points after q0 are at least 2h from it.
         let mut back = p - q0;
         back.z = wrap(back.z);
         if out.len() >= 3 && back.norm() < 0.75 * h {
-            return (out, Stop::Closed);
+            return (out, CurveEnd::Closed);
         }
         let tn = spec.v[2];
         t = if tn.dot(&t) < 0.0 { -tn } else { tn };
         out.push(p);
         q = p;
     }
-    (out, Stop::Ends)
+    (out, CurveEnd::Ends)
 }
 
 /// The predicted point `p` (a step on from `q`) moved across the curve
@@ -642,8 +643,8 @@ fn correct(
 }
 
 /// The continuum through the scaled points `qs` (module docs).
-fn build(s: &Scaled<'_, '_>, qs: &[Vector3<f64>], stops: [Stop; 2]) -> Continuum {
-    let closed = stops[1] == Stop::Closed;
+fn build(s: &Scaled<'_, '_>, qs: &[Vector3<f64>], ends: [CurveEnd; 2]) -> Continuum {
+    let closed = ends[1] == CurveEnd::Closed;
     let n = qs.len();
     let mut twists = Vec::with_capacity(n);
     let mut drift = Vec::with_capacity(n);
@@ -695,7 +696,7 @@ fn build(s: &Scaled<'_, '_>, qs: &[Vector3<f64>], stops: [Stop; 2]) -> Continuum
         drift,
         neutral,
         closed,
-        stops,
+        ends,
         transverse,
         fastest,
         shape,

@@ -27,7 +27,7 @@ pub use averaged::{
 };
 pub use bounds::Bounds;
 pub use check::{check_twist, Measure, TwistCheck};
-pub use continua::{eigenvalues, Continuum, Destination, Motion, Shape, Stop, ARRIVE, GAP};
+pub use continua::{eigenvalues, Continuum, CurveEnd, Destination, Motion, Shape, ARRIVE, GAP};
 pub use drops::{
     nearest, play_drop, play_drop_tracked, play_drops, play_part, played_basins, DropEnd, DropPlay,
     PlanarPlayer, PlayedBasins, DROP_REFINE_DEPTH, DROP_SAMPLES,
