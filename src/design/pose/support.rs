@@ -294,7 +294,7 @@ pub fn support_models(part: &Part, random: usize, seed: u64) -> Result<Vec<Suppo
         support: Support::Uniform {
             samples: DROP_SAMPLES,
         },
-        friction: part.friction.clone(),
+        friction: part.friction,
     })?;
     // The uniform part's body is centred on the area's centroid, at
     // `origin` in this part's body frame.
