@@ -55,7 +55,7 @@ pub(crate) const ENGINE_REVISION: u32 = 14;
 pub(crate) use kinematics_table::KinematicsTable;
 pub use planar::{
     PlanarBody, PlanarOutcome, PlanarSample, PlanarSimulator, PlanarState, Plate, Rectangle,
-    MAX_POINTS_PER_SIDE, PLANAR_REFINE_DEPTH, PLANAR_STEPS_PER_CYCLE, REFINE_CHANGE,
+    SlipRule, MAX_POINTS_PER_SIDE, PLANAR_REFINE_DEPTH, PLANAR_STEPS_PER_CYCLE, REFINE_CHANGE,
 };
 pub use steady::{SteadyFailure, SteadyState};
 

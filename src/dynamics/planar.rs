@@ -57,8 +57,8 @@
 //! ```text
 //! q_mid   = q_n + (h/2) ξ_n                    kinematics at t_n + h/2
 //! ξ_free  = ξ_n + h M⁻¹ W_free(q_mid, ξ_n)
-//! ξ_{n+1} = argmin_ξ ½ (ξ − ξ_free)ᵀ M (ξ − ξ_free) + h Σ_j μ m_j N_j |J_j ξ|
-//! q_{n+1} = q_mid + (h/2) ξ_{n+1}
+//! ξ*      = argmin_ξ ½ (ξ − ξ_free)ᵀ M (ξ − ξ_free) + h Σ_j μ m_j N_j |J_j ξ|
+//! q_{n+1} = q_mid + (h/2) ξ_{n+1}              (ξ_{n+1} = ξ*, or the corrector's below)
 //! ```
 //!
 //! The minimisation is convex and non-smooth; its minimiser is *exactly*
@@ -70,23 +70,81 @@
 //! (closed form for K = 1). Friction can only remove kinetic energy in a
 //! step: on a plate at rest ξ_{n+1}ᵀ M ξ_{n+1} ≤ ξ_nᵀ M ξ_n.
 //!
-//! **Accuracy.** The scheme is first order in h. It does not locate stick,
-//! slip and reversal events inside a step, and there its error is one
-//! step's friction impulse times where in the step the event falls (an
-//! erratic factor in [0, 1]); in a 2-D slip the friction direction is taken
-//! at the end of the step. Because a vibrating part's mean velocity is a
-//! small residual of a large oscillating slip, these errors dominate: a step
+//! **Between events: the implicit midpoint corrector** ([`SlipRule::Midpoint`],
+//! the default). The step above takes the friction at the step's end
+//! (backward Euler in the friction) and the Coriolis terms at its start,
+//! each with a local error of order h² whenever they change through the
+//! step. Friction changes while a body slips whenever a support point's
+//! slip direction turns: a body that spins, or slips in 2-D, turns them
+//! all the time, so over a cycle the error is first order (on a plate
+//! translating in a circle, where no event ever happens, the slip speed's
+//! error halves per halving of h: `tests/planar.rs`
+//! `circular_slip_is_second_order_between_events`). Time and position are
+//! already taken at the midpoint, so the remedy is the implicit midpoint
+//! rule for the velocity,
+//!
+//! ```text
+//! ξ_{n+1} = ξ_n + h M⁻¹ (W_free + F)(q_mid, t_n + h/2, ξ̄),   ξ̄ = (ξ_n + ξ_{n+1})/2,
+//! F(ξ̄) = −Σ_j μ m_j N_j J_jᵀ J_j ξ̄/|J_j ξ̄|,
+//! ```
+//!
+//! symmetric in the step and so second order wherever W_free + F is
+//! smooth, i.e. wherever every support point slips. Written for ξ̄ it is
+//! the same convex problem over half the step, solved by the same solver:
+//!
+//! ```text
+//! ξ̃       = (ξ_n + ξ*)/2                     ξ̄ to O(h²), for the Coriolis terms in W_free and N_j
+//! ξ̄_free  = ξ_n + (h/2) M⁻¹ W_free(q_mid, ξ̃)
+//! ξ̄       = argmin_ξ ½ (ξ − ξ̄_free)ᵀ M (ξ − ξ̄_free) + (h/2) Σ_j μ_k m_j N_j(ξ̃) |J_j ξ|
+//! ξ_{n+1} = 2 ξ̄ − ξ_n
+//! ```
+//!
+//! (the optimality condition M(ξ̄ − ξ̄_free) + (h/2) ∂φ(ξ̄) ∋ 0 is the
+//! midpoint equation above with ξ_{n+1} = 2ξ̄ − ξ_n; ξ̃'s O(h²) error enters
+//! ξ_{n+1} times h, O(h³) per step). It is taken only where the predictor
+//! ξ* found a smooth slip: the body slipping at both ends, no event
+//! ([`REFINE_CHANGE`]), and every support point's slip J_j ξ turned by
+//! less than 90°; and its answer is kept only where it passes the same
+//! tests. Once a step of a smooth piece was a corrector step, the next
+//! skips the predictor's solve: ξ̃ = ξ_n + (h/2) ξ'_last, with ξ'_last =
+//! (ξ_n − ξ_{n−1})/h_last the last step's slip acceleration, which is
+//! ξ' at its midpoint to O(h²), so ξ̃ is ξ̄ to O(h²) as above; when that
+//! corrector's answer fails the tests the step starts over from the
+//! predictor. A slipping step thus costs one solve, as the Moreau–Jean
+//! step alone does (measured 4.3 Newton iterations per step on a played
+//! drop against 3.9, `tests/poses.rs` `drop_defaults_are_converged`).
+//! Elsewhere (a stick, a break-away, a reversal, a support point
+//! coming to rest) the step keeps ξ*, the Moreau–Jean step with its exact
+//! stick, and is an event. A body stuck at the step's start never takes
+//! the corrector, so the no-creep property holds bit for bit. The
+//! corrector also only removes energy on a plate at rest: M ξ_{n+1} =
+//! M ξ_n − h g with g ∈ ∂φ(ξ̄), and ξ_n = ξ̄ + (h/2) M⁻¹ g give
+//! ξ_{n+1}ᵀ M ξ_{n+1} = ξ_nᵀ M ξ_n − 2h gᵀξ̄, with gᵀξ̄ = Σ_j μ m_j N_j |J_j ξ̄| ≥ 0.
+//! [`SlipRule::Backward`] keeps ξ* always (the first-order scheme, for
+//! comparison).
+//!
+//! **Accuracy.** The scheme is second order while every support point
+//! slips (circular translation above: the slip speed's error falls 4.00
+//! times per halving of h, 4.0e-4 at 64 steps per cycle against 2.8e-2
+//! for the backward rule) and first order at events: it does not locate
+//! stick, slip and reversal events inside a step, and there its error is
+//! one step's friction impulse times where in the step the event falls (an
+//! erratic factor in [0, 1]). Because a vibrating part's mean velocity is a
+//! small residual of a large oscillating slip, these errors matter: a step
 //! whose slip velocity changes by more than [`REFINE_CHANGE`] of its smaller
-//! end value (a stick, a break-away, a reversal, a 2-D swing past zero) is
-//! therefore halved, recursively, up to [`PLANAR_REFINE_DEPTH`] times. Each
-//! piece is still a Moreau–Jean step (so the no-creep property holds); the
-//! error at events shrinks by 2^depth at the cost of a few extra steps per
-//! event. Measured numbers are in `tests/planar.rs`; the order on a played
-//! drop (`tests/poses.rs` `planar_scheme_is_first_order`: end pose after 3 s
-//! against 4096 steps per cycle) is 1.06, the least-squares slope over
-//! 16…1024 steps per cycle without refinement (single halvings scatter
-//! from −0.2 to 2.7: the event-timing error), and refinement depth 10
-//! cuts the error at 64 steps per cycle 40-fold.
+//! end value (a stick, a break-away, a reversal, a 2-D swing past zero), or
+//! that the corrector refused, is therefore halved, recursively, up to
+//! [`PLANAR_REFINE_DEPTH`] times. Each piece is a step of this scheme
+//! (so the no-creep property holds); the error at events shrinks by
+//! 2^depth at the cost of a few extra steps per event. Measured numbers
+//! are in `tests/planar.rs`; on a played drop dominated by stick-slip
+//! events (`tests/poses.rs` `planar_scheme_is_first_order_at_events`: end
+//! pose after 3 s against 4096 steps per cycle) the order without
+//! refinement is about 1.1 for either rule, and refinement depth 3 cuts the
+//! error at 64 steps per cycle 5-fold. Where the error is the slip's own
+//! (the bracket's pose design, `docs/parts.md`), the midpoint rule gives at
+//! 64 steps per cycle the rest angle the backward rule reaches only past
+//! 512.
 //!
 //! **Cost.** A slipping step's implicit solve is usually a few Newton
 //! iterations on the exact objective from the last slip velocity (the
@@ -382,6 +440,32 @@ struct StepContext<'c> {
     anchor: (V2, f64),
     contacts: &'c mut Vec<Contact>,
     out: &'c mut PlanarOutcome,
+    /// The slip acceleration (u', ω') of the last step when it was a
+    /// corrector step of the same smooth piece, else `None`.
+    slope: Option<(V2, f64)>,
+}
+
+/// What [`PlanarSimulator::loads`] returns beside the contacts.
+struct Loads {
+    /// Frictionless force per unit mass, times K (m/s²).
+    force: V2,
+    /// Frictionless torque per unit mass, times K (m²/s²).
+    torque: f64,
+    /// The least normal load per unit mass and where it acts.
+    lowest: (f64, V2),
+}
+
+/// How a step treats the friction of a body that slips through it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SlipRule {
+    /// The Moreau–Jean step alone: friction at the end of the step
+    /// (backward Euler), first order while slipping.
+    Backward,
+    /// The Moreau–Jean step as predictor, then the implicit midpoint rule
+    /// where every support point keeps slipping (module docs): second
+    /// order between events.
+    #[default]
+    Midpoint,
 }
 
 /// The plate a planar part sits on.
@@ -406,6 +490,7 @@ pub struct PlanarSimulator<'a> {
     body: PlanarBody,
     inertia: f64,
     refine_depth: u32,
+    slip_rule: SlipRule,
 }
 
 impl<'a> PlanarSimulator<'a> {
@@ -452,6 +537,7 @@ impl<'a> PlanarSimulator<'a> {
             inertia: body.inertia_per_mass(),
             body,
             refine_depth: PLANAR_REFINE_DEPTH,
+            slip_rule: SlipRule::default(),
         }
     }
 
@@ -470,6 +556,23 @@ impl<'a> PlanarSimulator<'a> {
     /// `depth` times (0 = plain fixed steps).
     pub fn with_refinement(mut self, depth: u32) -> PlanarSimulator<'a> {
         self.refine_depth = depth;
+        self
+    }
+
+    /// The same simulator with slip rule `rule` (default
+    /// [`SlipRule::Midpoint`]).
+    ///
+    /// ```
+    /// use platefield::dynamics::{PartPhysics, PlanarSimulator, PlanarState, Plate, Rectangle, SlipRule, V2};
+    /// let rect = Rectangle::new(0.02, 0.005, 4, 2);
+    /// let sim = PlanarSimulator::for_body(&rect, Plate::Rest, PartPhysics::full(0.3), 1e-4)
+    ///     .with_slip_rule(SlipRule::Backward);
+    /// let mut s = PlanarState::slipping(V2::zeros(), 0.0, V2::new(0.01, 0.0), 2.0);
+    /// sim.advance(0.0, 0.01, &mut s, (V2::zeros(), 0.0), None).unwrap();
+    /// assert!(s.stuck);
+    /// ```
+    pub fn with_slip_rule(mut self, rule: SlipRule) -> PlanarSimulator<'a> {
+        self.slip_rule = rule;
         self
     }
 
@@ -523,6 +626,8 @@ impl<'a> PlanarSimulator<'a> {
             // One nominal step of every support point (`steps_taken`).
             super::count_steps(n * self.body.points.len());
             let piece = 0.5 * (a + b);
+            // The slip acceleration does not carry across a breakpoint.
+            let mut slope = None;
             for i in 0..n {
                 let ta = a + (b - a) * i as f64 / n as f64;
                 let tb = if i + 1 == n {
@@ -535,8 +640,10 @@ impl<'a> PlanarSimulator<'a> {
                     anchor,
                     contacts: &mut contacts,
                     out: &mut out,
+                    slope,
                 };
                 self.refined_step(ta, tb - ta, state, &mut ctx, self.refine_depth)?;
+                slope = ctx.slope;
                 if let Some(rec) = record.as_deref_mut() {
                     rec.push(PlanarSample {
                         t: tb,
@@ -562,11 +669,12 @@ impl<'a> PlanarSimulator<'a> {
         ctx: &mut StepContext<'_>,
         depth: u32,
     ) -> Result<(), ContactLoss> {
-        let before = *s;
-        self.step_once(t, h, s, ctx)?;
-        let event = self.is_event(&before, s);
+        let (before, slope) = (*s, ctx.slope);
+        let smooth = self.step_once(t, h, s, ctx)?;
+        let event = !smooth || self.is_event(&before, s);
         if event && depth > 0 {
             *s = before;
+            ctx.slope = slope;
             ctx.out.refinements += 1;
             self.refined_step(t, 0.5 * h, s, ctx, depth - 1)?;
             self.refined_step(t + 0.5 * h, 0.5 * h, s, ctx, depth - 1)?;
@@ -585,27 +693,131 @@ impl<'a> PlanarSimulator<'a> {
         change > REFINE_CHANGE * norm(a.u, a.omega).min(norm(b.u, b.omega))
     }
 
-    /// One Moreau–Jean midpoint step from `t` over `h` (module docs).
+    /// One step from `t` over `h` (module docs): the Moreau–Jean step, then,
+    /// under [`SlipRule::Midpoint`] and where that step is a smooth slip,
+    /// the implicit-midpoint corrector. Returns false when a slipping step
+    /// could not take the corrector (a support point's slip turned by 90°
+    /// or more, or the corrector's answer was an event): the step holds a
+    /// support point's event and [`Self::refined_step`] halves it.
     fn step_once(
         &self,
         t: f64,
         h: f64,
         s: &mut PlanarState,
         ctx: &mut StepContext<'_>,
-    ) -> Result<(), ContactLoss> {
-        let (piece, anchor) = (ctx.piece, ctx.anchor);
-        let contacts = &mut *ctx.contacts;
-        let out = &mut *ctx.out;
+    ) -> Result<bool, ContactLoss> {
         let half = 0.5 * h;
         let r_mid = s.r + s.u * half;
         let theta_mid = s.theta + s.omega * half;
-        let (r_geo, theta_geo) = if self.model.moving {
+        let geometry = if self.model.moving {
             (r_mid, theta_mid)
         } else {
-            anchor
+            ctx.anchor
         };
         let tm = t + half;
-        let k = self.kin(tm, piece);
+        let k = self.kin(tm, ctx.piece);
+        let midpoint = self.slip_rule == SlipRule::Midpoint && !s.stuck;
+        // Within a smooth slip the last step's slip acceleration gives ξ̄
+        // to O(h²) without the predictor's solve (module docs).
+        let direct = match ctx.slope.filter(|_| midpoint) {
+            Some((du, dw)) => {
+                let estimate = (s.u + du * half, s.omega + dw * half);
+                self.corrector(s, (&k, geometry), estimate, h, ctx)
+            }
+            None => None,
+        };
+        let (next, smooth, corrected) = match direct {
+            Some(next) => (next, true, true),
+            None => {
+                let loads = self.loads(&k, geometry, (s.u, s.omega), h, ctx.contacts);
+                if loads.lowest.0 < 0.0 {
+                    return Err(self.contact_loss(tm, &loads.lowest.1, loads.lowest.0));
+                }
+                let moreau = self.implicit(s, &loads, h, ctx, (s.u, s.omega), s.stuck);
+                let slipping = moreau.0 != V2::zeros() || moreau.1 != 0.0;
+                if midpoint && slipping {
+                    let estimate = (0.5 * (s.u + moreau.0), 0.5 * (s.omega + moreau.1));
+                    let corrected = self
+                        .smooth_between(s, moreau, ctx)
+                        .then(|| self.corrector(s, (&k, geometry), estimate, h, ctx))
+                        .flatten();
+                    let ok = corrected.is_some();
+                    (corrected.unwrap_or(moreau), ok, ok)
+                } else {
+                    (moreau, true, false)
+                }
+            }
+        };
+        ctx.slope = corrected.then(|| ((next.0 - s.u) / h, (next.1 - s.omega) / h));
+        let (u1, omega1) = next;
+        s.r = r_mid + u1 * half;
+        s.theta = theta_mid + omega1 * half;
+        s.u = u1;
+        s.omega = omega1;
+        s.stuck = u1 == V2::zeros() && omega1 == 0.0;
+        ctx.out.steps += 1;
+        Ok(smooth)
+    }
+
+    /// True when a step from `s`'s slip velocity to `next` is a smooth slip:
+    /// no event ([`Self::is_event`]) and every support point's slip (at the
+    /// levers in `ctx`'s contacts) turned by less than 90°.
+    fn smooth_between(&self, s: &PlanarState, next: (V2, f64), ctx: &StepContext<'_>) -> bool {
+        let before = PlanarState::slipping(s.r, s.theta, s.u, s.omega);
+        let after = PlanarState::slipping(s.r, s.theta, next.0, next.1);
+        !self.is_event(&before, &after)
+            && solver::keeps_direction(
+                ctx.contacts,
+                &self.scaled(s.u, s.omega),
+                &self.scaled(next.0, next.1),
+            )
+    }
+
+    /// The implicit-midpoint corrector of a step of size `h` from `s`
+    /// (module docs): the loads at `at` = (kinematics, geometry) with the
+    /// Coriolis terms at `estimate` of ξ̄, the half-step problem solved from
+    /// `estimate`, and ξ_{n+1} = 2ξ̄ − ξ_n; `None` where a support point
+    /// loses its load at the estimate or the answer is not a smooth slip
+    /// ([`Self::smooth_between`]).
+    fn corrector(
+        &self,
+        s: &PlanarState,
+        at: (&Kinematics, (V2, f64)),
+        estimate: (V2, f64),
+        h: f64,
+        ctx: &mut StepContext<'_>,
+    ) -> Option<(V2, f64)> {
+        let half = 0.5 * h;
+        let mid = self.loads(at.0, at.1, estimate, half, ctx.contacts);
+        if mid.lowest.0 < 0.0 {
+            return None;
+        }
+        let (uy, wy) = self.implicit(s, &mid, half, ctx, estimate, false);
+        let next = (2.0 * uy - s.u, 2.0 * wy - s.omega);
+        self.smooth_between(s, next, ctx).then_some(next)
+    }
+
+    /// The generalised slip velocity scaled so that the mass matrix is the
+    /// identity, z = (u, ω √(I/m)) (the solver's variable).
+    fn scaled(&self, u: V2, omega: f64) -> solver::V3 {
+        solver::V3::new(u.x, u.y, omega * self.inertia.sqrt())
+    }
+
+    /// The loads of a step of size `h` at kinematics `k`, the support points
+    /// placed at `geometry` = (r, θ) and slipping with `velocity` = (u, ω)
+    /// (which the Coriolis terms take): the frictionless force and torque
+    /// per unit mass, and in `contacts` each point's lever and friction
+    /// weight h N_j c_j / K.
+    fn loads(
+        &self,
+        k: &Kinematics,
+        geometry: (V2, f64),
+        velocity: (V2, f64),
+        h: f64,
+        contacts: &mut Vec<Contact>,
+    ) -> Loads {
+        let (r_geo, theta_geo) = geometry;
+        let (u, omega) = velocity;
         let (sin, cos) = theta_geo.sin_cos();
         let weight = 1.0 / self.body.points.len() as f64;
         let sqrt_i = self.inertia.sqrt();
@@ -617,8 +829,8 @@ impl<'a> PlanarSimulator<'a> {
             let arm = V2::new(cos * rho.x - sin * rho.y, sin * rho.x + cos * rho.y);
             let perp = V2::new(-arm.y, arm.x);
             let p = r_geo + arm;
-            let v = s.u + perp * s.omega;
-            let (n, free) = self.model.point_forces(&k, &V3::new(p.x, p.y, 0.0), &v);
+            let v = u + perp * omega;
+            let (n, free) = self.model.point_forces(k, &V3::new(p.x, p.y, 0.0), &v);
             if n < lowest.0 {
                 lowest = (n, p);
             }
@@ -630,10 +842,30 @@ impl<'a> PlanarSimulator<'a> {
                 weight: h * n * weight * *c,
             });
         }
-        if lowest.0 < 0.0 {
-            return Err(self.contact_loss(tm, &lowest.1, lowest.0));
+        Loads {
+            force,
+            torque,
+            lowest,
         }
-        let u_free = s.u + force * (h * weight);
+    }
+
+    /// The implicit Coulomb velocity of a step of size `h` from `s`'s slip
+    /// velocity under `loads` (whose contacts are in `ctx`): the minimiser
+    /// of the module docs' objective, its Newton started at `start`; with
+    /// `stuck` the break-away test (μ_s, then μ_k when the body moves).
+    fn implicit(
+        &self,
+        s: &PlanarState,
+        loads: &Loads,
+        h: f64,
+        ctx: &mut StepContext<'_>,
+        start: (V2, f64),
+        stuck: bool,
+    ) -> (V2, f64) {
+        let contacts = &*ctx.contacts;
+        let out = &mut *ctx.out;
+        let weight = 1.0 / self.body.points.len() as f64;
+        let u_free = s.u + loads.force * (h * weight);
         let mu = |stuck: bool| {
             if stuck {
                 self.friction.stat
@@ -641,35 +873,28 @@ impl<'a> PlanarSimulator<'a> {
                 self.friction.kinetic
             }
         };
-        let (u1, omega1) = if self.inertia == 0.0 {
+        if self.inertia == 0.0 {
             // One support point: the closed form.
             let total: f64 = contacts.iter().map(|c| c.weight).sum();
-            let mut u1 = shrink(&u_free, mu(s.stuck) * total);
-            if s.stuck && u1 != V2::zeros() {
+            let mut u1 = shrink(&u_free, mu(stuck) * total);
+            if stuck && u1 != V2::zeros() {
                 u1 = shrink(&u_free, mu(false) * total);
             }
-            (u1, 0.0)
-        } else {
-            let omega_free = s.omega + torque * (h * weight) / self.inertia;
-            let zf = solver::V3::new(u_free.x, u_free.y, omega_free * sqrt_i);
-            let start = solver::V3::new(s.u.x, s.u.y, s.omega * sqrt_i);
-            let mut sol = minimise(&zf, &start, contacts, mu(s.stuck));
+            return (u1, 0.0);
+        }
+        let sqrt_i = self.inertia.sqrt();
+        let omega_free = s.omega + loads.torque * (h * weight) / self.inertia;
+        let zf = self.scaled(u_free, omega_free);
+        let start = self.scaled(start.0, start.1);
+        let mut sol = minimise(&zf, &start, contacts, mu(stuck));
+        out.solver_iterations += sol.iterations as u64;
+        out.unconverged_solves += u64::from(!sol.converged);
+        if stuck && sol.z != solver::V3::zeros() {
+            sol = minimise(&zf, &sol.z, contacts, mu(false));
             out.solver_iterations += sol.iterations as u64;
             out.unconverged_solves += u64::from(!sol.converged);
-            if s.stuck && sol.z != solver::V3::zeros() {
-                sol = minimise(&zf, &sol.z, contacts, mu(false));
-                out.solver_iterations += sol.iterations as u64;
-                out.unconverged_solves += u64::from(!sol.converged);
-            }
-            (V2::new(sol.z.x, sol.z.y), sol.z.z / sqrt_i)
-        };
-        s.r = r_mid + u1 * half;
-        s.theta = theta_mid + omega1 * half;
-        s.u = u1;
-        s.omega = omega1;
-        s.stuck = u1 == V2::zeros() && omega1 == 0.0;
-        out.steps += 1;
-        Ok(())
+        }
+        (V2::new(sol.z.x, sol.z.y), sol.z.z / sqrt_i)
     }
 
     fn contact_loss(&self, t: f64, p: &V2, n: f64) -> ContactLoss {

@@ -172,6 +172,7 @@ impl AveragedField {
             steps_per_cycle: AVERAGING_STEPS,
             refine_depth: PLANAR_REFINE_DEPTH,
             samples: None,
+            slip_rule: crate::dynamics::SlipRule::default(),
         };
         AveragedField {
             body: body.clone(),

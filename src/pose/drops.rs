@@ -19,7 +19,7 @@ use rayon::prelude::*;
 use super::equilibria::{wrap, Equilibrium};
 use super::lifted::Pose;
 use crate::dynamics::{
-    Friction, Model, PartPhysics, PlanarBody, PlanarSimulator, PlanarState, Plate, V2,
+    Friction, Model, PartPhysics, PlanarBody, PlanarSimulator, PlanarState, Plate, SlipRule, V2,
 };
 use crate::play::plate_twist;
 use crate::play::{PlayLoss, ScheduleMotion};
@@ -43,6 +43,8 @@ pub struct DropPlay {
     /// support with more is resampled by about this many
     /// ([`crate::part::Part::coarse_body`]); `None` plays the part's own.
     pub samples: Option<usize>,
+    /// How a slipping step treats friction (default [`SlipRule::Midpoint`]).
+    pub slip_rule: SlipRule,
 }
 
 /// Default support points of a played drop ([`DropPlay::samples`]).
@@ -75,6 +77,7 @@ impl DropPlay {
             steps_per_cycle: 64,
             refine_depth: DROP_REFINE_DEPTH,
             samples: Some(DROP_SAMPLES),
+            slip_rule: SlipRule::default(),
         }
     }
 }
@@ -143,6 +146,7 @@ impl<'a> PlanarPlayer<'a> {
                     step / play.steps_per_cycle.max(1) as f64,
                 )
                 .with_refinement(play.refine_depth)
+                .with_slip_rule(play.slip_rule)
             })
             .collect();
         PlanarPlayer {

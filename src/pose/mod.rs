@@ -36,6 +36,7 @@ pub use equilibria::{equilibria, rests, settle, settle_on, wrap, End, Equilibriu
 pub use lifted::{GridField, LiftedField, PointField, Pose, Twist};
 pub use refine::{refine, Refined, Refinement, MAX_NEWTON, MAX_REFINED, STOP};
 pub use request::{check_counts, poses, PoseOutcome, PoseRequest, MAX_PLAY_S, SCAN};
+pub(crate) use run::Uniform;
 pub use run::{analyse, analyse_with, drop_starts, PoseAnalysis, MAX_DROPS};
 pub use source::{realised_field, schedule_field, REALISED_STRIDE};
 pub use work::{bounds_term, drops_estimate, played_points, settle_estimate, steps_per_period};

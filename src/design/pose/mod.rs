@@ -50,6 +50,7 @@ pub(crate) mod request;
 pub mod screen;
 pub mod search;
 pub mod spin;
+pub mod support;
 
 pub use placement::Placement;
 pub use play::at_pose;
@@ -323,7 +324,18 @@ fn watched<T>(
 ) -> T {
     let (req, sm, settings, drops, duration_s) = plays;
     let play = DropPlay::new(settings, duration_s);
-    let estimate = drops_estimate(&req.part, sm, drops, &play);
+    watched_play(label, (req, sm, &play, drops), quiet, f)
+}
+
+/// [`watched`] for drops played with `play`.
+pub(crate) fn watched_play<T>(
+    label: &str,
+    plays: (&PoseRequest, &ScheduleMotion, &DropPlay, usize),
+    quiet: bool,
+    f: impl FnOnce() -> T,
+) -> T {
+    let (req, sm, play, drops) = plays;
+    let estimate = drops_estimate(&req.part, sm, drops, play);
     let steps = estimate.steps() / PLANAR_POINT_STEP_COST;
     let total = (steps / 1e3).ceil() as u64;
     let long = estimate.announcement(crate::work::threads()).is_some();

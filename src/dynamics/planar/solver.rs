@@ -398,6 +398,12 @@ fn polish(mut z: V3, zf: &V3, contacts: &[Contact], mu: f64, tol: f64) -> V3 {
     z
 }
 
+/// True when every support point's slip at `b` makes an acute angle with
+/// its slip at `a` (none comes to rest or turns by 90° or more between them).
+pub(crate) fn keeps_direction(contacts: &[Contact], a: &V3, b: &V3) -> bool {
+    contacts.iter().all(|c| slip(c, a).dot(&slip(c, b)) > 0.0)
+}
+
 /// Closed-form minimiser of ½|x − x_f|² + w|x| (one support point, or any
 /// set of support points at the same place): x_f shrunk toward 0 by w, or
 /// exactly 0 when |x_f| ≤ w.

@@ -1,0 +1,190 @@
+//! Pose designs played over the supports the part may rest on
+//! (`platefield::design::pose::support`): the part file's, uniform, 3 and 4
+//! points at the convex hull's vertices and seeded random admissible
+//! distributions, each with its weighted centroid at the centre of mass.
+
+use std::path::Path;
+
+use platefield::design::pose::support::{
+    play_over_supports, support_models, SupportModel, RANDOM_SUPPORTS,
+};
+use platefield::design::pose::{at_pose, PoseRequest};
+use platefield::dynamics::V2;
+use platefield::part::Part;
+use platefield::play::ScheduleMotion;
+use platefield::pose::{drop_starts, play_part, DropPlay};
+use platefield::schedule::Schedule;
+
+const PARTS: [&str; 3] = ["rectangle", "bracket", "triangle"];
+
+/// Weighted centroid of a model's body (weights of mean 1).
+fn centroid(m: &SupportModel) -> V2 {
+    let k = m.body.points().len() as f64;
+    m.body
+        .points()
+        .iter()
+        .zip(m.body.weights())
+        .fold(V2::zeros(), |a, (p, w)| a + p * (*w / k))
+}
+
+/// Every model of the shipped parts is admissible: 24 of them, weights
+/// ≥ 0 of mean 1, the weighted centroid at the part's centre of mass
+/// within 1e-10 of its radius (the tilt's tolerance where round-off stops
+/// it), every point in
+/// the part, the hull models on 3 and 4 points of the hull's boundary
+/// (vertices, or edge midpoints for the rectangle's 3 and the triangle's
+/// 4), each carrying at least 0.05 of the mean weight; for a
+/// part whose file says uniform the uniform model is the part file's (to
+/// 1e-12 of its weights: the tilt has nothing to move), and the random
+/// ones differ from it.
+#[test]
+fn support_models_are_admissible() {
+    for name in PARTS {
+        let part = Part::load(Path::new(&format!("targets/parts/{name}.json"))).unwrap();
+        let models = support_models(&part, RANDOM_SUPPORTS, 1).unwrap();
+        assert_eq!(models.len(), 24, "{name}");
+        let radius = part.radius();
+        for m in &models {
+            let w = m.body.weights();
+            let mean = w.iter().sum::<f64>() / w.len() as f64;
+            assert!(w.iter().all(|c| *c >= 0.0), "{name} {}", m.name);
+            assert!((mean - 1.0).abs() < 1e-12, "{name} {}: {mean}", m.name);
+            let c = centroid(m);
+            assert!(c.norm() < 1e-10 * radius, "{name} {}: {c:?}", m.name);
+            for p in m.body.points() {
+                assert!(
+                    platefield::part::covers(&part.polygon, p, 1e-9 * radius),
+                    "{name} {}: {p:?} outside",
+                    m.name
+                );
+            }
+        }
+        for (m, k) in models[2..4].iter().zip([3usize, 4]) {
+            assert_eq!(m.body.points().len(), k, "{name} {}", m.name);
+            assert!(
+                m.body.weights().iter().all(|c| *c >= 0.05),
+                "{name} {}: {:?}",
+                m.name,
+                m.body.weights()
+            );
+            let v = &part.polygon;
+            for p in m.body.points() {
+                let near = |q: V2| (q - p).norm() < 1e-12 * radius;
+                let on_hull = v.iter().any(|a| near(*a))
+                    || v.iter().any(|a| v.iter().any(|b| near(0.5 * (a + b))));
+                assert!(
+                    on_hull,
+                    "{name} {}: {p:?} neither a vertex nor a midpoint",
+                    m.name
+                );
+            }
+        }
+        let (own, flat) = (&models[0].body, &models[1].body);
+        assert_eq!(own.points().len(), flat.points().len(), "{name}");
+        for ((p, q), (a, b)) in own
+            .points()
+            .iter()
+            .zip(flat.points())
+            .zip(own.weights().iter().zip(flat.weights()))
+        {
+            assert!(
+                (p - q).norm() < 1e-12 * radius && (a - b).abs() < 1e-9,
+                "{name}"
+            );
+        }
+        let spread = |m: &SupportModel| {
+            m.body
+                .weights()
+                .iter()
+                .map(|c| (c - 1.0).abs())
+                .fold(0.0, f64::max)
+        };
+        assert!(models[4..].iter().all(|m| spread(m) > 0.1), "{name}");
+    }
+}
+
+/// The rectangle's design played on three of its models for one drop
+/// (about 2 s of CPU): the part file's model ends where the design's own
+/// play of that start ends (the same body and start), and the report
+/// lists the models worst first.
+#[test]
+fn rectangle_design_over_three_supports() {
+    let req = PoseRequest::load(Path::new("targets/pose_rectangle.json"))
+        .unwrap()
+        .unwrap();
+    let schedule = Schedule::load(Path::new("results/poses/rectangle/schedule.json")).unwrap();
+    let sm = ScheduleMotion::from_schedule(&schedule).unwrap();
+    let duration = schedule
+        .played
+        .as_ref()
+        .unwrap()
+        .pose
+        .as_ref()
+        .unwrap()
+        .duration_s;
+    let play = DropPlay::new(&schedule.settings, duration);
+    let all = support_models(&req.part, 1, 1).unwrap();
+    let models = vec![all[0].clone(), all[2].clone(), all[4].clone()];
+    let report = play_over_supports(&req, &sm, &play, 1, &models);
+    assert_eq!(report.len(), 3);
+    assert!(report.windows(2).all(|w| w[0].fraction <= w[1].fraction));
+    let starts = drop_starts(&req.region.inset(req.part.radius()), 1);
+    let own = play_part(&req.part, &sm, &starts, &play);
+    let at = own[0].as_ref().map_or(0.0, |(end, _)| {
+        f64::from(u8::from(at_pose(&end.pose, &req.pose, req.part.symmetry())))
+    });
+    let file = report.iter().find(|r| r.name == "part file").unwrap();
+    assert_eq!(file.fraction, at);
+    for r in &report {
+        println!(
+            "{}: {:.0} % at the pose, {} lost",
+            r.name,
+            100.0 * r.fraction,
+            r.lost
+        );
+    }
+}
+
+/// The scale: the bracket's and the triangle's designs, 100 drops
+/// on each of the 24 support models at μ × 0.8, 1 and 1.2, the worst model
+/// first (printed). Its estimate: 0.83 s of CPU per 120 s bracket drop
+/// (measured on 3 drops × 24 models: 60 s), so 24 × 100 × 3 drops per
+/// part, about 1.7 h of CPU per part (not run; the 3 drops put all three
+/// at the pose on 18 models and none on 6: the 4 hull points and randoms 2,
+/// 6, 7, 8 and 20):
+/// `cargo test --release --test pose_support -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn designs_over_the_support_models_at_scale() {
+    for name in ["bracket", "triangle"] {
+        let req = PoseRequest::load(Path::new(&format!("targets/pose_{name}.json")))
+            .unwrap()
+            .unwrap();
+        let path = format!("results/poses/{name}/schedule.json");
+        let schedule = Schedule::load(Path::new(&path)).unwrap();
+        let sm = ScheduleMotion::from_schedule(&schedule).unwrap();
+        let duration = schedule
+            .played
+            .as_ref()
+            .unwrap()
+            .pose
+            .as_ref()
+            .unwrap()
+            .duration_s;
+        let models = support_models(&req.part, RANDOM_SUPPORTS, 1).unwrap();
+        for scale in [0.8, 1.0, 1.2] {
+            let mut play = DropPlay::new(&schedule.settings, duration);
+            play.friction.stat *= scale;
+            play.friction.kinetic *= scale;
+            let report = play_over_supports(&req, &sm, &play, 100, &models);
+            for r in &report {
+                println!(
+                    "{name}, μ × {scale}: {}: {:.0} % at the pose, {} lost",
+                    r.name,
+                    100.0 * r.fraction,
+                    r.lost
+                );
+            }
+        }
+    }
+}
