@@ -103,17 +103,15 @@ fn support_models_are_admissible() {
     }
 }
 
-/// The rectangle's design played on three of its models for one drop
-/// (about 2 s of CPU): the part file's model ends where the design's own
-/// play of that start ends (the same body and start), and the report
-/// lists the models worst first.
-#[test]
-fn rectangle_design_over_three_supports() {
-    let req = PoseRequest::load(Path::new("targets/pose_rectangle.json"))
+/// The shipped pose design of `name`: its request
+/// (`targets/pose_{name}.json`), its schedule
+/// (`results/poses/{name}/schedule.json`) and its drops' duration.
+fn shipped_design(name: &str) -> (PoseRequest, Schedule, f64) {
+    let req = PoseRequest::load(Path::new(&format!("targets/pose_{name}.json")))
         .unwrap()
         .unwrap();
-    let schedule = Schedule::load(Path::new("results/poses/rectangle/schedule.json")).unwrap();
-    let sm = ScheduleMotion::from_schedule(&schedule).unwrap();
+    let path = format!("results/poses/{name}/schedule.json");
+    let schedule = Schedule::load(Path::new(&path)).unwrap();
     let duration = schedule
         .played
         .as_ref()
@@ -122,6 +120,17 @@ fn rectangle_design_over_three_supports() {
         .as_ref()
         .unwrap()
         .duration_s;
+    (req, schedule, duration)
+}
+
+/// The rectangle's design played on three of its models for one drop
+/// (about 2 s of CPU): the part file's model ends where the design's own
+/// play of that start ends (the same body and start), and the report
+/// lists the models worst first.
+#[test]
+fn rectangle_design_over_three_supports() {
+    let (req, schedule, duration) = shipped_design("rectangle");
+    let sm = ScheduleMotion::from_schedule(&schedule).unwrap();
     let play = DropPlay::new(&schedule.settings, duration);
     let all = support_models(&req.part, 1, 1).unwrap();
     let models = vec![all[0].clone(), all[2].clone(), all[4].clone()];
@@ -157,20 +166,8 @@ fn rectangle_design_over_three_supports() {
 #[ignore]
 fn designs_over_the_support_models_at_scale() {
     for name in ["bracket", "triangle"] {
-        let req = PoseRequest::load(Path::new(&format!("targets/pose_{name}.json")))
-            .unwrap()
-            .unwrap();
-        let path = format!("results/poses/{name}/schedule.json");
-        let schedule = Schedule::load(Path::new(&path)).unwrap();
+        let (req, schedule, duration) = shipped_design(name);
         let sm = ScheduleMotion::from_schedule(&schedule).unwrap();
-        let duration = schedule
-            .played
-            .as_ref()
-            .unwrap()
-            .pose
-            .as_ref()
-            .unwrap()
-            .duration_s;
         let models = support_models(&req.part, RANDOM_SUPPORTS, 1).unwrap();
         for scale in [0.8, 1.0, 1.2] {
             let mut play = DropPlay::new(&schedule.settings, duration);
