@@ -36,6 +36,8 @@ pub(crate) struct CandidateReport<'a> {
     pub gentle: &'a [String],
     /// Per class, the stacked fit's prediction.
     pub fits: &'a [ClassFit],
+    /// The interleaved sub-periods its schedule was cut into (1: not cut).
+    pub sub_periods: u32,
     /// Played.
     pub play: &'a SortPlay,
 }
@@ -147,10 +149,19 @@ pub(crate) fn report_md(target_name: &str, ds: &[SortDesign], out: &SortOutcome)
     );
     let _ = writeln!(
         s,
-        "Kept: the {} candidate, one schedule of {} segments, period {:.2} s, for {} part classes, each class's field matched at its own friction by one stacked conic fit (`platefield::design::sort`). Gentle columns offered: {}. Synthesized motions offered: {}.\n",
+        "Kept: the {} candidate, one schedule of {} segments, period {:.2} s{}, for {} part classes, each class's field matched at its own friction by one stacked conic fit (`platefield::design::sort`). Gentle columns offered: {}. Synthesized motions offered: {}.\n",
         d.label(),
         d.schedule.segments.len(),
         d.schedule.period_s,
+        if d.sub_periods > 1 {
+            format!(
+                " (its fit's segments cut into {} interleaved sub-periods, so that the parts swing at most {:.1} mm within a period; `platefield::design::sort::interleaved`)",
+                d.sub_periods,
+                1e3 * platefield::design::sort::EXCURSION_MAX
+            )
+        } else {
+            String::new()
+        },
         played.len(),
         if d.gentle.is_empty() { "none".to_string() } else { d.gentle.join(", ") },
         if d.motions.is_empty() { "none".to_string() } else { d.motions.join(", ") }
@@ -363,6 +374,7 @@ pub(crate) fn sort_json(ds: &[SortDesign], out: &SortOutcome) -> Result<String> 
                 motions: &d.motions,
                 gentle: &d.gentle,
                 fits: &d.classes,
+                sub_periods: d.sub_periods,
                 play,
             })
             .collect(),
