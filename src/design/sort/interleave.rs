@@ -192,7 +192,7 @@ mod tests {
     fn interleaving_keeps_the_time_fractions() {
         let path = concat!(
             env!("CARGO_MANIFEST_DIR"),
-            "/results/sort_lanes/schedule.json"
+            "/results/sort_friction/schedule.json"
         );
         let s = Schedule::load(path.as_ref()).unwrap();
         let steady = |s: &Schedule, label: &str| -> (u32, f64) {
