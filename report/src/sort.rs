@@ -155,9 +155,10 @@ pub(crate) fn report_md(target_name: &str, ds: &[SortDesign], out: &SortOutcome)
         d.schedule.period_s,
         if d.sub_periods > 1 {
             format!(
-                " (its fit's segments cut into {} interleaved sub-periods, so that the parts swing at most {:.1} mm within a period; `platefield::design::sort::interleaved`)",
+                " (its fit's segments cut into {} interleaved sub-periods: the least number that brings its parts' swing within the uncut period, over it, below {:.1} mm, at most {}; `platefield::design::sort::interleaved`)",
                 d.sub_periods,
-                1e3 * platefield::design::sort::EXCURSION_MAX
+                1e3 * platefield::design::sort::EXCURSION_MAX,
+                platefield::design::sort::MAX_SUB_PERIODS
             )
         } else {
             String::new()
