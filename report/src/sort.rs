@@ -36,10 +36,17 @@ pub(crate) struct CandidateReport<'a> {
     pub gentle: &'a [String],
     /// Per class, the stacked fit's prediction.
     pub fits: &'a [ClassFit],
-    /// The interleaved sub-periods its schedule was cut into (1: not cut).
+    /// The interleaved sub-periods its schedule was cut into (absent: not
+    /// cut).
+    #[serde(skip_serializing_if = "is_one")]
     pub sub_periods: u32,
     /// Played.
     pub play: &'a SortPlay,
+}
+
+/// Whether `n` is 1 (a schedule not cut into sub-periods).
+fn is_one(n: &u32) -> bool {
+    *n == 1
 }
 
 /// What `sort.json` and `design --json`'s `played` hold.

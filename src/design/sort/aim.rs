@@ -176,8 +176,12 @@ pub(super) fn aimed(target: &Target, stack: &Stack, budget: Option<f64>) -> Resu
 }
 
 /// `d` with its schedule cut into the sub-periods its parts' excursion
-/// asks for (parent module docs, **Interleaving**).
+/// asks for when `target` has lanes (parent module docs,
+/// **Interleaving**: measured on sinks, the cut loses the sorts).
 fn cut(target: &Target, mut d: SortDesign) -> Result<SortDesign> {
+    if target.classes.iter().all(|c| c.exit.is_none()) {
+        return Ok(d);
+    }
     let k = sub_periods(class_excursion(target, &d.schedule)?);
     d.schedule = interleaved(&d.schedule, k);
     d.sub_periods = k;
