@@ -387,3 +387,71 @@ fn verify_replays_a_sorts_export_class_by_class() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Seeded lanes targets beside the shipped one (other frictions with a
+/// ratio of 2-3, other region aspects, lanes along y as well as x): each
+/// designed and played as `design` does (long: about 4 min of CPU each on
+/// 2 shared cores), the kept candidate's per-class share through its own
+/// edge and time to sort printed:
+/// `cargo test --release -p platefield-cli --test sort -- --ignored lanes_family --nocapture`.
+/// Asserts what was measured: every class of every target at least 80 %
+/// through its own edge, none lost.
+#[test]
+#[ignore]
+fn lanes_family() {
+    let mut seed: u64 = 47;
+    let mut uniform = |lo: f64, hi: f64| {
+        seed = seed
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        lo + (hi - lo) * ((seed >> 11) as f64 / (1u64 << 53) as f64)
+    };
+    let opts = DesignOptions {
+        runtime: platefield::work::Runtime::QUIET,
+        ..DesignOptions::default()
+    };
+    for k in 0..2 {
+        let mu = uniform(0.15, 0.3);
+        let ratio = uniform(2.0, 3.0);
+        let (long, short) = (uniform(0.02, 0.035), uniform(0.008, 0.015));
+        // Even targets: lanes along x (left, right); odd: along y.
+        let (x, y, edges, dirs) = if k % 2 == 0 {
+            (long, short, ["left", "right"], [180.0, 0.0])
+        } else {
+            (short, long, ["bottom", "top"], [270.0, 90.0])
+        };
+        let json = format!(
+            r#"{{"name": "lanes_{k}", "grid": {{"x": [{}, {x}], "y": [{}, {y}], "n": [9, 9]}},
+                "classes": [
+                  {{"name": "lo", "friction": {mu:.3}, "exit": "{}", "field": {{"kind": "trans", "direction": {}}}}},
+                  {{"name": "hi", "friction": {:.3}, "exit": "{}", "field": {{"kind": "trans", "direction": {}}}}}]}}"#,
+            -x,
+            -y,
+            edges[0],
+            dirs[0],
+            mu * ratio,
+            edges[1],
+            dirs[1]
+        );
+        let t = Target::from_json_str(&json).unwrap();
+        let ds = design_sort(&t, &opts).unwrap();
+        let out = platefield::verify::sort_play::play_sort(&t, &ds, &opts.runtime).unwrap();
+        let kept = out.kept();
+        for c in &kept.classes {
+            println!(
+                "lanes_{k} (x ±{:.1} cm, y ±{:.1} cm) {}: μ {:.3} out through {}: {:.1} % own, {:.1} % other, 95 % by {:?} s ({})",
+                100.0 * x,
+                100.0 * y,
+                c.name,
+                c.friction,
+                c.exit.unwrap().edge.name(),
+                100.0 * c.at_own.unwrap(),
+                100.0 * c.mixed_up,
+                c.time_to_sort_s,
+                kept.method
+            );
+            assert!(c.at_own.unwrap() >= 0.8, "{c:?}");
+            assert_eq!(c.contact_lost, 0, "{c:?}");
+        }
+    }
+}

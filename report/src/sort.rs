@@ -36,8 +36,17 @@ pub(crate) struct CandidateReport<'a> {
     pub gentle: &'a [String],
     /// Per class, the stacked fit's prediction.
     pub fits: &'a [ClassFit],
+    /// The interleaved sub-periods its schedule was cut into (absent: not
+    /// cut).
+    #[serde(skip_serializing_if = "is_one")]
+    pub sub_periods: u32,
     /// Played.
     pub play: &'a SortPlay,
+}
+
+/// Whether `n` is 1 (a schedule not cut into sub-periods).
+fn is_one(n: &u32) -> bool {
+    *n == 1
 }
 
 /// What `sort.json` and `design --json`'s `played` hold.
@@ -147,10 +156,20 @@ pub(crate) fn report_md(target_name: &str, ds: &[SortDesign], out: &SortOutcome)
     );
     let _ = writeln!(
         s,
-        "Kept: the {} candidate, one schedule of {} segments, period {:.2} s, for {} part classes, each class's field matched at its own friction by one stacked conic fit (`platefield::design::sort`). Gentle columns offered: {}. Synthesized motions offered: {}.\n",
+        "Kept: the {} candidate, one schedule of {} segments, period {:.2} s{}, for {} part classes, each class's field matched at its own friction by one stacked conic fit (`platefield::design::sort`). Gentle columns offered: {}. Synthesized motions offered: {}.\n",
         d.label(),
         d.schedule.segments.len(),
         d.schedule.period_s,
+        if d.sub_periods > 1 {
+            format!(
+                " (its fit's segments cut into {} interleaved sub-periods: the least number that brings its parts' swing within the uncut period, over it, below {:.1} mm, at most {}; `platefield::design::sort::interleaved`)",
+                d.sub_periods,
+                1e3 * platefield::design::sort::EXCURSION_MAX,
+                platefield::design::sort::MAX_SUB_PERIODS
+            )
+        } else {
+            String::new()
+        },
         played.len(),
         if d.gentle.is_empty() { "none".to_string() } else { d.gentle.join(", ") },
         if d.motions.is_empty() { "none".to_string() } else { d.motions.join(", ") }
@@ -363,6 +382,7 @@ pub(crate) fn sort_json(ds: &[SortDesign], out: &SortOutcome) -> Result<String> 
                 motions: &d.motions,
                 gentle: &d.gentle,
                 fits: &d.classes,
+                sub_periods: d.sub_periods,
                 play,
             })
             .collect(),

@@ -837,6 +837,15 @@ mod tests {
         assert_eq!(lane.mean_exit_time_s, Some(2.5));
     }
 
+    /// The design aims by the sort's goal: its lanes' share and its
+    /// largest swing within a period (half the distance a part may be from
+    /// its attractor) are this module's.
+    #[test]
+    fn the_design_aims_by_the_goal() {
+        assert_eq!(crate::design::sort::LANE_SHARE, SORT_SHARE);
+        assert_eq!(crate::design::sort::EXCURSION_MAX, 0.5 * SORT_TOL);
+    }
+
     /// The time to sort is the ⌈0.95 n⌉-th arrival: of 20 parts the 19th,
     /// of 45 the 43rd; one part short of the share, none.
     #[test]
