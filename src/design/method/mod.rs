@@ -811,7 +811,8 @@ impl<'a> MethodRun<'a> {
         }
         let bound = Some(RANGE_HELD);
         let (pick, _) = choose(&self.out.candidates, self.out.asked, bound);
-        let (worst, _, perturbed) = self.delivered(pick, &tol)?;
+        let kept = self.delivered(pick, &tol)?;
+        let (worst, _, perturbed) = kept;
         if perturbed == 0
             || self.out.candidates[pick].variant == Variant::Gentle
             || worst <= RANGE_HELD
@@ -825,7 +826,7 @@ impl<'a> MethodRun<'a> {
             }
             self.added_with_shares(limits, Variant::Gentle, FailureReason::Gentle)?;
         }
-        let mut best = (pick, self.delivered(pick, &tol)?);
+        let mut best = (pick, kept);
         for i in 0..self.out.candidates.len() {
             if self.out.candidates[i].variant != Variant::Gentle
                 || self.out.candidates[i].played().poor
