@@ -608,7 +608,8 @@ impl<'a> MethodRun<'a> {
 
     /// The synthesized candidate within `limits` and, when the mirror-image
     /// shares are offered ([`MethodRun::axis`]), its shares (first); the
-    /// synthesized motion alone is not a candidate of `mirror`.
+    /// synthesized motion alone is not a candidate of `mirror`, which
+    /// therefore does not play it.
     fn synthesized_with_shares(
         &self,
         limits: &ShakerLimits,
@@ -621,42 +622,37 @@ impl<'a> MethodRun<'a> {
             self.opts,
             &asked_synthesis(self.target, self.opts),
         )?;
-        let c = self.synthesized(&syn, schedule, limits, t)?;
+        let design_s = t.elapsed().as_secs_f64();
         let mut cands = Vec::new();
         if let Some(axis) = &self.axis {
             let t = Instant::now();
-            for share in self.mirror_shares(&c.schedule, axis.as_ref(), limits)? {
+            for share in self.mirror_shares(&schedule, axis.as_ref(), limits)? {
                 cands.push(self.play(
                     share,
                     syn.checked.realised.strength,
                     Some(limits.to_spec()),
-                    c.design_s + t.elapsed().as_secs_f64(),
+                    design_s + t.elapsed().as_secs_f64(),
                 )?);
             }
         }
         if self.opts.method != Method::Mirror {
-            cands.push(c);
+            cands.push(self.synthesized(&syn, schedule, limits, design_s)?);
         }
         Ok((syn, cands))
     }
 
     /// The candidate of the synthesized `schedule` (`syn`'s within
-    /// `limits`, begun at `t`), played; POOR with the synthesis' notes when
+    /// `limits`, designed in `design_s` seconds), played; POOR with the synthesis' notes when
     /// the synthesis says so.
     fn synthesized(
         &self,
         syn: &Synthesis,
         schedule: Schedule,
         limits: &ShakerLimits,
-        t: Instant,
+        design_s: f64,
     ) -> Result<Candidate> {
         let spec = Some(limits.to_spec());
-        let mut c = self.play(
-            schedule,
-            syn.checked.realised.strength,
-            spec,
-            t.elapsed().as_secs_f64(),
-        )?;
+        let mut c = self.play(schedule, syn.checked.realised.strength, spec, design_s)?;
         if let (true, Some(p)) = (syn.checked.poor, c.schedule.played.as_mut()) {
             p.poor = true;
             p.notes
@@ -903,7 +899,7 @@ impl<'a> MethodRun<'a> {
         let t = Instant::now();
         match synthesize_schedule(self.target, self.sampled, &limits, self.opts, &synth) {
             Ok((syn, schedule)) => {
-                let c = self.synthesized(&syn, schedule, &limits, t)?;
+                let c = self.synthesized(&syn, schedule, &limits, t.elapsed().as_secs_f64())?;
                 self.add(Variant::WorstCase, (syn, limits), vec![c])?;
             }
             Err(e) => self.out.failures.push(Failure::new(
