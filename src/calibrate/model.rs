@@ -400,7 +400,8 @@ impl Excursions {
         };
         let g = &self.grid;
         let f = (tau / self.periods[i]).rem_euclid(1.0) * PHASES as f64;
-        let k0 = (f.floor() as usize).min(PHASES - 1);
+        // f ≥ 0 (or NaN, to 0 either way): truncation is the floor.
+        let k0 = (f as usize).min(PHASES - 1);
         let (k1, wk) = ((k0 + 1) % PHASES, f - k0 as f64);
         let Some(cell) = g.bilinear_weights(g.clamp(r)) else {
             return [0.0; 2];

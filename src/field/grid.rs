@@ -41,9 +41,10 @@ impl Grid {
         if !(u >= 0.0 && v >= 0.0 && u <= nu && v <= nv) {
             return None;
         }
+        // u, v ≥ 0 here, where truncation is the floor (without a libm call).
         let (i, j) = (
-            (u.floor() as usize).min(self.n[0] - 2),
-            (v.floor() as usize).min(self.n[1] - 2),
+            (u as usize).min(self.n[0] - 2),
+            (v as usize).min(self.n[1] - 2),
         );
         let (a, b) = (u - i as f64, v - j as f64);
         let k = |di: usize, dj: usize| (j + dj) * self.n[0] + i + di;
