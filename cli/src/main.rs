@@ -206,6 +206,9 @@ enum Study {
     /// SqueezeTrans's squeeze line against segment order, phasing, cycles and rest (the paper's section V): squeeze_trans_order.{md,csv}.
     #[command(mut_arg("out", default_dir(studies::squeeze_order::DIR)))]
     SqueezeOrder(StudyOut),
+    /// A linear feeder: a point part's conveying speed against the throw number (0.5-3) and the phase between the track's two vibrations, at μ 0.2, 0.3 and 0.5, set against the classic throw-conveyor theory: feeder.md.
+    #[command(mut_arg("out", default_dir(studies::feeder::DIR)))]
+    Feeder(StudyOut),
 }
 
 /// Output folder of a study; its default is the study's `DIR`.
@@ -358,6 +361,9 @@ fn run_study(study: Study) -> Result<String> {
         Study::Sort(o) => studies::watched_defaults("sort", false, || studies::sort::run(&o.out)),
         Study::Probes(o) => {
             studies::watched_defaults("probes", false, || studies::probes::run(&o.out))
+        }
+        Study::Feeder(o) => {
+            studies::watched_defaults("feeder", false, || studies::feeder::run(&o.out))
         }
         Study::SqueezeOrder(o) => studies::watched_defaults("squeeze-order", false, || {
             studies::squeeze_order::run(&o.out)

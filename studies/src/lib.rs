@@ -24,6 +24,7 @@
 
 pub mod design_speed;
 pub mod engine_speed;
+pub mod feeder;
 pub mod fit_quality;
 pub mod interaction;
 pub mod linesink;

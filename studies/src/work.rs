@@ -47,6 +47,7 @@ pub const EXPECTED_STEPS: &[(&str, f64, f64)] = &[
     ("reproduce", 9.75e5, 1.0),
     ("rungs", 1.64e6, 1.0),
     ("primitives", 1.70e6, 1.0),
+    ("feeder", 1.84e6, 1.0),
     ("interaction", 4.29e6, 1.0),
     ("fit-quality", 1.96e7, 1.0),
     ("engine-speed", 1.31e7, 1.0),
