@@ -628,6 +628,30 @@ fn drop_speed_report() {
     }
 }
 
+/// The rectangle with 16 support points dropped at (1 cm, −0.5 cm, 40°)
+/// and played 3 s on the designed ellipse, once per run (steps per cycle,
+/// refinement depth, slip rule), in parallel; and the part's radius.
+fn ellipse_drops(
+    runs: &[(usize, u32, platefield::dynamics::SlipRule)],
+) -> (Vec<platefield::pose::DropEnd>, f64) {
+    use rayon::prelude::*;
+    let part = rectangle_with(16);
+    let (schedule, _, _) = designed("ellipse");
+    let sm = platefield::play::ScheduleMotion::from_schedule(&schedule).unwrap();
+    let start = Pose::new(0.01, -0.005, 40f64.to_radians());
+    let ends = runs
+        .par_iter()
+        .map(|&(spc, depth, rule)| {
+            let mut play = platefield::pose::DropPlay::new(&schedule.settings, 3.0);
+            play.steps_per_cycle = spc;
+            play.refine_depth = depth;
+            play.slip_rule = rule;
+            platefield::pose::play_drop(&sm, &part.body, start, &play).unwrap()
+        })
+        .collect();
+    (ends, part.radius())
+}
+
 /// The planar scheme's order on a played drop dominated by stick-slip
 /// events, measured: the rectangle (16 support points) from (1 cm, −0.5 cm,
 /// 40°) for 3 s on the designed ellipse at 16…1024 steps per cycle without
@@ -642,26 +666,15 @@ fn drop_speed_report() {
 /// (0.30 mm → 8 µm).
 #[test]
 fn planar_scheme_is_first_order_at_events() {
-    use rayon::prelude::*;
-    let part = rectangle_with(16);
-    let (schedule, _, _) = designed("ellipse");
-    let sm = platefield::play::ScheduleMotion::from_schedule(&schedule).unwrap();
-    let start = Pose::new(0.01, -0.005, 40f64.to_radians());
-    let r = part.radius();
+    use platefield::dynamics::SlipRule;
     let spcs = [16usize, 32, 64, 128, 256, 512, 1024];
-    let mut runs = vec![(4096usize, 10u32), (64, 10)];
-    runs.extend(spcs.iter().map(|&spc| (spc, 0)));
-    let ends: Vec<Pose> = runs
-        .par_iter()
-        .map(|&(spc, depth)| {
-            let mut play = platefield::pose::DropPlay::new(&schedule.settings, 3.0);
-            play.steps_per_cycle = spc;
-            play.refine_depth = depth;
-            platefield::pose::play_drop(&sm, &part.body, start, &play)
-                .unwrap()
-                .pose
-        })
-        .collect();
+    let mut runs = vec![
+        (4096usize, 10u32, SlipRule::Midpoint),
+        (64, 10, SlipRule::Midpoint),
+    ];
+    runs.extend(spcs.iter().map(|&spc| (spc, 0, SlipRule::Midpoint)));
+    let (ends, r) = ellipse_drops(&runs);
+    let ends: Vec<Pose> = ends.iter().map(|e| e.pose).collect();
     let error = |p: &Pose| {
         ((p.r - ends[0].r).norm_squared() + (r * (p.theta - ends[0].theta)).powi(2)).sqrt()
     };
@@ -696,12 +709,6 @@ fn planar_scheme_is_first_order_at_events() {
 #[ignore]
 fn planar_order_report() {
     use platefield::dynamics::SlipRule;
-    use rayon::prelude::*;
-    let part = rectangle_with(16);
-    let (schedule, _, _) = designed("ellipse");
-    let sm = platefield::play::ScheduleMotion::from_schedule(&schedule).unwrap();
-    let start = Pose::new(0.01, -0.005, 40f64.to_radians());
-    let r = part.radius();
     let spcs = [16usize, 32, 64, 128, 256, 512, 1024];
     let mut runs = vec![(8192usize, 10u32, SlipRule::Midpoint)];
     for rule in [SlipRule::Midpoint, SlipRule::Backward] {
@@ -709,16 +716,7 @@ fn planar_order_report() {
             runs.extend(spcs.iter().map(|&spc| (spc, depth, rule)));
         }
     }
-    let ends: Vec<platefield::pose::DropEnd> = runs
-        .par_iter()
-        .map(|&(spc, depth, rule)| {
-            let mut play = platefield::pose::DropPlay::new(&schedule.settings, 3.0);
-            play.steps_per_cycle = spc;
-            play.refine_depth = depth;
-            play.slip_rule = rule;
-            platefield::pose::play_drop(&sm, &part.body, start, &play).unwrap()
-        })
-        .collect();
+    let (ends, r) = ellipse_drops(&runs);
     let reference = ends[0].pose;
     for (run, end) in runs.iter().zip(&ends).skip(1) {
         let p = end.pose;

@@ -106,16 +106,18 @@ pub(super) fn aimed(target: &Target, stack: &Stack, budget: Option<f64>) -> Resu
     let lanes = target.classes.iter().any(|c| c.exit.is_some());
     let mut aim = vec![[0.0; 2]; n];
     let mut steer = vec![[1.0, 0.0]; n];
-    let mut d = fit_stack(
-        target,
-        stack,
-        SortMethod::Synthesized,
-        budget,
-        &aim,
-        &steer,
-        None,
-    )
-    .and_then(|d| cut(target, d))?;
+    let refit = |aim: &[[f64; 2]], steer: &[[f64; 2]], scales: Option<&[f64]>| {
+        fit_stack(
+            target,
+            stack,
+            SortMethod::Synthesized,
+            budget,
+            aim,
+            steer,
+            scales,
+        )
+    };
+    let mut d = refit(&aim, &steer, None).and_then(|d| cut(target, d))?;
     let scales: Option<Vec<f64>> = lanes.then(|| d.classes.iter().map(|c| c.scale).collect());
     let mut best: Option<(Rank, SortDesign)> = None;
     for step in 0..=AIM_STEPS {
@@ -159,15 +161,7 @@ pub(super) fn aimed(target: &Target, stack: &Stack, budget: Option<f64>) -> Resu
         }
         // A refit the conic solver cannot verify (its KKT residual over
         // tolerance) ends the aim: the best refit so far is kept.
-        match fit_stack(
-            target,
-            stack,
-            SortMethod::Synthesized,
-            budget,
-            &aim,
-            &steer,
-            scales.as_deref(),
-        ) {
+        match refit(&aim, &steer, scales.as_deref()) {
             Ok(next) => d = cut(target, next)?,
             Err(_) => break,
         }
