@@ -124,8 +124,11 @@ fn two_frictions_are_two_classes() {
 /// end) joined to it rather than forming their own. μ_k only within ±0.03
 /// (measured 0.2550): on this motion the field model misses even
 /// noise-free tracks by 0.8 mm RMS, an error the bias correction's replay
-/// does not reproduce (docs/calibrate.md, "How well it does").
+/// does not reproduce (docs/calibrate.md, "How well it does"). The
+/// default run keeps the identification on the translation-heavy motion
+/// ([`kinetic_friction_is_identified_and_static_named_undetermined`]).
 #[test]
+#[ignore = "about 10 s of CPU: cargo test --release --test calibrate -- --ignored one_friction_on_a_sink"]
 fn one_friction_on_a_sink_is_one_class() {
     let sim = TrackSimulation::new(Friction::uniform(0.23), 20, 1);
     let c = calibrated("synthesized/sink", &sim, false);
