@@ -831,7 +831,10 @@ fn averaged_equilibria_played(names: &[&str]) {
         let lifted = if part.symmetry() % 2 == 0 {
             let (a, b) = (lifted[0].pose, lifted[1].pose);
             assert!((a.r - b.r).norm() < 1e-9, "{name}: {a:?} {b:?}");
-            assert!((off_deg(a.theta, b.theta) - 180.0).abs() < 1e-6, "{name}: {a:?} {b:?}");
+            assert!(
+                (off_deg(a.theta, b.theta) - 180.0).abs() < 1e-6,
+                "{name}: {a:?} {b:?}"
+            );
             vec![lifted[0]]
         } else {
             lifted

@@ -344,7 +344,10 @@ fn stacked_sequenced_sink_holds_its_worst_case_over_the_range() {
     // The design for μ 0.3 alone: the committed sequenced sink, which
     // `design --method sequence` makes byte for byte (`tests/friction.rs`,
     // `no_friction_key_changes_nothing`).
-    let single = load(concat!(env!("CARGO_MANIFEST_DIR"), "/../results/sequenced/sink/schedule.json"));
+    let single = load(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../results/sequenced/sink/schedule.json"
+    ));
     let stacked = design(&ranged);
     let played = |s: &Schedule| {
         friction_sweep(&s.settings, &mu, &|settings| {
