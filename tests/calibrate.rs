@@ -83,8 +83,11 @@ fn kinetic_friction_is_identified_and_static_named_undetermined() {
 }
 
 /// The motion played at 0.95 × its amplitude: the scale within ±1 %
-/// (measured 0.94999) and μ within ±0.02 (0.2297).
+/// (measured 0.94999) and μ within ±0.02 (0.2297). The default run keeps
+/// the identification at the motion's own amplitude
+/// ([`kinetic_friction_is_identified_and_static_named_undetermined`]).
 #[test]
+#[ignore = "about 14 s of CPU: cargo test --release --test calibrate -- --ignored amplitude_scale"]
 fn amplitude_scale_is_recovered() {
     let mut sim = TrackSimulation::new(Friction::uniform(0.23), 20, 1);
     sim.scale = 0.95;

@@ -534,7 +534,7 @@ fn replay_of_another_schedules_export_is_refused_by_its_fingerprint() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// Item 12: an export too large for `verify --replay` (1 MHz: 134 MiB)
+/// Item 12: an export too large for `verify --replay` (500 kHz: 67 MiB)
 /// warns with its size, the one limit (64 MiB) and the rate that fits;
 /// replaying it is refused with the same words; an export at that rate
 /// fits the limit. Before, the export said nothing and the replay refused
@@ -551,7 +551,7 @@ fn export_and_replay_state_one_size_limit() {
         "export",
         schedule,
         "--rate",
-        "1000000",
+        "500000",
         "--out",
         big.to_str().unwrap(),
     ]);

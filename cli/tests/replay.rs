@@ -13,28 +13,20 @@
 //! the rate — far inside the 1 % and 0.5 pp.
 
 mod common;
+use common::held_order;
 
-use platefield::design::method::{judge_check, Method};
-use platefield::design::replay::{exported, judge_replay, replay_check};
+use platefield::design::method::Method;
+use platefield::design::replay::{exported, replay_check};
 use platefield::design::DesignOptions;
-use platefield::dynamics::Friction;
 use platefield::motion::sample_hold::HoldSamples;
 use platefield::play::replay::{replay_motion, ReplayCheck};
-use platefield::play::sensitivity::{friction_sweep, FrictionRow, Sensitivity, Span};
-use platefield::request::{FrictionSpec, Target};
+use platefield::request::Target;
 use platefield::schedule::export::{export, DEFAULT_STEADY_CYCLES};
 use platefield::schedule::Schedule;
 use platefield::synth::SynthOptions;
 
 fn load(path: &str) -> Schedule {
     Schedule::load(std::path::Path::new(path)).unwrap()
-}
-
-/// (ωΔt)² for the primitives' period at `rate`.
-fn held_order(schedule: &Schedule, rate: f64) -> f64 {
-    let period = schedule.segments[0].cycle_period().unwrap();
-    let w_dt = 2.0 * std::f64::consts::PI / period / rate;
-    w_dt * w_dt
 }
 
 fn agrees(c: &ReplayCheck, strength: f64, shape: f64) -> bool {
@@ -299,79 +291,4 @@ fn sampled_whirlpool_sequenced_reports_what_its_export_replays() {
 #[ignore = "designs by auto (synthesis and played polish): about half a minute"]
 fn sampled_whirlpool_auto_reports_what_its_export_replays() {
     sampled_target_reports_what_its_export_replays(Method::Auto);
-}
-
-/// Worst shape error and weakest strength over `rows`.
-fn worst(rows: &[FrictionRow]) -> (f64, f64) {
-    let s = Sensitivity {
-        span: Span::Asked,
-        nominal: Friction::uniform(0.3),
-        rows: rows.to_vec(),
-    };
-    (
-        s.worst_shape_error().unwrap(),
-        s.weakest_strength().unwrap(),
-    )
-}
-
-/// `design::stacked`: the sink with `"friction": [0.2, 0.4]` under
-/// `--method sequence` fits one set of time weights against the basis at
-/// μ 0.2, 0.3 and 0.4. Played by the design's judge at those μ,
-/// its worst shape error is no worse than that of the sequenced design for
-/// μ 0.3 alone (+0.5 pp: the played measure is not the fitted one), and
-/// its export replayed over them agrees with its play (the tolerance of
-/// the shipped sinks). `results/robust.md`: 6.7 % worst for both.
-#[test]
-fn stacked_sequenced_sink_holds_its_worst_case_over_the_range() {
-    let nominal = Target::load(std::path::Path::new(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../targets/sink.json"
-    )))
-    .unwrap();
-    let mut ranged = nominal.clone();
-    ranged.friction = Some(FrictionSpec::range(0.2, 0.4));
-    let (opts, synth) = design_options();
-    let mu: Vec<Friction> = [0.2, 0.3, 0.4].map(Friction::uniform).to_vec();
-    let sampled = nominal.sample().unwrap();
-    let design = |t: &Target| {
-        platefield::design::run(t, &opts.by_method(Method::Sequence, &synth))
-            .and_then(|o| o.into_method())
-            .unwrap()
-            .kept()
-            .schedule
-            .clone()
-    };
-    // The design for μ 0.3 alone: the committed sequenced sink, which
-    // `design --method sequence` makes byte for byte (`tests/friction.rs`,
-    // `no_friction_key_changes_nothing`).
-    let single = load(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../results/sequenced/sink/schedule.json"
-    ));
-    let stacked = design(&ranged);
-    let played = |s: &Schedule| {
-        friction_sweep(&s.settings, &mu, &|settings| {
-            judge_check(&nominal, &sampled, s, settings)
-        })
-        .unwrap()
-    };
-    let (w_single, _) = worst(&played(&single));
-    let stacked_rows = played(&stacked);
-    let (w_stacked, weakest) = worst(&stacked_rows);
-    println!("worst shape: μ 0.3 design {w_single:.4}, stacked {w_stacked:.4} at ≥ {weakest:.4}");
-    assert!(w_stacked <= w_single + 0.005, "{w_stacked} vs {w_single}");
-    let sm = replay_motion(&stacked, &exported(&stacked).unwrap(), "export").unwrap();
-    let replayed = friction_sweep(&stacked.settings, &mu, &|settings| {
-        Ok(judge_replay(&nominal, &sampled, &sm, settings))
-    })
-    .unwrap();
-    let order = held_order(&stacked, 10_000.0);
-    for (p, r) in stacked_rows.iter().zip(&replayed) {
-        let (ps, rs) = (p.realised_strength.unwrap(), r.realised_strength.unwrap());
-        let shape = (p.realised_shape_error.unwrap() - r.realised_shape_error.unwrap()).abs();
-        assert!(
-            (rs / ps - 1.0).abs() <= order && shape <= order / 4.0,
-            "{p:?} {r:?}"
-        );
-    }
 }

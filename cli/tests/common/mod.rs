@@ -26,3 +26,13 @@ pub fn design_args<'a>(target: &'a str, out: &'a str) -> Vec<&'a str> {
         .chain(["--out", out])
         .collect()
 }
+
+/// (ωΔt)² for the primitives' period at `rate`: the relative order of
+/// what a replay of an export held at `rate` differs by from the
+/// schedule's own play (`tests/replay.rs`, "Tolerances").
+#[allow(dead_code)] // not every test file that shares this module replays
+pub fn held_order(schedule: &platefield::schedule::Schedule, rate: f64) -> f64 {
+    let period = schedule.segments[0].cycle_period().unwrap();
+    let w_dt = 2.0 * std::f64::consts::PI / period / rate;
+    w_dt * w_dt
+}

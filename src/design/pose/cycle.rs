@@ -161,8 +161,11 @@ mod tests {
     /// [`ELLIPSE_S`] (whole cycles, ramped), and the placed ellipse's
     /// lifted stable pose lies on the given rest (within 0.5 mm and 1°:
     /// the lifted equilibria are found on a grid field, so up to its
-    /// interpolation), while the centred one does not.
+    /// interpolation), while the centred one does not. The committed pose
+    /// designs' cycles are held to their limits by `tests/envelope.rs` in
+    /// the default run.
     #[test]
+    #[ignore = "about 12 s of CPU: cargo test --release --lib -- --ignored the_ellipse_stage_rests"]
     fn the_ellipse_stage_rests_where_the_spin_did() {
         let path = std::path::Path::new("targets/pose_triangle.json");
         let req = PoseRequest::load(path).unwrap().unwrap();
