@@ -828,7 +828,7 @@ fn averaged_equilibria_played(names: &[&str]) {
         // A part with 180° symmetry (the rectangle) has its two stable
         // poses as one placement turned by π: the same r, θ + π. One is
         // refined and played; the other would repeat it bit for bit.
-        let lifted = if part.symmetry() % 2 == 0 {
+        let lifted = if part.symmetry().is_multiple_of(2) {
             let (a, b) = (lifted[0].pose, lifted[1].pose);
             assert!((a.r - b.r).norm() < 1e-9, "{name}: {a:?} {b:?}");
             assert!(
