@@ -39,6 +39,7 @@ use crate::error::{Error, Result};
 use crate::field::Grid;
 use crate::pose::{Equilibrium, Pose};
 use crate::request::FrictionSpec;
+use crate::schedule::export::peaks::KinematicPeaks;
 use crate::schedule::{Method, Schedule};
 use crate::synth::SynthOptions;
 
@@ -213,7 +214,7 @@ pub fn with_motion(
 }
 
 /// Each six-signal segment of `schedule` scaled by the largest factor ≤ 1
-/// that keeps its peaks (acceleration, velocity, stroke) within the shaker
+/// that keeps its peaks (acceleration, velocity, stroke: [`placed_peaks`]) within the shaker
 /// limits it records (`played.limits`, those the motion was synthesized
 /// within), one line per segment scaled. A placement moves the reference
 /// point by c, which adds α × c (and a spin's centripetal terms) to the
@@ -228,18 +229,16 @@ pub fn with_motion(
 /// A segment over a limit of 0 (no factor but 0 keeps it), naming the
 /// axis and `target.shaker`.
 pub fn within_limits(schedule: &mut Schedule) -> Result<Vec<String>> {
-    use crate::schedule::export::peaks::KinematicPeaks;
     let Some(limits) = schedule.played.as_ref().and_then(|p| p.limits.clone()) else {
         return Ok(Vec::new());
     };
     let mut out = Vec::new();
     for (k, seg) in schedule.segments.iter_mut().enumerate() {
+        let ramp = seg.ramp_cycles;
         let Some(signals) = seg.motion.as_mut() else {
             continue;
         };
-        let motion = crate::motion::Motion::Signals(signals.clone());
-        let excesses =
-            KinematicPeaks::of_motion(&motion, signals.highest_harmonic()).excesses(&limits);
+        let excesses = placed_peaks(signals, ramp).excesses(&limits);
         if let Some(e) = excesses.iter().find(|e| e.limit == 0.0) {
             return Err(Error::invalid(
                 "target.shaker",
@@ -255,16 +254,8 @@ pub fn within_limits(schedule: &mut Schedule) -> Result<Vec<String>> {
         else {
             continue;
         };
-        let harmonic = signals.highest_harmonic();
-        let factor = KinematicPeaks::within_scale(
-            |k| {
-                KinematicPeaks::of_motion(
-                    &crate::motion::Motion::Signals(signals.scaled(k)),
-                    harmonic,
-                )
-            },
-            &limits,
-        );
+        let factor =
+            KinematicPeaks::within_scale(|k| placed_peaks(&signals.scaled(k), ramp), &limits);
         *signals = signals.scaled(factor);
         out.push(format!(
             "segment {k} ({}): scaled × {factor:.4}, placed it peaked on {} at {:.4} {} against {:.4}",
@@ -274,10 +265,39 @@ pub fn within_limits(schedule: &mut Schedule) -> Result<Vec<String>> {
     Ok(out)
 }
 
+/// A six-signal segment's peaks as a placement holds them to the shaker
+/// limits, its ramps included (`ramp` cycles each, as the export plays
+/// it: a ramp multiplies the pose by a smoothstep w(t), adding 2ẇẋ + ẅx to
+/// the steady acceleration, [`crate::motion::Ramped`]; the steady cycles
+/// between the ramps repeat one cycle, so one is played between them),
+/// found to round-off ([`KinematicPeaks::refined`]) so that the segment
+/// scaled to a limit exports within it. The design's own peaks
+/// ([`KinematicPeaks::of_motion`]: the rotation vector and its rates on
+/// the angular axes), the linear axes also as the export plays them
+/// ([`KinematicPeaks::of_plate`]: world axes, which the plate's turn
+/// mixes at second order in the tilts).
+fn placed_peaks(signals: &crate::motion::Signals, ramp: Option<u32>) -> KinematicPeaks {
+    use crate::motion::{Motion, Ramped};
+    let motion = match ramp {
+        Some(ramp) => Motion::Ramped(Ramped {
+            signals: signals.clone(),
+            ramp,
+            cycles: 2 * ramp + 1,
+        }),
+        None => Motion::Signals(signals.clone()),
+    };
+    let (mut p, played) = KinematicPeaks::refined(&motion, signals.highest_harmonic());
+    for i in 0..3 {
+        p.acceleration[i] = p.acceleration[i].max(played.acceleration[i]);
+        p.velocity[i] = p.velocity[i].max(played.velocity[i]);
+        p.stroke[i] = p.stroke[i].max(played.stroke[i]);
+    }
+    p
+}
+
 /// Every peak of `schedule`'s six-signal segments above the shaker limits
 /// it records, one line each (empty after [`within_limits`]).
 pub fn over_limits(schedule: &Schedule) -> Vec<String> {
-    use crate::schedule::export::peaks::KinematicPeaks;
     let Some(limits) = schedule.played.as_ref().and_then(|p| p.limits.as_ref()) else {
         return Vec::new();
     };
@@ -286,8 +306,7 @@ pub fn over_limits(schedule: &Schedule) -> Vec<String> {
         let Some(signals) = &seg.motion else {
             continue;
         };
-        let motion = crate::motion::Motion::Signals(signals.clone());
-        for e in KinematicPeaks::of_motion(&motion, signals.highest_harmonic()).excesses(limits) {
+        for e in placed_peaks(signals, seg.ramp_cycles).excesses(limits) {
             out.push(format!(
                 "segment {k} ({}): {} peaks at {:.4} {} against {:.4} (+{:.1} %)",
                 seg.label,

@@ -20,13 +20,80 @@
 //! −A/(nω) cos(nωt + φ) and pose −A/(nω)² sin(nωt + φ)
 //! ([`crate::motion::sample_hold::centre_state`]); a channel's peaks are
 //! those of the sums, sampled at `super::PEAK_SAMPLES` points per period
-//! of its highest harmonic (relative error ≤ 1 − cos(π/4096) ≈ 3e-7).
+//! of its highest harmonic (relative error ≤ 1 − cos(π/4096) ≈ 3e-7);
+//! [`KinematicPeaks::refined`] finds them to round-off.
 
 use std::fmt::Write as _;
 
 use crate::motion::sample_hold::{centre_state, signal_state, CentreState, HoldSamples};
 use crate::motion::{Held, Motion};
 use crate::request::ShakerSpec;
+
+/// Samples per period of the highest harmonic in the coarse scan of
+/// [`KinematicPeaks::refined`]: a sample lies within π/64 of phase of a
+/// harmonic's maximum, so it misses it by at most (π/64)²/2 ≈ 1.2e-3.
+const REFINE_SAMPLES: usize = 64;
+
+/// A local maximum of the coarse scan within this fraction of its
+/// channel's largest sample is refined: the coarse scan's error bound
+/// with a margin of 8, so that the true maximum's sample is among them.
+const REFINE_MARGIN: f64 = 1e-2;
+
+/// Golden-section steps of a refinement: the bracket of two coarse steps
+/// shrinks by 0.618²⁴ ≈ 1e-5, to within about 1e-5 · π/64 of phase of the
+/// maximum, which it then misses by about (5e-7)²/2, far below the 1e-9
+/// by which an export's peaks are checked.
+const GOLDEN_STEPS: usize = 24;
+
+/// |acceleration|, |velocity| and |pose| of `motion` at `t` per axis,
+/// first as [`KinematicPeaks::of_motion`] reads them, then as
+/// [`KinematicPeaks::of_plate`] does.
+fn channels(motion: &Motion, t: f64) -> [f64; 36] {
+    let mut out = [0.0; 36];
+    let reads = [
+        (
+            signal_state(motion, t),
+            super::centre_acceleration(motion, t),
+        ),
+        (
+            centre_state(motion, t),
+            super::world_acceleration(motion, t),
+        ),
+    ];
+    for (o, (s, (lin, ang))) in reads.iter().enumerate() {
+        let a = [lin.x, lin.y, lin.z, ang.x, ang.y, ang.z];
+        for i in 0..6 {
+            out[18 * o + i] = a[i].abs();
+            out[18 * o + 6 + i] = s.velocity[i].abs();
+            out[18 * o + 12 + i] = s.pose[i].abs();
+        }
+    }
+    out
+}
+
+/// The largest value of `f` found by golden-section search for a maximum
+/// on `(a, b)` ([`GOLDEN_STEPS`] steps), the ends included.
+fn golden_max(f: impl Fn(f64) -> f64, (mut a, mut b): (f64, f64)) -> f64 {
+    let r = 0.5 * (5.0_f64.sqrt() - 1.0);
+    let mut best = f(a).max(f(b));
+    let (mut x1, mut x2) = (b - r * (b - a), a + r * (b - a));
+    let (mut f1, mut f2) = (f(x1), f(x2));
+    for _ in 0..GOLDEN_STEPS {
+        best = best.max(f1).max(f2);
+        if f1 < f2 {
+            a = x1;
+            (x1, f1) = (x2, f2);
+            x2 = a + r * (b - a);
+            f2 = f(x2);
+        } else {
+            b = x2;
+            (x2, f2) = (x1, f1);
+            x1 = b - r * (b - a);
+            f1 = f(x1);
+        }
+    }
+    best.max(f1).max(f2)
+}
 
 /// Names of the six signals in order, as JSON paths in a `signals` motion.
 pub const AXIS_NAMES: [&str; 6] = [
@@ -147,6 +214,47 @@ impl KinematicPeaks {
             }
         }
         p
+    }
+
+    /// [`KinematicPeaks::of_motion`] and [`KinematicPeaks::of_plate`] of
+    /// `motion` (in that order) to round-off, where those are sampled to
+    /// 3e-7: each of the 36 channels (|acceleration|, |velocity|, |pose|
+    /// per axis, as each of the two reads them) sampled at
+    /// [`REFINE_SAMPLES`] points per period of the highest harmonic, ends
+    /// included, then every local maximum within [`REFINE_MARGIN`] of its
+    /// channel's largest sample refined by golden-section search between
+    /// its two neighbours ([`GOLDEN_STEPS`] steps). What a segment scaled
+    /// to a limit needs, so that no finer sampling of it (an export's) is
+    /// over the limit.
+    pub(crate) fn refined(motion: &Motion, highest: u32) -> (KinematicPeaks, KinematicPeaks) {
+        let cycles = (motion.span() / motion.period()).round().max(1.0) as usize;
+        let n = REFINE_SAMPLES * highest.max(1) as usize * cycles;
+        let dt = motion.span() / n as f64;
+        let at = |k: usize| k as f64 * dt;
+        let samples: Vec<[f64; 36]> = (0..=n).map(|k| channels(motion, at(k))).collect();
+        let mut peak = [0.0_f64; 36];
+        for (c, p) in peak.iter_mut().enumerate() {
+            let top = samples.iter().fold(0.0_f64, |m, s| m.max(s[c]));
+            *p = top;
+            if top == 0.0 {
+                continue;
+            }
+            for k in 0..=n {
+                let v = samples[k][c];
+                let left = if k > 0 { samples[k - 1][c] } else { 0.0 };
+                let right = if k < n { samples[k + 1][c] } else { 0.0 };
+                if v >= left && v >= right && v >= (1.0 - REFINE_MARGIN) * top {
+                    let span = (at(k.saturating_sub(1)), at((k + 1).min(n)));
+                    *p = p.max(golden_max(|t| channels(motion, t)[c], span));
+                }
+            }
+        }
+        let part = |o: usize| KinematicPeaks {
+            acceleration: std::array::from_fn(|i| peak[o + i]),
+            velocity: std::array::from_fn(|i| peak[o + 6 + i]),
+            stroke: std::array::from_fn(|i| peak[o + 12 + i]),
+        };
+        (part(0), part(18))
     }
 
     /// The largest factor k ≤ 1 whose motion keeps within `limits`, where
@@ -273,5 +381,44 @@ impl KinematicPeaks {
             );
         }
         out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::motion::{Axes, FourierTerm, Signals};
+
+    /// One harmonic A sin(nωt + φ) on x, with a phase that puts its
+    /// maxima between the samples: refined, its peaks are the closed form
+    /// A, A/(nω), A/(nω)² to 1e-12, where the sampled ones fall short by up
+    /// to 1 − cos(π/4096); both reads agree on a motion without rotation.
+    #[test]
+    fn refined_peaks_are_the_closed_form_to_round_off() {
+        let (a, n, period) = (10.0, 3_u32, 0.03);
+        let s = Signals {
+            period,
+            linear: Axes {
+                x: vec![FourierTerm {
+                    amplitude: a,
+                    phase: 0.123_456_789,
+                    harmonic: n,
+                }],
+                ..Axes::default()
+            },
+            angular: Axes::default(),
+        };
+        let motion = Motion::Signals(s);
+        let (own, played) = KinematicPeaks::refined(&motion, n);
+        let nw = f64::from(n) * std::f64::consts::TAU / period;
+        let rel = |got: f64, want: f64| (got / want - 1.0).abs();
+        for p in [&own, &played] {
+            assert!(rel(p.acceleration[0], a) < 1e-12, "{p:?}");
+            assert!(rel(p.velocity[0], a / nw) < 1e-12, "{p:?}");
+            assert!(rel(p.stroke[0], a / (nw * nw)) < 1e-12, "{p:?}");
+        }
+        let sampled = KinematicPeaks::of_motion(&motion, n);
+        assert!(sampled.acceleration[0] <= own.acceleration[0]);
+        assert!(rel(sampled.acceleration[0], a) < 3e-7);
     }
 }
