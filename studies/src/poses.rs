@@ -311,13 +311,17 @@ pub(crate) fn write_md(out: &Path, file: &str, md: &str, mut summary: String) ->
 
 /// The work `--play-drops` adds to the study: `play_drops` drops of each
 /// part played on each designed ellipse for its play time
-/// ([`platefield::pose::drops_estimate`], in point-part steps).
+/// ([`platefield::pose::drops_estimate`], in point-part steps); no terms
+/// without drops.
 ///
 /// # Errors
 /// A designed ellipse or part file that does not load.
 pub fn played_drops_estimate(play_drops: usize) -> Result<platefield::work::Estimate> {
     let mut total =
         platefield::work::Estimate::new("--play-drops", "playing the drops", "fewer --play-drops");
+    if play_drops == 0 {
+        return Ok(total);
+    }
     for (name, _) in ELLIPSES {
         let (schedule, _) = load_schedule(name)?;
         let sm = ScheduleMotion::from_schedule(&schedule)?;
