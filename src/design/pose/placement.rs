@@ -234,7 +234,7 @@ pub fn within_limits(schedule: &mut Schedule) -> Result<Vec<String>> {
     };
     let mut out = Vec::new();
     for (k, seg) in schedule.segments.iter_mut().enumerate() {
-        let ramp = seg.ramp_cycles;
+        let ramp = seg.ramp_cycles.map(|r| (r, seg.cycles));
         let Some(signals) = seg.motion.as_mut() else {
             continue;
         };
@@ -266,23 +266,25 @@ pub fn within_limits(schedule: &mut Schedule) -> Result<Vec<String>> {
 }
 
 /// A six-signal segment's peaks as a placement holds them to the shaker
-/// limits, its ramps included (`ramp` cycles each, as the export plays
+/// limits, its ramps included (`ramp` = (cycles of each ramp, cycles of
+/// the segment), as the export plays
 /// it: a ramp multiplies the pose by a smoothstep w(t), adding 2ẇẋ + ẅx to
 /// the steady acceleration, [`crate::motion::Ramped`]; the steady cycles
-/// between the ramps repeat one cycle, so one is played between them),
+/// between the ramps repeat one cycle, so at most one is played between
+/// them),
 /// found to round-off ([`KinematicPeaks::refined`]) so that the segment
 /// scaled to a limit exports within it. The design's own peaks
 /// ([`KinematicPeaks::of_motion`]: the rotation vector and its rates on
 /// the angular axes), the linear axes also as the export plays them
 /// ([`KinematicPeaks::of_plate`]: world axes, which the plate's turn
 /// mixes at second order in the tilts).
-fn placed_peaks(signals: &crate::motion::Signals, ramp: Option<u32>) -> KinematicPeaks {
+fn placed_peaks(signals: &crate::motion::Signals, ramp: Option<(u32, u32)>) -> KinematicPeaks {
     use crate::motion::{Motion, Ramped};
     let motion = match ramp {
-        Some(ramp) => Motion::Ramped(Ramped {
+        Some((ramp, cycles)) => Motion::Ramped(Ramped {
             signals: signals.clone(),
             ramp,
-            cycles: 2 * ramp + 1,
+            cycles: cycles.min(2 * ramp + 1),
         }),
         None => Motion::Signals(signals.clone()),
     };
@@ -306,7 +308,8 @@ pub fn over_limits(schedule: &Schedule) -> Vec<String> {
         let Some(signals) = &seg.motion else {
             continue;
         };
-        for e in placed_peaks(signals, seg.ramp_cycles).excesses(limits) {
+        let ramp = seg.ramp_cycles.map(|r| (r, seg.cycles));
+        for e in placed_peaks(signals, ramp).excesses(limits) {
             out.push(format!(
                 "segment {k} ({}): {} peaks at {:.4} {} against {:.4} (+{:.1} %)",
                 seg.label,
