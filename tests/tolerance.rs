@@ -43,7 +43,7 @@ fn a_common_time_shift_leaves_the_judge_unchanged() {
 }
 
 /// With a zero tolerance every draw is the design's own judge, exactly;
-/// within ±5 % and ±5° the 16 draws spread (median above the design's
+/// within ±5 % and ±5° the 8 draws spread (median above the design's
 /// shape error, worst above the median) and the same call gives the same
 /// draws.
 #[test]
@@ -60,7 +60,7 @@ fn the_spread_is_the_judge_over_seeded_draws() {
         amplitude: 0.05,
         phase_deg: 5.0,
     };
-    let a = spread(&target, &sampled, &s, &s.settings, (&tol, 16)).unwrap();
+    let a = spread(&target, &sampled, &s, &s.settings, (&tol, 8)).unwrap();
     let [median, _, worst] = a.shape();
     assert!(
         median > base.shape_error && worst > median,
@@ -70,9 +70,9 @@ fn the_spread_is_the_judge_over_seeded_draws() {
     assert!(worst < 0.5, "{worst}");
     assert_eq!(
         a,
-        spread(&target, &sampled, &s, &s.settings, (&tol, 16)).unwrap()
+        spread(&target, &sampled, &s, &s.settings, (&tol, 8)).unwrap()
     );
-    assert_eq!(draws(&tol, 16).len(), 16);
+    assert_eq!(draws(&tol, 8).len(), 8);
 }
 
 /// A target that states `shaker.tolerance` is designed with the kept

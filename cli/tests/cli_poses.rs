@@ -301,11 +301,11 @@ fn rect3x1(dir: &std::path::Path) -> PathBuf {
 /// continuum through every angle within 0.2 mm of (0, 0) holding every
 /// drop, on which the part stays at the angle it arrived at, and no
 /// stable equilibrium. `verify --rect 0.03x0.01`, an independent play of
-/// the rectangle on the planar simulator, puts its 4 rectangles within
-/// 2 mm of that place after 20 s (measured up to 1.45 mm: the
-/// sequenced LineSinks hold an extended part in their stick band near
-/// the centre, which the lifted field averages away), at 4 different
-/// angles. (On the synthesized sink,
+/// the rectangle on the planar simulator, puts its 2 rectangles (started
+/// at (17, 17) and (−17, −17) mm) within 2 mm of that place after 20 s
+/// (measured 1.45 mm both: the sequenced LineSinks hold an extended part
+/// in their stick band near the centre, which the lifted field averages
+/// away), at 2 different angles (measured 9.5° and −81.1°). (On the synthesized sink,
 /// `results/synthesized/sink`, the rest is 0.9 mm off the centre and the
 /// part keeps turning: `docs/parts.md`.)
 #[test]
@@ -366,7 +366,7 @@ fn sink_design_rests_any_angle_at_the_centre() {
             "--points",
             "2",
         ])
-        .args(["--rect-poses", "4", "--json", "--quiet", "--out"])
+        .args(["--rect-poses", "2", "--json", "--quiet", "--out"])
         .arg(dir.join("verify"))
         .output()
         .unwrap();
@@ -377,7 +377,7 @@ fn sink_design_rests_any_angle_at_the_centre() {
     );
     let verify: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let rects = verify["rectangles"].as_array().unwrap();
-    assert_eq!(rects.len(), 4);
+    assert_eq!(rects.len(), 2);
     let mut axes: Vec<f64> = Vec::new();
     for r in rects {
         let end = r["end"].as_array().unwrap();
