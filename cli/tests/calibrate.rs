@@ -95,7 +95,10 @@ fn bad_tracks_exit_2_naming_file_line_and_column() {
 /// targets/tracks/example.csv --friction 0.23 --parts 20 --seed 1`): μ_k
 /// within ±0.01 (measured 0.2295) and its 95 % interval covering 0.23, μ_s
 /// named as not determined (the parts never stick on this motion), one
-/// class; the four files written.
+/// class; the fit's residual at the tracks' noise (within 10 %: measured
+/// 1.022), the noise estimated at the simulated 0.2 mm within 5 %
+/// (0.198 mm), the model's bias removed (measured +0.0003) at a slope
+/// near 1 (0.988: the correction is trusted); the four files written.
 #[test]
 fn the_shipped_example_calibrates() {
     let (out, stdout) = calibrated_example();
@@ -111,6 +114,16 @@ fn the_shipped_example_calibrates() {
         .as_str()
         .unwrap()
         .starts_with("mu_s"));
+    let class = &c["classes"][0];
+    let ratio = class["residual_over_noise"].as_f64().unwrap();
+    assert!((ratio - 1.0).abs() < 0.1, "{ratio}");
+    let noise = c["noise_m"].as_f64().unwrap();
+    assert!((noise - 2e-4).abs() < 1e-5, "{noise}");
+    assert_eq!(class["model_slope"][0][0], "mu_k");
+    let slope = class["model_slope"][0][1].as_f64().unwrap();
+    assert!((slope - 1.0).abs() < 0.1, "{slope}");
+    let bias = class["model_bias"][0][1].as_f64().unwrap();
+    assert!(bias.abs() < 0.002, "{bias}");
     for f in [
         "calibration.json",
         "report.md",
