@@ -16,7 +16,8 @@ fn temp_dir(name: &str) -> PathBuf {
     dir
 }
 
-const SINK: &str = "results/squeeze_trans/schedule.json";
+/// The shipped translation-heavy squeeze line the example was tracked on.
+const SQUEEZE_TRANS: &str = "results/squeeze_trans/schedule.json";
 
 /// Three frames a part over 0.5 s (the sink's period is 30 ms), with
 /// `bad` replacing line `line` (1-based, the header is line 1).
@@ -80,7 +81,7 @@ fn bad_tracks_exit_2_naming_file_line_and_column() {
         std::fs::write(&file, text).unwrap();
         let out = dir.join(format!("out-{name}"));
         let (f, o) = (file.display().to_string(), out.display().to_string());
-        let mut args = vec!["calibrate", SINK, &f, "--out", &o];
+        let mut args = vec!["calibrate", SQUEEZE_TRANS, &f, "--out", &o];
         args.extend_from_slice(extra);
         let (code, stdout, stderr) = platefield(&args);
         assert_eq!(code, 2, "{name}: {stderr}");
@@ -141,8 +142,13 @@ fn calibrated_example() -> &'static (PathBuf, String) {
     CELL.get_or_init(|| {
         let out = temp_dir("example").join("out");
         let o = out.display().to_string();
-        let (code, stdout, stderr) =
-            platefield(&["calibrate", SINK, "targets/tracks/example.csv", "--out", &o]);
+        let (code, stdout, stderr) = platefield(&[
+            "calibrate",
+            SQUEEZE_TRANS,
+            "targets/tracks/example.csv",
+            "--out",
+            &o,
+        ]);
         assert_eq!(code, 0, "{stderr}");
         (out, stdout)
     })
@@ -155,7 +161,7 @@ fn the_example_is_regenerated_by_its_command() {
     let file = dir.join("example.csv").display().to_string();
     let (code, _, stderr) = platefield(&[
         "calibrate",
-        SINK,
+        SQUEEZE_TRANS,
         "--simulate",
         &file,
         "--friction",
