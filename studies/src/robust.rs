@@ -25,7 +25,7 @@
 
 use std::path::Path;
 
-use platefield::design::method::{design_by_method, judge_check, Method};
+use platefield::design::method::{design_by_method, judge_check, Method, MethodDesign};
 use platefield::design::replay::{exported, judge_replay};
 use platefield::design::DesignOptions;
 use platefield::dynamics::Friction;
@@ -33,6 +33,7 @@ use platefield::error::Result;
 use platefield::play::replay::replay_motion;
 use platefield::play::sensitivity::{friction_sweep, FrictionRow, Sensitivity};
 use platefield::request::{FrictionSpec, Target};
+use platefield::schedule::Schedule;
 use platefield::synth::SynthOptions;
 use platefield_report::table::Table;
 
@@ -139,12 +140,23 @@ pub(crate) fn design_rows(
     frictions: &[f64],
     how: RowOptions,
 ) -> Result<Vec<Row>> {
-    let RowOptions {
-        quiet,
-        replay,
-        robust_synthesis,
-    } = how;
-    let md = design_by_method(target, &options(method, quiet, robust_synthesis))?;
+    let md = design_by_method(target, &options(method, how.quiet, how.robust_synthesis))?;
+    kept_rows(target, (label, &md), frictions, how.replay)
+}
+
+/// `target` designed by `method` as `design` does, progress unless `quiet`.
+pub(crate) fn designed(target: &Target, method: Method, quiet: bool) -> Result<MethodDesign> {
+    design_by_method(target, &options(method, quiet, false))
+}
+
+/// The rows of `md`, `target`'s design labelled `label`: its kept design
+/// played at `frictions`, and its export replayed when `replay`.
+pub(crate) fn kept_rows(
+    target: &Target,
+    (label, md): (&str, &MethodDesign),
+    frictions: &[f64],
+    replay: bool,
+) -> Result<Vec<Row>> {
     let kept = &md.kept().schedule;
     let sampled = target.sample()?;
     let values: Vec<Friction> = frictions.iter().map(|&m| Friction::uniform(m)).collect();
@@ -156,9 +168,7 @@ pub(crate) fn design_rows(
     };
     let played = match judged_at(md.sensitivity.as_ref(), &values) {
         Some(rows) => rows,
-        None => friction_sweep(&kept.settings, &values, &|settings| {
-            judge_check(target, &sampled, kept, settings)
-        })?,
+        None => judged(target, kept, frictions)?,
     };
     let mut out = vec![row(label.into(), played)];
     if replay {
@@ -169,6 +179,20 @@ pub(crate) fn design_rows(
         out.push(row(format!("{label}, export replayed"), replayed));
     }
     Ok(out)
+}
+
+/// `schedule` judged for `target` (the design's judge) at each of
+/// `frictions`.
+pub(crate) fn judged(
+    target: &Target,
+    schedule: &Schedule,
+    frictions: &[f64],
+) -> Result<Vec<FrictionRow>> {
+    let sampled = target.sample()?;
+    let values: Vec<Friction> = frictions.iter().map(|&m| Friction::uniform(m)).collect();
+    friction_sweep(&schedule.settings, &values, &|settings| {
+        judge_check(target, &sampled, schedule, settings)
+    })
 }
 
 /// The kept design's own judge at exactly `values`, when the design

@@ -38,7 +38,7 @@ use platefield::request::family::family;
 use platefield::request::{FieldSpec, FrictionSpec, Target};
 use platefield_report::table::Table;
 
-use super::robust::{design_row, Row};
+use super::robust::{design_row, designed, judged, kept_rows, Row};
 use super::speed::process_cpu_seconds;
 
 /// Default output folder.
@@ -98,7 +98,11 @@ pub(crate) fn values(spec: FrictionSpec) -> Vec<f64> {
 
 /// Designs and judges one target ([`Outcome`]) by `methods`, the robust
 /// design's and the nominal one's (`auto` for both in the study; tests
-/// use the cheaper `mirror` and `synthesize`).
+/// use the cheaper `mirror` and `synthesize`). Under `mirror` the motion
+/// its shares are built from is the synthesis for the range's middle,
+/// which is the nominal design `synthesize` makes (the same synthesis of
+/// the same target field at the same friction): that schedule is judged
+/// instead of being designed again.
 ///
 /// # Errors
 /// A design fails.
@@ -107,10 +111,23 @@ pub fn outcome(target: &Target, methods: (Method, Method), quiet: bool) -> Resul
     let cpu = process_cpu_seconds();
     let spec = target.friction.unwrap_or(FrictionSpec::range(0.2, 0.4));
     let mu = values(spec);
-    let robust = design_row(target, ("robust", method), &mu, quiet)?;
+    let md = designed(target, method, quiet)?;
+    let robust = kept_rows(target, ("robust", &md), &mu, false)?.remove(0);
     let mut nominal = target.clone();
     nominal.friction = Some(FrictionSpec::exact(spec.nominal()));
-    let mut row = design_row(&nominal, ("nominal", nominal_method), &mu, quiet)?;
+    let base = md
+        .synthesized
+        .as_ref()
+        .filter(|_| method == Method::Mirror && nominal_method == Method::Synthesize);
+    let mut row = match base {
+        Some(schedule) => Row {
+            target: target.name.clone(),
+            design: "nominal".into(),
+            method: Method::Synthesize.name().into(),
+            rows: judged(&nominal, schedule, &mu)?,
+        },
+        None => design_row(&nominal, ("nominal", nominal_method), &mu, quiet)?,
+    };
     row.target.clone_from(&target.name);
     Ok(Outcome {
         target: target.clone(),

@@ -293,6 +293,10 @@ pub struct MethodDesign {
     pub sequence: Option<Design>,
     /// The synthesis (when run and successful).
     pub synthesis: Option<Synthesis>,
+    /// The synthesis' schedule within [`MethodDesign::limits`] (when run
+    /// and successful): a candidate under `synthesize` and `auto`; under
+    /// `mirror`, the motion its shares are built from, itself not played.
+    pub synthesized: Option<Schedule>,
     /// The mixed design (when run and successful): primitives and a
     /// synthesized motion in one fit.
     pub mixed: Option<Design>,
@@ -457,6 +461,7 @@ impl<'a> MethodRun<'a> {
                 asked: method,
                 sequence: None,
                 synthesis: None,
+                synthesized: None,
                 mixed: None,
                 candidates: Vec::new(),
                 chosen: 0,
@@ -587,9 +592,10 @@ impl<'a> MethodRun<'a> {
             .then(|| super::mirror::mirror_axis(self.target, self.sampled));
         let limits = self.out.limits.clone();
         match self.synthesized_with_shares(&limits) {
-            Ok((syn, cands)) => {
+            Ok((syn, schedule, cands)) => {
                 self.out.candidates.extend(cands);
                 self.out.synthesis = Some(syn);
+                self.out.synthesized = Some(schedule);
             }
             Err(e) if method == Method::Auto && !self.out.candidates.is_empty() => {
                 let reason = if self.from_sequence {
@@ -613,7 +619,7 @@ impl<'a> MethodRun<'a> {
     fn synthesized_with_shares(
         &self,
         limits: &ShakerLimits,
-    ) -> Result<(Synthesis, Vec<Candidate>)> {
+    ) -> Result<(Synthesis, Schedule, Vec<Candidate>)> {
         let t = Instant::now();
         let (syn, schedule) = synthesize_schedule(
             self.target,
@@ -636,9 +642,9 @@ impl<'a> MethodRun<'a> {
             }
         }
         if self.opts.method != Method::Mirror {
-            cands.push(self.synthesized(&syn, schedule, limits, design_s)?);
+            cands.push(self.synthesized(&syn, schedule.clone(), limits, design_s)?);
         }
-        Ok((syn, cands))
+        Ok((syn, schedule, cands))
     }
 
     /// The candidate of the synthesized `schedule` (`syn`'s within
@@ -722,7 +728,7 @@ impl<'a> MethodRun<'a> {
         let estimate = synthesis_estimate(self.target, self.sampled, &synth, self.opts, &limits);
         self.opts.runtime.admit(&estimate)?;
         match self.synthesized_with_shares(&limits) {
-            Ok((syn, cands)) => self.add(variant, (syn, limits), cands)?,
+            Ok((syn, _, cands)) => self.add(variant, (syn, limits), cands)?,
             Err(e) => self
                 .out
                 .failures
