@@ -158,7 +158,6 @@ pub(crate) fn kept_rows(
     replay: bool,
 ) -> Result<Vec<Row>> {
     let kept = &md.kept().schedule;
-    let sampled = target.sample()?;
     let values: Vec<Friction> = frictions.iter().map(|&m| Friction::uniform(m)).collect();
     let row = |design: String, rows: Vec<FrictionRow>| Row {
         target: target.name.clone(),
@@ -172,6 +171,7 @@ pub(crate) fn kept_rows(
     };
     let mut out = vec![row(label.into(), played)];
     if replay {
+        let sampled = target.sample()?;
         let sm = replay_motion(kept, &exported(kept)?, "export")?;
         let replayed = friction_sweep(&kept.settings, &values, &|settings| {
             Ok(judge_replay(target, &sampled, &sm, settings))
