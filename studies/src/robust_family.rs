@@ -101,8 +101,10 @@ pub(crate) fn values(spec: FrictionSpec) -> Vec<f64> {
 /// use the cheaper `mirror` and `synthesize`). Under `mirror` the motion
 /// its shares are built from is the synthesis for the range's middle,
 /// which is the nominal design `synthesize` makes (the same synthesis of
-/// the same target field at the same friction): that schedule is judged
-/// instead of being designed again.
+/// the same target field at the same friction; byte for byte, by the
+/// ignored test `the_mirror_base_is_the_nominal_synthesis` in
+/// `studies/tests/robust_family.rs`): that schedule is judged instead of
+/// being designed again.
 ///
 /// # Errors
 /// A design fails.
