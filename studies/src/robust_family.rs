@@ -141,6 +141,42 @@ pub fn outcome(target: &Target, methods: (Method, Method), quiet: bool) -> Resul
     })
 }
 
+/// The part of a sampled field no affine field matches: the relative
+/// residual ‖v − (A r + b)‖/‖v‖ of the least-squares affine fit over its
+/// sample points (`None` for analytic fields, for fewer than three points,
+/// or for sample points on one line).
+///
+/// What it diagnoses: a rigid plate's acceleration is affine in the
+/// position (a(r) = a_c + Ω' × d + Ω × (Ω × d)), and the robust designs of
+/// the family's sampled members leave about as much of the target
+/// unmatched as the best affine field does (`studies/tests/robust_family.rs`
+/// checks the committed rows against this residual).
+pub fn affine_residual(field: &FieldSpec) -> Option<f64> {
+    use nalgebra::{Matrix3, Vector3};
+    let FieldSpec::Sampled {
+        points, vectors, ..
+    } = field
+    else {
+        return None;
+    };
+    if points.len() < 3 {
+        return None;
+    }
+    let rows = |p: &[f64; 2]| Vector3::new(p[0], p[1], 1.0);
+    let normal: Matrix3<f64> = points.iter().map(|p| rows(p) * rows(p).transpose()).sum();
+    let inverse = normal.try_inverse()?;
+    let (mut left, mut total) = (0.0, 0.0);
+    for k in 0..2 {
+        let rhs: Vector3<f64> = points.iter().zip(vectors).map(|(p, v)| rows(p) * v[k]).sum();
+        let c = inverse * rhs;
+        for (p, v) in points.iter().zip(vectors) {
+            left += (c.dot(&rows(p)) - v[k]).powi(2);
+            total += v[k] * v[k];
+        }
+    }
+    (total > 0.0).then(|| (left / total).sqrt())
+}
+
 /// A short description of a family member's field.
 fn describe(field: &FieldSpec) -> String {
     let cm = |c: [f64; 2]| format!("({:.2}, {:.2}) cm", 100.0 * c[0], 100.0 * c[1]);

@@ -4,7 +4,7 @@
 
 use platefield::design::method::Method;
 use platefield::request::family::family;
-use platefield_studies::robust_family::{outcome, SEED};
+use platefield_studies::robust_family::{affine_residual, outcome, COUNT, GOALS, SEED};
 
 /// The mirror-image (or counter-rotating) share of each, judged at five
 /// frictions over its range, holds its worst shape error ≤ 10 % (the
@@ -78,4 +78,55 @@ fn the_mirror_base_is_the_nominal_synthesis() {
         assert_eq!(base.segments, exact.kept().schedule.segments, "{}", t.name);
         assert_eq!(base.settings, exact.kept().schedule.settings, "{}", t.name);
     }
+}
+
+/// Why the family's sampled members miss the 10 % bound
+/// (`results/robust_family.md`): each asks for more than an affine field
+/// can give ([`affine_residual`] over its sample points above 10 %), and
+/// the committed robust design of each leaves at least 85 % of that
+/// residual unmatched: no design here reaches the non-affine part. (Basis
+/// copies shifted by 2 cm fit sampled_4 to 7 % on paper, below its 13.8 %
+/// residual, but the sequence of them loses contact at the region's
+/// corners: `design sampled_4.json --method sequence --shift 0.02,0
+/// --shift=-0.02,0 --shift 0,0.02 --shift 0,-0.02`, the member written
+/// out with its range's middle as its friction.) A committed row that beats
+/// its residual by more fails this test: good news, to be written into the
+/// study's reading.
+#[test]
+fn sampled_members_miss_by_their_non_affine_part() {
+    let md = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../results/robust_family.md"
+    ))
+    .unwrap();
+    let members = family(SEED, COUNT);
+    let sampled: Vec<_> = members
+        .iter()
+        .filter(|t| t.name.starts_with("sampled_"))
+        .collect();
+    assert_eq!(sampled.len(), 5);
+    for t in sampled {
+        let residual = affine_residual(&t.field).expect("a sampled field");
+        let row = md
+            .lines()
+            .find(|l| l.starts_with(&format!("| {} |", t.name)))
+            .unwrap_or_else(|| panic!("{}: no row", t.name));
+        // Column 5: "robust worst shape (at μ)", as "14.5 % (0.432)".
+        let cell = row.split('|').nth(5).unwrap().trim();
+        let worst: f64 = cell.split(' ').next().unwrap().parse::<f64>().unwrap() / 100.0;
+        eprintln!(
+            "{}: affine residual {:.1} %, robust worst {:.1} %",
+            t.name,
+            100.0 * residual,
+            100.0 * worst
+        );
+        assert!(residual > GOALS.1, "{}: affine residual {residual}", t.name);
+        assert!(
+            worst >= 0.85 * residual,
+            "{}: robust worst {worst} against the affine residual {residual}",
+            t.name
+        );
+    }
+    // An analytic field has no such residual.
+    assert_eq!(affine_residual(&members[0].field), None);
 }
