@@ -83,7 +83,7 @@ pub struct PoseOutcome {
     /// motion to play).
     pub lift_check: Option<LiftCheck>,
     /// The lifted equilibria refined on the averaged field
-    /// ([`super::refine`]); `None` for a target.
+    /// ([`refine`]); `None` for a target.
     pub refined: Option<Vec<Refinement>>,
     /// Why the averaged field's check and refinement did not run (their
     /// work estimate is over the limit without `--allow-long`).
