@@ -3,7 +3,7 @@
 //! One cold `design targets/sink.json` (method auto) as the CLI runs it:
 //! no basis cache (the library is built), the sequenced fit, the synthesis
 //! with its stall rule and the played polish, both candidates played
-//! (`platefield::design::run` by method `auto`, default options), with
+//! (`platefield::inverse::run` by method `auto`, default options), with
 //! rayon's default thread count. Issue 27's goal: ≤ 5 s wall on 2 cores.
 //! `platefield design-speed` puts every shipped target and several budgets
 //! on a cost-against-quality table (`results/design_speed.md`).
@@ -36,7 +36,7 @@ fn design(c: &mut Criterion) {
     group.sample_size(10);
     group.bench_function("sink_auto_cold", |b| {
         b.iter(|| {
-            platefield::design::run(&target, &opts.by_method(Method::Auto, &synth))
+            platefield::inverse::run(&target, &opts.by_method(Method::Auto, &synth))
                 .and_then(|o| o.into_method())
                 .expect("sink designs")
         })

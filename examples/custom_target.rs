@@ -1,10 +1,11 @@
 //! A target built in code rather than read from a file: a whirl about an
 //! off-centre point, sampled at points computed here, designed by the
-//! sequence method through `platefield::design::run`.
+//! sequence method through `platefield::inverse::run`.
 //!
 //! `cargo run --release --example custom_target`
 
-use platefield::design::{self, DesignOptions, DesignOutcome, Method};
+use platefield::design::{DesignOptions, Method};
+use platefield::inverse::{self, DesignOutcome};
 use platefield::request::Target;
 
 fn main() -> platefield::Result<()> {
@@ -30,7 +31,7 @@ fn main() -> platefield::Result<()> {
         runtime: platefield::work::Runtime::QUIET,
         ..DesignOptions::default()
     };
-    let DesignOutcome::Method(outcome) = design::run(&target, &options)? else {
+    let DesignOutcome::Method(outcome) = inverse::run(&target, &options)? else {
         unreachable!("a target without classes or closed loop is designed by its method")
     };
     let kept = outcome.kept();

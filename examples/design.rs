@@ -1,5 +1,5 @@
 //! Designing a target file from Rust through the one door,
-//! `platefield::design::run`, and writing nothing: the kept candidate's
+//! `platefield::inverse::run`, and writing nothing: the kept candidate's
 //! realised check and its schedule.
 //!
 //! `cargo run --release --example design [-- TARGET [METHOD]]`
@@ -9,7 +9,8 @@
 
 use std::path::Path;
 
-use platefield::design::{self, DesignOptions, DesignOutcome, Method, TargetFile};
+use platefield::design::{DesignOptions, Method};
+use platefield::inverse::{self, DesignOutcome, TargetFile};
 
 fn main() -> platefield::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -33,7 +34,7 @@ fn main() -> platefield::Result<()> {
         runtime: platefield::work::Runtime::QUIET,
         ..DesignOptions::default()
     };
-    match design::run(&target, &options)? {
+    match inverse::run(&target, &options)? {
         DesignOutcome::Method(outcome) => {
             for (k, c) in outcome.candidates.iter().enumerate() {
                 let p = c.played();

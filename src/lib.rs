@@ -13,14 +13,15 @@
 //!
 //! A target field, read like a target file (`targets/*.json`, see
 //! [`request`]), is designed into a schedule of primitive plate motions by
-//! [`design::run`], the one door of the inverse design: it designs by the
+//! [`inverse::run`], the one door of the inverse design: it designs by the
 //! method asked for ([`design::Method`]; here the sequence of primitives),
 //! plays every candidate on simulated point parts and keeps one with a
 //! typed reason ([`design::Choice`]). Here on a small grid with few steps
 //! per cycle, so that it runs in seconds:
 //!
 //! ```
-//! use platefield::design::{self, BasisSection, DesignOptions, DesignOutcome, Method};
+//! use platefield::design::{self, BasisSection, DesignOptions, Method};
+//! use platefield::inverse::{self, DesignOutcome};
 //! use platefield::request::Target;
 //! use platefield::work::Runtime;
 //!
@@ -41,7 +42,7 @@
 //! };
 //! options.settings.numerics.steps_per_cycle = 16;
 //! options.settings.phases = 4;
-//! let DesignOutcome::Method(outcome) = design::run(&target, &options)? else {
+//! let DesignOutcome::Method(outcome) = inverse::run(&target, &options)? else {
 //!     unreachable!("a target without classes or closed loop is designed by its method")
 //! };
 //! assert_eq!(outcome.choice, design::Choice::Asked(Method::Sequence));
@@ -89,10 +90,10 @@
 //! | basis | [`basis`] | the paper's eight primitives and their defaults ([`basis::primitives`]), rotated and shifted copies by symmetry ([`basis::symmetry`]), the on-disk cache |
 //! | fit | [`fit`] | the inverse problem: time fractions w ≥ 0, Σw ≤ 1, the fit modes, how each is solved and verified |
 //! | schedule | [`schedule`] | time fractions as whole cycles (`schedule::quantize`); the six controller signals ([`schedule::export`]) |
-//! | design | [`design`] | [`design::run`], the one door (a target file read by [`design::TargetFile`], a part's pose included: [`design::pose`]), the open-loop pipeline, the closed loop ([`design::closed_loop`]), refinement of a design's primitives by re-simulation ([`design::refine`]), the played polish of a synthesized motion ([`design::polish`]), and `--method` ([`design::method`]): sequence, synthesize or mix (a synthesized motion as one more basis column, [`design::basis::ColumnSource`]), every candidate played against the target, the POOR rule ([`fit::POOR_ERROR`]) and the choice |
+//! | design | [`inverse`], [`design`] | [`inverse::run`], the one door (a target file read by [`inverse::TargetFile`]: a field designed by [`design`], a part's pose by [`pose::design`]); the open-loop pipeline, the closed loop ([`design::closed_loop`]), refinement of a design's primitives by re-simulation ([`design::refine`]), the played polish of a synthesized motion ([`design::polish`]), and `--method` ([`design::method`]): sequence, synthesize or mix (a synthesized motion as one more basis column, [`design::basis::ColumnSource`]), every candidate played against the target, the POOR rule ([`fit::POOR_ERROR`]) and the choice |
 //! | synthesis | [`synth`] | one simultaneous six-signal motion: shaker limits, the averaged-friction seed, the in-plane ratchet start for transport ([`synth::transport`]), refinement by re-simulation |
 //! | play, verify | [`play`], [`verify`] | a schedule's exact plate trajectory, the rule at the joins, rest in closed form; realised against predicted (one motion alone: its drift-lag-corrected steady state per cycle, [`play::lag`]; a warm-up that outlasts the start-up transient, `play::settle`); where parts end up |
-//! | poses | [`pose`] | a planar part in a field: the lifted field on (x, y, θ) (the point field integrated over the support, [`pose::LiftedField`]), its equilibria and their stability, basins from drops integrated along it or played ([`pose::played_basins`]); the averaged field ([`pose::AveragedField`]: the rigid part's own periodic slip, the period map of the played schedule), which checks the lifted field and refines its equilibria onto the played rests ([`pose::refine`]) |
+//! | poses | [`pose`] | a planar part in a field (analysis; the design of a pose target in [`pose::design`]): the lifted field on (x, y, θ) (the point field integrated over the support, [`pose::LiftedField`]), its equilibria and their stability, basins from drops integrated along it or played ([`pose::played_basins`]); the averaged field ([`pose::AveragedField`]: the rigid part's own periodic slip, the period map of the played schedule), which checks the lifted field and refines its equilibria onto the played rests ([`pose::refine`]) |
 //! | work | [`work`] | the work estimate (RK4 part steps at a stated rate) every long command makes first, refusing above 10 min unless `--allow-long` |
 //!
 //! ## The workspace around the library
@@ -146,6 +147,7 @@ pub mod error;
 pub mod field;
 pub mod fit;
 pub mod input;
+pub mod inverse;
 pub(crate) mod linalg;
 pub mod motion;
 pub mod output;

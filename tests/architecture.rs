@@ -374,7 +374,8 @@ fn layers_import_downwards() {
             ["play", "design", "verify", "report"].as_slice(),
         ),
         ("play", &["design", "verify", "report"]),
-        ("design", &["verify", "report"]),
+        ("design", &["verify", "report", "pose", "inverse"]),
+        ("pose", &["inverse"]),
         ("verify", &["report"]),
     ] {
         let used = graph.get(from).cloned().unwrap_or_default();

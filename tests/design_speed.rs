@@ -38,7 +38,7 @@ fn default_design(target: &Target, name: &str) -> ((f64, f64), (f64, f64)) {
         progress: ProgressMode::Quiet,
         ..SynthOptions::default()
     };
-    let m = platefield::design::run(target, &opts.by_method(Method::Auto, &synth))
+    let m = platefield::inverse::run(target, &opts.by_method(Method::Auto, &synth))
         .and_then(|o| o.into_method())
         .expect("designs");
     let _ = std::fs::remove_dir_all(&cache);

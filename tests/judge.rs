@@ -18,8 +18,9 @@
 
 use platefield::design::judge::{judge, judge_points};
 use platefield::design::method::Method;
-use platefield::design::{run, DesignOptions};
+use platefield::design::DesignOptions;
 use platefield::dynamics::{Model, PartState, Simulator};
+use platefield::inverse::run;
 use platefield::motion::held_csv;
 use platefield::motion::sample_hold::HoldSamples;
 use platefield::motion::{Held, Motion};

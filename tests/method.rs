@@ -86,7 +86,7 @@ fn auto_plays_both_and_keeps_the_better_realised_one() {
     let target = sink_lab(
         r#"{"period": 0.05, "linear": [12, 12, 0.2], "angular": [220, 220, 0], "harmonics": 1}"#,
     );
-    let md = platefield::design::run(
+    let md = platefield::inverse::run(
         &target,
         &options(vec![PrimitiveKind::LineSink]).by_method(Method::Auto, &synth()),
     )
@@ -154,7 +154,7 @@ fn auto_plays_both_and_keeps_the_better_realised_one() {
 /// motion and says why.
 #[test]
 fn auto_keeps_the_method_that_works() {
-    let md = platefield::design::run(
+    let md = platefield::inverse::run(
         &sink_lab(LAB),
         &options(vec![PrimitiveKind::LineSink]).by_method(Method::Auto, &synth()),
     )
@@ -173,7 +173,7 @@ fn auto_keeps_the_method_that_works() {
         "{why}"
     );
     // Asked for alone, the failure is the error.
-    let e = platefield::design::run(
+    let e = platefield::inverse::run(
         &sink_lab(LAB),
         &options(vec![PrimitiveKind::LineSink]).by_method(Method::Sequence, &synth()),
     )
@@ -191,7 +191,7 @@ fn auto_keeps_the_method_that_works() {
 fn sequenced_designs_keep_the_shaker_limits() {
     let kinds = vec![PrimitiveKind::LineSink, PrimitiveKind::Trans];
     let target = sink_lab(r#"{"linear": [30, 30, 1]}"#);
-    let md = platefield::design::run(
+    let md = platefield::inverse::run(
         &target,
         &options(kinds.clone()).by_method(Method::Sequence, &synth()),
     )
@@ -221,7 +221,7 @@ fn sequenced_designs_keep_the_shaker_limits() {
     // Without limits the Trans columns stay in the basis.
     let mut free = sink_lab("{}");
     free.shaker = None;
-    let md = platefield::design::run(&free, &options(kinds).by_method(Method::Sequence, &synth()))
+    let md = platefield::inverse::run(&free, &options(kinds).by_method(Method::Sequence, &synth()))
         .and_then(|o| o.into_method())
         .unwrap();
     let d = md.sequence.as_ref().unwrap();
@@ -242,7 +242,7 @@ fn sequenced_designs_keep_the_shaker_limits() {
 fn auto_without_limits_synthesizes_within_the_sequenced_peaks() {
     let mut target = sink_lab("{}");
     target.shaker = None;
-    let md = platefield::design::run(
+    let md = platefield::inverse::run(
         &target,
         &options(vec![PrimitiveKind::LineSink]).by_method(Method::Auto, &synth()),
     )
@@ -294,14 +294,14 @@ fn mix_combines_a_synthesized_motion_with_primitives() {
     ))
     .expect("valid target");
     let kinds = vec![PrimitiveKind::Trans];
-    let alone = platefield::design::run(
+    let alone = platefield::inverse::run(
         &target,
         &options(kinds.clone()).by_method(Method::Sequence, &synth()),
     )
     .and_then(|o| o.into_method())
     .unwrap();
     let alone_error = alone.kept().schedule.fit.relative_l2_error;
-    let md = platefield::design::run(&target, &options(kinds).by_method(Method::Mix, &synth()))
+    let md = platefield::inverse::run(&target, &options(kinds).by_method(Method::Mix, &synth()))
         .and_then(|o| o.into_method())
         .unwrap();
     let d = md.mixed.as_ref().expect("mixed design");
@@ -361,14 +361,15 @@ fn a_measure_over_too_few_points_is_not_measured() {
     };
     let opts = options(vec![PrimitiveKind::LineSink]);
     let played = |keep| {
-        let d = platefield::design::run(&target(keep), &opts.by_method(Method::Sequence, &synth()))
-            .and_then(|o| o.into_method())
-            .unwrap();
+        let d =
+            platefield::inverse::run(&target(keep), &opts.by_method(Method::Sequence, &synth()))
+                .and_then(|o| o.into_method())
+                .unwrap();
         d.candidates[d.chosen].played().clone()
     };
     // Two weighted points are refused before any play, naming the weights
     // (`request::MIN_WEIGHTED_POINTS`).
-    let two = platefield::design::run(&target(2), &opts.by_method(Method::Sequence, &synth()))
+    let two = platefield::inverse::run(&target(2), &opts.by_method(Method::Sequence, &synth()))
         .and_then(|o| o.into_method())
         .err()
         .map(|e| e.to_string())

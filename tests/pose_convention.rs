@@ -27,7 +27,7 @@
 //!    radius: the first of the design's own drops, at its settings and
 //!    duration) are played on that motion and on the schedule itself (at
 //!    the file's step size: below), and the drops ending at the asked pose
-//!    (`design::pose::at_pose`: within 1 mm and 3° modulo the part's
+//!    (`pose::design::at_pose`: within 1 mm and 3° modulo the part's
 //!    symmetry) are counted on each: the file's count is at least the
 //!    schedule's minus one, and each drop ends within 0.1 mm and 0.5° of
 //!    where it ends on the schedule.
@@ -55,9 +55,9 @@ mod plate;
 use std::path::Path;
 
 use plate::{angle_between, from_rotation_vector, read_export, Plate};
-use platefield::design::pose::{at_pose, search::pose_error, PoseRequest};
 use platefield::motion::{held_csv, Held, Motion};
 use platefield::play::{PlayedSegment, ScheduleMotion};
+use platefield::pose::design::{at_pose, search::pose_error, PoseTarget};
 use platefield::pose::{drop_starts, play_part, DropPlay, Pose};
 use platefield::schedule::export::export;
 use platefield::schedule::Schedule;
@@ -72,7 +72,7 @@ const SUBSTEPS: usize = 2;
 
 /// The design, its export and the export looped as a controller plays it.
 struct Bracket {
-    request: PoseRequest,
+    request: PoseTarget,
     schedule: Schedule,
     /// The exported CSV, as `platefield export` writes its samples.
     csv: String,
@@ -92,7 +92,7 @@ fn bracket() -> Bracket {
 /// The design, its drops lasting `passes` schedule periods (`None`: the
 /// recorded duration's).
 fn bracket_over(passes: Option<u32>) -> Bracket {
-    let request = PoseRequest::load(Path::new(TARGET)).unwrap().unwrap();
+    let request = PoseTarget::load(Path::new(TARGET)).unwrap().unwrap();
     let schedule = Schedule::load(Path::new(SCHEDULE)).unwrap();
     let csv = export(&schedule, RATE, 20).unwrap().samples.to_csv();
     let mut file = held_csv::parse(&csv, SCHEDULE).unwrap();
@@ -209,7 +209,7 @@ impl Bracket {
 }
 
 /// How many of `ends` are at the asked pose.
-fn at_pose_count(req: &PoseRequest, ends: &[Option<Pose>]) -> usize {
+fn at_pose_count(req: &PoseTarget, ends: &[Option<Pose>]) -> usize {
     let n = req.part.symmetry();
     ends.iter()
         .flatten()
@@ -218,7 +218,7 @@ fn at_pose_count(req: &PoseRequest, ends: &[Option<Pose>]) -> usize {
 }
 
 /// An end pose's error from the asked one (mm, degrees).
-fn error_text(req: &PoseRequest, end: &Option<Pose>) -> String {
+fn error_text(req: &PoseTarget, end: &Option<Pose>) -> String {
     match end {
         Some(p) => {
             let (d, t) = pose_error(p, &req.pose, req.part.symmetry());

@@ -1,5 +1,5 @@
 //! Pose designs played over the part's friction range
-//! (`design::pose::friction`): a part file's range reaches the drops at
+//! (`pose::design::friction`): a part file's range reaches the drops at
 //! each of its values, an exact friction leaves `over_friction` absent
 //! (the schedule's bytes unchanged), and on a mirror-symmetric schedule a
 //! friction error moves the lifted pose nowhere and scales its rates by
@@ -12,14 +12,14 @@
 
 use std::path::{Path, PathBuf};
 
-use platefield::design::pose::{friction, PoseRequest};
 use platefield::design::stacked::ranged;
 use platefield::dynamics::Friction;
+use platefield::pose::design::{friction, PoseTarget};
 use platefield::request::FrictionSpec;
 use platefield::schedule::{PoseAtFriction, PoseOverFriction, PosePlayed, Schedule};
 
 /// The rectangle with `friction` (JSON) asked at the centre, 0°, over ±4 cm.
-fn request(tag: &str, friction: &str) -> PoseRequest {
+fn request(tag: &str, friction: &str) -> PoseTarget {
     let dir: PathBuf = std::env::temp_dir().join(format!("platefield-pose-friction-{tag}"));
     std::fs::create_dir_all(&dir).unwrap();
     let part = format!(
@@ -28,7 +28,7 @@ fn request(tag: &str, friction: &str) -> PoseRequest {
     std::fs::write(dir.join("part.json"), part).unwrap();
     let target = r#"{"name": "pose_test", "grid": {"x": [-0.04, 0.04], "y": [-0.04, 0.04], "n": [11, 11]},
         "field": {"kind": "pose", "part": "part.json", "pose": [0, 0, 0]}}"#;
-    PoseRequest::from_json_str(target, &dir).unwrap().unwrap()
+    PoseTarget::from_json_str(target, &dir).unwrap().unwrap()
 }
 
 /// Drops played at each friction: enough for the two ends to differ.
@@ -119,7 +119,7 @@ fn symmetric_schedule_keeps_the_pose(lo: &PoseAtFriction, hi: &PoseAtFriction) {
 fn an_exact_friction_leaves_over_friction_absent() {
     for name in ["rectangle", "bracket", "triangle"] {
         let path = format!("targets/pose_{name}.json");
-        let req = PoseRequest::load(Path::new(&path)).unwrap().unwrap();
+        let req = PoseTarget::load(Path::new(&path)).unwrap().unwrap();
         assert_eq!(ranged(&req.target), None, "{path}");
     }
     let req = request("exact", "0.3");

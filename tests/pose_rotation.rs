@@ -1,4 +1,4 @@
-//! Issue 28, route A (`design::pose::spin`): a rotation about the vertical
+//! Issue 28, route A (`pose::design::spin`): a rotation about the vertical
 //! mixed with the in-plane translation in one motion makes the synthesized
 //! sink's point field nonlinear at the part's scale and gives the bracket
 //! one stable pose (measured numbers in docs/parts.md).
@@ -6,10 +6,10 @@
 #[path = "common/affine.rs"]
 mod affine;
 
-use platefield::design::pose::spin::{Spin, CANDIDATES};
-use platefield::design::pose::PoseRequest;
 use platefield::field::{Field, FieldKind, FieldSettings, Grid};
 use platefield::motion::{Axes, FourierTerm, Motion, Signals};
+use platefield::pose::design::spin::{Spin, CANDIDATES};
+use platefield::pose::design::PoseTarget;
 use platefield::pose::{equilibria, Equilibrium, GridField, LiftedField};
 
 /// The plate region the fields are measured on (m): ±4 cm.
@@ -67,9 +67,9 @@ fn field(spin: Option<Spin>) -> Field {
 
 /// The bracket's pose request (`PF_TARGET`'s instead when set, for the
 /// explorations).
-fn request() -> PoseRequest {
+fn request() -> PoseTarget {
     let target = std::env::var("PF_TARGET").unwrap_or("targets/pose_bracket.json".into());
-    PoseRequest::load(std::path::Path::new(&target))
+    PoseTarget::load(std::path::Path::new(&target))
         .unwrap()
         .unwrap()
 }
@@ -104,7 +104,7 @@ fn affine_residual_matches_closed_forms() {
 /// The synthesized sink is affine to 6 % over ±4 cm (measured 3.5 % with
 /// its translation scaled by 0.25) and leaves the bracket's orientation
 /// neutral (no stable pose: an isotropic linear sink does not turn a
-/// part); with the spin the bracket keeps (`design::pose::screen`: α =
+/// part); with the spin the bracket keeps (`pose::design::screen`: α =
 /// 1200 rad/s² at −1.6 rad, translation × 0.4, r* ≈ 14 mm) the residual
 /// exceeds 50 % (measured 67 %) and the bracket has exactly one stable
 /// pose, decaying faster than 0.1 1/s (measured 0.41 1/s; the time-shared
@@ -159,10 +159,10 @@ fn explore_spin() {
 }
 
 /// The pose target at `path` designed as `design` does, quietly, with
-/// [`platefield::design::pose::DROPS`] drops.
-fn designed(path: &str) -> platefield::design::pose::PoseDesign {
-    use platefield::design::pose::{design_pose, DROPS};
-    let req = PoseRequest::load(std::path::Path::new(path))
+/// [`platefield::pose::design::DROPS`] drops.
+fn designed(path: &str) -> platefield::pose::design::PoseDesign {
+    use platefield::pose::design::{design_pose, DROPS};
+    let req = PoseTarget::load(std::path::Path::new(path))
         .unwrap()
         .unwrap();
     let opts = platefield::design::DesignOptions {
@@ -173,7 +173,7 @@ fn designed(path: &str) -> platefield::design::pose::PoseDesign {
 }
 
 /// The bracket's pose target designed whole on the spin route: the screen
-/// keeps, by its cycle with the ellipse (`design::pose::cycle`), 900
+/// keeps, by its cycle with the ellipse (`pose::design::cycle`), 900
 /// rad/s² with the translation × 0.25 (every probe of its cycle at one
 /// pose; ties with 1200 × 0.4 and × 0.6 go to the earlier candidate), and
 /// at least 95 % of 100 drops end within 1 mm and 3° of (8 mm, 6 mm,
@@ -183,7 +183,7 @@ fn designed(path: &str) -> platefield::design::pose::PoseDesign {
 #[test]
 #[ignore = "minutes of CPU: cargo test --release --test pose_rotation -- --ignored bracket"]
 fn bracket_pose_design_on_the_spin_route() {
-    use platefield::design::pose::DROPS;
+    use platefield::pose::design::DROPS;
     let d = designed("targets/pose_bracket.json");
     assert_eq!(d.spin, Some(CANDIDATES[1]));
     assert_eq!(d.screened.len(), CANDIDATES.len());
@@ -195,7 +195,7 @@ fn bracket_pose_design_on_the_spin_route() {
     assert!(p.pose_fraction >= 0.95, "{}", p.pose_fraction);
 }
 
-/// The triangle's pose target designed whole: a cycle (`design::pose::cycle`)
+/// The triangle's pose target designed whole: a cycle (`pose::design::cycle`)
 /// of the spin the screen keeps (4800 rad/s², translation × 0.15, every
 /// probe of its cycle at one pose) and the ellipse puts at least 95 % of
 /// 100 drops within 1 mm and 3° of (−10 mm, 6 mm, 60°) (measured 99 %, 1
@@ -223,7 +223,7 @@ fn triangle_pose_design_in_a_cycle() {
 #[test]
 #[ignore = "exploration: PF_SCHEDULE=…/schedule.json"]
 fn explore_ends() {
-    use platefield::design::pose::search::pose_error;
+    use platefield::pose::design::search::pose_error;
     use platefield::pose::{drop_starts, play_part, DropPlay};
     let env = |k: &str, d: &str| std::env::var(k).unwrap_or(d.into());
     let req = request();
@@ -275,7 +275,7 @@ fn explore_ends() {
     }
 }
 
-/// Exploration: spins judged by play (`design::pose::screen`) on the
+/// Exploration: spins judged by play (`pose::design::screen`) on the
 /// centred sink `design` synthesizes for `PF_TARGET` (default the
 /// bracket's): `PF_SPIN="alpha,phase,translation;..."` (default the
 /// candidates) prints each one's score and its cycle's played pose
@@ -284,7 +284,7 @@ fn explore_ends() {
 #[test]
 #[ignore = "exploration: PF_SPIN=alpha,phase,translation;..."]
 fn explore_screen() {
-    use platefield::design::pose::{placement, screen};
+    use platefield::pose::design::{placement, screen};
     let req = request();
     let opts = platefield::design::DesignOptions {
         runtime: platefield::work::Runtime::QUIET,
@@ -298,7 +298,7 @@ fn explore_screen() {
         placement::synthesize_centred(&req, placement::family(false), &opts, &opts.synthesis)
             .unwrap();
     let grid = req.target.grid.unwrap_or(Grid::DEFAULT);
-    let stage = platefield::design::pose::cycle::EllipseStage::new(
+    let stage = platefield::pose::design::cycle::EllipseStage::new(
         &req,
         ellipse.kept().schedule.clone(),
         &grid,
@@ -325,7 +325,7 @@ fn explore_screen() {
             spin.alpha, spin.phase, spin.translation, s.score, s.spread, s.pose
         );
         if std::env::var("PF_ENDS").is_ok() {
-            let spun = platefield::design::pose::spin::spun(&sink, spin).unwrap();
+            let spun = platefield::pose::design::spin::spun(&sink, spin).unwrap();
             for e in screen::probe_ends(&req, &spun, None)
                 .unwrap()
                 .iter()
@@ -349,11 +349,11 @@ fn explore_screen() {
 #[test]
 #[ignore = "exploration: PF_SPIN=alpha,phase,translation;... PF_DROPS=n PF_RATIO=r"]
 fn explore_basins() {
-    use platefield::design::pose::{placement, screen, spin::spun};
+    use platefield::pose::design::{placement, screen, spin::spun};
     use platefield::pose::{drop_starts, play_part, DropPlay, Pose};
     let req = request();
     // PF_RATIO: the synthesized ellipse's α/β (1: the isotropic sink).
-    let family = platefield::design::pose::search::Family::Ellipse {
+    let family = platefield::pose::design::search::Family::Ellipse {
         ratio: std::env::var("PF_RATIO")
             .unwrap_or("1".into())
             .parse()
@@ -394,7 +394,7 @@ fn explore_basins() {
                 pose.theta.to_degrees()
             ));
             ends.retain(|e| {
-                let (d, t) = platefield::design::pose::search::pose_error(e, &pose, n);
+                let (d, t) = platefield::pose::design::search::pose_error(e, &pose, n);
                 1e3 * d > 1.0 || t.abs().to_degrees() > 3.0
             });
             if shares.len() == 3 {
@@ -412,7 +412,7 @@ fn explore_basins() {
     }
 }
 
-/// The cycle of a spun sink and the ellipse (`design::pose::cycle`):
+/// The cycle of a spun sink and the ellipse (`pose::design::cycle`):
 /// `PF_SPIN_A` (default 4800,-1.6,0.15) on the isotropic sink, its probes'
 /// main rest, and its cycle with the ellipse placed there, the stages
 /// `PF_STAGE_S` seconds (default the library's 40,20); `PF_DROPS` drops
@@ -423,8 +423,8 @@ fn explore_basins() {
 #[test]
 #[ignore = "exploration: PF_TARGET, PF_SPIN_A, PF_STAGE_S, PF_MU"]
 fn explore_cycle() {
-    use platefield::design::pose::cycle::{cycle, EllipseStage, ELLIPSE_S, SPIN_S};
-    use platefield::design::pose::{placement, screen, search::pose_error, spin::spun};
+    use platefield::pose::design::cycle::{cycle, EllipseStage, ELLIPSE_S, SPIN_S};
+    use platefield::pose::design::{placement, screen, search::pose_error, spin::spun};
     use platefield::pose::{drop_starts, play_part, DropPlay, Pose};
     use platefield::schedule::Schedule;
     let env = |k: &str, d: &str| std::env::var(k).unwrap_or(d.into());

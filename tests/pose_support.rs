@@ -1,17 +1,17 @@
 //! Pose designs played over the supports the part may rest on
-//! (`platefield::design::pose::support`): the part file's, uniform, 3 and 4
+//! (`platefield::pose::design::support`): the part file's, uniform, 3 and 4
 //! points at the convex hull's vertices and seeded random admissible
 //! distributions, each with its weighted centroid at the centre of mass.
 
 use std::path::Path;
 
-use platefield::design::pose::support::{
-    play_over_supports, support_models, SupportModel, RANDOM_SUPPORTS,
-};
-use platefield::design::pose::{at_pose, PoseRequest};
 use platefield::dynamics::V2;
 use platefield::part::Part;
 use platefield::play::ScheduleMotion;
+use platefield::pose::design::support::{
+    play_over_supports, support_models, SupportModel, RANDOM_SUPPORTS,
+};
+use platefield::pose::design::{at_pose, PoseTarget};
 use platefield::pose::{drop_starts, play_part, DropPlay};
 use platefield::schedule::Schedule;
 
@@ -106,8 +106,8 @@ fn support_models_are_admissible() {
 /// The shipped pose design of `name`: its request
 /// (`targets/pose_{name}.json`), its schedule
 /// (`results/poses/{name}/schedule.json`) and its drops' duration.
-fn shipped_design(name: &str) -> (PoseRequest, Schedule, f64) {
-    let req = PoseRequest::load(Path::new(&format!("targets/pose_{name}.json")))
+fn shipped_design(name: &str) -> (PoseTarget, Schedule, f64) {
+    let req = PoseTarget::load(Path::new(&format!("targets/pose_{name}.json")))
         .unwrap()
         .unwrap();
     let path = format!("results/poses/{name}/schedule.json");

@@ -315,7 +315,7 @@ fn designed(
         progress: platefield::synth::progress::ProgressMode::Quiet,
         ..opts.synthesis
     };
-    platefield::design::run(target, &opts.by_method(method, &synth))
+    platefield::inverse::run(target, &opts.by_method(method, &synth))
         .and_then(|o| o.into_method())
         .unwrap()
 }

@@ -84,7 +84,8 @@ fn the_spread_is_the_judge_over_seeded_draws() {
 #[test]
 fn a_stated_tolerance_is_judged_at_the_worst_friction() {
     use platefield::basis::PrimitiveKind;
-    use platefield::design::{run, BasisSection, DesignOptions};
+    use platefield::design::{BasisSection, DesignOptions};
+    use platefield::inverse::run;
     let target = platefield::request::Target::from_json_str(
         r#"{"name": "sink_tol", "field": {"kind": "sink"},
             "grid": {"x": [-0.04, 0.04], "y": [-0.04, 0.04], "n": [9, 9]},
@@ -139,7 +140,8 @@ fn a_stated_tolerance_is_judged_at_the_worst_friction() {
 #[ignore = "about 3 min of CPU: cargo test --release --test tolerance -- --ignored"]
 fn the_sink_holds_its_tolerance_over_the_range() {
     use platefield::design::tolerance::judged_at;
-    use platefield::design::{run, DesignOptions};
+    use platefield::design::DesignOptions;
+    use platefield::inverse::run;
     let mut target =
         platefield::request::Target::load(std::path::Path::new("targets/sink.json")).unwrap();
     target.friction = Some(platefield::scene::FrictionSpec::range(0.2, 0.4));

@@ -8,7 +8,7 @@ use std::path::PathBuf;
 use clap::Args;
 
 use platefield::output::write_all_atomic;
-use platefield::pose::{poses, PoseRequest};
+use platefield::pose::{poses, AnalysisRequest};
 use platefield::scene::FrictionSpec;
 use platefield::{Error, Result};
 use platefield_report::poses::{
@@ -55,7 +55,7 @@ impl PosesArgs {
         if let Some(dir) = &self.out {
             platefield::output::check_writable(dir, "--out")?;
         }
-        let o = poses(&PoseRequest {
+        let o = poses(&AnalysisRequest {
             part: self.part.clone(),
             source: self.source.clone(),
             drops: self.drops,

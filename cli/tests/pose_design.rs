@@ -5,8 +5,8 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use platefield::design::pose::{search, PoseRequest};
 use platefield::design::DesignOptions;
+use platefield::pose::design::{search, PoseTarget};
 
 fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
     let p = dir.join(name);
@@ -99,10 +99,10 @@ fn bad_pose_targets_exit_2_naming_the_path() {
 /// 1e-6 m and 1e-5 rad).
 #[test]
 fn placement_moves_the_lifted_pose_onto_the_asked_one() {
-    use platefield::design::pose::placement::{centred_pose, Placement};
     use platefield::dynamics::V2;
+    use platefield::pose::design::placement::{centred_pose, Placement};
     use platefield::pose::{equilibria, LiftedField};
-    let req = PoseRequest::load(Path::new(concat!(
+    let req = PoseTarget::load(Path::new(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../targets/pose_rectangle.json"
     )))
@@ -209,8 +209,8 @@ fn turned_and_shifted_motion_has_the_turned_and_shifted_field() {
 #[test]
 #[ignore = "minutes of CPU: cargo test --release --test pose_design -- --ignored"]
 fn rectangle_pose_design_places_the_part() {
-    use platefield::design::pose::{design_pose, DROPS};
-    let req = PoseRequest::load(Path::new(concat!(
+    use platefield::pose::design::{design_pose, DROPS};
+    let req = PoseTarget::load(Path::new(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../targets/pose_rectangle.json"
     )))

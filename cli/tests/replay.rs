@@ -279,7 +279,7 @@ fn design_options() -> (DesignOptions, SynthOptions) {
 fn sampled_target_reports_what_its_export_replays(method: Method) {
     let target = sampled_whirlpool();
     let (opts, synth) = design_options();
-    let md = platefield::design::run(&target, &opts.by_method(method, &synth))
+    let md = platefield::inverse::run(&target, &opts.by_method(method, &synth))
         .and_then(|o| o.into_method())
         .unwrap();
     let kept = &md.kept().schedule;

@@ -6,8 +6,8 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use platefield::design::pose::{Placement, PoseDesign, TOL_DEG, TOL_MM};
 use platefield::error::{Error, Result};
+use platefield::pose::design::{Placement, PoseDesign, TOL_DEG, TOL_MM};
 use platefield::schedule::PosePlayed;
 
 /// The played drops of `d`'s kept schedule.
@@ -69,10 +69,10 @@ fn placement_text(p: &Placement) -> String {
 fn placement_md(d: &PoseDesign, md: &mut String) {
     let motion = match d.spin {
         None => format!(
-            "One six-signal motion synthesized once for the centred {} (`design::pose::placement`)",
-            platefield::design::pose::placement::family(false).label()
+            "One six-signal motion synthesized once for the centred {} (`pose::design::placement`)",
+            platefield::pose::design::placement::family(false).label()
         ),
-        Some(_) => "The cycle named above (`design::pose::cycle`: two six-signal motions, each synthesized once; the spun sink (`design::pose::spin`: a field nonlinear at the part's scale) selects one of the ellipse's two poses, the ellipse, placed on the spun sink's played rest, sets it)".to_string(),
+        Some(_) => "The cycle named above (`pose::design::cycle`: two six-signal motions, each synthesized once; the spun sink (`pose::design::spin`: a field nonlinear at the part's scale) selects one of the ellipse's two poses, the ellipse, placed on the spun sink's played rest, sets it)".to_string(),
     };
     let lifted = match &d.centred {
         Some((c, rate)) => format!(
@@ -91,11 +91,11 @@ fn placement_md(d: &PoseDesign, md: &mut String) {
     screened_md(d, md);
     let _ = writeln!(
         md,
-        "\nCorrected on played probes (`design::pose::correct`: {} drops from starts spread over the region, {} s each, on the same motion; the mean end of the largest group within {} mm and {}° of one another moves the placement):\n\n| round | placement | probes' mean end (mm, mm, °) | probes in it | Δr (mm) | Δθ (°) | played turning rate (1/s) |\n|---|---|---|---|---|---|---|",
-        platefield::design::pose::correct::PROBES,
-        platefield::design::pose::correct::PROBE_S,
-        platefield::design::pose::correct::SAME_REST[0],
-        platefield::design::pose::correct::SAME_REST[1],
+        "\nCorrected on played probes (`pose::design::correct`: {} drops from starts spread over the region, {} s each, on the same motion; the mean end of the largest group within {} mm and {}° of one another moves the placement):\n\n| round | placement | probes' mean end (mm, mm, °) | probes in it | Δr (mm) | Δθ (°) | played turning rate (1/s) |\n|---|---|---|---|---|---|---|",
+        platefield::pose::design::correct::PROBES,
+        platefield::pose::design::correct::PROBE_S,
+        platefield::pose::design::correct::SAME_REST[0],
+        platefield::pose::design::correct::SAME_REST[1],
     );
     for (i, r) in d.rounds.iter().enumerate() {
         let _ = writeln!(
@@ -125,7 +125,7 @@ fn placement_md(d: &PoseDesign, md: &mut String) {
 
 /// The spin candidates judged by play, when there were any.
 fn screened_md(d: &PoseDesign, md: &mut String) {
-    use platefield::design::pose::screen::{MAX_TURN, MIN_SHARE, PROBES, PROBE_S};
+    use platefield::pose::design::screen::{MAX_TURN, MIN_SHARE, PROBES, PROBE_S};
     if d.screened.is_empty() {
         return;
     }
@@ -141,8 +141,8 @@ fn screened_md(d: &PoseDesign, md: &mut String) {
     };
     let _ = writeln!(
         md,
-        "\nSpin candidates judged by play (`design::pose::screen`: {PROBES} probes × {PROBE_S} s from a 4 × 4 grid of starts on the centred spun sink, whose largest cluster places the ellipse stage, then × {} s on that cycle; share, spread and pose are the cycle's; kept: the largest share at one pose, at least {:.0} %, then the tightest{range_text}):\n\n| α (rad/s²) | phase (rad) | translation × | share at one pose | spread | played pose (mm, mm, °) |{head}\n|---|---|---|---|---|---|{rule}",
-        platefield::design::pose::cycle::SETTLED_S,
+        "\nSpin candidates judged by play (`pose::design::screen`: {PROBES} probes × {PROBE_S} s from a 4 × 4 grid of starts on the centred spun sink, whose largest cluster places the ellipse stage, then × {} s on that cycle; share, spread and pose are the cycle's; kept: the largest share at one pose, at least {:.0} %, then the tightest{range_text}):\n\n| α (rad/s²) | phase (rad) | translation × | share at one pose | spread | played pose (mm, mm, °) |{head}\n|---|---|---|---|---|---|{rule}",
+        platefield::pose::design::cycle::SETTLED_S,
         100.0 * MIN_SHARE
     );
     for s in &d.screened {

@@ -1,5 +1,5 @@
 //! A pose design's drops over the part's friction range
-//! ([`platefield::design::pose::friction`]) as a markdown table: one row per
+//! ([`platefield::pose::design::friction`]) as a markdown table: one row per
 //! friction played.
 
 use crate::table::Table;
@@ -89,7 +89,7 @@ pub fn table(o: &PoseOverFriction) -> String {
 /// range: the worst fraction and the table.
 pub fn section(o: &PoseOverFriction) -> String {
     format!(
-        "\nOver the part's friction {} (ends and middle, the same drops and play time; `design::pose::friction`): worst {:.1} % within 1 mm and 3°.\n\n{}",
+        "\nOver the part's friction {} (ends and middle, the same drops and play time; `pose::design::friction`): worst {:.1} % within 1 mm and 3°.\n\n{}",
         o.range.to_json(),
         100.0 * o.worst_pose_fraction,
         table(o)

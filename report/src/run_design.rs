@@ -26,7 +26,7 @@ pub(crate) const DESIGN_FILES: [&str; 10] = [
 ];
 
 /// `platefield design`: loads the target at `path`, designs it by
-/// [`platefield::design::run`] with `opts`, writes `OUT/<target name>/…` whole
+/// [`platefield::inverse::run`] with `opts`, writes `OUT/<target name>/…` whole
 /// and returns the schedule JSON (`json`) or the terminal summary with the
 /// files written.
 pub fn run(
@@ -35,7 +35,8 @@ pub fn run(
     out: &Path,
     json: bool,
 ) -> platefield::error::Result<String> {
-    use platefield::design::{DesignOutcome, Method, TargetFile};
+    use platefield::design::Method;
+    use platefield::inverse::{DesignOutcome, TargetFile};
     let mut file = TargetFile::load(path)?;
     if let Some(f) = opts.friction {
         file.set_friction(f, "--friction")?;
@@ -46,7 +47,7 @@ pub fn run(
     }
     let dir = out.join(&name);
     platefield::output::check_writable(&dir, "--out")?;
-    let outcome = platefield::design::run(&file, opts)?;
+    let outcome = platefield::inverse::run(&file, opts)?;
     let target = file.target();
     let md = match outcome {
         DesignOutcome::Sorted(d) => {
@@ -94,10 +95,10 @@ pub fn run(
     Ok(text)
 }
 
-/// Writes a pose target's design `d` (`platefield::design::pose`) to `dir`
+/// Writes a pose target's design `d` (`platefield::pose::design`) to `dir`
 /// whole and returns the schedule JSON or the summary.
 fn pose(
-    d: &platefield::design::pose::PoseDesign,
+    d: &platefield::pose::design::PoseDesign,
     dir: &Path,
     json: bool,
 ) -> platefield::error::Result<String> {

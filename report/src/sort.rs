@@ -483,7 +483,7 @@ pub fn verify_text(v: &platefield::verify::sort_play::SortVerify) -> String {
 }
 
 /// `platefield design` for a target with classes, once designed
-/// ([`platefield::design::DesignOutcome::Sorted`]): play every candidate,
+/// ([`platefield::inverse::DesignOutcome::Sorted`]): play every candidate,
 /// keep the faster, write `OUT/<target>/` whole; the summary or the
 /// `--json` text.
 pub fn run(

@@ -21,6 +21,10 @@
 //! Each step is one named stage function in `stages.rs`
 //! (`basis_stage` → `fit_stage` → `schedule_stage` → `order_stage`), and
 //! [`design`] composes them.
+//!
+//! A target file is designed through [`crate::inverse::run`], which
+//! chooses between these designs and that of a part's pose
+//! ([`crate::pose::design`]).
 
 pub mod basis;
 pub mod closed_loop;
@@ -30,11 +34,9 @@ pub mod mirror;
 mod options;
 pub mod order;
 pub mod polish;
-pub mod pose;
 pub mod refine;
 pub mod replay;
 mod rule;
-mod run;
 pub mod sort;
 pub mod stacked;
 mod stages;
@@ -55,12 +57,12 @@ use order::OrderSearch;
 pub(crate) use basis::DesignBasis;
 pub use method::{Choice, Method, MethodDesign};
 pub use options::{BasisSection, FitSection, ScheduleSection};
-pub use run::{run, DesignOutcome, DesignRequest, TargetFile};
 
-/// Options of [`design`] and [`run`], in sections (each range-checked
-/// by its own `validate`, all of them by [`DesignOptions::validate`],
-/// whose errors name the option path: `schedule.min_cycles`,
-/// `basis.rotation_step_deg`, `closed_loop.max_iterations`).
+/// Options of [`design`] and [`crate::inverse::run`], in sections (each
+/// range-checked by its own `validate`, all of them by
+/// [`DesignOptions::validate`], whose errors name the option path:
+/// `schedule.min_cycles`, `basis.rotation_step_deg`,
+/// `closed_loop.max_iterations`).
 #[derive(Debug, Clone, Default)]
 pub struct DesignOptions {
     /// Simulation settings (the physics and numerics) of the basis, the
@@ -72,19 +74,20 @@ pub struct DesignOptions {
     pub fit: FitSection,
     /// Whole cycles per segment and the segment order.
     pub schedule: ScheduleSection,
-    /// How [`run`] designs (default [`Method::Auto`]; [`design`] always
-    /// sequences).
+    /// How [`crate::inverse::run`] designs (default [`Method::Auto`];
+    /// [`design`] always sequences).
     pub method: Method,
-    /// Settings of the synthesis [`run`] makes for the methods that
-    /// synthesize.
+    /// Settings of the synthesis [`crate::inverse::run`] makes for the
+    /// methods that synthesize.
     pub synthesis: crate::synth::SynthOptions,
-    /// [`run`] closes the loop on the sequenced design with these options
-    /// ([`closed_loop`]; `None`: open loop).
+    /// [`crate::inverse::run`] closes the loop on the sequenced design
+    /// with these options ([`closed_loop`]; `None`: open loop).
     pub closed_loop: Option<closed_loop::LoopOptions>,
     /// Progress output and the long-run guard.
     pub runtime: Runtime,
     /// The parts' friction, replacing the target's `friction` (`design
-    /// --friction`; [`TargetFile::set_friction`]); `None`: the target's.
+    /// --friction`; [`crate::inverse::TargetFile::set_friction`]); `None`:
+    /// the target's.
     pub friction: Option<crate::scene::FrictionSpec>,
 }
 
@@ -102,7 +105,8 @@ impl DesignOptions {
         }
     }
 
-    /// These options designing by `method` with `synthesis` ([`run`]).
+    /// These options designing by `method` with `synthesis`
+    /// ([`crate::inverse::run`]).
     pub fn by_method(
         &self,
         method: Method,

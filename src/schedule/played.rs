@@ -119,7 +119,7 @@ pub struct Played {
     /// sequenced.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub limits: Option<ShakerSpec>,
-    /// A pose target's part played from random drops (`design::pose`);
+    /// A pose target's part played from random drops (`pose::design`);
     /// `None` for every other target.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pose: Option<PosePlayed>,
@@ -166,7 +166,7 @@ pub struct PosePlayed {
     /// Stable poses modulo the part's symmetry: 1 when the pose is unique.
     pub distinct_stable: usize,
     /// The same drops played at the ends and middle of the part's friction
-    /// range (`design::pose::friction`); `None` for an exact friction.
+    /// range (`pose::design::friction`); `None` for an exact friction.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub over_friction: Option<PoseOverFriction>,
 }

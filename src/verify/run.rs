@@ -530,7 +530,8 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest) -> Result<VerifyRe
 /// steps per cycle, so that it runs in seconds):
 ///
 /// ```
-/// use platefield::design::{self, BasisSection, DesignOptions, DesignOutcome, Method};
+/// use platefield::design::{BasisSection, DesignOptions, Method};
+/// use platefield::inverse::{self, DesignOutcome};
 /// use platefield::request::Target;
 /// use platefield::schedule::export;
 /// use platefield::verify::{self, Duration, VerifyRequest};
@@ -548,7 +549,7 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest) -> Result<VerifyRe
 /// };
 /// options.settings.numerics.steps_per_cycle = 16;
 /// options.settings.phases = 4;
-/// let DesignOutcome::Method(outcome) = design::run(&target, &options)? else {
+/// let DesignOutcome::Method(outcome) = inverse::run(&target, &options)? else {
 ///     unreachable!("a target without classes or closed loop is designed by its method")
 /// };
 /// let schedule = &outcome.kept().schedule;

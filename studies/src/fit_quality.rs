@@ -33,7 +33,7 @@ pub fn write_fit_quality(targets: &[PathBuf], base: &DesignOptions, out: &Path) 
          friction range is fitted by the worst-case fit over its range (`platefield::fit::worst`: \
          the least worst shape error, then the strongest within it) in every mode, so its rows \
          agree. Pose targets \
-         (`\"kind\": \"pose\"`) are designed by `design::pose`, not fitted, and are left out. \
+         (`\"kind\": \"pose\"`) are designed by `pose::design`, not fitted, and are left out. \
          Regenerate: `platefield study fit-quality` (it prints each fit's time, which is not written \
          here).\n\n",
     );
@@ -101,7 +101,7 @@ pub fn run(targets: &Path, out: &Path) -> Result<String> {
 }
 
 /// The `*.json` targets in the folder `targets` but pose targets (designed
-/// by `design::pose`, not fitted), in name order.
+/// by `pose::design`, not fitted), in name order.
 ///
 /// # Errors
 /// The folder or a target file cannot be read.
@@ -117,7 +117,7 @@ pub fn fitted_targets(targets: &Path) -> Result<Vec<PathBuf>> {
         .collect();
     let mut files = Vec::new();
     for p in json {
-        if platefield::design::pose::PoseRequest::load(&p)?.is_none() {
+        if platefield::pose::design::PoseTarget::load(&p)?.is_none() {
             files.push(p);
         }
     }

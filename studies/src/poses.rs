@@ -12,7 +12,7 @@
 //! 20 s each (minutes per part: off by default). The bracket with 3
 //! unknown contacts gives the unknown-support bounds. Last, the shipped
 //! pose targets (`targets/pose_*.json`) designed by
-//! [`platefield::design::pose::design_pose`] (one synthesized motion placed by
+//! [`platefield::pose::design::design_pose`] (one synthesized motion placed by
 //! rigid transforms) with 100 played drops each (about a minute of CPU per
 //! part), with the lifted equilibria of the kept schedule's predicted and
 //! realised point fields.
@@ -20,10 +20,10 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use platefield::design::pose::PoseRequest;
 use platefield::output::write_all_atomic;
 use platefield::part::Part;
 use platefield::play::ScheduleMotion;
+use platefield::pose::design::PoseTarget;
 use platefield::pose::{
     analyse, played_basins, schedule_field, Bounds, DropPlay, PlayedBasins, PoseAnalysis, Region,
 };
@@ -184,21 +184,21 @@ fn bounds_section(
 /// The pose-target section's head.
 const POSE_TARGETS_INTRO: &str = "## Pose targets (`design` of `targets/pose_*.json`)\n\n\
 Each part asked for at a nonzero angle off the centre (`\"field\": {\"kind\": \"pose\", …}`), \
-designed by `platefield design targets/pose_<part>.json` (`design::pose`: one six-signal motion \
+designed by `platefield design targets/pose_<part>.json` (`pose::design`: one six-signal motion \
 synthesized once for the centred elliptic sink (−0.3x, −y), turned and shifted onto the pose by \
 rigid transforms of the motion (the turn exact, the shift exact for a spin about the vertical and to first order in the tilts), \
 the placement corrected on played probes from spread starts without redesign) and played from 100 random drops by the planar simulator; goal: 95 % within 1 mm and \
 3° modulo the part's symmetry. A linear field turns a part by its second moments only, so a part \
 without a 180° symmetry (the bracket, the triangle) has two stable poses 180° apart in it, each \
 with about half the drops. A unique pose needs a field nonlinear over the part. For such a part \
-`design` plays a cycle (`design::pose::cycle`): 40 s of the isotropic sink with its translation scaled by \
-0.15–0.6 and a spin about the vertical out of phase with it (`design::pose::spin`: the slip path at p \
+`design` plays a cycle (`pose::design::cycle`): 40 s of the isotropic sink with its translation scaled by \
+0.15–0.6 and a spin about the vertical out of phase with it (`pose::design::spin`: the slip path at p \
 is an ellipse spanned by the translation and the rotation's velocity at p, so the mean friction \
 direction turns across the plate on the scale r* = V/Ω ≈ 1.4–27 mm: 61–70 % off affine over ±4 cm \
 at 9–27 mm), which selects one of the ellipse's two poses, then 20 s of the elliptic sink placed on \
 the spun sink's played rest, which sets it (the spun sink alone left the triangle's drops 92 % at \
 the pose and 7 % at a second rest 139° away, and its rest turned 17.6° over μ ± 20 %). Its 5 \
-candidate spins are judged by play, not by the lifted field alone (`design::pose::screen`: 16 probes \
+candidate spins are judged by play, not by the lifted field alone (`pose::design::screen`: 16 probes \
 × 60 s from a 4 × 4 grid of starts on the centred spun sink, whose largest cluster places the \
 ellipse stage, then 16 × 120 s on the cycle): it keeps the one whose cycle puts the largest share \
 of probes at one pose, at least 75 %, else the elliptic sink alone. A cycle's lifted field is the \
@@ -208,7 +208,7 @@ basin (`tests/pose_rotation.rs` `explore_cycle`, `docs/parts.md`).\n\n";
 /// The shipped pose targets (`targets/pose_*.json`).
 const POSE_TARGETS: [&str; 3] = ["rectangle", "bracket", "triangle"];
 
-/// One pose target designed with [`platefield::design::pose::DROPS`] played
+/// One pose target designed with [`platefield::pose::design::DROPS`] played
 /// drops: its report section, the lifted equilibria of its predicted and
 /// realised point fields, and a summary line; its kept schedule written to
 /// `out/poses/<name>/schedule.json` (what `export` and `verify` take, and
@@ -234,9 +234,9 @@ fn pose_target(md: &mut String, summary: &mut String, name: &str, out: &Path) ->
             &platefield::pose::LiftedField::new(field, &req.part.body),
             &req.region,
         );
-        platefield::design::pose::search::nearest_stable(&eqs, &req.pose, n, req.part.radius())
+        platefield::pose::design::search::nearest_stable(&eqs, &req.pose, n, req.part.radius())
             .map_or("none stable".to_string(), |e| {
-                let (d, t) = platefield::design::pose::search::pose_error(&e.pose, &req.pose, n);
+                let (d, t) = platefield::pose::design::search::pose_error(&e.pose, &req.pose, n);
                 format!("{:.2} mm, {:+.2}°", 1e3 * d, t.to_degrees())
             })
     };
@@ -273,17 +273,17 @@ fn pose_target(md: &mut String, summary: &mut String, name: &str, out: &Path) ->
 }
 
 /// The shipped pose target `targets/pose_{name}.json` designed as
-/// `design` does, quietly, with [`platefield::design::pose::DROPS`] drops: its
+/// `design` does, quietly, with [`platefield::pose::design::DROPS`] drops: its
 /// path, request and design.
 ///
 /// # Errors
 /// A target that does not load, is not a pose target or does not design.
 pub(crate) fn designed(
     name: &str,
-) -> Result<(String, PoseRequest, platefield::design::pose::PoseDesign)> {
-    use platefield::design::pose::{design_pose, DROPS};
+) -> Result<(String, PoseTarget, platefield::pose::design::PoseDesign)> {
+    use platefield::pose::design::{design_pose, DROPS};
     let path = format!("targets/pose_{name}.json");
-    let req = PoseRequest::load(Path::new(&path))?
+    let req = PoseTarget::load(Path::new(&path))?
         .ok_or_else(|| Error::invalid(path.clone(), "is not a pose target"))?;
     let opts = platefield::design::DesignOptions {
         runtime: platefield::work::Runtime::QUIET,

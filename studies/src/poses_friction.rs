@@ -5,18 +5,18 @@
 //! parts of μ = 0.3, and `pose_{bracket,triangle}_range.json`, designed for
 //! μ ∈ [0.24, 0.36], whose own plays over the range are their rows) is
 //! designed as `design` does
-//! ([`platefield::design::pose::design_pose`], [`platefield::design::pose::DROPS`] drops) and its kept
+//! ([`platefield::pose::design::design_pose`], [`platefield::pose::design::DROPS`] drops) and its kept
 //! schedule's drops are played again, from the same starts for the same
 //! time, at μ 0.24 and 0.36 ([`FrictionSpec::around`] 0.3 by
 //! [`FRACTION`], its ends and middle: the middle is the design's own
 //! play), each judged against the lifted field at that μ
-//! ([`platefield::design::pose::friction`]). Minutes of CPU: three designs, then
+//! ([`platefield::pose::design::friction`]). Minutes of CPU: three designs, then
 //! three times their drops; its own command, `platefield study poses-friction`.
 
 use std::fmt::Write as _;
 use std::path::Path;
 
-use platefield::design::pose::friction;
+use platefield::pose::design::friction;
 use platefield::request::FrictionSpec;
 use platefield::Result;
 
@@ -43,11 +43,11 @@ does (the part's μ = 0.3; `results/poses.md` has each design), then its kept sc
 played again from the same starts for the same time with the parts' friction at 0.24 and 0.36 \
 (±20 %), and at 0.30 again (the design's own play, the same bytes): every support point's Coulomb law in the planar \
 simulator at that μ, each end judged against the lifted field at that μ \
-(`design::pose::friction`). The last two sections are the bracket and the triangle designed \
+(`pose::design::friction`). The last two sections are the bracket and the triangle designed \
 for μ ∈ [0.24, 0.36] (`targets/pose_<part>_range.json`): spin candidates screened in their cycle \
 with the ellipse at the range's middle and ends, kept only if the cycle's played pose turns by at most twice the tolerance between the \
-ends, and the placement centred between the ends' rests (`design::pose::screen`, \
-`design::pose::correct`); their rows are the design's own plays over the range. Columns: the fraction of the drops ending within 1 mm and 3° of the \
+ends, and the placement centred between the ends' rests (`pose::design::screen`, \
+`pose::design::correct`); their rows are the design's own plays over the range. Columns: the fraction of the drops ending within 1 mm and 3° of the \
 asked pose (modulo the part's symmetry), the median settle time, drops that lost contact, the \
 lifted field's stable poses modulo symmetry and each one's played basin, where the played drops \
 rest near the asked pose (the median distance and signed angle from it of the ends within 30° of \

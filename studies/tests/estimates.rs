@@ -39,7 +39,7 @@ fn ratio(target: &Target, cache: &Path) -> f64 {
         ..SynthOptions::default()
     };
     let before = steps_taken();
-    let m = platefield::design::run(target, &opts.by_method(Method::Auto, &synth))
+    let m = platefield::inverse::run(target, &opts.by_method(Method::Auto, &synth))
         .and_then(|o| o.into_method())
         .unwrap();
     let counted = (steps_taken() - before) as f64;

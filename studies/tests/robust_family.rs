@@ -57,7 +57,8 @@ fn a_seeded_subset_of_the_family_holds_over_friction() {
 #[test]
 #[ignore = "about 40 s of CPU: cargo test --release -p platefield-studies --test robust_family -- --ignored"]
 fn the_mirror_base_is_the_nominal_synthesis() {
-    use platefield::design::{run, DesignOptions};
+    use platefield::design::DesignOptions;
+    use platefield::inverse::run;
     use platefield::request::FrictionSpec;
     let design = |t: &platefield::request::Target, method| {
         let opts = DesignOptions {

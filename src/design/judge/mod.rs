@@ -206,7 +206,8 @@ pub fn play_motion(
 ///
 /// ```
 /// use platefield::design::judge::judge;
-/// use platefield::design::{run, DesignOptions};
+/// use platefield::design::DesignOptions;
+/// use platefield::inverse::run;
 /// use platefield::play::ScheduleMotion;
 /// use platefield::request::Target;
 ///

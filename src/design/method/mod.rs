@@ -283,7 +283,7 @@ pub fn gentle_limits(limits: &ShakerLimits) -> ShakerLimits {
     }
 }
 
-/// The design by method: what [`super::run`] returns for a target
+/// The design by method: what [`crate::inverse::run`] returns for a target
 /// designed by [`DesignOptions::method`].
 #[derive(Debug, Clone)]
 pub struct MethodDesign {
@@ -339,7 +339,7 @@ impl MethodDesign {
 
 /// Designs `target` by [`DesignOptions::method`] with
 /// [`DesignOptions::synthesis`] (see the [module documentation](self)),
-/// plays every candidate and keeps one; [`super::run`] is its public door.
+/// plays every candidate and keeps one; [`crate::inverse::run`] is its public door.
 /// The stages, in order: the work refused up front
 /// ([`MethodRun::start`]), the sequenced candidate, the synthesized one
 /// (and its mirror-image shares), the mix, the judgement across the

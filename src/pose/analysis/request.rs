@@ -4,11 +4,11 @@
 //! The source is a target (its requested field is the point field), a
 //! scene (its point-part steady-state velocity field on its grid, computed
 //! here whatever its `kind`) or a designed schedule (the time-weighted
-//! field of its segments on its target's grid, [`super::schedule_field`]).
-//! The region is the source's grid. With [`PoseRequest::play`] (schedules
+//! field of its segments on its target's grid, [`crate::pose::schedule_field`]).
+//! The region is the source's grid. With [`AnalysisRequest::play`] (schedules
 //! only) every drop is also played by the planar simulator through the
-//! schedule ([`super::played_basins`]). For a part with an unknown support
-//! the equilibrium bounds ([`super::Bounds`]) are scanned over the region
+//! schedule ([`crate::pose::played_basins`]). For a part with an unknown support
+//! the equilibrium bounds ([`crate::pose::Bounds`]) are scanned over the region
 //! ([`SCAN`]).
 
 use std::path::{Path, PathBuf};
@@ -36,7 +36,7 @@ use crate::scene::Scene;
 use crate::schedule::Schedule;
 use crate::work::{with_counted_progress, Term, PLANAR_POINT_STEP_COST};
 
-/// Longest [`PoseRequest::play`] (s).
+/// Longest [`AnalysisRequest::play`] (s).
 pub const MAX_PLAY_S: f64 = 3600.0;
 
 /// The grid of poses (x, y, θ) scanned for an unknown support's bounds.
@@ -44,7 +44,7 @@ pub const SCAN: [usize; 3] = [24, 24, 36];
 
 /// What `platefield poses` is asked to do.
 #[derive(Debug, Clone, PartialEq)]
-pub struct PoseRequest {
+pub struct AnalysisRequest {
     /// The part's JSON file.
     pub part: PathBuf,
     /// The source's JSON file: a target, a scene or a schedule.
@@ -58,8 +58,8 @@ pub struct PoseRequest {
     /// middle ([`PER_RANGE`]); `None`: the source's own (a scene's or a
     /// schedule's settings). A target's requested field has none.
     pub friction: Option<FrictionSpec>,
-    /// The work's progress and long-run guard ([`super::settle_estimate`],
-    /// [`super::drops_estimate`]).
+    /// The work's progress and long-run guard ([`crate::pose::settle_estimate`],
+    /// [`crate::pose::drops_estimate`]).
     pub runtime: crate::work::Runtime,
 }
 
@@ -73,7 +73,7 @@ pub struct PoseOutcome {
     pub part: Part,
     /// Equilibria, their stability and basins along the lifted field.
     pub analysis: PoseAnalysis,
-    /// The drops played through the schedule (with [`PoseRequest::play`]).
+    /// The drops played through the schedule (with [`AnalysisRequest::play`]).
     pub played: Option<PlayedBasins>,
     /// The poses of the [`SCAN`] that may rest for some admissible
     /// support (a part with an unknown support).
@@ -83,12 +83,12 @@ pub struct PoseOutcome {
     /// motion to play).
     pub lift_check: Option<LiftCheck>,
     /// The lifted equilibria refined on the averaged field
-    /// ([`super::refine`]); `None` for a target.
+    /// ([`refine`]); `None` for a target.
     pub refined: Option<Vec<Refinement>>,
     /// Why the averaged field's check and refinement did not run (their
     /// work estimate is over the limit without `--allow-long`).
     pub averaged_skipped: Option<String>,
-    /// Over a friction range ([`PoseRequest::friction`]): the lifted
+    /// Over a friction range ([`AnalysisRequest::friction`]): the lifted
     /// analysis at each of its [`PER_RANGE`] values, low to high (the
     /// middle is `analysis`); empty for one friction.
     pub over_friction: Vec<(Friction, PoseAnalysis)>,
@@ -249,8 +249,8 @@ fn point_field(source: &Path, friction: Option<Friction>) -> Result<Source> {
 /// The pose analysis `req` asks for (module docs).
 ///
 /// ```no_run
-/// use platefield::pose::{poses, PoseRequest};
-/// let req = PoseRequest {
+/// use platefield::pose::{poses, AnalysisRequest};
+/// let req = AnalysisRequest {
 ///     part: "targets/parts/triangle.json".into(),
 ///     source: "targets/sink.json".into(),
 ///     drops: 200,
@@ -266,7 +266,7 @@ fn point_field(source: &Path, friction: Option<Friction>) -> Result<Source> {
 /// # Errors
 /// [`Error::Invalid`] naming `--drops`, `--play`, `SOURCE` or a JSON path;
 /// a part that does not fit the region; the source's own errors.
-pub fn poses(req: &PoseRequest) -> Result<PoseOutcome> {
+pub fn poses(req: &AnalysisRequest) -> Result<PoseOutcome> {
     check_counts(req.drops, req.play)?;
     let part = Part::load(&req.part)?;
     let range = req.friction.filter(|f| f.values(PER_RANGE).len() > 1);

@@ -30,7 +30,7 @@
 //! simulated rate (RMS error 129 %): the cycle-averaged Coulomb friction
 //! of a slip oscillating along one direction damps a drift across it more
 //! than along it, and by how much V(p) does not record
-//! ([`super::AveragedField`], which sums the friction over the support
+//! ([`crate::pose::AveragedField`], which sums the friction over the support
 //! before averaging over the cycle, agrees within 0.3 %).
 //! [`LiftedField::with_damping`] takes that anisotropy as a fitted tensor
 //! B (B = diag(1, 4) there: 7.6 % RMS). Where every V(p_j) is parallel to

@@ -34,7 +34,7 @@
 //! 1.5° (the spin alone: 5.7°).
 
 use super::placement::{centred_pose, Placement};
-use super::PoseRequest;
+use super::PoseTarget;
 use crate::error::{Error, Result};
 use crate::field::Grid;
 use crate::pose::{equilibria, schedule_field, Equilibrium, LiftedField, Pose};
@@ -59,7 +59,7 @@ pub const SETTLED_S: f64 = SETTLE_PERIODS * (SPIN_S + ELLIPSE_S);
 /// `seconds`, or [`SETTLE_PERIODS`] periods of `period` (s) when longer.
 ///
 /// ```
-/// use platefield::design::pose::cycle::settle_seconds;
+/// use platefield::pose::design::cycle::settle_seconds;
 /// assert_eq!(settle_seconds(60.0, 0.05), 60.0);
 /// assert_eq!(settle_seconds(60.0, 60.0), 120.0);
 /// ```
@@ -73,17 +73,17 @@ pub fn settle_seconds(seconds: f64, period: f64) -> f64 {
 pub struct EllipseStage {
     /// The centred elliptic sink (one six-signal motion).
     pub schedule: Schedule,
-    /// The request's part's lifted stable poses in its field.
+    /// The pose target's part's lifted stable poses in its field.
     pub stable: Vec<Equilibrium>,
 }
 
 impl EllipseStage {
-    /// The elliptic sink `schedule` and the request's part's lifted stable
+    /// The elliptic sink `schedule` and the pose target's part's lifted stable
     /// poses in its field on `grid`.
     ///
     /// # Errors
     /// A field that loses contact on `grid`; no stable pose in the region.
-    pub fn new(req: &PoseRequest, schedule: Schedule, grid: &Grid) -> Result<EllipseStage> {
+    pub fn new(req: &PoseTarget, schedule: Schedule, grid: &Grid) -> Result<EllipseStage> {
         let field = schedule_field(&schedule, grid)?;
         let lifted = LiftedField::new(&field, &req.part.body);
         let stable: Vec<Equilibrium> = equilibria(&lifted, &req.region)
@@ -153,9 +153,9 @@ fn stage(segments: &[Segment], seconds: f64, what: &str) -> Result<Segment> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::design::pose::placement::{family, synthesize_centred};
-    use crate::design::pose::spin::{spun, CANDIDATES};
     use crate::design::DesignOptions;
+    use crate::pose::design::placement::{family, synthesize_centred};
+    use crate::pose::design::spin::{spun, CANDIDATES};
 
     /// The cycle plays the spun sink for [`SPIN_S`] then the ellipse for
     /// [`ELLIPSE_S`] (whole cycles, ramped), and the placed ellipse's
@@ -168,7 +168,7 @@ mod tests {
     #[ignore = "about 12 s of CPU: cargo test --release --lib -- --ignored the_ellipse_stage_rests"]
     fn the_ellipse_stage_rests_where_the_spin_did() {
         let path = std::path::Path::new("targets/pose_triangle.json");
-        let req = PoseRequest::load(path).unwrap().unwrap();
+        let req = PoseTarget::load(path).unwrap().unwrap();
         let opts = DesignOptions {
             runtime: crate::work::Runtime::QUIET,
             ..Default::default()
@@ -200,8 +200,8 @@ mod tests {
         // than the 45.3 m/s² limit), so the spin stage is scaled into them,
         // and the placed schedule is within every limit.
         let spun_sink = spun(&sink, CANDIDATES[4]).unwrap();
-        assert!(crate::design::pose::placement::over_limits(&spun_sink).is_empty());
-        assert!(crate::design::pose::placement::over_limits(&twice).is_empty());
+        assert!(crate::pose::design::placement::over_limits(&spun_sink).is_empty());
+        assert!(crate::pose::design::placement::over_limits(&twice).is_empty());
         let (_, scaled) = Placement::onto(&rest, &req.pose, 1)
             .schedule_scaled(&c, None)
             .unwrap();
@@ -216,7 +216,7 @@ mod tests {
             st.stable
                 .iter()
                 .map(|e| {
-                    let (d, t) = crate::design::pose::search::pose_error(&e.pose, &rest, 1);
+                    let (d, t) = crate::pose::design::search::pose_error(&e.pose, &rest, 1);
                     (1e3 * d, t.abs().to_degrees())
                 })
                 .fold((f64::INFINITY, f64::INFINITY), |a, b| {

@@ -110,7 +110,7 @@ impl<'a> Bounds<'a> {
 
     /// Every pose of an nx × ny × nθ grid over `region` (cell centres,
     /// θ from 0 in steps of 360°/nθ) that may be an equilibrium.
-    pub fn scan(&self, region: &super::Region, n: [usize; 3]) -> Vec<Pose> {
+    pub fn scan(&self, region: &crate::pose::Region, n: [usize; 3]) -> Vec<Pose> {
         let mut out = Vec::new();
         for k in 0..n[2] {
             let theta = std::f64::consts::TAU * k as f64 / n[2] as f64;

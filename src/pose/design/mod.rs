@@ -1,7 +1,7 @@
 //! Pose targets: a motion whose lifted field makes one pose of a
 //! part the stable equilibrium, played on the part from random drops.
 //!
-//! 1. **Request** ([`PoseRequest`]): the target file with
+//! 1. **Target** ([`PoseTarget`]): the target file with
 //!    `"field": {"kind": "pose", "part": …, "pose": [x, y, θ°]}`.
 //! 2. **One motion** ([`placement::synthesize_centred`]): one simultaneous
 //!    six-signal motion synthesized once for the elliptic sink −(αx, βy)
@@ -46,16 +46,16 @@ pub mod cycle;
 pub mod friction;
 pub mod placement;
 pub(crate) mod play;
-pub(crate) mod request;
 pub mod screen;
 pub mod search;
 pub mod spin;
 pub mod support;
+pub(crate) mod target;
 
 pub use placement::Placement;
 pub use play::at_pose;
-pub use request::PoseRequest;
 pub use search::Family;
+pub use target::PoseTarget;
 
 use crate::design::{DesignOptions, MethodDesign};
 use crate::error::{Error, Result};
@@ -79,8 +79,8 @@ pub const LIFTED_DROPS: usize = 200;
 /// A designed pose target.
 #[derive(Debug, Clone)]
 pub struct PoseDesign {
-    /// The request.
-    pub request: PoseRequest,
+    /// The pose target.
+    pub request: PoseTarget,
     /// The stable pose of the centred motion's lifted field that was
     /// placed, with the lifted field's turning rate there, −∂θ'/∂θ (1/s);
     /// `None` for a cycle ([`cycle`]), placed on its played pose.
@@ -115,14 +115,14 @@ pub struct PoseDesign {
 /// the region; a placed motion that loses contact somewhere in the region.
 ///
 /// ```no_run
-/// use platefield::design::pose::{design_pose, PoseRequest, DROPS};
-/// let req = PoseRequest::load(std::path::Path::new("targets/pose_rectangle.json"))?.unwrap();
+/// use platefield::pose::design::{design_pose, PoseTarget, DROPS};
+/// let req = PoseTarget::load(std::path::Path::new("targets/pose_rectangle.json"))?.unwrap();
 /// let d = design_pose(&req, &Default::default(), DROPS)?;
 /// let played = d.method.kept().schedule.played.as_ref().unwrap().pose.as_ref().unwrap();
 /// println!("{:.0} % at the pose", 100.0 * played.pose_fraction);
 /// # Ok::<(), platefield::Error>(())
 /// ```
-pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Result<PoseDesign> {
+pub fn design_pose(req: &PoseTarget, opts: &DesignOptions, drops: usize) -> Result<PoseDesign> {
     // A pose design takes minutes (a synthesis alone is half a minute of
     // CPU): its work is stated first, under --quiet too.
     crate::progress::say(&announce(req, drops));
@@ -194,7 +194,7 @@ pub fn design_pose(req: &PoseRequest, opts: &DesignOptions, drops: usize) -> Res
 /// `origin`'s field loses contact on `grid`; its lifted field has no
 /// stable pose in the region.
 fn lifted_start(
-    req: &PoseRequest,
+    req: &PoseTarget,
     origin: &crate::schedule::Schedule,
     grid: &crate::field::Grid,
     played: Option<crate::pose::Pose>,
@@ -220,7 +220,7 @@ fn lifted_start(
 }
 
 /// The work `design_pose` will do, said before it starts.
-fn announce(req: &PoseRequest, drops: usize) -> String {
+fn announce(req: &PoseTarget, drops: usize) -> String {
     let at_ends = if req.friction_ends().is_some() {
         " at the middle and each end of the friction range"
     } else {
@@ -264,7 +264,7 @@ fn announce(req: &PoseRequest, drops: usize) -> String {
 }
 
 /// The placed `schedule`'s `drops` drops, played with progress on stderr
-/// (`play::play_ends`), and again over the request's friction range when it
+/// (`play::play_ends`), and again over the pose target's friction range when it
 /// states one (`friction::over_range`); `label` names the field (the
 /// motion or cycle).
 ///
@@ -272,7 +272,7 @@ fn announce(req: &PoseRequest, drops: usize) -> String {
 /// A schedule that is not one motion, or whose field cannot be computed
 /// at a friction of the range.
 fn play_drops(
-    req: &PoseRequest,
+    req: &PoseTarget,
     schedule: &crate::schedule::Schedule,
     (analysis, label, rate): (&PoseAnalysis, String, f64),
     drops: usize,
@@ -306,14 +306,14 @@ fn play_drops(
 }
 
 /// Runs `f`, which plays `drops` drops of `duration_s` seconds each of
-/// the request's part through `sm` (the `plays`), with its progress on
+/// the pose target's part through `sm` (the `plays`), with its progress on
 /// stderr in thousands of counted planar steps (the total from
 /// [`drops_estimate`]) unless `quiet` and the estimate is under 10 s
 /// (longer work shows its progress under `quiet` too).
 fn watched<T>(
     label: &str,
     plays: (
-        &PoseRequest,
+        &PoseTarget,
         &ScheduleMotion,
         &crate::field::FieldSettings,
         usize,
@@ -330,7 +330,7 @@ fn watched<T>(
 /// [`watched`] for drops played with `play`.
 pub(crate) fn watched_play<T>(
     label: &str,
-    plays: (&PoseRequest, &ScheduleMotion, &DropPlay, usize),
+    plays: (&PoseTarget, &ScheduleMotion, &DropPlay, usize),
     quiet: bool,
     f: impl FnOnce() -> T,
 ) -> T {
@@ -353,7 +353,7 @@ pub(crate) fn watched_play<T>(
 /// # Errors
 /// The synthesis's; a spun motion losing contact on `grid`.
 fn centred_motion(
-    req: &PoseRequest,
+    req: &PoseTarget,
     opts: &DesignOptions,
     grid: &crate::field::Grid,
 ) -> Result<Centred> {
@@ -419,11 +419,11 @@ mod tests {
     use super::*;
 
     /// The estimate stated before a pose design names the drops played
-    /// again over a friction range exactly when the request has one.
+    /// again over a friction range exactly when the pose target has one.
     #[test]
     fn announce_names_the_range_plays() {
         let path = std::path::Path::new("targets/pose_bracket.json");
-        let mut req = PoseRequest::load(path).unwrap().unwrap();
+        let mut req = PoseTarget::load(path).unwrap().unwrap();
         let extra = "the same drops again at 2 more frictions over the range";
         let probes = "probes × 60 s at each end of the friction range";
         assert!(!announce(&req, DROPS).contains(extra));

@@ -25,13 +25,13 @@
 //! probes and its played pose that cluster's mean. A drop lost, at a
 //! second pose or still moving after [`PROBE_S`] counts against it.
 //!
-//! **Over a friction range.** When the request states a friction range,
+//! **Over a friction range.** When the pose target states a friction range,
 //! the probes also play at its two ends: a candidate's score is its least
 //! share over the three frictions, and its `turn` how far its played pose
 //! moves from the low end to the high one, in tolerances (the larger of
 //! |Δr|/1 mm and |Δθ|/3°). Only a candidate that turns by at most
 //! [`MAX_TURN`] tolerances can be kept: the correction centres the
-//! placement between the ends (`design::pose::correct`), so a turn of at most
+//! placement between the ends (`pose::design::correct`), so a turn of at most
 //! twice the tolerance leaves both ends within it. Otherwise `design`
 //! keeps the elliptic sink alone. (Judged alone, the triangle's strongest
 //! spin turned its rest 17.6° over μ 0.24–0.36; in its cycle the ellipse
@@ -49,7 +49,7 @@
 use super::cycle::{cycle, settle_seconds, EllipseStage};
 use super::search::{pose_error, wrap_symmetric};
 use super::spin::{spun, Spin};
-use super::PoseRequest;
+use super::PoseTarget;
 use crate::dynamics::{Friction, V2};
 use crate::error::Result;
 use crate::play::ScheduleMotion;
@@ -107,7 +107,7 @@ impl Screened {
 /// at the cell middles, the k-th turned by k golden angles.
 ///
 /// ```
-/// use platefield::design::pose::screen::{probe_starts, PROBES};
+/// use platefield::pose::design::screen::{probe_starts, PROBES};
 /// use platefield::pose::Region;
 /// let s = probe_starts(&Region { x: [-0.02, 0.02], y: [-0.02, 0.02] });
 /// assert_eq!(s.len(), PROBES);
@@ -132,7 +132,7 @@ pub fn probe_starts(region: &Region) -> Vec<Pose> {
 /// cluster's seed) and its spread (module docs).
 ///
 /// ```
-/// use platefield::design::pose::screen::largest_cluster;
+/// use platefield::pose::design::screen::largest_cluster;
 /// use platefield::pose::Pose;
 /// let ends = [Pose::new(0.0, 0.0, 0.0), Pose::new(0.0002, 0.0, 0.02), Pose::new(0.01, 0.0, 2.0)];
 /// let (share, pose, spread) = largest_cluster(&ends, 1, 4).unwrap();
@@ -196,7 +196,7 @@ pub fn largest_cluster_within(
 /// # Errors
 /// A schedule that cannot be played.
 pub fn probe_ends(
-    req: &PoseRequest,
+    req: &PoseTarget,
     schedule: &Schedule,
     friction: Option<Friction>,
 ) -> Result<Vec<Option<Pose>>> {
@@ -216,7 +216,7 @@ pub fn probe_ends(
 /// The largest cluster of the probes' ends on `schedule` at `friction`
 /// (module docs).
 fn cluster_at(
-    req: &PoseRequest,
+    req: &PoseTarget,
     schedule: &Schedule,
     friction: Option<Friction>,
 ) -> Result<Option<(f64, Pose, f64)>> {
@@ -228,13 +228,13 @@ fn cluster_at(
 }
 
 /// `spin` added to the centred `sink` and judged by play in its cycle
-/// with `ellipse` (module docs), over the request's friction range when
+/// with `ellipse` (module docs), over the pose target's friction range when
 /// it states one.
 ///
 /// # Errors
 /// `sink` or `ellipse` is not one six-signal motion.
 pub fn screen(
-    req: &PoseRequest,
+    req: &PoseTarget,
     sink: &Schedule,
     ellipse: &EllipseStage,
     spin: Spin,
@@ -282,7 +282,7 @@ pub fn screen(
 /// # Errors
 /// `sink` is not one six-signal motion.
 pub fn choose(
-    req: &PoseRequest,
+    req: &PoseTarget,
     (sink, ellipse): (&Schedule, &EllipseStage),
     tried: &[super::spin::Tried],
 ) -> Result<(Vec<Screened>, Option<Screened>)> {

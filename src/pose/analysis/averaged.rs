@@ -1,14 +1,14 @@
 //! The averaged field: a planar part's mean twist at a pose, from the
 //! rigid part's own periodic slip at that pose (the planar simulator
 //! playing the plate's motion, period after period, from the pose), where
-//! [`super::LiftedField`] integrates the point parts' mean velocities over
+//! [`crate::pose::LiftedField`] integrates the point parts' mean velocities over
 //! the support.
 //!
 //! **Model.** The rigid part's slip ξ(t) = (u, ω) obeys the planar
 //! simulator's Newton–Euler law with Coulomb friction summed over its
 //! support points ([`crate::dynamics::PlanarSimulator`]). The plate plays
 //! a periodic motion, or a schedule's segments in turn with their joins
-//! ([`super::PlanarPlayer`]); let T be its period. Each period is played
+//! ([`crate::pose::PlanarPlayer`]); let T be its period. Each period is played
 //! from the pose q = (r, θ) with the slip the last one ended with, until
 //! two periods' displacements agree: the slip is then periodic and the
 //! part moves within a period (its excursion changes the kinematics it

@@ -10,7 +10,7 @@
 //! q_{k+1} = q_k − J(q_k)⁻¹ ξ̄(q_k)
 //! ```
 //!
-//! with J by central differences ([`super::AveragedField::jacobian`]),
+//! with J by central differences ([`crate::pose::AveragedField::jacobian`]),
 //! every evaluation warm-started from the periodic slip at q_k, and each
 //! step cut to at most a quarter of the part's radius and 0.3 rad (as the
 //! lifted search). A Newton step that does not lower the merit
@@ -21,7 +21,7 @@
 //! designed ellipse turned by 30°, whose averaged rest is 15° from the
 //! lifted one). It stops when a step is below [`STOP`] of the radius
 //! and [`STOP`] rad: the averaged twist's own precision
-//! ([`super::AVERAGING_TOLERANCE`]) bounds what Newton resolves. The
+//! ([`crate::pose::AVERAGING_TOLERANCE`]) bounds what Newton resolves. The
 //! stability is that of J at the last iterate (the eigenvalues' real
 //! parts, [`Equilibrium::of_jacobian`]).
 

@@ -1,8 +1,8 @@
-//! The work of played drops ([`super::played_basins`]) and of the
+//! The work of played drops ([`crate::pose::played_basins`]) and of the
 //! averaged field's check and refinement ([`averaged_estimate`]), estimated before
 //! they play ([`crate::work`]): per drop, whole schedule periods covering
 //! [`DropPlay::duration_s`], each segment at its own planar step (a rest
-//! segment at the shortest moving segment's, as [`super::play_drop`]
+//! segment at the shortest moving segment's, as [`crate::pose::play_drop`]
 //! plays it), each step of each support point of the played body at
 //! [`PLANAR_POINT_STEP_COST`] point-part steps.
 
@@ -15,7 +15,7 @@ use crate::part::Part;
 use crate::play::ScheduleMotion;
 use crate::work::{Estimate, Term, PLANAR_POINT_STEP_COST};
 
-/// Support points of the body [`super::played_basins`] plays for `part`
+/// Support points of the body [`crate::pose::played_basins`] plays for `part`
 /// (resampled as [`DropPlay::samples`] asks, else the part's own).
 pub fn played_points(part: &Part, play: &DropPlay) -> usize {
     play.samples
@@ -81,8 +81,8 @@ const SEARCH_ITERATIONS: f64 = 20.0;
 const TRACED: f64 = 4.0;
 
 /// The work of the lifted analysis of `drops` drops of `part` in `region`
-/// (`poses`' predicted rests and basins, [`super::rests`] and
-/// [`super::settle_on`]), in [`crate::work`]'s unit: the rest search (the
+/// (`poses`' predicted rests and basins, [`crate::pose::rests`] and
+/// [`crate::pose::settle_on`]), in [`crate::work`]'s unit: the rest search (the
 /// start grid's 216 poses, [`SEARCH_ITERATIONS`] Newton iterations of 7
 /// twists each), the continua traced ([`TRACED`]) and per drop the RK4
 /// steps to cross half the region's diagonal at the largest step (2 % of
@@ -138,12 +138,12 @@ pub fn settle_estimate(part: &Part, region: &Region, drops: usize) -> Estimate {
 }
 
 /// The work of scanning an unknown support's equilibrium bounds
-/// ([`super::Bounds::scan`] over [`super::SCAN`]): per pose, the field
+/// ([`crate::pose::Bounds::scan`] over [`crate::pose::SCAN`]): per pose, the field
 /// at every sample and vertex and at 8 neighbours of each (the covering
 /// bound), each a point-field evaluation at [`LIFTED_POINT_COST`].
 pub fn bounds_term(part: &Part) -> Term {
     Term::new("unknown-support bounds")
-        .times(super::SCAN.iter().product::<usize>() as f64, "poses")
+        .times(crate::pose::SCAN.iter().product::<usize>() as f64, "poses")
         .times(
             (part.body.points().len() + part.polygon.len()) as f64,
             "samples and vertices",
@@ -160,11 +160,11 @@ const PERIODS_WARM: f64 = 2.5;
 /// Expected Newton steps per refined equilibrium (measured: 3–12).
 const NEWTON_STEPS: f64 = 6.0;
 
-/// The work of the `poses` averaged-field check ([`super::LiftCheck`] at
+/// The work of the `poses` averaged-field check ([`crate::pose::LiftCheck`] at
 /// [`CHECKED_POSES`] poses from rest) and refinement ([`super::refine`]:
 /// 7 warm-started averaged twists per Newton step) of `equilibria`
 /// lifted equilibria of `part` on `sm`, played as
-/// [`super::AveragedField::for_part`] plays.
+/// [`crate::pose::AveragedField::for_part`] plays.
 pub fn averaged_estimate(part: &Part, sm: &ScheduleMotion, equilibria: usize) -> Estimate {
     // The drops' resampling (`DropPlay::new`'s samples), as `for_part` plays.
     let play = DropPlay::new(&crate::field::FieldSettings::default(), 0.0);

@@ -15,7 +15,7 @@ pub struct PoseAnalysis {
     /// Every isolated equilibrium found, sorted by θ.
     pub equilibria: Vec<Equilibrium>,
     /// The continua of rest (or of endless turning) found
-    /// ([`super::rests`]).
+    /// ([`crate::pose::rests`]).
     pub continua: Vec<Continuum>,
     /// Fraction of the drops that ended on each continuum.
     pub continuum_basins: Vec<f64>,

@@ -19,7 +19,7 @@
 //! median counts those as longer than any.
 
 use super::search::pose_error;
-use super::{PoseRequest, TOL_DEG, TOL_MM};
+use super::{PoseTarget, TOL_DEG, TOL_MM};
 use crate::field::FieldSettings;
 use crate::play::ScheduleMotion;
 use crate::pose::{drop_starts, nearest, play_part, DropPlay, Pose, PoseAnalysis};
@@ -54,7 +54,7 @@ pub fn drop_seconds(rate: f64, period: f64) -> f64 {
 /// `analysis` nearest the asked one; 0 (the longest play) for a spun
 /// motion, whose slowest lifted rate is a spiral's and whose drops from
 /// the region's edge settle later than it predicts (module `spin` docs).
-pub fn play_rate(req: &PoseRequest, analysis: &PoseAnalysis, spun: bool) -> f64 {
+pub fn play_rate(req: &PoseTarget, analysis: &PoseAnalysis, spun: bool) -> f64 {
     let (n, radius) = (req.part.symmetry(), req.part.radius());
     super::search::nearest_stable(&analysis.equilibria, &req.pose, n, radius)
         .filter(|_| !spun)
@@ -66,7 +66,7 @@ pub fn play_rate(req: &PoseRequest, analysis: &PoseAnalysis, spun: bool) -> f64 
 /// design's played drops record as `pose_fraction`).
 ///
 /// ```
-/// use platefield::design::pose::at_pose;
+/// use platefield::pose::design::at_pose;
 /// use platefield::dynamics::V2;
 /// use platefield::pose::Pose;
 /// let asked = Pose { r: V2::new(0.008, 0.006), theta: (-40f64).to_radians() };
@@ -111,13 +111,13 @@ fn median(mut times: Vec<Option<f64>>) -> Option<f64> {
     }
 }
 
-/// Plays `drops` drops of the request's part through `sm` (module docs):
+/// Plays `drops` drops of the pose target's part through `sm` (module docs):
 /// `analysis` is the kept schedule's lifted field (its stable poses and
 /// predicted basins), `field` names the requested point field and `rate`
 /// is the slowest decay rate at the asked pose (1/s); with each drop's
 /// end pose (`None`: it lost contact).
 pub fn play_ends(
-    req: &PoseRequest,
+    req: &PoseTarget,
     sm: &ScheduleMotion,
     settings: &FieldSettings,
     (analysis, field, rate): (&PoseAnalysis, String, f64),

@@ -33,7 +33,7 @@
 //! 180° apart).
 
 use super::search::distinct_stable;
-use super::PoseRequest;
+use super::PoseTarget;
 use crate::error::Result;
 use crate::field::Grid;
 use crate::motion::{FourierTerm, Signals};
@@ -58,7 +58,7 @@ impl Spin {
     /// adds the spin as one more harmonic-1 term of its angular z signal.
     ///
     /// ```
-    /// use platefield::design::pose::spin::CANDIDATES;
+    /// use platefield::pose::design::spin::CANDIDATES;
     /// let mut motion = platefield::motion::Signals::example();
     /// CANDIDATES[0].apply(&mut motion);
     /// assert_eq!(motion.angular.z.len(), 1);
@@ -80,7 +80,7 @@ impl Spin {
 /// turns it anyway; measured on the bracket, `tests/pose_rotation.rs`),
 /// r* = V/Ω from about 9 mm (1200 rad/s², translation × 0.25) to about
 /// 3 times that, where the bracket's played probes
-/// all end at one pose (`design::pose::screen`), and one short r* for a
+/// all end at one pose (`pose::design::screen`), and one short r* for a
 /// small part: 4800 rad/s² with translation × 0.15 (r* ≈ 1.4 mm, angular
 /// amplitude α/ω² = 0.11 rad), where 62 of 64 of the triangle's played
 /// drops on the centred motion rest at one pose (`explore_basins`;
@@ -142,7 +142,7 @@ impl Tried {
 ///
 /// # Errors
 /// A spun motion loses contact somewhere on the grid.
-pub fn try_all(req: &PoseRequest, origin: &Schedule, grid: &Grid) -> Result<Vec<Tried>> {
+pub fn try_all(req: &PoseTarget, origin: &Schedule, grid: &Grid) -> Result<Vec<Tried>> {
     CANDIDATES
         .iter()
         .map(|&spin| {

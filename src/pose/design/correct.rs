@@ -26,7 +26,7 @@
 //! 100 drops was within 3°. Probes from spread starts measure the rest
 //! the drops reach.
 //!
-//! **Over a friction range.** When the request states a friction range,
+//! **Over a friction range.** When the pose target states a friction range,
 //! the probes play at its two ends and the round's end is the midpoint
 //! of the two groups' ends: the placement puts the middle of the played
 //! rest poses over the range on the asked pose, not the nominal μ's rest.
@@ -52,7 +52,7 @@
 use super::placement::Placement;
 use super::screen::largest_cluster_within;
 use super::search::{pose_error, wrap_symmetric};
-use super::PoseRequest;
+use super::PoseTarget;
 use crate::dynamics::Friction;
 use crate::error::Result;
 use crate::play::ScheduleMotion;
@@ -102,7 +102,7 @@ pub struct Round {
 
 /// The probe starts (module docs): [`FROM_GRID`]'s cells of the screen's
 /// grid over the region inset by the part's radius.
-fn probe_starts(req: &PoseRequest) -> Vec<Pose> {
+fn probe_starts(req: &PoseTarget) -> Vec<Pose> {
     let grid = super::screen::probe_starts(&req.region.inset(req.part.radius()));
     FROM_GRID.iter().map(|&k| grid[k]).collect()
 }
@@ -138,10 +138,10 @@ pub(crate) fn median(mut xs: Vec<f64>) -> Option<f64> {
     (n > 0).then(|| 0.5 * (xs[(n - 1) / 2] + xs[n / 2]))
 }
 
-/// The frictions the probes play: the ends of the request's friction
+/// The frictions the probes play: the ends of the pose target's friction
 /// range when it states one (module docs, "Over a friction range"), else
 /// the schedule's own (`None`).
-fn probe_frictions(req: &PoseRequest) -> Vec<Option<Friction>> {
+fn probe_frictions(req: &PoseTarget) -> Vec<Option<Friction>> {
     match req.friction_ends() {
         Some(ends) => ends.map(Some).to_vec(),
         None => vec![None],
@@ -153,7 +153,7 @@ fn probe_frictions(req: &PoseRequest) -> Vec<Option<Friction>> {
 /// the least share of the probes in such a group and the median turning
 /// rate, `None` when one lost contact.
 fn probe(
-    req: &PoseRequest,
+    req: &PoseTarget,
     origin: &Schedule,
     p: &Placement,
 ) -> Result<Option<(Pose, f64, Option<f64>)>> {
@@ -198,7 +198,7 @@ fn probe(
 /// # Errors
 /// `origin` is not one six-signal motion.
 pub fn correct(
-    req: &PoseRequest,
+    req: &PoseTarget,
     origin: &Schedule,
     start: Placement,
 ) -> Result<(Placement, Vec<Round>)> {
@@ -262,7 +262,7 @@ mod tests {
     #[test]
     fn probes_play_the_range_ends() {
         let path = std::path::Path::new("targets/pose_bracket.json");
-        let mut req = PoseRequest::load(path).unwrap().unwrap();
+        let mut req = PoseTarget::load(path).unwrap().unwrap();
         assert_eq!(probe_frictions(&req), vec![None]);
         req.target.friction = Some(crate::request::FrictionSpec::range(0.24, 0.36));
         let mu: Vec<f64> = probe_frictions(&req)

@@ -45,7 +45,7 @@
 
 use rayon::prelude::*;
 
-use super::{at_pose, PoseRequest};
+use super::{at_pose, PoseTarget};
 use crate::dynamics::{PlanarBody, V2};
 use crate::error::{Error, Result};
 use crate::part::{Part, PartFile, Support};
@@ -256,7 +256,7 @@ fn body(points: &[V2], weights: &[f64]) -> PlanarBody {
 /// not inside the hull of a model's points), naming it.
 ///
 /// ```
-/// use platefield::design::pose::support::support_models;
+/// use platefield::pose::design::support::support_models;
 /// use platefield::part::Part;
 /// let part = Part::load(std::path::Path::new("targets/parts/bracket.json"))?;
 /// let models = support_models(&part, 2, 1)?;
@@ -333,18 +333,18 @@ pub fn support_models(part: &Part, random: usize, seed: u64) -> Result<Vec<Suppo
 /// Plays the first `drops` of the design's drops (the starts of
 /// [`crate::pose::drop_starts`] over the region inset by the part's
 /// radius) with `play` on every model, and counts those ending at the
-/// request's pose; the models worst first (ties in the given order).
+/// pose target's pose; the models worst first (ties in the given order).
 /// Progress goes to stderr when the estimate is 10 s or more
 /// ([`crate::pose::drops_estimate`]).
 ///
 /// ```no_run
-/// use platefield::design::pose::support::{play_over_supports, support_models};
-/// use platefield::design::pose::PoseRequest;
+/// use platefield::pose::design::support::{play_over_supports, support_models};
+/// use platefield::pose::design::PoseTarget;
 /// use platefield::play::ScheduleMotion;
 /// use platefield::pose::DropPlay;
 /// use platefield::schedule::Schedule;
 /// use std::path::Path;
-/// let req = PoseRequest::load(Path::new("targets/pose_bracket.json"))?.unwrap();
+/// let req = PoseTarget::load(Path::new("targets/pose_bracket.json"))?.unwrap();
 /// let schedule = Schedule::load(Path::new("results/poses/bracket/schedule.json"))?;
 /// let sm = ScheduleMotion::from_schedule(&schedule)?;
 /// let play = DropPlay::new(&schedule.settings, 120.0);
@@ -354,7 +354,7 @@ pub fn support_models(part: &Part, random: usize, seed: u64) -> Result<Vec<Suppo
 /// # Ok::<(), platefield::Error>(())
 /// ```
 pub fn play_over_supports(
-    req: &PoseRequest,
+    req: &PoseTarget,
     sm: &ScheduleMotion,
     play: &DropPlay,
     drops: usize,

@@ -8,7 +8,7 @@
 //! the periodic motion segment i plays between its ramps
 //! ([`crate::schedule::Segment::steady_motion`]). This is the field
 //! the design fitted (its predicted field); the played drops
-//! ([`super::play_drops`]) measure what it leaves out (start-up transients
+//! ([`crate::pose::play_drops`]) measure what it leaves out (start-up transients
 //! at the joins, motion within a segment).
 
 use super::lifted::GridField;

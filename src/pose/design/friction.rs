@@ -1,7 +1,7 @@
 //! A pose design played over the part's friction range: the part's
 //! friction is the user's, rarely known within ±20 %, so a design judged at
 //! one μ only may be lucky. When the target (or the part file, whose
-//! friction a pose target takes when it states none: [`super::PoseRequest`])
+//! friction a pose target takes when it states none: [`super::PoseTarget`])
 //! gives a range, the design's drops are played again at its ends (its
 //! middle is the design's own play, `over_range_after`; [`over_range`]
 //! plays all three: [`FrictionSpec::values`], [`PER_RANGE`] per range, as
@@ -10,7 +10,7 @@
 //! ([`crate::schedule::PoseOverFriction`]); its `worst_pose_fraction` is
 //! the least over them. The design itself is synthesized at the middle,
 //! its spin screened and its placement centred over the range
-//! ([`super::screen`], `design::pose::correct`); `pose_fraction` stays the
+//! ([`super::screen`], `pose::design::correct`); `pose_fraction` stays the
 //! middle's.
 //!
 //! **Which μ the drops take.** `play::play_ends` builds its
@@ -47,7 +47,7 @@
 use super::correct::median;
 use super::play::{play_ends, play_rate};
 use super::search::{nearest_stable, pose_error};
-use super::{PoseRequest, LIFTED_DROPS};
+use super::{PoseTarget, LIFTED_DROPS};
 use crate::dynamics::Friction;
 use crate::error::Result;
 use crate::play::ScheduleMotion;
@@ -68,9 +68,9 @@ pub const PER_RANGE: usize = 3;
 /// A schedule whose field cannot be computed at one of the values.
 ///
 /// ```no_run
-/// use platefield::design::pose::{design_pose, friction, PoseRequest, DROPS};
+/// use platefield::pose::design::{design_pose, friction, PoseTarget, DROPS};
 /// use platefield::request::FrictionSpec;
-/// let req = PoseRequest::load(std::path::Path::new("targets/pose_rectangle.json"))?.unwrap();
+/// let req = PoseTarget::load(std::path::Path::new("targets/pose_rectangle.json"))?.unwrap();
 /// let d = design_pose(&req, &Default::default(), DROPS)?;
 /// let schedule = &d.method.kept().schedule;
 /// let nominal = schedule.played.as_ref().unwrap().pose.clone().unwrap();
@@ -81,7 +81,7 @@ pub const PER_RANGE: usize = 3;
 /// # Ok::<(), platefield::Error>(())
 /// ```
 pub fn over_range(
-    req: &PoseRequest,
+    req: &PoseTarget,
     schedule: &Schedule,
     nominal: PosePlayed,
     rate: f64,
@@ -103,7 +103,7 @@ pub(crate) type OwnPlay<'a> = (&'a [Option<Pose>], &'a PoseAnalysis);
 /// # Errors
 /// A schedule whose field cannot be computed at one of the values.
 pub(crate) fn over_range_after(
-    req: &PoseRequest,
+    req: &PoseTarget,
     schedule: &Schedule,
     (nominal, own): (PosePlayed, Option<OwnPlay>),
     rate: f64,
@@ -139,13 +139,13 @@ pub fn rate(d: &super::PoseDesign) -> f64 {
     play_rate(&d.request, &d.analysis, d.spin.is_some())
 }
 
-/// `drops` drops of the request's part played through `schedule` with
+/// `drops` drops of the pose target's part played through `schedule` with
 /// the parts' friction `friction`, judged against the lifted field at it.
 ///
 /// # Errors
 /// A schedule whose field cannot be computed.
 pub fn play_at(
-    req: &PoseRequest,
+    req: &PoseTarget,
     schedule: &Schedule,
     friction: Friction,
     rate: f64,
@@ -178,7 +178,7 @@ pub const NEAR_DEG: f64 = 30.0;
 /// The median distance (mm) and the median signed angle (degrees, modulo
 /// symmetry) from the asked pose of the ends within [`NEAR_DEG`] of it:
 /// where the played drops come to rest near it; `None` when none does.
-fn played_offset(req: &PoseRequest, ends: &[Option<Pose>]) -> Option<[f64; 2]> {
+fn played_offset(req: &PoseTarget, ends: &[Option<Pose>]) -> Option<[f64; 2]> {
     let n = req.part.symmetry();
     let (d, t): (Vec<f64>, Vec<f64>) = ends
         .iter()
@@ -192,7 +192,7 @@ fn played_offset(req: &PoseRequest, ends: &[Option<Pose>]) -> Option<[f64; 2]> {
 
 /// One friction's row from its played drops `p` and lifted `analysis`.
 fn entry(
-    req: &PoseRequest,
+    req: &PoseTarget,
     friction: Friction,
     p: &PosePlayed,
     analysis: &PoseAnalysis,

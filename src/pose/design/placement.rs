@@ -31,7 +31,7 @@
 //! distance from the asked pose plus [`SLACK`] (rounded up to 5 mm).
 
 use super::search::{wrap_symmetric, Family};
-use super::PoseRequest;
+use super::PoseTarget;
 use crate::design::method::design_by_method;
 use crate::design::{DesignOptions, MethodDesign};
 use crate::dynamics::V2;
@@ -91,7 +91,7 @@ impl Placement {
     /// onto `asked`, turning by the least angle modulo the symmetry `n`.
     ///
     /// ```
-    /// use platefield::design::pose::placement::Placement;
+    /// use platefield::pose::design::placement::Placement;
     /// use platefield::pose::Pose;
     /// let centred = Pose::new(0.001, -0.002, 0.1);
     /// let asked = Pose::new(0.012, -0.008, 0.5);
@@ -325,7 +325,7 @@ pub fn over_limits(schedule: &Schedule) -> Vec<String> {
 }
 
 /// Half-width (m) of the synthesis square for `req` (module docs).
-pub fn synthesis_half_width(req: &PoseRequest) -> f64 {
+pub fn synthesis_half_width(req: &PoseTarget) -> f64 {
     let g = &req.region;
     let far = [g.x[0], g.x[1]]
         .iter()
@@ -343,14 +343,14 @@ pub fn family(spin: bool) -> Family {
     }
 }
 
-/// The request's target with `family` turned by `angle` (degrees) about
+/// The pose target's target with `family` turned by `angle` (degrees) about
 /// `c` on `grid`, no mask, at the middle of its friction range: a pose
 /// design meets a range by centring its placement over it
-/// (`design::pose::correct`), not by a worst-case synthesis, which turns the
+/// (`pose::design::correct`), not by a worst-case synthesis, which turns the
 /// bracket's played rest by 8.4° over μ 0.24–0.36 against 5.7° for the
 /// nominal synthesis (`docs/parts.md`).
 pub fn ellipse_target(
-    req: &PoseRequest,
+    req: &PoseTarget,
     family: Family,
     (c, angle): (V2, f64),
     grid: Grid,
@@ -369,7 +369,7 @@ pub fn ellipse_target(
 /// # Errors
 /// The synthesis's.
 pub fn synthesize_centred(
-    req: &PoseRequest,
+    req: &PoseTarget,
     family: Family,
     opts: &DesignOptions,
     synth: &SynthOptions,

@@ -4,7 +4,7 @@
 //! in the target's region, up to the part's own symmetry
 //! ([`Part::symmetry`]).
 //!
-//! One loader ([`PoseRequest::load`]): the rest of the file is read as a
+//! One loader ([`PoseTarget::load`]): the rest of the file is read as a
 //! target (grid, mask, friction, gravity, shaker) with its field replaced
 //! by a sink at the pose, so every other key is checked as for any target.
 //! `part` is a path relative to the target file. Refused (exit 2, naming
@@ -31,7 +31,7 @@ const PART: &str = "target.field.part";
 
 /// A checked pose target.
 #[derive(Debug, Clone)]
-pub struct PoseRequest {
+pub struct PoseTarget {
     /// The file's target with its field replaced by a sink at the pose
     /// (its grid, mask and physics; the part's friction when it states
     /// none).
@@ -118,10 +118,10 @@ fn in_file(path: &Path, e: Error) -> Error {
     }
 }
 
-impl PoseRequest {
+impl PoseTarget {
     /// The two ends of the target's friction range (μ low, μ high), `None`
     /// for an exact friction: where a pose design's probes play to meet
-    /// the range (`design::pose::correct`, [`super::screen`]).
+    /// the range (`pose::design::correct`, [`super::screen`]).
     pub fn friction_ends(&self) -> Option<[crate::dynamics::Friction; 2]> {
         let v = crate::design::stacked::ranged(&self.target)?.values(2);
         Some([v[0], v[v.len() - 1]])
@@ -129,27 +129,27 @@ impl PoseRequest {
 
     /// Reads the target file at `path`: `None` when its field is not a
     /// pose (any other target, or a file that is not JSON: the target
-    /// loader then reports it); the checked request otherwise (module
+    /// loader then reports it); the checked pose target otherwise (module
     /// docs).
     ///
     /// ```
-    /// use platefield::design::pose::PoseRequest;
-    /// let r = PoseRequest::load(std::path::Path::new("targets/pose_rectangle.json"))?.unwrap();
+    /// use platefield::pose::design::PoseTarget;
+    /// let r = PoseTarget::load(std::path::Path::new("targets/pose_rectangle.json"))?.unwrap();
     /// assert_eq!(r.part.symmetry(), 2);
-    /// assert!(PoseRequest::load(std::path::Path::new("targets/sink.json"))?.is_none());
+    /// assert!(PoseTarget::load(std::path::Path::new("targets/sink.json"))?.is_none());
     /// # Ok::<(), platefield::Error>(())
     /// ```
-    pub fn load(path: &Path) -> Result<Option<PoseRequest>> {
+    pub fn load(path: &Path) -> Result<Option<PoseTarget>> {
         let text = crate::input::read_input(path).map_err(|source| Error::Io {
             path: path.display().to_string(),
             source,
         })?;
         let dir = path.parent().unwrap_or(Path::new("."));
-        PoseRequest::from_json_str(&text, dir).map_err(|e| in_file(path, e))
+        PoseTarget::from_json_str(&text, dir).map_err(|e| in_file(path, e))
     }
 
-    /// [`PoseRequest::load`] from text, the part path relative to `dir`.
-    pub fn from_json_str(text: &str, dir: &Path) -> Result<Option<PoseRequest>> {
+    /// [`PoseTarget::load`] from text, the part path relative to `dir`.
+    pub fn from_json_str(text: &str, dir: &Path) -> Result<Option<PoseTarget>> {
         let Ok(mut value) = serde_json::from_str::<Value>(text) else {
             return Ok(None);
         };
@@ -185,7 +185,7 @@ impl PoseRequest {
         };
         let pose = Pose::new(x, y, deg.to_radians());
         check_pose(&part, &pose, &region)?;
-        Ok(Some(PoseRequest {
+        Ok(Some(PoseTarget {
             target,
             part,
             part_path,

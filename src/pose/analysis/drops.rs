@@ -3,7 +3,7 @@
 //! (every support point's own stick-slip, no averaging) for whole schedule
 //! periods, and its end pose classified by the nearest stable equilibrium
 //! of the lifted field. This is the measured basin the lifted field's
-//! prediction ([`super::settle`]) is judged against.
+//! prediction ([`crate::pose::settle`]) is judged against.
 //!
 //! **Schedule.** Segment after segment from phase 0, repeated; rest
 //! segments with the plate at rest in the home pose. At a join the part's
@@ -290,7 +290,7 @@ pub fn play_part(
         .collect()
 }
 
-/// The basins measured by playing an analysis's drops ([`super::drop_starts`])
+/// The basins measured by playing an analysis's drops ([`crate::pose::drop_starts`])
 /// with the planar simulator.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PlayedBasins {
@@ -319,7 +319,7 @@ pub struct PlayedBasins {
 /// (resampled as [`DropPlay::samples`] asks, its poses still the part's)
 /// through `sm` and classifies each end by its nearest stable pose.
 pub fn played_basins(
-    analysis: &super::PoseAnalysis,
+    analysis: &crate::pose::PoseAnalysis,
     part: &crate::part::Part,
     sm: &ScheduleMotion,
     play: &DropPlay,
@@ -327,7 +327,7 @@ pub fn played_basins(
     let eq = &analysis.equilibria;
     let index: Vec<usize> = (0..eq.len()).filter(|&i| eq[i].stable).collect();
     let stable: Vec<Equilibrium> = index.iter().map(|&i| eq[i]).collect();
-    let starts = super::drop_starts(&analysis.starts, analysis.drops);
+    let starts = crate::pose::drop_starts(&analysis.starts, analysis.drops);
     let runs: Vec<Result<DropEnd, PlayLoss>> = play_part(part, sm, &starts, play)
         .into_iter()
         .map(|run| run.map(|(end, _)| end))

@@ -1,40 +1,43 @@
 //! [`run`]: the one door of the inverse design. It decides what runs for a
-//! target and its [`DesignOptions`] — a part's pose ([`super::pose`]), the
-//! stacked sort of a target with classes, the closed loop on a sequenced
-//! design, or the design by [`Method`] with every candidate played — and
-//! returns the typed [`DesignOutcome`]; the report layer and the command
-//! line only format and write it. [`TargetFile::load`] reads any target
-//! file, a pose target included.
-
+//! target and its [`DesignOptions`] — a part's pose
+//! ([`crate::pose::design`]), the stacked sort of a target with classes,
+//! the closed loop on a sequenced design, or the design by [`Method`] with
+//! every candidate played — and returns the typed [`DesignOutcome`]; the
+//! report layer and the command line only format and write it.
+//! [`TargetFile::load`] reads any target file, a pose target included.
+//!
+//! The door sits above the design of a field ([`crate::design`]) and of a
+//! pose ([`crate::pose::design`], which synthesizes through the former),
+//! so that the modules import one way.
 use std::path::Path;
 
-use super::closed_loop::{closed_loop, ClosedLoop};
-use super::method::design_by_method;
-use super::pose::{design_pose, PoseDesign, PoseRequest, DROPS};
-use super::sort::{design_sort, SortDesign};
-use super::{design, Design, DesignOptions, Method, MethodDesign};
+use crate::design::closed_loop::{closed_loop, ClosedLoop};
+use crate::design::method::design_by_method;
+use crate::design::sort::{design_sort, SortDesign};
+use crate::design::{design, Design, DesignOptions, Method, MethodDesign};
 use crate::error::{Error, Result};
+use crate::pose::design::{design_pose, PoseDesign, PoseTarget, DROPS};
 use crate::request::Target;
 use crate::scene::FrictionSpec;
 
 /// A target file as read: a field to realise, or a part's pose
-/// (`"field": {"kind": "pose", …}`, [`PoseRequest`]).
+/// (`"field": {"kind": "pose", …}`, [`PoseTarget`]).
 #[derive(Debug, Clone)]
 #[allow(clippy::large_enum_variant)]
 pub enum TargetFile {
     /// A target field ([`Target`]).
     Field(Target),
     /// A pose of a part.
-    Pose(PoseRequest),
+    Pose(PoseTarget),
 }
 
 impl TargetFile {
     /// Reads the target file at `path`: a pose target when its field's
-    /// kind is `pose` ([`PoseRequest::load`]), any other target otherwise
+    /// kind is `pose` ([`PoseTarget::load`]), any other target otherwise
     /// ([`Target::load`]).
     ///
     /// ```
-    /// use platefield::design::TargetFile;
+    /// use platefield::inverse::TargetFile;
     /// let file = TargetFile::load(std::path::Path::new("targets/pose_rectangle.json"))?;
     /// assert!(matches!(file, TargetFile::Pose(_)));
     /// # Ok::<(), platefield::Error>(())
@@ -44,7 +47,7 @@ impl TargetFile {
     /// The loaders' ([`Error::Invalid`] naming the file and JSON path,
     /// [`Error::Io`]).
     pub fn load(path: &Path) -> Result<TargetFile> {
-        match PoseRequest::load(path)? {
+        match PoseTarget::load(path)? {
             Some(req) => Ok(TargetFile::Pose(req)),
             None => Ok(TargetFile::Field(Target::load(path)?)),
         }
@@ -55,7 +58,7 @@ impl TargetFile {
     /// target's classes and a pose target's part state their own: refused.
     ///
     /// ```
-    /// use platefield::design::TargetFile;
+    /// use platefield::inverse::TargetFile;
     /// use platefield::scene::FrictionSpec;
     /// let mut file = TargetFile::load(std::path::Path::new("targets/sink.json"))?;
     /// file.set_friction(FrictionSpec::uniform(0.45), "--friction")?;
@@ -97,13 +100,13 @@ impl TargetFile {
 }
 
 /// What [`run`] designs, borrowed: a target field or a pose request
-/// (`From` a `&Target`, a `&PoseRequest` or a `&TargetFile`).
+/// (`From` a `&Target`, a `&PoseTarget` or a `&TargetFile`).
 #[derive(Debug, Clone, Copy)]
 pub enum DesignRequest<'a> {
     /// A target field.
     Field(&'a Target),
     /// A pose of a part.
-    Pose(&'a PoseRequest),
+    Pose(&'a PoseTarget),
 }
 
 impl<'a> From<&'a Target> for DesignRequest<'a> {
@@ -112,8 +115,8 @@ impl<'a> From<&'a Target> for DesignRequest<'a> {
     }
 }
 
-impl<'a> From<&'a PoseRequest> for DesignRequest<'a> {
-    fn from(req: &'a PoseRequest) -> Self {
+impl<'a> From<&'a PoseTarget> for DesignRequest<'a> {
+    fn from(req: &'a PoseTarget) -> Self {
         DesignRequest::Pose(req)
     }
 }
@@ -132,7 +135,7 @@ impl<'a> From<&'a TargetFile> for DesignRequest<'a> {
 #[allow(clippy::large_enum_variant)]
 pub enum DesignOutcome {
     /// A target with classes: the sort candidates, stacked fits that sort
-    /// the classes by friction ([`super::sort`]), not yet played.
+    /// the classes by friction ([`crate::design::sort`]), not yet played.
     Sorted(Vec<SortDesign>),
     /// The sequenced design and the closed loop run on it
     /// ([`DesignOptions::closed_loop`]).
@@ -144,11 +147,11 @@ pub enum DesignOutcome {
     },
     /// The design by [`DesignOptions::method`]: every candidate played
     /// against the target, one kept with a typed
-    /// [`Choice`](super::Choice).
+    /// [`Choice`](crate::design::Choice).
     Method(MethodDesign),
     /// A pose target: one synthesized motion placed and corrected so that
     /// the part comes to rest at the pose, with [`DROPS`] played drops
-    /// ([`super::pose`]).
+    /// ([`crate::pose::design`]).
     Pose(PoseDesign),
 }
 
@@ -158,7 +161,7 @@ impl DesignOutcome {
     /// one.
     ///
     /// ```
-    /// # use platefield::design::DesignOutcome;
+    /// # use platefield::inverse::DesignOutcome;
     /// # fn kept(outcome: DesignOutcome) -> platefield::Result<platefield::design::Method> {
     /// let by_method = outcome.into_method()?;
     /// Ok(by_method.kept().method)
@@ -179,7 +182,7 @@ impl DesignOutcome {
     }
 }
 
-/// Designs `request` (a [`Target`], a [`PoseRequest`] or a [`TargetFile`])
+/// Designs `request` (a [`Target`], a [`PoseTarget`] or a [`TargetFile`])
 /// as `opts` ask: the one entry point of the inverse design (see the
 /// [`crate`] docs for an example).
 ///

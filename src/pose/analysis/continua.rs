@@ -19,7 +19,7 @@
 //! σ₁ ≥ σ₂ ≥ σ₃ (1/s), right singular vectors v₁, v₂, v₃.
 //!
 //! **The near-zero threshold.** A drop counts as arrived within
-//! δ = [`ARRIVE`] (of R, and in rad) of a rest ([`super::settle`]).
+//! δ = [`ARRIVE`] (of R, and in rad) of a rest ([`crate::pose::settle`]).
 //! Near a rest the transverse directions decay at least at σ₂: from a
 //! unit offset to δ they take T = ln(1/δ)/σ₂. The direction v₃ is *slow*
 //! when, over T, its own linearised motion changes its coordinate by at
@@ -757,7 +757,7 @@ fn shape_of(points: &[Pose], closed: bool) -> Shape {
 mod tests {
     use super::*;
     use crate::part::Part;
-    use crate::pose::run::Uniform;
+    use crate::pose::Uniform;
     use crate::pose::{analyse, Region};
 
     const REGION: Region = Region {
