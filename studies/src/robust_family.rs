@@ -144,7 +144,7 @@ pub fn outcome(target: &Target, methods: (Method, Method), quiet: bool) -> Resul
 /// The part of a sampled field no affine field matches: the relative
 /// residual ‖v − (A r + b)‖/‖v‖ of the least-squares affine fit over its
 /// sample points (`None` for analytic fields, for fewer than three points,
-/// or for sample points on one line).
+/// or where the fit's normal equations have no inverse).
 ///
 /// What it diagnoses: a rigid plate's acceleration is affine in the
 /// position (a(r) = a_c + Ω' × d + Ω × (Ω × d)), and the robust designs of
@@ -162,15 +162,15 @@ pub fn affine_residual(field: &FieldSpec) -> Option<f64> {
     if points.len() < 3 {
         return None;
     }
-    let rows = |p: &[f64; 2]| Vector3::new(p[0], p[1], 1.0);
-    let normal: Matrix3<f64> = points.iter().map(|p| rows(p) * rows(p).transpose()).sum();
-    let inverse = normal.try_inverse()?;
+    let row = |p: &[f64; 2]| Vector3::new(p[0], p[1], 1.0);
+    let normal: Matrix3<f64> = points.iter().map(|p| row(p) * row(p).transpose()).sum();
+    let solve = normal.try_inverse()?;
     let (mut left, mut total) = (0.0, 0.0);
     for k in 0..2 {
-        let rhs: Vector3<f64> = points.iter().zip(vectors).map(|(p, v)| rows(p) * v[k]).sum();
-        let c = inverse * rhs;
+        let rhs: Vector3<f64> = points.iter().zip(vectors).map(|(p, v)| row(p) * v[k]).sum();
+        let c = solve * rhs;
         for (p, v) in points.iter().zip(vectors) {
-            left += (c.dot(&rows(p)) - v[k]).powi(2);
+            left += (c.dot(&row(p)) - v[k]).powi(2);
             total += v[k] * v[k];
         }
     }
