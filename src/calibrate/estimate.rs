@@ -184,7 +184,7 @@ pub struct ClassFit {
 
 impl ClassFit {
     /// σ̂ (m): the residual's standard deviation per coordinate.
-    pub fn sigma(&self) -> f64 {
+    pub(crate) fn sigma(&self) -> f64 {
         (self.rss / self.dof.max(1) as f64).sqrt()
     }
 }
@@ -557,7 +557,7 @@ pub fn scan(
 /// The minimum of a sampled curve `(x, y)` by the parabola through the
 /// lowest sample and its neighbours: (x̂, curvature d²y/dx²); at an end
 /// of the lattice, that end and no curvature.
-pub fn parabola_minimum(x: &[f64], y: &[f64]) -> Option<(f64, Option<f64>)> {
+pub(crate) fn parabola_minimum(x: &[f64], y: &[f64]) -> Option<(f64, Option<f64>)> {
     let (i, _) = y
         .iter()
         .enumerate()

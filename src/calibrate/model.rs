@@ -126,7 +126,7 @@ impl PlayedMotion {
     }
 
     /// Segments in which the plate moves (a field each).
-    pub fn moving_segments(&self) -> usize {
+    pub(crate) fn moving_segments(&self) -> usize {
         self.segments.iter().filter(|s| s.0.is_some()).count()
     }
 
@@ -429,7 +429,7 @@ pub struct FieldSet {
 
 impl FieldSet {
     /// Largest difference between two sets' valid samples (m/s).
-    pub fn max_difference(&self, other: &FieldSet) -> f64 {
+    pub(crate) fn max_difference(&self, other: &FieldSet) -> f64 {
         self.fields
             .iter()
             .zip(&other.fields)

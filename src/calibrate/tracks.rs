@@ -249,7 +249,7 @@ impl Tracks {
 
     /// Tracks made in memory (simulated): no file lines, the standard
     /// column order.
-    pub fn from_tracks(tracks: Vec<Track>) -> Tracks {
+    pub(crate) fn from_tracks(tracks: Vec<Track>) -> Tracks {
         Tracks {
             source: "simulated tracks".into(),
             tracks,

@@ -131,7 +131,7 @@ impl MirrorLine {
     }
 
     /// True when the line passes through the plate centre.
-    pub fn is_through_centre(&self) -> bool {
+    pub(crate) fn is_through_centre(&self) -> bool {
         self.point == [0.0, 0.0]
     }
 

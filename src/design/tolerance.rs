@@ -141,7 +141,7 @@ pub fn quantile(xs: &[f64], q: f64) -> f64 {
 
 /// The work of [`spread`]: `count` judges of `schedule` (one when no
 /// segment of it is a six-signal motion a draw perturbs).
-pub fn spread_estimate(
+pub(crate) fn spread_estimate(
     target: &Target,
     sampled: &SampledTarget,
     schedule: &Schedule,

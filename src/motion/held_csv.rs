@@ -37,7 +37,7 @@ pub(crate) const T_TOLERANCE: f64 = 2e-9;
 ///
 /// # Errors
 /// An unreadable, oversized or non-UTF-8 file (names the file).
-pub fn read_text(path: &Path) -> Result<String> {
+pub(crate) fn read_text(path: &Path) -> Result<String> {
     let io = |source| Error::Io {
         path: path.display().to_string(),
         source,
@@ -292,7 +292,7 @@ pub struct Recording {
 
 /// True when the first line of `text` that is not a comment or blank is
 /// all numbers: a header-less recording, not an export.
-pub fn is_recording(text: &str) -> bool {
+pub(crate) fn is_recording(text: &str) -> bool {
     text.lines()
         .map(str::trim)
         .find(|l| !l.is_empty() && !l.starts_with('#'))

@@ -149,7 +149,7 @@ pub fn centre_state(motion: &Motion, t: f64) -> CentreState {
 /// [`centre_state`] but with a six-signal motion's angular velocity the
 /// rate θ′ of its rotation vector (the integral of its signals, which
 /// design limits), not the world ω; the same for the other motions.
-pub fn signal_state(motion: &Motion, t: f64) -> CentreState {
+pub(crate) fn signal_state(motion: &Motion, t: f64) -> CentreState {
     match motion {
         Motion::Screw(s) => {
             let k = V3::from(s.axis).normalize();
@@ -348,7 +348,7 @@ pub fn sequence(segments: &[MotionSpan<'_>], rate: f64) -> Result<HoldSamples> {
 ///
 /// # Errors
 /// As [`sequence`].
-pub fn sequence_states(
+pub(crate) fn sequence_states(
     segments: &[MotionSpan<'_>],
     rate: f64,
 ) -> Result<(usize, f64, Vec<CentreState>)> {

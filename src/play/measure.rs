@@ -158,7 +158,7 @@ impl PlayOptions {
     /// [`PlayOptions::player`] with the part moving through the plate's
     /// kinematics whatever `model.moving` says (swarms and parts that
     /// must travel).
-    pub fn moving_player<'a>(&self, sm: &'a ScheduleMotion) -> Player<'a> {
+    pub(crate) fn moving_player<'a>(&self, sm: &'a ScheduleMotion) -> Player<'a> {
         PlayOptions {
             model: crate::dynamics::Model {
                 moving: true,

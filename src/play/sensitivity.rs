@@ -105,7 +105,7 @@ impl Sensitivity {
 
     /// The weakest realised strength over the rows (`None` if a row has
     /// none).
-    pub fn weakest_strength(&self) -> Option<f64> {
+    pub(crate) fn weakest_strength(&self) -> Option<f64> {
         self.rows
             .iter()
             .map(|r| r.realised_strength)

@@ -114,7 +114,7 @@ pub struct LmReport {
 }
 
 /// ½‖r‖².
-pub fn half_squared(r: &[f64]) -> f64 {
+pub(crate) fn half_squared(r: &[f64]) -> f64 {
     0.5 * r.iter().map(|v| v * v).sum::<f64>()
 }
 
@@ -169,7 +169,7 @@ fn same_length(r: &[f64], r0: &[f64]) -> Result<()> {
 
 /// The damped step δ solving (JᵀJ + λ D) δ = −Jᵀ r (module documentation);
 /// a least-squares (SVD) solution when the system is singular.
-pub fn damped_step(jtj: &DMatrix<f64>, jtr: &DVector<f64>, lambda: f64) -> Vec<f64> {
+pub(crate) fn damped_step(jtj: &DMatrix<f64>, jtr: &DVector<f64>, lambda: f64) -> Vec<f64> {
     let n = jtj.nrows();
     let largest = (0..n).map(|i| jtj[(i, i)]).fold(0.0, f64::max);
     let mean = (0..n).map(|i| jtj[(i, i)]).sum::<f64>() / n.max(1) as f64;

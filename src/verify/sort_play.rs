@@ -545,7 +545,7 @@ pub fn verify_periods(schedule: &Schedule, asked: Option<u32>) -> Result<u32> {
 ///
 /// # Errors
 /// A class whose target cannot be sampled.
-pub fn verify_estimate(
+pub(crate) fn verify_estimate(
     schedule: &Schedule,
     periods: u32,
     replay_rate: Option<f64>,

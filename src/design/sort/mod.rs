@@ -372,7 +372,10 @@ fn sort_limits(target: &Target) -> ShakerLimits {
 ///
 /// # Errors
 /// A synthesis failing (invalid limits or options).
-pub fn sort_motions(target: &Target, opts: &DesignOptions) -> Result<Vec<(String, Signals)>> {
+pub(crate) fn sort_motions(
+    target: &Target,
+    opts: &DesignOptions,
+) -> Result<Vec<(String, Signals)>> {
     let g = target
         .grid
         .as_ref()

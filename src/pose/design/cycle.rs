@@ -103,7 +103,7 @@ impl EllipseStage {
     ///
     /// # Errors
     /// The schedule is not one six-signal motion.
-    pub fn placed_on(&self, rest: &Pose) -> Result<Schedule> {
+    pub(crate) fn placed_on(&self, rest: &Pose) -> Result<Schedule> {
         let own = centred_pose(&self.stable, rest, 1)
             .ok_or_else(|| Error::Unreachable("the elliptic sink has no stable pose".into()))?;
         Placement::onto(&own.pose, rest, 1).schedule(&self.schedule, None)

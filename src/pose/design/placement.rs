@@ -78,7 +78,7 @@ impl Placement {
     }
 
     /// The pose of the centred motion this placement takes to `pose`.
-    pub fn unapply(&self, pose: &Pose) -> Pose {
+    pub(crate) fn unapply(&self, pose: &Pose) -> Pose {
         let (s, c) = (-self.angle).sin_cos();
         let r = pose.r - self.shift;
         Pose {
@@ -145,7 +145,7 @@ impl Placement {
     ///
     /// # Errors
     /// As [`schedule`](Self::schedule).
-    pub fn schedule_scaled(
+    pub(crate) fn schedule_scaled(
         &self,
         origin: &Schedule,
         placed_target: Option<crate::request::Target>,
@@ -194,7 +194,7 @@ impl Placement {
 ///
 /// # Errors
 /// `origin` is not one six-signal motion (`what` names the user).
-pub fn with_motion(
+pub(crate) fn with_motion(
     origin: &Schedule,
     what: &str,
     edit: impl FnOnce(&mut crate::motion::Signals),
@@ -349,7 +349,7 @@ pub fn family(spin: bool) -> Family {
 /// (`pose::design::correct`), not by a worst-case synthesis, which turns the
 /// bracket's played rest by 8.4° over μ 0.24–0.36 against 5.7° for the
 /// nominal synthesis (`docs/parts.md`).
-pub fn ellipse_target(
+pub(crate) fn ellipse_target(
     req: &PoseTarget,
     family: Family,
     (c, angle): (V2, f64),

@@ -147,7 +147,7 @@ pub fn largest_cluster(ends: &[Pose], n: usize, total: usize) -> Option<(f64, Po
 
 /// [`largest_cluster`] with ends within `tol` (mm, degrees) of the seed
 /// counted as one cluster, and the spread in units of `tol`.
-pub fn largest_cluster_within(
+pub(crate) fn largest_cluster_within(
     ends: &[Pose],
     n: usize,
     total: usize,

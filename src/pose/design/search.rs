@@ -62,7 +62,7 @@ impl Family {
 }
 
 /// θ reduced modulo the symmetry turn 2π/`n`, into (−π/n, π/n].
-pub fn wrap_symmetric(theta: f64, n: usize) -> f64 {
+pub(crate) fn wrap_symmetric(theta: f64, n: usize) -> f64 {
     let n = n.max(1) as f64;
     wrap(theta * n) / n
 }

@@ -105,7 +105,7 @@ const fn spin(alpha: f64, translation: f64) -> Spin {
 }
 
 /// A part without a 180° symmetry is designed with a spin (module docs).
-pub fn needs_spin(symmetry: usize) -> bool {
+pub(crate) fn needs_spin(symmetry: usize) -> bool {
     symmetry % 2 == 1
 }
 
