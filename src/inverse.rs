@@ -9,6 +9,7 @@
 //! The door sits above the design of a field ([`crate::design`]) and of a
 //! pose ([`crate::pose::design`], which synthesizes through the former),
 //! so that the modules import one way.
+
 use std::path::Path;
 
 use crate::design::closed_loop::{closed_loop, ClosedLoop};
