@@ -44,10 +44,11 @@
 //! at the file's steps per cycle; its count at the design's 64 is printed
 //! beside it.
 //!
-//! The default run checks (1) over one pass of the file and plays 1 drop
-//! for that pass (about 10 s of CPU); the 12 drops for the design's whole
-//! duration: `cargo test --release --test pose_convention -- --ignored
-//! --nocapture` (about 250 s of CPU).
+//! The default run checks (1) over one pass of the file. One drop for
+//! that pass (about 15 s of CPU): `cargo test --release --test
+//! pose_convention -- --ignored --nocapture 1_drop`; the 12 drops for the
+//! design's whole duration: `cargo test --release --test pose_convention
+//! -- --ignored --nocapture 12_drops` (about 250 s of CPU).
 
 #[path = "common/plate.rs"]
 mod plate;
@@ -307,9 +308,19 @@ fn the_parts_reach_the_pose(b: &Bracket, drops: usize) {
     );
 }
 
-/// One drop for one pass of the file (the design's drops play two): the
-/// file's end against the schedule's, and the file looped once.
+/// (1) over one pass of the file: the test plate plays the looped file's
+/// motion.
 #[test]
+fn the_bracket_export_is_the_test_plates_motion() {
+    the_motion_is_the_test_plates(&bracket_over(Some(1)));
+}
+
+/// One drop for one pass of the file (the design's drops play two): the
+/// file's end against the schedule's, and the file looped once (about
+/// 15 s of CPU: `cargo test --release --test pose_convention -- --ignored
+/// --nocapture 1_drop`).
+#[test]
+#[ignore]
 fn the_bracket_export_brings_parts_to_the_pose_1_drop() {
     let b = bracket_over(Some(1));
     the_motion_is_the_test_plates(&b);
@@ -317,8 +328,8 @@ fn the_bracket_export_brings_parts_to_the_pose_1_drop() {
 }
 
 /// The 12 drops for the design's duration (about 250 s of CPU, against
-/// 10 s for the one drop above):
-/// `cargo test --release --test pose_convention -- --ignored --nocapture`.
+/// 15 s for the one drop above):
+/// `cargo test --release --test pose_convention -- --ignored --nocapture 12_drops`.
 #[test]
 #[ignore]
 fn the_bracket_export_brings_parts_to_the_pose_12_drops() {

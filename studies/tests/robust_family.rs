@@ -6,20 +6,43 @@ use platefield::design::method::Method;
 use platefield::request::family::family;
 use platefield_studies::robust_family::{affine_residual, outcome, COUNT, GOALS, SEED};
 
-/// The mirror-image (or counter-rotating) share of each, judged at five
-/// frictions over its range, holds its worst shape error ≤ 10 % (the
-/// issue's bound for every target), no worse than the nominal synthesized
-/// motion's worst case over the range (+ 0.5 percentage point), at ≥ 60 %
-/// of that motion's strength at its own μ (the issue's goal). The four: an off-centre sink;
-/// an ellipse, whose mirror line is at a random angle; an off-centre
-/// saddle, whose mirror lines miss the plate's centre; and a whirlpool,
-/// without a mirror line (the counter-rotating share, a second
-/// synthesis). Measured: worst 4.6 %, 5.9 %, 4.5 %, 6.1 % against the
-/// nominal motion's 8.0 %, 8.4 %, 7.5 %, 9.9 %; strength ratios 0.69,
-/// 0.65, 0.69, 0.69; about 80 s of CPU. The `mirror` and `synthesize`
-/// methods stand in for `auto` (which adds the sequenced candidate and
-/// costs about three times as much).
+/// The mirror-image (or counter-rotating) share of each member holds its
+/// worst shape error over the range ≤ 10 % (the issue's bound for every
+/// target), no worse than the nominal synthesized motion's worst case over
+/// the range (+ 0.5 percentage point), at ≥ 60 % of that motion's
+/// strength at its own μ (the issue's goal). Each is judged at five
+/// frictions over its range. The `mirror` and `synthesize` methods stand
+/// in for `auto` (which adds the sequenced candidate and costs about three
+/// times as much).
+fn holds_over_friction(t: &platefield::request::Target) {
+    let o = outcome(t, (Method::Mirror, Method::Synthesize), true).unwrap();
+    let (shape, _) = o.robust.worst();
+    let (nominal, _) = o.nominal.worst();
+    let ratio = o.strength_ratio();
+    eprintln!(
+        "{}: robust {shape:.4}, nominal {nominal:.4}, ratio {ratio:.3} ({:.1} s of CPU)",
+        t.name, o.cpu_s
+    );
+    assert!(shape <= 0.10, "{}: worst shape {shape}", t.name);
+    assert!(
+        shape <= nominal + 0.005,
+        "{}: {shape} against the nominal {nominal}",
+        t.name
+    );
+    assert!(ratio >= 0.6, "{}: strength ratio {ratio}", t.name);
+}
+
+/// The seeded subset of four: an off-centre sink; an ellipse, whose
+/// mirror line is at a random angle; an off-centre saddle, whose mirror
+/// lines miss the plate's centre; and a whirlpool, without a mirror line
+/// (the counter-rotating share, a second synthesis). Measured: worst
+/// 4.6 %, 5.9 %, 4.5 %, 6.1 % against the nominal motion's 8.0 %, 8.4 %,
+/// 7.5 %, 9.9 %; strength ratios 0.69, 0.65, 0.69, 0.69; 17, 16, 31 and
+/// 19 s of CPU: `cargo test --release -p platefield-studies --test
+/// robust_family -- --ignored --nocapture subset`. The default run keeps
+/// the ellipse ([`the_ellipse_member_holds_over_friction`]).
 #[test]
+#[ignore = "about 85 s of CPU: cargo test --release -p platefield-studies --test robust_family -- --ignored --nocapture subset"]
 fn a_seeded_subset_of_the_family_holds_over_friction() {
     let members = family(SEED, 4);
     let kinds: Vec<&str> = members
@@ -27,23 +50,22 @@ fn a_seeded_subset_of_the_family_holds_over_friction() {
         .map(|t| t.name.split('_').next().unwrap_or(""))
         .collect();
     assert_eq!(kinds, ["sink", "ellipse", "saddle", "whirlpool"]);
-    for t in &members {
-        let o = outcome(t, (Method::Mirror, Method::Synthesize), true).unwrap();
-        let (shape, _) = o.robust.worst();
-        let (nominal, _) = o.nominal.worst();
-        let ratio = o.strength_ratio();
-        eprintln!(
-            "{}: robust {shape:.4}, nominal {nominal:.4}, ratio {ratio:.3}",
-            t.name
-        );
-        assert!(shape <= 0.10, "{}: worst shape {shape}", t.name);
-        assert!(
-            shape <= nominal + 0.005,
-            "{}: {shape} against the nominal {nominal}",
-            t.name
-        );
-        assert!(ratio >= 0.6, "{}: strength ratio {ratio}", t.name);
-    }
+    members.iter().for_each(holds_over_friction);
+}
+
+/// The subset's ellipse: its mirror line is at a random angle, off any
+/// lattice of axes (the failure issue 45 opens with). Measured: worst
+/// 5.9 % against the nominal 8.4 %, strength ratio 0.65, about 16 s of
+/// CPU.
+#[test]
+fn the_ellipse_member_holds_over_friction() {
+    let members = family(SEED, 4);
+    assert!(
+        members[1].name.starts_with("ellipse_"),
+        "{}",
+        members[1].name
+    );
+    holds_over_friction(&members[1]);
 }
 
 /// What the subset relies on to judge the nominal motion without
