@@ -2,7 +2,9 @@
 //! time-shares (`design::mirror`) and their symmetry argument.
 
 use platefield::design::method::judge_check;
-use platefield::design::mirror::{counter_share, mirror_axis, mirror_share, MirrorLine};
+use platefield::design::mirror::{
+    counter_share, mirror_axis, mirror_share, MirrorLine, MIRROR_SEGMENT_CYCLES,
+};
 use platefield::dynamics::Friction;
 use platefield::field::{Field, FieldKind, FieldSettings, Grid};
 use platefield::motion::{Motion, Signals};
@@ -276,6 +278,17 @@ fn worst(rows: &[FrictionRow]) -> (f64, f64) {
     })
 }
 
+/// The committed synthesized sink (designed for μ 0.3) and the limits it
+/// was played within.
+fn synthesized_sink() -> (Schedule, ShakerLimits) {
+    let s = Schedule::load(std::path::Path::new(
+        "results/synthesized/sink/schedule.json",
+    ))
+    .unwrap();
+    let limits = ShakerLimits::from_spec(s.played.as_ref().unwrap().limits.as_ref());
+    (s, limits)
+}
+
 /// The sink goal, from the committed synthesized sink (designed
 /// for μ 0.3): alone its judge leaves more than 6 % shape error over the
 /// range (7.3 % at its worst); its mirror-image time-share holds worst
@@ -287,12 +300,9 @@ fn worst(rows: &[FrictionRow]) -> (f64, f64) {
 #[test]
 #[ignore = "about 6 s of CPU: cargo test --release --test robust -- --ignored synthesized_sink"]
 fn the_mirror_share_of_the_synthesized_sink_holds_over_friction() {
-    let synthesized = Schedule::load(std::path::Path::new(
-        "results/synthesized/sink/schedule.json",
-    ))
-    .unwrap();
-    let limits = ShakerLimits::from_spec(synthesized.played.as_ref().unwrap().limits.as_ref());
-    let share = mirror_share(&synthesized, &limits, &MirrorLine::through_centre(0.0)).unwrap();
+    let (synthesized, limits) = synthesized_sink();
+    let line = MirrorLine::through_centre(0.0);
+    let share = mirror_share(&synthesized, &limits, &line, MIRROR_SEGMENT_CYCLES).unwrap();
     assert_eq!(share.segments.len(), 2);
     let mu = [0.2, 0.25, 0.3, 0.35, 0.4];
     let (alone, _) = worst(&sweep(&synthesized, &mu));
@@ -370,7 +380,7 @@ fn counter_share_holds(motion: Schedule, target: Target, bounds: (f64, f64)) {
     let mut mirrored = target.mirrored_y();
     mirrored.shaker = motion.played.as_ref().unwrap().limits.clone();
     let partner = synthesized(&mirrored);
-    let share = counter_share(&motion, &partner, &limits).unwrap();
+    let share = counter_share(&motion, &partner, &limits, MIRROR_SEGMENT_CYCLES).unwrap();
     assert_eq!(share.segments.len(), 2);
     let mu = [0.2, 0.25, 0.3, 0.35, 0.4];
     let (alone, alone_strength) = worst(&sweep(&motion, &mu));
@@ -517,4 +527,23 @@ fn auto_over_a_range_adds_syntheses_when_nothing_holds() {
     let kept = worst(md.kept());
     let bound = if best <= 0.06 { 0.06 } else { best + 0.01 };
     assert!(kept <= bound, "kept {kept} against {best}");
+}
+
+/// A share's segment length is the caller's: each of the two segments
+/// lasts `cycles` cycles, so the period grows with it; a length that
+/// leaves no steady cycle between the two ramps is refused naming
+/// `cycles`.
+#[test]
+fn a_share_lasts_the_cycles_asked_and_refuses_no_steady_cycle() {
+    let (synthesized, limits) = synthesized_sink();
+    let line = MirrorLine::through_centre(0.0);
+    let period = |cycles| {
+        let share = mirror_share(&synthesized, &limits, &line, cycles).unwrap();
+        assert!(share.segments.iter().all(|s| s.cycles == cycles));
+        share.period_s
+    };
+    let (short, long) = (period(12), period(2 * 12));
+    assert!((long / short - 2.0).abs() < 1e-9, "{short} s, {long} s");
+    let err = mirror_share(&synthesized, &limits, &line, 8).unwrap_err();
+    assert!(err.to_string().contains("cycles"), "{err}");
 }

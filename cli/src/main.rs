@@ -167,6 +167,17 @@ enum Study {
         #[command(flatten)]
         out: StudyOut,
     },
+    /// The robust share's knobs on the family's mirror-symmetric members: the segment length and the frictions judged, against the worst shape over the range and the judge's work: robust_knobs.md (CPU seconds printed only).
+    #[command(mut_arg("out", default_dir(studies::robust_knobs::DIR)))]
+    RobustKnobs {
+        /// Members (the first of the family that a reflection maps to themselves; at most 28).
+        #[arg(long, default_value_t = 28, value_parser = clap::value_parser!(u64).range(1..=28))]
+        count: u64,
+        #[command(flatten)]
+        quiet: Quiet,
+        #[command(flatten)]
+        out: StudyOut,
+    },
     /// Every shipped target designed (auto) under several synthesis and polish budgets: design_speed.md (times printed only).
     #[command(mut_arg("out", default_dir(studies::design_speed::DIR)))]
     DesignSpeed {
@@ -356,6 +367,16 @@ fn run_study(study: Study) -> Result<String> {
                 studies::work::Expected::scaled("robust-family", share, "of the family's members");
             studies::watched("robust-family", expected, quiet.quiet, || {
                 studies::robust_family::run(&out.out, count as usize, quiet.quiet)
+            })
+        }
+        Study::RobustKnobs { count, quiet, out } => {
+            let expected = studies::work::Expected::scaled(
+                "robust-knobs",
+                count as f64 / 28.0,
+                "of the 28 members",
+            );
+            studies::watched("robust-knobs", expected, quiet.quiet, || {
+                studies::robust_knobs::run(&out.out, count as usize, quiet.quiet)
             })
         }
         Study::Sort(o) => studies::watched_defaults("sort", false, || studies::sort::run(&o.out)),

@@ -56,12 +56,14 @@
 //! cycles each, the motion and its mirror, each ramped in from rest and out
 //! to rest over `MIXED_RAMP_CYCLES` cycles (the
 //! plate velocities of the two motions differ at a cycle's start, so they
-//! cannot be joined directly). Measured for the synthesized sink, worst
-//! over μ ∈ [0.2, 0.4] (the design's judge, moving parts): 8
-//! steady-plus-ramp cycles per segment 7.1 % at 0.22 s⁻¹, 12: 4.3 % at
-//! 0.39, 20: 3.1 % at 0.55, 28: 3.5 % at 0.62, 36: 4.6 % at 0.66 —
-//! longer segments lose less to the ramps and gain back some interaction;
-//! 28 is the knee. The ramps raise the acceleration above the steady peak
+//! cannot be joined directly). The length trades two errors: longer
+//! segments spend less of the period in the ramps, so they are stronger,
+//! but let a part drift longer under one half's turned field before the
+//! other half turns it back. `results/robust_knobs.md` (`platefield study
+//! robust-knobs`) measures it over the 28 mirror-symmetric members of the
+//! seeded family, each over its own range: the rule is the length with
+//! the least 90th-percentile worst shape, the stronger of a tie, which is
+//! `MIRROR_SEGMENT_CYCLES`. The ramps raise the acceleration above the steady peak
 //! (up to about 16 %); where that passes a shaker limit, the motion is
 //! scaled down to keep every axis within its limit.
 
@@ -73,8 +75,13 @@ use crate::schedule::export::schedule_peaks;
 use crate::schedule::{Schedule, Segment};
 use crate::synth::ShakerLimits;
 
-/// Cycles of each of the two segments, ramps included.
-pub(crate) const MIRROR_SEGMENT_CYCLES: u32 = 28;
+/// Cycles of each of the two segments, ramps included: what the design
+/// passes to [`mirror_share`] and [`counter_share`]. Chosen over the
+/// family (module documentation, "Its schedule"): of the lengths
+/// `platefield study robust-knobs` compares, the one with the least
+/// 90th-percentile worst shape over the members' ranges, the stronger of
+/// a tie (`results/robust_knobs.md`).
+pub const MIRROR_SEGMENT_CYCLES: u32 = 28;
 
 /// Relative tolerance of the symmetry test of a target.
 const SYMMETRY_TOL: f64 = 1e-9;
@@ -379,27 +386,30 @@ fn golden_min(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64) -> f64 {
 
 /// The mirror-image time-share of a one-motion schedule (a synthesized
 /// design) in the vertical plane of `line` ([`mirror_axis`]): the motion and
-/// its mirror image, `MIRROR_SEGMENT_CYCLES`
-/// cycles each, ramped, scaled down where the ramps would pass `limits`.
-/// The rest of the schedule (target, settings, fit metrics) is kept.
+/// its mirror image, `cycles` cycles each (the design's:
+/// [`MIRROR_SEGMENT_CYCLES`]), ramped, scaled down where the ramps would
+/// pass `limits`. The rest of the schedule (target, settings, fit metrics)
+/// is kept.
 ///
 /// # Errors
-/// The schedule does not hold exactly one six-signal motion.
+/// The schedule does not hold exactly one six-signal motion, or `cycles`
+/// does not leave a steady cycle between the two ramps.
 pub fn mirror_share(
     synthesized: &Schedule,
     limits: &ShakerLimits,
     line: &MirrorLine,
+    cycles: u32,
 ) -> Result<Schedule> {
     let motion = only_motion(synthesized)?;
     let mirrored = line.mirror(motion);
     let label = format!("Synthesized, mirrored in {}", line.describe());
-    Ok(time_share(
+    time_share(
         synthesized,
         motion,
         (&label, &mirrored),
-        "mirror",
+        ("mirror", cycles),
         limits,
-    ))
+    )
 }
 
 /// The counter-rotating time-share, for any target: the synthesized
@@ -423,22 +433,27 @@ pub fn mirror_share(
 /// reflection the partner is that reflection of the motion itself
 /// ([`mirror_share`]), so this costs one synthesis more than it.
 ///
+/// Each of the two segments lasts `cycles` cycles (the design's:
+/// [`MIRROR_SEGMENT_CYCLES`]).
+///
 /// # Errors
-/// Either schedule does not hold exactly one six-signal motion.
+/// Either schedule does not hold exactly one six-signal motion, or `cycles`
+/// does not leave a steady cycle between the two ramps.
 pub fn counter_share(
     synthesized: &Schedule,
     partner: &Schedule,
     limits: &ShakerLimits,
+    cycles: u32,
 ) -> Result<Schedule> {
     let motion = only_motion(synthesized)?;
     let back = only_motion(partner)?.mirrored_y();
-    Ok(time_share(
+    time_share(
         synthesized,
         motion,
         ("Synthesized for the mirror image, mirrored back", &back),
-        "counter-rotating",
+        ("counter-rotating", cycles),
         limits,
-    ))
+    )
 }
 
 /// The one six-signal motion of a synthesized schedule.
@@ -458,16 +473,25 @@ fn only_motion(synthesized: &Schedule) -> Result<&Signals> {
 }
 
 /// `synthesized` with its segments replaced by `first` and `second`,
-/// [`MIRROR_SEGMENT_CYCLES`] cycles each, ramped, both scaled down alike
-/// where the ramps would pass `limits`; solver mode `mode`. The rest of
-/// the schedule (target, settings, fit metrics) is kept.
+/// `cycles` cycles each, ramped, both scaled down alike where the ramps
+/// would pass `limits`; solver mode `mode`. The rest of the schedule
+/// (target, settings, fit metrics) is kept.
 fn time_share(
     synthesized: &Schedule,
     first: &Signals,
     second: (&str, &Signals),
-    mode: &str,
+    (mode, cycles): (&str, u32),
     limits: &ShakerLimits,
-) -> Schedule {
+) -> Result<Schedule> {
+    if cycles <= 2 * MIXED_RAMP_CYCLES {
+        return Err(Error::invalid(
+            "cycles",
+            format!(
+                "{cycles}: a share's segment needs more than its two ramps' {} cycles",
+                2 * MIXED_RAMP_CYCLES
+            ),
+        ));
+    }
     let build = |k: f64| {
         let segment = |label: &str, signals: Signals| Segment {
             label: label.into(),
@@ -475,7 +499,7 @@ fn time_share(
             motion: Some(signals),
             ramp_cycles: Some(MIXED_RAMP_CYCLES),
             weight: 0.5,
-            cycles: MIRROR_SEGMENT_CYCLES,
+            cycles,
             duration_s: 0.0,
         };
         let scaled = |m: &Signals| if k < 1.0 { m.scaled(k) } else { m.clone() };
@@ -498,9 +522,5 @@ fn time_share(
         .filter(|(p, _)| **p > 0.0)
         .map(|(p, a)| a / p)
         .fold(1.0_f64, f64::min);
-    if scale < 1.0 {
-        build(scale)
-    } else {
-        schedule
-    }
+    Ok(if scale < 1.0 { build(scale) } else { schedule })
 }

@@ -19,6 +19,7 @@
 //! | [`poses`] | `platefield study poses` | `poses.md` |
 //! | [`poses_friction`] | `platefield study poses-friction` | `poses_friction.md` (the pose designs at μ ± 20 %) |
 //! | [`robust_family`] | `platefield study robust-family` | `robust_family.md` (robust design over a seeded family of random targets) |
+//! | [`robust_knobs`] | `platefield study robust-knobs` | `robust_knobs.md` (the robust share's segment length and the frictions judged, over the family) |
 //! | [`sort`] | `platefield study sort` | `sort.md` (where sorting by friction stops: time to sort against the friction contrast and the sinks' distance) |
 //! | [`probes`] | `platefield study probes` | `probes.md` (the measurements behind numbers the docs state) |
 
@@ -35,6 +36,7 @@ pub mod probes;
 pub mod reproduce;
 pub mod robust;
 pub mod robust_family;
+pub mod robust_knobs;
 pub mod robust_shipped;
 pub mod rung;
 pub mod sort;

@@ -957,7 +957,12 @@ impl<'a> MethodRun<'a> {
     ) -> Result<Vec<Schedule>> {
         let mut shares = Vec::new();
         if let Some(line) = axis {
-            shares.push(super::mirror::mirror_share(schedule, limits, line)?);
+            shares.push(super::mirror::mirror_share(
+                schedule,
+                limits,
+                line,
+                super::mirror::MIRROR_SEGMENT_CYCLES,
+            )?);
         }
         if !axis.is_some_and(super::mirror::MirrorLine::is_through_centre) {
             let mirrored = self.target.mirrored_y();
@@ -969,7 +974,12 @@ impl<'a> MethodRun<'a> {
                 self.opts,
                 &asked_synthesis(self.target, self.opts),
             )?;
-            shares.push(super::mirror::counter_share(schedule, &partner, limits)?);
+            shares.push(super::mirror::counter_share(
+                schedule,
+                &partner,
+                limits,
+                super::mirror::MIRROR_SEGMENT_CYCLES,
+            )?);
         }
         Ok(shares)
     }
