@@ -69,7 +69,9 @@ pub struct Member {
 
 impl Member {
     /// Worst shape error and weakest strength of the share at
-    /// `CYCLES[c]`, over the sweep of `n` frictions (one of [`SWEEPS`]).
+    /// `CYCLES[c]`, over the sweep of `n` frictions: 3, 5 or 9 (any other
+    /// `n`: all 9). A friction where the judge measured nothing counts as
+    /// the worst (an infinite shape error, no strength).
     pub fn worst(&self, c: usize, n: usize) -> (f64, f64) {
         let stride = SWEEPS.iter().find(|(k, _)| *k == n).map_or(1, |(_, s)| *s);
         self.shares[c]
@@ -78,16 +80,16 @@ impl Member {
             .step_by(stride)
             .fold((0.0_f64, f64::INFINITY), |(e, s), r| {
                 (
-                    e.max(r.realised_shape_error.unwrap_or(f64::NAN)),
-                    s.min(r.realised_strength.unwrap_or(f64::NAN)),
+                    e.max(r.realised_shape_error.unwrap_or(f64::INFINITY)),
+                    s.min(r.realised_strength.unwrap_or(0.0)),
                 )
             })
     }
 }
 
-/// The family's members that a reflection maps to themselves, of the
-/// first `count` of the family of [`COUNT`] (in its order: the kinds
-/// interleaved by the generator's shares).
+/// The first `count` members of the family of [`COUNT`] that a reflection
+/// maps to themselves, in the family's order (its sinks first, then its
+/// ellipses, saddles and line sinks).
 ///
 /// # Errors
 /// A member's points cannot be sampled.
