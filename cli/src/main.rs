@@ -171,7 +171,7 @@ enum Study {
     #[command(mut_arg("out", default_dir(studies::robust_knobs::DIR)))]
     RobustKnobs {
         /// Members (the first of the family that a reflection maps to themselves; at most 28).
-        #[arg(long, default_value_t = 28, value_parser = clap::value_parser!(u64).range(1..=28))]
+        #[arg(long, default_value_t = studies::robust_knobs::MEMBERS as u64, value_parser = clap::value_parser!(u64).range(1..=studies::robust_knobs::MEMBERS as u64))]
         count: u64,
         #[command(flatten)]
         quiet: Quiet,
@@ -372,8 +372,8 @@ fn run_study(study: Study) -> Result<String> {
         Study::RobustKnobs { count, quiet, out } => {
             let expected = studies::work::Expected::scaled(
                 "robust-knobs",
-                count as f64 / 28.0,
-                "of the 28 members",
+                count as f64 / studies::robust_knobs::MEMBERS as f64,
+                "of the family's mirror-symmetric members",
             );
             studies::watched("robust-knobs", expected, quiet.quiet, || {
                 studies::robust_knobs::run(&out.out, count as usize, quiet.quiet)

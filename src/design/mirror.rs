@@ -77,10 +77,11 @@ use crate::synth::ShakerLimits;
 
 /// Cycles of each of the two segments, ramps included: what the design
 /// passes to [`mirror_share`] and [`counter_share`]. Chosen over the
-/// family (module documentation, "Its schedule"): of the lengths
-/// `platefield study robust-knobs` compares, the one with the least
-/// 90th-percentile worst shape over the members' ranges, the stronger of
-/// a tie (`results/robust_knobs.md`).
+/// family's mirror shares (module documentation, "Its schedule"): of the
+/// lengths `platefield study robust-knobs` compares, the one with the
+/// least 90th-percentile worst shape over the members' ranges, the
+/// stronger of a tie (`results/robust_knobs.md`). The counter-rotating
+/// share takes the same length, not measured over the family.
 pub const MIRROR_SEGMENT_CYCLES: u32 = 28;
 
 /// Relative tolerance of the symmetry test of a target.

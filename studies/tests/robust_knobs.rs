@@ -2,7 +2,7 @@
 
 use platefield::design::method::Method;
 use platefield::design::mirror::MIRROR_SEGMENT_CYCLES;
-use platefield_studies::robust_knobs::{member, members, CYCLES, FRICTIONS};
+use platefield_studies::robust_knobs::{member, members, CYCLES, FRICTIONS, MEMBERS};
 
 /// The members are the family's mirror-symmetric kinds only, all 28 of
 /// them: 8 sinks, 8 ellipses, 6 saddles and 6 line sinks (the
@@ -11,7 +11,7 @@ use platefield_studies::robust_knobs::{member, members, CYCLES, FRICTIONS};
 fn the_members_are_the_mirror_symmetric_kinds() {
     let m = members(40).unwrap();
     let kind = |k: &str| m.iter().filter(|t| t.name.starts_with(k)).count();
-    assert_eq!(m.len(), 28);
+    assert_eq!(m.len(), MEMBERS);
     assert_eq!(
         [
             kind("sink_"),
