@@ -816,7 +816,7 @@ fn transport_start_carries_the_uniform_part() {
 /// grid for the lab sink (tilts only) and for a line sink at 30° through an
 /// offset under the paper's envelope (vertical translation too), to 1e-12
 /// of the largest force. A wrong sign, phase or factor in
-/// `Averaged::force` fails it (a 10 % factor passed every other test).
+/// `AveragedCircle::force` fails it (a 10 % factor passed every other test).
 #[test]
 fn averaged_force_is_the_mean_of_the_normal_force_along_the_slip() {
     let settings = FieldSettings::default();

@@ -84,7 +84,7 @@ impl Default for RefineOptions {
 
 /// A schedule's realised field at held points: error, strength, points.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Judged {
+pub struct Scored {
     /// Realised shape error and strength against the target.
     pub error: RealisedError,
     /// Points played.
@@ -97,9 +97,9 @@ pub struct Judged {
 #[derive(Debug, Clone)]
 pub struct Refined {
     /// The design as given, judged ([`super::judge`]'s points).
-    pub before: Judged,
+    pub before: Scored,
     /// The refined schedule, judged.
-    pub after: Judged,
+    pub after: Scored,
     /// The refined schedule (the design itself when refining did not help).
     pub schedule: Schedule,
     /// True when the refined schedule was kept.
@@ -169,7 +169,7 @@ fn judge(
     sampled: &SampledTarget,
     starts: &[usize],
     reference: Option<(f64, usize)>,
-) -> Result<Judged> {
+) -> Result<Scored> {
     let sm = crate::play::ScheduleMotion::from_schedule(schedule)?;
     let plays = play_motion(&sm, &sampled.points, starts, &schedule.settings);
     let error = realised_error(target, &sampled.weights, &plays, None);
@@ -185,7 +185,7 @@ fn judge(
     } else {
         0.0
     };
-    Ok(Judged {
+    Ok(Scored {
         error,
         played: starts.len(),
         cost: shape + weaker.min(10.0) + lost,

@@ -52,11 +52,9 @@ use crate::error::{positive, Error, Result};
 use crate::motion::{Motion, V3};
 use crate::schedule::{Schedule, Segment};
 
-use nalgebra::Vector2;
 use serde::{Deserialize, Serialize};
 
-/// 2-vector of f64.
-pub type V2 = Vector2<f64>;
+pub use crate::dynamics::V2;
 
 /// One segment of a played schedule.
 #[derive(Debug, Clone, PartialEq)]

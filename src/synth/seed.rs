@@ -87,7 +87,7 @@ impl AffineFit {
 /// The averaged-friction model of a circular-translation motion: what it
 /// predicts for the force and velocity fields.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Averaged {
+pub struct AveragedCircle {
     /// Translation amplitude A (m/s²), counter-clockwise circle.
     pub translation: f64,
     /// Lead δ = asin(μ_k g / A) of the slip direction over the plate
@@ -103,13 +103,13 @@ pub struct Averaged {
     pub gravity: f64,
 }
 
-impl Averaged {
+impl AveragedCircle {
     /// The model for translation amplitude `a` (> μ_k g) at `period`.
-    pub fn new(a: f64, period: f64, friction: Friction, gravity: f64) -> Averaged {
+    pub fn new(a: f64, period: f64, friction: Friction, gravity: f64) -> AveragedCircle {
         let omega = 2.0 * PI / period;
         let mu = friction.kinetic;
         let lead = (mu * gravity / a).clamp(-1.0, 1.0).asin();
-        Averaged {
+        AveragedCircle {
             translation: a,
             lead,
             slip_speed: a / omega * lead.cos(),
@@ -162,7 +162,7 @@ pub struct Seed {
     /// The motion's coefficients (harmonic 1 only).
     pub coefficients: Coefficients,
     /// The averaged-friction model it was built with.
-    pub model: Averaged,
+    pub model: AveragedCircle,
     /// The target's affine fit.
     pub fit: AffineFit,
     /// Predicted strength k: the seed's averaged field is k (M q + b) (for
@@ -198,7 +198,7 @@ pub fn seed(
             ),
         ));
     }
-    let model = Averaged::new(a, limits.period, friction, gravity);
+    let model = AveragedCircle::new(a, limits.period, friction, gravity);
     let mut c = Coefficients::zero(limits.period, limits.harmonics);
     model.set_translation(&mut c);
     // Per unit strength: (P, Q) of α_x, α_y, a_z (derivation in the module docs).

@@ -22,7 +22,7 @@ use crate::schedule::Schedule;
 use crate::work::Runtime;
 
 /// The judged checks a request asks for, admitted.
-pub(crate) struct Judged {
+pub(crate) struct JudgedChecks {
     /// The frictions of the sweep (none without one).
     sweep: Vec<Friction>,
     /// The replay file and its name.
@@ -44,7 +44,7 @@ fn read_replay(schedule: &Schedule, path: &Path, rate: Option<f64>) -> Result<Ho
     held_csv::parse(&text, &source)
 }
 
-impl Judged {
+impl JudgedChecks {
     /// Reads and checks the replay file and admits both checks' estimates
     /// under `runtime`, before anything is played.
     pub(crate) fn admit(
@@ -52,7 +52,7 @@ impl Judged {
         friction: Option<FrictionArg>,
         replay: Option<(&Path, Option<f64>)>,
         runtime: &Runtime,
-    ) -> Result<Judged> {
+    ) -> Result<JudgedChecks> {
         let sweep = friction.map(|f| f.sweep_values()).unwrap_or_default();
         if !sweep.is_empty() {
             runtime.admit(&sweep_estimate(schedule, sweep.len())?)?;
@@ -67,7 +67,7 @@ impl Judged {
             None => None,
         };
         let played = friction.and_then(|f| f.played());
-        Ok(Judged {
+        Ok(JudgedChecks {
             sweep,
             replay,
             played,

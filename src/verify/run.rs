@@ -23,7 +23,7 @@ use std::path::Path;
 use serde::Serialize;
 
 use super::friction::FrictionArg;
-use super::judged::Judged;
+use super::judged::JudgedChecks;
 use super::rectangles::{play_rectangle, PoseSample, RectangleOptions, RectangleSummary};
 use super::swarm::{run_swarm_ticked, Swarm, SwarmOptions};
 use crate::dynamics::Model;
@@ -579,7 +579,7 @@ pub fn run(schedule: &Schedule, req: &VerifyRequest) -> Result<VerifyReport> {
 
 /// [`run`], with errors naming the schedule as `label`.
 fn verify_labelled(schedule: &Schedule, req: &VerifyRequest, label: &str) -> Result<VerifyReport> {
-    let judged = Judged::admit(
+    let judged = JudgedChecks::admit(
         schedule,
         req.friction,
         req.replay.as_deref().map(|p| (p, req.replay_rate)),

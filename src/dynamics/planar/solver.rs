@@ -38,10 +38,9 @@
 //!    (about (μ w ε²)^(1/3), 1e-8 of the velocity scale, right at the
 //!    stick-slip boundary; far less inside the slip region).
 
-use nalgebra::{Matrix3, Vector2, Vector3};
+use nalgebra::{Matrix3, Vector2};
 
-/// 3-vector.
-pub(crate) type V3 = Vector3<f64>;
+pub(crate) use crate::motion::V3;
 
 /// One support point of the implicit step.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -64,7 +64,7 @@ const ZERO: Twist = Twist {
 /// Planar steps per cycle by default.
 pub const AVERAGING_STEPS: usize = 64;
 /// Most periods played per pose before the last period's twist is taken
-/// as it stands ([`Averaged::converged`] false).
+/// as it stands ([`AveragedTwist::converged`] false).
 pub const MAX_AVERAGING_PERIODS: u32 = 60;
 /// Two consecutive periods' twists closer than this, relative to the slip
 /// scale μ g T_c (T_c the shortest motion cycle; μ g T_c / radius for the
@@ -94,7 +94,7 @@ pub const JACOBIAN_STEP_RAD: f64 = 0.005;
 
 /// One pose's averaged twist.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Averaged {
+pub struct AveragedTwist {
     /// The mean twist of the last period played.
     pub twist: Twist,
     /// Periods played.
@@ -209,7 +209,7 @@ impl AveragedField {
     }
 
     /// The mean twist at `pose`, or where a support point loses contact.
-    pub fn twist(&self, pose: Pose) -> Result<Averaged, ContactLoss> {
+    pub fn twist(&self, pose: Pose) -> Result<AveragedTwist, ContactLoss> {
         self.twist_from(pose, None).map(|(a, _)| a)
     }
 
@@ -221,7 +221,7 @@ impl AveragedField {
         &self,
         pose: Pose,
         warm: Option<Slip>,
-    ) -> Result<(Averaged, Slip), ContactLoss> {
+    ) -> Result<(AveragedTwist, Slip), ContactLoss> {
         let centre = self.body_centre(pose);
         let (mut a, slip) = self.body_twist_from(
             Pose {
@@ -240,7 +240,7 @@ impl AveragedField {
         &self,
         pose: Pose,
         warm: Option<Slip>,
-    ) -> Result<(Averaged, Slip), ContactLoss> {
+    ) -> Result<(AveragedTwist, Slip), ContactLoss> {
         let player = PlanarPlayer::new(&self.sm, &self.body, &self.play);
         let period = self.sm.period();
         let scale = self.play.friction.kinetic * self.play.gravity * rest_cycle(&self.sm);
@@ -272,7 +272,7 @@ impl AveragedField {
                 let dw = (twist.omega - p.omega).abs() * radius / scale;
                 if dv.max(dw) < AVERAGING_TOLERANCE {
                     return Ok((
-                        Averaged {
+                        AveragedTwist {
                             twist,
                             periods: k + 1,
                             converged: true,
@@ -289,7 +289,7 @@ impl AveragedField {
         };
         let twist = last.unwrap_or(ZERO);
         Ok((
-            Averaged {
+            AveragedTwist {
                 twist,
                 periods: MAX_AVERAGING_PERIODS,
                 converged: false,
@@ -357,7 +357,7 @@ pub struct LiftRow {
     /// The lifted field's twist there.
     pub lifted: Twist,
     /// The averaged field's (`None` where a support point loses contact).
-    pub averaged: Option<Averaged>,
+    pub averaged: Option<AveragedTwist>,
     /// The averaged field is local there ([`AveragedField::is_local`]).
     pub local: bool,
 }
