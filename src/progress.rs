@@ -270,7 +270,7 @@ impl Progress {
     }
 
     /// Progress that shows nothing.
-    pub fn hidden() -> Progress {
+    pub(crate) fn hidden() -> Progress {
         Progress {
             bar: None,
             lines: None,

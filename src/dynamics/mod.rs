@@ -192,18 +192,6 @@ impl Model {
         ..Model::FULL
     };
 
-    /// A preset by name (`paper` or `full`).
-    pub fn preset(name: &str, field: &str) -> Result<Model> {
-        match name {
-            "paper" => Ok(Model::PAPER),
-            "full" => Ok(Model::FULL),
-            other => Err(Error::invalid(
-                field,
-                format!("unknown model \"{other}\" (expected paper or full)"),
-            )),
-        }
-    }
-
     /// Normal force per unit mass N and frictionless tangential acceleration
     /// a_free (the equations above) of a point at plate point `p` slipping
     /// with velocity `u`, under these switches (`moving` is the caller's:

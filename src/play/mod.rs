@@ -190,7 +190,7 @@ impl ScheduleMotion {
     }
 
     /// Time fraction of each segment.
-    pub fn fractions(&self) -> Vec<f64> {
+    pub(crate) fn fractions(&self) -> Vec<f64> {
         self.segments
             .iter()
             .map(|s| s.duration / self.period)

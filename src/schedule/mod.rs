@@ -107,7 +107,7 @@ impl Segment {
     /// The periodic motion this segment plays between its ramps (the
     /// primitive's motion or its six signals without the ramp window): what
     /// a steady-state field of the segment is computed on. `None` for rest.
-    pub fn steady_motion(&self) -> Option<Motion> {
+    pub(crate) fn steady_motion(&self) -> Option<Motion> {
         match (&self.primitive, &self.motion) {
             (Some(p), _) => Some(p.motion()),
             (None, Some(s)) => Some(Motion::Signals(s.clone())),

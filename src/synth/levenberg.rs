@@ -133,7 +133,7 @@ where
 ///
 /// # Errors
 /// `batch` fails or returns residual vectors of another length.
-pub fn jacobian<B>(x: &[f64], r0: &[f64], h: f64, batch: &B) -> Result<DMatrix<f64>>
+pub(crate) fn jacobian<B>(x: &[f64], r0: &[f64], h: f64, batch: &B) -> Result<DMatrix<f64>>
 where
     B: Fn(&[Vec<f64>]) -> Result<Vec<Vec<f64>>>,
 {

@@ -115,7 +115,7 @@ impl Placement {
     /// A damped correction: where the placed motion's part came to rest
     /// (`end`) is taken back to the centred motion and this placement moved
     /// by `gain` (0 … 1) of the way to the one that takes it onto `asked`.
-    pub fn corrected(&self, end: &Pose, asked: &Pose, n: usize, gain: f64) -> Placement {
+    pub(crate) fn corrected(&self, end: &Pose, asked: &Pose, n: usize, gain: f64) -> Placement {
         let full = Placement::onto(&self.unapply(end), asked, n);
         Placement {
             angle: self.angle + gain * wrap_symmetric(full.angle - self.angle, n),
@@ -228,7 +228,7 @@ pub(crate) fn with_motion(
 /// # Errors
 /// A segment over a limit of 0 (no factor but 0 keeps it), naming the
 /// axis and `target.shaker`.
-pub fn within_limits(schedule: &mut Schedule) -> Result<Vec<String>> {
+pub(crate) fn within_limits(schedule: &mut Schedule) -> Result<Vec<String>> {
     let Some(limits) = schedule.played.as_ref().and_then(|p| p.limits.clone()) else {
         return Ok(Vec::new());
     };
@@ -325,7 +325,7 @@ pub fn over_limits(schedule: &Schedule) -> Vec<String> {
 }
 
 /// Half-width (m) of the synthesis square for `req` (module docs).
-pub fn synthesis_half_width(req: &PoseTarget) -> f64 {
+pub(crate) fn synthesis_half_width(req: &PoseTarget) -> f64 {
     let g = &req.region;
     let far = [g.x[0], g.x[1]]
         .iter()

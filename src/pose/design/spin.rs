@@ -142,7 +142,7 @@ impl Tried {
 ///
 /// # Errors
 /// A spun motion loses contact somewhere on the grid.
-pub fn try_all(req: &PoseTarget, origin: &Schedule, grid: &Grid) -> Result<Vec<Tried>> {
+pub(crate) fn try_all(req: &PoseTarget, origin: &Schedule, grid: &Grid) -> Result<Vec<Tried>> {
     CANDIDATES
         .iter()
         .map(|&spin| {

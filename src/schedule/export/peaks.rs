@@ -188,7 +188,7 @@ impl KinematicPeaks {
     /// [`KinematicPeaks::of_motion`] with the plate's world angular
     /// velocity and acceleration (the exported channels) in place of θ′
     /// and θ″.
-    pub fn of_plate(motion: &Motion, highest: u32) -> KinematicPeaks {
+    pub(crate) fn of_plate(motion: &Motion, highest: u32) -> KinematicPeaks {
         Self::sampled(motion, highest, centre_state, super::world_acceleration)
     }
 

@@ -103,7 +103,7 @@ pub fn poses(schedule: &Schedule, rate: f64) -> Result<Poses> {
 
 impl Poses {
     /// Per axis the largest |value| over the points.
-    pub fn extremes(&self) -> [f64; 6] {
+    pub(crate) fn extremes(&self) -> [f64; 6] {
         crate::motion::sample_hold::axis_extremes(&self.points)
     }
 
