@@ -138,6 +138,7 @@ use crate::synth::params::{Coefficients, Layout};
 use crate::synth::progress::{ProgressMode, SynthesisProgress};
 use crate::synth::stall::{StallRule, StallTracker};
 use crate::synth::{Checked, ShakerLimits, Synthesis};
+use crate::work::Stop;
 
 /// Weight of the played shape error over budget (the synthesis objective's).
 pub const SHAPE_WEIGHT: f64 = crate::synth::objective::SHAPE_WEIGHT;
@@ -257,6 +258,10 @@ pub struct Polished {
     pub improved: bool,
     /// Plays used.
     pub plays: usize,
+    /// Why the search ended: the plays spent, no gain within patience or
+    /// the stall rule, or the search's own stop (Levenberg–Marquardt's, or
+    /// Nelder–Mead's simplex converged).
+    pub stop: Stop,
     /// Wall time (s); not part of any data file.
     pub seconds: f64,
 }
@@ -495,14 +500,27 @@ impl Played<'_> {
     }
 
     fn spent(&self) -> bool {
+        self.spent_stop().is_some()
+    }
+
+    /// Why the budget rules end the search, if they do: the plays are
+    /// spent, or patience or the stall rule saw no gain.
+    fn spent_stop(&self) -> Option<Stop> {
         let plays = self.plays.load(Ordering::Relaxed);
-        plays >= self.options.max_plays
-            || plays.saturating_sub(self.gained_at.load(Ordering::Relaxed)) >= self.patience_plays
+        if plays >= self.options.max_plays {
+            Some(Stop::Spent)
+        } else if plays.saturating_sub(self.gained_at.load(Ordering::Relaxed))
+            >= self.patience_plays
             || self
                 .stall
                 .lock()
                 .unwrap_or_else(|p| p.into_inner())
                 .stalled(self.options.stall.as_ref())
+        {
+            Some(Stop::NoGain)
+        } else {
+            None
+        }
     }
 
     fn best(&self) -> Option<Eval> {
@@ -535,14 +553,14 @@ pub(crate) fn in_region(region: &Grid, q: [f64; 2]) -> bool {
 
 /// Levenberg–Marquardt from `x0` on the played residuals, its Jacobian's
 /// columns one parallel batch of plays.
-fn run_lm(played: &Played<'_>, x0: &[f64], lm: &LmOptions) -> Result<()> {
-    levenberg_marquardt(
+fn run_lm(played: &Played<'_>, x0: &[f64], lm: &LmOptions) -> Result<Stop> {
+    let report = levenberg_marquardt(
         x0,
         &|xs: &[Vec<f64>]| played.evaluate_batch(xs),
         || played.spent(),
         lm,
     )?;
-    Ok(())
+    Ok(report.stop)
 }
 
 /// The least-squares polish from `x0` (module documentation): when the
@@ -555,13 +573,13 @@ fn run_lm_shape_first(
     x0: &[f64],
     over: bool,
     lm: &LmOptions,
-) -> Result<()> {
+) -> Result<Stop> {
     let mut from = x0.to_vec();
     let first = lm.max_iterations / 2;
     let left = lm.max_iterations - first;
     if over {
         (played.reach, played.goal) = (1.0, played.strength_ref * POLISH_GOAL);
-        run_lm(
+        let stop = run_lm(
             played,
             x0,
             &LmOptions {
@@ -574,7 +592,7 @@ fn run_lm_shape_first(
         }
         if played.spent() {
             // No play once the budget or the stall rule says stop.
-            return Ok(());
+            return Ok(stop);
         }
     }
     (played.reach, played.goal) = (STRENGTH_REACH, played.strength_ref);
@@ -689,12 +707,13 @@ pub fn polish(
     played.grid_budget = options.grid_budget.max(start_grid.min(SHAPE_CAP));
     let start = played.evaluate(&x0)?;
     played.start = Some(start.clone());
+    let mut lm_stop = None;
     if let Some(lm) = &options.lm {
         let over = before.shape_error.is_nan() || before.shape_error > options.shape_budget;
         if !over {
             played.steer_budget = 0.0;
         }
-        run_lm_shape_first(&mut played, &x0, over, lm)?;
+        lm_stop = Some(run_lm_shape_first(&mut played, &x0, over, lm)?);
     } else {
         run(&played, &x0, options.step)?;
     }
@@ -711,6 +730,9 @@ pub fn polish(
         step /= 2.0;
     }
     let plays = played.plays.load(Ordering::Relaxed);
+    // Nelder–Mead ends, short of the budget rules, when its restarts'
+    // simplex collapses: converged.
+    let stop = played.spent_stop().or(lm_stop).unwrap_or(Stop::Converged);
     played.bar.finish();
     let kept = played
         .kept
@@ -745,6 +767,7 @@ pub fn polish(
         cost_after,
         improved,
         plays,
+        stop,
         seconds: clock.elapsed().as_secs_f64(),
     })
 }

@@ -51,7 +51,8 @@
 use std::sync::Mutex;
 use std::time::Instant;
 
-use argmin::core::{CostFunction, Executor};
+use crate::work::Stop;
+use argmin::core::{CostFunction, Executor, State, TerminationReason, TerminationStatus};
 use argmin::solver::neldermead::NelderMead;
 
 use super::judge::{judge_points, play_motion};
@@ -106,6 +107,10 @@ pub struct Refined {
     pub improved: bool,
     /// Plays inside the objective (coarse points).
     pub evaluations: usize,
+    /// Why the search ended: Nelder–Mead's simplex converged, its play
+    /// budget ([`RefineOptions::max_evaluations`]) was spent, or a schedule
+    /// with nothing to refine was not searched.
+    pub stop: Stop,
     /// Wall time (s); not part of any data file.
     pub seconds: f64,
 }
@@ -281,19 +286,21 @@ pub fn refine_schedule(
             v
         })
         .collect();
-    if n > 0 {
+    let stop = if n > 0 {
         let solver = NelderMead::new(simplex)
             .with_sd_tolerance(1e-6)
             .map_err(|e| Error::NotConverged(format!("Nelder–Mead setup: {e}")))?;
-        let outcome = Executor::new(problem, solver)
+        match Executor::new(problem, solver)
             .configure(|s| s.max_iters(1_000_000))
-            .run();
-        if let Err(e) = outcome {
-            if !BudgetSpent::is(&e) {
-                return Err(Error::NotConverged(format!("Nelder–Mead: {e}")));
-            }
+            .run()
+        {
+            Ok(result) => stop_of(result.state().get_termination_status()),
+            Err(e) if BudgetSpent::is(&e) => Stop::Spent,
+            Err(e) => return Err(Error::NotConverged(format!("Nelder–Mead: {e}"))),
         }
-    }
+    } else {
+        Stop::NotRun
+    };
     let (evaluations, best) = tally
         .into_inner()
         .map_err(|_| Error::NotConverged("refinement: poisoned tally".into()))?;
@@ -313,6 +320,20 @@ pub fn refine_schedule(
         },
         improved,
         evaluations,
+        stop,
         seconds: start.elapsed().as_secs_f64(),
     })
+}
+
+/// The loop's stop in the shared vocabulary ([`Stop`]) for argmin's
+/// termination status.
+fn stop_of(status: &TerminationStatus) -> Stop {
+    match status {
+        TerminationStatus::Terminated(
+            TerminationReason::SolverConverged | TerminationReason::TargetCostReached,
+        ) => Stop::Converged,
+        TerminationStatus::Terminated(TerminationReason::MaxItersReached) => Stop::Iterations,
+        TerminationStatus::Terminated(TerminationReason::Timeout) => Stop::Spent,
+        TerminationStatus::Terminated(_) | TerminationStatus::NotTerminated => Stop::Failed,
+    }
 }

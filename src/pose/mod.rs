@@ -9,7 +9,7 @@ mod analysis;
 pub mod design;
 
 pub use analysis::averaged::{
-    checked_poses, AveragedTwist, AveragedField, LiftCheck, LiftRow, Slip, AVERAGING_STEPS,
+    checked_poses, AveragedField, AveragedTwist, LiftCheck, LiftRow, Slip, AVERAGING_STEPS,
     AVERAGING_TOLERANCE, CHECKED_POSES, JACOBIAN_STEP, JACOBIAN_STEP_RAD, LOCAL,
     MAX_AVERAGING_PERIODS,
 };

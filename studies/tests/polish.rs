@@ -15,6 +15,7 @@ use platefield::field::{FieldSettings, Grid};
 use platefield::request::Target;
 use platefield::synth::progress::ProgressMode;
 use platefield::synth::{synthesize, ShakerLimits, SynthOptions, Synthesis};
+use platefield::work::Stop;
 use platefield_studies::synthesis::{holdout_starts, starts, synthesized_motion};
 
 fn target() -> Target {
@@ -236,10 +237,20 @@ fn stall_rule_ends_the_polish() {
     )
     .unwrap();
     println!(
-        "n {n}: plays {} without the rule, {} with",
-        spent.plays, stalled.plays
+        "n {n}: plays {} without the rule ({}), {} with ({})",
+        spent.plays, spent.stop, stalled.plays, stalled.stop
     );
     assert!(spent.plays > n + 2, "{}", spent.plays);
     assert_eq!(stalled.plays, n + 2);
     assert!(never_loses(&stalled));
+    // The stop says which rule ended each: the stall rule's is no gain,
+    // and the budget's is named exactly when the plays reached it.
+    assert_eq!(stalled.stop, Stop::NoGain);
+    assert_eq!(
+        spent.stop == Stop::Spent,
+        spent.plays >= options().max_plays,
+        "{} after {} plays",
+        spent.stop,
+        spent.plays
+    );
 }
