@@ -214,7 +214,7 @@ fn finish(
         kkt_residual: 0.0,
         independent_gap: fit.best_worst - fit.bounds[0],
         unreachable: worst > UNREACHABLE_REL_ERROR,
-        polished: false,
+        active_set: false,
         independent_kept: false,
     };
     Ok(FitStage {

@@ -1,4 +1,4 @@
-//! Active-set polishing of interior-point least-squares solutions.
+//! Active-set re-solve of interior-point least-squares solutions.
 //!
 //! An interior-point method stops when the duality gap is below its
 //! tolerance; for least squares that pins the *objective* to the tolerance,
@@ -7,7 +7,7 @@
 //! non-zero optimal residual for the epigraph `min τ, ‖Rw − c‖ ≤ τ` (both
 //! measured: weight errors ~1e-6–1e-5 at gap tolerance 1e-10).  The
 //! interior-point answer does, however, identify the optimal active set
-//! reliably.  Polishing (as in OSQP) re-solves the problem restricted to
+//! reliably.  The re-solve (OSQP's "polishing") solves the problem restricted to
 //! that active set exactly:
 //!
 //! * support `S = {j : wⱼ > λⱼ}` (primal value vs. the dual of `wⱼ ≥ 0`,
@@ -27,21 +27,21 @@
 //! `λⱼ = gⱼ + μ` off the support, with `g = Rᵀ(Rv − c)`), it is corrected
 //! primal-dual-active-set style and the equality problem re-solved (at most
 //! `2m + 5` rounds; an interior-point guess is usually right at once).
-//! The caller keeps the polished point only if its KKT residual is not
+//! The caller keeps the re-solved point only if its KKT residual is not
 //! larger than the interior-point one.  Everything is then verified as
 //! usual.
 
 use nalgebra::{DMatrix, DVector};
 
-/// Relative singular-value cut-off of the polishing least squares.
+/// Relative singular-value cut-off of the re-solve's least squares.
 const SVD_RCOND: f64 = 1e-12;
-/// Tolerated negativity / sum excess of a polished point before clipping.
-const POLISH_FEAS: f64 = 1e-12;
+/// Tolerated negativity / sum excess of a re-solved point before clipping.
+const ACTIVE_SET_FEAS: f64 = 1e-12;
 
-/// Polish `w` (see module docs).  `bound_duals[j]` is the dual of `wⱼ ≥ 0`,
+/// Re-solves `w` on its active set (see module docs).  `bound_duals[j]` is the dual of `wⱼ ≥ 0`,
 /// `sum_dual` the dual of `1ᵀw ≤ 1` (`None` without the constraint),
 /// `col_norms` the column norms of `R`.
-pub(crate) fn polish_ls(
+pub(crate) fn resolve_on_active_set(
     r: &DMatrix<f64>,
     c: &DVector<f64>,
     col_norms: &[f64],
@@ -73,7 +73,7 @@ pub(crate) fn polish_ls(
         if v.iter().any(|x| !x.is_finite()) {
             return None;
         }
-        if capped && !sum_active && v.sum() > 1.0 + POLISH_FEAS {
+        if capped && !sum_active && v.sum() > 1.0 + ACTIVE_SET_FEAS {
             sum_active = true;
             continue;
         }
@@ -91,7 +91,7 @@ pub(crate) fn polish_ls(
         } else {
             0.0
         };
-        if sum_active && mu < -POLISH_FEAS {
+        if sum_active && mu < -ACTIVE_SET_FEAS {
             sum_active = false;
             continue;
         }
@@ -117,7 +117,7 @@ fn drop_negative(support: &[usize], v: &DVector<f64>, in_s: &mut [bool]) -> bool
     let negative: Vec<usize> = support
         .iter()
         .zip(v.iter())
-        .filter(|&(_, &x)| x < -POLISH_FEAS * scale)
+        .filter(|&(_, &x)| x < -ACTIVE_SET_FEAS * scale)
         .map(|(&j, _)| j)
         .collect();
     negative.iter().for_each(|&j| in_s[j] = false);
@@ -139,7 +139,7 @@ fn most_violated_bound(
             continue;
         }
         let lam = (g[j] + mu.max(0.0)) / col_norms[j];
-        if lam < -POLISH_FEAS && worst.is_none_or(|(_, l)| lam < l) {
+        if lam < -ACTIVE_SET_FEAS && worst.is_none_or(|(_, l)| lam < l) {
             worst = Some((j, lam));
         }
     }
@@ -195,11 +195,11 @@ mod tests {
     use super::*;
     use crate::fit::testutil::{random_matrix, SplitMix64};
 
-    /// With the correct support the polished point is the exact minimiser
+    /// With the correct support the re-solved point is the exact minimiser
     /// (unconstrained on the support) to 1e-13, and with the sum active it
     /// satisfies 1ᵀv = 1 and the equality-constrained normal equations.
     #[test]
-    fn polish_recovers_exact_minimiser() {
+    fn active_set_recovers_exact_minimiser() {
         let mut rng = SplitMix64::new(5);
         let r = random_matrix(&mut rng, 6, 4);
         let w_true = DVector::from_vec(vec![0.2, 0.0, 0.3, 0.1]);
@@ -208,13 +208,13 @@ mod tests {
         let w = DVector::from_vec(vec![0.2 + 1e-6, 1e-9, 0.3 - 1e-6, 0.1 + 1e-6]);
         let duals = [1e-9, 1e-2, 1e-9, 1e-9];
         let cn: Vec<f64> = r.column_iter().map(|c| c.norm()).collect();
-        let v = polish_ls(&r, &c, &cn, &w, &duals, None).unwrap();
+        let v = resolve_on_active_set(&r, &c, &cn, &w, &duals, None).unwrap();
         assert!((&v - &w_true).amax() < 1e-13, "{v}");
 
         // Sum active: target needs Σ = 1.2.
         let c2 = &r * DVector::from_vec(vec![0.5, 0.0, 0.4, 0.3]);
         let w2 = DVector::from_vec(vec![0.4, 1e-9, 0.35, 0.25]);
-        let v2 = polish_ls(&r, &c2, &cn, &w2, &duals, Some(1.0)).unwrap();
+        let v2 = resolve_on_active_set(&r, &c2, &cn, &w2, &duals, Some(1.0)).unwrap();
         assert!((v2.sum() - 1.0).abs() < 1e-14);
         // Stationarity on the support: gradients equal (= −μ).
         let g = r.tr_mul(&(&r * &v2 - &c2));

@@ -43,7 +43,7 @@
 //! Interior-point weights of the least-squares modes are accurate only to
 //! about the square root of the gap tolerance where the objective is flat
 //! (measured 3.5e-6 for the epigraph form at 1e-10); [`crate::fit::solve`]
-//! therefore polishes them on the identified active set before verifying.
+//! therefore re-solves them on the identified active set before verifying.
 
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{
@@ -102,7 +102,7 @@ pub(crate) const TOL_TIGHT: f64 = 1e-10;
 /// problems ended `AlmostSolved`; at 1e-9 none did).
 pub(crate) const TOL_BUDGET: f64 = 1e-9;
 /// Tolerance for the epigraph least-squares form (at 1e-10 it often ends
-/// `AlmostSolved`; polishing supplies the accuracy anyway).
+/// `AlmostSolved`; the active-set re-solve supplies the accuracy anyway).
 pub(crate) const TOL_EPIGRAPH: f64 = 1e-8;
 
 /// Clarabel settings used for every fit, with gap/feasibility tolerance

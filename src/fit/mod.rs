@@ -44,12 +44,12 @@
 //!   zero cone), optionally in epigraph form `min τ` s.t.
 //!   `(τ, Rw − c) ∈ 𝒬^{k+1}` (`FitOptions::formulation`); `Budget` is a
 //!   second-order cone program on `R`.
-//! * The interior-point weights of `Absolute`/`Shape` are then *polished*:
+//! * The interior-point weights of `Absolute`/`Shape` are then *re-solved on their active set*:
 //!   the problem restricted to the active set the solver identified (support
 //!   of `w`, and whether `Σw ≤ 1` binds) is solved exactly by an SVD least
 //!   squares, with primal-dual active-set corrections if the guess was off;
-//!   the polished point replaces the interior-point one only if its KKT
-//!   residual is not larger ([`FitSolution::polished`]).
+//!   the re-solved point replaces the interior-point one only if its KKT
+//!   residual is not larger ([`FitSolution::active_set`]).
 //! * Where that point is still worse than the independent optimum (below)
 //!   by more than the tolerance — a nearly collinear basis lets a KKT
 //!   residual under the tolerance coexist with an objective 1e-6 off — the
@@ -250,10 +250,10 @@ pub struct FitSolution {
     /// correlates positively with the target at all (then `fractions` are
     /// all zero and `strength` is 0).
     pub unreachable: bool,
-    /// The interior-point weights were refined by active-set polishing
+    /// The interior-point weights were replaced by their active-set re-solve
     /// (least-squares modes only; see the module docs).
-    pub polished: bool,
-    /// The interior-point (and polished) weights were worse than the
+    pub active_set: bool,
+    /// The interior-point (and re-solved) weights were worse than the
     /// independent Lawson–Hanson optimum by more than the tolerance and were
     /// replaced by it, which passed every check (least-squares modes only;
     /// see the module docs).
@@ -403,7 +403,7 @@ pub(crate) fn validate_mode(mode: &FitMode) -> Result<(), FitError> {
 /// The steps: the independent reference ([`certify::Independent`]), the
 /// conic solve ([`solve_conic`]), the raw weights cleaned onto the
 /// constraints ([`cleaned_weights`]), the least-squares modes' active-set
-/// polish ([`polished_weights`]), verification ([`verified`]), and the
+/// active-set re-solve ([`active_set_weights`]), verification ([`verified`]), and the
 /// reported quantities ([`reported`]).
 pub(crate) fn solve_prepared(
     prep: &Prepared,
@@ -418,7 +418,7 @@ pub(crate) fn solve_prepared(
     let outcome = solve_conic(prep, mode, tol, formulation)?;
     let status = outcome.status.to_string();
     let w = cleaned_weights(prep, mode, tol, &outcome, &status)?;
-    let (w, polished) = polished_weights(prep, mode, w, &outcome);
+    let (w, active_set) = active_set_weights(prep, mode, w, &outcome);
     let s_budget = match mode {
         FitMode::Budget { .. } => outcome.x[prep.ncols()].max(0.0),
         _ => 1.0,
@@ -438,7 +438,7 @@ pub(crate) fn solve_prepared(
         kkt_residual: check.kkt_residual,
         independent_gap: check.independent_gap,
         unreachable: r.zero_solution || r.relative_error > UNREACHABLE_REL_ERROR,
-        polished,
+        active_set,
         independent_kept,
     })
 }
@@ -504,10 +504,10 @@ fn cleaned_weights(
     Ok(w)
 }
 
-/// Active-set polishing of the least-squares modes (see `active_set`): kept
+/// Active-set re-solve of the least-squares modes (see `active_set`): kept
 /// only when feasible and not worse in the KKT residual. Returns the
-/// weights and whether the polished ones were kept.
-fn polished_weights(
+/// weights and whether the re-solved ones were kept.
+fn active_set_weights(
     prep: &Prepared,
     mode: &FitMode,
     w: DVector<f64>,
@@ -516,7 +516,7 @@ fn polished_weights(
     if !matches!(mode, FitMode::Absolute | FitMode::Shape) {
         return (w, false);
     }
-    let Some(wp) = active_set::polish_ls(
+    let Some(wp) = active_set::resolve_on_active_set(
         &prep.r,
         &prep.c,
         &prep.col_norms,
