@@ -528,7 +528,7 @@ fn same_seed_gives_the_same_bytes() {
     let run = |seed: u64| {
         let mut o = quiet(30);
         o.coarse = [5, 5];
-        o.refine.seed = seed;
+        o.multistart.seed = seed;
         let s = run(&sink(), 5, &lab(), &o).unwrap();
         (
             serde_json::to_string(&s.checked.motion).unwrap(),

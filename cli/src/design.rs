@@ -259,7 +259,7 @@ impl DesignArgs {
             progress: opts.runtime.progress(),
             ..SynthOptions::default()
         };
-        synth.refine.seed = self.synth_seed;
+        synth.multistart.seed = self.synth_seed;
         if self.optimizer == Optimizer::NelderMead {
             synth.lm = None;
             synth.polish_lm = None;

@@ -173,13 +173,13 @@ fn run(
     )
 }
 
-/// Refines from the seed vector `x0` and the explicit starts `extra`
+/// Searches from the seed vector `x0` and the explicit starts `extra`
 /// (runs 1..=extra.len(); the random perturbations of `x0` fill the
 /// remaining runs up to `options.starts`); returns the best evaluation.
 ///
 /// # Errors
 /// The optimizer fails for a reason other than the budget.
-pub fn refine(
+pub fn search(
     objective: &Objective<'_>,
     x0: &[f64],
     extra: &[Vec<f64>],

@@ -9,7 +9,7 @@ use super::contact::{kinematic_least_normal, orbit_least_normal};
 use super::least_squares::least_squares;
 use super::levenberg::LmOptions;
 use super::limits::ShakerLimits;
-use super::multistart::{refine, MultistartOptions};
+use super::multistart::{search, MultistartOptions};
 use super::objective::{realised, Objective, Realised};
 use super::params::{Coefficients, Layout, AXIS_NAMES};
 use super::progress::{ProgressMode, SynthesisProgress};
@@ -77,7 +77,7 @@ pub struct SynthOptions {
     pub calibrate: bool,
     /// Multi-start settings and RNG seed (of the Nelder–Mead refinement,
     /// `lm` `None`).
-    pub refine: MultistartOptions,
+    pub multistart: MultistartOptions,
     /// Refine by Levenberg–Marquardt on the coarse residuals
     /// (`super::least_squares`) with these settings; `None`: the
     /// multi-start Nelder–Mead of [`super::multistart`] (kept for the
@@ -127,7 +127,7 @@ impl Default for SynthOptions {
             max_evaluations: 300,
             max_seconds: None,
             calibrate: true,
-            refine: MultistartOptions::default(),
+            multistart: MultistartOptions::default(),
             lm: Some(SYNTH_LM),
             polish_lm: Some(POLISH_LM),
             progress: ProgressMode::Auto,
@@ -167,10 +167,10 @@ impl SynthOptions {
         if let Some(s) = self.max_seconds {
             positive("max_seconds", s)?;
         }
-        if self.refine.starts == 0 {
+        if self.multistart.starts == 0 {
             return Err(Error::invalid("starts", "must be ≥ 1"));
         }
-        positive("step", self.refine.step)?;
+        positive("step", self.multistart.step)?;
         Ok(())
     }
 }
@@ -411,12 +411,12 @@ fn synthesize_judged(
     };
     let best = match &options.lm {
         Some(lm) => least_squares(&objective, &first.params, lm)?,
-        None => refine(
+        None => search(
             &objective,
             &first.params,
             &extra,
             options.max_evaluations,
-            &options.refine,
+            &options.multistart,
             &progress,
         )?,
     };

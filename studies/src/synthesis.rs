@@ -349,9 +349,9 @@ impl StudySettings {
         let d = SynthOptions::default();
         SynthOptions {
             max_evaluations: self.evaluations,
-            refine: platefield::synth::multistart::MultistartOptions {
+            multistart: platefield::synth::multistart::MultistartOptions {
                 starts: self.starts,
-                ..d.refine
+                ..d.multistart
             },
             progress: ProgressMode::Quiet,
             // The study spends its whole budget (its committed numbers

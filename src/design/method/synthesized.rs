@@ -140,8 +140,8 @@ pub(crate) fn synthesize_schedule(
             syn.seed_strength,
             syn.seed_realised.strength,
             crate::output::percent(syn.seed_realised.shape_error, 2),
-            synth.refine.starts,
-            synth.refine.seed
+            synth.multistart.starts,
+            synth.multistart.seed
         ) + &polished.map(|n| format!("; {n}")).unwrap_or_default(),
         iterations: u32::try_from(syn.evaluations).unwrap_or(u32::MAX),
         kkt_residual: 0.0,
