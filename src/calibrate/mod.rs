@@ -496,7 +496,7 @@ fn choose(
     let ratio = (rss / dof as f64).sqrt() / noise;
     if ratio.is_nan() || ratio > miss {
         return Ok(cannot(format!(
-            "the field model's residual at μ {mu0:.3} is {ratio:.2} × the tracks' own noise, beyond {miss}: the field cannot follow these tracks (it leaves out the cycles a part takes to reach its periodic orbit after each join)"
+            "the field model's residual at μ {mu0:.3} is {ratio:.2} × the tracks' own noise, beyond {miss}: the field model cannot follow these tracks to their noise"
         )));
     }
     Ok(Choice {
@@ -658,57 +658,19 @@ fn by_replay(
     }
     let times = |t: &Track| -> Vec<f64> { t.frames.iter().map(|f| f.t).collect() };
     let first: Vec<[f64; 2]> = raw.iter().map(|t| t.frames[0].r).collect();
-    // Each part starts from the candidate its replay fits best.
-    let starts = raw
-        .par_iter()
-        .zip(&first)
-        .map(|(t, &r0)| {
-            let mut best: (f64, f64, Option<Vec<f64>>) = (f64::INFINITY, candidates[0], None);
-            for &mu in &candidates {
-                let p = replay::path(schedule, &[mu, 0.0, 1.0], r0, &times(t))?;
-                let rss = p.as_ref().map_or(f64::INFINITY, |p| {
-                    t.frames
-                        .iter()
-                        .zip(p.chunks(2))
-                        .map(|(f, q)| (f.r[0] - q[0]).powi(2) + (f.r[1] - q[1]).powi(2))
-                        .sum()
-                });
-                if rss < best.0 {
-                    best = (rss, mu, p);
-                }
-            }
-            Ok(best)
-        })
-        .collect::<Result<Vec<_>>>()?;
     let own_fits = raw
         .par_iter()
-        .zip(starts)
         .zip(&first)
-        .map(|((t, (_, mu, base)), &r0)| {
-            let fit = replay::fit(
-                schedule,
-                &[t],
-                [mu, 0.0, 1.0],
-                &[MU_K],
-                vec![r0],
-                Some(vec![base]),
-                replay::OWN_STEP_TOL,
-            )?;
-            Ok((mu, fit))
-        })
+        .map(|(t, &r0)| own_fit(schedule, t, r0, &candidates, context.noise))
         .collect::<Result<Vec<_>>>()?;
-    let mut replays = raw.len() * candidates.len();
+    let replays: usize = own_fits.iter().map(|f| f.2).sum();
     let own: Vec<classes::Own> = own_fits
         .iter()
-        .map(|(mu, fit)| match fit {
+        .map(|(mu, fit, _)| match fit {
             Some(f) => (f.theta[MU_K], Some(f.classical[0][0].max(0.0).sqrt())),
             None => (*mu, None),
         })
         .collect();
-    replays += own_fits
-        .iter()
-        .map(|f| f.1.as_ref().map_or(0, |f| f.replays))
-        .sum::<usize>();
     let class_of = cluster(&own);
     let n_classes = class_of.iter().map(|c| c.0).max().map_or(0, |m| m + 1);
     let mut fitted = Fitted {
@@ -785,6 +747,59 @@ fn by_replay(
         fitted.classes.push(estimate);
     }
     Ok(fitted)
+}
+
+/// A part's own fit by replays (μ_s = μ_k, scale 1) from its first frame
+/// `r0`: from the candidate μ whose replay fits its track best, then, while
+/// the fit's residual is beyond [`replay::FIELD_MISS`] × the tracks' noise
+/// (a false minimum), from the next candidates, keeping the least
+/// residual. The μ it started from, the fit (`None`: the replays cannot
+/// follow it), the replays run.
+fn own_fit(
+    schedule: &Schedule,
+    track: &Track,
+    r0: [f64; 2],
+    candidates: &[f64],
+    noise: Option<f64>,
+) -> Result<(f64, Option<replay::ReplayFit>, usize)> {
+    let times: Vec<f64> = track.frames.iter().map(|f| f.t).collect();
+    let mut tried = Vec::with_capacity(candidates.len());
+    for &mu in candidates {
+        let p = replay::path(schedule, &[mu, 0.0, 1.0], r0, &times)?;
+        let rss = p.as_ref().map_or(f64::INFINITY, |p| {
+            track
+                .frames
+                .iter()
+                .zip(p.chunks(2))
+                .map(|(f, q)| (f.r[0] - q[0]).powi(2) + (f.r[1] - q[1]).powi(2))
+                .sum()
+        });
+        tried.push((rss, mu, p));
+    }
+    tried.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut replays = candidates.len();
+    let mut best: (f64, Option<replay::ReplayFit>) = (tried.first().map_or(0.3, |c| c.1), None);
+    for (_, mu, base) in tried {
+        let fit = replay::fit(
+            schedule,
+            &[track],
+            [mu, 0.0, 1.0],
+            &[MU_K],
+            vec![r0],
+            Some(vec![base]),
+            replay::OWN_STEP_TOL,
+        )?;
+        let Some(fit) = fit else { continue };
+        replays += fit.replays;
+        let sigma = (fit.rss / fit.dof as f64).sqrt();
+        if best.1.as_ref().is_none_or(|b| fit.rss < b.rss) {
+            best = (mu, Some(fit));
+        }
+        if noise.is_none_or(|n| sigma <= replay::FIELD_MISS * n) {
+            break;
+        }
+    }
+    Ok((best.0, best.1, replays))
 }
 
 /// Whether μ_s matters to the replays of `tracks` at μ_k = `mu` from
