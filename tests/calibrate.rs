@@ -1,12 +1,14 @@
 //! Friction from camera tracks: tracks simulated by the exact simulator
-//! (the full replay, [`simulate_tracks`]) are calibrated by the field
-//! model ([`calibrate`]) and the estimates held against the truth the
-//! tracks were simulated at. 20 parts, 30 frames per second over 10 s,
-//! 0.2 mm Gaussian position noise, 5 % of frames missing, unless stated.
+//! (the full replay, [`simulate_tracks`]) are calibrated ([`calibrate`]:
+//! by the field model where it follows the tracks, by exact replays where
+//! it does not) and the estimates held against the truth the tracks were
+//! simulated at. 20 parts, 30 frames per second over 10 s, 0.2 mm Gaussian
+//! position noise, 5 % of frames missing, unless stated.
 //!
 //! The coverage study (100 seeded repetitions per case) is `#[ignore]`d:
-//! `cargo test --release --test calibrate -- --ignored --nocapture`
-//! (about 100 × 6 to 13 s of CPU per case; `PLATEFIELD_COVERAGE_REPS=N` runs N).
+//! `cargo test --release --test calibrate -- --ignored --nocapture coverage_study`
+//! (about 100 × 5 to 10 s of CPU per case; `PLATEFIELD_COVERAGE_REPS=N` runs N,
+//! `PLATEFIELD_COVERAGE_CASE=NAME` the cases of the schedule NAME).
 
 use std::path::Path;
 
@@ -123,34 +125,79 @@ fn two_frictions_are_two_classes() {
     }
 }
 
-/// 20 parts all at μ 0.23 on the shipped synthesized sink, which gathers
-/// them at its centre where the field carries little friction
-/// information: one class, the parts whose own fit is undetermined (11 of
-/// the 15 that stay on the plate region, their own minima at the lattice's
-/// end) joined to it rather than forming their own. μ_k only within ±0.03
-/// (measured 0.2550): on this motion the field model misses even
-/// noise-free tracks by 0.8 mm RMS, an error the bias correction's replay
-/// does not reproduce (docs/calibrate.md, "How well it does"). The
-/// default run keeps the identification on the translation-heavy motion
-/// (the shipped example through the CLI, `cli/tests/calibrate.rs`).
+/// 20 parts all at μ 0.23 on the shipped synthesized sink (one motion,
+/// played on and on), which gathers them at its centre, where the field
+/// model misses even noise-free tracks: the calibration replays the parts
+/// instead (the field model's residual 3.36 × the tracks' noise, beyond
+/// 1.25) and says so; one class, the parts whose own fit does not
+/// determine their μ (3 of the 15 that stay on the plate region) joined
+/// to it rather than forming their own; μ_k within ±0.01 (measured
+/// 0.2303) and its interval covering the truth. The default run keeps the
+/// identification on the translation-heavy motion (the shipped example
+/// through the CLI, `cli/tests/calibrate.rs`).
 #[test]
 #[ignore = "about 10 s of CPU: cargo test --release --test calibrate -- --ignored one_friction_on_a_sink"]
 fn one_friction_on_a_sink_is_one_class() {
     let sim = TrackSimulation::new(Friction::uniform(0.23), 20, 1);
     let c = calibrated("synthesized/sink", &sim, false);
     assert_eq!(c.classes.len(), 1, "{:?}", c.per_part);
-    assert!(c.classes[0].joined.len() >= 5, "{:?}", c.classes[0]);
+    assert!(c.model.starts_with("exact replays"), "{}", c.model_reason);
+    assert!(!c.classes[0].joined.is_empty(), "{:?}", c.classes[0]);
     let mu = c.classes[0].mu_k.value.expect("μ_k");
-    assert!((mu - 0.23).abs() <= 0.03, "{mu}");
+    assert!((mu - 0.23).abs() <= 0.01, "{mu}");
+    let [lo, hi] = c.classes[0].mu_k.interval.expect("an interval");
+    assert!((lo..=hi).contains(&0.23), "{lo} – {hi}");
+}
+
+/// μ_s = 0.41, μ_k = 0.33 on the shipped sink (`results/sink`: four line
+/// sinks of ten cycles each, played in turn), whose joins' transients the
+/// field model leaves out: the calibration says the field model's
+/// residual is beyond 1.25 × the tracks' noise (measured 2.21) and fits
+/// exact replays; one class, μ_k within ±0.01 (measured 0.32994, 95 %:
+/// 0.32956 – 0.33032) and its interval covering the truth, the residual at
+/// the tracks' noise (within 10 %: measured 0.970), no model bias to
+/// remove, μ_s named as not determined (the replays do not change with
+/// it: the parts never stick).
+#[test]
+#[ignore = "about 8 s of CPU: cargo test --release --test calibrate -- --ignored shipped_sink"]
+fn shipped_sink_is_identified_by_replays() {
+    let sim = TrackSimulation::new(
+        Friction {
+            stat: 0.41,
+            kinetic: 0.33,
+        },
+        20,
+        1,
+    );
+    let c = calibrated("sink", &sim, false);
+    assert!(c.model.starts_with("exact replays"), "{}", c.model);
+    assert!(c.model_reason.contains("beyond 1.25"), "{}", c.model_reason);
+    assert_eq!(c.classes.len(), 1, "{:?}", c.per_part);
+    let class = &c.classes[0];
+    let mu = class.mu_k.value.expect("μ_k");
+    assert!((mu - 0.33).abs() <= 0.01, "{mu}");
+    let [lo, hi] = class.mu_k.interval.expect("an interval");
+    assert!((lo..=hi).contains(&0.33), "{lo} – {hi}");
+    let ratio = class.residual_over_noise.expect("a noise estimate");
+    assert!((ratio - 1.0).abs() < 0.1, "{ratio}");
+    assert!(class.model_bias.is_empty(), "{:?}", class.model_bias);
+    assert!(class.mu_s.value.is_none());
+    assert!(
+        class.not_separable[0].starts_with("mu_s"),
+        "{:?}",
+        class.not_separable
+    );
 }
 
 /// One case of the coverage study: its repetitions' count of 95 %
 /// intervals covering the truth (a calibration split into several classes
 /// counts as not covering), worst and mean error of μ_k, mean interval
-/// half-width and mean model-bias correction.
+/// half-width and mean model-bias correction, and how many repetitions
+/// were fitted by exact replays.
 struct Coverage {
     covered: usize,
     split: usize,
+    replayed: usize,
     worst: f64,
     mean: f64,
     half_width: f64,
@@ -158,12 +205,13 @@ struct Coverage {
 }
 
 fn coverage(name: &str, f: Friction, reps: u64) -> Coverage {
-    let (mut covered, mut split, mut worst) = (0, 0, 0.0f64);
+    let (mut covered, mut split, mut replayed, mut worst) = (0, 0, 0, 0.0f64);
     let (mut errors, mut widths, mut biases) = (Vec::new(), Vec::new(), Vec::new());
     for seed in 0..reps {
         let sim = TrackSimulation::new(f, 20, 1000 + seed);
         let c = calibrated(name, &sim, false);
         split += usize::from(c.classes.len() > 1);
+        replayed += usize::from(c.model.starts_with("exact replays"));
         let class = c
             .classes
             .iter()
@@ -181,6 +229,7 @@ fn coverage(name: &str, f: Friction, reps: u64) -> Coverage {
     Coverage {
         covered,
         split,
+        replayed,
         worst,
         mean: mean(&errors),
         half_width: mean(&widths),
@@ -189,13 +238,14 @@ fn coverage(name: &str, f: Friction, reps: u64) -> Coverage {
 }
 
 /// The coverage study: per case, `PLATEFIELD_COVERAGE_REPS` (default 100)
-/// seeded repetitions (`PLATEFIELD_COVERAGE_CASE=NAME` keeps the cases
-/// whose schedule's name contains NAME); prints per case how many 95 % intervals cover the
-/// truth, the worst and mean error, and asserts the numbers
-/// (every estimate within ±0.01, ≥ 90 % of the intervals covering) after
-/// printing every case.
+/// seeded repetitions (`PLATEFIELD_COVERAGE_CASE=NAME` keeps the cases of
+/// the schedule NAME: `sink`, `synthesized/sink` or `squeeze_trans`);
+/// prints per case how many 95 % intervals cover the truth, the worst and
+/// mean error, how many calibrations used exact replays, and asserts the
+/// issue's numbers (every estimate within ±0.01, ≥ 90 % of the intervals
+/// covering) after printing every case.
 #[test]
-#[ignore = "about 100 × 6 to 13 s of CPU per case"]
+#[ignore = "about 100 × 5 to 10 s of CPU per case: cargo test --release --test calibrate -- --ignored --nocapture coverage_study"]
 fn coverage_study() {
     let reps: u64 = std::env::var("PLATEFIELD_COVERAGE_REPS")
         .ok()
@@ -215,11 +265,11 @@ fn coverage_study() {
     ];
     let only = std::env::var("PLATEFIELD_COVERAGE_CASE").unwrap_or_default();
     let mut failed = Vec::new();
-    for (name, f) in cases.into_iter().filter(|c| c.0.contains(&only)) {
+    for (name, f) in cases.into_iter().filter(|c| only.is_empty() || c.0 == only) {
         let c = coverage(name, f, reps);
         let line = format!(
-            "{name} μ_s {} μ_k {}: {}/{reps} intervals cover ({} split into classes), worst |error| {:.4}, mean error {:+.4}, mean half-width {:.4}, mean model bias {:+.4}",
-            f.stat, f.kinetic, c.covered, c.split, c.worst, c.mean, c.half_width, c.bias
+            "{name} μ_s {} μ_k {}: {}/{reps} intervals cover ({} split into classes, {} by replays), worst |error| {:.4}, mean error {:+.4}, mean half-width {:.4}, mean model bias {:+.4}",
+            f.stat, f.kinetic, c.covered, c.split, c.replayed, c.worst, c.mean, c.half_width, c.bias
         );
         println!("{line}");
         if c.worst > 0.01 || 10 * c.covered < 9 * reps as usize {

@@ -99,12 +99,20 @@ fn bad_tracks_exit_2_naming_file_line_and_column() {
 /// class; the fit's residual at the tracks' noise (within 10 %: measured
 /// 1.022), the noise estimated at the simulated 0.2 mm within 5 %
 /// (0.198 mm), the model's bias removed (measured +0.0003) at a slope
-/// near 1 (0.988: the correction is trusted); the four files written.
+/// near 1 (0.988: the correction is trusted); the field model kept, and
+/// said so, since its residual is within 1.25 × the tracks' noise
+/// (measured 1.03); the four files written.
 #[test]
 fn the_shipped_example_calibrates() {
     let (out, stdout) = calibrated_example();
     let c: serde_json::Value = serde_json::from_str(stdout).unwrap();
     assert_eq!(c["classes"].as_array().unwrap().len(), 1, "{stdout}");
+    let reason = c["model_reason"].as_str().unwrap();
+    assert!(reason.starts_with("the field: "), "{reason}");
+    assert!(c["model"]
+        .as_str()
+        .unwrap()
+        .starts_with("steady-state velocity fields"));
     let mu = c["classes"][0]["mu_k"]["value"].as_f64().unwrap();
     assert!((mu - 0.23).abs() <= 0.01, "{mu}");
     let interval = &c["classes"][0]["mu_k"]["interval"];

@@ -69,10 +69,11 @@ fn report(c: &Calibration, command: &str) -> String {
     let _ = writeln!(s, "Regenerate: `{command}`\n");
     let _ = writeln!(
         s,
-        "{} parts, {} frames. Model: {}. Position noise estimated from the tracks alone: {}.\n",
+        "{} parts, {} frames. Model: {} ({}). Position noise estimated from the tracks alone: {}.\n",
         c.parts,
         c.frames,
         c.model,
+        c.model_reason,
         c.noise_m
             .map_or("none (no three evenly spaced frames)".into(), |n| format!(
                 "{:.3} mm",
@@ -138,8 +139,8 @@ fn report(c: &Calibration, command: &str) -> String {
     }
     let _ = writeln!(
         s,
-        "\n`trajectories.svg`: observed positions (dots) against the fitted paths (lines). `likelihood.svg`: Δχ² over μ (μ_s = μ_k, scale 1) on the lattice, per class, and the fine profile about the estimate (mapped through the bias correction); Δχ² < 3.84 is the noise model's 95 % interval, before the tracks' own scatter widens it.\n\n{} velocity fields computed.",
-        c.fields_computed
+        "\n`trajectories.svg`: observed positions (dots) against the fitted paths (lines). `likelihood.svg`: Δχ² over μ (μ_s = μ_k, scale 1) on the field model's lattice, per class fitted on the field, and the profile about each class's estimate (on the field: mapped through the bias correction; by replays: the Gauss–Newton quadratic); Δχ² < 3.84 is the noise model's 95 % interval, before the tracks' own scatter widens it.\n\n{} velocity fields computed, {} parts replayed.",
+        c.fields_computed, c.replays
     );
     s
 }

@@ -87,7 +87,7 @@ pub fn cluster(own: &[Own]) -> Vec<(usize, bool)> {
 
 /// A group's inverse-variance mean and its variance widened by the Birge
 /// ratio (its parts all determined).
-fn pooled(group: &[usize], own: &[Own]) -> (f64, f64) {
+pub(crate) fn pooled(group: &[usize], own: &[Own]) -> (f64, f64) {
     let w = |i: usize| own[i].1.map_or(0.0, |s| 1.0 / (s * s));
     let sw: f64 = group.iter().map(|&i| w(i)).sum();
     let m = group.iter().map(|&i| w(i) * own[i].0).sum::<f64>() / sw;

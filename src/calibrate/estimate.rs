@@ -206,6 +206,20 @@ pub fn fit_class(
     free: &[usize],
     sigma_ref: f64,
 ) -> Result<ClassFit> {
+    fit_class_from(motion, tracks, theta0, h, free, sigma_ref, None)
+}
+
+/// [`fit_class`], given the field set (with its excursions) at `first.0`
+/// when already computed: the first stencil's centre when it is there.
+pub(crate) fn fit_class_from(
+    motion: &PlayedMotion,
+    tracks: &[&Track],
+    theta0: Theta,
+    h: Theta,
+    free: &[usize],
+    sigma_ref: f64,
+    mut first: Option<(Theta, FieldSet)>,
+) -> Result<ClassFit> {
     let problem = Problem {
         motion,
         tracks,
@@ -226,8 +240,16 @@ pub fn fit_class(
     let mut warm: Option<Vec<StartFit>> = None;
     let (stencil, best) = loop {
         rounds += 1;
-        let stencil = Stencil::compute(motion, center, h, free)?;
-        fields += 1 + 2 * free.len();
+        let stencil = match first.take() {
+            Some((at, base)) if at == center => {
+                fields += 2 * free.len();
+                Stencil::around(motion, base, center, h, free)?
+            }
+            _ => {
+                fields += 1 + 2 * free.len();
+                Stencil::compute(motion, center, h, free)?
+            }
+        };
         let (best, inside, w) = problem.round(&stencil, warm.take())?;
         warm = w;
         let next = centred(best);
@@ -383,7 +405,7 @@ fn track_scores(
 /// from part to part, shows in the scores' scatter and widens the
 /// intervals rather than leaving them too narrow. 1 with fewer than
 /// [`ROBUST_MIN_TRACKS`] tracks (too few clusters to estimate it).
-fn robust_widening(
+pub(crate) fn robust_widening(
     classical: &nalgebra::DMatrix<f64>,
     inv: &nalgebra::DMatrix<f64>,
     scores: &[Vec<f64>],

@@ -2,21 +2,27 @@
 //! estimated from parts observed moving under a known schedule.
 //!
 //! A lab plays a schedule, films parts on the plate and tracks them
-//! ([`tracks`]: `t_s,part,x_m,y_m`). [`calibrate`] fits the parts' paths
-//! predicted by the played motion's **steady-state velocity field** as a
-//! function of position and of θ = (μ_k, μ_s − μ_k, scale) ([`model`]: the
-//! field, not a full replay: a path costs a few thousand field look-ups, a
-//! replay of one part over 10 s about 200 000 integrator steps) to the
-//! observed positions by least squares ([`estimate`]: the noise model,
-//! the intervals), part by part first to sort parts into friction classes
-//! ([`classes`]), then each class as one; the model's own bias at the
-//! estimate is then measured on noise-free tracks replayed by the exact
-//! simulator and removed (indirect inference, [`estimate::binding`]: two
-//! replays of the class's parts and two more fits on the same fields, no
-//! new field). Parameters the tracks do not
-//! determine are named: μ_s when the parts never stick (the field does
+//! ([`tracks`]: `t_s,part,x_m,y_m`). [`calibrate`] first fits each part
+//! alone over a lattice of μ by the played motion's **steady-state
+//! velocity field** as a function of position and of θ = (μ_k, μ_s − μ_k,
+//! scale) ([`model`]: a path costs a few thousand field look-ups, a replay
+//! of one part over 10 s about 200 000 integrator steps), by least squares
+//! on the observed positions ([`estimate`]: the noise model, the
+//! intervals). Where that fit's residual is within [`replay::FIELD_MISS`] ×
+//! the tracks' own noise the field serves: the parts are sorted into
+//! friction classes ([`classes`]) by their own estimates, each class is
+//! fitted as one on the field, and the model's own bias at the estimate is
+//! measured on noise-free tracks replayed by the exact simulator and
+//! removed (indirect inference, [`estimate::binding`]: two replays of the
+//! class's parts and two more fits on the same fields, no new field).
+//! Beyond it the field cannot follow the tracks (a schedule of short
+//! segments, whose joins' transients it leaves out), and the parts and
+//! classes are fitted by **exact replays** instead ([`replay`]). The
+//! calibration says which, and why. Parameters the tracks do not determine
+//! are named: μ_s when the parts never stick (the fields or the replays do
 //! not change with it), any parameter whose interval is wider than
-//! [`WEAK`], any pair whose estimates are correlated beyond [`CORRELATED`].
+//! [`WEAK`], any pair whose estimates are correlated beyond
+//! [`CORRELATED`].
 //!
 //! [`simulate_tracks`] makes tracks by the exact simulator (the full
 //! replay): what the tests and the coverage study check the estimator
@@ -25,6 +31,7 @@
 pub mod classes;
 pub mod estimate;
 pub mod model;
+pub mod replay;
 pub mod simulate;
 pub mod tracks;
 
@@ -32,6 +39,7 @@ pub use model::PlayedMotion;
 pub use simulate::{simulate_tracks, TrackSimulation};
 pub use tracks::{Track, Tracks};
 
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
@@ -39,7 +47,7 @@ use crate::field::Grid;
 use crate::scene::{FrictionSpec, Interval};
 use crate::schedule::Schedule;
 use classes::cluster;
-use estimate::{fit_class, parabola_minimum, scan, ClassFit};
+use estimate::{fit_class_from, parabola_minimum, scan, ClassFit};
 use model::{EXCESS, MU_K, SCALE};
 
 /// A 95 % interval wider than this (in μ or in scale) names its parameter
@@ -107,7 +115,8 @@ pub struct ParamEstimate {
     pub note: Option<String>,
 }
 
-/// One part's own estimate (μ_s = μ_k, scale 1, from the lattice scan).
+/// One part's own estimate (μ_s = μ_k, scale 1): from the field model's
+/// lattice scan, or from its own fit by replays.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PartEstimate {
     /// The part's label.
@@ -116,7 +125,8 @@ pub struct PartEstimate {
     pub frames: usize,
     /// Its μ.
     pub mu: f64,
-    /// Its standard error (`None` at the lattice's end).
+    /// Its standard error (`None` at the lattice's end, or where its
+    /// replays cannot follow it).
     pub standard_error: Option<f64>,
     /// Its class (index into `classes`).
     pub class: usize,
@@ -147,7 +157,8 @@ pub struct ClassEstimate {
     /// What the tracks of this class do not determine.
     pub not_separable: Vec<String>,
     /// The field model's bias removed from the fit, per estimated
-    /// parameter: (name, θ̂ − θ̃) (see [`estimate`]'s doc).
+    /// parameter: (name, θ̂ − θ̃) (see [`estimate`]'s doc; empty for a
+    /// class fitted by replays, which have none).
     #[serde(default)]
     pub model_bias: Vec<(String, f64)>,
     /// The slope β′ of the model's fit against the truth, per estimated
@@ -172,20 +183,32 @@ pub struct Calibration {
     pub parts: usize,
     /// Frames.
     pub frames: usize,
-    /// The model the paths were predicted by.
+    /// The model the paths were predicted by: the field, or exact
+    /// replays.
     pub model: String,
+    /// Why that model: the field model's residual against the tracks' own
+    /// noise ([`replay`]'s doc).
+    #[serde(default)]
+    pub model_reason: String,
     /// Position noise σ per axis estimated from the tracks alone (m).
     pub noise_m: Option<f64>,
     /// Friction classes, by increasing μ.
     pub classes: Vec<ClassEstimate>,
     /// Each part's own estimate.
     pub per_part: Vec<PartEstimate>,
-    /// The lattice scan, per class: (μ, Δχ² = ΔRSS/σ̂²) with μ_s = μ_k.
+    /// The field model's lattice scan, per class: (μ, Δχ² = ΔRSS/σ̂²)
+    /// with μ_s = μ_k (empty for a class fitted by replays).
     pub likelihood: Vec<Vec<[f64; 2]>>,
-    /// The fine profile about each class's estimate: (μ_k, Δχ²).
+    /// The fine profile about each class's estimate: (μ_k, Δχ²) (by
+    /// replays: the Gauss–Newton quadratic, its curvature the noise
+    /// model's).
     pub profile: Vec<Vec<[f64; 2]>>,
     /// Velocity fields computed.
     pub fields_computed: usize,
+    /// Parts replayed by the exact simulator (each replay one part over its
+    /// track).
+    #[serde(default)]
+    pub replays: usize,
 }
 
 impl Calibration {
@@ -230,8 +253,8 @@ impl Calibration {
     /// };
     /// let c = Calibration {
     ///     target: "sink".into(), tracks: "t.csv".into(), parts: 1, frames: 3, model: String::new(),
-    ///     noise_m: None, classes: vec![class], per_part: vec![], likelihood: vec![], profile: vec![],
-    ///     fields_computed: 0,
+    ///     model_reason: String::new(), noise_m: None, classes: vec![class], per_part: vec![],
+    ///     likelihood: vec![], profile: vec![], fields_computed: 0, replays: 0,
     /// };
     /// let spec = c.friction_spec(0)?;
     /// assert!(spec.tied && spec.kinetic.lo == 0.22 && spec.kinetic.hi == 0.24);
@@ -329,86 +352,255 @@ pub fn calibrate(
     let motion = PlayedMotion::from_schedule(schedule, grid)?;
     tracks.check_duration(motion.period(), options.played)?;
     let noise = tracks.noise();
-    let sigma_ref = noise.unwrap_or(1e-4).max(1e-7);
-    // Frames of the start-up transient are left out: a part put at rest
-    // on the plate reaches its periodic orbit within a few cycles, with a
-    // jump of up to millimetres the mean-velocity model does not follow.
+    // Frames of the start-up transient are left out of the field model's
+    // fit: a part put at rest on the plate reaches its periodic orbit
+    // within a few cycles, with a jump of up to millimetres the
+    // mean-velocity model does not follow.
     let settled = settled(tracks)?;
     let all: Vec<&Track> = settled.iter().collect();
     let mus = lattice();
     let scanned = scan(&motion, &all, &mus, 0.0, 1.0);
-    let mut fields_computed = mus.len() * motion_fields(&motion);
-    let per_track = |i: usize| -> Vec<f64> {
-        scanned
-            .iter()
-            .map(|s| s.as_ref().map_or(f64::INFINITY, |v| v[i]))
-            .collect()
+    let curves: Vec<Vec<f64>> = (0..all.len())
+        .map(|i| {
+            scanned
+                .iter()
+                .map(|s| s.as_ref().map_or(f64::INFINITY, |v| v[i]))
+                .collect()
+        })
+        .collect();
+    let lattice_fields = mus.len() * motion_fields(&motion);
+    let choice = choose(&motion, &all, &mus, &curves, noise)?;
+    let check_fields = if noise.is_some() {
+        motion_fields(&motion)
+    } else {
+        0
     };
+    let context = Context {
+        schedule,
+        region,
+        motion,
+        noise,
+        options,
+    };
+    let fitted = if choice.replay {
+        let raw = all
+            .iter()
+            .map(|t| tracks.tracks.iter().find(|r| r.part == t.part))
+            .collect::<Option<Vec<&Track>>>()
+            .ok_or_else(|| Error::Unreachable("a settled track without its part".into()))?;
+        by_replay(&context, &raw, &mus, &curves)?
+    } else {
+        by_field(&context, &all, &mus, &curves, choice.checked)?
+    };
+    Ok(CalibrationRun {
+        calibration: Calibration {
+            target: schedule.target.clone(),
+            tracks: tracks.source.clone(),
+            parts: all.len(),
+            frames: tracks.frames(),
+            model: fitted.model,
+            model_reason: choice.reason,
+            noise_m: noise,
+            classes: fitted.classes,
+            per_part: fitted.per_part,
+            likelihood: fitted.likelihood,
+            profile: fitted.profile,
+            fields_computed: lattice_fields + check_fields + fitted.fields,
+            replays: fitted.replays,
+        },
+        paths: fitted.paths,
+    })
+}
+
+/// What every class's fit shares.
+struct Context<'a> {
+    schedule: &'a Schedule,
+    region: Grid,
+    motion: PlayedMotion,
+    noise: Option<f64>,
+    options: &'a CalibrateOptions,
+}
+
+impl Context<'_> {
+    /// The noise scale of the optimiser's cost (m).
+    fn sigma_ref(&self) -> f64 {
+        self.noise.unwrap_or(1e-4).max(1e-7)
+    }
+}
+
+/// The classes fitted by one model, and what the report draws.
+struct Fitted {
+    model: String,
+    classes: Vec<ClassEstimate>,
+    per_part: Vec<PartEstimate>,
+    likelihood: Vec<Vec<[f64; 2]>>,
+    profile: Vec<Vec<[f64; 2]>>,
+    paths: Vec<TrackPaths>,
+    /// Fields computed beyond the lattice's.
+    fields: usize,
+    replays: usize,
+}
+
+/// Which model predicts the paths, and why; the field set the field model
+/// was checked on, at θ = (μ₀, 0, 1), for its fit to start from.
+struct Choice {
+    replay: bool,
+    reason: String,
+    checked: Option<(model::Theta, model::FieldSet)>,
+}
+
+/// The field model while its residual on the tracks is within
+/// [`replay::FIELD_MISS`] × the tracks' own noise; exact replays beyond it
+/// ([`replay`]'s doc). The residual is the field model's at the lowest
+/// local minimum μ₀ of the parts' summed lattice curves (`curves`: each
+/// part's RSS over `mus`), every part's start fitted and the periodic
+/// orbits' excursions included, per degree of freedom.
+///
+/// # Errors
+/// A field cannot be computed.
+fn choose(
+    motion: &PlayedMotion,
+    tracks: &[&Track],
+    mus: &[f64],
+    curves: &[Vec<f64>],
+    noise: Option<f64>,
+) -> Result<Choice> {
+    let miss = replay::FIELD_MISS;
+    let Some(noise) = noise else {
+        return Ok(Choice {
+            replay: false,
+            reason: "the field, unchecked: the tracks' noise cannot be estimated (no three evenly spaced frames), so the field model's residual cannot be held against it".into(),
+            checked: None,
+        });
+    };
+    let cannot = |why: String| Choice {
+        replay: true,
+        reason: format!("exact replays: {why}"),
+        checked: None,
+    };
+    let Some(&mu0) = local_minima(mus, &summed(curves)).first() else {
+        return Ok(cannot(
+            "the field model cannot follow every part at any μ of the lattice".into(),
+        ));
+    };
+    let theta0 = [mu0, 0.0, 1.0];
+    let set = motion.centre(&theta0)?;
+    let Ok(starts) = estimate::fit_starts(motion, &set, tracks, None) else {
+        return Ok(cannot(format!(
+            "the field model cannot follow every part at μ {mu0:.3}"
+        )));
+    };
+    let coords: usize = tracks.iter().map(|t| 2 * t.frames.len()).sum();
+    let dof = coords.saturating_sub(2 * tracks.len() + 1).max(1);
+    let rss: f64 = starts.iter().map(|s| s.rss).sum();
+    let ratio = (rss / dof as f64).sqrt() / noise;
+    if ratio.is_nan() || ratio > miss {
+        return Ok(cannot(format!(
+            "the field model's residual at μ {mu0:.3} is {ratio:.2} × the tracks' own noise, beyond {miss}: the field model cannot follow these tracks to their noise"
+        )));
+    }
+    Ok(Choice {
+        replay: false,
+        reason: format!(
+            "the field: its residual at μ {mu0:.3} is {ratio:.2} × the tracks' own noise, within {miss}"
+        ),
+        checked: Some((theta0, set)),
+    })
+}
+
+/// The parts' lattice curves summed, μ by μ.
+fn summed(curves: &[Vec<f64>]) -> Vec<f64> {
+    let n = curves.first().map_or(0, Vec::len);
+    (0..n).map(|m| curves.iter().map(|c| c[m]).sum()).collect()
+}
+
+/// The local minima of a sampled curve, each refined by the parabola
+/// through it and its neighbours, lowest first.
+fn local_minima(x: &[f64], y: &[f64]) -> Vec<f64> {
+    let mut found: Vec<(f64, f64)> = (0..y.len())
+        .filter(|&i| {
+            let lower = |j: Option<usize>| j.and_then(|j| y.get(j)).is_none_or(|&v| y[i] < v);
+            y[i].is_finite() && lower(i.checked_sub(1)) && lower(Some(i + 1))
+        })
+        .map(|i| {
+            let (lo, hi) = (i.saturating_sub(1), (i + 2).min(y.len()));
+            let at = parabola_minimum(&x[lo..hi], &y[lo..hi]).map_or(x[i], |m| m.0);
+            (y[i], at)
+        })
+        .collect();
+    found.sort_by(|a, b| a.0.total_cmp(&b.0));
+    found.into_iter().map(|m| m.1).collect()
+}
+
+/// The classes by the field model: each part's own μ from its lattice
+/// curve, the classes, each class fitted on the field stencil and its
+/// model bias removed by replays.
+fn by_field(
+    context: &Context<'_>,
+    all: &[&Track],
+    mus: &[f64],
+    curves: &[Vec<f64>],
+    mut checked: Option<(model::Theta, model::FieldSet)>,
+) -> Result<Fitted> {
+    let motion = &context.motion;
     // Pooled σ̂² at each part's own minimum: the scale of its curvature.
     let coords: usize = all.iter().map(|t| 2 * t.frames.len()).sum();
-    let rss_min: f64 = (0..all.len())
-        .map(|i| per_track(i).into_iter().fold(f64::INFINITY, f64::min))
+    let rss_min: f64 = curves
+        .iter()
+        .map(|c| c.iter().copied().fold(f64::INFINITY, f64::min))
         .sum();
     let lattice_dof = coords.saturating_sub(3 * all.len()).max(1);
     let sigma2 = rss_min / lattice_dof as f64;
-    let curves: Vec<Vec<f64>> = (0..all.len()).map(per_track).collect();
-    let own = own_estimates(&curves, &mus, &all, sigma2)?;
+    let own = own_estimates(curves, mus, all, sigma2)?;
     let class_of = cluster(&own);
     let n_classes = class_of.iter().map(|c| c.0).max().map_or(0, |m| m + 1);
-    let mut classes = Vec::new();
-    let mut likelihood = Vec::new();
-    let mut profile = Vec::new();
-    let mut paths = vec![(String::new(), Vec::new(), Vec::new()); all.len()];
+    let mut fitted = Fitted {
+        model: format!(
+            "steady-state velocity fields of the schedule's {} segment(s) on a {}×{} grid over the plate region, interpolated in μ and scale by a quadratic stencil; paths by RK4 (not a full replay)",
+            motion_fields(motion),
+            context.options.grid,
+            context.options.grid
+        ),
+        classes: Vec::new(),
+        per_part: per_part(all, &own, &class_of),
+        likelihood: Vec::new(),
+        profile: Vec::new(),
+        paths: vec![(String::new(), Vec::new(), Vec::new()); all.len()],
+        fields: 0,
+        replays: 0,
+    };
     for c in 0..n_classes {
-        let members: Vec<usize> = (0..all.len())
-            .filter(|&i| class_of[i] == (c, true))
-            .collect();
-        let joined: Vec<usize> = (0..all.len())
-            .filter(|&i| class_of[i] == (c, false))
-            .collect();
+        let (members, joined) = split_class(&class_of, c);
         let class_tracks: Vec<&Track> = members.iter().map(|&i| all[i]).collect();
         let curve: Vec<f64> = (0..mus.len())
-            .map(|m| members.iter().map(|&i| per_track(i)[m]).sum())
+            .map(|m| members.iter().map(|&i| curves[i][m]).sum())
             .collect();
-        let (mut fit, stick, fields) = fit_one(
-            &motion,
-            &class_tracks,
-            &mus,
-            &curve,
-            options.scale,
-            sigma_ref,
-        )?;
-        let (bias, slope) = correct_bias(
-            schedule,
-            &region,
-            &motion,
-            &mut fit,
-            &class_tracks,
-            sigma_ref,
-        )?;
-        fields_computed += fields;
+        let (mut fit, stick, fields) =
+            fit_one(context, &class_tracks, mus, &curve, checked.take())?;
+        let (bias, slope) = correct_bias(context, &mut fit, &class_tracks)?;
+        fitted.fields += fields;
+        fitted.replays += 2 * class_tracks.len();
         let s2 = fit.sigma().powi(2);
         let lattice_curve: Vec<[f64; 2]> = mus.iter().zip(&curve).map(|(m, v)| [*m, *v]).collect();
-        likelihood.push(delta_chi2(&lattice_curve, s2));
-        profile.push(delta_chi2(&fit.profile, s2));
+        fitted.likelihood.push(delta_chi2(&lattice_curve, s2));
+        fitted.profile.push(delta_chi2(&fit.profile, s2));
         for (k, &i) in members.iter().enumerate() {
-            paths[i] = fitted_path(&motion, &fit.set, fit.starts[k].start, all[i])?;
+            fitted.paths[i] = fitted_path(motion, &fit.set, fit.starts[k].start, all[i])?;
         }
         for &i in &joined {
-            let start = estimate::fit_start(&motion, &fit.set, all[i], all[i].frames[0].r)?;
-            paths[i] = fitted_path(&motion, &fit.set, start.start, all[i])?;
+            let start = estimate::fit_start(motion, &fit.set, all[i], all[i].frames[0].r)?;
+            fitted.paths[i] = fitted_path(motion, &fit.set, start.start, all[i])?;
         }
-        let mut estimate = class_estimate(&fit, &class_tracks, noise, stick, options.scale);
-        estimate.model_bias = fit
-            .free
-            .iter()
-            .map(|&j| (model::NAMES[j].to_string(), bias[j]))
-            .collect();
-        estimate.model_slope = fit
-            .free
-            .iter()
-            .map(|&j| (model::NAMES[j].to_string(), slope[j]))
-            .collect();
+        let solution = Solution::of_field(&fit);
+        let mut estimate = class_estimate(&solution, &class_tracks, context, stick);
+        let named = |v: &model::Theta| -> Vec<(String, f64)> {
+            fit.free
+                .iter()
+                .map(|&j| (model::NAMES[j].to_string(), v[j]))
+                .collect()
+        };
+        estimate.model_bias = named(&bias);
+        estimate.model_slope = named(&slope);
         for (j, s) in &estimate.model_slope {
             if !(SLOPE[0] < *s && *s < SLOPE[1]) {
                 estimate.not_separable.push(format!(
@@ -417,10 +609,24 @@ pub fn calibrate(
             }
         }
         estimate.joined = joined.iter().map(|&i| all[i].part.clone()).collect();
-        classes.push(estimate);
+        fitted.classes.push(estimate);
     }
-    let per_part = all
-        .iter()
+    Ok(fitted)
+}
+
+/// The parts of class `c`: those fitted with it, and those joined to it.
+fn split_class(class_of: &[(usize, bool)], c: usize) -> (Vec<usize>, Vec<usize>) {
+    let of = |fitted: bool| -> Vec<usize> {
+        (0..class_of.len())
+            .filter(|&i| class_of[i] == (c, fitted))
+            .collect()
+    };
+    (of(true), of(false))
+}
+
+/// Each part's own estimate and class.
+fn per_part(all: &[&Track], own: &[classes::Own], class_of: &[(usize, bool)]) -> Vec<PartEstimate> {
+    all.iter()
         .enumerate()
         .map(|(i, tr)| PartEstimate {
             part: tr.part.clone(),
@@ -429,45 +635,243 @@ pub fn calibrate(
             standard_error: own[i].1,
             class: class_of[i].0,
         })
-        .collect();
-    Ok(CalibrationRun {
-        calibration: Calibration {
-            target: schedule.target.clone(),
-            tracks: tracks.source.clone(),
-            parts: all.len(),
-            frames: tracks.frames(),
-            model: format!(
-                "steady-state velocity fields of the schedule's {} segment(s) on a {}×{} grid over the plate region, interpolated in μ and scale by a quadratic stencil; paths by RK4 (not a full replay)",
-                motion_fields(&motion),
-                options.grid,
-                options.grid
-            ),
-            noise_m: noise,
-            classes,
-            per_part,
-            likelihood,
-            profile,
-            fields_computed,
-        },
-        paths,
-    })
+        .collect()
 }
 
-/// One class fitted from its summed lattice curve's minimum: the fit,
-/// whether μ_s matters, the fields computed.
+/// A change of μ_s − μ_k by 2 stencil steps that moves no replayed
+/// position by more than this (m) is no change: the parts never stick.
+const STICK_POSITION: f64 = 1e-9;
+
+/// The classes by exact replays ([`replay`]): each part fitted alone from
+/// the best of the field lattice's local minima (μ_s = μ_k, scale 1), the
+/// classes, each class fitted as one.
+fn by_replay(
+    context: &Context<'_>,
+    raw: &[&Track],
+    mus: &[f64],
+    curves: &[Vec<f64>],
+) -> Result<Fitted> {
+    let schedule = context.schedule;
+    let mut candidates = local_minima(mus, &summed(curves));
+    if candidates.is_empty() {
+        candidates.push(schedule.settings.friction.kinetic);
+    }
+    let times = |t: &Track| -> Vec<f64> { t.frames.iter().map(|f| f.t).collect() };
+    let first: Vec<[f64; 2]> = raw.iter().map(|t| t.frames[0].r).collect();
+    let own_fits = raw
+        .par_iter()
+        .zip(&first)
+        .map(|(t, &r0)| own_fit(schedule, t, r0, &candidates, context.noise))
+        .collect::<Result<Vec<_>>>()?;
+    let replays: usize = own_fits.iter().map(|f| f.2).sum();
+    let own: Vec<classes::Own> = own_fits
+        .iter()
+        .map(|(mu, fit, _)| match fit {
+            Some(f) => (f.theta[MU_K], Some(f.classical[0][0].max(0.0).sqrt())),
+            None => (*mu, None),
+        })
+        .collect();
+    let class_of = cluster(&own);
+    let n_classes = class_of.iter().map(|c| c.0).max().map_or(0, |m| m + 1);
+    let mut fitted = Fitted {
+        model: "exact replays: each part put down at rest at a fitted start when the schedule starts (t = 0) and played through every segment and join by the stick-slip simulator, every frame fitted (not the field)".into(),
+        classes: Vec::new(),
+        per_part: per_part(raw, &own, &class_of),
+        likelihood: Vec::new(),
+        profile: Vec::new(),
+        paths: vec![(String::new(), Vec::new(), Vec::new()); raw.len()],
+        fields: 0,
+        replays,
+    };
+    for c in 0..n_classes {
+        let (members, joined) = split_class(&class_of, c);
+        let class_tracks: Vec<&Track> = members.iter().map(|&i| raw[i]).collect();
+        let mu0 = classes::pooled(&members, &own).0;
+        let starts: Vec<[f64; 2]> = members
+            .iter()
+            .map(|&i| own_fits[i].1.as_ref().map_or(first[i], |f| f.starts[0]))
+            .collect();
+        let (stick, base, checked) = sticks(schedule, &class_tracks, mu0, &starts)?;
+        fitted.replays += checked;
+        let mut free = vec![MU_K];
+        let mut theta0 = [mu0, 0.0, 1.0];
+        let mut base = Some(base);
+        if stick {
+            free.push(EXCESS);
+            theta0[EXCESS] = 2.0 * STEPS[EXCESS];
+            base = None;
+        }
+        if context.options.scale {
+            free.push(SCALE);
+        }
+        let fit = replay::fit(
+            schedule,
+            &class_tracks,
+            theta0,
+            &free,
+            starts,
+            base,
+            replay::STEP_TOL,
+        )?
+            .ok_or_else(|| {
+                Error::Unreachable(format!(
+                    "the exact replays cannot follow the class of parts {} (a part loses contact, or its start is not determined by its track)",
+                    class_tracks.iter().map(|t| t.part.as_str()).collect::<Vec<_>>().join(", ")
+                ))
+            })?;
+        fitted.replays += fit.replays;
+        fitted.likelihood.push(Vec::new());
+        fitted
+            .profile
+            .push(quadratic_profile(fit.theta[MU_K], fit.classical[0][0]));
+        for (k, &i) in members.iter().enumerate() {
+            fitted.paths[i] = (
+                raw[i].part.clone(),
+                raw[i].frames.iter().map(|f| f.r).collect(),
+                fit.paths[k].clone(),
+            );
+        }
+        for &i in &joined {
+            let r0 = own_fits[i].1.as_ref().map_or(first[i], |f| f.starts[0]);
+            let p = replay::path(schedule, &fit.theta, r0, &times(raw[i]))?.unwrap_or_default();
+            fitted.replays += 1;
+            fitted.paths[i] = (
+                raw[i].part.clone(),
+                raw[i].frames.iter().map(|f| f.r).collect(),
+                p.chunks(2).map(|q| [q[0], q[1]]).collect(),
+            );
+        }
+        let solution = Solution::of_replay(&fit);
+        let mut estimate = class_estimate(&solution, &class_tracks, context, stick);
+        estimate.joined = joined.iter().map(|&i| raw[i].part.clone()).collect();
+        fitted.classes.push(estimate);
+    }
+    Ok(fitted)
+}
+
+/// A part's own fit by replays (μ_s = μ_k, scale 1) from its first frame
+/// `r0`: from the candidate μ whose replay fits its track best, then, while
+/// the fit's residual is beyond [`replay::FIELD_MISS`] × the tracks' noise
+/// (a false minimum), from the next candidates, keeping the least
+/// residual. The μ it started from, the fit (`None`: the replays cannot
+/// follow it), the replays run.
+fn own_fit(
+    schedule: &Schedule,
+    track: &Track,
+    r0: [f64; 2],
+    candidates: &[f64],
+    noise: Option<f64>,
+) -> Result<(f64, Option<replay::ReplayFit>, usize)> {
+    let times: Vec<f64> = track.frames.iter().map(|f| f.t).collect();
+    let mut tried = Vec::with_capacity(candidates.len());
+    for &mu in candidates {
+        let p = replay::path(schedule, &[mu, 0.0, 1.0], r0, &times)?;
+        let rss = p.as_ref().map_or(f64::INFINITY, |p| {
+            track
+                .frames
+                .iter()
+                .zip(p.chunks(2))
+                .map(|(f, q)| (f.r[0] - q[0]).powi(2) + (f.r[1] - q[1]).powi(2))
+                .sum()
+        });
+        tried.push((rss, mu, p));
+    }
+    tried.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut replays = candidates.len();
+    let mut best: (f64, Option<replay::ReplayFit>) = (tried.first().map_or(0.3, |c| c.1), None);
+    for (_, mu, base) in tried {
+        let fit = replay::fit(
+            schedule,
+            &[track],
+            [mu, 0.0, 1.0],
+            &[MU_K],
+            vec![r0],
+            Some(vec![base]),
+            replay::OWN_STEP_TOL,
+        )?;
+        let Some(fit) = fit else { continue };
+        replays += fit.replays;
+        let sigma = (fit.rss / fit.dof as f64).sqrt();
+        if best.1.as_ref().is_none_or(|b| fit.rss < b.rss) {
+            best = (mu, Some(fit));
+        }
+        if noise.is_none_or(|n| sigma <= replay::FIELD_MISS * n) {
+            break;
+        }
+    }
+    Ok((best.0, best.1, replays))
+}
+
+/// Whether μ_s matters to the replays of `tracks` at μ_k = `mu` from
+/// `starts`: μ_s − μ_k = 0 against 2 stencil steps moves some replayed
+/// position by more than [`STICK_POSITION`]. Also the paths at μ_s = μ_k
+/// (those at the larger μ_s when it matters: where the fit starts), and
+/// the replays run.
+fn sticks(
+    schedule: &Schedule,
+    tracks: &[&Track],
+    mu: f64,
+    starts: &[[f64; 2]],
+) -> Result<(bool, replay::Paths, usize)> {
+    let replay_at = |excess: f64| -> Result<replay::Paths> {
+        tracks
+            .par_iter()
+            .zip(starts)
+            .map(|(t, &r0)| {
+                let times: Vec<f64> = t.frames.iter().map(|f| f.t).collect();
+                replay::path(schedule, &[mu, excess, 1.0], r0, &times)
+            })
+            .collect()
+    };
+    let (tied, apart) = (replay_at(0.0)?, replay_at(2.0 * STEPS[EXCESS])?);
+    let moved = tied.iter().zip(&apart).any(|(a, b)| match (a, b) {
+        (Some(a), Some(b)) => a.iter().zip(b).any(|(p, q)| (p - q).abs() > STICK_POSITION),
+        _ => a.is_some() != b.is_some(),
+    });
+    let base = if moved { apart } else { tied };
+    Ok((moved, base, 2 * tracks.len()))
+}
+
+/// Δχ² of a linearised fit along μ_k about `mu` (the other parameters
+/// profiled out), `var` μ_k's variance under the noise model: (μ − μ̂)²/var
+/// over ±4 standard errors.
+fn quadratic_profile(mu: f64, var: f64) -> Vec<[f64; 2]> {
+    let se = var.max(0.0).sqrt();
+    (-10..=10)
+        .map(|k| {
+            let z = 0.4 * f64::from(k);
+            [mu + z * se, z * z]
+        })
+        .collect()
+}
+
+/// One class fitted from its summed lattice curve's minimum (`checked`:
+/// the field set at θ = (μ₀, 0, 1) when computed): the fit, whether μ_s
+/// matters, the fields computed.
 fn fit_one(
-    motion: &PlayedMotion,
+    context: &Context<'_>,
     tracks: &[&Track],
     mus: &[f64],
     curve: &[f64],
-    scale: bool,
-    sigma_ref: f64,
+    checked: Option<(model::Theta, model::FieldSet)>,
 ) -> Result<(ClassFit, bool, usize)> {
+    let motion = &context.motion;
     let mu0 = parabola_minimum(mus, curve).map_or(0.3, |m| m.0);
-    let (free, stick) = free_parameters(motion, mu0, scale)?;
+    let theta0 = [mu0, 0.0, 1.0];
+    let checked = checked.filter(|c| c.0 == theta0);
+    let (free, stick, computed) =
+        free_parameters(motion, mu0, context.options.scale, checked.as_ref())?;
     let theta0 = [mu0, if stick { STEPS[EXCESS] } else { 0.0 }, 1.0];
-    let fit = fit_class(motion, tracks, theta0, STEPS, &free, sigma_ref)?;
-    let fields = (2 + fit.fields) * motion_fields(motion);
+    let fit = fit_class_from(
+        motion,
+        tracks,
+        theta0,
+        STEPS,
+        &free,
+        context.sigma_ref(),
+        checked,
+    )?;
+    let fields = (computed + fit.fields) * motion_fields(motion);
     Ok((fit, stick, fields))
 }
 
@@ -489,13 +893,12 @@ const SECANT_MIN: f64 = 1e-4;
 /// the model's at θ̂. Returns θ̂ − θ̃ and the slopes β′ (1 for parameters
 /// not fitted).
 fn correct_bias(
-    schedule: &Schedule,
-    region: &Grid,
-    motion: &PlayedMotion,
+    context: &Context<'_>,
     fit: &mut ClassFit,
     tracks: &[&Track],
-    sigma_ref: f64,
 ) -> Result<(model::Theta, model::Theta)> {
+    let (schedule, region, motion) = (context.schedule, &context.region, &context.motion);
+    let sigma_ref = context.sigma_ref();
     let parts = tracks
         .iter()
         .zip(&fit.starts)
@@ -618,9 +1021,22 @@ fn own_estimates(
 
 /// The parameters to fit about μ = `mu0`: μ_k; μ_s − μ_k when the fields
 /// change with it (μ_s = μ_k against μ_k + 2h: some part sticks); the
-/// scale when asked. Also whether μ_s matters.
-fn free_parameters(motion: &PlayedMotion, mu0: f64, scale: bool) -> Result<(Vec<usize>, bool)> {
-    let a = motion.fields(&[mu0, 0.0, 1.0])?;
+/// scale when asked. Also whether μ_s matters, and the field sets computed
+/// (`at`: the set at μ_s = μ_k when already computed).
+fn free_parameters(
+    motion: &PlayedMotion,
+    mu0: f64,
+    scale: bool,
+    at: Option<&(model::Theta, model::FieldSet)>,
+) -> Result<(Vec<usize>, bool, usize)> {
+    let fresh;
+    let (a, computed) = match at {
+        Some((_, set)) => (set, 1),
+        None => {
+            fresh = motion.fields(&[mu0, 0.0, 1.0])?;
+            (&fresh, 2)
+        }
+    };
     let b = motion.fields(&[mu0, 2.0 * STEPS[EXCESS], 1.0])?;
     let stick = a.max_difference(&b) > STICK_SENSITIVITY;
     let mut free = vec![MU_K];
@@ -630,7 +1046,7 @@ fn free_parameters(motion: &PlayedMotion, mu0: f64, scale: bool) -> Result<(Vec<
     if scale {
         free.push(SCALE);
     }
-    Ok((free, stick))
+    Ok((free, stick, computed))
 }
 
 /// A residual curve (x, RSS) as (x, Δχ² = (RSS − min RSS)/σ̂²), its
@@ -644,9 +1060,46 @@ fn delta_chi2(curve: &[[f64; 2]], sigma2: f64) -> Vec<[f64; 2]> {
         .collect()
 }
 
+/// A class's fit, whichever model: θ̂, its free parameters and their
+/// covariance, the residual.
+struct Solution<'a> {
+    theta: model::Theta,
+    free: &'a [usize],
+    covariance: &'a [Vec<f64>],
+    rss: f64,
+    dof: usize,
+}
+
+impl Solution<'_> {
+    fn of_field(fit: &ClassFit) -> Solution<'_> {
+        Solution {
+            theta: fit.theta,
+            free: &fit.free,
+            covariance: &fit.covariance,
+            rss: fit.rss,
+            dof: fit.dof,
+        }
+    }
+
+    fn of_replay(fit: &replay::ReplayFit) -> Solution<'_> {
+        Solution {
+            theta: fit.theta,
+            free: &fit.free,
+            covariance: &fit.covariance,
+            rss: fit.rss,
+            dof: fit.dof,
+        }
+    }
+
+    /// σ̂ (m): the residual's standard deviation per coordinate.
+    fn sigma(&self) -> f64 {
+        (self.rss / self.dof.max(1) as f64).sqrt()
+    }
+}
+
 /// The correlations of the fitted parameters, each pair beyond
 /// [`CORRELATED`] named in `not_separable`.
-fn correlations(fit: &ClassFit, not_separable: &mut Vec<String>) -> Vec<(String, String, f64)> {
+fn correlations(fit: &Solution<'_>, not_separable: &mut Vec<String>) -> Vec<(String, String, f64)> {
     let var = |a: usize, b: usize| fit.covariance[a][b];
     let mut out = Vec::new();
     for a in 0..fit.free.len() {
@@ -672,12 +1125,12 @@ fn motion_fields(motion: &PlayedMotion) -> usize {
 
 /// A class's fitted θ as named estimates, with what is not separable.
 fn class_estimate(
-    fit: &ClassFit,
+    fit: &Solution<'_>,
     tracks: &[&Track],
-    noise: Option<f64>,
+    context: &Context<'_>,
     stick: bool,
-    scale: bool,
 ) -> ClassEstimate {
+    let (noise, scale) = (context.noise, context.options.scale);
     let index = |j: usize| fit.free.iter().position(|&f| f == j);
     let var = |a: usize, b: usize| fit.covariance[a][b];
     let estimate = |value: f64, v: f64| {

@@ -155,6 +155,17 @@ impl PlayedMotion {
         })
     }
 
+    /// Every segment's field at θ with the periodic orbits' excursions: a
+    /// stencil's centre.
+    ///
+    /// # Errors
+    /// As [`PlayedMotion::fields`].
+    pub fn centre(&self, theta: &Theta) -> Result<FieldSet> {
+        let mut set = self.fields(theta)?;
+        set.excursion = Some(Arc::new(self.excursions(theta)?));
+        Ok(set)
+    }
+
     /// `f` of every moving segment's motion scaled by θ, under θ's
     /// friction (`None` for rest).
     fn per_moving_segment<T>(
@@ -466,8 +477,21 @@ impl Stencil {
         h: Theta,
         free: &[usize],
     ) -> Result<Stencil> {
-        let mut base = motion.fields(&center)?;
-        base.excursion = Some(Arc::new(motion.excursions(&center)?));
+        Stencil::around(motion, motion.centre(&center)?, center, h, free)
+    }
+
+    /// The stencil about `center` whose centre's set `base` (with its
+    /// excursions) is already computed.
+    ///
+    /// # Errors
+    /// As [`PlayedMotion::fields`].
+    pub(crate) fn around(
+        motion: &PlayedMotion,
+        base: FieldSet,
+        center: Theta,
+        h: Theta,
+        free: &[usize],
+    ) -> Result<Stencil> {
         let sides = free
             .iter()
             .map(|&j| {

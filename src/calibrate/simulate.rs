@@ -152,7 +152,7 @@ pub fn simulate_tracks(
 }
 
 /// `schedule`'s segments as played, every motion's amplitudes × `scale`.
-fn schedule_motion(schedule: &Schedule, scale: f64) -> Result<ScheduleMotion> {
+pub(crate) fn schedule_motion(schedule: &Schedule, scale: f64) -> Result<ScheduleMotion> {
     let segments = schedule
         .segments
         .iter()
@@ -232,7 +232,7 @@ fn inside(region: &Grid, r: &V2) -> bool {
 
 /// The positions at `times` (increasing, from 0) of a part placed at rest
 /// on the plate at `r0` at t = 0, played through `sm` at `friction`.
-fn play(
+pub(crate) fn play(
     schedule: &Schedule,
     sm: &ScheduleMotion,
     friction: Friction,
