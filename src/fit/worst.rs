@@ -80,7 +80,7 @@ const FEASIBLE_STRENGTH: f64 = 1e-7;
 
 /// Options of [`solve_worst_case`].
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct WorstCaseOptions {
+pub struct WorstCaseOptions {
     /// Strength floor `s_min` (> 0) on every sample's strength, or none.
     pub min_strength: Option<f64>,
     /// Stage 2 takes the strongest field whose worst error is within
@@ -104,7 +104,7 @@ impl Default for WorstCaseOptions {
 
 /// A verified worst-case fit.
 #[derive(Debug, Clone, PartialEq)]
-pub(crate) struct WorstCaseFit {
+pub struct WorstCaseFit {
     /// Time fractions `f ≥ 0`, `1ᵀf ≤ 1` (the plate rests for the rest).
     pub fractions: Vec<f64>,
     /// Least-squares strength `s_k` of the field at each sample (× the
@@ -130,7 +130,7 @@ impl WorstCaseFit {
     }
 
     /// The weakest of [`WorstCaseFit::strengths`].
-    pub(crate) fn weakest(&self) -> f64 {
+    pub fn weakest(&self) -> f64 {
         self.strengths.iter().copied().fold(f64::INFINITY, f64::min)
     }
 }
@@ -155,7 +155,7 @@ pub(crate) fn shape_and_strength(problem: &FitProblem, fractions: &[f64]) -> (f6
 /// No sample, bases of different shapes, invalid data or options, a
 /// target no non-negative mix points towards at every sample, a floor no
 /// fractions reach, a solver failure, or a failed check.
-pub(crate) fn solve_worst_case(
+pub fn solve_worst_case(
     a: &[DMatrix<f64>],
     t: &DVector<f64>,
     d: Option<&DVector<f64>>,

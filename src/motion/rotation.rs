@@ -124,7 +124,7 @@ pub fn orientation(theta: &V3) -> UnitQuaternion<f64> {
 }
 
 /// The rotation vector θ of `q` (|θ| ≤ π).
-pub(crate) fn rotation_vector(q: &UnitQuaternion<f64>) -> V3 {
+pub fn rotation_vector(q: &UnitQuaternion<f64>) -> V3 {
     q.scaled_axis()
 }
 

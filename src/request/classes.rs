@@ -273,7 +273,7 @@ impl Target {
     ///
     /// # Panics
     /// When `i` is not a class index.
-    pub(crate) fn class_target(&self, i: usize) -> Target {
+    pub fn class_target(&self, i: usize) -> Target {
         let c = &self.classes[i];
         Target {
             name: format!("{}/{}", self.name, c.name),
