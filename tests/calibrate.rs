@@ -42,6 +42,32 @@ fn calibrated(
         .calibration
 }
 
+/// The calibration's one class, after asserting there is one, its μ_k
+/// within ±0.01 of `truth` and its 95 % interval covering `truth`.
+fn one_class_covering(
+    c: &platefield::calibrate::Calibration,
+    truth: f64,
+) -> &platefield::calibrate::ClassEstimate {
+    assert_eq!(c.classes.len(), 1, "{:?}", c.per_part);
+    let class = &c.classes[0];
+    let mu = class.mu_k.value.expect("μ_k");
+    assert!((mu - truth).abs() <= 0.01, "{mu}");
+    let [lo, hi] = class.mu_k.interval.expect("an interval");
+    assert!((lo..=hi).contains(&truth), "{lo} – {hi}");
+    class
+}
+
+/// μ_s named as not determined, first among the parameters the tracks
+/// cannot separate, and given no value.
+fn static_undetermined(class: &platefield::calibrate::ClassEstimate) {
+    assert!(class.mu_s.value.is_none());
+    assert!(
+        class.not_separable[0].starts_with("mu_s"),
+        "{:?}",
+        class.not_separable
+    );
+}
+
 /// μ_s = 0.41, μ_k = 0.33 on the translation-heavy squeeze_trans: μ_k
 /// within ±0.01 (measured 0.3296, 95 %: 0.3284 – 0.3308) and its interval
 /// covering the truth, one class, the fit's residual at the tracks' noise
@@ -62,12 +88,7 @@ fn kinetic_friction_is_identified_and_static_named_undetermined() {
         1,
     );
     let c = calibrated("squeeze_trans", &sim, false);
-    assert_eq!(c.classes.len(), 1, "{:?}", c.per_part);
-    let class = &c.classes[0];
-    let mu = class.mu_k.value.expect("μ_k");
-    assert!((mu - 0.33).abs() <= 0.01, "{mu}");
-    let [lo, hi] = class.mu_k.interval.expect("an interval");
-    assert!((lo..=hi).contains(&0.33), "{lo} – {hi}");
+    let class = one_class_covering(&c, 0.33);
     let slope = class.model_slope[0].1;
     assert!((slope - 1.0).abs() < 0.1, "{slope}");
     assert!(
@@ -75,12 +96,7 @@ fn kinetic_friction_is_identified_and_static_named_undetermined() {
         "{:?}",
         class.model_bias
     );
-    assert!(class.mu_s.value.is_none());
-    assert!(
-        class.not_separable[0].starts_with("mu_s"),
-        "{:?}",
-        class.not_separable
-    );
+    static_undetermined(class);
     let ratio = class.residual_over_noise.expect("a noise estimate");
     assert!((ratio - 1.0).abs() < 0.1, "{ratio}");
     let noise = c.noise_m.expect("a noise estimate");
@@ -140,13 +156,9 @@ fn two_frictions_are_two_classes() {
 fn one_friction_on_a_sink_is_one_class() {
     let sim = TrackSimulation::new(Friction::uniform(0.23), 20, 1);
     let c = calibrated("synthesized/sink", &sim, false);
-    assert_eq!(c.classes.len(), 1, "{:?}", c.per_part);
     assert!(c.model.starts_with("exact replays"), "{}", c.model_reason);
-    assert!(!c.classes[0].joined.is_empty(), "{:?}", c.classes[0]);
-    let mu = c.classes[0].mu_k.value.expect("μ_k");
-    assert!((mu - 0.23).abs() <= 0.01, "{mu}");
-    let [lo, hi] = c.classes[0].mu_k.interval.expect("an interval");
-    assert!((lo..=hi).contains(&0.23), "{lo} – {hi}");
+    let class = one_class_covering(&c, 0.23);
+    assert!(!class.joined.is_empty(), "{class:?}");
 }
 
 /// μ_s = 0.41, μ_k = 0.33 on the shipped sink (`results/sink`: four line
@@ -172,21 +184,11 @@ fn shipped_sink_is_identified_by_replays() {
     let c = calibrated("sink", &sim, false);
     assert!(c.model.starts_with("exact replays"), "{}", c.model);
     assert!(c.model_reason.contains("beyond 1.25"), "{}", c.model_reason);
-    assert_eq!(c.classes.len(), 1, "{:?}", c.per_part);
-    let class = &c.classes[0];
-    let mu = class.mu_k.value.expect("μ_k");
-    assert!((mu - 0.33).abs() <= 0.01, "{mu}");
-    let [lo, hi] = class.mu_k.interval.expect("an interval");
-    assert!((lo..=hi).contains(&0.33), "{lo} – {hi}");
+    let class = one_class_covering(&c, 0.33);
     let ratio = class.residual_over_noise.expect("a noise estimate");
     assert!((ratio - 1.0).abs() < 0.1, "{ratio}");
     assert!(class.model_bias.is_empty(), "{:?}", class.model_bias);
-    assert!(class.mu_s.value.is_none());
-    assert!(
-        class.not_separable[0].starts_with("mu_s"),
-        "{:?}",
-        class.not_separable
-    );
+    static_undetermined(class);
 }
 
 /// One case of the coverage study: its repetitions' count of 95 %

@@ -194,24 +194,13 @@ impl ClassFit {
 pub const BOUNDS: [[f64; 2]; 3] = [[0.001, 2.0], [0.0, 2.0], [0.2, 5.0]];
 
 /// Fits θ over `free` for `tracks`, from `theta0`, with stencil steps `h`.
-/// `sigma_ref` (m) scales the cost for the optimiser.
+/// `sigma_ref` (m) scales the cost for the optimiser. `first` is the field
+/// set (with its excursions) at `first.0` when already computed: the first
+/// stencil's centre when it is there.
 ///
 /// # Errors
 /// A field cannot be computed or followed, or the optimiser fails.
 pub fn fit_class(
-    motion: &PlayedMotion,
-    tracks: &[&Track],
-    theta0: Theta,
-    h: Theta,
-    free: &[usize],
-    sigma_ref: f64,
-) -> Result<ClassFit> {
-    fit_class_from(motion, tracks, theta0, h, free, sigma_ref, None)
-}
-
-/// [`fit_class`], given the field set (with its excursions) at `first.0`
-/// when already computed: the first stencil's centre when it is there.
-pub(crate) fn fit_class_from(
     motion: &PlayedMotion,
     tracks: &[&Track],
     theta0: Theta,
@@ -329,7 +318,7 @@ pub(crate) fn fit_class_from(
 ///     })
 ///     .collect::<platefield::Result<_>>()?;
 /// let refs: Vec<&Track> = tracks.iter().collect();
-/// let fit = fit_class(&motion, &refs, [0.28, 0.0, 1.0], [0.02; 3], &[0], 1e-4)?;
+/// let fit = fit_class(&motion, &refs, [0.28, 0.0, 1.0], [0.02; 3], &[0], 1e-4, None)?;
 /// // The model's paths at θ̂ replayed: no bias.
 /// let starts = fit_starts(&motion, &fit.set, &refs, None)?;
 /// let replayed: Vec<Track> = refs

@@ -47,7 +47,7 @@ use crate::field::Grid;
 use crate::scene::{FrictionSpec, Interval};
 use crate::schedule::Schedule;
 use classes::cluster;
-use estimate::{fit_class_from, parabola_minimum, scan, ClassFit};
+use estimate::{fit_class, parabola_minimum, scan, ClassFit};
 use model::{EXCESS, MU_K, SCALE};
 
 /// A 95 % interval wider than this (in μ or in scale) names its parameter
@@ -441,6 +441,23 @@ struct Fitted {
     replays: usize,
 }
 
+impl Fitted {
+    /// A calibration by `model` before any class is fitted: the parts'
+    /// own estimates, `n` empty path slots and the replays spent so far.
+    fn new(model: String, per_part: Vec<PartEstimate>, n: usize, replays: usize) -> Self {
+        Self {
+            model,
+            classes: Vec::new(),
+            per_part,
+            likelihood: Vec::new(),
+            profile: Vec::new(),
+            paths: vec![(String::new(), Vec::new(), Vec::new()); n],
+            fields: 0,
+            replays,
+        }
+    }
+}
+
 /// Which model predicts the paths, and why; the field set the field model
 /// was checked on, at θ = (μ₀, 0, 1), for its fit to start from.
 struct Choice {
@@ -554,21 +571,13 @@ fn by_field(
     let own = own_estimates(curves, mus, all, sigma2)?;
     let class_of = cluster(&own);
     let n_classes = class_of.iter().map(|c| c.0).max().map_or(0, |m| m + 1);
-    let mut fitted = Fitted {
-        model: format!(
-            "steady-state velocity fields of the schedule's {} segment(s) on a {}×{} grid over the plate region, interpolated in μ and scale by a quadratic stencil; paths by RK4 (not a full replay)",
-            motion_fields(motion),
-            context.options.grid,
-            context.options.grid
-        ),
-        classes: Vec::new(),
-        per_part: per_part(all, &own, &class_of),
-        likelihood: Vec::new(),
-        profile: Vec::new(),
-        paths: vec![(String::new(), Vec::new(), Vec::new()); all.len()],
-        fields: 0,
-        replays: 0,
-    };
+    let model = format!(
+        "steady-state velocity fields of the schedule's {} segment(s) on a {}×{} grid over the plate region, interpolated in μ and scale by a quadratic stencil; paths by RK4 (not a full replay)",
+        motion_fields(motion),
+        context.options.grid,
+        context.options.grid
+    );
+    let mut fitted = Fitted::new(model, per_part(all, &own, &class_of), all.len(), 0);
     for c in 0..n_classes {
         let (members, joined) = split_class(&class_of, c);
         let class_tracks: Vec<&Track> = members.iter().map(|&i| all[i]).collect();
@@ -673,16 +682,13 @@ fn by_replay(
         .collect();
     let class_of = cluster(&own);
     let n_classes = class_of.iter().map(|c| c.0).max().map_or(0, |m| m + 1);
-    let mut fitted = Fitted {
-        model: "exact replays: each part put down at rest at a fitted start when the schedule starts (t = 0) and played through every segment and join by the stick-slip simulator, every frame fitted (not the field)".into(),
-        classes: Vec::new(),
-        per_part: per_part(raw, &own, &class_of),
-        likelihood: Vec::new(),
-        profile: Vec::new(),
-        paths: vec![(String::new(), Vec::new(), Vec::new()); raw.len()],
-        fields: 0,
+    let model = "exact replays: each part put down at rest at a fitted start when the schedule starts (t = 0) and played through every segment and join by the stick-slip simulator, every frame fitted (not the field)";
+    let mut fitted = Fitted::new(
+        model.into(),
+        per_part(raw, &own, &class_of),
+        raw.len(),
         replays,
-    };
+    );
     for c in 0..n_classes {
         let (members, joined) = split_class(&class_of, c);
         let class_tracks: Vec<&Track> = members.iter().map(|&i| raw[i]).collect();
@@ -862,7 +868,7 @@ fn fit_one(
     let (free, stick, computed) =
         free_parameters(motion, mu0, context.options.scale, checked.as_ref())?;
     let theta0 = [mu0, if stick { STEPS[EXCESS] } else { 0.0 }, 1.0];
-    let fit = fit_class_from(
+    let fit = fit_class(
         motion,
         tracks,
         theta0,
