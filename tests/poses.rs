@@ -662,7 +662,7 @@ fn ellipse_drops(
 /// hold an event to the Moreau–Jean step (the backward rule gives the same
 /// to 10 %, `planar_order_report`; between events the scheme is second
 /// order, `tests/planar.rs` `circular_slip_is_second_order_between_events`).
-/// Refinement depth 10 at 64 steps per cycle cuts the error about 40-fold
+/// PlayedRest depth 10 at 64 steps per cycle cuts the error about 40-fold
 /// (0.30 mm → 8 µm).
 #[test]
 fn planar_scheme_is_first_order_at_events() {
@@ -779,7 +779,7 @@ fn drop_defaults_are_converged() {
 /// The averaged field's equilibria are where the played part rests: the
 /// triangle and the rectangle on the designed ellipse turned by 30° (a
 /// sequenced schedule of five primitives). Each stable equilibrium refined from the lifted one
-/// ([`platefield::pose::refine`]) is played for 30 s by the planar
+/// ([`platefield::pose::played_rests`]) is played for 30 s by the planar
 /// simulator from rest (`DropPlay::new`'s defaults): it ends within
 /// 0.05 mm and 0.1° of where it started (measured 0.006 mm, 0.01°). From
 /// the lifted equilibrium (12.6° for the triangle, 25.4° for the
@@ -811,7 +811,9 @@ fn averaged_equilibria_are_played_rests_for_the_triangle() {
 /// (`tests/cli_poses.rs` checks that refinement keeps each equilibrium's
 /// stability, the unstable ones' too).
 fn averaged_equilibria_played(names: &[&str]) {
-    use platefield::pose::{analyse, play_part, refine, AveragedField, DropPlay, Refined};
+    use platefield::pose::{
+        analyse, play_part, played_rests, AveragedField, DropPlay, RestOutcome,
+    };
     let (schedule, field, region) = designed("ellipse_30");
     let sm = platefield::play::ScheduleMotion::from_schedule(&schedule).unwrap();
     let play = DropPlay::new(&schedule.settings, 30.0);
@@ -840,8 +842,8 @@ fn averaged_equilibria_played(names: &[&str]) {
             lifted
         };
         let averaged = AveragedField::for_part(&part, sm.clone(), schedule.settings.physics());
-        for r in refine(&averaged, &lifted, &analysis.region, &|| {}) {
-            let Refined::Found { equilibrium: e, .. } = r.outcome else {
+        for r in played_rests(&averaged, &lifted, &analysis.region, &|| {}) {
+            let RestOutcome::Found { equilibrium: e, .. } = r.outcome else {
                 panic!("{r:?}");
             };
             assert!(e.stable, "{name}: {r:?}");

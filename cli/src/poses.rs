@@ -81,7 +81,7 @@ fn write(
         played: o.played.as_ref(),
         bounds: o.bounds.as_deref(),
         lift_check: o.lift_check.as_ref(),
-        refined: o.refined.as_deref(),
+        played_rests: o.played_rests.as_deref(),
         averaged_skipped: o.averaged_skipped.as_deref(),
     };
     let mut value = to_json(&o.part, &o.analysis, &extras);

@@ -9,8 +9,8 @@ use crate::plot::{escape, num};
 use platefield::dynamics::Friction;
 use platefield::part::Part;
 use platefield::pose::{
-    Continuum, Equilibrium, LiftCheck, Motion, PlayedBasins, Pose, PoseAnalysis, Refined,
-    Refinement, Shape, Twist,
+    Continuum, Equilibrium, LiftCheck, Motion, PlayedBasins, PlayedRest, Pose, PoseAnalysis,
+    RestOutcome, Shape, Twist,
 };
 
 pub use platefield::pose::SCAN;
@@ -25,8 +25,8 @@ pub struct Extras<'a> {
     pub bounds: Option<&'a [Pose]>,
     /// The lifted field against the averaged field.
     pub lift_check: Option<&'a LiftCheck>,
-    /// The lifted equilibria refined on the averaged field.
-    pub refined: Option<&'a [Refinement]>,
+    /// The played rests Newton found on the averaged field from the lifted equilibria.
+    pub played_rests: Option<&'a [PlayedRest]>,
     /// Why the averaged field did not run, when it was skipped.
     pub averaged_skipped: Option<&'a str>,
 }
@@ -39,10 +39,10 @@ fn pose_json(p: &Pose) -> Value {
 /// One refinement as JSON: the lifted equilibrium it started from and the
 /// averaged field's (`"found"`), or why none (`"left_region"`,
 /// `"unconverged"`, `"lost_contact"`).
-fn refined_json(r: &Refinement) -> Value {
+fn rest_json(r: &PlayedRest) -> Value {
     let from = pose_json(&r.from.pose);
     match r.outcome {
-        Refined::Found {
+        RestOutcome::Found {
             equilibrium: e,
             steps,
         } => json!({
@@ -50,9 +50,9 @@ fn refined_json(r: &Refinement) -> Value {
             "found": {"x": e.pose.r.x, "y": e.pose.r.y, "theta_deg": e.pose.theta.to_degrees(),
                       "stable": e.stable, "rates": e.rates, "newton_steps": steps},
         }),
-        Refined::Left(p) => json!({"from": from, "left_region": pose_json(&p)}),
-        Refined::Unconverged(p) => json!({"from": from, "unconverged": pose_json(&p)}),
-        Refined::Lost(c) => json!({"from": from, "lost_contact": c}),
+        RestOutcome::Left(p) => json!({"from": from, "left_region": pose_json(&p)}),
+        RestOutcome::Unconverged(p) => json!({"from": from, "unconverged": pose_json(&p)}),
+        RestOutcome::Lost(c) => json!({"from": from, "lost_contact": c}),
     }
 }
 
@@ -68,7 +68,7 @@ fn equilibrium_text(e: &Equilibrium) -> String {
 }
 
 /// One summary line per refinement.
-fn refined_lines(refined: &[Refinement]) -> String {
+fn rest_lines(refined: &[PlayedRest]) -> String {
     let mut s = String::from(
         "on the averaged field (the rigid part's own slip), Newton from each lifted equilibrium:\n",
     );
@@ -76,7 +76,7 @@ fn refined_lines(refined: &[Refinement]) -> String {
         let f = r.from.pose;
         let what = match (r.outcome, r.moved()) {
             (
-                Refined::Found {
+                RestOutcome::Found {
                     equilibrium: e,
                     steps,
                 },
@@ -432,8 +432,8 @@ pub fn to_json(part: &Part, a: &PoseAnalysis, extras: &Extras<'_>) -> Value {
     if let Some(c) = extras.lift_check {
         out["lifted_check"] = lift_check_json(c);
     }
-    if let Some(r) = extras.refined {
-        out["averaged_equilibria"] = Value::Array(r.iter().map(refined_json).collect());
+    if let Some(r) = extras.played_rests {
+        out["averaged_equilibria"] = Value::Array(r.iter().map(rest_json).collect());
     }
     if let Some(why) = extras.averaged_skipped {
         out["averaged_skipped"] = json!(why);
@@ -490,8 +490,8 @@ pub fn summary(part: &Part, a: &PoseAnalysis, extras: &Extras<'_>) -> String {
     if let Some(c) = extras.lift_check {
         s.push_str(&lift_check_line(c));
     }
-    if let Some(r) = extras.refined.filter(|r| !r.is_empty()) {
-        s.push_str(&refined_lines(r));
+    if let Some(r) = extras.played_rests.filter(|r| !r.is_empty()) {
+        s.push_str(&rest_lines(r));
     }
     if let Some(why) = extras.averaged_skipped {
         let _ = writeln!(s, "{why}");

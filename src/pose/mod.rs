@@ -26,8 +26,10 @@ pub use analysis::equilibria::{
     equilibria, rests, settle, settle_on, wrap, End, Equilibrium, Region, Rests,
 };
 pub use analysis::lifted::{GridField, LiftedField, PointField, Pose, Twist};
-pub use analysis::refine::{refine, Refined, Refinement, MAX_NEWTON, MAX_REFINED, STOP};
 pub use analysis::request::{check_counts, poses, AnalysisRequest, PoseOutcome, MAX_PLAY_S, SCAN};
+pub use analysis::rests::{
+    played_rests, PlayedRest, RestOutcome, MAX_NEWTON, MAX_RESTS, NEWTON_STOP,
+};
 pub(crate) use analysis::run::Uniform;
 pub use analysis::run::{analyse, analyse_with, drop_starts, PoseAnalysis, MAX_DROPS};
 pub use analysis::source::{realised_field, schedule_field, REALISED_STRIDE};

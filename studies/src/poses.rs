@@ -113,7 +113,7 @@ fn table(md: &mut String, a: &PoseAnalysis, played: Option<&PlayedBasins>) {
 }
 
 /// The lifted equilibria `eqs` of `part` refined on the averaged field of `sm` (the period map of the
-/// played schedule, `pose::refine`): a table.
+/// played schedule, `pose::played_rests`): a table.
 fn averaged_table(
     md: &mut String,
     part: &Part,
@@ -122,15 +122,15 @@ fn averaged_table(
     eqs: &[platefield::pose::Equilibrium],
     region: &Region,
 ) {
-    use platefield::pose::{refine, AveragedField, Refined};
+    use platefield::pose::{played_rests, AveragedField, RestOutcome};
     let averaged = AveragedField::for_part(part, sm.clone(), settings.physics());
-    let refined = refine(&averaged, eqs, region, &|| {});
-    md.push_str("Refined on the averaged field (the part played period after period from the pose, joins included: its zeros are the played rests; `pose::refine`, Newton from each lifted equilibrium):\n\n| from θ (lifted, °) | x (mm) | y (mm) | θ (°) | stable | moved (mm) | turned (°) | Newton steps |\n|---|---|---|---|---|---|---|---|\n");
+    let refined = played_rests(&averaged, eqs, region, &|| {});
+    md.push_str("Refined on the averaged field (the part played period after period from the pose, joins included: its zeros are the played rests; `pose::played_rests`, Newton from each lifted equilibrium):\n\n| from θ (lifted, °) | x (mm) | y (mm) | θ (°) | stable | moved (mm) | turned (°) | Newton steps |\n|---|---|---|---|---|---|---|---|\n");
     for r in &refined {
         let from = r.from.pose;
         let row = match (r.outcome, r.moved()) {
             (
-                Refined::Found {
+                RestOutcome::Found {
                     equilibrium: e,
                     steps,
                 },
@@ -360,7 +360,7 @@ pub fn run(out: &Path, play_drops: usize) -> Result<String> {
          point) and each end classified by its nearest stable pose. Each lifted equilibrium is \
          then refined on the averaged field (`pose::AveragedField`: the part played period after \
          period from the pose, every support point's stick-slip and the joins included, so its \
-         zeros are the poses a played part returns to; `pose::refine`).\n\n\
+         zeros are the poses a played part returns to; `pose::played_rests`).\n\n\
          The designed ellipses give every part two stable poses 180° apart (each with about \
          half the drops), not one; the pose targets (last section) ask for one.\n\n",
         if play_drops > 0 {

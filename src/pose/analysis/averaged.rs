@@ -40,7 +40,7 @@
 //! 0.6 %. The lifted field is the fast map the equilibrium search and the
 //! drops integrate ([`super::equilibria`]); the averaged field checks it
 //! ([`LiftCheck`]) and moves its equilibria onto the part's own
-//! ([`super::refine`]), at the cost of a few periods of the planar part
+//! ([`super::rests`]), at the cost of a few periods of the planar part
 //! per pose.
 
 use nalgebra::{Matrix3, Vector3};

@@ -20,7 +20,7 @@ use super::bounds::Bounds;
 use super::drops::{played_basins, DropPlay, PlayedBasins};
 use super::equilibria::Region;
 use super::lifted::{GridField, LiftedField, PointField, Pose};
-use super::refine::{refine, Refinement, MAX_NEWTON, MAX_REFINED};
+use super::rests::{played_rests, PlayedRest, MAX_NEWTON, MAX_RESTS};
 use super::run::{analyse_with, PoseAnalysis, MAX_DROPS};
 use super::source::schedule_field;
 use super::work::{averaged_estimate, bounds_term, drops_estimate, settle_estimate};
@@ -82,9 +82,9 @@ pub struct PoseOutcome {
     /// drop starts ([`checked_poses`]); `None` for a target (no plate
     /// motion to play).
     pub lift_check: Option<LiftCheck>,
-    /// The lifted equilibria refined on the averaged field
-    /// ([`refine`]); `None` for a target.
-    pub refined: Option<Vec<Refinement>>,
+    /// The played rests Newton found on the averaged field from the lifted equilibria
+    /// ([`played_rests`]); `None` for a target.
+    pub played_rests: Option<Vec<PlayedRest>>,
     /// Why the averaged field's check and refinement did not run (their
     /// work estimate is over the limit without `--allow-long`).
     pub averaged_skipped: Option<String>,
@@ -362,17 +362,17 @@ pub fn poses(req: &AnalysisRequest) -> Result<PoseOutcome> {
         let averaged = AveragedField::for_part(&part, sm, physics);
         let lifted = LiftedField::new(field.as_ref(), &part.body);
         let check = LiftCheck::run(&lifted, &averaged, &checked_poses(&analysis));
-        let refined = refine_announced(&averaged, &analysis, mode);
-        Some((check, refined))
+        let rests = rests_announced(&averaged, &analysis, mode);
+        Some((check, rests))
     });
-    let (lift_check, refined) = averaged.unzip();
+    let (lift_check, played_rests) = averaged.unzip();
     Ok(PoseOutcome {
         part,
         analysis,
         played,
         bounds,
         lift_check,
-        refined,
+        played_rests,
         averaged_skipped,
         over_friction,
     })
@@ -399,25 +399,25 @@ fn settled(
     analysis
 }
 
-/// The lifted equilibria refined on `averaged`, with a progress line per
+/// The played rests on `averaged` from the lifted equilibria, with a progress line per
 /// equilibrium on stderr.
-fn refine_announced(
+fn rests_announced(
     averaged: &AveragedField,
     analysis: &PoseAnalysis,
     mode: crate::progress::ProgressMode,
-) -> Vec<Refinement> {
-    let n = analysis.equilibria.len().min(MAX_REFINED);
+) -> Vec<PlayedRest> {
+    let n = analysis.equilibria.len().min(MAX_RESTS);
     let progress = Progress::new(
-        "poses: equilibria refined on the averaged field",
+        "poses: played rests from the lifted equilibria",
         &format!("equilibria (each at most {MAX_NEWTON} Newton steps of 7 averaged twists)"),
         n as u64,
         mode,
     );
-    let refined = refine(averaged, &analysis.equilibria, &analysis.region, &|| {
+    let rests = played_rests(averaged, &analysis.equilibria, &analysis.region, &|| {
         progress.inc(1)
     });
     progress.finish();
-    refined
+    rests
 }
 
 /// `drops` in 1..=[`MAX_DROPS`] and `play` in (0, [`MAX_PLAY_S`]] s.

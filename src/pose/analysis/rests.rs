@@ -3,7 +3,7 @@
 //! The lifted field finds every equilibrium cheaply ([`super::equilibria`])
 //! but its spin rates, and so where a spin balances a drift, are only as
 //! good as the point field's average (the averaged field's module docs).
-//! Each lifted equilibrium q₀ (at most [`MAX_REFINED`], stable ones
+//! Each lifted equilibrium q₀ (at most [`MAX_RESTS`], stable ones
 //! first) starts Newton's iteration on the averaged field ξ̄(q) = 0:
 //!
 //! ```text
@@ -19,8 +19,8 @@
 //! equilibrium attracts (ω(θ) can fold between the lifted pose and the
 //! part's own, where Newton alone oscillates: the rectangle on the
 //! designed ellipse turned by 30°, whose averaged rest is 15° from the
-//! lifted one). It stops when a step is below [`STOP`] of the radius
-//! and [`STOP`] rad: the averaged twist's own precision
+//! lifted one). It stops when a step is below [`NEWTON_STOP`] of the radius
+//! and [`NEWTON_STOP`] rad: the averaged twist's own precision
 //! ([`crate::pose::AVERAGING_TOLERANCE`]) bounds what Newton resolves. The
 //! stability is that of J at the last iterate (the eigenvalues' real
 //! parts, [`Equilibrium::of_jacobian`]).
@@ -32,16 +32,16 @@ use super::equilibria::{wrap, Equilibrium, Region};
 use super::lifted::{Pose, Twist};
 use crate::dynamics::ContactLoss;
 
-/// Most lifted equilibria refined.
-pub const MAX_REFINED: usize = 8;
+/// Most lifted equilibria searched for their played rests.
+pub const MAX_RESTS: usize = 8;
 /// Most Newton steps per equilibrium.
 pub const MAX_NEWTON: usize = 12;
 /// Smallest step that continues (relative to the radius, and in rad).
-pub const STOP: f64 = 1e-3;
+pub const NEWTON_STOP: f64 = 1e-3;
 
 /// Where Newton on the averaged field went from one lifted equilibrium.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Refined {
+pub enum RestOutcome {
     /// It converged: the averaged field's equilibrium after `steps` steps.
     Found {
         /// The equilibrium and its stability.
@@ -51,22 +51,22 @@ pub enum Refined {
     },
     /// An iterate left the region.
     Left(Pose),
-    /// No step below [`STOP`] in [`MAX_NEWTON`] steps (the last iterate).
+    /// No step below [`NEWTON_STOP`] in [`MAX_NEWTON`] steps (the last iterate).
     Unconverged(Pose),
     /// A support point loses contact at an iterate.
     Lost(ContactLoss),
 }
 
-/// One lifted equilibrium and where it refined to.
+/// One lifted equilibrium and the played rest Newton found from it.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Refinement {
+pub struct PlayedRest {
     /// The lifted field's equilibrium Newton started from.
     pub from: Equilibrium,
     /// The outcome.
-    pub outcome: Refined,
+    pub outcome: RestOutcome,
 }
 
-impl Refined {
+impl RestOutcome {
     /// Why no equilibrium was found, in words (`None` when one was).
     pub fn failure(&self) -> Option<String> {
         let at = |p: &Pose| {
@@ -78,10 +78,10 @@ impl Refined {
             )
         };
         match self {
-            Refined::Found { .. } => None,
-            Refined::Left(p) => Some(format!("left the region at {}", at(p))),
-            Refined::Unconverged(p) => Some(format!("no convergence (last at {})", at(p))),
-            Refined::Lost(c) => Some(format!(
+            RestOutcome::Found { .. } => None,
+            RestOutcome::Left(p) => Some(format!("left the region at {}", at(p))),
+            RestOutcome::Unconverged(p) => Some(format!("no convergence (last at {})", at(p))),
+            RestOutcome::Lost(c) => Some(format!(
                 "a support point loses contact at ({:+.4}, {:+.4}) m",
                 c.position[0], c.position[1]
             )),
@@ -89,13 +89,13 @@ impl Refined {
     }
 }
 
-impl Refinement {
+impl PlayedRest {
     /// How far the averaged field's equilibrium lies from the lifted one
     /// it started from: distance (m) and turn (rad, wrapped); `None` when
     /// none was found.
     pub fn moved(&self) -> Option<(f64, f64)> {
         match self.outcome {
-            Refined::Found { equilibrium: e, .. } => Some((
+            RestOutcome::Found { equilibrium: e, .. } => Some((
                 (e.pose.r - self.from.pose.r).norm(),
                 wrap(e.pose.theta - self.from.pose.theta),
             )),
@@ -104,35 +104,35 @@ impl Refinement {
     }
 }
 
-/// Refines the lifted equilibria `lifted` (stable first, at most
-/// [`MAX_REFINED`]) on `averaged` within `region`, in parallel (the same
+/// The played rests of the lifted equilibria `lifted` (stable first, at most
+/// [`MAX_RESTS`]) on `averaged` within `region`, in parallel (the same
 /// result on any number of threads); `done` is called after each.
-pub fn refine(
+pub fn played_rests(
     averaged: &AveragedField,
     lifted: &[Equilibrium],
     region: &Region,
     done: &(dyn Fn() + Sync),
-) -> Vec<Refinement> {
+) -> Vec<PlayedRest> {
     use rayon::prelude::*;
     let mut starts: Vec<Equilibrium> = lifted.iter().filter(|e| e.stable).copied().collect();
     starts.extend(lifted.iter().filter(|e| !e.stable));
-    starts.truncate(MAX_REFINED);
+    starts.truncate(MAX_RESTS);
     starts
         .par_iter()
         .map(|e| {
             let outcome = newton(averaged, e.pose, region);
             done();
-            Refinement { from: *e, outcome }
+            PlayedRest { from: *e, outcome }
         })
         .collect()
 }
 
 /// Newton on the averaged field from `start`, guarded by the flow
 /// (module docs).
-fn newton(averaged: &AveragedField, start: Pose, region: &Region) -> Refined {
+fn newton(averaged: &AveragedField, start: Pose, region: &Region) -> RestOutcome {
     match newton_or_flow(averaged, start, region) {
         Ok(r) => r,
-        Err(loss) => Refined::Lost(loss),
+        Err(loss) => RestOutcome::Lost(loss),
     }
 }
 
@@ -141,7 +141,7 @@ fn newton_or_flow(
     averaged: &AveragedField,
     start: Pose,
     region: &Region,
-) -> Result<Refined, ContactLoss> {
+) -> Result<RestOutcome, ContactLoss> {
     let radius = averaged.radius();
     let merit = |t: &Twist| t.v.norm_squared() + (t.omega * radius).powi(2);
     let mut q = start;
@@ -150,7 +150,7 @@ fn newton_or_flow(
     for k in 0..MAX_NEWTON {
         let j = averaged.jacobian(q, Some(warm))?;
         let Some(newton) = newton_step(&j, &xi, radius) else {
-            return Ok(Refined::Unconverged(q));
+            return Ok(RestOutcome::Unconverged(q));
         };
         let (mut dq, (mut next, mut slip)) =
             (newton, averaged.twist_from(moved(q, &newton), Some(warm))?);
@@ -163,17 +163,17 @@ fn newton_or_flow(
         q = moved(q, &dq);
         (xi, warm) = (next.twist, slip);
         if !region.contains(&q.r) {
-            return Ok(Refined::Left(q));
+            return Ok(RestOutcome::Left(q));
         }
-        if dq.fixed_rows::<2>(0).norm() < STOP * radius && dq.z.abs() < STOP {
+        if dq.fixed_rows::<2>(0).norm() < NEWTON_STOP * radius && dq.z.abs() < NEWTON_STOP {
             let pose = Pose::new(q.r.x, q.r.y, wrap(q.theta));
-            return Ok(Refined::Found {
+            return Ok(RestOutcome::Found {
                 equilibrium: Equilibrium::of_jacobian(pose, &j),
                 steps: k + 1,
             });
         }
     }
-    Ok(Refined::Unconverged(q))
+    Ok(RestOutcome::Unconverged(q))
 }
 
 /// `q` moved by `dq` = (Δx, Δy, Δθ).

@@ -10,7 +10,7 @@ use super::averaged::CHECKED_POSES;
 use super::continua::MAX_STEPS;
 use super::drops::{rest_cycle, DropPlay};
 use super::equilibria::{Region, SETTLE_STEP, SETTLE_STEPS, START_POSES};
-use super::refine::MAX_REFINED;
+use super::rests::MAX_RESTS;
 use crate::part::Part;
 use crate::play::ScheduleMotion;
 use crate::work::{Estimate, Term, PLANAR_POINT_STEP_COST};
@@ -161,14 +161,14 @@ const PERIODS_WARM: f64 = 2.5;
 const NEWTON_STEPS: f64 = 6.0;
 
 /// The work of the `poses` averaged-field check ([`crate::pose::LiftCheck`] at
-/// [`CHECKED_POSES`] poses from rest) and refinement ([`super::refine`]:
+/// [`CHECKED_POSES`] poses from rest) and refinement ([`super::rests`]:
 /// 7 warm-started averaged twists per Newton step) of `equilibria`
 /// lifted equilibria of `part` on `sm`, played as
 /// [`crate::pose::AveragedField::for_part`] plays.
 pub fn averaged_estimate(part: &Part, sm: &ScheduleMotion, equilibria: usize) -> Estimate {
     // The drops' resampling (`DropPlay::new`'s samples), as `for_part` plays.
     let play = DropPlay::new(&crate::field::FieldSettings::default(), 0.0);
-    let refined = equilibria.min(MAX_REFINED) as f64;
+    let refined = equilibria.min(MAX_RESTS) as f64;
     let per_period = steps_per_period(sm, super::averaged::AVERAGING_STEPS)
         * played_points(part, &play) as f64
         * PLANAR_POINT_STEP_COST;
@@ -184,7 +184,7 @@ pub fn averaged_estimate(part: &Part, sm: &ScheduleMotion, equilibria: usize) ->
             .times(per_period, "point steps per period"),
     )
     .plus(
-        Term::new("refinement")
+        Term::new("played rests")
             .times(refined, "equilibria")
             .times(NEWTON_STEPS * 7.0, "twists")
             .times(PERIODS_WARM, "periods")
