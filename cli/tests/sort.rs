@@ -459,3 +459,84 @@ fn lanes_family() {
         }
     }
 }
+
+/// The goals met by the shipped sorts: per result folder, the
+/// share of every class that must be at its own attractor (or out through
+/// its own edge) and the time (s) by which it must be. `sort_three`'s
+/// goal, 90 % by 60 s, is not met ([`THREE_MEASURED_S`]).
+const GOALS: [(&str, f64, f64); 2] = [("sort_friction", 0.95, 30.0), ("sort_lanes", 0.95, 20.0)];
+
+/// `results/sort_three/sort.json`'s time to sort (s): its μ 0.15 parts
+/// settle on an orbit whose segment ends span 12 mm, so they are within
+/// 5 mm of their sink at the period's end only, and the time read is the
+/// play's end (the goal, 90 % by 60 s, is not met).
+const THREE_MEASURED_S: f64 = 90.3;
+
+/// The shipped sorts meet their goals as `results/sort_*/sort.json`
+/// records them: the kept candidate's every class sorted (95 %) within the
+/// goal's time (a class with 95 % by then has the goal's share), at most
+/// 2 % mixed up (or through another edge), none lost.
+#[test]
+fn shipped_sorts_meet_their_goals() {
+    for (name, _, limit) in GOALS {
+        let path = format!("{}/../results/{name}/sort.json", env!("CARGO_MANIFEST_DIR"));
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+        let kept = json["kept"].as_str().unwrap();
+        let c = json["candidates"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|c| c["play"]["method"] == kept)
+            .unwrap();
+        for p in c["play"]["classes"].as_array().unwrap() {
+            let t = p["time_to_sort_s"].as_f64();
+            assert!(t.is_some_and(|t| t <= limit), "{name}: {p}");
+            assert!(p["mixed_up"].as_f64().unwrap() <= 0.02, "{name}: {p}");
+            assert_eq!(p["contact_lost"], 0, "{name}: {p}");
+        }
+    }
+    let path = format!(
+        "{}/../results/sort_three/sort.json",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    let t = json["time_to_sort_s"].as_f64().unwrap();
+    assert!((t - THREE_MEASURED_S).abs() <= 0.1, "sort_three: {t}");
+}
+
+/// The shipped sorts' schedules verified as `platefield verify --replay`
+/// does: every class's swarm played by the schedule and by its export's
+/// held samples replayed, each meeting its goal (the goal's share within
+/// its time), at most 2 % mixed up, none lost. Long (minutes of CPU):
+/// `cargo test --release -p platefield-cli --test sort -- --ignored goals_replayed`.
+#[test]
+#[ignore = "minutes of CPU: cargo test --release -p platefield-cli --test sort -- --ignored goals_replayed"]
+fn shipped_sort_goals_replayed() {
+    use platefield::verify::sort_play::{verify_periods, verify_sort};
+    for (name, share, limit) in GOALS {
+        let path = format!(
+            "{}/../results/{name}/schedule.json",
+            env!("CARGO_MANIFEST_DIR")
+        );
+        let s = platefield::schedule::Schedule::load(Path::new(&path)).unwrap();
+        let file = platefield::design::replay::exported(&s).unwrap();
+        let v = verify_sort(
+            &s,
+            Some((&file, "export")),
+            verify_periods(&s, None).unwrap(),
+            &platefield::work::Runtime::QUIET,
+        )
+        .unwrap()
+        .unwrap();
+        let replayed = &v.replayed.as_ref().unwrap().1;
+        for c in v.played.iter().chain(replayed) {
+            let t = c.time_to(share);
+            println!("{name} {}: {:.0} % by {t:?} s", c.name, 100.0 * share);
+            assert!(t.is_some_and(|t| t <= limit), "{name}: {c:?}");
+            assert!(c.mixed_up <= 0.02, "{name}: {c:?}");
+            assert_eq!(c.contact_lost, 0, "{name}: {c:?}");
+        }
+    }
+}

@@ -150,6 +150,27 @@ impl MirrorLine {
         -s * self.point[0] + c * self.point[1]
     }
 
+    /// Whether `target`'s field is symmetric in this line at its sampled
+    /// `(point, vector)` pairs: the field at each reflected point is the
+    /// reflected vector, within [`SYMMETRY_TOL`] of `scale`.
+    fn is_symmetry(&self, target: &Target, samples: &[([f64; 2], [f64; 2])], scale: f64) -> bool {
+        samples.iter().all(|(p, t)| {
+            let m = target.field.eval(self.reflect_point(*p));
+            let r = self.reflect_vector(*t);
+            (m[0] - r[0]).hypot(m[1] - r[1]) <= SYMMETRY_TOL * scale
+        })
+    }
+
+    /// Whether `target`'s field is symmetric in this line over its
+    /// `sampled` points of positive weight ([`mirror_axis`]'s test).
+    pub fn is_symmetry_of(&self, target: &Target, sampled: &SampledTarget) -> bool {
+        self.is_symmetry(
+            target,
+            &weighted(sampled),
+            sampled.max_norm().max(f64::MIN_POSITIVE),
+        )
+    }
+
     /// The vector `v` reflected (the reflection's linear part M).
     fn reflect_vector(&self, v: [f64; 2]) -> [f64; 2] {
         let (s, c) = (2.0 * self.angle_deg.to_radians()).sin_cos();
@@ -199,6 +220,18 @@ fn asymmetry(t: Eval, points: &[([f64; 2], [f64; 2])], line: &MirrorLine) -> f64
         .sum()
 }
 
+/// The `(point, vector)` pairs of `sampled` whose weight is positive.
+fn weighted(sampled: &SampledTarget) -> Vec<([f64; 2], [f64; 2])> {
+    sampled
+        .points
+        .iter()
+        .zip(&sampled.vectors)
+        .zip(&sampled.weights)
+        .filter(|&(_, &w)| w > 0.0)
+        .map(|((p, t), _)| (*p, *t))
+        .collect()
+}
+
 /// A line in whose vertical plane the target is symmetric at every sample
 /// point of positive weight: t(Sp) = M t(p) within 1e-9 of its largest
 /// vector, S the reflection, M its linear part; `None` when there is none
@@ -245,21 +278,8 @@ fn asymmetry(t: Eval, points: &[([f64; 2], [f64; 2])], line: &MirrorLine) -> f64
 /// ```
 pub fn mirror_axis(target: &Target, sampled: &SampledTarget) -> Option<MirrorLine> {
     let scale = sampled.max_norm().max(f64::MIN_POSITIVE);
-    let all: Vec<([f64; 2], [f64; 2])> = sampled
-        .points
-        .iter()
-        .zip(&sampled.vectors)
-        .zip(&sampled.weights)
-        .filter(|&(_, &w)| w > 0.0)
-        .map(|((p, t), _)| (*p, *t))
-        .collect();
-    let symmetric = |line: &MirrorLine| {
-        all.iter().all(|(p, t)| {
-            let m = target.field.eval(line.reflect_point(*p));
-            let r = line.reflect_vector(*t);
-            (m[0] - r[0]).hypot(m[1] - r[1]) <= SYMMETRY_TOL * scale
-        })
-    };
+    let all = weighted(sampled);
+    let symmetric = |line: &MirrorLine| line.is_symmetry(target, &all, scale);
     let passing = |line: MirrorLine| {
         let snapped = MirrorLine::at(
             (line.angle_deg * 1e6).round() / 1e6,

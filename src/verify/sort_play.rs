@@ -42,6 +42,7 @@ use serde::Serialize;
 use super::swarm::{run_swarm, SwarmOptions};
 use crate::design::judge::realised_check;
 use crate::design::replay::judge_replay;
+use crate::design::sort::swarm::{first_exit, swarm_starts, time_to_share};
 use crate::design::sort::SortDesign;
 use crate::error::Result;
 use crate::field::FieldSettings;
@@ -55,8 +56,6 @@ use crate::work::{Estimate, Runtime, Term};
 
 /// Distance (m) to an attractor within which a part counts as there: 5 mm.
 pub const SORT_TOL: f64 = 5e-3;
-/// Swarm start points per axis (over the target grid's box).
-pub(crate) const SORT_STARTS: [usize; 2] = [9, 5];
 /// Most schedule periods a swarm is played.
 pub(crate) const MAX_SORT_PERIODS: u32 = 40;
 /// Share of a class that must be at its own attractor for it to be sorted.
@@ -140,17 +139,7 @@ fn lane_exits(
     let mut own = Vec::new();
     let mut other = 0;
     for p in parts {
-        let mut t = 0.0;
-        let mut found = None;
-        for (k, w) in p.path.windows(2).enumerate() {
-            let dt = durations[k % durations.len()];
-            if let Some((e, s)) = Edge::crossing(w[0], w[1], g.x, g.y) {
-                found = Some((e, t + s * dt));
-                break;
-            }
-            t += dt;
-        }
-        match found {
+        match first_exit(&p.path, &durations, g.x, g.y) {
             Some((e, t)) if e == edge => own.push(Some(t)),
             Some(_) => {
                 other += 1;
@@ -200,16 +189,6 @@ impl ClassPlay {
     pub fn time_to(&self, share: f64) -> Option<f64> {
         time_to_share(&self.arrivals, share)
     }
-}
-
-/// The time by which `share` of the parts whose convergence times are
-/// `arrivals` have converged: the ⌈share·n⌉-th smallest; `None` when fewer
-/// converge.
-fn time_to_share(arrivals: &[Option<f64>], share: f64) -> Option<f64> {
-    let mut t: Vec<f64> = arrivals.iter().flatten().copied().collect();
-    t.sort_by(f64::total_cmp);
-    let k = ((share * arrivals.len() as f64) - 1e-9).ceil().max(1.0) as usize;
-    t.get(k - 1).copied()
 }
 
 /// One sort candidate played.
@@ -698,37 +677,6 @@ fn arrivals(
         .count() as f64
         / n;
     (at_own, mixed_up)
-}
-
-/// [`SORT_STARTS`] points over the box of the target's grid (for lanes,
-/// at its cells' centres).
-fn swarm_starts(target: &Target) -> Vec<[f64; 2]> {
-    let g = target
-        .grid
-        .as_ref()
-        .expect("a classes target has a grid (validated)");
-    let axis = |r: [f64; 2], n: usize| -> Vec<f64> {
-        (0..n)
-            .map(|i| r[0] + (r[1] - r[0]) * i as f64 / (n - 1) as f64)
-            .collect()
-    };
-    // A lane's parts start strictly inside the region (at the centres of
-    // SORT_STARTS cells per axis): one started on an edge would count as
-    // leaving through it at its first move outward.
-    let lanes = target.classes.iter().any(|c| c.exit.is_some());
-    let inside = |r: [f64; 2], n: usize| -> Vec<f64> {
-        (0..n)
-            .map(|i| r[0] + (r[1] - r[0]) * (i as f64 + 0.5) / n as f64)
-            .collect()
-    };
-    let (xs, ys) = if lanes {
-        (inside(g.x, SORT_STARTS[0]), inside(g.y, SORT_STARTS[1]))
-    } else {
-        (axis(g.x, SORT_STARTS[0]), axis(g.y, SORT_STARTS[1]))
-    };
-    ys.iter()
-        .flat_map(|&y| xs.iter().map(move |&x| [x, y]))
-        .collect()
 }
 
 /// Whole periods of `sm` that play at least [`MIN_SORT_PLAY_S`] +

@@ -3,7 +3,7 @@
 //! the parts played under its schedule do what the class asks.
 
 use super::interleave::{class_excursion, interleaved, sub_periods};
-use super::{fit_stack, SortDesign, SortMethod, Stack};
+use super::{fit_stack, swarm, SortDesign, SortMethod, Stack};
 use crate::error::Result;
 use crate::play::{PlayOptions, ScheduleMotion, V2};
 use crate::request::{Edge, Target};
@@ -20,6 +20,12 @@ pub(super) const AIM_SPREAD: f64 = 3e-3;
 /// Time (s) a lane's aiming parts are played (whole schedule periods): at
 /// a few mm/s they cross a few centimetres, and the drift is a mean.
 pub const LANE_PLAY_S: f64 = 10.0;
+/// Time (s) every refit of an aimed candidate is played by the design's
+/// swarms to rank it ([`played_sort`]): the goals (lanes out by
+/// 20 s, two sinks by 30 s) and 10 s more to see the classes stay sorted,
+/// shorter than the candidates' final plays (at least 90 s,
+/// `crate::verify::sort_play::MIN_SORT_PLAY_S` and `SORT_HOLD_S`).
+pub const AIM_SWARM_S: f64 = 40.0;
 /// A lane's steering stops once every lane's correction (the complex
 /// ratio of the drift asked for to the drift played, normalised) is
 /// within this of 1: about 1° of turn and 2 % of speed.
@@ -71,13 +77,17 @@ fn quotient(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
     ]
 }
 
-/// How a refit ranks while it is aimed, the least first: per lane, the
+/// How a refit ranks while it is aimed, the least first: for lanes, its
+/// played time to sort ([`played_sort`]), then the higher least share at
+/// the own attractor less the share mixed up; then, per lane, the
 /// time its drift predicts for [`LANE_SHARE`] of its parts to leave
 /// through its own edge, and the share it predicts through the side
 /// edges ([`lane_outlook`]), the worst lane's; then the worst sink's
 /// settled offset (m).
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Rank {
+    played: f64,
+    share: f64,
     lane_time: f64,
     lane_other: f64,
     offset: f64,
@@ -85,8 +95,10 @@ struct Rank {
 
 impl Rank {
     fn better(&self, other: &Rank) -> bool {
-        self.lane_time
-            .total_cmp(&other.lane_time)
+        self.played
+            .total_cmp(&other.played)
+            .then(other.share.total_cmp(&self.share))
+            .then(self.lane_time.total_cmp(&other.lane_time))
             .then(self.lane_other.total_cmp(&other.lane_other))
             .then(self.offset.total_cmp(&other.offset))
             .is_lt()
@@ -129,7 +141,14 @@ pub(super) fn aimed(target: &Target, stack: &Stack, budget: Option<f64>) -> Resu
             .zip(&drifts)
             .filter_map(|(c, v)| Some(lane_outlook(target, c.exit?, (*v)?)))
             .collect();
+        let (played, share) = if lanes {
+            played_sort(target, &d)?
+        } else {
+            (0.0, 0.0)
+        };
         let rank = Rank {
+            played,
+            share,
             lane_time: outlooks.iter().map(|o| o.0).fold(0.0, f64::max),
             lane_other: outlooks.iter().map(|o| o.1).fold(0.0, f64::max),
             offset: offsets
@@ -167,6 +186,56 @@ pub(super) fn aimed(target: &Target, stack: &Stack, budget: Option<f64>) -> Resu
         }
     }
     Ok(best.map(|b| b.1).unwrap_or(d))
+}
+
+/// The lanes of `d` played as the design plays them
+/// (`crate::verify::sort_play`: every lane class's swarm, [`swarm`]'s
+/// starts, at its own friction) for [`AIM_SWARM_S`] (whole periods): the
+/// time (s) by which [`LANE_SHARE`] of every lane class has left through
+/// its own edge (infinite when a class has not within the play), and the
+/// least over the lane classes of the share out through its own edge less
+/// the share out through another.
+fn played_sort(target: &Target, d: &SortDesign) -> Result<(f64, f64)> {
+    use rayon::prelude::*;
+    let sm = ScheduleMotion::from_schedule(&d.schedule)?;
+    let periods = ((AIM_SWARM_S / d.schedule.period_s).ceil() as u32).max(1);
+    let g = target
+        .grid
+        .as_ref()
+        .expect("a classes target has a grid (validated)");
+    let starts = swarm::swarm_starts(target);
+    let durations: Vec<f64> = sm.segments().iter().map(|s| s.duration).collect();
+    let n = starts.len().max(1) as f64;
+    let (mut time, mut share) = (0.0_f64, f64::INFINITY);
+    for (i, class) in target.classes.iter().enumerate() {
+        let Some(edge) = class.exit else {
+            continue;
+        };
+        let v = PlayOptions::from_settings(&target.class_target(i).physics(&d.schedule.settings));
+        let exits: Vec<Option<(Edge, f64)>> = starts
+            .par_iter()
+            .map(|p| {
+                let player = v.moving_player(&sm);
+                let anchor = V2::from(*p);
+                let mut state = crate::dynamics::PartState::new(anchor, V2::zeros());
+                let mut path = Vec::new();
+                // A part that loses contact counts by where it went first.
+                let _ = player.play_periods(&mut state, &anchor, 0, periods, |_, _, s| {
+                    path.push([s.r.x, s.r.y]);
+                });
+                swarm::first_exit(&path, &durations, g.x, g.y)
+            })
+            .collect();
+        let own: Vec<Option<f64>> = exits
+            .iter()
+            .map(|e| e.filter(|e| e.0 == edge).map(|e| e.1))
+            .collect();
+        let other = exits.iter().flatten().filter(|e| e.0 != edge).count();
+        let out = own.iter().flatten().count();
+        time = time.max(swarm::time_to_share(&own, LANE_SHARE).unwrap_or(f64::INFINITY));
+        share = share.min((out as f64 - other as f64) / n);
+    }
+    Ok((time, share))
 }
 
 /// `d` with its schedule cut into the sub-periods its parts' excursion
