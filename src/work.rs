@@ -99,7 +99,7 @@ impl Runtime {
     /// the limit unless `allow_long`, then stated on stderr unless `quiet`
     /// when it is long enough.
     pub(crate) fn admit(&self, estimate: &Estimate) -> Result<()> {
-        estimate.admit(self.allow_long, self.quiet)
+        estimate.admit(self.allow_long, self.progress())
     }
 
     /// [`Estimate::check`] of `estimate` under this long-run guard, then
@@ -119,7 +119,7 @@ impl Runtime {
     /// ```
     pub fn admit_stated(&self, estimate: &Estimate) -> Result<crate::progress::ProgressMode> {
         estimate.check(self.allow_long)?;
-        estimate.announce(false);
+        estimate.announce(crate::progress::ProgressMode::Auto);
         let long = estimate.announcement(threads()).is_some();
         Ok(crate::progress::ProgressMode::quiet_if(self.quiet && !long))
     }
@@ -299,19 +299,25 @@ impl Estimate {
         (s.is_nan() || s > ANNOUNCE_S).then(|| self.describe(threads))
     }
 
-    /// [`Estimate::check`], then the [`Estimate::announcement`] on stderr
-    /// unless `quiet`: what a command calls before long work.
-    pub(crate) fn admit(&self, allow_long: bool, quiet: bool) -> Result<()> {
+    /// [`Estimate::check`], then the [`Estimate::announcement`] unless
+    /// `progress` is quiet: what a command calls before long work.
+    pub(crate) fn admit(
+        &self,
+        allow_long: bool,
+        progress: crate::progress::ProgressMode,
+    ) -> Result<()> {
         self.check(allow_long)?;
-        self.announce(quiet);
+        self.announce(progress);
         Ok(())
     }
 
-    /// Prints the [`Estimate::announcement`] on stderr, if any, unless
-    /// `quiet`.
-    pub fn announce(&self, quiet: bool) {
+    /// Gives the [`Estimate::announcement`], if any, to the progress
+    /// observer ([`crate::progress::say`]) unless `progress` is quiet.
+    pub fn announce(&self, progress: crate::progress::ProgressMode) {
         match self.announcement(threads()) {
-            Some(line) if !quiet => crate::progress::say(&line),
+            Some(line) if progress != crate::progress::ProgressMode::Quiet => {
+                crate::progress::say(&line)
+            }
             _ => {}
         }
     }

@@ -276,10 +276,10 @@ proptest! {
             }
             Ok(scene) => {
                 prop_assert!(harmonic as usize * 8 <= steps && steps >= 16);
-                let field = scene.compute(true).unwrap();
+                let field = scene.compute(platefield::progress::ProgressMode::Quiet).unwrap();
                 let reference = Scene::from_json_str(&harmonic_scene(harmonic, 4096))
                     .unwrap()
-                    .compute(true)
+                    .compute(platefield::progress::ProgressMode::Quiet)
                     .unwrap();
                 let error = relative_error(&field.vectors, &reference.vectors);
                 prop_assert!(error < 0.03, "harmonic {} at {} steps: {:.3e}", harmonic, steps, error);

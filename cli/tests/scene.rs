@@ -62,7 +62,7 @@ fn every_example_scene_parses_and_computes() {
         assert_eq!(back, scene, "{name}");
         let start = std::time::Instant::now();
         let field = scene
-            .compute(true)
+            .compute(platefield::progress::ProgressMode::Quiet)
             .unwrap_or_else(|e| panic!("{name}: {e}"));
         let seconds = start.elapsed().as_secs_f64();
         assert_eq!(field.valid_count(), scene.grid.len(), "{name}");
@@ -77,7 +77,9 @@ fn every_example_scene_parses_and_computes() {
 /// |x|α ≤ g), to the 1e-9 that `tests/linesink.rs` holds.
 #[test]
 fn example_fields_have_their_shapes() {
-    let sink = load("linesink.json").compute(true).unwrap();
+    let sink = load("linesink.json")
+        .compute(platefield::progress::ProgressMode::Quiet)
+        .unwrap();
     let xs = sink.grid.xs();
     let nx = xs.len();
     for (k, v) in sink.vectors.iter().enumerate() {
@@ -91,7 +93,9 @@ fn example_fields_have_their_shapes() {
         }
     }
 
-    let trans = load("trans_signals.json").compute(true).unwrap();
+    let trans = load("trans_signals.json")
+        .compute(platefield::progress::ProgressMode::Quiet)
+        .unwrap();
     let f0 = trans.vectors[0];
     assert!(f0[0].abs() > 0.01 && f0[1].abs() < 1e-12, "{f0:?}");
     for v in &trans.vectors {
@@ -100,7 +104,9 @@ fn example_fields_have_their_shapes() {
     }
 
     let square = load("sine_square_linesink.json");
-    let field = square.compute(true).unwrap();
+    let field = square
+        .compute(platefield::progress::ProgressMode::Quiet)
+        .unwrap();
     let ls = LineSink {
         wave: Wave::Square,
         accel: 180.0,
@@ -139,8 +145,12 @@ fn linesink_signals_is_linesink() {
     let mut screw = load("linesink.json");
     let mut signals = load("linesink_signals.json");
     let (d, scale) = difference(
-        &screw.compute(true).unwrap(),
-        &signals.compute(true).unwrap(),
+        &screw
+            .compute(platefield::progress::ProgressMode::Quiet)
+            .unwrap(),
+        &signals
+            .compute(platefield::progress::ProgressMode::Quiet)
+            .unwrap(),
     );
     assert!(
         d <= 9.81 * 0.005f64.sin() && d > 0.1 * 9.81 * 0.005,
@@ -151,8 +161,12 @@ fn linesink_signals_is_linesink() {
     signals.model.tilt = false;
     signals.gravity = 9.81 - 0.05 * 0.005f64.powi(2) * 209f64.powi(2) / 2.0;
     let (d, scale) = difference(
-        &screw.compute(true).unwrap(),
-        &signals.compute(true).unwrap(),
+        &screw
+            .compute(platefield::progress::ProgressMode::Quiet)
+            .unwrap(),
+        &signals
+            .compute(platefield::progress::ProgressMode::Quiet)
+            .unwrap(),
     );
     assert!(d <= 1e-9 * scale, "tilt off: |ΔF| = {d} (scale {scale})");
 }
@@ -333,7 +347,13 @@ fn six_signals_reproduce_the_screw() {
         for kind in ["force", "velocity"] {
             let screw = scene_json(screw_motion(), model.clone(), kind, g);
             let sig = scene_json(signals.clone(), model.clone(), kind, g_signals);
-            let (a, b) = (screw.compute(true).unwrap(), sig.compute(true).unwrap());
+            let (a, b) = (
+                screw
+                    .compute(platefield::progress::ProgressMode::Quiet)
+                    .unwrap(),
+                sig.compute(platefield::progress::ProgressMode::Quiet)
+                    .unwrap(),
+            );
             assert!(
                 a.validity.iter().all(|v| *v == Validity::Ok),
                 "{label} {kind}"
@@ -359,7 +379,13 @@ fn six_signals_reproduce_the_screw() {
         "force",
         g - plate_frame_gravity_shift(),
     );
-    let (d, scale) = difference(&screw.compute(true).unwrap(), &sig.compute(true).unwrap());
+    let (d, scale) = difference(
+        &screw
+            .compute(platefield::progress::ProgressMode::Quiet)
+            .unwrap(),
+        &sig.compute(platefield::progress::ProgressMode::Quiet)
+            .unwrap(),
+    );
     assert!(
         d > 1e-4 * scale,
         "plate-frame reading under tilt: |Δ| = {d:e}"

@@ -284,7 +284,7 @@ impl BasisCache {
 
     /// The `kind` fields of `primitives` on `grid` with `settings`: loaded from
     /// the cache when a trustworthy file exists, else built (with a progress
-    /// bar unless `quiet`) and stored. Inputs are validated first, and the
+    /// bar as `progress` asks) and stored. Inputs are validated first, and the
     /// cache folder is created before the build so an unwritable cache
     /// fails before the work, not after it. `before_build` (e.g. a work
     /// estimate's check; `|| Ok(())`: none) is called only when the library
@@ -298,7 +298,7 @@ impl BasisCache {
         grid: &Grid,
         settings: &FieldSettings,
         kind: FieldKind,
-        quiet: bool,
+        progress: crate::progress::ProgressMode,
         before_build: impl FnOnce() -> Result<()>,
     ) -> Result<(FieldLibrary, CacheStatus)> {
         grid.validate("grid")?;
@@ -336,7 +336,7 @@ impl BasisCache {
         };
         before_build()?;
         self.check_writable()?;
-        let lib = FieldLibrary::build(primitives, grid, settings, kind, quiet);
+        let lib = FieldLibrary::build(primitives, grid, settings, kind, progress);
         self.store(&key, &lib)?;
         Ok((lib, status))
     }

@@ -56,9 +56,16 @@ impl FieldLibrary {
         grid: &Grid,
         settings: &FieldSettings,
         kind: FieldKind,
-        quiet: bool,
+        progress: ProgressMode,
     ) -> FieldLibrary {
-        Self::build_with(primitives, grid, settings, kind, StepsPlan::Uniform, quiet)
+        Self::build_with(
+            primitives,
+            grid,
+            settings,
+            kind,
+            StepsPlan::Uniform,
+            progress,
+        )
     }
 
     /// As [`FieldLibrary::build`], each field at the steps per cycle of
@@ -69,7 +76,7 @@ impl FieldLibrary {
         settings: &FieldSettings,
         kind: FieldKind,
         plan: StepsPlan,
-        quiet: bool,
+        progress: ProgressMode,
     ) -> FieldLibrary {
         let label = match kind {
             FieldKind::Force => "force library",
@@ -79,7 +86,7 @@ impl FieldLibrary {
             label,
             "samples",
             (primitives.len() * grid.len()) as u64,
-            ProgressMode::quiet_if(quiet),
+            progress,
         );
         let entries = primitives
             .iter()
@@ -125,11 +132,12 @@ impl Library {
         grid: &Grid,
         settings: &FieldSettings,
         plan: StepsPlan,
-        quiet: bool,
+        progress: ProgressMode,
     ) -> Library {
         let force =
-            FieldLibrary::build_with(primitives, grid, settings, FieldKind::Force, plan, quiet);
-        let velocity = FieldLibrary::build(primitives, grid, settings, FieldKind::Velocity, quiet);
+            FieldLibrary::build_with(primitives, grid, settings, FieldKind::Force, plan, progress);
+        let velocity =
+            FieldLibrary::build(primitives, grid, settings, FieldKind::Velocity, progress);
         let entries = force
             .entries
             .into_iter()

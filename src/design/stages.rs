@@ -69,7 +69,7 @@ pub(crate) fn basis_stage(target: &Target, opts: &DesignOptions) -> Result<Basis
                 &source,
                 &opts.settings,
                 opts.basis.kind,
-                opts.runtime.quiet,
+                opts.runtime.progress(),
                 check,
             )?;
             (lib, status)
@@ -81,7 +81,7 @@ pub(crate) fn basis_stage(target: &Target, opts: &DesignOptions) -> Result<Basis
                 &source,
                 &opts.settings,
                 opts.basis.kind,
-                opts.runtime.quiet,
+                opts.runtime.progress(),
             );
             (lib, crate::basis::CacheStatus::NoCache)
         }

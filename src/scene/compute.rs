@@ -61,25 +61,19 @@ impl SceneMotion {
 }
 
 impl Scene {
-    /// Computes the field (with a progress bar on a terminal unless
-    /// `quiet`). A scene in which the part leaves the plate at every grid
+    /// Computes the field (with its progress as `progress` asks). A scene in which the part leaves the plate at every grid
     /// point is physically invalid and an error naming the motion's
     /// amplitude parameters; so is one with no valid sample at all for
     /// any other reason (no steady state converged, e.g. with μ_k = 0),
     /// an error stating the counts by reason.
-    pub fn compute(&self, quiet: bool) -> Result<Field> {
+    pub fn compute(&self, progress: ProgressMode) -> Result<Field> {
         let motion = self.motion.to_motion();
         let settings = self.settings();
         let label = match self.kind {
             FieldKind::Force => "force field",
             FieldKind::Velocity => "velocity field",
         };
-        let progress = Progress::new(
-            label,
-            "samples",
-            self.grid.len() as u64,
-            ProgressMode::quiet_if(quiet),
-        );
+        let progress = Progress::new(label, "samples", self.grid.len() as u64, progress);
         let tick = || progress.inc(1);
         let field = Field::compute(&motion, &self.grid, self.kind, &settings, &tick);
         progress.finish();

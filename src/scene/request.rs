@@ -63,6 +63,6 @@ pub fn field(req: &FieldRequest) -> Result<Field> {
         )),
     )?;
     scene
-        .compute(req.runtime.quiet)
+        .compute(req.runtime.progress())
         .map_err(|e| e.within(req.source.display()))
 }

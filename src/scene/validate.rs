@@ -648,7 +648,10 @@ mod tests {
     #[test]
     fn contact_loss_everywhere_is_an_error() {
         let s = Scene::from_json_str(&with("0.005}", "0.4}")).unwrap();
-        let e = s.compute(true).unwrap_err().to_string();
+        let e = s
+            .compute(crate::progress::ProgressMode::Quiet)
+            .unwrap_err()
+            .to_string();
         assert!(
             e.contains("leaves the plate (N < 0) at every grid point"),
             "{e}"
@@ -656,7 +659,7 @@ mod tests {
         assert!(e.contains("scene.motion.rotation.amplitude"), "{e}");
         let mut ok = Scene::from_json_str(SCREW).unwrap();
         ok.phases = 4;
-        let f = ok.compute(true).unwrap();
+        let f = ok.compute(crate::progress::ProgressMode::Quiet).unwrap();
         assert_eq!(f.valid_count(), 10);
     }
 }

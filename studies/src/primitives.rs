@@ -184,7 +184,7 @@ pub fn run(out: &Path, n: usize, steps: usize, plan: StepsPlan, quiet: bool) -> 
         &grid,
         &settings,
         plan,
-        quiet,
+        platefield::progress::ProgressMode::quiet_if(quiet),
     );
     let elapsed = start.elapsed().as_secs_f64();
     let mut table = write_primitives(&lib, out)?;

@@ -149,7 +149,8 @@ pub fn watched<T>(
     f: impl FnOnce() -> Result<T>,
 ) -> Result<T> {
     if let Some(e) = &expected {
-        e.estimate.announce(quiet);
+        e.estimate
+            .announce(platefield::progress::ProgressMode::quiet_if(quiet));
     }
     let total = expected.map_or(0, |e| (e.steps / 1e3).ceil() as u64);
     let progress = Progress::new(name, "k steps", total, ProgressMode::quiet_if(quiet));

@@ -43,7 +43,14 @@ fn fewest_within_tolerance(keep: &dyn Fn(PrimitiveKind) -> bool) {
     assert!(!prims.is_empty());
     let force = FieldKind::Force;
     let build = |plan, steps| {
-        FieldLibrary::build_with(&prims, &Grid::DEFAULT, &at(steps), force, plan, true)
+        FieldLibrary::build_with(
+            &prims,
+            &Grid::DEFAULT,
+            &at(steps),
+            force,
+            plan,
+            platefield::progress::ProgressMode::Quiet,
+        )
     };
     let reference = build(StepsPlan::Uniform, 512);
     let calibrated = build(StepsPlan::Calibrated, 64);

@@ -450,7 +450,7 @@ impl<'a> MethodRun<'a> {
         );
         opts.runtime.check(&estimate)?;
         if method != Method::Auto {
-            estimate.announce(opts.runtime.quiet);
+            estimate.announce(opts.runtime.progress());
         }
         Ok(MethodRun {
             target,
@@ -583,7 +583,7 @@ impl<'a> MethodRun<'a> {
         let method = self.opts.method;
         if method == Method::Auto {
             self.out.estimate = self.estimate();
-            self.out.estimate.announce(self.opts.runtime.quiet);
+            self.out.estimate.announce(self.opts.runtime.progress());
         }
         if !matches!(method, Method::Synthesize | Method::Auto | Method::Mirror) {
             return Ok(());

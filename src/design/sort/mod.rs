@@ -791,7 +791,13 @@ fn append_gentle(
     let region = dbasis::sampling_grid(stage.target_grid.as_ref(), &sampled.points);
     let rad: Vec<f64> = stage.angles.iter().map(|a| a.to_radians()).collect();
     let source = symmetry::source_grid(&region, &rad, &opts.basis.shifts);
-    let lib = FieldLibrary::build(gentle, &source, &opts.settings, opts.basis.kind, true);
+    let lib = FieldLibrary::build(
+        gentle,
+        &source,
+        &opts.settings,
+        opts.basis.kind,
+        crate::progress::ProgressMode::Quiet,
+    );
     let extra = stages::assemble_library(&lib, stage, opts);
     basis.columns.extend(extra.columns);
     basis.excluded.extend(extra.excluded);

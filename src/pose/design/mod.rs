@@ -279,13 +279,13 @@ fn play_drops(
     opts: &DesignOptions,
 ) -> Result<crate::schedule::PosePlayed> {
     let sm = ScheduleMotion::from_schedule(schedule)?;
-    let quiet = opts.runtime.quiet;
+    let progress = opts.runtime.progress();
     let duration = play::drop_seconds(rate, sm.period());
     let settings = &schedule.settings;
     let (played, ends) = watched(
         "pose drops",
         (req, &sm, settings, drops, duration),
-        quiet,
+        progress,
         || play::play_ends(req, &sm, settings, (analysis, label, rate), drops),
     );
     let Some(range) = crate::design::stacked::ranged(&req.target) else {
@@ -299,7 +299,7 @@ fn play_drops(
         drops * (friction::PER_RANGE - 1),
         duration,
     );
-    watched("pose drops over friction", replays, quiet, || {
+    watched("pose drops over friction", replays, progress, || {
         let own = Some((ends.as_slice(), analysis));
         friction::over_range_after(req, schedule, (played, own), rate, Some(range))
     })
@@ -308,8 +308,8 @@ fn play_drops(
 /// Runs `f`, which plays `drops` drops of `duration_s` seconds each of
 /// the pose target's part through `sm` (the `plays`), with its progress on
 /// stderr in thousands of counted planar steps (the total from
-/// [`drops_estimate`]) unless `quiet` and the estimate is under 10 s
-/// (longer work shows its progress under `quiet` too).
+/// [`drops_estimate`]) unless `progress` is quiet and the estimate is
+/// under 10 s (longer work shows its progress when quiet too).
 fn watched<T>(
     label: &str,
     plays: (
@@ -319,19 +319,19 @@ fn watched<T>(
         usize,
         f64,
     ),
-    quiet: bool,
+    progress: ProgressMode,
     f: impl FnOnce() -> T,
 ) -> T {
     let (req, sm, settings, drops, duration_s) = plays;
     let play = DropPlay::new(settings, duration_s);
-    watched_play(label, (req, sm, &play, drops), quiet, f)
+    watched_play(label, (req, sm, &play, drops), progress, f)
 }
 
 /// [`watched`] for drops played with `play`.
 pub(crate) fn watched_play<T>(
     label: &str,
     plays: (&PoseTarget, &ScheduleMotion, &DropPlay, usize),
-    quiet: bool,
+    progress: ProgressMode,
     f: impl FnOnce() -> T,
 ) -> T {
     let (req, sm, play, drops) = plays;
@@ -339,7 +339,7 @@ pub(crate) fn watched_play<T>(
     let steps = estimate.steps() / PLANAR_POINT_STEP_COST;
     let total = (steps / 1e3).ceil() as u64;
     let long = estimate.announcement(crate::work::threads()).is_some();
-    let mode = ProgressMode::quiet_if(quiet && !long);
+    let mode = if long { ProgressMode::Auto } else { progress };
     let progress = Progress::new(label, "k steps", total, mode);
     with_counted_progress(&progress, f)
 }
@@ -377,7 +377,7 @@ fn centred_motion(
     let (all, kept) = watched(
         "pose spin screen",
         (req, &sm, &sink.settings, probes, screen::PROBE_S),
-        opts.runtime.quiet,
+        opts.runtime.progress(),
         || screen::choose(req, (&sink, &stage), &tried),
     )?;
     let Some((k, rest, pose)) = kept.and_then(|k| Some((k.spin, k.spin_rest?, k.pose?))) else {

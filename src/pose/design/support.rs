@@ -51,6 +51,7 @@ use crate::error::{Error, Result};
 use crate::part::{Part, PartFile, Support};
 use crate::play::ScheduleMotion;
 use crate::pose::{drop_starts, play_drops, DropPlay, Uniform, DROP_SAMPLES};
+use crate::progress::ProgressMode;
 
 /// Random admissible supports the design question asks about.
 pub const RANDOM_SUPPORTS: usize = 20;
@@ -363,8 +364,11 @@ pub fn play_over_supports(
     let starts = drop_starts(&req.region.inset(req.part.radius()), drops);
     let n = req.part.symmetry();
     let plays = (req, sm, play, drops * models.len());
-    let mut out: Vec<SupportPlay> =
-        super::watched_play("pose drops over supports", plays, true, || {
+    let mut out: Vec<SupportPlay> = super::watched_play(
+        "pose drops over supports",
+        plays,
+        ProgressMode::Quiet,
+        || {
             models
                 .par_iter()
                 .map(|m| {
@@ -382,7 +386,8 @@ pub fn play_over_supports(
                     }
                 })
                 .collect()
-        });
+        },
+    );
     out.sort_by(|a, b| a.fraction.total_cmp(&b.fraction));
     out
 }
