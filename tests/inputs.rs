@@ -10,6 +10,7 @@ use proptest::prelude::*;
 use serde_json::Value;
 
 use platefield::play::ScheduleMotion;
+use platefield::progress::ProgressMode;
 use platefield::request::{examples, Target};
 use platefield::scene::Scene;
 use platefield::schedule::Schedule;
@@ -276,10 +277,10 @@ proptest! {
             }
             Ok(scene) => {
                 prop_assert!(harmonic as usize * 8 <= steps && steps >= 16);
-                let field = scene.compute(platefield::progress::ProgressMode::Quiet).unwrap();
+                let field = scene.compute(ProgressMode::Quiet).unwrap();
                 let reference = Scene::from_json_str(&harmonic_scene(harmonic, 4096))
                     .unwrap()
-                    .compute(platefield::progress::ProgressMode::Quiet)
+                    .compute(ProgressMode::Quiet)
                     .unwrap();
                 let error = relative_error(&field.vectors, &reference.vectors);
                 prop_assert!(error < 0.03, "harmonic {} at {} steps: {:.3e}", harmonic, steps, error);

@@ -9,6 +9,7 @@ use std::path::{Path, PathBuf};
 
 use platefield::dynamics::Friction;
 use platefield::field::{Field, Validity};
+use platefield::progress::ProgressMode;
 use platefield::scene::Scene;
 use platefield_studies::linesink::{LineSink, Wave};
 use serde_json::{json, Value};
@@ -62,7 +63,7 @@ fn every_example_scene_parses_and_computes() {
         assert_eq!(back, scene, "{name}");
         let start = std::time::Instant::now();
         let field = scene
-            .compute(platefield::progress::ProgressMode::Quiet)
+            .compute(ProgressMode::Quiet)
             .unwrap_or_else(|e| panic!("{name}: {e}"));
         let seconds = start.elapsed().as_secs_f64();
         assert_eq!(field.valid_count(), scene.grid.len(), "{name}");
@@ -77,9 +78,7 @@ fn every_example_scene_parses_and_computes() {
 /// |x|α ≤ g), to the 1e-9 that `tests/linesink.rs` holds.
 #[test]
 fn example_fields_have_their_shapes() {
-    let sink = load("linesink.json")
-        .compute(platefield::progress::ProgressMode::Quiet)
-        .unwrap();
+    let sink = load("linesink.json").compute(ProgressMode::Quiet).unwrap();
     let xs = sink.grid.xs();
     let nx = xs.len();
     for (k, v) in sink.vectors.iter().enumerate() {
@@ -94,7 +93,7 @@ fn example_fields_have_their_shapes() {
     }
 
     let trans = load("trans_signals.json")
-        .compute(platefield::progress::ProgressMode::Quiet)
+        .compute(ProgressMode::Quiet)
         .unwrap();
     let f0 = trans.vectors[0];
     assert!(f0[0].abs() > 0.01 && f0[1].abs() < 1e-12, "{f0:?}");
@@ -104,9 +103,7 @@ fn example_fields_have_their_shapes() {
     }
 
     let square = load("sine_square_linesink.json");
-    let field = square
-        .compute(platefield::progress::ProgressMode::Quiet)
-        .unwrap();
+    let field = square.compute(ProgressMode::Quiet).unwrap();
     let ls = LineSink {
         wave: Wave::Square,
         accel: 180.0,
@@ -145,12 +142,8 @@ fn linesink_signals_is_linesink() {
     let mut screw = load("linesink.json");
     let mut signals = load("linesink_signals.json");
     let (d, scale) = difference(
-        &screw
-            .compute(platefield::progress::ProgressMode::Quiet)
-            .unwrap(),
-        &signals
-            .compute(platefield::progress::ProgressMode::Quiet)
-            .unwrap(),
+        &screw.compute(ProgressMode::Quiet).unwrap(),
+        &signals.compute(ProgressMode::Quiet).unwrap(),
     );
     assert!(
         d <= 9.81 * 0.005f64.sin() && d > 0.1 * 9.81 * 0.005,
@@ -161,12 +154,8 @@ fn linesink_signals_is_linesink() {
     signals.model.tilt = false;
     signals.gravity = 9.81 - 0.05 * 0.005f64.powi(2) * 209f64.powi(2) / 2.0;
     let (d, scale) = difference(
-        &screw
-            .compute(platefield::progress::ProgressMode::Quiet)
-            .unwrap(),
-        &signals
-            .compute(platefield::progress::ProgressMode::Quiet)
-            .unwrap(),
+        &screw.compute(ProgressMode::Quiet).unwrap(),
+        &signals.compute(ProgressMode::Quiet).unwrap(),
     );
     assert!(d <= 1e-9 * scale, "tilt off: |ΔF| = {d} (scale {scale})");
 }
@@ -348,11 +337,8 @@ fn six_signals_reproduce_the_screw() {
             let screw = scene_json(screw_motion(), model.clone(), kind, g);
             let sig = scene_json(signals.clone(), model.clone(), kind, g_signals);
             let (a, b) = (
-                screw
-                    .compute(platefield::progress::ProgressMode::Quiet)
-                    .unwrap(),
-                sig.compute(platefield::progress::ProgressMode::Quiet)
-                    .unwrap(),
+                screw.compute(ProgressMode::Quiet).unwrap(),
+                sig.compute(ProgressMode::Quiet).unwrap(),
             );
             assert!(
                 a.validity.iter().all(|v| *v == Validity::Ok),
@@ -380,11 +366,8 @@ fn six_signals_reproduce_the_screw() {
         g - plate_frame_gravity_shift(),
     );
     let (d, scale) = difference(
-        &screw
-            .compute(platefield::progress::ProgressMode::Quiet)
-            .unwrap(),
-        &sig.compute(platefield::progress::ProgressMode::Quiet)
-            .unwrap(),
+        &screw.compute(ProgressMode::Quiet).unwrap(),
+        &sig.compute(ProgressMode::Quiet).unwrap(),
     );
     assert!(
         d > 1e-4 * scale,

@@ -14,6 +14,7 @@ use platefield::basis::{
 };
 use platefield::design::basis::{assemble, ExclusionReason, ISOTROPY_TOL};
 use platefield::field::{Field, FieldKind, FieldSettings, Grid, Validity};
+use platefield::progress::ProgressMode;
 use platefield_studies::rung::{choose_rung, DEFAULT_RUNG_TOLERANCE};
 
 /// 9 × 9 over ±4 cm, symmetric about both axes.
@@ -307,75 +308,35 @@ fn cache_round_trips_and_hits() {
     let key = BasisCache::key(&prims, &grid, &s, v);
     assert!(cache.load(&key).is_none());
     let (built, status) = cache
-        .get_or_build(
-            &prims,
-            &grid,
-            &s,
-            v,
-            platefield::progress::ProgressMode::Quiet,
-            || Ok(()),
-        )
+        .get_or_build(&prims, &grid, &s, v, ProgressMode::Quiet, || Ok(()))
         .expect("build");
     assert_eq!(status, CacheStatus::Built);
     assert_eq!(
         built,
-        FieldLibrary::build(
-            &prims,
-            &grid,
-            &s,
-            v,
-            platefield::progress::ProgressMode::Quiet
-        )
+        FieldLibrary::build(&prims, &grid, &s, v, ProgressMode::Quiet)
     );
     assert_eq!(built.kind, v);
     assert!(built.entries.iter().all(|e| e.field.kind == v));
-    let both = Library::build(
-        &prims,
-        &grid,
-        &s,
-        StepsPlan::Uniform,
-        platefield::progress::ProgressMode::Quiet,
-    );
+    let both = Library::build(&prims, &grid, &s, StepsPlan::Uniform, ProgressMode::Quiet);
     for (e, b) in built.entries.iter().zip(&both.entries) {
         assert_eq!(e.field, b.velocity);
     }
     assert_eq!(cache.load(&key).as_ref(), Some(&built));
     let (again, status) = cache
-        .get_or_build(
-            &prims,
-            &grid,
-            &s,
-            v,
-            platefield::progress::ProgressMode::Quiet,
-            || Ok(()),
-        )
+        .get_or_build(&prims, &grid, &s, v, ProgressMode::Quiet, || Ok(()))
         .expect("hit");
     assert_eq!(status, CacheStatus::Hit);
     assert_eq!(again, built);
     let f = FieldKind::Force;
     let (forces, status) = cache
-        .get_or_build(
-            &prims,
-            &grid,
-            &s,
-            f,
-            platefield::progress::ProgressMode::Quiet,
-            || Ok(()),
-        )
+        .get_or_build(&prims, &grid, &s, f, ProgressMode::Quiet, || Ok(()))
         .expect("force");
     assert_eq!(status, CacheStatus::Built);
     for (e, b) in forces.entries.iter().zip(&both.entries) {
         assert_eq!(e.field, b.force);
     }
     let (again, status) = cache
-        .get_or_build(
-            &prims,
-            &grid,
-            &s,
-            v,
-            platefield::progress::ProgressMode::Quiet,
-            || Ok(()),
-        )
+        .get_or_build(&prims, &grid, &s, v, ProgressMode::Quiet, || Ok(()))
         .expect("hit");
     assert_eq!((status, again), (CacheStatus::Hit, built.clone()));
     // store/load directly, under another key.
@@ -468,14 +429,7 @@ fn corrupt_cache_files_are_rebuilt() {
     let v = FieldKind::Velocity;
     let key = BasisCache::key(&prims, &grid, &s, v);
     let (good, _) = cache
-        .get_or_build(
-            &prims,
-            &grid,
-            &s,
-            v,
-            platefield::progress::ProgressMode::Quiet,
-            || Ok(()),
-        )
+        .get_or_build(&prims, &grid, &s, v, ProgressMode::Quiet, || Ok(()))
         .expect("build");
     let path = cache.path(&key);
     let bytes = std::fs::read(&path).expect("cache file");
@@ -498,14 +452,7 @@ fn corrupt_cache_files_are_rebuilt() {
         std::fs::write(&path, &corrupt).expect("write");
         assert!(cache.load(&key).is_none(), "{what}: loaded a corrupt file");
         let (lib, status) = cache
-            .get_or_build(
-                &prims,
-                &grid,
-                &s,
-                v,
-                platefield::progress::ProgressMode::Quiet,
-                || Ok(()),
-            )
+            .get_or_build(&prims, &grid, &s, v, ProgressMode::Quiet, || Ok(()))
             .expect("rebuild");
         match &status {
             CacheStatus::Rebuilt { reason } => {
@@ -583,13 +530,7 @@ fn isotropic_copies_are_left_out() {
         PrimitiveKind::Trans,
     ];
     let prims: Vec<Primitive> = kinds.iter().map(|k| Primitive::new(*k)).collect();
-    let lib = FieldLibrary::build(
-        &prims,
-        &grid,
-        &s,
-        FieldKind::Force,
-        platefield::progress::ProgressMode::Quiet,
-    );
+    let lib = FieldLibrary::build(&prims, &grid, &s, FieldKind::Force, ProgressMode::Quiet);
     for (e, k) in lib.entries.iter().zip(kinds) {
         for deg in [15.0f64, 30.0, 90.0] {
             let change = rotation_asymmetry(&e.field, deg.to_radians()).expect("overlap");
@@ -681,7 +622,7 @@ fn cache_entries_that_are_not_regular_files_are_rebuilt() {
                 &g,
                 &st,
                 v,
-                platefield::progress::ProgressMode::Quiet,
+                ProgressMode::Quiet,
                 || Ok(()),
             ));
         });

@@ -9,6 +9,7 @@
 use platefield::basis::steps::{CALIBRATED_ERROR, LADDER};
 use platefield::basis::{FieldLibrary, Library, Primitive, PrimitiveKind, StepsPlan};
 use platefield::field::{FieldKind, FieldSettings, Grid};
+use platefield::progress::ProgressMode;
 use platefield_studies::rung::relative_l2;
 
 fn at(steps: usize) -> FieldSettings {
@@ -49,7 +50,7 @@ fn fewest_within_tolerance(keep: &dyn Fn(PrimitiveKind) -> bool) {
             &at(steps),
             force,
             plan,
-            platefield::progress::ProgressMode::Quiet,
+            ProgressMode::Quiet,
         )
     };
     let reference = build(StepsPlan::Uniform, 512);
