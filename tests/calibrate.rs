@@ -24,6 +24,12 @@ fn schedule(name: &str) -> Schedule {
     Schedule::load(Path::new(&path)).expect("a shipped schedule")
 }
 
+/// The two-coefficient friction: μ_s = 0.41, μ_k = 0.33.
+const STICKY: Friction = Friction {
+    stat: 0.41,
+    kinetic: 0.33,
+};
+
 /// The calibration of `sim`'s tracks on the shipped `name` schedule.
 fn calibrated(
     name: &str,
@@ -79,14 +85,7 @@ fn static_undetermined(class: &platefield::calibrate::ClassEstimate) {
 #[test]
 #[ignore = "about 10 s of CPU: cargo test --release --test calibrate -- --ignored kinetic_friction"]
 fn kinetic_friction_is_identified_and_static_named_undetermined() {
-    let sim = TrackSimulation::new(
-        Friction {
-            stat: 0.41,
-            kinetic: 0.33,
-        },
-        20,
-        1,
-    );
+    let sim = TrackSimulation::new(STICKY, 20, 1);
     let c = calibrated("squeeze_trans", &sim, false);
     let class = one_class_covering(&c, 0.33);
     let slope = class.model_slope[0].1;
@@ -173,14 +172,7 @@ fn one_friction_on_a_sink_is_one_class() {
 #[test]
 #[ignore = "about 8 s of CPU: cargo test --release --test calibrate -- --ignored shipped_sink"]
 fn shipped_sink_is_identified_by_replays() {
-    let sim = TrackSimulation::new(
-        Friction {
-            stat: 0.41,
-            kinetic: 0.33,
-        },
-        20,
-        1,
-    );
+    let sim = TrackSimulation::new(STICKY, 20, 1);
     let c = calibrated("sink", &sim, false);
     assert!(c.model.starts_with("exact replays"), "{}", c.model);
     assert!(c.model_reason.contains("beyond 1.25"), "{}", c.model_reason);
@@ -253,10 +245,7 @@ fn coverage_study() {
         .ok()
         .and_then(|v| v.parse().ok())
         .unwrap_or(100);
-    let two = Friction {
-        stat: 0.41,
-        kinetic: 0.33,
-    };
+    let two = STICKY;
     let cases = [
         ("sink", Friction::uniform(0.23)),
         ("sink", two),
