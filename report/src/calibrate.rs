@@ -139,8 +139,8 @@ fn report(c: &Calibration, command: &str) -> String {
     }
     let _ = writeln!(
         s,
-        "\n`trajectories.svg`: observed positions (dots) against the fitted paths (lines). `likelihood.svg`: Δχ² over μ (μ_s = μ_k, scale 1) on the field model's lattice, per class fitted on the field, and the profile about each class's estimate (on the field: mapped through the bias correction; by replays: the Gauss–Newton quadratic); Δχ² < 3.84 is the noise model's 95 % interval, before the tracks' own scatter widens it.\n\n{} velocity fields computed, {} parts replayed.",
-        c.fields_computed, c.replays
+        "\n`trajectories.svg`: observed positions (dots) against the fitted paths (lines). `likelihood.svg`: Δχ² over μ (μ_s = μ_k, scale 1) on the field model's lattice, per class fitted on the field, and the profile about each class's estimate (on the field: mapped through the bias correction; by replays: the Gauss–Newton quadratic); Δχ² < 3.84 is the noise model's 95 % interval, before the tracks' own scatter widens it.\n\n{} velocity fields computed, {} parts replayed; the classes fitted at {} RK4 steps per cycle.",
+        c.fields_computed, c.replays, c.steps_per_cycle
     );
     s
 }

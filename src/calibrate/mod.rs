@@ -6,7 +6,7 @@
 //! alone over a lattice of μ by the played motion's **steady-state
 //! velocity field** as a function of position and of θ = (μ_k, μ_s − μ_k,
 //! scale) ([`model`]: a path costs a few thousand field look-ups, a replay
-//! of one part over 10 s about 200 000 integrator steps), by least squares
+//! of one part over 10 s some 10 000 RK4 steps), by least squares
 //! on the observed positions ([`estimate`]: the noise model, the
 //! intervals). Where that fit's residual is within [`replay::FIELD_MISS`] ×
 //! the tracks' own noise the field serves: the parts are sorted into
@@ -209,6 +209,12 @@ pub struct Calibration {
     /// track).
     #[serde(default)]
     pub replays: usize,
+    /// RK4 steps per cycle of the simulations the classes are fitted by:
+    /// on the field, the schedule's own; by replays, the fewest whose error
+    /// stays within [`replay::STEP_ERROR`] of the tracks' noise at the
+    /// estimate ([`replay::steps_for`], [`replay::steps_hold`]).
+    #[serde(default)]
+    pub steps_per_cycle: usize,
 }
 
 impl Calibration {
@@ -254,7 +260,7 @@ impl Calibration {
     /// let c = Calibration {
     ///     target: "sink".into(), tracks: "t.csv".into(), parts: 1, frames: 3, model: String::new(),
     ///     model_reason: String::new(), noise_m: None, classes: vec![class], per_part: vec![],
-    ///     likelihood: vec![], profile: vec![], fields_computed: 0, replays: 0,
+    ///     likelihood: vec![], profile: vec![], fields_computed: 0, replays: 0, steps_per_cycle: 64,
     /// };
     /// let spec = c.friction_spec(0)?;
     /// assert!(spec.tied && spec.kinetic.lo == 0.22 && spec.kinetic.hi == 0.24);
@@ -407,6 +413,7 @@ pub fn calibrate(
             profile: fitted.profile,
             fields_computed: lattice_fields + check_fields + fitted.fields,
             replays: fitted.replays,
+            steps_per_cycle: fitted.steps_per_cycle,
         },
         paths: fitted.paths,
     })
@@ -439,6 +446,8 @@ struct Fitted {
     /// Fields computed beyond the lattice's.
     fields: usize,
     replays: usize,
+    /// RK4 steps per cycle of the fit's simulations.
+    steps_per_cycle: usize,
 }
 
 impl Fitted {
@@ -454,6 +463,7 @@ impl Fitted {
             paths: vec![(String::new(), Vec::new(), Vec::new()); n],
             fields: 0,
             replays,
+            steps_per_cycle: 0,
         }
     }
 }
@@ -578,6 +588,7 @@ fn by_field(
         context.options.grid
     );
     let mut fitted = Fitted::new(model, per_part(all, &own, &class_of), all.len(), 0);
+    fitted.steps_per_cycle = context.schedule.settings.numerics.steps_per_cycle;
     for c in 0..n_classes {
         let (members, joined) = split_class(&class_of, c);
         let class_tracks: Vec<&Track> = members.iter().map(|&i| all[i]).collect();
@@ -653,26 +664,31 @@ const STICK_POSITION: f64 = 1e-9;
 
 /// The classes by exact replays ([`replay`]): each part fitted alone from
 /// the best of the field lattice's local minima (μ_s = μ_k, scale 1), the
-/// classes, each class fitted as one.
+/// classes, each class fitted as one. The replays run at the fewest RK4
+/// steps per cycle [`replay::steps_for`] finds at the lowest minimum, each
+/// class's fit refined to more where [`replay::steps_hold`] says its
+/// estimate needs them.
 fn by_replay(
     context: &Context<'_>,
     raw: &[&Track],
     mus: &[f64],
     curves: &[Vec<f64>],
 ) -> Result<Fitted> {
-    let schedule = context.schedule;
-    let mut candidates = local_minima(mus, &summed(curves));
-    if candidates.is_empty() {
-        candidates.push(schedule.settings.friction.kinetic);
-    }
-    let times = |t: &Track| -> Vec<f64> { t.frames.iter().map(|f| f.t).collect() };
+    let own_steps = context.schedule.settings.numerics.steps_per_cycle;
+    let candidates = candidates(mus, curves, context.schedule.settings.friction.kinetic);
+    let (coarse, probed) = replay::steps_for(
+        context.schedule,
+        longest(raw)?,
+        &[[candidates[0], 0.0, 1.0]],
+        context.noise,
+    )?;
     let first: Vec<[f64; 2]> = raw.iter().map(|t| t.frames[0].r).collect();
     let own_fits = raw
         .par_iter()
         .zip(&first)
-        .map(|(t, &r0)| own_fit(schedule, t, r0, &candidates, context.noise))
+        .map(|(t, &r0)| own_fit(&coarse, t, r0, &candidates, context.noise))
         .collect::<Result<Vec<_>>>()?;
-    let replays: usize = own_fits.iter().map(|f| f.2).sum();
+    let replays = probed + own_fits.iter().map(|f| f.2).sum::<usize>();
     let own: Vec<classes::Own> = own_fits
         .iter()
         .map(|(mu, fit, _)| match fit {
@@ -689,15 +705,16 @@ fn by_replay(
         raw.len(),
         replays,
     );
+    fitted.steps_per_cycle = coarse.settings.numerics.steps_per_cycle;
     for c in 0..n_classes {
         let (members, joined) = split_class(&class_of, c);
         let class_tracks: Vec<&Track> = members.iter().map(|&i| raw[i]).collect();
         let mu0 = classes::pooled(&members, &own).0;
-        let starts: Vec<[f64; 2]> = members
+        let mut starts: Vec<[f64; 2]> = members
             .iter()
             .map(|&i| own_fits[i].1.as_ref().map_or(first[i], |f| f.starts[0]))
             .collect();
-        let (stick, base, checked) = sticks(schedule, &class_tracks, mu0, &starts)?;
+        let (stick, base, checked) = sticks(&coarse, &class_tracks, mu0, &starts)?;
         fitted.replays += checked;
         let mut free = vec![MU_K];
         let mut theta0 = [mu0, 0.0, 1.0];
@@ -710,22 +727,28 @@ fn by_replay(
         if context.options.scale {
             free.push(SCALE);
         }
-        let fit = replay::fit(
-            schedule,
-            &class_tracks,
-            theta0,
-            &free,
-            starts,
-            base,
-            replay::STEP_TOL,
-        )?
-            .ok_or_else(|| {
-                Error::Unreachable(format!(
-                    "the exact replays cannot follow the class of parts {} (a part loses contact, or its start is not determined by its track)",
-                    class_tracks.iter().map(|t| t.part.as_str()).collect::<Vec<_>>().join(", ")
-                ))
-            })?;
-        fitted.replays += fit.replays;
+        let mut schedule = coarse.clone();
+        let fit = loop {
+            let fit = class_fit(&schedule, &class_tracks, theta0, &free, starts, base.take())?;
+            fitted.replays += fit.replays;
+            let (held, checked) = replay::steps_hold(
+                &schedule,
+                own_steps,
+                longest(&class_tracks)?,
+                &fit.theta,
+                context.noise,
+            )?;
+            fitted.replays += checked;
+            if held.settings.numerics.steps_per_cycle == schedule.settings.numerics.steps_per_cycle
+            {
+                break fit;
+            }
+            // Refitted from the estimate at the steps that hold there.
+            (schedule, theta0, starts) = (held, fit.theta, fit.starts);
+        };
+        fitted.steps_per_cycle = fitted
+            .steps_per_cycle
+            .max(schedule.settings.numerics.steps_per_cycle);
         fitted.likelihood.push(Vec::new());
         fitted
             .profile
@@ -739,7 +762,8 @@ fn by_replay(
         }
         for &i in &joined {
             let r0 = own_fits[i].1.as_ref().map_or(first[i], |f| f.starts[0]);
-            let p = replay::path(schedule, &fit.theta, r0, &times(raw[i]))?.unwrap_or_default();
+            let times: Vec<f64> = raw[i].frames.iter().map(|f| f.t).collect();
+            let p = replay::path(&schedule, &fit.theta, r0, &times)?.unwrap_or_default();
             fitted.replays += 1;
             fitted.paths[i] = (
                 raw[i].part.clone(),
@@ -753,6 +777,67 @@ fn by_replay(
         fitted.classes.push(estimate);
     }
     Ok(fitted)
+}
+
+/// Where the parts' own fits by replays may start: the local minima of
+/// the parts' summed lattice curves (lowest first), and the median of the
+/// parts' own lowest minima inside the lattice when it is more than a
+/// lattice step from each of those. The summed curve is dominated by the
+/// parts the field model misses most (at a sink's centre its minimum can
+/// sit at the lattice's end, a bound rather than a minimum); the median
+/// is the parts' own view, robust to those. `fallback` (the schedule's
+/// μ_k) when there is none.
+fn candidates(mus: &[f64], curves: &[Vec<f64>], fallback: f64) -> Vec<f64> {
+    let mut out = local_minima(mus, &summed(curves));
+    let (lo, hi) = (mus[0], mus[mus.len() - 1]);
+    let mut inside: Vec<f64> = curves
+        .iter()
+        .filter_map(|c| local_minima(mus, c).first().copied())
+        .filter(|&m| lo < m && m < hi)
+        .collect();
+    inside.sort_by(f64::total_cmp);
+    if let Some(&median) = inside.get(inside.len() / 2) {
+        let step = mus[1] - mus[0];
+        if out.iter().all(|&c| (c - median).abs() > step) {
+            out.push(median);
+        }
+    }
+    if out.is_empty() {
+        out.push(fallback);
+    }
+    out
+}
+
+/// The track observed longest (its last frame the latest): where a
+/// replay's error has grown most.
+fn longest<'a>(tracks: &[&'a Track]) -> Result<&'a Track> {
+    let last = |t: &Track| t.frames.last().map_or(0.0, |f| f.t);
+    tracks
+        .iter()
+        .copied()
+        .max_by(|a, b| last(a).total_cmp(&last(b)))
+        .ok_or_else(|| Error::Unreachable("no track to replay".into()))
+}
+
+/// One class's fit by replays ([`replay::fit`] to [`replay::STEP_TOL`]).
+///
+/// # Errors
+/// The replays cannot follow the class: a part loses contact, or its start
+/// is not determined by its track.
+fn class_fit(
+    schedule: &Schedule,
+    tracks: &[&Track],
+    theta0: model::Theta,
+    free: &[usize],
+    starts: Vec<[f64; 2]>,
+    base: Option<replay::Paths>,
+) -> Result<replay::ReplayFit> {
+    replay::fit(schedule, tracks, theta0, free, starts, base, replay::STEP_TOL)?.ok_or_else(|| {
+        Error::Unreachable(format!(
+            "the exact replays cannot follow the class of parts {} (a part loses contact, or its start is not determined by its track)",
+            tracks.iter().map(|t| t.part.as_str()).collect::<Vec<_>>().join(", ")
+        ))
+    })
 }
 
 /// A part's own fit by replays (μ_s = μ_k, scale 1) from its first frame

@@ -16,8 +16,15 @@
 //! simulator ([`super::simulate`]: every segment, the joins, rest) under
 //! θ; its positions at its frames' times are its path. Every frame is
 //! fitted, the start-up transient included. No field and no model bias to
-//! remove: the replay is the point-part model itself, at about 20 ms of
-//! CPU per part and 10 s of track on the shipped sink.
+//! remove: the replay is the point-part model itself, each segment
+//! integrated whole on its fixed-step grid with its plate kinematics
+//! tabulated once ([`super::simulate::play_on_grid`]): 3 to 6 ms of CPU
+//! per part and 10 s of track on squeeze_trans and the shipped sink.
+//! Fewer steps than the schedule's serve where their error is far below
+//! the camera's noise: [`steps_for`] halves them while a replay stays
+//! within [`STEP_ERROR`] of the noise of the finer one, and
+//! [`steps_hold`] checks that again at the estimate (at 0.2 mm of noise:
+//! 16 of 64 on the shipped sink, 32 on squeeze_trans).
 //!
 //! **Fit.** The least squares of [`super::estimate`] (the same noise model
 //! and RSS, each track's start a nuisance), by Gauss–Newton over θ's free
@@ -30,7 +37,13 @@
 //! δr₀ = (A_iᵀA_i)⁻¹A_iᵀ(e_i − B_i δθ). A step that raises the RSS is
 //! halved. The iteration stops when every free parameter's step is below
 //! [`STEP_TOL`] of its standard error; that last step is taken on the
-//! linearised paths (no replay). The covariance is σ̂²S⁻¹, σ̂² = RSS/dof,
+//! linearised paths (no replay). After a step that stays within θ's 95 %
+//! confidence region (s²·δθᵀSδθ/σ̂² ≤ χ²_p(0.95), [`CHI2_95`]) the next
+//! one reuses the sensitivities (the chord method: only the paths are
+//! replayed): the intervals already take the paths as linear in θ over
+//! that region, so its sensitivities are the same to their precision. A
+//! chord step that lowers no RSS is taken again from fresh
+//! sensitivities. The covariance is σ̂²S⁻¹, σ̂² = RSS/dof,
 //! widened by the tracks' own scatter as the field fit's is
 //! ([`super::estimate`]: each track's score B̃_iᵀẽ_i a cluster).
 
@@ -39,9 +52,9 @@ use rayon::prelude::*;
 
 use super::estimate::{robust_widening, BOUNDS};
 use super::model::{friction, Theta, SCALE};
-use super::simulate::{play, schedule_motion};
+use super::simulate::{play_on_grid, schedule_motion};
 use super::tracks::Track;
-use crate::dynamics::V2;
+use crate::dynamics::{MIN_STEPS_PER_CYCLE, V2};
 use crate::error::{Error, Result};
 use crate::schedule::Schedule;
 
@@ -65,6 +78,19 @@ const MAX_ITERATIONS: usize = 12;
 /// Halvings of a step that raises the RSS, at most.
 const HALVINGS: usize = 6;
 
+/// A replay's discretisation error is held to this fraction of the
+/// tracks' own noise: an independent error that size adds 10⁻⁴ of the
+/// noise's variance to the residual ([`steps_for`]).
+pub const STEP_ERROR: f64 = 0.01;
+
+/// 95 % quantiles of χ² with 1, 2 and 3 degrees of freedom: 1.96², −2 ln
+/// 0.05, and the root of erf(√(x/2)) − √(2x/π)·e^(−x/2) = 0.95.
+pub const CHI2_95: [f64; 3] = [
+    3.841_458_820_694_124,
+    5.991_464_547_107_979,
+    7.814_727_903_251_178,
+];
+
 /// Forward-difference step of a start (m).
 const START_STEP: f64 = 1e-6;
 
@@ -85,11 +111,158 @@ pub fn path(
     times: &[f64],
 ) -> Result<Option<Vec<f64>>> {
     let sm = schedule_motion(schedule, theta[SCALE])?;
-    match play(schedule, &sm, friction(theta), V2::from(r0), times) {
+    match play_on_grid(schedule, &sm, friction(theta), V2::from(r0), times) {
         Ok(p) => Ok(Some(p.iter().flat_map(|r| [r.x, r.y]).collect())),
         Err(Error::ContactLost(_)) => Ok(None),
         Err(e) => Err(e),
     }
+}
+
+/// `schedule` with the fewest RK4 steps per cycle a calibration's
+/// simulations need, and the replays this cost.
+///
+/// RK4's error at n steps per cycle is about 16 times its error at 2n,
+/// so the gap between the two replays, |r_n − r_2n| ≈ (15/16)·err_n, is
+/// the error of the coarser one. From the schedule's own steps, halved
+/// while the halved replays of `probe` (the track observed longest: the
+/// error grows with time), put down at its first observed position, stay
+/// within [`STEP_ERROR`] × `noise` of the finer ones on each axis at every
+/// frame under every θ of `thetas`, and the schedule stays valid (at least
+/// 8 steps per period of its highest harmonic). A field is the mean
+/// velocity of the same integration, so its error over a track's time is
+/// the replay's. The schedule as it is without a noise estimate, or where
+/// a probe loses contact.
+///
+/// ```
+/// use platefield::calibrate::replay::steps_for;
+/// use platefield::calibrate::tracks::Frame;
+/// use platefield::calibrate::Track;
+/// use platefield::schedule::Schedule;
+/// let schedule = Schedule::load(std::path::Path::new("results/squeeze_trans/schedule.json"))?;
+/// let frames = (0..300).map(|k| Frame { t: k as f64 / 30.0, r: [0.01, 0.0], line: 0 }).collect();
+/// let probe = Track { part: "a".into(), frames };
+/// // At 0.2 mm of noise 32 steps per cycle are within 2 µm of 64.
+/// let (coarse, _) = steps_for(&schedule, &probe, &[[0.23, 0.0, 1.0]], Some(2e-4))?;
+/// assert_eq!(coarse.settings.numerics.steps_per_cycle, 32);
+/// // Without a noise estimate the schedule's own steps are kept.
+/// let (same, replays) = steps_for(&schedule, &probe, &[[0.23, 0.0, 1.0]], None)?;
+/// assert_eq!((same.settings.numerics.steps_per_cycle, replays), (64, 0));
+/// # Ok::<(), platefield::Error>(())
+/// ```
+///
+/// # Errors
+/// A θ's scale cannot be played.
+pub fn steps_for(
+    schedule: &Schedule,
+    probe: &Track,
+    thetas: &[Theta],
+    noise: Option<f64>,
+) -> Result<(Schedule, usize)> {
+    let mut out = schedule.clone();
+    let Some(noise) = noise else {
+        return Ok((out, 0));
+    };
+    let times: Vec<f64> = probe.frames.iter().map(|f| f.t).collect();
+    let r0 = probe.frames.first().map_or([0.0; 2], |f| f.r);
+    let replay = |s: &Schedule| -> Result<Option<Vec<Vec<f64>>>> {
+        thetas
+            .par_iter()
+            .map(|theta| path(s, theta, r0, &times))
+            .collect::<Result<Vec<_>>>()
+            .map(|p| p.into_iter().collect())
+    };
+    let mut replays = thetas.len();
+    let Some(mut fine) = replay(&out)? else {
+        return Ok((out, replays));
+    };
+    loop {
+        let mut coarser = out.clone();
+        coarser.settings.numerics.steps_per_cycle /= 2;
+        if coarser.settings.numerics.steps_per_cycle < MIN_STEPS_PER_CYCLE
+            || coarser.validate().is_err()
+        {
+            return Ok((out, replays));
+        }
+        replays += thetas.len();
+        let Some(coarse) = replay(&coarser)? else {
+            return Ok((out, replays));
+        };
+        let gap = fine
+            .iter()
+            .flatten()
+            .zip(coarse.iter().flatten())
+            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        if gap > STEP_ERROR * noise {
+            return Ok((out, replays));
+        }
+        (out, fine) = (coarser, coarse);
+    }
+}
+
+/// `coarse` with its RK4 steps per cycle doubled, up to `own`, until its
+/// replay of `probe` under θ (put down at its first observed position)
+/// stays within [`STEP_ERROR`] × `noise` of the replay at twice as many:
+/// [`steps_for`]'s test, held at the estimate a fit ends at, where the
+/// replays' accuracy matters (the error grows where parts slip more: on
+/// squeeze_trans the gap between 32 and 64 steps is 1 µm at μ 0.2 and
+/// 13 µm at μ 1). The schedule it holds at, and the replays this cost.
+///
+/// ```
+/// use platefield::calibrate::replay::steps_hold;
+/// use platefield::calibrate::tracks::Frame;
+/// use platefield::calibrate::Track;
+/// use platefield::schedule::Schedule;
+/// let schedule = Schedule::load(std::path::Path::new("results/squeeze_trans/schedule.json"))?;
+/// let mut coarse = schedule.clone();
+/// coarse.settings.numerics.steps_per_cycle = 32;
+/// let frames = (0..300).map(|k| Frame { t: k as f64 / 30.0, r: [0.01, 0.0], line: 0 }).collect();
+/// let probe = Track { part: "a".into(), frames };
+/// let steps = |mu: f64| -> platefield::Result<usize> {
+///     let (held, _) = steps_hold(&coarse, 64, &probe, &[mu, 0.0, 1.0], Some(2e-4))?;
+///     Ok(held.settings.numerics.steps_per_cycle)
+/// };
+/// // 32 steps hold at μ 0.23; at μ 1 they are refined to the schedule's 64.
+/// assert_eq!((steps(0.23)?, steps(1.0)?), (32, 64));
+/// # Ok::<(), platefield::Error>(())
+/// ```
+///
+/// # Errors
+/// θ's scale cannot be played.
+pub fn steps_hold(
+    coarse: &Schedule,
+    own: usize,
+    probe: &Track,
+    theta: &Theta,
+    noise: Option<f64>,
+) -> Result<(Schedule, usize)> {
+    let mut out = coarse.clone();
+    let Some(noise) = noise else {
+        return Ok((out, 0));
+    };
+    let times: Vec<f64> = probe.frames.iter().map(|f| f.t).collect();
+    let r0 = probe.frames.first().map_or([0.0; 2], |f| f.r);
+    let mut replays = 0;
+    while out.settings.numerics.steps_per_cycle < own {
+        let mut finer = out.clone();
+        finer.settings.numerics.steps_per_cycle =
+            (2 * out.settings.numerics.steps_per_cycle).min(own);
+        replays += 2;
+        let gap = match (
+            path(&out, theta, r0, &times)?,
+            path(&finer, theta, r0, &times)?,
+        ) {
+            (Some(a), Some(b)) => a
+                .iter()
+                .zip(&b)
+                .fold(0.0f64, |m, (p, q)| m.max((p - q).abs())),
+            _ => f64::INFINITY,
+        };
+        if gap <= STEP_ERROR * noise {
+            break;
+        }
+        out = finer;
+    }
+    Ok((out, replays))
 }
 
 /// Each track's path, flattened (`None`: it loses contact).
@@ -129,6 +302,14 @@ struct Linear {
     a: [Vec<f64>; 2],
     /// ∂path/∂θ_j per free parameter.
     b: Vec<Vec<f64>>,
+}
+
+impl Linear {
+    /// The same sensitivities about a moved point whose path is `path`.
+    fn moved(self, path: Vec<f64>, obs: &Observed) -> Linear {
+        let e = obs.coords.iter().zip(&path).map(|(o, p)| o - p).collect();
+        Linear { path, e, ..self }
+    }
 }
 
 /// (moved − base)/step.
@@ -359,22 +540,37 @@ pub fn fit(
         }
     };
     let mut rss = total_rss(&obs, &current);
+    // The last linearisation's sensitivities while the steps since stay
+    // within the confidence region (the chord step: module docs).
+    let mut kept: Option<Vec<Linear>> = None;
     let mut iteration = 0;
     loop {
         iteration += 1;
         let Some(base) = current.into_iter().collect::<Option<Vec<Vec<f64>>>>() else {
             return Ok(None);
         };
-        replays += obs.len() * (2 + p);
-        let lin: Option<Vec<Linear>> = obs
-            .par_iter()
-            .zip(base)
-            .zip(&starts)
-            .map(|((o, b), &r0)| linearise(schedule, &theta, free, r0, o, b))
-            .collect::<Result<Vec<_>>>()?
-            .into_iter()
-            .collect();
-        let Some(lin) = lin else { return Ok(None) };
+        let chord = kept.is_some();
+        let lin = match kept.take() {
+            Some(old) => old
+                .into_iter()
+                .zip(base)
+                .zip(&obs)
+                .map(|((l, b), o)| l.moved(b, o))
+                .collect(),
+            None => {
+                replays += obs.len() * (2 + p);
+                let lin: Option<Vec<Linear>> = obs
+                    .par_iter()
+                    .zip(base)
+                    .zip(&starts)
+                    .map(|((o, b), &r0)| linearise(schedule, &theta, free, r0, o, b))
+                    .collect::<Result<Vec<_>>>()?
+                    .into_iter()
+                    .collect();
+                let Some(lin) = lin else { return Ok(None) };
+                lin
+            }
+        };
         let Some((dtheta, dstarts, s_inv, reduced)) = gauss_newton(&lin, p) else {
             return Ok(None);
         };
@@ -404,12 +600,18 @@ pub fn fit(
             let trial = paths(schedule, &t, &r, &obs)?;
             let trial_rss = total_rss(&obs, &trial);
             if trial_rss < rss {
-                accepted = Some((t, r, trial, trial_rss));
+                accepted = Some((t, r, trial, trial_rss, s));
                 break;
             }
             s *= 0.5;
         }
-        let Some((t, r, trial, trial_rss)) = accepted else {
+        let Some((t, r, trial, trial_rss, s)) = accepted else {
+            if chord {
+                // The kept sensitivities lead nowhere: linearise afresh
+                // at the same point.
+                current = lin.into_iter().map(|l| Some(l.path)).collect();
+                continue;
+            }
             // No step lowers the RSS: the current point is the minimum to
             // the replays' precision.
             let zero = DVector::zeros(p);
@@ -424,8 +626,23 @@ pub fn fit(
                 &step, free, &lin, &reduced, &s_inv, dof, replays,
             )));
         };
+        if within_confidence(&dtheta, s, &reduced, sigma2) {
+            kept = Some(lin);
+        }
         (theta, starts, current, rss) = (t, r, trial, trial_rss);
     }
+}
+
+/// Whether the step s·δθ lies within θ's 95 % confidence region about
+/// the point it was taken from: s²·δθᵀSδθ/σ² ≤ χ²_p(0.95), with
+/// Sδθ = Σ_i B̃_iᵀe_i (the step's own equations).
+fn within_confidence(dtheta: &DVector<f64>, s: f64, reduced: &[Reduced], sigma2: f64) -> bool {
+    let p = dtheta.len();
+    let h = reduced
+        .iter()
+        .fold(DVector::zeros(p), |acc: DVector<f64>, r| acc + &r.u);
+    let d2 = s * s * dtheta.dot(&h) / sigma2;
+    CHI2_95.get(p - 1).is_some_and(|&q| d2 <= q)
 }
 
 /// The point a fit ends at: the current one and the last step, taken on

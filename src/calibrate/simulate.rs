@@ -230,6 +230,80 @@ fn inside(region: &Grid, r: &V2) -> bool {
     (region.x[0]..=region.x[1]).contains(&r.x) && (region.y[0]..=region.y[1]).contains(&r.y)
 }
 
+/// As [`play`], with each segment advanced whole on its own fixed-step grid,
+/// so that one table of the plate's kinematics per segment serves every
+/// step of every period ([`crate::play::Player::with_tables`]: a memo, the
+/// steps are bitwise what they would be without it), and each frame
+/// reached from the grid step before it by one partial step off the grid.
+/// [`play`] instead ends a step at every frame, so that its grid restarts
+/// there and no two periods share an instant; both are the same RK4
+/// integration to its error ([`super::replay::steps_for`] measures that
+/// error on these replays). About a third of [`play`]'s CPU on the
+/// shipped schedules: the kinematics are evaluated once per segment
+/// instead of at every step.
+pub(crate) fn play_on_grid(
+    schedule: &Schedule,
+    sm: &ScheduleMotion,
+    friction: Friction,
+    r0: V2,
+    times: &[f64],
+) -> Result<Vec<V2>> {
+    let settings = schedule.settings;
+    let physics = PartPhysics::new(friction, settings.gravity, settings.model);
+    let plain = sm.player(physics, settings.numerics);
+    let tables = plain.kinematics_tables();
+    let player = plain.with_tables(&tables);
+    let segs = sm.segments();
+    let lost = |loss| Error::ContactLost(format!("a simulated part loses contact: {loss}"));
+    let mut state = PartState::new(r0, V2::zeros());
+    let mut out = Vec::with_capacity(times.len());
+    let mut record = Vec::new();
+    let (mut i, mut seg_start) = (0usize, 0.0f64);
+    while out.len() < times.len() {
+        let duration = segs[i].duration;
+        let end = seg_start + duration;
+        let begin = state;
+        let inside = |k: usize| times.get(k).is_some_and(|&t| t < end);
+        match player.simulator(i) {
+            Some(sim) => {
+                record.clear();
+                sim.advance(0.0, duration, &mut state, &r0, Some(&mut record))
+                    .map_err(lost)?;
+                while inside(out.len()) {
+                    let local = times[out.len()] - seg_start;
+                    let j = record.partition_point(|p| p.t <= local);
+                    let (from, mut at) = match j {
+                        0 => (0.0, begin),
+                        _ => (record[j - 1].t, record[j - 1].state),
+                    };
+                    if local > from {
+                        sim.advance(from, local, &mut at, &r0, None).map_err(lost)?;
+                    }
+                    out.push(at.r);
+                }
+            }
+            None => {
+                while inside(out.len()) {
+                    let mut at = begin;
+                    rest(
+                        &mut at,
+                        times[out.len()] - seg_start,
+                        friction,
+                        settings.gravity,
+                    );
+                    out.push(at.r);
+                }
+                rest(&mut state, duration, friction, settings.gravity);
+            }
+        }
+        let next = (i + 1) % segs.len();
+        player.join(i, next, &mut state, &r0);
+        seg_start = end;
+        i = next;
+    }
+    Ok(out)
+}
+
 /// The positions at `times` (increasing, from 0) of a part placed at rest
 /// on the plate at `r0` at t = 0, played through `sm` at `friction`.
 pub(crate) fn play(
