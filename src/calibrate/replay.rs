@@ -158,12 +158,11 @@ pub fn steps_for(
     thetas: &[Theta],
     noise: Option<f64>,
 ) -> Result<(Schedule, usize)> {
-    let mut out = schedule.clone();
     let Some(noise) = noise else {
-        return Ok((out, 0));
+        return Ok((schedule.clone(), 0));
     };
-    let times: Vec<f64> = probe.frames.iter().map(|f| f.t).collect();
-    let r0 = probe.frames.first().map_or([0.0; 2], |f| f.r);
+    let mut out = schedule.clone();
+    let (times, r0) = probed(probe);
     let replay = |s: &Schedule| -> Result<Option<Vec<Vec<f64>>>> {
         thetas
             .par_iter()
@@ -189,9 +188,8 @@ pub fn steps_for(
         };
         let gap = fine
             .iter()
-            .flatten()
-            .zip(coarse.iter().flatten())
-            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+            .zip(&coarse)
+            .fold(0.0f64, |m, (a, b)| m.max(gap(a, b)));
         if gap > STEP_ERROR * noise {
             return Ok((out, replays));
         }
@@ -235,12 +233,11 @@ pub fn steps_hold(
     theta: &Theta,
     noise: Option<f64>,
 ) -> Result<(Schedule, usize)> {
-    let mut out = coarse.clone();
     let Some(noise) = noise else {
-        return Ok((out, 0));
+        return Ok((coarse.clone(), 0));
     };
-    let times: Vec<f64> = probe.frames.iter().map(|f| f.t).collect();
-    let r0 = probe.frames.first().map_or([0.0; 2], |f| f.r);
+    let mut out = coarse.clone();
+    let (times, r0) = probed(probe);
     let mut replays = 0;
     while out.settings.numerics.steps_per_cycle < own {
         let mut finer = out.clone();
@@ -251,10 +248,7 @@ pub fn steps_hold(
             path(&out, theta, r0, &times)?,
             path(&finer, theta, r0, &times)?,
         ) {
-            (Some(a), Some(b)) => a
-                .iter()
-                .zip(&b)
-                .fold(0.0f64, |m, (p, q)| m.max((p - q).abs())),
+            (Some(a), Some(b)) => gap(&a, &b),
             _ => f64::INFINITY,
         };
         if gap <= STEP_ERROR * noise {
@@ -263,6 +257,20 @@ pub fn steps_hold(
         out = finer;
     }
     Ok((out, replays))
+}
+
+/// A probe track's frame times and its first observed position, where its
+/// replays put it down.
+fn probed(probe: &Track) -> (Vec<f64>, [f64; 2]) {
+    let times = probe.frames.iter().map(|f| f.t).collect();
+    (times, probe.frames.first().map_or([0.0; 2], |f| f.r))
+}
+
+/// The largest difference between two flattened paths, on either axis (m).
+fn gap(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .fold(0.0f64, |m, (p, q)| m.max((p - q).abs()))
 }
 
 /// Each track's path, flattened (`None`: it loses contact).

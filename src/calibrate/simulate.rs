@@ -11,7 +11,7 @@ use super::tracks::{Frame, Track, Tracks};
 use crate::dynamics::{Friction, PartPhysics, PartState, V2};
 use crate::error::{Error, Result};
 use crate::field::Grid;
-use crate::play::{rest, PlayedSegment, ScheduleMotion};
+use crate::play::{rest, PlayedSegment, Player, ScheduleMotion};
 use crate::rng::SplitMix64;
 use crate::schedule::Schedule;
 
@@ -230,6 +230,13 @@ fn inside(region: &Grid, r: &V2) -> bool {
     (region.x[0]..=region.x[1]).contains(&r.x) && (region.y[0]..=region.y[1]).contains(&r.y)
 }
 
+/// A player of `sm` for a part at `friction` under `schedule`'s settings.
+fn player<'a>(schedule: &Schedule, sm: &'a ScheduleMotion, friction: Friction) -> Player<'a> {
+    let settings = schedule.settings;
+    let physics = PartPhysics::new(friction, settings.gravity, settings.model);
+    sm.player(physics, settings.numerics)
+}
+
 /// As [`play`], with each segment advanced whole on its own fixed-step grid,
 /// so that one table of the plate's kinematics per segment serves every
 /// step of every period ([`crate::play::Player::with_tables`]: a memo, the
@@ -249,8 +256,7 @@ pub(crate) fn play_on_grid(
     times: &[f64],
 ) -> Result<Vec<V2>> {
     let settings = schedule.settings;
-    let physics = PartPhysics::new(friction, settings.gravity, settings.model);
-    let plain = sm.player(physics, settings.numerics);
+    let plain = player(schedule, sm, friction);
     let tables = plain.kinematics_tables();
     let player = plain.with_tables(&tables);
     let segs = sm.segments();
@@ -314,8 +320,7 @@ pub(crate) fn play(
     times: &[f64],
 ) -> Result<Vec<V2>> {
     let settings = schedule.settings;
-    let physics = PartPhysics::new(friction, settings.gravity, settings.model);
-    let player = sm.player(physics, settings.numerics);
+    let player = player(schedule, sm, friction);
     let segs = sm.segments();
     let mut state = PartState::new(r0, V2::zeros());
     let (mut i, mut local, mut seg_start) = (0usize, 0.0f64, 0.0f64);
