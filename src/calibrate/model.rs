@@ -301,7 +301,8 @@ fn lagged_field(motion: &Motion, grid: &Grid, settings: &FieldSettings) -> Field
         .par_iter()
         .map(|&p| match sim.steady_state(p) {
             Ok(ss) => {
-                let v = crate::play::lag::lagged_velocity(&sim, p, &ss).unwrap_or(ss.velocity);
+                let v = crate::play::lag::lagged_velocity_continued(&sim, p, &ss)
+                    .unwrap_or(ss.velocity);
                 if v[0].is_finite() && v[1].is_finite() {
                     (v, Validity::Ok)
                 } else {

@@ -129,6 +129,25 @@ impl Simulator<'_> {
     /// Steady-state velocity at plate position `r0` (frozen or free as set
     /// by the model's `moving` switch).
     pub fn steady_state(&self, r0: [f64; 2]) -> Result<SteadyState, SteadyFailure> {
+        self.steady_from(r0, None)
+    }
+
+    /// [`Simulator::steady_state`] continued from a nearby orbit: Newton's
+    /// iteration from the slip `guess` at phase 0 (the orbit at a point a
+    /// drift of one cycle away), without the plain iterations that bring a
+    /// part from rest near its orbit. The same fixed point to
+    /// `steady_tol`, on the branch through `guess`.
+    pub(crate) fn steady_state_near(
+        &self,
+        r0: [f64; 2],
+        guess: [f64; 2],
+    ) -> Result<SteadyState, SteadyFailure> {
+        self.steady_from(r0, Some(V2::from(guess)))
+    }
+
+    /// The steady state at `r0` from `start` (`None`: from rest, after two
+    /// plain iterations of the cycle map).
+    fn steady_from(&self, r0: [f64; 2], start: Option<V2>) -> Result<SteadyState, SteadyFailure> {
         let r0 = V2::from(r0);
         let tol = self.numerics().steady_tol * self.velocity_scale();
         let max_it = self.numerics().max_iterations;
@@ -137,11 +156,12 @@ impl Simulator<'_> {
             evals.set(evals.get() + 1);
             Ok(self.cycle_from(&r0, u, false)?.u_end)
         };
-        let mut u = V2::zeros();
+        let mut u = start.unwrap_or_else(V2::zeros);
         let mut pu = map(&u)?;
-        // A few plain iterations bring u near the orbit (exactly onto it
-        // when the part sticks somewhere in the cycle).
-        for _ in 0..2 {
+        // From rest, a few plain iterations bring u near the orbit (exactly
+        // onto it when the part sticks somewhere in the cycle).
+        let plain = if start.is_some() { 0 } else { 2 };
+        for _ in 0..plain {
             u = pu;
             pu = map(&u)?;
         }
