@@ -147,7 +147,7 @@ fn coarsened_replays_hold_every_track() {
             .max_by(|a, b| last(a).total_cmp(&last(b)))
             .expect("a track");
         let theta = [f.kinetic, f.stat - f.kinetic, scale];
-        let (coarse, _) = steps_for(&s, probe, &[theta], Some(noise)).expect("probed");
+        let (coarse, _) = steps_for(&s, probe, &theta, Some(noise)).expect("probed");
         assert_eq!(coarse.settings.numerics.steps_per_cycle, steps, "{name}");
         let mut fine = s.clone();
         fine.settings.numerics.steps_per_cycle = 128;

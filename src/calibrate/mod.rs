@@ -679,7 +679,7 @@ fn by_replay(
     let (coarse, probed) = replay::steps_for(
         context.schedule,
         longest(raw)?,
-        &[[candidates[0], 0.0, 1.0]],
+        &[candidates[0], 0.0, 1.0],
         context.noise,
     )?;
     let first: Vec<[f64; 2]> = raw.iter().map(|t| t.frames[0].r).collect();

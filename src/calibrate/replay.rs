@@ -118,20 +118,18 @@ pub fn path(
     }
 }
 
-/// `schedule` with the fewest RK4 steps per cycle a calibration's
-/// simulations need, and the replays this cost.
+/// `schedule` with the fewest RK4 steps per cycle its replays need, and
+/// the replays this cost.
 ///
 /// RK4's error at n steps per cycle is about 16 times its error at 2n,
 /// so the gap between the two replays, |r_n − r_2n| ≈ (15/16)·err_n, is
 /// the error of the coarser one. From the schedule's own steps, halved
-/// while the halved replays of `probe` (the track observed longest: the
-/// error grows with time), put down at its first observed position, stay
-/// within [`STEP_ERROR`] × `noise` of the finer ones on each axis at every
-/// frame under every θ of `thetas`, and the schedule stays valid (at least
-/// 8 steps per period of its highest harmonic). A field is the mean
-/// velocity of the same integration, so its error over a track's time is
-/// the replay's. The schedule as it is without a noise estimate, or where
-/// a probe loses contact.
+/// while the halved replay of `probe` (the track observed longest: the
+/// error grows with time) under θ, put down at its first observed
+/// position, stays within [`STEP_ERROR`] × `noise` of the finer one on
+/// each axis at every frame ([`within_error`]), and the schedule stays
+/// valid (at least 8 steps per period of its highest harmonic). The
+/// schedule as it is without a noise estimate.
 ///
 /// ```
 /// use platefield::calibrate::replay::steps_for;
@@ -142,38 +140,27 @@ pub fn path(
 /// let frames = (0..300).map(|k| Frame { t: k as f64 / 30.0, r: [0.01, 0.0], line: 0 }).collect();
 /// let probe = Track { part: "a".into(), frames };
 /// // At 0.2 mm of noise 32 steps per cycle are within 2 µm of 64.
-/// let (coarse, _) = steps_for(&schedule, &probe, &[[0.23, 0.0, 1.0]], Some(2e-4))?;
+/// let (coarse, _) = steps_for(&schedule, &probe, &[0.23, 0.0, 1.0], Some(2e-4))?;
 /// assert_eq!(coarse.settings.numerics.steps_per_cycle, 32);
 /// // Without a noise estimate the schedule's own steps are kept.
-/// let (same, replays) = steps_for(&schedule, &probe, &[[0.23, 0.0, 1.0]], None)?;
+/// let (same, replays) = steps_for(&schedule, &probe, &[0.23, 0.0, 1.0], None)?;
 /// assert_eq!((same.settings.numerics.steps_per_cycle, replays), (64, 0));
 /// # Ok::<(), platefield::Error>(())
 /// ```
 ///
 /// # Errors
-/// A θ's scale cannot be played.
+/// θ's scale cannot be played.
 pub fn steps_for(
     schedule: &Schedule,
     probe: &Track,
-    thetas: &[Theta],
+    theta: &Theta,
     noise: Option<f64>,
 ) -> Result<(Schedule, usize)> {
-    let Some(noise) = noise else {
-        return Ok((schedule.clone(), 0));
-    };
     let mut out = schedule.clone();
-    let (times, r0) = probed(probe);
-    let replay = |s: &Schedule| -> Result<Option<Vec<Vec<f64>>>> {
-        thetas
-            .par_iter()
-            .map(|theta| path(s, theta, r0, &times))
-            .collect::<Result<Vec<_>>>()
-            .map(|p| p.into_iter().collect())
+    let Some(noise) = noise else {
+        return Ok((out, 0));
     };
-    let mut replays = thetas.len();
-    let Some(mut fine) = replay(&out)? else {
-        return Ok((out, replays));
-    };
+    let mut replays = 0;
     loop {
         let mut coarser = out.clone();
         coarser.settings.numerics.steps_per_cycle /= 2;
@@ -182,28 +169,21 @@ pub fn steps_for(
         {
             return Ok((out, replays));
         }
-        replays += thetas.len();
-        let Some(coarse) = replay(&coarser)? else {
-            return Ok((out, replays));
-        };
-        let gap = fine
-            .iter()
-            .zip(&coarse)
-            .fold(0.0f64, |m, (a, b)| m.max(gap(a, b)));
-        if gap > STEP_ERROR * noise {
+        replays += 2;
+        if !within_error(&coarser, &out, probe, theta, noise)? {
             return Ok((out, replays));
         }
-        (out, fine) = (coarser, coarse);
+        out = coarser;
     }
 }
 
 /// `coarse` with its RK4 steps per cycle doubled, up to `own`, until its
-/// replay of `probe` under θ (put down at its first observed position)
-/// stays within [`STEP_ERROR`] × `noise` of the replay at twice as many:
-/// [`steps_for`]'s test, held at the estimate a fit ends at, where the
-/// replays' accuracy matters (the error grows where parts slip more: on
-/// squeeze_trans the gap between 32 and 64 steps is 1 µm at μ 0.2 and
-/// 13 µm at μ 1). The schedule it holds at, and the replays this cost.
+/// replay of `probe` under θ stays within [`STEP_ERROR`] × `noise` of the
+/// replay at twice as many: [`steps_for`]'s test, held at the estimate a
+/// fit ends at, where the replays' accuracy matters (the error grows
+/// where parts slip more: on squeeze_trans the gap between 32 and 64 steps
+/// is 1 µm at μ 0.2 and 13 µm at μ 1). The schedule it holds at, and the
+/// replays this cost.
 ///
 /// ```
 /// use platefield::calibrate::replay::steps_hold;
@@ -233,25 +213,17 @@ pub fn steps_hold(
     theta: &Theta,
     noise: Option<f64>,
 ) -> Result<(Schedule, usize)> {
-    let Some(noise) = noise else {
-        return Ok((coarse.clone(), 0));
-    };
     let mut out = coarse.clone();
-    let (times, r0) = probed(probe);
+    let Some(noise) = noise else {
+        return Ok((out, 0));
+    };
     let mut replays = 0;
     while out.settings.numerics.steps_per_cycle < own {
         let mut finer = out.clone();
         finer.settings.numerics.steps_per_cycle =
             (2 * out.settings.numerics.steps_per_cycle).min(own);
         replays += 2;
-        let gap = match (
-            path(&out, theta, r0, &times)?,
-            path(&finer, theta, r0, &times)?,
-        ) {
-            (Some(a), Some(b)) => gap(&a, &b),
-            _ => f64::INFINITY,
-        };
-        if gap <= STEP_ERROR * noise {
+        if within_error(&out, &finer, probe, theta, noise)? {
             break;
         }
         out = finer;
@@ -259,18 +231,29 @@ pub fn steps_hold(
     Ok((out, replays))
 }
 
-/// A probe track's frame times and its first observed position, where its
-/// replays put it down.
-fn probed(probe: &Track) -> (Vec<f64>, [f64; 2]) {
-    let times = probe.frames.iter().map(|f| f.t).collect();
-    (times, probe.frames.first().map_or([0.0; 2], |f| f.r))
-}
-
-/// The largest difference between two flattened paths, on either axis (m).
-fn gap(a: &[f64], b: &[f64]) -> f64 {
-    a.iter()
-        .zip(b)
-        .fold(0.0f64, |m, (p, q)| m.max((p - q).abs()))
+/// Whether `coarse`'s replay of `probe` under θ (put down at its first
+/// observed position) stays within [`STEP_ERROR`] × `noise` of `fine`'s
+/// on each axis at every frame; not where either loses contact.
+fn within_error(
+    coarse: &Schedule,
+    fine: &Schedule,
+    probe: &Track,
+    theta: &Theta,
+    noise: f64,
+) -> Result<bool> {
+    let times: Vec<f64> = probe.frames.iter().map(|f| f.t).collect();
+    let r0 = probe.frames.first().map_or([0.0; 2], |f| f.r);
+    let (a, b) = rayon::join(
+        || path(coarse, theta, r0, &times),
+        || path(fine, theta, r0, &times),
+    );
+    Ok(match (a?, b?) {
+        (Some(a), Some(b)) => a
+            .iter()
+            .zip(&b)
+            .all(|(p, q)| (p - q).abs() <= STEP_ERROR * noise),
+        _ => false,
+    })
 }
 
 /// Each track's path, flattened (`None`: it loses contact).
