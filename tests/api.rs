@@ -7,8 +7,11 @@
 //! traits, constants, statics, type aliases and re-exports (`pub use`).
 //! The `pub` functions and constants of an inherent `impl` are public
 //! when its type is (the type found in the impl's module, else the one
-//! public type of that name). `#[cfg(test)]` and `#[doc(hidden)]` items
-//! are left out. The test fails when `docs/dev/api.md` differs from the
+//! public type of that name). A `pub` item of a module that is not
+//! reachable is public when a reachable `pub use` re-exports it (matched
+//! by its module's name and its own; a glob re-exports all of them): it
+//! is listed, with its methods, under the module that re-exports it.
+//! `#[cfg(test)]` and `#[doc(hidden)]` items are left out. The test fails when `docs/dev/api.md` differs from the
 //! list; `PLATEFIELD_WRITE_API=1 cargo test --release --test api`
 //! rewrites it.
 
@@ -31,6 +34,13 @@ struct Api {
     /// Impls with public items whose type is neither in their module nor
     /// the one public type of its name: (module path, type name).
     unresolved: Vec<(String, String)>,
+    /// `pub` items of modules that are not reachable: (module path, kind,
+    /// name).
+    hidden: Vec<(String, String, String)>,
+    /// What reachable `pub use`s re-export: (re-exporting module path,
+    /// the source module's path as written, resolved against the
+    /// re-exporting module, the item's name or `*`).
+    reexports: Vec<(String, String, String)>,
 }
 
 fn has_attr(attrs: &[Attribute], name: &str, arg: &str) -> bool {
@@ -167,8 +177,37 @@ impl Api {
                 _ => (&[], None, None),
             };
         if let (Some(vis), Some((kind, name))) = (vis, named) {
-            if reachable && public(vis) && !skipped(attrs) {
-                self.add(path, kind, name);
+            if public(vis) && !skipped(attrs) {
+                if let (true, Item::Use(u)) = (reachable, item) {
+                    let mut leaves = Vec::new();
+                    use_leaves(&u.tree, &mut Vec::new(), &mut leaves);
+                    for (from, leaf) in leaves {
+                        self.reexports
+                            .push((path.to_string(), resolve(path, &from), leaf));
+                    }
+                }
+                if reachable {
+                    self.add(path, kind, name);
+                } else if kind != "use" {
+                    self.hidden.push((path.to_string(), kind.to_string(), name));
+                }
+            }
+        }
+    }
+
+    /// Lists the hidden items that a reachable `pub use` re-exports under
+    /// the module that re-exports them.
+    fn resolve_reexports(&mut self) {
+        let hidden = std::mem::take(&mut self.hidden);
+        let mut reexports = std::mem::take(&mut self.reexports);
+        // The shortest path first: an item re-exported twice is listed once.
+        reexports.sort_by_key(|(at, _, _)| (at.matches("::").count(), at.clone()));
+        let mut listed = BTreeSet::new();
+        for (at, from, leaf) in reexports {
+            for (i, (path, kind, name)) in hidden.iter().enumerate() {
+                if *path == from && (leaf == "*" || *name == leaf) && listed.insert(i) {
+                    self.add(&at, kind, name.clone());
+                }
             }
         }
     }
@@ -265,6 +304,40 @@ fn quote_use(tree: &syn::UseTree) -> String {
     }
 }
 
+/// Every (module path as written, item name) a `use` tree names; `*` for
+/// a glob, the original name for a rename.
+fn use_leaves(tree: &syn::UseTree, prefix: &mut Vec<String>, out: &mut Vec<(Vec<String>, String)>) {
+    use syn::UseTree::*;
+    match tree {
+        Path(p) => {
+            prefix.push(p.ident.to_string());
+            use_leaves(&p.tree, prefix, out);
+            prefix.pop();
+        }
+        Name(n) => out.push((prefix.clone(), n.ident.to_string())),
+        Rename(r) => out.push((prefix.clone(), r.ident.to_string())),
+        Glob(_) => out.push((prefix.clone(), "*".into())),
+        Group(g) => g.items.iter().for_each(|t| use_leaves(t, prefix, out)),
+    }
+}
+
+/// A `use` path's module (`self`, `super`, `crate` or a child's name
+/// first) as a path from the crate root, seen from module `at`.
+fn resolve(at: &str, from: &[String]) -> String {
+    let mut path: Vec<&str> = at.split("::").collect();
+    for (i, seg) in from.iter().enumerate() {
+        match seg.as_str() {
+            "self" => {}
+            "super" => {
+                path.pop();
+            }
+            "crate" if i == 0 => path.truncate(1),
+            s => path.push(s),
+        }
+    }
+    path.join("::")
+}
+
 fn library_api() -> Api {
     let lib = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/lib.rs");
     let text = std::fs::read_to_string(&lib).unwrap();
@@ -272,6 +345,7 @@ fn library_api() -> Api {
     let mut api = Api::default();
     api.items.entry("platefield".into()).or_default();
     api.read("platefield", &parsed.items, &lib, true);
+    api.resolve_reexports();
     api.resolve_impls();
     api
 }
@@ -298,7 +372,8 @@ fn the_api_list_is_the_librarys() {
 }
 
 /// The reader finds what a hand-made crate declares: a public item in a
-/// public module, none in a private one or behind `pub(crate)`, a
+/// public module, none in a private one or behind `pub(crate)` unless a
+/// reachable `pub use` re-exports it, a
 /// method on its type, nothing from tests.
 #[test]
 fn the_reader_tells_public_from_private() {
@@ -306,7 +381,7 @@ fn the_reader_tells_public_from_private() {
     std::fs::create_dir_all(dir.join("a")).unwrap();
     std::fs::write(
         dir.join("lib.rs"),
-        "pub mod a; mod b; pub(crate) mod c;\n#[cfg(test)] mod tests { pub fn t() {} }\n",
+        "pub mod a; mod b; pub(crate) mod c;\npub use c::Shown;\n#[cfg(test)] mod tests { pub fn t() {} }\n",
     )
     .unwrap();
     std::fs::write(
@@ -316,11 +391,16 @@ fn the_reader_tells_public_from_private() {
     )
     .unwrap();
     std::fs::write(dir.join("b.rs"), "pub fn private_module() {}\n").unwrap();
-    std::fs::write(dir.join("c.rs"), "pub fn crate_module() {}\n").unwrap();
+    std::fs::write(
+        dir.join("c.rs"),
+        "pub fn crate_module() {}\npub struct Shown; impl Shown { pub fn n(&self) {} }\n",
+    )
+    .unwrap();
     let lib = dir.join("lib.rs");
     let parsed = syn::parse_file(&std::fs::read_to_string(&lib).unwrap()).unwrap();
     let mut api = Api::default();
     api.read("k", &parsed.items, &lib, true);
+    api.resolve_reexports();
     api.resolve_impls();
     let listed: Vec<String> = api
         .items
@@ -330,6 +410,9 @@ fn the_reader_tells_public_from_private() {
     assert_eq!(
         listed,
         [
+            "fn k::Shown::n",
+            "struct k::Shown",
+            "use k::c::Shown",
             "fn k::a::S::m",
             "fn k::a::shown",
             "struct k::a::S",
