@@ -346,7 +346,7 @@ where
 /// Reads an internally tagged object `{tag: kind, ...}`: `kinds` lists the
 /// allowed values of the tag, `build` reads the other keys of the kind it
 /// is given.
-pub fn tagged<'de, D, T>(
+pub(crate) fn tagged<'de, D, T>(
     d: D,
     tag: &'static str,
     kinds: &[&str],

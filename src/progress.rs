@@ -29,7 +29,7 @@ pub trait Observer: Send + Sync {
 
 /// The default [`Observer`]: each line on stderr.
 #[derive(Debug, Clone, Copy, Default)]
-pub struct Stderr;
+pub(crate) struct Stderr;
 
 impl Observer for Stderr {
     fn line(&self, text: &str) {

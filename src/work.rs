@@ -91,7 +91,7 @@ impl Runtime {
     }
 
     /// [`Estimate::check`] of `estimate` under this long-run guard.
-    pub fn check(&self, estimate: &Estimate) -> Result<()> {
+    pub(crate) fn check(&self, estimate: &Estimate) -> Result<()> {
         estimate.check(self.allow_long)
     }
 
@@ -325,7 +325,7 @@ impl Estimate {
     /// `Ok` when the work is within `LIMIT_S` or `allow_long`; else an
     /// [`Error::Invalid`] naming [`Estimate::subject`], stating the
     /// estimate, the limit, the knobs and `--allow-long`.
-    pub fn check(&self, allow_long: bool) -> Result<()> {
+    pub(crate) fn check(&self, allow_long: bool) -> Result<()> {
         self.check_on(threads(), allow_long)
     }
 

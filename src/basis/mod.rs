@@ -10,6 +10,7 @@ pub mod steps;
 pub mod symmetry;
 
 pub use cache::{BasisCache, CacheStatus};
-pub use library::{FieldEntry, FieldLibrary, Library, LibraryEntry};
+pub use library::FieldEntry;
+pub use library::{FieldLibrary, Library, LibraryEntry};
 pub use primitives::{Primitive, PrimitiveKind};
 pub use steps::StepsPlan;

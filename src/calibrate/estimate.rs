@@ -92,7 +92,7 @@ fn residual_sum(obs: &[[f64; 2]], p: &[[f64; 2]]) -> f64 {
 ///
 /// # Errors
 /// A path crosses an invalid field sample.
-pub fn fit_start(
+pub(crate) fn fit_start(
     motion: &PlayedMotion,
     set: &FieldSet,
     track: &Track,

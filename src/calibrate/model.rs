@@ -160,7 +160,7 @@ impl PlayedMotion {
     ///
     /// # Errors
     /// As [`PlayedMotion::fields`].
-    pub fn centre(&self, theta: &Theta) -> Result<FieldSet> {
+    pub(crate) fn centre(&self, theta: &Theta) -> Result<FieldSet> {
         let mut set = self.fields(theta)?;
         set.excursion = Some(Arc::new(self.excursions(theta)?));
         Ok(set)
@@ -192,7 +192,7 @@ impl PlayedMotion {
     ///
     /// # Errors
     /// A motion cannot be scaled.
-    pub fn excursions(&self, theta: &Theta) -> Result<Excursions> {
+    pub(crate) fn excursions(&self, theta: &Theta) -> Result<Excursions> {
         let points = self.grid.points();
         let per_segment = self.per_moving_segment(theta, |m, settings| {
             let sim = settings.simulator(m);

@@ -282,7 +282,7 @@ impl Tracks {
     ///
     /// # Errors
     /// The first frame outside, with the region's extent.
-    pub fn check_region(&self, region: &Grid) -> Result<()> {
+    pub(crate) fn check_region(&self, region: &Grid) -> Result<()> {
         for tr in &self.tracks {
             for f in &tr.frames {
                 for (axis, range, v) in [(0, region.x, f.r[0]), (1, region.y, f.r[1])] {
@@ -310,7 +310,7 @@ impl Tracks {
     ///
     /// # Errors
     /// As above, with the durations involved.
-    pub fn check_duration(&self, period: f64, played: Option<f64>) -> Result<()> {
+    pub(crate) fn check_duration(&self, period: f64, played: Option<f64>) -> Result<()> {
         let c = self.columns[0];
         let at = |f: &Frame| format!("{} line {} column {c} (t_s)", self.source, f.line);
         let frames = || self.tracks.iter().flat_map(|t| &t.frames);

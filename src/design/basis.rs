@@ -82,7 +82,7 @@ impl ColumnSource {
     /// steady field (the window averages ½ over each), so the segment still
     /// plays `cycles` of it, and the fit's proportions between segments
     /// hold; the schedule period grows by R cycles.
-    pub fn segment(&self, weight: f64, cycles: u32, mixed: bool) -> Segment {
+    pub(crate) fn segment(&self, weight: f64, cycles: u32, mixed: bool) -> Segment {
         let (primitive, motion, ramp_cycles) = match self {
             ColumnSource::Primitive(p) => (Some(p.clone()), None, None),
             ColumnSource::Motion { signals, .. } => (

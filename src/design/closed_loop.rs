@@ -58,7 +58,8 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-pub use judge::{Decomposition, PointPlay, RealisedError};
+pub use judge::Decomposition;
+pub use judge::{PointPlay, RealisedError};
 
 use super::judge;
 use super::order::{self, arrange};

@@ -163,7 +163,7 @@ impl MirrorLine {
 
     /// Whether `target`'s field is symmetric in this line over its
     /// `sampled` points of positive weight ([`mirror_axis`]'s test).
-    pub fn is_symmetry_of(&self, target: &Target, sampled: &SampledTarget) -> bool {
+    pub(crate) fn is_symmetry_of(&self, target: &Target, sampled: &SampledTarget) -> bool {
         self.is_symmetry(
             target,
             &weighted(sampled),

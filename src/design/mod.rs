@@ -54,7 +54,7 @@ use crate::schedule::Schedule;
 use crate::work::Runtime;
 use order::OrderSearch;
 
-pub(crate) use basis::DesignBasis;
+pub use basis::DesignBasis;
 pub use method::{Choice, Method, MethodDesign};
 pub use options::{BasisSection, FitSection, ScheduleSection};
 

@@ -41,7 +41,9 @@ mod state;
 mod steady;
 mod swing;
 
-pub use flight::{Airborne, Flight, FlightOutcome, Hop, PartPhase};
+pub use flight::Airborne;
+pub use flight::FlightOutcome;
+pub use flight::{Flight, Hop, PartPhase};
 pub use simulator::Simulator;
 pub use state::{CycleOutcome, PartState, TrajectoryPoint, V2};
 
@@ -53,9 +55,10 @@ pub use state::{CycleOutcome, PartState, TrajectoryPoint, V2};
 /// workspace's `CHANGELOG.md`.
 pub(crate) const ENGINE_REVISION: u32 = 14;
 pub(crate) use kinematics_table::KinematicsTable;
+pub use planar::PlanarOutcome;
 pub use planar::{
-    PlanarBody, PlanarOutcome, PlanarSample, PlanarSimulator, PlanarState, Plate, Rectangle,
-    SlipRule, MAX_POINTS_PER_SIDE, PLANAR_REFINE_DEPTH, PLANAR_STEPS_PER_CYCLE, REFINE_CHANGE,
+    PlanarBody, PlanarSample, PlanarSimulator, PlanarState, Plate, Rectangle, SlipRule,
+    MAX_POINTS_PER_SIDE, PLANAR_REFINE_DEPTH, PLANAR_STEPS_PER_CYCLE, REFINE_CHANGE,
 };
 pub use steady::{SteadyFailure, SteadyState};
 

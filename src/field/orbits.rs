@@ -95,7 +95,7 @@ impl Orbits {
     }
 
     /// Number of grid points in each family, by family.
-    pub fn sizes(&self) -> Vec<usize> {
+    pub(crate) fn sizes(&self) -> Vec<usize> {
         let mut n = vec![0; self.representatives.len()];
         for (f, _) in &self.members {
             n[*f] += 1;

@@ -130,7 +130,7 @@ impl WorstCaseFit {
     }
 
     /// The weakest of [`WorstCaseFit::strengths`].
-    pub fn weakest(&self) -> f64 {
+    pub(crate) fn weakest(&self) -> f64 {
         self.strengths.iter().copied().fold(f64::INFINITY, f64::min)
     }
 }

@@ -248,7 +248,7 @@ impl Held {
     }
 
     /// The sample starts within one period: kΔt, k < N.
-    pub fn breakpoints(&self) -> Vec<f64> {
+    pub(crate) fn breakpoints(&self) -> Vec<f64> {
         (0..self.per_period).map(|k| k as f64 * self.dt).collect()
     }
 

@@ -38,7 +38,8 @@ pub const LINEAR_ACCEL: f64 = 1e4;
 pub const ANGULAR_ACCEL: f64 = 1e5;
 pub use invariance::Invariance;
 pub(crate) use prepared::PreparedMotion;
-pub use ramped::{smoothstep, Ramped};
+pub(crate) use ramped::smoothstep;
+pub use ramped::Ramped;
 pub use screw::Screw;
 pub use signals::{Axes, Signals};
 pub use waveform::{FourierTerm, Sample, Waveform};
@@ -149,7 +150,7 @@ impl Motion {
     }
 
     /// Times in [0, T) where some acceleration jumps.
-    pub fn breakpoints(&self) -> Vec<f64> {
+    pub(crate) fn breakpoints(&self) -> Vec<f64> {
         let mut b = match self {
             Motion::Screw(s) => s.breakpoints(),
             Motion::Held(h) => h.breakpoints(),

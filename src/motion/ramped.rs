@@ -29,7 +29,7 @@ use crate::error::{Error, Result};
 
 /// The quintic smoothstep w(s) = 10s³ − 15s⁴ + 6s⁵ on [0, 1] (clamped
 /// outside) with dw/ds and d²w/ds².
-pub fn smoothstep(s: f64) -> [f64; 3] {
+pub(crate) fn smoothstep(s: f64) -> [f64; 3] {
     let s = s.clamp(0.0, 1.0);
     [
         s * s * s * (10.0 + s * (-15.0 + 6.0 * s)),
@@ -67,7 +67,7 @@ impl Ramped {
 
     /// Checks 1 ≤ `ramp` ≤ `cycles`/2 (a ramp in and a ramp out fit in the
     /// segment), naming `{field}.ramp_cycles`.
-    pub fn check(ramp: u32, cycles: u32, field: &str) -> Result<()> {
+    pub(crate) fn check(ramp: u32, cycles: u32, field: &str) -> Result<()> {
         if ramp == 0 || u64::from(cycles) < 2 * u64::from(ramp) {
             return Err(Error::invalid(
                 format!("{field}.ramp_cycles"),
@@ -86,7 +86,7 @@ impl Ramped {
     }
 
     /// The window w(t) and its first two time derivatives.
-    pub fn window(&self, t: f64) -> [f64; 3] {
+    pub(crate) fn window(&self, t: f64) -> [f64; 3] {
         let ramp_time = f64::from(self.ramp) * self.signals.period;
         let (r1, r2) = (1.0 / ramp_time, 1.0 / (ramp_time * ramp_time));
         if t < ramp_time {

@@ -61,7 +61,7 @@ impl Screw {
     }
 
     /// Acceleration breakpoints in [0, T).
-    pub fn breakpoints(&self) -> Vec<f64> {
+    pub(crate) fn breakpoints(&self) -> Vec<f64> {
         let mut b = self.rotation.breakpoints(self.period);
         b.extend(self.translation.breakpoints(self.period));
         b

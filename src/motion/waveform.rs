@@ -176,7 +176,7 @@ impl Waveform {
     /// Times in [0, period) where the acceleration jumps. The integrator
     /// places step boundaries there so piecewise-smooth signals are
     /// integrated at full order (and piecewise-constant ones exactly).
-    pub fn breakpoints(&self, period: f64) -> Vec<f64> {
+    pub(crate) fn breakpoints(&self, period: f64) -> Vec<f64> {
         match self {
             Waveform::Square { .. } => vec![0.0, 0.5 * period],
             _ => Vec::new(),

@@ -32,7 +32,9 @@
 mod polygon;
 mod symmetry;
 
-pub use polygon::{centroid, contains, covers, diameter, signed_area};
+pub(crate) use polygon::diameter;
+pub(crate) use polygon::signed_area;
+pub use polygon::{centroid, contains, covers};
 
 use std::path::Path;
 

@@ -4,7 +4,7 @@
 use crate::dynamics::V2;
 
 /// Signed area (shoelace; > 0 for counter-clockwise vertices).
-pub fn signed_area(v: &[V2]) -> f64 {
+pub(crate) fn signed_area(v: &[V2]) -> f64 {
     let n = v.len();
     0.5 * (0..n).map(|i| v[i].perp(&v[(i + 1) % n])).sum::<f64>()
 }
@@ -23,7 +23,7 @@ pub fn centroid(v: &[V2]) -> V2 {
 
 /// Largest extent of the polygon: the longest distance between two
 /// vertices (its diameter).
-pub fn diameter(v: &[V2]) -> f64 {
+pub(crate) fn diameter(v: &[V2]) -> f64 {
     v.iter()
         .flat_map(|a| v.iter().map(move |b| (a - b).norm()))
         .fold(0.0, f64::max)

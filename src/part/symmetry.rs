@@ -65,7 +65,8 @@ impl Part {
 
     /// The angle φ (rad, in (−π/2, π/2]) of the major axis of the
     /// support's second moments in the body frame (module docs).
-    pub fn principal_angle(&self) -> f64 {
+    #[cfg(test)]
+    pub(crate) fn principal_angle(&self) -> f64 {
         let (mut xx, mut yy, mut xy) = (0.0, 0.0, 0.0);
         for (p, w) in self.body.points().iter().zip(self.body.weights()) {
             xx += w * p.x * p.x;

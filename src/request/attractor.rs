@@ -92,7 +92,7 @@ impl Attractor {
     }
 
     /// Distance (m) from `p` to the attractor.
-    pub fn distance(&self, p: [f64; 2]) -> f64 {
+    pub(crate) fn distance(&self, p: [f64; 2]) -> f64 {
         match *self {
             Attractor::Point { center, .. } => (p[0] - center[0]).hypot(p[1] - center[1]),
             Attractor::Line {

@@ -52,7 +52,7 @@ impl TargetError {
     /// The error as (where, what): the JSON path, prefixed with the file
     /// for [`TargetError::InFile`], and the message without it, so that a
     /// caller can report it without repeating the path.
-    pub fn located(&self) -> (String, String) {
+    pub(crate) fn located(&self) -> (String, String) {
         match self {
             TargetError::Invalid { path, message } => (path.clone(), message.clone()),
             TargetError::InFile { file, error } => {

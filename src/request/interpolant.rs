@@ -102,11 +102,6 @@ impl SampledInterpolant {
         }
     }
 
-    /// Nodes per axis of the grid.
-    pub fn nodes(&self) -> usize {
-        self.nodes
-    }
-
     /// The interpolated field (m/s) at `p` (metres).
     pub fn eval(&self, p: [f64; 2]) -> [f64; 2] {
         let m = self.nodes;
@@ -214,7 +209,7 @@ mod tests {
         let points = scattered(40);
         let vectors: Vec<[f64; 2]> = points.iter().map(|&p| f(p)).collect();
         let g = SampledInterpolant::new(&points, &vectors);
-        assert_eq!(g.nodes(), 17);
+        assert_eq!(g.nodes, 17);
         for i in -12..=12 {
             for j in -12..=12 {
                 let p = [0.005 * i as f64, 0.0047 * j as f64];

@@ -212,8 +212,9 @@ pub(crate) use classes::PartClass;
 pub use classes::{Edge, MAX_CLASSES};
 pub use error::TargetError;
 pub use examples::examples;
+pub use field::SumTerm;
 pub use field::{
-    FieldSpec, Interpolation, SumTerm, ANGLE, COINCIDENT, DEFAULT_JET_WIDTH, EXTENT, FIELD_KINDS,
+    FieldSpec, Interpolation, ANGLE, COINCIDENT, DEFAULT_JET_WIDTH, EXTENT, FIELD_KINDS,
     IDW_NEIGHBORS, MAX_SAMPLED_POINTS, MAX_TERMS, MIN_JET_WIDTH, RATIO, SPEED, STRENGTH,
     TRANSPORT_LENGTH, WEIGHT,
 };

@@ -50,7 +50,7 @@ impl Interval {
     }
 
     /// The middle of the range.
-    pub fn mid(&self) -> f64 {
+    pub(crate) fn mid(&self) -> f64 {
         0.5 * (self.lo + self.hi)
     }
 

@@ -63,7 +63,8 @@ use crate::field::{FieldKind, FieldSettings, Grid};
 use crate::input;
 use crate::motion::Motion;
 
-pub use friction::{FrictionSpec, Interval, MU};
+pub use friction::Interval;
+pub use friction::{FrictionSpec, MU};
 pub use request::{field, FieldRequest};
 pub use validate::primitive as validate_primitive;
 pub(crate) use validate::resolved as validate_resolved;

@@ -45,10 +45,11 @@ use crate::fit::FitMetrics;
 use crate::motion::{Motion, Ramped, Signals};
 use crate::request::Target;
 
-pub use played::{
-    AxisPeaks, Method, Played, PoseAtFriction, PoseBasin, PoseOverFriction, PosePlayed,
-};
-pub use quantize::{quantize, Quantized, DEFAULT_MIN_CYCLES, DEFAULT_QUANTIZATION_TOL};
+pub use played::PoseBasin;
+pub use played::{AxisPeaks, Method, Played, PoseAtFriction, PoseOverFriction, PosePlayed};
+pub(crate) use quantize::quantize;
+pub(crate) use quantize::Quantized;
+pub use quantize::{DEFAULT_MIN_CYCLES, DEFAULT_QUANTIZATION_TOL};
 
 /// Most cycles of one segment (about 50 minutes of plate motion at the
 /// paper's 30 ms cycle).

@@ -23,7 +23,7 @@ pub(crate) const MAX_TOTAL_CYCLES: u32 = 5000;
 
 /// Result of quantising fractions.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Quantized {
+pub(crate) struct Quantized {
     /// Cycles per column (0 = unused).
     pub cycles: Vec<u32>,
     /// Rest cycles (of period `rest_period`).
@@ -37,7 +37,7 @@ pub struct Quantized {
 /// Quantises `fractions` (one per column, Σ ≤ 1) for columns of periods
 /// `periods`; `field_error(q)` returns ‖A(q − f)‖/‖A f‖ for realised
 /// fractions q. Rest cycles use `rest_period`.
-pub fn quantize(
+pub(crate) fn quantize(
     fractions: &[f64],
     periods: &[f64],
     rest_period: f64,

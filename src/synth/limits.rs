@@ -188,7 +188,7 @@ impl ShakerLimits {
     /// 0.05 s (20 Hz) and 0.0333 s; this takes T = 0.05 s, the most common,
     /// and harmonic 1, the only one its saved desired cycles use (each
     /// channel `A sin(ωt + φ)`).
-    pub fn ppod_library() -> ShakerLimits {
+    pub(crate) fn ppod_library() -> ShakerLimits {
         ShakerLimits {
             period: 0.05,
             linear: [20.0, 20.0, 7.0],

@@ -194,6 +194,7 @@ mod synthesize;
 pub mod transport;
 
 pub use limits::ShakerLimits;
+pub use synthesize::AxisPeak;
 pub use synthesize::{
-    synthesize, synthesize_classes, AxisPeak, Checked, SynthOptions, Synthesis, POLISH_LM, SYNTH_LM,
+    synthesize, synthesize_classes, Checked, SynthOptions, Synthesis, POLISH_LM, SYNTH_LM,
 };

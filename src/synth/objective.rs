@@ -498,7 +498,7 @@ impl<'a> Objective<'a> {
 
     /// True when the evaluation budget (or the deadline) is spent, or the
     /// stall rule (if any) says the best cost has stopped improving.
-    pub fn spent(&self) -> bool {
+    pub(crate) fn spent(&self) -> bool {
         let tally = self.tally.lock().unwrap_or_else(|p| p.into_inner());
         let (evaluations, stalled) = (tally.evaluations, tally.stall.stalled(self.stall.as_ref()));
         drop(tally);

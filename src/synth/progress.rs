@@ -27,7 +27,7 @@ impl SynthesisProgress {
 
     /// Records the evaluation count and the best evaluation so far, as its
     /// realised (strength, shape error) (called by the objective).
-    pub fn update(&self, evaluations: usize, best: Option<(f64, f64)>) {
+    pub(crate) fn update(&self, evaluations: usize, best: Option<(f64, f64)>) {
         if let Some((strength, shape_error)) = best {
             self.0.set_message(format!(
                 "best: strength {strength:.4}, shape error {}",
@@ -39,7 +39,7 @@ impl SynthesisProgress {
 
     /// Called once per iteration; the display itself keeps time (a line
     /// at most every interval, also between updates).
-    pub fn show(&self) {}
+    pub(crate) fn show(&self) {}
 
     /// Clears the bar and stops the lines.
     pub fn finish(&self) {

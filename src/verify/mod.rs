@@ -24,8 +24,9 @@ pub mod run;
 pub mod sort_play;
 pub(crate) mod swarm;
 
-pub use rectangles::{
-    play_rectangle, PoseSample, RectangleFailure, RectangleOptions, RectangleRun, RectangleSummary,
-};
+pub use rectangles::RectangleRun;
+pub use rectangles::RectangleSummary;
+pub use rectangles::{play_rectangle, PoseSample, RectangleFailure, RectangleOptions};
 pub use run::{run, verify_schedule_file, Duration, VerifyReport, VerifyRequest};
-pub use swarm::{run_swarm, Swarm, SwarmOptions, SwarmPart};
+pub use swarm::SwarmPart;
+pub use swarm::{run_swarm, Swarm, SwarmOptions};

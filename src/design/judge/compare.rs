@@ -84,7 +84,7 @@ impl<'a> Promise<'a> {
     }
 
     /// The promise s·t at each of `plays` ([`promised`]).
-    pub fn along(&self, plays: &[&PointPlay], s: f64) -> Vec<[f64; 2]> {
+    pub(crate) fn along(&self, plays: &[&PointPlay], s: f64) -> Vec<[f64; 2]> {
         plays
             .iter()
             .map(|p| {

@@ -56,7 +56,8 @@ pub mod compare;
 
 use rayon::prelude::*;
 
-pub use compare::{counts, realised_error, Decomposition, PointPlay, RealisedError};
+pub use compare::Decomposition;
+pub use compare::{counts, realised_error, PointPlay, RealisedError};
 
 use crate::field::FieldSettings;
 use crate::play::measure::{play_frozen_point, PlayOptions};

@@ -159,7 +159,7 @@ impl AveragedField {
     }
 
     /// The averaged field of `body` on a schedule's plate trajectory `sm`.
-    pub fn of_schedule(
+    pub(crate) fn of_schedule(
         body: &PlanarBody,
         sm: ScheduleMotion,
         physics: PartPhysics,
@@ -184,7 +184,8 @@ impl AveragedField {
 
     /// The same field played with `steps` planar steps per cycle (default
     /// [`AVERAGING_STEPS`]).
-    pub fn with_steps(mut self, steps: usize) -> AveragedField {
+    #[cfg(test)]
+    pub(crate) fn with_steps(mut self, steps: usize) -> AveragedField {
         self.play.steps_per_cycle = steps.max(1);
         self
     }
@@ -217,7 +218,7 @@ impl AveragedField {
     /// slip (from rest at phase 0 when `None`): a nearby pose's periodic
     /// slip cuts the periods to convergence. Also returns the slip the
     /// last period ended with, for the next nearby pose.
-    pub fn twist_from(
+    pub(crate) fn twist_from(
         &self,
         pose: Pose,
         warm: Option<Slip>,
@@ -303,7 +304,7 @@ impl AveragedField {
     /// the field near the pose, comparable with the lifted field's. (Over
     /// a long schedule period, a pose design's minute-long cycle, the part
     /// travels to its rest within the period, and ξ̄ is that trip over T.)
-    pub fn is_local(&self, twist: &Twist) -> bool {
+    pub(crate) fn is_local(&self, twist: &Twist) -> bool {
         let t = self.sm.period();
         twist.v.norm() * t < LOCAL * self.radius() && twist.omega.abs() * t < LOCAL
     }
@@ -311,7 +312,11 @@ impl AveragedField {
     /// ∂(v_x, v_y, ω)/∂(x, y, θ) at `pose` by central differences (steps
     /// [`JACOBIAN_STEP`] of the part's radius and [`JACOBIAN_STEP_RAD`]),
     /// every evaluation warm-started from `warm`.
-    pub fn jacobian(&self, pose: Pose, warm: Option<Slip>) -> Result<Matrix3<f64>, ContactLoss> {
+    pub(crate) fn jacobian(
+        &self,
+        pose: Pose,
+        warm: Option<Slip>,
+    ) -> Result<Matrix3<f64>, ContactLoss> {
         let h = [
             JACOBIAN_STEP * self.radius(),
             JACOBIAN_STEP * self.radius(),
@@ -337,7 +342,7 @@ pub const CHECKED_POSES: usize = 20;
 /// The poses the `poses` command checks: every equilibrium of `a`, then
 /// its first drop starts, [`CHECKED_POSES`] in all (equilibria first when
 /// there are more).
-pub fn checked_poses(a: &PoseAnalysis) -> Vec<Pose> {
+pub(crate) fn checked_poses(a: &PoseAnalysis) -> Vec<Pose> {
     let mut poses: Vec<Pose> = a
         .equilibria
         .iter()

@@ -445,7 +445,7 @@ impl Continuum {
 
     /// The scaled distance from `q` (pose) to the curve and the index of
     /// the nearer end of the nearest segment (θ compared modulo 2π).
-    pub fn distance(&self, q: &Pose) -> (f64, usize) {
+    pub(crate) fn distance(&self, q: &Pose) -> (f64, usize) {
         let r = self.radius.max(f64::MIN_POSITIVE);
         let scaled = |p: &Pose| Vector3::new(p.r.x / r, p.r.y / r, p.theta);
         let x = scaled(q);
@@ -474,7 +474,7 @@ impl Continuum {
 
     /// Where the drift along the curve takes a part arriving at point `i`
     /// (module docs).
-    pub fn destination(&self, i: usize) -> Destination {
+    pub(crate) fn destination(&self, i: usize) -> Destination {
         let n = self.points.len();
         let neutral = |k: usize| self.drift[k].abs() <= self.neutral[k];
         if neutral(i) {

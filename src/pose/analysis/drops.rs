@@ -119,7 +119,7 @@ pub fn play_drop(
 
 /// A body's planar simulators for the segments of a schedule: plays it
 /// period by period (module docs).
-pub struct PlanarPlayer<'a> {
+pub(crate) struct PlanarPlayer<'a> {
     segments: &'a [crate::play::PlayedSegment],
     sims: Vec<PlanarSimulator<'a>>,
     gravity: f64,
@@ -162,7 +162,7 @@ impl<'a> PlanarPlayer<'a> {
     /// is off. With `joined` the first segment is entered by a join from
     /// the last (a period that follows another); without, `s` starts it
     /// as it is. Returns the period's cost.
-    pub fn play_period(
+    pub(crate) fn play_period(
         &self,
         s: &mut PlanarState,
         period: u32,
@@ -194,7 +194,7 @@ impl<'a> PlanarPlayer<'a> {
 
 /// [`play_drop`], with the pose at the end of every schedule period (the
 /// last is the end pose): when a drop came to rest where it ended.
-pub fn play_drop_tracked(
+pub(crate) fn play_drop_tracked(
     sm: &ScheduleMotion,
     body: &PlanarBody,
     start: Pose,

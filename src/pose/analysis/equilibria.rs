@@ -129,7 +129,7 @@ impl Equilibrium {
     /// The equilibrium at `pose` with the Jacobian `j` of its field there:
     /// stable when every eigenvalue's real part is below −1e-9 of the
     /// largest magnitude.
-    pub fn of_jacobian(pose: Pose, j: &Matrix3<f64>) -> Equilibrium {
+    pub(crate) fn of_jacobian(pose: Pose, j: &Matrix3<f64>) -> Equilibrium {
         let e = eigenvalues(j);
         let mut rates = [e[0].re, e[1].re, e[2].re];
         rates.sort_by(|a, b| b.total_cmp(a));

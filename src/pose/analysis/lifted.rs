@@ -80,7 +80,7 @@ impl GridField {
     }
 
     /// Samples `vectors` (row-major, y outer) on `grid`.
-    pub fn from_samples(grid: Grid, vectors: Vec<[f64; 2]>) -> GridField {
+    pub(crate) fn from_samples(grid: Grid, vectors: Vec<[f64; 2]>) -> GridField {
         GridField { grid, vectors }
     }
 
@@ -253,14 +253,14 @@ impl<'a> LiftedField<'a> {
     }
 
     /// The twist as a 3-vector (v_x, v_y, ω).
-    pub fn twist3(&self, q: &nalgebra::Vector3<f64>) -> nalgebra::Vector3<f64> {
+    pub(crate) fn twist3(&self, q: &nalgebra::Vector3<f64>) -> nalgebra::Vector3<f64> {
         let t = self.twist(Pose::new(q.x, q.y, q.z));
         nalgebra::Vector3::new(t.v.x, t.v.y, t.omega)
     }
 
     /// Jacobian ∂(v_x, v_y, ω)/∂(x, y, θ) by central differences (steps
     /// 1e-5 of the radius and 1e-5 rad).
-    pub fn jacobian(&self, pose: Pose) -> Matrix3<f64> {
+    pub(crate) fn jacobian(&self, pose: Pose) -> Matrix3<f64> {
         let q = nalgebra::Vector3::new(pose.r.x, pose.r.y, pose.theta);
         let steps = [
             1e-5 * self.radius.max(1e-6),

@@ -92,7 +92,7 @@ pub fn analyse(part: &Part, field: &dyn PointField, region: Region, drops: usize
 
 /// [`analyse`], calling `done` after each drop has settled (from the
 /// worker threads: progress).
-pub fn analyse_with(
+pub(crate) fn analyse_with(
     part: &Part,
     field: &dyn PointField,
     region: Region,

@@ -17,7 +17,7 @@ use crate::work::{Estimate, Term, PLANAR_POINT_STEP_COST};
 
 /// Support points of the body [`crate::pose::played_basins`] plays for `part`
 /// (resampled as [`DropPlay::samples`] asks, else the part's own).
-pub fn played_points(part: &Part, play: &DropPlay) -> usize {
+pub(crate) fn played_points(part: &Part, play: &DropPlay) -> usize {
     play.samples
         .and_then(|n| part.coarse_body(n))
         .map_or(part.body.points().len(), |(body, _)| body.points().len())
@@ -25,7 +25,7 @@ pub fn played_points(part: &Part, play: &DropPlay) -> usize {
 
 /// Nominal planar steps of one schedule period of `sm` at
 /// `steps_per_cycle` (rest segments at the shortest moving segment's step).
-pub fn steps_per_period(sm: &ScheduleMotion, steps_per_cycle: usize) -> f64 {
+pub(crate) fn steps_per_period(sm: &ScheduleMotion, steps_per_cycle: usize) -> f64 {
     let rest = rest_cycle(sm);
     sm.segments()
         .iter()
@@ -141,7 +141,7 @@ pub fn settle_estimate(part: &Part, region: &Region, drops: usize) -> Estimate {
 /// ([`crate::pose::Bounds::scan`] over [`crate::pose::SCAN`]): per pose, the field
 /// at every sample and vertex and at 8 neighbours of each (the covering
 /// bound), each a point-field evaluation at [`LIFTED_POINT_COST`].
-pub fn bounds_term(part: &Part) -> Term {
+pub(crate) fn bounds_term(part: &Part) -> Term {
     Term::new("unknown-support bounds")
         .times(crate::pose::SCAN.iter().product::<usize>() as f64, "poses")
         .times(

@@ -127,17 +127,6 @@ pub struct Tried {
     pub stable: Vec<Equilibrium>,
 }
 
-impl Tried {
-    /// The slowest decay rate among its stable poses (1/s), 0 when none.
-    pub fn slowest(&self) -> f64 {
-        self.stable
-            .iter()
-            .map(|e| -e.rates[0])
-            .reduce(f64::min)
-            .unwrap_or(0.0)
-    }
-}
-
 /// Every candidate's lifted stable poses for `req`'s part on `grid`.
 ///
 /// # Errors

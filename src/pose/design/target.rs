@@ -122,7 +122,7 @@ impl PoseTarget {
     /// The two ends of the target's friction range (μ low, μ high), `None`
     /// for an exact friction: where a pose design's probes play to meet
     /// the range (`pose::design::correct`, [`super::screen`]).
-    pub fn friction_ends(&self) -> Option<[crate::dynamics::Friction; 2]> {
+    pub(crate) fn friction_ends(&self) -> Option<[crate::dynamics::Friction; 2]> {
         let v = crate::design::stacked::ranged(&self.target)?.values(2);
         Some([v[0], v[v.len() - 1]])
     }
