@@ -335,7 +335,7 @@ const NAME_MAX: usize = 255;
 
 /// The longest result folder name (a target's `name`, a schedule's
 /// `target`), in bytes: its staging folder
-/// `.NAME.platefield-stage-<pid>-<n>` must fit in [`NAME_MAX`] bytes with
+/// `.NAME.platefield-stage-<pid>-<n>` must fit in `NAME_MAX` bytes with
 /// the longest process id (10 digits) and counter (20 digits).
 pub const MAX_FOLDER_NAME_BYTES: usize = NAME_MAX - 1 - STAGE_MARK.len() - 10 - 1 - 20;
 

@@ -9,7 +9,7 @@
 //! **One observer.** Every line the library has for a person (plain
 //! progress lines, work estimates, notes such as "scaled into the shaker
 //! limits") goes through [`say`] to the process's [`Observer`]: by default
-//! [`Stderr`], the only place the library writes to stderr. A program that
+//! `Stderr`, the only place the library writes to stderr. A program that
 //! embeds the library (a notebook, a GUI, a service's log) installs its own
 //! with [`set_observer`]; while one is installed, progress comes as plain
 //! lines to it, never as a terminal bar.
@@ -41,7 +41,7 @@ impl Observer for Stderr {
 static OBSERVER: RwLock<Option<Arc<dyn Observer>>> = RwLock::new(None);
 
 /// Installs `observer` for the whole process and returns the one it
-/// replaces (`None`: the default [`Stderr`]); `None` restores the default.
+/// replaces (`None`: the default `Stderr`); `None` restores the default.
 ///
 /// ```
 /// use std::sync::{Arc, Mutex};

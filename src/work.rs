@@ -102,7 +102,7 @@ impl Runtime {
         estimate.admit(self.allow_long, self.progress())
     }
 
-    /// [`Estimate::check`] of `estimate` under this long-run guard, then
+    /// `Estimate::check` of `estimate` under this long-run guard, then
     /// its [`Estimate::announcement`] on stderr whenever there is one,
     /// `quiet` or not (work expected past `ANNOUNCE_S` always says so
     /// first); returns the progress mode for the work: shown unless
@@ -371,7 +371,7 @@ pub fn with_counted_progress<T>(progress: &Progress, f: impl FnOnce() -> T) -> T
 
 /// The term of computing `kind` fields on `samples` grid points per field,
 /// `fields` fields: force fields take `settings.phases` cycles per sample,
-/// steady-state velocity fields [`VELOCITY_CYCLES`] (at most the
+/// steady-state velocity fields `VELOCITY_CYCLES` (at most the
 /// settings' `max_iterations`).
 pub fn field_term(
     label: &str,

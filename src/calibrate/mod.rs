@@ -2,18 +2,18 @@
 //! estimated from parts observed moving under a known schedule.
 //!
 //! A lab plays a schedule, films parts on the plate and tracks them
-//! ([`tracks`]: `t_s,part,x_m,y_m`). [`calibrate`] first fits each part
+//! (`tracks`: `t_s,part,x_m,y_m`). [`calibrate`] first fits each part
 //! alone over a lattice of μ by the played motion's **steady-state
 //! velocity field** as a function of position and of θ = (μ_k, μ_s − μ_k,
-//! scale) ([`model`]: a path costs a few thousand field look-ups, a replay
+//! scale) (`model`: a path costs a few thousand field look-ups, a replay
 //! of one part over 10 s some 10 000 RK4 steps), by least squares
-//! on the observed positions ([`estimate`]: the noise model, the
+//! on the observed positions (`estimate`: the noise model, the
 //! intervals). Where that fit's residual is within [`replay::FIELD_MISS`] ×
 //! the tracks' own noise the field serves: the parts are sorted into
-//! friction classes ([`classes`]) by their own estimates, each class is
+//! friction classes (`classes`) by their own estimates, each class is
 //! fitted as one on the field, and the model's own bias at the estimate is
 //! measured on noise-free tracks replayed by the exact simulator and
-//! removed (indirect inference, [`estimate::binding`]: two replays of the
+//! removed (indirect inference, `estimate::binding`: two replays of the
 //! class's parts and two more fits on the same fields, no new field).
 //! Beyond it the field cannot follow the tracks (a schedule of short
 //! segments, whose joins' transients it leaves out), and the parts and
@@ -28,12 +28,12 @@
 //! replay): what the tests and the coverage study check the estimator
 //! against.
 
-pub mod classes;
-pub mod estimate;
-pub mod model;
+pub(crate) mod classes;
+pub(crate) mod estimate;
+pub(crate) mod model;
 pub mod replay;
-pub mod simulate;
-pub mod tracks;
+pub(crate) mod simulate;
+pub(crate) mod tracks;
 
 pub use model::PlayedMotion;
 pub use simulate::{simulate_tracks, TrackSimulation};
@@ -157,7 +157,7 @@ pub struct ClassEstimate {
     /// What the tracks of this class do not determine.
     pub not_separable: Vec<String>,
     /// The field model's bias removed from the fit, per estimated
-    /// parameter: (name, θ̂ − θ̃) (see [`estimate`]'s doc; empty for a
+    /// parameter: (name, θ̂ − θ̃) (see `estimate`'s doc; empty for a
     /// class fitted by replays, which have none).
     #[serde(default)]
     pub model_bias: Vec<(String, f64)>,
@@ -167,7 +167,7 @@ pub struct ClassEstimate {
     #[serde(default)]
     pub model_slope: Vec<(String, f64)>,
     /// Parts whose own fit does not determine their μ, joined to this
-    /// class (the nearest) and left out of its fit ([`classes`]).
+    /// class (the nearest) and left out of its fit (`classes`).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub joined: Vec<String>,
 }

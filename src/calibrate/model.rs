@@ -562,13 +562,4 @@ impl Stencil {
             excursion: self.base.excursion.clone(),
         }
     }
-
-    /// Largest change of the samples along free parameter `j` over the
-    /// stencil (m/s): zero when the fields do not depend on it there.
-    pub fn sensitivity(&self, j: usize) -> f64 {
-        self.free
-            .iter()
-            .position(|&f| f == j)
-            .map_or(0.0, |k| self.sides[k].0.max_difference(&self.sides[k].1))
-    }
 }

@@ -1,6 +1,6 @@
 //! Paths by exact replays, for tracks the field model cannot follow.
 //!
-//! **When.** The field model ([`super::model`]) leaves out the cycles a
+//! **When.** The field model (`super::model`) leaves out the cycles a
 //! part takes to reach its periodic orbit after each join. On a schedule
 //! whose segments last a few cycles each (the shipped sink: four line
 //! sinks of ten cycles each, played in turn) those transients are much of
@@ -13,12 +13,12 @@
 //!
 //! **Model.** Each part is put down at rest on the plate at r₀ when the
 //! schedule starts (t = 0) and played through the schedule by the exact
-//! simulator ([`super::simulate`]: every segment, the joins, rest) under
+//! simulator (`super::simulate`: every segment, the joins, rest) under
 //! θ; its positions at its frames' times are its path. Every frame is
 //! fitted, the start-up transient included. No field and no model bias to
 //! remove: the replay is the point-part model itself, each segment
 //! integrated whole on its fixed-step grid with its plate kinematics
-//! tabulated once ([`super::simulate::play_on_grid`]): 3 to 6 ms of CPU
+//! tabulated once (`super::simulate::play_on_grid`): 3 to 6 ms of CPU
 //! per part and 10 s of track on squeeze_trans and the shipped sink.
 //! Fewer steps than the schedule's serve where their error is far below
 //! the camera's noise: [`steps_for`] halves them while a replay stays
@@ -26,7 +26,7 @@
 //! [`steps_hold`] checks that again at the estimate (at 0.2 mm of noise:
 //! 16 of 64 on the shipped sink, 32 on squeeze_trans).
 //!
-//! **Fit.** The least squares of [`super::estimate`] (the same noise model
+//! **Fit.** The least squares of `super::estimate` (the same noise model
 //! and RSS, each track's start a nuisance), by Gauss–Newton over θ's free
 //! parameters and every track's r₀ at once. The paths' sensitivities are
 //! forward differences, one replay per parameter and track. The starts
@@ -45,7 +45,7 @@
 //! chord step that lowers no RSS is taken again from fresh
 //! sensitivities. The covariance is σ̂²S⁻¹, σ̂² = RSS/dof,
 //! widened by the tracks' own scatter as the field fit's is
-//! ([`super::estimate`]: each track's score B̃_iᵀẽ_i a cluster).
+//! (`super::estimate`: each track's score B̃_iᵀẽ_i a cluster).
 
 use nalgebra::{DMatrix, DVector, Matrix2, Vector2};
 use rayon::prelude::*;
@@ -127,7 +127,7 @@ pub fn path(
 /// while the halved replay of `probe` (the track observed longest: the
 /// error grows with time) under θ, put down at its first observed
 /// position, stays within [`STEP_ERROR`] × `noise` of the finer one on
-/// each axis at every frame ([`within_error`]), and the schedule stays
+/// each axis at every frame (`within_error`), and the schedule stays
 /// valid (at least 8 steps per period of its highest harmonic). The
 /// schedule as it is without a noise estimate.
 ///

@@ -176,7 +176,7 @@ impl Tracks {
     /// # Errors
     /// A missing header or column, a row with another number of columns, a
     /// value that is not a finite number, a part whose times do not
-    /// strictly increase, a part with fewer than [`MIN_FRAMES`] frames:
+    /// strictly increase, a part with fewer than `MIN_FRAMES` frames:
     /// each names `source`, the line and the column.
     pub fn parse(text: &str, source: &str) -> Result<Tracks> {
         let mut lines = text

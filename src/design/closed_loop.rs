@@ -13,7 +13,7 @@
 //! **The measure** is the judge's ([`super::judge`]): the realised field R
 //! at the judge's held points over the whole region, whole schedule
 //! periods, against the promise s·t with the target's weights and mask
-//! ([`judge::compare`]): the **realised error** ‖R − s t‖/‖s t‖ at
+//! (`judge::compare`): the **realised error** ‖R − s t‖/‖s t‖ at
 //! the strength s the schedule's design claims, the **realised strength**
 //! ŝ (the least-squares scale of R on t) and the **realised shape error**
 //! ‖R − ŝ t‖/‖ŝ t‖, which no choice of strength can lower. So the kept

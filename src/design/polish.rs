@@ -102,7 +102,7 @@
 //! first Jacobian and tries: 23 plays). `design` plays the polish exactly
 //! as the judge plays the schedule — its cycles (10 warm-up, 10
 //! measured), and the motion as a segment of
-//! [`PolishOptions::segment_cycles`] cycles, with the period played after
+//! the judge's cycles, with the period played after
 //! the windows in which a part that leaves the plate is left out — so the
 //! polish's measure of a motion is the check's, bit for bit. Played in
 //! one-cycle periods instead, the two measures disagree: the saddle's

@@ -74,7 +74,7 @@ impl Rule {
 pub type Key = (bool, f64, f64);
 
 /// Whether `b` beats `a` by the rule over a friction range whose bound is
-/// `bound` (`None`: [`better`]): a design that is not POOR and holds its
+/// `bound` (`None`: `better`): a design that is not POOR and holds its
 /// worst-case shape error within the bound beats one that does not, and
 /// of two that both hold it the stronger wins (module documentation).
 ///

@@ -1,6 +1,6 @@
 //! The sequenced design over a friction range: one set of time fractions
 //! fitted against the basis built at each friction sample, minimising the
-//! worst shape error over the samples ([`crate::fit::worst`]).
+//! worst shape error over the samples (`crate::fit::worst`).
 //!
 //! A primitive's field depends on the parts' friction (the slip direction
 //! leads the plate velocity by δ = asin(μg/A)), so a schedule fitted at the

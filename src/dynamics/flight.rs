@@ -258,7 +258,7 @@ impl Simulator<'_> {
     /// # Errors
     /// Without a [`Flight`], the contact loss as [`Simulator::advance`];
     /// with one, a contact loss where the contact model keeps N < 0 but the
-    /// part does not leave the plate ([`MAX_ZERO_FLIGHTS`] flights of zero
+    /// part does not leave the plate (`MAX_ZERO_FLIGHTS` flights of zero
     /// length in a row).
     pub fn advance_flying(
         &self,

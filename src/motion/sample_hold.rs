@@ -8,7 +8,7 @@
 //! ```
 //!
 //! from the analytic plate-centre velocity v (linear, and the world angular
-//! velocity ω = J(θ)θ′ of the orientation exp(\[θ\]×), [`super::rotation`]),
+//! velocity ω = J(θ)θ′ of the orientation exp(\[θ\]×), `super::rotation`),
 //! so the held velocity equals v at every sample time to round-off,
 //! whatever the waveform. The linear pose the controller integrates,
 //! x_{k+1} = x_k + v_k Δt + a_k Δt²/2 = x_k + (v_k + v_{k+1}) Δt/2, is the
@@ -138,7 +138,7 @@ pub(crate) fn axis_extremes(rows: &[[f64; 6]]) -> [f64; 6] {
 /// Velocity and pose of the plate centre at time `t` (exact: the screw's
 /// rotation is not linearised; a six-signal motion's are its zero-mean
 /// antiderivatives, its angular velocity the world ω = J(θ)θ′ of
-/// [`super::rotation`]).
+/// `super::rotation`).
 pub fn centre_state(motion: &Motion, t: f64) -> CentreState {
     match motion {
         Motion::Signals(_) | Motion::Ramped(_) => world_angular(signal_state(motion, t)),

@@ -14,7 +14,7 @@ impl Target {
     /// The name of the folder for this target's results: its `name`, or the
     /// stem of the file it was loaded from (`path`) when the name is blank.
     /// It must be a plain folder name (no `/`, `\`, NUL, no leading `.`,
-    /// at most [`MAX_NAME_BYTES`] bytes), checked before any work.
+    /// at most `MAX_NAME_BYTES` bytes), checked before any work.
     pub fn folder_name(&self, path: &Path) -> Result<String> {
         let name = if self.name.trim().is_empty() {
             path.file_stem()

@@ -237,7 +237,7 @@ impl FrictionSpec {
     }
 
     /// [`FrictionSpec::validate`], and that the kinetic coefficient (its
-    /// low end, of a range) is at least [`MU_DRIVEN`]: parts on a
+    /// low end, of a range) is at least `MU_DRIVEN`: parts on a
     /// frictionless plate cannot be driven. Errors name the key under
     /// `path` that holds the kinetic coefficient.
     ///

@@ -3,9 +3,9 @@
 //!
 //! * [`kinematic_least_normal`]: N of a part at rest on the plate
 //!   (u = 0, so no Coriolis term) at every point of a grid and at
-//!   [`TIME_SAMPLES`] instants per period, with the model's own switches
+//!   `TIME_SAMPLES` instants per period, with the model's own switches
 //!   (centripetal, gravity tilt) — used inside the objective.
-//! * [`orbit_least_normal`]: N along the simulated steady orbit of a part
+//! * `orbit_least_normal`: N along the simulated steady orbit of a part
 //!   (its slip velocity included, so Coriolis counts) at every step of the
 //!   integrator, at every grid point — the final check of a synthesis.
 //!   A part that leaves the plate anywhere is a contact loss in the field
@@ -20,7 +20,7 @@ use crate::motion::{Motion, V3};
 /// Instants per period of the kinematic check.
 pub(crate) const TIME_SAMPLES: usize = 256;
 
-/// Least N (m/s²) over the points of `grid` and [`TIME_SAMPLES`] instants
+/// Least N (m/s²) over the points of `grid` and `TIME_SAMPLES` instants
 /// per period of the motion's span (one period; a ramped segment's whole
 /// span, its ramps included), for a part at rest relative to the plate.
 pub fn kinematic_least_normal(motion: &Motion, grid: &Grid, settings: &FieldSettings) -> f64 {

@@ -160,7 +160,7 @@ impl ShakerLimits {
 
     /// The default limits (module documentation): per axis the larger of
     /// the [`paper_envelope`](Self::paper_envelope) and the
-    /// [`ppod_library`](Self::ppod_library), with the paper envelope's
+    /// `ppod_library`, with the paper envelope's
     /// period, harmonics and contact margin.
     ///
     /// ```

@@ -6,9 +6,9 @@
 //! **Linear response.** For a fixed translation (the in-plane signals of
 //! `translation`, any harmonics), each tilt coefficient j — α_x or α_y,
 //! harmonic 1..=H, the sin or the cos slot of [`super::params`] — is set
-//! alone to [`PROBE_TILT`] rad/s², and the steady-state velocity of a part
+//! alone to `PROBE_TILT` rad/s², and the steady-state velocity of a part
 //! is simulated at the four points ±h on x and on y from the region's
-//! centre (h = [`PROBE_OFFSET`] of the region's half-width and
+//! centre (h = `PROBE_OFFSET` of the region's half-width and
 //! half-height). The central differences give r_j, the velocity gradient
 //! [∂v_x/∂x, ∂v_x/∂y, ∂v_y/∂x, ∂v_y/∂y] per rad/s² of coefficient j. This
 //! is the simulator's own first-order answer: the slip direction ê(t) the
@@ -25,7 +25,7 @@
 //! |α_x(t)| ≤ limit, |α_y(t)| ≤ limit              (the tilt peaks)
 //! ```
 //!
-//! at [`TIMES`] instants of the period, with α(t) = Σ_h c sin(hωt) +
+//! at `TIMES` instants of the period, with α(t) = Σ_h c sin(hωt) +
 //! s cos(hωt) linear in c: the corner rows are N − g at the corners
 //! without a_z ([`super::seed`]'s margin check). Solved with Clarabel
 //! (zero and non-negative cones). k is then the largest strength the

@@ -142,7 +142,7 @@ impl RealisedError {
 }
 
 /// Affine decomposition of an error field, each part's norm relative to
-/// ‖s t‖ (see the [module documentation](self)).
+/// ‖s t‖ (see the module documentation).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Decomposition {
     /// Isotropic (divergence) part α q̃ (for a sink: a change of strength).

@@ -16,7 +16,7 @@
 //!    played from rest through whole schedule periods, segment joins and
 //!    ramps included, until it runs periodic: until what the start-up
 //!    transient still adds to the period's mean velocity is below
-//!    [`crate::play::settle`]'s 10⁻⁴ of it (at least three periods). The
+//!    `crate::play::settle`'s 10⁻⁴ of it (at least three periods). The
 //!    last period's mean velocity is the realised field R(p). A schedule
 //!    of one steady motion is played one motion cycle per period (the
 //!    same periodic orbit, at a tenth of the work of a ten-cycle period).
@@ -52,7 +52,7 @@
 //! segment and need no contact search; 121 points of a 21 × 21 target
 //! cost about three periods each.
 
-pub mod compare;
+pub(crate) mod compare;
 
 use rayon::prelude::*;
 
@@ -66,7 +66,7 @@ use crate::request::{SampledTarget, Target};
 use crate::schedule::Schedule;
 
 /// Fewest periods the judge plays at a point: the first transient
-/// estimate needs the means of three ([`crate::play::settle`]).
+/// estimate needs the means of three (`crate::play::settle`).
 pub const JUDGE_MIN_PERIODS: u32 = 3;
 
 /// Fewest judge points per side of a gridded target (every point of a
@@ -256,7 +256,7 @@ pub(crate) fn realised_check(
     Ok(judge(target, sampled, &sm, settings, predicted))
 }
 
-/// [`realised_check`] as a friction sweep's judge: the points played,
+/// `realised_check` as a friction sweep's judge: the points played,
 /// those that counted, the realised strength and shape error.
 pub fn judge_check(
     target: &Target,

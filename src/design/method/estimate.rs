@@ -63,7 +63,7 @@ pub(super) fn region(target: &Target, sampled: &SampledTarget) -> Grid {
 /// the coarse grid; the check of the motion on the full grid; and every
 /// play of the polish — its start points (those of the judge,
 /// `check_starts`: 40 for a 40-point grid-less target) over the cycles
-/// the check plays ([`check_cycles`]) plus one coarse field for its
+/// the check plays plus one coarse field for its
 /// contact check — the start's two plays and those of its steps, as many
 /// as its patience and one gain allow (all of `--polish-plays` for
 /// Nelder–Mead). Over a friction range optimised

@@ -13,7 +13,7 @@
 //! * `mix` (`mix_design`): the sequenced design's basis plus one column,
 //!   a synthesized motion, so the conic fit can mix it with primitives where
 //!   neither reaches the target alone; its segment ramps in and out of rest
-//!   inside its cycles ([`crate::design::basis::ColumnSource::segment`]).
+//!   inside its cycles (`crate::design::basis::ColumnSource::segment`).
 //!   When the fit leaves the column out, the mix is the sequenced design
 //!   again and is reported as such, not played twice.
 //! * `auto` (the CLI's default): both, and the better **realised** one is
@@ -38,7 +38,7 @@
 //!   steady-state field describes (measured on the family's off-centre
 //!   line sink line_sink_0, μ 0.33–0.66: 14.9 % within the envelope,
 //!   2.5 % within the sequenced peaks). So when no candidate within the
-//!   envelope holds the range within [`RANGE_HELD`], `auto` synthesizes
+//!   envelope holds the range within `RANGE_HELD`, `auto` synthesizes
 //!   again within the sequenced peaks, with the mirror-image shares
 //!   ([`Variant::SequencedPeaks`]), and the rule chooses between the two
 //!   shakers' candidates. If none holds it still, or those that hold it
@@ -79,7 +79,7 @@
 //!   lower realised shape error wins; when the two are within
 //!   [`TIE_SHAPE_ERROR`] (one percentage point) of each other, the higher
 //!   realised strength wins. Over a friction range, a candidate that holds
-//!   the target within [`RANGE_HELD`] (6 %) at its worst beats one that
+//!   the target within `RANGE_HELD` (6 %) at its worst beats one that
 //!   does not first, and of two that both hold it the stronger at its
 //!   worst wins ([`better_within`], which states why). A POOR candidate
 //!   (see below) loses to one that is not POOR. If one method fails (e.g.
@@ -163,7 +163,7 @@ pub struct Candidate {
 
 /// Which synthesis a candidate comes from: `auto` adds up to three over a
 /// friction range when no candidate before holds the target within
-/// [`RANGE_HELD`] at its worst (module documentation).
+/// `RANGE_HELD` at its worst (module documentation).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Variant {
     /// Its method's own design.
@@ -322,10 +322,10 @@ pub struct MethodDesign {
     /// ([`super::tolerance`]).
     pub tolerance: Option<super::tolerance::Spread>,
     /// The candidates judged over the shaker's delivery errors to choose
-    /// between them (by index; [`MethodRun::delivery_synthesis`]).
+    /// between them (by index; `MethodRun::delivery_synthesis`).
     pub delivered: Vec<(usize, super::tolerance::Spread)>,
     /// The worst-case shape error a candidate had to hold over the
-    /// friction range to beat those that do not ([`RANGE_HELD`] when the
+    /// friction range to beat those that do not (`RANGE_HELD` when the
     /// target states a range, [`better_within`]).
     pub bound: Option<f64>,
 }
@@ -341,10 +341,10 @@ impl MethodDesign {
 /// [`DesignOptions::synthesis`] (see the [module documentation](self)),
 /// plays every candidate and keeps one; [`crate::inverse::run`] is its public door.
 /// The stages, in order: the work refused up front
-/// ([`MethodRun::start`]), the sequenced candidate, the synthesized one
+/// (`MethodRun::start`), the sequenced candidate, the synthesized one
 /// (and its mirror-image shares), the mix, the judgement across the
 /// target's friction range, the syntheses added when no candidate holds
-/// it ([`Variant`]), and the choice ([`MethodRun::finish`]).
+/// it ([`Variant`]), and the choice (`MethodRun::finish`).
 ///
 /// # Errors
 /// Invalid options; every method asked for failing (the first error).

@@ -21,7 +21,7 @@ pub(super) const AIM_SPREAD: f64 = 3e-3;
 /// a few mm/s they cross a few centimetres, and the drift is a mean.
 pub const LANE_PLAY_S: f64 = 10.0;
 /// Time (s) every refit of an aimed candidate is played by the design's
-/// swarms to rank it ([`played_sort`]): the goals (lanes out by
+/// swarms to rank it (`played_sort`): the goals (lanes out by
 /// 20 s, two sinks by 30 s) and 10 s more to see the classes stay sorted,
 /// shorter than the candidates' final plays (at least 90 s,
 /// `crate::verify::sort_play::MIN_SORT_PLAY_S` and `SORT_HOLD_S`).

@@ -105,7 +105,7 @@ fn split(n: u32, k: u32) -> Vec<u32> {
 }
 
 /// `schedule` cut into `k` interleaved sub-periods: each segment into
-/// min(k, [`most_pieces`]) pieces of nearly equal steady cycles (a rest,
+/// min(k, `most_pieces`) pieces of nearly equal steady cycles (a rest,
 /// of equal time), piece m placed in sub-period ⌊m k / pieces⌋, the
 /// segments' order kept within each sub-period. Every segment keeps its
 /// steady cycles and so its time fraction; a ramped six-signal segment cut
@@ -162,7 +162,7 @@ pub fn interleaved(schedule: &Schedule, k: u32) -> Schedule {
 }
 
 /// The sub-periods a sort's schedule is cut into ([`interleaved`]): the
-/// least k with the excursion `e` (m, [`class_excursion`]) over k at most
+/// least k with the excursion `e` (m, `class_excursion`) over k at most
 /// [`EXCURSION_MAX`] (a part's swing within a period scales with the
 /// segments' durations), at most [`MAX_SUB_PERIODS`].
 ///

@@ -84,7 +84,7 @@ pub struct Slip {
 
 /// Largest travel over one period, relative to the part's radius (and
 /// in rad), at which the averaged field counts as local
-/// ([`AveragedField::is_local`]).
+/// (`AveragedField::is_local`).
 pub const LOCAL: f64 = 0.5;
 
 /// Jacobian step in x and y, relative to the part's radius.
@@ -363,7 +363,7 @@ pub struct LiftRow {
     pub lifted: Twist,
     /// The averaged field's (`None` where a support point loses contact).
     pub averaged: Option<AveragedTwist>,
-    /// The averaged field is local there ([`AveragedField::is_local`]).
+    /// The averaged field is local there (`AveragedField::is_local`).
     pub local: bool,
 }
 
@@ -384,7 +384,7 @@ pub struct LiftCheck {
 impl LiftCheck {
     /// Compares `lifted` with `averaged` at `poses` (in parallel; the
     /// same result on any number of threads). The RMS errors count only
-    /// the poses the averaged field is local at ([`AveragedField::is_local`]).
+    /// the poses the averaged field is local at (`AveragedField::is_local`).
     pub fn run(lifted: &LiftedField<'_>, averaged: &AveragedField, poses: &[Pose]) -> LiftCheck {
         use rayon::prelude::*;
         let rows: Vec<LiftRow> = poses

@@ -111,7 +111,7 @@ pub const LINE_BEND: f64 = 0.01;
 const SCHUR_ITERATIONS: usize = 1000;
 
 /// The eigenvalues of `j`: from its Schur form, or, where that does not
-/// converge in [`SCHUR_ITERATIONS`] (nalgebra's unbounded one can loop
+/// converge in `SCHUR_ITERATIONS` (nalgebra's unbounded one can loop
 /// for ever on an exactly singular Jacobian, a round sink's
 /// diag(−k, −k, 0)), the roots of its characteristic polynomial
 /// λ³ − tr J λ² + c₂ λ − det J (c₂ the sum of its principal 2 × 2 minors)
@@ -351,7 +351,7 @@ pub enum Motion {
 }
 
 /// Where the flow along a continuum takes a part that arrived at one of
-/// its points ([`Continuum::destination`]).
+/// its points (`Continuum::destination`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Destination {
     /// It stays at this point (a neutral one).

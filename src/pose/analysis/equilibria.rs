@@ -143,7 +143,7 @@ impl Equilibrium {
 }
 
 /// The rests of a lifted field over a region: its isolated equilibria and
-/// its continua ([`super::continua`]).
+/// its continua (`super::continua`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Rests {
     /// Isolated equilibria, sorted by θ then x then y: Newton's zeros and
@@ -177,7 +177,7 @@ pub fn equilibria(lifted: &LiftedField<'_>, region: &Region) -> Vec<Equilibrium>
 /// The isolated equilibria and the continua of `lifted` over `region`:
 /// Newton from every pose of the start grid (in parallel: the same result
 /// on any number of threads); each start that lands on a slow curve not
-/// yet traced traces it ([`super::continua`]), and the drift's zeros on
+/// yet traced traces it (`super::continua`), and the drift's zeros on
 /// the curves are refined into isolated equilibria.
 ///
 /// ```
@@ -359,7 +359,7 @@ pub fn settle(
 
 /// Where one drop ends among the `stable` equilibria and the `continua`
 /// (module docs): within [`ARRIVE`] of an attracting continuum, the flow
-/// along it decides ([`Continuum::destination`]): a rest on it or a
+/// along it decides (`Continuum::destination`): a rest on it or a
 /// curve it goes round is its end, a drift zero the stable equilibrium
 /// there (the drop goes on integrating when the drift carries it off the
 /// curve, or to a zero that is not a stable equilibrium).

@@ -55,7 +55,7 @@ pub struct AnalysisRequest {
     /// (`None`: no play; at most [`MAX_PLAY_S`]).
     pub play: Option<f64>,
     /// The parts' friction: one value, or a range answered at its ends and
-    /// middle ([`PER_RANGE`]); `None`: the source's own (a scene's or a
+    /// middle (`PER_RANGE`); `None`: the source's own (a scene's or a
     /// schedule's settings). A target's requested field has none.
     pub friction: Option<FrictionSpec>,
     /// The work's progress and long-run guard ([`crate::pose::settle_estimate`],
@@ -79,7 +79,7 @@ pub struct PoseOutcome {
     /// support (a part with an unknown support).
     pub bounds: Option<Vec<Pose>>,
     /// The lifted field against the averaged field at the equilibria and
-    /// drop starts ([`checked_poses`]); `None` for a target (no plate
+    /// drop starts (`checked_poses`); `None` for a target (no plate
     /// motion to play).
     pub lift_check: Option<LiftCheck>,
     /// The played rests Newton found on the averaged field from the lifted equilibria
@@ -89,7 +89,7 @@ pub struct PoseOutcome {
     /// work estimate is over the limit without `--allow-long`).
     pub averaged_skipped: Option<String>,
     /// Over a friction range ([`AnalysisRequest::friction`]): the lifted
-    /// analysis at each of its [`PER_RANGE`] values, low to high (the
+    /// analysis at each of its `PER_RANGE` values, low to high (the
     /// middle is `analysis`); empty for one friction.
     pub over_friction: Vec<(Friction, PoseAnalysis)>,
 }

@@ -72,7 +72,7 @@ pub fn drop_starts(region: &Region, drops: usize) -> Vec<Pose> {
 /// Equilibria of `part` in `field` over `region` and the basin of each
 /// stable one from `drops` random drops ([`drop_starts`] over the region
 /// inset by the part's radius, so that the dropped part lies on it;
-/// integrated along the lifted field, [`settle`]).
+/// integrated along the lifted field, [`super::equilibria::settle`]).
 ///
 /// ```
 /// use platefield::dynamics::V2;

@@ -83,8 +83,8 @@ const TRACED: f64 = 4.0;
 /// The work of the lifted analysis of `drops` drops of `part` in `region`
 /// (`poses`' predicted rests and basins, [`crate::pose::rests`] and
 /// [`crate::pose::settle_on`]), in [`crate::work`]'s unit: the rest search (the
-/// start grid's 216 poses, [`SEARCH_ITERATIONS`] Newton iterations of 7
-/// twists each), the continua traced ([`TRACED`]) and per drop the RK4
+/// start grid's 216 poses, `SEARCH_ITERATIONS` Newton iterations of 7
+/// twists each), the continua traced (`TRACED`) and per drop the RK4
 /// steps to cross half the region's diagonal at the largest step (2 % of
 /// the part's radius), turn half a turn at 0.02 rad a step and close in
 /// (100 steps), at most the 20000 steps a drop may take; each step 4

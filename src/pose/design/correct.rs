@@ -11,7 +11,7 @@
 //! [`SAME_REST`] of one another, so that probes resting at two poses are
 //! never averaged into a pose between them, which no probe reached) is
 //! taken back to the centred motion and
-//! the placement moved onto the asked pose ([`Placement::corrected`],
+//! the placement moved onto the asked pose (`Placement::corrected`,
 //! gain 1, halved whenever a round ends farther than the best so far: a
 //! damped step). The motion is never redesigned, so the rest pose cannot
 //! jump. At most [`ROUNDS`] rounds, until within [`DONE_MM`] and

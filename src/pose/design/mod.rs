@@ -104,7 +104,7 @@ pub struct PoseDesign {
     /// The lifted field of the placed schedule: equilibria and predicted basins.
     pub analysis: PoseAnalysis,
     /// The placed segments scaled into the shaker limits their motion was
-    /// synthesized within ([`placement::within_limits`]), one line each.
+    /// synthesized within (`placement::within_limits`), one line each.
     pub scaled: Vec<String>,
 }
 

@@ -125,12 +125,12 @@ impl Placement {
 
     /// `origin`'s six-signal segments placed (module docs; each stage of
     /// a [`super::cycle`] alike) and each scaled into the shaker limits
-    /// `origin` records ([`within_limits`]); its target, when it has one,
+    /// `origin` records (`within_limits`); its target, when it has one,
     /// placed with it.
     ///
     /// # Errors
     /// `origin` has no six-signal motion, or a segment with a primitive;
-    /// a placed segment over a limit of 0 ([`within_limits`]).
+    /// a placed segment over a limit of 0 (`within_limits`).
     pub fn schedule(
         &self,
         origin: &Schedule,
@@ -298,7 +298,7 @@ fn placed_peaks(signals: &crate::motion::Signals, ramp: Option<(u32, u32)>) -> K
 }
 
 /// Every peak of `schedule`'s six-signal segments above the shaker limits
-/// it records, one line each (empty after [`within_limits`]).
+/// it records, one line each (empty after `within_limits`).
 pub fn over_limits(schedule: &Schedule) -> Vec<String> {
     let Some(limits) = schedule.played.as_ref().and_then(|p| p.limits.as_ref()) else {
         return Vec::new();
@@ -364,7 +364,7 @@ pub(crate) fn ellipse_target(
 }
 
 /// The centred `family` synthesized once (module docs), on the square of
-/// [`synthesis_half_width`].
+/// `synthesis_half_width`.
 ///
 /// # Errors
 /// The synthesis's.

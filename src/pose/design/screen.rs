@@ -38,7 +38,7 @@
 //! sets the pose, which moved 2.5°.)
 //!
 //! **Choice** ([`choose`]): among the candidates with a lifted stable pose
-//! ([`super::spin::try_all`]), the largest share, then (over a range) the
+//! (`super::spin::try_all`), the largest share, then (over a range) the
 //! least turn, then the tightest cluster
 //! (least mean |Δr|/1 mm + |Δθ|/3° of its members from its mean: the most
 //! nearly settled), then the earlier in [`super::spin::CANDIDATES`]; kept

@@ -4,7 +4,7 @@
 //! **Family** ([`Family`]): the elliptic sink, line sinks of strengths
 //! `ratio` and 1 whose weaker contraction runs along the angle. A linear
 //! field v = A p + b turns a part by its second moments only, so the
-//! part's major axis ([`crate::part::Part::principal_angle`]) aligns with
+//! part's major axis (the principal axis of its support's second moments) aligns with
 //! the weaker contraction up to 180°: one pose for a part symmetric under
 //! 180° (the rectangle), two 180° apart for the others. (A unique pose
 //! for those needs a nonlinear field, e.g. a radial sink plus a small

@@ -25,7 +25,7 @@
 //! **Choice** (`super::screen`): each candidate of [`CANDIDATES`] is
 //! added to the centred motion as one more harmonic-1 term of its angular
 //! z signal; those whose lifted field gives the part a stable pose in the
-//! region ([`try_all`]) are judged by play on probes from spread starts,
+//! region (`try_all`) are judged by play on probes from spread starts,
 //! since the lifted model misses played attractors of these fields (the
 //! bracket's spin of 1200 rad/s² × 0.25 has one lifted pose and a second
 //! played one holding 26 % of the drops, `docs/parts.md`); when none puts enough

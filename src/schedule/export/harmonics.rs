@@ -14,7 +14,7 @@
 //! is in the schedule (a negative amplitude as |A| with φ + π), so the
 //! motion's own terms come back exactly. The angular ones are the plate's
 //! world-frame angular acceleration α = ω′ of the orientation exp(\[θ\]×)
-//! ([`crate::motion::rotation`]): the schedule's own terms (θ″) when the
+//! (`crate::motion::rotation`): the schedule's own terms (θ″) when the
 //! motion turns about one axis only (then α = θ″ exactly); otherwise α
 //! holds, besides θ″, terms second order in the tilt angles at other
 //! harmonics (and on the third axis), taken from a discrete Fourier

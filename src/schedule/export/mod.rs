@@ -462,7 +462,7 @@ pub fn centre_acceleration(motion: &Motion, t: f64) -> (V3, V3) {
 }
 
 /// Plate-centre (linear, angular) acceleration of `motion` at time `t`,
-/// world axes, the angular one the plate's α = ω′ ([`crate::motion::rotation`]):
+/// world axes, the angular one the plate's α = ω′ (`crate::motion::rotation`):
 /// what the export's channels hold.
 ///
 /// ```

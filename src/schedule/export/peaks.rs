@@ -21,7 +21,7 @@
 //! ([`crate::motion::sample_hold::centre_state`]); a channel's peaks are
 //! those of the sums, sampled at `super::PEAK_SAMPLES` points per period
 //! of its highest harmonic (relative error ≤ 1 − cos(π/4096) ≈ 3e-7);
-//! [`KinematicPeaks::refined`] finds them to round-off.
+//! `KinematicPeaks::refined` finds them to round-off.
 
 use std::fmt::Write as _;
 
@@ -180,7 +180,7 @@ impl KinematicPeaks {
     /// documentation), sampled at `super::PEAK_SAMPLES` × `highest` points
     /// per cycle with `highest` its highest harmonic: a six-signal motion's
     /// angular ones are those of its rotation vector θ and its rates θ′, θ″,
-    /// which design limits ([`KinematicPeaks::of_plate`] gives the plate's).
+    /// which design limits (`KinematicPeaks::of_plate` gives the plate's).
     pub fn of_motion(motion: &Motion, highest: u32) -> KinematicPeaks {
         Self::sampled(motion, highest, signal_state, super::centre_acceleration)
     }

@@ -6,7 +6,7 @@
 //! the orientation R = exp(\[θ\]×) as the fixed-axis x-y-z angles
 //! (roll about the world x, then pitch about the world y, then yaw about
 //! the world z: R = R_z(yaw) R_y(pitch) R_x(roll), the angle set of
-//! hexapod controllers such as PI's U, V, W; [`rotation::xyz_angles`]).
+//! hexapod controllers such as PI's U, V, W; `rotation::xyz_angles`).
 //! A schedule of one steady six-signal motion is one steady cycle of
 //! N = round(rate·T) points, t_k = kT/N: the table loops exactly (point N
 //! would be point 0), and it starts at the cycle's pose at t = 0, not at
