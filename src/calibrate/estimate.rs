@@ -14,7 +14,7 @@
 //! times the profile log-likelihood up to a constant. The start is fitted
 //! per track by Gauss–Newton (finite-difference sensitivity of the path to
 //! r₀), θ by Nelder–Mead (argmin) on the field's quadratic surrogate
-//! ([`super::model::Stencil`]), re-centred until the minimum lies within
+//! (`super::model::Stencil`), re-centred until the minimum lies within
 //! half a step of the stencil's centre.
 //!
 //! **Intervals.** σ² is estimated by RSS/(n − 2·tracks − p) at the
@@ -139,7 +139,7 @@ pub(crate) fn fit_start(
 /// first observed frame), in track order.
 ///
 /// # Errors
-/// As [`fit_start`].
+/// As `fit_start`.
 pub fn fit_starts(
     motion: &PlayedMotion,
     set: &FieldSet,

@@ -28,12 +28,12 @@
 //! replay): what the tests and the coverage study check the estimator
 //! against.
 
-pub(crate) mod classes;
-pub(crate) mod estimate;
+pub mod classes;
+pub mod estimate;
 pub(crate) mod model;
 pub mod replay;
-pub(crate) mod simulate;
-pub(crate) mod tracks;
+pub mod simulate;
+pub mod tracks;
 
 pub use model::PlayedMotion;
 pub use simulate::{simulate_tracks, TrackSimulation};

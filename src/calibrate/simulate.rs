@@ -166,7 +166,7 @@ pub(crate) fn schedule_motion(schedule: &Schedule, scale: f64) -> Result<Schedul
     ScheduleMotion::new(segments)
 }
 
-/// Noise-free tracks by the exact simulator ([`play_on_grid`]): part `k` put down at rest at
+/// Noise-free tracks by the exact simulator (`play_on_grid`): part `k` put down at rest at
 /// `parts[k].1` at t = 0 (the schedule's start) at `friction`, the motion
 /// played at `scale` × its amplitudes, observed at the times `parts[k].2`
 /// (increasing, ≥ 0) until it leaves `region`; tracks left with fewer

@@ -10,8 +10,8 @@
 //! Every error names the file, the line and the column, and says what is
 //! allowed: a value that is not a finite number, a part whose times do not
 //! increase, a part with fewer than [`MIN_FRAMES`] frames, a position
-//! outside the plate region ([`Tracks::check_region`]), tracks that
-//! do not fit the played motion's duration ([`Tracks::check_duration`]).
+//! outside the plate region (`Tracks::check_region`), tracks that
+//! do not fit the played motion's duration (`Tracks::check_duration`).
 
 use std::collections::BTreeMap;
 use std::path::Path;

@@ -92,7 +92,7 @@ pub(crate) mod metrics;
 pub(crate) mod nnls;
 pub(crate) mod prepare;
 pub(crate) mod subset;
-pub(crate) mod worst;
+pub mod worst;
 
 #[cfg(test)]
 pub(crate) mod testutil;
