@@ -21,7 +21,7 @@ pub mod held_csv;
 mod invariance;
 mod prepared;
 mod ramped;
-pub(crate) mod rotation;
+pub mod rotation;
 pub mod sample_hold;
 mod screw;
 mod signals;
