@@ -274,7 +274,7 @@ impl Body {
     }
 
     /// A required key (its type's default is returned after an error).
-    pub fn get<T: DeserializeOwned + Default>(&mut self, key: &'static str) -> T {
+    pub(crate) fn get<T: DeserializeOwned + Default>(&mut self, key: &'static str) -> T {
         self.asked.push(key);
         match self.map.remove(key) {
             Some(v) => self.or_fail(v, key),
@@ -378,7 +378,7 @@ where
 
 /// Reads `value` (already taken from the input) as a `T`, keeping the
 /// path of an error below it.
-pub fn nested<'de, D, T>(value: Value) -> Result<T, D::Error>
+pub(crate) fn nested<'de, D, T>(value: Value) -> Result<T, D::Error>
 where
     D: Deserializer<'de>,
     T: DeserializeOwned,

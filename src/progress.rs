@@ -314,7 +314,7 @@ impl Progress {
     }
 
     /// Clears the bar and stops the plain lines (no further output).
-    pub fn finish(&self) {
+    pub(crate) fn finish(&self) {
         if let Some(bar) = &self.bar {
             bar.finish_and_clear();
         }

@@ -30,7 +30,7 @@ impl SplitMix64 {
     }
 
     /// Standard normal (Box–Muller, one of the pair).
-    pub fn gaussian(&mut self) -> f64 {
+    pub(crate) fn gaussian(&mut self) -> f64 {
         let u = 1.0 - self.uniform(); // (0, 1]
         let v = self.uniform();
         (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()

@@ -217,7 +217,7 @@ pub struct Estimate {
 }
 
 /// Worker threads the work is spread over (rayon's pool).
-pub fn threads() -> usize {
+pub(crate) fn threads() -> usize {
     rayon::current_num_threads().max(1)
 }
 

@@ -114,7 +114,7 @@ mod defaults {
     pub fn omega() -> f64 {
         209.0
     }
-    pub fn depth() -> f64 {
+    pub(crate) fn depth() -> f64 {
         0.05
     }
 }

@@ -8,7 +8,7 @@
 //! F'(p) = R(θ) F(R(θ)ᵀ (p − s))
 //! ```
 //!
-//! (the same convention as [`crate::motion::Motion::transformed`] and
+//! (the same convention as `crate::motion::Motion::transformed` and
 //! [`crate::basis::Primitive`]'s `rotation_deg` and `shift`: rotate about
 //! the world vertical first, then shift). A primitive is simulated once, on
 //! a grid that covers every preimage of the target region

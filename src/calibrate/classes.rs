@@ -2,7 +2,7 @@
 //! estimates and those estimates' own uncertainties.
 //!
 //! Each part's residual is first computed alone over the μ lattice
-//! ([`super::estimate::scan`]); the parabola through its minimum gives
+//! (`super::estimate::scan`); the parabola through its minimum gives
 //! the part's own estimate μ_i and standard error s_i. A part whose own
 //! fit is **undetermined** (its minimum at the lattice's end, no positive
 //! curvature, or s_i > [`MIN_GAP`]: it cannot tell two classes [`MIN_GAP`]
@@ -37,7 +37,7 @@ pub type Own = (f64, Option<f64>);
 
 /// Whether a part's own fit determines its μ well enough to place it
 /// among classes (see the module's doc).
-pub fn determined(own: &Own) -> bool {
+pub(crate) fn determined(own: &Own) -> bool {
     own.0.is_finite()
         && own
             .1

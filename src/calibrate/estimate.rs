@@ -549,7 +549,7 @@ fn hessian(
 /// Each track's residual over a lattice of μ (μ_s − μ_k and the scale
 /// fixed): `out[m][i]` for μ `mus[m]` and track i, `None` where the
 /// field cannot be followed.
-pub fn scan(
+pub(crate) fn scan(
     motion: &PlayedMotion,
     tracks: &[&Track],
     mus: &[f64],

@@ -472,7 +472,7 @@ impl Stencil {
     ///
     /// # Errors
     /// As [`PlayedMotion::fields`].
-    pub fn compute(
+    pub(crate) fn compute(
         motion: &PlayedMotion,
         center: Theta,
         h: Theta,

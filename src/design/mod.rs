@@ -183,7 +183,7 @@ impl From<crate::request::TargetError> for Error {
 }
 
 /// The rotations of the basis copies (degrees).
-pub fn rotations(step: f64) -> Vec<f64> {
+pub(crate) fn rotations(step: f64) -> Vec<f64> {
     let n = (360.0 / step).round().max(1.0) as usize;
     (0..n).map(|i| i as f64 * 360.0 / n as f64).collect()
 }

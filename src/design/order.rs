@@ -326,7 +326,7 @@ pub struct Order {
 }
 
 /// The mirrored order of a cyclic order σ: σ, then σ₀ and the rest of σ reversed.
-pub fn mirrored(sigma: &[usize]) -> Vec<usize> {
+pub(crate) fn mirrored(sigma: &[usize]) -> Vec<usize> {
     let mut out = sigma.to_vec();
     if let Some((&first, rest)) = sigma.split_first() {
         out.push(first);
@@ -653,7 +653,7 @@ pub struct OrderRequest {
 /// ([`crate::work`]): candidates × parts × periods (warm-up, at least
 /// `warmup_cycles` primitive cycles, and measured) × cycles per period
 /// (with the most rest inserted at every join) × steps.
-pub fn work_estimate(schedule: &Schedule, opts: &OrderOptions) -> Estimate {
+pub(crate) fn work_estimate(schedule: &Schedule, opts: &OrderOptions) -> Estimate {
     let moving = schedule.segments.iter().filter(|s| s.cycles > 0).count();
     let rests = {
         let mut r = opts.rest_cycles.clone();

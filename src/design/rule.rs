@@ -103,7 +103,7 @@ pub fn better_within(a: Key, b: Key, bound: Option<f64>) -> (bool, Rule) {
 }
 
 /// Whether `b` beats `a` by the rule, and the rule that decided.
-pub fn better(a: Key, b: Key) -> (bool, Rule) {
+pub(crate) fn better(a: Key, b: Key) -> (bool, Rule) {
     if a.0 != b.0 {
         (a.0, Rule::OtherPoor)
     } else if (a.1 - b.1).abs() <= TIE_SHAPE_ERROR {

@@ -248,7 +248,7 @@ impl<'a> KinematicsTable<'a> {
 
     /// True when this table holds `motion`'s kinematics under gravity `g`
     /// and the tilt switch `tilt`.
-    pub fn fits(&self, motion: &Motion, gravity: f64, tilt: bool) -> bool {
+    pub(crate) fn fits(&self, motion: &Motion, gravity: f64, tilt: bool) -> bool {
         (std::ptr::eq(self.motion, motion) || self.motion == motion)
             && self.gravity.to_bits() == gravity.to_bits()
             && self.tilt == tilt
@@ -257,7 +257,7 @@ impl<'a> KinematicsTable<'a> {
     /// The kinematics at exactly `t` on the piece keyed `piece`, when
     /// tabulated.
     #[inline]
-    pub fn get(&self, t: f64, piece: f64) -> Option<&Kinematics> {
+    pub(crate) fn get(&self, t: f64, piece: f64) -> Option<&Kinematics> {
         let found = self.find(t, piece);
         #[cfg(test)]
         if found.is_none() {

@@ -325,7 +325,7 @@ impl PlanarBody {
 
     /// Sampled moment of inertia per unit mass I/m = Σ c_j |ρ_j|²/K (0 for
     /// a point).
-    pub fn inertia_per_mass(&self) -> f64 {
+    pub(crate) fn inertia_per_mass(&self) -> f64 {
         if self.is_point() {
             return 0.0;
         }

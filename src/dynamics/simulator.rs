@@ -103,7 +103,7 @@ impl<'a> Simulator<'a> {
         self.gravity
     }
     /// The part physics (friction, gravity, model).
-    pub fn physics(&self) -> PartPhysics {
+    pub(crate) fn physics(&self) -> PartPhysics {
         PartPhysics::new(self.friction, self.gravity, self.model)
     }
     /// Numerical settings.

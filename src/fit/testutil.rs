@@ -13,7 +13,7 @@ pub(crate) fn random_vector(rng: &mut SplitMix64, n: usize) -> DVector<f64> {
 }
 
 /// Points of a `g×g` grid on `[-1, 1]²`.
-pub fn grid_points(g: usize) -> Vec<[f64; 2]> {
+pub(crate) fn grid_points(g: usize) -> Vec<[f64; 2]> {
     let mut pts = Vec::with_capacity(g * g);
     for iy in 0..g {
         for ix in 0..g {

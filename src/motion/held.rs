@@ -267,7 +267,7 @@ impl Held {
     /// plate point −s) given Ω' × (−s) more (and, in velocity and pose, the
     /// same map of Ω and θ); first order in the small rotation, like a
     /// six-signal motion's shift.
-    pub fn transformed(&self, angle: f64, shift: [f64; 2]) -> Held {
+    pub(crate) fn transformed(&self, angle: f64, shift: [f64; 2]) -> Held {
         let (s, c) = angle.sin_cos();
         let map = |v: &[f64; 6]| -> [f64; 6] {
             let turn = |x: f64, y: f64| (c * x - s * y, s * x + c * y);

@@ -121,7 +121,7 @@ impl Motion {
 
     /// Time over which the motion is defined: one period for the periodic
     /// motions, the whole segment for a [`Ramped`] one.
-    pub fn span(&self) -> f64 {
+    pub(crate) fn span(&self) -> f64 {
         match self {
             Motion::Ramped(r) => r.span(),
             Motion::Held(h) => h.span(),
@@ -260,7 +260,7 @@ impl Motion {
 
     /// The same motion rotated about the world vertical by `angle` (rad)
     /// and shifted horizontally by `shift` (m).
-    pub fn transformed(&self, angle: f64, shift: [f64; 2]) -> Motion {
+    pub(crate) fn transformed(&self, angle: f64, shift: [f64; 2]) -> Motion {
         match self {
             Motion::Screw(s) => Motion::Screw(s.transformed(angle, shift)),
             Motion::Signals(s) => Motion::Signals(s.transformed(angle, shift)),

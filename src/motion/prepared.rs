@@ -235,7 +235,7 @@ impl<'a> PreparedMotion<'a> {
     /// `motion` evaluated as it is ([`Motion::kinematics_piece`], libm's
     /// sin and cos): bitwise the direct values, where an evaluation is
     /// rare and those bits matter more than its cost.
-    pub fn direct(motion: &'a Motion) -> PreparedMotion<'a> {
+    pub(crate) fn direct(motion: &'a Motion) -> PreparedMotion<'a> {
         PreparedMotion {
             motion,
             prepared: Prepared::Direct,

@@ -81,7 +81,7 @@ impl Ramped {
     }
 
     /// Duration of the whole segment N·T (s).
-    pub fn span(&self) -> f64 {
+    pub(crate) fn span(&self) -> f64 {
         f64::from(self.cycles) * self.signals.period
     }
 
@@ -111,7 +111,7 @@ impl Ramped {
 
     /// Plate-centre (pose, velocity) of the windowed motion at `t`:
     /// linear then angular components.
-    pub fn centre_state(&self, t: f64) -> ([f64; 6], [f64; 6]) {
+    pub(crate) fn centre_state(&self, t: f64) -> ([f64; 6], [f64; 6]) {
         let w = self.window(t);
         let (lin, ang) = self.signals.centre_triples(t);
         let (l, a) = (Self::windowed(&w, &lin), Self::windowed(&w, &ang));

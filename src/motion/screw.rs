@@ -92,7 +92,7 @@ impl Screw {
     /// without rotation, lines along a horizontal axis, circles about a
     /// vertical one (exact zero components: a rotated copy of an axis in or
     /// normal to the plane keeps them zero).
-    pub fn invariance(&self) -> Invariance {
+    pub(crate) fn invariance(&self) -> Invariance {
         let k = self.k();
         if self.rotation.is_zero() {
             Invariance::Uniform
@@ -128,7 +128,7 @@ impl Screw {
 
     /// The same screw rotated about the world vertical by `angle` (rad),
     /// then shifted horizontally by `shift` (m).
-    pub fn transformed(&self, angle: f64, shift: [f64; 2]) -> Screw {
+    pub(crate) fn transformed(&self, angle: f64, shift: [f64; 2]) -> Screw {
         let z = V3::z();
         let k = rotate(&V3::from(self.axis), &z, angle);
         let h = rotate(&V3::from(self.point), &z, angle) + V3::new(shift[0], shift[1], 0.0);

@@ -195,7 +195,7 @@ impl Signals {
     /// rotation R stay about that axis whatever the linear signals; the
     /// circles about the centre when only the angular signal about z and
     /// the linear one along z are driven.
-    pub fn invariance(&self) -> Invariance {
+    pub(crate) fn invariance(&self) -> Invariance {
         let zero = |terms: &[FourierTerm]| terms.iter().all(|t| t.amplitude == 0.0);
         let (a, l) = (&self.angular, &self.linear);
         match (zero(&a.x), zero(&a.y), zero(&a.z)) {

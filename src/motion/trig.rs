@@ -70,7 +70,7 @@ pub(crate) struct Nodes {
 
 /// The table, built on first use (hold the reference where it is used
 /// often).
-pub fn table() -> &'static Nodes {
+pub(crate) fn table() -> &'static Nodes {
     static NODES_TABLE: OnceLock<Nodes> = OnceLock::new();
     NODES_TABLE.get_or_init(|| {
         let m = NODES as f64;

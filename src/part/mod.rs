@@ -195,7 +195,7 @@ impl Part {
     }
 
     /// The part's diameter (its largest extent, m).
-    pub fn size(&self) -> f64 {
+    pub(crate) fn size(&self) -> f64 {
         diameter(&self.polygon)
     }
 

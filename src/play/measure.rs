@@ -147,7 +147,7 @@ impl PlayOptions {
     }
 
     /// A player of `sm` with these physics.
-    pub fn player<'a>(&self, sm: &'a ScheduleMotion) -> Player<'a> {
+    pub(crate) fn player<'a>(&self, sm: &'a ScheduleMotion) -> Player<'a> {
         sm.player(
             PartPhysics::new(self.friction, self.gravity, self.model),
             self.numerics,

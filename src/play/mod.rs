@@ -109,7 +109,7 @@ impl PlayedSegment {
     /// primitive's motion (rotation and shift applied) or its six-signal
     /// motion for its whole cycles, or rest for its `duration_s` when it
     /// has neither.
-    pub fn from_segment(seg: &Segment, i: usize) -> Result<PlayedSegment> {
+    pub(crate) fn from_segment(seg: &Segment, i: usize) -> Result<PlayedSegment> {
         seg.validate_motion(&format!("schedule.segments[{i}]"))?;
         match seg.plate_motion() {
             Some(m) => Ok(PlayedSegment::moving(seg.label.clone(), m, seg.cycles)),
@@ -322,7 +322,7 @@ impl<'a> Player<'a> {
 
     /// The same player with the part's position frozen in the plate
     /// kinematics (the model's `moving` off; see [`Model::FROZEN`]).
-    pub fn frozen(&self) -> Player<'a> {
+    pub(crate) fn frozen(&self) -> Player<'a> {
         let model = Model {
             moving: false,
             ..self.model

@@ -107,7 +107,7 @@ impl Relaxation {
     /// The periodic mean velocity: the last period's mean, within
     /// [`SETTLE_TOL`] of the limit (or [`SETTLE_FLOOR`] in absolute terms)
     /// when settled.
-    pub fn periodic_mean(&self) -> V2 {
+    pub(crate) fn periodic_mean(&self) -> V2 {
         self.means.last().copied().unwrap_or_else(V2::zeros)
     }
 }

@@ -431,7 +431,7 @@ impl Target {
 
     /// `base` with the friction (its nominal value) and gravity this
     /// target states; the rest of `base` as it is.
-    pub fn physics(&self, base: &FieldSettings) -> FieldSettings {
+    pub(crate) fn physics(&self, base: &FieldSettings) -> FieldSettings {
         FieldSettings {
             friction: self.friction.map_or(base.friction, |f| f.nominal()),
             gravity: self.gravity.unwrap_or(base.gravity),

@@ -354,7 +354,7 @@ impl<'a> Objective<'a> {
     }
 
     /// The physics each candidate is judged under.
-    pub fn physics(&self) -> &[FieldSettings] {
+    pub(crate) fn physics(&self) -> &[FieldSettings] {
         &self.physics
     }
 
@@ -369,7 +369,7 @@ impl<'a> Objective<'a> {
     }
 
     /// The parameter layout.
-    pub fn layout(&self) -> &Layout {
+    pub(crate) fn layout(&self) -> &Layout {
         &self.layout
     }
 
@@ -401,7 +401,7 @@ impl<'a> Objective<'a> {
 
     /// The evaluation of `params` without counting it (pure: callable from
     /// several threads).
-    pub fn measure(&self, params: &[f64]) -> Evaluation {
+    pub(crate) fn measure(&self, params: &[f64]) -> Evaluation {
         let (c, excess) = self.motion(params);
         let motion = Motion::Signals(c.to_signals());
         let mut each = Vec::with_capacity(self.physics.len());
@@ -488,7 +488,7 @@ impl<'a> Objective<'a> {
     }
 
     /// The best evaluation so far.
-    pub fn best(&self) -> Option<Evaluation> {
+    pub(crate) fn best(&self) -> Option<Evaluation> {
         self.tally
             .lock()
             .unwrap_or_else(|p| p.into_inner())

@@ -42,7 +42,7 @@ impl SynthesisProgress {
     pub(crate) fn show(&self) {}
 
     /// Clears the bar and stops the lines.
-    pub fn finish(&self) {
+    pub(crate) fn finish(&self) {
         self.0.finish();
     }
 }

@@ -47,7 +47,7 @@ pub(crate) struct StallTracker {
 
 impl StallTracker {
     /// Records the cost of the next evaluation.
-    pub fn record(&mut self, cost: f64, rule: Option<&StallRule>) {
+    pub(crate) fn record(&mut self, cost: f64, rule: Option<&StallRule>) {
         self.evaluations += 1;
         let tol = rule.map_or(0.0, |r| r.tol);
         let improved = match self.reference {
@@ -66,7 +66,7 @@ impl StallTracker {
     }
 
     /// Whether `rule` (if any) says the search has stalled.
-    pub fn stalled(&self, rule: Option<&StallRule>) -> bool {
+    pub(crate) fn stalled(&self, rule: Option<&StallRule>) -> bool {
         rule.is_some_and(|r| self.evaluations - self.last_improvement >= r.window.max(1))
     }
 }

@@ -96,7 +96,7 @@ pub struct Swarm {
 }
 
 /// Median of a non-empty list (mean of the middle two for even length).
-pub fn median(values: &[f64]) -> Option<f64> {
+pub(crate) fn median(values: &[f64]) -> Option<f64> {
     if values.is_empty() {
         return None;
     }

@@ -165,7 +165,7 @@ const NEWTON_STEPS: f64 = 6.0;
 /// 7 warm-started averaged twists per Newton step) of `equilibria`
 /// lifted equilibria of `part` on `sm`, played as
 /// [`crate::pose::AveragedField::for_part`] plays.
-pub fn averaged_estimate(part: &Part, sm: &ScheduleMotion, equilibria: usize) -> Estimate {
+pub(crate) fn averaged_estimate(part: &Part, sm: &ScheduleMotion, equilibria: usize) -> Estimate {
     // The drops' resampling (`DropPlay::new`'s samples), as `for_part` plays.
     let play = DropPlay::new(&crate::field::FieldSettings::default(), 0.0);
     let refined = equilibria.min(MAX_RESTS) as f64;

@@ -109,7 +109,7 @@ fn probe_starts(req: &PoseTarget) -> Vec<Pose> {
 
 /// The turning rate of one track (module docs): `None` with fewer than 3
 /// samples in the band.
-pub fn turning_rate(track: &[Pose], end: &Pose, n: usize, period: f64) -> Option<f64> {
+pub(crate) fn turning_rate(track: &[Pose], end: &Pose, n: usize, period: f64) -> Option<f64> {
     let [lo, hi] = RATE_BAND_DEG.map(f64::to_radians);
     let pts: Vec<(f64, f64)> = track
         .iter()
@@ -197,7 +197,7 @@ fn probe(
 ///
 /// # Errors
 /// `origin` is not one six-signal motion.
-pub fn correct(
+pub(crate) fn correct(
     req: &PoseTarget,
     origin: &Schedule,
     start: Placement,

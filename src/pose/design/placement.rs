@@ -299,7 +299,8 @@ fn placed_peaks(signals: &crate::motion::Signals, ramp: Option<(u32, u32)>) -> K
 
 /// Every peak of `schedule`'s six-signal segments above the shaker limits
 /// it records, one line each (empty after `within_limits`).
-pub fn over_limits(schedule: &Schedule) -> Vec<String> {
+#[cfg(test)]
+pub(crate) fn over_limits(schedule: &Schedule) -> Vec<String> {
     let Some(limits) = schedule.played.as_ref().and_then(|p| p.limits.as_ref()) else {
         return Vec::new();
     };

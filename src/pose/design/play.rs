@@ -34,7 +34,7 @@ pub const MAX_PLAY_S: f64 = 120.0;
 pub const SPIN_SLOWER: f64 = 3.0;
 
 /// Seconds each drop plays for a slowest rate `rate` (1/s, module docs).
-pub fn play_seconds(rate: f64) -> f64 {
+pub(crate) fn play_seconds(rate: f64) -> f64 {
     if rate > 0.0 {
         (SPIN_SLOWER * 100f64.ln() / rate).clamp(MIN_PLAY_S, MAX_PLAY_S)
     } else {
@@ -45,7 +45,7 @@ pub fn play_seconds(rate: f64) -> f64 {
 /// Seconds each drop plays on a schedule of period `period` (s): its
 /// [`play_seconds`], at least a cycle's settling periods
 /// ([`super::cycle::settle_seconds`]).
-pub fn drop_seconds(rate: f64, period: f64) -> f64 {
+pub(crate) fn drop_seconds(rate: f64, period: f64) -> f64 {
     super::cycle::settle_seconds(play_seconds(rate), period)
 }
 
@@ -54,7 +54,7 @@ pub fn drop_seconds(rate: f64, period: f64) -> f64 {
 /// `analysis` nearest the asked one; 0 (the longest play) for a spun
 /// motion, whose slowest lifted rate is a spiral's and whose drops from
 /// the region's edge settle later than it predicts (module `spin` docs).
-pub fn play_rate(req: &PoseTarget, analysis: &PoseAnalysis, spun: bool) -> f64 {
+pub(crate) fn play_rate(req: &PoseTarget, analysis: &PoseAnalysis, spun: bool) -> f64 {
     let (n, radius) = (req.part.symmetry(), req.part.radius());
     super::search::nearest_stable(&analysis.equilibria, &req.pose, n, radius)
         .filter(|_| !spun)
@@ -116,7 +116,7 @@ fn median(mut times: Vec<Option<f64>>) -> Option<f64> {
 /// predicted basins), `field` names the requested point field and `rate`
 /// is the slowest decay rate at the asked pose (1/s); with each drop's
 /// end pose (`None`: it lost contact).
-pub fn play_ends(
+pub(crate) fn play_ends(
     req: &PoseTarget,
     sm: &ScheduleMotion,
     settings: &FieldSettings,

@@ -37,7 +37,7 @@
 //! spin turned its rest 17.6° over μ 0.24–0.36; in its cycle the ellipse
 //! sets the pose, which moved 2.5°.)
 //!
-//! **Choice** ([`choose`]): among the candidates with a lifted stable pose
+//! **Choice** (`choose`): among the candidates with a lifted stable pose
 //! (`super::spin::try_all`), the largest share, then (over a range) the
 //! least turn, then the tightest cluster
 //! (least mean |Δr|/1 mm + |Δθ|/3° of its members from its mean: the most
@@ -281,7 +281,7 @@ pub fn screen(
 ///
 /// # Errors
 /// `sink` is not one six-signal motion.
-pub fn choose(
+pub(crate) fn choose(
     req: &PoseTarget,
     (sink, ellipse): (&Schedule, &EllipseStage),
     tried: &[super::spin::Tried],

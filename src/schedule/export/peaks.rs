@@ -361,7 +361,7 @@ impl KinematicPeaks {
 
     /// Comment lines (`# `) stating the peaks with units, for an export's
     /// header; `what` says which motion they are of.
-    pub fn header(&self, what: &str) -> String {
+    pub(crate) fn header(&self, what: &str) -> String {
         let mut out = format!("# peaks per axis ({what}): x, y, z linear; x, y, z angular\n");
         let rows = [
             ("acceleration", &self.acceleration, "m/s²", "rad/s²"),

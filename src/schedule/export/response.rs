@@ -149,7 +149,7 @@ impl Response {
 }
 
 /// The condition number σ_max/σ_min of `m` (infinite when singular).
-pub fn condition(m: &Matrix6<Complex<f64>>) -> f64 {
+pub(crate) fn condition(m: &Matrix6<Complex<f64>>) -> f64 {
     let s = m.singular_values();
     let (hi, lo) = (s.max(), s.min());
     if lo > 0.0 {
