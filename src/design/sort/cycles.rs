@@ -22,17 +22,23 @@ pub const CYCLE_SWEEPS: usize = 4;
 /// The cycle aim's starts: the candidate's period scaled by each (every
 /// segment's cycles between its ramps scaled and rounded). A part swings
 /// along its orbit by what each segment carries it, so a shorter period
-/// swings less: measured on `targets/sort_three.json`, the kept
-/// candidate's μ 0.15 orbit spans 11.7 mm along x between its segment ends
-/// (period 1.59 s), more than the 10 mm a class may span within 5 mm of
-/// its sink however it is centred, and about half that at half the period.
+/// swings less: measured on `targets/sort_three.json`, the shape ≤ 20 %
+/// candidate's μ 0.15 orbit spans 11.7 mm along x between its segment
+/// ends (period 1.59 s), more than the 10 mm a class may span within 5 mm
+/// of its sink however it is centred, and 5.7 mm at half the period
+/// (0.99 s, 21, 6, 5 and 1 cycles).
 pub const CYCLE_PERIOD_SCALES: [f64; 2] = [1.0, 0.5];
 
+/// A schedule aimed by its cycles is offered only when its settled
+/// orbits all stay within this (m) of their attractors, at every segment
+/// end: the 5 mm a part may be from its attractor to count as there
+/// (`crate::verify::sort_play::SORT_TOL`; its tests hold the two equal).
+pub const CYCLE_REACH_MAX: f64 = 5e-3;
+
 /// A candidate whose settled orbits all stay within this (m) of their
-/// attractors, at every segment end, is not aimed by its cycles: half the
-/// 5 mm a part may be from its attractor
-/// (`crate::verify::sort_play::SORT_TOL`).
-pub const CYCLE_REACH_OK: f64 = 2.5e-3;
+/// attractors, at every segment end, is not aimed by its cycles: half of
+/// [`CYCLE_REACH_MAX`].
+pub const CYCLE_REACH_OK: f64 = 0.5 * CYCLE_REACH_MAX;
 
 /// The settled reach of `schedule`'s classes: per class with an
 /// attractor, the largest distance (m) from it, at the segment ends of
@@ -157,8 +163,8 @@ fn descend(target: &Target, mut schedule: Schedule, mut reach: f64) -> Result<(S
 /// lane), a worst settled reach already within [`CYCLE_REACH_OK`], or
 /// none of the searches ([`descend`] from the candidate's period scaled
 /// by each of [`CYCLE_PERIOD_SCALES`]) reaches a worst settled reach
-/// below both the candidate's and `SORT_TOL` (5 mm: its parts could not
-/// sort).
+/// below both the candidate's and [`CYCLE_REACH_MAX`] (farther, its
+/// parts could not sort).
 ///
 /// # Errors
 /// The schedule cannot be played.
@@ -191,7 +197,7 @@ pub(super) fn cycle_aimed(target: &Target, d: &SortDesign) -> Result<Option<Sort
         }
     }
     Ok(best
-        .filter(|b| b.1 < own.min(crate::verify::sort_play::SORT_TOL) && b.0 != d.schedule)
+        .filter(|b| b.1 < own.min(CYCLE_REACH_MAX) && b.0 != d.schedule)
         .map(|(schedule, _)| SortDesign {
             schedule,
             cycles_aimed: true,
