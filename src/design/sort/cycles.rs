@@ -204,3 +204,50 @@ pub(super) fn cycle_aimed(target: &Target, d: &SortDesign) -> Result<Option<Sort
             ..d.clone()
         }))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn shipped() -> Schedule {
+        Schedule::load(std::path::Path::new("results/sort_three/schedule.json")).unwrap()
+    }
+
+    /// Scaling the period scales each segment's cycles between its ramps,
+    /// rounded, at least its least cycles; scaled by 1 it is the same.
+    #[test]
+    fn scaled_keeps_ramps_and_least_cycles() {
+        let s = shipped();
+        assert_eq!(scaled(&s, 1.0), s);
+        let half = scaled(&s, 0.5);
+        for (a, b) in s.segments.iter().zip(&half.segments) {
+            let ramps = 2 * a.ramp_cycles.unwrap_or(0);
+            let steady = (0.5 * f64::from(a.cycles - ramps)).round() as u32;
+            assert_eq!(b.cycles, (ramps + steady).max(least_cycles(&s, a)), "{a:?}");
+            assert_eq!(b.ramp_cycles, a.ramp_cycles);
+        }
+        assert!(half.period_s < s.period_s);
+    }
+
+    /// A change of cycles keeps the segment at or above its least cycles
+    /// (its two ramps for a ramped one) and derives the period.
+    #[test]
+    fn with_cycles_respects_the_least_cycles() {
+        let s = shipped();
+        for (i, seg) in s.segments.iter().enumerate() {
+            for k in CYCLE_STEPS {
+                let c = i64::from(seg.cycles) + i64::from(k);
+                match with_cycles(&s, i, k) {
+                    Some(t) => {
+                        assert!(c >= i64::from(least_cycles(&s, seg)));
+                        assert_eq!(i64::from(t.segments[i].cycles), c);
+                        let cycle = seg.cycle_period().unwrap();
+                        assert!((t.period_s - s.period_s - f64::from(k) * cycle).abs() < 1e-12);
+                        t.validate().unwrap();
+                    }
+                    None => assert!(c < i64::from(least_cycles(&s, seg))),
+                }
+            }
+        }
+    }
+}
