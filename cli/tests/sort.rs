@@ -462,15 +462,12 @@ fn lanes_family() {
 
 /// The goals met by the shipped sorts: per result folder, the
 /// share of every class that must be at its own attractor (or out through
-/// its own edge) and the time (s) by which it must be. `sort_three`'s
-/// goal, 90 % by 60 s, is not met ([`THREE_MEASURED_S`]).
-const GOALS: [(&str, f64, f64); 2] = [("sort_friction", 0.95, 30.0), ("sort_lanes", 0.95, 20.0)];
-
-/// `results/sort_three/sort.json`'s time to sort (s): its μ 0.15 parts
-/// settle on an orbit whose segment ends span 12 mm, so they are within
-/// 5 mm of their sink at the period's end only, and the time read is the
-/// play's end (the goal, 90 % by 60 s, is not met).
-const THREE_MEASURED_S: f64 = 90.3;
+/// its own edge) and the time (s) by which it must be.
+const GOALS: [(&str, f64, f64); 3] = [
+    ("sort_friction", 0.95, 30.0),
+    ("sort_lanes", 0.95, 20.0),
+    ("sort_three", 0.9, 60.0),
+];
 
 /// The shipped sorts meet their goals as `results/sort_*/sort.json`
 /// records them: the kept candidate's every class sorted (95 %) within the
@@ -496,14 +493,6 @@ fn shipped_sorts_meet_their_goals() {
             assert_eq!(p["contact_lost"], 0, "{name}: {p}");
         }
     }
-    let path = format!(
-        "{}/../results/sort_three/sort.json",
-        env!("CARGO_MANIFEST_DIR")
-    );
-    let json: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
-    let t = json["time_to_sort_s"].as_f64().unwrap();
-    assert!((t - THREE_MEASURED_S).abs() <= 0.1, "sort_three: {t}");
 }
 
 /// The shipped sorts' schedules verified as `platefield verify --replay`

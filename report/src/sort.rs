@@ -156,7 +156,7 @@ pub(crate) fn report_md(target_name: &str, ds: &[SortDesign], out: &SortOutcome)
     );
     let _ = writeln!(
         s,
-        "Kept: the {} candidate, one schedule of {} segments, period {:.2} s{}, for {} part classes, each class's field matched at its own friction by one stacked conic fit (`platefield::design::sort`). Gentle columns offered: {}. Synthesized motions offered: {}.\n",
+        "Kept: the {} candidate, one schedule of {} segments, period {:.2} s{}{}, for {} part classes, each class's field matched at its own friction by one stacked conic fit (`platefield::design::sort`). Gentle columns offered: {}. Synthesized motions offered: {}.\n",
         d.label(),
         d.schedule.segments.len(),
         d.schedule.period_s,
@@ -166,6 +166,16 @@ pub(crate) fn report_md(target_name: &str, ds: &[SortDesign], out: &SortOutcome)
                 d.sub_periods,
                 1e3 * platefield::design::sort::EXCURSION_MAX,
                 platefield::design::sort::MAX_SUB_PERIODS
+            )
+        } else {
+            String::new()
+        },
+        if d.cycles_aimed {
+            format!(
+                " (its segments' whole cycles aimed by playing, its columns fixed, until every class's settled orbit reaches within {:.1} mm of its attractor or no change of {:?} cycles brings it nearer, at most {} steps: `platefield::design::sort`, **Cycle aim**)",
+                1e3 * platefield::design::sort::CYCLE_REACH_OK,
+                platefield::design::sort::CYCLE_STEPS,
+                platefield::design::sort::CYCLE_SWEEPS
             )
         } else {
             String::new()

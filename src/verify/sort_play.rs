@@ -29,7 +29,7 @@
 //! [`MIN_SORT_PLAY_S`] is seen to stay sorted for [`SORT_HOLD_S`] (a play
 //! that ends just after the time judged cannot tell a sorted swarm from
 //! one whose parts swing out of `SORT_TOL` once a period: with plays of
-//! 61 s, `targets/sort_three.json`'s kept candidate read 60.6 s, the time
+//! 61 s, a candidate of `targets/sort_three.json` read 60.6 s, the time
 //! of its parts' last swing out); the synthesized candidates are played
 //! first, and once one has sorted in T the rest are played max(T,
 //! [`MIN_SORT_PLAY_S`]) + [`SORT_HOLD_S`] only (a candidate not sorted by
@@ -785,13 +785,15 @@ mod tests {
         assert_eq!(lane.mean_exit_time_s, Some(2.5));
     }
 
-    /// The design aims by the sort's goal: its lanes' share and its
-    /// largest swing within a period (half the distance a part may be from
-    /// its attractor) are this module's.
+    /// The design aims by the sort's goal: its lanes' share, its largest
+    /// swing within a period (half the distance a part may be from its
+    /// attractor) and the farthest settled reach its cycle aim offers are
+    /// this module's.
     #[test]
     fn the_design_aims_by_the_goal() {
         assert_eq!(crate::design::sort::LANE_SHARE, SORT_SHARE);
         assert_eq!(crate::design::sort::EXCURSION_MAX, 0.5 * SORT_TOL);
+        assert_eq!(crate::design::sort::CYCLE_REACH_MAX, SORT_TOL);
     }
 
     /// The time to sort is the ⌈0.95 n⌉-th arrival: of 20 parts the 19th,

@@ -334,7 +334,7 @@ fn steering(target: &Target, drifts: &[Option<[f64; 2]>]) -> Vec<Option<[f64; 2]
 /// The path `(t, position)` at segment ends of a part started at rest at
 /// `start` and played `periods` periods of `sm` under `v`'s physics (the
 /// part moving); `None` when it loses contact.
-fn played_path(
+pub(super) fn played_path(
     sm: &ScheduleMotion,
     v: &PlayOptions,
     start: [f64; 2],

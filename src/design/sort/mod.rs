@@ -75,6 +75,29 @@
 //! as f(q + e)) and refitted, up to [`AIM_STEPS`] times (a lane is
 //! steered instead: **Lanes**).
 //!
+//! **Cycle aim** (sinks). Moving a class's target and refitting picks
+//! other columns and lengths, and the settled offset jumps between steps
+//! (measured on `targets/sort_three.json`: the μ 0.15 offset along x
+//! −9.0, +11.1, −8.9, +1.3 mm over the aim's steps), so the aim above
+//! cannot bring an orbit that swings out of 5 mm within it. Once aimed,
+//! a candidate whose parts' settled orbits reach farther than
+//! [`CYCLE_REACH_OK`] from their attractor at a segment end
+//! ([`settled_reach`]: five parts per class started at and around it,
+//! played [`AIM_PLAY_S`]) is aimed by what the shaker plays, its
+//! segments' whole cycles, its columns and their order fixed
+//! (`cycle_aimed`): each step plays every segment's cycles changed by each
+//! of [`CYCLE_STEPS`] and keeps the change that brings the worst class's
+//! settled reach nearest, at most [`CYCLE_SWEEPS`] steps. The schedule so
+//! aimed is offered beside the candidate it came from (labelled `cycles
+//! aimed`, its fit's time fractions and predicted fields those of the fit),
+//! and the plays keep whichever sorts soonest: a candidate already sorted
+//! stays what it was. Measured on `targets/sort_three.json`
+//! (`--min-cycles 1`): four of its six synthesized candidates are so
+//! aimed, each from half its cycles between ramps (periods 0.59-0.63 of
+//! theirs, the ramps kept), and sort in 18.3, 19.5, 19.6 and
+//! 73.0 s, where the candidates they came from sort in 90.3 s (the play's
+//! end) or not within their plays (`results/sort_three/`).
+//!
 //! **Interleaving.** A part swings within a schedule period: each
 //! segment carries it its own way for the segment's duration, so the
 //! swing grows with the segments' durations (measured on
@@ -159,12 +182,16 @@
 //! settled offsets.
 
 mod aim;
+mod cycles;
 mod interleave;
 pub(crate) mod swarm;
 
 use aim::{aimed, lane_kept, turn};
 pub use aim::{
     AIM_PLAY_S, AIM_STEPS, AIM_SWARM_S, AIM_TOL, LANE_KEEP, LANE_PLAY_S, LANE_SHARE, LANE_TOL,
+};
+pub use cycles::{
+    settled_reach, CYCLE_PERIOD_SCALES, CYCLE_REACH_MAX, CYCLE_REACH_OK, CYCLE_STEPS, CYCLE_SWEEPS,
 };
 pub use interleave::{excursion, interleaved, sub_periods, EXCURSION_MAX, MAX_SUB_PERIODS};
 
@@ -253,9 +280,14 @@ impl SortDesign {
     /// The candidate's name: its method, and its shape budget if any, e.g.
     /// `synthesized, shape ≤ 15 %`.
     pub fn label(&self) -> String {
-        match self.budget {
+        let label = match self.budget {
             None => self.method.name().to_string(),
             Some(b) => format!("{}, shape ≤ {:.0} %", self.method.name(), 100.0 * b),
+        };
+        if self.cycles_aimed {
+            format!("{label}, cycles aimed")
+        } else {
+            label
         }
     }
 }
@@ -279,6 +311,10 @@ pub struct SortDesign {
     /// at its share of the speed (module docs, **Aim**); (1, 0) for a
     /// class with an attractor.
     pub steer: Vec<[f64; 2]>,
+    /// Whether its segments' cycles were changed by playing them (module
+    /// docs, **Cycle aim**): the fit's time fractions (`weight`) and
+    /// predicted fields are then those of the fit, before the change.
+    pub cycles_aimed: bool,
     /// The sub-periods its schedule was cut into (module docs,
     /// **Interleaving**; 1: not cut).
     pub sub_periods: u32,
@@ -338,7 +374,9 @@ pub fn design_sort(target: &Target, opts: &DesignOptions) -> Result<Vec<SortDesi
         // tolerance) or a budget it cannot reach leaves that candidate
         // out; the primitives' candidate is always there.
         if let Ok(d) = aimed(target, &stack, budget) {
+            let twin = cycles::cycle_aimed(target, &d)?;
             out.push(d);
+            out.extend(twin);
         }
         progress.inc(1);
     }
@@ -653,6 +691,7 @@ fn fit_stack(
         aim: aim.to_vec(),
         steer: steer.to_vec(),
         sub_periods: 1,
+        cycles_aimed: false,
         schedule,
         classes,
         gentle: stack.gentle.clone(),
@@ -739,7 +778,20 @@ pub fn sort_estimate(target: &Target, opts: &DesignOptions) -> Result<crate::wor
             .times((seconds / period).ceil(), "cycles")
             .times(opts.settings.numerics.steps_per_cycle as f64, "steps")
     };
+    // The cycle aim (`cycles::cycle_aimed`, sinks only): per candidate,
+    // from each of its CYCLE_PERIOD_SCALES starts, up to CYCLE_SWEEPS
+    // steps of every segment's CYCLE_STEPS changes, each five parts per
+    // class for AIM_PLAY_S, counted for a schedule of four segments.
+    let cycle_plays = if lanes > 0.0 {
+        0.0
+    } else {
+        1.0 + (CYCLE_PERIOD_SCALES.len() * CYCLE_SWEEPS * CYCLE_STEPS.len() * 4) as f64
+    };
     e = e
+        .plus(
+            plays("cycle aim plays", n, 5.0, AIM_PLAY_S)
+                .times(cycle_plays / (AIM_STEPS + 1) as f64, "plays per fit"),
+        )
         .plus(plays("aim plays", n - lanes, 5.0, AIM_PLAY_S))
         .plus(plays("lane plays", lanes, 5.0, LANE_PLAY_S))
         .plus(plays("excursion plays", n, 1.0, AIM_PLAY_S))
