@@ -208,7 +208,7 @@ enum Study {
         #[command(flatten)]
         out: StudyOut,
     },
-    /// Sorting by friction against the friction contrast (μ ratio 1.25-3, sinks 3 cm apart) and the sinks' distance (1, 2, 4 cm at ratio 2), each designed and played as `design` does a classes target: sort.md (about 26 min of CPU; CPU seconds printed only).
+    /// Sorting by friction against the friction contrast (μ ratio 1.25-3, sinks 3 cm apart) and the sinks' distance (1, 2, 4 cm at ratio 2), each designed and played as `design` does a classes target: sort.md (about 50 min of CPU; CPU seconds printed only).
     #[command(mut_arg("out", default_dir(studies::sort::DIR)))]
     Sort(StudyOut),
     /// The measurements behind numbers the docs state (the saddle's margin cap, the ratchet, the lag, the saddle's parts, single fields): probes.md (timings printed only).

@@ -359,7 +359,7 @@ pub fn render(outcomes: &[Outcome]) -> String {
 }
 
 /// The reading of the tables: the physics of each limit.
-const WHY: &str = "Reading. The tables give the times; why they grow as they do: every class follows every motion. Under the strong motions the kept schedules use, the two classes' slip leads δ = asin(μg/A) differ by the column \"slip-lead difference\", a few degrees at most, so a strong motion turns their fields hardly apart; what separates them is the threshold, the gentle window 1 − μ_lo/μ_hi of in-plane peaks that carry the slippery class while the sticky one is held (no gentle synthesis is offered below a ratio of 1/0.7 ≈ 1.43, where the gentle limits cannot make the slippery class slip). As the window closes, the difference the fit can build weakens: the weaker class's realised strength falls and the time to sort grows. Against the distance, close sinks need nearly one field (a common sink and a small difference), far ones a large difference that only the slow gentle transports give; the aim (how far the fit moved a class's target so that its parts settle on their sink) must stay below half the sinks' distance, beyond which a class's settled orbit would count at the other's sink. These are one design per case, not bounds: which candidate sorts fastest varies from target to target by a factor of several.\n";
+const WHY: &str = "Reading. The tables give the times; why they grow as they do: every class follows every motion. Under the strong motions the kept schedules use, the two classes' slip leads δ = asin(μg/A) differ by the column \"slip-lead difference\", a few degrees at most, so a strong motion turns their fields hardly apart; what separates them is the threshold, the gentle window 1 − μ_lo/μ_hi of in-plane peaks that carry the slippery class while the sticky one is held (no gentle synthesis is offered below a ratio of 1/0.7 ≈ 1.43, where the gentle limits cannot make the slippery class slip). As the window closes, the difference the fit can build weakens: the weaker class's realised strength falls and the time to sort grows. Against the distance, close sinks need nearly one field (a common sink and a small difference), far ones a large difference that only the slow gentle transports give; the aim (how far the fit moved a class's target so that its parts settle on their sink) is set against half the sinks' distance: an aim beyond it means that, unaimed, a class's parts could settle nearer the other class's sink than their own, so the aim, not the field's strength, decides such a sort; it is a measure of difficulty, not a limit (rows with an aim beyond half the distance still sort). These are one design per case, not bounds: which candidate sorts fastest varies from target to target by a factor of several.\n";
 
 /// `platefield study sort`: designs and plays every case, writes
 /// `OUT/sort.md` and returns its text with each case's CPU seconds
@@ -396,4 +396,23 @@ pub fn run(out: &Path) -> Result<String> {
     let path = out.join("sort.md");
     platefield::output::write_atomic(&path, md.as_bytes())?;
     Ok(format!("{md}\n{cpu}wrote {}\n", path.display()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::WHY;
+
+    /// The committed `results/sort.md` ends with the reading this code
+    /// writes, so that a change of the reading is seen to need the file
+    /// regenerated (or, the reading being fixed text, edited alike).
+    #[test]
+    fn committed_reading_is_the_codes() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../results/sort.md");
+        let md = std::fs::read_to_string(&path).expect("results/sort.md is committed");
+        assert!(
+            md.ends_with(WHY),
+            "{} does not end with the study's reading",
+            path.display()
+        );
+    }
 }

@@ -57,7 +57,7 @@ pub const EXPECTED_STEPS: &[(&str, f64, f64)] = &[
     ("synthesis", 3.46e8, 1.0),
     ("probes", 3.81e8, 1.0),
     ("design-speed", 1.07e9, 1.0),
-    ("sort", 2.41e9, 1.0),
+    ("sort", 3.98e9, 1.0),
     ("robust", 2.85e9, 1.0),
     ("robust-knobs", 3.44e9, 1.0),
     ("robust-family", 6.75e9, 1.0),
