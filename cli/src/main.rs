@@ -123,7 +123,7 @@ enum Study {
     #[command(mut_arg("out", default_dir(studies::rung::DIR)))]
     Rungs {
         /// Largest accepted relative L2 error against the full model.
-        #[arg(long, default_value_t = studies::rung::DEFAULT_RUNG_TOLERANCE, allow_negative_numbers = true)]
+        #[arg(long, default_value_t = platefield::field::rung::DEFAULT_RUNG_TOLERANCE, allow_negative_numbers = true)]
         tolerance: f64,
         #[command(flatten)]
         out: StudyOut,
