@@ -122,7 +122,7 @@ impl<'de> Deserialize<'de> for SceneMotion {
 
 /// Points per side of the sample grid [`Scene::rung`] measures the rungs
 /// on: as many as `verify`'s default realised grid.
-pub const RUNG_POINTS: usize = 5;
+pub(crate) const RUNG_POINTS: usize = 5;
 
 /// A scene: everything `platefield field` needs to compute one field.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -234,7 +234,7 @@ impl Scene {
 
     /// The cheapest model rung whose field is within `tolerance` of the
     /// full model's ([`crate::field::rung::choose_rung`], the rule stated
-    /// there), measured on [`RUNG_POINTS`] × [`RUNG_POINTS`] points over the
+    /// there), measured on 5 × 5 points (`RUNG_POINTS`) over the
     /// scene's grid (fewer where the grid has fewer), with the scene's kind
     /// and settings (its model ignored). What `field --model auto` plays.
     ///
