@@ -26,15 +26,18 @@
 //! translation has Ω = 0, so every plate point has the same acceleration and
 //! all four rungs agree to the last bit.
 //!
-//! **What a cheaper rung saves.** Measured on 41 × 41 force fields, one
-//! thread, whole-process CPU against `full`: `paper` 0.42–0.50 of full's
-//! time (ScaledCircle, DivCircle), `paper+moving` 0.78–0.80,
-//! `paper+moving+centripetal+tilt` 0.93; on DivCircle's velocity field
-//! `paper` 0.49, `paper+moving+centripetal+tilt` 0.97 and `paper+moving`
-//! 2.8 (its steady states converge more slowly). Out-of-plane motions
-//! need at least `paper+moving+centripetal+tilt`, so the saving there is a
-//! few per cent; the large savings are on in-plane motions, where `paper`
-//! suffices only when nothing rotates.
+//! **What a cheaper rung saves.** Measured with `platefield field` on
+//! 41 × 41 scenes (one thread, whole-process CPU, median of 5 paired runs)
+//! against `full`: force fields `paper` 0.42–0.50 of full's time
+//! (ScaledCircle, DivCircle), `paper+moving` 0.78–0.80,
+//! `paper+moving+centripetal+tilt` 0.93; DivCircle's velocity field `paper`
+//! 0.49, `paper+moving+centripetal+tilt` 0.97 and `paper+moving` 2.8 (its
+//! steady states converge more slowly). The primitives that tilt the plate
+//! need at least `paper+moving+centripetal+tilt`
+//! (`results/primitives/rungs.md`), which saves a few per cent; `paper`
+//! halves the work, and is chosen for translations and for the shipped
+//! synthesized segments of whirlpool, squeeze_trans and jet, whose fields
+//! it matches within 2 % on their sample points (`results/rungs_auto.md`).
 //!
 //! Compute times are reported in [`RungResult::seconds`] (never
 //! serialized): fields are bitwise independent of the thread count, times
