@@ -138,7 +138,7 @@ pub const MODELS: [Choice<ModelChoice>; 6] = [
     (
         ModelChoice::Auto,
         "auto",
-        "Per segment the cheapest rung within 2 % of full at the realised grid's points; played at the cheapest rung within it for every segment",
+        "Per segment the cheapest rung within 2 % of full at the realised grid's points; played at the cheapest rung that moves the part and is within it for every segment",
     ),
 ];
 

@@ -26,18 +26,15 @@
 //! translation has Ω = 0, so every plate point has the same acceleration and
 //! all four rungs agree to the last bit.
 //!
-//! **What a cheaper rung saves.** Measured with `platefield field` on
-//! 41 × 41 scenes (one thread, whole-process CPU, median of 5 paired runs)
-//! against `full`: force fields `paper` 0.42–0.50 of full's time
-//! (ScaledCircle, DivCircle), `paper+moving` 0.78–0.80,
-//! `paper+moving+centripetal+tilt` 0.93; DivCircle's velocity field `paper`
-//! 0.49, `paper+moving+centripetal+tilt` 0.97 and `paper+moving` 2.8 (its
-//! steady states converge more slowly). The primitives that tilt the plate
-//! need at least `paper+moving+centripetal+tilt`
-//! (`results/primitives/rungs.md`), which saves a few per cent; `paper`
-//! halves the work, and is chosen for translations and for the shipped
-//! synthesized segments of whirlpool, squeeze_trans and jet, whose fields
-//! it matches within 2 % on their sample points (`results/rungs_auto.md`).
+//! **What a cheaper rung saves.** Each switch off removes terms from
+//! every step (the centripetal and Coriolis products, the tilted gravity),
+//! and `paper` also evaluates the plate kinematics at one point for the
+//! whole cycle, which is most of its saving; a steady-state velocity field
+//! at a cheaper rung may need more cycles to converge, so a cheaper rung is
+//! not always a faster one. The primitives that tilt the plate need at
+//! least `paper+moving+centripetal+tilt` (`results/primitives/rungs.md`);
+//! `platefield study rungs-auto` prints, per shipped design, the time of
+//! the rung played against `full`'s (times are never written to files).
 //!
 //! Compute times are reported in [`RungResult::seconds`] (never
 //! serialized): fields are bitwise independent of the thread count, times

@@ -5,9 +5,13 @@
 //! every rung on the sample grid by [`crate::field::rung::choose_rung`]
 //! (the rule is stated there). A schedule is played under one model, so
 //! the rung played is the cheapest rung acceptable for *every* moving
-//! segment (within the tolerance with identical validity flags); `full` is
-//! always acceptable, so there is one. Rest segments have no field and no
-//! rung.
+//! segment (within the tolerance with identical validity flags) among the
+//! rungs that move the part: a play carries parts across the plate (the
+//! swarm, the model check), and `paper`, which holds the kinematics at the
+//! part's start point, is exact for a field at held points but not for a
+//! part that travels centimetres, so it is reported per segment and never
+//! played. `full` is always acceptable, so there is one. Rest segments
+//! have no field and no rung.
 
 use serde::Serialize;
 
@@ -32,7 +36,8 @@ pub struct SegmentRung {
 /// The rungs of a schedule's segments and the rung played.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ScheduleRungs {
-    /// The rung played: the cheapest acceptable for every moving segment.
+    /// The rung played: the cheapest that moves the part and is
+    /// acceptable for every moving segment.
     pub rung: &'static str,
     /// Its model.
     pub model: Model,
@@ -75,6 +80,7 @@ impl Schedule {
             })
             .collect();
         let played = (0..RUNGS.len())
+            .filter(|&k| RUNGS[k].1.moving)
             .find(|&k| reports.iter().all(|(_, _, r)| r.rungs[k].acceptable))
             .unwrap_or(RUNGS.len() - 1);
         let segments = reports

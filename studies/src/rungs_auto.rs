@@ -59,10 +59,12 @@ pub fn markdown(rows: &[(String, ScheduleRungs)], tolerance: f64) -> String {
          region, the schedule's field kind at its own friction, compared with the full model \
          (relative L2 error over the samples valid in both). A segment's rung is the cheapest \
          with error ≤ {} and validity flags identical to full's; the schedule is played at the \
-         cheapest rung acceptable for every segment (one model per play). Rungs, cheapest \
+         cheapest rung that moves the part and is acceptable for every segment (one model \
+         per play; `paper` holds the part's position in the kinematics, exact for a field at \
+         held points, not for parts that travel). Rungs, cheapest \
          first: {}. Regenerate: `platefield study rungs-auto` (it also prints the fields' \
          compute times and the time the played rung saves, which are not written here; \
-         measured costs of each rung against full are in the docs of \
+         what a cheaper rung saves, and why not always: \
          `platefield::field::rung`).\n\n",
         percent(tolerance),
         RUNGS
