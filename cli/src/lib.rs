@@ -13,7 +13,8 @@ pub mod verify;
 
 use clap::Args;
 
-use platefield::dynamics::{Numerics, Preset};
+use platefield::dynamics::{Model, Numerics};
+use platefield::{Error, Result};
 
 /// How moving parts play a schedule for the model check (`verify`, `order`).
 #[derive(Args)]
@@ -27,9 +28,25 @@ pub struct Play {
     /// Schedule periods played before measuring (order: at least, and at least 40 primitive cycles).
     #[arg(long, default_value_t = 1)]
     pub warmup: u32,
-    /// Model: the schedule's own (default, normally full), full, paper, or frozen (full with positions frozen: an exact comparison when parts drift far).
-    #[arg(long, value_parser = values::choices(&values::PRESETS), hide_possible_values = true)]
-    pub model: Option<Preset>,
+    /// Model: the schedule's own (default, normally full), full, paper, frozen (full with positions frozen: an exact comparison when parts drift far), a rung between paper and full (paper+moving, paper+moving+centripetal+tilt), or auto (verify only: per segment the cheapest rung within 2 % of full at the realised grid's points, recorded in the summary).
+    #[arg(long, value_parser = values::choices(&values::MODELS), hide_possible_values = true)]
+    pub model: Option<values::ModelChoice>,
+}
+
+impl Play {
+    /// The model asked for, when it is one (not `auto`): `None` plays the
+    /// schedule's own; `auto` is refused naming `--model` (`command`
+    /// chooses no rung).
+    pub fn fixed_model(&self, command: &str) -> Result<Option<Model>> {
+        match self.model {
+            None => Ok(None),
+            Some(values::ModelChoice::Model(m)) => Ok(Some(m)),
+            Some(values::ModelChoice::Auto) => Err(Error::invalid(
+                "--model",
+                format!("auto is for verify; {command} takes paper, full, frozen, paper+moving or paper+moving+centripetal+tilt"),
+            )),
+        }
+    }
 }
 
 /// `--json`.

@@ -11,7 +11,6 @@ use platefield_cli as cli;
 use cli::{AllowLong, Json, Play, Quiet, Steps};
 use platefield::basis::StepsPlan;
 use platefield::design::order::OrderRequest;
-use platefield::dynamics::Preset;
 use platefield::work::Runtime;
 use platefield::Result;
 use platefield_report as report;
@@ -65,6 +64,9 @@ enum Command {
         /// Write a quiver plot (SVG) to this file.
         #[arg(long)]
         svg: Option<PathBuf>,
+        /// Model, overriding the scene's: paper, full, frozen, a rung between them (paper+moving, paper+moving+centripetal+tilt), or auto (the cheapest rung within 2 % of full on 5×5 sample points of the grid, recorded under "rung").
+        #[arg(long, value_parser = cli::values::choices(&cli::values::MODELS), hide_possible_values = true)]
+        model: Option<cli::values::ModelChoice>,
         #[command(flatten)]
         json: Json,
         #[command(flatten)]
@@ -123,7 +125,16 @@ enum Study {
     #[command(mut_arg("out", default_dir(studies::rung::DIR)))]
     Rungs {
         /// Largest accepted relative L2 error against the full model.
-        #[arg(long, default_value_t = studies::rung::DEFAULT_RUNG_TOLERANCE, allow_negative_numbers = true)]
+        #[arg(long, default_value_t = platefield::field::rung::DEFAULT_RUNG_TOLERANCE, allow_negative_numbers = true)]
+        tolerance: f64,
+        #[command(flatten)]
+        out: StudyOut,
+    },
+    /// The automatic model rung (verify --model auto) of every shipped design's segments, from results/*/schedule.json: rungs_auto.md (times printed only).
+    #[command(mut_arg("out", default_dir(studies::rungs_auto::DIR)))]
+    RungsAuto {
+        /// Largest accepted relative L2 error against the full model.
+        #[arg(long, default_value_t = platefield::field::rung::DEFAULT_RUNG_TOLERANCE, allow_negative_numbers = true)]
         tolerance: f64,
         #[command(flatten)]
         out: StudyOut,
@@ -236,18 +247,23 @@ fn default_dir(dir: &'static str) -> impl FnOnce(clap::Arg) -> clap::Arg {
 }
 
 /// `order`'s request from its arguments.
-fn order_request(rest: Vec<u32>, play: &Play, long: &AllowLong, quiet: &Quiet) -> OrderRequest {
-    OrderRequest {
+fn order_request(
+    rest: Vec<u32>,
+    play: &Play,
+    long: &AllowLong,
+    quiet: &Quiet,
+) -> platefield::Result<OrderRequest> {
+    Ok(OrderRequest {
         n: play.points,
         rest_cycles: rest,
         warmup: play.warmup,
         periods: play.periods,
-        model: play.model.map(Preset::model),
+        model: play.fixed_model("order")?,
         runtime: Runtime {
             quiet: quiet.quiet,
             allow_long: long.allow_long,
         },
-    }
+    })
 }
 
 /// The synthesis study's settings from its arguments (evaluations, starts,
@@ -277,11 +293,13 @@ fn run(cli: Cli) -> Result<String> {
             out,
             long,
             quiet,
-        } => report::order(&schedule, &order_request(rest, &play, &long, &quiet), &out),
+        } => order_request(rest, &play, &long, &quiet)
+            .and_then(|req| report::order(&schedule, &req, &out)),
         Command::Field {
             scene,
             out,
             svg,
+            model,
             json,
             quiet,
             long,
@@ -292,6 +310,7 @@ fn run(cli: Cli) -> Result<String> {
             svg.as_deref(),
             quiet.quiet,
             long.allow_long,
+            model,
         ),
         Command::Poses(args) => args.run(),
         Command::Study(study) => run_study(study),
@@ -335,6 +354,12 @@ fn run_study(study: Study) -> Result<String> {
         Study::PosesFriction(o) => studies::watched_defaults("poses-friction-study", false, || {
             studies::poses_friction::run(&o.out)
         }),
+        Study::RungsAuto { tolerance, out } => {
+            // Every rung is computed whatever the tolerance: the same work.
+            studies::watched_defaults("rungs-auto", false, || {
+                studies::rungs_auto::run(Path::new(studies::rungs_auto::DIR), &out.out, tolerance)
+            })
+        }
         Study::Rungs { tolerance, out } => {
             // Every rung is computed whatever the tolerance: the same work.
             studies::watched_defaults("rungs", false, || studies::rung::run(&out.out, tolerance))

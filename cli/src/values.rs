@@ -5,7 +5,8 @@
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 
 use platefield::basis::PrimitiveKind;
-use platefield::dynamics::Preset;
+use platefield::dynamics::{Model, Preset};
+use platefield::field::rung::RUNGS;
 use platefield::field::FieldKind;
 use platefield_studies::linesink::Wave;
 
@@ -98,6 +99,47 @@ pub const PRESETS: [Choice<Preset>; 3] = [
     ),
     (Preset::Full, "full", "Every term on"),
     (Preset::Frozen, "frozen", "Every term on, positions frozen"),
+];
+
+/// A `--model` of `verify` and `order`: a model, or the automatic rung.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ModelChoice {
+    /// This model.
+    Model(Model),
+    /// The cheapest rung within the default tolerance of full, per segment
+    /// (`platefield::field::rung`).
+    Auto,
+}
+
+/// `--model` of `verify` and `order` ([`ModelChoice`]): the presets, the
+/// two intermediate rungs, and `auto`.
+pub const MODELS: [Choice<ModelChoice>; 6] = [
+    (
+        ModelChoice::Model(Model::PAPER),
+        "paper",
+        "The paper's analysis (small angles, no centripetal or tilt terms)",
+    ),
+    (ModelChoice::Model(Model::FULL), "full", "Every term on"),
+    (
+        ModelChoice::Model(Model::FROZEN),
+        "frozen",
+        "Every term on, positions frozen",
+    ),
+    (
+        ModelChoice::Model(RUNGS[1].1),
+        RUNGS[1].0,
+        "The paper's analysis with the part moving during the cycle",
+    ),
+    (
+        ModelChoice::Model(RUNGS[2].1),
+        RUNGS[2].0,
+        "Every term but Coriolis",
+    ),
+    (
+        ModelChoice::Auto,
+        "auto",
+        "Per segment the cheapest rung within 2 % of full at the realised grid's points; played at the cheapest rung that moves the part and is within it for every segment",
+    ),
 ];
 
 /// `linesink --wave` ([`Wave`]).

@@ -4,8 +4,8 @@ use std::path::PathBuf;
 
 use clap::Args;
 
+use super::values::ModelChoice;
 use super::{AllowLong, Play, Quiet};
-use platefield::dynamics::Preset;
 use platefield::verify::friction::FrictionArg;
 use platefield::verify::{Duration, VerifyRequest};
 use platefield::{Error, Result};
@@ -120,7 +120,12 @@ impl VerifyArgs {
             points: self.play.points,
             warmup: self.play.warmup,
             periods: self.play.periods,
-            model: self.play.model.map(Preset::model),
+            model: match self.play.model {
+                Some(ModelChoice::Model(m)) => Some(m),
+                _ => None,
+            },
+            rung_tolerance: (self.play.model == Some(ModelChoice::Auto))
+                .then_some(platefield::field::rung::DEFAULT_RUNG_TOLERANCE),
             swarm: self.swarm,
             duration,
             tol: self.tol,

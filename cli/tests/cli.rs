@@ -2108,3 +2108,99 @@ fn stroke_and_velocity_limits_hold_in_design() {
         assert_eq!(code, 2, "{all}");
     }
 }
+
+/// `verify --model auto` plays the sequenced sink (four LineSinks) at the
+/// cheapest rung within 2 % of full for every segment — not `paper`, whose
+/// LineSink error is about 8 % — records each segment's choice in the
+/// summary, and its judge (strength and shape error) moves by less than
+/// the tolerance from the full model's. `order` chooses no rung and
+/// refuses `auto`, and a bad `--model` names the allowed values.
+#[test]
+fn verify_model_auto_records_its_rungs_and_keeps_the_judge() {
+    let dir = temp_dir("verify-model-auto");
+    let schedule: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../results/sequenced/sink/schedule.json"
+        ))
+        .unwrap(),
+    )
+    .unwrap();
+    for sub in ["full", "auto"] {
+        std::fs::create_dir_all(dir.join(sub)).unwrap();
+    }
+    let full = quick_verify(&dir.join("full"), &schedule, &["--model", "full"]);
+    assert!(full.get("rungs").is_none(), "{full}");
+    let auto = quick_verify(&dir.join("auto"), &schedule, &["--model", "auto"]);
+    let rungs = &auto["rungs"];
+    assert_eq!(
+        rungs["rung"].as_str(),
+        Some("paper+moving+centripetal+tilt"),
+        "{rungs}"
+    );
+    let segments = rungs["segments"].as_array().unwrap();
+    assert_eq!(segments.len(), 4, "{rungs}");
+    for s in segments {
+        assert_ne!(s["report"]["rung"].as_str(), Some("paper"), "{s}");
+        assert!(s["played_error"].as_f64().unwrap() <= 0.02, "{s}");
+    }
+    let (jf, ja) = (&full["judge"], &auto["judge"]);
+    let (sf, sa) = (
+        jf["realised_strength"].as_f64().unwrap(),
+        ja["realised_strength"].as_f64().unwrap(),
+    );
+    assert!((sa - sf).abs() <= 0.02 * sf.abs(), "{jf} {ja}");
+    let (ef, ea) = (
+        jf["realised_shape_error"].as_f64().unwrap(),
+        ja["realised_shape_error"].as_f64().unwrap(),
+    );
+    assert!((ea - ef).abs() <= 0.02, "{jf} {ja}");
+
+    let file = dir.join("full").join("schedule.json");
+    let s = file.to_str().unwrap();
+    let (code, _, err) = platefield(&["order", s, "--model", "auto", "--out", "/nonexistent"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--model") && err.contains("verify"), "{err}");
+    let (code, _, err) = platefield(&["verify", s, "--model", "cheap"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("--model") && err.contains("auto") && err.contains("paper+moving"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// `field --model auto` of an in-plane translation (Trans: Ω = 0, N = g)
+/// plays `paper`, whose field equals full's exactly, and records the
+/// choice under `"rung"`; without `--model` the field JSON has no `"rung"`
+/// and keeps the scene's model.
+#[test]
+fn field_model_auto_plays_paper_for_a_translation() {
+    let dir = temp_dir("field-model-auto");
+    let scene = dir.join("trans.json");
+    std::fs::write(
+        &scene,
+        r#"{"motion": {"type": "primitive", "kind": "Trans"}, "kind": "force",
+            "grid": {"x": [-0.02, 0.02], "y": [-0.02, 0.02], "n": [7, 7]}, "phases": 4}"#,
+    )
+    .unwrap();
+    let s = scene.to_str().unwrap();
+    let (code, out, err) = platefield(&["field", s, "--json", "--quiet", "--model", "auto"]);
+    assert_eq!(code, 0, "{err}");
+    let auto: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(
+        auto["rung"]["rung"].as_str(),
+        Some("paper"),
+        "{}",
+        auto["rung"]
+    );
+    assert_eq!(auto["rung"]["error"].as_f64(), Some(0.0));
+    assert_eq!(auto["model"]["moving"].as_bool(), Some(false));
+    let (code, out, err) = platefield(&["field", s, "--json", "--quiet"]);
+    assert_eq!(code, 0, "{err}");
+    let plain: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!(plain.get("rung").is_none());
+    assert_eq!(plain["model"]["coriolis"].as_bool(), Some(true));
+    assert_eq!(plain["fx"], auto["fx"]);
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -49,6 +49,8 @@ pub(crate) fn summary_json(r: &VerifyReport) -> Result<String> {
         tolerance: Option<&'a platefield::design::tolerance::Spread>,
         #[serde(skip_serializing_if = "Option::is_none")]
         sort: Option<&'a platefield::verify::sort_play::SortVerify>,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        rungs: Option<&'a platefield::schedule::ScheduleRungs>,
     }
     #[derive(Serialize)]
     struct ModelCheckSummary<'a> {
@@ -93,6 +95,7 @@ pub(crate) fn summary_json(r: &VerifyReport) -> Result<String> {
         replay: r.replay.as_ref(),
         tolerance: r.tolerance.as_ref(),
         sort: r.sort.as_ref(),
+        rungs: r.rungs.as_ref(),
     };
     let mut text =
         serde_json::to_string_pretty(&summary).map_err(|e| Error::Internal(e.to_string()))?;
@@ -366,6 +369,30 @@ pub(crate) fn friction_svg(target: &str, s: &Sensitivity) -> String {
         .to_svg()
 }
 
+/// `--model auto`'s lines: the rung played and each segment's choice.
+fn rungs_text(r: &platefield::schedule::ScheduleRungs) -> String {
+    use platefield::field::rung::percent;
+    let mut out = format!(
+        "model auto: played at {} (the cheapest rung within {} of full for every segment, on {}×{} points)\n",
+        r.rung,
+        percent(r.tolerance),
+        r.grid.n[0],
+        r.grid.n[1]
+    );
+    for s in &r.segments {
+        let _ = writeln!(
+            out,
+            "  segment {} {}: cheapest {} ({}), played error {}",
+            s.segment,
+            s.label,
+            s.report.rung,
+            percent(s.report.error),
+            percent(s.played_error)
+        );
+    }
+    out
+}
+
 /// The terminal summary: the judge, the model check (realised against
 /// predicted), invalid points, the swarm and the rectangles.
 pub fn summary(r: &VerifyReport) -> String {
@@ -393,6 +420,9 @@ pub fn summary(r: &VerifyReport) -> String {
     }
     if let Some(t) = &r.tolerance {
         let _ = writeln!(out, "{}", tolerance_line(t));
+    }
+    if let Some(rungs) = &r.rungs {
+        out.push_str(&rungs_text(rungs));
     }
     let few = platefield::design::method::MIN_MEASURED_POINTS;
     if v.valid < few {

@@ -32,6 +32,7 @@ mod force;
 mod grid;
 mod json;
 mod orbits;
+pub mod rung;
 mod velocity;
 
 pub use grid::Grid;

@@ -120,6 +120,10 @@ impl<'de> Deserialize<'de> for SceneMotion {
     }
 }
 
+/// Points per side of the sample grid [`Scene::rung`] measures the rungs
+/// on: as many as `verify`'s default realised grid.
+pub(crate) const RUNG_POINTS: usize = 5;
+
 /// A scene: everything `platefield field` needs to compute one field.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -226,6 +230,34 @@ impl Scene {
     /// same scene.
     pub fn to_json(&self) -> Value {
         serde_json::to_value(self).unwrap_or(Value::Null)
+    }
+
+    /// The cheapest model rung whose field is within `tolerance` of the
+    /// full model's ([`crate::field::rung::choose_rung`], the rule stated
+    /// there), measured on 5 × 5 points (`RUNG_POINTS`) over the
+    /// scene's grid (fewer where the grid has fewer), with the scene's kind
+    /// and settings (its model ignored). What `field --model auto` plays.
+    ///
+    /// ```
+    /// use platefield::scene::Scene;
+    /// let text = r#"{"motion": {"type": "primitive", "kind": "Trans"}, "kind": "force",
+    ///               "grid": {"x": [-0.02, 0.02], "y": [-0.02, 0.02], "n": [9, 9]}}"#;
+    /// let scene = Scene::from_json_str(text).unwrap();
+    /// let r = scene.rung(platefield::field::rung::DEFAULT_RUNG_TOLERANCE);
+    /// assert_eq!((r.rung, r.error), ("paper", 0.0));
+    /// ```
+    pub fn rung(&self, tolerance: f64) -> crate::field::rung::RungReport {
+        let sample = Grid {
+            n: self.grid.n.map(|n| n.min(RUNG_POINTS)),
+            ..self.grid
+        };
+        crate::field::rung::choose_rung(
+            &self.motion.to_motion(),
+            &sample,
+            self.kind,
+            &self.settings(),
+            tolerance,
+        )
     }
 
     /// The field settings of this scene.

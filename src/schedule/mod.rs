@@ -33,6 +33,7 @@
 pub mod export;
 pub(crate) mod played;
 pub(crate) mod quantize;
+mod rungs;
 
 use std::path::Path;
 
@@ -50,6 +51,7 @@ pub use played::{AxisPeaks, Method, Played, PoseAtFriction, PoseOverFriction, Po
 pub(crate) use quantize::quantize;
 pub(crate) use quantize::Quantized;
 pub use quantize::{DEFAULT_MIN_CYCLES, DEFAULT_QUANTIZATION_TOL};
+pub use rungs::{ScheduleRungs, SegmentRung};
 
 /// Most cycles of one segment (about 50 minutes of plate motion at the
 /// paper's 30 ms cycle).

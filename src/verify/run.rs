@@ -66,6 +66,12 @@ pub struct VerifyRequest {
     pub periods: u32,
     /// Model override (default: the schedule's own).
     pub model: Option<Model>,
+    /// Automatic model: each moving segment's cheapest rung within this
+    /// relative L2 tolerance of `full` at the realised grid's points
+    /// ([`Schedule::rungs`], the rule in [`crate::field::rung`]), the
+    /// schedule played at the cheapest rung acceptable for every segment
+    /// (one model per play). Excludes `model`; `None`: no choice.
+    pub rung_tolerance: Option<f64>,
     /// Swarm grid: parts per side.
     pub swarm: usize,
     /// Swarm duration.
@@ -104,6 +110,7 @@ impl Default for VerifyRequest {
             warmup: 1,
             periods: 1,
             model: None,
+            rung_tolerance: None,
             swarm: 9,
             duration: Duration::Auto,
             tol: 0.003,
@@ -173,6 +180,15 @@ impl VerifyRequest {
                 ));
             }
         }
+        if let Some(t) = self.rung_tolerance {
+            if self.model.is_some() {
+                return Err(Error::invalid(
+                    "--model",
+                    "give either a model or auto (a tolerance for the automatic rung), not both",
+                ));
+            }
+            crate::error::non_negative("--model", t)?;
+        }
         if !(self.tol.is_finite() && self.tol > 0.0 && self.tol <= 0.1) {
             return Err(Error::invalid(
                 "--tol",
@@ -199,6 +215,8 @@ pub struct VerifyReport {
     /// physics played ([`crate::design::judge`]: the realised field at
     /// frozen points over the whole region); `None` when it records none.
     pub judge: Option<crate::play::sensitivity::Judged>,
+    /// The automatic model's rungs per segment (`rung_tolerance`).
+    pub rungs: Option<crate::schedule::ScheduleRungs>,
     /// The model check: moving parts against the prediction.
     pub model_check: ModelCheck,
     /// The swarm.
@@ -629,6 +647,22 @@ fn verify_labelled(schedule: &Schedule, req: &VerifyRequest, label: &str) -> Res
         opts.friction = f;
     }
     let g = region(schedule);
+    // The automatic rung is measured at the realised grid's points, under
+    // the friction played.
+    let rungs = req.rung_tolerance.map(|tol| {
+        let physics = crate::field::FieldSettings {
+            friction: opts.friction,
+            ..settings
+        };
+        let grid = Grid {
+            n: [req.points, req.points],
+            ..g
+        };
+        schedule.rungs(&grid, &physics, tol)
+    });
+    if let Some(r) = &rungs {
+        opts.model = r.model;
+    }
     let attractor = schedule
         .target_spec
         .as_ref()
@@ -747,6 +781,7 @@ fn verify_labelled(schedule: &Schedule, req: &VerifyRequest, label: &str) -> Res
             }
             None => None,
         },
+        rungs,
         model_check: v,
         swarm,
         rectangles,

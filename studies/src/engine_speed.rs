@@ -19,10 +19,10 @@ use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
 
-use super::rung::relative_l2;
 use super::speed::{load_average, process_cpu_seconds};
 use platefield::basis::{Library, Primitive};
 use platefield::error::Result;
+use platefield::field::rung::relative_l2;
 use platefield::field::{Field, FieldKind, FieldSettings, Grid};
 use platefield::output::write_atomic;
 use platefield_report::plot::{LegendPosition, LinePlot, Series};

@@ -9,6 +9,7 @@
 //! | [`reproduce`] | `platefield study reproduce` | `linesink_fig3.{csv,svg}`, `linesink_terms.md`, `linesink_travel.csv`, `linesink_convergence.md` |
 //! | [`primitives`], `table1` | `platefield study primitives` | `primitives/` fields, plots, `table1.md` |
 //! | [`rung`] | `platefield study rungs` | `primitives/rungs.md` |
+//! | [`rungs_auto`] | `platefield study rungs-auto` | `rungs_auto.md` (the automatic rung of every shipped design's segments) |
 //! | [`speed`] | `platefield study speed` | `library_speed.md` |
 //! | [`engine_speed`] | `platefield study engine-speed` | `engine_speed.{md,csv}`, `engine_speed_{force,velocity}.svg` |
 //! | [`fit_quality`] | `platefield study fit-quality` | `fit_quality.md` |
@@ -39,6 +40,7 @@ pub mod robust_family;
 pub mod robust_knobs;
 pub mod robust_shipped;
 pub mod rung;
+pub mod rungs_auto;
 pub mod sort;
 pub mod speed;
 pub mod squeeze_order;

@@ -31,10 +31,10 @@ use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
 
-use super::rung::relative_l2;
 use platefield::basis::steps::LADDER;
 use platefield::basis::{Library, StepsPlan};
 use platefield::error::Result;
+use platefield::field::rung::relative_l2;
 use platefield::field::{Field, FieldKind, FieldSettings, Grid, Orbits};
 use platefield::output::write_atomic;
 

@@ -47,6 +47,7 @@ use platefield::work::{with_counted_progress, Estimate, Term, PLANAR_POINT_STEP_
 pub const EXPECTED_STEPS: &[(&str, f64, f64)] = &[
     ("reproduce", 9.75e5, 1.0),
     ("rungs", 1.64e6, 1.0),
+    ("rungs-auto", 2.87e6, 1.0),
     ("primitives", 1.70e6, 1.0),
     ("feeder", 1.84e6, 1.0),
     ("interaction", 4.29e6, 1.0),

@@ -13,9 +13,9 @@ use platefield::basis::{
     BasisCache, CacheStatus, FieldLibrary, Library, Primitive, PrimitiveKind, StepsPlan,
 };
 use platefield::design::basis::{assemble, ExclusionReason, ISOTROPY_TOL};
+use platefield::field::rung::{choose_rung, DEFAULT_RUNG_TOLERANCE};
 use platefield::field::{Field, FieldKind, FieldSettings, Grid, Validity};
 use platefield::progress::ProgressMode;
-use platefield_studies::rung::{choose_rung, DEFAULT_RUNG_TOLERANCE};
 
 /// 9 × 9 over ±4 cm, symmetric about both axes.
 const GRID9: Grid = Grid {
@@ -56,7 +56,7 @@ fn max_rel_diff(a: &Field, b: &Field) -> (f64, usize) {
 
 /// Relative L2 difference over samples valid in both.
 fn rel_l2(a: &Field, b: &Field) -> f64 {
-    platefield_studies::rung::relative_l2(a, b).0
+    platefield::field::rung::relative_l2(a, b).0
 }
 
 /// A 9 × 9 grid over ±5/128 m (≈ ±3.9 cm) whose coordinates are dyadic

@@ -262,7 +262,8 @@ fn poses_drop_estimate_counts_the_played_steps() {
 /// `primitives` also runs with other inputs (an 11 × 11 grid at 32 steps,
 /// and the calibrated plan), estimated by its own model
 /// (`primitives::work_factor`; measured 0.86 and 1.14); `rungs` with
-/// another tolerance does the same work. `fit-quality` (1.96e7 steps,
+/// another tolerance does the same work, and so does `rungs-auto` (on
+/// the shipped schedules). `fit-quality` (1.96e7 steps,
 /// about 18 s of CPU, two thirds of the quick studies' work) runs with
 /// `-- --ignored`: [`fit_quality_estimate_holds`].
 #[test]
@@ -287,6 +288,15 @@ fn study_estimates_hold_for_the_quick_studies() {
                 "rungs",
                 Expected::defaults("rungs"),
                 Box::new(move || rung::run(dir, 0.5)),
+            ),
+            (
+                "rungs-auto",
+                Expected::defaults("rungs-auto"),
+                Box::new(move || {
+                    let results =
+                        std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../results"));
+                    platefield_studies::rungs_auto::run(results, dir, 0.5)
+                }),
             ),
             (
                 "interaction",

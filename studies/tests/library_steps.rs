@@ -8,9 +8,9 @@
 
 use platefield::basis::steps::{CALIBRATED_ERROR, LADDER};
 use platefield::basis::{FieldLibrary, Library, Primitive, PrimitiveKind, StepsPlan};
+use platefield::field::rung::relative_l2;
 use platefield::field::{FieldKind, FieldSettings, Grid};
 use platefield::progress::ProgressMode;
-use platefield_studies::rung::relative_l2;
 
 fn at(steps: usize) -> FieldSettings {
     let mut s = FieldSettings::default();

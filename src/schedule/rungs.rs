@@ -1,0 +1,103 @@
+//! The model rung of each segment of a schedule, and the one rung a play of
+//! the whole schedule can use ([`Schedule::rungs`]).
+//!
+//! Each moving segment's steady motion (between its ramps) is measured at
+//! every rung on the sample grid by [`crate::field::rung::choose_rung`]
+//! (the rule is stated there). A schedule is played under one model, so
+//! the rung played is the cheapest rung acceptable for *every* moving
+//! segment (within the tolerance with identical validity flags) among the
+//! rungs that move the part: a play carries parts across the plate (the
+//! swarm, the model check), and `paper`, which holds the kinematics at the
+//! part's start point, is exact for a field at held points but not for a
+//! part that travels centimetres, so it is reported per segment and never
+//! played. `full` is always acceptable, so there is one. Rest segments
+//! have no field and no rung.
+
+use serde::Serialize;
+
+use super::Schedule;
+use crate::dynamics::Model;
+use crate::field::rung::{choose_rung, RungReport, RUNGS};
+use crate::field::{FieldSettings, Grid};
+
+/// One moving segment's rung.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SegmentRung {
+    /// The segment's index in the schedule.
+    pub segment: usize,
+    /// Its label.
+    pub label: String,
+    /// Its choice and the evidence (every rung's error against `full`).
+    pub report: RungReport,
+    /// Its error against `full` at the rung played.
+    pub played_error: f64,
+}
+
+/// The rungs of a schedule's segments and the rung played.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ScheduleRungs {
+    /// The rung played: the cheapest that moves the part and is
+    /// acceptable for every moving segment.
+    pub rung: &'static str,
+    /// Its model.
+    pub model: Model,
+    /// The tolerance (relative L2 error against `full`).
+    pub tolerance: f64,
+    /// The sample grid the fields were compared on.
+    pub grid: Grid,
+    /// Every moving segment, in playing order.
+    pub segments: Vec<SegmentRung>,
+}
+
+impl Schedule {
+    /// The cheapest model rung of each moving segment within `tolerance` of
+    /// `full` on `grid`, for the schedule's field kind under `settings`
+    /// (its model ignored), and the rung a play of the whole schedule uses
+    /// (the module docs).
+    ///
+    /// ```
+    /// use platefield::basis::{Primitive, PrimitiveKind};
+    /// use platefield::field::{FieldKind, FieldSettings, Grid};
+    /// use platefield::field::rung::DEFAULT_RUNG_TOLERANCE;
+    /// use platefield::schedule::Schedule;
+    /// let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"),
+    ///     "/results/sink/schedule.json")).unwrap();
+    /// let s = Schedule::from_json_str(&text, "sink").unwrap();
+    /// let grid = Grid { x: [-0.02, 0.02], y: [-0.02, 0.02], n: [3, 3] };
+    /// let r = s.rungs(&grid, &s.settings, DEFAULT_RUNG_TOLERANCE);
+    /// assert_eq!(r.segments.len(), s.segments.iter().filter(|g| g.is_moving()).count());
+    /// assert!(r.segments.iter().all(|g| g.played_error <= DEFAULT_RUNG_TOLERANCE));
+    /// ```
+    pub fn rungs(&self, grid: &Grid, settings: &FieldSettings, tolerance: f64) -> ScheduleRungs {
+        let reports: Vec<(usize, &str, RungReport)> = self
+            .segments
+            .iter()
+            .enumerate()
+            .filter_map(|(i, s)| s.steady_motion().map(|m| (i, s.label.as_str(), m)))
+            .map(|(i, label, motion)| {
+                let r = choose_rung(&motion, grid, self.basis.kind, settings, tolerance);
+                (i, label, r)
+            })
+            .collect();
+        let played = (0..RUNGS.len())
+            .filter(|&k| RUNGS[k].1.moving)
+            .find(|&k| reports.iter().all(|(_, _, r)| r.rungs[k].acceptable))
+            .unwrap_or(RUNGS.len() - 1);
+        let segments = reports
+            .into_iter()
+            .map(|(segment, label, report)| SegmentRung {
+                segment,
+                label: label.to_string(),
+                played_error: report.rungs[played].error,
+                report,
+            })
+            .collect();
+        ScheduleRungs {
+            rung: RUNGS[played].0,
+            model: RUNGS[played].1,
+            tolerance,
+            grid: *grid,
+            segments,
+        }
+    }
+}
