@@ -188,6 +188,26 @@ pub fn design_estimate(
     limits: &ShakerLimits,
     library: Option<Estimate>,
 ) -> Estimate {
+    estimate_with_sequence(target, sampled, synth, opts, method, limits, library, None)
+}
+
+/// [`design_estimate`] once the sequenced schedule is fitted: its judges
+/// counted at `fitted_cycles` cycles per period, the fitted schedule's
+/// (`judge::judged_cycles`), instead of [`sequenced_cycles`]' count. A
+/// fit whose least weight is small takes up to the quantisation's longest
+/// schedule (`MAX_TOTAL_CYCLES`), so the count before the fit can be short
+/// by that factor; the design states its work again once it knows.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn estimate_with_sequence(
+    target: &Target,
+    sampled: &SampledTarget,
+    synth: &SynthOptions,
+    opts: &DesignOptions,
+    method: Method,
+    limits: &ShakerLimits,
+    library: Option<Estimate>,
+    fitted_cycles: Option<u32>,
+) -> Estimate {
     let mut e = Estimate::new(
         "target",
         "designing it",
@@ -221,14 +241,26 @@ pub fn design_estimate(
         Method::Synthesize => (0, 1, 0),
         Method::Mirror => (0, 0, 1),
     };
+    // The sequenced schedule's judge at its fitted cycles once known; its
+    // friction sweep too where it always runs (`sequence` asked), while
+    // under `auto` it runs only when the judge does not find the schedule
+    // POOR, and stays at the count before the fit (a long fitted period
+    // comes from a fit spending whole cycles on its least weights, which
+    // is mostly a poor one).
+    let counted = sequenced_cycles(opts);
+    let fitted = fitted_cycles.unwrap_or(counted);
+    let swept = if method == Method::Sequence {
+        fitted
+    } else {
+        counted
+    };
     let judges = [
-        (sequenced, sequenced_cycles(opts)),
-        (synthesized, 1),
-        (pairs, 2 * SYNTH_SEGMENT_CYCLES),
+        (sequenced, fitted, swept),
+        (synthesized, 1, 1),
+        (pairs, 2 * SYNTH_SEGMENT_CYCLES, 2 * SYNTH_SEGMENT_CYCLES),
     ];
-    let sweeps = if ranged { 1.0 } else { 0.0 };
-    for (count, cycles) in judges.into_iter().filter(|(n, _)| *n > 0) {
-        let judge = || {
+    for (count, cycles, swept) in judges.into_iter().filter(|(n, ..)| *n > 0) {
+        let judge = |cycles| {
             crate::design::judge::judge_term(
                 target,
                 sampled,
@@ -237,12 +269,12 @@ pub fn design_estimate(
             )
             .times(count as f64, "candidates")
         };
-        e = e.plus(judge().named("judges"));
+        e = e.plus(judge(cycles).named("judges"));
         if ranged {
             e = e.plus(
-                judge()
+                judge(swept)
                     .named("friction sweeps")
-                    .times(sweeps * sensitivity::SWEEP_VALUES as f64, "frictions"),
+                    .times(sensitivity::SWEEP_VALUES as f64, "frictions"),
             );
         }
     }
@@ -272,4 +304,68 @@ pub(crate) fn sequenced_cycles(opts: &DesignOptions) -> u32 {
     opts.schedule
         .total_cycles
         .unwrap_or(AFFINE_SHAPES * opts.schedule.min_cycles)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Once the sequenced schedule is fitted, its judges are counted at
+    /// its own cycles per period: under `sequence` (one judge, no range)
+    /// the judge's share of the work grows by the ratio of the fitted
+    /// cycles to the count before the fit, and nothing else changes.
+    #[test]
+    fn a_fitted_period_replaces_the_count_before_the_fit() {
+        let target = Target::from_json_str(
+            r#"{"name": "sink", "grid": {"x": [-0.04, 0.04], "y": [-0.04, 0.04], "n": [21, 21]},
+                "field": {"kind": "sink", "center": [0.0, 0.0], "strength": 1.0}}"#,
+        )
+        .unwrap();
+        let sampled = target.sample().unwrap();
+        let opts = DesignOptions::default();
+        let limits = ShakerLimits::from_spec(None);
+        let synth = asked_synthesis(&target, &opts);
+        let at = |fitted| {
+            estimate_with_sequence(
+                &target,
+                &sampled,
+                &synth,
+                &opts,
+                Method::Sequence,
+                &limits,
+                None,
+                fitted,
+            )
+            .steps()
+        };
+        let counted = f64::from(sequenced_cycles(&opts));
+        let judge = |cycles: u32| {
+            crate::design::judge::judge_term(
+                &target,
+                &sampled,
+                cycles,
+                opts.settings.numerics.steps_per_cycle,
+            )
+            .steps()
+        };
+        assert_eq!(
+            at(None),
+            design_estimate(
+                &target,
+                &sampled,
+                &synth,
+                &opts,
+                Method::Sequence,
+                &limits,
+                None
+            )
+            .steps()
+        );
+        let grown = at(Some(5000)) - at(None);
+        let expected = judge(5000) - judge(counted as u32);
+        assert!(
+            grown > 0.0 && (grown - expected).abs() <= 1e-9 * expected,
+            "{grown} against {expected}"
+        );
+    }
 }

@@ -315,7 +315,8 @@ pub struct MethodDesign {
     pub sensitivity: Option<Sensitivity>,
     /// The work stated before the synthesis ([`design_estimate`] with the
     /// limits the synthesis keeps; `auto` states it once the sequenced
-    /// schedule has given them).
+    /// schedule is fitted and has given them, before that schedule is
+    /// judged, its judge counted at the fitted period).
     pub estimate: Estimate,
     /// The kept design judged over the shaker's delivery errors at its
     /// worst friction, when the target states `shaker.tolerance`
@@ -420,7 +421,18 @@ struct MethodRun<'a> {
     /// errors, and the one the rule over friction alone keeps
     /// ([`MethodRun::delivery_synthesis`]).
     delivered_pick: Option<(usize, usize)>,
+    /// The fitted sequenced schedule's cycles per period, once known
+    /// ([`MethodRun::restate`]).
+    fitted_cycles: Option<u32>,
+    /// Whether the work was stated once the sequenced schedule was fitted.
+    announced: bool,
 }
+
+/// How many times the count stated before the sequenced fit its work must
+/// exceed for `sequence` to state it again ([`MethodRun::restate`]): the
+/// accuracy `tests/estimates.rs` holds the estimates to, so a restated
+/// estimate is one the first would have failed.
+const RESTATE_FACTOR: f64 = 3.0;
 
 impl<'a> MethodRun<'a> {
     /// The run's start: the target's limits checked and the work refused
@@ -480,6 +492,8 @@ impl<'a> MethodRun<'a> {
             sequenced: None,
             added: Vec::new(),
             delivered_pick: None,
+            fitted_cycles: None,
+            announced: false,
         })
     }
 
@@ -487,7 +501,7 @@ impl<'a> MethodRun<'a> {
     /// ([`design_estimate`]; `auto` states it once the sequenced schedule
     /// has given them).
     fn estimate(&self) -> Estimate {
-        design_estimate(
+        estimate::estimate_with_sequence(
             self.target,
             self.sampled,
             &asked_synthesis(self.target, self.opts),
@@ -495,7 +509,28 @@ impl<'a> MethodRun<'a> {
             self.opts.method,
             &self.out.limits,
             self.library.clone(),
+            self.fitted_cycles,
         )
+    }
+
+    /// States the design's work again (and refuses it past the limit
+    /// without `--allow-long`) once the sequenced schedule is fitted and
+    /// its judges' cycles are known: first under `auto` (whose synthesis
+    /// limits come from that schedule), and under `sequence` when the fit's
+    /// period makes the work more than [`RESTATE_FACTOR`] times the count
+    /// stated before it.
+    fn restate(&mut self, fitted: &Schedule) -> Result<()> {
+        let before = self.out.estimate.steps();
+        self.fitted_cycles = Some(crate::design::judge::judged_cycles(fitted));
+        let now = self.estimate();
+        let method = self.opts.method;
+        if method == Method::Auto || now.steps() > RESTATE_FACTOR * before {
+            self.opts.runtime.check(&now)?;
+            now.announce(self.opts.runtime.progress());
+            self.announced = true;
+        }
+        self.out.estimate = now;
+        Ok(())
     }
 
     /// A candidate of `schedule` (predicted strength `predicted`, the
@@ -537,13 +572,7 @@ impl<'a> MethodRun<'a> {
         let t = Instant::now();
         match design(self.target, self.opts) {
             Ok(d) => {
-                let record = self.recorded_limits();
-                let c = self.play(
-                    d.schedule.clone(),
-                    d.schedule.fit.strength,
-                    record,
-                    t.elapsed().as_secs_f64(),
-                )?;
+                let design_s = t.elapsed().as_secs_f64();
                 // Without the target's own limits, the synthesis gets the
                 // shaker that plays the sequenced schedule (the envelope if
                 // that schedule has no moving primitive to take peaks from),
@@ -558,6 +587,14 @@ impl<'a> MethodRun<'a> {
                         }
                     }
                 }
+                self.restate(&d.schedule)?;
+                let record = self.recorded_limits();
+                let c = self.play(
+                    d.schedule.clone(),
+                    d.schedule.fit.strength,
+                    record,
+                    design_s,
+                )?;
                 self.out.candidates.push(c);
                 self.out.sequence = Some(d);
             }
@@ -581,7 +618,7 @@ impl<'a> MethodRun<'a> {
     /// synthesis, for the target's mirror image).
     fn synthesis(&mut self) -> Result<()> {
         let method = self.opts.method;
-        if method == Method::Auto {
+        if method == Method::Auto && !self.announced {
             self.out.estimate = self.estimate();
             self.out.estimate.announce(self.opts.runtime.progress());
         }
