@@ -28,7 +28,7 @@ pub struct Play {
     /// Schedule periods played before measuring (order: at least, and at least 40 primitive cycles).
     #[arg(long, default_value_t = 1)]
     pub warmup: u32,
-    /// Model: the schedule's own (default, normally full), full, paper, frozen (full with positions frozen: an exact comparison when parts drift far), a rung between paper and full (paper+moving, paper+moving+centripetal+tilt), or auto (verify only: per segment the cheapest rung within 2 % of full at the realised grid's points, recorded in the summary).
+    /// Model: the schedule's own (default, normally full), full, paper, frozen (full with positions frozen: an exact comparison when parts drift far), a rung between paper and full (paper+moving, paper+moving+centripetal+tilt), or auto (verify only: per segment the cheapest rung within 2 % of full at the realised grid's points, recorded in the summary; played at the cheapest that moves the part and holds for every segment).
     #[arg(long, value_parser = values::choices(&values::MODELS), hide_possible_values = true)]
     pub model: Option<values::ModelChoice>,
 }

@@ -2110,7 +2110,8 @@ fn stroke_and_velocity_limits_hold_in_design() {
 }
 
 /// `verify --model auto` plays the sequenced sink (four LineSinks) at the
-/// cheapest rung within 2 % of full for every segment — not `paper`, whose
+/// cheapest rung that moves the part within 2 % of full for every
+/// segment — not `paper`, whose
 /// LineSink error is about 8 % — records each segment's choice in the
 /// summary, and its judge (strength and shape error) moves by less than
 /// the tolerance from the full model's. `order` chooses no rung and

@@ -373,7 +373,7 @@ pub(crate) fn friction_svg(target: &str, s: &Sensitivity) -> String {
 fn rungs_text(r: &platefield::schedule::ScheduleRungs) -> String {
     use platefield::field::rung::percent;
     let mut out = format!(
-        "model auto: played at {} (the cheapest rung within {} of full for every segment, on {}×{} points)\n",
+        "model auto: played at {} (the cheapest rung that moves the part within {} of full for every segment, on {}×{} points)\n",
         r.rung,
         percent(r.tolerance),
         r.grid.n[0],
