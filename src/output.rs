@@ -313,6 +313,27 @@ pub fn percent(x: f64, digits: usize) -> String {
     }
 }
 
+/// `e` as a percentage with three significant digits, for errors that
+/// span decades (beside [`percent`]'s fixed decimals) ("0" when exact,
+/// "n/a" when NaN).
+///
+/// ```
+/// use platefield::output::significant_percent;
+/// assert_eq!(significant_percent(0.0), "0");
+/// assert_eq!(significant_percent(0.0656), "6.56 %");
+/// ```
+pub fn significant_percent(e: f64) -> String {
+    if e.is_nan() {
+        return "n/a".into();
+    }
+    if e == 0.0 {
+        return "0".into();
+    }
+    let p = 100.0 * e;
+    let decimals = (2 - p.abs().log10().floor() as i32).clamp(0, 12) as usize;
+    format!("{p:.decimals$} %")
+}
+
 /// A friction coefficient (or any value set on a decimal grid) rounded to
 /// nine decimals, so that a sum such as 0.1 + 0.2 reads 0.3.
 ///

@@ -371,11 +371,11 @@ pub(crate) fn friction_svg(target: &str, s: &Sensitivity) -> String {
 
 /// `--model auto`'s lines: the rung played and each segment's choice.
 fn rungs_text(r: &platefield::schedule::ScheduleRungs) -> String {
-    use platefield::field::rung::percent;
+    use platefield::output::significant_percent;
     let mut out = format!(
         "model auto: played at {} (the cheapest rung that moves the part within {} of full for every segment, on {}×{} points)\n",
         r.rung,
-        percent(r.tolerance),
+        significant_percent(r.tolerance),
         r.grid.n[0],
         r.grid.n[1]
     );
@@ -386,8 +386,8 @@ fn rungs_text(r: &platefield::schedule::ScheduleRungs) -> String {
             s.segment,
             s.label,
             s.report.rung,
-            percent(s.report.error),
-            percent(s.played_error)
+            significant_percent(s.report.error),
+            significant_percent(s.played_error)
         );
     }
     out

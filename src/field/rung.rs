@@ -48,6 +48,7 @@ use serde::Serialize;
 use super::{Field, FieldKind, FieldSettings, Grid, Validity};
 use crate::dynamics::Model;
 use crate::motion::Motion;
+use crate::output::significant_percent;
 
 /// Default tolerance: 2 % relative L2 error against the full model. Two
 /// per cent is below what separates a primitive's field from its Table I
@@ -109,7 +110,7 @@ impl RungResult {
     /// The error as a percentage, with the validity flags that differ
     /// from `full`'s when any do: "7.97 %", "0 (80 validity flags differ)".
     pub fn error_text(&self) -> String {
-        let mut c = percent(self.error);
+        let mut c = significant_percent(self.error);
         if self.flags_differ > 0 {
             let _ = write!(c, " ({})", flags(self.flags_differ));
         }
@@ -191,26 +192,6 @@ fn is_translation(motion: &Motion) -> bool {
                 .all(|x| *x == 0.0)
         }),
     }
-}
-
-/// `e` as a percentage with three significant digits ("0" when exact,
-/// "n/a" when NaN).
-///
-/// ```
-/// use platefield::field::rung::percent;
-/// assert_eq!(percent(0.0), "0");
-/// assert_eq!(percent(0.0656), "6.56 %");
-/// ```
-pub fn percent(e: f64) -> String {
-    if e.is_nan() {
-        return "n/a".into();
-    }
-    if e == 0.0 {
-        return "0".into();
-    }
-    let p = 100.0 * e;
-    let decimals = (2 - p.abs().log10().floor() as i32).clamp(0, 12) as usize;
-    format!("{p:.decimals$} %")
 }
 
 /// "1 validity flag differs", "n validity flags differ".
@@ -306,8 +287,8 @@ fn rung_reason(rungs: &[RungResult], chosen: usize, tolerance: f64) -> String {
     let mut reason = format!(
         "{} is the cheapest rung within {} of full (its error {}{})",
         c.name,
-        percent(tolerance),
-        percent(c.error),
+        significant_percent(tolerance),
+        significant_percent(c.error),
         if c.name == "full" {
             ", by definition"
         } else {

@@ -167,6 +167,7 @@ pub fn estimate(names: &[String]) -> Result<Estimate> {
                 Method::Auto,
                 &limits,
                 None,
+                None,
             );
             let label = format!("{name}, {}", b.label);
             total = total.plus(Term::new(label).times(e.steps(), "steps"));

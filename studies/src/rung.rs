@@ -15,7 +15,8 @@ use platefield::field::{FieldKind, FieldSettings, Grid};
 use platefield::output::write_atomic;
 use platefield_report::table::Table;
 
-use platefield::field::rung::{choose_rung, percent, RungReport, RUNGS};
+use platefield::field::rung::{choose_rung, RungReport, RUNGS};
+use platefield::output::significant_percent;
 
 /// The grid of `rungs.md`: 9 × 9 over ±4 cm.
 pub(crate) const RUNG_GRID: Grid = Grid {
@@ -63,7 +64,7 @@ pub(crate) fn rungs_markdown(reports: &[(&'static str, RungReport)], tolerance: 
         s.friction.kinetic,
         s.phases,
         s.numerics.steps_per_cycle,
-        percent(tolerance),
+        significant_percent(tolerance),
     );
     for kind in [FieldKind::Force, FieldKind::Velocity] {
         let _ = write!(

@@ -15,8 +15,9 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use platefield::error::{non_negative, Error, Result};
-use platefield::field::rung::{percent, RUNGS};
+use platefield::field::rung::RUNGS;
 use platefield::field::Grid;
+use platefield::output::significant_percent;
 use platefield::output::write_atomic;
 use platefield::schedule::{Schedule, ScheduleRungs};
 use platefield::verify::run::region;
@@ -66,7 +67,7 @@ pub fn markdown(rows: &[(String, ScheduleRungs)], tolerance: f64) -> String {
          compute times and the time the played rung saves, which are not written here; \
          what a cheaper rung saves, and why not always: \
          `platefield::field::rung`).\n\n",
-        percent(tolerance),
+        significant_percent(tolerance),
         RUNGS
             .iter()
             .map(|r| format!("`{}`", r.0))
@@ -84,7 +85,7 @@ pub fn markdown(rows: &[(String, ScheduleRungs)], tolerance: f64) -> String {
             name.clone(),
             r.segments.len().to_string(),
             format!("**{}**", r.rung),
-            percent(worst),
+            significant_percent(worst),
         ]);
     }
     md.push_str(&summary.markdown());
@@ -101,11 +102,11 @@ pub fn markdown(rows: &[(String, ScheduleRungs)], tolerance: f64) -> String {
                 name.clone(),
                 format!("{} {}", s.segment, s.label),
                 s.report.rung.to_string(),
-                percent(s.report.error),
+                significant_percent(s.report.error),
             ];
             row.extend(s.report.rungs.iter().map(|x| x.error_text()));
             row.push(r.rung.to_string());
-            row.push(percent(s.played_error));
+            row.push(significant_percent(s.played_error));
             table.row(row);
         }
     }

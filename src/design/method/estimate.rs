@@ -172,33 +172,19 @@ pub(super) fn synthesis_counts(
 /// ([`crate::dynamics::steps_taken`], within 3×): the sequenced design's
 /// library when the cache does not hold it (the basis stage), the
 /// synthesis and its polish (`synthesis_estimate`), the judge
-/// of every candidate (sequenced schedules counted at the synthesized
-/// motion's `SYNTH_SEGMENT_CYCLES` cycles per period) and, for a target
-/// that states its friction, each candidate's friction sweep.
+/// of every candidate and, for a target that states its friction, each
+/// candidate's friction sweep.
 /// `limits` are those the synthesis keeps, `library` the basis stage's
 /// work when the cache does not hold the library
-/// (`stages::cold_library_estimate`).
+/// (`stages::cold_library_estimate`). `fitted_cycles`: the sequenced
+/// schedule's cycles per period once it is fitted
+/// (`judge::judged_cycles`); `None` before, when `sequenced_cycles`
+/// counts them. A fit whose least weight is small takes up to the
+/// quantisation's longest schedule (`MAX_TOTAL_CYCLES`), so the count
+/// before the fit can be short by that factor; the design states its
+/// work again once it knows.
 #[allow(clippy::too_many_arguments)]
 pub fn design_estimate(
-    target: &Target,
-    sampled: &SampledTarget,
-    synth: &SynthOptions,
-    opts: &DesignOptions,
-    method: Method,
-    limits: &ShakerLimits,
-    library: Option<Estimate>,
-) -> Estimate {
-    estimate_with_sequence(target, sampled, synth, opts, method, limits, library, None)
-}
-
-/// [`design_estimate`] once the sequenced schedule is fitted: its judges
-/// counted at `fitted_cycles` cycles per period, the fitted schedule's
-/// (`judge::judged_cycles`), instead of [`sequenced_cycles`]' count. A
-/// fit whose least weight is small takes up to the quantisation's longest
-/// schedule (`MAX_TOTAL_CYCLES`), so the count before the fit can be short
-/// by that factor; the design states its work again once it knows.
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn estimate_with_sequence(
     target: &Target,
     sampled: &SampledTarget,
     synth: &SynthOptions,
@@ -326,7 +312,7 @@ mod tests {
         let limits = ShakerLimits::from_spec(None);
         let synth = asked_synthesis(&target, &opts);
         let at = |fitted| {
-            estimate_with_sequence(
+            design_estimate(
                 &target,
                 &sampled,
                 &synth,
@@ -338,7 +324,7 @@ mod tests {
             )
             .steps()
         };
-        let counted = f64::from(sequenced_cycles(&opts));
+        let counted = sequenced_cycles(&opts);
         let judge = |cycles: u32| {
             crate::design::judge::judge_term(
                 &target,
@@ -348,21 +334,8 @@ mod tests {
             )
             .steps()
         };
-        assert_eq!(
-            at(None),
-            design_estimate(
-                &target,
-                &sampled,
-                &synth,
-                &opts,
-                Method::Sequence,
-                &limits,
-                None
-            )
-            .steps()
-        );
         let grown = at(Some(5000)) - at(None);
-        let expected = judge(5000) - judge(counted as u32);
+        let expected = judge(5000) - judge(counted);
         assert!(
             grown > 0.0 && (grown - expected).abs() <= 1e-9 * expected,
             "{grown} against {expected}"

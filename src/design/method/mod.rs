@@ -459,6 +459,7 @@ impl<'a> MethodRun<'a> {
             method,
             &limits,
             library.clone(),
+            None,
         );
         opts.runtime.check(&estimate)?;
         if method != Method::Auto {
@@ -501,7 +502,7 @@ impl<'a> MethodRun<'a> {
     /// ([`design_estimate`]; `auto` states it once the sequenced schedule
     /// has given them).
     fn estimate(&self) -> Estimate {
-        estimate::estimate_with_sequence(
+        design_estimate(
             self.target,
             self.sampled,
             &asked_synthesis(self.target, self.opts),
