@@ -113,9 +113,9 @@ pub struct SynthOptions {
     /// [`synthesize`] itself. Off by default: the polish optimises the
     /// judge, which for one steady motion is its steady-state field at the
     /// judge's points — what the synthesis already optimises on its coarse
-    /// grid — and measured on `targets/sink.json` it gained 0.04–0.10
-    /// percentage points of shape error for 2.5–4 s of CPU (the whole
-    /// design otherwise takes about 1.3 s).
+    /// grid — and on `targets/sink.json` it gains a tenth of a percentage
+    /// point of shape error or less for several times the CPU of the
+    /// whole design without it.
     pub polish_plays: usize,
 }
 
