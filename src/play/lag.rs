@@ -123,8 +123,8 @@ mod tests {
     /// The steady state a drift ahead continued from the orbit at r is the
     /// one from rest to the steady state's tolerance (the lag within
     /// 1e-10 m/s, against velocities of millimetres to centimetres per
-    /// second), in at most two thirds of the cycle maps over the points
-    /// (measured: 200 against 340): on the shipped squeeze_trans motion at
+    /// second), in at most two thirds of the cycle maps over the points:
+    /// on the shipped squeeze_trans motion at
     /// μ 0.23, 25 points over ±3 cm.
     #[test]
     fn a_continued_steady_state_is_the_one_from_rest() {

@@ -436,8 +436,7 @@ mod tests {
 
     /// A point part's averaged twist is the point-part velocity field,
     /// computed by the event-exact point engine (an independent
-    /// integrator): within 0.1 % of the field's largest speed (measured
-    /// 0.02 %).
+    /// integrator): within 0.1 % of the field's largest speed.
     #[test]
     fn a_point_part_drifts_at_the_point_field() {
         let motion = Primitive::new(PrimitiveKind::LineSink).motion();
@@ -529,8 +528,7 @@ mod tests {
         );
     }
 
-    /// 64 steps per cycle against 512: the twist within 0.3 % of its size
-    /// (measured 0.01 % in v, 0.12 % in ω).
+    /// 64 steps per cycle against 512: the twist within 0.3 % of its size.
     #[test]
     fn sixty_four_steps_per_cycle_converge() {
         let motion = Primitive::new(PrimitiveKind::LineSink).motion();

@@ -23,15 +23,11 @@
 //! placement and the correction move both stages together, and its
 //! probes and drops play at least [`SETTLE_PERIODS`] of its periods.
 //!
-//! **Measured** (`explore_cycle` in `tests/pose_rotation.rs`, 64 drops
-//! from over the region, 200 s, clusters within 1 mm and 3°): the
-//! triangle's cycle 40 s + 20 s put **100 % at one pose at μ 0.24, 0.30
-//! and 0.36**, that pose moving 2.5° over the range (the spin alone: 27 %,
-//! 97 % and 48 % at its largest rest); 40 s + 10 s did the same, 20 s +
-//! 20 s lost the selection at μ 0.36 (52 / 48 %), 10 s + 10 s at μ 0.30
-//! (the spin stage too short to turn a part out of the wrong half).
-//! The bracket's (1200 rad/s² × 0.4): 100 % at each μ, the pose moving
-//! 1.5° (the spin alone: 5.7°).
+//! The cycle puts all of the triangle's and the bracket's drops at one
+//! pose over μ ± 20 %, where the spin alone does not, and its pose turns
+//! less with friction than the spin's; a spin stage too short to turn a
+//! part out of the ellipse's wrong half loses the selection (`explore_cycle`
+//! in `tests/pose_rotation.rs`; measured: `docs/parts.md`, **Measurements behind the pose design's choices**).
 
 use super::placement::{centred_pose, Placement};
 use super::PoseTarget;

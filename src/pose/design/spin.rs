@@ -77,7 +77,7 @@ impl Spin {
 
 /// The spins tried, in order: the phase fixed at −1.6 rad (on the
 /// isotropic sink the phase mostly turns the pattern, and the placement
-/// turns it anyway; measured on the bracket, `tests/pose_rotation.rs`),
+/// turns it anyway: on the bracket, `tests/pose_rotation.rs`),
 /// r* = V/Ω from about 9 mm (1200 rad/s², translation × 0.25) to about
 /// 3 times that, where the bracket's played probes
 /// all end at one pose (`pose::design::screen`), and one short r* for a
