@@ -186,9 +186,10 @@ pub struct PolishOptions {
 }
 
 /// Played shape error of the start above which the polish takes all its
-/// steps whatever [`PolishOptions::patience`] says: patience stopped the
-/// whirlpool designed for μ 0.15 after 28 plays at 6.45 %, where its steps
-/// reach 5.27 %; the sink (4.95 %) keeps its early stop.
+/// steps whatever [`PolishOptions::patience`] says: patience stops the
+/// whirlpool designed for μ 0.15 early just above this, where its further
+/// steps reach well below it; a sink already below keeps its early
+/// stop.
 pub const PATIENT_BELOW: f64 = 0.06;
 
 impl Default for PolishOptions {

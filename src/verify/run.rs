@@ -143,7 +143,8 @@ impl VerifyRequest {
         // targets the attractor, where the field vanishes): the
         // least-squares strength κ = ⟨R, E⟩/⟨E, E⟩ and the shape error
         // ‖R − κE‖/‖κE‖ of one vector measure its direction and noise, not
-        // a field's shape (the sink's read 317 %). 2 per side: the four
+        // a field's shape (the sink's reads several hundred per cent). 2
+        // per side: the four
         // corners, 8 components for the one fitted scale.
         if self.points < 2 {
             return Err(Error::invalid(

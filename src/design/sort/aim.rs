@@ -278,9 +278,9 @@ fn lane_extent(target: &Target, edge: Edge) -> (f64, f64) {
 /// not point out through the edge). Returns (that time (s), the side
 /// share).
 ///
-/// Measured on `results/sort_lanes/` before steering: the μ 0.2 drift
-/// (−2.45, +0.14) mm/s over L = 6 cm, W = 2 cm predicts 8.6 % through the
-/// sides, against 6.7 % of its 45-part swarm through the top.
+/// On `results/sort_lanes/`, before steering, the μ 0.2 drift's side
+/// share predicts the share of its swarm that leaves through the side
+/// edge to within a few parts of the swarm.
 pub(crate) fn lane_outlook(target: &Target, edge: Edge, v: [f64; 2]) -> (f64, f64) {
     let (length, width) = lane_extent(target, edge);
     let n = edge.outward();

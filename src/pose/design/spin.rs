@@ -28,7 +28,7 @@
 //! region (`try_all`) are judged by play on probes from spread starts,
 //! since the lifted model misses played attractors of these fields (the
 //! bracket's spin of 1200 rad/s² × 0.25 has one lifted pose and a second
-//! played one holding 26 % of the drops, `docs/parts.md`); when none puts enough
+//! played one holding about a quarter of the drops, `docs/parts.md`); when none puts enough
 //! probes at one pose, `design` keeps the elliptic sink alone (two poses
 //! 180° apart).
 
@@ -82,9 +82,10 @@ impl Spin {
 /// 3 times that, where the bracket's played probes
 /// all end at one pose (`pose::design::screen`), and one short r* for a
 /// small part: 4800 rad/s² with translation × 0.15 (r* ≈ 1.4 mm, angular
-/// amplitude α/ω² = 0.11 rad), where 62 of 64 of the triangle's played
-/// drops on the centred motion rest at one pose (`explore_basins`;
-/// 4600 and 5000 rad/s², translation × 0.15–0.16: 86–95 %, up to 3 lost).
+/// amplitude α/ω² = 0.11 rad), where nearly all of the triangle's played
+/// drops on the centred motion rest at one pose, more than at the spins
+/// beside it (`explore_basins`; measured: `docs/parts.md`, **Measurements
+/// behind the pose design's choices**).
 /// The placement moves such a spin exactly
 /// ([`crate::motion::Signals::transformed`]); moved to first order only,
 /// it put none of the triangle's drops at the asked pose.
