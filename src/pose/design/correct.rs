@@ -71,9 +71,9 @@ pub const DONE_MM: f64 = 0.05;
 pub const DONE_DEG: f64 = 0.2;
 /// Probe ends within this (mm, degrees) of one another rest at one pose:
 /// wider than the tolerance, as probes of [`PROBE_S`] may not have
-/// settled. Measured without it: the triangle's probes on a strong spin
-/// ended about 102° either side of the asked angle, and their mean sat on
-/// it (`docs/parts.md`).
+/// settled. Without it, the triangle's probes on a strong spin end far on
+/// either side of the asked angle while their mean sits on it
+/// (`docs/parts.md`).
 pub const SAME_REST: [f64; 2] = [5.0, 15.0];
 /// The angle errors (degrees) a turning rate is fitted over.
 pub const RATE_BAND_DEG: [f64; 2] = [0.3, 20.0];
