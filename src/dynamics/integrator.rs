@@ -457,7 +457,8 @@ impl Simulator<'_> {
     /// explicit step would otherwise see h μ_k N/|u| up to ½ and err by a
     /// fixed fraction of |u| at each near pass of u = 0. The limit cuts
     /// the 2-D force fields' error at 64 steps per cycle for a few per cent
-    /// more RK4 steps (measured: `docs/dev/forward-model.md`, **Measurements behind the integrator's constants**).
+    /// more RK4 steps (measured: `docs/dev/forward-model.md`, **Measurements behind the
+    /// integrator's constants**).
     fn slip_step<S: Scheme>(&self, at: &Step<'_>, k0: &Kinematics, swinging: bool) -> f64 {
         let (rest, state, anchor) = (at.target - at.t, &*at.state, at.anchor);
         let nominal = self.period / self.numerics.steps_per_cycle as f64;

@@ -30,7 +30,8 @@
 //! (`synth::contact::orbit_least_normal`, one cycle per grid point) and
 //! every played schedule (one table per segment, shared by every part and
 //! every period: `play::Player::with_tables`). That halves the CPU of a
-//! six-signal design (same bytes; measured: `docs/dev/forward-model.md`, **Measurements behind the integrator's constants**), whose plays and
+//! six-signal design (same bytes; measured: `docs/dev/forward-model.md`, **Measurements behind
+//! the integrator's constants**), whose plays and
 //! contact checks would otherwise evaluate the kinematics at every step.
 
 use crate::motion::{Kinematics, Motion, PreparedMotion};

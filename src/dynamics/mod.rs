@@ -316,7 +316,8 @@ impl PartPhysics {
 
 /// Fewest RK4 steps per cycle any field is integrated with: below it a
 /// field is tens of per cent off or worse, and a single step loses contact
-/// where none is lost (measured: `docs/dev/forward-model.md`, **Measurements behind the integrator's constants**).
+/// where none is lost (measured: `docs/dev/forward-model.md`, **Measurements behind the
+/// integrator's constants**).
 /// 8 is the lowest rung of the library's calibrated ladder
 /// ([`crate::basis::steps::LADDER`]), where some primitives' force fields
 /// still meet their tolerance.
@@ -326,7 +327,8 @@ pub(crate) const MIN_STEPS_PER_CYCLE: usize = 8;
 /// per cycle must be at least this times the harmonic number): at 8 steps
 /// per harmonic period the field is within a few per cent of a fine run
 /// whatever the harmonic, at 4 it is tens of per cent off (measured:
-/// `tests/inputs.rs`, `harmonics_against_steps`, and `docs/dev/forward-model.md`, **Measurements behind the integrator's constants**).
+/// `tests/inputs.rs`, `harmonics_against_steps`, and `docs/dev/forward-model.md`,
+/// **Measurements behind the integrator's constants**).
 pub const STEPS_PER_HARMONIC: usize = 8;
 
 /// Numerical settings of the integrator.

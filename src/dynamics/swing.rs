@@ -43,7 +43,8 @@
 //!   until |u| passes the bound: each grows ln |u| by only about
 //!   C_SLAVED (a_free·û − μ_k N)/|a_free|, dozens of steps where μ_k N is
 //!   close to |a_free|. With it the default library's 2-D force fields
-//!   take less CPU at unchanged errors (measured: `docs/dev/forward-model.md`, **Measurements behind the integrator's constants**);
+//!   take less CPU at unchanged errors (measured: `docs/dev/forward-model.md`, **Measurements
+//!   behind the integrator's constants**);
 //! * at a stop, finished in closed form ([`Simulator::finish`]): where the
 //!   exact flow with a_free and N frozen (`frozen.rs`; μ_k N > |a_free|)
 //!   comes to rest within [`FINISH`] of the nominal step, the rest of the
@@ -56,7 +57,8 @@
 //!   s falls only at μ_k N − |a_free|), in all about half the τ-steps of
 //!   ScaledCircle's and DivCircle's force fields. With it the CPU time of
 //!   those fields falls by about a third, with the same errors at 32 steps
-//!   per cycle and more (see [`FINISH`]; measured: `docs/dev/forward-model.md`, **Measurements behind the integrator's constants**).
+//!   per cycle and more (see [`FINISH`]; measured: `docs/dev/forward-model.md`, **Measurements
+//!   behind the integrator's constants**).
 //! * where |u| has fallen below [`STOP`] of the bound while slowing with
 //!   μ_k N ≤ |a_free| (no frozen stop; rare), the rest of the way to u = 0
 //!   is taken with a_free and N frozen and û fixed: it lasts s/(μ_k N −
@@ -92,7 +94,8 @@ const C_SLAVED: f64 = 2.0;
 /// nominal steps do. Without it, at 8 steps per cycle (where the region is
 /// 8× wider and its slips faster) the force fields err several times more
 /// than with it; from 16 steps on the errors and the CPU time are the same
-/// with or without it (measured: `docs/dev/forward-model.md`, **Measurements behind the integrator's constants**).
+/// with or without it (measured: `docs/dev/forward-model.md`, **Measurements behind the
+/// integrator's constants**).
 const SLAVED_SPAN: f64 = 0.1;
 
 /// A slip speeding up slaved to a_free inside the region is taken by one
@@ -127,14 +130,16 @@ const C_MAX: f64 = 0.5;
 /// (`Simulator::slip_step`), it falls again with h (nothing changes at 64
 /// steps and fewer). Widening it at 64 steps instead (REGION 4) makes the
 /// τ-steps carry more of the swing, and the Circle's error grows by orders
-/// of magnitude (measured: `docs/dev/forward-model.md`, **Measurements behind the integrator's constants**).
+/// of magnitude (measured: `docs/dev/forward-model.md`, **Measurements behind the integrator's
+/// constants**).
 ///
 /// Two rarer errors at single fine step counts only (a break-away just
 /// before a step's end, a slip slowing to a stop with a_free nearly along
 /// û) are handled in `radau.rs::wants_radau` and
 /// [`Simulator::wants_tau`]: without them a fine field can be off a
 /// coarser one from a single cycle; with them the two agree cycle by
-/// cycle (measured: `docs/dev/forward-model.md`, **Measurements behind the integrator's constants**).
+/// cycle (measured: `docs/dev/forward-model.md`, **Measurements behind the integrator's
+/// constants**).
 const REGION: f64 = 2.0;
 
 /// The region's width stops shrinking with h beyond this many steps per
@@ -151,7 +156,8 @@ const STOP: f64 = 1e-7;
 /// 0.05: at a larger fraction single cycles find a stop that a fine run
 /// swings past and the default library's errors grow, while 0.05 leaves
 /// every force field's error as without the finish at 32 steps per cycle
-/// and more, for less CPU (measured: `docs/dev/forward-model.md`, **Measurements behind the integrator's constants**).
+/// and more, for less CPU (measured: `docs/dev/forward-model.md`, **Measurements behind the
+/// integrator's constants**).
 const FINISH: f64 = 0.05;
 
 /// Most τ-steps in one call (a guard; a swing takes a few dozen).

@@ -37,7 +37,8 @@
 //! (the part's rocking spin, which the shared slip leaves out, softens the
 //! damping across it). The averaged field sums first, as the part does,
 //! and agrees closely in spin and translation (measured:
-//! `tests/poses.rs` `lifted_field_against_simulation`). The lifted field is the fast map the equilibrium search and the
+//! `tests/poses.rs` `lifted_field_against_simulation`). The lifted field is the fast map the
+//! equilibrium search and the
 //! drops integrate ([`super::equilibria`]); the averaged field checks it
 //! ([`LiftCheck`]) and moves its equilibria onto the part's own
 //! ([`super::rests`]), at the cost of a few periods of the planar part

@@ -25,7 +25,8 @@
 //! the points' (zero) velocities, exact too.
 //!
 //! **Against the planar simulation** (LineSink primitive, 2 × 0.5 cm
-//! rectangle, 20 poses; measured: `tests/poses.rs` `lifted_field_against_simulation`): the translation
+//! rectangle, 20 poses; measured: `tests/poses.rs` `lifted_field_against_simulation`): the
+//! translation
 //! agrees closely. The spin has the right sign everywhere but is a few
 //! times the simulated rate: the cycle-averaged Coulomb friction
 //! of a slip oscillating along one direction damps a drift across it more

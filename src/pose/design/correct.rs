@@ -21,7 +21,8 @@
 //! in the region, and where they rest can depend on where they come
 //! from: on the triangle's strongest spin, probes started near the asked
 //! pose rest on it while drops from spread starts rest several degrees
-//! off it, outside the tolerance (measured: `docs/parts.md`, **Measurements behind the pose design's choices**). Probes from
+//! off it, outside the tolerance (measured: `docs/parts.md`, **Measurements behind the pose
+//! design's choices**). Probes from
 //! spread starts measure the rest the drops reach.
 //!
 //! **Over a friction range.** When the pose target states a friction range,

@@ -26,7 +26,8 @@
 //! pose over μ ± 20 %, where the spin alone does not, and its pose turns
 //! less with friction than the spin's; a spin stage too short to turn a
 //! part out of the ellipse's wrong half loses the selection (`explore_cycle`
-//! in `tests/pose_rotation.rs`; measured: `docs/parts.md`, **Measurements behind the pose design's choices**).
+//! in `tests/pose_rotation.rs`; measured: `docs/parts.md`, **Measurements behind the pose
+//! design's choices**).
 
 use super::placement::{centred_pose, Placement};
 use super::PoseTarget;

@@ -8,7 +8,8 @@
 //! isotropic lifted field predicts ([`crate::pose::LiftedField`]: several
 //! times slower on a line sink and on a time-shared elliptic schedule; on
 //! the one synthesized motion of a pose design the rectangle turns faster,
-//! `results/poses.md`; measured: `docs/parts.md`, **Measurements behind the pose design's choices**), so each drop
+//! `results/poses.md`; measured: `docs/parts.md`, **Measurements behind the pose design's
+//! choices**), so each drop
 //! plays [`SPIN_SLOWER`] times that long, at least [`MIN_PLAY_S`] and at
 //! most [`MAX_PLAY_S`] (whole schedule periods).
 //!

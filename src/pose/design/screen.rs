@@ -4,7 +4,8 @@
 //! **Why.** The lifted field of a spun sink ([`super::spin`]) is rough:
 //! on one of the bracket's spins it gives one stable pose, yet about a
 //! quarter of the played drops come to rest at a second pose far from the
-//! asked one (`docs/parts.md`; measured: `docs/parts.md`, **Measurements behind the pose design's choices**). A second played attractor is a property of the
+//! asked one (measured: `docs/parts.md`, **Measurements behind the pose design's choices**). A
+//! second played attractor is a property of the
 //! motion, not of its placement (a placement turns and shifts the whole
 //! physics, [`super::placement`]), so it is measured once per candidate on
 //! the centred motion.
