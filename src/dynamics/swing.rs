@@ -43,7 +43,7 @@
 //!   until |u| passes the bound: each grows ln |u| by only about
 //!   C_SLAVED (a_free·û − μ_k N)/|a_free|, dozens of steps where μ_k N is
 //!   close to |a_free|. With it the default library's 2-D force fields
-//!   take less CPU at unchanged errors (measured: `docs/dev/forward-model.md`, **Measurements
+//!   take less CPU at nearly unchanged errors (measured: `docs/dev/forward-model.md`, **Measurements
 //!   behind the integrator's constants**);
 //! * at a stop, finished in closed form ([`Simulator::finish`]): where the
 //!   exact flow with a_free and N frozen (`frozen.rs`; μ_k N > |a_free|)
@@ -92,8 +92,8 @@ const C_SLAVED: f64 = 2.0;
 /// The longest time s Δτ a slaved τ-step spans, as a fraction of the
 /// nominal step, so that its stages resolve a_free(t) and N(t) as the
 /// nominal steps do. Without it, at 8 steps per cycle (where the region is
-/// 8× wider and its slips faster) the force fields err several times more
-/// than with it; from 16 steps on the errors and the CPU time are the same
+/// 8× wider and its slips faster) the force fields err up to several
+/// times more than with it; from 16 steps on the errors and the CPU time are the same
 /// with or without it (measured: `docs/dev/forward-model.md`, **Measurements behind the
 /// integrator's constants**).
 const SLAVED_SPAN: f64 = 0.1;
@@ -129,8 +129,8 @@ const C_MAX: f64 = 0.5;
 /// steps limited by friction's damping across the slip
 /// (`Simulator::slip_step`), it falls again with h (nothing changes at 64
 /// steps and fewer). Widening it at 64 steps instead (REGION 4) makes the
-/// τ-steps carry more of the swing, and the Circle's error grows by orders
-/// of magnitude (measured: `docs/dev/forward-model.md`, **Measurements behind the integrator's
+/// τ-steps carry more of the swing, and the Circle's error grows
+/// (measured: `docs/dev/forward-model.md`, **Measurements behind the integrator's
 /// constants**).
 ///
 /// Two rarer errors at single fine step counts only (a break-away just

@@ -12,7 +12,7 @@
 //! errors in `results/verify/sink_interaction.md` (written by `platefield
 //! study interaction`; a Sink from two orthogonal rest-to-rest LineSinks:
 //! the error against the time-weighted prediction falls with the cycles
-//! per segment, from most of the field at one cycle to a few per cent at
+//! per segment, from half the field at one cycle to a few per cent at
 //! 10).
 
 /// Default minimum cycles per segment.

@@ -52,7 +52,7 @@
 //! balance sits near the cost's budget rather than below it (by the
 //! played check of `design --method auto` on line_sink_30 and
 //! squeeze_trans, a = 2 leaves strength unclaimed well inside the budget
-//! and a = 6 over-reaches past it).
+//! and a = 6 over-reaches).
 //! The strength scale s_g that [`crate::synth::synthesize`] gives is the
 //! realised coarse strength of the start the run begins from (the
 //! polish's s₀ is its start's played strength alike), not the seed's

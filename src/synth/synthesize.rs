@@ -115,7 +115,7 @@ pub struct SynthOptions {
     /// judge, which for one steady motion is its steady-state field at the
     /// judge's points — what the synthesis already optimises on its coarse
     /// grid — and on `targets/sink.json` it gains a tenth of a percentage
-    /// point of shape error or less for several times the CPU of the
+    /// point of shape error or less for two to three times the CPU of the
     /// whole design without it.
     pub polish_plays: usize,
 }

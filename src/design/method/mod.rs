@@ -31,13 +31,13 @@
 //!   a change of μ turns the field by dδ = g dμ / (A cos δ), less the
 //!   stronger the drive; the envelope's A (45.3 m/s²) against a sequenced
 //!   schedule's peaks (often 11–23 m/s²) halves or quarters the turn the
-//!   range causes, which is what a robust design has to cancel (on some of
-//!   the family's sinks, `results/robust_family.md`, that is the
+//!   range causes, which is what a robust design has to cancel (on the
+//!   family's sink_4, listed in `results/robust_family.md`, that is the
 //!   difference between missing the range and holding it). It is not
 //!   better for every target: a motion that strong is further from what
-//!   its steady-state field describes (on some of the family's off-centre
-//!   line sinks the sequenced peaks hold the range and the envelope does
-//!   not). So when no candidate within the
+//!   its steady-state field describes (on the family's off-centre line
+//!   sink line_sink_0 the sequenced peaks hold the range and the envelope
+//!   does not). So when no candidate within the
 //!   envelope holds the range within `RANGE_HELD`, `auto` synthesizes
 //!   again within the sequenced peaks, with the mirror-image shares
 //!   ([`Variant::SequencedPeaks`]), and the rule chooses between the two
@@ -56,7 +56,7 @@
 //!   cap. Where N swings from 0.1 g to 1.9 g the parts' slip is far from
 //!   the uniform one the model assumes, and the field bends away from the
 //!   affine target by more than any friction turn (on the family's
-//!   whirlpools the worst shape over the range falls as the margin rises
+//!   whirlpool_2 the worst shape over the range falls as the margin rises
 //!   toward halfway, while it barely changes with friction at any one
 //!   margin: the swing, not the friction, bounds it). Halfway halves the
 //!   strength (the margin's cap is proportional to 1 − m) and about halves

@@ -17,7 +17,7 @@
 //! asymmetric waveform's peak) = f · μ_s,low g of the stickier class, where
 //! μ_s,low is the low end of its static range. They move only the parts of
 //! lower friction (the stickier class only creeps under them, an order of
-//! magnitude slower), and the fit uses them to push those parts away from
+//! magnitude slower or more), and the fit uses them to push those parts away from
 //! where the strong primitives gather the others.
 //!
 //! **Fit.** Every class's basis is simulated at the class's nominal

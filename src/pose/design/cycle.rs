@@ -23,8 +23,8 @@
 //! probes and drops play at least [`SETTLE_PERIODS`] of its periods.
 //!
 //! The cycle puts all of the triangle's and the bracket's drops at one
-//! pose over μ ± 20 %, where the spin alone does not, and its pose turns
-//! less with friction than the spin's; a spin stage too short to turn a
+//! pose over μ ± 20 %, where the triangle's spin alone does not, and its
+//! pose turns less with friction than the spin's; a spin stage too short to turn a
 //! part out of the ellipse's wrong half loses the selection (`explore_cycle`
 //! in `tests/pose_rotation.rs`; measured: `docs/parts.md`, **Measurements behind the pose
 //! design's choices**).
