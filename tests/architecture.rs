@@ -1298,7 +1298,7 @@ fn measurement_reports(text: &str) -> Vec<(usize, String)> {
 /// [`measurement_reports`]'s pattern without naming `results/` or
 /// `docs/`.
 #[test]
-fn no_measurements_in_library_comments() {
+fn no_measurements_in_comments() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut files = Vec::new();
     for dir in ["src", "report/src", "studies/src", "cli/src"] {
