@@ -38,10 +38,10 @@
 //! keep their fixed warm-ups (`play::windowed::MeasureOptions::settle`
 //! off): a strong field gathers the parts before a slow transient dies out
 //! — the synthesized motion of `targets/sink_trans.json` (a 3 s⁻¹ sink
-//! slipping at up to 50 m/s²) needs 8 periods, by which time every part
-//! sits at the centre and the settled windows measure round-off. Where parts
-//! travel far during the transient, `verify --model frozen` compares at the
-//! start point exactly (0.00 % for that motion).
+//! slipping at up to 50 m/s²) needs several periods, by which time every
+//! part sits at the centre and the settled windows measure round-off.
+//! Where parts travel far during the transient, `verify --model frozen`
+//! compares at the start point exactly.
 
 use super::{PartState, Player, V2};
 
