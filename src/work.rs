@@ -126,29 +126,26 @@ impl Runtime {
 }
 
 /// Seconds per RK4 step of one point part on one core: a stated, slightly
-/// pessimistic rate. Measured on the 2-core development machine with other
-/// builds running: 0.3 µs (LineSink screw, force field, 64 steps per
-/// cycle) to 0.9 µs (six-signal motion) per step, and `verify`'s 0.3 ms per
-/// point-part cycle of 300 steps.
+/// pessimistic rate, above the measured ones (`docs/commands.md`, **The
+/// rates behind the estimates**).
 pub(crate) const SECONDS_PER_STEP: f64 = 1.0e-6;
 
 /// Cost of one nominal planar step of one support point in point-part
 /// steps: its share of the implicit friction solve and of the halved
-/// steps at stick-slip events. Measured CPU per nominal support-point step
-/// ([`crate::dynamics::steps_taken`]'s unit for a planar body): 0.09 µs
-/// for `verify`'s rectangles (128 steps per cycle; 16 × 16 support points
-/// against the default 16 × 4 added 6.2 s of CPU for 6.6e7 steps) and
-/// 0.24 µs for `poses --play` drops (64 steps per cycle, 36 support points,
-/// coarser steps with more Newton iterations; 22.7 s for 9.5e7 steps on a
-/// loaded machine), against `SECONDS_PER_STEP` per point-part step. A
+/// steps at stick-slip events, per nominal support-point step
+/// ([`crate::dynamics::steps_taken`]'s unit for a planar body): between
+/// the measured costs of `verify`'s rectangles and of `poses --play`
+/// drops (`docs/commands.md`, **The rates behind the estimates**),
+/// against `SECONDS_PER_STEP` per point-part step. A
 /// rectangle's cost grows with its support points (`--rect 1e-9x1e-9` is
 /// sampled by 16 × 16 and takes about four times as long as the default
 /// 16 × 4: an estimate blind to the support points would miss that).
 pub const PLANAR_POINT_STEP_COST: f64 = 0.15;
 
 /// Expected cycle evaluations of one steady-state velocity sample (a few
-/// plain iterations, then Newton steps of three cycle maps each; measured:
-/// about 13 on the LineSink scene).
+/// plain iterations, then Newton steps of three cycle maps each; above
+/// the measured count, `docs/commands.md`, **The rates behind the
+/// estimates**).
 pub(crate) const VELOCITY_CYCLES: f64 = 20.0;
 
 /// Longest expected run accepted without `--allow-long` (seconds).

@@ -159,7 +159,7 @@ enum Study {
         #[command(flatten)]
         out: StudyOut,
     },
-    /// The shipped targets that state their own friction range, designed by auto over it, played at 5 frictions over it and their exports replayed: robust_shipped.md (about 40 s of CPU per target).
+    /// The shipped targets that state their own friction range, designed by auto over it, played at 5 frictions over it and their exports replayed: robust_shipped.md (under a minute of CPU per target).
     #[command(mut_arg("out", default_dir(studies::robust_shipped::DIR)))]
     RobustShipped {
         #[command(flatten)]
@@ -167,7 +167,7 @@ enum Study {
         #[command(flatten)]
         out: StudyOut,
     },
-    /// Robust design (auto over each target's friction range) against the nominal design (auto at the range's middle), on a seeded family of random targets, both judged over the range: robust_family.md (CPU seconds printed only; about 65 s of CPU per target).
+    /// Robust design (auto over each target's friction range) against the nominal design (auto at the range's middle), on a seeded family of random targets, both judged over the range: robust_family.md (CPU seconds printed only; about a minute of CPU per target).
     #[command(mut_arg("out", default_dir(studies::robust_family::DIR)))]
     RobustFamily {
         /// Targets in the family (the kinds in their shares).
@@ -219,7 +219,7 @@ enum Study {
         #[command(flatten)]
         out: StudyOut,
     },
-    /// Sorting by friction against the friction contrast (μ ratio 1.25-3, sinks 3 cm apart) and the sinks' distance (1, 2, 4 cm at ratio 2), each designed and played as `design` does a classes target: sort.md (about 50 min of CPU; CPU seconds printed only).
+    /// Sorting by friction against the friction contrast (μ ratio 1.25-3, sinks 3 cm apart) and the sinks' distance (1, 2, 4 cm at ratio 2), each designed and played as `design` does a classes target: sort.md (most of an hour of CPU; CPU seconds printed only).
     #[command(mut_arg("out", default_dir(studies::sort::DIR)))]
     Sort(StudyOut),
     /// The measurements behind numbers the docs state (the saddle's margin cap, the ratchet, the lag, the saddle's parts, single fields): probes.md (timings printed only).

@@ -5,8 +5,8 @@
 //! that needs the most: the Circle, whose zero-velocity force field is
 //! within 1e-4 (relative L2, against 512 steps per cycle) only from 64
 //! steps per cycle (its error is the plate frame's fictitious forces,
-//! README, "The forward model"), while DivCircle — three fifths of the library's time
-//! — is within 1e-4 from 24. [`StepsPlan::Calibrated`] simulates each
+//! README, "The forward model"), while DivCircle — the costliest of the
+//! library's primitives — is within 1e-4 from 24. [`StepsPlan::Calibrated`] simulates each
 //! primitive's force field with the fewest steps per cycle at which the
 //! default primitive's force field on the default grid was measured within
 //! 1e-4 ([`PrimitiveKind::force_steps`]); `tests/library_steps.rs` checks
@@ -79,19 +79,8 @@ impl PrimitiveKind {
     /// The fewest steps per cycle of [`LADDER`] at which this kind's
     /// default zero-velocity force field (21×21 over ±4 cm, 30 phases,
     /// default settings) is within [`CALIBRATED_ERROR`] of the 512-step
-    /// field, as measured by `platefield study speed` (`results/library_speed.md`,
-    /// engine revision 13; errors at this count and one rung fewer):
-    ///
-    /// | kind | steps | error | one rung fewer |
-    /// |---|---|---|---|
-    /// | Trans | 32 | 2.96e-5 | 1.13e-4 (24) |
-    /// | ScaledCircle | 40 | 4.90e-5 | 1.93e-4 (32) |
-    /// | Circle | 64 | 7.46e-5 | 2.48e-4 (48) |
-    /// | DivCircle | 24 | 8.27e-5 | 1.11e-3 (16) |
-    /// | LineSink | 8 | 5.79e-5 | — |
-    /// | LineSource | 8 | 6.39e-5 | — |
-    /// | SkewSink | 32 | 5.80e-5 | 1.34e-4 (24) |
-    /// | SkewSource | 32 | 5.62e-5 | 1.17e-4 (24) |
+    /// field, as measured by `platefield study speed` (each kind's error at
+    /// every count: `results/library_speed.md`).
     ///
     /// Other parameters, grids or settings were not calibrated, and
     /// [`StepsPlan::Calibrated`] leaves them at the requested count.

@@ -18,8 +18,8 @@
 //! fitted, the start-up transient included. No field and no model bias to
 //! remove: the replay is the point-part model itself, each segment
 //! integrated whole on its fixed-step grid with its plate kinematics
-//! tabulated once (`super::simulate::play_on_grid`): 3 to 6 ms of CPU
-//! per part and 10 s of track on squeeze_trans and the shipped sink.
+//! tabulated once (`super::simulate::play_on_grid`; what a calibration
+//! costs: `docs/calibrate.md`).
 //! Fewer steps than the schedule's serve where their error is far below
 //! the camera's noise: [`steps_for`] halves them while a replay stays
 //! within [`STEP_ERROR`] of the noise of the finer one, and

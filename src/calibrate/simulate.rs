@@ -245,9 +245,9 @@ fn player<'a>(schedule: &Schedule, sm: &'a ScheduleMotion, friction: Friction) -
 /// [`play`] instead ends a step at every frame, so that its grid restarts
 /// there and no two periods share an instant; both are the same RK4
 /// integration to its error ([`super::replay::steps_for`] measures that
-/// error on these replays). About a third of [`play`]'s CPU on the
-/// shipped schedules: the kinematics are evaluated once per segment
-/// instead of at every step.
+/// error on these replays). A fraction of [`play`]'s CPU on the shipped
+/// schedules (measured: `docs/calibrate.md`, **Replays**): the kinematics
+/// are evaluated once per segment instead of at every step.
 pub(crate) fn play_on_grid(
     schedule: &Schedule,
     sm: &ScheduleMotion,

@@ -119,11 +119,12 @@ pub struct BasisColumn {
 }
 
 /// Largest relative L2 change of a primitive's field under the basis
-/// rotations for which it counts as isotropic. Measured on the default
-/// 63×63 source grid of the shipped targets: Circle and ScaledCircle change
-/// by 0.3–4 × 10⁻³ (resampling error, force and velocity fields) under
-/// rotations by 15°, 30°, 45° and 90°; every other primitive by ≥ 0.26 at
-/// 15° (a uniform field: 2 sin 7.5°) and by √2 at 90°.
+/// rotations for which it counts as isotropic. On the default 63×63
+/// source grid of the shipped targets, Circle and ScaledCircle change by
+/// their resampling error only, a fraction of this, under rotations by
+/// 15°, 30°, 45° and 90° (force and velocity fields); every other
+/// primitive by ≥ 0.26 at 15° (a uniform field: 2 sin 7.5°) and by √2 at
+/// 90°.
 pub const ISOTROPY_TOL: f64 = 1e-2;
 
 /// A column left out, and why.

@@ -33,16 +33,16 @@
 //! * *Mirrored orders* (the closed loop's candidates, [`candidates`]): a
 //!   cyclic order σ followed by (σ₀, σ_{n−1}, …, σ₁), every segment played
 //!   twice per period with its own cycles, so that every join a→b of the
-//!   first half is matched by b→a in the second. Measured on the Sink from
-//!   four LineSinks at one cycle each (`design --closed-loop`, error parts
+//!   first half is matched by b→a in the second. On the Sink from four
+//!   LineSinks at one cycle each (`design --closed-loop`, error parts
 //!   relative to the promised field): the design's order 0°→180°→270°→90°
 //!   plays each axis's two LineSinks (whose mean tilts are opposite) one
-//!   after the other and has an 18 % offset and a 7 % anisotropy; the cyclic
+//!   after the other and has an offset and an anisotropy; the cyclic
 //!   order 0°→90°→180°→270°, in which every segment follows a perpendicular
 //!   one, has the target's four-fold symmetry and no offset, but its
-//!   rotation sense gives a 2 % swirl; the mirrored order
-//!   0°→90°→180°→270°→0°→270°→180°→90° has both symmetries, and its
-//!   shape-only error is 0.9 % against 3.7 % and 27 %.
+//!   rotation sense gives a swirl; the mirrored order
+//!   0°→90°→180°→270°→0°→270°→180°→90° has both symmetries, and the
+//!   lowest shape-only error of the three by far.
 //!
 //! **Evaluation.** Each candidate is played by [`verify_points`] on the
 //! given points, the model check: the moving parts' mean velocity against the time-weighted

@@ -7,14 +7,13 @@
 //! go: a part started at rest is measured over windows after a warm-up, at
 //! its mean position. For an expanding target the parts spend the measured
 //! windows outside the region (the saddle with its sequenced limits: parts
-//! started at y = ±2 cm are measured at y ≈ ±5.5 cm, and parts started at
-//! y = ±4 cm leave the plate at |y| ≈ 6.1–6.8 cm in warm-up period 25–32,
-//! where the tilts swing N below zero — outside the ±4 cm region the
-//! contact margin covers, so the measure leaves them out), and parts of a
-//! squeeze crowd near its line; so the played strength can fall below the
-//! predicted one at the same motion (saddle: 0.599 played, 0.657 on the
-//! full grid). The played measure is cheap (5 × 5 start points, 60 cycles:
-//! ≈ 30 ms), so it can be the objective of a last local refinement.
+//! started inside the region are measured well outside it, and parts
+//! started at its edge leave the plate during the warm-up where the tilts
+//! swing N below zero — outside the region the contact margin covers, so
+//! the measure leaves them out), and parts of a squeeze crowd near its
+//! line; so the played strength can fall below the predicted one at the
+//! same motion. The played measure is cheap (5 × 5 start points, 60
+//! cycles), so it can be the objective of a last local refinement.
 //!
 //! **Cost** of a parameter vector ([`crate::synth::params::Layout`]), with
 //! ŝ and e the played realised strength and shape error at the given start
@@ -32,9 +31,9 @@
 //! e_grid is the shape error of the steady-state field on the coarse grid
 //! over the whole region, its budget the larger of `grid_budget` and the
 //! start's: without it the polish would trade the field where parts do
-//! not go for the field where they do (squeeze_trans: played 0.64 →
-//! 1.06 s⁻¹ at 4.0 %, but 12.8 % shape over the region — parts are
-//! squeezed onto the line during the warm-up and measured only there). N_min and the coarse
+//! not go for the field where they do (on squeeze_trans it gains played
+//! strength at the cost of the region's shape — parts are squeezed onto
+//! the line during the warm-up and measured only there). N_min and the coarse
 //! samples are those of the synthesis objective
 //! ([`Objective`]: kinematic and steady-orbit least N on the coarse grid),
 //! so the polish keeps every constraint the synthesis kept; parts lost
@@ -49,26 +48,24 @@
 //! the excess, 10 · the margin violation, √(10 · invalid fraction) and
 //! √(10 · extra lost fraction). The strength row is a − ŝ/s₀ with a =
 //! [`STRENGTH_REACH`] (2), whose square has the cost's slope −1/s₀ at
-//! ŝ = s₀: it asks for strength as the cost does (line_sink_30, within
-//! budget, plays 0.420 s⁻¹ with it and 0.378 with the row
-//! 1 − ŝ/(1.1 s₀)). For a start over the budget the played shape block is
+//! ŝ = s₀: it asks for strength as the cost does (a row 1 − ŝ/(1.1 s₀)
+//! asks for less once ŝ nears 1.1 s₀). For a start over the budget the
+//! played shape block is
 //! the cost's hinge (b = the budget). For a start within it the block
 //! steers by the whole shape error (b = 0), as the synthesis's does
 //! ([`crate::synth::objective`]): the hinge is zero there, so with it the
 //! linearisation would see strength alone and its steps buy strength with
-//! shape (squeeze_trans: from 0.738 s⁻¹ at 3.27 % to 0.772 at 6.7 %); with
-//! the whole shape error they gain both (0.770 at 2.5 %).
+//! shape (on squeeze_trans they double its shape error); with the whole
+//! shape error they gain both.
 //!
 //! **Shape first**, as the cost: when the start's played shape is over the budget, the first half of the steps
 //! run with 1 − ŝ/([`POLISH_GOAL`] s₀), which asks for 10 % more and lets
-//! the shape block lead (the whirlpool, 6 % at the start, stays there with
-//! the first row alone: 0.491 s⁻¹ at 5.99 %, against 0.487 at 5.16 % with
-//! the second). A start within the budget runs the second half only: it
-//! has no shape to put first, and its steps then cost what an
-//! over-budget start's strength steps do (squeeze_trans: 0.780 s⁻¹ at
-//! 2.52 % after two steps, 66 plays; 0.820 at 2.60 % after four, 92
-//! plays, ≈ 5 s more CPU, past the 8 s a design's polish is meant to
-//! take). Each step's Jacobian is one parallel batch of n plays (recorded
+//! the shape block lead (with the first row alone, a start just over the
+//! budget, as the whirlpool's, stays over it). A start within the budget
+//! runs the second half only: it has no shape to put first, and its steps
+//! then cost what an over-budget start's strength steps do (more steps
+//! still gain strength, at a cost of plays a design's polish is not meant
+//! to spend). Each step's Jacobian is one parallel batch of n plays (recorded
 //! in order: same bytes on one thread or two), so four steps are ≈ 4n + 9
 //! plays where Nelder–Mead needs 300:
 //! plays that confirm the synthesis and correct it, not a search. With
@@ -84,31 +81,30 @@
 //! one percentage point broken by the higher strength, else the lower
 //! shape error) prefers its played measure to the start's — or, not
 //! POOR, it plays a lower shape error than the start at a lower cost (a
-//! gain of shape the rule calls a tie: the whirlpool's 6.01 % at 0.493
-//! s⁻¹ → 5.31 % at 0.485) — and it breaks none of the cost's constraint
+//! gain of shape within a point, which the rule calls a tie) — and it
+//! breaks none of the cost's constraint
 //! terms more than the start (grid shape, margin, invalid samples, lost
 //! parts). The peak excess is not one of them: a parameter vector is
 //! played, checked and kept as its motion clamped onto the limits
 //! ([`Objective::motion`]), which exceeds none; the excess term only
-//! keeps the steps near the limits (squeeze_trans presses them, and every
-//! step that gained it strength at a lower shape error went 1–5 % past
+//! keeps the steps near the limits (squeeze_trans presses them, and its
+//! steps that gain strength at a lower shape error go a few per cent past
 //! them before the clamp). Of those, the one of
 //! lowest cost is re-checked on the full grid ([`Checked::of`]) and kept
 //! if the check is not POOR (unless the start was POOR too); otherwise the
 //! start is returned unchanged. The polish stops when that measure stops
 //! improving: after [`PolishOptions::patience`] steps' worth of plays
-//! (n + 2 each) without a motion that replaces the best so far (the sink,
-//! whose synthesized motion no step beats by the rule, stops after its
-//! first Jacobian and tries: 23 plays). `design` plays the polish exactly
+//! (n + 2 each) without a motion that replaces the best so far (a start
+//! that no step beats by the rule, as the sink's synthesized motion, stops
+//! after its first Jacobian and tries). `design` plays the polish exactly
 //! as the judge plays the schedule — its cycles (10 warm-up, 10
 //! measured), and the motion as a segment of
 //! the judge's cycles, with the period played after
 //! the windows in which a part that leaves the plate is left out — so the
 //! polish's measure of a motion is the check's, bit for bit. Played in
-//! one-cycle periods instead, the two measures disagree: the saddle's
-//! start measures 8.33 % at 0.633 s⁻¹ that way and 4.92 % at 0.697 in the
-//! check, and a polish on the one-cycle measure "improves" it to 7.03 % at
-//! 0.614 by the check.
+//! one-cycle periods instead, the two measures disagree (on the saddle by
+//! several points of shape error), and a polish on the one-cycle measure
+//! can make the check's worse.
 //!
 //! **Overfitting check.** The polish sees only the start points it is given;
 //! the study reports the kept motion on a second, disjoint set of start
@@ -190,9 +186,10 @@ pub struct PolishOptions {
 }
 
 /// Played shape error of the start above which the polish takes all its
-/// steps whatever [`PolishOptions::patience`] says: patience stopped the
-/// whirlpool designed for μ 0.15 after 28 plays at 6.45 %, where its steps
-/// reach 5.27 %; the sink (4.95 %) keeps its early stop.
+/// steps whatever [`PolishOptions::patience`] says: patience stops the
+/// whirlpool designed for μ 0.15 early just above this, where its further
+/// steps reach well below it; a sink already below keeps its early
+/// stop.
 pub const PATIENT_BELOW: f64 = 0.06;
 
 impl Default for PolishOptions {

@@ -455,10 +455,10 @@ impl Simulator<'_> {
     /// max(|a_⊥|, μ_k N)/|u| (the Jacobian of −μ_k N u/|u| across û; see
     /// `radau.rs`): just outside the regularised region (`swing.rs`) an
     /// explicit step would otherwise see h μ_k N/|u| up to ½ and err by a
-    /// fixed fraction of |u| at each near pass of u = 0. Measured
-    /// (`order_2d`, 4×4×6 force fields against 4096 steps): DivCircle at 64
-    /// steps 3.9e-6 → 7.8e-7, SkewSink 8.1e-6 → 4.3e-6, for 1–6 % more RK4
-    /// steps.
+    /// fixed fraction of |u| at each near pass of u = 0. The limit cuts
+    /// the 2-D force fields' error at 64 steps per cycle for a few per cent
+    /// more RK4 steps (measured: `docs/dev/forward-model.md`, **Measurements behind the
+    /// integrator's constants**).
     fn slip_step<S: Scheme>(&self, at: &Step<'_>, k0: &Kinematics, swinging: bool) -> f64 {
         let (rest, state, anchor) = (at.target - at.t, &*at.state, at.anchor);
         let nominal = self.period / self.numerics.steps_per_cycle as f64;

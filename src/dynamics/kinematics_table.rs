@@ -30,7 +30,8 @@
 //! (`synth::contact::orbit_least_normal`, one cycle per grid point) and
 //! every played schedule (one table per segment, shared by every part and
 //! every period: `play::Player::with_tables`). That halves the CPU of a
-//! six-signal design (saddle 15.8 → 8.4 s, same bytes), whose plays and
+//! six-signal design (same bytes; measured: `docs/dev/forward-model.md`, **Measurements behind
+//! the integrator's constants**), whose plays and
 //! contact checks would otherwise evaluate the kinematics at every step.
 
 use crate::motion::{Kinematics, Motion, PreparedMotion};
@@ -468,7 +469,7 @@ mod tests {
         let (hits, misses) = table.lookups();
         println!("{events} events, {hits} hits, {misses} misses");
         assert!(events > 0, "the part sticks and slips");
-        // Measured: 10 events, 10 hits, 20 misses over 160 fixed steps. The
+        // Few lookups (the test prints their count), far fewer than steps. The
         // fixed steps take their kinematics from the step nodes
         // (`StepNodes`) without a lookup, event location evaluates directly
         // (`Simulator::kin_off_grid`): lookups are left for stuck parts'

@@ -314,25 +314,21 @@ impl PartPhysics {
     }
 }
 
-/// Fewest RK4 steps per cycle any field is integrated with. Measured on a
-/// velocity field of the Trans signals (harmonics 1 and 2) against 4096
-/// steps: 4 steps per cycle are 40 % off, 8 steps 6.5 %, 16 steps 0.8 %,
-/// 64 steps 0.04 % of the field's magnitude; 1 step lost contact at 99 of
-/// 121 LineSink samples and put a Trans force field at 26 times its size.
+/// Fewest RK4 steps per cycle any field is integrated with: below it a
+/// field is tens of per cent off or worse, and a single step loses contact
+/// where none is lost (measured: `docs/dev/forward-model.md`, **Measurements behind the
+/// integrator's constants**).
 /// 8 is the lowest rung of the library's calibrated ladder
 /// ([`crate::basis::steps::LADDER`]), where some primitives' force fields
 /// still meet their tolerance.
 pub(crate) const MIN_STEPS_PER_CYCLE: usize = 8;
 
 /// Fewest RK4 steps per period of a motion's highest harmonic (the steps
-/// per cycle must be at least this times the harmonic number). Measured
-/// (`tests/inputs.rs`, `harmonics_against_steps`) on the Trans signals
-/// (harmonics 1 and 2 along x) plus a y term of 20 m/s² at harmonic K, a
-/// velocity field against 4096 steps per cycle, error relative to the
-/// field's magnitude: at 8 steps per harmonic period at most 1.7 % (K = 2,
-/// 4, 8, 16, 32, 100); at 4 steps up to 23 % (K = 2 at 8 steps: the x
-/// harmonic 2 too is then at 4); at 1 step about 100 %; harmonic 100 at
-/// 64 steps (0.64 per period) 28 %.
+/// per cycle must be at least this times the harmonic number): at 8 steps
+/// per harmonic period the field is within a few per cent of a fine run
+/// whatever the harmonic, at 4 it is tens of per cent off (measured:
+/// `tests/inputs.rs`, `harmonics_against_steps`, and `docs/dev/forward-model.md`,
+/// **Measurements behind the integrator's constants**).
 pub const STEPS_PER_HARMONIC: usize = 8;
 
 /// Numerical settings of the integrator.

@@ -111,8 +111,8 @@
 //! ξ' at its midpoint to O(h²), so ξ̃ is ξ̄ to O(h²) as above; when that
 //! corrector's answer fails the tests the step starts over from the
 //! predictor. A slipping step thus costs one solve, as the Moreau–Jean
-//! step alone does (measured 4.3 Newton iterations per step on a played
-//! drop against 3.9, `tests/poses.rs` `drop_defaults_are_converged`).
+//! step alone does (about as many Newton iterations per step on a played
+//! drop, `tests/poses.rs` `drop_defaults_are_converged`).
 //! Elsewhere (a stick, a break-away, a reversal, a support point
 //! coming to rest) the step keeps ξ*, the Moreau–Jean step with its exact
 //! stick, and is an event. A body stuck at the step's start never takes
@@ -124,9 +124,9 @@
 //! comparison).
 //!
 //! **Accuracy.** The scheme is second order while every support point
-//! slips (circular translation above: the slip speed's error falls 4.00
-//! times per halving of h, 4.0e-4 at 64 steps per cycle against 2.8e-2
-//! for the backward rule) and first order at events: it does not locate
+//! slips (circular translation above, `tests/planar.rs`: the slip speed's
+//! error falls fourfold per halving of h, far below the backward rule's)
+//! and first order at events: it does not locate
 //! stick, slip and reversal events inside a step, and there its error is
 //! one step's friction impulse times where in the step the event falls (an
 //! erratic factor in [0, 1]). Because a vibrating part's mean velocity is a
@@ -140,11 +140,11 @@
 //! are in `tests/planar.rs`; on a played drop dominated by stick-slip
 //! events (`tests/poses.rs` `planar_scheme_is_first_order_at_events`: end
 //! pose after 3 s against 4096 steps per cycle) the order without
-//! refinement is about 1.1 for either rule, and refinement depth 3 cuts the
-//! error at 64 steps per cycle 5-fold. Where the error is the slip's own
-//! (the bracket's pose design, `docs/parts.md`), the midpoint rule gives at
-//! 64 steps per cycle the rest angle the backward rule reaches only past
-//! 512.
+//! refinement is about 1 for either rule, and refinement cuts the error
+//! several-fold. Where the error is the slip's own (the bracket's pose
+//! design, `docs/parts.md`), the midpoint rule gives at 64 steps per cycle
+//! the rest angle the backward rule reaches only at many times the steps
+//! (measured: `docs/dev/forward-model.md`, **Measurements behind the integrator's constants**).
 //!
 //! **Cost.** A slipping step's implicit solve is usually a few Newton
 //! iterations on the exact objective from the last slip velocity (the

@@ -42,15 +42,9 @@
 //!   τ-steps go on). Without that step such a slip is followed by τ-steps
 //!   until |u| passes the bound: each grows ln |u| by only about
 //!   C_SLAVED (a_free·û − μ_k N)/|a_free|, dozens of steps where μ_k N is
-//!   close to |a_free|. Measured on the default library's 21×21×30 force
-//!   fields (`platefield study probes`, which prints their CPU time on one
-//!   thread; error against 512 steps per cycle, `results/library_speed.md`
-//!   by `platefield study speed`, without and with it):
-//!   DivCircle at 32 steps per cycle 0.41 s → 0.34 s, error 5.49e-5 →
-//!   5.50e-5; at 64 steps 0.65 s → 0.58 s, 9.38e-7 → 1.02e-6; ScaledCircle
-//!   at 64 steps 0.12 s → 0.10 s, 2.53e-6 → 2.78e-6; the Circle's error at
-//!   64 steps unchanged (7.46e-5), at 32 steps 2.97e-3 → 2.91e-3;
-//!   SkewSink's unchanged to 0.1 %;
+//!   close to |a_free|. With it the default library's 2-D force fields
+//!   take less CPU at nearly unchanged errors (measured: `docs/dev/forward-model.md`, **Measurements
+//!   behind the integrator's constants**);
 //! * at a stop, finished in closed form ([`Simulator::finish`]): where the
 //!   exact flow with a_free and N frozen (`frozen.rs`; μ_k N > |a_free|)
 //!   comes to rest within [`FINISH`] of the nominal step, the rest of the
@@ -61,11 +55,10 @@
 //!   of the bound: 64 or more τ-steps per stop, several hundred where μ_k N is
 //!   close to |a_free| (ψ turns onto a_free at the rate |a_free| in τ, but
 //!   s falls only at μ_k N − |a_free|), in all about half the τ-steps of
-//!   ScaledCircle's and DivCircle's force fields (3.0 of 6.4 and 3.0 of 5.7
-//!   million at 64 steps per cycle, 21×21×30). With it the CPU time of
-//!   those fields falls from 2.43 s to 1.62 s and from 1.75 s to 1.12 s
-//!   (`platefield study probes`, one thread), with the same errors at 32
-//!   steps per cycle and more (see [`FINISH`]).
+//!   ScaledCircle's and DivCircle's force fields. With it the CPU time of
+//!   those fields falls by about a third, with the same errors at 32 steps
+//!   per cycle and more (see [`FINISH`]; measured: `docs/dev/forward-model.md`, **Measurements
+//!   behind the integrator's constants**).
 //! * where |u| has fallen below [`STOP`] of the bound while slowing with
 //!   μ_k N ≤ |a_free| (no frozen stop; rare), the rest of the way to u = 0
 //!   is taken with a_free and N frozen and û fixed: it lasts s/(μ_k N −
@@ -99,11 +92,10 @@ const C_SLAVED: f64 = 2.0;
 /// The longest time s Δτ a slaved τ-step spans, as a fraction of the
 /// nominal step, so that its stages resolve a_free(t) and N(t) as the
 /// nominal steps do. Without it, at 8 steps per cycle (where the region is
-/// 8× wider and its slips faster) the 21×21×30 force fields erred by
-/// 1.76e-2 (ScaledCircle) and 4.3e-3 (DivCircle) against 512 steps, 1.9e-3
-/// and 1.8e-3 with it (2.0e-3 and 1.7e-3 before the slaved steps); from 16
-/// steps on the errors and the CPU time are the same to the measurement's
-/// resolution.
+/// 8× wider and its slips faster) the force fields err up to several
+/// times more than with it; from 16 steps on the errors and the CPU time are the same
+/// with or without it (measured: `docs/dev/forward-model.md`, **Measurements behind the
+/// integrator's constants**).
 const SLAVED_SPAN: f64 = 0.1;
 
 /// A slip speeding up slaved to a_free inside the region is taken by one
@@ -113,11 +105,10 @@ const SLAVED_SPAN: f64 = 0.1;
 /// by at most C_SLAVED (a_free·û − μ_k N)/max(|a_free|, μ_k N); their other
 /// limits in `tau_step`, and c below C64 beyond 64 steps per cycle, make
 /// them more, so the bound is a lower one). A faster speed-up
-/// keeps its few τ-steps: taken implicitly too, it cost the force fields'
-/// order (`tests/slip2d.rs` `order_2d`, 4×4×6 against 4096 steps, observed
-/// order from 16 to 64 steps): SkewSink 3.16 → 2.38, ScaledCircle 4.03 →
-/// 3.52, DivCircle 3.91 → 3.27. With 5: 3.16, 4.01, 3.41 (10: 3.16, 4.03,
-/// 3.74), for nearly all of the speed-up (module docs).
+/// keeps its few τ-steps: taken implicitly too, it costs the force fields'
+/// observed order (`tests/slip2d.rs` `order_2d`), which this threshold
+/// keeps for nearly all of the speed-up (module docs; measured:
+/// `docs/dev/forward-model.md`, **Measurements behind the integrator's constants**).
 const IMPLICIT_AFTER: f64 = 5.0;
 
 /// Largest c (at fewer than 32 steps per cycle).
@@ -133,23 +124,22 @@ const C_MAX: f64 = 0.5;
 /// outside the region the explicit steps then see h μ_k N/|u| and
 /// h |a_⊥|/|u| near 1/REGION *whatever h is*, so each near pass of u = 0
 /// errs by a fixed fraction of |u| ≈ REGION h max(|a_free|, μ_k N), an
-/// error of order h. Measured (`tests/slip2d.rs` `quick_table`, 4×4 grid, 6
-/// phases, relative L2 of the force field against 4096 steps), with the
-/// bound scaling with h at every h: SkewSink 8.1e-6, 7.5e-6, 7.9e-6 at 64,
-/// 128, 256 steps; DivCircle 3.9e-6, 7.6e-6, 1.9e-6. Held at its 64-step
-/// width, together with the explicit steps limited by friction's damping
-/// across the slip (`Simulator::slip_step`): SkewSink 4.3e-6, 7.5e-7,
-/// 1.3e-7; DivCircle 7.8e-7, 3.1e-7, 9.1e-8 (nothing changes at 64 steps
-/// and fewer). Widening it at 64 steps instead (REGION 4) makes the
-/// τ-steps carry more of the swing: Circle 2.7e-4 at 64 steps.
+/// error of order h: the force fields' error then stops falling beyond 64
+/// steps per cycle. Held at its 64-step width, together with the explicit
+/// steps limited by friction's damping across the slip
+/// (`Simulator::slip_step`), it falls again with h (nothing changes at 64
+/// steps and fewer). Widening it at 64 steps instead (REGION 4) makes the
+/// τ-steps carry more of the swing, and the Circle's error grows
+/// (measured: `docs/dev/forward-model.md`, **Measurements behind the integrator's
+/// constants**).
 ///
 /// Two rarer errors at single fine step counts only (a break-away just
 /// before a step's end, a slip slowing to a stop with a_free nearly along
 /// û) are handled in `radau.rs::wants_radau` and
-/// [`Simulator::wants_tau`]: without them DivCircle's 16384-step field is
-/// 2.9e-6 off the 4096-step one from one cycle ((−0.0133, −0.0133), phase 4
-/// of 6); with them it agrees with it cycle by cycle within 1.7e-9 (`worst_cycles` with
-/// `SLIP2D_N=16384 SLIP2D_WREF=4096`).
+/// [`Simulator::wants_tau`]: without them a fine field can be off a
+/// coarser one from a single cycle; with them the two agree cycle by
+/// cycle (measured: `docs/dev/forward-model.md`, **Measurements behind the integrator's
+/// constants**).
 const REGION: f64 = 2.0;
 
 /// The region's width stops shrinking with h beyond this many steps per
@@ -163,28 +153,11 @@ const STOP: f64 = 1e-7;
 /// A slip that the frozen flow brings to a stop within this fraction of
 /// the nominal step is finished with it ([`Simulator::finish`]).
 ///
-/// Measured (`tests/slip2d.rs` `quick_table` on 11×11 points, 6 phases,
-/// against 1024 steps, and `worst_cycles` on 11×11×30): at 0.1 every 2-D
-/// force field's error at 16, 32, 64 and 128 steps per cycle is the one
-/// without the finish to three digits (DivCircle 8.39e-7 → 8.38e-7 at 64),
-/// and no one-cycle end velocity among the worst three moves, while the RK4
-/// and τ-steps per cycle fall from 837 to 310 (ScaledCircle) and 379 to 243
-/// (DivCircle) at 64 steps. But on the default library's 21×21×30 grid
-/// (`platefield study speed`, against 512 steps) DivCircle's error at 64 steps
-/// is 1.06e-6 at 0.1 against 9.74e-7 without the finish; at 0.05 every error there at 32
-/// and 64 steps is the one without the finish to three digits, for 4.9 s
-/// of CPU for the library at 64 steps instead of 6.1 s (4.6 s at 0.1). At
-/// 0.25 single cycles find a stop that the 1024-step run swings past
-/// (1.5e-6 m/s off at 64 steps). A plain average of the two nodes' fields
-/// instead of the composition does so at 0.05 already: DivCircle's 11×11×30
-/// force field at 32 steps per cycle 1.7e-4 off, against 3.0e-5 without
-/// the finish. With 0.05 and the composition, `platefield study engine-speed`
-/// (11×11 force and velocity fields against 1024 steps) gives the same
-/// errors as without the finish to three digits at 32 to 256 steps per
-/// cycle; at 8 and 16 steps, where other errors of 1e-4 to 1e-3 dominate,
-/// some move either way (DivCircle's force field at 16 steps 1.09e-4 →
-/// 1.45e-4, ScaledCircle's at 8 steps 2.01e-3 → 1.77e-3), also with the
-/// window held at its 64-step width.
+/// 0.05: at a larger fraction single cycles find a stop that a fine run
+/// swings past and the default library's errors grow, while 0.05 leaves
+/// every force field's error as without the finish at 32 steps per cycle
+/// and more, for less CPU (measured: `docs/dev/forward-model.md`, **Measurements behind the
+/// integrator's constants**).
 const FINISH: f64 = 0.05;
 
 /// Most τ-steps in one call (a guard; a swing takes a few dozen).
@@ -244,14 +217,9 @@ impl Simulator<'_> {
     /// RK4 keeps the slaved direction (a frozen linear system's equilibrium
     /// is every Runge–Kutta method's) and damps the departure from it by
     /// R(−2) = 1/3 per step instead of e⁻². Never shorter than the general
-    /// step. Measured on the default library's 21×21×30 force fields
-    /// against 512 steps per cycle, the general τ-step → this one:
-    /// DivCircle's kinematics evaluations per
-    /// one-cycle simulation 526 → 295 at 32 steps, 982 → 476 at 64,
-    /// ScaledCircle's about halved, every error the same to two digits
-    /// (DivCircle 5.50e-5 → 5.52e-5 at 32, 9.74e-7 → 9.43e-7 at 64;
-    /// ScaledCircle 2.75e-6 → 2.46e-6 at 64); `order_2d` unchanged. (Measured
-    /// without the span limit, which moves these errors by under 3 %.)
+    /// step. On the default library's force fields it about halves the
+    /// kinematics evaluations per one-cycle simulation at unchanged errors
+    /// (measured: `docs/dev/forward-model.md`, **Measurements behind the integrator's constants**).
     fn tau_step(&self, c: f64, free: &V2, mu_n: f64, along: f64, uhat: &V2, s: f64) -> f64 {
         let fm = free.norm();
         let scale = fm.max(mu_n);

@@ -5,7 +5,7 @@
 //! but the weights only to roughly its square root wherever the objective is
 //! flat — at an exactly reachable target for `min ½‖Rw − c‖²`, and at a
 //! non-zero optimal residual for the epigraph `min τ, ‖Rw − c‖ ≤ τ` (both
-//! measured: weight errors ~1e-6–1e-5 at gap tolerance 1e-10).  The
+//! seen in the tests of `conic`).  The
 //! interior-point answer does, however, identify the optimal active set
 //! reliably.  The re-solve (OSQP's "polishing") solves the problem restricted to
 //! that active set exactly:

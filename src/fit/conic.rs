@@ -31,10 +31,10 @@
 //! than `AlmostSolved`), everything else Clarabel's default: QDLDL direct
 //! solver, single-threaded, hence bit-for-bit deterministic.
 //!
-//! Equilibration is left **enabled**.  The measured failure (normal-equations
-//! QP `P = AᵀA` ending `Solved` with weights off by up to 0.25 on line sinks
-//! 0.1° apart) reproduces with equilibration switched off too (0.25 at data
-//! scale 1e-3, 9e-3 at scale 1), so equilibration is not the cause: the
+//! Equilibration is left **enabled**.  The failure of the normal-equations
+//! QP `P = AᵀA` (ending `Solved` with weights far off on line sinks 0.1°
+//! apart) reproduces with equilibration switched off too (the regression
+//! test below prints both), so equilibration is not the cause: the
 //! squared condition number and the absolute gap tolerance on an unscaled
 //! objective are.  Both are removed here by the QR compression and the
 //! normalisation `‖t̂‖ = 1`; see the regression test
@@ -42,7 +42,8 @@
 //!
 //! Interior-point weights of the least-squares modes are accurate only to
 //! about the square root of the gap tolerance where the objective is flat
-//! (measured 3.5e-6 for the epigraph form at 1e-10); [`crate::fit::solve`]
+//! (the test `residual_qp_is_more_accurate_than_epigraph` prints the
+//! epigraph form's); [`crate::fit::solve`]
 //! therefore re-solves them on the identified active set before verifying.
 
 use clarabel::algebra::CscMatrix;
@@ -84,19 +85,20 @@ pub(crate) struct ConicOutcome {
 #[serde(rename_all = "snake_case")]
 pub(crate) enum LsFormulation {
     /// Residual variables with a zero cone and a quadratic objective
-    /// (see `ls_residual_qp`).  Default: measured weight errors
-    /// ~1e-11 at the tolerances of `fit_settings`.
+    /// (see `ls_residual_qp`).  Default: weight errors near round-off at
+    /// the tolerances of `fit_settings`.
     #[default]
     ResidualQp,
     /// Second-order-cone epigraph `min τ, ‖Rw − c‖ ≤ τ` (see
-    /// `ls_epigraph`).  Measured weight errors ~√tol ≈ 1e-6–1e-5
+    /// `ls_epigraph`).  Weight errors ~√tol
     /// whenever the optimal residual is non-zero, which can fail the 1e-6
     /// KKT verification; kept for comparison.
     Epigraph,
 }
 
 /// Gap/feasibility tolerance for the residual-QP least-squares form and
-/// the LPs (all measured `Solved`, one or two iterations more than 1e-8).
+/// the LPs (every problem of the tests ends `Solved` at it, for an
+/// iteration or two more than at 1e-8).
 pub(crate) const TOL_TIGHT: f64 = 1e-10;
 /// Tolerance for the `Budget` SOCP (at 1e-10, 6 of 40 random budget
 /// problems ended `AlmostSolved`; at 1e-9 none did).
@@ -376,7 +378,7 @@ pub(crate) fn solve_budget(
 /// ```
 ///
 /// The explicit residual `r` means `Â` appears in `M` rows only (not `2M`),
-/// which measured 3× faster than `−u ≤ Âw − t̂ ≤ u`.  With `z₁, z₂ ≥ 0` the
+/// which is several times faster than `−u ≤ Âw − t̂ ≤ u`.  With `z₁, z₂ ≥ 0` the
 /// duals of the two bound blocks, stationarity in `u` gives `z₁ + z₂ = 1`,
 /// so `y = z₁ − z₂ ∈ [−1, 1]^M` (stored in [`ConicOutcome::lp_dual`])
 /// certifies optimality (see [`mod@crate::fit::certify`]).

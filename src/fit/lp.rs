@@ -4,8 +4,7 @@
 //! residual row per weighted sample (`M ≈ 900` on a 21×21 target) and the
 //! dense `M×m` block `Â`; an interior-point iteration factors a KKT system
 //! whose elimination costs `O(M·m²)`, so the full basis (`m ≈ 190`) costs
-//! seconds (measured 1.0–1.1 s for `m = 100`, `M = 882`; ≈ 0.7 s CPU for
-//! `m = 190` per solve on the loaded 2-core machine).  The optimal weights
+//! of the order of a second per solve.  The optimal weights
 //! are sparse (a dozen columns or fewer), so the same optimum is reached by
 //! solving the LP on a *working set* `S` of columns and adding the columns
 //! that price out:

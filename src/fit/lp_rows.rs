@@ -1,8 +1,8 @@
 //! `L1` / `LInf` LPs on few columns, with only the residual rows that
 //! matter passed to Clarabel.
 //!
-//! An LP of [`conic::solve_l1_linear`] / [`conic::solve_linf`] costs about 15 ms
-//! of CPU at `M = 882` rows even with a dozen columns: three constraint
+//! An LP of [`conic::solve_l1_linear`] / [`conic::solve_linf`] is costly at
+//! `M ≈ 900` rows even with a dozen columns: three constraint
 //! rows and two variables per residual row make a KKT system of ≈ 5M.
 //! Most rows are not needed to find the optimum; both modes are solved on
 //! a working set `U` of rows, grown until the answer provably solves the

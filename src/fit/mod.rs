@@ -35,8 +35,8 @@
 //!
 //! * The least-squares modes (`Absolute`, `Shape`, `Budget`) never form the
 //!   normal equations `AᵀD²A` (a normal-equations QP on nearly collinear
-//!   columns ends `Solved` with weights off by up to 0.25 — measured, see
-//!   `conic`).  Instead the weighted matrix is compressed by a thin
+//!   columns ends `Solved` with weights far off — see `conic` and its
+//!   regression test).  Instead the weighted matrix is compressed by a thin
 //!   Householder QR, `DA = QR` with `R ∈ ℝ^{k×m}`, `k = min(2n, m)`, so that
 //!   `‖D(Aw − t)‖² = ‖Rw − c‖² + r₀²` with `c = QᵀDt` and
 //!   `r₀ = ‖(I − QQᵀ)Dt‖`, and the problem is posed on the small matrix `R`:
@@ -813,9 +813,8 @@ mod tests {
     /// The pitfall: the normal-equations QP (P = AᵀA, default Clarabel
     /// settings, equilibration on) on the nearly collinear basis.  Its
     /// deviation from the planted weights is recorded (printed) for several
-    /// data scalings, with and without equilibration (measured with Clarabel
-    /// 0.11.1: status Solved with max weight errors 0.245 / 0.251 at scale
-    /// 1e-3, 8.7e-3 / 9.0e-3 at scale 1, 7.6e-3 / 2.3e-4 at scale 1e3).  The
+    /// data scalings, with and without equilibration (status `Solved`
+    /// with weights far off at some scalings, with or without it).  The
     /// verifier must reject the naive answer whenever it is off by > 1e-4
     /// (and accept it otherwise), and the compressed-QR path must match the
     /// planted weights to 1e-6 on the same data.
@@ -892,7 +891,7 @@ mod tests {
     /// random 6×6 Absolute problem whose optimum has a non-zero residual and
     /// an active sum constraint: the residual-variable QP (default) matches
     /// the Lawson–Hanson weights to 1e-9; the SOC epigraph's error is
-    /// recorded (measured ≈3.5e-6 with Clarabel 0.11.1, i.e. ≈√tol).
+    /// recorded (printed; of order √tol).
     #[test]
     fn residual_qp_is_more_accurate_than_epigraph() {
         let mut rng = SplitMix64::new(613355);

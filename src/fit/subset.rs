@@ -14,10 +14,10 @@
 //! active-set solve each; `Budget` costs one small cone program.)
 //!
 //! Why a proxy for the LP modes: the exact score is an LP on all `M`
-//! residual rows (≈ 15 ms of CPU each at `M = 882`, whatever `k`), and an
-//! exhaustive search over a 12-column support is 4096 of them — 73–88 s
-//! for the `circle` target before this proxy, against microseconds for a
-//! capped NNLS on `R_S`.  The subset chosen for each `k` is then solved
+//! residual rows (costly at `M ≈ 900`, whatever `k`: `lp_rows`), and an
+//! exhaustive search over a 12-column support is 4096 of them — over a
+//! minute, against microseconds for a capped NNLS on `R_S`.  The subset chosen for each `k` is
+//! then solved
 //! and verified exactly in the LP mode; its `exhaustive` flag is `false`,
 //! since the search was exhaustive only over the proxy.
 //!

@@ -52,8 +52,8 @@ pub const SAMPLES: [usize; 2] = [16, 4096];
 /// Most listed support points.
 pub(crate) const MAX_POINTS: usize = 4096;
 /// Most polygon vertices. The simple-polygon check compares every pair of
-/// edges (n²/2: 8.4e6 pairs at the cap, about 0.1 s; a 100 000-vertex
-/// outline took 100 s), and a part's outline is drawn with tens of
+/// edges (n²/2 pairs: a fraction of a second at the cap, minutes at a
+/// hundred thousand vertices), and a part's outline is drawn with tens of
 /// vertices (a circle to 0.03 % of its radius with 128).
 pub const MAX_VERTICES: usize = 4096;
 /// Most unknown contact points.

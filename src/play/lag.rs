@@ -16,13 +16,13 @@
 //!
 //! first order in the drift per cycle. G d is taken as u*(r + d) − u*(r)
 //! (one more steady state), J and D by finite differences of one cycle from
-//! u* (three cycles). The lag is small in the slip (≈ 0.4 % of |u*| for the
-//! lab-class sink) but the mean velocity is a small difference of large
-//! slips, and where friction's direction turns with the slip (circular
-//! translation) J is close to a rotation, (I − J)⁻¹ large: the lab-class
-//! sink's parts realise 2.8 % more than F over one cycle after 40 cycles of
-//! play, and 0.2 % more than the corrected v
-//! (`platefield study probes`, `results/probes.md`). This is physics
+//! u* (three cycles). The lag is small in the slip (a fraction of a per
+//! cent of |u*| for the lab-class sink) but the mean velocity is a small
+//! difference of large slips, and where friction's direction turns with
+//! the slip (circular translation) J is close to a rotation, (I − J)⁻¹
+//! large: the lab-class sink's parts realise a few per cent more than F
+//! over one cycle, and a small fraction of that against the corrected v
+//! (measured: `platefield study probes`, `results/probes.md`). This is physics
 //! (a moving part is not on the fixed point's orbit), not an artefact of
 //! the measure: it is there over one cycle, at every warm-up.
 //!
@@ -123,8 +123,8 @@ mod tests {
     /// The steady state a drift ahead continued from the orbit at r is the
     /// one from rest to the steady state's tolerance (the lag within
     /// 1e-10 m/s, against velocities of millimetres to centimetres per
-    /// second), in at most two thirds of the cycle maps over the points
-    /// (measured: 200 against 340): on the shipped squeeze_trans motion at
+    /// second), in at most two thirds of the cycle maps over the points:
+    /// on the shipped squeeze_trans motion at
     /// μ 0.23, 25 points over ±3 cm.
     #[test]
     fn a_continued_steady_state_is_the_one_from_rest() {

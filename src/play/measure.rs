@@ -32,9 +32,9 @@
 //! at the part's time-mean position q instead is *not* exact for a
 //! sequenced schedule: while the x-pushing segments play, y stands still,
 //! so the part's mean position is not the mean position of the averaged
-//! flow, and for the Sink schedule (40 cycles, strength 0.31 s⁻¹, a third
-//! of the distance covered per period) that artefact makes most of a 10 %
-//! gap between measure and prediction. The flow is integrated with the classical
+//! flow, and for the Sink schedule (40 cycles per segment, a third of the
+//! distance covered per period) that artefact makes most of the gap
+//! between measure and prediction. The flow is integrated with the classical
 //! Runge–Kutta method, step doubling from 2 steps per measured period until
 //! two step counts agree to `FLOW_TOL` (relative).
 //!
@@ -47,19 +47,16 @@
 //! state puts it back at r every cycle): it lags that orbit and realises
 //! the drift-lag-corrected F of [`super::lag`]. The comparison is then
 //! E = mean_j (r_P − r_j)/(P T) with the corrected F iterated once per cycle
-//! from r_j ([`PointPlay::expected_cycles`]). Measured on the lab-class
-//! sink (synthesized as in `platefield study synthesis`, 24 points, 40 cycles of
-//! warm-up, 20 measured; `platefield study probes`, `results/probes.md`):
-//! against the flow of F the gap is 3.2 % (4.2 % over 1 cycle, 0.8 % over
-//! 100), F per
-//! cycle 2.2 %, the flow of the lagged F 1.2 %, the lagged F per cycle
-//! 0.14 % (0.18 % over 1 cycle, 0.04 % over 100; 0.15 % at 200 and 400
-//! warm-up cycles). The first part, of order T_c·|∇F|/2 (1.4 % per cycle
-//! at 0.55 s⁻¹, T = 0.05 s), is a bias of the comparison (a per-cycle
-//! displacement integrated as if it were a continuous velocity); the
-//! second, the lag (2.8 % at one cycle), is physics the fixed-point steady
-//! state leaves out, so the prediction includes it; neither is a start-up
-//! transient. The
+//! from r_j ([`PointPlay::expected_cycles`]). On the lab-class sink the
+//! gap against the flow of F is a few per cent, and the lagged F iterated
+//! per cycle closes all but a small fraction of it, at any warm-up
+//! (measured: `platefield study probes`, `results/probes.md`, **The model
+//! check over the measured window**). Of the gap, the first part, of order
+//! T_c·|∇F|/2 (1.4 % per cycle at 0.55 s⁻¹, T = 0.05 s), is a bias of the
+//! comparison (a per-cycle displacement integrated as if it were a
+//! continuous velocity); the second, the lag, is physics the fixed-point
+//! steady state leaves out, so the prediction includes it; neither is a
+//! start-up transient. The
 //! gap *looks* smaller over longer windows only because for a sink both
 //! displacements saturate at the centre (a rate error δ shows as
 //! δ·sS e^(−sS)/(1 − e^(−sS)) over a span S: 0.75 δ at sS = 0.55, 0.19 δ at

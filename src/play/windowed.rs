@@ -40,8 +40,8 @@ pub struct MeasureOptions {
     /// measure judges a design against its *target* where the parts are
     /// after a fixed warm-up, and a strong field gathers the parts before a
     /// slow transient dies out (the synthesized motion of `sink_trans`, a
-    /// 3 s⁻¹ sink whose transient takes 8 periods, had every part at the
-    /// centre when its settled windows began); `verify`, which compares
+    /// 3 s⁻¹ sink whose transient takes several periods, has every part at
+    /// the centre when its settled windows begin); `verify`, which compares
     /// with the steady-state *prediction*, settles.
     pub settle: bool,
 }

@@ -15,8 +15,8 @@
 //! | whirlpool | rotation ±(0.3 … 1.5), sign and size uniform |
 //! | sampled | at the 21 × 21 points: a random affine field (entries of M standard normal, normalised to unit norm; b up to 1 cm × ‖M‖) plus a smooth wave of a quarter of its size (wavelength 8–16 cm, direction and phase uniform) |
 //!
-//! The proportions follow the robust-design issue's list; the draws are
-//! the ranges, and nothing is tuned to what a design achieves.
+//! The proportions and the draws' ranges are fixed by what robust design
+//! is asked to cover, and nothing is tuned to what a design achieves.
 
 use super::field::{FieldSpec, Interpolation, SumTerm};
 use super::grid::Grid;

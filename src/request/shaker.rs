@@ -46,8 +46,9 @@ pub const MAX_HARMONICS: u32 = 16;
 /// Longest fundamental period (s).
 pub const MAX_PERIOD_S: f64 = 10.0;
 /// Shortest fundamental period (s): the scene and schedule minimum
-/// (`crate::scene::PERIOD`). A period of 1e-300 s made the synthesis
-/// run without end, and one below it wrote motions no command could read.
+/// (`crate::scene::PERIOD`). A period as short as 1e-300 s makes the
+/// synthesis run without end, and shorter ones write motions no command
+/// can read.
 pub const MIN_PERIOD_S: f64 = *crate::scene::PERIOD.start();
 
 /// Largest linear velocity limit (m/s).

@@ -49,8 +49,8 @@ pub(crate) const GRAVITY: f64 = 100.0;
 /// Smallest gravity (m/s²): 1 % of the paper's 9.81, below the Moon's
 /// 1.62. Everything scales with g (the normal force N = g + a_z that
 /// decides contact, the friction μN, the steady-state tolerances relative
-/// to μ_k g T), so a g near 0 is no plate on a shaker: 1e-300 made every
-/// point "leave the plate" and the message asked to reduce the amplitude.
+/// to μ_k g T), so a g near 0 is no plate on a shaker: 1e-300 makes every
+/// point "leave the plate" and the message asks to reduce the amplitude.
 pub(crate) const GRAVITY_MIN: f64 = 0.1;
 /// Allowed range of `numerics.steps_per_cycle`: 64 is the default and
 /// 512 the reference of the speed study; a field at 4096 steps per cycle
@@ -264,7 +264,8 @@ fn top_harmonic(m: &Motion, path: &str) -> Option<(u32, String)> {
 /// [`STEPS_PER_HARMONIC`](crate::dynamics::STEPS_PER_HARMONIC) steps per
 /// period of that harmonic (its doc gives the measured errors). A harmonic
 /// above is refused, naming its path and the steps it needs, rather than
-/// integrated as if resolved (harmonic 100 at 64 steps is 28 % off).
+/// integrated as if resolved (far off, tens of per cent at a harmonic
+/// of 100 at 64 steps).
 pub(crate) fn resolved(m: &Motion, path: &str, steps: usize, steps_path: &str) -> Result<()> {
     let per = crate::dynamics::STEPS_PER_HARMONIC;
     match top_harmonic(m, path) {

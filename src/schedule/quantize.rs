@@ -11,8 +11,9 @@
 //! The default minimum of 10 cycles per segment comes from the interaction
 //! errors in `results/verify/sink_interaction.md` (written by `platefield
 //! study interaction`; a Sink from two orthogonal rest-to-rest LineSinks:
-//! 50 % error against the time-weighted prediction at 1 cycle per segment,
-//! 21 % at 3, 6.5 % at 10).
+//! the error against the time-weighted prediction falls with the cycles
+//! per segment, from half the field at one cycle to a few per cent at
+//! 10).
 
 /// Default minimum cycles per segment.
 pub const DEFAULT_MIN_CYCLES: u32 = 10;

@@ -2,9 +2,10 @@
 //!
 //! The seed's lead δ = asin(μg/A) is that of a part under N = g that does
 //! not drift ([module documentation](super)); the simulated field of the
-//! seed comes out *turned* against the target (the lab sink by ≈ 9°, the
-//! saddle with the sequenced limits by ≈ 13°: a shape error of 16–22 % at
-//! nearly the predicted strength). Shifting the phase of harmonic 1 of
+//! seed comes out *turned* against the target (by about ten degrees on the
+//! lab sink and the saddle with the sequenced limits: a shape error near
+//! 20 % at nearly the predicted strength; `tests/synth.rs`
+//! `seed_predicts_the_simulated_sink`). Shifting the phase of harmonic 1 of
 //! every normal-force signal (a_z, α_x, α_y) by φ turns the predicted
 //! velocity (W/g)(Q_N, P_N) clockwise by φ (Q_N + iP_N → e^{−iφ}(Q_N + iP_N))
 //! and leaves each signal's amplitude unchanged, so the peaks and the

@@ -38,8 +38,8 @@
 //! * the saved signal library of the PPOD, a 6-DOF vibrating plate driven
 //!   through a measured transfer function ([`ShakerLimits::ppod_library`]:
 //!   the desired plate accelerations of its saved cycles, repository
-//!   `benbdon/PPOD2`, folders `*/SavedSignals_Pdd`, played at 20–30 Hz and
-//!   measured on the plate within 10 % of them).
+//!   `benbdon/PPOD2`, folders `*/SavedSignals_Pdd`, played at 20–30 Hz,
+//!   the plate's accelerations within 10 % of them).
 //!
 //! | axis | default | from |
 //! |------|---------|------|

@@ -15,7 +15,7 @@
 //! translation makes (uniform or not), the slip speed, the part's
 //! velocity modulation and every model term are in it; only the
 //! nonlinearity of large tilts is not (at the margin the realised
-//! gradient is ≈ 0.83 of it, measured on the saddle).
+//! gradient falls somewhat short of it on the saddle).
 //!
 //! **The programme.** Maximise k over the tilt coefficients c subject to
 //!

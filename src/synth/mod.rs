@@ -114,45 +114,41 @@
 //! Measured by `margin_cap` (the simulator's linear response to each tilt
 //! coefficient and a linear programme for the largest strength under the
 //! peaks and the corner margin, all tilt harmonics free) on the saddle row's
-//! limits (`platefield study probes`, `results/probes.md`): the circle's cap is
-//! 0.806 s⁻¹ (closed form 0.8005) and the tilts' harmonic 2 adds nothing
-//! (< 0.1 %); with a harmonic 2 of f of the limit on x, on y or on both
-//! (every 45° of phase, harmonic 1 cut to 1 − f, each axis rescaled onto
-//! its limit) the best cap is 0.997 of the circle's at f = 0.05, 0.986 at
-//! 0.10, 0.939 at 0.20 and 0.800 at 0.35, the tilts' harmonic 2 adding at
-//! most 0.4 % (0.0018 s⁻¹); tilted ellipses (y's phase off by ±15°,
-//! ±30°) reach 0.859 and 0.701. Re-simulated at the margin on 7 × 7, the
-//! circle with the programme's tilts gives 0.671 s⁻¹ at 9.8 % and the best
-//! harmonic-2 translation 0.669 at 10.0 %. The saddle's margin cap stays
+//! limits (`platefield study probes`, `results/probes.md`): the circle's cap
+//! is the closed form's and the tilts' harmonic 2 adds nothing; a
+//! translation with a harmonic 2 of any share of the limit, on x, on y or
+//! both and at any phase, and tilted ellipses, all cap below the circle,
+//! and re-simulated at the margin the best of them is no stronger than the
+//! circle. The saddle's margin cap stays
 //! harmonic 1's for a shaker of harmonics 1 and 2
 //! (`margin_cap::tests::second_harmonic_translation_does_not_lift_the_saddle_cap`).
 //!
 //! **What the seed leaves out**, corrected by refinement: the part's own
 //! velocity modulation by N (the lead δ is for N = g), Coriolis, gravity
 //! tilt and centripetal terms, and the part's drift across the cycle.
-//! Measured (lab limits, T = 0.05 s, A = 10 m/s², α = 70 rad/s², μ = 0.3):
-//! the seed's sink field is 0.947 of the predicted 0.543 s⁻¹ and turned by
-//! 8.9° (shape error 16 %); shifting the tilt phases by those 9° brings it
-//! to 2.4 % (the lab's phases sit ≈ 26° from the naive δ = 0 ones), and
-//! refinement reaches 0.514 s⁻¹ at 2.7 % (`tests/synth.rs`). Non-affine targets (jet, off-centre circle) get
+//! Under lab limits the seed's sink field comes out slightly weaker than
+//! predicted and turned by several degrees; shifting the tilt phases by
+//! that turn brings it close to the target, and refinement keeps it there
+//! (measured: `tests/synth.rs`, `seed_predicts_the_simulated_sink`,
+//! `calibration_turns_the_seed_back`). Non-affine targets (jet, off-centre circle) get
 //! their affine part only: they need higher harmonics, rotation about z or
 //! a sequence of synthesized motions.
 //!
 //! # Refinement by re-simulation
 //!
 //! First the seed's phase is calibrated by re-simulation ([`calibrate`]):
-//! its simulated field comes out turned by 7–13° (the lead δ above is that
-//! of a part under N = g), and shifting the normal-force signals' phase by
-//! the measured turn removes it without changing any amplitude (so the
-//! peaks and the contact margin are the seed's); measured on the lab sink
-//! (`tests/synth.rs`), 16.0 % → 2.4 % shape error at 0.506 → 0.512 s⁻¹ in
-//! one step. Then `least_squares` runs Levenberg–Marquardt
+//! its simulated field comes out turned by several degrees (the lead δ
+//! above is that of a part under N = g), and shifting the normal-force
+//! signals' phase by the simulated turn removes it without changing any
+//! amplitude (so the peaks and the contact margin are the seed's), in one
+//! step on the lab sink (`tests/synth.rs`,
+//! `calibration_turns_the_seed_back`). Then `least_squares` runs Levenberg–Marquardt
 //! ([`levenberg`]) on the six signals' Fourier coefficients ([`params`])
 //! from the calibrated seed: the residuals are the coarse grid's
 //! re-simulated steady-state field against the target, the peaks and the
 //! contact margin ([`objective`]), and the Jacobian's columns are one
-//! parallel batch of re-simulations. Three steps (≈ 70 re-simulations)
-//! reach what 300 Nelder–Mead evaluations do on the lab sink
+//! parallel batch of re-simulations. A few steps reach what 300
+//! Nelder–Mead evaluations do on the lab sink
 //! (`results/design_speed.md`): the seed has already put the motion near
 //! the target, and the kinks below are smoothed by the forward-difference
 //! step (1 % of each axis limit). The alternative, kept for comparison
@@ -172,10 +168,9 @@
 //! balanced against the tilts' simulated gradient, phase-calibrated (with
 //! or without `calibrate`, which is about the seed) and
 //! line-searched in strength (`transport::scale_search`); the better of
-//! it and the calibrated seed runs first. squeeze_trans under its
-//! sequenced limits, by the judge: 0.246 s⁻¹ with one harmonic (a_z) →
-//! 0.676 at 3.7 % shape, and the played polish of
-//! `platefield::design::polish` then 0.683 at 3.7 % (`results/synthesis.md`).
+//! it and the calibrated seed runs first. On squeeze_trans under its
+//! sequenced limits it nearly triples the judged strength of the one-harmonic
+//! motion (measured: `results/synthesis.md`, its squeeze_trans rows).
 
 pub mod calibrate;
 pub mod contact;

@@ -40,26 +40,26 @@
 //! the cost's hinge 20 · max(0, e − budget) as the block, the
 //! linearisation would see no shape inside the budget: the first
 //! Gauss–Newton step goes for strength alone and leaves the budget far
-//! behind (measured with the hinge block: line_sink_30 from 0.9 % to
-//! 34.8 % on the coarse grid, rejected, and the run creeping on at
-//! λ ≈ 10²; squeeze_trans leaving it along its whole path, 4.6 % → 6.0 %,
-//! and the cost keeping a point next to the start), and just over the
+//! behind (with the hinge block, line_sink_30's first step lands far over
+//! the budget, is rejected and the run creeps on at a large damping;
+//! squeeze_trans leaves the budget along its whole path and the cost keeps
+//! a point next to the start), and just over the
 //! budget the square ½ (20 (e − budget))² is flat where the cost's hinge
 //! is steep. Always on, the block's square ½ (20 e)² makes
 //! the run a balance of shape against strength whose rate it sees at every
 //! step: Gauss–Newton rests where 400 e ∂e = (a − ŝ/s_g)/s_g ∂ŝ. The
 //! strength row asks for up to a = 4 times the strength scale, so that
-//! balance sits near the cost's budget rather than below it (a = 2:
-//! line_sink_30 played 0.498 s⁻¹ at 2.2 %, squeeze_trans 0.650 at 3.5 %;
-//! a = 4: 0.726 at 3.5 % and 0.694 at 3.5 %; a = 6 over-reaches,
-//! squeeze_trans 0.707 at 4.4 %; `design --method auto`, played check).
+//! balance sits near the cost's budget rather than below it (by the
+//! played check of `design --method auto` on line_sink_30 and
+//! squeeze_trans, a = 2 leaves strength unclaimed well inside the budget
+//! and a = 6 over-reaches).
 //! The strength scale s_g that [`crate::synth::synthesize`] gives is the
 //! realised coarse strength of the start the run begins from (the
 //! polish's s₀ is its start's played strength alike), not the seed's
-//! predicted one: squeeze_trans's transport start realises 0.60 s⁻¹
-//! against a nominal 1.0, and with s_g = 1.0 the row's slope would be 0.6
-//! of the cost's (played 0.694 at 3.48 %; with the start's, 0.710 at
-//! 2.46 %). With a = 1 the row would be zero at the seed's strength and
+//! predicted one: a start that realises less than its nominal strength,
+//! as squeeze_trans's transport start does, would otherwise give the row a
+//! smaller slope than the cost's, and the played result is then both
+//! weaker and further from the shape. With a = 1 the row would be zero at the seed's strength and
 //! pull any stronger motion back to it. Under
 //! several physics each adds its own first block.
 

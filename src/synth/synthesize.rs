@@ -34,10 +34,10 @@ const PEAK_TOL: f64 = 1e-9;
 /// phase-calibrated seed, ending when a step gains less than 1 % (the
 /// sink stops after fewer). With the strength row asking for strength up
 /// to `super::objective::STRENGTH_REACH` times the seed's, the longer
-/// run is what lifts line_sink_30 (by the judge, after the polish: 0.451
-/// s⁻¹ at 3.0 % with three steps and two of the polish, 0.693 at 4.4 %
-/// with these, the reach 4 and the always-on shape block of
-/// [`super::objective`]; `platefield study design-speed`).
+/// run is what lifts line_sink_30's judged strength by about half within
+/// its budget, with the reach 4 and the always-on shape block of
+/// [`super::objective`] (each budget's result: `platefield study
+/// design-speed`, `results/design_speed.md`).
 pub const SYNTH_LM: LmOptions = LmOptions {
     max_iterations: 6,
     lambda0: 1e-2,
@@ -101,8 +101,9 @@ pub struct SynthOptions {
     pub robust: Option<FrictionSpec>,
     /// `design` fills [`SynthOptions::robust`] from the target's friction
     /// range (default off: three times the simulations, and for most
-    /// targets no better — the whirlpool over μ ∈ [0.2, 0.4], worst played
-    /// shape 19.6 % robust against 18.0 % at μ 0.3 alone: one motion's
+    /// targets no better — on the whirlpool over μ ∈ [0.2, 0.4] its worst
+    /// played shape is no better than the motion's synthesized at μ 0.3
+    /// alone: one motion's
     /// field turns with the lead δ = asin(μg/A) whatever it is tuned for;
     /// the mirror-image time-shares of `design::mirror` cancel the turn).
     /// `auto` runs it as one more candidate when no other holds the target
@@ -113,9 +114,9 @@ pub struct SynthOptions {
     /// [`synthesize`] itself. Off by default: the polish optimises the
     /// judge, which for one steady motion is its steady-state field at the
     /// judge's points — what the synthesis already optimises on its coarse
-    /// grid — and measured on `targets/sink.json` it gained 0.04–0.10
-    /// percentage points of shape error for 2.5–4 s of CPU (the whole
-    /// design otherwise takes about 1.3 s).
+    /// grid — and on `targets/sink.json` it gains a tenth of a percentage
+    /// point of shape error or less for two to three times the CPU of the
+    /// whole design without it.
     pub polish_plays: usize,
 }
 

@@ -8,10 +8,10 @@
 //! a seed strength of 0.060 s⁻¹. A second harmonic on an in-plane axis
 //! makes the slip direction turn non-uniformly over the cycle, so ⟨ê⟩ ≠ 0
 //! and friction drifts the part uniformly — a mechanism the averaged
-//! analysis does not model. Measured (`platefield study probes`,
-//! `results/probes.md`): 10 m/s² at harmonic 2 on x beside that seed's 11.7
-//! m/s² circle drifts parts by ≈ 1.06 cm/s (17× the a_z mechanism), in a
-//! direction that turns with the harmonic's phase.
+//! analysis does not model. A harmonic 2 on x of about the seed circle's
+//! own acceleration drifts parts an order of magnitude faster than the a_z
+//! mechanism, in a direction that turns with the harmonic's phase
+//! (measured: `platefield study probes`, `results/probes.md`).
 //!
 //! [`transport_start`] scans that harmonic on each in-plane axis with room
 //! left under its limit (amplitudes `AMPLITUDES` of the room, phases in
@@ -195,8 +195,8 @@ pub(crate) const SCALES: [f64; 4] = [0.85, 0.7, 0.55, 0.4];
 /// A line search on the transport start's strength: its tilts and in-plane
 /// harmonics ≥ 2 scaled by each of [`SCALES`] (the ratchet's drift and the
 /// tilts' gradient shrink together, and the shape error the coupling of
-/// the two leaves falls with them: measured on squeeze_trans 10.8 % at
-/// full scale, 4.4 % at half); returns the best evaluation by the cost,
+/// the two leaves falls with them: on squeeze_trans, by more than half
+/// at half scale); returns the best evaluation by the cost,
 /// `start` included.
 pub(crate) fn scale_search(objective: &Objective<'_>, start: &Evaluation) -> Evaluation {
     let c = objective.motion(&start.params).0;

@@ -143,7 +143,8 @@ impl VerifyRequest {
         // targets the attractor, where the field vanishes): the
         // least-squares strength κ = ⟨R, E⟩/⟨E, E⟩ and the shape error
         // ‖R − κE‖/‖κE‖ of one vector measure its direction and noise, not
-        // a field's shape (the sink's read 317 %). 2 per side: the four
+        // a field's shape (the sink's reads several hundred per cent). 2
+        // per side: the four
         // corners, 8 components for the one fitted scale.
         if self.points < 2 {
             return Err(Error::invalid(
@@ -426,8 +427,8 @@ pub fn work_estimate(
     // step doubling (crate::play::measure::flow_mean_velocity), each field
     // evaluation one steady state per moving segment. Counted at its most
     // doublings with a typical steady state (crate::work::VELOCITY_CYCLES):
-    // smooth fields (sink: 18 s in all, against 130 s estimated) stop
-    // doubling earlier; a swirling field (the whirlpool's) needs every
+    // smooth fields (the sink's) stop doubling earlier and take several
+    // times less than estimated; a swirling field (the whirlpool's) needs every
     // doubling and its Circle steady states more cycles, so it takes
     // longer than estimated.
     let moving_segments = schedule

@@ -28,14 +28,13 @@
 //! [`SORT_HOLD_S`] beyond, so a candidate sorted within
 //! [`MIN_SORT_PLAY_S`] is seen to stay sorted for [`SORT_HOLD_S`] (a play
 //! that ends just after the time judged cannot tell a sorted swarm from
-//! one whose parts swing out of `SORT_TOL` once a period: with plays of
-//! 61 s, a candidate of `targets/sort_three.json` read 60.6 s, the time
-//! of its parts' last swing out); the synthesized candidates are played
-//! first, and once one has sorted in T the rest are played max(T,
-//! [`MIN_SORT_PLAY_S`]) + [`SORT_HOLD_S`] only (a candidate not sorted by
-//! T cannot be the faster: the primitives' fit of
-//! `targets/sort_friction.json`, which needs 553 s, is no longer played
-//! for 553 s).
+//! one whose parts swing out of `SORT_TOL` once a period: such a play
+//! reads the time of the parts' last swing out, just before its end); the
+//! synthesized candidates are played first, and once one has sorted in T
+//! the rest are played max(T, [`MIN_SORT_PLAY_S`]) + [`SORT_HOLD_S`] only
+//! (a candidate not sorted by T cannot be the faster, so a slow one, as
+//! the primitives' fit of `targets/sort_friction.json`, is not played to
+//! its own sort).
 
 use serde::Serialize;
 

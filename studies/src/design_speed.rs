@@ -1,5 +1,5 @@
 //! `platefield study design-speed`: what the design costs against what it
-//! realises (issue 27): `results/design_speed.md`.
+//! realises: `results/design_speed.md`.
 //!
 //! Every shipped target ([`TARGETS`]) is designed as `design --method auto`
 //! does (`design_by_method`, default options, the basis from the cache)
@@ -11,7 +11,7 @@
 //! wall and CPU seconds of each design go to the printed summary only (the
 //! machine is shared: CPU seconds are the steadier number).
 //!
-//! The default (issue 27) refines by least squares: up to six
+//! The default refines by least squares: up to six
 //! Levenberg–Marquardt steps on the coarse residuals
 //! (`platefield::synth::least_squares`) and four on the played ones
 //! ([`platefield::design::polish`]); the other rows take fewer steps,
@@ -79,7 +79,7 @@ const fn steps(lm: LmOptions, steps: usize) -> LmOptions {
 }
 
 /// The budgets compared: the default first, then cheaper ones, then the
-/// Nelder–Mead path of before issue 27 with its stall rules.
+/// Nelder–Mead path (`SynthOptions::lm` `None`) with its stall rules.
 pub(crate) const BUDGETS: [Budget; 5] = [
     Budget {
         label: "least squares 6+4 (default)",

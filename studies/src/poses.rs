@@ -1,4 +1,4 @@
-//! Issue 28 study: the shipped parts' equilibrium poses on the designed
+//! Study: the shipped parts' equilibrium poses on the designed
 //! elliptic sinks, `results/poses.md`.
 //!
 //! For each part in `targets/parts/` (rectangle, bracket, triangle) and each

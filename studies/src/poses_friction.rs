@@ -1,4 +1,4 @@
-//! Issue 28 and "robust, not lucky": the shipped pose designs played over
+//! "Robust, not lucky": the shipped pose designs played over
 //! ±20 % of their part's friction, `results/poses_friction.md`.
 //!
 //! Each shipped pose target (`targets/pose_{rectangle,bracket,triangle}.json`,

@@ -235,7 +235,7 @@ pub(crate) const STACKED: &str = "sequenced, stacked worst case [0.2, 0.4]";
 
 /// The label of the robust rows designed as `design --robust-synthesis`
 /// does (the synthesis and its polish optimise the worst case over the
-/// range, three frictions per evaluation: about 3× the CPU). Added for a
+/// range, three frictions per evaluation: about 3× the CPU), for a
 /// target whose default robust design misses its goal.
 pub(crate) const ROBUST_SYNTHESIS: &str = "robust synthesis";
 

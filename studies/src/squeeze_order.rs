@@ -25,8 +25,9 @@
 //!
 //! **Why the offset occurs.** At its line a LineSink's periodic orbit is
 //! not at rest at phase 0 although the plate is: the part still slides
-//! across the line with the slip u* left by the previous cycle (measured
-//! −15.9 mm/s for LineSink@90°, frozen, full model). A LineSink segment
+//! across the line with the slip u* left by the previous cycle (for
+//! LineSink@90°, frozen, full model, a backward slide of the order of a
+//! centimetre per second). A LineSink segment
 //! that follows Trans or rest starts with no normal slip, so until the
 //! orbit is reached (about a cycle) the part lacks that backward slide and
 //! is displaced by about +0.3–0.5 mm; the slip it leaves at the end of the

@@ -1,7 +1,7 @@
 //! `platefield study synthesis`: one simultaneous six-signal motion per target
 //! ([`platefield::synth::synthesize`]) against today's sequenced schedule for the
-//! same target, both *played* and judged by the same realised measure
-//! (issue 11, "What it must show"): `results/synthesis.md` and
+//! same target, both *played* and judged by the same realised measure:
+//! `results/synthesis.md` and
 //! `results/synthesis.csv`.
 //!
 //! **Rows.** `sink`, `saddle`, `whirlpool` (rotation 1.0), `squeeze_trans`
@@ -85,7 +85,7 @@ pub const DIR: &str = "results";
 /// the model check.
 pub(crate) const STRIDE: usize = 5;
 
-/// Goals of issue 11.
+/// The synthesis's goals (stated in `results/synthesis.md`).
 pub(crate) const GOAL_SHAPE: f64 = 0.05;
 /// Realised strength against the sequenced schedule's.
 pub(crate) const GOAL_RATIO: f64 = 2.0;

@@ -1,6 +1,6 @@
 //! The work of a study, stated before it runs and followed while it runs
-//! (issue 30: every command that can take more than 10 s says so first
-//! and shows progress on stderr).
+//! (every command that can take more than 10 s says so first and shows
+//! progress on stderr).
 //!
 //! A study's inputs are fixed — the shipped targets and its own settings —
 //! so its engine work is a fixed count of the steps the engine takes
@@ -28,22 +28,16 @@ use platefield::work::{with_counted_progress, Estimate, Term, PLANAR_POINT_STEP_
 /// Steps each study's command took with its defaults when its results
 /// were last regenerated (printed by [`watched`] at its end), and the
 /// point-part steps one of them costs: 1 for studies of point parts (RK4
-/// steps), [`PLANAR_POINT_STEP_COST`] for `study poses`, whose steps are
-/// mostly planar support-point steps of its pose targets' drops (5.02e9
-/// counted in 500 s of user CPU beside another study, after the bracket
-/// and the triangle became cycles of a spun sink and the ellipse, whose
-/// screen plays each candidate's cycle too; 7.55e9 since every lifted
-/// equilibrium is refined on the averaged field, the pose targets' cycles
-/// at a minute per period the most of it; `study poses-friction`,
-/// 2.43e10 counted in 2251 s, with the two targets designed for a
-/// friction range, whose middle rows reuse their own play). `study design-speed`'s count is the sum of
-/// `results/design_speed.md`'s counted column (its basis is read from a
-/// warm cache after the first design). `study robust`'s count is of the
-/// run with `auto` within the envelope over a range, and within the
-/// sequenced peaks where the envelope's candidates do not hold it (1153 s
-/// of user CPU beside other work); `study robust-family`'s likewise (6.748e9
-/// counted in 2594 s of user CPU beside other work); `study robust-knobs`,
-/// 3.445e9 counted in 2491 s of user CPU, alone.
+/// steps), [`PLANAR_POINT_STEP_COST`] for `study poses` and `study
+/// poses-friction`, whose steps are mostly planar support-point steps of
+/// their pose targets' drops (the pose targets' cycles the most of it;
+/// `study poses-friction`'s two targets designed for a friction range
+/// reuse their own play for their middle rows). `study design-speed`'s
+/// count is the sum of `results/design_speed.md`'s counted column (its
+/// basis is read from a warm cache after the first design). `study
+/// robust`'s count is of the run with `auto` within the envelope over a
+/// range, and within the sequenced peaks where the envelope's candidates
+/// do not hold it; `study robust-family`'s likewise.
 pub const EXPECTED_STEPS: &[(&str, f64, f64)] = &[
     ("reproduce", 9.75e5, 1.0),
     ("rungs", 1.64e6, 1.0),

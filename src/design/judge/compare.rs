@@ -36,8 +36,8 @@
 //! (A moving part's own start sample's local model would be extrapolated
 //! to wherever the part has gone — for a whirlpool, the centre, where a
 //! few per cent of gradient error is the whole field: a sequenced schedule
-//! realising 0.13 of a 40-point whirlpool measures 147 % shape error that
-//! way.) Gridded targets evaluate their field (`Promise::Field`).
+//! realising a fraction of a 40-point whirlpool measures a shape error over
+//! 100 % that way.) Gridded targets evaluate their field (`Promise::Field`).
 
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
@@ -470,7 +470,8 @@ mod tests {
     /// interpolant wherever the part is; the start sample's own local
     /// affine model would extrapolate its noisy gradient over the part's
     /// whole path to the centre, where the field is small (a sequenced
-    /// schedule realising 0.13 measures 147 % that way).
+    /// schedule realising a fraction of it measures a shape error over
+    /// 100 % that way).
     #[test]
     fn gathered_parts_measure_the_whirlpool_they_realise() {
         let target = Target::from_json_str(&noisy_whirlpool_json(40)).unwrap();

@@ -23,21 +23,21 @@
 //!   envelope), not the envelope itself — the envelope is the per-axis
 //!   maximum over all eight primitives, far more than any one of them uses
 //!   at once, and a motion that uses all of it at once is too strong for its
-//!   steady-state field to describe what moving parts do (measured: the
-//!   synthesized sink within the envelope predicts 2.76 s⁻¹ and realises
-//!   4.07 s⁻¹ at 14.7 % shape error). **Over a friction range** the
+//!   steady-state field to describe what moving parts do (the sink
+//!   synthesized within the envelope realises a field far from its
+//!   prediction, in strength and in shape). **Over a friction range** the
 //!   synthesis takes the envelope instead: a part slips with the lead
 //!   δ = asin(μg/A) behind the plate's in-plane acceleration amplitude A, so
 //!   a change of μ turns the field by dδ = g dμ / (A cos δ), less the
 //!   stronger the drive; the envelope's A (45.3 m/s²) against a sequenced
 //!   schedule's peaks (often 11–23 m/s²) halves or quarters the turn the
-//!   range causes, which is what a robust design has to cancel (measured
-//!   on the family's sink_4, μ 0.17–0.35: worst shape 7.6 % within the
-//!   sequenced peaks, 1.5 % within the envelope). It is not better for
-//!   every target: a motion that strong is further from what its
-//!   steady-state field describes (measured on the family's off-centre
-//!   line sink line_sink_0, μ 0.33–0.66: 14.9 % within the envelope,
-//!   2.5 % within the sequenced peaks). So when no candidate within the
+//!   range causes, which is what a robust design has to cancel (on the
+//!   family's sink_4, listed in `results/robust_family.md`, that is the
+//!   difference between missing the range and holding it). It is not
+//!   better for every target: a motion that strong is further from what
+//!   its steady-state field describes (on the family's off-centre line
+//!   sink line_sink_0 the sequenced peaks hold the range and the envelope
+//!   does not). So when no candidate within the
 //!   envelope holds the range within `RANGE_HELD`, `auto` synthesizes
 //!   again within the sequenced peaks, with the mirror-image shares
 //!   ([`Variant::SequencedPeaks`]), and the rule chooses between the two
@@ -55,16 +55,13 @@
 //!   (1 − m) g at the region's corners; the synthesis drives them to the
 //!   cap. Where N swings from 0.1 g to 1.9 g the parts' slip is far from
 //!   the uniform one the model assumes, and the field bends away from the
-//!   affine target by more than any friction turn: the family's
-//!   whirlpool_2 (μ 0.22–0.43), its counter-rotating share at margins
-//!   0.1, 0.3, 0.5, 0.55, 0.7: worst shape 6.22, 4.03, 2.99, 2.57,
-//!   3.25 % at weakest strength 1.43, 1.16, 0.86, 0.78, 0.52 s⁻¹ (the
-//!   share turns by 0.5 percentage points over the range at each: the
-//!   swing, not the friction, bounds it). Halfway halves the strength
-//!   (the margin's cap is proportional to 1 − m: seed 2.518, 1.959,
-//!   1.399, 0.839 s⁻¹ at 0.1, 0.3, 0.5, 0.7) and about halves the part of
-//!   the error the swing makes; beyond it the rest (≈ 2–3 % there)
-//!   remains and only strength is lost. It is made only when the first
+//!   affine target by more than any friction turn (on the family's
+//!   whirlpool_2 the worst shape over the range falls as the margin rises
+//!   toward halfway, while it barely changes with friction at any one
+//!   margin: the swing, not the friction, bounds it). Halfway halves the
+//!   strength (the margin's cap is proportional to 1 − m) and about halves
+//!   the part of the error the swing makes; beyond it the rest remains and
+//!   only strength is lost. It is made only when the first
 //!   synthesis swings N past the raised margin (else the same limits bind
 //!   the same motion). If none holds it still, one more motion is
 //!   synthesized for the worst case ([`Variant::WorstCase`]). When the

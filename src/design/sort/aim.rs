@@ -21,7 +21,7 @@ pub(super) const AIM_SPREAD: f64 = 3e-3;
 /// a few mm/s they cross a few centimetres, and the drift is a mean.
 pub const LANE_PLAY_S: f64 = 10.0;
 /// Time (s) every refit of an aimed candidate is played by the design's
-/// swarms to rank it (`played_sort`): the goals (lanes out by
+/// swarms to rank it (`played_sort`): the sort's goals (lanes out by
 /// 20 s, two sinks by 30 s) and 10 s more to see the classes stay sorted,
 /// shorter than the candidates' final plays (at least 90 s,
 /// `crate::verify::sort_play::MIN_SORT_PLAY_S` and `SORT_HOLD_S`).
@@ -240,7 +240,7 @@ fn played_sort(target: &Target, d: &SortDesign) -> Result<(f64, f64)> {
 
 /// `d` with its schedule cut into the sub-periods its parts' excursion
 /// asks for when `target` has lanes (parent module docs,
-/// **Interleaving**: measured on sinks, the cut loses the sorts).
+/// **Interleaving**: on sinks, the cut loses the sorts).
 fn cut(target: &Target, mut d: SortDesign) -> Result<SortDesign> {
     if target.classes.iter().all(|c| c.exit.is_none()) {
         return Ok(d);
@@ -278,9 +278,9 @@ fn lane_extent(target: &Target, edge: Edge) -> (f64, f64) {
 /// not point out through the edge). Returns (that time (s), the side
 /// share).
 ///
-/// Measured on `results/sort_lanes/` before steering: the μ 0.2 drift
-/// (−2.45, +0.14) mm/s over L = 6 cm, W = 2 cm predicts 8.6 % through the
-/// sides, against 6.7 % of its 45-part swarm through the top.
+/// On `results/sort_lanes/`, before steering, the μ 0.2 drift's side
+/// share predicts the share of its swarm that leaves through the side
+/// edge to within a few parts of the swarm.
 pub(crate) fn lane_outlook(target: &Target, edge: Edge, v: [f64; 2]) -> (f64, f64) {
     let (length, width) = lane_extent(target, edge);
     let n = edge.outward();

@@ -22,11 +22,9 @@ pub const CYCLE_SWEEPS: usize = 4;
 /// The cycle aim's starts: the candidate's period scaled by each (every
 /// segment's cycles between its ramps scaled and rounded). A part swings
 /// along its orbit by what each segment carries it, so a shorter period
-/// swings less: measured on `targets/sort_three.json`, the shape ≤ 20 %
-/// candidate's μ 0.15 orbit spans 11.7 mm along x between its segment
-/// ends (period 1.59 s), more than the 10 mm a class may span within 5 mm
-/// of its sink however it is centred, and 5.7 mm at half the period
-/// (0.99 s, 21, 6, 5 and 1 cycles).
+/// swings less: on `targets/sort_three.json` an orbit can span more than
+/// the 10 mm a class may span within 5 mm of its sink however it is
+/// centred, and about half that at half the period.
 pub const CYCLE_PERIOD_SCALES: [f64; 2] = [1.0, 0.5];
 
 /// A schedule aimed by its cycles is offered only when its settled
@@ -44,9 +42,9 @@ pub const CYCLE_REACH_OK: f64 = 0.5 * CYCLE_REACH_MAX;
 /// attractor, the largest distance (m) from it, at the segment ends of
 /// the last period, of a part started at it and played [`AIM_PLAY_S`]
 /// (whole periods, at least two) at the class's friction (every part of
-/// a class settles on one orbit: measured on `targets/sort_three.json`,
-/// parts started at and 3 mm around each sink end within 0.1 mm of one
-/// another); infinite when the part loses contact. `None` for a class
+/// a class settles on one orbit: on `targets/sort_three.json` parts
+/// started at and around each sink end on it, far within the reach
+/// asked for); infinite when the part loses contact. `None` for a class
 /// without an attractor.
 ///
 /// # Errors

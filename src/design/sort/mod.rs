@@ -9,16 +9,16 @@
 //! *in-plane* motion (N = g exactly) whose plate acceleration stays below
 //! μ_s g everywhere, a part placed at rest never slips: its field is
 //! zero, while a part of lower friction slips and is carried (simulated
-//! from rest, the held part creeps near the threshold: below 0.01 mm/s at
-//! 0.75 of it, 0.3 mm/s at 0.9).
+//! from rest, the held part only creeps, and less the further below the
+//! threshold the plate stays).
 //! So besides the paper's primitives the basis holds **gentle copies** of
 //! the in-plane translation (Trans) at [`GENTLE_FRACTIONS`] of the
 //! stickier class's threshold: peak plate acceleration 1.5 d₀ω² (the
 //! asymmetric waveform's peak) = f · μ_s,low g of the stickier class, where
 //! μ_s,low is the low end of its static range. They move only the parts of
-//! lower friction (measured: 1.9–2.7 mm/s for μ 0.2 against below
-//! 0.01 and 0.3 mm/s for μ 0.45 at ω = 209 rad/s), and the fit uses them to push those parts
-//! away from where the strong primitives gather the others.
+//! lower friction (the stickier class only creeps under them, an order of
+//! magnitude slower or more), and the fit uses them to push those parts away from
+//! where the strong primitives gather the others.
 //!
 //! **Fit.** Every class's basis is simulated at the class's nominal
 //! friction; the columns present in every class are stacked into one
@@ -41,10 +41,8 @@
 //! a uniformly turning slip direction, every signal's (P, Q) pair turns by
 //! the same lead, so the whole affine field turns about its fixed point:
 //! one harmonic-1 motion gives every class the *same* attractor, turned
-//! and rescaled (measured on `targets/sort_friction.json`: the motion
-//! synthesized for the μ 0.45 sink at (+2 cm, 0), at full strength
-//! 0.51 s⁻¹, realises 0.51 s⁻¹ at μ 0.2 toward the same sink, turned by
-//! 5°: with A ≈ 45 m/s² both leads are a few degrees). (ii) A motion whose
+//! and rescaled (with A of tens of m/s² against μg of a few, both leads
+//! asin(μg/A) are a few degrees). (ii) A motion whose
 //! in-plane peak stays below the stickier class's μ_s N never moves it,
 //! while it carries the slippery class. So the candidate offers the
 //! stacked fit, besides the primitives and the gentle Trans copies, a
@@ -65,9 +63,9 @@
 //! field; the parts follow the schedule segment by segment, and where they
 //! settle (the fixed point of one schedule period) is off that average's
 //! attractor by several millimetres when strong segments carry them
-//! centimetres per segment and cancel on average (measured on
-//! `targets/sort_friction.json`, budgets 10-30 %: the μ 0.2 swarm's median
-//! end 9-22 mm from its sink). So a synthesized candidate is aimed: five
+//! centimetres per segment and cancel on average (the unaimed candidates
+//! of `targets/sort_friction.json` leave a swarm's median end that far
+//! from its sink). So a synthesized candidate is aimed: five
 //! parts started at and around each class's attractor are played
 //! [`AIM_PLAY_S`], the offset e from the attractor of their orbits' mean
 //! centre over the last period (time-averaged between segment ends; for a
@@ -77,9 +75,9 @@
 //!
 //! **Cycle aim** (sinks). Moving a class's target and refitting picks
 //! other columns and lengths, and the settled offset jumps between steps
-//! (measured on `targets/sort_three.json`: the μ 0.15 offset along x
-//! −9.0, +11.1, −8.9, +1.3 mm over the aim's steps), so the aim above
-//! cannot bring an orbit that swings out of 5 mm within it. Once aimed,
+//! (by about a centimetre, either way, on `targets/sort_three.json`), so
+//! the aim above cannot bring an orbit that swings out of 5 mm within it.
+//! Once aimed,
 //! a candidate whose parts' settled orbits reach farther than
 //! [`CYCLE_REACH_OK`] from their attractor at a segment end
 //! ([`settled_reach`]: five parts per class started at and around it,
@@ -91,19 +89,17 @@
 //! aimed is offered beside the candidate it came from (labelled `cycles
 //! aimed`, its fit's time fractions and predicted fields those of the fit),
 //! and the plays keep whichever sorts soonest: a candidate already sorted
-//! stays what it was. Measured on `targets/sort_three.json`
-//! (`--min-cycles 1`): four of its six synthesized candidates are so
-//! aimed, each from half its cycles between ramps (periods 0.59-0.63 of
-//! theirs, the ramps kept), and sort in 18.3, 19.5, 19.6 and
-//! 73.0 s, where the candidates they came from sort in 90.3 s (the play's
-//! end) or not within their plays (`results/sort_three/`).
+//! stays what it was. On `targets/sort_three.json` the cycle-aimed
+//! candidates sort within their plays where most of the candidates they
+//! came from do not (measured: `results/sort_three/report.md`, its
+//! candidates' table).
 //!
 //! **Interleaving.** A part swings within a schedule period: each
 //! segment carries it its own way for the segment's duration, so the
-//! swing grows with the segments' durations (measured on
-//! `targets/sort_three.json`: orbits swinging 4.6-6.1 mm from the sink
-//! with period 1.32 s; on lanes, periods of 4-18 s carried parts through
-//! the wrong edge). Every synthesized candidate's schedule, once fitted,
+//! swing grows with the segments' durations (on sinks, periods over a
+//! second already swing a part by about the 5 mm a class may span; on
+//! lanes, periods of several seconds carry parts through the wrong edge).
+//! Every synthesized candidate's schedule, once fitted,
 //! is therefore cut into k interleaved sub-periods
 //! ([`interleaved`]: the same segments, each cut into k pieces of nearly
 //! equal cycles, played in turn, so every segment keeps its time
@@ -117,13 +113,11 @@
 //! cycles' worth of field it plays); each piece more adds R cycles to
 //! the period (its two ramps play about R cycles' worth of its field, so
 //! the proportions hold). The aim then plays the cut schedule. Only a
-//! target with lanes is cut: measured on `targets/sort_three.json`, the
-//! cut candidates (periods 6-38 s) bring 0 % of a class to its sink,
-//! against 100 % at the periods' ends uncut, and on
-//! `targets/sort_friction.json` the kept schedule is not cut (its swing
-//! is below 2.5 mm) while every other candidate, cut, ends with a class
-//! 0 % at its sink: more joins, more of their transients, change what
-//! each class's parts do.
+//! target with lanes is cut: on the shipped sorts to sinks
+//! (`targets/sort_three.json`, `targets/sort_friction.json`) the cut
+//! candidates bring none of some class to its sink where the uncut ones
+//! sort: more joins, more of their transients, change what each class's
+//! parts do.
 //!
 //! **Lanes.** A class may instead ask to leave the region through one of
 //! its edges (`"exit"`, [`crate::request::Edge`]), its field a uniform
@@ -137,12 +131,12 @@
 //! ([`LANE_KEEP`]): a drift t = v_across/v_along off the lane then
 //! settles parts at y* = t/κ from the axis instead of carrying them out
 //! through a side edge (unkept, the share through the sides is L t / (2W)
-//! over a region of length L and width W: on `targets/sort_lanes.json`,
-//! 3.3° off, 8.6 % predicted, 6.7 % of the μ 0.2 swarm measured). (ii)
+//! over a region of length L and width W, which the μ 0.2 swarm of
+//! `targets/sort_lanes.json` follows unkept). (ii)
 //! **Steering**: the fit's whole-cycle fields are not what moving parts
 //! do (the segments' joins and the parts' motion within a cycle; on
-//! `targets/sort_lanes.json` the μ 0.2 drift played −2.45 mm/s where the
-//! fit predicted −1.9 and the frozen judge +1.8), so each lane's
+//! `targets/sort_lanes.json` the played drift across a lane can even have
+//! the other sign than the frozen judge's), so each lane's
 //! target is multiplied by a complex factor (turned and scaled), the
 //! ratio of the drift asked for (L along the lane: every lane crossed in
 //! the same time) to the drift five parts are played to have, and
@@ -159,10 +153,9 @@
 //! at *every* friction the mirror image of the motion's field; the slip
 //! lead turns a motion's field by a different angle for each class, and
 //! the fit can now cancel, class by class, the part of those turns that
-//! the reflection reverses (on `targets/sort_lanes.json` the μ 0.45
-//! motion alone carries μ 0.45 at (6.4, 1.1) mm/s and μ 0.2 at
-//! (2.1, −1.5) mm/s, off their lanes in opposite senses; its mirror image
-//! at (6.4, −1.1) and (2.1, +1.5) mm/s).
+//! the reflection reverses (a motion that carries two classes off their
+//! lanes in opposite senses has a mirror image that carries them off in
+//! the senses reversed).
 //!
 //! **Judged by playing**: for lanes, every refit of the aim is ranked by
 //! the swarms themselves, every class played [`AIM_SWARM_S`] as the design plays it
@@ -173,13 +166,11 @@
 //! candidate's swarms are then played (`verify::sort_play`); the sort
 //! that brings 95 % of every class to its own attractor soonest is kept.
 //!
-//! The mirror images and the played rank are for lanes only: measured on
-//! `targets/sort_friction.json` (`--min-cycles 1`) with both, none of the
-//! 23 refits of its six synthesized candidates was sorted before the end
-//! of its 40 s play (two read 40.8 and 41.2 s, the play's end), and the kept sort took 91.3 s, against 27.4 s
-//! without them; so sinks keep their
-//! synthesized motions without mirror images and the aim ranked by the
-//! settled offsets.
+//! The mirror images and the played rank are for lanes only: on
+//! `targets/sort_friction.json` with both, no refit sorted within its
+//! aim's play and the kept sort was several times slower than without
+//! them; so sinks keep their synthesized motions without mirror images
+//! and the aim ranked by the settled offsets.
 
 mod aim;
 mod cycles;
@@ -229,12 +220,11 @@ pub const GENTLE_SYNTH_MARGIN: f64 = 0.85;
 /// Shape budgets of the synthesized candidates fitted strongest within a
 /// budget (`crate::fit::FitMode::Budget`) besides the shape-first one. A
 /// sort needs each class's attractor where it is asked and speed, not the
-/// field's shape everywhere: measured on `targets/sort_friction.json`
-/// (`--min-cycles 1`, 60 s of play, before aiming), shape first predicts
-/// 0.047 s⁻¹ per class and leaves both swarms 9-17 mm off their sinks, a
-/// budget of 15 % 0.17 and 0.15 s⁻¹, a budget of 30 % 0.23 s⁻¹. Which
-/// budget, aimed, puts both classes on their own attractors is found by
-/// playing them all (`results/sort_friction/`: 25 %).
+/// field's shape everywhere: on `targets/sort_friction.json` the
+/// shape-first fit is several times weaker per class than a budget of
+/// 15–30 % and leaves both swarms off their sinks. Which budget, aimed,
+/// puts both classes on their own attractors is found by playing them all
+/// (the kept one: `results/sort_friction/report.md`).
 pub const SORT_BUDGETS: [f64; 5] = [0.1, 0.15, 0.2, 0.25, 0.3];
 
 /// Scales tried for each class's target after the first.
@@ -415,13 +405,12 @@ pub fn design_sort_primitives(target: &Target, opts: &DesignOptions) -> Result<S
 /// when it states no linear limits, the default envelope with the vertical
 /// limit of the paper's primitives
 /// ([`ShakerLimits::paper_envelope`], 0.109 m/s²), not the plate's 7 m/s².
-/// Measured on `targets/sort_friction.json`: within 7 m/s² each class's own
-/// motion, synthesized at its friction alone, reaches 1.8–2.5 s⁻¹ by
-/// driving the normal force to the contact margin; played as the sort's
-/// short segments, every class sees those swings and parts lose contact
-/// (17 and 60 of 90 in two candidates), and no synthesized candidate sorts
-/// within its play (the primitives alone, 552.9 s), against 27.4 s with
-/// the primitives' vertical. A target that states `shaker.linear` is
+/// On `targets/sort_friction.json`, within 7 m/s² each class's own
+/// motion, synthesized at its friction alone, is strong by driving the
+/// normal force to the contact margin; played as the sort's short
+/// segments, every class sees those swings, parts lose contact and no
+/// synthesized candidate sorts within its play, while within the
+/// primitives' vertical one does. A target that states `shaker.linear` is
 /// synthesized within it as stated.
 fn sort_limits(target: &Target) -> ShakerLimits {
     let mut limits = ShakerLimits::from_spec(target.shaker.as_ref());

@@ -28,16 +28,17 @@
 //! averaging over the cycle and summing over the support do not commute.
 //! The lifted field averages first (each support point's own mean
 //! velocity V(p_j)) and then fits a rigid twist; that gets the
-//! translation right (0.6 % RMS against the moving part, `tests/poses.rs`)
-//! but not the spin, which comes from the small differences between the
-//! points' drifts riding on a large shared slip. The spin then depends on
-//! how friction damps a drift across that slip, which V(p) does not
-//! record: the lifted field's spin is 1.3–3 times the simulated rate on
-//! the LineSink (RMS error 129 %); a point-by-point Coulomb law on the
-//! shared slip gives about half of it (the part's rocking spin, which the
-//! shared slip leaves out, softens the damping across it). The averaged
-//! field sums first, as the part does: spin within 0.3 % RMS, translation
-//! 0.6 %. The lifted field is the fast map the equilibrium search and the
+//! translation right against the moving part but not the spin, which
+//! comes from the small differences between the points' drifts riding on
+//! a large shared slip. The spin then depends on how friction damps a
+//! drift across that slip, which V(p) does not record: the lifted field's
+//! spin is a few times the simulated rate on the LineSink; a
+//! point-by-point Coulomb law on the shared slip gives about half of it
+//! (the part's rocking spin, which the shared slip leaves out, softens the
+//! damping across it). The averaged field sums first, as the part does,
+//! and agrees closely in spin and translation (measured:
+//! `tests/poses.rs` `lifted_field_against_simulation`). The lifted field is the fast map the
+//! equilibrium search and the
 //! drops integrate ([`super::equilibria`]); the averaged field checks it
 //! ([`LiftCheck`]) and moves its equilibria onto the part's own
 //! ([`super::rests`]), at the cost of a few periods of the planar part
@@ -436,8 +437,7 @@ mod tests {
 
     /// A point part's averaged twist is the point-part velocity field,
     /// computed by the event-exact point engine (an independent
-    /// integrator): within 0.1 % of the field's largest speed (measured
-    /// 0.02 %).
+    /// integrator): within 0.1 % of the field's largest speed.
     #[test]
     fn a_point_part_drifts_at_the_point_field() {
         let motion = Primitive::new(PrimitiveKind::LineSink).motion();
@@ -501,7 +501,7 @@ mod tests {
     /// schedule of one segment of five cycles is the motion itself (the
     /// join of a motion to itself adds no slip): the same twist within the
     /// averaging's precision. (With the part moving the two differ by its
-    /// drift over the longer period: 3.6 % in v here.)
+    /// drift over the longer period, by a few per cent in v here.)
     #[test]
     fn five_cycles_per_period_are_the_motion() {
         let motion = Primitive::new(PrimitiveKind::LineSink).motion();
@@ -529,8 +529,7 @@ mod tests {
         );
     }
 
-    /// 64 steps per cycle against 512: the twist within 0.3 % of its size
-    /// (measured 0.01 % in v, 0.12 % in ω).
+    /// 64 steps per cycle against 512: the twist within 0.3 % of its size.
     #[test]
     fn sixty_four_steps_per_cycle_converge() {
         let motion = Primitive::new(PrimitiveKind::LineSink).motion();

@@ -95,8 +95,8 @@ pub const MAX_STEPS: usize = 400;
 const SVD_ITERATIONS: usize = 200;
 
 /// Most corrector iterations per tracing step: Newton converges
-/// quadratically on a smooth field, and linearly (measured: a factor
-/// 0.3–0.7 an iteration) where a grid field's kinks spoil the
+/// quadratically on a smooth field, and only linearly where a grid
+/// field's kinks spoil the
 /// finite-difference Jacobian.
 const CORRECTOR: usize = 40;
 

@@ -55,13 +55,11 @@ pub const DROP_REFINE_DEPTH: u32 = 3;
 
 impl DropPlay {
     /// `duration_s` of play with the schedule's settings, 64 steps per
-    /// cycle, [`DROP_REFINE_DEPTH`] and [`DROP_SAMPLES`]. Measured on the
-    /// 2 × 0.5 cm rectangle dropped on the designed ellipse for 20 s
-    /// (`tests/poses.rs` `drop_speed_report`): 0.4 s CPU per drop (about
-    /// 125 steps per cycle, 4 Newton iterations per step), so 100 drops
-    /// in about 20 s on 2 cores; its end pose within 0.02 mm and 0.2° of
-    /// 256 steps per cycle (depth 10) and of 256 support points
-    /// (`drop_defaults_are_converged` checks it).
+    /// cycle, [`DROP_REFINE_DEPTH`] and [`DROP_SAMPLES`]: a drop's end
+    /// pose is then within a fraction of the pose tolerance of finer steps,
+    /// deeper refinement and more support points
+    /// (`tests/poses.rs` `drop_defaults_are_converged` checks it; its
+    /// cost: `docs/parts.md`, **Played drops: speed and order**).
     ///
     /// ```
     /// use platefield::pose::{DropPlay, DROP_SAMPLES};

@@ -24,17 +24,18 @@
 //! part sticks (the field's stick region) the prediction is the mean of
 //! the points' (zero) velocities, exact too.
 //!
-//! **Measured against the planar simulation** (`tests/poses.rs`, LineSink
-//! primitive, 2 × 0.5 cm rectangle, 20 poses): translation within 0.6 %
-//! RMS. The spin has the right sign everywhere but is 1.3–3 times the
-//! simulated rate (RMS error 129 %): the cycle-averaged Coulomb friction
+//! **Against the planar simulation** (LineSink primitive, 2 × 0.5 cm
+//! rectangle, 20 poses; measured: `tests/poses.rs` `lifted_field_against_simulation`): the
+//! translation
+//! agrees closely. The spin has the right sign everywhere but is a few
+//! times the simulated rate: the cycle-averaged Coulomb friction
 //! of a slip oscillating along one direction damps a drift across it more
 //! than along it, and by how much V(p) does not record
 //! ([`crate::pose::AveragedField`], which sums the friction over the support
-//! before averaging over the cycle, agrees within 0.3 %).
+//! before averaging over the cycle, agrees closely in both).
 //! [`LiftedField::with_damping`] takes that anisotropy as a fitted tensor
-//! B (B = diag(1, 4) there: 7.6 % RMS). Where every V(p_j) is parallel to
-//! one direction B leaves the equilibria unchanged.
+//! B, which brings the spin within several per cent. Where every V(p_j) is
+//! parallel to one direction B leaves the equilibria unchanged.
 
 use nalgebra::{Matrix2, Matrix3, Vector3};
 

@@ -64,11 +64,9 @@ pub fn drops_estimate(part: &Part, sm: &ScheduleMotion, drops: usize, play: &Dro
 }
 
 /// Cost of one lifted-twist evaluation per support point, in point-part
-/// steps ([`crate::work`]'s unit): measured on an idle 2-core machine
-/// with the 3 × 1 cm rectangle (252 support points), 0.06 µs on a
-/// designed schedule's grid field, 0.05 µs on a target's sum of two line
-/// sinks and 0.012 µs on a target's round sink; a slightly pessimistic
-/// 0.08.
+/// steps ([`crate::work`]'s unit): a slightly pessimistic rate, above the
+/// measured ones (`docs/commands.md`, **The rates behind the
+/// estimates**).
 const LIFTED_POINT_COST: f64 = 0.08;
 
 /// Newton iterations the estimate counts per start of the rest search
@@ -152,12 +150,13 @@ pub(crate) fn bounds_term(part: &Part) -> Term {
         .times(LIFTED_POINT_COST, "point steps per evaluation")
 }
 
-/// Expected schedule periods of one averaged twist from rest (measured: 3
-/// on the designed ellipse, 4 on a pose design's cycle).
+/// Expected schedule periods of one averaged twist from rest (this and
+/// the next two: set from the measured counts, `docs/commands.md`,
+/// **The rates behind the estimates**).
 const PERIODS_FROM_REST: f64 = 4.0;
-/// Expected periods of one warm-started averaged twist (measured: 2–3).
+/// Expected periods of one warm-started averaged twist.
 const PERIODS_WARM: f64 = 2.5;
-/// Expected Newton steps per refined equilibrium (measured: 3–12).
+/// Expected Newton steps per refined equilibrium.
 const NEWTON_STEPS: f64 = 6.0;
 
 /// The work of the `poses` averaged-field check ([`crate::pose::LiftCheck`] at

@@ -19,29 +19,24 @@
 //!
 //! **Why spread starts.** The drops a design is judged by start anywhere
 //! in the region, and where they rest can depend on where they come
-//! from: on the triangle's spin of 4800 rad/s² (translation × 0.155),
-//! probes started within 3 mm and 30° of the asked pose rested on it
-//! after 20 s, while every one of 12 drops from spread starts rested
-//! 8.3° off it (the same pose 20 s before the end of 120 s), so none of
-//! 100 drops was within 3°. Probes from spread starts measure the rest
-//! the drops reach.
+//! from: on the triangle's strongest spin, probes started near the asked
+//! pose rest on it while drops from spread starts rest several degrees
+//! off it, outside the tolerance (measured: `docs/parts.md`, **Measurements behind the pose
+//! design's choices**). Probes from
+//! spread starts measure the rest the drops reach.
 //!
 //! **Over a friction range.** When the pose target states a friction range,
 //! the probes play at its two ends and the round's end is the midpoint
 //! of the two groups' ends: the placement puts the middle of the played
 //! rest poses over the range on the asked pose, not the nominal μ's rest.
 //! A rest pose that turns with μ by less than twice the tolerance over
-//! the range then stays within it at both ends. Measured on the bracket
-//! (spin route, μ 0.3 ± 20 %): placed at μ 0.3 its drops rest
-//! −4.83° / −0.34° / +0.89° off at μ 0.24 / 0.30 / 0.36, the rest turning
-//! fastest at the low end, so 0 % are within 3° at 0.24. Centred on the
-//! same spin (1200 rad/s² × 0.4) for `"friction": [0.24, 0.36]` the median
-//! rest is −3.01° / +1.47° / +2.70° off: its rest turns 5.7° over the
-//! range, all but the 6° the tolerance spans, so μ 0.24 stays at 0 %.
-//! Hence the spin screen over the range ([`super::screen`]) keeps the spin
-//! that turns least, 900 × 0.25 (3.9°): centred, its drops rest
-//! +1.95° / +0.59° / −1.93° off, **100 / 100 / 100 %** within 1 mm and 3°
-//! (`targets/pose_bracket_range.json`, 404 s CPU).
+//! the range then stays within it at both ends. On the bracket placed at
+//! the nominal μ, the low end falls outside the tolerance; centred over the
+//! range on a spin whose rest turns nearly the tolerance's span, it still
+//! does; so the spin screen over the range ([`super::screen`]) keeps the
+//! spin that turns least, which centred holds every drop within the
+//! tolerance at both ends and the middle (`targets/pose_bracket_range.json`;
+//! measured: `docs/parts.md`, **Measurements behind the pose design's choices**).
 //!
 //! **Turning rate.** Each probe's angle error against its end, recorded
 //! every schedule period, decays as e^{−kt} near the pose; k is fitted by
@@ -62,8 +57,8 @@ use crate::schedule::Schedule;
 /// Probe drops per round.
 pub const PROBES: usize = 4;
 /// Seconds each probe plays: as long as the screen's, time for a part
-/// dropped at the region's edge to come to rest (the bracket's median
-/// settle is 25 s).
+/// dropped at the region's edge to come to rest (the shipped designs'
+/// median settle times: `results/poses_friction.md`).
 pub const PROBE_S: f64 = super::screen::PROBE_S;
 /// The correction's starts among the screen's 4 × 4 grid
 /// ([`super::screen::probe_starts`], row-major): one in each row and
@@ -77,9 +72,9 @@ pub const DONE_MM: f64 = 0.05;
 pub const DONE_DEG: f64 = 0.2;
 /// Probe ends within this (mm, degrees) of one another rest at one pose:
 /// wider than the tolerance, as probes of [`PROBE_S`] may not have
-/// settled. Measured without it: the triangle's probes on a strong spin
-/// ended about 102° either side of the asked angle, and their mean sat on
-/// it (`docs/parts.md`).
+/// settled. Without it, the triangle's probes on a strong spin end far on
+/// either side of the asked angle while their mean sits on it
+/// (`docs/parts.md`).
 pub const SAME_REST: [f64; 2] = [5.0, 15.0];
 /// The angle errors (degrees) a turning rate is fitted over.
 pub const RATE_BAND_DEG: [f64; 2] = [0.3, 20.0];

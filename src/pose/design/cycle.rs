@@ -2,13 +2,12 @@
 //!
 //! **Why.** A spun sink ([`super::spin`]) puts most drops of a part
 //! without a 180° symmetry at one pose, but not all, and its pose moves
-//! with friction: the triangle's strongest spin (4800 rad/s² × 0.15) put
-//! 97 % of 64 drops at one pose and 3 % at a second 139° away, and its
-//! rest turned 17.6° over μ 0.24–0.36 (0 % within 3° at either end;
-//! `docs/parts.md`). The elliptic sink ([`super::search::Family::Ellipse`])
+//! with friction: the triangle's strongest spin leaves a few per cent of
+//! the drops at a second pose, and its rest turns with μ ± 20 % by far more
+//! than the tolerance (`docs/parts.md`, **The spin selects, the ellipse
+//! sets**). The elliptic sink ([`super::search::Family::Ellipse`])
 //! gives every such part two stable poses 180° apart, fixed by its second
-//! moments and hardly moving with μ (the triangle's ±1.25° over the same
-//! range), each holding about half the drops.
+//! moments and hardly moving with μ, each holding about half the drops.
 //!
 //! **How.** The two are played in turn, repeated: [`SPIN_S`] of the spun
 //! sink, then [`ELLIPSE_S`] of the elliptic sink placed (turned about the
@@ -23,15 +22,12 @@
 //! placement and the correction move both stages together, and its
 //! probes and drops play at least [`SETTLE_PERIODS`] of its periods.
 //!
-//! **Measured** (`explore_cycle` in `tests/pose_rotation.rs`, 64 drops
-//! from over the region, 200 s, clusters within 1 mm and 3°): the
-//! triangle's cycle 40 s + 20 s put **100 % at one pose at μ 0.24, 0.30
-//! and 0.36**, that pose moving 2.5° over the range (the spin alone: 27 %,
-//! 97 % and 48 % at its largest rest); 40 s + 10 s did the same, 20 s +
-//! 20 s lost the selection at μ 0.36 (52 / 48 %), 10 s + 10 s at μ 0.30
-//! (the spin stage too short to turn a part out of the wrong half).
-//! The bracket's (1200 rad/s² × 0.4): 100 % at each μ, the pose moving
-//! 1.5° (the spin alone: 5.7°).
+//! The cycle puts all of the triangle's and the bracket's drops at one
+//! pose over μ ± 20 %, where the triangle's spin alone does not, and its
+//! pose turns less with friction than the spin's; a spin stage too short to turn a
+//! part out of the ellipse's wrong half loses the selection (`explore_cycle`
+//! in `tests/pose_rotation.rs`; measured: `docs/parts.md`, **Measurements behind the pose
+//! design's choices**).
 
 use super::placement::{centred_pose, Placement};
 use super::PoseTarget;
@@ -47,9 +43,10 @@ pub const ELLIPSE_S: f64 = 20.0;
 /// Seconds of each stage's ramp in and out (whole cycles, at least one).
 pub const RAMP_S: f64 = 0.5;
 /// Periods of a schedule a probe or drop plays at least: one spin stage
-/// does not always take a part out of the ellipse's wrong half (the
-/// triangle's cycle after one period: 58 / 94 / 53 % at one pose at
-/// μ 0.24 / 0.30 / 0.36; after two, 100 % at each: `explore_cycle`).
+/// does not always take a part out of the ellipse's wrong half (after one
+/// period of the triangle's cycle many drops are elsewhere, after two none
+/// are: `explore_cycle`; measured: `docs/parts.md`, **Measurements behind
+/// the pose design's choices**).
 pub const SETTLE_PERIODS: f64 = 2.0;
 
 /// How long a probe or drop plays on a cycle of the stages above: its

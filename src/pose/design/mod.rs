@@ -123,8 +123,8 @@ pub struct PoseDesign {
 /// # Ok::<(), platefield::Error>(())
 /// ```
 pub fn design_pose(req: &PoseTarget, opts: &DesignOptions, drops: usize) -> Result<PoseDesign> {
-    // A pose design takes minutes (a synthesis alone is half a minute of
-    // CPU): its work is stated first, under --quiet too.
+    // A pose design takes minutes (a synthesis alone is a large share of
+    // it): its work is stated first, under --quiet too.
     crate::progress::say(&announce(req, drops));
     let grid = req.target.grid.unwrap_or(crate::field::Grid::DEFAULT);
     let Centred {

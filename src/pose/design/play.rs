@@ -5,10 +5,11 @@
 //! λ its slowest rate (the Jacobian eigenvalue of largest real part): a
 //! drop starting a region's half-width (4 cm) away comes within 0.4 mm,
 //! a hundredth, after ln(100)/|λ|. A played part may turn slower than the
-//! isotropic lifted field predicts ([`crate::pose::LiftedField`]: 2–3
-//! times on a line sink, about 5 times on a time-shared elliptic
-//! schedule; on the one synthesized motion of a pose design the rectangle
-//! turned faster, 1.7 against 1.28 1/s, `results/poses.md`), so each drop
+//! isotropic lifted field predicts ([`crate::pose::LiftedField`]: several
+//! times slower on a line sink and on a time-shared elliptic schedule; on
+//! the one synthesized motion of a pose design the rectangle turns faster,
+//! `results/poses.md`; measured: `docs/parts.md`, **Measurements behind the pose design's
+//! choices**), so each drop
 //! plays [`SPIN_SLOWER`] times that long, at least [`MIN_PLAY_S`] and at
 //! most [`MAX_PLAY_S`] (whole schedule periods).
 //!

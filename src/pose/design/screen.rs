@@ -2,10 +2,10 @@
 //! centred spun motion, their ends clustered.
 //!
 //! **Why.** The lifted field of a spun sink ([`super::spin`]) is rough:
-//! on the bracket's spin of 1200 rad/s² at −0.8 rad it gives one
-//! stable pose, yet 26 of 100 played drops come to rest at a second pose
-//! 130° from the asked one (at rest there: the same pose 20 s before the
-//! end, `docs/parts.md`). A second played attractor is a property of the
+//! on one of the bracket's spins it gives one stable pose, yet about a
+//! quarter of the played drops come to rest at a second pose far from the
+//! asked one (measured: `docs/parts.md`, **Measurements behind the pose design's choices**). A
+//! second played attractor is a property of the
 //! motion, not of its placement (a placement turns and shifts the whole
 //! physics, [`super::placement`]), so it is measured once per candidate on
 //! the centred motion.

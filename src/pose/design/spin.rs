@@ -18,9 +18,9 @@
 //! ⟨N(t) (v(t, p) − u)/|v(t, p) − u|⟩ = 0, homogeneous of degree one in
 //! (V, Ω ẑ × p, u) jointly but not linear in p, so with r* ≈ 1 cm the
 //! averaged field is strongly nonlinear over the part while it moves at
-//! the synthesized motion's rates. Measured on the sink's synthesized
-//! motion (`tests/pose_rotation.rs`): affine residual over ±4 cm 0.12
-//! without spin, 0.55–0.76 with α = 800–1200 rad/s².
+//! the synthesized motion's rates: on the sink's synthesized motion the
+//! affine residual over the region is several times larger with a spin of
+//! α ≈ 10³ rad/s² than without (`tests/pose_rotation.rs`).
 //!
 //! **Choice** (`super::screen`): each candidate of [`CANDIDATES`] is
 //! added to the centred motion as one more harmonic-1 term of its angular
@@ -28,7 +28,7 @@
 //! region (`try_all`) are judged by play on probes from spread starts,
 //! since the lifted model misses played attractors of these fields (the
 //! bracket's spin of 1200 rad/s² × 0.25 has one lifted pose and a second
-//! played one holding 26 % of the drops, `docs/parts.md`); when none puts enough
+//! played one holding about a quarter of the drops, `docs/parts.md`); when none puts enough
 //! probes at one pose, `design` keeps the elliptic sink alone (two poses
 //! 180° apart).
 
@@ -77,14 +77,15 @@ impl Spin {
 
 /// The spins tried, in order: the phase fixed at −1.6 rad (on the
 /// isotropic sink the phase mostly turns the pattern, and the placement
-/// turns it anyway; measured on the bracket, `tests/pose_rotation.rs`),
+/// turns it anyway: on the bracket, `tests/pose_rotation.rs`),
 /// r* = V/Ω from about 9 mm (1200 rad/s², translation × 0.25) to about
 /// 3 times that, where the bracket's played probes
 /// all end at one pose (`pose::design::screen`), and one short r* for a
 /// small part: 4800 rad/s² with translation × 0.15 (r* ≈ 1.4 mm, angular
-/// amplitude α/ω² = 0.11 rad), where 62 of 64 of the triangle's played
-/// drops on the centred motion rest at one pose (`explore_basins`;
-/// 4600 and 5000 rad/s², translation × 0.15–0.16: 86–95 %, up to 3 lost).
+/// amplitude α/ω² = 0.11 rad), where nearly all of the triangle's played
+/// drops on the centred motion rest at one pose, more than at the spins
+/// beside it (`explore_basins`; measured: `docs/parts.md`, **Measurements
+/// behind the pose design's choices**).
 /// The placement moves such a spin exactly
 /// ([`crate::motion::Signals::transformed`]); moved to first order only,
 /// it put none of the triangle's drops at the asked pose.

@@ -144,7 +144,7 @@ fn tilt(points: &[V2], base: &[f64], scale: f64) -> Option<Vec<f64>> {
 }
 
 /// Where round-off stops the tilt's Newton short of 1e-13 (its line
-/// search, or its iterations: measured stalls at 2e-12), a centroid within
+/// search, or its iterations, stall a little above it), a centroid within
 /// this of `scale` from the origin is accepted ([`PlanarBody::centred`]
 /// then moves the body by that much, 1e-12 m on a centimetre part).
 const ROUND_OFF: f64 = 1e-10;

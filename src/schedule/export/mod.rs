@@ -61,20 +61,18 @@ pub(crate) const FRAME: &str = "frame: world axes, x and y horizontal in the pla
 /// Ramp length (cycles of the motion) of a six-signal export, in and out.
 pub const RAMP_CYCLES: u32 = sample_hold::DEFAULT_RAMP_CYCLES;
 
-/// Most rows (samples) an export may hold. A real export is measured at
-/// 118–119 bytes per row (`results/sink` and `results/line_sink` at
-/// 100 kHz: 14.2 MB for 120 240 rows, 7.17 MB for 60 120), at most about
-/// 128; the file is built in memory, with the samples, about 160 bytes per
-/// row at the peak (a 4.8e7-row export takes 7.8 GB). 1e7 rows is then
-/// ≈ 1.2 GB of CSV and ≈ 1.6 GB of memory: 100 kHz (well above a shaker
-/// controller's usual 5–20 kHz) for 100 s, or the default 10 kHz for
-/// 1000 s, far more than the ≈ 1 s period of a designed schedule. The
+/// Most rows (samples) an export may hold. A CSV row takes somewhat over a
+/// hundred bytes, and the file is built in memory with the samples, so
+/// 1e7 rows is about a gigabyte of CSV and more of memory: 100 kHz (well
+/// above a shaker controller's usual 5–20 kHz) for 100 s, or the default
+/// 10 kHz for 1000 s, far more than the ≈ 1 s period of a designed
+/// schedule (measured sizes: `docs/shaker.md`, beside the limit). The
 /// sampler's own bound ([`sample_hold::MAX_SAMPLES`], 5e7) would let a
 /// 5.7 GB file through without a word.
 pub(crate) const MAX_EXPORT_ROWS: f64 = 1e7;
 
-/// Bytes per CSV row used to state an export's size (measured; see
-/// [`MAX_EXPORT_ROWS`]).
+/// Bytes per CSV row used to state an export's size (measured:
+/// `docs/shaker.md`, beside the export's row limit).
 pub(crate) const BYTES_PER_ROW: f64 = 118.0;
 
 /// A schedule's exported samples and how they were laid out.

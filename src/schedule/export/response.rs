@@ -23,8 +23,8 @@
 //! and D_n = H_n⁻¹ A_n. A harmonic the design holds but the response
 //! lacks is refused, naming it. So is one whose H_n has a condition number
 //! κ = σ_max/σ_min above [`MAX_CONDITION`]: the drive's relative error is
-//! up to κ times the measured response's, and an FRF measured to 0.1 % then
-//! gives a drive off by up to 100 %, so beyond 1e3 the inverse amplifies
+//! up to κ times the response's, and an FRF known to 0.1 % then gives a
+//! drive off by up to 100 %, so beyond 1e3 the inverse amplifies
 //! the measurement more than it corrects the shaker (the round-off of the
 //! solve, κ·1e-16, stays below 1e-12 of the drive).
 

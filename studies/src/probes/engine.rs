@@ -1,4 +1,4 @@
-//! Single fields of the engine (issue 12): the CPU time of each on one
+//! Single fields of the engine: the CPU time of each on one
 //! thread and its wall time on one and two threads, printed (timings move
 //! with the machine and its load, so they are never written), and whether
 //! the field's bits are the same on one and two threads, written.

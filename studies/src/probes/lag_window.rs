@@ -1,6 +1,5 @@
 //! Where the synthesized motions' model-check gap (moving parts against
-//! the prediction) came from
-//! (issue 11): the lab-class sink is synthesized as in `platefield
+//! the prediction) comes from: the lab-class sink is synthesized as in `platefield
 //! synthesis`, then played from rest at the model check's start points
 //! ([`check_starts`]) with different
 //! warm-ups and measured spans. Each play is compared with four

@@ -1,6 +1,6 @@
 //! Does a second harmonic in the in-plane translation lift the contact
-//! margin's cap on the saddle? (issue 11, the saddle row; the answer and
-//! its reason are in [`platefield::synth`]'s docs.)
+//! margin's cap on the saddle? (`results/synthesis.md`'s saddle row; the
+//! answer and its reason are in [`platefield::synth`]'s docs.)
 //!
 //! For each translation — the seed's circle at the x/y limits; tilted
 //! ellipses (y's phase off by β); and the circle's harmonic 1 at (1 − f) of

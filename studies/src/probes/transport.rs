@@ -1,4 +1,4 @@
-//! squeeze_trans (issue 11, task 3): does an in-plane harmonic 2 on x (the
+//! squeeze_trans: does an in-plane harmonic 2 on x (the
 //! x limit the sequenced Trans sawtooth uses, beyond the circle's share)
 //! add uniform transport to the closed-form seed? Coarse 7 × 7 steady-state
 //! fields of the seed with a_x's harmonic 2 at several amplitudes and
