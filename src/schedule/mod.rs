@@ -51,7 +51,7 @@ pub use played::{AxisPeaks, Method, Played, PoseAtFriction, PoseOverFriction, Po
 pub(crate) use quantize::quantize;
 pub(crate) use quantize::Quantized;
 pub use quantize::{DEFAULT_MIN_CYCLES, DEFAULT_QUANTIZATION_TOL};
-pub use rungs::{ScheduleRungs, SegmentRung};
+pub use rungs::{RecordedRungs, RecordedSegmentRung, ScheduleRungs, SegmentRung};
 
 /// Most cycles of one segment (about 50 minutes of plate motion at the
 /// paper's 30 ms cycle).
@@ -294,13 +294,21 @@ pub struct Schedule {
     pub solver: SolverInfo,
     /// Basis facts: field kind, columns used, columns excluded.
     pub basis: BasisInfo,
-    /// Simulation settings the basis was built with.
+    /// Simulation settings the basis was built with, and the physics the
+    /// schedule is played at; under `design --model`, `model` is the model
+    /// the design was judged at (the basis is built at the options' own,
+    /// full by default), and `rungs` says why.
     #[serde(serialize_with = "keys_sorted")]
     pub settings: FieldSettings,
     /// How `design` chose this schedule and what it realises when played
     /// (absent in schedules written before it was recorded).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub played: Option<Played>,
+    /// The model rungs `design --model auto` chose ([`RecordedRungs`]):
+    /// the schedule is played at `settings.model`, the rung recorded here;
+    /// absent when the design chose none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rungs: Option<RecordedRungs>,
 }
 
 /// Serialises `value` with its object keys in alphabetical order (the
@@ -486,6 +494,9 @@ impl Schedule {
         if let Some(t) = &self.target_spec {
             t.validate()?;
         }
+        if let Some(r) = &self.rungs {
+            r.validate(self)?;
+        }
         Ok(())
     }
 
@@ -542,6 +553,7 @@ impl Schedule {
             },
             settings,
             played: None,
+            rungs: None,
         };
         s.derive();
         s

@@ -13,10 +13,11 @@
 //! played. `full` is always acceptable, so there is one. Rest segments
 //! have no field and no rung.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::Schedule;
 use crate::dynamics::Model;
+use crate::error::{Error, Result};
 use crate::field::rung::{choose_rung, RungReport, RUNGS};
 use crate::field::{FieldSettings, Grid};
 
@@ -47,6 +48,123 @@ pub struct ScheduleRungs {
     pub grid: Grid,
     /// Every moving segment, in playing order.
     pub segments: Vec<SegmentRung>,
+}
+
+/// The rung choice as `schedule.json` records it (`"rungs"`, written by
+/// `design --model auto`, absent otherwise): the rung the schedule is
+/// played at (its `settings.model`), and per moving segment the cheapest
+/// rung and the errors against `full`. An error is `null` where no sample
+/// was valid in both fields.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RecordedRungs {
+    /// The rung played, a name of [`RUNGS`]; the schedule's
+    /// `settings.model` is its model.
+    pub played: String,
+    /// The tolerance (relative L2 error against `full`).
+    pub tolerance: f64,
+    /// The sample grid the fields were compared on.
+    pub grid: Grid,
+    /// Every moving segment, in playing order.
+    pub segments: Vec<RecordedSegmentRung>,
+}
+
+/// One moving segment's rung in [`RecordedRungs`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RecordedSegmentRung {
+    /// The segment's index in the schedule.
+    pub segment: usize,
+    /// Its label.
+    pub label: String,
+    /// Its cheapest rung within the tolerance, a name of [`RUNGS`].
+    pub rung: String,
+    /// That rung's error against `full`.
+    pub error: Option<f64>,
+    /// Its error against `full` at the rung played.
+    pub played_error: Option<f64>,
+}
+
+/// `e` when it is a number (JSON has no NaN).
+fn finite(e: f64) -> Option<f64> {
+    e.is_finite().then_some(e)
+}
+
+/// The model of the rung named `name`, or an error at `at` naming the rungs.
+fn rung_model(name: &str, at: &str) -> Result<Model> {
+    RUNGS
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map(|(_, m)| *m)
+        .ok_or_else(|| {
+            let names: Vec<&str> = RUNGS.iter().map(|(n, _)| *n).collect();
+            Error::invalid(
+                at,
+                format!("must be one of {}, got {name:?}", names.join(", ")),
+            )
+        })
+}
+
+impl ScheduleRungs {
+    /// The choice as `schedule.json` records it.
+    pub fn record(&self) -> RecordedRungs {
+        RecordedRungs {
+            played: self.rung.to_string(),
+            tolerance: self.tolerance,
+            grid: self.grid,
+            segments: self
+                .segments
+                .iter()
+                .map(|s| RecordedSegmentRung {
+                    segment: s.segment,
+                    label: s.label.clone(),
+                    rung: s.report.rung.to_string(),
+                    error: finite(s.report.error),
+                    played_error: finite(s.played_error),
+                })
+                .collect(),
+        }
+    }
+}
+
+impl RecordedRungs {
+    /// Checks the record against `schedule` (errors name `rungs.…`): rung
+    /// names of [`RUNGS`], the played rung's model equal to
+    /// `settings.model` (the model the schedule is played at), a tolerance
+    /// ≥ 0, and each segment index a moving segment of the schedule.
+    pub(crate) fn validate(&self, schedule: &Schedule) -> Result<()> {
+        let model = rung_model(&self.played, "rungs.played")?;
+        if model != schedule.settings.model {
+            return Err(Error::invalid(
+                "rungs.played",
+                format!(
+                    "the schedule is played at settings.model ({}), not at {}: the two must agree",
+                    schedule.settings.model.name(),
+                    self.played
+                ),
+            ));
+        }
+        crate::error::non_negative("rungs.tolerance", self.tolerance)?;
+        for (i, s) in self.segments.iter().enumerate() {
+            let at = format!("rungs.segments[{i}]");
+            rung_model(&s.rung, &format!("{at}.rung"))?;
+            if !schedule
+                .segments
+                .get(s.segment)
+                .is_some_and(super::Segment::is_moving)
+            {
+                return Err(Error::invalid(
+                    format!("{at}.segment"),
+                    format!(
+                        "must be the index of a moving segment (0..{}), got {}",
+                        schedule.segments.len(),
+                        s.segment
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
 }
 
 impl Schedule {

@@ -217,6 +217,10 @@ pub struct VerifyReport {
     pub judge: Option<crate::play::sensitivity::Judged>,
     /// The automatic model's rungs per segment (`rung_tolerance`).
     pub rungs: Option<crate::schedule::ScheduleRungs>,
+    /// The rungs the schedule records (`design --model auto`), when it is
+    /// played at its own model (no `model`, no `rung_tolerance`): its
+    /// `settings.model` is their rung played.
+    pub recorded_rungs: Option<crate::schedule::RecordedRungs>,
     /// The model check: moving parts against the prediction.
     pub model_check: ModelCheck,
     /// The swarm.
@@ -780,6 +784,10 @@ fn verify_labelled(schedule: &Schedule, req: &VerifyRequest, label: &str) -> Res
                 )?)
             }
             None => None,
+        },
+        recorded_rungs: match (&rungs, req.model) {
+            (None, None) => schedule.rungs.clone(),
+            _ => None,
         },
         rungs,
         model_check: v,
