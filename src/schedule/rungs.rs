@@ -219,3 +219,94 @@ impl Schedule {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The shipped sequenced sink with a rung choice recorded by hand (no
+    /// field computed): played at `paper+moving+centripetal+tilt`, one
+    /// segment's errors, one of them not measured.
+    fn recorded() -> Schedule {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/results/sequenced/sink/schedule.json"
+        );
+        let mut s = Schedule::load(path.as_ref()).unwrap();
+        assert!(s.rungs.is_none() && !s.to_json().unwrap().contains("\"rungs\""));
+        let (name, model) = RUNGS[2];
+        s.settings.model = model;
+        s.rungs = Some(RecordedRungs {
+            played: name.into(),
+            tolerance: 0.02,
+            grid: Grid {
+                x: [-0.04, 0.04],
+                y: [-0.04, 0.04],
+                n: [5, 5],
+            },
+            segments: vec![RecordedSegmentRung {
+                segment: 1,
+                label: s.segments[1].label.clone(),
+                rung: name.into(),
+                error: Some(0.00645),
+                played_error: None,
+            }],
+        });
+        s
+    }
+
+    /// A recorded choice is written under `"rungs"` (an error not measured
+    /// as `null`) and loads back equal; a record that names no rung, whose
+    /// played rung is not the model the schedule plays, with a negative
+    /// tolerance or a segment that is not a moving one is refused naming
+    /// its JSON path, and an unknown key too.
+    #[test]
+    fn a_recorded_choice_loads_back_and_a_bad_one_is_named() {
+        let s = recorded();
+        let text = s.to_json().unwrap();
+        assert!(text.contains("\"played_error\": null"), "{text}");
+        let back = Schedule::from_json_str(&text, "s.json").unwrap();
+        assert_eq!(back.rungs, s.rungs);
+        assert_eq!(back.settings.model, RUNGS[2].1);
+        let value: serde_json::Value = serde_json::from_str(&text).unwrap();
+        type Edit = fn(&mut serde_json::Value);
+        let cases: [(Edit, &[&str]); 5] = [
+            (
+                |v| v["rungs"]["played"] = "cheap".into(),
+                &["s.json: rungs.played", "paper+moving", "\"cheap\""],
+            ),
+            (
+                |v| v["settings"]["model"]["coriolis"] = true.into(),
+                &["s.json: rungs.played", "settings.model (full)"],
+            ),
+            (
+                |v| v["rungs"]["tolerance"] = (-0.01).into(),
+                &["s.json: rungs.tolerance", "≥ 0"],
+            ),
+            (
+                |v| v["rungs"]["segments"][0]["segment"] = 99.into(),
+                &["s.json: rungs.segments[0].segment", "moving segment"],
+            ),
+            (
+                |v| v["rungs"]["segments"][0]["rung"] = "full+flight".into(),
+                &["s.json: rungs.segments[0].rung", "paper+moving"],
+            ),
+        ];
+        for (edit, needles) in cases {
+            let mut v = value.clone();
+            edit(&mut v);
+            let e = Schedule::from_json_str(&v.to_string(), "s.json")
+                .unwrap_err()
+                .to_string();
+            for n in needles {
+                assert!(e.contains(n), "{e:?} should name {n:?}");
+            }
+        }
+        let mut v = value.clone();
+        v["rungs"]["rung"] = "full".into();
+        let e = Schedule::from_json_str(&v.to_string(), "s.json")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("rungs") && e.contains("unknown field"), "{e}");
+    }
+}
