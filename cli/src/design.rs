@@ -137,7 +137,7 @@ pub struct DesignArgs {
     /// Synthesis and polish optimizer: least-squares (Levenberg–Marquardt) or nelder-mead (multi-start; results/design_speed.md compares them).
     #[arg(long, value_enum, default_value_t = Optimizer::LeastSquares, hide_possible_values = true)]
     pub optimizer: Optimizer,
-    /// Model every candidate is played and judged at (the basis and synthesis: full): full (default), paper, frozen, a rung (paper+moving, paper+moving+centripetal+tilt), or auto (per candidate the cheapest rung that moves the part within 2 % of full on 5×5 points of the region, recorded in schedule.json's "rungs").
+    /// Model the candidates are played and judged at (the basis and synthesis: full): full (default), paper, frozen, paper+moving, paper+moving+centripetal+tilt, or auto (per candidate the cheapest rung within 2 % of full, recorded in schedule.json's "rungs").
     #[arg(long, value_parser = choices(&MODELS), hide_possible_values = true)]
     pub model: Option<ModelChoice>,
     /// Print the schedule JSON to stdout.
