@@ -185,6 +185,9 @@ impl Schedule {
     /// let r = s.rungs(&grid, &s.settings, DEFAULT_RUNG_TOLERANCE);
     /// assert_eq!(r.segments.len(), s.segments.iter().filter(|g| g.is_moving()).count());
     /// assert!(r.segments.iter().all(|g| g.played_error <= DEFAULT_RUNG_TOLERANCE));
+    /// // As schedule.json records it (`design --model auto`).
+    /// let recorded = r.record();
+    /// assert_eq!((recorded.played.as_str(), recorded.segments.len()), (r.rung, r.segments.len()));
     /// ```
     pub fn rungs(&self, grid: &Grid, settings: &FieldSettings, tolerance: f64) -> ScheduleRungs {
         let reports: Vec<(usize, &str, RungReport)> = self
