@@ -196,7 +196,7 @@ impl PlayModel {
             PlayModel::Own => {}
             PlayModel::Fixed(m) => schedule.settings.model = m,
             PlayModel::Auto { tolerance } => {
-                let region = crate::verify::run::region(&schedule);
+                let region = schedule.region();
                 let n = crate::scene::RUNG_POINTS;
                 let grid = crate::field::Grid {
                     n: [n, n],

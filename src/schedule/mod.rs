@@ -569,6 +569,34 @@ impl Schedule {
         out
     }
 
+    /// The region the schedule is verified over (`verify`, `design
+    /// --model auto`'s rung points, `calibrate`'s tracks): the target's
+    /// grid; for a grid-less `sampled` target, the region its basis was
+    /// resampled on ([`crate::request::scattered_grid`]: the samples'
+    /// bounding box rounded outward to its lattice); ±3 cm when the
+    /// schedule records no target.
+    ///
+    /// ```
+    /// use platefield::schedule::Schedule;
+    /// let s = Schedule::load("results/sink/schedule.json".as_ref())?;
+    /// assert_eq!(Some(s.region()), s.target_spec.as_ref().and_then(|t| t.grid));
+    /// # Ok::<(), platefield::Error>(())
+    /// ```
+    pub fn region(&self) -> crate::field::Grid {
+        const UNRECORDED: crate::field::Grid = crate::field::Grid {
+            x: [-0.03, 0.03],
+            y: [-0.03, 0.03],
+            n: [5, 5],
+        };
+        match self.target_spec.as_ref().map(|t| (&t.grid, &t.field)) {
+            Some((Some(g), _)) => *g,
+            Some((None, crate::request::FieldSpec::Sampled { points, .. })) => {
+                crate::request::scattered_grid(points)
+            }
+            _ => UNRECORDED,
+        }
+    }
+
     /// Time (s) per period in which the plate moves.
     pub(crate) fn moving_time(&self) -> f64 {
         self.segments
