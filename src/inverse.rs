@@ -15,7 +15,7 @@ use std::path::Path;
 use crate::design::closed_loop::{closed_loop, ClosedLoop};
 use crate::design::method::design_by_method;
 use crate::design::sort::{design_sort, SortDesign};
-use crate::design::{design, Design, DesignOptions, Method, MethodDesign};
+use crate::design::{design, Design, DesignOptions, Method, MethodDesign, PlayModel};
 use crate::error::{Error, Result};
 use crate::pose::design::{design_pose, PoseDesign, PoseTarget, DROPS};
 use crate::request::Target;
@@ -205,7 +205,27 @@ pub fn run<'a>(
     request: impl Into<DesignRequest<'a>>,
     opts: &DesignOptions,
 ) -> Result<DesignOutcome> {
-    let target = match request.into() {
+    let request = request.into();
+    let own = match opts.model {
+        PlayModel::Own => true,
+        PlayModel::Fixed(m) => m == opts.settings.model,
+        PlayModel::Auto { .. } => false,
+    };
+    if !own {
+        let other = match &request {
+            DesignRequest::Pose(_) => Some("a pose target"),
+            DesignRequest::Field(t) if !t.classes.is_empty() => Some("a target with classes"),
+            DesignRequest::Field(_) if opts.closed_loop.is_some() => Some("the closed loop"),
+            DesignRequest::Field(_) => None,
+        };
+        if let Some(what) = other {
+            return Err(Error::invalid(
+                "model",
+                format!("chooses the model of a design by method; {what} is played at the settings' own model (leave it out)"),
+            ));
+        }
+    }
+    let target = match request {
         DesignRequest::Pose(req) => return Ok(DesignOutcome::Pose(design_pose(req, opts, DROPS)?)),
         DesignRequest::Field(t) => t,
     };

@@ -37,7 +37,7 @@ fn calibrated(
     scale: bool,
 ) -> platefield::calibrate::Calibration {
     let s = schedule(name);
-    let region = platefield::verify::run::region(&s);
+    let region = s.region();
     let tracks = simulate_tracks(&s, &region, sim).expect("tracks");
     let options = CalibrateOptions {
         scale,
@@ -136,7 +136,7 @@ fn coarsened_replays_hold_every_track() {
         ("squeeze_trans", Friction::uniform(0.23), 0.95, 32),
     ] {
         let s = schedule(name);
-        let region = platefield::verify::run::region(&s);
+        let region = s.region();
         let mut sim = TrackSimulation::new(f, 20, 1);
         sim.scale = scale;
         let tracks = simulate_tracks(&s, &region, &sim).expect("tracks");

@@ -126,7 +126,7 @@ impl TracksArgs {
             .map(|f| friction(f))
             .collect::<Result<Vec<_>>>()?;
         let schedule = Schedule::load(schedule)?;
-        let region = platefield::verify::run::region(&schedule);
+        let region = schedule.region();
         let n = self.parts as usize;
         let sim = TrackSimulation {
             frictions: (0..n).map(|i| classes[i * classes.len() / n]).collect(),

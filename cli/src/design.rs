@@ -6,7 +6,9 @@ use clap::{Args, ValueEnum};
 
 use platefield::basis::PrimitiveKind;
 use platefield::design::closed_loop::LoopOptions;
-use platefield::design::{BasisSection, DesignOptions, FitSection, Method, ScheduleSection};
+use platefield::design::{
+    BasisSection, DesignOptions, FitSection, Method, PlayModel, ScheduleSection,
+};
 use platefield::field::FieldKind;
 use platefield::fit::FitMode;
 use platefield::synth::SynthOptions;
@@ -14,7 +16,7 @@ use platefield::work::Runtime;
 use platefield::{Error, Result};
 use platefield_report as report;
 
-use super::values::{choices, FIELD_KINDS, PRIMITIVE_KINDS};
+use super::values::{choices, ModelChoice, FIELD_KINDS, MODELS, PRIMITIVE_KINDS};
 
 /// Fit mode (see [`FitMode`]).
 #[derive(Clone, Copy, ValueEnum)]
@@ -135,6 +137,9 @@ pub struct DesignArgs {
     /// Synthesis and polish optimizer: least-squares (Levenberg–Marquardt) or nelder-mead (multi-start; results/design_speed.md compares them).
     #[arg(long, value_enum, default_value_t = Optimizer::LeastSquares, hide_possible_values = true)]
     pub optimizer: Optimizer,
+    /// Model the candidates are played and judged at (the basis and synthesis: full): full (default), paper, frozen, paper+moving, paper+moving+centripetal+tilt, or auto (per candidate the cheapest rung within 2 % of full, recorded in schedule.json's "rungs").
+    #[arg(long, value_parser = choices(&MODELS), hide_possible_values = true)]
+    pub model: Option<ModelChoice>,
     /// Print the schedule JSON to stdout.
     #[arg(long)]
     pub json: bool,
@@ -234,6 +239,13 @@ impl DesignArgs {
                     .map(|f| platefield::scene::FrictionSpec::parse_arg(f, "--friction"))
                     .transpose()?,
             },
+            model: match self.model {
+                None => PlayModel::Own,
+                Some(ModelChoice::Model(m)) => PlayModel::Fixed(m),
+                Some(ModelChoice::Auto) => PlayModel::Auto {
+                    tolerance: platefield::field::rung::DEFAULT_RUNG_TOLERANCE,
+                },
+            },
             ..DesignOptions::default()
         })
     }
@@ -272,7 +284,7 @@ impl DesignArgs {
 
 /// The command-line flag of each option path [`DesignOptions`]' checks
 /// name (the library speaks in option paths, the command line in flags).
-const FLAGS: [(&str, &str); 7] = [
+const FLAGS: [(&str, &str); 8] = [
     ("schedule.total_cycles", "--cycles"),
     ("schedule.min_cycles", "--min-cycles"),
     ("basis.shifts", "--shift"),
@@ -280,6 +292,7 @@ const FLAGS: [(&str, &str); 7] = [
     ("method", "--method"),
     ("closed_loop", "--closed-loop"),
     ("closed_loop.max_iterations", "--loop-iterations"),
+    ("model", "--model"),
 ];
 
 /// `e` with an option path of [`FLAGS`] replaced by its flag.

@@ -43,7 +43,7 @@ impl Play {
             Some(values::ModelChoice::Model(m)) => Ok(Some(m)),
             Some(values::ModelChoice::Auto) => Err(Error::invalid(
                 "--model",
-                format!("auto is for verify; {command} takes paper, full, frozen, paper+moving or paper+moving+centripetal+tilt"),
+                format!("auto is for verify and design; {command} takes paper, full, frozen, paper+moving or paper+moving+centripetal+tilt"),
             )),
         }
     }

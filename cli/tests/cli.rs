@@ -2205,3 +2205,215 @@ fn field_model_auto_plays_paper_for_a_translation() {
     assert_eq!(plain["fx"], auto["fx"]);
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A 7 × 7 sink over ±2 cm in `dir`: a target `design` fits in well under
+/// a second by four LineSinks (`--primitives LineSink --rotation-step 90`).
+fn small_sink(dir: &Path) -> std::path::PathBuf {
+    let target = dir.join("small_sink.json");
+    std::fs::write(
+        &target,
+        r#"{"name": "small_sink", "grid": {"x": [-0.02, 0.02], "y": [-0.02, 0.02], "n": [7, 7]},
+            "field": {"kind": "sink"}}"#,
+    )
+    .unwrap();
+    target
+}
+
+/// `design` of `target` by `method` into `out` with `extra` arguments:
+/// the kept schedule.json and the summary printed.
+fn small_design(
+    target: &Path,
+    method: &str,
+    out: &Path,
+    extra: &[&str],
+) -> (serde_json::Value, String) {
+    let mut args = vec![
+        "design",
+        target.to_str().unwrap(),
+        "--method",
+        method,
+        "--primitives",
+        "LineSink",
+        "--rotation-step",
+        "90",
+        "--synth-evaluations",
+        "60",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    let (code, stdout, err) = platefield(&args);
+    assert_eq!(code, 0, "{err}");
+    let text = std::fs::read_to_string(out.join("small_sink/schedule.json")).unwrap();
+    (serde_json::from_str(&text).unwrap(), stdout)
+}
+
+/// `design --model auto` records the rung choice in `schedule.json`: the
+/// played rung (four LineSinks tilt the plate, so no rung below
+/// `paper+moving+centripetal+tilt`, `results/primitives/rungs.md`), whose
+/// model is the schedule's `settings.model`, and every moving segment's
+/// choice within the tolerance; `report.md` and the summary name it.
+/// `verify` of that schedule loads it, plays it at that model and reads
+/// the record back (`recorded_rungs`, the same object). Without
+/// `--model` the file has no `"rungs"` and keeps the full model.
+#[test]
+fn design_model_auto_records_its_rungs_and_verify_reads_them_back() {
+    let dir = temp_dir("design-model-auto");
+    let target = small_sink(&dir);
+    let (auto, summary) =
+        small_design(&target, "sequence", &dir.join("auto"), &["--model", "auto"]);
+    let rungs = &auto["rungs"];
+    assert_eq!(
+        rungs["played"].as_str(),
+        Some("paper+moving+centripetal+tilt"),
+        "{rungs}"
+    );
+    assert_eq!(rungs["tolerance"].as_f64(), Some(0.02), "{rungs}");
+    let model = &auto["settings"]["model"];
+    assert_eq!(
+        [
+            &model["moving"],
+            &model["centripetal"],
+            &model["tilt"],
+            &model["coriolis"]
+        ],
+        [
+            &serde_json::json!(true),
+            &serde_json::json!(true),
+            &serde_json::json!(true),
+            &serde_json::json!(false)
+        ],
+        "{model}"
+    );
+    let segments = rungs["segments"].as_array().unwrap();
+    assert_eq!(segments.len(), 4, "{rungs}");
+    for s in segments {
+        let i = s["segment"].as_u64().unwrap() as usize;
+        assert_eq!(s["label"], auto["segments"][i]["label"], "{s}");
+        let e = s["played_error"].as_f64().unwrap();
+        assert!(e > 0.0 && e <= 0.02, "{s}");
+    }
+    assert!(
+        summary.contains(
+            "model auto: the kept design played and judged at paper+moving+centripetal+tilt"
+        ),
+        "{summary}"
+    );
+    let report = std::fs::read_to_string(dir.join("auto/small_sink/report.md")).unwrap();
+    assert!(
+        report.contains("## Model") && report.contains("--model auto"),
+        "{report}"
+    );
+
+    std::fs::create_dir_all(dir.join("verify")).unwrap();
+    let v = quick_verify(&dir.join("verify"), &auto, &[]);
+    assert_eq!(&v["recorded_rungs"], rungs, "{v}");
+    assert_eq!(
+        v["model"].as_str(),
+        Some("paper+centripetal+tilt+moving"),
+        "{v}"
+    );
+    // An override plays another model and reads no record back.
+    std::fs::create_dir_all(dir.join("verify-full")).unwrap();
+    let v = quick_verify(&dir.join("verify-full"), &auto, &["--model", "full"]);
+    assert!(v.get("recorded_rungs").is_none(), "{v}");
+    assert_eq!(v["model"].as_str(), Some("full"), "{v}");
+
+    let (plain, summary) = small_design(&target, "sequence", &dir.join("plain"), &[]);
+    assert!(plain.get("rungs").is_none(), "{plain}");
+    assert_eq!(plain["settings"]["model"]["coriolis"].as_bool(), Some(true));
+    assert!(!summary.contains("played and judged at"), "{summary}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The judge's numbers under `design --model auto` stay within the rung
+/// tolerance of the full model's, for the sequenced and the synthesized
+/// candidate: every segment's field at the rung played is within 2 %
+/// (relative L2) of full's, and the realised strength ŝ = ⟨R, t⟩/⟨t, t⟩
+/// moves relatively by at most about the field's relative change (Cauchy–
+/// Schwarz), the shape error by about as much absolutely. The full
+/// design's numbers are the independent reference; where auto plays a
+/// cheaper rung they must differ (else auto played full).
+#[test]
+fn design_model_auto_keeps_the_judge_within_the_tolerance() {
+    let dir = temp_dir("design-model-auto-judge");
+    let target = small_sink(&dir);
+    for method in ["sequence", "synthesize"] {
+        let (full, _) = small_design(
+            &target,
+            method,
+            &dir.join(method).join("full"),
+            &["--model", "full"],
+        );
+        let (auto, _) = small_design(
+            &target,
+            method,
+            &dir.join(method).join("auto"),
+            &["--model", "auto"],
+        );
+        let (pf, pa) = (&full["played"], &auto["played"]);
+        let (sf, sa) = (
+            pf["realised_strength"].as_f64().unwrap(),
+            pa["realised_strength"].as_f64().unwrap(),
+        );
+        let (ef, ea) = (
+            pf["realised_shape_error"].as_f64().unwrap(),
+            pa["realised_shape_error"].as_f64().unwrap(),
+        );
+        assert!((sa - sf).abs() <= 0.02 * sf, "{method}: {pf} {pa}");
+        assert!((ea - ef).abs() <= 0.02, "{method}: {pf} {pa}");
+        let played = auto["rungs"]["played"].as_str().unwrap();
+        if played != "full" {
+            assert_ne!(sa, sf, "{method}: auto played {played} but judged as full");
+        }
+        assert_eq!(
+            full["segments"], auto["segments"],
+            "{method}: the same design"
+        );
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A bad `design --model` exits 2 naming `--model` and the allowed
+/// values, and `auto` where the design chooses no model (the closed loop)
+/// exits 2 naming `--model`; nothing is written.
+#[test]
+fn design_model_refuses_bad_values() {
+    let dir = temp_dir("design-model-bad");
+    let target = small_sink(&dir);
+    let t = target.to_str().unwrap();
+    let out = dir.join("out");
+    let o = out.to_str().unwrap();
+    let (code, _, err) = platefield(&["design", t, "--model", "cheap", "--out", o]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("--model")
+            && [
+                "full",
+                "auto",
+                "paper+moving",
+                "paper+moving+centripetal+tilt"
+            ]
+            .iter()
+            .all(|v| err.contains(v)),
+        "{err}"
+    );
+    let (code, _, err) = platefield(&[
+        "design",
+        t,
+        "--model",
+        "auto",
+        "--closed-loop",
+        "--quiet",
+        "--out",
+        o,
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("--model") && err.contains("closed loop"),
+        "{err}"
+    );
+    assert!(!out.join("small_sink").exists());
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -214,3 +214,24 @@ def test_package_ships_type_hints():
     stub = (here / "__init__.pyi").read_text()
     for name in platefield.__all__:
         assert name in stub, name
+
+
+def test_design_model_auto_records_rungs_that_load_back(root):
+    # design --model auto records its rung choice under "rungs", the rung
+    # played being the schedule's settings.model; the package loads such a
+    # schedule back: verify reads the record, and export plays the same
+    # plate motion as the default design's (the model is not in the motion).
+    target = root / "targets" / "sink.json"
+    auto = platefield.design(target, "sequence", model="auto", quiet=True)
+    plain = platefield.design(target, "sequence", quiet=True)
+    assert "rungs" not in plain and plain["settings"]["model"]["coriolis"] is True
+    assert auto["rungs"]["played"] == "paper+moving+centripetal+tilt"
+    assert auto["settings"]["model"]["coriolis"] is False
+    assert auto["segments"] == plain["segments"]
+    assert np.array_equal(platefield.export(auto, 5000), platefield.export(plain, 5000))
+    v = platefield.verify(auto, points=3, swarm=1, rect_poses=0, repetitions=1, quiet=True)
+    assert v["recorded_rungs"] == auto["rungs"]
+    bad = dict(auto, rungs=dict(auto["rungs"], played="cheap"))
+    with pytest.raises(platefield.InvalidInput) as e:
+        platefield.export(bad, 5000)
+    assert e.value.path == "rungs.played" and "paper+moving" in e.value.message

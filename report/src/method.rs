@@ -123,7 +123,22 @@ pub fn summary(md: &MethodDesign) -> String {
     if let Some(t) = &md.tolerance {
         let _ = writeln!(out, "{} (report.md)", super::verify::tolerance_line(t));
     }
+    out.push_str(&model_text(&md.kept().schedule));
     out
+}
+
+/// The model the kept design was played and judged at, when not `full`
+/// (`design --model`): the rung choice of `auto` (each segment's), or the
+/// model asked for; empty under `full`.
+fn model_text(schedule: &Schedule) -> String {
+    match &schedule.rungs {
+        Some(r) => super::verify::rungs_text("model auto: the kept design played and judged at", r),
+        None if schedule.settings.model != platefield::dynamics::Model::FULL => format!(
+            "model: the kept design played and judged at {}\n",
+            schedule.settings.model.name()
+        ),
+        None => String::new(),
+    }
 }
 
 /// `linear [x, y, z] m/s², angular [x, y, z] rad/s²`, each peak with
@@ -191,6 +206,13 @@ pub(crate) fn method_md(md: &MethodDesign) -> String {
         "\nPeaks the kept schedule commands: {}.",
         peaks_text(&p.peaks, 4)
     );
+    let model = model_text(&md.kept().schedule);
+    if !model.is_empty() {
+        let _ = write!(
+            out,
+            "\n## Model\n\nEvery candidate is played and judged at the model `--model` asks for; the basis and the synthesis at full. Under `auto`, each candidate's rung is the cheapest that moves the part and is within the tolerance of full for every moving segment, its error measured on the sample points against full (`schedule.json`'s `rungs`).\n\n```text\n{model}```\n"
+        );
+    }
     if let Some(s) = &md.sensitivity {
         let _ = write!(out, "\n## Friction sensitivity\n\n{}", s.table_md());
     }

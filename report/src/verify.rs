@@ -51,6 +51,8 @@ pub(crate) fn summary_json(r: &VerifyReport) -> Result<String> {
         sort: Option<&'a platefield::verify::sort_play::SortVerify>,
         #[serde(skip_serializing_if = "Option::is_none")]
         rungs: Option<&'a platefield::schedule::ScheduleRungs>,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        recorded_rungs: Option<&'a platefield::schedule::RecordedRungs>,
     }
     #[derive(Serialize)]
     struct ModelCheckSummary<'a> {
@@ -96,6 +98,7 @@ pub(crate) fn summary_json(r: &VerifyReport) -> Result<String> {
         tolerance: r.tolerance.as_ref(),
         sort: r.sort.as_ref(),
         rungs: r.rungs.as_ref(),
+        recorded_rungs: r.recorded_rungs.as_ref(),
     };
     let mut text =
         serde_json::to_string_pretty(&summary).map_err(|e| Error::Internal(e.to_string()))?;
@@ -369,12 +372,14 @@ pub(crate) fn friction_svg(target: &str, s: &Sensitivity) -> String {
         .to_svg()
 }
 
-/// `--model auto`'s lines: the rung played and each segment's choice.
-fn rungs_text(r: &platefield::schedule::ScheduleRungs) -> String {
+/// The lines of a rung choice ([`platefield::schedule::RecordedRungs`]):
+/// `lead` and the rung played, then each segment's choice.
+pub(crate) fn rungs_text(lead: &str, r: &platefield::schedule::RecordedRungs) -> String {
     use platefield::output::significant_percent;
+    let pc = |e: Option<f64>| significant_percent(e.unwrap_or(f64::NAN));
     let mut out = format!(
-        "model auto: played at {} (the cheapest rung that moves the part within {} of full for every segment, on {}×{} points)\n",
-        r.rung,
+        "{lead} {} (the cheapest rung that moves the part within {} of full for every segment, on {}×{} points)\n",
+        r.played,
         significant_percent(r.tolerance),
         r.grid.n[0],
         r.grid.n[1]
@@ -385,9 +390,9 @@ fn rungs_text(r: &platefield::schedule::ScheduleRungs) -> String {
             "  segment {} {}: cheapest {} ({}), played error {}",
             s.segment,
             s.label,
-            s.report.rung,
-            significant_percent(s.report.error),
-            significant_percent(s.played_error)
+            s.rung,
+            pc(s.error),
+            pc(s.played_error)
         );
     }
     out
@@ -422,7 +427,13 @@ pub fn summary(r: &VerifyReport) -> String {
         let _ = writeln!(out, "{}", tolerance_line(t));
     }
     if let Some(rungs) = &r.rungs {
-        out.push_str(&rungs_text(rungs));
+        out.push_str(&rungs_text("model auto: played at", &rungs.record()));
+    }
+    if let Some(rungs) = &r.recorded_rungs {
+        out.push_str(&rungs_text(
+            "model: as designed (design --model auto), played at",
+            rungs,
+        ));
     }
     let few = platefield::design::method::MIN_MEASURED_POINTS;
     if v.valid < few {

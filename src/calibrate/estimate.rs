@@ -303,7 +303,7 @@ pub fn fit_class(
 /// use platefield::calibrate::tracks::Frame;
 /// use platefield::schedule::Schedule;
 /// let schedule = Schedule::load(std::path::Path::new("results/squeeze_trans/schedule.json"))?;
-/// let mut grid = platefield::verify::run::region(&schedule);
+/// let mut grid = schedule.region();
 /// grid.n = [7, 7];
 /// let motion = PlayedMotion::from_schedule(&schedule, grid)?;
 /// // Tracks that are the model's own paths at μ 0.3: the model is exact.

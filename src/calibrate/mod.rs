@@ -324,7 +324,7 @@ pub struct CalibrationRun {
 /// use platefield::dynamics::Friction;
 /// use platefield::schedule::Schedule;
 /// let schedule = Schedule::load(std::path::Path::new("results/squeeze_trans/schedule.json"))?;
-/// let region = platefield::verify::run::region(&schedule);
+/// let region = schedule.region();
 /// let mut sim = TrackSimulation::new(Friction::uniform(0.25), 4, 3);
 /// sim.seconds = 3.0;
 /// let tracks = simulate_tracks(&schedule, &region, &sim)?;
@@ -349,7 +349,7 @@ pub fn calibrate(
             format!("must be within [3, {}], got {}", Grid::MAX_N, options.grid),
         ));
     }
-    let region = crate::verify::run::region(schedule);
+    let region = schedule.region();
     tracks.check_region(&region)?;
     let grid = Grid {
         n: [options.grid, options.grid],

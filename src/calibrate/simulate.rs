@@ -84,7 +84,7 @@ impl TrackSimulation {
 /// use platefield::dynamics::Friction;
 /// use platefield::schedule::Schedule;
 /// let schedule = Schedule::load(std::path::Path::new("results/squeeze_trans/schedule.json"))?;
-/// let region = platefield::verify::run::region(&schedule);
+/// let region = schedule.region();
 /// let mut sim = TrackSimulation::new(Friction::uniform(0.3), 2, 7);
 /// sim.seconds = 0.5;
 /// let tracks = simulate_tracks(&schedule, &region, &sim)?;
@@ -178,7 +178,7 @@ pub(crate) fn schedule_motion(schedule: &Schedule, scale: f64) -> Result<Schedul
 /// use platefield::dynamics::Friction;
 /// use platefield::schedule::Schedule;
 /// let schedule = Schedule::load(std::path::Path::new("results/squeeze_trans/schedule.json"))?;
-/// let region = platefield::verify::run::region(&schedule);
+/// let region = schedule.region();
 /// let times: Vec<f64> = (10..40).map(|k| k as f64 / 30.0).collect();
 /// let parts = vec![("a".to_string(), [0.0, 0.0], times)];
 /// let tracks = replay_tracks(&schedule, &region, Friction::uniform(0.3), 1.0, &parts)?;

@@ -56,7 +56,7 @@ use order::OrderSearch;
 
 pub use basis::DesignBasis;
 pub use method::{Choice, Method, MethodDesign};
-pub use options::{BasisSection, FitSection, ScheduleSection};
+pub use options::{BasisSection, FitSection, PlayModel, ScheduleSection};
 
 /// Options of [`design`] and [`crate::inverse::run`], in sections (each
 /// range-checked by its own `validate`, all of them by
@@ -89,6 +89,9 @@ pub struct DesignOptions {
     /// --friction`; [`crate::inverse::TargetFile::set_friction`]); `None`:
     /// the target's.
     pub friction: Option<crate::scene::FrictionSpec>,
+    /// The model the candidates are played and judged at (`design
+    /// --model`; a design by method only, [`crate::inverse::run`]).
+    pub model: PlayModel,
 }
 
 impl DesignOptions {

@@ -8,6 +8,7 @@ use std::path::PathBuf;
 
 use super::DesignOptions;
 use crate::basis::PrimitiveKind;
+use crate::dynamics::Model;
 use crate::error::{Error, Result};
 use crate::field::FieldKind;
 use crate::fit::FitMode;
@@ -141,6 +142,75 @@ impl ScheduleSection {
     }
 }
 
+/// The model every candidate schedule is played and judged at (`model`):
+/// the judge, its friction table, the shaker-tolerance draws and the
+/// model `verify` plays by default (the schedule's `settings.model`). The
+/// basis and the synthesis are simulated at [`DesignOptions::settings`]'
+/// own model whatever this says: the basis is cached under it, and a rung
+/// can only be chosen for a motion once it exists.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum PlayModel {
+    /// The settings' own model (full by default): no choice.
+    #[default]
+    Own,
+    /// This model (`design --model full` or a rung).
+    Fixed(Model),
+    /// Per candidate schedule, the rung [`crate::schedule::Schedule::rungs`]
+    /// chooses within this relative L2 tolerance of `full` on 5 × 5 points
+    /// over the target's region, at the nominal friction: the cheapest rung
+    /// that moves the part and holds for every moving segment. The choice
+    /// is recorded in the schedule's `rungs`.
+    Auto {
+        /// Largest accepted relative L2 error against `full`.
+        tolerance: f64,
+    },
+}
+
+impl PlayModel {
+    /// Checks `model`'s tolerance (finite, ≥ 0).
+    pub fn validate(&self) -> Result<()> {
+        if let PlayModel::Auto { tolerance } = self {
+            crate::error::non_negative("model", *tolerance)?;
+        }
+        Ok(())
+    }
+
+    /// `schedule` set to be played at this model: its `settings.model`,
+    /// and under [`PlayModel::Auto`] the choice in its `rungs`.
+    ///
+    /// ```
+    /// use platefield::design::PlayModel;
+    /// use platefield::field::rung::DEFAULT_RUNG_TOLERANCE;
+    /// use platefield::schedule::Schedule;
+    /// let s = Schedule::load("results/sequenced/sink/schedule.json".as_ref())?;
+    /// assert!(PlayModel::Own.apply(s.clone()).rungs.is_none());
+    /// let auto = PlayModel::Auto { tolerance: DEFAULT_RUNG_TOLERANCE }.apply(s);
+    /// let r = auto.rungs.as_ref().unwrap();
+    /// // LineSinks tilt the plate: no rung below centripetal and tilt.
+    /// assert_eq!(r.played, "paper+moving+centripetal+tilt");
+    /// assert_eq!(auto.settings.model.coriolis, false);
+    /// # Ok::<(), platefield::Error>(())
+    /// ```
+    pub fn apply(&self, mut schedule: crate::schedule::Schedule) -> crate::schedule::Schedule {
+        match *self {
+            PlayModel::Own => {}
+            PlayModel::Fixed(m) => schedule.settings.model = m,
+            PlayModel::Auto { tolerance } => {
+                let region = schedule.region();
+                let n = crate::scene::RUNG_POINTS;
+                let grid = crate::field::Grid {
+                    n: [n, n],
+                    ..region
+                };
+                let r = schedule.rungs(&grid, &schedule.settings, tolerance);
+                schedule.settings.model = r.model;
+                schedule.rungs = Some(r.record());
+            }
+        }
+        schedule
+    }
+}
+
 impl DesignOptions {
     /// Checks every section against its allowed ranges, naming the
     /// option's path (`schedule.total_cycles`, `closed_loop.stride`) in
@@ -148,6 +218,7 @@ impl DesignOptions {
     pub fn validate(&self) -> Result<()> {
         self.schedule.validate()?;
         self.basis.validate()?;
+        self.model.validate()?;
         self.fit.validate()
     }
 }

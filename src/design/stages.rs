@@ -694,6 +694,7 @@ pub(crate) fn schedule_stage(
         },
         settings: opts.settings,
         played: None,
+        rungs: None,
     };
     schedule.derive();
     Ok((schedule, achieved_quantized))

@@ -51,7 +51,7 @@ pub use played::{AxisPeaks, Method, Played, PoseAtFriction, PoseOverFriction, Po
 pub(crate) use quantize::quantize;
 pub(crate) use quantize::Quantized;
 pub use quantize::{DEFAULT_MIN_CYCLES, DEFAULT_QUANTIZATION_TOL};
-pub use rungs::{ScheduleRungs, SegmentRung};
+pub use rungs::{RecordedRungs, RecordedSegmentRung, ScheduleRungs, SegmentRung};
 
 /// Most cycles of one segment (about 50 minutes of plate motion at the
 /// paper's 30 ms cycle).
@@ -294,13 +294,21 @@ pub struct Schedule {
     pub solver: SolverInfo,
     /// Basis facts: field kind, columns used, columns excluded.
     pub basis: BasisInfo,
-    /// Simulation settings the basis was built with.
+    /// Simulation settings the basis was built with, and the physics the
+    /// schedule is played at; under `design --model`, `model` is the model
+    /// the design was judged at (the basis is built at the options' own,
+    /// full by default), and `rungs` says why.
     #[serde(serialize_with = "keys_sorted")]
     pub settings: FieldSettings,
     /// How `design` chose this schedule and what it realises when played
     /// (absent in schedules written before it was recorded).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub played: Option<Played>,
+    /// The model rungs `design --model auto` chose ([`RecordedRungs`]):
+    /// the schedule is played at `settings.model`, the rung recorded here;
+    /// absent when the design chose none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rungs: Option<RecordedRungs>,
 }
 
 /// Serialises `value` with its object keys in alphabetical order (the
@@ -486,6 +494,9 @@ impl Schedule {
         if let Some(t) = &self.target_spec {
             t.validate()?;
         }
+        if let Some(r) = &self.rungs {
+            r.validate(self)?;
+        }
         Ok(())
     }
 
@@ -542,6 +553,7 @@ impl Schedule {
             },
             settings,
             played: None,
+            rungs: None,
         };
         s.derive();
         s
@@ -555,6 +567,34 @@ impl Schedule {
         };
         out.derive();
         out
+    }
+
+    /// The region the schedule is verified over (`verify`, `design
+    /// --model auto`'s rung points, `calibrate`'s tracks): the target's
+    /// grid; for a grid-less `sampled` target, the region its basis was
+    /// resampled on ([`crate::request::scattered_grid`]: the samples'
+    /// bounding box rounded outward to its lattice); ±3 cm when the
+    /// schedule records no target.
+    ///
+    /// ```
+    /// use platefield::schedule::Schedule;
+    /// let s = Schedule::load("results/sink/schedule.json".as_ref())?;
+    /// assert_eq!(Some(s.region()), s.target_spec.as_ref().and_then(|t| t.grid));
+    /// # Ok::<(), platefield::Error>(())
+    /// ```
+    pub fn region(&self) -> crate::field::Grid {
+        const UNRECORDED: crate::field::Grid = crate::field::Grid {
+            x: [-0.03, 0.03],
+            y: [-0.03, 0.03],
+            n: [5, 5],
+        };
+        match self.target_spec.as_ref().map(|t| (&t.grid, &t.field)) {
+            Some((Some(g), _)) => *g,
+            Some((None, crate::request::FieldSpec::Sampled { points, .. })) => {
+                crate::request::scattered_grid(points)
+            }
+            _ => UNRECORDED,
+        }
     }
 
     /// Time (s) per period in which the plate moves.

@@ -34,7 +34,7 @@ use crate::play::measure::{verify_points_ticked, ModelCheck, PlayOptions};
 use crate::play::sensitivity::Sensitivity;
 use crate::play::{ScheduleMotion, V2};
 use crate::progress::Progress;
-use crate::request::{Attractor, FieldSpec};
+use crate::request::Attractor;
 use crate::schedule::Schedule;
 use crate::work::{Estimate, Term, PLANAR_POINT_STEP_COST};
 
@@ -218,6 +218,10 @@ pub struct VerifyReport {
     pub judge: Option<crate::play::sensitivity::Judged>,
     /// The automatic model's rungs per segment (`rung_tolerance`).
     pub rungs: Option<crate::schedule::ScheduleRungs>,
+    /// The rungs the schedule records (`design --model auto`), when it is
+    /// played at its own model (no `model`, no `rung_tolerance`): its
+    /// `settings.model` is their rung played.
+    pub recorded_rungs: Option<crate::schedule::RecordedRungs>,
     /// The model check: moving parts against the prediction.
     pub model_check: ModelCheck,
     /// The swarm.
@@ -235,24 +239,6 @@ pub struct VerifyReport {
     /// swarm at its own friction, the schedule played and the export
     /// replayed (`--replay`) ([`super::sort_play::verify_sort`]).
     pub sort: Option<super::sort_play::SortVerify>,
-}
-
-/// The region verified: the target's grid; for a grid-less `sampled`
-/// target, the region its basis was resampled on
-/// ([`crate::request::scattered_grid`]: the samples' bounding box
-/// rounded outward to its lattice); ±3 cm when the schedule records no
-/// target.
-pub fn region(schedule: &Schedule) -> Grid {
-    const UNRECORDED: Grid = Grid {
-        x: [-0.03, 0.03],
-        y: [-0.03, 0.03],
-        n: [5, 5],
-    };
-    match schedule.target_spec.as_ref().map(|t| (&t.grid, &t.field)) {
-        Some((Some(g), _)) => *g,
-        Some((None, FieldSpec::Sampled { points, .. })) => crate::request::scattered_grid(points),
-        _ => UNRECORDED,
-    }
 }
 
 /// `n × n` points over the extent of `g`, row-major (y outer).
@@ -647,7 +633,7 @@ fn verify_labelled(schedule: &Schedule, req: &VerifyRequest, label: &str) -> Res
     if let Some(f) = req.friction.and_then(|f| f.played()) {
         opts.friction = f;
     }
-    let g = region(schedule);
+    let g = schedule.region();
     // The automatic rung is measured at the realised grid's points, under
     // the friction played.
     let rungs = req.rung_tolerance.map(|tol| {
@@ -781,6 +767,10 @@ fn verify_labelled(schedule: &Schedule, req: &VerifyRequest, label: &str) -> Res
                 )?)
             }
             None => None,
+        },
+        recorded_rungs: match (&rungs, req.model) {
+            (None, None) => schedule.rungs.clone(),
+            _ => None,
         },
         rungs,
         model_check: v,

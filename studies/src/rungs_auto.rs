@@ -20,7 +20,6 @@ use platefield::field::Grid;
 use platefield::output::significant_percent;
 use platefield::output::write_atomic;
 use platefield::schedule::{Schedule, ScheduleRungs};
-use platefield::verify::run::region;
 use platefield::verify::VerifyRequest;
 use platefield_report::table::Table;
 
@@ -46,7 +45,7 @@ pub fn schedule_rungs(schedule: &Schedule, tolerance: f64) -> ScheduleRungs {
     let points = VerifyRequest::default().points;
     let grid = Grid {
         n: [points, points],
-        ..region(schedule)
+        ..schedule.region()
     };
     schedule.rungs(&grid, &schedule.settings, tolerance)
 }

@@ -532,7 +532,10 @@ impl<'a> MethodRun<'a> {
     }
 
     /// A candidate of `schedule` (predicted strength `predicted`, the
-    /// limits to record `limits`), played; designed in `design_s` seconds.
+    /// limits to record `limits`), set to the model the options play
+    /// ([`DesignOptions::model`]: under `auto` its rung chosen here, the
+    /// choice's time counted in the design's) and played; designed in
+    /// `design_s` seconds.
     fn play(
         &self,
         schedule: Schedule,
@@ -540,6 +543,9 @@ impl<'a> MethodRun<'a> {
         limits: Option<crate::request::ShakerSpec>,
         design_s: f64,
     ) -> Result<Candidate> {
+        let t = Instant::now();
+        let schedule = self.opts.model.apply(schedule);
+        let design_s = design_s + t.elapsed().as_secs_f64();
         Candidate::play(
             (self.target, self.sampled),
             schedule,
