@@ -180,6 +180,34 @@ pub struct FlightOutcome {
     pub rk4_steps: u32,
 }
 
+/// Fewest periods [`Simulator::held_orbit`] plays.
+pub const HELD_MIN_PERIODS: u32 = 3;
+/// Most periods [`Simulator::held_orbit`] plays before it reports the
+/// orbit as not settled.
+pub const HELD_MAX_PERIODS: u32 = 80;
+/// Change of a held part's period-mean velocity between two periods, as
+/// a fraction of the velocity scale μ_k g T, below which its orbit has
+/// settled.
+pub const HELD_TOL: f64 = 1e-5;
+
+/// The steady orbit of a part held at one plate point and followed
+/// through its flights ([`Simulator::held_orbit`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HeldOrbit {
+    /// Mean velocity over the last period (m/s), plate frame.
+    pub velocity: [f64; 2],
+    /// Fraction of the last period spent in flight, in [0, 1].
+    pub airborne_fraction: f64,
+    /// Flights that landed in the last period.
+    pub hops: usize,
+    /// Periods played.
+    pub periods: u32,
+    /// Change of the period-mean velocity over the last period (m/s).
+    pub change: f64,
+    /// Whether that change is within [`HELD_TOL`] of the velocity scale.
+    pub settled: bool,
+}
+
 /// The plate's world pose and velocity at one instant.
 struct PlatePose {
     p: V3,
@@ -322,6 +350,102 @@ impl Simulator<'_> {
         }
         out.phase = *phase;
         Ok(out)
+    }
+
+    /// The steady orbit of a point part **held** at plate point `r0` and
+    /// followed through its flights: the part starts at rest on the plate
+    /// at `r0` and plays whole periods with [`Simulator::advance_flying`];
+    /// at the end of each period it is put back at `r0` (in contact, its
+    /// position set to `r0`; in flight, its trajectory moved by the plate
+    /// displacement that takes the plate point under it to `r0`, with that
+    /// point's velocity change ω × R δ), keeping its velocity relative to
+    /// the plate. The period's mean velocity is its plate-frame
+    /// displacement over T. Played until that mean changes by less than
+    /// [`HELD_TOL`] μ_k g T between two periods (at least
+    /// [`HELD_MIN_PERIODS`], at most [`HELD_MAX_PERIODS`]).
+    ///
+    /// This is the steady state of [`Simulator::steady_state`]'s free
+    /// variant (the part put back at r₀ once a period), found by plain
+    /// iteration because a part in flight at the period's start has a
+    /// state a slip velocity does not describe. Its **airborne fraction**
+    /// is the time in flight over the last period divided by T.
+    ///
+    /// ```
+    /// use platefield::dynamics::{Flight, Numerics, PartPhysics, Simulator};
+    /// use platefield::motion::{Axes, FourierTerm, Motion, Signals};
+    /// // A plate shaken vertically at 1.5 g: one flight a cycle, no drift.
+    /// let shake = FourierTerm { amplitude: 1.5 * 9.81, phase: 0.0, harmonic: 1 };
+    /// let m = Motion::Signals(Signals { period: 0.02, linear: Axes { z: vec![shake], ..Axes::default() }, angular: Axes::default() });
+    /// let sim = Simulator::new(&m, PartPhysics::full(0.3), Numerics::default())
+    ///     .with_flight(Flight::INELASTIC)?;
+    /// let orbit = sim.held_orbit([0.01, 0.0]).unwrap();
+    /// assert_eq!(orbit.hops, 1);
+    /// assert!(orbit.airborne_fraction > 0.1 && orbit.airborne_fraction < 0.9);
+    /// assert!(orbit.velocity[0].abs() < 1e-9);
+    /// # Ok::<(), platefield::Error>(())
+    /// ```
+    ///
+    /// # Errors
+    /// The contact loss [`Simulator::advance_flying`] reports.
+    pub fn held_orbit(&self, r0: [f64; 2]) -> std::result::Result<HeldOrbit, ContactLoss> {
+        let r0 = V2::from(r0);
+        let period = self.period;
+        let tol = HELD_TOL * self.velocity_scale();
+        let mut phase = PartPhase::Contact(PartState::new(r0, V2::zeros()));
+        let mut last: Option<V2> = None;
+        let mut k = 0u32;
+        loop {
+            let (a, b) = (f64::from(k) * period, f64::from(k + 1) * period);
+            let out = self.advance_flying(a, b, &mut phase, &r0)?;
+            k += 1;
+            let end = self.plate_point(&phase, b);
+            let v = (end - r0) / period;
+            let change = last.map_or(f64::INFINITY, |l| (v - l).norm());
+            let settled = change <= tol;
+            if (settled && k >= HELD_MIN_PERIODS) || k >= HELD_MAX_PERIODS {
+                return Ok(HeldOrbit {
+                    velocity: [v.x, v.y],
+                    airborne_fraction: (out.airborne_time / period).clamp(0.0, 1.0),
+                    hops: out.hops.len(),
+                    periods: k,
+                    change,
+                    settled,
+                });
+            }
+            last = Some(v);
+            self.put_back(&mut phase, b, &r0);
+        }
+    }
+
+    /// The plate-frame point of `phase` at `t` (in flight, the point of
+    /// the plate surface under it).
+    fn plate_point(&self, phase: &PartPhase, t: f64) -> V2 {
+        match phase {
+            PartPhase::Contact(s) => s.r,
+            PartPhase::Flying(b) => {
+                let plate = self.plate_pose(t);
+                let (x, _) = b.at(t, self.gravity);
+                let q = plate.rot.inverse_transform_vector(&(x - plate.p));
+                V2::new(q.x, q.y)
+            }
+        }
+    }
+
+    /// `phase` at `t` moved to plate point `r0`, its velocity relative to
+    /// the plate kept ([`Simulator::held_orbit`]).
+    fn put_back(&self, phase: &mut PartPhase, t: f64, r0: &V2) {
+        let delta = r0 - self.plate_point(phase, t);
+        match phase {
+            PartPhase::Contact(s) => s.r = *r0,
+            PartPhase::Flying(b) => {
+                let plate = self.plate_pose(t);
+                let arm = plate.rot * V3::new(delta.x, delta.y, 0.0);
+                let dv = plate.omega.cross(&arm);
+                // The trajectory moves by `arm` at t, its velocity by `dv`.
+                b.position += arm - dv * (t - b.t0);
+                b.velocity += dv;
+            }
+        }
     }
 
     /// The event tolerance (s).
