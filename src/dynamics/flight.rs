@@ -57,9 +57,29 @@
 //!
 //! The flight is the plate's exact motion, while the contact dynamics
 //! follow the model's switches ([`Model`]); the two agree on N (the
-//! curvature of G at take-off is −N) only when every switch is on, or for a
-//! plate that does not rotate (then the switches change nothing). A
-//! simulator with another model and a rotating plate is refused.
+//! curvature of G at take-off is −N) only when the centripetal, tilt and
+//! Coriolis switches are on, or for a plate that does not rotate (then the
+//! switches change nothing). A simulator with one of them off and a
+//! rotating plate is refused.
+//!
+//! **A frozen part** ([`Model::FROZEN`]: `moving` off, the kinematics held
+//! at the part's anchor, as the judge holds each point) flies from its
+//! anchor too: the flight starts at the plate point `anchor` with the
+//! part's slip velocity, so that G's curvature at take-off is the −N the
+//! contact dynamics evaluated there, and lands near it. Its position is
+//! bookkeeping, as in contact: a landing at plate point q books the
+//! take-off position plus q − anchor (its travel over the plate in
+//! flight), and a rebound flies from the anchor again.
+//!
+//! **A held part and its airborne fraction** ([`Simulator::held_orbit`]):
+//! a part held at a plate point r₀ (put back there once a period, its
+//! velocity relative to the plate kept) settles on a periodic orbit that
+//! may include flights; its realised velocity is the period's mean
+//! velocity, and its **airborne fraction** the time it spends in flight
+//! over the period divided by T (the fraction of the cycle during which
+//! the part does not touch the plate and no friction acts on it). This is
+//! the judge's point play with flight: designs that may fly are measured
+//! by it (`platefield study flight-strength`, `results/flight_strength.md`).
 
 use serde::{Deserialize, Serialize};
 
@@ -234,20 +254,19 @@ impl Simulator<'_> {
     ///
     /// # Errors
     /// A restitution outside [0, 1] (named `flight.restitution`), or a
-    /// rotating plate under a model with a switch off (`model`).
+    /// rotating plate under a model with the centripetal, tilt or Coriolis
+    /// switch off (`model`).
     pub fn with_flight(mut self, flight: Flight) -> Result<Self> {
         flight.validate("flight")?;
         let full = Model::FULL;
         let m = self.model;
-        let consistent = m.centripetal == full.centripetal
-            && m.tilt == full.tilt
-            && m.coriolis == full.coriolis
-            && m.moving == full.moving;
+        let consistent =
+            m.centripetal == full.centripetal && m.tilt == full.tilt && m.coriolis == full.coriolis;
         if !consistent && self.motion.invariance() != Invariance::Uniform {
             return Err(Error::invalid(
                 "model",
                 format!(
-                    "flight follows the plate's exact motion and needs every model switch on for a rotating plate (got {})",
+                    "flight follows the plate's exact motion and needs the centripetal, tilt and Coriolis switches on for a rotating plate (got {})",
                     m.name()
                 ),
             ));
@@ -314,7 +333,7 @@ impl Simulator<'_> {
                     }
                     Some(tl) => {
                         out.airborne_time += tl - t;
-                        let (next, hop) = self.impact(&b, tl);
+                        let (next, hop) = self.impact(&b, tl, anchor);
                         zero_flights = if tl - b.t0 <= self.event_tolerance() {
                             zero_flights + 1
                         } else {
@@ -335,7 +354,7 @@ impl Simulator<'_> {
                         Ok(Some(tk))
                             if self.flight.is_some() && zero_flights < MAX_ZERO_FLIGHTS =>
                         {
-                            *phase = PartPhase::Flying(self.launch(tk, &state));
+                            *phase = PartPhase::Flying(self.launch(tk, &state, anchor));
                             t = tk;
                         }
                         Ok(Some(tk)) => {
@@ -364,11 +383,13 @@ impl Simulator<'_> {
     /// [`HELD_TOL`] μ_k g T between two periods (at least
     /// [`HELD_MIN_PERIODS`], at most [`HELD_MAX_PERIODS`]).
     ///
-    /// This is the steady state of [`Simulator::steady_state`]'s free
-    /// variant (the part put back at r₀ once a period), found by plain
-    /// iteration because a part in flight at the period's start has a
-    /// state a slip velocity does not describe. Its **airborne fraction**
-    /// is the time in flight over the last period divided by T.
+    /// This is the steady state of [`Simulator::steady_state`] (the part
+    /// put back at r₀ once a period; under [`Model::FROZEN`] its
+    /// kinematics held at r₀ throughout, in flight too, as the judge
+    /// plays each point), found by plain iteration because a part in
+    /// flight at the period's start has a state a slip velocity does not
+    /// describe. Its **airborne fraction** is the time in flight over the
+    /// last period divided by T.
     ///
     /// ```
     /// use platefield::dynamics::{Flight, Numerics, PartPhysics, Simulator};
@@ -398,7 +419,7 @@ impl Simulator<'_> {
             let (a, b) = (f64::from(k) * period, f64::from(k + 1) * period);
             let out = self.advance_flying(a, b, &mut phase, &r0)?;
             k += 1;
-            let end = self.plate_point(&phase, b);
+            let end = self.plate_point(&phase, b, &r0);
             let v = (end - r0) / period;
             let change = last.map_or(f64::INFINITY, |l| (v - l).norm());
             let settled = change <= tol;
@@ -418,25 +439,40 @@ impl Simulator<'_> {
     }
 
     /// The plate-frame point of `phase` at `t` (in flight, the point of
-    /// the plate surface under it).
-    fn plate_point(&self, phase: &PartPhase, t: f64) -> V2 {
+    /// the plate surface under it; for a frozen part, its take-off point
+    /// moved by its travel over the plate since, `anchor` its kinematics
+    /// point).
+    fn plate_point(&self, phase: &PartPhase, t: f64, anchor: &V2) -> V2 {
         match phase {
             PartPhase::Contact(s) => s.r,
             PartPhase::Flying(b) => {
                 let plate = self.plate_pose(t);
                 let (x, _) = b.at(t, self.gravity);
                 let q = plate.rot.inverse_transform_vector(&(x - plate.p));
-                V2::new(q.x, q.y)
+                self.booked(b, V2::new(q.x, q.y), anchor)
             }
+        }
+    }
+
+    /// The position a flight of `b` over plate point `q` books: `q`
+    /// itself, or for a frozen part (which flies from its kinematics point
+    /// `anchor`) its take-off point moved by q − `anchor`.
+    fn booked(&self, b: &Airborne, q: V2, anchor: &V2) -> V2 {
+        if self.model.moving {
+            q
+        } else {
+            b.from + (q - anchor)
         }
     }
 
     /// `phase` at `t` moved to plate point `r0`, its velocity relative to
     /// the plate kept ([`Simulator::held_orbit`]).
     fn put_back(&self, phase: &mut PartPhase, t: f64, r0: &V2) {
-        let delta = r0 - self.plate_point(phase, t);
+        let delta = r0 - self.plate_point(phase, t, r0);
+        let moving = self.model.moving;
         match phase {
             PartPhase::Contact(s) => s.r = *r0,
+            PartPhase::Flying(b) if !moving => b.from += delta,
             PartPhase::Flying(b) => {
                 let plate = self.plate_pose(t);
                 let arm = plate.rot * V3::new(delta.x, delta.y, 0.0);
@@ -556,10 +592,13 @@ impl Simulator<'_> {
         }
     }
 
-    /// The flight of a part leaving the plate at `t` in `state`.
-    fn launch(&self, t: f64, state: &PartState) -> Airborne {
+    /// The flight of a part leaving the plate at `t` in `state`: from its
+    /// position, or for a frozen part from its kinematics point `anchor`
+    /// (module docs).
+    fn launch(&self, t: f64, state: &PartState, anchor: &V2) -> Airborne {
         let plate = self.plate_pose(t);
-        let arm = plate.rot * V3::new(state.r.x, state.r.y, 0.0);
+        let at = if self.model.moving { state.r } else { *anchor };
+        let arm = plate.rot * V3::new(at.x, at.y, 0.0);
         let slip = plate.rot * V3::new(state.u.x, state.u.y, 0.0);
         Airborne {
             t0: t,
@@ -620,7 +659,7 @@ impl Simulator<'_> {
 
     /// The impact of `b` landing at `tl` (module docs): the part after it,
     /// and the hop.
-    fn impact(&self, b: &Airborne, tl: f64) -> (PartPhase, Hop) {
+    fn impact(&self, b: &Airborne, tl: f64, anchor: &V2) -> (PartPhase, Hop) {
         let plate = self.plate_pose(tl);
         let (x, v) = b.at(tl, self.gravity);
         let arm = x - plate.p;
@@ -638,7 +677,7 @@ impl Simulator<'_> {
             wt * (1.0 - bound / speed)
         };
         let rebound = -self.flight.unwrap_or_default().restitution * wn;
-        let r = V2::new(q.x, q.y);
+        let r = self.booked(b, V2::new(q.x, q.y), anchor);
         let hop = Hop {
             take_off: b.t0,
             landing: tl,
@@ -647,7 +686,8 @@ impl Simulator<'_> {
             impact_speed: -wn,
         };
         if rebound > self.gravity * self.event_tolerance() {
-            let surface = plate.rot * V3::new(r.x, r.y, 0.0);
+            let at = if self.model.moving { r } else { *anchor };
+            let surface = plate.rot * V3::new(at.x, at.y, 0.0);
             let rel = plate.rot * V3::new(wt_after.x, wt_after.y, rebound);
             let next = Airborne {
                 t0: tl,
