@@ -80,6 +80,19 @@
 //! the part does not touch the plate and no friction acts on it). This is
 //! the judge's point play with flight: designs that may fly are measured
 //! by it (`platefield study flight-strength`, `results/flight_strength.md`).
+//!
+//! **Why flight lifts the margin's cap, and what it buys.** A design that
+//! keeps contact holds N ≥ m g at every point of the region at every
+//! instant, and N is smallest at the region's corners, where the tilts
+//! swing it most: that margin, not the shaker's peaks, caps the tilts'
+//! amplitude and with it the strength ([`crate::synth`]). A design that
+//! may fly lets N reach 0 at the corners for part of the cycle (the part
+//! flies, without friction, then lands), so its tilts may grow to the
+//! peaks. The measured gain at a judged shape error ≤ 5 % is none: the
+//! shape error grows with the strength along one curve in contact and in
+//! flight, and a corner's first flight already lasts 15–23 % of the cycle
+//! (the flight time grows as the square root of how far N dips below 0);
+//! `docs/design.md` ("Designs that may fly") gives the numbers.
 
 use serde::{Deserialize, Serialize};
 

@@ -35,6 +35,84 @@ fn the_flying_judge_is_the_judge_in_contact() {
         100.0 * e
     );
     assert_eq!((j.points, j.unsettled, j.flying_points), (120, 0, 0));
-    assert!((j.strength / s - 1.0).abs() < 2e-3, "{} against {s}", j.strength);
-    assert!((j.shape_error - e).abs() < 5e-4, "{} against {e}", j.shape_error);
+    assert!(
+        (j.strength / s - 1.0).abs() < 2e-3,
+        "{} against {s}",
+        j.strength
+    );
+    assert!(
+        (j.shape_error - e).abs() < 5e-4,
+        "{} against {e}",
+        j.shape_error
+    );
+}
+
+/// The study's finding (`results/flight_strength.md`; about 70 s of CPU,
+/// run with `-- --ignored`), on both targets and both shakers:
+///
+/// * the flying judge of every unscaled contact synthesis is the product's
+///   judge of it (no part flies; strength within 0.2 %, shape error within
+///   0.05 percentage points);
+/// * the baseline (strongest judged at ≤ 5 %) is a contact synthesis at a
+///   margin of 0.2–0.3 g, at least 1.9× the shipped sequenced design on
+///   the sequenced shaker (the shipped 0.290 and 0.298 against 0.585 and
+///   0.582);
+/// * no motion that flies is admitted: the first tilt scale at which a
+///   part leaves the plate anywhere already keeps it airborne over
+///   10 % of the cycle at a corner, or its shape error is over 5 %, and
+///   every motion at 1.3× the baseline or more has a shape error over 7 %
+///   (the shape error grows with the strength along one curve, in
+///   contact as in flight): the 1.3× asked is not reached.
+#[test]
+#[ignore = "about 70 s of CPU: the whole study"]
+fn flight_does_not_buy_strength_at_five_percent() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    for shaker in SHAKERS {
+        for name in TARGETS {
+            let st =
+                study_target(name, shaker, &root.join("targets"), &root.join("results")).unwrap();
+            let (base, what) = st.baseline();
+            println!("{name}, {shaker}: baseline {base:.4} ({what})");
+            for c in &st.contact {
+                let row = st
+                    .rows
+                    .iter()
+                    .find(|r| r.margin == c.margin && r.scale == 1.0)
+                    .unwrap();
+                let j = row.judged;
+                assert!(
+                    (j.strength / c.strength - 1.0).abs() < 2e-3
+                        && (j.shape_error - c.shape_error).abs() < 5e-4,
+                    "{name}, {shaker}, m = {}: {j:?} against {} at {}",
+                    c.margin,
+                    c.strength,
+                    c.shape_error
+                );
+            }
+            assert!(what.starts_with("synthesize"), "{what}");
+            if shaker == "sequenced" {
+                assert!(
+                    base >= 1.9 * st.shipped.1,
+                    "{base} against {}",
+                    st.shipped.1
+                );
+            }
+            for r in &st.rows {
+                let j = r.judged;
+                assert_eq!(j.unsettled, 0, "{name}, {shaker}: {r:?}");
+                if j.max_airborne > 0.0 {
+                    assert!(
+                        j.max_airborne > MAX_FLIGHT || j.shape_error > SHAPE_LIMIT,
+                        "{name}, {shaker}: {r:?}"
+                    );
+                }
+                if j.strength >= RATIO_ASKED * base {
+                    assert!(j.shape_error > 0.07, "{name}, {shaker}: {r:?}");
+                }
+            }
+            assert!(st
+                .best_flying()
+                .is_some_and(|b| b.judged.max_airborne == 0.0));
+        }
+    }
 }
