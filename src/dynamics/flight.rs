@@ -90,8 +90,9 @@
 //! flies, without friction, then lands), so its tilts may grow to the
 //! peaks. The measured gain at a judged shape error ≤ 5 % is none: the
 //! shape error grows with the strength along one curve in contact and in
-//! flight, and a corner's first flight already lasts 15–23 % of the cycle
-//! (the flight time grows as the square root of how far N dips below 0);
+//! flight, and the airborne fraction rises steeply once N dips below 0
+//! (the flight lasts in proportion to the square root of the dip: a tilt
+//! 10 % past contact mostly takes the corners to 15–26 % of the cycle);
 //! `docs/design.md` ("Designs that may fly") gives the numbers.
 
 use serde::{Deserialize, Serialize};

@@ -47,12 +47,18 @@ fn the_flying_judge_is_the_judge_in_contact() {
     );
 }
 
-/// The study's finding (`results/flight_strength.md`; about 70 s of CPU,
+/// The study's finding (`results/flight_strength.md`; about 80 s of CPU,
 /// run with `-- --ignored`), on both targets and both shakers:
 ///
 /// * the flying judge of every unscaled contact synthesis is the product's
-///   judge of it (no part flies; strength within 0.2 %, shape error within
-///   0.05 percentage points);
+///   judge of it (strength within 0.2 %, shape error within 0.05
+///   percentage points) where no part flies, which is everywhere but at
+///   the corners of the margin-0 motions, which fly at up to 2 points
+///   (the saddle's on the sequenced shaker 2.3 % of the cycle, on the
+///   envelope 20 %; the sink's on the envelope at 2 corners not settled
+///   in 80 periods): the margin is kept on the synthesis's own grids,
+///   not at every instant of every judge point. At margins 0.1–0.3 g no
+///   part flies;
 /// * the baseline (strongest judged at ≤ 5 %) is a contact synthesis at a
 ///   margin of 0.2–0.3 g, at least 1.9× the shipped sequenced design on
 ///   the sequenced shaker (the shipped 0.290 and 0.298 against 0.585 and
@@ -64,7 +70,7 @@ fn the_flying_judge_is_the_judge_in_contact() {
 ///   grows with the strength along one curve, in contact as in flight):
 ///   the 1.3× asked is not reached.
 #[test]
-#[ignore = "about 70 s of CPU: the whole study"]
+#[ignore = "about 80 s of CPU: the whole study"]
 fn flight_does_not_buy_strength_at_five_percent() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     for shaker in SHAKERS {
@@ -80,6 +86,13 @@ fn flight_does_not_buy_strength_at_five_percent() {
                     .find(|r| r.margin == c.margin && r.scale == 1.0)
                     .unwrap();
                 let j = row.judged;
+                if c.margin == 0.0 {
+                    // At margin 0 corners may leave the plate (measured:
+                    // up to 2 points, airborne up to 20 % of the cycle).
+                    assert!(j.flying_points <= 2, "{j:?}");
+                    continue;
+                }
+                assert_eq!(j.flying_points, 0, "{name}, {shaker}, m = {}", c.margin);
                 assert!(
                     (j.strength / c.strength - 1.0).abs() < 2e-3
                         && (j.shape_error - c.shape_error).abs() < 5e-4,
@@ -99,7 +112,13 @@ fn flight_does_not_buy_strength_at_five_percent() {
             }
             for r in &st.rows {
                 let j = r.judged;
-                assert_eq!(j.unsettled, 0, "{name}, {shaker}: {r:?}");
+                // Grazing flights at margin 0 (the sink's on the envelope)
+                // leave at most 2 points unsettled after 80 periods.
+                let grazing = r.margin == 0.0 && r.scale == 1.0;
+                assert!(
+                    j.unsettled == 0 || (grazing && j.unsettled <= 2),
+                    "{name}, {shaker}: {r:?}"
+                );
                 if j.max_airborne > 0.0 {
                     assert!(
                         j.max_airborne > MAX_FLIGHT || j.shape_error > SHAPE_LIMIT,
