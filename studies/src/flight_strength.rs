@@ -125,7 +125,7 @@ pub fn judge_flying(
     let points = judge_points(target, &sampled);
     let frozen = FieldSettings {
         model: Model::FROZEN,
-        ..settings.clone()
+        ..*settings
     };
     let sim = frozen.simulator(motion).with_flight(Flight::INELASTIC)?;
     let orbits: Vec<_> = points
