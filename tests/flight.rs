@@ -447,3 +447,141 @@ fn in_contact_flying_is_advance_bitwise() {
         assert_eq!(part, PartPhase::Contact(state), "from {r:?}");
     }
 }
+
+/// A part held at a point of a vertically vibrating plate (Γ = 1.5, 2.5):
+/// [`Simulator::held_orbit`] settles on one flight a period, and its
+/// airborne fraction is the completely inelastic bouncing ball's flight
+/// time over T (the steady flight of [`bouncing_ball`]), within 1e-9; no
+/// horizontal forcing, no drift.
+#[test]
+fn held_orbit_airborne_fraction_is_the_bouncing_balls() {
+    let period = 0.02;
+    for gamma in [1.5, 2.5] {
+        let motion = shaker(period, (0.0, 0.0), (gamma * G, PI));
+        let physics = PartPhysics::new(Friction::uniform(0.3), G, Model::FULL);
+        let sim = Simulator::new(&motion, physics, Numerics::default())
+            .with_flight(Flight::INELASTIC)
+            .expect("valid flight");
+        let orbit = sim.held_orbit([0.01, -0.02]).expect("held");
+        let hops = bouncing_ball(gamma, period, 8.0 * period, 0.0);
+        let (t0, tl) = hops[hops.len() - 1];
+        let want = (tl - t0) / period;
+        println!(
+            "Γ = {gamma}: airborne fraction {:.10} against {want:.10}, {} periods",
+            orbit.airborne_fraction, orbit.periods
+        );
+        assert!(orbit.settled && orbit.hops == 1, "Γ = {gamma}: {orbit:?}");
+        assert!(
+            (orbit.airborne_fraction - want).abs() < 1e-9,
+            "Γ = {gamma}: {} against {want}",
+            orbit.airborne_fraction
+        );
+        assert!(orbit.velocity[0].abs() < 1e-12 && orbit.velocity[1].abs() < 1e-12);
+    }
+}
+
+/// On a tilting plate that keeps the part in contact, the held orbit
+/// (plain iteration, the part put back once a period) is the free steady
+/// state's fixed point found by Newton's method
+/// ([`Simulator::steady_state`], model `full`): the same mean velocity
+/// within 2e-5 of the velocity scale μ g T (the held orbit settles to
+/// 1e-5 of it a period), and no time in flight.
+#[test]
+fn held_orbit_in_contact_is_the_steady_state() {
+    let term = |amplitude: f64, phase: f64| FourierTerm {
+        amplitude,
+        phase,
+        harmonic: 1,
+    };
+    let motion = Motion::Signals(Signals {
+        period: 0.03,
+        linear: Axes {
+            x: vec![term(10.0, 0.5 * PI)],
+            y: vec![term(10.0, 0.0)],
+            z: Vec::new(),
+        },
+        angular: Axes {
+            x: vec![term(100.0, 0.3)],
+            y: vec![term(100.0, 0.3 + 0.5 * PI)],
+            z: Vec::new(),
+        },
+    });
+    let physics = PartPhysics::new(Friction::uniform(0.3), G, Model::FULL);
+    let plain = Simulator::new(&motion, physics, Numerics::default());
+    let sim = plain
+        .clone()
+        .with_flight(Flight::INELASTIC)
+        .expect("flight");
+    let scale = sim.velocity_scale();
+    for r0 in [[0.03, 0.02], [-0.035, 0.01], [0.0, -0.04]] {
+        let held = sim.held_orbit(r0).expect("held");
+        let steady = plain.steady_state(r0).expect("steady");
+        let d =
+            (held.velocity[0] - steady.velocity[0]).hypot(held.velocity[1] - steady.velocity[1]);
+        println!(
+            "{r0:?}: held {:?} in {} periods, steady {:?}: {:.2e} of μgT",
+            held.velocity,
+            held.periods,
+            steady.velocity,
+            d / scale
+        );
+        assert!(held.settled && held.airborne_fraction == 0.0 && held.hops == 0);
+        assert!(d < 2e-5 * scale, "{r0:?}: {d:e} m/s");
+    }
+}
+
+/// The frozen held orbit ([`Model::FROZEN`], kinematics held at the
+/// point, the judge's play) on the tilting plate of
+/// `held_orbit_in_contact_is_the_steady_state` is the frozen steady
+/// state's fixed point (Newton's method, [`Simulator::steady_state`])
+/// within 2e-5 of μ g T; and on a vertically vibrating plate (Γ = 1.5),
+/// where a frozen and a moving part are alike, its airborne fraction is
+/// the bouncing ball's within 1e-9.
+#[test]
+fn frozen_held_orbit_is_the_frozen_steady_state() {
+    let term = |amplitude: f64, phase: f64| FourierTerm {
+        amplitude,
+        phase,
+        harmonic: 1,
+    };
+    let motion = Motion::Signals(Signals {
+        period: 0.03,
+        linear: Axes {
+            x: vec![term(10.0, 0.5 * PI)],
+            y: vec![term(10.0, 0.0)],
+            z: Vec::new(),
+        },
+        angular: Axes {
+            x: vec![term(100.0, 0.3)],
+            y: vec![term(100.0, 0.3 + 0.5 * PI)],
+            z: Vec::new(),
+        },
+    });
+    let physics = PartPhysics::new(Friction::uniform(0.3), G, Model::FROZEN);
+    let plain = Simulator::new(&motion, physics, Numerics::default());
+    let sim = plain
+        .clone()
+        .with_flight(Flight::INELASTIC)
+        .expect("flight");
+    let scale = sim.velocity_scale();
+    for r0 in [[0.03, 0.02], [-0.035, 0.01]] {
+        let held = sim.held_orbit(r0).expect("held");
+        let steady = plain.steady_state(r0).expect("steady");
+        let d =
+            (held.velocity[0] - steady.velocity[0]).hypot(held.velocity[1] - steady.velocity[1]);
+        println!("frozen {r0:?}: {:.2e} of μgT", d / scale);
+        assert!(held.settled && held.airborne_fraction == 0.0);
+        assert!(d < 2e-5 * scale, "{r0:?}: {d:e} m/s");
+    }
+    let period = 0.02;
+    let vertical = shaker(period, (0.0, 0.0), (1.5 * G, PI));
+    let physics = PartPhysics::new(Friction::uniform(0.3), G, Model::FROZEN);
+    let sim = Simulator::new(&vertical, physics, Numerics::default())
+        .with_flight(Flight::INELASTIC)
+        .expect("flight");
+    let orbit = sim.held_orbit([0.02, 0.01]).expect("held");
+    let (t0, tl) = *bouncing_ball(1.5, period, 8.0 * period, 0.0)
+        .last()
+        .expect("hops");
+    assert!(orbit.hops == 1 && (orbit.airborne_fraction - (tl - t0) / period).abs() < 1e-9);
+}

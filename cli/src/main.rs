@@ -231,6 +231,9 @@ enum Study {
     /// A linear feeder: a point part's conveying speed against the throw number (0.5-3) and the phase between the track's two vibrations, at μ 0.2, 0.3 and 0.5, set against the classic throw-conveyor theory: feeder.md.
     #[command(mut_arg("out", default_dir(studies::feeder::DIR)))]
     Feeder(StudyOut),
+    /// Designs that may fly: the sink's and the saddle's realised strength at a judged shape error of at most 5 %, in contact against brief flight (at most 10 % of the cycle airborne, judged with the flight rung): flight_strength.md.
+    #[command(mut_arg("out", default_dir(studies::flight_strength::DIR)))]
+    FlightStrength(StudyOut),
 }
 
 /// Output folder of a study; its default is the study's `DIR`.
@@ -411,6 +414,9 @@ fn run_study(study: Study) -> Result<String> {
         Study::Feeder(o) => {
             studies::watched_defaults("feeder", false, || studies::feeder::run(&o.out))
         }
+        Study::FlightStrength(o) => studies::watched_defaults("flight-strength", false, || {
+            studies::flight_strength::run(&o.out)
+        }),
         Study::SqueezeOrder(o) => studies::watched_defaults("squeeze-order", false, || {
             studies::squeeze_order::run(&o.out)
         }),

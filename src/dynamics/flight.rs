@@ -57,9 +57,43 @@
 //!
 //! The flight is the plate's exact motion, while the contact dynamics
 //! follow the model's switches ([`Model`]); the two agree on N (the
-//! curvature of G at take-off is −N) only when every switch is on, or for a
-//! plate that does not rotate (then the switches change nothing). A
-//! simulator with another model and a rotating plate is refused.
+//! curvature of G at take-off is −N) only when the centripetal, tilt and
+//! Coriolis switches are on, or for a plate that does not rotate (then the
+//! switches change nothing). A simulator with one of them off and a
+//! rotating plate is refused.
+//!
+//! **A frozen part** ([`Model::FROZEN`]: `moving` off, the kinematics held
+//! at the part's anchor, as the judge holds each point) flies from its
+//! anchor too: the flight starts at the plate point `anchor` with the
+//! part's slip velocity, so that G's curvature at take-off is the −N the
+//! contact dynamics evaluated there, and lands near it. Its position is
+//! bookkeeping, as in contact: a landing at plate point q books the
+//! take-off position plus q − anchor (its travel over the plate in
+//! flight), and a rebound flies from the anchor again.
+//!
+//! **A held part and its airborne fraction** ([`Simulator::held_orbit`]):
+//! a part held at a plate point r₀ (put back there once a period, its
+//! velocity relative to the plate kept) settles on a periodic orbit that
+//! may include flights; its realised velocity is the period's mean
+//! velocity, and its **airborne fraction** the time it spends in flight
+//! over the period divided by T (the fraction of the cycle during which
+//! the part does not touch the plate and no friction acts on it). This is
+//! the judge's point play with flight: designs that may fly are measured
+//! by it (`platefield study flight-strength`, `results/flight_strength.md`).
+//!
+//! **Why flight lifts the margin's cap, and what it buys.** A design that
+//! keeps contact holds N ≥ m g at every point of the region at every
+//! instant, and N is smallest at the region's corners, where the tilts
+//! swing it most: that margin, not the shaker's peaks, caps the tilts'
+//! amplitude and with it the strength ([`crate::synth`]). A design that
+//! may fly lets N reach 0 at the corners for part of the cycle (the part
+//! flies, without friction, then lands), so its tilts may grow to the
+//! peaks. The measured gain at a judged shape error ≤ 5 % is none: the
+//! shape error grows with the strength along one curve in contact and in
+//! flight, and the airborne fraction rises steeply once N dips below 0
+//! (the flight lasts in proportion to the square root of the dip: a tilt
+//! 10 % past contact mostly takes the corners to 15–26 % of the cycle);
+//! `docs/design.md` ("Designs that may fly") gives the numbers.
 
 use serde::{Deserialize, Serialize};
 
@@ -180,6 +214,34 @@ pub struct FlightOutcome {
     pub rk4_steps: u32,
 }
 
+/// Fewest periods [`Simulator::held_orbit`] plays.
+pub const HELD_MIN_PERIODS: u32 = 3;
+/// Most periods [`Simulator::held_orbit`] plays before it reports the
+/// orbit as not settled.
+pub const HELD_MAX_PERIODS: u32 = 80;
+/// Change of a held part's period-mean velocity between two periods, as
+/// a fraction of the velocity scale μ_k g T, below which its orbit has
+/// settled.
+pub const HELD_TOL: f64 = 1e-5;
+
+/// The steady orbit of a part held at one plate point and followed
+/// through its flights ([`Simulator::held_orbit`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HeldOrbit {
+    /// Mean velocity over the last period (m/s), plate frame.
+    pub velocity: [f64; 2],
+    /// Fraction of the last period spent in flight, in [0, 1].
+    pub airborne_fraction: f64,
+    /// Flights that landed in the last period.
+    pub hops: usize,
+    /// Periods played.
+    pub periods: u32,
+    /// Change of the period-mean velocity over the last period (m/s).
+    pub change: f64,
+    /// Whether that change is within [`HELD_TOL`] of the velocity scale.
+    pub settled: bool,
+}
+
 /// The plate's world pose and velocity at one instant.
 struct PlatePose {
     p: V3,
@@ -206,20 +268,19 @@ impl Simulator<'_> {
     ///
     /// # Errors
     /// A restitution outside [0, 1] (named `flight.restitution`), or a
-    /// rotating plate under a model with a switch off (`model`).
+    /// rotating plate under a model with the centripetal, tilt or Coriolis
+    /// switch off (`model`).
     pub fn with_flight(mut self, flight: Flight) -> Result<Self> {
         flight.validate("flight")?;
         let full = Model::FULL;
         let m = self.model;
-        let consistent = m.centripetal == full.centripetal
-            && m.tilt == full.tilt
-            && m.coriolis == full.coriolis
-            && m.moving == full.moving;
+        let consistent =
+            m.centripetal == full.centripetal && m.tilt == full.tilt && m.coriolis == full.coriolis;
         if !consistent && self.motion.invariance() != Invariance::Uniform {
             return Err(Error::invalid(
                 "model",
                 format!(
-                    "flight follows the plate's exact motion and needs every model switch on for a rotating plate (got {})",
+                    "flight follows the plate's exact motion and needs the centripetal, tilt and Coriolis switches on for a rotating plate (got {})",
                     m.name()
                 ),
             ));
@@ -286,7 +347,7 @@ impl Simulator<'_> {
                     }
                     Some(tl) => {
                         out.airborne_time += tl - t;
-                        let (next, hop) = self.impact(&b, tl);
+                        let (next, hop) = self.impact(&b, tl, anchor);
                         zero_flights = if tl - b.t0 <= self.event_tolerance() {
                             zero_flights + 1
                         } else {
@@ -307,7 +368,7 @@ impl Simulator<'_> {
                         Ok(Some(tk))
                             if self.flight.is_some() && zero_flights < MAX_ZERO_FLIGHTS =>
                         {
-                            *phase = PartPhase::Flying(self.launch(tk, &state));
+                            *phase = PartPhase::Flying(self.launch(tk, &state, anchor));
                             t = tk;
                         }
                         Ok(Some(tk)) => {
@@ -322,6 +383,119 @@ impl Simulator<'_> {
         }
         out.phase = *phase;
         Ok(out)
+    }
+
+    /// The steady orbit of a point part **held** at plate point `r0` and
+    /// followed through its flights: the part starts at rest on the plate
+    /// at `r0` and plays whole periods with [`Simulator::advance_flying`];
+    /// at the end of each period it is put back at `r0` (in contact, its
+    /// position set to `r0`; in flight, its trajectory moved by the plate
+    /// displacement that takes the plate point under it to `r0`, with that
+    /// point's velocity change ω × R δ), keeping its velocity relative to
+    /// the plate. The period's mean velocity is its plate-frame
+    /// displacement over T. Played until that mean changes by less than
+    /// [`HELD_TOL`] μ_k g T between two periods (at least
+    /// [`HELD_MIN_PERIODS`], at most [`HELD_MAX_PERIODS`]).
+    ///
+    /// This is the steady state of [`Simulator::steady_state`] (the part
+    /// put back at r₀ once a period; under [`Model::FROZEN`] its
+    /// kinematics held at r₀ throughout, in flight too, as the judge
+    /// plays each point), found by plain iteration because a part in
+    /// flight at the period's start has a state a slip velocity does not
+    /// describe. Its **airborne fraction** is the time in flight over the
+    /// last period divided by T.
+    ///
+    /// ```
+    /// use platefield::dynamics::{Flight, Numerics, PartPhysics, Simulator};
+    /// use platefield::motion::{Axes, FourierTerm, Motion, Signals};
+    /// // A plate shaken vertically at 1.5 g: one flight a cycle, no drift.
+    /// let shake = FourierTerm { amplitude: 1.5 * 9.81, phase: 0.0, harmonic: 1 };
+    /// let m = Motion::Signals(Signals { period: 0.02, linear: Axes { z: vec![shake], ..Axes::default() }, angular: Axes::default() });
+    /// let sim = Simulator::new(&m, PartPhysics::full(0.3), Numerics::default())
+    ///     .with_flight(Flight::INELASTIC)?;
+    /// let orbit = sim.held_orbit([0.01, 0.0]).unwrap();
+    /// assert_eq!(orbit.hops, 1);
+    /// assert!(orbit.airborne_fraction > 0.1 && orbit.airborne_fraction < 0.9);
+    /// assert!(orbit.velocity[0].abs() < 1e-9);
+    /// # Ok::<(), platefield::Error>(())
+    /// ```
+    ///
+    /// # Errors
+    /// The contact loss [`Simulator::advance_flying`] reports.
+    pub fn held_orbit(&self, r0: [f64; 2]) -> std::result::Result<HeldOrbit, ContactLoss> {
+        let r0 = V2::from(r0);
+        let period = self.period;
+        let tol = HELD_TOL * self.velocity_scale();
+        let mut phase = PartPhase::Contact(PartState::new(r0, V2::zeros()));
+        let mut last: Option<V2> = None;
+        let mut k = 0u32;
+        loop {
+            let (a, b) = (f64::from(k) * period, f64::from(k + 1) * period);
+            let out = self.advance_flying(a, b, &mut phase, &r0)?;
+            k += 1;
+            let end = self.plate_point(&phase, b, &r0);
+            let v = (end - r0) / period;
+            let change = last.map_or(f64::INFINITY, |l| (v - l).norm());
+            let settled = change <= tol;
+            if (settled && k >= HELD_MIN_PERIODS) || k >= HELD_MAX_PERIODS {
+                return Ok(HeldOrbit {
+                    velocity: [v.x, v.y],
+                    airborne_fraction: (out.airborne_time / period).clamp(0.0, 1.0),
+                    hops: out.hops.len(),
+                    periods: k,
+                    change,
+                    settled,
+                });
+            }
+            last = Some(v);
+            self.put_back(&mut phase, b, &r0);
+        }
+    }
+
+    /// The plate-frame point of `phase` at `t` (in flight, the point of
+    /// the plate surface under it; for a frozen part, its take-off point
+    /// moved by its travel over the plate since, `anchor` its kinematics
+    /// point).
+    fn plate_point(&self, phase: &PartPhase, t: f64, anchor: &V2) -> V2 {
+        match phase {
+            PartPhase::Contact(s) => s.r,
+            PartPhase::Flying(b) => {
+                let plate = self.plate_pose(t);
+                let (x, _) = b.at(t, self.gravity);
+                let q = plate.rot.inverse_transform_vector(&(x - plate.p));
+                self.booked(b, V2::new(q.x, q.y), anchor)
+            }
+        }
+    }
+
+    /// The position a flight of `b` over plate point `q` books: `q`
+    /// itself, or for a frozen part (which flies from its kinematics point
+    /// `anchor`) its take-off point moved by q − `anchor`.
+    fn booked(&self, b: &Airborne, q: V2, anchor: &V2) -> V2 {
+        if self.model.moving {
+            q
+        } else {
+            b.from + (q - anchor)
+        }
+    }
+
+    /// `phase` at `t` moved to plate point `r0`, its velocity relative to
+    /// the plate kept ([`Simulator::held_orbit`]).
+    fn put_back(&self, phase: &mut PartPhase, t: f64, r0: &V2) {
+        let delta = r0 - self.plate_point(phase, t, r0);
+        let moving = self.model.moving;
+        match phase {
+            PartPhase::Contact(s) => s.r = *r0,
+            PartPhase::Flying(b) if !moving => b.from += delta,
+            PartPhase::Flying(b) => {
+                let plate = self.plate_pose(t);
+                let arm = plate.rot * V3::new(delta.x, delta.y, 0.0);
+                let dv = plate.omega.cross(&arm);
+                // The trajectory moves by `arm` at t, its velocity by `dv`.
+                b.position += arm - dv * (t - b.t0);
+                b.velocity += dv;
+            }
+        }
     }
 
     /// The event tolerance (s).
@@ -432,10 +606,13 @@ impl Simulator<'_> {
         }
     }
 
-    /// The flight of a part leaving the plate at `t` in `state`.
-    fn launch(&self, t: f64, state: &PartState) -> Airborne {
+    /// The flight of a part leaving the plate at `t` in `state`: from its
+    /// position, or for a frozen part from its kinematics point `anchor`
+    /// (module docs).
+    fn launch(&self, t: f64, state: &PartState, anchor: &V2) -> Airborne {
         let plate = self.plate_pose(t);
-        let arm = plate.rot * V3::new(state.r.x, state.r.y, 0.0);
+        let at = if self.model.moving { state.r } else { *anchor };
+        let arm = plate.rot * V3::new(at.x, at.y, 0.0);
         let slip = plate.rot * V3::new(state.u.x, state.u.y, 0.0);
         Airborne {
             t0: t,
@@ -496,7 +673,7 @@ impl Simulator<'_> {
 
     /// The impact of `b` landing at `tl` (module docs): the part after it,
     /// and the hop.
-    fn impact(&self, b: &Airborne, tl: f64) -> (PartPhase, Hop) {
+    fn impact(&self, b: &Airborne, tl: f64, anchor: &V2) -> (PartPhase, Hop) {
         let plate = self.plate_pose(tl);
         let (x, v) = b.at(tl, self.gravity);
         let arm = x - plate.p;
@@ -514,7 +691,7 @@ impl Simulator<'_> {
             wt * (1.0 - bound / speed)
         };
         let rebound = -self.flight.unwrap_or_default().restitution * wn;
-        let r = V2::new(q.x, q.y);
+        let r = self.booked(b, V2::new(q.x, q.y), anchor);
         let hop = Hop {
             take_off: b.t0,
             landing: tl,
@@ -523,7 +700,8 @@ impl Simulator<'_> {
             impact_speed: -wn,
         };
         if rebound > self.gravity * self.event_tolerance() {
-            let surface = plate.rot * V3::new(r.x, r.y, 0.0);
+            let at = if self.model.moving { r } else { *anchor };
+            let surface = plate.rot * V3::new(at.x, at.y, 0.0);
             let rel = plate.rot * V3::new(wt_after.x, wt_after.y, rebound);
             let next = Airborne {
                 t0: tl,

@@ -43,7 +43,7 @@ mod swing;
 
 pub use flight::Airborne;
 pub use flight::FlightOutcome;
-pub use flight::{Flight, Hop, PartPhase};
+pub use flight::{Flight, HeldOrbit, Hop, PartPhase, HELD_MAX_PERIODS, HELD_MIN_PERIODS, HELD_TOL};
 pub use simulator::Simulator;
 pub use state::{CycleOutcome, PartState, TrajectoryPoint, V2};
 

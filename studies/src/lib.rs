@@ -28,6 +28,7 @@ pub mod design_speed;
 pub mod engine_speed;
 pub mod feeder;
 pub mod fit_quality;
+pub mod flight_strength;
 pub mod interaction;
 pub mod linesink;
 pub mod poses;

@@ -49,6 +49,7 @@ pub const EXPECTED_STEPS: &[(&str, f64, f64)] = &[
     ("engine-speed", 1.31e7, 1.0),
     ("speed", 2.71e7, 1.0),
     ("squeeze-order", 9.73e7, 1.0),
+    ("flight-strength", 2.38e8, 1.0),
     ("synthesis", 3.46e8, 1.0),
     ("probes", 3.81e8, 1.0),
     ("design-speed", 1.07e9, 1.0),
