@@ -88,12 +88,12 @@
 //! amplitude and with it the strength ([`crate::synth`]). A design that
 //! may fly lets N reach 0 at the corners for part of the cycle (the part
 //! flies, without friction, then lands), so its tilts may grow to the
-//! peaks. The measured gain at a judged shape error ≤ 5 % is none: the
-//! shape error grows with the strength along one curve in contact and in
-//! flight, and the airborne fraction rises steeply once N dips below 0
-//! (the flight lasts in proportion to the square root of the dip: a tilt
-//! 10 % past contact mostly takes the corners to 15–26 % of the cycle);
-//! `docs/design.md` ("Designs that may fly") gives the numbers.
+//! peaks. What that buys at a bounded shape error is measured in
+//! `results/flight_strength.md` and read in `docs/design.md` ("Designs
+//! that may fly"): the shape error grows with the strength along one curve
+//! in contact and in flight, and the airborne fraction rises steeply once
+//! N dips below 0, since the flight lasts in proportion to the square root
+//! of the dip.
 
 use serde::{Deserialize, Serialize};
 
