@@ -85,15 +85,23 @@ impl Spin {
 /// amplitude α/ω² = 0.11 rad), where 62 of 64 of the triangle's played
 /// drops on the centred motion rest at one pose (`explore_basins`;
 /// 4600 and 5000 rad/s², translation × 0.15–0.16: 86–95 %, up to 3 lost).
+/// Two more turn a small part faster (its lifted field's slowest rate,
+/// which sets the cycle's spin stage, [`super::cycle::Stages`]): the
+/// triangle's three spins of 1200 rad/s² turn it at 0.04–0.07 1/s, too
+/// slowly for a stage of [`super::cycle::MAX_STAGE_S`]; 2400 and
+/// 4800 rad/s² with translation × 0.3 give it one lifted stable pose at
+/// 0.29 and 0.42 1/s (`explore_spin` in `tests/pose_rotation.rs`).
 /// The placement moves such a spin exactly
 /// ([`crate::motion::Signals::transformed`]); moved to first order only,
 /// it put none of the triangle's drops at the asked pose.
-pub const CANDIDATES: [Spin; 5] = [
+pub const CANDIDATES: [Spin; 7] = [
     spin(1200.0, 0.25),
     spin(900.0, 0.25),
     spin(1200.0, 0.4),
     spin(1200.0, 0.6),
     spin(4800.0, 0.15),
+    spin(2400.0, 0.3),
+    spin(4800.0, 0.3),
 ];
 
 const fn spin(alpha: f64, translation: f64) -> Spin {
