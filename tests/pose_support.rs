@@ -167,11 +167,12 @@ fn rectangle_design_over_three_supports() {
 #[ignore]
 fn designs_over_the_support_models_at_scale() {
     let drops: usize = std::env::var("PF_DROPS").map_or(100, |d| d.parse().unwrap());
-    for name in ["bracket", "triangle"] {
-        let (req, schedule, duration) = shipped_design(name);
-        let sm = ScheduleMotion::from_schedule(&schedule).unwrap();
-        let models = support_models(&req.part, RANDOM_SUPPORTS, 1).unwrap();
-        for scale in [0.8, 1.0, 1.2] {
+    // μ × 1 first: a run stopped early has the nominal friction of both.
+    for scale in [1.0, 0.8, 1.2] {
+        for name in ["bracket", "triangle"] {
+            let (req, schedule, duration) = shipped_design(name);
+            let sm = ScheduleMotion::from_schedule(&schedule).unwrap();
+            let models = support_models(&req.part, RANDOM_SUPPORTS, 1).unwrap();
             let mut play = DropPlay::new(&schedule.settings, duration);
             play.friction.stat *= scale;
             play.friction.kinetic *= scale;
