@@ -168,8 +168,15 @@ fn rectangle_design_over_three_supports() {
 fn designs_over_the_support_models_at_scale() {
     let drops: usize = std::env::var("PF_DROPS").map_or(100, |d| d.parse().unwrap());
     // μ × 1 first: a run stopped early has the nominal friction of both.
-    for scale in [1.0, 0.8, 1.2] {
-        for name in ["bracket", "triangle"] {
+    // `PF_SCALES` and `PF_PARTS` (comma-separated) play fewer.
+    let list = |k: &str, d: &str| std::env::var(k).unwrap_or(d.into());
+    let scales: Vec<f64> = list("PF_SCALES", "1,0.8,1.2")
+        .split(',')
+        .map(|s| s.parse().unwrap())
+        .collect();
+    let parts = list("PF_PARTS", "bracket,triangle");
+    for scale in scales {
+        for name in parts.split(',') {
             let (req, schedule, duration) = shipped_design(name);
             let sm = ScheduleMotion::from_schedule(&schedule).unwrap();
             let models = support_models(&req.part, RANDOM_SUPPORTS, 1).unwrap();
