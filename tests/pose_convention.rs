@@ -16,9 +16,8 @@
 //!    that segment's at every sample within 1e-9 rad and 1e-9 m: the parts
 //!    below are played on that plate's motion to 1e-9. (A pass of the file
 //!    does not end exactly at home: the held samples of the coning tilts
-//!    leave a tilt, 1.2e-5 rad on the bracket, printed and bounded below
-//!    (4.7e-5 at 5 kHz, 2.9e-6 at 20 kHz: second order in Δt, measured;
-//!    see `tests/convention.rs`); a controller looping the file keeps it,
+//!    leave a small tilt, second order in Δt (`tests/convention.rs`),
+//!    printed and bounded below; a controller looping the file keeps it,
 //!    as this loop does, where a replay of one pass at a time restarts
 //!    each at home.)
 //! 2. **The parts still reach the pose.** The product's pose drops
@@ -36,19 +35,18 @@
 //! takes at least one step per sample: 301 per cycle at 10 kHz, where the
 //! design plays its drops at 64 (`DropPlay::new`). Under the midpoint slip
 //! rule (the default, `platefield::dynamics::SlipRule`) the bracket's drops
-//! are converged in the step at 64: drops 0, 4 and 9 end +2.27° from the
-//! asked angle (drop 4 at the rival pose 180° away) at 64, 128, 256 and 512
-//! steps per cycle alike (`the_rest_angle_is_converged_in_the_step`); under
-//! the backward rule the rest angle moves at first order, +0.0°, +1.1°,
-//! +1.7°, +2.0° at 64…512, toward the same +2.3°. The schedule is compared
+//! end at the same rest angle at 64, 128, 256 and 512 steps per cycle
+//! (`the_rest_angle_is_converged_in_the_step` prints them); under the
+//! backward rule the rest angle moves at first order in the step toward the
+//! same angle. The schedule is compared
 //! at the file's steps per cycle; its count at the design's 64 is printed
 //! beside it.
 //!
 //! The default run checks (1) over one pass of the file. One drop for
-//! that pass (about 15 s of CPU): `cargo test --release --test
-//! pose_convention -- --ignored --nocapture 1_drop`; the 12 drops for the
-//! design's whole duration: `cargo test --release --test pose_convention
-//! -- --ignored --nocapture 12_drops` (about 250 s of CPU).
+//! that pass: `cargo test --release --test pose_convention -- --ignored
+//! --nocapture 1_drop`; the 12 drops for the design's whole duration:
+//! `cargo test --release --test pose_convention -- --ignored --nocapture
+//! 12_drops` (minutes of CPU).
 
 #[path = "common/plate.rs"]
 mod plate;
@@ -378,11 +376,9 @@ fn the_rest_angles_step_dependence_is_not_the_refinement() {
 /// The bracket's rest angle is converged in the drops' step at the design's
 /// 64 steps per cycle under the midpoint slip rule (the default,
 /// `platefield::dynamics::SlipRule`): drops 0, 4 and 9 end within 0.02 mm
-/// and 0.05° of where they end at 512 steps per cycle (measured: 0.001 mm,
-/// 0.00°; +2.27° from the asked angle, drop 4 at the rival pose 180° away,
-/// at 64, 128, 256 and 512 alike). The backward rule's rest angle moves
-/// at first order, +0.00°, +1.13°, +1.70°, +1.98° (printed beside it),
-/// toward the same +2.3°. About 150 s of CPU:
+/// and 0.05° of where they end at 512 steps per cycle (the ends at 64,
+/// 128, 256 and 512 are printed). The backward rule's rest angle moves at
+/// first order in the step (printed beside it). Minutes of CPU:
 /// `cargo test --release --test pose_convention -- --ignored --nocapture converged_in_the_step`.
 #[test]
 #[ignore]

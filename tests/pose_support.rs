@@ -110,7 +110,10 @@ fn shipped_design(name: &str) -> (PoseTarget, Schedule, f64) {
     let req = PoseTarget::load(Path::new(&format!("targets/pose_{name}.json")))
         .unwrap()
         .unwrap();
-    let path = format!("results/poses/{name}/schedule.json");
+    // `PF_POSES` names another folder of designs (`design --out`) for the
+    // ignored run at scale.
+    let dir = std::env::var("PF_POSES").unwrap_or("results/poses".into());
+    let path = format!("{dir}/{name}/schedule.json");
     let schedule = Schedule::load(Path::new(&path)).unwrap();
     let duration = schedule
         .played
@@ -155,25 +158,32 @@ fn rectangle_design_over_three_supports() {
 }
 
 /// The scale: the bracket's and the triangle's designs, 100 drops
-/// on each of the 24 support models at μ × 0.8, 1 and 1.2, the worst model
-/// first (printed). Its estimate: 0.83 s of CPU per 120 s bracket drop
-/// (measured on 3 drops × 24 models: 60 s), so 24 × 100 × 3 drops per
-/// part, about 1.7 h of CPU per part (not run; the 3 drops put all three
-/// at the pose on 18 models and none on 6: the 4 hull points and randoms 2,
-/// 6, 7, 8 and 20):
+/// (`PF_DROPS` to play fewer) on each of the 24 support models at μ × 0.8,
+/// 1 and 1.2, the worst model first (printed), each drop as long as the
+/// design's own (3 periods of its cycle). Measured numbers:
+/// `results/poses.md`, `docs/parts.md`.
 /// `cargo test --release --test pose_support -- --ignored --nocapture`.
 #[test]
 #[ignore]
 fn designs_over_the_support_models_at_scale() {
-    for name in ["bracket", "triangle"] {
-        let (req, schedule, duration) = shipped_design(name);
-        let sm = ScheduleMotion::from_schedule(&schedule).unwrap();
-        let models = support_models(&req.part, RANDOM_SUPPORTS, 1).unwrap();
-        for scale in [0.8, 1.0, 1.2] {
+    let drops: usize = std::env::var("PF_DROPS").map_or(100, |d| d.parse().unwrap());
+    // μ × 1 first: a run stopped early has the nominal friction of both.
+    // `PF_SCALES` and `PF_PARTS` (comma-separated) play fewer.
+    let list = |k: &str, d: &str| std::env::var(k).unwrap_or(d.into());
+    let scales: Vec<f64> = list("PF_SCALES", "1,0.8,1.2")
+        .split(',')
+        .map(|s| s.parse().unwrap())
+        .collect();
+    let parts = list("PF_PARTS", "bracket,triangle");
+    for scale in scales {
+        for name in parts.split(',') {
+            let (req, schedule, duration) = shipped_design(name);
+            let sm = ScheduleMotion::from_schedule(&schedule).unwrap();
+            let models = support_models(&req.part, RANDOM_SUPPORTS, 1).unwrap();
             let mut play = DropPlay::new(&schedule.settings, duration);
             play.friction.stat *= scale;
             play.friction.kinetic *= scale;
-            let report = play_over_supports(&req, &sm, &play, 100, &models);
+            let report = play_over_supports(&req, &sm, &play, drops, &models);
             for r in &report {
                 println!(
                     "{name}, μ × {scale}: {}: {:.0} % at the pose, {} lost",

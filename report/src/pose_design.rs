@@ -141,8 +141,9 @@ fn screened_md(d: &PoseDesign, md: &mut String) {
     };
     let _ = writeln!(
         md,
-        "\nSpin candidates judged by play (`pose::design::screen`: {PROBES} probes × {PROBE_S} s from a 4 × 4 grid of starts on the centred spun sink, whose largest cluster places the ellipse stage, then × {} s on that cycle; share, spread and pose are the cycle's; kept: the largest share at one pose, at least {:.0} %, then the tightest{range_text}):\n\n| α (rad/s²) | phase (rad) | translation × | share at one pose | spread | played pose (mm, mm, °) |{head}\n|---|---|---|---|---|---|{rule}",
-        platefield::pose::design::cycle::SETTLED_S,
+        "\nSpin candidates judged by play (`pose::design::screen`: {PROBES} probes × {PROBE_S} s from a 4 × 4 grid of starts on the centred spun sink, whose largest cluster places the ellipse stage, then × {PROBE_S} s or {} periods on that cycle, its stages ln(d)/λ from the spin's and the ellipse's slowest lifted rates (`pose::design::cycle::Stages`; a spin whose stage would exceed {} s is not played); share, spread and pose are the cycle's; kept: the largest share at one pose, at least {:.0} %, then the shortest cycle, then the tightest{range_text}):\n\n| α (rad/s²) | phase (rad) | translation × | spin + ellipse stage (s) | share at one pose | spread | played pose (mm, mm, °) |{head}\n|---|---|---|---|---|---|---|{rule}",
+        platefield::pose::design::cycle::SETTLE_PERIODS,
+        platefield::pose::design::cycle::MAX_STAGE_S,
         100.0 * MIN_SHARE
     );
     for s in &d.screened {
@@ -155,9 +156,12 @@ fn screened_md(d: &PoseDesign, md: &mut String) {
             )
         });
         let turn = s.turn.map_or(String::new(), |t| format!(" {t:.2} |"));
+        let stages = s.stages.map_or("too slow, not played".into(), |t| {
+            format!("{:.1} + {:.1}", t.spin_s, t.ellipse_s)
+        });
         let _ = writeln!(
             md,
-            "| {} | {} | {} | {:.0} % | {:.2} | {pose} |{turn}",
+            "| {} | {} | {} | {stages} | {:.0} % | {:.2} | {pose} |{turn}",
             s.spin.alpha,
             s.spin.phase,
             s.spin.translation,

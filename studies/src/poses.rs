@@ -191,17 +191,22 @@ the placement corrected on played probes from spread starts without redesign) an
 3° modulo the part's symmetry. A linear field turns a part by its second moments only, so a part \
 without a 180° symmetry (the bracket, the triangle) has two stable poses 180° apart in it, each \
 with about half the drops. A unique pose needs a field nonlinear over the part. For such a part \
-`design` plays a cycle (`pose::design::cycle`): 40 s of the isotropic sink with its translation scaled by \
+`design` plays a cycle (`pose::design::cycle`): a stage of the isotropic sink with its translation scaled by \
 0.15–0.6 and a spin about the vertical out of phase with it (`pose::design::spin`: the slip path at p \
 is an ellipse spanned by the translation and the rotation's velocity at p, so the mean friction \
 direction turns across the plate on the scale r* = V/Ω ≈ 1.4–27 mm: 61–70 % off affine over ±4 cm \
-at 9–27 mm), which selects one of the ellipse's two poses, then 20 s of the elliptic sink placed on \
+at 9–27 mm), which selects one of the ellipse's two poses, then a stage of the elliptic sink placed on \
 the spun sink's played rest, which sets it (the spun sink alone left the triangle's drops 92 % at \
-the pose and 7 % at a second rest 139° away, and its rest turned 17.6° over μ ± 20 %). Its 5 \
+the pose and 7 % at a second rest 139° away, and its rest turned 17.6° over μ ± 20 %). Each stage \
+lasts ln(d)/λ, λ its motion's slowest lifted decay rate and d the farthest a part starts from its \
+rest in tolerances (the drop region's half-diagonal over 1 mm, or 180° over 3° for the spin and 90° \
+over 3° for the ellipse: `pose::design::cycle::Stages`), and the drops play 3 periods: a drop's \
+settle time is counted in whole periods, so the derived period bounds it from below. Its 7 \
 candidate spins are judged by play, not by the lifted field alone (`pose::design::screen`: 16 probes \
 × 60 s from a 4 × 4 grid of starts on the centred spun sink, whose largest cluster places the \
-ellipse stage, then 16 × 120 s on the cycle): it keeps the one whose cycle puts the largest share \
-of probes at one pose, at least 75 %, else the elliptic sink alone. A cycle's lifted field is the \
+ellipse stage, then 16 × 60 s or 3 periods on the cycle; a spin whose stage would exceed 40 s is \
+not played): it keeps the one whose cycle puts the largest share of probes at one pose, at least \
+75 %, then the shortest cycle, else the elliptic sink alone. A cycle's lifted field is the \
 stages' time average, which no played part sees: its drops are counted by where they end, not by \
 basin (`tests/pose_rotation.rs` `explore_cycle`, `docs/parts.md`).\n\n";
 

@@ -2,63 +2,138 @@
 //!
 //! **Why.** A spun sink ([`super::spin`]) puts most drops of a part
 //! without a 180° symmetry at one pose, but not all, and its pose moves
-//! with friction: the triangle's strongest spin leaves a few per cent of
-//! the drops at a second pose, and its rest turns with μ ± 20 % by far more
-//! than the tolerance (`docs/parts.md`, **The spin selects, the ellipse
-//! sets**). The elliptic sink ([`super::search::Family::Ellipse`])
+//! with friction: the triangle's strongest spin (4800 rad/s² × 0.15) put
+//! 97 % of 64 drops at one pose and 3 % at a second 139° away, and its
+//! rest turned 17.6° over μ 0.24–0.36 (0 % within 3° at either end;
+//! `docs/parts.md`). The elliptic sink ([`super::search::Family::Ellipse`])
 //! gives every such part two stable poses 180° apart, fixed by its second
-//! moments and hardly moving with μ, each holding about half the drops.
+//! moments and hardly moving with μ (the triangle's ±1.25° over the same
+//! range), each holding about half the drops.
 //!
-//! **How.** The two are played in turn, repeated: [`SPIN_S`] of the spun
-//! sink, then [`ELLIPSE_S`] of the elliptic sink placed (turned about the
-//! vertical and shifted, [`super::placement`]) so that its lifted stable
-//! pose nearest the spun sink's played rest lies on it; each stage ramps
-//! in and out over about [`RAMP_S`] ([`crate::motion::Ramped`]). The spin
-//! stage takes a part into the half of the ellipse's turn that holds the
-//! kept pose; the ellipse stage takes it onto that pose, wherever in the
-//! half the spin left it. A part ending at the spin's second rest is
-//! turned back by the ellipse to the pose 180° from the kept one, which
-//! the next spin stage takes away. The cycle is one schedule: the
-//! placement and the correction move both stages together, and its
-//! probes and drops play at least [`SETTLE_PERIODS`] of its periods.
+//! **How.** The two are played in turn, repeated: [`Stages::spin_s`] of
+//! the spun sink, then [`Stages::ellipse_s`] of the elliptic sink placed
+//! (turned about the vertical and shifted, [`super::placement`]) so that
+//! its lifted stable pose nearest the spun sink's played rest lies on it;
+//! each stage ramps in and out over about [`RAMP_S`]
+//! ([`crate::motion::Ramped`]). The spin stage takes a part into the half
+//! of the ellipse's turn that holds the kept pose; the ellipse stage takes
+//! it onto that pose, wherever in the half the spin left it. A part ending
+//! at the spin's second rest is turned back by the ellipse to the pose
+//! 180° from the kept one, which the next spin stage takes away. The
+//! cycle is one schedule: the placement and the correction move both
+//! stages together, and its probes and drops play at least
+//! [`SETTLE_PERIODS`] of its periods.
 //!
-//! The cycle puts all of the triangle's and the bracket's drops at one
-//! pose over μ ± 20 %, where the triangle's spin alone does not, and its
-//! pose turns less with friction than the spin's; a spin stage too short to turn a
-//! part out of the ellipse's wrong half loses the selection (`explore_cycle`
-//! in `tests/pose_rotation.rs`; measured: `docs/parts.md`, **Measurements behind the pose
-//! design's choices**).
+//! **Stage lengths, derived** ([`Stages::derive`]). Near its stable pose a
+//! stage's lifted field decays as e^{−λt}, λ its slowest rate (the least
+//! |real part| of the Jacobian's eigenvalues there). A part a distance d
+//! away, in tolerances, comes within the tolerance after
+//!
+//! ```text
+//! t = ln(d) / λ,   d = max(h / 1 mm, Δθ / 3°)
+//! ```
+//!
+//! with h the half-diagonal of the region the drops start in (the region
+//! inset by the part's radius: [`crate::pose::drop_starts`]) and Δθ the
+//! largest turn the stage must make: 180° for the spin (a part may land
+//! anywhere), 90° for the ellipse (the spin left it in the kept half).
+//! The spin's λ is the least over its lifted stable poses; the ellipse's
+//! over its two. Played parts do not follow the lifted field exactly
+//! (the spin's lifted rests are rough, [`super::screen`]), so the lengths
+//! only set the cycle; its played probes judge it, and a part the spin
+//! left in the wrong half gets another period. A spin whose stage would
+//! exceed [`MAX_STAGE_S`] is too slow to screen. The period is therefore
+//! a property of the two motions and the region, not a constant: the
+//! settle time of a drop is counted in whole periods
+//! ([`super::play`]), so a shorter period settles sooner.
+//!
+//! Measured numbers (stage rates, lengths, shares and settle times):
+//! `results/poses.md`, `docs/parts.md`.
 
 use super::placement::{centred_pose, Placement};
-use super::PoseTarget;
+use super::{PoseTarget, TOL_DEG, TOL_MM};
 use crate::error::{Error, Result};
 use crate::field::Grid;
-use crate::pose::{equilibria, schedule_field, Equilibrium, LiftedField, Pose};
+use crate::pose::{equilibria, schedule_field, Equilibrium, LiftedField, Pose, Region};
 use crate::schedule::{Schedule, Segment};
 
-/// Seconds of the spin stage.
-pub const SPIN_S: f64 = 40.0;
-/// Seconds of the ellipse stage.
-pub const ELLIPSE_S: f64 = 20.0;
 /// Seconds of each stage's ramp in and out (whole cycles, at least one).
 pub const RAMP_S: f64 = 0.5;
-/// Periods of a schedule a probe or drop plays at least: one spin stage
-/// does not always take a part out of the ellipse's wrong half (after one
-/// period of the triangle's cycle many drops are elsewhere, after two none
-/// are: `explore_cycle`; measured: `docs/parts.md`, **Measurements behind
-/// the pose design's choices**).
-pub const SETTLE_PERIODS: f64 = 2.0;
+/// Periods of a cycle a probe or drop plays at least: one spin stage
+/// does not always take a part out of the ellipse's wrong half (the part
+/// may land near the spin's unstable pose, where the linear decay of
+/// [`Stages::derive`] does not hold), so the later periods give it the
+/// chances it needs and show that a settled part stays.
+pub const SETTLE_PERIODS: f64 = 3.0;
+/// Longest stage (s): a spin whose derived stage is longer is not
+/// screened (module docs).
+pub const MAX_STAGE_S: f64 = 40.0;
+/// Turn the spin stage must make at most: any angle (degrees).
+pub const SPIN_TURN_DEG: f64 = 180.0;
+/// Turn the ellipse stage must make at most: within the kept half
+/// (degrees).
+pub const ELLIPSE_TURN_DEG: f64 = 90.0;
 
-/// How long a probe or drop plays on a cycle of the stages above: its
-/// [`SETTLE_PERIODS`] periods (s).
-pub const SETTLED_S: f64 = SETTLE_PERIODS * (SPIN_S + ELLIPSE_S);
+/// The stage lengths of a cycle (module docs).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Stages {
+    /// Seconds of the spin stage.
+    pub spin_s: f64,
+    /// Seconds of the ellipse stage.
+    pub ellipse_s: f64,
+}
+
+impl Stages {
+    /// The stage lengths for slowest lifted rates `spin_rate` and
+    /// `ellipse_rate` (1/s) and drops starting in `starts` (the region
+    /// inset by the part's radius): t = ln(d)/λ per stage (module docs).
+    /// `None` when a rate is not positive or the spin stage would exceed
+    /// [`MAX_STAGE_S`].
+    ///
+    /// ```
+    /// use platefield::pose::design::cycle::Stages;
+    /// use platefield::pose::Region;
+    /// // Half-diagonal 28.3 mm: the spin's d = max(28.3, 180/3) = 60,
+    /// // the ellipse's d = max(28.3, 90/3) = 30.
+    /// let starts = Region { x: [-0.02, 0.02], y: [-0.02, 0.02] };
+    /// let s = Stages::derive(0.4, 0.68, &starts).unwrap();
+    /// assert!((s.spin_s - 60f64.ln() / 0.4).abs() < 1e-12);
+    /// assert!((s.ellipse_s - 30f64.ln() / 0.68).abs() < 1e-12);
+    /// assert!(Stages::derive(0.05, 0.68, &starts).is_none());
+    /// ```
+    pub fn derive(spin_rate: f64, ellipse_rate: f64, starts: &Region) -> Option<Stages> {
+        if !(spin_rate > 0.0 && ellipse_rate > 0.0) {
+            return None;
+        }
+        let h = 0.5 * (starts.x[1] - starts.x[0]).hypot(starts.y[1] - starts.y[0]);
+        let d = |turn: f64| (1e3 * h / TOL_MM).max(turn / TOL_DEG);
+        let spin_s = d(SPIN_TURN_DEG).ln() / spin_rate;
+        let ellipse_s = d(ELLIPSE_TURN_DEG).ln() / ellipse_rate;
+        (spin_s <= MAX_STAGE_S).then_some(Stages { spin_s, ellipse_s })
+    }
+
+    /// The nominal period: both stages (s).
+    pub fn period(&self) -> f64 {
+        self.spin_s + self.ellipse_s
+    }
+}
+
+/// The slowest decay rate (1/s) over the stable poses of `stable`: the
+/// least −Re λ (none: 0).
+pub fn slowest_rate(stable: &[Equilibrium]) -> f64 {
+    stable
+        .iter()
+        .map(|e| -e.rates[0])
+        .reduce(f64::min)
+        .unwrap_or(0.0)
+}
 
 /// `seconds`, or [`SETTLE_PERIODS`] periods of `period` (s) when longer.
 ///
 /// ```
 /// use platefield::pose::design::cycle::settle_seconds;
 /// assert_eq!(settle_seconds(60.0, 0.05), 60.0);
-/// assert_eq!(settle_seconds(60.0, 60.0), 120.0);
+/// assert_eq!(settle_seconds(60.0, 60.0), 180.0);
 /// ```
 pub fn settle_seconds(seconds: f64, period: f64) -> f64 {
     seconds.max(SETTLE_PERIODS * period)
@@ -95,6 +170,11 @@ impl EllipseStage {
         Ok(EllipseStage { schedule, stable })
     }
 
+    /// The slowest decay rate over its lifted stable poses (1/s).
+    pub fn rate(&self) -> f64 {
+        slowest_rate(&self.stable)
+    }
+
     /// The elliptic sink placed so that its stable pose of least turn
     /// onto `rest` lies on it.
     ///
@@ -108,16 +188,21 @@ impl EllipseStage {
 }
 
 /// The cycle of the centred spun sink `spun` whose played rest is `rest`
-/// and `ellipse` placed on that rest (module docs).
+/// and `ellipse` placed on that rest, played for `stages` (module docs).
 ///
 /// # Errors
 /// Either schedule is not one six-signal motion.
-pub fn cycle(spun: &Schedule, ellipse: &EllipseStage, rest: &Pose) -> Result<Schedule> {
+pub fn cycle(
+    spun: &Schedule,
+    ellipse: &EllipseStage,
+    rest: &Pose,
+    stages: Stages,
+) -> Result<Schedule> {
     let placed = ellipse.placed_on(rest)?;
     let mut out = spun.clone();
     out.segments = vec![
-        stage(&spun.segments, SPIN_S, "spin stage")?,
-        stage(&placed.segments, ELLIPSE_S, "ellipse stage")?,
+        stage(&spun.segments, stages.spin_s, "spin stage")?,
+        stage(&placed.segments, stages.ellipse_s, "ellipse stage")?,
     ];
     let total: f64 = out.segments.iter().map(|s| s.duration_s).sum();
     for seg in &mut out.segments {
@@ -154,8 +239,8 @@ mod tests {
     use crate::pose::design::placement::{family, synthesize_centred};
     use crate::pose::design::spin::{spun, CANDIDATES};
 
-    /// The cycle plays the spun sink for [`SPIN_S`] then the ellipse for
-    /// [`ELLIPSE_S`] (whole cycles, ramped), and the placed ellipse's
+    /// The cycle plays the spun sink for its [`Stages::spin_s`] then the
+    /// ellipse for its [`Stages::ellipse_s`] (whole cycles, ramped), and the placed ellipse's
     /// lifted stable pose lies on the given rest (within 0.5 mm and 1°:
     /// the lifted equilibria are found on a grid field, so up to its
     /// interpolation), while the centred one does not. The committed pose
@@ -176,10 +261,14 @@ mod tests {
         let ellipse = synth(false).unwrap().kept().schedule.clone();
         let stage = EllipseStage::new(&req, ellipse, &grid).unwrap();
         let rest = Pose::new(-0.0016, 0.0065, 89.2f64.to_radians());
-        let c = cycle(&spun(&sink, CANDIDATES[4]).unwrap(), &stage, &rest).unwrap();
+        let stages = Stages {
+            spin_s: 9.7,
+            ellipse_s: 5.1,
+        };
+        let c = cycle(&spun(&sink, CANDIDATES[4]).unwrap(), &stage, &rest, stages).unwrap();
         let secs: Vec<f64> = c.segments.iter().map(|s| s.duration_s).collect();
         assert!(
-            (secs[0] - SPIN_S).abs() < 0.1 && (secs[1] - ELLIPSE_S).abs() < 0.1,
+            (secs[0] - stages.spin_s).abs() < 0.1 && (secs[1] - stages.ellipse_s).abs() < 0.1,
             "{secs:?}"
         );
         assert!((c.period_s - secs[0] - secs[1]).abs() < 1e-9);
@@ -224,5 +313,42 @@ mod tests {
         assert!(d < 0.5 && t < 1.0, "placed: {d} mm, {t}°");
         let (d0, t0) = near(&stage);
         assert!(d0 > 2.0 || t0 > 10.0, "centred: {d0} mm, {t0}°");
+    }
+
+    /// The derived stage lengths follow t = ln(d)/λ (module docs), checked
+    /// against the closed form by hand: on ±2 cm of starts the half-diagonal
+    /// 28.28 mm is under the turns' 60 and 30 tolerances, so the spin
+    /// takes ln 60/λ and the ellipse ln 30/λ; on ±5 cm (70.71 mm) the
+    /// distance wins for both. Halving a rate doubles its stage; a spin
+    /// slower than [`MAX_STAGE_S`] allows, or a rate ≤ 0, gives none.
+    #[test]
+    fn stage_lengths_follow_from_the_rates() {
+        let square = |a: f64| Region {
+            x: [-a, a],
+            y: [-a, a],
+        };
+        let s = Stages::derive(0.5, 0.7, &square(0.02)).unwrap();
+        assert!((s.spin_s - 4.094_344_562_222_1 / 0.5).abs() < 1e-9, "{s:?}");
+        assert!((s.ellipse_s - 3.401_197_381_662_155 / 0.7).abs() < 1e-9);
+        assert!((s.period() - s.spin_s - s.ellipse_s).abs() < 1e-15);
+        let wide = Stages::derive(0.5, 0.7, &square(0.05)).unwrap();
+        let ln_h = (50.0 * 2f64.sqrt()).ln();
+        assert!((wide.spin_s - ln_h / 0.5).abs() < 1e-9, "{wide:?}");
+        assert!((wide.ellipse_s - ln_h / 0.7).abs() < 1e-9);
+        let half = Stages::derive(0.25, 0.35, &square(0.02)).unwrap();
+        assert!((half.spin_s - 2.0 * s.spin_s).abs() < 1e-9);
+        assert!((half.ellipse_s - 2.0 * s.ellipse_s).abs() < 1e-9);
+        // ln 60 / 40 s = 0.1024 1/s: the slowest spin that is screened.
+        assert!(Stages::derive(0.103, 0.7, &square(0.02)).is_some());
+        assert!(Stages::derive(0.102, 0.7, &square(0.02)).is_none());
+        assert!(Stages::derive(0.0, 0.7, &square(0.02)).is_none());
+        assert!(Stages::derive(0.5, -0.1, &square(0.02)).is_none());
+        let eq = |r: f64| Equilibrium {
+            pose: Pose::new(0.0, 0.0, 0.0),
+            stable: true,
+            rates: [-r, -2.0 * r, -3.0 * r],
+        };
+        assert_eq!(slowest_rate(&[eq(0.4), eq(0.3), eq(0.5)]), 0.3);
+        assert_eq!(slowest_rate(&[]), 0.0);
     }
 }

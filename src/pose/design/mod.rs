@@ -98,6 +98,9 @@ pub struct PoseDesign {
     /// The spin added to the synthesized sink ([`spin`]), `None` for a
     /// part with a 180° symmetry (the elliptic sink alone).
     pub spin: Option<spin::Spin>,
+    /// The kept cycle's stage lengths ([`cycle::Stages`]), `None` without
+    /// a spin.
+    pub stages: Option<cycle::Stages>,
     /// The spin candidates judged by play ([`screen`]), empty for a part
     /// with a 180° symmetry.
     pub screened: Vec<screen::Screened>,
@@ -134,6 +137,7 @@ pub fn design_pose(req: &PoseTarget, opts: &DesignOptions, drops: usize) -> Resu
         screened,
     } = centred_motion(req, opts, &grid)?;
     let spin = spun.map(|s| s.0);
+    let stages = spun.map(|s| s.2);
     let family = placement::family(spin.is_some());
     let (centred, lifted) = lifted_start(req, &origin, &grid, spun.map(|s| s.1))?;
     let (kept, rounds) = correct::correct(req, &origin, lifted)?;
@@ -152,18 +156,18 @@ pub fn design_pose(req: &PoseTarget, opts: &DesignOptions, drops: usize) -> Resu
     let field = schedule_field(&schedule, &grid)?;
     let analysis = analyse(&req.part, &field, req.region, LIFTED_DROPS);
     let rate = play::play_rate(req, &analysis, spin.is_some());
-    let label = match spin {
-        Some(s) => format!(
-            "a cycle of {} s of the {}, translation × {}, plus a spin of {} rad/s² at phase {} rad, then {} s of the {} placed on its rest (its lifted field: the stages' time average)",
-            cycle::SPIN_S,
+    let label = match (spin, stages) {
+        (Some(s), Some(st)) => format!(
+            "a cycle of {:.1} s of the {}, translation × {}, plus a spin of {} rad/s² at phase {} rad, then {:.1} s of the {} placed on its rest (stage lengths ln(d)/λ from the stages' slowest lifted rates; its lifted field: the stages' time average)",
+            st.spin_s,
             family.label(),
             s.translation,
             s.alpha,
             s.phase,
-            cycle::ELLIPSE_S,
+            st.ellipse_s,
             placement::family(false).label()
         ),
-        None => format!("one synthesized motion: {}", family.label()),
+        _ => format!("one synthesized motion: {}", family.label()),
     };
     let played = play_drops(req, &schedule, (&analysis, label, rate), drops, opts)?;
     if let Some(p) = schedule.played.as_mut() {
@@ -179,6 +183,7 @@ pub fn design_pose(req: &PoseTarget, opts: &DesignOptions, drops: usize) -> Resu
         rounds,
         method,
         spin,
+        stages,
         screened,
         analysis,
         scaled,
@@ -226,14 +231,15 @@ fn announce(req: &PoseTarget, drops: usize) -> String {
     } else {
         ""
     };
-    let cycle_s = cycle::SETTLED_S;
+    let periods = cycle::SETTLE_PERIODS;
+    let longest = (cycle::settle_seconds(screen::PROBE_S, 2.0 * cycle::MAX_STAGE_S)).ceil();
     let (syntheses, screen) = if spin::needs_spin(req.part.symmetry()) {
         let screen = format!(
-            ", up to {} spin candidates × {} probes × {} s on the spun sink and × {} s on its cycle with the ellipse{at_ends}",
+            ", up to {} spin candidates × {} probes × {} s on the spun sink and × {} s or {periods} periods of its cycle with the ellipse (at most {longest} s){at_ends}",
             spin::CANDIDATES.len(),
             screen::PROBES,
             screen::PROBE_S,
-            cycle_s
+            screen::PROBE_S,
         );
         ("two syntheses (about a minute", screen)
     } else {
@@ -256,7 +262,7 @@ fn announce(req: &PoseTarget, drops: usize) -> String {
         correct::PROBE_S,
         play::MIN_PLAY_S,
         if spin::needs_spin(req.part.symmetry()) {
-            format!("; on a cycle each probe and drop plays at least {cycle_s} s")
+            format!("; on a cycle each probe and drop plays at least {periods} periods")
         } else {
             String::new()
         }
@@ -368,11 +374,18 @@ fn centred_motion(
     let stage = cycle::EllipseStage::new(req, ellipse.kept().schedule.clone(), grid)?;
     let tried = spin::try_all(req, &sink, grid)?;
     let plays = if req.friction_ends().is_some() { 3 } else { 1 };
-    // Per candidate: the spun sink's probes, then its cycle's at each
-    // friction, each as long as SETTLE_PERIODS cycle periods (counted in
-    // probes of PROBE_S on the sink).
-    let per_cycle = cycle::SETTLED_S / screen::PROBE_S;
-    let probes = tried.len() * screen::PROBES * (1 + (per_cycle * plays as f64).ceil() as usize);
+    // Per candidate played: the spun sink's probes, then its cycle's at
+    // each friction, each PROBE_S or SETTLE_PERIODS cycle periods
+    // (counted in probes of PROBE_S on the sink).
+    let probes: usize = tried
+        .iter()
+        .filter(|t| !t.stable.is_empty())
+        .filter_map(|t| screen::stages_of(req, &stage, t))
+        .map(|st| {
+            let per_cycle = cycle::settle_seconds(screen::PROBE_S, st.period()) / screen::PROBE_S;
+            screen::PROBES * (1 + (per_cycle * plays as f64).ceil() as usize)
+        })
+        .sum();
     let sm = ScheduleMotion::from_schedule(&sink)?;
     let (all, kept) = watched(
         "pose spin screen",
@@ -380,14 +393,16 @@ fn centred_motion(
         opts.runtime.progress(),
         || screen::choose(req, (&sink, &stage), &tried),
     )?;
-    let Some((k, rest, pose)) = kept.and_then(|k| Some((k.spin, k.spin_rest?, k.pose?))) else {
+    let Some((k, rest, pose, stages)) =
+        kept.and_then(|k| Some((k.spin, k.spin_rest?, k.pose?, k.stages?)))
+    else {
         return Ok(Centred::ellipse(ellipse, all));
     };
-    let origin = cycle::cycle(&spin::spun(&sink, k)?, &stage, &rest)?;
+    let origin = cycle::cycle(&spin::spun(&sink, k)?, &stage, &rest, stages)?;
     Ok(Centred {
         method,
         origin,
-        spin: Some((k, pose)),
+        spin: Some((k, pose, stages)),
         screened: all,
     })
 }
@@ -396,8 +411,9 @@ fn centred_motion(
 struct Centred {
     method: MethodDesign,
     origin: crate::schedule::Schedule,
-    /// The kept spin and its cycle's played pose on the centred motion.
-    spin: Option<(spin::Spin, crate::pose::Pose)>,
+    /// The kept spin, its cycle's played pose on the centred motion and
+    /// its stage lengths.
+    spin: Option<(spin::Spin, crate::pose::Pose, cycle::Stages)>,
     screened: Vec<screen::Screened>,
 }
 

@@ -52,13 +52,17 @@ pub(crate) fn drop_seconds(rate: f64, period: f64) -> f64 {
 
 /// The slowest decay rate (1/s) a design's drops are timed by
 /// ([`play_seconds`]): the lifted field's at the stable pose of
-/// `analysis` nearest the asked one; 0 (the longest play) for a spun
-/// motion, whose slowest lifted rate is a spiral's and whose drops from
-/// the region's edge settle later than it predicts (module `spin` docs).
+/// `analysis` nearest the asked one (none: 0, the longest play); infinite
+/// for a cycle of a spun sink and an ellipse ([`super::cycle`]), whose
+/// stage lengths already hold the stages' own rates, so its drops play
+/// [`MIN_PLAY_S`] or [`super::cycle::SETTLE_PERIODS`] of its periods
+/// ([`drop_seconds`]), whichever is longer.
 pub(crate) fn play_rate(req: &PoseTarget, analysis: &PoseAnalysis, spun: bool) -> f64 {
+    if spun {
+        return f64::INFINITY;
+    }
     let (n, radius) = (req.part.symmetry(), req.part.radius());
     super::search::nearest_stable(&analysis.equilibria, &req.pose, n, radius)
-        .filter(|_| !spun)
         .map_or(0.0, |e| -e.rates[0])
 }
 

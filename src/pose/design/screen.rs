@@ -38,15 +38,18 @@
 //! sets the pose, which moved 2.5°.)
 //!
 //! **Choice** (`choose`): among the candidates with a lifted stable pose
-//! (`super::spin::try_all`), the largest share, then (over a range) the
-//! least turn, then the tightest cluster
+//! (`super::spin::try_all`) and a cycle no longer than
+//! [`super::cycle::MAX_STAGE_S`] allows ([`super::cycle::Stages`]), the
+//! largest share, then (over a range) the least turn, then the shortest
+//! cycle (the settle time is counted in its periods), then the tightest
+//! cluster
 //! (least mean |Δr|/1 mm + |Δθ|/3° of its members from its mean: the most
 //! nearly settled), then the earlier in [`super::spin::CANDIDATES`]; kept
 //! when that share is at least [`MIN_SHARE`], else `design` keeps the
 //! elliptic sink, whose two poses 180° apart hold about half the drops
 //! each.
 
-use super::cycle::{cycle, settle_seconds, EllipseStage};
+use super::cycle::{cycle, settle_seconds, slowest_rate, EllipseStage, Stages};
 use super::search::{pose_error, wrap_symmetric};
 use super::spin::{spun, Spin};
 use super::PoseTarget;
@@ -72,6 +75,9 @@ pub const MAX_TURN: f64 = 2.0;
 pub struct Screened {
     /// The spin.
     pub spin: Spin,
+    /// Its cycle's stage lengths ([`Stages::derive`]); `None` for a spin
+    /// whose lifted field turns too slowly, which is not played.
+    pub stages: Option<Stages>,
     /// The spun sink's own played rest (its probes' largest cluster),
     /// where its cycle's ellipse stage is placed; `None` when every probe
     /// lost contact.
@@ -90,10 +96,12 @@ pub struct Screened {
 }
 
 impl Screened {
-    /// A candidate whose spun sink lost every probe: no cycle was played.
-    fn unplayed(spin: Spin) -> Screened {
+    /// A candidate whose spun sink lost every probe (or, with no
+    /// `stages`, was too slow to play): no cycle was played.
+    fn unplayed(spin: Spin, stages: Option<Stages>) -> Screened {
         Screened {
             spin,
+            stages,
             spin_rest: None,
             score: 0.0,
             spread: f64::INFINITY,
@@ -228,8 +236,8 @@ fn cluster_at(
 }
 
 /// `spin` added to the centred `sink` and judged by play in its cycle
-/// with `ellipse` (module docs), over the pose target's friction range when
-/// it states one.
+/// with `ellipse` played for `stages` (module docs), over the pose
+/// target's friction range when it states one.
 ///
 /// # Errors
 /// `sink` or `ellipse` is not one six-signal motion.
@@ -237,13 +245,13 @@ pub fn screen(
     req: &PoseTarget,
     sink: &Schedule,
     ellipse: &EllipseStage,
-    spin: Spin,
+    (spin, stages): (Spin, Stages),
 ) -> Result<Screened> {
     let spun = spun(sink, spin)?;
     let Some(alone) = cluster_at(req, &spun, None)? else {
-        return Ok(Screened::unplayed(spin));
+        return Ok(Screened::unplayed(spin, Some(stages)));
     };
-    let cycle = cycle(&spun, ellipse, &alone.1)?;
+    let cycle = cycle(&spun, ellipse, &alone.1, stages)?;
     let best = cluster_at(req, &cycle, None)?;
     let mut score = best.map_or(0.0, |b| b.0);
     let turn = match req.friction_ends() {
@@ -267,6 +275,7 @@ pub fn screen(
     };
     Ok(Screened {
         spin,
+        stages: Some(stages),
         spin_rest: Some(alone.1),
         score,
         spread: best.map_or(f64::INFINITY, |b| b.2),
@@ -275,9 +284,22 @@ pub fn screen(
     })
 }
 
+/// The stage lengths of `tried`'s cycle with `ellipse` for `req`'s drops
+/// ([`Stages::derive`]): `None` when its lifted field has no stable pose or
+/// turns too slowly.
+pub(crate) fn stages_of(
+    req: &PoseTarget,
+    ellipse: &EllipseStage,
+    tried: &super::spin::Tried,
+) -> Option<Stages> {
+    let starts = req.region.inset(req.part.radius());
+    Stages::derive(slowest_rate(&tried.stable), ellipse.rate(), &starts)
+}
+
 /// Every candidate of `tried` with a lifted stable pose added to the
-/// centred `sink` and judged by play in its cycle with `ellipse`, and the
-/// kept one (module docs).
+/// centred `sink` and judged by play in its cycle with `ellipse` (those
+/// turning too slowly for [`super::cycle::MAX_STAGE_S`] listed unplayed),
+/// and the kept one (module docs).
 ///
 /// # Errors
 /// `sink` is not one six-signal motion.
@@ -289,7 +311,10 @@ pub(crate) fn choose(
     let screened = tried
         .iter()
         .filter(|t| !t.stable.is_empty())
-        .map(|t| screen(req, sink, ellipse, t.spin))
+        .map(|t| match stages_of(req, ellipse, t) {
+            Some(stages) => screen(req, sink, ellipse, (t.spin, stages)),
+            None => Ok(Screened::unplayed(t.spin, None)),
+        })
         .collect::<Result<Vec<_>>>()?;
     let kept = best(&within_turn(&screened))
         .filter(|s| s.score >= MIN_SHARE)
@@ -308,13 +333,15 @@ fn within_turn(screened: &[Screened]) -> Vec<Screened> {
 }
 
 /// The largest share, then (over a friction range) the least turn, then
-/// the least spread, then the earliest.
+/// the shortest cycle, then the least spread, then the earliest.
 fn best(screened: &[Screened]) -> Option<&Screened> {
     let turn = |s: &Screened| s.turn.unwrap_or(0.0);
+    let period = |s: &Screened| s.stages.map_or(f64::INFINITY, |t| t.period());
     screened.iter().rev().max_by(|a, b| {
         a.score
             .total_cmp(&b.score)
             .then(turn(b).total_cmp(&turn(a)))
+            .then(period(b).total_cmp(&period(a)))
             .then(b.spread.total_cmp(&a.spread))
     })
 }
@@ -330,6 +357,7 @@ mod tests {
                 phase: 0.0,
                 translation: 0.25,
             },
+            stages: None,
             spin_rest: None,
             score,
             spread,
@@ -351,6 +379,23 @@ mod tests {
         assert_eq!(best(&s[..2]).unwrap().spin.alpha, 2.0);
         assert_eq!(best(&s[..1]).unwrap().spin.alpha, 1.0);
         assert!(best(&[]).is_none());
+    }
+
+    /// Among equal shares the shorter cycle wins before the tighter
+    /// cluster; a candidate without stages (too slow, not played) loses.
+    #[test]
+    fn equal_shares_keep_the_shorter_cycle() {
+        let timed = |spread: f64, alpha: f64, stages: Option<(f64, f64)>| Screened {
+            stages: stages.map(|(spin_s, ellipse_s)| Stages { spin_s, ellipse_s }),
+            ..screened(1.0, spread, alpha)
+        };
+        let s = [
+            timed(0.0, 1.0, Some((30.0, 5.0))),
+            timed(0.5, 2.0, Some((10.0, 5.0))),
+            timed(0.0, 3.0, None),
+        ];
+        assert_eq!(best(&s).unwrap().spin.alpha, 2.0);
+        assert_eq!(best(&[s[0].clone(), s[2].clone()]).unwrap().spin.alpha, 1.0);
     }
 
     /// Over a friction range only a candidate whose pose turns by at most

@@ -86,15 +86,24 @@ impl Spin {
 /// drops on the centred motion rest at one pose, more than at the spins
 /// beside it (`explore_basins`; measured: `docs/parts.md`, **Measurements
 /// behind the pose design's choices**).
+/// Two more turn a small part faster (its lifted field's slowest rate sets
+/// the cycle's spin stage, [`super::cycle::Stages`]): the triangle's spins
+/// of 1200 rad/s² turn it too slowly for a stage of
+/// [`super::cycle::MAX_STAGE_S`], while 2400 and 4800 rad/s² with
+/// translation × 0.3 give it one lifted stable pose turning several times
+/// faster (`explore_spin` in `tests/pose_rotation.rs`; each candidate's
+/// stages: `results/poses.md`).
 /// The placement moves such a spin exactly
 /// ([`crate::motion::Signals::transformed`]); moved to first order only,
 /// it put none of the triangle's drops at the asked pose.
-pub const CANDIDATES: [Spin; 5] = [
+pub const CANDIDATES: [Spin; 7] = [
     spin(1200.0, 0.25),
     spin(900.0, 0.25),
     spin(1200.0, 0.4),
     spin(1200.0, 0.6),
     spin(4800.0, 0.15),
+    spin(2400.0, 0.3),
+    spin(4800.0, 0.3),
 ];
 
 const fn spin(alpha: f64, translation: f64) -> Spin {
