@@ -480,20 +480,15 @@ fn held_orbit_airborne_fraction_is_the_bouncing_balls() {
     }
 }
 
-/// On a tilting plate that keeps the part in contact, the held orbit
-/// (plain iteration, the part put back once a period) is the free steady
-/// state's fixed point found by Newton's method
-/// ([`Simulator::steady_state`], model `full`): the same mean velocity
-/// within 2e-5 of the velocity scale μ g T (the held orbit settles to
-/// 1e-5 of it a period), and no time in flight.
-#[test]
-fn held_orbit_in_contact_is_the_steady_state() {
+/// A plate translating and tilting in circles (harmonic 1, T = 30 ms):
+/// N swings with the position but stays positive over the region.
+fn tilting_plate() -> Motion {
     let term = |amplitude: f64, phase: f64| FourierTerm {
         amplitude,
         phase,
         harmonic: 1,
     };
-    let motion = Motion::Signals(Signals {
+    Motion::Signals(Signals {
         period: 0.03,
         linear: Axes {
             x: vec![term(10.0, 0.5 * PI)],
@@ -505,7 +500,18 @@ fn held_orbit_in_contact_is_the_steady_state() {
             y: vec![term(100.0, 0.3 + 0.5 * PI)],
             z: Vec::new(),
         },
-    });
+    })
+}
+
+/// On a tilting plate that keeps the part in contact, the held orbit
+/// (plain iteration, the part put back once a period) is the free steady
+/// state's fixed point found by Newton's method
+/// ([`Simulator::steady_state`], model `full`): the same mean velocity
+/// within 2e-5 of the velocity scale μ g T (the held orbit settles to
+/// 1e-5 of it a period), and no time in flight.
+#[test]
+fn held_orbit_in_contact_is_the_steady_state() {
+    let motion = tilting_plate();
     let physics = PartPhysics::new(Friction::uniform(0.3), G, Model::FULL);
     let plain = Simulator::new(&motion, physics, Numerics::default());
     let sim = plain
@@ -539,24 +545,7 @@ fn held_orbit_in_contact_is_the_steady_state() {
 /// the bouncing ball's within 1e-9.
 #[test]
 fn frozen_held_orbit_is_the_frozen_steady_state() {
-    let term = |amplitude: f64, phase: f64| FourierTerm {
-        amplitude,
-        phase,
-        harmonic: 1,
-    };
-    let motion = Motion::Signals(Signals {
-        period: 0.03,
-        linear: Axes {
-            x: vec![term(10.0, 0.5 * PI)],
-            y: vec![term(10.0, 0.0)],
-            z: Vec::new(),
-        },
-        angular: Axes {
-            x: vec![term(100.0, 0.3)],
-            y: vec![term(100.0, 0.3 + 0.5 * PI)],
-            z: Vec::new(),
-        },
-    });
+    let motion = tilting_plate();
     let physics = PartPhysics::new(Friction::uniform(0.3), G, Model::FROZEN);
     let plain = Simulator::new(&motion, physics, Numerics::default());
     let sim = plain
