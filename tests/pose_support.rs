@@ -254,7 +254,10 @@ fn an_affine_stage_rests_each_support_on_its_major_axis() {
                 turned.push(m.name.clone());
             }
         }
-        println!("{name}: {} models turned beyond {TOL_DEG}°: {turned:?}", turned.len());
+        println!(
+            "{name}: {} models turned beyond {TOL_DEG}°: {turned:?}",
+            turned.len()
+        );
         assert_eq!(turned.len(), beyond, "{name}: {turned:?}");
     }
 }

@@ -125,7 +125,7 @@ fn placement_md(d: &PoseDesign, md: &mut String) {
 
 /// The spin candidates judged by play, when there were any.
 fn screened_md(d: &PoseDesign, md: &mut String) {
-    use platefield::pose::design::screen::{MAX_TURN, MIN_SHARE, PROBES, PROBE_S};
+    use platefield::pose::design::screen::{CYCLE_S, GRID, MAX_TURN, MIN_SHARE, PROBES, PROBE_S};
     if d.screened.is_empty() {
         return;
     }
@@ -141,7 +141,7 @@ fn screened_md(d: &PoseDesign, md: &mut String) {
     };
     let _ = writeln!(
         md,
-        "\nSpin candidates judged by play (`pose::design::screen`: {PROBES} probes × {PROBE_S} s from a 4 × 4 grid of starts on the centred spun sink, whose largest cluster places the ellipse stage, then × {PROBE_S} s or {} periods on that cycle, its stages ln(d)/λ from the spin's and the ellipse's slowest lifted rates (`pose::design::cycle::Stages`; a spin whose stage would exceed {} s is not played); share, spread and pose are the cycle's; kept: the largest share at one pose, at least {:.0} %, then the shortest cycle, then the tightest{range_text}):\n\n| α (rad/s²) | phase (rad) | translation × | spin + ellipse stage (s) | share at one pose | spread | played pose (mm, mm, °) |{head}\n|---|---|---|---|---|---|---|{rule}",
+        "\nSpin candidates judged by play (`pose::design::screen`: {PROBES} probes × {PROBE_S} s on the centred spun sink, from a 4 × 4 grid of {GRID} starts and each again turned by 180°, whose largest cluster places the ellipse stage, then × {CYCLE_S} s or {} periods on that cycle placed on the asked pose and scaled as shipped, its stages ln(d)/λ from the spin's and the ellipse's slowest lifted rates (`pose::design::cycle::Stages`; a spin whose stage would exceed {} s is not played); share, spread and pose are the placed cycle's, the pose taken back to the centred motion; kept: the largest share at one pose, at least {:.0} %, then the shortest cycle, then the tightest{range_text}):\n\n| α (rad/s²) | phase (rad) | translation × | spin + ellipse stage (s) | share at one pose | spread | played pose (mm, mm, °) |{head}\n|---|---|---|---|---|---|---|{rule}",
         platefield::pose::design::cycle::SETTLE_PERIODS,
         platefield::pose::design::cycle::MAX_STAGE_S,
         100.0 * MIN_SHARE

@@ -202,9 +202,11 @@ lasts ln(d)/λ, λ its motion's slowest lifted decay rate and d the farthest a p
 rest in tolerances (the drop region's half-diagonal over 1 mm, or 180° over 3° for the spin and 90° \
 over 3° for the ellipse: `pose::design::cycle::Stages`), and the drops play 3 periods: a drop's \
 settle time is counted in whole periods, so the derived period bounds it from below. Its 7 \
-candidate spins are judged by play, not by the lifted field alone (`pose::design::screen`: 16 probes \
-× 60 s from a 4 × 4 grid of starts on the centred spun sink, whose largest cluster places the \
-ellipse stage, then 16 × 60 s or 3 periods on the cycle; a spin whose stage would exceed 40 s is \
+candidate spins are judged by play, not by the lifted field alone (`pose::design::screen`: 32 probes \
+× 60 s on the centred spun sink from a 4 × 4 grid of starts and each start again turned by 180° \
+(the elliptic stage's two rests lie 180° apart: the twins probe the rival one's basin), whose \
+largest cluster places the ellipse stage, then 32 × 20 s or 3 periods, as long as the drops, on \
+the cycle placed on the asked pose and scaled as shipped; a spin whose stage would exceed 40 s is \
 not played): it keeps the one whose cycle puts the largest share of probes at one pose, at least \
 75 %, then the shortest cycle, else the elliptic sink alone. A cycle's lifted field is the \
 stages' time average, which no played part sees: its drops are counted by where they end, not by \

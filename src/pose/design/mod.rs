@@ -232,14 +232,14 @@ fn announce(req: &PoseTarget, drops: usize) -> String {
         ""
     };
     let periods = cycle::SETTLE_PERIODS;
-    let longest = (cycle::settle_seconds(screen::PROBE_S, 2.0 * cycle::MAX_STAGE_S)).ceil();
+    let longest = (cycle::settle_seconds(screen::CYCLE_S, 2.0 * cycle::MAX_STAGE_S)).ceil();
     let (syntheses, screen) = if spin::needs_spin(req.part.symmetry()) {
         let screen = format!(
-            ", up to {} spin candidates × {} probes × {} s on the spun sink and × {} s or {periods} periods of its cycle with the ellipse (at most {longest} s){at_ends}",
+            ", up to {} spin candidates × {} probes × {} s on the spun sink and × {} s or {periods} periods of its placed cycle with the ellipse (at most {longest} s){at_ends}",
             spin::CANDIDATES.len(),
             screen::PROBES,
             screen::PROBE_S,
-            screen::PROBE_S,
+            screen::CYCLE_S,
         );
         ("two syntheses (about a minute", screen)
     } else {
@@ -374,15 +374,15 @@ fn centred_motion(
     let stage = cycle::EllipseStage::new(req, ellipse.kept().schedule.clone(), grid)?;
     let tried = spin::try_all(req, &sink, grid)?;
     let plays = if req.friction_ends().is_some() { 3 } else { 1 };
-    // Per candidate played: the spun sink's probes, then its cycle's at
-    // each friction, each PROBE_S or SETTLE_PERIODS cycle periods
-    // (counted in probes of PROBE_S on the sink).
+    // Per candidate played: the spun sink's probes for PROBE_S, then its
+    // placed cycle's at each friction, each CYCLE_S or SETTLE_PERIODS
+    // cycle periods (counted in probes of PROBE_S on the sink).
     let probes: usize = tried
         .iter()
         .filter(|t| !t.stable.is_empty())
         .filter_map(|t| screen::stages_of(req, &stage, t))
         .map(|st| {
-            let per_cycle = cycle::settle_seconds(screen::PROBE_S, st.period()) / screen::PROBE_S;
+            let per_cycle = cycle::settle_seconds(screen::CYCLE_S, st.period()) / screen::PROBE_S;
             screen::PROBES * (1 + (per_cycle * plays as f64).ceil() as usize)
         })
         .sum();

@@ -1,29 +1,45 @@
-//! Spin candidates judged by play: probes from spread starts on the
-//! centred spun motion, their ends clustered.
+//! Spin candidates judged by play: probes from spread starts, each also
+//! turned by 180°, on the spun sink and then on the cycle `design` ships,
+//! their ends clustered.
 //!
 //! **Why.** The lifted field of a spun sink ([`super::spin`]) is rough:
 //! on one of the bracket's spins it gives one stable pose, yet about a
 //! quarter of the played drops come to rest at a second pose far from the
-//! asked one (measured: `docs/parts.md`, **Measurements behind the pose design's choices**). A
-//! second played attractor is a property of the
-//! motion, not of its placement (a placement turns and shifts the whole
-//! physics, [`super::placement`]), so it is measured once per candidate on
-//! the centred motion.
+//! asked one (measured: `docs/parts.md`, **Measurements behind the pose design's choices**).
 //!
 //! **What is judged.** What `design` keeps: the candidate's cycle with
-//! the ellipse ([`super::cycle`]). The probes first play on the centred
-//! spun sink alone, whose largest cluster is where the cycle's ellipse
-//! stage is placed, then on that cycle; the candidate's score, pose and
-//! turn below are the cycle's.
+//! the ellipse ([`super::cycle`]), placed and scaled. The probes first
+//! play [`PROBE_S`] on the centred spun sink alone, whose largest cluster
+//! is where the cycle's ellipse stage is placed; the cycle is then placed
+//! so that this rest falls on the asked pose ([`super::placement`]: the
+//! ellipse stage rests there, so the cycle's played rest does up to the
+//! correction `design` makes after), scaled into the shaker limits as the
+//! shipped schedule is, and played as long as a design's drops play it
+//! ([`super::play::MIN_PLAY_S`], or [`super::cycle::SETTLE_PERIODS`] of
+//! its periods when longer) from starts over the region the drops come
+//! from. The candidate's score, pose and turn below are that play's; its
+//! pose is taken back to the centred motion.
 //!
-//! **Measure.** [`PROBES`] drops at [`probe_starts`] (a 4 × 4 grid over the
-//! region inset by the part's radius, angles stepped by the golden angle)
-//! play [`PROBE_S`] each (on a cycle at least
-//! [`super::cycle::SETTLE_PERIODS`] of its periods); an end's cluster is the ends within
-//! [`super::TOL_MM`] and [`super::TOL_DEG`] of it (modulo the part's
-//! symmetry); the candidate's score is the largest cluster's share of the
-//! probes and its played pose that cluster's mean. A drop lost, at a
-//! second pose or still moving after [`PROBE_S`] counts against it.
+//! **Measure.** [`PROBES`] drops at [`probe_starts`]: a 4 × 4 grid over
+//! the region inset by the part's radius, angles stepped by the golden
+//! angle, and each of those starts again turned by 180°. An end's cluster
+//! is the ends within [`super::TOL_MM`] and [`super::TOL_DEG`] of it
+//! (modulo the part's symmetry); the candidate's score is the largest
+//! cluster's share of the probes and its played pose that cluster's mean.
+//! A drop lost, at a second pose or still moving at the end of its play
+//! counts against it.
+//!
+//! **Why the 180° twins.** The elliptic stage alone has two rests 180°
+//! apart for a part without a 180° symmetry (a linear field turns a part by
+//! its second moments only, [`super::placement`]); the spin stage must
+//! bring every drop into the half-turn around the asked one. A drop that
+//! the spin leaves in the other half ends at the rival rest, flipped by
+//! 180° (the misses of the bracket's shipped design, and the one drop of
+//! twelve the independent simulator put there: `docs/parts.md`). With
+//! angles stepped by the golden angle alone, a probe seldom starts in that
+//! rival basin; twinning each start with its half turn probes every
+//! start position from both halves of orientation, so a spin with a rival
+//! attractor shows it in its share.
 //!
 //! **Over a friction range.** When the pose target states a friction range,
 //! the probes also play at its two ends: a candidate's score is its least
@@ -50,6 +66,7 @@
 //! each.
 
 use super::cycle::{cycle, settle_seconds, slowest_rate, EllipseStage, Stages};
+use super::placement::Placement;
 use super::search::{pose_error, wrap_symmetric};
 use super::spin::{spun, Spin};
 use super::PoseTarget;
@@ -59,11 +76,17 @@ use crate::play::ScheduleMotion;
 use crate::pose::{play_part, DropPlay, Pose, Region};
 use crate::schedule::Schedule;
 
-/// Probe drops per candidate.
-pub const PROBES: usize = 16;
-/// Seconds each probe plays.
+/// Grid starts per candidate: a 4 × 4 grid.
+pub const GRID: usize = 16;
+/// Probe drops per candidate: each grid start and its 180° twin.
+pub const PROBES: usize = 2 * GRID;
+/// Seconds each probe plays on the spun sink alone.
 pub const PROBE_S: f64 = 60.0;
-/// Least share of the probes at one pose for a spin to be kept: 12 of 16,
+/// Seconds each probe plays on the placed cycle (at least
+/// [`super::cycle::SETTLE_PERIODS`] of its periods): as long as a design's
+/// drops play a cycle ([`super::play::MIN_PLAY_S`]).
+pub const CYCLE_S: f64 = super::play::MIN_PLAY_S;
+/// Least share of the probes at one pose for a spin to be kept: 24 of 32,
 /// well above the elliptic sink's half.
 pub const MIN_SHARE: f64 = 0.75;
 /// Most a kept spin's played pose may move over a stated friction range,
@@ -86,8 +109,8 @@ pub struct Screened {
     pub score: f64,
     /// Mean of |Δr|/1 mm + |Δθ|/3° of that cluster's members from its mean.
     pub spread: f64,
-    /// That cluster's mean pose on the centred motion, `None` when every
-    /// probe lost contact.
+    /// That cluster's mean pose, played on the placed cycle and taken back
+    /// to the centred motion; `None` when every probe lost contact.
     pub pose: Option<Pose>,
     /// With a friction range: how far the played pose moves from its low
     /// end to its high one, in tolerances (module docs); `None` for an
@@ -112,18 +135,22 @@ impl Screened {
 }
 
 /// The probe starts over `region` (module docs): a 4 × 4 grid of centres
-/// at the cell middles, the k-th turned by k golden angles.
+/// at the cell middles, the k-th turned by k golden angles, then the same
+/// [`GRID`] starts again turned by 180° (wrapped to (−π, π]).
 ///
 /// ```
-/// use platefield::pose::design::screen::{probe_starts, PROBES};
+/// use platefield::pose::design::screen::{probe_starts, GRID, PROBES};
 /// use platefield::pose::Region;
 /// let s = probe_starts(&Region { x: [-0.02, 0.02], y: [-0.02, 0.02] });
 /// assert_eq!(s.len(), PROBES);
 /// assert!((s[0].r.x + 0.015).abs() < 1e-15 && s[0].theta == 0.0);
+/// // The twin of the first start: the same centre, turned by a half turn.
+/// assert!((s[GRID].r - s[0].r).norm() < 1e-15);
+/// assert!((s[GRID].theta.abs() - std::f64::consts::PI).abs() < 1e-12);
 /// ```
 pub fn probe_starts(region: &Region) -> Vec<Pose> {
     let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
-    (0..PROBES)
+    let grid: Vec<Pose> = (0..GRID)
         .map(|k| {
             let (i, j) = ((k % 4) as f64, (k / 4) as f64);
             let r = region.at((i + 0.5) / 4.0, (j + 0.5) / 4.0);
@@ -132,7 +159,12 @@ pub fn probe_starts(region: &Region) -> Vec<Pose> {
                 theta: crate::pose::wrap(k as f64 * golden),
             }
         })
-        .collect()
+        .collect();
+    let twins = grid.iter().map(|p| Pose {
+        r: p.r,
+        theta: crate::pose::wrap(p.theta + std::f64::consts::PI),
+    });
+    grid.iter().copied().chain(twins).collect()
 }
 
 /// The largest cluster of `ends` (module docs): its share of `total`, its
@@ -197,9 +229,9 @@ pub(crate) fn largest_cluster_within(
     Some((k / total.max(1) as f64, pose, spread))
 }
 
-/// The probes' end poses on `schedule` (module docs), played at
-/// `friction` (`None`: the schedule's own), `None` for a probe that lost
-/// contact.
+/// The probes' end poses on `schedule` played for [`PROBE_S`] (at
+/// least [`super::cycle::SETTLE_PERIODS`] of its periods) at `friction`
+/// (`None`: the schedule's own), `None` for a probe that lost contact.
 ///
 /// # Errors
 /// A schedule that cannot be played.
@@ -208,35 +240,66 @@ pub fn probe_ends(
     schedule: &Schedule,
     friction: Option<Friction>,
 ) -> Result<Vec<Option<Pose>>> {
+    probe_ends_for(req, schedule, friction, PROBE_S)
+}
+
+/// [`probe_ends`] played for `seconds` (at least
+/// [`super::cycle::SETTLE_PERIODS`] of the schedule's periods).
+fn probe_ends_for(
+    req: &PoseTarget,
+    schedule: &Schedule,
+    friction: Option<Friction>,
+    seconds: f64,
+) -> Result<Vec<Option<Pose>>> {
     let mut schedule = schedule.clone();
     if let Some(f) = friction {
         schedule.settings.friction = f;
     }
     let sm = ScheduleMotion::from_schedule(&schedule)?;
     let starts = probe_starts(&req.region.inset(req.part.radius()));
-    let play = DropPlay::new(&schedule.settings, settle_seconds(PROBE_S, sm.period()));
+    let play = DropPlay::new(&schedule.settings, settle_seconds(seconds, sm.period()));
     Ok(play_part(&req.part, &sm, &starts, &play)
         .into_iter()
         .map(|run| run.ok().map(|(end, _)| end.pose))
         .collect())
 }
 
-/// The largest cluster of the probes' ends on `schedule` at `friction`
-/// (module docs).
+/// The largest cluster of the probes' ends on `schedule` played for
+/// `seconds` at `friction` (module docs).
 fn cluster_at(
     req: &PoseTarget,
     schedule: &Schedule,
     friction: Option<Friction>,
+    seconds: f64,
 ) -> Result<Option<(f64, Pose, f64)>> {
-    let ends: Vec<Pose> = probe_ends(req, schedule, friction)?
+    let ends: Vec<Pose> = probe_ends_for(req, schedule, friction, seconds)?
         .into_iter()
         .flatten()
         .collect();
     Ok(largest_cluster(&ends, req.part.symmetry(), PROBES))
 }
 
-/// `spin` added to the centred `sink` and judged by play in its cycle
-/// with `ellipse` played for `stages` (module docs), over the pose
+/// The cycle of `spun` whose spin stage rests at `rest` (centred) with
+/// `ellipse` played for `stages`, placed so that `rest` falls on the
+/// asked pose and scaled into the shaker limits, as `design` ships it
+/// (module docs); with that placement.
+///
+/// # Errors
+/// `spun` or `ellipse` is not one six-signal motion; a placed stage over a
+/// limit of 0.
+pub fn placed_cycle(
+    req: &PoseTarget,
+    (spun, ellipse): (&Schedule, &EllipseStage),
+    rest: &Pose,
+    stages: Stages,
+) -> Result<(Schedule, Placement)> {
+    let centred = cycle(spun, ellipse, rest, stages)?;
+    let placement = Placement::onto(rest, &req.pose, req.part.symmetry());
+    Ok((placement.schedule(&centred, None)?, placement))
+}
+
+/// `spin` added to the centred `sink` and judged by play in its placed
+/// cycle with `ellipse` played for `stages` (module docs), over the pose
 /// target's friction range when it states one.
 ///
 /// # Errors
@@ -248,22 +311,24 @@ pub fn screen(
     (spin, stages): (Spin, Stages),
 ) -> Result<Screened> {
     let spun = spun(sink, spin)?;
-    let Some(alone) = cluster_at(req, &spun, None)? else {
+    let Some(alone) = cluster_at(req, &spun, None, PROBE_S)? else {
         return Ok(Screened::unplayed(spin, Some(stages)));
     };
-    let cycle = cycle(&spun, ellipse, &alone.1, stages)?;
-    let best = cluster_at(req, &cycle, None)?;
+    let (placed, placement) = placed_cycle(req, (&spun, ellipse), &alone.1, stages)?;
+    let best = cluster_at(req, &placed, None, CYCLE_S)?;
     let mut score = best.map_or(0.0, |b| b.0);
     let turn = match req.friction_ends() {
         None => None,
         Some(ends) => {
             let [lo, hi] = [
-                cluster_at(req, &cycle, Some(ends[0]))?,
-                cluster_at(req, &cycle, Some(ends[1]))?,
+                cluster_at(req, &placed, Some(ends[0]), CYCLE_S)?,
+                cluster_at(req, &placed, Some(ends[1]), CYCLE_S)?,
             ];
             score = [lo, hi]
                 .iter()
                 .fold(score, |s, c| s.min(c.map_or(0.0, |c| c.0)));
+            // A placement is rigid: distances and turns between the two
+            // ends' poses are the centred motion's.
             Some(match (lo, hi) {
                 (Some(a), Some(b)) => {
                     let (d, t) = pose_error(&a.1, &b.1, req.part.symmetry());
@@ -279,7 +344,7 @@ pub fn screen(
         spin_rest: Some(alone.1),
         score,
         spread: best.map_or(f64::INFINITY, |b| b.2),
-        pose: best.map(|b| b.1),
+        pose: best.map(|b| placement.unapply(&b.1)),
         turn,
     })
 }
