@@ -173,15 +173,17 @@ fn designed(path: &str) -> platefield::pose::design::PoseDesign {
 }
 
 /// The bracket's pose target designed whole on the spin route: the screen
-/// keeps, by its cycle with the ellipse (`pose::design::cycle`), 4800
-/// rad/s² with the translation × 0.15 (every probe of its cycle at one
-/// pose, and the shortest cycle among those), its stages derived from the
-/// lifted rates (`cycle::Stages`, the kept schedule's period their sum),
-/// and the median settle of 100 drops is at most 20 s
-/// (measured 13.6 s: one period). The share at the pose is held to its
-/// measured 79 % less 5 drops, not the goal of 95 %: 21 % rest at the
-/// ellipse's second pose, 180° away (`docs/parts.md`, "Stage lengths from
-/// the rates"). About 4 min of CPU:
+/// keeps, by its placed cycle with the ellipse (`pose::design::cycle`),
+/// 4800 rad/s² with the translation × 0.15 (the largest share of its
+/// probes at one pose: measured 26 of 32, 81 %), its stages derived from
+/// the lifted rates (`cycle::Stages`, the kept schedule's period their
+/// sum), and the median settle of 100 drops is at most 20 s (measured
+/// 13.6 s: one period). The share at the pose is held to its measured 79 %
+/// less 5 drops, not the goal of 95 %: 21 % rest at the ellipse's second
+/// pose, 180° away (`docs/parts.md`, "The screen sees the rival pose").
+/// The screen's probes, each start also turned by 180°, see that rival:
+/// their share lies within 3 probes (3/32) of the drops' share, which
+/// start elsewhere. About 6 min of CPU:
 /// `cargo test --release --test pose_rotation -- --ignored bracket`.
 #[test]
 #[ignore = "minutes of CPU: cargo test --release --test pose_rotation -- --ignored bracket"]
@@ -190,7 +192,7 @@ fn bracket_pose_design_on_the_spin_route() {
     let d = designed("targets/pose_bracket.json");
     assert_eq!(d.spin, Some(CANDIDATES[4]));
     assert_eq!(d.screened.len(), CANDIDATES.len());
-    assert_eq!(d.screened[4].score, 1.0);
+    let screened = d.screened[4].score;
     let stages = d.stages.unwrap();
     assert_eq!(d.screened[4].stages, Some(stages));
     let schedule = &d.method.kept().schedule;
@@ -199,6 +201,11 @@ fn bracket_pose_design_on_the_spin_route() {
     let p = schedule.played.as_ref().unwrap().pose.as_ref().unwrap();
     assert_eq!((p.drops, p.lost), (DROPS, 0));
     assert!(p.pose_fraction >= 0.74, "{}", p.pose_fraction);
+    assert!(
+        (screened - p.pose_fraction).abs() <= 3.0 / 32.0,
+        "screen {screened}, drops {}",
+        p.pose_fraction
+    );
     let settle = p.median_settle_s.unwrap();
     assert!(settle <= 20.0, "{settle} s");
 }
@@ -209,7 +216,7 @@ fn bracket_pose_design_on_the_spin_route() {
 /// played) and the ellipse puts at least 95 % of 100 drops within 1 mm
 /// and 3° of (−10 mm, 6 mm, 60°) (measured 100 %) with a median settle of
 /// one period, at most 30 s (measured 26.3 s: its spin stage, ln 60 / λ,
-/// is 21.0 s). About 4 min of CPU: `cargo test --release --test
+/// is 21.0 s). About 6 min of CPU: `cargo test --release --test
 /// pose_rotation -- --ignored triangle`.
 #[test]
 #[ignore = "minutes of CPU: cargo test --release --test pose_rotation -- --ignored triangle"]

@@ -448,4 +448,25 @@ mod tests {
         assert!(announce(&req, DROPS).contains(extra));
         assert!(announce(&req, DROPS).contains(probes));
     }
+
+    /// The screen's cost stated first names what it plays: every probe
+    /// start and its twin on the spun sink for PROBE_S, then on the
+    /// placed cycle for as long as the drops play a cycle.
+    #[test]
+    fn announce_states_the_screen_played() {
+        let path = std::path::Path::new("targets/pose_bracket.json");
+        let req = PoseTarget::load(path).unwrap().unwrap();
+        let said = format!(
+            "{} probes × {} s on the spun sink and × {} s or",
+            screen::PROBES,
+            screen::PROBE_S,
+            play::MIN_PLAY_S
+        );
+        assert_eq!(screen::PROBES, 32);
+        assert!(
+            announce(&req, DROPS).contains(&said),
+            "{}",
+            announce(&req, DROPS)
+        );
+    }
 }

@@ -487,6 +487,25 @@ mod tests {
         assert_eq!(best(&within_turn(&bracket)).unwrap().spin.alpha, 900.0);
     }
 
+    /// Each of the last [`GRID`] starts is its grid start's 180° twin: the
+    /// same centre (within 1e-15 m) and θ + π wrapped into (−π, π] (within
+    /// 1e-12 rad), so every grid start is probed from both halves of
+    /// orientation.
+    #[test]
+    fn each_grid_start_has_its_half_turn_twin() {
+        let s = probe_starts(&Region {
+            x: [-0.03, 0.01],
+            y: [-0.02, 0.02],
+        });
+        assert_eq!((s.len(), PROBES), (32, 2 * GRID));
+        for (a, b) in s[..GRID].iter().zip(&s[GRID..]) {
+            assert!((a.r - b.r).norm() < 1e-15);
+            assert!(b.theta > -std::f64::consts::PI && b.theta <= std::f64::consts::PI);
+            let turned = (b.theta - a.theta).rem_euclid(std::f64::consts::TAU);
+            assert!((turned - std::f64::consts::PI).abs() < 1e-12, "{turned}");
+        }
+    }
+
     /// Two clusters of three and two ends among six drops: the larger
     /// wins, its share out of all six; symmetry 2 joins ends 180° apart.
     #[test]
