@@ -413,7 +413,11 @@ pub(crate) fn play_point(
 /// transient adds less than `super::settle::SETTLE_TOL` to the mean
 /// (`super::settle::relax`); the last period's mean velocity is R, its
 /// per-segment displacements the contributions. A part that loses
-/// contact is invalid, with the reason.
+/// contact is invalid, with the reason; so is a part with no held steady
+/// state (`super::settle::Relaxation::held_steady`: its velocity still
+/// changes at the cap, as a held part on a large-amplitude rotation's
+/// plate does, where the position it is held at is far from where the
+/// plate would carry it within a cycle).
 pub(crate) fn play_frozen_point(
     sm: &ScheduleMotion,
     frozen: &Player<'_>,
@@ -442,6 +446,14 @@ pub(crate) fn play_frozen_point(
             out.realised = [v.x, v.y];
             out.warmup_periods = r.settle.periods;
             out.settled = r.settle.settled;
+            if !r.held_steady() {
+                out.note = Some(format!(
+                    "no held steady state: after {} periods the held part's mean velocity ({:.3} m/s) may still change by {:.1e} m/s",
+                    r.settle.periods,
+                    v.norm(),
+                    r.remaining
+                ));
+            }
             for (k, d) in r.last_period.iter().enumerate() {
                 let tk = sm.segments()[k].duration;
                 out.contributions[k] = [d.x / tk, d.y / tk];

@@ -56,6 +56,18 @@ pub(crate) const SETTLE_FLOOR: f64 = 1e-7;
 /// schedule (at least one period).
 pub(crate) const SETTLE_MAX_CYCLES: u32 = 400;
 
+/// A held part that has not settled by the cap has no held steady state
+/// when what its transient may still add exceeds this share of its mean
+/// velocity (or of [`SETTLE_FLOOR`]/[`SETTLE_TOL`] = 1 mm/s, for parts
+/// that hardly drift). The judge compares realised fields to 0.1 % and
+/// holds designs to shape errors of a few per cent; a point whose own
+/// mean is uncertain by more than 1 % cannot take part in that measure,
+/// while a slow relaxation that is still contracting (the ratchet's,
+/// ρ close to 1 but below) leaves far less than that at the cap.
+/// A diverging held play (ρ ≥ 1: the velocity still grows at the cap)
+/// leaves an unbounded remainder and is always caught.
+pub(crate) const HELD_TOL: f64 = 1e-2;
+
 /// The warm-up found for one start point.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct Settle {
@@ -98,6 +110,10 @@ pub(crate) struct Relaxation {
     pub means: Vec<V2>,
     /// The warm-up found.
     pub settle: Settle,
+    /// What the transient may still add to the last mean velocity
+    /// (m/s): e_(w+1)/(1 − ρ̂) of the module documentation, infinite
+    /// when the differences do not shrink (ρ̂ ≥ 1).
+    pub remaining: f64,
     /// The part's displacement during each segment of the last period
     /// played (m).
     pub last_period: Vec<V2>,
@@ -109,6 +125,13 @@ impl Relaxation {
     /// when settled.
     pub(crate) fn periodic_mean(&self) -> V2 {
         self.means.last().copied().unwrap_or_else(V2::zeros)
+    }
+
+    /// Whether the held part has a steady state to measure: settled, or
+    /// with at most [`HELD_TOL`] of its mean velocity still to come.
+    pub(crate) fn held_steady(&self) -> bool {
+        let scale = self.periodic_mean().norm().max(SETTLE_FLOOR / SETTLE_TOL);
+        self.settle.settled || self.remaining <= HELD_TOL * scale
     }
 }
 
@@ -171,6 +194,7 @@ pub(crate) fn relax(
                     periods: w,
                     settled,
                 },
+                remaining: left,
                 last_period,
             });
         }

@@ -302,6 +302,50 @@ pub(crate) fn judged_cycles(schedule: &crate::schedule::Schedule) -> u32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::basis::{Primitive, PrimitiveKind};
+
+    /// One primitive's motion as a one-segment schedule of 10 cycles.
+    fn primitive_schedule(kind: PrimitiveKind) -> ScheduleMotion {
+        let motion = Primitive::new(kind).motion();
+        ScheduleMotion::new(vec![PlayedSegment::moving("p", motion, 10)]).expect("a schedule")
+    }
+
+    /// A held part on the large-amplitude Circle's plate, 3 cm off the
+    /// rotation axis, reaches no steady state (its velocity still grows at
+    /// the warm-up cap) and the judge leaves it out with that reason; on a
+    /// LineSink's plate the same held points all settle and count.
+    #[test]
+    fn a_held_part_with_no_steady_state_is_invalid() {
+        let points = [[0.03, 0.0], [0.0, -0.03], [0.02, 0.02]];
+        let starts = [0, 1, 2];
+        let settings = FieldSettings::default();
+        let circle = play_motion(
+            &primitive_schedule(PrimitiveKind::Circle),
+            &points,
+            &starts,
+            &settings,
+        );
+        for p in &circle {
+            let note = p.note.as_deref().unwrap_or("");
+            assert!(
+                note.starts_with("no held steady state"),
+                "{:?}: {note:?}",
+                p.start
+            );
+            assert!(p.lost_at.is_none() && !p.settled, "{p:?}");
+            assert!(!counts(&[1.0; 3], p));
+        }
+        let sink = play_motion(
+            &primitive_schedule(PrimitiveKind::LineSink),
+            &points,
+            &starts,
+            &settings,
+        );
+        for p in &sink {
+            assert!(p.note.is_none() && p.settled, "{p:?}");
+            assert!(counts(&[1.0; 3], p));
+        }
+    }
 
     /// Both edges on the sub-grid, at least nine points per side, and the
     /// centred stride where n − 1 has no divisor that gives 9–17.

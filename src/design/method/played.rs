@@ -73,8 +73,8 @@ pub(crate) fn play_check(
 
 /// The [`Played`] record of `schedule` from the judge's `plays` and what
 /// they realise, `r` ([`play_check`]): POOR with the reasons when too few
-/// points count, the shape error exceeds [`fit::POOR_ERROR`] or a held part
-/// loses contact.
+/// points count, the shape error exceeds [`fit::POOR_ERROR`], or a held part
+/// loses contact or reaches no steady state.
 pub(crate) fn played_of(
     plays: &[PointPlay],
     r: &RealisedError,
@@ -86,7 +86,12 @@ pub(crate) fn played_of(
     let finite = |x: f64| x.is_finite().then_some(x);
     // Every judge point is in the region: a part that loses contact at
     // one fails the design.
-    let lost: Vec<&PointPlay> = plays.iter().filter(|p| p.note.is_some()).collect();
+    let lost: Vec<&PointPlay> = plays.iter().filter(|p| p.lost_at.is_some()).collect();
+    // A held part with no steady state has no realised velocity to judge.
+    let unsteady: Vec<&PointPlay> = plays
+        .iter()
+        .filter(|p| p.note.is_some() && p.lost_at.is_none())
+        .collect();
     let mut notes = Vec::new();
     if r.valid == 0 {
         notes.push("no valid point".to_string());
@@ -108,6 +113,14 @@ pub(crate) fn played_of(
         notes.push(format!(
             "{} of {} parts lost contact in the region ({})",
             lost.len(),
+            plays.len(),
+            first.note.clone().unwrap_or_default()
+        ));
+    }
+    if let Some(first) = unsteady.first() {
+        notes.push(format!(
+            "{} of {} held parts in the region reach no steady state ({})",
+            unsteady.len(),
             plays.len(),
             first.note.clone().unwrap_or_default()
         ));
