@@ -20,6 +20,15 @@
 //!    last period's mean velocity is the realised field R(p). A schedule
 //!    of one steady motion is played one motion cycle per period (the
 //!    same periodic orbit, at a tenth of the work of a ten-cycle period).
+//!    A held part that loses contact, or that has **no held steady
+//!    state** — its velocity still changes at the warm-up cap by more
+//!    than `crate::play::settle`'s `HELD_TOL` (1 %) of its mean — is
+//!    invalid, with the reason, and not counted; either makes the design
+//!    POOR. The second happens where the plate carries a part far within
+//!    a cycle: 3 cm off the axis of the large-amplitude Circle primitive
+//!    the held part's velocity keeps growing through the warm-up (the
+//!    test `a_held_part_with_no_steady_state_is_invalid`), a mean with no
+//!    meaning as a field.
 //! 3. **Compare** ([`realised_error`], positions frozen so the
 //!    promise at p is t(p) exactly): with the target's weights ω_k,
 //!    ```text
