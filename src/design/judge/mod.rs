@@ -328,13 +328,8 @@ mod tests {
         let points = [[0.03, 0.0], [0.0, -0.03], [0.02, 0.02]];
         let starts = [0, 1, 2];
         let settings = FieldSettings::default();
-        let circle = play_motion(
-            &primitive_schedule(PrimitiveKind::Circle),
-            &points,
-            &starts,
-            &settings,
-        );
-        for p in &circle {
+        let played = |kind| play_motion(&primitive_schedule(kind), &points, &starts, &settings);
+        for p in &played(PrimitiveKind::Circle) {
             let note = p.note.as_deref().unwrap_or("");
             assert!(
                 note.starts_with("no held steady state"),
@@ -344,13 +339,7 @@ mod tests {
             assert!(p.lost_at.is_none() && !p.settled, "{p:?}");
             assert!(!counts(&[1.0; 3], p));
         }
-        let sink = play_motion(
-            &primitive_schedule(PrimitiveKind::LineSink),
-            &points,
-            &starts,
-            &settings,
-        );
-        for p in &sink {
+        for p in &played(PrimitiveKind::LineSink) {
             assert!(p.note.is_none() && p.settled, "{p:?}");
             assert!(counts(&[1.0; 3], p));
         }

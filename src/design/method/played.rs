@@ -109,21 +109,18 @@ pub(crate) fn played_of(
             100.0 * fit::POOR_ERROR
         ));
     }
-    if let Some(first) = lost.first() {
-        notes.push(format!(
-            "{} of {} parts lost contact in the region ({})",
-            lost.len(),
-            plays.len(),
-            first.note.clone().unwrap_or_default()
-        ));
-    }
-    if let Some(first) = unsteady.first() {
-        notes.push(format!(
-            "{} of {} held parts in the region reach no steady state ({})",
-            unsteady.len(),
-            plays.len(),
-            first.note.clone().unwrap_or_default()
-        ));
+    for (parts, what) in [
+        (&lost, "parts lost contact in the region"),
+        (&unsteady, "held parts in the region reach no steady state"),
+    ] {
+        if let Some(first) = parts.first() {
+            notes.push(format!(
+                "{} of {} {what} ({})",
+                parts.len(),
+                plays.len(),
+                first.note.clone().unwrap_or_default()
+            ));
+        }
     }
     Played {
         method: match (
