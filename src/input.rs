@@ -79,7 +79,7 @@ pub struct InputError {
 const MARK: char = '\u{1}';
 
 /// Deserialises `text` as a `T`, naming `root` as the top of every path.
-pub fn from_str<T: DeserializeOwned>(text: &str, root: &str) -> Result<T, InputError> {
+pub(crate) fn from_str<T: DeserializeOwned>(text: &str, root: &str) -> Result<T, InputError> {
     let mut de = serde_json::Deserializer::from_str(text);
     let located = |path: String, e: &serde_json::Error| {
         let (sub, message) = if e.is_syntax() || e.is_eof() {
@@ -286,7 +286,7 @@ impl Body {
     }
 
     /// An optional key with its default.
-    pub fn or<T: DeserializeOwned + Default>(&mut self, key: &'static str, default: T) -> T {
+    pub(crate) fn or<T: DeserializeOwned + Default>(&mut self, key: &'static str, default: T) -> T {
         self.asked.push(key);
         match self.map.remove(key) {
             Some(v) => self.or_fail(v, key),
@@ -303,7 +303,7 @@ impl Body {
 
     /// Every remaining key, read as one `T` (a struct that rejects unknown
     /// keys itself).
-    pub fn rest<T: DeserializeOwned>(&mut self) -> Option<T> {
+    pub(crate) fn rest<T: DeserializeOwned>(&mut self) -> Option<T> {
         let map = std::mem::take(&mut self.map);
         read(Value::Object(map), "")
             .map_err(|(sub, message)| self.fail(sub, message))
@@ -314,7 +314,7 @@ impl Body {
 /// Reads an object key by key with `build` (see [`Body`]); keys `build`
 /// did not ask for are errors naming them and the keys allowed. `what`
 /// names the object in that message (`for type "sine"`).
-pub fn fields<'de, D, T>(
+pub(crate) fn fields<'de, D, T>(
     map: Map<String, Value>,
     known: &[&'static str],
     what: &str,
@@ -387,7 +387,7 @@ where
 }
 
 /// A JSON value described for an error message (`string "big"`, `an array`).
-pub fn describe(v: &Value) -> String {
+pub(crate) fn describe(v: &Value) -> String {
     match v {
         Value::Null => "null".into(),
         Value::Bool(b) => format!("{b}"),

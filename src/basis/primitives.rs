@@ -111,7 +111,7 @@ pub struct Primitive {
 }
 
 mod defaults {
-    pub fn omega() -> f64 {
+    pub(crate) fn omega() -> f64 {
         209.0
     }
     pub(crate) fn depth() -> f64 {
@@ -169,7 +169,7 @@ impl Primitive {
     }
 
     /// Validates parameters.
-    pub fn validate(&self, field: &str) -> Result<()> {
+    pub(crate) fn validate(&self, field: &str) -> Result<()> {
         positive(&format!("{field}.omega"), self.omega)?;
         if let Some(a) = self.amplitude {
             finite(&format!("{field}.amplitude"), a)?;

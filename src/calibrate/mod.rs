@@ -36,7 +36,8 @@ pub mod simulate;
 pub mod tracks;
 
 pub use model::PlayedMotion;
-pub use simulate::{simulate_tracks, TrackSimulation};
+pub use simulate::simulate_tracks;
+pub use simulate::TrackSimulation;
 pub use tracks::{Track, Tracks};
 
 use rayon::prelude::*;
@@ -58,7 +59,7 @@ pub const WEAK: f64 = 0.1;
 pub const CORRELATED: f64 = 0.95;
 
 /// The μ lattice of the part-by-part scan: 0.05 to 1.0 in steps of 0.05.
-pub fn lattice() -> Vec<f64> {
+pub(crate) fn lattice() -> Vec<f64> {
     (1..=20).map(|k| 0.05 * f64::from(k)).collect()
 }
 

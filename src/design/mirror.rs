@@ -191,7 +191,7 @@ impl MirrorLine {
 
     /// The line's words: "the 65° axis" through the centre, else with the
     /// point in mm.
-    pub fn describe(&self) -> String {
+    pub(crate) fn describe(&self) -> String {
         if self.is_through_centre() {
             format!("the {}° axis", self.angle_deg)
         } else {

@@ -340,7 +340,7 @@ pub(crate) fn mirrored(sigma: &[usize]) -> Vec<usize> {
 /// `MAX_PERMUTED`, else the given order and its reverse; then the
 /// mirrored order of each cyclic order up to reversal (n ≥ 3; for n ≤ 2 it
 /// would repeat σ). The first candidate is the given order.
-pub fn candidates(n: usize) -> Vec<Order> {
+pub(crate) fn candidates(n: usize) -> Vec<Order> {
     if n == 0 {
         return Vec::new();
     }

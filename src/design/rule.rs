@@ -52,7 +52,7 @@ pub enum Rule {
 
 impl Rule {
     /// The rule in words.
-    pub fn text(self) -> &'static str {
+    pub(crate) fn text(self) -> &'static str {
         match self {
             Rule::OtherPoor => "the other is POOR",
             Rule::HigherStrength => {

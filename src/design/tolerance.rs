@@ -39,7 +39,7 @@ pub struct Draw {
 impl Draw {
     /// (gain, shift) of channel `c` at harmonic `h` (1 and 0 outside the
     /// drawn harmonics).
-    pub fn at(&self, c: usize, h: u32) -> (f64, f64) {
+    pub(crate) fn at(&self, c: usize, h: u32) -> (f64, f64) {
         (h as usize)
             .checked_sub(1)
             .and_then(|i| self.errors.get(i))
@@ -48,18 +48,6 @@ impl Draw {
 }
 
 /// `count` seeded draws within `tol` ([module documentation](self)).
-///
-/// ```
-/// use platefield::design::tolerance::draws;
-/// use platefield::request::Tolerance;
-///
-/// let tol = Tolerance { amplitude: 0.05, phase_deg: 5.0 };
-/// let d = draws(&tol, 64);
-/// assert_eq!(d.len(), 64);
-/// assert_eq!(d, draws(&tol, 64));
-/// let (g, s) = d[3].at(2, 1);
-/// assert!((g - 1.0).abs() <= 0.05 && s.abs() <= 5f64.to_radians());
-/// ```
 pub fn draws(tol: &Tolerance, count: usize) -> Vec<Draw> {
     let mut rng = SplitMix64::new(SEED);
     let phase = tol.phase_deg.to_radians();
@@ -275,5 +263,22 @@ mod tests {
                 .fold((1.0_f64, -1.0_f64), |(l, h), x| (l.min(*x), h.max(*x)));
             assert!(lo < -0.98 && hi > 0.98, "{lo} {hi}");
         }
+    }
+
+    /// The former doc example of `design::tolerance::draws`, now crate-private.
+    #[test]
+    fn example_draws() {
+        use crate::design::tolerance::draws;
+        use crate::request::Tolerance;
+
+        let tol = Tolerance {
+            amplitude: 0.05,
+            phase_deg: 5.0,
+        };
+        let d = draws(&tol, 64);
+        assert_eq!(d.len(), 64);
+        assert_eq!(d, draws(&tol, 64));
+        let (g, s) = d[3].at(2, 1);
+        assert!((g - 1.0).abs() <= 0.05 && s.abs() <= 5f64.to_radians());
     }
 }

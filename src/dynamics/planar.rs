@@ -301,7 +301,7 @@ impl PlanarBody {
     }
 
     /// A point part: one support point at the origin.
-    pub fn point() -> PlanarBody {
+    pub(crate) fn point() -> PlanarBody {
         PlanarBody {
             points: vec![V2::zeros()],
             weights: vec![1.0],

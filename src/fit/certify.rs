@@ -60,7 +60,9 @@ use crate::fit::conic::ConicOutcome;
 use crate::fit::lp::{dual_bound, project_dual, solve_lp_mode};
 use crate::fit::nnls::{nnls_capped, nnls_detailed};
 use crate::fit::prepare::Prepared;
-use crate::fit::{validate_mode, FitError, FitMode, FitProblem};
+#[cfg(test)]
+use crate::fit::{validate_mode, FitProblem};
+use crate::fit::{FitError, FitMode};
 
 /// A field below this fraction of the (weighted) target norm counts as
 /// zero when deciding that a `Shape` target is unreachable.
@@ -402,7 +404,8 @@ fn lp_lower_bound(ad: &DMatrix<f64>, td: &DVector<f64>, y: &[f64], l1: bool) -> 
 /// # Errors
 /// [`FitError::Verification`] when a check fails (or `BudgetInfeasible`
 /// when the budget cannot be met at all), input errors otherwise.
-pub fn verify(
+#[cfg(test)]
+pub(crate) fn verify(
     problem: &FitProblem,
     mode: &FitMode,
     fractions: &[f64],

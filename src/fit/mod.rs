@@ -100,7 +100,9 @@ pub(crate) mod testutil;
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
 
-pub use certify::{verify, Verification};
+#[cfg(test)]
+pub(crate) use certify::verify;
+pub use certify::Verification;
 pub(crate) use conic::LsFormulation;
 pub(crate) use metrics::{field_metrics, FitMetrics};
 pub(crate) use subset::sparsity_path;
@@ -204,7 +206,8 @@ pub struct FitProblem<'a> {
 
 impl<'a> FitProblem<'a> {
     /// Unweighted problem.
-    pub fn new(a: &'a DMatrix<f64>, t: &'a DVector<f64>) -> Self {
+    #[cfg(test)]
+    pub(crate) fn new(a: &'a DMatrix<f64>, t: &'a DVector<f64>) -> Self {
         Self {
             a,
             t,

@@ -180,11 +180,6 @@ impl Held {
         self.samples.len()
     }
 
-    /// Always false: a held motion has at least one sample.
-    pub fn is_empty(&self) -> bool {
-        self.samples.is_empty()
-    }
-
     /// One cycle of the exported motion: N samples (s).
     pub fn period(&self) -> f64 {
         self.per_period as f64 * self.dt
@@ -225,7 +220,7 @@ impl Held {
 
     /// Plate-frame kinematics at `t` on the sample holding at `piece_t`
     /// (see the module documentation).
-    pub fn kinematics(&self, t: f64, piece_t: f64, g: f64, tilt: bool) -> Kinematics {
+    pub(crate) fn kinematics(&self, t: f64, piece_t: f64, g: f64, tilt: bool) -> Kinematics {
         let k = self.index(piece_t);
         let (s, q) = advance(&self.states[k], &self.samples[k], t - k as f64 * self.dt);
         let a = &self.samples[k];

@@ -163,7 +163,7 @@ impl Motion {
 
     /// True when the motion is purely in the plate plane (no vertical
     /// translation, rotation only about the vertical): then N = g exactly.
-    pub fn is_in_plane(&self) -> bool {
+    pub(crate) fn is_in_plane(&self) -> bool {
         match self {
             Motion::Screw(s) => s.is_in_plane(),
             Motion::Signals(s) => s.is_in_plane(),
@@ -212,18 +212,10 @@ impl Motion {
     /// screw's rotation ψ(t) and translation d(t), a six-signal motion's
     /// accelerations, a ramped one's signals. `k = 1` is the motion itself.
     ///
-    /// ```
-    /// use platefield::basis::{Primitive, PrimitiveKind};
-    /// let m = Primitive::new(PrimitiveKind::LineSink).motion();
-    /// assert_eq!(m.amplitude_scaled(1.0)?, m);
-    /// assert_ne!(m.amplitude_scaled(0.95)?, m);
-    /// # Ok::<(), platefield::Error>(())
-    /// ```
-    ///
     /// # Errors
     /// Held samples (an export or recording replayed) are played as
     /// recorded and are not scaled.
-    pub fn amplitude_scaled(&self, k: f64) -> Result<Motion> {
+    pub(crate) fn amplitude_scaled(&self, k: f64) -> Result<Motion> {
         if k == 1.0 {
             return Ok(self.clone());
         }
@@ -248,7 +240,7 @@ impl Motion {
     }
 
     /// Validates all parameters; errors name the field under `field`.
-    pub fn validate(&self, field: &str) -> Result<()> {
+    pub(crate) fn validate(&self, field: &str) -> Result<()> {
         match self {
             Motion::Screw(s) => s.validate(field),
             Motion::Signals(s) => s.validate(field),
@@ -286,4 +278,17 @@ pub(crate) fn rotate(v: &V3, k: &V3, theta: f64) -> V3 {
 #[inline]
 pub(crate) fn rotate_sc(v: &V3, k: &V3, (s, c): (f64, f64)) -> V3 {
     v * c + k.cross(v) * s + k * (k.dot(v) * (1.0 - c))
+}
+
+#[cfg(test)]
+mod tests {
+    /// The former doc example of `motion::Motion::amplitude_scaled`, now crate-private.
+    #[test]
+    fn example_motion_amplitude_scaled() -> Result<(), crate::Error> {
+        use crate::basis::{Primitive, PrimitiveKind};
+        let m = Primitive::new(PrimitiveKind::LineSink).motion();
+        assert_eq!(m.amplitude_scaled(1.0)?, m);
+        assert_ne!(m.amplitude_scaled(0.95)?, m);
+        Ok(())
+    }
 }

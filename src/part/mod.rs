@@ -175,7 +175,7 @@ impl Part {
     }
 
     /// Validates `file` and builds its body (module docs).
-    pub fn new(file: PartFile) -> Result<Part> {
+    pub(crate) fn new(file: PartFile) -> Result<Part> {
         file.friction.validate("part.friction")?;
         let raw = check_polygon(&file.polygon)?;
         let (points, weights) = support_points(&file.support, &raw)?;

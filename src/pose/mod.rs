@@ -15,25 +15,35 @@ pub use analysis::averaged::{
     JACOBIAN_STEP, JACOBIAN_STEP_RAD, LOCAL, MAX_AVERAGING_PERIODS,
 };
 pub use analysis::bounds::Bounds;
+pub use analysis::check::check_twist;
+pub use analysis::check::Measure;
 pub use analysis::check::TwistCheck;
-pub use analysis::check::{check_twist, Measure};
-pub use analysis::continua::{
-    eigenvalues, Continuum, CurveEnd, Destination, Motion, Shape, ARRIVE, GAP,
-};
-pub use analysis::drops::{
-    nearest, play_drop, play_drops, play_part, played_basins, DropEnd, DropPlay, PlayedBasins,
-    DROP_REFINE_DEPTH, DROP_SAMPLES,
-};
+#[cfg(test)]
+pub(crate) use analysis::continua::eigenvalues;
+pub use analysis::continua::{Continuum, CurveEnd, Destination, Motion, Shape, ARRIVE, GAP};
+pub(crate) use analysis::drops::nearest;
+pub use analysis::drops::play_drop;
+pub use analysis::drops::play_drops;
+pub use analysis::drops::play_part;
+pub use analysis::drops::played_basins;
+pub use analysis::drops::{DropEnd, DropPlay, PlayedBasins, DROP_REFINE_DEPTH, DROP_SAMPLES};
+pub use analysis::equilibria::equilibria;
+pub use analysis::equilibria::rests;
+pub use analysis::equilibria::settle;
+pub use analysis::equilibria::wrap;
 pub use analysis::equilibria::Rests;
-pub use analysis::equilibria::{
-    equilibria, rests, settle, settle_on, wrap, End, Equilibrium, Region,
-};
+pub use analysis::equilibria::{End, Equilibrium, Region};
 pub use analysis::lifted::{GridField, LiftedField, PointField, Pose, Twist};
-pub use analysis::request::{check_counts, poses, AnalysisRequest, PoseOutcome, MAX_PLAY_S, SCAN};
-pub use analysis::rests::{
-    played_rests, PlayedRest, RestOutcome, MAX_NEWTON, MAX_RESTS, NEWTON_STOP,
-};
+pub use analysis::request::check_counts;
+pub use analysis::request::poses;
+pub use analysis::request::{AnalysisRequest, PoseOutcome, MAX_PLAY_S, SCAN};
+pub use analysis::rests::played_rests;
+pub use analysis::rests::{PlayedRest, RestOutcome, MAX_NEWTON, MAX_RESTS, NEWTON_STOP};
+pub use analysis::run::analyse;
+pub use analysis::run::drop_starts;
 pub(crate) use analysis::run::Uniform;
-pub use analysis::run::{analyse, drop_starts, PoseAnalysis, MAX_DROPS};
-pub use analysis::source::{realised_field, schedule_field, REALISED_STRIDE};
+pub use analysis::run::{PoseAnalysis, MAX_DROPS};
+pub use analysis::source::realised_field;
+pub use analysis::source::schedule_field;
+pub use analysis::source::REALISED_STRIDE;
 pub use analysis::work::{drops_estimate, settle_estimate};

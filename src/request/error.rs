@@ -42,7 +42,7 @@ pub enum TargetError {
 
 impl TargetError {
     /// Builds a [`TargetError::Invalid`] for the JSON path `path`.
-    pub fn invalid(path: impl Into<String>, message: impl Into<String>) -> Self {
+    pub(crate) fn invalid(path: impl Into<String>, message: impl Into<String>) -> Self {
         TargetError::Invalid {
             path: path.into(),
             message: message.into(),

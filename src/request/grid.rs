@@ -175,7 +175,7 @@ pub enum MaskRegion {
 
 impl MaskRegion {
     /// `true` if `p` lies in the (closed) region.
-    pub fn contains(&self, p: [f64; 2]) -> bool {
+    pub(crate) fn contains(&self, p: [f64; 2]) -> bool {
         match *self {
             MaskRegion::Circle { center, radius } => {
                 let dx = p[0] - center[0];
@@ -190,7 +190,7 @@ impl MaskRegion {
 
     /// Checks the region's parameters; `path` is the JSON path of the
     /// region (e.g. `target.mask[0]`).
-    pub fn validate(&self, path: &str) -> Result<(), TargetError> {
+    pub(crate) fn validate(&self, path: &str) -> Result<(), TargetError> {
         match *self {
             MaskRegion::Circle { center, radius } => {
                 check_finite2(&format!("{path}.circle.center"), center)?;

@@ -618,18 +618,7 @@ impl Schedule {
     /// of its segments as compact JSON (what its export plays; the design
     /// report beside them does not count). `export` writes it in the
     /// CSV's header and `verify --replay` checks it.
-    ///
-    /// ```
-    /// use platefield::schedule::Schedule;
-    /// let s = Schedule::load("results/synthesized/sink/schedule.json".as_ref())?;
-    /// let f = s.fingerprint();
-    /// assert_eq!(f.len(), 16);
-    /// let mut other = s.clone();
-    /// other.segments[0].cycles += 1;
-    /// assert_ne!(other.fingerprint(), f);
-    /// # Ok::<(), platefield::Error>(())
-    /// ```
-    pub fn fingerprint(&self) -> String {
+    pub(crate) fn fingerprint(&self) -> String {
         use sha2::{Digest, Sha256};
         let json = serde_json::to_string(&self.segments).unwrap_or_default();
         Sha256::digest(json.as_bytes())
@@ -653,5 +642,21 @@ fn prefix_origin(e: Error, origin: &str) -> Error {
     match e {
         Error::Invalid { field, message } => Error::invalid(format!("{origin}: {field}"), message),
         e => e,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// The former doc example of `schedule::Schedule::fingerprint`, now crate-private.
+    #[test]
+    fn example_schedule_fingerprint() -> Result<(), crate::Error> {
+        use crate::schedule::Schedule;
+        let s = Schedule::load("results/synthesized/sink/schedule.json".as_ref())?;
+        let f = s.fingerprint();
+        assert_eq!(f.len(), 16);
+        let mut other = s.clone();
+        other.segments[0].cycles += 1;
+        assert_ne!(other.fingerprint(), f);
+        Ok(())
     }
 }

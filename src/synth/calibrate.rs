@@ -41,7 +41,7 @@ pub fn shifted(c: &Coefficients, phi: f64) -> Coefficients {
 
 /// Calibrates the phase of `seed` (evaluated as `seed_eval`) on
 /// `objective`; returns the best evaluation (see the module docs).
-pub fn calibrate(
+pub(crate) fn calibrate(
     objective: &Objective<'_>,
     seed: &Coefficients,
     seed_eval: &Evaluation,

@@ -189,7 +189,7 @@ mod synthesize;
 pub mod transport;
 
 pub use limits::ShakerLimits;
+pub use synthesize::synthesize;
+pub(crate) use synthesize::synthesize_classes;
 pub use synthesize::AxisPeak;
-pub use synthesize::{
-    synthesize, synthesize_classes, Checked, SynthOptions, Synthesis, POLISH_LM, SYNTH_LM,
-};
+pub use synthesize::{Checked, SynthOptions, Synthesis, POLISH_LM, SYNTH_LM};

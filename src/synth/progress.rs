@@ -16,7 +16,7 @@ pub struct SynthesisProgress(crate::progress::Progress);
 
 impl SynthesisProgress {
     /// Progress over `total` evaluations.
-    pub fn new(mode: ProgressMode, total: usize) -> SynthesisProgress {
+    pub(crate) fn new(mode: ProgressMode, total: usize) -> SynthesisProgress {
         SynthesisProgress(crate::progress::Progress::new(
             "synthesis",
             "evaluations",

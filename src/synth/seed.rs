@@ -73,15 +73,6 @@ impl AffineFit {
             residual: if norm > 0.0 { (err / norm).sqrt() } else { 0.0 },
         }
     }
-
-    /// M q + b.
-    pub fn eval(&self, q: [f64; 2]) -> [f64; 2] {
-        let m = &self.m;
-        [
-            m[0][0] * q[0] + m[0][1] * q[1] + self.b[0],
-            m[1][0] * q[0] + m[1][1] * q[1] + self.b[1],
-        ]
-    }
 }
 
 /// The averaged-friction model of a circular-translation motion: what it
@@ -105,7 +96,7 @@ pub struct AveragedCircle {
 
 impl AveragedCircle {
     /// The model for translation amplitude `a` (> μ_k g) at `period`.
-    pub fn new(a: f64, period: f64, friction: Friction, gravity: f64) -> AveragedCircle {
+    pub(crate) fn new(a: f64, period: f64, friction: Friction, gravity: f64) -> AveragedCircle {
         let omega = 2.0 * PI / period;
         let mu = friction.kinetic;
         let lead = (mu * gravity / a).clamp(-1.0, 1.0).asin();

@@ -24,9 +24,14 @@ pub mod run;
 pub mod sort_play;
 pub(crate) mod swarm;
 
+pub use rectangles::play_rectangle;
 pub use rectangles::RectangleRun;
 pub use rectangles::RectangleSummary;
-pub use rectangles::{play_rectangle, PoseSample, RectangleFailure, RectangleOptions};
-pub use run::{run, verify_schedule_file, Duration, VerifyReport, VerifyRequest};
+pub use rectangles::{PoseSample, RectangleFailure, RectangleOptions};
+#[cfg(test)]
+pub(crate) use run::run;
+pub use run::verify_schedule_file;
+pub use run::{Duration, VerifyReport, VerifyRequest};
+pub use swarm::run_swarm;
 pub use swarm::SwarmPart;
-pub use swarm::{run_swarm, Swarm, SwarmOptions};
+pub use swarm::{Swarm, SwarmOptions};

@@ -60,7 +60,7 @@ impl Default for RectangleOptions {
 
 impl RectangleOptions {
     /// Validates ranges; errors name the field under `field`.
-    pub fn validate(&self, field: &str) -> Result<()> {
+    pub(crate) fn validate(&self, field: &str) -> Result<()> {
         self.friction.validate(&format!("{field}.friction"))?;
         positive(&format!("{field}.gravity"), self.gravity)?;
         if !(1..=1_000_000).contains(&self.steps_per_cycle) {

@@ -56,8 +56,10 @@ pub(crate) mod compare;
 
 use rayon::prelude::*;
 
+pub use compare::counts;
+pub use compare::realised_error;
 pub use compare::Decomposition;
-pub use compare::{counts, realised_error, PointPlay, RealisedError};
+pub use compare::{PointPlay, RealisedError};
 
 use crate::field::FieldSettings;
 use crate::play::measure::{play_frozen_point, PlayOptions};

@@ -99,7 +99,8 @@
 pub use super::judge::judge_check;
 use super::judge::{judge_points, realised_check, PointPlay, RealisedError, JUDGE_MIN_PERIODS};
 use super::polish::{polish, PolishOptions};
-pub use super::rule::{better_within, Rule, MIN_MEASURED_POINTS, TIE_SHAPE_ERROR};
+pub use super::rule::better_within;
+pub use super::rule::{Rule, MIN_MEASURED_POINTS, TIE_SHAPE_ERROR};
 use super::{design, Design, DesignOptions};
 use crate::dynamics::Friction;
 use crate::error::{Error, Result};
@@ -123,9 +124,12 @@ mod mix;
 mod played;
 mod synthesized;
 
+pub use choice::number;
+pub use choice::percent;
+pub use choice::worst_at;
 pub(crate) use choice::RANGE_HELD;
 use choice::{choose, held, key};
-pub use choice::{number, percent, worst_at, Choice, Failure, FailureReason};
+pub use choice::{Choice, Failure, FailureReason};
 use estimate::region;
 pub use estimate::{design_estimate, synthesis_estimate};
 pub(crate) use estimate::{sequenced_cycles, sweep_estimate};

@@ -192,7 +192,7 @@ impl AveragedField {
     }
 
     /// The support's radius about its centre of mass (m).
-    pub fn radius(&self) -> f64 {
+    pub(crate) fn radius(&self) -> f64 {
         self.body
             .points()
             .iter()
