@@ -68,7 +68,7 @@ pub(crate) fn read_input(path: &Path) -> std::io::Result<String> {
 /// A located input error: the JSON path (starting with the root name, e.g.
 /// `target.field.strength`) and what is wrong there.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct InputError {
+pub(crate) struct InputError {
     /// JSON path of the offending value or key.
     pub path: String,
     /// What is wrong and what is allowed.
@@ -262,7 +262,7 @@ fn keys_at(value: &Value, path: &serde_path_to_error::Path) -> Option<Vec<String
 /// whole object has been read, after any key nobody asked for, so a
 /// misspelt key is reported as such rather than as the key it replaces
 /// being missing.
-pub struct Body {
+pub(crate) struct Body {
     map: Map<String, Value>,
     asked: Vec<&'static str>,
     error: Option<(String, String)>,

@@ -58,7 +58,7 @@ const START_STEP: f64 = 1e-6;
 
 /// A track's fitted start and squared residual.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct StartFit {
+pub(crate) struct StartFit {
     /// The fitted position at the track's first frame (m).
     pub start: [f64; 2],
     /// Σ |r_obs − r|² over the track's frames (m²).
@@ -159,7 +159,7 @@ pub(crate) fn fit_starts(
 /// The fit of one class: θ̂, its covariance over the free parameters and
 /// the residual.
 #[derive(Debug, Clone, PartialEq)]
-pub struct ClassFit {
+pub(crate) struct ClassFit {
     /// θ̂ (fixed parameters at their given values).
     pub theta: Theta,
     /// The free parameters (indices into θ).

@@ -35,7 +35,7 @@ pub mod replay;
 pub mod simulate;
 pub mod tracks;
 
-pub use model::PlayedMotion;
+pub(crate) use model::PlayedMotion;
 pub use simulate::simulate_tracks;
 pub use simulate::TrackSimulation;
 pub use tracks::{Track, Tracks};

@@ -77,7 +77,7 @@ pub(crate) fn friction(theta: &Theta) -> Friction {
 /// duration, the region its fields are sampled on, the physics besides
 /// friction.
 #[derive(Debug, Clone)]
-pub struct PlayedMotion {
+pub(crate) struct PlayedMotion {
     segments: Vec<(Option<Motion>, f64)>,
     /// Segment ends within the period (s), cumulative.
     ends: Vec<f64>,
@@ -398,7 +398,7 @@ fn orbit_excursion(sim: &crate::dynamics::Simulator<'_>, p: [f64; 2]) -> Vec<[f6
 /// Each moving segment's periodic-orbit excursion on the grid:
 /// `per_segment[i][node][phase]` (m).
 #[derive(Debug, Clone, PartialEq)]
-pub struct Excursions {
+pub(crate) struct Excursions {
     grid: Grid,
     per_segment: Vec<Option<Vec<Vec<[f64; 2]>>>>,
     periods: Vec<f64>,
@@ -432,7 +432,7 @@ impl Excursions {
 /// Every segment's velocity field at one θ (`None`: rest), and the
 /// periodic orbits' excursions when the model includes them.
 #[derive(Debug, Clone, PartialEq)]
-pub struct FieldSet {
+pub(crate) struct FieldSet {
     /// Per segment.
     pub fields: Vec<Option<Field>>,
     /// The excursions within a cycle (`None`: the mean path alone).
@@ -455,7 +455,7 @@ impl FieldSet {
 /// Field sets at θ_c and θ_c ± h_j e_j for the free parameters; the
 /// samples at any θ as the per-axis quadratic through them.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Stencil {
+pub(crate) struct Stencil {
     /// θ_c.
     pub center: Theta,
     /// Step per parameter.

@@ -382,7 +382,7 @@ impl Reduced {
 
 /// A group of tracks fitted by replays.
 #[derive(Debug, Clone, PartialEq)]
-pub struct ReplayFit {
+pub(crate) struct ReplayFit {
     /// θ̂ (fixed parameters at their given values).
     pub theta: Theta,
     /// The free parameters (indices into θ).

@@ -128,7 +128,8 @@ pub struct BasisColumn {
 pub const ISOTROPY_TOL: f64 = 1e-2;
 
 /// A column left out, and why.
-pub use crate::schedule::{ExcludedColumn as Excluded, ExclusionReason};
+pub(crate) use crate::schedule::ExcludedColumn as Excluded;
+pub use crate::schedule::ExclusionReason;
 
 /// The assembled basis.
 #[derive(Debug, Clone, PartialEq, Serialize)]

@@ -317,7 +317,7 @@ pub(crate) const MAX_PERMUTED: usize = 5;
 
 /// One candidate order.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Order {
+pub(crate) struct Order {
     /// Indices into the segments, in playing order (a segment may appear
     /// twice in a mirrored order).
     pub sequence: Vec<usize>,

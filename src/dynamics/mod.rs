@@ -41,11 +41,14 @@ mod state;
 mod steady;
 mod swing;
 
-pub use flight::Airborne;
-pub use flight::FlightOutcome;
-pub use flight::{Flight, HeldOrbit, Hop, PartPhase, HELD_MAX_PERIODS, HELD_MIN_PERIODS, HELD_TOL};
+pub use flight::Flight;
+pub use flight::Hop;
+pub use flight::{PartPhase, HELD_MAX_PERIODS, HELD_MIN_PERIODS, HELD_TOL};
 pub use simulator::Simulator;
-pub use state::{CycleOutcome, PartState, TrajectoryPoint, V2};
+pub use state::CycleOutcome;
+pub use state::PartState;
+pub use state::TrajectoryPoint;
+pub use state::V2;
 
 /// Revision of the simulator's numerics: bumped whenever a change to the
 /// integrator changes any field it computes (not for changes that keep
@@ -55,12 +58,18 @@ pub use state::{CycleOutcome, PartState, TrajectoryPoint, V2};
 /// workspace's `CHANGELOG.md`.
 pub(crate) const ENGINE_REVISION: u32 = 14;
 pub(crate) use kinematics_table::KinematicsTable;
-pub use planar::PlanarOutcome;
+pub use planar::PlanarBody;
+pub(crate) use planar::PlanarOutcome;
+pub use planar::PlanarSample;
+pub use planar::PlanarSimulator;
+pub use planar::PlanarState;
+pub use planar::Rectangle;
 pub use planar::{
-    PlanarBody, PlanarSample, PlanarSimulator, PlanarState, Plate, Rectangle, SlipRule,
-    MAX_POINTS_PER_SIDE, PLANAR_REFINE_DEPTH, PLANAR_STEPS_PER_CYCLE, REFINE_CHANGE,
+    Plate, SlipRule, MAX_POINTS_PER_SIDE, PLANAR_REFINE_DEPTH, PLANAR_STEPS_PER_CYCLE,
+    REFINE_CHANGE,
 };
-pub use steady::{SteadyFailure, SteadyState};
+pub use steady::SteadyFailure;
+pub use steady::SteadyState;
 
 use serde::{Deserialize, Serialize};
 

@@ -73,7 +73,7 @@ const BUDGET_BISECTION_STEPS: usize = 20;
 
 /// Outcome of a successful verification (normalised units, `‖t̂‖ = 1`).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
-pub struct Verification {
+pub(crate) struct Verification {
     /// Largest primal infeasibility found (≤ tol).
     pub feasibility_violation: f64,
     /// KKT residual (`Absolute`, `Shape`), budget-constraint violation

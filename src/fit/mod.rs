@@ -102,7 +102,7 @@ use serde::{Deserialize, Serialize};
 
 #[cfg(test)]
 pub(crate) use certify::verify;
-pub use certify::Verification;
+pub(crate) use certify::Verification;
 pub(crate) use conic::LsFormulation;
 pub(crate) use metrics::{field_metrics, FitMetrics};
 pub(crate) use subset::sparsity_path;
@@ -195,7 +195,7 @@ impl Default for FitOptions {
 /// Problem data: `A` (`2n×m`), target `t` (`2n`), optional row weights `d`
 /// (`2n`, non-negative multipliers on the residual rows).
 #[derive(Debug, Clone, Copy)]
-pub struct FitProblem<'a> {
+pub(crate) struct FitProblem<'a> {
     /// Basis fields as columns.
     pub a: &'a DMatrix<f64>,
     /// Target field.

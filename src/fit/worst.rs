@@ -65,7 +65,7 @@ const FEASIBLE_STRENGTH: f64 = 1e-7;
 
 /// Options of [`solve_worst_case`].
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct WorstCaseOptions {
+pub(crate) struct WorstCaseOptions {
     /// Strength floor `s_min` (> 0) on every sample's strength, or none.
     pub min_strength: Option<f64>,
     /// Stage 2 takes the strongest field whose worst error is within
@@ -89,7 +89,7 @@ impl Default for WorstCaseOptions {
 
 /// A verified worst-case fit.
 #[derive(Debug, Clone, PartialEq)]
-pub struct WorstCaseFit {
+pub(crate) struct WorstCaseFit {
     /// Time fractions `f ≥ 0`, `1ᵀf ≤ 1` (the plate rests for the rest).
     pub fractions: Vec<f64>,
     /// Least-squares strength `s_k` of the field at each sample (× the

@@ -42,7 +42,8 @@ pub(crate) use ramped::smoothstep;
 pub use ramped::Ramped;
 pub use screw::Screw;
 pub use signals::{Axes, Signals};
-pub use waveform::{FourierTerm, Sample, Waveform};
+pub use waveform::FourierTerm;
+pub use waveform::Waveform;
 
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};

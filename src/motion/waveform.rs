@@ -94,7 +94,7 @@ impl<'de> Deserialize<'de> for Waveform {
 
 /// Value, rate and acceleration of a waveform at one instant.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct Sample {
+pub(crate) struct Sample {
     /// q
     pub q: f64,
     /// q'

@@ -109,7 +109,7 @@ fn default_friction() -> FrictionSpec {
 /// A part file as written.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct PartFile {
+pub(crate) struct PartFile {
     /// Name (used for output folders).
     pub name: String,
     /// Vertices (m), either orientation.

@@ -25,7 +25,7 @@ fn cover_nodes() -> f64 {
 
 /// The sample grid: the same type as the simulator's grid
 /// ([`crate::field::Grid`]), validated here with the target's own limits.
-pub use crate::field::Grid;
+pub(crate) use crate::field::Grid;
 
 /// The most points per side a target grid over `x × y` may have. The
 /// design simulates each primitive once on a library grid that covers the

@@ -45,7 +45,7 @@ pub const MAX_NODES: usize = 129;
 /// **Cost.** Building it costs one search of the samples per node (in
 /// parallel); evaluating it, four node values.
 #[derive(Debug, Clone, PartialEq)]
-pub struct SampledInterpolant {
+pub(crate) struct SampledInterpolant {
     origin: [f64; 2],
     step: [f64; 2],
     nodes: usize,

@@ -212,7 +212,7 @@ pub(crate) use classes::PartClass;
 pub use classes::{Edge, MAX_CLASSES};
 pub use error::TargetError;
 pub use examples::examples;
-pub use field::SumTerm;
+pub(crate) use field::SumTerm;
 pub use field::{
     FieldSpec, Interpolation, ANGLE, COINCIDENT, DEFAULT_JET_WIDTH, EXTENT, FIELD_KINDS,
     IDW_NEIGHBORS, MAX_SAMPLED_POINTS, MAX_TERMS, MIN_JET_WIDTH, RATIO, SPEED, STRENGTH,
@@ -220,9 +220,14 @@ pub use field::{
 };
 pub(crate) use folder::plain_folder_name;
 pub use grid::scattered_grid;
-pub use grid::{Grid, MaskRegion, MAX_GRID_N, SCATTERED_N, SCATTERED_SPACING};
-pub use interpolant::{SampledInterpolant, LINEAR_NEIGHBORS, MAX_NODES, MIN_NODES};
-pub use shaker::{ShakerSpec, Tolerance, TravelSpec, MAX_HARMONICS, MAX_PERIOD_S, MIN_PERIOD_S};
+pub(crate) use grid::Grid;
+pub use grid::{MaskRegion, MAX_GRID_N, SCATTERED_N, SCATTERED_SPACING};
+pub(crate) use interpolant::SampledInterpolant;
+pub use interpolant::{LINEAR_NEIGHBORS, MAX_NODES, MIN_NODES};
+pub use shaker::ShakerSpec;
+pub use shaker::Tolerance;
+pub use shaker::TravelSpec;
+pub use shaker::{MAX_HARMONICS, MAX_PERIOD_S, MIN_PERIOD_S};
 
 use error::show;
 

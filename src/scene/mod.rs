@@ -63,8 +63,9 @@ use crate::field::{FieldKind, FieldSettings, Grid};
 use crate::input;
 use crate::motion::Motion;
 
-pub use friction::Interval;
-pub use friction::{FrictionSpec, MU};
+pub use friction::FrictionSpec;
+pub(crate) use friction::Interval;
+pub use friction::MU;
 pub use request::field;
 pub use request::FieldRequest;
 pub(crate) use validate::primitive as validate_primitive;

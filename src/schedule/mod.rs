@@ -46,8 +46,13 @@ use crate::fit::FitMetrics;
 use crate::motion::{Motion, Ramped, Signals};
 use crate::request::Target;
 
-pub use played::PoseBasin;
-pub use played::{AxisPeaks, Method, Played, PoseAtFriction, PoseOverFriction, PosePlayed};
+pub use played::AxisPeaks;
+pub use played::Method;
+pub use played::Played;
+pub use played::PoseAtFriction;
+pub(crate) use played::PoseBasin;
+pub use played::PoseOverFriction;
+pub use played::PosePlayed;
 pub(crate) use quantize::quantize;
 pub(crate) use quantize::Quantized;
 pub use quantize::{DEFAULT_MIN_CYCLES, DEFAULT_QUANTIZATION_TOL};

@@ -95,7 +95,7 @@ pub use crate::work::Stop;
 
 /// The result of one run.
 #[derive(Debug, Clone, PartialEq)]
-pub struct LmReport {
+pub(crate) struct LmReport {
     /// The best point found.
     pub x: Vec<f64>,
     /// Its cost ½‖r‖².

@@ -200,7 +200,7 @@ pub(crate) fn shape_block(raw: &[f64], e: f64, budget: f64) -> Vec<f64> {
 
 /// One evaluated candidate.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Evaluation {
+pub(crate) struct Evaluation {
     /// The parameter vector.
     pub params: Vec<f64>,
     /// Cost (see the module docs).
@@ -222,7 +222,7 @@ struct Tally {
 }
 
 /// The coarse-grid objective (driven by argmin through [`super::multistart`]).
-pub struct Objective<'a> {
+pub(crate) struct Objective<'a> {
     layout: Layout,
     limits: &'a ShakerLimits,
     settings: &'a FieldSettings,

@@ -12,7 +12,7 @@ pub use crate::progress::ProgressMode;
 
 /// Shared progress of one synthesis.
 #[derive(Debug)]
-pub struct SynthesisProgress(crate::progress::Progress);
+pub(crate) struct SynthesisProgress(crate::progress::Progress);
 
 impl SynthesisProgress {
     /// Progress over `total` evaluations.

@@ -25,13 +25,13 @@ pub mod sort_play;
 pub(crate) mod swarm;
 
 pub use rectangles::play_rectangle;
-pub use rectangles::RectangleRun;
-pub use rectangles::RectangleSummary;
-pub use rectangles::{PoseSample, RectangleFailure, RectangleOptions};
+pub use rectangles::PoseSample;
+pub use rectangles::RectangleFailure;
+pub use rectangles::RectangleOptions;
 #[cfg(test)]
 pub(crate) use run::run;
 pub use run::verify_schedule_file;
-pub use run::{Duration, VerifyReport, VerifyRequest};
+pub use run::Duration;
+pub use run::VerifyRequest;
 pub use swarm::run_swarm;
-pub use swarm::SwarmPart;
 pub use swarm::{Swarm, SwarmOptions};

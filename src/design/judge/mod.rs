@@ -58,7 +58,8 @@ use rayon::prelude::*;
 
 pub use compare::counts;
 pub use compare::realised_error;
-pub use compare::Decomposition;
+#[cfg(test)]
+pub(crate) use compare::Decomposition;
 pub use compare::{PointPlay, RealisedError};
 
 use crate::field::FieldSettings;

@@ -76,7 +76,7 @@ pub const AVERAGING_TOLERANCE: f64 = 1e-6;
 /// rad/s) a period ends with: where the next period, or a nearby pose's
 /// first, starts.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Slip {
+pub(crate) struct Slip {
     /// Translation slip (m/s).
     pub u: V2,
     /// Spin slip (rad/s).

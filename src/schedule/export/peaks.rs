@@ -107,7 +107,7 @@ pub const AXIS_NAMES: [&str; 6] = [
 
 /// A peak over a shaker limit ([`KinematicPeaks::excesses`]).
 #[derive(Debug, Clone, PartialEq)]
-pub struct Excess {
+pub(crate) struct Excess {
     /// The axis (`linear.x`, …), followed by ` velocity` or ` stroke` when
     /// that is the quantity over its limit.
     pub axis: String,
