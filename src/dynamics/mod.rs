@@ -45,9 +45,11 @@ pub use flight::Flight;
 pub use flight::Hop;
 pub use flight::{PartPhase, HELD_MAX_PERIODS, HELD_MIN_PERIODS, HELD_TOL};
 pub use simulator::Simulator;
-pub use state::CycleOutcome;
+#[cfg(test)]
+pub(crate) use state::CycleOutcome;
 pub use state::PartState;
-pub use state::TrajectoryPoint;
+#[cfg(test)]
+pub(crate) use state::TrajectoryPoint;
 pub use state::V2;
 
 /// Revision of the simulator's numerics: bumped whenever a change to the
@@ -60,10 +62,11 @@ pub(crate) const ENGINE_REVISION: u32 = 14;
 pub(crate) use kinematics_table::KinematicsTable;
 pub use planar::PlanarBody;
 pub(crate) use planar::PlanarOutcome;
-pub use planar::PlanarSample;
-pub use planar::PlanarSimulator;
-pub use planar::PlanarState;
-pub use planar::Rectangle;
+#[cfg(test)]
+pub(crate) use planar::PlanarSample;
+pub(crate) use planar::PlanarSimulator;
+pub(crate) use planar::PlanarState;
+pub(crate) use planar::Rectangle;
 pub use planar::{
     Plate, SlipRule, MAX_POINTS_PER_SIDE, PLANAR_REFINE_DEPTH, PLANAR_STEPS_PER_CYCLE,
     REFINE_CHANGE,

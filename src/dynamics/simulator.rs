@@ -87,11 +87,11 @@ impl<'a> Simulator<'a> {
     }
 
     /// The plate motion.
-    pub fn motion(&self) -> &'a Motion {
+    pub(crate) fn motion(&self) -> &'a Motion {
         self.motion
     }
     /// The model switches.
-    pub fn model(&self) -> Model {
+    pub(crate) fn model(&self) -> Model {
         self.model
     }
     /// The friction coefficients.
@@ -99,7 +99,7 @@ impl<'a> Simulator<'a> {
         self.friction
     }
     /// Gravity (m/s²).
-    pub fn gravity(&self) -> f64 {
+    pub(crate) fn gravity(&self) -> f64 {
         self.gravity
     }
     /// The part physics (friction, gravity, model).

@@ -74,7 +74,7 @@ pub struct Kinematics {
 impl Kinematics {
     /// Plate velocity v_s(r) at plate point `r`.
     #[inline]
-    pub fn velocity_at(&self, r: &V3) -> V3 {
+    pub(crate) fn velocity_at(&self, r: &V3) -> V3 {
         self.vel_center + self.omega.cross(&(r - self.center))
     }
 

@@ -264,7 +264,7 @@ pub fn periodic(motion: &Motion, rate: f64) -> Result<HoldSamples> {
 ///
 /// # Errors
 /// As [`periodic`]; `ramp` must be ≥ 1.
-pub fn ramped(motion: &Motion, rate: f64, ramp: u32, steady: u32) -> Result<HoldSamples> {
+pub(crate) fn ramped(motion: &Motion, rate: f64, ramp: u32, steady: u32) -> Result<HoldSamples> {
     if ramp == 0 {
         return Err(Error::invalid("--ramp-cycles", "must be ≥ 1"));
     }
@@ -312,7 +312,7 @@ pub fn ramped(motion: &Motion, rate: f64, ramp: u32, steady: u32) -> Result<Hold
 /// One segment of a sequence: a motion played for `duration` seconds, or
 /// rest.
 #[derive(Debug, Clone, Copy)]
-pub struct MotionSpan<'a> {
+pub(crate) struct MotionSpan<'a> {
     /// The motion (`None`: rest).
     pub motion: Option<&'a Motion>,
     /// Duration (s).
@@ -330,7 +330,7 @@ pub struct MotionSpan<'a> {
 /// As [`periodic`]; a motion segment whose duration is not a whole number
 /// of samples or that does not start and end at rest (names
 /// `segments[i]`).
-pub fn sequence(segments: &[MotionSpan<'_>], rate: f64) -> Result<HoldSamples> {
+pub(crate) fn sequence(segments: &[MotionSpan<'_>], rate: f64) -> Result<HoldSamples> {
     let (n, dt, states) = sequence_states(segments, rate)?;
     let v: Vec<[f64; 6]> = states.iter().map(|s| s.velocity).collect();
     Ok(HoldSamples::from_velocities(
@@ -427,7 +427,8 @@ pub(crate) fn sequence_states(
 /// let ends = play(&file, CentreState::default(), 2);
 /// assert!((ends[1].pose[0] - 0.02).abs() < 1e-15 && (ends[1].pose[5] - 0.04).abs() < 1e-15);
 /// ```
-pub fn play(samples: &HoldSamples, start: CentreState, loops: usize) -> Vec<CentreState> {
+#[cfg(test)]
+pub(crate) fn play(samples: &HoldSamples, start: CentreState, loops: usize) -> Vec<CentreState> {
     let mut ends = Vec::with_capacity(loops);
     let mut state = start;
     for _ in 0..loops {

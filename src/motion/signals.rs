@@ -86,7 +86,7 @@ impl Signals {
     /// A six-signal motion for timings (benches, `platefield study probes`):
     /// T = 0.05 s, x and y translation (the x one with a second harmonic)
     /// and tilts about x and y — the kind synthesis evaluates hundreds of
-    /// (the motion of `tests/synth.rs`).
+    /// (the motion of `tests/unit/synth.rs`).
     pub fn example() -> Signals {
         let term = |amplitude: f64, phase: f64, harmonic: u32| FourierTerm {
             amplitude,
@@ -121,7 +121,7 @@ impl Signals {
 
     /// Kinematics at time `t`.
     #[inline]
-    pub fn kinematics(&self, t: f64, g: f64, tilt: bool) -> Kinematics {
+    pub(crate) fn kinematics(&self, t: f64, g: f64, tilt: bool) -> Kinematics {
         let (lin, ang) = self.centre_triples(t);
         Signals::frame(&lin, &ang, g, tilt)
     }

@@ -212,7 +212,7 @@ pub(crate) use classes::PartClass;
 pub use classes::{Edge, MAX_CLASSES};
 pub use error::TargetError;
 pub use examples::examples;
-pub(crate) use field::SumTerm;
+pub use field::SumTerm;
 pub use field::{
     FieldSpec, Interpolation, ANGLE, COINCIDENT, DEFAULT_JET_WIDTH, EXTENT, FIELD_KINDS,
     IDW_NEIGHBORS, MAX_SAMPLED_POINTS, MAX_TERMS, MIN_JET_WIDTH, RATIO, SPEED, STRENGTH,
@@ -226,7 +226,7 @@ pub(crate) use interpolant::SampledInterpolant;
 pub use interpolant::{LINEAR_NEIGHBORS, MAX_NODES, MIN_NODES};
 pub use shaker::ShakerSpec;
 pub use shaker::Tolerance;
-pub use shaker::TravelSpec;
+pub(crate) use shaker::TravelSpec;
 pub use shaker::{MAX_HARMONICS, MAX_PERIOD_S, MIN_PERIOD_S};
 
 use error::show;

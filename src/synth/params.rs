@@ -54,7 +54,7 @@ impl Coefficients {
 
     /// The coefficients of `signals` with up to `harmonics` harmonics (terms
     /// of the same harmonic are summed; higher harmonics are dropped).
-    pub fn from_signals(signals: &Signals, harmonics: u32) -> Coefficients {
+    pub(crate) fn from_signals(signals: &Signals, harmonics: u32) -> Coefficients {
         let mut out = Coefficients::zero(signals.period, harmonics);
         let groups = [&signals.linear, &signals.angular];
         for (g, axes) in groups.iter().enumerate() {
@@ -171,7 +171,7 @@ impl Coefficients {
     /// Then, where `limits` give a velocity or stroke limit, every axis
     /// whose summed velocity or displacement ([`Coefficients::antiderivative`])
     /// peaks above it is scaled onto it too, its relative excess added.
-    pub fn clamp(&mut self, limits: &ShakerLimits) -> f64 {
+    pub(crate) fn clamp(&mut self, limits: &ShakerLimits) -> f64 {
         let excess = self.clamp_acceleration(limits);
         if limits.velocity.is_none() && limits.stroke.is_none() {
             return excess;
@@ -277,7 +277,7 @@ impl Layout {
     }
 
     /// Parameter vector of `c` (entries divided by the axis limit).
-    pub fn to_vec(&self, c: &Coefficients) -> Vec<f64> {
+    pub(crate) fn to_vec(&self, c: &Coefficients) -> Vec<f64> {
         let mut v = Vec::with_capacity(self.len());
         for a in self.free() {
             for k in 0..self.harmonics as usize {
@@ -290,7 +290,7 @@ impl Layout {
     }
 
     /// Coefficients of parameter vector `v` (of length [`Layout::len`]).
-    pub fn from_vec(&self, v: &[f64]) -> Coefficients {
+    pub(crate) fn from_vec(&self, v: &[f64]) -> Coefficients {
         let mut c = Coefficients::zero(self.period, self.harmonics);
         let mut it = v.iter();
         for a in self.free() {

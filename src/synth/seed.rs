@@ -134,13 +134,15 @@ impl AveragedCircle {
 
     /// Predicted mean friction force per unit mass while slipping,
     /// μ ⟨N ê⟩ = (μ/2)(Q_N, P_N) (m/s²).
-    pub fn force(&self, c: &Coefficients, q: [f64; 2]) -> [f64; 2] {
+    #[cfg(test)]
+    pub(crate) fn force(&self, c: &Coefficients, q: [f64; 2]) -> [f64; 2] {
         let [p, qq] = self.normal_pq(c, q);
         [0.5 * self.mu * qq, 0.5 * self.mu * p]
     }
 
     /// Predicted steady drift velocity (W/g)(Q_N, P_N) (m/s).
-    pub fn velocity(&self, c: &Coefficients, q: [f64; 2]) -> [f64; 2] {
+    #[cfg(test)]
+    pub(crate) fn velocity(&self, c: &Coefficients, q: [f64; 2]) -> [f64; 2] {
         let [p, qq] = self.normal_pq(c, q);
         let k = self.slip_speed / self.gravity;
         [k * qq, k * p]

@@ -24,10 +24,13 @@ pub mod run;
 pub mod sort_play;
 pub(crate) mod swarm;
 
-pub use rectangles::play_rectangle;
-pub use rectangles::PoseSample;
+#[cfg(test)]
+pub(crate) use rectangles::play_rectangle;
+#[cfg(test)]
+pub(crate) use rectangles::PoseSample;
 pub use rectangles::RectangleFailure;
-pub use rectangles::RectangleOptions;
+#[cfg(test)]
+pub(crate) use rectangles::RectangleOptions;
 #[cfg(test)]
 pub(crate) use run::run;
 pub use run::verify_schedule_file;

@@ -278,12 +278,12 @@ pub fn swarm_periods(
 
 /// With an automatic duration rectangles play at least this long (s):
 /// turning a 2 cm strip onto a LineSink's line takes about 10 s
-/// (`tests/planar.rs`), longer than a point part needs to reach it.
+/// (`tests/unit/planar.rs`), longer than a point part needs to reach it.
 pub(crate) const RECT_MIN_AUTO_S: f64 = 20.0;
 
 /// Support points along a rectangle's length (its width gets the same
 /// spacing, at least one row): 16 along 2 cm resolves the friction torque
-/// to about 1 % (`tests/planar.rs`).
+/// to about 1 % (`tests/unit/planar.rs`).
 pub(crate) const RECT_POINTS_ALONG: usize = 16;
 
 /// A rectangle of `size` = [length, width] sampled by support points at

@@ -99,7 +99,7 @@
 pub use super::judge::judge_check;
 use super::judge::{judge_points, realised_check, PointPlay, RealisedError, JUDGE_MIN_PERIODS};
 use super::polish::{polish, PolishOptions};
-pub use super::rule::better_within;
+pub(crate) use super::rule::better_within;
 pub use super::rule::{Rule, MIN_MEASURED_POINTS, TIE_SHAPE_ERROR};
 use super::{design, Design, DesignOptions};
 use crate::dynamics::Friction;
