@@ -34,7 +34,7 @@ pub const MAX_INPUT_BYTES: u64 = 64 << 20;
 /// block forever, a device may never end — and any file of more than `cap`
 /// bytes. The read itself is bounded by `cap`, so a file that grows while
 /// it is read is refused too, never read without end.
-pub fn read_capped(path: &Path, cap: u64) -> std::io::Result<Vec<u8>> {
+pub(crate) fn read_capped(path: &Path, cap: u64) -> std::io::Result<Vec<u8>> {
     use std::io::Read;
     let refuse = |why: String| std::io::Error::new(std::io::ErrorKind::InvalidInput, why);
     let not_regular = || {
@@ -617,3 +617,7 @@ mod tests {
         assert_eq!(num(1e5), "100000");
     }
 }
+
+#[cfg(test)]
+#[path = "../tests/unit/inputs.rs"]
+mod inputs_tests;

@@ -1295,3 +1295,7 @@ fn class_estimate(
         joined: Vec::new(),
     }
 }
+
+#[cfg(test)]
+#[path = "../../tests/unit/calibrate.rs"]
+mod calibrate_tests;

@@ -104,7 +104,7 @@ const THETA_STEP: Theta = [1e-4, 1e-3, 1e-4];
 ///
 /// # Errors
 /// θ's scale cannot be played.
-pub fn path(
+pub(crate) fn path(
     schedule: &Schedule,
     theta: &Theta,
     r0: [f64; 2],

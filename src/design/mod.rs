@@ -270,3 +270,7 @@ pub fn design(target: &Target, opts: &DesignOptions) -> Result<Design> {
         order_time_s,
     })
 }
+
+#[cfg(test)]
+#[path = "../../tests/unit/design_speed.rs"]
+mod speed_tests;

@@ -733,3 +733,7 @@ mod tests {
         Ok(())
     }
 }
+
+#[cfg(test)]
+#[path = "../../tests/unit/flight.rs"]
+mod flight_tests;

@@ -42,7 +42,8 @@ mod steady;
 mod swing;
 
 pub use flight::Flight;
-pub use flight::Hop;
+#[cfg(test)]
+pub(crate) use flight::Hop;
 pub use flight::{PartPhase, HELD_MAX_PERIODS, HELD_MIN_PERIODS, HELD_TOL};
 pub use simulator::Simulator;
 #[cfg(test)]
@@ -339,7 +340,7 @@ pub(crate) const MIN_STEPS_PER_CYCLE: usize = 8;
 /// per cycle must be at least this times the harmonic number): at 8 steps
 /// per harmonic period the field is within a few per cent of a fine run
 /// whatever the harmonic, at 4 it is tens of per cent off (measured:
-/// `tests/inputs.rs`, `harmonics_against_steps`, and `docs/dev/forward-model.md`,
+/// `tests/unit/inputs.rs`, `harmonics_against_steps`, and `docs/dev/forward-model.md`,
 /// **Measurements behind the integrator's constants**).
 pub const STEPS_PER_HARMONIC: usize = 8;
 

@@ -115,7 +115,7 @@ impl<'a> Simulator<'a> {
         self.period
     }
     /// Velocity scale μ_k g T used for tolerances (m/s).
-    pub fn velocity_scale(&self) -> f64 {
+    pub(crate) fn velocity_scale(&self) -> f64 {
         self.v_scale
     }
 
@@ -358,3 +358,7 @@ pub(super) fn hermite_root(p0: f64, d0: f64, p1: f64, d1: f64) -> f64 {
     }
     x
 }
+
+#[cfg(test)]
+#[path = "../../tests/unit/engine.rs"]
+mod engine_tests;

@@ -279,7 +279,7 @@ impl Signals {
     /// at (x, −y) moves as the mirror image of a part at (x, y) under the
     /// original motion, at every friction: the field becomes
     /// F'(x, y) = (Fx(x, −y), −Fy(x, −y)). Exact (no small-amplitude step).
-    pub fn mirrored_y(&self) -> Signals {
+    pub(crate) fn mirrored_y(&self) -> Signals {
         let neg = |terms: &[FourierTerm]| -> Vec<FourierTerm> {
             terms.iter().map(|t| scale(t, -1.0)).collect()
         };

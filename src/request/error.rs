@@ -68,7 +68,8 @@ impl TargetError {
 
     /// The JSON path of the offending value, if the error is about one
     /// particular value (looks through [`TargetError::InFile`]).
-    pub fn field_path(&self) -> Option<&str> {
+    #[cfg(test)]
+    pub(crate) fn field_path(&self) -> Option<&str> {
         match self {
             TargetError::Invalid { path, .. } => Some(path),
             TargetError::InFile { error, .. } => error.field_path(),

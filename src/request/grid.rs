@@ -107,7 +107,7 @@ pub const SCATTERED_N: usize = 41;
 /// sample, where a LineSink's plate lifts the part: a dense scattered
 /// target then loses every LineSink to "contact lost" at nodes no part
 /// visits (1000 points over ±4 cm would design to DivCircles only).
-pub fn scattered_grid(points: &[[f64; 2]]) -> Grid {
+pub(crate) fn scattered_grid(points: &[[f64; 2]]) -> Grid {
     if points.is_empty() {
         return Grid::DEFAULT;
     }

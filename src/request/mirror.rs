@@ -149,19 +149,7 @@ impl Target {
     /// run in reverse), weights (rows reversed to match) and mask
     /// reflected; friction, gravity and shaker as they are. Part classes
     /// are dropped (a sorting target is designed by its own method).
-    ///
-    /// ```
-    /// use platefield::request::Target;
-    ///
-    /// let t = Target::from_json_str(r#"{"name": "s",
-    ///     "grid": {"x": [-0.04, 0.04], "y": [-0.01, 0.03], "n": [5, 5]},
-    ///     "field": {"kind": "sink", "center": [0.01, 0.02]}}"#).unwrap();
-    /// let m = t.mirrored_y();
-    /// assert_eq!(m.grid.unwrap().y, [-0.03, 0.01]);
-    /// let (a, b) = (t.sample().unwrap(), m.sample().unwrap());
-    /// assert_eq!(a.points.len(), b.points.len());
-    /// ```
-    pub fn mirrored_y(&self) -> Target {
+    pub(crate) fn mirrored_y(&self) -> Target {
         Target {
             name: self.name.clone(),
             grid: self.grid.map(|g| Grid {
@@ -275,5 +263,22 @@ mod tests {
         let (q, v) = ([0.013, -0.004], f.eval([0.013, 0.004]));
         let w = m.eval(q);
         assert!((w[0] - v[0]).abs() < 1e-15 && (w[1] + v[1]).abs() < 1e-15);
+    }
+
+    /// The former doc example of `request::mirror::Target::mirrored_y`, now crate-private.
+    #[test]
+    fn example_target_mirrored_y() {
+        use crate::request::Target;
+
+        let t = Target::from_json_str(
+            r#"{"name": "s",
+            "grid": {"x": [-0.04, 0.04], "y": [-0.01, 0.03], "n": [5, 5]},
+            "field": {"kind": "sink", "center": [0.01, 0.02]}}"#,
+        )
+        .unwrap();
+        let m = t.mirrored_y();
+        assert_eq!(m.grid.unwrap().y, [-0.03, 0.01]);
+        let (a, b) = (t.sample().unwrap(), m.sample().unwrap());
+        assert_eq!(a.points.len(), b.points.len());
     }
 }

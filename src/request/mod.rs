@@ -219,7 +219,7 @@ pub use field::{
     TRANSPORT_LENGTH, WEIGHT,
 };
 pub(crate) use folder::plain_folder_name;
-pub use grid::scattered_grid;
+pub(crate) use grid::scattered_grid;
 pub(crate) use grid::Grid;
 pub use grid::{MaskRegion, MAX_GRID_N, SCATTERED_N, SCATTERED_SPACING};
 pub(crate) use interpolant::SampledInterpolant;

@@ -333,7 +333,7 @@ impl Scene {
     /// Checks every value against its allowed range (the constants of
     /// this module); the first problem found is returned, naming its JSON
     /// path and the range.
-    pub fn validate(&self) -> Result<()> {
+    pub(crate) fn validate(&self) -> Result<()> {
         let path = "scene.motion";
         match &self.motion {
             SceneMotion::Motion(Motion::Screw(s)) => screw(s, path)?,

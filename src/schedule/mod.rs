@@ -397,7 +397,7 @@ impl Schedule {
     /// and 1..=`MAX_SEGMENT_CYCLES` cycles; rest segments with a finite
     /// duration ≥ 0; a period of at most [`MAX_PERIOD_S`]; weights finite
     /// and ≥ 0; valid settings and target.
-    pub fn validate(&self) -> Result<()> {
+    pub(crate) fn validate(&self) -> Result<()> {
         if self.segments.is_empty() {
             return Err(Error::invalid(
                 "segments",

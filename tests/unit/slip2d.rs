@@ -192,7 +192,7 @@ fn harness_matches_field_compute() {
     let every = Field::compute_by(&p.motion(), &grid, FieldKind::Force, &s5, none, &|| {});
     assert_eq!(m.vectors, every.vectors);
     // The engine's field simulates one point per circle about the axis
-    // (`tests/invariance.rs`): the same to round-off.
+    // (`tests/unit/invariance.rs`): the same to round-off.
     let f = reference(&p, &small_grid(), 5, &s);
     assert!(relative_l2(&f.vectors, &m.vectors) < 1e-13);
 }

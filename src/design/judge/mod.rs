@@ -329,3 +329,7 @@ mod tests {
         }
     }
 }
+
+#[cfg(test)]
+#[path = "../../../tests/unit/judge.rs"]
+mod judge_tests;

@@ -267,18 +267,7 @@ pub const GENTLE_SWING: f64 = 0.5;
 /// half of it (the seed's cap is (1 − m) g over the tilts' swing per unit
 /// strength, [`crate::synth::seed`]) and swings N half as far, which is
 /// what the averaged model's error grows with (module documentation).
-///
-/// ```
-/// use platefield::design::method::gentle_limits;
-/// use platefield::synth::ShakerLimits;
-///
-/// let envelope = ShakerLimits::envelope();
-/// let gentle = gentle_limits(&envelope);
-/// assert!((gentle.contact_margin - 0.55).abs() < 1e-12);
-/// assert_eq!(gentle.linear, envelope.linear);
-/// assert_eq!(gentle.angular, envelope.angular);
-/// ```
-pub fn gentle_limits(limits: &ShakerLimits) -> ShakerLimits {
+pub(crate) fn gentle_limits(limits: &ShakerLimits) -> ShakerLimits {
     ShakerLimits {
         contact_margin: 1.0 - GENTLE_SWING * (1.0 - limits.contact_margin),
         ..limits.clone()
@@ -1246,5 +1235,18 @@ mod tests {
         };
         assert_eq!(parts_of(40), 40.0);
         assert_eq!(parts_of(2000), 2000.0);
+    }
+
+    /// The former doc example of `design::method::gentle_limits`, now crate-private.
+    #[test]
+    fn example_gentle_limits() {
+        use crate::design::method::gentle_limits;
+        use crate::synth::ShakerLimits;
+
+        let envelope = ShakerLimits::envelope();
+        let gentle = gentle_limits(&envelope);
+        assert!((gentle.contact_margin - 0.55).abs() < 1e-12);
+        assert_eq!(gentle.linear, envelope.linear);
+        assert_eq!(gentle.angular, envelope.angular);
     }
 }
