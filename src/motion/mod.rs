@@ -28,7 +28,7 @@ mod signals;
 pub(crate) mod trig;
 mod waveform;
 
-pub use held::Held;
+pub(crate) use held::Held;
 
 /// Largest peak linear acceleration (m/s², about 1000 g) of a plate
 /// motion: a scene's translation, a replayed export's sample.
@@ -293,3 +293,7 @@ mod tests {
         Ok(())
     }
 }
+
+#[cfg(test)]
+#[path = "../../tests/unit/convention.rs"]
+mod convention_tests;

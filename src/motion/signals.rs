@@ -358,7 +358,7 @@ impl Signals {
     }
 
     /// Every amplitude multiplied by `k` (the same waveforms, scaled).
-    pub fn scaled(&self, k: f64) -> Signals {
+    pub(crate) fn scaled(&self, k: f64) -> Signals {
         let axes = |a: &Axes| Axes {
             x: a.x.iter().map(|t| scale(t, k)).collect(),
             y: a.y.iter().map(|t| scale(t, k)).collect(),

@@ -59,3 +59,7 @@ pub use analysis::source::realised_field;
 pub use analysis::source::schedule_field;
 pub use analysis::source::REALISED_STRIDE;
 pub use analysis::work::{drops_estimate, settle_estimate};
+
+#[cfg(test)]
+#[path = "../../tests/unit/pose_convention.rs"]
+mod pose_convention_tests;
