@@ -1250,3 +1250,7 @@ mod tests {
         assert_eq!(gentle.angular, envelope.angular);
     }
 }
+
+#[cfg(test)]
+#[path = "../../../tests/unit/method.rs"]
+mod method_tests;
