@@ -56,7 +56,7 @@ pub(crate) struct BudgetSpent(pub &'static str);
 
 impl BudgetSpent {
     /// Whether `e` (an argmin error) is a spent budget.
-    pub fn is(e: &anyhow::Error) -> bool {
+    pub(crate) fn is(e: &anyhow::Error) -> bool {
         e.downcast_ref::<BudgetSpent>().is_some()
     }
 }
@@ -76,13 +76,7 @@ impl Error {
     /// The same error with `context` before the message of a
     /// [`Error::ContactLost`], [`Error::Unreachable`] or [`Error::Internal`]
     /// (e.g. the input file it is about); other kinds unchanged.
-    ///
-    /// ```
-    /// use platefield::Error;
-    /// let e = Error::ContactLost("the part leaves the plate".into()).within("scene.json");
-    /// assert_eq!(e.to_string(), "scene.json: the part leaves the plate");
-    /// ```
-    pub fn within(self, context: impl std::fmt::Display) -> Self {
+    pub(crate) fn within(self, context: impl std::fmt::Display) -> Self {
         match self {
             Error::ContactLost(m) => Error::ContactLost(format!("{context}: {m}")),
             Error::Unreachable(m) => Error::Unreachable(format!("{context}: {m}")),
@@ -127,5 +121,16 @@ pub fn non_negative(field: &str, value: f64) -> Result<f64> {
             field,
             format!("must be ≥ 0, got {}", crate::input::num(value)),
         ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// The former doc example of `error::Error::within`, now crate-private.
+    #[test]
+    fn example_error_within() {
+        use crate::Error;
+        let e = Error::ContactLost("the part leaves the plate".into()).within("scene.json");
+        assert_eq!(e.to_string(), "scene.json: the part leaves the plate");
     }
 }

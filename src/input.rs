@@ -34,7 +34,7 @@ pub const MAX_INPUT_BYTES: u64 = 64 << 20;
 /// block forever, a device may never end — and any file of more than `cap`
 /// bytes. The read itself is bounded by `cap`, so a file that grows while
 /// it is read is refused too, never read without end.
-pub fn read_capped(path: &Path, cap: u64) -> std::io::Result<Vec<u8>> {
+pub(crate) fn read_capped(path: &Path, cap: u64) -> std::io::Result<Vec<u8>> {
     use std::io::Read;
     let refuse = |why: String| std::io::Error::new(std::io::ErrorKind::InvalidInput, why);
     let not_regular = || {
@@ -68,7 +68,7 @@ pub(crate) fn read_input(path: &Path) -> std::io::Result<String> {
 /// A located input error: the JSON path (starting with the root name, e.g.
 /// `target.field.strength`) and what is wrong there.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct InputError {
+pub(crate) struct InputError {
     /// JSON path of the offending value or key.
     pub path: String,
     /// What is wrong and what is allowed.
@@ -79,7 +79,7 @@ pub struct InputError {
 const MARK: char = '\u{1}';
 
 /// Deserialises `text` as a `T`, naming `root` as the top of every path.
-pub fn from_str<T: DeserializeOwned>(text: &str, root: &str) -> Result<T, InputError> {
+pub(crate) fn from_str<T: DeserializeOwned>(text: &str, root: &str) -> Result<T, InputError> {
     let mut de = serde_json::Deserializer::from_str(text);
     let located = |path: String, e: &serde_json::Error| {
         let (sub, message) = if e.is_syntax() || e.is_eof() {
@@ -262,7 +262,7 @@ fn keys_at(value: &Value, path: &serde_path_to_error::Path) -> Option<Vec<String
 /// whole object has been read, after any key nobody asked for, so a
 /// misspelt key is reported as such rather than as the key it replaces
 /// being missing.
-pub struct Body {
+pub(crate) struct Body {
     map: Map<String, Value>,
     asked: Vec<&'static str>,
     error: Option<(String, String)>,
@@ -286,7 +286,7 @@ impl Body {
     }
 
     /// An optional key with its default.
-    pub fn or<T: DeserializeOwned + Default>(&mut self, key: &'static str, default: T) -> T {
+    pub(crate) fn or<T: DeserializeOwned + Default>(&mut self, key: &'static str, default: T) -> T {
         self.asked.push(key);
         match self.map.remove(key) {
             Some(v) => self.or_fail(v, key),
@@ -303,7 +303,7 @@ impl Body {
 
     /// Every remaining key, read as one `T` (a struct that rejects unknown
     /// keys itself).
-    pub fn rest<T: DeserializeOwned>(&mut self) -> Option<T> {
+    pub(crate) fn rest<T: DeserializeOwned>(&mut self) -> Option<T> {
         let map = std::mem::take(&mut self.map);
         read(Value::Object(map), "")
             .map_err(|(sub, message)| self.fail(sub, message))
@@ -314,7 +314,7 @@ impl Body {
 /// Reads an object key by key with `build` (see [`Body`]); keys `build`
 /// did not ask for are errors naming them and the keys allowed. `what`
 /// names the object in that message (`for type "sine"`).
-pub fn fields<'de, D, T>(
+pub(crate) fn fields<'de, D, T>(
     map: Map<String, Value>,
     known: &[&'static str],
     what: &str,
@@ -387,7 +387,7 @@ where
 }
 
 /// A JSON value described for an error message (`string "big"`, `an array`).
-pub fn describe(v: &Value) -> String {
+pub(crate) fn describe(v: &Value) -> String {
     match v {
         Value::Null => "null".into(),
         Value::Bool(b) => format!("{b}"),
@@ -617,3 +617,7 @@ mod tests {
         assert_eq!(num(1e5), "100000");
     }
 }
+
+#[cfg(test)]
+#[path = "../tests/unit/inputs.rs"]
+mod inputs_tests;

@@ -673,7 +673,7 @@ pub fn remove_stages_on_interrupt() {
 /// Elsewhere interrupts keep their default action; an interrupted run's
 /// staging folder is recovered by the next run ([`Staged`]).
 #[cfg(not(unix))]
-pub fn remove_stages_on_interrupt() {}
+pub(crate) fn remove_stages_on_interrupt() {}
 
 /// Puts folder `new` at `dir`: exchanged with the folder there (returns
 /// true: the previous folder is now at `new`), or renamed into place when

@@ -42,24 +42,8 @@ static OBSERVER: RwLock<Option<Arc<dyn Observer>>> = RwLock::new(None);
 
 /// Installs `observer` for the whole process and returns the one it
 /// replaces (`None`: the default `Stderr`); `None` restores the default.
-///
-/// ```
-/// use std::sync::{Arc, Mutex};
-/// use platefield::progress::{say, set_observer, Observer};
-/// #[derive(Default)]
-/// struct Collect(Mutex<Vec<String>>);
-/// impl Observer for Collect {
-///     fn line(&self, text: &str) {
-///         self.0.lock().unwrap().push(text.to_string());
-///     }
-/// }
-/// let heard = Arc::new(Collect::default());
-/// let before = set_observer(Some(heard.clone()));
-/// say("note: heard by the observer, not on stderr");
-/// set_observer(before);
-/// assert!(heard.0.lock().unwrap().iter().any(|l| l.starts_with("note: heard")));
-/// ```
-pub fn set_observer(observer: Option<Arc<dyn Observer>>) -> Option<Arc<dyn Observer>> {
+#[cfg(test)]
+pub(crate) fn set_observer(observer: Option<Arc<dyn Observer>>) -> Option<Arc<dyn Observer>> {
     let mut slot = OBSERVER.write().unwrap_or_else(|p| p.into_inner());
     std::mem::replace(&mut *slot, observer)
 }
@@ -108,7 +92,7 @@ impl ProgressMode {
 
 /// The interval between plain lines: [`INTERVAL_ENV`] when it holds a
 /// finite number ≥ 0, else `DEFAULT_INTERVAL`.
-pub fn interval() -> Duration {
+pub(crate) fn interval() -> Duration {
     std::env::var(INTERVAL_ENV)
         .ok()
         .and_then(|s| s.trim().parse::<f64>().ok())
@@ -119,7 +103,7 @@ pub fn interval() -> Duration {
 /// One plain progress line: `label: pos/total unit (P %), elapsed, about
 /// T left[, message]`; without a total (0: not known), `label: pos unit,
 /// elapsed[, message]`.
-pub fn line(
+pub(crate) fn line(
     label: &str,
     pos: u64,
     total: u64,
@@ -377,5 +361,29 @@ mod tests {
         assert!(p.bar.is_none() && p.lines.is_none());
         p.finish();
         p.finish();
+    }
+
+    /// The former doc example of `progress::set_observer`, now crate-private.
+    #[test]
+    fn example_set_observer() {
+        use crate::progress::{say, set_observer, Observer};
+        use std::sync::{Arc, Mutex};
+        #[derive(Default)]
+        struct Collect(Mutex<Vec<String>>);
+        impl Observer for Collect {
+            fn line(&self, text: &str) {
+                self.0.lock().unwrap().push(text.to_string());
+            }
+        }
+        let heard = Arc::new(Collect::default());
+        let before = set_observer(Some(heard.clone()));
+        say("note: heard by the observer, not on stderr");
+        set_observer(before);
+        assert!(heard
+            .0
+            .lock()
+            .unwrap()
+            .iter()
+            .any(|l| l.starts_with("note: heard")));
     }
 }

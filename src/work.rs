@@ -107,17 +107,10 @@ impl Runtime {
     /// `quiet` or not (work expected past `ANNOUNCE_S` always says so
     /// first); returns the progress mode for the work: shown unless
     /// `quiet`, and when the work is that long also under `quiet`.
-    ///
-    /// ```
-    /// use platefield::progress::ProgressMode;
-    /// use platefield::work::{Estimate, Runtime, Term};
-    /// let short = Estimate::new("--drops", "settling", "--drops").plus(Term::new("a").times(1e3, "steps"));
-    /// assert_eq!(Runtime::QUIET.admit_stated(&short)?, ProgressMode::Quiet);
-    /// let long = Estimate::new("--drops", "settling", "--drops").plus(Term::new("a").times(1e8, "steps"));
-    /// assert_eq!(Runtime::QUIET.admit_stated(&long)?, ProgressMode::Auto);
-    /// # Ok::<(), platefield::Error>(())
-    /// ```
-    pub fn admit_stated(&self, estimate: &Estimate) -> Result<crate::progress::ProgressMode> {
+    pub(crate) fn admit_stated(
+        &self,
+        estimate: &Estimate,
+    ) -> Result<crate::progress::ProgressMode> {
         estimate.check(self.allow_long)?;
         estimate.announce(crate::progress::ProgressMode::Auto);
         let long = estimate.announcement(threads()).is_some();
@@ -176,13 +169,7 @@ impl Term {
     }
 
     /// The same term named `label`.
-    ///
-    /// ```
-    /// use platefield::work::Term;
-    /// let t = Term::new("a").times(3.0, "parts").named("b");
-    /// assert_eq!((t.label.as_str(), t.steps()), ("b", 3.0));
-    /// ```
-    pub fn named(mut self, label: &str) -> Term {
+    pub(crate) fn named(mut self, label: &str) -> Term {
         self.label = label.to_string();
         self
     }
@@ -241,7 +228,7 @@ impl Estimate {
     }
 
     /// Expected seconds on `threads` threads at `SECONDS_PER_STEP`.
-    pub fn seconds(&self, threads: usize) -> f64 {
+    pub(crate) fn seconds(&self, threads: usize) -> f64 {
         self.steps() * SECONDS_PER_STEP / threads.max(1) as f64
     }
 
@@ -283,15 +270,7 @@ impl Estimate {
     /// The line a command prints on stderr before work expected to take
     /// more than `ANNOUNCE_S` on `threads` threads (the estimate in words,
     /// [`Estimate::describe`]); `None` for shorter work.
-    ///
-    /// ```
-    /// use platefield::work::{Estimate, Term};
-    /// let e = Estimate::new("target", "playing", "fewer plays")
-    ///     .plus(Term::new("plays").times(1e3, "plays").times(1e5, "steps"));
-    /// assert!(e.announcement(1).unwrap().starts_with("playing would take about"));
-    /// assert!(e.announcement(1000).is_none());
-    /// ```
-    pub fn announcement(&self, threads: usize) -> Option<String> {
+    pub(crate) fn announcement(&self, threads: usize) -> Option<String> {
         let s = self.seconds(threads);
         (s.is_nan() || s > ANNOUNCE_S).then(|| self.describe(threads))
     }
@@ -402,7 +381,7 @@ fn count(c: f64) -> String {
 }
 
 /// Seconds in words: "40 s", "12 min", "3.5 h", "2.1e5 days".
-pub fn duration(s: f64) -> String {
+pub(crate) fn duration(s: f64) -> String {
     if !s.is_finite() {
         "an unbounded time".to_string()
     } else if s < 120.0 {
@@ -484,5 +463,40 @@ mod tests {
         assert_eq!(duration(5400.0), "90 min");
         assert_eq!(duration(3.0 * 3600.0), "3.0 h");
         assert_eq!(duration(f64::INFINITY), "an unbounded time");
+    }
+
+    /// The former doc example of `work::Runtime::admit_stated`, now crate-private.
+    #[test]
+    fn example_runtime_admit_stated() -> Result<(), crate::Error> {
+        use crate::progress::ProgressMode;
+        use crate::work::{Estimate, Runtime, Term};
+        let short = Estimate::new("--drops", "settling", "--drops")
+            .plus(Term::new("a").times(1e3, "steps"));
+        assert_eq!(Runtime::QUIET.admit_stated(&short)?, ProgressMode::Quiet);
+        let long = Estimate::new("--drops", "settling", "--drops")
+            .plus(Term::new("a").times(1e8, "steps"));
+        assert_eq!(Runtime::QUIET.admit_stated(&long)?, ProgressMode::Auto);
+        Ok(())
+    }
+
+    /// The former doc example of `work::Term::named`, now crate-private.
+    #[test]
+    fn example_term_named() {
+        use crate::work::Term;
+        let t = Term::new("a").times(3.0, "parts").named("b");
+        assert_eq!((t.label.as_str(), t.steps()), ("b", 3.0));
+    }
+
+    /// The former doc example of `work::Estimate::announcement`, now crate-private.
+    #[test]
+    fn example_estimate_announcement() {
+        use crate::work::{Estimate, Term};
+        let e = Estimate::new("target", "playing", "fewer plays")
+            .plus(Term::new("plays").times(1e3, "plays").times(1e5, "steps"));
+        assert!(e
+            .announcement(1)
+            .unwrap()
+            .starts_with("playing would take about"));
+        assert!(e.announcement(1000).is_none());
     }
 }

@@ -32,7 +32,7 @@
 //! that parses back to the same bits), so a loaded library is bitwise the
 //! stored one; [`BasisCache::store`] checks this before writing.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
@@ -150,11 +150,6 @@ impl BasisCache {
     /// A cache in `dir` (created when the first library is stored).
     pub fn new(dir: impl Into<PathBuf>) -> BasisCache {
         BasisCache { dir: dir.into() }
-    }
-
-    /// The cache folder.
-    pub fn dir(&self) -> &Path {
-        &self.dir
     }
 
     /// The file of `key`.

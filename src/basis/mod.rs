@@ -9,8 +9,9 @@ pub mod primitives;
 pub mod steps;
 pub mod symmetry;
 
-pub use cache::{BasisCache, CacheStatus};
-pub use library::FieldEntry;
+pub use cache::BasisCache;
+pub use cache::CacheStatus;
 pub use library::{FieldLibrary, Library, LibraryEntry};
-pub use primitives::{Primitive, PrimitiveKind};
+pub use primitives::Primitive;
+pub use primitives::PrimitiveKind;
 pub use steps::StepsPlan;

@@ -13,7 +13,9 @@
 use serde::{Deserialize, Serialize};
 use std::f64::consts::{FRAC_PI_2, PI};
 
-use crate::error::{finite, positive, Error, Result};
+#[cfg(test)]
+use crate::error::Error;
+use crate::error::{finite, positive, Result};
 use crate::motion::{FourierTerm, Motion, Screw, Waveform};
 
 /// The eight primitives of the paper's Table I.
@@ -65,7 +67,8 @@ impl PrimitiveKind {
     }
 
     /// Parses a name (as in [`PrimitiveKind::name`]).
-    pub fn from_name(name: &str, field: &str) -> Result<PrimitiveKind> {
+    #[cfg(test)]
+    pub(crate) fn from_name(name: &str, field: &str) -> Result<PrimitiveKind> {
         PrimitiveKind::ALL
             .into_iter()
             .find(|k| k.name() == name)
@@ -111,7 +114,7 @@ pub struct Primitive {
 }
 
 mod defaults {
-    pub fn omega() -> f64 {
+    pub(crate) fn omega() -> f64 {
         209.0
     }
     pub(crate) fn depth() -> f64 {
@@ -147,7 +150,7 @@ impl Primitive {
     }
 
     /// Default rotation amplitude of this kind (rad).
-    pub fn default_amplitude(kind: PrimitiveKind) -> f64 {
+    pub(crate) fn default_amplitude(kind: PrimitiveKind) -> f64 {
         match kind {
             // Asymmetric in-plane rotation: first-harmonic angle amplitude.
             PrimitiveKind::ScaledCircle => 0.004,
@@ -157,7 +160,7 @@ impl Primitive {
     }
 
     /// Default translation amplitude of this kind (m).
-    pub fn default_translation(kind: PrimitiveKind) -> f64 {
+    pub(crate) fn default_translation(kind: PrimitiveKind) -> f64 {
         match kind {
             PrimitiveKind::Trans => D0,
             // Tuned so that the along-axis part matches the squeeze, as in
@@ -169,7 +172,7 @@ impl Primitive {
     }
 
     /// Validates parameters.
-    pub fn validate(&self, field: &str) -> Result<()> {
+    pub(crate) fn validate(&self, field: &str) -> Result<()> {
         positive(&format!("{field}.omega"), self.omega)?;
         if let Some(a) = self.amplitude {
             finite(&format!("{field}.amplitude"), a)?;

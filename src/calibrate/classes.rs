@@ -48,18 +48,7 @@ pub(crate) fn determined(own: &Own) -> bool {
 /// undetermined, joined to the nearest class), classes numbered from 0
 /// by increasing μ, from each part's own estimate. With no determined
 /// part, every part is one class, fitted.
-///
-/// ```
-/// use platefield::calibrate::classes::cluster;
-/// // Two frictions, 0.2 and 0.4, each part within its standard error.
-/// let own = [(0.2, Some(0.003)), (0.4, Some(0.004)), (0.205, Some(0.003)), (0.395, Some(0.004))];
-/// assert_eq!(cluster(&own), vec![(0, true), (1, true), (0, true), (1, true)]);
-/// // One friction whose parts scatter beyond their errors, and a part at
-/// // the lattice's end (undetermined): one class, that part unfitted.
-/// let own = [(0.25, Some(0.02)), (0.32, Some(0.03)), (0.37, Some(0.04)), (1.0, None)];
-/// assert_eq!(cluster(&own), vec![(0, true), (0, true), (0, true), (0, false)]);
-/// ```
-pub fn cluster(own: &[Own]) -> Vec<(usize, bool)> {
+pub(crate) fn cluster(own: &[Own]) -> Vec<(usize, bool)> {
     let mut order: Vec<usize> = (0..own.len()).filter(|&i| determined(&own[i])).collect();
     if order.is_empty() {
         return vec![(0, true); own.len()];
@@ -117,5 +106,37 @@ fn split(group: &[usize], own: &[Own], out: &mut Vec<Vec<usize>>) {
             split(&group[k..], own, out);
         }
         _ => out.push(group.to_vec()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// The former doc example of `calibrate::classes::cluster`, now crate-private.
+    #[test]
+    fn example_cluster() {
+        use crate::calibrate::classes::cluster;
+        // Two frictions, 0.2 and 0.4, each part within its standard error.
+        let own = [
+            (0.2, Some(0.003)),
+            (0.4, Some(0.004)),
+            (0.205, Some(0.003)),
+            (0.395, Some(0.004)),
+        ];
+        assert_eq!(
+            cluster(&own),
+            vec![(0, true), (1, true), (0, true), (1, true)]
+        );
+        // One friction whose parts scatter beyond their errors, and a part at
+        // the lattice's end (undetermined): one class, that part unfitted.
+        let own = [
+            (0.25, Some(0.02)),
+            (0.32, Some(0.03)),
+            (0.37, Some(0.04)),
+            (1.0, None),
+        ];
+        assert_eq!(
+            cluster(&own),
+            vec![(0, true), (0, true), (0, true), (0, false)]
+        );
     }
 }

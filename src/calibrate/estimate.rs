@@ -58,7 +58,7 @@ const START_STEP: f64 = 1e-6;
 
 /// A track's fitted start and squared residual.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct StartFit {
+pub(crate) struct StartFit {
     /// The fitted position at the track's first frame (m).
     pub start: [f64; 2],
     /// Σ |r_obs − r|² over the track's frames (m²).
@@ -140,7 +140,7 @@ pub(crate) fn fit_start(
 ///
 /// # Errors
 /// As `fit_start`.
-pub fn fit_starts(
+pub(crate) fn fit_starts(
     motion: &PlayedMotion,
     set: &FieldSet,
     tracks: &[&Track],
@@ -159,7 +159,7 @@ pub fn fit_starts(
 /// The fit of one class: θ̂, its covariance over the free parameters and
 /// the residual.
 #[derive(Debug, Clone, PartialEq)]
-pub struct ClassFit {
+pub(crate) struct ClassFit {
     /// θ̂ (fixed parameters at their given values).
     pub theta: Theta,
     /// The free parameters (indices into θ).
@@ -200,7 +200,7 @@ pub const BOUNDS: [[f64; 2]; 3] = [[0.001, 2.0], [0.0, 2.0], [0.2, 5.0]];
 ///
 /// # Errors
 /// A field cannot be computed or followed, or the optimiser fails.
-pub fn fit_class(
+pub(crate) fn fit_class(
     motion: &PlayedMotion,
     tracks: &[&Track],
     theta0: Theta,
@@ -297,48 +297,9 @@ pub fn fit_class(
 /// are the model's own paths at `fit.theta`: no bias where the model is
 /// exact.
 ///
-/// ```
-/// use platefield::calibrate::estimate::{binding, fit_class, fit_starts};
-/// use platefield::calibrate::{PlayedMotion, Track};
-/// use platefield::calibrate::tracks::Frame;
-/// use platefield::schedule::Schedule;
-/// let schedule = Schedule::load(std::path::Path::new("results/squeeze_trans/schedule.json"))?;
-/// let mut grid = schedule.region();
-/// grid.n = [7, 7];
-/// let motion = PlayedMotion::from_schedule(&schedule, grid)?;
-/// // Tracks that are the model's own paths at μ 0.3: the model is exact.
-/// let truth = motion.fields(&[0.3, 0.0, 1.0])?;
-/// let times: Vec<f64> = (10..100).map(|k| k as f64 / 30.0).collect();
-/// let tracks: Vec<Track> = [[-0.02, 0.01], [0.02, -0.01]]
-///     .iter()
-///     .map(|&r| {
-///         let p = motion.path(&truth, r, times[0], &times)?;
-///         let frames = times.iter().zip(p).map(|(&t, r)| Frame { t, r, line: 0 }).collect();
-///         Ok(Track { part: "a".into(), frames })
-///     })
-///     .collect::<platefield::Result<_>>()?;
-/// let refs: Vec<&Track> = tracks.iter().collect();
-/// let fit = fit_class(&motion, &refs, [0.28, 0.0, 1.0], [0.02; 3], &[0], 1e-4, None)?;
-/// // The model's paths at θ̂ replayed: no bias.
-/// let starts = fit_starts(&motion, &fit.set, &refs, None)?;
-/// let replayed: Vec<Track> = refs
-///     .iter()
-///     .zip(&starts)
-///     .map(|(tr, s)| {
-///         let t: Vec<f64> = tr.frames.iter().map(|f| f.t).collect();
-///         let p = motion.path(&fit.set, s.start, t[0], &t)?;
-///         let frames = t.iter().zip(p).map(|(&t, r)| Frame { t, r, line: 0 }).collect();
-///         Ok(Track { part: tr.part.clone(), frames })
-///     })
-///     .collect::<platefield::Result<_>>()?;
-/// let beta = binding(&motion, &fit, &replayed.iter().collect::<Vec<_>>(), 1e-4)?;
-/// assert!((beta[0] - fit.theta[0]).abs() < 1e-5, "{beta:?} against {:?}", fit.theta);
-/// # Ok::<(), platefield::Error>(())
-/// ```
-///
 /// # Errors
 /// A path crosses an invalid field sample, or the optimiser fails.
-pub fn binding(
+pub(crate) fn binding(
     motion: &PlayedMotion,
     fit: &ClassFit,
     replayed: &[&Track],
@@ -585,4 +546,74 @@ pub(crate) fn parabola_minimum(x: &[f64], y: &[f64]) -> Option<(f64, Option<f64>
     }
     let shift = (a - c) / (2.0 * (a - 2.0 * b + c));
     Some((x[i] + shift * h, Some(curv)))
+}
+
+#[cfg(test)]
+mod tests {
+    /// The former doc example of `calibrate::estimate::binding`, now crate-private.
+    #[test]
+    fn example_binding() -> Result<(), crate::Error> {
+        use crate::calibrate::estimate::{binding, fit_class, fit_starts};
+        use crate::calibrate::tracks::Frame;
+        use crate::calibrate::{PlayedMotion, Track};
+        use crate::schedule::Schedule;
+        let schedule = Schedule::load(std::path::Path::new("results/squeeze_trans/schedule.json"))?;
+        let mut grid = schedule.region();
+        grid.n = [7, 7];
+        let motion = PlayedMotion::from_schedule(&schedule, grid)?;
+        // Tracks that are the model's own paths at μ 0.3: the model is exact.
+        let truth = motion.fields(&[0.3, 0.0, 1.0])?;
+        let times: Vec<f64> = (10..100).map(|k| k as f64 / 30.0).collect();
+        let tracks: Vec<Track> = [[-0.02, 0.01], [0.02, -0.01]]
+            .iter()
+            .map(|&r| {
+                let p = motion.path(&truth, r, times[0], &times)?;
+                let frames = times
+                    .iter()
+                    .zip(p)
+                    .map(|(&t, r)| Frame { t, r, line: 0 })
+                    .collect();
+                Ok(Track {
+                    part: "a".into(),
+                    frames,
+                })
+            })
+            .collect::<crate::Result<_>>()?;
+        let refs: Vec<&Track> = tracks.iter().collect();
+        let fit = fit_class(
+            &motion,
+            &refs,
+            [0.28, 0.0, 1.0],
+            [0.02; 3],
+            &[0],
+            1e-4,
+            None,
+        )?;
+        // The model's paths at θ̂ replayed: no bias.
+        let starts = fit_starts(&motion, &fit.set, &refs, None)?;
+        let replayed: Vec<Track> = refs
+            .iter()
+            .zip(&starts)
+            .map(|(tr, s)| {
+                let t: Vec<f64> = tr.frames.iter().map(|f| f.t).collect();
+                let p = motion.path(&fit.set, s.start, t[0], &t)?;
+                let frames = t
+                    .iter()
+                    .zip(p)
+                    .map(|(&t, r)| Frame { t, r, line: 0 })
+                    .collect();
+                Ok(Track {
+                    part: tr.part.clone(),
+                    frames,
+                })
+            })
+            .collect::<crate::Result<_>>()?;
+        let beta = binding(&motion, &fit, &replayed.iter().collect::<Vec<_>>(), 1e-4)?;
+        assert!(
+            (beta[0] - fit.theta[0]).abs() < 1e-5,
+            "{beta:?} against {:?}",
+            fit.theta
+        );
+        Ok(())
+    }
 }

@@ -35,8 +35,9 @@ pub mod replay;
 pub mod simulate;
 pub mod tracks;
 
-pub use model::PlayedMotion;
-pub use simulate::{simulate_tracks, TrackSimulation};
+pub(crate) use model::PlayedMotion;
+pub use simulate::simulate_tracks;
+pub use simulate::TrackSimulation;
 pub use tracks::{Track, Tracks};
 
 use rayon::prelude::*;
@@ -58,7 +59,7 @@ pub const WEAK: f64 = 0.1;
 pub const CORRELATED: f64 = 0.95;
 
 /// The μ lattice of the part-by-part scan: 0.05 to 1.0 in steps of 0.05.
-pub fn lattice() -> Vec<f64> {
+pub(crate) fn lattice() -> Vec<f64> {
     (1..=20).map(|k| 0.05 * f64::from(k)).collect()
 }
 
@@ -1294,3 +1295,7 @@ fn class_estimate(
         joined: Vec::new(),
     }
 }
+
+#[cfg(test)]
+#[path = "../../tests/unit/calibrate.rs"]
+mod calibrate_tests;

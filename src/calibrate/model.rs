@@ -66,7 +66,7 @@ pub const PHASES: usize = 32;
 pub type Theta = [f64; 3];
 
 /// The friction of θ.
-pub fn friction(theta: &Theta) -> Friction {
+pub(crate) fn friction(theta: &Theta) -> Friction {
     Friction {
         stat: theta[MU_K] + theta[EXCESS],
         kinetic: theta[MU_K],
@@ -77,7 +77,7 @@ pub fn friction(theta: &Theta) -> Friction {
 /// duration, the region its fields are sampled on, the physics besides
 /// friction.
 #[derive(Debug, Clone)]
-pub struct PlayedMotion {
+pub(crate) struct PlayedMotion {
     segments: Vec<(Option<Motion>, f64)>,
     /// Segment ends within the period (s), cumulative.
     ends: Vec<f64>,
@@ -94,7 +94,7 @@ impl PlayedMotion {
     ///
     /// # Errors
     /// The schedule is invalid or every segment is rest.
-    pub fn from_schedule(schedule: &Schedule, grid: Grid) -> Result<PlayedMotion> {
+    pub(crate) fn from_schedule(schedule: &Schedule, grid: Grid) -> Result<PlayedMotion> {
         schedule.validate()?;
         let segments: Vec<(Option<Motion>, f64)> = schedule
             .segments
@@ -131,7 +131,7 @@ impl PlayedMotion {
     }
 
     /// Schedule period (s).
-    pub fn period(&self) -> f64 {
+    pub(crate) fn period(&self) -> f64 {
         self.period
     }
 
@@ -139,7 +139,7 @@ impl PlayedMotion {
     ///
     /// # Errors
     /// A motion cannot be scaled (see [`Motion::amplitude_scaled`]).
-    pub fn fields(&self, theta: &Theta) -> Result<FieldSet> {
+    pub(crate) fn fields(&self, theta: &Theta) -> Result<FieldSet> {
         let lagged =
             self.moving_segments() == 1 && self.segments.len() == 1 && self.settings.model.moving;
         let fields = self.per_moving_segment(theta, |m, settings| {
@@ -229,7 +229,7 @@ impl PlayedMotion {
     ///
     /// # Errors
     /// The path crosses a field sample that is not valid.
-    pub fn advance(
+    pub(crate) fn advance(
         &self,
         set: &FieldSet,
         mut r: [f64; 2],
@@ -259,7 +259,7 @@ impl PlayedMotion {
     ///
     /// # Errors
     /// As [`PlayedMotion::advance`].
-    pub fn path(
+    pub(crate) fn path(
         &self,
         set: &FieldSet,
         r: [f64; 2],
@@ -398,7 +398,7 @@ fn orbit_excursion(sim: &crate::dynamics::Simulator<'_>, p: [f64; 2]) -> Vec<[f6
 /// Each moving segment's periodic-orbit excursion on the grid:
 /// `per_segment[i][node][phase]` (m).
 #[derive(Debug, Clone, PartialEq)]
-pub struct Excursions {
+pub(crate) struct Excursions {
     grid: Grid,
     per_segment: Vec<Option<Vec<Vec<[f64; 2]>>>>,
     periods: Vec<f64>,
@@ -432,7 +432,7 @@ impl Excursions {
 /// Every segment's velocity field at one θ (`None`: rest), and the
 /// periodic orbits' excursions when the model includes them.
 #[derive(Debug, Clone, PartialEq)]
-pub struct FieldSet {
+pub(crate) struct FieldSet {
     /// Per segment.
     pub fields: Vec<Option<Field>>,
     /// The excursions within a cycle (`None`: the mean path alone).
@@ -455,7 +455,7 @@ impl FieldSet {
 /// Field sets at θ_c and θ_c ± h_j e_j for the free parameters; the
 /// samples at any θ as the per-axis quadratic through them.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Stencil {
+pub(crate) struct Stencil {
     /// θ_c.
     pub center: Theta,
     /// Step per parameter.
@@ -512,7 +512,7 @@ impl Stencil {
     }
 
     /// The field set at θ (free parameters from θ, the others at θ_c).
-    pub fn at(&self, theta: &Theta) -> FieldSet {
+    pub(crate) fn at(&self, theta: &Theta) -> FieldSet {
         let weights: Vec<(f64, f64)> = self
             .free
             .iter()

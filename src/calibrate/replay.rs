@@ -104,7 +104,7 @@ const THETA_STEP: Theta = [1e-4, 1e-3, 1e-4];
 ///
 /// # Errors
 /// θ's scale cannot be played.
-pub fn path(
+pub(crate) fn path(
     schedule: &Schedule,
     theta: &Theta,
     r0: [f64; 2],
@@ -185,28 +185,9 @@ pub fn steps_for(
 /// is 1 µm at μ 0.2 and 13 µm at μ 1). The schedule it holds at, and the
 /// replays this cost.
 ///
-/// ```
-/// use platefield::calibrate::replay::steps_hold;
-/// use platefield::calibrate::tracks::Frame;
-/// use platefield::calibrate::Track;
-/// use platefield::schedule::Schedule;
-/// let schedule = Schedule::load(std::path::Path::new("results/squeeze_trans/schedule.json"))?;
-/// let mut coarse = schedule.clone();
-/// coarse.settings.numerics.steps_per_cycle = 32;
-/// let frames = (0..300).map(|k| Frame { t: k as f64 / 30.0, r: [0.01, 0.0], line: 0 }).collect();
-/// let probe = Track { part: "a".into(), frames };
-/// let steps = |mu: f64| -> platefield::Result<usize> {
-///     let (held, _) = steps_hold(&coarse, 64, &probe, &[mu, 0.0, 1.0], Some(2e-4))?;
-///     Ok(held.settings.numerics.steps_per_cycle)
-/// };
-/// // 32 steps hold at μ 0.23; at μ 1 they are refined to the schedule's 64.
-/// assert_eq!((steps(0.23)?, steps(1.0)?), (32, 64));
-/// # Ok::<(), platefield::Error>(())
-/// ```
-///
 /// # Errors
 /// θ's scale cannot be played.
-pub fn steps_hold(
+pub(crate) fn steps_hold(
     coarse: &Schedule,
     own: usize,
     probe: &Track,
@@ -401,7 +382,7 @@ impl Reduced {
 
 /// A group of tracks fitted by replays.
 #[derive(Debug, Clone, PartialEq)]
-pub struct ReplayFit {
+pub(crate) struct ReplayFit {
     /// θ̂ (fixed parameters at their given values).
     pub theta: Theta,
     /// The free parameters (indices into θ).
@@ -482,33 +463,9 @@ fn gauss_newton(lin: &[Linear], p: usize) -> Option<Step> {
 /// `None` when the replays cannot follow the tracks from there: a track
 /// loses contact, or its start or θ is not determined.
 ///
-/// ```
-/// use platefield::calibrate::replay::{fit, path};
-/// use platefield::calibrate::tracks::Frame;
-/// use platefield::calibrate::Track;
-/// use platefield::schedule::Schedule;
-/// let schedule = Schedule::load(std::path::Path::new("results/sink/schedule.json"))?;
-/// // Noise-free tracks replayed at μ 0.3: the fit returns μ 0.3.
-/// let times: Vec<f64> = (0..60).map(|k| k as f64 / 30.0).collect();
-/// let tracks: Vec<Track> = [[0.02, 0.01], [-0.015, -0.02]]
-///     .iter()
-///     .map(|&r| {
-///         let p = path(&schedule, &[0.3, 0.0, 1.0], r, &times)?.expect("in contact");
-///         let frames = times.iter().zip(p.chunks(2)).map(|(&t, q)| Frame { t, r: [q[0], q[1]], line: 0 }).collect();
-///         Ok(Track { part: "a".into(), frames })
-///     })
-///     .collect::<platefield::Result<_>>()?;
-/// let refs: Vec<&Track> = tracks.iter().collect();
-/// let starts = vec![[0.0201, 0.0099], [-0.0149, -0.0201]];
-/// let f = fit(&schedule, &refs, [0.27, 0.0, 1.0], &[0], starts, None, 0.05)?.expect("a fit");
-/// assert!((f.theta[0] - 0.3).abs() < 1e-6, "{:?}", f.theta);
-/// assert!((f.starts[0][0] - 0.02).abs() < 1e-8, "{:?}", f.starts);
-/// # Ok::<(), platefield::Error>(())
-/// ```
-///
 /// # Errors
 /// θ's scale cannot be played.
-pub fn fit(
+pub(crate) fn fit(
     schedule: &Schedule,
     tracks: &[&Track],
     theta0: Theta,
@@ -704,5 +661,75 @@ fn finish(
         rss,
         dof,
         replays,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// The former doc example of `calibrate::replay::steps_hold`, now crate-private.
+    #[test]
+    fn example_steps_hold() -> Result<(), crate::Error> {
+        use crate::calibrate::replay::steps_hold;
+        use crate::calibrate::tracks::Frame;
+        use crate::calibrate::Track;
+        use crate::schedule::Schedule;
+        let schedule = Schedule::load(std::path::Path::new("results/squeeze_trans/schedule.json"))?;
+        let mut coarse = schedule.clone();
+        coarse.settings.numerics.steps_per_cycle = 32;
+        let frames = (0..300)
+            .map(|k| Frame {
+                t: k as f64 / 30.0,
+                r: [0.01, 0.0],
+                line: 0,
+            })
+            .collect();
+        let probe = Track {
+            part: "a".into(),
+            frames,
+        };
+        let steps = |mu: f64| -> crate::Result<usize> {
+            let (held, _) = steps_hold(&coarse, 64, &probe, &[mu, 0.0, 1.0], Some(2e-4))?;
+            Ok(held.settings.numerics.steps_per_cycle)
+        };
+        // 32 steps hold at μ 0.23; at μ 1 they are refined to the schedule's 64.
+        assert_eq!((steps(0.23)?, steps(1.0)?), (32, 64));
+        Ok(())
+    }
+
+    /// The former doc example of `calibrate::replay::fit`, now crate-private.
+    #[test]
+    fn example_fit() -> Result<(), crate::Error> {
+        use crate::calibrate::replay::{fit, path};
+        use crate::calibrate::tracks::Frame;
+        use crate::calibrate::Track;
+        use crate::schedule::Schedule;
+        let schedule = Schedule::load(std::path::Path::new("results/sink/schedule.json"))?;
+        // Noise-free tracks replayed at μ 0.3: the fit returns μ 0.3.
+        let times: Vec<f64> = (0..60).map(|k| k as f64 / 30.0).collect();
+        let tracks: Vec<Track> = [[0.02, 0.01], [-0.015, -0.02]]
+            .iter()
+            .map(|&r| {
+                let p = path(&schedule, &[0.3, 0.0, 1.0], r, &times)?.expect("in contact");
+                let frames = times
+                    .iter()
+                    .zip(p.chunks(2))
+                    .map(|(&t, q)| Frame {
+                        t,
+                        r: [q[0], q[1]],
+                        line: 0,
+                    })
+                    .collect();
+                Ok(Track {
+                    part: "a".into(),
+                    frames,
+                })
+            })
+            .collect::<crate::Result<_>>()?;
+        let refs: Vec<&Track> = tracks.iter().collect();
+        let starts = vec![[0.0201, 0.0099], [-0.0149, -0.0201]];
+        let f = fit(&schedule, &refs, [0.27, 0.0, 1.0], &[0], starts, None, 0.05)?.expect("a fit");
+        assert!((f.theta[0] - 0.3).abs() < 1e-6, "{:?}", f.theta);
+        assert!((f.starts[0][0] - 0.02).abs() < 1e-8, "{:?}", f.starts);
+        Ok(())
     }
 }

@@ -40,7 +40,7 @@ impl TrackSimulation {
     ///
     /// # Errors
     /// The first setting out of range, named.
-    pub fn validate(&self) -> Result<()> {
+    pub(crate) fn validate(&self) -> Result<()> {
         let sim = self;
         crate::error::positive("seconds", sim.seconds)?;
         crate::error::positive("fps", sim.fps)?;
@@ -173,24 +173,10 @@ pub(crate) fn schedule_motion(schedule: &Schedule, scale: f64) -> Result<Schedul
 /// than three frames are dropped. What the calibration's bias correction
 /// replays near its estimate ([`super::estimate::binding`]).
 ///
-/// ```
-/// use platefield::calibrate::simulate::replay_tracks;
-/// use platefield::dynamics::Friction;
-/// use platefield::schedule::Schedule;
-/// let schedule = Schedule::load(std::path::Path::new("results/squeeze_trans/schedule.json"))?;
-/// let region = schedule.region();
-/// let times: Vec<f64> = (10..40).map(|k| k as f64 / 30.0).collect();
-/// let parts = vec![("a".to_string(), [0.0, 0.0], times)];
-/// let tracks = replay_tracks(&schedule, &region, Friction::uniform(0.3), 1.0, &parts)?;
-/// assert_eq!(tracks[0].frames.len(), 30);
-/// assert!((tracks[0].frames[0].t - 1.0 / 3.0).abs() < 1e-12);
-/// # Ok::<(), platefield::Error>(())
-/// ```
-///
 /// # Errors
 /// The schedule is invalid, the scale is not positive, or a part loses
 /// contact.
-pub fn replay_tracks(
+pub(crate) fn replay_tracks(
     schedule: &Schedule,
     region: &Grid,
     friction: Friction,
@@ -358,4 +344,23 @@ pub(crate) fn play(
         out.push(state.r);
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    /// The former doc example of `calibrate::simulate::replay_tracks`, now crate-private.
+    #[test]
+    fn example_replay_tracks() -> Result<(), crate::Error> {
+        use crate::calibrate::simulate::replay_tracks;
+        use crate::dynamics::Friction;
+        use crate::schedule::Schedule;
+        let schedule = Schedule::load(std::path::Path::new("results/squeeze_trans/schedule.json"))?;
+        let region = schedule.region();
+        let times: Vec<f64> = (10..40).map(|k| k as f64 / 30.0).collect();
+        let parts = vec![("a".to_string(), [0.0, 0.0], times)];
+        let tracks = replay_tracks(&schedule, &region, Friction::uniform(0.3), 1.0, &parts)?;
+        assert_eq!(tracks[0].frames.len(), 30);
+        assert!((tracks[0].frames[0].t - 1.0 / 3.0).abs() < 1e-12);
+        Ok(())
+    }
 }

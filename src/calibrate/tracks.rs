@@ -162,23 +162,12 @@ impl Tracks {
 
     /// Parses tracks text; `source` names the file in errors.
     ///
-    /// ```
-    /// use platefield::calibrate::Tracks;
-    /// let text = "t_s,part,x_m,y_m\n0,a,0.01,0\n0.1,a,0.009,0\n0.2,a,0.008,0\n";
-    /// let tracks = Tracks::parse(text, "t.csv")?;
-    /// assert_eq!(tracks.tracks[0].frames.len(), 3);
-    /// let late = "t_s,part,x_m,y_m\n0,a,0.01,0\n0.2,a,0.009,0\n0.1,a,0.008,0\n";
-    /// let e = Tracks::parse(late, "t.csv").unwrap_err().to_string();
-    /// assert!(e.contains("t.csv line 4 column 1 (t_s)"), "{e}");
-    /// # Ok::<(), platefield::Error>(())
-    /// ```
-    ///
     /// # Errors
     /// A missing header or column, a row with another number of columns, a
     /// value that is not a finite number, a part whose times do not
     /// strictly increase, a part with fewer than `MIN_FRAMES` frames:
     /// each names `source`, the line and the column.
-    pub fn parse(text: &str, source: &str) -> Result<Tracks> {
+    pub(crate) fn parse(text: &str, source: &str) -> Result<Tracks> {
         let mut lines = text
             .lines()
             .enumerate()
@@ -346,7 +335,7 @@ impl Tracks {
     }
 
     /// Number of frames over all parts.
-    pub fn frames(&self) -> usize {
+    pub(crate) fn frames(&self) -> usize {
         self.tracks.iter().map(|t| t.frames.len()).sum()
     }
 
@@ -356,7 +345,7 @@ impl Tracks {
     /// position noise of standard deviation σ per axis has variance 6σ²,
     /// while a smooth motion adds only a·Δt² (about 2e-5 m at a = 2 cm/s² and
     /// 30 frames per second). `None` without such a run.
-    pub fn noise(&self) -> Option<f64> {
+    pub(crate) fn noise(&self) -> Option<f64> {
         let (mut sum, mut n) = (0.0, 0usize);
         for tr in &self.tracks {
             for w in tr.frames.windows(3) {
@@ -372,5 +361,21 @@ impl Tracks {
             }
         }
         (n > 0).then(|| (sum / n as f64 / 6.0).sqrt())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// The former doc example of `calibrate::tracks::Tracks::parse`, now crate-private.
+    #[test]
+    fn example_tracks_parse() -> Result<(), crate::Error> {
+        use crate::calibrate::Tracks;
+        let text = "t_s,part,x_m,y_m\n0,a,0.01,0\n0.1,a,0.009,0\n0.2,a,0.008,0\n";
+        let tracks = Tracks::parse(text, "t.csv")?;
+        assert_eq!(tracks.tracks[0].frames.len(), 3);
+        let late = "t_s,part,x_m,y_m\n0,a,0.01,0\n0.2,a,0.009,0\n0.1,a,0.008,0\n";
+        let e = Tracks::parse(late, "t.csv").unwrap_err().to_string();
+        assert!(e.contains("t.csv line 4 column 1 (t_s)"), "{e}");
+        Ok(())
     }
 }

@@ -60,7 +60,7 @@ impl ColumnSource {
     }
 
     /// The steady motion.
-    pub fn motion(&self) -> Motion {
+    pub(crate) fn motion(&self) -> Motion {
         match self {
             ColumnSource::Primitive(p) => p.motion(),
             ColumnSource::Motion { signals, .. } => Motion::Signals(signals.clone()),
@@ -68,7 +68,7 @@ impl ColumnSource {
     }
 
     /// Period of one cycle (s).
-    pub fn period(&self) -> f64 {
+    pub(crate) fn period(&self) -> f64 {
         match self {
             ColumnSource::Primitive(p) => p.period(),
             ColumnSource::Motion { signals, .. } => signals.period,
@@ -128,7 +128,8 @@ pub struct BasisColumn {
 pub const ISOTROPY_TOL: f64 = 1e-2;
 
 /// A column left out, and why.
-pub use crate::schedule::{ExcludedColumn as Excluded, ExclusionReason};
+pub(crate) use crate::schedule::ExcludedColumn as Excluded;
+pub use crate::schedule::ExclusionReason;
 
 /// The assembled basis.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -142,7 +143,7 @@ pub struct DesignBasis {
 }
 
 /// Label of a transformed primitive, e.g. `LineSink@45°`.
-pub fn label(p: &Primitive) -> String {
+pub(crate) fn label(p: &Primitive) -> String {
     let mut s = format!("{}@{}°", p.kind.name(), p.rotation_deg);
     // Amplitudes other than the paper's (the gentle copies of a sort).
     if let Some(d) = p.translation {
@@ -252,7 +253,7 @@ pub fn assemble(
 /// bilinear at `points`), or why it is left out — invalid at a point of
 /// positive weight, unless `keep_invalid` (its invalid samples then zero
 /// and listed).
-pub fn column(
+pub(crate) fn column(
     source: ColumnSource,
     field: &Field,
     on_grid: bool,

@@ -58,8 +58,9 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-pub use judge::Decomposition;
-pub use judge::{PointPlay, RealisedError};
+#[cfg(test)]
+pub(crate) use judge::Decomposition;
+pub(crate) use judge::{PointPlay, RealisedError};
 
 use super::judge;
 use super::order::{self, arrange};

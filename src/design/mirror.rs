@@ -118,7 +118,7 @@ pub struct MirrorLine {
 
 impl MirrorLine {
     /// The line through the plate centre at `angle_deg`.
-    pub fn through_centre(angle_deg: f64) -> MirrorLine {
+    pub(crate) fn through_centre(angle_deg: f64) -> MirrorLine {
         MirrorLine {
             angle_deg,
             point: [0.0, 0.0],
@@ -185,13 +185,13 @@ impl MirrorLine {
     }
 
     /// The motion's mirror image in this line ([`Signals::mirrored_in`]).
-    pub fn mirror(&self, motion: &Signals) -> Signals {
+    pub(crate) fn mirror(&self, motion: &Signals) -> Signals {
         motion.mirrored_in(self.angle_deg.to_radians(), self.point)
     }
 
     /// The line's words: "the 65° axis" through the centre, else with the
     /// point in mm.
-    pub fn describe(&self) -> String {
+    pub(crate) fn describe(&self) -> String {
         if self.is_through_centre() {
             format!("the {}° axis", self.angle_deg)
         } else {
@@ -460,7 +460,7 @@ pub fn mirror_share(
 /// # Errors
 /// Either schedule does not hold exactly one six-signal motion, or `cycles`
 /// does not leave a steady cycle between the two ramps.
-pub fn counter_share(
+pub(crate) fn counter_share(
     synthesized: &Schedule,
     partner: &Schedule,
     limits: &ShakerLimits,
@@ -545,3 +545,7 @@ fn time_share(
         .fold(1.0_f64, f64::min);
     Ok(if scale < 1.0 { build(scale) } else { schedule })
 }
+
+#[cfg(test)]
+#[path = "../../tests/unit/robust.rs"]
+mod robust_tests;

@@ -54,9 +54,13 @@ use crate::schedule::Schedule;
 use crate::work::Runtime;
 use order::OrderSearch;
 
-pub use basis::DesignBasis;
-pub use method::{Choice, Method, MethodDesign};
-pub use options::{BasisSection, FitSection, PlayModel, ScheduleSection};
+pub(crate) use basis::DesignBasis;
+pub(crate) use method::MethodDesign;
+pub use method::{Choice, Method};
+pub use options::BasisSection;
+pub use options::FitSection;
+pub use options::PlayModel;
+pub use options::ScheduleSection;
 
 /// Options of [`design`] and [`crate::inverse::run`], in sections (each
 /// range-checked by its own `validate`, all of them by
@@ -266,3 +270,7 @@ pub fn design(target: &Target, opts: &DesignOptions) -> Result<Design> {
         order_time_s,
     })
 }
+
+#[cfg(test)]
+#[path = "../../tests/unit/design_speed.rs"]
+mod speed_tests;

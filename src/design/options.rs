@@ -57,7 +57,7 @@ impl Default for BasisSection {
 
 impl BasisSection {
     /// Checks `basis.shifts` and `basis.rotation_step_deg`.
-    pub fn validate(&self) -> Result<()> {
+    pub(crate) fn validate(&self) -> Result<()> {
         for s in &self.shifts {
             if !s.iter().all(|v| v.is_finite() && v.abs() <= MAX_SHIFT_M) {
                 return Err(Error::invalid(
@@ -84,7 +84,7 @@ pub struct FitSection {
 
 impl FitSection {
     /// Checks `fit.max_primitives` (at least 1 when given).
-    pub fn validate(&self) -> Result<()> {
+    pub(crate) fn validate(&self) -> Result<()> {
         if self.max_primitives == Some(0) {
             return Err(Error::invalid("fit.max_primitives", "must be ≥ 1"));
         }
@@ -120,7 +120,7 @@ impl Default for ScheduleSection {
 
 impl ScheduleSection {
     /// Checks `schedule.total_cycles` and `schedule.min_cycles`.
-    pub fn validate(&self) -> Result<()> {
+    pub(crate) fn validate(&self) -> Result<()> {
         if let Some(n) = self.total_cycles {
             if !(1..=MAX_SEGMENT_CYCLES).contains(&n) {
                 return Err(Error::invalid(
@@ -168,7 +168,7 @@ pub enum PlayModel {
 
 impl PlayModel {
     /// Checks `model`'s tolerance (finite, ≥ 0).
-    pub fn validate(&self) -> Result<()> {
+    pub(crate) fn validate(&self) -> Result<()> {
         if let PlayModel::Auto { tolerance } = self {
             crate::error::non_negative("model", *tolerance)?;
         }
@@ -177,21 +177,10 @@ impl PlayModel {
 
     /// `schedule` set to be played at this model: its `settings.model`,
     /// and under [`PlayModel::Auto`] the choice in its `rungs`.
-    ///
-    /// ```
-    /// use platefield::design::PlayModel;
-    /// use platefield::field::rung::DEFAULT_RUNG_TOLERANCE;
-    /// use platefield::schedule::Schedule;
-    /// let s = Schedule::load("results/sequenced/sink/schedule.json".as_ref())?;
-    /// assert!(PlayModel::Own.apply(s.clone()).rungs.is_none());
-    /// let auto = PlayModel::Auto { tolerance: DEFAULT_RUNG_TOLERANCE }.apply(s);
-    /// let r = auto.rungs.as_ref().unwrap();
-    /// // LineSinks tilt the plate: no rung below centripetal and tilt.
-    /// assert_eq!(r.played, "paper+moving+centripetal+tilt");
-    /// assert_eq!(auto.settings.model.coriolis, false);
-    /// # Ok::<(), platefield::Error>(())
-    /// ```
-    pub fn apply(&self, mut schedule: crate::schedule::Schedule) -> crate::schedule::Schedule {
+    pub(crate) fn apply(
+        &self,
+        mut schedule: crate::schedule::Schedule,
+    ) -> crate::schedule::Schedule {
         match *self {
             PlayModel::Own => {}
             PlayModel::Fixed(m) => schedule.settings.model = m,
@@ -215,7 +204,7 @@ impl DesignOptions {
     /// Checks every section against its allowed ranges, naming the
     /// option's path (`schedule.total_cycles`, `closed_loop.stride`) in
     /// the error.
-    pub fn validate(&self) -> Result<()> {
+    pub(crate) fn validate(&self) -> Result<()> {
         self.schedule.validate()?;
         self.basis.validate()?;
         self.model.validate()?;
@@ -282,4 +271,26 @@ fn rotation_step(step: f64) -> Result<()> {
             nearest.join(", ")
         ),
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    /// The former doc example of `design::options::PlayModel::apply`, now crate-private.
+    #[test]
+    fn example_playmodel_apply() -> Result<(), crate::Error> {
+        use crate::design::PlayModel;
+        use crate::field::rung::DEFAULT_RUNG_TOLERANCE;
+        use crate::schedule::Schedule;
+        let s = Schedule::load("results/sequenced/sink/schedule.json".as_ref())?;
+        assert!(PlayModel::Own.apply(s.clone()).rungs.is_none());
+        let auto = PlayModel::Auto {
+            tolerance: DEFAULT_RUNG_TOLERANCE,
+        }
+        .apply(s);
+        let r = auto.rungs.as_ref().unwrap();
+        // LineSinks tilt the plate: no rung below centripetal and tilt.
+        assert_eq!(r.played, "paper+moving+centripetal+tilt");
+        assert_eq!(auto.settings.model.coriolis, false);
+        Ok(())
+    }
 }

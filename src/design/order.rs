@@ -317,7 +317,7 @@ pub(crate) const MAX_PERMUTED: usize = 5;
 
 /// One candidate order.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Order {
+pub(crate) struct Order {
     /// Indices into the segments, in playing order (a segment may appear
     /// twice in a mirrored order).
     pub sequence: Vec<usize>,
@@ -340,7 +340,7 @@ pub(crate) fn mirrored(sigma: &[usize]) -> Vec<usize> {
 /// `MAX_PERMUTED`, else the given order and its reverse; then the
 /// mirrored order of each cyclic order up to reversal (n ≥ 3; for n ≤ 2 it
 /// would repeat σ). The first candidate is the given order.
-pub fn candidates(n: usize) -> Vec<Order> {
+pub(crate) fn candidates(n: usize) -> Vec<Order> {
     if n == 0 {
         return Vec::new();
     }

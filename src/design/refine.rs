@@ -116,7 +116,7 @@ pub struct Refined {
 }
 
 /// The schedule for parameter vector `x` (see the module docs).
-pub fn apply(schedule: &Schedule, x: &[f64]) -> Schedule {
+pub(crate) fn apply(schedule: &Schedule, x: &[f64]) -> Schedule {
     let min = schedule.min_cycles.max(1);
     let mut k = 0;
     let segments = schedule
@@ -157,7 +157,7 @@ pub fn apply(schedule: &Schedule, x: &[f64]) -> Schedule {
 }
 
 /// Number of parameters of `schedule` (3 per moving segment).
-pub fn dimension(schedule: &Schedule) -> usize {
+pub(crate) fn dimension(schedule: &Schedule) -> usize {
     3 * schedule
         .segments
         .iter()
@@ -337,3 +337,7 @@ fn stop_of(status: &TerminationStatus) -> Stop {
         TerminationStatus::Terminated(_) | TerminationStatus::NotTerminated => Stop::Failed,
     }
 }
+
+#[cfg(test)]
+#[path = "../../tests/unit/refine.rs"]
+mod refine_tests;

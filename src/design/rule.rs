@@ -52,7 +52,7 @@ pub enum Rule {
 
 impl Rule {
     /// The rule in words.
-    pub fn text(self) -> &'static str {
+    pub(crate) fn text(self) -> &'static str {
         match self {
             Rule::OtherPoor => "the other is POOR",
             Rule::HigherStrength => {
@@ -77,20 +77,7 @@ pub type Key = (bool, f64, f64);
 /// `bound` (`None`: `better`): a design that is not POOR and holds its
 /// worst-case shape error within the bound beats one that does not, and
 /// of two that both hold it the stronger wins (module documentation).
-///
-/// ```
-/// use platefield::design::method::{better_within, Rule};
-/// // 5.9 % at 0.6 s⁻¹ against 6.5 % at 1.0 s⁻¹: within a point of each
-/// // other, but only the first holds 6 %.
-/// assert_eq!(better_within((false, 0.059, 0.6), (false, 0.065, 1.0), Some(0.06)),
-///     (false, Rule::HoldsRange));
-/// assert_eq!(better_within((false, 0.059, 0.6), (false, 0.065, 1.0), None),
-///     (true, Rule::HigherStrength));
-/// // 3.0 % at 0.1 s⁻¹ against 5.5 % at 1.0 s⁻¹: both hold 6 %.
-/// assert_eq!(better_within((false, 0.030, 0.1), (false, 0.055, 1.0), Some(0.06)),
-///     (true, Rule::StrongerWithinRange));
-/// ```
-pub fn better_within(a: Key, b: Key, bound: Option<f64>) -> (bool, Rule) {
+pub(crate) fn better_within(a: Key, b: Key, bound: Option<f64>) -> (bool, Rule) {
     if let Some(bound) = bound {
         let holds = |k: Key| !k.0 && k.1 <= bound;
         match (holds(a), holds(b)) {
@@ -110,5 +97,29 @@ pub(crate) fn better(a: Key, b: Key) -> (bool, Rule) {
         (b.2 > a.2, Rule::HigherStrength)
     } else {
         (b.1 < a.1, Rule::LowerShapeError)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// The former doc example of `design::rule::better_within`, now crate-private.
+    #[test]
+    fn example_better_within() {
+        use crate::design::method::{better_within, Rule};
+        // 5.9 % at 0.6 s⁻¹ against 6.5 % at 1.0 s⁻¹: within a point of each
+        // other, but only the first holds 6 %.
+        assert_eq!(
+            better_within((false, 0.059, 0.6), (false, 0.065, 1.0), Some(0.06)),
+            (false, Rule::HoldsRange)
+        );
+        assert_eq!(
+            better_within((false, 0.059, 0.6), (false, 0.065, 1.0), None),
+            (true, Rule::HigherStrength)
+        );
+        // 3.0 % at 0.1 s⁻¹ against 5.5 % at 1.0 s⁻¹: both hold 6 %.
+        assert_eq!(
+            better_within((false, 0.030, 0.1), (false, 0.055, 1.0), Some(0.06)),
+            (true, Rule::StrongerWithinRange)
+        );
     }
 }

@@ -35,7 +35,7 @@ pub(crate) const REFINE_TOL: f64 = 0.002;
 pub(crate) const MAX_SAMPLES: usize = 9;
 
 /// The friction range a target states, when it is a range.
-pub fn ranged(target: &Target) -> Option<FrictionSpec> {
+pub(crate) fn ranged(target: &Target) -> Option<FrictionSpec> {
     target.friction.filter(|f| !f.is_exact())
 }
 

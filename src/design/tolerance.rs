@@ -31,7 +31,7 @@ const SEED: u64 = 0x746f_6c65_7261_6e63;
 
 /// One draw's errors: gain and phase shift (rad) per channel and harmonic.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Draw {
+pub(crate) struct Draw {
     /// `[channel][harmonic − 1]` = (gain, shift).
     pub errors: Vec<[(f64, f64); 6]>,
 }
@@ -39,7 +39,7 @@ pub struct Draw {
 impl Draw {
     /// (gain, shift) of channel `c` at harmonic `h` (1 and 0 outside the
     /// drawn harmonics).
-    pub fn at(&self, c: usize, h: u32) -> (f64, f64) {
+    pub(crate) fn at(&self, c: usize, h: u32) -> (f64, f64) {
         (h as usize)
             .checked_sub(1)
             .and_then(|i| self.errors.get(i))
@@ -48,19 +48,7 @@ impl Draw {
 }
 
 /// `count` seeded draws within `tol` ([module documentation](self)).
-///
-/// ```
-/// use platefield::design::tolerance::draws;
-/// use platefield::request::Tolerance;
-///
-/// let tol = Tolerance { amplitude: 0.05, phase_deg: 5.0 };
-/// let d = draws(&tol, 64);
-/// assert_eq!(d.len(), 64);
-/// assert_eq!(d, draws(&tol, 64));
-/// let (g, s) = d[3].at(2, 1);
-/// assert!((g - 1.0).abs() <= 0.05 && s.abs() <= 5f64.to_radians());
-/// ```
-pub fn draws(tol: &Tolerance, count: usize) -> Vec<Draw> {
+pub(crate) fn draws(tol: &Tolerance, count: usize) -> Vec<Draw> {
     let mut rng = SplitMix64::new(SEED);
     let phase = tol.phase_deg.to_radians();
     (0..count)
@@ -79,7 +67,7 @@ pub fn draws(tol: &Tolerance, count: usize) -> Vec<Draw> {
 
 /// `schedule` as the controller delivers it under `draw`: every six-signal
 /// segment's motion with the draw's errors ([`crate::motion::Signals::delivered`]).
-pub fn delivered(schedule: &Schedule, draw: &Draw) -> Schedule {
+pub(crate) fn delivered(schedule: &Schedule, draw: &Draw) -> Schedule {
     let mut s = schedule.clone();
     for seg in &mut s.segments {
         if let Some(m) = seg.motion.as_mut() {
@@ -173,19 +161,7 @@ pub(crate) fn spread_estimate(
 /// The physics a spread of `schedule` is judged under: `settings` at the
 /// friction `asked`, else where the design's worst case over its friction
 /// range falls (`played.worst_friction`), else the settings' own.
-///
-/// ```
-/// use platefield::design::tolerance::judged_at;
-/// use platefield::dynamics::Friction;
-/// use platefield::schedule::Schedule;
-///
-/// let schedule = Schedule::load(std::path::Path::new("results/sink/schedule.json"))?;
-/// let asked = Friction { stat: 0.4, kinetic: 0.4 };
-/// assert_eq!(judged_at(&schedule, &schedule.settings, Some(asked)).friction, asked);
-/// assert_eq!(judged_at(&schedule, &schedule.settings, None).friction, schedule.settings.friction);
-/// # Ok::<(), platefield::Error>(())
-/// ```
-pub fn judged_at(
+pub(crate) fn judged_at(
     schedule: &Schedule,
     settings: &FieldSettings,
     asked: Option<crate::dynamics::Friction>,
@@ -204,7 +180,7 @@ pub fn judged_at(
 ///
 /// # Errors
 /// A draw's schedule cannot be played.
-pub fn spread(
+pub(crate) fn spread(
     target: &Target,
     sampled: &SampledTarget,
     schedule: &Schedule,
@@ -276,4 +252,48 @@ mod tests {
             assert!(lo < -0.98 && hi > 0.98, "{lo} {hi}");
         }
     }
+
+    /// The former doc example of `design::tolerance::draws`, now crate-private.
+    #[test]
+    fn example_draws() {
+        use crate::design::tolerance::draws;
+        use crate::request::Tolerance;
+
+        let tol = Tolerance {
+            amplitude: 0.05,
+            phase_deg: 5.0,
+        };
+        let d = draws(&tol, 64);
+        assert_eq!(d.len(), 64);
+        assert_eq!(d, draws(&tol, 64));
+        let (g, s) = d[3].at(2, 1);
+        assert!((g - 1.0).abs() <= 0.05 && s.abs() <= 5f64.to_radians());
+    }
+
+    /// The former doc example of `design::tolerance::judged_at`, now crate-private.
+    #[test]
+    fn example_judged_at() -> Result<(), crate::Error> {
+        use crate::design::tolerance::judged_at;
+        use crate::dynamics::Friction;
+        use crate::schedule::Schedule;
+
+        let schedule = Schedule::load(std::path::Path::new("results/sink/schedule.json"))?;
+        let asked = Friction {
+            stat: 0.4,
+            kinetic: 0.4,
+        };
+        assert_eq!(
+            judged_at(&schedule, &schedule.settings, Some(asked)).friction,
+            asked
+        );
+        assert_eq!(
+            judged_at(&schedule, &schedule.settings, None).friction,
+            schedule.settings.friction
+        );
+        Ok(())
+    }
 }
+
+#[cfg(test)]
+#[path = "../../tests/unit/tolerance.rs"]
+mod tolerance_tests;

@@ -129,14 +129,7 @@ impl Flight {
     pub const INELASTIC: Flight = Flight { restitution: 0.0 };
 
     /// Validates e ∈ [0, 1]; errors name `field`.restitution.
-    ///
-    /// ```
-    /// use platefield::dynamics::Flight;
-    /// assert!(Flight { restitution: 0.5 }.validate("flight").is_ok());
-    /// let e = Flight { restitution: 1.5 }.validate("flight").unwrap_err();
-    /// assert!(e.to_string().contains("flight.restitution"));
-    /// ```
-    pub fn validate(&self, field: &str) -> Result<()> {
+    pub(crate) fn validate(&self, field: &str) -> Result<()> {
         let e = self.restitution;
         if !(0.0..=1.0).contains(&e) {
             return Err(Error::invalid(
@@ -255,17 +248,6 @@ impl Simulator<'_> {
     /// impacts ([`Simulator::advance_flying`]; the module docs of
     /// `src/dynamics/flight.rs` state the model).
     ///
-    /// ```
-    /// use platefield::dynamics::{Flight, Numerics, PartPhysics, Simulator};
-    /// use platefield::motion::{Axes, FourierTerm, Motion, Signals};
-    /// let shake = FourierTerm { amplitude: 2.0 * 9.81, phase: 0.0, harmonic: 1 };
-    /// let m = Motion::Signals(Signals { period: 0.02, linear: Axes { z: vec![shake], ..Axes::default() }, angular: Axes::default() });
-    /// let sim = Simulator::new(&m, PartPhysics::full(0.3), Numerics::default())
-    ///     .with_flight(Flight::INELASTIC)?;
-    /// assert_eq!(sim.flight(), Some(Flight::INELASTIC));
-    /// # Ok::<(), platefield::Error>(())
-    /// ```
-    ///
     /// # Errors
     /// A restitution outside [0, 1] (named `flight.restitution`), or a
     /// rotating plate under a model with the centripetal, tilt or Coriolis
@@ -290,7 +272,8 @@ impl Simulator<'_> {
     }
 
     /// The flight settings, when parts are followed through flight.
-    pub fn flight(&self) -> Option<Flight> {
+    #[cfg(test)]
+    pub(crate) fn flight(&self) -> Option<Flight> {
         self.flight
     }
 
@@ -714,3 +697,43 @@ impl Simulator<'_> {
         (PartPhase::Contact(PartState::new(r, wt_after)), hop)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    /// The former doc example of `dynamics::flight::Flight::validate`, now crate-private.
+    #[test]
+    fn example_flight_validate() {
+        use crate::dynamics::Flight;
+        assert!(Flight { restitution: 0.5 }.validate("flight").is_ok());
+        let e = Flight { restitution: 1.5 }.validate("flight").unwrap_err();
+        assert!(e.to_string().contains("flight.restitution"));
+    }
+
+    /// The former doc example of `dynamics::flight::Simulator<'_>::with_flight`, now crate-private.
+    #[test]
+    fn example_simulator_with_flight() -> Result<(), crate::Error> {
+        use crate::dynamics::{Flight, Numerics, PartPhysics, Simulator};
+        use crate::motion::{Axes, FourierTerm, Motion, Signals};
+        let shake = FourierTerm {
+            amplitude: 2.0 * 9.81,
+            phase: 0.0,
+            harmonic: 1,
+        };
+        let m = Motion::Signals(Signals {
+            period: 0.02,
+            linear: Axes {
+                z: vec![shake],
+                ..Axes::default()
+            },
+            angular: Axes::default(),
+        });
+        let sim = Simulator::new(&m, PartPhysics::full(0.3), Numerics::default())
+            .with_flight(Flight::INELASTIC)?;
+        assert_eq!(sim.flight(), Some(Flight::INELASTIC));
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+#[path = "../../tests/unit/flight.rs"]
+mod flight_tests;

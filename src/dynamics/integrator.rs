@@ -37,7 +37,7 @@
 //! * [`SlipScheme::Legacy`] takes those steps explicitly and
 //!   ends a 2-D stop where |u| has fallen below `STOP_FRACTION` of its
 //!   value at the step's start; 2-D fields converge at about first order
-//!   (`tests/slip2d.rs`, `results/library_speed.md`).
+//!   (`tests/unit/slip2d.rs`, `results/library_speed.md`).
 //! * [`SlipScheme::Stiff`] takes them with the implicit Radau IIA method
 //!   (`src/dynamics/radau.rs`): a slip speeding up once its direction has
 //!   turned onto a_free (from rest, after a swing), and a slip slowing along
@@ -46,12 +46,12 @@
 //!   explicit step is accurate) and followed with short explicit steps, and
 //!   an explicit step whose end falls inside a swing's fast turn is backed
 //!   off the same way. 2-D force fields at 64 steps per cycle are 10–100×
-//!   more accurate than the legacy scheme's (`tests/slip2d.rs`).
+//!   more accurate than the legacy scheme's (`tests/unit/slip2d.rs`).
 //! * [`SlipScheme::Regularised`] (the default) is the stiff scheme with a 2-D swing past
 //!   u = 0 (and a slow-down towards a 2-D stop) followed in regularised time
 //!   dτ = dt/|u| instead of short explicit steps (`src/dynamics/swing.rs`):
 //!   2-D force fields within 1e-4 at 64 steps per cycle, observed order
-//!   3.2–4.3 from 16 to 64 steps (`tests/slip2d.rs`, `results/engine_speed.md`).
+//!   3.2–4.3 from 16 to 64 steps (`tests/unit/slip2d.rs`, `results/engine_speed.md`).
 //!
 //! 1-D slips are unaffected by the choice except at starts from rest (both
 //! exact for piecewise-constant accelerations). A slip on the motion's line
@@ -847,3 +847,7 @@ mod stop_tests;
 #[cfg(test)]
 #[path = "line_tests.rs"]
 mod line_tests;
+
+#[cfg(test)]
+#[path = "../../tests/unit/slip2d.rs"]
+mod slip2d_tests;

@@ -41,11 +41,17 @@ mod state;
 mod steady;
 mod swing;
 
-pub use flight::Airborne;
-pub use flight::FlightOutcome;
-pub use flight::{Flight, HeldOrbit, Hop, PartPhase, HELD_MAX_PERIODS, HELD_MIN_PERIODS, HELD_TOL};
+pub use flight::Flight;
+#[cfg(test)]
+pub(crate) use flight::Hop;
+pub use flight::{PartPhase, HELD_MAX_PERIODS, HELD_MIN_PERIODS, HELD_TOL};
 pub use simulator::Simulator;
-pub use state::{CycleOutcome, PartState, TrajectoryPoint, V2};
+#[cfg(test)]
+pub(crate) use state::CycleOutcome;
+pub use state::PartState;
+#[cfg(test)]
+pub(crate) use state::TrajectoryPoint;
+pub use state::V2;
 
 /// Revision of the simulator's numerics: bumped whenever a change to the
 /// integrator changes any field it computes (not for changes that keep
@@ -55,12 +61,19 @@ pub use state::{CycleOutcome, PartState, TrajectoryPoint, V2};
 /// workspace's `CHANGELOG.md`.
 pub(crate) const ENGINE_REVISION: u32 = 14;
 pub(crate) use kinematics_table::KinematicsTable;
-pub use planar::PlanarOutcome;
+pub use planar::PlanarBody;
+pub(crate) use planar::PlanarOutcome;
+#[cfg(test)]
+pub(crate) use planar::PlanarSample;
+pub(crate) use planar::PlanarSimulator;
+pub(crate) use planar::PlanarState;
+pub(crate) use planar::Rectangle;
 pub use planar::{
-    PlanarBody, PlanarSample, PlanarSimulator, PlanarState, Plate, Rectangle, SlipRule,
-    MAX_POINTS_PER_SIDE, PLANAR_REFINE_DEPTH, PLANAR_STEPS_PER_CYCLE, REFINE_CHANGE,
+    Plate, SlipRule, MAX_POINTS_PER_SIDE, PLANAR_REFINE_DEPTH, PLANAR_STEPS_PER_CYCLE,
+    REFINE_CHANGE,
 };
-pub use steady::{SteadyFailure, SteadyState};
+pub use steady::SteadyFailure;
+pub use steady::SteadyState;
 
 use serde::{Deserialize, Serialize};
 
@@ -327,7 +340,7 @@ pub(crate) const MIN_STEPS_PER_CYCLE: usize = 8;
 /// per cycle must be at least this times the harmonic number): at 8 steps
 /// per harmonic period the field is within a few per cent of a fine run
 /// whatever the harmonic, at 4 it is tens of per cent off (measured:
-/// `tests/inputs.rs`, `harmonics_against_steps`, and `docs/dev/forward-model.md`,
+/// `tests/unit/inputs.rs`, `harmonics_against_steps`, and `docs/dev/forward-model.md`,
 /// **Measurements behind the integrator's constants**).
 pub const STEPS_PER_HARMONIC: usize = 8;
 

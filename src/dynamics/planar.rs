@@ -78,7 +78,7 @@
 //! slip direction turns: a body that spins, or slips in 2-D, turns them
 //! all the time, so over a cycle the error is first order (on a plate
 //! translating in a circle, where no event ever happens, the slip speed's
-//! error halves per halving of h: `tests/planar.rs`
+//! error halves per halving of h: `tests/unit/planar.rs`
 //! `circular_slip_is_second_order_between_events`). Time and position are
 //! already taken at the midpoint, so the remedy is the implicit midpoint
 //! rule for the velocity,
@@ -124,7 +124,7 @@
 //! comparison).
 //!
 //! **Accuracy.** The scheme is second order while every support point
-//! slips (circular translation above, `tests/planar.rs`: the slip speed's
+//! slips (circular translation above, `tests/unit/planar.rs`: the slip speed's
 //! error falls fourfold per halving of h, far below the backward rule's)
 //! and first order at events: it does not locate
 //! stick, slip and reversal events inside a step, and there its error is
@@ -137,7 +137,7 @@
 //! [`PLANAR_REFINE_DEPTH`] times. Each piece is a step of this scheme
 //! (so the no-creep property holds); the error at events shrinks by
 //! 2^depth at the cost of a few extra steps per event. Measured numbers
-//! are in `tests/planar.rs`; on a played drop dominated by stick-slip
+//! are in `tests/unit/planar.rs`; on a played drop dominated by stick-slip
 //! events (`tests/poses.rs` `planar_scheme_is_first_order_at_events`: end
 //! pose after 3 s against 4096 steps per cycle) the order without
 //! refinement is about 1 for either rule, and refinement cuts the error
@@ -194,7 +194,7 @@ pub struct Rectangle {
 
 impl Rectangle {
     /// A rectangle with nx × ny support points.
-    pub fn new(length: f64, width: f64, nx: usize, ny: usize) -> Rectangle {
+    pub(crate) fn new(length: f64, width: f64, nx: usize, ny: usize) -> Rectangle {
         Rectangle {
             length,
             width,
@@ -204,13 +204,14 @@ impl Rectangle {
     }
 
     /// A point part (one support point at the centre).
-    pub fn point() -> Rectangle {
+    #[cfg(test)]
+    pub(crate) fn point() -> Rectangle {
         Rectangle::new(0.0, 0.0, 1, 1)
     }
 
     /// Validates: sizes finite and > 0 (≥ 0 for a point, nx = ny = 1),
     /// 1..=64 support points per side.
-    pub fn validate(&self, field: &str) -> Result<()> {
+    pub(crate) fn validate(&self, field: &str) -> Result<()> {
         for (name, n) in [("nx", self.nx), ("ny", self.ny)] {
             if !(1..=MAX_POINTS_PER_SIDE).contains(&n) {
                 return Err(Error::invalid(
@@ -237,7 +238,7 @@ impl Rectangle {
 
     /// Body offsets ρ_j of the support points (cell centres, x fastest).
     /// Mirror pairs are exact negatives of each other.
-    pub fn support_points(&self) -> Vec<V2> {
+    pub(crate) fn support_points(&self) -> Vec<V2> {
         let coord = |i: usize, n: usize, size: f64| {
             (2.0 * i as f64 + 1.0 - n as f64) / (2.0 * n as f64) * size
         };
@@ -255,7 +256,8 @@ impl Rectangle {
 
     /// Sampled moment of inertia per unit mass, I/m = mean |ρ_j|²
     /// (= (L²(1 − 1/nx²) + W²(1 − 1/ny²))/12).
-    pub fn inertia_per_mass(&self) -> f64 {
+    #[cfg(test)]
+    pub(crate) fn inertia_per_mass(&self) -> f64 {
         let p = self.support_points();
         p.iter().map(|r| r.norm_squared()).sum::<f64>() / p.len() as f64
     }
@@ -301,7 +303,7 @@ impl PlanarBody {
     }
 
     /// A point part: one support point at the origin.
-    pub fn point() -> PlanarBody {
+    pub(crate) fn point() -> PlanarBody {
         PlanarBody {
             points: vec![V2::zeros()],
             weights: vec![1.0],
@@ -355,7 +357,7 @@ impl From<&Rectangle> for PlanarBody {
 
 /// State of a planar part.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PlanarState {
+pub(crate) struct PlanarState {
     /// Plate-frame centre r (m).
     pub r: V2,
     /// Angle θ of the body x axis from the plate x axis (rad).
@@ -370,7 +372,7 @@ pub struct PlanarState {
 
 impl PlanarState {
     /// A part at rest relative to the plate at pose (r, θ).
-    pub fn at_rest(r: V2, theta: f64) -> PlanarState {
+    pub(crate) fn at_rest(r: V2, theta: f64) -> PlanarState {
         PlanarState {
             r,
             theta,
@@ -381,7 +383,7 @@ impl PlanarState {
     }
 
     /// A part at pose (r, θ) slipping with (u, ω).
-    pub fn slipping(r: V2, theta: f64, u: V2, omega: f64) -> PlanarState {
+    pub(crate) fn slipping(r: V2, theta: f64, u: V2, omega: f64) -> PlanarState {
         PlanarState {
             r,
             theta,
@@ -393,14 +395,15 @@ impl PlanarState {
 
     /// Kinetic energy of the slip per unit mass, ½(|u|² + (I/m) ω²), for a
     /// body of sampled inertia per unit mass `inertia`.
-    pub fn slip_energy(&self, inertia: f64) -> f64 {
+    #[cfg(test)]
+    pub(crate) fn slip_energy(&self, inertia: f64) -> f64 {
         0.5 * (self.u.norm_squared() + inertia * self.omega * self.omega)
     }
 }
 
 /// One recorded sample of a planar trajectory.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PlanarSample {
+pub(crate) struct PlanarSample {
     /// Time (s).
     pub t: f64,
     /// State after the step ending at `t`.
@@ -409,7 +412,7 @@ pub struct PlanarSample {
 
 /// What one [`PlanarSimulator::advance`] produced.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct PlanarOutcome {
+pub(crate) struct PlanarOutcome {
     /// Time spent stuck (s): the steps that ended with ξ = 0.
     pub stuck_time: f64,
     /// Steps computed (including those redone as halves by refinement).
@@ -479,7 +482,7 @@ pub enum Plate<'a> {
 
 /// Simulates one rectangle on one plate (see the module docs).
 #[derive(Debug, Clone)]
-pub struct PlanarSimulator<'a> {
+pub(crate) struct PlanarSimulator<'a> {
     plate: Plate<'a>,
     friction: Friction,
     gravity: f64,
@@ -498,19 +501,7 @@ impl<'a> PlanarSimulator<'a> {
     /// `step` (s): a [`Rectangle`] (`&rect`), or any [`PlanarBody`] (e.g. a
     /// part file's, `crate::part`). Parameters are assumed validated
     /// ([`Rectangle::validate`], [`Friction::validate`], step > 0).
-    ///
-    /// ```
-    /// use platefield::dynamics::{PartPhysics, PlanarBody, PlanarSimulator, PlanarState, Plate, V2};
-    /// let (body, _) = PlanarBody::centred(
-    ///     &[V2::new(-0.01, 0.0), V2::new(0.01, 0.0), V2::new(0.0, 0.01)],
-    ///     &[1.0, 1.0, 2.0],
-    /// );
-    /// let sim = PlanarSimulator::for_body(body, Plate::Rest, PartPhysics::full(0.3), 1e-4);
-    /// let mut s = PlanarState::slipping(V2::zeros(), 0.0, V2::new(0.01, 0.0), 0.0);
-    /// sim.advance(0.0, 0.01, &mut s, (V2::zeros(), 0.0), None).unwrap();
-    /// assert!(s.stuck); // sliding to rest on a plate at rest
-    /// ```
-    pub fn for_body(
+    pub(crate) fn for_body(
         body: impl Into<PlanarBody>,
         plate: Plate<'a>,
         physics: PartPhysics,
@@ -542,7 +533,7 @@ impl<'a> PlanarSimulator<'a> {
     }
 
     /// A simulator for `motion` with `steps_per_cycle` steps per period.
-    pub fn for_motion(
+    pub(crate) fn for_motion(
         rect: &Rectangle,
         motion: &'a Motion,
         physics: PartPhysics,
@@ -554,30 +545,21 @@ impl<'a> PlanarSimulator<'a> {
 
     /// The same simulator halving a step that holds an event at most
     /// `depth` times (0 = plain fixed steps).
-    pub fn with_refinement(mut self, depth: u32) -> PlanarSimulator<'a> {
+    pub(crate) fn with_refinement(mut self, depth: u32) -> PlanarSimulator<'a> {
         self.refine_depth = depth;
         self
     }
 
     /// The same simulator with slip rule `rule` (default
     /// [`SlipRule::Midpoint`]).
-    ///
-    /// ```
-    /// use platefield::dynamics::{PartPhysics, PlanarSimulator, PlanarState, Plate, Rectangle, SlipRule, V2};
-    /// let rect = Rectangle::new(0.02, 0.005, 4, 2);
-    /// let sim = PlanarSimulator::for_body(&rect, Plate::Rest, PartPhysics::full(0.3), 1e-4)
-    ///     .with_slip_rule(SlipRule::Backward);
-    /// let mut s = PlanarState::slipping(V2::zeros(), 0.0, V2::new(0.01, 0.0), 2.0);
-    /// sim.advance(0.0, 0.01, &mut s, (V2::zeros(), 0.0), None).unwrap();
-    /// assert!(s.stuck);
-    /// ```
-    pub fn with_slip_rule(mut self, rule: SlipRule) -> PlanarSimulator<'a> {
+    pub(crate) fn with_slip_rule(mut self, rule: SlipRule) -> PlanarSimulator<'a> {
         self.slip_rule = rule;
         self
     }
 
     /// Nominal step (s).
-    pub fn step(&self) -> f64 {
+    #[cfg(test)]
+    pub(crate) fn step(&self) -> f64 {
         self.step
     }
 
@@ -600,7 +582,7 @@ impl<'a> PlanarSimulator<'a> {
     /// step, none straddling a breakpoint). With the model's `moving` off the
     /// geometry is frozen at `anchor` = (r, θ). Every step is appended to
     /// `record` when given.
-    pub fn advance(
+    pub(crate) fn advance(
         &self,
         t0: f64,
         t1: f64,
@@ -987,4 +969,38 @@ mod tests {
         assert_eq!((s.theta, s.omega), (0.3, 0.0));
         assert!(s.stuck && (s.r.x - 0.01f64.powi(2) / (2.0 * 0.3 * 9.81)).abs() < 1e-12);
     }
+
+    /// The former doc example of `dynamics::planar::PlanarSimulator::for_body`, now crate-private.
+    #[test]
+    fn example_planar_simulator_for_body() {
+        use crate::dynamics::{PartPhysics, PlanarBody, PlanarSimulator, PlanarState, Plate, V2};
+        let (body, _) = PlanarBody::centred(
+            &[V2::new(-0.01, 0.0), V2::new(0.01, 0.0), V2::new(0.0, 0.01)],
+            &[1.0, 1.0, 2.0],
+        );
+        let sim = PlanarSimulator::for_body(body, Plate::Rest, PartPhysics::full(0.3), 1e-4);
+        let mut s = PlanarState::slipping(V2::zeros(), 0.0, V2::new(0.01, 0.0), 0.0);
+        sim.advance(0.0, 0.01, &mut s, (V2::zeros(), 0.0), None)
+            .unwrap();
+        assert!(s.stuck); // sliding to rest on a plate at rest
+    }
+
+    /// The former doc example of `dynamics::planar::PlanarSimulator::with_slip_rule`, now crate-private.
+    #[test]
+    fn example_planar_simulator_with_slip_rule() {
+        use crate::dynamics::{
+            PartPhysics, PlanarSimulator, PlanarState, Plate, Rectangle, SlipRule, V2,
+        };
+        let rect = Rectangle::new(0.02, 0.005, 4, 2);
+        let sim = PlanarSimulator::for_body(&rect, Plate::Rest, PartPhysics::full(0.3), 1e-4)
+            .with_slip_rule(SlipRule::Backward);
+        let mut s = PlanarState::slipping(V2::zeros(), 0.0, V2::new(0.01, 0.0), 2.0);
+        sim.advance(0.0, 0.01, &mut s, (V2::zeros(), 0.0), None)
+            .unwrap();
+        assert!(s.stuck);
+    }
 }
+
+#[cfg(test)]
+#[path = "../../tests/unit/planar.rs"]
+mod rectangle_tests;

@@ -87,19 +87,19 @@ impl<'a> Simulator<'a> {
     }
 
     /// The plate motion.
-    pub fn motion(&self) -> &'a Motion {
+    pub(crate) fn motion(&self) -> &'a Motion {
         self.motion
     }
     /// The model switches.
-    pub fn model(&self) -> Model {
+    pub(crate) fn model(&self) -> Model {
         self.model
     }
     /// The friction coefficients.
-    pub fn friction(&self) -> Friction {
+    pub(crate) fn friction(&self) -> Friction {
         self.friction
     }
     /// Gravity (m/s²).
-    pub fn gravity(&self) -> f64 {
+    pub(crate) fn gravity(&self) -> f64 {
         self.gravity
     }
     /// The part physics (friction, gravity, model).
@@ -107,7 +107,7 @@ impl<'a> Simulator<'a> {
         PartPhysics::new(self.friction, self.gravity, self.model)
     }
     /// Numerical settings.
-    pub fn numerics(&self) -> Numerics {
+    pub(crate) fn numerics(&self) -> Numerics {
         self.numerics
     }
     /// The period T (s).
@@ -115,7 +115,7 @@ impl<'a> Simulator<'a> {
         self.period
     }
     /// Velocity scale μ_k g T used for tolerances (m/s).
-    pub fn velocity_scale(&self) -> f64 {
+    pub(crate) fn velocity_scale(&self) -> f64 {
         self.v_scale
     }
 
@@ -281,7 +281,7 @@ impl<'a> Simulator<'a> {
 impl<'a> KinematicsTable<'a> {
     /// The kinematics `sim` asks for when it advances over each span
     /// `[t0, t1]` in `spans` on its fixed-step path.
-    pub fn new(sim: &Simulator<'a>, spans: &[(f64, f64)]) -> KinematicsTable<'a> {
+    pub(crate) fn new(sim: &Simulator<'a>, spans: &[(f64, f64)]) -> KinematicsTable<'a> {
         let nominal = sim.period() / sim.numerics().steps_per_cycle as f64;
         KinematicsTable::tabulate(
             (sim.motion(), sim.prepared()),
@@ -292,13 +292,13 @@ impl<'a> KinematicsTable<'a> {
     }
 
     /// The table for one cycle [0, T] (steady-state velocity fields).
-    pub fn cycle(sim: &Simulator<'a>) -> KinematicsTable<'a> {
+    pub(crate) fn cycle(sim: &Simulator<'a>) -> KinematicsTable<'a> {
         KinematicsTable::new(sim, &[(0.0, sim.period())])
     }
 
     /// The table for `phases` cycles starting at T j / `phases`, j = 0 …
     /// `phases` − 1 (zero-velocity force fields).
-    pub fn phases(sim: &Simulator<'a>, phases: usize) -> KinematicsTable<'a> {
+    pub(crate) fn phases(sim: &Simulator<'a>, phases: usize) -> KinematicsTable<'a> {
         let period = sim.period();
         let spans: Vec<(f64, f64)> = (0..phases)
             .map(|j| {
@@ -358,3 +358,7 @@ pub(super) fn hermite_root(p0: f64, d0: f64, p1: f64, d1: f64) -> f64 {
     }
     x
 }
+
+#[cfg(test)]
+#[path = "../../tests/unit/engine.rs"]
+mod engine_tests;

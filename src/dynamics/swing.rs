@@ -106,7 +106,7 @@ const SLAVED_SPAN: f64 = 0.1;
 /// limits in `tau_step`, and c below C64 beyond 64 steps per cycle, make
 /// them more, so the bound is a lower one). A faster speed-up
 /// keeps its few τ-steps: taken implicitly too, it costs the force fields'
-/// observed order (`tests/slip2d.rs` `order_2d`), which this threshold
+/// observed order (`tests/unit/slip2d.rs` `order_2d`), which this threshold
 /// keeps for nearly all of the speed-up (module docs; measured:
 /// `docs/dev/forward-model.md`, **Measurements behind the integrator's constants**).
 const IMPLICIT_AFTER: f64 = 5.0;

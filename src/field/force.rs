@@ -23,7 +23,7 @@ pub(crate) fn phase_frames(sim: &Simulator<'_>, phases: usize) -> Vec<(Kinematic
 /// Mean over the start phases of `frames` ([`phase_frames`]) of (inertial
 /// velocity change)/T for a part released at rest in the inertial frame at
 /// `p`.
-pub fn sample(
+pub(crate) fn sample(
     sim: &Simulator<'_>,
     p: [f64; 2],
     frames: &[(Kinematics, Kinematics)],

@@ -138,11 +138,6 @@ impl Grid {
         self.n[0] * self.n[1]
     }
 
-    /// True when the grid has no points.
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-
     /// All points, row-major (y outer, x inner).
     pub fn points(&self) -> Vec<[f64; 2]> {
         let xs = self.xs();

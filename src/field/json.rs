@@ -17,7 +17,7 @@ use super::{Field, FieldKind, FieldSettings, Validity};
 
 /// Counts of samples by validity, and the largest magnitude.
 #[derive(Debug, Clone, Serialize, PartialEq)]
-pub struct FieldStats {
+pub(crate) struct FieldStats {
     /// Samples.
     pub samples: usize,
     /// Valid samples.
@@ -43,7 +43,7 @@ fn is_zero(n: &usize) -> bool {
 
 impl Field {
     /// Sample counts by validity.
-    pub fn stats(&self) -> FieldStats {
+    pub(crate) fn stats(&self) -> FieldStats {
         let count = |v: Validity| self.validity.iter().filter(|x| **x == v).count();
         FieldStats {
             samples: self.vectors.len(),

@@ -23,7 +23,7 @@
 //! at one point per family ([`Orbits`]) and the sample mapped to the rest:
 //! the default library's 21 × 21 force fields simulate 21 points for a
 //! LineSink or SkewSink, 61 for a ScaledCircle or Circle and 1 for Trans
-//! (`tests/invariance.rs` holds them against simulating every point).
+//! (`tests/unit/invariance.rs` holds them against simulating every point).
 //!
 //! Points are computed in parallel with rayon and collected in grid order,
 //! so the result is bitwise identical for any number of threads.

@@ -67,7 +67,7 @@ impl Orbits {
 
     /// The number of families [`Orbits::of`] finds, without the mapping
     /// (what a work estimate needs, on grids of up to a million points).
-    pub fn count(points: &[[f64; 2]], invariance: Invariance) -> usize {
+    pub(crate) fn count(points: &[[f64; 2]], invariance: Invariance) -> usize {
         let Some((mut keys, tolerance)) = keys(points, invariance) else {
             return points.len();
         };
@@ -85,7 +85,7 @@ impl Orbits {
 
     /// The vector at grid point `i` from its representative's `v`.
     #[inline]
-    pub fn map(&self, i: usize, v: [f64; 2]) -> [f64; 2] {
+    pub(crate) fn map(&self, i: usize, v: [f64; 2]) -> [f64; 2] {
         let [c, s] = self.members[i].1;
         if s == 0.0 && c == 1.0 {
             v

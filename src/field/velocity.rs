@@ -5,7 +5,7 @@ use crate::dynamics::{Simulator, SteadyFailure};
 
 /// Steady-state velocity at `p`; frozen samples whose within-cycle
 /// excursion exceeds `max_excursion` are flagged.
-pub fn sample(sim: &Simulator<'_>, p: [f64; 2], max_excursion: f64) -> ([f64; 2], Validity) {
+pub(crate) fn sample(sim: &Simulator<'_>, p: [f64; 2], max_excursion: f64) -> ([f64; 2], Validity) {
     match sim.steady_state(p) {
         Ok(s) => {
             let ok = !sim.is_frozen() || s.excursion <= max_excursion;

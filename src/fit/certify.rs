@@ -60,7 +60,9 @@ use crate::fit::conic::ConicOutcome;
 use crate::fit::lp::{dual_bound, project_dual, solve_lp_mode};
 use crate::fit::nnls::{nnls_capped, nnls_detailed};
 use crate::fit::prepare::Prepared;
-use crate::fit::{validate_mode, FitError, FitMode, FitProblem};
+#[cfg(test)]
+use crate::fit::{validate_mode, FitProblem};
+use crate::fit::{FitError, FitMode};
 
 /// A field below this fraction of the (weighted) target norm counts as
 /// zero when deciding that a `Shape` target is unreachable.
@@ -71,7 +73,7 @@ const BUDGET_BISECTION_STEPS: usize = 20;
 
 /// Outcome of a successful verification (normalised units, `‖t̂‖ = 1`).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
-pub struct Verification {
+pub(crate) struct Verification {
     /// Largest primal infeasibility found (≤ tol).
     pub feasibility_violation: f64,
     /// KKT residual (`Absolute`, `Shape`), budget-constraint violation
@@ -402,7 +404,8 @@ fn lp_lower_bound(ad: &DMatrix<f64>, td: &DVector<f64>, y: &[f64], l1: bool) -> 
 /// # Errors
 /// [`FitError::Verification`] when a check fails (or `BudgetInfeasible`
 /// when the budget cannot be met at all), input errors otherwise.
-pub fn verify(
+#[cfg(test)]
+pub(crate) fn verify(
     problem: &FitProblem,
     mode: &FitMode,
     fractions: &[f64],

@@ -100,7 +100,9 @@ pub(crate) mod testutil;
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
 
-pub use certify::{verify, Verification};
+#[cfg(test)]
+pub(crate) use certify::verify;
+pub(crate) use certify::Verification;
 pub(crate) use conic::LsFormulation;
 pub(crate) use metrics::{field_metrics, FitMetrics};
 pub(crate) use subset::sparsity_path;
@@ -193,7 +195,7 @@ impl Default for FitOptions {
 /// Problem data: `A` (`2n×m`), target `t` (`2n`), optional row weights `d`
 /// (`2n`, non-negative multipliers on the residual rows).
 #[derive(Debug, Clone, Copy)]
-pub struct FitProblem<'a> {
+pub(crate) struct FitProblem<'a> {
     /// Basis fields as columns.
     pub a: &'a DMatrix<f64>,
     /// Target field.
@@ -204,7 +206,8 @@ pub struct FitProblem<'a> {
 
 impl<'a> FitProblem<'a> {
     /// Unweighted problem.
-    pub fn new(a: &'a DMatrix<f64>, t: &'a DVector<f64>) -> Self {
+    #[cfg(test)]
+    pub(crate) fn new(a: &'a DMatrix<f64>, t: &'a DVector<f64>) -> Self {
         Self {
             a,
             t,

@@ -47,7 +47,7 @@ pub(crate) struct Prepared {
 
 impl Prepared {
     /// Validate, weight, normalise and compress `problem`.
-    pub fn new(problem: &FitProblem) -> Result<Self, FitError> {
+    pub(crate) fn new(problem: &FitProblem) -> Result<Self, FitError> {
         let a = problem.a;
         let t = problem.t;
         let (rows, m) = a.shape();

@@ -27,7 +27,7 @@ pub(crate) fn grid_points(g: usize) -> Vec<[f64; 2]> {
 
 /// Line sink through the origin at angle `theta` (radians):
 /// `f(p) = −(n·p) n`, `n = (cos θ, sin θ)`, stacked as `[fx…; fy…]`.
-pub fn line_sink(points: &[[f64; 2]], theta: f64) -> DVector<f64> {
+pub(crate) fn line_sink(points: &[[f64; 2]], theta: f64) -> DVector<f64> {
     let (s, c) = theta.sin_cos();
     let n = points.len();
     let mut v = DVector::zeros(2 * n);

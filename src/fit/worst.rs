@@ -44,21 +44,6 @@
 //! upper bound (those weights are a feasible choice; without a floor,
 //! which they may break). The returned fractions' errors and strengths are
 //! recomputed from the uncompressed data and must meet ε and the floor.
-//!
-//! ```
-//! use nalgebra::{DMatrix, DVector};
-//! use platefield::fit::worst::{solve_worst_case, WorstCaseOptions};
-//! // Two samples of a two-column basis: the first column turns with the
-//! // sample, the second does not; only the second matches both.
-//! let a1 = DMatrix::from_column_slice(2, 2, &[1.0, 0.3, 1.0, 0.0]);
-//! let a2 = DMatrix::from_column_slice(2, 2, &[1.0, -0.3, 2.0, 0.0]);
-//! let t = DVector::from_vec(vec![1.0, 0.0]);
-//! let exact = WorstCaseOptions { slack: 0.0, ..WorstCaseOptions::default() };
-//! let fit = solve_worst_case(&[a1, a2], &t, None, &exact).unwrap();
-//! assert!(fit.best_worst < 1e-4);
-//! // Strength at each sample: 1 and 2 (the second column alone, all the time).
-//! assert!((fit.strengths[0] - 1.0).abs() < 1e-4 && (fit.strengths[1] - 2.0).abs() < 1e-4);
-//! ```
 
 use clarabel::solver::SolverStatus;
 use clarabel::solver::SupportedConeT::{NonnegativeConeT, SecondOrderConeT};
@@ -80,7 +65,7 @@ const FEASIBLE_STRENGTH: f64 = 1e-7;
 
 /// Options of [`solve_worst_case`].
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct WorstCaseOptions {
+pub(crate) struct WorstCaseOptions {
     /// Strength floor `s_min` (> 0) on every sample's strength, or none.
     pub min_strength: Option<f64>,
     /// Stage 2 takes the strongest field whose worst error is within
@@ -104,7 +89,7 @@ impl Default for WorstCaseOptions {
 
 /// A verified worst-case fit.
 #[derive(Debug, Clone, PartialEq)]
-pub struct WorstCaseFit {
+pub(crate) struct WorstCaseFit {
     /// Time fractions `f ≥ 0`, `1ᵀf ≤ 1` (the plate rests for the rest).
     pub fractions: Vec<f64>,
     /// Least-squares strength `s_k` of the field at each sample (× the
@@ -125,7 +110,7 @@ pub struct WorstCaseFit {
 
 impl WorstCaseFit {
     /// The worst of [`WorstCaseFit::errors`].
-    pub fn worst(&self) -> f64 {
+    pub(crate) fn worst(&self) -> f64 {
         self.errors.iter().copied().fold(0.0, f64::max)
     }
 
@@ -155,7 +140,7 @@ pub(crate) fn shape_and_strength(problem: &FitProblem, fractions: &[f64]) -> (f6
 /// No sample, bases of different shapes, invalid data or options, a
 /// target no non-negative mix points towards at every sample, a floor no
 /// fractions reach, a solver failure, or a failed check.
-pub fn solve_worst_case(
+pub(crate) fn solve_worst_case(
     a: &[DMatrix<f64>],
     t: &DVector<f64>,
     d: Option<&DVector<f64>>,
@@ -607,5 +592,25 @@ mod tests {
             solve_worst_case(&[a], &t, None, &floor),
             Err(FitError::InvalidInput(_))
         ));
+    }
+
+    /// The former doc example of `fit::worst`, now crate-private.
+    #[test]
+    fn example_worst() {
+        use crate::fit::worst::{solve_worst_case, WorstCaseOptions};
+        use nalgebra::{DMatrix, DVector};
+        // Two samples of a two-column basis: the first column turns with the
+        // sample, the second does not; only the second matches both.
+        let a1 = DMatrix::from_column_slice(2, 2, &[1.0, 0.3, 1.0, 0.0]);
+        let a2 = DMatrix::from_column_slice(2, 2, &[1.0, -0.3, 2.0, 0.0]);
+        let t = DVector::from_vec(vec![1.0, 0.0]);
+        let exact = WorstCaseOptions {
+            slack: 0.0,
+            ..WorstCaseOptions::default()
+        };
+        let fit = solve_worst_case(&[a1, a2], &t, None, &exact).unwrap();
+        assert!(fit.best_worst < 1e-4);
+        // Strength at each sample: 1 and 2 (the second column alone, all the time).
+        assert!((fit.strengths[0] - 1.0).abs() < 1e-4 && (fit.strengths[1] - 2.0).abs() < 1e-4);
     }
 }

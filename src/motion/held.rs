@@ -85,28 +85,10 @@ impl Held {
     /// The motion of `held`: its samples from its start state, one cycle
     /// [`HoldSamples::samples_per_period`] samples.
     ///
-    /// ```
-    /// use platefield::motion::sample_hold::{CentreState, HoldSamples};
-    /// use platefield::motion::Held;
-    ///
-    /// // 1 m/s² along x for 0.1 s, then −1 m/s² for 0.1 s: rest to rest.
-    /// let file = HoldSamples {
-    ///     dt: 0.1,
-    ///     rate: 10.0,
-    ///     samples_per_period: 2,
-    ///     samples: vec![[1.0, 0.0, 0.0, 0.0, 0.0, 0.0], [-1.0, 0.0, 0.0, 0.0, 0.0, 0.0]],
-    ///     start: CentreState::default(),
-    /// };
-    /// let held = Held::new(&file).unwrap();
-    /// let end = held.state_at(2);
-    /// assert!(end.velocity[0].abs() < 1e-15);
-    /// assert!((end.pose[0] - 0.01).abs() < 1e-15); // x = a Δt² = 0.01 m
-    /// ```
-    ///
     /// # Errors
     /// No samples, Δt not positive and finite, a sample not finite, or a
     /// sample after which the integrated velocity or pose is not finite.
-    pub fn new(held: &HoldSamples) -> Result<Held> {
+    pub(crate) fn new(held: &HoldSamples) -> Result<Held> {
         if held.samples.is_empty() || !(held.dt.is_finite() && held.dt > 0.0) {
             return Err(Error::invalid(
                 "held samples",
@@ -171,39 +153,35 @@ impl Held {
     }
 
     /// Hold time Δt (s).
-    pub fn dt(&self) -> f64 {
+    pub(crate) fn dt(&self) -> f64 {
         self.dt
     }
 
     /// Number of samples.
-    pub fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         self.samples.len()
     }
 
-    /// Always false: a held motion has at least one sample.
-    pub fn is_empty(&self) -> bool {
-        self.samples.is_empty()
-    }
-
     /// One cycle of the exported motion: N samples (s).
-    pub fn period(&self) -> f64 {
+    pub(crate) fn period(&self) -> f64 {
         self.per_period as f64 * self.dt
     }
 
     /// Time over which the motion is defined: all its samples (s).
-    pub fn span(&self) -> f64 {
+    pub(crate) fn span(&self) -> f64 {
         self.samples.len() as f64 * self.dt
     }
 
     /// The state when sample `k` begins (`k` = [`Held::len`]: after the
     /// last).
-    pub fn state_at(&self, k: usize) -> CentreState {
+    pub(crate) fn state_at(&self, k: usize) -> CentreState {
         self.states[k].0
     }
 
     /// The orientation when sample `k` begins (`k` = [`Held::len`]: after
     /// the last).
-    pub fn orientation_at(&self, k: usize) -> UnitQuaternion<f64> {
+    #[cfg(test)]
+    pub(crate) fn orientation_at(&self, k: usize) -> UnitQuaternion<f64> {
         self.states[k].1
     }
 
@@ -225,7 +203,7 @@ impl Held {
 
     /// Plate-frame kinematics at `t` on the sample holding at `piece_t`
     /// (see the module documentation).
-    pub fn kinematics(&self, t: f64, piece_t: f64, g: f64, tilt: bool) -> Kinematics {
+    pub(crate) fn kinematics(&self, t: f64, piece_t: f64, g: f64, tilt: bool) -> Kinematics {
         let k = self.index(piece_t);
         let (s, q) = advance(&self.states[k], &self.samples[k], t - k as f64 * self.dt);
         let a = &self.samples[k];
@@ -422,5 +400,28 @@ mod tests {
         let shifted = held.transformed(0.0, [0.1, 0.0]);
         // Ω' = (0, 0, 2), −s = (−0.1, 0, 0): Ω' × (−s) = (0, −0.2, 0).
         assert!((shifted.samples[0][1] + 0.2).abs() < 1e-15);
+    }
+
+    /// The former doc example of `motion::held::Held::new`, now crate-private.
+    #[test]
+    fn example_held_new() {
+        use crate::motion::sample_hold::{CentreState, HoldSamples};
+        use crate::motion::Held;
+
+        // 1 m/s² along x for 0.1 s, then −1 m/s² for 0.1 s: rest to rest.
+        let file = HoldSamples {
+            dt: 0.1,
+            rate: 10.0,
+            samples_per_period: 2,
+            samples: vec![
+                [1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+                [-1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            ],
+            start: CentreState::default(),
+        };
+        let held = Held::new(&file).unwrap();
+        let end = held.state_at(2);
+        assert!(end.velocity[0].abs() < 1e-15);
+        assert!((end.pose[0] - 0.01).abs() < 1e-15); // x = a Δt² = 0.01 m
     }
 }

@@ -31,7 +31,7 @@
 //!
 //! [`crate::field`] simulates one point per family and maps its sample to
 //! the others; the mapped samples agree with direct simulation to the
-//! integrator's round-off sensitivity (tested in `tests/invariance.rs`).
+//! integrator's round-off sensitivity (tested in `tests/unit/invariance.rs`).
 
 /// Families of plate points that see the same motion (module docs).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -67,3 +67,7 @@ impl std::fmt::Display for Invariance {
         }
     }
 }
+
+#[cfg(test)]
+#[path = "../../tests/unit/invariance.rs"]
+mod invariance_tests;

@@ -28,7 +28,7 @@ mod signals;
 pub(crate) mod trig;
 mod waveform;
 
-pub use held::Held;
+pub(crate) use held::Held;
 
 /// Largest peak linear acceleration (m/s², about 1000 g) of a plate
 /// motion: a scene's translation, a replayed export's sample.
@@ -42,7 +42,8 @@ pub(crate) use ramped::smoothstep;
 pub use ramped::Ramped;
 pub use screw::Screw;
 pub use signals::{Axes, Signals};
-pub use waveform::{FourierTerm, Sample, Waveform};
+pub use waveform::FourierTerm;
+pub use waveform::Waveform;
 
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
@@ -73,7 +74,7 @@ pub struct Kinematics {
 impl Kinematics {
     /// Plate velocity v_s(r) at plate point `r`.
     #[inline]
-    pub fn velocity_at(&self, r: &V3) -> V3 {
+    pub(crate) fn velocity_at(&self, r: &V3) -> V3 {
         self.vel_center + self.omega.cross(&(r - self.center))
     }
 
@@ -163,7 +164,7 @@ impl Motion {
 
     /// True when the motion is purely in the plate plane (no vertical
     /// translation, rotation only about the vertical): then N = g exactly.
-    pub fn is_in_plane(&self) -> bool {
+    pub(crate) fn is_in_plane(&self) -> bool {
         match self {
             Motion::Screw(s) => s.is_in_plane(),
             Motion::Signals(s) => s.is_in_plane(),
@@ -212,18 +213,10 @@ impl Motion {
     /// screw's rotation ψ(t) and translation d(t), a six-signal motion's
     /// accelerations, a ramped one's signals. `k = 1` is the motion itself.
     ///
-    /// ```
-    /// use platefield::basis::{Primitive, PrimitiveKind};
-    /// let m = Primitive::new(PrimitiveKind::LineSink).motion();
-    /// assert_eq!(m.amplitude_scaled(1.0)?, m);
-    /// assert_ne!(m.amplitude_scaled(0.95)?, m);
-    /// # Ok::<(), platefield::Error>(())
-    /// ```
-    ///
     /// # Errors
     /// Held samples (an export or recording replayed) are played as
     /// recorded and are not scaled.
-    pub fn amplitude_scaled(&self, k: f64) -> Result<Motion> {
+    pub(crate) fn amplitude_scaled(&self, k: f64) -> Result<Motion> {
         if k == 1.0 {
             return Ok(self.clone());
         }
@@ -248,7 +241,7 @@ impl Motion {
     }
 
     /// Validates all parameters; errors name the field under `field`.
-    pub fn validate(&self, field: &str) -> Result<()> {
+    pub(crate) fn validate(&self, field: &str) -> Result<()> {
         match self {
             Motion::Screw(s) => s.validate(field),
             Motion::Signals(s) => s.validate(field),
@@ -287,3 +280,20 @@ pub(crate) fn rotate(v: &V3, k: &V3, theta: f64) -> V3 {
 pub(crate) fn rotate_sc(v: &V3, k: &V3, (s, c): (f64, f64)) -> V3 {
     v * c + k.cross(v) * s + k * (k.dot(v) * (1.0 - c))
 }
+
+#[cfg(test)]
+mod tests {
+    /// The former doc example of `motion::Motion::amplitude_scaled`, now crate-private.
+    #[test]
+    fn example_motion_amplitude_scaled() -> Result<(), crate::Error> {
+        use crate::basis::{Primitive, PrimitiveKind};
+        let m = Primitive::new(PrimitiveKind::LineSink).motion();
+        assert_eq!(m.amplitude_scaled(1.0)?, m);
+        assert_ne!(m.amplitude_scaled(0.95)?, m);
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+#[path = "../../tests/unit/convention.rs"]
+mod convention_tests;

@@ -222,7 +222,7 @@ pub(crate) struct PreparedMotion<'a> {
 impl<'a> PreparedMotion<'a> {
     /// The constants of `motion` (a screw's, a six-signal motion's, ramped
     /// or not; a held export is evaluated as it is).
-    pub fn new(motion: &'a Motion) -> PreparedMotion<'a> {
+    pub(crate) fn new(motion: &'a Motion) -> PreparedMotion<'a> {
         let prepared = match motion {
             Motion::Screw(s) => Prepared::Screw(PreparedScrew::new(s)),
             Motion::Signals(s) => Prepared::Signals(PreparedSignals::new(s)),

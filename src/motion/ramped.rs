@@ -123,7 +123,7 @@ impl Ramped {
 
     /// Kinematics at `t` (segment time, 0 at the start of the ramp-in).
     #[inline]
-    pub fn kinematics(&self, t: f64, g: f64, tilt: bool) -> Kinematics {
+    pub(crate) fn kinematics(&self, t: f64, g: f64, tilt: bool) -> Kinematics {
         self.kinematics_of(t, self.signals.centre_triples(t), g, tilt, f64::sin_cos)
     }
 

@@ -80,21 +80,8 @@ fn quotients(t: f64, (s, c): (f64, f64)) -> [f64; 4] {
 /// World-frame angular velocity ω and acceleration α of the orientation
 /// exp(\[θ\]×) from θ, θ′, θ″ (see the module documentation), with
 /// `sin_cos` giving (sin, cos) of |θ|.
-///
-/// ```
-/// use platefield::motion::rotation::world_rates;
-/// use platefield::motion::V3;
-///
-/// // One fixed axis: ω = θ′, α = θ″.
-/// let (w, a) = world_rates(&V3::new(0.0, 0.0, 0.3), &V3::new(0.0, 0.0, 2.0), &V3::new(0.0, 0.0, -5.0), f64::sin_cos);
-/// assert!((w - V3::new(0.0, 0.0, 2.0)).norm() < 1e-15 && (a - V3::new(0.0, 0.0, -5.0)).norm() < 1e-15);
-/// // Coning: θ = ε(cos t, sin t, 0) turns about z on average, ω_z = a ε² ≈ ε²/2.
-/// let e = 1e-3;
-/// let (w, _) = world_rates(&V3::new(e, 0.0, 0.0), &V3::new(0.0, e, 0.0), &V3::new(-e, 0.0, 0.0), f64::sin_cos);
-/// assert!((w.z - e * e / 2.0).abs() < 1e-13);
-/// ```
 #[inline]
-pub fn world_rates(
+pub(crate) fn world_rates(
     theta: &V3,
     dtheta: &V3,
     ddtheta: &V3,
@@ -119,29 +106,20 @@ pub fn world_rates(
 }
 
 /// The orientation exp(\[θ\]×) as a unit quaternion.
-pub fn orientation(theta: &V3) -> UnitQuaternion<f64> {
+pub(crate) fn orientation(theta: &V3) -> UnitQuaternion<f64> {
     UnitQuaternion::from_scaled_axis(*theta)
 }
 
 /// The rotation vector θ of `q` (|θ| ≤ π).
-pub fn rotation_vector(q: &UnitQuaternion<f64>) -> V3 {
+pub(crate) fn rotation_vector(q: &UnitQuaternion<f64>) -> V3 {
     q.scaled_axis()
 }
 
 /// The orientation and world angular velocity `tau` after (`q`, `omega`)
 /// with the world angular acceleration `alpha` held (see the module
 /// documentation).
-///
-/// ```
-/// use platefield::motion::rotation::{advance, orientation, rotation_vector};
-/// use platefield::motion::V3;
-///
-/// // Spun up about z from rest: θ_z = α τ²/2.
-/// let (q, w) = advance(&orientation(&V3::zeros()), &V3::zeros(), &V3::new(0.0, 0.0, 2.0), 0.1);
-/// assert!((rotation_vector(&q).z - 0.01).abs() < 1e-15 && (w.z - 0.2).abs() < 1e-15);
-/// ```
 #[inline]
-pub fn advance(
+pub(crate) fn advance(
     q: &UnitQuaternion<f64>,
     omega: &V3,
     alpha: &V3,
@@ -158,15 +136,7 @@ pub fn advance(
 /// The fixed-axis x-y-z angles (roll about x, then pitch about y, then yaw
 /// about z, all about the world axes: R = R_z(yaw) R_y(pitch) R_x(roll)) of
 /// `q`, the angle set hexapod controllers take (rad).
-///
-/// ```
-/// use platefield::motion::rotation::{orientation, xyz_angles};
-/// use platefield::motion::V3;
-///
-/// let [roll, pitch, yaw] = xyz_angles(&orientation(&V3::new(0.0, 0.0, 0.25)));
-/// assert!(roll.abs() < 1e-15 && pitch.abs() < 1e-15 && (yaw - 0.25).abs() < 1e-15);
-/// ```
-pub fn xyz_angles(q: &UnitQuaternion<f64>) -> [f64; 3] {
+pub(crate) fn xyz_angles(q: &UnitQuaternion<f64>) -> [f64; 3] {
     let (roll, pitch, yaw) = Rotation3::from(*q).euler_angles();
     [roll, pitch, yaw]
 }
@@ -265,5 +235,59 @@ mod tests {
             "{}",
             (q.inverse() * end).angle()
         );
+    }
+
+    /// The former doc example of `motion::rotation::world_rates`, now crate-private.
+    #[test]
+    fn example_world_rates() {
+        use crate::motion::rotation::world_rates;
+        use crate::motion::V3;
+
+        // One fixed axis: ω = θ′, α = θ″.
+        let (w, a) = world_rates(
+            &V3::new(0.0, 0.0, 0.3),
+            &V3::new(0.0, 0.0, 2.0),
+            &V3::new(0.0, 0.0, -5.0),
+            f64::sin_cos,
+        );
+        assert!(
+            (w - V3::new(0.0, 0.0, 2.0)).norm() < 1e-15
+                && (a - V3::new(0.0, 0.0, -5.0)).norm() < 1e-15
+        );
+        // Coning: θ = ε(cos t, sin t, 0) turns about z on average, ω_z = a ε² ≈ ε²/2.
+        let e = 1e-3;
+        let (w, _) = world_rates(
+            &V3::new(e, 0.0, 0.0),
+            &V3::new(0.0, e, 0.0),
+            &V3::new(-e, 0.0, 0.0),
+            f64::sin_cos,
+        );
+        assert!((w.z - e * e / 2.0).abs() < 1e-13);
+    }
+
+    /// The former doc example of `motion::rotation::advance`, now crate-private.
+    #[test]
+    fn example_advance() {
+        use crate::motion::rotation::{advance, orientation, rotation_vector};
+        use crate::motion::V3;
+
+        // Spun up about z from rest: θ_z = α τ²/2.
+        let (q, w) = advance(
+            &orientation(&V3::zeros()),
+            &V3::zeros(),
+            &V3::new(0.0, 0.0, 2.0),
+            0.1,
+        );
+        assert!((rotation_vector(&q).z - 0.01).abs() < 1e-15 && (w.z - 0.2).abs() < 1e-15);
+    }
+
+    /// The former doc example of `motion::rotation::xyz_angles`, now crate-private.
+    #[test]
+    fn example_xyz_angles() {
+        use crate::motion::rotation::{orientation, xyz_angles};
+        use crate::motion::V3;
+
+        let [roll, pitch, yaw] = xyz_angles(&orientation(&V3::new(0.0, 0.0, 0.25)));
+        assert!(roll.abs() < 1e-15 && pitch.abs() < 1e-15 && (yaw - 0.25).abs() < 1e-15);
     }
 }

@@ -23,7 +23,7 @@
 //! the trapezoidal rule of ω plus the Magnus term (Δt³/12) α × ω, off by
 //! O((ωΔt)²) of the rotation's rates, which accumulates over many cycles
 //! as a slow coning drift of order (ωΔt)²/6 of the motion's coning rate
-//! (`tests/convention.rs` measures it on every shipped design).
+//! (`tests/unit/convention.rs` measures it on every shipped design).
 //!
 //! **Ramps for six-signal motions.** A six-signal motion has zero-mean
 //! velocity and pose only from its own initial state, not from rest. The
@@ -103,7 +103,7 @@ impl HoldSamples {
 
     /// CSV with the columns of `platefield export` (t_s is the start of
     /// each hold interval).
-    pub fn to_csv(&self) -> String {
+    pub(crate) fn to_csv(&self) -> String {
         let mut csv = String::from(
             "t_s,ax_m_s2,ay_m_s2,az_m_s2,alpha_x_rad_s2,alpha_y_rad_s2,alpha_z_rad_s2\n",
         );
@@ -139,7 +139,7 @@ pub(crate) fn axis_extremes(rows: &[[f64; 6]]) -> [f64; 6] {
 /// rotation is not linearised; a six-signal motion's are its zero-mean
 /// antiderivatives, its angular velocity the world ω = J(θ)θ′ of
 /// `super::rotation`).
-pub fn centre_state(motion: &Motion, t: f64) -> CentreState {
+pub(crate) fn centre_state(motion: &Motion, t: f64) -> CentreState {
     match motion {
         Motion::Signals(_) | Motion::Ramped(_) => world_angular(signal_state(motion, t)),
         m => signal_state(m, t),
@@ -246,7 +246,7 @@ fn grid(period: f64, rate: f64) -> Result<(usize, f64)> {
 /// # Errors
 /// A rate that is not positive or gives fewer than 2 or more than
 /// `MAX_SAMPLES` samples per period.
-pub fn periodic(motion: &Motion, rate: f64) -> Result<HoldSamples> {
+pub(crate) fn periodic(motion: &Motion, rate: f64) -> Result<HoldSamples> {
     let period = motion.period();
     let (n, dt) = grid(period, rate)?;
     let start = centre_state(motion, 0.0);
@@ -264,7 +264,7 @@ pub fn periodic(motion: &Motion, rate: f64) -> Result<HoldSamples> {
 ///
 /// # Errors
 /// As [`periodic`]; `ramp` must be ≥ 1.
-pub fn ramped(motion: &Motion, rate: f64, ramp: u32, steady: u32) -> Result<HoldSamples> {
+pub(crate) fn ramped(motion: &Motion, rate: f64, ramp: u32, steady: u32) -> Result<HoldSamples> {
     if ramp == 0 {
         return Err(Error::invalid("--ramp-cycles", "must be ≥ 1"));
     }
@@ -312,7 +312,7 @@ pub fn ramped(motion: &Motion, rate: f64, ramp: u32, steady: u32) -> Result<Hold
 /// One segment of a sequence: a motion played for `duration` seconds, or
 /// rest.
 #[derive(Debug, Clone, Copy)]
-pub struct MotionSpan<'a> {
+pub(crate) struct MotionSpan<'a> {
     /// The motion (`None`: rest).
     pub motion: Option<&'a Motion>,
     /// Duration (s).
@@ -330,7 +330,7 @@ pub struct MotionSpan<'a> {
 /// As [`periodic`]; a motion segment whose duration is not a whole number
 /// of samples or that does not start and end at rest (names
 /// `segments[i]`).
-pub fn sequence(segments: &[MotionSpan<'_>], rate: f64) -> Result<HoldSamples> {
+pub(crate) fn sequence(segments: &[MotionSpan<'_>], rate: f64) -> Result<HoldSamples> {
     let (n, dt, states) = sequence_states(segments, rate)?;
     let v: Vec<[f64; 6]> = states.iter().map(|s| s.velocity).collect();
     Ok(HoldSamples::from_velocities(
@@ -427,7 +427,8 @@ pub(crate) fn sequence_states(
 /// let ends = play(&file, CentreState::default(), 2);
 /// assert!((ends[1].pose[0] - 0.02).abs() < 1e-15 && (ends[1].pose[5] - 0.04).abs() < 1e-15);
 /// ```
-pub fn play(samples: &HoldSamples, start: CentreState, loops: usize) -> Vec<CentreState> {
+#[cfg(test)]
+pub(crate) fn play(samples: &HoldSamples, start: CentreState, loops: usize) -> Vec<CentreState> {
     let mut ends = Vec::with_capacity(loops);
     let mut state = start;
     for _ in 0..loops {

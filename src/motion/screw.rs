@@ -41,7 +41,7 @@ impl Screw {
     /// Kinematics at time `t` on the waveform piece containing `piece_t`
     /// (see the module docs).
     #[inline]
-    pub fn kinematics(&self, t: f64, piece_t: f64, g: f64, tilt: bool) -> Kinematics {
+    pub(crate) fn kinematics(&self, t: f64, piece_t: f64, g: f64, tilt: bool) -> Kinematics {
         let k = self.k();
         let psi = self.rotation.eval_piece(t, self.period, piece_t);
         let d = self.translation.eval_piece(t, self.period, piece_t);
@@ -106,7 +106,7 @@ impl Screw {
     }
 
     /// Validates parameters.
-    pub fn validate(&self, field: &str) -> Result<()> {
+    pub(crate) fn validate(&self, field: &str) -> Result<()> {
         positive(&format!("{field}.period"), self.period)?;
         for (name, v) in [("axis", self.axis), ("point", self.point)] {
             if v.iter().any(|x| !x.is_finite()) {

@@ -86,7 +86,7 @@ impl Signals {
     /// A six-signal motion for timings (benches, `platefield study probes`):
     /// T = 0.05 s, x and y translation (the x one with a second harmonic)
     /// and tilts about x and y — the kind synthesis evaluates hundreds of
-    /// (the motion of `tests/synth.rs`).
+    /// (the motion of `tests/unit/synth.rs`).
     pub fn example() -> Signals {
         let term = |amplitude: f64, phase: f64, harmonic: u32| FourierTerm {
             amplitude,
@@ -109,12 +109,7 @@ impl Signals {
     }
 
     /// The highest harmonic of any signal (1 when there is none).
-    ///
-    /// ```
-    /// use platefield::motion::Signals;
-    /// assert_eq!(Signals::example().highest_harmonic(), 2);
-    /// ```
-    pub fn highest_harmonic(&self) -> u32 {
+    pub(crate) fn highest_harmonic(&self) -> u32 {
         [&self.linear, &self.angular]
             .iter()
             .flat_map(|a| [&a.x, &a.y, &a.z])
@@ -126,7 +121,7 @@ impl Signals {
 
     /// Kinematics at time `t`.
     #[inline]
-    pub fn kinematics(&self, t: f64, g: f64, tilt: bool) -> Kinematics {
+    pub(crate) fn kinematics(&self, t: f64, g: f64, tilt: bool) -> Kinematics {
         let (lin, ang) = self.centre_triples(t);
         Signals::frame(&lin, &ang, g, tilt)
     }
@@ -146,7 +141,7 @@ impl Signals {
     /// θ exactly and every vector rotated back by Rᵀ when `tilt`; Ω = θ',
     /// Ω' = θ'' and R = I when not).
     #[inline]
-    pub fn frame(lin: &[V3; 3], ang: &[V3; 3], g: f64, tilt: bool) -> Kinematics {
+    pub(crate) fn frame(lin: &[V3; 3], ang: &[V3; 3], g: f64, tilt: bool) -> Kinematics {
         Signals::frame_with(lin, ang, g, tilt, f64::sin_cos)
     }
 
@@ -223,7 +218,7 @@ impl Signals {
     }
 
     /// Validates parameters.
-    pub fn validate(&self, field: &str) -> Result<()> {
+    pub(crate) fn validate(&self, field: &str) -> Result<()> {
         positive(&format!("{field}.period"), self.period)?;
         for (group, axes) in [("linear", &self.linear), ("angular", &self.angular)] {
             for (name, w) in ["x", "y", "z"].iter().zip(axes.waves()) {
@@ -284,7 +279,7 @@ impl Signals {
     /// at (x, −y) moves as the mirror image of a part at (x, y) under the
     /// original motion, at every friction: the field becomes
     /// F'(x, y) = (Fx(x, −y), −Fy(x, −y)). Exact (no small-amplitude step).
-    pub fn mirrored_y(&self) -> Signals {
+    pub(crate) fn mirrored_y(&self) -> Signals {
         let neg = |terms: &[FourierTerm]| -> Vec<FourierTerm> {
             terms.iter().map(|t| scale(t, -1.0)).collect()
         };
@@ -306,7 +301,7 @@ impl Signals {
     /// (rad) from x: turned by −angle, mirrored in y = 0
     /// ([`Signals::mirrored_y`]), turned back. Exact: a turn about the
     /// vertical through the centre has no shift.
-    pub fn mirrored_about(&self, angle: f64) -> Signals {
+    pub(crate) fn mirrored_about(&self, angle: f64) -> Signals {
         self.transformed(-angle, [0.0, 0.0])
             .mirrored_y()
             .transformed(angle, [0.0, 0.0])
@@ -322,21 +317,7 @@ impl Signals {
     /// point. The shifts are exact for turns and translations and first
     /// order in the tilts (see [`Signals::transformed`]); through the
     /// centre this is [`Signals::mirrored_about`] itself.
-    ///
-    /// ```
-    /// use platefield::motion::Signals;
-    /// let m = Signals::example();
-    /// assert_eq!(m.mirrored_in(0.3, [0.0, 0.0]), m.mirrored_about(0.3));
-    /// // The mirror image of the mirror image is the motion again.
-    /// let c = [0.004, -0.002];
-    /// let twice = m.mirrored_in(0.3, c).mirrored_in(0.3, c);
-    /// for t in [0.0, 0.007, 0.019] {
-    ///     let (a, b) = (m.kinematics(t, 9.81, true), twice.kinematics(t, 9.81, true));
-    ///     assert!((a.accel_center - b.accel_center).norm() < 1e-6, "{t}");
-    ///     assert!((a.alpha - b.alpha).norm() < 1e-9, "{t}");
-    /// }
-    /// ```
-    pub fn mirrored_in(&self, angle: f64, point: [f64; 2]) -> Signals {
+    pub(crate) fn mirrored_in(&self, angle: f64, point: [f64; 2]) -> Signals {
         if point == [0.0, 0.0] {
             return self.mirrored_about(angle);
         }
@@ -350,17 +331,7 @@ impl Signals {
     /// h has its amplitude multiplied by `gain(c, h)` and `shift(c, h)`
     /// (rad) added to its phase — a transfer function's error at that
     /// channel and frequency.
-    ///
-    /// ```
-    /// use platefield::motion::Signals;
-    /// let m = Signals::example();
-    /// let d = m.delivered(&|_, _| (1.05, 0.1));
-    /// let (a, b) = (&m.linear.x[0], &d.linear.x[0]);
-    /// assert!((b.amplitude - 1.05 * a.amplitude).abs() < 1e-12);
-    /// assert!((b.phase - a.phase - 0.1).abs() < 1e-12);
-    /// assert_eq!(m.delivered(&|_, _| (1.0, 0.0)), m);
-    /// ```
-    pub fn delivered(&self, error: &dyn Fn(usize, u32) -> (f64, f64)) -> Signals {
+    pub(crate) fn delivered(&self, error: &dyn Fn(usize, u32) -> (f64, f64)) -> Signals {
         let channel = |c: usize, terms: &[FourierTerm]| -> Vec<FourierTerm> {
             terms
                 .iter()
@@ -387,7 +358,7 @@ impl Signals {
     }
 
     /// Every amplitude multiplied by `k` (the same waveforms, scaled).
-    pub fn scaled(&self, k: f64) -> Signals {
+    pub(crate) fn scaled(&self, k: f64) -> Signals {
         let axes = |a: &Axes| Axes {
             x: a.x.iter().map(|t| scale(t, k)).collect(),
             y: a.y.iter().map(|t| scale(t, k)).collect(),
@@ -553,5 +524,40 @@ mod tests {
         assert!((amp(&oy, 1) / (2.0 * j1 * w * w * 0.01) - 1.0).abs() < 1e-9);
         assert!((amp(&ox, 2) / (2.0 * j2 * 4.0 * w * w * 0.01) - 1.0).abs() < 1e-6);
         assert_eq!((amp(&ox, 1), amp(&oy, 2)), (0.0, 0.0));
+    }
+
+    /// The former doc example of `motion::signals::Signals::highest_harmonic`, now crate-private.
+    #[test]
+    fn example_signals_highest_harmonic() {
+        use crate::motion::Signals;
+        assert_eq!(Signals::example().highest_harmonic(), 2);
+    }
+
+    /// The former doc example of `motion::signals::Signals::mirrored_in`, now crate-private.
+    #[test]
+    fn example_signals_mirrored_in() {
+        use crate::motion::Signals;
+        let m = Signals::example();
+        assert_eq!(m.mirrored_in(0.3, [0.0, 0.0]), m.mirrored_about(0.3));
+        // The mirror image of the mirror image is the motion again.
+        let c = [0.004, -0.002];
+        let twice = m.mirrored_in(0.3, c).mirrored_in(0.3, c);
+        for t in [0.0, 0.007, 0.019] {
+            let (a, b) = (m.kinematics(t, 9.81, true), twice.kinematics(t, 9.81, true));
+            assert!((a.accel_center - b.accel_center).norm() < 1e-6, "{t}");
+            assert!((a.alpha - b.alpha).norm() < 1e-9, "{t}");
+        }
+    }
+
+    /// The former doc example of `motion::signals::Signals::delivered`, now crate-private.
+    #[test]
+    fn example_signals_delivered() {
+        use crate::motion::Signals;
+        let m = Signals::example();
+        let d = m.delivered(&|_, _| (1.05, 0.1));
+        let (a, b) = (&m.linear.x[0], &d.linear.x[0]);
+        assert!((b.amplitude - 1.05 * a.amplitude).abs() < 1e-12);
+        assert!((b.phase - a.phase - 0.1).abs() < 1e-12);
+        assert_eq!(m.delivered(&|_, _| (1.0, 0.0)), m);
     }
 }

@@ -109,7 +109,7 @@ pub(crate) fn small_sin_cosm1(r: f64) -> (f64, f64) {
 impl Nodes {
     /// (sin x, cos x) to within 2.3e-16 of libm's (module docs).
     #[inline(always)]
-    pub fn sin_cos(&self, x: f64) -> (f64, f64) {
+    pub(crate) fn sin_cos(&self, x: f64) -> (f64, f64) {
         if x.abs() <= REDUCED_MAX {
             // N = 0: the node (0, 1) and r = x, without the reduction (the
             // same values as through it; small tilt angles).

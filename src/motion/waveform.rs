@@ -94,7 +94,7 @@ impl<'de> Deserialize<'de> for Waveform {
 
 /// Value, rate and acceleration of a waveform at one instant.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct Sample {
+pub(crate) struct Sample {
     /// q
     pub q: f64,
     /// q'
@@ -106,7 +106,7 @@ pub struct Sample {
 impl Waveform {
     /// Evaluates the waveform at time `t` for period `period`.
     #[inline]
-    pub fn eval(&self, t: f64, period: f64) -> Sample {
+    pub(crate) fn eval(&self, t: f64, period: f64) -> Sample {
         self.eval_piece(t, period, t)
     }
 
@@ -184,7 +184,7 @@ impl Waveform {
     }
 
     /// True when the waveform is identically zero.
-    pub fn is_zero(&self) -> bool {
+    pub(crate) fn is_zero(&self) -> bool {
         match self {
             Waveform::Zero => true,
             Waveform::Sine { accel } | Waveform::Square { accel } => *accel == 0.0,
@@ -207,7 +207,7 @@ impl Waveform {
     }
 
     /// The same waveform scaled in amplitude by `k`.
-    pub fn scaled(&self, k: f64) -> Waveform {
+    pub(crate) fn scaled(&self, k: f64) -> Waveform {
         match self {
             Waveform::Zero => Waveform::Zero,
             Waveform::Sine { accel } => Waveform::Sine { accel: accel * k },
@@ -229,7 +229,7 @@ impl Waveform {
     }
 
     /// Validates the parameters, naming `field` in errors.
-    pub fn validate(&self, field: &str) -> Result<()> {
+    pub(crate) fn validate(&self, field: &str) -> Result<()> {
         match self {
             Waveform::Zero => Ok(()),
             Waveform::Sine { accel } | Waveform::Square { accel } => {

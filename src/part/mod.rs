@@ -109,7 +109,7 @@ fn default_friction() -> FrictionSpec {
 /// A part file as written.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct PartFile {
+pub(crate) struct PartFile {
     /// Name (used for output folders).
     pub name: String,
     /// Vertices (m), either orientation.
@@ -175,7 +175,7 @@ impl Part {
     }
 
     /// Validates `file` and builds its body (module docs).
-    pub fn new(file: PartFile) -> Result<Part> {
+    pub(crate) fn new(file: PartFile) -> Result<Part> {
         file.friction.validate("part.friction")?;
         let raw = check_polygon(&file.polygon)?;
         let (points, weights) = support_points(&file.support, &raw)?;

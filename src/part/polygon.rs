@@ -199,7 +199,7 @@ fn clip_to_box(v: &[V2], a: V2, b: V2) -> Vec<V2> {
 }
 
 /// Lower-left and upper-right corners of the bounding box.
-pub fn bounds(v: &[V2]) -> (V2, V2) {
+pub(crate) fn bounds(v: &[V2]) -> (V2, V2) {
     v.iter().fold(
         (V2::repeat(f64::INFINITY), V2::repeat(f64::NEG_INFINITY)),
         |(lo, hi), p| (lo.inf(p), hi.sup(p)),

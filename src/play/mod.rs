@@ -43,7 +43,9 @@ pub mod sensitivity;
 pub(crate) mod settle;
 pub mod windowed;
 
-pub use measure::{grid_points, verify_points, ModelCheck, PlayOptions, PointResult};
+pub use measure::grid_points;
+pub use measure::verify_points;
+pub use measure::{ModelCheck, PlayOptions, PointResult};
 
 use crate::dynamics::{
     ContactLoss, Friction, KinematicsTable, Model, Numerics, PartPhysics, PartState, Simulator,
@@ -277,7 +279,7 @@ impl<'a> Player<'a> {
     }
 
     /// The trajectory played.
-    pub fn schedule(&self) -> &'a ScheduleMotion {
+    pub(crate) fn schedule(&self) -> &'a ScheduleMotion {
         self.schedule
     }
 
@@ -316,7 +318,7 @@ impl<'a> Player<'a> {
     }
 
     /// The model switches.
-    pub fn model(&self) -> Model {
+    pub(crate) fn model(&self) -> Model {
         self.model
     }
 

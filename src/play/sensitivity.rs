@@ -96,7 +96,7 @@ impl Sensitivity {
 
     /// The worst realised shape error over the rows (`None` if a row has
     /// none).
-    pub fn worst_shape_error(&self) -> Option<f64> {
+    pub(crate) fn worst_shape_error(&self) -> Option<f64> {
         self.rows
             .iter()
             .map(|r| r.realised_shape_error)

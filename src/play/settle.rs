@@ -80,7 +80,7 @@ pub(crate) struct Settle {
 /// The warm-up in schedule periods, at least `asked`, after which the
 /// start-up transient of a part placed at rest at `start` adds less than
 /// [`SETTLE_TOL`] to its mean velocity (see the module documentation).
-pub fn warmup(player: &Player<'_>, start: [f64; 2], asked: u32) -> Settle {
+pub(crate) fn warmup(player: &Player<'_>, start: [f64; 2], asked: u32) -> Settle {
     let sm = player.schedule();
     let cycles: u32 = sm.segments().iter().map(|s| s.cycles).sum();
     let cap = SETTLE_MAX_CYCLES.div_ceil(cycles.max(1));

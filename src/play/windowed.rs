@@ -22,8 +22,10 @@ use serde::Serialize;
 
 use super::measure::{play_point, PlayOptions, PointPlay, Windows};
 use super::ScheduleMotion;
+#[cfg(test)]
 use crate::error::Result;
 use crate::field::FieldSettings;
+#[cfg(test)]
 use crate::schedule::Schedule;
 
 /// How long moving parts play a schedule.
@@ -59,7 +61,8 @@ impl Default for MeasureOptions {
 /// Plays `schedule` from each start point `points[i]`, `i` in `starts`, with
 /// the physics of `settings` (in parallel; results in the order of `starts`,
 /// [`PointPlay::index`] = i).
-pub fn play(
+#[cfg(test)]
+pub(crate) fn play(
     schedule: &Schedule,
     points: &[[f64; 2]],
     starts: &[usize],

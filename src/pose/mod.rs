@@ -8,32 +8,58 @@
 mod analysis;
 pub mod design;
 
-pub use analysis::averaged::AveragedTwist;
-pub use analysis::averaged::LiftRow;
+pub use analysis::averaged::AveragedField;
+pub use analysis::averaged::LiftCheck;
 pub use analysis::averaged::{
-    AveragedField, LiftCheck, Slip, AVERAGING_STEPS, AVERAGING_TOLERANCE, CHECKED_POSES,
-    JACOBIAN_STEP, JACOBIAN_STEP_RAD, LOCAL, MAX_AVERAGING_PERIODS,
+    AVERAGING_STEPS, AVERAGING_TOLERANCE, CHECKED_POSES, JACOBIAN_STEP, JACOBIAN_STEP_RAD, LOCAL,
+    MAX_AVERAGING_PERIODS,
 };
 pub use analysis::bounds::Bounds;
-pub use analysis::check::TwistCheck;
-pub use analysis::check::{check_twist, Measure};
-pub use analysis::continua::{
-    eigenvalues, Continuum, CurveEnd, Destination, Motion, Shape, ARRIVE, GAP,
-};
-pub use analysis::drops::{
-    nearest, play_drop, play_drops, play_part, played_basins, DropEnd, DropPlay, PlayedBasins,
-    DROP_REFINE_DEPTH, DROP_SAMPLES,
-};
-pub use analysis::equilibria::Rests;
-pub use analysis::equilibria::{
-    equilibria, rests, settle, settle_on, wrap, End, Equilibrium, Region,
-};
-pub use analysis::lifted::{GridField, LiftedField, PointField, Pose, Twist};
-pub use analysis::request::{check_counts, poses, AnalysisRequest, PoseOutcome, MAX_PLAY_S, SCAN};
-pub use analysis::rests::{
-    played_rests, PlayedRest, RestOutcome, MAX_NEWTON, MAX_RESTS, NEWTON_STOP,
-};
+pub use analysis::check::check_twist;
+pub use analysis::check::Measure;
+#[cfg(test)]
+pub(crate) use analysis::continua::eigenvalues;
+pub use analysis::continua::Continuum;
+pub use analysis::continua::{CurveEnd, Destination, Motion, Shape, ARRIVE, GAP};
+pub(crate) use analysis::drops::nearest;
+pub use analysis::drops::play_drop;
+pub use analysis::drops::play_drops;
+pub use analysis::drops::play_part;
+pub use analysis::drops::played_basins;
+pub use analysis::drops::DropEnd;
+pub use analysis::drops::DropPlay;
+pub use analysis::drops::PlayedBasins;
+pub use analysis::drops::{DROP_REFINE_DEPTH, DROP_SAMPLES};
+pub use analysis::equilibria::equilibria;
+pub use analysis::equilibria::rests;
+pub use analysis::equilibria::settle;
+pub use analysis::equilibria::wrap;
+pub use analysis::equilibria::End;
+pub use analysis::equilibria::Equilibrium;
+pub use analysis::equilibria::Region;
+pub use analysis::lifted::GridField;
+pub use analysis::lifted::LiftedField;
+pub use analysis::lifted::PointField;
+pub use analysis::lifted::Pose;
+pub use analysis::lifted::Twist;
+pub use analysis::request::check_counts;
+pub use analysis::request::poses;
+pub use analysis::request::AnalysisRequest;
+pub use analysis::request::PoseOutcome;
+pub use analysis::request::{MAX_PLAY_S, SCAN};
+pub use analysis::rests::played_rests;
+pub use analysis::rests::PlayedRest;
+pub use analysis::rests::{RestOutcome, MAX_NEWTON, MAX_RESTS, NEWTON_STOP};
+pub use analysis::run::analyse;
+pub use analysis::run::drop_starts;
+pub use analysis::run::PoseAnalysis;
 pub(crate) use analysis::run::Uniform;
-pub use analysis::run::{analyse, drop_starts, PoseAnalysis, MAX_DROPS};
-pub use analysis::source::{realised_field, schedule_field, REALISED_STRIDE};
+pub use analysis::run::MAX_DROPS;
+pub use analysis::source::realised_field;
+pub use analysis::source::schedule_field;
+pub use analysis::source::REALISED_STRIDE;
 pub use analysis::work::{drops_estimate, settle_estimate};
+
+#[cfg(test)]
+#[path = "../../tests/unit/pose_convention.rs"]
+mod pose_convention_tests;

@@ -102,7 +102,7 @@ impl Attractor {
     }
 
     /// The target's convergence rate s (1/s).
-    pub fn rate(&self) -> f64 {
+    pub(crate) fn rate(&self) -> f64 {
         match *self {
             Attractor::Point { rate, .. } | Attractor::Line { rate, .. } => rate,
         }

@@ -10,18 +10,6 @@
 //!
 //! At least two classes: one class is a plain target with a `friction`,
 //! and the error says so.
-//!
-//! ```
-//! use platefield::request::Target;
-//! let t = Target::from_json_str(r#"{
-//!   "grid": {"x": [-0.04, 0.04], "y": [-0.02, 0.02], "n": [9, 5]},
-//!   "classes": [
-//!     {"name": "slippery", "friction": 0.2, "field": {"kind": "sink", "center": [-0.02, 0]}},
-//!     {"name": "sticky", "friction": 0.45, "field": {"kind": "sink", "center": [0.02, 0]}}]}"#)?;
-//! assert_eq!(t.classes.len(), 2);
-//! assert_eq!(t.class_target(1).friction.unwrap().nominal().stat, 0.45);
-//! # Ok::<(), platefield::request::TargetError>(())
-//! ```
 
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
@@ -75,12 +63,7 @@ impl Edge {
     }
 
     /// Its outward unit normal.
-    ///
-    /// ```
-    /// use platefield::request::Edge;
-    /// assert_eq!(Edge::Left.outward(), [-1.0, 0.0]);
-    /// ```
-    pub fn outward(self) -> [f64; 2] {
+    pub(crate) fn outward(self) -> [f64; 2] {
         match self {
             Edge::Left => [-1.0, 0.0],
             Edge::Right => [1.0, 0.0],
@@ -92,17 +75,12 @@ impl Edge {
     /// Where the straight move from `from` (inside the box `x` × `y`) to
     /// `to` first leaves it: the edge crossed and the fraction of the
     /// move at the crossing; `None` when `to` is inside.
-    ///
-    /// ```
-    /// use platefield::request::Edge;
-    /// let x = [-0.5, 0.5];
-    /// let y = [-0.25, 0.25];
-    /// assert_eq!(Edge::crossing([0.25, 0.0], [0.75, 0.0], x, y), Some((Edge::Right, 0.5)));
-    /// // Both bounds passed: the one crossed first.
-    /// assert_eq!(Edge::crossing([0.25, 0.0], [0.75, 0.75], x, y), Some((Edge::Top, 1.0 / 3.0)));
-    /// assert_eq!(Edge::crossing([0.0, 0.0], [0.25, 0.0], x, y), None);
-    /// ```
-    pub fn crossing(from: [f64; 2], to: [f64; 2], x: [f64; 2], y: [f64; 2]) -> Option<(Edge, f64)> {
+    pub(crate) fn crossing(
+        from: [f64; 2],
+        to: [f64; 2],
+        x: [f64; 2],
+        y: [f64; 2],
+    ) -> Option<(Edge, f64)> {
         let fraction = |a: f64, b: f64, bound: f64| {
             let d = b - a;
             (d != 0.0).then(|| ((bound - a) / d).clamp(0.0, 1.0))
@@ -273,7 +251,7 @@ impl Target {
     ///
     /// # Panics
     /// When `i` is not a class index.
-    pub fn class_target(&self, i: usize) -> Target {
+    pub(crate) fn class_target(&self, i: usize) -> Target {
         let c = &self.classes[i];
         Target {
             name: format!("{}/{}", self.name, c.name),
@@ -282,5 +260,49 @@ impl Target {
             classes: Vec::new(),
             ..self.clone()
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// The former doc example of `request::classes`, now crate-private.
+    #[test]
+    fn example_classes() -> Result<(), crate::request::TargetError> {
+        use crate::request::Target;
+        let t = Target::from_json_str(
+            r#"{
+          "grid": {"x": [-0.04, 0.04], "y": [-0.02, 0.02], "n": [9, 5]},
+          "classes": [
+            {"name": "slippery", "friction": 0.2, "field": {"kind": "sink", "center": [-0.02, 0]}},
+            {"name": "sticky", "friction": 0.45, "field": {"kind": "sink", "center": [0.02, 0]}}]}"#,
+        )?;
+        assert_eq!(t.classes.len(), 2);
+        assert_eq!(t.class_target(1).friction.unwrap().nominal().stat, 0.45);
+        Ok(())
+    }
+
+    /// The former doc example of `request::classes::Edge::outward`, now crate-private.
+    #[test]
+    fn example_edge_outward() {
+        use crate::request::Edge;
+        assert_eq!(Edge::Left.outward(), [-1.0, 0.0]);
+    }
+
+    /// The former doc example of `request::classes::Edge::crossing`, now crate-private.
+    #[test]
+    fn example_edge_crossing() {
+        use crate::request::Edge;
+        let x = [-0.5, 0.5];
+        let y = [-0.25, 0.25];
+        assert_eq!(
+            Edge::crossing([0.25, 0.0], [0.75, 0.0], x, y),
+            Some((Edge::Right, 0.5))
+        );
+        // Both bounds passed: the one crossed first.
+        assert_eq!(
+            Edge::crossing([0.25, 0.0], [0.75, 0.75], x, y),
+            Some((Edge::Top, 1.0 / 3.0))
+        );
+        assert_eq!(Edge::crossing([0.0, 0.0], [0.25, 0.0], x, y), None);
     }
 }

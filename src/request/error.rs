@@ -42,7 +42,7 @@ pub enum TargetError {
 
 impl TargetError {
     /// Builds a [`TargetError::Invalid`] for the JSON path `path`.
-    pub fn invalid(path: impl Into<String>, message: impl Into<String>) -> Self {
+    pub(crate) fn invalid(path: impl Into<String>, message: impl Into<String>) -> Self {
         TargetError::Invalid {
             path: path.into(),
             message: message.into(),
@@ -68,7 +68,8 @@ impl TargetError {
 
     /// The JSON path of the offending value, if the error is about one
     /// particular value (looks through [`TargetError::InFile`]).
-    pub fn field_path(&self) -> Option<&str> {
+    #[cfg(test)]
+    pub(crate) fn field_path(&self) -> Option<&str> {
         match self {
             TargetError::Invalid { path, .. } => Some(path),
             TargetError::InFile { error, .. } => error.field_path(),

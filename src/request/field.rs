@@ -299,7 +299,7 @@ fn dot(a: [f64; 2], b: [f64; 2]) -> f64 {
 
 impl FieldSpec {
     /// The `"kind"` string of this field.
-    pub fn kind(&self) -> &'static str {
+    pub(crate) fn kind(&self) -> &'static str {
         match self {
             FieldSpec::Sink { .. } => "sink",
             FieldSpec::Source { .. } => "source",
@@ -480,7 +480,7 @@ impl FieldSpec {
     /// Checks every parameter against its range (the constants of this
     /// module); `path` is the JSON path of this field object (e.g.
     /// `target.field`), used as the prefix of error messages.
-    pub fn validate(&self, path: &str) -> Result<(), TargetError> {
+    pub(crate) fn validate(&self, path: &str) -> Result<(), TargetError> {
         let at = |key: &str| format!("{path}.{key}");
         let unit = match self {
             FieldSpec::Circle { .. } | FieldSpec::Trans { .. } | FieldSpec::Jet { .. } => " m/s",

@@ -25,7 +25,7 @@ fn cover_nodes() -> f64 {
 
 /// The sample grid: the same type as the simulator's grid
 /// ([`crate::field::Grid`]), validated here with the target's own limits.
-pub use crate::field::Grid;
+pub(crate) use crate::field::Grid;
 
 /// The most points per side a target grid over `x × y` may have. The
 /// design simulates each primitive once on a library grid that covers the
@@ -107,7 +107,7 @@ pub const SCATTERED_N: usize = 41;
 /// sample, where a LineSink's plate lifts the part: a dense scattered
 /// target then loses every LineSink to "contact lost" at nodes no part
 /// visits (1000 points over ±4 cm would design to DivCircles only).
-pub fn scattered_grid(points: &[[f64; 2]]) -> Grid {
+pub(crate) fn scattered_grid(points: &[[f64; 2]]) -> Grid {
     if points.is_empty() {
         return Grid::DEFAULT;
     }
@@ -175,7 +175,7 @@ pub enum MaskRegion {
 
 impl MaskRegion {
     /// `true` if `p` lies in the (closed) region.
-    pub fn contains(&self, p: [f64; 2]) -> bool {
+    pub(crate) fn contains(&self, p: [f64; 2]) -> bool {
         match *self {
             MaskRegion::Circle { center, radius } => {
                 let dx = p[0] - center[0];
@@ -190,7 +190,7 @@ impl MaskRegion {
 
     /// Checks the region's parameters; `path` is the JSON path of the
     /// region (e.g. `target.mask[0]`).
-    pub fn validate(&self, path: &str) -> Result<(), TargetError> {
+    pub(crate) fn validate(&self, path: &str) -> Result<(), TargetError> {
         match *self {
             MaskRegion::Circle { center, radius } => {
                 check_finite2(&format!("{path}.circle.center"), center)?;

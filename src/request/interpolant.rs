@@ -45,7 +45,7 @@ pub const MAX_NODES: usize = 129;
 /// **Cost.** Building it costs one search of the samples per node (in
 /// parallel); evaluating it, four node values.
 #[derive(Debug, Clone, PartialEq)]
-pub struct SampledInterpolant {
+pub(crate) struct SampledInterpolant {
     origin: [f64; 2],
     step: [f64; 2],
     nodes: usize,
@@ -57,17 +57,7 @@ impl SampledInterpolant {
     /// The interpolant of the samples `points` with values `vectors` (as
     /// many as points; the shorter list sets the count). No sample gives
     /// the zero field.
-    ///
-    /// ```
-    /// use platefield::request::SampledInterpolant;
-    /// let points = [[0.0, 0.0], [0.01, 0.0], [0.0, 0.01], [0.01, 0.01]];
-    /// // A sink v = −p, reproduced exactly between and beyond the samples.
-    /// let vectors = points.map(|p| [-p[0], -p[1]]);
-    /// let f = SampledInterpolant::new(&points, &vectors);
-    /// let v = f.eval([0.004, 0.02]);
-    /// assert!((v[0] + 0.004).abs() < 1e-12 && (v[1] + 0.02).abs() < 1e-12);
-    /// ```
-    pub fn new(points: &[[f64; 2]], vectors: &[[f64; 2]]) -> SampledInterpolant {
+    pub(crate) fn new(points: &[[f64; 2]], vectors: &[[f64; 2]]) -> SampledInterpolant {
         let n = points.len().min(vectors.len());
         let (points, vectors) = (&points[..n], &vectors[..n]);
         let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
@@ -103,7 +93,7 @@ impl SampledInterpolant {
     }
 
     /// The interpolated field (m/s) at `p` (metres).
-    pub fn eval(&self, p: [f64; 2]) -> [f64; 2] {
+    pub(crate) fn eval(&self, p: [f64; 2]) -> [f64; 2] {
         let m = self.nodes;
         // Cell index clamped to the grid, offset not: linear beyond it.
         let cell = |k: usize| {
@@ -270,5 +260,17 @@ mod tests {
             SampledInterpolant::new(&[], &[]).eval([0.0, 0.0]),
             [0.0, 0.0]
         );
+    }
+
+    /// The former doc example of `request::interpolant::SampledInterpolant::new`, now crate-private.
+    #[test]
+    fn example_sampledinterpolant_new() {
+        use crate::request::SampledInterpolant;
+        let points = [[0.0, 0.0], [0.01, 0.0], [0.0, 0.01], [0.01, 0.01]];
+        // A sink v = −p, reproduced exactly between and beyond the samples.
+        let vectors = points.map(|p| [-p[0], -p[1]]);
+        let f = SampledInterpolant::new(&points, &vectors);
+        let v = f.eval([0.004, 0.02]);
+        assert!((v[0] + 0.004).abs() < 1e-12 && (v[1] + 0.02).abs() < 1e-12);
     }
 }

@@ -27,19 +27,7 @@ fn flip_interval(y: [f64; 2]) -> [f64; 2] {
 impl FieldSpec {
     /// The mirror image f′(q) = S f(S q) in the plane y = 0 (module
     /// documentation).
-    ///
-    /// ```
-    /// use platefield::request::FieldSpec;
-    ///
-    /// let f: FieldSpec = serde_json::from_str(
-    ///     r#"{"kind": "whirlpool", "center": [0.01, 0.02], "rotation": 0.7}"#,
-    /// ).unwrap();
-    /// let m = f.mirrored_y();
-    /// let (q, v) = ([0.013, -0.004], f.eval([0.013, 0.004]));
-    /// let w = m.eval(q);
-    /// assert!((w[0] - v[0]).abs() < 1e-15 && (w[1] + v[1]).abs() < 1e-15);
-    /// ```
-    pub fn mirrored_y(&self) -> FieldSpec {
+    pub(crate) fn mirrored_y(&self) -> FieldSpec {
         match self.clone() {
             FieldSpec::Sink { center, strength } => FieldSpec::Sink {
                 center: flip(center),
@@ -141,7 +129,7 @@ impl FieldSpec {
 
 impl MaskRegion {
     /// The region reflected in y = 0.
-    pub fn mirrored_y(&self) -> MaskRegion {
+    pub(crate) fn mirrored_y(&self) -> MaskRegion {
         match *self {
             MaskRegion::Circle { center, radius } => MaskRegion::Circle {
                 center: flip(center),
@@ -161,19 +149,7 @@ impl Target {
     /// run in reverse), weights (rows reversed to match) and mask
     /// reflected; friction, gravity and shaker as they are. Part classes
     /// are dropped (a sorting target is designed by its own method).
-    ///
-    /// ```
-    /// use platefield::request::Target;
-    ///
-    /// let t = Target::from_json_str(r#"{"name": "s",
-    ///     "grid": {"x": [-0.04, 0.04], "y": [-0.01, 0.03], "n": [5, 5]},
-    ///     "field": {"kind": "sink", "center": [0.01, 0.02]}}"#).unwrap();
-    /// let m = t.mirrored_y();
-    /// assert_eq!(m.grid.unwrap().y, [-0.03, 0.01]);
-    /// let (a, b) = (t.sample().unwrap(), m.sample().unwrap());
-    /// assert_eq!(a.points.len(), b.points.len());
-    /// ```
-    pub fn mirrored_y(&self) -> Target {
+    pub(crate) fn mirrored_y(&self) -> Target {
         Target {
             name: self.name.clone(),
             grid: self.grid.map(|g| Grid {
@@ -272,5 +248,37 @@ mod tests {
             assert!((a.vectors[i][0] - b.vectors[j][0]).abs() < 1e-12);
             assert!((a.vectors[i][1] + b.vectors[j][1]).abs() < 1e-12);
         }
+    }
+
+    /// The former doc example of `request::mirror::FieldSpec::mirrored_y`, now crate-private.
+    #[test]
+    fn example_fieldspec_mirrored_y() {
+        use crate::request::FieldSpec;
+
+        let f: FieldSpec = serde_json::from_str(
+            r#"{"kind": "whirlpool", "center": [0.01, 0.02], "rotation": 0.7}"#,
+        )
+        .unwrap();
+        let m = f.mirrored_y();
+        let (q, v) = ([0.013, -0.004], f.eval([0.013, 0.004]));
+        let w = m.eval(q);
+        assert!((w[0] - v[0]).abs() < 1e-15 && (w[1] + v[1]).abs() < 1e-15);
+    }
+
+    /// The former doc example of `request::mirror::Target::mirrored_y`, now crate-private.
+    #[test]
+    fn example_target_mirrored_y() {
+        use crate::request::Target;
+
+        let t = Target::from_json_str(
+            r#"{"name": "s",
+            "grid": {"x": [-0.04, 0.04], "y": [-0.01, 0.03], "n": [5, 5]},
+            "field": {"kind": "sink", "center": [0.01, 0.02]}}"#,
+        )
+        .unwrap();
+        let m = t.mirrored_y();
+        assert_eq!(m.grid.unwrap().y, [-0.03, 0.01]);
+        let (a, b) = (t.sample().unwrap(), m.sample().unwrap());
+        assert_eq!(a.points.len(), b.points.len());
     }
 }

@@ -219,9 +219,15 @@ pub use field::{
     TRANSPORT_LENGTH, WEIGHT,
 };
 pub(crate) use folder::plain_folder_name;
-pub use grid::{scattered_grid, Grid, MaskRegion, MAX_GRID_N, SCATTERED_N, SCATTERED_SPACING};
-pub use interpolant::{SampledInterpolant, LINEAR_NEIGHBORS, MAX_NODES, MIN_NODES};
-pub use shaker::{ShakerSpec, Tolerance, TravelSpec, MAX_HARMONICS, MAX_PERIOD_S, MIN_PERIOD_S};
+pub(crate) use grid::scattered_grid;
+pub(crate) use grid::Grid;
+pub use grid::{MaskRegion, MAX_GRID_N, SCATTERED_N, SCATTERED_SPACING};
+pub(crate) use interpolant::SampledInterpolant;
+pub use interpolant::{LINEAR_NEIGHBORS, MAX_NODES, MIN_NODES};
+pub use shaker::ShakerSpec;
+pub use shaker::Tolerance;
+pub(crate) use shaker::TravelSpec;
+pub use shaker::{MAX_HARMONICS, MAX_PERIOD_S, MIN_PERIOD_S};
 
 use error::show;
 
@@ -300,11 +306,6 @@ impl SampledTarget {
     /// Number of sample points.
     pub fn len(&self) -> usize {
         self.points.len()
-    }
-
-    /// `true` if there are no sample points.
-    pub fn is_empty(&self) -> bool {
-        self.points.is_empty()
     }
 
     /// Largest `|f|` (m/s) over points with a positive weight.

@@ -78,13 +78,7 @@ pub struct TravelSpec {
 impl TravelSpec {
     /// The six limits in signal order (linear x, y, z, angular x, y, z);
     /// an axis not limited is `f64::INFINITY`.
-    ///
-    /// ```
-    /// use platefield::request::TravelSpec;
-    /// let t = TravelSpec { linear: Some([1e-3, 2e-3, 0.0]), angular: None };
-    /// assert_eq!(t.axes(), [1e-3, 2e-3, 0.0, f64::INFINITY, f64::INFINITY, f64::INFINITY]);
-    /// ```
-    pub fn axes(&self) -> [f64; 6] {
+    pub(crate) fn axes(&self) -> [f64; 6] {
         let inf = [f64::INFINITY; 3];
         let (l, a) = (self.linear.unwrap_or(inf), self.angular.unwrap_or(inf));
         [l[0], l[1], l[2], a[0], a[1], a[2]]
@@ -224,7 +218,7 @@ pub struct ShakerSpec {
 impl ShakerSpec {
     /// Checks every value given against its range (see the module docs);
     /// errors name `{field}.period`, `{field}.linear[i]`, ….
-    pub fn validate(&self, field: &str) -> Result<(), TargetError> {
+    pub(crate) fn validate(&self, field: &str) -> Result<(), TargetError> {
         if let Some(p) = self.period {
             if !(p.is_finite() && (MIN_PERIOD_S..=MAX_PERIOD_S).contains(&p)) {
                 return Err(TargetError::invalid(
@@ -280,5 +274,22 @@ impl ShakerSpec {
             }
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// The former doc example of `request::shaker::TravelSpec::axes`, now crate-private.
+    #[test]
+    fn example_travelspec_axes() {
+        use crate::request::TravelSpec;
+        let t = TravelSpec {
+            linear: Some([1e-3, 2e-3, 0.0]),
+            angular: None,
+        };
+        assert_eq!(
+            t.axes(),
+            [1e-3, 2e-3, 0.0, f64::INFINITY, f64::INFINITY, f64::INFINITY]
+        );
     }
 }

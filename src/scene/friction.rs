@@ -45,7 +45,7 @@ pub struct Interval {
 
 impl Interval {
     /// A coefficient known exactly.
-    pub fn exact(v: f64) -> Interval {
+    pub(crate) fn exact(v: f64) -> Interval {
         Interval { lo: v, hi: v }
     }
 
@@ -61,7 +61,7 @@ impl Interval {
 
     /// `n` values evenly spread from `lo` to `hi` (the middle alone for
     /// `n` = 1 or an exact value).
-    pub fn spread(&self, n: usize) -> Vec<f64> {
+    pub(crate) fn spread(&self, n: usize) -> Vec<f64> {
         if self.is_exact() || n <= 1 {
             return vec![self.mid()];
         }
@@ -217,7 +217,7 @@ impl FrictionSpec {
     /// Checks every coefficient (finite, in [0, [`MU`]], ranges low to
     /// high) and that static is not below kinetic, naming the JSON path
     /// under `path` (`target.friction`) where the value was written.
-    pub fn validate(&self, path: &str) -> Result<()> {
+    pub(crate) fn validate(&self, path: &str) -> Result<()> {
         if self.tied {
             return self.kinetic.validate(path);
         }
@@ -240,16 +240,7 @@ impl FrictionSpec {
     /// low end, of a range) is at least `MU_DRIVEN`: parts on a
     /// frictionless plate cannot be driven. Errors name the key under
     /// `path` that holds the kinetic coefficient.
-    ///
-    /// ```
-    /// use platefield::scene::FrictionSpec;
-    /// assert!(FrictionSpec::uniform(0.3).validate_driven("target.friction").is_ok());
-    /// let e = FrictionSpec::uniform(0.0).validate_driven("target.friction").unwrap_err();
-    /// assert!(e.to_string().starts_with("target.friction: μ_k = 0 is a frictionless plate"));
-    /// let e = FrictionSpec::range(-0.0, 0.4).validate_driven("target.friction").unwrap_err();
-    /// assert!(e.to_string().starts_with("target.friction[0]: μ_k = 0 "));
-    /// ```
-    pub fn validate_driven(&self, path: &str) -> Result<()> {
+    pub(crate) fn validate_driven(&self, path: &str) -> Result<()> {
         self.validate(path)?;
         let lo = self.kinetic.lo;
         if lo >= MU_DRIVEN {
@@ -488,5 +479,24 @@ mod tests {
         let s = FrictionSpec::around(Friction::uniform(0.3), 0.2);
         assert!(s.tied);
         assert!((s.kinetic.lo - 0.24).abs() < 1e-15 && (s.kinetic.hi - 0.36).abs() < 1e-15);
+    }
+
+    /// The former doc example of `scene::friction::FrictionSpec::validate_driven`, now crate-private.
+    #[test]
+    fn example_frictionspec_validate_driven() {
+        use crate::scene::FrictionSpec;
+        assert!(FrictionSpec::uniform(0.3)
+            .validate_driven("target.friction")
+            .is_ok());
+        let e = FrictionSpec::uniform(0.0)
+            .validate_driven("target.friction")
+            .unwrap_err();
+        assert!(e
+            .to_string()
+            .starts_with("target.friction: μ_k = 0 is a frictionless plate"));
+        let e = FrictionSpec::range(-0.0, 0.4)
+            .validate_driven("target.friction")
+            .unwrap_err();
+        assert!(e.to_string().starts_with("target.friction[0]: μ_k = 0 "));
     }
 }

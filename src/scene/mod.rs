@@ -63,12 +63,14 @@ use crate::field::{FieldKind, FieldSettings, Grid};
 use crate::input;
 use crate::motion::Motion;
 
-pub use friction::Interval;
-pub use friction::{FrictionSpec, MU};
-pub use request::{field, FieldRequest};
-pub use validate::primitive as validate_primitive;
+pub use friction::FrictionSpec;
+pub(crate) use friction::Interval;
+pub use friction::MU;
+pub use request::field;
+pub use request::FieldRequest;
+pub(crate) use validate::primitive as validate_primitive;
 pub(crate) use validate::resolved as validate_resolved;
-pub use validate::signals as validate_signals;
+pub(crate) use validate::signals as validate_signals;
 pub(crate) use validate::{
     ANGULAR_ACCEL, GRAVITY, GRAVITY_MIN, LINEAR_ACCEL, MAX_ITERATIONS, PERIOD,
 };

@@ -209,7 +209,7 @@ fn screw(s: &Screw, path: &str) -> Result<()> {
 /// `LINEAR_ACCEL` or `ANGULAR_ACCEL`, phase within ±1000 rad,
 /// harmonic in `HARMONIC`); errors name `path.linear.x[0].amplitude` etc.
 /// Used for scene signals and for schedule segments alike.
-pub fn signals(s: &Signals, path: &str) -> Result<()> {
+pub(crate) fn signals(s: &Signals, path: &str) -> Result<()> {
     period(&format!("{path}.period"), s.period)?;
     let groups: [(&str, &Axes, Role); 2] = [
         ("linear", &s.linear, TRANSLATION_ROLE),
@@ -287,7 +287,7 @@ pub(crate) fn resolved(m: &Motion, path: &str, steps: usize, steps_path: &str) -
 /// `TRANSLATION`, depth and shift within `GRID_EXTENT`) and its resolved
 /// motion's peak accelerations; errors name `path.<parameter>`. Used for
 /// scene primitives and for schedule segments alike.
-pub fn primitive(p: &Primitive, path: &str) -> Result<()> {
+pub(crate) fn primitive(p: &Primitive, path: &str) -> Result<()> {
     let two_pi = 2.0 * std::f64::consts::PI;
     let (lo, hi) = (two_pi / PERIOD.end(), two_pi / PERIOD.start());
     within(&format!("{path}.omega"), p.omega, lo, hi, " rad/s")?;
@@ -333,7 +333,7 @@ impl Scene {
     /// Checks every value against its allowed range (the constants of
     /// this module); the first problem found is returned, naming its JSON
     /// path and the range.
-    pub fn validate(&self) -> Result<()> {
+    pub(crate) fn validate(&self) -> Result<()> {
         let path = "scene.motion";
         match &self.motion {
             SceneMotion::Motion(Motion::Screw(s)) => screw(s, path)?,

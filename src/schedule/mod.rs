@@ -46,8 +46,13 @@ use crate::fit::FitMetrics;
 use crate::motion::{Motion, Ramped, Signals};
 use crate::request::Target;
 
-pub use played::PoseBasin;
-pub use played::{AxisPeaks, Method, Played, PoseAtFriction, PoseOverFriction, PosePlayed};
+pub use played::AxisPeaks;
+pub use played::Method;
+pub use played::Played;
+pub use played::PoseAtFriction;
+pub(crate) use played::PoseBasin;
+pub use played::PoseOverFriction;
+pub use played::PosePlayed;
 pub(crate) use quantize::quantize;
 pub(crate) use quantize::Quantized;
 pub use quantize::{DEFAULT_MIN_CYCLES, DEFAULT_QUANTIZATION_TOL};
@@ -392,7 +397,7 @@ impl Schedule {
     /// and 1..=`MAX_SEGMENT_CYCLES` cycles; rest segments with a finite
     /// duration ≥ 0; a period of at most [`MAX_PERIOD_S`]; weights finite
     /// and ≥ 0; valid settings and target.
-    pub fn validate(&self) -> Result<()> {
+    pub(crate) fn validate(&self) -> Result<()> {
         if self.segments.is_empty() {
             return Err(Error::invalid(
                 "segments",
@@ -618,18 +623,7 @@ impl Schedule {
     /// of its segments as compact JSON (what its export plays; the design
     /// report beside them does not count). `export` writes it in the
     /// CSV's header and `verify --replay` checks it.
-    ///
-    /// ```
-    /// use platefield::schedule::Schedule;
-    /// let s = Schedule::load("results/synthesized/sink/schedule.json".as_ref())?;
-    /// let f = s.fingerprint();
-    /// assert_eq!(f.len(), 16);
-    /// let mut other = s.clone();
-    /// other.segments[0].cycles += 1;
-    /// assert_ne!(other.fingerprint(), f);
-    /// # Ok::<(), platefield::Error>(())
-    /// ```
-    pub fn fingerprint(&self) -> String {
+    pub(crate) fn fingerprint(&self) -> String {
         use sha2::{Digest, Sha256};
         let json = serde_json::to_string(&self.segments).unwrap_or_default();
         Sha256::digest(json.as_bytes())
@@ -653,5 +647,21 @@ fn prefix_origin(e: Error, origin: &str) -> Error {
     match e {
         Error::Invalid { field, message } => Error::invalid(format!("{origin}: {field}"), message),
         e => e,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// The former doc example of `schedule::Schedule::fingerprint`, now crate-private.
+    #[test]
+    fn example_schedule_fingerprint() -> Result<(), crate::Error> {
+        use crate::schedule::Schedule;
+        let s = Schedule::load("results/synthesized/sink/schedule.json".as_ref())?;
+        let f = s.fingerprint();
+        assert_eq!(f.len(), 16);
+        let mut other = s.clone();
+        other.segments[0].cycles += 1;
+        assert_ne!(other.fingerprint(), f);
+        Ok(())
     }
 }

@@ -4,7 +4,7 @@
 //! not drift ([module documentation](super)); the simulated field of the
 //! seed comes out *turned* against the target (by about ten degrees on the
 //! lab sink and the saddle with the sequenced limits: a shape error near
-//! 20 % at nearly the predicted strength; `tests/synth.rs`
+//! 20 % at nearly the predicted strength; `tests/unit/synth.rs`
 //! `seed_predicts_the_simulated_sink`). Shifting the phase of harmonic 1 of
 //! every normal-force signal (a_z, α_x, α_y) by φ turns the predicted
 //! velocity (W/g)(Q_N, P_N) clockwise by φ (Q_N + iP_N → e^{−iφ}(Q_N + iP_N))
@@ -41,7 +41,7 @@ pub fn shifted(c: &Coefficients, phi: f64) -> Coefficients {
 
 /// Calibrates the phase of `seed` (evaluated as `seed_eval`) on
 /// `objective`; returns the best evaluation (see the module docs).
-pub fn calibrate(
+pub(crate) fn calibrate(
     objective: &Objective<'_>,
     seed: &Coefficients,
     seed_eval: &Evaluation,

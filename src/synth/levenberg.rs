@@ -35,6 +35,7 @@
 //! `spent()` says its budget is gone (checked before every batch).
 
 use nalgebra::{DMatrix, DVector};
+#[cfg(test)]
 use rayon::prelude::*;
 
 use crate::error::{Error, Result};
@@ -79,13 +80,7 @@ impl LmOptions {
     /// batch: the start, then per step the n Jacobian columns and the two
     /// tries (the work estimate's count, [`crate::work`]; a rejected try
     /// adds two, a run that stops early takes fewer).
-    ///
-    /// ```
-    /// use platefield::synth::levenberg::LmOptions;
-    /// let lm = LmOptions { max_iterations: 4, ..LmOptions::default() };
-    /// assert_eq!(lm.evaluations(10), 1 + 4 * 12);
-    /// ```
-    pub fn evaluations(&self, n: usize) -> usize {
+    pub(crate) fn evaluations(&self, n: usize) -> usize {
         1 + self.max_iterations * (n + 2)
     }
 }
@@ -100,7 +95,7 @@ pub use crate::work::Stop;
 
 /// The result of one run.
 #[derive(Debug, Clone, PartialEq)]
-pub struct LmReport {
+pub(crate) struct LmReport {
     /// The best point found.
     pub x: Vec<f64>,
     /// Its cost ½‖r‖².
@@ -120,7 +115,8 @@ pub(crate) fn half_squared(r: &[f64]) -> f64 {
 
 /// A batch evaluator from a residual function: the points evaluated in
 /// parallel (rayon), the residual vectors returned in the points' order.
-pub fn parallel<F>(f: F) -> impl Fn(&[Vec<f64>]) -> Result<Vec<Vec<f64>>>
+#[cfg(test)]
+pub(crate) fn parallel<F>(f: F) -> impl Fn(&[Vec<f64>]) -> Result<Vec<Vec<f64>>>
 where
     F: Fn(&[f64]) -> Vec<f64> + Sync,
 {
@@ -207,24 +203,7 @@ fn capped(d: Vec<f64>, max: f64) -> Vec<f64> {
 /// `batch` fails, or returns residual vectors of changing length.
 ///
 /// # Examples
-///
-/// ```
-/// use platefield::synth::levenberg::{levenberg_marquardt, parallel, LmOptions};
-///
-/// // Rosenbrock as residuals: (10 (y − x²), 1 − x); minimum at (1, 1).
-/// let r = parallel(|p: &[f64]| vec![10.0 * (p[1] - p[0] * p[0]), 1.0 - p[0]]);
-/// let options = LmOptions {
-///     max_iterations: 200,
-///     step: 1e-7,
-///     abs_cost: 1e-20,
-///     min_improvement: 0.0,
-///     max_rejections: 20,
-///     ..LmOptions::default()
-/// };
-/// let fit = levenberg_marquardt(&[-1.2, 1.0], &r, || false, &options).unwrap();
-/// assert!((fit.x[0] - 1.0).abs() < 1e-6 && (fit.x[1] - 1.0).abs() < 1e-6);
-/// ```
-pub fn levenberg_marquardt<B, S>(
+pub(crate) fn levenberg_marquardt<B, S>(
     x0: &[f64],
     batch: &B,
     spent: S,
@@ -430,5 +409,35 @@ mod tests {
         assert_eq!(fit.x, vec![-1.2, 1.0]);
         assert_eq!(fit.stop, Stop::Spent);
         assert_eq!(fit.evaluations, 1);
+    }
+
+    /// The former doc example of `synth::levenberg::LmOptions::evaluations`, now crate-private.
+    #[test]
+    fn example_lmoptions_evaluations() {
+        use crate::synth::levenberg::LmOptions;
+        let lm = LmOptions {
+            max_iterations: 4,
+            ..LmOptions::default()
+        };
+        assert_eq!(lm.evaluations(10), 1 + 4 * 12);
+    }
+
+    /// The former doc example of `synth::levenberg::levenberg_marquardt`, now crate-private.
+    #[test]
+    fn example_levenberg_marquardt() {
+        use crate::synth::levenberg::{levenberg_marquardt, parallel, LmOptions};
+
+        // Rosenbrock as residuals: (10 (y − x²), 1 − x); minimum at (1, 1).
+        let r = parallel(|p: &[f64]| vec![10.0 * (p[1] - p[0] * p[0]), 1.0 - p[0]]);
+        let options = LmOptions {
+            max_iterations: 200,
+            step: 1e-7,
+            abs_cost: 1e-20,
+            min_improvement: 0.0,
+            max_rejections: 20,
+            ..LmOptions::default()
+        };
+        let fit = levenberg_marquardt(&[-1.2, 1.0], &r, || false, &options).unwrap();
+        assert!((fit.x[0] - 1.0).abs() < 1e-6 && (fit.x[1] - 1.0).abs() < 1e-6);
     }
 }

@@ -56,7 +56,7 @@
 //! PPOD's library alone is `{"period": 0.05, "linear": [20, 20, 7],
 //! "angular": [100, 100, 100]}`.
 //!
-//! `tests/synth.rs` holds these numbers against the computation.
+//! `tests/unit/synth.rs` holds these numbers against the computation.
 
 use serde::{Deserialize, Serialize};
 
@@ -256,20 +256,6 @@ impl ShakerLimits {
     /// z, angular x, y, z), each lowered to what a harmonic-1 term may have
     /// under the axis's velocity and stroke limits, min(v ω, s ω²) with
     /// ω = 2π/T (see the module documentation).
-    ///
-    /// ```
-    /// use platefield::request::TravelSpec;
-    /// use platefield::synth::ShakerLimits;
-    /// let mut l = ShakerLimits::lab_class(); // T = 0.05 s, 10 m/s² on x
-    /// assert_eq!(l.axes()[0], 10.0);
-    /// // 1 mm of stroke at ω = 40π rad/s allows 1e-3 ω² ≈ 15.8 m/s²: no change.
-    /// l.stroke = Some(TravelSpec { linear: Some([1e-3; 3]), angular: None });
-    /// assert_eq!(l.axes()[0], 10.0);
-    /// // 0.25 mm allows 3.95 m/s².
-    /// l.stroke = Some(TravelSpec { linear: Some([2.5e-4; 3]), angular: None });
-    /// let w = std::f64::consts::TAU / 0.05;
-    /// assert!((l.axes()[0] - 2.5e-4 * w * w).abs() < 1e-12);
-    /// ```
     pub fn axes(&self) -> [f64; 6] {
         let w = std::f64::consts::TAU / self.period;
         let (accel, v, s) = (
@@ -309,11 +295,36 @@ impl ShakerLimits {
     /// Validates every value; errors name `{field}.period`,
     /// `{field}.linear[i]`, … (the target file's `field` is `shaker`) and
     /// the allowed range.
-    pub fn validate(&self, field: &str) -> Result<()> {
+    pub(crate) fn validate(&self, field: &str) -> Result<()> {
         // The ranges live with the target file's `shaker` object.
         self.to_spec().validate(field).map_err(|e| {
             let (at, message) = e.located();
             Error::invalid(at, message)
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// The former doc example of `synth::limits::ShakerLimits::axes`, now crate-private.
+    #[test]
+    fn example_shakerlimits_axes() {
+        use crate::request::TravelSpec;
+        use crate::synth::ShakerLimits;
+        let mut l = ShakerLimits::lab_class(); // T = 0.05 s, 10 m/s² on x
+        assert_eq!(l.axes()[0], 10.0);
+        // 1 mm of stroke at ω = 40π rad/s allows 1e-3 ω² ≈ 15.8 m/s²: no change.
+        l.stroke = Some(TravelSpec {
+            linear: Some([1e-3; 3]),
+            angular: None,
+        });
+        assert_eq!(l.axes()[0], 10.0);
+        // 0.25 mm allows 3.95 m/s².
+        l.stroke = Some(TravelSpec {
+            linear: Some([2.5e-4; 3]),
+            angular: None,
+        });
+        let w = std::f64::consts::TAU / 0.05;
+        assert!((l.axes()[0] - 2.5e-4 * w * w).abs() < 1e-12);
     }
 }

@@ -129,7 +129,7 @@
 //! Under lab limits the seed's sink field comes out slightly weaker than
 //! predicted and turned by several degrees; shifting the tilt phases by
 //! that turn brings it close to the target, and refinement keeps it there
-//! (measured: `tests/synth.rs`, `seed_predicts_the_simulated_sink`,
+//! (measured: `tests/unit/synth.rs`, `seed_predicts_the_simulated_sink`,
 //! `calibration_turns_the_seed_back`). Non-affine targets (jet, off-centre circle) get
 //! their affine part only: they need higher harmonics, rotation about z or
 //! a sequence of synthesized motions.
@@ -141,7 +141,7 @@
 //! above is that of a part under N = g), and shifting the normal-force
 //! signals' phase by the simulated turn removes it without changing any
 //! amplitude (so the peaks and the contact margin are the seed's), in one
-//! step on the lab sink (`tests/synth.rs`,
+//! step on the lab sink (`tests/unit/synth.rs`,
 //! `calibration_turns_the_seed_back`). Then `least_squares` runs Levenberg–Marquardt
 //! ([`levenberg`]) on the six signals' Fourier coefficients ([`params`])
 //! from the calibrated seed: the residuals are the coarse grid's
@@ -189,7 +189,13 @@ mod synthesize;
 pub mod transport;
 
 pub use limits::ShakerLimits;
-pub use synthesize::AxisPeak;
-pub use synthesize::{
-    synthesize, synthesize_classes, Checked, SynthOptions, Synthesis, POLISH_LM, SYNTH_LM,
-};
+pub use synthesize::synthesize;
+pub(crate) use synthesize::synthesize_classes;
+pub(crate) use synthesize::Checked;
+pub use synthesize::SynthOptions;
+pub use synthesize::Synthesis;
+pub use synthesize::{POLISH_LM, SYNTH_LM};
+
+#[cfg(test)]
+#[path = "../../tests/unit/synth.rs"]
+mod synthesis_tests;

@@ -179,7 +179,7 @@ fn run(
 ///
 /// # Errors
 /// The optimizer fails for a reason other than the budget.
-pub fn search(
+pub(crate) fn search(
     objective: &Objective<'_>,
     x0: &[f64],
     extra: &[Vec<f64>],

@@ -200,7 +200,7 @@ pub(crate) fn shape_block(raw: &[f64], e: f64, budget: f64) -> Vec<f64> {
 
 /// One evaluated candidate.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Evaluation {
+pub(crate) struct Evaluation {
     /// The parameter vector.
     pub params: Vec<f64>,
     /// Cost (see the module docs).
@@ -222,7 +222,7 @@ struct Tally {
 }
 
 /// The coarse-grid objective (driven by argmin through [`super::multistart`]).
-pub struct Objective<'a> {
+pub(crate) struct Objective<'a> {
     layout: Layout,
     limits: &'a ShakerLimits,
     settings: &'a FieldSettings,
@@ -247,7 +247,7 @@ pub struct Objective<'a> {
 impl<'a> Objective<'a> {
     /// The objective for `field` on `grid`.
     #[allow(clippy::too_many_arguments)]
-    pub fn new(
+    pub(crate) fn new(
         field: &FieldSpec,
         grid: Grid,
         limits: &'a ShakerLimits,
@@ -375,7 +375,7 @@ impl<'a> Objective<'a> {
 
     /// The motion a parameter vector stands for (clamped onto the limits)
     /// and its relative peak excess before clamping.
-    pub fn motion(&self, params: &[f64]) -> (Coefficients, f64) {
+    pub(crate) fn motion(&self, params: &[f64]) -> (Coefficients, f64) {
         let mut c = self.layout.from_vec(params);
         let excess = c.clamp(self.limits);
         (c, excess)
@@ -480,7 +480,7 @@ impl<'a> Objective<'a> {
     }
 
     /// Evaluations so far.
-    pub fn evaluations(&self) -> usize {
+    pub(crate) fn evaluations(&self) -> usize {
         self.tally
             .lock()
             .unwrap_or_else(|p| p.into_inner())

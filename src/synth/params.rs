@@ -43,7 +43,7 @@ impl Coefficients {
     }
 
     /// Harmonics per axis.
-    pub fn harmonics(&self) -> usize {
+    pub(crate) fn harmonics(&self) -> usize {
         self.c[0].len()
     }
 
@@ -54,7 +54,7 @@ impl Coefficients {
 
     /// The coefficients of `signals` with up to `harmonics` harmonics (terms
     /// of the same harmonic are summed; higher harmonics are dropped).
-    pub fn from_signals(signals: &Signals, harmonics: u32) -> Coefficients {
+    pub(crate) fn from_signals(signals: &Signals, harmonics: u32) -> Coefficients {
         let mut out = Coefficients::zero(signals.period, harmonics);
         let groups = [&signals.linear, &signals.angular];
         for (g, axes) in groups.iter().enumerate() {
@@ -171,7 +171,7 @@ impl Coefficients {
     /// Then, where `limits` give a velocity or stroke limit, every axis
     /// whose summed velocity or displacement ([`Coefficients::antiderivative`])
     /// peaks above it is scaled onto it too, its relative excess added.
-    pub fn clamp(&mut self, limits: &ShakerLimits) -> f64 {
+    pub(crate) fn clamp(&mut self, limits: &ShakerLimits) -> f64 {
         let excess = self.clamp_acceleration(limits);
         if limits.velocity.is_none() && limits.stroke.is_none() {
             return excess;
@@ -232,16 +232,7 @@ impl Coefficients {
     /// c sin(nωt) + s cos(nωt) integrates to (s sin(nωt) − c cos(nωt))/(nω).
     /// Applied to accelerations it gives velocities; applied twice, the
     /// displacement from the mean pose.
-    ///
-    /// ```
-    /// use platefield::synth::params::Coefficients;
-    /// let mut c = Coefficients::zero(0.05, 2);
-    /// c.set(0, 2, 10.0, 0.3); // 10 m/s² at harmonic 2
-    /// let w = 2.0 * std::f64::consts::TAU / 0.05;
-    /// let stroke = c.antiderivative().antiderivative();
-    /// assert!((stroke.peak(0) - 10.0 / (w * w)).abs() < 1e-15);
-    /// ```
-    pub fn antiderivative(&self) -> Coefficients {
+    pub(crate) fn antiderivative(&self) -> Coefficients {
         let w = 2.0 * PI / self.period;
         let mut out = self.clone();
         for axis in &mut out.c {
@@ -285,13 +276,8 @@ impl Layout {
         self.free().count() * 2 * self.harmonics as usize
     }
 
-    /// True when no axis is free.
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-
     /// Parameter vector of `c` (entries divided by the axis limit).
-    pub fn to_vec(&self, c: &Coefficients) -> Vec<f64> {
+    pub(crate) fn to_vec(&self, c: &Coefficients) -> Vec<f64> {
         let mut v = Vec::with_capacity(self.len());
         for a in self.free() {
             for k in 0..self.harmonics as usize {
@@ -304,7 +290,7 @@ impl Layout {
     }
 
     /// Coefficients of parameter vector `v` (of length [`Layout::len`]).
-    pub fn from_vec(&self, v: &[f64]) -> Coefficients {
+    pub(crate) fn from_vec(&self, v: &[f64]) -> Coefficients {
         let mut c = Coefficients::zero(self.period, self.harmonics);
         let mut it = v.iter();
         for a in self.free() {
@@ -315,5 +301,19 @@ impl Layout {
             }
         }
         c
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// The former doc example of `synth::params::Coefficients::antiderivative`, now crate-private.
+    #[test]
+    fn example_coefficients_antiderivative() {
+        use crate::synth::params::Coefficients;
+        let mut c = Coefficients::zero(0.05, 2);
+        c.set(0, 2, 10.0, 0.3); // 10 m/s² at harmonic 2
+        let w = 2.0 * std::f64::consts::TAU / 0.05;
+        let stroke = c.antiderivative().antiderivative();
+        assert!((stroke.peak(0) - 10.0 / (w * w)).abs() < 1e-15);
     }
 }

@@ -12,11 +12,11 @@ pub use crate::progress::ProgressMode;
 
 /// Shared progress of one synthesis.
 #[derive(Debug)]
-pub struct SynthesisProgress(crate::progress::Progress);
+pub(crate) struct SynthesisProgress(crate::progress::Progress);
 
 impl SynthesisProgress {
     /// Progress over `total` evaluations.
-    pub fn new(mode: ProgressMode, total: usize) -> SynthesisProgress {
+    pub(crate) fn new(mode: ProgressMode, total: usize) -> SynthesisProgress {
         SynthesisProgress(crate::progress::Progress::new(
             "synthesis",
             "evaluations",

@@ -30,19 +30,10 @@ pub(crate) const ROBUST_VALUES: usize = 3;
 /// `settings` alone when `spec` is `None` or exact. Never empty.
 ///
 /// # Examples
-/// ```
-/// use platefield::field::FieldSettings;
-/// use platefield::scene::FrictionSpec;
-/// use platefield::synth::robust::judged_under;
-///
-/// let base = FieldSettings::default();
-/// let set = judged_under(&base, Some(FrictionSpec::range(0.2, 0.4)));
-/// let mu: Vec<f64> = set.iter().map(|s| s.friction.kinetic).collect();
-/// assert_eq!(mu.len(), 3);
-/// assert!((mu[0] - 0.2).abs() < 1e-12 && (mu[2] - 0.4).abs() < 1e-12);
-/// assert_eq!(judged_under(&base, None).len(), 1);
-/// ```
-pub fn judged_under(settings: &FieldSettings, spec: Option<FrictionSpec>) -> Vec<FieldSettings> {
+pub(crate) fn judged_under(
+    settings: &FieldSettings,
+    spec: Option<FrictionSpec>,
+) -> Vec<FieldSettings> {
     let spread = match spec {
         Some(s) if !s.is_exact() => s.values(ROBUST_VALUES),
         _ => Vec::new(),
@@ -57,4 +48,22 @@ pub fn judged_under(settings: &FieldSettings, spec: Option<FrictionSpec>) -> Vec
             ..*settings
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    /// The former doc example of `synth::robust::judged_under`, now crate-private.
+    #[test]
+    fn example_judged_under() {
+        use crate::field::FieldSettings;
+        use crate::scene::FrictionSpec;
+        use crate::synth::robust::judged_under;
+
+        let base = FieldSettings::default();
+        let set = judged_under(&base, Some(FrictionSpec::range(0.2, 0.4)));
+        let mu: Vec<f64> = set.iter().map(|s| s.friction.kinetic).collect();
+        assert_eq!(mu.len(), 3);
+        assert!((mu[0] - 0.2).abs() < 1e-12 && (mu[2] - 0.4).abs() < 1e-12);
+        assert_eq!(judged_under(&base, None).len(), 1);
+    }
 }

@@ -73,15 +73,6 @@ impl AffineFit {
             residual: if norm > 0.0 { (err / norm).sqrt() } else { 0.0 },
         }
     }
-
-    /// M q + b.
-    pub fn eval(&self, q: [f64; 2]) -> [f64; 2] {
-        let m = &self.m;
-        [
-            m[0][0] * q[0] + m[0][1] * q[1] + self.b[0],
-            m[1][0] * q[0] + m[1][1] * q[1] + self.b[1],
-        ]
-    }
 }
 
 /// The averaged-friction model of a circular-translation motion: what it
@@ -105,7 +96,7 @@ pub struct AveragedCircle {
 
 impl AveragedCircle {
     /// The model for translation amplitude `a` (> μ_k g) at `period`.
-    pub fn new(a: f64, period: f64, friction: Friction, gravity: f64) -> AveragedCircle {
+    pub(crate) fn new(a: f64, period: f64, friction: Friction, gravity: f64) -> AveragedCircle {
         let omega = 2.0 * PI / period;
         let mu = friction.kinetic;
         let lead = (mu * gravity / a).clamp(-1.0, 1.0).asin();
@@ -143,13 +134,15 @@ impl AveragedCircle {
 
     /// Predicted mean friction force per unit mass while slipping,
     /// μ ⟨N ê⟩ = (μ/2)(Q_N, P_N) (m/s²).
-    pub fn force(&self, c: &Coefficients, q: [f64; 2]) -> [f64; 2] {
+    #[cfg(test)]
+    pub(crate) fn force(&self, c: &Coefficients, q: [f64; 2]) -> [f64; 2] {
         let [p, qq] = self.normal_pq(c, q);
         [0.5 * self.mu * qq, 0.5 * self.mu * p]
     }
 
     /// Predicted steady drift velocity (W/g)(Q_N, P_N) (m/s).
-    pub fn velocity(&self, c: &Coefficients, q: [f64; 2]) -> [f64; 2] {
+    #[cfg(test)]
+    pub(crate) fn velocity(&self, c: &Coefficients, q: [f64; 2]) -> [f64; 2] {
         let [p, qq] = self.normal_pq(c, q);
         let k = self.slip_speed / self.gravity;
         [k * qq, k * p]

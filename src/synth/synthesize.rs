@@ -289,31 +289,9 @@ pub fn synthesize(
 /// The seed, the calibration and the reported check are those of the first
 /// class; callers re-simulate the motion at every class's friction.
 ///
-/// ```
-/// use platefield::dynamics::Friction;
-/// use platefield::field::{FieldSettings, Grid};
-/// use platefield::request::FieldSpec;
-/// use platefield::synth::{synthesize_classes, ShakerLimits, SynthOptions};
-///
-/// let at = |mu: f64| FieldSettings { friction: Friction::uniform(mu), ..FieldSettings::default() };
-/// let sink = |x: f64| FieldSpec::Sink { center: [x, 0.0], strength: 1.0 };
-/// let region = Grid { x: [-0.02, 0.02], y: [-0.01, 0.01], n: [5, 3] };
-/// let options = SynthOptions {
-///     coarse: [3, 3],
-///     max_evaluations: 4,
-///     lm: None,
-///     progress: platefield::progress::ProgressMode::Quiet,
-///     ..SynthOptions::default()
-/// };
-/// let classes = [(sink(-0.01), at(0.2)), (sink(0.01), at(0.45))];
-/// let s = synthesize_classes(&classes, &region, &ShakerLimits::default(), &options)?;
-/// assert!(s.evaluations <= 6);
-/// # Ok::<(), platefield::Error>(())
-/// ```
-///
 /// # Errors
 /// No classes; those of [`synthesize`].
-pub fn synthesize_classes(
+pub(crate) fn synthesize_classes(
     classes: &[(FieldSpec, FieldSettings)],
     region: &Grid,
     limits: &ShakerLimits,
@@ -511,7 +489,7 @@ impl Checked {
     /// `field`, the least N over the region (kinematic and along the
     /// simulated steady orbits), the peaks against `limits`; POOR when a
     /// check fails. `seed_notes` lead the notes.
-    pub fn of(
+    pub(crate) fn of(
         field: &FieldSpec,
         region: &Grid,
         limits: &ShakerLimits,
@@ -585,5 +563,42 @@ impl Checked {
             poor,
             notes,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// The former doc example of `synth::synthesize::synthesize_classes`, now crate-private.
+    #[test]
+    fn example_synthesize_classes() -> Result<(), crate::Error> {
+        use crate::dynamics::Friction;
+        use crate::field::{FieldSettings, Grid};
+        use crate::request::FieldSpec;
+        use crate::synth::{synthesize_classes, ShakerLimits, SynthOptions};
+
+        let at = |mu: f64| FieldSettings {
+            friction: Friction::uniform(mu),
+            ..FieldSettings::default()
+        };
+        let sink = |x: f64| FieldSpec::Sink {
+            center: [x, 0.0],
+            strength: 1.0,
+        };
+        let region = Grid {
+            x: [-0.02, 0.02],
+            y: [-0.01, 0.01],
+            n: [5, 3],
+        };
+        let options = SynthOptions {
+            coarse: [3, 3],
+            max_evaluations: 4,
+            lm: None,
+            progress: crate::progress::ProgressMode::Quiet,
+            ..SynthOptions::default()
+        };
+        let classes = [(sink(-0.01), at(0.2)), (sink(0.01), at(0.45))];
+        let s = synthesize_classes(&classes, &region, &ShakerLimits::default(), &options)?;
+        assert!(s.evaluations <= 6);
+        Ok(())
     }
 }

@@ -62,7 +62,7 @@ impl FrictionArg {
 
     /// The friction values' ranges (the targets' one validation) and the
     /// sweep's count.
-    pub fn validate(&self) -> Result<()> {
+    pub(crate) fn validate(&self) -> Result<()> {
         let spec = match *self {
             FrictionArg::At(mu) => FrictionSpec::uniform(mu),
             FrictionArg::Sweep { lo, hi, n } => {

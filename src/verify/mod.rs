@@ -24,9 +24,17 @@ pub mod run;
 pub mod sort_play;
 pub(crate) mod swarm;
 
-pub use rectangles::RectangleRun;
-pub use rectangles::RectangleSummary;
-pub use rectangles::{play_rectangle, PoseSample, RectangleFailure, RectangleOptions};
-pub use run::{run, verify_schedule_file, Duration, VerifyReport, VerifyRequest};
-pub use swarm::SwarmPart;
-pub use swarm::{run_swarm, Swarm, SwarmOptions};
+#[cfg(test)]
+pub(crate) use rectangles::play_rectangle;
+#[cfg(test)]
+pub(crate) use rectangles::PoseSample;
+pub use rectangles::RectangleFailure;
+#[cfg(test)]
+pub(crate) use rectangles::RectangleOptions;
+#[cfg(test)]
+pub(crate) use run::run;
+pub use run::verify_schedule_file;
+pub use run::Duration;
+pub use run::VerifyRequest;
+pub use swarm::run_swarm;
+pub use swarm::{Swarm, SwarmOptions};

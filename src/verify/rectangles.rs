@@ -31,7 +31,7 @@ pub(crate) const MAX_DURATION_S: f64 = 3600.0;
 
 /// Settings of a rectangle run.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct RectangleOptions {
+pub(crate) struct RectangleOptions {
     /// Friction coefficients.
     pub friction: Friction,
     /// Gravity (m/s²).
@@ -60,7 +60,7 @@ impl Default for RectangleOptions {
 
 impl RectangleOptions {
     /// Validates ranges; errors name the field under `field`.
-    pub fn validate(&self, field: &str) -> Result<()> {
+    pub(crate) fn validate(&self, field: &str) -> Result<()> {
         self.friction.validate(&format!("{field}.friction"))?;
         positive(&format!("{field}.gravity"), self.gravity)?;
         if !(1..=1_000_000).contains(&self.steps_per_cycle) {
@@ -94,7 +94,7 @@ pub struct PoseSample {
 
 /// A played rectangle.
 #[derive(Debug, Clone, PartialEq)]
-pub struct RectangleRun {
+pub(crate) struct RectangleRun {
     /// The rectangle.
     pub rectangle: Rectangle,
     /// The start state.
@@ -133,7 +133,7 @@ pub struct RectangleSummary {
 
 impl RectangleRun {
     /// The summary.
-    pub fn summary(&self) -> RectangleSummary {
+    pub(crate) fn summary(&self) -> RectangleSummary {
         RectangleSummary {
             rectangle: self.rectangle,
             start: [self.start.r.x, self.start.r.y],
@@ -148,7 +148,7 @@ impl RectangleRun {
 }
 
 /// The direction of an axis at angle `theta` (rad) folded into (−90°, 90°].
-pub fn axis_deg(theta: f64) -> f64 {
+pub(crate) fn axis_deg(theta: f64) -> f64 {
     let d = theta.to_degrees().rem_euclid(180.0);
     if d > 90.0 {
         d - 180.0
@@ -180,7 +180,7 @@ impl From<RectangleFailure> for Error {
 /// Plays `rect`, placed at rest at pose `start` = (centre, angle in rad),
 /// through `sm` for `duration_s` seconds (the schedule repeats; the last
 /// segment may be cut short). See the module docs.
-pub fn play_rectangle(
+pub(crate) fn play_rectangle(
     sm: &ScheduleMotion,
     rect: &Rectangle,
     start: (V2, f64),

@@ -128,7 +128,7 @@ impl Default for VerifyRequest {
 
 impl VerifyRequest {
     /// Checks ranges, naming the command-line argument.
-    pub fn validate(&self) -> Result<()> {
+    pub(crate) fn validate(&self) -> Result<()> {
         let range = |name: &str, v: u64, lo: u64, hi: u64| -> Result<()> {
             if (lo..=hi).contains(&v) {
                 Ok(())
@@ -278,12 +278,12 @@ pub fn swarm_periods(
 
 /// With an automatic duration rectangles play at least this long (s):
 /// turning a 2 cm strip onto a LineSink's line takes about 10 s
-/// (`tests/planar.rs`), longer than a point part needs to reach it.
+/// (`tests/unit/planar.rs`), longer than a point part needs to reach it.
 pub(crate) const RECT_MIN_AUTO_S: f64 = 20.0;
 
 /// Support points along a rectangle's length (its width gets the same
 /// spacing, at least one row): 16 along 2 cm resolves the friction torque
-/// to about 1 % (`tests/planar.rs`).
+/// to about 1 % (`tests/unit/planar.rs`).
 pub(crate) const RECT_POINTS_ALONG: usize = 16;
 
 /// A rectangle of `size` = [length, width] sampled by support points at
@@ -297,7 +297,7 @@ pub(crate) fn sampled_rectangle(size: [f64; 2]) -> Rectangle {
 /// `n` start poses (centre, angle in rad) spread over the region: on a
 /// circle of 0.6 × the smaller half-extent around the region's centre, at
 /// angles 45° + k·360°/n, each rectangle turned by k·(180°/n) + 30°.
-pub fn rectangle_poses(g: &Grid, n: usize) -> Vec<(V2, f64)> {
+pub(crate) fn rectangle_poses(g: &Grid, n: usize) -> Vec<(V2, f64)> {
     let c = V2::new(0.5 * (g.x[0] + g.x[1]), 0.5 * (g.y[0] + g.y[1]));
     let rad = 0.3 * (g.x[1] - g.x[0]).min(g.y[1] - g.y[0]);
     (0..n)
@@ -533,48 +533,8 @@ pub fn verify_schedule_file(path: &Path, req: &VerifyRequest) -> Result<VerifyRe
 ///
 /// Design, verify and export chained in memory (a small grid and few
 /// steps per cycle, so that it runs in seconds):
-///
-/// ```
-/// use platefield::design::{BasisSection, DesignOptions, Method};
-/// use platefield::inverse::{self, DesignOutcome};
-/// use platefield::request::Target;
-/// use platefield::schedule::export;
-/// use platefield::verify::{self, Duration, VerifyRequest};
-/// use platefield::work::Runtime;
-///
-/// let target = Target::from_json_str(
-///     r#"{"name": "sink", "field": {"kind": "sink"},
-///         "grid": {"x": [-0.03, 0.03], "y": [-0.03, 0.03], "n": [7, 7]}}"#,
-/// )?;
-/// let mut options = DesignOptions {
-///     method: Method::Sequence,
-///     basis: BasisSection { rotation_step_deg: 45.0, cache_dir: None, ..BasisSection::default() },
-///     runtime: Runtime::QUIET,
-///     ..DesignOptions::default()
-/// };
-/// options.settings.numerics.steps_per_cycle = 16;
-/// options.settings.phases = 4;
-/// let DesignOutcome::Method(outcome) = inverse::run(&target, &options)? else {
-///     unreachable!("a target without classes or closed loop is designed by its method")
-/// };
-/// let schedule = &outcome.kept().schedule;
-///
-/// let request = VerifyRequest {
-///     points: 3,
-///     swarm: 2,
-///     duration: Duration::Repetitions(1),
-///     rectangle_poses: 0,
-///     runtime: Runtime::QUIET,
-///     ..VerifyRequest::default()
-/// };
-/// let report = verify::run(schedule, &request)?;
-/// assert_eq!(report.model_check.points.len(), 9);
-///
-/// let csv = export::signals_csv(schedule, 2_000.0)?;
-/// assert!(csv.lines().count() > 100);
-/// # Ok::<(), platefield::Error>(())
-/// ```
-pub fn run(schedule: &Schedule, req: &VerifyRequest) -> Result<VerifyReport> {
+#[cfg(test)]
+pub(crate) fn run(schedule: &Schedule, req: &VerifyRequest) -> Result<VerifyReport> {
     req.validate()?;
     if let Some(f) = &req.friction {
         f.validate()?;
@@ -822,4 +782,54 @@ fn delivery_spread(
     );
     crate::design::tolerance::spread(target, &sampled, schedule, &physics, (&tol, req.draws))
         .map(Some)
+}
+
+#[cfg(test)]
+mod tests {
+    /// The former doc example of `verify::run::run`, now crate-private.
+    #[test]
+    fn example_run() -> Result<(), crate::Error> {
+        use crate::design::{BasisSection, DesignOptions, Method};
+        use crate::inverse::{self, DesignOutcome};
+        use crate::request::Target;
+        use crate::schedule::export;
+        use crate::verify::{self, Duration, VerifyRequest};
+        use crate::work::Runtime;
+
+        let target = Target::from_json_str(
+            r#"{"name": "sink", "field": {"kind": "sink"},
+                "grid": {"x": [-0.03, 0.03], "y": [-0.03, 0.03], "n": [7, 7]}}"#,
+        )?;
+        let mut options = DesignOptions {
+            method: Method::Sequence,
+            basis: BasisSection {
+                rotation_step_deg: 45.0,
+                cache_dir: None,
+                ..BasisSection::default()
+            },
+            runtime: Runtime::QUIET,
+            ..DesignOptions::default()
+        };
+        options.settings.numerics.steps_per_cycle = 16;
+        options.settings.phases = 4;
+        let DesignOutcome::Method(outcome) = inverse::run(&target, &options)? else {
+            unreachable!("a target without classes or closed loop is designed by its method")
+        };
+        let schedule = &outcome.kept().schedule;
+
+        let request = VerifyRequest {
+            points: 3,
+            swarm: 2,
+            duration: Duration::Repetitions(1),
+            rectangle_poses: 0,
+            runtime: Runtime::QUIET,
+            ..VerifyRequest::default()
+        };
+        let report = verify::run(schedule, &request)?;
+        assert_eq!(report.model_check.points.len(), 9);
+
+        let csv = export::signals_csv(schedule, 2_000.0)?;
+        assert!(csv.lines().count() > 100);
+        Ok(())
+    }
 }

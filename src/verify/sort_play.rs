@@ -297,19 +297,7 @@ pub fn play_sort(
 
 /// Plays every class of `design` (see the module docs). `periods`: the
 /// swarms' schedule periods (`None`: from the predicted strengths).
-///
-/// ```no_run
-/// use platefield::design::{sort::design_sort_primitives, DesignOptions};
-/// use platefield::request::Target;
-/// use platefield::verify::sort_play::play_classes;
-/// let target = Target::load(std::path::Path::new("targets/sort_friction.json"))?;
-/// let d = design_sort_primitives(&target, &DesignOptions::default())?;
-/// for c in play_classes(&target, &d, None, &platefield::work::Runtime::QUIET)? {
-///     println!("{}: {:?} at its own sink, {} mixed up", c.name, c.at_own, c.mixed_up);
-/// }
-/// # Ok::<(), platefield::Error>(())
-/// ```
-pub fn play_classes(
+pub(crate) fn play_classes(
     target: &Target,
     design: &SortDesign,
     periods: Option<u32>,
@@ -555,14 +543,7 @@ pub(crate) fn verify_estimate(
 }
 
 /// Whether `schedule` is a sort's: the target it records has classes.
-///
-/// ```
-/// use platefield::schedule::Schedule;
-/// let s = Schedule::load("results/sort_friction/schedule.json".as_ref())?;
-/// assert!(platefield::verify::sort_play::is_sort(&s));
-/// # Ok::<(), platefield::Error>(())
-/// ```
-pub fn is_sort(schedule: &Schedule) -> bool {
+pub(crate) fn is_sort(schedule: &Schedule) -> bool {
     classes_target(schedule).is_some()
 }
 
@@ -824,5 +805,31 @@ mod tests {
         };
         assert_eq!(c.sorted_at(2.0), 0.5);
         assert_eq!(c.sorted_at(9.0), 0.75);
+    }
+
+    /// The former doc example of `verify::sort_play::play_classes`, now crate-private.
+    #[allow(dead_code)]
+    fn example_play_classes() -> Result<(), crate::Error> {
+        use crate::design::{sort::design_sort_primitives, DesignOptions};
+        use crate::request::Target;
+        use crate::verify::sort_play::play_classes;
+        let target = Target::load(std::path::Path::new("targets/sort_friction.json"))?;
+        let d = design_sort_primitives(&target, &DesignOptions::default())?;
+        for c in play_classes(&target, &d, None, &crate::work::Runtime::QUIET)? {
+            println!(
+                "{}: {:?} at its own sink, {} mixed up",
+                c.name, c.at_own, c.mixed_up
+            );
+        }
+        Ok(())
+    }
+
+    /// The former doc example of `verify::sort_play::is_sort`, now crate-private.
+    #[test]
+    fn example_is_sort() -> Result<(), crate::Error> {
+        use crate::schedule::Schedule;
+        let s = Schedule::load("results/sort_friction/schedule.json".as_ref())?;
+        assert!(crate::verify::sort_play::is_sort(&s));
+        Ok(())
     }
 }

@@ -51,7 +51,7 @@ pub(crate) const REPEATS: usize = 3;
 
 /// The largest order the reference's Richardson error estimate assumes:
 /// between 32 and 64 steps the 2-D primitives' fields converge at 5–6, above
-/// the order 3.2–4.3 `tests/slip2d.rs` `order_2d` measures from 16 to 64,
+/// the order 3.2–4.3 `tests/unit/slip2d.rs` `order_2d` measures from 16 to 64,
 /// so the observed order there would make the estimate 10–100× too small.
 pub(crate) const RICHARDSON_ORDER: f64 = 3.0;
 

@@ -65,7 +65,7 @@ pub(crate) enum Promise<'a> {
 impl<'a> Promise<'a> {
     /// The promise of `target`: [`Promise::Sampled`] for a grid-less
     /// `sampled` target, else [`Promise::Field`].
-    pub fn of(target: &'a Target) -> Promise<'a> {
+    pub(crate) fn of(target: &'a Target) -> Promise<'a> {
         match (&target.grid, &target.field) {
             (None, FieldSpec::Sampled { .. }) => target
                 .field
@@ -76,7 +76,7 @@ impl<'a> Promise<'a> {
     }
 
     /// t at `p`.
-    pub fn at(&self, p: [f64; 2]) -> [f64; 2] {
+    pub(crate) fn at(&self, p: [f64; 2]) -> [f64; 2] {
         match self {
             Promise::Field(f) => f.eval(p),
             Promise::Sampled(g) => g.eval(p),

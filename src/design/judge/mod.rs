@@ -65,8 +65,11 @@ pub(crate) mod compare;
 
 use rayon::prelude::*;
 
-pub use compare::Decomposition;
-pub use compare::{counts, realised_error, PointPlay, RealisedError};
+pub use compare::counts;
+pub use compare::realised_error;
+#[cfg(test)]
+pub(crate) use compare::Decomposition;
+pub use compare::{PointPlay, RealisedError};
 
 use crate::field::FieldSettings;
 use crate::play::measure::{play_frozen_point, PlayOptions};
@@ -368,3 +371,7 @@ mod tests {
         }
     }
 }
+
+#[cfg(test)]
+#[path = "../../../tests/unit/judge.rs"]
+mod judge_tests;

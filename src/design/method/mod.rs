@@ -99,7 +99,8 @@
 pub use super::judge::judge_check;
 use super::judge::{judge_points, realised_check, PointPlay, RealisedError, JUDGE_MIN_PERIODS};
 use super::polish::{polish, PolishOptions};
-pub use super::rule::{better_within, Rule, MIN_MEASURED_POINTS, TIE_SHAPE_ERROR};
+pub(crate) use super::rule::better_within;
+pub use super::rule::{Rule, MIN_MEASURED_POINTS, TIE_SHAPE_ERROR};
 use super::{design, Design, DesignOptions};
 use crate::dynamics::Friction;
 use crate::error::{Error, Result};
@@ -123,9 +124,13 @@ mod mix;
 mod played;
 mod synthesized;
 
+pub use choice::number;
+pub use choice::percent;
+pub use choice::worst_at;
+pub(crate) use choice::Failure;
 pub(crate) use choice::RANGE_HELD;
 use choice::{choose, held, key};
-pub use choice::{number, percent, worst_at, Choice, Failure, FailureReason};
+pub use choice::{Choice, FailureReason};
 use estimate::region;
 pub use estimate::{design_estimate, synthesis_estimate};
 pub(crate) use estimate::{sequenced_cycles, sweep_estimate};
@@ -262,18 +267,7 @@ pub const GENTLE_SWING: f64 = 0.5;
 /// half of it (the seed's cap is (1 − m) g over the tilts' swing per unit
 /// strength, [`crate::synth::seed`]) and swings N half as far, which is
 /// what the averaged model's error grows with (module documentation).
-///
-/// ```
-/// use platefield::design::method::gentle_limits;
-/// use platefield::synth::ShakerLimits;
-///
-/// let envelope = ShakerLimits::envelope();
-/// let gentle = gentle_limits(&envelope);
-/// assert!((gentle.contact_margin - 0.55).abs() < 1e-12);
-/// assert_eq!(gentle.linear, envelope.linear);
-/// assert_eq!(gentle.angular, envelope.angular);
-/// ```
-pub fn gentle_limits(limits: &ShakerLimits) -> ShakerLimits {
+pub(crate) fn gentle_limits(limits: &ShakerLimits) -> ShakerLimits {
     ShakerLimits {
         contact_margin: 1.0 - GENTLE_SWING * (1.0 - limits.contact_margin),
         ..limits.clone()
@@ -1242,4 +1236,21 @@ mod tests {
         assert_eq!(parts_of(40), 40.0);
         assert_eq!(parts_of(2000), 2000.0);
     }
+
+    /// The former doc example of `design::method::gentle_limits`, now crate-private.
+    #[test]
+    fn example_gentle_limits() {
+        use crate::design::method::gentle_limits;
+        use crate::synth::ShakerLimits;
+
+        let envelope = ShakerLimits::envelope();
+        let gentle = gentle_limits(&envelope);
+        assert!((gentle.contact_margin - 0.55).abs() < 1e-12);
+        assert_eq!(gentle.linear, envelope.linear);
+        assert_eq!(gentle.angular, envelope.angular);
+    }
 }
+
+#[cfg(test)]
+#[path = "../../../tests/unit/method.rs"]
+mod method_tests;

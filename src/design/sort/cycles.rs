@@ -49,7 +49,7 @@ pub const CYCLE_REACH_OK: f64 = 0.5 * CYCLE_REACH_MAX;
 ///
 /// # Errors
 /// The schedule cannot be played.
-pub fn settled_reach(target: &Target, schedule: &Schedule) -> Result<Vec<Option<f64>>> {
+pub(crate) fn settled_reach(target: &Target, schedule: &Schedule) -> Result<Vec<Option<f64>>> {
     let sm = ScheduleMotion::from_schedule(schedule)?;
     let periods = ((AIM_PLAY_S / sm.period()).ceil() as u32).max(2);
     let segments = sm.segments().len();

@@ -21,14 +21,7 @@ pub const MAX_SUB_PERIODS: u32 = 8;
 /// one period, `(t, position)` from the period's start to its end: the
 /// largest distance of a segment end from the uniform drift between the
 /// period's ends (for a settled part, from its orbit's start).
-///
-/// ```
-/// use platefield::design::sort::excursion;
-/// // Out 3 mm along x and back within the period, drifting 1 mm along y.
-/// let path = [(0.0, [0.0, 0.0]), (1.0, [0.003, 0.0005]), (2.0, [0.0, 0.001])];
-/// assert!((excursion(&path) - 0.003).abs() < 1e-12);
-/// ```
-pub fn excursion(path: &[(f64, [f64; 2])]) -> f64 {
+pub(crate) fn excursion(path: &[(f64, [f64; 2])]) -> f64 {
     let (Some(&(t0, p0)), Some(&(t1, p1))) = (path.first(), path.last()) else {
         return 0.0;
     };
@@ -114,16 +107,7 @@ fn split(n: u32, k: u32) -> Vec<u32> {
 /// field, so its proportion holds, as in `super::super::basis`'s mixed
 /// segments).
 /// `k` ≤ 1 returns the schedule unchanged.
-///
-/// ```
-/// use platefield::design::sort::interleaved;
-/// use platefield::schedule::Schedule;
-/// let s = Schedule::load("results/sort_friction/schedule.json".as_ref())?;
-/// let cut = interleaved(&s, 2);
-/// assert!(cut.segments.len() > s.segments.len());
-/// # Ok::<(), platefield::Error>(())
-/// ```
-pub fn interleaved(schedule: &Schedule, k: u32) -> Schedule {
+pub(crate) fn interleaved(schedule: &Schedule, k: u32) -> Schedule {
     if k <= 1 {
         return schedule.clone();
     }
@@ -165,14 +149,7 @@ pub fn interleaved(schedule: &Schedule, k: u32) -> Schedule {
 /// least k with the excursion `e` (m, `class_excursion`) over k at most
 /// [`EXCURSION_MAX`] (a part's swing within a period scales with the
 /// segments' durations), at most [`MAX_SUB_PERIODS`].
-///
-/// ```
-/// use platefield::design::sort::{sub_periods, EXCURSION_MAX};
-/// assert_eq!(sub_periods(0.5 * EXCURSION_MAX), 1);
-/// assert_eq!(sub_periods(2.5 * EXCURSION_MAX), 3);
-/// assert_eq!(sub_periods(100.0 * EXCURSION_MAX), 8);
-/// ```
-pub fn sub_periods(e: f64) -> u32 {
+pub(crate) fn sub_periods(e: f64) -> u32 {
     let k = (e / EXCURSION_MAX).ceil();
     if k.is_finite() && k >= 1.0 {
         (k as u32).min(MAX_SUB_PERIODS)
@@ -229,5 +206,38 @@ mod tests {
             );
         }
         assert_eq!(interleaved(&s, 1), s);
+    }
+
+    /// The former doc example of `design::sort::interleave::excursion`, now crate-private.
+    #[test]
+    fn example_excursion() {
+        use crate::design::sort::excursion;
+        // Out 3 mm along x and back within the period, drifting 1 mm along y.
+        let path = [
+            (0.0, [0.0, 0.0]),
+            (1.0, [0.003, 0.0005]),
+            (2.0, [0.0, 0.001]),
+        ];
+        assert!((excursion(&path) - 0.003).abs() < 1e-12);
+    }
+
+    /// The former doc example of `design::sort::interleave::interleaved`, now crate-private.
+    #[test]
+    fn example_interleaved() -> Result<(), crate::Error> {
+        use crate::design::sort::interleaved;
+        use crate::schedule::Schedule;
+        let s = Schedule::load("results/sort_friction/schedule.json".as_ref())?;
+        let cut = interleaved(&s, 2);
+        assert!(cut.segments.len() > s.segments.len());
+        Ok(())
+    }
+
+    /// The former doc example of `design::sort::interleave::sub_periods`, now crate-private.
+    #[test]
+    fn example_sub_periods() {
+        use crate::design::sort::{sub_periods, EXCURSION_MAX};
+        assert_eq!(sub_periods(0.5 * EXCURSION_MAX), 1);
+        assert_eq!(sub_periods(2.5 * EXCURSION_MAX), 3);
+        assert_eq!(sub_periods(100.0 * EXCURSION_MAX), 8);
     }
 }

@@ -181,10 +181,10 @@ use aim::{aimed, lane_kept, turn};
 pub use aim::{
     AIM_PLAY_S, AIM_STEPS, AIM_SWARM_S, AIM_TOL, LANE_KEEP, LANE_PLAY_S, LANE_SHARE, LANE_TOL,
 };
-pub use cycles::{
-    settled_reach, CYCLE_PERIOD_SCALES, CYCLE_REACH_MAX, CYCLE_REACH_OK, CYCLE_STEPS, CYCLE_SWEEPS,
-};
-pub use interleave::{excursion, interleaved, sub_periods, EXCURSION_MAX, MAX_SUB_PERIODS};
+pub use cycles::{CYCLE_PERIOD_SCALES, CYCLE_REACH_MAX, CYCLE_REACH_OK, CYCLE_STEPS, CYCLE_SWEEPS};
+#[cfg(test)]
+pub(crate) use interleave::{excursion, interleaved, sub_periods};
+pub use interleave::{EXCURSION_MAX, MAX_SUB_PERIODS};
 
 use nalgebra::DVector;
 use serde::Serialize;
@@ -258,7 +258,7 @@ pub enum SortMethod {
 
 impl SortMethod {
     /// Name, e.g. `synthesized`.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             SortMethod::Primitives => "primitives",
             SortMethod::Synthesized => "synthesized",
@@ -320,18 +320,6 @@ pub struct SortDesign {
 /// docs): the primitives' stacked fit, then the fit with synthesized
 /// motions; `crate::verify::sort_play::play_sort` plays them and keeps
 /// the faster. Errors when the target has no classes.
-///
-/// ```no_run
-/// use platefield::design::{sort::design_sort, DesignOptions};
-/// use platefield::request::Target;
-/// let target = Target::load(std::path::Path::new("targets/sort_friction.json"))?;
-/// for d in design_sort(&target, &DesignOptions::default())? {
-///     for c in &d.classes {
-///         println!("{}: {}: shape {:.1} %", d.method.name(), c.name, 100.0 * c.shape_error);
-///     }
-/// }
-/// # Ok::<(), platefield::Error>(())
-/// ```
 pub fn design_sort(target: &Target, opts: &DesignOptions) -> Result<Vec<SortDesign>> {
     if target.classes.len() < 2 {
         return Err(Error::invalid(
@@ -694,18 +682,12 @@ fn fit_stack(
 /// `SYNTH_SEGMENT_CYCLES` cycles per period); the swarms are estimated
 /// once the schedule is known (`crate::verify::sort_play::play_estimate`).
 ///
-/// ```
-/// use platefield::design::{sort::sort_estimate, DesignOptions};
-/// use platefield::request::Target;
-/// let target = Target::load(std::path::Path::new("targets/sort_friction.json"))?;
-/// let e = sort_estimate(&target, &DesignOptions::default())?;
-/// assert!(e.terms.iter().any(|t| t.label.starts_with("class mu_0.45")));
-/// # Ok::<(), platefield::Error>(())
-/// ```
-///
 /// # Errors
 /// A class whose target cannot be sampled.
-pub fn sort_estimate(target: &Target, opts: &DesignOptions) -> Result<crate::work::Estimate> {
+pub(crate) fn sort_estimate(
+    target: &Target,
+    opts: &DesignOptions,
+) -> Result<crate::work::Estimate> {
     let mut e = crate::work::Estimate::new(
         "target",
         "designing the sort",
@@ -989,4 +971,37 @@ fn class_fits(
             }
         })
         .collect())
+}
+
+#[cfg(test)]
+mod tests {
+    /// The former doc example of `design::sort::design_sort`, now crate-private.
+    #[allow(dead_code)]
+    fn example_design_sort() -> Result<(), crate::Error> {
+        use crate::design::{sort::design_sort, DesignOptions};
+        use crate::request::Target;
+        let target = Target::load(std::path::Path::new("targets/sort_friction.json"))?;
+        for d in design_sort(&target, &DesignOptions::default())? {
+            for c in &d.classes {
+                println!(
+                    "{}: {}: shape {:.1} %",
+                    d.method.name(),
+                    c.name,
+                    100.0 * c.shape_error
+                );
+            }
+        }
+        Ok(())
+    }
+
+    /// The former doc example of `design::sort::sort_estimate`, now crate-private.
+    #[test]
+    fn example_sort_estimate() -> Result<(), crate::Error> {
+        use crate::design::{sort::sort_estimate, DesignOptions};
+        use crate::request::Target;
+        let target = Target::load(std::path::Path::new("targets/sort_friction.json"))?;
+        let e = sort_estimate(&target, &DesignOptions::default())?;
+        assert!(e.terms.iter().any(|t| t.label.starts_with("class mu_0.45")));
+        Ok(())
+    }
 }

@@ -76,7 +76,7 @@ pub const AVERAGING_TOLERANCE: f64 = 1e-6;
 /// rad/s) a period ends with: where the next period, or a nearby pose's
 /// first, starts.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Slip {
+pub(crate) struct Slip {
     /// Translation slip (m/s).
     pub u: V2,
     /// Spin slip (rad/s).
@@ -192,7 +192,7 @@ impl AveragedField {
     }
 
     /// The support's radius about its centre of mass (m).
-    pub fn radius(&self) -> f64 {
+    pub(crate) fn radius(&self) -> f64 {
         self.body
             .points()
             .iter()

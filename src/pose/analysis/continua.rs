@@ -116,16 +116,7 @@ const SCHUR_ITERATIONS: usize = 1000;
 /// diag(−k, −k, 0)), the roots of its characteristic polynomial
 /// λ³ − tr J λ² + c₂ λ − det J (c₂ the sum of its principal 2 × 2 minors)
 /// in closed form.
-///
-/// ```
-/// use nalgebra::Matrix3;
-/// use platefield::pose::eigenvalues;
-/// let e = eigenvalues(&Matrix3::from_diagonal(&nalgebra::Vector3::new(-1.0, -1.0, 0.0)));
-/// let mut re: Vec<f64> = e.iter().map(|z| z.re).collect();
-/// re.sort_by(f64::total_cmp);
-/// assert!((re[0] + 1.0).abs() < 1e-12 && (re[1] + 1.0).abs() < 1e-12 && re[2].abs() < 1e-12);
-/// ```
-pub fn eigenvalues(j: &Matrix3<f64>) -> [Complex<f64>; 3] {
+pub(crate) fn eigenvalues(j: &Matrix3<f64>) -> [Complex<f64>; 3] {
     if let Some(schur) = nalgebra::Schur::try_new(*j, f64::EPSILON, SCHUR_ITERATIONS) {
         let e = schur.complex_eigenvalues();
         return [e[0], e[1], e[2]];
@@ -524,7 +515,7 @@ impl Continuum {
     /// The drift's sign changes: the interpolated zeros between
     /// successive non-neutral points (a zero inside a neutral stretch lies
     /// between the non-neutral points on either side of it).
-    pub fn zeros(&self) -> Vec<Pose> {
+    pub(crate) fn zeros(&self) -> Vec<Pose> {
         let neutral = |k: usize| self.drift[k].abs() <= self.neutral[k];
         let counted: Vec<usize> = (0..self.points.len()).filter(|&k| !neutral(k)).collect();
         let wrap =
@@ -542,7 +533,7 @@ impl Continuum {
 /// The tracing step (scaled) for a part of radius `r` (m) in `region`:
 /// [`STEP`], or longer where a curve across the region's diagonal would
 /// take more than two thirds of [`MAX_STEPS`].
-pub fn step(region: &Region, r: f64) -> f64 {
+pub(crate) fn step(region: &Region, r: f64) -> f64 {
     let across =
         (region.x[1] - region.x[0]).hypot(region.y[1] - region.y[0]) / r.max(f64::MIN_POSITIVE);
     STEP.max(1.5 * across / MAX_STEPS as f64)
@@ -877,5 +868,18 @@ mod tests {
             let held: f64 = a.continuum_basins.iter().sum();
             assert!((held - 1.0).abs() < 1e-12, "{k}: {held}");
         }
+    }
+
+    /// The former doc example of `pose::analysis::continua::eigenvalues`, now crate-private.
+    #[test]
+    fn example_eigenvalues() {
+        use crate::pose::eigenvalues;
+        use nalgebra::Matrix3;
+        let e = eigenvalues(&Matrix3::from_diagonal(&nalgebra::Vector3::new(
+            -1.0, -1.0, 0.0,
+        )));
+        let mut re: Vec<f64> = e.iter().map(|z| z.re).collect();
+        re.sort_by(f64::total_cmp);
+        assert!((re[0] + 1.0).abs() < 1e-12 && (re[1] + 1.0).abs() < 1e-12 && re[2].abs() < 1e-12);
     }
 }

@@ -127,7 +127,11 @@ pub(crate) struct PlanarPlayer<'a> {
 impl<'a> PlanarPlayer<'a> {
     /// `body` on `sm` with `play`'s physics, steps per cycle and
     /// refinement depth (its duration and samples are the caller's).
-    pub fn new(sm: &'a ScheduleMotion, body: &PlanarBody, play: &DropPlay) -> PlanarPlayer<'a> {
+    pub(crate) fn new(
+        sm: &'a ScheduleMotion,
+        body: &PlanarBody,
+        play: &DropPlay,
+    ) -> PlanarPlayer<'a> {
         let shortest = rest_cycle(sm);
         let sims = sm
             .segments()
@@ -239,7 +243,7 @@ pub fn play_drops(
 
 /// The stable equilibrium nearest to `pose` in the metric
 /// |Δr| / `radius` + |Δθ| (θ modulo 360°), with that distance.
-pub fn nearest(stable: &[Equilibrium], pose: &Pose, radius: f64) -> Option<(usize, f64)> {
+pub(crate) fn nearest(stable: &[Equilibrium], pose: &Pose, radius: f64) -> Option<(usize, f64)> {
     stable
         .iter()
         .map(|e| {

@@ -28,7 +28,8 @@ pub(crate) const SETTLE_STEPS: usize = 20000;
 pub(crate) const SETTLE_STEP: f64 = 0.02;
 
 use super::continua::{self, cut, eigenvalues, Continuum, Destination, Scaled, Spectrum, ARRIVE};
-pub use super::lifted::{wrap, Region};
+pub use super::lifted::wrap;
+pub use super::lifted::Region;
 use super::lifted::{LiftedField, Pose};
 use crate::dynamics::V2;
 
@@ -363,7 +364,7 @@ pub fn settle(
 /// curve it goes round is its end, a drift zero the stable equilibrium
 /// there (the drop goes on integrating when the drift carries it off the
 /// curve, or to a zero that is not a stable equilibrium).
-pub fn settle_on(
+pub(crate) fn settle_on(
     lifted: &LiftedField<'_>,
     start: Pose,
     stable: &[Equilibrium],

@@ -84,11 +84,6 @@ impl GridField {
     pub(crate) fn from_samples(grid: Grid, vectors: Vec<[f64; 2]>) -> GridField {
         GridField { grid, vectors }
     }
-
-    /// The grid.
-    pub fn grid(&self) -> &Grid {
-        &self.grid
-    }
 }
 
 /// Cell index and fraction of `v` on an axis of `n` points over `range`.
@@ -202,7 +197,7 @@ impl<'a> LiftedField<'a> {
 
     /// The part's length scale: its support's radius about the centre of
     /// mass (m).
-    pub fn radius(&self) -> f64 {
+    pub(crate) fn radius(&self) -> f64 {
         self.radius
     }
 
@@ -292,7 +287,7 @@ pub struct Region {
 
 impl Region {
     /// True when `r` lies in the region (edges included).
-    pub fn contains(&self, r: &V2) -> bool {
+    pub(crate) fn contains(&self, r: &V2) -> bool {
         (self.x[0]..=self.x[1]).contains(&r.x) && (self.y[0]..=self.y[1]).contains(&r.y)
     }
 

@@ -89,19 +89,7 @@ impl Stages {
     /// inset by the part's radius): t = ln(d)/λ per stage (module docs).
     /// `None` when a rate is not positive or the spin stage would exceed
     /// [`MAX_STAGE_S`].
-    ///
-    /// ```
-    /// use platefield::pose::design::cycle::Stages;
-    /// use platefield::pose::Region;
-    /// // Half-diagonal 28.3 mm: the spin's d = max(28.3, 180/3) = 60,
-    /// // the ellipse's d = max(28.3, 90/3) = 30.
-    /// let starts = Region { x: [-0.02, 0.02], y: [-0.02, 0.02] };
-    /// let s = Stages::derive(0.4, 0.68, &starts).unwrap();
-    /// assert!((s.spin_s - 60f64.ln() / 0.4).abs() < 1e-12);
-    /// assert!((s.ellipse_s - 30f64.ln() / 0.68).abs() < 1e-12);
-    /// assert!(Stages::derive(0.05, 0.68, &starts).is_none());
-    /// ```
-    pub fn derive(spin_rate: f64, ellipse_rate: f64, starts: &Region) -> Option<Stages> {
+    pub(crate) fn derive(spin_rate: f64, ellipse_rate: f64, starts: &Region) -> Option<Stages> {
         if !(spin_rate > 0.0 && ellipse_rate > 0.0) {
             return None;
         }
@@ -120,7 +108,7 @@ impl Stages {
 
 /// The slowest decay rate (1/s) over the stable poses of `stable`: the
 /// least −Re λ (none: 0).
-pub fn slowest_rate(stable: &[Equilibrium]) -> f64 {
+pub(crate) fn slowest_rate(stable: &[Equilibrium]) -> f64 {
     stable
         .iter()
         .map(|e| -e.rates[0])
@@ -129,13 +117,7 @@ pub fn slowest_rate(stable: &[Equilibrium]) -> f64 {
 }
 
 /// `seconds`, or [`SETTLE_PERIODS`] periods of `period` (s) when longer.
-///
-/// ```
-/// use platefield::pose::design::cycle::settle_seconds;
-/// assert_eq!(settle_seconds(60.0, 0.05), 60.0);
-/// assert_eq!(settle_seconds(60.0, 60.0), 180.0);
-/// ```
-pub fn settle_seconds(seconds: f64, period: f64) -> f64 {
+pub(crate) fn settle_seconds(seconds: f64, period: f64) -> f64 {
     seconds.max(SETTLE_PERIODS * period)
 }
 
@@ -171,7 +153,7 @@ impl EllipseStage {
     }
 
     /// The slowest decay rate over its lifted stable poses (1/s).
-    pub fn rate(&self) -> f64 {
+    pub(crate) fn rate(&self) -> f64 {
         slowest_rate(&self.stable)
     }
 
@@ -350,5 +332,30 @@ mod tests {
         };
         assert_eq!(slowest_rate(&[eq(0.4), eq(0.3), eq(0.5)]), 0.3);
         assert_eq!(slowest_rate(&[]), 0.0);
+    }
+
+    /// The former doc example of `pose::design::cycle::Stages::derive`, now crate-private.
+    #[test]
+    fn example_stages_derive() {
+        use crate::pose::design::cycle::Stages;
+        use crate::pose::Region;
+        // Half-diagonal 28.3 mm: the spin's d = max(28.3, 180/3) = 60,
+        // the ellipse's d = max(28.3, 90/3) = 30.
+        let starts = Region {
+            x: [-0.02, 0.02],
+            y: [-0.02, 0.02],
+        };
+        let s = Stages::derive(0.4, 0.68, &starts).unwrap();
+        assert!((s.spin_s - 60f64.ln() / 0.4).abs() < 1e-12);
+        assert!((s.ellipse_s - 30f64.ln() / 0.68).abs() < 1e-12);
+        assert!(Stages::derive(0.05, 0.68, &starts).is_none());
+    }
+
+    /// The former doc example of `pose::design::cycle::settle_seconds`, now crate-private.
+    #[test]
+    fn example_settle_seconds() {
+        use crate::pose::design::cycle::settle_seconds;
+        assert_eq!(settle_seconds(60.0, 0.05), 60.0);
+        assert_eq!(settle_seconds(60.0, 60.0), 180.0);
     }
 }

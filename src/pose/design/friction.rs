@@ -39,7 +39,7 @@
 //! mirror-symmetric in x and y at every μ (line sinks at 0°, 90°, 180°,
 //! 270°) the pose cannot move and only the speed changes, all lifted
 //! rates by one factor (less than μ's own ratio);
-//! `tests/pose_friction.rs` checks both.
+//! `tests/unit/pose_friction.rs` checks both.
 
 use super::correct::median;
 use super::play::{play_ends, play_rate};
@@ -141,7 +141,7 @@ pub fn rate(d: &super::PoseDesign) -> f64 {
 ///
 /// # Errors
 /// A schedule whose field cannot be computed.
-pub fn play_at(
+pub(crate) fn play_at(
     req: &PoseTarget,
     schedule: &Schedule,
     friction: Friction,
@@ -212,3 +212,7 @@ fn entry(
         played_offset: played_offset(req, ends),
     }
 }
+
+#[cfg(test)]
+#[path = "../../../tests/unit/pose_friction.rs"]
+mod friction_range_tests;

@@ -68,7 +68,7 @@ impl Placement {
     };
 
     /// Where this placement takes `pose` of the centred motion.
-    pub fn apply(&self, pose: &Pose) -> Pose {
+    pub(crate) fn apply(&self, pose: &Pose) -> Pose {
         let (s, c) = self.angle.sin_cos();
         let r = pose.r;
         Pose {
@@ -89,16 +89,6 @@ impl Placement {
 
     /// The placement that takes `centred` (a pose of the centred motion)
     /// onto `asked`, turning by the least angle modulo the symmetry `n`.
-    ///
-    /// ```
-    /// use platefield::pose::design::placement::Placement;
-    /// use platefield::pose::Pose;
-    /// let centred = Pose::new(0.001, -0.002, 0.1);
-    /// let asked = Pose::new(0.012, -0.008, 0.5);
-    /// let p = Placement::onto(&centred, &asked, 2);
-    /// let got = p.apply(&centred);
-    /// assert!((got.r - asked.r).norm() < 1e-15 && (got.theta - asked.theta).abs() < 1e-15);
-    /// ```
     pub fn onto(centred: &Pose, asked: &Pose, n: usize) -> Placement {
         let angle = -wrap_symmetric(centred.theta - asked.theta, n);
         let turned = Placement {
@@ -131,7 +121,7 @@ impl Placement {
     /// # Errors
     /// `origin` has no six-signal motion, or a segment with a primitive;
     /// a placed segment over a limit of 0 (`within_limits`).
-    pub fn schedule(
+    pub(crate) fn schedule(
         &self,
         origin: &Schedule,
         placed_target: Option<crate::request::Target>,
@@ -402,4 +392,19 @@ pub fn centred_pose(eqs: &[Equilibrium], asked: &Pose, n: usize) -> Option<Equil
             ka.0.total_cmp(&kb.0).then(ka.1.total_cmp(&kb.1))
         })
         .copied()
+}
+
+#[cfg(test)]
+mod tests {
+    /// The former doc example of `pose::design::placement::Placement::onto`, now crate-private.
+    #[test]
+    fn example_placement_onto() {
+        use crate::pose::design::placement::Placement;
+        use crate::pose::Pose;
+        let centred = Pose::new(0.001, -0.002, 0.1);
+        let asked = Pose::new(0.012, -0.008, 0.5);
+        let p = Placement::onto(&centred, &asked, 2);
+        let got = p.apply(&centred);
+        assert!((got.r - asked.r).norm() < 1e-15 && (got.theta - asked.theta).abs() < 1e-15);
+    }
 }

@@ -137,18 +137,7 @@ impl Screened {
 /// The probe starts over `region` (module docs): a 4 × 4 grid of centres
 /// at the cell middles, the k-th turned by k golden angles, then the same
 /// [`GRID`] starts again turned by 180° (wrapped to (−π, π]).
-///
-/// ```
-/// use platefield::pose::design::screen::{probe_starts, GRID, PROBES};
-/// use platefield::pose::Region;
-/// let s = probe_starts(&Region { x: [-0.02, 0.02], y: [-0.02, 0.02] });
-/// assert_eq!(s.len(), PROBES);
-/// assert!((s[0].r.x + 0.015).abs() < 1e-15 && s[0].theta == 0.0);
-/// // The twin of the first start: the same centre, turned by a half turn.
-/// assert!((s[GRID].r - s[0].r).norm() < 1e-15);
-/// assert!((s[GRID].theta.abs() - std::f64::consts::PI).abs() < 1e-12);
-/// ```
-pub fn probe_starts(region: &Region) -> Vec<Pose> {
+pub(crate) fn probe_starts(region: &Region) -> Vec<Pose> {
     let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
     let grid: Vec<Pose> = (0..GRID)
         .map(|k| {
@@ -287,7 +276,7 @@ fn cluster_at(
 /// # Errors
 /// `spun` or `ellipse` is not one six-signal motion; a placed stage over a
 /// limit of 0.
-pub fn placed_cycle(
+pub(crate) fn placed_cycle(
     req: &PoseTarget,
     (spun, ellipse): (&Schedule, &EllipseStage),
     rest: &Pose,
@@ -524,5 +513,21 @@ mod tests {
         let turned = [p(0.0, 10.0), p(0.0, 190.5), p(0.01, 50.0)];
         assert_eq!(largest_cluster(&turned, 2, 3).unwrap().0, 2.0 / 3.0);
         assert_eq!(largest_cluster(&turned, 1, 3).unwrap().0, 1.0 / 3.0);
+    }
+
+    /// The former doc example of `pose::design::screen::probe_starts`, now crate-private.
+    #[test]
+    fn example_probe_starts() {
+        use crate::pose::design::screen::{probe_starts, GRID, PROBES};
+        use crate::pose::Region;
+        let s = probe_starts(&Region {
+            x: [-0.02, 0.02],
+            y: [-0.02, 0.02],
+        });
+        assert_eq!(s.len(), PROBES);
+        assert!((s[0].r.x + 0.015).abs() < 1e-15 && s[0].theta == 0.0);
+        // The twin of the first start: the same centre, turned by a half turn.
+        assert!((s[GRID].r - s[0].r).norm() < 1e-15);
+        assert!((s[GRID].theta.abs() - std::f64::consts::PI).abs() < 1e-12);
     }
 }

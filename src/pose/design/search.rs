@@ -43,7 +43,7 @@ impl Family {
 
     /// The requested field centred at `c` (m), its weaker contraction
     /// along `angle` (degrees).
-    pub fn field(&self, c: V2, angle: f64) -> FieldSpec {
+    pub(crate) fn field(&self, c: V2, angle: f64) -> FieldSpec {
         let line = |strength: f64, angle: f64| SumTerm {
             weight: 1.0,
             field: FieldSpec::LineSink {

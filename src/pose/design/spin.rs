@@ -130,7 +130,7 @@ pub fn spun(origin: &Schedule, spin: Spin) -> Result<Schedule> {
 
 /// A candidate's lifted outcome: its distinct stable poses.
 #[derive(Debug, Clone)]
-pub struct Tried {
+pub(crate) struct Tried {
     /// The spin.
     pub spin: Spin,
     /// The stable poses in the region, one per pose modulo the symmetry.

@@ -433,3 +433,7 @@ mod tests {
         assert_eq!(subsets(16, 4).len(), 1820);
     }
 }
+
+#[cfg(test)]
+#[path = "../../../tests/unit/pose_support.rs"]
+mod support_tests;

@@ -149,7 +149,7 @@ impl PoseTarget {
     }
 
     /// [`PoseTarget::load`] from text, the part path relative to `dir`.
-    pub fn from_json_str(text: &str, dir: &Path) -> Result<Option<PoseTarget>> {
+    pub(crate) fn from_json_str(text: &str, dir: &Path) -> Result<Option<PoseTarget>> {
         let Ok(mut value) = serde_json::from_str::<Value>(text) else {
             return Ok(None);
         };

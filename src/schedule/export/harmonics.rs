@@ -186,7 +186,8 @@ fn wrap(phase: f64) -> f64 {
 
 impl Harmonics {
     /// Channel `channel`'s value c(t) = Σ A sin(nωt + φ) at time `t`.
-    pub fn value(&self, channel: usize, t: f64) -> f64 {
+    #[cfg(test)]
+    pub(crate) fn value(&self, channel: usize, t: f64) -> f64 {
         let w = std::f64::consts::TAU / self.period;
         self.terms
             .iter()

@@ -269,7 +269,7 @@ pub fn export(schedule: &Schedule, rate: f64, steady: u32) -> Result<Export> {
 /// Why a factor: the ramp multiplies the steady pose by a smoothstep w(t),
 /// so its acceleration w ẍ + 2ẇẋ + ẅx exceeds the steady peak wherever
 /// ẅ < 0 while w < 1, the last cycles of the ramp-in (by about 2e-4 at
-/// [`RAMP_CYCLES`] cycles for one harmonic, `tests/export.rs`). No ramp of
+/// [`RAMP_CYCLES`] cycles for one harmonic, `tests/unit/export.rs`). No ramp of
 /// finite length avoids it: near its end 1 − w = e must satisfy
 /// ë ≤ ω² e, and e(t_end) = ė(t_end) = 0 then gives e ≡ 0 (Grönwall).
 /// A design whose steady peak sits on a limit, as a synthesis's does, is
@@ -462,18 +462,7 @@ pub fn centre_acceleration(motion: &Motion, t: f64) -> (V3, V3) {
 /// Plate-centre (linear, angular) acceleration of `motion` at time `t`,
 /// world axes, the angular one the plate's α = ω′ (`crate::motion::rotation`):
 /// what the export's channels hold.
-///
-/// ```
-/// use platefield::motion::{Motion, Signals};
-/// use platefield::schedule::export::{centre_acceleration, world_acceleration};
-///
-/// let m = Motion::Signals(Signals::example());
-/// let ((l, a), (wl, wa)) = (centre_acceleration(&m, 0.01), world_acceleration(&m, 0.01));
-/// assert!((l - wl).norm() < 1e-12);
-/// // Two tilts: α differs from θ″ at second order in the tilt angles.
-/// assert!((a - wa).norm() > 0.0 && (a - wa).norm() < 1e-3 * a.norm());
-/// ```
-pub fn world_acceleration(motion: &Motion, t: f64) -> (V3, V3) {
+pub(crate) fn world_acceleration(motion: &Motion, t: f64) -> (V3, V3) {
     match motion {
         Motion::Screw(_) => centre_acceleration(motion, t),
         Motion::Signals(_) | Motion::Ramped(_) | Motion::Held(_) => {
@@ -582,5 +571,25 @@ pub(crate) fn steady_signals(schedule: &Schedule) -> Option<&Signals> {
     match (moving.next(), moving.next()) {
         (Some(s), None) if s.ramp_cycles.is_none() => s.motion.as_ref(),
         _ => None,
+    }
+}
+
+#[cfg(test)]
+#[path = "../../../tests/unit/export.rs"]
+mod export_tests;
+
+#[cfg(test)]
+mod tests {
+    /// The former doc example of `schedule::export::world_acceleration`, now crate-private.
+    #[test]
+    fn example_world_acceleration() {
+        use crate::motion::{Motion, Signals};
+        use crate::schedule::export::{centre_acceleration, world_acceleration};
+
+        let m = Motion::Signals(Signals::example());
+        let ((l, a), (wl, wa)) = (centre_acceleration(&m, 0.01), world_acceleration(&m, 0.01));
+        assert!((l - wl).norm() < 1e-12);
+        // Two tilts: α differs from θ″ at second order in the tilt angles.
+        assert!((a - wa).norm() > 0.0 && (a - wa).norm() < 1e-3 * a.norm());
     }
 }

@@ -107,7 +107,7 @@ pub const AXIS_NAMES: [&str; 6] = [
 
 /// A peak over a shaker limit ([`KinematicPeaks::excesses`]).
 #[derive(Debug, Clone, PartialEq)]
-pub struct Excess {
+pub(crate) struct Excess {
     /// The axis (`linear.x`, …), followed by ` velocity` or ` stroke` when
     /// that is the quantity over its limit.
     pub axis: String,
@@ -134,18 +134,7 @@ pub struct KinematicPeaks {
 impl KinematicPeaks {
     /// The peaks of `samples` played from their start state (see the
     /// module documentation).
-    ///
-    /// ```
-    /// use platefield::motion::sample_hold::{CentreState, HoldSamples};
-    /// use platefield::schedule::export::peaks::KinematicPeaks;
-    /// // 1 m/s² on x for 1 s, then −1 m/s² for 1 s: v peaks at 1 m/s, x reaches 1 m.
-    /// let s = HoldSamples { dt: 1.0, rate: 1.0, samples_per_period: 2,
-    ///     samples: vec![[1.0, 0.0, 0.0, 0.0, 0.0, 0.0], [-1.0, 0.0, 0.0, 0.0, 0.0, 0.0]],
-    ///     start: CentreState::default() };
-    /// let p = KinematicPeaks::of_held(&s);
-    /// assert_eq!((p.acceleration[0], p.velocity[0], p.stroke[0]), (1.0, 1.0, 1.0));
-    /// ```
-    pub fn of_held(samples: &HoldSamples) -> KinematicPeaks {
+    pub(crate) fn of_held(samples: &HoldSamples) -> KinematicPeaks {
         let dt = samples.dt;
         let mut p = KinematicPeaks::default();
         let Ok(held) = Held::new(samples) else {
@@ -263,15 +252,7 @@ impl KinematicPeaks {
     /// but 0 removes, so it is left to the caller). Peaks linear in k are
     /// settled by one step; the rotation's second-order part falls as k²,
     /// so a few steps settle the rest.
-    ///
-    /// ```
-    /// use platefield::request::ShakerSpec;
-    /// use platefield::schedule::export::peaks::KinematicPeaks;
-    /// let limits = ShakerSpec { linear: Some([8.0, 10.0, 10.0]), ..ShakerSpec::default() };
-    /// let at = |k: f64| KinematicPeaks { acceleration: [10.0 * k; 6], ..KinematicPeaks::default() };
-    /// assert_eq!(KinematicPeaks::within_scale(at, &limits), 0.8);
-    /// ```
-    pub fn within_scale(
+    pub(crate) fn within_scale(
         mut peaks_at: impl FnMut(f64) -> KinematicPeaks,
         limits: &ShakerSpec,
     ) -> f64 {
@@ -297,20 +278,7 @@ impl KinematicPeaks {
     /// above 1e-12 of the largest linear or angular peak of its quantity
     /// (below that it is round-off). A key `limits` leaves out is not
     /// checked.
-    ///
-    /// ```
-    /// use platefield::request::{ShakerSpec, TravelSpec};
-    /// use platefield::schedule::export::peaks::KinematicPeaks;
-    /// let p = KinematicPeaks { acceleration: [10.0; 6], velocity: [0.1; 6], stroke: [1e-3; 6] };
-    /// let limits = ShakerSpec {
-    ///     linear: Some([10.0, 9.0, 10.0]),
-    ///     stroke: Some(TravelSpec { linear: None, angular: Some([1e-3, 1e-3, 5e-4]) }),
-    ///     ..ShakerSpec::default()
-    /// };
-    /// let over: Vec<String> = p.excesses(&limits).into_iter().map(|e| e.axis).collect();
-    /// assert_eq!(over, ["linear.y", "angular.z stroke"]);
-    /// ```
-    pub fn excesses(&self, limits: &ShakerSpec) -> Vec<Excess> {
+    pub(crate) fn excesses(&self, limits: &ShakerSpec) -> Vec<Excess> {
         let group = |l: Option<[f64; 3]>, a: Option<[f64; 3]>| -> [Option<f64>; 6] {
             std::array::from_fn(|k| {
                 if k < 3 {
@@ -420,5 +388,66 @@ mod tests {
         let sampled = KinematicPeaks::of_motion(&motion, n);
         assert!(sampled.acceleration[0] <= own.acceleration[0]);
         assert!(rel(sampled.acceleration[0], a) < 3e-7);
+    }
+
+    /// The former doc example of `schedule::export::peaks::KinematicPeaks::of_held`, now crate-private.
+    #[test]
+    fn example_kinematicpeaks_of_held() {
+        use crate::motion::sample_hold::{CentreState, HoldSamples};
+        use crate::schedule::export::peaks::KinematicPeaks;
+        // 1 m/s² on x for 1 s, then −1 m/s² for 1 s: v peaks at 1 m/s, x reaches 1 m.
+        let s = HoldSamples {
+            dt: 1.0,
+            rate: 1.0,
+            samples_per_period: 2,
+            samples: vec![
+                [1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+                [-1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            ],
+            start: CentreState::default(),
+        };
+        let p = KinematicPeaks::of_held(&s);
+        assert_eq!(
+            (p.acceleration[0], p.velocity[0], p.stroke[0]),
+            (1.0, 1.0, 1.0)
+        );
+    }
+
+    /// The former doc example of `schedule::export::peaks::KinematicPeaks::within_scale`, now crate-private.
+    #[test]
+    fn example_kinematicpeaks_within_scale() {
+        use crate::request::ShakerSpec;
+        use crate::schedule::export::peaks::KinematicPeaks;
+        let limits = ShakerSpec {
+            linear: Some([8.0, 10.0, 10.0]),
+            ..ShakerSpec::default()
+        };
+        let at = |k: f64| KinematicPeaks {
+            acceleration: [10.0 * k; 6],
+            ..KinematicPeaks::default()
+        };
+        assert_eq!(KinematicPeaks::within_scale(at, &limits), 0.8);
+    }
+
+    /// The former doc example of `schedule::export::peaks::KinematicPeaks::excesses`, now crate-private.
+    #[test]
+    fn example_kinematicpeaks_excesses() {
+        use crate::request::{ShakerSpec, TravelSpec};
+        use crate::schedule::export::peaks::KinematicPeaks;
+        let p = KinematicPeaks {
+            acceleration: [10.0; 6],
+            velocity: [0.1; 6],
+            stroke: [1e-3; 6],
+        };
+        let limits = ShakerSpec {
+            linear: Some([10.0, 9.0, 10.0]),
+            stroke: Some(TravelSpec {
+                linear: None,
+                angular: Some([1e-3, 1e-3, 5e-4]),
+            }),
+            ..ShakerSpec::default()
+        };
+        let over: Vec<String> = p.excesses(&limits).into_iter().map(|e| e.axis).collect();
+        assert_eq!(over, ["linear.y", "angular.z stroke"]);
     }
 }

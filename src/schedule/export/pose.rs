@@ -220,7 +220,7 @@ pub fn cycle(schedule: &Schedule, n: usize) -> Result<Cycle> {
 impl Cycle {
     /// Per channel the mean of the points (the velocity change per cycle
     /// over T: zero for a closed cycle).
-    pub fn means(&self) -> [f64; 6] {
+    pub(crate) fn means(&self) -> [f64; 6] {
         let n = self.points.len() as f64;
         std::array::from_fn(|i| self.points.iter().map(|a| a[i]).sum::<f64>() / n)
     }
@@ -261,3 +261,7 @@ impl Cycle {
         out
     }
 }
+
+#[cfg(test)]
+#[path = "../../../tests/unit/pose_export.rs"]
+mod pose_export_tests;

@@ -71,19 +71,10 @@ pub struct Response {
 impl Response {
     /// Reads a response file (`source` names it in errors).
     ///
-    /// ```
-    /// use platefield::schedule::export::response::Response;
-    /// let r = Response::from_json_str(r#"{"harmonics": [{"harmonic": 1,
-    ///     "diagonal": [[2, 0], [2, 0], [2, 0], [1, 1], [1, 1], [1, 1]]}]}"#, "r.json").unwrap();
-    /// assert_eq!(r.harmonics[&1][(3, 3)].im, 1.0);
-    /// let e = Response::from_json_str(r#"{"harmonics": [{"harmonic": 1, "diagonal": [[1, 0]]}]}"#, "r.json");
-    /// assert!(e.unwrap_err().to_string().contains("r.json.harmonics[0].diagonal"));
-    /// ```
-    ///
     /// # Errors
     /// Bad JSON or a bad entry: names the JSON path (`{source}.harmonics[i]…`)
     /// and what is allowed.
-    pub fn from_json_str(text: &str, source: &str) -> Result<Response> {
+    pub(crate) fn from_json_str(text: &str, source: &str) -> Result<Response> {
         let file: File =
             crate::input::from_str(text, source).map_err(|e| Error::invalid(e.path, e.message))?;
         let mut harmonics = BTreeMap::new();
@@ -160,7 +151,7 @@ pub(crate) fn condition(m: &Matrix6<Complex<f64>>) -> f64 {
 }
 
 /// The six phasors of `terms` at each harmonic.
-pub fn phasors(terms: &[Term]) -> BTreeMap<u32, Vector6<Complex<f64>>> {
+pub(crate) fn phasors(terms: &[Term]) -> BTreeMap<u32, Vector6<Complex<f64>>> {
     let mut out: BTreeMap<u32, Vector6<Complex<f64>>> = BTreeMap::new();
     for t in terms {
         out.entry(t.harmonic).or_insert_with(Vector6::zeros)[t.channel] +=
@@ -183,22 +174,6 @@ pub struct Drive {
 
 /// The drive that makes the response `r` play `design` (see the module
 /// documentation).
-///
-/// ```
-/// use nalgebra::{Complex, Matrix6};
-/// use platefield::motion::Signals;
-/// use platefield::schedule::export::{harmonics::of_signals, response::{drive, phasors, Response}};
-///
-/// let design = of_signals(&Signals::example());
-/// // A shaker that plays every channel at half the drive, a quarter turn late.
-/// let h = Matrix6::identity() * Complex::new(0.0, -0.5);
-/// let r = Response { harmonics: (1..=2).map(|n| (n, h)).collect() };
-/// let d = drive(&design, &r).unwrap();
-/// let (want, got) = (phasors(&design.terms), phasors(&d.terms));
-/// for (n, a) in &want {
-///     assert!((h * got[n] - a).norm() < 1e-12 * a.norm());
-/// }
-/// ```
 ///
 /// # Errors
 /// A harmonic of the design the response lacks, or whose response has a
@@ -285,5 +260,52 @@ impl Drive {
             );
         }
         out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// The former doc example of `schedule::export::response::Response::from_json_str`, now crate-private.
+    #[test]
+    fn example_response_from_json_str() {
+        use crate::schedule::export::response::Response;
+        let r = Response::from_json_str(
+            r#"{"harmonics": [{"harmonic": 1,
+            "diagonal": [[2, 0], [2, 0], [2, 0], [1, 1], [1, 1], [1, 1]]}]}"#,
+            "r.json",
+        )
+        .unwrap();
+        assert_eq!(r.harmonics[&1][(3, 3)].im, 1.0);
+        let e = Response::from_json_str(
+            r#"{"harmonics": [{"harmonic": 1, "diagonal": [[1, 0]]}]}"#,
+            "r.json",
+        );
+        assert!(e
+            .unwrap_err()
+            .to_string()
+            .contains("r.json.harmonics[0].diagonal"));
+    }
+
+    /// The former doc example of `schedule::export::response::drive`, now crate-private.
+    #[test]
+    fn example_drive() {
+        use crate::motion::Signals;
+        use crate::schedule::export::{
+            harmonics::of_signals,
+            response::{drive, phasors, Response},
+        };
+        use nalgebra::{Complex, Matrix6};
+
+        let design = of_signals(&Signals::example());
+        // A shaker that plays every channel at half the drive, a quarter turn late.
+        let h = Matrix6::identity() * Complex::new(0.0, -0.5);
+        let r = Response {
+            harmonics: (1..=2).map(|n| (n, h)).collect(),
+        };
+        let d = drive(&design, &r).unwrap();
+        let (want, got) = (phasors(&design.terms), phasors(&d.terms));
+        for (n, a) in &want {
+            assert!((h * got[n] - a).norm() < 1e-12 * a.norm());
+        }
     }
 }

@@ -12,11 +12,11 @@
 
 use std::path::{Path, PathBuf};
 
-use platefield::design::stacked::ranged;
-use platefield::dynamics::Friction;
-use platefield::pose::design::{friction, PoseTarget};
-use platefield::request::FrictionSpec;
-use platefield::schedule::{PoseAtFriction, PoseOverFriction, PosePlayed, Schedule};
+use crate::design::stacked::ranged;
+use crate::dynamics::Friction;
+use crate::pose::design::{friction, PoseTarget};
+use crate::request::FrictionSpec;
+use crate::schedule::{PoseAtFriction, PoseOverFriction, PosePlayed, Schedule};
 
 /// The rectangle with `friction` (JSON) asked at the centre, 0°, over ±4 cm.
 fn request(tag: &str, friction: &str) -> PoseTarget {
@@ -27,7 +27,7 @@ fn request(tag: &str, friction: &str) -> PoseTarget {
     );
     std::fs::write(dir.join("part.json"), part).unwrap();
     let target = r#"{"name": "pose_test", "grid": {"x": [-0.04, 0.04], "y": [-0.04, 0.04], "n": [11, 11]},
-        "field": {"kind": "pose", "part": "part.json", "pose": [0, 0, 0]}}"#;
+    "field": {"kind": "pose", "part": "part.json", "pose": [0, 0, 0]}}"#;
     PoseTarget::from_json_str(target, &dir).unwrap().unwrap()
 }
 

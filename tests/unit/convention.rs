@@ -3,26 +3,26 @@
 //! Every shipped design's export (`results/**/schedule.json`, 10 kHz) is
 //! played by a rigid plate written from the header's convention alone
 //! (`common/plate.rs`: quaternions, RK4 in fixed sub-steps, nothing from
-//! `platefield::motion`), the file looped for 120 s, and its pose compared
+//! `crate::motion`), the file looped for 120 s, and its pose compared
 //! with the pose the product's physics gives the same file
-//! (`platefield::motion::Held`, what `verify --replay` plays) at every
+//! (`crate::motion::Held`, what `verify --replay` plays) at every
 //! sample: within 1e-9 rad and 1e-9 m. Then one pass of each file is
 //! compared with the design's own motion (the orientation exp(\[θ\]×) of
 //! the schedule's rotation vector): the held samples follow it to
 //! O((ωΔt)²) and return it to rest at home at the end of the file.
 //!
 //! The default run plays 12 s of each file; the full 120 s:
-//! `cargo test --release --test convention -- --ignored`.
+//! `cargo test --release --lib motion::convention_tests -- --ignored`.
 
-#[path = "common/plate.rs"]
+#[path = "../common/plate.rs"]
 mod plate;
 
+use crate::motion::held_csv;
+use crate::motion::sample_hold::{centre_state, CentreState, HoldSamples};
+use crate::motion::{Held, Motion, Ramped};
+use crate::schedule::export::{export, RAMP_CYCLES};
+use crate::schedule::Schedule;
 use plate::{angle_between, from_rotation_vector, read_export, Plate};
-use platefield::motion::held_csv;
-use platefield::motion::sample_hold::{centre_state, CentreState, HoldSamples};
-use platefield::motion::{Held, Motion, Ramped};
-use platefield::schedule::export::{export, RAMP_CYCLES};
-use platefield::schedule::Schedule;
 
 /// Every shipped schedule.
 const DESIGNS: [&str; 23] = [
@@ -109,7 +109,7 @@ fn the_test_plate_plays_the_physics_pose_12_s() {
 }
 
 /// The full 120 s (about 10 s of CPU):
-/// `cargo test --release --test convention -- --ignored`.
+/// `cargo test --release --lib motion::convention_tests -- --ignored`.
 #[test]
 #[ignore]
 fn the_test_plate_plays_the_physics_pose_120_s() {
@@ -119,7 +119,7 @@ fn the_test_plate_plays_the_physics_pose_120_s() {
 /// The design's own pose at the file's sample times: a steady six-signal
 /// design ramped as the export plays it (its signals × `scale`, the
 /// export's `Export::scale`), a sequence segment by segment (rest at home
-/// between), from `platefield::motion::sample_hold`.
+/// between), from `crate::motion::sample_hold`.
 fn design_poses(s: &Schedule, dt: f64, n: usize, scale: f64) -> Vec<CentreState> {
     let steady = s
         .segments

@@ -1,5 +1,5 @@
 //! Refinement of a sequenced design by re-simulation
-//! (`platefield::design::refine`), on a small case: the shipped line-sink
+//! (`crate::design::refine`), on a small case: the shipped line-sink
 //! schedule (LineSink at 0° and 180°) with its second segment detuned by
 //! 20°, so its line is turned and its realised shape error is large;
 //! Nelder–Mead over the segments' cycles, rotation and amplitude must bring
@@ -7,9 +7,9 @@
 
 use std::path::Path;
 
-use platefield::design::refine::{apply, dimension, refine_schedule, RefineOptions};
-use platefield::request::Target;
-use platefield::schedule::Schedule;
+use crate::design::refine::{apply, dimension, refine_schedule, RefineOptions};
+use crate::request::Target;
+use crate::schedule::Schedule;
 
 fn line_sink() -> (Schedule, Target) {
     (
@@ -39,10 +39,10 @@ fn parameters_map_onto_the_primitives() {
         (p.rotation_deg - (s.segments[0].primitive.as_ref().unwrap().rotation_deg + 15.0)).abs()
             < 1e-12
     );
-    assert_eq!(p.amplitude, Some(platefield::basis::primitives::PSI0));
+    assert_eq!(p.amplitude, Some(crate::basis::primitives::PSI0));
     assert_eq!(
         b.primitive.as_ref().unwrap().amplitude,
-        Some(0.5 * platefield::basis::primitives::PSI0)
+        Some(0.5 * crate::basis::primitives::PSI0)
     );
     assert!((moved.period_s - (3.0 * s.segments[0].duration_s)).abs() < 1e-12);
 }
@@ -77,12 +77,7 @@ fn refinement_repairs_a_detuned_line_sink() {
     assert!(r.evaluations <= 30);
     // Nelder–Mead's simplex does not shrink to its 1e-6 spread in 30
     // plays of a 20° detuning: the budget ends it, and the stop says so.
-    assert_eq!(
-        r.stop,
-        platefield::work::Stop::Spent,
-        "{} plays",
-        r.evaluations
-    );
+    assert_eq!(r.stop, crate::work::Stop::Spent, "{} plays", r.evaluations);
     assert!(r.after.cost <= r.before.cost);
     // Measured by the judge 25.5 % → 3.9 % (30 plays).
     assert!(

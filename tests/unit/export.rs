@@ -3,10 +3,10 @@
 //! bring the plate back to rest in the home pose every period (issue 11:
 //! point samples drifted 4.8e-3 rad per period at 20 kHz).
 
-use platefield::schedule::export::{export, signals_csv, RAMP_CYCLES};
-use platefield::schedule::Schedule;
+use crate::schedule::export::{export, signals_csv, RAMP_CYCLES};
+use crate::schedule::Schedule;
 
-#[path = "common/plate.rs"]
+#[path = "../common/plate.rs"]
 mod plate;
 
 /// Plays the six held signals of `csv` over `loops` loops of the file as
@@ -96,10 +96,10 @@ fn a_six_signal_segment_exports_with_ramps_back_to_rest() {
     let s = Schedule::from_json_str(&text, "text").unwrap();
     assert!((s.segments[0].duration_s - 1.0).abs() < 1e-12);
     assert!((s.period_s - 1.0).abs() < 1e-12);
-    let played = platefield::play::ScheduleMotion::from_schedule(&s).unwrap();
+    let played = crate::play::ScheduleMotion::from_schedule(&s).unwrap();
     assert!(matches!(
         played.segments()[0].motion,
-        Some(platefield::motion::Motion::Signals(_))
+        Some(crate::motion::Motion::Signals(_))
     ));
     let e = export(&s, 20_000.0, 20).unwrap();
     assert_eq!(e.ramped, Some(20));
@@ -128,7 +128,7 @@ fn a_six_signal_segment_exports_with_ramps_back_to_rest() {
     // Without the ramp the same motion played from rest drifts: the
     // steady cycle alone does not return to rest at home.
     let looped =
-        platefield::motion::sample_hold::periodic(&s.segments[0].plate_motion().unwrap(), 20_000.0)
+        crate::motion::sample_hold::periodic(&s.segments[0].plate_motion().unwrap(), 20_000.0)
             .unwrap()
             .to_csv();
     let (pose_loop, _) = drift(&looped, 1);
@@ -224,10 +224,10 @@ fn a_mixed_schedule_ramps_its_six_signal_segment_and_returns_to_rest() {
     assert!(e.to_string().contains("segments[1].ramp_cycles"), "{e}");
 
     let s = Schedule::from_json_str(&mixed(Some(ramp)), "text").unwrap();
-    let played = platefield::play::ScheduleMotion::from_schedule(&s).unwrap();
+    let played = crate::play::ScheduleMotion::from_schedule(&s).unwrap();
     assert!(matches!(
         played.segments()[1].motion,
-        Some(platefield::motion::Motion::Ramped(_))
+        Some(crate::motion::Motion::Ramped(_))
     ));
     let e = export(&s, 20_000.0, 20).unwrap();
     assert_eq!(e.ramped, None, "a mixed schedule is one looped period");
@@ -265,8 +265,8 @@ fn gauss_mean(f: &dyn Fn(f64) -> [f64; 6], t0: f64, h: f64) -> [f64; 6] {
 }
 
 /// (linear, world angular) plate-centre acceleration of `motion` at `t`, as six numbers.
-fn six(motion: &platefield::motion::Motion, t: f64) -> [f64; 6] {
-    let (l, a) = platefield::schedule::export::world_acceleration(motion, t);
+fn six(motion: &crate::motion::Motion, t: f64) -> [f64; 6] {
+    let (l, a) = crate::schedule::export::world_acceleration(motion, t);
     [l.x, l.y, l.z, a.x, a.y, a.z]
 }
 
@@ -311,7 +311,7 @@ fn every_sample_is_the_mean_acceleration_over_its_interval() {
     // Primitives, one period of the schedule.
     let s = Schedule::load(std::path::Path::new("results/sequenced/sink/schedule.json")).unwrap();
     let e = export(&s, 20_000.0, 20).unwrap();
-    let segs: Vec<(f64, f64, platefield::motion::Motion)> = {
+    let segs: Vec<(f64, f64, crate::motion::Motion)> = {
         let mut t = 0.0;
         s.segments
             .iter()
@@ -337,8 +337,8 @@ fn every_sample_is_the_mean_acceleration_over_its_interval() {
     }]));
     let s = Schedule::from_json_str(&text, "text").unwrap();
     let e = export(&s, 20_000.0, 20).unwrap();
-    let m: platefield::motion::Signals = serde_json::from_value(lab_motion_json()).unwrap();
-    let m = platefield::motion::Motion::Signals(m);
+    let m: crate::motion::Signals = serde_json::from_value(lab_motion_json()).unwrap();
+    let m = crate::motion::Motion::Signals(m);
     let n = e.samples.samples_per_period;
     let ramp = n * RAMP_CYCLES as usize;
     let steady = &e.samples.samples[ramp..ramp + 20 * n];
@@ -356,8 +356,8 @@ fn every_sample_is_the_mean_acceleration_over_its_interval() {
 /// zero-mean integrals), to the sampling's 1 − cos(π/4096) ≈ 3e-7.
 #[test]
 fn steady_peaks_of_one_harmonic_are_the_closed_form() {
-    use platefield::motion::{Axes, FourierTerm, Signals};
-    use platefield::schedule::export::harmonics::of_signals;
+    use crate::motion::{Axes, FourierTerm, Signals};
+    use crate::schedule::export::harmonics::of_signals;
     let term = |amplitude, harmonic, phase| FourierTerm {
         amplitude,
         phase,
@@ -400,7 +400,7 @@ fn steady_peaks_of_one_harmonic_are_the_closed_form() {
 /// the closed form: angular stroke 2ψ₀, angular velocity ψ₀ω, on x and y.
 #[test]
 fn played_peaks_match_the_exact_kinematics() {
-    use platefield::motion::sample_hold::centre_state;
+    use crate::motion::sample_hold::centre_state;
     let s = Schedule::load(std::path::Path::new(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/results/sequenced/sink/schedule.json"

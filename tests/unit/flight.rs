@@ -21,10 +21,10 @@
 
 use std::f64::consts::PI;
 
-use platefield::dynamics::{
+use crate::dynamics::{
     Flight, Friction, Hop, Model, Numerics, PartPhase, PartPhysics, PartState, Simulator, V2,
 };
-use platefield::motion::{Axes, FourierTerm, Motion, Signals};
+use crate::motion::{Axes, FourierTerm, Motion, Signals};
 
 const G: f64 = 9.81;
 

@@ -1,9 +1,9 @@
 //! The judge under the shaker's delivery error (`design::tolerance`).
 
-use platefield::design::method::judge_check;
-use platefield::design::tolerance::{delivered, draws, spread, Draw};
-use platefield::request::Tolerance;
-use platefield::schedule::Schedule;
+use crate::design::method::judge_check;
+use crate::design::tolerance::{delivered, draws, spread, Draw};
+use crate::request::Tolerance;
+use crate::schedule::Schedule;
 
 fn sink() -> Schedule {
     Schedule::load(std::path::Path::new(
@@ -83,10 +83,10 @@ fn the_spread_is_the_judge_over_seeded_draws() {
 /// at the row the headline names).
 #[test]
 fn a_stated_tolerance_is_judged_at_the_worst_friction() {
-    use platefield::basis::PrimitiveKind;
-    use platefield::design::{BasisSection, DesignOptions};
-    use platefield::inverse::run;
-    let target = platefield::request::Target::from_json_str(
+    use crate::basis::PrimitiveKind;
+    use crate::design::{BasisSection, DesignOptions};
+    use crate::inverse::run;
+    let target = crate::request::Target::from_json_str(
         r#"{"name": "sink_tol", "field": {"kind": "sink"},
             "grid": {"x": [-0.04, 0.04], "y": [-0.04, 0.04], "n": [9, 9]},
             "friction": [0.2, 0.4],
@@ -94,16 +94,18 @@ fn a_stated_tolerance_is_judged_at_the_worst_friction() {
     )
     .unwrap();
     let opts = DesignOptions {
-        method: platefield::design::Method::Sequence,
+        method: crate::design::Method::Sequence,
         basis: BasisSection {
             kinds: vec![PrimitiveKind::LineSink],
             rotation_step_deg: 90.0,
             cache_dir: Some(
-                std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("tol-cache"),
+                std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+                    .join("target/tmp")
+                    .join("tol-cache"),
             ),
             ..Default::default()
         },
-        runtime: platefield::work::Runtime::QUIET,
+        runtime: crate::work::Runtime::QUIET,
         ..DesignOptions::default()
     };
     let md = run(&target, &opts).unwrap().into_method().unwrap();
@@ -135,26 +137,26 @@ fn a_stated_tolerance_is_judged_at_the_worst_friction() {
 /// over the draws misses that (measured 8.25 % at μ 0.4); with it the
 /// design weighs the wider-margin candidates over the same draws
 /// (`design::method::Choice::Delivered`; measured 6.75, 6.71 and 6.83 %).
-/// About 3 min of CPU: `cargo test --release --test tolerance -- --ignored`.
+/// About 3 min of CPU: `cargo test --release --lib design::tolerance::tolerance_tests -- --ignored`.
 #[test]
-#[ignore = "about 3 min of CPU: cargo test --release --test tolerance -- --ignored"]
+#[ignore = "about 3 min of CPU: cargo test --release --lib design::tolerance::tolerance_tests -- --ignored"]
 fn the_sink_holds_its_tolerance_over_the_range() {
-    use platefield::design::tolerance::judged_at;
-    use platefield::design::DesignOptions;
-    use platefield::inverse::run;
+    use crate::design::tolerance::judged_at;
+    use crate::design::DesignOptions;
+    use crate::inverse::run;
     let mut target =
-        platefield::request::Target::load(std::path::Path::new("targets/sink.json")).unwrap();
-    target.friction = Some(platefield::scene::FrictionSpec::range(0.2, 0.4));
+        crate::request::Target::load(std::path::Path::new("targets/sink.json")).unwrap();
+    target.friction = Some(crate::scene::FrictionSpec::range(0.2, 0.4));
     let tol = Tolerance {
         amplitude: 0.05,
         phase_deg: 5.0,
     };
-    target.shaker = Some(platefield::request::ShakerSpec {
+    target.shaker = Some(crate::request::ShakerSpec {
         tolerance: Some(tol),
         ..Default::default()
     });
     let opts = DesignOptions {
-        runtime: platefield::work::Runtime::QUIET,
+        runtime: crate::work::Runtime::QUIET,
         ..DesignOptions::default()
     };
     let md = run(&target, &opts).unwrap().into_method().unwrap();
@@ -165,7 +167,7 @@ fn the_sink_holds_its_tolerance_over_the_range() {
         let physics = judged_at(
             kept,
             &kept.settings,
-            Some(platefield::dynamics::Friction::uniform(mu)),
+            Some(crate::dynamics::Friction::uniform(mu)),
         );
         let s = spread(&target, &sampled, kept, &physics, (&tol, 64)).unwrap();
         let [median, p90, worst] = s.shape();

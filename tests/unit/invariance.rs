@@ -8,9 +8,9 @@
 //! sensitivity (≈ 1e-11 relative, `results/library_speed.md`), with the same
 //! validity everywhere.
 
-use platefield::basis::{Primitive, PrimitiveKind};
-use platefield::field::{Field, FieldKind, FieldSettings, Grid, Orbits};
-use platefield::motion::{Axes, FourierTerm, Invariance, Motion, Signals};
+use crate::basis::{Primitive, PrimitiveKind};
+use crate::field::{Field, FieldKind, FieldSettings, Grid, Orbits};
+use crate::motion::{Axes, FourierTerm, Invariance, Motion, Signals};
 
 /// 7 × 7 over ±4 cm.
 const GRID7: Grid = Grid {

@@ -16,18 +16,18 @@
 //! second order in ωΔt (4.4e-4 at 10 kHz, `cli/tests/replay.rs`), the
 //! warm-up's transient below 1e-4 of the mean.
 
-use platefield::design::judge::{judge, judge_points};
-use platefield::design::method::Method;
-use platefield::design::DesignOptions;
-use platefield::dynamics::{Model, PartState, Simulator};
-use platefield::inverse::run;
-use platefield::motion::held_csv;
-use platefield::motion::sample_hold::HoldSamples;
-use platefield::motion::{Held, Motion};
-use platefield::play::ScheduleMotion;
-use platefield::request::Target;
-use platefield::schedule::export::{export, RAMP_CYCLES};
-use platefield::schedule::Schedule;
+use crate::design::judge::{judge, judge_points};
+use crate::design::method::Method;
+use crate::design::DesignOptions;
+use crate::dynamics::{Model, PartState, Simulator};
+use crate::inverse::run;
+use crate::motion::held_csv;
+use crate::motion::sample_hold::HoldSamples;
+use crate::motion::{Held, Motion};
+use crate::play::ScheduleMotion;
+use crate::request::Target;
+use crate::schedule::export::{export, RAMP_CYCLES};
+use crate::schedule::Schedule;
 
 type V2 = nalgebra::Vector2<f64>;
 
@@ -98,7 +98,7 @@ fn replayed(schedule: &Schedule, target: &Target) -> (f64, f64) {
     };
     let motion = Motion::Held(held);
     let s = &schedule.settings;
-    let physics = platefield::dynamics::PartPhysics::new(
+    let physics = crate::dynamics::PartPhysics::new(
         s.friction,
         s.gravity,
         Model {
@@ -168,9 +168,9 @@ fn the_judge_agrees_with_an_exact_replay_of_the_export() {
 }
 
 /// The same agreement for a mirror pair of the sink, designed here (about
-/// 15 s of CPU): `cargo test --release --test judge -- --ignored`.
+/// 15 s of CPU): `cargo test --release --lib design::judge::judge_tests -- --ignored`.
 #[test]
-#[ignore = "designs a mirror pair: cargo test --release --test judge -- --ignored"]
+#[ignore = "designs a mirror pair: cargo test --release --lib design::judge::judge_tests -- --ignored"]
 fn the_judge_agrees_with_an_exact_replay_of_a_mirror_pair() {
     let target = Target::load(&root("targets/sink.json")).unwrap();
     let opts = DesignOptions {
@@ -246,7 +246,7 @@ fn the_region_is_the_region() {
     let sm = ScheduleMotion::from_schedule(&schedule).unwrap();
     let s = &schedule.settings;
     let motion = schedule.segments[0].plate_motion().unwrap();
-    let frozen = platefield::dynamics::PartPhysics::new(
+    let frozen = crate::dynamics::PartPhysics::new(
         s.friction,
         s.gravity,
         Model {

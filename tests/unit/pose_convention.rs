@@ -4,25 +4,25 @@
 //! The bracket pose design (`results/poses/bracket/schedule.json`, written
 //! by `platefield study poses`) is exported as `platefield export` writes
 //! it (10 kHz, one schedule period to loop) and read back as the product
-//! replays a file (`platefield::motion::held_csv`). A controller loops the
+//! replays a file (`crate::motion::held_csv`). A controller loops the
 //! file: the drops' duration (the design's `played.pose.duration_s`, whole
 //! schedule periods) is the file's samples played that many times over
-//! without a restart, here one `platefield::motion::Held` of them, the one
-//! segment of a `platefield::play::ScheduleMotion`.
+//! without a restart, here one `crate::motion::Held` of them, the one
+//! segment of a `crate::play::ScheduleMotion`.
 //!
 //! 1. **The motion is the test plate's.** The rigid plate of
 //!    `common/plate.rs` (quaternions, RK4 in fixed sub-steps, nothing from
-//!    `platefield::motion`) plays the same looped file, and its pose equals
+//!    `crate::motion`) plays the same looped file, and its pose equals
 //!    that segment's at every sample within 1e-9 rad and 1e-9 m: the parts
 //!    below are played on that plate's motion to 1e-9. (A pass of the file
 //!    does not end exactly at home: the held samples of the coning tilts
-//!    leave a small tilt, second order in Δt (`tests/convention.rs`),
+//!    leave a small tilt, second order in Δt (`tests/unit/convention.rs`),
 //!    printed and bounded below; a controller looping the file keeps it,
 //!    as this loop does, where a replay of one pass at a time restarts
 //!    each at home.)
 //! 2. **The parts still reach the pose.** The product's pose drops
-//!    (`platefield::pose::play_part` from the seeded starts
-//!    `platefield::pose::drop_starts` over the region inset by the part's
+//!    (`crate::pose::play_part` from the seeded starts
+//!    `crate::pose::drop_starts` over the region inset by the part's
 //!    radius: the first of the design's own drops, at its settings and
 //!    duration) are played on that motion and on the schedule itself (at
 //!    the file's step size: below), and the drops ending at the asked pose
@@ -34,7 +34,7 @@
 //! **Step size.** Every held sample is a breakpoint, so a drop on the file
 //! takes at least one step per sample: 301 per cycle at 10 kHz, where the
 //! design plays its drops at 64 (`DropPlay::new`). Under the midpoint slip
-//! rule (the default, `platefield::dynamics::SlipRule`) the bracket's drops
+//! rule (the default, `crate::dynamics::SlipRule`) the bracket's drops
 //! end at the same rest angle at 64, 128, 256 and 512 steps per cycle
 //! (`the_rest_angle_is_converged_in_the_step` prints them); under the
 //! backward rule the rest angle moves at first order in the step toward the
@@ -43,23 +43,23 @@
 //! beside it.
 //!
 //! The default run checks (1) over one pass of the file. One drop for
-//! that pass: `cargo test --release --test pose_convention -- --ignored
+//! that pass: `cargo test --release --lib pose::pose_convention_tests -- --ignored
 //! --nocapture 1_drop`; the 12 drops for the design's whole duration:
-//! `cargo test --release --test pose_convention -- --ignored --nocapture
+//! `cargo test --release --lib pose::pose_convention_tests -- --ignored --nocapture
 //! 12_drops` (minutes of CPU).
 
-#[path = "common/plate.rs"]
+#[path = "../common/plate.rs"]
 mod plate;
 
 use std::path::Path;
 
+use crate::motion::{held_csv, Held, Motion};
+use crate::play::{PlayedSegment, ScheduleMotion};
+use crate::pose::design::{at_pose, search::pose_error, PoseTarget};
+use crate::pose::{drop_starts, play_part, DropPlay, Pose};
+use crate::schedule::export::export;
+use crate::schedule::Schedule;
 use plate::{angle_between, from_rotation_vector, read_export, Plate};
-use platefield::motion::{held_csv, Held, Motion};
-use platefield::play::{PlayedSegment, ScheduleMotion};
-use platefield::pose::design::{at_pose, search::pose_error, PoseTarget};
-use platefield::pose::{drop_starts, play_part, DropPlay, Pose};
-use platefield::schedule::export::export;
-use platefield::schedule::Schedule;
 
 /// The shipped design and its target.
 const SCHEDULE: &str = "results/poses/bracket/schedule.json";
@@ -315,7 +315,7 @@ fn the_bracket_export_is_the_test_plates_motion() {
 
 /// One drop for one pass of the file (the design's drops play two): the
 /// file's end against the schedule's, and the file looped once (about
-/// 15 s of CPU: `cargo test --release --test pose_convention -- --ignored
+/// 15 s of CPU: `cargo test --release --lib pose::pose_convention_tests -- --ignored
 /// --nocapture 1_drop`).
 #[test]
 #[ignore]
@@ -327,7 +327,7 @@ fn the_bracket_export_brings_parts_to_the_pose_1_drop() {
 
 /// The 12 drops for the design's duration (about 250 s of CPU, against
 /// 15 s for the one drop above):
-/// `cargo test --release --test pose_convention -- --ignored --nocapture 12_drops`.
+/// `cargo test --release --lib pose::pose_convention_tests -- --ignored --nocapture 12_drops`.
 #[test]
 #[ignore]
 fn the_bracket_export_brings_parts_to_the_pose_12_drops() {
@@ -344,7 +344,7 @@ fn the_bracket_export_brings_parts_to_the_pose_12_drops() {
 /// the same held while the step moved the rest angle (`docs/parts.md`):
 /// that error was the slip's own, between events, which the midpoint rule
 /// removes (`the_rest_angle_is_converged_in_the_step`). About 60 s of CPU:
-/// `cargo test --release --test pose_convention -- --ignored --nocapture refinement`.
+/// `cargo test --release --lib pose::pose_convention_tests -- --ignored --nocapture refinement`.
 #[test]
 #[ignore]
 fn the_rest_angles_step_dependence_is_not_the_refinement() {
@@ -375,15 +375,15 @@ fn the_rest_angles_step_dependence_is_not_the_refinement() {
 
 /// The bracket's rest angle is converged in the drops' step at the design's
 /// 64 steps per cycle under the midpoint slip rule (the default,
-/// `platefield::dynamics::SlipRule`): drops 0, 4 and 9 end within 0.02 mm
+/// `crate::dynamics::SlipRule`): drops 0, 4 and 9 end within 0.02 mm
 /// and 0.05° of where they end at 512 steps per cycle (the ends at 64,
 /// 128, 256 and 512 are printed). The backward rule's rest angle moves at
 /// first order in the step (printed beside it). Minutes of CPU:
-/// `cargo test --release --test pose_convention -- --ignored --nocapture converged_in_the_step`.
+/// `cargo test --release --lib pose::pose_convention_tests -- --ignored --nocapture converged_in_the_step`.
 #[test]
 #[ignore]
 fn the_rest_angle_is_converged_in_the_step() {
-    use platefield::dynamics::SlipRule;
+    use crate::dynamics::SlipRule;
     let b = bracket();
     let own = ScheduleMotion::from_schedule(&b.schedule).unwrap();
     let which = [0usize, 4, 9];

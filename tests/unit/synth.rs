@@ -4,17 +4,17 @@
 //!
 //! The other targets' table (saddle, whirlpool, line sink at 30° through
 //! (5 mm, 0), squeeze_trans) is behind `#[ignore]`:
-//! `cargo test --release --test synth -- --ignored --nocapture`.
+//! `cargo test --release --lib synth::synthesis_tests -- --ignored --nocapture`.
 
-use platefield::basis::{Primitive, PrimitiveKind};
-use platefield::field::{Field, FieldKind, FieldSettings, Grid};
-use platefield::motion::sample_hold::{self, CentreState, MotionSpan};
-use platefield::motion::{Motion, Signals};
-use platefield::request::FieldSpec;
-use platefield::synth::params::{Coefficients, Layout};
-use platefield::synth::progress::ProgressMode;
-use platefield::synth::seed::seed;
-use platefield::synth::{synthesize, ShakerLimits, SynthOptions, Synthesis};
+use crate::basis::{Primitive, PrimitiveKind};
+use crate::field::{Field, FieldKind, FieldSettings, Grid};
+use crate::motion::sample_hold::{self, CentreState, MotionSpan};
+use crate::motion::{Motion, Signals};
+use crate::request::FieldSpec;
+use crate::synth::params::{Coefficients, Layout};
+use crate::synth::progress::ProgressMode;
+use crate::synth::seed::seed;
+use crate::synth::{synthesize, ShakerLimits, SynthOptions, Synthesis};
 
 /// The lab-class limits of issue 11.
 fn lab() -> ShakerLimits {
@@ -55,7 +55,7 @@ fn run(
     n: usize,
     limits: &ShakerLimits,
     options: &SynthOptions,
-) -> platefield::Result<Synthesis> {
+) -> crate::Result<Synthesis> {
     synthesize(
         field,
         &region(n),
@@ -251,7 +251,7 @@ fn six_signal_parameters_and_peaks() {
 /// the layout sees are lowered to min(v ω, s ω²) for harmonic 1.
 #[test]
 fn travel_limits_clamp_the_summed_velocity_and_stroke() {
-    use platefield::request::TravelSpec;
+    use crate::request::TravelSpec;
     let w = std::f64::consts::TAU / 0.05;
     let limits = ShakerLimits {
         harmonics: 3,
@@ -382,10 +382,10 @@ fn seed_predicts_the_simulated_sink() {
     let (kv, tv) = complex_scale(&v_sim.vectors, &v_pred);
     let (kf, tf) = complex_scale(&f_sim.vectors, &f_pred);
     println!(
-        "seed sink: velocity field vs prediction {:.1} % (ratio {kv:.3}, turned {tv:.1}°), force field vs prediction {:.1} % (ratio {kf:.3}, turned {tf:.1}°)",
-        100.0 * ev,
-        100.0 * ef
-    );
+    "seed sink: velocity field vs prediction {:.1} % (ratio {kv:.3}, turned {tv:.1}°), force field vs prediction {:.1} % (ratio {kf:.3}, turned {tf:.1}°)",
+    100.0 * ev,
+    100.0 * ef
+);
     assert!(ev < 0.2, "velocity {ev}");
     assert!(
         (0.9..1.0).contains(&kv) && (5.0..13.0).contains(&tv),
@@ -405,9 +405,9 @@ fn seed_predicts_the_simulated_sink() {
 /// measured one above) below 1° without losing strength.
 #[test]
 fn calibration_turns_the_seed_back() {
-    use platefield::field::Validity;
-    use platefield::synth::calibrate::shifted;
-    use platefield::synth::objective::realised;
+    use crate::field::Validity;
+    use crate::synth::calibrate::shifted;
+    use crate::synth::objective::realised;
     let settings = FieldSettings::default();
     let grid = region(7);
     let mut limits = lab();
@@ -544,9 +544,9 @@ fn same_seed_gives_the_same_bytes() {
 /// trapezoidal pose is tested beyond one harmonic.
 fn six_signal_motion() -> Motion {
     let json = r#"{"period": 0.05,
-      "linear": {"x": [{"amplitude": 10, "phase": 1.37}, {"amplitude": 2, "phase": 0.3, "harmonic": 2}],
-                 "y": [{"amplitude": 10, "phase": -0.17}]},
-      "angular": {"x": [{"amplitude": 65, "phase": 1.83}], "y": [{"amplitude": 65, "phase": 0.28}]}}"#;
+  "linear": {"x": [{"amplitude": 10, "phase": 1.37}, {"amplitude": 2, "phase": 0.3, "harmonic": 2}],
+             "y": [{"amplitude": 10, "phase": -0.17}]},
+  "angular": {"x": [{"amplitude": 65, "phase": 1.83}], "y": [{"amplitude": 65, "phase": 0.28}]}}"#;
     Motion::Signals(serde_json::from_str::<Signals>(json).unwrap())
 }
 
@@ -726,7 +726,7 @@ fn other_targets_report() {
 }
 
 /// Prints a synthesized lab sink as a scene that `platefield field` takes
-/// unchanged: `cargo test --release --test synth -- --ignored print_scene --nocapture`.
+/// unchanged: `cargo test --release --lib synth::synthesis_tests -- --ignored print_scene --nocapture`.
 #[test]
 #[ignore]
 fn print_scene() {
@@ -759,8 +759,8 @@ fn print_scene() {
 /// centred sink (b = 0 up to round-off) gets no transport start.
 #[test]
 fn transport_start_carries_the_uniform_part() {
-    use platefield::synth::objective::realised;
-    use platefield::synth::transport::transport_start;
+    use crate::synth::objective::realised;
+    use crate::synth::transport::transport_start;
     let settings = FieldSettings::default();
     let limits = ShakerLimits {
         period: 0.030_063_087_594_160_7,

@@ -15,21 +15,21 @@
 //! * `quick_table` (ignored, seconds): the same at 16…128 steps
 //!   (`SLIP2D_STEPS=64,128,256` for others) for any
 //!   scheme, with RK4 steps and CPU per cycle:
-//!   `SLIP2D_SCHEME=legacy cargo test --release --test slip2d -- --ignored --nocapture quick_table`.
+//!   `SLIP2D_SCHEME=legacy cargo test --release --lib dynamics::integrator::slip2d_tests -- --ignored --nocapture quick_table`.
 //! * `convergence_table` (ignored; minutes): the full table, every primitive,
 //!   11×11 grid, 30 phases, 8…128 steps against a 4096-step reference:
-//!   `cargo test --release --test slip2d -- --ignored --nocapture convergence_table`
+//!   `cargo test --release --lib dynamics::integrator::slip2d_tests -- --ignored --nocapture convergence_table`
 //!   (`SLIP2D_REF=16384` for a finer reference, `SLIP2D_SCHEME=legacy` or
 //!   `stiff` for the older schemes — against the stiff scheme's reference
 //!   —, `SLIP2D_ONLY=Circle,Trans` for some primitives).
 
 use std::time::Instant;
 
+use crate::basis::{Library, Primitive, PrimitiveKind};
+use crate::dynamics::{CycleOutcome, PartState, SlipScheme, TrajectoryPoint};
+use crate::field::{Field, FieldKind, FieldSettings, Grid};
+use crate::motion::{Invariance, Motion, V3};
 use nalgebra::Vector2;
-use platefield::basis::{Library, Primitive, PrimitiveKind};
-use platefield::dynamics::{CycleOutcome, PartState, SlipScheme, TrajectoryPoint};
-use platefield::field::{Field, FieldKind, FieldSettings, Grid};
-use platefield::motion::{Invariance, Motion, V3};
 
 /// One serially computed force field and what it cost.
 struct Measured {
@@ -192,7 +192,7 @@ fn harness_matches_field_compute() {
     let every = Field::compute_by(&p.motion(), &grid, FieldKind::Force, &s5, none, &|| {});
     assert_eq!(m.vectors, every.vectors);
     // The engine's field simulates one point per circle about the axis
-    // (`tests/invariance.rs`): the same to round-off.
+    // (`tests/unit/invariance.rs`): the same to round-off.
     let f = reference(&p, &small_grid(), 5, &s);
     assert!(relative_l2(&f.vectors, &m.vectors) < 1e-13);
 }
@@ -308,9 +308,9 @@ fn convergence_table() {
     };
     let only = std::env::var("SLIP2D_ONLY").ok();
     println!(
-        "force field 11×11×30 vs {reference_steps} steps, scheme {scheme:?}\n\
-         | primitive | steps | rel. L2 | order | RK4 steps/cycle | µs/cycle |\n|---|---|---|---|---|---|"
-    );
+    "force field 11×11×30 vs {reference_steps} steps, scheme {scheme:?}\n\
+     | primitive | steps | rel. L2 | order | RK4 steps/cycle | µs/cycle |\n|---|---|---|---|---|---|"
+);
     for p in Library::default_primitives() {
         if only
             .as_deref()

@@ -6,15 +6,15 @@
 //! position noise, 5 % of frames missing, unless stated.
 //!
 //! The coverage study (100 seeded repetitions per case) is `#[ignore]`d:
-//! `cargo test --release --test calibrate -- --ignored --nocapture coverage_study`
+//! `cargo test --release --lib calibrate::calibrate_tests -- --ignored --nocapture coverage_study`
 //! (about 100 × 5 to 10 s of CPU per case; `PLATEFIELD_COVERAGE_REPS=N` runs N,
 //! `PLATEFIELD_COVERAGE_CASE=NAME` the cases of the schedule NAME).
 
 use std::path::Path;
 
-use platefield::calibrate::{calibrate, simulate_tracks, CalibrateOptions, TrackSimulation};
-use platefield::dynamics::Friction;
-use platefield::schedule::Schedule;
+use crate::calibrate::{calibrate, simulate_tracks, CalibrateOptions, TrackSimulation};
+use crate::dynamics::Friction;
+use crate::schedule::Schedule;
 
 fn schedule(name: &str) -> Schedule {
     let path = format!(
@@ -31,11 +31,7 @@ const STICKY: Friction = Friction {
 };
 
 /// The calibration of `sim`'s tracks on the shipped `name` schedule.
-fn calibrated(
-    name: &str,
-    sim: &TrackSimulation,
-    scale: bool,
-) -> platefield::calibrate::Calibration {
+fn calibrated(name: &str, sim: &TrackSimulation, scale: bool) -> crate::calibrate::Calibration {
     let s = schedule(name);
     let region = s.region();
     let tracks = simulate_tracks(&s, &region, sim).expect("tracks");
@@ -51,9 +47,9 @@ fn calibrated(
 /// The calibration's one class, after asserting there is one, its μ_k
 /// within ±0.01 of `truth` and its 95 % interval covering `truth`.
 fn one_class_covering(
-    c: &platefield::calibrate::Calibration,
+    c: &crate::calibrate::Calibration,
     truth: f64,
-) -> &platefield::calibrate::ClassEstimate {
+) -> &crate::calibrate::ClassEstimate {
     assert_eq!(c.classes.len(), 1, "{:?}", c.per_part);
     let class = &c.classes[0];
     let mu = class.mu_k.value.expect("μ_k");
@@ -65,7 +61,7 @@ fn one_class_covering(
 
 /// μ_s named as not determined, first among the parameters the tracks
 /// cannot separate, and given no value.
-fn static_undetermined(class: &platefield::calibrate::ClassEstimate) {
+fn static_undetermined(class: &crate::calibrate::ClassEstimate) {
     assert!(class.mu_s.value.is_none());
     assert!(
         class.not_separable[0].starts_with("mu_s"),
@@ -83,7 +79,7 @@ fn static_undetermined(class: &platefield::calibrate::ClassEstimate) {
 /// default run checks the same of the shipped example (μ_s = μ_k = 0.23
 /// on the same motion) through the CLI (`cli/tests/calibrate.rs`).
 #[test]
-#[ignore = "about 10 s of CPU: cargo test --release --test calibrate -- --ignored kinetic_friction"]
+#[ignore = "about 10 s of CPU: cargo test --release --lib calibrate::calibrate_tests -- --ignored kinetic_friction"]
 fn kinetic_friction_is_identified_and_static_named_undetermined() {
     let sim = TrackSimulation::new(STICKY, 20, 1);
     let c = calibrated("squeeze_trans", &sim, false);
@@ -107,7 +103,7 @@ fn kinetic_friction_is_identified_and_static_named_undetermined() {
 /// the identification at the motion's own amplitude (the shipped example
 /// through the CLI, `cli/tests/calibrate.rs`).
 #[test]
-#[ignore = "about 8 s of CPU: cargo test --release --test calibrate -- --ignored amplitude_scale"]
+#[ignore = "about 8 s of CPU: cargo test --release --lib calibrate::calibrate_tests -- --ignored amplitude_scale"]
 fn amplitude_scale_is_recovered() {
     let mut sim = TrackSimulation::new(Friction::uniform(0.23), 20, 1);
     sim.scale = 0.95;
@@ -129,7 +125,7 @@ fn amplitude_scale_is_recovered() {
 /// played at 0.95 × its amplitude (32 of 64, 1.2 µm).
 #[test]
 fn coarsened_replays_hold_every_track() {
-    use platefield::calibrate::replay::{path, steps_for, STEP_ERROR};
+    use crate::calibrate::replay::{path, steps_for, STEP_ERROR};
     let noise = 2e-4;
     for (name, f, scale, steps) in [
         ("sink", STICKY, 1.0, 16),
@@ -140,7 +136,7 @@ fn coarsened_replays_hold_every_track() {
         let mut sim = TrackSimulation::new(f, 20, 1);
         sim.scale = scale;
         let tracks = simulate_tracks(&s, &region, &sim).expect("tracks");
-        let last = |t: &&platefield::calibrate::Track| t.frames.last().map_or(0.0, |f| f.t);
+        let last = |t: &&crate::calibrate::Track| t.frames.last().map_or(0.0, |f| f.t);
         let probe = tracks
             .tracks
             .iter()
@@ -175,7 +171,7 @@ fn coarsened_replays_hold_every_track() {
 /// intervals), 1 − e^(−q/2) for p = 2; each 0.95 within 10⁻¹⁰.
 #[test]
 fn chi_square_quantiles_are_the_distributions() {
-    use platefield::calibrate::replay::CHI2_95;
+    use crate::calibrate::replay::CHI2_95;
     let phi = |z: f64| (-0.5 * z * z).exp() / (2.0 * std::f64::consts::PI).sqrt();
     let simpson = |f: &dyn Fn(f64) -> f64, b: f64| {
         let n = 20_000;
@@ -228,7 +224,7 @@ fn two_frictions_are_two_classes() {
 /// identification on the translation-heavy motion (the shipped example
 /// through the CLI, `cli/tests/calibrate.rs`).
 #[test]
-#[ignore = "about 8 s of CPU: cargo test --release --test calibrate -- --ignored one_friction_on_a_sink"]
+#[ignore = "about 8 s of CPU: cargo test --release --lib calibrate::calibrate_tests -- --ignored one_friction_on_a_sink"]
 fn one_friction_on_a_sink_is_one_class() {
     let sim = TrackSimulation::new(Friction::uniform(0.23), 20, 1);
     let c = calibrated("synthesized/sink", &sim, false);
@@ -248,7 +244,7 @@ fn one_friction_on_a_sink_is_one_class() {
 /// remove, μ_s named as not determined (the replays do not change with
 /// it: the parts never stick).
 #[test]
-#[ignore = "about 5 s of CPU: cargo test --release --test calibrate -- --ignored shipped_sink"]
+#[ignore = "about 5 s of CPU: cargo test --release --lib calibrate::calibrate_tests -- --ignored shipped_sink"]
 fn shipped_sink_is_identified_by_replays() {
     let sim = TrackSimulation::new(STICKY, 20, 1);
     let c = calibrated("sink", &sim, false);
@@ -317,7 +313,7 @@ fn coverage(name: &str, f: Friction, reps: u64) -> Coverage {
 /// issue's numbers (every estimate within ±0.01, ≥ 90 % of the intervals
 /// covering) after printing every case.
 #[test]
-#[ignore = "about 100 × 5 to 10 s of CPU per case: cargo test --release --test calibrate -- --ignored --nocapture coverage_study"]
+#[ignore = "about 100 × 5 to 10 s of CPU per case: cargo test --release --lib calibrate::calibrate_tests -- --ignored --nocapture coverage_study"]
 fn coverage_study() {
     let reps: u64 = std::env::var("PLATEFIELD_COVERAGE_REPS")
         .ok()

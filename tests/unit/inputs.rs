@@ -9,12 +9,12 @@ use std::path::Path;
 use proptest::prelude::*;
 use serde_json::Value;
 
-use platefield::play::ScheduleMotion;
-use platefield::progress::ProgressMode;
-use platefield::request::{examples, Target};
-use platefield::scene::Scene;
-use platefield::schedule::Schedule;
-use platefield::Error;
+use crate::play::ScheduleMotion;
+use crate::progress::ProgressMode;
+use crate::request::{examples, Target};
+use crate::scene::Scene;
+use crate::schedule::Schedule;
+use crate::Error;
 
 /// The shipped scenes and the target examples, as JSON values.
 fn bases() -> (Vec<Value>, Vec<Value>) {
@@ -355,7 +355,7 @@ proptest! {
         })
         .to_string();
         match Target::from_json_str(&json).and_then(|t| t.sample().map(|s| (t, s))) {
-            Err(e) if count < platefield::request::MIN_WEIGHTED_POINTS => {
+            Err(e) if count < crate::request::MIN_WEIGHTED_POINTS => {
                 let e = e.to_string();
                 prop_assert!(e.starts_with("target.field.points: leaves"), "{}", e);
             }
@@ -370,8 +370,8 @@ proptest! {
                     let f = t.field.eval(*p);
                     prop_assert!((f[0] - v[0]).abs() <= 1e-15 && (f[1] - v[1]).abs() <= 1e-15);
                 }
-                let g = platefield::request::scattered_grid(&s.points);
-                prop_assert!(g.n[0] <= platefield::request::SCATTERED_N && g.n[1] <= platefield::request::SCATTERED_N);
+                let g = crate::request::scattered_grid(&s.points);
+                prop_assert!(g.n[0] <= crate::request::SCATTERED_N && g.n[1] <= crate::request::SCATTERED_N);
                 for p in &s.points {
                     prop_assert!(g.x[0] <= p[0] && p[0] <= g.x[1] && g.y[0] <= p[1] && p[1] <= g.y[1], "{:?} outside {:?}", p, g);
                 }
@@ -449,7 +449,7 @@ proptest! {
     #![proptest_config(ProptestConfig { cases: 64, failure_persistence: None, ..ProptestConfig::default() })]
 
     /// Sizes of input files (issue 30): every input is read through
-    /// `platefield::input::read_capped`. For a file of any size against
+    /// `crate::input::read_capped`. For a file of any size against
     /// any cap, the bytes come back whole exactly when the size is within
     /// the cap; else the read is refused with `InvalidInput` stating the
     /// cap, never truncated (the file's bytes differ at every position, so
@@ -461,7 +461,7 @@ proptest! {
         let path = dir.join(format!("in_{size}_{cap}"));
         let bytes: Vec<u8> = (0..size).map(|i| (i % 251) as u8).collect();
         std::fs::write(&path, &bytes).unwrap();
-        let read = platefield::input::read_capped(&path, cap);
+        let read = crate::input::read_capped(&path, cap);
         std::fs::remove_file(&path).ok();
         match read {
             Ok(got) => {
@@ -478,13 +478,13 @@ proptest! {
 }
 
 /// The real cap on targets, scenes and schedules
-/// ([`platefield::input::MAX_INPUT_BYTES`], 64 MiB): a file one byte over
+/// ([`crate::input::MAX_INPUT_BYTES`], 64 MiB): a file one byte over
 /// it (sparse, so the test writes nothing) is refused naming the file and
 /// the cap, for each loader; a file at the cap is read and fails as the
 /// JSON it is not, naming the file.
 #[test]
 fn inputs_one_byte_over_the_cap_are_refused_by_every_loader() {
-    let cap = platefield::input::MAX_INPUT_BYTES;
+    let cap = crate::input::MAX_INPUT_BYTES;
     let dir = std::env::temp_dir().join(format!("pf_cap_{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("big.json");

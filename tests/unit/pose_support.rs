@@ -1,19 +1,19 @@
 //! Pose designs played over the supports the part may rest on
-//! (`platefield::pose::design::support`): the part file's, uniform, 3 and 4
+//! (`crate::pose::design::support`): the part file's, uniform, 3 and 4
 //! points at the convex hull's vertices and seeded random admissible
 //! distributions, each with its weighted centroid at the centre of mass.
 
 use std::path::Path;
 
-use platefield::dynamics::V2;
-use platefield::part::Part;
-use platefield::play::ScheduleMotion;
-use platefield::pose::design::support::{
+use crate::dynamics::V2;
+use crate::part::Part;
+use crate::play::ScheduleMotion;
+use crate::pose::design::support::{
     play_over_supports, support_models, SupportModel, RANDOM_SUPPORTS,
 };
-use platefield::pose::design::{at_pose, PoseTarget};
-use platefield::pose::{drop_starts, play_part, DropPlay};
-use platefield::schedule::Schedule;
+use crate::pose::design::{at_pose, PoseTarget};
+use crate::pose::{drop_starts, play_part, DropPlay};
+use crate::schedule::Schedule;
 
 const PARTS: [&str; 3] = ["rectangle", "bracket", "triangle"];
 
@@ -53,7 +53,7 @@ fn support_models_are_admissible() {
             assert!(c.norm() < 1e-10 * radius, "{name} {}: {c:?}", m.name);
             for p in m.body.points() {
                 assert!(
-                    platefield::part::covers(&part.polygon, p, 1e-9 * radius),
+                    crate::part::covers(&part.polygon, p, 1e-9 * radius),
                     "{name} {}: {p:?} outside",
                     m.name
                 );
@@ -162,7 +162,7 @@ fn rectangle_design_over_three_supports() {
 /// 1 and 1.2, the worst model first (printed), each drop as long as the
 /// design's own (3 periods of its cycle). Measured numbers:
 /// `results/poses.md`, `docs/parts.md`.
-/// `cargo test --release --test pose_support -- --ignored --nocapture`.
+/// `cargo test --release --lib pose::design::support::support_tests -- --ignored --nocapture`.
 #[test]
 #[ignore]
 fn designs_over_the_support_models_at_scale() {
@@ -224,8 +224,8 @@ fn major_axis(m: &SupportModel) -> f64 {
 /// "Over the unknown support").
 #[test]
 fn an_affine_stage_rests_each_support_on_its_major_axis() {
-    use platefield::pose::design::TOL_DEG;
-    use platefield::pose::{LiftedField, Pose};
+    use crate::pose::design::TOL_DEG;
+    use crate::pose::{LiftedField, Pose};
     let sink = |p: V2| V2::new(-0.3 * p.x, -p.y);
     for (name, beyond) in [("rectangle", 9), ("bracket", 5), ("triangle", 16)] {
         let req = PoseTarget::load(Path::new(&format!("targets/pose_{name}.json")))

@@ -1,10 +1,10 @@
 //! The field engine (issue 12): steady states that stop when they stall,
 //! and non-finite samples reported as such.
 
-use platefield::basis::{Primitive, PrimitiveKind};
-use platefield::dynamics::{Friction, Model, Numerics, Simulator, SlipScheme, SteadyFailure};
-use platefield::field::{Field, FieldKind, FieldSettings, Grid, Validity};
-use platefield::motion::{Motion, Screw, Waveform};
+use crate::basis::{Primitive, PrimitiveKind};
+use crate::dynamics::{Friction, Model, Numerics, Simulator, SlipScheme, SteadyFailure};
+use crate::field::{Field, FieldKind, FieldSettings, Grid, Validity};
+use crate::motion::{Motion, Screw, Waveform};
 
 /// A ScaledCircle point whose 2-D slip passes near u = 0: under the legacy
 /// slip scheme its cycle map is continuous only to the integrator's error,

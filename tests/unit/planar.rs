@@ -1,15 +1,15 @@
-//! Planar parts (`platefield::dynamics::PlanarSimulator`) and the rectangle
-//! player (`platefield::verify::play_rectangle`).
+//! Planar parts (`crate::dynamics::PlanarSimulator`) and the rectangle
+//! player (`crate::verify::play_rectangle`).
 
-use platefield::basis::{Primitive, PrimitiveKind};
-use platefield::dynamics::{
+use crate::basis::{Primitive, PrimitiveKind};
+use crate::dynamics::{
     Friction, Model, Numerics, PartPhysics, PartState, PlanarSample, PlanarSimulator, PlanarState,
     Plate, Rectangle, Simulator, SlipRule, V2,
 };
-use platefield::motion::{Axes, FourierTerm, Motion, Screw, Signals, Waveform, V3};
-use platefield::play::{PlayedSegment, ScheduleMotion};
-use platefield::verify::{play_rectangle, RectangleOptions};
-use platefield::Error;
+use crate::motion::{Axes, FourierTerm, Motion, Screw, Signals, Waveform, V3};
+use crate::play::{PlayedSegment, ScheduleMotion};
+use crate::verify::{play_rectangle, RectangleOptions};
+use crate::Error;
 
 const G: f64 = 9.81;
 const MU: f64 = 0.3;
@@ -448,8 +448,8 @@ fn rectangle_aligns_with_the_line_sink() {
         let run =
             play_rectangle(&sm, &strip(), start, duration, &RectangleOptions::default()).unwrap();
         let sum = run.summary();
-        let off = |p: &platefield::verify::PoseSample| {
-            let a = platefield::verify::rectangles::axis_deg(p.theta_deg.to_radians());
+        let off = |p: &crate::verify::PoseSample| {
+            let a = crate::verify::rectangles::axis_deg(p.theta_deg.to_radians());
             90.0 - a.abs()
         };
         let aligned = run

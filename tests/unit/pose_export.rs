@@ -1,13 +1,13 @@
 //! `export --format pose` and `--format cycle`: they loop exactly, state
 //! their peaks, and say what the held-sample export says.
 
-#[path = "common/plate.rs"]
+#[path = "../common/plate.rs"]
 mod plate;
 
+use crate::schedule::export::export;
+use crate::schedule::export::pose::{cycle, poses};
+use crate::schedule::Schedule;
 use plate::{angle_between, mul, read_export, Plate, Quat};
-use platefield::schedule::export::export;
-use platefield::schedule::export::pose::{cycle, poses};
-use platefield::schedule::Schedule;
 
 fn schedule(name: &str) -> Schedule {
     Schedule::load(std::path::Path::new(&format!(

@@ -1,17 +1,17 @@
 //! Designs that hold over the parts' friction: the mirror-image
 //! time-shares (`design::mirror`) and their symmetry argument.
 
-use platefield::design::method::judge_check;
-use platefield::design::mirror::{
+use crate::design::method::judge_check;
+use crate::design::mirror::{
     counter_share, mirror_axis, mirror_share, MirrorLine, MIRROR_SEGMENT_CYCLES,
 };
-use platefield::dynamics::Friction;
-use platefield::field::{Field, FieldKind, FieldSettings, Grid};
-use platefield::motion::{Motion, Signals};
-use platefield::play::sensitivity::{friction_sweep, FrictionRow};
-use platefield::request::Target;
-use platefield::schedule::Schedule;
-use platefield::synth::ShakerLimits;
+use crate::dynamics::Friction;
+use crate::field::{Field, FieldKind, FieldSettings, Grid};
+use crate::motion::{Motion, Signals};
+use crate::play::sensitivity::{friction_sweep, FrictionRow};
+use crate::request::Target;
+use crate::schedule::Schedule;
+use crate::synth::ShakerLimits;
 
 /// The mirror motion's field is the mirror image of the field, at μ 0.2
 /// and 0.45: V′(x, y) = (Vx(x, −y), −Vy(x, −y)) on a grid symmetric in y
@@ -294,11 +294,11 @@ fn synthesized_sink() -> (Schedule, ShakerLimits) {
 /// range (7.3 % at its worst); its mirror-image time-share holds worst
 /// shape ≤ 6 % at worst strength ≥ 0.4 s⁻¹ over μ ∈ [0.2, 0.4] (the
 /// judge), within the shaker peaks the motion had. About 6 s of CPU:
-/// `cargo test --release --test robust -- --ignored synthesized_sink`; the
+/// `cargo test --release --lib design::mirror::robust_tests -- --ignored synthesized_sink`; the
 /// default run holds a mirror share over friction on the family's ellipse
 /// (`studies/tests/robust_family.rs`).
 #[test]
-#[ignore = "about 6 s of CPU: cargo test --release --test robust -- --ignored synthesized_sink"]
+#[ignore = "about 6 s of CPU: cargo test --release --lib design::mirror::robust_tests -- --ignored synthesized_sink"]
 fn the_mirror_share_of_the_synthesized_sink_holds_over_friction() {
     let (synthesized, limits) = synthesized_sink();
     let line = MirrorLine::through_centre(0.0);
@@ -312,7 +312,7 @@ fn the_mirror_share_of_the_synthesized_sink_holds_over_friction() {
         shape <= 0.06 && strength >= 0.4,
         "mirror share: {shape} at {strength}"
     );
-    let peaks = platefield::schedule::export::schedule_peaks(&share);
+    let peaks = crate::schedule::export::schedule_peaks(&share);
     let allowed = [limits.linear, limits.angular].concat();
     for (p, a) in peaks.iter().zip(&allowed) {
         assert!(*p <= a * (1.0 + 1e-9), "peak {p} over the limit {a}");
@@ -322,29 +322,29 @@ fn the_mirror_share_of_the_synthesized_sink_holds_over_friction() {
 /// `target` designed by `method` with `opts`, no progress output.
 fn designed(
     target: &Target,
-    opts: &platefield::design::DesignOptions,
-    method: platefield::design::Method,
-) -> platefield::design::method::MethodDesign {
-    let synth = platefield::synth::SynthOptions {
-        progress: platefield::synth::progress::ProgressMode::Quiet,
+    opts: &crate::design::DesignOptions,
+    method: crate::design::Method,
+) -> crate::design::method::MethodDesign {
+    let synth = crate::synth::SynthOptions {
+        progress: crate::synth::progress::ProgressMode::Quiet,
         ..opts.synthesis
     };
-    platefield::inverse::run(target, &opts.by_method(method, &synth))
+    crate::inverse::run(target, &opts.by_method(method, &synth))
         .and_then(|o| o.into_method())
         .unwrap()
 }
 
 /// Quiet design options without a basis cache (synthesis needs none).
-fn quiet() -> platefield::design::DesignOptions {
-    platefield::design::DesignOptions {
-        runtime: platefield::work::Runtime::QUIET,
-        ..platefield::design::DesignOptions::default()
+fn quiet() -> crate::design::DesignOptions {
+    crate::design::DesignOptions {
+        runtime: crate::work::Runtime::QUIET,
+        ..crate::design::DesignOptions::default()
     }
 }
 
 /// The member `name` of the seeded random family (seed 45, 40 targets).
 fn family_member(name: &str) -> Target {
-    platefield::request::family::family(45, 40)
+    crate::request::family::family(45, 40)
         .into_iter()
         .find(|t| t.name == name)
         .unwrap()
@@ -356,8 +356,8 @@ fn synthesized(target: &Target) -> Schedule {
     let mut exact = target.clone();
     exact.friction = target
         .friction
-        .map(|f| platefield::scene::FrictionSpec::exact(f.nominal()));
-    let md = designed(&exact, &quiet(), platefield::design::Method::Synthesize);
+        .map(|f| crate::scene::FrictionSpec::exact(f.nominal()));
+    let md = designed(&exact, &quiet(), crate::design::Method::Synthesize);
     let mut schedule = md.kept().schedule.clone();
     schedule.target_spec = Some(target.clone());
     schedule
@@ -395,7 +395,7 @@ fn counter_share_holds(motion: Schedule, target: Target, bounds: (f64, f64)) {
         strength >= 0.7 * alone_strength,
         "{name}: {strength} against {alone_strength}"
     );
-    let peaks = platefield::schedule::export::schedule_peaks(&share);
+    let peaks = crate::schedule::export::schedule_peaks(&share);
     let allowed = [limits.linear, limits.angular].concat();
     for (p, a) in peaks.iter().zip(&allowed) {
         assert!(
@@ -416,7 +416,7 @@ fn the_counter_share_holds_the_whirlpool_over_friction() {
     let whirlpool =
         Schedule::load(std::path::Path::new("results/whirlpool/schedule.json")).unwrap();
     let mut target = whirlpool.target_spec.clone().unwrap();
-    target.friction = Some(platefield::scene::FrictionSpec::range(0.2, 0.4));
+    target.friction = Some(crate::scene::FrictionSpec::range(0.2, 0.4));
     counter_share_holds(whirlpool, target, (0.12, 0.07));
 }
 
@@ -428,7 +428,7 @@ fn the_counter_share_holds_the_whirlpool_over_friction() {
 /// the motion's worst strength. The default run keeps the committed
 /// whirlpool ([`the_counter_share_holds_the_whirlpool_over_friction`]).
 #[test]
-#[ignore = "about 12 s of CPU: cargo test --release --test robust -- --ignored asymmetric"]
+#[ignore = "about 12 s of CPU: cargo test --release --lib design::mirror::robust_tests -- --ignored asymmetric"]
 fn the_counter_share_holds_an_asymmetric_target_over_friction() {
     let whirlpool =
         Schedule::load(std::path::Path::new("results/whirlpool/schedule.json")).unwrap();
@@ -457,19 +457,19 @@ fn the_counter_share_holds_an_asymmetric_target_over_friction() {
 /// The default run keeps the counter-rotating share over friction
 /// ([`the_counter_share_holds_the_whirlpool_over_friction`]).
 #[test]
-#[ignore = "about 25 s of CPU: cargo test --release --test robust -- --ignored halving"]
+#[ignore = "about 25 s of CPU: cargo test --release --lib design::mirror::robust_tests -- --ignored halving"]
 fn halving_the_normal_force_swing_holds_the_whirlpool_over_friction() {
     let target = family_member("whirlpool_2");
     let worst_of = |margin: Option<f64>| {
         let mut t = target.clone();
-        t.shaker = margin.map(|m| platefield::request::ShakerSpec {
+        t.shaker = margin.map(|m| crate::request::ShakerSpec {
             contact_margin: Some(m),
             ..Default::default()
         });
-        let md = designed(&t, &quiet(), platefield::design::Method::Mirror);
+        let md = designed(&t, &quiet(), crate::design::Method::Mirror);
         worst(&md.sensitivity.expect("judged over the range").rows)
     };
-    let gentle = platefield::design::method::gentle_limits(&ShakerLimits::envelope());
+    let gentle = crate::design::method::gentle_limits(&ShakerLimits::envelope());
     let (shape, strength) = worst_of(None);
     let (g_shape, g_strength) = worst_of(Some(gentle.contact_margin));
     eprintln!("envelope {shape:.4} at {strength:.4}; gentle {g_shape:.4} at {g_strength:.4}");
@@ -493,22 +493,22 @@ fn halving_the_normal_force_swing_holds_the_whirlpool_over_friction() {
 /// margin (2.57 %, 5.69 %), and the worst-case synthesis exactly when
 /// none of them holds it. The kept one holds 6 % if any candidate does,
 /// and is otherwise within the choice rule's 1 percentage point of the
-/// best. About 1 min CPU: `cargo test --release --test robust -- --ignored`.
+/// best. About 1 min CPU: `cargo test --release --lib design::mirror::robust_tests -- --ignored`.
 #[test]
 #[ignore]
 fn auto_over_a_range_adds_syntheses_when_nothing_holds() {
     let target = family_member("whirlpool_2");
     let cache = std::env::temp_dir().join(format!("platefield-robust-{}", std::process::id()));
-    let opts = platefield::design::DesignOptions::cached_quiet(&cache);
-    let md = designed(&target, &opts, platefield::design::Method::Auto);
+    let opts = crate::design::DesignOptions::cached_quiet(&cache);
+    let md = designed(&target, &opts, crate::design::Method::Auto);
     let _ = std::fs::remove_dir_all(&cache);
-    let worst = |c: &platefield::design::method::Candidate| {
+    let worst = |c: &crate::design::method::Candidate| {
         c.sensitivity
             .as_ref()
             .and_then(|s| s.worst_shape_error())
             .unwrap_or(f64::INFINITY)
     };
-    use platefield::design::method::Variant;
+    use crate::design::method::Variant;
     let of = |v: Variant| md.candidates.iter().filter(move |c| c.variant == v);
     assert!(of(Variant::First).all(|c| worst(c) > 0.06));
     assert!(of(Variant::SequencedPeaks).count() >= 1);

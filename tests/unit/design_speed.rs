@@ -13,13 +13,13 @@
 
 use std::path::Path;
 
-use platefield::design::method::Method;
-use platefield::design::DesignOptions;
-use platefield::field::{FieldSettings, Grid};
-use platefield::request::Target;
-use platefield::synth::params::Layout;
-use platefield::synth::progress::ProgressMode;
-use platefield::synth::{synthesize, ShakerLimits, SynthOptions};
+use crate::design::method::Method;
+use crate::design::DesignOptions;
+use crate::field::{FieldSettings, Grid};
+use crate::request::Target;
+use crate::synth::params::Layout;
+use crate::synth::progress::ProgressMode;
+use crate::synth::{synthesize, ShakerLimits, SynthOptions};
 
 fn sink() -> Target {
     Target::load(Path::new("targets/sink.json")).expect("shipped target")
@@ -38,7 +38,7 @@ fn default_design(target: &Target, name: &str) -> ((f64, f64), (f64, f64)) {
         progress: ProgressMode::Quiet,
         ..SynthOptions::default()
     };
-    let m = platefield::inverse::run(target, &opts.by_method(Method::Auto, &synth))
+    let m = crate::inverse::run(target, &opts.by_method(Method::Auto, &synth))
         .and_then(|o| o.into_method())
         .expect("designs");
     let _ = std::fs::remove_dir_all(&cache);
@@ -87,14 +87,14 @@ fn default_sink_synthesis_keeps_its_promise() {
 /// [`default_sink_synthesis_keeps_its_promise`] for the line sink at 30°
 /// and the squeeze with translation (about 9 s of CPU for both).
 #[test]
-#[ignore = "about 9 s of CPU: cargo test --release --test design_speed -- --ignored"]
+#[ignore = "about 9 s of CPU: cargo test --release --lib design::speed_tests -- --ignored"]
 fn default_line_sink_30_synthesis_keeps_its_promise() {
     keeps_its_promise("line_sink_30");
 }
 
 /// See [`default_line_sink_30_synthesis_keeps_its_promise`].
 #[test]
-#[ignore = "about 9 s of CPU: cargo test --release --test design_speed -- --ignored"]
+#[ignore = "about 9 s of CPU: cargo test --release --lib design::speed_tests -- --ignored"]
 fn default_squeeze_trans_synthesis_keeps_its_promise() {
     keeps_its_promise("squeeze_trans");
 }
@@ -132,7 +132,7 @@ fn least_squares_synthesis_is_the_same_on_one_and_two_threads() {
     };
     let (one, two) = (on(1), on(2));
     let json =
-        |s: &platefield::synth::Synthesis| serde_json::to_string(&s.checked.motion).expect("json");
+        |s: &crate::synth::Synthesis| serde_json::to_string(&s.checked.motion).expect("json");
     assert_eq!(json(&one), json(&two));
     assert_eq!(one.evaluations, two.evaluations);
     // The comparison covers a parallel batch: the least-squares run

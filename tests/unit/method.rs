@@ -2,17 +2,15 @@
 //! the one realised measure, the kept one chosen by the stated rule, shaker
 //! limits kept by sequenced designs, the synthesized schedule's format.
 
-use std::path::PathBuf;
-
-use platefield::basis::PrimitiveKind;
-use platefield::design::method::{Candidate, Choice, TIE_SHAPE_ERROR};
-use platefield::design::{DesignOptions, Method};
-use platefield::field::FieldSettings;
-use platefield::fit::POOR_ERROR;
-use platefield::request::Target;
-use platefield::schedule::{export, ExclusionReason, Schedule};
-use platefield::synth::progress::ProgressMode;
-use platefield::synth::SynthOptions;
+use crate::basis::PrimitiveKind;
+use crate::design::method::{Candidate, Choice, TIE_SHAPE_ERROR};
+use crate::design::{DesignOptions, Method};
+use crate::field::FieldSettings;
+use crate::fit::POOR_ERROR;
+use crate::request::Target;
+use crate::schedule::{export, ExclusionReason, Schedule};
+use crate::synth::progress::ProgressMode;
+use crate::synth::SynthOptions;
 
 /// A ±3 cm sink on 9 × 9 points with the lab-class limits of issue 11
 /// (T = 0.05 s, 10 m/s² in x and y, 70 rad/s² about x and y, harmonic 1).
@@ -33,13 +31,17 @@ fn options(kinds: Vec<PrimitiveKind>) -> DesignOptions {
     settings.numerics.steps_per_cycle = 48;
     DesignOptions {
         settings,
-        basis: platefield::design::BasisSection {
+        basis: crate::design::BasisSection {
             rotation_step_deg: 90.0,
             kinds,
-            cache_dir: Some(PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("method-cache")),
+            cache_dir: Some(
+                std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+                    .join("target/tmp")
+                    .join("method-cache"),
+            ),
             ..Default::default()
         },
-        runtime: platefield::work::Runtime::QUIET,
+        runtime: crate::work::Runtime::QUIET,
         ..DesignOptions::default()
     }
 }
@@ -86,7 +88,7 @@ fn auto_plays_both_and_keeps_the_better_realised_one() {
     let target = sink_lab(
         r#"{"period": 0.05, "linear": [12, 12, 0.2], "angular": [220, 220, 0], "harmonics": 1}"#,
     );
-    let md = platefield::inverse::run(
+    let md = crate::inverse::run(
         &target,
         &options(vec![PrimitiveKind::LineSink]).by_method(Method::Auto, &synth()),
     )
@@ -154,7 +156,7 @@ fn auto_plays_both_and_keeps_the_better_realised_one() {
 /// motion and says why.
 #[test]
 fn auto_keeps_the_method_that_works() {
-    let md = platefield::inverse::run(
+    let md = crate::inverse::run(
         &sink_lab(LAB),
         &options(vec![PrimitiveKind::LineSink]).by_method(Method::Auto, &synth()),
     )
@@ -173,7 +175,7 @@ fn auto_keeps_the_method_that_works() {
         "{why}"
     );
     // Asked for alone, the failure is the error.
-    let e = platefield::inverse::run(
+    let e = crate::inverse::run(
         &sink_lab(LAB),
         &options(vec![PrimitiveKind::LineSink]).by_method(Method::Sequence, &synth()),
     )
@@ -191,7 +193,7 @@ fn auto_keeps_the_method_that_works() {
 fn sequenced_designs_keep_the_shaker_limits() {
     let kinds = vec![PrimitiveKind::LineSink, PrimitiveKind::Trans];
     let target = sink_lab(r#"{"linear": [30, 30, 1]}"#);
-    let md = platefield::inverse::run(
+    let md = crate::inverse::run(
         &target,
         &options(kinds.clone()).by_method(Method::Sequence, &synth()),
     )
@@ -221,7 +223,7 @@ fn sequenced_designs_keep_the_shaker_limits() {
     // Without limits the Trans columns stay in the basis.
     let mut free = sink_lab("{}");
     free.shaker = None;
-    let md = platefield::inverse::run(&free, &options(kinds).by_method(Method::Sequence, &synth()))
+    let md = crate::inverse::run(&free, &options(kinds).by_method(Method::Sequence, &synth()))
         .and_then(|o| o.into_method())
         .unwrap();
     let d = md.sequence.as_ref().unwrap();
@@ -242,7 +244,7 @@ fn sequenced_designs_keep_the_shaker_limits() {
 fn auto_without_limits_synthesizes_within_the_sequenced_peaks() {
     let mut target = sink_lab("{}");
     target.shaker = None;
-    let md = platefield::inverse::run(
+    let md = crate::inverse::run(
         &target,
         &options(vec![PrimitiveKind::LineSink]).by_method(Method::Auto, &synth()),
     )
@@ -294,14 +296,14 @@ fn mix_combines_a_synthesized_motion_with_primitives() {
     ))
     .expect("valid target");
     let kinds = vec![PrimitiveKind::Trans];
-    let alone = platefield::inverse::run(
+    let alone = crate::inverse::run(
         &target,
         &options(kinds.clone()).by_method(Method::Sequence, &synth()),
     )
     .and_then(|o| o.into_method())
     .unwrap();
     let alone_error = alone.kept().schedule.fit.relative_l2_error;
-    let md = platefield::inverse::run(&target, &options(kinds).by_method(Method::Mix, &synth()))
+    let md = crate::inverse::run(&target, &options(kinds).by_method(Method::Mix, &synth()))
         .and_then(|o| o.into_method())
         .unwrap();
     let d = md.mixed.as_ref().expect("mixed design");
@@ -361,15 +363,14 @@ fn a_measure_over_too_few_points_is_not_measured() {
     };
     let opts = options(vec![PrimitiveKind::LineSink]);
     let played = |keep| {
-        let d =
-            platefield::inverse::run(&target(keep), &opts.by_method(Method::Sequence, &synth()))
-                .and_then(|o| o.into_method())
-                .unwrap();
+        let d = crate::inverse::run(&target(keep), &opts.by_method(Method::Sequence, &synth()))
+            .and_then(|o| o.into_method())
+            .unwrap();
         d.candidates[d.chosen].played().clone()
     };
     // Two weighted points are refused before any play, naming the weights
     // (`request::MIN_WEIGHTED_POINTS`).
-    let two = platefield::inverse::run(&target(2), &opts.by_method(Method::Sequence, &synth()))
+    let two = crate::inverse::run(&target(2), &opts.by_method(Method::Sequence, &synth()))
         .and_then(|o| o.into_method())
         .err()
         .map(|e| e.to_string())
