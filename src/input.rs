@@ -1,12 +1,12 @@
 //! Typed JSON inputs (scenes, targets): serde with unknown keys rejected,
 //! and every error located by its JSON path (`scene.motion.rotation.amplitude`).
 //!
-//! [`from_str`] deserialises a file's text with `serde_path_to_error`, so an
+//! `from_str` deserialises a file's text with `serde_path_to_error`, so an
 //! error anywhere in a plain struct, array or externally tagged enum carries
 //! its path. Internally tagged objects (`{"type": "sine", "accel": 1}`) are
 //! buffered by serde, which loses the path below them; they are read with
 //! `tagged` instead, which looks up the tag, reads every other key through
-//! a path-tracking [`Body`] and hands a located error back up as a serde
+//! a path-tracking `Body` and hands a located error back up as a serde
 //! custom error, so the path survives any nesting (a `sum` target inside a
 //! `sum`). Messages are then worded as the rest of the crate words them
 //! (`must be a number, got string "big"`, `unknown field (expected one of …)`),

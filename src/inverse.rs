@@ -71,7 +71,7 @@ impl TargetFile {
     ///
     /// # Errors
     /// A sorting or pose target, or a friction that
-    /// [`FrictionSpec::validate_driven`] refuses.
+    /// `FrictionSpec::validate_driven` refuses.
     pub fn set_friction(&mut self, friction: FrictionSpec, arg: &str) -> Result<()> {
         friction.validate_driven(arg)?;
         match self {

@@ -138,6 +138,7 @@
 //! plate velocity may jump; the part's inertial velocity is continuous
 //! ([`play`]).
 #![warn(missing_docs)]
+#![deny(rustdoc::broken_intra_doc_links, rustdoc::private_intra_doc_links)]
 
 pub mod basis;
 pub mod calibrate;

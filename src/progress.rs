@@ -11,7 +11,7 @@
 //! limits") goes through [`say`] to the process's [`Observer`]: by default
 //! `Stderr`, the only place the library writes to stderr. A program that
 //! embeds the library (a notebook, a GUI, a service's log) installs its own
-//! with [`set_observer`]; while one is installed, progress comes as plain
+//! with `set_observer`; while one is installed, progress comes as plain
 //! lines to it, never as a terminal bar.
 
 use std::io::IsTerminal;

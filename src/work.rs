@@ -287,7 +287,7 @@ impl Estimate {
         Ok(())
     }
 
-    /// Gives the [`Estimate::announcement`], if any, to the progress
+    /// Gives the `Estimate::announcement`, if any, to the progress
     /// observer ([`crate::progress::say`]) unless `progress` is quiet.
     pub fn announce(&self, progress: crate::progress::ProgressMode) {
         match self.announcement(threads()) {

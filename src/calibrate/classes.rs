@@ -20,7 +20,7 @@
 //! than split it). The split stands when z = |m₂ − m₁| / √(s₁² + s₂²)
 //! exceeds [`Z_SPLIT`] and the two estimates differ by at least
 //! [`MIN_GAP`]; each group is split again the same way. Each class is then
-//! fitted as one ([`super::estimate::fit_class`]).
+//! fitted as one (`super::estimate::fit_class`).
 
 /// Significance a split must reach, in standard errors of the difference
 /// of the two groups' estimates (far beyond the largest of the ~n

@@ -10,7 +10,7 @@
 //!
 //! RSS(θ) = Σ_tracks min_{r₀} Σ_frames |r_obs(t) − r(t; r₀, θ)|²,
 //!
-//! the path r(t; r₀, θ) from [`super::model::PlayedMotion::path`], is −2σ²
+//! the path r(t; r₀, θ) from `super::model::PlayedMotion::path`, is −2σ²
 //! times the profile log-likelihood up to a constant. The start is fitted
 //! per track by Gauss–Newton (finite-difference sensitivity of the path to
 //! r₀), θ by Nelder–Mead (argmin) on the field's quadratic surrogate
@@ -31,7 +31,7 @@
 //! binding function β(θ), the model's best fit of the exact tracks at θ,
 //! and b(θ) = β(θ) − θ is the model's bias (a few thousandths of μ where
 //! the field's swirl or a join's transient is missed). With noise,
-//! θ̂ = β(θ) + ε. [`binding`] evaluates β on noise-free tracks the exact
+//! θ̂ = β(θ) + ε. `binding` evaluates β on noise-free tracks the exact
 //! simulator replays at a given θ from the fitted starts at the observed
 //! frames, fitted by the same least squares on the same stencil. The
 //! reported estimate θ̃ solves β(θ̃) = θ̂, per parameter, by one secant

@@ -213,7 +213,7 @@ pub struct Calibration {
     /// RK4 steps per cycle of the simulations the classes are fitted by:
     /// on the field, the schedule's own; by replays, the fewest whose error
     /// stays within [`replay::STEP_ERROR`] of the tracks' noise at the
-    /// estimate ([`replay::steps_for`], [`replay::steps_hold`]).
+    /// estimate ([`replay::steps_for`], `replay::steps_hold`).
     #[serde(default)]
     pub steps_per_cycle: usize,
 }

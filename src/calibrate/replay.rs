@@ -8,7 +8,7 @@
 //! than the camera's noise. [`super::calibrate`] tells the two cases apart
 //! on the tracks themselves: each part's residual at its own best μ on the
 //! field model's lattice, pooled, against the tracks' own noise
-//! ([`super::Tracks::noise`]); beyond [`FIELD_MISS`] × the noise the field
+//! (`super::Tracks::noise`); beyond [`FIELD_MISS`] × the noise the field
 //! cannot serve and the paths are replayed.
 //!
 //! **Model.** Each part is put down at rest on the plate at r₀ when the
@@ -23,7 +23,7 @@
 //! Fewer steps than the schedule's serve where their error is far below
 //! the camera's noise: [`steps_for`] halves them while a replay stays
 //! within [`STEP_ERROR`] of the noise of the finer one, and
-//! [`steps_hold`] checks that again at the estimate (at 0.2 mm of noise:
+//! `steps_hold` checks that again at the estimate (at 0.2 mm of noise:
 //! 16 of 64 on the shipped sink, 32 on squeeze_trans).
 //!
 //! **Fit.** The least squares of `super::estimate` (the same noise model

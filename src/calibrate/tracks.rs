@@ -148,10 +148,10 @@ pub struct Tracks {
 }
 
 impl Tracks {
-    /// Reads and parses a tracks file ([`Tracks::parse`]).
+    /// Reads and parses a tracks file (`Tracks::parse`).
     ///
     /// # Errors
-    /// The file cannot be read, or [`Tracks::parse`] refuses it.
+    /// The file cannot be read, or `Tracks::parse` refuses it.
     pub fn load(path: &Path) -> Result<Tracks> {
         let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
             path: path.display().to_string(),

@@ -160,7 +160,7 @@ pub(crate) fn label(p: &Primitive) -> String {
 
 /// The grid on which rotated copies are resampled: the target's own grid,
 /// or for scattered points one sized by their region
-/// ([`crate::request::scattered_grid`]).
+/// (`crate::request::scattered_grid`).
 pub fn sampling_grid(grid: Option<&Grid>, points: &[[f64; 2]]) -> Grid {
     grid.copied()
         .unwrap_or_else(|| crate::request::scattered_grid(points))

@@ -26,7 +26,7 @@
 //! open-loop schedule itself, is kept, so "after" is never worse than
 //! "before".
 //! 1. *Design*: the open-loop schedule with its promise s (the "before").
-//! 2. *Order* ([`super::order::candidates`]): the same segments and cycles in every cyclic
+//! 2. *Order* (`super::order::candidates`): the same segments and cycles in every cyclic
 //!    order and every mirrored order (each segment twice per period, the
 //!    second half reversed, which cancels the swirl of a rotation sense).
 //!    The weights do not change, so the contextual model (3.) of the played

@@ -11,7 +11,7 @@
 //!
 //! **Why the mirror image cancels it.** Let M = diag(1, −1, 1) reflect the
 //! world in the vertical plane y = 0. The mirror motion
-//! ([`crate::motion::Signals::mirrored_y`]) moves a part at (x, −y) as the
+//! (`crate::motion::Signals::mirrored_y`) moves a part at (x, −y) as the
 //! mirror image of a part at (x, y) under the original, *at every friction*
 //! (gravity and Coulomb's law are unchanged by the reflection), so its
 //! field is F′(x, y) = (Fx(x, −y), −Fy(x, −y)). Playing the two for equal
@@ -27,7 +27,7 @@
 //!
 //! The same holds for the reflection in any vertical plane, at any angle
 //! φ and through any point c of the plate ([`MirrorLine`],
-//! [`crate::motion::Signals::mirrored_in`]): the reflection S(p) =
+//! `crate::motion::Signals::mirrored_in`): the reflection S(p) =
 //! M(p − c) + c conjugates the whole plate motion, its reference point
 //! included, so the mirror motion moves a part at S p as the mirror image
 //! of a part at p and its field is F′(q) = M F(S q). A LineSink along 30°
@@ -50,7 +50,7 @@
 //! made instead of mirrored: a second motion synthesized for the target's
 //! mirror image and reflected back realises the target itself with the
 //! opposite sense of circulation, so its friction turn is the opposite one
-//! ([`counter_share`]).
+//! (`counter_share`).
 //!
 //! **Its schedule.** Two six-signal segments of `MIRROR_SEGMENT_CYCLES`
 //! cycles each, the motion and its mirror, each ramped in from rest and out
@@ -76,7 +76,7 @@ use crate::schedule::{Schedule, Segment};
 use crate::synth::ShakerLimits;
 
 /// Cycles of each of the two segments, ramps included: what the design
-/// passes to [`mirror_share`] and [`counter_share`]. Chosen over the
+/// passes to [`mirror_share`] and `counter_share`. Chosen over the
 /// family's mirror shares (module documentation, "Its schedule"): of the
 /// lengths `platefield study robust-knobs` compares, the one with the
 /// least 90th-percentile worst shape over the members' ranges, the

@@ -64,7 +64,7 @@ pub use options::ScheduleSection;
 
 /// Options of [`design`] and [`crate::inverse::run`], in sections (each
 /// range-checked by its own `validate`, all of them by
-/// [`DesignOptions::validate`], whose errors name the option path:
+/// `DesignOptions::validate`, whose errors name the option path:
 /// `schedule.min_cycles`, `basis.rotation_step_deg`,
 /// `closed_loop.max_iterations`).
 #[derive(Debug, Clone, Default)]

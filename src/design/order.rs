@@ -30,7 +30,7 @@
 //!   `rest_cycles` (default 0, 1, 2). A join that already touches a rest
 //!   segment gets none. A "primitive cycle" of rest is the period of the
 //!   first moving segment.
-//! * *Mirrored orders* (the closed loop's candidates, [`candidates`]): a
+//! * *Mirrored orders* (the closed loop's candidates, `candidates`): a
 //!   cyclic order σ followed by (σ₀, σ_{n−1}, …, σ₁), every segment played
 //!   twice per period with its own cycles, so that every join a→b of the
 //!   first half is matched by b→a in the second. On the Sink from four

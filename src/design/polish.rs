@@ -35,7 +35,7 @@
 //! strength at the cost of the region's shape — parts are squeezed onto
 //! the line during the warm-up and measured only there). N_min and the coarse
 //! samples are those of the synthesis objective
-//! ([`Objective`]: kinematic and steady-orbit least N on the coarse grid),
+//! (`Objective`: kinematic and steady-orbit least N on the coarse grid),
 //! so the polish keeps every constraint the synthesis kept; parts lost
 //! *outside* the region (as the saddle's above) may not become more.
 //!
@@ -86,11 +86,11 @@
 //! terms more than the start (grid shape, margin, invalid samples, lost
 //! parts). The peak excess is not one of them: a parameter vector is
 //! played, checked and kept as its motion clamped onto the limits
-//! ([`Objective::motion`]), which exceeds none; the excess term only
+//! (`Objective::motion`), which exceeds none; the excess term only
 //! keeps the steps near the limits (squeeze_trans presses them, and its
 //! steps that gain strength at a lower shape error go a few per cent past
 //! them before the clamp). Of those, the one of
-//! lowest cost is re-checked on the full grid ([`Checked::of`]) and kept
+//! lowest cost is re-checked on the full grid (`Checked::of`) and kept
 //! if the check is not POOR (unless the start was POOR too); otherwise the
 //! start is returned unchanged. The polish stops when that measure stops
 //! improving: after [`PolishOptions::patience`] steps' worth of plays

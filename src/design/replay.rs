@@ -12,7 +12,7 @@
 //! samples integrated exactly from rest at home and cut into the
 //! schedule's segments, [`crate::play::replay`]). Only the plate's
 //! trajectory differs, so the two agree to what holding the samples
-//! changes — second order in ωΔt ([`crate::motion::Held`]) — and a file
+//! changes — second order in ωΔt (`crate::motion::Held`) — and a file
 //! that is not the schedule's (a channel's sign flipped, another design's
 //! export) does not agree.
 

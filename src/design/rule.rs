@@ -43,10 +43,10 @@ pub enum Rule {
     /// The lower realised shape error wins.
     LowerShapeError,
     /// Over a friction range only one of the two holds the target within
-    /// the range's bound ([`better_within`]).
+    /// the range's bound (`better_within`).
     HoldsRange,
     /// Over a friction range both hold the target within the range's
-    /// bound: the higher worst-case strength wins ([`better_within`]).
+    /// bound: the higher worst-case strength wins (`better_within`).
     StrongerWithinRange,
 }
 

@@ -27,7 +27,7 @@
 //! position rather than frozen at the start).
 //!
 //! Planar parts (a uniform rectangle in x, y, θ sampled by support points,
-//! each obeying these equations) are in [`PlanarSimulator`].
+//! each obeying these equations) are in `PlanarSimulator`.
 
 mod flight;
 mod frozen;
@@ -292,7 +292,7 @@ impl Friction {
 /// The physics a part is played under: its Coulomb friction with the
 /// plate, the gravity g (m/s²) that presses it onto the plate, and which
 /// physical terms are modelled. The three go together wherever a part is
-/// played; both simulators ([`Simulator`], [`PlanarSimulator`]) take them
+/// played; both simulators ([`Simulator`], `PlanarSimulator`) take them
 /// as one.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PartPhysics {

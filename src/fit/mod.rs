@@ -243,10 +243,10 @@ pub struct FitSolution {
     pub solve_time_s: f64,
     /// Wall time of the whole fit (weighting, QR, solve, verification), s.
     pub total_time_s: f64,
-    /// Verification residual (see [`Verification::kkt_residual`]).
+    /// Verification residual (see `Verification::kkt_residual`).
     pub kkt_residual: f64,
     /// Gap to the independent solution (see
-    /// [`Verification::independent_gap`]).
+    /// `Verification::independent_gap`).
     pub independent_gap: f64,
     /// The best achievable fit is poor: relative error above
     /// `UNREACHABLE_REL_ERROR`, or (in `Shape`) no non-negative mix

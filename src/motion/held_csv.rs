@@ -1,5 +1,5 @@
 //! Reading an exported signal file back: the CSV `platefield export`
-//! writes ([`super::sample_hold::HoldSamples::to_csv`]), as held samples
+//! writes (`super::sample_hold::HoldSamples::to_csv`), as held samples
 //! from rest at home.
 //!
 //! Lines starting with `#` are comments and blank lines are skipped. The

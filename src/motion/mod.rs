@@ -104,7 +104,7 @@ pub enum Motion {
     #[serde(skip)]
     Ramped(Ramped),
     /// Held acceleration samples, as a controller plays an exported file
-    /// ([`Held`]); read from the file, never from a schedule.
+    /// (`Held`); read from the file, never from a schedule.
     #[serde(skip)]
     Held(Held),
 }

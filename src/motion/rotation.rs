@@ -25,7 +25,7 @@
 //! b₁ = (db/dt)/t term by term, which also leaves them independent of the
 //! sine and cosine passed in.
 //!
-//! **Playing world-frame rates** ([`advance`]): a controller that holds α
+//! **Playing world-frame rates** (`advance`): a controller that holds α
 //! constant over an interval τ, ω(s) = ω₀ + α s, turns the plate by
 //! R(τ) = exp(\[Φ\]×) R₀ with the Magnus series
 //! Φ = ω₀τ + ατ²/2 + (τ³/12) α × ω₀ + O(|ω|²|α|τ⁵), the first two terms

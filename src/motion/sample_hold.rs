@@ -18,7 +18,7 @@
 //! accurate for smooth periodic v. Periods and segment joins fall on sample
 //! boundaries: a period holds N = round(rate · T) samples, Δt = T/N, and the
 //! **effective rate** N/T is reported. The orientation the controller
-//! composes from the held angular samples ([`super::Held`]) follows
+//! composes from the held angular samples (`super::Held`) follows
 //! exp(\[θ\]×) to the same order: per hold the rotation's increment is
 //! the trapezoidal rule of ω plus the Magnus term (Δt³/12) α × ω, off by
 //! O((ωΔt)²) of the rotation's rates, which accumulates over many cycles

@@ -1,6 +1,6 @@
 //! A schedule's exported signal file, played: the trajectory a shaker
 //! controller gives the plate when it holds the file's samples
-//! ([`crate::motion::Held`], integrated exactly from rest in the home pose),
+//! (`crate::motion::Held`, integrated exactly from rest in the home pose),
 //! cut into the schedule's segments so that every measure of a
 //! [`ScheduleMotion`] — the judge's windows starting at each
 //! segment join above all — applies to it unchanged.

@@ -80,7 +80,7 @@ pub(crate) fn play(
     ))
 }
 
-/// [`play`] for a trajectory `sm` of `per_period` primitive cycles per
+/// `play` for a trajectory `sm` of `per_period` primitive cycles per
 /// schedule period (e.g. one segment of a synthesized motion).
 pub fn play_motion(
     sm: &ScheduleMotion,

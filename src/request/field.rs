@@ -348,7 +348,7 @@ impl FieldSpec {
 
     /// Evaluates the field (m/s) at `p` (metres).
     ///
-    /// Assumes the spec is valid (see [`FieldSpec::validate`]); an empty
+    /// Assumes the spec is valid (see `FieldSpec::validate`); an empty
     /// `sampled` field evaluates to zero.
     pub fn eval(&self, p: [f64; 2]) -> [f64; 2] {
         let rel = |c: [f64; 2]| [p[0] - c[0], p[1] - c[1]];

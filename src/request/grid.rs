@@ -85,7 +85,7 @@ pub(crate) fn validate_grid(grid: &Grid, path: &str) -> Result<(), TargetError> 
 }
 
 /// Finest spacing (m) of the grid on which the basis of a grid-less
-/// `sampled` target is resampled ([`scattered_grid`]).
+/// `sampled` target is resampled (`scattered_grid`).
 pub const SCATTERED_SPACING: f64 = 2e-3;
 /// Most points per side of that grid.
 pub const SCATTERED_N: usize = 41;

@@ -5,11 +5,11 @@ use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
 
 /// Samples that the local linear fit at a node weighs
-/// ([`SampledInterpolant`]).
+/// (`SampledInterpolant`).
 pub const LINEAR_NEIGHBORS: usize = 12;
-/// Fewest nodes per axis of a [`SampledInterpolant`]'s grid.
+/// Fewest nodes per axis of a `SampledInterpolant`'s grid.
 pub const MIN_NODES: usize = 17;
-/// Most nodes per axis of a [`SampledInterpolant`]'s grid.
+/// Most nodes per axis of a `SampledInterpolant`'s grid.
 pub const MAX_NODES: usize = 129;
 
 /// A sampled field `v_j` at scattered points `p_j`, evaluated at any point

@@ -49,7 +49,7 @@
 //! "harmonics": H, "contact_margin": m, "velocity": {"linear": [3], "angular": [3]},
 //! "stroke": {"linear": [3], "angular": [3]}}`, every key optional ([`ShakerSpec`];
 //! `velocity` and `stroke` limit the plate centre's peak velocity and
-//! displacement per axis, [`TravelSpec`]):
+//! displacement per axis, `TravelSpec`):
 //! the fundamental period (s, in [1e-4, 10]), the peak plate-centre
 //! accelerations allowed per world axis (of the summed signal: linear in
 //! [0, 1e4] m/s², angular in [0, 1e5] rad/s²), the harmonics 1..=H of
@@ -158,7 +158,7 @@
 //!
 //! Where a part goes between and beyond the samples of a grid-less target
 //! (the played measure of a design, [`crate::design::judge`]),
-//! the field is [`SampledInterpolant`]: local linear fits on a node grid,
+//! the field is `SampledInterpolant`: local linear fits on a node grid,
 //! computed once per point set, exact for an affine field.
 //!
 //! ## Errors

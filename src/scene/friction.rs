@@ -268,7 +268,7 @@ impl FrictionSpec {
     }
 
     /// Reads a command-line friction `MU` (μ_s = μ_k = MU) or `LO:HI` (a
-    /// range), checked by [`FrictionSpec::validate_driven`]; errors name
+    /// range), checked by `FrictionSpec::validate_driven`; errors name
     /// `arg`.
     ///
     /// ```

@@ -1,6 +1,6 @@
 //! Scenes: a plate motion, the physics around it and a sampling grid, read
 //! from JSON (`platefield field SCENE.json`): serde types here, ranges in
-//! [`validate`](Scene::validate), the field in [`compute`](Scene::compute).
+//! `validate`, the field in [`compute`](Scene::compute).
 //!
 //! ```text
 //! {
@@ -43,7 +43,7 @@
 //! Reading goes through [`crate::input`]: unknown keys are errors, and
 //! every error names its JSON path (`scene.motion.rotation.amplitude: must
 //! be a number, got string "big"`); the allowed ranges are listed in
-//! [`validate`](Scene::validate).
+//! `validate`.
 
 mod compute;
 mod friction;

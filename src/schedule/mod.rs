@@ -10,7 +10,7 @@
 //!
 //! **One loader.** [`Schedule::load`] is the only way a command reads a
 //! schedule: serde with unknown keys rejected (errors carry the JSON path,
-//! e.g. `segments[1].primitive.omega`), then [`Schedule::validate`] (ranges
+//! e.g. `segments[1].primitive.omega`), then `Schedule::validate` (ranges
 //! and physics), then the derived quantities are recomputed from the
 //! segments ([`Schedule::derive`]): a moving segment lasts `cycles` periods
 //! of its primitive or motion, and `period_s` and `total_cycles` are sums over the
@@ -577,7 +577,7 @@ impl Schedule {
     /// The region the schedule is verified over (`verify`, `design
     /// --model auto`'s rung points, `calibrate`'s tracks): the target's
     /// grid; for a grid-less `sampled` target, the region its basis was
-    /// resampled on ([`crate::request::scattered_grid`]: the samples'
+    /// resampled on (`crate::request::scattered_grid`: the samples'
     /// bounding box rounded outward to its lattice); ±3 cm when the
     /// schedule records no target.
     ///

@@ -10,7 +10,7 @@
 //! velocity (W/g)(Q_N, P_N) clockwise by φ (Q_N + iP_N → e^{−iφ}(Q_N + iP_N))
 //! and leaves each signal's amplitude unchanged, so the peaks and the
 //! normal-force swing at every point (the contact margin) are those of the
-//! seed. [`calibrate`] measures the turn Δ of the simulated field
+//! seed. `calibrate` measures the turn Δ of the simulated field
 //! ([`super::objective::Realised::turn`]) and iterates φ ← φ + Δ; it
 //! returns the best evaluation by the objective's cost, the seed's own
 //! included, so it never makes the start worse.

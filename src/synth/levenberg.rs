@@ -24,7 +24,7 @@
 //! keeps the step where the linearisation holds.
 //!
 //! **Jacobian.** Column j is (r(x + h eⱼ) − r(x))/h, h = [`LmOptions::step`]:
-//! the n columns are one batch of evaluations. [`parallel`] evaluates a
+//! the n columns are one batch of evaluations. `parallel` evaluates a
 //! batch with rayon and collects it in order, so the result is the same
 //! bytes on one thread or many as long as each evaluation is deterministic.
 //!

@@ -14,7 +14,7 @@
 //!   frozen points over the whole region; a friction sweep and an
 //!   export's replay are judged by it too.
 //!
-//! [`run()`] is the `platefield verify` command. Nothing here depends on
+//! `run()` is the `platefield verify` command. Nothing here depends on
 //! how the schedule was designed.
 
 pub mod friction;

@@ -1,8 +1,8 @@
 //! Rectangles played through a schedule: where parts end up and how
 //! rectangles orient.
 //!
-//! [`play_rectangle`] drives one uniform rectangle ([`Rectangle`], simulated
-//! by [`PlanarSimulator`]) through a [`ScheduleMotion`] for a given time:
+//! `play_rectangle` drives one uniform rectangle (`Rectangle`, simulated
+//! by `PlanarSimulator`) through a [`ScheduleMotion`] for a given time:
 //! segment after segment, repeating the schedule, each segment in
 //! segment-local time from 0 (phase 0), rest segments with the plate at rest
 //! in the home pose. The part is placed at rest relative to the plate.
@@ -109,7 +109,7 @@ pub(crate) struct RectangleRun {
     pub steps: u64,
 }
 
-/// Serialisable summary of a [`RectangleRun`].
+/// Serialisable summary of a `RectangleRun`.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct RectangleSummary {
     /// The rectangle.

@@ -505,7 +505,7 @@ pub fn progress_weights(work: &Estimate, counts: [usize; 3]) -> [u64; 3] {
 }
 
 /// `platefield verify`: loads the schedule at `path` and verifies it by
-/// [`run`] (errors name the file).
+/// `run` (errors name the file).
 ///
 /// ```no_run
 /// use platefield::verify::{verify_schedule_file, VerifyRequest};

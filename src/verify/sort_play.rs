@@ -222,7 +222,7 @@ impl SortOutcome {
     }
 }
 
-/// Plays every candidate of a sort ([`play_classes`], at least
+/// Plays every candidate of a sort (`play_classes`, at least
 /// [`MIN_SORT_PLAY_S`] + [`SORT_HOLD_S`]) and keeps the one that sorts soonest (module
 /// docs).
 ///
@@ -238,7 +238,7 @@ impl SortOutcome {
 /// ```
 ///
 /// # Errors
-/// No candidate; those of [`play_classes`].
+/// No candidate; those of `play_classes`.
 pub fn play_sort(
     target: &Target,
     candidates: &[SortDesign],

@@ -57,7 +57,7 @@ pub(super) fn region(target: &Target, sampled: &SampledTarget) -> Grid {
 
 /// The work of one synthesis and its played polish ([`crate::work`]), as
 /// they run: the seed, its phase calibration and the
-/// Levenberg–Marquardt steps ([`LmOptions::evaluations`] over the
+/// Levenberg–Marquardt steps (`LmOptions::evaluations` over the
 /// parameters of the target's shaker limits; all of
 /// `--synth-evaluations` for Nelder–Mead), each a steady-state field on
 /// the coarse grid; the check of the motion on the full grid; and every
@@ -70,7 +70,7 @@ pub(super) fn region(target: &Target, sampled: &SampledTarget) -> Grid {
 /// for its worst case, every evaluation and play is made under its three
 /// physics. The promise's flow that each play's measure integrates costs
 /// O(1) per step (a grid-less sampled target's field through its
-/// [`crate::request::SampledInterpolant`]), within the steps counted.
+/// `crate::request::SampledInterpolant`), within the steps counted.
 pub fn synthesis_estimate(
     target: &Target,
     sampled: &SampledTarget,

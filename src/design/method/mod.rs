@@ -47,7 +47,7 @@
 //!   that hold), `auto` trades strength for shape: the synthesis and its
 //!   shares again within the envelope
 //!   with the contact margin raised halfway to g
-//!   ([`Variant::Gentle`], [`gentle_limits`]: 0.1 → 0.55). The averaged
+//!   ([`Variant::Gentle`], `gentle_limits`: 0.1 → 0.55). The averaged
 //!   model the synthesis is seeded from ([`crate::synth`]: v =
 //!   (W/g)(Q_N, P_N)) is first order in the normal force's swing N − g,
 //!   and a target with a gradient (a sink, saddle, line sink, whirlpool)
@@ -78,7 +78,7 @@
 //!   realised strength wins. Over a friction range, a candidate that holds
 //!   the target within `RANGE_HELD` (6 %) at its worst beats one that
 //!   does not first, and of two that both hold it the stronger at its
-//!   worst wins ([`better_within`], which states why). A POOR candidate
+//!   worst wins (`better_within`, which states why). A POOR candidate
 //!   (see below) loses to one that is not POOR. If one method fails (e.g.
 //!   limits too small to move parts), the other is kept and the failure
 //!   is stated.
@@ -175,7 +175,7 @@ pub enum Variant {
     /// its steady-state field describes.
     SequencedPeaks,
     /// Synthesized (and mirror-shared) within the kept limits with the
-    /// contact margin raised halfway to g ([`gentle_limits`]): tilts
+    /// contact margin raised halfway to g (`gentle_limits`): tilts
     /// that swing the normal force half as far, half the strength, nearer
     /// what the averaged model describes.
     Gentle,
@@ -318,7 +318,7 @@ pub struct MethodDesign {
     pub delivered: Vec<(usize, super::tolerance::Spread)>,
     /// The worst-case shape error a candidate had to hold over the
     /// friction range to beat those that do not (`RANGE_HELD` when the
-    /// target states a range, [`better_within`]).
+    /// target states a range, `better_within`).
     pub bound: Option<f64>,
 }
 

@@ -80,7 +80,7 @@
 //! Once aimed,
 //! a candidate whose parts' settled orbits reach farther than
 //! [`CYCLE_REACH_OK`] from their attractor at a segment end
-//! ([`settled_reach`]: five parts per class started at and around it,
+//! (`settled_reach`: five parts per class started at and around it,
 //! played [`AIM_PLAY_S`]) is aimed by what the shaker plays, its
 //! segments' whole cycles, its columns and their order fixed
 //! (`cycle_aimed`): each step plays every segment's cycles changed by each
@@ -101,11 +101,11 @@
 //! lanes, periods of several seconds carry parts through the wrong edge).
 //! Every synthesized candidate's schedule, once fitted,
 //! is therefore cut into k interleaved sub-periods
-//! ([`interleaved`]: the same segments, each cut into k pieces of nearly
+//! (`interleaved`: the same segments, each cut into k pieces of nearly
 //! equal cycles, played in turn, so every segment keeps its time
 //! fraction), with k the least that brings the largest excursion of a
 //! class's part (started at its attractor, or the region's centre, its
-//! second period, [`excursion`]) over k within [`EXCURSION_MAX`] (half
+//! second period, `excursion`) over k within [`EXCURSION_MAX`] (half
 //! the 5 mm a part may be from its attractor), at most
 //! [`MAX_SUB_PERIODS`]. A six-signal segment keeps its ramps of R cycles
 //! each way in every piece (so its accelerations stay as checked within

@@ -65,7 +65,7 @@ const ZERO: Twist = Twist {
 /// Planar steps per cycle by default.
 pub const AVERAGING_STEPS: usize = 64;
 /// Most periods played per pose before the last period's twist is taken
-/// as it stands ([`AveragedTwist::converged`] false).
+/// as it stands (`AveragedTwist::converged` false).
 pub const MAX_AVERAGING_PERIODS: u32 = 60;
 /// Two consecutive periods' twists closer than this, relative to the slip
 /// scale μ g T_c (T_c the shortest motion cycle; μ g T_c / radius for the

@@ -307,7 +307,7 @@ pub struct PlayedBasins {
     /// prediction by at most 1 − this).
     pub agreement: f64,
     /// Largest distance of a played end from its nearest stable pose, in
-    /// the metric of [`nearest`] (|Δr|/R + |Δθ| in rad).
+    /// the metric of `nearest` (|Δr|/R + |Δθ| in rad).
     pub worst: f64,
     /// Drops that lost contact.
     pub lost: usize,

@@ -336,7 +336,7 @@ fn arrival(
     None
 }
 
-/// Where a drop ends ([`settle_on`]).
+/// Where a drop ends (`settle_on`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum End {
     /// At the stable equilibrium of this index (in the list given).

@@ -80,7 +80,7 @@ const TRACED: f64 = 4.0;
 
 /// The work of the lifted analysis of `drops` drops of `part` in `region`
 /// (`poses`' predicted rests and basins, [`crate::pose::rests`] and
-/// [`crate::pose::settle_on`]), in [`crate::work`]'s unit: the rest search (the
+/// `crate::pose::settle_on`), in [`crate::work`]'s unit: the rest search (the
 /// start grid's 216 poses, `SEARCH_ITERATIONS` Newton iterations of 7
 /// twists each), the continua traced (`TRACED`) and per drop the RK4
 /// steps to cross half the region's diagonal at the largest step (2 % of

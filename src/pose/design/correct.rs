@@ -61,7 +61,7 @@ pub const PROBES: usize = 4;
 /// median settle times: `results/poses_friction.md`).
 pub const PROBE_S: f64 = super::screen::PROBE_S;
 /// The correction's starts among the screen's 4 × 4 grid
-/// ([`super::screen::probe_starts`], row-major): one in each row and
+/// (`super::screen::probe_starts`, row-major): one in each row and
 /// each column, at four different angles.
 pub const FROM_GRID: [usize; PROBES] = [1, 7, 8, 14];
 /// Most rounds.

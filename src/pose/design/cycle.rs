@@ -24,7 +24,7 @@
 //! stages together, and its probes and drops play at least
 //! [`SETTLE_PERIODS`] of its periods.
 //!
-//! **Stage lengths, derived** ([`Stages::derive`]). Near its stable pose a
+//! **Stage lengths, derived** (`Stages::derive`). Near its stable pose a
 //! stage's lifted field decays as e^{−λt}, λ its slowest rate (the least
 //! |real part| of the Jacobian's eigenvalues there). A part a distance d
 //! away, in tolerances, comes within the tolerance after
@@ -45,7 +45,7 @@
 //! exceed [`MAX_STAGE_S`] is too slow to screen. The period is therefore
 //! a property of the two motions and the region, not a constant: the
 //! settle time of a drop is counted in whole periods
-//! ([`super::play`]), so a shorter period settles sooner.
+//! (`super::play`), so a shorter period settles sooner.
 //!
 //! Measured numbers (stage rates, lengths, shares and settle times):
 //! `results/poses.md`, `docs/parts.md`.
@@ -62,7 +62,7 @@ pub const RAMP_S: f64 = 0.5;
 /// Periods of a cycle a probe or drop plays at least: one spin stage
 /// does not always take a part out of the ellipse's wrong half (the part
 /// may land near the spin's unstable pose, where the linear decay of
-/// [`Stages::derive`] does not hold), so the later periods give it the
+/// `Stages::derive` does not hold), so the later periods give it the
 /// chances it needs and show that a settled part stays.
 pub const SETTLE_PERIODS: f64 = 3.0;
 /// Longest stage (s): a spin whose derived stage is longer is not

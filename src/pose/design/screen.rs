@@ -15,12 +15,12 @@
 //! ellipse stage rests there, so the cycle's played rest does up to the
 //! correction `design` makes after), scaled into the shaker limits as the
 //! shipped schedule is, and played as long as a design's drops play it
-//! ([`super::play::MIN_PLAY_S`], or [`super::cycle::SETTLE_PERIODS`] of
+//! (`super::play::MIN_PLAY_S`, or [`super::cycle::SETTLE_PERIODS`] of
 //! its periods when longer) from starts over the region the drops come
 //! from. The candidate's score, pose and turn below are that play's; its
 //! pose is taken back to the centred motion.
 //!
-//! **Measure.** [`PROBES`] drops at [`probe_starts`]: a 4 × 4 grid over
+//! **Measure.** [`PROBES`] drops at `probe_starts`: a 4 × 4 grid over
 //! the region inset by the part's radius, angles stepped by the golden
 //! angle, and each of those starts again turned by 180°. An end's cluster
 //! is the ends within [`super::TOL_MM`] and [`super::TOL_DEG`] of it
@@ -84,7 +84,7 @@ pub const PROBES: usize = 2 * GRID;
 pub const PROBE_S: f64 = 60.0;
 /// Seconds each probe plays on the placed cycle (at least
 /// [`super::cycle::SETTLE_PERIODS`] of its periods): as long as a design's
-/// drops play a cycle ([`super::play::MIN_PLAY_S`]).
+/// drops play a cycle (`super::play::MIN_PLAY_S`).
 pub const CYCLE_S: f64 = super::play::MIN_PLAY_S;
 /// Least share of the probes at one pose for a spin to be kept: 24 of 32,
 /// well above the elliptic sink's half.
@@ -98,7 +98,7 @@ pub const MAX_TURN: f64 = 2.0;
 pub struct Screened {
     /// The spin.
     pub spin: Spin,
-    /// Its cycle's stage lengths ([`Stages::derive`]); `None` for a spin
+    /// Its cycle's stage lengths (`Stages::derive`); `None` for a spin
     /// whose lifted field turns too slowly, which is not played.
     pub stages: Option<Stages>,
     /// The spun sink's own played rest (its probes' largest cluster),

@@ -16,7 +16,7 @@
 //! **Six-signal segments are ramped.** A six-signal motion (e.g. a
 //! synthesized one) has zero-mean velocity and pose only from its own
 //! steady initial state, not from rest, so a schedule holding one is
-//! exported as [`crate::motion::sample_hold::ramped`] plays it: a ramp-in
+//! exported as `crate::motion::sample_hold::ramped` plays it: a ramp-in
 //! from rest at home over [`RAMP_CYCLES`] cycles (the quintic smoothstep
 //! window w = 10s³ − 15s⁴ + 6s⁵ on the pose, C² at both ends), `steady`
 //! cycles of the motion (`--steady-cycles`, default
@@ -91,7 +91,7 @@ pub struct Export {
     /// designed for (`played.limits`), or those [`Export::held_to`] gives
     /// a schedule that records none.
     pub limits: Option<ShakerSpec>,
-    /// The schedule's [`Schedule::fingerprint`], stated in the header.
+    /// The schedule's `Schedule::fingerprint`, stated in the header.
     pub fingerprint: String,
 }
 
@@ -99,8 +99,8 @@ impl Export {
     /// The CSV `platefield export` writes: comment lines (`# `) stating the
     /// layout, the frame and reference point (`FRAME`) and each axis's
     /// peak acceleration, velocity and stroke as played
-    /// ([`peaks::KinematicPeaks::of_held`]), then the samples
-    /// ([`sample_hold::HoldSamples::to_csv`]).
+    /// (`peaks::KinematicPeaks::of_held`), then the samples
+    /// (`sample_hold::HoldSamples::to_csv`).
     pub fn to_csv(&self) -> String {
         let lines: String = self
             .scaled()
@@ -141,7 +141,7 @@ impl Export {
     }
 
     /// One line per peak of the file as played above a shaker limit of the
-    /// schedule's ([`peaks::KinematicPeaks::excesses`]), saying by how much;
+    /// schedule's (`peaks::KinematicPeaks::excesses`), saying by how much;
     /// an angular axis the limits forbid (limit 0) is
     /// [`undriven_turns`](Self::undriven_turns)'. Empty when within every
     /// limit or when the schedule records none.
@@ -439,7 +439,7 @@ fn check_size(schedule: &Schedule, ramped: Option<&Motion>, rate: f64, steady: u
 
 /// Plate-centre (linear, angular) acceleration of `motion`'s signals at
 /// time `t`, world axes: for a six-signal motion the angular one is θ″, the
-/// rotation vector's, which design limits ([`world_acceleration`] is the
+/// rotation vector's, which design limits (`world_acceleration` is the
 /// plate's, which exports write).
 pub fn centre_acceleration(motion: &Motion, t: f64) -> (V3, V3) {
     match motion {
@@ -512,7 +512,7 @@ pub fn schedule_peaks(schedule: &Schedule) -> [f64; 6] {
 
 /// CSV of the six signals over one schedule period at (about) `rate`
 /// samples/s, as a sample-and-hold controller plays them
-/// ([`crate::motion::sample_hold::sequence`]): each sample is the mean
+/// (`crate::motion::sample_hold::sequence`): each sample is the mean
 /// acceleration over its interval, Δt = T₀/round(rate·T₀) with T₀ the
 /// primitives' period, and every join and the period end fall on sample
 /// boundaries, so the plate integrated from the file returns to rest in the

@@ -3,12 +3,12 @@
 //! y, z axes (m/s², m/s, m) and angular about them (rad/s², rad/s, rad) —
 //! what a shaker must be able to play.
 //!
-//! **As played** ([`KinematicPeaks::of_held`]): the held samples integrated
+//! **As played** (`KinematicPeaks::of_held`): the held samples integrated
 //! exactly from the state the file starts in (for every export, rest at
 //! home), as the controller plays them: over a hold of Δt with constant a,
 //! v(τ) = v₀ + aτ and x(τ) = x₀ + v₀τ + aτ²/2, so |v| peaks at a hold's
 //! ends and |x| at its ends or at the turning point τ* = −v₀/a inside it.
-//! The angular samples are composed as a rotation ([`crate::motion::Held`])
+//! The angular samples are composed as a rotation (`crate::motion::Held`)
 //! and the angular stroke is the peak |component| of the orientation's
 //! rotation vector, taken at the hold ends and where the component of ω
 //! changes sign inside a hold (where that component of the rotation vector
@@ -18,7 +18,7 @@
 //! **Steady six-signal motion** ([`KinematicPeaks::of_motion`]): each term
 //! A sin(nωt + φ) of a channel integrates to the zero-mean velocity
 //! −A/(nω) cos(nωt + φ) and pose −A/(nω)² sin(nωt + φ)
-//! ([`crate::motion::sample_hold::centre_state`]); a channel's peaks are
+//! (`crate::motion::sample_hold::centre_state`); a channel's peaks are
 //! those of the sums, sampled at `super::PEAK_SAMPLES` points per period
 //! of its highest harmonic (relative error ≤ 1 − cos(π/4096) ≈ 3e-7);
 //! `KinematicPeaks::refined` finds them to round-off.

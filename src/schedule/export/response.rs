@@ -129,7 +129,7 @@ impl Response {
     /// Reads the response file at `path`.
     ///
     /// # Errors
-    /// An unreadable file (names it), or [`Response::from_json_str`]'s.
+    /// An unreadable file (names it), or `Response::from_json_str`'s.
     pub fn read(path: &Path) -> Result<Response> {
         let text = crate::input::read_input(path).map_err(|source| Error::Io {
             path: path.display().to_string(),
