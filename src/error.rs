@@ -126,7 +126,7 @@ pub fn non_negative(field: &str, value: f64) -> Result<f64> {
 
 #[cfg(test)]
 mod tests {
-    /// The former doc example of `error::Error::within`, now crate-private.
+    /// A worked example of `error::Error::within`.
     #[test]
     fn example_error_within() {
         use crate::Error;

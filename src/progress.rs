@@ -363,7 +363,7 @@ mod tests {
         p.finish();
     }
 
-    /// The former doc example of `progress::set_observer`, now crate-private.
+    /// A worked example of `progress::set_observer`.
     #[test]
     fn example_set_observer() {
         use crate::progress::{say, set_observer, Observer};

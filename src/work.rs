@@ -465,7 +465,7 @@ mod tests {
         assert_eq!(duration(f64::INFINITY), "an unbounded time");
     }
 
-    /// The former doc example of `work::Runtime::admit_stated`, now crate-private.
+    /// A worked example of `work::Runtime::admit_stated`.
     #[test]
     fn example_runtime_admit_stated() -> Result<(), crate::Error> {
         use crate::progress::ProgressMode;
@@ -479,7 +479,7 @@ mod tests {
         Ok(())
     }
 
-    /// The former doc example of `work::Term::named`, now crate-private.
+    /// A worked example of `work::Term::named`.
     #[test]
     fn example_term_named() {
         use crate::work::Term;
@@ -487,7 +487,7 @@ mod tests {
         assert_eq!((t.label.as_str(), t.steps()), ("b", 3.0));
     }
 
-    /// The former doc example of `work::Estimate::announcement`, now crate-private.
+    /// A worked example of `work::Estimate::announcement`.
     #[test]
     fn example_estimate_announcement() {
         use crate::work::{Estimate, Term};

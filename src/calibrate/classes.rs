@@ -111,7 +111,7 @@ fn split(group: &[usize], own: &[Own], out: &mut Vec<Vec<usize>>) {
 
 #[cfg(test)]
 mod tests {
-    /// The former doc example of `calibrate::classes::cluster`, now crate-private.
+    /// A worked example of `calibrate::classes::cluster`.
     #[test]
     fn example_cluster() {
         use crate::calibrate::classes::cluster;

@@ -550,7 +550,7 @@ pub(crate) fn parabola_minimum(x: &[f64], y: &[f64]) -> Option<(f64, Option<f64>
 
 #[cfg(test)]
 mod tests {
-    /// The former doc example of `calibrate::estimate::binding`, now crate-private.
+    /// A worked example of `calibrate::estimate::binding`.
     #[test]
     fn example_binding() -> Result<(), crate::Error> {
         use crate::calibrate::estimate::{binding, fit_class, fit_starts};

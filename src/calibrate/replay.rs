@@ -666,7 +666,7 @@ fn finish(
 
 #[cfg(test)]
 mod tests {
-    /// The former doc example of `calibrate::replay::steps_hold`, now crate-private.
+    /// A worked example of `calibrate::replay::steps_hold`.
     #[test]
     fn example_steps_hold() -> Result<(), crate::Error> {
         use crate::calibrate::replay::steps_hold;
@@ -696,7 +696,7 @@ mod tests {
         Ok(())
     }
 
-    /// The former doc example of `calibrate::replay::fit`, now crate-private.
+    /// A worked example of `calibrate::replay::fit`.
     #[test]
     fn example_fit() -> Result<(), crate::Error> {
         use crate::calibrate::replay::{fit, path};

@@ -348,7 +348,7 @@ pub(crate) fn play(
 
 #[cfg(test)]
 mod tests {
-    /// The former doc example of `calibrate::simulate::replay_tracks`, now crate-private.
+    /// A worked example of `calibrate::simulate::replay_tracks`.
     #[test]
     fn example_replay_tracks() -> Result<(), crate::Error> {
         use crate::calibrate::simulate::replay_tracks;

@@ -366,7 +366,7 @@ impl Tracks {
 
 #[cfg(test)]
 mod tests {
-    /// The former doc example of `calibrate::tracks::Tracks::parse`, now crate-private.
+    /// A worked example of `calibrate::tracks::Tracks::parse`.
     #[test]
     fn example_tracks_parse() -> Result<(), crate::Error> {
         use crate::calibrate::Tracks;

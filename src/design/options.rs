@@ -275,7 +275,7 @@ fn rotation_step(step: f64) -> Result<()> {
 
 #[cfg(test)]
 mod tests {
-    /// The former doc example of `design::options::PlayModel::apply`, now crate-private.
+    /// A worked example of `design::options::PlayModel::apply`.
     #[test]
     fn example_playmodel_apply() -> Result<(), crate::Error> {
         use crate::design::PlayModel;

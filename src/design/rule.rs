@@ -102,7 +102,7 @@ pub(crate) fn better(a: Key, b: Key) -> (bool, Rule) {
 
 #[cfg(test)]
 mod tests {
-    /// The former doc example of `design::rule::better_within`, now crate-private.
+    /// A worked example of `design::rule::better_within`.
     #[test]
     fn example_better_within() {
         use crate::design::method::{better_within, Rule};

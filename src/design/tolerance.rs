@@ -253,7 +253,7 @@ mod tests {
         }
     }
 
-    /// The former doc example of `design::tolerance::draws`, now crate-private.
+    /// A worked example of `design::tolerance::draws`.
     #[test]
     fn example_draws() {
         use crate::design::tolerance::draws;
@@ -270,7 +270,7 @@ mod tests {
         assert!((g - 1.0).abs() <= 0.05 && s.abs() <= 5f64.to_radians());
     }
 
-    /// The former doc example of `design::tolerance::judged_at`, now crate-private.
+    /// A worked example of `design::tolerance::judged_at`.
     #[test]
     fn example_judged_at() -> Result<(), crate::Error> {
         use crate::design::tolerance::judged_at;

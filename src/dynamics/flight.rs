@@ -700,7 +700,7 @@ impl Simulator<'_> {
 
 #[cfg(test)]
 mod tests {
-    /// The former doc example of `dynamics::flight::Flight::validate`, now crate-private.
+    /// A worked example of `dynamics::flight::Flight::validate`.
     #[test]
     fn example_flight_validate() {
         use crate::dynamics::Flight;
@@ -709,7 +709,7 @@ mod tests {
         assert!(e.to_string().contains("flight.restitution"));
     }
 
-    /// The former doc example of `dynamics::flight::Simulator<'_>::with_flight`, now crate-private.
+    /// A worked example of `dynamics::flight::Simulator<'_>::with_flight`.
     #[test]
     fn example_simulator_with_flight() -> Result<(), crate::Error> {
         use crate::dynamics::{Flight, Numerics, PartPhysics, Simulator};

@@ -970,7 +970,7 @@ mod tests {
         assert!(s.stuck && (s.r.x - 0.01f64.powi(2) / (2.0 * 0.3 * 9.81)).abs() < 1e-12);
     }
 
-    /// The former doc example of `dynamics::planar::PlanarSimulator::for_body`, now crate-private.
+    /// A worked example of `dynamics::planar::PlanarSimulator::for_body`.
     #[test]
     fn example_planar_simulator_for_body() {
         use crate::dynamics::{PartPhysics, PlanarBody, PlanarSimulator, PlanarState, Plate, V2};
@@ -985,7 +985,7 @@ mod tests {
         assert!(s.stuck); // sliding to rest on a plate at rest
     }
 
-    /// The former doc example of `dynamics::planar::PlanarSimulator::with_slip_rule`, now crate-private.
+    /// A worked example of `dynamics::planar::PlanarSimulator::with_slip_rule`.
     #[test]
     fn example_planar_simulator_with_slip_rule() {
         use crate::dynamics::{

@@ -594,7 +594,7 @@ mod tests {
         ));
     }
 
-    /// The former doc example of `fit::worst`, now crate-private.
+    /// A worked example of `fit::worst`.
     #[test]
     fn example_worst() {
         use crate::fit::worst::{solve_worst_case, WorstCaseOptions};

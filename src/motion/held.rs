@@ -402,7 +402,7 @@ mod tests {
         assert!((shifted.samples[0][1] + 0.2).abs() < 1e-15);
     }
 
-    /// The former doc example of `motion::held::Held::new`, now crate-private.
+    /// A worked example of `motion::held::Held::new`.
     #[test]
     fn example_held_new() {
         use crate::motion::sample_hold::{CentreState, HoldSamples};

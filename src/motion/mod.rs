@@ -283,7 +283,7 @@ pub(crate) fn rotate_sc(v: &V3, k: &V3, (s, c): (f64, f64)) -> V3 {
 
 #[cfg(test)]
 mod tests {
-    /// The former doc example of `motion::Motion::amplitude_scaled`, now crate-private.
+    /// A worked example of `motion::Motion::amplitude_scaled`.
     #[test]
     fn example_motion_amplitude_scaled() -> Result<(), crate::Error> {
         use crate::basis::{Primitive, PrimitiveKind};

@@ -237,7 +237,7 @@ mod tests {
         );
     }
 
-    /// The former doc example of `motion::rotation::world_rates`, now crate-private.
+    /// A worked example of `motion::rotation::world_rates`.
     #[test]
     fn example_world_rates() {
         use crate::motion::rotation::world_rates;
@@ -265,7 +265,7 @@ mod tests {
         assert!((w.z - e * e / 2.0).abs() < 1e-13);
     }
 
-    /// The former doc example of `motion::rotation::advance`, now crate-private.
+    /// A worked example of `motion::rotation::advance`.
     #[test]
     fn example_advance() {
         use crate::motion::rotation::{advance, orientation, rotation_vector};
@@ -281,7 +281,7 @@ mod tests {
         assert!((rotation_vector(&q).z - 0.01).abs() < 1e-15 && (w.z - 0.2).abs() < 1e-15);
     }
 
-    /// The former doc example of `motion::rotation::xyz_angles`, now crate-private.
+    /// A worked example of `motion::rotation::xyz_angles`.
     #[test]
     fn example_xyz_angles() {
         use crate::motion::rotation::{orientation, xyz_angles};

@@ -526,14 +526,14 @@ mod tests {
         assert_eq!((amp(&ox, 1), amp(&oy, 2)), (0.0, 0.0));
     }
 
-    /// The former doc example of `motion::signals::Signals::highest_harmonic`, now crate-private.
+    /// A worked example of `motion::signals::Signals::highest_harmonic`.
     #[test]
     fn example_signals_highest_harmonic() {
         use crate::motion::Signals;
         assert_eq!(Signals::example().highest_harmonic(), 2);
     }
 
-    /// The former doc example of `motion::signals::Signals::mirrored_in`, now crate-private.
+    /// A worked example of `motion::signals::Signals::mirrored_in`.
     #[test]
     fn example_signals_mirrored_in() {
         use crate::motion::Signals;
@@ -549,7 +549,7 @@ mod tests {
         }
     }
 
-    /// The former doc example of `motion::signals::Signals::delivered`, now crate-private.
+    /// A worked example of `motion::signals::Signals::delivered`.
     #[test]
     fn example_signals_delivered() {
         use crate::motion::Signals;

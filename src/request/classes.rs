@@ -265,7 +265,7 @@ impl Target {
 
 #[cfg(test)]
 mod tests {
-    /// The former doc example of `request::classes`, now crate-private.
+    /// A worked example of `request::classes`.
     #[test]
     fn example_classes() -> Result<(), crate::request::TargetError> {
         use crate::request::Target;
@@ -281,14 +281,14 @@ mod tests {
         Ok(())
     }
 
-    /// The former doc example of `request::classes::Edge::outward`, now crate-private.
+    /// A worked example of `request::classes::Edge::outward`.
     #[test]
     fn example_edge_outward() {
         use crate::request::Edge;
         assert_eq!(Edge::Left.outward(), [-1.0, 0.0]);
     }
 
-    /// The former doc example of `request::classes::Edge::crossing`, now crate-private.
+    /// A worked example of `request::classes::Edge::crossing`.
     #[test]
     fn example_edge_crossing() {
         use crate::request::Edge;

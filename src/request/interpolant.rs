@@ -262,7 +262,7 @@ mod tests {
         );
     }
 
-    /// The former doc example of `request::interpolant::SampledInterpolant::new`, now crate-private.
+    /// A worked example of `request::interpolant::SampledInterpolant::new`.
     #[test]
     fn example_sampledinterpolant_new() {
         use crate::request::SampledInterpolant;

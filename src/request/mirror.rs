@@ -250,7 +250,7 @@ mod tests {
         }
     }
 
-    /// The former doc example of `request::mirror::FieldSpec::mirrored_y`, now crate-private.
+    /// A worked example of `request::mirror::FieldSpec::mirrored_y`.
     #[test]
     fn example_fieldspec_mirrored_y() {
         use crate::request::FieldSpec;
@@ -265,7 +265,7 @@ mod tests {
         assert!((w[0] - v[0]).abs() < 1e-15 && (w[1] + v[1]).abs() < 1e-15);
     }
 
-    /// The former doc example of `request::mirror::Target::mirrored_y`, now crate-private.
+    /// A worked example of `request::mirror::Target::mirrored_y`.
     #[test]
     fn example_target_mirrored_y() {
         use crate::request::Target;

@@ -279,7 +279,7 @@ impl ShakerSpec {
 
 #[cfg(test)]
 mod tests {
-    /// The former doc example of `request::shaker::TravelSpec::axes`, now crate-private.
+    /// A worked example of `request::shaker::TravelSpec::axes`.
     #[test]
     fn example_travelspec_axes() {
         use crate::request::TravelSpec;

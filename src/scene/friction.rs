@@ -481,7 +481,7 @@ mod tests {
         assert!((s.kinetic.lo - 0.24).abs() < 1e-15 && (s.kinetic.hi - 0.36).abs() < 1e-15);
     }
 
-    /// The former doc example of `scene::friction::FrictionSpec::validate_driven`, now crate-private.
+    /// A worked example of `scene::friction::FrictionSpec::validate_driven`.
     #[test]
     fn example_frictionspec_validate_driven() {
         use crate::scene::FrictionSpec;

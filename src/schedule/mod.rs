@@ -652,7 +652,7 @@ fn prefix_origin(e: Error, origin: &str) -> Error {
 
 #[cfg(test)]
 mod tests {
-    /// The former doc example of `schedule::Schedule::fingerprint`, now crate-private.
+    /// A worked example of `schedule::Schedule::fingerprint`.
     #[test]
     fn example_schedule_fingerprint() -> Result<(), crate::Error> {
         use crate::schedule::Schedule;

@@ -411,7 +411,7 @@ mod tests {
         assert_eq!(fit.evaluations, 1);
     }
 
-    /// The former doc example of `synth::levenberg::LmOptions::evaluations`, now crate-private.
+    /// A worked example of `synth::levenberg::LmOptions::evaluations`.
     #[test]
     fn example_lmoptions_evaluations() {
         use crate::synth::levenberg::LmOptions;
@@ -422,7 +422,7 @@ mod tests {
         assert_eq!(lm.evaluations(10), 1 + 4 * 12);
     }
 
-    /// The former doc example of `synth::levenberg::levenberg_marquardt`, now crate-private.
+    /// A worked example of `synth::levenberg::levenberg_marquardt`.
     #[test]
     fn example_levenberg_marquardt() {
         use crate::synth::levenberg::{levenberg_marquardt, parallel, LmOptions};

@@ -306,7 +306,7 @@ impl ShakerLimits {
 
 #[cfg(test)]
 mod tests {
-    /// The former doc example of `synth::limits::ShakerLimits::axes`, now crate-private.
+    /// A worked example of `synth::limits::ShakerLimits::axes`.
     #[test]
     fn example_shakerlimits_axes() {
         use crate::request::TravelSpec;

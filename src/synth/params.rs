@@ -306,7 +306,7 @@ impl Layout {
 
 #[cfg(test)]
 mod tests {
-    /// The former doc example of `synth::params::Coefficients::antiderivative`, now crate-private.
+    /// A worked example of `synth::params::Coefficients::antiderivative`.
     #[test]
     fn example_coefficients_antiderivative() {
         use crate::synth::params::Coefficients;

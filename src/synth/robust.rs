@@ -52,7 +52,7 @@ pub(crate) fn judged_under(
 
 #[cfg(test)]
 mod tests {
-    /// The former doc example of `synth::robust::judged_under`, now crate-private.
+    /// A worked example of `synth::robust::judged_under`.
     #[test]
     fn example_judged_under() {
         use crate::field::FieldSettings;

@@ -568,7 +568,7 @@ impl Checked {
 
 #[cfg(test)]
 mod tests {
-    /// The former doc example of `synth::synthesize::synthesize_classes`, now crate-private.
+    /// A worked example of `synth::synthesize::synthesize_classes`.
     #[test]
     fn example_synthesize_classes() -> Result<(), crate::Error> {
         use crate::dynamics::Friction;

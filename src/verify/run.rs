@@ -786,7 +786,7 @@ fn delivery_spread(
 
 #[cfg(test)]
 mod tests {
-    /// The former doc example of `verify::run::run`, now crate-private.
+    /// A worked example of `verify::run::run`.
     #[test]
     fn example_run() -> Result<(), crate::Error> {
         use crate::design::{BasisSection, DesignOptions, Method};

@@ -807,7 +807,7 @@ mod tests {
         assert_eq!(c.sorted_at(9.0), 0.75);
     }
 
-    /// The former doc example of `verify::sort_play::play_classes`, now crate-private.
+    /// A worked example of `verify::sort_play::play_classes`.
     #[allow(dead_code)]
     fn example_play_classes() -> Result<(), crate::Error> {
         use crate::design::{sort::design_sort_primitives, DesignOptions};
@@ -824,7 +824,7 @@ mod tests {
         Ok(())
     }
 
-    /// The former doc example of `verify::sort_play::is_sort`, now crate-private.
+    /// A worked example of `verify::sort_play::is_sort`.
     #[test]
     fn example_is_sort() -> Result<(), crate::Error> {
         use crate::schedule::Schedule;

@@ -1237,7 +1237,7 @@ mod tests {
         assert_eq!(parts_of(2000), 2000.0);
     }
 
-    /// The former doc example of `design::method::gentle_limits`, now crate-private.
+    /// A worked example of `design::method::gentle_limits`.
     #[test]
     fn example_gentle_limits() {
         use crate::design::method::gentle_limits;

@@ -208,7 +208,7 @@ mod tests {
         assert_eq!(interleaved(&s, 1), s);
     }
 
-    /// The former doc example of `design::sort::interleave::excursion`, now crate-private.
+    /// A worked example of `design::sort::interleave::excursion`.
     #[test]
     fn example_excursion() {
         use crate::design::sort::excursion;
@@ -221,7 +221,7 @@ mod tests {
         assert!((excursion(&path) - 0.003).abs() < 1e-12);
     }
 
-    /// The former doc example of `design::sort::interleave::interleaved`, now crate-private.
+    /// A worked example of `design::sort::interleave::interleaved`.
     #[test]
     fn example_interleaved() -> Result<(), crate::Error> {
         use crate::design::sort::interleaved;
@@ -232,7 +232,7 @@ mod tests {
         Ok(())
     }
 
-    /// The former doc example of `design::sort::interleave::sub_periods`, now crate-private.
+    /// A worked example of `design::sort::interleave::sub_periods`.
     #[test]
     fn example_sub_periods() {
         use crate::design::sort::{sub_periods, EXCURSION_MAX};

@@ -975,7 +975,7 @@ fn class_fits(
 
 #[cfg(test)]
 mod tests {
-    /// The former doc example of `design::sort::design_sort`, now crate-private.
+    /// A worked example of `design::sort::design_sort`.
     #[allow(dead_code)]
     fn example_design_sort() -> Result<(), crate::Error> {
         use crate::design::{sort::design_sort, DesignOptions};
@@ -994,7 +994,7 @@ mod tests {
         Ok(())
     }
 
-    /// The former doc example of `design::sort::sort_estimate`, now crate-private.
+    /// A worked example of `design::sort::sort_estimate`.
     #[test]
     fn example_sort_estimate() -> Result<(), crate::Error> {
         use crate::design::{sort::sort_estimate, DesignOptions};

@@ -870,7 +870,7 @@ mod tests {
         }
     }
 
-    /// The former doc example of `pose::analysis::continua::eigenvalues`, now crate-private.
+    /// A worked example of `pose::analysis::continua::eigenvalues`.
     #[test]
     fn example_eigenvalues() {
         use crate::pose::eigenvalues;

@@ -334,7 +334,7 @@ mod tests {
         assert_eq!(slowest_rate(&[]), 0.0);
     }
 
-    /// The former doc example of `pose::design::cycle::Stages::derive`, now crate-private.
+    /// A worked example of `pose::design::cycle::Stages::derive`.
     #[test]
     fn example_stages_derive() {
         use crate::pose::design::cycle::Stages;
@@ -351,7 +351,7 @@ mod tests {
         assert!(Stages::derive(0.05, 0.68, &starts).is_none());
     }
 
-    /// The former doc example of `pose::design::cycle::settle_seconds`, now crate-private.
+    /// A worked example of `pose::design::cycle::settle_seconds`.
     #[test]
     fn example_settle_seconds() {
         use crate::pose::design::cycle::settle_seconds;

@@ -396,7 +396,7 @@ pub fn centred_pose(eqs: &[Equilibrium], asked: &Pose, n: usize) -> Option<Equil
 
 #[cfg(test)]
 mod tests {
-    /// The former doc example of `pose::design::placement::Placement::onto`, now crate-private.
+    /// A worked example of `pose::design::placement::Placement::onto`.
     #[test]
     fn example_placement_onto() {
         use crate::pose::design::placement::Placement;

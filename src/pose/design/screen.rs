@@ -515,7 +515,7 @@ mod tests {
         assert_eq!(largest_cluster(&turned, 1, 3).unwrap().0, 1.0 / 3.0);
     }
 
-    /// The former doc example of `pose::design::screen::probe_starts`, now crate-private.
+    /// A worked example of `pose::design::screen::probe_starts`.
     #[test]
     fn example_probe_starts() {
         use crate::pose::design::screen::{probe_starts, GRID, PROBES};

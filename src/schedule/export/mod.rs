@@ -580,7 +580,7 @@ mod export_tests;
 
 #[cfg(test)]
 mod tests {
-    /// The former doc example of `schedule::export::world_acceleration`, now crate-private.
+    /// A worked example of `schedule::export::world_acceleration`.
     #[test]
     fn example_world_acceleration() {
         use crate::motion::{Motion, Signals};

@@ -390,7 +390,7 @@ mod tests {
         assert!(rel(sampled.acceleration[0], a) < 3e-7);
     }
 
-    /// The former doc example of `schedule::export::peaks::KinematicPeaks::of_held`, now crate-private.
+    /// A worked example of `schedule::export::peaks::KinematicPeaks::of_held`.
     #[test]
     fn example_kinematicpeaks_of_held() {
         use crate::motion::sample_hold::{CentreState, HoldSamples};
@@ -413,7 +413,7 @@ mod tests {
         );
     }
 
-    /// The former doc example of `schedule::export::peaks::KinematicPeaks::within_scale`, now crate-private.
+    /// A worked example of `schedule::export::peaks::KinematicPeaks::within_scale`.
     #[test]
     fn example_kinematicpeaks_within_scale() {
         use crate::request::ShakerSpec;
@@ -429,7 +429,7 @@ mod tests {
         assert_eq!(KinematicPeaks::within_scale(at, &limits), 0.8);
     }
 
-    /// The former doc example of `schedule::export::peaks::KinematicPeaks::excesses`, now crate-private.
+    /// A worked example of `schedule::export::peaks::KinematicPeaks::excesses`.
     #[test]
     fn example_kinematicpeaks_excesses() {
         use crate::request::{ShakerSpec, TravelSpec};

@@ -265,7 +265,7 @@ impl Drive {
 
 #[cfg(test)]
 mod tests {
-    /// The former doc example of `schedule::export::response::Response::from_json_str`, now crate-private.
+    /// A worked example of `schedule::export::response::Response::from_json_str`.
     #[test]
     fn example_response_from_json_str() {
         use crate::schedule::export::response::Response;
@@ -286,7 +286,7 @@ mod tests {
             .contains("r.json.harmonics[0].diagonal"));
     }
 
-    /// The former doc example of `schedule::export::response::drive`, now crate-private.
+    /// A worked example of `schedule::export::response::drive`.
     #[test]
     fn example_drive() {
         use crate::motion::Signals;
