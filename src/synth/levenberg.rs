@@ -421,23 +421,4 @@ mod tests {
         };
         assert_eq!(lm.evaluations(10), 1 + 4 * 12);
     }
-
-    /// A worked example of `synth::levenberg::levenberg_marquardt`.
-    #[test]
-    fn example_levenberg_marquardt() {
-        use crate::synth::levenberg::{levenberg_marquardt, parallel, LmOptions};
-
-        // Rosenbrock as residuals: (10 (y − x²), 1 − x); minimum at (1, 1).
-        let r = parallel(|p: &[f64]| vec![10.0 * (p[1] - p[0] * p[0]), 1.0 - p[0]]);
-        let options = LmOptions {
-            max_iterations: 200,
-            step: 1e-7,
-            abs_cost: 1e-20,
-            min_improvement: 0.0,
-            max_rejections: 20,
-            ..LmOptions::default()
-        };
-        let fit = levenberg_marquardt(&[-1.2, 1.0], &r, || false, &options).unwrap();
-        assert!((fit.x[0] - 1.0).abs() < 1e-6 && (fit.x[1] - 1.0).abs() < 1e-6);
-    }
 }
