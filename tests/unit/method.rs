@@ -3,7 +3,7 @@
 //! limits kept by sequenced designs, the synthesized schedule's format.
 
 use crate::basis::PrimitiveKind;
-use crate::design::method::{Candidate, Choice, TIE_SHAPE_ERROR};
+use crate::design::method::{Candidate, Choice, Variant, TIE_SHAPE_ERROR};
 use crate::design::{DesignOptions, Method};
 use crate::field::FieldSettings;
 use crate::fit::POOR_ERROR;
@@ -258,6 +258,8 @@ fn auto_without_limits_synthesizes_within_the_sequenced_peaks() {
     assert!((md.limits.period - std::f64::consts::TAU / omega).abs() < 1e-15);
     // LineSinks at 0° and 90°: both horizontal axes move, so a synthesis runs.
     assert!(peaks[0] > 0.0 && peaks[1] > 0.0, "{peaks:?}");
+    // That synthesis plays sound: no second one within the envelope.
+    assert!(md.candidates.iter().all(|c| c.variant != Variant::Envelope));
     let syn = md.synthesis.as_ref().expect("synthesized");
     for p in &syn.checked.peaks {
         assert!(p.peak <= p.limit * (1.0 + 1e-9), "{p:?}");
@@ -272,6 +274,53 @@ fn auto_without_limits_synthesizes_within_the_sequenced_peaks() {
     ];
     for (p, l) in syn.checked.peaks.iter().zip(limits) {
         assert_eq!(p.limit, l, "{}", p.axis);
+    }
+}
+
+/// `auto` without limits, when the sequenced schedule's peaks leave an axis
+/// the synthesis needs at zero: a line sink made of LineSinks at 0° and 180°
+/// moves the plate along x only, so the synthesis within those peaks cannot
+/// make parts slip (circular translation needs both in-plane axes above
+/// μ_s g); that failure is recorded, and the synthesis is made again within
+/// the envelope, its candidate judged beside the sequenced one, using the
+/// y axis the sequenced schedule left at rest and staying within the
+/// envelope.
+#[test]
+fn auto_synthesizes_within_the_envelope_when_the_sequenced_peaks_fail() {
+    let target = Target::from_json_str(
+        r#"{"name": "line_sink_x", "grid": {"x": [-0.03, 0.03], "y": [-0.03, 0.03], "n": [9, 9]},
+            "field": {"kind": "line_sink", "angle": 90.0}}"#,
+    )
+    .expect("valid target");
+    let opts = options(vec![PrimitiveKind::LineSink]).by_method(Method::Auto, &synth());
+    let md = crate::inverse::run(&target, &opts)
+        .and_then(|o| o.into_method())
+        .expect("design");
+    let seq = &md.sequence.as_ref().expect("sequenced").schedule;
+    let peaks = export::schedule_peaks(seq);
+    assert!(peaks[0] > 0.0 && peaks[1] < 1e-9 * peaks[0], "{peaks:?}");
+    let failed = md
+        .failures
+        .iter()
+        .map(|f| f.reason.to_string())
+        .find(|r| r.starts_with("within the sequenced schedule's per-axis peaks"))
+        .expect("the synthesis within the sequenced peaks fails");
+    assert!(failed.contains("cannot make parts slip"), "{failed}");
+    let envelope = md
+        .candidates
+        .iter()
+        .find(|c| c.variant == Variant::Envelope)
+        .expect("a candidate synthesized within the envelope");
+    assert_eq!(envelope.method, Method::Synthesize);
+    assert!(envelope.name().ends_with("(within the envelope)"));
+    let p = envelope.played();
+    let limits = crate::synth::ShakerLimits::envelope();
+    assert!(p.peaks.linear[1] > 0.0, "{:?}", p.peaks.linear);
+    for (peak, limit) in p.peaks.linear.iter().zip(limits.linear) {
+        assert!(*peak <= limit * (1.0 + 1e-9), "{peak} > {limit}");
+    }
+    for (peak, limit) in p.peaks.angular.iter().zip(limits.angular) {
+        assert!(*peak <= limit * (1.0 + 1e-9), "{peak} > {limit}");
     }
 }
 

@@ -76,6 +76,9 @@ pub enum FailureReason {
     /// The synthesis for the worst case over the friction range
     /// ([`Variant::WorstCase`]) failed with this error.
     WorstCase(String),
+    /// The synthesis within the envelope ([`Variant::Envelope`]) failed
+    /// with this error.
+    Envelope(String),
 }
 
 impl std::fmt::Display for FailureReason {
@@ -94,6 +97,7 @@ impl std::fmt::Display for FailureReason {
             FailureReason::WorstCase(e) => {
                 write!(f, "for the worst case over the friction range: {e}")
             }
+            FailureReason::Envelope(e) => write!(f, "within the envelope: {e}"),
         }
     }
 }

@@ -25,7 +25,12 @@
 //!   at once, and a motion that uses all of it at once is too strong for its
 //!   steady-state field to describe what moving parts do (the sink
 //!   synthesized within the envelope realises a field far from its
-//!   prediction, in strength and in shape). **Over a friction range** the
+//!   prediction, in strength and in shape). When the synthesis within
+//!   those peaks plays POOR (or fails), the peaks are shown to be no shaker
+//!   for the target — a sequenced fit of near-cancelling columns may drive
+//!   one tilt axis only and leave the other at zero — and `auto`
+//!   synthesizes again within the envelope ([`Variant::Envelope`]), judged
+//!   beside the others by the same rule. **Over a friction range** the
 //!   synthesis takes the envelope instead: a part slips with the lead
 //!   δ = asin(μg/A) behind the plate's in-plane acceleration amplitude A, so
 //!   a change of μ turns the field by dδ = g dμ / (A cos δ), less the
@@ -182,6 +187,9 @@ pub enum Variant {
     /// One motion synthesized and polished for the worst case over the
     /// range (as `--robust-synthesis` does).
     WorstCase,
+    /// At one friction, synthesized within the envelope after the
+    /// synthesis within the sequenced schedule's peaks played POOR.
+    Envelope,
 }
 
 impl Candidate {
@@ -244,6 +252,7 @@ impl Candidate {
             Variant::SequencedPeaks => " (within the sequenced peaks)",
             Variant::Gentle => " (within the wider contact margin)",
             Variant::WorstCase => " (for the worst case)",
+            Variant::Envelope => " (within the envelope)",
         };
         format!("{}{tag}", self.method.name())
     }
@@ -347,6 +356,7 @@ pub fn design_by_method(target: &Target, opts: &DesignOptions) -> Result<MethodD
     let mut run = MethodRun::start(target, &sampled, opts)?;
     run.sequence()?;
     run.synthesis()?;
+    run.envelope_synthesis()?;
     run.mix()?;
     run.judge_range()?;
     run.sequenced_peaks_synthesis()?;
@@ -397,6 +407,10 @@ struct MethodRun<'a> {
     /// The synthesis keeps the sequenced schedule's peaks (`auto` without
     /// the target's own limits).
     from_sequence: bool,
+    /// The envelope the sequenced schedule's peaks replaced, for the
+    /// synthesis within it when the one within those peaks plays POOR
+    /// ([`MethodRun::envelope_synthesis`]).
+    envelope: Option<ShakerLimits>,
     /// The target's symmetry line, searched once when the mirror-image
     /// shares are offered (`None` when they are not; `Some(None)` when no
     /// reflection maps the target to itself).
@@ -480,6 +494,7 @@ impl<'a> MethodRun<'a> {
             },
             first_error: None,
             from_sequence: false,
+            envelope: None,
             axis: None,
             sequenced: None,
             added: Vec::new(),
@@ -580,7 +595,7 @@ impl<'a> MethodRun<'a> {
                         if self.ranged() {
                             self.sequenced = Some(l);
                         } else {
-                            self.out.limits = l;
+                            self.envelope = Some(std::mem::replace(&mut self.out.limits, l));
                             self.from_sequence = true;
                         }
                     }
@@ -748,6 +763,27 @@ impl<'a> MethodRun<'a> {
             Variant::SequencedPeaks,
             FailureReason::WithinSequencedPeaks,
         )
+    }
+
+    /// `auto` at one friction, when the synthesis within the sequenced
+    /// schedule's peaks plays POOR or fails: those peaks are then shown to
+    /// be no shaker for the target (a sequenced fit of near-cancelling
+    /// columns may drive one tilt axis only), and the synthesis is made
+    /// again within the envelope they replaced ([`Variant::Envelope`]),
+    /// judged beside the others by the same rule.
+    fn envelope_synthesis(&mut self) -> Result<()> {
+        let Some(limits) = self.envelope.clone() else {
+            return Ok(());
+        };
+        let sound = self
+            .out
+            .candidates
+            .iter()
+            .any(|c| c.method == Method::Synthesize && !c.played().poor);
+        if sound {
+            return Ok(());
+        }
+        self.added_with_shares(limits, Variant::Envelope, FailureReason::Envelope)
     }
 
     /// The synthesis and its mirror-image shares again within `limits`,
@@ -951,9 +987,9 @@ impl<'a> MethodRun<'a> {
         Ok(())
     }
 
-    /// The candidates of a synthesis `auto` adds over a friction range
-    /// (`variant`, with the synthesis and its limits), each judged across
-    /// the range beside the others.
+    /// The candidates of a synthesis `auto` adds (`variant`, with the
+    /// synthesis and its limits), each judged across the target's friction
+    /// range beside the others when it states one.
     fn add(
         &mut self,
         variant: Variant,
@@ -962,7 +998,9 @@ impl<'a> MethodRun<'a> {
     ) -> Result<()> {
         for mut c in cands {
             c.variant = variant;
-            c.judge_range(self.target, self.sampled)?;
+            if self.ranged() {
+                c.judge_range(self.target, self.sampled)?;
+            }
             self.out.candidates.push(c);
         }
         self.added.push((variant, syn, limits));
