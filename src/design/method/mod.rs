@@ -316,7 +316,8 @@ pub struct MethodDesign {
     /// The work stated before the synthesis ([`design_estimate`] with the
     /// limits the synthesis keeps; `auto` states it once the sequenced
     /// schedule is fitted and has given them, before that schedule is
-    /// judged, its judge counted at the fitted period).
+    /// judged, its judge counted at the fitted period), and that of each
+    /// synthesis `auto` adds ([`Variant`]), stated when it starts.
     pub estimate: Estimate,
     /// The kept design judged over the shaker's delivery errors at its
     /// worst friction, when the target states `shaker.tolerance`
@@ -798,6 +799,7 @@ impl<'a> MethodRun<'a> {
         let synth = asked_synthesis(self.target, self.opts);
         let estimate = synthesis_estimate(self.target, self.sampled, &synth, self.opts, &limits);
         self.opts.runtime.admit(&estimate)?;
+        self.out.estimate.terms.extend(estimate.terms);
         match self.synthesized_with_shares(&limits) {
             Ok((syn, _, cands)) => self.add(variant, (syn, limits), cands)?,
             Err(e) => self
@@ -973,6 +975,7 @@ impl<'a> MethodRun<'a> {
         let limits = self.out.limits.clone();
         let estimate = synthesis_estimate(self.target, self.sampled, &synth, self.opts, &limits);
         self.opts.runtime.admit(&estimate)?;
+        self.out.estimate.terms.extend(estimate.terms);
         let t = Instant::now();
         match synthesize_schedule(self.target, self.sampled, &limits, self.opts, &synth) {
             Ok((syn, schedule)) => {
