@@ -113,7 +113,7 @@ fn angular_terms(signals: &Signals) -> Vec<Term> {
 }
 
 /// The harmonics of a six-signal motion (see the module documentation).
-pub(crate) fn of_signals(signals: &Signals) -> Harmonics {
+pub fn of_signals(signals: &Signals) -> Harmonics {
     let channels = [
         &signals.linear.x,
         &signals.linear.y,
