@@ -494,10 +494,7 @@ fn rest_choices(asked: &[u32]) -> Vec<u32> {
 }
 
 /// Searches orders and rest insertions of `segments` (see the module docs).
-pub(crate) fn search_orders(
-    segments: &[PlayedSegment],
-    opts: &OrderOptions,
-) -> Result<OrderSearch> {
+fn search_orders(segments: &[PlayedSegment], opts: &OrderOptions) -> Result<OrderSearch> {
     check_search(segments, opts)?;
     let t_rest = rest_period(segments)?;
     let first = segments
