@@ -53,7 +53,7 @@ pub(crate) const FORMAT: u32 = 3;
 /// neither hang a design nor fill memory.
 pub(crate) const MAX_ENTRY_BYTES: u64 = 256 << 20;
 
-/// What [`BasisCache::get_or_build`] did.
+/// What `BasisCache::get_or_build` did.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize)]
 #[serde(tag = "status", rename_all = "snake_case")]
 pub enum CacheStatus {
@@ -85,7 +85,7 @@ impl std::fmt::Display for CacheStatus {
 
 /// A folder of cached libraries.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct BasisCache {
+pub(crate) struct BasisCache {
     dir: PathBuf,
 }
 
@@ -180,12 +180,6 @@ impl BasisCache {
         // fail; a failure would hash to a key no file has.
         let text = serde_json::to_string(&input).unwrap_or_default();
         sha256_hex(text.as_bytes())
-    }
-
-    /// The library stored under `key`, or `None` when there is none or the
-    /// file is not trustworthy (see the module docs).
-    pub fn load(&self, key: &str) -> Option<FieldLibrary> {
-        self.check(key).ok()
     }
 
     fn check(&self, key: &str) -> std::result::Result<FieldLibrary, Miss> {
@@ -336,3 +330,7 @@ impl BasisCache {
         Ok((lib, status))
     }
 }
+
+#[cfg(test)]
+#[path = "../../tests/unit/basis_cache.rs"]
+mod basis_cache_tests;

@@ -9,7 +9,6 @@ pub mod primitives;
 pub mod steps;
 pub mod symmetry;
 
-pub use cache::BasisCache;
 pub use cache::CacheStatus;
 pub use library::{FieldLibrary, Library, LibraryEntry};
 pub use primitives::Primitive;

@@ -85,7 +85,7 @@ pub(crate) const DEFAULT_MAX_EVALUATIONS: usize = 60;
 
 /// Settings of an order search.
 #[derive(Debug, Clone, PartialEq)]
-pub struct OrderOptions {
+pub(crate) struct OrderOptions {
     /// Physics and model; its `warmup_periods` and `periods` are minimums
     /// (see `warmup_cycles`).
     pub verify: PlayOptions,
@@ -384,7 +384,7 @@ fn key(c: &OrderCandidate) -> f64 {
 
 /// The chosen candidate (see the module docs); `None` if no candidate has
 /// a valid point.
-pub fn choose(candidates: &[OrderCandidate], tie_tolerance: f64) -> Option<usize> {
+pub(crate) fn choose(candidates: &[OrderCandidate], tie_tolerance: f64) -> Option<usize> {
     let most = candidates.iter().map(|c| c.valid).max()?;
     let eligible: Vec<usize> = (0..candidates.len())
         .filter(|&i| candidates[i].valid == most && key(&candidates[i]).is_finite())
@@ -494,7 +494,7 @@ fn rest_choices(asked: &[u32]) -> Vec<u32> {
 }
 
 /// Searches orders and rest insertions of `segments` (see the module docs).
-pub fn search_orders(segments: &[PlayedSegment], opts: &OrderOptions) -> Result<OrderSearch> {
+fn search_orders(segments: &[PlayedSegment], opts: &OrderOptions) -> Result<OrderSearch> {
     check_search(segments, opts)?;
     let t_rest = rest_period(segments)?;
     let first = segments
@@ -575,7 +575,7 @@ pub fn search_orders(segments: &[PlayedSegment], opts: &OrderOptions) -> Result<
 }
 
 /// `n × n` points over the bounding box of `points` (the target region).
-pub fn region_grid(points: &[[f64; 2]], n: usize) -> Vec<[f64; 2]> {
+pub(crate) fn region_grid(points: &[[f64; 2]], n: usize) -> Vec<[f64; 2]> {
     let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
     for p in points {
         for k in 0..2 {
@@ -604,7 +604,10 @@ pub fn region_grid(points: &[[f64; 2]], n: usize) -> Vec<[f64; 2]> {
 /// inserted rest: inserted rest scales the realised field by the chosen
 /// candidate's moving fraction over the original one. Segments of zero
 /// duration are dropped, as when the schedule is played.
-pub fn choose_order(schedule: &Schedule, opts: &OrderOptions) -> Result<(Schedule, OrderSearch)> {
+pub(crate) fn choose_order(
+    schedule: &Schedule,
+    opts: &OrderOptions,
+) -> Result<(Schedule, OrderSearch)> {
     let mut items: Vec<&Segment> = Vec::with_capacity(schedule.segments.len());
     let mut played = Vec::with_capacity(schedule.segments.len());
     for (i, seg) in schedule.segments.iter().enumerate() {
@@ -770,6 +773,10 @@ pub fn order_schedule_file(path: &Path, req: &OrderRequest) -> Result<OrderOutco
     let (_, search) = choose_order(&schedule, &opts)?;
     Ok(OrderOutcome { schedule, search })
 }
+
+#[cfg(test)]
+#[path = "../../tests/unit/order.rs"]
+mod order_tests;
 
 #[cfg(test)]
 mod tests {

@@ -15,7 +15,7 @@
 //! same motion. The played measure is cheap (5 × 5 start points, 60
 //! cycles), so it can be the objective of a last local refinement.
 //!
-//! **Cost** of a parameter vector ([`crate::synth::params::Layout`]), with
+//! **Cost** of a parameter vector (`synth::params::Layout`), with
 //! ŝ and e the played realised strength and shape error at the given start
 //! points, s₀ the starting motion's played strength:
 //!

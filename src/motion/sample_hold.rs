@@ -57,7 +57,7 @@ pub(crate) const MAX_SAMPLES: usize = 50_000_000;
 /// ω_x, ω_y, ω_z] and [p_x, p_y, p_z, θ_x, θ_y, θ_z], ω the world angular
 /// velocity and θ the rotation vector of the orientation exp(\[θ\]×)).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct CentreState {
+pub(crate) struct CentreState {
     /// Velocity (m/s, rad/s).
     pub velocity: [f64; 6],
     /// Pose (m, rad).
@@ -77,7 +77,7 @@ pub struct HoldSamples {
     /// angular acceleration about the world axes).
     pub samples: Vec<[f64; 6]>,
     /// The state the plate must be in when the first sample starts.
-    pub start: CentreState,
+    pub(crate) start: CentreState,
 }
 
 impl HoldSamples {

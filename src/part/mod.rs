@@ -32,9 +32,10 @@
 mod polygon;
 mod symmetry;
 
+pub use polygon::contains;
+pub(crate) use polygon::covers;
 pub(crate) use polygon::diameter;
 pub(crate) use polygon::signed_area;
-pub use polygon::{centroid, contains, covers};
 
 use std::path::Path;
 

@@ -10,7 +10,7 @@ pub(crate) fn signed_area(v: &[V2]) -> f64 {
 }
 
 /// Area centroid of a simple polygon of non-zero area.
-pub fn centroid(v: &[V2]) -> V2 {
+pub(crate) fn centroid(v: &[V2]) -> V2 {
     let n = v.len();
     let a = signed_area(v);
     let mut c = V2::zeros();
@@ -113,7 +113,7 @@ pub fn contains(v: &[V2], p: &V2) -> bool {
 }
 
 /// Inside or within `tol` of the boundary.
-pub fn covers(v: &[V2], p: &V2, tol: f64) -> bool {
+pub(crate) fn covers(v: &[V2], p: &V2, tol: f64) -> bool {
     contains(v, p) || boundary_distance(v, p) <= tol
 }
 

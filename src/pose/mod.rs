@@ -58,7 +58,7 @@ pub use analysis::run::MAX_DROPS;
 pub use analysis::source::realised_field;
 pub use analysis::source::schedule_field;
 pub use analysis::source::REALISED_STRIDE;
-pub use analysis::work::{drops_estimate, settle_estimate};
+pub use analysis::work::drops_estimate;
 
 #[cfg(test)]
 #[path = "../../tests/unit/pose_convention.rs"]

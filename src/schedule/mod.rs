@@ -6,7 +6,7 @@
 //! [`crate::synth`]) played for whole cycles, or the plate at rest,
 //! repeated with the schedule period. The file also records the design's fit, its solver
 //! facts, the basis it was fitted on and the simulation settings the basis
-//! was built with (typed: [`BasisInfo`], [`FieldSettings`]).
+//! was built with (typed: `BasisInfo`, [`FieldSettings`]).
 //!
 //! **One loader.** [`Schedule::load`] is the only way a command reads a
 //! schedule: serde with unknown keys rejected (errors carry the JSON path,
@@ -242,7 +242,7 @@ pub struct ExcludedColumn {
 /// (`--keep-invalid`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct KeptColumn {
+pub(crate) struct KeptColumn {
     /// Indices of the target points where the column is invalid.
     pub invalid_points: Vec<usize>,
     /// Primitive name with rotation and shift.
@@ -253,13 +253,13 @@ pub struct KeptColumn {
 /// file has always listed them).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct BasisInfo {
+pub(crate) struct BasisInfo {
     /// Usable columns.
     pub columns: usize,
     /// Columns left out.
     pub excluded: Vec<ExcludedColumn>,
     /// Columns kept with invalid points.
-    pub kept_with_invalid_points: Vec<KeptColumn>,
+    pub(crate) kept_with_invalid_points: Vec<KeptColumn>,
     /// Field kind of the columns.
     pub kind: FieldKind,
     /// Rotation step of the basis copies (degrees).
@@ -298,7 +298,7 @@ pub struct Schedule {
     /// Solver facts.
     pub solver: SolverInfo,
     /// Basis facts: field kind, columns used, columns excluded.
-    pub basis: BasisInfo,
+    pub(crate) basis: BasisInfo,
     /// Simulation settings the basis was built with, and the physics the
     /// schedule is played at; under `design --model`, `model` is the model
     /// the design was judged at (the basis is built at the options' own,

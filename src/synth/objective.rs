@@ -1,6 +1,6 @@
 //! The refinement objective: one re-simulation of a candidate motion.
 //!
-//! A parameter vector ([`super::params::Layout`]) becomes coefficients,
+//! A parameter vector (`params::Layout`) becomes coefficients,
 //! each axis scaled down onto its limit where its summed peak exceeds it
 //! (so every simulated motion is within the limits), and the steady-state
 //! velocity field R of the motion is computed on the coarse grid

@@ -247,7 +247,7 @@ impl Coefficients {
 
 /// How a parameter vector maps onto [`Coefficients`] for given limits.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Layout {
+pub(crate) struct Layout {
     /// Fundamental period (s).
     pub period: f64,
     /// Harmonics per axis.

@@ -78,7 +78,7 @@ impl AffineFit {
 /// The averaged-friction model of a circular-translation motion: what it
 /// predicts for the force and velocity fields.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct AveragedCircle {
+pub(crate) struct AveragedCircle {
     /// Translation amplitude A (m/s²), counter-clockwise circle.
     pub translation: f64,
     /// Lead δ = asin(μ_k g / A) of the slip direction over the plate
@@ -155,7 +155,7 @@ pub struct Seed {
     /// The motion's coefficients (harmonic 1 only).
     pub coefficients: Coefficients,
     /// The averaged-friction model it was built with.
-    pub model: AveragedCircle,
+    pub(crate) model: AveragedCircle,
     /// The target's affine fit.
     pub fit: AffineFit,
     /// Predicted strength k: the seed's averaged field is k (M q + b) (for

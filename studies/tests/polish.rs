@@ -212,7 +212,9 @@ fn stall_rule_ends_the_polish() {
     use platefield::synth::stall::StallRule;
     let t = target();
     let s = synthesized(&t);
-    let n = platefield::synth::params::Layout::new(&ShakerLimits::lab_class()).len();
+    // The polish's parameters: 2 H per free axis (limit > 0).
+    let limits = ShakerLimits::lab_class();
+    let n = limits.axes().iter().filter(|&&a| a > 0.0).count() * 2 * limits.harmonics as usize;
     let spent = run(
         &t,
         &s,

@@ -58,7 +58,7 @@ pub struct AnalysisRequest {
     /// middle (`PER_RANGE`); `None`: the source's own (a scene's or a
     /// schedule's settings). A target's requested field has none.
     pub friction: Option<FrictionSpec>,
-    /// The work's progress and long-run guard ([`crate::pose::settle_estimate`],
+    /// The work's progress and long-run guard (`settle_estimate`,
     /// [`crate::pose::drops_estimate`]).
     pub runtime: crate::work::Runtime,
 }

@@ -88,21 +88,7 @@ const TRACED: f64 = 4.0;
 /// (100 steps), at most the 20000 steps a drop may take; each step 4
 /// lifted-twist evaluations over the part's support points. A part of
 /// 2e-8 m takes the 20000 steps per drop.
-///
-/// ```
-/// use platefield::pose::{settle_estimate, Region};
-/// use platefield::part::Part;
-/// let part = Part::load(std::path::Path::new("targets/parts/rectangle.json"))?;
-/// let region = Region { x: [-0.04, 0.04], y: [-0.04, 0.04] };
-/// let e = settle_estimate(&part, &region, 200);
-/// let drops = e.terms.iter().find(|t| t.label == "predicted drops").unwrap().steps();
-/// // 200 drops × 532 steps × 4 evaluations × 256 points × 0.08.
-/// assert!((drops / 8.72e6 - 1.0).abs() < 0.01, "{drops}");
-/// let more = settle_estimate(&part, &region, 100_000);
-/// assert_eq!(more.steps() - e.steps(), 499.0 * drops);
-/// # Ok::<(), platefield::Error>(())
-/// ```
-pub fn settle_estimate(part: &Part, region: &Region, drops: usize) -> Estimate {
+pub(crate) fn settle_estimate(part: &Part, region: &Region, drops: usize) -> Estimate {
     let half_diagonal = 0.5 * (region.x[1] - region.x[0]).hypot(region.y[1] - region.y[0]);
     let travel = half_diagonal / (SETTLE_STEP * part.radius());
     let turn = std::f64::consts::PI / SETTLE_STEP;
@@ -189,4 +175,32 @@ pub(crate) fn averaged_estimate(part: &Part, sm: &ScheduleMotion, equilibria: us
             .times(PERIODS_WARM, "periods")
             .times(per_period, "point steps per period"),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    /// A worked example of `settle_estimate`.
+    #[test]
+    fn example_settle_estimate() -> Result<(), crate::Error> {
+        use super::settle_estimate;
+        use crate::part::Part;
+        use crate::pose::Region;
+        let part = Part::load(std::path::Path::new("targets/parts/rectangle.json"))?;
+        let region = Region {
+            x: [-0.04, 0.04],
+            y: [-0.04, 0.04],
+        };
+        let e = settle_estimate(&part, &region, 200);
+        let drops = e
+            .terms
+            .iter()
+            .find(|t| t.label == "predicted drops")
+            .unwrap()
+            .steps();
+        // 200 drops × 532 steps × 4 evaluations × 256 points × 0.08.
+        assert!((drops / 8.72e6 - 1.0).abs() < 0.01, "{drops}");
+        let more = settle_estimate(&part, &region, 100_000);
+        assert_eq!(more.steps() - e.steps(), 499.0 * drops);
+        Ok(())
+    }
 }
