@@ -170,7 +170,9 @@ pub struct Candidate {
 
 /// Which synthesis a candidate comes from: `auto` adds up to three over a
 /// friction range when no candidate before holds the target within
-/// `RANGE_HELD` at its worst (module documentation).
+/// `RANGE_HELD` at its worst, and at one friction one within the envelope
+/// when the synthesis within the sequenced peaks plays POOR (module
+/// documentation).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Variant {
     /// Its method's own design.
@@ -188,7 +190,8 @@ pub enum Variant {
     /// range (as `--robust-synthesis` does).
     WorstCase,
     /// At one friction, synthesized within the envelope after the
-    /// synthesis within the sequenced schedule's peaks played POOR.
+    /// synthesis within the sequenced schedule's peaks played POOR or
+    /// failed.
     Envelope,
 }
 
