@@ -141,8 +141,9 @@ fn screened_md(d: &PoseDesign, md: &mut String) {
     };
     let _ = writeln!(
         md,
-        "\nSpin candidates judged by play (`pose::design::screen`: {PROBES} probes × {PROBE_S} s on the centred spun sink, from a 4 × 4 grid of {GRID} starts and each again turned by 180°, whose largest cluster places the ellipse stage, then × {CYCLE_S} s or {} periods on that cycle placed on the asked pose and scaled as shipped, its stages ln(d)/λ from the spin's and the ellipse's slowest lifted rates (`pose::design::cycle::Stages`; a spin whose stage would exceed {} s is not played); share, spread and pose are the placed cycle's, the pose taken back to the centred motion; kept: the largest share at one pose, at least {:.0} %, then the shortest cycle, then the tightest{range_text}):\n\n| α (rad/s²) | phase (rad) | translation × | spin + ellipse stage (s) | share at one pose | spread | played pose (mm, mm, °) |{head}\n|---|---|---|---|---|---|---|{rule}",
+        "\nSpin candidates judged by play (`pose::design::screen`: {PROBES} probes × {PROBE_S} s on the centred spun sink, from a 4 × 4 grid of {GRID} starts and each again turned by 180°, whose largest cluster places the ellipse stage, then × {CYCLE_S} s or {} periods on that cycle placed on the asked pose and scaled as shipped, its spin stage as long as the spin takes to bring a part from each of the ellipse's two rests within {}° of the asked pose at the target's friction and at two more (`pose::design::handover`; \"worst turn\": the farthest of those parts then), its ellipse stage ln(d)/λ from the ellipse's slowest lifted rate (`pose::design::cycle::Stages`; a spin whose lifted estimate of its stage exceeds {} s, or that brings no part into the kept half, is not played); share, spread and pose are the placed cycle's, the pose taken back to the centred motion; kept: the largest share at one pose, at least {:.0} %, then the shortest cycle, then the tightest{range_text}):\n\n| α (rad/s²) | phase (rad) | translation × | spin + ellipse stage (s) | worst turn (°) | share at one pose | spread | played pose (mm, mm, °) |{head}\n|---|---|---|---|---|---|---|---|{rule}",
         platefield::pose::design::cycle::SETTLE_PERIODS,
+        platefield::pose::design::handover::HANDOVER_DEG,
         platefield::pose::design::cycle::MAX_STAGE_S,
         100.0 * MIN_SHARE
     );
@@ -156,12 +157,18 @@ fn screened_md(d: &PoseDesign, md: &mut String) {
             )
         });
         let turn = s.turn.map_or(String::new(), |t| format!(" {t:.2} |"));
-        let stages = s.stages.map_or("too slow, not played".into(), |t| {
-            format!("{:.1} + {:.1}", t.spin_s, t.ellipse_s)
-        });
+        let half = platefield::pose::design::cycle::ELLIPSE_TURN_DEG;
+        let stages = match (s.stages, s.handover) {
+            (None, _) => "too slow, not played".to_string(),
+            (Some(_), Some(h)) if h.worst_deg >= half => "no hand-over, not played".to_string(),
+            (Some(t), _) => format!("{:.1} + {:.1}", t.spin_s, t.ellipse_s),
+        };
+        let worst = s
+            .handover
+            .map_or("—".into(), |h| format!("{:.0}", h.worst_deg));
         let _ = writeln!(
             md,
-            "| {} | {} | {} | {stages} | {:.0} % | {:.2} | {pose} |{turn}",
+            "| {} | {} | {} | {stages} | {worst} | {:.0} % | {:.2} | {pose} |{turn}",
             s.spin.alpha,
             s.spin.phase,
             s.spin.translation,

@@ -197,17 +197,19 @@ is an ellipse spanned by the translation and the rotation's velocity at p, so th
 direction turns across the plate on the scale r* = V/Ω ≈ 1.4–27 mm: 61–70 % off affine over ±4 cm \
 at 9–27 mm), which selects one of the ellipse's two poses, then a stage of the elliptic sink placed on \
 the spun sink's played rest, which sets it (the spun sink alone left the triangle's drops 92 % at \
-the pose and 7 % at a second rest 139° away, and its rest turned 17.6° over μ ± 20 %). Each stage \
-lasts ln(d)/λ, λ its motion's slowest lifted decay rate and d the farthest a part starts from its \
-rest in tolerances (the drop region's half-diagonal over 1 mm, or 180° over 3° for the spin and 90° \
-over 3° for the ellipse: `pose::design::cycle::Stages`), and the drops play 3 periods: a drop's \
-settle time is counted in whole periods, so the derived period bounds it from below. Its 7 \
+the pose and 7 % at a second rest 139° away, and its rest turned 17.6° over μ ± 20 %). The ellipse \
+stage lasts ln(d)/λ, λ its slowest lifted decay rate and d the farthest a part starts from its rest \
+in tolerances (the drop region's half-diagonal over 1 mm, or 90° over 3°: `pose::design::cycle::Stages`); \
+the spin stage lasts as long as the placed spin takes to bring a part from either of the ellipse's \
+two rests within 45° of the asked pose at μ and μ ± 20 %, measured by play (`pose::design::handover`); \
+the drops play 3 periods: a drop's settle time is counted in whole periods, so the period bounds it \
+from below. Its 7 \
 candidate spins are judged by play, not by the lifted field alone (`pose::design::screen`: 32 probes \
 × 60 s on the centred spun sink from a 4 × 4 grid of starts and each start again turned by 180° \
 (the elliptic stage's two rests lie 180° apart: the twins probe the rival one's basin), whose \
 largest cluster places the ellipse stage, then 32 × 20 s or 3 periods, as long as the drops, on \
-the cycle placed on the asked pose and scaled as shipped; a spin whose stage would exceed 40 s is \
-not played): it keeps the one whose cycle puts the largest share of probes at one pose, at least \
+the cycle placed on the asked pose and scaled as shipped; a spin whose lifted stage estimate would \
+exceed 40 s, or that hands no part over, is not played): it keeps the one whose cycle puts the largest share of probes at one pose, at least \
 75 %, then the shortest cycle, else the elliptic sink alone. A cycle's lifted field is the \
 stages' time average, which no played part sees: its drops are counted by where they end, not by \
 basin (`tests/pose_rotation.rs` `explore_cycle`, `docs/parts.md`).\n\n";

@@ -38,14 +38,19 @@
 //! largest turn the stage must make: 180° for the spin (a part may land
 //! anywhere), 90° for the ellipse (the spin left it in the kept half).
 //! The spin's λ is the least over its lifted stable poses; the ellipse's
-//! over its two. Played parts do not follow the lifted field exactly
-//! (the spin's lifted rests are rough, [`super::screen`]), so the lengths
-//! only set the cycle; its played probes judge it, and a part the spin
-//! left in the wrong half gets another period. A spin whose stage would
-//! exceed [`MAX_STAGE_S`] is too slow to screen. The period is therefore
-//! a property of the two motions and the region, not a constant: the
-//! settle time of a drop is counted in whole periods
-//! (`super::play`), so a shorter period settles sooner.
+//! over its two. That sets the ellipse stage. The spin stage's estimate
+//! only screens out the spins too slow to play (a stage over
+//! [`MAX_STAGE_S`]): the decay holds near the spin's rest, while the spin
+//! stage works far from it, turning a part from the ellipse's rival rest
+//! 180° away, and some spins turn a part on and on rather than bring it
+//! to rest. The spin stage is therefore measured by play on the placed
+//! cycle: as long as the spin takes to hand a part from either of the
+//! ellipse's rests over to the ellipse, within 45° of the asked pose, over
+//! the friction range ([`super::handover`]). The cycle's played probes
+//! judge the result, and a part the spin left in the wrong half gets
+//! another period. The period is therefore a property of the two motions
+//! and the region, not a constant: the settle time of a drop is counted
+//! in whole periods (`super::play`), so a shorter period settles sooner.
 //!
 //! Measured numbers (stage rates, lengths, shares and settle times):
 //! `results/poses.md`, `docs/parts.md`.
@@ -66,7 +71,8 @@ pub const RAMP_S: f64 = 0.5;
 /// chances it needs and show that a settled part stays.
 pub const SETTLE_PERIODS: f64 = 3.0;
 /// Longest stage (s): a spin whose derived stage is longer is not
-/// screened (module docs).
+/// screened, and a spin stage's hand-over is played for at most this
+/// long (module docs).
 pub const MAX_STAGE_S: f64 = 40.0;
 /// Turn the spin stage must make at most: any angle (degrees).
 pub const SPIN_TURN_DEG: f64 = 180.0;

@@ -44,6 +44,7 @@
 pub mod correct;
 pub mod cycle;
 pub mod friction;
+pub mod handover;
 pub mod placement;
 pub(crate) mod play;
 pub mod screen;
@@ -158,7 +159,7 @@ pub fn design_pose(req: &PoseTarget, opts: &DesignOptions, drops: usize) -> Resu
     let rate = play::play_rate(req, &analysis, spin.is_some());
     let label = match (spin, stages) {
         (Some(s), Some(st)) => format!(
-            "a cycle of {:.1} s of the {}, translation × {}, plus a spin of {} rad/s² at phase {} rad, then {:.1} s of the {} placed on its rest (stage lengths ln(d)/λ from the stages' slowest lifted rates; its lifted field: the stages' time average)",
+            "a cycle of {:.1} s of the {}, translation × {}, plus a spin of {} rad/s² at phase {} rad, then {:.1} s of the {} placed on its rest (the spin stage as long as it takes to hand parts over to the ellipse, measured by play; the ellipse stage ln(d)/λ from its slowest lifted rate; its lifted field: the stages' time average)",
             st.spin_s,
             family.label(),
             s.translation,
@@ -235,10 +236,12 @@ fn announce(req: &PoseTarget, drops: usize) -> String {
     let longest = (cycle::settle_seconds(screen::CYCLE_S, 2.0 * cycle::MAX_STAGE_S)).ceil();
     let (syntheses, screen) = if spin::needs_spin(req.part.symmetry()) {
         let screen = format!(
-            ", up to {} spin candidates × {} probes × {} s on the spun sink and × {} s or {periods} periods of its placed cycle with the ellipse (at most {longest} s){at_ends}",
+            ", up to {} spin candidates × {} probes × {} s on the spun sink, × {} × 3 frictions × {} s for the spin stage's hand-over and × {} s or {periods} periods of its placed cycle with the ellipse (at most {longest} s){at_ends}",
             spin::CANDIDATES.len(),
             screen::PROBES,
             screen::PROBE_S,
+            handover::RESTS,
+            cycle::MAX_STAGE_S,
             screen::CYCLE_S,
         );
         ("two syntheses (about a minute", screen)
@@ -450,17 +453,26 @@ mod tests {
     }
 
     /// The screen's cost stated first names what it plays: every probe
-    /// start and its twin on the spun sink for PROBE_S, then on the
-    /// placed cycle for as long as the drops play a cycle.
+    /// start and its twin on the spun sink for PROBE_S, the two rests at
+    /// three frictions for the spin stage's hand-over, then the probes on
+    /// the placed cycle for as long as the drops play a cycle.
     #[test]
     fn announce_states_the_screen_played() {
         let path = std::path::Path::new("targets/pose_bracket.json");
         let req = PoseTarget::load(path).unwrap().unwrap();
         let said = format!(
-            "{} probes × {} s on the spun sink and × {} s or",
+            "{} probes × {} s on the spun sink, × 2 × 3 frictions × {} s for the spin stage's hand-over and × {} s or",
             screen::PROBES,
             screen::PROBE_S,
+            cycle::MAX_STAGE_S,
             play::MIN_PLAY_S
+        );
+        assert_eq!(handover::RESTS, 2);
+        let mu =
+            handover::frictions(&req, crate::dynamics::Friction::uniform(0.3)).map(|f| f.kinetic);
+        assert!(
+            (mu[0] - 0.3).abs() + (mu[1] - 0.24).abs() + (mu[2] - 0.36).abs() < 1e-12,
+            "{mu:?}"
         );
         assert_eq!(screen::PROBES, 32);
         assert!(

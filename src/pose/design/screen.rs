@@ -53,6 +53,13 @@
 //! spin turned its rest 17.6° over μ 0.24–0.36; in its cycle the ellipse
 //! sets the pose, which moved 2.5°.)
 //!
+//! **Stage lengths.** The cycle is first placed with its derived stages
+//! ([`super::cycle::Stages`]); its spin stage's hand-over is then played
+//! ([`super::handover`]) and the cycle placed again with the spin stage
+//! that long. A spin that brings no part from the ellipse's rival rest
+//! into the kept half at any time up to [`super::cycle::MAX_STAGE_S`]
+//! cannot select, and is not played.
+//!
 //! **Choice** (`choose`): among the candidates with a lifted stable pose
 //! (`super::spin::try_all`) and a cycle no longer than
 //! [`super::cycle::MAX_STAGE_S`] allows ([`super::cycle::Stages`]), the
@@ -66,6 +73,7 @@
 //! each.
 
 use super::cycle::{cycle, settle_seconds, slowest_rate, EllipseStage, Stages};
+use super::handover::Handover;
 use super::placement::Placement;
 use super::search::{pose_error, wrap_symmetric};
 use super::spin::{spun, Spin};
@@ -98,9 +106,15 @@ pub const MAX_TURN: f64 = 2.0;
 pub struct Screened {
     /// The spin.
     pub spin: Spin,
-    /// Its cycle's stage lengths (`Stages::derive`); `None` for a spin
-    /// whose lifted field turns too slowly, which is not played.
+    /// Its cycle's stage lengths: the spin stage as measured by its
+    /// hand-over when it hands parts over, else `Stages::derive`'s; `None`
+    /// for a spin whose lifted field turns too slowly, which is not played.
     pub stages: Option<Stages>,
+    /// Its spin stage's hand-over, measured on the placed cycle
+    /// ([`super::handover`]); `None` when not measured. A spin whose worst
+    /// part stays outside the kept half ([`super::cycle::ELLIPSE_TURN_DEG`]
+    /// from the asked pose) at every time cannot select, and is not played.
+    pub handover: Option<Handover>,
     /// The spun sink's own played rest (its probes' largest cluster),
     /// where its cycle's ellipse stage is placed; `None` when every probe
     /// lost contact.
@@ -121,10 +135,11 @@ pub struct Screened {
 impl Screened {
     /// A candidate whose spun sink lost every probe (or, with no
     /// `stages`, was too slow to play): no cycle was played.
-    fn unplayed(spin: Spin, stages: Option<Stages>) -> Screened {
+    fn unplayed(spin: Spin, stages: Option<Stages>, handover: Option<Handover>) -> Screened {
         Screened {
             spin,
             stages,
+            handover,
             spin_rest: None,
             score: 0.0,
             spread: f64::INFINITY,
@@ -301,9 +316,23 @@ pub fn screen(
 ) -> Result<Screened> {
     let spun = spun(sink, spin)?;
     let Some(alone) = cluster_at(req, &spun, None, PROBE_S)? else {
-        return Ok(Screened::unplayed(spin, Some(stages)));
+        return Ok(Screened::unplayed(spin, Some(stages), None));
     };
     let (placed, placement) = placed_cycle(req, (&spun, ellipse), &alone.1, stages)?;
+    let handover = super::handover::handover(req, &placed)?;
+    let (stages, (placed, placement)) = match handover {
+        Some(h) if h.worst_deg >= super::cycle::ELLIPSE_TURN_DEG => {
+            return Ok(Screened::unplayed(spin, Some(stages), handover));
+        }
+        Some(h) => {
+            let timed = Stages {
+                spin_s: h.seconds,
+                ..stages
+            };
+            (timed, placed_cycle(req, (&spun, ellipse), &alone.1, timed)?)
+        }
+        None => (stages, (placed, placement)),
+    };
     let best = cluster_at(req, &placed, None, CYCLE_S)?;
     let mut score = best.map_or(0.0, |b| b.0);
     let turn = match req.friction_ends() {
@@ -330,6 +359,7 @@ pub fn screen(
     Ok(Screened {
         spin,
         stages: Some(stages),
+        handover,
         spin_rest: Some(alone.1),
         score,
         spread: best.map_or(f64::INFINITY, |b| b.2),
@@ -367,7 +397,7 @@ pub(crate) fn choose(
         .filter(|t| !t.stable.is_empty())
         .map(|t| match stages_of(req, ellipse, t) {
             Some(stages) => screen(req, sink, ellipse, (t.spin, stages)),
-            None => Ok(Screened::unplayed(t.spin, None)),
+            None => Ok(Screened::unplayed(t.spin, None, None)),
         })
         .collect::<Result<Vec<_>>>()?;
     let kept = best(&within_turn(&screened))
@@ -412,6 +442,7 @@ mod tests {
                 translation: 0.25,
             },
             stages: None,
+            handover: None,
             spin_rest: None,
             score,
             spread,
