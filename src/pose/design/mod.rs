@@ -377,9 +377,12 @@ fn centred_motion(
     let stage = cycle::EllipseStage::new(req, ellipse.kept().schedule.clone(), grid)?;
     let tried = spin::try_all(req, &sink, grid)?;
     let plays = if req.friction_ends().is_some() { 3 } else { 1 };
-    // Per candidate played: the spun sink's probes for PROBE_S, then its
-    // placed cycle's at each friction, each CYCLE_S or SETTLE_PERIODS
-    // cycle periods (counted in probes of PROBE_S on the sink).
+    // Per candidate played: the spun sink's probes for PROBE_S, its spin
+    // stage's hand-over (both rests at three frictions for MAX_STAGE_S),
+    // then its placed cycle's probes at each friction, each CYCLE_S or
+    // SETTLE_PERIODS cycle periods (counted in probes of PROBE_S on the
+    // sink).
+    let handover = (handover::RESTS * 3) as f64 * cycle::MAX_STAGE_S / screen::PROBE_S;
     let probes: usize = tried
         .iter()
         .filter(|t| !t.stable.is_empty())
@@ -387,6 +390,7 @@ fn centred_motion(
         .map(|st| {
             let per_cycle = cycle::settle_seconds(screen::CYCLE_S, st.period()) / screen::PROBE_S;
             screen::PROBES * (1 + (per_cycle * plays as f64).ceil() as usize)
+                + handover.ceil() as usize
         })
         .sum();
     let sm = ScheduleMotion::from_schedule(&sink)?;
