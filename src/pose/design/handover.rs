@@ -42,6 +42,7 @@ use crate::dynamics::Friction;
 use crate::error::Result;
 use crate::play::ScheduleMotion;
 use crate::pose::{play_part, DropPlay, Pose};
+use crate::scene::FrictionSpec;
 use crate::schedule::Schedule;
 
 /// Where the spin hands a part over to the ellipse: within this turn of
@@ -64,14 +65,11 @@ pub struct Handover {
 /// The three frictions the hand-over is played at: the target's, then the
 /// ends of its range, or of μ ± 20 % when it states none (module docs).
 pub(crate) fn frictions(req: &PoseTarget, nominal: Friction) -> [Friction; 3] {
-    let scaled = |k: f64| Friction {
-        stat: nominal.stat * k,
-        kinetic: nominal.kinetic * k,
-    };
-    let band = crate::play::sensitivity::AROUND_FRACTION;
-    let [lo, hi] = req
-        .friction_ends()
-        .unwrap_or([scaled(1.0 - band), scaled(1.0 + band)]);
+    let [lo, hi] = req.friction_ends().unwrap_or_else(|| {
+        let band = crate::play::sensitivity::AROUND_FRACTION;
+        let v = FrictionSpec::around(nominal, band).values(2);
+        [v[0], v[v.len() - 1]]
+    });
     [nominal, lo, hi]
 }
 
