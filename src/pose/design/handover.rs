@@ -52,6 +52,10 @@ pub const HANDOVER_DEG: f64 = 45.0;
 /// Parts played per friction: the ellipse stage's kept and rival rests.
 pub const RESTS: usize = 2;
 
+/// Frictions played: the target's and the two ends of its range (or of
+/// μ ± 20 %).
+pub const FRICTIONS: usize = 3;
+
 /// The spin stage's measured hand-over (module docs).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Handover {
@@ -64,7 +68,7 @@ pub struct Handover {
 
 /// The three frictions the hand-over is played at: the target's, then the
 /// ends of its range, or of μ ± 20 % when it states none (module docs).
-pub(crate) fn frictions(req: &PoseTarget, nominal: Friction) -> [Friction; 3] {
+pub(crate) fn frictions(req: &PoseTarget, nominal: Friction) -> [Friction; FRICTIONS] {
     let [lo, hi] = req.friction_ends().unwrap_or_else(|| {
         let band = crate::play::sensitivity::AROUND_FRACTION;
         let v = FrictionSpec::around(nominal, band).values(2);
@@ -94,6 +98,17 @@ fn steady_spin(placed: &Schedule) -> Option<Schedule> {
 /// # Errors
 /// The spin stage cannot be played.
 pub(crate) fn handover(req: &PoseTarget, placed: &Schedule) -> Result<Option<Handover>> {
+    Ok(worst_turns(req, placed)?.and_then(|(worst, period)| first_within(&worst, period)))
+}
+
+/// At every motion-cycle end of the steadily played spin stage of
+/// `placed`, the largest turn from the asked pose (degrees) over both
+/// rests and the three frictions, with the motion's period (s); `None`
+/// as [`handover`].
+///
+/// # Errors
+/// The spin stage cannot be played.
+pub(crate) fn worst_turns(req: &PoseTarget, placed: &Schedule) -> Result<Option<(Vec<f64>, f64)>> {
     let Some(spin) = steady_spin(placed) else {
         return Ok(None);
     };
@@ -125,7 +140,7 @@ pub(crate) fn handover(req: &PoseTarget, placed: &Schedule) -> Result<Option<Han
             }
         }
     }
-    Ok(first_within(&worst, period))
+    Ok(Some((worst, period)))
 }
 
 /// The first cycle end (1-based, `period` s each) whose worst turn
@@ -156,5 +171,30 @@ mod tests {
         assert_eq!(none.seconds, 0.75);
         assert_eq!(none.worst_deg, 50.0);
         assert!(first_within(&[], 0.5).is_none());
+    }
+
+    /// Exploration: the worst turn of a schedule's spin stage (its first
+    /// segment) each second, `PF_SCHEDULE` a cycle's `schedule.json`
+    /// (default the shipped bracket's) for `PF_TARGET` (default
+    /// targets/pose_bracket.json). The design before the hand-over:
+    /// `git show accb742:results/poses/bracket/schedule.json > /tmp/b.json`,
+    /// then `PF_SCHEDULE=/tmp/b.json cargo test --release --lib
+    /// explore_worst_turns -- --ignored --nocapture`.
+    #[test]
+    #[ignore = "exploration: PF_SCHEDULE=…/schedule.json"]
+    fn explore_worst_turns() {
+        let env = |k: &str, d: &str| std::env::var(k).unwrap_or(d.into());
+        let target = env("PF_TARGET", "targets/pose_bracket.json");
+        let req = PoseTarget::load(std::path::Path::new(&target))
+            .unwrap()
+            .unwrap();
+        let path = env("PF_SCHEDULE", "results/poses/bracket/schedule.json");
+        let placed = Schedule::load(std::path::Path::new(&path)).unwrap();
+        let (worst, period) = worst_turns(&req, &placed).unwrap().unwrap();
+        let every = (1.0 / period).round().max(1.0) as usize;
+        for (i, w) in worst.iter().enumerate().skip(every - 1).step_by(every) {
+            println!("{:5.1} s: worst turn {w:5.1}°", (i + 1) as f64 * period);
+        }
+        println!("hand-over: {:?}", first_within(&worst, period));
     }
 }

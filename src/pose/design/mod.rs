@@ -236,11 +236,12 @@ fn announce(req: &PoseTarget, drops: usize) -> String {
     let longest = (cycle::settle_seconds(screen::CYCLE_S, 2.0 * cycle::MAX_STAGE_S)).ceil();
     let (syntheses, screen) = if spin::needs_spin(req.part.symmetry()) {
         let screen = format!(
-            ", up to {} spin candidates × {} probes × {} s on the spun sink, × {} × 3 frictions × {} s for the spin stage's hand-over and × {} s or {periods} periods of its placed cycle with the ellipse (at most {longest} s){at_ends}",
+            ", up to {} spin candidates × {} probes × {} s on the spun sink, × {} × {} frictions × {} s for the spin stage's hand-over and × {} s or {periods} periods of its placed cycle with the ellipse (at most {longest} s){at_ends}",
             spin::CANDIDATES.len(),
             screen::PROBES,
             screen::PROBE_S,
             handover::RESTS,
+            handover::FRICTIONS,
             cycle::MAX_STAGE_S,
             screen::CYCLE_S,
         );
@@ -382,7 +383,8 @@ fn centred_motion(
     // then its placed cycle's probes at each friction, each CYCLE_S or
     // SETTLE_PERIODS cycle periods (counted in probes of PROBE_S on the
     // sink).
-    let handover = (handover::RESTS * 3) as f64 * cycle::MAX_STAGE_S / screen::PROBE_S;
+    let handover =
+        (handover::RESTS * handover::FRICTIONS) as f64 * cycle::MAX_STAGE_S / screen::PROBE_S;
     let probes: usize = tried
         .iter()
         .filter(|t| !t.stable.is_empty())
