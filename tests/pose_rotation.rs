@@ -707,3 +707,35 @@ fn explore_stages() {
         }
     }
 }
+
+/// A part of the pose family (`results/pose_family/polygon_0.json`, a
+/// triangle 1.7 cm across that no spin candidate hands over) designed
+/// whole: the elliptic sink alone, whose two rests 180° apart hold about
+/// half the drops each. The correction compares modulo those two rests
+/// (`pose::design::correct`, `rest_symmetry`), so its last round leaves
+/// the nearer one within the tolerance of the asked pose (measured: two
+/// rounds, 0.001 mm and 0.00°) and the share at the pose is that rest's
+/// basin, between 35 % and 65 % of 100 drops (measured 49 %). Compared
+/// modulo the part's own symmetry, the rounds turned the motion by half a
+/// turn and back, and kept one 91° off (0 % at the pose). About a minute
+/// of CPU: `cargo test --release --test pose_rotation -- --ignored
+/// ellipse_alone`.
+#[test]
+#[ignore = "a minute of CPU: cargo test --release --test pose_rotation -- --ignored ellipse_alone"]
+fn ellipse_alone_puts_the_nearer_rest_on_the_pose() {
+    let d = designed("results/pose_family/polygon_0.json");
+    assert_eq!(d.spin, None);
+    let last = d.rounds.last().unwrap();
+    assert!(
+        last.error.0 <= 1.0 && last.error.1.abs() <= 3.0,
+        "{:?}",
+        last.error
+    );
+    let schedule = &d.method.kept().schedule;
+    let p = schedule.played.as_ref().unwrap().pose.as_ref().unwrap();
+    assert!(
+        (0.35..=0.65).contains(&p.pose_fraction),
+        "{}",
+        p.pose_fraction
+    );
+}

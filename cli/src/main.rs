@@ -121,6 +121,15 @@ enum Study {
     /// The shipped pose designs played at their part's friction ±20 % (μ 0.24, 0.30, 0.36; minutes of CPU): poses_friction.md.
     #[command(mut_arg("out", default_dir(studies::poses_friction::DIR)))]
     PosesFriction(StudyOut),
+    /// Pose design over a seeded family of random parts (polygons, brackets, rectangles; each with its own friction and asked pose), played at μ ± 20 %: pose_family.md and the members' files in pose_family/ (minutes of CPU per part; CPU seconds printed only).
+    #[command(mut_arg("out", default_dir(studies::pose_family::DIR)))]
+    PoseFamily {
+        /// Parts in the family (the kinds in their shares).
+        #[arg(long, default_value_t = studies::pose_family::COUNT as u64, value_parser = clap::value_parser!(u64).range(1..=100))]
+        count: u64,
+        #[command(flatten)]
+        out: StudyOut,
+    },
     /// Cheapest model rung within tolerance of the full model, per primitive: rungs.md.
     #[command(mut_arg("out", default_dir(studies::rung::DIR)))]
     Rungs {
@@ -352,6 +361,16 @@ fn run_study(study: Study) -> Result<String> {
                 .map(|e| e.plus(drops, platefield::work::PLANAR_POINT_STEP_COST));
             studies::watched("poses-study", expected, false, || {
                 studies::poses::run(&out.out, play_drops)
+            })
+        }
+        Study::PoseFamily { count, out } => {
+            // A member's work taken as the family's mean: the recorded
+            // count scaled by the members asked for.
+            let share = count as f64 / studies::pose_family::COUNT as f64;
+            let expected =
+                studies::work::Expected::scaled("pose-family", share, "of the family's members");
+            studies::watched("pose-family", expected, false, || {
+                studies::pose_family::run(&out.out, count as usize)
             })
         }
         Study::PosesFriction(o) => studies::watched_defaults("poses-friction-study", false, || {

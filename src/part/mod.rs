@@ -29,6 +29,7 @@
 //! 1..=64 unknown contacts. `Part::check_fits` refuses a part larger than
 //! a target's region.
 
+pub mod family;
 mod polygon;
 mod symmetry;
 

@@ -19,6 +19,7 @@
 //! | [`design_speed`] | `platefield study design-speed` | `design_speed.md` |
 //! | [`poses`] | `platefield study poses` | `poses.md` |
 //! | [`poses_friction`] | `platefield study poses-friction` | `poses_friction.md` (the pose designs at μ ± 20 %) |
+//! | [`pose_family`] | `platefield study pose-family` | `pose_family.md`, `pose_family/` (pose design over a seeded family of random parts) |
 //! | [`robust_family`] | `platefield study robust-family` | `robust_family.md` (robust design over a seeded family of random targets) |
 //! | [`robust_knobs`] | `platefield study robust-knobs` | `robust_knobs.md` (the robust share's segment length and the frictions judged, over the family) |
 //! | [`sort`] | `platefield study sort` | `sort.md` (where sorting by friction stops: time to sort against the friction contrast and the sinks' distance) |
@@ -31,6 +32,7 @@ pub mod fit_quality;
 pub mod flight_strength;
 pub mod interaction;
 pub mod linesink;
+pub mod pose_family;
 pub mod poses;
 pub mod poses_friction;
 pub mod primitives;

@@ -29,7 +29,7 @@ use platefield::work::{with_counted_progress, Estimate, Term, PLANAR_POINT_STEP_
 /// were last regenerated (printed by [`watched`] at its end), and the
 /// point-part steps one of them costs: 1 for studies of point parts (RK4
 /// steps), [`PLANAR_POINT_STEP_COST`] for `study poses` and `study
-/// poses-friction`, whose steps are mostly planar support-point steps of
+/// poses-friction` and `study pose-family`, whose steps are mostly planar support-point steps of
 /// their pose targets' drops (the pose targets' cycles the most of it;
 /// `study poses-friction`'s two targets designed for a friction range
 /// reuse their own play for their middle rows). `study design-speed`'s
@@ -59,6 +59,7 @@ pub const EXPECTED_STEPS: &[(&str, f64, f64)] = &[
     ("robust-family", 6.75e9, 1.0),
     ("poses-study", 5.77e9, PLANAR_POINT_STEP_COST),
     ("poses-friction-study", 1.90e10, PLANAR_POINT_STEP_COST),
+    ("pose-family", 1.87e10, PLANAR_POINT_STEP_COST),
 ];
 
 /// Study `name`'s entry of [`EXPECTED_STEPS`]: its steps and their cost.

@@ -7,7 +7,9 @@
 //! moves with it exactly as the lifted one does: [`PROBES`] drops from
 //! starts spread over the region ([`FROM_GRID`]) are played for
 //! [`PROBE_S`], their mean end
-//! (modulo the part's symmetry; over the largest group of ends within
+//! (modulo the part's symmetry, or half a turn for the elliptic sink
+//! alone, whose two rests 180° apart a part without that symmetry cannot
+//! tell: `rest_symmetry`; over the largest group of ends within
 //! [`SAME_REST`] of one another, so that probes resting at two poses are
 //! never averaged into a pose between them, which no probe reached) is
 //! taken back to the centred motion and
@@ -149,12 +151,11 @@ fn probe_frictions(req: &PoseTarget) -> Vec<Option<Friction>> {
 /// rate, `None` when one lost contact.
 fn probe(
     req: &PoseTarget,
-    origin: &Schedule,
+    (origin, n): (&Schedule, usize),
     p: &Placement,
 ) -> Result<Option<(Pose, f64, Option<f64>)>> {
     let mut schedule = p.schedule(origin, None)?;
     let starts = probe_starts(req);
-    let n = req.part.symmetry();
     let (mut groups, mut rates) = (Vec::new(), Vec::new());
     for friction in probe_frictions(req) {
         if let Some(f) = friction {
@@ -187,22 +188,38 @@ fn probe(
     Ok(Some((end, share, median(rates))))
 }
 
-/// `start` corrected on played probes (module docs): the best placement
-/// and every round.
+/// The symmetry order the rest poses of a placed motion repeat by: the
+/// part's own, doubled for the elliptic sink alone on a part without a
+/// 180° symmetry, whose two rests lie 180° apart ([`super::placement`]:
+/// a linear field turns a part by its second moments only); a cycle's
+/// spin tells those two apart ([`super::cycle`]).
+pub(crate) fn rest_symmetry(part: usize, cycle: bool) -> usize {
+    if cycle || part % 2 == 0 {
+        part
+    } else {
+        2 * part
+    }
+}
+
+/// `start` corrected on played probes (module docs), poses compared
+/// modulo the motion's rest symmetry `n` ([`rest_symmetry`]: with the
+/// ellipse alone, a probe at the rest 180° from the asked pose is as
+/// close as one on it, and the correction moves the nearer rest onto the
+/// asked pose rather than turning the motion by half a turn each round):
+/// the best placement and every round.
 ///
 /// # Errors
 /// `origin` is not one six-signal motion.
 pub(crate) fn correct(
     req: &PoseTarget,
-    origin: &Schedule,
+    (origin, n): (&Schedule, usize),
     start: Placement,
 ) -> Result<(Placement, Vec<Round>)> {
-    let n = req.part.symmetry();
     let mut rounds: Vec<Round> = Vec::new();
     let (mut best, mut best_end, mut best_err) = (start, req.pose, f64::INFINITY);
     let (mut current, mut gain) = (start, 1.0);
     for round in 0..ROUNDS {
-        let Some((end, together, turning_rate)) = probe(req, origin, &current)? else {
+        let Some((end, together, turning_rate)) = probe(req, (origin, n), &current)? else {
             break;
         };
         let (d, t) = pose_error(&end, &req.pose, n);
@@ -233,6 +250,36 @@ pub(crate) fn correct(
 mod tests {
     use super::*;
     use crate::dynamics::V2;
+
+    /// The ellipse alone repeats its rests by half a turn; a cycle, or a
+    /// part with a 180° symmetry, by the part's own symmetry.
+    #[test]
+    fn rest_symmetry_doubles_only_the_ellipse_alone_on_odd_parts() {
+        assert_eq!(rest_symmetry(1, false), 2);
+        assert_eq!(rest_symmetry(3, false), 6);
+        assert_eq!(rest_symmetry(2, false), 2);
+        assert_eq!(rest_symmetry(4, false), 4);
+        assert_eq!(rest_symmetry(1, true), 1);
+        assert_eq!(rest_symmetry(3, true), 3);
+    }
+
+    /// A probe at the ellipse's rival rest, 178° from the asked pose: the
+    /// correction modulo the part's symmetry 1 turns the motion by about
+    /// half a turn; modulo the rest symmetry 2 by the 2° that put the
+    /// nearer rest on the pose.
+    #[test]
+    fn the_rival_rest_is_corrected_by_the_small_turn() {
+        let asked = Pose::new(0.0, 0.0, 0.0);
+        let end = Pose::new(0.0, 0.0, 178f64.to_radians());
+        let turn = |n| {
+            Placement::IDENTITY
+                .corrected(&end, &asked, n, 1.0)
+                .angle
+                .to_degrees()
+        };
+        assert!((turn(1).abs() - 178.0).abs() < 1e-9, "{}", turn(1));
+        assert!((turn(2) - 2.0).abs() < 1e-9, "{}", turn(2));
+    }
 
     /// An angle error decaying as 15° e^{−0.8 t} (sampled every 0.3 s,
     /// about a rest pose at 170° and wrapped modulo 180°) gives back 0.8

@@ -141,7 +141,8 @@ pub fn design_pose(req: &PoseTarget, opts: &DesignOptions, drops: usize) -> Resu
     let stages = spun.map(|s| s.2);
     let family = placement::family(spin.is_some());
     let (centred, lifted) = lifted_start(req, &origin, &grid, spun.map(|s| s.1))?;
-    let (kept, rounds) = correct::correct(req, &origin, lifted)?;
+    let rests = correct::rest_symmetry(req.part.symmetry(), spin.is_some());
+    let (kept, rounds) = correct::correct(req, (&origin, rests), lifted)?;
     let mut target = req.target.clone();
     target.field = family.field(kept.shift, kept.angle.to_degrees());
     let (mut schedule, scaled) = kept.schedule_scaled(&origin, Some(target))?;
