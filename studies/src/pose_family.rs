@@ -14,7 +14,7 @@
 //! per part what the design kept (the spin, the stage lengths and the
 //! worst turn at its hand-over), the share of the drops at the pose
 //! (within 1 mm and 3°) at each friction, the median settle, and the
-//! distribution over the family against issue 48's goals (≥ 95 % at the
+//! distribution over the family against the pose designs' goals (≥ 95 % at the
 //! pose at μ ± 20 %; a median settle ≤ 20 s). CPU seconds are printed
 //! only.
 
