@@ -158,19 +158,7 @@ pub fn design_pose(req: &PoseTarget, opts: &DesignOptions, drops: usize) -> Resu
     let field = schedule_field(&schedule, &grid)?;
     let analysis = analyse(&req.part, &field, req.region, LIFTED_DROPS);
     let rate = play::play_rate(req, &analysis, spin.is_some());
-    let label = match (spin, stages) {
-        (Some(s), Some(st)) => format!(
-            "a cycle of {:.1} s of the {}, translation × {}, plus a spin of {} rad/s² at phase {} rad, then {:.1} s of the {} placed on its rest (the spin stage as long as it takes to hand parts over to the ellipse, measured by play; the ellipse stage ln(d)/λ from its slowest lifted rate; its lifted field: the stages' time average)",
-            st.spin_s,
-            family.label(),
-            s.translation,
-            s.alpha,
-            s.phase,
-            st.ellipse_s,
-            placement::family(false).label()
-        ),
-        _ => format!("one synthesized motion: {}", family.label()),
-    };
+    let label = field_label(spin.zip(stages), spin::needs_spin(req.part.symmetry()));
     let played = play_drops(req, &schedule, (&analysis, label, rate), drops, opts)?;
     if let Some(p) = schedule.played.as_mut() {
         p.pose = Some(played);
@@ -190,6 +178,31 @@ pub fn design_pose(req: &PoseTarget, opts: &DesignOptions, drops: usize) -> Resu
         analysis,
         scaled,
     })
+}
+
+/// What the kept schedule plays, as the design's summary names it: the
+/// cycle of `kept` (its spin and stages), else the elliptic sink alone,
+/// said to rest a part that `needs_spin` at the asked pose or half a turn
+/// from it when no spin candidate was kept.
+fn field_label(kept: Option<(spin::Spin, cycle::Stages)>, needs_spin: bool) -> String {
+    let family = placement::family(kept.is_some());
+    match kept {
+        Some((s, st)) => format!(
+            "a cycle of {:.1} s of the {}, translation × {}, plus a spin of {} rad/s² at phase {} rad, then {:.1} s of the {} placed on its rest (the spin stage as long as it takes to hand parts over to the ellipse, measured by play; the ellipse stage ln(d)/λ from its slowest lifted rate; its lifted field: the stages' time average)",
+            st.spin_s,
+            family.label(),
+            s.translation,
+            s.alpha,
+            s.phase,
+            st.ellipse_s,
+            placement::family(false).label()
+        ),
+        None if needs_spin => format!(
+            "one synthesized motion: {} alone, since no spin candidate hands the part over to it (the screen table): it rests the part at the asked pose or half a turn from it, about half the drops each",
+            family.label()
+        ),
+        None => format!("one synthesized motion: {}", family.label()),
+    }
 }
 
 /// Where the correction starts: a cycle's placement onto the asked pose
@@ -443,6 +456,22 @@ impl Centred {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The summary names the ellipse alone as resting the part at the pose
+    /// or half a turn from it only for a part that needed a spin and got
+    /// none; a part with a 180° symmetry gets the plain name.
+    #[test]
+    fn the_ellipse_alone_is_named_for_what_it_does() {
+        let lone = field_label(None, true);
+        assert!(
+            lone.contains("no spin candidate hands the part over"),
+            "{lone}"
+        );
+        assert!(lone.contains("half a turn from it"), "{lone}");
+        let plain = field_label(None, false);
+        assert!(!plain.contains("no spin"), "{plain}");
+        assert!(plain.starts_with("one synthesized motion: "), "{plain}");
+    }
 
     /// The estimate stated before a pose design names the drops played
     /// again over a friction range exactly when the pose target has one.
