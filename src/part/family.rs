@@ -162,13 +162,21 @@ mod tests {
         }
     }
 
-    /// Every drawn part of a larger family is valid, within the drawn
-    /// sizes, and only the rectangles have a 180° symmetry.
+    /// Every drawn part of a larger family is valid, no larger across than
+    /// its kind's draws allow (a star: twice the largest radius, 1.6 cm; a
+    /// bracket: the diagonal of 3 × 2.5 cm; a rectangle: 3.5 cm long and
+    /// 70 % of that wide) nor smaller than the least radius, 0.4 cm, and
+    /// only the rectangles have a 180° symmetry.
     #[test]
     fn drawn_parts_are_as_documented() {
-        for (part, pose) in family(7, 24).unwrap() {
+        for (part, pose) in family(7, 60).unwrap() {
             let across = part.size();
-            assert!((0.008..=0.04).contains(&across), "{}: {across}", part.name);
+            let most = match part.name.split('_').next() {
+                Some("polygon") => 0.032,
+                Some("bracket") => 0.03f64.hypot(0.025),
+                _ => 0.035 * 1.49f64.sqrt(),
+            };
+            assert!((0.004..=most).contains(&across), "{}: {across}", part.name);
             let rect = part.name.starts_with("rectangle");
             assert_eq!(part.symmetry(), if rect { 2 } else { 1 }, "{}", part.name);
             assert!(pose[0].hypot(pose[1]) <= MAX_OFFSET + 1e-15);

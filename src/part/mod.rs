@@ -197,7 +197,14 @@ impl Part {
     }
 
     /// The part's diameter (its largest extent, m).
-    pub(crate) fn size(&self) -> f64 {
+    ///
+    /// ```
+    /// use platefield::part::Part;
+    /// let p = Part::from_json_str(r#"{"name": "r", "polygon": [[0, 0], [0.03, 0], [0.03, 0.04], [0, 0.04]]}"#)?;
+    /// assert!((p.size() - 0.05).abs() < 1e-15); // the diagonal
+    /// # Ok::<(), platefield::Error>(())
+    /// ```
+    pub fn size(&self) -> f64 {
         diameter(&self.polygon)
     }
 

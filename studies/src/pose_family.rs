@@ -23,9 +23,8 @@ use std::path::Path;
 
 use platefield::design::tolerance::quantile;
 use platefield::part::Part;
-use platefield::pose::design::{design_pose, friction, PoseDesign, PoseTarget, DROPS};
+use platefield::pose::design::{friction, PoseDesign, DROPS};
 use platefield::request::FrictionSpec;
-use platefield::schedule::PosePlayed;
 use platefield::{Error, Result};
 use platefield_report::table::Table;
 
@@ -60,8 +59,9 @@ struct Designed {
     kept: String,
     /// The worst part's turn at the kept spin's hand-over (degrees).
     handover_deg: Option<f64>,
-    /// The design's own play at the part's μ.
-    own: PosePlayed,
+    /// The design's median settle at the part's μ (s; `None`: half the
+    /// drops or more never settle).
+    settle: Option<f64>,
     /// Share at the pose and median settle at each friction of the band.
     band: Vec<(f64, f64, Option<f64>)>,
 }
@@ -80,7 +80,7 @@ impl Outcome {
         self.design
             .as_ref()
             .ok()
-            .and_then(|d| d.own.median_settle_s)
+            .and_then(|d| d.settle)
             .unwrap_or(f64::INFINITY)
     }
 }
@@ -141,17 +141,12 @@ fn kept(d: &PoseDesign) -> (String, Option<f64>) {
 
 /// The member at `target_path` designed and played over the band.
 fn designed(target_path: &Path) -> Result<Designed> {
-    let req = PoseTarget::load(target_path)?
-        .ok_or_else(|| Error::invalid(target_path.display().to_string(), "is not a pose target"))?;
-    let opts = platefield::design::DesignOptions {
-        runtime: platefield::work::Runtime::QUIET,
-        ..Default::default()
-    };
-    let d = design_pose(&req, &opts, DROPS)?;
+    let (req, d) = super::poses::designed_at(target_path)?;
     let schedule = &d.method.kept().schedule;
     let own = platefield_report::pose_design::played(&d).clone();
+    let settle = own.median_settle_s;
     let band = FrictionSpec::around(schedule.settings.friction, FRACTION);
-    let played = friction::over_range(&req, schedule, own.clone(), friction::rate(&d), Some(band))?;
+    let played = friction::over_range(&req, schedule, own, friction::rate(&d), Some(band))?;
     let band = played
         .over_friction
         .map(|o| {
@@ -164,17 +159,9 @@ fn designed(target_path: &Path) -> Result<Designed> {
     Ok(Designed {
         kept,
         handover_deg,
-        own,
+        settle,
         band,
     })
-}
-
-/// The part's largest extent (m): its outline's farthest two vertices.
-fn across(p: &Part) -> f64 {
-    p.polygon
-        .iter()
-        .flat_map(|a| p.polygon.iter().map(move |b| (a - b).norm()))
-        .fold(0.0, f64::max)
 }
 
 /// Percent with one decimal.
@@ -204,7 +191,7 @@ fn members(outcomes: &[Outcome]) -> String {
         let p = &o.part;
         let head = [
             p.name.clone(),
-            format!("{:.2}", 100.0 * across(p)),
+            format!("{:.2}", 100.0 * p.size()),
             format!("{:.3}", p.friction.nominal().kinetic),
             format!(
                 "({:.1}, {:.1}, {:.1})",
@@ -222,7 +209,7 @@ fn members(outcomes: &[Outcome]) -> String {
                     .map(|b| pct(b.1))
                     .collect::<Vec<_>>()
                     .join(" / "),
-                seconds(d.own.median_settle_s),
+                seconds(d.settle),
                 pct(o.worst_share()),
             ],
             Err(e) => [

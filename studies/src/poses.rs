@@ -282,24 +282,35 @@ fn pose_target(md: &mut String, summary: &mut String, name: &str, out: &Path) ->
 }
 
 /// The shipped pose target `targets/pose_{name}.json` designed as
-/// `design` does, quietly, with [`platefield::pose::design::DROPS`] drops: its
-/// path, request and design.
+/// `design` does ([`designed_at`]): its path, request and design.
 ///
 /// # Errors
 /// A target that does not load, is not a pose target or does not design.
 pub(crate) fn designed(
     name: &str,
 ) -> Result<(String, PoseTarget, platefield::pose::design::PoseDesign)> {
-    use platefield::pose::design::{design_pose, DROPS};
     let path = format!("targets/pose_{name}.json");
-    let req = PoseTarget::load(Path::new(&path))?
-        .ok_or_else(|| Error::invalid(path.clone(), "is not a pose target"))?;
+    let (req, d) = designed_at(Path::new(&path))?;
+    Ok((path, req, d))
+}
+
+/// The pose target at `path` designed as `design` does, quietly, with
+/// [`platefield::pose::design::DROPS`] drops: its request and design.
+///
+/// # Errors
+/// A target that does not load, is not a pose target or does not design.
+pub(crate) fn designed_at(
+    path: &Path,
+) -> Result<(PoseTarget, platefield::pose::design::PoseDesign)> {
+    use platefield::pose::design::{design_pose, DROPS};
+    let req = PoseTarget::load(path)?
+        .ok_or_else(|| Error::invalid(path.display().to_string(), "is not a pose target"))?;
     let opts = platefield::design::DesignOptions {
         runtime: platefield::work::Runtime::QUIET,
         ..Default::default()
     };
     let d = design_pose(&req, &opts, DROPS)?;
-    Ok((path, req, d))
+    Ok((req, d))
 }
 
 /// Writes `md` to `out/file` (the folder made first) and appends the
