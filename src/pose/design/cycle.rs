@@ -38,7 +38,7 @@
 //! largest turn the stage must make: 180° for the spin (a part may land
 //! anywhere), 90° for the ellipse (the spin left it in the kept half).
 //! The spin's λ is the least over its lifted stable poses; the ellipse's
-//! over its two. That sets the ellipse stage. The spin stage's estimate
+//! over its two. These place the cycle until the hand-over is measured (below). The spin stage's estimate
 //! only screens out the spins too slow to play (a stage over
 //! [`MAX_STAGE_S`]): the decay holds near the spin's rest, while the spin
 //! stage works far from it, turning a part from the ellipse's rival rest
@@ -52,9 +52,26 @@
 //! and the region, not a constant: the settle time of a drop is counted
 //! in whole periods (`super::play`), so a shorter period settles sooner.
 //!
+//! **The ellipse stage after the hand-over** ([`Stages::handed_over`]).
+//! The ellipse turns a part by its second moments only, with a torque
+//! ∝ sin 2Δθ about its kept rest ([`super::placement`]). With λ its
+//! linear rate there, dΔθ/dt = −(λ/2) sin 2Δθ, solved by
+//! tan Δθ(t) = tan Δθ₀ e^{−λt}. A part handed over at Δθ₀, the hand-over's
+//! worst turn, is within 3° after
+//!
+//! ```text
+//! t = ln(d) / λ,   d = max(h / 1 mm, tan Δθ₀ / tan 3°)
+//! ```
+//!
+//! 2.95/λ from 45° and 5.38/λ from 85°. The linear estimate above,
+//! ln(90°/3°) = 3.40/λ, is too short for a part handed over near the
+//! ellipse's unstable 90°, where the torque vanishes. λ is the slowest
+//! lifted rate, at most the turning one, so the stage errs long.
+//!
 //! Measured numbers (stage rates, lengths, shares and settle times):
 //! `results/poses.md`, `docs/parts.md`.
 
+use super::handover::Handover;
 use super::placement::{centred_pose, Placement};
 use super::{PoseTarget, TOL_DEG, TOL_MM};
 use crate::error::{Error, Result};
@@ -99,17 +116,37 @@ impl Stages {
         if !(spin_rate > 0.0 && ellipse_rate > 0.0) {
             return None;
         }
-        let h = 0.5 * (starts.x[1] - starts.x[0]).hypot(starts.y[1] - starts.y[0]);
-        let d = |turn: f64| (1e3 * h / TOL_MM).max(turn / TOL_DEG);
+        let d = |turn: f64| reach(starts).max(turn / TOL_DEG);
         let spin_s = d(SPIN_TURN_DEG).ln() / spin_rate;
         let ellipse_s = d(ELLIPSE_TURN_DEG).ln() / ellipse_rate;
         (spin_s <= MAX_STAGE_S).then_some(Stages { spin_s, ellipse_s })
+    }
+
+    /// The stages once the spin stage's hand-over is measured: the spin
+    /// stage `handover`'s seconds, and the ellipse stage as long as the
+    /// ellipse's sin 2Δθ torque takes to bring a part from the hand-over's
+    /// worst turn within the tolerance, t = ln(d)/λ with
+    /// d = max(h / 1 mm, tan Δθ / tan 3°) (module docs), `ellipse_rate` its
+    /// λ and `starts` the drops' region.
+    pub(crate) fn handed_over(handover: &Handover, ellipse_rate: f64, starts: &Region) -> Stages {
+        let turn = handover.worst_deg.to_radians().tan() / TOL_DEG.to_radians().tan();
+        Stages {
+            spin_s: handover.seconds,
+            ellipse_s: reach(starts).max(turn).ln() / ellipse_rate,
+        }
     }
 
     /// The nominal period: both stages (s).
     pub fn period(&self) -> f64 {
         self.spin_s + self.ellipse_s
     }
+}
+
+/// The farthest a drop starts from a rest in `starts`, in tolerances: the
+/// region's half-diagonal over [`TOL_MM`].
+fn reach(starts: &Region) -> f64 {
+    let h = 0.5 * (starts.x[1] - starts.x[0]).hypot(starts.y[1] - starts.y[0]);
+    1e3 * h / TOL_MM
 }
 
 /// The slowest decay rate (1/s) over the stable poses of `stable`: the
@@ -338,6 +375,56 @@ mod tests {
         };
         assert_eq!(slowest_rate(&[eq(0.4), eq(0.3), eq(0.5)]), 0.3);
         assert_eq!(slowest_rate(&[]), 0.0);
+    }
+
+    /// The ellipse stage after a hand-over is the time the ellipse's
+    /// torque, dΔθ/dt = −(λ/2) sin 2Δθ (linear rate λ at its rest), takes
+    /// from the hand-over's worst turn to the 3° tolerance: checked by
+    /// integrating that equation with RK4 (1e-4 s steps) to the stage's end,
+    /// which lands on 3° within 1e-6°, from 45°, 76° and 85°. On a wide
+    /// region the drops' reach in tolerances wins instead; the spin stage is
+    /// the hand-over's seconds.
+    #[test]
+    fn the_ellipse_stage_follows_the_hand_over_turn() {
+        let small = Region {
+            x: [-0.005, 0.005],
+            y: [-0.005, 0.005],
+        };
+        let rate = 0.68;
+        for deg in [45.0, 76.0, 85.0] {
+            let h = Handover {
+                seconds: 12.5,
+                worst_deg: deg,
+            };
+            let s = Stages::handed_over(&h, rate, &small);
+            assert_eq!(s.spin_s, 12.5);
+            let f = |t: f64| -0.5 * rate * (2.0 * t).sin();
+            let (mut theta, dt) = (f64::to_radians(deg), 1e-4);
+            let n = (s.ellipse_s / dt).round() as usize;
+            let dt = s.ellipse_s / n as f64;
+            for _ in 0..n {
+                let k1 = f(theta);
+                let k2 = f(theta + 0.5 * dt * k1);
+                let k3 = f(theta + 0.5 * dt * k2);
+                let k4 = f(theta + dt * k3);
+                theta += dt / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+            }
+            assert!(
+                (theta.to_degrees() - TOL_DEG).abs() < 1e-6,
+                "{deg}: {}",
+                theta.to_degrees()
+            );
+        }
+        let wide = Region {
+            x: [-0.05, 0.05],
+            y: [-0.05, 0.05],
+        };
+        let h = Handover {
+            seconds: 3.0,
+            worst_deg: 45.0,
+        };
+        let s = Stages::handed_over(&h, rate, &wide);
+        assert!((s.ellipse_s - (50.0 * 2f64.sqrt()).ln() / rate).abs() < 1e-12);
     }
 
     /// A worked example of `pose::design::cycle::Stages::derive`.

@@ -249,9 +249,9 @@ fn announce(req: &PoseTarget, drops: usize) -> String {
     let periods = cycle::SETTLE_PERIODS;
     let longest = (cycle::settle_seconds(screen::CYCLE_S, 2.0 * cycle::MAX_STAGE_S)).ceil();
     let (syntheses, screen) = if spin::needs_spin(req.part.symmetry()) {
+        let n = spin::CANDIDATES.len();
         let screen = format!(
-            ", up to {} spin candidates × {} probes × {} s on the spun sink, × {} × {} frictions × {} s for the spin stage's hand-over and × {} s or {periods} periods of its placed cycle with the ellipse (at most {longest} s){at_ends}",
-            spin::CANDIDATES.len(),
+            ", up to {n} spin candidates ({n} more with r* halved when none is kept) × {} probes × {} s on the spun sink, × {} × {} frictions × {} s for the spin stage's hand-over and × {} s or {periods} periods of its placed cycle with the ellipse (at most {longest} s){at_ends}",
             screen::PROBES,
             screen::PROBE_S,
             handover::RESTS,
@@ -371,8 +371,10 @@ pub(crate) fn watched_play<T>(
 /// The centred motion the placement moves, its synthesis, the spin
 /// candidates judged by play and the kept one with its cycle's played
 /// pose: for a part without a 180° symmetry the cycle ([`cycle`]) of the
-/// isotropic sink with the spin [`screen::choose`] keeps and the elliptic
-/// sink; else (or when it keeps none) the elliptic sink alone.
+/// isotropic sink with the spin [`screen::choose`] keeps from
+/// [`spin::CANDIDATES`], or else from the same with r* halved
+/// ([`spin::Spin::finer`]), and the elliptic sink; else (or when neither
+/// keeps one) the elliptic sink alone.
 ///
 /// # Errors
 /// The synthesis's; a spun motion losing contact on `grid`.
@@ -390,32 +392,16 @@ fn centred_motion(
         placement::synthesize_centred(req, placement::family(true), opts, &opts.synthesis)?;
     let sink = method.kept().schedule.clone();
     let stage = cycle::EllipseStage::new(req, ellipse.kept().schedule.clone(), grid)?;
-    let tried = spin::try_all(req, &sink, grid)?;
-    let plays = if req.friction_ends().is_some() { 3 } else { 1 };
-    // Per candidate played: the spun sink's probes for PROBE_S, its spin
-    // stage's hand-over (both rests at three frictions for MAX_STAGE_S),
-    // then its placed cycle's probes at each friction, each CYCLE_S or
-    // SETTLE_PERIODS cycle periods (counted in probes of PROBE_S on the
-    // sink).
-    let handover =
-        (handover::RESTS * handover::FRICTIONS) as f64 * cycle::MAX_STAGE_S / screen::PROBE_S;
-    let probes: usize = tried
-        .iter()
-        .filter(|t| !t.stable.is_empty())
-        .filter_map(|t| screen::stages_of(req, &stage, t))
-        .map(|st| {
-            let per_cycle = cycle::settle_seconds(screen::CYCLE_S, st.period()) / screen::PROBE_S;
-            screen::PROBES * (1 + (per_cycle * plays as f64).ceil() as usize)
-                + handover.ceil() as usize
-        })
-        .sum();
-    let sm = ScheduleMotion::from_schedule(&sink)?;
-    let (all, kept) = watched(
-        "pose spin screen",
-        (req, &sm, &sink.settings, probes, screen::PROBE_S),
-        opts.runtime.progress(),
-        || screen::choose(req, (&sink, &stage), &tried),
-    )?;
+    let lattice = |spins: &[spin::Spin], label| {
+        screen_lattice(req, (&sink, &stage), grid, spins, (label, opts))
+    };
+    let (mut all, mut kept) = lattice(&spin::CANDIDATES, "pose spin screen")?;
+    if kept.is_none() {
+        let finer = spin::CANDIDATES.map(|s| s.finer());
+        let (more, k) = lattice(&finer, "pose spin screen, r* halved")?;
+        all.extend(more);
+        kept = k;
+    }
     let Some((k, rest, pose, stages)) =
         kept.and_then(|k| Some((k.spin, k.spin_rest?, k.pose?, k.stages?)))
     else {
@@ -428,6 +414,47 @@ fn centred_motion(
         spin: Some((k, pose, stages)),
         screened: all,
     })
+}
+
+/// The spins of `lattice` added to the centred `sink` and judged by play
+/// in their cycles with `stage` ([`screen::choose`]), the work stated
+/// first under `label`.
+///
+/// # Errors
+/// A spun motion losing contact on `grid`; a play's.
+fn screen_lattice(
+    req: &PoseTarget,
+    (sink, stage): (&crate::schedule::Schedule, &cycle::EllipseStage),
+    grid: &crate::field::Grid,
+    lattice: &[spin::Spin],
+    (label, opts): (&str, &DesignOptions),
+) -> Result<(Vec<screen::Screened>, Option<screen::Screened>)> {
+    let tried = spin::try_all(req, sink, grid, lattice)?;
+    let plays = if req.friction_ends().is_some() { 3 } else { 1 };
+    // Per candidate played: the spun sink's probes for PROBE_S, its spin
+    // stage's hand-over (both rests at three frictions for MAX_STAGE_S),
+    // then its placed cycle's probes at each friction, each CYCLE_S or
+    // SETTLE_PERIODS cycle periods (counted in probes of PROBE_S on the
+    // sink).
+    let handover =
+        (handover::RESTS * handover::FRICTIONS) as f64 * cycle::MAX_STAGE_S / screen::PROBE_S;
+    let probes: usize = tried
+        .iter()
+        .filter(|t| !t.stable.is_empty())
+        .filter_map(|t| screen::stages_of(req, stage, t))
+        .map(|st| {
+            let per_cycle = cycle::settle_seconds(screen::CYCLE_S, st.period()) / screen::PROBE_S;
+            screen::PROBES * (1 + (per_cycle * plays as f64).ceil() as usize)
+                + handover.ceil() as usize
+        })
+        .sum();
+    let sm = ScheduleMotion::from_schedule(sink)?;
+    watched(
+        label,
+        (req, &sm, &sink.settings, probes, screen::PROBE_S),
+        opts.runtime.progress(),
+        || screen::choose(req, (sink, stage), &tried),
+    )
 }
 
 /// [`centred_motion`]'s outcome.

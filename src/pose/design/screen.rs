@@ -325,10 +325,8 @@ pub fn screen(
             return Ok(Screened::unplayed(spin, Some(stages), handover));
         }
         Some(h) => {
-            let timed = Stages {
-                spin_s: h.seconds,
-                ..stages
-            };
+            let starts = req.region.inset(req.part.radius());
+            let timed = Stages::handed_over(&h, ellipse.rate(), &starts);
             (timed, placed_cycle(req, (&spun, ellipse), &alone.1, timed)?)
         }
         None => (stages, (placed, placement)),

@@ -28,9 +28,17 @@
 //! region (`try_all`) are judged by play on probes from spread starts,
 //! since the lifted model misses played attractors of these fields (the
 //! bracket's spin of 1200 rad/s² × 0.25 has one lifted pose and a second
-//! played one holding about a quarter of the drops, `docs/parts.md`); when none puts enough
-//! probes at one pose, `design` keeps the elliptic sink alone (two poses
-//! 180° apart).
+//! played one holding about a quarter of the drops, `docs/parts.md`).
+//!
+//! **Refinement.** When the screen keeps none of [`CANDIDATES`], the same
+//! lattice is tried again with every r* = V/Ω shortened by [`REFINE`]
+//! ([`Spin::finer`]). The selecting torque comes from the field's
+//! nonlinearity over the part, which grows as r* shrinks against the
+//! part's size, so a compact or nearly symmetric part (whose third
+//! moments, which tell θ from θ + 180°, are small) needs a shorter r*
+//! than the parts the lattice was first tried on. A part for which the
+//! lattice keeps a spin never pays for the second one. When neither keeps
+//! a spin, `design` keeps the elliptic sink alone (two poses 180° apart).
 
 use super::search::distinct_stable;
 use super::PoseTarget;
@@ -114,6 +122,28 @@ const fn spin(alpha: f64, translation: f64) -> Spin {
     }
 }
 
+/// The factor on a candidate's translation when the lattice is tried
+/// again (module docs, **Refinement**): r* = V/Ω halved.
+pub const REFINE: f64 = 0.5;
+
+impl Spin {
+    /// The same spin with r* = V/Ω shortened by [`REFINE`]: its
+    /// translation scaled, α and the phase kept.
+    ///
+    /// ```
+    /// use platefield::pose::design::spin::{CANDIDATES, REFINE};
+    /// let finer = CANDIDATES[5].finer();
+    /// assert_eq!(finer.alpha, CANDIDATES[5].alpha);
+    /// assert_eq!(finer.translation, CANDIDATES[5].translation * REFINE);
+    /// ```
+    pub fn finer(&self) -> Spin {
+        Spin {
+            translation: self.translation * REFINE,
+            ..*self
+        }
+    }
+}
+
 /// A part without a 180° symmetry is designed with a spin (module docs).
 pub(crate) fn needs_spin(symmetry: usize) -> bool {
     symmetry % 2 == 1
@@ -137,12 +167,18 @@ pub(crate) struct Tried {
     pub stable: Vec<Equilibrium>,
 }
 
-/// Every candidate's lifted stable poses for `req`'s part on `grid`.
+/// The lifted stable poses of every spin of `lattice` for `req`'s part on
+/// `grid`.
 ///
 /// # Errors
 /// A spun motion loses contact somewhere on the grid.
-pub(crate) fn try_all(req: &PoseTarget, origin: &Schedule, grid: &Grid) -> Result<Vec<Tried>> {
-    CANDIDATES
+pub(crate) fn try_all(
+    req: &PoseTarget,
+    origin: &Schedule,
+    grid: &Grid,
+    lattice: &[Spin],
+) -> Result<Vec<Tried>> {
+    lattice
         .iter()
         .map(|&spin| {
             let field = schedule_field(&spun(origin, spin)?, grid)?;
