@@ -198,8 +198,9 @@ direction turns across the plate on the scale r* = V/Ω ≈ 1.4–27 mm: 61–70
 at 9–27 mm), which selects one of the ellipse's two poses, then a stage of the elliptic sink placed on \
 the spun sink's played rest, which sets it (the spun sink alone left the triangle's drops 92 % at \
 the pose and 7 % at a second rest 139° away, and its rest turned 17.6° over μ ± 20 %). The ellipse \
-stage lasts ln(d)/λ, λ its slowest lifted decay rate and d the farthest a part starts from its rest \
-in tolerances (the drop region's half-diagonal over 1 mm, or 90° over 3°: `pose::design::cycle::Stages`); \
+stage lasts ln(d)/λ, λ its slowest lifted decay rate and d the larger of the drop region's \
+half-diagonal over 1 mm and tan Δθ / tan 3°, Δθ the spin stage's worst turn at the hand-over (the \
+ellipse's torque goes as sin 2Δθ, so tan Δθ decays as e^{−λt}: `pose::design::cycle::Stages::handed_over`); \
 the spin stage lasts as long as the placed spin takes to bring a part from either of the ellipse's \
 two rests within 45° of the asked pose at μ and μ ± 20 %, measured by play (`pose::design::handover`); \
 the drops play 3 periods: a drop's settle time is counted in whole periods, so the period bounds it \
@@ -210,7 +211,8 @@ candidate spins are judged by play, not by the lifted field alone (`pose::design
 largest cluster places the ellipse stage, then 32 × 20 s or 3 periods, as long as the drops, on \
 the cycle placed on the asked pose and scaled as shipped; a spin whose lifted stage estimate would \
 exceed 40 s, or that hands no part over, is not played): it keeps the one whose cycle puts the largest share of probes at one pose, at least \
-75 %, then the shortest cycle, else the elliptic sink alone. A cycle's lifted field is the \
+75 %, then the shortest cycle; when none is kept, the same 7 with r* halved (`Spin::finer`), \
+else the elliptic sink alone. A cycle's lifted field is the \
 stages' time average, which no played part sees: its drops are counted by where they end, not by \
 basin (`tests/pose_rotation.rs` `explore_cycle`, `docs/parts.md`).\n\n";
 

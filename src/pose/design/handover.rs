@@ -29,11 +29,13 @@
 //!
 //! **Why 45°.** The ellipse turns a part by its second moments only, with
 //! a torque ∝ sin 2Δθ about its kept rest ([`super::placement`]): within
-//! 45° of the rest the torque grows with Δθ, and its linear decay (the
-//! ellipse stage's own length, ln(d)/λ) holds within a factor 2/π; past
-//! 45° it falls, to nothing at the unstable pose 90° away. A part handed
-//! over within 45° is therefore taken to the asked pose in the stage's
-//! derived time, with half the kept half left as margin.
+//! 45° of the rest the torque grows with Δθ; past 45° it falls, to nothing
+//! at the unstable pose 90° away. The ellipse stage then lasts as long as
+//! that torque takes from the hand-over's worst turn
+//! ([`super::cycle::Stages::handed_over`]): at most ln(tan 45°/tan 3°)/λ
+//! = 2.95/λ from within 45°, with half the kept half left as margin, and
+//! longer from nearer 90° (5.38/λ from 85°), where a spin that hands over
+//! no better leaves a part.
 
 use super::cycle::MAX_STAGE_S;
 use super::search::pose_error;

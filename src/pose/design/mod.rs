@@ -188,7 +188,7 @@ fn field_label(kept: Option<(spin::Spin, cycle::Stages)>, needs_spin: bool) -> S
     let family = placement::family(kept.is_some());
     match kept {
         Some((s, st)) => format!(
-            "a cycle of {:.1} s of the {}, translation × {}, plus a spin of {} rad/s² at phase {} rad, then {:.1} s of the {} placed on its rest (the spin stage as long as it takes to hand parts over to the ellipse, measured by play; the ellipse stage ln(d)/λ from its slowest lifted rate; its lifted field: the stages' time average)",
+            "a cycle of {:.1} s of the {}, translation × {}, plus a spin of {} rad/s² at phase {} rad, then {:.1} s of the {} placed on its rest (the spin stage as long as it takes to hand parts over to the ellipse, measured by play; the ellipse stage ln(d)/λ from its slowest lifted rate and the hand-over's worst turn; its lifted field: the stages' time average)",
             st.spin_s,
             family.label(),
             s.translation,
