@@ -56,7 +56,8 @@
 //! **Stage lengths.** The cycle is first placed with its derived stages
 //! ([`super::cycle::Stages`]); its spin stage's hand-over is then played
 //! ([`super::handover`]) and the cycle placed again with the spin stage
-//! that long. A spin that brings no part from the ellipse's rival rest
+//! that long and the ellipse stage as long as its torque takes from the
+//! hand-over's worst turn ([`super::cycle::Stages::handed_over`]). A spin that brings no part from the ellipse's rival rest
 //! into the kept half at any time up to [`super::cycle::MAX_STAGE_S`]
 //! cannot select, and is not played.
 //!
@@ -68,9 +69,10 @@
 //! cluster
 //! (least mean |Δr|/1 mm + |Δθ|/3° of its members from its mean: the most
 //! nearly settled), then the earlier in [`super::spin::CANDIDATES`]; kept
-//! when that share is at least [`MIN_SHARE`], else `design` keeps the
-//! elliptic sink, whose two poses 180° apart hold about half the drops
-//! each.
+//! when that share is at least [`MIN_SHARE`]. When none is kept, `design`
+//! screens the lattice again with r* halved (`super::spin`,
+//! **Refinement**), and when that keeps none either it keeps the elliptic
+//! sink, whose two poses 180° apart hold about half the drops each.
 
 use super::cycle::{cycle, settle_seconds, slowest_rate, EllipseStage, Stages};
 use super::handover::Handover;
