@@ -57,8 +57,8 @@ pub const EXPECTED_STEPS: &[(&str, f64, f64)] = &[
     ("robust", 2.85e9, 1.0),
     ("robust-knobs", 3.44e9, 1.0),
     ("robust-family", 6.75e9, 1.0),
-    ("poses-study", 5.77e9, PLANAR_POINT_STEP_COST),
-    ("poses-friction-study", 1.90e10, PLANAR_POINT_STEP_COST),
+    ("poses-study", 5.34e9, PLANAR_POINT_STEP_COST),
+    ("poses-friction-study", 1.87e10, PLANAR_POINT_STEP_COST),
     ("pose-family", 1.87e10, PLANAR_POINT_STEP_COST),
 ];
 
