@@ -230,11 +230,11 @@ fn shipped_spin_stages_hand_parts_over() {
 /// 4800 rad/s² with the translation × 0.15 (measured: 32 of 32 probes at
 /// one pose; of the 7 candidates only it and 1200 × 0.6 hand parts over,
 /// `pose::design::handover`), its spin stage measured by its hand-over and
-/// its ellipse stage derived from the lifted rate (the kept schedule's
-/// period their sum), and at least 95 % of 100 drops end at the pose
+/// its ellipse stage timed from the hand-over's worst turn (the kept
+/// schedule's period their sum), and at least 95 % of 100 drops end at the pose
 /// (measured 100 %; 79 % when the spin stage was the lifted estimate,
 /// 8.7 s, which left a fifth of the drops at the rival rest 180° away).
-/// The median settle is one period (measured 23.0 s: 18.0 s + 5.0 s; the
+/// The median settle is one period (measured 22.9 s: 18.0 s + 4.9 s; the
 /// issue's 20 s is not met). The screen's probes, each start also turned
 /// by 180°, see a rival rest: their share lies within 3 probes (3/32) of
 /// the drops' share, which start elsewhere. About 4 min of CPU:
