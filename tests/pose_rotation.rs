@@ -729,3 +729,60 @@ fn a_compact_part_gets_a_spin_of_half_the_r_star() {
     let p = schedule.played.as_ref().unwrap().pose.as_ref().unwrap();
     assert!(p.pose_fraction >= 0.95, "{}", p.pose_fraction);
 }
+
+/// Exploration: a cycle's spin stage and whole cycle over μ ± 20 %.
+/// `PF_SCHEDULE` a kept cycle's `schedule.json` of `PF_TARGET`, played
+/// from the asked pose and the same turned by 180° at μ × 0.8, 1 and 1.2:
+/// each part's turn from the asked pose at the end of the spin stage as
+/// shipped (ramped) and at each of 4 periods' ends of the whole cycle
+/// (`cargo test --release --test pose_rotation -- --ignored --nocapture
+/// explore_band`).
+#[test]
+#[ignore = "exploration: PF_TARGET=…json PF_SCHEDULE=…/schedule.json"]
+fn explore_band() {
+    use platefield::play::ScheduleMotion;
+    use platefield::pose::design::search::pose_error;
+    use platefield::pose::{play_part, DropPlay, Pose};
+    use platefield::schedule::Schedule;
+    let env = |k: &str| std::env::var(k).unwrap();
+    let req = PoseTarget::load(std::path::Path::new(&env("PF_TARGET")))
+        .unwrap()
+        .unwrap();
+    let whole = Schedule::load(std::path::Path::new(&env("PF_SCHEDULE"))).unwrap();
+    let mut spin = whole.clone();
+    spin.segments.truncate(1);
+    spin.segments[0].weight = 1.0;
+    spin.derive();
+    let rival = Pose {
+        r: req.pose.r,
+        theta: req.pose.theta + std::f64::consts::PI,
+    };
+    let n = req.part.symmetry();
+    let turn = |p: &Pose| pose_error(p, &req.pose, n).1.to_degrees();
+    let nominal = whole.settings.friction;
+    for k in [0.8, 1.0, 1.2] {
+        let at = |s: &Schedule| {
+            let mut s = s.clone();
+            s.settings.friction.stat = k * nominal.stat;
+            s.settings.friction.kinetic = k * nominal.kinetic;
+            s
+        };
+        let (sp, wh) = (at(&spin), at(&whole));
+        let sm = ScheduleMotion::from_schedule(&sp).unwrap();
+        let play = DropPlay::new(&sp.settings, sm.period());
+        let ends: Vec<String> = play_part(&req.part, &sm, &[req.pose, rival], &play)
+            .into_iter()
+            .map(|r| format!("{:.1}", turn(&r.unwrap().0.pose)))
+            .collect();
+        let sm = ScheduleMotion::from_schedule(&wh).unwrap();
+        let play = DropPlay::new(&wh.settings, 4.0 * sm.period());
+        let tracks: Vec<String> = play_part(&req.part, &sm, &[req.pose, rival], &play)
+            .into_iter()
+            .map(|r| {
+                let (_, track) = r.unwrap();
+                track.iter().map(|p| format!("{:.1}", turn(p))).collect::<Vec<_>>().join(" ")
+            })
+            .collect();
+        println!("μ × {k}: spin stage ends {ends:?}; periods {tracks:?}");
+    }
+}
