@@ -780,7 +780,11 @@ fn explore_band() {
             .into_iter()
             .map(|r| {
                 let (_, track) = r.unwrap();
-                track.iter().map(|p| format!("{:.1}", turn(p))).collect::<Vec<_>>().join(" ")
+                track
+                    .iter()
+                    .map(|p| format!("{:.1}", turn(p)))
+                    .collect::<Vec<_>>()
+                    .join(" ")
             })
             .collect();
         println!("μ × {k}: spin stage ends {ends:?}; periods {tracks:?}");
