@@ -2,7 +2,7 @@
 //! pose design is measured on, beyond the shipped parts.
 //!
 //! Every member is a part file's polygon with the shipped parts' support
-//! (uniform, [`super::DEFAULT_SAMPLES`] cells), a friction μ drawn
+//! (uniform, `DEFAULT_SAMPLES` cells), a friction μ drawn
 //! uniformly from [`crate::request::family::NOMINAL_MU`] (the target
 //! family's), and a pose: the centre of mass at a uniform angle and a
 //! distance uniform in [0, [`crate::request::family::MAX_OFFSET`]] from the

@@ -38,8 +38,9 @@
 //! largest turn the stage must make: 180° for the spin (a part may land
 //! anywhere), 90° for the ellipse (the spin left it in the kept half).
 //! The spin's λ is the least over its lifted stable poses; the ellipse's
-//! over its two. These place the cycle until the hand-over is measured (below). The spin stage's estimate
-//! only screens out the spins too slow to play (a stage over
+//! over its two. These place the cycle until the hand-over is measured
+//! (below). The spin stage's estimate only screens out the spins too slow
+//! to play (a stage over
 //! [`MAX_STAGE_S`]): the decay holds near the spin's rest, while the spin
 //! stage works far from it, turning a part from the ellipse's rival rest
 //! 180° away, and some spins turn a part on and on rather than bring it
@@ -52,7 +53,7 @@
 //! and the region, not a constant: the settle time of a drop is counted
 //! in whole periods (`super::play`), so a shorter period settles sooner.
 //!
-//! **The ellipse stage after the hand-over** ([`Stages::handed_over`]).
+//! **The ellipse stage after the hand-over** (`Stages::handed_over`).
 //! The ellipse turns a part by its second moments only, with a torque
 //! ∝ sin 2Δθ about its kept rest ([`super::placement`]). With λ its
 //! linear rate there, dΔθ/dt = −(λ/2) sin 2Δθ, solved by

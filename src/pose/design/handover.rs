@@ -5,7 +5,7 @@
 //! far from the spin's own rest: every period it must turn a part that
 //! the ellipse stage left at its rival rest, 180° from the asked pose,
 //! back into the half of the turn that the ellipse takes to the asked
-//! pose. [`super::cycle::Stages::derive`] sizes the stage from the spin's
+//! pose. `cycle::Stages::derive` sizes the stage from the spin's
 //! slowest lifted rate at its rest, ln(d)/λ, a decay that holds near that
 //! rest only. Played from the rival rest the turn takes longer or
 //! shorter than that estimate, and some spins turn a part on and on
@@ -32,7 +32,7 @@
 //! 45° of the rest the torque grows with Δθ; past 45° it falls, to nothing
 //! at the unstable pose 90° away. The ellipse stage then lasts as long as
 //! that torque takes from the hand-over's worst turn
-//! ([`super::cycle::Stages::handed_over`]): at most ln(tan 45°/tan 3°)/λ
+//! (`cycle::Stages::handed_over`): at most ln(tan 45°/tan 3°)/λ
 //! = 2.95/λ from within 45°, with half the kept half left as margin, and
 //! longer from nearer 90° (5.38/λ from 85°), where a spin that hands over
 //! no better leaves a part.

@@ -57,9 +57,10 @@
 //! ([`super::cycle::Stages`]); its spin stage's hand-over is then played
 //! ([`super::handover`]) and the cycle placed again with the spin stage
 //! that long and the ellipse stage as long as its torque takes from the
-//! hand-over's worst turn ([`super::cycle::Stages::handed_over`]). A spin that brings no part from the ellipse's rival rest
-//! into the kept half at any time up to [`super::cycle::MAX_STAGE_S`]
-//! cannot select, and is not played.
+//! hand-over's worst turn (`cycle::Stages::handed_over`). A spin
+//! that brings no part from the ellipse's rival rest into the kept half at
+//! any time up to [`super::cycle::MAX_STAGE_S`] cannot select, and is not
+//! played.
 //!
 //! **Choice** (`choose`): among the candidates with a lifted stable pose
 //! (`super::spin::try_all`) and a cycle no longer than
@@ -108,8 +109,9 @@ pub const MAX_TURN: f64 = 2.0;
 pub struct Screened {
     /// The spin.
     pub spin: Spin,
-    /// Its cycle's stage lengths: the spin stage as measured by its
-    /// hand-over when it hands parts over, else `Stages::derive`'s; `None`
+    /// Its cycle's stage lengths: when it hands parts over, the spin stage
+    /// as measured by its hand-over and the ellipse stage from its worst
+    /// turn (`Stages::handed_over`), else `Stages::derive`'s; `None`
     /// for a spin whose lifted field turns too slowly, which is not played.
     pub stages: Option<Stages>,
     /// Its spin stage's hand-over, measured on the placed cycle
