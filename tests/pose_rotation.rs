@@ -734,7 +734,8 @@ fn a_compact_part_gets_a_spin_of_half_the_r_star() {
 /// `PF_SCHEDULE` a kept cycle's `schedule.json` of `PF_TARGET`, played
 /// from the asked pose and the same turned by 180° at μ × 0.8, 1 and 1.2:
 /// each part's turn from the asked pose at the end of the spin stage as
-/// shipped (ramped) and at each of 4 periods' ends of the whole cycle
+/// shipped (ramped) and at each of 4 periods' ends of the whole cycle,
+/// its ellipse stage's cycles scaled by `PF_ELLIPSE_SCALE` (default 1)
 /// (`cargo test --release --test pose_rotation -- --ignored --nocapture
 /// explore_band`).
 #[test]
@@ -748,7 +749,17 @@ fn explore_band() {
     let req = PoseTarget::load(std::path::Path::new(&env("PF_TARGET")))
         .unwrap()
         .unwrap();
-    let whole = Schedule::load(std::path::Path::new(&env("PF_SCHEDULE"))).unwrap();
+    let mut whole = Schedule::load(std::path::Path::new(&env("PF_SCHEDULE"))).unwrap();
+    let scale: f64 = std::env::var("PF_ELLIPSE_SCALE").map_or(1.0, |s| s.parse().unwrap());
+    let ellipse = &mut whole.segments[1];
+    let period = ellipse.motion.as_ref().unwrap().period;
+    ellipse.cycles = (f64::from(ellipse.cycles) * scale).round() as u32;
+    ellipse.duration_s = f64::from(ellipse.cycles) * period;
+    let total: f64 = whole.segments.iter().map(|s| s.duration_s).sum();
+    for seg in &mut whole.segments {
+        seg.weight = seg.duration_s / total;
+    }
+    whole.derive();
     let mut spin = whole.clone();
     spin.segments.truncate(1);
     spin.segments[0].weight = 1.0;
