@@ -518,7 +518,8 @@ mod tests {
     /// The screen's cost stated first names what it plays: every probe
     /// start and its twin on the spun sink for PROBE_S, the two rests at
     /// three frictions for the spin stage's hand-over, then the probes on
-    /// the placed cycle for as long as the drops play a cycle.
+    /// the placed cycle for as long as the drops play a cycle; and the
+    /// second screen, of the lattice with r* halved, when none is kept.
     #[test]
     fn announce_states_the_screen_played() {
         let path = std::path::Path::new("targets/pose_bracket.json");
@@ -538,6 +539,9 @@ mod tests {
             "{mu:?}"
         );
         assert_eq!(screen::PROBES, 32);
+        let refined = "up to 7 spin candidates (7 more with r* halved when none is kept)";
+        assert_eq!(spin::CANDIDATES.len(), 7);
+        assert!(announce(&req, DROPS).contains(refined));
         assert!(
             announce(&req, DROPS).contains(&said),
             "{}",
