@@ -72,7 +72,6 @@
 //! Measured numbers (stage rates, lengths, shares and settle times):
 //! `results/poses.md`, `docs/parts.md`.
 
-use super::handover::Handover;
 use super::placement::{centred_pose, Placement};
 use super::{PoseTarget, TOL_DEG, TOL_MM};
 use crate::error::{Error, Result};
@@ -123,16 +122,21 @@ impl Stages {
         (spin_s <= MAX_STAGE_S).then_some(Stages { spin_s, ellipse_s })
     }
 
-    /// The stages once the spin stage's hand-over is measured: the spin
-    /// stage `handover`'s seconds, and the ellipse stage as long as the
-    /// ellipse's sin 2Δθ torque takes to bring a part from the hand-over's
-    /// worst turn within the tolerance, t = ln(d)/λ with
+    /// The stages once the spin stage's hand-over is measured
+    /// (`super::handover`): `(spin_s, worst_deg)` its seconds and its
+    /// worst turn (degrees). The spin stage lasts `spin_s`; the ellipse
+    /// stage as long as the ellipse's sin 2Δθ torque takes to bring a part
+    /// from `worst_deg` within the tolerance, t = ln(d)/λ with
     /// d = max(h / 1 mm, tan Δθ / tan 3°) (module docs), `ellipse_rate` its
     /// λ and `starts` the drops' region.
-    pub(crate) fn handed_over(handover: &Handover, ellipse_rate: f64, starts: &Region) -> Stages {
-        let turn = handover.worst_deg.to_radians().tan() / TOL_DEG.to_radians().tan();
+    pub(crate) fn handed_over(
+        (spin_s, worst_deg): (f64, f64),
+        ellipse_rate: f64,
+        starts: &Region,
+    ) -> Stages {
+        let turn = worst_deg.to_radians().tan() / TOL_DEG.to_radians().tan();
         Stages {
-            spin_s: handover.seconds,
+            spin_s,
             ellipse_s: reach(starts).max(turn).ln() / ellipse_rate,
         }
     }
@@ -393,11 +397,7 @@ mod tests {
         };
         let rate = 0.68;
         for deg in [45.0, 76.0, 85.0] {
-            let h = Handover {
-                seconds: 12.5,
-                worst_deg: deg,
-            };
-            let s = Stages::handed_over(&h, rate, &small);
+            let s = Stages::handed_over((12.5, deg), rate, &small);
             assert_eq!(s.spin_s, 12.5);
             let f = |t: f64| -0.5 * rate * (2.0 * t).sin();
             let (mut theta, dt) = (f64::to_radians(deg), 1e-4);
@@ -420,11 +420,7 @@ mod tests {
             x: [-0.05, 0.05],
             y: [-0.05, 0.05],
         };
-        let h = Handover {
-            seconds: 3.0,
-            worst_deg: 45.0,
-        };
-        let s = Stages::handed_over(&h, rate, &wide);
+        let s = Stages::handed_over((3.0, 45.0), rate, &wide);
         assert!((s.ellipse_s - (50.0 * 2f64.sqrt()).ln() / rate).abs() < 1e-12);
     }
 

@@ -330,7 +330,7 @@ pub fn screen(
         }
         Some(h) => {
             let starts = req.region.inset(req.part.radius());
-            let timed = Stages::handed_over(&h, ellipse.rate(), &starts);
+            let timed = Stages::handed_over((h.seconds, h.worst_deg), ellipse.rate(), &starts);
             (timed, placed_cycle(req, (&spun, ellipse), &alone.1, timed)?)
         }
         None => (stages, (placed, placement)),
